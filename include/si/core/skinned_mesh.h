@@ -1,0 +1,100 @@
+// SkinnedInstancing — SPDX-License-Identifier: MIT (see LICENSE)
+#pragma once
+
+/// \file
+/// A skinned triangle mesh with switchable sub-meshes (the technique's armour pieces and weapons)
+/// and several levels of detail per sub-mesh, plus helpers to clean up skin weights.
+
+#include <cstddef>
+#include <cstdint>
+#include <string>
+#include <vector>
+
+#include <glm/gtc/type_precision.hpp>
+
+#include "si/core/span.h"
+#include "si/core/status.h"
+
+namespace si {
+
+/// Largest |sum of weights - 1| that validate() accepts for a vertex.
+inline constexpr float kWeightSumTolerance = 1e-3f;
+/// Most influences per vertex the runtime skins with.
+inline constexpr size_t kMaxInfluences = 4;
+
+/// A range of `SkinnedMesh::indices`: `index_count` indices (a multiple of 3) from `first_index`.
+struct IndexRange {
+  uint32_t first_index = 0;
+  uint32_t index_count = 0;
+};
+
+/// A named group of triangles that can be switched on or off per instance. `lods[0]` is the most
+/// detailed level; later entries are coarser versions of the same piece.
+struct SubMesh {
+  std::string name;
+  std::vector<IndexRange> lods;
+  uint32_t material = 0;  ///< Index into the owning Character's materials.
+};
+
+/// Vertices shared by all sub-meshes and LODs, plus the index ranges that select them.
+/// Per-vertex arrays: `positions` defines the vertex count; `normals`, `joints` and `weights`
+/// must match it; `tangents` and `texcoords` are empty or match it.
+struct SkinnedMesh {
+  /// Most sub-meshes a mesh may have (an instance's variation mask has 32 bits).
+  static constexpr size_t kMaxSubMeshes = 32;
+
+  std::vector<glm::vec3> positions;    ///< Bind-pose model space.
+  std::vector<glm::vec3> normals;      ///< Unit length.
+  std::vector<glm::vec4> tangents;     ///< Optional; xyz unit, w = +-1 (bitangent sign).
+  std::vector<glm::vec2> texcoords;    ///< Optional.
+  std::vector<glm::u16vec4> joints;    ///< Up to 4 joint indices per vertex.
+  std::vector<glm::vec4> weights;      ///< Matching weights, >= 0, summing to 1.
+  std::vector<uint32_t> indices;       ///< Triangle list.
+  std::vector<SubMesh> sub_meshes;
+
+  size_t vertexCount() const { return positions.size(); }
+  /// The largest number of LOD levels of any sub-mesh.
+  size_t maxLodCount() const;
+  /// Triangles drawn for `sub_mesh` at `lod` (the last LOD if `lod` is past it), 0 if invalid.
+  size_t triangleCount(size_t sub_mesh, size_t lod) const;
+
+  /// Checks against a skeleton of `joint_count` joints; reports the first rule broken, naming
+  /// the array and element:
+  /// - at least one vertex (kInvalidArgument); normals, joints, weights match the vertex count
+  ///   and tangents, texcoords are empty or match it (kCountMismatch);
+  /// - every attribute finite (kNotFinite); weights not negative (kOutOfRange); each vertex's
+  ///   weights sum to 1 within kWeightSumTolerance (kInvalidArgument; see normalizeWeights());
+  /// - joint indices below `joint_count` (kOutOfRange);
+  /// - indices: count a multiple of 3 (kInvalidArgument), each below the vertex count
+  ///   (kOutOfRange);
+  /// - 1 to kMaxSubMeshes sub-meshes (kLimitExceeded), each with at least one LOD whose range is
+  ///   non-empty, triangle aligned and inside `indices` (kOutOfRange).
+  Status validate(size_t joint_count) const;
+};
+
+/// What normalizeWeights() changed.
+struct WeightNormalizationReport {
+  size_t vertices_changed = 0;   ///< Vertices whose weights were rescaled.
+  float max_correction = 0.0f;   ///< Largest |1 - original sum|.
+  size_t max_correction_vertex = 0;
+};
+
+/// Rescales each vertex's weights to sum to 1 and reports the correction. Fails with
+/// kInvalidArgument naming the vertex, leaving `mesh` untouched, when a vertex has weights that
+/// are negative, not finite, or sum to (nearly) zero: such a vertex has no meaningful binding.
+Status normalizeWeights(SkinnedMesh& mesh, WeightNormalizationReport* report);
+
+/// One (joint, weight) influence on a vertex.
+struct Influence {
+  uint32_t joint = 0;
+  float weight = 0.0f;
+};
+
+/// Keeps the kMaxInfluences largest of `influences` (ties: lower joint index first), renormalized
+/// to sum to 1, writing them to `out_joints`/`out_weights` (unused slots: joint 0, weight 0).
+/// `*dropped_weight` receives the share of the original total that was dropped (0 to 1).
+/// Fails with kInvalidArgument for negative or non-finite weights or a total of zero.
+Status reduceInfluences(Span<const Influence> influences, glm::u16vec4* out_joints,
+                        glm::vec4* out_weights, float* dropped_weight);
+
+}  // namespace si

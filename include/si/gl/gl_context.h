@@ -1,0 +1,54 @@
+// SkinnedInstancing — SPDX-License-Identifier: MIT (see LICENSE)
+#pragma once
+
+/// \file
+/// Binding si::gl to a context the application made current (EGL, OSMesa, GLFW, ...): the
+/// library never creates a context; it is handed a get-proc-address function.
+///
+/// Usage:
+/// \code
+///   // After making a GL 4.5 core context current:
+///   si::GlInfo info;
+///   si::Status s = si::loadGl(&myGetProc, nullptr, &info);
+///   // info.max_uniform_block_size_bytes goes to the InstanceBatcher.
+/// \endcode
+
+#include <cstdint>
+#include <string>
+
+#include "si/core/status.h"
+
+namespace si {
+
+/// Returns the address of GL function `name` (as eglGetProcAddress, OSMesaGetProcAddress or
+/// glfwGetProcAddress do), or null; `user_data` is passed through.
+using GlGetProcAddress = void* (*)(void* user_data, const char* name);
+
+/// The context's identity and the limits the library needs, queried once by loadGl().
+struct GlInfo {
+  std::string vendor;
+  std::string renderer;
+  std::string version;
+  int major_version = 0;
+  int minor_version = 0;
+  uint32_t max_uniform_block_size_bytes = 0;   ///< GL_MAX_UNIFORM_BLOCK_SIZE.
+  uint32_t uniform_buffer_offset_alignment = 0;  ///< GL_UNIFORM_BUFFER_OFFSET_ALIGNMENT.
+  uint32_t max_texture_size = 0;               ///< GL_MAX_TEXTURE_SIZE.
+  uint32_t max_texture_buffer_size = 0;        ///< GL_MAX_TEXTURE_BUFFER_SIZE (texels).
+  bool has_khr_debug = false;
+};
+
+/// Loads the GL 4.5 core entry points through `get_proc` for the context current on this
+/// thread and fills `info`. Fails with kInvalidArgument for a null `get_proc` or `info`, and
+/// kBackend (naming the version found) when no context is current or it is older than 4.5 core.
+/// Entry points are process-wide: load again after switching to a context of another driver.
+Status loadGl(GlGetProcAddress get_proc, void* user_data, GlInfo* info);
+
+/// Name of a glGetError() code, e.g. "GL_INVALID_OPERATION", or "GL_UNKNOWN_ERROR".
+const char* glErrorName(uint32_t error);
+
+/// Drains glGetError(). Returns kBackend naming `what` and every pending error, or ok when none.
+/// Requires loadGl() to have succeeded.
+Status checkGlErrors(const char* what);
+
+}  // namespace si

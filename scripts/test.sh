@@ -1,0 +1,14 @@
+#!/usr/bin/env bash
+# Installs what is missing, builds the debug preset (ASan + UBSan) and runs every test.
+# In CI (CI set), warnings are errors and the render tests must get an EGL-surfaceless and an
+# OSMesa context instead of skipping. Usage: scripts/test.sh [extra ctest arguments]
+set -euo pipefail
+cd "$(dirname "$0")/.."
+bash scripts/deps.sh
+if [ -n "${CI:-}" ]; then
+  export SI_WERROR=ON
+  export SI_REQUIRE_GL="${SI_REQUIRE_GL:-egl-surfaceless,osmesa}"
+fi
+cmake --preset debug
+cmake --build --preset debug --parallel "$(nproc)"
+ctest --preset debug --parallel "$(nproc)" "$@"

@@ -1,0 +1,62 @@
+// SkinnedInstancing — SPDX-License-Identifier: MIT (see LICENSE)
+#include "si/core/character.h"
+
+#include <algorithm>
+
+#include "core/str_cat.h"
+
+namespace si {
+using detail::strCat;
+
+Status Image::validate() const {
+  if (width == 0 || height == 0 || width > 16384 || height > 16384)
+    return {StatusCode::kOutOfRange,
+            strCat("image: size ", width, "x", height, " must be within 1..16384")};
+  if (rgba8.size() != size_t(width) * height * 4)
+    return {StatusCode::kCountMismatch, strCat("image: rgba8 holds ", rgba8.size(),
+                                               " bytes, ", width, "x", height, " RGBA8 needs ",
+                                               size_t(width) * height * 4)};
+  return Status::ok();
+}
+
+Status Character::validate() const {
+  Status s = skeleton.validate();
+  if (!s.isOk()) return s;
+  s = mesh.validate(skeleton.jointCount());
+  if (!s.isOk()) return s;
+  for (const Clip& c : clips) {
+    s = c.validate(skeleton.jointCount());
+    if (!s.isOk()) return s;
+  }
+  for (size_t i = 0; i < images.size(); ++i) {
+    s = images[i].validate();
+    if (!s.isOk()) return {s.code(), strCat("character: image ", i, ": ", s.message())};
+  }
+  for (size_t m = 0; m < materials.size(); ++m) {
+    const int32_t img = materials[m].base_color_image;
+    if (img < -1 || img >= static_cast<int32_t>(images.size()))
+      return {StatusCode::kOutOfRange, strCat("character: material ", m, " '", materials[m].name,
+                                              "' uses image ", img, " of ", images.size())};
+  }
+  for (size_t i = 0; i < mesh.sub_meshes.size(); ++i)
+    if (!materials.empty() && mesh.sub_meshes[i].material >= materials.size())
+      return {StatusCode::kOutOfRange,
+              strCat("character: sub-mesh ", i, " '", mesh.sub_meshes[i].name, "' uses material ",
+                     mesh.sub_meshes[i].material, " of ", materials.size())};
+  return Status::ok();
+}
+
+int32_t Character::findClip(const std::string& clip_name) const {
+  for (size_t i = 0; i < clips.size(); ++i)
+    if (clips[i].name == clip_name) return static_cast<int32_t>(i);
+  return -1;
+}
+
+Aabb Character::bindPoseBounds() const { return computeBounds(mesh.positions); }
+
+float Character::height() const {
+  const glm::vec3 e = bindPoseBounds().extent();
+  return std::max({e.x, e.y, e.z});
+}
+
+}  // namespace si

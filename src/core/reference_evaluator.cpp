@@ -1,0 +1,239 @@
+// SkinnedInstancing — SPDX-License-Identifier: MIT (see LICENSE)
+// Double-precision clip evaluation with glTF 2.0 sampler semantics (glTF 2.0 specification,
+// "Animations" and Appendix C, "Interpolation"), and linear blend skinning.
+#include "si/core/reference_evaluator.h"
+
+#include <algorithm>
+#include <cmath>
+
+#include "core/str_cat.h"
+
+namespace si {
+using detail::strCat;
+
+double clipLocalTime(const Clip& clip, double time_seconds, TimeWrap wrap) {
+  const double d = clip.duration_seconds;
+  bool loop = resolveLoopMode(clip.loop_mode) == LoopMode::kLoop;
+  if (wrap == TimeWrap::kClamp) loop = false;
+  if (wrap == TimeWrap::kLoop) loop = true;
+  if (!(d > 0.0)) return 0.0;
+  if (!loop) return std::clamp(time_seconds, 0.0, d);
+  double t = std::fmod(time_seconds, d);
+  if (t < 0.0) t += d;
+  if (t >= d) t = 0.0;  // fmod of a negative tiny value plus d can round to d.
+  return t;
+}
+
+namespace {
+
+glm::dvec3 widen(const glm::vec3& v) { return glm::dvec3(v); }
+glm::dquat widen(const glm::quat& q) { return glm::dquat(q.w, q.x, q.y, q.z); }
+
+glm::dvec3 finish(const glm::dvec3& v) { return v; }
+glm::dquat finish(const glm::dquat& q) { return safeNormalize(q); }
+
+glm::dvec3 lerpValue(const glm::dvec3& a, const glm::dvec3& b, double u) { return a + (b - a) * u; }
+
+// Spherical linear interpolation on the shorter arc, of normalized keys.
+glm::dquat lerpValue(const glm::dquat& qa, const glm::dquat& qb, double u) {
+  const glm::dquat a = safeNormalize(qa);
+  glm::dquat b = safeNormalize(qb);
+  double cosine = a.w * b.w + a.x * b.x + a.y * b.y + a.z * b.z;
+  if (cosine < 0.0) {
+    b = -b;
+    cosine = -cosine;
+  }
+  double wa, wb;
+  if (cosine > 1.0 - 1e-12) {
+    wa = 1.0 - u;
+    wb = u;
+  } else {
+    const double angle = std::acos(std::min(cosine, 1.0));
+    const double s = std::sin(angle);
+    wa = std::sin((1.0 - u) * angle) / s;
+    wb = std::sin(u * angle) / s;
+  }
+  return safeNormalize(glm::dquat(wa * a.w + wb * b.w, wa * a.x + wb * b.x, wa * a.y + wb * b.y,
+                                  wa * a.z + wb * b.z));
+}
+
+template <typename V>
+V hermite(const V& p0, const V& m0, const V& p1, const V& m1, double u) {
+  const double u2 = u * u, u3 = u2 * u;
+  return p0 * (2 * u3 - 3 * u2 + 1) + m0 * (u3 - 2 * u2 + u) + p1 * (-2 * u3 + 3 * u2) +
+         m1 * (u3 - u2);
+}
+
+// Value of key k (for CUBICSPLINE the middle element of its triple).
+template <typename T>
+auto keyValue(const Track<T>& track, size_t k) {
+  const size_t stride = resolveInterpolation(track.interpolation) == Interpolation::kCubicSpline
+                            ? 3 : 1;
+  return widen(track.values[k * stride + (stride == 3 ? 1 : 0)]);
+}
+
+// Interpolates from key a (at time ta) to key b (at time tb) at time t, ta < tb.
+template <typename T>
+auto segment(const Track<T>& track, size_t a, size_t b, double ta, double tb, double t) {
+  const double dt = tb - ta;
+  const double u = std::clamp((t - ta) / dt, 0.0, 1.0);
+  switch (resolveInterpolation(track.interpolation)) {
+    case Interpolation::kStep:
+      return finish(keyValue(track, a));
+    case Interpolation::kCubicSpline: {
+      const auto p0 = widen(track.values[a * 3 + 1]);
+      const auto m0 = widen(track.values[a * 3 + 2]) * dt;  // out-tangent of a
+      const auto p1 = widen(track.values[b * 3 + 1]);
+      const auto m1 = widen(track.values[b * 3 + 0]) * dt;  // in-tangent of b
+      return finish(hermite(p0, m0, p1, m1, u));
+    }
+    default:
+      return finish(lerpValue(keyValue(track, a), keyValue(track, b), u));
+  }
+}
+
+template <typename T>
+auto sampleImpl(const Track<T>& track, double t, double wrap_to) {
+  const auto& times = track.times_seconds;
+  const size_t n = times.size();
+  const double first = times.front(), last = times.back();
+  if (wrap_to >= 0.0 && n > 1) {
+    const double wrap_end = wrap_to + first;
+    if (t > last && wrap_end > last) return segment(track, n - 1, 0, last, wrap_end, t);
+    if (t < first && wrap_end > last)
+      return segment(track, n - 1, 0, last, wrap_end, t + wrap_to);
+  }
+  if (n == 1 || t <= first) return finish(keyValue(track, 0));
+  if (t >= last) return finish(keyValue(track, n - 1));
+  // First key strictly after t; t is inside (first, last) so 1 <= hi <= n - 1.
+  const size_t hi = static_cast<size_t>(
+      std::upper_bound(times.begin(), times.end(), t,
+                       [](double x, float key) { return x < double(key); }) - times.begin());
+  return segment(track, hi - 1, hi, times[hi - 1], times[hi], t);
+}
+
+}  // namespace
+
+glm::dvec3 sampleTrack(const Vec3Track& track, double t, double wrap_to) {
+  return sampleImpl(track, t, wrap_to);
+}
+glm::dquat sampleTrack(const QuatTrack& track, double t, double wrap_to) {
+  return sampleImpl(track, t, wrap_to);
+}
+
+Status composePose(const Skeleton& skeleton, Span<const TransformD> local,
+                   Span<glm::dmat4> out_model, Span<glm::dmat4> out_skinning) {
+  const size_t n = skeleton.jointCount();
+  if (local.size() != n || out_model.size() != n || out_skinning.size() != n)
+    return {StatusCode::kCountMismatch,
+            strCat("composePose: spans hold ", local.size(), "/", out_model.size(), "/",
+                   out_skinning.size(), " elements, the skeleton has ", n, " joints")};
+  for (size_t j = 0; j < n; ++j) {
+    const glm::dmat4 m = local[j].toMatrix();
+    const int32_t p = skeleton.parents[j];
+    out_model[j] = p == Skeleton::kNoParent ? m : out_model[size_t(p)] * m;
+    out_skinning[j] = out_model[j] * glm::dmat4(skeleton.inverse_bind_matrices[j]);
+  }
+  return Status::ok();
+}
+
+Status evaluateRestPose(const Skeleton& skeleton, ReferencePose* pose) {
+  if (pose == nullptr) return {StatusCode::kInvalidArgument, "evaluateRestPose: pose is null"};
+  Status s = skeleton.validate();
+  if (!s.isOk()) return s;
+  const size_t n = skeleton.jointCount();
+  pose->local.resize(n);
+  pose->model.resize(n);
+  pose->skinning.resize(n);
+  for (size_t j = 0; j < n; ++j) pose->local[j] = TransformD::fromFloat(skeleton.rest_pose[j]);
+  return composePose(skeleton, pose->local, pose->model, pose->skinning);
+}
+
+Status evaluatePose(const Skeleton& skeleton, const Clip& clip, double time_seconds,
+                    ReferencePose* pose, TimeWrap wrap) {
+  if (pose == nullptr) return {StatusCode::kInvalidArgument, "evaluatePose: pose is null"};
+  if (!std::isfinite(time_seconds))
+    return {StatusCode::kNotFinite, "evaluatePose: time_seconds is not finite"};
+  Status s = skeleton.validate();
+  if (s.isOk()) s = clip.validate(skeleton.jointCount());
+  if (!s.isOk()) return s;
+
+  const double t = clipLocalTime(clip, time_seconds, wrap);
+  bool loop = resolveLoopMode(clip.loop_mode) == LoopMode::kLoop;
+  if (wrap != TimeWrap::kDefault) loop = wrap == TimeWrap::kLoop;
+  const double wrap_to = loop && clip.wrap_interpolates ? double(clip.duration_seconds) : -1.0;
+
+  const size_t n = skeleton.jointCount();
+  pose->local.resize(n);
+  pose->model.resize(n);
+  pose->skinning.resize(n);
+  for (size_t j = 0; j < n; ++j) {
+    TransformD x = TransformD::fromFloat(skeleton.rest_pose[j]);
+    const JointTracks& jt = clip.joint_tracks[j];
+    if (!jt.translation.empty()) x.translation = sampleTrack(jt.translation, t, wrap_to);
+    if (!jt.rotation.empty()) x.rotation = sampleTrack(jt.rotation, t, wrap_to);
+    if (!jt.scale.empty()) x.scale = sampleTrack(jt.scale, t, wrap_to);
+    x.rotation = safeNormalize(x.rotation);
+    pose->local[j] = x;
+  }
+  return composePose(skeleton, pose->local, pose->model, pose->skinning);
+}
+
+namespace {
+// sign(det) * cofactor matrix of the upper 3x3: equals |det| times the inverse transpose, so
+// normals keep their direction under mirroring and stay finite for singular matrices.
+glm::dmat3 normalMatrix(const glm::dmat4& m) {
+  const glm::dmat3 a(m);
+  glm::dmat3 cof;
+  cof[0] = glm::cross(a[1], a[2]);
+  cof[1] = glm::cross(a[2], a[0]);
+  cof[2] = glm::cross(a[0], a[1]);
+  const double det = glm::dot(a[0], cof[0]);
+  return det < 0.0 ? -cof : cof;
+}
+}  // namespace
+
+Status skinVertices(const SkinnedMesh& mesh, Span<const glm::dmat4> skinning,
+                    Span<glm::dvec3> out_positions, Span<glm::dvec3> out_normals,
+                    Span<glm::dvec4> out_tangents) {
+  const size_t n = mesh.vertexCount();
+  if (out_positions.size() != n || (!out_normals.empty() && out_normals.size() != n) ||
+      (!out_tangents.empty() && out_tangents.size() != n) ||
+      (!out_tangents.empty() && mesh.tangents.size() != n) || mesh.joints.size() != n ||
+      mesh.weights.size() != n || (!out_normals.empty() && mesh.normals.size() != n))
+    return {StatusCode::kCountMismatch,
+            strCat("skinVertices: output spans or mesh attributes do not match the ", n,
+                   " vertices")};
+  for (size_t v = 0; v < n; ++v)
+    for (int i = 0; i < 4; ++i)
+      if (mesh.weights[v][i] != 0.0f && mesh.joints[v][i] >= skinning.size())
+        return {StatusCode::kOutOfRange, strCat("skinVertices: vertex ", v, " uses joint ",
+                                                mesh.joints[v][i], " of ", skinning.size())};
+  for (size_t v = 0; v < n; ++v) {
+    const glm::dvec4 p(glm::dvec3(mesh.positions[v]), 1.0);
+    glm::dvec3 pos(0.0), nrm(0.0), tan(0.0);
+    for (int i = 0; i < 4; ++i) {
+      const double w = mesh.weights[v][i];
+      if (w == 0.0) continue;  // Zero weights are skipped, as the shader does.
+      const glm::dmat4& m = skinning[mesh.joints[v][i]];
+      pos += w * glm::dvec3(m * p);
+      if (!out_normals.empty()) nrm += w * (normalMatrix(m) * glm::dvec3(mesh.normals[v]));
+      if (!out_tangents.empty()) tan += w * (glm::dmat3(m) * glm::dvec3(mesh.tangents[v]));
+    }
+    out_positions[v] = pos;
+    if (!out_normals.empty()) {
+      const double len = glm::length(nrm);
+      out_normals[v] = len > 1e-300 && std::isfinite(len) ? nrm / len
+                                                          : glm::dvec3(mesh.normals[v]);
+    }
+    if (!out_tangents.empty()) {
+      const double len = glm::length(tan);
+      const glm::dvec3 t3 = len > 1e-300 && std::isfinite(len)
+                                ? tan / len : glm::dvec3(glm::vec3(mesh.tangents[v]));
+      out_tangents[v] = glm::dvec4(t3, double(mesh.tangents[v].w));
+    }
+  }
+  return Status::ok();
+}
+
+}  // namespace si

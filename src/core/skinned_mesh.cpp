@@ -1,0 +1,172 @@
+// SkinnedInstancing — SPDX-License-Identifier: MIT (see LICENSE)
+#include "si/core/skinned_mesh.h"
+
+#include <algorithm>
+#include <cmath>
+
+#include "core/str_cat.h"
+#include "si/core/transform.h"
+
+namespace si {
+using detail::strCat;
+
+size_t SkinnedMesh::maxLodCount() const {
+  size_t n = 0;
+  for (const SubMesh& s : sub_meshes) n = std::max(n, s.lods.size());
+  return n;
+}
+
+size_t SkinnedMesh::triangleCount(size_t sub_mesh, size_t lod) const {
+  if (sub_mesh >= sub_meshes.size() || sub_meshes[sub_mesh].lods.empty()) return 0;
+  const auto& lods = sub_meshes[sub_mesh].lods;
+  return lods[std::min(lod, lods.size() - 1)].index_count / 3;
+}
+
+namespace {
+bool finite2(const glm::vec2& v) { return std::isfinite(v.x) && std::isfinite(v.y); }
+}  // namespace
+
+Status SkinnedMesh::validate(size_t joint_count) const {
+  const size_t n = positions.size();
+  if (n == 0) return {StatusCode::kInvalidArgument, "mesh: positions is empty"};
+  const auto count = [&](const char* what, size_t c, bool optional) -> Status {
+    if (c == n || (optional && c == 0)) return Status::ok();
+    return {StatusCode::kCountMismatch, strCat("mesh: ", what, " has ", c, " elements for ", n,
+                                               " vertices", optional ? " (or none)" : "")};
+  };
+  for (Status s : {count("normals", normals.size(), false), count("joints", joints.size(), false),
+                   count("weights", weights.size(), false),
+                   count("tangents", tangents.size(), true),
+                   count("texcoords", texcoords.size(), true)})
+    if (!s.isOk()) return s;
+
+  for (size_t v = 0; v < n; ++v) {
+    if (!isFinite(positions[v]))
+      return {StatusCode::kNotFinite, strCat("mesh: position ", v, " is not finite")};
+    if (!isFinite(normals[v]))
+      return {StatusCode::kNotFinite, strCat("mesh: normal ", v, " is not finite")};
+    if (!tangents.empty() && !isFinite(tangents[v]))
+      return {StatusCode::kNotFinite, strCat("mesh: tangent ", v, " is not finite")};
+    if (!texcoords.empty() && !finite2(texcoords[v]))
+      return {StatusCode::kNotFinite, strCat("mesh: texcoord ", v, " is not finite")};
+    const glm::vec4& w = weights[v];
+    if (!isFinite(w)) return {StatusCode::kNotFinite, strCat("mesh: weights ", v, " not finite")};
+    float sum = 0.0f;
+    for (int i = 0; i < 4; ++i) {
+      if (w[i] < 0.0f)
+        return {StatusCode::kOutOfRange, strCat("mesh: vertex ", v, " weight ", i, " is negative")};
+      sum += w[i];
+      if (joints[v][i] >= joint_count)
+        return {StatusCode::kOutOfRange, strCat("mesh: vertex ", v, " joint index ", joints[v][i],
+                                                " is not below the joint count ", joint_count)};
+    }
+    if (std::fabs(sum - 1.0f) > kWeightSumTolerance)
+      return {StatusCode::kInvalidArgument,
+              strCat("mesh: vertex ", v, " weights sum to ", sum,
+                     ", not 1 (call normalizeWeights to renormalize)")};
+  }
+
+  if (indices.size() % 3 != 0)
+    return {StatusCode::kInvalidArgument,
+            strCat("mesh: index count ", indices.size(), " is not a multiple of 3")};
+  for (size_t i = 0; i < indices.size(); ++i)
+    if (indices[i] >= n)
+      return {StatusCode::kOutOfRange, strCat("mesh: index ", i, " (", indices[i],
+                                              ") is not below the vertex count ", n)};
+
+  if (sub_meshes.empty() || sub_meshes.size() > kMaxSubMeshes)
+    return {StatusCode::kLimitExceeded, strCat("mesh: has ", sub_meshes.size(),
+                                               " sub-meshes; needs 1 to ", kMaxSubMeshes)};
+  for (size_t s = 0; s < sub_meshes.size(); ++s) {
+    const SubMesh& sm = sub_meshes[s];
+    if (sm.lods.empty())
+      return {StatusCode::kOutOfRange, strCat("mesh: sub-mesh ", s, " '", sm.name, "' has no LOD")};
+    for (size_t l = 0; l < sm.lods.size(); ++l) {
+      const IndexRange& r = sm.lods[l];
+      const bool ok = r.index_count > 0 && r.index_count % 3 == 0 && r.first_index % 3 == 0 &&
+                      size_t(r.first_index) <= indices.size() &&
+                      size_t(r.index_count) <= indices.size() - r.first_index;
+      if (!ok)
+        return {StatusCode::kOutOfRange,
+                strCat("mesh: sub-mesh ", s, " '", sm.name, "' LOD ", l, " range [",
+                       r.first_index, ", +", r.index_count,
+                       ") must be non-empty, triangle aligned and inside the ", indices.size(),
+                       " indices")};
+    }
+  }
+  return Status::ok();
+}
+
+Status normalizeWeights(SkinnedMesh& mesh, WeightNormalizationReport* report) {
+  // Check every vertex first so that a failure leaves the mesh untouched.
+  for (size_t v = 0; v < mesh.weights.size(); ++v) {
+    const glm::vec4& w = mesh.weights[v];
+    if (!isFinite(w) || w.x < 0 || w.y < 0 || w.z < 0 || w.w < 0)
+      return {StatusCode::kInvalidArgument,
+              strCat("mesh: vertex ", v, " has negative or non-finite weights")};
+    if (!(w.x + w.y + w.z + w.w > 1e-6f))
+      return {StatusCode::kInvalidArgument,
+              strCat("mesh: vertex ", v, " weights sum to zero; it is bound to no joint")};
+  }
+  WeightNormalizationReport r;
+  for (size_t v = 0; v < mesh.weights.size(); ++v) {
+    glm::vec4& w = mesh.weights[v];
+    const double sum = double(w.x) + w.y + w.z + w.w;
+    const float correction = static_cast<float>(std::fabs(1.0 - sum));
+    if (correction == 0.0f) continue;
+    w = glm::vec4(glm::dvec4(w) / sum);
+    ++r.vertices_changed;
+    if (correction > r.max_correction) {
+      r.max_correction = correction;
+      r.max_correction_vertex = v;
+    }
+  }
+  if (report != nullptr) *report = r;
+  return Status::ok();
+}
+
+Status reduceInfluences(Span<const Influence> influences, glm::u16vec4* out_joints,
+                        glm::vec4* out_weights, float* dropped_weight) {
+  if (out_joints == nullptr || out_weights == nullptr)
+    return {StatusCode::kInvalidArgument, "reduceInfluences: outputs must not be null"};
+  double total = 0.0;
+  for (size_t i = 0; i < influences.size(); ++i) {
+    const Influence& in = influences[i];
+    if (!std::isfinite(in.weight) || in.weight < 0.0f)
+      return {StatusCode::kInvalidArgument,
+              strCat("reduceInfluences: influence ", i, " weight is negative or not finite")};
+    if (in.joint > 0xFFFFu)
+      return {StatusCode::kOutOfRange,
+              strCat("reduceInfluences: influence ", i, " joint ", in.joint, " exceeds 65535")};
+    total += in.weight;
+  }
+  if (!(total > 0.0))
+    return {StatusCode::kInvalidArgument, "reduceInfluences: weights sum to zero"};
+  Influence best[kMaxInfluences] = {};
+  size_t kept = 0;
+  for (const Influence& in : influences) {
+    // Insertion into a sorted list of at most 4: larger weight first, lower joint on ties.
+    size_t pos = kept;
+    while (pos > 0 && (in.weight > best[pos - 1].weight ||
+                       (in.weight == best[pos - 1].weight && in.joint < best[pos - 1].joint)))
+      --pos;
+    if (pos >= kMaxInfluences) continue;
+    for (size_t k = std::min(kept, kMaxInfluences - 1); k > pos; --k) best[k] = best[k - 1];
+    best[pos] = in;
+    kept = std::min(kept + 1, kMaxInfluences);
+  }
+  double kept_sum = 0.0;
+  for (size_t k = 0; k < kept; ++k) kept_sum += best[k].weight;
+  glm::u16vec4 j(0);
+  glm::vec4 w(0.0f);
+  for (size_t k = 0; k < kept; ++k) {
+    j[int(k)] = static_cast<uint16_t>(best[k].joint);
+    w[int(k)] = static_cast<float>(best[k].weight / kept_sum);
+  }
+  *out_joints = j;
+  *out_weights = w;
+  if (dropped_weight != nullptr) *dropped_weight = static_cast<float>(1.0 - kept_sum / total);
+  return Status::ok();
+}
+
+}  // namespace si

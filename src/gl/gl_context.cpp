@@ -1,0 +1,87 @@
+// SkinnedInstancing — SPDX-License-Identifier: MIT (see LICENSE)
+#include "si/gl/gl_context.h"
+
+#include <glad/gl.h>
+
+#include "core/str_cat.h"
+
+namespace si {
+using detail::strCat;
+
+namespace {
+struct Loader {
+  GlGetProcAddress get_proc;
+  void* user_data;
+};
+GLADapiproc loadOne(void* user, const char* name) {
+  const Loader* l = static_cast<const Loader*>(user);
+  return reinterpret_cast<GLADapiproc>(l->get_proc(l->user_data, name));
+}
+std::string glString(GLenum name) {
+  const GLubyte* s = glGetString(name);
+  return s ? reinterpret_cast<const char*>(s) : "";
+}
+uint32_t glInt(GLenum name) {
+  GLint v = 0;
+  glGetIntegerv(name, &v);
+  return v > 0 ? static_cast<uint32_t>(v) : 0u;
+}
+}  // namespace
+
+Status loadGl(GlGetProcAddress get_proc, void* user_data, GlInfo* info) {
+  if (get_proc == nullptr || info == nullptr)
+    return {StatusCode::kInvalidArgument, "loadGl: get_proc and info must not be null"};
+  Loader loader{get_proc, user_data};
+  const int version = gladLoadGLUserPtr(&loadOne, &loader);
+  if (version == 0)
+    return {StatusCode::kBackend, "loadGl: no GL context is current, or glGetString failed"};
+  GlInfo out;
+  out.major_version = GLAD_VERSION_MAJOR(version);
+  out.minor_version = GLAD_VERSION_MINOR(version);
+  out.vendor = glString(GL_VENDOR);
+  out.renderer = glString(GL_RENDERER);
+  out.version = glString(GL_VERSION);
+  if (out.major_version < 4 || (out.major_version == 4 && out.minor_version < 5) ||
+      glad_glCreateBuffers == nullptr)
+    return {StatusCode::kBackend, strCat("loadGl: need OpenGL 4.5 core, the context has '",
+                                         out.version, "' (", out.renderer, ")")};
+  out.max_uniform_block_size_bytes = glInt(GL_MAX_UNIFORM_BLOCK_SIZE);
+  out.uniform_buffer_offset_alignment = glInt(GL_UNIFORM_BUFFER_OFFSET_ALIGNMENT);
+  out.max_texture_size = glInt(GL_MAX_TEXTURE_SIZE);
+  out.max_texture_buffer_size = glInt(GL_MAX_TEXTURE_BUFFER_SIZE);
+  out.has_khr_debug = GLAD_GL_KHR_debug != 0;
+  Status s = checkGlErrors("loadGl: querying limits");
+  if (!s.isOk()) return s;
+  *info = std::move(out);
+  return Status::ok();
+}
+
+const char* glErrorName(uint32_t error) {
+  switch (error) {
+    case GL_NO_ERROR: return "GL_NO_ERROR";
+    case GL_INVALID_ENUM: return "GL_INVALID_ENUM";
+    case GL_INVALID_VALUE: return "GL_INVALID_VALUE";
+    case GL_INVALID_OPERATION: return "GL_INVALID_OPERATION";
+    case GL_INVALID_FRAMEBUFFER_OPERATION: return "GL_INVALID_FRAMEBUFFER_OPERATION";
+    case GL_OUT_OF_MEMORY: return "GL_OUT_OF_MEMORY";
+    case GL_STACK_UNDERFLOW: return "GL_STACK_UNDERFLOW";
+    case GL_STACK_OVERFLOW: return "GL_STACK_OVERFLOW";
+    default: return "GL_UNKNOWN_ERROR";
+  }
+}
+
+Status checkGlErrors(const char* what) {
+  if (glad_glGetError == nullptr)
+    return {StatusCode::kBackend, strCat(what, ": GL is not loaded (call loadGl first)")};
+  std::string errors;
+  // Bounded: a lost context can report errors forever.
+  for (int i = 0; i < 16; ++i) {
+    const GLenum e = glGetError();
+    if (e == GL_NO_ERROR) break;
+    errors += (errors.empty() ? "" : ", ") + std::string(glErrorName(e));
+  }
+  if (errors.empty()) return Status::ok();
+  return {StatusCode::kBackend, strCat(what, ": ", errors)};
+}
+
+}  // namespace si

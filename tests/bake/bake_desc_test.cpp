@@ -1,0 +1,91 @@
+// SkinnedInstancing — SPDX-License-Identifier: MIT (see LICENSE)
+#include <gtest/gtest.h>
+
+#include "si/bake/bake_desc.h"
+#include "si/core/default_character.h"
+
+namespace si {
+namespace {
+
+TEST(PlanFrames, OnceEndsExactlyOnTheLastKey) {
+  const FramePlan p = planFrames(1.0, 30.0, LoopMode::kOnce);
+  EXPECT_EQ(p.frame_count, 31u);
+  EXPECT_DOUBLE_EQ(p.frame_interval_seconds * (p.frame_count - 1), 1.0);
+  // 0.66 s at 30 Hz: 19.8 intervals round up to 20, so frames are slightly closer than 1/30.
+  const FramePlan q = planFrames(0.66, 30.0, LoopMode::kOnce);
+  EXPECT_EQ(q.frame_count, 21u);
+  EXPECT_DOUBLE_EQ(q.frame_interval_seconds * 20, 0.66);
+}
+
+TEST(PlanFrames, LoopOmitsTheDuplicateEndFrame) {
+  const FramePlan p = planFrames(1.0, 30.0, LoopMode::kLoop);
+  EXPECT_EQ(p.frame_count, 30u);
+  EXPECT_DOUBLE_EQ(p.frame_interval_seconds * p.frame_count, 1.0);
+}
+
+TEST(PlanFrames, ZeroLengthAndTinyClips) {
+  EXPECT_EQ(planFrames(0.0, 30.0, LoopMode::kOnce).frame_count, 1u);
+  EXPECT_EQ(planFrames(0.0, 30.0, LoopMode::kLoop).frame_count, 1u);
+  EXPECT_EQ(planFrames(1e-6, 30.0, LoopMode::kOnce).frame_count, 2u);
+  EXPECT_EQ(planFrames(1e-6, 30.0, LoopMode::kLoop).frame_count, 1u);
+}
+
+class PlanPaletteTest : public ::testing::Test {
+ protected:
+  void SetUp() override { ASSERT_TRUE(makeDefaultCharacter({}, &character_).isOk()); }
+  Character character_;
+};
+
+TEST_F(PlanPaletteTest, DefaultsBakeEveryClipAt30Hz) {
+  PalettePlan plan;
+  ASSERT_TRUE(planPalette(character_, {}, &plan).isOk());
+  ASSERT_EQ(plan.clip_indices.size(), character_.clips.size());
+  EXPECT_EQ(plan.layout.joint_stride_texels, 4u);
+  EXPECT_EQ(plan.layout.frame_stride_texels, character_.skeleton.jointCount() * 4);
+  uint64_t frames = 0;
+  for (const FramePlan& f : plan.frames) frames += f.frame_count;
+  EXPECT_EQ(plan.layout.used_texel_count, frames * character_.skeleton.jointCount() * 4);
+  EXPECT_EQ(plan.texture_bytes, plan.layout.textureTexelCount() * 16);
+}
+
+TEST_F(PlanPaletteTest, FormatsAndClipSelection) {
+  BakeDesc d;
+  d.format = PaletteFormat::kMatrix3x4F16;
+  d.clip_names = {"run", "idle"};
+  PalettePlan plan;
+  ASSERT_TRUE(planPalette(character_, d, &plan).isOk());
+  ASSERT_EQ(plan.clip_indices.size(), 2u);
+  EXPECT_EQ(plan.clip_indices[0], uint32_t(character_.findClip("run")));
+  EXPECT_EQ(plan.texture_bytes, plan.layout.textureTexelCount() * 8);
+  d.format = PaletteFormat::kQuatTranslationF32;
+  ASSERT_TRUE(planPalette(character_, d, &plan).isOk());
+  EXPECT_EQ(plan.layout.texels_per_joint, 2u);
+  EXPECT_EQ(plan.layout.joint_stride_texels, 2u);
+}
+
+TEST_F(PlanPaletteTest, ValidityMatrix) {
+  PalettePlan plan;
+  EXPECT_EQ(planPalette(character_, {}, nullptr).code(), StatusCode::kInvalidArgument);
+  BakeDesc d;
+  d.sample_rate_hz = -1.0f;
+  EXPECT_EQ(planPalette(character_, d, &plan).code(), StatusCode::kInvalidArgument);
+  d = BakeDesc();
+  d.format = static_cast<PaletteFormat>(42);
+  EXPECT_EQ(planPalette(character_, d, &plan).code(), StatusCode::kInvalidArgument);
+  d = BakeDesc();
+  d.clip_names = {"dance"};
+  EXPECT_EQ(planPalette(character_, d, &plan).code(), StatusCode::kNotFound);
+  d = BakeDesc();
+  d.max_texture_size = 16;
+  EXPECT_EQ(planPalette(character_, d, &plan).code(), StatusCode::kLimitExceeded);
+  d = BakeDesc();
+  d.sample_rate_hz = 1e9f;
+  EXPECT_EQ(planPalette(character_, d, &plan).code(), StatusCode::kLimitExceeded);
+  Character no_clips = character_;
+  no_clips.clips.clear();
+  EXPECT_EQ(planPalette(no_clips, {}, &plan).code(), StatusCode::kInvalidArgument);
+  EXPECT_TRUE(plan.clip_indices.empty());  // Untouched by every failure.
+}
+
+}  // namespace
+}  // namespace si
