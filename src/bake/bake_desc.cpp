@@ -1,6 +1,7 @@
 // SkinnedInstancing — SPDX-License-Identifier: MIT (see LICENSE)
 #include "si/bake/bake_desc.h"
 
+#include <algorithm>
 #include <cmath>
 
 #include "core/str_cat.h"
@@ -33,31 +34,102 @@ uint32_t bytesPerTexel(PaletteFormat f) {
 BakeDesc resolveDefaults(const BakeDesc& desc) {
   BakeDesc d = desc;
   d.format = resolvePaletteFormat(d.format);
+  if (d.rate_mode == RateMode::kDefault) d.rate_mode = RateMode::kAutomatic;
   if (d.sample_rate_hz == 0.0f) d.sample_rate_hz = 30.0f;
+  if (d.error_tolerance_ratio == 0.0f) d.error_tolerance_ratio = 1e-4f;
+  if (d.max_sample_rate_hz == 0.0f) d.max_sample_rate_hz = 240.0f;
+  if (d.shell_distance_ratio == 0.0f) d.shell_distance_ratio = 0.05f;
   if (d.joint_stride_texels == 0) d.joint_stride_texels = texelsPerJoint(d.format) == 3 ? 4 : 2;
   if (d.max_texture_size == 0) d.max_texture_size = 16384;
   return d;
 }
 
-FramePlan planFrames(double duration_seconds, double rate_hz, LoopMode loop_mode) {
+FramePlan planFrames(double duration_seconds, double rate_hz) {
   FramePlan p;
   if (!(duration_seconds > 0.0) || !(rate_hz > 0.0)) return p;
   // A tiny epsilon keeps 1.0 s at 30 Hz at 30 intervals despite rounding in duration * rate.
   const double intervals = std::max(1.0, std::ceil(duration_seconds * rate_hz - 1e-9));
-  if (resolveLoopMode(loop_mode) == LoopMode::kLoop) {
-    p.frame_count = static_cast<uint32_t>(std::min(intervals, 4294967295.0));
-  } else {
-    p.frame_count = static_cast<uint32_t>(std::min(intervals + 1.0, 4294967295.0));
-  }
+  p.frame_count = static_cast<uint32_t>(std::min(intervals + 1.0, 4294967295.0));
   p.frame_interval_seconds = duration_seconds / intervals;
   return p;
 }
 
-Status planPalette(const Character& character, const BakeDesc& in_desc, PalettePlan* out) {
+std::vector<uint32_t> usedJoints(const Character& character) {
+  const SkinnedMesh& mesh = character.mesh;
+  std::vector<uint8_t> referenced(mesh.vertexCount(), 0);
+  for (const SubMesh& sm : mesh.sub_meshes)
+    for (const IndexRange& r : sm.lods)
+      for (uint32_t i = r.first_index; i < r.first_index + r.index_count; ++i)
+        if (i < mesh.indices.size() && mesh.indices[i] < referenced.size())
+          referenced[mesh.indices[i]] = 1;
+  std::vector<uint8_t> used(character.skeleton.jointCount(), 0);
+  for (size_t v = 0; v < referenced.size(); ++v) {
+    if (!referenced[v]) continue;
+    for (int k = 0; k < 4; ++k)
+      if (mesh.weights[v][k] > 0.0f && mesh.joints[v][k] < used.size()) used[mesh.joints[v][k]] = 1;
+  }
+  std::vector<uint32_t> joints;
+  for (size_t j = 0; j < used.size(); ++j)
+    if (used[j]) joints.push_back(static_cast<uint32_t>(j));
+  return joints;
+}
+
+namespace {
+template <typename T>
+void stepKeyTimes(const Track<T>& track, double duration, std::vector<double>* out) {
+  if (resolveInterpolation(track.interpolation) != Interpolation::kStep) return;
+  for (size_t k = 1; k < track.times_seconds.size(); ++k)
+    if (track.times_seconds[k] > 0.0f && track.times_seconds[k] <= duration)
+      out->push_back(track.times_seconds[k]);
+}
+}  // namespace
+
+FramePlan planClipFrames(const Clip& clip, double rate_hz) {
+  FramePlan plan = planFrames(clip.duration_seconds, rate_hz);
+  std::vector<double> steps;
+  for (const JointTracks& jt : clip.joint_tracks) {
+    stepKeyTimes(jt.translation, clip.duration_seconds, &steps);
+    stepKeyTimes(jt.rotation, clip.duration_seconds, &steps);
+    stepKeyTimes(jt.scale, clip.duration_seconds, &steps);
+  }
+  if (steps.empty() || plan.frame_count < 2) return plan;
+  std::sort(steps.begin(), steps.end());
+  steps.erase(std::unique(steps.begin(), steps.end()), steps.end());
+  const double dt = plan.frame_interval_seconds, eps = 1e-6 * dt;
+  size_t next_step = 0;
+  for (uint32_t f = 0; f < plan.frame_count; ++f) {
+    const double t = f + 1 == plan.frame_count ? double(clip.duration_seconds) : f * dt;
+    while (next_step < steps.size() && steps[next_step] < t - eps) {
+      plan.frame_times_seconds.insert(plan.frame_times_seconds.end(), 2, steps[next_step]);
+      plan.before_step.insert(plan.before_step.end(), {1, 0});
+      ++next_step;
+    }
+    if (next_step < steps.size() && std::fabs(steps[next_step] - t) <= eps) continue;  // Replaced.
+    plan.frame_times_seconds.push_back(t);
+    plan.before_step.push_back(0);
+  }
+  for (; next_step < steps.size(); ++next_step) {  // A key on the clip's end.
+    plan.frame_times_seconds.insert(plan.frame_times_seconds.end(), 2, steps[next_step]);
+    plan.before_step.insert(plan.before_step.end(), {1, 0});
+  }
+  plan.frame_count = static_cast<uint32_t>(plan.frame_times_seconds.size());
+  return plan;
+}
+
+Status planPalette(const Character& character, const BakeDesc& in_desc, PalettePlan* out,
+                   Span<const double> clip_rates_hz) {
   if (out == nullptr) return {StatusCode::kInvalidArgument, "planPalette: out is null"};
   const BakeDesc d = resolveDefaults(in_desc);
   if (!std::isfinite(d.sample_rate_hz) || d.sample_rate_hz <= 0.0f)
     return {StatusCode::kInvalidArgument, "BakeDesc.sample_rate_hz must be finite and positive"};
+  if (d.rate_mode != RateMode::kFixed && d.rate_mode != RateMode::kAutomatic)
+    return {StatusCode::kInvalidArgument, "BakeDesc.rate_mode is not a known RateMode"};
+  if (!std::isfinite(d.error_tolerance_ratio) || d.error_tolerance_ratio <= 0.0f)
+    return {StatusCode::kInvalidArgument, "BakeDesc.error_tolerance_ratio must be positive"};
+  if (!std::isfinite(d.max_sample_rate_hz) || d.max_sample_rate_hz <= 0.0f)
+    return {StatusCode::kInvalidArgument, "BakeDesc.max_sample_rate_hz must be positive"};
+  if (!std::isfinite(d.shell_distance_ratio) || d.shell_distance_ratio <= 0.0f)
+    return {StatusCode::kInvalidArgument, "BakeDesc.shell_distance_ratio must be positive"};
   if (d.format != PaletteFormat::kMatrix3x4F32 && d.format != PaletteFormat::kMatrix3x4F16 &&
       d.format != PaletteFormat::kQuatTranslationF32)
     return {StatusCode::kInvalidArgument, "BakeDesc.format is not a known PaletteFormat"};
@@ -75,18 +147,29 @@ Status planPalette(const Character& character, const BakeDesc& in_desc, PaletteP
   }
   if (plan.clip_indices.empty())
     return {StatusCode::kInvalidArgument, "bake: the character has no clips to bake"};
+  if (!clip_rates_hz.empty() && clip_rates_hz.size() != plan.clip_indices.size())
+    return {StatusCode::kInvalidArgument,
+            strCat("bake: ", clip_rates_hz.size(), " clip rates for ", plan.clip_indices.size(),
+                   " clips")};
   std::vector<uint32_t> frame_counts;
-  for (uint32_t c : plan.clip_indices) {
-    const Clip& clip = character.clips[c];
-    const FramePlan f = planFrames(clip.duration_seconds, d.sample_rate_hz, clip.loop_mode);
+  for (size_t i = 0; i < plan.clip_indices.size(); ++i) {
+    const Clip& clip = character.clips[plan.clip_indices[i]];
+    const double rate = clip_rates_hz.empty() ? double(d.sample_rate_hz) : clip_rates_hz[i];
+    if (!std::isfinite(rate) || rate <= 0.0)
+      return {StatusCode::kInvalidArgument, strCat("bake: clip '", clip.name, "' rate ", rate,
+                                                   " Hz must be finite and positive")};
+    const FramePlan f = planClipFrames(clip, rate);
     if (f.frame_count > (1u << 20))
       return {StatusCode::kLimitExceeded, strCat("bake: clip '", clip.name, "' would need ",
                                                  f.frame_count, " frames (at most 2^20)")};
     plan.frames.push_back(f);
     frame_counts.push_back(f.frame_count);
   }
+  plan.palette_joints = usedJoints(character);
+  if (plan.palette_joints.empty())
+    return {StatusCode::kInvalidArgument, "bake: no vertex is weighted to any joint"};
   PaletteLayoutDesc ld;
-  ld.joint_count = static_cast<uint32_t>(character.skeleton.jointCount());
+  ld.joint_count = static_cast<uint32_t>(plan.palette_joints.size());
   ld.clip_frame_counts = frame_counts;
   ld.texels_per_joint = texelsPerJoint(d.format);
   ld.joint_stride_texels = d.joint_stride_texels;

@@ -398,11 +398,11 @@ ClipDef waveClip() {
   def.interpolation = Interpolation::kLinear;
   def.step_joint = kRHand;
   def.rotation = [](int j, double t, glm::dquat* q) {
-    // Raise in the first 0.5 s, wave, lower in the last 0.5 s; ends at the rest pose.
-    const double env = smoothstep(0.0, 0.5, t) * (1.0 - smoothstep(2.0, 2.5, t));
+    // Raise in the first 0.8 s, wave, lower in the last 0.7 s; ends at the rest pose.
+    const double env = smoothstep(0.0, 0.8, t) * (1.0 - smoothstep(1.8, 2.5, t));
     switch (j) {
       case kRUpperArm: *q = axisAngle(-2.5 * env, kZ); return true;
-      case kRForearm: *q = axisAngle(env * (-0.4 + 0.45 * std::sin(2 * kPi * 1.6 * t)), kZ); return true;
+      case kRForearm: *q = axisAngle(env * (-0.4 + 0.35 * std::sin(2 * kPi * 1.2 * t)), kZ); return true;
       case kRHand: *q = axisAngle(env * (std::fmod(t, 0.4) < 0.2 ? 0.3 : -0.3), kY); return true;
       case kHead: *q = axisAngle(-0.25 * env, kY); return true;
       default: return false;

@@ -149,20 +149,17 @@ Status evaluateRestPose(const Skeleton& skeleton, ReferencePose* pose) {
   return composePose(skeleton, pose->local, pose->model, pose->skinning);
 }
 
-Status evaluatePose(const Skeleton& skeleton, const Clip& clip, double time_seconds,
-                    ReferencePose* pose, TimeWrap wrap) {
+namespace {
+// Evaluates at clip-local time t in [0, duration]; `loop` selects the wrap interpolation.
+Status evaluateAt(const Skeleton& skeleton, const Clip& clip, double t, bool loop,
+                  ReferencePose* pose) {
   if (pose == nullptr) return {StatusCode::kInvalidArgument, "evaluatePose: pose is null"};
-  if (!std::isfinite(time_seconds))
-    return {StatusCode::kNotFinite, "evaluatePose: time_seconds is not finite"};
+  if (!std::isfinite(t)) return {StatusCode::kNotFinite, "evaluatePose: time is not finite"};
   Status s = skeleton.validate();
   if (s.isOk()) s = clip.validate(skeleton.jointCount());
   if (!s.isOk()) return s;
-
-  const double t = clipLocalTime(clip, time_seconds, wrap);
-  bool loop = resolveLoopMode(clip.loop_mode) == LoopMode::kLoop;
-  if (wrap != TimeWrap::kDefault) loop = wrap == TimeWrap::kLoop;
+  t = std::clamp(t, 0.0, double(clip.duration_seconds));
   const double wrap_to = loop && clip.wrap_interpolates ? double(clip.duration_seconds) : -1.0;
-
   const size_t n = skeleton.jointCount();
   pose->local.resize(n);
   pose->model.resize(n);
@@ -177,6 +174,22 @@ Status evaluatePose(const Skeleton& skeleton, const Clip& clip, double time_seco
     pose->local[j] = x;
   }
   return composePose(skeleton, pose->local, pose->model, pose->skinning);
+}
+}  // namespace
+
+Status evaluatePose(const Skeleton& skeleton, const Clip& clip, double time_seconds,
+                    ReferencePose* pose, TimeWrap wrap) {
+  if (!std::isfinite(time_seconds))
+    return {StatusCode::kNotFinite, "evaluatePose: time_seconds is not finite"};
+  bool loop = resolveLoopMode(clip.loop_mode) == LoopMode::kLoop;
+  if (wrap != TimeWrap::kDefault) loop = wrap == TimeWrap::kLoop;
+  return evaluateAt(skeleton, clip, clipLocalTime(clip, time_seconds, wrap), loop, pose);
+}
+
+Status evaluateLocalPose(const Skeleton& skeleton, const Clip& clip, double local_time_seconds,
+                         ReferencePose* pose) {
+  return evaluateAt(skeleton, clip, local_time_seconds,
+                    resolveLoopMode(clip.loop_mode) == LoopMode::kLoop, pose);
 }
 
 namespace {

@@ -7,27 +7,21 @@
 namespace si {
 namespace {
 
-TEST(PlanFrames, OnceEndsExactlyOnTheLastKey) {
-  const FramePlan p = planFrames(1.0, 30.0, LoopMode::kOnce);
+TEST(PlanFrames, EndsExactlyOnTheClipEnd) {
+  const FramePlan p = planFrames(1.0, 30.0);
   EXPECT_EQ(p.frame_count, 31u);
   EXPECT_DOUBLE_EQ(p.frame_interval_seconds * (p.frame_count - 1), 1.0);
   // 0.66 s at 30 Hz: 19.8 intervals round up to 20, so frames are slightly closer than 1/30.
-  const FramePlan q = planFrames(0.66, 30.0, LoopMode::kOnce);
+  const FramePlan q = planFrames(0.66, 30.0);
   EXPECT_EQ(q.frame_count, 21u);
   EXPECT_DOUBLE_EQ(q.frame_interval_seconds * 20, 0.66);
 }
 
-TEST(PlanFrames, LoopOmitsTheDuplicateEndFrame) {
-  const FramePlan p = planFrames(1.0, 30.0, LoopMode::kLoop);
-  EXPECT_EQ(p.frame_count, 30u);
-  EXPECT_DOUBLE_EQ(p.frame_interval_seconds * p.frame_count, 1.0);
-}
-
 TEST(PlanFrames, ZeroLengthAndTinyClips) {
-  EXPECT_EQ(planFrames(0.0, 30.0, LoopMode::kOnce).frame_count, 1u);
-  EXPECT_EQ(planFrames(0.0, 30.0, LoopMode::kLoop).frame_count, 1u);
-  EXPECT_EQ(planFrames(1e-6, 30.0, LoopMode::kOnce).frame_count, 2u);
-  EXPECT_EQ(planFrames(1e-6, 30.0, LoopMode::kLoop).frame_count, 1u);
+  EXPECT_EQ(planFrames(0.0, 30.0).frame_count, 1u);
+  EXPECT_EQ(planFrames(0.0, 30.0).frame_interval_seconds, 0.0);
+  EXPECT_EQ(planFrames(1e-6, 30.0).frame_count, 2u);
+  EXPECT_EQ(planFrames(2.0, 0.0).frame_count, 1u);
 }
 
 class PlanPaletteTest : public ::testing::Test {
@@ -41,10 +35,13 @@ TEST_F(PlanPaletteTest, DefaultsBakeEveryClipAt30Hz) {
   ASSERT_TRUE(planPalette(character_, {}, &plan).isOk());
   ASSERT_EQ(plan.clip_indices.size(), character_.clips.size());
   EXPECT_EQ(plan.layout.joint_stride_texels, 4u);
-  EXPECT_EQ(plan.layout.frame_stride_texels, character_.skeleton.jointCount() * 4);
+  // Every joint but the unweighted root is stored.
+  EXPECT_EQ(plan.palette_joints.size(), character_.skeleton.jointCount() - 1);
+  EXPECT_EQ(plan.palette_joints[0], uint32_t(character_.skeleton.findJoint("pelvis")));
+  EXPECT_EQ(plan.layout.frame_stride_texels, plan.palette_joints.size() * 4);
   uint64_t frames = 0;
   for (const FramePlan& f : plan.frames) frames += f.frame_count;
-  EXPECT_EQ(plan.layout.used_texel_count, frames * character_.skeleton.jointCount() * 4);
+  EXPECT_EQ(plan.layout.used_texel_count, frames * plan.palette_joints.size() * 4);
   EXPECT_EQ(plan.texture_bytes, plan.layout.textureTexelCount() * 16);
 }
 
@@ -61,6 +58,17 @@ TEST_F(PlanPaletteTest, FormatsAndClipSelection) {
   ASSERT_TRUE(planPalette(character_, d, &plan).isOk());
   EXPECT_EQ(plan.layout.texels_per_joint, 2u);
   EXPECT_EQ(plan.layout.joint_stride_texels, 2u);
+}
+
+TEST_F(PlanPaletteTest, PerClipRates) {
+  const double rates[] = {10.0, 60.0, 30.0, 15.0};
+  PalettePlan plan;
+  ASSERT_TRUE(planPalette(character_, {}, &plan, rates).isOk());
+  ASSERT_EQ(plan.frames.size(), 4u);
+  for (size_t i = 0; i < 4; ++i) {
+    EXPECT_EQ(plan.frames[i].frame_count,
+              planClipFrames(character_.clips[plan.clip_indices[i]], rates[i]).frame_count);
+  }
 }
 
 TEST_F(PlanPaletteTest, ValidityMatrix) {
@@ -81,6 +89,11 @@ TEST_F(PlanPaletteTest, ValidityMatrix) {
   d = BakeDesc();
   d.sample_rate_hz = 1e9f;
   EXPECT_EQ(planPalette(character_, d, &plan).code(), StatusCode::kLimitExceeded);
+  const double one_rate[] = {30.0};
+  EXPECT_EQ(planPalette(character_, {}, &plan, one_rate).code(), StatusCode::kInvalidArgument);
+  d = BakeDesc();
+  d.rate_mode = static_cast<RateMode>(9);
+  EXPECT_EQ(planPalette(character_, d, &plan).code(), StatusCode::kInvalidArgument);
   Character no_clips = character_;
   no_clips.clips.clear();
   EXPECT_EQ(planPalette(no_clips, {}, &plan).code(), StatusCode::kInvalidArgument);

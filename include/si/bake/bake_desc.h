@@ -31,11 +31,29 @@ uint32_t texelsPerJoint(PaletteFormat f);
 /// Bytes per texel: 16 for F32 formats, 8 for kMatrix3x4F16.
 uint32_t bytesPerTexel(PaletteFormat f);
 
+/// How each clip's sample rate is chosen.
+enum class RateMode : uint8_t {
+  kDefault = 0,  ///< Resolved to kAutomatic.
+  kFixed,        ///< Every clip at BakeDesc::sample_rate_hz.
+  kAutomatic,    ///< Per clip, the lowest candidate rate whose measured max error is at most
+                 ///< error_tolerance_ratio * character height (or max_sample_rate_hz if none).
+};
+
 /// Bake options. Zero fields take the defaults documented on each.
 struct BakeDesc {
   PaletteFormat format = PaletteFormat::kDefault;
-  /// Frames per second of every clip; 0 means 30.
+  RateMode rate_mode = RateMode::kDefault;
+  /// Frames per second of every clip for kFixed (and unselected clips' figure in the report's
+  /// bytes_saved); 0 means 30.
   float sample_rate_hz = 0.0f;
+  /// For kAutomatic: the tolerance as a fraction of the character's height; 0 means 1e-4.
+  /// The default bake (kAutomatic) keeps every clip's max error within it where the format
+  /// allows (the report says per clip whether it did).
+  float error_tolerance_ratio = 0.0f;
+  /// For kAutomatic: the highest rate tried; 0 means 240.
+  float max_sample_rate_hz = 0.0f;
+  /// Shell metric distance as a fraction of the character's height; 0 means 0.05.
+  float shell_distance_ratio = 0.0f;
   /// Names of the clips to bake, in palette order; empty means all clips of the character.
   std::vector<std::string> clip_names;
   /// Texel stride between joints; 0 means texelsPerJoint rounded up to a power of two.
@@ -47,28 +65,50 @@ struct BakeDesc {
 /// Returns the desc with zeros replaced by their documented defaults (clip_names untouched).
 BakeDesc resolveDefaults(const BakeDesc& desc);
 
-/// Frames baked for a clip of `duration_seconds` at `rate_hz`, and their spacing. A clip that
-/// plays once gets frames at 0, dt, ..., duration (the last exactly on its end), with
-/// n = ceil(duration * rate) + 1 frames and dt = duration / (n - 1). A looping clip gets
-/// n = ceil(duration * rate) frames at 0, dt, ..., duration - dt with dt = duration / n: its last
-/// frame interpolates into its first. A zero-length clip gets one frame.
+/// Frames baked for a clip of `duration_seconds` at (at least) `rate_hz`, and their spacing:
+/// n = ceil(duration * rate) intervals of dt = duration / n, so frames sit at 0, dt, ..., duration
+/// (n + 1 frames) and the last one lies exactly on the clip's end. For a looping clip the last
+/// frame holds the pose at the end approached from the left (see evaluateLocalPose()), so the
+/// shader interpolates frame i into frame i + 1 for every clip and never wraps; the last frame
+/// equals the first for a seamless glTF loop and differs where the clip holds its last key
+/// (Clip::wrap_interpolates false). A zero-length clip gets one frame.
 struct FramePlan {
   uint32_t frame_count = 1;
   double frame_interval_seconds = 0.0;  ///< 0 for a single frame.
+  /// Empty for the uniform grid above. For a clip with STEP keys: the time of every frame,
+  /// non-decreasing. Each STEP key time k inside the clip holds two frames, the pose just
+  /// before k and the pose at k (grid frames within 1e-6 intervals of k are replaced), so a
+  /// hold never blends and the other channels keep interpolating.
+  std::vector<double> frame_times_seconds;
+  /// With frame_times_seconds: 1 for a frame holding the pose just before its time.
+  std::vector<uint8_t> before_step;
 };
-FramePlan planFrames(double duration_seconds, double rate_hz, LoopMode loop_mode);
+FramePlan planFrames(double duration_seconds, double rate_hz);
 
-/// The clips a desc selects (indices into character.clips) and the palette layout a bake will
-/// produce, without evaluating anything. Fails with kInvalidArgument for a rate that is not
-/// finite and positive, or an unknown format; kNotFound naming a clip that does not exist;
-/// kLimitExceeded when more than 2^20 frames per clip are asked for, or from
-/// computePaletteLayout().
+/// planFrames() plus the STEP key frames of `clip` (see FramePlan::frame_times_seconds).
+FramePlan planClipFrames(const Clip& clip, double rate_hz);
+
+/// The clips a desc selects (indices into character.clips), the joints the palette stores and
+/// the palette layout a bake will produce, without evaluating anything. Only joints that some
+/// vertex of some sub-mesh LOD is weighted to are stored ("model only what the scene needs");
+/// their ancestors still shape them through the reference evaluation. `clip_rates_hz`, when not
+/// empty, gives each selected clip its own rate (the baker's automatic mode) instead of
+/// desc.sample_rate_hz. Fails with kInvalidArgument for a rate that is not finite and positive,
+/// an unknown format or rate mode, a character without clips, a rates span of the wrong size;
+/// kNotFound naming a clip that does not exist; kLimitExceeded when more than 2^20 frames per
+/// clip are asked for, or from computePaletteLayout(). `out` is untouched on failure.
 struct PalettePlan {
   std::vector<uint32_t> clip_indices;
-  std::vector<FramePlan> frames;  ///< One per selected clip.
+  std::vector<FramePlan> frames;         ///< One per selected clip.
+  std::vector<uint32_t> palette_joints;  ///< Skeleton joints stored, in skeleton order.
   PaletteLayout layout;
-  uint64_t texture_bytes = 0;     ///< width * height * bytesPerTexel.
+  uint64_t texture_bytes = 0;            ///< width * height * bytesPerTexel.
 };
-Status planPalette(const Character& character, const BakeDesc& desc, PalettePlan* out);
+Status planPalette(const Character& character, const BakeDesc& desc, PalettePlan* out,
+                   Span<const double> clip_rates_hz = {});
+
+/// Skeleton joints that some vertex referenced by some sub-mesh LOD has a non-zero weight on,
+/// in skeleton order. The mesh must be valid for the skeleton.
+std::vector<uint32_t> usedJoints(const Character& character);
 
 }  // namespace si

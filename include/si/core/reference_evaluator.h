@@ -60,6 +60,14 @@ struct ReferencePose {
 Status evaluatePose(const Skeleton& skeleton, const Clip& clip, double time_seconds,
                     ReferencePose* pose, TimeWrap wrap = TimeWrap::kDefault);
 
+/// Evaluates `clip` at clip-local time `local_time_seconds` in [0, duration] without remapping
+/// it: for a looping clip, `duration` itself gives the pose approached from the left (the last
+/// key held, or interpolating into the first key when Clip::wrap_interpolates), which is what a
+/// baked loop's final frame stores. Times outside [0, duration] are clamped. Fails as
+/// evaluatePose() does.
+Status evaluateLocalPose(const Skeleton& skeleton, const Clip& clip, double local_time_seconds,
+                         ReferencePose* pose);
+
 /// Fills `pose` with the skeleton's rest pose.
 Status evaluateRestPose(const Skeleton& skeleton, ReferencePose* pose);
 

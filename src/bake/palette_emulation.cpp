@@ -1,0 +1,160 @@
+// SkinnedInstancing — SPDX-License-Identifier: MIT (see LICENSE)
+// The CPU emulation of the vertex shader's palette reads: the same texel addressing, decoding,
+// frame interpolation and skinning, in float.
+#include <algorithm>
+#include <cmath>
+#include <cstring>
+
+#include "core/str_cat.h"
+#include "si/bake/animation_baker.h"
+
+namespace si {
+using detail::strCat;
+
+int32_t BakedPalette::findClip(const std::string& clip_name) const {
+  for (size_t i = 0; i < clips.size(); ++i)
+    if (clips[i].name == clip_name) return static_cast<int32_t>(i);
+  return -1;
+}
+
+FrameSample sampleFrames(const BakedClip& clip, double local_time_seconds) {
+  FrameSample s;
+  if (clip.frame_count <= 1) return s;
+  const double t = std::clamp(local_time_seconds, 0.0, double(clip.duration_seconds));
+  const uint32_t last_interval = clip.frame_count - 2;
+  if (!clip.frame_times_seconds.empty()) {
+    const auto& times = clip.frame_times_seconds;
+    // Last frame at or before t (after a STEP key's pair: the frame at the key).
+    const size_t k = size_t(std::upper_bound(times.begin(), times.end(), t) - times.begin());
+    const uint32_t i = static_cast<uint32_t>(std::min<size_t>(k == 0 ? 0 : k - 1, last_interval));
+    const double span = times[i + 1] - times[i];
+    s.frame = i;
+    s.next_frame = i + 1;
+    s.fraction = span > 0.0 ? static_cast<float>(std::clamp((t - times[i]) / span, 0.0, 1.0))
+                            : 1.0f;
+    return s;
+  }
+  if (!(clip.frame_interval_seconds > 0.0)) return s;
+  const double position = t / clip.frame_interval_seconds;
+  const uint32_t i = std::min(static_cast<uint32_t>(std::max(0.0, std::floor(position))),
+                              last_interval);
+  s.frame = i;
+  s.next_frame = i + 1;
+  s.fraction = static_cast<float>(std::clamp(position - double(i), 0.0, 1.0));
+  return s;
+}
+
+namespace {
+
+glm::vec4 readTexel(const BakedPalette& p, uint32_t index) {
+  glm::vec4 v;
+  if (p.format == PaletteFormat::kMatrix3x4F16) {
+    uint16_t h[4];
+    std::memcpy(h, p.texel_bytes.data() + size_t(index) * 8, 8);
+    for (int c = 0; c < 4; ++c) v[c] = halfToFloat(h[c]);
+  } else {
+    std::memcpy(&v[0], p.texel_bytes.data() + size_t(index) * 16, 16);
+  }
+  return v;
+}
+
+glm::mat4 fromRows(const glm::vec4& r0, const glm::vec4& r1, const glm::vec4& r2) {
+  glm::mat4 m(1.0f);
+  for (int c = 0; c < 4; ++c) {
+    m[c][0] = r0[c];
+    m[c][1] = r1[c];
+    m[c][2] = r2[c];
+  }
+  return m;
+}
+
+glm::mat4 fromRigid(const glm::vec4& q, const glm::vec4& ts) {
+  const glm::mat3 r = glm::mat3_cast(glm::quat(q.w, q.x, q.y, q.z));
+  glm::mat4 m(1.0f);
+  for (int c = 0; c < 3; ++c) m[c] = glm::vec4(r[c] * ts.w, 0.0f);
+  m[3] = glm::vec4(glm::vec3(ts), 1.0f);
+  return m;
+}
+
+}  // namespace
+
+glm::mat4 decodeJoint(const BakedPalette& p, uint32_t clip, uint32_t frame, uint32_t slot) {
+  const PaletteLayout& l = p.layout;
+  if (p.format == PaletteFormat::kQuatTranslationF32)
+    return fromRigid(readTexel(p, l.texelIndex(clip, frame, slot, 0)),
+                     readTexel(p, l.texelIndex(clip, frame, slot, 1)));
+  return fromRows(readTexel(p, l.texelIndex(clip, frame, slot, 0)),
+                  readTexel(p, l.texelIndex(clip, frame, slot, 1)),
+                  readTexel(p, l.texelIndex(clip, frame, slot, 2)));
+}
+
+glm::mat4 emulateSkinningMatrix(const BakedPalette& p, uint32_t clip, const FrameSample& s,
+                                uint32_t slot) {
+  const PaletteLayout& l = p.layout;
+  const float u = s.fraction;
+  if (p.format == PaletteFormat::kQuatTranslationF32) {
+    const glm::vec4 qa = readTexel(p, l.texelIndex(clip, s.frame, slot, 0));
+    glm::vec4 qb = readTexel(p, l.texelIndex(clip, s.next_frame, slot, 0));
+    const glm::vec4 ta = readTexel(p, l.texelIndex(clip, s.frame, slot, 1));
+    const glm::vec4 tb = readTexel(p, l.texelIndex(clip, s.next_frame, slot, 1));
+    if (glm::dot(qa, qb) < 0.0f) qb = -qb;  // Shorter arc.
+    const glm::vec4 q = glm::normalize(glm::mix(qa, qb, u));
+    return fromRigid(q, glm::mix(ta, tb, u));
+  }
+  glm::vec4 rows[3];
+  for (uint32_t r = 0; r < 3; ++r)
+    rows[r] = glm::mix(readTexel(p, l.texelIndex(clip, s.frame, slot, r)),
+                       readTexel(p, l.texelIndex(clip, s.next_frame, slot, r)), u);
+  return fromRows(rows[0], rows[1], rows[2]);
+}
+
+Status emulateSkinningMatrices(const BakedPalette& p, uint32_t clip, const FrameSample& s,
+                               Span<glm::mat4> out) {
+  if (out.size() != p.skeleton_to_palette.size())
+    return {StatusCode::kCountMismatch,
+            strCat("emulateSkinningMatrices: ", out.size(), " matrices for ",
+                   p.skeleton_to_palette.size(), " joints")};
+  if (clip >= p.clips.size() || s.frame >= p.clips[clip].frame_count ||
+      s.next_frame >= p.clips[clip].frame_count)
+    return {StatusCode::kOutOfRange, "emulateSkinningMatrices: clip or frame out of range"};
+  for (size_t j = 0; j < out.size(); ++j) {
+    const int32_t slot = p.skeleton_to_palette[j];
+    out[j] = slot < 0 ? glm::mat4(1.0f) : emulateSkinningMatrix(p, clip, s, uint32_t(slot));
+  }
+  return Status::ok();
+}
+
+Status emulateSkinning(const SkinnedMesh& mesh, Span<const glm::mat4> matrices,
+                       Span<glm::vec3> out_positions, Span<glm::vec3> out_normals) {
+  const size_t n = mesh.vertexCount();
+  if (out_positions.size() != n || (!out_normals.empty() && out_normals.size() != n) ||
+      mesh.joints.size() != n || mesh.weights.size() != n || mesh.normals.size() != n)
+    return {StatusCode::kCountMismatch, "emulateSkinning: spans do not match the vertex count"};
+  for (size_t v = 0; v < n; ++v) {
+    const glm::vec4 p(mesh.positions[v], 1.0f);
+    glm::vec3 pos(0.0f), nrm(0.0f);
+    for (int i = 0; i < 4; ++i) {
+      const float w = mesh.weights[v][i];
+      if (w == 0.0f) continue;  // The shader branches past zero weights.
+      const uint16_t j = mesh.joints[v][i];
+      if (j >= matrices.size())
+        return {StatusCode::kOutOfRange, strCat("emulateSkinning: vertex ", v, " joint ", j)};
+      const glm::mat4& m = matrices[j];
+      pos += w * glm::vec3(m * p);
+      if (!out_normals.empty()) {
+        const glm::mat3 a(m);
+        glm::mat3 cof(glm::cross(a[1], a[2]), glm::cross(a[2], a[0]), glm::cross(a[0], a[1]));
+        if (glm::dot(a[0], cof[0]) < 0.0f) cof = -cof;
+        nrm += w * (cof * mesh.normals[v]);
+      }
+    }
+    out_positions[v] = pos;
+    if (!out_normals.empty()) {
+      const float len = glm::length(nrm);
+      out_normals[v] = len > 1e-30f ? nrm / len : mesh.normals[v];
+    }
+  }
+  return Status::ok();
+}
+
+}  // namespace si
