@@ -163,6 +163,40 @@ std::vector<uint32_t> drawnVertices(const SkinnedMesh& mesh) {
   return v;
 }
 
+// For the automatic rate search: per stored joint, the 8 drawn vertices weighted to it that lie
+// farthest from its bind position, as a mesh of their own. Interpolation error grows with the
+// lever arm, so these bound the search's error cheaply; the final report still measures every
+// drawn vertex.
+SkinnedMesh searchMesh(const Character& character, const std::vector<uint32_t>& drawn) {
+  const SkinnedMesh& mesh = character.mesh;
+  const size_t nj = character.skeleton.jointCount();
+  std::vector<std::vector<std::pair<float, uint32_t>>> per_joint(nj);
+  for (uint32_t v : drawn)
+    for (int k = 0; k < 4; ++k) {
+      if (mesh.weights[v][k] <= 0.0f) continue;
+      const uint16_t j = mesh.joints[v][k];
+      const glm::vec3 joint_pos(glm::inverse(character.skeleton.inverse_bind_matrices[j])[3]);
+      per_joint[j].push_back({glm::length(mesh.positions[v] - joint_pos), v});
+    }
+  std::vector<uint32_t> out;
+  for (auto& list : per_joint) {
+    const size_t keep = std::min<size_t>(8, list.size());
+    std::partial_sort(list.begin(), list.begin() + std::ptrdiff_t(keep), list.end(),
+                      [](const auto& a, const auto& b) { return a.first > b.first; });
+    for (size_t i = 0; i < keep; ++i) out.push_back(list[i].second);
+  }
+  std::sort(out.begin(), out.end());
+  out.erase(std::unique(out.begin(), out.end()), out.end());
+  SkinnedMesh subset;
+  for (uint32_t v : out) {
+    subset.positions.push_back(mesh.positions[v]);
+    subset.normals.push_back(mesh.normals[v]);
+    subset.joints.push_back(mesh.joints[v]);
+    subset.weights.push_back(mesh.weights[v]);
+  }
+  return subset;
+}
+
 struct Measurement {
   ClipErrorReport report;
   Aabb bounds;
@@ -170,12 +204,13 @@ struct Measurement {
 
 // Emulates the shader at the clip's measurement times; compares with the reference when
 // `with_error`; always accumulates bounds of the emulated positions.
-Status measureClip(const Character& character, const BakedPalette& p, uint32_t clip_index,
-                   const std::vector<uint32_t>& vertices, double shell_distance,
-                   bool with_error, bool midpoints_only, Measurement* out) {
+// `mesh` is the character's mesh or a subset of its vertices; `vertices` index into it.
+Status measureClip(const Character& character, const SkinnedMesh& mesh, const BakedPalette& p,
+                   uint32_t clip_index, const std::vector<uint32_t>& vertices,
+                   double shell_distance, bool with_error, bool midpoints_only,
+                   Measurement* out) {
   const BakedClip& bc = p.clips[clip_index];
   const Clip& clip = character.clips[size_t(character.findClip(bc.name))];
-  const SkinnedMesh& mesh = character.mesh;
   const size_t nv = mesh.vertexCount(), nj = character.skeleton.jointCount();
   std::vector<glm::mat4> emulated(nj);
   std::vector<glm::vec3> positions(nv);
@@ -268,13 +303,18 @@ Status bakePalette(const Character& character, const BakeDesc& in_desc, BakedPal
   std::vector<double> rates(plan.clip_indices.size(), double(d.sample_rate_hz));
   if (d.rate_mode == RateMode::kAutomatic) {
     const double tolerance = d.error_tolerance_ratio * height;
+    const SkinnedMesh search_mesh = searchMesh(character, vertices);
+    std::vector<uint32_t> search_vertices(search_mesh.vertexCount());
+    for (size_t i = 0; i < search_vertices.size(); ++i) search_vertices[i] = uint32_t(i);
     std::vector<double> candidates;
     for (double r : kCandidateRates)
       if (r <= d.max_sample_rate_hz) candidates.push_back(r);
     if (candidates.empty() || candidates.back() < d.max_sample_rate_hz)
       candidates.push_back(d.max_sample_rate_hz);
     for (size_t c = 0; c < rates.size(); ++c) {
-      const auto midpoint_error = [&](double rate, double* error) {
+      // Max error of this clip alone baked at `rate`: on the search subset at interval
+      // midpoints (cheap), or on every drawn vertex at every measurement time (exact).
+      const auto clip_error = [&](double rate, bool full, double* error) {
         BakeDesc one = d;
         one.clip_names = {character.clips[plan.clip_indices[c]].name};
         one.rate_mode = RateMode::kFixed;
@@ -284,30 +324,42 @@ Status bakePalette(const Character& character, const BakeDesc& in_desc, BakedPal
         Measurement m;
         Status st = planPalette(character, one, &one_plan);
         if (st.isOk()) st = bakeTexels(character, one, one_plan, &trial);
-        if (st.isOk()) st = measureClip(character, trial, 0, vertices, shell, true, true, &m);
+        if (st.isOk())
+          st = full ? measureClip(character, character.mesh, trial, 0, vertices, shell, true,
+                                  false, &m)
+                    : measureClip(character, search_mesh, trial, 0, search_vertices, shell, true,
+                                  true, &m);
         *error = m.report.max_error_units;
         return st;
       };
       // A format whose precision floor is above the tolerance (half floats) cannot meet it at
       // any rate: then aim for 1.1 x the error at the highest rate instead of climbing to it.
-      double floor_error = 0.0;
-      s = midpoint_error(candidates.back(), &floor_error);
+      double floor_error = 0.0, full_floor_error = 0.0;
+      s = clip_error(candidates.back(), false, &floor_error);
+      if (s.isOk() && floor_error > tolerance)
+        s = clip_error(candidates.back(), true, &full_floor_error);
       if (!s.isOk()) return s;
       const double target = std::max(tolerance, 1.1 * floor_error);
-      // Binary search for the lowest candidate whose midpoint error meets the target (error
-      // falls as the rate rises; the final report re-measures the choice fully).
-      rates[c] = candidates.back();
+      const double full_target = std::max(tolerance, 1.1 * full_floor_error);
+      // Binary search on the subset for the lowest candidate meeting the target (error falls as
+      // the rate rises), then confirm on the whole mesh, stepping up until it holds.
       size_t lo = 0, hi = candidates.size() - 1;
       while (lo < hi) {
         const size_t mid = (lo + hi) / 2;
         double error = 0.0;
-        s = midpoint_error(candidates[mid], &error);
+        s = clip_error(candidates[mid], false, &error);
         if (!s.isOk()) return s;
         if (error <= target) {
           hi = mid;
         } else {
           lo = mid + 1;
         }
+      }
+      for (; lo + 1 < candidates.size(); ++lo) {
+        double error = 0.0;
+        s = clip_error(candidates[lo], true, &error);
+        if (!s.isOk()) return s;
+        if (error <= full_target) break;
       }
       rates[c] = candidates[lo];
     }
@@ -323,7 +375,7 @@ Status bakePalette(const Character& character, const BakeDesc& in_desc, BakedPal
   const bool measure = report != nullptr || d.rate_mode == RateMode::kAutomatic;
   for (uint32_t c = 0; c < baked.clips.size(); ++c) {
     Measurement m;
-    s = measureClip(character, baked, c, vertices, shell, measure, false, &m);
+    s = measureClip(character, character.mesh, baked, c, vertices, shell, measure, false, &m);
     if (!s.isOk()) return s;
     // Matrix formats interpolate on chords between frames, so the frames' box is conservative
     // up to float rounding; the rotation format's nlerp can bulge, so pad by 1 % of the height.
@@ -345,8 +397,7 @@ Status bakePalette(const Character& character, const BakeDesc& in_desc, BakedPal
     if (measure) {
       m.report.palette_bytes = uint64_t(bc.frame_count) * baked.layout.frame_stride_texels *
                                bytesPerTexel(d.format);
-      if (d.rate_mode == RateMode::kAutomatic)
-        m.report.tolerance_met = m.report.max_error_units <= d.error_tolerance_ratio * height;
+      m.report.tolerance_met = m.report.max_error_units <= d.error_tolerance_ratio * height;
       rep.max_error_units = std::max(rep.max_error_units, m.report.max_error_units);
       rep.max_error_ratio = std::max(rep.max_error_ratio, m.report.max_error_ratio);
       rep.p99_error_units = std::max(rep.p99_error_units, m.report.p99_error_units);

@@ -88,7 +88,8 @@ struct ClipErrorReport {
   /// stored joint, rigidly bound to it; the largest displacement of any of them.
   double shell_max_error_units = 0.0;
   double shell_distance_units = 0.0;
-  bool tolerance_met = true;  ///< For automatic rates: whether max error <= the tolerance.
+  /// Whether max_error_ratio <= BakeDesc::error_tolerance_ratio (in every rate mode).
+  bool tolerance_met = true;
   uint64_t samples = 0;       ///< (time, vertex) pairs measured.
 };
 
