@@ -1,0 +1,298 @@
+// SkinnedInstancing — SPDX-License-Identifier: MIT (see LICENSE)
+// Palette file writer and bounds-checked reader (docs/palette-format.md).
+#include "si/bake/palette_file.h"
+
+#include <cmath>
+#include <cstring>
+#include <fstream>
+
+#include "core/str_cat.h"
+
+namespace si {
+using detail::strCat;
+
+namespace {
+
+constexpr char kMagic[8] = {'S', 'I', 'P', 'A', 'L', 'E', 'T', 0};
+constexpr uint32_t kMaxClips = 65536;
+constexpr uint32_t kMaxNameLength = 4096;
+constexpr uint32_t kMaxTextureSize = 32768;
+
+// ---- Writing ------------------------------------------------------------------------------
+class Writer {
+ public:
+  explicit Writer(std::vector<uint8_t>* out) : out_(out) {}
+  void u32(uint32_t v) { bytes(&v, 4); }
+  void u64(uint64_t v) { bytes(&v, 8); }
+  void f32(float v) { bytes(&v, 4); }
+  void f64(double v) { bytes(&v, 8); }
+  void bytes(const void* p, size_t n) {
+    // The format is little-endian; so are the hosts this library supports (checked below).
+    const uint8_t* b = static_cast<const uint8_t*>(p);
+    out_->insert(out_->end(), b, b + n);
+  }
+
+ private:
+  std::vector<uint8_t>* out_;
+};
+
+// ---- Reading: every read checks the bytes left first ---------------------------------------
+class Reader {
+ public:
+  explicit Reader(Span<const uint8_t> b) : data_(b.data()), size_(b.size()) {}
+  bool u32(uint32_t* v) { return raw(v, 4); }
+  bool u64(uint64_t* v) { return raw(v, 8); }
+  bool f32(float* v) { return raw(v, 4); }
+  bool f64(double* v) { return raw(v, 8); }
+  bool raw(void* out, size_t n) {
+    if (n > size_ - pos_) return false;
+    std::memcpy(out, data_ + pos_, n);
+    pos_ += n;
+    return true;
+  }
+  size_t left() const { return size_ - pos_; }
+  size_t position() const { return pos_; }
+
+ private:
+  const uint8_t* data_;
+  size_t size_;
+  size_t pos_ = 0;
+};
+
+bool isLittleEndian() {
+  const uint32_t one = 1;
+  uint8_t first;
+  std::memcpy(&first, &one, 1);
+  return first == 1;
+}
+
+Status corrupt(const std::string& what) {
+  return {StatusCode::kCorrupt, "palette file: " + what};
+}
+
+bool finiteBox(const Aabb& b) {
+  return isFinite(glm::vec4(b.min, 0.0f)) && isFinite(glm::vec4(b.max, 0.0f));
+}
+
+}  // namespace
+
+uint32_t crc32(Span<const uint8_t> bytes) {
+  static const auto table = [] {
+    std::vector<uint32_t> t(256);
+    for (uint32_t i = 0; i < 256; ++i) {
+      uint32_t c = i;
+      for (int k = 0; k < 8; ++k) c = (c & 1u) ? 0xEDB88320u ^ (c >> 1) : c >> 1;
+      t[i] = c;
+    }
+    return t;
+  }();
+  uint32_t c = 0xFFFFFFFFu;
+  for (uint8_t b : bytes) c = table[(c ^ b) & 0xFFu] ^ (c >> 8);
+  return c ^ 0xFFFFFFFFu;
+}
+
+Status savePalette(const BakedPalette& p, std::vector<uint8_t>* bytes) {
+  if (bytes == nullptr) return {StatusCode::kInvalidArgument, "savePalette: bytes is null"};
+  if (!isLittleEndian())
+    return {StatusCode::kUnsupported, "savePalette: big-endian hosts are not supported"};
+  const PaletteLayout& l = p.layout;
+  if (p.texel_bytes.size() != l.textureTexelCount() * bytesPerTexel(p.format) ||
+      p.clips.size() != l.clip_first_texel.size() || p.palette_joints.size() != l.joint_count ||
+      p.clips.empty())
+    return {StatusCode::kInvalidArgument, "savePalette: the palette is not consistent"};
+  std::vector<uint8_t> out;
+  Writer w(&out);
+  w.bytes(kMagic, 8);
+  w.u32(kPaletteFileVersion);
+  w.u32(static_cast<uint32_t>(p.format));
+  w.u32(l.width);
+  w.u32(l.height);
+  w.u32(l.joint_count);
+  w.u32(l.texels_per_joint);
+  w.u32(l.joint_stride_texels);
+  w.u32(static_cast<uint32_t>(p.skeleton_to_palette.size()));
+  w.u32(static_cast<uint32_t>(p.clips.size()));
+  w.f32(p.character_height);
+  for (uint32_t j : p.palette_joints) w.u32(j);
+  for (const BakedClip& c : p.clips) {
+    w.u32(static_cast<uint32_t>(c.name.size()));
+    w.bytes(c.name.data(), c.name.size());
+    w.u32(static_cast<uint32_t>(c.loop_mode));
+    w.f32(c.duration_seconds);
+    w.f64(c.frame_interval_seconds);
+    w.u32(c.frame_count);
+    w.u32(static_cast<uint32_t>(c.frame_times_seconds.size()));
+    for (double t : c.frame_times_seconds) w.f64(t);
+    for (int i = 0; i < 3; ++i) w.f32(c.bounds.min[i]);
+    for (int i = 0; i < 3; ++i) w.f32(c.bounds.max[i]);
+    for (int i = 0; i < 3; ++i) w.f32(c.bounding_sphere.center[i]);
+    w.f32(c.bounding_sphere.radius);
+  }
+  w.u64(p.texel_bytes.size());
+  w.bytes(p.texel_bytes.data(), p.texel_bytes.size());
+  w.u32(crc32(out));
+  *bytes = std::move(out);
+  return Status::ok();
+}
+
+Status loadPalette(Span<const uint8_t> bytes, BakedPalette* palette) {
+  if (palette == nullptr) return {StatusCode::kInvalidArgument, "loadPalette: palette is null"};
+  if (!isLittleEndian())
+    return {StatusCode::kUnsupported, "loadPalette: big-endian hosts are not supported"};
+  if (bytes.size() > kMaxPaletteFileSize)
+    return {StatusCode::kLimitExceeded,
+            strCat("palette file: ", bytes.size(), " bytes exceed the limit of ",
+                   kMaxPaletteFileSize)};
+  Reader r(bytes);
+  char magic[8];
+  if (!r.raw(magic, 8) || std::memcmp(magic, kMagic, 8) != 0)
+    return corrupt("not a palette file (bad magic)");
+  uint32_t version, format, width, height, joint_count, texels_per_joint, stride,
+      skeleton_joints, clip_count;
+  float height_units;
+  if (!r.u32(&version)) return corrupt("truncated header");
+  if (version != kPaletteFileVersion)
+    return {StatusCode::kUnsupported, strCat("palette file: version ", version,
+                                             " (this library reads version ",
+                                             kPaletteFileVersion, ")")};
+  if (!r.u32(&format) || !r.u32(&width) || !r.u32(&height) || !r.u32(&joint_count) ||
+      !r.u32(&texels_per_joint) || !r.u32(&stride) || !r.u32(&skeleton_joints) ||
+      !r.u32(&clip_count) || !r.f32(&height_units))
+    return corrupt("truncated header");
+  // Compare the whole 32-bit value before narrowing it to the 8-bit enum.
+  if (format != uint32_t(PaletteFormat::kMatrix3x4F32) &&
+      format != uint32_t(PaletteFormat::kMatrix3x4F16) &&
+      format != uint32_t(PaletteFormat::kQuatTranslationF32))
+    return corrupt(strCat("unknown format ", format));
+  const PaletteFormat f = static_cast<PaletteFormat>(format);
+  if (width == 0 || width > kMaxTextureSize || (width & (width - 1)) != 0 || height == 0 ||
+      height > kMaxTextureSize)
+    return corrupt(strCat("texture size ", width, "x", height, " out of range"));
+  if (texels_per_joint != texelsPerJoint(f) || stride < texels_per_joint || stride > 64)
+    return corrupt("joint texel counts do not match the format");
+  if (joint_count == 0 || skeleton_joints > 65535 || joint_count > skeleton_joints)
+    return corrupt(strCat("joint counts ", joint_count, " of ", skeleton_joints, " out of range"));
+  if (clip_count == 0 || clip_count > kMaxClips)
+    return corrupt(strCat("clip count ", clip_count, " out of range"));
+  if (!std::isfinite(height_units) || height_units < 0.0f)
+    return corrupt("character height is not finite");
+
+  BakedPalette p;
+  p.format = f;
+  p.character_height = height_units;
+  if (uint64_t(joint_count) * 4 > r.left()) return corrupt("truncated joint table");
+  p.palette_joints.resize(joint_count);
+  p.skeleton_to_palette.assign(skeleton_joints, -1);
+  for (uint32_t s = 0; s < joint_count; ++s) {
+    uint32_t j = 0;
+    r.u32(&j);  // Size checked above.
+    if (j >= skeleton_joints || (s > 0 && j <= p.palette_joints[s - 1]))
+      return corrupt(strCat("joint table entry ", s, " (", j, ") is out of order or range"));
+    p.palette_joints[s] = j;
+    p.skeleton_to_palette[j] = static_cast<int32_t>(s);
+  }
+  std::vector<uint32_t> frame_counts;
+  for (uint32_t c = 0; c < clip_count; ++c) {
+    BakedClip clip;
+    uint32_t name_length, loop, times_count;
+    if (!r.u32(&name_length)) return corrupt(strCat("clip ", c, ": truncated"));
+    if (name_length > kMaxNameLength || name_length > r.left())
+      return corrupt(strCat("clip ", c, ": name length ", name_length, " out of range"));
+    clip.name.resize(name_length);
+    r.raw(clip.name.data(), name_length);
+    if (!r.u32(&loop) || !r.f32(&clip.duration_seconds) || !r.f64(&clip.frame_interval_seconds) ||
+        !r.u32(&clip.frame_count) || !r.u32(&times_count))
+      return corrupt(strCat("clip ", c, ": truncated"));
+    const auto where = [&] { return strCat("clip ", c, " '", clip.name, "': "); };
+    if (loop != uint32_t(LoopMode::kOnce) && loop != uint32_t(LoopMode::kLoop))
+      return corrupt(where() + "unknown loop mode");
+    clip.loop_mode = static_cast<LoopMode>(loop);
+    if (!std::isfinite(clip.duration_seconds) || clip.duration_seconds < 0.0f ||
+        !std::isfinite(clip.frame_interval_seconds) || clip.frame_interval_seconds < 0.0)
+      return corrupt(where() + "duration or frame interval out of range");
+    if (clip.frame_count == 0 || clip.frame_count > (1u << 21))
+      return corrupt(where() + strCat("frame count ", clip.frame_count, " out of range"));
+    if (clip.frame_count > 1 && !(clip.frame_interval_seconds > 0.0))
+      return corrupt(where() + "several frames need a positive frame interval");
+    if (times_count != 0 && times_count != clip.frame_count)
+      return corrupt(where() + "frame time count does not match the frame count");
+    if (uint64_t(times_count) * 8 > r.left()) return corrupt(where() + "truncated frame times");
+    clip.frame_times_seconds.resize(times_count);
+    for (uint32_t i = 0; i < times_count; ++i) {
+      double t = 0.0;
+      r.f64(&t);
+      if (!std::isfinite(t) || t < 0.0 || t > double(clip.duration_seconds) ||
+          (i > 0 && t < clip.frame_times_seconds[i - 1]))
+        return corrupt(where() + strCat("frame time ", i, " out of order or range"));
+      clip.frame_times_seconds[i] = t;
+    }
+    float v[10];
+    for (float& x : v)
+      if (!r.f32(&x)) return corrupt(where() + "truncated bounds");
+    clip.bounds.min = glm::vec3(v[0], v[1], v[2]);
+    clip.bounds.max = glm::vec3(v[3], v[4], v[5]);
+    clip.bounding_sphere.center = glm::vec3(v[6], v[7], v[8]);
+    clip.bounding_sphere.radius = v[9];
+    if (!finiteBox(clip.bounds) || clip.bounds.empty() ||
+        !isFinite(glm::vec4(clip.bounding_sphere.center, clip.bounding_sphere.radius)) ||
+        clip.bounding_sphere.radius < 0.0f)
+      return corrupt(where() + "bounds are not finite or empty");
+    frame_counts.push_back(clip.frame_count);
+    p.clips.push_back(std::move(clip));
+  }
+  // The layout follows from the header and clip table; the stored size must agree.
+  PaletteLayoutDesc ld;
+  ld.joint_count = joint_count;
+  ld.clip_frame_counts = frame_counts;
+  ld.texels_per_joint = texels_per_joint;
+  ld.joint_stride_texels = stride;
+  ld.max_texture_size = kMaxTextureSize;
+  if (!computePaletteLayout(ld, &p.layout).isOk() || p.layout.width != width ||
+      p.layout.height != height)
+    return corrupt(strCat("texture size ", width, "x", height,
+                          " does not match the clip table's layout"));
+  for (size_t c = 0; c < p.clips.size(); ++c) p.clips[c].first_texel = p.layout.clip_first_texel[c];
+  uint64_t data_size = 0;
+  if (!r.u64(&data_size)) return corrupt("truncated texel data size");
+  const uint64_t expected = p.layout.textureTexelCount() * bytesPerTexel(f);
+  if (data_size != expected)
+    return corrupt(strCat("texel data of ", data_size, " bytes, the layout needs ", expected));
+  if (data_size + 4 > r.left()) return corrupt("truncated texel data");
+  p.texel_bytes.resize(size_t(data_size));
+  r.raw(p.texel_bytes.data(), size_t(data_size));
+  const size_t checked = r.position();
+  uint32_t stored_crc = 0;
+  r.u32(&stored_crc);
+  if (r.left() != 0) return corrupt(strCat(r.left(), " trailing bytes after the checksum"));
+  if (crc32(Span<const uint8_t>(bytes.data(), checked)) != stored_crc)
+    return corrupt("checksum mismatch");
+  *palette = std::move(p);
+  return Status::ok();
+}
+
+Status savePaletteFile(const BakedPalette& palette, const std::string& path) {
+  std::vector<uint8_t> bytes;
+  Status s = savePalette(palette, &bytes);
+  if (!s.isOk()) return s;
+  std::ofstream out(path, std::ios::binary | std::ios::trunc);
+  if (!out) return {StatusCode::kIo, strCat("cannot open '", path, "' for writing")};
+  out.write(reinterpret_cast<const char*>(bytes.data()), std::streamsize(bytes.size()));
+  if (!out) return {StatusCode::kIo, strCat("cannot write '", path, "'")};
+  return Status::ok();
+}
+
+Status loadPaletteFile(const std::string& path, BakedPalette* palette) {
+  std::ifstream in(path, std::ios::binary | std::ios::ate);
+  if (!in) return {StatusCode::kIo, strCat("cannot open '", path, "'")};
+  const std::streamoff size = in.tellg();
+  if (size < 0) return {StatusCode::kIo, strCat("cannot read '", path, "'")};
+  if (uint64_t(size) > kMaxPaletteFileSize)
+    return {StatusCode::kLimitExceeded, strCat("'", path, "' is larger than the palette limit")};
+  std::vector<uint8_t> bytes(static_cast<size_t>(size));
+  in.seekg(0);
+  in.read(reinterpret_cast<char*>(bytes.data()), size);
+  if (!in) return {StatusCode::kIo, strCat("cannot read '", path, "'")};
+  return loadPalette(bytes, palette);
+}
+
+}  // namespace si

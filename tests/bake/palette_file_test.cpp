@@ -1,0 +1,164 @@
+// SkinnedInstancing — SPDX-License-Identifier: MIT (see LICENSE)
+#include <gtest/gtest.h>
+
+#include <cstdio>
+#include <cstring>
+
+#include "bake/bake_test_helpers.h"
+#include "si/bake/palette_file.h"
+
+namespace si {
+namespace {
+
+// A small palette with every clip-table feature: STEP frame times, a loop, two clips.
+BakedPalette smallPalette(PaletteFormat format = PaletteFormat::kMatrix3x4F32) {
+  Character c = test::chainCharacter(3);
+  Clip step = test::blankClip(c, "step", 0.5f);
+  step.joint_tracks[1].translation.interpolation = Interpolation::kStep;
+  step.joint_tracks[1].translation.times_seconds = {0.0f, 0.25f};
+  step.joint_tracks[1].translation.values = {{0, 1, 0}, {0.5f, 1, 0}};
+  c.clips.push_back(step);
+  Clip swing = test::blankClip(c, "swing", 1.0f, LoopMode::kLoop);
+  swing.joint_tracks[2].rotation.times_seconds = {0.0f, 0.5f, 1.0f};
+  swing.joint_tracks[2].rotation.values = {glm::quat(1, 0, 0, 0), test::axisAngle(0.5, {1, 0, 0}),
+                                           glm::quat(1, 0, 0, 0)};
+  c.clips.push_back(swing);
+  BakeDesc d;
+  d.rate_mode = RateMode::kFixed;
+  d.sample_rate_hz = 10.0f;
+  d.format = format;
+  BakedPalette p;
+  EXPECT_TRUE(bakePalette(c, d, &p, nullptr).isOk());
+  return p;
+}
+
+void fixChecksum(std::vector<uint8_t>* bytes) {
+  const uint32_t crc = crc32(Span<const uint8_t>(bytes->data(), bytes->size() - 4));
+  std::memcpy(bytes->data() + bytes->size() - 4, &crc, 4);
+}
+
+TEST(PaletteFile, RoundTripsBitExactly) {
+  for (PaletteFormat f : {PaletteFormat::kMatrix3x4F32, PaletteFormat::kMatrix3x4F16,
+                          PaletteFormat::kQuatTranslationF32}) {
+    const BakedPalette p = smallPalette(f);
+    std::vector<uint8_t> bytes, again;
+    ASSERT_TRUE(savePalette(p, &bytes).isOk());
+    BakedPalette q;
+    ASSERT_TRUE(loadPalette(bytes, &q).isOk());
+    ASSERT_TRUE(savePalette(q, &again).isOk());
+    EXPECT_EQ(bytes, again);
+    EXPECT_EQ(q.format, p.format);
+    EXPECT_EQ(q.texel_bytes, p.texel_bytes);
+    EXPECT_EQ(q.palette_joints, p.palette_joints);
+    EXPECT_EQ(q.skeleton_to_palette, p.skeleton_to_palette);
+    ASSERT_EQ(q.clips.size(), p.clips.size());
+    for (size_t c = 0; c < p.clips.size(); ++c) {
+      EXPECT_EQ(q.clips[c].name, p.clips[c].name);
+      EXPECT_EQ(q.clips[c].frame_count, p.clips[c].frame_count);
+      EXPECT_EQ(q.clips[c].first_texel, p.clips[c].first_texel);
+      EXPECT_EQ(q.clips[c].frame_times_seconds, p.clips[c].frame_times_seconds);
+      EXPECT_EQ(q.clips[c].frame_interval_seconds, p.clips[c].frame_interval_seconds);
+      EXPECT_EQ(q.clips[c].bounds.max, p.clips[c].bounds.max);
+      EXPECT_EQ(q.clips[c].loop_mode, p.clips[c].loop_mode);
+    }
+    EXPECT_EQ(q.layout.clip_first_texel, p.layout.clip_first_texel);
+    EXPECT_FALSE(p.clips[0].frame_times_seconds.empty());  // The STEP clip was exercised.
+  }
+}
+
+TEST(PaletteFile, EveryTruncationIsRejected) {
+  std::vector<uint8_t> bytes;
+  ASSERT_TRUE(savePalette(smallPalette(), &bytes).isOk());
+  for (size_t n = 0; n < bytes.size(); ++n) {
+    BakedPalette q;
+    const Status s = loadPalette(Span<const uint8_t>(bytes.data(), n), &q);
+    ASSERT_EQ(s.code(), StatusCode::kCorrupt) << "prefix of " << n << " bytes";
+    ASSERT_TRUE(q.clips.empty());
+  }
+}
+
+TEST(PaletteFile, EveryByteAndBitFlipIsRejected) {
+  std::vector<uint8_t> bytes;
+  ASSERT_TRUE(savePalette(smallPalette(), &bytes).isOk());
+  for (size_t i = 0; i < bytes.size(); ++i) {
+    for (uint8_t mask : {uint8_t(0xFF), uint8_t(1u << (i % 8))}) {
+      std::vector<uint8_t> bad = bytes;
+      bad[i] ^= mask;
+      BakedPalette q;
+      const Status s = loadPalette(bad, &q);
+      ASSERT_FALSE(s.isOk()) << "byte " << i << " mask " << int(mask);
+      ASSERT_TRUE(s.code() == StatusCode::kCorrupt || s.code() == StatusCode::kUnsupported)
+          << s.toString();
+    }
+  }
+}
+
+TEST(PaletteFile, TrailingBytesAndOtherVersionsAreRejected) {
+  std::vector<uint8_t> bytes;
+  ASSERT_TRUE(savePalette(smallPalette(), &bytes).isOk());
+  BakedPalette q;
+  std::vector<uint8_t> longer = bytes;
+  longer.push_back(0);
+  EXPECT_EQ(loadPalette(longer, &q).code(), StatusCode::kCorrupt);
+  std::vector<uint8_t> v2 = bytes;
+  v2[8] = 2;
+  fixChecksum(&v2);
+  EXPECT_EQ(loadPalette(v2, &q).code(), StatusCode::kUnsupported);
+}
+
+TEST(PaletteFile, InconsistentFilesWithValidChecksumsAreRejected) {
+  std::vector<uint8_t> bytes;
+  const BakedPalette p = smallPalette();
+  ASSERT_TRUE(savePalette(p, &bytes).isOk());
+  const auto patched = [&](size_t offset, uint32_t value) {
+    std::vector<uint8_t> b = bytes;
+    std::memcpy(b.data() + offset, &value, 4);
+    fixChecksum(&b);
+    BakedPalette q;
+    return loadPalette(b, &q).code();
+  };
+  // Header fields: magic(8) version(4) format(4) width(4) height(4) joints(4) tpj(4) stride(4)
+  // skeleton joints(4) clips(4) height(4).
+  EXPECT_EQ(patched(16, p.layout.width * 2), StatusCode::kCorrupt);   // Width vs. layout.
+  EXPECT_EQ(patched(16, 3), StatusCode::kCorrupt);                    // Not a power of two.
+  EXPECT_EQ(patched(20, 1u << 30), StatusCode::kCorrupt);             // Oversized height.
+  EXPECT_EQ(patched(12, 9), StatusCode::kCorrupt);                    // Unknown format.
+  EXPECT_EQ(patched(12, 0x2701), StatusCode::kCorrupt);  // Found by the fuzzer: low byte valid.
+  EXPECT_EQ(patched(24, 200), StatusCode::kCorrupt);                  // Joints > skeleton.
+  EXPECT_EQ(patched(36, 0xFFFFFFFFu), StatusCode::kCorrupt);          // Absurd skeleton.
+  EXPECT_EQ(patched(40, 0xFFFFFFFFu), StatusCode::kCorrupt);          // Absurd clip count.
+  EXPECT_EQ(patched(40, 1), StatusCode::kCorrupt);                    // Clip table vs. size.
+  EXPECT_EQ(patched(44, 0xFFFFFFFFu), StatusCode::kCorrupt);          // NaN height.
+  EXPECT_EQ(patched(48, 7), StatusCode::kCorrupt);                    // Joint table out of range.
+  // The first clip's frame count (after its name) claims more frames than the data holds.
+  const size_t clip0 = 48 + 4 * p.palette_joints.size();
+  const size_t frames_at = clip0 + 4 + p.clips[0].name.size() + 4 + 4 + 8;
+  EXPECT_EQ(patched(frames_at, 1u << 20), StatusCode::kCorrupt);
+  EXPECT_EQ(patched(frames_at, 0), StatusCode::kCorrupt);
+}
+
+TEST(PaletteFile, FilesAndErrors) {
+  const BakedPalette p = smallPalette();
+  const std::string path = ::testing::TempDir() + "si_palette_test.sipal";
+  ASSERT_TRUE(savePaletteFile(p, path).isOk());
+  BakedPalette q;
+  ASSERT_TRUE(loadPaletteFile(path, &q).isOk());
+  EXPECT_EQ(q.texel_bytes, p.texel_bytes);
+  std::remove(path.c_str());
+  EXPECT_EQ(loadPaletteFile(path, &q).code(), StatusCode::kIo);
+  EXPECT_EQ(savePaletteFile(p, "/nonexistent/dir/x.sipal").code(), StatusCode::kIo);
+  EXPECT_EQ(loadPalette({}, nullptr).code(), StatusCode::kInvalidArgument);
+  EXPECT_EQ(savePalette(p, nullptr).code(), StatusCode::kInvalidArgument);
+  BakedPalette broken = p;
+  broken.texel_bytes.pop_back();
+  std::vector<uint8_t> bytes;
+  EXPECT_EQ(savePalette(broken, &bytes).code(), StatusCode::kInvalidArgument);
+}
+
+TEST(PaletteFile, Crc32MatchesTheStandardCheckValue) {
+  const char* check = "123456789";
+  EXPECT_EQ(crc32(Span<const uint8_t>(reinterpret_cast<const uint8_t*>(check), 9)), 0xCBF43926u);
+}
+
+}  // namespace
+}  // namespace si
