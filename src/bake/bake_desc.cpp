@@ -9,28 +9,6 @@
 namespace si {
 using detail::strCat;
 
-PaletteFormat resolvePaletteFormat(PaletteFormat f) {
-  return f == PaletteFormat::kDefault ? PaletteFormat::kMatrix3x4F32 : f;
-}
-
-const char* paletteFormatName(PaletteFormat f) {
-  switch (f) {
-    case PaletteFormat::kDefault: return "default";
-    case PaletteFormat::kMatrix3x4F32: return "matrix3x4_f32";
-    case PaletteFormat::kMatrix3x4F16: return "matrix3x4_f16";
-    case PaletteFormat::kQuatTranslationF32: return "quat_translation_f32";
-  }
-  return "invalid";
-}
-
-uint32_t texelsPerJoint(PaletteFormat f) {
-  return resolvePaletteFormat(f) == PaletteFormat::kQuatTranslationF32 ? 2u : 3u;
-}
-
-uint32_t bytesPerTexel(PaletteFormat f) {
-  return resolvePaletteFormat(f) == PaletteFormat::kMatrix3x4F16 ? 8u : 16u;
-}
-
 BakeDesc resolveDefaults(const BakeDesc& desc) {
   BakeDesc d = desc;
   d.format = resolvePaletteFormat(d.format);

@@ -8,28 +8,11 @@
 #include <string>
 #include <vector>
 
+#include "si/core/baked_palette.h"
 #include "si/core/character.h"
 #include "si/core/palette_layout.h"
 
 namespace si {
-
-/// How each joint of each frame is stored in the palette texture.
-enum class PaletteFormat : uint8_t {
-  kDefault = 0,          ///< Resolved to kMatrix3x4F32.
-  kMatrix3x4F32,         ///< Three RGBA32F texels: the rows of the 3x4 skinning matrix. Exact.
-  kMatrix3x4F16,         ///< Three RGBA16F texels: half the memory, about 1e-3 relative error.
-  kQuatTranslationF32,   ///< Two RGBA32F texels: unit rotation quaternion, then translation and
-                         ///< uniform scale. Rigid joints only; interpolated on the rotation.
-};
-
-/// Returns kMatrix3x4F32 for kDefault and `f` otherwise.
-PaletteFormat resolvePaletteFormat(PaletteFormat f);
-/// "matrix3x4_f32", "matrix3x4_f16", "quat_translation_f32" (or "default").
-const char* paletteFormatName(PaletteFormat f);
-/// Data texels per joint: 3 for the matrix formats, 2 for kQuatTranslationF32.
-uint32_t texelsPerJoint(PaletteFormat f);
-/// Bytes per texel: 16 for F32 formats, 8 for kMatrix3x4F16.
-uint32_t bytesPerTexel(PaletteFormat f);
 
 /// How each clip's sample rate is chosen.
 enum class RateMode : uint8_t {

@@ -16,6 +16,7 @@
 ///   // pose.skinning[j] maps bind-pose vertices weighted to joint j to their posed positions.
 /// \endcode
 
+#include "si/core/baked_palette.h"
 #include "si/core/bounds.h"
 #include "si/core/character.h"
 #include "si/core/clip.h"

@@ -1,15 +1,82 @@
 // SkinnedInstancing — SPDX-License-Identifier: MIT (see LICENSE)
-// The CPU emulation of the vertex shader's palette reads: the same texel addressing, decoding,
-// frame interpolation and skinning, in float.
+// Palette formats, IEEE half conversion (round to nearest even, as GPUs store RGBA16F), and the
+// CPU emulation of the vertex shader's palette reads: the same texel addressing, decoding, frame
+// interpolation and skinning, in float.
 #include <algorithm>
 #include <cmath>
 #include <cstring>
 
 #include "core/str_cat.h"
-#include "si/bake/animation_baker.h"
+#include "si/core/baked_palette.h"
 
 namespace si {
 using detail::strCat;
+
+PaletteFormat resolvePaletteFormat(PaletteFormat f) {
+  return f == PaletteFormat::kDefault ? PaletteFormat::kMatrix3x4F32 : f;
+}
+
+const char* paletteFormatName(PaletteFormat f) {
+  switch (f) {
+    case PaletteFormat::kDefault: return "default";
+    case PaletteFormat::kMatrix3x4F32: return "matrix3x4_f32";
+    case PaletteFormat::kMatrix3x4F16: return "matrix3x4_f16";
+    case PaletteFormat::kQuatTranslationF32: return "quat_translation_f32";
+  }
+  return "invalid";
+}
+
+uint32_t texelsPerJoint(PaletteFormat f) {
+  return resolvePaletteFormat(f) == PaletteFormat::kQuatTranslationF32 ? 2u : 3u;
+}
+
+uint32_t bytesPerTexel(PaletteFormat f) {
+  return resolvePaletteFormat(f) == PaletteFormat::kMatrix3x4F16 ? 8u : 16u;
+}
+
+uint16_t floatToHalf(float value) {
+  uint32_t x;
+  std::memcpy(&x, &value, 4);
+  const uint32_t sign = (x >> 16) & 0x8000u;
+  const uint32_t exponent = (x >> 23) & 0xFFu;
+  uint32_t mantissa = x & 0x7FFFFFu;
+  if (exponent == 0xFFu) return uint16_t(sign | 0x7C00u | (mantissa ? 0x200u : 0u));
+  const int e = int(exponent) - 127 + 15;
+  if (e >= 31) return uint16_t(sign | 0x7C00u);
+  if (e <= 0) {  // Half subnormal (or zero): value = m * 2^-24.
+    if (e < -10) return uint16_t(sign);
+    mantissa |= 0x800000u;
+    const uint32_t shift = uint32_t(14 - e);
+    uint32_t m = mantissa >> shift;
+    const uint32_t rest = mantissa & ((1u << shift) - 1u), halfway = 1u << (shift - 1u);
+    if (rest > halfway || (rest == halfway && (m & 1u))) ++m;
+    return uint16_t(sign | m);
+  }
+  uint32_t h = sign | (uint32_t(e) << 10) | (mantissa >> 13);
+  const uint32_t rest = mantissa & 0x1FFFu;
+  if (rest > 0x1000u || (rest == 0x1000u && (h & 1u))) ++h;  // A carry rounds up the exponent.
+  return uint16_t(h);
+}
+
+float halfToFloat(uint16_t h) {
+  const uint32_t sign = uint32_t(h & 0x8000u) << 16;
+  const uint32_t exponent = (h >> 10) & 0x1Fu;
+  const uint32_t mantissa = h & 0x3FFu;
+  uint32_t bits;
+  if (exponent == 0) {
+    const float magnitude = std::ldexp(float(mantissa), -24);
+    return sign ? -magnitude : magnitude;
+  }
+  if (exponent == 31) {
+    bits = sign | 0x7F800000u | (mantissa << 13);
+  } else {
+    bits = sign | ((exponent - 15 + 127) << 23) | (mantissa << 13);
+  }
+  float f;
+  std::memcpy(&f, &bits, 4);
+  return f;
+}
+
 
 int32_t BakedPalette::findClip(const std::string& clip_name) const {
   for (size_t i = 0; i < clips.size(); ++i)
@@ -19,28 +86,29 @@ int32_t BakedPalette::findClip(const std::string& clip_name) const {
 
 FrameSample sampleFrames(const BakedClip& clip, double local_time_seconds) {
   FrameSample s;
-  if (clip.frame_count <= 1) return s;
-  const double t = std::clamp(local_time_seconds, 0.0, double(clip.duration_seconds));
-  const uint32_t last_interval = clip.frame_count - 2;
-  if (!clip.frame_times_seconds.empty()) {
-    const auto& times = clip.frame_times_seconds;
-    // Last frame at or before t (after a STEP key's pair: the frame at the key).
-    const size_t k = size_t(std::upper_bound(times.begin(), times.end(), t) - times.begin());
-    const uint32_t i = static_cast<uint32_t>(std::min<size_t>(k == 0 ? 0 : k - 1, last_interval));
-    const double span = times[i + 1] - times[i];
+  const uint32_t n = clip.frame_count;
+  if (n <= 1 || !(clip.frame_interval_seconds > 0.0)) return s;
+  const double t = std::min(std::max(local_time_seconds, 0.0), double(clip.duration_seconds));
+  const double position = t / clip.frame_interval_seconds;
+  const uint32_t last_interval = n - 2;
+  uint32_t i = std::min(static_cast<uint32_t>(position), last_interval);  // t >= 0: truncation.
+  if (clip.frame_times_seconds.empty()) {  // Uniform grid: constant time.
     s.frame = i;
     s.next_frame = i + 1;
-    s.fraction = span > 0.0 ? static_cast<float>(std::clamp((t - times[i]) / span, 0.0, 1.0))
-                            : 1.0f;
+    s.fraction = static_cast<float>(std::min(std::max(position - double(i), 0.0), 1.0));
     return s;
   }
-  if (!(clip.frame_interval_seconds > 0.0)) return s;
-  const double position = t / clip.frame_interval_seconds;
-  const uint32_t i = std::min(static_cast<uint32_t>(std::max(0.0, std::floor(position))),
-                              last_interval);
+  // STEP keys add frames, never remove grid frames before t, so the last frame at or before t
+  // is at index >= the grid index: search from there.
+  const auto& times = clip.frame_times_seconds;
+  const auto first = times.begin() + std::ptrdiff_t(std::min<size_t>(i, times.size()));
+  const size_t k = size_t(std::upper_bound(first, times.end(), t) - times.begin());
+  i = static_cast<uint32_t>(std::min<size_t>(k == 0 ? 0 : k - 1, last_interval));
+  const double span = times[i + 1] - times[i];
   s.frame = i;
   s.next_frame = i + 1;
-  s.fraction = static_cast<float>(std::clamp(position - double(i), 0.0, 1.0));
+  s.fraction = span > 0.0 ? static_cast<float>(std::min(std::max((t - times[i]) / span, 0.0), 1.0))
+                          : 1.0f;
   return s;
 }
 

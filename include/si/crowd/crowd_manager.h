@@ -1,0 +1,234 @@
+// SkinnedInstancing — SPDX-License-Identifier: MIT (see LICENSE)
+#pragma once
+
+/// \file
+/// si::crowd: the CPU half of skinned instancing. CrowdManager owns every instance's state in
+/// structure-of-arrays form and, each frame, advances time, picks a LOD by distance, culls
+/// against the camera and buckets the survivors per (LOD, sub-mesh); InstanceBatcher
+/// (instance_batcher.h) splits the buckets into uniform-block-sized batches of std140 records.
+/// No GPU is needed: the GPU's limits arrive as plain numbers.
+///
+/// Usage:
+/// \code
+///   si::CrowdDesc desc;
+///   desc.palette = &palette;                      // from si::bakePalette or si::loadPalette
+///   desc.sub_mesh_count = 4;
+///   desc.lod_count = 3;
+///   si::CrowdManager crowd;
+///   si::Status s = crowd.init(desc);
+///   si::InstanceDesc one;
+///   one.position = {10.0, 0.0, 5.0};
+///   one.clip = uint32_t(palette.findClip("walk"));
+///   si::InstanceHandle h;
+///   s = crowd.add(one, &h);
+///   crowd.update(1.0 / 60.0, camera);             // every frame
+///   // then InstanceBatcher::build(crowd, ...) and one draw per batch.
+/// \endcode
+
+#include <cstdint>
+#include <vector>
+
+#include <glm/glm.hpp>
+#include <glm/gtc/quaternion.hpp>
+
+#include "si/core/baked_palette.h"
+#include "si/crowd/camera.h"
+#include "si/crowd/handle_pool.h"
+#include "si/crowd/instance_record.h"
+
+namespace si {
+
+/// Crowd options. Zero fields take the defaults documented on each (resolveDefaults()).
+struct CrowdDesc {
+  /// The baked palette the instances play; borrowed, must outlive the crowd. Required.
+  const BakedPalette* palette = nullptr;
+  uint32_t sub_mesh_count = 0;  ///< Sub-meshes of the character, 1..32. Required.
+  uint32_t lod_count = 0;       ///< LOD levels of the character, 1..8; 0 means 1.
+  /// The character's radius in model units; 0 means the largest clip bounding-sphere radius of
+  /// the palette. LOD distances are measured in units of radius * instance scale.
+  float character_radius = 0.0f;
+  /// lod_count - 1 increasing distances (in radii) where LOD l + 1 starts; empty means
+  /// 20, 60, 180, ... (the technique's lines at 20 and 60 radii, then x3).
+  std::vector<float> lod_distances_radii;
+  /// Instances farther than this many radii are culled; 0 means 100 (the technique's far
+  /// line); negative means never.
+  float max_distance_radii = 0.0f;
+  /// A LOD changes only once the distance is this fraction past the line (both directions),
+  /// so characters at a boundary do not flicker; 0 means 0.05.
+  float lod_hysteresis_ratio = 0.0f;
+  /// Animation LOD: instances at this LOD or coarser step their animation at
+  /// animation_lod_rate_hz instead of interpolating every frame; 0 means off.
+  uint32_t animation_lod_start = 0;
+  float animation_lod_rate_hz = 0.0f;  ///< 0 means 10 Hz.
+};
+
+/// Returns the desc with zeros replaced by their documented defaults.
+CrowdDesc resolveDefaults(const CrowdDesc& desc);
+
+/// One instance's initial state.
+struct InstanceDesc {
+  glm::dvec3 position = glm::dvec3(0.0);  ///< World position (double: far from the origin).
+  glm::quat rotation = glm::quat(1.0f, 0.0f, 0.0f, 0.0f);
+  float scale = 1.0f;                         ///< Uniform, > 0.
+  glm::u8vec4 color = glm::u8vec4(255);       ///< Tint where the texture's alpha says so.
+  uint32_t variation_mask = 0xFFFFFFFFu;      ///< Bit s: sub-mesh s is worn.
+  uint32_t clip = 0;                          ///< Index into the palette's clips.
+  double time_seconds = 0.0;                  ///< Clip-local start time.
+  float speed = 1.0f;                         ///< Playback speed, >= 0.
+  /// kDefault uses the clip's loop mode; kOnce holds the last frame, kLoop wraps.
+  LoopMode loop_mode = LoopMode::kDefault;
+};
+
+/// Options of CrowdManager::addRandom(): the technique's random armour at load time.
+struct RandomCrowdDesc {
+  Span<const glm::dvec3> positions;  ///< One instance per position.
+  uint64_t seed = 1;
+  uint32_t required_mask = 1;         ///< Sub-meshes every instance wears (e.g. the body).
+  uint32_t optional_mask = 0;         ///< Sub-meshes each worn with `optional_probability`.
+  float optional_probability = 0.5f;
+  Span<const uint32_t> clips;         ///< Clips to pick from; empty means all.
+  bool random_time = true;            ///< Random start time within the clip.
+  bool random_heading = true;         ///< Random rotation about +Y.
+  float min_speed = 0.9f, max_speed = 1.1f;
+};
+
+/// Per-frame statistics of CrowdManager::update().
+struct CrowdFrameStats {
+  uint32_t instances = 0;
+  uint32_t visible = 0;
+  uint32_t culled_frustum = 0;
+  uint32_t culled_distance = 0;
+  uint32_t per_lod[8] = {};  ///< Visible instances per LOD.
+  uint32_t bucket_entries = 0;  ///< Sum over buckets (instances x worn sub-meshes).
+};
+
+/// Owns instance state and produces, each frame, the visible instances bucketed per
+/// (LOD, sub-mesh) with their shader records. Not thread-safe; one update at a time.
+class CrowdManager {
+ public:
+  /// Validates and adopts `desc`. Fails with kInvalidArgument naming the field: no palette,
+  /// sub_mesh_count outside 1..32, lod_count above 8, a negative or non-finite radius,
+  /// lod distances not increasing or of the wrong count, an animation LOD rate <= 0.
+  Status init(const CrowdDesc& desc);
+
+  /// Adds an instance. kInvalidArgument (naming the field) for a clip out of range, a scale
+  /// <= 0, a non-finite position, rotation, time or speed, a negative speed; kLimitExceeded past
+  /// 2^20 instances. `out` is untouched on failure.
+  Status add(const InstanceDesc& desc, InstanceHandle* out);
+  /// Adds one instance per position with random variations, clip, time, heading and speed from
+  /// a generator seeded with `desc.seed` (the same desc gives the same crowd). Handles are
+  /// appended to `out` (may be null). Fails like add() and adds nothing then.
+  Status addRandom(const RandomCrowdDesc& desc, std::vector<InstanceHandle>* out);
+  /// Removes an instance in O(1). kNotFound for a stale or invalid handle.
+  Status remove(InstanceHandle h);
+  /// Whether `h` is a live instance.
+  bool contains(InstanceHandle h) const;
+  /// Number of live instances.
+  uint32_t size() const { return static_cast<uint32_t>(positions_.size()); }
+
+  // Per-instance setters: kNotFound for a stale handle, kInvalidArgument for bad values.
+  Status setTransform(InstanceHandle h, const glm::dvec3& position, const glm::quat& rotation,
+                      float scale);
+  Status setColor(InstanceHandle h, glm::u8vec4 color);
+  Status setVariationMask(InstanceHandle h, uint32_t mask);
+  /// Starts `clip` at clip-local `time_seconds` with `speed`, cancelling any crossfade.
+  Status play(InstanceHandle h, uint32_t clip, double time_seconds, float speed);
+  /// Blends from the current clip (which keeps playing) to `clip` over `blend_seconds` (> 0):
+  /// during the blend the record carries both clips and the weight of the new one.
+  Status crossfade(InstanceHandle h, uint32_t clip, double blend_seconds, double time_seconds = 0.0);
+  /// The instance's current state (as an InstanceDesc) and clip-local time.
+  Status get(InstanceHandle h, InstanceDesc* out) const;
+
+  /// Advances the crowd clock by `dt_seconds` (>= 0, finite), then for every instance: picks
+  /// its LOD, culls it against `camera` and the far distance, and buckets the visible ones per
+  /// (LOD, sub-mesh) with their records. Culled instances cost no time advance of their own:
+  /// playback time is derived from the crowd clock. Returns kInvalidArgument for a bad dt.
+  /// Allocates only while the crowd grows past its previous high-water mark.
+  Status update(double dt_seconds, const Camera& camera);
+
+  /// Statistics of the last update().
+  const CrowdFrameStats& stats() const { return stats_; }
+  /// Seconds on the crowd clock (compensated sum of every dt).
+  double clockSeconds() const { return clock_; }
+
+  /// Buckets of the last update(): bucket b = lod * sub_mesh_count + sub_mesh holds
+  /// bucketEntries()[bucketOffsets()[b] .. bucketOffsets()[b + 1]), indices into records().
+  uint32_t bucketCount() const { return desc_.lod_count * desc_.sub_mesh_count; }
+  const std::vector<uint32_t>& bucketOffsets() const { return bucket_offsets_; }
+  const std::vector<uint32_t>& bucketEntries() const { return bucket_entries_; }
+  /// One record per visible instance of the last update().
+  const std::vector<InstanceRecord>& records() const { return records_; }
+  /// Handle of each visible instance of the last update(), parallel to records().
+  const std::vector<InstanceHandle>& visibleHandles() const { return visible_handles_; }
+  /// The LOD an instance was given by the last update() (kNotFound for stale handles).
+  Status lodOf(InstanceHandle h, uint32_t* lod) const;
+
+  /// The frame sample of clip-local `time` of `clip` for an instance, as update() computes it
+  /// (time mapping per loop mode, then si::sampleFrames). Exposed for tests and tools.
+  FrameSample frameSample(uint32_t clip, double local_time_seconds) const;
+
+  /// The instance's skinning matrix of skeleton joint `joint` at the crowd clock's current
+  /// time, in world space (instance world * palette skinning matrix, crossfade blended), from
+  /// the baked palette so it matches what is drawn: it maps a bind-pose model-space point
+  /// weighted to the joint to its drawn world position. Multiply by the joint's bind matrix
+  /// (inverse of its inverse bind matrix) for the joint's own frame (attachments, picking).
+  /// kNotFound for a stale handle, kOutOfRange for a joint not in the palette.
+  Status jointMatrix(InstanceHandle h, uint32_t joint, glm::dmat4* out) const;
+
+  const CrowdDesc& desc() const { return desc_; }
+
+ private:
+  struct Playback {
+    uint32_t clip;
+    LoopMode loop;
+    float speed;
+    double start_clock;   // Crowd clock when this playback started.
+    double start_time;    // Clip-local time at start_clock.
+  };
+  // What update() needs of a clip, compact and with reciprocals, built by init().
+  struct ClipInfo {
+    double duration, inv_duration, interval, inv_interval;
+    uint32_t first_texel, last_interval;
+    bool uniform;  // No STEP frames: the frame follows from the time alone.
+    glm::vec3 sphere_center;
+    float sphere_radius;
+  };
+  double localTime(const Playback& p, double clock) const;
+  FrameSample fastSample(uint32_t clip, double local_time) const;
+  Status validateInstance(const InstanceDesc& d) const;
+  Status denseIndex(InstanceHandle h, uint32_t* dense) const;
+  void pushInstance(const InstanceDesc& d, InstanceHandle h);
+
+  CrowdDesc desc_;
+  bool initialized_ = false;
+  HandlePool handles_;
+  double clock_ = 0.0, clock_compensation_ = 0.0;
+
+  // Dense structure-of-arrays state; slot_to_dense_ maps handle slots to it.
+  std::vector<glm::dvec3> positions_;
+  std::vector<glm::quat> rotations_;
+  std::vector<float> scales_;
+  std::vector<uint32_t> colors_;
+  std::vector<uint32_t> masks_;
+  std::vector<Playback> playback_;
+  std::vector<Playback> fade_from_;      // Valid while fade_duration_ > 0.
+  std::vector<double> fade_start_;
+  std::vector<double> fade_duration_;    // 0 when no crossfade runs.
+  std::vector<uint8_t> lods_;
+  std::vector<InstanceHandle> dense_handles_;
+  std::vector<uint32_t> slot_to_dense_;
+
+  // Per-frame output, reused between frames.
+  CrowdFrameStats stats_;
+  std::vector<uint32_t> visible_dense_;
+  std::vector<InstanceRecord> records_;
+  std::vector<InstanceHandle> visible_handles_;
+  std::vector<uint32_t> bucket_offsets_;
+  std::vector<uint32_t> bucket_cursor_;
+  std::vector<uint32_t> bucket_entries_;
+  std::vector<float> lod_lines_;  // Resolved distances in radii.
+  std::vector<ClipInfo> clip_info_;
+  float radius_ = 1.0f;
+};
+
+}  // namespace si

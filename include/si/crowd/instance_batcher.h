@@ -1,0 +1,79 @@
+// SkinnedInstancing — SPDX-License-Identifier: MIT (see LICENSE)
+#pragma once
+
+/// \file
+/// InstanceBatcher: splits each (LOD, sub-mesh) bucket of a CrowdManager frame into batches that
+/// fit the GPU's uniform block, and writes their std140 records into a caller-provided buffer.
+/// The GPU limits arrive as plain numbers (queried once by si::gl), so batching is tested
+/// without a GPU.
+///
+/// Usage:
+/// \code
+///   si::BatchLimits limits;
+///   limits.max_uniform_block_size_bytes = info.max_uniform_block_size_bytes;   // from si::gl
+///   limits.uniform_buffer_offset_alignment = info.uniform_buffer_offset_alignment;
+///   si::InstanceBatcher batcher;
+///   si::Status s = batcher.init(limits);
+///   std::vector<uint8_t> records(batcher.recordBufferBound(crowd));
+///   std::vector<si::DrawBatch> draws;
+///   s = batcher.build(crowd, records, &draws);
+///   // One glBindBufferRange + glDrawElementsInstanced per draw.
+/// \endcode
+
+#include <cstdint>
+#include <vector>
+
+#include "si/core/span.h"
+#include "si/core/status.h"
+#include "si/crowd/crowd_manager.h"
+
+namespace si {
+
+/// The GPU limits batching depends on.
+struct BatchLimits {
+  /// GL_MAX_UNIFORM_BLOCK_SIZE; at least 16384 (GL's minimum). Required.
+  uint32_t max_uniform_block_size_bytes = 0;
+  /// GL_UNIFORM_BUFFER_OFFSET_ALIGNMENT; a power of two, 0 means 256.
+  uint32_t uniform_buffer_offset_alignment = 0;
+  /// Instances per draw the shader's block array holds; 0 means as many as fit in the block.
+  uint32_t max_instances_per_draw = 0;
+};
+
+/// One instanced draw: `instance_count` records of kInstanceRecordSize bytes starting at
+/// `byte_offset` (a multiple of the offset alignment) in the record buffer.
+struct DrawBatch {
+  uint16_t lod = 0;
+  uint16_t sub_mesh = 0;
+  uint32_t byte_offset = 0;
+  uint32_t instance_count = 0;
+};
+
+/// Stateless apart from its limits: build() is deterministic for the same crowd frame.
+class InstanceBatcher {
+ public:
+  /// Adopts the limits. kInvalidArgument when the block is smaller than 16384 bytes, the
+  /// alignment is not a power of two, or max_instances_per_draw exceeds what the block holds.
+  Status init(const BatchLimits& limits);
+
+  /// Records per draw: floor(max block size / 80), or max_instances_per_draw if smaller.
+  /// 819 for 64 KiB, 204 for 16 KiB.
+  uint32_t capacityPerDraw() const { return capacity_; }
+  /// The alignment in use.
+  uint32_t alignment() const { return alignment_; }
+
+  /// Bytes build() needs for `crowd`'s last frame: each batch padded to the alignment.
+  size_t recordBufferBound(const CrowdManager& crowd) const;
+
+  /// Splits every bucket of `crowd`'s last update() into batches of at most capacityPerDraw()
+  /// instances (buckets in order: LOD-major, then sub-mesh), copies their records into `out`
+  /// and replaces `draws` with the draw list. kInvalidArgument if not initialized or `draws` is
+  /// null; kCountMismatch when `out` is smaller than recordBufferBound(crowd) (nothing written).
+  /// Does not allocate once `draws` has reached the needed capacity.
+  Status build(const CrowdManager& crowd, Span<uint8_t> out, std::vector<DrawBatch>* draws) const;
+
+ private:
+  uint32_t capacity_ = 0;
+  uint32_t alignment_ = 0;
+};
+
+}  // namespace si

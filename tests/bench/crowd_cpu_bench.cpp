@@ -1,0 +1,103 @@
+// SkinnedInstancing — SPDX-License-Identifier: MIT (see LICENSE)
+// The full per-frame CPU path of the crowd: update (time, LOD, cull, bucket, records) plus
+// batching into uniform-block records, on one core. Items are instances: items_per_second^-1 is
+// the cost per instance. Not part of ctest. Run: build/release/tests/bench/si_crowd_cpu_bench
+#include <benchmark/benchmark.h>
+
+#include <cmath>
+#include <cstdlib>
+#include <memory>
+
+#include "si/bake/animation_baker.h"
+#include "si/core/default_character.h"
+#include "si/crowd/instance_batcher.h"
+
+namespace {
+
+const si::BakedPalette& palette() {
+  static const si::BakedPalette p = [] {
+    si::Character c;
+    if (!si::makeDefaultCharacter({}, &c).isOk()) std::abort();
+    si::BakeDesc d;
+    d.rate_mode = si::RateMode::kFixed;
+    si::BakedPalette out;
+    if (!si::bakePalette(c, d, &out, nullptr).isOk()) std::abort();
+    return out;
+  }();
+  return p;
+}
+
+// A square field of `count` characters 1.5 m apart, random armour, clips and times.
+std::unique_ptr<si::CrowdManager> field(int64_t count) {
+  auto crowd = std::make_unique<si::CrowdManager>();
+  si::CrowdDesc d;
+  d.palette = &palette();
+  d.sub_mesh_count = 4;
+  d.lod_count = 3;
+  if (!crowd->init(d).isOk()) std::abort();
+  const int64_t side = int64_t(std::ceil(std::sqrt(double(count))));
+  std::vector<glm::dvec3> positions;
+  for (int64_t i = 0; i < count; ++i)
+    positions.push_back(glm::dvec3(double(i % side), 0.0, double(i / side)) * 1.5);
+  si::RandomCrowdDesc r;
+  r.positions = positions;
+  r.optional_mask = 0xE;
+  if (!crowd->addRandom(r, nullptr).isOk()) std::abort();
+  return crowd;
+}
+
+// scene 0: a camera at the field's edge looking across it (the demo's view);
+// scene 1: high above, looking down, every character in view.
+void crowdFrame(benchmark::State& state) {
+  const int64_t count = state.range(0);
+  auto crowd = field(count);
+  const double side = std::ceil(std::sqrt(double(count))) * 1.5;
+  si::Camera camera;
+  if (state.range(1) == 0) {
+    camera = si::Camera::lookAt({side / 2, 8.0, -10.0}, {side / 2, 0.0, side / 2},
+                                glm::vec3(0, 1, 0), 1.0f, 16.0f / 9.0f, 0.1f, 10000.0f);
+  } else {
+    // Far enough that everyone is inside the far distance line too (radii x 100).
+    si::CrowdDesc d = crowd->desc();
+    camera = si::Camera::lookAt({side / 2, side * 1.2, side / 2 + 1.0}, {side / 2, 0.0, side / 2},
+                                glm::vec3(0, 1, 0), 1.2f, 1.0f, 0.1f, 100000.0f);
+    d.max_distance_radii = -1.0f;  // Never distance-cull in this scene.
+    auto all = std::make_unique<si::CrowdManager>();
+    if (!all->init(d).isOk()) std::abort();
+    crowd = field(0);
+    crowd = std::move(all);
+    const int64_t s = int64_t(std::ceil(std::sqrt(double(count))));
+    std::vector<glm::dvec3> positions;
+    for (int64_t i = 0; i < count; ++i)
+      positions.push_back(glm::dvec3(double(i % s), 0.0, double(i / s)) * 1.5);
+    si::RandomCrowdDesc r;
+    r.positions = positions;
+    r.optional_mask = 0xE;
+    if (!crowd->addRandom(r, nullptr).isOk()) std::abort();
+  }
+  si::InstanceBatcher batcher;
+  if (!batcher.init({65536, 256, 0}).isOk()) std::abort();
+  std::vector<uint8_t> buffer;
+  std::vector<si::DrawBatch> draws;
+  for (auto _ : state) {
+    if (!crowd->update(1.0 / 60.0, camera).isOk()) std::abort();
+    const size_t need = batcher.recordBufferBound(*crowd);
+    if (buffer.size() < need) buffer.resize(need);
+    if (!batcher.build(*crowd, buffer, &draws).isOk()) std::abort();
+    benchmark::DoNotOptimize(buffer.data());
+  }
+  state.SetItemsProcessed(state.iterations() * count);
+  state.counters["visible"] = crowd->stats().visible;
+  state.counters["draws"] = double(draws.size());
+  state.counters["ns_per_instance"] =
+      benchmark::Counter(double(count), benchmark::Counter::kIsIterationInvariantRate |
+                                            benchmark::Counter::kInvert);
+}
+BENCHMARK(crowdFrame)
+    ->ArgsProduct({{10000, 100000, 1000000}, {0, 1}})
+    ->ArgNames({"instances", "all_visible"})
+    ->Unit(benchmark::kMillisecond);
+
+}  // namespace
+
+BENCHMARK_MAIN();

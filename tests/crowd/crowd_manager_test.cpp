@@ -1,0 +1,426 @@
+// SkinnedInstancing — SPDX-License-Identifier: MIT (see LICENSE)
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <cstring>
+#include <random>
+
+#include "crowd/crowd_test_helpers.h"
+#include "si/crowd/crowd_manager.h"
+
+namespace si {
+namespace {
+using test::defaultCrowdDesc;
+using test::defaultPalette;
+using test::testCamera;
+
+TEST(CrowdManager, InitValidityMatrix) {
+  CrowdManager crowd;
+  EXPECT_EQ(crowd.init(CrowdDesc()).code(), StatusCode::kInvalidArgument);
+  EXPECT_TRUE(crowd.init(defaultCrowdDesc()).isOk());
+  CrowdDesc d = defaultCrowdDesc();
+  d.sub_mesh_count = 33;
+  EXPECT_EQ(crowd.init(d).code(), StatusCode::kInvalidArgument);
+  d = defaultCrowdDesc();
+  d.lod_count = 9;
+  EXPECT_EQ(crowd.init(d).code(), StatusCode::kInvalidArgument);
+  d = defaultCrowdDesc();
+  d.lod_distances_radii = {30.0f, 20.0f};
+  EXPECT_EQ(crowd.init(d).code(), StatusCode::kInvalidArgument);
+  d.lod_distances_radii = {30.0f};
+  EXPECT_EQ(crowd.init(d).code(), StatusCode::kInvalidArgument);
+  d = defaultCrowdDesc();
+  d.character_radius = -1.0f;
+  EXPECT_EQ(crowd.init(d).code(), StatusCode::kInvalidArgument);
+  d = defaultCrowdDesc();
+  d.lod_hysteresis_ratio = 1.5f;
+  EXPECT_EQ(crowd.init(d).code(), StatusCode::kInvalidArgument);
+  const CrowdDesc r = resolveDefaults(defaultCrowdDesc());
+  EXPECT_EQ(r.lod_distances_radii, (std::vector<float>{20.0f, 60.0f}));
+  EXPECT_EQ(r.max_distance_radii, 100.0f);
+  EXPECT_GT(r.character_radius, 0.5f);
+}
+
+TEST(CrowdManager, AddValidityAndStaleHandles) {
+  CrowdManager crowd;
+  ASSERT_TRUE(crowd.init(defaultCrowdDesc()).isOk());
+  InstanceDesc d;
+  InstanceHandle a, b, untouched;
+  ASSERT_TRUE(crowd.add(d, &a).isOk());
+  ASSERT_TRUE(crowd.add(d, &b).isOk());
+  InstanceDesc bad = d;
+  bad.clip = 99;
+  EXPECT_EQ(crowd.add(bad, &untouched).code(), StatusCode::kInvalidArgument);
+  bad = d;
+  bad.scale = 0.0f;
+  EXPECT_EQ(crowd.add(bad, &untouched).code(), StatusCode::kInvalidArgument);
+  bad = d;
+  bad.position.x = NAN;
+  EXPECT_EQ(crowd.add(bad, &untouched).code(), StatusCode::kInvalidArgument);
+  bad = d;
+  bad.speed = -1.0f;
+  EXPECT_EQ(crowd.add(bad, &untouched).code(), StatusCode::kInvalidArgument);
+  EXPECT_EQ(untouched.id, 0u);
+  EXPECT_EQ(crowd.size(), 2u);
+
+  ASSERT_TRUE(crowd.remove(a).isOk());
+  EXPECT_FALSE(crowd.contains(a));
+  EXPECT_EQ(crowd.remove(a).code(), StatusCode::kNotFound);
+  EXPECT_EQ(crowd.setColor(a, glm::u8vec4(1)).code(), StatusCode::kNotFound);
+  EXPECT_EQ(crowd.play(a, 0, 0.0, 1.0f).code(), StatusCode::kNotFound);
+  InstanceHandle c;
+  ASSERT_TRUE(crowd.add(d, &c).isOk());  // Reuses a's slot.
+  EXPECT_FALSE(crowd.contains(a));       // The stale handle never aliases the new instance.
+  EXPECT_EQ(crowd.setVariationMask(a, 0).code(), StatusCode::kNotFound);
+  InstanceDesc got;
+  ASSERT_TRUE(crowd.setVariationMask(c, 5).isOk());
+  ASSERT_TRUE(crowd.get(c, &got).isOk());
+  EXPECT_EQ(got.variation_mask, 5u);
+  ASSERT_TRUE(crowd.get(b, &got).isOk());
+  EXPECT_EQ(got.variation_mask, 0xFFFFFFFFu);
+}
+
+TEST(CrowdManager, RemoveKeepsOtherInstancesIntact) {
+  CrowdManager crowd;
+  ASSERT_TRUE(crowd.init(defaultCrowdDesc()).isOk());
+  std::vector<InstanceHandle> hs;
+  for (int i = 0; i < 10; ++i) {
+    InstanceDesc d;
+    d.position = glm::dvec3(i, 0, 0);
+    InstanceHandle h;
+    ASSERT_TRUE(crowd.add(d, &h).isOk());
+    hs.push_back(h);
+  }
+  for (int i : {0, 5, 9, 3}) ASSERT_TRUE(crowd.remove(hs[size_t(i)]).isOk());
+  for (int i = 0; i < 10; ++i) {
+    InstanceDesc got;
+    const Status s = crowd.get(hs[size_t(i)], &got);
+    if (i == 0 || i == 5 || i == 9 || i == 3) {
+      EXPECT_EQ(s.code(), StatusCode::kNotFound);
+    } else {
+      ASSERT_TRUE(s.isOk());
+      EXPECT_EQ(got.position.x, double(i));
+    }
+  }
+}
+
+TEST(CrowdManager, AddRandomIsSeededAndDeterministic) {
+  std::vector<glm::dvec3> positions;
+  for (int i = 0; i < 200; ++i) positions.push_back(glm::dvec3(i % 20, 0, i / 20) * 2.0);
+  RandomCrowdDesc r;
+  r.positions = positions;
+  r.seed = 42;
+  r.required_mask = 1;
+  r.optional_mask = 0xE;
+  const auto masks = [&](uint64_t seed) {
+    CrowdManager crowd;
+    EXPECT_TRUE(crowd.init(defaultCrowdDesc()).isOk());
+    RandomCrowdDesc rr = r;
+    rr.seed = seed;
+    std::vector<InstanceHandle> hs;
+    EXPECT_TRUE(crowd.addRandom(rr, &hs).isOk());
+    std::vector<uint32_t> out;
+    for (InstanceHandle h : hs) {
+      InstanceDesc d;
+      EXPECT_TRUE(crowd.get(h, &d).isOk());
+      out.push_back(d.variation_mask);
+    }
+    return out;
+  };
+  const std::vector<uint32_t> a = masks(42), b = masks(42), c = masks(43);
+  ASSERT_EQ(a.size(), 200u);
+  EXPECT_EQ(a, b);
+  EXPECT_NE(a, c);
+  size_t distinct = 0;
+  std::vector<bool> seen(16, false);
+  for (uint32_t m : a) {
+    EXPECT_EQ(m & 1u, 1u);       // The body is always worn.
+    EXPECT_EQ(m & ~0xFu, 0u);    // Nothing outside the masks.
+    if (!seen[m]) distinct++, seen[m] = true;
+  }
+  EXPECT_EQ(distinct, 8u);  // Every combination of 3 optional pieces occurs among 200.
+  CrowdManager crowd;
+  ASSERT_TRUE(crowd.init(defaultCrowdDesc()).isOk());
+  const uint32_t bad_clip[] = {7};
+  r.clips = bad_clip;
+  EXPECT_EQ(crowd.addRandom(r, nullptr).code(), StatusCode::kInvalidArgument);
+  EXPECT_EQ(crowd.size(), 0u);  // Nothing added on failure.
+}
+
+TEST(CrowdManager, AWeekAt60HzStillChoosesTheExactFrame) {
+  CrowdManager crowd;
+  ASSERT_TRUE(crowd.init(defaultCrowdDesc()).isOk());
+  const uint32_t walk = uint32_t(defaultPalette().findClip("walk"));
+  InstanceDesc d;
+  d.clip = walk;  // 1.0 s loop.
+  d.time_seconds = 0.0123;
+  d.position = glm::dvec3(1e6, 0, 0);  // Far away: culled, only its time matters.
+  InstanceHandle h;
+  ASSERT_TRUE(crowd.add(d, &h).isOk());
+  const Camera camera = testCamera({0, 1.5, -5}, {0, 1, 0});
+  const uint64_t frames = 7ull * 24 * 3600 * 60;
+  float naive = 0.0f;  // What a float clock would do.
+  for (uint64_t f = 0; f < frames; ++f) {
+    ASSERT_TRUE(crowd.update(1.0 / 60.0, camera).isOk());
+    naive += 1.0f / 60.0f;
+  }
+  // Exactly: a week is 604800 s, a whole number of 1 s loops, so the clip is back at 0.0123 s.
+  EXPECT_NEAR(crowd.clockSeconds(), 604800.0, 1e-6);
+  InstanceDesc got;
+  ASSERT_TRUE(crowd.get(h, &got).isOk());
+  EXPECT_NEAR(got.time_seconds, 0.0123, 1e-6);
+  const FrameSample s = crowd.frameSample(walk, got.time_seconds);
+  const FrameSample expected = crowd.frameSample(walk, 0.0123);
+  EXPECT_EQ(s.frame, expected.frame);
+  EXPECT_NEAR(s.fraction, expected.fraction, 1e-4f);
+  // A float clock stalls once its step exceeds twice 1/60 s: days behind by now.
+  EXPECT_GT(std::fabs(double(naive) - 604800.0), 1000.0);
+}
+
+TEST(CrowdManager, OnceClipsHoldTheirLastFrameAndLoopsWrap) {
+  CrowdManager crowd;
+  ASSERT_TRUE(crowd.init(defaultCrowdDesc()).isOk());
+  const BakedPalette& p = defaultPalette();
+  InstanceDesc d;
+  d.clip = uint32_t(p.findClip("wave"));  // 2.5 s, plays once.
+  InstanceHandle once, loop;
+  ASSERT_TRUE(crowd.add(d, &once).isOk());
+  d.clip = uint32_t(p.findClip("walk"));
+  ASSERT_TRUE(crowd.add(d, &loop).isOk());
+  const Camera camera = testCamera({0, 1.5, -5}, {0, 1, 0});
+  ASSERT_TRUE(crowd.update(3.25, camera).isOk());
+  InstanceDesc got;
+  ASSERT_TRUE(crowd.get(once, &got).isOk());
+  EXPECT_EQ(got.time_seconds, 2.5);
+  ASSERT_TRUE(crowd.get(loop, &got).isOk());
+  EXPECT_NEAR(got.time_seconds, 0.25, 1e-12);
+  const FrameSample s = crowd.frameSample(uint32_t(p.findClip("wave")), 2.5);
+  EXPECT_EQ(s.next_frame, p.clips[size_t(p.findClip("wave"))].frame_count - 1);
+  EXPECT_EQ(s.fraction, 1.0f);
+}
+
+TEST(CrowdManager, RecordsAreCameraRelativeAndPreciseFarFromTheOrigin) {
+  CrowdManager crowd;
+  ASSERT_TRUE(crowd.init(defaultCrowdDesc()).isOk());
+  const glm::dvec3 far(100000.37, 2.25, -100000.81);  // 100 km from the origin.
+  InstanceDesc d;
+  d.position = far;
+  d.scale = 2.0f;
+  d.rotation = glm::angleAxis(0.5f, glm::vec3(0, 1, 0));
+  InstanceHandle h;
+  ASSERT_TRUE(crowd.add(d, &h).isOk());
+  const glm::dvec3 eye = far + glm::dvec3(3.1, 1.5, 4.2);
+  ASSERT_TRUE(crowd.update(0.0, testCamera(eye, far)).isOk());
+  ASSERT_EQ(crowd.stats().visible, 1u);
+  const InstanceRecord& r = crowd.records()[0];
+  const glm::dvec3 rel = far - eye;
+  for (int row = 0; row < 3; ++row) EXPECT_NEAR(r.world_rows[row][3], rel[row], 1e-6);
+  // Without camera-relative doubles, float positions 100 km out are off by millimetres.
+  const float naive = float(far.x) - float(eye.x);
+  EXPECT_GT(std::fabs(double(naive) - rel.x), 1e-4);
+  // The 3x3 part is rotation * scale.
+  const glm::mat3 m = glm::mat3_cast(d.rotation) * 2.0f;
+  for (int row = 0; row < 3; ++row)
+    for (int col = 0; col < 3; ++col) EXPECT_NEAR(r.world_rows[row][col], m[col][row], 1e-6);
+}
+
+TEST(CrowdManager, RecordBytesMatchTheStd140Layout) {
+  CrowdManager crowd;
+  ASSERT_TRUE(crowd.init(defaultCrowdDesc()).isOk());
+  const BakedPalette& p = defaultPalette();
+  InstanceDesc d;
+  d.position = glm::dvec3(1, 0, 5);
+  d.color = glm::u8vec4(10, 20, 30, 40);
+  d.clip = uint32_t(p.findClip("idle"));
+  d.time_seconds = 0.5;
+  InstanceHandle h;
+  ASSERT_TRUE(crowd.add(d, &h).isOk());
+  ASSERT_TRUE(crowd.update(0.0, testCamera({0, 1, 0}, {1, 1, 5})).isOk());
+  ASSERT_EQ(crowd.records().size(), 1u);
+  uint8_t bytes[80];
+  std::memcpy(bytes, &crowd.records()[0], 80);
+  const auto f32 = [&](size_t o) { float v; std::memcpy(&v, bytes + o, 4); return v; };
+  const auto u32 = [&](size_t o) { uint32_t v; std::memcpy(&v, bytes + o, 4); return v; };
+  // vec4 world_rows[3] at 0, 16, 32: identity rotation, translation (1, -1, 5) in w.
+  EXPECT_EQ(f32(0), 1.0f);
+  EXPECT_EQ(f32(12), 1.0f);
+  EXPECT_EQ(f32(20), 1.0f);
+  EXPECT_EQ(f32(28), -1.0f);
+  EXPECT_EQ(f32(40), 1.0f);
+  EXPECT_EQ(f32(44), 5.0f);
+  // uvec4 frames at 48: frame texel = clip first texel + frame * frame stride.
+  const BakedClip& idle = p.clips[d.clip];
+  const FrameSample s = sampleFrames(idle, 0.5);
+  EXPECT_EQ(u32(48), idle.first_texel + s.frame * p.layout.frame_stride_texels);
+  EXPECT_EQ(u32(52), idle.first_texel + s.next_frame * p.layout.frame_stride_texels);
+  EXPECT_EQ(u32(56), u32(48));  // No crossfade: B repeats A.
+  // uvec4 blend at 64: fraction bits, fraction B, weight 0, color RGBA8 (R low byte).
+  EXPECT_EQ(f32(64), s.fraction);
+  EXPECT_EQ(f32(72), 0.0f);
+  EXPECT_EQ(u32(76), 10u | (20u << 8) | (30u << 16) | (40u << 24));
+}
+
+TEST(CrowdManager, CrossfadeWeightsAndEndOfBlend) {
+  CrowdManager crowd;
+  ASSERT_TRUE(crowd.init(defaultCrowdDesc()).isOk());
+  const BakedPalette& p = defaultPalette();
+  InstanceDesc d;
+  d.position = glm::dvec3(0, 0, 5);
+  d.clip = uint32_t(p.findClip("walk"));
+  InstanceHandle h;
+  ASSERT_TRUE(crowd.add(d, &h).isOk());
+  const Camera camera = testCamera({0, 1, 0}, {0, 1, 5});
+  const uint32_t run = uint32_t(p.findClip("run"));
+  EXPECT_EQ(crowd.crossfade(h, run, 0.0).code(), StatusCode::kInvalidArgument);
+  ASSERT_TRUE(crowd.crossfade(h, run, 0.5).isOk());
+  const auto weight = [&] {
+    float w;
+    std::memcpy(&w, &crowd.records()[0].blend[2], 4);
+    return w;
+  };
+  ASSERT_TRUE(crowd.update(0.125, camera).isOk());
+  EXPECT_NEAR(weight(), 0.25f, 1e-6f);
+  // A carries the old clip (walk), B the new one (run).
+  const uint32_t walk_first = p.clips[size_t(p.findClip("walk"))].first_texel;
+  const uint32_t run_first = p.clips[run].first_texel;
+  EXPECT_GE(crowd.records()[0].frames[0], walk_first);
+  EXPECT_LT(crowd.records()[0].frames[0], run_first > walk_first ? run_first : UINT32_MAX);
+  EXPECT_GE(crowd.records()[0].frames[2], run_first);
+  ASSERT_TRUE(crowd.update(0.25, camera).isOk());
+  EXPECT_NEAR(weight(), 0.75f, 1e-6f);
+  ASSERT_TRUE(crowd.update(0.125, camera).isOk());  // Exactly the end of the blend.
+  EXPECT_EQ(weight(), 0.0f);                         // Over: only the new clip remains...
+  EXPECT_GE(crowd.records()[0].frames[0], run_first);  // ...and it is in A.
+  EXPECT_EQ(crowd.records()[0].frames[0], crowd.records()[0].frames[2]);
+  InstanceDesc got;
+  ASSERT_TRUE(crowd.get(h, &got).isOk());
+  EXPECT_EQ(got.clip, run);
+  EXPECT_NEAR(got.time_seconds, 0.5, 1e-12);  // The new clip played during the blend.
+}
+
+TEST(CrowdManager, LodByDistanceInRadiiWithHysteresis) {
+  CrowdDesc cd = defaultCrowdDesc();
+  cd.character_radius = 1.0f;
+  cd.lod_distances_radii = {20.0f, 60.0f};
+  cd.lod_hysteresis_ratio = 0.1f;
+  CrowdManager crowd;
+  ASSERT_TRUE(crowd.init(cd).isOk());
+  InstanceDesc d;
+  InstanceHandle h;
+  ASSERT_TRUE(crowd.add(d, &h).isOk());
+  const auto lodAt = [&](double distance) {
+    // Camera on +Z looking at the instance, so it is always in view.
+    EXPECT_TRUE(crowd.update(0.0, testCamera({0, 0, distance}, {0, 0, 0})).isOk());
+    uint32_t lod = 99;
+    EXPECT_TRUE(crowd.lodOf(h, &lod).isOk());
+    return lod;
+  };
+  EXPECT_EQ(lodAt(10), 0u);
+  EXPECT_EQ(lodAt(21), 0u);   // Past 20 but within the 10 % margin: stays.
+  EXPECT_EQ(lodAt(22.5), 1u);
+  EXPECT_EQ(lodAt(19), 1u);   // Back under 20 but not under 18: stays.
+  EXPECT_EQ(lodAt(17.5), 0u);
+  EXPECT_EQ(lodAt(80), 2u);   // Jumps two levels at once.
+  EXPECT_EQ(lodAt(10), 0u);
+  EXPECT_EQ(crowd.stats().per_lod[0], 1u);
+  lodAt(150);                 // Beyond 100 radii: culled by distance.
+  EXPECT_EQ(crowd.stats().visible, 0u);
+  EXPECT_EQ(crowd.stats().culled_distance, 1u);
+  // The radius scales with the instance.
+  ASSERT_TRUE(crowd.setTransform(h, glm::dvec3(0), glm::quat(1, 0, 0, 0), 2.0f).isOk());
+  EXPECT_EQ(lodAt(150), 2u);  // 75 radii of a twice larger character.
+}
+
+// Brute-force reference: an instance is truly visible when a skinned vertex of its current
+// pose (emulated from the palette, double-transformed) lies inside the frustum.
+TEST(CrowdManager, CullingMatchesABruteForceReference) {
+  const Character& ch = test::defaultCharacter();
+  const BakedPalette& p = defaultPalette();
+  CrowdManager crowd;
+  ASSERT_TRUE(crowd.init(defaultCrowdDesc()).isOk());
+  std::mt19937 rng(11);
+  std::uniform_real_distribution<double> pos(-40.0, 40.0), unit(0.0, 1.0);
+  std::vector<InstanceHandle> hs;
+  for (int i = 0; i < 300; ++i) {
+    InstanceDesc d;
+    d.position = glm::dvec3(pos(rng), pos(rng) * 0.1, pos(rng));
+    d.rotation = glm::angleAxis(float(unit(rng) * 6.28), glm::vec3(0, 1, 0));
+    d.scale = float(0.5 + unit(rng));
+    d.clip = uint32_t(unit(rng) * p.clips.size()) % uint32_t(p.clips.size());
+    d.time_seconds = unit(rng) * 3.0;
+    InstanceHandle h;
+    ASSERT_TRUE(crowd.add(d, &h).isOk());
+    hs.push_back(h);
+  }
+  std::vector<glm::mat4> mats(ch.skeleton.jointCount());
+  std::vector<glm::vec3> skinned(ch.mesh.vertexCount());
+  size_t false_positives = 0, truly_visible = 0;
+  for (int trial = 0; trial < 4; ++trial) {
+    const glm::dvec3 eye(pos(rng), 1.7, pos(rng));
+    const Camera cam = testCamera(eye, glm::dvec3(pos(rng), 0.0, pos(rng)));
+    ASSERT_TRUE(crowd.update(0.1, cam).isOk());
+    std::vector<bool> marked(hs.size(), false);
+    for (InstanceHandle h : crowd.visibleHandles())
+      for (size_t i = 0; i < hs.size(); ++i)
+        if (hs[i] == h) marked[i] = true;
+    const glm::dmat4 vp(cam.viewProjection());
+    for (size_t i = 0; i < hs.size(); ++i) {
+      InstanceDesc d;
+      ASSERT_TRUE(crowd.get(hs[i], &d).isOk());
+      ASSERT_TRUE(emulateSkinningMatrices(p, d.clip, sampleFrames(p.clips[d.clip], d.time_seconds),
+                                          mats).isOk());
+      ASSERT_TRUE(emulateSkinning(ch.mesh, mats, skinned, {}).isOk());
+      const glm::dmat3 rs = glm::dmat3(glm::mat3_cast(d.rotation)) * double(d.scale);
+      bool inside = false;
+      for (const glm::vec3& v : skinned) {
+        const glm::dvec3 rel = d.position - eye + rs * glm::dvec3(v);
+        const glm::dvec4 c = vp * glm::dvec4(rel, 1.0);
+        if (std::fabs(c.x) <= c.w && std::fabs(c.y) <= c.w && std::fabs(c.z) <= c.w) {
+          inside = true;
+          break;
+        }
+      }
+      const double dist_radii = glm::length(d.position - eye) /
+                                (crowd.desc().character_radius * d.scale);
+      if (dist_radii > crowd.desc().max_distance_radii) continue;  // Distance-culled by design.
+      if (inside) {
+        ++truly_visible;
+        EXPECT_TRUE(marked[i]) << "false negative: instance " << i << " trial " << trial;
+      } else if (marked[i]) {
+        ++false_positives;  // Allowed: the bounding sphere is conservative.
+      }
+    }
+  }
+  EXPECT_GT(truly_visible, 50u);  // The scenes do exercise culling.
+  EXPECT_LT(false_positives, truly_visible);
+  std::printf("[ culling  ] %zu truly visible, %zu conservative extras over 4 cameras\n",
+              truly_visible, false_positives);
+}
+
+TEST(CrowdManager, JointMatrixMatchesThePalette) {
+  CrowdManager crowd;
+  ASSERT_TRUE(crowd.init(defaultCrowdDesc()).isOk());
+  const BakedPalette& p = defaultPalette();
+  const Character& ch = test::defaultCharacter();
+  InstanceDesc d;
+  d.position = glm::dvec3(5, 0, 7);
+  d.clip = uint32_t(p.findClip("walk"));
+  d.time_seconds = 0.3;
+  InstanceHandle h;
+  ASSERT_TRUE(crowd.add(d, &h).isOk());
+  const uint32_t hand = uint32_t(ch.skeleton.findJoint("r_hand"));
+  glm::dmat4 m;
+  ASSERT_TRUE(crowd.jointMatrix(h, hand, &m).isOk());
+  const glm::mat4 skin = emulateSkinningMatrix(p, d.clip, sampleFrames(p.clips[d.clip], 0.3),
+                                               uint32_t(p.skeleton_to_palette[hand]));
+  const glm::dvec3 bind_hand(glm::inverse(ch.skeleton.inverse_bind_matrices[hand])[3]);
+  const glm::dvec3 world(m * glm::dvec4(bind_hand, 1.0));
+  const glm::dvec3 expected = glm::dvec3(skin * glm::vec4(glm::vec3(bind_hand), 1.0f)) + d.position;
+  EXPECT_NEAR(glm::length(world - expected), 0.0, 1e-5);
+  EXPECT_EQ(crowd.jointMatrix(h, 0, &m).code(), StatusCode::kOutOfRange);  // Root not stored.
+  ASSERT_TRUE(crowd.remove(h).isOk());
+  EXPECT_EQ(crowd.jointMatrix(h, hand, &m).code(), StatusCode::kNotFound);
+}
+
+}  // namespace
+}  // namespace si

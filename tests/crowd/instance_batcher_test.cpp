@@ -1,0 +1,167 @@
+// SkinnedInstancing — SPDX-License-Identifier: MIT (see LICENSE)
+#include <gtest/gtest.h>
+
+#include <atomic>
+#include <cstdlib>
+#include <cstring>
+#include <map>
+#include <new>
+
+#include "crowd/crowd_test_helpers.h"
+#include "si/crowd/instance_batcher.h"
+
+// Counts heap allocations while g_counting is set (this test binary only). GCC cannot see that
+// the replaced operator new and delete pair malloc with free.
+#if defined(__GNUC__) && !defined(__clang__)
+#pragma GCC diagnostic ignored "-Wmismatched-new-delete"
+#endif
+static std::atomic<bool> g_counting{false};
+static std::atomic<size_t> g_allocations{0};
+void* operator new(size_t n) {
+  if (g_counting) ++g_allocations;
+  if (void* p = std::malloc(n ? n : 1)) return p;
+  throw std::bad_alloc();
+}
+void operator delete(void* p) noexcept { std::free(p); }
+void operator delete(void* p, size_t) noexcept { std::free(p); }
+
+namespace si {
+namespace {
+using test::defaultCrowdDesc;
+using test::testCamera;
+
+TEST(InstanceBatcher, CapacityFollowsTheUniformBlockLimit) {
+  InstanceBatcher b;
+  ASSERT_TRUE(b.init({65536, 256, 0}).isOk());
+  EXPECT_EQ(b.capacityPerDraw(), 819u);
+  ASSERT_TRUE(b.init({16384, 16, 0}).isOk());
+  EXPECT_EQ(b.capacityPerDraw(), 204u);
+  ASSERT_TRUE(b.init({65536, 0, 100}).isOk());
+  EXPECT_EQ(b.capacityPerDraw(), 100u);
+  EXPECT_EQ(b.alignment(), 256u);
+  EXPECT_EQ(b.init({8192, 256, 0}).code(), StatusCode::kInvalidArgument);
+  EXPECT_EQ(b.init({65536, 48, 0}).code(), StatusCode::kInvalidArgument);
+  EXPECT_EQ(b.init({65536, 256, 900}).code(), StatusCode::kInvalidArgument);
+}
+
+class BatcherScene : public ::testing::Test {
+ protected:
+  void SetUp() override {
+    ASSERT_TRUE(crowd_.init(defaultCrowdDesc()).isOk());
+    std::vector<glm::dvec3> positions;
+    for (int i = 0; i < 3000; ++i) positions.push_back(glm::dvec3(i % 60, 0, i / 60) * 1.5);
+    RandomCrowdDesc r;
+    r.positions = positions;
+    r.optional_mask = 0xE;
+    ASSERT_TRUE(crowd_.addRandom(r, nullptr).isOk());
+    camera_ = testCamera({45, 12, -20}, {45, 0, 40});
+    ASSERT_TRUE(crowd_.update(1.0 / 60.0, camera_).isOk());
+  }
+  CrowdManager crowd_;
+  Camera camera_;
+};
+
+TEST_F(BatcherScene, BatchesRespectCapacityAlignmentAndCoverEveryEntryOnce) {
+  for (BatchLimits limits : {BatchLimits{65536, 256, 0}, BatchLimits{16384, 16, 0},
+                             BatchLimits{65536, 64, 37}}) {
+    InstanceBatcher b;
+    ASSERT_TRUE(b.init(limits).isOk());
+    std::vector<uint8_t> buffer(b.recordBufferBound(crowd_));
+    std::vector<DrawBatch> draws;
+    ASSERT_TRUE(b.build(crowd_, buffer, &draws).isOk());
+    const uint32_t sub_meshes = crowd_.desc().sub_mesh_count;
+    std::map<uint32_t, uint32_t> per_bucket;
+    uint64_t total = 0;
+    for (const DrawBatch& d : draws) {
+      EXPECT_GT(d.instance_count, 0u);
+      EXPECT_LE(d.instance_count, b.capacityPerDraw());
+      EXPECT_EQ(d.byte_offset % b.alignment(), 0u);
+      EXPECT_LE(size_t(d.byte_offset) + d.instance_count * kInstanceRecordSize, buffer.size());
+      per_bucket[d.lod * sub_meshes + d.sub_mesh] += d.instance_count;
+      total += d.instance_count;
+    }
+    EXPECT_EQ(total, crowd_.stats().bucket_entries);
+    // Draw calls: at most ceil(bucket size / capacity) per (LOD, sub-mesh).
+    std::map<uint32_t, uint32_t> draws_per_bucket;
+    for (const DrawBatch& d : draws) ++draws_per_bucket[d.lod * sub_meshes + d.sub_mesh];
+    for (uint32_t bucket = 0; bucket < crowd_.bucketCount(); ++bucket) {
+      const uint32_t n = crowd_.bucketOffsets()[bucket + 1] - crowd_.bucketOffsets()[bucket];
+      EXPECT_EQ(per_bucket[bucket], n);
+      EXPECT_EQ(draws_per_bucket[bucket], (n + b.capacityPerDraw() - 1) / b.capacityPerDraw());
+    }
+    // Each bucket's records are exactly its visible instances, each once, in order.
+    size_t d_index = 0;
+    for (uint32_t bucket = 0; bucket < crowd_.bucketCount(); ++bucket) {
+      uint32_t entry = crowd_.bucketOffsets()[bucket];
+      while (entry < crowd_.bucketOffsets()[bucket + 1]) {
+        const DrawBatch& d = draws[d_index++];
+        for (uint32_t k = 0; k < d.instance_count; ++k, ++entry) {
+          const InstanceRecord& expected = crowd_.records()[crowd_.bucketEntries()[entry]];
+          ASSERT_EQ(0, std::memcmp(buffer.data() + d.byte_offset + k * kInstanceRecordSize,
+                                   &expected, kInstanceRecordSize));
+        }
+      }
+    }
+    EXPECT_EQ(d_index, draws.size());
+  }
+}
+
+TEST_F(BatcherScene, WornSubMeshesOnlyAndEveryVisibleInstanceInItsLodBuckets) {
+  const uint32_t sub_meshes = crowd_.desc().sub_mesh_count;
+  std::vector<uint32_t> seen(crowd_.records().size(), 0);
+  for (uint32_t bucket = 0; bucket < crowd_.bucketCount(); ++bucket) {
+    const uint32_t lod = bucket / sub_meshes, sm = bucket % sub_meshes;
+    for (uint32_t e = crowd_.bucketOffsets()[bucket]; e < crowd_.bucketOffsets()[bucket + 1]; ++e) {
+      const uint32_t v = crowd_.bucketEntries()[e];
+      InstanceDesc d;
+      ASSERT_TRUE(crowd_.get(crowd_.visibleHandles()[v], &d).isOk());
+      EXPECT_TRUE((d.variation_mask >> sm) & 1u);
+      uint32_t l = 99;
+      ASSERT_TRUE(crowd_.lodOf(crowd_.visibleHandles()[v], &l).isOk());
+      EXPECT_EQ(l, lod);
+      if (sm == 0) ++seen[v];
+    }
+  }
+  for (uint32_t count : seen) EXPECT_EQ(count, 1u);  // The body: once per visible instance.
+  EXPECT_GT(crowd_.stats().visible, 100u);
+  EXPECT_GT(crowd_.stats().culled_frustum, 100u);
+}
+
+TEST_F(BatcherScene, DeterministicAndErrorsLeaveOutputAlone) {
+  InstanceBatcher b;
+  ASSERT_TRUE(b.init({65536, 256, 0}).isOk());
+  std::vector<uint8_t> one(b.recordBufferBound(crowd_)), two(one.size());
+  std::vector<DrawBatch> d1, d2;
+  ASSERT_TRUE(b.build(crowd_, one, &d1).isOk());
+  ASSERT_TRUE(b.build(crowd_, two, &d2).isOk());
+  EXPECT_EQ(one, two);
+  ASSERT_EQ(d1.size(), d2.size());
+  std::vector<uint8_t> small(one.size() - 1, 0xAB);
+  EXPECT_EQ(b.build(crowd_, small, &d2).code(), StatusCode::kCountMismatch);
+  EXPECT_EQ(small[0], 0xAB);
+  EXPECT_EQ(b.build(crowd_, one, nullptr).code(), StatusCode::kInvalidArgument);
+  InstanceBatcher uninitialized;
+  EXPECT_EQ(uninitialized.build(crowd_, one, &d2).code(), StatusCode::kInvalidArgument);
+}
+
+TEST_F(BatcherScene, NoAllocationPerFrameOnceWarmedUp) {
+  InstanceBatcher b;
+  ASSERT_TRUE(b.init({65536, 256, 0}).isOk());
+  std::vector<uint8_t> buffer(1 << 22);
+  std::vector<DrawBatch> draws;
+  draws.reserve(4096);
+  ASSERT_TRUE(b.build(crowd_, buffer, &draws).isOk());
+  ASSERT_TRUE(crowd_.update(1.0 / 60.0, camera_).isOk());  // Warm-up at this crowd size.
+  g_allocations = 0;
+  g_counting = true;
+  for (int frame = 0; frame < 10; ++frame) {
+    const Status s1 = crowd_.update(1.0 / 60.0, camera_);
+    const Status s2 = b.build(crowd_, buffer, &draws);
+    if (!s1.isOk() || !s2.isOk()) break;
+  }
+  g_counting = false;
+  EXPECT_EQ(g_allocations.load(), 0u);
+}
+
+}  // namespace
+}  // namespace si
