@@ -167,8 +167,8 @@ std::vector<uint32_t> drawnVertices(const SkinnedMesh& mesh) {
 // farthest from its bind position, as a mesh of their own. Interpolation error grows with the
 // lever arm, so these bound the search's error cheaply; the final report still measures every
 // drawn vertex.
-SkinnedMesh searchMesh(const Character& character, const std::vector<uint32_t>& drawn) {
-  const SkinnedMesh& mesh = character.mesh;
+SkinnedMesh searchMesh(const Character& character, const SkinnedMesh& mesh,
+                       const std::vector<uint32_t>& drawn) {
   const size_t nj = character.skeleton.jointCount();
   std::vector<std::vector<std::pair<float, uint32_t>>> per_joint(nj);
   for (uint32_t v : drawn)
@@ -204,8 +204,11 @@ struct Measurement {
 
 // Emulates the shader at the clip's measurement times; compares with the reference when
 // `with_error`; always accumulates bounds of the emulated positions.
-// `mesh` is the character's mesh or a subset of its vertices; `vertices` index into it.
-Status measureClip(const Character& character, const SkinnedMesh& mesh, const BakedPalette& p,
+// `mesh` is the character's mesh or a subset of its vertices, `gpu_mesh` the same with the
+// weights the vertex format stores; `vertices` index into both. The reference skins `mesh`,
+// the emulation `gpu_mesh`, so the error includes the vertex format's quantization.
+Status measureClip(const Character& character, const SkinnedMesh& mesh,
+                   const SkinnedMesh& gpu_mesh, const BakedPalette& p,
                    uint32_t clip_index, const std::vector<uint32_t>& vertices,
                    double shell_distance, bool with_error, bool midpoints_only,
                    Measurement* out) {
@@ -239,7 +242,7 @@ Status measureClip(const Character& character, const SkinnedMesh& mesh, const Ba
   for (double t : times) {
     const FrameSample sample = sampleFrames(bc, t);
     Status s = emulateSkinningMatrices(p, clip_index, sample, emulated);
-    if (s.isOk()) s = emulateSkinning(mesh, emulated, positions, {});
+    if (s.isOk()) s = emulateSkinning(gpu_mesh, emulated, positions, {});
     if (!s.isOk()) return s;
     for (uint32_t v : vertices) out->bounds.extend(positions[v]);
     if (!with_error) continue;
@@ -299,11 +302,15 @@ Status bakePalette(const Character& character, const BakeDesc& in_desc, BakedPal
   const double height = character.height() > 0.0f ? character.height() : 1.0;
   const double shell = d.shell_distance_ratio * height;
   const std::vector<uint32_t> vertices = drawnVertices(character.mesh);
+  // Measure what the GPU draws: the vertex format stores weights as unorm16 (si::gl).
+  SkinnedMesh gpu_mesh = character.mesh;
+  for (glm::vec4& w : gpu_mesh.weights) w = dequantizeWeights(quantizeWeights(w));
 
   std::vector<double> rates(plan.clip_indices.size(), double(d.sample_rate_hz));
   if (d.rate_mode == RateMode::kAutomatic) {
     const double tolerance = d.error_tolerance_ratio * height;
-    const SkinnedMesh search_mesh = searchMesh(character, vertices);
+    const SkinnedMesh search_mesh = searchMesh(character, character.mesh, vertices);
+    const SkinnedMesh search_gpu_mesh = searchMesh(character, gpu_mesh, vertices);
     std::vector<uint32_t> search_vertices(search_mesh.vertexCount());
     for (size_t i = 0; i < search_vertices.size(); ++i) search_vertices[i] = uint32_t(i);
     std::vector<double> candidates;
@@ -325,10 +332,10 @@ Status bakePalette(const Character& character, const BakeDesc& in_desc, BakedPal
         Status st = planPalette(character, one, &one_plan);
         if (st.isOk()) st = bakeTexels(character, one, one_plan, &trial);
         if (st.isOk())
-          st = full ? measureClip(character, character.mesh, trial, 0, vertices, shell, true,
-                                  false, &m)
-                    : measureClip(character, search_mesh, trial, 0, search_vertices, shell, true,
-                                  true, &m);
+          st = full ? measureClip(character, character.mesh, gpu_mesh, trial, 0, vertices,
+                                  shell, true, false, &m)
+                    : measureClip(character, search_mesh, search_gpu_mesh, trial, 0,
+                                  search_vertices, shell, true, true, &m);
         *error = m.report.max_error_units;
         return st;
       };
@@ -375,7 +382,8 @@ Status bakePalette(const Character& character, const BakeDesc& in_desc, BakedPal
   const bool measure = report != nullptr || d.rate_mode == RateMode::kAutomatic;
   for (uint32_t c = 0; c < baked.clips.size(); ++c) {
     Measurement m;
-    s = measureClip(character, character.mesh, baked, c, vertices, shell, measure, false, &m);
+    s = measureClip(character, character.mesh, gpu_mesh, baked, c, vertices, shell, measure,
+                    false, &m);
     if (!s.isOk()) return s;
     // Matrix formats interpolate on chords between frames, so the frames' box is conservative
     // up to float rounding; the rotation format's nlerp can bulge, so pad by 1 % of the height.

@@ -156,24 +156,27 @@ glm::mat4 decodeJoint(const BakedPalette& p, uint32_t clip, uint32_t frame, uint
                   readTexel(p, l.texelIndex(clip, frame, slot, 2)));
 }
 
+glm::mat4 emulateFrameMatrix(const BakedPalette& p, uint32_t frame_texel, uint32_t next_texel,
+                             float u, uint32_t slot) {
+  const uint32_t a = frame_texel + slot * p.layout.joint_stride_texels;
+  const uint32_t b = next_texel + slot * p.layout.joint_stride_texels;
+  if (p.format == PaletteFormat::kQuatTranslationF32) {
+    const glm::vec4 qa = readTexel(p, a);
+    glm::vec4 qb = readTexel(p, b);
+    if (glm::dot(qa, qb) < 0.0f) qb = -qb;  // Shorter arc.
+    const glm::vec4 q = glm::normalize(glm::mix(qa, qb, u));
+    return fromRigid(q, glm::mix(readTexel(p, a + 1), readTexel(p, b + 1), u));
+  }
+  glm::vec4 rows[3];
+  for (uint32_t r = 0; r < 3; ++r) rows[r] = glm::mix(readTexel(p, a + r), readTexel(p, b + r), u);
+  return fromRows(rows[0], rows[1], rows[2]);
+}
+
 glm::mat4 emulateSkinningMatrix(const BakedPalette& p, uint32_t clip, const FrameSample& s,
                                 uint32_t slot) {
   const PaletteLayout& l = p.layout;
-  const float u = s.fraction;
-  if (p.format == PaletteFormat::kQuatTranslationF32) {
-    const glm::vec4 qa = readTexel(p, l.texelIndex(clip, s.frame, slot, 0));
-    glm::vec4 qb = readTexel(p, l.texelIndex(clip, s.next_frame, slot, 0));
-    const glm::vec4 ta = readTexel(p, l.texelIndex(clip, s.frame, slot, 1));
-    const glm::vec4 tb = readTexel(p, l.texelIndex(clip, s.next_frame, slot, 1));
-    if (glm::dot(qa, qb) < 0.0f) qb = -qb;  // Shorter arc.
-    const glm::vec4 q = glm::normalize(glm::mix(qa, qb, u));
-    return fromRigid(q, glm::mix(ta, tb, u));
-  }
-  glm::vec4 rows[3];
-  for (uint32_t r = 0; r < 3; ++r)
-    rows[r] = glm::mix(readTexel(p, l.texelIndex(clip, s.frame, slot, r)),
-                       readTexel(p, l.texelIndex(clip, s.next_frame, slot, r)), u);
-  return fromRows(rows[0], rows[1], rows[2]);
+  return emulateFrameMatrix(p, l.texelIndex(clip, s.frame, 0, 0), l.texelIndex(clip, s.next_frame, 0, 0),
+                            s.fraction, slot);
 }
 
 Status emulateSkinningMatrices(const BakedPalette& p, uint32_t clip, const FrameSample& s,
@@ -199,25 +202,23 @@ Status emulateSkinning(const SkinnedMesh& mesh, Span<const glm::mat4> matrices,
       mesh.joints.size() != n || mesh.weights.size() != n || mesh.normals.size() != n)
     return {StatusCode::kCountMismatch, "emulateSkinning: spans do not match the vertex count"};
   for (size_t v = 0; v < n; ++v) {
-    const glm::vec4 p(mesh.positions[v], 1.0f);
-    glm::vec3 pos(0.0f), nrm(0.0f);
+    // As the shader: blend the influences' matrices (zero weights skipped), then transform.
+    glm::mat4 m(0.0f);
     for (int i = 0; i < 4; ++i) {
       const float w = mesh.weights[v][i];
-      if (w == 0.0f) continue;  // The shader branches past zero weights.
+      if (w == 0.0f) continue;
       const uint16_t j = mesh.joints[v][i];
       if (j >= matrices.size())
         return {StatusCode::kOutOfRange, strCat("emulateSkinning: vertex ", v, " joint ", j)};
-      const glm::mat4& m = matrices[j];
-      pos += w * glm::vec3(m * p);
-      if (!out_normals.empty()) {
-        const glm::mat3 a(m);
-        glm::mat3 cof(glm::cross(a[1], a[2]), glm::cross(a[2], a[0]), glm::cross(a[0], a[1]));
-        if (glm::dot(a[0], cof[0]) < 0.0f) cof = -cof;
-        nrm += w * (cof * mesh.normals[v]);
-      }
+      m += matrices[j] * w;
     }
-    out_positions[v] = pos;
+    out_positions[v] = glm::vec3(m * glm::vec4(mesh.positions[v], 1.0f));
     if (!out_normals.empty()) {
+      // sign(det) * cofactor of the blended 3x3: the inverse transpose up to a positive scale.
+      const glm::mat3 a(m);
+      glm::mat3 cof(glm::cross(a[1], a[2]), glm::cross(a[2], a[0]), glm::cross(a[0], a[1]));
+      if (glm::dot(a[0], cof[0]) < 0.0f) cof = -cof;
+      const glm::vec3 nrm = cof * mesh.normals[v];
       const float len = glm::length(nrm);
       out_normals[v] = len > 1e-30f ? nrm / len : mesh.normals[v];
     }

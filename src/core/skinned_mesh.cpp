@@ -125,6 +125,20 @@ Status normalizeWeights(SkinnedMesh& mesh, WeightNormalizationReport* report) {
   return Status::ok();
 }
 
+glm::u16vec4 quantizeWeights(const glm::vec4& w) {
+  glm::u16vec4 q(0);
+  int sum = 0, largest = 0;
+  for (int i = 0; i < 4; ++i) {
+    q[i] = static_cast<uint16_t>(std::lround(std::clamp(w[i], 0.0f, 1.0f) * 65535.0f));
+    sum += q[i];
+    if (w[i] > w[largest]) largest = i;
+  }
+  q[largest] = static_cast<uint16_t>(std::clamp(int(q[largest]) + 65535 - sum, 0, 65535));
+  return q;
+}
+
+glm::vec4 dequantizeWeights(const glm::u16vec4& q) { return glm::vec4(q) / 65535.0f; }
+
 Status reduceInfluences(Span<const Influence> influences, glm::u16vec4* out_joints,
                         glm::vec4* out_weights, float* dropped_weight) {
   if (out_joints == nullptr || out_weights == nullptr)

@@ -90,12 +90,14 @@ bool loadFns(const HeadlessContext* c, GlFns* f) {
 // ------------------------------------------------------------------------------------------
 class EglContext final : public HeadlessContext {
  public:
+  // The display is left initialized: eglGetPlatformDisplay returns one display per platform
+  // and device for the whole process, so terminating it here would pull it from under any
+  // other context on it (and unload the driver while it still owns memory).
   ~EglContext() override {
-    if (display_ != EGL_NO_DISPLAY) {
-      if (context_ != EGL_NO_CONTEXT && eglGetCurrentContext() == context_) destroyFramebuffer();
+    if (display_ != EGL_NO_DISPLAY && context_ != EGL_NO_CONTEXT) {
+      if (eglGetCurrentContext() == context_) destroyFramebuffer();
       eglMakeCurrent(display_, EGL_NO_SURFACE, EGL_NO_SURFACE, EGL_NO_CONTEXT);
-      if (context_ != EGL_NO_CONTEXT) eglDestroyContext(display_, context_);
-      eglTerminate(display_);
+      eglDestroyContext(display_, context_);
     }
   }
 
@@ -129,7 +131,6 @@ class EglContext final : public HeadlessContext {
       Status s = initDisplay();
       if (s.isOk()) return s;
       errors += strCat(i ? "; " : "", "device ", i, ": ", s.message());
-      if (display_ != EGL_NO_DISPLAY) eglTerminate(display_);
       display_ = EGL_NO_DISPLAY;
     }
     return {StatusCode::kBackend, errors};

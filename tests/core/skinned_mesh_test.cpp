@@ -99,6 +99,17 @@ TEST(ReduceInfluences, KeepsLargestFourAndReportsDropped) {
   EXPECT_NEAR(w.x, 0.3f / 0.85f, 1e-6f);
 }
 
+TEST(QuantizeWeights, SumsToOneExactlyAndStaysClose) {
+  for (glm::vec4 w : {glm::vec4(1, 0, 0, 0), glm::vec4(0.5f, 0.5f, 0, 0),
+                      glm::vec4(1 / 3.0f, 1 / 3.0f, 1 / 3.0f, 0), glm::vec4(0.7f, 0.2f, 0.07f, 0.03f)}) {
+    const glm::u16vec4 q = quantizeWeights(w);
+    EXPECT_EQ(int(q.x) + q.y + q.z + q.w, 65535);
+    const glm::vec4 back = dequantizeWeights(q);
+    for (int i = 0; i < 4; ++i) EXPECT_NEAR(back[i], w[i], 2.0f / 65535.0f);
+    for (int i = 0; i < 4; ++i) EXPECT_EQ(back[i] == 0.0f, w[i] == 0.0f);  // Zeros stay zero.
+  }
+}
+
 TEST(ReduceInfluences, FewInfluencesAndErrors) {
   const Influence two[] = {{5, 2.0f}, {6, 2.0f}};
   glm::u16vec4 j;

@@ -101,14 +101,21 @@ glm::mat4 decodeJoint(const BakedPalette& palette, uint32_t clip, uint32_t frame
 glm::mat4 emulateSkinningMatrix(const BakedPalette& palette, uint32_t clip,
                                 const FrameSample& sample, uint32_t slot);
 
+/// The same for a frame pair given by texel offsets, as an InstanceRecord carries them
+/// (clip first texel + frame * frame stride): what the shader computes for palette slot `slot`
+/// with `fraction` between the two frames. Offsets must lie inside the palette.
+glm::mat4 emulateFrameMatrix(const BakedPalette& palette, uint32_t frame_texel,
+                             uint32_t next_frame_texel, float fraction, uint32_t slot);
+
 /// Skinning matrices of every skeleton joint (identity for joints not stored) for `sample`.
 /// `out` must hold skeleton_to_palette.size() matrices (kCountMismatch otherwise).
 Status emulateSkinningMatrices(const BakedPalette& palette, uint32_t clip,
                                const FrameSample& sample, Span<glm::mat4> out);
 
 /// Skins `mesh` (bound to the skeleton the palette was baked from) with `matrices` from
-/// emulateSkinningMatrices() in float, as the vertex shader does: up to 4 influences, zero
-/// weights skipped; normals through sign(det) * cofactor, normalized. `out_normals` may be
+/// emulateSkinningMatrices() in float, as the vertex shader does: the matrices of up to 4
+/// influences blended by weight (zero weights skipped), then the position transformed by the
+/// blend and the normal by sign(det) * cofactor of its 3x3, normalized. `out_normals` may be
 /// empty. kCountMismatch for wrong sizes.
 Status emulateSkinning(const SkinnedMesh& mesh, Span<const glm::mat4> matrices,
                        Span<glm::vec3> out_positions, Span<glm::vec3> out_normals);

@@ -84,6 +84,13 @@ struct WeightNormalizationReport {
 /// are negative, not finite, or sum to (nearly) zero: such a vertex has no meaningful binding.
 Status normalizeWeights(SkinnedMesh& mesh, WeightNormalizationReport* report);
 
+/// Weights as the GPU vertex format stores them: unsigned normalized 16-bit values that sum to
+/// exactly 65535 (rounded, then the largest absorbs the difference), so the shader's blend of
+/// matrices stays affine. The weights must be valid (validate()).
+glm::u16vec4 quantizeWeights(const glm::vec4& weights);
+/// The float weights the shader reads back from quantizeWeights().
+glm::vec4 dequantizeWeights(const glm::u16vec4& quantized);
+
 /// One (joint, weight) influence on a vertex.
 struct Influence {
   uint32_t joint = 0;

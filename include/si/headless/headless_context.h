@@ -53,7 +53,8 @@ struct HeadlessDesc {
 HeadlessDesc resolveDefaults(const HeadlessDesc& desc);
 
 /// An offscreen GL 4.5 core context with its framebuffer. Move-only through unique_ptr;
-/// destroying it releases the context (making it not current first).
+/// destroying it releases the context (making it not current first). EGL displays are shared
+/// by the whole process (one per platform and device), so they stay initialized until exit.
 class HeadlessContext {
  public:
   /// Creates and makes current a context. Fails with kInvalidArgument for a size outside

@@ -1,0 +1,126 @@
+// SkinnedInstancing — SPDX-License-Identifier: MIT (see LICENSE)
+#pragma once
+
+/// \file
+/// si::gl: the thin OpenGL 4.5 core back-end. It assumes a current context (it never makes one),
+/// uploads the palette and the character, streams instance records without stalls (a
+/// persistently mapped ring guarded by fences) and issues one glDrawElementsInstanced per
+/// batch. Baselines in the same back-end: the traditional non-instanced path (one draw per
+/// character with its palette in a uniform block) and rigid instancing of the bind-pose mesh.
+///
+/// Usage:
+/// \code
+///   si::GlInfo info;
+///   si::loadGl(getProc, user, &info);
+///   si::Renderer renderer;
+///   si::Status s = renderer.init(info, {});
+///   s = renderer.uploadPalette(palette);
+///   s = renderer.uploadCharacter(character, palette);
+///   si::InstanceBatcher batcher;
+///   s = batcher.init(renderer.batchLimits());
+///   // each frame, after crowd.update(dt, camera):
+///   si::DrawStats stats;
+///   s = renderer.drawCrowd(crowd, batcher, camera, &stats);
+/// \endcode
+///
+/// Vertex format (36 or 32 bytes): position 3 x f32 (12), normal 10:10:10:2 snorm (4),
+/// texcoord 2 x f16 (4), joints 4 x u8 when the palette stores at most 256 joints, else
+/// 4 x u16 (4 or 8), weights 4 x unorm16 summing to exactly 1 (8). Positions are not
+/// quantized; the weights add at most 1.5e-5 of a weight each, which the baker's error report
+/// includes (it emulates the quantized weights); normals and texcoords affect shading only.
+
+#include <cstdint>
+#include <memory>
+#include <vector>
+
+#include "si/core/baked_palette.h"
+#include "si/core/character.h"
+#include "si/crowd/camera.h"
+#include "si/crowd/crowd_manager.h"
+#include "si/crowd/instance_batcher.h"
+#include "si/gl/gl_context.h"
+
+namespace si {
+
+/// Renderer options. Zero fields take the defaults documented on each.
+struct RendererDesc {
+  /// Uniform block size to batch for, in bytes; 0 means the context's limit. Lower it (e.g. to
+  /// GL's minimum 16384) to test batching; it can never exceed the limit.
+  uint32_t uniform_block_size_bytes = 0;
+  /// Frames the record ring holds before reusing a region (each guarded by a fence); 0 means 3.
+  uint32_t ring_frames = 0;
+  /// Check glGetError after each group of calls and route KHR_debug messages to the log
+  /// callback. 0 means: on in debug builds (no NDEBUG), off otherwise; 1 on; 2 off.
+  uint32_t debug_checks = 0;
+  /// Measure GPU time of each draw call group with a timer query (blocks until the result is
+  /// available: for benchmarks and tests).
+  bool measure_gpu_time = false;
+};
+
+/// What one draw call group did.
+struct DrawStats {
+  uint32_t draw_calls = 0;
+  uint64_t triangles = 0;
+  uint64_t instances = 0;        ///< Instance-draws (an instance counts once per sub-mesh).
+  double cpu_submit_ms = 0.0;    ///< CPU time spent in the draw function (records and GL calls).
+  double gpu_ms = -1.0;          ///< GPU time, when RendererDesc::measure_gpu_time, else -1.
+};
+
+/// Which program draws: the skinned instanced path (default), the same skinning writing depth
+/// only (shadow maps), or rigid instancing of the bind pose (the floor baseline).
+enum class DrawMode : uint8_t { kDefault = 0, kSkinned, kDepthOnly, kRigid };
+
+/// The back-end. Create after loadGl(); destroy (or shutdown()) with the context current.
+class Renderer {
+ public:
+  Renderer();
+  ~Renderer();
+  Renderer(const Renderer&) = delete;
+  Renderer& operator=(const Renderer&) = delete;
+
+  /// Compiles the programs and creates the record ring. kBackend with the driver's log when a
+  /// shader fails to compile or link; kInvalidArgument for a uniform block size below 16384 or
+  /// above the limit.
+  Status init(const GlInfo& info, const RendererDesc& desc);
+  /// Releases every GL object (needs the context current). Idempotent.
+  void shutdown();
+
+  /// The limits to give the InstanceBatcher (the block size in use and the offset alignment).
+  BatchLimits batchLimits() const;
+
+  /// Uploads the palette texture (RGBA32F or RGBA16F). kLimitExceeded when it is larger than
+  /// GL_MAX_TEXTURE_SIZE; kInvalidArgument for an inconsistent palette.
+  Status uploadPalette(const BakedPalette& palette);
+  /// Uploads the character's mesh (joint indices remapped to palette slots), its first
+  /// material's base colour and texture. The palette must be the one baked for it.
+  Status uploadCharacter(const Character& character, const BakedPalette& palette);
+
+  /// Sets the directional light (world direction the light travels along).
+  void setLightDirection(const glm::vec3& direction) { light_direction_ = direction; }
+  /// The colour the frame is cleared to by clear().
+  void clear(const glm::vec4& color);
+
+  /// Builds the crowd's batches with `batcher` straight into the mapped record ring and draws
+  /// each with one glDrawElementsInstanced. `mode` picks the program.
+  Status drawCrowd(const CrowdManager& crowd, const InstanceBatcher& batcher, const Camera& camera,
+                   DrawStats* stats, DrawMode mode = DrawMode::kDefault);
+  /// The traditional path: for each visible instance, computes its joint matrices on the CPU
+  /// from the palette, uploads them into a uniform block and issues one glDrawElements per worn
+  /// sub-mesh.
+  Status drawTraditional(const CrowdManager& crowd, const Camera& camera, DrawStats* stats);
+
+  /// Runs the skinning vertex shader for every vertex of the mesh with one instance `record`
+  /// and returns the skinned model-space positions (before the world transform) through
+  /// transform feedback: the GPU side of the GPU-equals-CPU test.
+  Status captureSkinnedPositions(const InstanceRecord& record, std::vector<glm::vec3>* out);
+
+  /// Triangles of sub-mesh `sub_mesh` at `lod` as uploaded.
+  uint32_t triangleCount(uint32_t sub_mesh, uint32_t lod) const;
+
+ private:
+  struct Impl;
+  std::unique_ptr<Impl> impl_;
+  glm::vec3 light_direction_ = glm::normalize(glm::vec3(-0.4f, -1.0f, -0.3f));
+};
+
+}  // namespace si
