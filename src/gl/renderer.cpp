@@ -193,13 +193,30 @@ double msSince(std::chrono::steady_clock::time_point t0) {
 
 }  // namespace
 
+// A program and which of the shared uniforms it declares (-1: absent; setting an absent location
+// is GL_INVALID_OPERATION).
+struct Program {
+  GLuint id = kNoObject;
+  GLint palette_info = -1, view_projection = -1, base_factor = -1, light_direction = -1;
+};
+
+Program describe(GLuint id) {
+  Program p;
+  p.id = id;
+  if (id == kNoObject) return p;
+  p.palette_info = glGetUniformLocation(id, "si_palette_info");
+  p.view_projection = glGetUniformLocation(id, "u_view_projection");
+  p.base_factor = glGetUniformLocation(id, "u_base_factor");
+  p.light_direction = glGetUniformLocation(id, "u_light_direction");
+  return p;
+}
+
 struct Renderer::Impl {
   GlInfo info;
   RendererDesc desc;
   bool debug = false;
   uint32_t block_size = 0, capacity = 0, alignment = 256;
-  GLuint skinned = kNoObject, depth = kNoObject, rigid = kNoObject, traditional = kNoObject,
-         capture = kNoObject;
+  Program skinned, depth, rigid, traditional, capture;
   // Palette.
   GLuint palette_texture = kNoObject;
   glm::uvec4 palette_info{0};
@@ -262,16 +279,20 @@ struct Renderer::Impl {
     }
   }
 
-  void bindCommon(GLuint program, const Camera& camera, const glm::vec3& light) {
-    glUseProgram(program);
+  void bindCommon(const Program& program, const Camera& camera, const glm::vec3& light) {
+    glUseProgram(program.id);
     glBindVertexArray(vao);
     glBindTextureUnit(0, palette_texture);
     glBindTextureUnit(1, base_texture);
-    glProgramUniform4uiv(program, 0, 1, &palette_info[0]);
     const glm::mat4 vp = camera.viewProjection();
-    glProgramUniformMatrix4fv(program, 1, 1, GL_FALSE, &vp[0][0]);
-    glProgramUniform4fv(program, 2, 1, &base_factor[0]);
-    glProgramUniform3fv(program, 3, 1, &light[0]);
+    if (program.palette_info >= 0)
+      glProgramUniform4uiv(program.id, program.palette_info, 1, &palette_info[0]);
+    if (program.view_projection >= 0)
+      glProgramUniformMatrix4fv(program.id, program.view_projection, 1, GL_FALSE, &vp[0][0]);
+    if (program.base_factor >= 0)
+      glProgramUniform4fv(program.id, program.base_factor, 1, &base_factor[0]);
+    if (program.light_direction >= 0)
+      glProgramUniform3fv(program.id, program.light_direction, 1, &light[0]);
   }
 
   void beginTimer(DrawStats* stats) {
@@ -322,18 +343,24 @@ Status Renderer::init(const GlInfo& info, const RendererDesc& desc) {
                                     impl->capacity, "\n#define SI_MAX_JOINTS ",
                                     kMaxTraditionalJoints, "\n");
   const std::string include = skinningGlsl();
-  Status s = link(header + include + kSkinnedMain, kFragment, "skinned", nullptr, &impl->skinned);
+  GLuint ids[5] = {kNoObject, kNoObject, kNoObject, kNoObject, kNoObject};
+  Status s = link(header + include + kSkinnedMain, kFragment, "skinned", nullptr, &ids[0]);
   if (s.isOk())
-    s = link(header + include + kSkinnedMain, kDepthFragment, "depth-only", nullptr, &impl->depth);
+    s = link(header + include + kSkinnedMain, kDepthFragment, "depth-only", nullptr, &ids[1]);
   if (s.isOk())
     s = link(header + "#define SI_RIGID\n" + include + kSkinnedMain, kFragment, "rigid", nullptr,
-             &impl->rigid);
+             &ids[2]);
   if (s.isOk())
     s = link(header + "#define SI_TRADITIONAL\n" + kTraditionalDecl + kSkinnedMain, kFragment,
-             "traditional", nullptr, &impl->traditional);
+             "traditional", nullptr, &ids[3]);
   if (s.isOk())
     s = link(header + "#define SI_CAPTURE\n" + include + kSkinnedMain, kDepthFragment, "capture",
-             "tf_position", &impl->capture);
+             "tf_position", &ids[4]);
+  impl->skinned = describe(ids[0]);
+  impl->depth = describe(ids[1]);
+  impl->rigid = describe(ids[2]);
+  impl->traditional = describe(ids[3]);
+  impl->capture = describe(ids[4]);
   if (s.isOk()) {
     glCreateQueries(GL_TIME_ELAPSED, 1, &impl->timer);
     glCreateBuffers(1, &impl->character_ubo);
@@ -357,8 +384,8 @@ void Renderer::shutdown() {
     glUnmapNamedBuffer(m.ring);
     glDeleteBuffers(1, &m.ring);
   }
-  for (GLuint p : {m.skinned, m.depth, m.rigid, m.traditional, m.capture})
-    if (p != kNoObject) glDeleteProgram(p);
+  for (const Program* p : {&m.skinned, &m.depth, &m.rigid, &m.traditional, &m.capture})
+    if (p->id != kNoObject) glDeleteProgram(p->id);
   const GLuint buffers[] = {m.vertex_buffer, m.index_buffer, m.character_ubo};
   glDeleteBuffers(3, buffers);
   const GLuint textures[] = {m.palette_texture, m.base_texture};
@@ -522,9 +549,9 @@ Status Renderer::drawCrowd(const CrowdManager& crowd, const InstanceBatcher& bat
   s = batcher.build(crowd, Span<uint8_t>(m.ring_mapped + base, m.region_size - m.block_size),
                     &m.draws);
   if (!s.isOk()) return s;
-  const GLuint program = mode == DrawMode::kDepthOnly ? m.depth
-                         : mode == DrawMode::kRigid   ? m.rigid
-                                                      : m.skinned;
+  const Program& program = mode == DrawMode::kDepthOnly ? m.depth
+                           : mode == DrawMode::kRigid   ? m.rigid
+                                                        : m.skinned;
   m.bindCommon(program, camera, light_direction_);
   glEnable(GL_DEPTH_TEST);
   glEnable(GL_CULL_FACE);
@@ -633,12 +660,8 @@ Status Renderer::captureSkinnedPositions(const InstanceRecord& record, std::vect
   glNamedBufferStorage(ubo, GLsizeiptr(block.size()), block.data(), 0);
   glCreateBuffers(1, &tf);
   glNamedBufferStorage(tf, GLsizeiptr(size_t(m.vertex_count) * 12), nullptr, GL_MAP_READ_BIT);
-  glUseProgram(m.capture);
-  glBindVertexArray(m.vao);
-  glBindTextureUnit(0, m.palette_texture);
-  glProgramUniform4uiv(m.capture, 0, 1, &m.palette_info[0]);
-  const glm::mat4 identity(1.0f);
-  glProgramUniformMatrix4fv(m.capture, 1, 1, GL_FALSE, &identity[0][0]);
+  Camera identity;  // Model space out: the capture reads positions before the world transform.
+  m.bindCommon(m.capture, identity, light_direction_);
   glBindBufferBase(GL_UNIFORM_BUFFER, 0, ubo);
   glBindBufferBase(GL_TRANSFORM_FEEDBACK_BUFFER, 0, tf);
   glEnable(GL_RASTERIZER_DISCARD);

@@ -1,0 +1,395 @@
+// SkinnedInstancing — SPDX-License-Identifier: MIT (see LICENSE)
+// Render tests through si::headless on each back-end: golden images, instanced equals
+// non-instanced, GPU equals CPU (transform feedback vs. the CPU emulation and the double
+// reference), and batching under a forced 16 KiB uniform block. Skips with a printed reason when
+// a back-end has no context; SI_REQUIRE_GL (a list of back-end names) turns that into a failure.
+// SI_UPDATE_GOLDEN=1 rewrites the golden images (from llvmpipe) instead of comparing.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <cstdio>
+#include <cstdlib>
+#include <cstring>
+
+#include "si/bake/animation_baker.h"
+#include "si/core/default_character.h"
+#include "si/core/reference_evaluator.h"
+#include "si/gl/renderer.h"
+#include "si/headless/headless_context.h"
+
+#ifndef SI_GOLDEN_DIR
+#error "SI_GOLDEN_DIR must name tests/render/golden"
+#endif
+
+namespace si {
+namespace {
+
+constexpr uint32_t kSize = 256;
+// Image comparison: a pixel differs when a channel is off by more than kPixelTolerance; an image
+// matches when at most kMaxDifferingShare of its pixels differ.
+constexpr int kPixelTolerance = 8;
+constexpr double kMaxDifferingShare = 0.005;
+
+bool requireGl(HeadlessBackend b) {
+  const char* v = std::getenv("SI_REQUIRE_GL");
+  if (v == nullptr) return false;
+  const std::string list = std::string(",") + v + ",";
+  return list.find(std::string(",") + headlessBackendName(b) + ",") != std::string::npos;
+}
+
+const Character& character() {
+  static const Character c = [] {
+    Character out;
+    if (!makeDefaultCharacter({}, &out).isOk()) std::abort();
+    return out;
+  }();
+  return c;
+}
+
+const BakedPalette& palette(PaletteFormat format = PaletteFormat::kMatrix3x4F32) {
+  static BakedPalette cache[4];
+  BakedPalette& p = cache[size_t(format)];
+  if (p.clips.empty()) {
+    BakeDesc d;
+    d.rate_mode = RateMode::kFixed;
+    d.sample_rate_hz = 30.0f;
+    d.format = format;
+    if (!bakePalette(character(), d, &p, nullptr).isOk()) std::abort();
+  }
+  return p;
+}
+
+struct Diff {
+  double share = 0.0;
+  int max_channel = 0;
+};
+
+Diff compare(const std::vector<uint8_t>& a, const std::vector<uint8_t>& b,
+             std::vector<uint8_t>* diff_image) {
+  Diff d;
+  if (a.size() != b.size()) return {1.0, 255};
+  size_t differing = 0;
+  if (diff_image) diff_image->assign(a.size(), 255);
+  for (size_t p = 0; p < a.size(); p += 4) {
+    int m = 0;
+    for (int c = 0; c < 3; ++c) m = std::max(m, std::abs(int(a[p + c]) - int(b[p + c])));
+    d.max_channel = std::max(d.max_channel, m);
+    if (m > kPixelTolerance) {
+      ++differing;
+      if (diff_image) (*diff_image)[p] = 255, (*diff_image)[p + 1] = 0, (*diff_image)[p + 2] = 0;
+    } else if (diff_image) {
+      for (int c = 0; c < 3; ++c) (*diff_image)[p + c] = uint8_t(a[p + c] / 3);
+    }
+  }
+  d.share = double(differing) / double(a.size() / 4);
+  return d;
+}
+
+class RenderTest : public ::testing::TestWithParam<HeadlessBackend> {
+ protected:
+  void SetUp() override {
+    HeadlessDesc d;
+    d.width = kSize;
+    d.height = kSize;
+    d.backend = GetParam();
+    const Status s = HeadlessContext::create(d, &context_);
+    if (!s.isOk()) {
+      if (requireGl(GetParam())) FAIL() << s.toString();
+      GTEST_SKIP() << "no " << headlessBackendName(GetParam()) << " context: " << s.message();
+    }
+    ASSERT_TRUE(loadGl(&HeadlessContext::getProcAddress, context_.get(), &info_).isOk());
+  }
+
+  // A renderer with the default character uploaded (block size 0: the context's limit).
+  void makeRenderer(Renderer* r, uint32_t block_size = 0,
+                    PaletteFormat format = PaletteFormat::kMatrix3x4F32) {
+    RendererDesc rd;
+    rd.uniform_block_size_bytes = block_size;
+    ASSERT_TRUE(r->init(info_, rd).isOk());
+    ASSERT_TRUE(r->uploadPalette(palette(format)).isOk());
+    ASSERT_TRUE(r->uploadCharacter(character(), palette(format)).isOk());
+  }
+
+  void makeCrowd(CrowdManager* crowd, PaletteFormat format = PaletteFormat::kMatrix3x4F32) {
+    CrowdDesc cd;
+    cd.palette = &palette(format);
+    cd.sub_mesh_count = 4;
+    cd.lod_count = 3;
+    ASSERT_TRUE(crowd->init(cd).isOk());
+  }
+
+  std::vector<uint8_t> draw(Renderer& r, const CrowdManager& crowd, const Camera& camera,
+                            uint32_t block_size, bool traditional = false, DrawStats* out = nullptr) {
+    InstanceBatcher batcher;
+    BatchLimits limits = r.batchLimits();
+    if (block_size) limits.max_uniform_block_size_bytes = block_size;
+    EXPECT_TRUE(batcher.init(limits).isOk());
+    r.clear(glm::vec4(0.2f, 0.25f, 0.3f, 1.0f));
+    DrawStats stats;
+    const Status s = traditional ? r.drawTraditional(crowd, camera, &stats)
+                                 : r.drawCrowd(crowd, batcher, camera, &stats);
+    EXPECT_TRUE(s.isOk()) << s.toString();
+    if (out) *out = stats;
+    std::vector<uint8_t> rgba;
+    EXPECT_TRUE(context_->readPixels(&rgba).isOk());
+    return rgba;
+  }
+
+  // Compares with tests/render/golden/<name>.png; writes actual and diff images on failure.
+  void expectGolden(const std::string& name, const std::vector<uint8_t>& rgba) {
+    const std::string golden = std::string(SI_GOLDEN_DIR) + "/" + name + ".png";
+    const char* update = std::getenv("SI_UPDATE_GOLDEN");
+    if (update != nullptr && std::string(update) == "1") {
+      ASSERT_TRUE(writePng(golden, kSize, kSize, rgba).isOk());
+      std::printf("[ golden   ] wrote %s\n", golden.c_str());
+      return;
+    }
+    uint32_t w = 0, h = 0;
+    std::vector<uint8_t> expected;
+    ASSERT_TRUE(readPng(golden, &w, &h, &expected).isOk()) << golden;
+    std::vector<uint8_t> diff;
+    const Diff d = compare(rgba, expected, &diff);
+    if (d.share > kMaxDifferingShare) {
+      const std::string base = ::testing::TempDir() + "si_" + name + "_" +
+                               headlessBackendName(GetParam());
+      (void)writePng(base + "_actual.png", kSize, kSize, rgba);
+      (void)writePng(base + "_diff.png", kSize, kSize, diff);
+      ADD_FAILURE() << name << ": " << d.share * 100 << " % of pixels differ (max channel "
+                    << d.max_channel << "); actual " << base << "_actual.png, diff " << base
+                    << "_diff.png, golden " << golden;
+    }
+  }
+
+  std::unique_ptr<HeadlessContext> context_;
+  GlInfo info_;
+};
+
+Camera closeCamera() {
+  return Camera::lookAt({0.0, 1.2, 3.2}, {0.0, 1.0, 0.0}, glm::vec3(0, 1, 0), 0.75f, 1.0f, 0.1f,
+                        200.0f);
+}
+
+TEST_P(RenderTest, GoldenSingleCharacter) {
+  Renderer r;
+  makeRenderer(&r);
+  CrowdManager crowd;
+  makeCrowd(&crowd);
+  InstanceDesc d;
+  d.clip = uint32_t(palette().findClip("walk"));
+  d.time_seconds = 0.3;
+  d.speed = 0.0f;
+  d.color = glm::u8vec4(200, 40, 40, 255);
+  d.variation_mask = 0xF;
+  InstanceHandle h;
+  ASSERT_TRUE(crowd.add(d, &h).isOk());
+  ASSERT_TRUE(crowd.update(0.0, closeCamera()).isOk());
+  expectGolden("single_walk", draw(r, crowd, closeCamera(), 0));
+}
+
+// Every LOD, every variation and several tints: 3 rows at LOD distances, 8 masks each.
+void populateLodCrowd(CrowdManager* crowd) {
+  const uint32_t clips = uint32_t(palette().clips.size());
+  for (int row = 0; row < 3; ++row)
+    for (int k = 0; k < 8; ++k) {
+      InstanceDesc d;
+      const double z = row == 0 ? -4.0 : row == 1 ? -40.0 : -110.0;
+      const double spacing = row == 0 ? 1.2 : row == 1 ? 6.0 : 16.0;
+      d.position = glm::dvec3((k - 3.5) * spacing, 0.0, z);
+      d.variation_mask = 1u | (uint32_t(k) << 1);
+      d.clip = uint32_t(k) % clips;
+      d.time_seconds = 0.1 * k;
+      d.speed = 0.0f;
+      d.color = glm::u8vec4(uint8_t(40 + 30 * k), uint8_t(200 - 20 * k), uint8_t(60 + 60 * row), 255);
+      InstanceHandle h;
+      ASSERT_TRUE(crowd->add(d, &h).isOk());
+    }
+}
+
+Camera lodCamera() {
+  return Camera::lookAt({0.0, 3.0, 6.0}, {0.0, 0.0, -40.0}, glm::vec3(0, 1, 0), 0.9f, 1.0f, 0.1f,
+                        500.0f);
+}
+
+TEST_P(RenderTest, GoldenCrowdWithEveryLodVariationAndTint) {
+  Renderer r;
+  makeRenderer(&r);
+  CrowdManager crowd;
+  makeCrowd(&crowd);
+  populateLodCrowd(&crowd);
+  ASSERT_TRUE(crowd.update(0.0, lodCamera()).isOk());
+  for (int l = 0; l < 3; ++l) EXPECT_GT(crowd.stats().per_lod[l], 0u) << "LOD " << l;
+  expectGolden("crowd_lods", draw(r, crowd, lodCamera(), 0));
+}
+
+TEST_P(RenderTest, GoldenCrossfadeMidpoint) {
+  Renderer r;
+  makeRenderer(&r);
+  CrowdManager crowd;
+  makeCrowd(&crowd);
+  InstanceDesc d;
+  d.clip = uint32_t(palette().findClip("idle"));
+  d.color = glm::u8vec4(40, 120, 220, 255);
+  InstanceHandle h;
+  ASSERT_TRUE(crowd.add(d, &h).isOk());
+  ASSERT_TRUE(crowd.crossfade(h, uint32_t(palette().findClip("wave")), 1.0, 0.5).isOk());
+  ASSERT_TRUE(crowd.update(0.5, closeCamera()).isOk());  // Half way through the blend.
+  float weight;
+  std::memcpy(&weight, &crowd.records()[0].blend[2], 4);
+  ASSERT_NEAR(weight, 0.5f, 1e-6f);
+  expectGolden("crossfade_mid", draw(r, crowd, closeCamera(), 0));
+}
+
+TEST_P(RenderTest, InstancedEqualsNonInstanced) {
+  Renderer r;
+  makeRenderer(&r);
+  CrowdManager crowd;
+  makeCrowd(&crowd);
+  populateLodCrowd(&crowd);
+  InstanceHandle fading;
+  InstanceDesc d;
+  d.position = glm::dvec3(0.5, 0.0, -2.0);
+  ASSERT_TRUE(crowd.add(d, &fading).isOk());
+  ASSERT_TRUE(crowd.crossfade(fading, uint32_t(palette().findClip("run")), 1.0).isOk());
+  ASSERT_TRUE(crowd.update(0.3, lodCamera()).isOk());
+  DrawStats instanced_stats, traditional_stats;
+  const std::vector<uint8_t> a = draw(r, crowd, lodCamera(), 0, false, &instanced_stats);
+  const std::vector<uint8_t> b = draw(r, crowd, lodCamera(), 0, true, &traditional_stats);
+  const Diff diff = compare(a, b, nullptr);
+  EXPECT_LE(diff.share, 0.001) << "max channel difference " << diff.max_channel;
+  EXPECT_EQ(instanced_stats.triangles, traditional_stats.triangles);
+  EXPECT_LT(instanced_stats.draw_calls, traditional_stats.draw_calls);
+}
+
+TEST_P(RenderTest, SixteenKiBBatchesGiveTheSameImage) {
+  Renderer r64, r16;
+  makeRenderer(&r64);
+  CrowdManager crowd;
+  makeCrowd(&crowd);
+  // 600 instances in view: more than 204 (a 16 KiB block) per bucket.
+  for (int i = 0; i < 600; ++i) {
+    InstanceDesc d;
+    d.position = glm::dvec3((i % 30) * 1.0 - 15.0, 0.0, -5.0 - (i / 30) * 1.0);
+    d.variation_mask = 1u | (uint32_t(i) % 16u << 1 & 0xE);
+    d.time_seconds = 0.01 * i;
+    InstanceHandle h;
+    ASSERT_TRUE(crowd.add(d, &h).isOk());
+  }
+  const Camera camera = Camera::lookAt({0.0, 8.0, 4.0}, {0.0, 0.0, -15.0}, glm::vec3(0, 1, 0),
+                                       1.0f, 1.0f, 0.1f, 500.0f);
+  ASSERT_TRUE(crowd.update(0.0, camera).isOk());
+  DrawStats s64, s16;
+  const std::vector<uint8_t> a = draw(r64, crowd, camera, 0, false, &s64);
+  r64.shutdown();
+  makeRenderer(&r16, 16384);
+  const std::vector<uint8_t> b = draw(r16, crowd, camera, 16384, false, &s16);
+  EXPECT_GT(s16.draw_calls, s64.draw_calls);
+  EXPECT_EQ(s16.triangles, s64.triangles);
+  EXPECT_EQ(compare(a, b, nullptr).max_channel, 0);  // Same records, same draws: identical.
+}
+
+TEST_P(RenderTest, GpuEqualsCpu) {
+  for (PaletteFormat format : {PaletteFormat::kMatrix3x4F32, PaletteFormat::kMatrix3x4F16,
+                               PaletteFormat::kQuatTranslationF32}) {
+    Renderer r;
+    makeRenderer(&r, 0, format);
+    const BakedPalette& p = palette(format);
+    const SkinnedMesh& mesh = character().mesh;
+    SkinnedMesh gpu_mesh = mesh;  // The weights the vertex format stores.
+    for (glm::vec4& w : gpu_mesh.weights) w = dequantizeWeights(quantizeWeights(w));
+    BakeReport report;
+    BakedPalette measured;
+    BakeDesc bd;
+    bd.rate_mode = RateMode::kFixed;
+    bd.sample_rate_hz = 30.0f;
+    bd.format = format;
+    ASSERT_TRUE(bakePalette(character(), bd, &measured, &report).isOk());
+    for (uint32_t c = 0; c < p.clips.size(); ++c) {
+      const BakedClip& clip = p.clips[c];
+      // A frame midpoint, where interpolation matters most.
+      const double t = clip.frame_count > 2 ? clip.frame_interval_seconds * 3.5 : 0.0;
+      const FrameSample s = sampleFrames(clip, t);
+      InstanceRecord rec{};
+      rec.frames[0] = rec.frames[2] = clip.first_texel + s.frame * p.layout.frame_stride_texels;
+      rec.frames[1] = rec.frames[3] = clip.first_texel + s.next_frame * p.layout.frame_stride_texels;
+      std::memcpy(&rec.blend[0], &s.fraction, 4);
+      std::memcpy(&rec.blend[1], &s.fraction, 4);
+      std::vector<glm::vec3> gpu;
+      ASSERT_TRUE(r.captureSkinnedPositions(rec, &gpu).isOk());
+      std::vector<glm::mat4> mats(character().skeleton.jointCount());
+      ASSERT_TRUE(emulateSkinningMatrices(p, c, s, mats).isOk());
+      std::vector<glm::vec3> cpu(mesh.vertexCount());
+      ASSERT_TRUE(emulateSkinning(gpu_mesh, mats, cpu, {}).isOk());
+      ReferencePose pose;
+      const Clip& source = character().clips[size_t(character().findClip(clip.name))];
+      ASSERT_TRUE(evaluateLocalPose(character().skeleton, source, t, &pose).isOk());
+      std::vector<glm::dvec3> ref(mesh.vertexCount());
+      ASSERT_TRUE(skinVertices(mesh, pose.skinning, ref, {}, {}).isOk());
+      double max_cpu = 0.0, max_ref = 0.0;
+      for (size_t v = 0; v < gpu.size(); ++v) {
+        max_cpu = std::max(max_cpu, double(glm::length(gpu[v] - cpu[v])));
+        max_ref = std::max(max_ref, glm::length(glm::dvec3(gpu[v]) - ref[v]));
+      }
+      // Float rounding: a few ulps of coordinates up to 2 units.
+      EXPECT_LT(max_cpu, 2e-5) << paletteFormatName(format) << " " << clip.name;
+      // Within the bake's reported error for this clip, plus the same rounding.
+      EXPECT_LE(max_ref, report.clips[c].max_error_units + 2e-5)
+          << paletteFormatName(format) << " " << clip.name;
+    }
+  }
+}
+
+TEST_P(RenderTest, DepthOnlyAndRigidProgramsDraw) {
+  Renderer r;
+  makeRenderer(&r);
+  CrowdManager crowd;
+  makeCrowd(&crowd);
+  InstanceDesc d;
+  d.clip = uint32_t(palette().findClip("wave"));
+  d.time_seconds = 1.2;
+  InstanceHandle h;
+  ASSERT_TRUE(crowd.add(d, &h).isOk());
+  ASSERT_TRUE(crowd.update(0.0, closeCamera()).isOk());
+  InstanceBatcher batcher;
+  ASSERT_TRUE(batcher.init(r.batchLimits()).isOk());
+  DrawStats stats;
+  r.clear(glm::vec4(0.0f));
+  ASSERT_TRUE(r.drawCrowd(crowd, batcher, closeCamera(), &stats, DrawMode::kDepthOnly).isOk());
+  std::vector<uint8_t> depth_only;
+  ASSERT_TRUE(context_->readPixels(&depth_only).isOk());
+  EXPECT_EQ(compare(depth_only, std::vector<uint8_t>(depth_only.size(), 0), nullptr).max_channel, 0)
+      << "depth-only must not write colour";
+  const std::vector<uint8_t> skinned = draw(r, crowd, closeCamera(), 0);
+  r.clear(glm::vec4(0.2f, 0.25f, 0.3f, 1.0f));
+  ASSERT_TRUE(r.drawCrowd(crowd, batcher, closeCamera(), &stats, DrawMode::kRigid).isOk());
+  std::vector<uint8_t> rigid;
+  ASSERT_TRUE(context_->readPixels(&rigid).isOk());
+  EXPECT_GT(compare(skinned, rigid, nullptr).share, 0.01);  // The raised arm moves pixels.
+}
+
+TEST_P(RenderTest, InitRejectsBadBlockSizes) {
+  Renderer r;
+  RendererDesc rd;
+  rd.uniform_block_size_bytes = 8192;
+  EXPECT_EQ(r.init(info_, rd).code(), StatusCode::kInvalidArgument);
+  rd.uniform_block_size_bytes = info_.max_uniform_block_size_bytes + 16;
+  EXPECT_EQ(r.init(info_, rd).code(), StatusCode::kInvalidArgument);
+  CrowdManager crowd;
+  makeCrowd(&crowd);
+  InstanceBatcher batcher;
+  ASSERT_TRUE(batcher.init({65536, 256, 0}).isOk());
+  DrawStats stats;
+  EXPECT_EQ(r.drawCrowd(crowd, batcher, closeCamera(), &stats).code(), StatusCode::kInvalidArgument);
+}
+
+INSTANTIATE_TEST_SUITE_P(Backends, RenderTest,
+                         ::testing::Values(HeadlessBackend::kEglSurfaceless,
+                                           HeadlessBackend::kOsMesa, HeadlessBackend::kEglDevice),
+                         [](const auto& param_info) {
+                           std::string n = headlessBackendName(param_info.param);
+                           for (char& ch : n)
+                             if (ch == '-') ch = '_';
+                           return n;
+                         });
+
+}  // namespace
+}  // namespace si
