@@ -6,11 +6,15 @@
 
 #include <cstring>
 
-#include <EGL/egl.h>
-#include <EGL/eglext.h>
 #include <GL/gl.h>
 #include <GL/glext.h>
+#if SI_HEADLESS_EGL
+#include <EGL/egl.h>
+#include <EGL/eglext.h>
+#endif
+#if SI_HEADLESS_OSMESA
 #include <GL/osmesa.h>
+#endif
 
 #include "core/str_cat.h"
 
@@ -87,6 +91,7 @@ bool loadFns(const HeadlessContext* c, GlFns* f) {
          loadFn(c, "glViewport", &f->Viewport) && loadFn(c, "glFinish", &f->Finish);
 }
 
+#if SI_HEADLESS_EGL
 // ------------------------------------------------------------------------------------------
 class EglContext final : public HeadlessContext {
  public:
@@ -184,6 +189,9 @@ class EglContext final : public HeadlessContext {
   EGLContext context_ = EGL_NO_CONTEXT;
 };
 
+#endif  // SI_HEADLESS_EGL
+
+#if SI_HEADLESS_OSMESA
 // ------------------------------------------------------------------------------------------
 class OsMesaContext final : public HeadlessContext {
  public:
@@ -220,6 +228,7 @@ class OsMesaContext final : public HeadlessContext {
   OSMesaContext context_ = nullptr;
   std::vector<uint8_t> buffer_;
 };
+#endif  // SI_HEADLESS_OSMESA
 
 }  // namespace
 
@@ -326,18 +335,26 @@ Status HeadlessContext::create(const HeadlessDesc& in_desc, std::unique_ptr<Head
     std::unique_ptr<HeadlessContext> ctx;
     Status s;
     if (b == HeadlessBackend::kOsMesa) {
+#if SI_HEADLESS_OSMESA
       auto c = std::make_unique<OsMesaContext>();
       s = c->init();
       ctx = std::move(c);
+#else
+      s = Status(StatusCode::kUnsupported, "not built in (SI_HEADLESS has no OSMESA)");
+#endif
     } else if (b == HeadlessBackend::kEglDevice || b == HeadlessBackend::kEglSurfaceless) {
+#if SI_HEADLESS_EGL
       auto c = std::make_unique<EglContext>();
       s = c->init(b);
       ctx = std::move(c);
+#else
+      s = Status(StatusCode::kUnsupported, "not built in (SI_HEADLESS has no EGL)");
+#endif
     } else {
       return {StatusCode::kInvalidArgument, "HeadlessDesc.backend is not a known backend"};
     }
-    if (s.isOk()) s = ctx->createFramebuffer(d.width, d.height, d.samples);
-    if (s.isOk()) {
+    if (s.isOk() && ctx) s = ctx->createFramebuffer(d.width, d.height, d.samples);
+    if (s.isOk() && ctx) {
       *out = std::move(ctx);
       return Status::ok();
     }

@@ -3,7 +3,8 @@
 // non-instanced, GPU equals CPU (transform feedback vs. the CPU emulation and the double
 // reference), and batching under a forced 16 KiB uniform block. Skips with a printed reason when
 // a back-end has no context; SI_REQUIRE_GL (a list of back-end names) turns that into a failure.
-// SI_UPDATE_GOLDEN=1 rewrites the golden images (from llvmpipe) instead of comparing.
+// SI_UPDATE_GOLDEN=1 rewrites the golden images (from llvmpipe) instead of comparing;
+// SI_GOLDEN_DIR overrides where they are read.
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -137,7 +138,8 @@ class RenderTest : public ::testing::TestWithParam<HeadlessBackend> {
 
   // Compares with tests/render/golden/<name>.png; writes actual and diff images on failure.
   void expectGolden(const std::string& name, const std::vector<uint8_t>& rgba) {
-    const std::string golden = std::string(SI_GOLDEN_DIR) + "/" + name + ".png";
+    const char* dir = std::getenv("SI_GOLDEN_DIR");  // Overrides the source tree's folder.
+    const std::string golden = std::string(dir ? dir : SI_GOLDEN_DIR) + "/" + name + ".png";
     const char* update = std::getenv("SI_UPDATE_GOLDEN");
     if (update != nullptr && std::string(update) == "1") {
       ASSERT_TRUE(writePng(golden, kSize, kSize, rgba).isOk());
