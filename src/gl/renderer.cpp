@@ -113,6 +113,24 @@ void main() {
 )";
 const char* kDepthFragment = "#version 450 core\nvoid main() {}\n";
 
+// The CPU-skinning baseline: positions and normals arrive skinned, in camera-relative world space.
+const char* kPreSkinnedVertex = R"(#version 450 core
+layout(location = 0) in vec3 a_position;
+layout(location = 1) in vec3 a_normal;
+layout(location = 2) in vec2 a_texcoord;
+layout(location = 1) uniform mat4 u_view_projection;
+layout(location = 4) uniform uint u_color;
+out vec3 v_normal;
+out vec2 v_texcoord;
+flat out uint v_color;
+void main() {
+  v_normal = a_normal;
+  v_texcoord = a_texcoord;
+  v_color = u_color;
+  gl_Position = u_view_projection * vec4(a_position, 1.0);
+}
+)";
+
 struct ProgramResult {
   GLuint program = kNoObject;
   Status status;
@@ -216,7 +234,14 @@ struct Renderer::Impl {
   RendererDesc desc;
   bool debug = false;
   uint32_t block_size = 0, capacity = 0, alignment = 256;
-  Program skinned, depth, rigid, traditional, capture;
+  Program skinned, depth, rigid, traditional, capture, preskinned;
+  // CPU-skinning baseline: a streaming vertex buffer and the vertex range of each LOD range.
+  GLuint cpu_vao = kNoObject, cpu_stream = kNoObject;
+  size_t cpu_stream_size = 0;
+  std::vector<uint8_t> cpu_vertices;
+  std::vector<glm::uvec2> lod_vertex_ranges;  // Per (sub-mesh, lod): first vertex, count.
+  std::vector<std::vector<uint32_t>> lod_range_index;  // [sub_mesh][lod] -> lod_vertex_ranges.
+  SkinnedMesh mesh_copy;
   // Palette.
   GLuint palette_texture = kNoObject;
   glm::uvec4 palette_info{0};
@@ -343,7 +368,7 @@ Status Renderer::init(const GlInfo& info, const RendererDesc& desc) {
                                     impl->capacity, "\n#define SI_MAX_JOINTS ",
                                     kMaxTraditionalJoints, "\n");
   const std::string include = skinningGlsl();
-  GLuint ids[5] = {kNoObject, kNoObject, kNoObject, kNoObject, kNoObject};
+  GLuint ids[6] = {kNoObject, kNoObject, kNoObject, kNoObject, kNoObject, kNoObject};
   Status s = link(header + include + kSkinnedMain, kFragment, "skinned", nullptr, &ids[0]);
   if (s.isOk())
     s = link(header + include + kSkinnedMain, kDepthFragment, "depth-only", nullptr, &ids[1]);
@@ -356,6 +381,8 @@ Status Renderer::init(const GlInfo& info, const RendererDesc& desc) {
   if (s.isOk())
     s = link(header + "#define SI_CAPTURE\n" + include + kSkinnedMain, kDepthFragment, "capture",
              "tf_position", &ids[4]);
+  if (s.isOk()) s = link(kPreSkinnedVertex, kFragment, "pre-skinned", nullptr, &ids[5]);
+  impl->preskinned = describe(ids[5]);
   impl->skinned = describe(ids[0]);
   impl->depth = describe(ids[1]);
   impl->rigid = describe(ids[2]);
@@ -384,8 +411,11 @@ void Renderer::shutdown() {
     glUnmapNamedBuffer(m.ring);
     glDeleteBuffers(1, &m.ring);
   }
-  for (const Program* p : {&m.skinned, &m.depth, &m.rigid, &m.traditional, &m.capture})
+  for (const Program* p : {&m.skinned, &m.depth, &m.rigid, &m.traditional, &m.capture,
+                           &m.preskinned})
     if (p->id != kNoObject) glDeleteProgram(p->id);
+  if (m.cpu_vao != kNoObject) glDeleteVertexArrays(1, &m.cpu_vao);
+  if (m.cpu_stream != kNoObject) glDeleteBuffers(1, &m.cpu_stream);
   const GLuint buffers[] = {m.vertex_buffer, m.index_buffer, m.character_ubo};
   glDeleteBuffers(3, buffers);
   const GLuint textures[] = {m.palette_texture, m.base_texture};
@@ -497,6 +527,29 @@ Status Renderer::uploadCharacter(const Character& character, const BakedPalette&
   glVertexArrayAttribFormat(m.vao, 4, 4, GL_UNSIGNED_SHORT, GL_TRUE, wide ? 28 : 24);
   m.sub_meshes = mesh.sub_meshes;
   m.vertex_count = uint32_t(mesh.vertexCount());
+  m.mesh_copy = mesh;
+  m.lod_vertex_ranges.clear();
+  m.lod_range_index.assign(mesh.sub_meshes.size(), {});
+  for (size_t sm = 0; sm < mesh.sub_meshes.size(); ++sm)
+    for (const IndexRange& r : mesh.sub_meshes[sm].lods) {
+      uint32_t lo = UINT32_MAX, hi = 0;
+      for (uint32_t i = r.first_index; i < r.first_index + r.index_count; ++i) {
+        lo = std::min(lo, mesh.indices[i]);
+        hi = std::max(hi, mesh.indices[i]);
+      }
+      m.lod_range_index[sm].push_back(uint32_t(m.lod_vertex_ranges.size()));
+      m.lod_vertex_ranges.push_back(glm::uvec2(lo, hi - lo + 1));
+    }
+  if (m.cpu_vao != kNoObject) glDeleteVertexArrays(1, &m.cpu_vao);
+  glCreateVertexArrays(1, &m.cpu_vao);
+  glVertexArrayElementBuffer(m.cpu_vao, m.index_buffer);
+  for (GLuint loc : {0u, 1u, 2u}) {
+    glEnableVertexArrayAttrib(m.cpu_vao, loc);
+    glVertexArrayAttribBinding(m.cpu_vao, loc, 0);
+  }
+  glVertexArrayAttribFormat(m.cpu_vao, 0, 3, GL_FLOAT, GL_FALSE, 0);
+  glVertexArrayAttribFormat(m.cpu_vao, 1, 3, GL_FLOAT, GL_FALSE, 12);
+  glVertexArrayAttribFormat(m.cpu_vao, 2, 2, GL_FLOAT, GL_FALSE, 24);
 
   // Base colour: the first material's factor and image; white (alpha 1: tint everywhere) if none.
   m.base_factor = character.materials.empty() ? glm::vec4(1.0f)
@@ -641,6 +694,116 @@ Status Renderer::drawTraditional(const CrowdManager& crowd, const Camera& camera
   st.cpu_submit_ms = msSince(t0);  // Before the (blocking) timer read.
   m.endTimer(stats);
   Status s = m.check("drawTraditional");
+  if (stats != nullptr) {
+    st.gpu_ms = m.desc.measure_gpu_time ? stats->gpu_ms : -1.0;
+    *stats = st;
+  }
+  return s;
+}
+
+Status Renderer::drawCpuSkinned(const CrowdManager& crowd, const Camera& camera,
+                                 DrawStats* stats) {
+  if (!impl_ || impl_->vao == kNoObject || impl_->palette_texture == kNoObject)
+    return {StatusCode::kInvalidArgument,
+            "drawCpuSkinned: init, uploadPalette and uploadCharacter first"};
+  Impl& m = *impl_;
+  const auto t0 = std::chrono::steady_clock::now();
+  constexpr size_t kVertexBytes = 32;  // Position, normal, texcoord as floats.
+  constexpr size_t kChunkBytes = size_t(8) << 20;
+  if (m.cpu_stream == kNoObject) {
+    glCreateBuffers(1, &m.cpu_stream);
+    m.cpu_stream_size = kChunkBytes;
+    glNamedBufferData(m.cpu_stream, GLsizeiptr(m.cpu_stream_size), nullptr, GL_STREAM_DRAW);
+    glVertexArrayVertexBuffer(m.cpu_vao, 0, m.cpu_stream, 0, GLsizei(kVertexBytes));
+  }
+  glUseProgram(m.preskinned.id);
+  glBindVertexArray(m.cpu_vao);
+  glBindTextureUnit(1, m.base_texture);
+  const glm::mat4 vp = camera.viewProjection();
+  glProgramUniformMatrix4fv(m.preskinned.id, 1, 1, GL_FALSE, &vp[0][0]);
+  glProgramUniform4fv(m.preskinned.id, 2, 1, &m.base_factor[0]);
+  glProgramUniform3fv(m.preskinned.id, 3, 1, &light_direction_[0]);
+  glEnable(GL_DEPTH_TEST);
+  glEnable(GL_CULL_FACE);
+  m.beginTimer(stats);
+  DrawStats st;
+  const SkinnedMesh& mesh = m.mesh_copy;
+  std::vector<glm::mat4> joint(m.palette->skeleton_to_palette.size(), glm::mat4(1.0f));
+  struct PendingDraw {
+    IndexRange range;
+    GLint base_vertex;
+    uint32_t color;
+  };
+  std::vector<PendingDraw> pending;
+  m.cpu_vertices.clear();
+  const auto flush = [&] {
+    if (m.cpu_vertices.empty()) return;
+    glInvalidateBufferData(m.cpu_stream);  // Orphan: the GPU may still read the last chunk.
+    glNamedBufferSubData(m.cpu_stream, 0, GLsizeiptr(m.cpu_vertices.size()), m.cpu_vertices.data());
+    for (const PendingDraw& d : pending) {
+      glProgramUniform1ui(m.preskinned.id, 4, d.color);
+      glDrawElementsBaseVertex(GL_TRIANGLES, GLsizei(d.range.index_count), GL_UNSIGNED_INT,
+                               reinterpret_cast<const void*>(uintptr_t(d.range.first_index) * 4),
+                               d.base_vertex);
+      ++st.draw_calls;
+      st.triangles += d.range.index_count / 3;
+      ++st.instances;
+    }
+    pending.clear();
+    m.cpu_vertices.clear();
+  };
+  const std::vector<InstanceRecord>& records = crowd.records();
+  for (size_t v = 0; v < records.size(); ++v) {
+    const InstanceRecord& rec = records[v];
+    uint32_t lod = 0;
+    InstanceDesc desc;
+    if (!crowd.lodOf(crowd.visibleHandles()[v], &lod).isOk() ||
+        !crowd.get(crowd.visibleHandles()[v], &desc).isOk())
+      continue;
+    float fa, fb, wb;
+    std::memcpy(&fa, &rec.blend[0], 4);
+    std::memcpy(&fb, &rec.blend[1], 4);
+    std::memcpy(&wb, &rec.blend[2], 4);
+    glm::mat4 world(1.0f);
+    for (int row = 0; row < 3; ++row)
+      for (int col = 0; col < 4; ++col) world[col][row] = rec.world_rows[row][col];
+    for (size_t j = 0; j < joint.size(); ++j) {
+      const int32_t slot = m.palette->skeleton_to_palette[j];
+      if (slot < 0) continue;
+      glm::mat4 mat = emulateFrameMatrix(*m.palette, rec.frames[0], rec.frames[1], fa, uint32_t(slot));
+      if (wb > 0.0f)
+        mat = mat * (1.0f - wb) +
+              emulateFrameMatrix(*m.palette, rec.frames[2], rec.frames[3], fb, uint32_t(slot)) * wb;
+      joint[j] = world * mat;
+    }
+    for (uint32_t sm = 0; sm < m.sub_meshes.size() && sm < 32; ++sm) {
+      if (!((desc.variation_mask >> sm) & 1u)) continue;
+      const size_t lod_index = std::min<size_t>(lod, m.sub_meshes[sm].lods.size() - 1);
+      const glm::uvec2 vr = m.lod_vertex_ranges[m.lod_range_index[sm][lod_index]];
+      if (m.cpu_vertices.size() + size_t(vr.y) * kVertexBytes > kChunkBytes) flush();
+      const GLint first = GLint(m.cpu_vertices.size() / kVertexBytes);
+      m.cpu_vertices.resize(m.cpu_vertices.size() + size_t(vr.y) * kVertexBytes);
+      float* out = reinterpret_cast<float*>(m.cpu_vertices.data() + size_t(first) * kVertexBytes);
+      for (uint32_t k = 0; k < vr.y; ++k, out += 8) {
+        const uint32_t vi = vr.x + k;
+        glm::mat4 blended(0.0f);
+        for (int i = 0; i < 4; ++i) {
+          const float w = mesh.weights[vi][i];
+          if (w != 0.0f) blended += joint[mesh.joints[vi][i]] * w;
+        }
+        const glm::vec3 p(blended * glm::vec4(mesh.positions[vi], 1.0f));
+        const glm::vec3 n = glm::normalize(glm::mat3(blended) * mesh.normals[vi]);
+        const glm::vec2 uv = mesh.texcoords.empty() ? glm::vec2(0.0f) : mesh.texcoords[vi];
+        const float values[8] = {p.x, p.y, p.z, n.x, n.y, n.z, uv.x, uv.y};
+        std::memcpy(out, values, sizeof(values));
+      }
+      pending.push_back({m.sub_meshes[sm].lods[lod_index], first - GLint(vr.x), rec.blend[3]});
+    }
+  }
+  flush();
+  st.cpu_submit_ms = msSince(t0);
+  m.endTimer(stats);
+  Status s = m.check("drawCpuSkinned");
   if (stats != nullptr) {
     st.gpu_ms = m.desc.measure_gpu_time ? stats->gpu_ms : -1.0;
     *stats = st;

@@ -119,16 +119,20 @@ class RenderTest : public ::testing::TestWithParam<HeadlessBackend> {
     ASSERT_TRUE(crowd->init(cd).isOk());
   }
 
+  enum class Path { kInstanced, kTraditional, kCpuSkinned };
   std::vector<uint8_t> draw(Renderer& r, const CrowdManager& crowd, const Camera& camera,
-                            uint32_t block_size, bool traditional = false, DrawStats* out = nullptr) {
+                            uint32_t block_size, bool traditional = false, DrawStats* out = nullptr,
+                            Path path = Path::kInstanced) {
     InstanceBatcher batcher;
     BatchLimits limits = r.batchLimits();
     if (block_size) limits.max_uniform_block_size_bytes = block_size;
     EXPECT_TRUE(batcher.init(limits).isOk());
     r.clear(glm::vec4(0.2f, 0.25f, 0.3f, 1.0f));
     DrawStats stats;
-    const Status s = traditional ? r.drawTraditional(crowd, camera, &stats)
-                                 : r.drawCrowd(crowd, batcher, camera, &stats);
+    if (traditional) path = Path::kTraditional;
+    const Status s = path == Path::kTraditional  ? r.drawTraditional(crowd, camera, &stats)
+                     : path == Path::kCpuSkinned ? r.drawCpuSkinned(crowd, camera, &stats)
+                                                 : r.drawCrowd(crowd, batcher, camera, &stats);
     EXPECT_TRUE(s.isOk()) << s.toString();
     if (out) *out = stats;
     std::vector<uint8_t> rgba;
@@ -241,7 +245,7 @@ TEST_P(RenderTest, GoldenCrossfadeMidpoint) {
   expectGolden("crossfade_mid", draw(r, crowd, closeCamera(), 0));
 }
 
-TEST_P(RenderTest, InstancedEqualsNonInstanced) {
+TEST_P(RenderTest, InstancedEqualsTraditionalAndCpuSkinned) {
   Renderer r;
   makeRenderer(&r);
   CrowdManager crowd;
@@ -260,6 +264,12 @@ TEST_P(RenderTest, InstancedEqualsNonInstanced) {
   EXPECT_LE(diff.share, 0.001) << "max channel difference " << diff.max_channel;
   EXPECT_EQ(instanced_stats.triangles, traditional_stats.triangles);
   EXPECT_LT(instanced_stats.draw_calls, traditional_stats.draw_calls);
+  // The CPU-skinning baseline draws the same image too.
+  DrawStats cpu_stats;
+  const std::vector<uint8_t> c = draw(r, crowd, lodCamera(), 0, false, &cpu_stats, Path::kCpuSkinned);
+  const Diff cpu_diff = compare(a, c, nullptr);
+  EXPECT_LE(cpu_diff.share, 0.001) << "max channel difference " << cpu_diff.max_channel;
+  EXPECT_EQ(cpu_stats.triangles, instanced_stats.triangles);
 }
 
 TEST_P(RenderTest, SixteenKiBBatchesGiveTheSameImage) {

@@ -109,6 +109,12 @@ class Renderer {
   /// sub-mesh.
   Status drawTraditional(const CrowdManager& crowd, const Camera& camera, DrawStats* stats);
 
+  /// The CPU-skinning baseline: for each visible instance, computes its joint matrices from the
+  /// palette, skins the vertices of its worn sub-meshes at its LOD on the CPU (si::emulateSkinning
+  /// arithmetic), streams them to the GPU (camera-relative world space) and draws them without
+  /// any skinning in the shader, one glDrawElementsBaseVertex per sub-mesh.
+  Status drawCpuSkinned(const CrowdManager& crowd, const Camera& camera, DrawStats* stats);
+
   /// Runs the skinning vertex shader for every vertex of the mesh with one instance `record`
   /// and returns the skinned model-space positions (before the world transform) through
   /// transform feedback: the GPU side of the GPU-equals-CPU test.
