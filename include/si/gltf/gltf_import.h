@@ -1,0 +1,68 @@
+// SkinnedInstancing — SPDX-License-Identifier: MIT (see LICENSE)
+#pragma once
+
+/// \file
+/// si::gltf: glTF 2.0 (.gltf with external or data-URI buffers, .glb) to a si::Character.
+/// tinygltf parses the file (a private dependency); every accessor and buffer view is
+/// range-checked here, with overflow-safe arithmetic, before a byte is read. docs/gltf.md lists
+/// what is supported, what is skipped with a warning and what is an error.
+///
+/// Usage:
+/// \code
+///   si::Character fox;
+///   si::GltfImportReport report;
+///   si::Status s = si::importGltfFile("Fox/glTF-Binary/Fox.glb", {}, &fox, &report);
+///   for (const std::string& w : report.warnings) std::puts(w.c_str());
+/// \endcode
+
+#include <cstdint>
+#include <string>
+#include <vector>
+
+#include "si/core/character.h"
+#include "si/core/span.h"
+
+namespace si {
+
+/// Import options.
+struct GltfImportDesc {
+  /// The skin to import: its index, or -1 to pick by `skin_name`, or the only skin.
+  int32_t skin_index = -1;
+  std::string skin_name;  ///< Used when skin_index is -1 and the file has several skins.
+  /// Decode images (base colour textures). When false, or when an image cannot be decoded,
+  /// materials keep their factor and no image (a warning says why).
+  bool load_images = true;
+  /// Loop mode given to every clip (glTF does not say); kDefault means kLoop.
+  LoopMode loop_mode = LoopMode::kDefault;
+  /// When the asset has no LODs, generate this many coarser levels with meshoptimizer (each
+  /// with `lod_index_ratio` of the previous one's indices); 0 generates none.
+  uint32_t generate_lods = 0;
+  float lod_index_ratio = 0.0f;  ///< 0 means 0.25.
+};
+
+/// What the import did besides the result.
+struct GltfImportReport {
+  std::vector<std::string> warnings;    ///< One per skipped element, naming it.
+  uint32_t skin_joints = 0;             ///< Joints of the chosen skin (the skeleton also holds
+                                        ///< their ancestors, so it may have more).
+  uint32_t skinned_primitives = 0;
+  uint32_t vertices_renormalized = 0;   ///< Vertices whose weights did not sum to 1.
+  float max_weight_correction = 0.0f;
+  float max_dropped_weight = 0.0f;      ///< From JOINTS_1/WEIGHTS_1 beyond the 4 largest.
+  uint32_t generated_lods = 0;
+};
+
+/// Imports a .gltf or .glb file. External URIs resolve against the file's folder and may not
+/// leave it; no path expansion happens. Fails (with `out` untouched) with kIo for a file that
+/// cannot be read, kCorrupt naming the accessor, buffer view, animation or node for malformed
+/// or out-of-range data, kNotFound/kAmbiguous for the skin choice, kUnsupported for an asset
+/// without a skinned triangle mesh, and the codes of Character::validate().
+Status importGltfFile(const std::string& path, const GltfImportDesc& desc, Character* out,
+                      GltfImportReport* report);
+
+/// Imports from memory: a .glb (magic "glTF") or .gltf JSON. `base_dir` resolves external URIs
+/// (empty: external URIs are refused). Fails like importGltfFile().
+Status importGltfMemory(Span<const uint8_t> bytes, const std::string& base_dir,
+                        const GltfImportDesc& desc, Character* out, GltfImportReport* report);
+
+}  // namespace si

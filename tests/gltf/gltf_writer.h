@@ -1,0 +1,84 @@
+// SkinnedInstancing — SPDX-License-Identifier: MIT (see LICENSE)
+#pragma once
+// A tiny glTF writer for tests: builds a .gltf JSON with one base64 data-URI buffer, for the
+// cases the sample assets lack (STEP and CUBICSPLINE, JOINTS_1, u8/u16 components, sparse
+// accessors, negative scale, several skins).
+
+#include <cstdint>
+#include <cstring>
+#include <sstream>
+#include <string>
+#include <vector>
+
+namespace si::test {
+
+class GltfWriter {
+ public:
+  // Appends raw bytes (4-byte aligned) as a buffer view; returns its index.
+  int view(const void* data, size_t size, int stride = 0) {
+    while (blob_.size() % 4) blob_.push_back(0);
+    const size_t offset = blob_.size();
+    const uint8_t* p = static_cast<const uint8_t*>(data);
+    blob_.insert(blob_.end(), p, p + size);
+    std::ostringstream v;
+    v << "{\"buffer\":0,\"byteOffset\":" << offset << ",\"byteLength\":" << size;
+    if (stride) v << ",\"byteStride\":" << stride;
+    v << "}";
+    views_.push_back(v.str());
+    return int(views_.size() - 1);
+  }
+  // An accessor over a new view; `extra` is appended JSON (e.g. ,"normalized":true).
+  template <typename T>
+  int accessor(const std::vector<T>& data, int component_type, const char* type, size_t count,
+               const std::string& extra = "") {
+    const int v = view(data.data(), data.size() * sizeof(T));
+    return rawAccessor(v, component_type, type, count, extra);
+  }
+  int rawAccessor(int view_index, int component_type, const char* type, size_t count,
+                  const std::string& extra = "") {
+    std::ostringstream a;
+    a << "{";
+    if (view_index >= 0) a << "\"bufferView\":" << view_index << ",";
+    a << "\"componentType\":" << component_type << ",\"type\":\"" << type << "\",\"count\":"
+      << count << extra << "}";
+    accessors_.push_back(a.str());
+    return int(accessors_.size() - 1);
+  }
+  // Raw JSON arrays for the rest of the document.
+  std::string nodes, meshes, skins, animations;
+
+  std::string json() const {
+    std::ostringstream j;
+    j << "{\"asset\":{\"version\":\"2.0\"},\"scene\":0,\"scenes\":[{\"nodes\":[0]}],";
+    j << "\"nodes\":[" << nodes << "],\"meshes\":[" << meshes << "],\"skins\":[" << skins << "],";
+    if (!animations.empty()) j << "\"animations\":[" << animations << "],";
+    j << "\"accessors\":[" << join(accessors_) << "],\"bufferViews\":[" << join(views_) << "],";
+    j << "\"buffers\":[{\"byteLength\":" << blob_.size()
+      << ",\"uri\":\"data:application/octet-stream;base64," << base64(blob_) << "\"}]}";
+    return j.str();
+  }
+
+ private:
+  static std::string join(const std::vector<std::string>& v) {
+    std::string s;
+    for (size_t i = 0; i < v.size(); ++i) s += (i ? "," : "") + v[i];
+    return s;
+  }
+  static std::string base64(const std::vector<uint8_t>& in) {
+    static const char* t = "ABCDEFGHIJKLMNOPQRSTUVWXYZabcdefghijklmnopqrstuvwxyz0123456789+/";
+    std::string out;
+    for (size_t i = 0; i < in.size(); i += 3) {
+      const uint32_t b = (uint32_t(in[i]) << 16) | (i + 1 < in.size() ? uint32_t(in[i + 1]) << 8 : 0) |
+                         (i + 2 < in.size() ? in[i + 2] : 0);
+      out += t[(b >> 18) & 63];
+      out += t[(b >> 12) & 63];
+      out += i + 1 < in.size() ? t[(b >> 6) & 63] : '=';
+      out += i + 2 < in.size() ? t[b & 63] : '=';
+    }
+    return out;
+  }
+  std::vector<uint8_t> blob_;
+  std::vector<std::string> views_, accessors_;
+};
+
+}  // namespace si::test
