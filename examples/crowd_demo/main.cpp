@@ -4,6 +4,7 @@
 // Usage: crowd_demo [--instances N] [--frames N] [--size WxH] [--out PATH]
 //                   [--backend auto|egl-device|egl-surfaceless|osmesa]
 //                   [--format f32|f16|quat] [--rate HZ] [--seed N] [--summary]
+//                   [--model FILE.gltf|FILE.glb] [--clips NAME,...]
 #include <chrono>
 #include <cmath>
 #include <cstdio>
@@ -15,6 +16,7 @@
 #include "si/core/core.h"
 #include "si/crowd/instance_batcher.h"
 #include "si/gl/renderer.h"
+#include "si/gltf/gltf_import.h"
 #include "si/headless/headless_context.h"
 
 namespace {
@@ -29,6 +31,8 @@ struct Options {
   si::PaletteFormat format = si::PaletteFormat::kDefault;
   uint64_t seed = 7;
   bool summary = false;
+  std::string model;  // glTF file; empty: the embedded character.
+  std::vector<std::string> clips;
 };
 
 void usage(std::FILE* f) {
@@ -36,10 +40,12 @@ void usage(std::FILE* f) {
                "usage: crowd_demo [--instances N] [--frames N] [--size WxH] [--out PATH]\n"
                "                  [--backend auto|egl-device|egl-surfaceless|osmesa]\n"
                "                  [--format f32|f16|quat] [--rate HZ] [--seed N] [--summary]\n"
+               "                  [--model FILE.gltf|FILE.glb] [--clips NAME,NAME,...]\n"
                "Renders a crowd of the embedded character headless (N frames, 1/60 s apart;\n"
                "default 4000 characters, 3 frames, 1280x720), writes a PNG and prints frame\n"
                "statistics. --rate bakes every clip at a fixed rate instead of the automatic\n"
-               "one. --summary prints the character and its palette instead.\n");
+               "one. --summary prints the character and its palette instead. --model renders a glTF\n"
+               "character (its clips, or those --clips names) instead of the embedded one.\n");
 }
 
 bool parse(int argc, char** argv, Options* o) {
@@ -62,6 +68,15 @@ bool parse(int argc, char** argv, Options* o) {
       if (!(o->rate_hz > 0.0f)) return false;
     } else if (a == "--seed" && has) {
       o->seed = std::strtoull(argv[++i], nullptr, 10);
+    } else if (a == "--model" && has) {
+      o->model = argv[++i];
+    } else if (a == "--clips" && has) {
+      std::string list = argv[++i];
+      for (size_t at = 0; at <= list.size();) {
+        const size_t comma = std::min(list.find(',', at), list.size());
+        if (comma > at) o->clips.push_back(list.substr(at, comma - at));
+        at = comma + 1;
+      }
     } else if (a == "--summary") {
       o->summary = true;
     } else if (a == "--backend" && has) {
@@ -127,10 +142,20 @@ int main(int argc, char** argv) {
   };
 
   si::Character character;
-  si::Status s = si::makeDefaultCharacter({}, &character);
+  si::Status s;
+  if (o.model.empty()) {
+    s = si::makeDefaultCharacter({}, &character);
+  } else {
+    si::GltfImportReport gr;
+    s = si::importGltfFile(o.model, {}, &character, &gr);
+    for (const std::string& w : gr.warnings) std::printf("warning: %s\n", w.c_str());
+    if (s.isOk() && character.clips.empty())
+      s = si::Status(si::StatusCode::kUnsupported, "the model has no animation clips");
+  }
   if (!s.isOk()) return fail("character", s);
   si::BakeDesc bake;
   bake.format = o.format;
+  bake.clip_names = o.clips;
   if (o.rate_hz > 0.0f) {
     bake.rate_mode = si::RateMode::kFixed;
     bake.sample_rate_hz = o.rate_hz;
@@ -178,13 +203,19 @@ int main(int argc, char** argv) {
     state = state * 6364136223846793005ull + 1442695040888963407ull;
     return (double((state >> 33) & 0xFFFF) / 65535.0 - 0.5) * 0.6;
   };
+  // Lay the crowd out in units of the character's size (the embedded one is 2.05 units tall).
+  const double unit = std::max(1e-3, double(character.height())) / 2.05;
   for (uint32_t i = 0; i < o.instances; ++i)
-    positions.push_back(glm::dvec3((i % side) * 1.6 + jitter(), 0.0, (i / side) * 1.6 + jitter()));
+    positions.push_back(glm::dvec3((i % side) * 1.6 + jitter(), 0.0, (i / side) * 1.6 + jitter()) *
+                        unit);
   si::RandomCrowdDesc rc;
   rc.positions = positions;
   rc.seed = o.seed;
-  rc.required_mask = 1;  // The body.
-  rc.optional_mask = 0xE;  // Helmet, shield, spear.
+  // The embedded character: the body always, helmet, shield and spear at random. A model:
+  // every sub-mesh.
+  const uint32_t all = cd.sub_mesh_count >= 32 ? 0xFFFFFFFFu : (1u << cd.sub_mesh_count) - 1u;
+  rc.required_mask = o.model.empty() ? 1u : all;
+  rc.optional_mask = o.model.empty() ? 0xEu : 0u;
   s = crowd.addRandom(rc, nullptr);
   if (!s.isOk()) return fail("crowd", s);
   si::InstanceBatcher batcher;
@@ -195,8 +226,9 @@ int main(int argc, char** argv) {
   // large crowd shows, as the technique's LOD scheme intends.
   const double extent = side * 1.6;
   const si::Camera camera = si::Camera::lookAt(
-      {extent * 0.5, 9.0, -7.0}, {extent * 0.5, 0.0, std::min(extent * 0.45, 45.0)},
-      glm::vec3(0, 1, 0), 0.9f, float(o.width) / float(o.height), 0.2f, 2000.0f);
+      glm::dvec3(extent * 0.5, 9.0, -7.0) * unit,
+      glm::dvec3(extent * 0.5, 0.0, std::min(extent * 0.45, 45.0)) * unit, glm::vec3(0, 1, 0),
+      0.9f, float(o.width) / float(o.height), float(0.2 * unit), float(2000.0 * unit));
   double update_ms = 0.0, submit_ms = 0.0, gpu_ms = 0.0;
   si::DrawStats stats;
   for (uint32_t f = 0; f < std::max(1u, o.frames); ++f) {
