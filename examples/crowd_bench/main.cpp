@@ -17,6 +17,7 @@
 #include "si/crowd/instance_batcher.h"
 #include "si/gl/renderer.h"
 #include "si/headless/headless_context.h"
+#include "common/example_options.h"
 
 namespace {
 
@@ -73,12 +74,7 @@ bool parse(int argc, char** argv, Options* o) {
     else if (a == "--csv" && has) o->csv = argv[++i];
     else if (a == "--plots" && has) o->plots = argv[++i];
     else if (a == "--backend" && has) {
-      const std::string b = argv[++i];
-      if (b == "auto") o->backend = si::HeadlessBackend::kAuto;
-      else if (b == "egl-device") o->backend = si::HeadlessBackend::kEglDevice;
-      else if (b == "egl-surfaceless") o->backend = si::HeadlessBackend::kEglSurfaceless;
-      else if (b == "osmesa") o->backend = si::HeadlessBackend::kOsMesa;
-      else return false;
+      if (!si::examples::parseBackend(argv[++i], &o->backend)) return false;
     } else return false;
   }
   for (const std::string& s : o->scenes)

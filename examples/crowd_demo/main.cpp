@@ -18,6 +18,7 @@
 #include "si/gl/renderer.h"
 #include "si/gltf/gltf_import.h"
 #include "si/headless/headless_context.h"
+#include "common/example_options.h"
 
 namespace {
 
@@ -80,12 +81,7 @@ bool parse(int argc, char** argv, Options* o) {
     } else if (a == "--summary") {
       o->summary = true;
     } else if (a == "--backend" && has) {
-      const std::string b = argv[++i];
-      if (b == "auto") o->backend = si::HeadlessBackend::kAuto;
-      else if (b == "egl-device") o->backend = si::HeadlessBackend::kEglDevice;
-      else if (b == "egl-surfaceless") o->backend = si::HeadlessBackend::kEglSurfaceless;
-      else if (b == "osmesa") o->backend = si::HeadlessBackend::kOsMesa;
-      else return false;
+      if (!si::examples::parseBackend(argv[++i], &o->backend)) return false;
     } else if (a == "--format" && has) {
       const std::string f = argv[++i];
       if (f == "f32") o->format = si::PaletteFormat::kMatrix3x4F32;

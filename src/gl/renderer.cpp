@@ -14,6 +14,7 @@
 
 #include "core/str_cat.h"
 #include "si/core/log.h"
+#include "gl/glsl_parts.h"
 #include "si/gl/skinning_glsl.h"
 
 namespace si {
@@ -80,18 +81,6 @@ layout(std140, binding = 1) uniform SiCharacter {
   uint si_color;
   vec4 si_joint_rows[3 * SI_MAX_JOINTS];
 };
-vec3 siTransformPoint(vec4 r0, vec4 r1, vec4 r2, vec3 p) {
-  vec4 h = vec4(p, 1.0);
-  return vec3(dot(r0, h), dot(r1, h), dot(r2, h));
-}
-vec3 siTransformNormal(vec4 r0, vec4 r1, vec4 r2, vec3 n) {
-  vec3 c0 = vec3(r0.x, r1.x, r2.x), c1 = vec3(r0.y, r1.y, r2.y), c2 = vec3(r0.z, r1.z, r2.z);
-  mat3 cof = mat3(cross(c1, c2), cross(c2, c0), cross(c0, c1));
-  if (dot(c0, cof[0]) < 0.0) cof = -cof;
-  vec3 t = cof * n;
-  float len = length(t);
-  return len > 1e-30 ? t / len : n;
-}
 )";
 
 const char* kFragment = R"(#version 450 core
@@ -376,7 +365,8 @@ Status Renderer::init(const GlInfo& info, const RendererDesc& desc) {
     s = link(header + "#define SI_RIGID\n" + include + kSkinnedMain, kFragment, "rigid", nullptr,
              &ids[2]);
   if (s.isOk())
-    s = link(header + "#define SI_TRADITIONAL\n" + kTraditionalDecl + kSkinnedMain, kFragment,
+    s = link(header + "#define SI_TRADITIONAL\n" + kTraditionalDecl + transformGlsl() + kSkinnedMain,
+             kFragment,
              "traditional", nullptr, &ids[3]);
   if (s.isOk())
     s = link(header + "#define SI_CAPTURE\n" + include + kSkinnedMain, kDepthFragment, "capture",

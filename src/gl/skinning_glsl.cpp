@@ -4,12 +4,36 @@
 
 #include <string>
 
+#include "gl/glsl_parts.h"
 #include "si/crowd/instance_record.h"
 
 namespace si {
 
+const char* transformGlsl() {
+  return R"(
+vec3 siTransformPoint(vec4 r0, vec4 r1, vec4 r2, vec3 p) {
+  vec4 h = vec4(p, 1.0);
+  return vec3(dot(r0, h), dot(r1, h), dot(r2, h));
+}
+
+// Normals (and tangents with siTransformVector) through sign(det) * cofactor: correct under
+// non-uniform scale and mirroring.
+vec3 siTransformNormal(vec4 r0, vec4 r1, vec4 r2, vec3 n) {
+  vec3 c0 = vec3(r0.x, r1.x, r2.x), c1 = vec3(r0.y, r1.y, r2.y), c2 = vec3(r0.z, r1.z, r2.z);
+  mat3 cof = mat3(cross(c1, c2), cross(c2, c0), cross(c0, c1));
+  if (dot(c0, cof[0]) < 0.0) cof = -cof;
+  vec3 t = cof * n;
+  float len = length(t);
+  return len > 1e-30 ? t / len : n;
+}
+vec3 siTransformVector(vec4 r0, vec4 r1, vec4 r2, vec3 v) {
+  return vec3(dot(r0.xyz, v), dot(r1.xyz, v), dot(r2.xyz, v));
+}
+)";
+}
+
 const char* skinningGlsl() {
-  static const std::string source = std::string(kInstanceRecordGlsl) + R"(
+  static const std::string source = std::string(kInstanceRecordGlsl) + transformGlsl() + R"(
 layout(std140, binding = 0) uniform SiInstances { SiInstance si_instances[SI_MAX_INSTANCES]; };
 layout(binding = 0) uniform sampler2D si_palette;
 layout(location = 0) uniform uvec4 si_palette_info;
@@ -75,24 +99,6 @@ void siSkin(SiInstance inst, uvec4 joints, vec4 weights, out vec4 m0, out vec4 m
   }
 }
 
-vec3 siTransformPoint(vec4 r0, vec4 r1, vec4 r2, vec3 p) {
-  vec4 h = vec4(p, 1.0);
-  return vec3(dot(r0, h), dot(r1, h), dot(r2, h));
-}
-
-// Normals (and tangents with siTransformVector) through sign(det) * cofactor: correct under
-// non-uniform scale and mirroring.
-vec3 siTransformNormal(vec4 r0, vec4 r1, vec4 r2, vec3 n) {
-  vec3 c0 = vec3(r0.x, r1.x, r2.x), c1 = vec3(r0.y, r1.y, r2.y), c2 = vec3(r0.z, r1.z, r2.z);
-  mat3 cof = mat3(cross(c1, c2), cross(c2, c0), cross(c0, c1));
-  if (dot(c0, cof[0]) < 0.0) cof = -cof;
-  vec3 t = cof * n;
-  float len = length(t);
-  return len > 1e-30 ? t / len : n;
-}
-vec3 siTransformVector(vec4 r0, vec4 r1, vec4 r2, vec3 v) {
-  return vec3(dot(r0.xyz, v), dot(r1.xyz, v), dot(r2.xyz, v));
-}
 )";
   return source.c_str();
 }

@@ -27,13 +27,15 @@ const si::BakedPalette& palette() {
   return p;
 }
 
-// A square field of `count` characters 1.5 m apart, random armour, clips and times.
-std::unique_ptr<si::CrowdManager> field(int64_t count) {
+// A square field of `count` characters 1.5 m apart, random armour, clips and times;
+// `max_distance_radii` as in CrowdDesc (0: the default far line, negative: none).
+std::unique_ptr<si::CrowdManager> field(int64_t count, float max_distance_radii = 0.0f) {
   auto crowd = std::make_unique<si::CrowdManager>();
   si::CrowdDesc d;
   d.palette = &palette();
   d.sub_mesh_count = 4;
   d.lod_count = 3;
+  d.max_distance_radii = max_distance_radii;
   if (!crowd->init(d).isOk()) std::abort();
   const int64_t side = int64_t(std::ceil(std::sqrt(double(count))));
   std::vector<glm::dvec3> positions;
@@ -50,30 +52,18 @@ std::unique_ptr<si::CrowdManager> field(int64_t count) {
 // scene 1: high above, looking down, every character in view.
 void crowdFrame(benchmark::State& state) {
   const int64_t count = state.range(0);
-  auto crowd = field(count);
+  std::unique_ptr<si::CrowdManager> crowd;
+  if (state.range(1) == 0) crowd = field(count);
   const double side = std::ceil(std::sqrt(double(count))) * 1.5;
   si::Camera camera;
   if (state.range(1) == 0) {
     camera = si::Camera::lookAt({side / 2, 8.0, -10.0}, {side / 2, 0.0, side / 2},
                                 glm::vec3(0, 1, 0), 1.0f, 16.0f / 9.0f, 0.1f, 10000.0f);
   } else {
-    // Far enough that everyone is inside the far distance line too (radii x 100).
-    si::CrowdDesc d = crowd->desc();
+    // High above, every character in view and none distance-culled.
     camera = si::Camera::lookAt({side / 2, side * 1.2, side / 2 + 1.0}, {side / 2, 0.0, side / 2},
                                 glm::vec3(0, 1, 0), 1.2f, 1.0f, 0.1f, 100000.0f);
-    d.max_distance_radii = -1.0f;  // Never distance-cull in this scene.
-    auto all = std::make_unique<si::CrowdManager>();
-    if (!all->init(d).isOk()) std::abort();
-    crowd = field(0);
-    crowd = std::move(all);
-    const int64_t s = int64_t(std::ceil(std::sqrt(double(count))));
-    std::vector<glm::dvec3> positions;
-    for (int64_t i = 0; i < count; ++i)
-      positions.push_back(glm::dvec3(double(i % s), 0.0, double(i / s)) * 1.5);
-    si::RandomCrowdDesc r;
-    r.positions = positions;
-    r.optional_mask = 0xE;
-    if (!crowd->addRandom(r, nullptr).isOk()) std::abort();
+    crowd = field(count, -1.0f);
   }
   si::InstanceBatcher batcher;
   if (!batcher.init({65536, 256, 0}).isOk()) std::abort();
