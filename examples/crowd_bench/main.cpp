@@ -36,6 +36,7 @@ struct Options {
   uint32_t error_table_size = 2000;
   std::string csv = "crowd_bench.csv";
   std::string plots;  // Folder for PNG plots (gnuplot), empty for none.
+  bool quick = false;  // Fixed-rate bakes only (smoke tests under sanitizers).
   si::HeadlessBackend backend = si::HeadlessBackend::kAuto;
 };
 
@@ -53,7 +54,8 @@ void usage(std::FILE* f) {
       "usage: crowd_bench [--sizes N,N,...] [--scenes field,stadium] [--frames N]\n"
       "                   [--paths instanced,traditional,cpu,rigid] [--size WxH]\n"
       "                   [--max-baseline N] [--error-table-size N] [--csv PATH]\n"
-      "                   [--plots DIR] [--backend auto|egl-device|egl-surfaceless|osmesa]\n");
+      "                   [--plots DIR] [--backend auto|egl-device|egl-surfaceless|osmesa]\n"
+      "                   [--quick]   (fixed-rate bakes only, for smoke tests)\n");
 }
 
 bool parse(int argc, char** argv, Options* o) {
@@ -73,6 +75,7 @@ bool parse(int argc, char** argv, Options* o) {
     else if (a == "--error-table-size" && has) o->error_table_size = uint32_t(std::stoul(argv[++i]));
     else if (a == "--csv" && has) o->csv = argv[++i];
     else if (a == "--plots" && has) o->plots = argv[++i];
+    else if (a == "--quick") o->quick = true;
     else if (a == "--backend" && has) {
       if (!si::examples::parseBackend(argv[++i], &o->backend)) return false;
     } else return false;
@@ -242,7 +245,9 @@ int main(int argc, char** argv) {
 
   si::BakedPalette palette;
   si::BakeReport report;
-  s = si::bakePalette(b.character, {}, &palette, &report);  // The default (automatic) bake.
+  si::BakeDesc main_bake;  // The default (automatic) bake, or 30 Hz with --quick.
+  if (b.o.quick) main_bake.rate_mode = si::RateMode::kFixed;
+  s = si::bakePalette(b.character, main_bake, &palette, &report);
   si::Renderer renderer;
   si::RendererDesc rd;
   rd.measure_gpu_time = true;
@@ -312,6 +317,7 @@ int main(int argc, char** argv) {
                             {si::PaletteFormat::kQuatTranslationF32, 0, 0}};
   std::string error_data;
   for (const Config& c : configs) {
+    if (b.o.quick && c.rate == 0.0f) continue;
     si::BakeDesc d;
     d.format = c.format;
     d.joint_stride_texels = c.stride;
