@@ -150,19 +150,6 @@ Status bakeTexels(const Character& character, const BakeDesc& d, const PalettePl
   return Status::ok();
 }
 
-// Vertices drawn by some sub-mesh LOD (only those are measured and bounded).
-std::vector<uint32_t> drawnVertices(const SkinnedMesh& mesh) {
-  std::vector<uint8_t> used(mesh.vertexCount(), 0);
-  for (const SubMesh& sm : mesh.sub_meshes)
-    for (const IndexRange& r : sm.lods)
-      for (uint32_t i = r.first_index; i < r.first_index + r.index_count; ++i)
-        used[mesh.indices[i]] = 1;
-  std::vector<uint32_t> v;
-  for (size_t i = 0; i < used.size(); ++i)
-    if (used[i]) v.push_back(uint32_t(i));
-  return v;
-}
-
 // For the automatic rate search: per stored joint, the 8 drawn vertices weighted to it that lie
 // farthest from its bind position, as a mesh of their own. Interpolation error grows with the
 // lever arm, so these bound the search's error cheaply; the final report still measures every

@@ -32,17 +32,23 @@ FramePlan planFrames(double duration_seconds, double rate_hz) {
   return p;
 }
 
-std::vector<uint32_t> usedJoints(const Character& character) {
-  const SkinnedMesh& mesh = character.mesh;
+std::vector<uint32_t> drawnVertices(const SkinnedMesh& mesh) {
   std::vector<uint8_t> referenced(mesh.vertexCount(), 0);
   for (const SubMesh& sm : mesh.sub_meshes)
     for (const IndexRange& r : sm.lods)
-      for (uint32_t i = r.first_index; i < r.first_index + r.index_count; ++i)
-        if (i < mesh.indices.size() && mesh.indices[i] < referenced.size())
-          referenced[mesh.indices[i]] = 1;
+      for (uint64_t i = r.first_index; i < uint64_t(r.first_index) + r.index_count; ++i)
+        if (i < mesh.indices.size() && mesh.indices[size_t(i)] < referenced.size())
+          referenced[mesh.indices[size_t(i)]] = 1;
+  std::vector<uint32_t> vertices;
+  for (size_t v = 0; v < referenced.size(); ++v)
+    if (referenced[v]) vertices.push_back(static_cast<uint32_t>(v));
+  return vertices;
+}
+
+std::vector<uint32_t> usedJoints(const Character& character) {
+  const SkinnedMesh& mesh = character.mesh;
   std::vector<uint8_t> used(character.skeleton.jointCount(), 0);
-  for (size_t v = 0; v < referenced.size(); ++v) {
-    if (!referenced[v]) continue;
+  for (uint32_t v : drawnVertices(mesh)) {
     for (int k = 0; k < 4; ++k)
       if (mesh.weights[v][k] > 0.0f && mesh.joints[v][k] < used.size()) used[mesh.joints[v][k]] = 1;
   }

@@ -477,11 +477,9 @@ Status CrowdManager::update(double dt, const Camera& camera) {
       rec.blend[1] = rec.blend[0];
       rec.blend[2] = floatBits(0.0f);
     }
-    const uint32_t v = static_cast<uint32_t>(records_.size());
     records_.push_back(rec);
     visible_dense_.push_back(i);
     visible_handles_.push_back(dense_handles_[i]);
-    (void)v;
     uint32_t mask = masks_[i] & (submeshes == 32 ? 0xFFFFFFFFu : ((1u << submeshes) - 1u));
     while (mask) {
       const uint32_t sm = uint32_t(__builtin_ctz(mask));

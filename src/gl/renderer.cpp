@@ -194,6 +194,19 @@ uint32_t packNormal(const glm::vec3& n) {
   return c(n.x) | (c(n.y) << 10) | (c(n.z) << 20);
 }
 
+// What the instanced shader computes for palette slot `slot` of `rec`: clip A's frames lerped,
+// crossfaded towards clip B by the record's weight (float bits in blend.x, y, z).
+glm::mat4 recordJointMatrix(const BakedPalette& palette, const InstanceRecord& rec, uint32_t slot) {
+  float fa, fb, wb;
+  std::memcpy(&fa, &rec.blend[0], 4);
+  std::memcpy(&fb, &rec.blend[1], 4);
+  std::memcpy(&wb, &rec.blend[2], 4);
+  glm::mat4 mat = emulateFrameMatrix(palette, rec.frames[0], rec.frames[1], fa, slot);
+  if (wb > 0.0f)
+    mat = mat * (1.0f - wb) + emulateFrameMatrix(palette, rec.frames[2], rec.frames[3], fb, slot) * wb;
+  return mat;
+}
+
 double msSince(std::chrono::steady_clock::time_point t0) {
   return std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
 }
@@ -650,16 +663,9 @@ Status Renderer::drawTraditional(const CrowdManager& crowd, const Camera& camera
     uint8_t* block = m.character_block.data();
     std::memcpy(block, rec.world_rows, 48);
     std::memcpy(block + 48, &rec.blend[3], 4);
-    float fa, fb, wb;
-    std::memcpy(&fa, &rec.blend[0], 4);
-    std::memcpy(&fb, &rec.blend[1], 4);
-    std::memcpy(&wb, &rec.blend[2], 4);
     // The CPU does what the instanced shader does per vertex, once per joint per character.
     for (uint32_t slot = 0; slot < m.palette_slots; ++slot) {
-      glm::mat4 mat = emulateFrameMatrix(*m.palette, rec.frames[0], rec.frames[1], fa, slot);
-      if (wb > 0.0f)
-        mat = mat * (1.0f - wb) +
-              emulateFrameMatrix(*m.palette, rec.frames[2], rec.frames[3], fb, slot) * wb;
+      const glm::mat4 mat = recordJointMatrix(*m.palette, rec, slot);
       float rows[12];
       for (int row = 0; row < 3; ++row)
         for (int col = 0; col < 4; ++col) rows[row * 4 + col] = mat[col][row];
@@ -750,21 +756,13 @@ Status Renderer::drawCpuSkinned(const CrowdManager& crowd, const Camera& camera,
     if (!crowd.lodOf(crowd.visibleHandles()[v], &lod).isOk() ||
         !crowd.get(crowd.visibleHandles()[v], &desc).isOk())
       continue;
-    float fa, fb, wb;
-    std::memcpy(&fa, &rec.blend[0], 4);
-    std::memcpy(&fb, &rec.blend[1], 4);
-    std::memcpy(&wb, &rec.blend[2], 4);
     glm::mat4 world(1.0f);
     for (int row = 0; row < 3; ++row)
       for (int col = 0; col < 4; ++col) world[col][row] = rec.world_rows[row][col];
     for (size_t j = 0; j < joint.size(); ++j) {
       const int32_t slot = m.palette->skeleton_to_palette[j];
       if (slot < 0) continue;
-      glm::mat4 mat = emulateFrameMatrix(*m.palette, rec.frames[0], rec.frames[1], fa, uint32_t(slot));
-      if (wb > 0.0f)
-        mat = mat * (1.0f - wb) +
-              emulateFrameMatrix(*m.palette, rec.frames[2], rec.frames[3], fb, uint32_t(slot)) * wb;
-      joint[j] = world * mat;
+      joint[j] = world * recordJointMatrix(*m.palette, rec, uint32_t(slot));
     }
     for (uint32_t sm = 0; sm < m.sub_meshes.size() && sm < 32; ++sm) {
       if (!((desc.variation_mask >> sm) & 1u)) continue;

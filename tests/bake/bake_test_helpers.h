@@ -5,6 +5,7 @@
 #include <cmath>
 #include <string>
 
+#include "core/test_helpers.h"
 #include "si/core/character.h"
 
 namespace si::test {
@@ -57,9 +58,7 @@ inline Clip blankClip(const Character& c, const std::string& name, float duratio
   return clip;
 }
 
-inline glm::quat axisAngle(double angle, glm::dvec3 axis) {
-  return glm::quat(float(std::cos(angle / 2)), float(axis.x * std::sin(angle / 2)),
-                   float(axis.y * std::sin(angle / 2)), float(axis.z * std::sin(angle / 2)));
-}
+/// The rotation of `angle` radians about unit `axis`, in float (core/test_helpers.h).
+using test::axisAngleF;
 
 }  // namespace si::test

@@ -11,7 +11,7 @@
 
 namespace si {
 namespace {
-using test::axisAngle;
+using test::axisAngleF;
 using test::blankClip;
 using test::chainCharacter;
 
@@ -67,7 +67,7 @@ TEST(HardCases, AntipodalQuaternionKeys) {
   Clip clip = blankClip(c, "antipodal", 1.0f);
   clip.joint_tracks[0].rotation.times_seconds = {0.0f, 1.0f};
   // -q(90 deg) is the same rotation as q(90 deg): the short way is 90 degrees, not 270.
-  clip.joint_tracks[0].rotation.values = {glm::quat(1, 0, 0, 0), -axisAngle(kPi / 2, {0, 0, 1})};
+  clip.joint_tracks[0].rotation.values = {glm::quat(1, 0, 0, 0), -axisAngleF(kPi / 2, {0, 0, 1})};
   c.clips.push_back(clip);
   for (PaletteFormat f : {PaletteFormat::kMatrix3x4F32, PaletteFormat::kQuatTranslationF32})
     EXPECT_LE(bakeAndCheck(c, fixedRate(30, f)), kSmoothMotionBound) << paletteFormatName(f);
@@ -78,8 +78,8 @@ TEST(HardCases, NonUnitQuaternionKeys) {
   Clip clip = blankClip(c, "non_unit", 1.0f);
   clip.joint_tracks[1].rotation.times_seconds = {0.0f, 0.5f, 1.0f};
   clip.joint_tracks[1].rotation.values = {glm::quat(1.0002f, 0, 0, 0),
-                                          axisAngle(kPi / 4, {1, 0, 0}) * 3.0f,
-                                          axisAngle(kPi / 2, {1, 0, 0}) * 0.25f};
+                                          axisAngleF(kPi / 4, {1, 0, 0}) * 3.0f,
+                                          axisAngleF(kPi / 2, {1, 0, 0}) * 0.25f};
   c.clips.push_back(clip);
   EXPECT_LE(bakeAndCheck(c, fixedRate(30)), kSmoothMotionBound);
 }
@@ -132,7 +132,7 @@ TEST(HardCases, ChannelWithOneKey) {
   Character c = chainCharacter(2);
   Clip clip = blankClip(c, "one_key", 1.0f);
   clip.joint_tracks[1].rotation.times_seconds = {0.4f};
-  clip.joint_tracks[1].rotation.values = {axisAngle(0.7, {0, 0, 1})};
+  clip.joint_tracks[1].rotation.values = {axisAngleF(0.7, {0, 0, 1})};
   c.clips.push_back(clip);
   EXPECT_LE(bakeAndCheck(c, fixedRate(30)), kExactBound);
 }
@@ -141,7 +141,7 @@ TEST(HardCases, ZeroLengthClip) {
   Character c = chainCharacter(2);
   Clip clip = blankClip(c, "pose", 0.0f, LoopMode::kLoop);
   clip.joint_tracks[1].rotation.times_seconds = {0.0f};
-  clip.joint_tracks[1].rotation.values = {axisAngle(1.0, {1, 0, 0})};
+  clip.joint_tracks[1].rotation.values = {axisAngleF(1.0, {1, 0, 0})};
   c.clips.push_back(clip);
   BakedPalette p;
   EXPECT_LE(bakeAndCheck(c, fixedRate(30), nullptr, &p), kExactBound);
@@ -269,7 +269,7 @@ TEST(HardCases, ThousandJointsStayWithinTheTextureLimit) {
   Clip clip = blankClip(c, "bend", 1.0f);
   for (size_t j = 1; j < 1024; j += 64) {
     clip.joint_tracks[j].rotation.times_seconds = {0.0f, 1.0f};
-    clip.joint_tracks[j].rotation.values = {glm::quat(1, 0, 0, 0), axisAngle(0.05, {0, 0, 1})};
+    clip.joint_tracks[j].rotation.values = {glm::quat(1, 0, 0, 0), axisAngleF(0.05, {0, 0, 1})};
   }
   c.clips.push_back(clip);
   BakeDesc d = fixedRate(30);
@@ -291,7 +291,7 @@ TEST(HardCases, TenMinuteClipAt60Fps) {
   QuatTrack& r = clip.joint_tracks[1].rotation;
   for (int k = 0; k <= 600; ++k) {  // One key a second, swinging +-0.5 rad.
     r.times_seconds.push_back(float(k));
-    r.values.push_back(axisAngle(0.5 * std::sin(k * 0.7), {1, 0, 0}));
+    r.values.push_back(axisAngleF(0.5 * std::sin(k * 0.7), {1, 0, 0}));
   }
   c.clips.push_back(clip);
   BakedPalette p;
@@ -311,7 +311,7 @@ TEST(HardCases, ErrorGrowsAsTheRateDropsAt720DegreesPerSecond) {
   for (int k = 0; k <= 64; ++k) {  // 720 deg/s about Z, finely keyed so the reference is smooth.
     const double t = k / 64.0;
     r.times_seconds.push_back(float(t));
-    r.values.push_back(axisAngle(4 * kPi * t, {0, 0, 1}));
+    r.values.push_back(axisAngleF(4 * kPi * t, {0, 0, 1}));
   }
   c.clips.push_back(clip);
   double previous = 0.0;

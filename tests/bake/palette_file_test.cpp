@@ -20,7 +20,7 @@ BakedPalette smallPalette(PaletteFormat format = PaletteFormat::kMatrix3x4F32) {
   c.clips.push_back(step);
   Clip swing = test::blankClip(c, "swing", 1.0f, LoopMode::kLoop);
   swing.joint_tracks[2].rotation.times_seconds = {0.0f, 0.5f, 1.0f};
-  swing.joint_tracks[2].rotation.values = {glm::quat(1, 0, 0, 0), test::axisAngle(0.5, {1, 0, 0}),
+  swing.joint_tracks[2].rotation.values = {glm::quat(1, 0, 0, 0), test::axisAngleF(0.5, {1, 0, 0}),
                                            glm::quat(1, 0, 0, 0)};
   c.clips.push_back(swing);
   BakeDesc d;

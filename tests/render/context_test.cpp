@@ -8,18 +8,13 @@
 #include <cstdio>
 
 #include "si/gl/gl_context.h"
+#include "render/render_test_helpers.h"
 #include "si/headless/headless_context.h"
 
 namespace si {
 namespace {
 
-// SI_REQUIRE_GL is a comma-separated list of back-end names that must work here.
-bool requireGl(HeadlessBackend b) {
-  const char* v = std::getenv("SI_REQUIRE_GL");
-  if (v == nullptr) return false;
-  const std::string list = std::string(",") + v + ",";
-  return list.find(std::string(",") + headlessBackendName(b) + ",") != std::string::npos;
-}
+using test::requireGl;
 
 class ContextTest : public ::testing::TestWithParam<HeadlessBackend> {};
 

@@ -16,6 +16,7 @@
 #include "si/core/default_character.h"
 #include "si/core/reference_evaluator.h"
 #include "si/gl/renderer.h"
+#include "render/render_test_helpers.h"
 #include "si/headless/headless_context.h"
 
 #ifndef SI_GOLDEN_DIR
@@ -31,12 +32,7 @@ constexpr uint32_t kSize = 256;
 constexpr int kPixelTolerance = 8;
 constexpr double kMaxDifferingShare = 0.005;
 
-bool requireGl(HeadlessBackend b) {
-  const char* v = std::getenv("SI_REQUIRE_GL");
-  if (v == nullptr) return false;
-  const std::string list = std::string(",") + v + ",";
-  return list.find(std::string(",") + headlessBackendName(b) + ",") != std::string::npos;
-}
+using test::requireGl;
 
 const Character& character() {
   static const Character c = [] {

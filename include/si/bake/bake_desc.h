@@ -90,8 +90,12 @@ struct PalettePlan {
 Status planPalette(const Character& character, const BakeDesc& desc, PalettePlan* out,
                    Span<const double> clip_rates_hz = {});
 
-/// Skeleton joints that some vertex referenced by some sub-mesh LOD has a non-zero weight on,
-/// in skeleton order. The mesh must be valid for the skeleton.
+/// Vertices referenced by some LOD of some sub-mesh (what is ever drawn), ascending. Index
+/// ranges and indices outside the mesh are ignored.
+std::vector<uint32_t> drawnVertices(const SkinnedMesh& mesh);
+
+/// Skeleton joints that some drawn vertex (drawnVertices()) has a non-zero weight on, in
+/// skeleton order. The mesh must be valid for the skeleton.
 std::vector<uint32_t> usedJoints(const Character& character);
 
 }  // namespace si
