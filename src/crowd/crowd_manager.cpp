@@ -52,8 +52,24 @@ CrowdDesc resolveDefaults(const CrowdDesc& in) {
   return d;
 }
 
+// The LOD and far lines of CrowdDesc, as init() and setLodDistances() accept them.
+static Status checkLodLines(uint32_t lod_count, Span<const float> lines, float max_distance_radii) {
+  if (lines.size() != lod_count - 1)
+    return {StatusCode::kInvalidArgument,
+            strCat("CrowdDesc.lod_distances_radii needs lod_count - 1 = ", lod_count - 1,
+                   " distances, has ", lines.size())};
+  for (size_t i = 0; i < lines.size(); ++i)
+    if (!(lines[i] > (i ? lines[i - 1] : 0.0f)) || !std::isfinite(lines[i]))
+      return {StatusCode::kInvalidArgument,
+              "CrowdDesc.lod_distances_radii must be positive and increasing"};
+  if (!std::isfinite(max_distance_radii))
+    return {StatusCode::kInvalidArgument, "CrowdDesc.max_distance_radii must be finite"};
+  return Status::ok();
+}
+
 Status CrowdManager::init(const CrowdDesc& in_desc) {
   const CrowdDesc d = resolveDefaults(in_desc);
+  Status s;
   if (d.palette == nullptr || d.palette->clips.empty())
     return {StatusCode::kInvalidArgument, "CrowdDesc.palette must be a palette with clips"};
   if (d.sub_mesh_count < 1 || d.sub_mesh_count > 32)
@@ -62,16 +78,9 @@ Status CrowdManager::init(const CrowdDesc& in_desc) {
     return {StatusCode::kInvalidArgument, "CrowdDesc.lod_count must be at most 8"};
   if (!std::isfinite(d.character_radius) || d.character_radius <= 0.0f)
     return {StatusCode::kInvalidArgument, "CrowdDesc.character_radius must be finite and > 0"};
-  if (d.lod_distances_radii.size() != d.lod_count - 1)
-    return {StatusCode::kInvalidArgument,
-            strCat("CrowdDesc.lod_distances_radii needs lod_count - 1 = ", d.lod_count - 1,
-                   " distances, has ", d.lod_distances_radii.size())};
-  for (size_t i = 0; i < d.lod_distances_radii.size(); ++i)
-    if (!(d.lod_distances_radii[i] > (i ? d.lod_distances_radii[i - 1] : 0.0f)) ||
-        !std::isfinite(d.lod_distances_radii[i]))
-      return {StatusCode::kInvalidArgument,
-              "CrowdDesc.lod_distances_radii must be positive and increasing"};
-  if (!std::isfinite(d.max_distance_radii) || !std::isfinite(d.lod_hysteresis_ratio) ||
+  s = checkLodLines(d.lod_count, d.lod_distances_radii, d.max_distance_radii);
+  if (!s.isOk()) return s;
+  if (!std::isfinite(d.lod_hysteresis_ratio) ||
       d.lod_hysteresis_ratio < 0.0f || d.lod_hysteresis_ratio >= 1.0f)
     return {StatusCode::kInvalidArgument,
             "CrowdDesc.max_distance_radii must be finite; lod_hysteresis_ratio in [0, 1)"};
@@ -505,6 +514,17 @@ Status CrowdManager::update(double dt, const Camera& camera) {
       bucket_entries_[bucket_cursor_[base + sm]++] = v;
     }
   }
+  return Status::ok();
+}
+
+Status CrowdManager::setLodDistances(Span<const float> lines, float max_distance_radii) {
+  if (!initialized_) return {StatusCode::kInvalidArgument, "CrowdManager: init() first"};
+  const float far_line = max_distance_radii == 0.0f ? desc_.max_distance_radii : max_distance_radii;
+  Status s = checkLodLines(desc_.lod_count, lines, far_line);
+  if (!s.isOk()) return s;
+  desc_.lod_distances_radii.assign(lines.begin(), lines.end());
+  desc_.max_distance_radii = far_line;
+  lod_lines_ = desc_.lod_distances_radii;
   return Status::ok();
 }
 

@@ -331,6 +331,42 @@ TEST(CrowdManager, LodByDistanceInRadiiWithHysteresis) {
   EXPECT_EQ(lodAt(150), 2u);  // 75 radii of a twice larger character.
 }
 
+TEST(CrowdManager, SetLodDistancesMovesTheLinesAndValidates) {
+  CrowdDesc cd = defaultCrowdDesc();
+  cd.character_radius = 1.0f;
+  cd.lod_distances_radii = {20.0f, 60.0f};
+  cd.lod_hysteresis_ratio = 0.01f;
+  CrowdManager crowd;
+  EXPECT_EQ(crowd.setLodDistances(std::vector<float>{1.0f, 2.0f}).code(),
+            StatusCode::kInvalidArgument);  // Before init().
+  ASSERT_TRUE(crowd.init(cd).isOk());
+  InstanceDesc d;
+  InstanceHandle h;
+  ASSERT_TRUE(crowd.add(d, &h).isOk());
+  const auto lodAt = [&](double distance) {
+    EXPECT_TRUE(crowd.update(0.0, testCamera({0, 0, distance}, {0, 0, 0})).isOk());
+    uint32_t lod = 99;
+    EXPECT_TRUE(crowd.lodOf(h, &lod).isOk());
+    return crowd.stats().visible == 1 ? lod : 99u;
+  };
+  EXPECT_EQ(lodAt(30), 1u);
+  ASSERT_TRUE(crowd.setLodDistances(std::vector<float>{40.0f, 120.0f}).isOk());
+  EXPECT_EQ(lodAt(30), 0u);
+  EXPECT_EQ(lodAt(130), 99u);  // The far line (100) is kept.
+  ASSERT_TRUE(crowd.setLodDistances(std::vector<float>{40.0f, 120.0f}, 200.0f).isOk());
+  EXPECT_EQ(lodAt(130), 2u);
+  EXPECT_EQ(crowd.desc().max_distance_radii, 200.0f);
+  // Bad lines change nothing.
+  const std::vector<std::vector<float>> bad = {
+      {40.0f}, {40.0f, 30.0f}, {0.0f, 10.0f}, {10.0f, INFINITY}, {10.0f, 20.0f, 30.0f}};
+  for (const std::vector<float>& lines : bad)
+    EXPECT_EQ(crowd.setLodDistances(lines).code(), StatusCode::kInvalidArgument);
+  EXPECT_EQ(crowd.setLodDistances(std::vector<float>{10.0f, 20.0f}, NAN).code(),
+            StatusCode::kInvalidArgument);
+  EXPECT_EQ(crowd.desc().lod_distances_radii, (std::vector<float>{40.0f, 120.0f}));
+  EXPECT_EQ(lodAt(130), 2u);
+}
+
 // Brute-force reference: an instance is truly visible when a skinned vertex of its current
 // pose (emulated from the palette, double-transformed) lies inside the frustum.
 TEST(CrowdManager, CullingMatchesABruteForceReference) {

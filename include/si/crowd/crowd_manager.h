@@ -175,6 +175,12 @@ class CrowdManager {
   /// kNotFound for a stale handle, kOutOfRange for a joint not in the palette.
   Status jointMatrix(InstanceHandle h, uint32_t joint, glm::dmat4* out) const;
 
+  /// Moves the LOD lines (lod_count - 1 increasing distances in radii) and the far line
+  /// (`max_distance_radii`: 0 keeps the current one, negative means never) from the next
+  /// update() on; instances keep their current LOD until hysteresis lets them move. Fails with
+  /// kInvalidArgument as init() does for these fields, and changes nothing then.
+  Status setLodDistances(Span<const float> lod_distances_radii, float max_distance_radii = 0.0f);
+
   const CrowdDesc& desc() const { return desc_; }
 
  private:
