@@ -293,6 +293,12 @@ Status bakePalette(const Character& character, const BakeDesc& in_desc, BakedPal
   SkinnedMesh gpu_mesh = character.mesh;
   for (glm::vec4& w : gpu_mesh.weights) w = dequantizeWeights(quantizeWeights(w));
 
+  const uint32_t clip_count = static_cast<uint32_t>(plan.clip_indices.size());
+  // Automatic rates: the search takes about 60 % of the time, the final measurement the rest.
+  const double search_share = d.rate_mode == RateMode::kAutomatic ? 0.6 : 0.0;
+  const auto progress = [&](const char* stage, uint32_t clip, double fraction) {
+    if (d.progress) d.progress(BakeProgress{fraction, stage, clip, clip_count});
+  };
   std::vector<double> rates(plan.clip_indices.size(), double(d.sample_rate_hz));
   if (d.rate_mode == RateMode::kAutomatic) {
     const double tolerance = d.error_tolerance_ratio * height;
@@ -306,6 +312,7 @@ Status bakePalette(const Character& character, const BakeDesc& in_desc, BakedPal
     if (candidates.empty() || candidates.back() < d.max_sample_rate_hz)
       candidates.push_back(d.max_sample_rate_hz);
     for (size_t c = 0; c < rates.size(); ++c) {
+      progress("choosing rates", uint32_t(c), search_share * double(c) / clip_count);
       // Max error of this clip alone baked at `rate`: on the search subset at interval
       // midpoints (cheap), or on every drawn vertex at every measurement time (exact).
       const auto clip_error = [&](double rate, bool full, double* error) {
@@ -361,6 +368,7 @@ Status bakePalette(const Character& character, const BakeDesc& in_desc, BakedPal
     if (!s.isOk()) return s;
   }
 
+  progress("baking", 0, search_share);
   BakedPalette baked;
   s = bakeTexels(character, d, plan, &baked);
   if (!s.isOk()) return s;
@@ -368,6 +376,7 @@ Status bakePalette(const Character& character, const BakeDesc& in_desc, BakedPal
   BakeReport rep;
   const bool measure = report != nullptr || d.rate_mode == RateMode::kAutomatic;
   for (uint32_t c = 0; c < baked.clips.size(); ++c) {
+    progress("measuring", c, search_share + (1.0 - search_share) * double(c) / clip_count);
     Measurement m;
     s = measureClip(character, character.mesh, gpu_mesh, baked, c, vertices, shell, measure,
                     false, &m);
@@ -430,6 +439,7 @@ Status bakePalette(const Character& character, const BakeDesc& in_desc, BakedPal
     *report = std::move(rep);
   }
   *palette = std::move(baked);
+  progress("measuring", clip_count ? clip_count - 1 : 0, 1.0);
   return Status::ok();
 }
 

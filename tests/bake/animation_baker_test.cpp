@@ -56,11 +56,51 @@ bool allFinite(const BakedPalette& p) {
   return true;
 }
 
+// Progress events: fractions from 0 rising to exactly 1 at the end, every clip reported in
+// every stage, clip indices in range.
+void expectProgressIsComplete(const std::vector<BakeProgress>& events, uint32_t clips,
+                              bool automatic) {
+  ASSERT_FALSE(events.empty());
+  EXPECT_EQ(events.back().fraction, 1.0);
+  std::vector<std::string> stages = {"baking", "measuring"};
+  if (automatic) stages.insert(stages.begin(), "choosing rates");
+  for (size_t i = 0; i < events.size(); ++i) {
+    EXPECT_EQ(events[i].clip_count, clips);
+    EXPECT_LT(events[i].clip, clips);
+    EXPECT_GE(events[i].fraction, 0.0);
+    EXPECT_LE(events[i].fraction, 1.0);
+    if (i > 0) {
+      EXPECT_GE(events[i].fraction, events[i - 1].fraction) << i;
+    }
+  }
+  for (const std::string& stage : stages) {
+    std::vector<bool> seen(stage == "baking" ? 1 : clips, false);
+    for (const BakeProgress& e : events)
+      if (stage == e.stage) seen[stage == "baking" ? 0 : e.clip] = true;
+    for (size_t c = 0; c < seen.size(); ++c) EXPECT_TRUE(seen[c]) << stage << " clip " << c;
+  }
+}
+
+TEST_F(BakerTest, FixedRateProgressCoversEveryClip) {
+  BakeDesc desc = fixedRate(15);
+  std::vector<BakeProgress> progress;
+  desc.progress = [&](const BakeProgress& e) { progress.push_back(e); };
+  BakedPalette p;
+  BakeReport r;
+  ASSERT_TRUE(bakePalette(*character_, desc, &p, &r).isOk());
+  expectProgressIsComplete(progress, uint32_t(p.clips.size()), false);
+  for (const BakeProgress& e : progress) EXPECT_STRNE(e.stage, "choosing rates");
+}
+
 TEST_F(BakerTest, DefaultBakeMeetsTheToleranceAndSaysSo) {
   BakedPalette p;
   BakeReport r;
-  ASSERT_TRUE(bakePalette(*character_, {}, &p, &r).isOk());  // Automatic rates by default.
+  BakeDesc desc;
+  std::vector<BakeProgress> progress;
+  desc.progress = [&](const BakeProgress& e) { progress.push_back(e); };
+  ASSERT_TRUE(bakePalette(*character_, desc, &p, &r).isOk());  // Automatic rates by default.
   ASSERT_EQ(r.clips.size(), character_->clips.size());
+  expectProgressIsComplete(progress, uint32_t(r.clips.size()), true);
   EXPECT_LE(r.max_error_ratio, kDefaultBakeMaxErrorRatio);
   for (const ClipErrorReport& c : r.clips) {
     EXPECT_TRUE(c.tolerance_met) << c.name;

@@ -5,6 +5,7 @@
 /// What to bake: palette format, sample rate and clip selection, and how frames are placed.
 
 #include <cstdint>
+#include <functional>
 #include <string>
 #include <vector>
 
@@ -20,6 +21,14 @@ enum class RateMode : uint8_t {
   kFixed,        ///< Every clip at BakeDesc::sample_rate_hz.
   kAutomatic,    ///< Per clip, the lowest candidate rate whose measured max error is at most
                  ///< error_tolerance_ratio * character height (or max_sample_rate_hz if none).
+};
+
+/// Where bakePalette() stands, for a progress bar.
+struct BakeProgress {
+  double fraction = 0.0;       ///< 0 at the start, 1 when done; never decreases.
+  const char* stage = "";      ///< "choosing rates", "baking" or "measuring".
+  uint32_t clip = 0;           ///< The clip being worked on (palette order),
+  uint32_t clip_count = 0;     ///< of this many.
 };
 
 /// Bake options. Zero fields take the defaults documented on each.
@@ -43,6 +52,9 @@ struct BakeDesc {
   uint32_t joint_stride_texels = 0;
   /// GL_MAX_TEXTURE_SIZE of the target; 0 means 16384.
   uint32_t max_texture_size = 0;
+  /// Called on the baking thread at each clip of each stage and once with fraction 1 at the
+  /// end; may be empty. It must not throw.
+  std::function<void(const BakeProgress&)> progress;
 };
 
 /// Returns the desc with zeros replaced by their documented defaults (clip_names untouched).

@@ -1,0 +1,172 @@
+// SkinnedInstancing — SPDX-License-Identifier: MIT (see LICENSE)
+// si-bake as a build pipeline runs it: exit codes, messages, whole-or-nothing output, and a
+// written palette identical to the same bake done in process.
+#include <gtest/gtest.h>
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include <cstdio>
+#include <cstdlib>
+#include <fstream>
+#include <string>
+
+#include "si/bake/animation_baker.h"
+#include "si/bake/palette_file.h"
+#include "si/core/default_character.h"
+
+namespace si {
+namespace {
+
+struct ToolRun {
+  int exit_code = -1;
+  std::string output;  // stdout and stderr together.
+};
+
+// Runs si-bake with `args` (a shell-quoted string) and captures its output and exit code.
+ToolRun runTool(const std::string& args) {
+  ToolRun r;
+  const std::string command = std::string("'") + SI_BAKE_EXE + "' " + args + " 2>&1";
+  std::FILE* p = popen(command.c_str(), "r");
+  if (p == nullptr) return r;
+  char buffer[4096];
+  size_t n = 0;
+  while ((n = std::fread(buffer, 1, sizeof buffer, p)) > 0) r.output.append(buffer, n);
+  const int status = pclose(p);
+  r.exit_code = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
+  return r;
+}
+
+std::string tempPath(const std::string& name) {
+  return ::testing::TempDir() + "si_bake_" + std::to_string(getpid()) + "_" + name;
+}
+
+bool exists(const std::string& path) { return std::ifstream(path).good(); }
+
+std::string fox() {
+  const char* dir = std::getenv("SI_SHARED_DIR");
+  return std::string(dir ? dir : "../shared") + "/assets/Fox/glTF-Binary/Fox.glb";
+}
+
+TEST(SiBake, WritesThePaletteTheLibraryBakes) {
+  const std::string out = tempPath("embedded.sipal"), csv = tempPath("embedded.csv");
+  const ToolRun r = runTool("--embedded --rate 30 --no-progress -o '" + out + "' --csv '" + csv + "'");
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  EXPECT_NE(r.output.find("max error"), std::string::npos) << r.output;
+  EXPECT_NE(r.output.find("walk"), std::string::npos) << r.output;
+  BakedPalette loaded;
+  ASSERT_TRUE(loadPaletteFile(out, &loaded).isOk());
+  // The same bake in process gives the same bytes.
+  Character c;
+  ASSERT_TRUE(makeDefaultCharacter({}, &c).isOk());
+  BakeDesc d;
+  d.rate_mode = RateMode::kFixed;
+  d.sample_rate_hz = 30.0f;
+  BakedPalette expected;
+  ASSERT_TRUE(bakePalette(c, d, &expected, nullptr).isOk());
+  EXPECT_EQ(loaded.texel_bytes, expected.texel_bytes);
+  ASSERT_EQ(loaded.clips.size(), expected.clips.size());
+  for (size_t i = 0; i < loaded.clips.size(); ++i) {
+    EXPECT_EQ(loaded.clips[i].name, expected.clips[i].name);
+    EXPECT_EQ(loaded.clips[i].frame_count, expected.clips[i].frame_count);
+  }
+  // The CSV: a header and one row per clip.
+  std::ifstream f(csv);
+  std::string line;
+  size_t lines = 0;
+  while (std::getline(f, line)) ++lines;
+  EXPECT_EQ(lines, 1 + expected.clips.size());
+  std::remove(out.c_str());
+  std::remove(csv.c_str());
+}
+
+TEST(SiBake, BadCommandLinesExitWith2) {
+  for (const char* args : {"", "--embedded", "-o x.sipal", "--embedded -o x.sipal --bogus",
+                           "--embedded -o x.sipal --rate 0", "--embedded -o x.sipal --rate fast",
+                           "--embedded -o x.sipal --format f64", "--embedded -o x.sipal --rate",
+                           "a.glb b.glb -o x.sipal", "a.glb --embedded -o x.sipal",
+                           "--embedded -o x.sipal --tolerance -1", "--embedded -o x.sipal --lods 9"}) {
+    const ToolRun r = runTool(args);
+    EXPECT_EQ(r.exit_code, 2) << args << "\n" << r.output;
+    EXPECT_NE(r.output.find("si-bake: error:"), std::string::npos) << args;
+    EXPECT_NE(r.output.find("usage:"), std::string::npos) << args;
+  }
+  EXPECT_FALSE(exists("x.sipal"));
+  EXPECT_EQ(runTool("--help").exit_code, 0);
+}
+
+TEST(SiBake, UnreadableInputsExitWith3) {
+  const std::string out = tempPath("never.sipal");
+  ToolRun r = runTool("/nonexistent/model.glb -o '" + out + "'");
+  EXPECT_EQ(r.exit_code, 3) << r.output;
+  EXPECT_NE(r.output.find("/nonexistent/model.glb"), std::string::npos) << r.output;
+  const std::string garbage = tempPath("garbage.glb");
+  std::ofstream(garbage, std::ios::binary) << "glTF\x02\x00\x00\x00 not really a glb";
+  r = runTool("'" + garbage + "' -o '" + out + "'");
+  EXPECT_EQ(r.exit_code, 3) << r.output;
+  EXPECT_FALSE(exists(out));
+  std::remove(garbage.c_str());
+}
+
+TEST(SiBake, BakeFailuresExitWith4) {
+  const std::string out = tempPath("never.sipal");
+  const ToolRun r = runTool("--embedded --rate 30 --clips walk,nosuch -o '" + out + "'");
+  EXPECT_EQ(r.exit_code, 4) << r.output;
+  EXPECT_NE(r.output.find("nosuch"), std::string::npos) << r.output;
+  EXPECT_FALSE(exists(out));
+}
+
+TEST(SiBake, UnwritableOutputsExitWith5AndLeaveNothing) {
+  ToolRun r = runTool("--embedded --rate 10 --clips idle -q -o /nonexistent/dir/x.sipal");
+  EXPECT_EQ(r.exit_code, 5) << r.output;
+  EXPECT_NE(r.output.find("/nonexistent/dir/x.sipal"), std::string::npos) << r.output;
+  const std::string out = tempPath("csvfail.sipal");
+  r = runTool("--embedded --rate 10 --clips idle -q -o '" + out + "' --csv /nonexistent/x.csv");
+  EXPECT_EQ(r.exit_code, 5) << r.output;
+  EXPECT_FALSE(exists(out));
+}
+
+TEST(SiBake, MissedToleranceExitsWith6WhenRequired) {
+  // Half floats cannot meet 1e-4 of the height (their floor is about 7e-4).
+  const std::string out = tempPath("f16.sipal");
+  ToolRun r = runTool("--embedded --format f16 --rate 30 --clips walk --require-tolerance -o '" +
+                  out + "'");
+  EXPECT_EQ(r.exit_code, 6) << r.output;
+  EXPECT_NE(r.output.find("walk"), std::string::npos) << r.output;
+  EXPECT_FALSE(exists(out));
+  // Without --require-tolerance the same bake is written, and the table says NO.
+  r = runTool("--embedded --format f16 --rate 30 --clips walk -o '" + out + "'");
+  EXPECT_EQ(r.exit_code, 0) << r.output;
+  EXPECT_NE(r.output.find("NO"), std::string::npos) << r.output;
+  EXPECT_TRUE(exists(out));
+  std::remove(out.c_str());
+}
+
+TEST(SiBake, ProgressBarWhenAsked) {
+  const std::string out = tempPath("progress.sipal");
+  ToolRun r = runTool("--embedded --rate 30 --clips walk,wave --progress -o '" + out + "'");
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  EXPECT_NE(r.output.find("100%"), std::string::npos) << r.output;
+  EXPECT_NE(r.output.find("measuring clip 2/2"), std::string::npos) << r.output;
+  r = runTool("--embedded --rate 30 --clips walk -q -o '" + out + "'");  // Not a terminal.
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  EXPECT_EQ(r.output, "");
+  std::remove(out.c_str());
+}
+
+TEST(SiBake, BakesAGltfSample) {
+  if (!exists(fox())) GTEST_SKIP() << "sample asset missing: " << fox();
+  const std::string out = tempPath("fox.sipal");
+  const ToolRun r = runTool("'" + fox() + "' --rate 15 --clips Walk --no-progress -o '" + out + "'");
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  BakedPalette loaded;
+  ASSERT_TRUE(loadPaletteFile(out, &loaded).isOk());
+  ASSERT_EQ(loaded.clips.size(), 1u);
+  EXPECT_EQ(loaded.clips[0].name, "Walk");
+  // Frames end exactly on the clip's end, so the rate is 15 Hz rounded up to fit.
+  EXPECT_GE(loaded.clips[0].sampleRateHz(), 15.0);
+  EXPECT_LT(loaded.clips[0].sampleRateHz(), 16.0);
+  std::remove(out.c_str());
+}
+
+}  // namespace
+}  // namespace si

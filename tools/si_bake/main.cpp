@@ -1,0 +1,297 @@
+// SkinnedInstancing — SPDX-License-Identifier: MIT (see LICENSE)
+// si-bake: the baking step of a content pipeline. Reads a skinned glTF character (or the
+// embedded one), bakes its clips into a palette, prints the baker's error report as a table and
+// writes the palette file that the runtime loads (si::loadPaletteFile).
+//
+// Exit codes (stable, for build pipelines):
+//   0  the palette was written (and, with --require-tolerance, every clip met the tolerance)
+//   2  bad command line
+//   3  the input could not be read or imported (missing file, malformed glTF, no clips, ...)
+//   4  the bake failed (unknown clip, a format the character cannot use, texture too large)
+//   5  the output (palette or CSV) could not be written
+//   6  --require-tolerance and a clip's max error is above the tolerance (nothing written)
+// Errors go to stderr as one line "si-bake: error: ..."; the table goes to stdout.
+#include <unistd.h>
+
+#include <cerrno>
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <cstdlib>
+#include <cstring>
+#include <string>
+#include <vector>
+
+#include "si/bake/animation_baker.h"
+#include "si/bake/palette_file.h"
+#include "si/core/default_character.h"
+#include "si/gltf/gltf_import.h"
+
+namespace {
+
+enum ExitCode : int {
+  kExitOk = 0,
+  kExitUsage = 2,
+  kExitInput = 3,
+  kExitBake = 4,
+  kExitOutput = 5,
+  kExitTolerance = 6,
+};
+
+struct Options {
+  std::string input;  // Empty with --embedded.
+  bool embedded = false;
+  std::string output;
+  std::string csv;
+  si::BakeDesc bake;
+  si::GltfImportDesc import;
+  bool require_tolerance = false;
+  bool quiet = false;
+  int progress = -1;  // -1: when stderr is a terminal; 0 never; 1 always.
+};
+
+void usage(std::FILE* f) {
+  std::fprintf(
+      f,
+      "usage: si-bake (INPUT.gltf|INPUT.glb | --embedded) -o OUTPUT.sipal [options]\n"
+      "Bakes a skinned character's clips into a palette file for the runtime to load.\n"
+      "  -o, --output PATH        palette file to write (written whole or not at all)\n"
+      "  --embedded               bake the library's embedded procedural character\n"
+      "  --format f32|f16|quat    3x4 float32 matrices (default), 3x4 half floats, or\n"
+      "                           quaternion + translation + uniform scale (rigid joints only)\n"
+      "  --rate auto|HZ           per-clip automatic rate (default) or one fixed rate\n"
+      "  --tolerance RATIO        automatic rate target: max error / character height (1e-4)\n"
+      "  --max-rate HZ            highest automatic rate tried (240)\n"
+      "  --clips NAME,NAME,...    clips to bake, in palette order (default: all)\n"
+      "  --skin NAME|INDEX        the skin to import when the file has several\n"
+      "  --lods N                 generate N coarser LODs when the file has none (for the\n"
+      "                           report's vertex set; the runtime imports the mesh itself)\n"
+      "  --csv PATH               also write the error table as CSV\n"
+      "  --require-tolerance      fail (exit 6, nothing written) when a clip misses it\n"
+      "  --progress / --no-progress  force the progress bar on or off (default: on a terminal)\n"
+      "  -q, --quiet              no table, errors only\n"
+      "Exit codes: 0 written, 2 usage, 3 input, 4 bake, 5 output, 6 tolerance missed.\n");
+}
+
+bool parseFloat(const char* text, float* out) {
+  char* end = nullptr;
+  const float v = std::strtof(text, &end);
+  if (end == text || *end != '\0' || !(v > 0.0f) || !std::isfinite(v)) return false;
+  *out = v;
+  return true;
+}
+
+// Returns kExitOk, or kExitUsage after printing why.
+int parse(int argc, char** argv, Options* o) {
+  const auto bad = [](const std::string& why) {
+    std::fprintf(stderr, "si-bake: error: %s\n", why.c_str());
+    usage(stderr);
+    return int(kExitUsage);
+  };
+  for (int i = 1; i < argc; ++i) {
+    const std::string a = argv[i];
+    const bool has = i + 1 < argc;
+    const auto needsValue = [&] { return !has ? bad("option " + a + " needs a value") : 0; };
+    if (a == "-h" || a == "--help") {
+      usage(stdout);
+      std::exit(kExitOk);
+    } else if (a == "--embedded") {
+      o->embedded = true;
+    } else if (a == "--require-tolerance") {
+      o->require_tolerance = true;
+    } else if (a == "-q" || a == "--quiet") {
+      o->quiet = true;
+    } else if (a == "--progress") {
+      o->progress = 1;
+    } else if (a == "--no-progress") {
+      o->progress = 0;
+    } else if (a == "-o" || a == "--output" || a == "--format" || a == "--rate" ||
+               a == "--tolerance" || a == "--max-rate" || a == "--clips" || a == "--skin" ||
+               a == "--csv" || a == "--lods") {
+      if (int r = needsValue()) return r;
+      const std::string v = argv[++i];
+      if (a == "-o" || a == "--output") {
+        o->output = v;
+      } else if (a == "--csv") {
+        o->csv = v;
+      } else if (a == "--format") {
+        if (v == "f32") o->bake.format = si::PaletteFormat::kMatrix3x4F32;
+        else if (v == "f16") o->bake.format = si::PaletteFormat::kMatrix3x4F16;
+        else if (v == "quat") o->bake.format = si::PaletteFormat::kQuatTranslationF32;
+        else return bad("unknown --format '" + v + "' (f32, f16 or quat)");
+      } else if (a == "--rate") {
+        if (v == "auto") {
+          o->bake.rate_mode = si::RateMode::kAutomatic;
+        } else if (parseFloat(v.c_str(), &o->bake.sample_rate_hz)) {
+          o->bake.rate_mode = si::RateMode::kFixed;
+        } else {
+          return bad("--rate must be 'auto' or a rate in Hz > 0, not '" + v + "'");
+        }
+      } else if (a == "--tolerance") {
+        if (!parseFloat(v.c_str(), &o->bake.error_tolerance_ratio))
+          return bad("--tolerance must be a ratio > 0, not '" + v + "'");
+      } else if (a == "--max-rate") {
+        if (!parseFloat(v.c_str(), &o->bake.max_sample_rate_hz))
+          return bad("--max-rate must be a rate in Hz > 0, not '" + v + "'");
+      } else if (a == "--clips") {
+        for (size_t at = 0; at <= v.size();) {
+          const size_t comma = std::min(v.find(',', at), v.size());
+          if (comma > at) o->bake.clip_names.push_back(v.substr(at, comma - at));
+          at = comma + 1;
+        }
+        if (o->bake.clip_names.empty()) return bad("--clips names no clip");
+      } else if (a == "--skin") {
+        char* end = nullptr;
+        const long index = std::strtol(v.c_str(), &end, 10);
+        if (!v.empty() && *end == '\0' && index >= 0) o->import.skin_index = int32_t(index);
+        else o->import.skin_name = v;
+      } else if (a == "--lods") {
+        char* end = nullptr;
+        const unsigned long n = std::strtoul(v.c_str(), &end, 10);
+        if (v.empty() || *end != '\0' || n > 7) return bad("--lods must be 0 to 7");
+        o->import.generate_lods = uint32_t(n);
+      }
+    } else if (!a.empty() && a[0] == '-') {
+      return bad("unknown option '" + a + "'");
+    } else if (o->input.empty()) {
+      o->input = a;
+    } else {
+      return bad("more than one input ('" + o->input + "', '" + a + "')");
+    }
+  }
+  if (o->embedded == !o->input.empty())
+    return bad(o->embedded ? "give an input file or --embedded, not both"
+                           : "no input (a .gltf or .glb file, or --embedded)");
+  if (o->output.empty()) return bad("no output (-o PATH)");
+  return kExitOk;
+}
+
+int error(int code, const std::string& message) {
+  std::fprintf(stderr, "si-bake: error: %s\n", message.c_str());
+  return code;
+}
+
+// A one-line bar on stderr, drawn only once the bake has run for a moment.
+class ProgressBar {
+ public:
+  explicit ProgressBar(bool enabled) : enabled_(enabled), start_(Clock::now()) {}
+  void update(const si::BakeProgress& p) {
+    if (!enabled_) return;
+    const double seconds = std::chrono::duration<double>(Clock::now() - start_).count();
+    if (!shown_ && seconds < 0.3 && p.fraction < 1.0) return;
+    const int width = 30, filled = int(p.fraction * width + 0.5);
+    std::fprintf(stderr, "\r[%s%s] %3d%% %s clip %u/%u   ", std::string(size_t(filled), '#').c_str(),
+                 std::string(size_t(width - filled), '-').c_str(), int(p.fraction * 100.0 + 0.5),
+                 p.stage, p.clip + 1, p.clip_count);
+    std::fflush(stderr);
+    shown_ = true;
+  }
+  void finish() {
+    if (shown_) std::fprintf(stderr, "\n");
+  }
+
+ private:
+  using Clock = std::chrono::steady_clock;
+  bool enabled_, shown_ = false;
+  Clock::time_point start_;
+};
+
+void printTable(std::FILE* f, const si::BakedPalette& p, const si::BakeReport& r, double height,
+                double tolerance_ratio) {
+  std::fprintf(f, "%-16s %8s %7s %10s %11s %11s %10s %10s %4s\n", "clip", "rate Hz", "frames",
+               "KiB", "max units", "P99 units", "max/h", "P99/h", "ok");
+  for (size_t c = 0; c < r.clips.size(); ++c) {
+    const si::ClipErrorReport& e = r.clips[c];
+    std::fprintf(f, "%-16s %8.1f %7u %10.1f %11.3g %11.3g %10.3g %10.3g %4s\n", e.name.c_str(),
+                 e.sample_rate_hz, e.frame_count, double(e.palette_bytes) / 1024.0,
+                 e.max_error_units, e.p99_error_units, e.max_error_ratio, e.p99_error_ratio,
+                 e.tolerance_met ? "yes" : "NO");
+  }
+  std::fprintf(f,
+               "palette %s %ux%u texels, %.1f KiB, %zu joints stored (%zu left out), height %.4g "
+               "units; max error %.3g units = %.3g of the height (tolerance %.3g)\n",
+               si::paletteFormatName(p.format), p.layout.width, p.layout.height,
+               double(r.palette_bytes) / 1024.0, p.palette_joints.size(),
+               r.joints_left_out.size(), height, r.max_error_units, r.max_error_ratio,
+               tolerance_ratio);
+}
+
+bool writeCsv(const std::string& path, const si::BakedPalette& p, const si::BakeReport& r) {
+  std::FILE* f = std::fopen(path.c_str(), "w");
+  if (f == nullptr) return false;
+  std::fprintf(f, "clip,format,rate_hz,frames,bytes,max_units,p99_units,mean_units,max_ratio,"
+                  "p99_ratio,shell_max_units,tolerance_met\n");
+  for (const si::ClipErrorReport& e : r.clips)
+    std::fprintf(f, "%s,%s,%.3f,%u,%llu,%.6g,%.6g,%.6g,%.6g,%.6g,%.6g,%d\n", e.name.c_str(),
+                 si::paletteFormatName(p.format), e.sample_rate_hz, e.frame_count,
+                 static_cast<unsigned long long>(e.palette_bytes), e.max_error_units,
+                 e.p99_error_units, e.mean_error_units, e.max_error_ratio, e.p99_error_ratio,
+                 e.shell_max_error_units, e.tolerance_met ? 1 : 0);
+  return std::fclose(f) == 0;
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  Options o;
+  if (int r = parse(argc, argv, &o)) return r;
+
+  si::Character character;
+  si::Status s;
+  if (o.embedded) {
+    s = si::makeDefaultCharacter({}, &character);
+  } else {
+    si::GltfImportReport ir;
+    s = si::importGltfFile(o.input, o.import, &character, &ir);
+    if (!o.quiet)
+      for (const std::string& w : ir.warnings) std::fprintf(stderr, "si-bake: warning: %s\n", w.c_str());
+    if (s.isOk() && character.clips.empty())
+      s = si::Status(si::StatusCode::kUnsupported, "the character has no animation clips");
+  }
+  if (!s.isOk()) return error(kExitInput, (o.embedded ? "embedded" : o.input) + ": " + s.toString());
+
+  ProgressBar bar(o.progress == 1 || (o.progress == -1 && !o.quiet && isatty(STDERR_FILENO)));
+  o.bake.progress = [&](const si::BakeProgress& p) { bar.update(p); };
+  const auto start = std::chrono::steady_clock::now();
+  si::BakedPalette palette;
+  si::BakeReport report;
+  s = si::bakePalette(character, o.bake, &palette, &report);
+  bar.finish();
+  if (!s.isOk()) return error(kExitBake, "bake: " + s.toString());
+  const double seconds =
+      std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+
+  const si::BakeDesc resolved = si::resolveDefaults(o.bake);
+  if (!o.quiet) {
+    std::printf("%s: %zu joints, %zu vertices, %zu clips; baked in %.2f s\n",
+                o.embedded ? "embedded character" : o.input.c_str(),
+                character.skeleton.jointCount(), character.mesh.vertexCount(),
+                palette.clips.size(), seconds);
+    printTable(stdout, palette, report, double(character.height()),
+               double(resolved.error_tolerance_ratio));
+  }
+  if (!o.csv.empty() && !writeCsv(o.csv, palette, report))
+    return error(kExitOutput, "cannot write the CSV '" + o.csv + "'");
+  if (o.require_tolerance)
+    for (const si::ClipErrorReport& e : report.clips)
+      if (!e.tolerance_met)
+        return error(kExitTolerance,
+                     "clip '" + e.name + "' misses the tolerance (max error " +
+                         std::to_string(e.max_error_ratio) + " of the height > " +
+                         std::to_string(resolved.error_tolerance_ratio) + "); nothing written");
+
+  // Whole or nothing: write beside the target, then rename over it.
+  std::vector<uint8_t> bytes;
+  s = si::savePalette(palette, &bytes);
+  if (!s.isOk()) return error(kExitBake, "serializing the palette: " + s.toString());
+  const std::string temp = o.output + ".tmp" + std::to_string(getpid());
+  std::FILE* f = std::fopen(temp.c_str(), "wb");
+  bool written = f != nullptr && std::fwrite(bytes.data(), 1, bytes.size(), f) == bytes.size();
+  if (f != nullptr) written = (std::fclose(f) == 0) && written;
+  if (!written || std::rename(temp.c_str(), o.output.c_str()) != 0) {
+    std::remove(temp.c_str());
+    return error(kExitOutput, "cannot write '" + o.output + "': " + std::strerror(errno));
+  }
+  if (!o.quiet) std::printf("wrote %s (%zu bytes)\n", o.output.c_str(), bytes.size());
+  return kExitOk;
+}
