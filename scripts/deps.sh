@@ -13,6 +13,8 @@ packages=(
   python3-glad
   # Tests and benchmarks
   libgtest-dev libgmock-dev libbenchmark-dev
+  # The demo's window test: a virtual X server (xvfb-run needs xauth)
+  xvfb xauth
 )
 
 missing=()

@@ -1,12 +1,13 @@
 #!/usr/bin/env bash
 # Installs what is missing, builds the debug preset (ASan + UBSan) and runs every test.
-# In CI (CI set), warnings are errors and the render tests must get an EGL-surfaceless and an
-# OSMesa context instead of skipping. Usage: scripts/test.sh [extra ctest arguments]
+# In CI (CI set), warnings are errors, the render tests must get an EGL-surfaceless and an
+# OSMesa context instead of skipping, and the demo's window test (xvfb-run) must be there. Usage: scripts/test.sh [extra ctest arguments]
 set -euo pipefail
 cd "$(dirname "$0")/.."
 bash scripts/deps.sh
 if [ -n "${CI:-}" ]; then
   export SI_WERROR=ON
+  export SI_REQUIRE_WINDOW_TEST=ON  # The demo's window under xvfb-run must be tested.
   export SI_REQUIRE_GL="${SI_REQUIRE_GL:-egl-surfaceless,osmesa}"
 fi
 cmake --preset debug

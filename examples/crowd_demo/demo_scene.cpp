@@ -1,0 +1,265 @@
+// SkinnedInstancing — SPDX-License-Identifier: MIT (see LICENSE)
+#include "demo_scene.h"
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+
+#include "si/bake/palette_file.h"
+#include "si/gltf/gltf_import.h"
+
+namespace demo {
+
+const char* drawPathName(DrawPath p) {
+  switch (p) {
+    case DrawPath::kInstanced: return "instanced";
+    case DrawPath::kRigid: return "rigid (no skinning)";
+    case DrawPath::kTraditional: return "traditional";
+    case DrawPath::kCpuSkinned: return "cpu-skinned";
+    case DrawPath::kCount: break;
+  }
+  return "?";
+}
+
+si::Status DemoScene::loadCharacter(const SceneOptions& options) {
+  options_ = options;
+  si::Status s;
+  if (options.model.empty()) {
+    s = si::makeDefaultCharacter({}, &character_);
+  } else {
+    si::GltfImportReport gr;
+    s = si::importGltfFile(options.model, {}, &character_, &gr);
+    for (const std::string& w : gr.warnings) std::printf("warning: %s\n", w.c_str());
+    if (s.isOk() && character_.clips.empty())
+      s = si::Status(si::StatusCode::kUnsupported, "the model has no animation clips");
+  }
+  if (!s.isOk()) return s;
+  // Lay the crowd out in units of the character's size (the embedded one is 2.05 units tall).
+  unit_ = std::max(1e-3, double(character_.height())) / 2.05;
+  if (!options.palette.empty()) {
+    s = si::loadPaletteFile(options.palette, &palette_);
+    if (!s.isOk()) return s;
+    if (palette_.skeleton_to_palette.size() != character_.skeleton.jointCount())
+      return {si::StatusCode::kInvalidArgument,
+              "the palette '" + options.palette + "' was baked for a skeleton of " +
+                  std::to_string(palette_.skeleton_to_palette.size()) +
+                  " joints, the character has " +
+                  std::to_string(character_.skeleton.jointCount())};
+    options_.format = palette_.format;
+    report_valid_ = false;
+    printSummary();
+    return s;
+  }
+  return bake();
+}
+
+si::Status DemoScene::bake() {
+  si::BakeDesc bake;
+  bake.format = options_.format;
+  bake.clip_names = options_.clips;
+  if (options_.rate_hz > 0.0f) {
+    bake.rate_mode = si::RateMode::kFixed;
+    bake.sample_rate_hz = options_.rate_hz;
+  }
+  const auto start = std::chrono::steady_clock::now();
+  si::BakedPalette palette;
+  si::Status s = si::bakePalette(character_, bake, &palette, &report_);
+  if (!s.isOk()) return s;
+  bake_ms_ =
+      std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
+  palette_ = std::move(palette);
+  report_valid_ = true;
+  printSummary();
+  return s;
+}
+
+void DemoScene::printSummary() const {
+  const si::Character& c = character_;
+  const si::BakedPalette& p = palette_;
+  std::printf("Character '%s': %zu joints, %zu vertices, height %.3f units\n", c.name.c_str(),
+              c.skeleton.jointCount(), c.mesh.vertexCount(), double(c.height()));
+  std::printf("%-10s %10s %10s %10s\n", "sub-mesh", "LOD0 tris", "LOD1 tris", "LOD2 tris");
+  for (size_t sm = 0; sm < c.mesh.sub_meshes.size(); ++sm) {
+    std::printf("%-10s", c.mesh.sub_meshes[sm].name.c_str());
+    for (size_t l = 0; l < c.mesh.sub_meshes[sm].lods.size(); ++l)
+      std::printf(" %10zu", c.mesh.triangleCount(sm, l));
+    std::printf("\n");
+  }
+  std::printf("%-8s %10s %6s %9s %8s %12s\n", "clip", "duration s", "loop", "rate Hz", "frames",
+              "max error");
+  for (size_t i = 0; i < p.clips.size(); ++i) {
+    std::printf("%-8s %10.3f %6s %9.1f %8u ", p.clips[i].name.c_str(),
+                double(p.clips[i].duration_seconds),
+                p.clips[i].loop_mode == si::LoopMode::kLoop ? "yes" : "no",
+                p.clips[i].sampleRateHz(), p.clips[i].frame_count);
+    if (report_valid_) std::printf("%12.3g\n", report_.clips[i].max_error_units);
+    else std::printf("%12s\n", "(file)");
+  }
+  std::printf("Palette %s: %ux%u texels, %.1f KiB, %zu of %zu joints stored", 
+              si::paletteFormatName(p.format), p.layout.width, p.layout.height,
+              double(p.texel_bytes.size()) / 1024.0, p.palette_joints.size(),
+              c.skeleton.jointCount());
+  if (report_valid_)
+    std::printf("; max error %.3g units (%.2g of the height)", report_.max_error_units,
+                report_.max_error_ratio);
+  std::printf("\n");
+}
+
+si::Status DemoScene::initGl(const si::GlInfo& info) {
+  si::RendererDesc rd;
+  rd.measure_gpu_time = true;
+  si::Status s = renderer_.init(info, rd);
+  if (s.isOk()) s = renderer_.uploadPalette(palette_);
+  if (s.isOk()) s = renderer_.uploadCharacter(character_, palette_);
+  if (s.isOk()) s = batcher_.init(renderer_.batchLimits());
+  if (!s.isOk()) return s;
+  gl_ready_ = true;
+  return buildCrowd();
+}
+
+si::Status DemoScene::buildCrowd() {
+  si::CrowdDesc cd;
+  cd.palette = &palette_;
+  cd.sub_mesh_count = uint32_t(character_.mesh.sub_meshes.size());
+  cd.lod_count = uint32_t(character_.mesh.maxLodCount());
+  si::Status s = crowd_.init(cd);
+  if (!s.isOk()) return s;
+  if (lod_scale_ != 1.0f) {
+    std::vector<float> lines = crowd_.desc().lod_distances_radii;
+    for (float& l : lines) l *= lod_scale_;
+    s = crowd_.setLodDistances(lines, crowd_.desc().max_distance_radii * lod_scale_);
+    if (!s.isOk()) return s;
+  }
+  // A field of characters on a jittered grid, 1.6 m apart, looking every which way.
+  const uint32_t side = uint32_t(std::ceil(std::sqrt(double(options_.instances))));
+  std::vector<glm::dvec3> positions;
+  uint64_t state = options_.seed * 0x9E3779B97F4A7C15ull + 1;
+  const auto jitter = [&] {
+    state = state * 6364136223846793005ull + 1442695040888963407ull;
+    return (double((state >> 33) & 0xFFFF) / 65535.0 - 0.5) * 0.6;
+  };
+  for (uint32_t i = 0; i < options_.instances; ++i)
+    positions.push_back(glm::dvec3((i % side) * 1.6 + jitter(), 0.0, (i / side) * 1.6 + jitter()) *
+                        unit_);
+  si::RandomCrowdDesc rc;
+  rc.positions = positions;
+  rc.seed = options_.seed;
+  // The embedded character: the body always, helmet, shield and spear at random. A model:
+  // every sub-mesh.
+  const uint32_t all = cd.sub_mesh_count >= 32 ? 0xFFFFFFFFu : (1u << cd.sub_mesh_count) - 1u;
+  rc.required_mask = options_.model.empty() ? 1u : all;
+  rc.optional_mask = options_.model.empty() ? 0xEu : 0u;
+  handles_.clear();
+  s = crowd_.addRandom(rc, &handles_);
+  if (!s.isOk()) return s;
+  colors_.clear();
+  for (si::InstanceHandle h : handles_) {
+    si::InstanceDesc d;
+    s = crowd_.get(h, &d);
+    if (!s.isOk()) return s;
+    colors_.push_back(d.color);
+  }
+  return s;
+}
+
+double DemoScene::fieldHalfExtent() const {
+  return std::ceil(std::sqrt(double(options_.instances))) * 1.6 * 0.5 * unit_;
+}
+
+glm::dvec3 DemoScene::fieldCenter() const {
+  return glm::dvec3(fieldHalfExtent(), 0.0, fieldHalfExtent());
+}
+
+si::Camera DemoScene::overviewCamera(float aspect) const {
+  // At the field's edge, 9 m up, looking in: the far line (100 character radii) bounds what a
+  // large crowd shows, as the technique's LOD scheme intends.
+  const double extent = 2.0 * fieldHalfExtent() / unit_;
+  return si::Camera::lookAt(glm::dvec3(extent * 0.5, 9.0, -7.0) * unit_,
+                            glm::dvec3(extent * 0.5, 0.0, std::min(extent * 0.45, 45.0)) * unit_,
+                            glm::vec3(0, 1, 0), 0.9f, aspect, float(0.2 * unit_),
+                            float(2000.0 * unit_));
+}
+
+si::Status DemoScene::frame(double dt, const si::Camera& camera, si::DrawStats* stats) {
+  si::Status s = crowd_.update(dt, camera);
+  if (!s.isOk()) return s;
+  renderer_.clear(glm::vec4(0.62f, 0.66f, 0.58f, 1.0f));
+  switch (path_) {
+    case DrawPath::kInstanced: s = renderer_.drawCrowd(crowd_, batcher_, camera, stats); break;
+    case DrawPath::kRigid:
+      s = renderer_.drawCrowd(crowd_, batcher_, camera, stats, si::DrawMode::kRigid);
+      break;
+    case DrawPath::kTraditional: s = renderer_.drawTraditional(crowd_, camera, stats); break;
+    case DrawPath::kCpuSkinned: s = renderer_.drawCpuSkinned(crowd_, camera, stats); break;
+    case DrawPath::kCount: break;
+  }
+  if (!s.isOk()) return s;
+  // LOD tint (for the next frame): red LOD 0, green LOD 1, blue LOD 2, ...
+  static const glm::u8vec4 kLodColors[] = {{255, 60, 60, 255},  {60, 220, 60, 255},
+                                           {70, 110, 255, 255}, {240, 220, 50, 255},
+                                           {220, 80, 220, 255}, {60, 220, 220, 255},
+                                           {255, 160, 40, 255}, {160, 160, 160, 255}};
+  if (lod_tint_ || restore_colors_) {
+    for (size_t i = 0; i < handles_.size(); ++i) {
+      uint32_t lod = 0;
+      if (lod_tint_ && !crowd_.lodOf(handles_[i], &lod).isOk()) continue;
+      s = crowd_.setColor(handles_[i], lod_tint_ ? kLodColors[lod % 8] : colors_[i]);
+      if (!s.isOk()) return s;
+    }
+    restore_colors_ = false;
+  }
+  return s;
+}
+
+si::Status DemoScene::setInstanceCount(uint32_t count) {
+  if (count == 0 || count > (1u << 20))
+    return {si::StatusCode::kOutOfRange, "the crowd size must be 1 to 2^20"};
+  options_.instances = count;
+  return buildCrowd();
+}
+
+si::Status DemoScene::cycleFormat() {
+  if (!options_.palette.empty())
+    return {si::StatusCode::kUnsupported, "the palette was loaded from a file; bake to change it"};
+  const si::PaletteFormat order[] = {si::PaletteFormat::kMatrix3x4F32,
+                                     si::PaletteFormat::kMatrix3x4F16,
+                                     si::PaletteFormat::kQuatTranslationF32};
+  size_t next = 0;
+  for (size_t i = 0; i < 3; ++i)
+    if (order[i] == palette_.format) next = (i + 1) % 3;
+  const si::PaletteFormat previous = options_.format;
+  options_.format = order[next];
+  si::Status s = bake();
+  if (!s.isOk()) {  // E.g. the rotation format on a character with scaled joints.
+    options_.format = previous;
+    return s;
+  }
+  s = renderer_.uploadPalette(palette_);
+  if (s.isOk()) s = renderer_.uploadCharacter(character_, palette_);
+  if (s.isOk()) s = buildCrowd();
+  return s;
+}
+
+si::Status DemoScene::scaleLodLines(float factor) {
+  const float scale = lod_scale_ * factor;
+  std::vector<float> lines = crowd_.desc().lod_distances_radii;
+  for (float& l : lines) l *= factor;
+  const float far_line = crowd_.desc().max_distance_radii;
+  si::Status s = crowd_.setLodDistances(lines, far_line > 0.0f ? far_line * factor : far_line);
+  if (s.isOk()) lod_scale_ = scale;
+  return s;
+}
+
+si::Status DemoScene::crossfadeAll() {
+  const uint32_t clips = uint32_t(palette_.clips.size());
+  for (si::InstanceHandle h : handles_) {
+    si::InstanceDesc d;
+    si::Status s = crowd_.get(h, &d);
+    if (s.isOk()) s = crowd_.crossfade(h, (d.clip + 1) % clips, 0.5);
+    if (!s.isOk()) return s;
+  }
+  return si::Status::ok();
+}
+
+}  // namespace demo

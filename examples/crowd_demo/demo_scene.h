@@ -1,0 +1,91 @@
+// SkinnedInstancing — SPDX-License-Identifier: MIT (see LICENSE)
+#pragma once
+// The crowd_demo scene, shared by its headless and windowed front ends: the character (embedded
+// or glTF), its palette (baked here or loaded from a si-bake file), the renderer, a seeded
+// field of characters and the knobs the window's keys turn. Needs a current GL 4.5 context.
+
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "si/bake/animation_baker.h"
+#include "si/core/core.h"
+#include "si/crowd/instance_batcher.h"
+#include "si/gl/renderer.h"
+
+namespace demo {
+
+/// How the crowd is drawn: the library's paths and its baselines.
+enum class DrawPath { kInstanced = 0, kRigid, kTraditional, kCpuSkinned, kCount };
+const char* drawPathName(DrawPath p);
+
+struct SceneOptions {
+  uint32_t instances = 4000;
+  float rate_hz = 0.0f;  // 0: the baker's automatic rates.
+  si::PaletteFormat format = si::PaletteFormat::kDefault;
+  uint64_t seed = 7;
+  std::string model;    // glTF file; empty: the embedded character.
+  std::string palette;  // Palette file (si-bake) to load instead of baking.
+  std::vector<std::string> clips;
+};
+
+class DemoScene {
+ public:
+  /// Loads the character and its palette (printing the summary), without GL.
+  si::Status loadCharacter(const SceneOptions& options);
+  /// Creates the renderer for the current context and lays out the crowd.
+  si::Status initGl(const si::GlInfo& info);
+  /// Releases the GL objects; call with the context still current (before destroying it).
+  void releaseGl() { renderer_.shutdown(); }
+
+  /// Draws one frame `dt` seconds after the last one with the current path.
+  si::Status frame(double dt, const si::Camera& camera, si::DrawStats* stats);
+
+  // The knobs the window's keys turn; each takes effect from the next frame.
+  si::Status setInstanceCount(uint32_t count);
+  si::Status cycleFormat();       ///< Re-bakes in the next palette format and re-uploads.
+  si::Status scaleLodLines(float factor);
+  si::Status crossfadeAll();      ///< Every character blends to the next clip over 0.5 s.
+  void cyclePath() { path_ = DrawPath((int(path_) + 1) % int(DrawPath::kCount)); }
+  void toggleLodTint() { lod_tint_ = !lod_tint_; restore_colors_ = !lod_tint_; }
+
+  DrawPath path() const { return path_; }
+  const si::CrowdManager& crowd() const { return crowd_; }
+  const si::Character& character() const { return character_; }
+  const si::BakedPalette& palette() const { return palette_; }
+  const si::InstanceBatcher& batcher() const { return batcher_; }
+  uint32_t instanceCount() const { return options_.instances; }
+  float lodScale() const { return lod_scale_; }
+  bool lodTint() const { return lod_tint_; }
+  double bakeMs() const { return bake_ms_; }
+  /// The camera's default view of the field (at the edge, 9 m up, looking in).
+  si::Camera overviewCamera(float aspect) const;
+  /// The field's centre and half extent in model units.
+  glm::dvec3 fieldCenter() const;
+  double fieldHalfExtent() const;
+  double unit() const { return unit_; }
+
+ private:
+  si::Status bake();
+  si::Status buildCrowd();
+  void printSummary() const;
+
+  SceneOptions options_;
+  si::Character character_;
+  si::BakedPalette palette_;
+  si::BakeReport report_;
+  bool report_valid_ = false;
+  double bake_ms_ = 0.0;
+  double unit_ = 1.0;
+  si::Renderer renderer_;
+  si::CrowdManager crowd_;
+  si::InstanceBatcher batcher_;
+  std::vector<si::InstanceHandle> handles_;
+  std::vector<glm::u8vec4> colors_;
+  DrawPath path_ = DrawPath::kInstanced;
+  float lod_scale_ = 1.0f;
+  bool lod_tint_ = false, restore_colors_ = false;
+  bool gl_ready_ = false;
+};
+
+}  // namespace demo
