@@ -29,7 +29,7 @@ double msSince(Clock::time_point t) {
 struct Options {
   std::vector<uint32_t> sizes = {1000, 4000};
   std::vector<std::string> scenes = {"field", "stadium"};
-  std::vector<std::string> paths = {"instanced", "traditional", "cpu", "rigid"};
+  std::vector<std::string> paths = {"instanced", "compute", "traditional", "cpu", "rigid"};
   uint32_t frames = 5;
   uint32_t width = 1280, height = 720;
   uint32_t max_baseline = 20000;  // Traditional and CPU skinning are skipped above this.
@@ -51,8 +51,10 @@ std::vector<std::string> split(const std::string& s) {
 void usage(std::FILE* f) {
   std::fprintf(f,
       "Times per path are medians over the measured frames (after 2 warm-up frames).\n"
+      "Paths: instanced (vertex-shader skinning), compute (compute pre-skinning), traditional\n"
+      "(one draw per character), cpu (CPU skinning), rigid (no skinning: the floor).\n"
       "usage: crowd_bench [--sizes N,N,...] [--scenes field,stadium] [--frames N]\n"
-      "                   [--paths instanced,traditional,cpu,rigid] [--size WxH]\n"
+      "                   [--paths instanced,compute,traditional,cpu,rigid] [--size WxH]\n"
       "                   [--max-baseline N] [--error-table-size N] [--csv PATH]\n"
       "                   [--plots DIR] [--backend auto|egl-device|egl-surfaceless|osmesa]\n"
       "                   [--quick]   (fixed-rate bakes only, for smoke tests)\n");
@@ -83,7 +85,8 @@ bool parse(int argc, char** argv, Options* o) {
   for (const std::string& s : o->scenes)
     if (s != "field" && s != "stadium") return false;
   for (const std::string& p : o->paths)
-    if (p != "instanced" && p != "traditional" && p != "cpu" && p != "rigid") return false;
+    if (p != "instanced" && p != "compute" && p != "traditional" && p != "cpu" && p != "rigid")
+      return false;
   return !o->sizes.empty() && o->frames > 0;
 }
 
@@ -184,7 +187,10 @@ bool runPath(Bench& b, si::Renderer& renderer, const si::BakedPalette& palette,
     renderer.clear(glm::vec4(0.6f, 0.65f, 0.6f, 1.0f));
     si::DrawStats st;
     if (s.isOk()) {
-      if (path == "instanced") s = renderer.drawCrowd(crowd, batcher, cam, &st);
+      if (path == "instanced")
+        s = renderer.drawCrowd(crowd, batcher, cam, &st, si::DrawMode::kSkinned);
+      else if (path == "compute")
+        s = renderer.drawCrowd(crowd, batcher, cam, &st, si::DrawMode::kComputeSkinned);
       else if (path == "rigid") s = renderer.drawCrowd(crowd, batcher, cam, &st, si::DrawMode::kRigid);
       else if (path == "traditional") s = renderer.drawTraditional(crowd, cam, &st);
       else s = renderer.drawCpuSkinned(crowd, cam, &st);
@@ -256,6 +262,8 @@ int main(int argc, char** argv) {
   if (s.isOk()) s = renderer.uploadPalette(palette);
   if (s.isOk()) s = renderer.uploadCharacter(b.character, palette);
   if (!s.isOk()) return fail("setup", s);
+  std::printf("Automatic skinning path choice: %s (%s)\n",
+              si::skinningPathName(renderer.skinningPath()), renderer.skinningPathReason().c_str());
 
   std::FILE* csv = std::fopen(b.o.csv.c_str(), "w");
   if (csv == nullptr) {
@@ -296,7 +304,15 @@ int main(int argc, char** argv) {
     }
   }
 
-  // Speed against error: each bake configuration, the instanced path on the field.
+  if (renderer.computeRingBytes() > 0)
+    std::printf("Compute path: pre-skinned vertex ring of %.1f MiB\n",
+                double(renderer.computeRingBytes()) / 1048576.0);
+
+  // Speed against error: each bake configuration, the instanced path on the field. The renderer
+  // is re-made with an explicit path so each upload does not re-measure.
+  rd.skinning_path = si::SkinningPath::kVertexShader;
+  s = renderer.init(b.info, rd);
+  if (!s.isOk()) return fail("renderer", s);
   std::printf("\nGPU time against bake error (field, %u instances, instanced path)\n",
               b.o.error_table_size);
   std::printf("%-22s %6s %6s %10s %9s %12s %12s\n", "format", "rate", "stride", "bytes", "GPU ms",

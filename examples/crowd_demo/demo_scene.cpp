@@ -13,7 +13,9 @@ namespace demo {
 
 const char* drawPathName(DrawPath p) {
   switch (p) {
-    case DrawPath::kInstanced: return "instanced";
+    case DrawPath::kInstanced: return "instanced (measured choice)";
+    case DrawPath::kVertexShader: return "instanced, vertex-shader skinning";
+    case DrawPath::kCompute: return "instanced, compute pre-skinning";
     case DrawPath::kRigid: return "rigid (no skinning)";
     case DrawPath::kTraditional: return "traditional";
     case DrawPath::kCpuSkinned: return "cpu-skinned";
@@ -114,6 +116,8 @@ si::Status DemoScene::initGl(const si::GlInfo& info) {
   if (s.isOk()) s = renderer_.uploadCharacter(character_, palette_);
   if (s.isOk()) s = batcher_.init(renderer_.batchLimits());
   if (!s.isOk()) return s;
+  std::printf("Skinning path: %s (%s)\n", si::skinningPathName(renderer_.skinningPath()),
+              renderer_.skinningPathReason().c_str());
   gl_ready_ = true;
   return buildCrowd();
 }
@@ -187,6 +191,12 @@ si::Status DemoScene::frame(double dt, const si::Camera& camera, si::DrawStats* 
   renderer_.clear(glm::vec4(0.62f, 0.66f, 0.58f, 1.0f));
   switch (path_) {
     case DrawPath::kInstanced: s = renderer_.drawCrowd(crowd_, batcher_, camera, stats); break;
+    case DrawPath::kVertexShader:
+      s = renderer_.drawCrowd(crowd_, batcher_, camera, stats, si::DrawMode::kSkinned);
+      break;
+    case DrawPath::kCompute:
+      s = renderer_.drawCrowd(crowd_, batcher_, camera, stats, si::DrawMode::kComputeSkinned);
+      break;
     case DrawPath::kRigid:
       s = renderer_.drawCrowd(crowd_, batcher_, camera, stats, si::DrawMode::kRigid);
       break;

@@ -16,7 +16,11 @@
 namespace demo {
 
 /// How the crowd is drawn: the library's paths and its baselines.
-enum class DrawPath { kInstanced = 0, kRigid, kTraditional, kCpuSkinned, kCount };
+/// kInstanced uses the renderer's measured choice of skinning path; kVertexShader and kCompute
+/// force one.
+enum class DrawPath {
+  kInstanced = 0, kVertexShader, kCompute, kRigid, kTraditional, kCpuSkinned, kCount
+};
 const char* drawPathName(DrawPath p);
 
 struct SceneOptions {
@@ -54,6 +58,7 @@ class DemoScene {
   const si::Character& character() const { return character_; }
   const si::BakedPalette& palette() const { return palette_; }
   const si::InstanceBatcher& batcher() const { return batcher_; }
+  const si::Renderer& renderer() const { return renderer_; }
   uint32_t instanceCount() const { return options_.instances; }
   float lodScale() const { return lod_scale_; }
   bool lodTint() const { return lod_tint_; }

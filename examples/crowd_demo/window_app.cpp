@@ -28,7 +28,8 @@ constexpr char kHelp[] =
     "  ] / [       LOD lines (and the far line) 25 % farther / nearer\n"
     "  T           tint every character by its LOD (red 0, green 1, blue 2, ...)\n"
     "  F           re-bake in the next palette format (f32, f16, quat)\n"
-    "  P           next drawing path (instanced, rigid, traditional, cpu-skinned)\n"
+    "  P           next drawing path (instanced by the measured choice, vertex-shader\n"
+    "              skinning, compute pre-skinning, rigid, traditional, cpu-skinned)\n"
     "  C           crossfade every character to its next clip (0.5 s)\n";
 
 std::string g_glfw_error;

@@ -9,6 +9,7 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <cstdio>
 #include <cstring>
 #include <string>
 
@@ -120,6 +121,82 @@ void main() {
 }
 )";
 
+// ---- Compute pre-skinning: the skinning pass and the vertex-pulling draw ----------------------
+// Shared declarations: the raw vertex buffer (32 or 36 bytes a vertex, read as words), the
+// compacted vertex list of each (sub-mesh, LOD) and the pre-skinned ring (16 bytes a vertex:
+// camera-relative world position, octahedral normal as 2 x snorm16).
+// u_chunk: x first ring vertex of the draw, y vertices of the LOD, z offset into the LOD vertex
+// list, w first instance of the batch; u_layout: x instances, y words per source vertex.
+const char* kPreSkinDecl = R"(
+layout(std430, binding = 2) readonly buffer SiSourceVertices { uint si_source[]; };
+layout(std430, binding = 3) readonly buffer SiLodVertices { uint si_lod_vertices[]; };
+layout(location = 5) uniform uvec4 u_chunk;
+layout(location = 6) uniform uvec2 u_layout;
+)";
+
+const char* kComputeSkin = R"(
+layout(local_size_x = 64) in;
+layout(std430, binding = 1) writeonly buffer SiSkinnedOut { vec4 si_skinned_out[]; };
+vec2 siOctEncode(vec3 n) {
+  n /= abs(n.x) + abs(n.y) + abs(n.z);
+  vec2 e = n.xy;
+  if (n.z < 0.0) e = (1.0 - abs(n.yx)) * vec2(n.x >= 0.0 ? 1.0 : -1.0, n.y >= 0.0 ? 1.0 : -1.0);
+  return e;
+}
+void main() {
+  uint g = gl_GlobalInvocationID.x;
+  uint i = g / u_chunk.y;
+  if (i >= u_layout.x) return;
+  uint k = g - i * u_chunk.y;
+  uint base = si_lod_vertices[u_chunk.z + k] * u_layout.y;
+  vec3 p = vec3(uintBitsToFloat(si_source[base]), uintBitsToFloat(si_source[base + 1u]),
+                uintBitsToFloat(si_source[base + 2u]));
+  int normal_bits = int(si_source[base + 3u]);
+  // GL_INT_2_10_10_10_REV, normalized: what the vertex-shader path's attribute fetch computes.
+  vec3 n = max(vec3(bitfieldExtract(normal_bits, 0, 10), bitfieldExtract(normal_bits, 10, 10),
+                    bitfieldExtract(normal_bits, 20, 10)) / 511.0, vec3(-1.0));
+  uvec4 joints;
+  vec4 weights;
+  if (u_layout.y == 8u) {
+    joints = uvec4(unpackUnorm4x8(si_source[base + 5u]) * 255.0 + 0.5);
+    weights = vec4(unpackUnorm2x16(si_source[base + 6u]), unpackUnorm2x16(si_source[base + 7u]));
+  } else {
+    uint j01 = si_source[base + 5u], j23 = si_source[base + 6u];
+    joints = uvec4(j01 & 0xFFFFu, j01 >> 16, j23 & 0xFFFFu, j23 >> 16);
+    weights = vec4(unpackUnorm2x16(si_source[base + 7u]), unpackUnorm2x16(si_source[base + 8u]));
+  }
+  SiInstance inst = si_instances[u_chunk.w + i];
+  vec4 m0, m1, m2;
+  siSkin(inst, joints, weights, m0, m1, m2);
+  vec4 w0 = inst.world_rows[0], w1 = inst.world_rows[1], w2 = inst.world_rows[2];
+  vec3 world = siTransformPoint(w0, w1, w2, siTransformPoint(m0, m1, m2, p));
+  vec3 normal = siTransformNormal(w0, w1, w2, siTransformNormal(m0, m1, m2, n));
+  si_skinned_out[u_chunk.x + g] = vec4(world, uintBitsToFloat(packSnorm2x16(siOctEncode(normal))));
+}
+)";
+
+const char* kPulledVertex = R"(
+layout(std430, binding = 1) readonly buffer SiSkinned { vec4 si_skinned[]; };
+layout(location = 1) uniform mat4 u_view_projection;
+out vec3 v_normal;
+out vec2 v_texcoord;
+flat out uint v_color;
+vec3 siOctDecode(vec2 e) {
+  vec3 n = vec3(e, 1.0 - abs(e.x) - abs(e.y));
+  if (n.z < 0.0) n.xy = (1.0 - abs(n.yx)) * vec2(n.x >= 0.0 ? 1.0 : -1.0, n.y >= 0.0 ? 1.0 : -1.0);
+  return normalize(n);
+}
+void main() {
+  uint k = uint(gl_VertexID);
+  vec4 s = si_skinned[u_chunk.x + uint(gl_InstanceID) * u_chunk.y + k];
+  uint base = si_lod_vertices[u_chunk.z + k] * u_layout.y;
+  v_texcoord = unpackHalf2x16(si_source[base + 4u]);
+  v_normal = siOctDecode(unpackSnorm2x16(floatBitsToUint(s.w)));
+  v_color = si_instances[u_chunk.w + uint(gl_InstanceID)].blend.w;
+  gl_Position = u_view_projection * vec4(s.xyz, 1.0);
+}
+)";
+
 struct ProgramResult {
   GLuint program = kNoObject;
   Status status;
@@ -138,11 +215,30 @@ Status compile(GLenum type, const std::string& source, const char* name, GLuint*
     std::string log(size_t(std::max(length, 1)), '\0');
     glGetShaderInfoLog(shader, length, nullptr, log.data());
     glDeleteShader(shader);
-    return {StatusCode::kBackend, strCat("compiling the ", name, " ",
-                                         type == GL_VERTEX_SHADER ? "vertex" : "fragment",
-                                         " shader failed: ", log.c_str())};
+    return {StatusCode::kBackend,
+            strCat("compiling the ", name, " ",
+                   type == GL_VERTEX_SHADER    ? "vertex"
+                   : type == GL_COMPUTE_SHADER ? "compute"
+                                               : "fragment",
+                   " shader failed: ", log.c_str())};
   }
   *out = shader;
+  return Status::ok();
+}
+
+// Checks a linked program: kBackend with the driver's log (and the program deleted) on failure.
+Status finishLink(GLuint program, const char* name, GLuint* out) {
+  GLint ok = 0;
+  glGetProgramiv(program, GL_LINK_STATUS, &ok);
+  if (!ok) {
+    GLint length = 0;
+    glGetProgramiv(program, GL_INFO_LOG_LENGTH, &length);
+    std::string log(size_t(std::max(length, 1)), '\0');
+    glGetProgramInfoLog(program, length, nullptr, log.data());
+    glDeleteProgram(program);
+    return {StatusCode::kBackend, strCat("linking the ", name, " program failed: ", log.c_str())};
+  }
+  *out = program;
   return Status::ok();
 }
 
@@ -164,18 +260,18 @@ Status link(const std::string& vs, const std::string& fs, const char* name, cons
   glLinkProgram(program);
   glDeleteShader(v);
   glDeleteShader(f);
-  GLint ok = 0;
-  glGetProgramiv(program, GL_LINK_STATUS, &ok);
-  if (!ok) {
-    GLint length = 0;
-    glGetProgramiv(program, GL_INFO_LOG_LENGTH, &length);
-    std::string log(size_t(std::max(length, 1)), '\0');
-    glGetProgramInfoLog(program, length, nullptr, log.data());
-    glDeleteProgram(program);
-    return {StatusCode::kBackend, strCat("linking the ", name, " program failed: ", log.c_str())};
-  }
-  *out = program;
-  return Status::ok();
+  return finishLink(program, name, out);
+}
+
+Status linkCompute(const std::string& cs, const char* name, GLuint* out) {
+  GLuint c = kNoObject;
+  Status s = compile(GL_COMPUTE_SHADER, cs, name, &c);
+  if (!s.isOk()) return s;
+  const GLuint program = glCreateProgram();
+  glAttachShader(program, c);
+  glLinkProgram(program);
+  glDeleteShader(c);
+  return finishLink(program, name, out);
 }
 
 void GLAD_API_PTR debugCallback(GLenum, GLenum type, GLuint, GLenum severity, GLsizei,
@@ -236,7 +332,20 @@ struct Renderer::Impl {
   RendererDesc desc;
   bool debug = false;
   uint32_t block_size = 0, capacity = 0, alignment = 256;
-  Program skinned, depth, rigid, traditional, capture, preskinned;
+  Program skinned, depth, rigid, traditional, capture, preskinned, compute_skin, pulled;
+  // Compute pre-skinning: the compacted vertex list and index buffer of each (sub-mesh, LOD),
+  // the ring the compute pass writes, the path in use and why.
+  struct PreLod {
+    uint32_t first_index = 0, index_count = 0;  // Into pre_index_buffer (local indices).
+    uint32_t vertex_offset = 0, vertex_count = 0;  // Into the LOD vertex list.
+  };
+  std::vector<std::vector<PreLod>> pre_lods;  // [sub_mesh][lod]
+  GLuint pre_vao = kNoObject, pre_index_buffer = kNoObject, lod_vertex_list = kNoObject;
+  GLuint skinned_ring = kNoObject;
+  uint64_t skinned_ring_vertices = 0;
+  uint32_t source_words = 8, max_lod_vertices = 0;
+  SkinningPath path = SkinningPath::kVertexShader;
+  std::string path_reason = "explicit setting";
   // CPU-skinning baseline: a streaming vertex buffer and the vertex range of each LOD range.
   GLuint cpu_vao = kNoObject, cpu_stream = kNoObject;
   size_t cpu_stream_size = 0;
@@ -337,6 +446,127 @@ struct Renderer::Impl {
     const std::vector<IndexRange>& lods = sub_meshes[sub_mesh].lods;
     return lods[std::min<size_t>(lod, lods.size() - 1)];
   }
+
+  const PreLod& preLod(uint32_t sub_mesh, uint32_t lod) const {
+    const std::vector<PreLod>& lods = pre_lods[sub_mesh];
+    return lods[std::min<size_t>(lod, lods.size() - 1)];
+  }
+
+  // Binds batch d's records (in ring region `base`) to uniform block binding 0.
+  void bindRecords(size_t base, const DrawBatch& d) const {
+    glBindBufferRange(GL_UNIFORM_BUFFER, 0, ring, GLintptr(base + d.byte_offset),
+                      GLsizeiptr(block_size));
+  }
+
+  // The vertex-shader path (and depth-only, rigid): one instanced draw per batch.
+  void drawVertexPath(size_t base, DrawStats* st) const {
+    for (const DrawBatch& d : draws) {
+      if (d.sub_mesh >= sub_meshes.size()) continue;
+      const IndexRange range = lodRange(d.sub_mesh, d.lod);
+      bindRecords(base, d);
+      glDrawElementsInstanced(GL_TRIANGLES, GLsizei(range.index_count), GL_UNSIGNED_INT,
+                              reinterpret_cast<const void*>(uintptr_t(range.first_index) * 4),
+                              GLsizei(d.instance_count));
+      ++st->draw_calls;
+      st->triangles += uint64_t(range.index_count / 3) * d.instance_count;
+      st->instances += d.instance_count;
+    }
+  }
+
+  Status ensureSkinnedRing() {
+    if (skinned_ring != kNoObject) return Status::ok();
+    const uint64_t bytes = desc.compute_ring_bytes == 0 ? uint64_t(32) << 20 : desc.compute_ring_bytes;
+    skinned_ring_vertices = std::max<uint64_t>(bytes / 16, max_lod_vertices);
+    glCreateBuffers(1, &skinned_ring);
+    glNamedBufferStorage(skinned_ring, GLsizeiptr(skinned_ring_vertices * 16), nullptr, 0);
+    return check("creating the pre-skinned vertex ring");
+  }
+
+  // The compute path: for each batch, a compute dispatch skins its instances' vertices into the
+  // ring; when the ring is full (or at the end) the pending draws read them by vertex id. Barriers
+  // order the writes before the draws and the draws before the ring is overwritten.
+  Status drawComputePath(const Camera& camera, const glm::vec3& light, size_t base,
+                         DrawStats* st) {
+    Status s = ensureSkinnedRing();
+    if (!s.isOk()) return s;
+    const glm::mat4 vp = camera.viewProjection();
+    glBindTextureUnit(0, palette_texture);
+    glBindTextureUnit(1, base_texture);
+    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 1, skinned_ring);
+    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 2, vertex_buffer);
+    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 3, lod_vertex_list);
+    glProgramUniform4uiv(compute_skin.id, compute_skin.palette_info, 1, &palette_info[0]);
+    glProgramUniformMatrix4fv(pulled.id, pulled.view_projection, 1, GL_FALSE, &vp[0][0]);
+    glProgramUniform4fv(pulled.id, pulled.base_factor, 1, &base_factor[0]);
+    glProgramUniform3fv(pulled.id, pulled.light_direction, 1, &light[0]);
+    glBindVertexArray(pre_vao);
+    // One dispatch covers at most 65535 groups of 64 (GL's guaranteed minimum).
+    const uint64_t dispatch_limit = uint64_t(65535) * 64;
+    uint64_t cursor = 0;
+    pending.clear();
+    const auto flush = [&] {
+      if (pending.empty()) return;
+      glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT);  // Skinned vertices before the draws.
+      glUseProgram(pulled.id);
+      for (const PendingDraw& p : pending) {
+        bindRecords(base, p.batch);
+        glProgramUniform4ui(pulled.id, 5, p.ring_first, p.lod.vertex_count, p.lod.vertex_offset,
+                            p.first_instance);
+        glProgramUniform2ui(pulled.id, 6, p.instances, source_words);
+        glDrawElementsInstanced(GL_TRIANGLES, GLsizei(p.lod.index_count), GL_UNSIGNED_INT,
+                                reinterpret_cast<const void*>(uintptr_t(p.lod.first_index) * 4),
+                                GLsizei(p.instances));
+        ++st->draw_calls;
+        st->triangles += uint64_t(p.lod.index_count / 3) * p.instances;
+        st->instances += p.instances;
+      }
+      st->ring_bytes_used = std::max<uint64_t>(st->ring_bytes_used, cursor * 16);
+      ++st->compute_chunks;
+      pending.clear();
+      cursor = 0;
+    };
+    for (const DrawBatch& d : draws) {
+      if (d.sub_mesh >= pre_lods.size()) continue;
+      const PreLod& lod = preLod(d.sub_mesh, d.lod);
+      if (lod.vertex_count == 0 || lod.index_count == 0) continue;
+      for (uint32_t first = 0; first < d.instance_count;) {
+        const uint64_t fit = std::min(skinned_ring_vertices - cursor, dispatch_limit) /
+                             lod.vertex_count;
+        if (fit == 0) {
+          flush();
+          continue;
+        }
+        const uint32_t count = uint32_t(std::min<uint64_t>(d.instance_count - first, fit));
+        if (pending.empty()) {
+          // The last chunk's draws (or last frame's) are done reading the ring.
+          glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT);
+          glUseProgram(compute_skin.id);
+        }
+        bindRecords(base, d);
+        glProgramUniform4ui(compute_skin.id, 5, uint32_t(cursor), lod.vertex_count,
+                            lod.vertex_offset, first);
+        glProgramUniform2ui(compute_skin.id, 6, count, source_words);
+        const uint64_t threads = uint64_t(count) * lod.vertex_count;
+        glDispatchCompute(GLuint((threads + 63) / 64), 1, 1);
+        pending.push_back({d, lod, first, count, uint32_t(cursor)});
+        ++st->compute_dispatches;
+        st->skinned_vertices += threads;
+        cursor += threads;
+        first += count;
+      }
+    }
+    flush();
+    return Status::ok();
+  }
+
+  struct PendingDraw {
+    DrawBatch batch;
+    PreLod lod;
+    uint32_t first_instance, instances, ring_first;
+  };
+  std::vector<PendingDraw> pending;
+
+  Status measurePaths(const glm::vec3& light);
 };
 
 Renderer::Renderer() = default;
@@ -385,6 +615,20 @@ Status Renderer::init(const GlInfo& info, const RendererDesc& desc) {
     s = link(header + "#define SI_CAPTURE\n" + include + kSkinnedMain, kDepthFragment, "capture",
              "tf_position", &ids[4]);
   if (s.isOk()) s = link(kPreSkinnedVertex, kFragment, "pre-skinned", nullptr, &ids[5]);
+  GLuint compute_ids[2] = {kNoObject, kNoObject};
+  if (s.isOk())
+    s = linkCompute(header + include + kPreSkinDecl + kComputeSkin, "compute skinning",
+                    &compute_ids[0]);
+  if (s.isOk())
+    s = link(header + include + kPreSkinDecl + kPulledVertex, kFragment, "pre-skinned pulling",
+             nullptr, &compute_ids[1]);
+  impl->compute_skin = describe(compute_ids[0]);
+  impl->pulled = describe(compute_ids[1]);
+  impl->path = desc.skinning_path == SkinningPath::kCompute ? SkinningPath::kCompute
+                                                             : SkinningPath::kVertexShader;
+  impl->path_reason = desc.skinning_path == SkinningPath::kAutomatic
+                          ? "not measured yet (uploadCharacter measures)"
+                          : "explicit setting";
   impl->preskinned = describe(ids[5]);
   impl->skinned = describe(ids[0]);
   impl->depth = describe(ids[1]);
@@ -415,8 +659,11 @@ void Renderer::shutdown() {
     glDeleteBuffers(1, &m.ring);
   }
   for (const Program* p : {&m.skinned, &m.depth, &m.rigid, &m.traditional, &m.capture,
-                           &m.preskinned})
+                           &m.preskinned, &m.compute_skin, &m.pulled})
     if (p->id != kNoObject) glDeleteProgram(p->id);
+  const GLuint compute_buffers[] = {m.pre_index_buffer, m.lod_vertex_list, m.skinned_ring};
+  glDeleteBuffers(3, compute_buffers);
+  if (m.pre_vao != kNoObject) glDeleteVertexArrays(1, &m.pre_vao);
   if (m.cpu_vao != kNoObject) glDeleteVertexArrays(1, &m.cpu_vao);
   if (m.cpu_stream != kNoObject) glDeleteBuffers(1, &m.cpu_stream);
   const GLuint buffers[] = {m.vertex_buffer, m.index_buffer, m.character_ubo};
@@ -543,6 +790,48 @@ Status Renderer::uploadCharacter(const Character& character, const BakedPalette&
       m.lod_range_index[sm].push_back(uint32_t(m.lod_vertex_ranges.size()));
       m.lod_vertex_ranges.push_back(glm::uvec2(lo, hi - lo + 1));
     }
+  // Compute pre-skinning: the vertices each (sub-mesh, LOD) uses, compacted, and its triangles
+  // re-indexed to them, so the compute pass skins exactly what is drawn.
+  std::vector<uint32_t> lod_vertices, local_indices, local(mesh.vertexCount(), UINT32_MAX);
+  m.pre_lods.assign(mesh.sub_meshes.size(), {});
+  m.max_lod_vertices = 0;
+  for (size_t sm = 0; sm < mesh.sub_meshes.size(); ++sm)
+    for (const IndexRange& r : mesh.sub_meshes[sm].lods) {
+      Impl::PreLod pl;
+      pl.first_index = uint32_t(local_indices.size());
+      pl.index_count = r.index_count;
+      pl.vertex_offset = uint32_t(lod_vertices.size());
+      std::vector<uint32_t> used(mesh.indices.begin() + r.first_index,
+                                 mesh.indices.begin() + r.first_index + r.index_count);
+      std::sort(used.begin(), used.end());
+      used.erase(std::unique(used.begin(), used.end()), used.end());
+      for (size_t k = 0; k < used.size(); ++k) local[used[k]] = uint32_t(k);
+      lod_vertices.insert(lod_vertices.end(), used.begin(), used.end());
+      for (uint32_t i = r.first_index; i < r.first_index + r.index_count; ++i)
+        local_indices.push_back(local[mesh.indices[i]]);
+      pl.vertex_count = uint32_t(used.size());
+      m.max_lod_vertices = std::max(m.max_lod_vertices, pl.vertex_count);
+      m.pre_lods[sm].push_back(pl);
+    }
+  const GLuint old_pre[] = {m.pre_index_buffer, m.lod_vertex_list};
+  glDeleteBuffers(2, old_pre);
+  if (m.pre_vao != kNoObject) glDeleteVertexArrays(1, &m.pre_vao);
+  lod_vertices.push_back(0);  // Never empty (a zero-sized buffer is an error).
+  local_indices.push_back(0);
+  glCreateBuffers(1, &m.lod_vertex_list);
+  glNamedBufferStorage(m.lod_vertex_list, GLsizeiptr(lod_vertices.size() * 4), lod_vertices.data(), 0);
+  glCreateBuffers(1, &m.pre_index_buffer);
+  glNamedBufferStorage(m.pre_index_buffer, GLsizeiptr(local_indices.size() * 4),
+                       local_indices.data(), 0);
+  glCreateVertexArrays(1, &m.pre_vao);
+  glVertexArrayElementBuffer(m.pre_vao, m.pre_index_buffer);
+  m.source_words = uint32_t(stride / 4);
+  if (m.skinned_ring != kNoObject &&
+      m.skinned_ring_vertices < m.max_lod_vertices) {  // Regrow for a larger character.
+    glDeleteBuffers(1, &m.skinned_ring);
+    m.skinned_ring = kNoObject;
+  }
+
   if (m.cpu_vao != kNoObject) glDeleteVertexArrays(1, &m.cpu_vao);
   glCreateVertexArrays(1, &m.cpu_vao);
   glVertexArrayElementBuffer(m.cpu_vao, m.index_buffer);
@@ -572,7 +861,134 @@ Status Renderer::uploadCharacter(const Character& character, const BakedPalette&
   glGenerateTextureMipmap(m.base_texture);
   glTextureParameteri(m.base_texture, GL_TEXTURE_MIN_FILTER, GL_LINEAR_MIPMAP_LINEAR);
   glTextureParameteri(m.base_texture, GL_TEXTURE_MAG_FILTER, GL_LINEAR);
-  return m.check("uploadCharacter");
+  s = m.check("uploadCharacter");
+  if (s.isOk() && m.desc.skinning_path == SkinningPath::kAutomatic)
+    s = m.measurePaths(light_direction_);
+  return s;
+}
+
+// Times both skinning paths on a synthetic crowd of sub-mesh 0 at LOD 0 (about 2^20 vertices, a
+// crowd-sized draw: smaller ones mislead on llvmpipe, whose vertex path slows superlinearly; clip
+// 0 between two frames; the best of two after a warm-up) drawn into a small framebuffer of its own, and keeps the
+// faster. The application's framebuffer and viewport are restored.
+Status Renderer::Impl::measurePaths(const glm::vec3& light) {
+  if (pre_lods.empty() || pre_lods[0].empty() || pre_lods[0][0].vertex_count == 0 ||
+      palette == nullptr || palette->clips.empty()) {
+    path = SkinningPath::kVertexShader;
+    path_reason = "nothing to measure (empty mesh or palette): the vertex shader by default";
+    return Status::ok();
+  }
+  const uint32_t nv = pre_lods[0][0].vertex_count;
+  const uint32_t n = std::clamp<uint32_t>((1u << 20) / nv + 1, 1u, capacity * 16);
+  const uint32_t batches = (n + capacity - 1) / capacity;
+  const size_t block = (size_t(block_size) + alignment - 1) / alignment * alignment;
+  Status s = ensureRing(block * batches);
+  if (!s.isOk()) return s;
+  const uint32_t r = ring_index;
+  acquireRegion(r);
+  const size_t base = size_t(r) * region_size;
+  const BakedClip& clip = palette->clips[0];
+  const uint32_t next = clip.first_texel + (clip.frame_count > 1 ? palette->layout.frame_stride_texels : 0);
+  const float half = 0.5f;
+  const uint32_t side = uint32_t(std::ceil(std::sqrt(double(n))));
+  const float scale = 1.0f / float(side);
+  draws.clear();
+  for (uint32_t b = 0; b < batches; ++b) {
+    DrawBatch d;
+    d.byte_offset = uint32_t(b * block);
+    d.instance_count = std::min(capacity, n - b * capacity);
+    for (uint32_t i = 0; i < d.instance_count; ++i) {
+      const uint32_t index = b * capacity + i;
+      InstanceRecord rec{};
+      // Clip space directly (identity camera): a grid of small characters filling the view.
+      const float x = (float(index % side) + 0.5f) * 2.0f * scale - 1.0f;
+      const float y = (float(index / side) + 0.1f) * 2.0f * scale - 1.0f;
+      for (int row = 0; row < 3; ++row)
+        for (int col = 0; col < 3; ++col) rec.world_rows[row][col] = row == col ? scale * 0.45f : 0.0f;
+      rec.world_rows[0][3] = x;
+      rec.world_rows[1][3] = y;
+      rec.world_rows[2][3] = 0.0f;
+      rec.frames[0] = rec.frames[2] = clip.first_texel;
+      rec.frames[1] = rec.frames[3] = next;
+      std::memcpy(&rec.blend[0], &half, 4);
+      std::memcpy(&rec.blend[1], &half, 4);
+      rec.blend[3] = 0xFFFFFFFFu;
+      std::memcpy(ring_mapped + base + d.byte_offset + size_t(i) * sizeof(rec), &rec, sizeof(rec));
+    }
+    draws.push_back(d);
+  }
+  // A framebuffer of its own.
+  GLint previous_fbo = 0, viewport[4] = {0, 0, 0, 0};
+  glGetIntegerv(GL_DRAW_FRAMEBUFFER_BINDING, &previous_fbo);
+  glGetIntegerv(GL_VIEWPORT, viewport);
+  GLuint fbo = kNoObject, targets[2] = {kNoObject, kNoObject};
+  glCreateFramebuffers(1, &fbo);
+  glCreateRenderbuffers(2, targets);
+  glNamedRenderbufferStorage(targets[0], GL_RGBA8, 256, 256);
+  glNamedRenderbufferStorage(targets[1], GL_DEPTH_COMPONENT24, 256, 256);
+  glNamedFramebufferRenderbuffer(fbo, GL_COLOR_ATTACHMENT0, GL_RENDERBUFFER, targets[0]);
+  glNamedFramebufferRenderbuffer(fbo, GL_DEPTH_ATTACHMENT, GL_RENDERBUFFER, targets[1]);
+  glBindFramebuffer(GL_DRAW_FRAMEBUFFER, fbo);
+  glViewport(0, 0, 256, 256);
+  glEnable(GL_DEPTH_TEST);
+  glEnable(GL_CULL_FACE);
+  const Camera identity;
+  double best[2] = {1e30, 1e30};
+  for (int rep = 0; rep < 3; ++rep)
+    for (int p = 0; p < 2; ++p) {
+      glClear(GL_COLOR_BUFFER_BIT | GL_DEPTH_BUFFER_BIT);
+      glBeginQuery(GL_TIME_ELAPSED, timer);
+      DrawStats st;
+      if (p == 0) {
+        bindCommon(skinned, identity, light);
+        drawVertexPath(base, &st);
+      } else {
+        s = drawComputePath(identity, light, base, &st);
+      }
+      glEndQuery(GL_TIME_ELAPSED);
+      GLuint64 ns = 0;
+      glGetQueryObjectui64v(timer, GL_QUERY_RESULT, &ns);
+      if (rep > 0) best[p] = std::min(best[p], double(ns) * 1e-6);  // Rep 0 warms up.
+      if (!s.isOk()) break;
+    }
+  glBindFramebuffer(GL_DRAW_FRAMEBUFFER, GLuint(previous_fbo));
+  glViewport(viewport[0], viewport[1], viewport[2], viewport[3]);
+  glDeleteFramebuffers(1, &fbo);
+  glDeleteRenderbuffers(2, targets);
+  fences[r] = glFenceSync(GL_SYNC_GPU_COMMANDS_COMPLETE, 0);
+  ring_index = (r + 1) % ring_frames;
+  if (!s.isOk()) return s;
+  path = best[1] < best[0] ? SkinningPath::kCompute : SkinningPath::kVertexShader;
+  char text[200];
+  std::snprintf(text, sizeof text,
+                "measured %u instances x %u vertices: vertex shader %.3f ms, compute %.3f ms",
+                n, nv, best[0], best[1]);
+  path_reason = text;
+  logMessage(LogLevel::kInfo,
+             strCat("si::Renderer: skinning path ", skinningPathName(path), " (", text, ")"));
+  return check("measuring the skinning paths");
+}
+
+const char* skinningPathName(SkinningPath path) {
+  switch (path) {
+    case SkinningPath::kAutomatic: return "automatic";
+    case SkinningPath::kVertexShader: return "vertex-shader";
+    case SkinningPath::kCompute: return "compute";
+  }
+  return "unknown";
+}
+
+SkinningPath Renderer::skinningPath() const {
+  return impl_ ? impl_->path : SkinningPath::kVertexShader;
+}
+
+const std::string& Renderer::skinningPathReason() const {
+  static const std::string none = "no renderer (init() first)";
+  return impl_ ? impl_->path_reason : none;
+}
+
+uint64_t Renderer::computeRingBytes() const {
+  return impl_ && impl_->skinned_ring != kNoObject ? impl_->skinned_ring_vertices * 16 : 0;
 }
 
 uint32_t Renderer::triangleCount(uint32_t sub_mesh, uint32_t lod) const {
@@ -605,26 +1021,25 @@ Status Renderer::drawCrowd(const CrowdManager& crowd, const InstanceBatcher& bat
   s = batcher.build(crowd, Span<uint8_t>(m.ring_mapped + base, m.region_size - m.block_size),
                     &m.draws);
   if (!s.isOk()) return s;
-  const Program& program = mode == DrawMode::kDepthOnly ? m.depth
-                           : mode == DrawMode::kRigid   ? m.rigid
-                                                        : m.skinned;
-  m.bindCommon(program, camera, light_direction_);
+  if (mode == DrawMode::kDefault)
+    mode = m.path == SkinningPath::kCompute ? DrawMode::kComputeSkinned : DrawMode::kSkinned;
   glEnable(GL_DEPTH_TEST);
   glEnable(GL_CULL_FACE);
-  if (mode == DrawMode::kDepthOnly) glColorMask(GL_FALSE, GL_FALSE, GL_FALSE, GL_FALSE);
-  m.beginTimer(stats);
   DrawStats st;
-  for (const DrawBatch& d : m.draws) {
-    if (d.sub_mesh >= m.sub_meshes.size()) continue;
-    const IndexRange range = m.lodRange(d.sub_mesh, d.lod);
-    glBindBufferRange(GL_UNIFORM_BUFFER, 0, m.ring, GLintptr(base + d.byte_offset),
-                      GLsizeiptr(m.block_size));
-    glDrawElementsInstanced(GL_TRIANGLES, GLsizei(range.index_count), GL_UNSIGNED_INT,
-                            reinterpret_cast<const void*>(uintptr_t(range.first_index) * 4),
-                            GLsizei(d.instance_count));
-    ++st.draw_calls;
-    st.triangles += uint64_t(range.index_count / 3) * d.instance_count;
-    st.instances += d.instance_count;
+  if (mode == DrawMode::kComputeSkinned) {
+    s = m.ensureSkinnedRing();
+    if (!s.isOk()) return s;
+    m.beginTimer(stats);
+    s = m.drawComputePath(camera, light_direction_, base, &st);
+    if (!s.isOk()) return s;
+  } else {
+    const Program& program = mode == DrawMode::kDepthOnly ? m.depth
+                             : mode == DrawMode::kRigid   ? m.rigid
+                                                          : m.skinned;
+    m.bindCommon(program, camera, light_direction_);
+    if (mode == DrawMode::kDepthOnly) glColorMask(GL_FALSE, GL_FALSE, GL_FALSE, GL_FALSE);
+    m.beginTimer(stats);
+    m.drawVertexPath(base, &st);
   }
   st.cpu_submit_ms = msSince(t0);  // Before the (blocking) timer read.
   m.endTimer(stats);

@@ -14,6 +14,7 @@
 
 #include "si/bake/animation_baker.h"
 #include "si/core/default_character.h"
+#include "si/core/log.h"
 #include "si/core/reference_evaluator.h"
 #include "si/gl/renderer.h"
 #include "render/render_test_helpers.h"
@@ -98,11 +99,16 @@ class RenderTest : public ::testing::TestWithParam<HeadlessBackend> {
   }
 
   // A renderer with the default character uploaded (block size 0: the context's limit).
+  // The skinning path is explicit (the vertex shader) unless `rd_in` says otherwise.
   void makeRenderer(Renderer* r, uint32_t block_size = 0,
-                    PaletteFormat format = PaletteFormat::kMatrix3x4F32) {
+                    PaletteFormat format = PaletteFormat::kMatrix3x4F32,
+                    const RendererDesc* rd_in = nullptr) {
     RendererDesc rd;
+    rd.skinning_path = SkinningPath::kVertexShader;
+    if (rd_in) rd = *rd_in;
     rd.uniform_block_size_bytes = block_size;
-    ASSERT_TRUE(r->init(info_, rd).isOk());
+    const Status init = r->init(info_, rd);
+    ASSERT_TRUE(init.isOk()) << init.toString();
     ASSERT_TRUE(r->uploadPalette(palette(format)).isOk());
     ASSERT_TRUE(r->uploadCharacter(character(), palette(format)).isOk());
   }
@@ -115,7 +121,7 @@ class RenderTest : public ::testing::TestWithParam<HeadlessBackend> {
     ASSERT_TRUE(crowd->init(cd).isOk());
   }
 
-  enum class Path { kInstanced, kTraditional, kCpuSkinned };
+  enum class Path { kInstanced, kTraditional, kCpuSkinned, kCompute };
   std::vector<uint8_t> draw(Renderer& r, const CrowdManager& crowd, const Camera& camera,
                             uint32_t block_size, bool traditional = false, DrawStats* out = nullptr,
                             Path path = Path::kInstanced) {
@@ -126,9 +132,11 @@ class RenderTest : public ::testing::TestWithParam<HeadlessBackend> {
     r.clear(glm::vec4(0.2f, 0.25f, 0.3f, 1.0f));
     DrawStats stats;
     if (traditional) path = Path::kTraditional;
-    const Status s = path == Path::kTraditional  ? r.drawTraditional(crowd, camera, &stats)
-                     : path == Path::kCpuSkinned ? r.drawCpuSkinned(crowd, camera, &stats)
-                                                 : r.drawCrowd(crowd, batcher, camera, &stats);
+    const Status s =
+        path == Path::kTraditional  ? r.drawTraditional(crowd, camera, &stats)
+        : path == Path::kCpuSkinned ? r.drawCpuSkinned(crowd, camera, &stats)
+        : path == Path::kCompute ? r.drawCrowd(crowd, batcher, camera, &stats, DrawMode::kComputeSkinned)
+                                 : r.drawCrowd(crowd, batcher, camera, &stats);
     EXPECT_TRUE(s.isOk()) << s.toString();
     if (out) *out = stats;
     std::vector<uint8_t> rgba;
@@ -372,6 +380,107 @@ TEST_P(RenderTest, DepthOnlyAndRigidProgramsDraw) {
   std::vector<uint8_t> rigid;
   ASSERT_TRUE(context_->readPixels(&rigid).isOk());
   EXPECT_GT(compare(skinned, rigid, nullptr).share, 0.01);  // The raised arm moves pixels.
+}
+
+// The compute pre-skinning path draws the vertex-shader path's image: every LOD, variation,
+// tint and a crossfade, in each palette format, with the default ring and with a ring so small
+// that the crowd is skinned and drawn in many chunks.
+TEST_P(RenderTest, ComputePreSkinningEqualsTheVertexShaderPath) {
+  for (PaletteFormat format : {PaletteFormat::kMatrix3x4F32, PaletteFormat::kMatrix3x4F16,
+                               PaletteFormat::kQuatTranslationF32}) {
+    SCOPED_TRACE(paletteFormatName(format));
+    CrowdManager crowd;
+    makeCrowd(&crowd, format);
+    populateLodCrowd(&crowd);
+    InstanceHandle fading;
+    InstanceDesc d;
+    d.position = glm::dvec3(0.5, 0.0, -2.0);
+    ASSERT_TRUE(crowd.add(d, &fading).isOk());
+    ASSERT_TRUE(crowd.crossfade(fading, uint32_t(palette(format).findClip("run")), 1.0).isOk());
+    ASSERT_TRUE(crowd.update(0.3, lodCamera()).isOk());
+    for (uint64_t ring_bytes : {uint64_t(0), uint64_t(64) << 10}) {
+      SCOPED_TRACE(ring_bytes);
+      Renderer r;
+      RendererDesc rd;
+      rd.skinning_path = SkinningPath::kVertexShader;
+      rd.compute_ring_bytes = ring_bytes;
+      makeRenderer(&r, 0, format, &rd);
+      DrawStats vs_stats, cs_stats;
+      const std::vector<uint8_t> a = draw(r, crowd, lodCamera(), 0, false, &vs_stats);
+      const std::vector<uint8_t> b =
+          draw(r, crowd, lodCamera(), 0, false, &cs_stats, Path::kCompute);
+      const Diff diff = compare(a, b, nullptr);
+      std::printf("[ compute  ] %s, ring %llu: %.4f %% of pixels differ, max channel %d\n",
+                  paletteFormatName(format), static_cast<unsigned long long>(ring_bytes),
+                  diff.share * 100.0, diff.max_channel);
+      EXPECT_LE(diff.share, 0.001) << "max channel difference " << diff.max_channel;
+      EXPECT_LE(diff.max_channel, 24);
+      EXPECT_EQ(cs_stats.triangles, vs_stats.triangles);
+      EXPECT_EQ(cs_stats.instances, vs_stats.instances);
+      EXPECT_GE(cs_stats.compute_dispatches, vs_stats.draw_calls);
+      EXPECT_GT(cs_stats.skinned_vertices, 0u);
+      EXPECT_LE(cs_stats.ring_bytes_used, r.computeRingBytes());
+      if (ring_bytes != 0) {
+        EXPECT_EQ(r.computeRingBytes(), ring_bytes);  // Bounded as asked (one LOD 0 body fits).
+        EXPECT_GT(cs_stats.compute_chunks, 1u);
+      } else {
+        EXPECT_EQ(cs_stats.compute_chunks, 1u);
+      }
+      EXPECT_EQ(vs_stats.compute_dispatches, 0u);
+    }
+  }
+}
+
+// The automatic choice measures both paths in a framebuffer of its own, says what it measured,
+// leaves the application's framebuffer alone, and draws the same image by its choice.
+TEST_P(RenderTest, AutomaticSkinningPathIsMeasuredAndLogged) {
+  std::vector<std::string> log;
+  setLogCallback(
+      [](LogLevel, const char* m, void* user) {
+        static_cast<std::vector<std::string>*>(user)->push_back(m);
+      },
+      &log);
+  const glm::vec4 clear(0.2f, 0.25f, 0.3f, 1.0f);
+  Renderer r;
+  RendererDesc rd;  // kAutomatic by default.
+  ASSERT_EQ(rd.skinning_path, SkinningPath::kAutomatic);
+  ASSERT_TRUE(r.init(info_, rd).isOk());
+  r.clear(clear);
+  std::vector<uint8_t> before;
+  ASSERT_TRUE(context_->readPixels(&before).isOk());
+  ASSERT_TRUE(r.uploadPalette(palette()).isOk());
+  ASSERT_TRUE(r.uploadCharacter(character(), palette()).isOk());
+  setLogCallback(nullptr, nullptr);
+  std::vector<uint8_t> after;
+  ASSERT_TRUE(context_->readPixels(&after).isOk());
+  EXPECT_EQ(compare(before, after, nullptr).max_channel, 0);
+  EXPECT_NE(r.skinningPath(), SkinningPath::kAutomatic);
+  std::printf("[ path     ] %s: %s\n", skinningPathName(r.skinningPath()),
+              r.skinningPathReason().c_str());
+  EXPECT_NE(r.skinningPathReason().find("vertex shader"), std::string::npos) << r.skinningPathReason();
+  EXPECT_NE(r.skinningPathReason().find("compute"), std::string::npos);
+  bool logged = false;
+  for (const std::string& m : log)
+    logged |= m.find(std::string("skinning path ") + skinningPathName(r.skinningPath())) !=
+              std::string::npos;
+  EXPECT_TRUE(logged);
+  // Whichever it chose draws what the vertex shader draws.
+  CrowdManager crowd;
+  makeCrowd(&crowd);
+  populateLodCrowd(&crowd);
+  ASSERT_TRUE(crowd.update(0.0, lodCamera()).isOk());
+  const std::vector<uint8_t> chosen = draw(r, crowd, lodCamera(), 0);
+  Renderer vs;
+  makeRenderer(&vs);
+  const std::vector<uint8_t> reference = draw(vs, crowd, lodCamera(), 0);
+  EXPECT_LE(compare(chosen, reference, nullptr).share, 0.001);
+  // An explicit setting is kept and says so.
+  Renderer explicit_compute;
+  RendererDesc cd;
+  cd.skinning_path = SkinningPath::kCompute;
+  makeRenderer(&explicit_compute, 0, PaletteFormat::kMatrix3x4F32, &cd);
+  EXPECT_EQ(explicit_compute.skinningPath(), SkinningPath::kCompute);
+  EXPECT_EQ(explicit_compute.skinningPathReason(), "explicit setting");
 }
 
 TEST_P(RenderTest, InitRejectsBadBlockSizes) {

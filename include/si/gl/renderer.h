@@ -31,6 +31,7 @@
 
 #include <cstdint>
 #include <memory>
+#include <string>
 #include <vector>
 
 #include "si/core/baked_palette.h"
@@ -41,6 +42,15 @@
 #include "si/gl/gl_context.h"
 
 namespace si {
+
+/// Where the crowd's vertices are skinned.
+enum class SkinningPath : uint8_t {
+  kAutomatic = 0,  ///< Measure both at uploadCharacter() and keep the faster (logged).
+  kVertexShader,   ///< The vertex shader skins each vertex as it draws (the technique's path).
+  kCompute,        ///< A compute pass pre-skins the visible vertices into a buffer ring; the
+                   ///< draw reads them by vertex id (GL 4.3 compute, vertex pulling).
+};
+const char* skinningPathName(SkinningPath path);
 
 /// Renderer options. Zero fields take the defaults documented on each.
 struct RendererDesc {
@@ -55,6 +65,15 @@ struct RendererDesc {
   /// Measure GPU time of each draw call group with a timer query (blocks until the result is
   /// available: for benchmarks and tests).
   bool measure_gpu_time = false;
+  /// The skinning path of DrawMode::kDefault. kAutomatic (the default) times both paths on a
+  /// synthetic crowd of about 2^20 vertices of the uploaded character at uploadCharacter()
+  /// (offscreen; milliseconds on a GPU, about 2 s on llvmpipe) and logs the choice with its
+  /// reason; the others are explicit.
+  SkinningPath skinning_path = SkinningPath::kAutomatic;
+  /// Bytes of the compute path's pre-skinned vertex ring (16 bytes a vertex); 0 means 32 MiB.
+  /// The visible set is skinned and drawn in chunks that fit; it never grows past this, except
+  /// to hold at least one instance of the largest sub-mesh LOD.
+  uint64_t compute_ring_bytes = 0;
 };
 
 /// What one draw call group did.
@@ -64,11 +83,17 @@ struct DrawStats {
   uint64_t instances = 0;        ///< Instance-draws (an instance counts once per sub-mesh).
   double cpu_submit_ms = 0.0;    ///< CPU time spent in the draw function (records and GL calls).
   double gpu_ms = -1.0;          ///< GPU time, when RendererDesc::measure_gpu_time, else -1.
+  uint32_t compute_dispatches = 0;  ///< Compute path: skinning dispatches,
+  uint32_t compute_chunks = 0;      ///< times the vertex ring was filled and drawn,
+  uint64_t skinned_vertices = 0;    ///< vertices pre-skinned,
+  uint64_t ring_bytes_used = 0;     ///< and the most ring bytes one chunk used.
 };
 
-/// Which program draws: the skinned instanced path (default), the same skinning writing depth
-/// only (shadow maps), or rigid instancing of the bind pose (the floor baseline).
-enum class DrawMode : uint8_t { kDefault = 0, kSkinned, kDepthOnly, kRigid };
+/// Which program draws: kDefault skins by the renderer's skinning path; kSkinned forces the
+/// vertex-shader path and kComputeSkinned the compute pre-skinning path; kDepthOnly is the
+/// vertex-shader skinning writing depth only (shadow maps); kRigid is rigid instancing of the
+/// bind pose (the floor baseline).
+enum class DrawMode : uint8_t { kDefault = 0, kSkinned, kDepthOnly, kRigid, kComputeSkinned };
 
 /// The back-end. Create after loadGl(); destroy (or shutdown()) with the context current.
 class Renderer {
@@ -92,8 +117,15 @@ class Renderer {
   /// GL_MAX_TEXTURE_SIZE; kInvalidArgument for an inconsistent palette.
   Status uploadPalette(const BakedPalette& palette);
   /// Uploads the character's mesh (joint indices remapped to palette slots), its first
-  /// material's base colour and texture. The palette must be the one baked for it.
+  /// material's base colour and texture. The palette must be the one baked for it. With
+  /// SkinningPath::kAutomatic it then measures both skinning paths and picks the faster.
   Status uploadCharacter(const Character& character, const BakedPalette& palette);
+
+  /// The path DrawMode::kDefault uses, and why (measured times, or "explicit setting").
+  SkinningPath skinningPath() const;
+  const std::string& skinningPathReason() const;
+  /// Bytes allocated for the compute path's vertex ring (0 until it is first used).
+  uint64_t computeRingBytes() const;
 
   /// Sets the directional light (world direction the light travels along).
   void setLightDirection(const glm::vec3& direction) { light_direction_ = direction; }
