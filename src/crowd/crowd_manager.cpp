@@ -4,6 +4,8 @@
 // frustum culling before anything reaches the GPU.
 #include "si/crowd/crowd_manager.h"
 
+#include "crowd/cull_math.h"
+
 #include <algorithm>
 #include <cmath>
 #include <cstring>
@@ -379,10 +381,8 @@ Status CrowdManager::update(double dt, const Camera& camera) {
   clock_ = t;
 
   const BakedPalette& palette = *desc_.palette;
-  const uint32_t n = size(), submeshes = desc_.sub_mesh_count, lods = desc_.lod_count;
-  const std::array<glm::vec4, 6> planes = camera.frustumPlanes();
-  const float max_radii = desc_.max_distance_radii;
-  const float hysteresis = desc_.lod_hysteresis_ratio;
+  const uint32_t n = size(), submeshes = desc_.sub_mesh_count;
+  const cull::Params cull_params = cullParams(camera);
   const double anim_step = 1.0 / double(desc_.animation_lod_rate_hz);
   const uint32_t anim_lod = desc_.animation_lod_start == 0 ? kMaxLods : desc_.animation_lod_start;
 
@@ -393,53 +393,30 @@ Status CrowdManager::update(double dt, const Camera& camera) {
   visible_handles_.clear();
   std::fill(bucket_offsets_.begin(), bucket_offsets_.end(), 0u);
 
-  // Pass 1: distance, LOD, culling, records; count bucket entries.
+  // Pass 1: distance, LOD, culling, records; count bucket entries. The selection uses only
+  // +, -, * and comparisons in a fixed order (cull_math.h), so the GPU-driven culling pass,
+  // which does the same arithmetic, selects exactly the same instances and LODs.
   for (uint32_t i = 0; i < n; ++i) {
     const glm::vec3 rel(positions_[i] - camera.position);  // Camera-relative, from double.
-    const float radius = radius_ * scales_[i];
-    const float distance_radii = glm::length(rel) / radius;
-    if (max_radii >= 0.0f && distance_radii > max_radii) {
-      ++stats_.culled_distance;
-      continue;
-    }
-    // Conservative sphere of the current clip (and the one fading out).
     const Playback& pb = playback_[i];
-    const glm::quat& q = rotations_[i];
-    const float s = scales_[i];
-    const ClipInfo& ca = clip_info_[pb.clip];
-    glm::vec3 center = rel + q * (ca.sphere_center * s);
-    float sphere_radius = ca.sphere_radius * s;
+    // A crossfade is over once the clock passes its end (compared without a division).
+    if (fade_duration_[i] > 0.0 && !(clock_ - fade_start_[i] < fade_duration_[i]))
+      fade_duration_[i] = 0.0;
     const bool fading = fade_duration_[i] > 0.0;
-    if (fading) {
-      const ClipInfo& other = clip_info_[fade_from_[i].clip];
-      const glm::vec3 c2 = rel + q * (other.sphere_center * s);
-      // The sphere around both spheres.
-      const float d = glm::length(c2 - center);
-      const float r2 = other.sphere_radius * s;
-      if (d + r2 > sphere_radius) {
-        if (d + sphere_radius <= r2) {
-          center = c2;
-          sphere_radius = r2;
-        } else {
-          const float r = 0.5f * (d + sphere_radius + r2);
-          center += (c2 - center) * ((r - sphere_radius) / d);
-          sphere_radius = r;
-        }
-      }
-    }
-    bool inside = true;
-    for (const glm::vec4& p : planes)
-      inside &= glm::dot(glm::vec3(p), center) + p.w >= -sphere_radius;
-    if (!inside) {
-      ++stats_.culled_frustum;
+    const ClipInfo& ca = clip_info_[pb.clip];
+    const ClipInfo& cb = clip_info_[fading ? fade_from_[i].clip : pb.clip];
+    cull::Selection sel;
+    sel.lod = lods_[i];
+    if (!cull::select(rel, rotations_[i], scales_[i], ca.sphere_center, ca.sphere_radius,
+                      cb.sphere_center, cb.sphere_radius, cull_params, &sel)) {
+      ++(sel.culled_by_distance ? stats_.culled_distance : stats_.culled_frustum);
       continue;
     }
-    // LOD with hysteresis: move one way only once past the line by the hysteresis margin.
-    uint32_t lod = std::min<uint32_t>(lods_[i], lods - 1);
-    while (lod + 1 < lods && distance_radii > lod_lines_[lod] * (1.0f + hysteresis)) ++lod;
-    while (lod > 0 && distance_radii < lod_lines_[lod - 1] * (1.0f - hysteresis)) --lod;
+    const uint32_t lod = sel.lod;
     lods_[i] = static_cast<uint8_t>(lod);
     ++stats_.per_lod[lod];
+    const glm::quat& q = rotations_[i];
+    const float s = scales_[i];
 
     // The record.
     InstanceRecord rec;
@@ -459,14 +436,8 @@ Status CrowdManager::update(double dt, const Camera& camera) {
     rec.blend[0] = floatBits(fa.fraction);
     rec.blend[3] = colors_[i];
     float weight_b = 0.0f;
+    if (fading) weight_b = std::min(float((clock_ - fade_start_[i]) / fade_duration_[i]), 1.0f);
     if (fading) {
-      weight_b = float((clock_ - fade_start_[i]) / fade_duration_[i]);
-      if (weight_b >= 1.0f) {  // The blend is over: drop the old clip.
-        fade_duration_[i] = 0.0;
-        weight_b = 0.0f;
-      }
-    }
-    if (fade_duration_[i] > 0.0) {
       // Clip A is the one fading out; B the new one, weighted by weight_b.
       const Playback& old = fade_from_[i];
       double tb = localTime(old, clock_);
@@ -515,6 +486,17 @@ Status CrowdManager::update(double dt, const Camera& camera) {
     }
   }
   return Status::ok();
+}
+
+cull::Params CrowdManager::cullParams(const Camera& camera) const {
+  cull::Params p;
+  p.planes = camera.frustumPlanes();
+  p.radius = radius_;
+  p.max_distance_radii = desc_.max_distance_radii;
+  p.hysteresis = desc_.lod_hysteresis_ratio;
+  p.lod_count = desc_.lod_count;
+  for (size_t l = 0; l < lod_lines_.size() && l < 7; ++l) p.lod_lines[l] = lod_lines_[l];
+  return p;
 }
 
 Status CrowdManager::setLodDistances(Span<const float> lines, float max_distance_radii) {

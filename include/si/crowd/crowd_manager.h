@@ -38,6 +38,10 @@
 
 namespace si {
 
+namespace cull {
+struct Params;
+}  // namespace cull
+
 /// Crowd options. Zero fields take the defaults documented on each (resolveDefaults()).
 struct CrowdDesc {
   /// The baked palette the instances play; borrowed, must outlive the crowd. Required.
@@ -200,6 +204,7 @@ class CrowdManager {
     float sphere_radius;
   };
   double localTime(const Playback& p, double clock) const;
+  cull::Params cullParams(const Camera& camera) const;
   FrameSample fastSample(uint32_t clip, double local_time) const;
   Status validateInstance(const InstanceDesc& d) const;
   Status denseIndex(InstanceHandle h, uint32_t* dense) const;
