@@ -29,7 +29,8 @@ double msSince(Clock::time_point t) {
 struct Options {
   std::vector<uint32_t> sizes = {1000, 4000};
   std::vector<std::string> scenes = {"field", "stadium"};
-  std::vector<std::string> paths = {"instanced", "compute", "traditional", "cpu", "rigid"};
+  std::vector<std::string> paths = {"instanced", "compute", "gpu-culled", "traditional", "cpu",
+                                    "rigid"};
   uint32_t frames = 5;
   uint32_t width = 1280, height = 720;
   uint32_t max_baseline = 20000;  // Traditional and CPU skinning are skipped above this.
@@ -51,10 +52,12 @@ std::vector<std::string> split(const std::string& s) {
 void usage(std::FILE* f) {
   std::fprintf(f,
       "Times per path are medians over the measured frames (after 2 warm-up frames).\n"
-      "Paths: instanced (vertex-shader skinning), compute (compute pre-skinning), traditional\n"
-      "(one draw per character), cpu (CPU skinning), rigid (no skinning: the floor).\n"
+      "Paths: instanced (vertex-shader skinning), compute (compute pre-skinning), gpu-culled\n"
+      "(culling, LOD and records on the GPU, one multi-draw; the CPU only advances the clock),\n"
+      "traditional (one draw per character), cpu (CPU skinning), rigid (no skinning: the floor).\n"
       "usage: crowd_bench [--sizes N,N,...] [--scenes field,stadium] [--frames N]\n"
-      "                   [--paths instanced,compute,traditional,cpu,rigid] [--size WxH]\n"
+      "                   [--paths instanced,compute,gpu-culled,traditional,cpu,rigid]\n"
+      "                   [--size WxH]\n"
       "                   [--max-baseline N] [--error-table-size N] [--csv PATH]\n"
       "                   [--plots DIR] [--backend auto|egl-device|egl-surfaceless|osmesa]\n"
       "                   [--quick]   (fixed-rate bakes only, for smoke tests)\n");
@@ -85,7 +88,8 @@ bool parse(int argc, char** argv, Options* o) {
   for (const std::string& s : o->scenes)
     if (s != "field" && s != "stadium") return false;
   for (const std::string& p : o->paths)
-    if (p != "instanced" && p != "compute" && p != "traditional" && p != "cpu" && p != "rigid")
+    if (p != "instanced" && p != "compute" && p != "gpu-culled" && p != "traditional" &&
+        p != "cpu" && p != "rigid")
       return false;
   return !o->sizes.empty() && o->frames > 0;
 }
@@ -182,12 +186,15 @@ bool runPath(Bench& b, si::Renderer& renderer, const si::BakedPalette& palette,
   for (uint32_t f = 0; f < warmup + n; ++f) {
     const si::Camera cam = cameraAt(scene, positions, f < warmup ? 0 : f - warmup, n, aspect);
     const auto t0 = Clock::now();
-    s = crowd.update(1.0 / 60.0, cam);
+    const bool gpu_culled = path == "gpu-culled";
+    s = gpu_culled ? crowd.advanceClock(1.0 / 60.0) : crowd.update(1.0 / 60.0, cam);
     const double update_ms = msSince(t0);
     renderer.clear(glm::vec4(0.6f, 0.65f, 0.6f, 1.0f));
     si::DrawStats st;
     if (s.isOk()) {
-      if (path == "instanced")
+      if (gpu_culled)
+        s = renderer.drawCrowdGpuCulled(crowd, cam, &st);
+      else if (path == "instanced")
         s = renderer.drawCrowd(crowd, batcher, cam, &st, si::DrawMode::kSkinned);
       else if (path == "compute")
         s = renderer.drawCrowd(crowd, batcher, cam, &st, si::DrawMode::kComputeSkinned);
@@ -200,7 +207,7 @@ bool runPath(Bench& b, si::Renderer& renderer, const si::BakedPalette& palette,
     update_ms_v.push_back(update_ms);
     submit_ms_v.push_back(st.cpu_submit_ms);
     gpu_ms_v.push_back(st.gpu_ms);
-    row->visible = crowd.stats().visible;
+    row->visible = gpu_culled ? st.gpu_visible : crowd.stats().visible;
     row->draws = st.draw_calls;
     row->triangles = double(st.triangles);
   }

@@ -88,7 +88,9 @@ Status CrowdManager::init(const CrowdDesc& in_desc) {
             "CrowdDesc.max_distance_radii must be finite; lod_hysteresis_ratio in [0, 1)"};
   if (!std::isfinite(d.animation_lod_rate_hz) || d.animation_lod_rate_hz <= 0.0f)
     return {StatusCode::kInvalidArgument, "CrowdDesc.animation_lod_rate_hz must be > 0"};
+  const uint64_t version = state_version_;
   *this = CrowdManager();
+  state_version_ = version + 1;
   desc_ = d;
   radius_ = d.character_radius;
   lod_lines_ = d.lod_distances_radii;
@@ -149,6 +151,7 @@ void CrowdManager::pushInstance(const InstanceDesc& d, InstanceHandle h) {
   fade_duration_.push_back(0.0);
   lods_.push_back(0);
   dense_handles_.push_back(h);
+  ++state_version_;
 }
 
 Status CrowdManager::add(const InstanceDesc& d, InstanceHandle* out) {
@@ -248,6 +251,7 @@ Status CrowdManager::remove(InstanceHandle h) {
   move_last(fade_duration_);
   move_last(lods_);
   move_last(dense_handles_);
+  ++state_version_;
   return handles_.release(h);
 }
 
@@ -263,20 +267,21 @@ Status CrowdManager::setTransform(InstanceHandle h, const glm::dvec3& position,
   positions_[i] = position;
   rotations_[i] = glm::normalize(rotation);
   scales_[i] = scale;
+  ++state_version_;
   return Status::ok();
 }
 
 Status CrowdManager::setColor(InstanceHandle h, glm::u8vec4 color) {
   uint32_t i = 0;
   Status s = denseIndex(h, &i);
-  if (s.isOk()) colors_[i] = packColor(color);
+  if (s.isOk()) colors_[i] = packColor(color), ++state_version_;
   return s;
 }
 
 Status CrowdManager::setVariationMask(InstanceHandle h, uint32_t mask) {
   uint32_t i = 0;
   Status s = denseIndex(h, &i);
-  if (s.isOk()) masks_[i] = mask;
+  if (s.isOk()) masks_[i] = mask, ++state_version_;
   return s;
 }
 
@@ -290,6 +295,7 @@ Status CrowdManager::play(InstanceHandle h, uint32_t clip, double time_seconds, 
             "play: clip must be in range, time finite, speed finite and >= 0"};
   playback_[i] = Playback{clip, desc_.palette->clips[clip].loop_mode, speed, clock_, time_seconds};
   fade_duration_[i] = 0.0;
+  ++state_version_;
   return Status::ok();
 }
 
@@ -307,6 +313,7 @@ Status CrowdManager::crossfade(InstanceHandle h, uint32_t clip, double blend_sec
   fade_duration_[i] = blend_seconds;
   playback_[i] = Playback{clip, desc_.palette->clips[clip].loop_mode, playback_[i].speed, clock_,
                           time_seconds};
+  ++state_version_;
   return Status::ok();
 }
 
@@ -373,18 +380,14 @@ Status CrowdManager::update(double dt, const Camera& camera) {
   if (!initialized_) return {StatusCode::kInvalidArgument, "CrowdManager: init() first"};
   if (!std::isfinite(dt) || dt < 0.0)
     return {StatusCode::kInvalidArgument, "update: dt_seconds must be finite and >= 0"};
-  // Compensated (Kahan) sum: after a week of 60 Hz frames the clock is still within a few
-  // ulps of the exact sum.
-  const double y = dt - clock_compensation_;
-  const double t = clock_ + y;
-  clock_compensation_ = (t - clock_) - y;
-  clock_ = t;
+  Status advanced = advanceClock(dt);
+  if (!advanced.isOk()) return advanced;
 
   const BakedPalette& palette = *desc_.palette;
   const uint32_t n = size(), submeshes = desc_.sub_mesh_count;
   const cull::Params cull_params = cullParams(camera);
-  const double anim_step = 1.0 / double(desc_.animation_lod_rate_hz);
-  const uint32_t anim_lod = desc_.animation_lod_start == 0 ? kMaxLods : desc_.animation_lod_start;
+  const double anim_step = cull_params.animation_step_seconds;
+  const uint32_t anim_lod = cull_params.animation_lod_start;
 
   stats_ = CrowdFrameStats();
   stats_.instances = n;
@@ -488,15 +491,88 @@ Status CrowdManager::update(double dt, const Camera& camera) {
   return Status::ok();
 }
 
-cull::Params CrowdManager::cullParams(const Camera& camera) const {
-  cull::Params p;
+CullParams CrowdManager::cullParams(const Camera& camera) const {
+  CullParams p;
   p.planes = camera.frustumPlanes();
   p.radius = radius_;
   p.max_distance_radii = desc_.max_distance_radii;
   p.hysteresis = desc_.lod_hysteresis_ratio;
   p.lod_count = desc_.lod_count;
   for (size_t l = 0; l < lod_lines_.size() && l < 7; ++l) p.lod_lines[l] = lod_lines_[l];
+  p.animation_lod_start = desc_.animation_lod_start == 0 ? kMaxLods : desc_.animation_lod_start;
+  p.animation_step_seconds = 1.0 / double(desc_.animation_lod_rate_hz);
   return p;
+}
+
+Status CrowdManager::advanceClock(double dt) {
+  if (!initialized_) return {StatusCode::kInvalidArgument, "CrowdManager: init() first"};
+  if (!std::isfinite(dt) || dt < 0.0)
+    return {StatusCode::kInvalidArgument, "dt_seconds must be finite and >= 0"};
+  // Compensated (Kahan) sum: after a week of 60 Hz frames the clock is still within a few
+  // ulps of the exact sum.
+  const double y = dt - clock_compensation_;
+  const double t = clock_ + y;
+  clock_compensation_ = (t - clock_) - y;
+  clock_ = t;
+  return Status::ok();
+}
+
+void CrowdManager::exportGpuState(std::vector<GpuInstanceState>* out,
+                                  std::vector<InstanceHandle>* handles) const {
+  const uint32_t n = size();
+  out->resize(n);
+  for (uint32_t i = 0; i < n; ++i) {
+    GpuInstanceState& g = (*out)[i];
+    g = GpuInstanceState{};
+    for (int k = 0; k < 3; ++k) g.position[k] = positions_[i][k];
+    const glm::quat& q = rotations_[i];
+    g.rotation[0] = q.x, g.rotation[1] = q.y, g.rotation[2] = q.z, g.rotation[3] = q.w;
+    g.scale = scales_[i];
+    g.color = colors_[i];
+    g.variation_mask = masks_[i];
+    g.lod = lods_[i];
+    const Playback& a = playback_[i];
+    g.start_clock = a.start_clock;
+    g.start_time = a.start_time;
+    g.clip = a.clip;
+    g.loop = uint32_t(a.loop);
+    g.speed = a.speed;
+    g.fading = fade_duration_[i] > 0.0 ? 1u : 0u;
+    g.fade_start = fade_start_[i];
+    g.fade_duration = fade_duration_[i];
+    const Playback& b = fade_from_[i];
+    g.from_start_clock = b.start_clock;
+    g.from_start_time = b.start_time;
+    g.from_clip = b.clip;
+    g.from_loop = uint32_t(b.loop);
+    g.from_speed = b.speed;
+  }
+  if (handles != nullptr) *handles = dense_handles_;
+}
+
+void CrowdManager::exportGpuClips(std::vector<GpuClipInfo>* clips,
+                                  std::vector<double>* frame_times) const {
+  clips->clear();
+  frame_times->clear();
+  for (size_t c = 0; c < clip_info_.size(); ++c) {
+    const ClipInfo& ci = clip_info_[c];
+    const BakedClip& bc = desc_.palette->clips[c];
+    GpuClipInfo g{};
+    g.duration = ci.duration;
+    g.inv_duration = ci.inv_duration;
+    g.interval = ci.interval;
+    g.inv_interval = ci.inv_interval;
+    g.sphere[0] = ci.sphere_center.x, g.sphere[1] = ci.sphere_center.y;
+    g.sphere[2] = ci.sphere_center.z, g.sphere[3] = ci.sphere_radius;
+    g.first_texel = ci.first_texel;
+    g.last_interval = ci.last_interval;
+    g.uniform_grid = ci.uniform ? 1u : 0u;
+    g.frame_count = bc.frame_count;
+    g.times_offset = uint32_t(frame_times->size());
+    frame_times->insert(frame_times->end(), bc.frame_times_seconds.begin(),
+                        bc.frame_times_seconds.end());
+    clips->push_back(g);
+  }
 }
 
 Status CrowdManager::setLodDistances(Span<const float> lines, float max_distance_radii) {
@@ -507,6 +583,7 @@ Status CrowdManager::setLodDistances(Span<const float> lines, float max_distance
   desc_.lod_distances_radii.assign(lines.begin(), lines.end());
   desc_.max_distance_radii = far_line;
   lod_lines_ = desc_.lod_distances_radii;
+  ++state_version_;
   return Status::ok();
 }
 

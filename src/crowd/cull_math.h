@@ -12,17 +12,11 @@
 #include <glm/glm.hpp>
 #include <glm/gtc/quaternion.hpp>
 
+#include "si/crowd/gpu_crowd_state.h"
+
 namespace si::cull {
 
-/// What one frame's selection needs besides the instance.
-struct Params {
-  std::array<glm::vec4, 6> planes{};  ///< Camera::frustumPlanes(), camera-relative.
-  float radius = 1.0f;                ///< Character radius (model units).
-  float max_distance_radii = 100.0f;  ///< Negative: no far line.
-  float hysteresis = 0.05f;
-  uint32_t lod_count = 1;
-  float lod_lines[7] = {};            ///< In radii, lod_count - 1 of them.
-};
+using Params = CullParams;
 
 /// The result: the LOD (in: the instance's previous LOD; out: the new one) and why it was
 /// culled.

@@ -33,14 +33,11 @@
 
 #include "si/core/baked_palette.h"
 #include "si/crowd/camera.h"
+#include "si/crowd/gpu_crowd_state.h"
 #include "si/crowd/handle_pool.h"
 #include "si/crowd/instance_record.h"
 
 namespace si {
-
-namespace cull {
-struct Params;
-}  // namespace cull
 
 /// Crowd options. Zero fields take the defaults documented on each (resolveDefaults()).
 struct CrowdDesc {
@@ -187,6 +184,22 @@ class CrowdManager {
 
   const CrowdDesc& desc() const { return desc_; }
 
+  // ---- For GPU-driven culling (si::gl) ----
+  /// Advances the crowd clock only (what update() does first), for frames whose selection runs
+  /// on the GPU: O(1). kInvalidArgument for a bad dt.
+  Status advanceClock(double dt_seconds);
+  /// Changes whenever exported state changes (init, add, remove, setters, play, crossfade,
+  /// setLodDistances); not when update() moves LODs or ends crossfades (the GPU does the same).
+  uint64_t stateVersion() const { return state_version_; }
+  /// Every instance's state in dense order (`handles`, may be null, receives the handles in the
+  /// same order): index i of the GPU's selection is dense index i.
+  void exportGpuState(std::vector<GpuInstanceState>* out,
+                      std::vector<InstanceHandle>* handles) const;
+  /// The palette's clips as the GPU reads them, and the frame times of non-uniform clips.
+  void exportGpuClips(std::vector<GpuClipInfo>* clips, std::vector<double>* frame_times) const;
+  /// This frame's selection parameters for `camera` (what update() uses).
+  CullParams cullParams(const Camera& camera) const;
+
  private:
   struct Playback {
     uint32_t clip;
@@ -204,7 +217,6 @@ class CrowdManager {
     float sphere_radius;
   };
   double localTime(const Playback& p, double clock) const;
-  cull::Params cullParams(const Camera& camera) const;
   FrameSample fastSample(uint32_t clip, double local_time) const;
   Status validateInstance(const InstanceDesc& d) const;
   Status denseIndex(InstanceHandle h, uint32_t* dense) const;
@@ -240,6 +252,7 @@ class CrowdManager {
   std::vector<float> lod_lines_;  // Resolved distances in radii.
   std::vector<ClipInfo> clip_info_;
   float radius_ = 1.0f;
+  uint64_t state_version_ = 1;
 };
 
 }  // namespace si

@@ -87,6 +87,7 @@ struct DrawStats {
   uint32_t compute_chunks = 0;      ///< times the vertex ring was filled and drawn,
   uint64_t skinned_vertices = 0;    ///< vertices pre-skinned,
   uint64_t ring_bytes_used = 0;     ///< and the most ring bytes one chunk used.
+  uint32_t gpu_visible = 0;         ///< drawCrowdGpuCulled: instances selected (read back).
 };
 
 /// Which program draws: kDefault skins by the renderer's skinning path; kSkinned forces the
@@ -146,6 +147,21 @@ class Renderer {
   /// arithmetic), streams them to the GPU (camera-relative world space) and draws them without
   /// any skinning in the shader, one glDrawElementsBaseVertex per sub-mesh.
   Status drawCpuSkinned(const CrowdManager& crowd, const Camera& camera, DrawStats* stats);
+
+  /// GPU-driven culling and LOD: the crowd's state lives in shader storage buffers (uploaded
+  /// again only when crowd.stateVersion() changes); a compute pass culls every instance against
+  /// the frustum and the far line, picks its LOD with hysteresis (the same arithmetic as
+  /// CrowdManager::update(), so the same instances and LODs), computes its record at the
+  /// crowd's clock, and buckets it per (LOD, sub-mesh); one glMultiDrawElementsIndirect draws
+  /// every bucket with vertex-shader skinning. The CPU cost per frame does not grow with the
+  /// crowd: advance the clock with CrowdManager::advanceClock() instead of update(). The GPU
+  /// keeps each instance's LOD between frames (re-seeded from the crowd's at each upload).
+  /// With RendererDesc::measure_gpu_time, `stats` also gets the visible instances and triangles
+  /// (read back after the timer); otherwise only draw_calls (1) and the CPU time.
+  Status drawCrowdGpuCulled(const CrowdManager& crowd, const Camera& camera, DrawStats* stats);
+  /// The last drawCrowdGpuCulled() frame's selection, read back: (dense index, LOD) per visible
+  /// instance in no particular order (dense index i is exportGpuState's instance i).
+  Status readGpuSelection(std::vector<glm::uvec2>* selection);
 
   /// Runs the skinning vertex shader for every vertex of the mesh with one instance `record`
   /// and returns the skinned model-space positions (before the world transform) through

@@ -1,0 +1,80 @@
+// SkinnedInstancing — SPDX-License-Identifier: MIT (see LICENSE)
+#pragma once
+
+/// \file
+/// The crowd's state as GPU-driven culling (si::gl, Renderer::drawCrowdGpuCulled) reads it:
+/// std430 structs with their GLSL twins, and the per-frame selection parameters. Plain data, no
+/// GL: CrowdManager exports it (exportGpuState, exportGpuClips, cullParams).
+
+#include <array>
+#include <cstdint>
+
+#include <glm/glm.hpp>
+
+namespace si {
+
+/// One instance (std430, 144 bytes; array stride 144).
+struct GpuInstanceState {
+  double position[3];         ///< World position (double, as the crowd keeps it).
+  double pad0;
+  float rotation[4];          ///< Quaternion x, y, z, w.
+  float scale;
+  uint32_t color;             ///< RGBA8 tint.
+  uint32_t variation_mask;
+  uint32_t lod;               ///< The LOD hysteresis starts from.
+  double start_clock, start_time;  ///< Current playback: crowd clock and clip time at start,
+  uint32_t clip, loop;             ///< clip and si::LoopMode (kLoop or kOnce, resolved),
+  float speed;
+  uint32_t fading;                 ///< 1 while a crossfade from the `from_` playback runs.
+  double fade_start, fade_duration;
+  double from_start_clock, from_start_time;
+  uint32_t from_clip, from_loop;
+  float from_speed;
+  uint32_t pad1;
+};
+static_assert(sizeof(GpuInstanceState) == 144, "std430 layout");
+
+/// One clip (std430, 80 bytes).
+struct GpuClipInfo {
+  double duration, inv_duration, interval, inv_interval;
+  float sphere[4];            ///< Bounding sphere centre (model units) and radius.
+  uint32_t first_texel, last_interval;
+  uint32_t uniform_grid;      ///< 1: frames on a uniform grid; 0: search frame_times.
+  uint32_t frame_count;
+  uint32_t times_offset;      ///< Into the frame-times array (doubles), for non-uniform clips.
+  uint32_t pad[3];
+};
+static_assert(sizeof(GpuClipInfo) == 80, "std430 layout");
+
+/// GLSL declarations of the two structs above.
+inline constexpr const char* kGpuCrowdStateGlsl = R"(struct SiGpuInstance {
+  double px, py, pz, pad0;
+  vec4 rotation;
+  float scale; uint color; uint mask; uint lod;
+  double start_clock, start_time;
+  uint clip, loop; float speed; uint fading;
+  double fade_start, fade_duration;
+  double from_start_clock, from_start_time;
+  uint from_clip, from_loop; float from_speed; uint pad1;
+};
+struct SiGpuClip {
+  double duration, inv_duration, interval, inv_interval;
+  vec4 sphere;
+  uint first_texel, last_interval, uniform_grid, frame_count;
+  uint times_offset, pad0, pad1, pad2;
+};
+)";
+
+/// One frame's selection parameters (see src/crowd/cull_math.h for the arithmetic).
+struct CullParams {
+  std::array<glm::vec4, 6> planes{};  ///< Camera::frustumPlanes(), camera-relative.
+  float radius = 1.0f;                ///< Character radius (model units).
+  float max_distance_radii = 100.0f;  ///< Negative: no far line.
+  float hysteresis = 0.05f;
+  uint32_t lod_count = 1;
+  float lod_lines[7] = {};            ///< In radii, lod_count - 1 of them.
+  uint32_t animation_lod_start = 8;   ///< LODs at or past this step their animation,
+  double animation_step_seconds = 0.1;  ///< at this interval.
+};
+
+}  // namespace si
