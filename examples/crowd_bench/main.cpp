@@ -38,6 +38,7 @@ struct Options {
   std::string csv = "crowd_bench.csv";
   std::string plots;  // Folder for PNG plots (gnuplot), empty for none.
   bool quick = false;  // Fixed-rate bakes only (smoke tests under sanitizers).
+  bool gpu_timer = true;  // Timer queries (they block each frame); off: CPU figures only.
   si::HeadlessBackend backend = si::HeadlessBackend::kAuto;
 };
 
@@ -60,7 +61,9 @@ void usage(std::FILE* f) {
       "                   [--size WxH]\n"
       "                   [--max-baseline N] [--error-table-size N] [--csv PATH]\n"
       "                   [--plots DIR] [--backend auto|egl-device|egl-surfaceless|osmesa]\n"
-      "                   [--quick]   (fixed-rate bakes only, for smoke tests)\n");
+      "                   [--quick]   (fixed-rate bakes only, for smoke tests)\n"
+      "                   [--no-gpu-time] (no blocking timer queries: CPU columns only;\n"
+      "                   GPU ms and the GPU-culled path's visible count read -1 / 0)\n");
 }
 
 bool parse(int argc, char** argv, Options* o) {
@@ -81,6 +84,7 @@ bool parse(int argc, char** argv, Options* o) {
     else if (a == "--csv" && has) o->csv = argv[++i];
     else if (a == "--plots" && has) o->plots = argv[++i];
     else if (a == "--quick") o->quick = true;
+    else if (a == "--no-gpu-time") o->gpu_timer = false;
     else if (a == "--backend" && has) {
       if (!si::examples::parseBackend(argv[++i], &o->backend)) return false;
     } else return false;
@@ -263,7 +267,7 @@ int main(int argc, char** argv) {
   s = si::bakePalette(b.character, main_bake, &palette, &report);
   si::Renderer renderer;
   si::RendererDesc rd;
-  rd.measure_gpu_time = true;
+  rd.measure_gpu_time = b.o.gpu_timer;
   rd.debug_checks = 2;
   if (s.isOk()) s = renderer.init(b.info, rd);
   if (s.isOk()) s = renderer.uploadPalette(palette);

@@ -7,6 +7,7 @@
 #include "crowd/cull_math.h"
 
 #include <algorithm>
+#include <atomic>
 #include <cmath>
 #include <cstring>
 #include <random>
@@ -33,6 +34,13 @@ uint32_t floatBits(float f) {
 bool finite3(const glm::dvec3& v) {
   return std::isfinite(v.x) && std::isfinite(v.y) && std::isfinite(v.z);
 }
+// State versions are unique across every CrowdManager of the process, so a consumer keyed on
+// (address, version) never mistakes a new crowd at a reused address for the old one.
+uint64_t nextStateVersion() {
+  static std::atomic<uint64_t> counter{0};
+  return ++counter;
+}
+
 }  // namespace
 
 CrowdDesc resolveDefaults(const CrowdDesc& in) {
@@ -88,9 +96,8 @@ Status CrowdManager::init(const CrowdDesc& in_desc) {
             "CrowdDesc.max_distance_radii must be finite; lod_hysteresis_ratio in [0, 1)"};
   if (!std::isfinite(d.animation_lod_rate_hz) || d.animation_lod_rate_hz <= 0.0f)
     return {StatusCode::kInvalidArgument, "CrowdDesc.animation_lod_rate_hz must be > 0"};
-  const uint64_t version = state_version_;
   *this = CrowdManager();
-  state_version_ = version + 1;
+  state_version_ = nextStateVersion();
   desc_ = d;
   radius_ = d.character_radius;
   lod_lines_ = d.lod_distances_radii;
@@ -151,7 +158,7 @@ void CrowdManager::pushInstance(const InstanceDesc& d, InstanceHandle h) {
   fade_duration_.push_back(0.0);
   lods_.push_back(0);
   dense_handles_.push_back(h);
-  ++state_version_;
+  state_version_ = nextStateVersion();
 }
 
 Status CrowdManager::add(const InstanceDesc& d, InstanceHandle* out) {
@@ -251,7 +258,7 @@ Status CrowdManager::remove(InstanceHandle h) {
   move_last(fade_duration_);
   move_last(lods_);
   move_last(dense_handles_);
-  ++state_version_;
+  state_version_ = nextStateVersion();
   return handles_.release(h);
 }
 
@@ -267,21 +274,21 @@ Status CrowdManager::setTransform(InstanceHandle h, const glm::dvec3& position,
   positions_[i] = position;
   rotations_[i] = glm::normalize(rotation);
   scales_[i] = scale;
-  ++state_version_;
+  state_version_ = nextStateVersion();
   return Status::ok();
 }
 
 Status CrowdManager::setColor(InstanceHandle h, glm::u8vec4 color) {
   uint32_t i = 0;
   Status s = denseIndex(h, &i);
-  if (s.isOk()) colors_[i] = packColor(color), ++state_version_;
+  if (s.isOk()) colors_[i] = packColor(color), state_version_ = nextStateVersion();
   return s;
 }
 
 Status CrowdManager::setVariationMask(InstanceHandle h, uint32_t mask) {
   uint32_t i = 0;
   Status s = denseIndex(h, &i);
-  if (s.isOk()) masks_[i] = mask, ++state_version_;
+  if (s.isOk()) masks_[i] = mask, state_version_ = nextStateVersion();
   return s;
 }
 
@@ -295,7 +302,7 @@ Status CrowdManager::play(InstanceHandle h, uint32_t clip, double time_seconds, 
             "play: clip must be in range, time finite, speed finite and >= 0"};
   playback_[i] = Playback{clip, desc_.palette->clips[clip].loop_mode, speed, clock_, time_seconds};
   fade_duration_[i] = 0.0;
-  ++state_version_;
+  state_version_ = nextStateVersion();
   return Status::ok();
 }
 
@@ -313,7 +320,7 @@ Status CrowdManager::crossfade(InstanceHandle h, uint32_t clip, double blend_sec
   fade_duration_[i] = blend_seconds;
   playback_[i] = Playback{clip, desc_.palette->clips[clip].loop_mode, playback_[i].speed, clock_,
                           time_seconds};
-  ++state_version_;
+  state_version_ = nextStateVersion();
   return Status::ok();
 }
 
@@ -583,7 +590,7 @@ Status CrowdManager::setLodDistances(Span<const float> lines, float max_distance
   desc_.lod_distances_radii.assign(lines.begin(), lines.end());
   desc_.max_distance_radii = far_line;
   lod_lines_ = desc_.lod_distances_radii;
-  ++state_version_;
+  state_version_ = nextStateVersion();
   return Status::ok();
 }
 

@@ -10,6 +10,7 @@
 #include <algorithm>
 #include <cmath>
 #include <map>
+#include <optional>
 #include <random>
 #include <cstdio>
 #include <cstdlib>
@@ -690,6 +691,27 @@ TEST_P(RenderTest, GpuCulledDrawEqualsTheCpuPath) {
   EXPECT_EQ(gpu_stats.gpu_visible, crowd.stats().visible);
   EXPECT_EQ(gpu_stats.triangles, cpu_stats.triangles);
   EXPECT_EQ(gpu_stats.instances, cpu_stats.instances);
+  // A new crowd of the same size where the last one was (same address): its own state is
+  // uploaded and drawn, not the old one's.
+  std::optional<CrowdManager> reused;
+  for (int k = 0; k < 2; ++k) {
+    reused.emplace();
+    CrowdDesc rd2;
+    rd2.palette = &palette();
+    rd2.sub_mesh_count = 4;
+    rd2.lod_count = 3;
+    ASSERT_TRUE(reused->init(rd2).isOk());
+    for (int i = 0; i < 50; ++i) {
+      InstanceDesc one;
+      one.position = glm::dvec3(i % 10 - 5.0, 0.0, k == 0 ? -8.0 - i / 10 : 500.0);  // k 1: out of view
+      InstanceHandle h;
+      ASSERT_TRUE(reused->add(one, &h).isOk());
+    }
+    ASSERT_TRUE(r.drawCrowdGpuCulled(*reused, lodCamera(), &gpu_stats).isOk());
+    ASSERT_TRUE(reused->update(0.0, lodCamera()).isOk());
+    EXPECT_EQ(gpu_stats.gpu_visible, reused->stats().visible) << k;
+  }
+  EXPECT_EQ(gpu_stats.gpu_visible, 0u);
   // A crowd with another palette is refused.
   CrowdManager other;
   CrowdDesc od;

@@ -190,6 +190,7 @@ class CrowdManager {
   Status advanceClock(double dt_seconds);
   /// Changes whenever exported state changes (init, add, remove, setters, play, crossfade,
   /// setLodDistances); not when update() moves LODs or ends crossfades (the GPU does the same).
+  /// Unique across all crowds of the process: a new crowd never repeats an old one's version.
   uint64_t stateVersion() const { return state_version_; }
   /// Every instance's state in dense order (`handles`, may be null, receives the handles in the
   /// same order): index i of the GPU's selection is dense index i.
@@ -252,7 +253,7 @@ class CrowdManager {
   std::vector<float> lod_lines_;  // Resolved distances in radii.
   std::vector<ClipInfo> clip_info_;
   float radius_ = 1.0f;
-  uint64_t state_version_ = 1;
+  uint64_t state_version_ = 0;
 };
 
 }  // namespace si
