@@ -219,6 +219,33 @@ void populateLodCrowd(CrowdManager* crowd) {
     }
 }
 
+// One more character, close to the camera, crossfading from clip 0 to run over 1 s from the
+// crowd clock's current time (the tests then advance it 0.3 s).
+void addFadingCharacter(CrowdManager* crowd, PaletteFormat format = PaletteFormat::kMatrix3x4F32) {
+  InstanceHandle fading;
+  InstanceDesc d;
+  d.position = glm::dvec3(0.5, 0.0, -2.0);
+  ASSERT_TRUE(crowd->add(d, &fading).isOk());
+  ASSERT_TRUE(crowd->crossfade(fading, uint32_t(palette(format).findClip("run")), 1.0).isOk());
+}
+
+// The CPU's selection of the last update(): (dense index as exportGpuState orders it, LOD) per
+// visible instance.
+std::vector<glm::uvec2> cpuSelection(const CrowdManager& crowd) {
+  std::vector<GpuInstanceState> state;
+  std::vector<InstanceHandle> dense;
+  crowd.exportGpuState(&state, &dense);
+  std::map<uint32_t, uint32_t> dense_of;  // handle id -> dense index
+  for (uint32_t i = 0; i < dense.size(); ++i) dense_of[dense[i].id] = i;
+  std::vector<glm::uvec2> out;
+  for (InstanceHandle h : crowd.visibleHandles()) {
+    uint32_t lod = 0;
+    EXPECT_TRUE(crowd.lodOf(h, &lod).isOk());
+    out.push_back(glm::uvec2(dense_of[h.id], lod));
+  }
+  return out;
+}
+
 Camera lodCamera() {
   return Camera::lookAt({0.0, 3.0, 6.0}, {0.0, 0.0, -40.0}, glm::vec3(0, 1, 0), 0.9f, 1.0f, 0.1f,
                         500.0f);
@@ -259,11 +286,7 @@ TEST_P(RenderTest, InstancedEqualsTraditionalAndCpuSkinned) {
   CrowdManager crowd;
   makeCrowd(&crowd);
   populateLodCrowd(&crowd);
-  InstanceHandle fading;
-  InstanceDesc d;
-  d.position = glm::dvec3(0.5, 0.0, -2.0);
-  ASSERT_TRUE(crowd.add(d, &fading).isOk());
-  ASSERT_TRUE(crowd.crossfade(fading, uint32_t(palette().findClip("run")), 1.0).isOk());
+  addFadingCharacter(&crowd);
   ASSERT_TRUE(crowd.update(0.3, lodCamera()).isOk());
   DrawStats instanced_stats, traditional_stats;
   const std::vector<uint8_t> a = draw(r, crowd, lodCamera(), 0, false, &instanced_stats);
@@ -396,11 +419,7 @@ TEST_P(RenderTest, ComputePreSkinningEqualsTheVertexShaderPath) {
     CrowdManager crowd;
     makeCrowd(&crowd, format);
     populateLodCrowd(&crowd);
-    InstanceHandle fading;
-    InstanceDesc d;
-    d.position = glm::dvec3(0.5, 0.0, -2.0);
-    ASSERT_TRUE(crowd.add(d, &fading).isOk());
-    ASSERT_TRUE(crowd.crossfade(fading, uint32_t(palette(format).findClip("run")), 1.0).isOk());
+    addFadingCharacter(&crowd, format);
     ASSERT_TRUE(crowd.update(0.3, lodCamera()).isOk());
     for (uint64_t ring_bytes : {uint64_t(0), uint64_t(64) << 10}) {
       SCOPED_TRACE(ring_bytes);
@@ -550,17 +569,7 @@ TEST_P(RenderTest, GpuCullingSelectsWhatTheCpuSelects) {
       std::vector<glm::uvec2> gpu;
       ASSERT_TRUE(r.readGpuSelection(&gpu).isOk());
       ASSERT_TRUE(crowd.update(0.0, camera).isOk());
-      std::vector<GpuInstanceState> state;
-      std::vector<InstanceHandle> dense;
-      crowd.exportGpuState(&state, &dense);
-      std::map<uint32_t, uint32_t> dense_of;  // handle id -> dense index
-      for (uint32_t i = 0; i < dense.size(); ++i) dense_of[dense[i].id] = i;
-      std::vector<glm::uvec2> cpu;
-      for (InstanceHandle h : crowd.visibleHandles()) {
-        uint32_t lod = 0;
-        ASSERT_TRUE(crowd.lodOf(h, &lod).isOk());
-        cpu.push_back(glm::uvec2(dense_of[h.id], lod));
-      }
+      std::vector<glm::uvec2> cpu = cpuSelection(crowd);
       const auto order = [](const glm::uvec2& a, const glm::uvec2& b) {
         return a.x != b.x ? a.x < b.x : a.y < b.y;
       };
@@ -634,25 +643,17 @@ TEST_P(RenderTest, GpuCullingAgreesOnTheBoundaries) {
     std::vector<glm::uvec2> gpu;
     ASSERT_TRUE(r.readGpuSelection(&gpu).isOk());
     ASSERT_TRUE(crowd.update(0.0, camera).isOk());
-    std::vector<GpuInstanceState> state;
-    std::vector<InstanceHandle> dense;
-    crowd.exportGpuState(&state, &dense);
-    std::vector<int> gpu_lod(dense.size(), -1), cpu_lod(dense.size(), -1);
+    const size_t n = crowd.size();
+    std::vector<int> gpu_lod(n, -1), cpu_lod(n, -1);
     for (const glm::uvec2& g : gpu) gpu_lod[g.x] = int(g.y);
-    std::map<uint32_t, uint32_t> dense_of;
-    for (uint32_t i = 0; i < dense.size(); ++i) dense_of[dense[i].id] = i;
-    for (InstanceHandle h : crowd.visibleHandles()) {
-      uint32_t lod = 0;
-      ASSERT_TRUE(crowd.lodOf(h, &lod).isOk());
-      cpu_lod[dense_of[h.id]] = int(lod);
-    }
+    for (const glm::uvec2& c : cpuSelection(crowd)) cpu_lod[c.x] = int(c.y);
     size_t mismatches = 0, visible = 0;
-    for (size_t i = 0; i < dense.size(); ++i) {
+    for (size_t i = 0; i < n; ++i) {
       mismatches += gpu_lod[i] != cpu_lod[i];
       visible += cpu_lod[i] >= 0;
     }
     std::printf("[ gpu cull ] boundaries, frame %d: %zu of %zu visible, %zu mismatches\n", frame,
-                visible, dense.size(), mismatches);
+                visible, n, mismatches);
     EXPECT_EQ(mismatches, 0u);
     straddling = visible;
   }
@@ -671,11 +672,7 @@ TEST_P(RenderTest, GpuCulledDrawEqualsTheCpuPath) {
   CrowdManager crowd;
   makeCrowd(&crowd);
   populateLodCrowd(&crowd);
-  InstanceHandle fading;
-  InstanceDesc d;
-  d.position = glm::dvec3(0.5, 0.0, -2.0);
-  ASSERT_TRUE(crowd.add(d, &fading).isOk());
-  ASSERT_TRUE(crowd.crossfade(fading, uint32_t(palette().findClip("run")), 1.0).isOk());
+  addFadingCharacter(&crowd);
   ASSERT_TRUE(crowd.advanceClock(0.3).isOk());
   r.clear(glm::vec4(0.2f, 0.25f, 0.3f, 1.0f));
   DrawStats gpu_stats;
