@@ -35,6 +35,7 @@ struct Options {
   uint32_t width = 1280, height = 720;
   uint32_t max_baseline = 20000;  // Traditional and CPU skinning are skipped above this.
   uint32_t error_table_size = 2000;
+  std::string error_path = "instanced";  // The path the speed-against-error table draws with.
   std::string csv = "crowd_bench.csv";
   std::string plots;  // Folder for PNG plots (gnuplot), empty for none.
   bool quick = false;  // Fixed-rate bakes only (smoke tests under sanitizers).
@@ -60,6 +61,7 @@ void usage(std::FILE* f) {
       "                   [--paths instanced,compute,gpu-culled,traditional,cpu,rigid]\n"
       "                   [--size WxH]\n"
       "                   [--max-baseline N] [--error-table-size N] [--csv PATH]\n"
+      "                   [--error-path instanced|compute]\n"
       "                   [--plots DIR] [--backend auto|egl-device|egl-surfaceless|osmesa]\n"
       "                   [--quick]   (fixed-rate bakes only, for smoke tests)\n"
       "                   [--no-gpu-time] (no blocking timer queries: CPU columns only;\n"
@@ -81,6 +83,7 @@ bool parse(int argc, char** argv, Options* o) {
       if (std::sscanf(argv[++i], "%ux%u", &o->width, &o->height) != 2) return false;
     } else if (a == "--max-baseline" && has) o->max_baseline = uint32_t(std::stoul(argv[++i]));
     else if (a == "--error-table-size" && has) o->error_table_size = uint32_t(std::stoul(argv[++i]));
+    else if (a == "--error-path" && has) o->error_path = argv[++i];
     else if (a == "--csv" && has) o->csv = argv[++i];
     else if (a == "--plots" && has) o->plots = argv[++i];
     else if (a == "--quick") o->quick = true;
@@ -95,6 +98,7 @@ bool parse(int argc, char** argv, Options* o) {
     if (p != "instanced" && p != "compute" && p != "gpu-culled" && p != "traditional" &&
         p != "cpu" && p != "rigid")
       return false;
+  if (o->error_path != "instanced" && o->error_path != "compute") return false;
   return !o->sizes.empty() && o->frames > 0;
 }
 
@@ -319,15 +323,15 @@ int main(int argc, char** argv) {
     std::printf("Compute path: pre-skinned vertex ring of %.1f MiB\n",
                 double(renderer.computeRingBytes()) / 1048576.0);
 
-  // Speed against error: each bake configuration, the instanced path on the field. The renderer
-  // is re-made with an explicit path so each upload does not re-measure.
+  // Speed against error: each bake configuration, on the field, drawn by --error-path. The
+  // renderer is re-made with an explicit path so each upload does not re-measure.
   rd.skinning_path = si::SkinningPath::kVertexShader;
   s = renderer.init(b.info, rd);
   if (!s.isOk()) return fail("renderer", s);
-  std::printf("\nGPU time against bake error (field, %u instances, instanced path)\n",
-              b.o.error_table_size);
-  std::printf("%-22s %6s %6s %10s %9s %12s %12s\n", "format", "rate", "stride", "bytes", "GPU ms",
-              "max error", "P99 error");
+  std::printf("\nGPU time against bake error (field, %u instances, %s path)\n",
+              b.o.error_table_size, b.o.error_path.c_str());
+  std::printf("%-22s %6s %6s %10s %10s %9s %12s %12s\n", "format", "rate", "stride", "texels",
+              "bytes", "GPU ms", "max error", "P99 error");
   struct Config {
     si::PaletteFormat format;
     float rate;
@@ -359,15 +363,16 @@ int main(int argc, char** argv) {
     if (s.isOk()) s = renderer.uploadCharacter(b.character, p);
     if (!s.isOk()) return fail("bake configuration", s);
     Row row;
-    if (!runPath(b, renderer, p, "field", b.o.error_table_size, "instanced", &row)) return 1;
+    if (!runPath(b, renderer, p, "field", b.o.error_table_size, b.o.error_path, &row)) return 1;
     const std::string rate = c.rate > 0.0f ? std::to_string(int(c.rate)) : "auto";
-    std::printf("%-22s %6s %6u %10llu %9.3f %12.3g %12.3g\n", si::paletteFormatName(c.format),
-                rate.c_str(), p.layout.joint_stride_texels,
+    const std::string texels = std::to_string(p.layout.width) + "x" + std::to_string(p.layout.height);
+    std::printf("%-22s %6s %6u %10s %10llu %9.3f %12.3g %12.3g\n", si::paletteFormatName(c.format),
+                rate.c_str(), p.layout.joint_stride_texels, texels.c_str(),
                 static_cast<unsigned long long>(r.palette_bytes), row.gpu_ms, r.max_error_units,
                 r.p99_error_units);
-    std::fprintf(csv, "error,field,instanced,%u,%u,%u,%.0f,%.4f,%.4f,%.4f,%s%s,%s,%.6g,%.6g\n",
-                 row.instances, row.visible, row.draws, row.triangles, row.update_ms,
-                 row.submit_ms, row.gpu_ms, si::paletteFormatName(c.format),
+    std::fprintf(csv, "error,field,%s,%u,%u,%u,%.0f,%.4f,%.4f,%.4f,%s%s,%s,%.6g,%.6g\n",
+                 b.o.error_path.c_str(), row.instances, row.visible, row.draws, row.triangles,
+                 row.update_ms, row.submit_ms, row.gpu_ms, si::paletteFormatName(c.format),
                  p.layout.joint_stride_texels == 3 ? "_stride3" : "", rate.c_str(),
                  r.max_error_units, r.p99_error_units);
     error_data += std::to_string(r.max_error_units) + " " + std::to_string(row.gpu_ms) + " \"" +
