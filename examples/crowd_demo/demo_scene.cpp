@@ -186,7 +186,10 @@ si::Camera DemoScene::overviewCamera(float aspect) const {
 }
 
 si::Status DemoScene::frame(double dt, const si::Camera& camera, si::DrawStats* stats) {
+  const auto start = std::chrono::steady_clock::now();
   si::Status s = crowd_.update(dt, camera);
+  update_ms_ =
+      std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
   if (!s.isOk()) return s;
   renderer_.clear(glm::vec4(0.62f, 0.66f, 0.58f, 1.0f));
   switch (path_) {

@@ -63,6 +63,8 @@ class DemoScene {
   float lodScale() const { return lod_scale_; }
   bool lodTint() const { return lod_tint_; }
   double bakeMs() const { return bake_ms_; }
+  /// CPU time of the last frame's CrowdManager::update().
+  double updateMs() const { return update_ms_; }
   /// The camera's default view of the field (at the edge, 9 m up, looking in).
   si::Camera overviewCamera(float aspect) const;
   /// The field's centre and half extent in model units.
@@ -80,7 +82,7 @@ class DemoScene {
   si::BakedPalette palette_;
   si::BakeReport report_;
   bool report_valid_ = false;
-  double bake_ms_ = 0.0;
+  double bake_ms_ = 0.0, update_ms_ = 0.0;
   double unit_ = 1.0;
   si::Renderer renderer_;
   si::CrowdManager crowd_;
