@@ -298,6 +298,15 @@ TEST(CrowdManager, CrossfadeWeightsAndEndOfBlend) {
   EXPECT_NEAR(got.time_seconds, 0.5, 1e-12);  // The new clip played during the blend.
 }
 
+// Updates the crowd with the camera on +Z at `distance` looking at the origin (where the one
+// instance `h` stands, so it is never frustum-culled) and returns its LOD, or 99 when culled.
+uint32_t lodSeenFrom(CrowdManager* crowd, InstanceHandle h, double distance) {
+  EXPECT_TRUE(crowd->update(0.0, testCamera({0, 0, distance}, {0, 0, 0})).isOk());
+  uint32_t lod = 99;
+  EXPECT_TRUE(crowd->lodOf(h, &lod).isOk());
+  return crowd->stats().visible == 1 ? lod : 99u;
+}
+
 TEST(CrowdManager, LodByDistanceInRadiiWithHysteresis) {
   CrowdDesc cd = defaultCrowdDesc();
   cd.character_radius = 1.0f;
@@ -308,13 +317,7 @@ TEST(CrowdManager, LodByDistanceInRadiiWithHysteresis) {
   InstanceDesc d;
   InstanceHandle h;
   ASSERT_TRUE(crowd.add(d, &h).isOk());
-  const auto lodAt = [&](double distance) {
-    // Camera on +Z looking at the instance, so it is always in view.
-    EXPECT_TRUE(crowd.update(0.0, testCamera({0, 0, distance}, {0, 0, 0})).isOk());
-    uint32_t lod = 99;
-    EXPECT_TRUE(crowd.lodOf(h, &lod).isOk());
-    return lod;
-  };
+  const auto lodAt = [&](double distance) { return lodSeenFrom(&crowd, h, distance); };
   EXPECT_EQ(lodAt(10), 0u);
   EXPECT_EQ(lodAt(21), 0u);   // Past 20 but within the 10 % margin: stays.
   EXPECT_EQ(lodAt(22.5), 1u);
@@ -323,7 +326,7 @@ TEST(CrowdManager, LodByDistanceInRadiiWithHysteresis) {
   EXPECT_EQ(lodAt(80), 2u);   // Jumps two levels at once.
   EXPECT_EQ(lodAt(10), 0u);
   EXPECT_EQ(crowd.stats().per_lod[0], 1u);
-  lodAt(150);                 // Beyond 100 radii: culled by distance.
+  EXPECT_EQ(lodAt(150), 99u);  // Beyond 100 radii: culled by distance.
   EXPECT_EQ(crowd.stats().visible, 0u);
   EXPECT_EQ(crowd.stats().culled_distance, 1u);
   // The radius scales with the instance.
@@ -343,12 +346,7 @@ TEST(CrowdManager, SetLodDistancesMovesTheLinesAndValidates) {
   InstanceDesc d;
   InstanceHandle h;
   ASSERT_TRUE(crowd.add(d, &h).isOk());
-  const auto lodAt = [&](double distance) {
-    EXPECT_TRUE(crowd.update(0.0, testCamera({0, 0, distance}, {0, 0, 0})).isOk());
-    uint32_t lod = 99;
-    EXPECT_TRUE(crowd.lodOf(h, &lod).isOk());
-    return crowd.stats().visible == 1 ? lod : 99u;
-  };
+  const auto lodAt = [&](double distance) { return lodSeenFrom(&crowd, h, distance); };
   EXPECT_EQ(lodAt(30), 1u);
   ASSERT_TRUE(crowd.setLodDistances(std::vector<float>{40.0f, 120.0f}).isOk());
   EXPECT_EQ(lodAt(30), 0u);
