@@ -213,9 +213,6 @@ constexpr GLintptr kBucketCountOffset = 16, kDispatchOffset = 16 + 1024 + 1024;
 constexpr GLsizeiptr kCountersSize = kDispatchOffset + 16;
 constexpr uint32_t kMaxBuckets = 256;
 
-double msSince(std::chrono::steady_clock::time_point t0) {
-  return std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
-}
 
 }  // namespace
 
@@ -358,8 +355,8 @@ Status Renderer::drawCrowdGpuCulled(const CrowdManager& crowd, const Camera& cam
   DrawStats st;
   st.draw_calls = 1;
   st.cpu_submit_ms = msSince(t0);
-  m.endTimer(stats);
-  if (m.desc.measure_gpu_time && stats != nullptr) {
+  st.gpu_ms = m.endTimer(stats);
+  if (st.gpu_ms >= 0.0) {
     // Visible instances and triangles: the counters, read back after the timer anyway blocked.
     std::vector<uint32_t> counters(1 + 3 + kMaxBuckets);
     glGetNamedBufferSubData(g.counters, 0, GLsizeiptr(counters.size() * 4), counters.data());
@@ -372,10 +369,7 @@ Status Renderer::drawCrowdGpuCulled(const CrowdManager& crowd, const Camera& cam
     }
   }
   Status s = m.check("drawCrowdGpuCulled");
-  if (stats != nullptr) {
-    st.gpu_ms = m.desc.measure_gpu_time ? stats->gpu_ms : -1.0;
-    *stats = st;
-  }
+  if (stats != nullptr) *stats = st;
   return s;
 }
 

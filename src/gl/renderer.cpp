@@ -244,9 +244,6 @@ glm::mat4 recordJointMatrix(const BakedPalette& palette, const InstanceRecord& r
   return mat;
 }
 
-double msSince(std::chrono::steady_clock::time_point t0) {
-  return std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
-}
 
 }  // namespace
 
@@ -793,16 +790,12 @@ Status Renderer::drawCrowd(const CrowdManager& crowd, const InstanceBatcher& bat
     m.drawVertexPath(base, &st);
   }
   st.cpu_submit_ms = msSince(t0);  // Before the (blocking) timer read.
-  m.endTimer(stats);
+  st.gpu_ms = m.endTimer(stats);
   if (mode == DrawMode::kDepthOnly) glColorMask(GL_TRUE, GL_TRUE, GL_TRUE, GL_TRUE);
   m.fences[r] = glFenceSync(GL_SYNC_GPU_COMMANDS_COMPLETE, 0);
   m.ring_index = (r + 1) % m.ring_frames;
   s = m.check("drawCrowd");
-  if (stats != nullptr) {
-    st.gpu_ms = stats->gpu_ms;
-    if (!m.desc.measure_gpu_time) st.gpu_ms = -1.0;
-    *stats = st;
-  }
+  if (stats != nullptr) *stats = st;
   return s;
 }
 
@@ -854,12 +847,9 @@ Status Renderer::drawTraditional(const CrowdManager& crowd, const Camera& camera
     }
   }
   st.cpu_submit_ms = msSince(t0);  // Before the (blocking) timer read.
-  m.endTimer(stats);
+  st.gpu_ms = m.endTimer(stats);
   Status s = m.check("drawTraditional");
-  if (stats != nullptr) {
-    st.gpu_ms = m.desc.measure_gpu_time ? stats->gpu_ms : -1.0;
-    *stats = st;
-  }
+  if (stats != nullptr) *stats = st;
   return s;
 }
 
@@ -956,12 +946,9 @@ Status Renderer::drawCpuSkinned(const CrowdManager& crowd, const Camera& camera,
   }
   flush();
   st.cpu_submit_ms = msSince(t0);
-  m.endTimer(stats);
+  st.gpu_ms = m.endTimer(stats);
   Status s = m.check("drawCpuSkinned");
-  if (stats != nullptr) {
-    st.gpu_ms = m.desc.measure_gpu_time ? stats->gpu_ms : -1.0;
-    *stats = st;
-  }
+  if (stats != nullptr) *stats = st;
   return s;
 }
 

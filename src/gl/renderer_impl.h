@@ -6,6 +6,7 @@
 #include <glad/gl.h>
 
 #include <algorithm>
+#include <chrono>
 #include <cstdint>
 #include <string>
 #include <vector>
@@ -15,6 +16,11 @@
 namespace si {
 
 inline constexpr GLuint kNoObject = 0;
+
+// Milliseconds since `t0` (the draw functions' CPU time).
+inline double msSince(std::chrono::steady_clock::time_point t0) {
+  return std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
+}
 
 namespace detail {
 // Compiles one shader; kBackend with the driver's log on failure.
@@ -186,12 +192,14 @@ struct Renderer::Impl {
   void beginTimer(DrawStats* stats) {
     if (desc.measure_gpu_time && stats != nullptr) glBeginQuery(GL_TIME_ELAPSED, timer);
   }
-  void endTimer(DrawStats* stats) {
-    if (!desc.measure_gpu_time || stats == nullptr) return;
+  // Ends the query beginTimer() started and returns the GPU milliseconds (blocking), or -1 when
+  // none was started.
+  double endTimer(const DrawStats* stats) {
+    if (!desc.measure_gpu_time || stats == nullptr) return -1.0;
     glEndQuery(GL_TIME_ELAPSED);
     GLuint64 ns = 0;
     glGetQueryObjectui64v(timer, GL_QUERY_RESULT, &ns);
-    stats->gpu_ms = double(ns) * 1e-6;
+    return double(ns) * 1e-6;
   }
 
   IndexRange lodRange(uint32_t sub_mesh, uint32_t lod) const {
