@@ -8,7 +8,6 @@
 #include <cstdio>
 #include <cstdlib>
 #include <map>
-#include <sstream>
 #include <string>
 #include <vector>
 
@@ -43,14 +42,6 @@ struct Options {
   si::HeadlessBackend backend = si::HeadlessBackend::kAuto;
 };
 
-std::vector<std::string> split(const std::string& s) {
-  std::vector<std::string> out;
-  std::stringstream ss(s);
-  for (std::string item; std::getline(ss, item, ',');)
-    if (!item.empty()) out.push_back(item);
-  return out;
-}
-
 void usage(std::FILE* f) {
   std::fprintf(f,
       "Times per path are medians over the measured frames (after 2 warm-up frames).\n"
@@ -75,9 +66,10 @@ bool parse(int argc, char** argv, Options* o) {
     if (a == "--help") { usage(stdout); std::exit(0); }
     else if (a == "--sizes" && has) {
       o->sizes.clear();
-      for (const std::string& v : split(argv[++i])) o->sizes.push_back(uint32_t(std::stoul(v)));
-    } else if (a == "--scenes" && has) o->scenes = split(argv[++i]);
-    else if (a == "--paths" && has) o->paths = split(argv[++i]);
+      for (const std::string& v : si::examples::splitList(argv[++i]))
+        o->sizes.push_back(uint32_t(std::stoul(v)));
+    } else if (a == "--scenes" && has) o->scenes = si::examples::splitList(argv[++i]);
+    else if (a == "--paths" && has) o->paths = si::examples::splitList(argv[++i]);
     else if (a == "--frames" && has) o->frames = uint32_t(std::stoul(argv[++i]));
     else if (a == "--size" && has) {
       if (std::sscanf(argv[++i], "%ux%u", &o->width, &o->height) != 2) return false;
