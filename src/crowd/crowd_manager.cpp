@@ -384,10 +384,7 @@ FrameSample CrowdManager::frameSample(uint32_t clip, double local_time_seconds) 
 }
 
 Status CrowdManager::update(double dt, const Camera& camera) {
-  if (!initialized_) return {StatusCode::kInvalidArgument, "CrowdManager: init() first"};
-  if (!std::isfinite(dt) || dt < 0.0)
-    return {StatusCode::kInvalidArgument, "update: dt_seconds must be finite and >= 0"};
-  Status advanced = advanceClock(dt);
+  Status advanced = advanceClock(dt);  // Checks init() and dt.
   if (!advanced.isOk()) return advanced;
 
   const BakedPalette& palette = *desc_.palette;
