@@ -24,6 +24,7 @@
 #include "si/core/log.h"
 #include "si/core/palette_layout.h"
 #include "si/core/reference_evaluator.h"
+#include "si/core/shader_inputs.h"
 #include "si/core/skeleton.h"
 #include "si/core/skinned_mesh.h"
 #include "si/core/span.h"

@@ -3,8 +3,9 @@
 
 /// \file
 /// The crowd's state as GPU-driven culling (si::gl, Renderer::drawCrowdGpuCulled) reads it:
-/// std430 structs with their GLSL twins, and the per-frame selection parameters. Plain data, no
-/// GL: CrowdManager exports it (exportGpuState, exportGpuClips, cullParams).
+/// std430 structs (their GLSL twins are in src/gl/shaders/gpu_crowd_state.glsl; the render
+/// tests compare the layouts by GL introspection), and the per-frame selection parameters.
+/// Plain data, no GL: CrowdManager exports it (exportGpuState, exportGpuClips, cullParams).
 
 #include <array>
 #include <cstdint>
@@ -45,25 +46,6 @@ struct GpuClipInfo {
   uint32_t pad[3];
 };
 static_assert(sizeof(GpuClipInfo) == 80, "std430 layout");
-
-/// GLSL declarations of the two structs above.
-inline constexpr const char* kGpuCrowdStateGlsl = R"(struct SiGpuInstance {
-  double px, py, pz, pad0;
-  vec4 rotation;
-  float scale; uint color; uint mask; uint lod;
-  double start_clock, start_time;
-  uint clip, loop; float speed; uint fading;
-  double fade_start, fade_duration;
-  double from_start_clock, from_start_time;
-  uint from_clip, from_loop; float from_speed; uint pad1;
-};
-struct SiGpuClip {
-  double duration, inv_duration, interval, inv_interval;
-  vec4 sphere;
-  uint first_texel, last_interval, uniform_grid, frame_count;
-  uint times_offset, pad0, pad1, pad2;
-};
-)";
 
 /// One frame's selection parameters (see src/crowd/cull_math.h for the arithmetic).
 struct CullParams {

@@ -3,8 +3,9 @@
 
 /// \file
 /// The per-instance record the vertex shader reads from the instance uniform block with
-/// gl_InstanceID: 80 bytes in std140, crossfade included. The C++ struct and the GLSL
-/// declaration below are the one definition of the layout; static_asserts tie them together.
+/// gl_InstanceID: 80 bytes in std140 (and std430), crossfade included. Its GLSL twin is
+/// `SiInstance` in the installed include's si_instance_record.glsl; static_asserts pin the C++
+/// offsets and the render tests compare them with the GLSL layout by GL introspection.
 ///
 /// | bytes | GLSL | content |
 /// | --- | --- | --- |
@@ -33,15 +34,5 @@ static_assert(offsetof(InstanceRecord, blend) == 64, "std140 offset of blend");
 
 /// Size of InstanceRecord in bytes (its std140 array stride).
 inline constexpr uint32_t kInstanceRecordSize = sizeof(InstanceRecord);
-
-/// The GLSL declaration of the record, for the instance uniform block. The block itself is
-/// declared by the renderer with its capacity, e.g.
-/// `layout(std140) uniform SiInstances { SiInstance si_instances[819]; };`.
-inline constexpr const char* kInstanceRecordGlsl = R"(struct SiInstance {
-  vec4 world_rows[3];
-  uvec4 frames;
-  uvec4 blend;
-};
-)";
 
 }  // namespace si

@@ -1,0 +1,71 @@
+// SkinnedInstancing — SPDX-License-Identifier: MIT (see LICENSE)
+#pragma once
+
+/// \file
+/// The CPU side of the shipped GLSL skinning interface (si_skinning.glsl, documented in
+/// docs/glsl-interface.md): the interleaved vertex stream its skinning reads and the value of
+/// its `si_palette_info` uniform. Plain data, no GL: an engine that draws with its own renderer
+/// (any API) uploads these as they are. si::Renderer uses the same functions.
+///
+/// Usage:
+/// \code
+///   si::VertexStream stream;
+///   si::Status s = si::buildVertexStream(character.mesh, palette, &stream);
+///   // Upload stream.bytes as one vertex buffer (stride stream.stride_bytes) with the
+///   // attributes at the offsets below, and the mesh's indices as the index buffer.
+///   const glm::uvec4 info = si::paletteShaderInfo(palette);  // -> si_palette_info
+/// \endcode
+
+#include <cstdint>
+#include <vector>
+
+#include <glm/glm.hpp>
+
+#include "si/core/baked_palette.h"
+#include "si/core/skinned_mesh.h"
+#include "si/core/status.h"
+
+namespace si {
+
+/// One vertex buffer of interleaved vertices, 32 bytes each (36 with wide joints):
+///
+/// | offset | attribute (location) | format |
+/// | --- | --- | --- |
+/// | 0 | position (0) | 3 x float32, bind-pose model space, not quantized |
+/// | 12 | normal (1) | 10:10:10:2 signed normalized (GL_INT_2_10_10_10_REV), w unused |
+/// | 16 | texcoord (2) | 2 x float16 (0 when the mesh has none) |
+/// | 20 | joints (3) | 4 x uint8 palette slots; 4 x uint16 when wide_joints |
+/// | 24 (28) | weights (4) | 4 x unorm16 summing to exactly 65535 (si::quantizeWeights) |
+///
+/// Joints are palette slots (BakedPalette::skeleton_to_palette applied), not skeleton joints;
+/// a zero weight's joint is 0. Wide joints are used when the palette stores more than 256.
+struct VertexStream {
+  static constexpr uint32_t kPositionOffset = 0;
+  static constexpr uint32_t kNormalOffset = 12;
+  static constexpr uint32_t kTexcoordOffset = 16;
+  static constexpr uint32_t kJointsOffset = 20;
+
+  std::vector<uint8_t> bytes;   ///< vertex_count * stride_bytes bytes.
+  uint32_t vertex_count = 0;
+  uint32_t stride_bytes = 0;    ///< 32, or 36 with wide joints.
+  bool wide_joints = false;     ///< Joints as 4 x uint16.
+  uint32_t weights_offset = 0;  ///< 24, or 28 with wide joints.
+};
+
+/// Builds the vertex stream of `mesh` for `palette` (the palette baked for the mesh's
+/// skeleton). Fails, leaving `out` untouched, with kInvalidArgument when `out` is null, when
+/// the mesh is invalid for a skeleton of the palette's joint count (see
+/// SkinnedMesh::validate()), or naming the first vertex weighted to a joint the palette does not
+/// store.
+Status buildVertexStream(const SkinnedMesh& mesh, const BakedPalette& palette, VertexStream* out);
+
+/// The value of the include's `uniform uvec4 si_palette_info`: x log2 of the palette texture's
+/// width, y joint stride in texels, z 0 for the 3x4 matrix formats and 1 for quaternion +
+/// translation, w 0.
+glm::uvec4 paletteShaderInfo(const BakedPalette& palette);
+
+/// A unit normal packed as GL_INT_2_10_10_10_REV (x, y, z signed normalized to 511; w 0), as
+/// the vertex stream stores it.
+uint32_t packNormal10(const glm::vec3& normal);
+
+}  // namespace si

@@ -1,0 +1,68 @@
+// SkinnedInstancing — SPDX-License-Identifier: MIT (see LICENSE)
+// The vertex stream and palette uniform of the shipped GLSL skinning interface.
+#include "si/core/shader_inputs.h"
+
+#include <algorithm>
+#include <cmath>
+#include <cstring>
+
+#include "core/str_cat.h"
+
+namespace si {
+using detail::strCat;
+
+uint32_t packNormal10(const glm::vec3& n) {
+  const auto c = [](float v) {
+    return uint32_t(int32_t(std::lround(std::clamp(v, -1.0f, 1.0f) * 511.0f)) & 0x3FF);
+  };
+  return c(n.x) | (c(n.y) << 10) | (c(n.z) << 20);
+}
+
+Status buildVertexStream(const SkinnedMesh& mesh, const BakedPalette& palette, VertexStream* out) {
+  if (out == nullptr) return {StatusCode::kInvalidArgument, "buildVertexStream: out is null"};
+  Status s = mesh.validate(palette.skeleton_to_palette.size());
+  if (!s.isOk()) return s;
+  VertexStream stream;
+  stream.wide_joints = palette.palette_joints.size() > 256;
+  stream.stride_bytes = stream.wide_joints ? 36 : 32;
+  stream.weights_offset = stream.wide_joints ? 28 : 24;
+  stream.vertex_count = uint32_t(mesh.vertexCount());
+  stream.bytes.resize(mesh.vertexCount() * stream.stride_bytes);
+  for (size_t v = 0; v < mesh.vertexCount(); ++v) {
+    uint8_t* dst = stream.bytes.data() + v * stream.stride_bytes;
+    std::memcpy(dst + VertexStream::kPositionOffset, &mesh.positions[v], 12);
+    const uint32_t n = packNormal10(mesh.normals[v]);
+    std::memcpy(dst + VertexStream::kNormalOffset, &n, 4);
+    const glm::vec2 uv = mesh.texcoords.empty() ? glm::vec2(0.0f) : mesh.texcoords[v];
+    const uint16_t h[2] = {floatToHalf(uv.x), floatToHalf(uv.y)};
+    std::memcpy(dst + VertexStream::kTexcoordOffset, h, 4);
+    uint16_t slots[4] = {0, 0, 0, 0};
+    for (int k = 0; k < 4; ++k) {
+      if (mesh.weights[v][k] == 0.0f) continue;
+      const int32_t slot = palette.skeleton_to_palette[mesh.joints[v][k]];
+      if (slot < 0)
+        return {StatusCode::kInvalidArgument,
+                strCat("buildVertexStream: vertex ", v, " is weighted to joint ",
+                       mesh.joints[v][k], ", which the palette does not store")};
+      slots[k] = uint16_t(slot);
+    }
+    if (stream.wide_joints) {
+      std::memcpy(dst + VertexStream::kJointsOffset, slots, 8);
+    } else {
+      const uint8_t narrow[4] = {uint8_t(slots[0]), uint8_t(slots[1]), uint8_t(slots[2]),
+                                 uint8_t(slots[3])};
+      std::memcpy(dst + VertexStream::kJointsOffset, narrow, 4);
+    }
+    const glm::u16vec4 w = quantizeWeights(mesh.weights[v]);
+    std::memcpy(dst + stream.weights_offset, &w, 8);
+  }
+  *out = std::move(stream);
+  return Status::ok();
+}
+
+glm::uvec4 paletteShaderInfo(const BakedPalette& palette) {
+  return glm::uvec4(palette.layout.width_log2, palette.layout.joint_stride_texels,
+                    palette.format == PaletteFormat::kQuatTranslationF32 ? 1u : 0u, 0u);
+}
+
+}  // namespace si

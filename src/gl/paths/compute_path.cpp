@@ -1,0 +1,148 @@
+// SkinnedInstancing — SPDX-License-Identifier: MIT (see LICENSE)
+// Compute pre-skinning into a bounded ring, drawn by vertex pulling.
+#include "gl/paths/compute_path.h"
+
+#include <algorithm>
+
+namespace si::detail {
+
+Status ComputePath::prepare(const DrawResources& r) {
+  const SkinnedMesh& mesh = r.character->mesh;
+  // The vertices each (sub-mesh, LOD) uses, compacted, and its triangles re-indexed to them,
+  // so the compute pass skins exactly what is drawn.
+  std::vector<uint32_t> lod_vertices, local_indices, local(mesh.vertexCount(), UINT32_MAX);
+  lods_.assign(mesh.sub_meshes.size(), {});
+  max_lod_vertices_ = 0;
+  for (size_t sm = 0; sm < mesh.sub_meshes.size(); ++sm)
+    for (const IndexRange& range : mesh.sub_meshes[sm].lods) {
+      Lod l;
+      l.first_index = uint32_t(local_indices.size());
+      l.index_count = range.index_count;
+      l.vertex_offset = uint32_t(lod_vertices.size());
+      std::vector<uint32_t> used(mesh.indices.begin() + range.first_index,
+                                 mesh.indices.begin() + range.first_index + range.index_count);
+      std::sort(used.begin(), used.end());
+      used.erase(std::unique(used.begin(), used.end()), used.end());
+      for (size_t k = 0; k < used.size(); ++k) local[used[k]] = uint32_t(k);
+      lod_vertices.insert(lod_vertices.end(), used.begin(), used.end());
+      for (uint32_t i = range.first_index; i < range.first_index + range.index_count; ++i)
+        local_indices.push_back(local[mesh.indices[i]]);
+      l.vertex_count = uint32_t(used.size());
+      max_lod_vertices_ = std::max(max_lod_vertices_, l.vertex_count);
+      lods_[sm].push_back(l);
+    }
+  const GLuint old[] = {index_buffer_, lod_vertex_list_};
+  glDeleteBuffers(2, old);
+  if (vao_ != kNoObject) glDeleteVertexArrays(1, &vao_);
+  lod_vertices.push_back(0);  // Never empty (a zero-sized buffer is an error).
+  local_indices.push_back(0);
+  glCreateBuffers(1, &lod_vertex_list_);
+  glNamedBufferStorage(lod_vertex_list_, GLsizeiptr(lod_vertices.size() * 4), lod_vertices.data(),
+                       0);
+  glCreateBuffers(1, &index_buffer_);
+  glNamedBufferStorage(index_buffer_, GLsizeiptr(local_indices.size() * 4), local_indices.data(),
+                       0);
+  glCreateVertexArrays(1, &vao_);
+  glVertexArrayElementBuffer(vao_, index_buffer_);
+  source_words_ = r.character->stride_bytes / 4;
+  if (ring_ != kNoObject && ring_vertices_ < max_lod_vertices_) {  // Regrow for a larger character.
+    glDeleteBuffers(1, &ring_);
+    ring_ = kNoObject;
+  }
+  return Status::ok();
+}
+
+Status ComputePath::ensureRing(const RendererDesc& desc) {
+  if (ring_ != kNoObject) return Status::ok();
+  const uint64_t bytes = desc.compute_ring_bytes == 0 ? uint64_t(32) << 20 : desc.compute_ring_bytes;
+  ring_vertices_ = std::max<uint64_t>(bytes / 16, max_lod_vertices_);
+  glCreateBuffers(1, &ring_);
+  glNamedBufferStorage(ring_, GLsizeiptr(ring_vertices_ * 16), nullptr, 0);
+  return Status::ok();
+}
+
+// For each batch, a compute dispatch skins its instances' vertices into the ring; when the ring
+// is full (or at the end) the pending draws read them by vertex id. Barriers order the writes
+// before the draws and the draws before the ring is overwritten.
+Status ComputePath::draw(const DrawResources& r, const PathFrame& f, DrawStats* st) {
+  Status s = ensureRing(*r.desc);
+  if (!s.isOk()) return s;
+  const Program& skin = (*r.programs)[ProgramId::kComputeSkin];
+  const Program& pulled = (*r.programs)[ProgramId::kPulled];
+  const glm::mat4 vp = f.camera.viewProjection();
+  glBindTextureUnit(0, r.palette->texture());
+  glBindTextureUnit(1, r.character->base_texture);
+  glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 1, ring_);
+  glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 2, r.character->vertex_buffer);
+  glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 3, lod_vertex_list_);
+  glProgramUniform4uiv(skin.id, skin.palette_info, 1, &r.palette->shaderInfo()[0]);
+  glProgramUniformMatrix4fv(pulled.id, pulled.view_projection, 1, GL_FALSE, &vp[0][0]);
+  glProgramUniform4fv(pulled.id, pulled.base_factor, 1, &r.character->base_factor[0]);
+  glProgramUniform3fv(pulled.id, pulled.light_direction, 1, &f.light[0]);
+  glBindVertexArray(vao_);
+  // One dispatch covers at most 65535 groups of 64 (GL's guaranteed minimum).
+  const uint64_t dispatch_limit = uint64_t(65535) * 64;
+  uint64_t cursor = 0;
+  pending_.clear();
+  const auto flush = [&] {
+    if (pending_.empty()) return;
+    glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT);  // Skinned vertices before the draws.
+    glUseProgram(pulled.id);
+    for (const PendingDraw& p : pending_) {
+      r.ring->bindBatch(f.ring_base, p.batch);
+      glProgramUniform4ui(pulled.id, 5, p.ring_first, p.lod.vertex_count, p.lod.vertex_offset,
+                          p.first_instance);
+      glProgramUniform2ui(pulled.id, 6, p.instances, source_words_);
+      glDrawElementsInstanced(GL_TRIANGLES, GLsizei(p.lod.index_count), GL_UNSIGNED_INT,
+                              reinterpret_cast<const void*>(uintptr_t(p.lod.first_index) * 4),
+                              GLsizei(p.instances));
+      ++st->draw_calls;
+      st->triangles += uint64_t(p.lod.index_count / 3) * p.instances;
+      st->instances += p.instances;
+    }
+    st->ring_bytes_used = std::max<uint64_t>(st->ring_bytes_used, cursor * 16);
+    ++st->compute_chunks;
+    pending_.clear();
+    cursor = 0;
+  };
+  for (const DrawBatch& d : *f.batches) {
+    if (d.sub_mesh >= lods_.size()) continue;
+    const Lod& l = lod(d.sub_mesh, d.lod);
+    if (l.vertex_count == 0 || l.index_count == 0) continue;
+    for (uint32_t first = 0; first < d.instance_count;) {
+      const uint64_t fit = std::min(ring_vertices_ - cursor, dispatch_limit) / l.vertex_count;
+      if (fit == 0) {
+        flush();
+        continue;
+      }
+      const uint32_t count = uint32_t(std::min<uint64_t>(d.instance_count - first, fit));
+      if (pending_.empty()) {
+        // The last chunk's draws (or last frame's) are done reading the ring.
+        glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT);
+        glUseProgram(skin.id);
+      }
+      r.ring->bindBatch(f.ring_base, d);
+      glProgramUniform4ui(skin.id, 5, uint32_t(cursor), l.vertex_count, l.vertex_offset, first);
+      glProgramUniform2ui(skin.id, 6, count, source_words_);
+      const uint64_t threads = uint64_t(count) * l.vertex_count;
+      glDispatchCompute(GLuint((threads + 63) / 64), 1, 1);
+      pending_.push_back({d, l, first, count, uint32_t(cursor)});
+      ++st->compute_dispatches;
+      st->skinned_vertices += threads;
+      cursor += threads;
+      first += count;
+    }
+  }
+  flush();
+  return Status::ok();
+}
+
+void ComputePath::release() {
+  const GLuint buffers[] = {index_buffer_, lod_vertex_list_, ring_};
+  glDeleteBuffers(3, buffers);
+  if (vao_ != kNoObject) glDeleteVertexArrays(1, &vao_);
+  index_buffer_ = lod_vertex_list_ = ring_ = vao_ = kNoObject;
+  lods_.clear();
+}
+
+}  // namespace si::detail

@@ -1,0 +1,130 @@
+// SkinnedInstancing — SPDX-License-Identifier: MIT (see LICENSE)
+// Skinning on the CPU, streamed to the GPU: the baseline that shows what instancing saves.
+#include "gl/paths/cpu_skinning_path.h"
+
+#include <algorithm>
+#include <cstring>
+
+namespace si::detail {
+
+namespace {
+constexpr size_t kVertexBytes = 32;             // Position, normal, texcoord as floats.
+constexpr size_t kChunkBytes = size_t(8) << 20;  // The streaming buffer.
+}  // namespace
+
+Status CpuSkinningPath::prepare(const DrawResources& r) {
+  const SkinnedMesh& mesh = r.character->mesh;
+  ranges_.clear();
+  range_of_.assign(mesh.sub_meshes.size(), {});
+  for (size_t sm = 0; sm < mesh.sub_meshes.size(); ++sm)
+    for (const IndexRange& range : mesh.sub_meshes[sm].lods) {
+      uint32_t lo = UINT32_MAX, hi = 0;
+      for (uint32_t i = range.first_index; i < range.first_index + range.index_count; ++i) {
+        lo = std::min(lo, mesh.indices[i]);
+        hi = std::max(hi, mesh.indices[i]);
+      }
+      range_of_[sm].push_back(uint32_t(ranges_.size()));
+      ranges_.push_back(glm::uvec2(lo, hi - lo + 1));
+    }
+  if (vao_ != kNoObject) glDeleteVertexArrays(1, &vao_);
+  glCreateVertexArrays(1, &vao_);
+  glVertexArrayElementBuffer(vao_, r.character->index_buffer);
+  for (GLuint loc : {0u, 1u, 2u}) {
+    glEnableVertexArrayAttrib(vao_, loc);
+    glVertexArrayAttribBinding(vao_, loc, 0);
+  }
+  glVertexArrayAttribFormat(vao_, 0, 3, GL_FLOAT, GL_FALSE, 0);
+  glVertexArrayAttribFormat(vao_, 1, 3, GL_FLOAT, GL_FALSE, 12);
+  glVertexArrayAttribFormat(vao_, 2, 2, GL_FLOAT, GL_FALSE, 24);
+  if (stream_ != kNoObject) glVertexArrayVertexBuffer(vao_, 0, stream_, 0, GLsizei(kVertexBytes));
+  return Status::ok();
+}
+
+Status CpuSkinningPath::draw(const DrawResources& r, const PathFrame& f, DrawStats* st) {
+  if (stream_ == kNoObject) {
+    glCreateBuffers(1, &stream_);
+    glNamedBufferData(stream_, GLsizeiptr(kChunkBytes), nullptr, GL_STREAM_DRAW);
+    glVertexArrayVertexBuffer(vao_, 0, stream_, 0, GLsizei(kVertexBytes));
+  }
+  const Program& program = (*r.programs)[ProgramId::kPreSkinned];
+  glUseProgram(program.id);
+  glBindVertexArray(vao_);
+  glBindTextureUnit(1, r.character->base_texture);
+  const glm::mat4 vp = f.camera.viewProjection();
+  glProgramUniformMatrix4fv(program.id, 1, 1, GL_FALSE, &vp[0][0]);
+  glProgramUniform4fv(program.id, 2, 1, &r.character->base_factor[0]);
+  glProgramUniform3fv(program.id, 3, 1, &f.light[0]);
+  const BakedPalette& palette = *r.palette->palette();
+  const SkinnedMesh& mesh = r.character->mesh;
+  const std::vector<SubMesh>& sub_meshes = r.character->sub_meshes;
+  std::vector<glm::mat4> joint(palette.skeleton_to_palette.size(), glm::mat4(1.0f));
+  pending_.clear();
+  vertices_.clear();
+  const auto flush = [&] {
+    if (vertices_.empty()) return;
+    glInvalidateBufferData(stream_);  // Orphan: the GPU may still read the last chunk.
+    glNamedBufferSubData(stream_, 0, GLsizeiptr(vertices_.size()), vertices_.data());
+    for (const PendingDraw& d : pending_) {
+      glProgramUniform1ui(program.id, 4, d.color);
+      glDrawElementsBaseVertex(GL_TRIANGLES, GLsizei(d.range.index_count), GL_UNSIGNED_INT,
+                               reinterpret_cast<const void*>(uintptr_t(d.range.first_index) * 4),
+                               d.base_vertex);
+      ++st->draw_calls;
+      st->triangles += d.range.index_count / 3;
+      ++st->instances;
+    }
+    pending_.clear();
+    vertices_.clear();
+  };
+  const CrowdManager& crowd = *f.crowd;
+  const std::vector<InstanceRecord>& records = crowd.records();
+  for (size_t v = 0; v < records.size(); ++v) {
+    const InstanceRecord& rec = records[v];
+    uint32_t lod = 0;
+    InstanceDesc desc;
+    if (!crowd.lodOf(crowd.visibleHandles()[v], &lod).isOk() ||
+        !crowd.get(crowd.visibleHandles()[v], &desc).isOk())
+      continue;
+    glm::mat4 world(1.0f);
+    for (int row = 0; row < 3; ++row)
+      for (int col = 0; col < 4; ++col) world[col][row] = rec.world_rows[row][col];
+    for (size_t j = 0; j < joint.size(); ++j) {
+      const int32_t slot = palette.skeleton_to_palette[j];
+      if (slot < 0) continue;
+      joint[j] = world * recordJointMatrix(palette, rec, uint32_t(slot));
+    }
+    for (uint32_t sm = 0; sm < sub_meshes.size() && sm < 32; ++sm) {
+      if (!((desc.variation_mask >> sm) & 1u)) continue;
+      const size_t lod_index = std::min<size_t>(lod, sub_meshes[sm].lods.size() - 1);
+      const glm::uvec2 vr = ranges_[range_of_[sm][lod_index]];
+      if (vertices_.size() + size_t(vr.y) * kVertexBytes > kChunkBytes) flush();
+      const GLint first = GLint(vertices_.size() / kVertexBytes);
+      vertices_.resize(vertices_.size() + size_t(vr.y) * kVertexBytes);
+      float* out = reinterpret_cast<float*>(vertices_.data() + size_t(first) * kVertexBytes);
+      for (uint32_t k = 0; k < vr.y; ++k, out += 8) {
+        const uint32_t vi = vr.x + k;
+        glm::mat4 blended(0.0f);
+        for (int i = 0; i < 4; ++i) {
+          const float w = mesh.weights[vi][i];
+          if (w != 0.0f) blended += joint[mesh.joints[vi][i]] * w;
+        }
+        const glm::vec3 p(blended * glm::vec4(mesh.positions[vi], 1.0f));
+        const glm::vec3 n = glm::normalize(glm::mat3(blended) * mesh.normals[vi]);
+        const glm::vec2 uv = mesh.texcoords.empty() ? glm::vec2(0.0f) : mesh.texcoords[vi];
+        const float values[8] = {p.x, p.y, p.z, n.x, n.y, n.z, uv.x, uv.y};
+        std::memcpy(out, values, sizeof(values));
+      }
+      pending_.push_back({sub_meshes[sm].lods[lod_index], first - GLint(vr.x), rec.blend[3]});
+    }
+  }
+  flush();
+  return Status::ok();
+}
+
+void CpuSkinningPath::release() {
+  if (vao_ != kNoObject) glDeleteVertexArrays(1, &vao_);
+  if (stream_ != kNoObject) glDeleteBuffers(1, &stream_);
+  vao_ = stream_ = kNoObject;
+}
+
+}  // namespace si::detail

@@ -1,0 +1,33 @@
+// SkinnedInstancing — SPDX-License-Identifier: MIT (see LICENSE)
+#pragma once
+// The CPU-skinning baseline: per visible instance, its joint matrices from the palette, the
+// vertices of its worn sub-meshes at its LOD skinned on the CPU (si::emulateSkinning's
+// arithmetic), streamed to the GPU in camera-relative world space and drawn unskinned.
+
+#include <vector>
+
+#include "gl/paths/draw_path.h"
+
+namespace si::detail {
+
+class CpuSkinningPath final : public DrawPath {
+ public:
+  /// Finds the vertex range each (sub-mesh, LOD) uses and describes the streamed format.
+  Status prepare(const DrawResources& r) override;
+  Status draw(const DrawResources& r, const PathFrame& frame, DrawStats* stats) override;
+  void release() override;
+
+ private:
+  struct PendingDraw {
+    IndexRange range;
+    GLint base_vertex;
+    uint32_t color;
+  };
+  GLuint vao_ = kNoObject, stream_ = kNoObject;
+  std::vector<uint8_t> vertices_;
+  std::vector<PendingDraw> pending_;
+  std::vector<glm::uvec2> ranges_;              // Per (sub-mesh, lod): first vertex, count.
+  std::vector<std::vector<uint32_t>> range_of_;  // [sub_mesh][lod] -> ranges_.
+};
+
+}  // namespace si::detail

@@ -1,0 +1,37 @@
+// SkinnedInstancing — SPDX-License-Identifier: MIT (see LICENSE)
+// What the draw paths share.
+#include "gl/paths/draw_path.h"
+
+#include <cstring>
+
+namespace si::detail {
+
+void bindShading(const DrawResources& r, const Program& program, const Camera& camera,
+                 const glm::vec3& light) {
+  glUseProgram(program.id);
+  glBindVertexArray(r.character->vao);
+  glBindTextureUnit(0, r.palette->texture());
+  glBindTextureUnit(1, r.character->base_texture);
+  const glm::mat4 vp = camera.viewProjection();
+  if (program.palette_info >= 0)
+    glProgramUniform4uiv(program.id, program.palette_info, 1, &r.palette->shaderInfo()[0]);
+  if (program.view_projection >= 0)
+    glProgramUniformMatrix4fv(program.id, program.view_projection, 1, GL_FALSE, &vp[0][0]);
+  if (program.base_factor >= 0)
+    glProgramUniform4fv(program.id, program.base_factor, 1, &r.character->base_factor[0]);
+  if (program.light_direction >= 0)
+    glProgramUniform3fv(program.id, program.light_direction, 1, &light[0]);
+}
+
+glm::mat4 recordJointMatrix(const BakedPalette& palette, const InstanceRecord& rec, uint32_t slot) {
+  float fa, fb, wb;
+  std::memcpy(&fa, &rec.blend[0], 4);
+  std::memcpy(&fb, &rec.blend[1], 4);
+  std::memcpy(&wb, &rec.blend[2], 4);
+  glm::mat4 mat = emulateFrameMatrix(palette, rec.frames[0], rec.frames[1], fa, slot);
+  if (wb > 0.0f)
+    mat = mat * (1.0f - wb) + emulateFrameMatrix(palette, rec.frames[2], rec.frames[3], fb, slot) * wb;
+  return mat;
+}
+
+}  // namespace si::detail

@@ -1,0 +1,71 @@
+// SkinnedInstancing — SPDX-License-Identifier: MIT (see LICENSE)
+#pragma once
+// The small interface every draw path implements (one file per path in this folder), and what
+// they share: the uploaded resources, the frame's inputs, the shading uniforms. The renderer
+// (src/gl/renderer.cpp) validates, times and fences; a path only issues its GL commands.
+
+#include <glad/gl.h>
+
+#include <cstdint>
+#include <vector>
+
+#include "gl/programs/program_set.h"
+#include "gl/resources/character_buffers.h"
+#include "gl/resources/palette_texture.h"
+#include "gl/resources/record_ring.h"
+#include "si/crowd/camera.h"
+#include "si/crowd/crowd_manager.h"
+#include "si/crowd/instance_batcher.h"
+#include "si/gl/renderer.h"
+
+namespace si::detail {
+
+/// What the renderer uploaded and configured, read by every path.
+struct DrawResources {
+  const RendererDesc* desc = nullptr;
+  const ProgramSet* programs = nullptr;
+  const PaletteTexture* palette = nullptr;
+  const CharacterBuffers* character = nullptr;
+  RecordRing* ring = nullptr;
+  uint32_t block_size = 0;  ///< Bytes of the instance uniform block.
+  uint32_t capacity = 0;    ///< Records per block.
+  uint32_t alignment = 256; ///< Uniform buffer offset alignment.
+};
+
+/// One frame's inputs.
+struct PathFrame {
+  const CrowdManager* crowd = nullptr;
+  Camera camera;
+  glm::vec3 light{0.0f, -1.0f, 0.0f};
+  /// The vertex-shader path's program (skinned, depth-only or rigid).
+  ProgramId program = ProgramId::kSkinned;
+  /// The batcher's draws and the ring region holding their records (the instanced paths).
+  const std::vector<DrawBatch>* batches = nullptr;
+  size_t ring_base = 0;
+};
+
+class DrawPath {
+ public:
+  virtual ~DrawPath() = default;
+  /// Builds what the path keeps per character; called after every character upload.
+  virtual Status prepare(const DrawResources& r) = 0;
+  /// The frame's validation and uploads, done before the renderer starts its GPU timer.
+  virtual Status uploadFrame(const DrawResources&, const PathFrame&) { return Status::ok(); }
+  /// Issues the frame's GL commands and adds what it drew to `stats` (draw calls, triangles,
+  /// instances and the path's own counters).
+  virtual Status draw(const DrawResources& r, const PathFrame& frame, DrawStats* stats) = 0;
+  /// Deletes the path's GL objects (context current). Idempotent.
+  virtual void release() = 0;
+};
+
+/// Binds `program`, the character's vertex array, the palette and base colour textures, and
+/// sets the shared uniforms it declares (palette info, view-projection, base factor, light).
+void bindShading(const DrawResources& r, const Program& program, const Camera& camera,
+                 const glm::vec3& light);
+
+/// What the instanced shader computes for palette slot `slot` of `record`: clip A's frames
+/// lerped, crossfaded towards clip B by the record's weight (the two CPU baselines use it).
+glm::mat4 recordJointMatrix(const BakedPalette& palette, const InstanceRecord& record,
+                            uint32_t slot);
+
+}  // namespace si::detail

@@ -1,0 +1,176 @@
+// SkinnedInstancing — SPDX-License-Identifier: MIT (see LICENSE)
+// GPU-driven culling and LOD: cull, commands and scatter passes, then one indirect multi-draw.
+#include "gl/paths/gpu_culled_path.h"
+
+#include <algorithm>
+
+#include "core/str_cat.h"
+
+namespace si::detail {
+
+namespace {
+
+constexpr GLintptr kBucketCountOffset = 16, kDispatchOffset = 16 + 1024 + 1024;
+constexpr GLsizeiptr kCountersSize = kDispatchOffset + 16;
+constexpr uint32_t kMaxBuckets = 256;
+
+// (Re)creates `buffer` with `bytes` of storage (and `data` when given), dynamic.
+void recreate(GLuint* buffer, size_t bytes, const void* data) {
+  if (*buffer != kNoObject) glDeleteBuffers(1, buffer);
+  glCreateBuffers(1, buffer);
+  glNamedBufferStorage(*buffer, GLsizeiptr(std::max<size_t>(bytes, 16)), data,
+                       GL_DYNAMIC_STORAGE_BIT);
+}
+
+}  // namespace
+
+void GpuCulledPath::uploadState(const DrawResources& r, const CrowdManager& crowd,
+                                uint32_t buckets) {
+  const CrowdDesc& cd = crowd.desc();
+  const uint32_t n = crowd.size();
+  std::vector<GpuInstanceState> state;
+  crowd.exportGpuState(&state, nullptr);
+  std::vector<GpuClipInfo> clips;
+  std::vector<double> times;
+  crowd.exportGpuClips(&clips, &times);
+  const uint32_t entries = std::max(1u, n) * cd.sub_mesh_count;
+  if (n > capacity_ || sub_meshes_ != cd.sub_mesh_count || records_ == kNoObject) {
+    capacity_ = std::max(n, 1u);
+    sub_meshes_ = cd.sub_mesh_count;
+    recreate(&state_, size_t(capacity_) * sizeof(GpuInstanceState), nullptr);
+    recreate(&records_, size_t(capacity_) * kInstanceRecordSize, nullptr);
+    recreate(&visible_, size_t(capacity_) * 16, nullptr);
+    recreate(&entries_, size_t(entries) * 4, nullptr);
+    std::vector<uint32_t> identity(entries);
+    for (uint32_t k = 0; k < entries; ++k) identity[k] = k;
+    recreate(&identity_, identity.size() * 4, identity.data());
+  }
+  if (n > 0)
+    glNamedBufferSubData(state_, 0, GLsizeiptr(state.size() * sizeof(state[0])), state.data());
+  recreate(&clips_, clips.size() * sizeof(GpuClipInfo), clips.data());
+  recreate(&times_, times.size() * sizeof(double), times.empty() ? nullptr : times.data());
+  if (counters_ == kNoObject) recreate(&counters_, size_t(kCountersSize), nullptr);
+  if (commands_ == kNoObject) recreate(&commands_, size_t(kMaxBuckets) * 20, nullptr);
+  std::vector<glm::uvec2> ranges(buckets);
+  for (uint32_t b = 0; b < buckets; ++b) {
+    const IndexRange range = r.character->lodRange(b % cd.sub_mesh_count, b / cd.sub_mesh_count);
+    ranges[b] = glm::uvec2(range.first_index, range.index_count);
+  }
+  recreate(&ranges_, ranges.size() * 8, ranges.data());
+  if (vao_ != kNoObject) glDeleteVertexArrays(1, &vao_);
+  glCreateVertexArrays(1, &vao_);
+  r.character->describeVertexFormat(vao_);
+  glVertexArrayVertexBuffer(vao_, 1, identity_, 0, 4);
+  glVertexArrayBindingDivisor(vao_, 1, 1);
+  glEnableVertexArrayAttrib(vao_, 5);
+  glVertexArrayAttribBinding(vao_, 5, 1);
+  glVertexArrayAttribIFormat(vao_, 5, 1, GL_UNSIGNED_INT, 0);
+  crowd_ = &crowd;
+  version_ = crowd.stateVersion();
+  instances_ = n;
+  buckets_ = buckets;
+  vertex_source_ = r.character->vertex_buffer;
+}
+
+Status GpuCulledPath::uploadFrame(const DrawResources& r, const PathFrame& f) {
+  const CrowdManager& crowd = *f.crowd;
+  const CrowdDesc& cd = crowd.desc();
+  if (cd.palette != r.palette->palette())
+    return {StatusCode::kInvalidArgument,
+            "drawCrowdGpuCulled: the crowd plays another palette than the one uploaded"};
+  const uint32_t buckets = cd.lod_count * cd.sub_mesh_count;
+  if (buckets > kMaxBuckets || cd.sub_mesh_count > r.character->sub_meshes.size())
+    return {StatusCode::kInvalidArgument,
+            strCat("drawCrowdGpuCulled: ", cd.sub_mesh_count, " sub-meshes x ", cd.lod_count,
+                   " LODs do not fit the uploaded character (", r.character->sub_meshes.size(),
+                   " sub-meshes) or 256 buckets")};
+  const uint32_t n = crowd.size();
+  if (crowd_ != &crowd || version_ != crowd.stateVersion() || instances_ != n ||
+      buckets_ != buckets || vertex_source_ != r.character->vertex_buffer || vao_ == kNoObject)
+    uploadState(r, crowd, buckets);
+
+  // Per-frame parameters: the same CullParams CrowdManager::update() uses.
+  const CullParams p = crowd.cullParams(f.camera);
+  const GLuint cull = (*r.programs)[ProgramId::kCull].id;
+  const GLuint commands = (*r.programs)[ProgramId::kCullCommands].id;
+  const GLuint scatter = (*r.programs)[ProgramId::kCullScatter].id;
+  glProgramUniform4fv(cull, 0, 6, &p.planes[0][0]);
+  glProgramUniform3d(cull, 6, f.camera.position.x, f.camera.position.y, f.camera.position.z);
+  glProgramUniform1d(cull, 7, crowd.clockSeconds());
+  glProgramUniform4f(cull, 8, p.radius, p.max_distance_radii, p.hysteresis, 0.0f);
+  glProgramUniform1fv(cull, 9, 7, p.lod_lines);
+  const GLuint counts[4] = {n, cd.lod_count, cd.sub_mesh_count,
+                            r.palette->palette()->layout.frame_stride_texels};
+  for (GLuint program : {cull, commands, scatter}) glProgramUniform4uiv(program, 16, 1, counts);
+  glProgramUniform1ui(cull, 17, p.animation_lod_start);
+  glProgramUniform1d(cull, 18, p.animation_step_seconds);
+  return Status::ok();
+}
+
+Status GpuCulledPath::draw(const DrawResources& r, const PathFrame& f, DrawStats* st) {
+  const uint32_t n = instances_;
+  const GLuint cull = (*r.programs)[ProgramId::kCull].id;
+  const GLuint commands = (*r.programs)[ProgramId::kCullCommands].id;
+  const GLuint scatter = (*r.programs)[ProgramId::kCullScatter].id;
+  // Zero the visible count and the bucket counts.
+  glClearNamedBufferSubData(counters_, GL_R32UI, 0, kBucketCountOffset + 4 * kMaxBuckets,
+                            GL_RED_INTEGER, GL_UNSIGNED_INT, nullptr);
+  const GLuint ssbo[] = {state_, clips_, times_, counters_, records_, entries_, visible_,
+                         commands_, ranges_};
+  glBindBuffersBase(GL_SHADER_STORAGE_BUFFER, 0, 9, ssbo);
+  glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT | GL_BUFFER_UPDATE_BARRIER_BIT);
+  glUseProgram(cull);
+  glDispatchCompute((n + 63) / 64, 1, 1);
+  glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT);
+  glUseProgram(commands);
+  glDispatchCompute(1, 1, 1);
+  glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT | GL_COMMAND_BARRIER_BIT);
+  glUseProgram(scatter);
+  glBindBuffer(GL_DISPATCH_INDIRECT_BUFFER, counters_);
+  glDispatchComputeIndirect(kDispatchOffset);
+  glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT | GL_COMMAND_BARRIER_BIT);
+
+  // The draw: records and entries at bindings 4 and 5 as the vertex shader reads them.
+  bindShading(r, (*r.programs)[ProgramId::kGpuDrivenSkinned], f.camera, f.light);
+  glBindVertexArray(vao_);
+  glBindBuffer(GL_DRAW_INDIRECT_BUFFER, commands_);
+  glMultiDrawElementsIndirect(GL_TRIANGLES, GL_UNSIGNED_INT, nullptr, GLsizei(buckets_), 0);
+  st->draw_calls = 1;
+  return Status::ok();
+}
+
+void GpuCulledPath::readCounts(const DrawResources& r, const CrowdDesc& cd, DrawStats* st) const {
+  std::vector<uint32_t> counters(1 + 3 + kMaxBuckets);
+  glGetNamedBufferSubData(counters_, 0, GLsizeiptr(counters.size() * 4), counters.data());
+  st->gpu_visible = counters[0];
+  const uint32_t buckets = cd.lod_count * cd.sub_mesh_count;
+  for (uint32_t b = 0; b < buckets; ++b) {
+    const uint32_t instances = counters[4 + b];
+    const IndexRange range = r.character->lodRange(b % cd.sub_mesh_count, b / cd.sub_mesh_count);
+    st->triangles += uint64_t(range.index_count / 3) * instances;
+    st->instances += instances;
+  }
+}
+
+Status GpuCulledPath::readSelection(std::vector<glm::uvec2>* selection) const {
+  selection->clear();
+  if (counters_ == kNoObject) return Status::ok();
+  uint32_t visible = 0;
+  glGetNamedBufferSubData(counters_, 0, 4, &visible);
+  std::vector<glm::uvec4> rows(visible);
+  if (visible > 0)
+    glGetNamedBufferSubData(visible_, 0, GLsizeiptr(size_t(visible) * 16), rows.data());
+  selection->reserve(visible);
+  for (const glm::uvec4& row : rows) selection->push_back(glm::uvec2(row.x, row.y));
+  return Status::ok();
+}
+
+void GpuCulledPath::release() {
+  const GLuint buffers[] = {state_,   clips_,   times_,    counters_, records_,
+                            visible_, entries_, identity_, commands_, ranges_};
+  glDeleteBuffers(GLsizei(sizeof(buffers) / sizeof(buffers[0])), buffers);
+  if (vao_ != kNoObject) glDeleteVertexArrays(1, &vao_);
+  *this = GpuCulledPath();
+}
+
+}  // namespace si::detail

@@ -1,0 +1,68 @@
+// SkinnedInstancing — SPDX-License-Identifier: MIT (see LICENSE)
+// One draw per character and sub-mesh, its palette in a uniform block: the baseline instancing
+// is measured against.
+#include "gl/paths/traditional_path.h"
+
+#include <cstring>
+
+namespace si::detail {
+
+Status TraditionalPath::prepare(const DrawResources&) {
+  if (block_buffer_ != kNoObject) return Status::ok();
+  glCreateBuffers(1, &block_buffer_);
+  // std140: 3 vec4 world rows, a uint padded to 16, then the joint rows.
+  block_.assign(48 + 16 + size_t(kMaxTraditionalJoints) * 48, 0);
+  glNamedBufferStorage(block_buffer_, GLsizeiptr(block_.size()), nullptr, GL_DYNAMIC_STORAGE_BIT);
+  return Status::ok();
+}
+
+Status TraditionalPath::draw(const DrawResources& r, const PathFrame& f, DrawStats* st) {
+  const BakedPalette& palette = *r.palette->palette();
+  const uint32_t slots = palette.layout.joint_count;
+  if (slots > kMaxTraditionalJoints)
+    return {StatusCode::kLimitExceeded, "drawTraditional: more joints than the uniform block holds"};
+  const CrowdManager& crowd = *f.crowd;
+  bindShading(r, (*r.programs)[ProgramId::kTraditional], f.camera, f.light);
+  glBindBufferBase(GL_UNIFORM_BUFFER, 1, block_buffer_);
+  const std::vector<InstanceRecord>& records = crowd.records();
+  const uint32_t sub_meshes = crowd.desc().sub_mesh_count;
+  const size_t block_bytes = 64 + size_t(slots) * 48;
+  for (size_t v = 0; v < records.size(); ++v) {
+    const InstanceRecord& rec = records[v];
+    uint8_t* block = block_.data();
+    std::memcpy(block, rec.world_rows, 48);
+    std::memcpy(block + 48, &rec.blend[3], 4);
+    // The CPU does what the instanced shader does per vertex, once per joint per character.
+    for (uint32_t slot = 0; slot < slots; ++slot) {
+      const glm::mat4 mat = recordJointMatrix(palette, rec, slot);
+      float rows[12];
+      for (int row = 0; row < 3; ++row)
+        for (int col = 0; col < 4; ++col) rows[row * 4 + col] = mat[col][row];
+      std::memcpy(block + 64 + size_t(slot) * 48, rows, 48);
+    }
+    glNamedBufferSubData(block_buffer_, 0, GLsizeiptr(block_bytes), block);
+    // This instance's worn sub-meshes at its LOD: from the crowd's buckets.
+    uint32_t lod = 0;
+    if (!crowd.lodOf(crowd.visibleHandles()[v], &lod).isOk()) continue;
+    InstanceDesc desc;
+    if (!crowd.get(crowd.visibleHandles()[v], &desc).isOk()) continue;
+    for (uint32_t sm = 0; sm < sub_meshes && sm < r.character->sub_meshes.size(); ++sm) {
+      if (!((desc.variation_mask >> sm) & 1u)) continue;
+      const IndexRange range = r.character->lodRange(sm, lod);
+      glDrawElements(GL_TRIANGLES, GLsizei(range.index_count), GL_UNSIGNED_INT,
+                     reinterpret_cast<const void*>(uintptr_t(range.first_index) * 4));
+      ++st->draw_calls;
+      st->triangles += range.index_count / 3;
+      ++st->instances;
+    }
+  }
+  return Status::ok();
+}
+
+void TraditionalPath::release() {
+  if (block_buffer_ != kNoObject) glDeleteBuffers(1, &block_buffer_);
+  block_buffer_ = kNoObject;
+  block_.clear();
+}
+
+}  // namespace si::detail

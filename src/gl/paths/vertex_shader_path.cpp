@@ -1,0 +1,26 @@
+// SkinnedInstancing — SPDX-License-Identifier: MIT (see LICENSE)
+// One instanced draw per batch (B. Dudash, "Skinned Instancing", NVIDIA 2007).
+#include "gl/paths/vertex_shader_path.h"
+
+namespace si::detail {
+
+Status VertexShaderPath::draw(const DrawResources& r, const PathFrame& f, DrawStats* st) {
+  const bool depth_only = f.program == ProgramId::kDepthOnly;
+  bindShading(r, (*r.programs)[f.program], f.camera, f.light);
+  if (depth_only) glColorMask(GL_FALSE, GL_FALSE, GL_FALSE, GL_FALSE);
+  for (const DrawBatch& d : *f.batches) {
+    if (d.sub_mesh >= r.character->sub_meshes.size()) continue;
+    const IndexRange range = r.character->lodRange(d.sub_mesh, d.lod);
+    r.ring->bindBatch(f.ring_base, d);
+    glDrawElementsInstanced(GL_TRIANGLES, GLsizei(range.index_count), GL_UNSIGNED_INT,
+                            reinterpret_cast<const void*>(uintptr_t(range.first_index) * 4),
+                            GLsizei(d.instance_count));
+    ++st->draw_calls;
+    st->triangles += uint64_t(range.index_count / 3) * d.instance_count;
+    st->instances += d.instance_count;
+  }
+  if (depth_only) glColorMask(GL_TRUE, GL_TRUE, GL_TRUE, GL_TRUE);
+  return Status::ok();
+}
+
+}  // namespace si::detail

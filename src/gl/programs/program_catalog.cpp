@@ -1,0 +1,68 @@
+// SkinnedInstancing — SPDX-License-Identifier: MIT (see LICENSE)
+// The table of programs: shader files and defines of each.
+#include "gl/programs/program_catalog.h"
+
+#include <cstring>
+
+#include "core/str_cat.h"
+#include "gl/programs/embedded_shaders.h"
+
+namespace si::detail {
+
+namespace {
+
+// Indexed by ProgramId.
+const ProgramSpec kSpecs[kProgramCount] = {
+    {"skinned", "", "skinned.vert.glsl", "shade.frag.glsl", nullptr, nullptr},
+    {"depth-only", "", "skinned.vert.glsl", "depth.frag.glsl", nullptr, nullptr},
+    {"rigid", "#define SI_RIGID\n", "skinned.vert.glsl", "shade.frag.glsl", nullptr, nullptr},
+    {"traditional", "#define SI_TRADITIONAL\n", "skinned.vert.glsl", "shade.frag.glsl", nullptr,
+     nullptr},
+    {"capture", "#define SI_CAPTURE\n", "skinned.vert.glsl", "depth.frag.glsl", nullptr,
+     "tf_position"},
+    {"pre-skinned", "", "preskinned.vert.glsl", "shade.frag.glsl", nullptr, nullptr},
+    {"compute skinning", "", nullptr, nullptr, "compute_skin.comp.glsl", nullptr},
+    {"pre-skinned pulling", "", "pulled.vert.glsl", "shade.frag.glsl", nullptr, nullptr},
+    {"GPU-driven skinned", "#define SI_GPU_DRIVEN\n", "skinned.vert.glsl", "shade.frag.glsl",
+     nullptr, nullptr},
+    {"GPU culling", "", nullptr, nullptr, "cull.comp.glsl", nullptr},
+    {"GPU culling commands", "", nullptr, nullptr, "cull_commands.comp.glsl", nullptr},
+    {"GPU culling scatter", "", nullptr, nullptr, "cull_scatter.comp.glsl", nullptr},
+};
+
+}  // namespace
+
+const char* embeddedShader(const char* name) {
+  for (size_t i = 0; i < kEmbeddedShaderCount; ++i)
+    if (std::strcmp(kEmbeddedShaders[i].name, name) == 0) return kEmbeddedShaders[i].source;
+  return nullptr;
+}
+
+const char* shaderStageName(ShaderStage stage) {
+  switch (stage) {
+    case ShaderStage::kVertex: return "vertex";
+    case ShaderStage::kFragment: return "fragment";
+    case ShaderStage::kCompute: return "compute";
+  }
+  return "unknown";
+}
+
+const ProgramSpec& programSpec(ProgramId id) { return kSpecs[size_t(id) % kProgramCount]; }
+
+Status assembleStage(ProgramId id, ShaderStage stage, const ShaderConfig& config,
+                     std::string* out) {
+  const ProgramSpec& spec = programSpec(id);
+  const char* file = spec.file(stage);
+  if (file == nullptr)
+    return {StatusCode::kInvalidArgument,
+            strCat("program ", spec.name, " has no ", shaderStageName(stage), " shader")};
+  const char* text = embeddedShader(file);
+  if (text == nullptr)
+    return {StatusCode::kNotFound, strCat("program ", spec.name, ": shader file ", file,
+                                          " was not embedded (cmake/SiEmbedGlsl.cmake)")};
+  *out = strCat("#version 450 core\n#define SI_MAX_INSTANCES ", config.max_instances,
+                "\n#define SI_MAX_JOINTS ", config.max_joints, "\n", spec.defines, text);
+  return Status::ok();
+}
+
+}  // namespace si::detail

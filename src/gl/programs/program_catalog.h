@@ -1,0 +1,63 @@
+// SkinnedInstancing — SPDX-License-Identifier: MIT (see LICENSE)
+#pragma once
+// Every GL program of the back-end: which shader files and defines make each one. The one
+// place that says how a program's source is put together, used by ProgramSet (to compile them)
+// and by the offline shader check (tests/render/glsl_check_test.cpp, glslang). No GL here.
+
+#include <cstdint>
+#include <string>
+
+#include "si/core/status.h"
+
+namespace si::detail {
+
+enum class ProgramId : uint8_t {
+  kSkinned = 0,        ///< Vertex-shader skinning, shaded.
+  kDepthOnly,          ///< Vertex-shader skinning, depth only.
+  kRigid,              ///< Rigid instancing of the bind pose (the floor baseline).
+  kTraditional,        ///< One character per draw, joint matrices in a uniform block.
+  kCapture,            ///< Vertex-shader skinning with the model-space position captured.
+  kPreSkinned,         ///< The CPU-skinning baseline's draw of CPU-skinned vertices.
+  kComputeSkin,        ///< Compute pre-skinning's skinning pass.
+  kPulled,             ///< Compute pre-skinning's vertex-pulling draw.
+  kGpuDrivenSkinned,   ///< GPU-driven culling's draw (records through bucket entries).
+  kCull,               ///< GPU-driven culling: selection and records.
+  kCullCommands,       ///< GPU-driven culling: prefix sums into indirect commands.
+  kCullScatter,        ///< GPU-driven culling: bucket entries.
+  kCount
+};
+inline constexpr size_t kProgramCount = size_t(ProgramId::kCount);
+
+enum class ShaderStage : uint8_t { kVertex = 0, kFragment, kCompute };
+const char* shaderStageName(ShaderStage stage);
+
+/// How one program is made: each stage's file (null when the program has no such stage), the
+/// defines before it, and the varying transform feedback captures (or null).
+struct ProgramSpec {
+  const char* name;
+  const char* defines;
+  const char* vertex;
+  const char* fragment;
+  const char* compute;
+  const char* capture_varying;
+
+  const char* file(ShaderStage stage) const {
+    return stage == ShaderStage::kVertex ? vertex : stage == ShaderStage::kFragment ? fragment
+                                                                                      : compute;
+  }
+};
+const ProgramSpec& programSpec(ProgramId id);
+
+/// The values of the defines every program gets.
+struct ShaderConfig {
+  uint32_t max_instances = 0;  ///< SI_MAX_INSTANCES: records in the instance uniform block.
+  uint32_t max_joints = 0;     ///< SI_MAX_JOINTS: joints in the traditional path's block.
+};
+
+/// The source of one stage as the driver compiles it: "#version 450 core", the shared
+/// defines, the program's defines, then the stage's file. kInvalidArgument when the program
+/// has no such stage; kNotFound when its file was not embedded.
+Status assembleStage(ProgramId id, ShaderStage stage, const ShaderConfig& config,
+                     std::string* out);
+
+}  // namespace si::detail

@@ -1,0 +1,123 @@
+// SkinnedInstancing — SPDX-License-Identifier: MIT (see LICENSE)
+// Compiling and linking the catalog's programs, with the driver's log on failure.
+#include "gl/programs/program_set.h"
+
+#include <algorithm>
+
+#include "core/str_cat.h"
+
+namespace si::detail {
+
+namespace {
+
+GLenum glStage(ShaderStage stage) {
+  switch (stage) {
+    case ShaderStage::kVertex: return GL_VERTEX_SHADER;
+    case ShaderStage::kFragment: return GL_FRAGMENT_SHADER;
+    case ShaderStage::kCompute: return GL_COMPUTE_SHADER;
+  }
+  return GL_VERTEX_SHADER;
+}
+
+ShaderStage stageOf(GLenum type) {
+  return type == GL_VERTEX_SHADER    ? ShaderStage::kVertex
+         : type == GL_COMPUTE_SHADER ? ShaderStage::kCompute
+                                     : ShaderStage::kFragment;
+}
+
+// Checks a linked program: kBackend with the driver's log (and the program deleted) on failure.
+Status finishLink(GLuint program, const char* name, GLuint* out) {
+  GLint ok = 0;
+  glGetProgramiv(program, GL_LINK_STATUS, &ok);
+  if (!ok) {
+    GLint length = 0;
+    glGetProgramiv(program, GL_INFO_LOG_LENGTH, &length);
+    std::string log(size_t(std::max(length, 1)), '\0');
+    glGetProgramInfoLog(program, length, nullptr, log.data());
+    glDeleteProgram(program);
+    return {StatusCode::kBackend, strCat("linking the ", name, " program failed: ", log.c_str())};
+  }
+  *out = program;
+  return Status::ok();
+}
+
+Program describe(GLuint id) {
+  Program p;
+  p.id = id;
+  p.palette_info = glGetUniformLocation(id, "si_palette_info");
+  p.view_projection = glGetUniformLocation(id, "u_view_projection");
+  p.base_factor = glGetUniformLocation(id, "u_base_factor");
+  p.light_direction = glGetUniformLocation(id, "u_light_direction");
+  return p;
+}
+
+// Compiles every stage of `id` and links them.
+Status buildProgram(ProgramId id, const ShaderConfig& config, GLuint* out) {
+  const ProgramSpec& spec = programSpec(id);
+  const GLuint program = glCreateProgram();
+  Status s;
+  for (ShaderStage stage : {ShaderStage::kVertex, ShaderStage::kFragment, ShaderStage::kCompute}) {
+    if (spec.file(stage) == nullptr) continue;
+    std::string source;
+    s = assembleStage(id, stage, config, &source);
+    GLuint shader = kNoObject;
+    if (s.isOk()) s = compileShader(glStage(stage), source, spec.name, &shader);
+    if (!s.isOk()) break;
+    glAttachShader(program, shader);
+    glDeleteShader(shader);  // Flagged; freed with the program.
+  }
+  if (!s.isOk()) {
+    glDeleteProgram(program);
+    return s;
+  }
+  if (spec.capture_varying != nullptr)
+    glTransformFeedbackVaryings(program, 1, &spec.capture_varying, GL_INTERLEAVED_ATTRIBS);
+  glLinkProgram(program);
+  return finishLink(program, spec.name, out);
+}
+
+}  // namespace
+
+Status compileShader(GLenum type, const std::string& source, const char* name, GLuint* out) {
+  const GLuint shader = glCreateShader(type);
+  const char* text = source.c_str();
+  glShaderSource(shader, 1, &text, nullptr);
+  glCompileShader(shader);
+  GLint ok = 0;
+  glGetShaderiv(shader, GL_COMPILE_STATUS, &ok);
+  if (!ok) {
+    GLint length = 0;
+    glGetShaderiv(shader, GL_INFO_LOG_LENGTH, &length);
+    std::string log(size_t(std::max(length, 1)), '\0');
+    glGetShaderInfoLog(shader, length, nullptr, log.data());
+    glDeleteShader(shader);
+    return {StatusCode::kBackend, strCat("compiling the ", name, " ",
+                                         shaderStageName(stageOf(type)),
+                                         " shader failed: ", log.c_str())};
+  }
+  *out = shader;
+  return Status::ok();
+}
+
+Status ProgramSet::build(const ShaderConfig& config) {
+  release();
+  for (size_t i = 0; i < kProgramCount; ++i) {
+    GLuint id = kNoObject;
+    const Status s = buildProgram(ProgramId(i), config, &id);
+    if (!s.isOk()) {
+      release();
+      return s;
+    }
+    programs_[i] = describe(id);
+  }
+  return Status::ok();
+}
+
+void ProgramSet::release() {
+  for (Program& p : programs_) {
+    if (p.id != kNoObject) glDeleteProgram(p.id);
+    p = Program();
+  }
+}
+
+}  // namespace si::detail

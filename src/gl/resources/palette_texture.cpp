@@ -1,0 +1,40 @@
+// SkinnedInstancing — SPDX-License-Identifier: MIT (see LICENSE)
+// Uploading the palette texture.
+#include "gl/resources/palette_texture.h"
+
+#include "core/str_cat.h"
+#include "si/core/shader_inputs.h"
+
+namespace si::detail {
+
+Status PaletteTexture::upload(const BakedPalette& palette, const GlInfo& info) {
+  const PaletteLayout& l = palette.layout;
+  if (palette.texel_bytes.size() != l.textureTexelCount() * bytesPerTexel(palette.format))
+    return {StatusCode::kInvalidArgument, "uploadPalette: texel data does not match the layout"};
+  if (l.width > info.max_texture_size || l.height > info.max_texture_size)
+    return {StatusCode::kLimitExceeded,
+            strCat("uploadPalette: the palette is ", l.width, "x", l.height,
+                   ", GL_MAX_TEXTURE_SIZE is ", info.max_texture_size,
+                   " (bake with BakeDesc::max_texture_size)")};
+  release();
+  const bool half = palette.format == PaletteFormat::kMatrix3x4F16;
+  glCreateTextures(GL_TEXTURE_2D, 1, &texture_);
+  glTextureStorage2D(texture_, 1, half ? GL_RGBA16F : GL_RGBA32F, GLsizei(l.width),
+                     GLsizei(l.height));
+  glPixelStorei(GL_UNPACK_ALIGNMENT, 1);
+  glTextureSubImage2D(texture_, 0, 0, 0, GLsizei(l.width), GLsizei(l.height), GL_RGBA,
+                      half ? GL_HALF_FLOAT : GL_FLOAT, palette.texel_bytes.data());
+  glTextureParameteri(texture_, GL_TEXTURE_MIN_FILTER, GL_NEAREST);
+  glTextureParameteri(texture_, GL_TEXTURE_MAG_FILTER, GL_NEAREST);
+  shader_info_ = paletteShaderInfo(palette);
+  palette_ = &palette;
+  return Status::ok();
+}
+
+void PaletteTexture::release() {
+  if (texture_ != kNoObject) glDeleteTextures(1, &texture_);
+  texture_ = kNoObject;
+  palette_ = nullptr;
+}
+
+}  // namespace si::detail

@@ -1,0 +1,83 @@
+// SkinnedInstancing — SPDX-License-Identifier: MIT (see LICENSE)
+// The fenced, persistently mapped instance-record ring.
+#include "gl/resources/record_ring.h"
+
+#include <algorithm>
+
+namespace si::detail {
+
+namespace {
+constexpr GLuint64 kWaitNanoseconds = GLuint64(1e10);
+}
+
+void RecordRing::configure(uint32_t block_size, uint32_t alignment, uint32_t frames) {
+  block_size_ = block_size;
+  alignment_ = alignment;
+  frames_ = frames;
+}
+
+void RecordRing::waitAll() {
+  for (GLsync& f : fences_)
+    if (f) {
+      glClientWaitSync(f, GL_SYNC_FLUSH_COMMANDS_BIT, kWaitNanoseconds);
+      glDeleteSync(f);
+      f = nullptr;
+    }
+}
+
+Status RecordRing::reserve(size_t bytes_per_frame) {
+  const size_t need = (bytes_per_frame + alignment_ - 1) / alignment_ * alignment_ + block_size_;
+  if (buffer_ != kNoObject && need <= region_size_) return Status::ok();
+  waitAll();
+  if (buffer_ != kNoObject) {
+    glUnmapNamedBuffer(buffer_);
+    glDeleteBuffers(1, &buffer_);
+  }
+  region_size_ = std::max<size_t>(need * 2, size_t(1) << 20);  // Grow geometrically.
+  region_size_ = (region_size_ + alignment_ - 1) / alignment_ * alignment_;
+  const size_t ring_size = region_size_ * frames_;
+  glCreateBuffers(1, &buffer_);
+  const GLbitfield flags = GL_MAP_WRITE_BIT | GL_MAP_PERSISTENT_BIT | GL_MAP_COHERENT_BIT;
+  glNamedBufferStorage(buffer_, GLsizeiptr(ring_size), nullptr, flags);
+  mapped_ = static_cast<uint8_t*>(glMapNamedBufferRange(buffer_, 0, GLsizeiptr(ring_size), flags));
+  fences_.assign(frames_, nullptr);
+  if (mapped_ == nullptr) {
+    glDeleteBuffers(1, &buffer_);
+    buffer_ = kNoObject;
+    region_size_ = 0;
+    return {StatusCode::kBackend,
+            "mapping the instance record ring failed (out of memory or past the buffer limit)"};
+  }
+  return Status::ok();
+}
+
+size_t RecordRing::acquire() {
+  GLsync& f = fences_[index_];
+  if (f) {
+    glClientWaitSync(f, GL_SYNC_FLUSH_COMMANDS_BIT, kWaitNanoseconds);
+    glDeleteSync(f);
+    f = nullptr;
+  }
+  return size_t(index_) * region_size_;
+}
+
+void RecordRing::finishFrame() {
+  fences_[index_] = glFenceSync(GL_SYNC_GPU_COMMANDS_COMPLETE, 0);
+  index_ = (index_ + 1) % frames_;
+}
+
+void RecordRing::release() {
+  for (GLsync f : fences_)
+    if (f) glDeleteSync(f);
+  fences_.clear();
+  if (buffer_ != kNoObject) {
+    glUnmapNamedBuffer(buffer_);
+    glDeleteBuffers(1, &buffer_);
+  }
+  buffer_ = kNoObject;
+  mapped_ = nullptr;
+  region_size_ = 0;
+  index_ = 0;
+}
+
+}  // namespace si::detail

@@ -1,0 +1,50 @@
+// SkinnedInstancing — SPDX-License-Identifier: MIT (see LICENSE)
+#pragma once
+// The instance-record ring: one persistently mapped buffer of `frames` regions, each guarded by
+// a fence, so the CPU writes a frame's records while the GPU still reads earlier frames'.
+
+#include <glad/gl.h>
+
+#include <cstdint>
+#include <vector>
+
+#include "gl/programs/program_set.h"
+#include "si/crowd/instance_batcher.h"
+
+namespace si::detail {
+
+class RecordRing {
+ public:
+  /// The uniform block size every bound range has, the offset alignment and the region count.
+  void configure(uint32_t block_size, uint32_t alignment, uint32_t frames);
+  /// Makes each region hold at least `bytes_per_frame` (plus a block of slack, so a range of
+  /// the full block size bound at the last batch stays inside the buffer). Regrows
+  /// geometrically, waiting for the GPU first. kBackend when mapping fails.
+  Status reserve(size_t bytes_per_frame);
+  /// Waits until the GPU is done with the current region and returns its byte offset.
+  size_t acquire();
+  /// Fences the current region and moves to the next.
+  void finishFrame();
+  void release();
+
+  /// The mapped bytes of the region at `base` that records may be written to.
+  uint8_t* mapped(size_t base) const { return mapped_ + base; }
+  size_t writableBytes() const { return region_size_ - block_size_; }
+  /// Binds batch `d` of the region at `base` to uniform buffer binding 0 (`block_size` bytes).
+  void bindBatch(size_t base, const DrawBatch& d) const {
+    glBindBufferRange(GL_UNIFORM_BUFFER, 0, buffer_, GLintptr(base + d.byte_offset),
+                      GLsizeiptr(block_size_));
+  }
+  GLuint buffer() const { return buffer_; }
+
+ private:
+  void waitAll();
+
+  GLuint buffer_ = kNoObject;
+  uint8_t* mapped_ = nullptr;
+  size_t region_size_ = 0;
+  uint32_t block_size_ = 0, alignment_ = 256, frames_ = 3, index_ = 0;
+  std::vector<GLsync> fences_;
+};
+
+}  // namespace si::detail

@@ -1,0 +1,137 @@
+// SkinnedInstancing - SPDX-License-Identifier: MIT (see LICENSE)
+// GPU-driven culling, pass 1 of 3: one thread per instance. CrowdManager::update()'s selection
+// (src/crowd/cull_math.h, written out again with `precise` so no step is fused or reordered)
+// and its record at the crowd's clock; the visible instance's row and its bucket counts.
+#include "cull_common.glsl"
+layout(local_size_x = 64) in;
+layout(location = 0) uniform vec4 u_planes[6];
+layout(location = 6) uniform dvec3 u_camera;
+layout(location = 7) uniform double u_clock;
+layout(location = 8) uniform vec4 u_params;  // radius, far line (radii), hysteresis
+layout(location = 9) uniform float u_lines[7];
+layout(location = 17) uniform uint u_anim_lod;
+layout(location = 18) uniform double u_anim_step;
+
+// cull_math.h's dot3, cross3 and rotate, in the same order and unfused.
+float siDot3(vec3 a, vec3 b) {
+  precise float r = (a.x * b.x + a.y * b.y) + a.z * b.z;
+  return r;
+}
+vec3 siCross3(vec3 a, vec3 b) {
+  precise vec3 r = vec3(a.y * b.z - b.y * a.z, a.z * b.x - b.z * a.x, a.x * b.y - b.x * a.y);
+  return r;
+}
+vec3 siRotate(vec4 q, vec3 v) {
+  precise vec3 uv = siCross3(q.xyz, v);
+  precise vec3 uuv = siCross3(q.xyz, uv);
+  precise vec3 r = v + ((uv * q.w) + uuv) * 2.0;
+  return r;
+}
+
+// CrowdManager::localTime and fastSample / si::sampleFrames.
+double siLocalTime(double start_time, double start_clock, float speed, uint loop_mode,
+                   SiGpuClip c) {
+  double t = start_time + (u_clock - start_clock) * double(speed);
+  if (!(c.duration > 0.0lf)) return 0.0lf;
+  if (loop_mode == 2u) {  // LoopMode::kLoop
+    double w = t - floor(t * c.inv_duration) * c.duration;
+    if (w < 0.0lf) w += c.duration;
+    return w >= c.duration ? 0.0lf : w;
+  }
+  return clamp(t, 0.0lf, c.duration);
+}
+uvec3 siSample(SiGpuClip c, double t) {  // frame, next frame, fraction bits
+  if (c.uniform_grid != 0u) {
+    double position = t * c.inv_interval;
+    uint i = min(uint(position), c.last_interval);
+    return uvec3(i, i + 1u, floatBitsToUint(float(clamp(position - double(i), 0.0lf, 1.0lf))));
+  }
+  if (c.frame_count <= 1u || !(c.interval > 0.0lf)) return uvec3(0u);
+  double tt = clamp(t, 0.0lf, c.duration);
+  uint last = c.frame_count - 2u;
+  uint lo = min(min(uint(tt / c.interval), last), c.frame_count), hi = c.frame_count;
+  while (lo < hi) {  // upper_bound
+    uint mid = (lo + hi) / 2u;
+    if (si_times[c.times_offset + mid] <= tt) lo = mid + 1u; else hi = mid;
+  }
+  uint i = min(lo == 0u ? 0u : lo - 1u, last);
+  double t0 = si_times[c.times_offset + i], span = si_times[c.times_offset + i + 1u] - t0;
+  float f = span > 0.0lf ? float(clamp((tt - t0) / span, 0.0lf, 1.0lf)) : 1.0;
+  return uvec3(i, i + 1u, floatBitsToUint(f));
+}
+
+void main() {
+  uint i = gl_GlobalInvocationID.x;
+  if (i >= u_counts.x) return;
+  SiGpuInstance st = si_state[i];
+  precise vec3 rel = vec3(dvec3(st.px, st.py, st.pz) - u_camera);
+  bool fading = st.fading != 0u && st.fade_duration > 0.0lf &&
+                u_clock - st.fade_start < st.fade_duration;
+  SiGpuClip ca = si_clips[st.clip];
+  SiGpuClip cb = si_clips[fading ? st.from_clip : st.clip];
+  float s = st.scale;
+  precise float radius = u_params.x * s;
+  precise float d2 = siDot3(rel, rel);
+  if (u_params.y >= 0.0) {
+    precise float far_line = u_params.y * radius;
+    if (d2 > far_line * far_line) return;
+  }
+  precise vec3 center_a = rel + siRotate(st.rotation, ca.sphere.xyz * s);
+  precise vec3 center_b = rel + siRotate(st.rotation, cb.sphere.xyz * s);
+  precise float ra = ca.sphere.w * s;
+  precise float rb = cb.sphere.w * s;
+  for (int k = 0; k < 6; ++k) {
+    vec4 p = u_planes[k];
+    precise float da = siDot3(p.xyz, center_a) + p.w;
+    precise float db = siDot3(p.xyz, center_b) + p.w;
+    if (!(da >= -ra) && !(db >= -rb)) return;
+  }
+  uint lods = u_counts.y;
+  uint lod = min(st.lod, lods - 1u);
+  while (lod + 1u < lods) {
+    precise float line = u_lines[lod] * (1.0 + u_params.z) * radius;
+    if (!(d2 > line * line)) break;
+    ++lod;
+  }
+  while (lod > 0u) {
+    precise float line = u_lines[lod - 1u] * (1.0 - u_params.z) * radius;
+    if (!(d2 < line * line)) break;
+    --lod;
+  }
+  si_state[i].lod = lod;
+
+  // The record (CrowdManager::update()'s).
+  SiInstance rec;
+  vec4 q = st.rotation;
+  float xx = q.x * q.x, yy = q.y * q.y, zz = q.z * q.z;
+  float xy = q.x * q.y, xz = q.x * q.z, yz = q.y * q.z;
+  float wx = q.w * q.x, wy = q.w * q.y, wz = q.w * q.z;
+  rec.world_rows[0] = vec4(vec3(1.0 - 2.0 * (yy + zz), 2.0 * (xy - wz), 2.0 * (xz + wy)) * s, rel.x);
+  rec.world_rows[1] = vec4(vec3(2.0 * (xy + wz), 1.0 - 2.0 * (xx + zz), 2.0 * (yz - wx)) * s, rel.y);
+  rec.world_rows[2] = vec4(vec3(2.0 * (xz - wy), 2.0 * (yz + wx), 1.0 - 2.0 * (xx + yy)) * s, rel.z);
+  uint stride = u_counts.w;
+  double ta = siLocalTime(st.start_time, st.start_clock, st.speed, st.loop, ca);
+  if (lod >= u_anim_lod) ta = floor(ta / u_anim_step) * u_anim_step;
+  uvec3 fa = siSample(ca, ta);
+  uvec4 frames_a = uvec4(ca.first_texel + fa.x * stride, ca.first_texel + fa.y * stride, 0u, 0u);
+  if (fading) {
+    double tb = siLocalTime(st.from_start_time, st.from_start_clock, st.from_speed, st.from_loop,
+                            cb);
+    if (lod >= u_anim_lod) tb = floor(tb / u_anim_step) * u_anim_step;
+    uvec3 fb = siSample(cb, tb);
+    float w = min(float((u_clock - st.fade_start) / st.fade_duration), 1.0);
+    rec.frames = uvec4(cb.first_texel + fb.x * stride, cb.first_texel + fb.y * stride,
+                       frames_a.x, frames_a.y);
+    rec.blend = uvec4(fb.z, fa.z, floatBitsToUint(max(0.0, w)), st.color);
+  } else {
+    rec.frames = uvec4(frames_a.xy, frames_a.xy);
+    rec.blend = uvec4(fa.z, fa.z, floatBitsToUint(0.0), st.color);
+  }
+  uint v = atomicAdd(si_visible_count, 1u);
+  si_records[v] = rec;
+  uint subs = u_counts.z;
+  uint mask = st.mask & (subs >= 32u ? 0xFFFFFFFFu : ((1u << subs) - 1u));
+  si_visible[v] = uvec4(i, lod, mask, 0u);
+  for (uint m = mask; m != 0u; m &= m - 1u)
+    atomicAdd(si_bucket_count[lod * subs + uint(findLSB(m))], 1u);
+}

@@ -1,0 +1,20 @@
+// SkinnedInstancing - SPDX-License-Identifier: MIT (see LICENSE)
+// GPU-driven culling: the bindings shared by its three passes.
+#ifndef SI_CULL_COMMON_GLSL
+#define SI_CULL_COMMON_GLSL
+#include "si_instance_record.glsl"
+#include "gpu_crowd_state.glsl"
+layout(std430, binding = 0) buffer SiState { SiGpuInstance si_state[]; };
+layout(std430, binding = 1) readonly buffer SiClips { SiGpuClip si_clips[]; };
+layout(std430, binding = 2) readonly buffer SiTimes { double si_times[]; };
+layout(std430, binding = 3) coherent buffer SiCounters {
+  uint si_visible_count; uint si_pad0, si_pad1, si_pad2;
+  uint si_bucket_count[256];
+  uint si_cursor[256];
+  uint si_dispatch[4];
+};
+layout(std430, binding = 4) writeonly buffer SiRecordsOut { SiInstance si_records[]; };
+layout(std430, binding = 5) buffer SiEntriesOut { uint si_entries[]; };
+layout(std430, binding = 6) buffer SiVisible { uvec4 si_visible[]; };  // index, lod, mask
+layout(location = 16) uniform uvec4 u_counts;  // instances, lod count, sub-meshes, frame stride
+#endif

@@ -1,0 +1,23 @@
+// SkinnedInstancing - SPDX-License-Identifier: MIT (see LICENSE)
+// The crowd's state as GPU-driven culling reads it (std430). C++ twins: si::GpuInstanceState and
+// si::GpuClipInfo (include/si/crowd/gpu_crowd_state.h); the render tests compare the layouts by
+// GL introspection.
+#ifndef SI_GPU_CROWD_STATE_GLSL
+#define SI_GPU_CROWD_STATE_GLSL
+struct SiGpuInstance {
+  double px, py, pz, pad0;
+  vec4 rotation;
+  float scale; uint color; uint mask; uint lod;
+  double start_clock, start_time;
+  uint clip, loop; float speed; uint fading;
+  double fade_start, fade_duration;
+  double from_start_clock, from_start_time;
+  uint from_clip, from_loop; float from_speed; uint pad1;
+};
+struct SiGpuClip {
+  double duration, inv_duration, interval, inv_interval;
+  vec4 sphere;
+  uint first_texel, last_interval, uniform_grid, frame_count;
+  uint times_offset, pad0, pad1, pad2;
+};
+#endif

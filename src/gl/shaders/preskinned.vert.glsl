@@ -1,0 +1,17 @@
+// SkinnedInstancing - SPDX-License-Identifier: MIT (see LICENSE)
+// The CPU-skinning baseline: positions and normals arrive skinned, in camera-relative world
+// space.
+layout(location = 0) in vec3 a_position;
+layout(location = 1) in vec3 a_normal;
+layout(location = 2) in vec2 a_texcoord;
+layout(location = 1) uniform mat4 u_view_projection;
+layout(location = 4) uniform uint u_color;
+out vec3 v_normal;
+out vec2 v_texcoord;
+flat out uint v_color;
+void main() {
+  v_normal = a_normal;
+  v_texcoord = a_texcoord;
+  v_color = u_color;
+  gl_Position = u_view_projection * vec4(a_position, 1.0);
+}

@@ -1,0 +1,15 @@
+// SkinnedInstancing - SPDX-License-Identifier: MIT (see LICENSE)
+// The per-instance record (80 bytes; the same offsets in std140 and std430). Its C++ twin is
+// si::InstanceRecord (include/si/crowd/instance_record.h); the render tests compare the two
+// layouts by GL introspection.
+//   world_rows: rows of the 3x4 camera-relative world matrix (rotation * scale, translation)
+//   frames:     x, y: palette texel of clip A's frame and next frame; z, w: the same for clip B
+//   blend:      x: fraction A, y: fraction B, z: weight of B (float bits); w: tint RGBA8
+#ifndef SI_INSTANCE_RECORD_GLSL
+#define SI_INSTANCE_RECORD_GLSL
+struct SiInstance {
+  vec4 world_rows[3];
+  uvec4 frames;
+  uvec4 blend;
+};
+#endif

@@ -1,0 +1,75 @@
+// SkinnedInstancing - SPDX-License-Identifier: MIT (see LICENSE)
+// The vertex-shader skinning path (B. Dudash, "Skinned Instancing", NVIDIA 2007): the instance's
+// record through gl_InstanceID, up to 4 influences, the world transform.
+// Variants: SI_RIGID (no skinning: the rigid-instancing floor), SI_CAPTURE (also outputs the
+// model-space position for transform feedback), SI_GPU_DRIVEN (the record through a bucket
+// entry, from storage buffers), SI_TRADITIONAL (one character per draw, its joint matrices in
+// a uniform block).
+#ifdef SI_TRADITIONAL
+#include "si_transform.glsl"
+layout(std140, binding = 1) uniform SiCharacter {
+  vec4 si_world_rows[3];
+  uint si_color;
+  vec4 si_joint_rows[3 * SI_MAX_JOINTS];
+};
+#else
+#include "si_skinning.glsl"
+#endif
+
+layout(location = 0) in vec3 a_position;
+layout(location = 1) in vec4 a_normal;
+layout(location = 2) in vec2 a_texcoord;
+layout(location = 3) in uvec4 a_joints;
+layout(location = 4) in vec4 a_weights;
+layout(location = 1) uniform mat4 u_view_projection;
+out vec3 v_normal;
+out vec2 v_texcoord;
+flat out uint v_color;
+#ifdef SI_CAPTURE
+out vec3 tf_position;
+#endif
+#ifdef SI_GPU_DRIVEN
+// GPU-driven culling: the record of this draw's instance, through its bucket entry; a_entry is
+// baseInstance + gl_InstanceID (an identity buffer with divisor 1).
+layout(location = 5) in uint a_entry;
+layout(std430, binding = 4) readonly buffer SiRecords { SiInstance si_records[]; };
+layout(std430, binding = 5) readonly buffer SiEntries { uint si_entries[]; };
+#endif
+void main() {
+#if defined(SI_TRADITIONAL)
+  vec4 m0 = vec4(0.0), m1 = vec4(0.0), m2 = vec4(0.0);
+  for (int k = 0; k < 4; ++k) {
+    float w = a_weights[k];
+    if (w == 0.0) continue;
+    uint j = a_joints[k] * 3u;
+    m0 += w * si_joint_rows[j];
+    m1 += w * si_joint_rows[j + 1u];
+    m2 += w * si_joint_rows[j + 2u];
+  }
+  vec4 w0 = si_world_rows[0], w1 = si_world_rows[1], w2 = si_world_rows[2];
+  uint color = si_color;
+#else
+#if defined(SI_GPU_DRIVEN)
+  SiInstance inst = si_records[si_entries[a_entry]];
+#else
+  SiInstance inst = si_instances[gl_InstanceID];
+#endif
+#if defined(SI_RIGID)
+  vec4 m0 = vec4(1, 0, 0, 0), m1 = vec4(0, 1, 0, 0), m2 = vec4(0, 0, 1, 0);
+#else
+  vec4 m0, m1, m2;
+  siSkin(inst, a_joints, a_weights, m0, m1, m2);
+#endif
+  vec4 w0 = inst.world_rows[0], w1 = inst.world_rows[1], w2 = inst.world_rows[2];
+  uint color = inst.blend.w;
+#endif
+  vec3 model = siTransformPoint(m0, m1, m2, a_position);
+#ifdef SI_CAPTURE
+  tf_position = model;
+#endif
+  vec3 world = siTransformPoint(w0, w1, w2, model);
+  v_normal = siTransformNormal(w0, w1, w2, siTransformNormal(m0, m1, m2, a_normal.xyz));
+  v_texcoord = a_texcoord;
+  v_color = color;
+  gl_Position = u_view_projection * vec4(world, 1.0);
+}
