@@ -26,6 +26,7 @@
 /// \endcode
 
 #include <cstdint>
+#include <memory>
 #include <vector>
 
 #include <glm/glm.hpp>
@@ -104,9 +105,17 @@ struct CrowdFrameStats {
 };
 
 /// Owns instance state and produces, each frame, the visible instances bucketed per
-/// (LOD, sub-mesh) with their shader records. Not thread-safe; one update at a time.
+/// (LOD, sub-mesh) with their shader records. Not thread-safe; one update at a time. Movable,
+/// not copyable.
 class CrowdManager {
  public:
+  CrowdManager();
+  ~CrowdManager();
+  CrowdManager(CrowdManager&&) noexcept;
+  CrowdManager& operator=(CrowdManager&&) noexcept;
+  CrowdManager(const CrowdManager&) = delete;
+  CrowdManager& operator=(const CrowdManager&) = delete;
+
   /// Validates and adopts `desc`. Fails with kInvalidArgument naming the field: no palette,
   /// sub_mesh_count outside 1..32, lod_count above 8, a negative or non-finite radius,
   /// lod distances not increasing or of the wrong count, an animation LOD rate <= 0.
@@ -125,7 +134,7 @@ class CrowdManager {
   /// Whether `h` is a live instance.
   bool contains(InstanceHandle h) const;
   /// Number of live instances.
-  uint32_t size() const { return static_cast<uint32_t>(positions_.size()); }
+  uint32_t size() const;
 
   // Per-instance setters: kNotFound for a stale handle, kInvalidArgument for bad values.
   Status setTransform(InstanceHandle h, const glm::dvec3& position, const glm::quat& rotation,
@@ -148,19 +157,19 @@ class CrowdManager {
   Status update(double dt_seconds, const Camera& camera);
 
   /// Statistics of the last update().
-  const CrowdFrameStats& stats() const { return stats_; }
+  const CrowdFrameStats& stats() const;
   /// Seconds on the crowd clock (compensated sum of every dt).
-  double clockSeconds() const { return clock_; }
+  double clockSeconds() const;
 
   /// Buckets of the last update(): bucket b = lod * sub_mesh_count + sub_mesh holds
   /// bucketEntries()[bucketOffsets()[b] .. bucketOffsets()[b + 1]), indices into records().
   uint32_t bucketCount() const { return desc_.lod_count * desc_.sub_mesh_count; }
-  const std::vector<uint32_t>& bucketOffsets() const { return bucket_offsets_; }
-  const std::vector<uint32_t>& bucketEntries() const { return bucket_entries_; }
+  const std::vector<uint32_t>& bucketOffsets() const;
+  const std::vector<uint32_t>& bucketEntries() const;
   /// One record per visible instance of the last update().
-  const std::vector<InstanceRecord>& records() const { return records_; }
+  const std::vector<InstanceRecord>& records() const;
   /// Handle of each visible instance of the last update(), parallel to records().
-  const std::vector<InstanceHandle>& visibleHandles() const { return visible_handles_; }
+  const std::vector<InstanceHandle>& visibleHandles() const;
   /// The LOD an instance was given by the last update() (kNotFound for stale handles).
   Status lodOf(InstanceHandle h, uint32_t* lod) const;
 
@@ -191,7 +200,7 @@ class CrowdManager {
   /// Changes whenever exported state changes (init, add, remove, setters, play, crossfade,
   /// setLodDistances); not when update() moves LODs or ends crossfades (the GPU does the same).
   /// Unique across all crowds of the process: a new crowd never repeats an old one's version.
-  uint64_t stateVersion() const { return state_version_; }
+  uint64_t stateVersion() const;
   /// Every instance's state in dense order (`handles`, may be null, receives the handles in the
   /// same order): index i of the GPU's selection is dense index i.
   void exportGpuState(std::vector<GpuInstanceState>* out,
@@ -202,58 +211,10 @@ class CrowdManager {
   CullParams cullParams(const Camera& camera) const;
 
  private:
-  struct Playback {
-    uint32_t clip;
-    LoopMode loop;
-    float speed;
-    double start_clock;   // Crowd clock when this playback started.
-    double start_time;    // Clip-local time at start_clock.
-  };
-  // What update() needs of a clip, compact and with reciprocals, built by init().
-  struct ClipInfo {
-    double duration, inv_duration, interval, inv_interval;
-    uint32_t first_texel, last_interval;
-    bool uniform;  // No STEP frames: the frame follows from the time alone.
-    glm::vec3 sphere_center;
-    float sphere_radius;
-  };
-  double localTime(const Playback& p, double clock) const;
-  FrameSample fastSample(uint32_t clip, double local_time) const;
-  Status validateInstance(const InstanceDesc& d) const;
-  Status denseIndex(InstanceHandle h, uint32_t* dense) const;
-  void pushInstance(const InstanceDesc& d, InstanceHandle h);
-
+  struct State;  // Instance store, clip timings and the last frame (src/crowd).
+  static const State& emptyState();
+  std::unique_ptr<State> state_;
   CrowdDesc desc_;
-  bool initialized_ = false;
-  HandlePool handles_;
-  double clock_ = 0.0, clock_compensation_ = 0.0;
-
-  // Dense structure-of-arrays state; slot_to_dense_ maps handle slots to it.
-  std::vector<glm::dvec3> positions_;
-  std::vector<glm::quat> rotations_;
-  std::vector<float> scales_;
-  std::vector<uint32_t> colors_;
-  std::vector<uint32_t> masks_;
-  std::vector<Playback> playback_;
-  std::vector<Playback> fade_from_;      // Valid while fade_duration_ > 0.
-  std::vector<double> fade_start_;
-  std::vector<double> fade_duration_;    // 0 when no crossfade runs.
-  std::vector<uint8_t> lods_;
-  std::vector<InstanceHandle> dense_handles_;
-  std::vector<uint32_t> slot_to_dense_;
-
-  // Per-frame output, reused between frames.
-  CrowdFrameStats stats_;
-  std::vector<uint32_t> visible_dense_;
-  std::vector<InstanceRecord> records_;
-  std::vector<InstanceHandle> visible_handles_;
-  std::vector<uint32_t> bucket_offsets_;
-  std::vector<uint32_t> bucket_cursor_;
-  std::vector<uint32_t> bucket_entries_;
-  std::vector<float> lod_lines_;  // Resolved distances in radii.
-  std::vector<ClipInfo> clip_info_;
-  float radius_ = 1.0f;
-  uint64_t state_version_ = 0;
 };
 
 }  // namespace si

@@ -1,0 +1,29 @@
+// SkinnedInstancing — SPDX-License-Identifier: MIT (see LICENSE)
+#pragma once
+// CrowdManager's private state: the instance store, the clip timings, the LOD lines, the
+// crowd clock and the last frame. crowd_manager.cpp holds the API, gpu_export.cpp the export
+// for GPU-driven culling, frame_builder.cpp the per-frame work.
+
+#include <vector>
+
+#include "crowd/frame_builder.h"
+#include "crowd/instance_store.h"
+#include "si/crowd/crowd_manager.h"
+
+namespace si {
+
+struct CrowdManager::State {
+  detail::InstanceStore store;
+  detail::CrowdFrame frame;
+  std::vector<detail::ClipTiming> clips;  // Per palette clip.
+  std::vector<float> lod_lines;           // Resolved distances in radii.
+  float radius = 1.0f;
+  double clock = 0.0, clock_compensation = 0.0;
+};
+
+namespace detail {
+/// LOD levels a crowd may have (the GPU's 256 buckets hold 8 x 32).
+inline constexpr uint32_t kMaxLods = 8;
+}  // namespace detail
+
+}  // namespace si

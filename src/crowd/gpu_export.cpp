@@ -1,0 +1,87 @@
+// SkinnedInstancing — SPDX-License-Identifier: MIT (see LICENSE)
+// The crowd's state for GPU-driven culling: instances, clips and the frame's parameters, as
+// the shaders read them (si/crowd/gpu_crowd_state.h).
+#include "crowd/crowd_state.h"
+
+namespace si {
+
+CullParams CrowdManager::cullParams(const Camera& camera) const {
+  CullParams p;
+  p.planes = camera.frustumPlanes();
+  if (!state_) return p;
+  p.radius = state_->radius;
+  p.max_distance_radii = desc_.max_distance_radii;
+  p.hysteresis = desc_.lod_hysteresis_ratio;
+  p.lod_count = desc_.lod_count;
+  for (size_t l = 0; l < state_->lod_lines.size() && l < 7; ++l) p.lod_lines[l] = state_->lod_lines[l];
+  p.animation_lod_start = desc_.animation_lod_start == 0 ? detail::kMaxLods
+                                                         : desc_.animation_lod_start;
+  p.animation_step_seconds = 1.0 / double(desc_.animation_lod_rate_hz);
+  return p;
+}
+
+void CrowdManager::exportGpuState(std::vector<GpuInstanceState>* out,
+                                  std::vector<InstanceHandle>* handles) const {
+  const uint32_t n = size();
+  out->resize(n);
+  if (n == 0) {
+    if (handles != nullptr) handles->clear();
+    return;
+  }
+  const detail::InstanceStore& st = state_->store;
+  for (uint32_t i = 0; i < n; ++i) {
+    GpuInstanceState& g = (*out)[i];
+    g = GpuInstanceState{};
+    for (int k = 0; k < 3; ++k) g.position[k] = st.positions[i][k];
+    const glm::quat& q = st.rotations[i];
+    g.rotation[0] = q.x, g.rotation[1] = q.y, g.rotation[2] = q.z, g.rotation[3] = q.w;
+    g.scale = st.scales[i];
+    g.color = st.colors[i];
+    g.variation_mask = st.masks[i];
+    g.lod = st.lods[i];
+    const detail::Playback& a = st.playback[i];
+    g.start_clock = a.start_clock;
+    g.start_time = a.start_time;
+    g.clip = a.clip;
+    g.loop = uint32_t(a.loop);
+    g.speed = a.speed;
+    g.fading = st.fade_duration[i] > 0.0 ? 1u : 0u;
+    g.fade_start = st.fade_start[i];
+    g.fade_duration = st.fade_duration[i];
+    const detail::Playback& b = st.fade_from[i];
+    g.from_start_clock = b.start_clock;
+    g.from_start_time = b.start_time;
+    g.from_clip = b.clip;
+    g.from_loop = uint32_t(b.loop);
+    g.from_speed = b.speed;
+  }
+  if (handles != nullptr) *handles = st.dense_handles;
+}
+
+void CrowdManager::exportGpuClips(std::vector<GpuClipInfo>* clips,
+                                  std::vector<double>* frame_times) const {
+  clips->clear();
+  frame_times->clear();
+  if (!state_) return;
+  for (size_t c = 0; c < state_->clips.size(); ++c) {
+    const detail::ClipTiming& ci = state_->clips[c];
+    const BakedClip& bc = desc_.palette->clips[c];
+    GpuClipInfo g{};
+    g.duration = ci.duration;
+    g.inv_duration = ci.inv_duration;
+    g.interval = ci.interval;
+    g.inv_interval = ci.inv_interval;
+    g.sphere[0] = ci.sphere_center.x, g.sphere[1] = ci.sphere_center.y;
+    g.sphere[2] = ci.sphere_center.z, g.sphere[3] = ci.sphere_radius;
+    g.first_texel = ci.first_texel;
+    g.last_interval = ci.last_interval;
+    g.uniform_grid = ci.uniform ? 1u : 0u;
+    g.frame_count = bc.frame_count;
+    g.times_offset = uint32_t(frame_times->size());
+    frame_times->insert(frame_times->end(), bc.frame_times_seconds.begin(),
+                        bc.frame_times_seconds.end());
+    clips->push_back(g);
+  }
+}
+
+}  // namespace si

@@ -1,0 +1,171 @@
+// SkinnedInstancing — SPDX-License-Identifier: MIT (see LICENSE)
+// The crowd's instance state and its changes.
+#include "crowd/instance_store.h"
+
+#include <atomic>
+#include <cmath>
+
+#include "core/str_cat.h"
+
+namespace si::detail {
+
+namespace {
+bool finite3(const glm::dvec3& v) {
+  return std::isfinite(v.x) && std::isfinite(v.y) && std::isfinite(v.z);
+}
+}  // namespace
+
+uint64_t nextStateVersion() {
+  static std::atomic<uint64_t> counter{0};
+  return ++counter;
+}
+
+void InstanceStore::reset(const BakedPalette* p) {
+  *this = InstanceStore();
+  palette = p;
+  version = nextStateVersion();
+}
+
+Status InstanceStore::validate(const InstanceDesc& d) const {
+  if (palette == nullptr) return {StatusCode::kInvalidArgument, "CrowdManager: init() first"};
+  if (d.clip >= palette->clips.size())
+    return {StatusCode::kInvalidArgument,
+            strCat("InstanceDesc.clip ", d.clip, " is not below the palette's ",
+                   palette->clips.size(), " clips")};
+  if (!finite3(d.position)) return {StatusCode::kInvalidArgument, "InstanceDesc.position is not finite"};
+  if (!isFinite(d.rotation) || glm::dot(d.rotation, d.rotation) == 0.0f)
+    return {StatusCode::kInvalidArgument, "InstanceDesc.rotation must be finite and non-zero"};
+  if (!std::isfinite(d.scale) || d.scale <= 0.0f)
+    return {StatusCode::kInvalidArgument, "InstanceDesc.scale must be finite and > 0"};
+  if (!std::isfinite(d.time_seconds))
+    return {StatusCode::kInvalidArgument, "InstanceDesc.time_seconds is not finite"};
+  if (!std::isfinite(d.speed) || d.speed < 0.0f)
+    return {StatusCode::kInvalidArgument, "InstanceDesc.speed must be finite and >= 0"};
+  if (d.loop_mode != LoopMode::kDefault && d.loop_mode != LoopMode::kOnce &&
+      d.loop_mode != LoopMode::kLoop)
+    return {StatusCode::kInvalidArgument, "InstanceDesc.loop_mode is unknown"};
+  return Status::ok();
+}
+
+void InstanceStore::push(const InstanceDesc& d, InstanceHandle h, double clock) {
+  uint32_t slot = 0;
+  (void)handles.slot(h, &slot);  // Just issued: alive.
+  if (slot_to_dense.size() <= slot) slot_to_dense.resize(slot + 1, 0);
+  slot_to_dense[slot] = size();
+  positions.push_back(d.position);
+  rotations.push_back(glm::normalize(d.rotation));
+  scales.push_back(d.scale);
+  colors.push_back(packColor(d.color));
+  masks.push_back(d.variation_mask);
+  const LoopMode loop = d.loop_mode == LoopMode::kDefault ? palette->clips[d.clip].loop_mode
+                                                          : d.loop_mode;
+  playback.push_back(Playback{d.clip, loop, d.speed, clock, d.time_seconds});
+  fade_from.push_back(playback.back());
+  fade_start.push_back(0.0);
+  fade_duration.push_back(0.0);
+  lods.push_back(0);
+  dense_handles.push_back(h);
+  version = nextStateVersion();
+}
+
+Status InstanceStore::denseIndex(InstanceHandle h, uint32_t* dense) const {
+  uint32_t slot = 0;
+  Status s = handles.slot(h, &slot);
+  if (!s.isOk()) return s;
+  *dense = slot_to_dense[slot];
+  return Status::ok();
+}
+
+Status InstanceStore::remove(InstanceHandle h) {
+  uint32_t i = 0;
+  Status s = denseIndex(h, &i);
+  if (!s.isOk()) return s;
+  const uint32_t last = size() - 1;
+  const auto move_last = [&](auto& v) {
+    v[i] = v[last];
+    v.pop_back();
+  };
+  if (i != last) {
+    uint32_t moved_slot = 0;
+    (void)handles.slot(dense_handles[last], &moved_slot);
+    slot_to_dense[moved_slot] = i;
+  }
+  move_last(positions);
+  move_last(rotations);
+  move_last(scales);
+  move_last(colors);
+  move_last(masks);
+  move_last(playback);
+  move_last(fade_from);
+  move_last(fade_start);
+  move_last(fade_duration);
+  move_last(lods);
+  move_last(dense_handles);
+  version = nextStateVersion();
+  return handles.release(h);
+}
+
+Status InstanceStore::setTransform(InstanceHandle h, const glm::dvec3& position,
+                                   const glm::quat& rotation, float scale) {
+  uint32_t i = 0;
+  Status s = denseIndex(h, &i);
+  if (!s.isOk()) return s;
+  if (!finite3(position) || !isFinite(rotation) || glm::dot(rotation, rotation) == 0.0f ||
+      !std::isfinite(scale) || scale <= 0.0f)
+    return {StatusCode::kInvalidArgument,
+            "setTransform: position, rotation must be finite, rotation non-zero, scale > 0"};
+  positions[i] = position;
+  rotations[i] = glm::normalize(rotation);
+  scales[i] = scale;
+  version = nextStateVersion();
+  return Status::ok();
+}
+
+Status InstanceStore::setColor(InstanceHandle h, uint32_t packed_color) {
+  uint32_t i = 0;
+  Status s = denseIndex(h, &i);
+  if (s.isOk()) colors[i] = packed_color, version = nextStateVersion();
+  return s;
+}
+
+Status InstanceStore::setVariationMask(InstanceHandle h, uint32_t mask) {
+  uint32_t i = 0;
+  Status s = denseIndex(h, &i);
+  if (s.isOk()) masks[i] = mask, version = nextStateVersion();
+  return s;
+}
+
+Status InstanceStore::play(InstanceHandle h, uint32_t clip, double time_seconds, float speed,
+                           double clock) {
+  uint32_t i = 0;
+  Status s = denseIndex(h, &i);
+  if (!s.isOk()) return s;
+  if (clip >= palette->clips.size() || !std::isfinite(time_seconds) || !std::isfinite(speed) ||
+      speed < 0.0f)
+    return {StatusCode::kInvalidArgument,
+            "play: clip must be in range, time finite, speed finite and >= 0"};
+  playback[i] = Playback{clip, palette->clips[clip].loop_mode, speed, clock, time_seconds};
+  fade_duration[i] = 0.0;
+  version = nextStateVersion();
+  return Status::ok();
+}
+
+Status InstanceStore::crossfade(InstanceHandle h, uint32_t clip, double blend_seconds,
+                                double time_seconds, double clock) {
+  uint32_t i = 0;
+  Status s = denseIndex(h, &i);
+  if (!s.isOk()) return s;
+  if (clip >= palette->clips.size() || !std::isfinite(blend_seconds) || blend_seconds <= 0.0 ||
+      !std::isfinite(time_seconds))
+    return {StatusCode::kInvalidArgument,
+            "crossfade: clip must be in range, blend_seconds finite and > 0, time finite"};
+  fade_from[i] = playback[i];
+  fade_start[i] = clock;
+  fade_duration[i] = blend_seconds;
+  playback[i] = Playback{clip, palette->clips[clip].loop_mode, playback[i].speed, clock,
+                         time_seconds};
+  version = nextStateVersion();
+  return Status::ok();
+}
+
+}  // namespace si::detail

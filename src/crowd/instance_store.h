@@ -1,0 +1,72 @@
+// SkinnedInstancing — SPDX-License-Identifier: MIT (see LICENSE)
+#pragma once
+// The crowd's instances: dense structure-of-arrays state behind generation-counted handles,
+// and every change to it (add, remove, setters, play, crossfade), each validated first and
+// bumping the state version. The per-frame work (frame_builder.h) reads it.
+
+#include <cstdint>
+#include <vector>
+
+#include <glm/glm.hpp>
+#include <glm/gtc/quaternion.hpp>
+
+#include "crowd/playback.h"
+#include "si/crowd/crowd_manager.h"
+#include "si/crowd/handle_pool.h"
+
+namespace si::detail {
+
+/// A new state version, unique across every crowd of the process, so a consumer keyed on
+/// (address, version) never mistakes a new crowd at a reused address for the old one.
+uint64_t nextStateVersion();
+
+struct InstanceStore {
+  /// Empties the store for instances playing `palette`'s clips.
+  void reset(const BakedPalette* palette);
+  uint32_t size() const { return static_cast<uint32_t>(positions.size()); }
+
+  /// kInvalidArgument naming the field (see CrowdManager::add).
+  Status validate(const InstanceDesc& d) const;
+  /// Appends a validated instance under the just-allocated handle `h`, playing from `clock`.
+  void push(const InstanceDesc& d, InstanceHandle h, double clock);
+  /// The dense index of a live handle; kNotFound otherwise.
+  Status denseIndex(InstanceHandle h, uint32_t* dense) const;
+  /// Removes in O(1) (the last instance moves into the hole).
+  Status remove(InstanceHandle h);
+
+  Status setTransform(InstanceHandle h, const glm::dvec3& position, const glm::quat& rotation,
+                      float scale);
+  Status setColor(InstanceHandle h, uint32_t packed_color);
+  Status setVariationMask(InstanceHandle h, uint32_t mask);
+  Status play(InstanceHandle h, uint32_t clip, double time_seconds, float speed, double clock);
+  Status crossfade(InstanceHandle h, uint32_t clip, double blend_seconds, double time_seconds,
+                   double clock);
+
+  const BakedPalette* palette = nullptr;
+  HandlePool handles;
+  uint64_t version = 0;
+
+  // Dense state; slot_to_dense maps handle slots to it.
+  std::vector<glm::dvec3> positions;
+  std::vector<glm::quat> rotations;
+  std::vector<float> scales;
+  std::vector<uint32_t> colors;
+  std::vector<uint32_t> masks;
+  std::vector<Playback> playback;
+  std::vector<Playback> fade_from;      // Valid while fade_duration > 0.
+  std::vector<double> fade_start;
+  std::vector<double> fade_duration;    // 0 when no crossfade runs.
+  std::vector<uint8_t> lods;            // The LOD hysteresis starts from.
+  std::vector<InstanceHandle> dense_handles;
+  std::vector<uint32_t> slot_to_dense;
+};
+
+/// RGBA8 in a uint32 (R in the low byte), as the record's tint.
+inline uint32_t packColor(glm::u8vec4 c) {
+  return uint32_t(c.r) | (uint32_t(c.g) << 8) | (uint32_t(c.b) << 16) | (uint32_t(c.a) << 24);
+}
+inline glm::u8vec4 unpackColor(uint32_t c) {
+  return glm::u8vec4(c & 0xFF, (c >> 8) & 0xFF, (c >> 16) & 0xFF, c >> 24);
+}
+
+}  // namespace si::detail
