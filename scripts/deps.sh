@@ -11,8 +11,8 @@ packages=(
   libglm-dev libtinygltf-dev libmeshoptimizer-dev libstb-dev
   libegl-dev libgl-dev libosmesa6-dev libegl-mesa0 libgl1-mesa-dri libglfw3-dev
   python3-glad
-  # Tests and benchmarks
-  libgtest-dev libgmock-dev libbenchmark-dev
+  # Tests and benchmarks; glslang compiles every shader offline (tests/gl)
+  libgtest-dev libgmock-dev libbenchmark-dev glslang-tools
   # The demo's window test: a virtual X server (xvfb-run needs xauth)
   xvfb xauth
 )

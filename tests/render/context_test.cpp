@@ -67,16 +67,7 @@ TEST_P(ContextTest, CreatesLoadsClearsAndReadsBack) {
   std::remove(path.c_str());
 }
 
-INSTANTIATE_TEST_SUITE_P(Backends, ContextTest,
-                         ::testing::Values(HeadlessBackend::kEglDevice,
-                                           HeadlessBackend::kEglSurfaceless,
-                                           HeadlessBackend::kOsMesa),
-                         [](const auto& param_info) {
-                           std::string n = headlessBackendName(param_info.param);
-                           for (char& c : n)
-                             if (c == '-') c = '_';
-                           return n;
-                         });
+INSTANTIATE_TEST_SUITE_P(Backends, ContextTest, test::allBackends(), test::backendTestName);
 
 TEST(Headless, ErrorsForBadInput) {
   std::unique_ptr<HeadlessContext> ctx;

@@ -2,6 +2,8 @@
 #pragma once
 // Shared by the render tests.
 
+#include <gtest/gtest.h>
+
 #include <cstdlib>
 #include <string>
 
@@ -16,6 +18,21 @@ inline bool requireGl(HeadlessBackend b) {
   if (v == nullptr) return false;
   const std::string list = std::string(",") + v + ",";
   return list.find(std::string(",") + headlessBackendName(b) + ",") != std::string::npos;
+}
+
+/// The back-ends every render test runs on.
+inline ::testing::internal::ValueArray<HeadlessBackend, HeadlessBackend, HeadlessBackend>
+allBackends() {
+  return ::testing::Values(HeadlessBackend::kEglSurfaceless, HeadlessBackend::kOsMesa,
+                           HeadlessBackend::kEglDevice);
+}
+
+/// "egl_surfaceless" for kEglSurfaceless: the back-end's name as a test-name suffix.
+inline std::string backendTestName(const ::testing::TestParamInfo<HeadlessBackend>& info) {
+  std::string n = headlessBackendName(info.param);
+  for (char& c : n)
+    if (c == '-') c = '_';
+  return n;
 }
 
 }  // namespace si::test

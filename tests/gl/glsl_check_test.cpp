@@ -1,0 +1,154 @@
+// SkinnedInstancing — SPDX-License-Identifier: MIT (see LICENSE)
+// The shaders checked without a GPU: every program of the catalog, assembled exactly as
+// Renderer::init() assembles it (for a 64 KiB and a 16 KiB uniform block), is compiled by
+// glslang's reference front-end (glslangValidator, Debian's glslang-tools); so is a user shader
+// built on the public include, both ways it can be read. The embedded include must equal the
+// source files with their includes resolved. Without glslangValidator the compile tests skip,
+// unless SI_REQUIRE_GLSLANG is set (scripts/test.sh sets it in CI).
+#include <gtest/gtest.h>
+
+#include <cstdio>
+#include <cstdlib>
+#include <fstream>
+#include <sstream>
+#include <string>
+
+#include "gl/programs/program_catalog.h"
+#include "si/gl/skinning_glsl.h"
+
+#ifndef SI_GLSL_DIR
+#error "SI_GLSL_DIR must name src/gl/shaders"
+#endif
+
+namespace si {
+namespace {
+
+using detail::ProgramId;
+using detail::ShaderStage;
+
+bool haveGlslang() { return std::system("glslangValidator --version >/dev/null 2>&1") == 0; }
+
+void skipWithoutGlslang() {
+  if (haveGlslang()) return;
+  if (std::getenv("SI_REQUIRE_GLSLANG") != nullptr)
+    FAIL() << "glslangValidator not found (install glslang-tools: scripts/deps.sh)";
+  GTEST_SKIP() << "glslangValidator not found (Debian package glslang-tools)";
+}
+
+std::string readFile(const std::string& path) {
+  std::ifstream in(path, std::ios::binary);
+  std::ostringstream s;
+  s << in.rdbuf();
+  return s.str();
+}
+
+// Compiles `source` as `stage` ("vert", "frag", "comp") with glslang (OpenGL GLSL semantics);
+// returns "" on success, else glslang's output.
+std::string compileWithGlslang(const std::string& source, const std::string& stage,
+                               const std::string& name) {
+  const std::string dir = ::testing::TempDir();
+  const std::string file = dir + "si_glsl_" + name + "." + stage;
+  const std::string log = file + ".log";
+  std::ofstream(file, std::ios::binary) << source;
+  const std::string command = "glslangValidator -S " + stage + " '" + file + "' >'" + log + "' 2>&1";
+  if (std::system(command.c_str()) == 0) return "";
+  return "glslangValidator failed on " + file + ":\n" + readFile(log);
+}
+
+const char* stageExtension(ShaderStage s) {
+  return s == ShaderStage::kVertex ? "vert" : s == ShaderStage::kFragment ? "frag" : "comp";
+}
+
+TEST(GlslCheck, EveryProgramCompilesWithGlslang) {
+  skipWithoutGlslang();
+  int compiled = 0;
+  for (uint32_t max_instances : {819u, 204u}) {
+    detail::ShaderConfig config;
+    config.max_instances = max_instances;
+    config.max_joints = 1024;
+    for (size_t p = 0; p < detail::kProgramCount; ++p) {
+      const ProgramId id = ProgramId(p);
+      for (ShaderStage stage :
+           {ShaderStage::kVertex, ShaderStage::kFragment, ShaderStage::kCompute}) {
+        if (detail::programSpec(id).file(stage) == nullptr) continue;
+        std::string source;
+        ASSERT_TRUE(detail::assembleStage(id, stage, config, &source).isOk());
+        std::string name = detail::programSpec(id).name;
+        for (char& c : name)
+          if (c == ' ') c = '_';
+        name += "_" + std::to_string(max_instances);
+        EXPECT_EQ(compileWithGlslang(source, stageExtension(stage), name), "");
+        ++compiled;
+      }
+    }
+  }
+  // The catalog's 12 programs: 8 with a vertex and a fragment stage, 4 compute: 20 stages.
+  EXPECT_EQ(compiled, 2 * 20);
+}
+
+TEST(GlslCheck, AssembleNamesAMissingStage) {
+  std::string source;
+  EXPECT_EQ(detail::assembleStage(ProgramId::kCull, ShaderStage::kVertex, {}, &source).code(),
+            StatusCode::kInvalidArgument);
+  EXPECT_TRUE(source.empty());
+}
+
+// The docs' user shader (include/si/gl/skinning_glsl.h), on the include as shipped.
+std::string userShader(const std::string& defines) {
+  return "#version 450 core\n" + defines + skinningGlsl() + R"(
+layout(location = 0) in vec3 a_position;
+layout(location = 3) in uvec4 a_joints;
+layout(location = 4) in vec4 a_weights;
+layout(location = 1) uniform mat4 u_view_projection;
+void main() {
+  SiInstance inst = si_instances[gl_InstanceID];
+  vec4 m0, m1, m2;
+  siSkin(inst, a_joints, a_weights, m0, m1, m2);
+  vec3 model = siTransformPoint(m0, m1, m2, a_position);
+  vec3 world = siTransformPoint(inst.world_rows[0], inst.world_rows[1], inst.world_rows[2], model);
+  gl_Position = u_view_projection * vec4(world, 1.0);
+}
+)";
+}
+
+TEST(GlslCheck, UserShaderOnThePublicIncludeCompiles) {
+  skipWithoutGlslang();
+  EXPECT_EQ(compileWithGlslang(userShader("#define SI_MAX_INSTANCES 819\n"), "vert", "user_ubo"),
+            "");
+  EXPECT_EQ(compileWithGlslang(userShader("#define SI_INSTANCES_IN_STORAGE\n"), "vert",
+                               "user_ssbo"),
+            "");
+  // The interface version is part of the include.
+  EXPECT_NE(std::string(skinningGlsl()).find("#define SI_GLSL_INTERFACE_VERSION 1"),
+            std::string::npos);
+}
+
+TEST(GlslCheck, UserShaderWithoutCapacityFailsToCompile) {
+  skipWithoutGlslang();  // The check above could not fail if this one passed.
+  EXPECT_NE(compileWithGlslang(userShader(""), "vert", "user_no_capacity"), "");
+}
+
+// A tiny include resolver, as an engine's would be: `#include "x"` replaced by x's text.
+std::string resolveIncludes(const std::string& dir, const std::string& name, int depth = 0) {
+  std::istringstream in(readFile(dir + "/" + name));
+  std::string line, out;
+  while (std::getline(in, line)) {
+    const size_t at = line.find("#include \"");
+    if (at == 0 && depth < 16) {
+      const size_t end = line.find('"', 10);
+      out += resolveIncludes(dir, line.substr(10, end - 10), depth + 1);
+    } else {
+      out += line + "\n";
+    }
+  }
+  return out;
+}
+
+TEST(GlslCheck, EmbeddedIncludeEqualsTheSourceFiles) {
+  const std::string resolved = resolveIncludes(SI_GLSL_DIR, "si_skinning.glsl");
+  ASSERT_GT(resolved.size(), 1000u) << "could not read " << SI_GLSL_DIR << "/si_skinning.glsl";
+  EXPECT_EQ(resolved, std::string(skinningGlsl()));
+}
+
+}  // namespace
+}  // namespace si

@@ -1,0 +1,225 @@
+// SkinnedInstancing — SPDX-License-Identifier: MIT (see LICENSE)
+// GPU-driven culling selects exactly what the CPU selects, on random scenes and on the
+// boundaries, and draws the same image.
+#include <optional>
+#include <random>
+
+#include "render/render_fixture.h"
+
+namespace si {
+namespace {
+
+using namespace test;
+
+TEST_P(RenderTest, GpuCullingSelectsWhatTheCpuSelects) {
+  Renderer r;
+  makeRenderer(&r);
+  std::mt19937 rng(20261121);
+  std::uniform_real_distribution<double> u(0.0, 1.0);
+  for (int scene = 0; scene < 3; ++scene) {
+    SCOPED_TRACE(scene);
+    CrowdDesc cd;
+    cd.palette = &palette();
+    cd.sub_mesh_count = 4;
+    cd.lod_count = 3;
+    cd.animation_lod_start = scene == 1 ? 1 : 0;
+    cd.lod_hysteresis_ratio = scene == 2 ? 0.2f : 0.0f;
+    CrowdManager crowd;
+    ASSERT_TRUE(crowd.init(cd).isOk());
+    const uint32_t clips = uint32_t(palette().clips.size());
+    std::vector<InstanceHandle> handles;
+    for (int i = 0; i < 3000; ++i) {
+      InstanceDesc d;
+      d.position = glm::dvec3(u(rng) * 300.0 - 150.0, u(rng) * 4.0 - 2.0, u(rng) * 300.0 - 150.0);
+      d.rotation = glm::normalize(glm::quat(float(u(rng) - 0.5), float(u(rng) - 0.5),
+                                            float(u(rng) - 0.5), float(u(rng) - 0.5)));
+      d.scale = float(0.5 + 1.5 * u(rng));
+      d.clip = uint32_t(u(rng) * clips) % clips;
+      d.time_seconds = u(rng) * 3.0;
+      d.speed = float(u(rng) * 2.0);
+      d.loop_mode = u(rng) < 0.3 ? LoopMode::kOnce : LoopMode::kDefault;
+      d.variation_mask = uint32_t(u(rng) * 16.0) | 1u;
+      InstanceHandle h;
+      ASSERT_TRUE(crowd.add(d, &h).isOk());
+      if (u(rng) < 0.2) {
+        ASSERT_TRUE(crowd.crossfade(h, (d.clip + 1) % clips, 0.05 + u(rng) * 0.5).isOk());
+      }
+      handles.push_back(h);
+    }
+    uint32_t compared = 0;
+    for (int frame = 0; frame < 8; ++frame) {
+      SCOPED_TRACE(frame);
+      if (frame == 4) {  // Change state between frames: moves, new crossfades.
+        for (int k = 0; k < 200; ++k) {
+          const InstanceHandle h = handles[size_t(u(rng) * handles.size()) % handles.size()];
+          const glm::dvec3 to(u(rng) * 60.0 - 30.0, 0.0, u(rng) * 60.0 - 30.0);
+          ASSERT_TRUE(crowd.setTransform(h, to, glm::quat(1, 0, 0, 0), 1.0f).isOk());
+          ASSERT_TRUE(crowd.crossfade(h, uint32_t(u(rng) * clips) % clips, 0.3).isOk());
+        }
+      }
+      const glm::dvec3 eye(u(rng) * 200.0 - 100.0, 1.0 + u(rng) * 20.0, u(rng) * 200.0 - 100.0);
+      const glm::dvec3 target(u(rng) * 100.0 - 50.0, 0.0, u(rng) * 100.0 - 50.0);
+      const Camera camera = Camera::lookAt(eye, target, glm::vec3(0, 1, 0),
+                                           float(0.6 + u(rng)), 1.0f, 0.1f, 1000.0f);
+      // The clock moves first; the GPU selects from the LODs of the previous frame, then the
+      // CPU does the same at the same clock.
+      ASSERT_TRUE(crowd.advanceClock(0.11).isOk());
+      DrawStats stats;
+      r.clear(glm::vec4(0.0f));
+      ASSERT_TRUE(r.drawCrowdGpuCulled(crowd, camera, &stats).isOk());
+      std::vector<glm::uvec2> gpu;
+      ASSERT_TRUE(r.readGpuSelection(&gpu).isOk());
+      ASSERT_TRUE(crowd.update(0.0, camera).isOk());
+      std::vector<glm::uvec2> cpu = cpuSelection(crowd);
+      const auto order = [](const glm::uvec2& a, const glm::uvec2& b) {
+        return a.x != b.x ? a.x < b.x : a.y < b.y;
+      };
+      std::sort(gpu.begin(), gpu.end(), order);
+      std::sort(cpu.begin(), cpu.end(), order);
+      ASSERT_EQ(gpu.size(), cpu.size());
+      size_t mismatches = 0;
+      for (size_t k = 0; k < cpu.size(); ++k) mismatches += gpu[k] != cpu[k];
+      EXPECT_EQ(mismatches, 0u);
+      compared += uint32_t(cpu.size());
+      std::printf("[ gpu cull ] scene %d frame %d: %zu visible, %zu mismatches\n", scene, frame,
+                  cpu.size(), mismatches);
+      EXPECT_EQ(crowd.stats().visible, cpu.size());
+    }
+    EXPECT_GT(compared, 500u);  // The scenes do show instances.
+  }
+}
+
+// The hard cases for "exactly": instances within a few ulps of the far line, of each LOD line
+// (both hysteresis edges) and of each side plane of the frustum, all of them selected the same.
+TEST_P(RenderTest, GpuCullingAgreesOnTheBoundaries) {
+  Renderer r;
+  makeRenderer(&r);
+  std::mt19937 rng(7);
+  std::uniform_real_distribution<double> u(0.0, 1.0);
+  CrowdDesc cd;
+  cd.palette = &palette();
+  cd.sub_mesh_count = 4;
+  cd.lod_count = 3;
+  cd.lod_hysteresis_ratio = 0.1f;
+  CrowdManager crowd;
+  ASSERT_TRUE(crowd.init(cd).isOk());
+  const Camera camera = Camera::lookAt({0.5, 1.5, 0.25}, {0.5, 1.0, -50.0}, glm::vec3(0, 1, 0),
+                                       1.1f, 1.3f, 0.1f, 2000.0f);
+  const CullParams p = crowd.cullParams(camera);
+  const BakedClip& clip = palette().clips[0];
+  const glm::dvec3 sphere_center(clip.bounding_sphere.center);
+  std::vector<double> distances = {p.max_distance_radii * p.radius};
+  for (uint32_t l = 0; l + 1 < p.lod_count; ++l) {
+    distances.push_back(p.lod_lines[l] * (1.0 + p.hysteresis) * p.radius);
+    distances.push_back(p.lod_lines[l] * (1.0 - p.hysteresis) * p.radius);
+  }
+  const auto add = [&](const glm::dvec3& position) {
+    InstanceDesc d;
+    d.position = position;
+    d.clip = 0;
+    d.speed = 0.0f;
+    InstanceHandle h;
+    ASSERT_TRUE(crowd.add(d, &h).isOk());
+  };
+  for (int i = 0; i < 4000; ++i) {
+    // Distance boundaries, straight ahead within a few degrees.
+    const double line = distances[size_t(i) % distances.size()];
+    const double a = (u(rng) - 0.5) * 0.3;
+    const double e = (u(rng) - 0.5) * 6e-7;
+    add(camera.position + glm::dvec3(std::sin(a), 0.0, -std::cos(a)) * line * (1.0 + e));
+  }
+  for (int i = 0; i < 4000; ++i) {
+    // Side-plane boundaries: the clip's sphere just touching a plane from outside or inside.
+    const glm::vec4 plane = p.planes[size_t(i) % 4];
+    const glm::dvec3 n(plane);
+    glm::dvec3 c(u(rng) * 60.0 - 30.0, u(rng) * 20.0 - 10.0, -5.0 - u(rng) * 60.0);
+    const double target = -double(clip.bounding_sphere.radius) * (1.0 + (u(rng) - 0.5) * 6e-7);
+    c += n * (target - (glm::dot(n, c) + double(plane.w)));
+    add(camera.position + c - sphere_center);
+  }
+  size_t straddling = 0;
+  for (int frame = 0; frame < 2; ++frame) {
+    ASSERT_TRUE(crowd.advanceClock(0.0).isOk());
+    ASSERT_TRUE(r.drawCrowdGpuCulled(crowd, camera, nullptr).isOk());
+    std::vector<glm::uvec2> gpu;
+    ASSERT_TRUE(r.readGpuSelection(&gpu).isOk());
+    ASSERT_TRUE(crowd.update(0.0, camera).isOk());
+    const size_t n = crowd.size();
+    std::vector<int> gpu_lod(n, -1), cpu_lod(n, -1);
+    for (const glm::uvec2& g : gpu) gpu_lod[g.x] = int(g.y);
+    for (const glm::uvec2& c : cpuSelection(crowd)) cpu_lod[c.x] = int(c.y);
+    size_t mismatches = 0, visible = 0;
+    for (size_t i = 0; i < n; ++i) {
+      mismatches += gpu_lod[i] != cpu_lod[i];
+      visible += cpu_lod[i] >= 0;
+    }
+    std::printf("[ gpu cull ] boundaries, frame %d: %zu of %zu visible, %zu mismatches\n", frame,
+                visible, n, mismatches);
+    EXPECT_EQ(mismatches, 0u);
+    straddling = visible;
+  }
+  // Both sides of the boundaries are populated: some culled, some not.
+  EXPECT_GT(straddling, 1000u);
+  EXPECT_LT(straddling, 7000u);
+}
+
+// What the GPU-culled path draws equals the CPU path's image, with the same triangles.
+TEST_P(RenderTest, GpuCulledDrawEqualsTheCpuPath) {
+  Renderer r;
+  RendererDesc rd;
+  rd.skinning_path = SkinningPath::kVertexShader;
+  rd.measure_gpu_time = true;  // Also reads back the visible count and triangles.
+  makeRenderer(&r, 0, PaletteFormat::kMatrix3x4F32, &rd);
+  CrowdManager crowd;
+  makeCrowd(&crowd);
+  populateLodCrowd(&crowd);
+  addFadingCharacter(&crowd);
+  ASSERT_TRUE(crowd.advanceClock(0.3).isOk());
+  r.clear(glm::vec4(0.2f, 0.25f, 0.3f, 1.0f));
+  DrawStats gpu_stats;
+  ASSERT_TRUE(r.drawCrowdGpuCulled(crowd, lodCamera(), &gpu_stats).isOk());
+  std::vector<uint8_t> gpu_image;
+  ASSERT_TRUE(context_->readPixels(&gpu_image).isOk());
+  ASSERT_TRUE(crowd.update(0.0, lodCamera()).isOk());
+  DrawStats cpu_stats;
+  const std::vector<uint8_t> cpu_image = draw(r, crowd, lodCamera(), 0, false, &cpu_stats);
+  const Diff diff = compare(gpu_image, cpu_image, nullptr);
+  EXPECT_LE(diff.share, 0.001) << "max channel difference " << diff.max_channel;
+  EXPECT_EQ(gpu_stats.draw_calls, 1u);  // One multi-draw.
+  EXPECT_EQ(gpu_stats.gpu_visible, crowd.stats().visible);
+  EXPECT_EQ(gpu_stats.triangles, cpu_stats.triangles);
+  EXPECT_EQ(gpu_stats.instances, cpu_stats.instances);
+  // A new crowd of the same size where the last one was (same address): its own state is
+  // uploaded and drawn, not the old one's.
+  std::optional<CrowdManager> reused;
+  for (int k = 0; k < 2; ++k) {
+    reused.emplace();
+    CrowdDesc rd2;
+    rd2.palette = &palette();
+    rd2.sub_mesh_count = 4;
+    rd2.lod_count = 3;
+    ASSERT_TRUE(reused->init(rd2).isOk());
+    for (int i = 0; i < 50; ++i) {
+      InstanceDesc one;
+      one.position = glm::dvec3(i % 10 - 5.0, 0.0, k == 0 ? -8.0 - i / 10 : 500.0);  // k 1: out of view
+      InstanceHandle h;
+      ASSERT_TRUE(reused->add(one, &h).isOk());
+    }
+    ASSERT_TRUE(r.drawCrowdGpuCulled(*reused, lodCamera(), &gpu_stats).isOk());
+    ASSERT_TRUE(reused->update(0.0, lodCamera()).isOk());
+    EXPECT_EQ(gpu_stats.gpu_visible, reused->stats().visible) << k;
+  }
+  EXPECT_EQ(gpu_stats.gpu_visible, 0u);
+  // A crowd with another palette is refused.
+  CrowdManager other;
+  CrowdDesc od;
+  od.palette = &palette(PaletteFormat::kMatrix3x4F16);
+  od.sub_mesh_count = 4;
+  od.lod_count = 3;
+  ASSERT_TRUE(other.init(od).isOk());
+  EXPECT_EQ(r.drawCrowdGpuCulled(other, lodCamera(), &gpu_stats).code(),
+            StatusCode::kInvalidArgument);
+}
+
+}  // namespace
+}  // namespace si

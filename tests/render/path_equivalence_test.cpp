@@ -1,0 +1,208 @@
+// SkinnedInstancing — SPDX-License-Identifier: MIT (see LICENSE)
+// Every draw path draws the same image: instanced, traditional, CPU-skinned, compute
+// pre-skinning, 16 KiB batches; depth-only and rigid programs; the automatic path choice.
+#include "render/render_fixture.h"
+#include "si/core/log.h"
+
+namespace si {
+namespace {
+
+using namespace test;
+
+TEST_P(RenderTest, InstancedEqualsTraditionalAndCpuSkinned) {
+  Renderer r;
+  makeRenderer(&r);
+  CrowdManager crowd;
+  makeCrowd(&crowd);
+  populateLodCrowd(&crowd);
+  addFadingCharacter(&crowd);
+  ASSERT_TRUE(crowd.update(0.3, lodCamera()).isOk());
+  DrawStats instanced_stats, traditional_stats;
+  const std::vector<uint8_t> a = draw(r, crowd, lodCamera(), 0, false, &instanced_stats);
+  const std::vector<uint8_t> b = draw(r, crowd, lodCamera(), 0, true, &traditional_stats);
+  const Diff diff = compare(a, b, nullptr);
+  EXPECT_LE(diff.share, 0.001) << "max channel difference " << diff.max_channel;
+  EXPECT_EQ(instanced_stats.triangles, traditional_stats.triangles);
+  EXPECT_LT(instanced_stats.draw_calls, traditional_stats.draw_calls);
+  // The CPU-skinning baseline draws the same image too.
+  DrawStats cpu_stats;
+  const std::vector<uint8_t> c = draw(r, crowd, lodCamera(), 0, false, &cpu_stats, Path::kCpuSkinned);
+  const Diff cpu_diff = compare(a, c, nullptr);
+  EXPECT_LE(cpu_diff.share, 0.001) << "max channel difference " << cpu_diff.max_channel;
+  EXPECT_EQ(cpu_stats.triangles, instanced_stats.triangles);
+}
+
+TEST_P(RenderTest, SixteenKiBBatchesGiveTheSameImage) {
+  Renderer r64, r16;
+  makeRenderer(&r64);
+  CrowdManager crowd;
+  makeCrowd(&crowd);
+  // 600 instances in view: more than 204 (a 16 KiB block) per bucket.
+  for (int i = 0; i < 600; ++i) {
+    InstanceDesc d;
+    d.position = glm::dvec3((i % 30) * 1.0 - 15.0, 0.0, -5.0 - (i / 30) * 1.0);
+    d.variation_mask = 1u | (uint32_t(i) % 16u << 1 & 0xE);
+    d.time_seconds = 0.01 * i;
+    InstanceHandle h;
+    ASSERT_TRUE(crowd.add(d, &h).isOk());
+  }
+  const Camera camera = Camera::lookAt({0.0, 8.0, 4.0}, {0.0, 0.0, -15.0}, glm::vec3(0, 1, 0),
+                                       1.0f, 1.0f, 0.1f, 500.0f);
+  ASSERT_TRUE(crowd.update(0.0, camera).isOk());
+  DrawStats s64, s16;
+  const std::vector<uint8_t> a = draw(r64, crowd, camera, 0, false, &s64);
+  r64.shutdown();
+  makeRenderer(&r16, 16384);
+  const std::vector<uint8_t> b = draw(r16, crowd, camera, 16384, false, &s16);
+  EXPECT_GT(s16.draw_calls, s64.draw_calls);
+  EXPECT_EQ(s16.triangles, s64.triangles);
+  EXPECT_EQ(compare(a, b, nullptr).max_channel, 0);  // Same records, same draws: identical.
+}
+
+TEST_P(RenderTest, DepthOnlyAndRigidProgramsDraw) {
+  Renderer r;
+  makeRenderer(&r);
+  CrowdManager crowd;
+  makeCrowd(&crowd);
+  InstanceDesc d;
+  d.clip = uint32_t(palette().findClip("wave"));
+  d.time_seconds = 1.2;
+  InstanceHandle h;
+  ASSERT_TRUE(crowd.add(d, &h).isOk());
+  ASSERT_TRUE(crowd.update(0.0, closeCamera()).isOk());
+  InstanceBatcher batcher;
+  ASSERT_TRUE(batcher.init(r.batchLimits()).isOk());
+  DrawStats stats;
+  r.clear(glm::vec4(0.0f));
+  ASSERT_TRUE(r.drawCrowd(crowd, batcher, closeCamera(), &stats, DrawMode::kDepthOnly).isOk());
+  std::vector<uint8_t> depth_only;
+  ASSERT_TRUE(context_->readPixels(&depth_only).isOk());
+  EXPECT_EQ(compare(depth_only, std::vector<uint8_t>(depth_only.size(), 0), nullptr).max_channel, 0)
+      << "depth-only must not write colour";
+  const std::vector<uint8_t> skinned = draw(r, crowd, closeCamera(), 0);
+  r.clear(glm::vec4(0.2f, 0.25f, 0.3f, 1.0f));
+  ASSERT_TRUE(r.drawCrowd(crowd, batcher, closeCamera(), &stats, DrawMode::kRigid).isOk());
+  std::vector<uint8_t> rigid;
+  ASSERT_TRUE(context_->readPixels(&rigid).isOk());
+  EXPECT_GT(compare(skinned, rigid, nullptr).share, 0.01);  // The raised arm moves pixels.
+}
+
+// The compute pre-skinning path draws the vertex-shader path's image: every LOD, variation,
+// tint and a crossfade, in each palette format, with the default ring and with a ring so small
+// that the crowd is skinned and drawn in many chunks.
+TEST_P(RenderTest, ComputePreSkinningEqualsTheVertexShaderPath) {
+  for (PaletteFormat format : {PaletteFormat::kMatrix3x4F32, PaletteFormat::kMatrix3x4F16,
+                               PaletteFormat::kQuatTranslationF32}) {
+    SCOPED_TRACE(paletteFormatName(format));
+    CrowdManager crowd;
+    makeCrowd(&crowd, format);
+    populateLodCrowd(&crowd);
+    addFadingCharacter(&crowd, format);
+    ASSERT_TRUE(crowd.update(0.3, lodCamera()).isOk());
+    for (uint64_t ring_bytes : {uint64_t(0), uint64_t(64) << 10}) {
+      SCOPED_TRACE(ring_bytes);
+      Renderer r;
+      RendererDesc rd;
+      rd.skinning_path = SkinningPath::kVertexShader;
+      rd.compute_ring_bytes = ring_bytes;
+      makeRenderer(&r, 0, format, &rd);
+      DrawStats vs_stats, cs_stats;
+      const std::vector<uint8_t> a = draw(r, crowd, lodCamera(), 0, false, &vs_stats);
+      const std::vector<uint8_t> b =
+          draw(r, crowd, lodCamera(), 0, false, &cs_stats, Path::kCompute);
+      const Diff diff = compare(a, b, nullptr);
+      std::printf("[ compute  ] %s, ring %llu: %.4f %% of pixels differ, max channel %d\n",
+                  paletteFormatName(format), static_cast<unsigned long long>(ring_bytes),
+                  diff.share * 100.0, diff.max_channel);
+      EXPECT_LE(diff.share, 0.001) << "max channel difference " << diff.max_channel;
+      EXPECT_LE(diff.max_channel, 24);
+      EXPECT_EQ(cs_stats.triangles, vs_stats.triangles);
+      EXPECT_EQ(cs_stats.instances, vs_stats.instances);
+      EXPECT_GE(cs_stats.compute_dispatches, vs_stats.draw_calls);
+      EXPECT_GT(cs_stats.skinned_vertices, 0u);
+      EXPECT_LE(cs_stats.ring_bytes_used, r.computeRingBytes());
+      if (ring_bytes != 0) {
+        EXPECT_EQ(r.computeRingBytes(), ring_bytes);  // Bounded as asked (one LOD 0 body fits).
+        EXPECT_GT(cs_stats.compute_chunks, 1u);
+      } else {
+        EXPECT_EQ(cs_stats.compute_chunks, 1u);
+      }
+      EXPECT_EQ(vs_stats.compute_dispatches, 0u);
+    }
+  }
+}
+
+// The automatic choice measures both paths in a framebuffer of its own, says what it measured,
+// leaves the application's framebuffer alone, and draws the same image by its choice.
+TEST_P(RenderTest, AutomaticSkinningPathIsMeasuredAndLogged) {
+  std::vector<std::string> log;
+  setLogCallback(
+      [](LogLevel, const char* m, void* user) {
+        static_cast<std::vector<std::string>*>(user)->push_back(m);
+      },
+      &log);
+  const glm::vec4 clear(0.2f, 0.25f, 0.3f, 1.0f);
+  Renderer r;
+  RendererDesc rd;  // kAutomatic by default.
+  ASSERT_EQ(rd.skinning_path, SkinningPath::kAutomatic);
+  ASSERT_TRUE(r.init(info_, rd).isOk());
+  r.clear(clear);
+  std::vector<uint8_t> before;
+  ASSERT_TRUE(context_->readPixels(&before).isOk());
+  ASSERT_TRUE(r.uploadPalette(palette()).isOk());
+  ASSERT_TRUE(r.uploadCharacter(character(), palette()).isOk());
+  setLogCallback(nullptr, nullptr);
+  std::vector<uint8_t> after;
+  ASSERT_TRUE(context_->readPixels(&after).isOk());
+  EXPECT_EQ(compare(before, after, nullptr).max_channel, 0);
+  EXPECT_NE(r.skinningPath(), SkinningPath::kAutomatic);
+  std::printf("[ path     ] %s: %s\n", skinningPathName(r.skinningPath()),
+              r.skinningPathReason().c_str());
+  EXPECT_NE(r.skinningPathReason().find("vertex shader"), std::string::npos) << r.skinningPathReason();
+  EXPECT_NE(r.skinningPathReason().find("compute"), std::string::npos);
+  bool logged = false;
+  for (const std::string& m : log)
+    logged |= m.find(std::string("skinning path ") + skinningPathName(r.skinningPath())) !=
+              std::string::npos;
+  EXPECT_TRUE(logged);
+  // Whichever it chose draws what the vertex shader draws.
+  CrowdManager crowd;
+  makeCrowd(&crowd);
+  populateLodCrowd(&crowd);
+  ASSERT_TRUE(crowd.update(0.0, lodCamera()).isOk());
+  const std::vector<uint8_t> chosen = draw(r, crowd, lodCamera(), 0);
+  Renderer vs;
+  makeRenderer(&vs);
+  const std::vector<uint8_t> reference = draw(vs, crowd, lodCamera(), 0);
+  EXPECT_LE(compare(chosen, reference, nullptr).share, 0.001);
+  // An explicit setting is kept and says so.
+  Renderer explicit_compute;
+  RendererDesc cd;
+  cd.skinning_path = SkinningPath::kCompute;
+  makeRenderer(&explicit_compute, 0, PaletteFormat::kMatrix3x4F32, &cd);
+  EXPECT_EQ(explicit_compute.skinningPath(), SkinningPath::kCompute);
+  EXPECT_EQ(explicit_compute.skinningPathReason(), "explicit setting");
+}
+
+// GPU-driven culling selects exactly the instances and LODs CrowdManager::update() selects, on
+// random scenes: positions near and past the far line, random rotations (not only headings),
+// scales, clips, times, loop modes, crossfades running and ending, animation LOD, random
+// cameras, and state changed between frames (which re-uploads the state).
+
+TEST_P(RenderTest, InitRejectsBadBlockSizes) {
+  Renderer r;
+  RendererDesc rd;
+  rd.uniform_block_size_bytes = 8192;
+  EXPECT_EQ(r.init(info_, rd).code(), StatusCode::kInvalidArgument);
+  rd.uniform_block_size_bytes = info_.max_uniform_block_size_bytes + 16;
+  EXPECT_EQ(r.init(info_, rd).code(), StatusCode::kInvalidArgument);
+  CrowdManager crowd;
+  makeCrowd(&crowd);
+  InstanceBatcher batcher;
+  ASSERT_TRUE(batcher.init({65536, 256, 0}).isOk());
+  DrawStats stats;
+  EXPECT_EQ(r.drawCrowd(crowd, batcher, closeCamera(), &stats).code(), StatusCode::kInvalidArgument);
+}
+
+}  // namespace
+}  // namespace si

@@ -1,0 +1,236 @@
+// SkinnedInstancing — SPDX-License-Identifier: MIT (see LICENSE)
+#pragma once
+// The render tests' fixture, run on each headless back-end: the embedded character and its
+// palettes, a renderer and a crowd, drawing through every path, image comparison with golden
+// PNGs, and the scenes several tests share. Skips with a printed reason when a back-end has no
+// context; SI_REQUIRE_GL (a list of back-end names) turns that into a failure.
+// SI_UPDATE_GOLDEN=1 rewrites the golden images (from llvmpipe) instead of comparing;
+// SI_GOLDEN_DIR overrides where they are read.
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <cstdlib>
+#include <cstring>
+#include <map>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "render/render_test_helpers.h"
+#include "si/bake/animation_baker.h"
+#include "si/core/default_character.h"
+#include "si/gl/renderer.h"
+#include "si/headless/headless_context.h"
+
+#ifndef SI_GOLDEN_DIR
+#error "SI_GOLDEN_DIR must name tests/render/golden"
+#endif
+
+namespace si::test {
+
+
+inline constexpr uint32_t kSize = 256;
+// Image comparison: a pixel differs when a channel is off by more than kPixelTolerance; an image
+// matches when at most kMaxDifferingShare of its pixels differ.
+inline constexpr int kPixelTolerance = 8;
+inline constexpr double kMaxDifferingShare = 0.005;
+
+
+inline const Character& character() {
+  static const Character c = [] {
+    Character out;
+    if (!makeDefaultCharacter({}, &out).isOk()) std::abort();
+    return out;
+  }();
+  return c;
+}
+
+inline const BakedPalette& palette(PaletteFormat format = PaletteFormat::kMatrix3x4F32) {
+  static BakedPalette cache[4];
+  BakedPalette& p = cache[size_t(format)];
+  if (p.clips.empty()) {
+    BakeDesc d;
+    d.rate_mode = RateMode::kFixed;
+    d.sample_rate_hz = 30.0f;
+    d.format = format;
+    if (!bakePalette(character(), d, &p, nullptr).isOk()) std::abort();
+  }
+  return p;
+}
+
+struct Diff {
+  double share = 0.0;
+  int max_channel = 0;
+};
+
+inline Diff compare(const std::vector<uint8_t>& a, const std::vector<uint8_t>& b,
+             std::vector<uint8_t>* diff_image) {
+  Diff d;
+  if (a.size() != b.size()) return {1.0, 255};
+  size_t differing = 0;
+  if (diff_image) diff_image->assign(a.size(), 255);
+  for (size_t p = 0; p < a.size(); p += 4) {
+    int m = 0;
+    for (int c = 0; c < 3; ++c) m = std::max(m, std::abs(int(a[p + c]) - int(b[p + c])));
+    d.max_channel = std::max(d.max_channel, m);
+    if (m > kPixelTolerance) {
+      ++differing;
+      if (diff_image) (*diff_image)[p] = 255, (*diff_image)[p + 1] = 0, (*diff_image)[p + 2] = 0;
+    } else if (diff_image) {
+      for (int c = 0; c < 3; ++c) (*diff_image)[p + c] = uint8_t(a[p + c] / 3);
+    }
+  }
+  d.share = double(differing) / double(a.size() / 4);
+  return d;
+}
+
+class RenderTest : public ::testing::TestWithParam<HeadlessBackend> {
+ protected:
+  void SetUp() override {
+    HeadlessDesc d;
+    d.width = kSize;
+    d.height = kSize;
+    d.backend = GetParam();
+    const Status s = HeadlessContext::create(d, &context_);
+    if (!s.isOk()) {
+      if (requireGl(GetParam())) FAIL() << s.toString();
+      GTEST_SKIP() << "no " << headlessBackendName(GetParam()) << " context: " << s.message();
+    }
+    ASSERT_TRUE(loadGl(&HeadlessContext::getProcAddress, context_.get(), &info_).isOk());
+  }
+
+  // A renderer with the default character uploaded (block size 0: the context's limit).
+  // The skinning path is explicit (the vertex shader) unless `rd_in` says otherwise.
+  void makeRenderer(Renderer* r, uint32_t block_size = 0,
+                    PaletteFormat format = PaletteFormat::kMatrix3x4F32,
+                    const RendererDesc* rd_in = nullptr) {
+    RendererDesc rd;
+    rd.skinning_path = SkinningPath::kVertexShader;
+    if (rd_in) rd = *rd_in;
+    rd.uniform_block_size_bytes = block_size;
+    const Status init = r->init(info_, rd);
+    ASSERT_TRUE(init.isOk()) << init.toString();
+    ASSERT_TRUE(r->uploadPalette(palette(format)).isOk());
+    ASSERT_TRUE(r->uploadCharacter(character(), palette(format)).isOk());
+  }
+
+  void makeCrowd(CrowdManager* crowd, PaletteFormat format = PaletteFormat::kMatrix3x4F32) {
+    CrowdDesc cd;
+    cd.palette = &palette(format);
+    cd.sub_mesh_count = 4;
+    cd.lod_count = 3;
+    ASSERT_TRUE(crowd->init(cd).isOk());
+  }
+
+  enum class Path { kInstanced, kTraditional, kCpuSkinned, kCompute };
+  std::vector<uint8_t> draw(Renderer& r, const CrowdManager& crowd, const Camera& camera,
+                            uint32_t block_size, bool traditional = false, DrawStats* out = nullptr,
+                            Path path = Path::kInstanced) {
+    InstanceBatcher batcher;
+    BatchLimits limits = r.batchLimits();
+    if (block_size) limits.max_uniform_block_size_bytes = block_size;
+    EXPECT_TRUE(batcher.init(limits).isOk());
+    r.clear(glm::vec4(0.2f, 0.25f, 0.3f, 1.0f));
+    DrawStats stats;
+    if (traditional) path = Path::kTraditional;
+    const Status s =
+        path == Path::kTraditional  ? r.drawTraditional(crowd, camera, &stats)
+        : path == Path::kCpuSkinned ? r.drawCpuSkinned(crowd, camera, &stats)
+        : path == Path::kCompute ? r.drawCrowd(crowd, batcher, camera, &stats, DrawMode::kComputeSkinned)
+                                 : r.drawCrowd(crowd, batcher, camera, &stats);
+    EXPECT_TRUE(s.isOk()) << s.toString();
+    if (out) *out = stats;
+    std::vector<uint8_t> rgba;
+    EXPECT_TRUE(context_->readPixels(&rgba).isOk());
+    return rgba;
+  }
+
+  // Compares with tests/render/golden/<name>.png; writes actual and diff images on failure.
+  void expectGolden(const std::string& name, const std::vector<uint8_t>& rgba) {
+    const char* dir = std::getenv("SI_GOLDEN_DIR");  // Overrides the source tree's folder.
+    const std::string golden = std::string(dir ? dir : SI_GOLDEN_DIR) + "/" + name + ".png";
+    const char* update = std::getenv("SI_UPDATE_GOLDEN");
+    if (update != nullptr && std::string(update) == "1") {
+      ASSERT_TRUE(writePng(golden, kSize, kSize, rgba).isOk());
+      std::printf("[ golden   ] wrote %s\n", golden.c_str());
+      return;
+    }
+    uint32_t w = 0, h = 0;
+    std::vector<uint8_t> expected;
+    ASSERT_TRUE(readPng(golden, &w, &h, &expected).isOk()) << golden;
+    std::vector<uint8_t> diff;
+    const Diff d = compare(rgba, expected, &diff);
+    if (d.share > kMaxDifferingShare) {
+      const std::string base = ::testing::TempDir() + "si_" + name + "_" +
+                               headlessBackendName(GetParam());
+      (void)writePng(base + "_actual.png", kSize, kSize, rgba);
+      (void)writePng(base + "_diff.png", kSize, kSize, diff);
+      ADD_FAILURE() << name << ": " << d.share * 100 << " % of pixels differ (max channel "
+                    << d.max_channel << "); actual " << base << "_actual.png, diff " << base
+                    << "_diff.png, golden " << golden;
+    }
+  }
+
+  std::unique_ptr<HeadlessContext> context_;
+  GlInfo info_;
+};
+
+inline Camera closeCamera() {
+  return Camera::lookAt({0.0, 1.2, 3.2}, {0.0, 1.0, 0.0}, glm::vec3(0, 1, 0), 0.75f, 1.0f, 0.1f,
+                        200.0f);
+}
+
+// Every LOD, every variation and several tints: 3 rows at LOD distances, 8 masks each.
+inline void populateLodCrowd(CrowdManager* crowd) {
+  const uint32_t clips = uint32_t(palette().clips.size());
+  for (int row = 0; row < 3; ++row)
+    for (int k = 0; k < 8; ++k) {
+      InstanceDesc d;
+      const double z = row == 0 ? -4.0 : row == 1 ? -40.0 : -110.0;
+      const double spacing = row == 0 ? 1.2 : row == 1 ? 6.0 : 16.0;
+      d.position = glm::dvec3((k - 3.5) * spacing, 0.0, z);
+      d.variation_mask = 1u | (uint32_t(k) << 1);
+      d.clip = uint32_t(k) % clips;
+      d.time_seconds = 0.1 * k;
+      d.speed = 0.0f;
+      d.color = glm::u8vec4(uint8_t(40 + 30 * k), uint8_t(200 - 20 * k), uint8_t(60 + 60 * row), 255);
+      InstanceHandle h;
+      ASSERT_TRUE(crowd->add(d, &h).isOk());
+    }
+}
+
+// One more character, close to the camera, crossfading from clip 0 to run over 1 s from the
+// crowd clock's current time (the tests then advance it 0.3 s).
+inline void addFadingCharacter(CrowdManager* crowd, PaletteFormat format = PaletteFormat::kMatrix3x4F32) {
+  InstanceHandle fading;
+  InstanceDesc d;
+  d.position = glm::dvec3(0.5, 0.0, -2.0);
+  ASSERT_TRUE(crowd->add(d, &fading).isOk());
+  ASSERT_TRUE(crowd->crossfade(fading, uint32_t(palette(format).findClip("run")), 1.0).isOk());
+}
+
+// The CPU's selection of the last update(): (dense index as exportGpuState orders it, LOD) per
+// visible instance.
+inline std::vector<glm::uvec2> cpuSelection(const CrowdManager& crowd) {
+  std::vector<GpuInstanceState> state;
+  std::vector<InstanceHandle> dense;
+  crowd.exportGpuState(&state, &dense);
+  std::map<uint32_t, uint32_t> dense_of;  // handle id -> dense index
+  for (uint32_t i = 0; i < dense.size(); ++i) dense_of[dense[i].id] = i;
+  std::vector<glm::uvec2> out;
+  for (InstanceHandle h : crowd.visibleHandles()) {
+    uint32_t lod = 0;
+    EXPECT_TRUE(crowd.lodOf(h, &lod).isOk());
+    out.push_back(glm::uvec2(dense_of[h.id], lod));
+  }
+  return out;
+}
+
+inline Camera lodCamera() {
+  return Camera::lookAt({0.0, 3.0, 6.0}, {0.0, 0.0, -40.0}, glm::vec3(0, 1, 0), 0.9f, 1.0f, 0.1f,
+                        500.0f);
+}
+
+}  // namespace si::test
