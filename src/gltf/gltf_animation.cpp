@@ -1,0 +1,97 @@
+// SkinnedInstancing — SPDX-License-Identifier: MIT (see LICENSE)
+// Animations (glTF 2.0 specification, "Animations"): translation, rotation and scale channels
+// of the skeleton's joints, LINEAR, STEP or CUBICSPLINE; morph weights and other targets are
+// skipped with a warning each.
+#include <algorithm>
+
+#include "gltf/gltf_convert.h"
+
+namespace si::detail {
+
+Status convertClips(const tinygltf::Model& m, const GltfImportDesc& desc,
+                    const SkinBinding& binding, GltfImportReport* report, Character* c) {
+  std::vector<std::string>& warnings = report->warnings;
+  const std::vector<int32_t>& node_to_joint = binding.node_to_joint;
+  const size_t node_count = m.nodes.size();
+  // ---- Animations.
+  const LoopMode loop = desc.loop_mode == LoopMode::kDefault ? LoopMode::kLoop : desc.loop_mode;
+  for (size_t ai = 0; ai < m.animations.size(); ++ai) {
+    const tinygltf::Animation& anim = m.animations[ai];
+    Clip clip;
+    clip.name = anim.name.empty() ? strCat("animation", ai) : anim.name;
+    clip.loop_mode = loop;
+    clip.joint_tracks.resize(c->skeleton.jointCount());
+    const std::string where = strCat("animation '", clip.name, "'");
+    for (size_t ch = 0; ch < anim.channels.size(); ++ch) {
+      const tinygltf::AnimationChannel& channel = anim.channels[ch];
+      const std::string cw = strCat(where, " channel ", ch);
+      if (channel.target_path == "weights") {
+        warnings.push_back(cw + ": morph target weights are not supported: skipped");
+        continue;
+      }
+      if (channel.target_node < 0 || size_t(channel.target_node) >= node_count)
+        return corrupt(strCat(cw, ": target node ", channel.target_node, " does not exist"));
+      const int32_t joint = node_to_joint[size_t(channel.target_node)];
+      if (joint < 0) {
+        warnings.push_back(strCat(cw, ": targets node '", m.nodes[size_t(channel.target_node)].name,
+                                  "' outside the skeleton: skipped"));
+        continue;
+      }
+      if (channel.sampler < 0 || size_t(channel.sampler) >= anim.samplers.size())
+        return corrupt(strCat(cw, ": sampler ", channel.sampler, " does not exist"));
+      const tinygltf::AnimationSampler& sampler = anim.samplers[size_t(channel.sampler)];
+      Interpolation interp = Interpolation::kLinear;
+      if (sampler.interpolation == "STEP") interp = Interpolation::kStep;
+      else if (sampler.interpolation == "CUBICSPLINE") interp = Interpolation::kCubicSpline;
+      else if (!sampler.interpolation.empty() && sampler.interpolation != "LINEAR")
+        return corrupt(strCat(cw, ": unknown interpolation '", sampler.interpolation, "'"));
+      std::vector<double> times, values;
+      Status s = readAccessor(m, sampler.input, {TINYGLTF_TYPE_SCALAR}, kFloat, cw + " input", &times);
+      if (!s.isOk()) return s;
+      const bool rotation = channel.target_path == "rotation";
+      if (!rotation && channel.target_path != "translation" && channel.target_path != "scale") {
+        warnings.push_back(strCat(cw, ": unknown target path '", channel.target_path, "': skipped"));
+        continue;
+      }
+      s = readAccessor(m, sampler.output, {rotation ? TINYGLTF_TYPE_VEC4 : TINYGLTF_TYPE_VEC3},
+                       rotation ? kFloatOrNormalized : kFloat, cw + " output", &values);
+      if (!s.isOk()) return s;
+      const size_t comps = rotation ? 4 : 3, per_key = interp == Interpolation::kCubicSpline ? 3 : 1;
+      if (values.size() != times.size() * comps * per_key)
+        return corrupt(strCat(cw, ": ", values.size() / comps, " output values for ", times.size(),
+                              " key times"));
+      for (size_t k = 0; k < times.size(); ++k) {
+        if (times[k] < 0.0 || (k > 0 && !(times[k] > times[k - 1])))
+          return corrupt(strCat(cw, ": key times not increasing (or negative) at key ", k));
+        clip.duration_seconds = std::max(clip.duration_seconds, float(times[k]));
+      }
+      JointTracks& jt = clip.joint_tracks[size_t(joint)];
+      const auto fill = [&](auto& track) {
+        if (!track.empty()) {
+          warnings.push_back(cw + ": a second channel for the same joint and path: skipped");
+          return;
+        }
+        track.interpolation = interp;
+        for (double t : times) track.times_seconds.push_back(float(t));
+      };
+      if (rotation) {
+        fill(jt.rotation);
+        if (jt.rotation.values.empty() && !jt.rotation.times_seconds.empty())
+          for (size_t v = 0; v < values.size() / 4; ++v)
+            jt.rotation.values.push_back(glm::quat(float(values[v * 4 + 3]), float(values[v * 4]),
+                                                   float(values[v * 4 + 1]), float(values[v * 4 + 2])));
+      } else {
+        Vec3Track& track = channel.target_path == "translation" ? jt.translation : jt.scale;
+        fill(track);
+        if (track.values.empty() && !track.times_seconds.empty())
+          for (size_t v = 0; v < values.size() / 3; ++v)
+            track.values.push_back(glm::vec3(float(values[v * 3]), float(values[v * 3 + 1]),
+                                             float(values[v * 3 + 2])));
+      }
+    }
+    c->clips.push_back(std::move(clip));
+  }
+  return Status::ok();
+}
+
+}  // namespace si::detail

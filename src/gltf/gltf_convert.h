@@ -1,0 +1,65 @@
+// SkinnedInstancing — SPDX-License-Identifier: MIT (see LICENSE)
+#pragma once
+// glTF 2.0 import, internal: the pieces convert() is made of (Khronos glTF 2.0 specification,
+// "Skins", "Meshes", "Materials", "Animations", "Accessors"), one file each. tinygltf parses;
+// every read checks its range first, in 64-bit arithmetic.
+
+#include <tiny_gltf.h>
+
+#include <cstdint>
+#include <string>
+#include <vector>
+
+#include "core/str_cat.h"
+#include "si/gltf/gltf_import.h"
+
+namespace si::detail {
+
+inline Status corrupt(const std::string& what) { return {StatusCode::kCorrupt, "glTF: " + what}; }
+
+// ---- gltf_io.cpp: tinygltf's file and image callbacks.
+/// Files are read only inside `base_dir` (no path expansion, no escape); an empty base_dir
+/// reads nothing. Writing is refused.
+struct FsContext {
+  std::string base_dir;
+};
+/// Images are decoded when `load`; one that cannot be decoded is a warning, not an error.
+struct ImageContext {
+  bool load;
+  std::vector<std::string>* warnings;
+};
+void installCallbacks(tinygltf::TinyGLTF* loader, FsContext* fs, ImageContext* images);
+
+// ---- gltf_accessors.cpp: typed, range-checked accessor reads.
+extern const std::vector<int> kFloat;              ///< FLOAT components.
+extern const std::vector<int> kAnyInt;             ///< Unsigned byte, short or int components.
+extern const std::vector<int> kFloatOrNormalized;  ///< FLOAT or normalized integers.
+/// Reads accessor `index` into `out` (count x components doubles), checking its type, every
+/// range and that each value is finite; sparse accessors are applied. kCorrupt naming `what`.
+Status readAccessor(const tinygltf::Model& m, int index, const std::vector<int>& types,
+                    const std::vector<int>& component_types, const std::string& what,
+                    std::vector<double>* out, int* components_out = nullptr);
+
+// ---- gltf_skeleton.cpp: the chosen skin's skeleton.
+struct SkinBinding {
+  int skin_index = -1;
+  const tinygltf::Skin* skin = nullptr;
+  std::vector<int32_t> node_to_joint;  ///< Per node: its joint, or -1 outside the skeleton.
+};
+/// Chooses the skin (GltfImportDesc), builds the skeleton from its joints and all their
+/// ancestors (parents first) with rest poses and inverse bind matrices.
+Status convertSkeleton(const tinygltf::Model& m, const GltfImportDesc& desc,
+                       GltfImportReport* report, Character* c, SkinBinding* out);
+
+// ---- gltf_mesh.cpp: triangle primitives of nodes skinned by the skin, sub-meshes and LODs.
+Status convertMeshes(const tinygltf::Model& m, const GltfImportDesc& desc,
+                     const SkinBinding& skin, GltfImportReport* report, Character* c);
+
+// ---- gltf_material.cpp: materials (index 0 a default white) and base colour images.
+void convertMaterials(const tinygltf::Model& m, GltfImportReport* report, Character* c);
+
+// ---- gltf_animation.cpp: clips of the skeleton's joints.
+Status convertClips(const tinygltf::Model& m, const GltfImportDesc& desc,
+                    const SkinBinding& skin, GltfImportReport* report, Character* c);
+
+}  // namespace si::detail

@@ -1,0 +1,260 @@
+// SkinnedInstancing — SPDX-License-Identifier: MIT (see LICENSE)
+// Meshes (glTF 2.0 specification, "Meshes"): every triangle primitive of every node skinned by
+// the skin, with up to 8 influences reduced to 4; sub-meshes grouped by name with "_LOD<n>"
+// levels, or LODs generated with meshoptimizer.
+#include <meshoptimizer.h>
+
+#include <algorithm>
+#include <cmath>
+#include <map>
+
+#include "gltf/gltf_convert.h"
+
+namespace si::detail {
+
+namespace {
+
+// "Body_LOD2" -> ("Body", 2); names without the suffix are LOD 0.
+std::pair<std::string, uint32_t> lodName(const std::string& name) {
+  const size_t at = name.rfind("_LOD");
+  if (at == std::string::npos || at + 4 >= name.size()) return {name, 0};
+  uint32_t lod = 0;
+  for (size_t i = at + 4; i < name.size(); ++i) {
+    if (name[i] < '0' || name[i] > '9' || lod > 1000) return {name, 0};
+    lod = lod * 10 + uint32_t(name[i] - '0');
+  }
+  return {name.substr(0, at), lod};
+}
+
+struct Primitive {
+  std::string name;
+  uint32_t lod = 0;
+  uint32_t material = 0;
+  std::vector<uint32_t> indices;  // Into the character's vertex arrays.
+};
+
+}  // namespace
+
+Status convertMeshes(const tinygltf::Model& m, const GltfImportDesc& desc,
+                     const SkinBinding& binding, GltfImportReport* report, Character* c) {
+  std::vector<std::string>& warnings = report->warnings;
+  const int skin_index = binding.skin_index;
+  const tinygltf::Skin& skin = *binding.skin;
+  const std::vector<int32_t>& node_to_joint = binding.node_to_joint;
+  const size_t node_count = m.nodes.size();
+  // ---- Meshes: every triangle primitive of every node skinned by this skin.
+  std::vector<Primitive> primitives;
+  bool all_tangents = true;
+  std::vector<std::vector<glm::vec4>> tangent_parts;
+  for (size_t n = 0; n < node_count; ++n) {
+    const tinygltf::Node& node = m.nodes[n];
+    if (node.mesh < 0) continue;
+    if (node.skin != skin_index) {
+      if (node.skin >= 0) warnings.push_back(strCat("node '", node.name, "' uses another skin: skipped"));
+      continue;
+    }
+    if (size_t(node.mesh) >= m.meshes.size())
+      return corrupt(strCat("node ", n, " names mesh ", node.mesh, ", which does not exist"));
+    const tinygltf::Mesh& mesh = m.meshes[size_t(node.mesh)];
+    const std::string base = !mesh.name.empty() ? mesh.name : !node.name.empty() ? node.name
+                                                                                 : strCat("mesh", node.mesh);
+    for (size_t p = 0; p < mesh.primitives.size(); ++p) {
+      const tinygltf::Primitive& prim = mesh.primitives[p];
+      const std::string where = strCat("mesh '", base, "' primitive ", p);
+      if (prim.mode != -1 && prim.mode != TINYGLTF_MODE_TRIANGLES) {
+        warnings.push_back(where + ": not a triangle list: skipped");
+        continue;
+      }
+      const auto attr = [&](const char* key) {
+        const auto it = prim.attributes.find(key);
+        return it == prim.attributes.end() ? -1 : it->second;
+      };
+      if (attr("POSITION") < 0) return corrupt(where + ": has no POSITION");
+      if (attr("JOINTS_0") < 0 || attr("WEIGHTS_0") < 0)
+        return corrupt(where + ": is skinned but has no JOINTS_0/WEIGHTS_0");
+      std::vector<double> pos, nrm, tan, uv, j0, w0, j1, w1, idx;
+      Status s = readAccessor(m, attr("POSITION"), {TINYGLTF_TYPE_VEC3}, kFloat, where + " POSITION", &pos);
+      const size_t nv = pos.size() / 3;
+      const auto same_count = [&](const std::vector<double>& v, size_t comps, const char* what) {
+        return v.size() == nv * comps ? Status::ok()
+                                      : corrupt(strCat(where, ": ", what, " has ", v.size() / comps,
+                                                       " elements for ", nv, " positions"));
+      };
+      if (s.isOk() && attr("NORMAL") >= 0) {
+        s = readAccessor(m, attr("NORMAL"), {TINYGLTF_TYPE_VEC3}, kFloat, where + " NORMAL", &nrm);
+        if (s.isOk()) s = same_count(nrm, 3, "NORMAL");
+      }
+      if (s.isOk() && attr("TANGENT") >= 0) {
+        s = readAccessor(m, attr("TANGENT"), {TINYGLTF_TYPE_VEC4}, kFloat, where + " TANGENT", &tan);
+        if (s.isOk()) s = same_count(tan, 4, "TANGENT");
+      }
+      if (s.isOk() && attr("TEXCOORD_0") >= 0) {
+        s = readAccessor(m, attr("TEXCOORD_0"), {TINYGLTF_TYPE_VEC2}, kFloatOrNormalized,
+                         where + " TEXCOORD_0", &uv);
+        if (s.isOk()) s = same_count(uv, 2, "TEXCOORD_0");
+      }
+      const std::vector<int> joint_types = {TINYGLTF_COMPONENT_TYPE_UNSIGNED_BYTE,
+                                            TINYGLTF_COMPONENT_TYPE_UNSIGNED_SHORT};
+      const std::vector<int> weight_types = {TINYGLTF_COMPONENT_TYPE_FLOAT,
+                                             TINYGLTF_COMPONENT_TYPE_UNSIGNED_BYTE,
+                                             TINYGLTF_COMPONENT_TYPE_UNSIGNED_SHORT};
+      if (s.isOk()) s = readAccessor(m, attr("JOINTS_0"), {TINYGLTF_TYPE_VEC4}, joint_types, where + " JOINTS_0", &j0);
+      if (s.isOk()) s = same_count(j0, 4, "JOINTS_0");
+      if (s.isOk()) s = readAccessor(m, attr("WEIGHTS_0"), {TINYGLTF_TYPE_VEC4}, weight_types, where + " WEIGHTS_0", &w0);
+      if (s.isOk()) s = same_count(w0, 4, "WEIGHTS_0");
+      const bool second = attr("JOINTS_1") >= 0 && attr("WEIGHTS_1") >= 0;
+      if (s.isOk() && second) {
+        s = readAccessor(m, attr("JOINTS_1"), {TINYGLTF_TYPE_VEC4}, joint_types, where + " JOINTS_1", &j1);
+        if (s.isOk()) s = same_count(j1, 4, "JOINTS_1");
+        if (s.isOk()) s = readAccessor(m, attr("WEIGHTS_1"), {TINYGLTF_TYPE_VEC4}, weight_types, where + " WEIGHTS_1", &w1);
+        if (s.isOk()) s = same_count(w1, 4, "WEIGHTS_1");
+      }
+      if (s.isOk() && prim.indices >= 0)
+        s = readAccessor(m, prim.indices, {TINYGLTF_TYPE_SCALAR}, kAnyInt, where + " indices", &idx);
+      if (!s.isOk()) return s;
+      if (nv == 0) {
+        warnings.push_back(where + ": no vertices: skipped");
+        continue;
+      }
+      Primitive out_prim;
+      const auto [group, lod] = lodName(mesh.primitives.size() > 1 ? strCat(base, "_p", p) : base);
+      // A "_LOD<n>" suffix on the mesh name applies to all its primitives.
+      const auto [mesh_group, mesh_lod] = lodName(base);
+      out_prim.name = mesh.primitives.size() > 1 ? strCat(mesh_group, "_p", p) : group;
+      out_prim.lod = mesh.primitives.size() > 1 ? mesh_lod : lod;
+      out_prim.material = prim.material >= 0 ? uint32_t(prim.material) + 1 : 0;  // 0: default.
+      if (prim.material >= 0 && size_t(prim.material) >= m.materials.size())
+        return corrupt(strCat(where, ": material ", prim.material, " does not exist"));
+      const uint32_t first = uint32_t(c->mesh.positions.size());
+      for (size_t v = 0; v < nv; ++v) {
+        c->mesh.positions.push_back(glm::vec3(glm::dvec3(pos[v * 3], pos[v * 3 + 1], pos[v * 3 + 2])));
+        c->mesh.normals.push_back(nrm.empty() ? glm::vec3(0.0f)
+                                             : glm::vec3(glm::dvec3(nrm[v * 3], nrm[v * 3 + 1], nrm[v * 3 + 2])));
+        c->mesh.texcoords.push_back(uv.empty() ? glm::vec2(0.0f) : glm::vec2(float(uv[v * 2]), float(uv[v * 2 + 1])));
+        Influence infl[8];
+        size_t k = 0;
+        for (int i = 0; i < 4; ++i) infl[k++] = {uint32_t(j0[v * 4 + size_t(i)]), float(w0[v * 4 + size_t(i)])};
+        if (second)
+          for (int i = 0; i < 4; ++i) infl[k++] = {uint32_t(j1[v * 4 + size_t(i)]), float(w1[v * 4 + size_t(i)])};
+        for (size_t i = 0; i < k; ++i) {
+          if (infl[i].weight == 0.0f) {
+            infl[i].joint = 0;
+            continue;
+          }
+          if (infl[i].joint >= skin.joints.size())
+            return corrupt(strCat(where, ": vertex ", v, " uses joint ", infl[i].joint, " of ",
+                                  skin.joints.size()));
+          infl[i].joint = uint32_t(node_to_joint[size_t(skin.joints[infl[i].joint])]);
+        }
+        glm::u16vec4 joints;
+        glm::vec4 weights;
+        float dropped = 0.0f;
+        s = reduceInfluences(Span<const Influence>(infl, k), &joints, &weights, &dropped);
+        if (!s.isOk()) return corrupt(strCat(where, ": vertex ", v, ": ", s.message()));
+        report->max_dropped_weight = std::max(report->max_dropped_weight, dropped);
+        double raw_sum = 0.0;
+        for (size_t i = 0; i < k; ++i) raw_sum += infl[i].weight;
+        if (std::fabs(raw_sum - 1.0) > kWeightSumTolerance) {
+          ++report->vertices_renormalized;
+          report->max_weight_correction = std::max(report->max_weight_correction, float(std::fabs(1.0 - raw_sum)));
+        }
+        c->mesh.joints.push_back(joints);
+        c->mesh.weights.push_back(weights);
+      }
+      tangent_parts.emplace_back();
+      if (tan.empty()) {
+        all_tangents = false;
+      } else {
+        for (size_t v = 0; v < nv; ++v)
+          tangent_parts.back().push_back(glm::vec4(float(tan[v * 4]), float(tan[v * 4 + 1]),
+                                                   float(tan[v * 4 + 2]), float(tan[v * 4 + 3])));
+      }
+      if (idx.empty()) {
+        for (size_t v = 0; v < nv; ++v) out_prim.indices.push_back(first + uint32_t(v));
+      } else {
+        for (double i : idx) {
+          if (i >= double(nv)) return corrupt(strCat(where, ": index ", i, " is not below ", nv));
+          out_prim.indices.push_back(first + uint32_t(i));
+        }
+      }
+      if (out_prim.indices.size() % 3 != 0)
+        return corrupt(strCat(where, ": ", out_prim.indices.size(), " indices are not triangles"));
+      if (nrm.empty()) {  // Smooth normals, area weighted.
+        for (size_t t = 0; t + 2 < out_prim.indices.size(); t += 3) {
+          const uint32_t a = out_prim.indices[t], b = out_prim.indices[t + 1], d = out_prim.indices[t + 2];
+          const glm::vec3 fn = glm::cross(c->mesh.positions[b] - c->mesh.positions[a],
+                                          c->mesh.positions[d] - c->mesh.positions[a]);
+          c->mesh.normals[a] += fn;
+          c->mesh.normals[b] += fn;
+          c->mesh.normals[d] += fn;
+        }
+        for (size_t v = first; v < c->mesh.normals.size(); ++v) {
+          const float len = glm::length(c->mesh.normals[v]);
+          c->mesh.normals[v] = len > 0.0f ? c->mesh.normals[v] / len : glm::vec3(0, 1, 0);
+        }
+        warnings.push_back(where + ": no NORMAL: generated smooth normals");
+      }
+      ++report->skinned_primitives;
+      primitives.push_back(std::move(out_prim));
+    }
+  }
+  if (primitives.empty())
+    return {StatusCode::kUnsupported, strCat("glTF: no triangle mesh uses skin ", skin_index)};
+  if (all_tangents)
+    for (const auto& part : tangent_parts) c->mesh.tangents.insert(c->mesh.tangents.end(), part.begin(), part.end());
+  else if (!tangent_parts.empty() && std::any_of(tangent_parts.begin(), tangent_parts.end(),
+                                                 [](const auto& t) { return !t.empty(); }))
+    warnings.push_back("some primitives have TANGENT and others not: tangents dropped");
+
+  // Sub-meshes: primitives grouped by name, LODs ordered by their suffix.
+  std::vector<std::string> order;
+  std::map<std::string, std::map<uint32_t, const Primitive*>> groups;
+  for (const Primitive& p : primitives) {
+    if (!groups.count(p.name)) order.push_back(p.name);
+    if (groups[p.name].count(p.lod))
+      return corrupt(strCat("two meshes claim sub-mesh '", p.name, "' LOD ", p.lod));
+    groups[p.name][p.lod] = &p;
+  }
+  if (order.size() > SkinnedMesh::kMaxSubMeshes)
+    return {StatusCode::kLimitExceeded, strCat("glTF: ", order.size(), " sub-meshes (at most 32)")};
+  for (const std::string& name : order) {
+    SubMesh sm;
+    sm.name = name;
+    sm.material = groups[name].begin()->second->material;
+    for (const auto& [lod, prim] : groups[name]) {
+      (void)lod;
+      IndexRange r{uint32_t(c->mesh.indices.size()), uint32_t(prim->indices.size())};
+      c->mesh.indices.insert(c->mesh.indices.end(), prim->indices.begin(), prim->indices.end());
+      sm.lods.push_back(r);
+    }
+    c->mesh.sub_meshes.push_back(sm);
+  }
+  // Generated LODs (meshoptimizer simplification of the index buffer; skin attributes are
+  // untouched since vertices are kept).
+  const bool has_lods = std::any_of(c->mesh.sub_meshes.begin(), c->mesh.sub_meshes.end(),
+                                    [](const SubMesh& sm) { return sm.lods.size() > 1; });
+  if (!has_lods && desc.generate_lods > 0) {
+    const float ratio = desc.lod_index_ratio > 0.0f ? desc.lod_index_ratio : 0.25f;
+    for (SubMesh& sm : c->mesh.sub_meshes) {
+      for (uint32_t l = 0; l < desc.generate_lods; ++l) {
+        const IndexRange prev = sm.lods.back();
+        std::vector<uint32_t> src(c->mesh.indices.begin() + prev.first_index,
+                                  c->mesh.indices.begin() + prev.first_index + prev.index_count);
+        std::vector<uint32_t> dst(src.size());
+        const size_t target = std::max<size_t>(3, size_t(double(src.size()) * ratio) / 3 * 3);
+        float error = 0.0f;
+        const size_t n = meshopt_simplify(dst.data(), src.data(), src.size(),
+                                          &c->mesh.positions[0].x, c->mesh.positions.size(),
+                                          sizeof(glm::vec3), target, 0.05f, 0, &error);
+        if (n == 0 || n >= src.size()) break;  // Cannot simplify further.
+        IndexRange r{uint32_t(c->mesh.indices.size()), uint32_t(n)};
+        c->mesh.indices.insert(c->mesh.indices.end(), dst.begin(), dst.begin() + std::ptrdiff_t(n));
+        sm.lods.push_back(r);
+        ++report->generated_lods;
+      }
+    }
+  }
+  return Status::ok();
+}
+
+}  // namespace si::detail
