@@ -19,6 +19,8 @@ BakeDesc resolveDefaults(const BakeDesc& desc) {
   if (d.shell_distance_ratio == 0.0f) d.shell_distance_ratio = 0.05f;
   if (d.joint_stride_texels == 0) d.joint_stride_texels = texelsPerJoint(d.format) == 3 ? 4 : 2;
   if (d.max_texture_size == 0) d.max_texture_size = 16384;
+  if (d.max_palette_bytes == 0) d.max_palette_bytes = uint64_t(512) << 20;
+  if (d.max_evaluations == 0) d.max_evaluations = uint64_t(1) << 33;
   return d;
 }
 
@@ -161,6 +163,20 @@ Status planPalette(const Character& character, const BakeDesc& in_desc, PaletteP
   Status s = computePaletteLayout(ld, &plan.layout);
   if (!s.isOk()) return s;
   plan.texture_bytes = plan.layout.textureTexelCount() * bytesPerTexel(d.format);
+  if (plan.texture_bytes > d.max_palette_bytes)
+    return {StatusCode::kLimitExceeded,
+            strCat("bake: the palette would take ", plan.texture_bytes, " bytes (",
+                   plan.layout.width, " x ", plan.layout.height, " texels), more than ",
+                   "BakeDesc.max_palette_bytes ", d.max_palette_bytes)};
+  uint64_t frames = 0;
+  for (const FramePlan& f : plan.frames) frames += f.frame_count;
+  const uint64_t per_frame = character.skeleton.jointCount() + drawnVertices(character.mesh).size();
+  if (frames * per_frame > d.max_evaluations)
+    return {StatusCode::kLimitExceeded,
+            strCat("bake: ", frames, " frames x (", character.skeleton.jointCount(), " joints + ",
+                   per_frame - character.skeleton.jointCount(), " vertices) = ",
+                   frames * per_frame, " evaluations, more than BakeDesc.max_evaluations ",
+                   d.max_evaluations)};
   *out = std::move(plan);
   return Status::ok();
 }

@@ -2,7 +2,6 @@
 // Palette file writer and bounds-checked reader (docs/palette-format.md).
 #include "si/bake/palette_file.h"
 
-#include <cmath>
 #include <cstring>
 #include <fstream>
 
@@ -14,7 +13,6 @@ using detail::strCat;
 namespace {
 
 constexpr char kMagic[8] = {'S', 'I', 'P', 'A', 'L', 'E', 'T', 0};
-constexpr uint32_t kMaxClips = 65536;
 constexpr uint32_t kMaxNameLength = 4096;
 constexpr uint32_t kMaxTextureSize = 32768;
 
@@ -70,10 +68,6 @@ Status corrupt(const std::string& what) {
   return {StatusCode::kCorrupt, "palette file: " + what};
 }
 
-bool finiteBox(const Aabb& b) {
-  return isFinite(glm::vec4(b.min, 0.0f)) && isFinite(glm::vec4(b.max, 0.0f));
-}
-
 }  // namespace
 
 uint32_t crc32(Span<const uint8_t> bytes) {
@@ -95,11 +89,9 @@ Status savePalette(const BakedPalette& p, std::vector<uint8_t>* bytes) {
   if (bytes == nullptr) return {StatusCode::kInvalidArgument, "savePalette: bytes is null"};
   if (!isLittleEndian())
     return {StatusCode::kUnsupported, "savePalette: big-endian hosts are not supported"};
+  Status valid = p.validate();
+  if (!valid.isOk()) return {StatusCode::kInvalidArgument, "savePalette: " + valid.message()};
   const PaletteLayout& l = p.layout;
-  if (p.texel_bytes.size() != l.textureTexelCount() * bytesPerTexel(p.format) ||
-      p.clips.size() != l.clip_first_texel.size() || p.palette_joints.size() != l.joint_count ||
-      p.clips.empty())
-    return {StatusCode::kInvalidArgument, "savePalette: the palette is not consistent"};
   std::vector<uint8_t> out;
   Writer w(&out);
   w.bytes(kMagic, 8);
@@ -172,10 +164,8 @@ Status loadPalette(Span<const uint8_t> bytes, BakedPalette* palette) {
     return corrupt("joint texel counts do not match the format");
   if (joint_count == 0 || skeleton_joints > 65535 || joint_count > skeleton_joints)
     return corrupt(strCat("joint counts ", joint_count, " of ", skeleton_joints, " out of range"));
-  if (clip_count == 0 || clip_count > kMaxClips)
+  if (clip_count == 0 || clip_count > kMaxPaletteClips)
     return corrupt(strCat("clip count ", clip_count, " out of range"));
-  if (!std::isfinite(height_units) || height_units < 0.0f)
-    return corrupt("character height is not finite");
 
   BakedPalette p;
   p.format = f;
@@ -204,28 +194,16 @@ Status loadPalette(Span<const uint8_t> bytes, BakedPalette* palette) {
         !r.u32(&clip.frame_count) || !r.u32(&times_count))
       return corrupt(strCat("clip ", c, ": truncated"));
     const auto where = [&] { return strCat("clip ", c, " '", clip.name, "': "); };
+    // Only what reading needs here (the enum narrowing, sizes that bound allocations); every
+    // consistency rule is BakedPalette::validate()'s, applied to the whole palette below.
     if (loop != uint32_t(LoopMode::kOnce) && loop != uint32_t(LoopMode::kLoop))
       return corrupt(where() + "unknown loop mode");
     clip.loop_mode = static_cast<LoopMode>(loop);
-    if (!std::isfinite(clip.duration_seconds) || clip.duration_seconds < 0.0f ||
-        !std::isfinite(clip.frame_interval_seconds) || clip.frame_interval_seconds < 0.0)
-      return corrupt(where() + "duration or frame interval out of range");
-    if (clip.frame_count == 0 || clip.frame_count > (1u << 21))
+    if (clip.frame_count == 0 || clip.frame_count > kMaxClipFrames)
       return corrupt(where() + strCat("frame count ", clip.frame_count, " out of range"));
-    if (clip.frame_count > 1 && !(clip.frame_interval_seconds > 0.0))
-      return corrupt(where() + "several frames need a positive frame interval");
-    if (times_count != 0 && times_count != clip.frame_count)
-      return corrupt(where() + "frame time count does not match the frame count");
     if (uint64_t(times_count) * 8 > r.left()) return corrupt(where() + "truncated frame times");
     clip.frame_times_seconds.resize(times_count);
-    for (uint32_t i = 0; i < times_count; ++i) {
-      double t = 0.0;
-      r.f64(&t);
-      if (!std::isfinite(t) || t < 0.0 || t > double(clip.duration_seconds) ||
-          (i > 0 && t < clip.frame_times_seconds[i - 1]))
-        return corrupt(where() + strCat("frame time ", i, " out of order or range"));
-      clip.frame_times_seconds[i] = t;
-    }
+    for (double& t : clip.frame_times_seconds) r.f64(&t);  // Size checked above.
     float v[10];
     for (float& x : v)
       if (!r.f32(&x)) return corrupt(where() + "truncated bounds");
@@ -233,10 +211,6 @@ Status loadPalette(Span<const uint8_t> bytes, BakedPalette* palette) {
     clip.bounds.max = glm::vec3(v[3], v[4], v[5]);
     clip.bounding_sphere.center = glm::vec3(v[6], v[7], v[8]);
     clip.bounding_sphere.radius = v[9];
-    if (!finiteBox(clip.bounds) || clip.bounds.empty() ||
-        !isFinite(glm::vec4(clip.bounding_sphere.center, clip.bounding_sphere.radius)) ||
-        clip.bounding_sphere.radius < 0.0f)
-      return corrupt(where() + "bounds are not finite or empty");
     frame_counts.push_back(clip.frame_count);
     p.clips.push_back(std::move(clip));
   }
@@ -266,6 +240,10 @@ Status loadPalette(Span<const uint8_t> bytes, BakedPalette* palette) {
   if (r.left() != 0) return corrupt(strCat(r.left(), " trailing bytes after the checksum"));
   if (crc32(Span<const uint8_t>(bytes.data(), checked)) != stored_crc)
     return corrupt("checksum mismatch");
+  // A file with a valid checksum can still be inconsistent (written by another tool, or made
+  // by an attacker): the palette must pass what every bake passes.
+  Status s = p.validate();
+  if (!s.isOk()) return corrupt(s.message());
   *palette = std::move(p);
   return Status::ok();
 }

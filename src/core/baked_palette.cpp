@@ -88,11 +88,19 @@ FrameSample sampleFrames(const BakedClip& clip, double local_time_seconds) {
   FrameSample s;
   const uint32_t n = clip.frame_count;
   if (n <= 1 || !(clip.frame_interval_seconds > 0.0)) return s;
-  const double t = std::min(std::max(local_time_seconds, 0.0), double(clip.duration_seconds));
+  // NaN times play the start; t in [0, duration].
+  const double t = local_time_seconds > 0.0
+                       ? std::min(local_time_seconds, double(clip.duration_seconds)) : 0.0;
   const double position = t / clip.frame_interval_seconds;
   const uint32_t last_interval = n - 2;
-  uint32_t i = std::min(static_cast<uint32_t>(position), last_interval);  // t >= 0: truncation.
-  if (clip.frame_times_seconds.empty()) {  // Uniform grid: constant time.
+  // Compared in double before the conversion, so that no duration or interval (a palette that
+  // BakedPalette::validate() would refuse included) converts an out-of-range value.
+  uint32_t i = position >= double(last_interval) ? last_interval
+               : position > 0.0                  ? static_cast<uint32_t>(position)
+                                                 : 0u;
+  // Uniform grid: constant time (also for frame times that do not match the frame count,
+  // which validate() refuses).
+  if (clip.frame_times_seconds.size() != n) {
     s.frame = i;
     s.next_frame = i + 1;
     s.fraction = static_cast<float>(std::min(std::max(position - double(i), 0.0), 1.0));

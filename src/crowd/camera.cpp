@@ -15,7 +15,16 @@ Camera Camera::lookAt(const glm::dvec3& eye, const glm::dvec3& target, const glm
   c.position = eye;
   const glm::vec3 forward(target - eye);
   c.view_rotation = glm::lookAt(glm::vec3(0.0f), forward, up);
-  c.projection = glm::perspective(fov_y_radians, aspect, near_plane, far_plane);
+  // glm::perspective's right-handed, [-1, 1] depth matrix, written out without its debug
+  // assertions: hostile arguments give a non-finite projection (whose planes cull every
+  // instance), never an abort.
+  const float tan_half = std::tan(fov_y_radians * 0.5f);
+  c.projection = glm::mat4(0.0f);
+  c.projection[0][0] = 1.0f / (aspect * tan_half);
+  c.projection[1][1] = 1.0f / tan_half;
+  c.projection[2][2] = -(far_plane + near_plane) / (far_plane - near_plane);
+  c.projection[2][3] = -1.0f;
+  c.projection[3][2] = -(2.0f * far_plane * near_plane) / (far_plane - near_plane);
   return c;
 }
 

@@ -64,6 +64,8 @@ Status CrowdManager::init(const CrowdDesc& in_desc) {
   Status s;
   if (d.palette == nullptr || d.palette->clips.empty())
     return {StatusCode::kInvalidArgument, "CrowdDesc.palette must be a palette with clips"};
+  s = d.palette->validate();  // A palette from anywhere plays as safely as a bake.
+  if (!s.isOk()) return {StatusCode::kInvalidArgument, "CrowdDesc.palette: " + s.message()};
   if (d.sub_mesh_count < 1 || d.sub_mesh_count > 32)
     return {StatusCode::kInvalidArgument, "CrowdDesc.sub_mesh_count must be 1 to 32"};
   if (d.lod_count > kMaxLods)
@@ -238,9 +240,11 @@ Status CrowdManager::advanceClock(double dt) {
   if (!state_) return {StatusCode::kInvalidArgument, "CrowdManager: init() first"};
   if (!std::isfinite(dt) || dt < 0.0)
     return {StatusCode::kInvalidArgument, "dt_seconds must be finite and >= 0"};
+  State& s = *state_;
+  if (!std::isfinite(s.clock + dt))
+    return {StatusCode::kInvalidArgument, "dt_seconds would take the crowd clock past a double"};
   // Compensated (Kahan) sum: after a week of 60 Hz frames the clock is still within a few
   // ulps of the exact sum.
-  State& s = *state_;
   const double y = dt - s.clock_compensation;
   const double t = s.clock + y;
   s.clock_compensation = (t - s.clock) - y;

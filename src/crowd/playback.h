@@ -45,16 +45,21 @@ inline ClipTiming makeClipTiming(const BakedClip& c) {
   return t;
 }
 
-/// Clip-local time of `p` at crowd clock `clock`: wrapped for loops, clamped otherwise.
+/// Clip-local time of `p` at crowd clock `clock`: wrapped for loops, clamped otherwise; always
+/// within [0, duration] (0 when the unwrapped time overflows: a hostile speed or start time).
 inline double localTime(const Playback& p, const ClipTiming& c, double clock) {
   const double duration = c.duration;
   const double t = p.start_time + (clock - p.start_clock) * double(p.speed);
-  if (!(duration > 0.0)) return 0.0;
+  if (!(duration > 0.0) || !std::isfinite(t)) return 0.0;
   if (p.loop == LoopMode::kLoop) {
     // t - floor(t / d) * d: the same as fmod for these magnitudes, and several times cheaper.
     double w = t - std::floor(t * c.inv_duration) * duration;
     if (w < 0.0) w += duration;
-    return w >= duration ? 0.0 : w;
+    if (w >= 0.0 && w < duration) return w;
+    // Past 2^53 intervals the product loses the fraction: the exact remainder instead.
+    w = std::fmod(t, duration);
+    if (w < 0.0) w += duration;
+    return w >= 0.0 && w < duration ? w : 0.0;
   }
   return std::clamp(t, 0.0, duration);
 }
@@ -64,7 +69,10 @@ inline double localTime(const Playback& p, const ClipTiming& c, double clock) {
 inline FrameSample fastSample(const ClipTiming& c, const BakedClip& clip, double t) {
   if (!c.uniform) return sampleFrames(clip, t);
   const double position = t * c.inv_interval;
-  const uint32_t i = std::min(static_cast<uint32_t>(position), c.last_interval);
+  // Compared before the conversion: a position past the last interval never converts.
+  const uint32_t i = position >= double(c.last_interval) ? c.last_interval
+                     : position > 0.0                    ? static_cast<uint32_t>(position)
+                                                         : 0u;
   FrameSample s;
   s.frame = i;
   s.next_frame = i + 1;

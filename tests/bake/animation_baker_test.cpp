@@ -111,6 +111,7 @@ TEST_F(BakerTest, DefaultBakeMeetsTheToleranceAndSaysSo) {
     EXPECT_GT(c.shell_max_error_units, 0.0);
   }
   EXPECT_TRUE(allFinite(p));
+  EXPECT_TRUE(p.validate().isOk()) << p.validate().toString();  // As a loaded palette must be.
   // The root joint is not stored and the report says so and what it saved.
   ASSERT_EQ(r.joints_left_out.size(), 1u);
   EXPECT_EQ(r.joints_left_out[0], "root");
@@ -126,6 +127,7 @@ TEST_F(BakerTest, EveryFormatBakesWithItsStatedAccuracy) {
     ASSERT_TRUE(bakePalette(*character_, fixedRate(60, {"walk", "wave"}, f), &p, &r).isOk())
         << paletteFormatName(f);
     EXPECT_TRUE(allFinite(p));
+    EXPECT_TRUE(p.validate().isOk()) << paletteFormatName(f) << ": " << p.validate().toString();
     EXPECT_EQ(p.texel_bytes.size(), p.layout.textureTexelCount() * bytesPerTexel(f));
     // At 60 Hz the interpolation error dominates (about 1.3e-3 of the height in every format).
     EXPECT_LE(r.max_error_ratio, 2e-3) << paletteFormatName(f);

@@ -1,6 +1,7 @@
 // SkinnedInstancing — SPDX-License-Identifier: MIT (see LICENSE)
 #include <gtest/gtest.h>
 
+#include "bake/bake_test_helpers.h"
 #include "si/bake/bake_desc.h"
 #include "si/core/default_character.h"
 
@@ -98,6 +99,49 @@ TEST_F(PlanPaletteTest, ValidityMatrix) {
   no_clips.clips.clear();
   EXPECT_EQ(planPalette(no_clips, {}, &plan).code(), StatusCode::kInvalidArgument);
   EXPECT_TRUE(plan.clip_indices.empty());  // Untouched by every failure.
+}
+
+// A hostile clip (an hour long, 16 joints, 240 Hz: 0.9 GiB of texels) is refused by the byte
+// limit while planning, before anything is allocated; raising the limit admits it.
+TEST(PalettePlanning, PalettesPastTheByteLimitAreRefusedBeforeAllocating) {
+  Character c = test::chainCharacter(16);
+  c.clips.push_back(test::blankClip(c, "hour", 3600.0f));
+  BakeDesc d;
+  d.rate_mode = RateMode::kFixed;
+  d.sample_rate_hz = 240.0f;
+  PalettePlan plan;
+  const Status s = planPalette(c, d, &plan);
+  EXPECT_EQ(s.code(), StatusCode::kLimitExceeded);
+  EXPECT_NE(s.message().find("max_palette_bytes 536870912"), std::string::npos) << s.message();
+  EXPECT_TRUE(plan.clip_indices.empty());
+  d.max_palette_bytes = uint64_t(2) << 30;
+  ASSERT_TRUE(planPalette(c, d, &plan).isOk());
+  EXPECT_GT(plan.texture_bytes, uint64_t(512) << 20);
+  // And a small limit refuses a small bake, naming its size.
+  d = BakeDesc();
+  d.max_palette_bytes = 1024;
+  BakedPalette p;
+  const Status small = bakePalette(c, d, &p, nullptr);
+  EXPECT_EQ(small.code(), StatusCode::kLimitExceeded);
+  EXPECT_NE(small.message().find("more than BakeDesc.max_palette_bytes 1024"), std::string::npos);
+  EXPECT_TRUE(p.clips.empty());
+}
+
+// The work limit: a small palette can hide a long evaluation (many joints or vertices per
+// frame); it is refused while planning, naming the count, and a larger limit admits it.
+TEST(PalettePlanning, BakesPastTheWorkLimitAreRefusedBeforeEvaluating) {
+  Character c = test::chainCharacter(40);
+  c.clips.push_back(test::blankClip(c, "minute", 60.0f));
+  BakeDesc d;
+  d.rate_mode = RateMode::kFixed;
+  d.max_evaluations = 100000;  // 1801 frames x (40 joints + 164 vertices) = 367,404.
+  PalettePlan plan;
+  const Status s = planPalette(c, d, &plan);
+  EXPECT_EQ(s.code(), StatusCode::kLimitExceeded);
+  EXPECT_NE(s.message().find("1801 frames x (40 joints + 164 vertices) = 367404 evaluations"),
+            std::string::npos) << s.message();
+  d.max_evaluations = 367404;
+  EXPECT_TRUE(planPalette(c, d, &plan).isOk());
 }
 
 }  // namespace

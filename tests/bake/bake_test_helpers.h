@@ -6,6 +6,7 @@
 #include <string>
 
 #include "core/test_helpers.h"
+#include "si/bake/animation_baker.h"
 #include "si/core/character.h"
 
 namespace si::test {
@@ -60,5 +61,27 @@ inline Clip blankClip(const Character& c, const std::string& name, float duratio
 
 /// The rotation of `angle` radians about unit `axis`, in float (core/test_helpers.h).
 using test::axisAngleF;
+
+// A small palette with every clip-table feature: STEP frame times, a loop, two clips.
+inline BakedPalette smallPalette(PaletteFormat format = PaletteFormat::kMatrix3x4F32) {
+  Character c = chainCharacter(3);
+  Clip step = blankClip(c, "step", 0.5f);
+  step.joint_tracks[1].translation.interpolation = Interpolation::kStep;
+  step.joint_tracks[1].translation.times_seconds = {0.0f, 0.25f};
+  step.joint_tracks[1].translation.values = {{0, 1, 0}, {0.5f, 1, 0}};
+  c.clips.push_back(step);
+  Clip swing = blankClip(c, "swing", 1.0f, LoopMode::kLoop);
+  swing.joint_tracks[2].rotation.times_seconds = {0.0f, 0.5f, 1.0f};
+  swing.joint_tracks[2].rotation.values = {glm::quat(1, 0, 0, 0), axisAngleF(0.5, {1, 0, 0}),
+                                           glm::quat(1, 0, 0, 0)};
+  c.clips.push_back(swing);
+  BakeDesc d;
+  d.rate_mode = RateMode::kFixed;
+  d.sample_rate_hz = 10.0f;
+  d.format = format;
+  BakedPalette p;
+  EXPECT_TRUE(bakePalette(c, d, &p, nullptr).isOk());
+  return p;
+}
 
 }  // namespace si::test

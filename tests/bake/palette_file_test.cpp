@@ -10,27 +10,7 @@
 namespace si {
 namespace {
 
-// A small palette with every clip-table feature: STEP frame times, a loop, two clips.
-BakedPalette smallPalette(PaletteFormat format = PaletteFormat::kMatrix3x4F32) {
-  Character c = test::chainCharacter(3);
-  Clip step = test::blankClip(c, "step", 0.5f);
-  step.joint_tracks[1].translation.interpolation = Interpolation::kStep;
-  step.joint_tracks[1].translation.times_seconds = {0.0f, 0.25f};
-  step.joint_tracks[1].translation.values = {{0, 1, 0}, {0.5f, 1, 0}};
-  c.clips.push_back(step);
-  Clip swing = test::blankClip(c, "swing", 1.0f, LoopMode::kLoop);
-  swing.joint_tracks[2].rotation.times_seconds = {0.0f, 0.5f, 1.0f};
-  swing.joint_tracks[2].rotation.values = {glm::quat(1, 0, 0, 0), test::axisAngleF(0.5, {1, 0, 0}),
-                                           glm::quat(1, 0, 0, 0)};
-  c.clips.push_back(swing);
-  BakeDesc d;
-  d.rate_mode = RateMode::kFixed;
-  d.sample_rate_hz = 10.0f;
-  d.format = format;
-  BakedPalette p;
-  EXPECT_TRUE(bakePalette(c, d, &p, nullptr).isOk());
-  return p;
-}
+using test::smallPalette;
 
 void fixChecksum(std::vector<uint8_t>* bytes) {
   const uint32_t crc = crc32(Span<const uint8_t>(bytes->data(), bytes->size() - 4));
@@ -153,6 +133,56 @@ TEST(PaletteFile, FilesAndErrors) {
   broken.texel_bytes.pop_back();
   std::vector<uint8_t> bytes;
   EXPECT_EQ(savePalette(broken, &bytes).code(), StatusCode::kInvalidArgument);
+}
+
+// The fuzzer's find (../shared/regressions/palette-clip-timing-ub.sipal): a clip whose frame
+// interval disagrees with its duration and frame count by orders of magnitude loaded, then
+// si::sampleFrames converted 2e232 to uint32_t. Every such file must now be refused.
+TEST(PaletteFile, ClipTimingThatDisagreesWithItsFramesIsRejected) {
+  std::vector<uint8_t> bytes;
+  const BakedPalette p = smallPalette();
+  ASSERT_TRUE(savePalette(p, &bytes).isOk());
+  // Clip 1 ("swing", uniform grid): name length, name, loop, duration (f32), interval (f64).
+  size_t clip1 = 48 + 4 * p.palette_joints.size();
+  clip1 += 4 + p.clips[0].name.size() + 4 + 4 + 8 + 4 + 4 + 8 * p.clips[0].frame_times_seconds.size() + 40;
+  const size_t duration_at = clip1 + 4 + p.clips[1].name.size() + 4;
+  const size_t interval_at = duration_at + 4;
+  const auto load = [&](size_t offset, const void* value, size_t n) {
+    std::vector<uint8_t> b = bytes;
+    std::memcpy(b.data() + offset, value, n);
+    fixChecksum(&b);
+    BakedPalette q;
+    const Status s = loadPalette(b, &q);
+    EXPECT_TRUE(q.clips.empty());
+    return s;
+  };
+  float duration = 0.0f;
+  double interval = 0.0;
+  std::memcpy(&duration, bytes.data() + duration_at, 4);
+  std::memcpy(&interval, bytes.data() + interval_at, 8);
+  ASSERT_FLOAT_EQ(duration, p.clips[1].duration_seconds);  // The offsets are right.
+  ASSERT_DOUBLE_EQ(interval, p.clips[1].frame_interval_seconds);
+  for (double bad : {1e-230, interval * 0.5, interval * 1.01, 1e30, 0.0, -interval}) {
+    const Status s = load(interval_at, &bad, 8);
+    EXPECT_EQ(s.code(), StatusCode::kCorrupt) << "interval " << bad << ": " << s.toString();
+  }
+  for (float bad : {duration * 1000.0f, duration * 0.5f, 2e9f, 0.0f}) {
+    const Status s = load(duration_at, &bad, 4);
+    EXPECT_EQ(s.code(), StatusCode::kCorrupt) << "duration " << bad << ": " << s.toString();
+  }
+  // Clip 0 ("step"): frame times out of order, or three times the same.
+  const size_t times_at = 48 + 4 * p.palette_joints.size() + 4 + p.clips[0].name.size() + 4 + 4 +
+                          8 + 4 + 4;
+  const std::vector<double>& times = p.clips[0].frame_times_seconds;
+  ASSERT_GE(times.size(), 4u);
+  const double reordered[2] = {times[2], times[1]};
+  EXPECT_EQ(load(times_at + 8, reordered, 16).code(), StatusCode::kCorrupt);
+  const double tripled[3] = {times[1], times[1], times[1]};
+  EXPECT_EQ(load(times_at + 8, tripled, 24).code(), StatusCode::kCorrupt);
+  // A texel that is not finite.
+  const uint32_t nan_bits = 0x7FC00000u;
+  EXPECT_EQ(load(bytes.size() - 4 - p.texel_bytes.size() + 16 * 4, &nan_bits, 4).code(),
+            StatusCode::kCorrupt);
 }
 
 TEST(PaletteFile, Crc32MatchesTheStandardCheckValue) {

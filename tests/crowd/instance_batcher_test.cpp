@@ -10,20 +10,7 @@
 #include "crowd/crowd_test_helpers.h"
 #include "si/crowd/instance_batcher.h"
 
-// Counts heap allocations while g_counting is set (this test binary only). GCC cannot see that
-// the replaced operator new and delete pair malloc with free.
-#if defined(__GNUC__) && !defined(__clang__)
-#pragma GCC diagnostic ignored "-Wmismatched-new-delete"
-#endif
-static std::atomic<bool> g_counting{false};
-static std::atomic<size_t> g_allocations{0};
-void* operator new(size_t n) {
-  if (g_counting) ++g_allocations;
-  if (void* p = std::malloc(n ? n : 1)) return p;
-  throw std::bad_alloc();
-}
-void operator delete(void* p) noexcept { std::free(p); }
-void operator delete(void* p, size_t) noexcept { std::free(p); }
+#include "crowd/allocation_counter.h"  // This binary counts its allocations.
 
 namespace si {
 namespace {

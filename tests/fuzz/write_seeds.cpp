@@ -1,17 +1,20 @@
 // SkinnedInstancing — SPDX-License-Identifier: MIT (see LICENSE)
-// Writes seed inputs for the fuzzers into a folder: palette files of the embedded character in
-// every format. Usage: si_write_fuzz_seeds DIR
+// Writes generated seed inputs for the fuzzers. Usage: si_write_fuzz_seeds KIND DIR with KIND
+//   palette:   palette files of the embedded character's STEP clip in every format
+//   crowd-api: byte strings for the CrowdManager call-sequence fuzzer (a fixed generator: the
+//              same seeds every time), each a few hundred calls
 #include <cstdio>
+#include <fstream>
+#include <random>
 #include <string>
+#include <vector>
 
 #include "si/bake/palette_file.h"
 #include "si/core/default_character.h"
 
-int main(int argc, char** argv) {
-  if (argc != 2) {
-    std::fprintf(stderr, "usage: si_write_fuzz_seeds DIR\n");
-    return 2;
-  }
+namespace {
+
+int writePalettes(const std::string& dir) {
   si::Character c;
   si::DefaultCharacterDesc cd;
   cd.lod_count = 1;
@@ -27,12 +30,36 @@ int main(int argc, char** argv) {
     d.clip_names = {"wave"};  // Has STEP frame times.
     si::BakedPalette p;
     si::Status s = si::bakePalette(c, d, &p, nullptr);
-    if (s.isOk())
-      s = si::savePaletteFile(p, std::string(argv[1]) + "/" + si::paletteFormatName(f) + ".sipal");
+    if (s.isOk()) s = si::savePaletteFile(p, dir + "/" + si::paletteFormatName(f) + ".sipal");
     if (!s.isOk()) {
       std::fprintf(stderr, "si_write_fuzz_seeds: %s\n", s.toString().c_str());
       return 1;
     }
   }
   return 0;
+}
+
+int writeCrowdApi(const std::string& dir) {
+  std::mt19937 rng(20261123);
+  for (int k = 0; k < 12; ++k) {
+    std::vector<char> bytes(size_t(512) << (k % 4));
+    for (char& b : bytes) b = char(rng() & 0xFF);
+    std::ofstream out(dir + "/crowd_api_" + std::to_string(k) + ".bin", std::ios::binary);
+    out.write(bytes.data(), std::streamsize(bytes.size()));
+    if (!out) {
+      std::fprintf(stderr, "si_write_fuzz_seeds: cannot write into %s\n", dir.c_str());
+      return 1;
+    }
+  }
+  return 0;
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  const std::string kind = argc == 3 ? argv[1] : "";
+  if (kind == "palette") return writePalettes(argv[2]);
+  if (kind == "crowd-api") return writeCrowdApi(argv[2]);
+  std::fprintf(stderr, "usage: si_write_fuzz_seeds palette|crowd-api DIR\n");
+  return 2;
 }

@@ -52,6 +52,16 @@ struct BakeDesc {
   uint32_t joint_stride_texels = 0;
   /// GL_MAX_TEXTURE_SIZE of the target; 0 means 16384.
   uint32_t max_texture_size = 0;
+  /// Largest palette texture the bake may make, in bytes; 0 means 512 MiB. A bake past it (a
+  /// hostile clip's duration, an absurd rate) fails with kLimitExceeded naming the figure
+  /// before anything is allocated or evaluated; the automatic mode checks every trial too.
+  uint64_t max_palette_bytes = 0;
+  /// Largest amount of evaluation the bake may do, counted as frames x (skeleton joints +
+  /// drawn vertices) summed over the baked clips (each automatic-rate trial counts on its
+  /// own); 0 means 2^33, about a minute of one core. A bake past it fails with kLimitExceeded
+  /// naming the figure before evaluating anything: a small palette can still hide a huge
+  /// skeleton or mesh.
+  uint64_t max_evaluations = 0;
   /// Called on the baking thread at each clip of each stage and once with fraction 1 at the
   /// end; may be empty. It must not throw.
   std::function<void(const BakeProgress&)> progress;
@@ -91,7 +101,8 @@ FramePlan planClipFrames(const Clip& clip, double rate_hz);
 /// desc.sample_rate_hz. Fails with kInvalidArgument for a rate that is not finite and positive,
 /// an unknown format or rate mode, a character without clips, a rates span of the wrong size;
 /// kNotFound naming a clip that does not exist; kLimitExceeded when more than 2^20 frames per
-/// clip are asked for, or from computePaletteLayout(). `out` is untouched on failure.
+/// clip are asked for, when the texture would take more than max_palette_bytes or the bake more
+/// than max_evaluations, or from computePaletteLayout(). `out` is untouched on failure.
 struct PalettePlan {
   std::vector<uint32_t> clip_indices;
   std::vector<FramePlan> frames;         ///< One per selected clip.

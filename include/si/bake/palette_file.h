@@ -28,14 +28,17 @@ inline constexpr uint32_t kPaletteFileVersion = 1;
 inline constexpr uint64_t kMaxPaletteFileSize = uint64_t(1) << 30;
 
 /// Serializes `palette` into `bytes` (replacing its contents). Fails with kInvalidArgument for a
-/// null output or a palette that is not internally consistent (sizes, clip table, joint maps).
+/// null output or a palette that fails BakedPalette::validate() (its message included): no file
+/// is written that loadPalette() would refuse.
 Status savePalette(const BakedPalette& palette, std::vector<uint8_t>* bytes);
 
 /// Parses a palette file. Every count and offset is checked against the bytes left before it
 /// is used; on any failure `palette` is untouched and the status names what was wrong:
 /// kCorrupt for a bad magic, truncation, trailing bytes, a checksum mismatch, a value outside
-/// its range or a clip table or layout inconsistent with the header; kUnsupported for another
-/// version; kLimitExceeded for more than kMaxPaletteFileSize bytes.
+/// its range, a clip table or layout inconsistent with the header, or a palette that fails
+/// BakedPalette::validate() (whose message follows "palette file: "): a loaded palette is as
+/// consistent as a fresh bake. kUnsupported for another version; kLimitExceeded for more than
+/// kMaxPaletteFileSize bytes.
 Status loadPalette(Span<const uint8_t> bytes, BakedPalette* palette);
 
 /// savePalette() to a file; kIo naming the path when it cannot be written.

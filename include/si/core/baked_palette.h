@@ -73,7 +73,35 @@ struct BakedPalette {
 
   /// Index of the clip named `name`, or -1.
   int32_t findClip(const std::string& name) const;
+
+  /// Checks every field against the others, as a freshly baked palette satisfies them, so that
+  /// a palette from anywhere (a file, a cache, a network) is as safe to play and draw as a
+  /// bake. Reports the first rule broken, naming the clip, frame, joint or texel:
+  /// - format known; 1 to kMaxPaletteJoints palette joints, strictly increasing skeleton joints
+  ///   below skeleton_to_palette.size() (at most 65536), which maps exactly them to their slots
+  ///   and every other joint to -1 (kInvalidArgument);
+  /// - 1 to kMaxPaletteClips clips; the layout equals the one computePaletteLayout() gives for
+  ///   the clips' frame counts, the format's texels per joint and the stored joint stride (at
+  ///   most 64), and each clip's first_texel is the layout's (kInvalidArgument);
+  /// - texel_bytes holds exactly width x height texels of the format (kCountMismatch); every
+  ///   texel value of a stored joint is finite (kNotFinite); in the quaternion format each
+  ///   rotation is unit length within 1e-3 and each scale positive (kOutOfRange);
+  /// - each clip: loop mode kOnce or kLoop; duration finite, in [0, kMaxClipSeconds]; 1 to 2^21
+  ///   frames; a single frame has interval 0, several have a positive interval that divides
+  ///   the duration into a whole number of intervals (relative 1e-6) no greater than the frames
+  ///   less one; frame times, when present, one per frame, non-decreasing, from 0 to the
+  ///   duration, no gap wider than the interval, none repeated more than twice (a STEP key);
+  ///   bounds finite, not empty, the sphere finite, centred within the box and at least as
+  ///   large as half its diagonal (kOutOfRange);
+  /// - character_height finite and >= 0 (kOutOfRange).
+  Status validate() const;
 };
+
+/// Largest values BakedPalette::validate() accepts (and the palette file can hold).
+inline constexpr uint32_t kMaxPaletteJoints = 65535;
+inline constexpr uint32_t kMaxPaletteClips = 65536;
+inline constexpr uint32_t kMaxClipFrames = uint32_t(1) << 21;
+inline constexpr double kMaxClipSeconds = 1.0e6;
 
 // ---------------------------------------------------------------------------------------------
 // CPU emulation of the shader: the same addressing, decoding and interpolation in float.
@@ -86,7 +114,8 @@ struct FrameSample {
   float fraction = 0.0f;    ///< Blend towards next_frame, in [0, 1].
 };
 
-/// Frame sample for clip-local time `local_time_seconds` (clamped to [0, duration]): constant
+/// Frame sample for clip-local time `local_time_seconds` (clamped to [0, duration], NaN read
+/// as 0; any clip, valid or not, gives frames within its frame count): constant
 /// time on the uniform grid, a binary search over frame_times_seconds for clips with STEP keys
 /// (at a key time exactly, the frame after the jump).
 FrameSample sampleFrames(const BakedClip& clip, double local_time_seconds);

@@ -21,7 +21,9 @@ struct Camera {
   glm::mat4 projection = glm::mat4(1.0f);
 
   /// A camera at `eye` looking at `target` with `up`, a vertical field of view in radians,
-  /// aspect ratio (width / height) and near/far planes (OpenGL clip space, z in [-w, w]).
+  /// aspect ratio (width / height) and near/far planes (OpenGL clip space, z in [-w, w]), as
+  /// glm::lookAt and glm::perspective make them. Degenerate or non-finite arguments give a
+  /// camera whose frustum culls every instance (no assertion, no crash).
   static Camera lookAt(const glm::dvec3& eye, const glm::dvec3& target, const glm::vec3& up,
                        float fov_y_radians, float aspect, float near_plane, float far_plane);
 

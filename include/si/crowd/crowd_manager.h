@@ -116,7 +116,8 @@ class CrowdManager {
   CrowdManager(const CrowdManager&) = delete;
   CrowdManager& operator=(const CrowdManager&) = delete;
 
-  /// Validates and adopts `desc`. Fails with kInvalidArgument naming the field: no palette,
+  /// Validates and adopts `desc`. Fails with kInvalidArgument naming the field: no palette, a
+  /// palette that fails BakedPalette::validate() (its message included),
   /// sub_mesh_count outside 1..32, lod_count above 8, a negative or non-finite radius,
   /// lod distances not increasing or of the wrong count, an animation LOD rate <= 0.
   Status init(const CrowdDesc& desc);
@@ -149,9 +150,9 @@ class CrowdManager {
   /// The instance's current state (as an InstanceDesc) and clip-local time.
   Status get(InstanceHandle h, InstanceDesc* out) const;
 
-  /// Advances the crowd clock by `dt_seconds` (>= 0, finite), then for every instance: picks
-  /// its LOD, culls it against `camera` and the far distance, and buckets the visible ones per
-  /// (LOD, sub-mesh) with their records. Culled instances cost no time advance of their own:
+  /// Advances the crowd clock by `dt_seconds` (>= 0, finite; see advanceClock()), then for
+  /// every instance: picks its LOD, culls it against `camera` and the far distance, and buckets
+  /// the visible ones per (LOD, sub-mesh) with their records. Culled instances cost no time advance of their own:
   /// playback time is derived from the crowd clock. Returns kInvalidArgument for a bad dt.
   /// Allocates only while the crowd grows past its previous high-water mark.
   Status update(double dt_seconds, const Camera& camera);
@@ -195,7 +196,8 @@ class CrowdManager {
 
   // ---- For GPU-driven culling (si::gl) ----
   /// Advances the crowd clock only (what update() does first), for frames whose selection runs
-  /// on the GPU: O(1). kInvalidArgument for a bad dt.
+  /// on the GPU: O(1). kInvalidArgument for a dt that is negative, not finite, or would take
+  /// the clock past the largest double (the clock is unchanged then).
   Status advanceClock(double dt_seconds);
   /// Changes whenever exported state changes (init, add, remove, setters, play, crossfade,
   /// setLodDistances); not when update() moves LODs or ends crossfades (the GPU does the same).

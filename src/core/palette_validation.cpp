@@ -1,0 +1,200 @@
+// SkinnedInstancing — SPDX-License-Identifier: MIT (see LICENSE)
+// BakedPalette::validate(): a palette from anywhere checked to be as consistent as a bake.
+#include <algorithm>
+#include <cmath>
+#include <cstring>
+
+#include "core/str_cat.h"
+#include "si/core/baked_palette.h"
+#include "si/core/palette_layout.h"
+
+namespace si {
+using detail::strCat;
+
+namespace {
+
+// Relative tolerance of the timing rules: the baker computes interval = duration / intervals in
+// double and stores the duration as float.
+constexpr double kTimingTolerance = 1e-6;
+
+Status checkClipTiming(const BakedClip& c, const std::string& where) {
+  if (c.loop_mode != LoopMode::kOnce && c.loop_mode != LoopMode::kLoop)
+    return {StatusCode::kOutOfRange, where + "loop mode must be once or loop"};
+  const double duration = c.duration_seconds;
+  if (!std::isfinite(duration) || duration < 0.0 || duration > kMaxClipSeconds)
+    return {StatusCode::kOutOfRange,
+            strCat(where, "duration ", duration, " s is outside [0, ", kMaxClipSeconds, "]")};
+  if (c.frame_count == 0 || c.frame_count > kMaxClipFrames)
+    return {StatusCode::kOutOfRange,
+            strCat(where, c.frame_count, " frames (1 to ", kMaxClipFrames, ")")};
+  const double interval = c.frame_interval_seconds;
+  if (!std::isfinite(interval) || interval < 0.0)
+    return {StatusCode::kOutOfRange, strCat(where, "frame interval ", interval, " s")};
+  if (c.frame_count == 1) {
+    if (interval != 0.0 || !c.frame_times_seconds.empty())
+      return {StatusCode::kOutOfRange,
+              where + "a single frame has frame interval 0 and no frame times"};
+    return Status::ok();
+  }
+  // Several frames: the grid divides the duration into a whole number of intervals, no more
+  // than the frames allow (STEP keys add frames, never intervals).
+  if (!(interval > 0.0) || !(duration > 0.0))
+    return {StatusCode::kOutOfRange,
+            strCat(where, c.frame_count, " frames need a positive duration and frame interval (",
+                   duration, " s, ", interval, " s)")};
+  const double intervals = duration / interval;
+  const double whole = std::round(intervals);
+  if (whole < 1.0 || whole > double(c.frame_count - 1) ||
+      std::fabs(intervals - whole) > kTimingTolerance * std::max(1.0, whole))
+    return {StatusCode::kOutOfRange,
+            strCat(where, "frame interval ", interval, " s does not divide the duration ",
+                   duration, " s into at most ", c.frame_count - 1, " whole intervals")};
+  const std::vector<double>& times = c.frame_times_seconds;
+  if (times.empty()) {
+    if (whole != double(c.frame_count - 1))
+      return {StatusCode::kOutOfRange,
+              strCat(where, c.frame_count, " frames on a uniform grid need ", c.frame_count - 1,
+                     " intervals, the duration holds ", whole)};
+    return Status::ok();
+  }
+  if (times.size() != c.frame_count)
+    return {StatusCode::kCountMismatch,
+            strCat(where, times.size(), " frame times for ", c.frame_count, " frames")};
+  const double slack = 2.0 * kTimingTolerance * interval;
+  if (!std::isfinite(times[0]) || times[0] < 0.0 || times[0] > slack)
+    return {StatusCode::kOutOfRange, strCat(where, "frame time 0 is ", times[0], " s, not 0")};
+  for (size_t i = 1; i < times.size(); ++i) {
+    const double gap = times[i] - times[i - 1];
+    if (!std::isfinite(times[i]) || !(gap >= 0.0) || gap > interval + slack ||
+        times[i] > duration)
+      return {StatusCode::kOutOfRange,
+              strCat(where, "frame time ", i, " (", times[i], " s) is out of order, past the "
+                     "duration or more than an interval after the previous one")};
+    if (i >= 2 && gap == 0.0 && times[i - 1] == times[i - 2])
+      return {StatusCode::kOutOfRange,
+              strCat(where, "frame time ", i, " repeats a time a third time")};
+  }
+  if (times.back() < duration - slack)
+    return {StatusCode::kOutOfRange,
+            strCat(where, "the last frame time ", times.back(), " s is not the duration ",
+                   duration, " s")};
+  return Status::ok();
+}
+
+Status checkClipBounds(const BakedClip& c, const std::string& where) {
+  const Aabb& b = c.bounds;
+  const Sphere& s = c.bounding_sphere;
+  if (!isFinite(glm::vec4(b.min, 0.0f)) || !isFinite(glm::vec4(b.max, 0.0f)) || b.empty())
+    return {StatusCode::kOutOfRange, where + "bounds are not finite or empty"};
+  if (!isFinite(glm::vec4(s.center, s.radius)) || s.radius < 0.0f ||
+      glm::any(glm::lessThan(s.center, b.min)) || glm::any(glm::greaterThan(s.center, b.max)))
+    return {StatusCode::kOutOfRange, where + "the bounding sphere is not finite or not in the box"};
+  const float half_diagonal = 0.5f * glm::length(b.max - b.min);
+  if (s.radius < half_diagonal * (1.0f - 1e-5f))
+    return {StatusCode::kOutOfRange,
+            strCat(where, "the bounding sphere (radius ", s.radius,
+                   ") does not contain the box (half diagonal ", half_diagonal, ")")};
+  return Status::ok();
+}
+
+// Every texel value of every stored joint finite; quaternions unit, scales positive.
+Status checkTexels(const BakedPalette& p) {
+  const PaletteLayout& l = p.layout;
+  const bool half = p.format == PaletteFormat::kMatrix3x4F16;
+  const bool quat = p.format == PaletteFormat::kQuatTranslationF32;
+  for (uint32_t c = 0; c < p.clips.size(); ++c)
+    for (uint32_t f = 0; f < p.clips[c].frame_count; ++f)
+      for (uint32_t j = 0; j < l.joint_count; ++j) {
+        glm::vec4 rows[4];
+        for (uint32_t r = 0; r < l.texels_per_joint; ++r) {
+          const uint32_t texel = l.texelIndex(c, f, j, r);
+          if (half) {
+            uint16_t h[4];
+            std::memcpy(h, p.texel_bytes.data() + size_t(texel) * 8, 8);
+            for (int k = 0; k < 4; ++k) rows[r][k] = halfToFloat(h[k]);
+          } else {
+            std::memcpy(&rows[r][0], p.texel_bytes.data() + size_t(texel) * 16, 16);
+          }
+          if (!isFinite(rows[r]))
+            return {StatusCode::kNotFinite,
+                    strCat("palette: clip ", c, " '", p.clips[c].name, "' frame ", f, " joint ", j,
+                           ": texel ", texel, " is not finite")};
+        }
+        if (quat && (std::fabs(glm::length(rows[0]) - 1.0f) > 1e-3f || !(rows[1].w > 0.0f)))
+          return {StatusCode::kOutOfRange,
+                  strCat("palette: clip ", c, " '", p.clips[c].name, "' frame ", f, " joint ", j,
+                         ": rotation not unit length or scale not positive")};
+      }
+  return Status::ok();
+}
+
+}  // namespace
+
+Status BakedPalette::validate() const {
+  if (format != PaletteFormat::kMatrix3x4F32 && format != PaletteFormat::kMatrix3x4F16 &&
+      format != PaletteFormat::kQuatTranslationF32)
+    return {StatusCode::kInvalidArgument, "palette: unknown format"};
+  // The joint map.
+  if (palette_joints.empty() || palette_joints.size() > kMaxPaletteJoints ||
+      skeleton_to_palette.size() > 65536 || palette_joints.size() > skeleton_to_palette.size())
+    return {StatusCode::kInvalidArgument,
+            strCat("palette: ", palette_joints.size(), " palette joints of ",
+                   skeleton_to_palette.size(), " skeleton joints")};
+  std::vector<int32_t> expected(skeleton_to_palette.size(), -1);
+  for (size_t s = 0; s < palette_joints.size(); ++s) {
+    const uint32_t j = palette_joints[s];
+    if (j >= expected.size() || (s > 0 && j <= palette_joints[s - 1]))
+      return {StatusCode::kInvalidArgument,
+              strCat("palette: palette joint ", s, " (skeleton joint ", j,
+                     ") is out of order or range")};
+    expected[j] = int32_t(s);
+  }
+  if (expected != skeleton_to_palette)
+    return {StatusCode::kInvalidArgument,
+            "palette: skeleton_to_palette does not map exactly the palette joints to their slots"};
+  // The layout follows from the clips' frame counts, the format and the stride.
+  if (clips.empty() || clips.size() > kMaxPaletteClips)
+    return {StatusCode::kInvalidArgument, strCat("palette: ", clips.size(), " clips (1 to ",
+                                                 kMaxPaletteClips, ")")};
+  std::vector<uint32_t> frame_counts;
+  for (const BakedClip& c : clips) frame_counts.push_back(c.frame_count);
+  for (size_t c = 0; c < clips.size(); ++c) {
+    Status s = checkClipTiming(clips[c], strCat("palette: clip ", c, " '", clips[c].name, "': "));
+    if (s.isOk()) s = checkClipBounds(clips[c], strCat("palette: clip ", c, " '", clips[c].name, "': "));
+    if (!s.isOk()) return s;
+  }
+  if (layout.texels_per_joint != texelsPerJoint(format) || layout.joint_stride_texels > 64 ||
+      layout.joint_count != palette_joints.size())
+    return {StatusCode::kInvalidArgument,
+            "palette: the layout's joint count or texels per joint do not match the palette"};
+  PaletteLayoutDesc ld;
+  ld.joint_count = layout.joint_count;
+  ld.clip_frame_counts = frame_counts;
+  ld.texels_per_joint = layout.texels_per_joint;
+  ld.joint_stride_texels = layout.joint_stride_texels;
+  ld.max_texture_size = 32768;
+  PaletteLayout derived;
+  Status s = computePaletteLayout(ld, &derived);
+  if (!s.isOk()) return {StatusCode::kInvalidArgument, "palette: " + s.message()};
+  if (derived.width != layout.width || derived.width_log2 != layout.width_log2 ||
+      derived.height != layout.height || derived.frame_stride_texels != layout.frame_stride_texels ||
+      derived.clip_first_texel != layout.clip_first_texel ||
+      derived.clip_frame_count != layout.clip_frame_count)
+    return {StatusCode::kInvalidArgument,
+            strCat("palette: the layout (", layout.width, "x", layout.height,
+                   ") is not the one its clips need (", derived.width, "x", derived.height, ")")};
+  for (size_t c = 0; c < clips.size(); ++c)
+    if (clips[c].first_texel != layout.clip_first_texel[c])
+      return {StatusCode::kInvalidArgument,
+              strCat("palette: clip ", c, " first texel ", clips[c].first_texel,
+                     " is not the layout's ", layout.clip_first_texel[c])};
+  if (texel_bytes.size() != layout.textureTexelCount() * bytesPerTexel(format))
+    return {StatusCode::kCountMismatch,
+            strCat("palette: ", texel_bytes.size(), " texel bytes, the layout needs ",
+                   layout.textureTexelCount() * bytesPerTexel(format))};
+  if (!std::isfinite(character_height) || character_height < 0.0f)
+    return {StatusCode::kOutOfRange, "palette: character height is not finite and >= 0"};
+  return checkTexels(*this);
+}
+
+}  // namespace si

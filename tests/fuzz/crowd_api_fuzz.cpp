@@ -1,0 +1,256 @@
+// SkinnedInstancing — SPDX-License-Identifier: MIT (see LICENSE)
+// libFuzzer target: random sequences of CrowdManager calls (add, remove, play, crossfade,
+// setTransform, setColor, setVariationMask, setLodDistances, update, queries) with hostile
+// values (NaN, infinities, negative and huge times, speeds, scales, stale and forged handles)
+// against a shadow list of the live handles. After every call: every live handle resolves,
+// released ones do not, the size matches; after an update the statistics add up, buckets are
+// consistent, records are finite with frames inside the palette. A rejected call must return a
+// named error and leave the crowd exactly as it was. Run with scripts/fuzz.sh.
+#include <cmath>
+#include <cstdint>
+#include <cstdlib>
+#include <cstring>
+#include <limits>
+#include <vector>
+
+#include "si/bake/animation_baker.h"
+#include "si/crowd/crowd_manager.h"
+
+namespace {
+
+[[noreturn]] void fail(const char* what) {
+  std::fprintf(stderr, "crowd_api_fuzz: %s\n", what);
+  std::abort();
+}
+
+// A three-joint chain with a looping clip, a once clip with a STEP key, and a single-frame
+// pose: every kind of clip timing.
+const si::BakedPalette& palette() {
+  static const si::BakedPalette p = [] {
+    si::Character c;
+    for (int i = 0; i < 3; ++i) {
+      c.skeleton.joint_names.push_back("j" + std::to_string(i));
+      c.skeleton.parents.push_back(i - 1);
+      si::Transform t;
+      t.translation = glm::vec3(0.0f, i == 0 ? 0.0f : 1.0f, 0.0f);
+      c.skeleton.rest_pose.push_back(t);
+      glm::mat4 ibm(1.0f);
+      ibm[3] = glm::vec4(0.0f, -float(i), 0.0f, 1.0f);
+      c.skeleton.inverse_bind_matrices.push_back(ibm);
+      c.mesh.positions.push_back(glm::vec3(0.2f * i, float(i), 0.0f));
+      c.mesh.normals.push_back(glm::vec3(0, 0, 1));
+      c.mesh.joints.push_back(glm::u16vec4(uint16_t(i), 0, 0, 0));
+      c.mesh.weights.push_back(glm::vec4(1, 0, 0, 0));
+    }
+    c.mesh.indices = {0, 1, 2};
+    c.mesh.sub_meshes.push_back(si::SubMesh{"body", {si::IndexRange{0, 3}}, 0});
+    const auto clip = [&](const char* name, float duration, si::LoopMode loop) {
+      si::Clip k;
+      k.name = name;
+      k.duration_seconds = duration;
+      k.loop_mode = loop;
+      k.joint_tracks.resize(3);
+      return k;
+    };
+    si::Clip swing = clip("swing", 1.0f, si::LoopMode::kLoop);
+    swing.joint_tracks[1].rotation.times_seconds = {0.0f, 0.5f, 1.0f};
+    swing.joint_tracks[1].rotation.values = {glm::quat(1, 0, 0, 0), glm::quat(0.8f, 0.6f, 0, 0),
+                                             glm::quat(1, 0, 0, 0)};
+    si::Clip step = clip("step", 0.6f, si::LoopMode::kOnce);
+    step.joint_tracks[2].translation.interpolation = si::Interpolation::kStep;
+    step.joint_tracks[2].translation.times_seconds = {0.0f, 0.3f};
+    step.joint_tracks[2].translation.values = {{0, 1, 0}, {0.5f, 1, 0}};
+    c.clips = {swing, step, clip("pose", 0.0f, si::LoopMode::kOnce)};
+    si::BakeDesc d;
+    d.rate_mode = si::RateMode::kFixed;
+    d.sample_rate_hz = 10.0f;
+    si::BakedPalette out;
+    if (!si::bakePalette(c, d, &out, nullptr).isOk()) fail("cannot bake the test palette");
+    return out;
+  }();
+  return p;
+}
+
+// Reads the input; past its end everything is zero.
+class Input {
+ public:
+  Input(const uint8_t* data, size_t size) : data_(data), size_(size) {}
+  bool done() const { return pos_ >= size_; }
+  uint8_t u8() { return pos_ < size_ ? data_[pos_++] : 0; }
+  uint32_t u32() {
+    uint32_t v = 0;
+    for (int i = 0; i < 4; ++i) v |= uint32_t(u8()) << (8 * i);
+    return v;
+  }
+  // A value that is hostile half of the time, any bit pattern otherwise.
+  double f64() {
+    static const double kHostile[] = {std::numeric_limits<double>::quiet_NaN(),
+                                      std::numeric_limits<double>::infinity(),
+                                      -std::numeric_limits<double>::infinity(),
+                                      0.0, -0.0, 1e-300, -1.0, 1e300, -1e300, 1e9, 0.5, 1.0,
+                                      std::numeric_limits<double>::max(), 1.0 / 60.0};
+    const uint8_t pick = u8();
+    if (pick < 128) return kHostile[pick % (sizeof(kHostile) / sizeof(kHostile[0]))];
+    uint64_t bits = uint64_t(u32()) | (uint64_t(u32()) << 32);
+    double v;
+    std::memcpy(&v, &bits, 8);
+    return v;
+  }
+  float f32() { return float(f64()); }
+
+ private:
+  const uint8_t* data_;
+  size_t size_, pos_ = 0;
+};
+
+// Everything a call could change, to compare before and after a rejected call.
+struct Snapshot {
+  std::vector<si::GpuInstanceState> state;
+  std::vector<si::InstanceHandle> handles;
+  uint64_t version = 0;
+  std::vector<float> lines;
+  float far_line = 0.0f;
+  double clock = 0.0;
+  bool operator==(const Snapshot& o) const {
+    return state.size() == o.state.size() &&
+           (state.empty() ||
+            std::memcmp(state.data(), o.state.data(), state.size() * sizeof(state[0])) == 0) &&
+           handles == o.handles && version == o.version && lines == o.lines &&
+           std::memcmp(&far_line, &o.far_line, 4) == 0 && std::memcmp(&clock, &o.clock, 8) == 0;
+  }
+};
+
+Snapshot snapshot(const si::CrowdManager& crowd) {
+  Snapshot s;
+  crowd.exportGpuState(&s.state, &s.handles);
+  s.version = crowd.stateVersion();
+  s.lines = crowd.desc().lod_distances_radii;
+  s.far_line = crowd.desc().max_distance_radii;
+  s.clock = crowd.clockSeconds();
+  return s;
+}
+
+void checkFrame(const si::CrowdManager& crowd) {
+  const si::CrowdFrameStats& st = crowd.stats();
+  if (st.visible + st.culled_frustum + st.culled_distance != st.instances) fail("stats do not add up");
+  uint32_t per_lod = 0;
+  for (uint32_t n : st.per_lod) per_lod += n;
+  if (per_lod != st.visible) fail("per-LOD counts do not add up");
+  if (crowd.records().size() != st.visible || crowd.visibleHandles().size() != st.visible)
+    fail("records or visible handles do not match the visible count");
+  const std::vector<uint32_t>& offsets = crowd.bucketOffsets();
+  if (offsets.size() != crowd.bucketCount() + 1 || offsets.back() != st.bucket_entries ||
+      crowd.bucketEntries().size() != st.bucket_entries)
+    fail("bucket offsets do not match the entries");
+  for (size_t b = 0; b + 1 < offsets.size(); ++b)
+    if (offsets[b] > offsets[b + 1]) fail("bucket offsets decrease");
+  for (uint32_t e : crowd.bucketEntries())
+    if (e >= crowd.records().size()) fail("a bucket entry is past the records");
+  const uint64_t texels = palette().layout.textureTexelCount();
+  for (const si::InstanceRecord& r : crowd.records()) {
+    for (const auto& row : r.world_rows)
+      for (float v : row)
+        if (!std::isfinite(v)) fail("a record's world rows are not finite");
+    for (uint32_t f : r.frames)
+      if (uint64_t(f) + palette().layout.frame_stride_texels > texels) fail("a frame is outside the palette");
+    for (int k = 0; k < 3; ++k) {
+      float v;
+      std::memcpy(&v, &r.blend[k], 4);
+      if (!(v >= 0.0f && v <= 1.0f)) fail("a record's fraction or weight is outside [0, 1]");
+    }
+  }
+}
+
+}  // namespace
+
+extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
+  Input in(data, size);
+  si::CrowdDesc cd;
+  cd.palette = &palette();
+  cd.sub_mesh_count = 1 + in.u8() % 4;
+  cd.lod_count = 1 + in.u8() % 3;
+  si::CrowdManager crowd;
+  if (!crowd.init(cd).isOk()) fail("init refused a valid desc");
+  std::vector<si::InstanceHandle> live, released;
+  const uint32_t clips = uint32_t(palette().clips.size());
+  for (int op = 0; op < 256 && !in.done(); ++op) {
+    const uint8_t kind = in.u8() % 11;
+    // A handle: live, released (stale) or forged.
+    const uint8_t which = in.u8();
+    si::InstanceHandle h;
+    if (which < 160 && !live.empty()) h = live[which % live.size()];
+    else if (which < 220 && !released.empty()) h = released[which % released.size()];
+    else h.id = in.u32();
+    const Snapshot before = snapshot(crowd);
+    si::Status s;
+    switch (kind) {
+      case 0: case 1: {  // add (twice as often)
+        si::InstanceDesc d;
+        d.position = glm::dvec3(in.f64(), in.f64(), in.f64());
+        d.rotation = glm::quat(in.f32(), in.f32(), in.f32(), in.f32());
+        d.scale = in.f32();
+        d.clip = in.u8() % (clips + 1);  // Sometimes out of range.
+        d.time_seconds = in.f64();
+        d.speed = in.f32();
+        d.variation_mask = in.u32();
+        d.loop_mode = si::LoopMode(in.u8() % 4);
+        si::InstanceHandle added;
+        s = crowd.add(d, &added);
+        if (s.isOk()) live.push_back(added);
+        break;
+      }
+      case 2:
+        s = crowd.remove(h);
+        if (s.isOk()) {
+          live.erase(std::find(live.begin(), live.end(), h));
+          released.push_back(h);
+        }
+        break;
+      case 3: s = crowd.play(h, in.u8() % (clips + 1), in.f64(), in.f32()); break;
+      case 4: s = crowd.crossfade(h, in.u8() % (clips + 1), in.f64(), in.f64()); break;
+      case 5:
+        s = crowd.setTransform(h, glm::dvec3(in.f64(), in.f64(), in.f64()),
+                               glm::quat(in.f32(), in.f32(), in.f32(), in.f32()), in.f32());
+        break;
+      case 6: s = crowd.setColor(h, glm::u8vec4(in.u8(), in.u8(), in.u8(), in.u8())); break;
+      case 7: s = crowd.setVariationMask(h, in.u32()); break;
+      case 8: {
+        std::vector<float> lines(in.u8() % 4);
+        for (float& l : lines) l = in.f32();
+        s = crowd.setLodDistances(lines, in.f32());
+        break;
+      }
+      case 9: {
+        const si::Camera camera = si::Camera::lookAt(
+            glm::dvec3(in.f64(), in.f64(), in.f64()), glm::dvec3(in.f64(), in.f64(), in.f64()),
+            glm::vec3(0, 1, 0), in.f32(), in.f32(), in.f32(), in.f32());
+        s = crowd.update(in.f64(), camera);
+        if (s.isOk()) checkFrame(crowd);
+        break;
+      }
+      default: {  // Queries change nothing.
+        si::InstanceDesc d;
+        uint32_t lod = 0;
+        glm::dmat4 m;
+        (void)crowd.get(h, &d);
+        (void)crowd.lodOf(h, &lod);
+        (void)crowd.jointMatrix(h, in.u8() % 4, &m);
+        if (!(snapshot(crowd) == before)) fail("a query changed the crowd");
+        break;
+      }
+    }
+    if (kind <= 9 && !s.isOk()) {
+      if (s.message().empty()) fail("a rejected call has no message");
+      if (!(snapshot(crowd) == before)) fail("a rejected call changed the crowd");
+    }
+    // Every live handle resolves, released ones do not, the size matches.
+    if (crowd.size() != live.size()) fail("the size does not match the live handles");
+    for (si::InstanceHandle l : live) {
+      si::InstanceDesc d;
+      if (!crowd.contains(l) || !crowd.get(l, &d).isOk()) fail("a live handle does not resolve");
+    }
+    for (si::InstanceHandle r : released)
+      if (crowd.contains(r)) fail("a released handle resolves");
+  }
+  return 0;
+}
