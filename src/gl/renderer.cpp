@@ -48,6 +48,16 @@ Renderer::~Renderer() { shutdown(); }
 
 Status Renderer::init(const GlInfo& info, const RendererDesc& desc) {
   shutdown();
+  if (glad_glGetString == nullptr || glGetString(GL_VERSION) == nullptr)
+    return {StatusCode::kBackend,
+            "Renderer::init: no GL context is current (make one current and call loadGl first)"};
+  const uint64_t ring_bytes = desc.compute_ring_bytes == 0 ? uint64_t(32) << 20
+                                                           : desc.compute_ring_bytes;
+  if (ring_bytes > info.max_shader_storage_block_size_bytes)
+    return {StatusCode::kLimitExceeded,
+            strCat("RendererDesc.compute_ring_bytes ", ring_bytes,
+                   " exceeds GL_MAX_SHADER_STORAGE_BLOCK_SIZE ",
+                   info.max_shader_storage_block_size_bytes)};
   auto impl = std::make_unique<Impl>();
   impl->info = info;
   impl->desc = desc;

@@ -47,6 +47,7 @@ struct Renderer::Impl {
 
   detail::DrawResources resources() {
     detail::DrawResources r;
+    r.info = &info;
     r.desc = &desc;
     r.programs = &programs;
     r.palette = &palette;
@@ -72,6 +73,12 @@ struct Renderer::Impl {
     s = p.draw(r, frame, st);
     st->cpu_submit_ms = detail::msSince(t0);  // Before the (blocking) timer read.
     st->gpu_ms = timer.end();
+    const GLenum reset = glGetGraphicsResetStatus();
+    if (reset != GL_NO_ERROR)
+      return {StatusCode::kBackend,
+              reset == GL_GUILTY_CONTEXT_RESET     ? "the GL context was lost (reset, caused here)"
+              : reset == GL_INNOCENT_CONTEXT_RESET ? "the GL context was lost (reset elsewhere)"
+                                                   : "the GL context was lost (reset)"};
     return s;
   }
 };

@@ -8,6 +8,7 @@
 
 #include "gl/paths/draw_path.h"
 #include "gl/renderer_impl.h"
+#include "gl/resources/gl_allocation.h"
 
 namespace si {
 
@@ -18,12 +19,17 @@ Status Renderer::captureSkinnedPositions(const InstanceRecord& record, std::vect
   Impl& m = *impl_;
   const uint32_t vertices = m.character.vertex_count;
   GLuint ubo = detail::kNoObject, tf = detail::kNoObject;
-  glCreateBuffers(1, &ubo);
   std::vector<uint8_t> block(m.block_size, 0);
   std::memcpy(block.data(), &record, sizeof(record));
-  glNamedBufferStorage(ubo, GLsizeiptr(block.size()), block.data(), 0);
-  glCreateBuffers(1, &tf);
-  glNamedBufferStorage(tf, GLsizeiptr(size_t(vertices) * 12), nullptr, GL_MAP_READ_BIT);
+  Status s = detail::createBuffer(&ubo, block.size(), block.data(), 0,
+                                  "captureSkinnedPositions: the record block");
+  if (s.isOk())
+    s = detail::createBuffer(&tf, size_t(vertices) * 12, nullptr, GL_MAP_READ_BIT,
+                             "captureSkinnedPositions: the capture buffer");
+  if (!s.isOk()) {
+    glDeleteBuffers(1, &ubo);
+    return s;
+  }
   Camera identity;  // Model space out: the capture reads positions before the world transform.
   detail::bindShading(m.resources(), m.programs[detail::ProgramId::kCapture], identity,
                       light_direction_);

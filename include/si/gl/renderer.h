@@ -104,9 +104,16 @@ class Renderer {
   Renderer(const Renderer&) = delete;
   Renderer& operator=(const Renderer&) = delete;
 
-  /// Compiles the programs and creates the record ring. kBackend with the driver's log when a
-  /// shader fails to compile or link; kInvalidArgument for a uniform block size below 16384 or
-  /// above the limit.
+  /// Compiles the programs. kBackend when no GL context is current, or with the driver's log
+  /// when a shader fails to compile or link; kInvalidArgument for a uniform block size below
+  /// 16384 or above the limit; kLimitExceeded for a compute ring larger than the context's
+  /// GL_MAX_SHADER_STORAGE_BLOCK_SIZE.
+  ///
+  /// Every GL allocation the renderer makes (here, at uploads and while drawing) reports
+  /// failure as a named error from the call that made it: kLimitExceeded when the driver is out
+  /// of memory (naming what and how large), kBackend for another GL error; never a GL error
+  /// left for a later call. A draw that finds the context lost (glGetGraphicsResetStatus)
+  /// returns kBackend saying so.
   Status init(const GlInfo& info, const RendererDesc& desc);
   /// Releases every GL object (needs the context current). Idempotent.
   void shutdown();
@@ -115,7 +122,7 @@ class Renderer {
   BatchLimits batchLimits() const;
 
   /// Uploads the palette texture (RGBA32F or RGBA16F). kLimitExceeded when it is larger than
-  /// GL_MAX_TEXTURE_SIZE; kInvalidArgument for an inconsistent palette.
+  /// GL_MAX_TEXTURE_SIZE; kInvalidArgument for a palette that fails BakedPalette::validate().
   Status uploadPalette(const BakedPalette& palette);
   /// Uploads the character's mesh (joint indices remapped to palette slots), its first
   /// material's base colour and texture. The palette must be the one baked for it. With

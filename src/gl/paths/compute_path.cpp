@@ -4,6 +4,8 @@
 
 #include <algorithm>
 
+#include "gl/resources/gl_allocation.h"
+
 namespace si::detail {
 
 Status ComputePath::prepare(const DrawResources& r) {
@@ -31,17 +33,16 @@ Status ComputePath::prepare(const DrawResources& r) {
       max_lod_vertices_ = std::max(max_lod_vertices_, l.vertex_count);
       lods_[sm].push_back(l);
     }
-  const GLuint old[] = {index_buffer_, lod_vertex_list_};
-  glDeleteBuffers(2, old);
   if (vao_ != kNoObject) glDeleteVertexArrays(1, &vao_);
+  vao_ = kNoObject;
   lod_vertices.push_back(0);  // Never empty (a zero-sized buffer is an error).
   local_indices.push_back(0);
-  glCreateBuffers(1, &lod_vertex_list_);
-  glNamedBufferStorage(lod_vertex_list_, GLsizeiptr(lod_vertices.size() * 4), lod_vertices.data(),
-                       0);
-  glCreateBuffers(1, &index_buffer_);
-  glNamedBufferStorage(index_buffer_, GLsizeiptr(local_indices.size() * 4), local_indices.data(),
-                       0);
+  Status s = createBuffer(&lod_vertex_list_, lod_vertices.size() * 4, lod_vertices.data(), 0,
+                          "compute pre-skinning: the LOD vertex lists");
+  if (s.isOk())
+    s = createBuffer(&index_buffer_, local_indices.size() * 4, local_indices.data(), 0,
+                     "compute pre-skinning: the re-indexed triangles");
+  if (!s.isOk()) return s;
   glCreateVertexArrays(1, &vao_);
   glVertexArrayElementBuffer(vao_, index_buffer_);
   source_words_ = r.character->stride_bytes / 4;
@@ -56,9 +57,8 @@ Status ComputePath::ensureRing(const RendererDesc& desc) {
   if (ring_ != kNoObject) return Status::ok();
   const uint64_t bytes = desc.compute_ring_bytes == 0 ? uint64_t(32) << 20 : desc.compute_ring_bytes;
   ring_vertices_ = std::max<uint64_t>(bytes / 16, max_lod_vertices_);
-  glCreateBuffers(1, &ring_);
-  glNamedBufferStorage(ring_, GLsizeiptr(ring_vertices_ * 16), nullptr, 0);
-  return Status::ok();
+  return createBuffer(&ring_, ring_vertices_ * 16, nullptr, 0,
+                      "compute pre-skinning: the pre-skinned vertex ring");
 }
 
 // For each batch, a compute dispatch skins its instances' vertices into the ring; when the ring

@@ -5,6 +5,8 @@
 #include <algorithm>
 #include <cstring>
 
+#include "gl/resources/gl_allocation.h"
+
 namespace si::detail {
 
 namespace {
@@ -42,8 +44,9 @@ Status CpuSkinningPath::prepare(const DrawResources& r) {
 
 Status CpuSkinningPath::draw(const DrawResources& r, const PathFrame& f, DrawStats* st) {
   if (stream_ == kNoObject) {
-    glCreateBuffers(1, &stream_);
-    glNamedBufferData(stream_, GLsizeiptr(kChunkBytes), nullptr, GL_STREAM_DRAW);
+    Status s = createMutableBuffer(&stream_, kChunkBytes, GL_STREAM_DRAW,
+                                   "the CPU-skinning vertex stream");
+    if (!s.isOk()) return s;
     glVertexArrayVertexBuffer(vao_, 0, stream_, 0, GLsizei(kVertexBytes));
   }
   const Program& program = (*r.programs)[ProgramId::kPreSkinned];

@@ -22,6 +22,7 @@ namespace si::detail {
 
 /// What the renderer uploaded and configured, read by every path.
 struct DrawResources {
+  const GlInfo* info = nullptr;
   const RendererDesc* desc = nullptr;
   const ProgramSet* programs = nullptr;
   const PaletteTexture* palette = nullptr;

@@ -5,6 +5,7 @@
 #include <algorithm>
 
 #include "core/str_cat.h"
+#include "gl/resources/gl_allocation.h"
 
 namespace si::detail {
 
@@ -15,17 +16,14 @@ constexpr GLsizeiptr kCountersSize = kDispatchOffset + 16;
 constexpr uint32_t kMaxBuckets = 256;
 
 // (Re)creates `buffer` with `bytes` of storage (and `data` when given), dynamic.
-void recreate(GLuint* buffer, size_t bytes, const void* data) {
-  if (*buffer != kNoObject) glDeleteBuffers(1, buffer);
-  glCreateBuffers(1, buffer);
-  glNamedBufferStorage(*buffer, GLsizeiptr(std::max<size_t>(bytes, 16)), data,
-                       GL_DYNAMIC_STORAGE_BIT);
+Status recreate(GLuint* buffer, size_t bytes, const void* data, const char* what) {
+  return createBuffer(buffer, std::max<size_t>(bytes, 16), data, GL_DYNAMIC_STORAGE_BIT, what);
 }
 
 }  // namespace
 
-void GpuCulledPath::uploadState(const DrawResources& r, const CrowdManager& crowd,
-                                uint32_t buckets) {
+Status GpuCulledPath::uploadState(const DrawResources& r, const CrowdManager& crowd,
+                                  uint32_t buckets) {
   const CrowdDesc& cd = crowd.desc();
   const uint32_t n = crowd.size();
   std::vector<GpuInstanceState> state;
@@ -34,29 +32,55 @@ void GpuCulledPath::uploadState(const DrawResources& r, const CrowdManager& crow
   std::vector<double> times;
   crowd.exportGpuClips(&clips, &times);
   const uint32_t entries = std::max(1u, n) * cd.sub_mesh_count;
+  // The largest storage buffer the passes read whole: the state (144 bytes an instance).
+  const uint64_t state_bytes = uint64_t(std::max(n, 1u)) * sizeof(GpuInstanceState);
+  if (state_bytes > r.info->max_shader_storage_block_size_bytes)
+    return {StatusCode::kLimitExceeded,
+            strCat("drawCrowdGpuCulled: ", n, " instances need ", state_bytes,
+                   " bytes of crowd state, GL_MAX_SHADER_STORAGE_BLOCK_SIZE is ",
+                   r.info->max_shader_storage_block_size_bytes)};
+  Status s;
   if (n > capacity_ || sub_meshes_ != cd.sub_mesh_count || records_ == kNoObject) {
-    capacity_ = std::max(n, 1u);
-    sub_meshes_ = cd.sub_mesh_count;
-    recreate(&state_, size_t(capacity_) * sizeof(GpuInstanceState), nullptr);
-    recreate(&records_, size_t(capacity_) * kInstanceRecordSize, nullptr);
-    recreate(&visible_, size_t(capacity_) * 16, nullptr);
-    recreate(&entries_, size_t(entries) * 4, nullptr);
+    capacity_ = 0;  // Until every buffer below exists.
+    const uint32_t capacity = std::max(n, 1u);
     std::vector<uint32_t> identity(entries);
     for (uint32_t k = 0; k < entries; ++k) identity[k] = k;
-    recreate(&identity_, identity.size() * 4, identity.data());
+    s = recreate(&state_, size_t(capacity) * sizeof(GpuInstanceState), nullptr,
+                 "GPU culling: the crowd state");
+    if (s.isOk())
+      s = recreate(&records_, size_t(capacity) * kInstanceRecordSize, nullptr,
+                   "GPU culling: the records");
+    if (s.isOk())
+      s = recreate(&visible_, size_t(capacity) * 16, nullptr, "GPU culling: the visible list");
+    if (s.isOk())
+      s = recreate(&entries_, size_t(entries) * 4, nullptr, "GPU culling: the bucket entries");
+    if (s.isOk())
+      s = recreate(&identity_, identity.size() * 4, identity.data(),
+                   "GPU culling: the entry indices");
+    if (!s.isOk()) return s;
+    capacity_ = capacity;
+    sub_meshes_ = cd.sub_mesh_count;
   }
   if (n > 0)
     glNamedBufferSubData(state_, 0, GLsizeiptr(state.size() * sizeof(state[0])), state.data());
-  recreate(&clips_, clips.size() * sizeof(GpuClipInfo), clips.data());
-  recreate(&times_, times.size() * sizeof(double), times.empty() ? nullptr : times.data());
-  if (counters_ == kNoObject) recreate(&counters_, size_t(kCountersSize), nullptr);
-  if (commands_ == kNoObject) recreate(&commands_, size_t(kMaxBuckets) * 20, nullptr);
   std::vector<glm::uvec2> ranges(buckets);
   for (uint32_t b = 0; b < buckets; ++b) {
     const IndexRange range = r.character->lodRange(b % cd.sub_mesh_count, b / cd.sub_mesh_count);
     ranges[b] = glm::uvec2(range.first_index, range.index_count);
   }
-  recreate(&ranges_, ranges.size() * 8, ranges.data());
+  s = recreate(&clips_, clips.size() * sizeof(GpuClipInfo), clips.data(), "GPU culling: the clips");
+  if (s.isOk())
+    s = recreate(&times_, times.size() * sizeof(double), times.empty() ? nullptr : times.data(),
+                 "GPU culling: the frame times");
+  if (s.isOk() && counters_ == kNoObject)
+    s = recreate(&counters_, size_t(kCountersSize), nullptr, "GPU culling: the counters");
+  if (s.isOk() && commands_ == kNoObject)
+    s = recreate(&commands_, size_t(kMaxBuckets) * 20, nullptr, "GPU culling: the commands");
+  if (s.isOk()) s = recreate(&ranges_, ranges.size() * 8, ranges.data(), "GPU culling: the ranges");
+  if (!s.isOk()) {
+    crowd_ = nullptr;  // Uploaded again next frame.
+    return s;
+  }
   if (vao_ != kNoObject) glDeleteVertexArrays(1, &vao_);
   glCreateVertexArrays(1, &vao_);
   r.character->describeVertexFormat(vao_);
@@ -70,6 +94,7 @@ void GpuCulledPath::uploadState(const DrawResources& r, const CrowdManager& crow
   instances_ = n;
   buckets_ = buckets;
   vertex_source_ = r.character->vertex_buffer;
+  return Status::ok();
 }
 
 Status GpuCulledPath::uploadFrame(const DrawResources& r, const PathFrame& f) {
@@ -86,8 +111,10 @@ Status GpuCulledPath::uploadFrame(const DrawResources& r, const PathFrame& f) {
                    " sub-meshes) or 256 buckets")};
   const uint32_t n = crowd.size();
   if (crowd_ != &crowd || version_ != crowd.stateVersion() || instances_ != n ||
-      buckets_ != buckets || vertex_source_ != r.character->vertex_buffer || vao_ == kNoObject)
-    uploadState(r, crowd, buckets);
+      buckets_ != buckets || vertex_source_ != r.character->vertex_buffer || vao_ == kNoObject) {
+    Status s = uploadState(r, crowd, buckets);
+    if (!s.isOk()) return s;
+  }
 
   // Per-frame parameters: the same CullParams CrowdManager::update() uses.
   const CullParams p = crowd.cullParams(f.camera);

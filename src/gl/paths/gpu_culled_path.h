@@ -27,7 +27,7 @@ class GpuCulledPath final : public DrawPath {
 
  private:
   // Uploads the crowd's state when it changed (or the crowd, its shape or the character did).
-  void uploadState(const DrawResources& r, const CrowdManager& crowd, uint32_t buckets);
+  Status uploadState(const DrawResources& r, const CrowdManager& crowd, uint32_t buckets);
 
   GLuint vao_ = kNoObject;
   GLuint state_ = kNoObject, clips_ = kNoObject, times_ = kNoObject, counters_ = kNoObject;

@@ -5,15 +5,16 @@
 
 #include <cstring>
 
+#include "gl/resources/gl_allocation.h"
+
 namespace si::detail {
 
 Status TraditionalPath::prepare(const DrawResources&) {
   if (block_buffer_ != kNoObject) return Status::ok();
-  glCreateBuffers(1, &block_buffer_);
   // std140: 3 vec4 world rows, a uint padded to 16, then the joint rows.
   block_.assign(48 + 16 + size_t(kMaxTraditionalJoints) * 48, 0);
-  glNamedBufferStorage(block_buffer_, GLsizeiptr(block_.size()), nullptr, GL_DYNAMIC_STORAGE_BIT);
-  return Status::ok();
+  return createBuffer(&block_buffer_, block_.size(), nullptr, GL_DYNAMIC_STORAGE_BIT,
+                      "the traditional path's joint block");
 }
 
 Status TraditionalPath::draw(const DrawResources& r, const PathFrame& f, DrawStats* st) {

@@ -5,6 +5,7 @@
 #include <algorithm>
 #include <cmath>
 
+#include "gl/resources/gl_allocation.h"
 #include "si/core/shader_inputs.h"
 
 namespace si::detail {
@@ -20,10 +21,15 @@ Status CharacterBuffers::upload(const Character& character, const BakedPalette& 
   s = buildVertexStream(m, palette, &stream);
   if (!s.isOk()) return {s.code(), "uploadCharacter: " + s.message()};
   release();
-  glCreateBuffers(1, &vertex_buffer);
-  glNamedBufferStorage(vertex_buffer, GLsizeiptr(stream.bytes.size()), stream.bytes.data(), 0);
-  glCreateBuffers(1, &index_buffer);
-  glNamedBufferStorage(index_buffer, GLsizeiptr(m.indices.size() * 4), m.indices.data(), 0);
+  s = createBuffer(&vertex_buffer, stream.bytes.size(), stream.bytes.data(), 0,
+                   "uploadCharacter: the vertex buffer");
+  if (s.isOk())
+    s = createBuffer(&index_buffer, m.indices.size() * 4, m.indices.data(), 0,
+                     "uploadCharacter: the index buffer");
+  if (!s.isOk()) {
+    release();
+    return s;
+  }
   wide_joints = stream.wide_joints;
   stride_bytes = stream.stride_bytes;
   glCreateVertexArrays(1, &vao);
@@ -39,10 +45,14 @@ Status CharacterBuffers::upload(const Character& character, const BakedPalette& 
   if (!character.materials.empty() && character.materials[0].base_color_image >= 0)
     image = &character.images[size_t(character.materials[0].base_color_image)];
   const uint8_t white[4] = {255, 255, 255, 255};
-  glCreateTextures(GL_TEXTURE_2D, 1, &base_texture);
   const GLsizei w = image ? GLsizei(image->width) : 1, h = image ? GLsizei(image->height) : 1;
   const GLsizei levels = GLsizei(std::floor(std::log2(double(std::max(w, h))))) + 1;
-  glTextureStorage2D(base_texture, levels, GL_RGBA8, w, h);
+  s = createTexture2D(&base_texture, levels, GL_RGBA8, w, h,
+                      "uploadCharacter: the base colour texture");
+  if (!s.isOk()) {
+    release();
+    return s;
+  }
   glPixelStorei(GL_UNPACK_ALIGNMENT, 1);
   glTextureSubImage2D(base_texture, 0, 0, 0, w, h, GL_RGBA, GL_UNSIGNED_BYTE,
                       image ? image->rgba8.data() : white);

@@ -3,14 +3,15 @@
 #include "gl/resources/palette_texture.h"
 
 #include "core/str_cat.h"
+#include "gl/resources/gl_allocation.h"
 #include "si/core/shader_inputs.h"
 
 namespace si::detail {
 
 Status PaletteTexture::upload(const BakedPalette& palette, const GlInfo& info) {
   const PaletteLayout& l = palette.layout;
-  if (palette.texel_bytes.size() != l.textureTexelCount() * bytesPerTexel(palette.format))
-    return {StatusCode::kInvalidArgument, "uploadPalette: texel data does not match the layout"};
+  const Status valid = palette.validate();  // Never draws from an inconsistent palette.
+  if (!valid.isOk()) return {StatusCode::kInvalidArgument, "uploadPalette: " + valid.message()};
   if (l.width > info.max_texture_size || l.height > info.max_texture_size)
     return {StatusCode::kLimitExceeded,
             strCat("uploadPalette: the palette is ", l.width, "x", l.height,
@@ -18,9 +19,9 @@ Status PaletteTexture::upload(const BakedPalette& palette, const GlInfo& info) {
                    " (bake with BakeDesc::max_texture_size)")};
   release();
   const bool half = palette.format == PaletteFormat::kMatrix3x4F16;
-  glCreateTextures(GL_TEXTURE_2D, 1, &texture_);
-  glTextureStorage2D(texture_, 1, half ? GL_RGBA16F : GL_RGBA32F, GLsizei(l.width),
-                     GLsizei(l.height));
+  Status s = createTexture2D(&texture_, 1, half ? GL_RGBA16F : GL_RGBA32F, GLsizei(l.width),
+                             GLsizei(l.height), "uploadPalette: the palette texture");
+  if (!s.isOk()) return s;
   glPixelStorei(GL_UNPACK_ALIGNMENT, 1);
   glTextureSubImage2D(texture_, 0, 0, 0, GLsizei(l.width), GLsizei(l.height), GL_RGBA,
                       half ? GL_HALF_FLOAT : GL_FLOAT, palette.texel_bytes.data());

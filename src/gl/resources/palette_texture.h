@@ -15,8 +15,8 @@ namespace si::detail {
 
 class PaletteTexture {
  public:
-  /// Uploads `palette` (borrowed: it must outlive the upload's use). kInvalidArgument for
-  /// texel data that does not match the layout; kLimitExceeded past GL_MAX_TEXTURE_SIZE.
+  /// Uploads `palette` (borrowed: it must outlive the upload's use). kInvalidArgument for a
+  /// palette that fails BakedPalette::validate(); kLimitExceeded past GL_MAX_TEXTURE_SIZE.
   Status upload(const BakedPalette& palette, const GlInfo& info);
   void release();
 

@@ -4,6 +4,8 @@
 
 #include <algorithm>
 
+#include "gl/resources/gl_allocation.h"
+
 namespace si::detail {
 
 namespace {
@@ -36,11 +38,16 @@ Status RecordRing::reserve(size_t bytes_per_frame) {
   region_size_ = std::max<size_t>(need * 2, size_t(1) << 20);  // Grow geometrically.
   region_size_ = (region_size_ + alignment_ - 1) / alignment_ * alignment_;
   const size_t ring_size = region_size_ * frames_;
-  glCreateBuffers(1, &buffer_);
+  buffer_ = kNoObject;
+  mapped_ = nullptr;
   const GLbitfield flags = GL_MAP_WRITE_BIT | GL_MAP_PERSISTENT_BIT | GL_MAP_COHERENT_BIT;
-  glNamedBufferStorage(buffer_, GLsizeiptr(ring_size), nullptr, flags);
-  mapped_ = static_cast<uint8_t*>(glMapNamedBufferRange(buffer_, 0, GLsizeiptr(ring_size), flags));
+  Status s = createBuffer(&buffer_, ring_size, nullptr, flags, "the instance record ring");
   fences_.assign(frames_, nullptr);
+  if (!s.isOk()) {
+    region_size_ = 0;
+    return s;
+  }
+  mapped_ = static_cast<uint8_t*>(glMapNamedBufferRange(buffer_, 0, GLsizeiptr(ring_size), flags));
   if (mapped_ == nullptr) {
     glDeleteBuffers(1, &buffer_);
     buffer_ = kNoObject;

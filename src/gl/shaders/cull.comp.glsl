@@ -32,11 +32,13 @@ vec3 siRotate(vec4 q, vec3 v) {
 double siLocalTime(double start_time, double start_clock, float speed, uint loop_mode,
                    SiGpuClip c) {
   double t = start_time + (u_clock - start_clock) * double(speed);
-  if (!(c.duration > 0.0lf)) return 0.0lf;
+  if (!(c.duration > 0.0lf) || isinf(t) || isnan(t)) return 0.0lf;
   if (loop_mode == 2u) {  // LoopMode::kLoop
     double w = t - floor(t * c.inv_duration) * c.duration;
     if (w < 0.0lf) w += c.duration;
-    return w >= c.duration ? 0.0lf : w;
+    if (w >= 0.0lf && w < c.duration) return w;
+    w = t - floor(t / c.duration) * c.duration;  // The CPU's exact remainder, nearly.
+    return w >= 0.0lf && w < c.duration ? w : 0.0lf;
   }
   return clamp(t, 0.0lf, c.duration);
 }

@@ -1,0 +1,78 @@
+// SkinnedInstancing — SPDX-License-Identifier: MIT (see LICENSE)
+// Buffer and texture storage with named errors.
+#include "gl/resources/gl_allocation.h"
+
+#include <limits>
+
+#include "core/str_cat.h"
+#include "si/gl/gl_context.h"
+
+namespace si::detail {
+
+namespace {
+
+void drainErrors() {
+  for (int i = 0; i < 16 && glGetError() != GL_NO_ERROR; ++i) {
+  }
+}
+
+// The first error after an allocation, as a status naming it.
+Status allocationStatus(const char* what, const std::string& size) {
+  const GLenum e = glGetError();
+  drainErrors();
+  if (e == GL_NO_ERROR) return Status::ok();
+  if (e == GL_OUT_OF_MEMORY)
+    return {StatusCode::kLimitExceeded,
+            strCat(what, ": the GL driver is out of memory for ", size, " (GL_OUT_OF_MEMORY)")};
+  return {StatusCode::kBackend, strCat(what, ": ", glErrorName(e), " allocating ", size)};
+}
+
+// Replaces `*buffer` by a new buffer whose storage `allocate` makes, with the errors named.
+template <typename Allocate>
+Status makeBuffer(GLuint* buffer, uint64_t bytes, const char* what, Allocate allocate) {
+  if (*buffer != kNoObject) glDeleteBuffers(1, buffer);
+  *buffer = kNoObject;
+  if (bytes > uint64_t(std::numeric_limits<GLsizeiptr>::max()))
+    return {StatusCode::kLimitExceeded, strCat(what, ": ", bytes, " bytes do not fit a GL size")};
+  drainErrors();
+  glCreateBuffers(1, buffer);
+  allocate(*buffer, GLsizeiptr(bytes));
+  Status s = allocationStatus(what, strCat(bytes, " bytes"));
+  if (!s.isOk()) {
+    glDeleteBuffers(1, buffer);
+    *buffer = kNoObject;
+  }
+  return s;
+}
+
+}  // namespace
+
+Status createBuffer(GLuint* buffer, uint64_t bytes, const void* data, GLbitfield flags,
+                    const char* what) {
+  return makeBuffer(buffer, bytes, what, [&](GLuint b, GLsizeiptr size) {
+    glNamedBufferStorage(b, size, data, flags);
+  });
+}
+
+Status createMutableBuffer(GLuint* buffer, uint64_t bytes, GLenum usage, const char* what) {
+  return makeBuffer(buffer, bytes, what, [&](GLuint b, GLsizeiptr size) {
+    glNamedBufferData(b, size, nullptr, usage);
+  });
+}
+
+Status createTexture2D(GLuint* texture, GLsizei levels, GLenum internal_format, GLsizei width,
+                       GLsizei height, const char* what) {
+  if (*texture != kNoObject) glDeleteTextures(1, texture);
+  *texture = kNoObject;
+  drainErrors();
+  glCreateTextures(GL_TEXTURE_2D, 1, texture);
+  glTextureStorage2D(*texture, levels, internal_format, width, height);
+  Status s = allocationStatus(what, strCat(width, " x ", height, " texels"));
+  if (!s.isOk()) {
+    glDeleteTextures(1, texture);
+    *texture = kNoObject;
+  }
+  return s;
+}
+
+}  // namespace si::detail

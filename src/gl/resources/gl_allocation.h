@@ -1,0 +1,32 @@
+// SkinnedInstancing — SPDX-License-Identifier: MIT (see LICENSE)
+#pragma once
+// Creating GL storage with a named error instead of a GL error later: every buffer and texture
+// of the back-end is made here. Errors pending from before (the application's) are drained
+// first so they are not blamed on the allocation.
+
+#include <glad/gl.h>
+
+#include <cstdint>
+
+#include "gl/programs/program_set.h"
+#include "si/core/status.h"
+
+namespace si::detail {
+
+/// Replaces `*buffer` (deleting the old one) by a buffer of `bytes` bytes of immutable storage
+/// with `data` (may be null) and `flags`. Fails, leaving `*buffer` kNoObject, with
+/// kLimitExceeded naming `what` and the size when the driver reports GL_OUT_OF_MEMORY, and
+/// kBackend naming the GL error otherwise.
+Status createBuffer(GLuint* buffer, uint64_t bytes, const void* data, GLbitfield flags,
+                    const char* what);
+
+/// The same with mutable storage (glNamedBufferData with `usage`), for a stream the driver may
+/// orphan on each rewrite.
+Status createMutableBuffer(GLuint* buffer, uint64_t bytes, GLenum usage, const char* what);
+
+/// Replaces `*texture` by a 2D texture with `levels` levels of `internal_format` storage,
+/// `width` x `height`; fails as createBuffer() does (the size named in texels).
+Status createTexture2D(GLuint* texture, GLsizei levels, GLenum internal_format, GLsizei width,
+                       GLsizei height, const char* what);
+
+}  // namespace si::detail

@@ -1,0 +1,95 @@
+// SkinnedInstancing — SPDX-License-Identifier: MIT (see LICENSE)
+// GL faults become named errors at the call that meets them, never a GL error later: uploads
+// past the context's limits, allocations the driver refuses, a crowd whose GPU state exceeds
+// the storage-block limit, a compute ring past it, and no current context.
+#include <glad/gl.h>
+
+#include "gl/resources/gl_allocation.h"
+#include "render/render_fixture.h"
+
+namespace si {
+namespace {
+
+using namespace test;
+
+TEST_P(RenderTest, UploadsPastTheContextsLimitsAreNamedErrors) {
+  // A palette taller than GL_MAX_TEXTURE_SIZE, as if baked for a larger GPU: refused by name.
+  GlInfo small = info_;
+  small.max_texture_size = palette().layout.height - 1;
+  Renderer limited;
+  RendererDesc rd;
+  rd.skinning_path = SkinningPath::kVertexShader;
+  ASSERT_TRUE(limited.init(small, rd).isOk());
+  const Status s = limited.uploadPalette(palette());
+  EXPECT_EQ(s.code(), StatusCode::kLimitExceeded);
+  EXPECT_NE(s.message().find("GL_MAX_TEXTURE_SIZE"), std::string::npos) << s.message();
+  EXPECT_EQ(glGetError(), GLenum(GL_NO_ERROR));
+}
+
+TEST_P(RenderTest, AllocationsTheDriverRefusesAreNamedErrors) {
+  GLuint buffer = 0, texture = 0;
+  // 2^50 bytes: no driver gives that.
+  Status s = detail::createBuffer(&buffer, uint64_t(1) << 50, nullptr, 0, "a test buffer");
+  EXPECT_FALSE(s.isOk());
+  EXPECT_TRUE(s.code() == StatusCode::kLimitExceeded || s.code() == StatusCode::kBackend);
+  EXPECT_NE(s.message().find("a test buffer"), std::string::npos) << s.message();
+  EXPECT_EQ(buffer, 0u);
+  EXPECT_EQ(glGetError(), GLenum(GL_NO_ERROR)) << "an error was left for a later call";
+  // A texture past GL_MAX_TEXTURE_SIZE (GL_INVALID_VALUE).
+  const GLsizei side = GLsizei(info_.max_texture_size) * 2;
+  s = detail::createTexture2D(&texture, 1, GL_RGBA32F, side, side, "a test texture");
+  EXPECT_EQ(s.code(), StatusCode::kBackend);
+  EXPECT_NE(s.message().find("GL_INVALID_VALUE"), std::string::npos) << s.message();
+  EXPECT_EQ(texture, 0u);
+  EXPECT_EQ(glGetError(), GLenum(GL_NO_ERROR));
+  // The helpers succeed for sane sizes, and a pending error of the application's is not
+  // blamed on them.
+  glBindBuffer(GL_ARRAY_BUFFER, 0xFFFFFF);  // GL_INVALID_OPERATION: not a buffer name.
+  s = detail::createBuffer(&buffer, 4096, nullptr, 0, "a small buffer");
+  EXPECT_TRUE(s.isOk()) << s.toString();
+  EXPECT_NE(buffer, 0u);
+  glDeleteBuffers(1, &buffer);
+}
+
+TEST_P(RenderTest, StoragePastTheBlockLimitIsRefusedByName) {
+  // The compute ring must fit one storage block.
+  RendererDesc rd;
+  rd.skinning_path = SkinningPath::kVertexShader;
+  rd.compute_ring_bytes = info_.max_shader_storage_block_size_bytes + 16;
+  Renderer r;
+  Status s = r.init(info_, rd);
+  EXPECT_EQ(s.code(), StatusCode::kLimitExceeded);
+  EXPECT_NE(s.message().find("GL_MAX_SHADER_STORAGE_BLOCK_SIZE"), std::string::npos);
+  // So must the GPU-driven crowd state (144 bytes an instance): a context that allows 100.
+  GlInfo small = info_;
+  small.max_shader_storage_block_size_bytes = 144 * 100;
+  rd.compute_ring_bytes = 4096;
+  ASSERT_TRUE(r.init(small, rd).isOk());
+  ASSERT_TRUE(r.uploadPalette(palette()).isOk());
+  ASSERT_TRUE(r.uploadCharacter(character(), palette()).isOk());
+  CrowdManager crowd;
+  makeCrowd(&crowd);
+  std::vector<glm::dvec3> positions(100, glm::dvec3(0.0, 0.0, -5.0));
+  RandomCrowdDesc rc;
+  rc.positions = positions;
+  ASSERT_TRUE(crowd.addRandom(rc, nullptr).isOk());
+  ASSERT_TRUE(crowd.advanceClock(0.0).isOk());
+  DrawStats stats;
+  EXPECT_TRUE(r.drawCrowdGpuCulled(crowd, closeCamera(), &stats).isOk());
+  ASSERT_TRUE(crowd.addRandom(rc, nullptr).isOk());  // 200: past the limit.
+  s = r.drawCrowdGpuCulled(crowd, closeCamera(), &stats);
+  EXPECT_EQ(s.code(), StatusCode::kLimitExceeded);
+  EXPECT_NE(s.message().find("200 instances need 28800 bytes"), std::string::npos) << s.message();
+  EXPECT_EQ(glGetError(), GLenum(GL_NO_ERROR));
+}
+
+TEST_P(RenderTest, NoCurrentContextIsANamedError) {
+  context_.reset();  // Destroys the context: none is current now.
+  Renderer r;
+  const Status s = r.init(info_, {});
+  EXPECT_EQ(s.code(), StatusCode::kBackend);
+  EXPECT_NE(s.message().find("no GL context is current"), std::string::npos) << s.message();
+}
+
+}  // namespace
+}  // namespace si
