@@ -8,6 +8,8 @@
 #include <cmath>
 #include <functional>
 
+#include "si/core/lod_error.h"
+
 namespace si {
 namespace {
 
@@ -467,7 +469,8 @@ Status makeDefaultCharacter(const DefaultCharacterDesc& in_desc, Character* out)
   c.images.emplace_back();
   makeTexture(&c.images.back());
 
-  Status s = c.validate();
+  Status s = measureLodErrors(&c.mesh, true);  // Each LOD's distance from LOD 0, bind pose.
+  if (s.isOk()) s = c.validate();
   if (!s.isOk()) return s;  // Guards the generator itself; covered by tests.
   *out = std::move(c);
   return Status::ok();

@@ -93,6 +93,14 @@ Status SkinnedMesh::validate(size_t joint_count) const {
                        ") must be non-empty, triangle aligned and inside the ", indices.size(),
                        " indices")};
     }
+    if (!sm.lod_error_units.empty() && sm.lod_error_units.size() != sm.lods.size())
+      return {StatusCode::kCountMismatch,
+              strCat("mesh: sub-mesh ", s, " '", sm.name, "' has ", sm.lod_error_units.size(),
+                     " LOD errors for ", sm.lods.size(), " LODs")};
+    for (size_t l = 0; l < sm.lod_error_units.size(); ++l)
+      if (!std::isfinite(sm.lod_error_units[l]) || sm.lod_error_units[l] < 0.0f)
+        return {StatusCode::kOutOfRange, strCat("mesh: sub-mesh ", s, " '", sm.name, "' LOD ", l,
+                                                " error must be finite and >= 0")};
   }
   return Status::ok();
 }

@@ -52,8 +52,7 @@ Status convertSkeleton(const tinygltf::Model& m, const GltfImportDesc& desc,
                        GltfImportReport* report, Character* c, SkinBinding* out);
 
 // ---- gltf_mesh.cpp: triangle primitives of nodes skinned by the skin, sub-meshes and LODs.
-Status convertMeshes(const tinygltf::Model& m, const GltfImportDesc& desc,
-                     const SkinBinding& skin, GltfImportReport* report, Character* c);
+Status convertMeshes(const tinygltf::Model& m, const SkinBinding& skin, GltfImportReport* report, Character* c);
 
 // ---- gltf_material.cpp: materials (index 0 a default white) and base colour images.
 void convertMaterials(const tinygltf::Model& m, GltfImportReport* report, Character* c);

@@ -3,10 +3,13 @@
 // skeleton, meshes, materials and clips (one file each, gltf_convert.h), validated as a whole.
 #include "si/gltf/gltf_import.h"
 
+#include <algorithm>
 #include <cstring>
 #include <fstream>
 
 #include "gltf/gltf_convert.h"
+#include "si/bake/lod_chain.h"
+#include "si/core/lod_error.h"
 
 namespace si {
 using detail::corrupt;
@@ -19,7 +22,7 @@ Status convert(const tinygltf::Model& m, const GltfImportDesc& desc, Character* 
   Character c;
   detail::SkinBinding skin;
   Status s = detail::convertSkeleton(m, desc, report, &c, &skin);
-  if (s.isOk()) s = detail::convertMeshes(m, desc, skin, report, &c);
+  if (s.isOk()) s = detail::convertMeshes(m, skin, report, &c);
   if (!s.isOk()) return s;
   detail::convertMaterials(m, report, &c);
   s = detail::convertClips(m, desc, skin, report, &c);
@@ -27,6 +30,20 @@ Status convert(const tinygltf::Model& m, const GltfImportDesc& desc, Character* 
   WeightNormalizationReport wr;
   s = normalizeWeights(c.mesh, &wr);
   if (!s.isOk()) return corrupt(s.message());
+  // LODs: generated when asked for and the file has none, then every level's error measured.
+  const bool has_lods = std::any_of(c.mesh.sub_meshes.begin(), c.mesh.sub_meshes.end(),
+                                    [](const SubMesh& sm) { return sm.lods.size() > 1; });
+  if (!has_lods && desc.generate_lods > 0) {
+    LodChainDesc chain;
+    chain.level_count = std::min<uint32_t>(desc.generate_lods + 1, 8);
+    chain.triangle_ratio = desc.lod_index_ratio > 0.0f ? desc.lod_index_ratio : 0.25f;
+    LodChainReport chain_report;
+    s = buildLodChain(&c.mesh, chain, &chain_report);
+    if (!s.isOk()) return s;
+    for (const LodLevelReport& l : chain_report.levels) report->generated_lods += l.generated;
+  }
+  s = measureLodErrors(&c.mesh, false);
+  if (!s.isOk()) return s;
   c.name = m.scenes.empty() || m.defaultScene < 0 || size_t(m.defaultScene) >= m.scenes.size()
                ? "gltf" : m.scenes[size_t(m.defaultScene)].name;
   s = c.validate();

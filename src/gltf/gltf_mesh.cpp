@@ -1,9 +1,8 @@
 // SkinnedInstancing — SPDX-License-Identifier: MIT (see LICENSE)
 // Meshes (glTF 2.0 specification, "Meshes"): every triangle primitive of every node skinned by
 // the skin, with up to 8 influences reduced to 4; sub-meshes grouped by name with "_LOD<n>"
-// levels, or LODs generated with meshoptimizer.
-#include <meshoptimizer.h>
-
+// levels (generated LODs and every LOD's error: gltf_import.cpp, after the weights are
+// normalized).
 #include <algorithm>
 #include <cmath>
 #include <map>
@@ -35,8 +34,7 @@ struct Primitive {
 
 }  // namespace
 
-Status convertMeshes(const tinygltf::Model& m, const GltfImportDesc& desc,
-                     const SkinBinding& binding, GltfImportReport* report, Character* c) {
+Status convertMeshes(const tinygltf::Model& m, const SkinBinding& binding, GltfImportReport* report, Character* c) {
   std::vector<std::string>& warnings = report->warnings;
   const int skin_index = binding.skin_index;
   const tinygltf::Skin& skin = *binding.skin;
@@ -228,31 +226,6 @@ Status convertMeshes(const tinygltf::Model& m, const GltfImportDesc& desc,
       sm.lods.push_back(r);
     }
     c->mesh.sub_meshes.push_back(sm);
-  }
-  // Generated LODs (meshoptimizer simplification of the index buffer; skin attributes are
-  // untouched since vertices are kept).
-  const bool has_lods = std::any_of(c->mesh.sub_meshes.begin(), c->mesh.sub_meshes.end(),
-                                    [](const SubMesh& sm) { return sm.lods.size() > 1; });
-  if (!has_lods && desc.generate_lods > 0) {
-    const float ratio = desc.lod_index_ratio > 0.0f ? desc.lod_index_ratio : 0.25f;
-    for (SubMesh& sm : c->mesh.sub_meshes) {
-      for (uint32_t l = 0; l < desc.generate_lods; ++l) {
-        const IndexRange prev = sm.lods.back();
-        std::vector<uint32_t> src(c->mesh.indices.begin() + prev.first_index,
-                                  c->mesh.indices.begin() + prev.first_index + prev.index_count);
-        std::vector<uint32_t> dst(src.size());
-        const size_t target = std::max<size_t>(3, size_t(double(src.size()) * ratio) / 3 * 3);
-        float error = 0.0f;
-        const size_t n = meshopt_simplify(dst.data(), src.data(), src.size(),
-                                          &c->mesh.positions[0].x, c->mesh.positions.size(),
-                                          sizeof(glm::vec3), target, 0.05f, 0, &error);
-        if (n == 0 || n >= src.size()) break;  // Cannot simplify further.
-        IndexRange r{uint32_t(c->mesh.indices.size()), uint32_t(n)};
-        c->mesh.indices.insert(c->mesh.indices.end(), dst.begin(), dst.begin() + std::ptrdiff_t(n));
-        sm.lods.push_back(r);
-        ++report->generated_lods;
-      }
-    }
   }
   return Status::ok();
 }

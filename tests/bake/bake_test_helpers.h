@@ -44,7 +44,7 @@ inline Character chainCharacter(size_t joint_count) {
       const uint32_t a = r * 4 + k, b = r * 4 + (k + 1) % 4;
       m.indices.insert(m.indices.end(), {a, b, a + 4, b, b + 4, a + 4});
     }
-  m.sub_meshes.push_back(SubMesh{"body", {IndexRange{0, uint32_t(m.indices.size())}}, 0});
+  m.sub_meshes.push_back(SubMesh{"body", {IndexRange{0, uint32_t(m.indices.size())}}, 0, {}});
   return c;
 }
 

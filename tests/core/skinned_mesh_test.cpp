@@ -15,7 +15,7 @@ SkinnedMesh triangle() {
   m.joints = {{0, 0, 0, 0}, {1, 0, 0, 0}, {0, 1, 0, 0}};
   m.weights = {{1, 0, 0, 0}, {1, 0, 0, 0}, {0.5f, 0.5f, 0, 0}};
   m.indices = {0, 1, 2};
-  m.sub_meshes = {SubMesh{"body", {IndexRange{0, 3}}, 0}};
+  m.sub_meshes = {SubMesh{"body", {IndexRange{0, 3}}, 0, {}}};
   return m;
 }
 

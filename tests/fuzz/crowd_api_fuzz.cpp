@@ -43,7 +43,7 @@ const si::BakedPalette& palette() {
       c.mesh.weights.push_back(glm::vec4(1, 0, 0, 0));
     }
     c.mesh.indices = {0, 1, 2};
-    c.mesh.sub_meshes.push_back(si::SubMesh{"body", {si::IndexRange{0, 3}}, 0});
+    c.mesh.sub_meshes.push_back(si::SubMesh{"body", {si::IndexRange{0, 3}}, 0, {}});
     const auto clip = [&](const char* name, float duration, si::LoopMode loop) {
       si::Clip k;
       k.name = name;

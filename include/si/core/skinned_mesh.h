@@ -34,6 +34,11 @@ struct SubMesh {
   std::string name;
   std::vector<IndexRange> lods;
   uint32_t material = 0;  ///< Index into the owning Character's materials.
+  /// Geometric error of each LOD in model units (bind pose): how far its surface may lie from
+  /// LOD 0's. One entry per LOD (0 for LOD 0), or empty when unknown. Filled by the LOD chain
+  /// builder (si::buildLodChain: the simplifier's own error) or measured (si::measureLodErrors).
+  /// Screen-space-error LOD selection (si::CrowdDesc) projects it to pixels.
+  std::vector<float> lod_error_units;
 };
 
 /// Vertices shared by all sub-meshes and LODs, plus the index ranges that select them.
@@ -68,7 +73,9 @@ struct SkinnedMesh {
   /// - indices: count a multiple of 3 (kInvalidArgument), each below the vertex count
   ///   (kOutOfRange);
   /// - 1 to kMaxSubMeshes sub-meshes (kLimitExceeded), each with at least one LOD whose range is
-  ///   non-empty, triangle aligned and inside `indices` (kOutOfRange).
+  ///   non-empty, triangle aligned and inside `indices` (kOutOfRange);
+  /// - lod_error_units empty or one per LOD (kCountMismatch), each finite and >= 0
+  ///   (kOutOfRange).
   Status validate(size_t joint_count) const;
 };
 

@@ -34,8 +34,10 @@ struct GltfImportDesc {
   bool load_images = true;
   /// Loop mode given to every clip (glTF does not say); kDefault means kLoop.
   LoopMode loop_mode = LoopMode::kDefault;
-  /// When the asset has no LODs, generate this many coarser levels with meshoptimizer (each
-  /// with `lod_index_ratio` of the previous one's indices); 0 generates none.
+  /// When the asset has no LODs, generate this many coarser levels (si::buildLodChain, at most
+  /// 7: each with `lod_index_ratio` of the previous one's triangles, fewer when a sub-mesh
+  /// cannot be simplified further); 0 generates none. Every LOD, from the file or generated,
+  /// gets its geometric error (SubMesh::lod_error_units).
   uint32_t generate_lods = 0;
   float lod_index_ratio = 0.0f;  ///< 0 means 0.25.
 };

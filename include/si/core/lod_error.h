@@ -1,0 +1,50 @@
+// SkinnedInstancing — SPDX-License-Identifier: MIT (see LICENSE)
+#pragma once
+
+/// \file
+/// The geometric error of a mesh's LODs, in model units, and what a crowd selects LODs by:
+/// LOD k's error is how far its bind-pose surface may lie from LOD 0's, a two-sided Hausdorff
+/// distance estimated from both meshes' vertices and triangle centroids. Screen-space-error
+/// LOD selection (si::CrowdDesc::lod_mode) projects it to pixels.
+///
+/// Usage:
+/// \code
+///   si::Status s = si::measureLodErrors(&character.mesh, false);  // fills what is missing
+///   std::vector<float> per_level;
+///   s = si::lodErrorsByLevel(character.mesh, &per_level);          // -> CrowdDesc
+/// \endcode
+
+#include <vector>
+
+#include <glm/glm.hpp>
+
+#include "si/core/skinned_mesh.h"
+#include "si/core/span.h"
+#include "si/core/status.h"
+
+namespace si {
+
+/// The largest distance from any of `points` to the surface of `triangles` (a triangle list
+/// indexing `positions`), in the positions' units; 0 when there are no points. The triangles
+/// must be non-empty and index inside `positions` (kInvalidArgument otherwise).
+Status maxDistanceToSurface(Span<const glm::vec3> positions, Span<const uint32_t> triangles,
+                            Span<const glm::vec3> points, float* out);
+
+/// The two-sided surface distance between two triangle lists of the same vertex positions:
+/// the larger of (a's vertices and centroids to b's surface) and (b's to a's).
+Status surfaceDistance(Span<const glm::vec3> positions, Span<const uint32_t> a,
+                       Span<const uint32_t> b, float* out);
+
+/// Measures every sub-mesh's LOD errors against its LOD 0 in the bind pose (surfaceDistance)
+/// into SubMesh::lod_error_units: only for sub-meshes that have none, or for all when
+/// `overwrite`. Fails, leaving the mesh untouched, with the status of SkinnedMesh::validate()
+/// for a mesh that is not valid for its own joints.
+Status measureLodErrors(SkinnedMesh* mesh, bool overwrite);
+
+/// The error of each LOD level as an instance draws it: for level l, the largest error of any
+/// sub-mesh at l (a sub-mesh with fewer levels draws its last), then made non-decreasing, so a
+/// coarser level never claims less error than a finer one. maxLodCount() entries; level 0 is
+/// 0. kInvalidArgument when a sub-mesh has no errors (measure them first) or `out` is null.
+Status lodErrorsByLevel(const SkinnedMesh& mesh, std::vector<float>* out);
+
+}  // namespace si
