@@ -41,7 +41,39 @@ CrowdDesc resolveDefaults(const CrowdDesc& in) {
   if (d.max_distance_radii == 0.0f) d.max_distance_radii = 100.0f;
   if (d.lod_hysteresis_ratio == 0.0f) d.lod_hysteresis_ratio = 0.05f;
   if (d.animation_lod_rate_hz == 0.0f) d.animation_lod_rate_hz = 10.0f;
+  if (d.lod_mode == LodMode::kDefault) d.lod_mode = LodMode::kDistance;
+  if (d.pixel_error_budget == 0.0f) d.pixel_error_budget = 1.0f;
   return d;
+}
+
+const char* lodModeName(LodMode mode) {
+  switch (mode) {
+    case LodMode::kDefault: return "default";
+    case LodMode::kDistance: return "distance";
+    case LodMode::kScreenError: return "screen-error";
+  }
+  return "unknown";
+}
+
+// How LODs are chosen, as init() and setLodMode() accept it.
+static Status checkLodMode(LodMode mode, float budget, uint32_t lod_count,
+                           const std::vector<float>& errors) {
+  if (mode != LodMode::kDistance && mode != LodMode::kScreenError)
+    return {StatusCode::kInvalidArgument, "CrowdDesc.lod_mode is unknown"};
+  if (!std::isfinite(budget) || budget <= 0.0f)
+    return {StatusCode::kInvalidArgument, "CrowdDesc.pixel_error_budget must be finite and > 0"};
+  if (errors.empty() && mode == LodMode::kScreenError)
+    return {StatusCode::kInvalidArgument,
+            "CrowdDesc.lod_errors_units is needed for LodMode::kScreenError (si::lodErrorsByLevel)"};
+  if (!errors.empty() && errors.size() != lod_count)
+    return {StatusCode::kInvalidArgument,
+            strCat("CrowdDesc.lod_errors_units needs lod_count = ", lod_count, " values, has ",
+                   errors.size())};
+  for (size_t l = 0; l < errors.size(); ++l)
+    if (!std::isfinite(errors[l]) || errors[l] < 0.0f || (l > 0 && errors[l] < errors[l - 1]))
+      return {StatusCode::kInvalidArgument,
+              "CrowdDesc.lod_errors_units must be finite, >= 0 and non-decreasing"};
+  return Status::ok();
 }
 
 // The LOD and far lines of CrowdDesc, as init() and setLodDistances() accept them.
@@ -80,6 +112,8 @@ Status CrowdManager::init(const CrowdDesc& in_desc) {
             "CrowdDesc.max_distance_radii must be finite; lod_hysteresis_ratio in [0, 1)"};
   if (!std::isfinite(d.animation_lod_rate_hz) || d.animation_lod_rate_hz <= 0.0f)
     return {StatusCode::kInvalidArgument, "CrowdDesc.animation_lod_rate_hz must be > 0"};
+  s = checkLodMode(d.lod_mode, d.pixel_error_budget, d.lod_count, d.lod_errors_units);
+  if (!s.isOk()) return s;
   auto state = std::make_unique<State>();
   state->store.reset(d.palette);
   state->radius = d.character_radius;
@@ -269,6 +303,17 @@ const std::vector<InstanceHandle>& CrowdManager::visibleHandles() const {
   return (state_ ? *state_ : emptyState()).frame.visible_handles;
 }
 uint64_t CrowdManager::stateVersion() const { return state_ ? state_->store.version : 0; }
+
+Status CrowdManager::setLodMode(LodMode mode, float pixel_error_budget) {
+  if (!state_) return {StatusCode::kInvalidArgument, "CrowdManager: init() first"};
+  const float budget = pixel_error_budget == 0.0f ? 1.0f : pixel_error_budget;
+  Status s = checkLodMode(mode, budget, desc_.lod_count, desc_.lod_errors_units);
+  if (!s.isOk()) return s;
+  desc_.lod_mode = mode;
+  desc_.pixel_error_budget = budget;
+  state_->store.version = detail::nextStateVersion();
+  return Status::ok();
+}
 
 Status CrowdManager::setLodDistances(Span<const float> lines, float max_distance_radii) {
   if (!state_) return {StatusCode::kInvalidArgument, "CrowdManager: init() first"};

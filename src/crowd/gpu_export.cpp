@@ -3,6 +3,9 @@
 // the shaders read them (si/crowd/gpu_crowd_state.h).
 #include "crowd/crowd_state.h"
 
+#include <cmath>
+#include <limits>
+
 namespace si {
 
 CullParams CrowdManager::cullParams(const Camera& camera) const {
@@ -13,7 +16,23 @@ CullParams CrowdManager::cullParams(const Camera& camera) const {
   p.max_distance_radii = desc_.max_distance_radii;
   p.hysteresis = desc_.lod_hysteresis_ratio;
   p.lod_count = desc_.lod_count;
-  for (size_t l = 0; l < state_->lod_lines.size() && l < 7; ++l) p.lod_lines[l] = state_->lod_lines[l];
+  if (desc_.lod_mode == LodMode::kScreenError) {
+    // Projected error of LOD l + 1 at distance d: error x scale x K / d pixels, with K = half
+    // the viewport's height x projection[1][1] (1 / tan(fov_y / 2)). It is within the budget
+    // from d = error x scale x K / budget on: in radii (radius x scale), a line that does not
+    // depend on the instance's scale. The same selection arithmetic then runs on CPU and GPU.
+    // A camera without a usable projection or viewport keeps every instance at LOD 0.
+    const double k = 0.5 * double(camera.viewport_height_pixels) * double(camera.projection[1][1]);
+    for (uint32_t l = 0; l + 1 < desc_.lod_count && l < 7; ++l) {
+      const double line = double(desc_.lod_errors_units[l + 1]) * k /
+                          (double(desc_.pixel_error_budget) * double(state_->radius));
+      const double most = double(std::numeric_limits<float>::max());
+      p.lod_lines[l] = k > 0.0 && line >= 0.0 && line < most ? float(line) : float(most);
+    }
+  } else {
+    for (size_t l = 0; l < state_->lod_lines.size() && l < 7; ++l)
+      p.lod_lines[l] = state_->lod_lines[l];
+  }
   p.animation_lod_start = desc_.animation_lod_start == 0 ? detail::kMaxLods
                                                          : desc_.animation_lod_start;
   p.animation_step_seconds = 1.0 / double(desc_.animation_lod_rate_hz);

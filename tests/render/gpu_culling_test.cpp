@@ -5,6 +5,7 @@
 #include <random>
 
 #include "render/render_fixture.h"
+#include "si/core/lod_error.h"
 
 namespace si {
 namespace {
@@ -16,7 +17,9 @@ TEST_P(RenderTest, GpuCullingSelectsWhatTheCpuSelects) {
   makeRenderer(&r);
   std::mt19937 rng(20261121);
   std::uniform_real_distribution<double> u(0.0, 1.0);
-  for (int scene = 0; scene < 3; ++scene) {
+  // Scenes: the technique's distance lines; with animation LOD; with wide hysteresis; and
+  // screen-space-error LOD (the character's measured errors, a 1.5-pixel budget).
+  for (int scene = 0; scene < 4; ++scene) {
     SCOPED_TRACE(scene);
     CrowdDesc cd;
     cd.palette = &palette();
@@ -24,6 +27,11 @@ TEST_P(RenderTest, GpuCullingSelectsWhatTheCpuSelects) {
     cd.lod_count = 3;
     cd.animation_lod_start = scene == 1 ? 1 : 0;
     cd.lod_hysteresis_ratio = scene == 2 ? 0.2f : 0.0f;
+    if (scene == 3) {
+      cd.lod_mode = LodMode::kScreenError;
+      cd.pixel_error_budget = 1.5f;
+      ASSERT_TRUE(lodErrorsByLevel(character().mesh, &cd.lod_errors_units).isOk());
+    }
     CrowdManager crowd;
     ASSERT_TRUE(crowd.init(cd).isOk());
     const uint32_t clips = uint32_t(palette().clips.size());
@@ -46,7 +54,7 @@ TEST_P(RenderTest, GpuCullingSelectsWhatTheCpuSelects) {
       }
       handles.push_back(h);
     }
-    uint32_t compared = 0;
+    uint32_t compared = 0, coarse = 0;
     for (int frame = 0; frame < 8; ++frame) {
       SCOPED_TRACE(frame);
       if (frame == 4) {  // Change state between frames: moves, new crossfades.
@@ -59,8 +67,9 @@ TEST_P(RenderTest, GpuCullingSelectsWhatTheCpuSelects) {
       }
       const glm::dvec3 eye(u(rng) * 200.0 - 100.0, 1.0 + u(rng) * 20.0, u(rng) * 200.0 - 100.0);
       const glm::dvec3 target(u(rng) * 100.0 - 50.0, 0.0, u(rng) * 100.0 - 50.0);
-      const Camera camera = Camera::lookAt(eye, target, glm::vec3(0, 1, 0),
-                                           float(0.6 + u(rng)), 1.0f, 0.1f, 1000.0f);
+      Camera camera = Camera::lookAt(eye, target, glm::vec3(0, 1, 0), float(0.6 + u(rng)), 1.0f,
+                                     0.1f, 1000.0f);
+      camera.viewport_height_pixels = float(200.0 + u(rng) * 2000.0);
       // The clock moves first; the GPU selects from the LODs of the previous frame, then the
       // CPU does the same at the same clock.
       ASSERT_TRUE(crowd.advanceClock(0.11).isOk());
@@ -81,11 +90,13 @@ TEST_P(RenderTest, GpuCullingSelectsWhatTheCpuSelects) {
       for (size_t k = 0; k < cpu.size(); ++k) mismatches += gpu[k] != cpu[k];
       EXPECT_EQ(mismatches, 0u);
       compared += uint32_t(cpu.size());
+      for (const glm::uvec2& v : cpu) coarse += v.y > 0;
       std::printf("[ gpu cull ] scene %d frame %d: %zu visible, %zu mismatches\n", scene, frame,
                   cpu.size(), mismatches);
       EXPECT_EQ(crowd.stats().visible, cpu.size());
     }
-    EXPECT_GT(compared, 500u);  // The scenes do show instances.
+    EXPECT_GT(compared, 500u);  // The scenes do show instances,
+    EXPECT_GT(coarse, 100u);    // at more than one LOD.
   }
 }
 

@@ -19,6 +19,9 @@ struct Camera {
   glm::dvec3 position = glm::dvec3(0.0);
   glm::mat4 view_rotation = glm::mat4(1.0f);
   glm::mat4 projection = glm::mat4(1.0f);
+  /// Height of the viewport in pixels: screen-space-error LOD (CrowdDesc::lod_mode) projects
+  /// errors to it. Set it to the framebuffer's height.
+  float viewport_height_pixels = 1080.0f;
 
   /// A camera at `eye` looking at `target` with `up`, a vertical field of view in radians,
   /// aspect ratio (width / height) and near/far planes (OpenGL clip space, z in [-w, w]), as

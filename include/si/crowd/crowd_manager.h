@@ -40,6 +40,16 @@
 
 namespace si {
 
+/// How an instance's LOD is chosen.
+enum class LodMode : uint8_t {
+  kDefault = 0,   ///< kDistance.
+  kDistance,      ///< The technique's lines: LOD l + 1 from lod_distances_radii[l] radii on.
+  kScreenError,   ///< The coarsest LOD whose geometric error (lod_errors_units), projected at
+                  ///< the instance's distance with the camera's vertical field of view and
+                  ///< viewport height, stays within pixel_error_budget pixels.
+};
+const char* lodModeName(LodMode mode);
+
 /// Crowd options. Zero fields take the defaults documented on each (resolveDefaults()).
 struct CrowdDesc {
   /// The baked palette the instances play; borrowed, must outlive the crowd. Required.
@@ -58,6 +68,14 @@ struct CrowdDesc {
   /// A LOD changes only once the distance is this fraction past the line (both directions),
   /// so characters at a boundary do not flicker; 0 means 0.05.
   float lod_hysteresis_ratio = 0.0f;
+  /// How LODs are chosen; kDefault means kDistance.
+  LodMode lod_mode = LodMode::kDefault;
+  /// Each LOD level's geometric error in model units (si::lodErrorsByLevel(), or the character's
+  /// SubMesh::lod_error_units): lod_count values, non-decreasing, level 0 first. Required for
+  /// kScreenError (may also be given for kDistance, to switch with setLodMode() later).
+  std::vector<float> lod_errors_units;
+  /// kScreenError: the largest projected error allowed, in pixels; 0 means 1.
+  float pixel_error_budget = 0.0f;
   /// Animation LOD: instances at this LOD or coarser step their animation at
   /// animation_lod_rate_hz instead of interpolating every frame; 0 means off.
   uint32_t animation_lod_start = 0;
@@ -119,7 +137,9 @@ class CrowdManager {
   /// Validates and adopts `desc`. Fails with kInvalidArgument naming the field: no palette, a
   /// palette that fails BakedPalette::validate() (its message included),
   /// sub_mesh_count outside 1..32, lod_count above 8, a negative or non-finite radius,
-  /// lod distances not increasing or of the wrong count, an animation LOD rate <= 0.
+  /// lod distances not increasing or of the wrong count, an animation LOD rate <= 0, an unknown
+  /// LOD mode, LOD errors of the wrong count, negative, not finite or decreasing (or missing
+  /// for kScreenError), a pixel budget not finite and > 0.
   Status init(const CrowdDesc& desc);
 
   /// Adds an instance. kInvalidArgument (naming the field) for a clip out of range, a scale
@@ -185,6 +205,12 @@ class CrowdManager {
   /// (inverse of its inverse bind matrix) for the joint's own frame (attachments, picking).
   /// kNotFound for a stale handle, kOutOfRange for a joint not in the palette.
   Status jointMatrix(InstanceHandle h, uint32_t joint, glm::dmat4* out) const;
+
+  /// Switches how LODs are chosen (and the pixel budget of kScreenError; 0 means 1) from the
+  /// next update() on; instances keep their LOD until hysteresis lets them move. Fails with
+  /// kInvalidArgument, changing nothing, for an unknown mode, a budget that is negative or not
+  /// finite, or kScreenError without lod_errors_units.
+  Status setLodMode(LodMode mode, float pixel_error_budget);
 
   /// Moves the LOD lines (lod_count - 1 increasing distances in radii) and the far line
   /// (`max_distance_radii`: 0 keeps the current one, negative means never) from the next
