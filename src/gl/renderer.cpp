@@ -107,6 +107,7 @@ void Renderer::shutdown() {
            &m.gpu_culled_path})
     p->release();
   m.ring.release();
+  m.preskin.release();
   m.character.release();
   m.palette.release();
   m.timer.release();
@@ -132,6 +133,7 @@ Status Renderer::uploadCharacter(const Character& character, const BakedPalette&
   if (!impl_) return {StatusCode::kInvalidArgument, "Renderer: init() first"};
   Impl& m = *impl_;
   Status s = m.character.upload(character, palette);
+  if (s.isOk()) s = m.preskin.build(m.character);
   if (!s.isOk()) return s;
   const detail::DrawResources r = m.resources();
   for (detail::DrawPath* p : std::initializer_list<detail::DrawPath*>{
@@ -247,14 +249,19 @@ Status Renderer::drawCpuSkinned(const CrowdManager& crowd, const Camera& camera,
 }
 
 Status Renderer::drawCrowdGpuCulled(const CrowdManager& crowd, const Camera& camera,
-                                    DrawStats* stats) {
+                                    DrawStats* stats, DrawMode mode) {
   if (!impl_ || !impl_->ready()) return notReady("drawCrowdGpuCulled");
   Impl& m = *impl_;
+  if (mode == DrawMode::kDepthOnly || mode == DrawMode::kRigid)
+    return {StatusCode::kInvalidArgument,
+            "drawCrowdGpuCulled: the GPU-driven path skins (kDefault, kSkinned, kComputeSkinned)"};
   const auto t0 = std::chrono::steady_clock::now();
   detail::PathFrame frame;
   frame.crowd = &crowd;
   frame.camera = camera;
   frame.light = light_direction_;
+  frame.preskin = mode == DrawMode::kComputeSkinned ||
+                  (mode == DrawMode::kDefault && m.path == SkinningPath::kCompute);
   DrawStats st;
   Status s = m.runPath(m.gpu_culled_path, frame, t0, stats != nullptr, &st);
   // Visible instances and triangles: the counters, read back after the timer anyway blocked.

@@ -18,6 +18,7 @@
 #include "gl/resources/character_buffers.h"
 #include "gl/resources/gpu_timer.h"
 #include "gl/resources/palette_texture.h"
+#include "gl/resources/preskin_lists.h"
 #include "gl/resources/record_ring.h"
 #include "si/gl/renderer.h"
 
@@ -31,6 +32,7 @@ struct Renderer::Impl {
   detail::ProgramSet programs;
   detail::PaletteTexture palette;
   detail::CharacterBuffers character;
+  detail::PreSkinLists preskin;
   detail::RecordRing ring;
   detail::GpuTimer timer;
   detail::VertexShaderPath vertex_path;
@@ -52,6 +54,7 @@ struct Renderer::Impl {
     r.programs = &programs;
     r.palette = &palette;
     r.character = &character;
+    r.preskin = &preskin;
     r.ring = &ring;
     r.block_size = block_size;
     r.capacity = capacity;

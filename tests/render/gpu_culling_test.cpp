@@ -197,6 +197,8 @@ TEST_P(RenderTest, GpuCulledDrawEqualsTheCpuPath) {
   const Diff diff = compare(gpu_image, cpu_image, nullptr);
   EXPECT_LE(diff.share, 0.001) << "max channel difference " << diff.max_channel;
   EXPECT_EQ(gpu_stats.draw_calls, 1u);  // One multi-draw.
+  EXPECT_EQ(gpu_stats.vertex_shader_instances, gpu_stats.instances);  // No pre-skinning.
+  EXPECT_EQ(gpu_stats.skinned_vertices, 0u);
   EXPECT_EQ(gpu_stats.gpu_visible, crowd.stats().visible);
   EXPECT_EQ(gpu_stats.triangles, cpu_stats.triangles);
   EXPECT_EQ(gpu_stats.instances, cpu_stats.instances);
@@ -229,6 +231,72 @@ TEST_P(RenderTest, GpuCulledDrawEqualsTheCpuPath) {
   od.lod_count = 3;
   ASSERT_TRUE(other.init(od).isOk());
   EXPECT_EQ(r.drawCrowdGpuCulled(other, lodCamera(), &gpu_stats).code(),
+            StatusCode::kInvalidArgument);
+}
+
+// The GPU-driven path end to end: GPU culling and LOD selection, an indirect compute dispatch
+// that pre-skins every bucket's vertices, and one indirect multi-draw of them. Its image equals
+// the CPU-selected compute path's; with a ring too small for the frame, the instances past it
+// are drawn with vertex-shader skinning and the image is still the same.
+TEST_P(RenderTest, GpuDrivenComputePathEqualsTheCpuComputePath) {
+  CrowdManager crowd;
+  makeCrowd(&crowd);
+  populateLodCrowd(&crowd);
+  addFadingCharacter(&crowd);
+  ASSERT_TRUE(crowd.advanceClock(0.3).isOk());
+  ASSERT_TRUE(crowd.update(0.0, lodCamera()).isOk());
+  std::vector<uint8_t> cpu_image;
+  DrawStats cpu_stats;
+  {
+    Renderer r;
+    RendererDesc rd;
+    rd.skinning_path = SkinningPath::kCompute;
+    makeRenderer(&r, 0, PaletteFormat::kMatrix3x4F32, &rd);
+    cpu_image = draw(r, crowd, lodCamera(), 0, false, &cpu_stats, Path::kCompute);
+  }
+  ASSERT_GT(cpu_stats.skinned_vertices, 0u);
+  // A full ring (the default) and one that holds about a third of the frame's vertices.
+  for (const uint64_t ring_bytes : {uint64_t(0), cpu_stats.skinned_vertices * 16 / 3}) {
+    SCOPED_TRACE(ring_bytes);
+    Renderer r;
+    RendererDesc rd;
+    rd.skinning_path = SkinningPath::kCompute;
+    rd.measure_gpu_time = true;  // Reads back the counts.
+    rd.gpu_driven_ring_bytes = ring_bytes;
+    makeRenderer(&r, 0, PaletteFormat::kMatrix3x4F32, &rd);
+    r.clear(glm::vec4(0.2f, 0.25f, 0.3f, 1.0f));
+    DrawStats gpu_stats;
+    const Status s = r.drawCrowdGpuCulled(crowd, lodCamera(), &gpu_stats);  // kDefault: kCompute.
+    ASSERT_TRUE(s.isOk()) << s.toString();
+    std::vector<uint8_t> gpu_image;
+    ASSERT_TRUE(context_->readPixels(&gpu_image).isOk());
+    const Diff diff = compare(gpu_image, cpu_image, nullptr);
+    EXPECT_LE(diff.share, 0.001) << "max channel difference " << diff.max_channel;
+    EXPECT_EQ(gpu_stats.gpu_visible, crowd.stats().visible);
+    EXPECT_EQ(gpu_stats.triangles, cpu_stats.triangles);
+    EXPECT_EQ(gpu_stats.instances, cpu_stats.instances);
+    if (ring_bytes == 0) {
+      EXPECT_EQ(gpu_stats.skinned_vertices, cpu_stats.skinned_vertices);
+      EXPECT_EQ(gpu_stats.vertex_shader_instances, 0u);
+    } else {
+      EXPECT_LE(gpu_stats.skinned_vertices * 16, ring_bytes);
+      EXPECT_GT(gpu_stats.skinned_vertices, 0u);
+      EXPECT_GT(gpu_stats.vertex_shader_instances, 0u);
+      EXPECT_LT(gpu_stats.vertex_shader_instances, gpu_stats.instances);
+    }
+    // Forcing vertex-shader skinning on the same renderer draws the same image.
+    r.clear(glm::vec4(0.2f, 0.25f, 0.3f, 1.0f));
+    ASSERT_TRUE(r.drawCrowdGpuCulled(crowd, lodCamera(), &gpu_stats, DrawMode::kSkinned).isOk());
+    std::vector<uint8_t> vs_image;
+    ASSERT_TRUE(context_->readPixels(&vs_image).isOk());
+    EXPECT_LE(compare(vs_image, cpu_image, nullptr).share, 0.001);
+    EXPECT_EQ(gpu_stats.skinned_vertices, 0u);
+    EXPECT_EQ(gpu_stats.vertex_shader_instances, gpu_stats.instances);
+  }
+  // kDepthOnly and kRigid are refused.
+  Renderer r;
+  makeRenderer(&r);
+  EXPECT_EQ(r.drawCrowdGpuCulled(crowd, lodCamera(), nullptr, DrawMode::kRigid).code(),
             StatusCode::kInvalidArgument);
 }
 

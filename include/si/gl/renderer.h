@@ -74,6 +74,10 @@ struct RendererDesc {
   /// The visible set is skinned and drawn in chunks that fit; it never grows past this, except
   /// to hold at least one instance of the largest sub-mesh LOD.
   uint64_t compute_ring_bytes = 0;
+  /// Bytes of the GPU-driven path's pre-skinned vertex ring (16 bytes a vertex); 0 means
+  /// 256 MiB or GL_MAX_SHADER_STORAGE_BLOCK_SIZE if smaller. Instances that do not fit in a
+  /// frame are drawn with vertex-shader skinning instead (DrawStats::vertex_shader_instances).
+  uint64_t gpu_driven_ring_bytes = 0;
 };
 
 /// What one draw call group did.
@@ -87,7 +91,9 @@ struct DrawStats {
   uint32_t compute_chunks = 0;      ///< times the vertex ring was filled and drawn,
   uint64_t skinned_vertices = 0;    ///< vertices pre-skinned,
   uint64_t ring_bytes_used = 0;     ///< and the most ring bytes one chunk used.
-  uint32_t gpu_visible = 0;         ///< drawCrowdGpuCulled: instances selected (read back).
+  uint32_t gpu_visible = 0;         ///< drawCrowdGpuCulled: instances selected (read back),
+  uint64_t vertex_shader_instances = 0;  ///< and instance-draws skinned in the vertex shader
+                                         ///< (all without pre-skinning; past the ring with).
 };
 
 /// Which program draws: kDefault skins by the renderer's skinning path; kSkinned forces the
@@ -159,13 +165,19 @@ class Renderer {
   /// again only when crowd.stateVersion() changes); a compute pass culls every instance against
   /// the frustum and the far line, picks its LOD with hysteresis (the same arithmetic as
   /// CrowdManager::update(), so the same instances and LODs), computes its record at the
-  /// crowd's clock, and buckets it per (LOD, sub-mesh); one glMultiDrawElementsIndirect draws
-  /// every bucket with vertex-shader skinning. The CPU cost per frame does not grow with the
-  /// crowd: advance the clock with CrowdManager::advanceClock() instead of update(). The GPU
-  /// keeps each instance's LOD between frames (re-seeded from the crowd's at each upload).
-  /// With RendererDesc::measure_gpu_time, `stats` also gets the visible instances and triangles
-  /// (read back after the timer); otherwise only draw_calls (1) and the CPU time.
-  Status drawCrowdGpuCulled(const CrowdManager& crowd, const Camera& camera, DrawStats* stats);
+  /// crowd's clock, and buckets it per (LOD, sub-mesh). Then, with pre-skinning (`mode`
+  /// kComputeSkinned, or kDefault when the renderer's path is kCompute), an indirect compute
+  /// dispatch skins every bucket's vertices into a ring and one glMultiDrawElementsIndirect
+  /// draws them by vertex pulling (instances past the ring: vertex-shader skinning, a second
+  /// multi-draw); without (kSkinned, or kDefault on the vertex-shader path), one multi-draw
+  /// with vertex-shader skinning. The CPU cost per frame does not grow with the crowd: advance
+  /// the clock with CrowdManager::advanceClock() instead of update(). The GPU keeps each
+  /// instance's LOD between frames (re-seeded from the crowd's at each upload). With
+  /// RendererDesc::measure_gpu_time, `stats` also gets the visible instances, triangles and
+  /// pre-skinned vertices (read back after the timer); otherwise only draw_calls and the CPU
+  /// time. kInvalidArgument for kDepthOnly or kRigid.
+  Status drawCrowdGpuCulled(const CrowdManager& crowd, const Camera& camera, DrawStats* stats,
+                            DrawMode mode = DrawMode::kDefault);
   /// The last drawCrowdGpuCulled() frame's selection, read back: (dense index, LOD) per visible
   /// instance in no particular order (dense index i is exportGpuState's instance i).
   Status readGpuSelection(std::vector<glm::uvec2>* selection);

@@ -9,54 +9,17 @@
 namespace si::detail {
 
 Status ComputePath::prepare(const DrawResources& r) {
-  const SkinnedMesh& mesh = r.character->mesh;
-  // The vertices each (sub-mesh, LOD) uses, compacted, and its triangles re-indexed to them,
-  // so the compute pass skins exactly what is drawn.
-  std::vector<uint32_t> lod_vertices, local_indices, local(mesh.vertexCount(), UINT32_MAX);
-  lods_.assign(mesh.sub_meshes.size(), {});
-  max_lod_vertices_ = 0;
-  for (size_t sm = 0; sm < mesh.sub_meshes.size(); ++sm)
-    for (const IndexRange& range : mesh.sub_meshes[sm].lods) {
-      Lod l;
-      l.first_index = uint32_t(local_indices.size());
-      l.index_count = range.index_count;
-      l.vertex_offset = uint32_t(lod_vertices.size());
-      std::vector<uint32_t> used(mesh.indices.begin() + range.first_index,
-                                 mesh.indices.begin() + range.first_index + range.index_count);
-      std::sort(used.begin(), used.end());
-      used.erase(std::unique(used.begin(), used.end()), used.end());
-      for (size_t k = 0; k < used.size(); ++k) local[used[k]] = uint32_t(k);
-      lod_vertices.insert(lod_vertices.end(), used.begin(), used.end());
-      for (uint32_t i = range.first_index; i < range.first_index + range.index_count; ++i)
-        local_indices.push_back(local[mesh.indices[i]]);
-      l.vertex_count = uint32_t(used.size());
-      max_lod_vertices_ = std::max(max_lod_vertices_, l.vertex_count);
-      lods_[sm].push_back(l);
-    }
   if (vao_ != kNoObject) glDeleteVertexArrays(1, &vao_);
-  vao_ = kNoObject;
-  lod_vertices.push_back(0);  // Never empty (a zero-sized buffer is an error).
-  local_indices.push_back(0);
-  Status s = createBuffer(&lod_vertex_list_, lod_vertices.size() * 4, lod_vertices.data(), 0,
-                          "compute pre-skinning: the LOD vertex lists");
-  if (s.isOk())
-    s = createBuffer(&index_buffer_, local_indices.size() * 4, local_indices.data(), 0,
-                     "compute pre-skinning: the re-indexed triangles");
-  if (!s.isOk()) return s;
   glCreateVertexArrays(1, &vao_);
-  glVertexArrayElementBuffer(vao_, index_buffer_);
-  source_words_ = r.character->stride_bytes / 4;
-  if (ring_ != kNoObject && ring_vertices_ < max_lod_vertices_) {  // Regrow for a larger character.
-    glDeleteBuffers(1, &ring_);
-    ring_ = kNoObject;
-  }
+  glVertexArrayElementBuffer(vao_, r.preskin->index_buffer);
   return Status::ok();
 }
 
-Status ComputePath::ensureRing(const RendererDesc& desc) {
-  if (ring_ != kNoObject) return Status::ok();
-  const uint64_t bytes = desc.compute_ring_bytes == 0 ? uint64_t(32) << 20 : desc.compute_ring_bytes;
-  ring_vertices_ = std::max<uint64_t>(bytes / 16, max_lod_vertices_);
+Status ComputePath::ensureRing(const DrawResources& r) {
+  if (ring_ != kNoObject && ring_vertices_ >= r.preskin->max_lod_vertices) return Status::ok();
+  const uint64_t bytes =
+      r.desc->compute_ring_bytes == 0 ? uint64_t(32) << 20 : r.desc->compute_ring_bytes;
+  ring_vertices_ = std::max<uint64_t>(bytes / 16, r.preskin->max_lod_vertices);
   return createBuffer(&ring_, ring_vertices_ * 16, nullptr, 0,
                       "compute pre-skinning: the pre-skinned vertex ring");
 }
@@ -65,8 +28,9 @@ Status ComputePath::ensureRing(const RendererDesc& desc) {
 // is full (or at the end) the pending draws read them by vertex id. Barriers order the writes
 // before the draws and the draws before the ring is overwritten.
 Status ComputePath::draw(const DrawResources& r, const PathFrame& f, DrawStats* st) {
-  Status s = ensureRing(*r.desc);
+  Status s = ensureRing(r);
   if (!s.isOk()) return s;
+  const PreSkinLists& lists = *r.preskin;
   const Program& skin = (*r.programs)[ProgramId::kComputeSkin];
   const Program& pulled = (*r.programs)[ProgramId::kPulled];
   const glm::mat4 vp = f.camera.viewProjection();
@@ -74,7 +38,7 @@ Status ComputePath::draw(const DrawResources& r, const PathFrame& f, DrawStats* 
   glBindTextureUnit(1, r.character->base_texture);
   glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 1, ring_);
   glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 2, r.character->vertex_buffer);
-  glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 3, lod_vertex_list_);
+  glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 3, lists.lod_vertex_list);
   glProgramUniform4uiv(skin.id, skin.palette_info, 1, &r.palette->shaderInfo()[0]);
   glProgramUniformMatrix4fv(pulled.id, pulled.view_projection, 1, GL_FALSE, &vp[0][0]);
   glProgramUniform4fv(pulled.id, pulled.base_factor, 1, &r.character->base_factor[0]);
@@ -92,7 +56,7 @@ Status ComputePath::draw(const DrawResources& r, const PathFrame& f, DrawStats* 
       r.ring->bindBatch(f.ring_base, p.batch);
       glProgramUniform4ui(pulled.id, 5, p.ring_first, p.lod.vertex_count, p.lod.vertex_offset,
                           p.first_instance);
-      glProgramUniform2ui(pulled.id, 6, p.instances, source_words_);
+      glProgramUniform2ui(pulled.id, 6, p.instances, lists.source_words);
       glDrawElementsInstanced(GL_TRIANGLES, GLsizei(p.lod.index_count), GL_UNSIGNED_INT,
                               reinterpret_cast<const void*>(uintptr_t(p.lod.first_index) * 4),
                               GLsizei(p.instances));
@@ -106,8 +70,8 @@ Status ComputePath::draw(const DrawResources& r, const PathFrame& f, DrawStats* 
     cursor = 0;
   };
   for (const DrawBatch& d : *f.batches) {
-    if (d.sub_mesh >= lods_.size()) continue;
-    const Lod& l = lod(d.sub_mesh, d.lod);
+    if (d.sub_mesh >= lists.lods.size()) continue;
+    const PreSkinLists::Lod& l = lists.lod(d.sub_mesh, d.lod);
     if (l.vertex_count == 0 || l.index_count == 0) continue;
     for (uint32_t first = 0; first < d.instance_count;) {
       const uint64_t fit = std::min(ring_vertices_ - cursor, dispatch_limit) / l.vertex_count;
@@ -123,7 +87,7 @@ Status ComputePath::draw(const DrawResources& r, const PathFrame& f, DrawStats* 
       }
       r.ring->bindBatch(f.ring_base, d);
       glProgramUniform4ui(skin.id, 5, uint32_t(cursor), l.vertex_count, l.vertex_offset, first);
-      glProgramUniform2ui(skin.id, 6, count, source_words_);
+      glProgramUniform2ui(skin.id, 6, count, lists.source_words);
       const uint64_t threads = uint64_t(count) * l.vertex_count;
       glDispatchCompute(GLuint((threads + 63) / 64), 1, 1);
       pending_.push_back({d, l, first, count, uint32_t(cursor)});
@@ -138,11 +102,10 @@ Status ComputePath::draw(const DrawResources& r, const PathFrame& f, DrawStats* 
 }
 
 void ComputePath::release() {
-  const GLuint buffers[] = {index_buffer_, lod_vertex_list_, ring_};
-  glDeleteBuffers(3, buffers);
+  if (ring_ != kNoObject) glDeleteBuffers(1, &ring_);
   if (vao_ != kNoObject) glDeleteVertexArrays(1, &vao_);
-  index_buffer_ = lod_vertex_list_ = ring_ = vao_ = kNoObject;
-  lods_.clear();
+  ring_ = vao_ = kNoObject;
+  ring_vertices_ = 0;
 }
 
 }  // namespace si::detail

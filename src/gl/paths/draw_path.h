@@ -12,6 +12,7 @@
 #include "gl/programs/program_set.h"
 #include "gl/resources/character_buffers.h"
 #include "gl/resources/palette_texture.h"
+#include "gl/resources/preskin_lists.h"
 #include "gl/resources/record_ring.h"
 #include "si/crowd/camera.h"
 #include "si/crowd/crowd_manager.h"
@@ -27,6 +28,7 @@ struct DrawResources {
   const ProgramSet* programs = nullptr;
   const PaletteTexture* palette = nullptr;
   const CharacterBuffers* character = nullptr;
+  const PreSkinLists* preskin = nullptr;  ///< The character's pre-skinning lists.
   RecordRing* ring = nullptr;
   uint32_t block_size = 0;  ///< Bytes of the instance uniform block.
   uint32_t capacity = 0;    ///< Records per block.
@@ -43,6 +45,8 @@ struct PathFrame {
   /// The batcher's draws and the ring region holding their records (the instanced paths).
   const std::vector<DrawBatch>* batches = nullptr;
   size_t ring_base = 0;
+  /// The GPU-driven path: pre-skin (compute) rather than skin in the vertex shader.
+  bool preskin = false;
 };
 
 class DrawPath {

@@ -1,5 +1,6 @@
 // SkinnedInstancing — SPDX-License-Identifier: MIT (see LICENSE)
-// GPU-driven culling and LOD: cull, commands and scatter passes, then one indirect multi-draw.
+// The GPU-driven path: cull, commands and scatter passes; pre-skinning and a vertex-pulling
+// multi-draw, and a vertex-shader multi-draw for what the ring does not hold.
 #include "gl/paths/gpu_culled_path.h"
 
 #include <algorithm>
@@ -11,9 +12,15 @@ namespace si::detail {
 
 namespace {
 
-constexpr GLintptr kBucketCountOffset = 16, kDispatchOffset = 16 + 1024 + 1024;
-constexpr GLsizeiptr kCountersSize = kDispatchOffset + 16;
+// SiCounters (shaders/cull_counters.glsl), in 32-bit words.
 constexpr uint32_t kMaxBuckets = 256;
+constexpr uint32_t kBucketCountWord = 4, kDispatchWord = 4 + 2 * kMaxBuckets;
+constexpr uint32_t kSkinDispatchWord = kDispatchWord + 4;
+constexpr uint32_t kThreadBaseWord = kSkinDispatchWord + 4 + kMaxBuckets;
+constexpr uint32_t kFittedWord = kThreadBaseWord + kMaxBuckets + 1;
+constexpr uint32_t kCounterWords = kFittedWord + kMaxBuckets;
+// SiCommands: vertex-shader draws at 0, pre-skinned draws from command 256 on (20 bytes each).
+constexpr GLintptr kPreskinnedCommands = GLintptr(kMaxBuckets) * 20;
 
 // (Re)creates `buffer` with `bytes` of storage (and `data` when given), dynamic.
 Status recreate(GLuint* buffer, size_t bytes, const void* data, const char* what) {
@@ -57,6 +64,8 @@ Status GpuCulledPath::uploadState(const DrawResources& r, const CrowdManager& cr
     if (s.isOk())
       s = recreate(&identity_, identity.size() * 4, identity.data(),
                    "GPU culling: the entry indices");
+    if (s.isOk())
+      s = recreate(&entry_data_, size_t(entries) * 8, nullptr, "GPU culling: the entry data");
     if (!s.isOk()) return s;
     capacity_ = capacity;
     sub_meshes_ = cd.sub_mesh_count;
@@ -64,19 +73,25 @@ Status GpuCulledPath::uploadState(const DrawResources& r, const CrowdManager& cr
   if (n > 0)
     glNamedBufferSubData(state_, 0, GLsizeiptr(state.size() * sizeof(state[0])), state.data());
   std::vector<glm::uvec2> ranges(buckets);
+  std::vector<glm::uvec4> info(buckets);
   for (uint32_t b = 0; b < buckets; ++b) {
-    const IndexRange range = r.character->lodRange(b % cd.sub_mesh_count, b / cd.sub_mesh_count);
+    const uint32_t sm = b % cd.sub_mesh_count, lod = b / cd.sub_mesh_count;
+    const IndexRange range = r.character->lodRange(sm, lod);
     ranges[b] = glm::uvec2(range.first_index, range.index_count);
+    const PreSkinLists::Lod& l = r.preskin->lod(sm, lod);
+    info[b] = glm::uvec4(l.vertex_count, l.vertex_offset, l.first_index, l.index_count);
   }
   s = recreate(&clips_, clips.size() * sizeof(GpuClipInfo), clips.data(), "GPU culling: the clips");
   if (s.isOk())
     s = recreate(&times_, times.size() * sizeof(double), times.empty() ? nullptr : times.data(),
                  "GPU culling: the frame times");
   if (s.isOk() && counters_ == kNoObject)
-    s = recreate(&counters_, size_t(kCountersSize), nullptr, "GPU culling: the counters");
+    s = recreate(&counters_, size_t(kCounterWords) * 4, nullptr, "GPU culling: the counters");
   if (s.isOk() && commands_ == kNoObject)
-    s = recreate(&commands_, size_t(kMaxBuckets) * 20, nullptr, "GPU culling: the commands");
+    s = recreate(&commands_, size_t(kPreskinnedCommands) * 2, nullptr, "GPU culling: the commands");
   if (s.isOk()) s = recreate(&ranges_, ranges.size() * 8, ranges.data(), "GPU culling: the ranges");
+  if (s.isOk())
+    s = recreate(&bucket_info_, info.size() * 16, info.data(), "GPU culling: the bucket lists");
   if (!s.isOk()) {
     crowd_ = nullptr;  // Uploaded again next frame.
     return s;
@@ -89,6 +104,15 @@ Status GpuCulledPath::uploadState(const DrawResources& r, const CrowdManager& cr
   glEnableVertexArrayAttrib(vao_, 5);
   glVertexArrayAttribBinding(vao_, 5, 1);
   glVertexArrayAttribIFormat(vao_, 5, 1, GL_UNSIGNED_INT, 0);
+  // Pre-skinned draws: the re-indexed triangles, and the same entry index.
+  if (preskin_vao_ != kNoObject) glDeleteVertexArrays(1, &preskin_vao_);
+  glCreateVertexArrays(1, &preskin_vao_);
+  glVertexArrayElementBuffer(preskin_vao_, r.preskin->index_buffer);
+  glVertexArrayVertexBuffer(preskin_vao_, 1, identity_, 0, 4);
+  glVertexArrayBindingDivisor(preskin_vao_, 1, 1);
+  glEnableVertexArrayAttrib(preskin_vao_, 5);
+  glVertexArrayAttribBinding(preskin_vao_, 5, 1);
+  glVertexArrayAttribIFormat(preskin_vao_, 5, 1, GL_UNSIGNED_INT, 0);
   crowd_ = &crowd;
   version_ = crowd.stateVersion();
   instances_ = n;
@@ -115,6 +139,10 @@ Status GpuCulledPath::uploadFrame(const DrawResources& r, const PathFrame& f) {
     Status s = uploadState(r, crowd, buckets);
     if (!s.isOk()) return s;
   }
+  if (f.preskin) {
+    Status s = ensureRing(r);
+    if (!s.isOk()) return s;
+  }
 
   // Per-frame parameters: the same CullParams CrowdManager::update() uses.
   const CullParams p = crowd.cullParams(f.camera);
@@ -128,10 +156,31 @@ Status GpuCulledPath::uploadFrame(const DrawResources& r, const PathFrame& f) {
   glProgramUniform1fv(cull, 9, 7, p.lod_lines);
   const GLuint counts[4] = {n, cd.lod_count, cd.sub_mesh_count,
                             r.palette->palette()->layout.frame_stride_texels};
-  for (GLuint program : {cull, commands, scatter}) glProgramUniform4uiv(program, 16, 1, counts);
+  const GLuint skin = (*r.programs)[ProgramId::kGpuSkin].id;
+  for (GLuint program : {cull, commands, scatter, skin})
+    glProgramUniform4uiv(program, 16, 1, counts);
   glProgramUniform1ui(cull, 17, p.animation_lod_start);
   glProgramUniform1d(cull, 18, p.animation_step_seconds);
+  glProgramUniform1ui(commands, 19, f.preskin ? uint32_t(ring_vertices_) : 0u);
   return Status::ok();
+}
+
+Status GpuCulledPath::ensureRing(const DrawResources& r) {
+  const uint64_t largest = r.info->max_shader_storage_block_size_bytes;
+  const uint64_t bytes = std::min<uint64_t>(
+      r.desc->gpu_driven_ring_bytes != 0 ? r.desc->gpu_driven_ring_bytes : uint64_t(256) << 20,
+      std::min<uint64_t>(largest, uint64_t(0xFFFFFFFFu) * 16));
+  const uint64_t vertices = bytes / 16;
+  if (vertices < r.preskin->max_lod_vertices)
+    return {StatusCode::kLimitExceeded,
+            strCat("drawCrowdGpuCulled: the pre-skinned ring of ", bytes,
+                   " bytes does not hold one instance of the largest LOD (",
+                   r.preskin->max_lod_vertices, " vertices)")};
+  if (ring_ != kNoObject && ring_vertices_ == vertices) return Status::ok();
+  ring_vertices_ = 0;
+  Status s = createBuffer(&ring_, vertices * 16, nullptr, 0, "GPU-driven pre-skinning: the ring");
+  if (s.isOk()) ring_vertices_ = vertices;
+  return s;
 }
 
 Status GpuCulledPath::draw(const DrawResources& r, const PathFrame& f, DrawStats* st) {
@@ -140,11 +189,16 @@ Status GpuCulledPath::draw(const DrawResources& r, const PathFrame& f, DrawStats
   const GLuint commands = (*r.programs)[ProgramId::kCullCommands].id;
   const GLuint scatter = (*r.programs)[ProgramId::kCullScatter].id;
   // Zero the visible count and the bucket counts.
-  glClearNamedBufferSubData(counters_, GL_R32UI, 0, kBucketCountOffset + 4 * kMaxBuckets,
+  glClearNamedBufferSubData(counters_, GL_R32UI, 0, GLsizeiptr(kBucketCountWord + kMaxBuckets) * 4,
                             GL_RED_INTEGER, GL_UNSIGNED_INT, nullptr);
   const GLuint ssbo[] = {state_, clips_, times_, counters_, records_, entries_, visible_,
-                         commands_, ranges_};
-  glBindBuffersBase(GL_SHADER_STORAGE_BUFFER, 0, 9, ssbo);
+                         commands_, ranges_, bucket_info_};
+  glBindBuffersBase(GL_SHADER_STORAGE_BUFFER, 0, 10, ssbo);
+  const GLuint preskin_ssbo[] = {entry_data_, ring_, r.character->vertex_buffer,
+                                 r.preskin->lod_vertex_list};
+  if (f.preskin) glBindBuffersBase(GL_SHADER_STORAGE_BUFFER, 12, 4, preskin_ssbo);
+  else glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 12, entry_data_);
+  // Also orders last frame's reads of the ring before this frame's writes.
   glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT | GL_BUFFER_UPDATE_BARRIER_BIT);
   glUseProgram(cull);
   glDispatchCompute((n + 63) / 64, 1, 1);
@@ -154,29 +208,49 @@ Status GpuCulledPath::draw(const DrawResources& r, const PathFrame& f, DrawStats
   glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT | GL_COMMAND_BARRIER_BIT);
   glUseProgram(scatter);
   glBindBuffer(GL_DISPATCH_INDIRECT_BUFFER, counters_);
-  glDispatchComputeIndirect(kDispatchOffset);
+  glDispatchComputeIndirect(GLintptr(kDispatchWord) * 4);
   glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT | GL_COMMAND_BARRIER_BIT);
-
-  // The draw: records and entries at bindings 4 and 5 as the vertex shader reads them.
+  glBindBuffer(GL_DRAW_INDIRECT_BUFFER, commands_);
+  st->draw_calls = 0;
+  if (f.preskin) {
+    // Every pre-skinned entry's vertices into the ring, then one vertex-pulling multi-draw.
+    const Program& skin = (*r.programs)[ProgramId::kGpuSkin];
+    glUseProgram(skin.id);
+    glBindTextureUnit(0, r.palette->texture());
+    glProgramUniform4uiv(skin.id, skin.palette_info, 1, &r.palette->shaderInfo()[0]);
+    glProgramUniform2ui(skin.id, 6, 0u, r.preskin->source_words);
+    glDispatchComputeIndirect(GLintptr(kSkinDispatchWord) * 4);
+    glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT);
+    const Program& pulled = (*r.programs)[ProgramId::kGpuPulled];
+    bindShading(r, pulled, f.camera, f.light);
+    glProgramUniform2ui(pulled.id, 6, 0u, r.preskin->source_words);
+    glBindVertexArray(preskin_vao_);
+    glMultiDrawElementsIndirect(GL_TRIANGLES, GL_UNSIGNED_INT,
+                                reinterpret_cast<const void*>(kPreskinnedCommands),
+                                GLsizei(buckets_), 0);
+    ++st->draw_calls;
+  }
+  // Vertex-shader skinning: every instance without pre-skinning, those past the ring with.
   bindShading(r, (*r.programs)[ProgramId::kGpuDrivenSkinned], f.camera, f.light);
   glBindVertexArray(vao_);
-  glBindBuffer(GL_DRAW_INDIRECT_BUFFER, commands_);
   glMultiDrawElementsIndirect(GL_TRIANGLES, GL_UNSIGNED_INT, nullptr, GLsizei(buckets_), 0);
-  st->draw_calls = 1;
+  ++st->draw_calls;
   return Status::ok();
 }
 
 void GpuCulledPath::readCounts(const DrawResources& r, const CrowdDesc& cd, DrawStats* st) const {
-  std::vector<uint32_t> counters(1 + 3 + kMaxBuckets);
+  std::vector<uint32_t> counters(kCounterWords);
   glGetNamedBufferSubData(counters_, 0, GLsizeiptr(counters.size() * 4), counters.data());
   st->gpu_visible = counters[0];
   const uint32_t buckets = cd.lod_count * cd.sub_mesh_count;
   for (uint32_t b = 0; b < buckets; ++b) {
-    const uint32_t instances = counters[4 + b];
+    const uint32_t instances = counters[kBucketCountWord + b];
     const IndexRange range = r.character->lodRange(b % cd.sub_mesh_count, b / cd.sub_mesh_count);
     st->triangles += uint64_t(range.index_count / 3) * instances;
     st->instances += instances;
+    st->vertex_shader_instances += instances - counters[kFittedWord + b];
   }
+  st->skinned_vertices = counters[kThreadBaseWord + buckets];
 }
 
 Status GpuCulledPath::readSelection(std::vector<glm::uvec2>* selection) const {
@@ -193,10 +267,12 @@ Status GpuCulledPath::readSelection(std::vector<glm::uvec2>* selection) const {
 }
 
 void GpuCulledPath::release() {
-  const GLuint buffers[] = {state_,   clips_,   times_,    counters_, records_,
-                            visible_, entries_, identity_, commands_, ranges_};
+  const GLuint buffers[] = {state_,    clips_,    times_,       counters_,  records_,
+                            visible_,  entries_,  identity_,    commands_,  ranges_,
+                            bucket_info_, entry_data_, ring_};
   glDeleteBuffers(GLsizei(sizeof(buffers) / sizeof(buffers[0])), buffers);
-  if (vao_ != kNoObject) glDeleteVertexArrays(1, &vao_);
+  const GLuint arrays[] = {vao_, preskin_vao_};
+  glDeleteVertexArrays(2, arrays);
   *this = GpuCulledPath();
 }
 

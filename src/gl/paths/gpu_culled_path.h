@@ -1,9 +1,11 @@
 // SkinnedInstancing — SPDX-License-Identifier: MIT (see LICENSE)
 #pragma once
-// GPU-driven culling and LOD: CrowdManager::update()'s selection and records computed by three
-// compute passes over the crowd's state in shader storage (shaders/cull*.comp.glsl), bucketed
-// per (LOD, sub-mesh) and drawn with one glMultiDrawElementsIndirect. The selection arithmetic
-// is src/crowd/cull_math.h's, so both select exactly the same instances and LODs.
+// The GPU-driven path: CrowdManager::update()'s selection and records computed by compute passes
+// over the crowd's state in shader storage (shaders/cull*.comp.glsl), bucketed per (LOD,
+// sub-mesh); then either an indirect pre-skinning dispatch (shaders/gpu_skin.comp.glsl) and a
+// vertex-pulling multi-draw, or vertex-shader skinning, each one glMultiDrawElementsIndirect.
+// The selection arithmetic is src/crowd/cull_math.h's, so both select exactly the same
+// instances and LODs. The CPU's work per frame does not depend on the crowd's size.
 
 #include <vector>
 
@@ -14,13 +16,15 @@ namespace si::detail {
 class GpuCulledPath final : public DrawPath {
  public:
   Status prepare(const DrawResources&) override { return Status::ok(); }
-  /// Uploads the crowd's state when it changed and sets the frame's parameters.
-  /// kInvalidArgument when the crowd plays another palette or has more buckets than 256.
+  /// Uploads the crowd's state when it changed, creates the pre-skinned ring when first
+  /// needed and sets the frame's parameters. kInvalidArgument when the crowd plays another
+  /// palette or has more buckets than 256; kLimitExceeded past the storage-block limit.
   Status uploadFrame(const DrawResources& r, const PathFrame& frame) override;
   Status draw(const DrawResources& r, const PathFrame& frame, DrawStats* stats) override;
   void release() override;
 
-  /// After the timer read: visible instances and triangles from the GPU's counters.
+  /// After the timer read: visible instances, triangles, pre-skinned vertices and the
+  /// instances skinned in the vertex shader, from the GPU's counters.
   void readCounts(const DrawResources& r, const CrowdDesc& desc, DrawStats* stats) const;
   /// The last frame's selection: (dense index, LOD) per visible instance.
   Status readSelection(std::vector<glm::uvec2>* selection) const;
@@ -28,15 +32,18 @@ class GpuCulledPath final : public DrawPath {
  private:
   // Uploads the crowd's state when it changed (or the crowd, its shape or the character did).
   Status uploadState(const DrawResources& r, const CrowdManager& crowd, uint32_t buckets);
+  Status ensureRing(const DrawResources& r);
 
-  GLuint vao_ = kNoObject;
+  GLuint vao_ = kNoObject, preskin_vao_ = kNoObject;
   GLuint state_ = kNoObject, clips_ = kNoObject, times_ = kNoObject, counters_ = kNoObject;
   GLuint records_ = kNoObject, visible_ = kNoObject, entries_ = kNoObject, identity_ = kNoObject;
-  GLuint commands_ = kNoObject, ranges_ = kNoObject;
+  GLuint commands_ = kNoObject, ranges_ = kNoObject, bucket_info_ = kNoObject;
+  GLuint entry_data_ = kNoObject, ring_ = kNoObject;
+  uint64_t ring_vertices_ = 0;
   uint32_t capacity_ = 0, instances_ = 0, buckets_ = 0, sub_meshes_ = 0;
   uint64_t version_ = 0;
   const CrowdManager* crowd_ = nullptr;
-  GLuint vertex_source_ = kNoObject;  // The vertex buffer the VAO was made for.
+  GLuint vertex_source_ = kNoObject;  // The vertex buffer the VAOs were made for.
 };
 
 }  // namespace si::detail

@@ -57,7 +57,8 @@ void writeGrid(const DrawResources& r, uint32_t n, size_t base, size_t block,
 
 Status chooseSkinningPath(const DrawResources& r, VertexShaderPath& vertex_path,
                           ComputePath& compute_path, const glm::vec3& light, PathChoice* out) {
-  const uint32_t nv = compute_path.firstLodVertices();
+  const uint32_t nv = r.preskin->lods.empty() || r.preskin->lods[0].empty()
+                          ? 0 : r.preskin->lods[0][0].vertex_count;
   const BakedPalette* palette = r.palette->palette();
   if (nv == 0 || palette == nullptr || palette->clips.empty()) {
     out->path = SkinningPath::kVertexShader;

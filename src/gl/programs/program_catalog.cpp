@@ -28,6 +28,9 @@ const ProgramSpec kSpecs[kProgramCount] = {
     {"GPU culling", "", nullptr, nullptr, "cull.comp.glsl", nullptr},
     {"GPU culling commands", "", nullptr, nullptr, "cull_commands.comp.glsl", nullptr},
     {"GPU culling scatter", "", nullptr, nullptr, "cull_scatter.comp.glsl", nullptr},
+    {"GPU-driven pre-skinning", "", nullptr, nullptr, "gpu_skin.comp.glsl", nullptr},
+    {"GPU-driven pulling", "#define SI_GPU_DRIVEN\n", "pulled.vert.glsl", "shade.frag.glsl", nullptr,
+     nullptr},
 };
 
 }  // namespace

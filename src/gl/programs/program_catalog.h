@@ -24,6 +24,8 @@ enum class ProgramId : uint8_t {
   kCull,               ///< GPU-driven culling: selection and records.
   kCullCommands,       ///< GPU-driven culling: prefix sums into indirect commands.
   kCullScatter,        ///< GPU-driven culling: bucket entries.
+  kGpuSkin,            ///< GPU-driven pre-skinning (dispatched indirectly).
+  kGpuPulled,          ///< GPU-driven pre-skinned draw (vertex pulling through entries).
   kCount
 };
 inline constexpr size_t kProgramCount = size_t(ProgramId::kCount);

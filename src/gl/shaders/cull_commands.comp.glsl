@@ -1,23 +1,46 @@
 // SkinnedInstancing - SPDX-License-Identifier: MIT (see LICENSE)
 // GPU-driven culling, pass 2 of 3 (one thread): prefix sums of the bucket counts into the
-// indirect draw commands and the scatter pass's dispatch size.
+// indirect draw commands and the scatter pass's dispatch size; and the pre-skinning split: in
+// bucket order, as many of each bucket's instances as the ring still holds are pre-skinned
+// (commands 256 and up, drawn by vertex pulling), the rest drawn with vertex-shader skinning
+// (commands 0 to 255). u_ring_vertices 0 pre-skins nothing.
 #include "cull_common.glsl"
 layout(local_size_x = 1) in;
 layout(std430, binding = 7) writeonly buffer SiCommands { uint si_commands[]; };
 layout(std430, binding = 8) readonly buffer SiRanges { uvec2 si_ranges[]; };  // first, count
+layout(location = 19) uniform uint u_ring_vertices;
 void main() {
-  uint buckets = u_counts.y * u_counts.z, offset = 0u;
+  uint buckets = u_counts.y * u_counts.z, offset = 0u, threads = 0u;
   for (uint b = 0u; b < buckets; ++b) {
     uint n = si_bucket_count[b];
-    si_commands[b * 5u + 0u] = si_ranges[b].y;
-    si_commands[b * 5u + 1u] = n;
+    uvec4 info = si_bucket_info[b];
+    uint fit = 0u;
+    if (info.x > 0u && u_ring_vertices > threads) fit = min(n, (u_ring_vertices - threads) / info.x);
+    si_commands[b * 5u + 0u] = si_ranges[b].y;  // Vertex-shader skinning: the rest.
+    si_commands[b * 5u + 1u] = n - fit;
     si_commands[b * 5u + 2u] = si_ranges[b].x;
     si_commands[b * 5u + 3u] = 0u;
-    si_commands[b * 5u + 4u] = offset;
+    si_commands[b * 5u + 4u] = offset + fit;
+    uint p = (256u + b) * 5u;                  // Pre-skinned: the first `fit`.
+    si_commands[p + 0u] = info.w;
+    si_commands[p + 1u] = fit;
+    si_commands[p + 2u] = info.z;
+    si_commands[p + 3u] = 0u;
+    si_commands[p + 4u] = offset;
     si_cursor[b] = offset;
+    si_bucket_offset[b] = offset;
+    si_thread_base[b] = threads;
+    si_fitted[b] = fit;
     offset += n;
+    threads += fit * info.x;
   }
+  si_thread_base[buckets] = threads;
   si_dispatch[0] = (si_visible_count + 63u) / 64u;
   si_dispatch[1] = 1u;
   si_dispatch[2] = 1u;
+  uint groups = (threads + 63u) / 64u;  // At most 65535 a dimension.
+  si_skin_dispatch[0] = min(groups, 65535u);
+  si_skin_dispatch[1] = (groups + 65534u) / 65535u;
+  si_skin_dispatch[2] = 1u;
+  si_skin_dispatch[3] = threads;
 }

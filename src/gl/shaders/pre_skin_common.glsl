@@ -1,14 +1,70 @@
 // SkinnedInstancing - SPDX-License-Identifier: MIT (see LICENSE)
-// Compute pre-skinning, shared by the skinning pass and the vertex-pulling draw: the raw vertex
+// Pre-skinning, shared by the skinning passes and the vertex-pulling draws: the raw vertex
 // buffer (32 or 36 bytes a vertex, read as words), the compacted vertex list of each (sub-mesh,
-// LOD) and the pre-skinned ring (16 bytes a vertex: camera-relative world position, octahedral
-// normal as 2 x snorm16).
+// LOD), the pre-skinned vertex (16 bytes: camera-relative world position, octahedral normal as
+// 2 x snorm16), and skinning one source vertex for an instance (after si_skinning.glsl).
 // u_chunk: x first ring vertex of the draw, y vertices of the LOD, z offset into the LOD vertex
 // list, w first instance of the batch; u_layout: x instances, y words per source vertex.
+// The bindings can be moved (the GPU-driven passes use 2 and 3 for other buffers).
 #ifndef SI_PRE_SKIN_COMMON_GLSL
 #define SI_PRE_SKIN_COMMON_GLSL
-layout(std430, binding = 2) readonly buffer SiSourceVertices { uint si_source[]; };
-layout(std430, binding = 3) readonly buffer SiLodVertices { uint si_lod_vertices[]; };
+#ifndef SI_SOURCE_BINDING
+#define SI_SOURCE_BINDING 2
+#endif
+#ifndef SI_LOD_VERTICES_BINDING
+#define SI_LOD_VERTICES_BINDING 3
+#endif
+layout(std430, binding = SI_SOURCE_BINDING) readonly buffer SiSourceVertices { uint si_source[]; };
+layout(std430, binding = SI_LOD_VERTICES_BINDING) readonly buffer SiLodVertices {
+  uint si_lod_vertices[];
+};
 layout(location = 5) uniform uvec4 u_chunk;
 layout(location = 6) uniform uvec2 u_layout;
+
+vec2 siOctEncode(vec3 n) {
+  n /= abs(n.x) + abs(n.y) + abs(n.z);
+  vec2 e = n.xy;
+  if (n.z < 0.0) e = (1.0 - abs(n.yx)) * vec2(n.x >= 0.0 ? 1.0 : -1.0, n.y >= 0.0 ? 1.0 : -1.0);
+  return e;
+}
+vec3 siOctDecode(vec2 e) {
+  vec3 n = vec3(e, 1.0 - abs(e.x) - abs(e.y));
+  if (n.z < 0.0) n.xy = (1.0 - abs(n.yx)) * vec2(n.x >= 0.0 ? 1.0 : -1.0, n.y >= 0.0 ? 1.0 : -1.0);
+  return normalize(n);
+}
+
+// The texture coordinates of local vertex k of the list starting at `list_offset`.
+vec2 siSourceTexcoord(uint list_offset, uint k) {
+  return unpackHalf2x16(si_source[si_lod_vertices[list_offset + k] * u_layout.y + 4u]);
+}
+
+#ifdef SI_SKINNING_GLSL
+// Source vertex `source` skinned for `inst`: camera-relative world position, and the normal
+// octahedral-encoded in the w component's bits.
+vec4 siPreSkin(uint source, SiInstance inst) {
+  uint base = source * u_layout.y;
+  vec3 p = vec3(uintBitsToFloat(si_source[base]), uintBitsToFloat(si_source[base + 1u]),
+                uintBitsToFloat(si_source[base + 2u]));
+  int normal_bits = int(si_source[base + 3u]);
+  // GL_INT_2_10_10_10_REV, normalized: what the vertex-shader path's attribute fetch computes.
+  vec3 n = max(vec3(bitfieldExtract(normal_bits, 0, 10), bitfieldExtract(normal_bits, 10, 10),
+                    bitfieldExtract(normal_bits, 20, 10)) / 511.0, vec3(-1.0));
+  uvec4 joints;
+  vec4 weights;
+  if (u_layout.y == 8u) {
+    joints = uvec4(unpackUnorm4x8(si_source[base + 5u]) * 255.0 + 0.5);
+    weights = vec4(unpackUnorm2x16(si_source[base + 6u]), unpackUnorm2x16(si_source[base + 7u]));
+  } else {
+    uint j01 = si_source[base + 5u], j23 = si_source[base + 6u];
+    joints = uvec4(j01 & 0xFFFFu, j01 >> 16, j23 & 0xFFFFu, j23 >> 16);
+    weights = vec4(unpackUnorm2x16(si_source[base + 7u]), unpackUnorm2x16(si_source[base + 8u]));
+  }
+  vec4 m0, m1, m2;
+  siSkin(inst, joints, weights, m0, m1, m2);
+  vec4 w0 = inst.world_rows[0], w1 = inst.world_rows[1], w2 = inst.world_rows[2];
+  vec3 world = siTransformPoint(w0, w1, w2, siTransformPoint(m0, m1, m2, p));
+  vec3 normal = siTransformNormal(w0, w1, w2, siTransformNormal(m0, m1, m2, n));
+  return vec4(world, uintBitsToFloat(packSnorm2x16(siOctEncode(normal))));
+}
+#endif
 #endif

@@ -1,24 +1,40 @@
 // SkinnedInstancing - SPDX-License-Identifier: MIT (see LICENSE)
-// Compute pre-skinning's draw: pulls the pre-skinned vertex of (gl_InstanceID, gl_VertexID)
-// from the ring; texture coordinates from the source vertex.
+// Pre-skinning's draw: pulls the pre-skinned vertex of (instance, gl_VertexID) from the ring;
+// texture coordinates from the source vertex.
+// SI_GPU_DRIVEN: the instance is a bucket entry (a_entry = baseInstance + gl_InstanceID, an
+// identity buffer with divisor 1) whose ring base and list offset the GPU-driven passes wrote;
+// otherwise the batch's u_chunk says where its instances are.
+#ifdef SI_GPU_DRIVEN
+#define SI_SOURCE_BINDING 14
+#define SI_LOD_VERTICES_BINDING 15
+#endif
 #include "si_skinning.glsl"
 #include "pre_skin_common.glsl"
+#ifdef SI_GPU_DRIVEN
+layout(std430, binding = 13) readonly buffer SiSkinned { vec4 si_skinned[]; };
+layout(location = 5) in uint a_entry;
+layout(std430, binding = 4) readonly buffer SiRecords { SiInstance si_records[]; };
+layout(std430, binding = 5) readonly buffer SiEntries { uint si_entries[]; };
+layout(std430, binding = 12) readonly buffer SiEntryData { uvec2 si_entry_data[]; };  // ring, list
+#else
 layout(std430, binding = 1) readonly buffer SiSkinned { vec4 si_skinned[]; };
+#endif
 layout(location = 1) uniform mat4 u_view_projection;
 out vec3 v_normal;
 out vec2 v_texcoord;
 flat out uint v_color;
-vec3 siOctDecode(vec2 e) {
-  vec3 n = vec3(e, 1.0 - abs(e.x) - abs(e.y));
-  if (n.z < 0.0) n.xy = (1.0 - abs(n.yx)) * vec2(n.x >= 0.0 ? 1.0 : -1.0, n.y >= 0.0 ? 1.0 : -1.0);
-  return normalize(n);
-}
 void main() {
   uint k = uint(gl_VertexID);
+#ifdef SI_GPU_DRIVEN
+  uvec2 at = si_entry_data[a_entry];
+  vec4 s = si_skinned[at.x + k];
+  v_texcoord = siSourceTexcoord(at.y, k);
+  v_color = si_records[si_entries[a_entry]].blend.w;
+#else
   vec4 s = si_skinned[u_chunk.x + uint(gl_InstanceID) * u_chunk.y + k];
-  uint base = si_lod_vertices[u_chunk.z + k] * u_layout.y;
-  v_texcoord = unpackHalf2x16(si_source[base + 4u]);
-  v_normal = siOctDecode(unpackSnorm2x16(floatBitsToUint(s.w)));
+  v_texcoord = siSourceTexcoord(u_chunk.z, k);
   v_color = si_instances[u_chunk.w + uint(gl_InstanceID)].blend.w;
+#endif
+  v_normal = siOctDecode(unpackSnorm2x16(floatBitsToUint(s.w)));
   gl_Position = u_view_projection * vec4(s.xyz, 1.0);
 }

@@ -1,0 +1,39 @@
+// SkinnedInstancing — SPDX-License-Identifier: MIT (see LICENSE)
+#pragma once
+// What pre-skinning needs of the character: for each (sub-mesh, LOD), the compacted list of the
+// vertices its triangles use and its triangles re-indexed to that list, so a compute pass
+// skins exactly what is drawn. Shared by the compute path and the GPU-driven path.
+
+#include <glad/gl.h>
+
+#include <vector>
+
+#include "gl/programs/program_set.h"
+#include "gl/resources/character_buffers.h"
+
+namespace si::detail {
+
+struct PreSkinLists {
+  struct Lod {
+    uint32_t first_index = 0, index_count = 0;     ///< Into index_buffer (local indices).
+    uint32_t vertex_offset = 0, vertex_count = 0;  ///< Into lod_vertex_list.
+  };
+
+  /// Builds the lists of `character` (after its upload).
+  Status build(const CharacterBuffers& character);
+  void release();
+
+  /// The lists of `sub_mesh` at `lod` (its last LOD when `lod` is past it).
+  const Lod& lod(uint32_t sub_mesh, uint32_t level) const {
+    const std::vector<Lod>& l = lods[sub_mesh];
+    return l[std::min<size_t>(level, l.size() - 1)];
+  }
+
+  std::vector<std::vector<Lod>> lods;  ///< [sub_mesh][lod]
+  GLuint index_buffer = kNoObject;     ///< Local indices of every (sub-mesh, LOD).
+  GLuint lod_vertex_list = kNoObject;  ///< Source vertex of each local vertex.
+  uint32_t max_lod_vertices = 0;       ///< The largest list.
+  uint32_t source_words = 8;           ///< 32-bit words per source vertex (stride / 4).
+};
+
+}  // namespace si::detail

@@ -1,0 +1,33 @@
+// SkinnedInstancing - SPDX-License-Identifier: MIT (see LICENSE)
+// GPU-driven pre-skinning (after the three culling passes, dispatched indirectly): one thread
+// per vertex of every pre-skinned entry, buckets one after another as the command pass laid
+// them out; thread g writes ring vertex g.
+#define SI_SOURCE_BINDING 14
+#define SI_LOD_VERTICES_BINDING 15
+#include "si_skinning.glsl"
+#include "pre_skin_common.glsl"
+#include "cull_counters.glsl"
+layout(local_size_x = 64) in;
+layout(location = 16) uniform uvec4 u_counts;  // instances, lod count, sub-meshes, frame stride
+layout(std430, binding = 4) readonly buffer SiRecords { SiInstance si_records[]; };
+layout(std430, binding = 5) readonly buffer SiEntries { uint si_entries[]; };
+layout(std430, binding = 9) readonly buffer SiBucketInfo { uvec4 si_bucket_info[]; };
+layout(std430, binding = 13) writeonly buffer SiSkinnedOut { vec4 si_skinned_out[]; };
+void main() {
+  uint g = (gl_WorkGroupID.y * gl_NumWorkGroups.x + gl_WorkGroupID.x) * 64u +
+           gl_LocalInvocationIndex;
+  uint buckets = u_counts.y * u_counts.z;
+  if (g >= si_thread_base[buckets]) return;
+  // The last bucket starting at or before g (it is not empty: the next one starts after g).
+  uint lo = 0u, hi = buckets;
+  while (lo + 1u < hi) {
+    uint mid = (lo + hi) / 2u;
+    if (si_thread_base[mid] <= g) lo = mid; else hi = mid;
+  }
+  uvec4 info = si_bucket_info[lo];
+  uint local = g - si_thread_base[lo];
+  uint i = local / info.x;
+  uint k = local - i * info.x;
+  SiInstance inst = si_records[si_entries[si_bucket_offset[lo] + i]];
+  si_skinned_out[g] = siPreSkin(si_lod_vertices[info.y + k], inst);
+}
