@@ -1,17 +1,18 @@
 #!/usr/bin/env bash
 # Plots a crowd_bench CSV with gnuplot (Debian package gnuplot-nox, installed if missing):
 # frame time (max of CPU and GPU ms) against crowd size per path, and GPU time against bake error.
-# Usage: scripts/plot_bench.sh CSV OUTDIR [scene, default field] [title]
+# Usage: scripts/plot_bench.sh CSV OUTDIR [scene, default field] [title] [lod mode, default distance]
+# (CSVs from before LOD modes have no lod column; their rows are all plotted.)
 set -euo pipefail
-csv="$1"; out="$2"; scene="${3:-field}"; title="${4:-}"
+csv="$1"; out="$2"; scene="${3:-field}"; title="${4:-}"; lod="${5:-distance}"
 if ! command -v gnuplot >/dev/null 2>&1; then
   echo "plot_bench: installing gnuplot-nox"
   DEBIAN_FRONTEND=noninteractive apt-get install -y -q --no-install-recommends gnuplot-nox
 fi
 mkdir -p "$out"
 plots=""
-for p in instanced traditional cpu rigid; do
-  awk -F, -v s="$scene" -v p="$p" '$1=="paths" && $2==s && $3==p {
+for p in instanced compute gpu-culled gpu-driven traditional cpu rigid; do
+  awk -F, -v s="$scene" -v p="$p" -v l="$lod" '$1=="paths" && $2==s && $3==p && ($15=="" || $15==l) {
       cpu = $8 + $9; print $4, (cpu > $10 ? cpu : $10) }' "$csv" > "$out/$p.dat"
   if [ -s "$out/$p.dat" ]; then
     plots="$plots${plots:+, }'$out/$p.dat' using 1:2 with linespoints lw 2 title '$p'"

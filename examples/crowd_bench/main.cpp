@@ -1,7 +1,8 @@
 // SkinnedInstancing — SPDX-License-Identifier: MIT (see LICENSE)
 // crowd_bench: the instanced path against its baselines, in the same run on the same scenes,
-// and GPU time against bake error. Prints tables, writes a CSV and, when gnuplot is installed,
-// PNG plots. See docs/performance.md for how the published figures were produced.
+// with each LOD mode; the image error each LOD choice costs against LOD 0; and GPU time
+// against bake error. Prints tables, writes a CSV and, when gnuplot is installed, PNG plots.
+// See docs/performance.md for how the published figures were produced.
 #include <algorithm>
 #include <chrono>
 #include <cmath>
@@ -11,25 +12,32 @@
 #include <string>
 #include <vector>
 
-#include "si/bake/animation_baker.h"
-#include "si/core/default_character.h"
-#include "si/crowd/instance_batcher.h"
-#include "si/gl/renderer.h"
-#include "si/headless/headless_context.h"
 #include "common/example_options.h"
+#include "crowd_bench/bench_scene.h"
+#include "crowd_bench/lod_quality.h"
+#include "si/bake/animation_baker.h"
+#include "si/bake/lod_chain.h"
+#include "si/core/default_character.h"
+#include "si/core/lod_error.h"
 
 namespace {
 
-using Clock = std::chrono::steady_clock;
-double msSince(Clock::time_point t) {
-  return std::chrono::duration<double, std::milli>(Clock::now() - t).count();
-}
+using si::bench::LodChoice;
+using si::bench::Row;
 
 struct Options {
   std::vector<uint32_t> sizes = {1000, 4000};
   std::vector<std::string> scenes = {"field", "stadium"};
-  std::vector<std::string> paths = {"instanced", "compute", "gpu-culled", "traditional", "cpu",
-                                    "rigid"};
+  std::vector<std::string> paths = {"instanced", "compute",     "gpu-culled", "gpu-driven",
+                                    "traditional", "cpu",       "rigid"};
+  std::vector<std::string> lods = {"distance", "screen"};
+  float pixel_budget = 1.0f;
+  std::string lod_chain = "deep";  // deep: buildLodChain's 6 levels; technique: the 3 embedded.
+  std::vector<float> quality_budgets = {0.5f, 1.0f, 2.0f, 4.0f};  // Empty: no quality table.
+  uint32_t quality_size = 10000;
+  uint32_t quality_frames = 3;
+  std::string quality_path = "instanced";
+  std::string quality_images;  // Folder for each LOD choice's first quality frame, or empty.
   uint32_t frames = 5;
   uint32_t width = 1280, height = 720;
   uint32_t max_baseline = 20000;  // Traditional and CPU skinning are skipped above this.
@@ -46,10 +54,18 @@ void usage(std::FILE* f) {
   std::fprintf(f,
       "Times per path are medians over the measured frames (after 2 warm-up frames).\n"
       "Paths: instanced (vertex-shader skinning), compute (compute pre-skinning), gpu-culled\n"
-      "(culling, LOD and records on the GPU, one multi-draw; the CPU only advances the clock),\n"
-      "traditional (one draw per character), cpu (CPU skinning), rigid (no skinning: the floor).\n"
+      "(culling, LOD and records on the GPU, one multi-draw with vertex-shader skinning; the CPU\n"
+      "only advances the clock), gpu-driven (GPU culling feeding indirect compute pre-skinning\n"
+      "and one multi-draw), traditional (one draw per character), cpu (CPU skinning), rigid (no\n"
+      "skinning: the floor). LOD modes: distance (the technique's lines in radii), screen (the\n"
+      "coarsest LOD within --pixel-budget pixels of projected error).\n"
+      "The quality table draws --quality-size instances with every instance at LOD 0 and with\n"
+      "each LOD choice (each level alone, distance, screen at each budget) and compares images.\n"
       "usage: crowd_bench [--sizes N,N,...] [--scenes field,stadium] [--frames N]\n"
-      "                   [--paths instanced,compute,gpu-culled,traditional,cpu,rigid]\n"
+      "                   [--paths instanced,compute,gpu-culled,gpu-driven,traditional,cpu,rigid]\n"
+      "                   [--lods distance,screen] [--pixel-budget PX] [--lod-chain deep|technique]\n"
+      "                   [--quality-budgets PX,PX,... | none] [--quality-size N]\n"
+      "                   [--quality-frames N] [--quality-path PATH] [--quality-images DIR]\n"
       "                   [--size WxH]\n"
       "                   [--max-baseline N] [--error-table-size N] [--csv PATH]\n"
       "                   [--error-path instanced|compute]\n"
@@ -70,6 +86,18 @@ bool parse(int argc, char** argv, Options* o) {
         o->sizes.push_back(uint32_t(std::stoul(v)));
     } else if (a == "--scenes" && has) o->scenes = si::examples::splitList(argv[++i]);
     else if (a == "--paths" && has) o->paths = si::examples::splitList(argv[++i]);
+    else if (a == "--lods" && has) o->lods = si::examples::splitList(argv[++i]);
+    else if (a == "--pixel-budget" && has) o->pixel_budget = std::stof(argv[++i]);
+    else if (a == "--lod-chain" && has) o->lod_chain = argv[++i];
+    else if (a == "--quality-budgets" && has) {
+      o->quality_budgets.clear();
+      const std::string v = argv[++i];
+      if (v != "none")
+        for (const std::string& x : si::examples::splitList(v)) o->quality_budgets.push_back(std::stof(x));
+    } else if (a == "--quality-size" && has) o->quality_size = uint32_t(std::stoul(argv[++i]));
+    else if (a == "--quality-frames" && has) o->quality_frames = uint32_t(std::stoul(argv[++i]));
+    else if (a == "--quality-path" && has) o->quality_path = argv[++i];
+    else if (a == "--quality-images" && has) o->quality_images = argv[++i];
     else if (a == "--frames" && has) o->frames = uint32_t(std::stoul(argv[++i]));
     else if (a == "--size" && has) {
       if (std::sscanf(argv[++i], "%ux%u", &o->width, &o->height) != 2) return false;
@@ -86,71 +114,27 @@ bool parse(int argc, char** argv, Options* o) {
   }
   for (const std::string& s : o->scenes)
     if (s != "field" && s != "stadium") return false;
+  const auto known_path = [](const std::string& p) {
+    return p == "instanced" || p == "compute" || p == "gpu-culled" || p == "gpu-driven" ||
+           p == "traditional" || p == "cpu" || p == "rigid";
+  };
   for (const std::string& p : o->paths)
-    if (p != "instanced" && p != "compute" && p != "gpu-culled" && p != "traditional" &&
-        p != "cpu" && p != "rigid")
-      return false;
+    if (!known_path(p)) return false;
+  if (!known_path(o->quality_path) || o->quality_path == "rigid") return false;
+  for (const std::string& l : o->lods)
+    if (l != "distance" && l != "screen") return false;
+  for (float b : o->quality_budgets)
+    if (!(b > 0.0f) || !std::isfinite(b)) return false;
+  if (!(o->pixel_budget > 0.0f) || !std::isfinite(o->pixel_budget)) return false;
+  if (o->lod_chain != "deep" && o->lod_chain != "technique") return false;
+  if (o->lods.empty() || o->quality_frames == 0) return false;
   if (o->error_path != "instanced" && o->error_path != "compute") return false;
   return !o->sizes.empty() && o->frames > 0;
 }
 
-// Seeded, deterministic scenes. Field: a square grid 1.5 m apart. Stadium: a bowl of tiers
-// rising around a pitch, seats 0.9 m apart, tiers 1.0 m deeper and 0.5 m higher each.
-std::vector<glm::dvec3> scenePositions(const std::string& scene, uint32_t count) {
-  std::vector<glm::dvec3> p;
-  p.reserve(count);
-  if (scene == "field") {
-    const uint32_t side = uint32_t(std::ceil(std::sqrt(double(count))));
-    for (uint32_t i = 0; i < count; ++i) p.push_back(glm::dvec3(i % side, 0, i / side) * 1.5);
-    return p;
-  }
-  for (uint32_t tier = 0; p.size() < count; ++tier) {
-    const double radius = 40.0 + tier * 1.0;
-    const uint32_t seats = uint32_t(2.0 * 3.14159265358979 * radius / 0.9);
-    for (uint32_t s = 0; s < seats && p.size() < count; ++s) {
-      const double a = 2.0 * 3.14159265358979 * s / seats;
-      p.push_back(glm::dvec3(radius * std::cos(a), tier * 0.5, radius * std::sin(a)));
-    }
-  }
-  return p;
-}
-
-// The fixed camera path of frame f of n. Field: orbiting high enough to see the whole field.
-// Stadium: standing on the pitch, turning round.
-si::Camera cameraAt(const std::string& scene, const std::vector<glm::dvec3>& positions,
-                    uint32_t f, uint32_t n, float aspect) {
-  const double t = n > 1 ? double(f) / double(n - 1) : 0.0;
-  if (scene == "field") {
-    glm::dvec3 lo(1e30), hi(-1e30);
-    for (const glm::dvec3& q : positions) lo = glm::min(lo, q), hi = glm::max(hi, q);
-    const glm::dvec3 c = 0.5 * (lo + hi);
-    const double r = std::max(10.0, glm::length(hi - lo) * 0.75);
-    const double a = 0.3 + 0.5 * t;
-    return si::Camera::lookAt(c + glm::dvec3(r * std::cos(a), r * 0.8, r * std::sin(a)), c,
-                              glm::vec3(0, 1, 0), 0.9f, aspect, 1.0f, float(r * 4));
-  }
-  const double a = 6.28318530718 * t * 0.25;
-  return si::Camera::lookAt({0, 6, 0}, {std::cos(a) * 40, 8, std::sin(a) * 40}, glm::vec3(0, 1, 0),
-                            1.2f, aspect, 0.5f, 1000.0f);
-}
-
-struct Row {
-  std::string scene, path;
-  uint32_t instances = 0, visible = 0, draws = 0;
-  double triangles = 0, update_ms = 0, submit_ms = 0, gpu_ms = 0;  // Medians over the frames.
-};
-
-double median(std::vector<double> v) {
-  if (v.empty()) return 0.0;
-  std::nth_element(v.begin(), v.begin() + std::ptrdiff_t(v.size() / 2), v.end());
-  return v[v.size() / 2];
-}
-
 struct Bench {
   Options o;
-  std::unique_ptr<si::HeadlessContext> context;
-  si::GlInfo info;
-  si::Character character;
+  si::bench::Setup setup;
 };
 
 int fail(const char* what, const si::Status& s) {
@@ -158,64 +142,35 @@ int fail(const char* what, const si::Status& s) {
   return 1;
 }
 
-// Runs one path on one scene; returns false (after printing) on an error.
-bool runPath(Bench& b, si::Renderer& renderer, const si::BakedPalette& palette,
-             const std::string& scene, uint32_t count, const std::string& path, Row* row) {
-  si::CrowdDesc cd;
-  cd.palette = &palette;
-  cd.sub_mesh_count = uint32_t(b.character.mesh.sub_meshes.size());
-  cd.lod_count = uint32_t(b.character.mesh.maxLodCount());
-  cd.max_distance_radii = -1.0f;  // Measure everything in view, however far.
-  si::CrowdManager crowd;
-  si::Status s = crowd.init(cd);
-  const std::vector<glm::dvec3> positions = scenePositions(scene, count);
-  si::RandomCrowdDesc rc;
-  rc.positions = positions;
-  rc.seed = 2026;
-  rc.optional_mask = 0xE;
-  if (s.isOk()) s = crowd.addRandom(rc, nullptr);
-  si::InstanceBatcher batcher;
-  if (s.isOk()) s = batcher.init(renderer.batchLimits());
-  if (!s.isOk()) return fail("scene", s) == 0;
-  const float aspect = float(b.o.width) / float(b.o.height);
-  row->scene = scene;
-  row->path = path;
-  row->instances = count;
-  const uint32_t warmup = 2, n = b.o.frames;
-  std::vector<double> update_ms_v, submit_ms_v, gpu_ms_v;
-  for (uint32_t f = 0; f < warmup + n; ++f) {
-    const si::Camera cam = cameraAt(scene, positions, f < warmup ? 0 : f - warmup, n, aspect);
-    const auto t0 = Clock::now();
-    const bool gpu_culled = path == "gpu-culled";
-    s = gpu_culled ? crowd.advanceClock(1.0 / 60.0) : crowd.update(1.0 / 60.0, cam);
-    const double update_ms = msSince(t0);
-    renderer.clear(glm::vec4(0.6f, 0.65f, 0.6f, 1.0f));
-    si::DrawStats st;
-    if (s.isOk()) {
-      if (gpu_culled)
-        s = renderer.drawCrowdGpuCulled(crowd, cam, &st);
-      else if (path == "instanced")
-        s = renderer.drawCrowd(crowd, batcher, cam, &st, si::DrawMode::kSkinned);
-      else if (path == "compute")
-        s = renderer.drawCrowd(crowd, batcher, cam, &st, si::DrawMode::kComputeSkinned);
-      else if (path == "rigid") s = renderer.drawCrowd(crowd, batcher, cam, &st, si::DrawMode::kRigid);
-      else if (path == "traditional") s = renderer.drawTraditional(crowd, cam, &st);
-      else s = renderer.drawCpuSkinned(crowd, cam, &st);
-    }
-    if (!s.isOk()) return fail(path.c_str(), s) == 0;
-    if (f < warmup) continue;
-    update_ms_v.push_back(update_ms);
-    submit_ms_v.push_back(st.cpu_submit_ms);
-    gpu_ms_v.push_back(st.gpu_ms);
-    row->visible = gpu_culled ? st.gpu_visible : crowd.stats().visible;
-    row->draws = st.draw_calls;
-    row->triangles = double(st.triangles);
+LodChoice lodChoice(const std::string& name, float budget) {
+  LodChoice c;
+  c.mode = name == "screen" ? si::LodMode::kScreenError : si::LodMode::kDistance;
+  c.pixel_budget = budget;
+  return c;
+}
+
+// The embedded character with its LOD chain (deep: 6 levels down to a few dozen triangles),
+// and the error of each level. Prints triangles and error per LOD.
+si::Status makeCharacter(const Options& o, si::bench::Setup* setup) {
+  si::Status s = si::makeDefaultCharacter({}, &setup->character);
+  if (s.isOk() && o.lod_chain == "deep") s = si::buildLodChain(&setup->character.mesh, {}, nullptr);
+  std::vector<float> bind_errors;
+  if (s.isOk()) s = si::lodErrorsByLevel(setup->character.mesh, &bind_errors);
+  // Errors over the clips' poses: what the screen-error mode selects by.
+  if (s.isOk()) s = si::measureAnimatedLodErrors(&setup->character, {});
+  if (s.isOk()) s = si::lodErrorsByLevel(setup->character.mesh, &setup->lod_errors);
+  if (!s.isOk()) return s;
+  const si::SkinnedMesh& mesh = setup->character.mesh;
+  std::printf("LOD chain (%s): level, triangles of all sub-meshes, max error (model units) in the "
+              "bind pose and over the clips' poses\n", o.lod_chain.c_str());
+  for (size_t l = 0; l < mesh.maxLodCount(); ++l) {
+    uint64_t tris = 0;
+    for (const si::SubMesh& sm : mesh.sub_meshes)
+      if (l < sm.lods.size()) tris += sm.lods[l].index_count / 3;
+    std::printf("  LOD %zu %8llu %10.4g %10.4g\n", l, static_cast<unsigned long long>(tris),
+                double(bind_errors[l]), double(setup->lod_errors[l]));
   }
-  // Medians: one stalled frame on a shared machine must not move the figure.
-  row->update_ms = median(update_ms_v);
-  row->submit_ms = median(submit_ms_v);
-  row->gpu_ms = median(gpu_ms_v);
-  return true;
+  return s;
 }
 
 // Writes the gnuplot script next to the plots and runs gnuplot on it; false when it cannot.
@@ -235,6 +190,87 @@ bool plot(const Options& o, const std::string& script) {
   return std::system(("gnuplot " + file).c_str()) == 0;
 }
 
+// The paths table: each scene, size, path and LOD mode; returns max(CPU, GPU) ms per frame of
+// the first scene's rows by "path/lod" and size for the plot.
+bool pathsTable(Bench& b, si::Renderer& renderer, const si::BakedPalette& palette, std::FILE* csv,
+                std::map<std::string, std::map<uint32_t, double>>* frame_ms) {
+  std::printf("\n%-8s %-11s %-11s %9s %9s %6s %12s %7s %9s %9s %9s %8s %8s\n", "scene", "path",
+              "lod", "instances", "visible", "draws", "triangles", "tri/px", "update", "submit",
+              "GPU ms", "CPU x", "GPU x");
+  for (const std::string& scene : b.o.scenes) {
+    for (uint32_t count : b.o.sizes) {
+      std::vector<Row> rows;
+      for (const std::string& lod : b.o.lods) {
+        for (const std::string& path : b.o.paths) {
+          if ((path == "traditional" || path == "cpu") && count > b.o.max_baseline) continue;
+          Row row;
+          const si::Status s = si::bench::runPath(b.setup, renderer, palette, scene, count, path,
+                                                  lodChoice(lod, b.o.pixel_budget), &row);
+          if (!s.isOk()) return fail(path.c_str(), s) == 0;
+          rows.push_back(row);
+        }
+      }
+      for (const Row& r : rows) {
+        const Row* base = nullptr;  // The instanced row of the same LOD mode.
+        for (const Row& q : rows)
+          if (q.path == "instanced" && q.lod == r.lod) base = &q;
+        const double cpu = r.update_ms + r.submit_ms;
+        const double cpu_x = base ? cpu / std::max(1e-9, base->update_ms + base->submit_ms) : 0.0;
+        const double gpu_x = base ? r.gpu_ms / std::max(1e-9, base->gpu_ms) : 0.0;
+        const double tri_px = r.covered_pixels ? r.triangles / double(r.covered_pixels) : 0.0;
+        std::printf("%-8s %-11s %-11s %9u %9u %6u %12.0f %7.2f %9.3f %9.3f %9.3f %8.2f %8.2f\n",
+                    r.scene.c_str(), r.path.c_str(), r.lod.c_str(), r.instances, r.visible,
+                    r.draws, r.triangles, tri_px, r.update_ms, r.submit_ms, r.gpu_ms, cpu_x,
+                    gpu_x);
+        std::fprintf(csv, "paths,%s,%s,%u,%u,%u,%.0f,%.4f,%.4f,%.4f,,,,,%s,%llu,,\n",
+                     r.scene.c_str(), r.path.c_str(), r.instances, r.visible, r.draws,
+                     r.triangles, r.update_ms, r.submit_ms, r.gpu_ms, r.lod.c_str(),
+                     static_cast<unsigned long long>(r.covered_pixels));
+        if (r.scene == b.o.scenes.front())
+          (*frame_ms)[r.path + "/" + r.lod][r.instances] = std::max(cpu, r.gpu_ms);
+      }
+    }
+  }
+  return true;
+}
+
+// The LOD quality table: image error of each LOD choice against LOD 0, on each scene.
+bool qualityTable(Bench& b, si::Renderer& renderer, const si::BakedPalette& palette,
+                  std::FILE* csv) {
+  if (b.o.quality_budgets.empty()) return true;
+  std::vector<LodChoice> choices;
+  for (int l = 1; l < int(b.setup.character.mesh.maxLodCount()); ++l) {  // Each level alone.
+    LodChoice fixed;
+    fixed.fixed_lod = l;
+    choices.push_back(fixed);
+  }
+  choices.push_back(lodChoice("distance", 1.0f));
+  for (float budget : b.o.quality_budgets) choices.push_back(lodChoice("screen", budget));
+  std::printf("\nLOD quality against every instance at LOD 0 (%u instances, %u frames, %s path; a "
+              "pixel differs when a channel is off by more than %d/255)\n",
+              b.o.quality_size, b.o.quality_frames, b.o.quality_path.c_str(),
+              si::bench::kQualityChannelTolerance);
+  std::printf("%-8s %-11s %12s %8s %12s %9s %8s\n", "scene", "lod", "triangles", "tri/px",
+              "differing %", "PSNR dB", "max ch");
+  for (const std::string& scene : b.o.scenes) {
+    std::vector<si::bench::QualityRow> rows;
+    const si::Status s = si::bench::measureLodQuality(b.setup, renderer, palette, scene,
+                                                      b.o.quality_size, b.o.quality_path,
+                                                      b.o.quality_frames, choices,
+                                                      b.o.quality_images, &rows);
+    if (!s.isOk()) return fail("quality", s) == 0;
+    for (const si::bench::QualityRow& r : rows) {
+      std::printf("%-8s %-11s %12.0f %8.2f %12.3f %9.2f %8d\n", r.scene.c_str(), r.lod.c_str(),
+                  r.triangles, r.triangles_per_pixel, r.differing_share * 100.0, r.psnr_db,
+                  r.max_channel);
+      std::fprintf(csv, "quality,%s,%s,%u,,,%.0f,,,,,,,,%s,,%.6f,%.3f\n", r.scene.c_str(),
+                   b.o.quality_path.c_str(), r.instances, r.triangles, r.lod.c_str(),
+                   r.differing_share, r.psnr_db);
+    }
+  }
+  return true;
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
@@ -243,31 +279,34 @@ int main(int argc, char** argv) {
     usage(stderr);
     return 2;
   }
-  si::Status s = si::makeDefaultCharacter({}, &b.character);
+  si::Status s = makeCharacter(b.o, &b.setup);
   if (!s.isOk()) return fail("character", s);
   si::HeadlessDesc hd;
-  hd.width = b.o.width;
-  hd.height = b.o.height;
+  hd.width = b.setup.width = b.o.width;
+  hd.height = b.setup.height = b.o.height;
   hd.backend = b.o.backend;
-  s = si::HeadlessContext::create(hd, &b.context);
-  if (s.isOk()) s = si::loadGl(&si::HeadlessContext::getProcAddress, b.context.get(), &b.info);
+  b.setup.frames = b.o.frames;
+  s = si::HeadlessContext::create(hd, &b.setup.context);
+  if (s.isOk())
+    s = si::loadGl(&si::HeadlessContext::getProcAddress, b.setup.context.get(), &b.setup.info);
   if (!s.isOk()) return fail("context", s);
   std::printf("crowd_bench on %s (%s), %ux%u, %u measured frames per configuration\n",
-              b.info.renderer.c_str(), si::headlessBackendName(b.context->backend()), b.o.width,
-              b.o.height, b.o.frames);
+              b.setup.info.renderer.c_str(), si::headlessBackendName(b.setup.context->backend()),
+              b.o.width, b.o.height, b.o.frames);
+  const si::Character& character = b.setup.character;
 
   si::BakedPalette palette;
   si::BakeReport report;
   si::BakeDesc main_bake;  // The default (automatic) bake, or 30 Hz with --quick.
   if (b.o.quick) main_bake.rate_mode = si::RateMode::kFixed;
-  s = si::bakePalette(b.character, main_bake, &palette, &report);
+  s = si::bakePalette(character, main_bake, &palette, &report);
   si::Renderer renderer;
   si::RendererDesc rd;
   rd.measure_gpu_time = b.o.gpu_timer;
   rd.debug_checks = 2;
-  if (s.isOk()) s = renderer.init(b.info, rd);
+  if (s.isOk()) s = renderer.init(b.setup.info, rd);
   if (s.isOk()) s = renderer.uploadPalette(palette);
-  if (s.isOk()) s = renderer.uploadCharacter(b.character, palette);
+  if (s.isOk()) s = renderer.uploadCharacter(character, palette);
   if (!s.isOk()) return fail("setup", s);
   std::printf("Automatic skinning path choice: %s (%s)\n",
               si::skinningPathName(renderer.skinningPath()), renderer.skinningPathReason().c_str());
@@ -278,47 +317,19 @@ int main(int argc, char** argv) {
     return 1;
   }
   std::fprintf(csv, "table,scene,path,instances,visible,draws,triangles,update_ms,submit_ms,"
-                    "gpu_ms,format,rate,max_error,p99_error\n");
-  std::printf("\n%-8s %-12s %9s %9s %6s %12s %9s %9s %9s %9s %9s\n", "scene", "path",
-              "instances", "visible", "draws", "triangles", "update", "submit", "GPU ms",
-              "CPU x", "GPU x");
-  std::map<std::string, std::map<uint32_t, double>> frame_ms;  // path -> size -> CPU+GPU ms.
-  for (const std::string& scene : b.o.scenes) {
-    for (uint32_t count : b.o.sizes) {
-      std::vector<Row> rows;
-      for (const std::string& path : b.o.paths) {
-        if ((path == "traditional" || path == "cpu") && count > b.o.max_baseline) continue;
-        Row row;
-        if (!runPath(b, renderer, palette, scene, count, path, &row)) return 1;
-        rows.push_back(row);
-      }
-      const Row* base = nullptr;
-      for (const Row& r : rows)
-        if (r.path == "instanced") base = &r;
-      for (const Row& r : rows) {
-        const double cpu = r.update_ms + r.submit_ms;
-        const double cpu_x = base ? cpu / std::max(1e-9, base->update_ms + base->submit_ms) : 0.0;
-        const double gpu_x = base ? r.gpu_ms / std::max(1e-9, base->gpu_ms) : 0.0;
-        std::printf("%-8s %-12s %9u %9u %6u %12.0f %9.3f %9.3f %9.3f %9.2f %9.2f\n",
-                    r.scene.c_str(), r.path.c_str(), r.instances, r.visible, r.draws, r.triangles,
-                    r.update_ms, r.submit_ms, r.gpu_ms, cpu_x, gpu_x);
-        std::fprintf(csv, "paths,%s,%s,%u,%u,%u,%.0f,%.4f,%.4f,%.4f,,,,\n", r.scene.c_str(),
-                     r.path.c_str(), r.instances, r.visible, r.draws, r.triangles, r.update_ms,
-                     r.submit_ms, r.gpu_ms);
-        if (r.scene == b.o.scenes.front())
-          frame_ms[r.path][r.instances] = std::max(cpu, r.gpu_ms);
-      }
-    }
-  }
-
+                    "gpu_ms,format,rate,max_error,p99_error,lod,covered_pixels,differing_share,"
+                    "psnr_db\n");
+  std::map<std::string, std::map<uint32_t, double>> frame_ms;  // path/lod -> size -> ms.
+  if (!pathsTable(b, renderer, palette, csv, &frame_ms)) return 1;
   if (renderer.computeRingBytes() > 0)
     std::printf("Compute path: pre-skinned vertex ring of %.1f MiB\n",
                 double(renderer.computeRingBytes()) / 1048576.0);
+  if (!qualityTable(b, renderer, palette, csv)) return 1;
 
   // Speed against error: each bake configuration, on the field, drawn by --error-path. The
   // renderer is re-made with an explicit path so each upload does not re-measure.
   rd.skinning_path = si::SkinningPath::kVertexShader;
-  s = renderer.init(b.info, rd);
+  s = renderer.init(b.setup.info, rd);
   if (!s.isOk()) return fail("renderer", s);
   std::printf("\nGPU time against bake error (field, %u instances, %s path)\n",
               b.o.error_table_size, b.o.error_path.c_str());
@@ -350,23 +361,25 @@ int main(int argc, char** argv) {
     }
     si::BakedPalette p;
     si::BakeReport r;
-    s = si::bakePalette(b.character, d, &p, &r);
+    s = si::bakePalette(character, d, &p, &r);
     if (s.isOk()) s = renderer.uploadPalette(p);
-    if (s.isOk()) s = renderer.uploadCharacter(b.character, p);
+    if (s.isOk()) s = renderer.uploadCharacter(character, p);
     if (!s.isOk()) return fail("bake configuration", s);
     Row row;
-    if (!runPath(b, renderer, p, "field", b.o.error_table_size, b.o.error_path, &row)) return 1;
+    s = si::bench::runPath(b.setup, renderer, p, "field", b.o.error_table_size, b.o.error_path,
+                           lodChoice(b.o.lods.front(), b.o.pixel_budget), &row);
+    if (!s.isOk()) return fail(b.o.error_path.c_str(), s);
     const std::string rate = c.rate > 0.0f ? std::to_string(int(c.rate)) : "auto";
     const std::string texels = std::to_string(p.layout.width) + "x" + std::to_string(p.layout.height);
     std::printf("%-22s %6s %6u %10s %10llu %9.3f %12.3g %12.3g\n", si::paletteFormatName(c.format),
                 rate.c_str(), p.layout.joint_stride_texels, texels.c_str(),
                 static_cast<unsigned long long>(r.palette_bytes), row.gpu_ms, r.max_error_units,
                 r.p99_error_units);
-    std::fprintf(csv, "error,field,%s,%u,%u,%u,%.0f,%.4f,%.4f,%.4f,%s%s,%s,%.6g,%.6g\n",
+    std::fprintf(csv, "error,field,%s,%u,%u,%u,%.0f,%.4f,%.4f,%.4f,%s%s,%s,%.6g,%.6g,%s,,,\n",
                  b.o.error_path.c_str(), row.instances, row.visible, row.draws, row.triangles,
                  row.update_ms, row.submit_ms, row.gpu_ms, si::paletteFormatName(c.format),
                  p.layout.joint_stride_texels == 3 ? "_stride3" : "", rate.c_str(),
-                 r.max_error_units, r.p99_error_units);
+                 r.max_error_units, r.p99_error_units, row.lod.c_str());
     error_data += std::to_string(r.max_error_units) + " " + std::to_string(row.gpu_ms) + " \"" +
                   si::paletteFormatName(c.format) + "@" + rate + "\"\n";
   }

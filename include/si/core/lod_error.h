@@ -18,6 +18,7 @@
 
 #include <glm/glm.hpp>
 
+#include "si/core/character.h"
 #include "si/core/skinned_mesh.h"
 #include "si/core/span.h"
 #include "si/core/status.h"
@@ -40,6 +41,27 @@ Status surfaceDistance(Span<const glm::vec3> positions, Span<const uint32_t> a,
 /// `overwrite`. Fails, leaving the mesh untouched, with the status of SkinnedMesh::validate()
 /// for a mesh that is not valid for its own joints.
 Status measureLodErrors(SkinnedMesh* mesh, bool overwrite);
+
+/// Options of measureAnimatedLodErrors().
+struct AnimatedLodErrorDesc {
+  /// Poses sampled per clip, evenly over its duration (its last frame included); 0 means 8.
+  uint32_t poses_per_clip = 0;
+  /// Poses measured in all, clips taken in order (a hostile file's thousands of clips must not
+  /// run for minutes); 0 means 256.
+  uint32_t max_poses = 0;
+};
+
+/// Raises every sub-mesh's LOD errors to the largest surface distance from LOD 0 over the
+/// rest pose and poses sampled from the character's clips (both meshes skinned alike): a
+/// simplification that welds vertices of different joints (legs merged in the bind pose) is
+/// small there and large once they move apart. Errors are only raised (never lowered) and kept
+/// non-decreasing along each chain; sub-meshes without errors are measured in the bind pose
+/// first. Fails, leaving the character untouched, with kInvalidArgument for a null character
+/// and the status of the evaluator or of SkinnedMesh::validate() for an invalid one.
+/// `worst_pose_clip` (may be null) receives, per sub-mesh and level, the clip index of the
+/// worst pose (-1: the rest pose or bind pose).
+Status measureAnimatedLodErrors(Character* character, const AnimatedLodErrorDesc& desc,
+                                std::vector<std::vector<int>>* worst_pose_clip = nullptr);
 
 /// The error of each LOD level as an instance draws it: for level l, the largest error of any
 /// sub-mesh at l (a sub-mesh with fewer levels draws its last), then made non-decreasing, so a

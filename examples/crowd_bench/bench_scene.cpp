@@ -1,0 +1,171 @@
+// SkinnedInstancing — SPDX-License-Identifier: MIT (see LICENSE)
+#include "crowd_bench/bench_scene.h"
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+
+#include "si/crowd/instance_batcher.h"
+
+namespace si::bench {
+namespace {
+
+using Clock = std::chrono::steady_clock;
+double msSince(Clock::time_point t) {
+  return std::chrono::duration<double, std::milli>(Clock::now() - t).count();
+}
+
+}  // namespace
+
+std::string LodChoice::name() const {
+  if (fixed_lod >= 0) return "lod" + std::to_string(fixed_lod);
+  if (mode == LodMode::kDistance) return "distance";
+  char buf[32];
+  std::snprintf(buf, sizeof(buf), "screen%gpx", double(pixel_budget));
+  return buf;
+}
+
+std::vector<glm::dvec3> scenePositions(const std::string& scene, uint32_t count) {
+  std::vector<glm::dvec3> p;
+  p.reserve(count);
+  if (scene == "field") {
+    const uint32_t side = uint32_t(std::ceil(std::sqrt(double(count))));
+    for (uint32_t i = 0; i < count; ++i) p.push_back(glm::dvec3(i % side, 0, i / side) * 1.5);
+    return p;
+  }
+  for (uint32_t tier = 0; p.size() < count; ++tier) {
+    const double radius = 40.0 + tier * 1.0;
+    const uint32_t seats = uint32_t(2.0 * 3.14159265358979 * radius / 0.9);
+    for (uint32_t s = 0; s < seats && p.size() < count; ++s) {
+      const double a = 2.0 * 3.14159265358979 * s / seats;
+      p.push_back(glm::dvec3(radius * std::cos(a), tier * 0.5, radius * std::sin(a)));
+    }
+  }
+  return p;
+}
+
+Camera cameraAt(const Setup& setup, const std::string& scene,
+                const std::vector<glm::dvec3>& positions, uint32_t f, uint32_t n) {
+  const float aspect = float(setup.width) / float(setup.height);
+  const double t = n > 1 ? double(f) / double(n - 1) : 0.0;
+  Camera cam;
+  if (scene == "field") {
+    glm::dvec3 lo(1e30), hi(-1e30);
+    for (const glm::dvec3& q : positions) lo = glm::min(lo, q), hi = glm::max(hi, q);
+    const glm::dvec3 c = 0.5 * (lo + hi);
+    const double r = std::max(10.0, glm::length(hi - lo) * 0.75);
+    const double a = 0.3 + 0.5 * t;
+    cam = Camera::lookAt(c + glm::dvec3(r * std::cos(a), r * 0.8, r * std::sin(a)), c,
+                         glm::vec3(0, 1, 0), 0.9f, aspect, 1.0f, float(r * 4));
+  } else {
+    const double a = 6.28318530718 * t * 0.25;
+    cam = Camera::lookAt({0, 6, 0}, {std::cos(a) * 40, 8, std::sin(a) * 40}, glm::vec3(0, 1, 0),
+                         1.2f, aspect, 0.5f, 1000.0f);
+  }
+  cam.viewport_height_pixels = float(setup.height);
+  return cam;
+}
+
+Status makeCrowd(const Setup& setup, const BakedPalette& palette, const std::string& scene,
+                 uint32_t count, const LodChoice& lod, CrowdManager* crowd) {
+  CrowdDesc cd;
+  cd.palette = &palette;
+  cd.sub_mesh_count = uint32_t(setup.character.mesh.sub_meshes.size());
+  cd.lod_count = uint32_t(setup.character.mesh.maxLodCount());
+  cd.max_distance_radii = -1.0f;  // Measure everything in view, however far.
+  cd.lod_errors_units = setup.lod_errors;
+  cd.lod_mode = lod.fixed_lod >= 0 ? LodMode::kDistance : lod.mode;
+  cd.pixel_error_budget = lod.pixel_budget;
+  if (lod.fixed_lod >= 0)  // Lines before the level at (almost) zero, after it out of reach.
+    for (uint32_t l = 1; l < cd.lod_count; ++l)
+      cd.lod_distances_radii.push_back(int(l) <= lod.fixed_lod ? 1e-6f * float(l) : 1e7f * float(l));
+  Status s = crowd->init(cd);
+  const std::vector<glm::dvec3> positions = scenePositions(scene, count);
+  RandomCrowdDesc rc;
+  rc.positions = positions;
+  rc.seed = 2026;
+  rc.optional_mask = 0xE;
+  if (s.isOk()) s = crowd->addRandom(rc, nullptr);
+  return s;
+}
+
+bool isGpuSelected(const std::string& path) { return path == "gpu-culled" || path == "gpu-driven"; }
+
+Status stepCrowd(CrowdManager& crowd, const std::string& path, const Camera& camera, double dt) {
+  return isGpuSelected(path) ? crowd.advanceClock(dt) : crowd.update(dt, camera);
+}
+
+Status drawPath(Renderer& renderer, const CrowdManager& crowd, const std::string& path,
+                const Camera& camera, DrawStats* stats) {
+  renderer.clear(kClearColor);
+  if (path == "gpu-culled") return renderer.drawCrowdGpuCulled(crowd, camera, stats, DrawMode::kSkinned);
+  if (path == "gpu-driven")
+    return renderer.drawCrowdGpuCulled(crowd, camera, stats, DrawMode::kComputeSkinned);
+  if (path == "traditional") return renderer.drawTraditional(crowd, camera, stats);
+  if (path == "cpu") return renderer.drawCpuSkinned(crowd, camera, stats);
+  InstanceBatcher batcher;
+  const Status s = batcher.init(renderer.batchLimits());
+  if (!s.isOk()) return s;
+  const DrawMode mode = path == "compute" ? DrawMode::kComputeSkinned
+                        : path == "rigid" ? DrawMode::kRigid
+                                          : DrawMode::kSkinned;
+  return renderer.drawCrowd(crowd, batcher, camera, stats, mode);
+}
+
+Status runPath(Setup& setup, Renderer& renderer, const BakedPalette& palette,
+               const std::string& scene, uint32_t count, const std::string& path,
+               const LodChoice& lod, Row* row) {
+  CrowdManager crowd;
+  Status s = makeCrowd(setup, palette, scene, count, lod, &crowd);
+  if (!s.isOk()) return s;
+  const std::vector<glm::dvec3> positions = scenePositions(scene, count);
+  row->scene = scene;
+  row->path = path;
+  row->lod = lod.name();
+  row->instances = count;
+  const uint32_t warmup = 2, n = setup.frames;
+  std::vector<double> update_ms_v, submit_ms_v, gpu_ms_v;
+  const bool gpu = isGpuSelected(path);
+  for (uint32_t f = 0; f < warmup + n; ++f) {
+    const Camera cam = cameraAt(setup, scene, positions, f < warmup ? 0 : f - warmup, n);
+    const auto t0 = Clock::now();
+    s = stepCrowd(crowd, path, cam, 1.0 / 60.0);
+    const double update_ms = msSince(t0);
+    DrawStats st;
+    if (s.isOk()) s = drawPath(renderer, crowd, path, cam, &st);
+    if (!s.isOk()) return s;
+    if (f < warmup) continue;
+    update_ms_v.push_back(update_ms);
+    submit_ms_v.push_back(st.cpu_submit_ms);
+    gpu_ms_v.push_back(st.gpu_ms);
+    row->visible = gpu ? st.gpu_visible : crowd.stats().visible;
+    row->draws = st.draw_calls;
+    row->triangles = double(st.triangles);
+  }
+  std::vector<uint8_t> rgba;
+  s = setup.context->readPixels(&rgba);
+  if (!s.isOk()) return s;
+  row->covered_pixels = coveredPixels(rgba);
+  // Medians: one stalled frame on a shared machine must not move the figure.
+  row->update_ms = median(update_ms_v);
+  row->submit_ms = median(submit_ms_v);
+  row->gpu_ms = median(gpu_ms_v);
+  return Status();
+}
+
+uint64_t coveredPixels(const std::vector<uint8_t>& rgba) {
+  const glm::u8vec4 clear = glm::u8vec4(glm::round(kClearColor * 255.0f));
+  uint64_t n = 0;
+  for (size_t i = 0; i + 3 < rgba.size(); i += 4)
+    n += rgba[i] != clear.r || rgba[i + 1] != clear.g || rgba[i + 2] != clear.b;
+  return n;
+}
+
+double median(std::vector<double> v) {
+  if (v.empty()) return 0.0;
+  std::nth_element(v.begin(), v.begin() + std::ptrdiff_t(v.size() / 2), v.end());
+  return v[v.size() / 2];
+}
+
+}  // namespace si::bench

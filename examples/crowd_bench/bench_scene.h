@@ -1,0 +1,81 @@
+// SkinnedInstancing — SPDX-License-Identifier: MIT (see LICENSE)
+#pragma once
+// crowd_bench's scenes and one timed configuration: seeded crowds (a field, a stadium), the
+// fixed camera paths, and runPath(), which times one drawing path with one LOD mode.
+#include <cstdint>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include <glm/glm.hpp>
+
+#include "si/core/character.h"
+#include "si/crowd/crowd_manager.h"
+#include "si/gl/renderer.h"
+#include "si/headless/headless_context.h"
+
+namespace si::bench {
+
+/// The clear colour of every frame; a pixel of another colour is covered by a character.
+inline constexpr glm::vec4 kClearColor(0.6f, 0.65f, 0.6f, 1.0f);
+
+struct Setup {
+  std::unique_ptr<HeadlessContext> context;
+  GlInfo info;
+  Character character;              ///< The embedded character, with its LOD chain.
+  std::vector<float> lod_errors;    ///< Per LOD level, model units (lodErrorsByLevel).
+  uint32_t width = 0, height = 0;
+  uint32_t frames = 0;              ///< Measured frames per configuration (after 2 warm-up).
+};
+
+/// How LODs are chosen: the technique's distance lines, or a projected-error pixel budget.
+struct LodChoice {
+  LodMode mode = LodMode::kDistance;
+  float pixel_budget = 1.0f;  ///< kScreenError.
+  int fixed_lod = -1;         ///< >= 0: every instance at this LOD (0: the quality reference).
+  std::string name() const;
+};
+
+/// Seeded, deterministic scenes. Field: a square grid 1.5 m apart. Stadium: a bowl of tiers
+/// rising around a pitch, seats 0.9 m apart, tiers 1.0 m deeper and 0.5 m higher each.
+std::vector<glm::dvec3> scenePositions(const std::string& scene, uint32_t count);
+
+/// The fixed camera path, frame f of n. Field: orbiting high enough to see the whole field.
+/// Stadium: standing on the pitch, turning round.
+Camera cameraAt(const Setup& setup, const std::string& scene,
+                const std::vector<glm::dvec3>& positions, uint32_t f, uint32_t n);
+
+/// A crowd of `count` random instances of the scene, LODs chosen by `lod`.
+Status makeCrowd(const Setup& setup, const BakedPalette& palette, const std::string& scene,
+                 uint32_t count, const LodChoice& lod, CrowdManager* crowd);
+
+/// Paths whose culling and LOD selection run on the GPU (gpu-culled, gpu-driven).
+bool isGpuSelected(const std::string& path);
+
+/// Advances the crowd by dt for `path`: the clock only for GPU-selected paths, else update().
+Status stepCrowd(CrowdManager& crowd, const std::string& path, const Camera& camera, double dt);
+
+/// Clears and draws the crowd with one path: instanced, compute, gpu-culled (GPU culling,
+/// vertex-shader skinning), gpu-driven (GPU culling feeding compute pre-skinning), traditional,
+/// cpu, rigid.
+Status drawPath(Renderer& renderer, const CrowdManager& crowd, const std::string& path,
+                const Camera& camera, DrawStats* stats);
+
+struct Row {
+  std::string scene, path, lod;
+  uint32_t instances = 0, visible = 0, draws = 0;
+  double triangles = 0, update_ms = 0, submit_ms = 0, gpu_ms = 0;  // Medians over the frames.
+  uint64_t covered_pixels = 0;  ///< Of the last frame: pixels not of the clear colour.
+};
+
+/// Times one path on one scene; returns a named error.
+Status runPath(Setup& setup, Renderer& renderer, const BakedPalette& palette,
+               const std::string& scene, uint32_t count, const std::string& path,
+               const LodChoice& lod, Row* row);
+
+/// Pixels of an RGBA8 image that are not of kClearColor.
+uint64_t coveredPixels(const std::vector<uint8_t>& rgba);
+
+double median(std::vector<double> v);
+
+}  // namespace si::bench

@@ -1,0 +1,34 @@
+// SkinnedInstancing — SPDX-License-Identifier: MIT (see LICENSE)
+#pragma once
+// crowd_bench's LOD quality table: what each LOD choice costs in image error against every
+// instance at LOD 0, next to the triangles it saves.
+#include <string>
+#include <vector>
+
+#include "crowd_bench/bench_scene.h"
+
+namespace si::bench {
+
+/// A pixel differs when a channel is off by more than this (of 255), as in the render tests.
+inline constexpr int kQualityChannelTolerance = 8;
+
+struct QualityRow {
+  std::string scene, lod;
+  uint32_t instances = 0;
+  double triangles = 0;           ///< Mean over the frames.
+  double triangles_per_pixel = 0; ///< Triangles over covered pixels, summed over the frames.
+  double differing_share = 0;     ///< Pixels off by > kQualityChannelTolerance, of all pixels.
+  double psnr_db = 0;             ///< Against the LOD 0 image (RGB); infinite when equal.
+  int max_channel = 0;            ///< Largest channel difference seen.
+};
+
+/// Draws `frames` camera positions of the scene with every instance at LOD 0 (the reference)
+/// and with each LOD choice (same clock, same instances), with `path`, and compares images.
+/// The reference's own row comes first. With `image_dir`, writes each choice's first frame
+/// as <image_dir>/<scene>_<lod>.png.
+Status measureLodQuality(Setup& setup, Renderer& renderer, const BakedPalette& palette,
+                         const std::string& scene, uint32_t count, const std::string& path,
+                         uint32_t frames, const std::vector<LodChoice>& choices,
+                         const std::string& image_dir, std::vector<QualityRow>* rows);
+
+}  // namespace si::bench
