@@ -63,7 +63,7 @@ Camera cameraAt(const Setup& setup, const std::string& scene,
     cam = Camera::lookAt({0, 6, 0}, {std::cos(a) * 40, 8, std::sin(a) * 40}, glm::vec3(0, 1, 0),
                          1.2f, aspect, 0.5f, 1000.0f);
   }
-  cam.viewport_height_pixels = float(setup.height);
+  cam.viewport_height_pixels = float(setup.height / std::max(1u, setup.supersample));
   return cam;
 }
 

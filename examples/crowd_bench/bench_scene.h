@@ -24,7 +24,9 @@ struct Setup {
   GlInfo info;
   Character character;              ///< The embedded character, with its LOD chain.
   std::vector<float> lod_errors;    ///< Per LOD level, model units (lodErrorsByLevel).
-  uint32_t width = 0, height = 0;
+  uint32_t width = 0, height = 0;  ///< Of the context.
+  uint32_t supersample = 1;  ///< The display is width/supersample x height/supersample: the
+                             ///< pixels that LOD budgets are counted in.
   uint32_t frames = 0;              ///< Measured frames per configuration (after 2 warm-up).
 };
 

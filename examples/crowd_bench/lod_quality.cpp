@@ -9,11 +9,28 @@
 namespace si::bench {
 namespace {
 
+// Box-filters an RGBA8 image by ss x ss pixels (a partial block at the edge is dropped).
+std::vector<uint8_t> downsample(const std::vector<uint8_t>& rgba, uint32_t w, uint32_t h,
+                                uint32_t ss) {
+  const uint32_t ow = w / ss, oh = h / ss;
+  std::vector<uint8_t> out(size_t(ow) * oh * 4);
+  for (uint32_t y = 0; y < oh; ++y)
+    for (uint32_t x = 0; x < ow; ++x)
+      for (uint32_t c = 0; c < 4; ++c) {
+        uint32_t sum = 0;
+        for (uint32_t dy = 0; dy < ss; ++dy)
+          for (uint32_t dx = 0; dx < ss; ++dx)
+            sum += rgba[(size_t(y * ss + dy) * w + x * ss + dx) * 4 + c];
+        out[(size_t(y) * ow + x) * 4 + c] = uint8_t((sum + ss * ss / 2) / (ss * ss));
+      }
+  return out;
+}
+
 // One LOD choice's frames: the images and the triangles drawn.
 Status drawFrames(Setup& setup, Renderer& renderer, const BakedPalette& palette,
                   const std::string& scene, uint32_t count, const std::string& path,
-                  uint32_t frames, const LodChoice& lod, std::vector<std::vector<uint8_t>>* images,
-                  double* triangles) {
+                  uint32_t frames, uint32_t ss, const LodChoice& lod,
+                  std::vector<std::vector<uint8_t>>* images, double* triangles) {
   CrowdManager crowd;
   Status s = makeCrowd(setup, palette, scene, count, lod, &crowd);
   if (!s.isOk()) return s;
@@ -28,6 +45,7 @@ Status drawFrames(Setup& setup, Renderer& renderer, const BakedPalette& palette,
     if (s.isOk()) s = drawPath(renderer, crowd, path, cam, &st);
     if (s.isOk()) s = setup.context->readPixels(&(*images)[f]);
     if (!s.isOk()) return s;
+    if (ss > 1) (*images)[f] = downsample((*images)[f], setup.width, setup.height, ss);
     *triangles += double(st.triangles);
   }
   *triangles /= double(std::max(1u, frames));
@@ -38,13 +56,15 @@ Status drawFrames(Setup& setup, Renderer& renderer, const BakedPalette& palette,
 
 Status measureLodQuality(Setup& setup, Renderer& renderer, const BakedPalette& palette,
                          const std::string& scene, uint32_t count, const std::string& path,
-                         uint32_t frames, const std::vector<LodChoice>& choices,
-                         const std::string& image_dir, std::vector<QualityRow>* rows) {
+                         uint32_t frames, uint32_t supersample,
+                         const std::vector<LodChoice>& choices, const std::string& image_dir,
+                         std::vector<QualityRow>* rows) {
+  const uint32_t ss = std::max(1u, supersample);
   LodChoice reference;
   reference.fixed_lod = 0;
   std::vector<std::vector<uint8_t>> ref_images;
   double ref_triangles = 0.0;
-  Status s = drawFrames(setup, renderer, palette, scene, count, path, frames, reference,
+  Status s = drawFrames(setup, renderer, palette, scene, count, path, frames, ss, reference,
                         &ref_images, &ref_triangles);
   if (!s.isOk()) return s;
   std::vector<LodChoice> all = {reference};
@@ -55,11 +75,11 @@ Status measureLodQuality(Setup& setup, Renderer& renderer, const BakedPalette& p
     row.scene = scene;
     row.lod = lod.name();
     row.instances = count;
-    s = drawFrames(setup, renderer, palette, scene, count, path, frames, lod, &images,
+    s = drawFrames(setup, renderer, palette, scene, count, path, frames, ss, lod, &images,
                    &row.triangles);
     if (s.isOk() && !image_dir.empty())
-      s = writePng(image_dir + "/" + scene + "_" + row.lod + ".png", setup.width, setup.height,
-                   images[0]);
+      s = writePng(image_dir + "/" + scene + "_" + row.lod + ".png", setup.width / ss,
+                   setup.height / ss, images[0]);
     if (!s.isOk()) return s;
     uint64_t differing = 0, pixels = 0, covered = 0;
     double squared = 0.0;

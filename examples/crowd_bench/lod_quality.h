@@ -24,11 +24,15 @@ struct QualityRow {
 
 /// Draws `frames` camera positions of the scene with every instance at LOD 0 (the reference)
 /// and with each LOD choice (same clock, same instances), with `path`, and compares images.
-/// The reference's own row comes first. With `image_dir`, writes each choice's first frame
-/// as <image_dir>/<scene>_<lod>.png.
+/// The reference's own row comes first. With `supersample` > 1, both images are box-filtered
+/// by supersample x supersample pixels before they are compared (render at that multiple of
+/// the display size: an antialiased image, where a sub-pixel change moves a pixel a little
+/// instead of flipping it). With `image_dir`, writes each choice's first (filtered) frame as
+/// <image_dir>/<scene>_<lod>.png.
 Status measureLodQuality(Setup& setup, Renderer& renderer, const BakedPalette& palette,
                          const std::string& scene, uint32_t count, const std::string& path,
-                         uint32_t frames, const std::vector<LodChoice>& choices,
-                         const std::string& image_dir, std::vector<QualityRow>* rows);
+                         uint32_t frames, uint32_t supersample,
+                         const std::vector<LodChoice>& choices, const std::string& image_dir,
+                         std::vector<QualityRow>* rows);
 
 }  // namespace si::bench

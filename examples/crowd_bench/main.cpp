@@ -32,10 +32,12 @@ struct Options {
                                     "traditional", "cpu",       "rigid"};
   std::vector<std::string> lods = {"distance", "screen"};
   float pixel_budget = 1.0f;
-  std::string lod_chain = "deep";  // deep: buildLodChain's 6 levels; technique: the 3 embedded.
+  std::string lod_chain = "deep";
+  uint32_t lod_min_triangles = 0;  // LodChainDesc::min_triangles; 0: the library's default.  // deep: buildLodChain's 6 levels; technique: the 3 embedded.
   std::vector<float> quality_budgets = {0.5f, 1.0f, 2.0f, 4.0f};  // Empty: no quality table.
   uint32_t quality_size = 10000;
   uint32_t quality_frames = 3;
+  uint32_t quality_ss = 1;  // Box filter of the quality images (render at this multiple).
   std::string quality_path = "instanced";
   std::string quality_images;  // Folder for each LOD choice's first quality frame, or empty.
   uint32_t frames = 5;
@@ -64,8 +66,12 @@ void usage(std::FILE* f) {
       "usage: crowd_bench [--sizes N,N,...] [--scenes field,stadium] [--frames N]\n"
       "                   [--paths instanced,compute,gpu-culled,gpu-driven,traditional,cpu,rigid]\n"
       "                   [--lods distance,screen] [--pixel-budget PX] [--lod-chain deep|technique]\n"
+      "                   [--lod-min-triangles N]\n"
       "                   [--quality-budgets PX,PX,... | none] [--quality-size N]\n"
       "                   [--quality-frames N] [--quality-path PATH] [--quality-images DIR]\n"
+      "                   [--quality-ss N] (compare images box-filtered N x N: give --size at\n"
+      "                   N times the display size for an antialiased comparison; pixel\n"
+      "                   budgets then count display pixels in every table)\n"
       "                   [--size WxH]\n"
       "                   [--max-baseline N] [--error-table-size N] [--csv PATH]\n"
       "                   [--error-path instanced|compute]\n"
@@ -89,6 +95,7 @@ bool parse(int argc, char** argv, Options* o) {
     else if (a == "--lods" && has) o->lods = si::examples::splitList(argv[++i]);
     else if (a == "--pixel-budget" && has) o->pixel_budget = std::stof(argv[++i]);
     else if (a == "--lod-chain" && has) o->lod_chain = argv[++i];
+    else if (a == "--lod-min-triangles" && has) o->lod_min_triangles = uint32_t(std::stoul(argv[++i]));
     else if (a == "--quality-budgets" && has) {
       o->quality_budgets.clear();
       const std::string v = argv[++i];
@@ -98,6 +105,7 @@ bool parse(int argc, char** argv, Options* o) {
     else if (a == "--quality-frames" && has) o->quality_frames = uint32_t(std::stoul(argv[++i]));
     else if (a == "--quality-path" && has) o->quality_path = argv[++i];
     else if (a == "--quality-images" && has) o->quality_images = argv[++i];
+    else if (a == "--quality-ss" && has) o->quality_ss = uint32_t(std::stoul(argv[++i]));
     else if (a == "--frames" && has) o->frames = uint32_t(std::stoul(argv[++i]));
     else if (a == "--size" && has) {
       if (std::sscanf(argv[++i], "%ux%u", &o->width, &o->height) != 2) return false;
@@ -128,6 +136,7 @@ bool parse(int argc, char** argv, Options* o) {
   if (!(o->pixel_budget > 0.0f) || !std::isfinite(o->pixel_budget)) return false;
   if (o->lod_chain != "deep" && o->lod_chain != "technique") return false;
   if (o->lods.empty() || o->quality_frames == 0) return false;
+  if (o->quality_ss == 0 || o->quality_ss > 8) return false;
   if (o->error_path != "instanced" && o->error_path != "compute") return false;
   return !o->sizes.empty() && o->frames > 0;
 }
@@ -153,7 +162,9 @@ LodChoice lodChoice(const std::string& name, float budget) {
 // and the error of each level. Prints triangles and error per LOD.
 si::Status makeCharacter(const Options& o, si::bench::Setup* setup) {
   si::Status s = si::makeDefaultCharacter({}, &setup->character);
-  if (s.isOk() && o.lod_chain == "deep") s = si::buildLodChain(&setup->character.mesh, {}, nullptr);
+  si::LodChainDesc chain;
+  chain.min_triangles = o.lod_min_triangles;
+  if (s.isOk() && o.lod_chain == "deep") s = si::buildLodChain(&setup->character.mesh, chain, nullptr);
   std::vector<float> bind_errors;
   if (s.isOk()) s = si::lodErrorsByLevel(setup->character.mesh, &bind_errors);
   // Errors over the clips' poses: what the screen-error mode selects by.
@@ -246,17 +257,20 @@ bool qualityTable(Bench& b, si::Renderer& renderer, const si::BakedPalette& pale
   }
   choices.push_back(lodChoice("distance", 1.0f));
   for (float budget : b.o.quality_budgets) choices.push_back(lodChoice("screen", budget));
-  std::printf("\nLOD quality against every instance at LOD 0 (%u instances, %u frames, %s path; a "
-              "pixel differs when a channel is off by more than %d/255)\n",
+  std::printf("\nLOD quality against every instance at LOD 0 (%u instances, %u frames, %s path, "
+              "%ux%u compared after a %ux%u box filter; a pixel differs when a channel is off by "
+              "more than %d/255)\n",
               b.o.quality_size, b.o.quality_frames, b.o.quality_path.c_str(),
-              si::bench::kQualityChannelTolerance);
+              b.o.width / b.o.quality_ss, b.o.height / b.o.quality_ss, b.o.quality_ss,
+              b.o.quality_ss, si::bench::kQualityChannelTolerance);
   std::printf("%-8s %-11s %12s %8s %12s %9s %8s\n", "scene", "lod", "triangles", "tri/px",
               "differing %", "PSNR dB", "max ch");
   for (const std::string& scene : b.o.scenes) {
     std::vector<si::bench::QualityRow> rows;
     const si::Status s = si::bench::measureLodQuality(b.setup, renderer, palette, scene,
                                                       b.o.quality_size, b.o.quality_path,
-                                                      b.o.quality_frames, choices,
+                                                      b.o.quality_frames, b.o.quality_ss,
+                                                      choices,
                                                       b.o.quality_images, &rows);
     if (!s.isOk()) return fail("quality", s) == 0;
     for (const si::bench::QualityRow& r : rows) {
@@ -286,6 +300,7 @@ int main(int argc, char** argv) {
   hd.height = b.setup.height = b.o.height;
   hd.backend = b.o.backend;
   b.setup.frames = b.o.frames;
+  b.setup.supersample = b.o.quality_ss;  // LOD budgets count display pixels.
   s = si::HeadlessContext::create(hd, &b.setup.context);
   if (s.isOk())
     s = si::loadGl(&si::HeadlessContext::getProcAddress, b.setup.context.get(), &b.setup.info);
