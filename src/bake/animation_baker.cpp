@@ -388,16 +388,21 @@ Status bakePalette(const Character& character, const BakeDesc& in_desc, BakedPal
     m.bounds.min -= glm::vec3(pad);
     m.bounds.max += glm::vec3(pad);
     BakedClip& bc = baked.clips[c];
+    // The box's circumsphere contains the mesh; in double, so a mesh spanning most of the float
+    // range is refused by name instead of leaving an infinite sphere in the palette.
+    const glm::dvec3 lo(m.bounds.min), hi(m.bounds.max);
+    const glm::dvec3 center = 0.5 * lo + 0.5 * hi;
+    const double radius = 0.5 * glm::length(hi - lo) * (1.0 + 1e-6);
+    const double float_max = 3.0e38;
+    if (!(std::isfinite(radius) && radius < float_max && glm::all(glm::lessThan(glm::abs(lo),
+          glm::dvec3(float_max))) && glm::all(glm::lessThan(glm::abs(hi), glm::dvec3(float_max)))))
+      return {StatusCode::kOutOfRange,
+              strCat("bake: clip ", c, " '", baked.clips[c].name,
+                     "': the skinned mesh spans past what float bounds hold (box from ",
+                     lo.x, ", ", lo.y, ", ", lo.z, " to ", hi.x, ", ", hi.y, ", ", hi.z, ")")};
     bc.bounds = m.bounds;
-    bc.bounding_sphere.center = m.bounds.center();
-    float radius = 0.0f;
-    for (int corner = 0; corner < 8; ++corner) {  // The box's circumsphere contains the mesh.
-      const glm::vec3 p((corner & 1) ? m.bounds.max.x : m.bounds.min.x,
-                        (corner & 2) ? m.bounds.max.y : m.bounds.min.y,
-                        (corner & 4) ? m.bounds.max.z : m.bounds.min.z);
-      radius = std::max(radius, glm::length(p - bc.bounding_sphere.center));
-    }
-    bc.bounding_sphere.radius = radius;
+    bc.bounding_sphere.center = glm::clamp(glm::vec3(center), m.bounds.min, m.bounds.max);
+    bc.bounding_sphere.radius = float(radius);
     if (measure) {
       m.report.palette_bytes = uint64_t(bc.frame_count) * baked.layout.frame_stride_texels *
                                bytesPerTexel(d.format);

@@ -89,8 +89,9 @@ Status checkClipBounds(const BakedClip& c, const std::string& where) {
   if (!isFinite(glm::vec4(s.center, s.radius)) || s.radius < 0.0f ||
       glm::any(glm::lessThan(s.center, b.min)) || glm::any(glm::greaterThan(s.center, b.max)))
     return {StatusCode::kOutOfRange, where + "the bounding sphere is not finite or not in the box"};
-  const float half_diagonal = 0.5f * glm::length(b.max - b.min);
-  if (s.radius < half_diagonal * (1.0f - 1e-5f))
+  // In double: a box spanning most of the float range has a half diagonal past FLT_MAX squared.
+  const double half_diagonal = 0.5 * glm::length(glm::dvec3(b.max) - glm::dvec3(b.min));
+  if (double(s.radius) < half_diagonal * (1.0 - 1e-5))
     return {StatusCode::kOutOfRange,
             strCat(where, "the bounding sphere (radius ", s.radius,
                    ") does not contain the box (half diagonal ", half_diagonal, ")")};

@@ -41,6 +41,48 @@ TEST(PaletteValidation, EveryBakePasses) {
   EXPECT_TRUE(p.validate().isOk()) << p.validate().toString();
 }
 
+// Found by fuzzing glTF import + bake (2026-11-23): a mesh spanning 1e22 units or more baked a
+// palette that its own validation refused, because the half diagonal of the box was computed
+// in float and overflowed. Huge finite meshes bake into palettes that validate, or are refused
+// by name; a sphere too small for a huge box is still caught.
+TEST(PaletteValidation, HugeMeshesBakeIntoValidPalettesOrAreRefused) {
+  for (const double scale : {1e19, 1e22, 1e30, 1e36}) {
+    SCOPED_TRACE(scale);
+    Character chain = test::chainCharacter(3);
+    Clip swing = test::blankClip(chain, "swing", 0.5f, LoopMode::kLoop);
+    swing.joint_tracks[2].rotation.times_seconds = {0.0f, 0.5f};
+    swing.joint_tracks[2].rotation.values = {glm::quat(1, 0, 0, 0), test::axisAngleF(1.0, {1, 0, 0})};
+    chain.clips.push_back(swing);
+    for (glm::vec3& p : chain.mesh.positions) p = glm::vec3(glm::dvec3(p) * scale);
+    for (glm::mat4& m : chain.skeleton.inverse_bind_matrices)
+      m[3] = glm::vec4(glm::vec3(glm::dvec3(m[3]) * scale), 1.0f);
+    for (Transform& t : chain.skeleton.rest_pose) t.translation = glm::vec3(glm::dvec3(t.translation) * scale);
+    for (Clip& c : chain.clips)
+      for (JointTracks& j : c.joint_tracks)
+        for (glm::vec3& v : j.translation.values) v = glm::vec3(glm::dvec3(v) * scale);
+    BakeDesc d;
+    d.rate_mode = RateMode::kFixed;
+    BakedPalette p;
+    const Status s = bakePalette(chain, d, &p, nullptr);
+    if (s.isOk()) {
+      EXPECT_TRUE(p.validate().isOk()) << p.validate().toString();
+    } else {
+      EXPECT_FALSE(s.message().empty());
+    }
+    if (scale <= 1e22) {
+      EXPECT_TRUE(s.isOk()) << s.toString();
+    }
+  }
+  BakedPalette p = smallPalette(PaletteFormat::kMatrix3x4F32);
+  p.clips[0].bounds.min = glm::vec3(-1e30f);
+  p.clips[0].bounds.max = glm::vec3(1e30f);
+  p.clips[0].bounding_sphere.center = glm::vec3(0.0f);
+  p.clips[0].bounding_sphere.radius = 1.7321e30f;  // Half the diagonal, 1e30 x sqrt(3).
+  EXPECT_TRUE(p.validate().isOk()) << p.validate().toString();
+  p.clips[0].bounding_sphere.radius = 1.5e30f;
+  EXPECT_EQ(p.validate().code(), StatusCode::kOutOfRange);
+}
+
 // Breaks one rule of a valid palette and expects its code.
 void expectBroken(PaletteFormat format, StatusCode code, const char* what,
                   const std::function<void(BakedPalette&)>& breakIt) {

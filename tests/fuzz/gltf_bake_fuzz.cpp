@@ -6,6 +6,7 @@
 // allocating or evaluating). Seeded with ../shared/assets; run with scripts/fuzz.sh.
 #include <cstdint>
 #include <algorithm>
+#include <cstdio>
 #include <cstdlib>
 
 #include "si/bake/animation_baker.h"
@@ -34,8 +35,15 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
     si::BakedPalette p;
     si::BakeReport r;
     const si::Status bs = si::bakePalette(c, b, &p, &r);
-    if (bs.isOk() && (!p.validate().isOk() || p.texel_bytes.size() > b.max_palette_bytes))
-      std::abort();
+    if (bs.isOk()) {
+      const si::Status v = p.validate();
+      if (!v.isOk() || p.texel_bytes.size() > b.max_palette_bytes) {
+        std::fprintf(stderr, "baked palette (%s rate) fails validation: %s (%zu texel bytes)\n",
+                     mode == si::RateMode::kFixed ? "fixed" : "automatic", v.toString().c_str(),
+                     p.texel_bytes.size());
+        std::abort();
+      }
+    }
     if (!bs.isOk() && bs.message().empty()) std::abort();
   }
   return 0;
