@@ -5,6 +5,7 @@
 #include <sys/wait.h>
 #include <unistd.h>
 
+#include <algorithm>
 #include <cstdio>
 #include <cstdlib>
 #include <fstream>
@@ -53,6 +54,18 @@ TEST(SiBake, WritesThePaletteTheLibraryBakes) {
   ASSERT_EQ(r.exit_code, 0) << r.output;
   EXPECT_NE(r.output.find("max error"), std::string::npos) << r.output;
   EXPECT_NE(r.output.find("walk"), std::string::npos) << r.output;
+  // The LOD table: every level's triangles (all sub-meshes, as instances draw them).
+  Character lod_character;
+  ASSERT_TRUE(makeDefaultCharacter({}, &lod_character).isOk());
+  for (size_t l = 0; l < lod_character.mesh.maxLodCount(); ++l) {
+    uint64_t triangles = 0;
+    for (const SubMesh& sm : lod_character.mesh.sub_meshes)
+      triangles += sm.lods[std::min(l, sm.lods.size() - 1)].index_count / 3;
+    char row[64];
+    std::snprintf(row, sizeof(row), "LOD %-2zu %10llu ", l,
+                  static_cast<unsigned long long>(triangles));
+    EXPECT_NE(r.output.find(row), std::string::npos) << row << "\n" << r.output;
+  }
   BakedPalette loaded;
   ASSERT_TRUE(loadPaletteFile(out, &loaded).isOk());
   // The same bake in process gives the same bytes.

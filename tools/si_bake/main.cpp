@@ -13,6 +13,7 @@
 // Errors go to stderr as one line "si-bake: error: ..."; the table goes to stdout.
 #include <unistd.h>
 
+#include <algorithm>
 #include <cerrno>
 #include <chrono>
 #include <cmath>
@@ -25,6 +26,7 @@
 #include "si/bake/animation_baker.h"
 #include "si/bake/palette_file.h"
 #include "si/core/default_character.h"
+#include "si/core/lod_error.h"
 #include "si/gltf/gltf_import.h"
 
 namespace {
@@ -216,6 +218,35 @@ void printTable(std::FILE* f, const si::BakedPalette& p, const si::BakeReport& r
                tolerance_ratio);
 }
 
+// Triangles and geometric error per LOD level as instances draw them (a sub-mesh with fewer
+// levels draws its last), in the bind pose and over poses of the clips; the errors are what
+// the crowd's screen-error LOD mode selects by (docs/crowd.md).
+void printLodTable(std::FILE* f, const si::Character& character) {
+  si::Character posed = character;
+  si::AnimatedLodErrorDesc poses;
+  poses.poses_per_clip = 4;
+  poses.max_poses = 64;
+  std::vector<float> bind, animated;
+  si::Status s = si::lodErrorsByLevel(character.mesh, &bind);
+  if (s.isOk()) s = si::measureAnimatedLodErrors(&posed, poses, nullptr);
+  if (s.isOk()) s = si::lodErrorsByLevel(posed.mesh, &animated);
+  if (!s.isOk()) {
+    std::fprintf(f, "LOD errors not measured: %s\n", s.toString().c_str());
+    return;
+  }
+  const double height = std::max(1e-30, double(character.height()));
+  std::fprintf(f, "%-6s %10s %12s %12s %12s\n", "LOD", "triangles", "bind units", "posed units",
+               "posed/h");
+  for (size_t l = 0; l < bind.size(); ++l) {
+    uint64_t triangles = 0;
+    for (const si::SubMesh& sm : character.mesh.sub_meshes)
+      if (!sm.lods.empty()) triangles += sm.lods[std::min(l, sm.lods.size() - 1)].index_count / 3;
+    std::fprintf(f, "LOD %-2zu %10llu %12.4g %12.4g %12.4g\n", l,
+                 static_cast<unsigned long long>(triangles), double(bind[l]), double(animated[l]),
+                 double(animated[l]) / height);
+  }
+}
+
 bool writeCsv(const std::string& path, const si::BakedPalette& p, const si::BakeReport& r) {
   std::FILE* f = std::fopen(path.c_str(), "w");
   if (f == nullptr) return false;
@@ -269,6 +300,7 @@ int main(int argc, char** argv) {
                 palette.clips.size(), seconds);
     printTable(stdout, palette, report, double(character.height()),
                double(resolved.error_tolerance_ratio));
+    printLodTable(stdout, character);
   }
   if (!o.csv.empty() && !writeCsv(o.csv, palette, report))
     return error(kExitOutput, "cannot write the CSV '" + o.csv + "'");
