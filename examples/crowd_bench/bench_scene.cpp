@@ -90,7 +90,7 @@ Status makeCrowd(const Setup& setup, const BakedPalette& palette, const std::str
   return s;
 }
 
-bool isGpuSelected(const std::string& path) { return path == "gpu-culled" || path == "gpu-driven"; }
+bool isGpuSelected(const std::string& path) { return path.compare(0, 4, "gpu-") == 0; }
 
 Status stepCrowd(CrowdManager& crowd, const std::string& path, const Camera& camera, double dt) {
   return isGpuSelected(path) ? crowd.advanceClock(dt) : crowd.update(dt, camera);
@@ -99,9 +99,15 @@ Status stepCrowd(CrowdManager& crowd, const std::string& path, const Camera& cam
 Status drawPath(Renderer& renderer, const CrowdManager& crowd, const std::string& path,
                 const Camera& camera, DrawStats* stats) {
   renderer.clear(kClearColor);
-  if (path == "gpu-culled") return renderer.drawCrowdGpuCulled(crowd, camera, stats, DrawMode::kSkinned);
-  if (path == "gpu-driven")
-    return renderer.drawCrowdGpuCulled(crowd, camera, stats, DrawMode::kComputeSkinned);
+  if (isGpuSelected(path)) {
+    const bool occlusion = path.size() > 10 && path.compare(path.size() - 10, 10, "-occlusion") == 0;
+    renderer.setGpuOcclusionCulling(occlusion);
+    const DrawMode mode = path.compare(0, 10, "gpu-driven") == 0 ? DrawMode::kComputeSkinned
+                                                                 : DrawMode::kSkinned;
+    const Status s = renderer.drawCrowdGpuCulled(crowd, camera, stats, mode);
+    renderer.setGpuOcclusionCulling(false);
+    return s;
+  }
   if (path == "traditional") return renderer.drawTraditional(crowd, camera, stats);
   if (path == "cpu") return renderer.drawCpuSkinned(crowd, camera, stats);
   InstanceBatcher batcher;

@@ -51,15 +51,16 @@ Camera cameraAt(const Setup& setup, const std::string& scene,
 Status makeCrowd(const Setup& setup, const BakedPalette& palette, const std::string& scene,
                  uint32_t count, const LodChoice& lod, CrowdManager* crowd);
 
-/// Paths whose culling and LOD selection run on the GPU (gpu-culled, gpu-driven).
+/// Paths whose culling and LOD selection run on the GPU (gpu-culled, gpu-driven, and both with
+/// two-phase occlusion culling: gpu-culled-occlusion, gpu-driven-occlusion).
 bool isGpuSelected(const std::string& path);
 
 /// Advances the crowd by dt for `path`: the clock only for GPU-selected paths, else update().
 Status stepCrowd(CrowdManager& crowd, const std::string& path, const Camera& camera, double dt);
 
 /// Clears and draws the crowd with one path: instanced, compute, gpu-culled (GPU culling,
-/// vertex-shader skinning), gpu-driven (GPU culling feeding compute pre-skinning), traditional,
-/// cpu, rigid.
+/// vertex-shader skinning), gpu-driven (GPU culling feeding compute pre-skinning), either with
+/// -occlusion (two-phase occlusion culling), traditional, cpu, rigid.
 Status drawPath(Renderer& renderer, const CrowdManager& crowd, const std::string& path,
                 const Camera& camera, DrawStats* stats);
 

@@ -58,13 +58,16 @@ void usage(std::FILE* f) {
       "Paths: instanced (vertex-shader skinning), compute (compute pre-skinning), gpu-culled\n"
       "(culling, LOD and records on the GPU, one multi-draw with vertex-shader skinning; the CPU\n"
       "only advances the clock), gpu-driven (GPU culling feeding indirect compute pre-skinning\n"
-      "and one multi-draw), traditional (one draw per character), cpu (CPU skinning), rigid (no\n"
+      "and one multi-draw), gpu-culled-occlusion and gpu-driven-occlusion (the same with\n"
+      "two-phase occlusion culling against a depth pyramid), traditional (one draw per\n"
+      "character), cpu (CPU skinning), rigid (no\n"
       "skinning: the floor). LOD modes: distance (the technique's lines in radii), screen (the\n"
       "coarsest LOD within --pixel-budget pixels of projected error).\n"
       "The quality table draws --quality-size instances with every instance at LOD 0 and with\n"
       "each LOD choice (each level alone, distance, screen at each budget) and compares images.\n"
       "usage: crowd_bench [--sizes N,N,...] [--scenes field,stadium] [--frames N]\n"
-      "                   [--paths instanced,compute,gpu-culled,gpu-driven,traditional,cpu,rigid]\n"
+      "                   [--paths instanced,compute,gpu-culled,gpu-driven,gpu-culled-occlusion,\n"
+      "                    gpu-driven-occlusion,traditional,cpu,rigid]\n"
       "                   [--lods distance,screen] [--pixel-budget PX] [--lod-chain deep|technique]\n"
       "                   [--lod-min-triangles N]\n"
       "                   [--quality-budgets PX,PX,... | none] [--quality-size N]\n"
@@ -124,7 +127,8 @@ bool parse(int argc, char** argv, Options* o) {
     if (s != "field" && s != "stadium") return false;
   const auto known_path = [](const std::string& p) {
     return p == "instanced" || p == "compute" || p == "gpu-culled" || p == "gpu-driven" ||
-           p == "traditional" || p == "cpu" || p == "rigid";
+           p == "gpu-culled-occlusion" || p == "gpu-driven-occlusion" || p == "traditional" ||
+           p == "cpu" || p == "rigid";
   };
   for (const std::string& p : o->paths)
     if (!known_path(p)) return false;

@@ -155,6 +155,10 @@ Status Renderer::uploadCharacter(const Character& character, const BakedPalette&
   return s;
 }
 
+void Renderer::setGpuOcclusionCulling(bool on) {
+  if (impl_) impl_->desc.gpu_occlusion_culling = on;
+}
+
 SkinningPath Renderer::skinningPath() const {
   return impl_ ? impl_->path : SkinningPath::kVertexShader;
 }

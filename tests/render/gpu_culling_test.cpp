@@ -300,5 +300,72 @@ TEST_P(RenderTest, GpuDrivenComputePathEqualsTheCpuComputePath) {
             StatusCode::kInvalidArgument);
 }
 
+// Two-phase occlusion culling: a dense wall of characters in front of a crowd. Every frame's
+// image equals the one drawn without occlusion culling. Frame 0 has no history (phase 1 draws
+// nothing, phase 2 everything); frame 1's phase 1 draws all of it and phase 2 learns what is
+// hidden; from frame 2 on, the crowd hidden behind the wall is not drawn. With pre-skinning
+// and without.
+TEST_P(RenderTest, GpuOcclusionCullingDrawsTheSameImageWithFewerTriangles) {
+  CrowdManager crowd;
+  makeCrowd(&crowd);
+  std::mt19937 rng(7);
+  std::uniform_real_distribution<double> u(0.0, 1.0);
+  for (int row = 0; row < 3; ++row)  // The wall: 3 staggered rows, shoulder to shoulder.
+    for (int k = 0; k < 40; ++k) {
+      InstanceDesc d;
+      d.position = glm::dvec3(-6.0 + 0.3 * k + 0.15 * row, 0.0, -2.0 - 0.4 * row);
+      d.clip = uint32_t(k % 2);
+      d.time_seconds = u(rng);
+      InstanceHandle h;
+      ASSERT_TRUE(crowd.add(d, &h).isOk());
+    }
+  for (int k = 0; k < 600; ++k) {  // The crowd behind it.
+    InstanceDesc d;
+    d.position = glm::dvec3(-8.0 + 16.0 * u(rng), 0.0, -8.0 - 30.0 * u(rng));
+    d.clip = uint32_t(k % 3);
+    d.time_seconds = u(rng);
+    InstanceHandle h;
+    ASSERT_TRUE(crowd.add(d, &h).isOk());
+  }
+  const Camera camera = Camera::lookAt({0.0, 1.0, 2.0}, {0.0, 1.0, -40.0}, glm::vec3(0, 1, 0),
+                                       0.9f, 1.0f, 0.1f, 500.0f);
+  for (const SkinningPath path : {SkinningPath::kVertexShader, SkinningPath::kCompute}) {
+    SCOPED_TRACE(skinningPathName(path));
+    Renderer plain, occluding;
+    RendererDesc rd;
+    rd.skinning_path = path;
+    rd.measure_gpu_time = true;  // Reads back the counts.
+    makeRenderer(&plain, 0, PaletteFormat::kMatrix3x4F32, &rd);
+    rd.gpu_occlusion_culling = true;
+    makeRenderer(&occluding, 0, PaletteFormat::kMatrix3x4F32, &rd);
+    for (int frame = 0; frame < 4; ++frame) {
+      SCOPED_TRACE(frame);
+      ASSERT_TRUE(crowd.advanceClock(frame == 0 ? 0.0 : 1.0 / 30.0).isOk());
+      DrawStats all, culled;
+      plain.clear(glm::vec4(0.2f, 0.25f, 0.3f, 1.0f));
+      ASSERT_TRUE(plain.drawCrowdGpuCulled(crowd, camera, &all).isOk());
+      std::vector<uint8_t> expected, actual;
+      ASSERT_TRUE(context_->readPixels(&expected).isOk());
+      occluding.clear(glm::vec4(0.2f, 0.25f, 0.3f, 1.0f));
+      const Status s = occluding.drawCrowdGpuCulled(crowd, camera, &culled);
+      ASSERT_TRUE(s.isOk()) << s.toString();
+      ASSERT_TRUE(context_->readPixels(&actual).isOk());
+      const Diff diff = compare(actual, expected, nullptr);
+      EXPECT_LE(diff.share, 0.001) << "max channel difference " << diff.max_channel;
+      EXPECT_EQ(culled.draw_calls, all.draw_calls * 2);  // Two phases.
+      std::printf("[ occlusion] %s frame %d: %llu of %llu triangles, %u of %u instances\n",
+                  skinningPathName(path), frame, static_cast<unsigned long long>(culled.triangles),
+                  static_cast<unsigned long long>(all.triangles), culled.gpu_visible,
+                  all.gpu_visible);
+      if (frame < 2) {
+        EXPECT_EQ(culled.triangles, all.triangles);
+      } else {
+        EXPECT_LT(culled.triangles * 4, all.triangles * 3);  // A good part is hidden.
+        EXPECT_GE(culled.gpu_visible, 120u);                 // At least the wall is drawn.
+      }
+    }
+  }
+}
+
 }  // namespace
 }  // namespace si

@@ -78,6 +78,14 @@ struct RendererDesc {
   /// 256 MiB or GL_MAX_SHADER_STORAGE_BLOCK_SIZE if smaller. Instances that do not fit in a
   /// frame are drawn with vertex-shader skinning instead (DrawStats::vertex_shader_instances).
   uint64_t gpu_driven_ring_bytes = 0;
+  /// drawCrowdGpuCulled(): two-phase occlusion culling. Phase 1 draws the instances visible at
+  /// the end of the last frame; the depth buffer (of the framebuffer bound when drawing, over
+  /// the viewport; single-sampled) is reduced into a depth pyramid; phase 2 tests every
+  /// instance in the frustum against it (its bounding sphere's box), draws those not occluded
+  /// that phase 1 did not, and remembers which are visible for the next frame. The image is the
+  /// one without occlusion culling; what the application drew before also occludes, so it must
+  /// have been drawn with the same camera. Switchable with setGpuOcclusionCulling().
+  bool gpu_occlusion_culling = false;
 };
 
 /// What one draw call group did.
@@ -140,6 +148,8 @@ class Renderer {
   const std::string& skinningPathReason() const;
   /// Bytes allocated for the compute path's vertex ring (0 until it is first used).
   uint64_t computeRingBytes() const;
+  /// Turns RendererDesc::gpu_occlusion_culling on or off from the next drawCrowdGpuCulled().
+  void setGpuOcclusionCulling(bool on);
 
   /// Sets the directional light (world direction the light travels along).
   void setLightDirection(const glm::vec3& direction) { light_direction_ = direction; }

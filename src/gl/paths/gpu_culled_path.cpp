@@ -66,12 +66,17 @@ Status GpuCulledPath::uploadState(const DrawResources& r, const CrowdManager& cr
                    "GPU culling: the entry indices");
     if (s.isOk())
       s = recreate(&entry_data_, size_t(entries) * 8, nullptr, "GPU culling: the entry data");
+    if (s.isOk())
+      s = recreate(&visible_last_, size_t(capacity) * 4, nullptr,
+                   "occlusion culling: the visible-last-frame flags");
     if (!s.isOk()) return s;
     capacity_ = capacity;
     sub_meshes_ = cd.sub_mesh_count;
   }
   if (n > 0)
     glNamedBufferSubData(state_, 0, GLsizeiptr(state.size() * sizeof(state[0])), state.data());
+  // Indices may now name other instances: none counts as visible last frame.
+  glClearNamedBufferData(visible_last_, GL_R32UI, GL_RED_INTEGER, GL_UNSIGNED_INT, nullptr);
   std::vector<glm::uvec2> ranges(buckets);
   std::vector<glm::uvec4> info(buckets);
   for (uint32_t b = 0; b < buckets; ++b) {
@@ -87,6 +92,9 @@ Status GpuCulledPath::uploadState(const DrawResources& r, const CrowdManager& cr
                  "GPU culling: the frame times");
   if (s.isOk() && counters_ == kNoObject)
     s = recreate(&counters_, size_t(kCounterWords) * 4, nullptr, "GPU culling: the counters");
+  if (s.isOk() && first_phase_counters_ == kNoObject)
+    s = recreate(&first_phase_counters_, size_t(kCounterWords) * 4, nullptr,
+                 "occlusion culling: the first phase's counters");
   if (s.isOk() && commands_ == kNoObject)
     s = recreate(&commands_, size_t(kPreskinnedCommands) * 2, nullptr, "GPU culling: the commands");
   if (s.isOk()) s = recreate(&ranges_, ranges.size() * 8, ranges.data(), "GPU culling: the ranges");
@@ -162,6 +170,8 @@ Status GpuCulledPath::uploadFrame(const DrawResources& r, const PathFrame& f) {
   glProgramUniform1ui(cull, 17, p.animation_lod_start);
   glProgramUniform1d(cull, 18, p.animation_step_seconds);
   glProgramUniform1ui(commands, 19, f.preskin ? uint32_t(ring_vertices_) : 0u);
+  const glm::mat4 vp = f.camera.viewProjection();
+  glProgramUniformMatrix4fv(cull, 21, 1, GL_FALSE, &vp[0][0]);
   return Status::ok();
 }
 
@@ -184,6 +194,27 @@ Status GpuCulledPath::ensureRing(const DrawResources& r) {
 }
 
 Status GpuCulledPath::draw(const DrawResources& r, const PathFrame& f, DrawStats* st) {
+  st->draw_calls = 0;
+  two_phases_ = r.desc->gpu_occlusion_culling;
+  if (!two_phases_) {
+    runPasses(r, f, 0, st);
+    return Status::ok();
+  }
+  // Phase 1: what was visible last frame. Then the pyramid of the depth it left (and of what
+  // the application drew before), and phase 2: every instance in the frustum tested against it.
+  runPasses(r, f, 1, st);
+  glCopyNamedBufferSubData(counters_, first_phase_counters_, 0, 0, GLsizeiptr(kCounterWords) * 4);
+  Status s = pyramid_.build(*r.programs);
+  if (!s.isOk()) return s;
+  const GLuint cull = (*r.programs)[ProgramId::kCull].id;
+  glProgramUniform3i(cull, 22, pyramid_.width(), pyramid_.height(), pyramid_.levels());
+  glBindTextureUnit(1, pyramid_.texture());
+  runPasses(r, f, 2, st);
+  return Status::ok();
+}
+
+void GpuCulledPath::runPasses(const DrawResources& r, const PathFrame& f, uint32_t phase,
+                              DrawStats* st) {
   const uint32_t n = instances_;
   const GLuint cull = (*r.programs)[ProgramId::kCull].id;
   const GLuint commands = (*r.programs)[ProgramId::kCullCommands].id;
@@ -194,12 +225,16 @@ Status GpuCulledPath::draw(const DrawResources& r, const PathFrame& f, DrawStats
   const GLuint ssbo[] = {state_, clips_, times_, counters_, records_, entries_, visible_,
                          commands_, ranges_, bucket_info_};
   glBindBuffersBase(GL_SHADER_STORAGE_BUFFER, 0, 10, ssbo);
+  glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 16, visible_last_);
+  glProgramUniform1ui(cull, 20, phase);
   const GLuint preskin_ssbo[] = {entry_data_, ring_, r.character->vertex_buffer,
                                  r.preskin->lod_vertex_list};
   if (f.preskin) glBindBuffersBase(GL_SHADER_STORAGE_BUFFER, 12, 4, preskin_ssbo);
   else glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 12, entry_data_);
-  // Also orders last frame's reads of the ring before this frame's writes.
-  glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT | GL_BUFFER_UPDATE_BARRIER_BIT);
+  // Also orders last frame's (or the first phase's) reads of the ring, records, entries and
+  // commands before these passes' writes.
+  glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT | GL_BUFFER_UPDATE_BARRIER_BIT |
+                  GL_COMMAND_BARRIER_BIT);
   glUseProgram(cull);
   glDispatchCompute((n + 63) / 64, 1, 1);
   glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT);
@@ -211,7 +246,6 @@ Status GpuCulledPath::draw(const DrawResources& r, const PathFrame& f, DrawStats
   glDispatchComputeIndirect(GLintptr(kDispatchWord) * 4);
   glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT | GL_COMMAND_BARRIER_BIT);
   glBindBuffer(GL_DRAW_INDIRECT_BUFFER, commands_);
-  st->draw_calls = 0;
   if (f.preskin) {
     // Every pre-skinned entry's vertices into the ring, then one vertex-pulling multi-draw.
     const Program& skin = (*r.programs)[ProgramId::kGpuSkin];
@@ -235,22 +269,26 @@ Status GpuCulledPath::draw(const DrawResources& r, const PathFrame& f, DrawStats
   glBindVertexArray(vao_);
   glMultiDrawElementsIndirect(GL_TRIANGLES, GL_UNSIGNED_INT, nullptr, GLsizei(buckets_), 0);
   ++st->draw_calls;
-  return Status::ok();
 }
 
 void GpuCulledPath::readCounts(const DrawResources& r, const CrowdDesc& cd, DrawStats* st) const {
-  std::vector<uint32_t> counters(kCounterWords);
-  glGetNamedBufferSubData(counters_, 0, GLsizeiptr(counters.size() * 4), counters.data());
-  st->gpu_visible = counters[0];
-  const uint32_t buckets = cd.lod_count * cd.sub_mesh_count;
-  for (uint32_t b = 0; b < buckets; ++b) {
-    const uint32_t instances = counters[kBucketCountWord + b];
-    const IndexRange range = r.character->lodRange(b % cd.sub_mesh_count, b / cd.sub_mesh_count);
-    st->triangles += uint64_t(range.index_count / 3) * instances;
-    st->instances += instances;
-    st->vertex_shader_instances += instances - counters[kFittedWord + b];
+  st->gpu_visible = 0;
+  st->skinned_vertices = 0;
+  for (const GLuint buffer : {counters_, two_phases_ ? first_phase_counters_ : kNoObject}) {
+    if (buffer == kNoObject) continue;
+    std::vector<uint32_t> counters(kCounterWords);
+    glGetNamedBufferSubData(buffer, 0, GLsizeiptr(counters.size() * 4), counters.data());
+    st->gpu_visible += counters[0];
+    const uint32_t buckets = cd.lod_count * cd.sub_mesh_count;
+    for (uint32_t b = 0; b < buckets; ++b) {
+      const uint32_t instances = counters[kBucketCountWord + b];
+      const IndexRange range = r.character->lodRange(b % cd.sub_mesh_count, b / cd.sub_mesh_count);
+      st->triangles += uint64_t(range.index_count / 3) * instances;
+      st->instances += instances;
+      st->vertex_shader_instances += instances - counters[kFittedWord + b];
+    }
+    st->skinned_vertices += counters[kThreadBaseWord + buckets];
   }
-  st->skinned_vertices = counters[kThreadBaseWord + buckets];
 }
 
 Status GpuCulledPath::readSelection(std::vector<glm::uvec2>* selection) const {
@@ -269,10 +307,11 @@ Status GpuCulledPath::readSelection(std::vector<glm::uvec2>* selection) const {
 void GpuCulledPath::release() {
   const GLuint buffers[] = {state_,    clips_,    times_,       counters_,  records_,
                             visible_,  entries_,  identity_,    commands_,  ranges_,
-                            bucket_info_, entry_data_, ring_};
+                            bucket_info_, entry_data_, ring_, visible_last_, first_phase_counters_};
   glDeleteBuffers(GLsizei(sizeof(buffers) / sizeof(buffers[0])), buffers);
   const GLuint arrays[] = {vao_, preskin_vao_};
   glDeleteVertexArrays(2, arrays);
+  pyramid_.release();
   *this = GpuCulledPath();
 }
 

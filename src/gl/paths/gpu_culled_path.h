@@ -10,6 +10,7 @@
 #include <vector>
 
 #include "gl/paths/draw_path.h"
+#include "gl/resources/depth_pyramid.h"
 
 namespace si::detail {
 
@@ -24,21 +25,30 @@ class GpuCulledPath final : public DrawPath {
   void release() override;
 
   /// After the timer read: visible instances, triangles, pre-skinned vertices and the
-  /// instances skinned in the vertex shader, from the GPU's counters.
+  /// instances skinned in the vertex shader, from the GPU's counters (both phases' with
+  /// occlusion culling).
   void readCounts(const DrawResources& r, const CrowdDesc& desc, DrawStats* stats) const;
-  /// The last frame's selection: (dense index, LOD) per visible instance.
+  /// The last frame's selection: (dense index, LOD) per visible instance (with occlusion
+  /// culling, the second phase's only).
   Status readSelection(std::vector<glm::uvec2>* selection) const;
 
  private:
   // Uploads the crowd's state when it changed (or the crowd, its shape or the character did).
   Status uploadState(const DrawResources& r, const CrowdManager& crowd, uint32_t buckets);
   Status ensureRing(const DrawResources& r);
+  // Cull, commands, scatter and the draws, with the cull pass in occlusion `phase` (0 off).
+  void runPasses(const DrawResources& r, const PathFrame& f, uint32_t phase, DrawStats* st);
 
   GLuint vao_ = kNoObject, preskin_vao_ = kNoObject;
   GLuint state_ = kNoObject, clips_ = kNoObject, times_ = kNoObject, counters_ = kNoObject;
   GLuint records_ = kNoObject, visible_ = kNoObject, entries_ = kNoObject, identity_ = kNoObject;
   GLuint commands_ = kNoObject, ranges_ = kNoObject, bucket_info_ = kNoObject;
   GLuint entry_data_ = kNoObject, ring_ = kNoObject;
+  // Occlusion culling: per instance, visible at the end of the last frame (0 or 1); the first
+  // phase's counters (the second phase overwrites the counters); the depth pyramid.
+  GLuint visible_last_ = kNoObject, first_phase_counters_ = kNoObject;
+  DepthPyramid pyramid_;
+  bool two_phases_ = false;  // The last frame drew in two phases.
   uint64_t ring_vertices_ = 0;
   uint32_t capacity_ = 0, instances_ = 0, buckets_ = 0, sub_meshes_ = 0;
   uint64_t version_ = 0;

@@ -31,6 +31,8 @@ const ProgramSpec kSpecs[kProgramCount] = {
     {"GPU-driven pre-skinning", "", nullptr, nullptr, "gpu_skin.comp.glsl", nullptr},
     {"GPU-driven pulling", "#define SI_GPU_DRIVEN\n", "pulled.vert.glsl", "shade.frag.glsl", nullptr,
      nullptr},
+    {"depth pyramid copy", "#define SI_HIZ_COPY\n", nullptr, nullptr, "hiz.comp.glsl", nullptr},
+    {"depth pyramid reduce", "", nullptr, nullptr, "hiz.comp.glsl", nullptr},
 };
 
 }  // namespace

@@ -26,6 +26,8 @@ enum class ProgramId : uint8_t {
   kCullScatter,        ///< GPU-driven culling: bucket entries.
   kGpuSkin,            ///< GPU-driven pre-skinning (dispatched indirectly).
   kGpuPulled,          ///< GPU-driven pre-skinned draw (vertex pulling through entries).
+  kHizCopy,            ///< Occlusion culling: depth into the pyramid's level 0.
+  kHizReduce,          ///< Occlusion culling: one pyramid level from the one below.
   kCount
 };
 inline constexpr size_t kProgramCount = size_t(ProgramId::kCount);

@@ -3,6 +3,7 @@
 // (src/crowd/cull_math.h, written out again with `precise` so no step is fused or reordered)
 // and its record at the crowd's clock; the visible instance's row and its bucket counts.
 #include "cull_common.glsl"
+#include "cull_occlusion.glsl"
 layout(local_size_x = 64) in;
 layout(location = 0) uniform vec4 u_planes[6];
 layout(location = 6) uniform dvec3 u_camera;
@@ -11,6 +12,10 @@ layout(location = 8) uniform vec4 u_params;  // radius, far line (radii), hyster
 layout(location = 9) uniform float u_lines[7];
 layout(location = 17) uniform uint u_anim_lod;
 layout(location = 18) uniform double u_anim_step;
+// Occlusion culling: 0 off; 1 the first phase (instances visible last frame); 2 the second
+// (every instance in the frustum tested against the pyramid of what the first phase drew:
+// those not occluded are visible next frame, and drawn now unless the first phase drew them).
+layout(location = 20) uniform uint u_occlusion_phase;
 
 // cull_math.h's dot3, cross3 and rotate, in the same order and unfused.
 float siDot3(vec3 a, vec3 b) {
@@ -100,7 +105,14 @@ void main() {
     if (!(d2 < line * line)) break;
     --lod;
   }
-  si_state[i].lod = lod;
+  si_state[i].lod = lod;  // Applying the hysteresis again in the second phase changes nothing.
+  if (u_occlusion_phase == 1u && si_visible_last[i] == 0u) return;
+  if (u_occlusion_phase == 2u) {
+    bool occluded = siOccluded(center_a, ra) && (!fading || siOccluded(center_b, rb));
+    uint drawn = si_visible_last[i];
+    si_visible_last[i] = occluded ? 0u : 1u;
+    if (occluded || drawn != 0u) return;
+  }
 
   // The record (CrowdManager::update()'s).
   SiInstance rec;

@@ -1,0 +1,31 @@
+// SkinnedInstancing — SPDX-License-Identifier: MIT (see LICENSE)
+#pragma once
+// Occlusion culling's depth pyramid: the bound draw framebuffer's depth over the viewport,
+// blitted into a depth texture of the same format, then reduced level by level to the farthest
+// depth of each 2 x 2 block (shaders/hiz.comp.glsl) in an R32F mip chain.
+#include "gl/programs/program_set.h"
+#include "si/core/status.h"
+
+namespace si::detail {
+
+class DepthPyramid {
+ public:
+  /// Builds the pyramid from what the bound draw framebuffer's depth holds now. Recreates its
+  /// textures when the viewport's size or the depth format changes. kUnsupported for a
+  /// framebuffer without depth or with multisampling (a blit would resolve one sample);
+  /// createTexture2D()'s status when a texture cannot be made.
+  Status build(const ProgramSet& programs);
+  GLuint texture() const { return pyramid_; }
+  int width() const { return width_; }    ///< Of the viewport (level 0's texels from 0).
+  int height() const { return height_; }
+  int levels() const { return levels_; }
+  void release();
+
+ private:
+  GLuint depth_ = kNoObject, fbo_ = kNoObject, pyramid_ = kNoObject;
+  GLenum depth_format_ = 0;
+  int width_ = 0, height_ = 0, levels_ = 0;  // The viewport's size; the pyramid's levels.
+  int pyramid_width_ = 0, pyramid_height_ = 0;  // Level 0: powers of two.
+};
+
+}  // namespace si::detail
