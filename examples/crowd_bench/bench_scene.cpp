@@ -29,9 +29,18 @@ std::string LodChoice::name() const {
 std::vector<glm::dvec3> scenePositions(const std::string& scene, uint32_t count) {
   std::vector<glm::dvec3> p;
   p.reserve(count);
-  if (scene == "field") {
+  if (scene == "field" || scene == "plaza") {
+    const double spacing = scene == "field" ? 1.5 : 1.2;
     const uint32_t side = uint32_t(std::ceil(std::sqrt(double(count))));
-    for (uint32_t i = 0; i < count; ++i) p.push_back(glm::dvec3(i % side, 0, i / side) * 1.5);
+    for (uint32_t i = 0; i < count; ++i) {
+      glm::dvec3 q = glm::dvec3(i % side, 0, i / side) * spacing;
+      if (scene == "plaza") {  // Milling about: up to 0.4 m off the grid, no straight aisles.
+        const uint32_t h = (i + 1u) * 2654435761u;
+        q.x += 0.4 * (double(h & 0xFFFFu) / 65535.0 * 2.0 - 1.0);
+        q.z += 0.4 * (double(h >> 16) / 65535.0 * 2.0 - 1.0);
+      }
+      p.push_back(q);
+    }
     return p;
   }
   for (uint32_t tier = 0; p.size() < count; ++tier) {
@@ -58,6 +67,13 @@ Camera cameraAt(const Setup& setup, const std::string& scene,
     const double a = 0.3 + 0.5 * t;
     cam = Camera::lookAt(c + glm::dvec3(r * std::cos(a), r * 0.8, r * std::sin(a)), c,
                          glm::vec3(0, 1, 0), 0.9f, aspect, 1.0f, float(r * 4));
+  } else if (scene == "plaza") {
+    double side = 0.0;
+    for (const glm::dvec3& q : positions) side = std::max(side, q.x);
+    const double a = (t - 0.5) * 0.6;  // Panning 34 degrees across the crowd.
+    const glm::dvec3 eye(side * 0.5, 1.7, -4.0);
+    cam = Camera::lookAt(eye, eye + glm::dvec3(std::sin(a), -0.05, std::cos(a)), glm::vec3(0, 1, 0),
+                         1.0f, aspect, 0.3f, 5000.0f);
   } else {
     const double a = 6.28318530718 * t * 0.25;
     cam = Camera::lookAt({0, 6, 0}, {std::cos(a) * 40, 8, std::sin(a) * 40}, glm::vec3(0, 1, 0),

@@ -38,12 +38,14 @@ struct LodChoice {
   std::string name() const;
 };
 
-/// Seeded, deterministic scenes. Field: a square grid 1.5 m apart. Stadium: a bowl of tiers
-/// rising around a pitch, seats 0.9 m apart, tiers 1.0 m deeper and 0.5 m higher each.
+/// Seeded, deterministic scenes. Field: a square grid 1.5 m apart. Plaza: a square grid 1.2 m
+/// apart, each character up to 0.4 m off its point. Stadium: a bowl of tiers rising around a pitch, seats 0.9 m apart, tiers 1.0 m deeper
+/// and 0.5 m higher each.
 std::vector<glm::dvec3> scenePositions(const std::string& scene, uint32_t count);
 
 /// The fixed camera path, frame f of n. Field: orbiting high enough to see the whole field.
-/// Stadium: standing on the pitch, turning round.
+/// Plaza: at eye height at the crowd's edge, panning across it (most characters hidden behind
+/// nearer ones). Stadium: standing on the pitch, turning round.
 Camera cameraAt(const Setup& setup, const std::string& scene,
                 const std::vector<glm::dvec3>& positions, uint32_t f, uint32_t n);
 

@@ -65,7 +65,7 @@ void usage(std::FILE* f) {
       "coarsest LOD within --pixel-budget pixels of projected error).\n"
       "The quality table draws --quality-size instances with every instance at LOD 0 and with\n"
       "each LOD choice (each level alone, distance, screen at each budget) and compares images.\n"
-      "usage: crowd_bench [--sizes N,N,...] [--scenes field,stadium] [--frames N]\n"
+      "usage: crowd_bench [--sizes N,N,...] [--scenes field,stadium,plaza] [--frames N]\n"
       "                   [--paths instanced,compute,gpu-culled,gpu-driven,gpu-culled-occlusion,\n"
       "                    gpu-driven-occlusion,traditional,cpu,rigid]\n"
       "                   [--lods distance,screen] [--pixel-budget PX] [--lod-chain deep|technique]\n"
@@ -124,7 +124,7 @@ bool parse(int argc, char** argv, Options* o) {
     } else return false;
   }
   for (const std::string& s : o->scenes)
-    if (s != "field" && s != "stadium") return false;
+    if (s != "field" && s != "stadium" && s != "plaza") return false;
   const auto known_path = [](const std::string& p) {
     return p == "instanced" || p == "compute" || p == "gpu-culled" || p == "gpu-driven" ||
            p == "gpu-culled-occlusion" || p == "gpu-driven-occlusion" || p == "traditional" ||

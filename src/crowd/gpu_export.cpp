@@ -92,6 +92,7 @@ void CrowdManager::exportGpuClips(std::vector<GpuClipInfo>* clips,
     g.inv_interval = ci.inv_interval;
     g.sphere[0] = ci.sphere_center.x, g.sphere[1] = ci.sphere_center.y;
     g.sphere[2] = ci.sphere_center.z, g.sphere[3] = ci.sphere_radius;
+    for (int k = 0; k < 3; ++k) g.box_min[k] = bc.bounds.min[k], g.box_max[k] = bc.bounds.max[k];
     g.first_texel = ci.first_texel;
     g.last_interval = ci.last_interval;
     g.uniform_grid = ci.uniform ? 1u : 0u;

@@ -360,8 +360,8 @@ TEST_P(RenderTest, GpuOcclusionCullingDrawsTheSameImageWithFewerTriangles) {
       if (frame < 2) {
         EXPECT_EQ(culled.triangles, all.triangles);
       } else {
-        EXPECT_LT(culled.triangles * 4, all.triangles * 3);  // A good part is hidden.
-        EXPECT_GE(culled.gpu_visible, 120u);                 // At least the wall is drawn.
+        EXPECT_LT(culled.triangles * 2, all.triangles);  // Most of the crowd is hidden.
+        EXPECT_GE(culled.gpu_visible, 40u);              // The wall's front row is drawn.
       }
     }
   }

@@ -116,6 +116,8 @@ TEST_P(ShaderInterface, GpuCrowdStateMatchesTheCppStructs) {
       {"si_clips[0].uniform_grid", offsetof(GpuClipInfo, uniform_grid)},
       {"si_clips[0].frame_count", offsetof(GpuClipInfo, frame_count)},
       {"si_clips[0].times_offset", offsetof(GpuClipInfo, times_offset)},
+      {"si_clips[0].box_min", offsetof(GpuClipInfo, box_min)},
+      {"si_clips[0].box_max", offsetof(GpuClipInfo, box_max)},
   };
   for (const Field& f : clip_fields)
     EXPECT_EQ(offsetOf(cull, GL_BUFFER_VARIABLE, f.glsl), GLint(f.offset)) << f.glsl;

@@ -44,8 +44,10 @@ struct GpuClipInfo {
   uint32_t frame_count;
   uint32_t times_offset;      ///< Into the frame-times array (doubles), for non-uniform clips.
   uint32_t pad[3];
+  float box_min[4];           ///< The clip's bounding box (model units; w unused): tighter
+  float box_max[4];           ///< than the sphere for occlusion culling.
 };
-static_assert(sizeof(GpuClipInfo) == 80, "std430 layout");
+static_assert(sizeof(GpuClipInfo) == 112, "std430 layout");
 
 /// One frame's selection parameters (see src/crowd/cull_math.h for the arithmetic).
 struct CullParams {

@@ -108,7 +108,8 @@ void main() {
   si_state[i].lod = lod;  // Applying the hysteresis again in the second phase changes nothing.
   if (u_occlusion_phase == 1u && si_visible_last[i] == 0u) return;
   if (u_occlusion_phase == 2u) {
-    bool occluded = siOccluded(center_a, ra) && (!fading || siOccluded(center_b, rb));
+    bool occluded = siOccluded(rel, st.rotation, s, ca.box_min.xyz, ca.box_max.xyz) &&
+                    (!fading || siOccluded(rel, st.rotation, s, cb.box_min.xyz, cb.box_max.xyz));
     uint drawn = si_visible_last[i];
     si_visible_last[i] = occluded ? 0u : 1u;
     if (occluded || drawn != 0u) return;

@@ -19,5 +19,6 @@ struct SiGpuClip {
   vec4 sphere;
   uint first_texel, last_interval, uniform_grid, frame_count;
   uint times_offset, pad0, pad1, pad2;
+  vec4 box_min, box_max;
 };
 #endif
