@@ -58,9 +58,15 @@ Status DepthPyramid::build(const ProgramSet& programs) {
   GLint framebuffer = 0, viewport[4] = {0, 0, 0, 0};
   glGetIntegerv(GL_DRAW_FRAMEBUFFER_BINDING, &framebuffer);
   glGetIntegerv(GL_VIEWPORT, viewport);
-  GLenum format = 0;
-  Status s = depthFormat(GLuint(framebuffer), &format);
-  if (!s.isOk()) return s;
+  // Framebuffer queries can wait for the GPU on some drivers: the format is queried again only
+  // when the bound framebuffer changes.
+  GLenum format = depth_format_;
+  Status s;
+  if (GLuint(framebuffer) != framebuffer_ || depth_format_ == 0) {
+    s = depthFormat(GLuint(framebuffer), &format);
+    if (!s.isOk()) return s;
+    framebuffer_ = GLuint(framebuffer);
+  }
   const int w = std::max(1, viewport[2]), h = std::max(1, viewport[3]);
   if (w != width_ || h != height_ || format != depth_format_ || pyramid_ == kNoObject) {
     width_ = height_ = levels_ = 0;  // Until both textures exist.

@@ -11,7 +11,9 @@ namespace si::detail {
 class DepthPyramid {
  public:
   /// Builds the pyramid from what the bound draw framebuffer's depth holds now. Recreates its
-  /// textures when the viewport's size or the depth format changes. kUnsupported for a
+  /// textures when the viewport's size or the depth format changes (the format is queried when
+  /// the bound framebuffer changes: attach another depth buffer to the same framebuffer object
+  /// and the next build may fail to blit). kUnsupported for a
   /// framebuffer without depth or with multisampling (a blit would resolve one sample);
   /// createTexture2D()'s status when a texture cannot be made.
   Status build(const ProgramSet& programs);
@@ -24,6 +26,7 @@ class DepthPyramid {
  private:
   GLuint depth_ = kNoObject, fbo_ = kNoObject, pyramid_ = kNoObject;
   GLenum depth_format_ = 0;
+  GLuint framebuffer_ = 0;  // The one depth_format_ was queried for.
   int width_ = 0, height_ = 0, levels_ = 0;  // The viewport's size; the pyramid's levels.
   int pyramid_width_ = 0, pyramid_height_ = 0;  // Level 0: powers of two.
 };
