@@ -11,7 +11,7 @@ if ! command -v gnuplot >/dev/null 2>&1; then
 fi
 mkdir -p "$out"
 plots=""
-for p in instanced compute gpu-culled gpu-driven traditional cpu rigid; do
+for p in instanced compute gpu-culled gpu-driven gpu-culled-occlusion gpu-driven-occlusion traditional cpu rigid; do
   awk -F, -v s="$scene" -v p="$p" -v l="$lod" '$1=="paths" && $2==s && $3==p && ($15=="" || $15==l) {
       cpu = $8 + $9; print $4, (cpu > $10 ? cpu : $10) }' "$csv" > "$out/$p.dat"
   if [ -s "$out/$p.dat" ]; then
