@@ -6,7 +6,9 @@
 #include <cmath>
 #include <cstdio>
 
+#include "si/bake/lod_chain.h"
 #include "si/bake/palette_file.h"
+#include "si/core/lod_error.h"
 #include "si/gltf/gltf_import.h"
 
 namespace demo {
@@ -35,6 +37,10 @@ si::Status DemoScene::loadCharacter(const SceneOptions& options) {
     for (const std::string& w : gr.warnings) std::printf("warning: %s\n", w.c_str());
     if (s.isOk() && character_.clips.empty())
       s = si::Status(si::StatusCode::kUnsupported, "the model has no animation clips");
+  }
+  if (s.isOk() && options.lod_pixels > 0.0f) {  // Chains deep enough for a few pixels.
+    s = si::buildLodChain(&character_.mesh, {}, nullptr);
+    if (s.isOk()) s = si::measureAnimatedLodErrors(&character_, {}, nullptr);
   }
   if (!s.isOk()) return s;
   // Lay the crowd out in units of the character's size (the embedded one is 2.05 units tall).
@@ -81,12 +87,26 @@ void DemoScene::printSummary() const {
   const si::BakedPalette& p = palette_;
   std::printf("Character '%s': %zu joints, %zu vertices, height %.3f units\n", c.name.c_str(),
               c.skeleton.jointCount(), c.mesh.vertexCount(), double(c.height()));
-  std::printf("%-10s %10s %10s %10s\n", "sub-mesh", "LOD0 tris", "LOD1 tris", "LOD2 tris");
+  std::printf("%-10s", "sub-mesh");
+  for (size_t l = 0; l < c.mesh.maxLodCount(); ++l) std::printf("   LOD%zu tris", l);
+  std::printf("\n");
   for (size_t sm = 0; sm < c.mesh.sub_meshes.size(); ++sm) {
     std::printf("%-10s", c.mesh.sub_meshes[sm].name.c_str());
     for (size_t l = 0; l < c.mesh.sub_meshes[sm].lods.size(); ++l)
-      std::printf(" %10zu", c.mesh.triangleCount(sm, l));
+      std::printf(" %11zu", c.mesh.triangleCount(sm, l));
     std::printf("\n");
+  }
+  std::vector<si::LodLevelSummary> levels;  // As instances draw them.
+  if (si::summarizeLodLevels(c.mesh, &levels).isOk()) {
+    std::printf("%-10s", "all drawn");
+    for (const si::LodLevelSummary& l : levels)
+      std::printf(" %11llu", static_cast<unsigned long long>(l.triangles));
+    std::printf("\n%-10s", "error (u)");
+    for (const si::LodLevelSummary& l : levels) std::printf(" %11.4g", double(l.error_units));
+    if (options_.lod_pixels > 0.0f)
+      std::printf("\nLOD by projected error within %g pixels\n", double(options_.lod_pixels));
+    else
+      std::printf("\nLOD by distance lines (the technique's)\n");
   }
   std::printf("%-8s %10s %6s %9s %8s %12s\n", "clip", "duration s", "loop", "rate Hz", "frames",
               "max error");
@@ -127,7 +147,14 @@ si::Status DemoScene::buildCrowd() {
   cd.palette = &palette_;
   cd.sub_mesh_count = uint32_t(character_.mesh.sub_meshes.size());
   cd.lod_count = uint32_t(character_.mesh.maxLodCount());
-  si::Status s = crowd_.init(cd);
+  si::Status s;
+  if (options_.lod_pixels > 0.0f) {
+    cd.lod_mode = si::LodMode::kScreenError;
+    cd.pixel_error_budget = options_.lod_pixels;
+    s = si::lodErrorsByLevel(character_.mesh, &cd.lod_errors_units);
+    if (!s.isOk()) return s;
+  }
+  s = crowd_.init(cd);
   if (!s.isOk()) return s;
   if (lod_scale_ != 1.0f) {
     std::vector<float> lines = crowd_.desc().lod_distances_radii;

@@ -31,6 +31,7 @@ struct SceneOptions {
   std::string model;    // glTF file; empty: the embedded character.
   std::string palette;  // Palette file (si-bake) to load instead of baking.
   std::vector<std::string> clips;
+  float lod_pixels = 0.0f;  // > 0: deeper LOD chains, LOD by projected error within this budget.
 };
 
 class DemoScene {

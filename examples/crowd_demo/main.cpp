@@ -5,6 +5,7 @@
 // crossfade of every character (F1 lists them); without one (or with --headless) it renders
 // N frames offscreen (EGL or OSMesa), writes a PNG and prints the frame statistics.
 // Usage: crowd_demo --help
+#include <cmath>
 #include <cstdio>
 #include <cstdlib>
 #include <cstring>
@@ -37,7 +38,7 @@ void usage(std::FILE* f) {
       "                  [--out PATH] [--backend auto|egl-device|egl-surfaceless|osmesa]\n"
       "                  [--format f32|f16|quat] [--rate HZ] [--seed N] [--summary]\n"
       "                  [--model FILE.gltf|FILE.glb] [--clips NAME,...] [--palette FILE]\n"
-      "                  [--keys K,K,...]\n"
+      "                  [--keys K,K,...] [--lod-pixels PX]\n"
       "Renders a crowd of the embedded character (default 4000 characters, 1280x720).\n"
       "With a display it opens a window (F1 lists the keys; ESC quits); without one, or with\n"
       "--headless, it renders --frames frames (default 3, 1/60 s apart) offscreen, writes the\n"
@@ -46,7 +47,10 @@ void usage(std::FILE* f) {
       "--rate bakes every clip at a fixed rate instead of the automatic one. --summary prints\n"
       "the character and its palette only. --model renders a glTF character (its clips, or\n"
       "those --clips names). --palette loads a palette file written by si-bake instead of\n"
-      "baking. --keys presses window keys, one per frame (e.g. +,f,p,c,]) for scripted runs.\n");
+      "baking. --keys presses window keys, one per frame (e.g. +,f,p,c,]) for scripted runs.\n"
+      "--lod-pixels extends the LOD chains (si::buildLodChain, errors over the clips' poses)\n"
+      "and picks each character's LOD by projected error within PX pixels instead of the\n"
+      "technique's distance lines.\n");
 }
 
 bool parse(int argc, char** argv, Options* o) {
@@ -81,6 +85,9 @@ bool parse(int argc, char** argv, Options* o) {
       o->scene.clips = si::examples::splitList(argv[++i]);
     } else if (a == "--keys" && has) {
       o->window.keys = si::examples::splitList(argv[++i]);
+    } else if (a == "--lod-pixels" && has) {
+      o->scene.lod_pixels = std::strtof(argv[++i], nullptr);
+      if (!(o->scene.lod_pixels > 0.0f) || !std::isfinite(o->scene.lod_pixels)) return false;
     } else if (a == "--summary") {
       o->summary = true;
     } else if (a == "--backend" && has) {
@@ -139,7 +146,8 @@ int runHeadless(const Options& o, demo::DemoScene* scene) {
     scene->releaseGl();
     return fail("renderer", s);
   }
-  const si::Camera camera = scene->overviewCamera(float(o.width) / float(o.height));
+  si::Camera camera = scene->overviewCamera(float(o.width) / float(o.height));
+  camera.viewport_height_pixels = float(o.height);  // For --lod-pixels.
   double update_ms = 0.0, submit_ms = 0.0, gpu_ms = 0.0;
   si::DrawStats stats;
   const uint32_t frames = o.frames == 0 ? 3 : o.frames;

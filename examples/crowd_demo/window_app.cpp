@@ -251,7 +251,9 @@ WindowResult runWindow(const WindowOptions& o, DemoScene* scene, std::string* wh
           o.frames > 0 ? 1.0 / 60.0 : std::min(0.1, std::chrono::duration<double>(now - last).count());
       frame_ms_sum += std::chrono::duration<double, std::milli>(now - last).count();
       last = now;
-      s = scene->frame(dt, app.camera(dt, float(w) / float(h)), &stats);
+      si::Camera camera = app.camera(dt, float(w) / float(h));
+      camera.viewport_height_pixels = float(h);  // For --lod-pixels.
+      s = scene->frame(dt, camera, &stats);
       if (!s.isOk()) break;
       gpu_ms_sum += std::max(0.0, stats.gpu_ms);
       ++frames_since_title;

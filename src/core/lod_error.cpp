@@ -230,4 +230,19 @@ Status lodErrorsByLevel(const SkinnedMesh& mesh, std::vector<float>* out) {
   return Status::ok();
 }
 
+Status summarizeLodLevels(const SkinnedMesh& mesh, std::vector<LodLevelSummary>* out) {
+  if (out == nullptr) return {StatusCode::kInvalidArgument, "summarizeLodLevels: out is null"};
+  std::vector<float> errors;
+  Status s = lodErrorsByLevel(mesh, &errors);
+  if (!s.isOk()) return s;
+  std::vector<LodLevelSummary> levels(errors.size());
+  for (size_t l = 0; l < levels.size(); ++l) {
+    levels[l].error_units = errors[l];
+    for (const SubMesh& sm : mesh.sub_meshes)
+      levels[l].triangles += sm.lods[std::min(l, sm.lods.size() - 1)].index_count / 3;
+  }
+  *out = std::move(levels);
+  return Status::ok();
+}
+
 }  // namespace si

@@ -119,5 +119,29 @@ TEST(LodError, LevelErrorsAreTheWorstSubMeshAndNeverDecrease) {
   EXPECT_EQ(lodErrorsByLevel(m, &levels).code(), StatusCode::kInvalidArgument);
 }
 
+TEST(LodError, LevelSummaryCountsWhatInstancesDraw) {
+  Character c;
+  ASSERT_TRUE(makeDefaultCharacter({}, &c).isOk());
+  // A sub-mesh with fewer levels draws its last one at the coarser levels.
+  c.mesh.sub_meshes[1].lods.resize(1);
+  c.mesh.sub_meshes[1].lod_error_units.resize(1);
+  std::vector<LodLevelSummary> levels;
+  ASSERT_TRUE(summarizeLodLevels(c.mesh, &levels).isOk());
+  std::vector<float> errors;
+  ASSERT_TRUE(lodErrorsByLevel(c.mesh, &errors).isOk());
+  ASSERT_EQ(levels.size(), c.mesh.maxLodCount());
+  for (size_t l = 0; l < levels.size(); ++l) {
+    uint64_t triangles = 0;
+    for (size_t sm = 0; sm < c.mesh.sub_meshes.size(); ++sm)
+      triangles += c.mesh.triangleCount(sm, std::min(l, c.mesh.sub_meshes[sm].lods.size() - 1));
+    EXPECT_EQ(levels[l].triangles, triangles) << l;
+    EXPECT_EQ(levels[l].error_units, errors[l]) << l;
+  }
+  EXPECT_GT(levels[0].triangles, levels[2].triangles);
+  EXPECT_EQ(summarizeLodLevels(c.mesh, nullptr).code(), StatusCode::kInvalidArgument);
+  c.mesh.sub_meshes[0].lod_error_units.clear();  // Not measured: named.
+  EXPECT_EQ(summarizeLodLevels(c.mesh, &levels).code(), StatusCode::kInvalidArgument);
+}
+
 }  // namespace
 }  // namespace si

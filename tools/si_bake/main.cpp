@@ -226,10 +226,10 @@ void printLodTable(std::FILE* f, const si::Character& character) {
   si::AnimatedLodErrorDesc poses;
   poses.poses_per_clip = 4;
   poses.max_poses = 64;
-  std::vector<float> bind, animated;
-  si::Status s = si::lodErrorsByLevel(character.mesh, &bind);
+  std::vector<si::LodLevelSummary> bind, animated;
+  si::Status s = si::summarizeLodLevels(character.mesh, &bind);
   if (s.isOk()) s = si::measureAnimatedLodErrors(&posed, poses, nullptr);
-  if (s.isOk()) s = si::lodErrorsByLevel(posed.mesh, &animated);
+  if (s.isOk()) s = si::summarizeLodLevels(posed.mesh, &animated);
   if (!s.isOk()) {
     std::fprintf(f, "LOD errors not measured: %s\n", s.toString().c_str());
     return;
@@ -237,14 +237,10 @@ void printLodTable(std::FILE* f, const si::Character& character) {
   const double height = std::max(1e-30, double(character.height()));
   std::fprintf(f, "%-6s %10s %12s %12s %12s\n", "LOD", "triangles", "bind units", "posed units",
                "posed/h");
-  for (size_t l = 0; l < bind.size(); ++l) {
-    uint64_t triangles = 0;
-    for (const si::SubMesh& sm : character.mesh.sub_meshes)
-      if (!sm.lods.empty()) triangles += sm.lods[std::min(l, sm.lods.size() - 1)].index_count / 3;
+  for (size_t l = 0; l < bind.size(); ++l)
     std::fprintf(f, "LOD %-2zu %10llu %12.4g %12.4g %12.4g\n", l,
-                 static_cast<unsigned long long>(triangles), double(bind[l]), double(animated[l]),
-                 double(animated[l]) / height);
-  }
+                 static_cast<unsigned long long>(bind[l].triangles), double(bind[l].error_units),
+                 double(animated[l].error_units), double(animated[l].error_units) / height);
 }
 
 bool writeCsv(const std::string& path, const si::BakedPalette& p, const si::BakeReport& r) {

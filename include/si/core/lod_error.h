@@ -63,6 +63,16 @@ struct AnimatedLodErrorDesc {
 Status measureAnimatedLodErrors(Character* character, const AnimatedLodErrorDesc& desc,
                                 std::vector<std::vector<int>>* worst_pose_clip = nullptr);
 
+/// One LOD level as an instance draws it (a sub-mesh with fewer levels draws its last).
+struct LodLevelSummary {
+  uint64_t triangles = 0;  ///< Of all sub-meshes at this level.
+  float error_units = 0;   ///< lodErrorsByLevel()'s value.
+};
+
+/// The mesh's levels, finest first: triangles and error each (for reports: si-bake, the demo).
+/// Fails as lodErrorsByLevel() does.
+Status summarizeLodLevels(const SkinnedMesh& mesh, std::vector<LodLevelSummary>* out);
+
 /// The error of each LOD level as an instance draws it: for level l, the largest error of any
 /// sub-mesh at l (a sub-mesh with fewer levels draws its last), then made non-decreasing, so a
 /// coarser level never claims less error than a finer one. maxLodCount() entries; level 0 is
