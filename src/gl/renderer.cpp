@@ -225,31 +225,15 @@ Status Renderer::drawCrowd(const CrowdManager& crowd, const InstanceBatcher& bat
 Status Renderer::drawTraditional(const CrowdManager& crowd, const Camera& camera,
                                  DrawStats* stats) {
   if (!impl_ || !impl_->ready()) return notReady("drawTraditional");
-  const auto t0 = std::chrono::steady_clock::now();
-  detail::PathFrame frame;
-  frame.crowd = &crowd;
-  frame.camera = camera;
-  frame.light = light_direction_;
-  DrawStats st;
-  Status s = impl_->runPath(impl_->traditional_path, frame, t0, stats != nullptr, &st);
-  if (s.isOk()) s = impl_->check("drawTraditional");
-  if (stats != nullptr) *stats = st;
-  return s;
+  return impl_->drawCrowdOnly(impl_->traditional_path, "drawTraditional", crowd, camera,
+                              light_direction_, stats);
 }
 
 Status Renderer::drawCpuSkinned(const CrowdManager& crowd, const Camera& camera,
                                 DrawStats* stats) {
   if (!impl_ || !impl_->ready()) return notReady("drawCpuSkinned");
-  const auto t0 = std::chrono::steady_clock::now();
-  detail::PathFrame frame;
-  frame.crowd = &crowd;
-  frame.camera = camera;
-  frame.light = light_direction_;
-  DrawStats st;
-  Status s = impl_->runPath(impl_->cpu_path, frame, t0, stats != nullptr, &st);
-  if (s.isOk()) s = impl_->check("drawCpuSkinned");
-  if (stats != nullptr) *stats = st;
-  return s;
+  return impl_->drawCrowdOnly(impl_->cpu_path, "drawCpuSkinned", crowd, camera, light_direction_,
+                              stats);
 }
 
 Status Renderer::drawCrowdGpuCulled(const CrowdManager& crowd, const Camera& camera,

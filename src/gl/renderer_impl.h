@@ -62,6 +62,22 @@ struct Renderer::Impl {
     return r;
   }
 
+  /// A crowd-only path (no batcher, no mode) for `crowd` seen by `camera`: runPath(), the error
+  /// check named `what`, and the stats (when non-null).
+  Status drawCrowdOnly(detail::DrawPath& p, const char* what, const CrowdManager& crowd,
+                       const Camera& camera, const glm::vec3& light, DrawStats* stats) {
+    const auto t0 = std::chrono::steady_clock::now();
+    detail::PathFrame frame;
+    frame.crowd = &crowd;
+    frame.camera = camera;
+    frame.light = light;
+    DrawStats st;
+    Status s = runPath(p, frame, t0, stats != nullptr, &st);
+    if (s.isOk()) s = check(what);
+    if (stats != nullptr) *stats = st;
+    return s;
+  }
+
   /// Runs `p` for `frame`: its uploads, then its commands with depth test and back-face culling
   /// under the GPU timer (when asked for and `stats` is non-null). Fills `st` with what it drew,
   /// the CPU milliseconds since `t0` and the GPU milliseconds.
