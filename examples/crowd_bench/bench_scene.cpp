@@ -112,8 +112,8 @@ Status stepCrowd(CrowdManager& crowd, const std::string& path, const Camera& cam
   return isGpuSelected(path) ? crowd.advanceClock(dt) : crowd.update(dt, camera);
 }
 
-Status drawPath(Renderer& renderer, const CrowdManager& crowd, const std::string& path,
-                const Camera& camera, DrawStats* stats) {
+Status drawPath(Renderer& renderer, const CrowdManager& crowd, InstanceBatcher& batcher,
+                const std::string& path, const Camera& camera, DrawStats* stats) {
   renderer.clear(kClearColor);
   if (isGpuSelected(path)) {
     const bool occlusion = path.size() > 10 && path.compare(path.size() - 10, 10, "-occlusion") == 0;
@@ -126,9 +126,6 @@ Status drawPath(Renderer& renderer, const CrowdManager& crowd, const std::string
   }
   if (path == "traditional") return renderer.drawTraditional(crowd, camera, stats);
   if (path == "cpu") return renderer.drawCpuSkinned(crowd, camera, stats);
-  InstanceBatcher batcher;
-  const Status s = batcher.init(renderer.batchLimits());
-  if (!s.isOk()) return s;
   const DrawMode mode = path == "compute" ? DrawMode::kComputeSkinned
                         : path == "rigid" ? DrawMode::kRigid
                                           : DrawMode::kSkinned;
@@ -139,7 +136,9 @@ Status runPath(Setup& setup, Renderer& renderer, const BakedPalette& palette,
                const std::string& scene, uint32_t count, const std::string& path,
                const LodChoice& lod, Row* row) {
   CrowdManager crowd;
+  InstanceBatcher batcher;
   Status s = makeCrowd(setup, palette, scene, count, lod, &crowd);
+  if (s.isOk()) s = batcher.init(renderer.batchLimits());
   if (!s.isOk()) return s;
   const std::vector<glm::dvec3> positions = scenePositions(scene, count);
   row->scene = scene;
@@ -155,7 +154,7 @@ Status runPath(Setup& setup, Renderer& renderer, const BakedPalette& palette,
     s = stepCrowd(crowd, path, cam, 1.0 / 60.0);
     const double update_ms = msSince(t0);
     DrawStats st;
-    if (s.isOk()) s = drawPath(renderer, crowd, path, cam, &st);
+    if (s.isOk()) s = drawPath(renderer, crowd, batcher, path, cam, &st);
     if (!s.isOk()) return s;
     if (f < warmup) continue;
     update_ms_v.push_back(update_ms);

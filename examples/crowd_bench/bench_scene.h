@@ -11,6 +11,7 @@
 
 #include "si/core/character.h"
 #include "si/crowd/crowd_manager.h"
+#include "si/crowd/instance_batcher.h"
 #include "si/gl/renderer.h"
 #include "si/headless/headless_context.h"
 
@@ -62,9 +63,10 @@ Status stepCrowd(CrowdManager& crowd, const std::string& path, const Camera& cam
 
 /// Clears and draws the crowd with one path: instanced, compute, gpu-culled (GPU culling,
 /// vertex-shader skinning), gpu-driven (GPU culling feeding compute pre-skinning), either with
-/// -occlusion (two-phase occlusion culling), traditional, cpu, rigid.
-Status drawPath(Renderer& renderer, const CrowdManager& crowd, const std::string& path,
-                const Camera& camera, DrawStats* stats);
+/// -occlusion (two-phase occlusion culling), traditional, cpu, rigid. `batcher` (initialised
+/// with the renderer's batch limits) serves the batched paths.
+Status drawPath(Renderer& renderer, const CrowdManager& crowd, InstanceBatcher& batcher,
+                const std::string& path, const Camera& camera, DrawStats* stats);
 
 struct Row {
   std::string scene, path, lod;

@@ -32,7 +32,9 @@ Status drawFrames(Setup& setup, Renderer& renderer, const BakedPalette& palette,
                   uint32_t frames, uint32_t ss, const LodChoice& lod,
                   std::vector<std::vector<uint8_t>>* images, double* triangles) {
   CrowdManager crowd;
+  InstanceBatcher batcher;
   Status s = makeCrowd(setup, palette, scene, count, lod, &crowd);
+  if (s.isOk()) s = batcher.init(renderer.batchLimits());
   if (!s.isOk()) return s;
   const std::vector<glm::dvec3> positions = scenePositions(scene, count);
   images->assign(frames, {});
@@ -42,7 +44,7 @@ Status drawFrames(Setup& setup, Renderer& renderer, const BakedPalette& palette,
     DrawStats st;
     // The clock moves the same way for every choice; the LOD follows the camera.
     s = stepCrowd(crowd, path, cam, f == 0 ? 0.25 : 1.0 / 60.0);
-    if (s.isOk()) s = drawPath(renderer, crowd, path, cam, &st);
+    if (s.isOk()) s = drawPath(renderer, crowd, batcher, path, cam, &st);
     if (s.isOk()) s = setup.context->readPixels(&(*images)[f]);
     if (!s.isOk()) return s;
     if (ss > 1) (*images)[f] = downsample((*images)[f], setup.width, setup.height, ss);
