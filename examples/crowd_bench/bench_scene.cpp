@@ -83,8 +83,9 @@ Camera cameraAt(const Setup& setup, const std::string& scene,
   return cam;
 }
 
-Status makeCrowd(const Setup& setup, const BakedPalette& palette, const std::string& scene,
-                 uint32_t count, const LodChoice& lod, CrowdManager* crowd) {
+Status makeCrowd(const Setup& setup, const BakedPalette& palette,
+                 const std::vector<glm::dvec3>& positions, const LodChoice& lod,
+                 CrowdManager* crowd) {
   CrowdDesc cd;
   cd.palette = &palette;
   cd.sub_mesh_count = uint32_t(setup.character.mesh.sub_meshes.size());
@@ -97,7 +98,6 @@ Status makeCrowd(const Setup& setup, const BakedPalette& palette, const std::str
     for (uint32_t l = 1; l < cd.lod_count; ++l)
       cd.lod_distances_radii.push_back(int(l) <= lod.fixed_lod ? 1e-6f * float(l) : 1e7f * float(l));
   Status s = crowd->init(cd);
-  const std::vector<glm::dvec3> positions = scenePositions(scene, count);
   RandomCrowdDesc rc;
   rc.positions = positions;
   rc.seed = 2026;
@@ -137,10 +137,10 @@ Status runPath(Setup& setup, Renderer& renderer, const BakedPalette& palette,
                const LodChoice& lod, Row* row) {
   CrowdManager crowd;
   InstanceBatcher batcher;
-  Status s = makeCrowd(setup, palette, scene, count, lod, &crowd);
+  const std::vector<glm::dvec3> positions = scenePositions(scene, count);
+  Status s = makeCrowd(setup, palette, positions, lod, &crowd);
   if (s.isOk()) s = batcher.init(renderer.batchLimits());
   if (!s.isOk()) return s;
-  const std::vector<glm::dvec3> positions = scenePositions(scene, count);
   row->scene = scene;
   row->path = path;
   row->lod = lod.name();

@@ -33,10 +33,10 @@ Status drawFrames(Setup& setup, Renderer& renderer, const BakedPalette& palette,
                   std::vector<std::vector<uint8_t>>* images, double* triangles) {
   CrowdManager crowd;
   InstanceBatcher batcher;
-  Status s = makeCrowd(setup, palette, scene, count, lod, &crowd);
+  const std::vector<glm::dvec3> positions = scenePositions(scene, count);
+  Status s = makeCrowd(setup, palette, positions, lod, &crowd);
   if (s.isOk()) s = batcher.init(renderer.batchLimits());
   if (!s.isOk()) return s;
-  const std::vector<glm::dvec3> positions = scenePositions(scene, count);
   images->assign(frames, {});
   *triangles = 0.0;
   for (uint32_t f = 0; f < frames; ++f) {
