@@ -6,6 +6,7 @@
 #include <algorithm>
 #include <cmath>
 #include <random>
+#include <thread>
 
 #include "core/str_cat.h"
 #include "crowd/crowd_state.h"
@@ -114,11 +115,14 @@ Status CrowdManager::init(const CrowdDesc& in_desc) {
     return {StatusCode::kInvalidArgument, "CrowdDesc.animation_lod_rate_hz must be > 0"};
   s = checkLodMode(d.lod_mode, d.pixel_error_budget, d.lod_count, d.lod_errors_units);
   if (!s.isOk()) return s;
+  if (d.worker_threads > 256)
+    return {StatusCode::kInvalidArgument, "CrowdDesc.worker_threads must be at most 256"};
   auto state = std::make_unique<State>();
   state->store.reset(d.palette);
   state->radius = d.character_radius;
   state->lod_lines = d.lod_distances_radii;
   state->frame.bucket_offsets.assign(size_t(d.lod_count) * d.sub_mesh_count + 1, 0);
+  state->frame.run_offsets.assign(size_t(d.lod_count) * d.sub_mesh_count + 1, 0);
   for (const BakedClip& c : d.palette->clips) state->clips.push_back(detail::makeClipTiming(c));
   desc_ = d;
   state_ = std::move(state);
@@ -257,6 +261,21 @@ FrameSample CrowdManager::frameSample(uint32_t clip, double local_time_seconds) 
 // ---- The frame ------------------------------------------------------------------------------
 
 Status CrowdManager::update(double dt, const Camera& camera) {
+  if (!state_) return advanceClock(dt);  // The init() error.
+  State& st = *state_;
+  if (desc_.worker_threads == 1 || st.store.size() <= detail::kChunkInstances)
+    return update(dt, camera, ParallelFor());
+  if (!st.pool) {
+    const uint32_t hw = std::max(1u, std::thread::hardware_concurrency());
+    st.pool = std::make_unique<WorkerPool>(
+        desc_.worker_threads == 0 ? std::min(hw, 16u) : desc_.worker_threads);
+    WorkerPool* pool = st.pool.get();
+    st.pool_for = [pool](uint32_t count, const ParallelTask& task) { pool->run(count, task); };
+  }
+  return update(dt, camera, st.pool_for);
+}
+
+Status CrowdManager::update(double dt, const Camera& camera, const ParallelFor& parallel_for) {
   Status advanced = advanceClock(dt);  // Checks init() and dt.
   if (!advanced.isOk()) return advanced;
   detail::FrameInputs in;
@@ -266,6 +285,7 @@ Status CrowdManager::update(double dt, const Camera& camera) {
   in.camera_position = camera.position;
   in.clock = state_->clock;
   in.sub_mesh_count = desc_.sub_mesh_count;
+  in.parallel_for = &parallel_for;
   detail::buildFrame(in, state_->store, &state_->frame);
   return Status::ok();
 }
@@ -294,13 +314,23 @@ const std::vector<uint32_t>& CrowdManager::bucketOffsets() const {
   return (state_ ? *state_ : emptyState()).frame.bucket_offsets;
 }
 const std::vector<uint32_t>& CrowdManager::bucketEntries() const {
-  return (state_ ? *state_ : emptyState()).frame.bucket_entries;
+  if (!state_) return emptyState().frame.bucket_entries;
+  if (!state_->frame.entries_valid) detail::expandBucketEntries(&state_->frame);
+  return state_->frame.bucket_entries;
 }
-const std::vector<InstanceRecord>& CrowdManager::records() const {
-  return (state_ ? *state_ : emptyState()).frame.records;
+const std::vector<uint32_t>& CrowdManager::bucketRunOffsets() const {
+  return (state_ ? *state_ : emptyState()).frame.run_offsets;
 }
-const std::vector<InstanceHandle>& CrowdManager::visibleHandles() const {
-  return (state_ ? *state_ : emptyState()).frame.visible_handles;
+const std::vector<RecordRun>& CrowdManager::bucketRuns() const {
+  return (state_ ? *state_ : emptyState()).frame.runs;
+}
+Span<const InstanceRecord> CrowdManager::records() const {
+  const detail::CrowdFrame& f = (state_ ? *state_ : emptyState()).frame;
+  return Span<const InstanceRecord>(f.records.data(), f.visible);
+}
+Span<const InstanceHandle> CrowdManager::visibleHandles() const {
+  const detail::CrowdFrame& f = (state_ ? *state_ : emptyState()).frame;
+  return Span<const InstanceHandle>(f.visible_handles.data(), f.visible);
 }
 uint64_t CrowdManager::stateVersion() const { return state_ ? state_->store.version : 0; }
 

@@ -4,6 +4,7 @@
 // crowd clock and the last frame. crowd_manager.cpp holds the API, gpu_export.cpp the export
 // for GPU-driven culling, frame_builder.cpp the per-frame work.
 
+#include <memory>
 #include <vector>
 
 #include "crowd/frame_builder.h"
@@ -19,6 +20,9 @@ struct CrowdManager::State {
   std::vector<float> lod_lines;           // Resolved distances in radii.
   float radius = 1.0f;
   double clock = 0.0, clock_compensation = 0.0;
+  // update(dt, camera)'s own workers (CrowdDesc::worker_threads), started when first needed.
+  std::unique_ptr<WorkerPool> pool;
+  ParallelFor pool_for;
 };
 
 namespace detail {

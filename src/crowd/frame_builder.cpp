@@ -1,13 +1,13 @@
 // SkinnedInstancing — SPDX-License-Identifier: MIT (see LICENSE)
 // The per-frame loop, after B. Dudash, "Skinned Instancing" (NVIDIA, 2007): LOD lists per frame
-// on the CPU, frustum culling before anything reaches the GPU.
+// on the CPU, frustum culling before anything reaches the GPU. Phases as in frame_builder.h.
 #include "crowd/frame_builder.h"
 
 #include <algorithm>
 #include <cmath>
 #include <cstring>
 
-#include "crowd/cull_math.h"
+#include "crowd/cull_lanes.h"
 
 namespace si::detail {
 
@@ -23,106 +23,292 @@ uint32_t wornMask(uint32_t mask, uint32_t sub_meshes) {
   return mask & (sub_meshes == 32 ? 0xFFFFFFFFu : ((1u << sub_meshes) - 1u));
 }
 
+// The chunk's local group of worn mask `worn` (a new one if unseen; group 0 once the chunk has
+// seen kMaxMaskGroups distinct masks: the frame then falls back to one group).
+uint32_t localGroup(ChunkWork& w, uint32_t worn) {
+  uint32_t h = (worn * 0x9E3779B1u) >> 25;  // 7 bits: 128 slots for at most 64 masks.
+  for (;; h = (h + 1) & 127u) {
+    const uint8_t slot = w.slot_of[h];
+    if (slot == 0xFF) break;
+    if (w.masks[slot] == worn) return slot;
+  }
+  if (w.mask_count == kMaxMaskGroups) {
+    w.mask_overflow = true;
+    return 0;
+  }
+  w.masks[w.mask_count] = worn;
+  w.slot_of[h] = static_cast<uint8_t>(w.mask_count);
+  return w.mask_count++;
+}
+
+// The two per-instance loops are compiled twice, for AVX2 and for the baseline, and the loader
+// picks one for the CPU it runs on (GCC and Clang on x86-64 ELF). Both round identically: no
+// fused multiply-adds (-ffp-contract=off, and "avx2" does not enable FMA).
+#if defined(__x86_64__) && defined(__ELF__) && !defined(__SANITIZE_ADDRESS__) && \
+    (defined(__GNUC__) || defined(__clang__))
+#define SI_CPU_CLONES __attribute__((target_clones("avx2", "default")))
+#else
+#define SI_CPU_CLONES
+#endif
+
+// Select: cull, LOD and key of every instance of [begin, end).
+SI_CPU_CLONES void selectChunk(const FrameInputs& in, InstanceStore& st, uint32_t begin,
+                               uint32_t end, ChunkWork& w) {
+  const std::vector<ClipTiming>& clips = *in.clips;
+  const cull::Params& cull_params = in.params;
+  const double clock = in.clock;
+  w.visible.clear();
+  w.keys.clear();
+  w.mask_count = 0;
+  w.mask_overflow = false;
+  std::memset(w.slot_of, 0xFF, sizeof w.slot_of);
+  std::memset(w.counts, 0, sizeof w.counts);
+  w.stats = CrowdFrameStats();
+  // Up to 8 sub-meshes a worn mask indexes a table directly (no hashing, no branch on it).
+  const bool direct = in.sub_mesh_count <= 8;
+  if (direct) std::memset(w.direct, 0xFF, sizeof w.direct);
+  // The selection uses only +, -, * and comparisons in a fixed order (cull_math.h, and
+  // cull_lanes.h lane by lane), so the GPU-driven culling pass, which does the same arithmetic,
+  // selects exactly the same instances and LODs. Eight instances at a time: gathered, selected
+  // in vector registers, then counted.
+  const cull::LodLines lines = cull::lodLines(cull_params);
+  cull::Lanes lanes = {};
+  bool far[cull::kLanes];
+  for (uint32_t i0 = begin; i0 < end; i0 += cull::kLanes) {
+    const uint32_t count = std::min(cull::kLanes, end - i0);
+    uint32_t near_lanes = 0;
+    for (uint32_t k = 0; k < cull::kLanes; ++k) {
+      const uint32_t i = i0 + (k < count ? k : 0);  // Past the end: lane 0's instance again.
+      // A crossfade is over once the clock passes its end (compared without a division).
+      if (st.fade_duration[i] > 0.0 && !(clock - st.fade_start[i] < st.fade_duration[i]))
+        st.fade_duration[i] = 0.0;
+      const glm::vec3 rel(st.positions[i] - in.camera_position);  // Camera-relative, from double.
+      const float s = st.scales[i];
+      // The far line first, as cull::select tests it: most of a large crowd may lie beyond it,
+      // and such an instance reads nothing more.
+      if (cull_params.max_distance_radii >= 0.0f) {
+        const float far_line = cull_params.max_distance_radii * (cull_params.radius * s);
+        far[k] = cull::dot3(rel, rel) > far_line * far_line;
+      } else {
+        far[k] = false;
+      }
+      near_lanes += !far[k];
+      lanes.rx[k] = rel.x, lanes.ry[k] = rel.y, lanes.rz[k] = rel.z;
+      lanes.s[k] = s;
+      if (far[k]) continue;  // The lane's other inputs keep older values: its result is unused.
+      const ClipTiming& ca = clips[st.playback[i].clip];
+      const ClipTiming& cb = st.fade_duration[i] > 0.0 ? clips[st.fade_from[i].clip] : ca;
+      const glm::quat& q = st.rotations[i];
+      lanes.qx[k] = q.x, lanes.qy[k] = q.y, lanes.qz[k] = q.z, lanes.qw[k] = q.w;
+      lanes.ax[k] = ca.sphere_center.x, lanes.ay[k] = ca.sphere_center.y;
+      lanes.az[k] = ca.sphere_center.z, lanes.ar[k] = ca.sphere_radius;
+      lanes.bx[k] = cb.sphere_center.x, lanes.by[k] = cb.sphere_center.y;
+      lanes.bz[k] = cb.sphere_center.z, lanes.br[k] = cb.sphere_radius;
+      lanes.lod[k] = st.lods[i];
+    }
+    if (near_lanes == 0) {
+      w.stats.culled_distance += count;
+      continue;
+    }
+    cull::selectLanes(cull_params, lines, lanes);
+    for (uint32_t k = 0; k < count; ++k)
+      if (far[k]) lanes.result[k] = cull::kLaneCulledByDistance;
+    for (uint32_t k = 0; k < count; ++k) {
+      const uint32_t i = i0 + k;
+      if (lanes.result[k] != cull::kLaneVisible) {
+        ++(lanes.result[k] == cull::kLaneCulledByDistance ? w.stats.culled_distance
+                                                          : w.stats.culled_frustum);
+        continue;
+      }
+      const uint32_t lod = uint32_t(lanes.lod[k]);
+      st.lods[i] = static_cast<uint8_t>(lod);
+      ++w.stats.per_lod[lod];
+      const uint32_t worn = wornMask(st.masks[i], in.sub_mesh_count);
+      uint32_t group;
+      if (direct) {
+        group = w.direct[worn];
+        if (group == 0xFF) group = w.direct[worn] = static_cast<uint8_t>(localGroup(w, worn));
+      } else {
+        group = localGroup(w, worn);
+      }
+      const uint32_t key = lod * kMaxMaskGroups + group;
+      ++w.counts[key];
+      w.visible.push_back(i);
+      w.keys.push_back(static_cast<uint16_t>(key));
+    }
+  }
+}
+
+// The record of visible instance `i` at LOD `lod`. Inlined: compiled into each CPU clone of
+// writeChunk.
+__attribute__((always_inline)) inline void writeRecord(const FrameInputs& in,
+                                                       const InstanceStore& st, uint32_t i,
+                                                       uint32_t lod, InstanceRecord* out) {
+  const BakedPalette& palette = *in.palette;
+  const std::vector<ClipTiming>& clips = *in.clips;
+  const double clock = in.clock;
+  const uint32_t stride = palette.layout.frame_stride_texels;
+  const bool step_anim = lod >= in.params.animation_lod_start;
+  const double anim_step = in.params.animation_step_seconds;
+  const glm::vec3 rel(st.positions[i] - in.camera_position);
+  const Playback& pb = st.playback[i];
+  const ClipTiming& ca = clips[pb.clip];
+  InstanceRecord rec;
+  const glm::mat3 r = glm::mat3_cast(st.rotations[i]) * st.scales[i];
+  for (int row = 0; row < 3; ++row) {
+    rec.world_rows[row][0] = r[0][row];
+    rec.world_rows[row][1] = r[1][row];
+    rec.world_rows[row][2] = r[2][row];
+    rec.world_rows[row][3] = rel[row];
+  }
+  double ta = localTime(pb, ca, clock);
+  if (step_anim) ta = std::floor(ta / anim_step) * anim_step;
+  const FrameSample fa = fastSample(ca, palette.clips[pb.clip], ta);
+  const uint32_t a0 = ca.first_texel + fa.frame * stride;
+  const uint32_t a1 = ca.first_texel + fa.next_frame * stride;
+  rec.blend[3] = st.colors[i];
+  if (st.fade_duration[i] > 0.0) {
+    // Clip A is the one fading out; B the new one, weighted by weight_b.
+    const float weight_b = std::min(float((clock - st.fade_start[i]) / st.fade_duration[i]), 1.0f);
+    const Playback& old = st.fade_from[i];
+    const ClipTiming& cb = clips[old.clip];
+    double tb = localTime(old, cb, clock);
+    if (step_anim) tb = std::floor(tb / anim_step) * anim_step;
+    const FrameSample fo = fastSample(cb, palette.clips[old.clip], tb);
+    rec.frames[0] = cb.first_texel + fo.frame * stride;
+    rec.frames[1] = cb.first_texel + fo.next_frame * stride;
+    rec.frames[2] = a0;
+    rec.frames[3] = a1;
+    rec.blend[0] = floatBits(fo.fraction);
+    rec.blend[1] = floatBits(fa.fraction);
+    rec.blend[2] = floatBits(std::max(0.0f, weight_b));
+  } else {
+    rec.frames[0] = rec.frames[2] = a0;
+    rec.frames[1] = rec.frames[3] = a1;
+    rec.blend[0] = rec.blend[1] = floatBits(fa.fraction);
+    rec.blend[2] = floatBits(0.0f);
+  }
+  *out = rec;
+}
+
+// Place: the frame's groups, the record range of every key, each chunk's cursors.
+void placeChunks(const FrameInputs& in, uint32_t chunk_count, CrowdFrame& f, bool* fallback) {
+  const uint32_t lods = in.params.lod_count;
+  f.group_masks.clear();
+  bool overflow = false;
+  for (uint32_t c = 0; c < chunk_count; ++c) {
+    const ChunkWork& w = f.chunks[c];
+    overflow |= w.mask_overflow;
+    f.group_masks.insert(f.group_masks.end(), w.masks, w.masks + w.mask_count);
+    CrowdFrameStats& s = f.stats;
+    s.culled_frustum += w.stats.culled_frustum;
+    s.culled_distance += w.stats.culled_distance;
+    for (uint32_t l = 0; l < 8; ++l) s.per_lod[l] += w.stats.per_lod[l];
+    s.visible += uint32_t(w.visible.size());
+  }
+  std::sort(f.group_masks.begin(), f.group_masks.end());
+  f.group_masks.erase(std::unique(f.group_masks.begin(), f.group_masks.end()), f.group_masks.end());
+  *fallback = overflow || f.group_masks.size() > kMaxMaskGroups;
+  if (*fallback || f.group_masks.empty()) f.group_masks.assign(1, 0u);
+  const uint32_t groups = uint32_t(f.group_masks.size());
+  // Totals per key (LOD-major, groups by increasing mask), then prefix sums.
+  f.key_offsets.assign(size_t(lods) * groups + 1, 0u);
+  uint32_t to_group[kMaxMaskGroups];
+  for (uint32_t c = 0; c < chunk_count; ++c) {
+    const ChunkWork& w = f.chunks[c];
+    for (uint32_t g = 0; g < w.mask_count; ++g)
+      to_group[g] =
+          *fallback
+              ? 0u
+              : uint32_t(std::lower_bound(f.group_masks.begin(), f.group_masks.end(), w.masks[g]) -
+                         f.group_masks.begin());
+    for (uint32_t l = 0; l < lods; ++l)
+      for (uint32_t g = 0; g < w.mask_count; ++g)
+        f.key_offsets[l * groups + to_group[g] + 1] += w.counts[l * kMaxMaskGroups + g];
+  }
+  for (size_t k = 1; k < f.key_offsets.size(); ++k) f.key_offsets[k] += f.key_offsets[k - 1];
+  // Cursors: within a key, chunks in order. In the fallback, a chunk's groups of one LOD share
+  // one cursor (kept in the group-0 slot), so its records stay in dense order.
+  std::vector<uint32_t>& running = f.bucket_cursor_scratch;
+  running.assign(f.key_offsets.begin(), f.key_offsets.end() - 1);
+  for (uint32_t c = 0; c < chunk_count; ++c) {
+    ChunkWork& w = f.chunks[c];
+    for (uint32_t g = 0; g < w.mask_count; ++g)
+      to_group[g] =
+          *fallback
+              ? 0u
+              : uint32_t(std::lower_bound(f.group_masks.begin(), f.group_masks.end(), w.masks[g]) -
+                         f.group_masks.begin());
+    for (uint32_t l = 0; l < lods; ++l) {
+      if (*fallback) {
+        uint32_t n = 0;
+        for (uint32_t g = 0; g < w.mask_count; ++g) n += w.counts[l * kMaxMaskGroups + g];
+        w.cursor[l * kMaxMaskGroups] = running[l];
+        running[l] += n;
+        continue;
+      }
+      for (uint32_t g = 0; g < w.mask_count; ++g) {
+        const uint32_t key = l * groups + to_group[g];
+        w.cursor[l * kMaxMaskGroups + g] = running[key];
+        running[key] += w.counts[l * kMaxMaskGroups + g];
+      }
+    }
+  }
+}
+
+// Write: every visible instance of the chunk, its record at its place.
+SI_CPU_CLONES void writeChunk(const FrameInputs& in, const InstanceStore& st, bool fallback,
+                              ChunkWork& w, CrowdFrame& f) {
+  const uint16_t key_mask = fallback ? uint16_t(~(kMaxMaskGroups - 1)) : uint16_t(0xFFFF);
+  for (size_t j = 0; j < w.visible.size(); ++j) {
+    const uint32_t i = w.visible[j];
+    const uint32_t key = w.keys[j] & key_mask;
+    const uint32_t slot = w.cursor[key]++;
+    writeRecord(in, st, i, key / kMaxMaskGroups, &f.records[slot]);
+    f.visible_handles[slot] = st.dense_handles[i];
+    if (fallback) f.record_masks[slot] = wornMask(st.masks[i], in.sub_mesh_count);
+  }
+}
+
+// Runs `body(c)` for every chunk, on the caller's ParallelFor when there is more than one.
+template <typename Body>
+void forEachChunk(const FrameInputs& in, uint32_t chunk_count, const Body& body) {
+  if (in.parallel_for == nullptr || !*in.parallel_for || chunk_count < 2) {
+    for (uint32_t c = 0; c < chunk_count; ++c) body(c);
+    return;
+  }
+  const Body* b = &body;  // One pointer: the std::function stores it without allocating.
+  (*in.parallel_for)(chunk_count, ParallelTask([b](uint32_t c) { (*b)(c); }));
+}
+
 }  // namespace
 
 void buildFrame(const FrameInputs& in, InstanceStore& st, CrowdFrame* frame) {
-  const BakedPalette& palette = *in.palette;
-  const std::vector<ClipTiming>& clips = *in.clips;
-  const uint32_t n = st.size(), submeshes = in.sub_mesh_count;
-  const cull::Params& cull_params = in.params;
-  const double anim_step = cull_params.animation_step_seconds;
-  const uint32_t anim_lod = cull_params.animation_lod_start;
-  const double clock = in.clock;
-  const uint32_t stride = palette.layout.frame_stride_texels;
-
   CrowdFrame& f = *frame;
+  const uint32_t n = st.size();
+  const uint32_t chunk_count = (n + kChunkInstances - 1) / kChunkInstances;
   f.stats = CrowdFrameStats();
   f.stats.instances = n;
-  f.visible_dense.clear();
-  f.records.clear();
-  f.visible_handles.clear();
-  std::fill(f.bucket_offsets.begin(), f.bucket_offsets.end(), 0u);
-
-  // Pass 1: distance, LOD, culling, records; count bucket entries. The selection uses only
-  // +, -, * and comparisons in a fixed order (cull_math.h), so the GPU-driven culling pass,
-  // which does the same arithmetic, selects exactly the same instances and LODs.
-  for (uint32_t i = 0; i < n; ++i) {
-    const glm::vec3 rel(st.positions[i] - in.camera_position);  // Camera-relative, from double.
-    const Playback& pb = st.playback[i];
-    // A crossfade is over once the clock passes its end (compared without a division).
-    if (st.fade_duration[i] > 0.0 && !(clock - st.fade_start[i] < st.fade_duration[i]))
-      st.fade_duration[i] = 0.0;
-    const bool fading = st.fade_duration[i] > 0.0;
-    const ClipTiming& ca = clips[pb.clip];
-    const ClipTiming& cb = clips[fading ? st.fade_from[i].clip : pb.clip];
-    cull::Selection sel;
-    sel.lod = st.lods[i];
-    if (!cull::select(rel, st.rotations[i], st.scales[i], ca.sphere_center, ca.sphere_radius,
-                      cb.sphere_center, cb.sphere_radius, cull_params, &sel)) {
-      ++(sel.culled_by_distance ? f.stats.culled_distance : f.stats.culled_frustum);
-      continue;
-    }
-    const uint32_t lod = sel.lod;
-    st.lods[i] = static_cast<uint8_t>(lod);
-    ++f.stats.per_lod[lod];
-
-    // The record.
-    InstanceRecord rec;
-    const glm::mat3 r = glm::mat3_cast(st.rotations[i]) * st.scales[i];
-    for (int row = 0; row < 3; ++row) {
-      rec.world_rows[row][0] = r[0][row];
-      rec.world_rows[row][1] = r[1][row];
-      rec.world_rows[row][2] = r[2][row];
-      rec.world_rows[row][3] = rel[row];
-    }
-    double ta = localTime(pb, ca, clock);
-    if (lod >= anim_lod) ta = std::floor(ta / anim_step) * anim_step;
-    const FrameSample fa = fastSample(ca, palette.clips[pb.clip], ta);
-    rec.frames[0] = ca.first_texel + fa.frame * stride;
-    rec.frames[1] = ca.first_texel + fa.next_frame * stride;
-    rec.blend[0] = floatBits(fa.fraction);
-    rec.blend[3] = st.colors[i];
-    if (fading) {
-      // Clip A is the one fading out; B the new one, weighted by weight_b.
-      const float weight_b =
-          std::min(float((clock - st.fade_start[i]) / st.fade_duration[i]), 1.0f);
-      const Playback& old = st.fade_from[i];
-      double tb = localTime(old, cb, clock);
-      if (lod >= anim_lod) tb = std::floor(tb / anim_step) * anim_step;
-      const FrameSample fo = fastSample(cb, palette.clips[old.clip], tb);
-      rec.frames[2] = rec.frames[0];
-      rec.frames[3] = rec.frames[1];
-      rec.blend[1] = rec.blend[0];
-      rec.frames[0] = cb.first_texel + fo.frame * stride;
-      rec.frames[1] = cb.first_texel + fo.next_frame * stride;
-      rec.blend[0] = floatBits(fo.fraction);
-      rec.blend[2] = floatBits(std::max(0.0f, weight_b));
-    } else {
-      rec.frames[2] = rec.frames[0];
-      rec.frames[3] = rec.frames[1];
-      rec.blend[1] = rec.blend[0];
-      rec.blend[2] = floatBits(0.0f);
-    }
-    f.records.push_back(rec);
-    f.visible_dense.push_back(i);
-    f.visible_handles.push_back(st.dense_handles[i]);
-    for (uint32_t mask = wornMask(st.masks[i], submeshes); mask; mask &= mask - 1)
-      ++f.bucket_offsets[lod * submeshes + uint32_t(__builtin_ctz(mask)) + 1];
+  f.entries_valid = false;
+  while (f.chunks.size() < chunk_count) {
+    f.chunks.emplace_back();
+    f.chunks.back().visible.reserve(kChunkInstances);
+    f.chunks.back().keys.reserve(kChunkInstances);
   }
-  f.stats.visible = static_cast<uint32_t>(f.records.size());
-
-  // Prefix sums, then pass 2: fill each bucket in visible order (deterministic).
-  const uint32_t buckets = uint32_t(f.bucket_offsets.size()) - 1;
-  for (uint32_t b = 0; b < buckets; ++b) f.bucket_offsets[b + 1] += f.bucket_offsets[b];
-  f.stats.bucket_entries = f.bucket_offsets[buckets];
-  f.bucket_entries.resize(f.stats.bucket_entries);
-  f.bucket_cursor.assign(f.bucket_offsets.begin(), f.bucket_offsets.end() - 1);
-  for (uint32_t v = 0; v < f.visible_dense.size(); ++v) {
-    const uint32_t i = f.visible_dense[v];
-    const uint32_t base = st.lods[i] * submeshes;
-    for (uint32_t mask = wornMask(st.masks[i], submeshes); mask; mask &= mask - 1)
-      f.bucket_entries[f.bucket_cursor[base + uint32_t(__builtin_ctz(mask))]++] = v;
+  forEachChunk(in, chunk_count, [&](uint32_t c) {
+    selectChunk(in, st, c * kChunkInstances, std::min(n, (c + 1) * kChunkInstances), f.chunks[c]);
+  });
+  bool fallback = false;
+  placeChunks(in, chunk_count, f, &fallback);
+  f.visible = f.stats.visible;
+  // Grown, never shrunk: records() views the first `visible` (no zeroing per frame).
+  if (f.records.size() < f.visible) {
+    f.records.resize(f.visible);
+    f.visible_handles.resize(f.visible);
   }
+  if (fallback && f.record_masks.size() < f.visible) f.record_masks.resize(f.visible);
+  forEachChunk(in, chunk_count, [&](uint32_t c) { writeChunk(in, st, fallback, f.chunks[c], f); });
+  buildBucketRuns(in.params.lod_count, in.sub_mesh_count, fallback, &f);
 }
 
 }  // namespace si::detail

@@ -1,26 +1,64 @@
 // SkinnedInstancing — SPDX-License-Identifier: MIT (see LICENSE)
 #pragma once
-// The crowd's per-frame work (CrowdManager::update after the clock advanced): for every
-// instance its crossfade state, far-line and frustum culling, LOD with hysteresis, its record;
-// then the visible instances bucketed per (LOD, sub-mesh), in a deterministic order.
+// The crowd's per-frame work (CrowdManager::update after the clock advanced), in three phases
+// over fixed chunks of instances, the first and last run as parallel tasks:
+//   select (per chunk)  crossfade ends, far-line and frustum culling, LOD with hysteresis; each
+//                       visible instance gets a key (LOD, worn-mask group);
+//   place (serial)      the chunks' distinct worn masks merged and sorted, every key's place in
+//                       the records by prefix sums (key-major, then chunk, then dense order);
+//   write (per chunk)   each visible instance's record written once, at its place.
+// The records thus lie sorted by (LOD, worn mask, dense index), whatever the thread count, so
+// each (LOD, sub-mesh) bucket is a few runs of consecutive records (bucket_runs.cpp).
 
 #include <cstdint>
 #include <vector>
 
 #include "crowd/instance_store.h"
 #include "si/crowd/crowd_manager.h"
+#include "si/crowd/parallel_for.h"
 
 namespace si::detail {
+
+/// Instances per task. A multiple of 64; small enough to balance 16 threads at 100k.
+inline constexpr uint32_t kChunkInstances = 4096;
+/// Distinct worn masks per frame that get a group of their own; past this the frame falls back
+/// to one group per LOD (records in dense order; runs found by scanning).
+inline constexpr uint32_t kMaxMaskGroups = 64;
+
+/// One chunk's work between the phases.
+struct ChunkWork {
+  std::vector<uint32_t> visible;   // Dense indices of its visible instances, in order.
+  std::vector<uint16_t> keys;      // Parallel: lod * kMaxMaskGroups + local group.
+  uint32_t masks[kMaxMaskGroups];  // Local group -> worn mask.
+  uint32_t mask_count = 0;
+  bool mask_overflow = false;
+  uint8_t slot_of[128];                 // Open-addressed worn mask -> local group (0xFF: empty).
+  uint8_t direct[256];                  // Up to 8 sub-meshes: worn mask -> local group.
+  uint32_t counts[8 * kMaxMaskGroups];  // Per local key.
+  uint32_t cursor[8 * kMaxMaskGroups];  // Per local key: the next record to write.
+  CrowdFrameStats stats;
+};
 
 /// One frame's output, reused between frames (allocates only while the crowd grows).
 struct CrowdFrame {
   CrowdFrameStats stats;
-  std::vector<uint32_t> visible_dense;          // Dense index of each visible instance.
-  std::vector<InstanceRecord> records;          // Parallel to visible_dense.
-  std::vector<InstanceHandle> visible_handles;  // Parallel to visible_dense.
-  std::vector<uint32_t> bucket_offsets;         // bucket_count + 1 prefix sums.
-  std::vector<uint32_t> bucket_cursor;
-  std::vector<uint32_t> bucket_entries;         // Indices into records.
+  std::vector<InstanceRecord> records;          // Sorted by (LOD, worn mask, dense index).
+  std::vector<InstanceHandle> visible_handles;  // Parallel to records.
+  std::vector<uint32_t> record_masks;           // Parallel: worn masks.
+  uint32_t visible = 0;                         // Records of this frame (<= records.size()).
+  std::vector<ChunkWork> chunks;
+  // Groups of this frame: the distinct worn masks in increasing order, and the record ranges
+  // of each (LOD, group), key-major.
+  std::vector<uint32_t> group_masks;
+  std::vector<uint32_t> key_offsets;  // lod_count * groups + 1 prefix sums.
+  std::vector<uint32_t> bucket_cursor_scratch;
+  // Buckets: per (LOD, sub-mesh) its runs of consecutive records.
+  std::vector<uint32_t> bucket_offsets;  // bucket_count + 1: entries per bucket, summed.
+  std::vector<uint32_t> run_offsets;     // bucket_count + 1: runs per bucket, summed.
+  std::vector<RecordRun> runs;
+  // bucketEntries(), expanded from the runs when first asked for.
+  std::vector<uint32_t> bucket_entries;
+  bool entries_valid = false;
 };
 
 /// What a frame is built from besides the instances.
@@ -29,12 +67,19 @@ struct FrameInputs {
   const std::vector<ClipTiming>* clips = nullptr;  // Per palette clip.
   CullParams params;                               // CrowdManager::cullParams(camera).
   glm::dvec3 camera_position{0.0};
-  double clock = 0.0;                               // The crowd clock, already advanced.
+  double clock = 0.0;  // The crowd clock, already advanced.
   uint32_t sub_mesh_count = 1;
+  const ParallelFor* parallel_for = nullptr;  // Null: every task on the calling thread.
 };
 
 /// Builds `frame` from `store`; updates each visible instance's LOD and ends crossfades whose
 /// time is over (neither changes the state version: the GPU-driven pass does the same).
 void buildFrame(const FrameInputs& in, InstanceStore& store, CrowdFrame* frame);
+
+/// The bucket runs of a placed frame (frame.key_offsets and group_masks set, records written;
+/// in the fallback, record_masks too).
+void buildBucketRuns(uint32_t lod_count, uint32_t sub_mesh_count, bool fallback, CrowdFrame* frame);
+/// Fills frame.bucket_entries from the runs.
+void expandBucketEntries(CrowdFrame* frame);
 
 }  // namespace si::detail

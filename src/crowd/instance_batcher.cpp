@@ -3,6 +3,7 @@
 // 2007): 4096 float4 constants / 5 float4 per instance = 819 instances per draw.
 #include "si/crowd/instance_batcher.h"
 
+#include <algorithm>
 #include <cstring>
 
 #include "core/str_cat.h"
@@ -31,7 +32,9 @@ Status InstanceBatcher::init(const BatchLimits& limits) {
 }
 
 namespace {
-size_t alignUp(size_t v, size_t a) { return (v + a - 1) / a * a; }
+size_t alignUp(size_t v, size_t a) {
+  return (v + a - 1) / a * a;
+}
 }  // namespace
 
 size_t InstanceBatcher::recordBufferBound(const CrowdManager& crowd) const {
@@ -52,33 +55,88 @@ size_t InstanceBatcher::recordBufferBound(const CrowdManager& crowd) const {
 Status InstanceBatcher::build(const CrowdManager& crowd, Span<uint8_t> out,
                               std::vector<DrawBatch>* draws) const {
   if (capacity_ == 0) return {StatusCode::kInvalidArgument, "InstanceBatcher: init() first"};
-  if (draws == nullptr) return {StatusCode::kInvalidArgument, "InstanceBatcher::build: draws is null"};
+  if (draws == nullptr)
+    return {StatusCode::kInvalidArgument, "InstanceBatcher::build: draws is null"};
   const size_t needed = recordBufferBound(crowd);
   if (out.size() < needed)
     return {StatusCode::kCountMismatch, strCat("InstanceBatcher::build: the record buffer holds ",
                                                out.size(), " bytes, the frame needs ", needed)};
   draws->clear();
   const std::vector<uint32_t>& offsets = crowd.bucketOffsets();
-  const std::vector<uint32_t>& entries = crowd.bucketEntries();
-  const std::vector<InstanceRecord>& records = crowd.records();
+  const std::vector<uint32_t>& run_offsets = crowd.bucketRunOffsets();
+  const std::vector<RecordRun>& runs = crowd.bucketRuns();
+  const uint8_t* records = reinterpret_cast<const uint8_t*>(crowd.records().data());
   const uint32_t submeshes = crowd.desc().sub_mesh_count;
   size_t cursor = 0;
   for (uint32_t b = 0; b + 1 < offsets.size(); ++b) {
-    for (uint32_t first = offsets[b]; first < offsets[b + 1];) {
-      const uint32_t n = std::min(capacity_, offsets[b + 1] - first);
+    // Batches of up to capacity_ entries, each filled from consecutive pieces of the runs.
+    uint32_t r = run_offsets[b], used_of_run = 0;
+    for (uint32_t left = offsets[b + 1] - offsets[b]; left > 0;) {
+      const uint32_t n = std::min(capacity_, left);
       cursor = alignUp(cursor, alignment_);
       DrawBatch d;
       d.lod = static_cast<uint16_t>(b / submeshes);
       d.sub_mesh = static_cast<uint16_t>(b % submeshes);
       d.byte_offset = static_cast<uint32_t>(cursor);
       d.instance_count = n;
-      uint8_t* dst = out.data() + cursor;
-      for (uint32_t k = 0; k < n; ++k)
-        std::memcpy(dst + size_t(k) * kInstanceRecordSize, &records[entries[first + k]],
-                    kInstanceRecordSize);
-      cursor += size_t(n) * kInstanceRecordSize;
+      for (uint32_t copied = 0; copied < n;) {
+        const RecordRun& run = runs[r];
+        const uint32_t take = std::min(n - copied, run.count - used_of_run);
+        std::memcpy(out.data() + cursor,
+                    records + size_t(run.first + used_of_run) * kInstanceRecordSize,
+                    size_t(take) * kInstanceRecordSize);
+        cursor += size_t(take) * kInstanceRecordSize;
+        copied += take;
+        used_of_run += take;
+        if (used_of_run == run.count) {
+          ++r;
+          used_of_run = 0;
+        }
+      }
       draws->push_back(d);
-      first += n;
+      left -= n;
+    }
+  }
+  return Status::ok();
+}
+
+Status InstanceBatcher::buildSpans(const CrowdManager& crowd,
+                                   std::vector<RecordSpanDraw>* draws) const {
+  if (capacity_ == 0) return {StatusCode::kInvalidArgument, "InstanceBatcher: init() first"};
+  if (draws == nullptr)
+    return {StatusCode::kInvalidArgument, "InstanceBatcher::buildSpans: draws is null"};
+  draws->clear();
+  // Records per aligned block start: alignment / gcd(80, alignment).
+  uint32_t g = kInstanceRecordSize, a = alignment_;
+  while (a != 0) {
+    const uint32_t t = g % a;
+    g = a;
+    a = t;
+  }
+  const uint32_t step = alignment_ / g;
+  const std::vector<uint32_t>& run_offsets = crowd.bucketRunOffsets();
+  const std::vector<RecordRun>& runs = crowd.bucketRuns();
+  const uint32_t submeshes = crowd.desc().sub_mesh_count;
+  for (uint32_t b = 0; b + 1 < run_offsets.size(); ++b) {
+    for (uint32_t r = run_offsets[b]; r < run_offsets[b + 1]; ++r) {
+      for (uint32_t first = runs[r].first, left = runs[r].count; left > 0;) {
+        const uint32_t block = first / step * step;
+        if (first - block >= capacity_)
+          return {StatusCode::kUnsupported,
+                  strCat("InstanceBatcher::buildSpans: an alignment of ", alignment_,
+                         " bytes puts block starts up to ", step - 1, " records before a draw, ",
+                         "more than the ", capacity_, " a block holds; use build()")};
+        const uint32_t n = std::min(left, capacity_ - (first - block));
+        RecordSpanDraw d;
+        d.lod = static_cast<uint16_t>(b / submeshes);
+        d.sub_mesh = static_cast<uint16_t>(b % submeshes);
+        d.first_record = first;
+        d.instance_count = n;
+        d.block_first_record = block;
+        draws->push_back(d);
+        first += n;
+        left -= n;
+      }
     }
   }
   return Status::ok();

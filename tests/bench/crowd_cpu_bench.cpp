@@ -1,7 +1,9 @@
 // SkinnedInstancing — SPDX-License-Identifier: MIT (see LICENSE)
 // The full per-frame CPU path of the crowd: update (time, LOD, cull, bucket, records) plus
-// batching into uniform-block records, on one core. Items are instances: items_per_second^-1 is
-// the cost per instance. Not part of ctest. Run: build/release/tests/bench/si_crowd_cpu_bench
+// batching (records copied into uniform-block batches, or zero-copy spans), on 1 to 16 threads.
+// Items are instances: items_per_second^-1 is the wall time per instance. Not part of ctest.
+// Run: build/release/tests/bench/si_crowd_cpu_bench --benchmark_filter='threads:(1|2)/'
+// (more threads than cores only measures oversubscription).
 #include <benchmark/benchmark.h>
 
 #include <cmath>
@@ -29,13 +31,14 @@ const si::BakedPalette& palette() {
 
 // A square field of `count` characters 1.5 m apart, random armour, clips and times;
 // `max_distance_radii` as in CrowdDesc (0: the default far line, negative: none).
-std::unique_ptr<si::CrowdManager> field(int64_t count, float max_distance_radii = 0.0f) {
+std::unique_ptr<si::CrowdManager> field(int64_t count, float max_distance_radii, uint32_t threads) {
   auto crowd = std::make_unique<si::CrowdManager>();
   si::CrowdDesc d;
   d.palette = &palette();
   d.sub_mesh_count = 4;
   d.lod_count = 3;
   d.max_distance_radii = max_distance_radii;
+  d.worker_threads = threads;
   if (!crowd->init(d).isOk()) std::abort();
   const int64_t side = int64_t(std::ceil(std::sqrt(double(count))));
   std::vector<glm::dvec3> positions;
@@ -48,45 +51,59 @@ std::unique_ptr<si::CrowdManager> field(int64_t count, float max_distance_radii 
   return crowd;
 }
 
-// scene 0: a camera at the field's edge looking across it (the demo's view);
-// scene 1: high above, looking down, every character in view.
+// Arguments: instances; scene (0: a camera at the field's edge looking across it, the demo's
+// view; 1: high above, looking down, every character in view); threads (CrowdDesc::
+// worker_threads); batching (0: InstanceBatcher::build, records copied per draw; 1: buildSpans,
+// no copy). One frame runs before timing (the buffers reach their size).
 void crowdFrame(benchmark::State& state) {
   const int64_t count = state.range(0);
-  std::unique_ptr<si::CrowdManager> crowd;
-  if (state.range(1) == 0) crowd = field(count);
+  const bool all_visible = state.range(1) != 0;
+  const uint32_t threads = uint32_t(state.range(2));
+  const bool spans = state.range(3) != 0;
   const double side = std::ceil(std::sqrt(double(count))) * 1.5;
   si::Camera camera;
-  if (state.range(1) == 0) {
+  std::unique_ptr<si::CrowdManager> crowd;
+  if (!all_visible) {
     camera = si::Camera::lookAt({side / 2, 8.0, -10.0}, {side / 2, 0.0, side / 2},
                                 glm::vec3(0, 1, 0), 1.0f, 16.0f / 9.0f, 0.1f, 10000.0f);
+    crowd = field(count, 0.0f, threads);
   } else {
     // High above, every character in view and none distance-culled.
     camera = si::Camera::lookAt({side / 2, side * 1.2, side / 2 + 1.0}, {side / 2, 0.0, side / 2},
                                 glm::vec3(0, 1, 0), 1.2f, 1.0f, 0.1f, 100000.0f);
-    crowd = field(count, -1.0f);
+    crowd = field(count, -1.0f, threads);
   }
   si::InstanceBatcher batcher;
   if (!batcher.init({65536, 256, 0}).isOk()) std::abort();
   std::vector<uint8_t> buffer;
   std::vector<si::DrawBatch> draws;
-  for (auto _ : state) {
+  std::vector<si::RecordSpanDraw> span_draws;
+  const auto frame = [&] {
     if (!crowd->update(1.0 / 60.0, camera).isOk()) std::abort();
+    if (spans) {
+      if (!batcher.buildSpans(*crowd, &span_draws).isOk()) std::abort();
+      benchmark::DoNotOptimize(span_draws.data());
+      return;
+    }
     const size_t need = batcher.recordBufferBound(*crowd);
     if (buffer.size() < need) buffer.resize(need);
     if (!batcher.build(*crowd, buffer, &draws).isOk()) std::abort();
     benchmark::DoNotOptimize(buffer.data());
-  }
+  };
+  frame();
+  for (auto _ : state) frame();
   state.SetItemsProcessed(state.iterations() * count);
   state.counters["visible"] = crowd->stats().visible;
-  state.counters["draws"] = double(draws.size());
+  state.counters["draws"] = double(spans ? span_draws.size() : draws.size());
   state.counters["ns_per_instance"] =
       benchmark::Counter(double(count), benchmark::Counter::kIsIterationInvariantRate |
                                             benchmark::Counter::kInvert);
 }
 BENCHMARK(crowdFrame)
-    ->ArgsProduct({{10000, 100000, 1000000}, {0, 1}})
-    ->ArgNames({"instances", "all_visible"})
-    ->Unit(benchmark::kMillisecond);
+    ->ArgsProduct({{10000, 100000, 1000000}, {0, 1}, {1, 2, 4, 8, 16}, {0, 1}})
+    ->ArgNames({"instances", "all_visible", "threads", "spans"})
+    ->Unit(benchmark::kMillisecond)
+    ->UseRealTime();
 
 }  // namespace
 

@@ -15,6 +15,7 @@
 
 #include "si/bake/animation_baker.h"
 #include "si/crowd/crowd_manager.h"
+#include "si/crowd/instance_batcher.h"
 
 namespace {
 
@@ -146,6 +147,23 @@ void checkFrame(const si::CrowdManager& crowd) {
     if (offsets[b] > offsets[b + 1]) fail("bucket offsets decrease");
   for (uint32_t e : crowd.bucketEntries())
     if (e >= crowd.records().size()) fail("a bucket entry is past the records");
+  // The runs and the zero-copy spans hold exactly the entries, bucket by bucket.
+  const std::vector<uint32_t>& run_offsets = crowd.bucketRunOffsets();
+  if (run_offsets.size() != offsets.size()) fail("run offsets do not match the buckets");
+  std::vector<uint32_t> from_runs;
+  for (size_t b = 0; b + 1 < run_offsets.size(); ++b)
+    for (uint32_t r = run_offsets[b]; r < run_offsets[b + 1]; ++r)
+      for (uint32_t k = 0; k < crowd.bucketRuns()[r].count; ++k)
+        from_runs.push_back(crowd.bucketRuns()[r].first + k);
+  if (from_runs != crowd.bucketEntries()) fail("the runs are not the bucket entries");
+  si::InstanceBatcher batcher;
+  std::vector<si::RecordSpanDraw> spans;
+  if (!batcher.init({16384, 256, 0}).isOk() || !batcher.buildSpans(crowd, &spans).isOk())
+    fail("buildSpans failed on a valid frame");
+  std::vector<uint32_t> from_spans;
+  for (const si::RecordSpanDraw& d : spans)
+    for (uint32_t k = 0; k < d.instance_count; ++k) from_spans.push_back(d.first_record + k);
+  if (from_spans != crowd.bucketEntries()) fail("the spans are not the bucket entries");
   const uint64_t texels = palette().layout.textureTexelCount();
   for (const si::InstanceRecord& r : crowd.records()) {
     for (const auto& row : r.world_rows)
@@ -224,7 +242,12 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
         const si::Camera camera = si::Camera::lookAt(
             glm::dvec3(in.f64(), in.f64(), in.f64()), glm::dvec3(in.f64(), in.f64(), in.f64()),
             glm::vec3(0, 1, 0), in.f32(), in.f32(), in.f32(), in.f32());
-        s = crowd.update(in.f64(), camera);
+        // Sometimes through a ParallelFor that runs the tasks last first (an engine's may).
+        const si::ParallelFor backwards = [](uint32_t n, const si::ParallelTask& t) {
+          for (uint32_t i = n; i-- > 0;) t(i);
+        };
+        const double dt = in.f64();
+        s = in.u8() & 1 ? crowd.update(dt, camera, backwards) : crowd.update(dt, camera);
         if (s.isOk()) checkFrame(crowd);
         break;
       }

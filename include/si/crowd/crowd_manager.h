@@ -37,6 +37,7 @@
 #include "si/crowd/gpu_crowd_state.h"
 #include "si/crowd/handle_pool.h"
 #include "si/crowd/instance_record.h"
+#include "si/crowd/parallel_for.h"
 
 namespace si {
 
@@ -80,6 +81,16 @@ struct CrowdDesc {
   /// animation_lod_rate_hz instead of interpolating every frame; 0 means off.
   uint32_t animation_lod_start = 0;
   float animation_lod_rate_hz = 0.0f;  ///< 0 means 10 Hz.
+  /// Threads update(dt, camera) uses (it runs the work on a WorkerPool of its own, started at
+  /// the first update with more than one task): 0 means std::thread::hardware_concurrency(),
+  /// at most 16; 1 means the calling thread only. update(dt, camera, parallel_for) ignores it.
+  uint32_t worker_threads = 0;
+};
+
+/// A run of consecutive records of one bucket: records()[first .. first + count).
+struct RecordRun {
+  uint32_t first = 0;
+  uint32_t count = 0;
 };
 
 /// Returns the desc with zeros replaced by their documented defaults.
@@ -139,7 +150,7 @@ class CrowdManager {
   /// sub_mesh_count outside 1..32, lod_count above 8, a negative or non-finite radius,
   /// lod distances not increasing or of the wrong count, an animation LOD rate <= 0, an unknown
   /// LOD mode, LOD errors of the wrong count, negative, not finite or decreasing (or missing
-  /// for kScreenError), a pixel budget not finite and > 0.
+  /// for kScreenError), a pixel budget not finite and > 0, more than 256 worker threads.
   Status init(const CrowdDesc& desc);
 
   /// Adds an instance. kInvalidArgument (naming the field) for a clip out of range, a scale
@@ -174,8 +185,14 @@ class CrowdManager {
   /// every instance: picks its LOD, culls it against `camera` and the far distance, and buckets
   /// the visible ones per (LOD, sub-mesh) with their records. Culled instances cost no time advance of their own:
   /// playback time is derived from the crowd clock. Returns kInvalidArgument for a bad dt.
-  /// Allocates only while the crowd grows past its previous high-water mark.
+  /// Allocates only while the crowd grows past its previous high-water mark. The work runs on
+  /// CrowdDesc::worker_threads threads; the output does not depend on their number.
   Status update(double dt_seconds, const Camera& camera);
+  /// The same, with the work cut into tasks of 4096 instances that `parallel_for` runs (on an
+  /// engine's job system, say; parallel_for.h). The records, buckets and statistics are the
+  /// same as update(dt, camera) gives, whatever runs the tasks. An empty `parallel_for` runs
+  /// every task on the calling thread.
+  Status update(double dt_seconds, const Camera& camera, const ParallelFor& parallel_for);
 
   /// Statistics of the last update().
   const CrowdFrameStats& stats() const;
@@ -183,14 +200,26 @@ class CrowdManager {
   double clockSeconds() const;
 
   /// Buckets of the last update(): bucket b = lod * sub_mesh_count + sub_mesh holds
-  /// bucketEntries()[bucketOffsets()[b] .. bucketOffsets()[b + 1]), indices into records().
+  /// bucketEntries()[bucketOffsets()[b] .. bucketOffsets()[b + 1]), indices into records()
+  /// in increasing order.
   uint32_t bucketCount() const { return desc_.lod_count * desc_.sub_mesh_count; }
   const std::vector<uint32_t>& bucketOffsets() const;
+  /// Expanded from the runs on the first call after an update() (so a caller that reads the
+  /// runs pays nothing for it).
   const std::vector<uint32_t>& bucketEntries() const;
-  /// One record per visible instance of the last update().
-  const std::vector<InstanceRecord>& records() const;
+  /// The same buckets as runs of consecutive records: bucket b is
+  /// bucketRuns()[bucketRunOffsets()[b] .. bucketRunOffsets()[b + 1]), runs in increasing
+  /// order. The records lie sorted by (LOD, worn variation mask, dense order), so while a frame
+  /// has at most 64 distinct worn masks a bucket has at most one run per mask, and a sub-mesh
+  /// every instance wears is one run per LOD. Past 64 masks the records of a LOD are in dense
+  /// order and the runs are whatever consecutive instances wear the sub-mesh.
+  const std::vector<uint32_t>& bucketRunOffsets() const;
+  const std::vector<RecordRun>& bucketRuns() const;
+  /// One record per visible instance of the last update(), sorted by (LOD, worn variation
+  /// mask, dense order); each is written once, whatever sub-meshes the instance wears.
+  Span<const InstanceRecord> records() const;
   /// Handle of each visible instance of the last update(), parallel to records().
-  const std::vector<InstanceHandle>& visibleHandles() const;
+  Span<const InstanceHandle> visibleHandles() const;
   /// The LOD an instance was given by the last update() (kNotFound for stale handles).
   Status lodOf(InstanceHandle h, uint32_t* lod) const;
 

@@ -48,6 +48,20 @@ struct DrawBatch {
   uint32_t instance_count = 0;
 };
 
+/// One draw straight from the crowd's records (InstanceBatcher::buildSpans, no copy): its
+/// instance k is records()[first_record + k]. To read it from a uniform block, bind the records
+/// from `block_first_record` on (block_first_record * 80 bytes is a multiple of the batcher's
+/// alignment, so if the buffer holding records() starts aligned, so does the binding) and read
+/// element (first_record - block_first_record) + gl_InstanceID, which stays below
+/// capacityPerDraw(). A shader that reads the records from a storage buffer ignores the block.
+struct RecordSpanDraw {
+  uint16_t lod = 0;
+  uint16_t sub_mesh = 0;
+  uint32_t first_record = 0;
+  uint32_t instance_count = 0;
+  uint32_t block_first_record = 0;
+};
+
 /// Stateless apart from its limits: build() is deterministic for the same crowd frame.
 class InstanceBatcher {
  public:
@@ -70,6 +84,16 @@ class InstanceBatcher {
   /// null; kCountMismatch when `out` is smaller than recordBufferBound(crowd) (nothing written).
   /// Does not allocate once `draws` has reached the needed capacity.
   Status build(const CrowdManager& crowd, Span<uint8_t> out, std::vector<DrawBatch>* draws) const;
+
+  /// The same draws without copying a record: each bucket's runs (CrowdManager::bucketRuns)
+  /// cut where a block would exceed capacityPerDraw(). An application uploads records() once
+  /// (80 bytes per visible instance, instead of 80 per worn sub-mesh) and binds each draw's
+  /// block as RecordSpanDraw says. More draws than build() when instances differ in worn
+  /// sub-meshes (one per run). kInvalidArgument if not initialized or `draws` is null;
+  /// kUnsupported when the alignment is too coarse for spans (a block start more than
+  /// capacityPerDraw() records before a run; not with GL's usual alignments of 256 or less).
+  /// Does not allocate once `draws` has reached the needed capacity.
+  Status buildSpans(const CrowdManager& crowd, std::vector<RecordSpanDraw>* draws) const;
 
  private:
   uint32_t capacity_ = 0;

@@ -80,7 +80,7 @@ Status CpuSkinningPath::draw(const DrawResources& r, const PathFrame& f, DrawSta
     vertices_.clear();
   };
   const CrowdManager& crowd = *f.crowd;
-  const std::vector<InstanceRecord>& records = crowd.records();
+  const Span<const InstanceRecord> records = crowd.records();
   for (size_t v = 0; v < records.size(); ++v) {
     const InstanceRecord& rec = records[v];
     uint32_t lod = 0;

@@ -25,7 +25,7 @@ Status TraditionalPath::draw(const DrawResources& r, const PathFrame& f, DrawSta
   const CrowdManager& crowd = *f.crowd;
   bindShading(r, (*r.programs)[ProgramId::kTraditional], f.camera, f.light);
   glBindBufferBase(GL_UNIFORM_BUFFER, 1, block_buffer_);
-  const std::vector<InstanceRecord>& records = crowd.records();
+  const Span<const InstanceRecord> records = crowd.records();
   const uint32_t sub_meshes = crowd.desc().sub_mesh_count;
   const size_t block_bytes = 64 + size_t(slots) * 48;
   for (size_t v = 0; v < records.size(); ++v) {

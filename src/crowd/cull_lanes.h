@@ -1,0 +1,129 @@
+// SkinnedInstancing — SPDX-License-Identifier: MIT (see LICENSE)
+#pragma once
+// cull::select (cull_math.h) for 8 instances at once, in GCC/Clang vector types: lane by lane
+// the same float operations in the same order, so every lane selects exactly what the scalar
+// function (and the GPU-driven culling shader) selects. The compiler maps the 8 lanes onto one
+// AVX register or two SSE ones, whichever the calling function is compiled for.
+
+#include <cstdint>
+#include <cstring>
+
+#include "crowd/cull_math.h"
+
+namespace si::cull {
+
+inline constexpr uint32_t kLanes = 8;
+
+/// Why a lane was culled (or not).
+enum LaneResult : int32_t { kLaneVisible = 0, kLaneCulledByDistance = 1, kLaneCulledByFrustum = 2 };
+
+/// Eight instances' inputs, gathered (structure of arrays), and the outputs.
+struct Lanes {
+  alignas(32) float rx[kLanes], ry[kLanes], rz[kLanes];              // Camera-relative position.
+  alignas(32) float qx[kLanes], qy[kLanes], qz[kLanes], qw[kLanes];  // Rotation.
+  alignas(32) float s[kLanes];                                       // Scale.
+  alignas(32) float ax[kLanes], ay[kLanes], az[kLanes], ar[kLanes];  // Clip A's sphere.
+  alignas(32) float bx[kLanes], by[kLanes], bz[kLanes], br[kLanes];  // Clip B's (A's if none).
+  alignas(32) int32_t lod[kLanes];     // In: the previous LOD; out: the new one (visible lanes).
+  alignas(32) int32_t result[kLanes];  // Out: a LaneResult.
+};
+
+/// The LOD lines of `p` with the hysteresis applied, as select() computes them before scaling
+/// by the instance's radius.
+struct LodLines {
+  float up[8] = {};    // lod_lines[l] * (1 + hysteresis): LOD l -> l + 1.
+  float down[8] = {};  // lod_lines[l] * (1 - hysteresis): LOD l + 1 -> l.
+};
+inline LodLines lodLines(const Params& p) {
+  LodLines l;
+  for (uint32_t i = 0; i + 1 < p.lod_count && i < 7; ++i) {
+    l.up[i] = p.lod_lines[i] * (1.0f + p.hysteresis);
+    l.down[i] = p.lod_lines[i] * (1.0f - p.hysteresis);
+  }
+  return l;
+}
+
+/// select() on every lane of `l`. Always inlined: the vector types never cross a call.
+__attribute__((always_inline)) inline void selectLanes(const Params& p, const LodLines& lines,
+                                                       Lanes& l) {
+  typedef float f8 __attribute__((vector_size(32)));
+  typedef int32_t i8 __attribute__((vector_size(32)));
+#define SI_LOAD(dst, src) std::memcpy(&(dst), (src), sizeof(dst))
+#define SI_BLEND(m, a, b) (((m) & (a)) | (~(m) & (b)))
+  f8 rx, ry, rz, qx, qy, qz, qw, s;
+  SI_LOAD(rx, l.rx);
+  SI_LOAD(ry, l.ry);
+  SI_LOAD(rz, l.rz);
+  SI_LOAD(qx, l.qx);
+  SI_LOAD(qy, l.qy);
+  SI_LOAD(qz, l.qz);
+  SI_LOAD(qw, l.qw);
+  SI_LOAD(s, l.s);
+  const f8 radius = p.radius * s;
+  const f8 d2 = (rx * rx + ry * ry) + rz * rz;
+  i8 by_distance = {};
+  if (p.max_distance_radii >= 0.0f) {
+    const f8 far_line = p.max_distance_radii * radius;
+    by_distance = d2 > far_line * far_line;
+  }
+  // The sphere centre rel + rotate(q, c * s), as cull::rotate computes it.
+  const auto center = [&](const float* cx, const float* cy, const float* cz, f8* ox, f8* oy,
+                          f8* oz) {
+    f8 vx, vy, vz;
+    SI_LOAD(vx, cx);
+    SI_LOAD(vy, cy);
+    SI_LOAD(vz, cz);
+    vx = vx * s;
+    vy = vy * s;
+    vz = vz * s;
+    const f8 uvx = qy * vz - vy * qz, uvy = qz * vx - vz * qx, uvz = qx * vy - vx * qy;
+    const f8 uuvx = qy * uvz - uvy * qz, uuvy = qz * uvx - uvz * qx, uuvz = qx * uvy - uvx * qy;
+    *ox = rx + (vx + ((uvx * qw) + uuvx) * 2.0f);
+    *oy = ry + (vy + ((uvy * qw) + uuvy) * 2.0f);
+    *oz = rz + (vz + ((uvz * qw) + uuvz) * 2.0f);
+  };
+  f8 cax, cay, caz, cbx, cby, cbz, ar, br;
+  center(l.ax, l.ay, l.az, &cax, &cay, &caz);
+  center(l.bx, l.by, l.bz, &cbx, &cby, &cbz);
+  SI_LOAD(ar, l.ar);
+  SI_LOAD(br, l.br);
+  const f8 ra = ar * s, rb = br * s;
+  i8 inside = ~i8{};
+  for (const glm::vec4& plane : p.planes) {
+    const i8 a_in = ((plane.x * cax + plane.y * cay) + plane.z * caz) + plane.w >= -ra;
+    const i8 b_in = ((plane.x * cbx + plane.y * cby) + plane.z * cbz) + plane.w >= -rb;
+    inside &= a_in | b_in;
+  }
+  // LOD with hysteresis: up while past the next line, then down while inside the previous one.
+  i8 lod;
+  SI_LOAD(lod, l.lod);
+  const int32_t top = int32_t(p.lod_count) - 1;
+  lod = SI_BLEND(lod < (i8{} + top), lod, i8{} + top);
+  i8 moving = ~i8{};
+  for (int32_t step = 0; step < top; ++step) {
+    f8 up = {};
+    for (int32_t k = 0; k < top; ++k)
+      up = (f8)SI_BLEND(lod == (i8{} + k), (i8)(f8{} + lines.up[k]), (i8)up);
+    const f8 line = up * radius;
+    moving &= (lod < (i8{} + top)) & (d2 > line * line);
+    lod -= moving;  // True lanes are -1.
+  }
+  moving = ~i8{};
+  for (int32_t step = 0; step < top; ++step) {
+    f8 down = {};
+    for (int32_t k = 0; k < top; ++k)
+      down = (f8)SI_BLEND(lod == (i8{} + (k + 1)), (i8)(f8{} + lines.down[k]), (i8)down);
+    const f8 line = down * radius;
+    moving &= (lod > i8{}) & (d2 < line * line);
+    lod += moving;
+  }
+  const i8 result = SI_BLEND(
+      by_distance, i8{} + int32_t(kLaneCulledByDistance),
+      SI_BLEND(inside, i8{} + int32_t(kLaneVisible), i8{} + int32_t(kLaneCulledByFrustum)));
+  std::memcpy(l.lod, &lod, sizeof lod);
+  std::memcpy(l.result, &result, sizeof result);
+#undef SI_BLEND
+#undef SI_LOAD
+}
+
+}  // namespace si::cull
