@@ -13,19 +13,22 @@
 namespace si::cull {
 
 inline constexpr uint32_t kLanes = 8;
+/// Instances gathered before the vector work: enough that the gathering stores have left the
+/// store buffer when the vector loads read them (loads straight after narrow stores stall).
+inline constexpr uint32_t kBlock = 64;
 
 /// Why a lane was culled (or not).
 enum LaneResult : int32_t { kLaneVisible = 0, kLaneCulledByDistance = 1, kLaneCulledByFrustum = 2 };
 
-/// Eight instances' inputs, gathered (structure of arrays), and the outputs.
+/// A block of instances' inputs, gathered (structure of arrays), and the outputs.
 struct Lanes {
-  alignas(32) float rx[kLanes], ry[kLanes], rz[kLanes];              // Camera-relative position.
-  alignas(32) float qx[kLanes], qy[kLanes], qz[kLanes], qw[kLanes];  // Rotation.
-  alignas(32) float s[kLanes];                                       // Scale.
-  alignas(32) float ax[kLanes], ay[kLanes], az[kLanes], ar[kLanes];  // Clip A's sphere.
-  alignas(32) float bx[kLanes], by[kLanes], bz[kLanes], br[kLanes];  // Clip B's (A's if none).
-  alignas(32) int32_t lod[kLanes];     // In: the previous LOD; out: the new one (visible lanes).
-  alignas(32) int32_t result[kLanes];  // Out: a LaneResult.
+  alignas(32) float rx[kBlock], ry[kBlock], rz[kBlock];              // Camera-relative position.
+  alignas(32) float qx[kBlock], qy[kBlock], qz[kBlock], qw[kBlock];  // Rotation.
+  alignas(32) float s[kBlock];                                       // Scale.
+  alignas(32) float ax[kBlock], ay[kBlock], az[kBlock], ar[kBlock];  // Clip A's sphere.
+  alignas(32) float bx[kBlock], by[kBlock], bz[kBlock], br[kBlock];  // Clip B's (A's if none).
+  alignas(32) int32_t lod[kBlock];     // In: the previous LOD; out: the new one (visible lanes).
+  alignas(32) int32_t result[kBlock];  // Out: a LaneResult.
 };
 
 /// The LOD lines of `p` with the hysteresis applied, as select() computes them before scaling
@@ -43,12 +46,13 @@ inline LodLines lodLines(const Params& p) {
   return l;
 }
 
-/// select() on every lane of `l`. Always inlined: the vector types never cross a call.
+/// select() on the 8 lanes of `l` from `base` on. Always inlined: the vector types never cross a
+/// call.
 __attribute__((always_inline)) inline void selectLanes(const Params& p, const LodLines& lines,
-                                                       Lanes& l) {
+                                                       Lanes& l, uint32_t base) {
   typedef float f8 __attribute__((vector_size(32)));
   typedef int32_t i8 __attribute__((vector_size(32)));
-#define SI_LOAD(dst, src) std::memcpy(&(dst), (src), sizeof(dst))
+#define SI_LOAD(dst, src) std::memcpy(&(dst), (src) + base, sizeof(dst))
 #define SI_BLEND(m, a, b) (((m) & (a)) | (~(m) & (b)))
   f8 rx, ry, rz, qx, qy, qz, qw, s;
   SI_LOAD(rx, l.rx);
@@ -120,8 +124,8 @@ __attribute__((always_inline)) inline void selectLanes(const Params& p, const Lo
   const i8 result = SI_BLEND(
       by_distance, i8{} + int32_t(kLaneCulledByDistance),
       SI_BLEND(inside, i8{} + int32_t(kLaneVisible), i8{} + int32_t(kLaneCulledByFrustum)));
-  std::memcpy(l.lod, &lod, sizeof lod);
-  std::memcpy(l.result, &result, sizeof result);
+  std::memcpy(l.lod + base, &lod, sizeof lod);
+  std::memcpy(l.result + base, &result, sizeof result);
 #undef SI_BLEND
 #undef SI_LOAD
 }

@@ -8,6 +8,7 @@
 #include <cstring>
 
 #include "crowd/cull_lanes.h"
+#include "crowd/record_lanes.h"
 
 namespace si::detail {
 
@@ -69,15 +70,16 @@ SI_CPU_CLONES void selectChunk(const FrameInputs& in, InstanceStore& st, uint32_
   if (direct) std::memset(w.direct, 0xFF, sizeof w.direct);
   // The selection uses only +, -, * and comparisons in a fixed order (cull_math.h, and
   // cull_lanes.h lane by lane), so the GPU-driven culling pass, which does the same arithmetic,
-  // selects exactly the same instances and LODs. Eight instances at a time: gathered, selected
-  // in vector registers, then counted.
+  // selects exactly the same instances and LODs. Blocks of 64 instances: gathered, selected 8
+  // at a time in vector registers, then counted.
   const cull::LodLines lines = cull::lodLines(cull_params);
   cull::Lanes lanes = {};
-  bool far[cull::kLanes];
-  for (uint32_t i0 = begin; i0 < end; i0 += cull::kLanes) {
-    const uint32_t count = std::min(cull::kLanes, end - i0);
+  bool far[cull::kBlock];
+  for (uint32_t i0 = begin; i0 < end; i0 += cull::kBlock) {
+    const uint32_t count = std::min(cull::kBlock, end - i0);
+    const uint32_t padded = (count + cull::kLanes - 1) / cull::kLanes * cull::kLanes;
     uint32_t near_lanes = 0;
-    for (uint32_t k = 0; k < cull::kLanes; ++k) {
+    for (uint32_t k = 0; k < padded; ++k) {
       const uint32_t i = i0 + (k < count ? k : 0);  // Past the end: lane 0's instance again.
       // A crossfade is over once the clock passes its end (compared without a division).
       if (st.fade_duration[i] > 0.0 && !(clock - st.fade_start[i] < st.fade_duration[i]))
@@ -110,7 +112,8 @@ SI_CPU_CLONES void selectChunk(const FrameInputs& in, InstanceStore& st, uint32_
       w.stats.culled_distance += count;
       continue;
     }
-    cull::selectLanes(cull_params, lines, lanes);
+    for (uint32_t base = 0; base < padded; base += cull::kLanes)
+      cull::selectLanes(cull_params, lines, lanes, base);
     for (uint32_t k = 0; k < count; ++k)
       if (far[k]) lanes.result[k] = cull::kLaneCulledByDistance;
     for (uint32_t k = 0; k < count; ++k) {
@@ -260,13 +263,58 @@ void placeChunks(const FrameInputs& in, uint32_t chunk_count, CrowdFrame& f, boo
 SI_CPU_CLONES void writeChunk(const FrameInputs& in, const InstanceStore& st, bool fallback,
                               ChunkWork& w, CrowdFrame& f) {
   const uint16_t key_mask = fallback ? uint16_t(~(kMaxMaskGroups - 1)) : uint16_t(0xFFFF);
-  for (size_t j = 0; j < w.visible.size(); ++j) {
-    const uint32_t i = w.visible[j];
-    const uint32_t key = w.keys[j] & key_mask;
-    const uint32_t slot = w.cursor[key]++;
-    writeRecord(in, st, i, key / kMaxMaskGroups, &f.records[slot]);
-    f.visible_handles[slot] = st.dense_handles[i];
-    if (fallback) f.record_masks[slot] = wornMask(st.masks[i], in.sub_mesh_count);
+  const std::vector<ClipTiming>& clips = *in.clips;
+  const uint32_t stride = in.palette->layout.frame_stride_texels;
+  const uint32_t anim_lod = in.params.animation_lod_start;
+  RecordLanes lanes = {};
+  const size_t n = w.visible.size();
+  for (size_t j0 = 0; j0 < n; j0 += kRecordBlock) {
+    const uint32_t count = uint32_t(std::min<size_t>(kRecordBlock, n - j0));
+    const uint32_t padded = (count + kRecordLanes - 1) / kRecordLanes * kRecordLanes;
+    // Gather a block (padded with its first instance), compute 8 at a time, place each record.
+    for (uint32_t k = 0; k < padded; ++k) {
+      const uint32_t i = w.visible[j0 + (k < count ? k : 0)];
+      const uint32_t lod = w.keys[j0 + (k < count ? k : 0)] / kMaxMaskGroups;
+      const glm::vec3 rel(st.positions[i] - in.camera_position);
+      const glm::quat& q = st.rotations[i];
+      const Playback& pb = st.playback[i];
+      const ClipTiming& c = clips[pb.clip];
+      lanes.rx[k] = rel.x, lanes.ry[k] = rel.y, lanes.rz[k] = rel.z;
+      lanes.qx[k] = q.x, lanes.qy[k] = q.y, lanes.qz[k] = q.z, lanes.qw[k] = q.w;
+      lanes.s[k] = st.scales[i];
+      lanes.start_time[k] = pb.start_time, lanes.start_clock[k] = pb.start_clock;
+      lanes.speed[k] = double(pb.speed);
+      lanes.duration[k] = c.duration, lanes.inv_duration[k] = c.inv_duration;
+      lanes.inv_interval[k] = c.inv_interval, lanes.last_interval[k] = double(c.last_interval);
+      lanes.loop[k] = pb.loop == LoopMode::kLoop ? -1 : 0;
+      lanes.scalar[k] = st.fade_duration[i] > 0.0 || !c.uniform || lod >= anim_lod ? -1 : 0;
+    }
+    for (uint32_t base = 0; base < padded; base += kRecordLanes)
+      computeRecordLanes(in.clock, lanes, base);
+    for (uint32_t k = 0; k < count; ++k) {
+      const uint32_t i = w.visible[j0 + k];
+      const uint32_t key = w.keys[j0 + k] & key_mask;
+      const uint32_t slot = w.cursor[key]++;
+      InstanceRecord& rec = f.records[slot];
+      if (lanes.scalar[k] != 0) {
+        writeRecord(in, st, i, w.keys[j0 + k] / kMaxMaskGroups, &rec);
+      } else {
+        const float rel[3] = {lanes.rx[k], lanes.ry[k], lanes.rz[k]};
+        for (int row = 0; row < 3; ++row) {
+          for (int col = 0; col < 3; ++col) rec.world_rows[row][col] = lanes.rows[row][col][k];
+          rec.world_rows[row][3] = rel[row];
+        }
+        const uint32_t a0 =
+            clips[st.playback[i].clip].first_texel + uint32_t(lanes.frame[k]) * stride;
+        rec.frames[0] = rec.frames[2] = a0;
+        rec.frames[1] = rec.frames[3] = a0 + stride;
+        rec.blend[0] = rec.blend[1] = floatBits(lanes.fraction[k]);
+        rec.blend[2] = floatBits(0.0f);
+        rec.blend[3] = st.colors[i];
+      }
+      f.visible_handles[slot] = st.dense_handles[i];
+      if (fallback) f.record_masks[slot] = wornMask(st.masks[i], in.sub_mesh_count);
+    }
   }
 }
 

@@ -15,6 +15,8 @@
 
 #include "crowd/crowd_test_helpers.h"
 #include "crowd/cull_lanes.h"
+#include "crowd/playback.h"
+#include "crowd/record_lanes.h"
 #include "si/crowd/parallel_for.h"
 
 namespace si {
@@ -291,7 +293,7 @@ TEST(ParallelUpdate, EightLaneCullingSelectsExactlyWhatTheScalarOneSelects) {
       lanes.bx[k] = cb[k].x, lanes.by[k] = cb[k].y, lanes.bz[k] = cb[k].z, lanes.br[k] = rb[k];
       lanes.lod[k] = int32_t(prev[k]);
     }
-    cull::selectLanes(p, lines, lanes);
+    cull::selectLanes(p, lines, lanes, 0);
     for (uint32_t k = 0; k < 8; ++k) {
       cull::Selection sel;
       sel.lod = prev[k];
@@ -313,6 +315,85 @@ TEST(ParallelUpdate, EightLaneCullingSelectsExactlyWhatTheScalarOneSelects) {
   EXPECT_GT(visible, 1000u);
   EXPECT_GT(culled, 1000u);
   EXPECT_GE(__builtin_popcount(lods_seen), 4);
+}
+
+}  // namespace
+}  // namespace si
+
+namespace si {
+namespace {
+
+uint32_t bitsOf(float f) {
+  uint32_t u;
+  std::memcpy(&u, &f, 4);
+  return u;
+}
+
+// The vectorised record (world rows, clip A's frame and fraction) against the scalar code it
+// stands for: glm::mat3_cast * scale, then localTime and fastSample; lanes it cannot do must say
+// so. Hostile times: negative, -0, huge, at multiples of the duration, NaN and infinities.
+TEST(ParallelUpdate, VectorRecordsEqualTheScalarOnesOrDeferToThem) {
+  const BakedPalette& p = defaultPalette();
+  std::vector<detail::ClipTiming> clips;
+  for (const BakedClip& c : p.clips) clips.push_back(detail::makeClipTiming(c));
+  std::mt19937_64 rng(3);
+  std::uniform_real_distribution<double> u(-1.0, 1.0);
+  const double nan = std::numeric_limits<double>::quiet_NaN();
+  const double inf = std::numeric_limits<double>::infinity();
+  const double hostile[] = {0.0, -0.0, 1e300, -1e300, 9.1e15, nan, inf, -inf, 1e-320};
+  uint32_t vector_lanes = 0, deferred = 0;
+  for (int trial = 0; trial < 3000; ++trial) {
+    detail::RecordLanes lanes = {};
+    detail::Playback pb[detail::kRecordBlock];
+    uint32_t clip_of[detail::kRecordBlock];
+    glm::quat q[detail::kRecordBlock];
+    const double clock = trial % 13 == 0 ? hostile[rng() % 9] : std::abs(u(rng)) * 1e4;
+    for (uint32_t k = 0; k < detail::kRecordBlock; ++k) {
+      uint32_t c = uint32_t(rng() % clips.size());
+      while (!clips[c].uniform) c = uint32_t(rng() % clips.size());
+      clip_of[k] = c;
+      pb[k].clip = c;
+      pb[k].loop = rng() % 3 == 0 ? LoopMode::kOnce : LoopMode::kLoop;
+      pb[k].speed = float(std::abs(u(rng)) * (rng() % 5 == 0 ? 1e6 : 2.0));
+      pb[k].start_clock = std::abs(u(rng)) * 1e4;
+      pb[k].start_time = rng() % 7 == 0   ? hostile[rng() % 9]
+                         : rng() % 5 == 0 ? double(clips[c].duration) * double(rng() % 9)
+                                          : u(rng) * 10.0;
+      q[k] = glm::normalize(glm::quat(float(u(rng)), float(u(rng)), float(u(rng)), float(u(rng))));
+      lanes.qx[k] = q[k].x, lanes.qy[k] = q[k].y, lanes.qz[k] = q[k].z, lanes.qw[k] = q[k].w;
+      lanes.s[k] = float(0.1 + std::abs(u(rng)) * 3.0);
+      lanes.start_time[k] = pb[k].start_time, lanes.start_clock[k] = pb[k].start_clock;
+      lanes.speed[k] = double(pb[k].speed);
+      lanes.duration[k] = clips[c].duration, lanes.inv_duration[k] = clips[c].inv_duration;
+      lanes.inv_interval[k] = clips[c].inv_interval;
+      lanes.last_interval[k] = double(clips[c].last_interval);
+      lanes.loop[k] = pb[k].loop == LoopMode::kLoop ? -1 : 0;
+      lanes.scalar[k] = k == 5 ? -1 : 0;  // A lane already bound for the scalar path stays so.
+    }
+    for (uint32_t base = 0; base < detail::kRecordBlock; base += detail::kRecordLanes)
+      detail::computeRecordLanes(clock, lanes, base);
+    for (uint32_t k = 0; k < detail::kRecordBlock; ++k) {
+      const glm::mat3 m = glm::mat3_cast(q[k]) * lanes.s[k];
+      for (int row = 0; row < 3; ++row)
+        for (int col = 0; col < 3; ++col)
+          ASSERT_EQ(bitsOf(lanes.rows[row][col][k]), bitsOf(m[col][row])) << trial << " " << k;
+      if (k == 5) {
+        ASSERT_NE(lanes.scalar[k], 0);
+      }
+      if (lanes.scalar[k] != 0) {
+        ++deferred;
+        continue;
+      }
+      const detail::ClipTiming& c = clips[clip_of[k]];
+      const FrameSample want =
+          detail::fastSample(c, p.clips[clip_of[k]], detail::localTime(pb[k], c, clock));
+      ASSERT_EQ(uint32_t(lanes.frame[k]), want.frame) << trial << " " << k;
+      ASSERT_EQ(bitsOf(lanes.fraction[k]), bitsOf(want.fraction)) << trial << " " << k;
+      ++vector_lanes;
+    }
+  }
+  EXPECT_GT(vector_lanes, 100000u);
+  EXPECT_GT(deferred, 3000u);  // The pinned lane, non-finite times, loops past 2^53 intervals.
 }
 
 }  // namespace
