@@ -132,7 +132,9 @@ Status planPalette(const Character& character, const BakeDesc& in_desc, PaletteP
     }
   }
   if (plan.clip_indices.empty())
-    return {StatusCode::kInvalidArgument, "bake: the character has no clips to bake"};
+    return {StatusCode::kInvalidArgument,
+            "bake: the character has no clips to bake (si::makeRestPoseClip gives it its rest "
+            "pose as one)"};
   if (!clip_rates_hz.empty() && clip_rates_hz.size() != plan.clip_indices.size())
     return {StatusCode::kInvalidArgument,
             strCat("bake: ", clip_rates_hz.size(), " clip rates for ", plan.clip_indices.size(),

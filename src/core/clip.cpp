@@ -108,4 +108,13 @@ Status Clip::validate(size_t joint_count) const {
   return Status::ok();
 }
 
+Clip makeRestPoseClip(size_t joint_count, const std::string& name) {
+  Clip c;
+  c.name = name;
+  c.duration_seconds = 0.0f;
+  c.loop_mode = LoopMode::kOnce;
+  c.joint_tracks.resize(joint_count);
+  return c;
+}
+
 }  // namespace si

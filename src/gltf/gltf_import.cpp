@@ -27,6 +27,12 @@ Status convert(const tinygltf::Model& m, const GltfImportDesc& desc, Character* 
   detail::convertMaterials(m, report, &c);
   s = detail::convertClips(m, desc, skin, report, &c);
   if (!s.isOk()) return s;
+  if (c.clips.empty() && desc.rest_pose_clip_when_none) {
+    c.clips.push_back(makeRestPoseClip(c.skeleton.jointCount()));
+    report->added_rest_pose_clip = true;
+    report->warnings.push_back(
+        "no animation for the skeleton: added clip 'rest_pose' (its rest pose, one frame)");
+  }
   WeightNormalizationReport wr;
   s = normalizeWeights(c.mesh, &wr);
   if (!s.isOk()) return corrupt(s.message());

@@ -180,7 +180,8 @@ TEST(GltfImport, ExternalUrisMayNotLeaveTheAssetFolder) {
 // the joint component type; `second_set` adds JOINTS_1/WEIGHTS_1; `sparse` stores the positions
 // as a zero accessor with sparse values.
 std::string syntheticAsset(bool joints_u16, bool second_set, bool sparse, bool two_skins,
-                           const std::string& interpolation, float child_scale_x = 1.0f) {
+                           const std::string& interpolation, float child_scale_x = 1.0f,
+                           bool animated = true) {
   test::GltfWriter w;
   const std::vector<float> pos = {0, 0, 0, 1, 0, 0, 0, 1, 0};
   int pos_acc;
@@ -235,6 +236,7 @@ std::string syntheticAsset(bool joints_u16, bool second_set, bool sparse, bool t
                  ",\"output\":" + std::to_string(o) + ",\"interpolation\":\"" + interpolation +
                  "\"}],\"channels\":[{\"sampler\":0,\"target\":{\"node\":1,\"path\":\"rotation\"}},"
                  "{\"sampler\":0,\"target\":{\"node\":2,\"path\":\"rotation\"}}]}";
+  if (!animated) w.animations.clear();
   return w.json();
 }
 
@@ -267,6 +269,54 @@ TEST(GltfSynthetic, StepAndCubicSplineChannels) {
     for (const std::string& w : r.warnings) warned |= w.find("outside the skeleton") != std::string::npos;
     EXPECT_TRUE(warned);
   }
+}
+
+// A skinned asset without animation imports with its rest pose as one clip, which bakes into a
+// one-frame palette that poses every vertex where the reference puts it; without the option it
+// has no clips and the baker says how to give it one.
+TEST(GltfSynthetic, AssetWithoutAnimationBakesItsRestPose) {
+  const std::string json = syntheticAsset(false, false, false, false, "LINEAR", 1.5f, false);
+  Character c;
+  GltfImportReport r;
+  const Status s = importString(json, {}, &c, &r);
+  ASSERT_TRUE(s.isOk()) << s.toString();
+  ASSERT_EQ(c.clips.size(), 1u);
+  EXPECT_EQ(c.clips[0].name, "rest_pose");
+  EXPECT_EQ(c.clips[0].duration_seconds, 0.0f);
+  EXPECT_TRUE(r.added_rest_pose_clip);
+  bool warned = false;
+  for (const std::string& w : r.warnings) warned |= w.find("rest_pose") != std::string::npos;
+  EXPECT_TRUE(warned);
+  // The rest pose: every joint at its rest transform.
+  ReferencePose pose;
+  ASSERT_TRUE(evaluateLocalPose(c.skeleton, c.clips[0], 0.0, &pose).isOk());
+  for (size_t j = 0; j < c.skeleton.jointCount(); ++j) {
+    EXPECT_EQ(pose.local[j].translation, glm::dvec3(c.skeleton.rest_pose[j].translation)) << j;
+    EXPECT_EQ(pose.local[j].scale, glm::dvec3(c.skeleton.rest_pose[j].scale)) << j;
+  }
+  BakedPalette p;
+  BakeReport report;
+  BakeDesc d;
+  const Status baked = bakePalette(c, d, &p, &report);
+  ASSERT_TRUE(baked.isOk()) << baked.toString();
+  ASSERT_EQ(p.clips.size(), 1u);
+  EXPECT_EQ(p.clips[0].name, "rest_pose");
+  EXPECT_LE(p.clips[0].frame_count, 2u);
+  ASSERT_FALSE(report.clips.empty());
+  EXPECT_TRUE(report.clips[0].tolerance_met);
+  EXPECT_LE(report.max_error_ratio, 1e-4);
+  EXPECT_GT(report.clips[0].samples, 0u);
+  // Without the option: no clips, and baking says what to do.
+  GltfImportDesc none;
+  none.rest_pose_clip_when_none = false;
+  Character bare;
+  GltfImportReport bare_report;
+  ASSERT_TRUE(importString(json, none, &bare, &bare_report).isOk());
+  EXPECT_TRUE(bare.clips.empty());
+  EXPECT_FALSE(bare_report.added_rest_pose_clip);
+  const Status refused = bakePalette(bare, d, &p, nullptr);
+  EXPECT_EQ(refused.code(), StatusCode::kInvalidArgument);
+  EXPECT_NE(refused.message().find("makeRestPoseClip"), std::string::npos) << refused.message();
 }
 
 TEST(GltfSynthetic, ComponentTypesSecondWeightSetAndSparse) {

@@ -91,4 +91,10 @@ struct Clip {
   Status validate(size_t joint_count) const;
 };
 
+/// A clip that holds the skeleton's rest pose: no keys (every joint keeps its rest transform),
+/// duration 0 (a palette bakes it as one frame), kOnce. For skinned assets without animation,
+/// so a crowd of posed characters can be baked and drawn; si::importGltfFile adds one named
+/// "rest_pose" when the file has no animation (GltfImportDesc::rest_pose_clip_when_none).
+Clip makeRestPoseClip(size_t joint_count, const std::string& name = "rest_pose");
+
 }  // namespace si

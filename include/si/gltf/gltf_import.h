@@ -40,6 +40,10 @@ struct GltfImportDesc {
   /// gets its geometric error (SubMesh::lod_error_units).
   uint32_t generate_lods = 0;
   float lod_index_ratio = 0.0f;  ///< 0 means 0.25.
+  /// When the file has no animation (or none that touches the skeleton), add one clip named
+  /// "rest_pose" holding the skeleton's rest pose (si::makeRestPoseClip), so the character can
+  /// be baked and drawn posed; a warning says so. When false, such a character has no clips.
+  bool rest_pose_clip_when_none = true;
 };
 
 /// What the import did besides the result.
@@ -52,6 +56,7 @@ struct GltfImportReport {
   float max_weight_correction = 0.0f;
   float max_dropped_weight = 0.0f;      ///< From JOINTS_1/WEIGHTS_1 beyond the 4 largest.
   uint32_t generated_lods = 0;
+  bool added_rest_pose_clip = false;    ///< See GltfImportDesc::rest_pose_clip_when_none.
 };
 
 /// Imports a .gltf or .glb file. External URIs resolve against the file's folder and may not
