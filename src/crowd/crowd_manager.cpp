@@ -124,6 +124,7 @@ Status CrowdManager::init(const CrowdDesc& in_desc) {
   state->frame.bucket_offsets.assign(size_t(d.lod_count) * d.sub_mesh_count + 1, 0);
   state->frame.run_offsets.assign(size_t(d.lod_count) * d.sub_mesh_count + 1, 0);
   for (const BakedClip& c : d.palette->clips) state->clips.push_back(detail::makeClipTiming(c));
+  state->markers.clip_markers.resize(d.palette->clips.size());
   desc_ = d;
   state_ = std::move(state);
   return Status::ok();
@@ -286,6 +287,7 @@ Status CrowdManager::update(double dt, const Camera& camera, const ParallelFor& 
   in.clock = state_->clock;
   in.sub_mesh_count = desc_.sub_mesh_count;
   in.parallel_for = &parallel_for;
+  in.markers = &state_->markers;
   detail::buildFrame(in, state_->store, &state_->frame);
   return Status::ok();
 }
@@ -332,6 +334,33 @@ Span<const InstanceHandle> CrowdManager::visibleHandles() const {
   const detail::CrowdFrame& f = (state_ ? *state_ : emptyState()).frame;
   return Span<const InstanceHandle>(f.visible_handles.data(), f.visible);
 }
+Status CrowdManager::addClipMarker(uint32_t clip, double time_seconds, const std::string& name,
+                                   uint32_t* index) {
+  if (!state_) return {StatusCode::kInvalidArgument, "CrowdManager: init() first"};
+  if (clip >= state_->clips.size())
+    return {StatusCode::kInvalidArgument, strCat("addClipMarker: clip ", clip, " out of range")};
+  const double duration = state_->clips[clip].duration;
+  if (!std::isfinite(time_seconds) || time_seconds < 0.0 || time_seconds > duration)
+    return {StatusCode::kInvalidArgument,
+            strCat("addClipMarker: time ", time_seconds, " is outside the clip's [0, ", duration,
+                   "] seconds")};
+  detail::MarkerTable& t = state_->markers;
+  // Until now nothing was tracked: every instance counts from the current clock.
+  if (t.empty()) state_->store.markEventsReported(state_->clock);
+  if (index != nullptr) *index = uint32_t(t.markers.size());
+  t.clip_markers[clip].push_back(uint32_t(t.markers.size()));
+  t.markers.push_back(ClipMarker{clip, time_seconds, name});
+  return Status::ok();
+}
+
+const std::vector<ClipMarker>& CrowdManager::clipMarkers() const {
+  return (state_ ? *state_ : emptyState()).markers.markers;
+}
+
+Span<const AnimationEvent> CrowdManager::events() const {
+  return (state_ ? *state_ : emptyState()).frame.events;
+}
+
 uint64_t CrowdManager::stateVersion() const { return state_ ? state_->store.version : 0; }
 
 Status CrowdManager::setLodMode(LodMode mode, float pixel_error_budget) {

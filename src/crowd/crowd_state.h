@@ -7,6 +7,7 @@
 #include <memory>
 #include <vector>
 
+#include "crowd/animation_events.h"
 #include "crowd/frame_builder.h"
 #include "crowd/instance_store.h"
 #include "si/crowd/crowd_manager.h"
@@ -17,6 +18,7 @@ struct CrowdManager::State {
   detail::InstanceStore store;
   detail::CrowdFrame frame;
   std::vector<detail::ClipTiming> clips;  // Per palette clip.
+  detail::MarkerTable markers;
   std::vector<float> lod_lines;           // Resolved distances in radii.
   float radius = 1.0f;
   double clock = 0.0, clock_compensation = 0.0;

@@ -65,6 +65,9 @@ SI_CPU_CLONES void selectChunk(const FrameInputs& in, InstanceStore& st, uint32_
   std::memset(w.slot_of, 0xFF, sizeof w.slot_of);
   std::memset(w.counts, 0, sizeof w.counts);
   w.stats = CrowdFrameStats();
+  w.events.clear();
+  if (in.markers != nullptr && !in.markers->empty())
+    collectEvents(*in.markers, clips, clock, st, begin, end, &w.events);
   // Up to 8 sub-meshes a worn mask indexes a table directly (no hashing, no branch on it).
   const bool direct = in.sub_mesh_count <= 8;
   if (direct) std::memset(w.direct, 0xFF, sizeof w.direct);
@@ -198,6 +201,7 @@ __attribute__((always_inline)) inline void writeRecord(const FrameInputs& in,
 void placeChunks(const FrameInputs& in, uint32_t chunk_count, CrowdFrame& f, bool* fallback) {
   const uint32_t lods = in.params.lod_count;
   f.group_masks.clear();
+  f.events.clear();
   bool overflow = false;
   for (uint32_t c = 0; c < chunk_count; ++c) {
     const ChunkWork& w = f.chunks[c];
@@ -208,6 +212,7 @@ void placeChunks(const FrameInputs& in, uint32_t chunk_count, CrowdFrame& f, boo
     s.culled_distance += w.stats.culled_distance;
     for (uint32_t l = 0; l < 8; ++l) s.per_lod[l] += w.stats.per_lod[l];
     s.visible += uint32_t(w.visible.size());
+    f.events.insert(f.events.end(), w.events.begin(), w.events.end());
   }
   std::sort(f.group_masks.begin(), f.group_masks.end());
   f.group_masks.erase(std::unique(f.group_masks.begin(), f.group_masks.end()), f.group_masks.end());

@@ -13,6 +13,7 @@
 #include <cstdint>
 #include <vector>
 
+#include "crowd/animation_events.h"
 #include "crowd/instance_store.h"
 #include "si/crowd/crowd_manager.h"
 #include "si/crowd/parallel_for.h"
@@ -37,6 +38,7 @@ struct ChunkWork {
   uint32_t counts[8 * kMaxMaskGroups];  // Per local key.
   uint32_t cursor[8 * kMaxMaskGroups];  // Per local key: the next record to write.
   CrowdFrameStats stats;
+  std::vector<AnimationEvent> events;  // Of its instances, in dense order.
 };
 
 /// One frame's output, reused between frames (allocates only while the crowd grows).
@@ -59,6 +61,7 @@ struct CrowdFrame {
   // bucketEntries(), expanded from the runs when first asked for.
   std::vector<uint32_t> bucket_entries;
   bool entries_valid = false;
+  std::vector<AnimationEvent> events;           // The chunks' events, in chunk order.
 };
 
 /// What a frame is built from besides the instances.
@@ -70,6 +73,7 @@ struct FrameInputs {
   double clock = 0.0;  // The crowd clock, already advanced.
   uint32_t sub_mesh_count = 1;
   const ParallelFor* parallel_for = nullptr;  // Null: every task on the calling thread.
+  const MarkerTable* markers = nullptr;       // Null or empty: no events.
 };
 
 /// Builds `frame` from `store`; updates each visible instance's LOD and ends crossfades whose

@@ -2,6 +2,7 @@
 // The crowd's instance state and its changes.
 #include "crowd/instance_store.h"
 
+#include <algorithm>
 #include <atomic>
 #include <cmath>
 
@@ -64,6 +65,8 @@ void InstanceStore::push(const InstanceDesc& d, InstanceHandle h, double clock) 
   fade_start.push_back(0.0);
   fade_duration.push_back(0.0);
   lods.push_back(0);
+  events_clock.push_back(clock);
+  events_new.push_back(1);
   dense_handles.push_back(h);
   version = nextStateVersion();
 }
@@ -100,6 +103,8 @@ Status InstanceStore::remove(InstanceHandle h) {
   move_last(fade_start);
   move_last(fade_duration);
   move_last(lods);
+  move_last(events_clock);
+  move_last(events_new);
   move_last(dense_handles);
   version = nextStateVersion();
   return handles.release(h);
@@ -146,6 +151,7 @@ Status InstanceStore::play(InstanceHandle h, uint32_t clip, double time_seconds,
             "play: clip must be in range, time finite, speed finite and >= 0"};
   playback[i] = Playback{clip, palette->clips[clip].loop_mode, speed, clock, time_seconds};
   fade_duration[i] = 0.0;
+  events_new[i] = 1;
   version = nextStateVersion();
   return Status::ok();
 }
@@ -164,8 +170,14 @@ Status InstanceStore::crossfade(InstanceHandle h, uint32_t clip, double blend_se
   fade_duration[i] = blend_seconds;
   playback[i] = Playback{clip, palette->clips[clip].loop_mode, playback[i].speed, clock,
                          time_seconds};
+  events_new[i] = 1;
   version = nextStateVersion();
   return Status::ok();
+}
+
+void InstanceStore::markEventsReported(double clock) {
+  std::fill(events_clock.begin(), events_clock.end(), clock);
+  std::fill(events_new.begin(), events_new.end(), uint8_t(0));
 }
 
 }  // namespace si::detail

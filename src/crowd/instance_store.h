@@ -41,6 +41,8 @@ struct InstanceStore {
   Status play(InstanceHandle h, uint32_t clip, double time_seconds, float speed, double clock);
   Status crossfade(InstanceHandle h, uint32_t clip, double blend_seconds, double time_seconds,
                    double clock);
+  /// Every instance's events counted as reported up to `clock` (when markers first appear).
+  void markEventsReported(double clock);
 
   const BakedPalette* palette = nullptr;
   HandlePool handles;
@@ -57,6 +59,10 @@ struct InstanceStore {
   std::vector<double> fade_start;
   std::vector<double> fade_duration;    // 0 when no crossfade runs.
   std::vector<uint8_t> lods;            // The LOD hysteresis starts from.
+  // Animation events (animation_events.h): the crowd clock each instance last reported at, and
+  // whether its playback started since then (reported from its start, inclusive).
+  std::vector<double> events_clock;
+  std::vector<uint8_t> events_new;
   std::vector<InstanceHandle> dense_handles;
   std::vector<uint32_t> slot_to_dense;
 };

@@ -54,7 +54,8 @@ std::unique_ptr<si::CrowdManager> field(int64_t count, float max_distance_radii,
 // Arguments: instances; scene (0: a camera at the field's edge looking across it, the demo's
 // view; 1: high above, looking down, every character in view); threads (CrowdDesc::
 // worker_threads); batching (0: InstanceBatcher::build, records copied per draw; 1: buildSpans,
-// no copy). One frame runs before timing (the buffers reach their size).
+// no copy); markers (1: a marker at the middle of every clip, so animation events are counted
+// for every instance). One frame runs before timing (the buffers reach their size).
 void crowdFrame(benchmark::State& state) {
   const int64_t count = state.range(0);
   const bool all_visible = state.range(1) != 0;
@@ -73,6 +74,10 @@ void crowdFrame(benchmark::State& state) {
                                 glm::vec3(0, 1, 0), 1.2f, 1.0f, 0.1f, 100000.0f);
     crowd = field(count, -1.0f, threads);
   }
+  if (state.range(4) != 0)
+    for (uint32_t c = 0; c < palette().clips.size(); ++c)
+      if (!crowd->addClipMarker(c, palette().clips[c].duration_seconds * 0.5, "half").isOk())
+        std::abort();
   si::InstanceBatcher batcher;
   if (!batcher.init({65536, 256, 0}).isOk()) std::abort();
   std::vector<uint8_t> buffer;
@@ -94,14 +99,17 @@ void crowdFrame(benchmark::State& state) {
   for (auto _ : state) frame();
   state.SetItemsProcessed(state.iterations() * count);
   state.counters["visible"] = crowd->stats().visible;
+  state.counters["events"] = double(crowd->events().size());
   state.counters["draws"] = double(spans ? span_draws.size() : draws.size());
   state.counters["ns_per_instance"] =
       benchmark::Counter(double(count), benchmark::Counter::kIsIterationInvariantRate |
                                             benchmark::Counter::kInvert);
 }
 BENCHMARK(crowdFrame)
-    ->ArgsProduct({{10000, 100000, 1000000}, {0, 1}, {1, 2, 4, 8, 16}, {0, 1}})
-    ->ArgNames({"instances", "all_visible", "threads", "spans"})
+    ->ArgsProduct({{10000, 100000, 1000000}, {0, 1}, {1, 2, 4, 8, 16}, {0, 1}, {0}})
+    ->Args({100000, 1, 1, 1, 1})
+    ->Args({1000000, 0, 1, 1, 1})
+    ->ArgNames({"instances", "all_visible", "threads", "spans", "markers"})
     ->Unit(benchmark::kMillisecond)
     ->UseRealTime();
 

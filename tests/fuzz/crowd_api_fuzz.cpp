@@ -249,6 +249,13 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
         const double dt = in.f64();
         s = in.u8() & 1 ? crowd.update(dt, camera, backwards) : crowd.update(dt, camera);
         if (s.isOk()) checkFrame(crowd);
+        // Markers: hostile clips and times are refused; events name live instances and markers.
+        if (in.u8() % 4 == 0) (void)crowd.addClipMarker(in.u8() % (clips + 1), in.f64(), "m");
+        if (s.isOk())  // A refused update keeps the last frame's events (of older instances).
+          for (const si::AnimationEvent& e : crowd.events())
+            if (!crowd.contains(e.instance) || e.marker >= crowd.clipMarkers().size() ||
+                e.count == 0)
+              fail("an event names a dead instance, an unknown marker or no pass");
         break;
       }
       default: {  // Queries change nothing.

@@ -27,6 +27,7 @@
 
 #include <cstdint>
 #include <memory>
+#include <string>
 #include <vector>
 
 #include <glm/glm.hpp>
@@ -85,6 +86,22 @@ struct CrowdDesc {
   /// the first update with more than one task): 0 means std::thread::hardware_concurrency(),
   /// at most 16; 1 means the calling thread only. update(dt, camera, parallel_for) ignores it.
   uint32_t worker_threads = 0;
+};
+
+/// A named point in a clip's time (an animation event: a footstep, a hit), added with
+/// CrowdManager::addClipMarker.
+struct ClipMarker {
+  uint32_t clip = 0;          ///< Index into the palette's clips.
+  double time_seconds = 0.0;  ///< Clip-local, within [0, duration].
+  std::string name;
+};
+
+/// An instance's playback passed a marker during the last update(): `count` times (more than
+/// once when a looping clip wrapped several times in one step).
+struct AnimationEvent {
+  InstanceHandle instance;
+  uint32_t marker = 0;  ///< Index into CrowdManager::clipMarkers().
+  uint32_t count = 1;
 };
 
 /// A run of consecutive records of one bucket: records()[first .. first + count).
@@ -196,6 +213,24 @@ class CrowdManager {
 
   /// Statistics of the last update().
   const CrowdFrameStats& stats() const;
+
+  // ---- Animation events ----
+  /// Adds a marker at clip-local `time_seconds` of `clip`; from the next update() on, every
+  /// instance whose playback passes it reports an event. A pass is counted between the crowd
+  /// clock of the instance's previous update() and now: (then, now] in clip time, from a
+  /// playback's start inclusive when it began since (add, play, crossfade), as many times as a
+  /// looping clip wraps past it, and for the clip fading out of a crossfade until the fade
+  /// ends. In a looping clip a marker at the duration is the next loop's start (it fires with
+  /// one at 0). Instances whose clips have no markers cost nothing. kInvalidArgument for a clip out
+  /// of range or a time outside [0, duration] or not finite; `index` (may be null) receives
+  /// the marker's index.
+  Status addClipMarker(uint32_t clip, double time_seconds, const std::string& name,
+                       uint32_t* index = nullptr);
+  const std::vector<ClipMarker>& clipMarkers() const;
+  /// The events of the last update(), by instance in dense order (the same for any thread
+  /// count). Frames that only advanceClock() report nothing; the next update() reports what
+  /// they passed.
+  Span<const AnimationEvent> events() const;
   /// Seconds on the crowd clock (compensated sum of every dt).
   double clockSeconds() const;
 
