@@ -85,6 +85,26 @@ int32_t BakedPalette::findClip(const std::string& clip_name) const {
 }
 
 FrameSample sampleFrames(const BakedClip& clip, double local_time_seconds) {
+  return sampleFrames(clip, local_time_seconds, {});
+}
+
+std::vector<uint32_t> frameSearchStarts(const BakedClip& clip) {
+  std::vector<uint32_t> starts;
+  const std::vector<double>& times = clip.frame_times_seconds;
+  const double interval = clip.frame_interval_seconds;
+  if (clip.frame_count < 2 || times.size() != clip.frame_count || !(interval > 0.0)) return starts;
+  starts.resize(clip.frame_count - 1);
+  for (uint32_t i = 0; i < starts.size(); ++i) {
+    // Any t of interval i has t / interval >= i, so t > (i - 1/2) * interval.
+    const double below = std::max(0.0, (double(i) - 0.5) * interval);
+    const size_t u = size_t(std::upper_bound(times.begin(), times.end(), below) - times.begin());
+    starts[i] = uint32_t(std::max<size_t>(i, u));
+  }
+  return starts;
+}
+
+FrameSample sampleFrames(const BakedClip& clip, double local_time_seconds,
+                         Span<const uint32_t> search_starts) {
   FrameSample s;
   const uint32_t n = clip.frame_count;
   if (n <= 1 || !(clip.frame_interval_seconds > 0.0)) return s;
@@ -109,8 +129,14 @@ FrameSample sampleFrames(const BakedClip& clip, double local_time_seconds) {
   // STEP keys add frames, never remove grid frames before t, so the last frame at or before t
   // is at index >= the grid index: search from there.
   const auto& times = clip.frame_times_seconds;
-  const auto first = times.begin() + std::ptrdiff_t(std::min<size_t>(i, times.size()));
-  const size_t k = size_t(std::upper_bound(first, times.end(), t) - times.begin());
+  size_t k;
+  if (search_starts.size() == size_t(last_interval) + 1) {
+    k = std::max<size_t>(i, search_starts[i]);
+    while (k < times.size() && times[k] <= t) ++k;
+  } else {
+    const auto first = times.begin() + std::ptrdiff_t(std::min<size_t>(i, times.size()));
+    k = size_t(std::upper_bound(first, times.end(), t) - times.begin());
+  }
   i = static_cast<uint32_t>(std::min<size_t>(k == 0 ? 0 : k - 1, last_interval));
   const double span = times[i + 1] - times[i];
   s.frame = i;

@@ -30,9 +30,7 @@ struct ClipTiming {
   bool uniform;  // No STEP frames: the frame follows from the time alone.
   glm::vec3 sphere_center;
   float sphere_radius;
-  // Clips with STEP keys (frame times): per grid interval i, the frame index their search for
-  // the last frame at or before t may start from (every frame in [i, scan_from[i]) lies at or
-  // before any t of interval i), so a frame is found in a step or two instead of a binary search.
+  // Clips with STEP keys: si::frameSearchStarts, so a frame is found in a step or two.
   std::vector<uint32_t> scan_from;
 };
 
@@ -47,16 +45,7 @@ inline ClipTiming makeClipTiming(const BakedClip& c) {
   t.uniform = c.frame_times_seconds.empty() && c.frame_count >= 2 && t.interval > 0.0;
   t.sphere_center = c.bounding_sphere.center;
   t.sphere_radius = c.bounding_sphere.radius;
-  const std::vector<double>& times = c.frame_times_seconds;
-  if (c.frame_count >= 2 && times.size() == c.frame_count && t.interval > 0.0) {
-    t.scan_from.resize(t.last_interval + 1);
-    for (uint32_t i = 0; i <= t.last_interval; ++i) {
-      // Any t of interval i has t / interval >= i, so t > (i - 1/2) * interval.
-      const double below = std::max(0.0, (double(i) - 0.5) * t.interval);
-      const size_t u = size_t(std::upper_bound(times.begin(), times.end(), below) - times.begin());
-      t.scan_from[i] = uint32_t(std::max<size_t>(i, u));
-    }
-  }
+  t.scan_from = frameSearchStarts(c);
   return t;
 }
 
@@ -66,45 +55,23 @@ inline double localTime(const Playback& p, const ClipTiming& c, double clock) {
   const double duration = c.duration;
   const double t = p.start_time + (clock - p.start_clock) * double(p.speed);
   if (!(duration > 0.0) || !std::isfinite(t)) return 0.0;
-  // Both mappings, then a select: instances of looping and one-shot clips mix in any order,
-  // and a branch on the loop mode would mispredict.
-  // t - floor(t / d) * d: the same as fmod for these magnitudes, and several times cheaper.
-  double w = t - std::floor(t * c.inv_duration) * duration;
-  w = w < 0.0 ? w + duration : w;
-  const double clamped = std::clamp(t, 0.0, duration);
-  const bool loop = p.loop == LoopMode::kLoop;
-  if (!loop) return clamped;
-  if (w >= 0.0 && w < duration) return w;
-  // Past 2^53 intervals the product loses the fraction: the exact remainder instead.
-  w = std::fmod(t, duration);
-  if (w < 0.0) w += duration;
-  return w >= 0.0 && w < duration ? w : 0.0;
+  if (p.loop == LoopMode::kLoop) {
+    // t - floor(t / d) * d: the same as fmod for these magnitudes, and several times cheaper.
+    double w = t - std::floor(t * c.inv_duration) * duration;
+    if (w < 0.0) w += duration;
+    if (w >= 0.0 && w < duration) return w;
+    // Past 2^53 intervals the product loses the fraction: the exact remainder instead.
+    w = std::fmod(t, duration);
+    if (w < 0.0) w += duration;
+    return w >= 0.0 && w < duration ? w : 0.0;
+  }
+  return std::clamp(t, 0.0, duration);
 }
 
 /// si::sampleFrames(clip, t) for t within [0, duration], with a reciprocal instead of a
 /// division on uniform grids.
 inline FrameSample fastSample(const ClipTiming& c, const BakedClip& clip, double t) {
-  if (!c.uniform) {
-    if (c.scan_from.empty()) return sampleFrames(clip, t);
-    // si::sampleFrames's arithmetic, its search started from the table.
-    t = t > 0.0 ? std::min(t, double(clip.duration_seconds)) : 0.0;
-    const double position = t / clip.frame_interval_seconds;
-    const uint32_t i = position >= double(c.last_interval) ? c.last_interval
-                       : position > 0.0                    ? static_cast<uint32_t>(position)
-                                                           : 0u;
-    const std::vector<double>& times = clip.frame_times_seconds;
-    size_t k = c.scan_from[i];
-    while (k < times.size() && times[k] <= t) ++k;
-    const uint32_t f = static_cast<uint32_t>(std::min<size_t>(k == 0 ? 0 : k - 1, c.last_interval));
-    const double span = times[f + 1] - times[f];
-    FrameSample s;
-    s.frame = f;
-    s.next_frame = f + 1;
-    s.fraction = span > 0.0
-                     ? static_cast<float>(std::min(std::max((t - times[f]) / span, 0.0), 1.0))
-                     : 1.0f;
-    return s;
-  }
+  if (!c.uniform) return sampleFrames(clip, t, c.scan_from);  // STEP keys: from the table.
   const double position = t * c.inv_interval;
   // Compared before the conversion: a position past the last interval never converts.
   const uint32_t i = position >= double(c.last_interval) ? c.last_interval

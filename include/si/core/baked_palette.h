@@ -120,6 +120,16 @@ struct FrameSample {
 /// (at a key time exactly, the frame after the jump).
 FrameSample sampleFrames(const BakedClip& clip, double local_time_seconds);
 
+/// For a clip with STEP keys (frame_times_seconds), per grid interval i the frame index its
+/// search may start from: every frame in [i, table[i]) lies at or before any time of interval
+/// i. Empty for uniform clips. With it, sampleFrames() finds a frame in a step or two.
+std::vector<uint32_t> frameSearchStarts(const BakedClip& clip);
+/// sampleFrames() with the search started from `search_starts` (frameSearchStarts(clip), or
+/// empty for the binary search): the same result. Another table of that size still gives
+/// frames within the clip, not necessarily the same ones.
+FrameSample sampleFrames(const BakedClip& clip, double local_time_seconds,
+                         Span<const uint32_t> search_starts);
+
 /// Decodes palette joint `slot` of frame `frame` of clip `clip` as a 3x4 matrix (returned as a
 /// mat4 with last row 0 0 0 1), exactly as the shader reads it. Arguments must be in range.
 glm::mat4 decodeJoint(const BakedPalette& palette, uint32_t clip, uint32_t frame, uint32_t slot);
