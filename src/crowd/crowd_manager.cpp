@@ -328,11 +328,11 @@ const std::vector<RecordRun>& CrowdManager::bucketRuns() const {
 }
 Span<const InstanceRecord> CrowdManager::records() const {
   const detail::CrowdFrame& f = (state_ ? *state_ : emptyState()).frame;
-  return Span<const InstanceRecord>(f.records.data(), f.visible);
+  return Span<const InstanceRecord>(f.records.data(), f.stats.visible);
 }
 Span<const InstanceHandle> CrowdManager::visibleHandles() const {
   const detail::CrowdFrame& f = (state_ ? *state_ : emptyState()).frame;
-  return Span<const InstanceHandle>(f.visible_handles.data(), f.visible);
+  return Span<const InstanceHandle>(f.visible_handles.data(), f.stats.visible);
 }
 Status CrowdManager::addClipMarker(uint32_t clip, double time_seconds, const std::string& name,
                                    uint32_t* index) {

@@ -41,37 +41,33 @@ inline glm::vec3 rotate(const glm::quat& q, const glm::vec3& v) {
   return v + ((uv * q.w) + uuv) * 2.0f;
 }
 
+/// Whether an instance at camera-relative `rel` with scale `s` lies past the far line (never
+/// when there is none): the first test of select(), also run alone before gathering.
+inline bool beyondFarLine(const glm::vec3& rel, float s, const Params& p) {
+  if (!(p.max_distance_radii >= 0.0f)) return false;
+  const float far_line = p.max_distance_radii * (p.radius * s);
+  return dot3(rel, rel) > far_line * far_line;
+}
+
 /// Selects an instance at camera-relative position `rel` with rotation `q` and scale `s`,
 /// wearing clip A's sphere (centre and radius in model units) and, while fading, clip B's (pass
-/// A's twice otherwise: B is then skipped, its tests being A's). False when culled (by the far line or because both spheres lie outside
+/// A's twice otherwise). False when culled (by the far line or because both spheres lie outside
 /// one frustum plane); otherwise `out->lod` is the new LOD.
 inline bool select(const glm::vec3& rel, const glm::quat& q, float s, const glm::vec3& center_a,
                    float radius_a, const glm::vec3& center_b, float radius_b, const Params& p,
                    Selection* out) {
+  out->culled_by_distance = beyondFarLine(rel, s, p);
+  if (out->culled_by_distance) return false;
   const float radius = p.radius * s;
   const float d2 = dot3(rel, rel);
-  out->culled_by_distance = false;
-  if (p.max_distance_radii >= 0.0f) {
-    const float far_line = p.max_distance_radii * radius;
-    if (d2 > far_line * far_line) {
-      out->culled_by_distance = true;
-      return false;
-    }
-  }
   const glm::vec3 ca = rel + rotate(q, center_a * s);
-  const float ra = radius_a * s;
-  if (&center_a == &center_b && radius_a == radius_b) {
-    for (const glm::vec4& plane : p.planes)
-      if (!(dot3(glm::vec3(plane), ca) + plane.w >= -ra)) return false;
-  } else {
-    const glm::vec3 cb = rel + rotate(q, center_b * s);
-    const float rb = radius_b * s;
-    for (const glm::vec4& plane : p.planes) {
-      const glm::vec3 n(plane);
-      const bool a_inside = dot3(n, ca) + plane.w >= -ra;
-      const bool b_inside = dot3(n, cb) + plane.w >= -rb;
-      if (!a_inside && !b_inside) return false;
-    }
+  const glm::vec3 cb = rel + rotate(q, center_b * s);
+  const float ra = radius_a * s, rb = radius_b * s;
+  for (const glm::vec4& plane : p.planes) {
+    const glm::vec3 n(plane);
+    const bool a_inside = dot3(n, ca) + plane.w >= -ra;
+    const bool b_inside = dot3(n, cb) + plane.w >= -rb;
+    if (!a_inside && !b_inside) return false;
   }
   // LOD with hysteresis: move one way only once past the line by the hysteresis margin.
   uint32_t lod = out->lod < p.lod_count ? out->lod : p.lod_count - 1;

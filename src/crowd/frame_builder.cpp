@@ -68,9 +68,6 @@ SI_CPU_CLONES void selectChunk(const FrameInputs& in, InstanceStore& st, uint32_
   w.events.clear();
   if (in.markers != nullptr && !in.markers->empty())
     collectEvents(*in.markers, clips, clock, st, begin, end, &w.events);
-  // Up to 8 sub-meshes a worn mask indexes a table directly (no hashing, no branch on it).
-  const bool direct = in.sub_mesh_count <= 8;
-  if (direct) std::memset(w.direct, 0xFF, sizeof w.direct);
   // The selection uses only +, -, * and comparisons in a fixed order (cull_math.h, and
   // cull_lanes.h lane by lane), so the GPU-driven culling pass, which does the same arithmetic,
   // selects exactly the same instances and LODs. Blocks of 64 instances: gathered, selected 8
@@ -89,14 +86,9 @@ SI_CPU_CLONES void selectChunk(const FrameInputs& in, InstanceStore& st, uint32_
         st.fade_duration[i] = 0.0;
       const glm::vec3 rel(st.positions[i] - in.camera_position);  // Camera-relative, from double.
       const float s = st.scales[i];
-      // The far line first, as cull::select tests it: most of a large crowd may lie beyond it,
-      // and such an instance reads nothing more.
-      if (cull_params.max_distance_radii >= 0.0f) {
-        const float far_line = cull_params.max_distance_radii * (cull_params.radius * s);
-        far[k] = cull::dot3(rel, rel) > far_line * far_line;
-      } else {
-        far[k] = false;
-      }
+      // The far line first: most of a large crowd may lie beyond it, and such an instance
+      // reads nothing more.
+      far[k] = cull::beyondFarLine(rel, s, cull_params);
       near_lanes += !far[k];
       lanes.rx[k] = rel.x, lanes.ry[k] = rel.y, lanes.rz[k] = rel.z;
       lanes.s[k] = s;
@@ -129,20 +121,23 @@ SI_CPU_CLONES void selectChunk(const FrameInputs& in, InstanceStore& st, uint32_
       const uint32_t lod = uint32_t(lanes.lod[k]);
       st.lods[i] = static_cast<uint8_t>(lod);
       ++w.stats.per_lod[lod];
-      const uint32_t worn = wornMask(st.masks[i], in.sub_mesh_count);
-      uint32_t group;
-      if (direct) {
-        group = w.direct[worn];
-        if (group == 0xFF) group = w.direct[worn] = static_cast<uint8_t>(localGroup(w, worn));
-      } else {
-        group = localGroup(w, worn);
-      }
-      const uint32_t key = lod * kMaxMaskGroups + group;
+      const uint32_t key =
+          lod * kMaxMaskGroups + localGroup(w, wornMask(st.masks[i], in.sub_mesh_count));
       ++w.counts[key];
       w.visible.push_back(i);
       w.keys.push_back(static_cast<uint16_t>(key));
     }
   }
+}
+
+// The frames and blend of a record playing one clip (no crossfade): B repeats A, weight 0.
+void setOneClip(uint32_t frame, uint32_t next_frame, float fraction, uint32_t color,
+                InstanceRecord* rec) {
+  rec->frames[0] = rec->frames[2] = frame;
+  rec->frames[1] = rec->frames[3] = next_frame;
+  rec->blend[0] = rec->blend[1] = floatBits(fraction);
+  rec->blend[2] = floatBits(0.0f);
+  rec->blend[3] = color;
 }
 
 // The record of visible instance `i` at LOD `lod`. Inlined: compiled into each CPU clone of
@@ -172,7 +167,6 @@ __attribute__((always_inline)) inline void writeRecord(const FrameInputs& in,
   const FrameSample fa = fastSample(ca, palette.clips[pb.clip], ta);
   const uint32_t a0 = ca.first_texel + fa.frame * stride;
   const uint32_t a1 = ca.first_texel + fa.next_frame * stride;
-  rec.blend[3] = st.colors[i];
   if (st.fade_duration[i] > 0.0) {
     // Clip A is the one fading out; B the new one, weighted by weight_b.
     const float weight_b = std::min(float((clock - st.fade_start[i]) / st.fade_duration[i]), 1.0f);
@@ -188,11 +182,9 @@ __attribute__((always_inline)) inline void writeRecord(const FrameInputs& in,
     rec.blend[0] = floatBits(fo.fraction);
     rec.blend[1] = floatBits(fa.fraction);
     rec.blend[2] = floatBits(std::max(0.0f, weight_b));
+    rec.blend[3] = st.colors[i];
   } else {
-    rec.frames[0] = rec.frames[2] = a0;
-    rec.frames[1] = rec.frames[3] = a1;
-    rec.blend[0] = rec.blend[1] = floatBits(fa.fraction);
-    rec.blend[2] = floatBits(0.0f);
+    setOneClip(a0, a1, fa.fraction, st.colors[i], &rec);
   }
   *out = rec;
 }
@@ -221,18 +213,17 @@ void placeChunks(const FrameInputs& in, uint32_t chunk_count, CrowdFrame& f, boo
   const uint32_t groups = uint32_t(f.group_masks.size());
   // Totals per key (LOD-major, groups by increasing mask), then prefix sums.
   f.key_offsets.assign(size_t(lods) * groups + 1, 0u);
-  uint32_t to_group[kMaxMaskGroups];
   for (uint32_t c = 0; c < chunk_count; ++c) {
-    const ChunkWork& w = f.chunks[c];
+    ChunkWork& w = f.chunks[c];
     for (uint32_t g = 0; g < w.mask_count; ++g)
-      to_group[g] =
+      w.to_group[g] =
           *fallback
               ? 0u
               : uint32_t(std::lower_bound(f.group_masks.begin(), f.group_masks.end(), w.masks[g]) -
                          f.group_masks.begin());
     for (uint32_t l = 0; l < lods; ++l)
       for (uint32_t g = 0; g < w.mask_count; ++g)
-        f.key_offsets[l * groups + to_group[g] + 1] += w.counts[l * kMaxMaskGroups + g];
+        f.key_offsets[l * groups + w.to_group[g] + 1] += w.counts[l * kMaxMaskGroups + g];
   }
   for (size_t k = 1; k < f.key_offsets.size(); ++k) f.key_offsets[k] += f.key_offsets[k - 1];
   // Cursors: within a key, chunks in order. In the fallback, a chunk's groups of one LOD share
@@ -241,12 +232,6 @@ void placeChunks(const FrameInputs& in, uint32_t chunk_count, CrowdFrame& f, boo
   running.assign(f.key_offsets.begin(), f.key_offsets.end() - 1);
   for (uint32_t c = 0; c < chunk_count; ++c) {
     ChunkWork& w = f.chunks[c];
-    for (uint32_t g = 0; g < w.mask_count; ++g)
-      to_group[g] =
-          *fallback
-              ? 0u
-              : uint32_t(std::lower_bound(f.group_masks.begin(), f.group_masks.end(), w.masks[g]) -
-                         f.group_masks.begin());
     for (uint32_t l = 0; l < lods; ++l) {
       if (*fallback) {
         uint32_t n = 0;
@@ -256,7 +241,7 @@ void placeChunks(const FrameInputs& in, uint32_t chunk_count, CrowdFrame& f, boo
         continue;
       }
       for (uint32_t g = 0; g < w.mask_count; ++g) {
-        const uint32_t key = l * groups + to_group[g];
+        const uint32_t key = l * groups + w.to_group[g];
         w.cursor[l * kMaxMaskGroups + g] = running[key];
         running[key] += w.counts[l * kMaxMaskGroups + g];
       }
@@ -311,11 +296,7 @@ SI_CPU_CLONES void writeChunk(const FrameInputs& in, const InstanceStore& st, bo
         }
         const uint32_t a0 =
             clips[st.playback[i].clip].first_texel + uint32_t(lanes.frame[k]) * stride;
-        rec.frames[0] = rec.frames[2] = a0;
-        rec.frames[1] = rec.frames[3] = a0 + stride;
-        rec.blend[0] = rec.blend[1] = floatBits(lanes.fraction[k]);
-        rec.blend[2] = floatBits(0.0f);
-        rec.blend[3] = st.colors[i];
+        setOneClip(a0, a0 + stride, lanes.fraction[k], st.colors[i], &rec);
       }
       f.visible_handles[slot] = st.dense_handles[i];
       if (fallback) f.record_masks[slot] = wornMask(st.masks[i], in.sub_mesh_count);
@@ -353,13 +334,13 @@ void buildFrame(const FrameInputs& in, InstanceStore& st, CrowdFrame* frame) {
   });
   bool fallback = false;
   placeChunks(in, chunk_count, f, &fallback);
-  f.visible = f.stats.visible;
-  // Grown, never shrunk: records() views the first `visible` (no zeroing per frame).
-  if (f.records.size() < f.visible) {
-    f.records.resize(f.visible);
-    f.visible_handles.resize(f.visible);
+  // Grown, never shrunk: records() views the first stats.visible (no zeroing per frame).
+  const uint32_t visible = f.stats.visible;
+  if (f.records.size() < visible) {
+    f.records.resize(visible);
+    f.visible_handles.resize(visible);
   }
-  if (fallback && f.record_masks.size() < f.visible) f.record_masks.resize(f.visible);
+  if (fallback && f.record_masks.size() < visible) f.record_masks.resize(visible);
   forEachChunk(in, chunk_count, [&](uint32_t c) { writeChunk(in, st, fallback, f.chunks[c], f); });
   buildBucketRuns(in.params.lod_count, in.sub_mesh_count, fallback, &f);
 }

@@ -28,13 +28,13 @@ inline constexpr uint32_t kMaxMaskGroups = 64;
 
 /// One chunk's work between the phases.
 struct ChunkWork {
-  std::vector<uint32_t> visible;   // Dense indices of its visible instances, in order.
-  std::vector<uint16_t> keys;      // Parallel: lod * kMaxMaskGroups + local group.
-  uint32_t masks[kMaxMaskGroups];  // Local group -> worn mask.
+  std::vector<uint32_t> visible;      // Dense indices of its visible instances, in order.
+  std::vector<uint16_t> keys;         // Parallel: lod * kMaxMaskGroups + local group.
+  uint32_t masks[kMaxMaskGroups];     // Local group -> worn mask.
+  uint32_t to_group[kMaxMaskGroups];  // Local group -> the frame's group (set by place).
   uint32_t mask_count = 0;
   bool mask_overflow = false;
   uint8_t slot_of[128];                 // Open-addressed worn mask -> local group (0xFF: empty).
-  uint8_t direct[256];                  // Up to 8 sub-meshes: worn mask -> local group.
   uint32_t counts[8 * kMaxMaskGroups];  // Per local key.
   uint32_t cursor[8 * kMaxMaskGroups];  // Per local key: the next record to write.
   CrowdFrameStats stats;
@@ -47,7 +47,6 @@ struct CrowdFrame {
   std::vector<InstanceRecord> records;          // Sorted by (LOD, worn mask, dense index).
   std::vector<InstanceHandle> visible_handles;  // Parallel to records.
   std::vector<uint32_t> record_masks;           // Parallel: worn masks.
-  uint32_t visible = 0;                         // Records of this frame (<= records.size()).
   std::vector<ChunkWork> chunks;
   // Groups of this frame: the distinct worn masks in increasing order, and the record ranges
   // of each (LOD, group), key-major.
@@ -61,7 +60,7 @@ struct CrowdFrame {
   // bucketEntries(), expanded from the runs when first asked for.
   std::vector<uint32_t> bucket_entries;
   bool entries_valid = false;
-  std::vector<AnimationEvent> events;           // The chunks' events, in chunk order.
+  std::vector<AnimationEvent> events;  // The chunks' events, in chunk order.
 };
 
 /// What a frame is built from besides the instances.

@@ -5,6 +5,7 @@
 
 #include <algorithm>
 #include <cstring>
+#include <numeric>
 
 #include "core/str_cat.h"
 
@@ -107,13 +108,7 @@ Status InstanceBatcher::buildSpans(const CrowdManager& crowd,
     return {StatusCode::kInvalidArgument, "InstanceBatcher::buildSpans: draws is null"};
   draws->clear();
   // Records per aligned block start: alignment / gcd(80, alignment).
-  uint32_t g = kInstanceRecordSize, a = alignment_;
-  while (a != 0) {
-    const uint32_t t = g % a;
-    g = a;
-    a = t;
-  }
-  const uint32_t step = alignment_ / g;
+  const uint32_t step = alignment_ / std::gcd(kInstanceRecordSize, alignment_);
   const std::vector<uint32_t>& run_offsets = crowd.bucketRunOffsets();
   const std::vector<RecordRun>& runs = crowd.bucketRuns();
   const uint32_t submeshes = crowd.desc().sub_mesh_count;
