@@ -9,7 +9,7 @@ namespace si::detail {
 uint32_t markerPasses(const Playback& p, double duration, double t, double c0, double c1,
                       bool from_start) {
   const double speed = double(p.speed);
-  const double u0 = from_start ? p.start_time : p.start_time + (c0 - p.start_clock) * speed;
+  const double u0 = p.start_time + (c0 - p.start_clock) * speed;
   const double u1 = p.start_time + (c1 - p.start_clock) * speed;
   if (!std::isfinite(u0) || !std::isfinite(u1) || !(u1 >= u0)) return 0;
   if (p.loop == LoopMode::kLoop && duration > 0.0) {

@@ -24,7 +24,8 @@ struct MarkerTable {
 };
 
 /// Passes of marker time `t` by playback `p` of a clip of `duration` seconds between crowd
-/// clocks `c0` and `c1` (c0 <= c1): (c0, c1], or [c0, c1] when `from_start`.
+/// clocks `c0` and `c1` (c0 <= c1): (c0, c1], or [c0, c1] when `from_start` (a playback
+/// reported from its start: c0 is its start clock).
 uint32_t markerPasses(const Playback& p, double duration, double t, double c0, double c1,
                       bool from_start);
 

@@ -270,10 +270,10 @@ Status CrowdManager::update(double dt, const Camera& camera) {
     const uint32_t hw = std::max(1u, std::thread::hardware_concurrency());
     st.pool = std::make_unique<WorkerPool>(
         desc_.worker_threads == 0 ? std::min(hw, 16u) : desc_.worker_threads);
-    WorkerPool* pool = st.pool.get();
-    st.pool_for = [pool](uint32_t count, const ParallelTask& task) { pool->run(count, task); };
   }
-  return update(dt, camera, st.pool_for);
+  WorkerPool* pool = st.pool.get();  // One pointer: the std::function does not allocate.
+  return update(dt, camera,
+                [pool](uint32_t count, const ParallelTask& task) { pool->run(count, task); });
 }
 
 Status CrowdManager::update(double dt, const Camera& camera, const ParallelFor& parallel_for) {

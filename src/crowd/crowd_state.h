@@ -24,7 +24,6 @@ struct CrowdManager::State {
   double clock = 0.0, clock_compensation = 0.0;
   // update(dt, camera)'s own workers (CrowdDesc::worker_threads), started when first needed.
   std::unique_ptr<WorkerPool> pool;
-  ParallelFor pool_for;
 };
 
 namespace detail {
