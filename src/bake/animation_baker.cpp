@@ -9,6 +9,8 @@
 #include <cmath>
 #include <cstring>
 
+#include "bake/border_frames.h"
+#include "bake/clip_measurement.h"
 #include "core/str_cat.h"
 #include "si/core/reference_evaluator.h"
 
@@ -60,30 +62,6 @@ void storeTexel(BakedPalette* p, uint32_t index, const glm::dvec4& v) {
     const float f[4] = {float(v.x), float(v.y), float(v.z), float(v.w)};
     std::memcpy(p->texel_bytes.data() + size_t(index) * 16, f, 16);
   }
-}
-
-// Times at which the shader's result is compared with the reference: every frame interval at
-// fractions 0, 1/4, 1/2, 3/4 (or only 1/2 for the rate search), and the clip's end.
-std::vector<double> measurementTimes(const BakedClip& clip, bool midpoints_only) {
-  if (clip.frame_count <= 1) return {0.0};
-  std::vector<double> frame_times = clip.frame_times_seconds;
-  if (frame_times.empty()) {
-    for (uint32_t f = 0; f < clip.frame_count; ++f)
-      frame_times.push_back(f + 1 == clip.frame_count ? double(clip.duration_seconds)
-                                                      : f * clip.frame_interval_seconds);
-  }
-  std::vector<double> times;
-  for (size_t i = 0; i + 1 < frame_times.size(); ++i) {
-    const double a = frame_times[i], b = frame_times[i + 1];
-    if (!(b > a)) continue;  // The zero-length span between a STEP key's two frames.
-    if (midpoints_only) {
-      times.push_back(a + 0.5 * (b - a));
-    } else {
-      for (double u : {0.0, 0.25, 0.5, 0.75}) times.push_back(a + u * (b - a));
-    }
-  }
-  if (!midpoints_only) times.push_back(clip.duration_seconds);
-  return times;
 }
 
 // Bakes the planned clips into `out` (texels, clip table, joint maps; no bounds yet).
@@ -145,135 +123,96 @@ Status bakeTexels(const Character& character, const BakeDesc& d, const PalettePl
       }
     }
     p.clips.push_back(std::move(bc));
+    detail::finishClipFrames(&p, uint32_t(c), plan.interpolations[c], plan.frames[c].breaks);
   }
   *out = std::move(p);
   return Status::ok();
 }
 
-// For the automatic rate search: per stored joint, the 8 drawn vertices weighted to it that lie
-// farthest from its bind position, as a mesh of their own. Interpolation error grows with the
-// lever arm, so these bound the search's error cheaply; the final report still measures every
-// drawn vertex.
-SkinnedMesh searchMesh(const Character& character, const SkinnedMesh& mesh,
-                       const std::vector<uint32_t>& drawn) {
-  const size_t nj = character.skeleton.jointCount();
-  std::vector<std::vector<std::pair<float, uint32_t>>> per_joint(nj);
-  for (uint32_t v : drawn)
-    for (int k = 0; k < 4; ++k) {
-      if (mesh.weights[v][k] <= 0.0f) continue;
-      const uint16_t j = mesh.joints[v][k];
-      const glm::vec3 joint_pos(glm::inverse(character.skeleton.inverse_bind_matrices[j])[3]);
-      per_joint[j].push_back({glm::length(mesh.positions[v] - joint_pos), v});
-    }
-  std::vector<uint32_t> out;
-  for (auto& list : per_joint) {
-    const size_t keep = std::min<size_t>(8, list.size());
-    std::partial_sort(list.begin(), list.begin() + std::ptrdiff_t(keep), list.end(),
-                      [](const auto& a, const auto& b) { return a.first > b.first; });
-    for (size_t i = 0; i < keep; ++i) out.push_back(list[i].second);
-  }
-  std::sort(out.begin(), out.end());
-  out.erase(std::unique(out.begin(), out.end()), out.end());
-  SkinnedMesh subset;
-  for (uint32_t v : out) {
-    subset.positions.push_back(mesh.positions[v]);
-    subset.normals.push_back(mesh.normals[v]);
-    subset.joints.push_back(mesh.joints[v]);
-    subset.weights.push_back(mesh.weights[v]);
-  }
-  return subset;
-}
-
-struct Measurement {
-  ClipErrorReport report;
-  Aabb bounds;
-};
-
-// Emulates the shader at the clip's measurement times; compares with the reference when
-// `with_error`; always accumulates bounds of the emulated positions.
-// `mesh` is the character's mesh or a subset of its vertices, `gpu_mesh` the same with the
-// weights the vertex format stores; `vertices` index into both. The reference skins `mesh`,
-// the emulation `gpu_mesh`, so the error includes the vertex format's quantization.
-Status measureClip(const Character& character, const SkinnedMesh& mesh,
-                   const SkinnedMesh& gpu_mesh, const BakedPalette& p,
-                   uint32_t clip_index, const std::vector<uint32_t>& vertices,
-                   double shell_distance, bool with_error, bool midpoints_only,
-                   Measurement* out) {
-  const BakedClip& bc = p.clips[clip_index];
-  const Clip& clip = character.clips[size_t(character.findClip(bc.name))];
-  const size_t nv = mesh.vertexCount(), nj = character.skeleton.jointCount();
-  std::vector<glm::mat4> emulated(nj);
-  std::vector<glm::vec3> positions(nv);
-  std::vector<glm::dvec3> reference(nv);
-  std::vector<float> errors;
-  ReferencePose pose;
-  ClipErrorReport& r = out->report;
-  r.name = bc.name;
-  r.sample_rate_hz = bc.sampleRateHz();
-  r.frame_count = bc.frame_count;
-  r.shell_distance_units = shell_distance;
-  double sum = 0.0;
-  // Bind-pose position of each stored joint, for the shell metric.
-  std::vector<glm::dvec3> joint_bind(nj);
-  for (size_t j = 0; j < nj; ++j)
-    joint_bind[j] = glm::dvec3(glm::inverse(glm::dmat4(character.skeleton.inverse_bind_matrices[j]))[3]);
-  const glm::dvec3 axes[6] = {{1, 0, 0}, {-1, 0, 0}, {0, 1, 0}, {0, -1, 0}, {0, 0, 1}, {0, 0, -1}};
-
-  std::vector<double> times = measurementTimes(bc, midpoints_only && with_error);
-  if (!with_error) {  // Bounds only: the frames themselves (the matrix lerp stays on chords).
-    times = bc.frame_times_seconds;
-    if (times.empty())
-      for (uint32_t f = 0; f < bc.frame_count; ++f)
-        times.push_back(std::min(double(bc.duration_seconds), f * bc.frame_interval_seconds));
-  }
-  for (double t : times) {
-    const FrameSample sample = sampleFrames(bc, t);
-    Status s = emulateSkinningMatrices(p, clip_index, sample, emulated);
-    if (s.isOk()) s = emulateSkinning(gpu_mesh, emulated, positions, {});
-    if (!s.isOk()) return s;
-    for (uint32_t v : vertices) out->bounds.extend(positions[v]);
-    if (!with_error) continue;
-    s = evaluateLocalPose(character.skeleton, clip, t, &pose);
-    if (s.isOk()) s = skinVertices(mesh, pose.skinning, reference, {}, {});
-    if (!s.isOk()) return s;
-    for (uint32_t v : vertices) {
-      const double e = glm::length(glm::dvec3(positions[v]) - reference[v]);
-      errors.push_back(static_cast<float>(e));
-      sum += e;
-      if (e > r.max_error_units || errors.size() == 1) {
-        r.max_error_units = e;
-        r.max_error_time_seconds = t;
-        r.max_error_vertex = v;
-        int best = 0;
-        for (int k = 1; k < 4; ++k)
-          if (mesh.weights[v][k] > mesh.weights[v][best]) best = k;
-        r.max_error_joint = mesh.joints[v][best];
-      }
-    }
-    for (uint32_t j : p.palette_joints)
-      for (const glm::dvec3& axis : axes) {
-        const glm::dvec4 vp(joint_bind[j] + axis * shell_distance, 1.0);
-        const glm::dvec3 ref(pose.skinning[j] * vp);
-        const glm::dvec3 emu(glm::dmat4(emulated[j]) * vp);
-        r.shell_max_error_units = std::max(r.shell_max_error_units, glm::length(ref - emu));
-      }
-  }
-  if (with_error && !errors.empty()) {
-    r.samples = errors.size();
-    r.mean_error_units = sum / double(errors.size());
-    const size_t k = std::min(errors.size() - 1, size_t(std::ceil(0.99 * errors.size())) - 1);
-    std::nth_element(errors.begin(), errors.begin() + std::ptrdiff_t(k), errors.end());
-    r.p99_error_units = errors[k];
-    const double h = p.character_height > 0.0f ? p.character_height : 1.0;
-    r.max_error_ratio = r.max_error_units / h;
-    r.p99_error_ratio = r.p99_error_units / h;
-    r.mean_error_ratio = r.mean_error_units / h;
-  }
-  return Status::ok();
-}
-
 // Candidate rates for the automatic mode, lowest first.
 const double kCandidateRates[] = {5, 10, 15, 20, 24, 30, 40, 48, 60, 80, 96, 120, 160, 240};
+
+// What the automatic rate search of every clip shares.
+struct RateSearch {
+  const Character& character;
+  const BakeDesc& desc;  // Resolved.
+  const SkinnedMesh& gpu_mesh;
+  const std::vector<uint32_t>& vertices;
+  double shell;
+  SkinnedMesh search_mesh, search_gpu_mesh;  // searchMesh() of the mesh and of gpu_mesh.
+  std::vector<uint32_t> search_vertices;     // Every vertex of search_mesh.
+  std::vector<double> candidates;            // Rates tried, lowest first.
+};
+
+// Max error of `clip` alone baked at `rate` with `interpolation`: on the search subset at
+// interval midpoints (cheap), or on every drawn vertex at every measurement time (exact).
+Status trialError(const RateSearch& rs, const Clip& clip, FrameInterpolation interpolation,
+                  double rate, bool full, double* error) {
+  BakeDesc one = rs.desc;
+  one.clip_names = {clip.name};
+  one.rate_mode = RateMode::kFixed;
+  one.sample_rate_hz = static_cast<float>(rate);
+  const FrameInterpolation interpolations[] = {interpolation};
+  PalettePlan plan;
+  BakedPalette trial;
+  ClipErrorReport m;
+  Status st = planPalette(rs.character, one, &plan, {}, interpolations);
+  if (st.isOk()) st = bakeTexels(rs.character, one, plan, &trial);
+  if (st.isOk())
+    st = full ? detail::measureClip(rs.character, rs.character.mesh, rs.gpu_mesh, trial, 0,
+                                    rs.vertices, rs.shell, false, &m)
+              : detail::measureClip(rs.character, rs.search_mesh, rs.search_gpu_mesh, trial, 0,
+                                    rs.search_vertices, rs.shell, true, &m);
+  *error = m.max_error_units;
+  return st;
+}
+
+// The lowest candidate rate whose max error meets the tolerance (or the highest).
+Status searchRate(const RateSearch& rs, const Clip& clip, FrameInterpolation interpolation,
+                  double* rate) {
+  std::vector<double> candidates = rs.candidates;
+  // A cubic clip whose corner keys lie on a grid: the multiples of its rate, so that frames
+  // land on the corners (between them the curve is smooth and the spline converges fast).
+  const double key_rate = interpolation == FrameInterpolation::kCubic ? cornerKeyRate(clip) : 0.0;
+  if (key_rate > 0.0 && key_rate <= rs.desc.max_sample_rate_hz) {
+    candidates.clear();
+    for (double m = 1.0; m * key_rate <= rs.desc.max_sample_rate_hz * (1.0 + 1e-9); m += 1.0)
+      candidates.push_back(m * key_rate);
+  }
+  const double height = rs.character.height() > 0.0f ? rs.character.height() : 1.0;
+  const double tolerance = rs.desc.error_tolerance_ratio * height;
+  // A format whose precision floor is above the tolerance (half floats) cannot meet it at any
+  // rate: then aim for 1.1 x the error at the highest rate instead of climbing to it.
+  double floor_error = 0.0, full_floor_error = 0.0;
+  Status s = trialError(rs, clip, interpolation, candidates.back(), false, &floor_error);
+  if (s.isOk() && floor_error > tolerance)
+    s = trialError(rs, clip, interpolation, candidates.back(), true, &full_floor_error);
+  if (!s.isOk()) return s;
+  const double target = std::max(tolerance, 1.1 * floor_error);
+  const double full_target = std::max(tolerance, 1.1 * full_floor_error);
+  // Binary search on the subset for the lowest candidate meeting the target (error falls as
+  // the rate rises), then confirm on the whole mesh, stepping up until it holds.
+  size_t lo = 0, hi = candidates.size() - 1;
+  while (lo < hi) {
+    const size_t mid = (lo + hi) / 2;
+    double error = 0.0;
+    s = trialError(rs, clip, interpolation, candidates[mid], false, &error);
+    if (!s.isOk()) return s;
+    if (error <= target) {
+      hi = mid;
+    } else {
+      lo = mid + 1;
+    }
+  }
+  for (; lo + 1 < candidates.size(); ++lo) {
+    double error = 0.0;
+    s = trialError(rs, clip, interpolation, candidates[lo], true, &error);
+    if (!s.isOk()) return s;
+    if (error <= full_target) break;
+  }
+  *rate = candidates[lo];
+  return Status::ok();
+}
 
 }  // namespace
 
@@ -300,71 +239,48 @@ Status bakePalette(const Character& character, const BakeDesc& in_desc, BakedPal
     if (d.progress) d.progress(BakeProgress{fraction, stage, clip, clip_count});
   };
   std::vector<double> rates(plan.clip_indices.size(), double(d.sample_rate_hz));
+  std::vector<FrameInterpolation> interpolations = plan.interpolations;
   if (d.rate_mode == RateMode::kAutomatic) {
-    const double tolerance = d.error_tolerance_ratio * height;
-    const SkinnedMesh search_mesh = searchMesh(character, character.mesh, vertices);
-    const SkinnedMesh search_gpu_mesh = searchMesh(character, gpu_mesh, vertices);
-    std::vector<uint32_t> search_vertices(search_mesh.vertexCount());
-    for (size_t i = 0; i < search_vertices.size(); ++i) search_vertices[i] = uint32_t(i);
-    std::vector<double> candidates;
+    RateSearch search{character, d, gpu_mesh, vertices, shell,
+                      detail::searchMesh(character, character.mesh, vertices),
+                      detail::searchMesh(character, gpu_mesh, vertices), {}, {}};
+    search.search_vertices.resize(search.search_mesh.vertexCount());
+    for (size_t i = 0; i < search.search_vertices.size(); ++i) search.search_vertices[i] = uint32_t(i);
     for (double r : kCandidateRates)
-      if (r <= d.max_sample_rate_hz) candidates.push_back(r);
-    if (candidates.empty() || candidates.back() < d.max_sample_rate_hz)
-      candidates.push_back(d.max_sample_rate_hz);
+      if (r <= d.max_sample_rate_hz) search.candidates.push_back(r);
+    if (search.candidates.empty() || search.candidates.back() < d.max_sample_rate_hz)
+      search.candidates.push_back(d.max_sample_rate_hz);
     for (size_t c = 0; c < rates.size(); ++c) {
       progress("choosing rates", uint32_t(c), search_share * double(c) / clip_count);
-      // Max error of this clip alone baked at `rate`: on the search subset at interval
-      // midpoints (cheap), or on every drawn vertex at every measurement time (exact).
-      const auto clip_error = [&](double rate, bool full, double* error) {
-        BakeDesc one = d;
-        one.clip_names = {character.clips[plan.clip_indices[c]].name};
-        one.rate_mode = RateMode::kFixed;
-        one.sample_rate_hz = static_cast<float>(rate);
-        PalettePlan one_plan;
-        BakedPalette trial;
-        Measurement m;
-        Status st = planPalette(character, one, &one_plan);
-        if (st.isOk()) st = bakeTexels(character, one, one_plan, &trial);
-        if (st.isOk())
-          st = full ? measureClip(character, character.mesh, gpu_mesh, trial, 0, vertices,
-                                  shell, true, false, &m)
-                    : measureClip(character, search_mesh, search_gpu_mesh, trial, 0,
-                                  search_vertices, shell, true, true, &m);
-        *error = m.report.max_error_units;
-        return st;
-      };
-      // A format whose precision floor is above the tolerance (half floats) cannot meet it at
-      // any rate: then aim for 1.1 x the error at the highest rate instead of climbing to it.
-      double floor_error = 0.0, full_floor_error = 0.0;
-      s = clip_error(candidates.back(), false, &floor_error);
-      if (s.isOk() && floor_error > tolerance)
-        s = clip_error(candidates.back(), true, &full_floor_error);
-      if (!s.isOk()) return s;
-      const double target = std::max(tolerance, 1.1 * floor_error);
-      const double full_target = std::max(tolerance, 1.1 * full_floor_error);
-      // Binary search on the subset for the lowest candidate meeting the target (error falls as
-      // the rate rises), then confirm on the whole mesh, stepping up until it holds.
-      size_t lo = 0, hi = candidates.size() - 1;
-      while (lo < hi) {
-        const size_t mid = (lo + hi) / 2;
-        double error = 0.0;
-        s = clip_error(candidates[mid], false, &error);
+      const Clip& clip = character.clips[plan.clip_indices[c]];
+      if (d.interpolation == InterpolationChoice::kSmaller) {
+        // Both, then the one with fewer frames (linear on a tie: half the reads).
+        // One that meets the tolerance beats one that does not; then fewer frames, then the
+        // smaller error.
+        double linear = 0.0, cubic = 0.0, linear_error = 0.0, cubic_error = 0.0;
+        s = searchRate(search, clip, FrameInterpolation::kLinear, &linear);
+        if (s.isOk()) s = searchRate(search, clip, FrameInterpolation::kCubic, &cubic);
+        if (s.isOk())
+          s = trialError(search, clip, FrameInterpolation::kLinear, linear, true, &linear_error);
+        if (s.isOk())
+          s = trialError(search, clip, FrameInterpolation::kCubic, cubic, true, &cubic_error);
         if (!s.isOk()) return s;
-        if (error <= target) {
-          hi = mid;
-        } else {
-          lo = mid + 1;
-        }
-      }
-      for (; lo + 1 < candidates.size(); ++lo) {
-        double error = 0.0;
-        s = clip_error(candidates[lo], true, &error);
+        const double tolerance = d.error_tolerance_ratio * height;
+        const uint32_t linear_frames = planClipFrames(clip, linear).frame_count;
+        const uint32_t cubic_frames = planClipFrames(clip, cubic, true).frame_count;
+        const bool linear_met = linear_error <= tolerance, cubic_met = cubic_error <= tolerance;
+        const bool pick_cubic =
+            linear_met != cubic_met ? cubic_met
+            : cubic_frames != linear_frames ? cubic_frames < linear_frames
+                                            : cubic_error < linear_error;
+        interpolations[c] = pick_cubic ? FrameInterpolation::kCubic : FrameInterpolation::kLinear;
+        rates[c] = pick_cubic ? cubic : linear;
+      } else {
+        s = searchRate(search, clip, interpolations[c], &rates[c]);
         if (!s.isOk()) return s;
-        if (error <= full_target) break;
       }
-      rates[c] = candidates[lo];
     }
-    s = planPalette(character, d, &plan, rates);
+    s = planPalette(character, d, &plan, rates, interpolations);
     if (!s.isOk()) return s;
   }
 
@@ -377,20 +293,22 @@ Status bakePalette(const Character& character, const BakeDesc& in_desc, BakedPal
   const bool measure = report != nullptr || d.rate_mode == RateMode::kAutomatic;
   for (uint32_t c = 0; c < baked.clips.size(); ++c) {
     progress("measuring", c, search_share + (1.0 - search_share) * double(c) / clip_count);
-    Measurement m;
-    s = measureClip(character, character.mesh, gpu_mesh, baked, c, vertices, shell, measure,
-                    false, &m);
+    ClipErrorReport m;
+    if (measure) s = detail::measureClip(character, character.mesh, gpu_mesh, baked, c, vertices,
+                                         shell, false, &m);
+    Aabb bounds;
+    if (s.isOk()) s = detail::clipBounds(baked, c, gpu_mesh, vertices, &bounds);
     if (!s.isOk()) return s;
-    // Matrix formats interpolate on chords between frames, so the frames' box is conservative
-    // up to float rounding; the rotation format's nlerp can bulge, so pad by 1 % of the height.
+    // Matrix formats stay within clipBounds() up to float rounding; the rotation format's
+    // normalization can bulge, so pad by 1 % of the height.
     const float pad = static_cast<float>(
         height * (d.format == PaletteFormat::kQuatTranslationF32 ? 1e-2 : 1e-5));
-    m.bounds.min -= glm::vec3(pad);
-    m.bounds.max += glm::vec3(pad);
+    bounds.min -= glm::vec3(pad);
+    bounds.max += glm::vec3(pad);
     BakedClip& bc = baked.clips[c];
     // The box's circumsphere contains the mesh; in double, so a mesh spanning most of the float
     // range is refused by name instead of leaving an infinite sphere in the palette.
-    const glm::dvec3 lo(m.bounds.min), hi(m.bounds.max);
+    const glm::dvec3 lo(bounds.min), hi(bounds.max);
     const glm::dvec3 center = 0.5 * lo + 0.5 * hi;
     const double radius = 0.5 * glm::length(hi - lo) * (1.0 + 1e-6);
     const double float_max = 3.0e38;
@@ -400,17 +318,18 @@ Status bakePalette(const Character& character, const BakeDesc& in_desc, BakedPal
               strCat("bake: clip ", c, " '", baked.clips[c].name,
                      "': the skinned mesh spans past what float bounds hold (box from ",
                      lo.x, ", ", lo.y, ", ", lo.z, " to ", hi.x, ", ", hi.y, ", ", hi.z, ")")};
-    bc.bounds = m.bounds;
-    bc.bounding_sphere.center = glm::clamp(glm::vec3(center), m.bounds.min, m.bounds.max);
+    bc.bounds = bounds;
+    bc.bounding_sphere.center = glm::clamp(glm::vec3(center), bounds.min, bounds.max);
     bc.bounding_sphere.radius = float(radius);
     if (measure) {
-      m.report.palette_bytes = uint64_t(bc.frame_count) * baked.layout.frame_stride_texels *
-                               bytesPerTexel(d.format);
-      m.report.tolerance_met = m.report.max_error_units <= d.error_tolerance_ratio * height;
-      rep.max_error_units = std::max(rep.max_error_units, m.report.max_error_units);
-      rep.max_error_ratio = std::max(rep.max_error_ratio, m.report.max_error_ratio);
-      rep.p99_error_units = std::max(rep.p99_error_units, m.report.p99_error_units);
-      rep.clips.push_back(std::move(m.report));
+      m.interpolation = bc.interpolation;
+      m.palette_bytes = (uint64_t(bc.frame_count) + 2 * baked.layout.border_frames) *
+                        baked.layout.frame_stride_texels * bytesPerTexel(d.format);
+      m.tolerance_met = m.max_error_units <= d.error_tolerance_ratio * height;
+      rep.max_error_units = std::max(rep.max_error_units, m.max_error_units);
+      rep.max_error_ratio = std::max(rep.max_error_ratio, m.max_error_ratio);
+      rep.p99_error_units = std::max(rep.p99_error_units, m.p99_error_units);
+      rep.clips.push_back(std::move(m));
     }
   }
   if (report != nullptr) {

@@ -9,8 +9,19 @@
 namespace si {
 using detail::strCat;
 
+const char* interpolationChoiceName(InterpolationChoice c) {
+  switch (c) {
+    case InterpolationChoice::kDefault: return "default";
+    case InterpolationChoice::kLinear: return "linear";
+    case InterpolationChoice::kCubic: return "cubic";
+    case InterpolationChoice::kSmaller: return "smaller";
+  }
+  return "invalid";
+}
+
 BakeDesc resolveDefaults(const BakeDesc& desc) {
   BakeDesc d = desc;
+  if (d.interpolation == InterpolationChoice::kDefault) d.interpolation = InterpolationChoice::kLinear;
   d.format = resolvePaletteFormat(d.format);
   if (d.rate_mode == RateMode::kDefault) d.rate_mode = RateMode::kAutomatic;
   if (d.sample_rate_hz == 0.0f) d.sample_rate_hz = 30.0f;
@@ -70,7 +81,8 @@ void stepKeyTimes(const Track<T>& track, double duration, std::vector<double>* o
 }
 }  // namespace
 
-FramePlan planClipFrames(const Clip& clip, double rate_hz) {
+namespace {
+FramePlan planStepFrames(const Clip& clip, double rate_hz) {
   FramePlan plan = planFrames(clip.duration_seconds, rate_hz);
   std::vector<double> steps;
   for (const JointTracks& jt : clip.joint_tracks) {
@@ -102,8 +114,109 @@ FramePlan planClipFrames(const Clip& clip, double rate_hz) {
   return plan;
 }
 
+template <typename T>
+void linearKeyTimes(const Track<T>& track, double duration, std::vector<double>* out) {
+  if (track.times_seconds.size() < 2 ||
+      resolveInterpolation(track.interpolation) != Interpolation::kLinear)
+    return;
+  for (float t : track.times_seconds)
+    if (t > 0.0f && t < duration) out->push_back(t);
+}
+
+// Marks the frame nearest each corner key as a break, or adds a frame there (materializing the
+// grid's times first) when none lies within 1e-3 intervals.
+void addCornerBreaks(const Clip& clip, FramePlan* plan) {
+  const std::vector<double> corners = cornerKeyTimes(clip);
+  const double dt = plan->frame_interval_seconds, near = 1e-3 * dt;
+  const uint32_t n = plan->frame_count;
+  if (n < 2) return;
+  // A LINEAR track also turns at the clip's ends (a loop's wrap is a corner too).
+  const auto turns = [](const auto& track) {
+    return track.times_seconds.size() >= 2 &&
+           resolveInterpolation(track.interpolation) == Interpolation::kLinear;
+  };
+  bool linear_track = false;
+  for (const JointTracks& jt : clip.joint_tracks)
+    linear_track = linear_track || turns(jt.translation) || turns(jt.rotation) || turns(jt.scale);
+  if (!linear_track) return;
+  std::vector<double> times = plan->frame_times_seconds;
+  if (times.empty()) {
+    for (uint32_t f = 0; f < n; ++f)
+      times.push_back(f + 1 == n ? double(clip.duration_seconds) : f * dt);
+  }
+  std::vector<uint8_t> before = plan->before_step, breaks = plan->breaks;
+  before.resize(times.size(), 0);
+  breaks.resize(times.size(), 0);
+  bool added = false;
+  for (double k : corners) {
+    const size_t at = size_t(std::lower_bound(times.begin(), times.end(), k) - times.begin());
+    size_t nearest = at < times.size() ? at : times.size() - 1;
+    if (at > 0 && (at == times.size() || k - times[at - 1] < times[at] - k)) nearest = at - 1;
+    if (std::fabs(times[nearest] - k) <= near) {
+      breaks[nearest] = 1;
+      if (nearest + 1 < times.size() && times[nearest + 1] == times[nearest])
+        breaks[nearest + 1] = 1;  // Both frames of a STEP key there.
+      continue;
+    }
+    times.insert(times.begin() + std::ptrdiff_t(at), k);
+    before.insert(before.begin() + std::ptrdiff_t(at), 0);
+    breaks.insert(breaks.begin() + std::ptrdiff_t(at), 1);
+    added = true;
+  }
+  breaks.front() = breaks.back() = 1;
+  if (added || !plan->frame_times_seconds.empty()) {
+    plan->frame_times_seconds = std::move(times);
+    plan->before_step = std::move(before);
+    plan->frame_count = static_cast<uint32_t>(plan->frame_times_seconds.size());
+  }
+  plan->breaks = std::move(breaks);
+}
+}  // namespace
+
+std::vector<double> cornerKeyTimes(const Clip& clip) {
+  std::vector<double> keys;
+  for (const JointTracks& jt : clip.joint_tracks) {
+    linearKeyTimes(jt.translation, clip.duration_seconds, &keys);
+    linearKeyTimes(jt.rotation, clip.duration_seconds, &keys);
+    linearKeyTimes(jt.scale, clip.duration_seconds, &keys);
+  }
+  std::sort(keys.begin(), keys.end());
+  keys.erase(std::unique(keys.begin(), keys.end()), keys.end());
+  return keys;
+}
+
+double cornerKeyRate(const Clip& clip) {
+  const std::vector<double> keys = cornerKeyTimes(clip);
+  const double duration = clip.duration_seconds;
+  if (keys.empty() || !(duration > 0.0)) return 0.0;
+  double spacing = keys[0];
+  for (size_t i = 1; i < keys.size(); ++i) spacing = std::min(spacing, keys[i] - keys[i - 1]);
+  spacing = std::min(spacing, duration - keys.back());
+  if (!(spacing > 1e-6)) return 0.0;
+  const auto whole = [&](double t) {
+    return std::fabs(t / spacing - std::round(t / spacing)) <= 1e-3;
+  };
+  if (!whole(duration)) return 0.0;
+  for (double k : keys)
+    if (!whole(k)) return 0.0;
+  // The grid's own spacing: the duration over a whole number of steps.
+  return std::round(duration / spacing) / duration;
+}
+
+FramePlan planClipFrames(const Clip& clip, double rate_hz, bool breaks_at_corners) {
+  FramePlan plan = planStepFrames(clip, rate_hz);
+  if (!plan.frame_times_seconds.empty()) {  // Both frames of each STEP key break the curve.
+    plan.breaks.assign(plan.frame_count, 0);
+    for (size_t f = 0; f + 1 < plan.before_step.size(); ++f)
+      if (plan.before_step[f]) plan.breaks[f] = plan.breaks[f + 1] = 1;
+  }
+  if (breaks_at_corners) addCornerBreaks(clip, &plan);
+  return plan;
+}
+
 Status planPalette(const Character& character, const BakeDesc& in_desc, PalettePlan* out,
-                   Span<const double> clip_rates_hz) {
+                   Span<const double> clip_rates_hz,
+                   Span<const FrameInterpolation> clip_interpolations) {
   if (out == nullptr) return {StatusCode::kInvalidArgument, "planPalette: out is null"};
   const BakeDesc d = resolveDefaults(in_desc);
   if (!std::isfinite(d.sample_rate_hz) || d.sample_rate_hz <= 0.0f)
@@ -119,6 +232,11 @@ Status planPalette(const Character& character, const BakeDesc& in_desc, PaletteP
   if (d.format != PaletteFormat::kMatrix3x4F32 && d.format != PaletteFormat::kMatrix3x4F16 &&
       d.format != PaletteFormat::kQuatTranslationF32)
     return {StatusCode::kInvalidArgument, "BakeDesc.format is not a known PaletteFormat"};
+  if (d.interpolation != InterpolationChoice::kLinear &&
+      d.interpolation != InterpolationChoice::kCubic &&
+      d.interpolation != InterpolationChoice::kSmaller)
+    return {StatusCode::kInvalidArgument,
+            "BakeDesc.interpolation is not a known InterpolationChoice"};
 
   PalettePlan plan;
   if (d.clip_names.empty()) {
@@ -139,6 +257,22 @@ Status planPalette(const Character& character, const BakeDesc& in_desc, PaletteP
     return {StatusCode::kInvalidArgument,
             strCat("bake: ", clip_rates_hz.size(), " clip rates for ", plan.clip_indices.size(),
                    " clips")};
+  if (!clip_interpolations.empty() && clip_interpolations.size() != plan.clip_indices.size())
+    return {StatusCode::kInvalidArgument,
+            strCat("bake: ", clip_interpolations.size(), " clip interpolations for ",
+                   plan.clip_indices.size(), " clips")};
+  bool any_cubic = false;
+  for (size_t i = 0; i < plan.clip_indices.size(); ++i) {
+    const FrameInterpolation fi =
+        !clip_interpolations.empty() ? clip_interpolations[i]
+        : d.interpolation == InterpolationChoice::kLinear ? FrameInterpolation::kLinear
+                                                          : FrameInterpolation::kCubic;
+    if (fi != FrameInterpolation::kLinear && fi != FrameInterpolation::kCubic)
+      return {StatusCode::kInvalidArgument,
+              strCat("bake: clip interpolation ", i, " is not a known FrameInterpolation")};
+    plan.interpolations.push_back(fi);
+    any_cubic = any_cubic || fi == FrameInterpolation::kCubic;
+  }
   std::vector<uint32_t> frame_counts;
   for (size_t i = 0; i < plan.clip_indices.size(); ++i) {
     const Clip& clip = character.clips[plan.clip_indices[i]];
@@ -146,7 +280,8 @@ Status planPalette(const Character& character, const BakeDesc& in_desc, PaletteP
     if (!std::isfinite(rate) || rate <= 0.0)
       return {StatusCode::kInvalidArgument, strCat("bake: clip '", clip.name, "' rate ", rate,
                                                    " Hz must be finite and positive")};
-    const FramePlan f = planClipFrames(clip, rate);
+    const FramePlan f =
+        planClipFrames(clip, rate, plan.interpolations[i] == FrameInterpolation::kCubic);
     if (f.frame_count > (1u << 20))
       return {StatusCode::kLimitExceeded, strCat("bake: clip '", clip.name, "' would need ",
                                                  f.frame_count, " frames (at most 2^20)")};
@@ -162,6 +297,7 @@ Status planPalette(const Character& character, const BakeDesc& in_desc, PaletteP
   ld.texels_per_joint = texelsPerJoint(d.format);
   ld.joint_stride_texels = d.joint_stride_texels;
   ld.max_texture_size = d.max_texture_size;
+  ld.border_frames = any_cubic ? 1 : 0;
   Status s = computePaletteLayout(ld, &plan.layout);
   if (!s.isOk()) return s;
   plan.texture_bytes = plan.layout.textureTexelCount() * bytesPerTexel(d.format);

@@ -44,7 +44,7 @@ class Reader {
   bool f64(double* v) { return raw(v, 8); }
   bool raw(void* out, size_t n) {
     if (n > size_ - pos_) return false;
-    std::memcpy(out, data_ + pos_, n);
+    if (n > 0) std::memcpy(out, data_ + pos_, n);
     pos_ += n;
     return true;
   }
@@ -102,6 +102,7 @@ Status savePalette(const BakedPalette& p, std::vector<uint8_t>* bytes) {
   w.u32(l.joint_count);
   w.u32(l.texels_per_joint);
   w.u32(l.joint_stride_texels);
+  w.u32(l.border_frames);
   w.u32(static_cast<uint32_t>(p.skeleton_to_palette.size()));
   w.u32(static_cast<uint32_t>(p.clips.size()));
   w.f32(p.character_height);
@@ -115,6 +116,9 @@ Status savePalette(const BakedPalette& p, std::vector<uint8_t>* bytes) {
     w.u32(c.frame_count);
     w.u32(static_cast<uint32_t>(c.frame_times_seconds.size()));
     for (double t : c.frame_times_seconds) w.f64(t);
+    w.u32(static_cast<uint32_t>(c.interpolation));
+    w.u32(static_cast<uint32_t>(c.interval_modes.size()));
+    w.bytes(c.interval_modes.data(), c.interval_modes.size());
     for (int i = 0; i < 3; ++i) w.f32(c.bounds.min[i]);
     for (int i = 0; i < 3; ++i) w.f32(c.bounds.max[i]);
     for (int i = 0; i < 3; ++i) w.f32(c.bounding_sphere.center[i]);
@@ -140,17 +144,19 @@ Status loadPalette(Span<const uint8_t> bytes, BakedPalette* palette) {
   if (!r.raw(magic, 8) || std::memcmp(magic, kMagic, 8) != 0)
     return corrupt("not a palette file (bad magic)");
   uint32_t version, format, width, height, joint_count, texels_per_joint, stride,
-      skeleton_joints, clip_count;
+      border_frames = 0, skeleton_joints, clip_count;
   float height_units;
   if (!r.u32(&version)) return corrupt("truncated header");
-  if (version != kPaletteFileVersion)
+  if (version != 1 && version != kPaletteFileVersion)
     return {StatusCode::kUnsupported, strCat("palette file: version ", version,
-                                             " (this library reads version ",
+                                             " (this library reads versions 1 to ",
                                              kPaletteFileVersion, ")")};
   if (!r.u32(&format) || !r.u32(&width) || !r.u32(&height) || !r.u32(&joint_count) ||
-      !r.u32(&texels_per_joint) || !r.u32(&stride) || !r.u32(&skeleton_joints) ||
+      !r.u32(&texels_per_joint) || !r.u32(&stride) ||
+      (version >= 2 && !r.u32(&border_frames)) || !r.u32(&skeleton_joints) ||
       !r.u32(&clip_count) || !r.f32(&height_units))
     return corrupt("truncated header");
+  if (border_frames > 1) return corrupt(strCat("border frames ", border_frames, " (0 or 1)"));
   // Compare the whole 32-bit value before narrowing it to the 8-bit enum.
   if (format != uint32_t(PaletteFormat::kMatrix3x4F32) &&
       format != uint32_t(PaletteFormat::kMatrix3x4F16) &&
@@ -204,6 +210,18 @@ Status loadPalette(Span<const uint8_t> bytes, BakedPalette* palette) {
     if (uint64_t(times_count) * 8 > r.left()) return corrupt(where() + "truncated frame times");
     clip.frame_times_seconds.resize(times_count);
     for (double& t : clip.frame_times_seconds) r.f64(&t);  // Size checked above.
+    if (version >= 2) {
+      uint32_t interpolation, modes_count;
+      if (!r.u32(&interpolation) || !r.u32(&modes_count))
+        return corrupt(where() + "truncated interpolation");
+      if (interpolation != uint32_t(FrameInterpolation::kLinear) &&
+          interpolation != uint32_t(FrameInterpolation::kCubic))
+        return corrupt(where() + strCat("unknown interpolation ", interpolation));
+      clip.interpolation = static_cast<FrameInterpolation>(interpolation);
+      if (modes_count > r.left()) return corrupt(where() + "truncated interval modes");
+      clip.interval_modes.resize(modes_count);
+      r.raw(clip.interval_modes.data(), modes_count);
+    }
     float v[10];
     for (float& x : v)
       if (!r.f32(&x)) return corrupt(where() + "truncated bounds");
@@ -221,6 +239,7 @@ Status loadPalette(Span<const uint8_t> bytes, BakedPalette* palette) {
   ld.texels_per_joint = texels_per_joint;
   ld.joint_stride_texels = stride;
   ld.max_texture_size = kMaxTextureSize;
+  ld.border_frames = border_frames;
   if (!computePaletteLayout(ld, &p.layout).isOk() || p.layout.width != width ||
       p.layout.height != height)
     return corrupt(strCat("texture size ", width, "x", height,

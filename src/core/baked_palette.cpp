@@ -26,6 +26,28 @@ const char* paletteFormatName(PaletteFormat f) {
   return "invalid";
 }
 
+const char* frameInterpolationName(FrameInterpolation i) {
+  switch (i) {
+    case FrameInterpolation::kLinear: return "linear";
+    case FrameInterpolation::kCubic: return "cubic";
+  }
+  return "invalid";
+}
+
+uint32_t packFraction(float fraction, IntervalMode mode) {
+  uint32_t bits;
+  std::memcpy(&bits, &fraction, 4);
+  return (bits & 0x3FFFFFFFu) | (uint32_t(mode) & 3u) << 30;
+}
+
+float unpackFraction(uint32_t word, IntervalMode* mode) {
+  if (mode != nullptr) *mode = static_cast<IntervalMode>(word >> 30);
+  word &= 0x3FFFFFFFu;
+  float f;
+  std::memcpy(&f, &word, 4);
+  return f;
+}
+
 uint32_t texelsPerJoint(PaletteFormat f) {
   return resolvePaletteFormat(f) == PaletteFormat::kQuatTranslationF32 ? 2u : 3u;
 }
@@ -124,6 +146,7 @@ FrameSample sampleFrames(const BakedClip& clip, double local_time_seconds,
     s.frame = i;
     s.next_frame = i + 1;
     s.fraction = static_cast<float>(std::min(std::max(position - double(i), 0.0), 1.0));
+    s.mode = intervalModeAt(clip, i);
     return s;
   }
   // STEP keys add frames, never remove grid frames before t, so the last frame at or before t
@@ -143,7 +166,36 @@ FrameSample sampleFrames(const BakedClip& clip, double local_time_seconds,
   s.next_frame = i + 1;
   s.fraction = span > 0.0 ? static_cast<float>(std::min(std::max((t - times[i]) / span, 0.0), 1.0))
                           : 1.0f;
+  s.mode = intervalModeAt(clip, i);
   return s;
+}
+
+std::vector<uint8_t> cubicIntervalModes(const BakedClip& clip, bool wraps,
+                                        Span<const uint8_t> breaks) {
+  const uint32_t n = clip.frame_count;
+  std::vector<uint8_t> modes(n > 1 ? n - 1 : 0, uint8_t(IntervalMode::kLinear));
+  const std::vector<double>& times = clip.frame_times_seconds;
+  const double dt = clip.frame_interval_seconds;
+  const auto span = [&](uint32_t i) { return times.size() == n ? times[i + 1] - times[i] : dt; };
+  const auto broken = [&](uint32_t f) { return breaks.size() == n && breaks[f] != 0; };
+  const auto even = [&](double a, double b) { return std::fabs(a - b) <= 0.01 * std::max(a, b); };
+  for (uint32_t i = 0; i + 1 < n; ++i) {
+    const double here = span(i);
+    if (!(here > 0.0)) continue;  // A STEP key's zero-length span: linear, fraction 1.
+    // The tangent at frame i may use frame i - 1: the curve is smooth through frame i.
+    const bool left = !broken(i) && (i > 0 ? even(span(i - 1), here) : wraps);
+    const bool right = !broken(i + 1) && (i + 2 < n ? even(span(i + 1), here) : wraps);
+    const IntervalMode m = left && right ? IntervalMode::kCubic
+                           : right       ? IntervalMode::kCubicStartsHere
+                           : left        ? IntervalMode::kCubicEndsNext
+                                         : IntervalMode::kLinear;
+    // Extrapolating needs the third frame on the smooth side to be evenly spaced too.
+    if ((m == IntervalMode::kCubicStartsHere && (i + 2 >= n || !even(span(i + 1), here))) ||
+        (m == IntervalMode::kCubicEndsNext && (i == 0 || !even(span(i - 1), here))))
+      continue;
+    modes[i] = uint8_t(m);
+  }
+  return modes;
 }
 
 namespace {
@@ -190,8 +242,53 @@ glm::mat4 decodeJoint(const BakedPalette& p, uint32_t clip, uint32_t frame, uint
                   readTexel(p, l.texelIndex(clip, frame, slot, 2)));
 }
 
+namespace {
+
+// Catmull-Rom weights of frames i - 1, i, i + 1, i + 2 at fraction u, with an extrapolated end
+// folded in: frame i - 1 = 3 f(i) - 3 f(i + 1) + f(i + 2), or frame i + 2 = 3 f(i + 1) - 3 f(i)
+// + f(i - 1). At u = 0 and 1 the weights are exactly (0 1 0 0) and (0 0 1 0).
+glm::vec4 cubicWeights(float u, IntervalMode mode) {
+  const float u2 = u * u, u3 = u2 * u;
+  glm::vec4 w(0.5f * (-u3 + 2.0f * u2 - u), 0.5f * (3.0f * u3 - 5.0f * u2 + 2.0f),
+              0.5f * (-3.0f * u3 + 4.0f * u2 + u), 0.5f * (u3 - u2));
+  if (mode == IntervalMode::kCubicStartsHere) {
+    w = glm::vec4(0.0f, w.y + 3.0f * w.x, w.z - 3.0f * w.x, w.w + w.x);
+  } else if (mode == IntervalMode::kCubicEndsNext) {
+    w = glm::vec4(w.x + w.w, w.y - 3.0f * w.w, w.z + 3.0f * w.w, 0.0f);
+  }
+  return w;
+}
+
+}  // namespace
+
 glm::mat4 emulateFrameMatrix(const BakedPalette& p, uint32_t frame_texel, uint32_t next_texel,
                              float u, uint32_t slot) {
+  return emulateFrameMatrix(p, frame_texel, next_texel, u, IntervalMode::kLinear, slot);
+}
+
+glm::mat4 emulateFrameMatrix(const BakedPalette& p, uint32_t frame_texel, uint32_t next_texel,
+                             float u, IntervalMode mode, uint32_t slot) {
+  if (mode != IntervalMode::kLinear) {
+    // The frames one stride before and after (the same frame when next == frame).
+    const uint32_t step = next_texel - frame_texel, js = slot * p.layout.joint_stride_texels;
+    const uint32_t f[4] = {frame_texel - step + js, frame_texel + js, next_texel + js,
+                           next_texel + step + js};
+    const glm::vec4 w = cubicWeights(u, mode);
+    if (p.format == PaletteFormat::kQuatTranslationF32) {
+      glm::vec4 q(0.0f), ts(0.0f);
+      const glm::vec4 q1 = readTexel(p, f[1]);
+      for (int k = 0; k < 4; ++k) {
+        const glm::vec4 qk = readTexel(p, f[k]);
+        q += w[k] * (glm::dot(qk, q1) < 0.0f ? -qk : qk);  // Frame i's hemisphere.
+        ts += w[k] * readTexel(p, f[k] + 1);
+      }
+      return fromRigid(glm::normalize(q), ts);
+    }
+    glm::vec4 rows[3] = {glm::vec4(0.0f), glm::vec4(0.0f), glm::vec4(0.0f)};
+    for (int k = 0; k < 4; ++k)
+      for (uint32_t r = 0; r < 3; ++r) rows[r] += w[k] * readTexel(p, f[k] + r);
+    return fromRows(rows[0], rows[1], rows[2]);
+  }
   const uint32_t a = frame_texel + slot * p.layout.joint_stride_texels;
   const uint32_t b = next_texel + slot * p.layout.joint_stride_texels;
   if (p.format == PaletteFormat::kQuatTranslationF32) {
@@ -209,8 +306,8 @@ glm::mat4 emulateFrameMatrix(const BakedPalette& p, uint32_t frame_texel, uint32
 glm::mat4 emulateSkinningMatrix(const BakedPalette& p, uint32_t clip, const FrameSample& s,
                                 uint32_t slot) {
   const PaletteLayout& l = p.layout;
-  return emulateFrameMatrix(p, l.texelIndex(clip, s.frame, 0, 0), l.texelIndex(clip, s.next_frame, 0, 0),
-                            s.fraction, slot);
+  return emulateFrameMatrix(p, l.texelIndex(clip, s.frame, 0, 0),
+                            l.texelIndex(clip, s.next_frame, 0, 0), s.fraction, s.mode, slot);
 }
 
 Status emulateSkinningMatrices(const BakedPalette& p, uint32_t clip, const FrameSample& s,

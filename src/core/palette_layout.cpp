@@ -1,6 +1,7 @@
 // SkinnedInstancing — SPDX-License-Identifier: MIT (see LICENSE)
 #include "si/core/palette_layout.h"
 
+#include <algorithm>
 #include <cassert>
 
 #include "core/str_cat.h"
@@ -44,6 +45,8 @@ Status computePaletteLayout(const PaletteLayoutDesc& in_desc, PaletteLayout* out
   if (d.joint_stride_texels < d.texels_per_joint)
     return {StatusCode::kInvalidArgument,
             "PaletteLayoutDesc.joint_stride_texels must be at least texels_per_joint"};
+  if (d.border_frames > 1)
+    return {StatusCode::kInvalidArgument, "PaletteLayoutDesc.border_frames must be 0 or 1"};
   if (!isPowerOfTwo(d.max_texture_size))
     return {StatusCode::kInvalidArgument,
             "PaletteLayoutDesc.max_texture_size must be a power of two"};
@@ -52,15 +55,17 @@ Status computePaletteLayout(const PaletteLayoutDesc& in_desc, PaletteLayout* out
   layout.joint_count = d.joint_count;
   layout.texels_per_joint = d.texels_per_joint;
   layout.joint_stride_texels = d.joint_stride_texels;
+  layout.border_frames = d.border_frames;
   const uint64_t frame_stride = uint64_t(d.joint_count) * d.joint_stride_texels;
   uint64_t total = 0;
   for (size_t c = 0; c < d.clip_frame_counts.size(); ++c) {
     const uint32_t frames = d.clip_frame_counts[c];
     if (frames == 0)
       return {StatusCode::kInvalidArgument, strCat("PaletteLayoutDesc: clip ", c, " has 0 frames")};
-    layout.clip_first_texel.push_back(static_cast<uint32_t>(total));
+    total += frame_stride * d.border_frames;
+    layout.clip_first_texel.push_back(static_cast<uint32_t>(std::min<uint64_t>(total, 0xFFFFFFFFull)));
     layout.clip_frame_count.push_back(frames);
-    total += frame_stride * frames;
+    total += frame_stride * (uint64_t(frames) + d.border_frames);
     if (total > 0xFFFFFFFFull)
       return {StatusCode::kLimitExceeded,
               strCat("palette: needs more than 2^32 texels (", d.joint_count, " joints)")};

@@ -81,6 +81,30 @@ Status checkClipTiming(const BakedClip& c, const std::string& where) {
   return Status::ok();
 }
 
+// Interpolation: known; a cubic clip has one known mode per interval and a palette with border
+// frames; a linear clip has no modes.
+Status checkClipInterpolation(const BakedClip& c, uint32_t border_frames,
+                              const std::string& where) {
+  if (c.interpolation == FrameInterpolation::kLinear) {
+    if (!c.interval_modes.empty())
+      return {StatusCode::kInvalidArgument, where + "a linear clip has interval modes"};
+    return Status::ok();
+  }
+  if (c.interpolation != FrameInterpolation::kCubic)
+    return {StatusCode::kInvalidArgument, where + "unknown frame interpolation"};
+  if (border_frames != 1)
+    return {StatusCode::kInvalidArgument,
+            where + "a cubic clip needs a layout with border frames"};
+  if (c.interval_modes.size() != size_t(c.frame_count - 1))
+    return {StatusCode::kCountMismatch, strCat(where, c.interval_modes.size(),
+                                               " interval modes for ", c.frame_count, " frames")};
+  for (size_t i = 0; i < c.interval_modes.size(); ++i)
+    if (c.interval_modes[i] > uint8_t(IntervalMode::kCubicEndsNext))
+      return {StatusCode::kOutOfRange,
+              strCat(where, "interval ", i, " has unknown mode ", int(c.interval_modes[i]))};
+  return Status::ok();
+}
+
 Status checkClipBounds(const BakedClip& c, const std::string& where) {
   const Aabb& b = c.bounds;
   const Sphere& s = c.bounding_sphere;
@@ -103,12 +127,16 @@ Status checkTexels(const BakedPalette& p) {
   const PaletteLayout& l = p.layout;
   const bool half = p.format == PaletteFormat::kMatrix3x4F16;
   const bool quat = p.format == PaletteFormat::kQuatTranslationF32;
+  // Border frames are read too (cubic interpolation): frames -border to count - 1 + border.
+  const int64_t border = l.border_frames;
   for (uint32_t c = 0; c < p.clips.size(); ++c)
-    for (uint32_t f = 0; f < p.clips[c].frame_count; ++f)
+    for (int64_t f = -border; f < int64_t(p.clips[c].frame_count) + border; ++f)
       for (uint32_t j = 0; j < l.joint_count; ++j) {
         glm::vec4 rows[4];
         for (uint32_t r = 0; r < l.texels_per_joint; ++r) {
-          const uint32_t texel = l.texelIndex(c, f, j, r);
+          const uint32_t texel = uint32_t(int64_t(l.clip_first_texel[c]) +
+                                          f * l.frame_stride_texels) +
+                                 j * l.joint_stride_texels + r;
           if (half) {
             uint16_t h[4];
             std::memcpy(h, p.texel_bytes.data() + size_t(texel) * 8, 8);
@@ -162,6 +190,9 @@ Status BakedPalette::validate() const {
   for (size_t c = 0; c < clips.size(); ++c) {
     Status s = checkClipTiming(clips[c], strCat("palette: clip ", c, " '", clips[c].name, "': "));
     if (s.isOk()) s = checkClipBounds(clips[c], strCat("palette: clip ", c, " '", clips[c].name, "': "));
+    if (s.isOk())
+      s = checkClipInterpolation(clips[c], layout.border_frames,
+                                 strCat("palette: clip ", c, " '", clips[c].name, "': "));
     if (!s.isOk()) return s;
   }
   if (layout.texels_per_joint != texelsPerJoint(format) || layout.joint_stride_texels > 64 ||
@@ -174,12 +205,14 @@ Status BakedPalette::validate() const {
   ld.texels_per_joint = layout.texels_per_joint;
   ld.joint_stride_texels = layout.joint_stride_texels;
   ld.max_texture_size = 32768;
+  ld.border_frames = layout.border_frames;
   PaletteLayout derived;
   Status s = computePaletteLayout(ld, &derived);
   if (!s.isOk()) return {StatusCode::kInvalidArgument, "palette: " + s.message()};
   if (derived.width != layout.width || derived.width_log2 != layout.width_log2 ||
       derived.height != layout.height || derived.frame_stride_texels != layout.frame_stride_texels ||
       derived.clip_first_texel != layout.clip_first_texel ||
+      derived.border_frames != layout.border_frames ||
       derived.clip_frame_count != layout.clip_frame_count)
     return {StatusCode::kInvalidArgument,
             strCat("palette: the layout (", layout.width, "x", layout.height,

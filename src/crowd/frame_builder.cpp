@@ -131,11 +131,11 @@ SI_CPU_CLONES void selectChunk(const FrameInputs& in, InstanceStore& st, uint32_
 }
 
 // The frames and blend of a record playing one clip (no crossfade): B repeats A, weight 0.
-void setOneClip(uint32_t frame, uint32_t next_frame, float fraction, uint32_t color,
-                InstanceRecord* rec) {
+void setOneClip(uint32_t frame, uint32_t next_frame, float fraction, IntervalMode mode,
+                uint32_t color, InstanceRecord* rec) {
   rec->frames[0] = rec->frames[2] = frame;
   rec->frames[1] = rec->frames[3] = next_frame;
-  rec->blend[0] = rec->blend[1] = floatBits(fraction);
+  rec->blend[0] = rec->blend[1] = packFraction(fraction, mode);
   rec->blend[2] = floatBits(0.0f);
   rec->blend[3] = color;
 }
@@ -179,12 +179,12 @@ __attribute__((always_inline)) inline void writeRecord(const FrameInputs& in,
     rec.frames[1] = cb.first_texel + fo.next_frame * stride;
     rec.frames[2] = a0;
     rec.frames[3] = a1;
-    rec.blend[0] = floatBits(fo.fraction);
-    rec.blend[1] = floatBits(fa.fraction);
+    rec.blend[0] = packFraction(fo.fraction, fo.mode);
+    rec.blend[1] = packFraction(fa.fraction, fa.mode);
     rec.blend[2] = floatBits(std::max(0.0f, weight_b));
     rec.blend[3] = st.colors[i];
   } else {
-    setOneClip(a0, a1, fa.fraction, st.colors[i], &rec);
+    setOneClip(a0, a1, fa.fraction, fa.mode, st.colors[i], &rec);
   }
   *out = rec;
 }
@@ -294,9 +294,10 @@ SI_CPU_CLONES void writeChunk(const FrameInputs& in, const InstanceStore& st, bo
           for (int col = 0; col < 3; ++col) rec.world_rows[row][col] = lanes.rows[row][col][k];
           rec.world_rows[row][3] = rel[row];
         }
-        const uint32_t a0 =
-            clips[st.playback[i].clip].first_texel + uint32_t(lanes.frame[k]) * stride;
-        setOneClip(a0, a0 + stride, lanes.fraction[k], st.colors[i], &rec);
+        const uint32_t clip = st.playback[i].clip, frame = uint32_t(lanes.frame[k]);
+        const uint32_t a0 = clips[clip].first_texel + frame * stride;
+        setOneClip(a0, a0 + stride, lanes.fraction[k],
+                   intervalModeAt(in.palette->clips[clip], frame), st.colors[i], &rec);
       }
       f.visible_handles[slot] = st.dense_handles[i];
       if (fallback) f.record_masks[slot] = wornMask(st.masks[i], in.sub_mesh_count);

@@ -100,6 +100,11 @@ void CrowdManager::exportGpuClips(std::vector<GpuClipInfo>* clips,
     g.times_offset = uint32_t(frame_times->size());
     frame_times->insert(frame_times->end(), bc.frame_times_seconds.begin(),
                         bc.frame_times_seconds.end());
+    g.modes_offset = 0xFFFFFFFFu;
+    if (!bc.interval_modes.empty()) {
+      g.modes_offset = uint32_t(frame_times->size());
+      for (uint8_t m : bc.interval_modes) frame_times->push_back(double(m));
+    }
     clips->push_back(g);
   }
 }

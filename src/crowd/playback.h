@@ -81,6 +81,7 @@ inline FrameSample fastSample(const ClipTiming& c, const BakedClip& clip, double
   s.frame = i;
   s.next_frame = i + 1;
   s.fraction = static_cast<float>(std::min(std::max(position - double(i), 0.0), 1.0));
+  s.mode = intervalModeAt(clip, i);
   return s;
 }
 

@@ -63,7 +63,8 @@ inline Clip blankClip(const Character& c, const std::string& name, float duratio
 using test::axisAngleF;
 
 // A small palette with every clip-table feature: STEP frame times, a loop, two clips.
-inline BakedPalette smallPalette(PaletteFormat format = PaletteFormat::kMatrix3x4F32) {
+inline BakedPalette smallPalette(PaletteFormat format = PaletteFormat::kMatrix3x4F32,
+                                 InterpolationChoice interpolation = InterpolationChoice::kLinear) {
   Character c = chainCharacter(3);
   Clip step = blankClip(c, "step", 0.5f);
   step.joint_tracks[1].translation.interpolation = Interpolation::kStep;
@@ -79,6 +80,7 @@ inline BakedPalette smallPalette(PaletteFormat format = PaletteFormat::kMatrix3x
   d.rate_mode = RateMode::kFixed;
   d.sample_rate_hz = 10.0f;
   d.format = format;
+  d.interpolation = interpolation;
   BakedPalette p;
   EXPECT_TRUE(bakePalette(c, d, &p, nullptr).isOk());
   return p;

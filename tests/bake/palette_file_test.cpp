@@ -19,8 +19,9 @@ void fixChecksum(std::vector<uint8_t>* bytes) {
 
 TEST(PaletteFile, RoundTripsBitExactly) {
   for (PaletteFormat f : {PaletteFormat::kMatrix3x4F32, PaletteFormat::kMatrix3x4F16,
-                          PaletteFormat::kQuatTranslationF32}) {
-    const BakedPalette p = smallPalette(f);
+                          PaletteFormat::kQuatTranslationF32})
+  for (InterpolationChoice i : {InterpolationChoice::kLinear, InterpolationChoice::kCubic}) {
+    const BakedPalette p = smallPalette(f, i);
     std::vector<uint8_t> bytes, again;
     ASSERT_TRUE(savePalette(p, &bytes).isOk());
     BakedPalette q;
@@ -40,7 +41,11 @@ TEST(PaletteFile, RoundTripsBitExactly) {
       EXPECT_EQ(q.clips[c].frame_interval_seconds, p.clips[c].frame_interval_seconds);
       EXPECT_EQ(q.clips[c].bounds.max, p.clips[c].bounds.max);
       EXPECT_EQ(q.clips[c].loop_mode, p.clips[c].loop_mode);
+      EXPECT_EQ(q.clips[c].interpolation, p.clips[c].interpolation);
+      EXPECT_EQ(q.clips[c].interval_modes, p.clips[c].interval_modes);
     }
+    EXPECT_EQ(q.layout.border_frames, p.layout.border_frames);
+    EXPECT_EQ(q.layout.border_frames, i == InterpolationChoice::kCubic ? 1u : 0u);
     EXPECT_EQ(q.layout.clip_first_texel, p.layout.clip_first_texel);
     EXPECT_FALSE(p.clips[0].frame_times_seconds.empty());  // The STEP clip was exercised.
   }
@@ -80,10 +85,41 @@ TEST(PaletteFile, TrailingBytesAndOtherVersionsAreRejected) {
   std::vector<uint8_t> longer = bytes;
   longer.push_back(0);
   EXPECT_EQ(loadPalette(longer, &q).code(), StatusCode::kCorrupt);
-  std::vector<uint8_t> v2 = bytes;
-  v2[8] = 2;
-  fixChecksum(&v2);
-  EXPECT_EQ(loadPalette(v2, &q).code(), StatusCode::kUnsupported);
+  for (uint8_t version : {0, 3}) {
+    std::vector<uint8_t> other = bytes;
+    other[8] = version;
+    fixChecksum(&other);
+    EXPECT_EQ(loadPalette(other, &q).code(), StatusCode::kUnsupported);
+  }
+}
+
+// Version 1 (before cubic interpolation): no border-frame field in the header, no
+// interpolation fields in the clip records. Such files still load, as linear palettes.
+TEST(PaletteFile, VersionOneFilesStillLoad) {
+  const BakedPalette p = smallPalette();
+  std::vector<uint8_t> bytes;
+  ASSERT_TRUE(savePalette(p, &bytes).isOk());
+  std::vector<uint8_t> v1(bytes.begin(), bytes.begin() + 36);  // Up to the stride.
+  v1[8] = 1;
+  size_t at = 40;                                               // Past the border frames.
+  const size_t joints_end = 52 + 4 * p.palette_joints.size();
+  v1.insert(v1.end(), bytes.begin() + std::ptrdiff_t(at), bytes.begin() + std::ptrdiff_t(joints_end));
+  at = joints_end;
+  for (const BakedClip& c : p.clips) {
+    const size_t before_modes = 4 + c.name.size() + 4 + 4 + 8 + 4 + 4 + 8 * c.frame_times_seconds.size();
+    v1.insert(v1.end(), bytes.begin() + std::ptrdiff_t(at), bytes.begin() + std::ptrdiff_t(at + before_modes));
+    at += before_modes + 8 + c.interval_modes.size();          // Skip the interpolation fields.
+    v1.insert(v1.end(), bytes.begin() + std::ptrdiff_t(at), bytes.begin() + std::ptrdiff_t(at + 40));
+    at += 40;
+  }
+  v1.insert(v1.end(), bytes.begin() + std::ptrdiff_t(at), bytes.end());
+  fixChecksum(&v1);
+  BakedPalette q;
+  const Status s = loadPalette(v1, &q);
+  ASSERT_TRUE(s.isOk()) << s.toString();
+  EXPECT_EQ(q.texel_bytes, p.texel_bytes);
+  EXPECT_EQ(q.layout.border_frames, 0u);
+  for (const BakedClip& c : q.clips) EXPECT_EQ(c.interpolation, FrameInterpolation::kLinear);
 }
 
 TEST(PaletteFile, InconsistentFilesWithValidChecksumsAreRejected) {
@@ -98,20 +134,22 @@ TEST(PaletteFile, InconsistentFilesWithValidChecksumsAreRejected) {
     return loadPalette(b, &q).code();
   };
   // Header fields: magic(8) version(4) format(4) width(4) height(4) joints(4) tpj(4) stride(4)
-  // skeleton joints(4) clips(4) height(4).
+  // border frames(4) skeleton joints(4) clips(4) height(4).
   EXPECT_EQ(patched(16, p.layout.width * 2), StatusCode::kCorrupt);   // Width vs. layout.
   EXPECT_EQ(patched(16, 3), StatusCode::kCorrupt);                    // Not a power of two.
   EXPECT_EQ(patched(20, 1u << 30), StatusCode::kCorrupt);             // Oversized height.
   EXPECT_EQ(patched(12, 9), StatusCode::kCorrupt);                    // Unknown format.
   EXPECT_EQ(patched(12, 0x2701), StatusCode::kCorrupt);  // Found by the fuzzer: low byte valid.
   EXPECT_EQ(patched(24, 200), StatusCode::kCorrupt);                  // Joints > skeleton.
-  EXPECT_EQ(patched(36, 0xFFFFFFFFu), StatusCode::kCorrupt);          // Absurd skeleton.
-  EXPECT_EQ(patched(40, 0xFFFFFFFFu), StatusCode::kCorrupt);          // Absurd clip count.
-  EXPECT_EQ(patched(40, 1), StatusCode::kCorrupt);                    // Clip table vs. size.
-  EXPECT_EQ(patched(44, 0xFFFFFFFFu), StatusCode::kCorrupt);          // NaN height.
-  EXPECT_EQ(patched(48, 7), StatusCode::kCorrupt);                    // Joint table out of range.
+  EXPECT_EQ(patched(36, 2), StatusCode::kCorrupt);                    // Border frames > 1.
+  EXPECT_EQ(patched(36, 1), StatusCode::kCorrupt);                    // Border frames vs. size.
+  EXPECT_EQ(patched(40, 0xFFFFFFFFu), StatusCode::kCorrupt);          // Absurd skeleton.
+  EXPECT_EQ(patched(44, 0xFFFFFFFFu), StatusCode::kCorrupt);          // Absurd clip count.
+  EXPECT_EQ(patched(44, 1), StatusCode::kCorrupt);                    // Clip table vs. size.
+  EXPECT_EQ(patched(48, 0xFFFFFFFFu), StatusCode::kCorrupt);          // NaN height.
+  EXPECT_EQ(patched(52, 7), StatusCode::kCorrupt);                    // Joint table out of range.
   // The first clip's frame count (after its name) claims more frames than the data holds.
-  const size_t clip0 = 48 + 4 * p.palette_joints.size();
+  const size_t clip0 = 52 + 4 * p.palette_joints.size();
   const size_t frames_at = clip0 + 4 + p.clips[0].name.size() + 4 + 4 + 8;
   EXPECT_EQ(patched(frames_at, 1u << 20), StatusCode::kCorrupt);
   EXPECT_EQ(patched(frames_at, 0), StatusCode::kCorrupt);
@@ -143,8 +181,8 @@ TEST(PaletteFile, ClipTimingThatDisagreesWithItsFramesIsRejected) {
   const BakedPalette p = smallPalette();
   ASSERT_TRUE(savePalette(p, &bytes).isOk());
   // Clip 1 ("swing", uniform grid): name length, name, loop, duration (f32), interval (f64).
-  size_t clip1 = 48 + 4 * p.palette_joints.size();
-  clip1 += 4 + p.clips[0].name.size() + 4 + 4 + 8 + 4 + 4 + 8 * p.clips[0].frame_times_seconds.size() + 40;
+  size_t clip1 = 52 + 4 * p.palette_joints.size();
+  clip1 += 4 + p.clips[0].name.size() + 4 + 4 + 8 + 4 + 4 + 8 * p.clips[0].frame_times_seconds.size() + 8 + 40;
   const size_t duration_at = clip1 + 4 + p.clips[1].name.size() + 4;
   const size_t interval_at = duration_at + 4;
   const auto load = [&](size_t offset, const void* value, size_t n) {
@@ -171,7 +209,7 @@ TEST(PaletteFile, ClipTimingThatDisagreesWithItsFramesIsRejected) {
     EXPECT_EQ(s.code(), StatusCode::kCorrupt) << "duration " << bad << ": " << s.toString();
   }
   // Clip 0 ("step"): frame times out of order, or three times the same.
-  const size_t times_at = 48 + 4 * p.palette_joints.size() + 4 + p.clips[0].name.size() + 4 + 4 +
+  const size_t times_at = 52 + 4 * p.palette_joints.size() + 4 + p.clips[0].name.size() + 4 + 4 +
                           8 + 4 + 4;
   const std::vector<double>& times = p.clips[0].frame_times_seconds;
   ASSERT_GE(times.size(), 4u);

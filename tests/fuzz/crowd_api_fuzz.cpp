@@ -172,8 +172,9 @@ void checkFrame(const si::CrowdManager& crowd) {
     for (uint32_t f : r.frames)
       if (uint64_t(f) + palette().layout.frame_stride_texels > texels) fail("a frame is outside the palette");
     for (int k = 0; k < 3; ++k) {
-      float v;
-      std::memcpy(&v, &r.blend[k], 4);
+      si::IntervalMode mode;
+      float v = si::unpackFraction(r.blend[k], &mode);
+      if (k == 2) std::memcpy(&v, &r.blend[k], 4);  // The weight carries no mode.
       if (!(v >= 0.0f && v <= 1.0f)) fail("a record's fraction or weight is outside [0, 1]");
     }
   }

@@ -43,8 +43,8 @@ void play(const si::BakedPalette& palette) {
       for (uint32_t f : r.frames)
         if (uint64_t(f) + uint64_t(palette.layout.frame_stride_texels) > texels) std::abort();
       for (int k = 0; k < 3; ++k) {
-        float v;
-        std::memcpy(&v, &r.blend[k], 4);
+        float v = si::unpackFraction(r.blend[k], nullptr);
+        if (k == 2) std::memcpy(&v, &r.blend[k], 4);  // The weight carries no mode.
         if (!(v >= 0.0f && v <= 1.0f)) std::abort();
       }
     }

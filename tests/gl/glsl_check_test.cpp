@@ -119,7 +119,7 @@ TEST(GlslCheck, UserShaderOnThePublicIncludeCompiles) {
                                "user_ssbo"),
             "");
   // The interface version is part of the include.
-  EXPECT_NE(std::string(skinningGlsl()).find("#define SI_GLSL_INTERFACE_VERSION 1"),
+  EXPECT_NE(std::string(skinningGlsl()).find("#define SI_GLSL_INTERFACE_VERSION 2"),
             std::string::npos);
 }
 

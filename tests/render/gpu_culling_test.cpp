@@ -180,6 +180,24 @@ TEST_P(RenderTest, GpuCulledDrawEqualsTheCpuPath) {
   RendererDesc rd;
   rd.skinning_path = SkinningPath::kVertexShader;
   rd.measure_gpu_time = true;  // Also reads back the visible count and triangles.
+  {  // A cubic palette: the GPU writes the interval modes into the records as the CPU does.
+    Renderer cubic;
+    makeRenderer(&cubic, 0, PaletteFormat::kMatrix3x4F32, &rd, InterpolationChoice::kCubic);
+    CrowdManager crowd;
+    makeCrowd(&crowd, PaletteFormat::kMatrix3x4F32, InterpolationChoice::kCubic);
+    populateLodCrowd(&crowd);
+    addFadingCharacter(&crowd);
+    ASSERT_TRUE(crowd.advanceClock(0.3).isOk());
+    cubic.clear(glm::vec4(0.2f, 0.25f, 0.3f, 1.0f));
+    DrawStats stats;
+    ASSERT_TRUE(cubic.drawCrowdGpuCulled(crowd, lodCamera(), &stats).isOk());
+    std::vector<uint8_t> gpu_image;
+    ASSERT_TRUE(context_->readPixels(&gpu_image).isOk());
+    ASSERT_TRUE(crowd.update(0.0, lodCamera()).isOk());
+    const std::vector<uint8_t> cpu_image = draw(cubic, crowd, lodCamera(), 0, false, &stats);
+    const Diff diff = compare(gpu_image, cpu_image, nullptr);
+    EXPECT_LE(diff.share, 0.001) << "cubic: max channel difference " << diff.max_channel;
+  }
   makeRenderer(&r, 0, PaletteFormat::kMatrix3x4F32, &rd);
   CrowdManager crowd;
   makeCrowd(&crowd);

@@ -91,11 +91,17 @@ TEST_P(RenderTest, DepthOnlyAndRigidProgramsDraw) {
 // tint and a crossfade, in each palette format, with the default ring and with a ring so small
 // that the crowd is skinned and drawn in many chunks.
 TEST_P(RenderTest, ComputePreSkinningEqualsTheVertexShaderPath) {
-  for (PaletteFormat format : {PaletteFormat::kMatrix3x4F32, PaletteFormat::kMatrix3x4F16,
-                               PaletteFormat::kQuatTranslationF32}) {
-    SCOPED_TRACE(paletteFormatName(format));
+  const std::pair<PaletteFormat, InterpolationChoice> cases[] = {
+      {PaletteFormat::kMatrix3x4F32, InterpolationChoice::kLinear},
+      {PaletteFormat::kMatrix3x4F16, InterpolationChoice::kLinear},
+      {PaletteFormat::kQuatTranslationF32, InterpolationChoice::kLinear},
+      {PaletteFormat::kMatrix3x4F32, InterpolationChoice::kCubic},
+      {PaletteFormat::kQuatTranslationF32, InterpolationChoice::kCubic}};
+  for (const auto& [format, interpolation] : cases) {
+    SCOPED_TRACE(std::string(paletteFormatName(format)) + " " +
+                 interpolationChoiceName(interpolation));
     CrowdManager crowd;
-    makeCrowd(&crowd, format);
+    makeCrowd(&crowd, format, interpolation);
     populateLodCrowd(&crowd);
     addFadingCharacter(&crowd, format);
     ASSERT_TRUE(crowd.update(0.3, lodCamera()).isOk());
@@ -105,7 +111,7 @@ TEST_P(RenderTest, ComputePreSkinningEqualsTheVertexShaderPath) {
       RendererDesc rd;
       rd.skinning_path = SkinningPath::kVertexShader;
       rd.compute_ring_bytes = ring_bytes;
-      makeRenderer(&r, 0, format, &rd);
+      makeRenderer(&r, 0, format, &rd, interpolation);
       DrawStats vs_stats, cs_stats;
       const std::vector<uint8_t> a = draw(r, crowd, lodCamera(), 0, false, &vs_stats);
       const std::vector<uint8_t> b =

@@ -47,14 +47,16 @@ inline const Character& character() {
   return c;
 }
 
-inline const BakedPalette& palette(PaletteFormat format = PaletteFormat::kMatrix3x4F32) {
-  static BakedPalette cache[4];
-  BakedPalette& p = cache[size_t(format)];
+inline const BakedPalette& palette(PaletteFormat format = PaletteFormat::kMatrix3x4F32,
+                                   InterpolationChoice interpolation = InterpolationChoice::kLinear) {
+  static BakedPalette cache[4][2];
+  BakedPalette& p = cache[size_t(format)][interpolation == InterpolationChoice::kCubic ? 1 : 0];
   if (p.clips.empty()) {
     BakeDesc d;
     d.rate_mode = RateMode::kFixed;
     d.sample_rate_hz = 30.0f;
     d.format = format;
+    d.interpolation = interpolation;
     if (!bakePalette(character(), d, &p, nullptr).isOk()) std::abort();
   }
   return p;
@@ -105,20 +107,22 @@ class RenderTest : public ::testing::TestWithParam<HeadlessBackend> {
   // The skinning path is explicit (the vertex shader) unless `rd_in` says otherwise.
   void makeRenderer(Renderer* r, uint32_t block_size = 0,
                     PaletteFormat format = PaletteFormat::kMatrix3x4F32,
-                    const RendererDesc* rd_in = nullptr) {
+                    const RendererDesc* rd_in = nullptr,
+                    InterpolationChoice interpolation = InterpolationChoice::kLinear) {
     RendererDesc rd;
     rd.skinning_path = SkinningPath::kVertexShader;
     if (rd_in) rd = *rd_in;
     rd.uniform_block_size_bytes = block_size;
     const Status init = r->init(info_, rd);
     ASSERT_TRUE(init.isOk()) << init.toString();
-    ASSERT_TRUE(r->uploadPalette(palette(format)).isOk());
-    ASSERT_TRUE(r->uploadCharacter(character(), palette(format)).isOk());
+    ASSERT_TRUE(r->uploadPalette(palette(format, interpolation)).isOk());
+    ASSERT_TRUE(r->uploadCharacter(character(), palette(format, interpolation)).isOk());
   }
 
-  void makeCrowd(CrowdManager* crowd, PaletteFormat format = PaletteFormat::kMatrix3x4F32) {
+  void makeCrowd(CrowdManager* crowd, PaletteFormat format = PaletteFormat::kMatrix3x4F32,
+                 InterpolationChoice interpolation = InterpolationChoice::kLinear) {
     CrowdDesc cd;
-    cd.palette = &palette(format);
+    cd.palette = &palette(format, interpolation);
     cd.sub_mesh_count = 4;
     cd.lod_count = 3;
     ASSERT_TRUE(crowd->init(cd).isOk());

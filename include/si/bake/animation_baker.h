@@ -37,9 +37,11 @@ namespace si {
 /// in double.
 struct ClipErrorReport {
   std::string name;
+  FrameInterpolation interpolation = FrameInterpolation::kLinear;
   double sample_rate_hz = 0.0;
   uint32_t frame_count = 0;
-  uint64_t palette_bytes = 0;       ///< Bytes of this clip's frames (data and joint padding).
+  /// Bytes of this clip's frames, border frames included (data and joint padding).
+  uint64_t palette_bytes = 0;
   double max_error_units = 0.0;     ///< Largest vertex displacement, model units.
   double p99_error_units = 0.0;     ///< 99th percentile over every (time, vertex) sample.
   double mean_error_units = 0.0;

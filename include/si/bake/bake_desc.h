@@ -23,6 +23,18 @@ enum class RateMode : uint8_t {
                  ///< error_tolerance_ratio * character height (or max_sample_rate_hz if none).
 };
 
+/// How clips interpolate between their baked frames (si::FrameInterpolation per clip).
+enum class InterpolationChoice : uint8_t {
+  kDefault = 0,  ///< Resolved to kLinear.
+  kLinear,       ///< Every clip linear: two frames per read.
+  kCubic,        ///< Every clip cubic (Catmull-Rom through the frames, four frames per read).
+  kSmaller,      ///< With kAutomatic rates: per clip, the one that meets the tolerance (when
+                 ///< only one does), then the one with fewer frames, then the smaller error;
+                 ///< with kFixed rates, kCubic.
+};
+/// "linear", "cubic", "smaller" (or "default").
+const char* interpolationChoiceName(InterpolationChoice c);
+
 /// Where bakePalette() stands, for a progress bar.
 struct BakeProgress {
   double fraction = 0.0;       ///< 0 at the start, 1 when done; never decreases.
@@ -35,6 +47,10 @@ struct BakeProgress {
 struct BakeDesc {
   PaletteFormat format = PaletteFormat::kDefault;
   RateMode rate_mode = RateMode::kDefault;
+  /// Linear (default), cubic, or per clip whichever is smaller. Any cubic clip gives the
+  /// palette border frames (two more frames per clip: the loop's continuation, or copies of
+  /// the end frames).
+  InterpolationChoice interpolation = InterpolationChoice::kDefault;
   /// Frames per second of every clip for kFixed (and unselected clips' figure in the report's
   /// bytes_saved); 0 means 30.
   float sample_rate_hz = 0.0f;
@@ -87,31 +103,51 @@ struct FramePlan {
   std::vector<double> frame_times_seconds;
   /// With frame_times_seconds: 1 for a frame holding the pose just before its time.
   std::vector<uint8_t> before_step;
+  /// Empty, or one flag per frame: 1 where the curve may break (both frames of a STEP key; a
+  /// corner key with planClipFrames()'s breaks_at_corners).
+  std::vector<uint8_t> breaks;
 };
 FramePlan planFrames(double duration_seconds, double rate_hz);
 
-/// planFrames() plus the STEP key frames of `clip` (see FramePlan::frame_times_seconds).
-FramePlan planClipFrames(const Clip& clip, double rate_hz);
+/// planFrames() plus the STEP key frames of `clip` (see FramePlan::frame_times_seconds). With
+/// `breaks_at_corners` (cubic clips), also every cornerKeyTimes() time: a frame within 1e-3
+/// intervals of it is marked as a break, otherwise a frame is added at it and marked. A cubic
+/// interval never reads across a break (si::cubicIntervalModes()).
+FramePlan planClipFrames(const Clip& clip, double rate_hz, bool breaks_at_corners = false);
+
+/// Times inside the clip (0 < t < duration) where its curve may have a corner: the keys of
+/// every LINEAR track (lerp and slerp change slope at each key). Sorted, without repeats.
+std::vector<double> cornerKeyTimes(const Clip& clip);
+
+/// The rate of the grid that holds every corner key of `clip` and its end (keys sampled at 24
+/// or 30 Hz, as exporters write them): 1 / the shortest spacing between corner keys when
+/// every corner key and the duration are whole multiples of it (within 1e-3 of it); 0 when
+/// there are none or they are not on such a grid. Cubic automatic rates try its multiples.
+double cornerKeyRate(const Clip& clip);
 
 /// The clips a desc selects (indices into character.clips), the joints the palette stores and
 /// the palette layout a bake will produce, without evaluating anything. Only joints that some
 /// vertex of some sub-mesh LOD is weighted to are stored ("model only what the scene needs");
 /// their ancestors still shape them through the reference evaluation. `clip_rates_hz`, when not
 /// empty, gives each selected clip its own rate (the baker's automatic mode) instead of
-/// desc.sample_rate_hz. Fails with kInvalidArgument for a rate that is not finite and positive,
-/// an unknown format or rate mode, a character without clips, a rates span of the wrong size;
+/// desc.sample_rate_hz; `clip_interpolations`, when not empty, each its interpolation instead
+/// of desc.interpolation's (kSmaller plans cubic). Fails with kInvalidArgument for a rate that is not finite and positive,
+/// an unknown format, rate mode or interpolation, a character without clips, a rates or
+/// interpolations span of the wrong size;
 /// kNotFound naming a clip that does not exist; kLimitExceeded when more than 2^20 frames per
 /// clip are asked for, when the texture would take more than max_palette_bytes or the bake more
 /// than max_evaluations, or from computePaletteLayout(). `out` is untouched on failure.
 struct PalettePlan {
   std::vector<uint32_t> clip_indices;
   std::vector<FramePlan> frames;         ///< One per selected clip.
+  std::vector<FrameInterpolation> interpolations;  ///< One per selected clip.
   std::vector<uint32_t> palette_joints;  ///< Skeleton joints stored, in skeleton order.
   PaletteLayout layout;
   uint64_t texture_bytes = 0;            ///< width * height * bytesPerTexel.
 };
 Status planPalette(const Character& character, const BakeDesc& desc, PalettePlan* out,
-                   Span<const double> clip_rates_hz = {});
+                   Span<const double> clip_rates_hz = {},
+                   Span<const FrameInterpolation> clip_interpolations = {});
 
 /// Vertices referenced by some LOD of some sub-mesh (what is ever drawn), ascending. Index
 /// ranges and indices outside the mesh are ignored.

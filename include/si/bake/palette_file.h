@@ -22,8 +22,9 @@
 
 namespace si {
 
-/// The version savePalette() writes and loadPalette() reads.
-inline constexpr uint32_t kPaletteFileVersion = 1;
+/// The version savePalette() writes. loadPalette() reads it and version 1 (linear clips, no
+/// border frames: the files written before cubic interpolation).
+inline constexpr uint32_t kPaletteFileVersion = 2;
 /// Largest palette file loadPalette() accepts (1 GiB).
 inline constexpr uint64_t kMaxPaletteFileSize = uint64_t(1) << 30;
 
@@ -37,8 +38,8 @@ Status savePalette(const BakedPalette& palette, std::vector<uint8_t>* bytes);
 /// kCorrupt for a bad magic, truncation, trailing bytes, a checksum mismatch, a value outside
 /// its range, a clip table or layout inconsistent with the header, or a palette that fails
 /// BakedPalette::validate() (whose message follows "palette file: "): a loaded palette is as
-/// consistent as a fresh bake. kUnsupported for another version; kLimitExceeded for more than
-/// kMaxPaletteFileSize bytes.
+/// consistent as a fresh bake. kUnsupported for a version other than 1 and 2; kLimitExceeded
+/// for more than kMaxPaletteFileSize bytes.
 Status loadPalette(Span<const uint8_t> bytes, BakedPalette* palette);
 
 /// savePalette() to a file; kIo naming the path when it cannot be written.

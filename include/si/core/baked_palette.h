@@ -38,6 +38,28 @@ uint32_t texelsPerJoint(PaletteFormat f);
 /// Bytes per texel: 16 for F32 formats, 8 for kMatrix3x4F16.
 uint32_t bytesPerTexel(PaletteFormat f);
 
+/// How the shader interpolates a clip between its baked frames.
+enum class FrameInterpolation : uint8_t {
+  kLinear = 0,  ///< Two frames: rows lerped (the rotation format nlerps).
+  kCubic = 1,   ///< Four frames: a uniform Catmull-Rom spline through the frames, per interval
+                ///< as BakedClip::interval_modes says (the rotation format: the quaternion's
+                ///< components, then normalized). Needs the layout's border frames.
+};
+/// "linear" or "cubic".
+const char* frameInterpolationName(FrameInterpolation i);
+
+/// What the shader does between frames i and i + 1 of a cubic clip (the frames at i - 1 and
+/// i + 2 are read only where the curve is smooth through frames i and i + 1).
+enum class IntervalMode : uint8_t {
+  kLinear = 0,        ///< Frames i and i + 1 lerped (zero-length STEP spans, both ends broken).
+  kCubic = 1,         ///< Catmull-Rom through frames i - 1, i, i + 1, i + 2.
+  kCubicStartsHere = 2,  ///< Frame i starts the piece (a clip's start, a STEP key): frame
+                         ///< i - 1 is replaced by the quadratic extrapolation 3 f(i) - 3 f(i + 1)
+                         ///< + f(i + 2).
+  kCubicEndsNext = 3,    ///< Frame i + 1 ends the piece: frame i + 2 is replaced by 3 f(i + 1)
+                         ///< - 3 f(i) + f(i - 1).
+};
+
 /// One clip of a baked palette.
 struct BakedClip {
   std::string name;
@@ -49,6 +71,10 @@ struct BakedClip {
   /// Empty when frames sit on the uniform grid; otherwise each frame's clip-local time
   /// (non-decreasing; a STEP key appears twice: the pose before it, then at it).
   std::vector<double> frame_times_seconds;
+  FrameInterpolation interpolation = FrameInterpolation::kLinear;
+  /// For a cubic clip, one IntervalMode value per frame interval (frame_count - 1; none for a
+  /// single frame); empty for a linear clip.
+  std::vector<uint8_t> interval_modes;
   Aabb bounds;                          ///< Conservative box of the skinned mesh over the clip.
   Sphere bounding_sphere;               ///< Conservative sphere, centred on the box.
 
@@ -93,6 +119,9 @@ struct BakedPalette {
   ///   duration, no gap wider than the interval, none repeated more than twice (a STEP key);
   ///   bounds finite, not empty, the sphere finite, centred within the box and at least as
   ///   large as half its diagonal (kOutOfRange);
+  /// - interpolation known; a linear clip without interval modes, a cubic one with one known
+  ///   mode per interval in a layout with border frames (kInvalidArgument, kCountMismatch,
+  ///   kOutOfRange); border frames' texels obey the texel rules above;
   /// - character_height finite and >= 0 (kOutOfRange).
   Status validate() const;
 };
@@ -112,7 +141,22 @@ struct FrameSample {
   uint32_t frame = 0;       ///< Frame index within the clip.
   uint32_t next_frame = 0;  ///< frame + 1, or frame for a single-frame clip.
   float fraction = 0.0f;    ///< Blend towards next_frame, in [0, 1].
+  IntervalMode mode = IntervalMode::kLinear;  ///< The clip's interval mode (linear clips: kLinear).
 };
+
+/// The mode of interval `interval` of `clip`: kLinear for a linear clip or an interval past its
+/// modes.
+inline IntervalMode intervalModeAt(const BakedClip& clip, uint32_t interval) {
+  return interval < clip.interval_modes.size() && clip.interval_modes[interval] <= 3u
+             ? static_cast<IntervalMode>(clip.interval_modes[interval])
+             : IntervalMode::kLinear;
+}
+
+/// The fraction word of an InstanceRecord (blend.x or blend.y): the float bits of `fraction`
+/// (in [0, 1], where bits 30 and 31 are 0) with the interval mode in bits 30-31.
+uint32_t packFraction(float fraction, IntervalMode mode);
+/// The inverse of packFraction(): the fraction (bits 30-31 cleared) and the mode.
+float unpackFraction(uint32_t word, IntervalMode* mode);
 
 /// Frame sample for clip-local time `local_time_seconds` (clamped to [0, duration], NaN read
 /// as 0; any clip, valid or not, gives frames within its frame count): constant
@@ -130,13 +174,25 @@ std::vector<uint32_t> frameSearchStarts(const BakedClip& clip);
 FrameSample sampleFrames(const BakedClip& clip, double local_time_seconds,
                          Span<const uint32_t> search_starts);
 
+/// The interval modes a cubic clip gets from its frame times (frame_times_seconds, or the uniform
+/// grid when empty): kCubic where frames i - 1 to i + 2 lie evenly spaced (within 1 %) and no
+/// frame in `breaks` (a frame where the curve has a corner or jump: both frames of a STEP key)
+/// lies at i or i + 1; kCubicStartsHere / kCubicEndsNext where only one side is missing; kLinear
+/// where both are or the interval has zero length. `wraps`: the clip loops seamlessly, so the
+/// border frames continue it (frame -1 = frame n - 2, frame n = frame 1) and its ends need no
+/// extrapolation. `breaks` holds one flag per frame, or is empty.
+std::vector<uint8_t> cubicIntervalModes(const BakedClip& clip, bool wraps,
+                                        Span<const uint8_t> breaks);
+
 /// Decodes palette joint `slot` of frame `frame` of clip `clip` as a 3x4 matrix (returned as a
 /// mat4 with last row 0 0 0 1), exactly as the shader reads it. Arguments must be in range.
 glm::mat4 decodeJoint(const BakedPalette& palette, uint32_t clip, uint32_t frame, uint32_t slot);
 
 /// The skinning matrix of palette slot `slot` the shader computes for `sample` of `clip`:
 /// matrices lerped row by row, or for kQuatTranslationF32 the rotation nlerped (shorter arc),
-/// translation and scale lerped, then composed. Float arithmetic, like the GPU.
+/// translation and scale lerped, then composed; cubic modes use the Catmull-Rom weights on the
+/// same values (quaternions aligned to frame i's hemisphere, then normalized). Float
+/// arithmetic, like the GPU.
 glm::mat4 emulateSkinningMatrix(const BakedPalette& palette, uint32_t clip,
                                 const FrameSample& sample, uint32_t slot);
 
@@ -145,6 +201,12 @@ glm::mat4 emulateSkinningMatrix(const BakedPalette& palette, uint32_t clip,
 /// with `fraction` between the two frames. Offsets must lie inside the palette.
 glm::mat4 emulateFrameMatrix(const BakedPalette& palette, uint32_t frame_texel,
                              uint32_t next_frame_texel, float fraction, uint32_t slot);
+/// The same with an interval mode: for the cubic modes the frames one frame stride before
+/// `frame_texel` and after `next_frame_texel` (for next == frame, all four are the one frame),
+/// which must lie inside the palette (border frames).
+glm::mat4 emulateFrameMatrix(const BakedPalette& palette, uint32_t frame_texel,
+                             uint32_t next_frame_texel, float fraction, IntervalMode mode,
+                             uint32_t slot);
 
 /// Skinning matrices of every skeleton joint (identity for joints not stored) for `sample`.
 /// `out` must hold skeleton_to_palette.size() matrices (kCountMismatch otherwise).

@@ -34,6 +34,9 @@ struct PaletteLayoutDesc {
   uint32_t joint_stride_texels = 0;
   /// Largest width or height allowed (GL_MAX_TEXTURE_SIZE); 0 means 16384.
   uint32_t max_texture_size = 0;
+  /// 0, or 1 to store a border frame before and after every clip (cubic interpolation reads
+  /// them): clip c's frames then start one frame stride after its region starts.
+  uint32_t border_frames = 0;
 };
 
 /// Returns the desc with zeros replaced by their documented defaults.
@@ -48,6 +51,7 @@ struct PaletteLayout {
   uint32_t texels_per_joint = 0;
   uint32_t joint_stride_texels = 0;
   uint32_t frame_stride_texels = 0;         ///< joint_count * joint_stride_texels.
+  uint32_t border_frames = 0;               ///< Per clip end (0 or 1).
   std::vector<uint32_t> clip_first_texel;   ///< One per clip.
   std::vector<uint32_t> clip_frame_count;   ///< One per clip.
   uint64_t used_texel_count = 0;            ///< Texels holding data or padding between joints.
@@ -63,10 +67,12 @@ struct PaletteLayout {
   uint64_t textureTexelCount() const { return uint64_t(width) * height; }
 };
 
-/// Lays out the palette: frames of clip 0 first, then clip 1, and so on; the texture is as
+/// Lays out the palette: frames of clip 0 first (after its border frame, when there are
+/// border frames; clip_first_texel is frame 0's), then clip 1, and so on; the texture is as
 /// close to square as a power-of-two width allows, so both sizes stay small. Fails, leaving
 /// `out` untouched, with kInvalidArgument for a null `out`, zero joints, no clips, a clip with
-/// no frames, texels_per_joint outside 1..4 or a stride below it, a max_texture_size that is not
+/// no frames, border_frames above 1, texels_per_joint outside 1..4 or a stride below it, a
+/// max_texture_size that is not
 /// a power of two; kLimitExceeded (naming the sizes) when the palette does not fit in a
 /// max_texture_size square texture or needs more than 2^32 texels.
 Status computePaletteLayout(const PaletteLayoutDesc& desc, PaletteLayout* out);

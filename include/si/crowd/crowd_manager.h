@@ -297,7 +297,8 @@ class CrowdManager {
   /// same order): index i of the GPU's selection is dense index i.
   void exportGpuState(std::vector<GpuInstanceState>* out,
                       std::vector<InstanceHandle>* handles) const;
-  /// The palette's clips as the GPU reads them, and the frame times of non-uniform clips.
+  /// The palette's clips as the GPU reads them, and the frame times of non-uniform clips (then
+  /// the interval modes of cubic clips, as small whole numbers: GpuClipInfo::modes_offset).
   void exportGpuClips(std::vector<GpuClipInfo>* clips, std::vector<double>* frame_times) const;
   /// This frame's selection parameters for `camera` (what update() uses).
   CullParams cullParams(const Camera& camera) const;

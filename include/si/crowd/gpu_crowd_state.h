@@ -43,7 +43,10 @@ struct GpuClipInfo {
   uint32_t uniform_grid;      ///< 1: frames on a uniform grid; 0: search frame_times.
   uint32_t frame_count;
   uint32_t times_offset;      ///< Into the frame-times array (doubles), for non-uniform clips.
-  uint32_t pad[3];
+  /// For a cubic clip, where its interval modes (si::IntervalMode values, one per interval,
+  /// each stored as a double) start in the same array; 0xFFFFFFFF for a linear clip.
+  uint32_t modes_offset;
+  uint32_t pad[2];
   float box_min[4];           ///< The clip's bounding box (model units; w unused): tighter
   float box_max[4];           ///< than the sphere for occlusion culling.
 };

@@ -11,7 +11,7 @@
 /// | --- | --- | --- |
 /// | 0-47 | `vec4 world_rows[3]` | rows of the 3x4 camera-relative world matrix (rotation * scale, translation) |
 /// | 48-63 | `uvec4 frames` | x, y: texel of clip A's frame and next frame (clip first texel + frame * frame stride); z, w: the same for clip B |
-/// | 64-79 | `uvec4 blend` | x: fraction A, y: fraction B, z: weight of B (floats as bits, in [0, 1]); w: tint RGBA8 (R in the low byte) |
+/// | 64-79 | `uvec4 blend` | x: fraction A, y: fraction B (floats in [0, 1] as bits, with the si::IntervalMode in bits 30-31: si::packFraction), z: weight of B (float bits, in [0, 1]); w: tint RGBA8 (R in the low byte) |
 ///
 /// Without a crossfade, B repeats A and the weight is 0. The classic layout (a vec4 color and
 /// one clip) is also 80 bytes; packing the color into 32 bits is what makes room for clip B, so
@@ -26,7 +26,8 @@ namespace si {
 struct InstanceRecord {
   float world_rows[3][4];  ///< Camera-relative world matrix rows.
   uint32_t frames[4];      ///< Frame texel A, next texel A, frame texel B, next texel B.
-  uint32_t blend[4];       ///< Fraction A, fraction B, weight B (float bits), color RGBA8.
+  uint32_t blend[4];       ///< Fraction words A and B (si::packFraction), weight B (float bits),
+                           ///< color RGBA8.
 };
 static_assert(sizeof(InstanceRecord) == 80, "std140 record is 80 bytes");
 static_assert(offsetof(InstanceRecord, frames) == 48, "std140 offset of frames");

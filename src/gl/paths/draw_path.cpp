@@ -24,13 +24,14 @@ void bindShading(const DrawResources& r, const Program& program, const Camera& c
 }
 
 glm::mat4 recordJointMatrix(const BakedPalette& palette, const InstanceRecord& rec, uint32_t slot) {
-  float fa, fb, wb;
-  std::memcpy(&fa, &rec.blend[0], 4);
-  std::memcpy(&fb, &rec.blend[1], 4);
+  IntervalMode ma, mb;
+  const float fa = unpackFraction(rec.blend[0], &ma), fb = unpackFraction(rec.blend[1], &mb);
+  float wb;
   std::memcpy(&wb, &rec.blend[2], 4);
-  glm::mat4 mat = emulateFrameMatrix(palette, rec.frames[0], rec.frames[1], fa, slot);
+  glm::mat4 mat = emulateFrameMatrix(palette, rec.frames[0], rec.frames[1], fa, ma, slot);
   if (wb > 0.0f)
-    mat = mat * (1.0f - wb) + emulateFrameMatrix(palette, rec.frames[2], rec.frames[3], fb, slot) * wb;
+    mat = mat * (1.0f - wb) +
+          emulateFrameMatrix(palette, rec.frames[2], rec.frames[3], fb, mb, slot) * wb;
   return mat;
 }
 

@@ -47,11 +47,16 @@ double siLocalTime(double start_time, double start_clock, float speed, uint loop
   }
   return clamp(t, 0.0lf, c.duration);
 }
-uvec3 siSample(SiGpuClip c, double t) {  // frame, next frame, fraction bits
+// The fraction word with the interval mode in bits 30-31 (si::packFraction).
+uint siPackFraction(SiGpuClip c, uint i, float f) {
+  uint mode = c.modes_offset == 0xFFFFFFFFu ? 0u : uint(si_times[c.modes_offset + i]);
+  return (floatBitsToUint(f) & 0x3FFFFFFFu) | (mode << 30);
+}
+uvec3 siSample(SiGpuClip c, double t) {  // frame, next frame, fraction word
   if (c.uniform_grid != 0u) {
     double position = t * c.inv_interval;
     uint i = min(uint(position), c.last_interval);
-    return uvec3(i, i + 1u, floatBitsToUint(float(clamp(position - double(i), 0.0lf, 1.0lf))));
+    return uvec3(i, i + 1u, siPackFraction(c, i, float(clamp(position - double(i), 0.0lf, 1.0lf))));
   }
   if (c.frame_count <= 1u || !(c.interval > 0.0lf)) return uvec3(0u);
   double tt = clamp(t, 0.0lf, c.duration);
@@ -64,7 +69,7 @@ uvec3 siSample(SiGpuClip c, double t) {  // frame, next frame, fraction bits
   uint i = min(lo == 0u ? 0u : lo - 1u, last);
   double t0 = si_times[c.times_offset + i], span = si_times[c.times_offset + i + 1u] - t0;
   float f = span > 0.0lf ? float(clamp((tt - t0) / span, 0.0lf, 1.0lf)) : 1.0;
-  return uvec3(i, i + 1u, floatBitsToUint(f));
+  return uvec3(i, i + 1u, siPackFraction(c, i, f));
 }
 
 void main() {

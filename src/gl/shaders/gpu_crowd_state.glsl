@@ -18,7 +18,7 @@ struct SiGpuClip {
   double duration, inv_duration, interval, inv_interval;
   vec4 sphere;
   uint first_texel, last_interval, uniform_grid, frame_count;
-  uint times_offset, pad0, pad1, pad2;
+  uint times_offset, modes_offset, pad1, pad2;
   vec4 box_min, box_max;
 };
 #endif

@@ -4,7 +4,8 @@
 // layouts by GL introspection.
 //   world_rows: rows of the 3x4 camera-relative world matrix (rotation * scale, translation)
 //   frames:     x, y: palette texel of clip A's frame and next frame; z, w: the same for clip B
-//   blend:      x: fraction A, y: fraction B, z: weight of B (float bits); w: tint RGBA8
+//   blend:      x: fraction A, y: fraction B (float bits; bits 30-31: the interval mode),
+//               z: weight of B (float bits); w: tint RGBA8
 #ifndef SI_INSTANCE_RECORD_GLSL
 #define SI_INSTANCE_RECORD_GLSL
 struct SiInstance {

@@ -2,7 +2,7 @@
 // The skinning include for your own vertex (or compute) shaders: the instance record, the
 // instance block, the palette and functions that fetch, interpolate, crossfade and blend the
 // bone matrices exactly as si::emulateSkinningMatrix() and si::emulateSkinning() do on the CPU.
-// Interface version 1; docs/glsl-interface.md documents every name, binding and define.
+// Interface version 2 (2: the fraction words carry the interval mode, cubic clips); docs/glsl-interface.md documents every name, binding and define.
 //
 // Before including, define SI_MAX_INSTANCES (records per draw: InstanceBatcher::
 // capacityPerDraw()), or define SI_INSTANCES_IN_STORAGE to read the records from a shader
@@ -11,7 +11,7 @@
 // `uniform uvec4 si_palette_info` at location 0 (si::paletteShaderInfo()).
 #ifndef SI_SKINNING_GLSL
 #define SI_SKINNING_GLSL
-#define SI_GLSL_INTERFACE_VERSION 1
+#define SI_GLSL_INTERFACE_VERSION 2
 #include "si_instance_record.glsl"
 #include "si_transform.glsl"
 
@@ -28,12 +28,63 @@ ivec2 siTexel(uint i) {
 }
 vec4 siFetch(uint i) { return texelFetch(si_palette, siTexel(i), 0); }
 
-// Rows of the skinning matrix of palette slot `joint`, interpolated between the frames starting
-// at texels `frame` and `next` by `t`.
-void siInterpolatedRows(uint frame, uint next, float t, uint joint,
+// Rows of a rigid joint (unit quaternion q, translation and uniform scale ts).
+void siRigidRows(vec4 q, vec4 ts, out vec4 r0, out vec4 r1, out vec4 r2) {
+  float xx = q.x * q.x, yy = q.y * q.y, zz = q.z * q.z;
+  float xy = q.x * q.y, xz = q.x * q.z, yz = q.y * q.z;
+  float wx = q.w * q.x, wy = q.w * q.y, wz = q.w * q.z;
+  r0 = vec4(vec3(1.0 - 2.0 * (yy + zz), 2.0 * (xy - wz), 2.0 * (xz + wy)) * ts.w, ts.x);
+  r1 = vec4(vec3(2.0 * (xy + wz), 1.0 - 2.0 * (xx + zz), 2.0 * (yz - wx)) * ts.w, ts.y);
+  r2 = vec4(vec3(2.0 * (xz - wy), 2.0 * (yz + wx), 1.0 - 2.0 * (xx + yy)) * ts.w, ts.z);
+}
+
+// Catmull-Rom weights of frames i - 1, i, i + 1, i + 2 at fraction u for interval mode `mode`
+// (1 cubic; 2: frame i starts the piece, frame i - 1 replaced by 3 f(i) - 3 f(i + 1) + f(i + 2);
+// 3: frame i + 1 ends it, frame i + 2 replaced by 3 f(i + 1) - 3 f(i) + f(i - 1)).
+vec4 siCubicWeights(float u, uint mode) {
+  float u2 = u * u, u3 = u2 * u;
+  vec4 w = vec4(0.5 * (-u3 + 2.0 * u2 - u), 0.5 * (3.0 * u3 - 5.0 * u2 + 2.0),
+                0.5 * (-3.0 * u3 + 4.0 * u2 + u), 0.5 * (u3 - u2));
+  if (mode == 2u) w = vec4(0.0, w.y + 3.0 * w.x, w.z - 3.0 * w.x, w.w + w.x);
+  if (mode == 3u) w = vec4(w.x + w.w, w.y - 3.0 * w.w, w.z + 3.0 * w.w, 0.0);
+  return w;
+}
+
+// Rows of the skinning matrix of palette slot `joint` between the frames starting at texels
+// `frame` and `next`. `fraction` is the record's word: the float fraction with the interval
+// mode in bits 30-31 (0 linear: two frames; 1-3 cubic: the frames one frame before and after
+// too, which border frames always provide).
+void siInterpolatedRows(uint frame, uint next, uint fraction, uint joint,
                         out vec4 r0, out vec4 r1, out vec4 r2) {
+  float t = uintBitsToFloat(fraction & 0x3FFFFFFFu);
+  uint mode = fraction >> 30;
   uint a = frame + joint * si_palette_info.y;
   uint b = next + joint * si_palette_info.y;
+  if (mode != 0u) {
+    uint f[4] = uint[4](a - (next - frame), a, b, b + (next - frame));
+    vec4 w = siCubicWeights(t, mode);
+    if (si_palette_info.z == 0u) {
+      r0 = vec4(0.0);
+      r1 = vec4(0.0);
+      r2 = vec4(0.0);
+      for (int k = 0; k < 4; ++k) {
+        if ((k == 0 && mode == 2u) || (k == 3 && mode == 3u)) continue;  // Weight 0.
+        r0 += w[k] * siFetch(f[k]);
+        r1 += w[k] * siFetch(f[k] + 1u);
+        r2 += w[k] * siFetch(f[k] + 2u);
+      }
+    } else {
+      vec4 q1 = siFetch(a), q = vec4(0.0), ts = vec4(0.0);
+      for (int k = 0; k < 4; ++k) {
+        if ((k == 0 && mode == 2u) || (k == 3 && mode == 3u)) continue;
+        vec4 qk = k == 1 ? q1 : siFetch(f[k]);
+        q += w[k] * (dot(qk, q1) < 0.0 ? -qk : qk);  // Frame i's hemisphere.
+        ts += w[k] * siFetch(f[k] + 1u);
+      }
+      siRigidRows(normalize(q), ts, r0, r1, r2);
+    }
+    return;
+  }
   if (si_palette_info.z == 0u) {
     r0 = mix(siFetch(a), siFetch(b), t);
     r1 = mix(siFetch(a + 1u), siFetch(b + 1u), t);
@@ -41,27 +92,18 @@ void siInterpolatedRows(uint frame, uint next, float t, uint joint,
   } else {
     vec4 qa = siFetch(a), qb = siFetch(b);
     if (dot(qa, qb) < 0.0) qb = -qb;  // Shorter arc.
-    vec4 q = normalize(mix(qa, qb, t));
-    vec4 ts = mix(siFetch(a + 1u), siFetch(b + 1u), t);
-    float xx = q.x * q.x, yy = q.y * q.y, zz = q.z * q.z;
-    float xy = q.x * q.y, xz = q.x * q.z, yz = q.y * q.z;
-    float wx = q.w * q.x, wy = q.w * q.y, wz = q.w * q.z;
-    r0 = vec4(vec3(1.0 - 2.0 * (yy + zz), 2.0 * (xy - wz), 2.0 * (xz + wy)) * ts.w, ts.x);
-    r1 = vec4(vec3(2.0 * (xy + wz), 1.0 - 2.0 * (xx + zz), 2.0 * (yz - wx)) * ts.w, ts.y);
-    r2 = vec4(vec3(2.0 * (xz - wy), 2.0 * (yz + wx), 1.0 - 2.0 * (xx + yy)) * ts.w, ts.z);
+    siRigidRows(normalize(mix(qa, qb, t)), mix(siFetch(a + 1u), siFetch(b + 1u), t), r0, r1, r2);
   }
 }
 
 // The instance's skinning matrix rows for palette slot `joint`: clip A, crossfaded towards
 // clip B by the record's weight (B's fetches are skipped when the weight is 0).
 void siInstanceJointRows(SiInstance inst, uint joint, out vec4 r0, out vec4 r1, out vec4 r2) {
-  siInterpolatedRows(inst.frames.x, inst.frames.y, uintBitsToFloat(inst.blend.x), joint,
-                     r0, r1, r2);
+  siInterpolatedRows(inst.frames.x, inst.frames.y, inst.blend.x, joint, r0, r1, r2);
   float wb = uintBitsToFloat(inst.blend.z);
   if (wb > 0.0) {
     vec4 b0, b1, b2;
-    siInterpolatedRows(inst.frames.z, inst.frames.w, uintBitsToFloat(inst.blend.y), joint,
-                       b0, b1, b2);
+    siInterpolatedRows(inst.frames.z, inst.frames.w, inst.blend.y, joint, b0, b1, b2);
     r0 = mix(r0, b0, wb);
     r1 = mix(r1, b1, wb);
     r2 = mix(r2, b2, wb);

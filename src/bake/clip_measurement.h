@@ -1,0 +1,35 @@
+// SkinnedInstancing — SPDX-License-Identifier: MIT (see LICENSE)
+#pragma once
+// What the baker measures of a baked clip: its error against the double-precision reference
+// (emulating the shader) and its conservative culling box.
+#include <cstdint>
+#include <vector>
+
+#include "si/bake/animation_baker.h"
+
+namespace si::detail {
+
+/// Emulates the shader at the clip's measurement times (every frame interval at fractions 0,
+/// 1/4, 1/2, 3/4 and the clip's end, or only the midpoints) and compares with the reference.
+/// `mesh` is the character's mesh or a subset of its vertices, `gpu_mesh` the same with the
+/// weights the vertex format stores; `vertices` index into both. The reference skins `mesh`,
+/// the emulation `gpu_mesh`, so the error includes the vertex format's quantization.
+Status measureClip(const Character& character, const SkinnedMesh& mesh,
+                   const SkinnedMesh& gpu_mesh, const BakedPalette& p, uint32_t clip_index,
+                   const std::vector<uint32_t>& vertices, double shell_distance,
+                   bool midpoints_only, ClipErrorReport* out);
+
+/// Box of everything the shader can draw of clip `clip_index`: `vertices` of `gpu_mesh` at
+/// every frame for a linear clip (matrix lerps stay on chords); for a cubic clip, per interval
+/// the box of the frames it reads widened by 1/8 of its extent per axis (the most the
+/// Catmull-Rom weights, extrapolated ends included, leave it). Not padded for rounding or the
+/// rotation format's normalization; the caller pads.
+Status clipBounds(const BakedPalette& p, uint32_t clip_index, const SkinnedMesh& gpu_mesh,
+                  const std::vector<uint32_t>& vertices, Aabb* out);
+
+/// For the automatic rate search: per stored joint, the 8 drawn vertices weighted to it that lie
+/// farthest from its bind position, as a mesh of their own.
+SkinnedMesh searchMesh(const Character& character, const SkinnedMesh& mesh,
+                       const std::vector<uint32_t>& drawn);
+
+}  // namespace si::detail
