@@ -9,6 +9,7 @@
 #include <cstdio>
 #include <cstdlib>
 #include <fstream>
+#include <sstream>
 #include <string>
 
 #include "si/bake/animation_baker.h"
@@ -97,7 +98,9 @@ TEST(SiBake, BadCommandLinesExitWith2) {
                            "--embedded -o x.sipal --rate 0", "--embedded -o x.sipal --rate fast",
                            "--embedded -o x.sipal --format f64", "--embedded -o x.sipal --rate",
                            "a.glb b.glb -o x.sipal", "a.glb --embedded -o x.sipal",
-                           "--embedded -o x.sipal --tolerance -1", "--embedded -o x.sipal --lods 9"}) {
+                           "--embedded -o x.sipal --tolerance -1", "--embedded -o x.sipal --lods 9",
+                           "--embedded -o x.sipal --interpolation spline", "--cast",
+                           "--cast --embedded -o x.sipal"}) {
     const ToolRun r = runTool(args);
     EXPECT_EQ(r.exit_code, 2) << args << "\n" << r.output;
     EXPECT_NE(r.output.find("si-bake: error:"), std::string::npos) << args;
@@ -105,6 +108,47 @@ TEST(SiBake, BadCommandLinesExitWith2) {
   }
   EXPECT_FALSE(exists("x.sipal"));
   EXPECT_EQ(runTool("--help").exit_code, 0);
+}
+
+// --interpolation writes a cubic palette; --cast prints every format x interpolation per
+// character and the cast's totals, which add up the rows.
+TEST(SiBake, CubicPalettesAndTheCastTable) {
+  const std::string out = tempPath("cubic.sipal");
+  ToolRun r = runTool("--embedded --rate 30 --interpolation cubic --no-progress -o '" + out + "'");
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  EXPECT_NE(r.output.find(" cubic "), std::string::npos) << r.output;
+  BakedPalette loaded;
+  ASSERT_TRUE(loadPaletteFile(out, &loaded).isOk());
+  EXPECT_EQ(loaded.layout.border_frames, 1u);
+  for (const BakedClip& c : loaded.clips) EXPECT_EQ(c.interpolation, FrameInterpolation::kCubic);
+  std::remove(out.c_str());
+
+  r = runTool("--cast --embedded --rate 30 --clips idle,run");
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  unsigned long long row_sum[3][3] = {}, total[3][3] = {};
+  const char* formats[] = {"matrix3x4_f32", "matrix3x4_f16", "quat_translation_f32"};
+  const char* choices[] = {"linear", "cubic", "smaller"};
+  std::istringstream lines(r.output);
+  std::string line;
+  int rows = 0;
+  while (std::getline(lines, line)) {
+    char who[64], format[64], choice[64];
+    unsigned long long a = 0, b = 0;
+    if (std::sscanf(line.c_str(), "%63s %63s %63s %llu %llu", who, format, choice, &a, &b) != 5)
+      continue;
+    for (int f = 0; f < 3; ++f)
+      for (int c = 0; c < 3; ++c)
+        if (std::string(format) == formats[f] && std::string(choice) == choices[c]) {
+          if (std::string(who) == "embedded") row_sum[f][c] += b, ++rows;
+          if (std::string(who) == "(cast)") total[f][c] = b;
+        }
+  }
+  EXPECT_EQ(rows, 9) << r.output;
+  for (int f = 0; f < 3; ++f)
+    for (int c = 0; c < 3; ++c) {
+      EXPECT_GT(row_sum[f][c], 0u) << formats[f] << " " << choices[c];
+      EXPECT_EQ(total[f][c], row_sum[f][c]) << formats[f] << " " << choices[c];
+    }
 }
 
 TEST(SiBake, UnreadableInputsExitWith3) {

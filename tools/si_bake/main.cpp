@@ -23,6 +23,7 @@
 #include <string>
 #include <vector>
 
+#include "cast_table.h"
 #include "si/bake/animation_baker.h"
 #include "si/bake/palette_file.h"
 #include "si/core/default_character.h"
@@ -42,6 +43,8 @@ enum ExitCode : int {
 
 struct Options {
   std::string input;  // Empty with --embedded.
+  bool cast = false;  // --cast: every input (and --embedded) in one memory table, no output.
+  std::vector<std::string> more_inputs;  // With --cast.
   bool embedded = false;
   std::string output;
   std::string csv;
@@ -56,12 +59,19 @@ void usage(std::FILE* f) {
   std::fprintf(
       f,
       "usage: si-bake (INPUT.gltf|INPUT.glb | --embedded) -o OUTPUT.sipal [options]\n"
+      "       si-bake --cast [--embedded] [INPUT ...] [options]\n"
       "Bakes a skinned character's clips into a palette file for the runtime to load.\n"
+      "  --cast                   bake every input (and --embedded) in each format and\n"
+      "                           interpolation; print bytes and error per character and\n"
+      "                           in total (a cast's memory budget); writes no file\n"
       "  -o, --output PATH        palette file to write (written whole or not at all)\n"
       "  --embedded               bake the library's embedded procedural character\n"
       "  --format f32|f16|quat    3x4 float32 matrices (default), 3x4 half floats, or\n"
       "                           quaternion + translation + uniform scale (rigid joints only)\n"
       "  --rate auto|HZ           per-clip automatic rate (default) or one fixed rate\n"
+      "  --interpolation linear|cubic|smaller\n"
+      "                           between baked frames: lerp (default), Catmull-Rom, or per\n"
+      "                           clip whichever needs fewer frames at the tolerance\n"
       "  --tolerance RATIO        automatic rate target: max error / character height (1e-4)\n"
       "  --max-rate HZ            highest automatic rate tried (240)\n"
       "  --clips NAME,NAME,...    clips to bake, in palette order (default: all)\n"
@@ -99,6 +109,8 @@ int parse(int argc, char** argv, Options* o) {
       std::exit(kExitOk);
     } else if (a == "--embedded") {
       o->embedded = true;
+    } else if (a == "--cast") {
+      o->cast = true;
     } else if (a == "--require-tolerance") {
       o->require_tolerance = true;
     } else if (a == "-q" || a == "--quiet") {
@@ -108,7 +120,7 @@ int parse(int argc, char** argv, Options* o) {
     } else if (a == "--no-progress") {
       o->progress = 0;
     } else if (a == "-o" || a == "--output" || a == "--format" || a == "--rate" ||
-               a == "--tolerance" || a == "--max-rate" || a == "--clips" || a == "--skin" ||
+               a == "--interpolation" || a == "--tolerance" || a == "--max-rate" || a == "--clips" || a == "--skin" ||
                a == "--csv" || a == "--lods") {
       if (int r = needsValue()) return r;
       const std::string v = argv[++i];
@@ -121,6 +133,11 @@ int parse(int argc, char** argv, Options* o) {
         else if (v == "f16") o->bake.format = si::PaletteFormat::kMatrix3x4F16;
         else if (v == "quat") o->bake.format = si::PaletteFormat::kQuatTranslationF32;
         else return bad("unknown --format '" + v + "' (f32, f16 or quat)");
+      } else if (a == "--interpolation") {
+        if (v == "linear") o->bake.interpolation = si::InterpolationChoice::kLinear;
+        else if (v == "cubic") o->bake.interpolation = si::InterpolationChoice::kCubic;
+        else if (v == "smaller") o->bake.interpolation = si::InterpolationChoice::kSmaller;
+        else return bad("unknown --interpolation '" + v + "' (linear, cubic or smaller)");
       } else if (a == "--rate") {
         if (v == "auto") {
           o->bake.rate_mode = si::RateMode::kAutomatic;
@@ -157,9 +174,16 @@ int parse(int argc, char** argv, Options* o) {
       return bad("unknown option '" + a + "'");
     } else if (o->input.empty()) {
       o->input = a;
+    } else if (o->cast) {
+      o->more_inputs.push_back(a);
     } else {
       return bad("more than one input ('" + o->input + "', '" + a + "')");
     }
+  }
+  if (o->cast) {
+    if (!o->embedded && o->input.empty()) return bad("--cast needs inputs or --embedded");
+    if (!o->output.empty()) return bad("--cast writes no palette (drop -o)");
+    return kExitOk;
   }
   if (o->embedded == !o->input.empty())
     return bad(o->embedded ? "give an input file or --embedded, not both"
@@ -200,11 +224,12 @@ class ProgressBar {
 
 void printTable(std::FILE* f, const si::BakedPalette& p, const si::BakeReport& r, double height,
                 double tolerance_ratio) {
-  std::fprintf(f, "%-16s %8s %7s %10s %11s %11s %10s %10s %4s\n", "clip", "rate Hz", "frames",
-               "KiB", "max units", "P99 units", "max/h", "P99/h", "ok");
+  std::fprintf(f, "%-16s %-6s %8s %7s %10s %11s %11s %10s %10s %4s\n", "clip", "interp",
+               "rate Hz", "frames", "KiB", "max units", "P99 units", "max/h", "P99/h", "ok");
   for (size_t c = 0; c < r.clips.size(); ++c) {
     const si::ClipErrorReport& e = r.clips[c];
-    std::fprintf(f, "%-16s %8.1f %7u %10.1f %11.3g %11.3g %10.3g %10.3g %4s\n", e.name.c_str(),
+    std::fprintf(f, "%-16s %-6s %8.1f %7u %10.1f %11.3g %11.3g %10.3g %10.3g %4s\n",
+                 e.name.c_str(), si::frameInterpolationName(e.interpolation),
                  e.sample_rate_hz, e.frame_count, double(e.palette_bytes) / 1024.0,
                  e.max_error_units, e.p99_error_units, e.max_error_ratio, e.p99_error_ratio,
                  e.tolerance_met ? "yes" : "NO");
@@ -246,11 +271,12 @@ void printLodTable(std::FILE* f, const si::Character& character) {
 bool writeCsv(const std::string& path, const si::BakedPalette& p, const si::BakeReport& r) {
   std::FILE* f = std::fopen(path.c_str(), "w");
   if (f == nullptr) return false;
-  std::fprintf(f, "clip,format,rate_hz,frames,bytes,max_units,p99_units,mean_units,max_ratio,"
-                  "p99_ratio,shell_max_units,tolerance_met\n");
+  std::fprintf(f, "clip,format,interpolation,rate_hz,frames,bytes,max_units,p99_units,"
+                  "mean_units,max_ratio,p99_ratio,shell_max_units,tolerance_met\n");
   for (const si::ClipErrorReport& e : r.clips)
-    std::fprintf(f, "%s,%s,%.3f,%u,%llu,%.6g,%.6g,%.6g,%.6g,%.6g,%.6g,%d\n", e.name.c_str(),
-                 si::paletteFormatName(p.format), e.sample_rate_hz, e.frame_count,
+    std::fprintf(f, "%s,%s,%s,%.3f,%u,%llu,%.6g,%.6g,%.6g,%.6g,%.6g,%.6g,%d\n", e.name.c_str(),
+                 si::paletteFormatName(p.format), si::frameInterpolationName(e.interpolation),
+                 e.sample_rate_hz, e.frame_count,
                  static_cast<unsigned long long>(e.palette_bytes), e.max_error_units,
                  e.p99_error_units, e.mean_error_units, e.max_error_ratio, e.p99_error_ratio,
                  e.shell_max_error_units, e.tolerance_met ? 1 : 0);
@@ -259,9 +285,31 @@ bool writeCsv(const std::string& path, const si::BakedPalette& p, const si::Bake
 
 }  // namespace
 
+// --cast: imports every input, then prints the cast table.
+int runCast(const Options& o) {
+  std::vector<si_bake::CastMember> cast;
+  if (o.embedded) {
+    cast.push_back({"embedded", {}});
+    if (!si::makeDefaultCharacter({}, &cast.back().character).isOk())
+      return error(kExitInput, "embedded character");
+  }
+  std::vector<std::string> inputs = o.more_inputs;
+  if (!o.input.empty()) inputs.insert(inputs.begin(), o.input);
+  for (const std::string& path : inputs) {
+    si_bake::CastMember m;
+    m.name = path.substr(path.find_last_of('/') + 1);
+    si::GltfImportReport ir;
+    const si::Status s = si::importGltfFile(path, o.import, &m.character, &ir);
+    if (!s.isOk()) return error(kExitInput, path + ": " + s.toString());
+    cast.push_back(std::move(m));
+  }
+  return si_bake::printCastTable(stdout, cast, o.bake) ? kExitOk : kExitBake;
+}
+
 int main(int argc, char** argv) {
   Options o;
   if (int r = parse(argc, argv, &o)) return r;
+  if (o.cast) return runCast(o);
 
   si::Character character;
   si::Status s;
