@@ -167,9 +167,10 @@ Status trialError(const RateSearch& rs, const Clip& clip, FrameInterpolation int
   return st;
 }
 
-// The lowest candidate rate whose max error meets the tolerance (or the highest).
+// The lowest candidate rate whose max error meets the tolerance (or the highest), and the max
+// error on every drawn vertex at that rate (`full_error`, may be null).
 Status searchRate(const RateSearch& rs, const Clip& clip, FrameInterpolation interpolation,
-                  double* rate) {
+                  double* rate, double* full_error = nullptr) {
   std::vector<double> candidates = rs.candidates;
   // A cubic clip whose corner keys lie on a grid: the multiples of its rate, so that frames
   // land on the corners (between them the curve is smooth and the spline converges fast).
@@ -204,12 +205,21 @@ Status searchRate(const RateSearch& rs, const Clip& clip, FrameInterpolation int
       lo = mid + 1;
     }
   }
+  bool confirmed = false;  // The last full measurement is of candidates[lo] and met the target.
+  double error = 0.0;
   for (; lo + 1 < candidates.size(); ++lo) {
-    double error = 0.0;
     s = trialError(rs, clip, interpolation, candidates[lo], true, &error);
     if (!s.isOk()) return s;
-    if (error <= full_target) break;
+    confirmed = error <= full_target;
+    if (confirmed) break;
   }
+  if (full_error != nullptr && !confirmed) {  // The highest candidate, not measured in full yet.
+    error = full_floor_error;
+    if (!(floor_error > tolerance))
+      s = trialError(rs, clip, interpolation, candidates[lo], true, &error);
+    if (!s.isOk()) return s;
+  }
+  if (full_error != nullptr) *full_error = error;
   *rate = candidates[lo];
   return Status::ok();
 }
@@ -258,12 +268,9 @@ Status bakePalette(const Character& character, const BakeDesc& in_desc, BakedPal
         // One that meets the tolerance beats one that does not; then fewer frames, then the
         // smaller error.
         double linear = 0.0, cubic = 0.0, linear_error = 0.0, cubic_error = 0.0;
-        s = searchRate(search, clip, FrameInterpolation::kLinear, &linear);
-        if (s.isOk()) s = searchRate(search, clip, FrameInterpolation::kCubic, &cubic);
+        s = searchRate(search, clip, FrameInterpolation::kLinear, &linear, &linear_error);
         if (s.isOk())
-          s = trialError(search, clip, FrameInterpolation::kLinear, linear, true, &linear_error);
-        if (s.isOk())
-          s = trialError(search, clip, FrameInterpolation::kCubic, cubic, true, &cubic_error);
+          s = searchRate(search, clip, FrameInterpolation::kCubic, &cubic, &cubic_error);
         if (!s.isOk()) return s;
         const double tolerance = d.error_tolerance_ratio * height;
         const uint32_t linear_frames = planClipFrames(clip, linear).frame_count;

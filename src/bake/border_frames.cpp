@@ -10,9 +10,8 @@ namespace si::detail {
 namespace {
 // Bytes of one frame of `clip` at frame index `frame` (which may be -1 or n: a border frame).
 uint8_t* frameBytes(BakedPalette* p, uint32_t clip, int64_t frame) {
-  const PaletteLayout& l = p->layout;
-  const int64_t texel = int64_t(l.clip_first_texel[clip]) + frame * l.frame_stride_texels;
-  return p->texel_bytes.data() + size_t(texel) * bytesPerTexel(p->format);
+  return p->texel_bytes.data() +
+         size_t(p->layout.frameTexel(clip, frame)) * bytesPerTexel(p->format);
 }
 }  // namespace
 

@@ -157,8 +157,7 @@ Status clipBounds(const BakedPalette& p, uint32_t clip_index, const SkinnedMesh&
   std::vector<glm::mat4> matrices(nj);
   Aabb box;
   for (int64_t f = -border; f < n + border; ++f) {
-    const uint32_t texel =
-        uint32_t(int64_t(l.clip_first_texel[clip_index]) + f * l.frame_stride_texels);
+    const uint32_t texel = l.frameTexel(clip_index, f);
     for (size_t j = 0; j < nj; ++j) {
       const int32_t slot = p.skeleton_to_palette[j];
       matrices[j] = slot < 0 ? glm::mat4(1.0f)

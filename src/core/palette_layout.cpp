@@ -26,6 +26,12 @@ PaletteLayoutDesc resolveDefaults(const PaletteLayoutDesc& desc) {
   return d;
 }
 
+uint32_t PaletteLayout::frameTexel(uint32_t clip, int64_t frame) const {
+  assert(clip < clip_first_texel.size() && frame >= -int64_t(border_frames) &&
+         frame < int64_t(clip_frame_count[clip]) + border_frames);
+  return uint32_t(int64_t(clip_first_texel[clip]) + frame * int64_t(frame_stride_texels));
+}
+
 uint32_t PaletteLayout::texelIndex(uint32_t clip, uint32_t frame, uint32_t joint,
                                    uint32_t row) const {
   assert(clip < clip_first_texel.size() && frame < clip_frame_count[clip] &&

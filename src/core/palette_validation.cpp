@@ -134,9 +134,7 @@ Status checkTexels(const BakedPalette& p) {
       for (uint32_t j = 0; j < l.joint_count; ++j) {
         glm::vec4 rows[4];
         for (uint32_t r = 0; r < l.texels_per_joint; ++r) {
-          const uint32_t texel = uint32_t(int64_t(l.clip_first_texel[c]) +
-                                          f * l.frame_stride_texels) +
-                                 j * l.joint_stride_texels + r;
+          const uint32_t texel = l.frameTexel(c, f) + j * l.joint_stride_texels + r;
           if (half) {
             uint16_t h[4];
             std::memcpy(h, p.texel_bytes.data() + size_t(texel) * 8, 8);

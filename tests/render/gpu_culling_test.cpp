@@ -180,39 +180,38 @@ TEST_P(RenderTest, GpuCulledDrawEqualsTheCpuPath) {
   RendererDesc rd;
   rd.skinning_path = SkinningPath::kVertexShader;
   rd.measure_gpu_time = true;  // Also reads back the visible count and triangles.
+  // A crowd drawn by the GPU-culled path, then updated on the CPU and drawn by the CPU path.
+  const auto drawBothWays = [&](Renderer& renderer, CrowdManager* crowd,
+                                InterpolationChoice interpolation, DrawStats* gpu_stats,
+                                DrawStats* cpu_stats, Diff* diff) {
+    makeCrowd(crowd, PaletteFormat::kMatrix3x4F32, interpolation);
+    populateLodCrowd(crowd);
+    addFadingCharacter(crowd);
+    ASSERT_TRUE(crowd->advanceClock(0.3).isOk());
+    renderer.clear(glm::vec4(0.2f, 0.25f, 0.3f, 1.0f));
+    ASSERT_TRUE(renderer.drawCrowdGpuCulled(*crowd, lodCamera(), gpu_stats).isOk());
+    std::vector<uint8_t> gpu_image;
+    ASSERT_TRUE(context_->readPixels(&gpu_image).isOk());
+    ASSERT_TRUE(crowd->update(0.0, lodCamera()).isOk());
+    const std::vector<uint8_t> cpu_image = draw(renderer, *crowd, lodCamera(), 0, false, cpu_stats);
+    *diff = compare(gpu_image, cpu_image, nullptr);
+  };
   {  // A cubic palette: the GPU writes the interval modes into the records as the CPU does.
     Renderer cubic;
     makeRenderer(&cubic, 0, PaletteFormat::kMatrix3x4F32, &rd, InterpolationChoice::kCubic);
     CrowdManager crowd;
-    makeCrowd(&crowd, PaletteFormat::kMatrix3x4F32, InterpolationChoice::kCubic);
-    populateLodCrowd(&crowd);
-    addFadingCharacter(&crowd);
-    ASSERT_TRUE(crowd.advanceClock(0.3).isOk());
-    cubic.clear(glm::vec4(0.2f, 0.25f, 0.3f, 1.0f));
-    DrawStats stats;
-    ASSERT_TRUE(cubic.drawCrowdGpuCulled(crowd, lodCamera(), &stats).isOk());
-    std::vector<uint8_t> gpu_image;
-    ASSERT_TRUE(context_->readPixels(&gpu_image).isOk());
-    ASSERT_TRUE(crowd.update(0.0, lodCamera()).isOk());
-    const std::vector<uint8_t> cpu_image = draw(cubic, crowd, lodCamera(), 0, false, &stats);
-    const Diff diff = compare(gpu_image, cpu_image, nullptr);
+    DrawStats gpu_stats, cpu_stats;
+    Diff diff;
+    drawBothWays(cubic, &crowd, InterpolationChoice::kCubic, &gpu_stats, &cpu_stats, &diff);
+    ASSERT_FALSE(HasFatalFailure());
     EXPECT_LE(diff.share, 0.001) << "cubic: max channel difference " << diff.max_channel;
   }
   makeRenderer(&r, 0, PaletteFormat::kMatrix3x4F32, &rd);
   CrowdManager crowd;
-  makeCrowd(&crowd);
-  populateLodCrowd(&crowd);
-  addFadingCharacter(&crowd);
-  ASSERT_TRUE(crowd.advanceClock(0.3).isOk());
-  r.clear(glm::vec4(0.2f, 0.25f, 0.3f, 1.0f));
-  DrawStats gpu_stats;
-  ASSERT_TRUE(r.drawCrowdGpuCulled(crowd, lodCamera(), &gpu_stats).isOk());
-  std::vector<uint8_t> gpu_image;
-  ASSERT_TRUE(context_->readPixels(&gpu_image).isOk());
-  ASSERT_TRUE(crowd.update(0.0, lodCamera()).isOk());
-  DrawStats cpu_stats;
-  const std::vector<uint8_t> cpu_image = draw(r, crowd, lodCamera(), 0, false, &cpu_stats);
-  const Diff diff = compare(gpu_image, cpu_image, nullptr);
+  DrawStats gpu_stats, cpu_stats;
+  Diff diff;
+  drawBothWays(r, &crowd, InterpolationChoice::kLinear, &gpu_stats, &cpu_stats, &diff);
+  ASSERT_FALSE(HasFatalFailure());
   EXPECT_LE(diff.share, 0.001) << "max channel difference " << diff.max_channel;
   EXPECT_EQ(gpu_stats.draw_calls, 1u);  // One multi-draw.
   EXPECT_EQ(gpu_stats.vertex_shader_instances, gpu_stats.instances);  // No pre-skinning.

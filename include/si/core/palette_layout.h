@@ -56,6 +56,9 @@ struct PaletteLayout {
   std::vector<uint32_t> clip_frame_count;   ///< One per clip.
   uint64_t used_texel_count = 0;            ///< Texels holding data or padding between joints.
 
+  /// First texel of frame `frame` of clip `clip`, where `frame` may also name a border frame
+  /// (-border_frames to clip_frame_count[clip] - 1 + border_frames; asserted in debug builds).
+  uint32_t frameTexel(uint32_t clip, int64_t frame) const;
   /// Linear texel index of clip `clip`, frame `frame`, joint `joint`, data texel `row`.
   /// Arguments must be in range (asserted in debug builds).
   uint32_t texelIndex(uint32_t clip, uint32_t frame, uint32_t joint, uint32_t row) const;
