@@ -1,6 +1,7 @@
 // SkinnedInstancing — SPDX-License-Identifier: MIT (see LICENSE)
-// GPU equals CPU: the skinning vertex shader's positions (transform feedback) against the
-// CPU emulation and the double-precision reference, in every palette format, linear and cubic.
+// GPU equals CPU: the positions of both skinning paths (the vertex shader's through transform
+// feedback, the compute pre-skinning pass's buffer) against the CPU emulation and the
+// double-precision reference, in every palette format, linear and cubic.
 #include "render/render_fixture.h"
 #include "si/core/reference_evaluator.h"
 
@@ -41,8 +42,12 @@ TEST_P(RenderTest, GpuEqualsCpu) {
         rec.frames[0] = rec.frames[2] = clip.first_texel + s.frame * p.layout.frame_stride_texels;
         rec.frames[1] = rec.frames[3] = clip.first_texel + s.next_frame * p.layout.frame_stride_texels;
         rec.blend[0] = rec.blend[1] = packFraction(s.fraction, s.mode);
-        std::vector<glm::vec3> gpu;
-        ASSERT_TRUE(r.captureSkinnedPositions(rec, &gpu).isOk());
+        // A world transform the compute capture must ignore (model space out on both paths).
+        rec.world_rows[0][3] = 5.0f;
+        rec.world_rows[1][1] = 2.0f;
+        std::vector<glm::vec3> gpu_paths[2];
+        ASSERT_TRUE(r.captureSkinnedPositions(rec, &gpu_paths[0], SkinningPath::kVertexShader).isOk());
+        ASSERT_TRUE(r.captureSkinnedPositions(rec, &gpu_paths[1], SkinningPath::kCompute).isOk());
         std::vector<glm::mat4> mats(character().skeleton.jointCount());
         ASSERT_TRUE(emulateSkinningMatrices(p, c, s, mats).isOk());
         std::vector<glm::vec3> cpu(mesh.vertexCount());
@@ -52,15 +57,21 @@ TEST_P(RenderTest, GpuEqualsCpu) {
         ASSERT_TRUE(evaluateLocalPose(character().skeleton, source, t, &pose).isOk());
         std::vector<glm::dvec3> ref(mesh.vertexCount());
         ASSERT_TRUE(skinVertices(mesh, pose.skinning, ref, {}, {}).isOk());
-        double max_cpu = 0.0, max_ref = 0.0;
-        for (size_t v = 0; v < gpu.size(); ++v) {
-          max_cpu = std::max(max_cpu, double(glm::length(gpu[v] - cpu[v])));
-          max_ref = std::max(max_ref, glm::length(glm::dvec3(gpu[v]) - ref[v]));
+        for (const std::vector<glm::vec3>& gpu : gpu_paths) {
+          const char* path = &gpu == &gpu_paths[0] ? "vertex shader" : "compute";
+          ASSERT_EQ(gpu.size(), cpu.size()) << path;
+          double max_cpu = 0.0, max_ref = 0.0;
+          for (size_t v = 0; v < gpu.size(); ++v) {
+            max_cpu = std::max(max_cpu, double(glm::length(gpu[v] - cpu[v])));
+            max_ref = std::max(max_ref, glm::length(glm::dvec3(gpu[v]) - ref[v]));
+          }
+          // Float rounding: a few ulps of coordinates up to 2 units.
+          EXPECT_LT(max_cpu, 2e-5) << path << " " << clip.name << " t=" << t << " mode "
+                                   << int(s.mode);
+          // Within the bake's reported error for this clip, plus the same rounding.
+          EXPECT_LE(max_ref, report.clips[c].max_error_units + 2e-5)
+              << path << " " << clip.name << " t=" << t;
         }
-        // Float rounding: a few ulps of coordinates up to 2 units.
-        EXPECT_LT(max_cpu, 2e-5) << clip.name << " t=" << t << " mode " << int(s.mode);
-        // Within the bake's reported error for this clip, plus the same rounding.
-        EXPECT_LE(max_ref, report.clips[c].max_error_units + 2e-5) << clip.name << " t=" << t;
       }
     }
   }

@@ -192,10 +192,14 @@ class Renderer {
   /// instance in no particular order (dense index i is exportGpuState's instance i).
   Status readGpuSelection(std::vector<glm::uvec2>* selection);
 
-  /// Runs the skinning vertex shader for every vertex of the mesh with one instance `record`
-  /// and returns the skinned model-space positions (before the world transform) through
-  /// transform feedback: the GPU side of the GPU-equals-CPU test.
-  Status captureSkinnedPositions(const InstanceRecord& record, std::vector<glm::vec3>* out);
+  /// Skins every vertex of the mesh (in mesh order) for one instance `record` on the GPU and
+  /// returns the skinned model-space positions (before the world transform): the GPU side of
+  /// the GPU-equals-CPU tests. kVertexShader runs the skinning vertex shader and reads its
+  /// output through transform feedback; kCompute runs the compute pre-skinning pass (with the
+  /// record's world transform replaced by the identity) and reads its buffer; kAutomatic uses
+  /// the renderer's path (skinningPath()).
+  Status captureSkinnedPositions(const InstanceRecord& record, std::vector<glm::vec3>* out,
+                                 SkinningPath path = SkinningPath::kVertexShader);
 
   /// Triangles of sub-mesh `sub_mesh` at `lod` as uploaded.
   uint32_t triangleCount(uint32_t sub_mesh, uint32_t lod) const;
