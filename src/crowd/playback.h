@@ -32,7 +32,17 @@ struct ClipTiming {
   float sphere_radius;
   // Clips with STEP keys: si::frameSearchStarts, so a frame is found in a step or two.
   std::vector<uint32_t> scan_from;
+  // The clip's interval modes (empty for linear clips): read here, next to the timing the
+  // record writer already holds, instead of from the BakedClip.
+  std::vector<uint8_t> modes;
 };
+
+/// si::intervalModeAt(clip, interval) from the clip's timing.
+inline IntervalMode modeAt(const ClipTiming& c, uint32_t interval) {
+  return interval < c.modes.size() && c.modes[interval] <= 3u
+             ? static_cast<IntervalMode>(c.modes[interval])
+             : IntervalMode::kLinear;
+}
 
 inline ClipTiming makeClipTiming(const BakedClip& c) {
   ClipTiming t;
@@ -46,6 +56,7 @@ inline ClipTiming makeClipTiming(const BakedClip& c) {
   t.sphere_center = c.bounding_sphere.center;
   t.sphere_radius = c.bounding_sphere.radius;
   t.scan_from = frameSearchStarts(c);
+  t.modes = c.interval_modes;
   return t;
 }
 
@@ -81,7 +92,7 @@ inline FrameSample fastSample(const ClipTiming& c, const BakedClip& clip, double
   s.frame = i;
   s.next_frame = i + 1;
   s.fraction = static_cast<float>(std::min(std::max(position - double(i), 0.0), 1.0));
-  s.mode = intervalModeAt(clip, i);
+  s.mode = modeAt(c, i);
   return s;
 }
 
