@@ -43,6 +43,11 @@ Status Character::validate() const {
       return {StatusCode::kOutOfRange,
               strCat("character: sub-mesh ", i, " '", mesh.sub_meshes[i].name, "' uses material ",
                      mesh.sub_meshes[i].material, " of ", materials.size())};
+  const size_t material_count = std::max<size_t>(materials.size(), 1);  // None: one default.
+  for (size_t v = 0; v < mesh.vertex_materials.size(); ++v)
+    if (mesh.vertex_materials[v] >= material_count)
+      return {StatusCode::kOutOfRange, strCat("character: vertex ", v, " uses material ",
+                                              mesh.vertex_materials[v], " of ", materials.size())};
   return Status::ok();
 }
 

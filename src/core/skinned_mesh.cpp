@@ -37,7 +37,8 @@ Status SkinnedMesh::validate(size_t joint_count) const {
   for (Status s : {count("normals", normals.size(), false), count("joints", joints.size(), false),
                    count("weights", weights.size(), false),
                    count("tangents", tangents.size(), true),
-                   count("texcoords", texcoords.size(), true)})
+                   count("texcoords", texcoords.size(), true),
+                   count("vertex_materials", vertex_materials.size(), true)})
     if (!s.isOk()) return s;
 
   for (size_t v = 0; v < n; ++v) {
@@ -189,6 +190,21 @@ Status reduceInfluences(Span<const Influence> influences, glm::u16vec4* out_join
   *out_weights = w;
   if (dropped_weight != nullptr) *dropped_weight = static_cast<float>(1.0 - kept_sum / total);
   return Status::ok();
+}
+
+std::vector<uint16_t> resolvedVertexMaterials(const SkinnedMesh& mesh) {
+  if (mesh.vertex_materials.size() == mesh.vertexCount()) return mesh.vertex_materials;
+  std::vector<uint16_t> out(mesh.vertexCount(), 0);
+  std::vector<bool> set(mesh.vertexCount(), false);
+  for (const SubMesh& sm : mesh.sub_meshes)
+    for (const IndexRange& r : sm.lods)
+      for (size_t i = r.first_index; i < size_t(r.first_index) + r.index_count && i < mesh.indices.size(); ++i) {
+        const uint32_t v = mesh.indices[i];
+        if (v >= out.size() || set[v]) continue;
+        out[v] = uint16_t(std::min<uint32_t>(sm.material, UINT16_MAX));
+        set[v] = true;
+      }
+  return out;
 }
 
 }  // namespace si

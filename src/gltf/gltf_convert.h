@@ -51,8 +51,24 @@ struct SkinBinding {
 Status convertSkeleton(const tinygltf::Model& m, const GltfImportDesc& desc,
                        GltfImportReport* report, Character* c, SkinBinding* out);
 
-// ---- gltf_mesh.cpp: triangle primitives of nodes skinned by the skin, sub-meshes and LODs.
-Status convertMeshes(const tinygltf::Model& m, const SkinBinding& skin, GltfImportReport* report, Character* c);
+// ---- gltf_mesh.cpp: triangle primitives of nodes skinned by the skin, into the vertex arrays.
+struct ImportedPrimitive {
+  std::string mesh_name;  ///< Mesh name (node name or "mesh<n>" without one), "_LOD<n>" removed.
+  std::string node_name;
+  uint32_t primitive = 0;  ///< Index in its mesh.
+  uint32_t lod = 0;        ///< From the mesh name's "_LOD<n>" suffix.
+  uint32_t material = 0;   ///< Character material (0: the default).
+  std::vector<uint32_t> indices;  ///< Into the character's vertex arrays.
+};
+/// Appends every skinned triangle primitive's vertices to c->mesh and fills `out`.
+Status convertMeshes(const tinygltf::Model& m, const SkinBinding& skin, GltfImportReport* report,
+                     Character* c, std::vector<ImportedPrimitive>* out);
+
+// ---- gltf_variations.cpp: parts into variation groups (sub-meshes), their LODs merged.
+/// Builds c->mesh.sub_meshes, indices and vertex_materials from `primitives`
+/// (GltfImportDesc::variations and variation_groups) and reports parts and groups.
+Status groupVariations(const std::vector<ImportedPrimitive>& primitives,
+                       const GltfImportDesc& desc, GltfImportReport* report, Character* c);
 
 // ---- gltf_material.cpp: materials (index 0 a default white) and base colour images.
 void convertMaterials(const tinygltf::Model& m, GltfImportReport* report, Character* c);

@@ -22,9 +22,13 @@ Status convert(const tinygltf::Model& m, const GltfImportDesc& desc, Character* 
   Character c;
   detail::SkinBinding skin;
   Status s = detail::convertSkeleton(m, desc, report, &c, &skin);
-  if (s.isOk()) s = detail::convertMeshes(m, skin, report, &c);
+  std::vector<detail::ImportedPrimitive> primitives;
+  if (s.isOk()) s = detail::convertMeshes(m, skin, report, &c, &primitives);
+  if (s.isOk()) s = detail::groupVariations(primitives, desc, report, &c);
   if (!s.isOk()) return s;
   detail::convertMaterials(m, report, &c);
+  report->materials = uint32_t(c.materials.size());
+  report->images = uint32_t(c.images.size());
   s = detail::convertClips(m, desc, skin, report, &c);
   if (!s.isOk()) return s;
   if (c.clips.empty() && desc.rest_pose_clip_when_none) {

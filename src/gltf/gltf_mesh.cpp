@@ -1,11 +1,10 @@
 // SkinnedInstancing — SPDX-License-Identifier: MIT (see LICENSE)
 // Meshes (glTF 2.0 specification, "Meshes"): every triangle primitive of every node skinned by
-// the skin, with up to 8 influences reduced to 4; sub-meshes grouped by name with "_LOD<n>"
-// levels (generated LODs and every LOD's error: gltf_import.cpp, after the weights are
-// normalized).
+// the skin, with up to 8 influences reduced to 4, appended to the vertex arrays; its mesh name
+// without the "_LOD<n>" suffix and its level (grouping into sub-meshes: gltf_variations.cpp;
+// generated LODs and every LOD's error: gltf_import.cpp, after the weights are normalized).
 #include <algorithm>
 #include <cmath>
-#include <map>
 
 #include "gltf/gltf_convert.h"
 
@@ -25,23 +24,18 @@ std::pair<std::string, uint32_t> lodName(const std::string& name) {
   return {name.substr(0, at), lod};
 }
 
-struct Primitive {
-  std::string name;
-  uint32_t lod = 0;
-  uint32_t material = 0;
-  std::vector<uint32_t> indices;  // Into the character's vertex arrays.
-};
-
 }  // namespace
 
-Status convertMeshes(const tinygltf::Model& m, const SkinBinding& binding, GltfImportReport* report, Character* c) {
+Status convertMeshes(const tinygltf::Model& m, const SkinBinding& binding, GltfImportReport* report,
+                     Character* c, std::vector<ImportedPrimitive>* out) {
   std::vector<std::string>& warnings = report->warnings;
   const int skin_index = binding.skin_index;
   const tinygltf::Skin& skin = *binding.skin;
   const std::vector<int32_t>& node_to_joint = binding.node_to_joint;
   const size_t node_count = m.nodes.size();
   // ---- Meshes: every triangle primitive of every node skinned by this skin.
-  std::vector<Primitive> primitives;
+  std::vector<ImportedPrimitive>& primitives = *out;
+  primitives.clear();
   bool all_tangents = true;
   std::vector<std::vector<glm::vec4>> tangent_parts;
   for (size_t n = 0; n < node_count; ++n) {
@@ -114,12 +108,13 @@ Status convertMeshes(const tinygltf::Model& m, const SkinBinding& binding, GltfI
         warnings.push_back(where + ": no vertices: skipped");
         continue;
       }
-      Primitive out_prim;
-      const auto [group, lod] = lodName(mesh.primitives.size() > 1 ? strCat(base, "_p", p) : base);
+      ImportedPrimitive out_prim;
       // A "_LOD<n>" suffix on the mesh name applies to all its primitives.
       const auto [mesh_group, mesh_lod] = lodName(base);
-      out_prim.name = mesh.primitives.size() > 1 ? strCat(mesh_group, "_p", p) : group;
-      out_prim.lod = mesh.primitives.size() > 1 ? mesh_lod : lod;
+      out_prim.mesh_name = mesh_group;
+      out_prim.node_name = lodName(node.name).first;
+      out_prim.primitive = uint32_t(p);
+      out_prim.lod = mesh_lod;
       out_prim.material = prim.material >= 0 ? uint32_t(prim.material) + 1 : 0;  // 0: default.
       if (prim.material >= 0 && size_t(prim.material) >= m.materials.size())
         return corrupt(strCat(where, ": material ", prim.material, " does not exist"));
@@ -204,29 +199,6 @@ Status convertMeshes(const tinygltf::Model& m, const SkinBinding& binding, GltfI
                                                  [](const auto& t) { return !t.empty(); }))
     warnings.push_back("some primitives have TANGENT and others not: tangents dropped");
 
-  // Sub-meshes: primitives grouped by name, LODs ordered by their suffix.
-  std::vector<std::string> order;
-  std::map<std::string, std::map<uint32_t, const Primitive*>> groups;
-  for (const Primitive& p : primitives) {
-    if (!groups.count(p.name)) order.push_back(p.name);
-    if (groups[p.name].count(p.lod))
-      return corrupt(strCat("two meshes claim sub-mesh '", p.name, "' LOD ", p.lod));
-    groups[p.name][p.lod] = &p;
-  }
-  if (order.size() > SkinnedMesh::kMaxSubMeshes)
-    return {StatusCode::kLimitExceeded, strCat("glTF: ", order.size(), " sub-meshes (at most 32)")};
-  for (const std::string& name : order) {
-    SubMesh sm;
-    sm.name = name;
-    sm.material = groups[name].begin()->second->material;
-    for (const auto& [lod, prim] : groups[name]) {
-      (void)lod;
-      IndexRange r{uint32_t(c->mesh.indices.size()), uint32_t(prim->indices.size())};
-      c->mesh.indices.insert(c->mesh.indices.end(), prim->indices.begin(), prim->indices.end());
-      sm.lods.push_back(r);
-    }
-    c->mesh.sub_meshes.push_back(sm);
-  }
   return Status::ok();
 }
 

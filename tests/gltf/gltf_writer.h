@@ -45,13 +45,14 @@ class GltfWriter {
     return int(accessors_.size() - 1);
   }
   // Raw JSON arrays for the rest of the document.
-  std::string nodes, meshes, skins, animations;
+  std::string nodes, meshes, skins, animations, materials;
 
   std::string json() const {
     std::ostringstream j;
     j << "{\"asset\":{\"version\":\"2.0\"},\"scene\":0,\"scenes\":[{\"nodes\":[0]}],";
     j << "\"nodes\":[" << nodes << "],\"meshes\":[" << meshes << "],\"skins\":[" << skins << "],";
     if (!animations.empty()) j << "\"animations\":[" << animations << "],";
+    if (!materials.empty()) j << "\"materials\":[" << materials << "],";
     j << "\"accessors\":[" << join(accessors_) << "],\"bufferViews\":[" << join(views_) << "],";
     j << "\"buffers\":[{\"byteLength\":" << blob_.size()
       << ",\"uri\":\"data:application/octet-stream;base64," << base64(blob_) << "\"}]}";

@@ -43,7 +43,12 @@ struct SubMesh {
 
 /// Vertices shared by all sub-meshes and LODs, plus the index ranges that select them.
 /// Per-vertex arrays: `positions` defines the vertex count; `normals`, `joints` and `weights`
-/// must match it; `tangents` and `texcoords` are empty or match it.
+/// must match it; `tangents`, `texcoords` and `vertex_materials` are empty or match it.
+///
+/// Parts and variations: a sub-mesh is what an instance can switch (its bit in the variation
+/// mask); what it draws may be many parts with different materials, merged into its index
+/// ranges, each vertex naming its material in `vertex_materials`. One draw then covers every
+/// material of a sub-mesh.
 struct SkinnedMesh {
   /// Most sub-meshes a mesh may have (an instance's variation mask has 32 bits).
   static constexpr size_t kMaxSubMeshes = 32;
@@ -54,6 +59,9 @@ struct SkinnedMesh {
   std::vector<glm::vec2> texcoords;    ///< Optional.
   std::vector<glm::u16vec4> joints;    ///< Up to 4 joint indices per vertex.
   std::vector<glm::vec4> weights;      ///< Matching weights, >= 0, summing to 1.
+  /// Optional: each vertex's material (index into the owning Character's materials). Empty:
+  /// every vertex takes its sub-mesh's `material` (resolvedVertexMaterials()).
+  std::vector<uint16_t> vertex_materials;
   std::vector<uint32_t> indices;       ///< Triangle list.
   std::vector<SubMesh> sub_meshes;
 
@@ -66,7 +74,7 @@ struct SkinnedMesh {
   /// Checks against a skeleton of `joint_count` joints; reports the first rule broken, naming
   /// the array and element:
   /// - at least one vertex (kInvalidArgument); normals, joints, weights match the vertex count
-  ///   and tangents, texcoords are empty or match it (kCountMismatch);
+  ///   and tangents, texcoords, vertex_materials are empty or match it (kCountMismatch);
   /// - every attribute finite (kNotFinite); weights not negative (kOutOfRange); each vertex's
   ///   weights sum to 1 within kWeightSumTolerance (kInvalidArgument; see normalizeWeights());
   /// - joint indices below `joint_count` (kOutOfRange);
@@ -78,6 +86,10 @@ struct SkinnedMesh {
   ///   (kOutOfRange).
   Status validate(size_t joint_count) const;
 };
+
+/// The material of every vertex: `mesh.vertex_materials` when it is set, otherwise the
+/// `material` of the first sub-mesh whose LOD ranges use the vertex (0 for unused vertices).
+std::vector<uint16_t> resolvedVertexMaterials(const SkinnedMesh& mesh);
 
 /// What normalizeWeights() changed.
 struct WeightNormalizationReport {

@@ -24,6 +24,23 @@
 
 namespace si {
 
+/// How skinned primitives become variation groups: the sub-meshes an instance switches with its
+/// variation mask (at most 32). Every primitive is a part that is drawn; the parts of a group
+/// merge into its index ranges (one draw for all their materials, si::SkinnedMesh).
+enum class VariationSource : uint8_t {
+  /// A mesh (or its node) named "VAR_<group>" (any case, "_LOD<n>" suffix allowed) belongs to
+  /// group <group>; every other primitive is always worn, in group "base" (sub-mesh 0).
+  kConvention = 0,
+  /// Every glTF mesh is a group named after it (the primitives of a mesh merge).
+  kEachMesh,
+};
+
+/// An explicit variation group: the meshes (mesh or node names, without "_LOD<n>") it holds.
+struct VariationGroupDesc {
+  std::string name;
+  std::vector<std::string> meshes;
+};
+
 /// Import options.
 struct GltfImportDesc {
   /// The skin to import: its index, or -1 to pick by `skin_name`, or the only skin.
@@ -44,6 +61,11 @@ struct GltfImportDesc {
   /// "rest_pose" holding the skeleton's rest pose (si::makeRestPoseClip), so the character can
   /// be baked and drawn posed; a warning says so. When false, such a character has no clips.
   bool rest_pose_clip_when_none = true;
+  /// Where variation groups come from for meshes `variation_groups` does not name.
+  VariationSource variations = VariationSource::kConvention;
+  /// Explicit groups; they win over `variations` for the meshes they name. A name no skinned
+  /// primitive has is kNotFound; an empty or repeated group name kInvalidArgument.
+  std::vector<VariationGroupDesc> variation_groups;
 };
 
 /// What the import did besides the result.
@@ -57,6 +79,16 @@ struct GltfImportReport {
   float max_dropped_weight = 0.0f;      ///< From JOINTS_1/WEIGHTS_1 beyond the 4 largest.
   uint32_t generated_lods = 0;
   bool added_rest_pose_clip = false;    ///< See GltfImportDesc::rest_pose_clip_when_none.
+  uint32_t parts = 0;                   ///< Distinct parts (a primitive with its LOD levels).
+  /// Per variation group (sub-mesh, in order): its name, parts, materials and how it was formed.
+  struct Group {
+    std::string name;
+    uint32_t parts = 0, materials = 0;
+    std::string source;  ///< "convention", "each mesh", "option" or "always worn".
+  };
+  std::vector<Group> groups;
+  uint32_t materials = 0;               ///< Character materials (index 0: the default white).
+  uint32_t images = 0;                  ///< Decoded base colour images.
 };
 
 /// Imports a .gltf or .glb file. External URIs resolve against the file's folder and may not

@@ -1,0 +1,135 @@
+// SkinnedInstancing — SPDX-License-Identifier: MIT (see LICENSE)
+// Per-vertex materials and the material table: validation, resolution from sub-meshes, the
+// texture array's layers and the documented resize filter.
+#include <gtest/gtest.h>
+
+#include "si/core/default_character.h"
+#include "si/core/material_table.h"
+
+namespace si {
+namespace {
+
+Image solid(uint32_t w, uint32_t h, glm::u8vec4 c) {
+  Image img;
+  img.width = w;
+  img.height = h;
+  for (uint32_t i = 0; i < w * h; ++i) img.rgba8.insert(img.rgba8.end(), {c.r, c.g, c.b, c.a});
+  return img;
+}
+
+Character defaultCharacter() {
+  Character c;
+  EXPECT_TRUE(makeDefaultCharacter({}, &c).isOk());
+  return c;
+}
+
+TEST(MaterialTable, VertexMaterialsAreValidated) {
+  Character c = defaultCharacter();
+  c.materials.resize(3);
+  c.mesh.vertex_materials.assign(c.mesh.vertexCount() - 1, 0);
+  EXPECT_EQ(c.validate().code(), StatusCode::kCountMismatch);
+  c.mesh.vertex_materials.assign(c.mesh.vertexCount(), 2);
+  EXPECT_TRUE(c.validate().isOk());
+  c.mesh.vertex_materials[7] = 3;
+  const Status s = c.validate();
+  EXPECT_EQ(s.code(), StatusCode::kOutOfRange);
+  EXPECT_NE(s.message().find("vertex 7"), std::string::npos) << s.message();
+}
+
+TEST(MaterialTable, VerticesTakeTheirSubMeshMaterialUnlessSet) {
+  Character c = defaultCharacter();
+  ASSERT_GE(c.mesh.sub_meshes.size(), 2u);
+  c.materials.resize(c.mesh.sub_meshes.size());
+  for (size_t s = 0; s < c.mesh.sub_meshes.size(); ++s) c.mesh.sub_meshes[s].material = uint32_t(s);
+  const std::vector<uint16_t> resolved = resolvedVertexMaterials(c.mesh);
+  ASSERT_EQ(resolved.size(), c.mesh.vertexCount());
+  for (size_t s = 0; s < c.mesh.sub_meshes.size(); ++s) {
+    const IndexRange r = c.mesh.sub_meshes[s].lods[0];
+    for (uint32_t i = r.first_index; i < r.first_index + r.index_count; ++i)
+      EXPECT_EQ(resolved[c.mesh.indices[i]], s);
+  }
+  c.mesh.vertex_materials.assign(c.mesh.vertexCount(), 1);
+  EXPECT_EQ(resolvedVertexMaterials(c.mesh), c.mesh.vertex_materials);
+}
+
+TEST(MaterialTable, ImagesBecomeLayersOfOneSize) {
+  Character c = defaultCharacter();
+  c.images = {solid(4, 2, {10, 20, 30, 40}), solid(8, 8, {200, 100, 50, 255}),
+              solid(2, 2, {1, 2, 3, 4})};  // The third is used by no material.
+  c.materials.assign(4, Material{});
+  c.materials[0].base_color_image = 1;
+  c.materials[1].base_color_image = 0;
+  c.materials[2].base_color_image = 1;  // Shares the layer of material 0.
+  c.materials[3].base_color_factor = glm::vec4(0.5f);  // No image: the white layer.
+  c.mesh.vertex_materials.assign(c.mesh.vertexCount(), 3);
+  MaterialTable t;
+  ASSERT_TRUE(buildMaterialTable(c, 0, &t).isOk());
+  EXPECT_EQ(t.width, 8u);
+  EXPECT_EQ(t.height, 8u);
+  ASSERT_EQ(t.layers.size(), 3u);  // White, image 1, image 0.
+  EXPECT_EQ(t.resized_images, 1u);
+  ASSERT_EQ(t.materials.size(), 4u);
+  EXPECT_EQ(t.materials[0].layer, t.materials[2].layer);
+  EXPECT_NE(t.materials[0].layer, t.materials[1].layer);
+  EXPECT_EQ(t.materials[3].layer, 0u);
+  EXPECT_EQ(t.materials[3].base_color_factor, glm::vec4(0.5f));
+  for (const Image& l : t.layers) {
+    EXPECT_EQ(l.width, 8u);
+    EXPECT_EQ(l.height, 8u);
+    EXPECT_TRUE(l.validate().isOk());
+  }
+  EXPECT_EQ(t.layers[0].rgba8[5], 255);
+  EXPECT_EQ(t.layers[t.materials[1].layer].rgba8[0], 10);  // A solid image stays solid.
+  EXPECT_EQ(t.layers[t.materials[1].layer].rgba8[3], 40);
+  EXPECT_EQ(t.vertex_materials, c.mesh.vertex_materials);
+  // The cap.
+  ASSERT_TRUE(buildMaterialTable(c, 4, &t).isOk());
+  EXPECT_EQ(t.width, 4u);
+  EXPECT_EQ(t.height, 4u);
+  EXPECT_EQ(t.resized_images, 2u);
+  // No materials: one white entry, one white layer.
+  c.materials.clear();
+  c.mesh.vertex_materials.clear();
+  ASSERT_TRUE(buildMaterialTable(c, 0, &t).isOk());
+  ASSERT_EQ(t.materials.size(), 1u);
+  ASSERT_EQ(t.layers.size(), 1u);
+  EXPECT_EQ(t.layers[0].width, 1u);
+  EXPECT_EQ(buildMaterialTable(c, 0, nullptr).code(), StatusCode::kInvalidArgument);
+  c.mesh.vertex_materials.assign(c.mesh.vertexCount(), 5);
+  EXPECT_EQ(buildMaterialTable(c, 0, &t).code(), StatusCode::kOutOfRange);
+}
+
+TEST(MaterialTable, ResizeIsABoxWhenShrinkingAndBilinearWhenGrowing) {
+  // A 4x1 ramp halved: each texel the average of two.
+  Image ramp;
+  ramp.width = 4;
+  ramp.height = 1;
+  ramp.rgba8 = {0, 0, 0, 0, 100, 10, 1, 255, 200, 20, 2, 255, 250, 30, 3, 255};
+  const Image half = resizeImage(ramp, 2, 1);
+  ASSERT_EQ(half.rgba8.size(), 8u);
+  EXPECT_EQ(half.rgba8[0], 50);
+  EXPECT_EQ(half.rgba8[4], 225);
+  EXPECT_EQ(half.rgba8[7], 255);
+  // Shrunk by a non-whole ratio (4 -> 3): weights 3/4 + 1/4 of the neighbours.
+  const Image third = resizeImage(ramp, 3, 1);
+  EXPECT_EQ(third.rgba8[0], 25);   // 0 * 0.75 + 100 * 0.25
+  EXPECT_EQ(third.rgba8[4], 150);  // 100 * 0.5 + 200 * 0.5
+  EXPECT_EQ(third.rgba8[8], 238);  // 200 * 0.25 + 250 * 0.75 = 237.5
+  // Grown 2 -> 4 columns: bilinear between centres, clamped at the edges.
+  Image two;
+  two.width = 2;
+  two.height = 1;
+  two.rgba8 = {0, 0, 0, 0, 200, 200, 200, 200};
+  const Image grown = resizeImage(two, 4, 2);
+  ASSERT_EQ(grown.rgba8.size(), 32u);
+  EXPECT_EQ(grown.rgba8[0], 0);     // Before the first centre: clamped.
+  EXPECT_EQ(grown.rgba8[4], 50);    // x = 0.25 of the way.
+  EXPECT_EQ(grown.rgba8[8], 150);
+  EXPECT_EQ(grown.rgba8[12], 200);
+  EXPECT_EQ(grown.rgba8[16 + 4], 50);  // The second row repeats the first.
+  // The same size is a copy.
+  EXPECT_EQ(resizeImage(ramp, 4, 1).rgba8, ramp.rgba8);
+}
+
+}  // namespace
+}  // namespace si
