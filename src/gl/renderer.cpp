@@ -132,7 +132,7 @@ Status Renderer::uploadPalette(const BakedPalette& palette) {
 Status Renderer::uploadCharacter(const Character& character, const BakedPalette& palette) {
   if (!impl_) return {StatusCode::kInvalidArgument, "Renderer: init() first"};
   Impl& m = *impl_;
-  Status s = m.character.upload(character, palette);
+  Status s = m.character.upload(character, palette, m.desc.max_texture_size);
   if (s.isOk()) s = m.preskin.build(m.character);
   if (!s.isOk()) return s;
   const detail::DrawResources r = m.resources();

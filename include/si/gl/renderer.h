@@ -86,6 +86,9 @@ struct RendererDesc {
   /// one without occlusion culling; what the application drew before also occludes, so it must
   /// have been drawn with the same camera. Switchable with setGpuOcclusionCulling().
   bool gpu_occlusion_culling = false;
+  /// Largest side of the base colour texture array's layers (si::buildMaterialTable: every
+  /// material image resized to one size, so all materials share a draw); 0 means 2048.
+  uint32_t max_texture_size = 0;
 };
 
 /// What one draw call group did.

@@ -35,13 +35,12 @@ Status ComputePath::draw(const DrawResources& r, const PathFrame& f, DrawStats* 
   const Program& pulled = (*r.programs)[ProgramId::kPulled];
   const glm::mat4 vp = f.camera.viewProjection();
   glBindTextureUnit(0, r.palette->texture());
-  glBindTextureUnit(1, r.character->base_texture);
+  r.character->bindMaterials();
   glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 1, ring_);
   glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 2, r.character->vertex_buffer);
   glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 3, lists.lod_vertex_list);
   glProgramUniform4uiv(skin.id, skin.palette_info, 1, &r.palette->shaderInfo()[0]);
   glProgramUniformMatrix4fv(pulled.id, pulled.view_projection, 1, GL_FALSE, &vp[0][0]);
-  glProgramUniform4fv(pulled.id, pulled.base_factor, 1, &r.character->base_factor[0]);
   glProgramUniform3fv(pulled.id, pulled.light_direction, 1, &f.light[0]);
   glBindVertexArray(vao_);
   // One dispatch covers at most 65535 groups of 64 (GL's guaranteed minimum).

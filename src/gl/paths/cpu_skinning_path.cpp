@@ -52,10 +52,9 @@ Status CpuSkinningPath::draw(const DrawResources& r, const PathFrame& f, DrawSta
   const Program& program = (*r.programs)[ProgramId::kPreSkinned];
   glUseProgram(program.id);
   glBindVertexArray(vao_);
-  glBindTextureUnit(1, r.character->base_texture);
+  r.character->bindMaterials();
   const glm::mat4 vp = f.camera.viewProjection();
   glProgramUniformMatrix4fv(program.id, 1, 1, GL_FALSE, &vp[0][0]);
-  glProgramUniform4fv(program.id, 2, 1, &r.character->base_factor[0]);
   glProgramUniform3fv(program.id, 3, 1, &f.light[0]);
   const BakedPalette& palette = *r.palette->palette();
   const SkinnedMesh& mesh = r.character->mesh;
@@ -69,6 +68,7 @@ Status CpuSkinningPath::draw(const DrawResources& r, const PathFrame& f, DrawSta
     glNamedBufferSubData(stream_, 0, GLsizeiptr(vertices_.size()), vertices_.data());
     for (const PendingDraw& d : pending_) {
       glProgramUniform1ui(program.id, 4, d.color);
+      glProgramUniform1i(program.id, 5, d.base_vertex);
       glDrawElementsBaseVertex(GL_TRIANGLES, GLsizei(d.range.index_count), GL_UNSIGNED_INT,
                                reinterpret_cast<const void*>(uintptr_t(d.range.first_index) * 4),
                                d.base_vertex);

@@ -11,14 +11,12 @@ void bindShading(const DrawResources& r, const Program& program, const Camera& c
   glUseProgram(program.id);
   glBindVertexArray(r.character->vao);
   glBindTextureUnit(0, r.palette->texture());
-  glBindTextureUnit(1, r.character->base_texture);
+  r.character->bindMaterials();
   const glm::mat4 vp = camera.viewProjection();
   if (program.palette_info >= 0)
     glProgramUniform4uiv(program.id, program.palette_info, 1, &r.palette->shaderInfo()[0]);
   if (program.view_projection >= 0)
     glProgramUniformMatrix4fv(program.id, program.view_projection, 1, GL_FALSE, &vp[0][0]);
-  if (program.base_factor >= 0)
-    glProgramUniform4fv(program.id, program.base_factor, 1, &r.character->base_factor[0]);
   if (program.light_direction >= 0)
     glProgramUniform3fv(program.id, program.light_direction, 1, &light[0]);
 }

@@ -46,7 +46,6 @@ Program describe(GLuint id) {
   p.id = id;
   p.palette_info = glGetUniformLocation(id, "si_palette_info");
   p.view_projection = glGetUniformLocation(id, "u_view_projection");
-  p.base_factor = glGetUniformLocation(id, "u_base_factor");
   p.light_direction = glGetUniformLocation(id, "u_light_direction");
   return p;
 }

@@ -5,12 +5,15 @@
 #include <algorithm>
 #include <cmath>
 
+#include "core/str_cat.h"
 #include "gl/resources/gl_allocation.h"
+#include "si/core/material_table.h"
 #include "si/core/shader_inputs.h"
 
 namespace si::detail {
 
-Status CharacterBuffers::upload(const Character& character, const BakedPalette& palette) {
+Status CharacterBuffers::upload(const Character& character, const BakedPalette& palette,
+                                uint32_t max_texture_size) {
   const SkinnedMesh& m = character.mesh;
   Status s = m.validate(character.skeleton.jointCount());
   if (!s.isOk()) return s;
@@ -38,28 +41,56 @@ Status CharacterBuffers::upload(const Character& character, const BakedPalette& 
   vertex_count = uint32_t(m.vertexCount());
   mesh = m;
 
-  // Base colour: the first material's factor and image; white (alpha 1: tint everywhere) if none.
-  base_factor = character.materials.empty() ? glm::vec4(1.0f)
-                                            : character.materials[0].base_color_factor;
-  const Image* image = nullptr;
-  if (!character.materials.empty() && character.materials[0].base_color_image >= 0)
-    image = &character.images[size_t(character.materials[0].base_color_image)];
-  const uint8_t white[4] = {255, 255, 255, 255};
-  const GLsizei w = image ? GLsizei(image->width) : 1, h = image ? GLsizei(image->height) : 1;
+  // Materials: the table, each vertex's index (16 bits, two a word), the texture array.
+  MaterialTable table;
+  s = buildMaterialTable(character, max_texture_size, &table);
+  std::vector<uint32_t> words((table.vertex_materials.size() + 1) / 2, 0);
+  for (size_t v = 0; v < table.vertex_materials.size(); ++v)
+    words[v / 2] |= uint32_t(table.vertex_materials[v]) << ((v % 2) * 16);
+  struct GpuMaterial {
+    glm::vec4 factor;
+    glm::uvec4 layer;
+  };
+  std::vector<GpuMaterial> entries;
+  for (const MaterialEntry& e : table.materials)
+    entries.push_back({e.base_color_factor, glm::uvec4(e.layer, 0, 0, 0)});
+  if (s.isOk())
+    s = createBuffer(&vertex_materials, words.size() * 4, words.data(), 0,
+                     "uploadCharacter: the per-vertex materials");
+  if (s.isOk())
+    s = createBuffer(&material_table, entries.size() * sizeof(GpuMaterial), entries.data(), 0,
+                     "uploadCharacter: the material table");
+  GLint max_layers = 0;
+  glGetIntegerv(GL_MAX_ARRAY_TEXTURE_LAYERS, &max_layers);
+  if (s.isOk() && table.layers.size() > size_t(max_layers))
+    s = {StatusCode::kLimitExceeded,
+         strCat("uploadCharacter: ", table.layers.size(), " base colour layers (this context ",
+                "holds at most ", max_layers, " in a texture array)")};
+  const GLsizei w = GLsizei(table.width), h = GLsizei(table.height);
   const GLsizei levels = GLsizei(std::floor(std::log2(double(std::max(w, h))))) + 1;
-  s = createTexture2D(&base_texture, levels, GL_RGBA8, w, h,
-                      "uploadCharacter: the base colour texture");
+  if (s.isOk())
+    s = createTexture2DArray(&base_texture, levels, GL_RGBA8, w, h, GLsizei(table.layers.size()),
+                             "uploadCharacter: the base colour texture array");
   if (!s.isOk()) {
     release();
     return s;
   }
   glPixelStorei(GL_UNPACK_ALIGNMENT, 1);
-  glTextureSubImage2D(base_texture, 0, 0, 0, w, h, GL_RGBA, GL_UNSIGNED_BYTE,
-                      image ? image->rgba8.data() : white);
+  for (size_t l = 0; l < table.layers.size(); ++l)
+    glTextureSubImage3D(base_texture, 0, 0, 0, GLint(l), w, h, 1, GL_RGBA, GL_UNSIGNED_BYTE,
+                        table.layers[l].rgba8.data());
   glGenerateTextureMipmap(base_texture);
   glTextureParameteri(base_texture, GL_TEXTURE_MIN_FILTER, GL_LINEAR_MIPMAP_LINEAR);
   glTextureParameteri(base_texture, GL_TEXTURE_MAG_FILTER, GL_LINEAR);
+  material_layers = uint32_t(table.layers.size());
+  resized_images = table.resized_images;
   return Status::ok();
+}
+
+void CharacterBuffers::bindMaterials() const {
+  glBindTextureUnit(1, base_texture);
+  glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 10, vertex_materials);
+  glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 11, material_table);
 }
 
 void CharacterBuffers::describeVertexFormat(GLuint v) const {
@@ -79,10 +110,11 @@ void CharacterBuffers::describeVertexFormat(GLuint v) const {
 
 void CharacterBuffers::release() {
   if (vao != kNoObject) glDeleteVertexArrays(1, &vao);
-  const GLuint buffers[] = {vertex_buffer, index_buffer};
-  glDeleteBuffers(2, buffers);
+  const GLuint buffers[] = {vertex_buffer, index_buffer, vertex_materials, material_table};
+  glDeleteBuffers(4, buffers);
   if (base_texture != kNoObject) glDeleteTextures(1, &base_texture);
-  vao = vertex_buffer = index_buffer = base_texture = kNoObject;
+  vao = vertex_buffer = index_buffer = base_texture = vertex_materials = material_table = kNoObject;
+  material_layers = resized_images = 0;
 }
 
 }  // namespace si::detail

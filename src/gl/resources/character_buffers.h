@@ -1,7 +1,8 @@
 // SkinnedInstancing — SPDX-License-Identifier: MIT (see LICENSE)
 #pragma once
 // The character on the GPU: the vertex stream (si/core/shader_inputs.h) and index buffer, the
-// vertex array that describes them, every sub-mesh's LOD ranges, and the base colour.
+// vertex array that describes them, every sub-mesh's LOD ranges, and its materials (the
+// si::MaterialTable: per-vertex material indices, the table, the base colour texture array).
 
 #include <glad/gl.h>
 
@@ -18,12 +19,17 @@ struct CharacterBuffers {
   /// Uploads `character` for `palette` (the palette baked for it). Fails, keeping what was
   /// uploaded before, with kInvalidArgument for an invalid mesh, a palette of another skeleton
   /// or a vertex weighted to a joint the palette does not store.
-  Status upload(const Character& character, const BakedPalette& palette);
+  /// Base colour layers are at most `max_texture_size` texels a side (0: 2048).
+  Status upload(const Character& character, const BakedPalette& palette,
+                uint32_t max_texture_size);
   void release();
   bool ready() const { return vao != kNoObject; }
 
   /// Sets the vertex format (attributes 0-4 from binding 0) and the index buffer on `vao`.
   void describeVertexFormat(GLuint vao) const;
+  /// Binds the materials where the shading reads them (material_common.glsl): the base colour
+  /// array at texture unit 1, the per-vertex materials and the table at storage bindings 10, 11.
+  void bindMaterials() const;
   /// The index range of `sub_mesh` at `lod` (its last LOD when `lod` is past it).
   IndexRange lodRange(uint32_t sub_mesh, uint32_t lod) const {
     const std::vector<IndexRange>& lods = sub_meshes[sub_mesh].lods;
@@ -31,8 +37,9 @@ struct CharacterBuffers {
   }
 
   GLuint vao = kNoObject, vertex_buffer = kNoObject, index_buffer = kNoObject;
-  GLuint base_texture = kNoObject;
-  glm::vec4 base_factor{1.0f};
+  GLuint base_texture = kNoObject;  ///< GL_TEXTURE_2D_ARRAY, one layer per image.
+  GLuint vertex_materials = kNoObject, material_table = kNoObject;
+  uint32_t material_layers = 0, resized_images = 0;
   std::vector<SubMesh> sub_meshes;
   uint32_t vertex_count = 0;
   uint32_t stride_bytes = 32;

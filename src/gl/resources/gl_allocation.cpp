@@ -60,6 +60,21 @@ Status createMutableBuffer(GLuint* buffer, uint64_t bytes, GLenum usage, const c
   });
 }
 
+Status createTexture2DArray(GLuint* texture, GLsizei levels, GLenum internal_format,
+                            GLsizei width, GLsizei height, GLsizei layers, const char* what) {
+  if (*texture != kNoObject) glDeleteTextures(1, texture);
+  *texture = kNoObject;
+  drainErrors();
+  glCreateTextures(GL_TEXTURE_2D_ARRAY, 1, texture);
+  glTextureStorage3D(*texture, levels, internal_format, width, height, layers);
+  Status s = allocationStatus(what, strCat(width, " x ", height, " x ", layers, " texels"));
+  if (!s.isOk()) {
+    glDeleteTextures(1, texture);
+    *texture = kNoObject;
+  }
+  return s;
+}
+
 Status createTexture2D(GLuint* texture, GLsizei levels, GLenum internal_format, GLsizei width,
                        GLsizei height, const char* what) {
   if (*texture != kNoObject) glDeleteTextures(1, texture);

@@ -28,5 +28,8 @@ Status createMutableBuffer(GLuint* buffer, uint64_t bytes, GLenum usage, const c
 /// `width` x `height`; fails as createBuffer() does (the size named in texels).
 Status createTexture2D(GLuint* texture, GLsizei levels, GLenum internal_format, GLsizei width,
                        GLsizei height, const char* what);
+/// The same for a 2D array texture of `layers` layers.
+Status createTexture2DArray(GLuint* texture, GLsizei levels, GLenum internal_format,
+                            GLsizei width, GLsizei height, GLsizei layers, const char* what);
 
 }  // namespace si::detail

@@ -1,15 +1,20 @@
 // SkinnedInstancing - SPDX-License-Identifier: MIT (see LICENSE)
 // The CPU-skinning baseline: positions and normals arrive skinned, in camera-relative world
-// space.
+// space; u_base_vertex is the draw's base vertex (mesh vertex = gl_VertexID - u_base_vertex).
+#define SI_VERTEX_MATERIALS
+#include "material_common.glsl"
 layout(location = 0) in vec3 a_position;
 layout(location = 1) in vec3 a_normal;
 layout(location = 2) in vec2 a_texcoord;
 layout(location = 1) uniform mat4 u_view_projection;
 layout(location = 4) uniform uint u_color;
+layout(location = 5) uniform int u_base_vertex;
 out vec3 v_normal;
 out vec2 v_texcoord;
 flat out uint v_color;
+flat out uint v_material;
 void main() {
+  v_material = siVertexMaterial(uint(gl_VertexID - u_base_vertex));
   v_normal = a_normal;
   v_texcoord = a_texcoord;
   v_color = u_color;

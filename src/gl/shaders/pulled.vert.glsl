@@ -10,6 +10,8 @@
 #endif
 #include "si_skinning.glsl"
 #include "pre_skin_common.glsl"
+#define SI_VERTEX_MATERIALS
+#include "material_common.glsl"
 #ifdef SI_GPU_DRIVEN
 layout(std430, binding = 13) readonly buffer SiSkinned { vec4 si_skinned[]; };
 layout(location = 5) in uint a_entry;
@@ -23,16 +25,19 @@ layout(location = 1) uniform mat4 u_view_projection;
 out vec3 v_normal;
 out vec2 v_texcoord;
 flat out uint v_color;
+flat out uint v_material;
 void main() {
   uint k = uint(gl_VertexID);
 #ifdef SI_GPU_DRIVEN
   uvec2 at = si_entry_data[a_entry];
   vec4 s = si_skinned[at.x + k];
   v_texcoord = siSourceTexcoord(at.y, k);
+  v_material = siVertexMaterial(si_lod_vertices[at.y + k]);
   v_color = si_records[si_entries[a_entry]].blend.w;
 #else
   vec4 s = si_skinned[u_chunk.x + uint(gl_InstanceID) * u_chunk.y + k];
   v_texcoord = siSourceTexcoord(u_chunk.z, k);
+  v_material = siVertexMaterial(si_lod_vertices[u_chunk.z + k]);
   v_color = si_instances[u_chunk.w + uint(gl_InstanceID)].blend.w;
 #endif
   v_normal = siOctDecode(unpackSnorm2x16(floatBitsToUint(s.w)));

@@ -5,6 +5,8 @@
 // model-space position for transform feedback), SI_GPU_DRIVEN (the record through a bucket
 // entry, from storage buffers), SI_TRADITIONAL (one character per draw, its joint matrices in
 // a uniform block).
+#define SI_VERTEX_MATERIALS
+#include "material_common.glsl"
 #ifdef SI_TRADITIONAL
 #include "si_transform.glsl"
 layout(std140, binding = 1) uniform SiCharacter {
@@ -25,6 +27,7 @@ layout(location = 1) uniform mat4 u_view_projection;
 out vec3 v_normal;
 out vec2 v_texcoord;
 flat out uint v_color;
+flat out uint v_material;
 #ifdef SI_CAPTURE
 out vec3 tf_position;
 #endif
@@ -71,5 +74,6 @@ void main() {
   v_normal = siTransformNormal(w0, w1, w2, siTransformNormal(m0, m1, m2, a_normal.xyz));
   v_texcoord = a_texcoord;
   v_color = color;
+  v_material = siVertexMaterial(uint(gl_VertexID));  // The mesh vertex: no base vertex.
   gl_Position = u_view_projection * vec4(world, 1.0);
 }
