@@ -15,6 +15,7 @@
 #include "si/bake/animation_baker.h"
 #include "si/bake/palette_file.h"
 #include "si/core/default_character.h"
+#include "gltf/parts_asset.h"
 
 namespace si {
 namespace {
@@ -222,6 +223,29 @@ TEST(SiBake, BakesAGltfSample) {
   // Frames end exactly on the clip's end, so the rate is 15 Hz rounded up to fit.
   EXPECT_GE(loaded.clips[0].sampleRateHz(), 15.0);
   EXPECT_LT(loaded.clips[0].sampleRateHz(), 16.0);
+  std::remove(out.c_str());
+}
+
+TEST(SiBake, ReportsPartsAndVariationGroups) {
+  const std::string in = tempPath("parts.gltf"), out = tempPath("parts.sipal");
+  {
+    std::ofstream f(in);
+    f << test::partsAsset({{"Body", 190}, {"VAR_Helmet", 10}}, 100);
+  }
+  ToolRun r = runTool("'" + in + "' --rate 15 --no-progress -o '" + out + "'");
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  EXPECT_NE(r.output.find("import: 200 primitives as 200 parts in 2 variation groups; 101 materials"),
+            std::string::npos) << r.output;
+  EXPECT_NE(r.output.find("sub-mesh 0 'base' (always worn): 190 parts, 100 materials"),
+            std::string::npos) << r.output;
+  EXPECT_NE(r.output.find("sub-mesh 1 'Helmet' (convention): 10 parts"), std::string::npos)
+      << r.output;
+  r = runTool("'" + in + "' --rate 15 --no-progress --variations each-mesh -o '" + out + "'");
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  EXPECT_NE(r.output.find("sub-mesh 0 'Body' (each mesh)"), std::string::npos) << r.output;
+  r = runTool("'" + in + "' --variations some -o '" + out + "'");
+  EXPECT_EQ(r.exit_code, 2) << r.output;
+  std::remove(in.c_str());
   std::remove(out.c_str());
 }
 

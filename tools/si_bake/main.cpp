@@ -78,11 +78,26 @@ void usage(std::FILE* f) {
       "  --skin NAME|INDEX        the skin to import when the file has several\n"
       "  --lods N                 generate N coarser LODs when the file has none (for the\n"
       "                           report's vertex set; the runtime imports the mesh itself)\n"
+      "  --variations convention|each-mesh\n"
+      "                           variation groups: meshes named VAR_<group> (default; the\n"
+      "                           rest is always worn) or one group per glTF mesh\n"
       "  --csv PATH               also write the error table as CSV\n"
       "  --require-tolerance      fail (exit 6, nothing written) when a clip misses it\n"
       "  --progress / --no-progress  force the progress bar on or off (default: on a terminal)\n"
       "  -q, --quiet              no table, errors only\n"
       "Exit codes: 0 written, 2 usage, 3 input, 4 bake, 5 output, 6 tolerance missed.\n");
+}
+
+// The import report: parts, variation groups and materials.
+void printImport(const si::GltfImportReport& r) {
+  std::printf("import: %u primitives as %u parts in %zu variation group%s; %u materials, %u "
+              "images\n",
+              r.skinned_primitives, r.parts, r.groups.size(), r.groups.size() == 1 ? "" : "s",
+              r.materials, r.images);
+  for (size_t g = 0; g < r.groups.size(); ++g)
+    std::printf("  sub-mesh %zu '%s' (%s): %u parts, %u materials, one draw\n", g,
+                r.groups[g].name.c_str(), r.groups[g].source.c_str(), r.groups[g].parts,
+                r.groups[g].materials);
 }
 
 bool parseFloat(const char* text, float* out) {
@@ -121,7 +136,7 @@ int parse(int argc, char** argv, Options* o) {
       o->progress = 0;
     } else if (a == "-o" || a == "--output" || a == "--format" || a == "--rate" ||
                a == "--interpolation" || a == "--tolerance" || a == "--max-rate" || a == "--clips" || a == "--skin" ||
-               a == "--csv" || a == "--lods") {
+               a == "--csv" || a == "--lods" || a == "--variations") {
       if (int r = needsValue()) return r;
       const std::string v = argv[++i];
       if (a == "-o" || a == "--output") {
@@ -164,6 +179,11 @@ int parse(int argc, char** argv, Options* o) {
         const long index = std::strtol(v.c_str(), &end, 10);
         if (!v.empty() && *end == '\0' && index >= 0) o->import.skin_index = int32_t(index);
         else o->import.skin_name = v;
+      } else if (a == "--variations") {
+        if (v != "convention" && v != "each-mesh")
+          return bad("--variations must be convention or each-mesh");
+        o->import.variations =
+            v == "each-mesh" ? si::VariationSource::kEachMesh : si::VariationSource::kConvention;
       } else if (a == "--lods") {
         char* end = nullptr;
         const unsigned long n = std::strtoul(v.c_str(), &end, 10);
@@ -318,8 +338,10 @@ int main(int argc, char** argv) {
   } else {
     si::GltfImportReport ir;
     s = si::importGltfFile(o.input, o.import, &character, &ir);
-    if (!o.quiet)
+    if (!o.quiet) {
       for (const std::string& w : ir.warnings) std::fprintf(stderr, "si-bake: warning: %s\n", w.c_str());
+      if (s.isOk()) printImport(ir);
+    }
     if (s.isOk() && character.clips.empty())
       s = si::Status(si::StatusCode::kUnsupported, "the character has no animation clips");
   }
