@@ -5,6 +5,7 @@
 #include <cstdint>
 #include <cstdlib>
 
+#include "si/core/material_table.h"
 #include "si/gltf/gltf_import.h"
 
 extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
@@ -13,5 +14,15 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
   d.load_images = false;  // stb_image is fuzzed by its own project; keep the focus here.
   const si::Status s = si::importGltfMemory(si::Span<const uint8_t>(data, size), "", d, &c, nullptr);
   if (s.isOk() && !c.validate().isOk()) std::abort();
+  // Every variation source; each valid result gives a material table with one entry per
+  // material and every vertex's material in it.
+  d.variations = size % 2 ? si::VariationSource::kEachMesh : si::VariationSource::kConvention;
+  if (si::importGltfMemory(si::Span<const uint8_t>(data, size), "", d, &c, nullptr).isOk()) {
+    si::MaterialTable t;
+    if (!si::buildMaterialTable(c, 64, &t).isOk()) std::abort();
+    if (t.vertex_materials.size() != c.mesh.vertexCount()) std::abort();
+    for (uint16_t m : t.vertex_materials)
+      if (m >= t.materials.size()) std::abort();
+  }
   return 0;
 }
