@@ -125,9 +125,12 @@ TEST_P(MaterialsTest, TwoHundredPartsDrawLikeEachMaterialDrawnAlone) {
 TEST_P(MaterialsTest, SampleAssetsDrawOnTheGpuAsSkinnedOnTheCpu) {
   const char* dir = std::getenv("SI_SHARED_DIR");
   const std::string assets = std::string(dir ? dir : "../shared") + "/assets/";
-  for (const char* file : {"RiggedSimple/glTF/RiggedSimple.gltf", "RiggedFigure/glTF-Binary/RiggedFigure.glb",
-                           "CesiumMan/glTF/CesiumMan.gltf", "Fox/glTF-Binary/Fox.glb",
-                           "SimpleSkin/glTF/SimpleSkin.gltf"}) {
+  for (const char* file :
+       {"RiggedSimple/glTF/RiggedSimple.gltf", "RiggedSimple/glTF-Binary/RiggedSimple.glb",
+        "RiggedFigure/glTF-Binary/RiggedFigure.glb", "CesiumMan/glTF/CesiumMan.gltf",
+        "RiggedFigure/glTF/RiggedFigure.gltf", "CesiumMan/glTF-Binary/CesiumMan.glb",
+        "Fox/glTF-Binary/Fox.glb", "Fox/glTF/Fox.gltf",
+        "SimpleSkin/glTF/SimpleSkin.gltf", "SimpleSkin/glTF-Embedded/SimpleSkin.gltf"}) {
     SCOPED_TRACE(file);
     Character c;
     const Status s = importGltfFile(assets + file, {}, &c, nullptr);
