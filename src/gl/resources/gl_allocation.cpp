@@ -3,6 +3,7 @@
 #include "gl/resources/gl_allocation.h"
 
 #include <limits>
+#include <string>
 
 #include "core/str_cat.h"
 #include "si/gl/gl_context.h"
@@ -45,6 +46,24 @@ Status makeBuffer(GLuint* buffer, uint64_t bytes, const char* what, Allocate all
   return s;
 }
 
+// Replaces `*texture` by a new texture of `target` whose storage `allocate` sets; fails as
+// createBuffer() does, naming `size`, and leaves no texture behind.
+template <typename Allocate>
+Status makeTexture(GLuint* texture, GLenum target, const char* what, const std::string& size,
+                   const Allocate& allocate) {
+  if (*texture != kNoObject) glDeleteTextures(1, texture);
+  *texture = kNoObject;
+  drainErrors();
+  glCreateTextures(target, 1, texture);
+  allocate(*texture);
+  Status s = allocationStatus(what, size);
+  if (!s.isOk()) {
+    glDeleteTextures(1, texture);
+    *texture = kNoObject;
+  }
+  return s;
+}
+
 }  // namespace
 
 Status createBuffer(GLuint* buffer, uint64_t bytes, const void* data, GLbitfield flags,
@@ -60,34 +79,18 @@ Status createMutableBuffer(GLuint* buffer, uint64_t bytes, GLenum usage, const c
   });
 }
 
-Status createTexture2DArray(GLuint* texture, GLsizei levels, GLenum internal_format,
-                            GLsizei width, GLsizei height, GLsizei layers, const char* what) {
-  if (*texture != kNoObject) glDeleteTextures(1, texture);
-  *texture = kNoObject;
-  drainErrors();
-  glCreateTextures(GL_TEXTURE_2D_ARRAY, 1, texture);
-  glTextureStorage3D(*texture, levels, internal_format, width, height, layers);
-  Status s = allocationStatus(what, strCat(width, " x ", height, " x ", layers, " texels"));
-  if (!s.isOk()) {
-    glDeleteTextures(1, texture);
-    *texture = kNoObject;
-  }
-  return s;
-}
-
 Status createTexture2D(GLuint* texture, GLsizei levels, GLenum internal_format, GLsizei width,
                        GLsizei height, const char* what) {
-  if (*texture != kNoObject) glDeleteTextures(1, texture);
-  *texture = kNoObject;
-  drainErrors();
-  glCreateTextures(GL_TEXTURE_2D, 1, texture);
-  glTextureStorage2D(*texture, levels, internal_format, width, height);
-  Status s = allocationStatus(what, strCat(width, " x ", height, " texels"));
-  if (!s.isOk()) {
-    glDeleteTextures(1, texture);
-    *texture = kNoObject;
-  }
-  return s;
+  return makeTexture(texture, GL_TEXTURE_2D, what, strCat(width, " x ", height, " texels"),
+                     [&](GLuint t) { glTextureStorage2D(t, levels, internal_format, width, height); });
+}
+
+Status createTexture2DArray(GLuint* texture, GLsizei levels, GLenum internal_format,
+                            GLsizei width, GLsizei height, GLsizei layers, const char* what) {
+  return makeTexture(texture, GL_TEXTURE_2D_ARRAY, what,
+                     strCat(width, " x ", height, " x ", layers, " texels"), [&](GLuint t) {
+                       glTextureStorage3D(t, levels, internal_format, width, height, layers);
+                     });
 }
 
 }  // namespace si::detail
