@@ -82,8 +82,6 @@ Status CharacterBuffers::upload(const Character& character, const BakedPalette& 
   glGenerateTextureMipmap(base_texture);
   glTextureParameteri(base_texture, GL_TEXTURE_MIN_FILTER, GL_LINEAR_MIPMAP_LINEAR);
   glTextureParameteri(base_texture, GL_TEXTURE_MAG_FILTER, GL_LINEAR);
-  material_layers = uint32_t(table.layers.size());
-  resized_images = table.resized_images;
   return Status::ok();
 }
 
@@ -114,7 +112,6 @@ void CharacterBuffers::release() {
   glDeleteBuffers(4, buffers);
   if (base_texture != kNoObject) glDeleteTextures(1, &base_texture);
   vao = vertex_buffer = index_buffer = base_texture = vertex_materials = material_table = kNoObject;
-  material_layers = resized_images = 0;
 }
 
 }  // namespace si::detail

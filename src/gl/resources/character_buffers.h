@@ -39,7 +39,6 @@ struct CharacterBuffers {
   GLuint vao = kNoObject, vertex_buffer = kNoObject, index_buffer = kNoObject;
   GLuint base_texture = kNoObject;  ///< GL_TEXTURE_2D_ARRAY, one layer per image.
   GLuint vertex_materials = kNoObject, material_table = kNoObject;
-  uint32_t material_layers = 0, resized_images = 0;
   std::vector<SubMesh> sub_meshes;
   uint32_t vertex_count = 0;
   uint32_t stride_bytes = 32;
