@@ -8,6 +8,7 @@
 #include <numeric>
 #include <vector>
 
+#include "gl/paths/compute_path.h"
 #include "gl/paths/draw_path.h"
 #include "gl/renderer_impl.h"
 #include "gl/resources/gl_allocation.h"
@@ -45,12 +46,8 @@ void captureVertexShader(const detail::DrawResources& r, uint32_t vertices,
 void captureCompute(const detail::DrawResources& r, uint32_t vertices, const CaptureBuffers& b) {
   const detail::Program& skin = (*r.programs)[detail::ProgramId::kComputeSkin];
   glUseProgram(skin.id);
-  glBindTextureUnit(0, r.palette->texture());
-  glProgramUniform4uiv(skin.id, skin.palette_info, 1, &r.palette->shaderInfo()[0]);
+  detail::bindPreSkinning(r, skin, b.out, b.list);
   glBindBufferBase(GL_UNIFORM_BUFFER, 0, b.block);
-  glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 1, b.out);
-  glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 2, r.character->vertex_buffer);
-  glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 3, b.list);
   glProgramUniform4ui(skin.id, 5, 0, vertices, 0, 0);
   glProgramUniform2ui(skin.id, 6, 1, r.preskin->source_words);
   glDispatchCompute(GLuint((uint64_t(vertices) + 63) / 64), 1, 1);

@@ -8,6 +8,14 @@
 
 namespace si::detail {
 
+void bindPreSkinning(const DrawResources& r, const Program& skin, GLuint out, GLuint vertex_list) {
+  glBindTextureUnit(0, r.palette->texture());
+  glProgramUniform4uiv(skin.id, skin.palette_info, 1, &r.palette->shaderInfo()[0]);
+  glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 1, out);
+  glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 2, r.character->vertex_buffer);
+  glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 3, vertex_list);
+}
+
 Status ComputePath::prepare(const DrawResources& r) {
   if (vao_ != kNoObject) glDeleteVertexArrays(1, &vao_);
   glCreateVertexArrays(1, &vao_);
@@ -34,12 +42,8 @@ Status ComputePath::draw(const DrawResources& r, const PathFrame& f, DrawStats* 
   const Program& skin = (*r.programs)[ProgramId::kComputeSkin];
   const Program& pulled = (*r.programs)[ProgramId::kPulled];
   const glm::mat4 vp = f.camera.viewProjection();
-  glBindTextureUnit(0, r.palette->texture());
+  bindPreSkinning(r, skin, ring_, lists.lod_vertex_list);
   r.character->bindMaterials();
-  glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 1, ring_);
-  glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 2, r.character->vertex_buffer);
-  glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 3, lists.lod_vertex_list);
-  glProgramUniform4uiv(skin.id, skin.palette_info, 1, &r.palette->shaderInfo()[0]);
   glProgramUniformMatrix4fv(pulled.id, pulled.view_projection, 1, GL_FALSE, &vp[0][0]);
   glProgramUniform3fv(pulled.id, pulled.light_direction, 1, &f.light[0]);
   glBindVertexArray(vao_);
