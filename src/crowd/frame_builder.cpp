@@ -297,7 +297,7 @@ SI_CPU_CLONES void writeChunk(const FrameInputs& in, const InstanceStore& st, bo
         const uint32_t clip = st.playback[i].clip, frame = uint32_t(lanes.frame[k]);
         const uint32_t a0 = clips[clip].first_texel + frame * stride;
         setOneClip(a0, a0 + stride, lanes.fraction[k],
-                   modeAt(clips[clip], frame), st.colors[i], &rec);
+                   intervalModeAt(clips[clip].modes, frame), st.colors[i], &rec);
       }
       f.visible_handles[slot] = st.dense_handles[i];
       if (fallback) f.record_masks[slot] = wornMask(st.masks[i], in.sub_mesh_count);

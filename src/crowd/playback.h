@@ -37,12 +37,6 @@ struct ClipTiming {
   std::vector<uint8_t> modes;
 };
 
-/// si::intervalModeAt(clip, interval) from the clip's timing.
-inline IntervalMode modeAt(const ClipTiming& c, uint32_t interval) {
-  return interval < c.modes.size() && c.modes[interval] <= 3u
-             ? static_cast<IntervalMode>(c.modes[interval])
-             : IntervalMode::kLinear;
-}
 
 inline ClipTiming makeClipTiming(const BakedClip& c) {
   ClipTiming t;
@@ -92,7 +86,7 @@ inline FrameSample fastSample(const ClipTiming& c, const BakedClip& clip, double
   s.frame = i;
   s.next_frame = i + 1;
   s.fraction = static_cast<float>(std::min(std::max(position - double(i), 0.0), 1.0));
-  s.mode = modeAt(c, i);
+  s.mode = intervalModeAt(c.modes, i);
   return s;
 }
 

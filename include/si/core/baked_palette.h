@@ -144,12 +144,15 @@ struct FrameSample {
   IntervalMode mode = IntervalMode::kLinear;  ///< The clip's interval mode (linear clips: kLinear).
 };
 
-/// The mode of interval `interval` of `clip`: kLinear for a linear clip or an interval past its
-/// modes.
+/// The mode of interval `interval` in a clip's `modes` (BakedClip::interval_modes): kLinear
+/// for an interval past them (a linear clip has none) or a value that is not a mode.
+inline IntervalMode intervalModeAt(const std::vector<uint8_t>& modes, uint32_t interval) {
+  return interval < modes.size() && modes[interval] <= 3u ? static_cast<IntervalMode>(modes[interval])
+                                                          : IntervalMode::kLinear;
+}
+/// The mode of interval `interval` of `clip` (intervalModeAt(clip.interval_modes, interval)).
 inline IntervalMode intervalModeAt(const BakedClip& clip, uint32_t interval) {
-  return interval < clip.interval_modes.size() && clip.interval_modes[interval] <= 3u
-             ? static_cast<IntervalMode>(clip.interval_modes[interval])
-             : IntervalMode::kLinear;
+  return intervalModeAt(clip.interval_modes, interval);
 }
 
 /// The fraction word of an InstanceRecord (blend.x or blend.y): the float bits of `fraction`
