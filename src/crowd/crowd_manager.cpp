@@ -210,7 +210,10 @@ Status CrowdManager::setTransform(InstanceHandle h, const glm::dvec3& position,
   return state_ ? state_->store.setTransform(h, position, rotation, scale) : noCrowd();
 }
 Status CrowdManager::setColor(InstanceHandle h, glm::u8vec4 color) {
-  return state_ ? state_->store.setColor(h, detail::packColor(color)) : noCrowd();
+  return state_ ? state_->store.setColor(h, color) : noCrowd();
+}
+Status CrowdManager::setCustomLayer(InstanceHandle h, uint8_t custom_layer) {
+  return state_ ? state_->store.setCustomLayer(h, custom_layer) : noCrowd();
 }
 Status CrowdManager::setVariationMask(InstanceHandle h, uint32_t mask) {
   return state_ ? state_->store.setVariationMask(h, mask) : noCrowd();
@@ -235,7 +238,8 @@ Status CrowdManager::get(InstanceHandle h, InstanceDesc* out) const {
   d.position = st.positions[i];
   d.rotation = st.rotations[i];
   d.scale = st.scales[i];
-  d.color = detail::unpackColor(st.colors[i]);
+  d.color = detail::appearanceColor(st.colors[i]);
+  d.custom_layer = uint8_t(st.colors[i] >> 24);
   d.variation_mask = st.masks[i];
   d.clip = st.playback[i].clip;
   d.time_seconds = detail::localTime(st.playback[i], state_->clips[d.clip], state_->clock);

@@ -14,6 +14,13 @@ namespace {
 bool finite3(const glm::dvec3& v) {
   return std::isfinite(v.x) && std::isfinite(v.y) && std::isfinite(v.z);
 }
+
+Status validateColor(glm::u8vec4 color) {
+  if (color.a == 255) return Status::ok();
+  return {StatusCode::kInvalidArgument,
+          strCat("the tint's alpha is ", int(color.a), ": it must be 255 (the tint is RGB; the ",
+                 "record's fourth byte holds the custom texture layer: InstanceDesc::custom_layer)")};
+}
 }  // namespace
 
 uint64_t nextStateVersion() {
@@ -42,6 +49,8 @@ Status InstanceStore::validate(const InstanceDesc& d) const {
     return {StatusCode::kInvalidArgument, "InstanceDesc.time_seconds is not finite"};
   if (!std::isfinite(d.speed) || d.speed < 0.0f)
     return {StatusCode::kInvalidArgument, "InstanceDesc.speed must be finite and >= 0"};
+  Status color = validateColor(d.color);
+  if (!color.isOk()) return {color.code(), "InstanceDesc.color: " + color.message()};
   if (d.loop_mode != LoopMode::kDefault && d.loop_mode != LoopMode::kOnce &&
       d.loop_mode != LoopMode::kLoop)
     return {StatusCode::kInvalidArgument, "InstanceDesc.loop_mode is unknown"};
@@ -56,7 +65,7 @@ void InstanceStore::push(const InstanceDesc& d, InstanceHandle h, double clock) 
   positions.push_back(d.position);
   rotations.push_back(glm::normalize(d.rotation));
   scales.push_back(d.scale);
-  colors.push_back(packColor(d.color));
+  colors.push_back(packAppearance(d));
   masks.push_back(d.variation_mask);
   const LoopMode loop = d.loop_mode == LoopMode::kDefault ? palette->clips[d.clip].loop_mode
                                                           : d.loop_mode;
@@ -126,10 +135,23 @@ Status InstanceStore::setTransform(InstanceHandle h, const glm::dvec3& position,
   return Status::ok();
 }
 
-Status InstanceStore::setColor(InstanceHandle h, uint32_t packed_color) {
+Status InstanceStore::setColor(InstanceHandle h, glm::u8vec4 color) {
   uint32_t i = 0;
   Status s = denseIndex(h, &i);
-  if (s.isOk()) colors[i] = packed_color, version = nextStateVersion();
+  if (!s.isOk()) return s;
+  s = validateColor(color);
+  if (!s.isOk()) return {s.code(), "setColor: " + s.message()};
+  colors[i] = (colors[i] & 0xFF000000u) | si::packAppearance(color.r, color.g, color.b, 0);
+  version = nextStateVersion();
+  return s;
+}
+
+Status InstanceStore::setCustomLayer(InstanceHandle h, uint8_t custom_layer) {
+  uint32_t i = 0;
+  Status s = denseIndex(h, &i);
+  if (s.isOk())
+    colors[i] = (colors[i] & 0x00FFFFFFu) | (uint32_t(custom_layer) << 24),
+    version = nextStateVersion();
   return s;
 }
 

@@ -36,7 +36,10 @@ struct InstanceStore {
 
   Status setTransform(InstanceHandle h, const glm::dvec3& position, const glm::quat& rotation,
                       float scale);
-  Status setColor(InstanceHandle h, uint32_t packed_color);
+  /// Sets the tint (kInvalidArgument unless its alpha is 255), keeping the custom layer.
+  Status setColor(InstanceHandle h, glm::u8vec4 color);
+  /// Sets the custom layer select, keeping the tint.
+  Status setCustomLayer(InstanceHandle h, uint8_t custom_layer);
   Status setVariationMask(InstanceHandle h, uint32_t mask);
   Status play(InstanceHandle h, uint32_t clip, double time_seconds, float speed, double clock);
   Status crossfade(InstanceHandle h, uint32_t clip, double blend_seconds, double time_seconds,
@@ -52,7 +55,7 @@ struct InstanceStore {
   std::vector<glm::dvec3> positions;
   std::vector<glm::quat> rotations;
   std::vector<float> scales;
-  std::vector<uint32_t> colors;
+  std::vector<uint32_t> colors;  // The record's appearance word (si::packAppearance).
   std::vector<uint32_t> masks;
   std::vector<Playback> playback;
   std::vector<Playback> fade_from;      // Valid while fade_duration > 0.
@@ -67,12 +70,13 @@ struct InstanceStore {
   std::vector<uint32_t> slot_to_dense;
 };
 
-/// RGBA8 in a uint32 (R in the low byte), as the record's tint.
-inline uint32_t packColor(glm::u8vec4 c) {
-  return uint32_t(c.r) | (uint32_t(c.g) << 8) | (uint32_t(c.b) << 16) | (uint32_t(c.a) << 24);
+/// An instance's appearance word from its desc (si::packAppearance).
+inline uint32_t packAppearance(const InstanceDesc& d) {
+  return si::packAppearance(d.color.r, d.color.g, d.color.b, d.custom_layer);
 }
-inline glm::u8vec4 unpackColor(uint32_t c) {
-  return glm::u8vec4(c & 0xFF, (c >> 8) & 0xFF, (c >> 16) & 0xFF, c >> 24);
+/// The tint of an appearance word (alpha 255, as it was accepted).
+inline glm::u8vec4 appearanceColor(uint32_t c) {
+  return glm::u8vec4(c & 0xFF, (c >> 8) & 0xFF, (c >> 16) & 0xFF, 255);
 }
 
 }  // namespace si::detail

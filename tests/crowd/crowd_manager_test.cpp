@@ -230,7 +230,8 @@ TEST(CrowdManager, RecordBytesMatchTheStd140Layout) {
   const BakedPalette& p = defaultPalette();
   InstanceDesc d;
   d.position = glm::dvec3(1, 0, 5);
-  d.color = glm::u8vec4(10, 20, 30, 40);
+  d.color = glm::u8vec4(10, 20, 30, 255);
+  d.custom_layer = 40;
   d.clip = uint32_t(p.findClip("idle"));
   d.time_seconds = 0.5;
   InstanceHandle h;
@@ -254,10 +255,44 @@ TEST(CrowdManager, RecordBytesMatchTheStd140Layout) {
   EXPECT_EQ(u32(48), idle.first_texel + s.frame * p.layout.frame_stride_texels);
   EXPECT_EQ(u32(52), idle.first_texel + s.next_frame * p.layout.frame_stride_texels);
   EXPECT_EQ(u32(56), u32(48));  // No crossfade: B repeats A.
-  // uvec4 blend at 64: fraction bits, fraction B, weight 0, color RGBA8 (R low byte).
+  // uvec4 blend at 64: fraction bits, fraction B, weight 0, appearance (tint RGB8 with R in
+  // the low byte, custom layer select in the high byte).
   EXPECT_EQ(f32(64), s.fraction);
   EXPECT_EQ(f32(72), 0.0f);
   EXPECT_EQ(u32(76), 10u | (20u << 8) | (30u << 16) | (40u << 24));
+}
+
+TEST(CrowdManager, TintAndCustomLayerShareTheAppearanceWord) {
+  CrowdManager crowd;
+  ASSERT_TRUE(crowd.init(defaultCrowdDesc()).isOk());
+  InstanceDesc d;
+  d.position = glm::dvec3(0, 0, 5);
+  d.color = glm::u8vec4(1, 2, 3, 128);  // A tint with alpha: refused, nothing added.
+  InstanceHandle h;
+  const Status refused = crowd.add(d, &h);
+  EXPECT_EQ(refused.code(), StatusCode::kInvalidArgument);
+  EXPECT_NE(refused.message().find("custom_layer"), std::string::npos) << refused.message();
+  EXPECT_EQ(crowd.size(), 0u);
+  d.color = glm::u8vec4(1, 2, 3, 255);
+  d.custom_layer = 7;
+  ASSERT_TRUE(crowd.add(d, &h).isOk());
+  const Camera camera = testCamera({0, 1, 0}, {0, 1, 5});
+  const auto word = [&] {
+    EXPECT_TRUE(crowd.update(0.0, camera).isOk());
+    return crowd.records().empty() ? 0u : crowd.records()[0].blend[3];
+  };
+  EXPECT_EQ(word(), packAppearance(1, 2, 3, 7));
+  EXPECT_EQ(crowd.setColor(h, glm::u8vec4(9, 8, 7, 0)).code(), StatusCode::kInvalidArgument);
+  EXPECT_EQ(word(), packAppearance(1, 2, 3, 7));  // The refused tint changed nothing.
+  ASSERT_TRUE(crowd.setColor(h, glm::u8vec4(9, 8, 7, 255)).isOk());
+  EXPECT_EQ(word(), packAppearance(9, 8, 7, 7));  // The layer stays.
+  ASSERT_TRUE(crowd.setCustomLayer(h, 200).isOk());
+  EXPECT_EQ(word(), packAppearance(9, 8, 7, 200));  // The tint stays.
+  InstanceDesc got;
+  ASSERT_TRUE(crowd.get(h, &got).isOk());
+  EXPECT_EQ(got.color, glm::u8vec4(9, 8, 7, 255));
+  EXPECT_EQ(got.custom_layer, 200);
+  EXPECT_EQ(crowd.setCustomLayer(InstanceHandle{}, 1).code(), StatusCode::kNotFound);
 }
 
 TEST(CrowdManager, CrossfadeWeightsAndEndOfBlend) {

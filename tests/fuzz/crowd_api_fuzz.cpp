@@ -1,6 +1,6 @@
 // SkinnedInstancing — SPDX-License-Identifier: MIT (see LICENSE)
 // libFuzzer target: random sequences of CrowdManager calls (add, remove, play, crossfade,
-// setTransform, setColor, setVariationMask, setLodDistances, update, queries) with hostile
+// setTransform, setColor, setCustomLayer, setVariationMask, setLodDistances, update, queries) with hostile
 // values (NaN, infinities, negative and huge times, speeds, scales, stale and forged handles)
 // against a shadow list of the live handles. After every call: every live handle resolves,
 // released ones do not, the size matches; after an update the statistics add up, buckets are
@@ -213,6 +213,8 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
         d.speed = in.f32();
         d.variation_mask = in.u32();
         d.loop_mode = si::LoopMode(in.u8() % 4);
+        d.color = glm::u8vec4(in.u8(), in.u8(), in.u8(), in.u8() < 64 ? in.u8() : 255);
+        d.custom_layer = in.u8();
         si::InstanceHandle added;
         s = crowd.add(d, &added);
         if (s.isOk()) live.push_back(added);
@@ -231,7 +233,19 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
         s = crowd.setTransform(h, glm::dvec3(in.f64(), in.f64(), in.f64()),
                                glm::quat(in.f32(), in.f32(), in.f32(), in.f32()), in.f32());
         break;
-      case 6: s = crowd.setColor(h, glm::u8vec4(in.u8(), in.u8(), in.u8(), in.u8())); break;
+      case 6: {  // The tint and the custom layer share a word: each keeps the other.
+        si::InstanceDesc d0, d1;
+        const bool had = crowd.get(h, &d0).isOk();
+        const bool tint = in.u8() & 1;
+        const uint8_t layer = in.u8();
+        s = tint ? crowd.setColor(h, glm::u8vec4(in.u8(), in.u8(), in.u8(), in.u8()))
+                 : crowd.setCustomLayer(h, layer);
+        if (s.isOk() && had && crowd.get(h, &d1).isOk() &&
+            (tint ? d1.custom_layer != d0.custom_layer
+                  : d1.custom_layer != layer || d1.color != d0.color))
+          fail("setColor or setCustomLayer changed the other");
+        break;
+      }
       case 7: s = crowd.setVariationMask(h, in.u32()); break;
       case 8: {
         std::vector<float> lines(in.u8() % 4);

@@ -118,7 +118,14 @@ struct InstanceDesc {
   glm::dvec3 position = glm::dvec3(0.0);  ///< World position (double: far from the origin).
   glm::quat rotation = glm::quat(1.0f, 0.0f, 0.0f, 0.0f);
   float scale = 1.0f;                         ///< Uniform, > 0.
-  glm::u8vec4 color = glm::u8vec4(255);       ///< Tint where the texture's alpha says so.
+  /// Tint (RGB) where the texture's alpha says so. The alpha must be 255: the record's fourth
+  /// byte holds `custom_layer` instead.
+  glm::u8vec4 color = glm::u8vec4(255);
+  /// The instance's layer of the application's custom texture array (Renderer::
+  /// setCustomTextureArray): 0 for none, k for layer k - 1 (at most kMaxCustomLayers). Where the
+  /// tint mask is, that layer's texel (over the base texel by its own alpha) is what the tint
+  /// multiplies.
+  uint8_t custom_layer = 0;
   uint32_t variation_mask = 0xFFFFFFFFu;      ///< Bit s: sub-mesh s is worn.
   uint32_t clip = 0;                          ///< Index into the palette's clips.
   double time_seconds = 0.0;                  ///< Clip-local start time.
@@ -188,7 +195,10 @@ class CrowdManager {
   // Per-instance setters: kNotFound for a stale handle, kInvalidArgument for bad values.
   Status setTransform(InstanceHandle h, const glm::dvec3& position, const glm::quat& rotation,
                       float scale);
+  /// The tint (alpha 255, as InstanceDesc::color); keeps the custom layer.
   Status setColor(InstanceHandle h, glm::u8vec4 color);
+  /// The custom texture layer (as InstanceDesc::custom_layer); keeps the tint.
+  Status setCustomLayer(InstanceHandle h, uint8_t custom_layer);
   Status setVariationMask(InstanceHandle h, uint32_t mask);
   /// Starts `clip` at clip-local `time_seconds` with `speed`, cancelling any crossfade.
   Status play(InstanceHandle h, uint32_t clip, double time_seconds, float speed);

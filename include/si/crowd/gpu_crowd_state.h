@@ -20,7 +20,7 @@ struct GpuInstanceState {
   double pad0;
   float rotation[4];          ///< Quaternion x, y, z, w.
   float scale;
-  uint32_t color;             ///< RGBA8 tint.
+  uint32_t color;             ///< The appearance word (si::packAppearance).
   uint32_t variation_mask;
   uint32_t lod;               ///< The LOD hysteresis starts from.
   double start_clock, start_time;  ///< Current playback: crowd clock and clip time at start,
