@@ -32,6 +32,22 @@ Status notReady(const char* what) {
           strCat(what, ": init, uploadPalette and uploadCharacter first")};
 }
 
+const char* textureTargetName(GLint target) {
+  switch (target) {
+    case GL_TEXTURE_1D: return "GL_TEXTURE_1D";
+    case GL_TEXTURE_2D: return "GL_TEXTURE_2D";
+    case GL_TEXTURE_3D: return "GL_TEXTURE_3D";
+    case GL_TEXTURE_CUBE_MAP: return "GL_TEXTURE_CUBE_MAP";
+    case GL_TEXTURE_1D_ARRAY: return "GL_TEXTURE_1D_ARRAY";
+    case GL_TEXTURE_CUBE_MAP_ARRAY: return "GL_TEXTURE_CUBE_MAP_ARRAY";
+    case GL_TEXTURE_RECTANGLE: return "GL_TEXTURE_RECTANGLE";
+    case GL_TEXTURE_BUFFER: return "GL_TEXTURE_BUFFER";
+    case GL_TEXTURE_2D_MULTISAMPLE: return "GL_TEXTURE_2D_MULTISAMPLE";
+    case GL_TEXTURE_2D_MULTISAMPLE_ARRAY: return "GL_TEXTURE_2D_MULTISAMPLE_ARRAY";
+  }
+  return "texture of an unknown target";
+}
+
 }  // namespace
 
 const char* skinningPathName(SkinningPath path) {
@@ -154,6 +170,36 @@ Status Renderer::uploadCharacter(const Character& character, const BakedPalette&
   }
   return s;
 }
+
+Status Renderer::setCustomTextureArray(uint32_t texture) {
+  if (!impl_) return {StatusCode::kInvalidArgument, "Renderer: init() first"};
+  Impl& m = *impl_;
+  if (texture == detail::kNoObject) {
+    m.custom_texture = detail::kNoObject;
+    m.custom_layers = 0;
+    return Status::ok();
+  }
+  if (glIsTexture(texture) != GL_TRUE)
+    return {StatusCode::kInvalidArgument,
+            strCat("setCustomTextureArray: ", texture, " is not a texture name")};
+  GLint target = 0, layers = 0;
+  glGetTextureParameteriv(texture, GL_TEXTURE_TARGET, &target);
+  if (target != GL_TEXTURE_2D_ARRAY)
+    return {StatusCode::kInvalidArgument,
+            strCat("setCustomTextureArray: texture ", texture, " is a ", textureTargetName(target),
+                   ", not a GL_TEXTURE_2D_ARRAY")};
+  glGetTextureLevelParameteriv(texture, 0, GL_TEXTURE_DEPTH, &layers);
+  if (layers <= 0)
+    return {StatusCode::kInvalidArgument,
+            strCat("setCustomTextureArray: texture ", texture, " has no storage (no layers)")};
+  Status s = checkGlErrors("setCustomTextureArray");
+  if (!s.isOk()) return s;
+  m.custom_texture = texture;
+  m.custom_layers = std::min<uint32_t>(uint32_t(layers), kMaxCustomLayers);
+  return Status::ok();
+}
+
+uint32_t Renderer::customTextureLayers() const { return impl_ ? impl_->custom_layers : 0; }
 
 void Renderer::setGpuOcclusionCulling(bool on) {
   if (impl_) impl_->desc.gpu_occlusion_culling = on;

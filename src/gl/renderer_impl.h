@@ -43,6 +43,8 @@ struct Renderer::Impl {
   std::vector<DrawBatch> batches;  // The batcher's draws of the current frame.
   SkinningPath path = SkinningPath::kVertexShader;
   std::string path_reason = "explicit setting";
+  GLuint custom_texture = detail::kNoObject;  // Renderer::setCustomTextureArray.
+  uint32_t custom_layers = 0;
 
   Status check(const char* what) const { return debug ? checkGlErrors(what) : Status::ok(); }
   bool ready() const { return character.ready() && palette.ready(); }
@@ -59,6 +61,8 @@ struct Renderer::Impl {
     r.block_size = block_size;
     r.capacity = capacity;
     r.alignment = alignment;
+    r.custom_texture = custom_texture;
+    r.custom_layers = custom_layers;
     return r;
   }
 

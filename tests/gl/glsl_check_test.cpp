@@ -100,8 +100,12 @@ layout(location = 0) in vec3 a_position;
 layout(location = 3) in uvec4 a_joints;
 layout(location = 4) in vec4 a_weights;
 layout(location = 1) uniform mat4 u_view_projection;
+out vec3 v_tint;
+flat out int v_custom_layer;
 void main() {
   SiInstance inst = si_instances[gl_InstanceID];
+  v_tint = siInstanceTint(inst);
+  v_custom_layer = siInstanceCustomLayer(inst);
   vec4 m0, m1, m2;
   siSkin(inst, a_joints, a_weights, m0, m1, m2);
   vec3 model = siTransformPoint(m0, m1, m2, a_position);
@@ -119,7 +123,7 @@ TEST(GlslCheck, UserShaderOnThePublicIncludeCompiles) {
                                "user_ssbo"),
             "");
   // The interface version is part of the include.
-  EXPECT_NE(std::string(skinningGlsl()).find("#define SI_GLSL_INTERFACE_VERSION 2"),
+  EXPECT_NE(std::string(skinningGlsl()).find("#define SI_GLSL_INTERFACE_VERSION 3"),
             std::string::npos);
 }
 

@@ -154,6 +154,18 @@ class Renderer {
   /// Turns RendererDesc::gpu_occlusion_culling on or off from the next drawCrowdGpuCulled().
   void setGpuOcclusionCulling(bool on);
 
+  /// The application's custom texture array, which instances select a layer of
+  /// (InstanceDesc::custom_layer: 0 none, k layer k - 1): a GL_TEXTURE_2D_ARRAY name, sampled
+  /// with the mesh's texcoords through its own sampler state at texture unit 2. Where the
+  /// material's tint mask (its texture's alpha) is, the custom texel (over the base texel by its
+  /// own alpha) is what the instance's tint multiplies. Its layer count is read here; layers
+  /// past kMaxCustomLayers (255) cannot be selected, and a select past the last layer draws as
+  /// no select. Keep the texture alive while set; 0 detaches. kInvalidArgument for a name that
+  /// is not a texture, another target or a texture without storage; the previous array stays.
+  Status setCustomTextureArray(uint32_t texture);
+  /// Layers of the custom texture array instances can select (0: none set).
+  uint32_t customTextureLayers() const;
+
   /// Sets the directional light (world direction the light travels along).
   void setLightDirection(const glm::vec3& direction) { light_direction_ = direction; }
   /// The colour the frame is cleared to by clear().

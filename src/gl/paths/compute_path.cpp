@@ -43,7 +43,7 @@ Status ComputePath::draw(const DrawResources& r, const PathFrame& f, DrawStats* 
   const Program& pulled = (*r.programs)[ProgramId::kPulled];
   const glm::mat4 vp = f.camera.viewProjection();
   bindPreSkinning(r, skin, ring_, lists.lod_vertex_list);
-  r.character->bindMaterials();
+  bindAppearance(r, pulled);
   glProgramUniformMatrix4fv(pulled.id, pulled.view_projection, 1, GL_FALSE, &vp[0][0]);
   glProgramUniform3fv(pulled.id, pulled.light_direction, 1, &f.light[0]);
   glBindVertexArray(vao_);

@@ -52,7 +52,7 @@ Status CpuSkinningPath::draw(const DrawResources& r, const PathFrame& f, DrawSta
   const Program& program = (*r.programs)[ProgramId::kPreSkinned];
   glUseProgram(program.id);
   glBindVertexArray(vao_);
-  r.character->bindMaterials();
+  bindAppearance(r, program);
   const glm::mat4 vp = f.camera.viewProjection();
   glProgramUniformMatrix4fv(program.id, 1, 1, GL_FALSE, &vp[0][0]);
   glProgramUniform3fv(program.id, 3, 1, &f.light[0]);

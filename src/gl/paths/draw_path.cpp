@@ -6,12 +6,19 @@
 
 namespace si::detail {
 
+void bindAppearance(const DrawResources& r, const Program& program) {
+  r.character->bindMaterials();
+  glBindTextureUnit(2, r.custom_texture);
+  if (program.custom_layers >= 0)
+    glProgramUniform1ui(program.id, program.custom_layers, r.custom_layers);
+}
+
 void bindShading(const DrawResources& r, const Program& program, const Camera& camera,
                  const glm::vec3& light) {
   glUseProgram(program.id);
   glBindVertexArray(r.character->vao);
   glBindTextureUnit(0, r.palette->texture());
-  r.character->bindMaterials();
+  bindAppearance(r, program);
   const glm::mat4 vp = camera.viewProjection();
   if (program.palette_info >= 0)
     glProgramUniform4uiv(program.id, program.palette_info, 1, &r.palette->shaderInfo()[0]);

@@ -33,6 +33,10 @@ struct DrawResources {
   uint32_t block_size = 0;  ///< Bytes of the instance uniform block.
   uint32_t capacity = 0;    ///< Records per block.
   uint32_t alignment = 256; ///< Uniform buffer offset alignment.
+  /// The application's custom texture array (Renderer::setCustomTextureArray) and its layers;
+  /// kNoObject and 0 when none is set.
+  GLuint custom_texture = kNoObject;
+  uint32_t custom_layers = 0;
 };
 
 /// One frame's inputs.
@@ -63,8 +67,13 @@ class DrawPath {
   virtual void release() = 0;
 };
 
-/// Binds `program`, the character's vertex array, the palette and base colour textures, and
-/// sets the shared uniforms it declares (palette info, view-projection, base factor, light).
+/// Binds what the shading of `program` reads (shade.frag.glsl): the character's materials
+/// (CharacterBuffers::bindMaterials) and the custom texture array at unit 2 with its layer count.
+void bindAppearance(const DrawResources& r, const Program& program);
+
+/// Binds `program`, the character's vertex array, the palette texture, the appearance
+/// (bindAppearance), and sets the shared uniforms it declares (palette info, view-projection,
+/// light).
 void bindShading(const DrawResources& r, const Program& program, const Camera& camera,
                  const glm::vec3& light);
 

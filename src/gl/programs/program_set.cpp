@@ -47,6 +47,7 @@ Program describe(GLuint id) {
   p.palette_info = glGetUniformLocation(id, "si_palette_info");
   p.view_projection = glGetUniformLocation(id, "u_view_projection");
   p.light_direction = glGetUniformLocation(id, "u_light_direction");
+  p.custom_layers = glGetUniformLocation(id, "u_custom_layers");
   return p;
 }
 

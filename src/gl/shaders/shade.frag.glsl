@@ -1,7 +1,8 @@
 // SkinnedInstancing - SPDX-License-Identifier: MIT (see LICENSE)
 // Shading of every colour path: the vertex's material (its layer of the base colour texture
 // array times its factor), the instance's tint where the texture's alpha (the tint mask) says
-// so, one directional light.
+// so, there over the instance's layer of the application's custom texture array when it selects
+// one, and one directional light.
 #define SI_MATERIAL_TABLE
 #include "material_common.glsl"
 in vec3 v_normal;
@@ -9,14 +10,26 @@ in vec2 v_texcoord;
 flat in uint v_color;
 flat in uint v_material;
 layout(binding = 1) uniform sampler2DArray u_base_color;
+// The application's custom texture array (Renderer::setCustomTextureArray) and its layer count
+// (0: none set; every select is then ignored).
+layout(binding = 2) uniform sampler2DArray u_custom;
+uniform uint u_custom_layers;
 layout(location = 3) uniform vec3 u_light_direction;
 out vec4 o_color;
 void main() {
   SiMaterial material = si_materials[v_material];
   vec4 texel = texture(u_base_color, vec3(v_texcoord, float(material.layer.x))) * material.factor;
-  vec4 tint = unpackUnorm4x8(v_color);
+  vec3 tint = unpackUnorm4x8(v_color).rgb;
+  // The instance's custom layer (the appearance word's high byte: 0 none, k layer k - 1; a
+  // select past the array's layers is ignored), over the base texel by its own alpha.
+  vec3 tinted = texel.rgb;
+  uint select = v_color >> 24u;
+  if (u_custom_layers > 0u) {  // Uniform: sampled outside any divergent branch.
+    vec4 custom = texture(u_custom, vec3(v_texcoord, float(clamp(select, 1u, u_custom_layers) - 1u)));
+    if (select != 0u && select <= u_custom_layers) tinted = mix(texel.rgb, custom.rgb, custom.a);
+  }
   // The texture's alpha is the tint mask: 1 takes the instance's colour, 0 keeps the texel.
-  vec3 albedo = mix(texel.rgb, texel.rgb * tint.rgb, texel.a);
+  vec3 albedo = mix(texel.rgb, tinted * tint, texel.a);
   float lambert = max(dot(normalize(v_normal), -u_light_direction), 0.0);
   o_color = vec4(albedo * (0.35 + 0.65 * lambert), 1.0);
 }

@@ -2,7 +2,9 @@
 // The skinning include for your own vertex (or compute) shaders: the instance record, the
 // instance block, the palette and functions that fetch, interpolate, crossfade and blend the
 // bone matrices exactly as si::emulateSkinningMatrix() and si::emulateSkinning() do on the CPU.
-// Interface version 2 (2: the fraction words carry the interval mode, cubic clips); docs/glsl-interface.md documents every name, binding and define.
+// Interface version 3 (2: the fraction words carry the interval mode, cubic clips; 3: the
+// record's fourth blend word is the appearance: tint RGB8 and the custom texture layer);
+// docs/glsl-interface.md documents every name, binding and define.
 //
 // Before including, define SI_MAX_INSTANCES (records per draw: InstanceBatcher::
 // capacityPerDraw()), or define SI_INSTANCES_IN_STORAGE to read the records from a shader
@@ -11,7 +13,7 @@
 // `uniform uvec4 si_palette_info` at location 0 (si::paletteShaderInfo()).
 #ifndef SI_SKINNING_GLSL
 #define SI_SKINNING_GLSL
-#define SI_GLSL_INTERFACE_VERSION 2
+#define SI_GLSL_INTERFACE_VERSION 3
 #include "si_instance_record.glsl"
 #include "si_transform.glsl"
 
