@@ -27,9 +27,17 @@ void GLAD_API_PTR debugCallback(GLenum, GLenum type, GLuint, GLenum severity, GL
   logMessage(level, strCat("GL: ", message));
 }
 
-Status notReady(const char* what) {
+Status noRenderer(const char* what) {
   return {StatusCode::kInvalidArgument,
           strCat(what, ": init, uploadPalette and uploadCharacter first")};
+}
+
+// kInvalidArgument unless `crowd` plays the palette character `c` was uploaded with.
+Status samePalette(const detail::CharacterSlot& c, const CrowdManager& crowd, const char* what) {
+  if (crowd.desc().palette == c.palette.palette()) return Status::ok();
+  return {StatusCode::kInvalidArgument,
+          strCat(what, ": the crowd plays another palette than the character's (draw each ",
+                 "crowd with the CharacterId of the character uploaded with its palette)")};
 }
 
 const char* textureTargetName(GLint target) {
@@ -90,8 +98,8 @@ Status Renderer::init(const GlInfo& info, const RendererDesc& desc) {
                    " must be within 16384 and the context's limit ", limit)};
   impl->capacity = impl->block_size / kInstanceRecordSize;
   impl->alignment = std::max<uint32_t>(16, info.uniform_buffer_offset_alignment);
-  impl->ring.configure(impl->block_size, impl->alignment,
-                       desc.ring_frames == 0 ? 3 : desc.ring_frames);
+  impl->ring_frames = desc.ring_frames == 0 ? 3 : desc.ring_frames;
+  impl->ring.configure(impl->block_size, impl->alignment, impl->ring_frames);
   if (impl->debug && info.has_khr_debug) {
     glEnable(GL_DEBUG_OUTPUT);
     glEnable(GL_DEBUG_OUTPUT_SYNCHRONOUS);
@@ -101,11 +109,6 @@ Status Renderer::init(const GlInfo& info, const RendererDesc& desc) {
   config.max_instances = impl->capacity;
   config.max_joints = detail::kMaxTraditionalJoints;
   Status s = impl->programs.build(config);
-  impl->path = desc.skinning_path == SkinningPath::kCompute ? SkinningPath::kCompute
-                                                             : SkinningPath::kVertexShader;
-  impl->path_reason = desc.skinning_path == SkinningPath::kAutomatic
-                          ? "not measured yet (uploadCharacter measures)"
-                          : "explicit setting";
   if (s.isOk()) {
     impl->timer.create();
     s = impl->check("Renderer::init");
@@ -118,14 +121,11 @@ Status Renderer::init(const GlInfo& info, const RendererDesc& desc) {
 void Renderer::shutdown() {
   if (!impl_) return;
   Impl& m = *impl_;
-  for (detail::DrawPath* p : std::initializer_list<detail::DrawPath*>{
-           &m.vertex_path, &m.compute_path, &m.traditional_path, &m.cpu_path,
-           &m.gpu_culled_path})
-    p->release();
+  for (auto& c : m.characters) c->release();
+  m.vertex_path.release();
+  m.traditional_path.release();
   m.ring.release();
-  m.preskin.release();
-  m.character.release();
-  m.palette.release();
+  m.scratch.release();
   m.timer.release();
   m.programs.release();
   impl_.reset();
@@ -141,34 +141,73 @@ BatchLimits Renderer::batchLimits() const {
 
 Status Renderer::uploadPalette(const BakedPalette& palette) {
   if (!impl_) return {StatusCode::kInvalidArgument, "Renderer: init() first"};
-  Status s = impl_->palette.upload(palette, impl_->info);
+  Status s = impl_->firstCharacter().palette.upload(palette, impl_->info);
+  if (s.isOk()) impl_->sizeRing();
   return s.isOk() ? impl_->check("uploadPalette") : s;
 }
 
 Status Renderer::uploadCharacter(const Character& character, const BakedPalette& palette) {
   if (!impl_) return {StatusCode::kInvalidArgument, "Renderer: init() first"};
-  Impl& m = *impl_;
-  Status s = m.character.upload(character, palette, m.desc.max_texture_size);
-  if (s.isOk()) s = m.preskin.build(m.character);
+  impl_->sizeRing();
+  return impl_->uploadMesh(character, palette, impl_->firstCharacter(), light_direction_);
+}
+
+Status Renderer::Impl::uploadMesh(const Character& character, const BakedPalette& palette,
+                                  detail::CharacterSlot& c, const glm::vec3& light) {
+  Impl& m = *this;
+  Status s = c.character.upload(character, palette, m.desc.max_texture_size);
+  if (s.isOk()) s = c.preskin.build(c.character);
   if (!s.isOk()) return s;
-  const detail::DrawResources r = m.resources();
+  const detail::DrawResources r = m.resources(c);
   for (detail::DrawPath* p : std::initializer_list<detail::DrawPath*>{
-           &m.vertex_path, &m.compute_path, &m.traditional_path, &m.cpu_path,
-           &m.gpu_culled_path})
+           &m.vertex_path, &c.compute_path, &m.traditional_path, &c.cpu_path,
+           &c.gpu_culled_path})
     if (s.isOk()) s = p->prepare(r);
   if (s.isOk()) s = m.check("uploadCharacter");
+  c.path = m.desc.skinning_path == SkinningPath::kCompute ? SkinningPath::kCompute
+                                                           : SkinningPath::kVertexShader;
+  c.path_reason = "explicit setting";
   if (s.isOk() && m.desc.skinning_path == SkinningPath::kAutomatic) {
     detail::PathChoice choice;
-    s = detail::chooseSkinningPath(r, m.vertex_path, m.compute_path, light_direction_, &choice);
+    s = detail::chooseSkinningPath(r, m.vertex_path, c.compute_path, light, &choice);
     if (s.isOk()) {
-      m.path = choice.path;
-      m.path_reason = choice.reason;
-      logMessage(LogLevel::kInfo, strCat("si::Renderer: skinning path ", skinningPathName(m.path),
-                                         " (", m.path_reason, ")"));
+      c.path = choice.path;
+      c.path_reason = choice.reason;
+      logMessage(LogLevel::kInfo, strCat("si::Renderer: skinning path ", skinningPathName(c.path),
+                                         " (", c.path_reason, ")"));
       s = m.check("measuring the skinning paths");
     }
   }
   return s;
+}
+
+Status Renderer::addCharacter(const Character& character, const BakedPalette& palette,
+                              CharacterId* id) {
+  if (!impl_) return {StatusCode::kInvalidArgument, "Renderer: init() first"};
+  if (id == nullptr) return {StatusCode::kInvalidArgument, "addCharacter: id is null"};
+  Impl& m = *impl_;
+  auto slot = std::make_unique<detail::CharacterSlot>();
+  Status s = slot->palette.upload(palette, m.info);
+  if (!s.isOk()) return {s.code(), "addCharacter: " + s.message()};
+  // The new character's ring regions exist before its path choice draws.
+  m.characters.push_back(std::move(slot));
+  m.sizeRing();
+  s = m.uploadMesh(character, palette, *m.characters.back(), light_direction_);
+  if (!s.isOk()) {
+    m.characters.back()->release();
+    m.characters.pop_back();
+    m.sizeRing();
+    return s;
+  }
+  id->index = uint32_t(m.characters.size() - 1);
+  return Status::ok();
+}
+
+uint32_t Renderer::characterCount() const {
+  if (!impl_) return 0;
+  uint32_t n = 0;
+  for (const auto& c : impl_->characters) n += c->ready() ? 1 : 0;
+  return n;
 }
 
 Status Renderer::setCustomTextureArray(uint32_t texture) {
@@ -205,22 +244,26 @@ void Renderer::setGpuOcclusionCulling(bool on) {
   if (impl_) impl_->desc.gpu_occlusion_culling = on;
 }
 
-SkinningPath Renderer::skinningPath() const {
-  return impl_ ? impl_->path : SkinningPath::kVertexShader;
+SkinningPath Renderer::skinningPath(CharacterId id) const {
+  if (!impl_ || id.index >= impl_->characters.size()) return SkinningPath::kVertexShader;
+  return impl_->characters[id.index]->path;
 }
 
-const std::string& Renderer::skinningPathReason() const {
-  static const std::string none = "no renderer (init() first)";
-  return impl_ ? impl_->path_reason : none;
+const std::string& Renderer::skinningPathReason(CharacterId id) const {
+  static const std::string none = "no such character (init() and upload first)";
+  if (!impl_ || id.index >= impl_->characters.size()) return none;
+  return impl_->characters[id.index]->path_reason;
 }
 
 uint64_t Renderer::computeRingBytes() const {
-  return impl_ ? impl_->compute_path.ringBytes() : 0;
+  return impl_ ? impl_->scratch.compute_ring.vertices * 16 : 0;
 }
 
-uint32_t Renderer::triangleCount(uint32_t sub_mesh, uint32_t lod) const {
-  if (!impl_ || sub_mesh >= impl_->character.sub_meshes.size()) return 0;
-  return impl_->character.lodRange(sub_mesh, lod).index_count / 3;
+uint32_t Renderer::triangleCount(CharacterId id, uint32_t sub_mesh, uint32_t lod) const {
+  if (!impl_ || id.index >= impl_->characters.size()) return 0;
+  const detail::CharacterBuffers& c = impl_->characters[id.index]->character;
+  if (sub_mesh >= c.sub_meshes.size()) return 0;
+  return c.lodRange(sub_mesh, lod).index_count / 3;
 }
 
 void Renderer::clear(const glm::vec4& color) {
@@ -229,24 +272,29 @@ void Renderer::clear(const glm::vec4& color) {
   glClear(GL_COLOR_BUFFER_BIT | GL_DEPTH_BUFFER_BIT);
 }
 
-Status Renderer::drawCrowd(const CrowdManager& crowd, const InstanceBatcher& batcher,
-                           const Camera& camera, DrawStats* stats, DrawMode mode) {
-  if (!impl_ || !impl_->ready()) return notReady("drawCrowd");
+Status Renderer::drawCrowd(CharacterId id, const CrowdManager& crowd,
+                           const InstanceBatcher& batcher, const Camera& camera, DrawStats* stats,
+                           DrawMode mode) {
+  if (!impl_) return noRenderer("drawCrowd");
   Impl& m = *impl_;
+  detail::CharacterSlot* c = nullptr;
+  Status s = m.find(id, "drawCrowd", &c);
+  if (s.isOk()) s = samePalette(*c, crowd, "drawCrowd");
+  if (!s.isOk()) return s;
   if (batcher.capacityPerDraw() > m.capacity)
     return {StatusCode::kInvalidArgument,
             strCat("drawCrowd: the batcher's ", batcher.capacityPerDraw(),
                    " instances per draw exceed the shader's ", m.capacity,
                    " (init the batcher with batchLimits())")};
   const auto t0 = std::chrono::steady_clock::now();
-  Status s = m.ring.reserve(batcher.recordBufferBound(crowd));
+  s = m.ring.reserve(batcher.recordBufferBound(crowd));
   if (!s.isOk()) return s;
   const size_t base = m.ring.acquire();
   s = batcher.build(crowd, Span<uint8_t>(m.ring.mapped(base), m.ring.writableBytes()),
                     &m.batches);
   if (!s.isOk()) return s;
   if (mode == DrawMode::kDefault)
-    mode = m.path == SkinningPath::kCompute ? DrawMode::kComputeSkinned : DrawMode::kSkinned;
+    mode = c->path == SkinningPath::kCompute ? DrawMode::kComputeSkinned : DrawMode::kSkinned;
   detail::PathFrame frame;
   frame.crowd = &crowd;
   frame.camera = camera;
@@ -257,10 +305,10 @@ Status Renderer::drawCrowd(const CrowdManager& crowd, const InstanceBatcher& bat
   frame.batches = &m.batches;
   frame.ring_base = base;
   detail::DrawPath& path = mode == DrawMode::kComputeSkinned
-                               ? static_cast<detail::DrawPath&>(m.compute_path)
+                               ? static_cast<detail::DrawPath&>(c->compute_path)
                                : m.vertex_path;
   DrawStats st;
-  s = m.runPath(path, frame, t0, stats != nullptr, &st);
+  s = m.runPath(*c, path, frame, t0, stats != nullptr, &st);
   m.ring.finishFrame();
   if (s.isOk()) s = m.check("drawCrowd");
   if (stats != nullptr) *stats = st;
@@ -268,24 +316,35 @@ Status Renderer::drawCrowd(const CrowdManager& crowd, const InstanceBatcher& bat
 }
 
 // The crowd-only paths: the baselines and GPU-driven culling.
-Status Renderer::drawTraditional(const CrowdManager& crowd, const Camera& camera,
+Status Renderer::drawTraditional(CharacterId id, const CrowdManager& crowd, const Camera& camera,
                                  DrawStats* stats) {
-  if (!impl_ || !impl_->ready()) return notReady("drawTraditional");
-  return impl_->drawCrowdOnly(impl_->traditional_path, "drawTraditional", crowd, camera,
+  if (!impl_) return noRenderer("drawTraditional");
+  detail::CharacterSlot* c = nullptr;
+  Status s = impl_->find(id, "drawTraditional", &c);
+  if (s.isOk()) s = samePalette(*c, crowd, "drawTraditional");
+  if (!s.isOk()) return s;
+  return impl_->drawCrowdOnly(*c, impl_->traditional_path, "drawTraditional", crowd, camera,
                               light_direction_, stats);
 }
 
-Status Renderer::drawCpuSkinned(const CrowdManager& crowd, const Camera& camera,
+Status Renderer::drawCpuSkinned(CharacterId id, const CrowdManager& crowd, const Camera& camera,
                                 DrawStats* stats) {
-  if (!impl_ || !impl_->ready()) return notReady("drawCpuSkinned");
-  return impl_->drawCrowdOnly(impl_->cpu_path, "drawCpuSkinned", crowd, camera, light_direction_,
-                              stats);
+  if (!impl_) return noRenderer("drawCpuSkinned");
+  detail::CharacterSlot* c = nullptr;
+  Status s = impl_->find(id, "drawCpuSkinned", &c);
+  if (s.isOk()) s = samePalette(*c, crowd, "drawCpuSkinned");
+  if (!s.isOk()) return s;
+  return impl_->drawCrowdOnly(*c, c->cpu_path, "drawCpuSkinned", crowd, camera,
+                              light_direction_, stats);
 }
 
-Status Renderer::drawCrowdGpuCulled(const CrowdManager& crowd, const Camera& camera,
-                                    DrawStats* stats, DrawMode mode) {
-  if (!impl_ || !impl_->ready()) return notReady("drawCrowdGpuCulled");
+Status Renderer::drawCrowdGpuCulled(CharacterId id, const CrowdManager& crowd,
+                                    const Camera& camera, DrawStats* stats, DrawMode mode) {
+  if (!impl_) return noRenderer("drawCrowdGpuCulled");
   Impl& m = *impl_;
+  detail::CharacterSlot* c = nullptr;
+  Status s = m.find(id, "drawCrowdGpuCulled", &c);
+  if (!s.isOk()) return s;
   if (mode == DrawMode::kDepthOnly || mode == DrawMode::kRigid)
     return {StatusCode::kInvalidArgument,
             "drawCrowdGpuCulled: the GPU-driven path skins (kDefault, kSkinned, kComputeSkinned)"};
@@ -295,20 +354,23 @@ Status Renderer::drawCrowdGpuCulled(const CrowdManager& crowd, const Camera& cam
   frame.camera = camera;
   frame.light = light_direction_;
   frame.preskin = mode == DrawMode::kComputeSkinned ||
-                  (mode == DrawMode::kDefault && m.path == SkinningPath::kCompute);
+                  (mode == DrawMode::kDefault && c->path == SkinningPath::kCompute);
   DrawStats st;
-  Status s = m.runPath(m.gpu_culled_path, frame, t0, stats != nullptr, &st);
+  s = m.runPath(*c, c->gpu_culled_path, frame, t0, stats != nullptr, &st);
   // Visible instances and triangles: the counters, read back after the timer anyway blocked.
-  if (s.isOk() && st.gpu_ms >= 0.0) m.gpu_culled_path.readCounts(m.resources(), crowd.desc(), &st);
+  if (s.isOk() && st.gpu_ms >= 0.0)
+    c->gpu_culled_path.readCounts(m.resources(*c), crowd.desc(), &st);
   if (s.isOk()) s = m.check("drawCrowdGpuCulled");
   if (stats != nullptr) *stats = st;
   return s;
 }
 
-Status Renderer::readGpuSelection(std::vector<glm::uvec2>* selection) {
+Status Renderer::readGpuSelection(CharacterId id, std::vector<glm::uvec2>* selection) {
   if (!impl_ || selection == nullptr)
     return {StatusCode::kInvalidArgument, "readGpuSelection: init() first, non-null output"};
-  Status s = impl_->gpu_culled_path.readSelection(selection);
+  detail::CharacterSlot* c = nullptr;
+  Status s = impl_->find(id, "readGpuSelection", &c);
+  if (s.isOk()) s = c->gpu_culled_path.readSelection(selection);
   return s.isOk() ? checkGlErrors("readGpuSelection") : s;
 }
 

@@ -1,25 +1,24 @@
 // SkinnedInstancing — SPDX-License-Identifier: MIT (see LICENSE)
 #pragma once
-// Renderer's private state: the programs, the uploaded resources and one object per draw path.
-// renderer.cpp dispatches to the paths; each path lives in src/gl/paths/.
+// Renderer's private state: the programs, the shared record ring and scratch buffers, the
+// characters (character_slot.h) and the paths without per-character state. renderer.cpp
+// dispatches to the paths; each path lives in src/gl/paths/.
 
 #include <glad/gl.h>
 
 #include <chrono>
+#include <memory>
 #include <string>
 #include <vector>
 
-#include "gl/paths/compute_path.h"
-#include "gl/paths/cpu_skinning_path.h"
-#include "gl/paths/gpu_culled_path.h"
+#include "core/str_cat.h"
+#include "gl/character_slot.h"
 #include "gl/paths/traditional_path.h"
 #include "gl/paths/vertex_shader_path.h"
 #include "gl/programs/program_set.h"
-#include "gl/resources/character_buffers.h"
 #include "gl/resources/gpu_timer.h"
-#include "gl/resources/palette_texture.h"
-#include "gl/resources/preskin_lists.h"
 #include "gl/resources/record_ring.h"
+#include "gl/resources/scratch_buffers.h"
 #include "si/gl/renderer.h"
 
 namespace si {
@@ -28,36 +27,61 @@ struct Renderer::Impl {
   GlInfo info;
   RendererDesc desc;
   bool debug = false;
-  uint32_t block_size = 0, capacity = 0, alignment = 256;
+  uint32_t block_size = 0, capacity = 0, alignment = 256, ring_frames = 3;
   detail::ProgramSet programs;
-  detail::PaletteTexture palette;
-  detail::CharacterBuffers character;
-  detail::PreSkinLists preskin;
   detail::RecordRing ring;
+  detail::ScratchBuffers scratch;
   detail::GpuTimer timer;
   detail::VertexShaderPath vertex_path;
-  detail::ComputePath compute_path;
   detail::TraditionalPath traditional_path;
-  detail::CpuSkinningPath cpu_path;
-  detail::GpuCulledPath gpu_culled_path;
+  std::vector<std::unique_ptr<detail::CharacterSlot>> characters;  // CharacterId::index order.
   std::vector<DrawBatch> batches;  // The batcher's draws of the current frame.
-  SkinningPath path = SkinningPath::kVertexShader;
-  std::string path_reason = "explicit setting";
   GLuint custom_texture = detail::kNoObject;  // Renderer::setCustomTextureArray.
   uint32_t custom_layers = 0;
 
-  Status check(const char* what) const { return debug ? checkGlErrors(what) : Status::ok(); }
-  bool ready() const { return character.ready() && palette.ready(); }
+  /// Uploads `character` (its palette already in `c`), prepares the paths' per-character state
+  /// and picks its skinning path (measured with `light` under SkinningPath::kAutomatic).
+  Status uploadMesh(const Character& character, const BakedPalette& palette,
+                    detail::CharacterSlot& c, const glm::vec3& light);
 
-  detail::DrawResources resources() {
+  Status check(const char* what) const { return debug ? checkGlErrors(what) : Status::ok(); }
+
+  /// Character 0, created (empty) if there is none: what uploadPalette and uploadCharacter
+  /// replace.
+  detail::CharacterSlot& firstCharacter() {
+    if (characters.empty()) characters.push_back(std::make_unique<detail::CharacterSlot>());
+    return *characters[0];
+  }
+
+  /// The uploaded character `id`; kInvalidArgument naming `what` when there is none or it is
+  /// not complete (palette and mesh).
+  Status find(CharacterId id, const char* what, detail::CharacterSlot** out) {
+    if (id.index >= characters.size() || !characters[id.index]->ready())
+      return {StatusCode::kInvalidArgument,
+              id.index == 0 && characters.size() <= 1
+                  ? detail::strCat(what, ": init, uploadPalette and uploadCharacter first")
+                  : detail::strCat(what, ": no character ", id.index, " (", characters.size(),
+                                   " added; addCharacter gives the ids)")};
+    *out = characters[id.index].get();
+    return Status::ok();
+  }
+
+  /// The record ring keeps `ring_frames` regions per character: each character's draw takes
+  /// one, so a frame drawing every character waits for none of this frame's regions.
+  void sizeRing() {
+    ring.setRegions(ring_frames * uint32_t(std::max<size_t>(1, characters.size())));
+  }
+
+  detail::DrawResources resources(detail::CharacterSlot& c) {
     detail::DrawResources r;
     r.info = &info;
     r.desc = &desc;
     r.programs = &programs;
-    r.palette = &palette;
-    r.character = &character;
-    r.preskin = &preskin;
+    r.palette = &c.palette;
+    r.character = &c.character;
+    r.preskin = &c.preskin;
     r.ring = &ring;
+    r.scratch = &scratch;
     r.block_size = block_size;
     r.capacity = capacity;
     r.alignment = alignment;
@@ -66,28 +90,29 @@ struct Renderer::Impl {
     return r;
   }
 
-  /// A crowd-only path (no batcher, no mode) for `crowd` seen by `camera`: runPath(), the error
-  /// check named `what`, and the stats (when non-null).
-  Status drawCrowdOnly(detail::DrawPath& p, const char* what, const CrowdManager& crowd,
-                       const Camera& camera, const glm::vec3& light, DrawStats* stats) {
+  /// A crowd-only path (no batcher, no mode) of character `c` for `crowd` seen by `camera`:
+  /// runPath(), the error check named `what`, and the stats (when non-null).
+  Status drawCrowdOnly(detail::CharacterSlot& c, detail::DrawPath& p, const char* what,
+                       const CrowdManager& crowd, const Camera& camera, const glm::vec3& light,
+                       DrawStats* stats) {
     const auto t0 = std::chrono::steady_clock::now();
     detail::PathFrame frame;
     frame.crowd = &crowd;
     frame.camera = camera;
     frame.light = light;
     DrawStats st;
-    Status s = runPath(p, frame, t0, stats != nullptr, &st);
+    Status s = runPath(c, p, frame, t0, stats != nullptr, &st);
     if (s.isOk()) s = check(what);
     if (stats != nullptr) *stats = st;
     return s;
   }
 
-  /// Runs `p` for `frame`: its uploads, then its commands with depth test and back-face culling
-  /// under the GPU timer (when asked for and `stats` is non-null). Fills `st` with what it drew,
-  /// the CPU milliseconds since `t0` and the GPU milliseconds.
-  Status runPath(detail::DrawPath& p, const detail::PathFrame& frame,
+  /// Runs `p` for character `c` and `frame`: its uploads, then its commands with depth test and
+  /// back-face culling under the GPU timer (when asked for and `stats` is non-null). Fills `st`
+  /// with what it drew, the CPU milliseconds since `t0` and the GPU milliseconds.
+  Status runPath(detail::CharacterSlot& c, detail::DrawPath& p, const detail::PathFrame& frame,
                  std::chrono::steady_clock::time_point t0, bool timed, DrawStats* st) {
-    const detail::DrawResources r = resources();
+    const detail::DrawResources r = resources(c);
     Status s = p.uploadFrame(r, frame);
     if (!s.isOk()) return s;
     glEnable(GL_DEPTH_TEST);

@@ -56,17 +56,20 @@ void captureCompute(const detail::DrawResources& r, uint32_t vertices, const Cap
 
 }  // namespace
 
-Status Renderer::captureSkinnedPositions(const InstanceRecord& record, std::vector<glm::vec3>* out,
-                                         SkinningPath path) {
-  if (!impl_ || !impl_->ready() || out == nullptr)
+Status Renderer::captureSkinnedPositions(CharacterId id, const InstanceRecord& record,
+                                         std::vector<glm::vec3>* out, SkinningPath path) {
+  if (!impl_ || out == nullptr)
     return {StatusCode::kInvalidArgument,
             "captureSkinnedPositions: init, uploads first, and a non-null output"};
   Impl& m = *impl_;
-  if (path == SkinningPath::kAutomatic) path = m.path;
+  detail::CharacterSlot* c = nullptr;
+  Status found = m.find(id, "captureSkinnedPositions", &c);
+  if (!found.isOk()) return found;
+  if (path == SkinningPath::kAutomatic) path = c->path;
   if (path == SkinningPath::kCompute && m.programs[detail::ProgramId::kComputeSkin].id == 0)
     return {StatusCode::kUnsupported,
             "captureSkinnedPositions: the compute skinning program is not available"};
-  const uint32_t vertices = m.character.vertex_count;
+  const uint32_t vertices = c->character.vertex_count;
   const bool compute = path == SkinningPath::kCompute;
   CaptureBuffers b;
   std::vector<uint8_t> block(m.block_size, 0);
@@ -91,12 +94,12 @@ Status Renderer::captureSkinnedPositions(const InstanceRecord& record, std::vect
   if (!s.isOk()) return s;
   out->resize(vertices);
   if (compute) {
-    captureCompute(m.resources(), vertices, b);
+    captureCompute(m.resources(*c), vertices, b);
     std::vector<glm::vec4> skinned(vertices);
     glGetNamedBufferSubData(b.out, 0, GLsizeiptr(size_t(vertices) * 16), skinned.data());
     for (uint32_t v = 0; v < vertices; ++v) (*out)[v] = glm::vec3(skinned[v]);
   } else {
-    captureVertexShader(m.resources(), vertices, light_direction_, b);
+    captureVertexShader(m.resources(*c), vertices, light_direction_, b);
     glGetNamedBufferSubData(b.out, 0, GLsizeiptr(size_t(vertices) * 12), out->data());
   }
   return checkGlErrors("captureSkinnedPositions");

@@ -23,6 +23,18 @@
 ///   s = renderer.drawCrowd(crowd, batcher, camera, &stats);
 /// \endcode
 ///
+/// Several character kinds (soldiers, animals, ...) share one renderer: addCharacter() uploads
+/// each with its palette and returns its id; each crowd (made for that character's palette) is
+/// drawn with the overload that takes the id. The programs, the record ring and the scratch
+/// buffers are shared; uploadPalette() and uploadCharacter() are character 0.
+/// \code
+///   si::CharacterId soldiers, foxes;
+///   renderer.addCharacter(soldier, soldier_palette, &soldiers);
+///   renderer.addCharacter(fox, fox_palette, &foxes);
+///   renderer.drawCrowd(soldiers, soldier_crowd, batcher, camera, &stats);
+///   renderer.drawCrowd(foxes, fox_crowd, batcher, camera, &stats);
+/// \endcode
+///
 /// Vertex format (36 or 32 bytes): position 3 x f32 (12), normal 10:10:10:2 snorm (4),
 /// texcoord 2 x f16 (4), joints 4 x u8 when the palette stores at most 256 joints, else
 /// 4 x u16 (4 or 8), weights 4 x unorm16 summing to exactly 1 (8). Positions are not
@@ -58,6 +70,7 @@ struct RendererDesc {
   /// GL's minimum 16384) to test batching; it can never exceed the limit.
   uint32_t uniform_block_size_bytes = 0;
   /// Frames the record ring holds before reusing a region (each guarded by a fence); 0 means 3.
+  /// The ring has this many regions per character (each character's draw takes one).
   uint32_t ring_frames = 0;
   /// Check glGetError after each group of calls and route KHR_debug messages to the log
   /// callback. 0 means: on in debug builds (no NDEBUG), off otherwise; 1 on; 2 off.
@@ -89,6 +102,15 @@ struct RendererDesc {
   /// Largest side of the base colour texture array's layers (si::buildMaterialTable: every
   /// material image resized to one size, so all materials share a draw); 0 means 2048.
   uint32_t max_texture_size = 0;
+};
+
+/// A character uploaded into a Renderer: its index in upload order (addCharacter gives it).
+/// Character 0 is the one uploadPalette() and uploadCharacter() replace and the draw functions
+/// without an id draw.
+struct CharacterId {
+  uint32_t index = 0;
+  bool operator==(const CharacterId& o) const { return index == o.index; }
+  bool operator!=(const CharacterId& o) const { return index != o.index; }
 };
 
 /// What one draw call group did.
@@ -138,18 +160,30 @@ class Renderer {
   /// The limits to give the InstanceBatcher (the block size in use and the offset alignment).
   BatchLimits batchLimits() const;
 
-  /// Uploads the palette texture (RGBA32F or RGBA16F). kLimitExceeded when it is larger than
-  /// GL_MAX_TEXTURE_SIZE; kInvalidArgument for a palette that fails BakedPalette::validate().
+  /// Uploads character 0's palette texture (RGBA32F or RGBA16F). kLimitExceeded when it is
+  /// larger than GL_MAX_TEXTURE_SIZE; kInvalidArgument for a palette that fails
+  /// BakedPalette::validate(). The palette is borrowed: keep it alive while it is drawn.
   Status uploadPalette(const BakedPalette& palette);
-  /// Uploads the character's mesh (joint indices remapped to palette slots), its first
-  /// material's base colour and texture. The palette must be the one baked for it. With
-  /// SkinningPath::kAutomatic it then measures both skinning paths and picks the faster.
+  /// Uploads character 0's mesh (joint indices remapped to palette slots) and materials (the
+  /// material table and base colour texture array). The palette must be the one baked for it.
+  /// With SkinningPath::kAutomatic it then measures both skinning paths and picks the faster.
   Status uploadCharacter(const Character& character, const BakedPalette& palette);
+  /// Uploads one more character with its palette (both as uploadPalette and uploadCharacter
+  /// do, the skinning path measured per character) and returns its id in `id`: the number of
+  /// characters before it. Nothing is added when it fails (the same errors as those two, and
+  /// kInvalidArgument for a null `id`).
+  Status addCharacter(const Character& character, const BakedPalette& palette, CharacterId* id);
+  /// Characters uploaded (addCharacter, or character 0 by uploadPalette/uploadCharacter).
+  uint32_t characterCount() const;
 
-  /// The path DrawMode::kDefault uses, and why (measured times, or "explicit setting").
-  SkinningPath skinningPath() const;
-  const std::string& skinningPathReason() const;
-  /// Bytes allocated for the compute path's vertex ring (0 until it is first used).
+  /// The path DrawMode::kDefault uses for character 0 (or `id`), and why (measured times, or
+  /// "explicit setting").
+  SkinningPath skinningPath() const { return skinningPath(CharacterId{}); }
+  SkinningPath skinningPath(CharacterId id) const;
+  const std::string& skinningPathReason() const { return skinningPathReason(CharacterId{}); }
+  const std::string& skinningPathReason(CharacterId id) const;
+  /// Bytes allocated for the compute path's vertex ring, shared by every character (0 until it
+  /// is first used).
   uint64_t computeRingBytes() const;
   /// Turns RendererDesc::gpu_occlusion_culling on or off from the next drawCrowdGpuCulled().
   void setGpuOcclusionCulling(bool on);
@@ -174,17 +208,32 @@ class Renderer {
   /// Builds the crowd's batches with `batcher` straight into the mapped record ring and draws
   /// each with one glDrawElementsInstanced. `mode` picks the program.
   Status drawCrowd(const CrowdManager& crowd, const InstanceBatcher& batcher, const Camera& camera,
-                   DrawStats* stats, DrawMode mode = DrawMode::kDefault);
+                   DrawStats* stats, DrawMode mode = DrawMode::kDefault) {
+    return drawCrowd(CharacterId{}, crowd, batcher, camera, stats, mode);
+  }
+  /// The same for character `character`, whose palette `crowd` must play (kInvalidArgument
+  /// otherwise, or for an unknown id). Every draw function has this overload.
+  Status drawCrowd(CharacterId character, const CrowdManager& crowd,
+                   const InstanceBatcher& batcher, const Camera& camera, DrawStats* stats,
+                   DrawMode mode = DrawMode::kDefault);
   /// The traditional path: for each visible instance, computes its joint matrices on the CPU
   /// from the palette, uploads them into a uniform block and issues one glDrawElements per worn
   /// sub-mesh.
-  Status drawTraditional(const CrowdManager& crowd, const Camera& camera, DrawStats* stats);
+  Status drawTraditional(const CrowdManager& crowd, const Camera& camera, DrawStats* stats) {
+    return drawTraditional(CharacterId{}, crowd, camera, stats);
+  }
+  Status drawTraditional(CharacterId character, const CrowdManager& crowd, const Camera& camera,
+                         DrawStats* stats);
 
   /// The CPU-skinning baseline: for each visible instance, computes its joint matrices from the
   /// palette, skins the vertices of its worn sub-meshes at its LOD on the CPU (si::emulateSkinning
   /// arithmetic), streams them to the GPU (camera-relative world space) and draws them without
   /// any skinning in the shader, one glDrawElementsBaseVertex per sub-mesh.
-  Status drawCpuSkinned(const CrowdManager& crowd, const Camera& camera, DrawStats* stats);
+  Status drawCpuSkinned(const CrowdManager& crowd, const Camera& camera, DrawStats* stats) {
+    return drawCpuSkinned(CharacterId{}, crowd, camera, stats);
+  }
+  Status drawCpuSkinned(CharacterId character, const CrowdManager& crowd, const Camera& camera,
+                        DrawStats* stats);
 
   /// GPU-driven culling and LOD: the crowd's state lives in shader storage buffers (uploaded
   /// again only when crowd.stateVersion() changes); a compute pass culls every instance against
@@ -200,12 +249,22 @@ class Renderer {
   /// instance's LOD between frames (re-seeded from the crowd's at each upload). With
   /// RendererDesc::measure_gpu_time, `stats` also gets the visible instances, triangles and
   /// pre-skinned vertices (read back after the timer); otherwise only draw_calls and the CPU
-  /// time. kInvalidArgument for kDepthOnly or kRigid.
+  /// time. kInvalidArgument for kDepthOnly or kRigid. Each character keeps the GPU state of
+  /// the last crowd it drew: draw one crowd per character (another re-uploads).
   Status drawCrowdGpuCulled(const CrowdManager& crowd, const Camera& camera, DrawStats* stats,
+                            DrawMode mode = DrawMode::kDefault) {
+    return drawCrowdGpuCulled(CharacterId{}, crowd, camera, stats, mode);
+  }
+  Status drawCrowdGpuCulled(CharacterId character, const CrowdManager& crowd,
+                            const Camera& camera, DrawStats* stats,
                             DrawMode mode = DrawMode::kDefault);
-  /// The last drawCrowdGpuCulled() frame's selection, read back: (dense index, LOD) per visible
-  /// instance in no particular order (dense index i is exportGpuState's instance i).
-  Status readGpuSelection(std::vector<glm::uvec2>* selection);
+  /// The last drawCrowdGpuCulled() frame's selection (of character 0, or `character`), read
+  /// back: (dense index, LOD) per visible instance in no particular order (dense index i is
+  /// exportGpuState's instance i).
+  Status readGpuSelection(std::vector<glm::uvec2>* selection) {
+    return readGpuSelection(CharacterId{}, selection);
+  }
+  Status readGpuSelection(CharacterId character, std::vector<glm::uvec2>* selection);
 
   /// Skins every vertex of the mesh (in mesh order) for one instance `record` on the GPU and
   /// returns the skinned model-space positions (before the world transform): the GPU side of
@@ -214,10 +273,19 @@ class Renderer {
   /// record's world transform replaced by the identity) and reads its buffer; kAutomatic uses
   /// the renderer's path (skinningPath()).
   Status captureSkinnedPositions(const InstanceRecord& record, std::vector<glm::vec3>* out,
+                                 SkinningPath path = SkinningPath::kVertexShader) {
+    return captureSkinnedPositions(CharacterId{}, record, out, path);
+  }
+  Status captureSkinnedPositions(CharacterId character, const InstanceRecord& record,
+                                 std::vector<glm::vec3>* out,
                                  SkinningPath path = SkinningPath::kVertexShader);
 
-  /// Triangles of sub-mesh `sub_mesh` at `lod` as uploaded.
-  uint32_t triangleCount(uint32_t sub_mesh, uint32_t lod) const;
+  /// Triangles of sub-mesh `sub_mesh` at `lod` as uploaded (of character 0, or `character`; 0
+  /// for an unknown one).
+  uint32_t triangleCount(uint32_t sub_mesh, uint32_t lod) const {
+    return triangleCount(CharacterId{}, sub_mesh, lod);
+  }
+  uint32_t triangleCount(CharacterId character, uint32_t sub_mesh, uint32_t lod) const;
 
  private:
   struct Impl;

@@ -24,12 +24,11 @@ Status ComputePath::prepare(const DrawResources& r) {
 }
 
 Status ComputePath::ensureRing(const DrawResources& r) {
-  if (ring_ != kNoObject && ring_vertices_ >= r.preskin->max_lod_vertices) return Status::ok();
   const uint64_t bytes =
       r.desc->compute_ring_bytes == 0 ? uint64_t(32) << 20 : r.desc->compute_ring_bytes;
-  ring_vertices_ = std::max<uint64_t>(bytes / 16, r.preskin->max_lod_vertices);
-  return createBuffer(&ring_, ring_vertices_ * 16, nullptr, 0,
-                      "compute pre-skinning: the pre-skinned vertex ring");
+  return r.scratch->compute_ring.ensure(
+      std::max<uint64_t>(bytes / 16, r.preskin->max_lod_vertices), false,
+      "compute pre-skinning: the pre-skinned vertex ring");
 }
 
 // For each batch, a compute dispatch skins its instances' vertices into the ring; when the ring
@@ -42,7 +41,9 @@ Status ComputePath::draw(const DrawResources& r, const PathFrame& f, DrawStats* 
   const Program& skin = (*r.programs)[ProgramId::kComputeSkin];
   const Program& pulled = (*r.programs)[ProgramId::kPulled];
   const glm::mat4 vp = f.camera.viewProjection();
-  bindPreSkinning(r, skin, ring_, lists.lod_vertex_list);
+  const GLuint ring = r.scratch->compute_ring.buffer;
+  const uint64_t ring_vertices = r.scratch->compute_ring.vertices;
+  bindPreSkinning(r, skin, ring, lists.lod_vertex_list);
   bindAppearance(r, pulled);
   glProgramUniformMatrix4fv(pulled.id, pulled.view_projection, 1, GL_FALSE, &vp[0][0]);
   glProgramUniform3fv(pulled.id, pulled.light_direction, 1, &f.light[0]);
@@ -77,7 +78,7 @@ Status ComputePath::draw(const DrawResources& r, const PathFrame& f, DrawStats* 
     const PreSkinLists::Lod& l = lists.lod(d.sub_mesh, d.lod);
     if (l.vertex_count == 0 || l.index_count == 0) continue;
     for (uint32_t first = 0; first < d.instance_count;) {
-      const uint64_t fit = std::min(ring_vertices_ - cursor, dispatch_limit) / l.vertex_count;
+      const uint64_t fit = std::min(ring_vertices - cursor, dispatch_limit) / l.vertex_count;
       if (fit == 0) {
         flush();
         continue;
@@ -105,10 +106,8 @@ Status ComputePath::draw(const DrawResources& r, const PathFrame& f, DrawStats* 
 }
 
 void ComputePath::release() {
-  if (ring_ != kNoObject) glDeleteBuffers(1, &ring_);
   if (vao_ != kNoObject) glDeleteVertexArrays(1, &vao_);
-  ring_ = vao_ = kNoObject;
-  ring_vertices_ = 0;
+  vao_ = kNoObject;
 }
 
 }  // namespace si::detail

@@ -28,11 +28,10 @@ class ComputePath final : public DrawPath {
   Status draw(const DrawResources& r, const PathFrame& frame, DrawStats* stats) override;
   void release() override;
 
-  /// Creates the pre-skinned vertex ring (RendererDesc::compute_ring_bytes, at least one
-  /// instance of the largest LOD) if there is none or it is too small for the character.
+  /// Creates the shared pre-skinned vertex ring (ScratchBuffers::compute_ring: RendererDesc::
+  /// compute_ring_bytes, at least one instance of the character's largest LOD) if there is none
+  /// or it is too small for the character.
   Status ensureRing(const DrawResources& r);
-  /// Bytes of the ring (0 until first used).
-  uint64_t ringBytes() const { return ring_ != kNoObject ? ring_vertices_ * 16 : 0; }
 
  private:
   struct PendingDraw {
@@ -41,8 +40,7 @@ class ComputePath final : public DrawPath {
     uint32_t first_instance, instances, ring_first;
   };
 
-  GLuint vao_ = kNoObject, ring_ = kNoObject;
-  uint64_t ring_vertices_ = 0;
+  GLuint vao_ = kNoObject;
   std::vector<PendingDraw> pending_;
 };
 

@@ -38,17 +38,17 @@ Status CpuSkinningPath::prepare(const DrawResources& r) {
   glVertexArrayAttribFormat(vao_, 0, 3, GL_FLOAT, GL_FALSE, 0);
   glVertexArrayAttribFormat(vao_, 1, 3, GL_FLOAT, GL_FALSE, 12);
   glVertexArrayAttribFormat(vao_, 2, 2, GL_FLOAT, GL_FALSE, 24);
-  if (stream_ != kNoObject) glVertexArrayVertexBuffer(vao_, 0, stream_, 0, GLsizei(kVertexBytes));
   return Status::ok();
 }
 
 Status CpuSkinningPath::draw(const DrawResources& r, const PathFrame& f, DrawStats* st) {
-  if (stream_ == kNoObject) {
-    Status s = createMutableBuffer(&stream_, kChunkBytes, GL_STREAM_DRAW,
+  GLuint& stream = r.scratch->cpu_stream;  // Shared by every character's draws.
+  if (stream == kNoObject) {
+    Status s = createMutableBuffer(&stream, kChunkBytes, GL_STREAM_DRAW,
                                    "the CPU-skinning vertex stream");
     if (!s.isOk()) return s;
-    glVertexArrayVertexBuffer(vao_, 0, stream_, 0, GLsizei(kVertexBytes));
   }
+  glVertexArrayVertexBuffer(vao_, 0, stream, 0, GLsizei(kVertexBytes));
   const Program& program = (*r.programs)[ProgramId::kPreSkinned];
   glUseProgram(program.id);
   glBindVertexArray(vao_);
@@ -64,8 +64,8 @@ Status CpuSkinningPath::draw(const DrawResources& r, const PathFrame& f, DrawSta
   vertices_.clear();
   const auto flush = [&] {
     if (vertices_.empty()) return;
-    glInvalidateBufferData(stream_);  // Orphan: the GPU may still read the last chunk.
-    glNamedBufferSubData(stream_, 0, GLsizeiptr(vertices_.size()), vertices_.data());
+    glInvalidateBufferData(stream);  // Orphan: the GPU may still read the last chunk.
+    glNamedBufferSubData(stream, 0, GLsizeiptr(vertices_.size()), vertices_.data());
     for (const PendingDraw& d : pending_) {
       glProgramUniform1ui(program.id, 4, d.color);
       glProgramUniform1i(program.id, 5, d.base_vertex);
@@ -126,8 +126,7 @@ Status CpuSkinningPath::draw(const DrawResources& r, const PathFrame& f, DrawSta
 
 void CpuSkinningPath::release() {
   if (vao_ != kNoObject) glDeleteVertexArrays(1, &vao_);
-  if (stream_ != kNoObject) glDeleteBuffers(1, &stream_);
-  vao_ = stream_ = kNoObject;
+  vao_ = kNoObject;
 }
 
 }  // namespace si::detail

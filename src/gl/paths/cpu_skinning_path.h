@@ -23,7 +23,7 @@ class CpuSkinningPath final : public DrawPath {
     GLint base_vertex;
     uint32_t color;
   };
-  GLuint vao_ = kNoObject, stream_ = kNoObject;
+  GLuint vao_ = kNoObject;  // Its vertex buffer: ScratchBuffers::cpu_stream.
   std::vector<uint8_t> vertices_;
   std::vector<PendingDraw> pending_;
   std::vector<glm::uvec2> ranges_;              // Per (sub-mesh, lod): first vertex, count.

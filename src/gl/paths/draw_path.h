@@ -14,6 +14,7 @@
 #include "gl/resources/palette_texture.h"
 #include "gl/resources/preskin_lists.h"
 #include "gl/resources/record_ring.h"
+#include "gl/resources/scratch_buffers.h"
 #include "si/crowd/camera.h"
 #include "si/crowd/crowd_manager.h"
 #include "si/crowd/instance_batcher.h"
@@ -30,6 +31,7 @@ struct DrawResources {
   const CharacterBuffers* character = nullptr;
   const PreSkinLists* preskin = nullptr;  ///< The character's pre-skinning lists.
   RecordRing* ring = nullptr;
+  ScratchBuffers* scratch = nullptr;  ///< The renderer's, shared by every character's draws.
   uint32_t block_size = 0;  ///< Bytes of the instance uniform block.
   uint32_t capacity = 0;    ///< Records per block.
   uint32_t alignment = 256; ///< Uniform buffer offset alignment.

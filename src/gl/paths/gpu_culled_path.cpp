@@ -4,6 +4,7 @@
 #include "gl/paths/gpu_culled_path.h"
 
 #include <algorithm>
+#include <cstring>
 
 #include "core/str_cat.h"
 #include "gl/resources/gl_allocation.h"
@@ -22,8 +23,14 @@ constexpr uint32_t kCounterWords = kFittedWord + kMaxBuckets;
 // SiCommands: vertex-shader draws at 0, pre-skinned draws from command 256 on (20 bytes each).
 constexpr GLintptr kPreskinnedCommands = GLintptr(kMaxBuckets) * 20;
 
-// (Re)creates `buffer` with `bytes` of storage (and `data` when given), dynamic.
+// (Re)creates `buffer` with `bytes` of storage, at least 16 (and its first `bytes` from `data`
+// when given), dynamic.
 Status recreate(GLuint* buffer, size_t bytes, const void* data, const char* what) {
+  uint8_t padded[16] = {};
+  if (data != nullptr && bytes < sizeof(padded)) {  // Never read past the caller's bytes.
+    std::memcpy(padded, data, bytes);
+    data = padded;
+  }
   return createBuffer(buffer, std::max<size_t>(bytes, 16), data, GL_DYNAMIC_STORAGE_BIT, what);
 }
 
@@ -169,7 +176,8 @@ Status GpuCulledPath::uploadFrame(const DrawResources& r, const PathFrame& f) {
     glProgramUniform4uiv(program, 16, 1, counts);
   glProgramUniform1ui(cull, 17, p.animation_lod_start);
   glProgramUniform1d(cull, 18, p.animation_step_seconds);
-  glProgramUniform1ui(commands, 19, f.preskin ? uint32_t(ring_vertices_) : 0u);
+  glProgramUniform1ui(commands, 19,
+                      f.preskin ? uint32_t(r.scratch->gpu_driven_ring.vertices) : 0u);
   const glm::mat4 vp = f.camera.viewProjection();
   glProgramUniformMatrix4fv(cull, 21, 1, GL_FALSE, &vp[0][0]);
   return Status::ok();
@@ -186,11 +194,7 @@ Status GpuCulledPath::ensureRing(const DrawResources& r) {
             strCat("drawCrowdGpuCulled: the pre-skinned ring of ", bytes,
                    " bytes does not hold one instance of the largest LOD (",
                    r.preskin->max_lod_vertices, " vertices)")};
-  if (ring_ != kNoObject && ring_vertices_ == vertices) return Status::ok();
-  ring_vertices_ = 0;
-  Status s = createBuffer(&ring_, vertices * 16, nullptr, 0, "GPU-driven pre-skinning: the ring");
-  if (s.isOk()) ring_vertices_ = vertices;
-  return s;
+  return r.scratch->gpu_driven_ring.ensure(vertices, true, "GPU-driven pre-skinning: the ring");
 }
 
 Status GpuCulledPath::draw(const DrawResources& r, const PathFrame& f, DrawStats* st) {
@@ -227,7 +231,8 @@ void GpuCulledPath::runPasses(const DrawResources& r, const PathFrame& f, uint32
   glBindBuffersBase(GL_SHADER_STORAGE_BUFFER, 0, 10, ssbo);
   glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 16, visible_last_);
   glProgramUniform1ui(cull, 20, phase);
-  const GLuint preskin_ssbo[] = {entry_data_, ring_, r.character->vertex_buffer,
+  const GLuint preskin_ssbo[] = {entry_data_, r.scratch->gpu_driven_ring.buffer,
+                                 r.character->vertex_buffer,
                                  r.preskin->lod_vertex_list};
   if (f.preskin) glBindBuffersBase(GL_SHADER_STORAGE_BUFFER, 12, 4, preskin_ssbo);
   else glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 12, entry_data_);
@@ -307,7 +312,7 @@ Status GpuCulledPath::readSelection(std::vector<glm::uvec2>* selection) const {
 void GpuCulledPath::release() {
   const GLuint buffers[] = {state_,    clips_,    times_,       counters_,  records_,
                             visible_,  entries_,  identity_,    commands_,  ranges_,
-                            bucket_info_, entry_data_, ring_, visible_last_, first_phase_counters_};
+                            bucket_info_, entry_data_, visible_last_, first_phase_counters_};
   glDeleteBuffers(GLsizei(sizeof(buffers) / sizeof(buffers[0])), buffers);
   const GLuint arrays[] = {vao_, preskin_vao_};
   glDeleteVertexArrays(2, arrays);

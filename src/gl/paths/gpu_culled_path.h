@@ -43,13 +43,12 @@ class GpuCulledPath final : public DrawPath {
   GLuint state_ = kNoObject, clips_ = kNoObject, times_ = kNoObject, counters_ = kNoObject;
   GLuint records_ = kNoObject, visible_ = kNoObject, entries_ = kNoObject, identity_ = kNoObject;
   GLuint commands_ = kNoObject, ranges_ = kNoObject, bucket_info_ = kNoObject;
-  GLuint entry_data_ = kNoObject, ring_ = kNoObject;
+  GLuint entry_data_ = kNoObject;
   // Occlusion culling: per instance, visible at the end of the last frame (0 or 1); the first
   // phase's counters (the second phase overwrites the counters); the depth pyramid.
   GLuint visible_last_ = kNoObject, first_phase_counters_ = kNoObject;
   DepthPyramid pyramid_;
   bool two_phases_ = false;  // The last frame drew in two phases.
-  uint64_t ring_vertices_ = 0;
   uint32_t capacity_ = 0, instances_ = 0, buckets_ = 0, sub_meshes_ = 0;
   uint64_t version_ = 0;
   const CrowdManager* crowd_ = nullptr;

@@ -18,6 +18,13 @@ void RecordRing::configure(uint32_t block_size, uint32_t alignment, uint32_t fra
   frames_ = frames;
 }
 
+void RecordRing::setRegions(uint32_t regions) {
+  if (regions == frames_) return;
+  waitAll();
+  release();
+  frames_ = regions;
+}
+
 void RecordRing::waitAll() {
   for (GLsync& f : fences_)
     if (f) {

@@ -17,6 +17,9 @@ class RecordRing {
  public:
   /// The uniform block size every bound range has, the offset alignment and the region count.
   void configure(uint32_t block_size, uint32_t alignment, uint32_t frames);
+  /// Changes the region count (one region per draw call group); waits for the GPU and drops
+  /// the buffer, which the next reserve() re-creates.
+  void setRegions(uint32_t regions);
   /// Makes each region hold at least `bytes_per_frame` (plus a block of slack, so a range of
   /// the full block size bound at the last batch stays inside the buffer). Regrows
   /// geometrically, waiting for the GPU first. kBackend when mapping fails.

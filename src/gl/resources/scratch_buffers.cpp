@@ -1,0 +1,31 @@
+// SkinnedInstancing — SPDX-License-Identifier: MIT (see LICENSE)
+// The draw paths' shared scratch buffers.
+#include "gl/resources/scratch_buffers.h"
+
+#include "gl/resources/gl_allocation.h"
+
+namespace si::detail {
+
+Status VertexRing::ensure(uint64_t wanted, bool exact, const char* what) {
+  if (buffer != kNoObject && (exact ? vertices == wanted : vertices >= wanted))
+    return Status::ok();
+  vertices = 0;
+  Status s = createBuffer(&buffer, wanted * 16, nullptr, 0, what);
+  if (s.isOk()) vertices = wanted;
+  return s;
+}
+
+void VertexRing::release() {
+  if (buffer != kNoObject) glDeleteBuffers(1, &buffer);
+  buffer = kNoObject;
+  vertices = 0;
+}
+
+void ScratchBuffers::release() {
+  compute_ring.release();
+  gpu_driven_ring.release();
+  if (cpu_stream != kNoObject) glDeleteBuffers(1, &cpu_stream);
+  cpu_stream = kNoObject;
+}
+
+}  // namespace si::detail

@@ -1,0 +1,35 @@
+// SkinnedInstancing — SPDX-License-Identifier: MIT (see LICENSE)
+#pragma once
+// The large per-frame scratch buffers of the draw paths, one of each per renderer whatever the
+// number of characters: every character's draws reuse them in turn.
+
+#include <glad/gl.h>
+
+#include <cstdint>
+
+#include "gl/programs/program_set.h"
+#include "si/core/status.h"
+
+namespace si::detail {
+
+/// A buffer of pre-skinned vertices (16 bytes each) that the compute passes write and the
+/// pulling draws read.
+struct VertexRing {
+  GLuint buffer = kNoObject;
+  uint64_t vertices = 0;  ///< Capacity; 0 until created.
+
+  /// (Re)creates the ring with `vertices` unless it already has exactly that many (`exact`) or
+  /// at least that many (otherwise). `what` names it in errors.
+  Status ensure(uint64_t vertices, bool exact, const char* what);
+  void release();
+};
+
+struct ScratchBuffers {
+  VertexRing compute_ring;     ///< The compute path's (RendererDesc::compute_ring_bytes).
+  VertexRing gpu_driven_ring;  ///< The GPU-driven path's (RendererDesc::gpu_driven_ring_bytes).
+  GLuint cpu_stream = kNoObject;  ///< The CPU-skinning path's vertex stream (orphaned per chunk).
+
+  void release();
+};
+
+}  // namespace si::detail
