@@ -26,9 +26,19 @@ const char* drawPathName(DrawPath p) {
   return "?";
 }
 
+std::vector<std::string> defaultMix() {
+  const std::string dir = SI_DEMO_ASSETS;
+  return {dir + "/Fox/glTF-Binary/Fox.glb", dir + "/CesiumMan/glTF-Binary/CesiumMan.glb"};
+}
+
 si::Status DemoScene::loadCharacter(const SceneOptions& options) {
   options_ = options;
   si::Status s;
+  if (!options.mix.empty()) {
+    s = cast_.load(options.mix, options.rate_hz);
+    if (!s.isOk()) return s;
+    mixed_ = true;
+  }
   if (options.model.empty()) {
     s = si::makeDefaultCharacter({}, &character_);
   } else {
@@ -135,6 +145,7 @@ si::Status DemoScene::initGl(const si::GlInfo& info) {
   if (s.isOk()) s = renderer_.uploadPalette(palette_);
   if (s.isOk()) s = renderer_.uploadCharacter(character_, palette_);
   if (s.isOk()) s = batcher_.init(renderer_.batchLimits());
+  if (s.isOk() && mixed_) s = cast_.upload(renderer_);
   if (!s.isOk()) return s;
   std::printf("Skinning path: %s (%s)\n", si::skinningPathName(renderer_.skinningPath()),
               renderer_.skinningPathReason().c_str());
@@ -170,9 +181,19 @@ si::Status DemoScene::buildCrowd() {
     state = state * 6364136223846793005ull + 1442695040888963407ull;
     return (double((state >> 33) & 0xFFFF) / 65535.0 - 0.5) * 0.6;
   };
-  for (uint32_t i = 0; i < options_.instances; ++i)
-    positions.push_back(glm::dvec3((i % side) * 1.6 + jitter(), 0.0, (i / side) * 1.6 + jitter()) *
-                        unit_);
+  // Mixed: every (kinds)th place is the main character's, the others go to the other kinds.
+  const size_t kinds = 1 + otherKinds();
+  std::vector<std::vector<glm::dvec3>> others(kinds - 1);
+  for (uint32_t i = 0; i < options_.instances; ++i) {
+    const glm::dvec3 p =
+        glm::dvec3((i % side) * 1.6 + jitter(), 0.0, (i / side) * 1.6 + jitter()) * unit_;
+    if (i % kinds == 0) positions.push_back(p);
+    else others[i % kinds - 1].push_back(p);
+  }
+  if (kinds > 1) {
+    s = cast_.layout(others, 1.4 * unit_, options_.seed);
+    if (!s.isOk()) return s;
+  }
   si::RandomCrowdDesc rc;
   rc.positions = positions;
   rc.seed = options_.seed;
@@ -215,6 +236,7 @@ si::Camera DemoScene::overviewCamera(float aspect) const {
 si::Status DemoScene::frame(double dt, const si::Camera& camera, si::DrawStats* stats) {
   const auto start = std::chrono::steady_clock::now();
   si::Status s = crowd_.update(dt, camera);
+  if (s.isOk() && mixed_) s = cast_.update(dt, camera);
   update_ms_ =
       std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
   if (!s.isOk()) return s;
@@ -233,6 +255,14 @@ si::Status DemoScene::frame(double dt, const si::Camera& camera, si::DrawStats* 
     case DrawPath::kTraditional: s = renderer_.drawTraditional(crowd_, camera, stats); break;
     case DrawPath::kCpuSkinned: s = renderer_.drawCpuSkinned(crowd_, camera, stats); break;
     case DrawPath::kCount: break;
+  }
+  if (s.isOk() && mixed_) {
+    const si::DrawMode mode = path_ == DrawPath::kVertexShader ? si::DrawMode::kSkinned
+                              : path_ == DrawPath::kCompute    ? si::DrawMode::kComputeSkinned
+                              : path_ == DrawPath::kRigid      ? si::DrawMode::kRigid
+                                                               : si::DrawMode::kDefault;
+    s = cast_.draw(renderer_, batcher_, camera, mode, path_ == DrawPath::kTraditional,
+                   path_ == DrawPath::kCpuSkinned, stats);
   }
   if (!s.isOk()) return s;
   // LOD tint (for the next frame): red LOD 0, green LOD 1, blue LOD 2, ...
@@ -279,6 +309,21 @@ si::Status DemoScene::cycleFormat() {
   if (s.isOk()) s = renderer_.uploadCharacter(character_, palette_);
   if (s.isOk()) s = buildCrowd();
   return s;
+}
+
+si::Status DemoScene::toggleMixed() {
+  if (!mixed_ && cast_.size() == 0) {
+    si::Status s = cast_.load(defaultMix(), options_.rate_hz);
+    if (!s.isOk())
+      return {s.code(), "no other kinds to mix in (crowd_demo --mix FILE,...): " + s.message()};
+  }
+  mixed_ = !mixed_;
+  si::Status s = mixed_ && gl_ready_ ? cast_.upload(renderer_) : si::Status::ok();
+  if (!s.isOk()) {
+    mixed_ = false;
+    return s;
+  }
+  return gl_ready_ ? buildCrowd() : si::Status::ok();
 }
 
 si::Status DemoScene::scaleLodLines(float factor) {

@@ -8,6 +8,7 @@
 #include <string>
 #include <vector>
 
+#include "demo_cast.h"
 #include "si/bake/animation_baker.h"
 #include "si/core/core.h"
 #include "si/crowd/instance_batcher.h"
@@ -32,7 +33,11 @@ struct SceneOptions {
   std::string palette;  // Palette file (si-bake) to load instead of baking.
   std::vector<std::string> clips;
   float lod_pixels = 0.0f;  // > 0: deeper LOD chains, LOD by projected error within this budget.
+  std::vector<std::string> mix;  // Other kinds (glTF files) of the mixed scene; starts mixed.
 };
+
+/// The sample models key M mixes in when --mix named none (the sample Fox and CesiumMan).
+std::vector<std::string> defaultMix();
 
 class DemoScene {
  public:
@@ -41,7 +46,10 @@ class DemoScene {
   /// Creates the renderer for the current context and lays out the crowd.
   si::Status initGl(const si::GlInfo& info);
   /// Releases the GL objects; call with the context still current (before destroying it).
-  void releaseGl() { renderer_.shutdown(); }
+  void releaseGl() {
+    renderer_.shutdown();
+    cast_.releaseGl();
+  }
 
   /// Draws one frame `dt` seconds after the last one with the current path.
   si::Status frame(double dt, const si::Camera& camera, si::DrawStats* stats);
@@ -53,6 +61,9 @@ class DemoScene {
   si::Status crossfadeAll();      ///< Every character blends to the next clip over 0.5 s.
   void cyclePath() { path_ = DrawPath((int(path_) + 1) % int(DrawPath::kCount)); }
   void toggleLodTint() { lod_tint_ = !lod_tint_; restore_colors_ = !lod_tint_; }
+  /// The mixed scene on or off: a share of the field becomes the other kinds (--mix, else the
+  /// sample Fox and CesiumMan), all in the one renderer (Renderer::addCharacter).
+  si::Status toggleMixed();
 
   DrawPath path() const { return path_; }
   const si::CrowdManager& crowd() const { return crowd_; }
@@ -62,6 +73,10 @@ class DemoScene {
   const si::Renderer& renderer() const { return renderer_; }
   uint32_t instanceCount() const { return options_.instances; }
   float lodScale() const { return lod_scale_; }
+  bool mixed() const { return mixed_; }
+  /// The other kinds drawn now (0 unless mixed) and their visible instances.
+  size_t otherKinds() const { return mixed_ ? cast_.size() : 0; }
+  uint32_t otherKindsVisible() const { return mixed_ ? cast_.visible() : 0; }
   bool lodTint() const { return lod_tint_; }
   double bakeMs() const { return bake_ms_; }
   /// CPU time of the last frame's CrowdManager::update().
@@ -94,6 +109,8 @@ class DemoScene {
   float lod_scale_ = 1.0f;
   bool lod_tint_ = false, restore_colors_ = false;
   bool gl_ready_ = false;
+  DemoCast cast_;
+  bool mixed_ = false;
 };
 
 }  // namespace demo

@@ -38,7 +38,7 @@ void usage(std::FILE* f) {
       "                  [--out PATH] [--backend auto|egl-device|egl-surfaceless|osmesa]\n"
       "                  [--format f32|f16|quat] [--rate HZ] [--seed N] [--summary]\n"
       "                  [--model FILE.gltf|FILE.glb] [--clips NAME,...] [--palette FILE]\n"
-      "                  [--keys K,K,...] [--lod-pixels PX]\n"
+      "                  [--keys K,K,...] [--lod-pixels PX] [--mix FILE,...|samples]\n"
       "Renders a crowd of the embedded character (default 4000 characters, 1280x720).\n"
       "With a display it opens a window (F1 lists the keys; ESC quits); without one, or with\n"
       "--headless, it renders --frames frames (default 3, 1/60 s apart) offscreen, writes the\n"
@@ -48,6 +48,8 @@ void usage(std::FILE* f) {
       "the character and its palette only. --model renders a glTF character (its clips, or\n"
       "those --clips names). --palette loads a palette file written by si-bake instead of\n"
       "baking. --keys presses window keys, one per frame (e.g. +,f,p,c,]) for scripted runs.\n"
+      "--mix starts with a mixed scene: the character and these other glTF kinds (samples: the\n"
+      "sample Fox and CesiumMan) share the field, all drawn by one renderer (key M toggles it).\n"
       "--lod-pixels extends the LOD chains (si::buildLodChain, errors over the clips' poses)\n"
       "and picks each character's LOD by projected error within PX pixels instead of the\n"
       "technique's distance lines.\n");
@@ -83,6 +85,9 @@ bool parse(int argc, char** argv, Options* o) {
       o->scene.palette = argv[++i];
     } else if (a == "--clips" && has) {
       o->scene.clips = si::examples::splitList(argv[++i]);
+    } else if (a == "--mix" && has) {
+      o->scene.mix = si::examples::splitList(argv[++i]);
+      if (std::string(argv[i]) == "samples") o->scene.mix = demo::defaultMix();
     } else if (a == "--keys" && has) {
       o->window.keys = si::examples::splitList(argv[++i]);
     } else if (a == "--lod-pixels" && has) {
@@ -121,6 +126,9 @@ void printStats(const demo::DemoScene& scene, const si::DrawStats& stats, double
     std::printf("%-28s %12u\n", ("visible at LOD" + std::to_string(l)).c_str(), cs.per_lod[l]);
   std::printf("%-28s %12u\n", "culled (frustum)", cs.culled_frustum);
   std::printf("%-28s %12u\n", "culled (distance)", cs.culled_distance);
+  if (scene.otherKinds() > 0)
+    std::printf("%-28s %12u (%zu character kinds in one renderer)\n", "other kinds visible",
+                scene.otherKindsVisible(), scene.otherKinds() + 1);
   std::printf("%-28s %12u\n", "draw calls", stats.draw_calls);
   std::printf("%-28s %12llu\n", "triangles", static_cast<unsigned long long>(stats.triangles));
   std::printf("%-28s %12u\n", "instances per draw (max)", scene.batcher().capacityPerDraw());

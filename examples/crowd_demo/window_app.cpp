@@ -30,7 +30,9 @@ constexpr char kHelp[] =
     "  F           re-bake in the next palette format (f32, f16, quat)\n"
     "  P           next drawing path (instanced by the measured choice, vertex-shader\n"
     "              skinning, compute pre-skinning, rigid, traditional, cpu-skinned)\n"
-    "  C           crossfade every character to its next clip (0.5 s)\n";
+    "  C           crossfade every character to its next clip (0.5 s)\n"
+    "  M           mixed scene on/off: other character kinds (--mix, else the sample Fox and\n"
+    "              CesiumMan) share the field, drawn by the same renderer\n";
 
 std::string g_glfw_error;
 void onGlfwError(int code, const char* message) {
@@ -100,6 +102,10 @@ class App {
       case GLFW_KEY_P:
         scene_->cyclePath();
         std::printf("path: %s\n", drawPathName(scene_->path()));
+        break;
+      case GLFW_KEY_M:
+        s = scene_->toggleMixed();
+        std::printf("mixed scene %s\n", scene_->mixed() ? "on" : "off");
         break;
       case GLFW_KEY_C:
         s = scene_->crossfadeAll();
