@@ -115,21 +115,27 @@ Status stepCrowd(CrowdManager& crowd, const std::string& path, const Camera& cam
 Status drawPath(Renderer& renderer, const CrowdManager& crowd, InstanceBatcher& batcher,
                 const std::string& path, const Camera& camera, DrawStats* stats) {
   renderer.clear(kClearColor);
+  return drawKind(renderer, CharacterId{}, crowd, batcher, path, camera, stats);
+}
+
+Status drawKind(Renderer& renderer, CharacterId id, const CrowdManager& crowd,
+                InstanceBatcher& batcher, const std::string& path, const Camera& camera,
+                DrawStats* stats) {
   if (isGpuSelected(path)) {
     const bool occlusion = path.size() > 10 && path.compare(path.size() - 10, 10, "-occlusion") == 0;
     renderer.setGpuOcclusionCulling(occlusion);
     const DrawMode mode = path.compare(0, 10, "gpu-driven") == 0 ? DrawMode::kComputeSkinned
                                                                  : DrawMode::kSkinned;
-    const Status s = renderer.drawCrowdGpuCulled(crowd, camera, stats, mode);
+    const Status s = renderer.drawCrowdGpuCulled(id, crowd, camera, stats, mode);
     renderer.setGpuOcclusionCulling(false);
     return s;
   }
-  if (path == "traditional") return renderer.drawTraditional(crowd, camera, stats);
-  if (path == "cpu") return renderer.drawCpuSkinned(crowd, camera, stats);
+  if (path == "traditional") return renderer.drawTraditional(id, crowd, camera, stats);
+  if (path == "cpu") return renderer.drawCpuSkinned(id, crowd, camera, stats);
   const DrawMode mode = path == "compute" ? DrawMode::kComputeSkinned
                         : path == "rigid" ? DrawMode::kRigid
                                           : DrawMode::kSkinned;
-  return renderer.drawCrowd(crowd, batcher, camera, stats, mode);
+  return renderer.drawCrowd(id, crowd, batcher, camera, stats, mode);
 }
 
 Status runPath(Setup& setup, Renderer& renderer, const BakedPalette& palette,

@@ -68,6 +68,10 @@ Status stepCrowd(CrowdManager& crowd, const std::string& path, const Camera& cam
 /// with the renderer's batch limits) serves the batched paths.
 Status drawPath(Renderer& renderer, const CrowdManager& crowd, InstanceBatcher& batcher,
                 const std::string& path, const Camera& camera, DrawStats* stats);
+/// The same without the clear, for character `id` of the renderer (several kinds per frame).
+Status drawKind(Renderer& renderer, CharacterId id, const CrowdManager& crowd,
+                InstanceBatcher& batcher, const std::string& path, const Camera& camera,
+                DrawStats* stats);
 
 struct Row {
   std::string scene, path, lod;

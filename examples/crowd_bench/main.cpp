@@ -14,6 +14,7 @@
 #include "common/example_options.h"
 #include "crowd_bench/bench_scene.h"
 #include "crowd_bench/lod_quality.h"
+#include "crowd_bench/mixed_scene.h"
 #include "si/bake/animation_baker.h"
 #include "si/bake/lod_chain.h"
 #include "si/core/default_character.h"
@@ -49,6 +50,7 @@ struct Options {
   bool quick = false;  // Fixed-rate bakes only (smoke tests under sanitizers).
   bool gpu_timer = true;  // Timer queries (they block each frame); off: CPU figures only.
   si::HeadlessBackend backend = si::HeadlessBackend::kAuto;
+  std::vector<std::string> mix;  // glTF kinds of the mixed table; empty: no mixed table.
 };
 
 void usage(std::FILE* f) {
@@ -79,6 +81,8 @@ void usage(std::FILE* f) {
       "                   [--error-path instanced|compute]\n"
       "                   [--plots DIR] [--backend auto|egl-device|egl-surfaceless|osmesa]\n"
       "                   [--quick]   (fixed-rate bakes only, for smoke tests)\n"
+      "                   [--mix FILE,...|samples] (the mixed table: the embedded character and\n"
+      "                   these glTF kinds share the field; one renderer against one per kind)\n"
       "                   [--no-gpu-time] (no blocking timer queries: CPU columns only;\n"
       "                   GPU ms and the GPU-culled path's visible count read -1 / 0)\n");
 }
@@ -117,6 +121,12 @@ bool parse(int argc, char** argv, Options* o) {
     else if (a == "--csv" && has) o->csv = argv[++i];
     else if (a == "--plots" && has) o->plots = argv[++i];
     else if (a == "--quick") o->quick = true;
+    else if (a == "--mix" && has) {
+      o->mix = si::examples::splitList(argv[++i]);
+      if (o->mix.size() == 1 && o->mix[0] == "samples")
+        o->mix = {std::string(SI_BENCH_ASSETS) + "/Fox/glTF-Binary/Fox.glb",
+                  std::string(SI_BENCH_ASSETS) + "/CesiumMan/glTF-Binary/CesiumMan.glb"};
+    }
     else if (a == "--no-gpu-time") o->gpu_timer = false;
     else if (a == "--backend" && has) {
       if (!si::examples::parseBackend(argv[++i], &o->backend)) return false;
@@ -340,6 +350,17 @@ int main(int argc, char** argv) {
     std::printf("Compute path: pre-skinned vertex ring of %.1f MiB\n",
                 double(renderer.computeRingBytes()) / 1048576.0);
   if (!qualityTable(b, renderer, palette, csv)) return 1;
+  if (!b.o.mix.empty()) {
+    std::vector<si::bench::MixedKind> kinds;
+    si::RendererDesc mixed_rd = rd;
+    mixed_rd.skinning_path = si::SkinningPath::kVertexShader;  // Each path says its own.
+    s = si::bench::loadMixedKinds(character, palette, b.o.mix, b.o.lod_chain == "deep",
+                                  b.o.quick, &kinds);
+    if (s.isOk())
+      s = si::bench::mixedTable(b.setup, kinds, mixed_rd, b.o.sizes, b.o.paths, b.o.max_baseline,
+                                csv);
+    if (!s.isOk()) return fail("mixed", s);
+  }
 
   // Speed against error: each bake configuration, on the field, drawn by --error-path. The
   // renderer is re-made with an explicit path so each upload does not re-measure.

@@ -1,0 +1,165 @@
+// SkinnedInstancing — SPDX-License-Identifier: MIT (see LICENSE)
+#include "crowd_bench/mixed_scene.h"
+
+#include <algorithm>
+#include <chrono>
+#include <filesystem>
+#include <memory>
+
+#include "si/bake/animation_baker.h"
+#include "si/bake/lod_chain.h"
+#include "si/gltf/gltf_import.h"
+
+namespace si::bench {
+
+namespace {
+double msSince(std::chrono::steady_clock::time_point t0) {
+  return std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
+}
+}  // namespace
+
+Status loadMixedKinds(const Character& main, const BakedPalette& main_palette,
+                      const std::vector<std::string>& files, bool lod_chain, bool quick,
+                      std::vector<MixedKind>* out) {
+  out->clear();
+  out->push_back({"embedded", main, main_palette});
+  for (const std::string& file : files) {
+    MixedKind k;
+    Status s = importGltfFile(file, {}, &k.character, nullptr);
+    BakeDesc bake;
+    if (quick) bake.rate_mode = RateMode::kFixed;
+    if (s.isOk() && lod_chain) s = buildLodChain(&k.character.mesh, {}, nullptr);
+    if (s.isOk()) s = bakePalette(k.character, bake, &k.palette, nullptr);
+    if (!s.isOk()) return {s.code(), "--mix " + file + ": " + s.message()};
+    k.name = std::filesystem::path(file).stem().string();
+    std::printf("Mixed kind %s: %zu vertices, %zu LOD levels (LOD 0: %zu triangles, last: %zu)\n",
+                k.name.c_str(), k.character.mesh.vertexCount(), k.character.mesh.maxLodCount(),
+                k.character.mesh.triangleCount(0, 0),
+                k.character.mesh.triangleCount(0, k.character.mesh.maxLodCount() - 1));
+    out->push_back(std::move(k));
+  }
+  return Status::ok();
+}
+
+Status runMixed(Setup& setup, const std::vector<MixedKind>& kinds, const RendererDesc& desc,
+                uint32_t count, const std::string& path, bool one_renderer, MixedRow* row) {
+  const size_t n_kinds = kinds.size();
+  const std::vector<glm::dvec3> places = scenePositions("field", count);
+  std::vector<std::unique_ptr<Renderer>> renderers;
+  std::vector<CharacterId> ids(n_kinds);
+  std::vector<std::unique_ptr<CrowdManager>> crowds;
+  Status s;
+  const float height = std::max(setup.character.height(), 1e-6f);
+  for (size_t k = 0; k < n_kinds && s.isOk(); ++k) {
+    const MixedKind& kind = kinds[k];
+    if (renderers.empty() || !one_renderer) {
+      renderers.push_back(std::make_unique<Renderer>());
+      s = renderers.back()->init(setup.info, desc);
+    }
+    if (s.isOk()) s = renderers.back()->addCharacter(kind.character, kind.palette, &ids[k]);
+    CrowdDesc cd;
+    cd.palette = &kind.palette;
+    cd.sub_mesh_count = uint32_t(kind.character.mesh.sub_meshes.size());
+    cd.lod_count = uint32_t(kind.character.mesh.maxLodCount());
+    cd.max_distance_radii = -1.0f;  // As the paths table: everything in view, however far.
+    crowds.push_back(std::make_unique<CrowdManager>());
+    if (s.isOk()) s = crowds.back()->init(cd);
+    // Kind k takes places k, k + n_kinds, ...; its largest extent is the embedded height.
+    const Aabb box = kind.character.bindPoseBounds();
+    const glm::vec3 extent = box.max - box.min;
+    const float scale = height / std::max({extent.x, extent.y, extent.z, 1e-6f});
+    std::vector<glm::dvec3> at;
+    for (size_t i = k; i < places.size(); i += n_kinds)
+      at.push_back(places[i] - glm::dvec3(0.0, double(box.min.y) * scale, 0.0));
+    RandomCrowdDesc rc;
+    rc.positions = at;
+    rc.seed = 2026 + k;
+    rc.required_mask = k == 0 ? 1u : 0xFFFFFFFFu >> (32 - std::min<uint32_t>(cd.sub_mesh_count, 32));
+    rc.optional_mask = k == 0 ? 0xEu : 0u;
+    std::vector<InstanceHandle> handles;
+    if (s.isOk()) s = crowds.back()->addRandom(rc, &handles);
+    for (InstanceHandle h : handles) {
+      InstanceDesc d;
+      if (s.isOk()) s = crowds.back()->get(h, &d);
+      if (s.isOk()) s = crowds.back()->setTransform(h, d.position, d.rotation, d.scale * scale);
+    }
+  }
+  InstanceBatcher batcher;
+  if (s.isOk()) s = batcher.init(renderers.front()->batchLimits());
+  if (!s.isOk()) return s;
+  row->path = path;
+  row->one_renderer = one_renderer;
+  row->instances = count;
+  const uint32_t warmup = 2;
+  std::vector<double> update_v, submit_v, gpu_v;
+  for (uint32_t f = 0; f < warmup + setup.frames && s.isOk(); ++f) {
+    const Camera cam = cameraAt(setup, "field", places, f < warmup ? 0 : f - warmup, setup.frames);
+    const auto t0 = std::chrono::steady_clock::now();
+    for (auto& c : crowds)
+      if (s.isOk()) s = stepCrowd(*c, path, cam, 1.0 / 60.0);
+    const double update_ms = msSince(t0);
+    renderers.front()->clear(kClearColor);
+    DrawStats sum;
+    sum.gpu_ms = 0.0;
+    uint32_t visible = 0;
+    for (size_t k = 0; k < n_kinds && s.isOk(); ++k) {
+      Renderer& r = *renderers[one_renderer ? 0 : k];
+      DrawStats st;
+      s = drawKind(r, ids[k], *crowds[k], batcher, path, cam, &st);
+      sum.draw_calls += st.draw_calls;
+      sum.triangles += st.triangles;
+      sum.cpu_submit_ms += st.cpu_submit_ms;
+      sum.gpu_ms += st.gpu_ms;
+      visible += isGpuSelected(path) ? st.gpu_visible : crowds[k]->stats().visible;
+    }
+    if (f < warmup) continue;
+    update_v.push_back(update_ms);
+    submit_v.push_back(sum.cpu_submit_ms);
+    gpu_v.push_back(sum.gpu_ms);
+    row->visible = visible;
+    row->draws = sum.draw_calls;
+    row->triangles = double(sum.triangles);
+  }
+  for (auto& r : renderers) r->shutdown();
+  row->update_ms = median(update_v);
+  row->submit_ms = median(submit_v);
+  row->gpu_ms = median(gpu_v);
+  return s;
+}
+
+Status mixedTable(Setup& setup, const std::vector<MixedKind>& kinds, const RendererDesc& desc,
+                  const std::vector<uint32_t>& sizes, const std::vector<std::string>& paths,
+                  uint32_t max_baseline, std::FILE* csv) {
+  std::string names;
+  for (const MixedKind& k : kinds) names += (names.empty() ? "" : ", ") + k.name;
+  std::printf("\nMixed scene (field; %zu kinds sharing it round-robin: %s): one renderer for every "
+              "kind against one renderer per kind, in the same run\n",
+              kinds.size(), names.c_str());
+  std::printf("%-11s %-9s %9s %9s %6s %12s %9s %9s %9s %8s %8s\n", "path", "renderers",
+              "instances", "visible", "draws", "triangles", "update", "submit", "GPU ms",
+              "CPU x", "GPU x");
+  for (uint32_t count : sizes)
+    for (const std::string& path : paths) {
+      if ((path == "traditional" || path == "cpu") && count > max_baseline) continue;
+      MixedRow rows[2];
+      for (int one = 1; one >= 0; --one) {
+        Status s = runMixed(setup, kinds, desc, count, path, one == 1, &rows[1 - one]);
+        if (!s.isOk()) return {s.code(), "mixed scene, " + path + ": " + s.message()};
+      }
+      const MixedRow& separate = rows[1];
+      for (const MixedRow& r : rows) {
+        const double cpu = r.update_ms + r.submit_ms;
+        const double cpu_x = cpu / std::max(1e-9, separate.update_ms + separate.submit_ms);
+        const double gpu_x = r.gpu_ms / std::max(1e-9, separate.gpu_ms);
+        std::printf("%-11s %-9s %9u %9u %6u %12.0f %9.3f %9.3f %9.3f %8.2f %8.2f\n",
+                    r.path.c_str(), r.one_renderer ? "one" : "per kind", r.instances, r.visible,
+                    r.draws, r.triangles, r.update_ms, r.submit_ms, r.gpu_ms, cpu_x, gpu_x);
+        std::fprintf(csv, "mixed,field,%s,%u,%u,%u,%.0f,%.4f,%.4f,%.4f,,,,,%s,,,\n",
+                     r.path.c_str(), r.instances, r.visible, r.draws, r.triangles, r.update_ms,
+                     r.submit_ms, r.gpu_ms, r.one_renderer ? "one-renderer" : "per-kind");
+      }
+    }
+  return Status::ok();
+}
+
+}  // namespace si::bench
