@@ -32,14 +32,6 @@ Status noRenderer(const char* what) {
           strCat(what, ": init, uploadPalette and uploadCharacter first")};
 }
 
-// kInvalidArgument unless `crowd` plays the palette character `c` was uploaded with.
-Status samePalette(const detail::CharacterSlot& c, const CrowdManager& crowd, const char* what) {
-  if (crowd.desc().palette == c.palette.palette()) return Status::ok();
-  return {StatusCode::kInvalidArgument,
-          strCat(what, ": the crowd plays another palette than the character's (draw each ",
-                 "crowd with the CharacterId of the character uploaded with its palette)")};
-}
-
 const char* textureTargetName(GLint target) {
   switch (target) {
     case GL_TEXTURE_1D: return "GL_TEXTURE_1D";
@@ -278,8 +270,7 @@ Status Renderer::drawCrowd(CharacterId id, const CrowdManager& crowd,
   if (!impl_) return noRenderer("drawCrowd");
   Impl& m = *impl_;
   detail::CharacterSlot* c = nullptr;
-  Status s = m.find(id, "drawCrowd", &c);
-  if (s.isOk()) s = samePalette(*c, crowd, "drawCrowd");
+  Status s = m.find(id, "drawCrowd", &c, &crowd);
   if (!s.isOk()) return s;
   if (batcher.capacityPerDraw() > m.capacity)
     return {StatusCode::kInvalidArgument,
@@ -318,24 +309,20 @@ Status Renderer::drawCrowd(CharacterId id, const CrowdManager& crowd,
 // The crowd-only paths: the baselines and GPU-driven culling.
 Status Renderer::drawTraditional(CharacterId id, const CrowdManager& crowd, const Camera& camera,
                                  DrawStats* stats) {
-  if (!impl_) return noRenderer("drawTraditional");
   detail::CharacterSlot* c = nullptr;
-  Status s = impl_->find(id, "drawTraditional", &c);
-  if (s.isOk()) s = samePalette(*c, crowd, "drawTraditional");
-  if (!s.isOk()) return s;
-  return impl_->drawCrowdOnly(*c, impl_->traditional_path, "drawTraditional", crowd, camera,
-                              light_direction_, stats);
+  Status s = impl_ ? impl_->find(id, "drawTraditional", &c, &crowd) : noRenderer("drawTraditional");
+  return s.isOk() ? impl_->drawCrowdOnly(*c, impl_->traditional_path, "drawTraditional", crowd,
+                                         camera, light_direction_, stats)
+                  : s;
 }
 
 Status Renderer::drawCpuSkinned(CharacterId id, const CrowdManager& crowd, const Camera& camera,
                                 DrawStats* stats) {
-  if (!impl_) return noRenderer("drawCpuSkinned");
   detail::CharacterSlot* c = nullptr;
-  Status s = impl_->find(id, "drawCpuSkinned", &c);
-  if (s.isOk()) s = samePalette(*c, crowd, "drawCpuSkinned");
-  if (!s.isOk()) return s;
-  return impl_->drawCrowdOnly(*c, c->cpu_path, "drawCpuSkinned", crowd, camera,
-                              light_direction_, stats);
+  Status s = impl_ ? impl_->find(id, "drawCpuSkinned", &c, &crowd) : noRenderer("drawCpuSkinned");
+  return s.isOk() ? impl_->drawCrowdOnly(*c, c->cpu_path, "drawCpuSkinned", crowd, camera,
+                                         light_direction_, stats)
+                  : s;
 }
 
 Status Renderer::drawCrowdGpuCulled(CharacterId id, const CrowdManager& crowd,
@@ -343,7 +330,7 @@ Status Renderer::drawCrowdGpuCulled(CharacterId id, const CrowdManager& crowd,
   if (!impl_) return noRenderer("drawCrowdGpuCulled");
   Impl& m = *impl_;
   detail::CharacterSlot* c = nullptr;
-  Status s = m.find(id, "drawCrowdGpuCulled", &c);
+  Status s = m.find(id, "drawCrowdGpuCulled", &c, &crowd);
   if (!s.isOk()) return s;
   if (mode == DrawMode::kDepthOnly || mode == DrawMode::kRigid)
     return {StatusCode::kInvalidArgument,

@@ -53,15 +53,21 @@ struct Renderer::Impl {
     return *characters[0];
   }
 
-  /// The uploaded character `id`; kInvalidArgument naming `what` when there is none or it is
-  /// not complete (palette and mesh).
-  Status find(CharacterId id, const char* what, detail::CharacterSlot** out) {
+  /// The uploaded character `id`; kInvalidArgument naming `what` when there is none, it is
+  /// not complete (palette and mesh), or `crowd` (when given) plays another palette.
+  Status find(CharacterId id, const char* what, detail::CharacterSlot** out,
+              const CrowdManager* crowd = nullptr) {
     if (id.index >= characters.size() || !characters[id.index]->ready())
       return {StatusCode::kInvalidArgument,
               id.index == 0 && characters.size() <= 1
                   ? detail::strCat(what, ": init, uploadPalette and uploadCharacter first")
                   : detail::strCat(what, ": no character ", id.index, " (", characters.size(),
                                    " added; addCharacter gives the ids)")};
+    if (crowd != nullptr && crowd->desc().palette != characters[id.index]->palette.palette())
+      return {StatusCode::kInvalidArgument,
+              detail::strCat(what, ": the crowd plays another palette than the character's ",
+                             "(draw each crowd with the CharacterId of the character uploaded ",
+                             "with its palette)")};
     *out = characters[id.index].get();
     return Status::ok();
   }
