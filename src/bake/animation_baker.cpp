@@ -83,6 +83,7 @@ Status bakeTexels(const Character& character, const BakeDesc& d, const PalettePl
     BakedClip bc;
     bc.name = clip.name;
     bc.loop_mode = resolveLoopMode(clip.loop_mode);
+    bc.markers = clip.markers;
     bc.duration_seconds = clip.duration_seconds;
     bc.frame_count = plan.frames[c].frame_count;
     bc.frame_interval_seconds = plan.frames[c].frame_interval_seconds;

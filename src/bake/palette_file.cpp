@@ -91,6 +91,15 @@ Status savePalette(const BakedPalette& p, std::vector<uint8_t>* bytes) {
     return {StatusCode::kUnsupported, "savePalette: big-endian hosts are not supported"};
   Status valid = p.validate();
   if (!valid.isOk()) return {StatusCode::kInvalidArgument, "savePalette: " + valid.message()};
+  // What loadPalette() would refuse is not written.
+  for (const BakedClip& c : p.clips) {
+    bool long_name = c.name.size() > kMaxNameLength;
+    for (const AnimationMarker& m : c.markers) long_name |= m.name.size() > kMaxNameLength;
+    if (long_name)
+      return {StatusCode::kInvalidArgument,
+              strCat("savePalette: clip '", c.name.substr(0, 64), "' has a clip or marker name ",
+                     "longer than ", kMaxNameLength, " bytes")};
+  }
   const PaletteLayout& l = p.layout;
   std::vector<uint8_t> out;
   Writer w(&out);
@@ -119,6 +128,12 @@ Status savePalette(const BakedPalette& p, std::vector<uint8_t>* bytes) {
     w.u32(static_cast<uint32_t>(c.interpolation));
     w.u32(static_cast<uint32_t>(c.interval_modes.size()));
     w.bytes(c.interval_modes.data(), c.interval_modes.size());
+    w.u32(static_cast<uint32_t>(c.markers.size()));
+    for (const AnimationMarker& m : c.markers) {
+      w.f64(m.time_seconds);
+      w.u32(static_cast<uint32_t>(m.name.size()));
+      w.bytes(m.name.data(), m.name.size());
+    }
     for (int i = 0; i < 3; ++i) w.f32(c.bounds.min[i]);
     for (int i = 0; i < 3; ++i) w.f32(c.bounds.max[i]);
     for (int i = 0; i < 3; ++i) w.f32(c.bounding_sphere.center[i]);
@@ -147,7 +162,7 @@ Status loadPalette(Span<const uint8_t> bytes, BakedPalette* palette) {
       border_frames = 0, skeleton_joints, clip_count;
   float height_units;
   if (!r.u32(&version)) return corrupt("truncated header");
-  if (version != 1 && version != kPaletteFileVersion)
+  if (version < 1 || version > kPaletteFileVersion)
     return {StatusCode::kUnsupported, strCat("palette file: version ", version,
                                              " (this library reads versions 1 to ",
                                              kPaletteFileVersion, ")")};
@@ -221,6 +236,21 @@ Status loadPalette(Span<const uint8_t> bytes, BakedPalette* palette) {
       if (modes_count > r.left()) return corrupt(where() + "truncated interval modes");
       clip.interval_modes.resize(modes_count);
       r.raw(clip.interval_modes.data(), modes_count);
+    }
+    if (version >= 3) {
+      uint32_t markers = 0;
+      // Each marker takes at least 13 bytes (time, name length, a name byte).
+      if (!r.u32(&markers) || uint64_t(markers) * 13 > r.left())
+        return corrupt(where() + "truncated markers");
+      clip.markers.resize(markers);
+      for (AnimationMarker& m : clip.markers) {
+        uint32_t length = 0;
+        if (!r.f64(&m.time_seconds) || !r.u32(&length) || length > kMaxNameLength ||
+            length > r.left())
+          return corrupt(where() + "truncated marker or marker name too long");
+        m.name.resize(length);
+        r.raw(m.name.data(), length);
+      }
     }
     float v[10];
     for (float& x : v)

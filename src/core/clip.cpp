@@ -105,6 +105,20 @@ Status Clip::validate(size_t joint_count) const {
     if (s.isOk()) s = validateTrack(jt.scale, joint + " scale", duration_seconds);
     if (!s.isOk()) return s;
   }
+  return validateMarkers(markers, duration_seconds, clip + ": ");
+}
+
+Status validateMarkers(const std::vector<AnimationMarker>& markers, double duration,
+                       const std::string& where) {
+  for (size_t i = 0; i < markers.size(); ++i) {
+    const AnimationMarker& m = markers[i];
+    const std::string what = strCat(where, "marker ", i, " '", m.name, "'");
+    if (!std::isfinite(m.time_seconds)) return {StatusCode::kNotFinite, what + ": time is not finite"};
+    if (m.time_seconds < 0.0 || m.time_seconds > duration)
+      return {StatusCode::kOutOfRange, strCat(what, ": time ", m.time_seconds,
+                                              " s is outside the clip's [0, ", duration, "] s")};
+    if (m.name.empty()) return {StatusCode::kInvalidArgument, what + ": the name is empty"};
+  }
   return Status::ok();
 }
 

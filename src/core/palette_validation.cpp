@@ -191,6 +191,9 @@ Status BakedPalette::validate() const {
     if (s.isOk())
       s = checkClipInterpolation(clips[c], layout.border_frames,
                                  strCat("palette: clip ", c, " '", clips[c].name, "': "));
+    if (s.isOk())
+      s = validateMarkers(clips[c].markers, clips[c].duration_seconds,
+                          strCat("palette: clip ", c, " '", clips[c].name, "': "));
     if (!s.isOk()) return s;
   }
   if (layout.texels_per_joint != texelsPerJoint(format) || layout.joint_stride_texels > 64 ||

@@ -124,7 +124,14 @@ Status CrowdManager::init(const CrowdDesc& in_desc) {
   state->frame.bucket_offsets.assign(size_t(d.lod_count) * d.sub_mesh_count + 1, 0);
   state->frame.run_offsets.assign(size_t(d.lod_count) * d.sub_mesh_count + 1, 0);
   for (const BakedClip& c : d.palette->clips) state->clips.push_back(detail::makeClipTiming(c));
-  state->markers.clip_markers.resize(d.palette->clips.size());
+  // The palette's markers (BakedClip::markers, e.g. from a glTF file) come first.
+  detail::MarkerTable& markers = state->markers;
+  markers.clip_markers.resize(d.palette->clips.size());
+  for (uint32_t c = 0; c < d.palette->clips.size(); ++c)
+    for (const AnimationMarker& m : d.palette->clips[c].markers) {
+      markers.clip_markers[c].push_back(uint32_t(markers.markers.size()));
+      markers.markers.push_back(ClipMarker{c, m.time_seconds, m.name});
+    }
   desc_ = d;
   state_ = std::move(state);
   return Status::ok();

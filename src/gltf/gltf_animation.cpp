@@ -1,12 +1,48 @@
 // SkinnedInstancing — SPDX-License-Identifier: MIT (see LICENSE)
 // Animations (glTF 2.0 specification, "Animations"): translation, rotation and scale channels
 // of the skeleton's joints, LINEAR, STEP or CUBICSPLINE; morph weights and other targets are
-// skipped with a warning each.
+// skipped with a warning each. Animation markers come from the animation's extras (below).
 #include <algorithm>
+#include <cmath>
 
 #include "gltf/gltf_convert.h"
 
 namespace si::detail {
+
+namespace {
+
+// The markers of an animation's extras, by this library's convention:
+//   "extras": {"markers": [{"time": 0.25, "name": "left_foot"}, ...]}
+// An entry that is not an object with a finite number "time" within [0, duration] and a
+// non-empty string "name" is skipped with a warning naming it; extras without "markers" (any
+// other application data) are left alone.
+void readMarkers(const tinygltf::Value& extras, const std::string& where,
+                 std::vector<std::string>* warnings, Clip* clip) {
+  if (!extras.IsObject() || !extras.Has("markers")) return;
+  const tinygltf::Value& list = extras.Get("markers");
+  if (!list.IsArray()) {
+    warnings->push_back(where + ": extras.markers is not an array: skipped");
+    return;
+  }
+  for (size_t i = 0; i < list.ArrayLen(); ++i) {
+    const tinygltf::Value& e = list.Get(int(i));
+    const std::string w = strCat(where, ": extras.markers[", i, "]");
+    if (!e.IsObject() || !e.Has("time") || !e.Has("name") || !e.Get("time").IsNumber() ||
+        !e.Get("name").IsString() || e.Get("name").Get<std::string>().empty()) {
+      warnings->push_back(w + " is not {\"time\": number, \"name\": non-empty string}: skipped");
+      continue;
+    }
+    const double t = e.Get("time").GetNumberAsDouble();
+    if (!std::isfinite(t) || t < 0.0 || t > double(clip->duration_seconds)) {
+      warnings->push_back(strCat(w, ": time ", t, " s is outside the clip's [0, ",
+                                 clip->duration_seconds, "] s: skipped"));
+      continue;
+    }
+    clip->markers.push_back({t, e.Get("name").Get<std::string>()});
+  }
+}
+
+}  // namespace
 
 Status convertClips(const tinygltf::Model& m, const GltfImportDesc& desc,
                     const SkinBinding& binding, GltfImportReport* report, Character* c) {
@@ -89,6 +125,7 @@ Status convertClips(const tinygltf::Model& m, const GltfImportDesc& desc,
                                              float(values[v * 3 + 2])));
       }
     }
+    readMarkers(anim.extras, where, &warnings, &clip);
     c->clips.push_back(std::move(clip));
   }
   return Status::ok();

@@ -75,6 +75,7 @@ inline BakedPalette smallPalette(PaletteFormat format = PaletteFormat::kMatrix3x
   swing.joint_tracks[2].rotation.times_seconds = {0.0f, 0.5f, 1.0f};
   swing.joint_tracks[2].rotation.values = {glm::quat(1, 0, 0, 0), axisAngleF(0.5, {1, 0, 0}),
                                            glm::quat(1, 0, 0, 0)};
+  swing.markers = {{0.25, "left"}, {1.0, "loop end"}};  // The baker copies them.
   c.clips.push_back(swing);
   BakeDesc d;
   d.rate_mode = RateMode::kFixed;

@@ -43,7 +43,9 @@ TEST(PaletteFile, RoundTripsBitExactly) {
       EXPECT_EQ(q.clips[c].loop_mode, p.clips[c].loop_mode);
       EXPECT_EQ(q.clips[c].interpolation, p.clips[c].interpolation);
       EXPECT_EQ(q.clips[c].interval_modes, p.clips[c].interval_modes);
+      EXPECT_EQ(q.clips[c].markers, p.clips[c].markers);
     }
+    ASSERT_EQ(p.clips[1].markers.size(), 2u);  // The markers were exercised.
     EXPECT_EQ(q.layout.border_frames, p.layout.border_frames);
     EXPECT_EQ(q.layout.border_frames, i == InterpolationChoice::kCubic ? 1u : 0u);
     EXPECT_EQ(q.layout.clip_first_texel, p.layout.clip_first_texel);
@@ -85,7 +87,7 @@ TEST(PaletteFile, TrailingBytesAndOtherVersionsAreRejected) {
   std::vector<uint8_t> longer = bytes;
   longer.push_back(0);
   EXPECT_EQ(loadPalette(longer, &q).code(), StatusCode::kCorrupt);
-  for (uint8_t version : {0, 3}) {
+  for (uint8_t version : {0, 4}) {
     std::vector<uint8_t> other = bytes;
     other[8] = version;
     fixChecksum(&other);
@@ -93,33 +95,57 @@ TEST(PaletteFile, TrailingBytesAndOtherVersionsAreRejected) {
   }
 }
 
-// Version 1 (before cubic interpolation): no border-frame field in the header, no
-// interpolation fields in the clip records. Such files still load, as linear palettes.
-TEST(PaletteFile, VersionOneFilesStillLoad) {
+// Older versions still load: version 2 (before animation markers: no marker fields in the
+// clip records) with the same clips and no markers; version 1 (before cubic interpolation: no
+// border-frame field in the header, no interpolation fields either) as linear palettes.
+TEST(PaletteFile, VersionOneAndTwoFilesStillLoad) {
   const BakedPalette p = smallPalette();
   std::vector<uint8_t> bytes;
   ASSERT_TRUE(savePalette(p, &bytes).isOk());
-  std::vector<uint8_t> v1(bytes.begin(), bytes.begin() + 36);  // Up to the stride.
-  v1[8] = 1;
-  size_t at = 40;                                               // Past the border frames.
-  const size_t joints_end = 52 + 4 * p.palette_joints.size();
-  v1.insert(v1.end(), bytes.begin() + std::ptrdiff_t(at), bytes.begin() + std::ptrdiff_t(joints_end));
-  at = joints_end;
-  for (const BakedClip& c : p.clips) {
-    const size_t before_modes = 4 + c.name.size() + 4 + 4 + 8 + 4 + 4 + 8 * c.frame_times_seconds.size();
-    v1.insert(v1.end(), bytes.begin() + std::ptrdiff_t(at), bytes.begin() + std::ptrdiff_t(at + before_modes));
-    at += before_modes + 8 + c.interval_modes.size();          // Skip the interpolation fields.
-    v1.insert(v1.end(), bytes.begin() + std::ptrdiff_t(at), bytes.begin() + std::ptrdiff_t(at + 40));
-    at += 40;
+  for (uint8_t version : {1, 2}) {
+    SCOPED_TRACE(int(version));
+    const bool v1 = version == 1;
+    std::vector<uint8_t> old(bytes.begin(), bytes.begin() + 36);  // Up to the stride.
+    old[8] = version;
+    size_t at = v1 ? 40 : 36;                                     // v1: past the border frames.
+    const size_t joints_end = 52 + 4 * p.palette_joints.size();
+    old.insert(old.end(), bytes.begin() + std::ptrdiff_t(at), bytes.begin() + std::ptrdiff_t(joints_end));
+    at = joints_end;
+    for (const BakedClip& c : p.clips) {
+      size_t kept = 4 + c.name.size() + 4 + 4 + 8 + 4 + 4 + 8 * c.frame_times_seconds.size();
+      if (!v1) kept += 8 + c.interval_modes.size();            // v2 has the interpolation.
+      old.insert(old.end(), bytes.begin() + std::ptrdiff_t(at), bytes.begin() + std::ptrdiff_t(at + kept));
+      at += kept + (v1 ? 8 + c.interval_modes.size() : 0) + 4;  // Skip what the version lacks.
+      for (const AnimationMarker& m : c.markers) at += 12 + m.name.size();
+      old.insert(old.end(), bytes.begin() + std::ptrdiff_t(at), bytes.begin() + std::ptrdiff_t(at + 40));
+      at += 40;
+    }
+    old.insert(old.end(), bytes.begin() + std::ptrdiff_t(at), bytes.end());
+    fixChecksum(&old);
+    BakedPalette q;
+    const Status s = loadPalette(old, &q);
+    ASSERT_TRUE(s.isOk()) << s.toString();
+    EXPECT_EQ(q.texel_bytes, p.texel_bytes);
+    EXPECT_EQ(q.layout.border_frames, 0u);
+    for (const BakedClip& c : q.clips) {
+      EXPECT_EQ(c.interpolation, FrameInterpolation::kLinear);
+      EXPECT_TRUE(c.markers.empty());
+    }
   }
-  v1.insert(v1.end(), bytes.begin() + std::ptrdiff_t(at), bytes.end());
-  fixChecksum(&v1);
-  BakedPalette q;
-  const Status s = loadPalette(v1, &q);
-  ASSERT_TRUE(s.isOk()) << s.toString();
-  EXPECT_EQ(q.texel_bytes, p.texel_bytes);
-  EXPECT_EQ(q.layout.border_frames, 0u);
-  for (const BakedClip& c : q.clips) EXPECT_EQ(c.interpolation, FrameInterpolation::kLinear);
+}
+
+TEST(PaletteFile, MarkersThatWouldNotLoadAreNotWritten) {
+  BakedPalette p = smallPalette();
+  std::vector<uint8_t> bytes;
+  p.clips[1].markers.push_back({0.5, std::string(5000, 'x')});  // Longer than a name may be.
+  EXPECT_EQ(savePalette(p, &bytes).code(), StatusCode::kInvalidArgument);
+  p.clips[1].markers.back().name = "";  // Empty: BakedPalette::validate() refuses it.
+  EXPECT_EQ(savePalette(p, &bytes).code(), StatusCode::kInvalidArgument);
+  p.clips[1].markers.back() = {1.5, "late"};  // Past the clip's 1 s.
+  const Status late = savePalette(p, &bytes);
+  EXPECT_EQ(late.code(), StatusCode::kInvalidArgument);
+  EXPECT_NE(late.message().find("marker 2 'late'"), std::string::npos) << late.message();
+  EXPECT_TRUE(bytes.empty());
 }
 
 TEST(PaletteFile, InconsistentFilesWithValidChecksumsAreRejected) {
@@ -182,7 +208,8 @@ TEST(PaletteFile, ClipTimingThatDisagreesWithItsFramesIsRejected) {
   ASSERT_TRUE(savePalette(p, &bytes).isOk());
   // Clip 1 ("swing", uniform grid): name length, name, loop, duration (f32), interval (f64).
   size_t clip1 = 52 + 4 * p.palette_joints.size();
-  clip1 += 4 + p.clips[0].name.size() + 4 + 4 + 8 + 4 + 4 + 8 * p.clips[0].frame_times_seconds.size() + 8 + 40;
+  ASSERT_TRUE(p.clips[0].markers.empty());  // Its marker count, 4 bytes, before its bounds.
+  clip1 += 4 + p.clips[0].name.size() + 4 + 4 + 8 + 4 + 4 + 8 * p.clips[0].frame_times_seconds.size() + 8 + 4 + 40;
   const size_t duration_at = clip1 + 4 + p.clips[1].name.size() + 4;
   const size_t interval_at = duration_at + 4;
   const auto load = [&](size_t offset, const void* value, size_t n) {

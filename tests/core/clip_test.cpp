@@ -62,6 +62,21 @@ TEST(Clip, ValidityMatrix) {
   c = validClip();
   c.loop_mode = static_cast<LoopMode>(7);
   EXPECT_EQ(c.validate(2).code(), StatusCode::kInvalidArgument);
+
+  // Markers: within [0, duration], finite, named.
+  c = validClip();
+  c.markers = {{0.0, "start"}, {double(c.duration_seconds), "end"}};
+  EXPECT_TRUE(c.validate(2).isOk());
+  c.markers.push_back({double(c.duration_seconds) + 1e-3, "late"});
+  const Status late = c.validate(2);
+  EXPECT_EQ(late.code(), StatusCode::kOutOfRange);
+  EXPECT_NE(late.message().find("marker 2 'late'"), std::string::npos) << late.message();
+  c.markers.back() = {-0.1, "early"};
+  EXPECT_EQ(c.validate(2).code(), StatusCode::kOutOfRange);
+  c.markers.back() = {std::numeric_limits<double>::quiet_NaN(), "nan"};
+  EXPECT_EQ(c.validate(2).code(), StatusCode::kNotFinite);
+  c.markers.back() = {0.1, ""};
+  EXPECT_EQ(c.validate(2).code(), StatusCode::kInvalidArgument);
 }
 
 TEST(Clip, MessageNamesClipJointAndProperty) {

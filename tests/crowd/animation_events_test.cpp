@@ -186,5 +186,35 @@ TEST(AnimationEvents, BadMarkersAreRefused) {
   EXPECT_TRUE(c.clipMarkers().empty());
 }
 
+// The palette's markers (BakedClip::markers: from the character's clips, a glTF file's
+// extras or a palette file) are the crowd's from init() on, before those added.
+TEST(AnimationEvents, ThePalettesMarkersAreTheCrowdsFromInit) {
+  const uint32_t clip = loopingClip();
+  BakedPalette p = defaultPalette();
+  const double d = p.clips[clip].duration_seconds;
+  p.clips[clip].markers = {{0.25 * d, "left"}, {0.75 * d, "right"}};
+  ASSERT_TRUE(p.validate().isOk());
+  CrowdDesc cd = defaultCrowdDesc();
+  cd.palette = &p;
+  CrowdManager c;
+  ASSERT_TRUE(c.init(cd).isOk());
+  ASSERT_EQ(c.clipMarkers().size(), 2u);
+  EXPECT_EQ(c.clipMarkers()[1].name, "right");
+  EXPECT_EQ(c.clipMarkers()[1].clip, clip);
+  EXPECT_EQ(c.clipMarkers()[1].time_seconds, 0.75 * d);
+  uint32_t added = 0;
+  ASSERT_TRUE(c.addClipMarker(clip, 0.5 * d, "middle", &added).isOk());
+  EXPECT_EQ(added, 2u);
+  InstanceDesc one;
+  one.clip = clip;
+  InstanceHandle h;
+  ASSERT_TRUE(c.add(one, &h).isOk());
+  ASSERT_TRUE(c.update(0.0, testCamera({0, 2, -10}, {0, 1, 0})).isOk());
+  ASSERT_TRUE(c.update(0.8 * d, testCamera({0, 2, -10}, {0, 1, 0})).isOk());  // Past all three.
+  EXPECT_EQ(totalCount(c, 0), 1u);
+  EXPECT_EQ(totalCount(c, 1), 1u);
+  EXPECT_EQ(totalCount(c, 2), 1u);
+}
+
 }  // namespace
 }  // namespace si

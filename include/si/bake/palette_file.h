@@ -22,9 +22,10 @@
 
 namespace si {
 
-/// The version savePalette() writes. loadPalette() reads it and version 1 (linear clips, no
-/// border frames: the files written before cubic interpolation).
-inline constexpr uint32_t kPaletteFileVersion = 2;
+/// The version savePalette() writes (3: clips carry their animation markers). loadPalette()
+/// reads it, version 2 (no markers) and version 1 (linear clips, no border frames: the files
+/// written before cubic interpolation).
+inline constexpr uint32_t kPaletteFileVersion = 3;
 /// Largest palette file loadPalette() accepts (1 GiB).
 inline constexpr uint64_t kMaxPaletteFileSize = uint64_t(1) << 30;
 

@@ -75,6 +75,7 @@ struct BakedClip {
   /// For a cubic clip, one IntervalMode value per frame interval (frame_count - 1; none for a
   /// single frame); empty for a linear clip.
   std::vector<uint8_t> interval_modes;
+  std::vector<AnimationMarker> markers;  ///< The clip's markers (Clip::markers).
   Aabb bounds;                          ///< Conservative box of the skinned mesh over the clip.
   Sphere bounding_sphere;               ///< Conservative sphere, centred on the box.
 
@@ -122,6 +123,7 @@ struct BakedPalette {
   /// - interpolation known; a linear clip without interval modes, a cubic one with one known
   ///   mode per interval in a layout with border frames (kInvalidArgument, kCountMismatch,
   ///   kOutOfRange); border frames' texels obey the texel rules above;
+  /// - markers as si::validateMarkers() says (times within [0, duration], names not empty);
   /// - character_height finite and >= 0 (kOutOfRange).
   Status validate() const;
 };

@@ -64,6 +64,22 @@ struct JointTracks {
   Vec3Track scale;
 };
 
+/// A named instant of a clip (a footstep, a hit): what animation events report when a
+/// playback passes it (CrowdManager adds a palette's markers at init()).
+struct AnimationMarker {
+  double time_seconds = 0.0;  ///< Clip-local, within [0, duration].
+  std::string name;           ///< Not empty.
+  bool operator==(const AnimationMarker& o) const {
+    return time_seconds == o.time_seconds && name == o.name;
+  }
+};
+
+/// Checks `markers` of a clip of `duration` seconds: each time finite (kNotFinite) and within
+/// [0, duration] (kOutOfRange), each name not empty (kInvalidArgument); `where` starts the
+/// message.
+Status validateMarkers(const std::vector<AnimationMarker>& markers, double duration,
+                       const std::string& where);
+
 /// One named animation of a skeleton. `joint_tracks` has one entry per skeleton joint.
 struct Clip {
   std::string name;
@@ -75,6 +91,8 @@ struct Clip {
   /// cycle repeats its first key at the end) values after the last key hold it.
   bool wrap_interpolates = false;
   std::vector<JointTracks> joint_tracks;
+  /// Named instants (animation events), in any order; the baker copies them to the BakedClip.
+  std::vector<AnimationMarker> markers;
 
   /// The largest key time of all tracks (0 for a clip without keys).
   float lastKeyTime() const;
@@ -87,7 +105,8 @@ struct Clip {
   /// - per track: key times finite (kNotFinite), not negative (kOutOfRange), strictly increasing
   ///   (kNotSorted), not after duration_seconds (kOutOfRange); values count equals the key count,
   ///   or three times it for kCubicSpline (kCountMismatch); values finite (kNotFinite); rotation
-  ///   key values (not tangents) of non-zero length (kInvalidArgument).
+  ///   key values (not tangents) of non-zero length (kInvalidArgument);
+  /// - markers as validateMarkers() says.
   Status validate(size_t joint_count) const;
 };
 

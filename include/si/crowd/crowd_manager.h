@@ -236,6 +236,9 @@ class CrowdManager {
   /// the marker's index.
   Status addClipMarker(uint32_t clip, double time_seconds, const std::string& name,
                        uint32_t* index = nullptr);
+  /// Every marker: the palette's (BakedClip::markers, from the character's clips: a glTF
+  /// file's animation extras, or Clip::markers), added by init() clip by clip, then those of
+  /// addClipMarker().
   const std::vector<ClipMarker>& clipMarkers() const;
   /// The events of the last update(), by instance in dense order (the same for any thread
   /// count). Frames that only advanceClock() report nothing; the next update() reports what
