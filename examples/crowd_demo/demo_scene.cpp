@@ -166,6 +166,7 @@ si::Status DemoScene::buildCrowd() {
     if (!s.isOk()) return s;
   }
   s = crowd_.init(cd);
+  if (s.isOk() && options_.events) s = addEventMarkers();
   if (!s.isOk()) return s;
   if (lod_scale_ != 1.0f) {
     std::vector<float> lines = crowd_.desc().lod_distances_radii;
@@ -237,6 +238,9 @@ si::Status DemoScene::frame(double dt, const si::Camera& camera, si::DrawStats* 
   const auto start = std::chrono::steady_clock::now();
   si::Status s = crowd_.update(dt, camera);
   if (s.isOk() && mixed_) s = cast_.update(dt, camera);
+  last_events_ = 0;
+  for (const si::AnimationEvent& e : crowd_.events()) last_events_ += e.count;
+  events_since_on_ += last_events_;
   update_ms_ =
       std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
   if (!s.isOk()) return s;
@@ -323,6 +327,23 @@ si::Status DemoScene::toggleMixed() {
     mixed_ = false;
     return s;
   }
+  return gl_ready_ ? buildCrowd() : si::Status::ok();
+}
+
+si::Status DemoScene::addEventMarkers() {
+  for (uint32_t c = 0; c < palette_.clips.size(); ++c) {
+    const si::BakedClip& clip = palette_.clips[c];
+    si::Status s = crowd_.addClipMarker(c, 0.0, clip.name + " start");
+    if (s.isOk()) s = crowd_.addClipMarker(c, 0.5 * clip.duration_seconds, clip.name + " middle");
+    if (!s.isOk()) return s;
+  }
+  return si::Status::ok();
+}
+
+si::Status DemoScene::toggleEvents() {
+  options_.events = !options_.events;
+  events_since_on_ = 0;
+  // Markers cannot be removed one by one: a fresh crowd (the same seeded layout) has them or not.
   return gl_ready_ ? buildCrowd() : si::Status::ok();
 }
 

@@ -34,6 +34,7 @@ struct SceneOptions {
   std::vector<std::string> clips;
   float lod_pixels = 0.0f;  // > 0: deeper LOD chains, LOD by projected error within this budget.
   std::vector<std::string> mix;  // Other kinds (glTF files) of the mixed scene; starts mixed.
+  bool events = false;  // Animation events on from the start (key V).
 };
 
 /// The sample models key M mixes in when --mix named none (the sample Fox and CesiumMan).
@@ -64,6 +65,9 @@ class DemoScene {
   /// The mixed scene on or off: a share of the field becomes the other kinds (--mix, else the
   /// sample Fox and CesiumMan), all in the one renderer (Renderer::addCharacter).
   si::Status toggleMixed();
+  /// Animation events on or off: markers at the start and the middle of every clip of the main
+  /// character (kept across re-layouts); the events each update reports are counted.
+  si::Status toggleEvents();
 
   DrawPath path() const { return path_; }
   const si::CrowdManager& crowd() const { return crowd_; }
@@ -74,6 +78,10 @@ class DemoScene {
   uint32_t instanceCount() const { return options_.instances; }
   float lodScale() const { return lod_scale_; }
   bool mixed() const { return mixed_; }
+  bool events() const { return options_.events; }
+  /// Events reported by the main crowd's last update, and since events were turned on.
+  uint32_t lastFrameEvents() const { return last_events_; }
+  uint64_t eventsSinceOn() const { return events_since_on_; }
   /// The other kinds drawn now (0 unless mixed) and their visible instances.
   size_t otherKinds() const { return mixed_ ? cast_.size() : 0; }
   uint32_t otherKindsVisible() const { return mixed_ ? cast_.visible() : 0; }
@@ -109,8 +117,12 @@ class DemoScene {
   float lod_scale_ = 1.0f;
   bool lod_tint_ = false, restore_colors_ = false;
   bool gl_ready_ = false;
+  si::Status addEventMarkers();
+
   DemoCast cast_;
   bool mixed_ = false;
+  uint32_t last_events_ = 0;
+  uint64_t events_since_on_ = 0;
 };
 
 }  // namespace demo

@@ -39,6 +39,7 @@ void usage(std::FILE* f) {
       "                  [--format f32|f16|quat] [--rate HZ] [--seed N] [--summary]\n"
       "                  [--model FILE.gltf|FILE.glb] [--clips NAME,...] [--palette FILE]\n"
       "                  [--keys K,K,...] [--lod-pixels PX] [--mix FILE,...|samples]\n"
+      "                  [--events]\n"
       "Renders a crowd of the embedded character (default 4000 characters, 1280x720).\n"
       "With a display it opens a window (F1 lists the keys; ESC quits); without one, or with\n"
       "--headless, it renders --frames frames (default 3, 1/60 s apart) offscreen, writes the\n"
@@ -50,6 +51,8 @@ void usage(std::FILE* f) {
       "baking. --keys presses window keys, one per frame (e.g. +,f,p,c,]) for scripted runs.\n"
       "--mix starts with a mixed scene: the character and these other glTF kinds (samples: the\n"
       "sample Fox and CesiumMan) share the field, all drawn by one renderer (key M toggles it).\n"
+      "--events puts markers at the start and middle of every clip and counts the animation\n"
+      "events the crowd reports (key V toggles it).\n"
       "--lod-pixels extends the LOD chains (si::buildLodChain, errors over the clips' poses)\n"
       "and picks each character's LOD by projected error within PX pixels instead of the\n"
       "technique's distance lines.\n");
@@ -85,6 +88,8 @@ bool parse(int argc, char** argv, Options* o) {
       o->scene.palette = argv[++i];
     } else if (a == "--clips" && has) {
       o->scene.clips = si::examples::splitList(argv[++i]);
+    } else if (a == "--events") {
+      o->scene.events = true;
     } else if (a == "--mix" && has) {
       o->scene.mix = si::examples::splitList(argv[++i]);
       if (std::string(argv[i]) == "samples") o->scene.mix = demo::defaultMix();
@@ -117,7 +122,7 @@ int fail(const char* what, const si::Status& s) {
 }
 
 void printStats(const demo::DemoScene& scene, const si::DrawStats& stats, double update_ms,
-                double submit_ms, double gpu_ms) {
+                double submit_ms, double gpu_ms, uint32_t frames) {
   const si::CrowdFrameStats& cs = scene.crowd().stats();
   std::printf("%-28s %12s\n", "statistic (last frame)", "value");
   std::printf("%-28s %12u\n", "instances", cs.instances);
@@ -126,6 +131,9 @@ void printStats(const demo::DemoScene& scene, const si::DrawStats& stats, double
     std::printf("%-28s %12u\n", ("visible at LOD" + std::to_string(l)).c_str(), cs.per_lod[l]);
   std::printf("%-28s %12u\n", "culled (frustum)", cs.culled_frustum);
   std::printf("%-28s %12u\n", "culled (distance)", cs.culled_distance);
+  if (scene.events())
+    std::printf("%-28s %12llu\n", ("animation events (" + std::to_string(frames) + " frames)").c_str(),
+                static_cast<unsigned long long>(scene.eventsSinceOn()));
   if (scene.otherKinds() > 0)
     std::printf("%-28s %12u (%zu character kinds in one renderer)\n", "other kinds visible",
                 scene.otherKindsVisible(), scene.otherKinds() + 1);
@@ -177,7 +185,7 @@ int runHeadless(const Options& o, demo::DemoScene* scene) {
   std::printf("\nRendered %ux%u through %s (%s, GL %s); bake %.0f ms\n", o.width, o.height,
               si::headlessBackendName(context->backend()), context->renderer().c_str(),
               info.version.c_str(), scene->bakeMs());
-  printStats(*scene, stats, update_ms / frames, submit_ms / frames, gpu_ms / frames);
+  printStats(*scene, stats, update_ms / frames, submit_ms / frames, gpu_ms / frames, frames);
   std::printf("Wrote %s\n", o.out.c_str());
   return 0;
 }

@@ -32,7 +32,9 @@ constexpr char kHelp[] =
     "              skinning, compute pre-skinning, rigid, traditional, cpu-skinned)\n"
     "  C           crossfade every character to its next clip (0.5 s)\n"
     "  M           mixed scene on/off: other character kinds (--mix, else the sample Fox and\n"
-    "              CesiumMan) share the field, drawn by the same renderer\n";
+    "              CesiumMan) share the field, drawn by the same renderer\n"
+    "  V           animation events on/off: markers at every clip's start and middle; the\n"
+    "              console prints the events reported each second\n";
 
 std::string g_glfw_error;
 void onGlfwError(int code, const char* message) {
@@ -106,6 +108,10 @@ class App {
       case GLFW_KEY_M:
         s = scene_->toggleMixed();
         std::printf("mixed scene %s\n", scene_->mixed() ? "on" : "off");
+        break;
+      case GLFW_KEY_V:
+        s = scene_->toggleEvents();
+        std::printf("animation events %s\n", scene_->events() ? "on" : "off");
         break;
       case GLFW_KEY_C:
         s = scene_->crossfadeAll();
@@ -236,6 +242,7 @@ WindowResult runWindow(const WindowOptions& o, DemoScene* scene, std::string* wh
     auto last = Clock::now(), last_title = last;
     double frame_ms_sum = 0.0, gpu_ms_sum = 0.0;
     uint32_t frames_since_title = 0;
+    uint64_t events_printed = 0;
     si::DrawStats stats;
     for (uint32_t frame = 0; s.isOk() && !glfwWindowShouldClose(window); ++frame) {
       glfwPollEvents();
@@ -273,6 +280,12 @@ WindowResult runWindow(const WindowOptions& o, DemoScene* scene, std::string* wh
                       si::paletteFormatName(scene->palette().format), double(scene->lodScale()),
                       frame_ms_sum / frames_since_title, gpu_ms_sum / frames_since_title);
         glfwSetWindowTitle(window, title);
+        if (scene->events()) {
+          std::printf("animation events: %llu in %.1f s\n",
+                      static_cast<unsigned long long>(scene->eventsSinceOn() - events_printed),
+                      std::chrono::duration<double>(now - last_title).count());
+          events_printed = scene->eventsSinceOn();
+        }
         last_title = now;
         frame_ms_sum = gpu_ms_sum = 0.0;
         frames_since_title = 0;
