@@ -236,15 +236,23 @@ void Renderer::setGpuOcclusionCulling(bool on) {
   if (impl_) impl_->desc.gpu_occlusion_culling = on;
 }
 
+// Before a character's upload: the explicit setting, or the vertex shader until measured.
 SkinningPath Renderer::skinningPath(CharacterId id) const {
-  if (!impl_ || id.index >= impl_->characters.size()) return SkinningPath::kVertexShader;
-  return impl_->characters[id.index]->path;
+  if (!impl_) return SkinningPath::kVertexShader;
+  if (id.index < impl_->characters.size() && impl_->characters[id.index]->character.ready())
+    return impl_->characters[id.index]->path;
+  return impl_->desc.skinning_path == SkinningPath::kCompute ? SkinningPath::kCompute
+                                                             : SkinningPath::kVertexShader;
 }
 
 const std::string& Renderer::skinningPathReason(CharacterId id) const {
-  static const std::string none = "no such character (init() and upload first)";
-  if (!impl_ || id.index >= impl_->characters.size()) return none;
-  return impl_->characters[id.index]->path_reason;
+  static const std::string none = "no renderer (init() first)";
+  static const std::string explicit_setting = "explicit setting";
+  static const std::string not_yet = "not measured yet (uploading the character measures)";
+  if (!impl_) return none;
+  if (id.index < impl_->characters.size() && impl_->characters[id.index]->character.ready())
+    return impl_->characters[id.index]->path_reason;
+  return impl_->desc.skinning_path == SkinningPath::kAutomatic ? not_yet : explicit_setting;
 }
 
 uint64_t Renderer::computeRingBytes() const {

@@ -176,6 +176,10 @@ TEST_P(MultiCharacterTest, IdsAndPalettesAreChecked) {
   EXPECT_EQ(r.addCharacter(kinds[0]->character, kinds[0]->palette, &id).code(),
             StatusCode::kInvalidArgument);  // No init.
   RendererDesc rd;
+  rd.skinning_path = SkinningPath::kCompute;  // Before any upload: the explicit setting.
+  ASSERT_TRUE(r.init(info_, rd).isOk());
+  EXPECT_EQ(r.skinningPath(CharacterId{2}), SkinningPath::kCompute);
+  EXPECT_EQ(r.skinningPathReason(CharacterId{2}), "explicit setting");
   rd.skinning_path = SkinningPath::kVertexShader;
   ASSERT_TRUE(r.init(info_, rd).isOk());
   EXPECT_EQ(r.addCharacter(kinds[0]->character, kinds[0]->palette, nullptr).code(),
