@@ -8,6 +8,7 @@
 // its start inclusive; the clip that fades out during a crossfade counts until the fade ends.
 
 #include <cstdint>
+#include <utility>
 #include <vector>
 
 #include "crowd/instance_store.h"
@@ -21,6 +22,13 @@ struct MarkerTable {
   std::vector<ClipMarker> markers;                  // As added (AnimationEvent::marker indexes).
   std::vector<std::vector<uint32_t>> clip_markers;  // Per palette clip: its markers' indices.
   bool empty() const { return markers.empty(); }
+  /// Appends `m` (its clip below clip_markers.size()) and returns its index.
+  uint32_t add(ClipMarker m) {
+    const uint32_t index = uint32_t(markers.size());
+    clip_markers[m.clip].push_back(index);
+    markers.push_back(std::move(m));
+    return index;
+  }
 };
 
 /// Passes of marker time `t` by playback `p` of a clip of `duration` seconds between crowd

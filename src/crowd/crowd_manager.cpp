@@ -125,13 +125,10 @@ Status CrowdManager::init(const CrowdDesc& in_desc) {
   state->frame.run_offsets.assign(size_t(d.lod_count) * d.sub_mesh_count + 1, 0);
   for (const BakedClip& c : d.palette->clips) state->clips.push_back(detail::makeClipTiming(c));
   // The palette's markers (BakedClip::markers, e.g. from a glTF file) come first.
-  detail::MarkerTable& markers = state->markers;
-  markers.clip_markers.resize(d.palette->clips.size());
+  state->markers.clip_markers.resize(d.palette->clips.size());
   for (uint32_t c = 0; c < d.palette->clips.size(); ++c)
-    for (const AnimationMarker& m : d.palette->clips[c].markers) {
-      markers.clip_markers[c].push_back(uint32_t(markers.markers.size()));
-      markers.markers.push_back(ClipMarker{c, m.time_seconds, m.name});
-    }
+    for (const AnimationMarker& m : d.palette->clips[c].markers)
+      state->markers.add(ClipMarker{c, m.time_seconds, m.name});
   desc_ = d;
   state_ = std::move(state);
   return Status::ok();
@@ -358,9 +355,8 @@ Status CrowdManager::addClipMarker(uint32_t clip, double time_seconds, const std
   detail::MarkerTable& t = state_->markers;
   // Until now nothing was tracked: every instance counts from the current clock.
   if (t.empty()) state_->store.markEventsReported(state_->clock);
-  if (index != nullptr) *index = uint32_t(t.markers.size());
-  t.clip_markers[clip].push_back(uint32_t(t.markers.size()));
-  t.markers.push_back(ClipMarker{clip, time_seconds, name});
+  const uint32_t added = t.add(ClipMarker{clip, time_seconds, name});
+  if (index != nullptr) *index = added;
   return Status::ok();
 }
 
