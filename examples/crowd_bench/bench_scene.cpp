@@ -9,14 +9,9 @@
 #include "si/crowd/instance_batcher.h"
 
 namespace si::bench {
-namespace {
-
-using Clock = std::chrono::steady_clock;
 double msSince(Clock::time_point t) {
   return std::chrono::duration<double, std::milli>(Clock::now() - t).count();
 }
-
-}  // namespace
 
 std::string LodChoice::name() const {
   if (fixed_lod >= 0) return "lod" + std::to_string(fixed_lod);

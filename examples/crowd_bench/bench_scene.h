@@ -2,6 +2,7 @@
 #pragma once
 // crowd_bench's scenes and one timed configuration: seeded crowds (a field, a stadium), the
 // fixed camera paths, and runPath(), which times one drawing path with one LOD mode.
+#include <chrono>
 #include <cstdint>
 #include <memory>
 #include <string>
@@ -89,5 +90,9 @@ Status runPath(Setup& setup, Renderer& renderer, const BakedPalette& palette,
 uint64_t coveredPixels(const std::vector<uint8_t>& rgba);
 
 double median(std::vector<double> v);
+
+using Clock = std::chrono::steady_clock;
+/// Milliseconds since `t`.
+double msSince(Clock::time_point t);
 
 }  // namespace si::bench

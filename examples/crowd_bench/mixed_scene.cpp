@@ -2,35 +2,24 @@
 #include "crowd_bench/mixed_scene.h"
 
 #include <algorithm>
-#include <chrono>
 #include <filesystem>
 #include <memory>
 
-#include "si/bake/animation_baker.h"
-#include "si/bake/lod_chain.h"
-#include "si/gltf/gltf_import.h"
+#include "common/character_kinds.h"
 
 namespace si::bench {
-
-namespace {
-double msSince(std::chrono::steady_clock::time_point t0) {
-  return std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
-}
-}  // namespace
 
 Status loadMixedKinds(const Character& main, const BakedPalette& main_palette,
                       const std::vector<std::string>& files, bool lod_chain, bool quick,
                       std::vector<MixedKind>* out) {
   out->clear();
   out->push_back({"embedded", main, main_palette});
+  BakeDesc bake;
+  if (quick) bake.rate_mode = RateMode::kFixed;
   for (const std::string& file : files) {
     MixedKind k;
-    Status s = importGltfFile(file, {}, &k.character, nullptr);
-    BakeDesc bake;
-    if (quick) bake.rate_mode = RateMode::kFixed;
-    if (s.isOk() && lod_chain) s = buildLodChain(&k.character.mesh, {}, nullptr);
-    if (s.isOk()) s = bakePalette(k.character, bake, &k.palette, nullptr);
-    if (!s.isOk()) return {s.code(), "--mix " + file + ": " + s.message()};
+    Status s = examples::importAndBake(file, bake, lod_chain, &k.character, &k.palette, nullptr);
+    if (!s.isOk()) return s;
     k.name = std::filesystem::path(file).stem().string();
     std::printf("Mixed kind %s: %zu vertices, %zu LOD levels (LOD 0: %zu triangles, last: %zu)\n",
                 k.name.c_str(), k.character.mesh.vertexCount(), k.character.mesh.maxLodCount(),
@@ -58,31 +47,19 @@ Status runMixed(Setup& setup, const std::vector<MixedKind>& kinds, const Rendere
     }
     if (s.isOk()) s = renderers.back()->addCharacter(kind.character, kind.palette, &ids[k]);
     CrowdDesc cd;
-    cd.palette = &kind.palette;
-    cd.sub_mesh_count = uint32_t(kind.character.mesh.sub_meshes.size());
-    cd.lod_count = uint32_t(kind.character.mesh.maxLodCount());
     cd.max_distance_radii = -1.0f;  // As the paths table: everything in view, however far.
-    crowds.push_back(std::make_unique<CrowdManager>());
-    if (s.isOk()) s = crowds.back()->init(cd);
     // Kind k takes places k, k + n_kinds, ...; its largest extent is the embedded height.
-    const Aabb box = kind.character.bindPoseBounds();
-    const glm::vec3 extent = box.max - box.min;
-    const float scale = height / std::max({extent.x, extent.y, extent.z, 1e-6f});
     std::vector<glm::dvec3> at;
-    for (size_t i = k; i < places.size(); i += n_kinds)
-      at.push_back(places[i] - glm::dvec3(0.0, double(box.min.y) * scale, 0.0));
+    for (size_t i = k; i < places.size(); i += n_kinds) at.push_back(places[i]);
     RandomCrowdDesc rc;
-    rc.positions = at;
     rc.seed = 2026 + k;
-    rc.required_mask = k == 0 ? 1u : 0xFFFFFFFFu >> (32 - std::min<uint32_t>(cd.sub_mesh_count, 32));
+    const uint32_t parts = uint32_t(kind.character.mesh.sub_meshes.size());
+    rc.required_mask = k == 0 ? 1u : 0xFFFFFFFFu >> (32 - std::min<uint32_t>(parts, 32));
     rc.optional_mask = k == 0 ? 0xEu : 0u;
-    std::vector<InstanceHandle> handles;
-    if (s.isOk()) s = crowds.back()->addRandom(rc, &handles);
-    for (InstanceHandle h : handles) {
-      InstanceDesc d;
-      if (s.isOk()) s = crowds.back()->get(h, &d);
-      if (s.isOk()) s = crowds.back()->setTransform(h, d.position, d.rotation, d.scale * scale);
-    }
+    crowds.push_back(std::make_unique<CrowdManager>());
+    if (s.isOk())
+      s = examples::makeScaledCrowd(kind.character, kind.palette, cd, at, height, rc,
+                                    crowds.back().get());
   }
   InstanceBatcher batcher;
   if (s.isOk()) s = batcher.init(renderers.front()->batchLimits());
@@ -94,7 +71,7 @@ Status runMixed(Setup& setup, const std::vector<MixedKind>& kinds, const Rendere
   std::vector<double> update_v, submit_v, gpu_v;
   for (uint32_t f = 0; f < warmup + setup.frames && s.isOk(); ++f) {
     const Camera cam = cameraAt(setup, "field", places, f < warmup ? 0 : f - warmup, setup.frames);
-    const auto t0 = std::chrono::steady_clock::now();
+    const auto t0 = Clock::now();
     for (auto& c : crowds)
       if (s.isOk()) s = stepCrowd(*c, path, cam, 1.0 / 60.0);
     const double update_ms = msSince(t0);
@@ -106,10 +83,7 @@ Status runMixed(Setup& setup, const std::vector<MixedKind>& kinds, const Rendere
       Renderer& r = *renderers[one_renderer ? 0 : k];
       DrawStats st;
       s = drawKind(r, ids[k], *crowds[k], batcher, path, cam, &st);
-      sum.draw_calls += st.draw_calls;
-      sum.triangles += st.triangles;
-      sum.cpu_submit_ms += st.cpu_submit_ms;
-      sum.gpu_ms += st.gpu_ms;
+      examples::accumulate(st, &sum);
       visible += isGpuSelected(path) ? st.gpu_visible : crowds[k]->stats().visible;
     }
     if (f < warmup) continue;

@@ -49,7 +49,4 @@ class DemoCast {
   bool uploaded_ = false;
 };
 
-/// Adds `b` to `a`: counts, instances and times (the GPU time when both measured it).
-void accumulate(const si::DrawStats& b, si::DrawStats* a);
-
 }  // namespace demo
