@@ -139,9 +139,6 @@ Status GpuCulledPath::uploadState(const DrawResources& r, const CrowdManager& cr
 Status GpuCulledPath::uploadFrame(const DrawResources& r, const PathFrame& f) {
   const CrowdManager& crowd = *f.crowd;
   const CrowdDesc& cd = crowd.desc();
-  if (cd.palette != r.palette->palette())
-    return {StatusCode::kInvalidArgument,
-            "drawCrowdGpuCulled: the crowd plays another palette than the one uploaded"};
   const uint32_t buckets = cd.lod_count * cd.sub_mesh_count;
   if (buckets > kMaxBuckets || cd.sub_mesh_count > r.character->sub_meshes.size())
     return {StatusCode::kInvalidArgument,

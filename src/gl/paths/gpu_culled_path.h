@@ -18,8 +18,8 @@ class GpuCulledPath final : public DrawPath {
  public:
   Status prepare(const DrawResources&) override { return Status::ok(); }
   /// Uploads the crowd's state when it changed, creates the pre-skinned ring when first
-  /// needed and sets the frame's parameters. kInvalidArgument when the crowd plays another
-  /// palette or has more buckets than 256; kLimitExceeded past the storage-block limit.
+  /// needed and sets the frame's parameters (the renderer has checked the crowd's palette).
+  /// kInvalidArgument for more buckets than 256; kLimitExceeded past the storage-block limit.
   Status uploadFrame(const DrawResources& r, const PathFrame& frame) override;
   Status draw(const DrawResources& r, const PathFrame& frame, DrawStats* stats) override;
   void release() override;
