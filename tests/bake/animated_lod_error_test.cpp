@@ -6,6 +6,7 @@
 
 #include <cmath>
 
+#include "core/test_helpers.h"
 #include "si/bake/lod_chain.h"
 #include "si/core/default_character.h"
 #include "si/core/lod_error.h"
@@ -15,8 +16,7 @@ namespace si {
 namespace {
 
 Character embeddedWithChain() {
-  Character c;
-  EXPECT_TRUE(makeDefaultCharacter({}, &c).isOk());
+  Character c = test::embeddedCharacter();
   EXPECT_TRUE(buildLodChain(&c.mesh, {}, nullptr).isOk());
   return c;
 }

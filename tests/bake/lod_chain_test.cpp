@@ -3,6 +3,7 @@
 // that grow along the chain and are never below the measured surface distance; validity.
 #include <gtest/gtest.h>
 
+#include "core/test_helpers.h"
 #include "si/bake/lod_chain.h"
 #include "si/core/default_character.h"
 #include "si/core/lod_error.h"
@@ -10,14 +11,8 @@
 namespace si {
 namespace {
 
-Character embedded() {
-  Character c;
-  EXPECT_TRUE(makeDefaultCharacter({}, &c).isOk());
-  return c;
-}
-
 TEST(LodChain, ReachesAFewDozenTrianglesWithHonestErrors) {
-  Character c = embedded();
+  Character c = test::embeddedCharacter();
   LodChainReport report;
   ASSERT_TRUE(buildLodChain(&c.mesh, {}, &report).isOk());
   ASSERT_TRUE(c.validate().isOk());
@@ -49,7 +44,7 @@ TEST(LodChain, ReachesAFewDozenTrianglesWithHonestErrors) {
 }
 
 TEST(LodChain, RebuildingReplacesEveryLevelButTheFirst) {
-  Character c = embedded();
+  Character c = test::embeddedCharacter();
   LodChainDesc d;
   d.keep_existing = false;
   d.level_count = 4;
@@ -68,7 +63,7 @@ TEST(LodChain, RebuildingReplacesEveryLevelButTheFirst) {
 }
 
 TEST(LodChain, ValidityMatrix) {
-  Character c = embedded();
+  Character c = test::embeddedCharacter();
   const SkinnedMesh before = c.mesh;
   EXPECT_EQ(buildLodChain(nullptr, {}, nullptr).code(), StatusCode::kInvalidArgument);
   LodChainDesc d;

@@ -3,6 +3,7 @@
 // texture array's layers and the documented resize filter.
 #include <gtest/gtest.h>
 
+#include "core/test_helpers.h"
 #include "si/core/default_character.h"
 #include "si/core/material_table.h"
 
@@ -17,14 +18,8 @@ Image solid(uint32_t w, uint32_t h, glm::u8vec4 c) {
   return img;
 }
 
-Character defaultCharacter() {
-  Character c;
-  EXPECT_TRUE(makeDefaultCharacter({}, &c).isOk());
-  return c;
-}
-
 TEST(MaterialTable, VertexMaterialsAreValidated) {
-  Character c = defaultCharacter();
+  Character c = test::embeddedCharacter();
   c.materials.resize(3);
   c.mesh.vertex_materials.assign(c.mesh.vertexCount() - 1, 0);
   EXPECT_EQ(c.validate().code(), StatusCode::kCountMismatch);
@@ -37,7 +32,7 @@ TEST(MaterialTable, VertexMaterialsAreValidated) {
 }
 
 TEST(MaterialTable, VerticesTakeTheirSubMeshMaterialUnlessSet) {
-  Character c = defaultCharacter();
+  Character c = test::embeddedCharacter();
   ASSERT_GE(c.mesh.sub_meshes.size(), 2u);
   c.materials.resize(c.mesh.sub_meshes.size());
   for (size_t s = 0; s < c.mesh.sub_meshes.size(); ++s) c.mesh.sub_meshes[s].material = uint32_t(s);
@@ -53,7 +48,7 @@ TEST(MaterialTable, VerticesTakeTheirSubMeshMaterialUnlessSet) {
 }
 
 TEST(MaterialTable, ImagesBecomeLayersOfOneSize) {
-  Character c = defaultCharacter();
+  Character c = test::embeddedCharacter();
   c.images = {solid(4, 2, {10, 20, 30, 40}), solid(8, 8, {200, 100, 50, 255}),
               solid(2, 2, {1, 2, 3, 4})};  // The third is used by no material.
   c.materials.assign(4, Material{});

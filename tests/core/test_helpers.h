@@ -4,7 +4,11 @@
 
 #include <cmath>
 
+#include <gtest/gtest.h>
+
+#include "si/core/character.h"
 #include "si/core/clip.h"
+#include "si/core/default_character.h"
 #include "si/core/skeleton.h"
 #include "si/core/skinned_mesh.h"
 
@@ -50,6 +54,13 @@ inline glm::quat axisAngleF(double angle, glm::dvec3 axis) {
 inline double rotationAngle(const glm::dquat& a, const glm::dquat& b) {
   const double d = std::fabs(a.w * b.w + a.x * b.x + a.y * b.y + a.z * b.z);
   return 2.0 * std::acos(std::min(1.0, d));
+}
+
+/// The embedded character (si::makeDefaultCharacter, default desc); a failure fails the test.
+inline Character embeddedCharacter() {
+  Character c;
+  EXPECT_TRUE(makeDefaultCharacter({}, &c).isOk());
+  return c;
 }
 
 }  // namespace si::test
