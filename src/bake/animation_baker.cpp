@@ -13,6 +13,7 @@
 #include "bake/clip_measurement.h"
 #include "core/str_cat.h"
 #include "si/core/reference_evaluator.h"
+#include "si/core/root_motion.h"
 
 namespace si {
 using detail::strCat;
@@ -25,6 +26,8 @@ struct Rigid {
   glm::dvec3 translation;
   double scale = 1.0;
 };
+
+constexpr double kPi = 3.14159265358979323846;
 
 // Relative tolerance for "uniform and orthogonal" when checking a joint for the rigid format.
 constexpr double kRigidTolerance = 1e-4;
@@ -78,6 +81,7 @@ Status bakeTexels(const Character& character, const BakeDesc& d, const PalettePl
   p.character_height = character.height();
 
   ReferencePose pose;
+  GroundMotion motion;
   for (size_t c = 0; c < plan.clip_indices.size(); ++c) {
     const Clip& clip = character.clips[plan.clip_indices[c]];
     BakedClip bc;
@@ -100,7 +104,15 @@ Status bakeTexels(const Character& character, const BakeDesc& d, const PalettePl
         if (before_step[f]) t = std::nextafter(t, 0.0);
       }
       Status s = evaluateLocalPose(character.skeleton, clip, t, &pose);
+      if (s.isOk() && clip.root_motion.extract)
+        s = evaluateRootMotion(character.skeleton, clip, t, &motion);
       if (!s.isOk()) return s;
+      if (clip.root_motion.extract) {  // Yaw unwrapped from the previous frame's.
+        const double previous = f == 0 ? 0.0 : double(bc.root_motion.back().z);
+        const double yaw = f == 0 ? 0.0 : previous + std::remainder(motion.yaw - previous, 2.0 * kPi);
+        bc.root_motion.push_back(f == 0 ? glm::vec3(0.0f)
+                                        : glm::vec3(glm::dvec3(motion.translation, yaw)));
+      }
       for (uint32_t slot = 0; slot < p.palette_joints.size(); ++slot) {
         const uint32_t joint = p.palette_joints[slot];
         const glm::dmat4& m = pose.skinning[joint];

@@ -7,10 +7,13 @@
 #include <cmath>
 
 #include "si/core/reference_evaluator.h"
+#include "si/core/root_motion.h"
 
 namespace si::detail {
 
 namespace {
+
+constexpr double kPi = 3.14159265358979323846;
 
 // Times at which the shader's result is compared with the reference: every frame interval at
 // fractions 0, 1/4, 1/2, 3/4 (or only 1/2 for the rate search), and the clip's end.
@@ -92,6 +95,13 @@ Status measureClip(const Character& character, const SkinnedMesh& mesh,
   r.sample_rate_hz = bc.sampleRateHz();
   r.frame_count = bc.frame_count;
   r.shell_distance_units = shell_distance;
+  const double height = p.character_height > 0.0f ? p.character_height : 1.0;
+  if (clip.root_motion.extract) {
+    uint32_t root_joint = 0;
+    Status s = rootMotionJoint(character.skeleton, clip, &root_joint);
+    if (!s.isOk()) return s;
+    r.root_motion_joint = character.skeleton.joint_names[root_joint];
+  }
   double sum = 0.0;
   // Bind-pose position of each stored joint, for the shell metric.
   std::vector<glm::dvec3> joint_bind(nj);
@@ -122,6 +132,15 @@ Status measureClip(const Character& character, const SkinnedMesh& mesh,
         r.max_error_joint = mesh.joints[v][best];
       }
     }
+    if (clip.root_motion.extract) {  // The baked motion, lerped, against the reference's.
+      GroundMotion exact;
+      s = evaluateRootMotion(character.skeleton, clip, t, &exact);
+      if (!s.isOk()) return s;
+      const GroundMotion baked = sampleRootMotion(bc, sample);
+      const double e = glm::length(baked.translation - exact.translation) +
+                       std::fabs(std::remainder(baked.yaw - exact.yaw, 2.0 * kPi)) * height;
+      r.root_motion_max_error_units = std::max(r.root_motion_max_error_units, e);
+    }
     for (uint32_t j : p.palette_joints)
       for (const glm::dvec3& axis : axes) {
         const glm::dvec4 vp(joint_bind[j] + axis * shell_distance, 1.0);
@@ -136,11 +155,12 @@ Status measureClip(const Character& character, const SkinnedMesh& mesh,
     const size_t k = std::min(errors.size() - 1, size_t(std::ceil(0.99 * errors.size())) - 1);
     std::nth_element(errors.begin(), errors.begin() + std::ptrdiff_t(k), errors.end());
     r.p99_error_units = errors[k];
-    const double h = p.character_height > 0.0f ? p.character_height : 1.0;
+    const double h = height;
     r.max_error_ratio = r.max_error_units / h;
     r.p99_error_ratio = r.p99_error_units / h;
     r.mean_error_ratio = r.mean_error_units / h;
   }
+  r.root_motion_max_error_ratio = r.root_motion_max_error_units / height;
   return Status::ok();
 }
 

@@ -134,6 +134,9 @@ Status savePalette(const BakedPalette& p, std::vector<uint8_t>* bytes) {
       w.u32(static_cast<uint32_t>(m.name.size()));
       w.bytes(m.name.data(), m.name.size());
     }
+    w.u32(static_cast<uint32_t>(c.root_motion.size()));
+    for (const glm::vec3& m : c.root_motion)
+      for (int i = 0; i < 3; ++i) w.f32(m[i]);
     for (int i = 0; i < 3; ++i) w.f32(c.bounds.min[i]);
     for (int i = 0; i < 3; ++i) w.f32(c.bounds.max[i]);
     for (int i = 0; i < 3; ++i) w.f32(c.bounding_sphere.center[i]);
@@ -251,6 +254,14 @@ Status loadPalette(Span<const uint8_t> bytes, BakedPalette* palette) {
         m.name.resize(length);
         r.raw(m.name.data(), length);
       }
+    }
+    if (version >= 4) {
+      uint32_t samples = 0;
+      if (!r.u32(&samples) || uint64_t(samples) * 12 > r.left())
+        return corrupt(where() + "truncated root motion");
+      clip.root_motion.resize(samples);
+      for (glm::vec3& m : clip.root_motion)
+        for (int i = 0; i < 3; ++i) r.f32(&m[i]);  // Size checked above.
     }
     float v[10];
     for (float& x : v)

@@ -26,6 +26,8 @@ Status Character::validate() const {
   if (!s.isOk()) return s;
   for (const Clip& c : clips) {
     s = c.validate(skeleton.jointCount());
+    uint32_t root_joint = 0;
+    if (s.isOk() && c.root_motion.extract) s = rootMotionJoint(skeleton, c, &root_joint);
     if (!s.isOk()) return s;
   }
   for (size_t i = 0; i < images.size(); ++i) {

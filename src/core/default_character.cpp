@@ -363,6 +363,29 @@ ClipDef gaitClip(const char* name, const Gait& g, int keys, Interpolation interp
   return def;
 }
 
+// A gait that travels: the root joint (a game rig's root bone, at the feet) moves forward (+Z,
+// the way the character faces) at `speed` units per second while turning left (about +Y) at
+// `yaw_rate` radians per second, on the arc that keeps it moving the way it faces.
+ClipDef travelingClip(const char* name, ClipDef gait, double speed, double yaw_rate) {
+  gait.name = name;
+  const auto rotation = gait.rotation;
+  const auto translation = gait.translation;
+  gait.rotation = [rotation, yaw_rate](int j, double t, glm::dquat* q) {
+    if (j != kRoot) return rotation(j, t, q);
+    *q = axisAngle(yaw_rate * t, kY);
+    return yaw_rate != 0.0;
+  };
+  gait.translation = [translation, speed, yaw_rate](int j, double t, glm::dvec3* tr) {
+    if (j != kRoot) return translation(j, t, tr);
+    const double a = yaw_rate * t;
+    *tr = restOffset(kRoot) + (yaw_rate == 0.0 ? glm::dvec3(0, 0, speed * t)
+                                               : speed / yaw_rate *
+                                                     glm::dvec3(1 - std::cos(a), 0, std::sin(a)));
+    return true;
+  };
+  return gait;
+}
+
 ClipDef idleClip() {
   ClipDef def;
   def.name = "idle";
@@ -459,11 +482,19 @@ Status makeDefaultCharacter(const DefaultCharacterDesc& in_desc, Character* out)
   c.clips.push_back(buildClip(idleClip()));
   c.clips.push_back(buildClip(
       gaitClip("walk", {1.0, 0.45, 0.1, 0.5, 0.35, 0.25, 0.04, 0.02, 0.08}, 25,
-               Interpolation::kLinear)));
+               Interpolation::kLinear)));  // walk_forward's gait too (below).
   c.clips.push_back(buildClip(
       gaitClip("run", {0.66, 0.8, 0.2, 1.0, 0.6, 1.1, 0.18, 0.04, 0.12}, 9,
                Interpolation::kCubicSpline)));
   c.clips.push_back(buildClip(waveClip()));
+  if (desc.moving_clips) {
+    const Gait walk = {1.0, 0.45, 0.1, 0.5, 0.35, 0.25, 0.04, 0.02, 0.08};
+    c.clips.push_back(buildClip(travelingClip(
+        "walk_forward", gaitClip("", walk, 25, Interpolation::kLinear), 1.3, 0.0)));
+    c.clips.push_back(buildClip(travelingClip(
+        "walk_turn_left", gaitClip("", walk, 25, Interpolation::kLinear), 1.0, kPi / 4)));
+    for (size_t i = c.clips.size() - 2; i < c.clips.size(); ++i) c.clips[i].root_motion.extract = true;
+  }
 
   c.materials.push_back(Material{"character", glm::vec4(1.0f), 0});
   c.images.emplace_back();

@@ -122,6 +122,26 @@ Status checkClipBounds(const BakedClip& c, const std::string& where) {
   return Status::ok();
 }
 
+// Root motion samples: none, or one per frame, finite, starting at the identity, continuous in yaw.
+Status checkRootMotion(const BakedClip& c, const std::string& where) {
+  if (c.root_motion.empty()) return Status::ok();
+  if (c.root_motion.size() != c.frame_count)
+    return {StatusCode::kCountMismatch, strCat(where, c.root_motion.size(),
+                                               " root motion samples for ", c.frame_count,
+                                               " frames")};
+  for (size_t f = 0; f < c.root_motion.size(); ++f)
+    if (!isFinite(c.root_motion[f]))
+      return {StatusCode::kNotFinite, strCat(where, "root motion sample ", f, " is not finite")};
+  if (c.root_motion[0] != glm::vec3(0.0f))
+    return {StatusCode::kOutOfRange, strCat(where, "root motion sample 0 is not (0, 0, 0)")};
+  for (size_t f = 1; f < c.root_motion.size(); ++f)
+    if (!(std::fabs(double(c.root_motion[f].z) - double(c.root_motion[f - 1].z)) < 3.14159265358979))
+      return {StatusCode::kOutOfRange,
+              strCat(where, "root motion yaw jumps by pi or more between frames ", f - 1, " and ",
+                     f, " (samples must be unwrapped)")};
+  return Status::ok();
+}
+
 // Every texel value of every stored joint finite; quaternions unit, scales positive.
 Status checkTexels(const BakedPalette& p) {
   const PaletteLayout& l = p.layout;
@@ -194,6 +214,7 @@ Status BakedPalette::validate() const {
     if (s.isOk())
       s = validateMarkers(clips[c].markers, clips[c].duration_seconds,
                           strCat("palette: clip ", c, " '", clips[c].name, "': "));
+    if (s.isOk()) s = checkRootMotion(clips[c], strCat("palette: clip ", c, " '", clips[c].name, "': "));
     if (!s.isOk()) return s;
   }
   if (layout.texels_per_joint != texelsPerJoint(format) || layout.joint_stride_texels > 64 ||

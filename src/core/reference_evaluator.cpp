@@ -6,6 +6,9 @@
 #include <algorithm>
 #include <cmath>
 
+#include <glm/gtc/quaternion.hpp>
+
+#include "core/root_motion_frame.h"
 #include "core/str_cat.h"
 
 namespace si {
@@ -150,32 +153,84 @@ Status evaluateRestPose(const Skeleton& skeleton, ReferencePose* pose) {
 }
 
 namespace {
-// Evaluates at clip-local time t in [0, duration]; `loop` selects the wrap interpolation.
-Status evaluateAt(const Skeleton& skeleton, const Clip& clip, double t, bool loop,
-                  ReferencePose* pose) {
-  if (pose == nullptr) return {StatusCode::kInvalidArgument, "evaluatePose: pose is null"};
-  if (!std::isfinite(t)) return {StatusCode::kNotFinite, "evaluatePose: time is not finite"};
+// Joint j's local transform of `clip` at clip-local time t (wrap_to as sampleTrack's).
+TransformD localAt(const Skeleton& skeleton, const Clip& clip, size_t j, double t, double wrap_to) {
+  TransformD x = TransformD::fromFloat(skeleton.rest_pose[j]);
+  const JointTracks& jt = clip.joint_tracks[j];
+  if (!jt.translation.empty()) x.translation = sampleTrack(jt.translation, t, wrap_to);
+  if (!jt.rotation.empty()) x.rotation = sampleTrack(jt.rotation, t, wrap_to);
+  if (!jt.scale.empty()) x.scale = sampleTrack(jt.scale, t, wrap_to);
+  x.rotation = safeNormalize(x.rotation);
+  return x;
+}
+
+// Joint `joint`'s model matrix at clip-local time t: its chain of ancestors only.
+glm::dmat4 chainModelAt(const Skeleton& skeleton, const Clip& clip, uint32_t joint, double t,
+                        double wrap_to) {
+  glm::dmat4 m(1.0);
+  for (int32_t j = int32_t(joint); j != Skeleton::kNoParent; j = skeleton.parents[size_t(j)])
+    m = localAt(skeleton, clip, size_t(j), t, wrap_to).toMatrix() * m;
+  return m;
+}
+
+double wrapTarget(const Clip& clip, bool loop) {
+  return loop && clip.wrap_interpolates ? double(clip.duration_seconds) : -1.0;
+}
+
+// Checks what every evaluation needs; the root motion joint of a clip that extracts it.
+Status checkInputs(const Skeleton& skeleton, const Clip& clip, double t, const void* out,
+                   const char* what, uint32_t* root_joint) {
+  if (out == nullptr) return {StatusCode::kInvalidArgument, strCat(what, ": output is null")};
+  if (!std::isfinite(t)) return {StatusCode::kNotFinite, strCat(what, ": time is not finite")};
   Status s = skeleton.validate();
   if (s.isOk()) s = clip.validate(skeleton.jointCount());
+  if (s.isOk()) s = rootMotionJoint(skeleton, clip, root_joint);
+  return s;
+}
+
+// Evaluates at clip-local time t in [0, duration]; `loop` selects the wrap interpolation. A clip
+// that extracts its root motion gives M(t)^-1 * pose (root joints' local transforms included).
+Status evaluateAt(const Skeleton& skeleton, const Clip& clip, double t, bool loop,
+                  ReferencePose* pose) {
+  uint32_t root_joint = 0;
+  Status s = checkInputs(skeleton, clip, t, pose, "evaluatePose", &root_joint);
   if (!s.isOk()) return s;
   t = std::clamp(t, 0.0, double(clip.duration_seconds));
-  const double wrap_to = loop && clip.wrap_interpolates ? double(clip.duration_seconds) : -1.0;
+  const double wrap_to = wrapTarget(clip, loop);
   const size_t n = skeleton.jointCount();
   pose->local.resize(n);
   pose->model.resize(n);
   pose->skinning.resize(n);
+  for (size_t j = 0; j < n; ++j) pose->local[j] = localAt(skeleton, clip, j, t, wrap_to);
+  s = composePose(skeleton, pose->local, pose->model, pose->skinning);
+  if (!s.isOk() || !clip.root_motion.extract) return s;
+  const GroundMotion motion = detail::groundMotionBetween(
+      chainModelAt(skeleton, clip, root_joint, 0.0, wrap_to), pose->model[root_joint]);
+  const glm::dmat4 in_place = groundMotionMatrix(inverseGroundMotion(motion));
+  const glm::dquat turn = glm::angleAxis(-motion.yaw, glm::dvec3(0.0, 1.0, 0.0));
   for (size_t j = 0; j < n; ++j) {
-    TransformD x = TransformD::fromFloat(skeleton.rest_pose[j]);
-    const JointTracks& jt = clip.joint_tracks[j];
-    if (!jt.translation.empty()) x.translation = sampleTrack(jt.translation, t, wrap_to);
-    if (!jt.rotation.empty()) x.rotation = sampleTrack(jt.rotation, t, wrap_to);
-    if (!jt.scale.empty()) x.scale = sampleTrack(jt.scale, t, wrap_to);
-    x.rotation = safeNormalize(x.rotation);
-    pose->local[j] = x;
+    pose->model[j] = in_place * pose->model[j];
+    pose->skinning[j] = in_place * pose->skinning[j];
+    if (skeleton.parents[j] != Skeleton::kNoParent) continue;
+    TransformD& local = pose->local[j];  // A rigid motion composes into translation and rotation.
+    local.translation = glm::dvec3(in_place * glm::dvec4(local.translation, 1.0));
+    local.rotation = safeNormalize(turn * local.rotation);
   }
-  return composePose(skeleton, pose->local, pose->model, pose->skinning);
+  return s;
 }
 }  // namespace
+
+Status evaluateRootMotion(const Skeleton& skeleton, const Clip& clip, double local_time_seconds,
+                          GroundMotion* out) {
+  uint32_t root_joint = 0;
+  Status s = checkInputs(skeleton, clip, local_time_seconds, out, "evaluateRootMotion", &root_joint);
+  if (!s.isOk()) return s;
+  const double t = std::clamp(local_time_seconds, 0.0, double(clip.duration_seconds));
+  const double wrap_to = wrapTarget(clip, resolveLoopMode(clip.loop_mode) == LoopMode::kLoop);
+  *out = detail::groundMotionBetween(chainModelAt(skeleton, clip, root_joint, 0.0, wrap_to),
+                                     chainModelAt(skeleton, clip, root_joint, t, wrap_to));
+  return Status::ok();
+}
 
 Status evaluatePose(const Skeleton& skeleton, const Clip& clip, double time_seconds,
                     ReferencePose* pose, TimeWrap wrap) {

@@ -62,7 +62,7 @@ inline Clip blankClip(const Character& c, const std::string& name, float duratio
 /// The rotation of `angle` radians about unit `axis`, in float (core/test_helpers.h).
 using test::axisAngleF;
 
-// A small palette with every clip-table feature: STEP frame times, a loop, two clips.
+// A small palette with every clip-table feature: STEP frame times, a loop, markers, root motion.
 inline BakedPalette smallPalette(PaletteFormat format = PaletteFormat::kMatrix3x4F32,
                                  InterpolationChoice interpolation = InterpolationChoice::kLinear) {
   Character c = chainCharacter(3);
@@ -77,6 +77,13 @@ inline BakedPalette smallPalette(PaletteFormat format = PaletteFormat::kMatrix3x
                                            glm::quat(1, 0, 0, 0)};
   swing.markers = {{0.25, "left"}, {1.0, "loop end"}};  // The baker copies them.
   c.clips.push_back(swing);
+  Clip travel = blankClip(c, "travel", 0.3f);  // Baked in place, with its root motion.
+  travel.root_motion.extract = true;
+  travel.joint_tracks[0].translation.times_seconds = {0.0f, 0.3f};
+  travel.joint_tracks[0].translation.values = {glm::vec3(0.0f), glm::vec3(0.5f, 0.0f, 0.25f)};
+  travel.joint_tracks[0].rotation.times_seconds = {0.0f, 0.3f};
+  travel.joint_tracks[0].rotation.values = {glm::quat(1, 0, 0, 0), axisAngleF(0.4, {0, 1, 0})};
+  c.clips.push_back(travel);
   BakeDesc d;
   d.rate_mode = RateMode::kFixed;
   d.sample_rate_hz = 10.0f;

@@ -44,8 +44,10 @@ TEST(PaletteFile, RoundTripsBitExactly) {
       EXPECT_EQ(q.clips[c].interpolation, p.clips[c].interpolation);
       EXPECT_EQ(q.clips[c].interval_modes, p.clips[c].interval_modes);
       EXPECT_EQ(q.clips[c].markers, p.clips[c].markers);
+      EXPECT_EQ(q.clips[c].root_motion, p.clips[c].root_motion);
     }
-    ASSERT_EQ(p.clips[1].markers.size(), 2u);  // The markers were exercised.
+    ASSERT_EQ(p.clips[1].markers.size(), 2u);  // The markers were exercised,
+    ASSERT_FALSE(p.clips[2].root_motion.empty());  // and the root motion.
     EXPECT_EQ(q.layout.border_frames, p.layout.border_frames);
     EXPECT_EQ(q.layout.border_frames, i == InterpolationChoice::kCubic ? 1u : 0u);
     EXPECT_EQ(q.layout.clip_first_texel, p.layout.clip_first_texel);
@@ -87,7 +89,7 @@ TEST(PaletteFile, TrailingBytesAndOtherVersionsAreRejected) {
   std::vector<uint8_t> longer = bytes;
   longer.push_back(0);
   EXPECT_EQ(loadPalette(longer, &q).code(), StatusCode::kCorrupt);
-  for (uint8_t version : {0, 4}) {
+  for (uint8_t version : {0, 5}) {
     std::vector<uint8_t> other = bytes;
     other[8] = version;
     fixChecksum(&other);
@@ -95,16 +97,16 @@ TEST(PaletteFile, TrailingBytesAndOtherVersionsAreRejected) {
   }
 }
 
-// Older versions still load: version 2 (before animation markers: no marker fields in the
-// clip records) with the same clips and no markers; version 1 (before cubic interpolation: no
+// Older versions still load: version 3 (before root motion) without it; version 2 (before
+// animation markers: no marker fields in the clip records) with the same clips and no markers; version 1 (before cubic interpolation: no
 // border-frame field in the header, no interpolation fields either) as linear palettes.
-TEST(PaletteFile, VersionOneAndTwoFilesStillLoad) {
+TEST(PaletteFile, VersionOneToThreeFilesStillLoad) {
   const BakedPalette p = smallPalette();
   std::vector<uint8_t> bytes;
   ASSERT_TRUE(savePalette(p, &bytes).isOk());
-  for (uint8_t version : {1, 2}) {
+  for (uint8_t version : {1, 2, 3}) {
     SCOPED_TRACE(int(version));
-    const bool v1 = version == 1;
+    const bool v1 = version == 1, v3 = version == 3;
     std::vector<uint8_t> old(bytes.begin(), bytes.begin() + 36);  // Up to the stride.
     old[8] = version;
     size_t at = v1 ? 40 : 36;                                     // v1: past the border frames.
@@ -113,10 +115,14 @@ TEST(PaletteFile, VersionOneAndTwoFilesStillLoad) {
     at = joints_end;
     for (const BakedClip& c : p.clips) {
       size_t kept = 4 + c.name.size() + 4 + 4 + 8 + 4 + 4 + 8 * c.frame_times_seconds.size();
-      if (!v1) kept += 8 + c.interval_modes.size();            // v2 has the interpolation.
+      if (!v1) kept += 8 + c.interval_modes.size();            // v2 has the interpolation,
+      size_t markers = 4;
+      for (const AnimationMarker& m : c.markers) markers += 12 + m.name.size();
+      if (v3) kept += markers;                                 // v3 the markers.
       old.insert(old.end(), bytes.begin() + std::ptrdiff_t(at), bytes.begin() + std::ptrdiff_t(at + kept));
-      at += kept + (v1 ? 8 + c.interval_modes.size() : 0) + 4;  // Skip what the version lacks.
-      for (const AnimationMarker& m : c.markers) at += 12 + m.name.size();
+      // Skip what the version lacks.
+      at += kept + (v1 ? 8 + c.interval_modes.size() : 0) + (v3 ? 0 : markers);
+      at += 4 + 12 * c.root_motion.size();
       old.insert(old.end(), bytes.begin() + std::ptrdiff_t(at), bytes.begin() + std::ptrdiff_t(at + 40));
       at += 40;
     }
@@ -129,8 +135,10 @@ TEST(PaletteFile, VersionOneAndTwoFilesStillLoad) {
     EXPECT_EQ(q.layout.border_frames, 0u);
     for (const BakedClip& c : q.clips) {
       EXPECT_EQ(c.interpolation, FrameInterpolation::kLinear);
-      EXPECT_TRUE(c.markers.empty());
+      EXPECT_TRUE(c.root_motion.empty());
     }
+    for (size_t c = 0; c < q.clips.size(); ++c)
+      EXPECT_EQ(q.clips[c].markers, v3 ? p.clips[c].markers : std::vector<AnimationMarker>());
   }
 }
 
@@ -208,8 +216,9 @@ TEST(PaletteFile, ClipTimingThatDisagreesWithItsFramesIsRejected) {
   ASSERT_TRUE(savePalette(p, &bytes).isOk());
   // Clip 1 ("swing", uniform grid): name length, name, loop, duration (f32), interval (f64).
   size_t clip1 = 52 + 4 * p.palette_joints.size();
-  ASSERT_TRUE(p.clips[0].markers.empty());  // Its marker count, 4 bytes, before its bounds.
-  clip1 += 4 + p.clips[0].name.size() + 4 + 4 + 8 + 4 + 4 + 8 * p.clips[0].frame_times_seconds.size() + 8 + 4 + 40;
+  // Its marker count and root motion count, 4 bytes each, before its bounds.
+  ASSERT_TRUE(p.clips[0].markers.empty() && p.clips[0].root_motion.empty());
+  clip1 += 4 + p.clips[0].name.size() + 4 + 4 + 8 + 4 + 4 + 8 * p.clips[0].frame_times_seconds.size() + 8 + 4 + 4 + 40;
   const size_t duration_at = clip1 + 4 + p.clips[1].name.size() + 4;
   const size_t interval_at = duration_at + 4;
   const auto load = [&](size_t offset, const void* value, size_t n) {

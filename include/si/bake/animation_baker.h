@@ -58,6 +58,15 @@ struct ClipErrorReport {
   /// Whether max_error_ratio <= BakeDesc::error_tolerance_ratio (in every rate mode).
   bool tolerance_met = true;
   uint64_t samples = 0;       ///< (time, vertex) pairs measured.
+  /// Root motion (Clip::root_motion.extract; empty and 0 otherwise): the joint it was taken
+  /// from, and the largest error of the baked motion (BakedClip::root_motion lerped between
+  /// frames, si::rootMotionAt) against the reference's (si::evaluateRootMotion) at the same
+  /// times: translation error + yaw error x character height (a bound on how far any point
+  /// within a height of the root is misplaced), in units and as a fraction of the height. The
+  /// figures above measure the in-place poses.
+  std::string root_motion_joint;
+  double root_motion_max_error_units = 0.0;
+  double root_motion_max_error_ratio = 0.0;
 };
 
 /// What a bake produced and what it left out.

@@ -22,10 +22,10 @@
 
 namespace si {
 
-/// The version savePalette() writes (3: clips carry their animation markers). loadPalette()
-/// reads it, version 2 (no markers) and version 1 (linear clips, no border frames: the files
-/// written before cubic interpolation).
-inline constexpr uint32_t kPaletteFileVersion = 3;
+/// The version savePalette() writes (4: clips carry their root motion). loadPalette() reads
+/// it, version 3 (no root motion), version 2 (no markers) and version 1 (linear clips, no border
+/// frames: the files written before cubic interpolation).
+inline constexpr uint32_t kPaletteFileVersion = 4;
 /// Largest palette file loadPalette() accepts (1 GiB).
 inline constexpr uint64_t kMaxPaletteFileSize = uint64_t(1) << 30;
 
@@ -39,7 +39,7 @@ Status savePalette(const BakedPalette& palette, std::vector<uint8_t>* bytes);
 /// kCorrupt for a bad magic, truncation, trailing bytes, a checksum mismatch, a value outside
 /// its range, a clip table or layout inconsistent with the header, or a palette that fails
 /// BakedPalette::validate() (whose message follows "palette file: "): a loaded palette is as
-/// consistent as a fresh bake. kUnsupported for a version other than 1 and 2; kLimitExceeded
+/// consistent as a fresh bake. kUnsupported for a version other than 1 to 4; kLimitExceeded
 /// for more than kMaxPaletteFileSize bytes.
 Status loadPalette(Span<const uint8_t> bytes, BakedPalette* palette);
 

@@ -76,6 +76,10 @@ struct BakedClip {
   /// single frame); empty for a linear clip.
   std::vector<uint8_t> interval_modes;
   std::vector<AnimationMarker> markers;  ///< The clip's markers (Clip::markers).
+  /// Root motion (si/core/root_motion.h) of a clip baked in place (Clip::root_motion.extract):
+  /// one sample per frame, M at the frame's time as (translation x, translation z, yaw), the
+  /// first (0, 0, 0), consecutive yaws less than pi apart. Empty: the clip moves in its poses.
+  std::vector<glm::vec3> root_motion;
   Aabb bounds;                          ///< Conservative box of the skinned mesh over the clip.
   Sphere bounding_sphere;               ///< Conservative sphere, centred on the box.
 
@@ -124,6 +128,8 @@ struct BakedPalette {
   ///   mode per interval in a layout with border frames (kInvalidArgument, kCountMismatch,
   ///   kOutOfRange); border frames' texels obey the texel rules above;
   /// - markers as si::validateMarkers() says (times within [0, duration], names not empty);
+  /// - root motion empty or one sample per frame, finite, the first (0, 0, 0), consecutive
+  ///   yaws less than pi apart (kCountMismatch, kNotFinite, kOutOfRange);
   /// - character_height finite and >= 0 (kOutOfRange).
   Status validate() const;
 };

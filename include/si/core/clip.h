@@ -10,6 +10,7 @@
 #include <string>
 #include <vector>
 
+#include "si/core/root_motion.h"
 #include "si/core/status.h"
 #include "si/core/transform.h"
 
@@ -93,6 +94,10 @@ struct Clip {
   std::vector<JointTracks> joint_tracks;
   /// Named instants (animation events), in any order; the baker copies them to the BakedClip.
   std::vector<AnimationMarker> markers;
+  /// Root motion (si/core/root_motion.h): when `extract` is set, the reference evaluator and so
+  /// the baker give the clip's poses in place, and the baker keeps the motion
+  /// (BakedClip::root_motion). Off by default.
+  RootMotionSettings root_motion;
 
   /// The largest key time of all tracks (0 for a clip without keys).
   float lastKeyTime() const;

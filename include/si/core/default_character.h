@@ -23,6 +23,11 @@ namespace si {
 struct DefaultCharacterDesc {
   /// Number of LOD levels to build, 1 to 3 (0 means the default, 3).
   uint32_t lod_count = 0;
+  /// Adds two clips that travel, after the four above: `walk_forward` (the walk, its root joint
+  /// moving 1.3 units per second along +Z) and `walk_turn_left` (the walk at 1 unit per second
+  /// on a circle, turning left pi/4 radians per second). Both loop and are marked for root
+  /// motion extraction (Clip::root_motion; clear the flag to bake the travel into the poses).
+  bool moving_clips = false;
 };
 
 /// Returns the desc with zeros replaced by their documented defaults.
