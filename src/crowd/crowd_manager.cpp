@@ -184,6 +184,7 @@ Status CrowdManager::addRandom(const RandomCrowdDesc& r, std::vector<InstanceHan
       d.rotation = glm::quat(float(std::cos(a / 2)), 0.0f, float(std::sin(a / 2)), 0.0f);
     }
     d.speed = float(r.min_speed + (r.max_speed - r.min_speed) * unit(rng));
+    d.root_motion = r.root_motion;
     const uint32_t hue = uint32_t(unit(rng) * 0xFFFFFF);
     d.color = glm::u8vec4(hue & 0xFF, (hue >> 8) & 0xFF, (hue >> 16) & 0xFF, 255);
     Status s = store.validate(d);
@@ -211,7 +212,11 @@ uint32_t CrowdManager::size() const { return state_ ? state_->store.size() : 0; 
 
 Status CrowdManager::setTransform(InstanceHandle h, const glm::dvec3& position,
                                   const glm::quat& rotation, float scale) {
-  return state_ ? state_->store.setTransform(h, position, rotation, scale) : noCrowd();
+  return state_ ? state_->store.setTransform(h, position, rotation, scale, state_->clock)
+                : noCrowd();
+}
+Status CrowdManager::setRootMotion(InstanceHandle h, bool enabled) {
+  return state_ ? state_->store.setRootMotion(h, enabled, state_->clock) : noCrowd();
 }
 Status CrowdManager::setColor(InstanceHandle h, glm::u8vec4 color) {
   return state_ ? state_->store.setColor(h, color) : noCrowd();
@@ -249,6 +254,7 @@ Status CrowdManager::get(InstanceHandle h, InstanceDesc* out) const {
   d.time_seconds = detail::localTime(st.playback[i], state_->clips[d.clip], state_->clock);
   d.speed = st.playback[i].speed;
   d.loop_mode = st.playback[i].loop;
+  d.root_motion = st.root_motion[i] != 0;
   *out = d;
   return Status::ok();
 }
@@ -296,7 +302,10 @@ Status CrowdManager::update(double dt, const Camera& camera, const ParallelFor& 
   in.sub_mesh_count = desc_.sub_mesh_count;
   in.parallel_for = &parallel_for;
   in.markers = &state_->markers;
+  in.root_motion = state_->store.root_motion_count > 0;
   detail::buildFrame(in, state_->store, &state_->frame);
+  // Instances moved by their root motion: the exported state changed.
+  if (in.root_motion && dt > 0.0) state_->store.version = detail::nextStateVersion();
   return Status::ok();
 }
 

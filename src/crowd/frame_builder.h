@@ -73,6 +73,7 @@ struct FrameInputs {
   uint32_t sub_mesh_count = 1;
   const ParallelFor* parallel_for = nullptr;  // Null: every task on the calling thread.
   const MarkerTable* markers = nullptr;       // Null or empty: no events.
+  bool root_motion = false;                   // Some instance opted in to root motion.
 };
 
 /// Builds `frame` from `store`; updates each visible instance's LOD and ends crossfades whose

@@ -7,6 +7,7 @@
 #include <cmath>
 
 #include "core/str_cat.h"
+#include "crowd/instance_root_motion.h"
 
 namespace si::detail {
 
@@ -76,6 +77,9 @@ void InstanceStore::push(const InstanceDesc& d, InstanceHandle h, double clock) 
   lods.push_back(0);
   events_clock.push_back(clock);
   events_new.push_back(1);
+  root_motion.push_back(d.root_motion ? 1 : 0);
+  motion_clock.push_back(clock);
+  root_motion_count += d.root_motion ? 1u : 0u;
   dense_handles.push_back(h);
   version = nextStateVersion();
 }
@@ -97,6 +101,7 @@ Status InstanceStore::remove(InstanceHandle h) {
     v[i] = v[last];
     v.pop_back();
   };
+  root_motion_count -= root_motion[i];
   if (i != last) {
     uint32_t moved_slot = 0;
     (void)handles.slot(dense_handles[last], &moved_slot);
@@ -114,13 +119,15 @@ Status InstanceStore::remove(InstanceHandle h) {
   move_last(lods);
   move_last(events_clock);
   move_last(events_new);
+  move_last(root_motion);
+  move_last(motion_clock);
   move_last(dense_handles);
   version = nextStateVersion();
   return handles.release(h);
 }
 
 Status InstanceStore::setTransform(InstanceHandle h, const glm::dvec3& position,
-                                   const glm::quat& rotation, float scale) {
+                                   const glm::quat& rotation, float scale, double clock) {
   uint32_t i = 0;
   Status s = denseIndex(h, &i);
   if (!s.isOk()) return s;
@@ -131,8 +138,25 @@ Status InstanceStore::setTransform(InstanceHandle h, const glm::dvec3& position,
   positions[i] = position;
   rotations[i] = glm::normalize(rotation);
   scales[i] = scale;
+  motion_clock[i] = clock;
   version = nextStateVersion();
   return Status::ok();
+}
+
+Status InstanceStore::setRootMotion(InstanceHandle h, bool enabled, double clock) {
+  uint32_t i = 0;
+  Status s = denseIndex(h, &i);
+  if (!s.isOk() || bool(root_motion[i]) == enabled) return s;
+  if (enabled) {
+    motion_clock[i] = clock;
+    ++root_motion_count;
+  } else {
+    applyRootMotion(*palette, clock, *this, i);
+    --root_motion_count;
+  }
+  root_motion[i] = enabled ? 1 : 0;
+  version = nextStateVersion();
+  return s;
 }
 
 Status InstanceStore::setColor(InstanceHandle h, glm::u8vec4 color) {
@@ -171,6 +195,7 @@ Status InstanceStore::play(InstanceHandle h, uint32_t clip, double time_seconds,
       speed < 0.0f)
     return {StatusCode::kInvalidArgument,
             "play: clip must be in range, time finite, speed finite and >= 0"};
+  if (root_motion[i]) applyRootMotion(*palette, clock, *this, i);
   playback[i] = Playback{clip, palette->clips[clip].loop_mode, speed, clock, time_seconds};
   fade_duration[i] = 0.0;
   events_new[i] = 1;
@@ -187,6 +212,7 @@ Status InstanceStore::crossfade(InstanceHandle h, uint32_t clip, double blend_se
       !std::isfinite(time_seconds))
     return {StatusCode::kInvalidArgument,
             "crossfade: clip must be in range, blend_seconds finite and > 0, time finite"};
+  if (root_motion[i]) applyRootMotion(*palette, clock, *this, i);
   fade_from[i] = playback[i];
   fade_start[i] = clock;
   fade_duration[i] = blend_seconds;

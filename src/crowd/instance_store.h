@@ -34,13 +34,17 @@ struct InstanceStore {
   /// Removes in O(1) (the last instance moves into the hole).
   Status remove(InstanceHandle h);
 
+  /// Also drops root motion not yet applied: the instance is where it is put at `clock`.
   Status setTransform(InstanceHandle h, const glm::dvec3& position, const glm::quat& rotation,
-                      float scale);
+                      float scale, double clock);
+  /// Opts in or out of root motion at `clock` (motion before it, when opting out, is applied).
+  Status setRootMotion(InstanceHandle h, bool enabled, double clock);
   /// Sets the tint (kInvalidArgument unless its alpha is 255), keeping the custom layer.
   Status setColor(InstanceHandle h, glm::u8vec4 color);
   /// Sets the custom layer select, keeping the tint.
   Status setCustomLayer(InstanceHandle h, uint8_t custom_layer);
   Status setVariationMask(InstanceHandle h, uint32_t mask);
+  // play() and crossfade() first apply the root motion of the playback they replace.
   Status play(InstanceHandle h, uint32_t clip, double time_seconds, float speed, double clock);
   Status crossfade(InstanceHandle h, uint32_t clip, double blend_seconds, double time_seconds,
                    double clock);
@@ -66,6 +70,11 @@ struct InstanceStore {
   // whether its playback started since then (reported from its start, inclusive).
   std::vector<double> events_clock;
   std::vector<uint8_t> events_new;
+  // Root motion (instance_root_motion.h): whether the instance opted in, and the crowd clock it
+  // last moved at; how many opted in (0: update() skips the pass).
+  std::vector<uint8_t> root_motion;
+  std::vector<double> motion_clock;
+  uint32_t root_motion_count = 0;
   std::vector<InstanceHandle> dense_handles;
   std::vector<uint32_t> slot_to_dense;
 };

@@ -31,6 +31,31 @@ inline const BakedPalette& defaultPalette() {
   return p;
 }
 
+/// The embedded character with its travelling clips (DefaultCharacterDesc::moving_clips), and
+/// its palette (fixed 30 Hz; the travelling clips baked in place with their root motion).
+inline const Character& movingCharacter() {
+  static const Character c = [] {
+    DefaultCharacterDesc d;
+    d.moving_clips = true;
+    Character out;
+    if (!makeDefaultCharacter(d, &out).isOk()) std::abort();
+    return out;
+  }();
+  return c;
+}
+
+inline const BakedPalette& movingPalette() {
+  static const BakedPalette p = [] {
+    BakeDesc d;
+    d.rate_mode = RateMode::kFixed;
+    d.sample_rate_hz = 30.0f;
+    BakedPalette out;
+    if (!bakePalette(movingCharacter(), d, &out, nullptr).isOk()) std::abort();
+    return out;
+  }();
+  return p;
+}
+
 inline CrowdDesc defaultCrowdDesc() {
   CrowdDesc d;
   d.palette = &defaultPalette();

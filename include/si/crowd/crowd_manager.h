@@ -132,6 +132,10 @@ struct InstanceDesc {
   float speed = 1.0f;                         ///< Playback speed, >= 0.
   /// kDefault uses the clip's loop mode; kOnce holds the last frame, kLoop wraps.
   LoopMode loop_mode = LoopMode::kDefault;
+  /// Root motion (si/core/root_motion.h): update() moves and turns the instance by the baked
+  /// motion of what it plays (BakedClip::root_motion; clips without it do not move it), times
+  /// its scale, in its own frame. Off: the application places it (setTransform()).
+  bool root_motion = false;
 };
 
 /// Options of CrowdManager::addRandom(): the technique's random armour at load time.
@@ -145,6 +149,7 @@ struct RandomCrowdDesc {
   bool random_time = true;            ///< Random start time within the clip.
   bool random_heading = true;         ///< Random rotation about +Y.
   float min_speed = 0.9f, max_speed = 1.1f;
+  bool root_motion = false;           ///< InstanceDesc::root_motion of every instance.
 };
 
 /// Per-frame statistics of CrowdManager::update().
@@ -193,8 +198,21 @@ class CrowdManager {
   uint32_t size() const;
 
   // Per-instance setters: kNotFound for a stale handle, kInvalidArgument for bad values.
+  /// Places the instance as of the crowd clock now (root motion not yet applied is dropped).
   Status setTransform(InstanceHandle h, const glm::dvec3& position, const glm::quat& rotation,
                       float scale);
+  /// Opts the instance in or out of root motion (InstanceDesc::root_motion). On: it moves from
+  /// the crowd clock now on. Off: the motion up to now is applied first.
+  ///
+  /// How update() moves an instance that opted in: by M(u0)^-1 * M(u1), the baked motion of its
+  /// playback between the unwrapped clip times of the clock it last moved at and now (one
+  /// whole cycle per loop boundary crossed, so any time step gives the same path; a clip played
+  /// once stops moving it at its end). During a crossfade the two clips' motions over the step
+  /// are blended by the new clip's weight at the step's middle. play() and crossfade() first
+  /// apply the motion of the playback they replace. Frames that only advanceClock() move
+  /// nothing; the next update() catches up. Moving changes stateVersion() (GPU-driven
+  /// selection re-exports the state).
+  Status setRootMotion(InstanceHandle h, bool enabled);
   /// The tint (alpha 255, as InstanceDesc::color); keeps the custom layer.
   Status setColor(InstanceHandle h, glm::u8vec4 color);
   /// The custom texture layer (as InstanceDesc::custom_layer); keeps the tint.
