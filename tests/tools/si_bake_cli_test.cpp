@@ -94,6 +94,39 @@ TEST(SiBake, WritesThePaletteTheLibraryBakes) {
   std::remove(csv.c_str());
 }
 
+// Root motion: the travelling clips baked in place, their motion in the table and the file;
+// an unknown clip or joint is a bake failure.
+TEST(SiBake, RootMotionIsExtractedReportedAndWritten) {
+  const std::string out = tempPath("moving.sipal");
+  ToolRun r = runTool("--embedded --moving-clips --rate 30 --clips walk,walk_forward "
+                      "--no-progress -o '" + out + "'");
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  const size_t table = r.output.find("root motion");
+  ASSERT_NE(table, std::string::npos) << r.output;
+  const size_t row = r.output.find("walk_forward     root", table);
+  ASSERT_NE(row, std::string::npos) << r.output;
+  EXPECT_NE(r.output.substr(row, 60).find(" 1.3 "), std::string::npos) << r.output.substr(row, 80);
+  BakedPalette loaded;
+  ASSERT_TRUE(loadPaletteFile(out, &loaded).isOk());
+  ASSERT_EQ(loaded.clips.size(), 2u);
+  EXPECT_TRUE(loaded.clips[0].root_motion.empty());
+  EXPECT_EQ(loaded.clips[1].root_motion.size(), loaded.clips[1].frame_count);
+  // --root-motion on a clip of the plain embedded character, from a named joint.
+  r = runTool("--embedded --rate 10 --clips walk --root-motion walk --root-joint pelvis -q -o '" +
+              out + "'");
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  ASSERT_TRUE(loadPaletteFile(out, &loaded).isOk());
+  EXPECT_FALSE(loaded.clips[0].root_motion.empty());
+  std::remove(out.c_str());
+  for (const char* args : {"--root-motion jump", "--root-motion all --root-joint tail"}) {
+    r = runTool(std::string("--embedded --rate 10 -q -o '") + out + "' " + args);
+    EXPECT_EQ(r.exit_code, 4) << args << "\n" << r.output;
+    EXPECT_NE(r.output.find(std::string(args).find("tail") != std::string::npos ? "'tail'" : "'jump'"),
+              std::string::npos) << r.output;
+    EXPECT_FALSE(exists(out));
+  }
+}
+
 TEST(SiBake, BadCommandLinesExitWith2) {
   for (const char* args : {"", "--embedded", "-o x.sipal", "--embedded -o x.sipal --bogus",
                            "--embedded -o x.sipal --rate 0", "--embedded -o x.sipal --rate fast",
@@ -101,7 +134,9 @@ TEST(SiBake, BadCommandLinesExitWith2) {
                            "a.glb b.glb -o x.sipal", "a.glb --embedded -o x.sipal",
                            "--embedded -o x.sipal --tolerance -1", "--embedded -o x.sipal --lods 9",
                            "--embedded -o x.sipal --interpolation spline", "--cast",
-                           "--cast --embedded -o x.sipal"}) {
+                           "--cast --embedded -o x.sipal", "--moving-clips -o x.sipal a.glb",
+                           "--embedded -o x.sipal --root-joint root",
+                           "--embedded -o x.sipal --root-motion ,"}) {
     const ToolRun r = runTool(args);
     EXPECT_EQ(r.exit_code, 2) << args << "\n" << r.output;
     EXPECT_NE(r.output.find("si-bake: error:"), std::string::npos) << args;

@@ -7,7 +7,8 @@
 //   0  the palette was written (and, with --require-tolerance, every clip met the tolerance)
 //   2  bad command line
 //   3  the input could not be read or imported (missing file, malformed glTF, no clips, ...)
-//   4  the bake failed (unknown clip, a format the character cannot use, texture too large)
+//   4  the bake failed (unknown clip or root joint, a format the character cannot use, texture
+//      too large)
 //   5  the output (palette or CSV) could not be written
 //   6  --require-tolerance and a clip's max error is above the tolerance (nothing written)
 // Errors go to stderr as one line "si-bake: error: ..."; the table goes to stdout.
@@ -28,6 +29,7 @@
 #include "si/bake/palette_file.h"
 #include "si/core/default_character.h"
 #include "si/core/lod_error.h"
+#include "si/core/root_motion.h"
 #include "si/gltf/gltf_import.h"
 
 namespace {
@@ -46,6 +48,9 @@ struct Options {
   bool cast = false;  // --cast: every input (and --embedded) in one memory table, no output.
   std::vector<std::string> more_inputs;  // With --cast.
   bool embedded = false;
+  bool moving_clips = false;              // --moving-clips: the embedded character's travelling clips.
+  std::vector<std::string> root_motion;   // --root-motion: clip names, or "all".
+  std::string root_joint;                 // --root-joint.
   std::string output;
   std::string csv;
   si::BakeDesc bake;
@@ -75,6 +80,13 @@ void usage(std::FILE* f) {
       "  --tolerance RATIO        automatic rate target: max error / character height (1e-4)\n"
       "  --max-rate HZ            highest automatic rate tried (240)\n"
       "  --clips NAME,NAME,...    clips to bake, in palette order (default: all)\n"
+      "  --root-motion all|NAME,NAME,...\n"
+      "                           bake these clips in place and keep their root motion\n"
+      "                           (the root joint's ground travel and yaw) for the runtime\n"
+      "  --root-joint NAME        the joint root motion is taken from (default: the first\n"
+      "                           joint with a translation track in the clip)\n"
+      "  --moving-clips           with --embedded: add its travelling clips (walk_forward,\n"
+      "                           walk_turn_left), marked for root motion\n"
       "  --skin NAME|INDEX        the skin to import when the file has several\n"
       "  --lods N                 generate N coarser LODs when the file has none (for the\n"
       "                           report's vertex set; the runtime imports the mesh itself)\n"
@@ -124,6 +136,8 @@ int parse(int argc, char** argv, Options* o) {
       std::exit(kExitOk);
     } else if (a == "--embedded") {
       o->embedded = true;
+    } else if (a == "--moving-clips") {
+      o->moving_clips = true;
     } else if (a == "--cast") {
       o->cast = true;
     } else if (a == "--require-tolerance") {
@@ -136,6 +150,7 @@ int parse(int argc, char** argv, Options* o) {
       o->progress = 0;
     } else if (a == "-o" || a == "--output" || a == "--format" || a == "--rate" ||
                a == "--interpolation" || a == "--tolerance" || a == "--max-rate" || a == "--clips" || a == "--skin" ||
+               a == "--root-motion" || a == "--root-joint" ||
                a == "--csv" || a == "--lods" || a == "--variations") {
       if (int r = needsValue()) return r;
       const std::string v = argv[++i];
@@ -167,13 +182,17 @@ int parse(int argc, char** argv, Options* o) {
       } else if (a == "--max-rate") {
         if (!parseFloat(v.c_str(), &o->bake.max_sample_rate_hz))
           return bad("--max-rate must be a rate in Hz > 0, not '" + v + "'");
-      } else if (a == "--clips") {
+      } else if (a == "--clips" || a == "--root-motion") {
+        std::vector<std::string>& names = a == "--clips" ? o->bake.clip_names : o->root_motion;
         for (size_t at = 0; at <= v.size();) {
           const size_t comma = std::min(v.find(',', at), v.size());
-          if (comma > at) o->bake.clip_names.push_back(v.substr(at, comma - at));
+          if (comma > at) names.push_back(v.substr(at, comma - at));
           at = comma + 1;
         }
-        if (o->bake.clip_names.empty()) return bad("--clips names no clip");
+        if (names.empty()) return bad(a + " names no clip");
+      } else if (a == "--root-joint") {
+        if (v.empty()) return bad("--root-joint names no joint");
+        o->root_joint = v;
       } else if (a == "--skin") {
         char* end = nullptr;
         const long index = std::strtol(v.c_str(), &end, 10);
@@ -205,6 +224,9 @@ int parse(int argc, char** argv, Options* o) {
     if (!o->output.empty()) return bad("--cast writes no palette (drop -o)");
     return kExitOk;
   }
+  if (o->moving_clips && !o->embedded) return bad("--moving-clips is for --embedded");
+  if (!o->root_joint.empty() && o->root_motion.empty())
+    return bad("--root-joint without --root-motion");
   if (o->embedded == !o->input.empty())
     return bad(o->embedded ? "give an input file or --embedded, not both"
                            : "no input (a .gltf or .glb file, or --embedded)");
@@ -303,6 +325,40 @@ bool writeCsv(const std::string& path, const si::BakedPalette& p, const si::Bake
   return std::fclose(f) == 0;
 }
 
+// Marks the clips --root-motion names (or all) for extraction from --root-joint; false (and
+// `why`) for a name that is no clip of the character.
+bool markRootMotion(const Options& o, si::Character* character, si::Status* why) {
+  const bool all = o.root_motion.size() == 1 && o.root_motion[0] == "all";
+  for (const std::string& name : o.root_motion)
+    if (!all && character->findClip(name) < 0) {
+      *why = si::Status(si::StatusCode::kNotFound, "no clip named '" + name + "'");
+      return false;
+    }
+  for (si::Clip& clip : character->clips) {
+    if (all || std::find(o.root_motion.begin(), o.root_motion.end(), clip.name) != o.root_motion.end())
+      clip.root_motion.extract = true;
+    if (clip.root_motion.extract && !o.root_joint.empty()) clip.root_motion.joint = o.root_joint;
+  }
+  return true;
+}
+
+// The clips baked in place: where their motion comes from, how fast it goes, and its error.
+void printRootMotionTable(std::FILE* f, const si::BakedPalette& p, const si::BakeReport& r) {
+  bool any = false;
+  for (const si::BakedClip& c : p.clips) any |= !c.root_motion.empty();
+  if (!any) return;
+  std::fprintf(f, "%-16s %-12s %10s %10s %12s %11s %10s\n", "root motion", "joint", "units/s",
+               "deg/s", "per cycle", "max units", "max/h");
+  for (size_t c = 0; c < p.clips.size(); ++c) {
+    if (p.clips[c].root_motion.empty()) continue;
+    const si::RootMotionSummary m = si::summarizeRootMotion(p.clips[c]);
+    std::fprintf(f, "%-16s %-12s %10.4g %10.4g %12.4g %11.3g %10.3g\n", p.clips[c].name.c_str(),
+                 r.clips[c].root_motion_joint.c_str(), m.average_speed,
+                 m.average_yaw_rate * 57.29577951308232, glm::length(m.whole_clip.translation),
+                 r.clips[c].root_motion_max_error_units, r.clips[c].root_motion_max_error_ratio);
+  }
+}
+
 }  // namespace
 
 // --cast: imports every input, then prints the cast table.
@@ -334,7 +390,9 @@ int main(int argc, char** argv) {
   si::Character character;
   si::Status s;
   if (o.embedded) {
-    s = si::makeDefaultCharacter({}, &character);
+    si::DefaultCharacterDesc embedded;
+    embedded.moving_clips = o.moving_clips;
+    s = si::makeDefaultCharacter(embedded, &character);
   } else {
     si::GltfImportReport ir;
     s = si::importGltfFile(o.input, o.import, &character, &ir);
@@ -346,6 +404,7 @@ int main(int argc, char** argv) {
       s = si::Status(si::StatusCode::kUnsupported, "the character has no animation clips");
   }
   if (!s.isOk()) return error(kExitInput, (o.embedded ? "embedded" : o.input) + ": " + s.toString());
+  if (!markRootMotion(o, &character, &s)) return error(kExitBake, "--root-motion: " + s.message());
 
   ProgressBar bar(o.progress == 1 || (o.progress == -1 && !o.quiet && isatty(STDERR_FILENO)));
   o.bake.progress = [&](const si::BakeProgress& p) { bar.update(p); };
@@ -366,6 +425,7 @@ int main(int argc, char** argv) {
                 palette.clips.size(), seconds);
     printTable(stdout, palette, report, double(character.height()),
                double(resolved.error_tolerance_ratio));
+    printRootMotionTable(stdout, palette, report);
     printLodTable(stdout, character);
   }
   if (!o.csv.empty() && !writeCsv(o.csv, palette, report))
