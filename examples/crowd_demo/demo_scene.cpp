@@ -40,7 +40,9 @@ si::Status DemoScene::loadCharacter(const SceneOptions& options) {
     mixed_ = true;
   }
   if (options.model.empty()) {
-    s = si::makeDefaultCharacter({}, &character_);
+    si::DefaultCharacterDesc embedded;
+    embedded.moving_clips = true;  // Played only with root motion on (key R).
+    s = si::makeDefaultCharacter(embedded, &character_);
   } else {
     si::GltfImportReport gr;
     s = si::importGltfFile(options.model, {}, &character_, &gr);
@@ -198,6 +200,17 @@ si::Status DemoScene::buildCrowd() {
   si::RandomCrowdDesc rc;
   rc.positions = positions;
   rc.seed = options_.seed;
+  // Root motion on: the clips that carry it, applied; off: the others (all, when every clip or
+  // none carries it).
+  std::vector<uint32_t> travelling, in_place;
+  for (uint32_t c = 0; c < palette_.clips.size(); ++c)
+    (palette_.clips[c].root_motion.empty() ? in_place : travelling).push_back(c);
+  if (options_.root_motion && travelling.empty())
+    return {si::StatusCode::kUnsupported,
+            "no clip of the palette carries root motion (si-bake --root-motion)"};
+  if (options_.root_motion) rc.clips = travelling;
+  else if (!travelling.empty() && !in_place.empty()) rc.clips = in_place;
+  rc.root_motion = options_.root_motion;
   // The embedded character: the body always, helmet, shield and spear at random. A model:
   // every sub-mesh.
   const uint32_t all = cd.sub_mesh_count >= 32 ? 0xFFFFFFFFu : (1u << cd.sub_mesh_count) - 1u;
@@ -206,6 +219,7 @@ si::Status DemoScene::buildCrowd() {
   handles_.clear();
   s = crowd_.addRandom(rc, &handles_);
   if (!s.isOk()) return s;
+  starts_ = positions;
   colors_.clear();
   for (si::InstanceHandle h : handles_) {
     si::InstanceDesc d;
@@ -345,6 +359,25 @@ si::Status DemoScene::toggleEvents() {
   events_since_on_ = 0;
   // Markers cannot be removed one by one: a fresh crowd (the same seeded layout) has them or not.
   return gl_ready_ ? buildCrowd() : si::Status::ok();
+}
+
+si::Status DemoScene::toggleRootMotion() {
+  options_.root_motion = !options_.root_motion;
+  si::Status s = gl_ready_ ? buildCrowd() : si::Status::ok();
+  if (!s.isOk()) {
+    options_.root_motion = !options_.root_motion;
+    if (gl_ready_) (void)buildCrowd();
+  }
+  return s;
+}
+
+double DemoScene::meanTravel() const {
+  double sum = 0.0;
+  for (size_t i = 0; i < handles_.size(); ++i) {
+    si::InstanceDesc d;
+    if (crowd_.get(handles_[i], &d).isOk()) sum += glm::length(d.position - starts_[i]);
+  }
+  return handles_.empty() ? 0.0 : sum / double(handles_.size());
 }
 
 si::Status DemoScene::scaleLodLines(float factor) {

@@ -35,6 +35,7 @@ struct SceneOptions {
   float lod_pixels = 0.0f;  // > 0: deeper LOD chains, LOD by projected error within this budget.
   std::vector<std::string> mix;  // Other kinds (glTF files) of the mixed scene; starts mixed.
   bool events = false;  // Animation events on from the start (key V).
+  bool root_motion = false;  // The field travels from the start (key R).
 };
 
 /// The sample models key M mixes in when --mix named none (the sample Fox and CesiumMan).
@@ -68,6 +69,11 @@ class DemoScene {
   /// Animation events on or off: markers at the start and the middle of every clip of the main
   /// character (kept across re-layouts); the events each update reports are counted.
   si::Status toggleEvents();
+  /// Root motion on or off: the field plays the palette's clips that carry root motion (the
+  /// embedded character's walk_forward and walk_turn_left; a model's from si-bake
+  /// --root-motion) and the crowd moves every character by it; off, the clips in place.
+  /// kUnsupported when no clip carries root motion.
+  si::Status toggleRootMotion();
 
   DrawPath path() const { return path_; }
   const si::CrowdManager& crowd() const { return crowd_; }
@@ -79,6 +85,9 @@ class DemoScene {
   float lodScale() const { return lod_scale_; }
   bool mixed() const { return mixed_; }
   bool events() const { return options_.events; }
+  bool rootMotion() const { return options_.root_motion; }
+  /// Mean distance of the main crowd's characters from where the layout put them.
+  double meanTravel() const;
   /// Events reported by the main crowd's last update, and since events were turned on.
   uint32_t lastFrameEvents() const { return last_events_; }
   uint64_t eventsSinceOn() const { return events_since_on_; }
@@ -113,6 +122,7 @@ class DemoScene {
   si::InstanceBatcher batcher_;
   std::vector<si::InstanceHandle> handles_;
   std::vector<glm::u8vec4> colors_;
+  std::vector<glm::dvec3> starts_;  // Where the layout put each of handles_.
   DrawPath path_ = DrawPath::kInstanced;
   float lod_scale_ = 1.0f;
   bool lod_tint_ = false, restore_colors_ = false;

@@ -39,7 +39,7 @@ void usage(std::FILE* f) {
       "                  [--format f32|f16|quat] [--rate HZ] [--seed N] [--summary]\n"
       "                  [--model FILE.gltf|FILE.glb] [--clips NAME,...] [--palette FILE]\n"
       "                  [--keys K,K,...] [--lod-pixels PX] [--mix FILE,...|samples]\n"
-      "                  [--events]\n"
+      "                  [--events] [--root-motion]\n"
       "Renders a crowd of the embedded character (default 4000 characters, 1280x720).\n"
       "With a display it opens a window (F1 lists the keys; ESC quits); without one, or with\n"
       "--headless, it renders --frames frames (default 3, 1/60 s apart) offscreen, writes the\n"
@@ -53,6 +53,9 @@ void usage(std::FILE* f) {
       "sample Fox and CesiumMan) share the field, all drawn by one renderer (key M toggles it).\n"
       "--events puts markers at the start and middle of every clip and counts the animation\n"
       "events the crowd reports (key V toggles it).\n"
+      "--root-motion plays the clips that carry root motion (the embedded character's\n"
+      "walk_forward and walk_turn_left) and lets the crowd move every character by it; the\n"
+      "statistics give the mean distance travelled (key R toggles it).\n"
       "--lod-pixels extends the LOD chains (si::buildLodChain, errors over the clips' poses)\n"
       "and picks each character's LOD by projected error within PX pixels instead of the\n"
       "technique's distance lines.\n");
@@ -90,6 +93,8 @@ bool parse(int argc, char** argv, Options* o) {
       o->scene.clips = si::examples::splitList(argv[++i]);
     } else if (a == "--events") {
       o->scene.events = true;
+    } else if (a == "--root-motion") {
+      o->scene.root_motion = true;
     } else if (a == "--mix" && has) {
       o->scene.mix = si::examples::splitList(argv[++i]);
       if (std::string(argv[i]) == "samples") o->scene.mix = demo::defaultMix();
@@ -134,6 +139,8 @@ void printStats(const demo::DemoScene& scene, const si::DrawStats& stats, double
   if (scene.events())
     std::printf("%-28s %12llu\n", ("animation events (" + std::to_string(frames) + " frames)").c_str(),
                 static_cast<unsigned long long>(scene.eventsSinceOn()));
+  if (scene.rootMotion())
+    std::printf("%-28s %12.3f units\n", "root motion: mean travel", scene.meanTravel());
   if (scene.otherKinds() > 0)
     std::printf("%-28s %12u (%zu character kinds in one renderer)\n", "other kinds visible",
                 scene.otherKindsVisible(), scene.otherKinds() + 1);

@@ -34,7 +34,9 @@ constexpr char kHelp[] =
     "  M           mixed scene on/off: other character kinds (--mix, else the sample Fox and\n"
     "              CesiumMan) share the field, drawn by the same renderer\n"
     "  V           animation events on/off: markers at every clip's start and middle; the\n"
-    "              console prints the events reported each second\n";
+    "              console prints the events reported each second\n"
+    "  R           root motion on/off: the field walks and turns (clips baked in place, the\n"
+    "              crowd moves each character by its clip's motion)\n";
 
 std::string g_glfw_error;
 void onGlfwError(int code, const char* message) {
@@ -112,6 +114,10 @@ class App {
       case GLFW_KEY_V:
         s = scene_->toggleEvents();
         std::printf("animation events %s\n", scene_->events() ? "on" : "off");
+        break;
+      case GLFW_KEY_R:
+        s = scene_->toggleRootMotion();
+        std::printf("root motion %s\n", scene_->rootMotion() ? "on" : "off");
         break;
       case GLFW_KEY_C:
         s = scene_->crossfadeAll();

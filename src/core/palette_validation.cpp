@@ -152,7 +152,7 @@ Status checkTexels(const BakedPalette& p) {
   for (uint32_t c = 0; c < p.clips.size(); ++c)
     for (int64_t f = -border; f < int64_t(p.clips[c].frame_count) + border; ++f)
       for (uint32_t j = 0; j < l.joint_count; ++j) {
-        glm::vec4 rows[4];
+        glm::vec4 rows[4] = {};
         for (uint32_t r = 0; r < l.texels_per_joint; ++r) {
           const uint32_t texel = l.frameTexel(c, f) + j * l.joint_stride_texels + r;
           if (half) {

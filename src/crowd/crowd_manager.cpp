@@ -124,6 +124,7 @@ Status CrowdManager::init(const CrowdDesc& in_desc) {
   state->frame.bucket_offsets.assign(size_t(d.lod_count) * d.sub_mesh_count + 1, 0);
   state->frame.run_offsets.assign(size_t(d.lod_count) * d.sub_mesh_count + 1, 0);
   for (const BakedClip& c : d.palette->clips) state->clips.push_back(detail::makeClipTiming(c));
+  state->store.clip_timings = &state->clips;  // Stable: the State is not moved.
   // The palette's markers (BakedClip::markers, e.g. from a glTF file) come first.
   state->markers.clip_markers.resize(d.palette->clips.size());
   for (uint32_t c = 0; c < d.palette->clips.size(); ++c)

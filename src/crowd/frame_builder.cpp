@@ -69,7 +69,7 @@ SI_CPU_CLONES void selectChunk(const FrameInputs& in, InstanceStore& st, uint32_
   w.events.clear();
   if (in.markers != nullptr && !in.markers->empty())
     collectEvents(*in.markers, clips, clock, st, begin, end, &w.events);
-  if (in.root_motion) applyRootMotion(*in.palette, clock, st, begin, end);  // Before culling.
+  if (in.root_motion) applyRootMotion(*in.palette, clips, clock, st, begin, end);  // Before culling.
   // The selection uses only +, -, * and comparisons in a fixed order (cull_math.h, and
   // cull_lanes.h lane by lane), so the GPU-driven culling pass, which does the same arithmetic,
   // selects exactly the same instances and LODs. Blocks of 64 instances: gathered, selected 8

@@ -6,8 +6,10 @@
 // cycle per loop boundary crossed: exact for any time step, not stepped.
 
 #include <cstdint>
+#include <vector>
 
 #include "crowd/instance_store.h"
+#include "crowd/playback.h"
 #include "si/core/baked_palette.h"
 
 namespace si::detail {
@@ -16,10 +18,12 @@ namespace si::detail {
 /// its motion clock to `clock`. During a crossfade the two clips' motions over the span are
 /// blended by the new clip's weight at the span's middle. A motion that would leave the
 /// position or rotation not finite is dropped.
-void applyRootMotion(const BakedPalette& palette, double clock, InstanceStore& st, uint32_t i);
+/// `clips` are the palette's clip timings.
+void applyRootMotion(const BakedPalette& palette, const std::vector<ClipTiming>& clips,
+                     double clock, InstanceStore& st, uint32_t i);
 
 /// The same for every instance of [begin, end) that opted in.
-void applyRootMotion(const BakedPalette& palette, double clock, InstanceStore& st,
-                     uint32_t begin, uint32_t end);
+void applyRootMotion(const BakedPalette& palette, const std::vector<ClipTiming>& clips,
+                     double clock, InstanceStore& st, uint32_t begin, uint32_t end);
 
 }  // namespace si::detail

@@ -151,7 +151,7 @@ Status InstanceStore::setRootMotion(InstanceHandle h, bool enabled, double clock
     motion_clock[i] = clock;
     ++root_motion_count;
   } else {
-    applyRootMotion(*palette, clock, *this, i);
+    applyRootMotion(*palette, *clip_timings, clock, *this, i);
     --root_motion_count;
   }
   root_motion[i] = enabled ? 1 : 0;
@@ -195,7 +195,7 @@ Status InstanceStore::play(InstanceHandle h, uint32_t clip, double time_seconds,
       speed < 0.0f)
     return {StatusCode::kInvalidArgument,
             "play: clip must be in range, time finite, speed finite and >= 0"};
-  if (root_motion[i]) applyRootMotion(*palette, clock, *this, i);
+  if (root_motion[i]) applyRootMotion(*palette, *clip_timings, clock, *this, i);
   playback[i] = Playback{clip, palette->clips[clip].loop_mode, speed, clock, time_seconds};
   fade_duration[i] = 0.0;
   events_new[i] = 1;
@@ -212,7 +212,7 @@ Status InstanceStore::crossfade(InstanceHandle h, uint32_t clip, double blend_se
       !std::isfinite(time_seconds))
     return {StatusCode::kInvalidArgument,
             "crossfade: clip must be in range, blend_seconds finite and > 0, time finite"};
-  if (root_motion[i]) applyRootMotion(*palette, clock, *this, i);
+  if (root_motion[i]) applyRootMotion(*palette, *clip_timings, clock, *this, i);
   fade_from[i] = playback[i];
   fade_start[i] = clock;
   fade_duration[i] = blend_seconds;

@@ -52,6 +52,7 @@ struct InstanceStore {
   void markEventsReported(double clock);
 
   const BakedPalette* palette = nullptr;
+  const std::vector<ClipTiming>* clip_timings = nullptr;  // The palette's (the crowd's State).
   HandlePool handles;
   uint64_t version = 0;
 

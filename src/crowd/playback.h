@@ -35,6 +35,8 @@ struct ClipTiming {
   // The clip's interval modes (empty for linear clips): read here, next to the timing the
   // record writer already holds, instead of from the BakedClip.
   std::vector<uint8_t> modes;
+  // Root motion: the cosine and sine of each frame's baked yaw (empty without root motion).
+  std::vector<glm::dvec2> yaw_cos_sin;
 };
 
 
@@ -51,6 +53,8 @@ inline ClipTiming makeClipTiming(const BakedClip& c) {
   t.sphere_radius = c.bounding_sphere.radius;
   t.scan_from = frameSearchStarts(c);
   t.modes = c.interval_modes;
+  for (const glm::vec3& m : c.root_motion)
+    t.yaw_cos_sin.push_back({std::cos(double(m.z)), std::sin(double(m.z))});
   return t;
 }
 

@@ -16,25 +16,32 @@
 
 namespace {
 
-const si::BakedPalette& palette() {
-  static const si::BakedPalette p = [] {
+// The embedded character at 30 Hz; `moving`: with its travelling clips (root motion).
+const si::BakedPalette& palette(bool moving = false) {
+  static const auto bake = [](bool with_moving_clips) {
+    si::DefaultCharacterDesc cd;
+    cd.moving_clips = with_moving_clips;
     si::Character c;
-    if (!si::makeDefaultCharacter({}, &c).isOk()) std::abort();
+    if (!si::makeDefaultCharacter(cd, &c).isOk()) std::abort();
     si::BakeDesc d;
     d.rate_mode = si::RateMode::kFixed;
     si::BakedPalette out;
     if (!si::bakePalette(c, d, &out, nullptr).isOk()) std::abort();
     return out;
-  }();
-  return p;
+  };
+  static const si::BakedPalette plain = bake(false), travelling = bake(true);
+  return moving ? travelling : plain;
 }
 
 // A square field of `count` characters 1.5 m apart, random armour, clips and times;
-// `max_distance_radii` as in CrowdDesc (0: the default far line, negative: none).
-std::unique_ptr<si::CrowdManager> field(int64_t count, float max_distance_radii, uint32_t threads) {
+// `max_distance_radii` as in CrowdDesc (0: the default far line, negative: none). `motion`: 0
+// any clip of the plain palette; 1 the travelling clips (walk_forward, walk_turn_left) played
+// in place; 2 the same with root motion applied to every instance.
+std::unique_ptr<si::CrowdManager> field(int64_t count, float max_distance_radii, uint32_t threads,
+                                        int64_t motion) {
   auto crowd = std::make_unique<si::CrowdManager>();
   si::CrowdDesc d;
-  d.palette = &palette();
+  d.palette = &palette(motion != 0);
   d.sub_mesh_count = 4;
   d.lod_count = 3;
   d.max_distance_radii = max_distance_radii;
@@ -47,6 +54,10 @@ std::unique_ptr<si::CrowdManager> field(int64_t count, float max_distance_radii,
   si::RandomCrowdDesc r;
   r.positions = positions;
   r.optional_mask = 0xE;
+  const uint32_t travelling[] = {uint32_t(palette(true).findClip("walk_forward")),
+                                 uint32_t(palette(true).findClip("walk_turn_left"))};
+  if (motion != 0) r.clips = travelling;
+  r.root_motion = motion == 2;
   if (!crowd->addRandom(r, nullptr).isOk()) std::abort();
   return crowd;
 }
@@ -55,7 +66,8 @@ std::unique_ptr<si::CrowdManager> field(int64_t count, float max_distance_radii,
 // view; 1: high above, looking down, every character in view); threads (CrowdDesc::
 // worker_threads); batching (0: InstanceBatcher::build, records copied per draw; 1: buildSpans,
 // no copy); markers (1: a marker at the middle of every clip, so animation events are counted
-// for every instance). One frame runs before timing (the buffers reach their size).
+// for every instance); motion (field()'s: compare 1 and 2 for what root motion costs). One
+// frame runs before timing (the buffers reach their size).
 void crowdFrame(benchmark::State& state) {
   const int64_t count = state.range(0);
   const bool all_visible = state.range(1) != 0;
@@ -67,16 +79,17 @@ void crowdFrame(benchmark::State& state) {
   if (!all_visible) {
     camera = si::Camera::lookAt({side / 2, 8.0, -10.0}, {side / 2, 0.0, side / 2},
                                 glm::vec3(0, 1, 0), 1.0f, 16.0f / 9.0f, 0.1f, 10000.0f);
-    crowd = field(count, 0.0f, threads);
+    crowd = field(count, 0.0f, threads, state.range(5));
   } else {
     // High above, every character in view and none distance-culled.
     camera = si::Camera::lookAt({side / 2, side * 1.2, side / 2 + 1.0}, {side / 2, 0.0, side / 2},
                                 glm::vec3(0, 1, 0), 1.2f, 1.0f, 0.1f, 100000.0f);
-    crowd = field(count, -1.0f, threads);
+    crowd = field(count, -1.0f, threads, state.range(5));
   }
   if (state.range(4) != 0)
-    for (uint32_t c = 0; c < palette().clips.size(); ++c)
-      if (!crowd->addClipMarker(c, palette().clips[c].duration_seconds * 0.5, "half").isOk())
+    for (uint32_t c = 0; c < crowd->desc().palette->clips.size(); ++c)
+      if (!crowd->addClipMarker(c, crowd->desc().palette->clips[c].duration_seconds * 0.5,
+                                "half").isOk())
         std::abort();
   si::InstanceBatcher batcher;
   if (!batcher.init({65536, 256, 0}).isOk()) std::abort();
@@ -106,10 +119,11 @@ void crowdFrame(benchmark::State& state) {
                                             benchmark::Counter::kInvert);
 }
 BENCHMARK(crowdFrame)
-    ->ArgsProduct({{10000, 100000, 1000000}, {0, 1}, {1, 2, 4, 8, 16}, {0, 1}, {0}})
-    ->Args({100000, 1, 1, 1, 1})
-    ->Args({1000000, 0, 1, 1, 1})
-    ->ArgNames({"instances", "all_visible", "threads", "spans", "markers"})
+    ->ArgsProduct({{10000, 100000, 1000000}, {0, 1}, {1, 2, 4, 8, 16}, {0, 1}, {0}, {0}})
+    ->Args({100000, 1, 1, 1, 1, 0})
+    ->Args({1000000, 0, 1, 1, 1, 0})
+    ->ArgsProduct({{100000, 1000000}, {0, 1}, {1, 8}, {1}, {0}, {1, 2}})
+    ->ArgNames({"instances", "all_visible", "threads", "spans", "markers", "motion"})
     ->Unit(benchmark::kMillisecond)
     ->UseRealTime();
 
