@@ -1,11 +1,12 @@
 // SkinnedInstancing — SPDX-License-Identifier: MIT (see LICENSE)
 // libFuzzer target: random sequences of CrowdManager calls (add, remove, play, crossfade,
-// setTransform, setColor, setCustomLayer, setVariationMask, setLodDistances, update, queries) with hostile
-// values (NaN, infinities, negative and huge times, speeds, scales, stale and forged handles)
-// against a shadow list of the live handles. After every call: every live handle resolves,
-// released ones do not, the size matches; after an update the statistics add up, buckets are
-// consistent, records are finite with frames inside the palette. A rejected call must return a
-// named error and leave the crowd exactly as it was. Run with scripts/fuzz.sh.
+// setTransform, setColor, setCustomLayer, setVariationMask, setRootMotion, setLodDistances,
+// update, queries) with hostile values (NaN, infinities, negative and huge times, speeds,
+// scales, stale and forged handles) against a shadow list of the live handles. After every
+// call: every live handle resolves, released ones do not, the size matches; after an update
+// the statistics add up, buckets are consistent, records are finite with frames inside the
+// palette. A rejected call must return a named error and leave the crowd exactly as it was.
+// Run with scripts/fuzz.sh.
 #include <cmath>
 #include <cstdint>
 #include <cstdlib>
@@ -61,6 +62,14 @@ const si::BakedPalette& palette() {
     step.joint_tracks[2].translation.interpolation = si::Interpolation::kStep;
     step.joint_tracks[2].translation.times_seconds = {0.0f, 0.3f};
     step.joint_tracks[2].translation.values = {{0, 1, 0}, {0.5f, 1, 0}};
+    // Root motion on the loop and on the STEP clip (its frames are not on a uniform grid).
+    swing.root_motion.extract = step.root_motion.extract = true;
+    swing.joint_tracks[0].translation.times_seconds = {0.0f, 1.0f};
+    swing.joint_tracks[0].translation.values = {{0, 0, 0}, {0.3f, 0, 1.2f}};
+    swing.joint_tracks[0].rotation.times_seconds = {0.0f, 1.0f};
+    swing.joint_tracks[0].rotation.values = {glm::quat(1, 0, 0, 0), glm::quat(0.9f, 0, 0.43f, 0)};
+    step.joint_tracks[0].translation.times_seconds = {0.0f, 0.6f};
+    step.joint_tracks[0].translation.values = {{0, 0, 0}, {0, 0, -0.7f}};
     c.clips = {swing, step, clip("pose", 0.0f, si::LoopMode::kOnce)};
     si::BakeDesc d;
     d.rate_mode = si::RateMode::kFixed;
@@ -215,6 +224,7 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
         d.loop_mode = si::LoopMode(in.u8() % 4);
         d.color = glm::u8vec4(in.u8(), in.u8(), in.u8(), in.u8() < 64 ? in.u8() : 255);
         d.custom_layer = in.u8();
+        d.root_motion = in.u8() & 1;
         si::InstanceHandle added;
         s = crowd.add(d, &added);
         if (s.isOk()) live.push_back(added);
@@ -246,7 +256,9 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
           fail("setColor or setCustomLayer changed the other");
         break;
       }
-      case 7: s = crowd.setVariationMask(h, in.u32()); break;
+      case 7:
+        s = in.u8() & 1 ? crowd.setVariationMask(h, in.u32()) : crowd.setRootMotion(h, in.u8() & 1);
+        break;
       case 8: {
         std::vector<float> lines(in.u8() % 4);
         for (float& l : lines) l = in.f32();
