@@ -1,6 +1,7 @@
 // SkinnedInstancing — SPDX-License-Identifier: MIT (see LICENSE)
 // Writes generated seed inputs for the fuzzers. Usage: si_write_fuzz_seeds KIND DIR with KIND
-//   palette:   palette files of the embedded character's STEP clip in every format
+//   palette:   palette files of the embedded character's STEP clip and of a clip with root
+//              motion, in every format
 //   crowd-api: byte strings for the CrowdManager call-sequence fuzzer (a fixed generator: the
 //              same seeds every time), each a few hundred calls
 #include <cstdio>
@@ -18,6 +19,7 @@ int writePalettes(const std::string& dir) {
   si::Character c;
   si::DefaultCharacterDesc cd;
   cd.lod_count = 1;
+  cd.moving_clips = true;
   if (!si::makeDefaultCharacter(cd, &c).isOk()) return 1;
   const si::PaletteFormat formats[] = {si::PaletteFormat::kMatrix3x4F32,
                                        si::PaletteFormat::kMatrix3x4F16,
@@ -31,6 +33,10 @@ int writePalettes(const std::string& dir) {
     si::BakedPalette p;
     si::Status s = si::bakePalette(c, d, &p, nullptr);
     if (s.isOk()) s = si::savePaletteFile(p, dir + "/" + si::paletteFormatName(f) + ".sipal");
+    d.clip_names = {"walk_turn_left"};  // Root motion samples.
+    if (s.isOk()) s = si::bakePalette(c, d, &p, nullptr);
+    if (s.isOk())
+      s = si::savePaletteFile(p, dir + "/" + si::paletteFormatName(f) + "_root_motion.sipal");
     if (!s.isOk()) {
       std::fprintf(stderr, "si_write_fuzz_seeds: %s\n", s.toString().c_str());
       return 1;
