@@ -304,6 +304,7 @@ Status CrowdManager::update(double dt, const Camera& camera, const ParallelFor& 
   in.parallel_for = &parallel_for;
   in.markers = &state_->markers;
   in.root_motion = state_->store.root_motion_count > 0;
+  in.previous_records = desc_.previous_records;
   detail::buildFrame(in, state_->store, &state_->frame);
   // Instances moved by their root motion: the exported state changed.
   if (in.root_motion && dt > 0.0) state_->store.version = detail::nextStateVersion();
@@ -348,6 +349,17 @@ Span<const InstanceRecord> CrowdManager::records() const {
   const detail::CrowdFrame& f = (state_ ? *state_ : emptyState()).frame;
   return Span<const InstanceRecord>(f.records.data(), f.stats.visible);
 }
+Span<const InstanceRecord> CrowdManager::previousRecords() const {
+  if (!state_ || !desc_.previous_records) return {};
+  const detail::CrowdFrame& f = state_->frame;
+  return Span<const InstanceRecord>(f.previous_records.data(), f.previous_visible);
+}
+Span<const uint32_t> CrowdManager::previousRecordIndices() const {
+  if (!state_ || !desc_.previous_records) return {};
+  const detail::CrowdFrame& f = state_->frame;
+  return Span<const uint32_t>(f.previous_index.data(), f.stats.visible);
+}
+
 Span<const InstanceHandle> CrowdManager::visibleHandles() const {
   const detail::CrowdFrame& f = (state_ ? *state_ : emptyState()).frame;
   return Span<const InstanceHandle>(f.visible_handles.data(), f.stats.visible);

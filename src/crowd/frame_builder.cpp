@@ -70,6 +70,12 @@ SI_CPU_CLONES void selectChunk(const FrameInputs& in, InstanceStore& st, uint32_
   if (in.markers != nullptr && !in.markers->empty())
     collectEvents(*in.markers, clips, clock, st, begin, end, &w.events);
   if (in.root_motion) applyRootMotion(*in.palette, clips, clock, st, begin, end);  // Before culling.
+  if (in.previous_records) {  // Last update's slots become the previous ones; none yet now.
+    std::copy(st.record_slot.begin() + begin, st.record_slot.begin() + end,
+              st.previous_slot.begin() + begin);
+    std::fill(st.record_slot.begin() + begin, st.record_slot.begin() + end,
+              CrowdManager::kNoPreviousRecord);
+  }
   // The selection uses only +, -, * and comparisons in a fixed order (cull_math.h, and
   // cull_lanes.h lane by lane), so the GPU-driven culling pass, which does the same arithmetic,
   // selects exactly the same instances and LODs. Blocks of 64 instances: gathered, selected 8
@@ -252,7 +258,7 @@ void placeChunks(const FrameInputs& in, uint32_t chunk_count, CrowdFrame& f, boo
 }
 
 // Write: every visible instance of the chunk, its record at its place.
-SI_CPU_CLONES void writeChunk(const FrameInputs& in, const InstanceStore& st, bool fallback,
+SI_CPU_CLONES void writeChunk(const FrameInputs& in, InstanceStore& st, bool fallback,
                               ChunkWork& w, CrowdFrame& f) {
   const uint16_t key_mask = fallback ? uint16_t(~(kMaxMaskGroups - 1)) : uint16_t(0xFFFF);
   const std::vector<ClipTiming>& clips = *in.clips;
@@ -303,6 +309,10 @@ SI_CPU_CLONES void writeChunk(const FrameInputs& in, const InstanceStore& st, bo
       }
       f.visible_handles[slot] = st.dense_handles[i];
       if (fallback) f.record_masks[slot] = wornMask(st.masks[i], in.sub_mesh_count);
+      if (in.previous_records) {
+        f.previous_index[slot] = st.previous_slot[i];
+        st.record_slot[i] = slot;
+      }
     }
   }
 }
@@ -337,15 +347,20 @@ void buildFrame(const FrameInputs& in, InstanceStore& st, CrowdFrame* frame) {
   });
   bool fallback = false;
   placeChunks(in, chunk_count, f, &fallback);
+  // Motion vectors: the last update's records become the previous ones (a swap, no copy).
+  if (in.previous_records) {
+    std::swap(f.records, f.previous_records);
+    f.previous_visible = f.stats_visible_last;
+  }
   // Grown, never shrunk: records() views the first stats.visible (no zeroing per frame).
   const uint32_t visible = f.stats.visible;
-  if (f.records.size() < visible) {
-    f.records.resize(visible);
-    f.visible_handles.resize(visible);
-  }
+  if (f.records.size() < visible) f.records.resize(visible);
+  if (f.visible_handles.size() < visible) f.visible_handles.resize(visible);
+  if (in.previous_records && f.previous_index.size() < visible) f.previous_index.resize(visible);
   if (fallback && f.record_masks.size() < visible) f.record_masks.resize(visible);
   forEachChunk(in, chunk_count, [&](uint32_t c) { writeChunk(in, st, fallback, f.chunks[c], f); });
   buildBucketRuns(in.params.lod_count, in.sub_mesh_count, fallback, &f);
+  f.stats_visible_last = visible;
 }
 
 }  // namespace si::detail

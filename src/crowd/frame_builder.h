@@ -46,6 +46,12 @@ struct CrowdFrame {
   CrowdFrameStats stats;
   std::vector<InstanceRecord> records;          // Sorted by (LOD, worn mask, dense index).
   std::vector<InstanceHandle> visible_handles;  // Parallel to records.
+  // Motion vectors (FrameInputs::previous_records): the previous update's records (its first
+  // previous_visible), and per record the index of the instance's record in them.
+  std::vector<InstanceRecord> previous_records;
+  uint32_t previous_visible = 0;
+  uint32_t stats_visible_last = 0;  // Records the last buildFrame() wrote.
+  std::vector<uint32_t> previous_index;
   std::vector<uint32_t> record_masks;           // Parallel: worn masks.
   std::vector<ChunkWork> chunks;
   // Groups of this frame: the distinct worn masks in increasing order, and the record ranges
@@ -74,6 +80,7 @@ struct FrameInputs {
   const ParallelFor* parallel_for = nullptr;  // Null: every task on the calling thread.
   const MarkerTable* markers = nullptr;       // Null or empty: no events.
   bool root_motion = false;                   // Some instance opted in to root motion.
+  bool previous_records = false;              // CrowdDesc::previous_records.
 };
 
 /// Builds `frame` from `store`; updates each visible instance's LOD and ends crossfades whose

@@ -80,6 +80,8 @@ void InstanceStore::push(const InstanceDesc& d, InstanceHandle h, double clock) 
   root_motion.push_back(d.root_motion ? 1 : 0);
   motion_clock.push_back(clock);
   root_motion_count += d.root_motion ? 1u : 0u;
+  record_slot.push_back(CrowdManager::kNoPreviousRecord);
+  previous_slot.push_back(CrowdManager::kNoPreviousRecord);
   dense_handles.push_back(h);
   version = nextStateVersion();
 }
@@ -121,6 +123,8 @@ Status InstanceStore::remove(InstanceHandle h) {
   move_last(events_new);
   move_last(root_motion);
   move_last(motion_clock);
+  move_last(record_slot);
+  move_last(previous_slot);
   move_last(dense_handles);
   version = nextStateVersion();
   return handles.release(h);
@@ -139,6 +143,7 @@ Status InstanceStore::setTransform(InstanceHandle h, const glm::dvec3& position,
   rotations[i] = glm::normalize(rotation);
   scales[i] = scale;
   motion_clock[i] = clock;
+  record_slot[i] = CrowdManager::kNoPreviousRecord;  // A teleport: no motion vector.
   version = nextStateVersion();
   return Status::ok();
 }

@@ -76,6 +76,10 @@ struct InstanceStore {
   std::vector<uint8_t> root_motion;
   std::vector<double> motion_clock;
   uint32_t root_motion_count = 0;
+  // Motion vectors: each instance's record index in the last update and, during an update,
+  // in the one before (CrowdManager::kNoPreviousRecord for none; setTransform() clears it).
+  std::vector<uint32_t> record_slot;
+  std::vector<uint32_t> previous_slot;
   std::vector<InstanceHandle> dense_handles;
   std::vector<uint32_t> slot_to_dense;
 };

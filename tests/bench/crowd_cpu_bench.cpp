@@ -38,7 +38,7 @@ const si::BakedPalette& palette(bool moving = false) {
 // any clip of the plain palette; 1 the travelling clips (walk_forward, walk_turn_left) played
 // in place; 2 the same with root motion applied to every instance.
 std::unique_ptr<si::CrowdManager> field(int64_t count, float max_distance_radii, uint32_t threads,
-                                        int64_t motion) {
+                                        int64_t motion, bool previous_records) {
   auto crowd = std::make_unique<si::CrowdManager>();
   si::CrowdDesc d;
   d.palette = &palette(motion != 0);
@@ -46,6 +46,7 @@ std::unique_ptr<si::CrowdManager> field(int64_t count, float max_distance_radii,
   d.lod_count = 3;
   d.max_distance_radii = max_distance_radii;
   d.worker_threads = threads;
+  d.previous_records = previous_records;
   if (!crowd->init(d).isOk()) std::abort();
   const int64_t side = int64_t(std::ceil(std::sqrt(double(count))));
   std::vector<glm::dvec3> positions;
@@ -66,8 +67,9 @@ std::unique_ptr<si::CrowdManager> field(int64_t count, float max_distance_radii,
 // view; 1: high above, looking down, every character in view); threads (CrowdDesc::
 // worker_threads); batching (0: InstanceBatcher::build, records copied per draw; 1: buildSpans,
 // no copy); markers (1: a marker at the middle of every clip, so animation events are counted
-// for every instance); motion (field()'s: compare 1 and 2 for what root motion costs). One
-// frame runs before timing (the buffers reach their size).
+// for every instance); motion (field()'s: compare 1 and 2 for what root motion costs);
+// previous (1: CrowdDesc::previous_records, for motion vectors). Two frames run before timing
+// (the buffers reach their size).
 void crowdFrame(benchmark::State& state) {
   const int64_t count = state.range(0);
   const bool all_visible = state.range(1) != 0;
@@ -79,12 +81,12 @@ void crowdFrame(benchmark::State& state) {
   if (!all_visible) {
     camera = si::Camera::lookAt({side / 2, 8.0, -10.0}, {side / 2, 0.0, side / 2},
                                 glm::vec3(0, 1, 0), 1.0f, 16.0f / 9.0f, 0.1f, 10000.0f);
-    crowd = field(count, 0.0f, threads, state.range(5));
+    crowd = field(count, 0.0f, threads, state.range(5), state.range(6) != 0);
   } else {
     // High above, every character in view and none distance-culled.
     camera = si::Camera::lookAt({side / 2, side * 1.2, side / 2 + 1.0}, {side / 2, 0.0, side / 2},
                                 glm::vec3(0, 1, 0), 1.2f, 1.0f, 0.1f, 100000.0f);
-    crowd = field(count, -1.0f, threads, state.range(5));
+    crowd = field(count, -1.0f, threads, state.range(5), state.range(6) != 0);
   }
   if (state.range(4) != 0)
     for (uint32_t c = 0; c < crowd->desc().palette->clips.size(); ++c)
@@ -109,6 +111,7 @@ void crowdFrame(benchmark::State& state) {
     benchmark::DoNotOptimize(buffer.data());
   };
   frame();
+  frame();  // Two: previous_records swaps two record buffers, both then at their size.
   for (auto _ : state) frame();
   state.SetItemsProcessed(state.iterations() * count);
   state.counters["visible"] = crowd->stats().visible;
@@ -119,11 +122,12 @@ void crowdFrame(benchmark::State& state) {
                                             benchmark::Counter::kInvert);
 }
 BENCHMARK(crowdFrame)
-    ->ArgsProduct({{10000, 100000, 1000000}, {0, 1}, {1, 2, 4, 8, 16}, {0, 1}, {0}, {0}})
-    ->Args({100000, 1, 1, 1, 1, 0})
-    ->Args({1000000, 0, 1, 1, 1, 0})
-    ->ArgsProduct({{100000, 1000000}, {0, 1}, {1, 8}, {1}, {0}, {1, 2}})
-    ->ArgNames({"instances", "all_visible", "threads", "spans", "markers", "motion"})
+    ->ArgsProduct({{10000, 100000, 1000000}, {0, 1}, {1, 2, 4, 8, 16}, {0, 1}, {0}, {0}, {0}})
+    ->Args({100000, 1, 1, 1, 1, 0, 0})
+    ->Args({1000000, 0, 1, 1, 1, 0, 0})
+    ->ArgsProduct({{100000, 1000000}, {0, 1}, {1, 8}, {1}, {0}, {1, 2}, {0}})
+    ->ArgsProduct({{100000, 1000000}, {0, 1}, {1}, {1}, {0}, {0}, {1}})
+    ->ArgNames({"instances", "all_visible", "threads", "spans", "markers", "motion", "previous"})
     ->Unit(benchmark::kMillisecond)
     ->UseRealTime();
 

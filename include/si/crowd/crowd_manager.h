@@ -82,6 +82,11 @@ struct CrowdDesc {
   /// animation_lod_rate_hz instead of interpolating every frame; 0 means off.
   uint32_t animation_lod_start = 0;
   float animation_lod_rate_hz = 0.0f;  ///< 0 means 10 Hz.
+  /// Motion vectors: keep the previous update's records and, per record, the index of the same
+  /// instance's record in them (previousRecords(), previousRecordIndices()), so a renderer can
+  /// skin each vertex where it was drawn last frame. Off by default (it costs two words per
+  /// instance and a pass over them per update).
+  bool previous_records = false;
   /// Threads update(dt, camera) uses (it runs the work on a WorkerPool of its own, started at
   /// the first update with more than one task): 0 means std::thread::hardware_concurrency(),
   /// at most 16; 1 means the calling thread only. update(dt, camera, parallel_for) ignores it.
@@ -286,6 +291,21 @@ class CrowdManager {
   Span<const InstanceRecord> records() const;
   /// Handle of each visible instance of the last update(), parallel to records().
   Span<const InstanceHandle> visibleHandles() const;
+
+  // ---- Motion vectors (CrowdDesc::previous_records) ----
+  /// What previousRecordIndices() holds for an instance with no previous record.
+  static constexpr uint32_t kNoPreviousRecord = 0xFFFFFFFFu;
+  /// The records of the update before the last one, exactly as records() gave them then
+  /// (empty unless CrowdDesc::previous_records).
+  Span<const InstanceRecord> previousRecords() const;
+  /// Parallel to records(): the index in previousRecords() of the same instance's record, or
+  /// kNoPreviousRecord where there is none: the instance was not drawn by the previous update
+  /// (culled, or added since) or was placed by setTransform() since (a teleport: no motion).
+  /// A renderer skins the vertex with the previous record too, for its previous position; a
+  /// LOD change needs no fallback (the previous record skins the current LOD's vertex), nor
+  /// does a crossfade or a new clip (the record holds what was drawn). Empty unless
+  /// CrowdDesc::previous_records.
+  Span<const uint32_t> previousRecordIndices() const;
   /// The LOD an instance was given by the last update() (kNotFound for stale handles).
   Status lodOf(InstanceHandle h, uint32_t* lod) const;
 

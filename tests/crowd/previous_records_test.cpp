@@ -1,0 +1,154 @@
+// SkinnedInstancing — SPDX-License-Identifier: MIT (see LICENSE)
+// Motion vectors, the crowd's half (CrowdDesc::previous_records): the previous update's records
+// kept exactly, and per record the index of the same instance's record in them, or none for an
+// instance not drawn then, added since or placed by setTransform() since; across crossfades,
+// LOD changes, removals and any thread count.
+#include <gtest/gtest.h>
+
+#include <cstring>
+#include <map>
+
+#include "crowd/crowd_test_helpers.h"
+
+namespace si {
+namespace {
+
+bool sameRecord(const InstanceRecord& a, const InstanceRecord& b) {
+  return std::memcmp(&a, &b, sizeof a) == 0;
+}
+
+struct Frame {
+  std::vector<InstanceRecord> records;
+  std::map<uint32_t, size_t> index_of;  // Handle id -> record index.
+};
+
+Frame capture(const CrowdManager& crowd) {
+  Frame f;
+  f.records.assign(crowd.records().begin(), crowd.records().end());
+  for (size_t r = 0; r < crowd.visibleHandles().size(); ++r)
+    f.index_of[crowd.visibleHandles()[r].id] = r;
+  return f;
+}
+
+// Each record's previous index names the same instance's record of the frame before, which
+// previousRecords() holds exactly; instances in `no_motion` (teleported) and those not drawn
+// then have none.
+void expectPrevious(const CrowdManager& crowd, const Frame& before,
+                    const std::vector<uint32_t>& no_motion = {}) {
+  ASSERT_EQ(crowd.previousRecords().size(), before.records.size());
+  for (size_t r = 0; r < before.records.size(); ++r)
+    ASSERT_TRUE(sameRecord(crowd.previousRecords()[r], before.records[r])) << r;
+  ASSERT_EQ(crowd.previousRecordIndices().size(), crowd.records().size());
+  for (size_t r = 0; r < crowd.records().size(); ++r) {
+    const uint32_t id = crowd.visibleHandles()[r].id;
+    const auto it = before.index_of.find(id);
+    const bool teleported = std::find(no_motion.begin(), no_motion.end(), id) != no_motion.end();
+    const uint32_t expected = it == before.index_of.end() || teleported
+                                  ? CrowdManager::kNoPreviousRecord
+                                  : uint32_t(it->second);
+    ASSERT_EQ(crowd.previousRecordIndices()[r], expected) << "record " << r << " id " << id;
+  }
+}
+
+CrowdManager makeCrowd(uint32_t threads, bool previous = true) {
+  CrowdDesc d = test::defaultCrowdDesc();
+  d.previous_records = previous;
+  d.worker_threads = threads;
+  CrowdManager crowd;
+  EXPECT_TRUE(crowd.init(d).isOk());
+  return crowd;
+}
+
+TEST(PreviousRecords, EachRecordNamesWhatItsInstanceDrewLastUpdate) {
+  for (uint32_t threads : {1u, 7u}) {
+    SCOPED_TRACE(threads);
+    CrowdManager crowd = makeCrowd(threads);
+    // A field larger than one task (4096), partly out of view, so instances enter and leave.
+    std::vector<glm::dvec3> spots;
+    for (int i = 0; i < 9000; ++i) spots.push_back({(i % 95) * 1.5, 0.0, (i / 95) * 1.5});
+    RandomCrowdDesc r;
+    r.positions = spots;
+    r.optional_mask = 0xE;
+    std::vector<InstanceHandle> handles;
+    ASSERT_TRUE(crowd.addRandom(r, &handles).isOk());
+    Camera camera = test::testCamera({70, 10, -20}, {70, 0, 60});
+    ASSERT_TRUE(crowd.update(1.0 / 60.0, camera).isOk());
+    EXPECT_TRUE(crowd.previousRecords().empty());  // Nothing was drawn before.
+    for (uint32_t k = 0; k < crowd.records().size(); ++k)
+      ASSERT_EQ(crowd.previousRecordIndices()[k], CrowdManager::kNoPreviousRecord);
+    size_t with = 0, without = 0;  // Over the frames: something of each kind happened.
+    for (int frame = 0; frame < 6; ++frame) {
+      const Frame before = capture(crowd);
+      std::vector<uint32_t> teleported;
+      if (frame == 1) {  // Crossfades, a removal (the last instance moves into its hole), adds.
+        for (size_t i = 0; i < handles.size(); i += 97)
+          ASSERT_TRUE(crowd.crossfade(handles[i], 2, 0.5).isOk());
+        ASSERT_TRUE(crowd.remove(handles[5]).isOk());
+        InstanceDesc d;
+        d.position = {70, 0, 5};
+        InstanceHandle added;
+        ASSERT_TRUE(crowd.add(d, &added).isOk());
+      }
+      if (frame == 2) {  // Teleports: a visible instance placed elsewhere has no motion vector.
+        for (const auto& [id, index] : before.index_of) {
+          InstanceHandle h;
+          h.id = id;
+          InstanceDesc d;
+          ASSERT_TRUE(crowd.get(h, &d).isOk());
+          // Near the middle of the view, so they are drawn again.
+          if (teleported.size() < 5 && glm::length(d.position - glm::dvec3(70, 0, 25)) < 10.0) {
+            ASSERT_TRUE(crowd.setTransform(h, d.position + glm::dvec3(0.5, 0, 0), d.rotation, d.scale).isOk());
+            teleported.push_back(id);
+          }
+        }
+      }
+      // The camera moves: instances enter and leave the view and change LOD.
+      camera = test::testCamera({70, 10, -20.0 + 6.0 * frame}, {70, 0, 60});
+      ASSERT_TRUE(crowd.update(frame == 3 ? 0.0 : 0.1, camera).isOk());
+      expectPrevious(crowd, before, teleported);
+      size_t teleported_drawn = 0;
+      for (InstanceHandle h : crowd.visibleHandles())
+        teleported_drawn += std::count(teleported.begin(), teleported.end(), h.id);
+      EXPECT_EQ(teleported_drawn, teleported.size());  // Checked where they are drawn.
+      for (uint32_t p : crowd.previousRecordIndices())
+        (p == CrowdManager::kNoPreviousRecord ? without : with) += 1;
+    }
+    EXPECT_GT(with, 100u);
+    EXPECT_GT(without, 0u);
+  }
+}
+
+// The same indices whatever the thread count.
+TEST(PreviousRecords, TheSameForAnyThreadCount) {
+  std::vector<std::vector<uint32_t>> runs;
+  for (uint32_t threads : {1u, 3u, 8u}) {
+    CrowdManager crowd = makeCrowd(threads);
+    std::vector<glm::dvec3> spots;
+    for (int i = 0; i < 10000; ++i) spots.push_back({(i % 100) * 1.5, 0.0, (i / 100) * 1.5});
+    RandomCrowdDesc r;
+    r.positions = spots;
+    ASSERT_TRUE(crowd.addRandom(r, nullptr).isOk());
+    std::vector<uint32_t> all;
+    for (int frame = 0; frame < 3; ++frame) {
+      ASSERT_TRUE(crowd.update(0.1, test::testCamera({75, 12, -10.0 + 8 * frame}, {75, 0, 80})).isOk());
+      all.insert(all.end(), crowd.previousRecordIndices().begin(), crowd.previousRecordIndices().end());
+    }
+    runs.push_back(all);
+  }
+  EXPECT_EQ(runs[1], runs[0]);
+  EXPECT_EQ(runs[2], runs[0]);
+}
+
+TEST(PreviousRecords, OffByDefault) {
+  CrowdManager crowd = makeCrowd(1, false);
+  InstanceDesc d;
+  InstanceHandle h;
+  ASSERT_TRUE(crowd.add(d, &h).isOk());
+  for (int i = 0; i < 2; ++i) ASSERT_TRUE(crowd.update(0.1, test::testCamera({0, 2, -6}, {0, 1, 0})).isOk());
+  EXPECT_EQ(crowd.records().size(), 1u);
+  EXPECT_TRUE(crowd.previousRecords().empty());
+  EXPECT_TRUE(crowd.previousRecordIndices().empty());
+}
+
+}  // namespace
+}  // namespace si
