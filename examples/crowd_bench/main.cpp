@@ -15,6 +15,7 @@
 #include "crowd_bench/bench_scene.h"
 #include "crowd_bench/lod_quality.h"
 #include "crowd_bench/mixed_scene.h"
+#include "crowd_bench/root_motion_table.h"
 #include "si/bake/animation_baker.h"
 #include "si/bake/lod_chain.h"
 #include "si/core/default_character.h"
@@ -51,6 +52,7 @@ struct Options {
   bool gpu_timer = true;  // Timer queries (they block each frame); off: CPU figures only.
   si::HeadlessBackend backend = si::HeadlessBackend::kAuto;
   std::vector<std::string> mix;  // glTF kinds of the mixed table; empty: no mixed table.
+  bool root_motion = false;      // The root motion table.
 };
 
 void usage(std::FILE* f) {
@@ -83,6 +85,8 @@ void usage(std::FILE* f) {
       "                   [--quick]   (fixed-rate bakes only, for smoke tests)\n"
       "                   [--mix FILE,...|samples] (the mixed table: the embedded character and\n"
       "                   these glTF kinds share the field; one renderer against one per kind)\n"
+      "                   [--root-motion] (the root motion table: travelling clips played in\n"
+      "                   place against moved by their root motion, side by side)\n"
       "                   [--no-gpu-time] (no blocking timer queries: CPU columns only;\n"
       "                   GPU ms and the GPU-culled path's visible count read -1 / 0)\n");
 }
@@ -128,6 +132,7 @@ bool parse(int argc, char** argv, Options* o) {
                   std::string(SI_BENCH_ASSETS) + "/CesiumMan/glTF-Binary/CesiumMan.glb"};
     }
     else if (a == "--no-gpu-time") o->gpu_timer = false;
+    else if (a == "--root-motion") o->root_motion = true;
     else if (a == "--backend" && has) {
       if (!si::examples::parseBackend(argv[++i], &o->backend)) return false;
     } else return false;
@@ -360,6 +365,12 @@ int main(int argc, char** argv) {
       s = si::bench::mixedTable(b.setup, kinds, mixed_rd, b.o.sizes, b.o.paths, b.o.max_baseline,
                                 csv);
     if (!s.isOk()) return fail("mixed", s);
+  }
+  if (b.o.root_motion) {
+    si::RendererDesc motion_rd = rd;
+    motion_rd.skinning_path = si::SkinningPath::kVertexShader;  // Each path says its own.
+    s = si::bench::rootMotionTable(b.setup, motion_rd, b.o.sizes, b.o.paths, b.o.max_baseline, csv);
+    if (!s.isOk()) return fail("root motion", s);
   }
 
   // Speed against error: each bake configuration, on the field, drawn by --error-path. The

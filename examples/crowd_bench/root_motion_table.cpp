@@ -1,0 +1,112 @@
+// SkinnedInstancing — SPDX-License-Identifier: MIT (see LICENSE)
+#include "crowd_bench/root_motion_table.h"
+
+#include "si/bake/animation_baker.h"
+#include "si/core/default_character.h"
+
+namespace si::bench {
+
+namespace {
+
+// Times `path` on the field of `count`, every instance playing a travelling clip, moved by its
+// root motion or not.
+Status runRootMotion(Setup& setup, Renderer& renderer, CharacterId id, const BakedPalette& palette,
+                     uint32_t count, const std::string& path, bool root_motion, Row* row) {
+  const std::vector<glm::dvec3> places = scenePositions("field", count);
+  CrowdManager crowd;
+  CrowdDesc cd;
+  cd.palette = &palette;
+  cd.sub_mesh_count = uint32_t(setup.character.mesh.sub_meshes.size());
+  cd.lod_count = uint32_t(setup.character.mesh.maxLodCount());
+  cd.max_distance_radii = -1.0f;  // As the paths table: everything in view, however far.
+  Status s = crowd.init(cd);
+  RandomCrowdDesc rc;
+  rc.positions = places;
+  rc.seed = 2026;
+  rc.optional_mask = 0xE;
+  rc.root_motion = root_motion;  // The palette holds only the travelling clips.
+  if (s.isOk()) s = crowd.addRandom(rc, nullptr);
+  InstanceBatcher batcher;
+  if (s.isOk()) s = batcher.init(renderer.batchLimits());
+  if (!s.isOk()) return s;
+  row->path = path;
+  row->lod = root_motion ? "on" : "off";
+  row->instances = count;
+  const uint32_t warmup = 2;
+  std::vector<double> update_v, submit_v, gpu_v;
+  for (uint32_t f = 0; f < warmup + setup.frames && s.isOk(); ++f) {
+    const Camera cam = cameraAt(setup, "field", places, f < warmup ? 0 : f - warmup, setup.frames);
+    const auto t0 = Clock::now();
+    // Root motion moves instances in update() only: GPU-selected paths need it every frame.
+    s = root_motion ? crowd.update(1.0 / 60.0, cam) : stepCrowd(crowd, path, cam, 1.0 / 60.0);
+    const double update_ms = msSince(t0);
+    DrawStats st;
+    renderer.clear(kClearColor);
+    if (s.isOk()) s = drawKind(renderer, id, crowd, batcher, path, cam, &st);
+    if (f < warmup) continue;
+    update_v.push_back(update_ms);
+    submit_v.push_back(st.cpu_submit_ms);
+    gpu_v.push_back(st.gpu_ms);
+    row->visible = isGpuSelected(path) ? st.gpu_visible : crowd.stats().visible;
+    row->draws = st.draw_calls;
+    row->triangles = double(st.triangles);
+  }
+  row->update_ms = median(update_v);
+  row->submit_ms = median(submit_v);
+  row->gpu_ms = median(gpu_v);
+  return s;
+}
+
+}  // namespace
+
+Status rootMotionTable(Setup& setup, const RendererDesc& desc, const std::vector<uint32_t>& sizes,
+                       const std::vector<std::string>& paths, uint32_t max_baseline,
+                       std::FILE* csv) {
+  // The embedded character's mesh and LOD chain, with its travelling clips only.
+  DefaultCharacterDesc moving_desc;
+  moving_desc.moving_clips = true;
+  Character moving;
+  Status s = makeDefaultCharacter(moving_desc, &moving);
+  if (!s.isOk()) return s;
+  Character character = setup.character;
+  character.clips.clear();
+  for (const Clip& c : moving.clips)
+    if (c.root_motion.extract) character.clips.push_back(c);
+  BakeDesc bd;
+  bd.rate_mode = RateMode::kFixed;
+  BakedPalette palette;
+  s = bakePalette(character, bd, &palette, nullptr);
+  Renderer renderer;
+  if (s.isOk()) s = renderer.init(setup.info, desc);
+  CharacterId id;
+  if (s.isOk()) s = renderer.addCharacter(character, palette, &id);
+  if (!s.isOk()) return s;
+  std::printf("\nRoot motion (field; walk_forward and walk_turn_left baked in place at 30 Hz): "
+              "played in place against moved by their root motion, in the same run\n");
+  std::printf("%-11s %-6s %9s %9s %6s %9s %9s %9s %8s %8s\n", "path", "motion", "instances",
+              "visible", "draws", "update", "submit", "GPU ms", "CPU x", "GPU x");
+  for (uint32_t count : sizes)
+    for (const std::string& path : paths) {
+      if ((path == "traditional" || path == "cpu") && count > max_baseline) continue;
+      Row rows[2];
+      for (int on = 0; on < 2; ++on) {
+        s = runRootMotion(setup, renderer, id, palette, count, path, on == 1, &rows[on]);
+        if (!s.isOk()) return {s.code(), "root motion, " + path + ": " + s.message()};
+      }
+      for (const Row& r : rows) {
+        const double cpu_x = (r.update_ms + r.submit_ms) /
+                             std::max(1e-9, rows[0].update_ms + rows[0].submit_ms);
+        const double gpu_x = r.gpu_ms / std::max(1e-9, rows[0].gpu_ms);
+        std::printf("%-11s %-6s %9u %9u %6u %9.3f %9.3f %9.3f %8.2f %8.2f\n", r.path.c_str(),
+                    r.lod.c_str(), r.instances, r.visible, r.draws, r.update_ms, r.submit_ms,
+                    r.gpu_ms, cpu_x, gpu_x);
+        std::fprintf(csv, "root-motion,field,%s,%u,%u,%u,%.0f,%.4f,%.4f,%.4f,,,,,%s,,,\n",
+                     r.path.c_str(), r.instances, r.visible, r.draws, r.triangles, r.update_ms,
+                     r.submit_ms, r.gpu_ms, r.lod.c_str());
+      }
+    }
+  renderer.shutdown();
+  return Status::ok();
+}
+
+}  // namespace si::bench
