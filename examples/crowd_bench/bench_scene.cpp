@@ -146,34 +146,49 @@ Status runPath(Setup& setup, Renderer& renderer, const BakedPalette& palette,
   row->path = path;
   row->lod = lod.name();
   row->instances = count;
+  s = timeFrames(
+      setup, scene, positions,
+      [&](const Camera& cam) { return stepCrowd(crowd, path, cam, 1.0 / 60.0); },
+      [&](const Camera& cam, DrawStats* st, uint32_t* visible) {
+        const Status drawn = drawPath(renderer, crowd, batcher, path, cam, st);
+        *visible = isGpuSelected(path) ? st->gpu_visible : crowd.stats().visible;
+        return drawn;
+      },
+      row);
+  std::vector<uint8_t> rgba;
+  if (s.isOk()) s = setup.context->readPixels(&rgba);
+  if (!s.isOk()) return s;
+  row->covered_pixels = coveredPixels(rgba);
+  return Status();
+}
+
+Status timeFrames(const Setup& setup, const std::string& scene,
+                  const std::vector<glm::dvec3>& places, const StepFrame& step,
+                  const DrawFrame& draw, Row* row) {
   const uint32_t warmup = 2, n = setup.frames;
   std::vector<double> update_ms_v, submit_ms_v, gpu_ms_v;
-  const bool gpu = isGpuSelected(path);
-  for (uint32_t f = 0; f < warmup + n; ++f) {
-    const Camera cam = cameraAt(setup, scene, positions, f < warmup ? 0 : f - warmup, n);
+  Status s;
+  for (uint32_t f = 0; f < warmup + n && s.isOk(); ++f) {
+    const Camera cam = cameraAt(setup, scene, places, f < warmup ? 0 : f - warmup, n);
     const auto t0 = Clock::now();
-    s = stepCrowd(crowd, path, cam, 1.0 / 60.0);
+    s = step(cam);
     const double update_ms = msSince(t0);
     DrawStats st;
-    if (s.isOk()) s = drawPath(renderer, crowd, batcher, path, cam, &st);
-    if (!s.isOk()) return s;
-    if (f < warmup) continue;
+    uint32_t visible = 0;
+    if (s.isOk()) s = draw(cam, &st, &visible);
+    if (!s.isOk() || f < warmup) continue;
     update_ms_v.push_back(update_ms);
     submit_ms_v.push_back(st.cpu_submit_ms);
     gpu_ms_v.push_back(st.gpu_ms);
-    row->visible = gpu ? st.gpu_visible : crowd.stats().visible;
+    row->visible = visible;
     row->draws = st.draw_calls;
     row->triangles = double(st.triangles);
   }
-  std::vector<uint8_t> rgba;
-  s = setup.context->readPixels(&rgba);
-  if (!s.isOk()) return s;
-  row->covered_pixels = coveredPixels(rgba);
   // Medians: one stalled frame on a shared machine must not move the figure.
   row->update_ms = median(update_ms_v);
   row->submit_ms = median(submit_ms_v);
   row->gpu_ms = median(gpu_ms_v);
-  return Status();
+  return s;
 }
 
 uint64_t coveredPixels(const std::vector<uint8_t>& rgba) {

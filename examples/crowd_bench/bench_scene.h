@@ -4,6 +4,7 @@
 // fixed camera paths, and runPath(), which times one drawing path with one LOD mode.
 #include <chrono>
 #include <cstdint>
+#include <functional>
 #include <memory>
 #include <string>
 #include <vector>
@@ -80,6 +81,17 @@ struct Row {
   double triangles = 0, update_ms = 0, submit_ms = 0, gpu_ms = 0;  // Medians over the frames.
   uint64_t covered_pixels = 0;  ///< Of the last frame: pixels not of the clear colour.
 };
+
+/// The frame loop every timed table shares: 2 warm-up frames, then setup.frames measured ones
+/// on `scene`'s camera path over `places`, each `step(camera)` (the crowds' update or clock,
+/// timed as the update) then `draw(camera, &stats, &visible)` (clear and draw, summing its
+/// statistics into `stats`). `row` gets the medians of the update, submit and GPU times and
+/// the last frame's visible instances, draw calls and triangles. Stops at the first error.
+using StepFrame = std::function<Status(const Camera&)>;
+using DrawFrame = std::function<Status(const Camera&, DrawStats*, uint32_t* visible)>;
+Status timeFrames(const Setup& setup, const std::string& scene,
+                  const std::vector<glm::dvec3>& places, const StepFrame& step,
+                  const DrawFrame& draw, Row* row);
 
 /// Times one path on one scene; returns a named error.
 Status runPath(Setup& setup, Renderer& renderer, const BakedPalette& palette,

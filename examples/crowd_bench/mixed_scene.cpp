@@ -67,37 +67,29 @@ Status runMixed(Setup& setup, const std::vector<MixedKind>& kinds, const Rendere
   row->path = path;
   row->one_renderer = one_renderer;
   row->instances = count;
-  const uint32_t warmup = 2;
-  std::vector<double> update_v, submit_v, gpu_v;
-  for (uint32_t f = 0; f < warmup + setup.frames && s.isOk(); ++f) {
-    const Camera cam = cameraAt(setup, "field", places, f < warmup ? 0 : f - warmup, setup.frames);
-    const auto t0 = Clock::now();
-    for (auto& c : crowds)
-      if (s.isOk()) s = stepCrowd(*c, path, cam, 1.0 / 60.0);
-    const double update_ms = msSince(t0);
-    renderers.front()->clear(kClearColor);
-    DrawStats sum;
-    sum.gpu_ms = 0.0;
-    uint32_t visible = 0;
-    for (size_t k = 0; k < n_kinds && s.isOk(); ++k) {
-      Renderer& r = *renderers[one_renderer ? 0 : k];
-      DrawStats st;
-      s = drawKind(r, ids[k], *crowds[k], batcher, path, cam, &st);
-      examples::accumulate(st, &sum);
-      visible += isGpuSelected(path) ? st.gpu_visible : crowds[k]->stats().visible;
-    }
-    if (f < warmup) continue;
-    update_v.push_back(update_ms);
-    submit_v.push_back(sum.cpu_submit_ms);
-    gpu_v.push_back(sum.gpu_ms);
-    row->visible = visible;
-    row->draws = sum.draw_calls;
-    row->triangles = double(sum.triangles);
-  }
+  s = timeFrames(
+      setup, "field", places,
+      [&](const Camera& cam) {
+        Status stepped;
+        for (auto& c : crowds)
+          if (stepped.isOk()) stepped = stepCrowd(*c, path, cam, 1.0 / 60.0);
+        return stepped;
+      },
+      [&](const Camera& cam, DrawStats* sum, uint32_t* visible) {
+        renderers.front()->clear(kClearColor);
+        sum->gpu_ms = 0.0;
+        Status drawn;
+        for (size_t k = 0; k < n_kinds && drawn.isOk(); ++k) {
+          Renderer& r = *renderers[one_renderer ? 0 : k];
+          DrawStats st;
+          drawn = drawKind(r, ids[k], *crowds[k], batcher, path, cam, &st);
+          examples::accumulate(st, sum);
+          *visible += isGpuSelected(path) ? st.gpu_visible : crowds[k]->stats().visible;
+        }
+        return drawn;
+      },
+      row);
   for (auto& r : renderers) r->shutdown();
-  row->update_ms = median(update_v);
-  row->submit_ms = median(submit_v);
-  row->gpu_ms = median(gpu_v);
   return s;
 }
 

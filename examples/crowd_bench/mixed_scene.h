@@ -27,11 +27,8 @@ Status loadMixedKinds(const Character& main, const BakedPalette& main_palette,
                       const std::vector<std::string>& files, bool lod_chain, bool quick,
                       std::vector<MixedKind>* out);
 
-struct MixedRow {
-  std::string path;
+struct MixedRow : Row {  // Row::scene and lod unused.
   bool one_renderer = true;
-  uint32_t instances = 0, visible = 0, draws = 0;
-  double triangles = 0, update_ms = 0, submit_ms = 0, gpu_ms = 0;  // Medians over the frames.
 };
 
 /// Times `path` on the field of `count` places shared round-robin by `kinds` (each kind's

@@ -32,29 +32,18 @@ Status runRootMotion(Setup& setup, Renderer& renderer, CharacterId id, const Bak
   row->path = path;
   row->lod = root_motion ? "on" : "off";
   row->instances = count;
-  const uint32_t warmup = 2;
-  std::vector<double> update_v, submit_v, gpu_v;
-  for (uint32_t f = 0; f < warmup + setup.frames && s.isOk(); ++f) {
-    const Camera cam = cameraAt(setup, "field", places, f < warmup ? 0 : f - warmup, setup.frames);
-    const auto t0 = Clock::now();
-    // Root motion moves instances in update() only: GPU-selected paths need it every frame.
-    s = root_motion ? crowd.update(1.0 / 60.0, cam) : stepCrowd(crowd, path, cam, 1.0 / 60.0);
-    const double update_ms = msSince(t0);
-    DrawStats st;
-    renderer.clear(kClearColor);
-    if (s.isOk()) s = drawKind(renderer, id, crowd, batcher, path, cam, &st);
-    if (f < warmup) continue;
-    update_v.push_back(update_ms);
-    submit_v.push_back(st.cpu_submit_ms);
-    gpu_v.push_back(st.gpu_ms);
-    row->visible = isGpuSelected(path) ? st.gpu_visible : crowd.stats().visible;
-    row->draws = st.draw_calls;
-    row->triangles = double(st.triangles);
-  }
-  row->update_ms = median(update_v);
-  row->submit_ms = median(submit_v);
-  row->gpu_ms = median(gpu_v);
-  return s;
+  return timeFrames(
+      setup, "field", places,
+      [&](const Camera& cam) {  // Root motion moves instances in update() only.
+        return root_motion ? crowd.update(1.0 / 60.0, cam) : stepCrowd(crowd, path, cam, 1.0 / 60.0);
+      },
+      [&](const Camera& cam, DrawStats* st, uint32_t* visible) {
+        renderer.clear(kClearColor);
+        const Status drawn = drawKind(renderer, id, crowd, batcher, path, cam, st);
+        *visible = isGpuSelected(path) ? st->gpu_visible : crowd.stats().visible;
+        return drawn;
+      },
+      row);
 }
 
 }  // namespace

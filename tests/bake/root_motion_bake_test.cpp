@@ -14,13 +14,7 @@ namespace {
 
 using test::kPi;
 
-Character movingCharacter() {
-  DefaultCharacterDesc d;
-  d.moving_clips = true;
-  Character c;
-  EXPECT_TRUE(makeDefaultCharacter(d, &c).isOk());
-  return c;
-}
+Character movingCharacter() { return test::travellingCharacter(); }
 
 struct Baked {
   BakedPalette palette;

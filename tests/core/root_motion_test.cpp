@@ -21,13 +21,7 @@ double matrixDifference(const glm::dmat4& a, const glm::dmat4& b) {
   return m;
 }
 
-Character movingCharacter() {
-  DefaultCharacterDesc d;
-  d.moving_clips = true;
-  Character c;
-  EXPECT_TRUE(makeDefaultCharacter(d, &c).isOk());
-  return c;
-}
+Character movingCharacter() { return test::travellingCharacter(); }
 
 TEST(GroundMotion, AlgebraMatchesTheMatrices) {
   const GroundMotion a{{1.5, -2.0}, 0.7}, b{{-0.25, 3.0}, -2.9};

@@ -63,4 +63,14 @@ inline Character embeddedCharacter() {
   return c;
 }
 
+/// The embedded character with its travelling clips (DefaultCharacterDesc::moving_clips, marked
+/// for root motion); a failure fails the test.
+inline Character travellingCharacter() {
+  DefaultCharacterDesc d;
+  d.moving_clips = true;
+  Character c;
+  EXPECT_TRUE(makeDefaultCharacter(d, &c).isOk());
+  return c;
+}
+
 }  // namespace si::test

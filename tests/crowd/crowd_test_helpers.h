@@ -4,6 +4,7 @@
 
 #include <cstdlib>
 
+#include "core/test_helpers.h"
 #include "si/bake/animation_baker.h"
 #include "si/core/default_character.h"
 #include "si/crowd/crowd_manager.h"
@@ -19,40 +20,31 @@ inline const Character& defaultCharacter() {
   return c;
 }
 
+/// `character` baked at a fixed 30 Hz without a report (a failure aborts: every crowd test
+/// needs it).
+inline BakedPalette bakeAt30Hz(const Character& character) {
+  BakeDesc d;
+  d.rate_mode = RateMode::kFixed;
+  d.sample_rate_hz = 30.0f;
+  BakedPalette out;
+  if (!bakePalette(character, d, &out, nullptr).isOk()) std::abort();
+  return out;
+}
+
 inline const BakedPalette& defaultPalette() {
-  static const BakedPalette p = [] {
-    BakeDesc d;
-    d.rate_mode = RateMode::kFixed;
-    d.sample_rate_hz = 30.0f;
-    BakedPalette out;
-    if (!bakePalette(defaultCharacter(), d, &out, nullptr).isOk()) std::abort();
-    return out;
-  }();
+  static const BakedPalette p = bakeAt30Hz(defaultCharacter());
   return p;
 }
 
 /// The embedded character with its travelling clips (DefaultCharacterDesc::moving_clips), and
 /// its palette (fixed 30 Hz; the travelling clips baked in place with their root motion).
 inline const Character& movingCharacter() {
-  static const Character c = [] {
-    DefaultCharacterDesc d;
-    d.moving_clips = true;
-    Character out;
-    if (!makeDefaultCharacter(d, &out).isOk()) std::abort();
-    return out;
-  }();
+  static const Character c = travellingCharacter();
   return c;
 }
 
 inline const BakedPalette& movingPalette() {
-  static const BakedPalette p = [] {
-    BakeDesc d;
-    d.rate_mode = RateMode::kFixed;
-    d.sample_rate_hz = 30.0f;
-    BakedPalette out;
-    if (!bakePalette(movingCharacter(), d, &out, nullptr).isOk()) std::abort();
-    return out;
-  }();
+  static const BakedPalette p = bakeAt30Hz(movingCharacter());
   return p;
 }
 
