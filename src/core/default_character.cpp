@@ -1,6 +1,6 @@
 // SkinnedInstancing — SPDX-License-Identifier: MIT (see LICENSE)
 // The embedded procedural humanoid: capsules skinned with smooth weights where pieces meet,
-// a 64x64 texture whose alpha is the tint mask, and four clips built from periodic functions.
+// a 64x64 texture whose alpha is the tint mask; its clips are default_clips.cpp's.
 #include "si/core/default_character.h"
 
 #include <algorithm>
@@ -8,51 +8,13 @@
 #include <cmath>
 #include <functional>
 
+#include "core/default_skeleton.h"
 #include "si/core/lod_error.h"
 
 namespace si {
 namespace {
 
-constexpr double kPi = 3.14159265358979323846;
-
-enum Joint : int {
-  kRoot, kPelvis, kSpine, kChest, kNeck, kHead,
-  kLClavicle, kLUpperArm, kLForearm, kLHand,
-  kRClavicle, kRUpperArm, kRForearm, kRHand,
-  kLThigh, kLShin, kLFoot, kRThigh, kRShin, kRFoot,
-  kRWeapon, kLShield, kJointCount
-};
-
-struct JointDef {
-  const char* name;
-  int parent;
-  glm::dvec3 position;  // Model space, rest pose.
-};
-
-const std::array<JointDef, kJointCount> kJoints = {{
-    {"root", -1, {0, 0, 0}},
-    {"pelvis", kRoot, {0, 0.95, 0}},
-    {"spine", kPelvis, {0, 1.10, 0}},
-    {"chest", kSpine, {0, 1.28, 0}},
-    {"neck", kChest, {0, 1.46, 0}},
-    {"head", kNeck, {0, 1.57, 0}},
-    {"l_clavicle", kChest, {0.04, 1.43, 0}},
-    {"l_upperarm", kLClavicle, {0.19, 1.42, 0}},
-    {"l_forearm", kLUpperArm, {0.24, 1.15, 0}},
-    {"l_hand", kLForearm, {0.27, 0.91, 0.02}},
-    {"r_clavicle", kChest, {-0.04, 1.43, 0}},
-    {"r_upperarm", kRClavicle, {-0.19, 1.42, 0}},
-    {"r_forearm", kRUpperArm, {-0.24, 1.15, 0}},
-    {"r_hand", kRForearm, {-0.27, 0.91, 0.02}},
-    {"l_thigh", kPelvis, {0.10, 0.92, 0}},
-    {"l_shin", kLThigh, {0.10, 0.50, 0.01}},
-    {"l_foot", kLShin, {0.10, 0.09, 0}},
-    {"r_thigh", kPelvis, {-0.10, 0.92, 0}},
-    {"r_shin", kRThigh, {-0.10, 0.50, 0.01}},
-    {"r_foot", kRShin, {-0.10, 0.09, 0}},
-    {"r_weapon", kRHand, {-0.27, 0.84, 0.05}},
-    {"l_shield", kLForearm, {0.31, 1.04, 0}},
-}};
+using namespace detail::embedded;  // The skeleton (core/default_skeleton.h).
 
 // Texture tiles (a 4x4 grid of 16x16 texels); alpha 255 marks tintable cloth.
 enum Tile : int { kSkin, kShirt, kTrousers, kBoots, kMetal, kWood, kShieldFace, kHair };
@@ -113,11 +75,6 @@ std::vector<SubMeshDef> subMeshDefs() {
                   {{kRWeapon, -1, -1, grip - 0.55 * y, grip + 1.05 * y, 0.014, 1, kWood},
                    {kRWeapon, -1, -1, grip + 1.1 * y, grip + 1.12 * y, 0.03, 3, kMetal}}});
   return defs;
-}
-
-double smoothstep(double e0, double e1, double v) {
-  const double t = std::clamp((v - e0) / (e1 - e0), 0.0, 1.0);
-  return t * t * (3 - 2 * t);
 }
 
 // Appends one capsule (or ellipsoidal sphere) to the mesh with smooth weights along its axis.
@@ -241,201 +198,6 @@ void makeTexture(Image* image) {
     }
 }
 
-// ---------------------------------------------------------------------------------------------
-// Clips: each joint's local rotation (and the pelvis translation) as a function of time.
-
-glm::dquat axisAngle(double angle, const glm::dvec3& axis) {
-  return glm::dquat(std::cos(angle / 2), axis * std::sin(angle / 2));
-}
-const glm::dvec3 kX(1, 0, 0), kY(0, 1, 0), kZ(0, 0, 1);
-
-struct ClipDef {
-  const char* name;
-  double duration;
-  LoopMode loop;
-  int key_count;  // Keys including both ends.
-  Interpolation interpolation;
-  // Rotation of joint j at time t, or nullopt-like identity flag through `animated`.
-  std::function<bool(int joint, double t, glm::dquat* rotation)> rotation;
-  std::function<bool(int joint, double t, glm::dvec3* translation)> translation;
-  int step_joint = -1;  // A joint whose rotation track uses STEP keys.
-};
-
-Clip buildClip(const ClipDef& def) {
-  Clip clip;
-  clip.name = def.name;
-  clip.duration_seconds = static_cast<float>(def.duration);
-  clip.loop_mode = def.loop;
-  clip.joint_tracks.resize(kJointCount);
-  const bool cubic = def.interpolation == Interpolation::kCubicSpline;
-  const double h = 1e-5;
-  for (int j = 0; j < kJointCount; ++j) {
-    glm::dquat q;
-    glm::dvec3 tr;
-    JointTracks& jt = clip.joint_tracks[size_t(j)];
-    if (def.rotation && def.rotation(j, 0.0, &q)) {
-      QuatTrack& track = jt.rotation;
-      track.interpolation = j == def.step_joint ? Interpolation::kStep : def.interpolation;
-      const bool track_cubic = track.interpolation == Interpolation::kCubicSpline;
-      for (int k = 0; k < def.key_count; ++k) {
-        const double t = def.duration * k / (def.key_count - 1);
-        track.times_seconds.push_back(static_cast<float>(t));
-        def.rotation(j, t, &q);
-        if (track_cubic) {
-          glm::dquat q0, q1;
-          def.rotation(j, t - h, &q0);
-          def.rotation(j, t + h, &q1);
-          const glm::dquat d = (q1 - q0) * (1.0 / (2 * h));
-          const glm::quat tangent(float(d.w), float(d.x), float(d.y), float(d.z));
-          track.values.push_back(tangent);
-          track.values.push_back(glm::quat(float(q.w), float(q.x), float(q.y), float(q.z)));
-          track.values.push_back(tangent);
-        } else {
-          track.values.push_back(glm::quat(float(q.w), float(q.x), float(q.y), float(q.z)));
-        }
-      }
-    }
-    if (def.translation && def.translation(j, 0.0, &tr)) {
-      Vec3Track& track = jt.translation;
-      track.interpolation = def.interpolation;
-      for (int k = 0; k < def.key_count; ++k) {
-        const double t = def.duration * k / (def.key_count - 1);
-        track.times_seconds.push_back(static_cast<float>(t));
-        def.translation(j, t, &tr);
-        if (cubic) {
-          glm::dvec3 a, b;
-          def.translation(j, t - h, &a);
-          def.translation(j, t + h, &b);
-          const glm::vec3 tangent((b - a) / (2 * h));
-          track.values.insert(track.values.end(), {tangent, glm::vec3(tr), tangent});
-        } else {
-          track.values.push_back(glm::vec3(tr));
-        }
-      }
-    }
-  }
-  return clip;
-}
-
-glm::dvec3 restOffset(int j) {
-  const int p = kJoints[size_t(j)].parent;
-  return kJoints[size_t(j)].position - (p >= 0 ? kJoints[size_t(p)].position : glm::dvec3(0.0));
-}
-
-// Walk and run share one gait with different amplitudes.
-struct Gait {
-  double period, thigh, knee_base, knee, arm, elbow, lean, bob, twist;
-};
-
-ClipDef gaitClip(const char* name, const Gait& g, int keys, Interpolation interpolation) {
-  ClipDef def;
-  def.name = name;
-  def.duration = g.period;
-  def.loop = LoopMode::kLoop;
-  def.key_count = keys;
-  def.interpolation = interpolation;
-  def.rotation = [g](int j, double t, glm::dquat* q) {
-    const double p = 2 * kPi * t / g.period, s = std::sin(p), c = std::cos(p);
-    switch (j) {
-      case kPelvis: *q = axisAngle(g.twist * s, kY); return true;
-      case kSpine: *q = axisAngle(g.lean, kX) * axisAngle(-0.6 * g.twist * s, kY); return true;
-      case kChest: *q = axisAngle(-0.6 * g.twist * s, kY); return true;
-      case kHead: *q = axisAngle(-0.5 * g.lean + 0.03 * std::sin(2 * p), kX); return true;
-      case kLThigh: *q = axisAngle(-g.thigh * s, kX); return true;
-      case kRThigh: *q = axisAngle(g.thigh * s, kX); return true;
-      case kLShin: *q = axisAngle(g.knee_base + g.knee * (1 - c) / 2, kX); return true;
-      case kRShin: *q = axisAngle(g.knee_base + g.knee * (1 + c) / 2, kX); return true;
-      case kLFoot: *q = axisAngle(0.25 * g.thigh * s, kX); return true;
-      case kRFoot: *q = axisAngle(-0.25 * g.thigh * s, kX); return true;
-      case kLUpperArm: *q = axisAngle(g.arm * s, kX) * axisAngle(0.08, kZ); return true;
-      case kRUpperArm: *q = axisAngle(-g.arm * s, kX) * axisAngle(-0.08, kZ); return true;
-      case kLForearm: *q = axisAngle(-g.elbow - 0.3 * g.elbow * s, kX); return true;
-      case kRForearm: *q = axisAngle(-g.elbow + 0.3 * g.elbow * s, kX); return true;
-      default: return false;
-    }
-  };
-  def.translation = [g](int j, double t, glm::dvec3* tr) {
-    if (j != kPelvis) return false;
-    const double p = 2 * kPi * t / g.period;
-    *tr = restOffset(kPelvis) + glm::dvec3(0, g.bob * std::cos(2 * p) - g.bob, 0);
-    return true;
-  };
-  return def;
-}
-
-// A gait that travels: the root joint (a game rig's root bone, at the feet) moves forward (+Z,
-// the way the character faces) at `speed` units per second while turning left (about +Y) at
-// `yaw_rate` radians per second, on the arc that keeps it moving the way it faces.
-ClipDef travelingClip(const char* name, ClipDef gait, double speed, double yaw_rate) {
-  gait.name = name;
-  const auto rotation = gait.rotation;
-  const auto translation = gait.translation;
-  gait.rotation = [rotation, yaw_rate](int j, double t, glm::dquat* q) {
-    if (j != kRoot) return rotation(j, t, q);
-    *q = axisAngle(yaw_rate * t, kY);
-    return yaw_rate != 0.0;
-  };
-  gait.translation = [translation, speed, yaw_rate](int j, double t, glm::dvec3* tr) {
-    if (j != kRoot) return translation(j, t, tr);
-    const double a = yaw_rate * t;
-    *tr = restOffset(kRoot) + (yaw_rate == 0.0 ? glm::dvec3(0, 0, speed * t)
-                                               : speed / yaw_rate *
-                                                     glm::dvec3(1 - std::cos(a), 0, std::sin(a)));
-    return true;
-  };
-  return gait;
-}
-
-ClipDef idleClip() {
-  ClipDef def;
-  def.name = "idle";
-  def.duration = 3.0;
-  def.loop = LoopMode::kLoop;
-  def.key_count = 31;
-  def.interpolation = Interpolation::kLinear;
-  def.rotation = [](int j, double t, glm::dquat* q) {
-    const double p = 2 * kPi * t / 3.0, s = std::sin(p);
-    switch (j) {
-      case kSpine: *q = axisAngle(0.02 * s, kX); return true;
-      case kChest: *q = axisAngle(0.03 * s, kX); return true;
-      case kHead: *q = axisAngle(0.15 * std::sin(p + 1.0), kY); return true;
-      case kLUpperArm: *q = axisAngle(0.05 + 0.03 * s, kZ); return true;
-      case kRUpperArm: *q = axisAngle(-0.05 - 0.03 * s, kZ); return true;
-      case kLForearm: *q = axisAngle(-0.15, kX); return true;
-      case kRForearm: *q = axisAngle(-0.15, kX); return true;
-      default: return false;
-    }
-  };
-  def.translation = [](int j, double t, glm::dvec3* tr) {
-    if (j != kPelvis) return false;
-    *tr = restOffset(kPelvis) + glm::dvec3(0, 0.005 * std::sin(2 * kPi * t / 3.0), 0);
-    return true;
-  };
-  return def;
-}
-
-ClipDef waveClip() {
-  ClipDef def;
-  def.name = "wave";
-  def.duration = 2.5;
-  def.loop = LoopMode::kOnce;
-  def.key_count = 26;
-  def.interpolation = Interpolation::kLinear;
-  def.step_joint = kRHand;
-  def.rotation = [](int j, double t, glm::dquat* q) {
-    // Raise in the first 0.8 s, wave, lower in the last 0.7 s; ends at the rest pose.
-    const double env = smoothstep(0.0, 0.8, t) * (1.0 - smoothstep(1.8, 2.5, t));
-    switch (j) {
-      case kRUpperArm: *q = axisAngle(-2.5 * env, kZ); return true;
-      case kRForearm: *q = axisAngle(env * (-0.4 + 0.35 * std::sin(2 * kPi * 1.2 * t)), kZ); return true;
-      case kRHand: *q = axisAngle(env * (std::fmod(t, 0.4) < 0.2 ? 0.3 : -0.3), kY); return true;
-      case kHead: *q = axisAngle(-0.25 * env, kY); return true;
-      default: return false;
-    }
-  };
-  return def;
-}
-
 }  // namespace
 
 DefaultCharacterDesc resolveDefaults(const DefaultCharacterDesc& desc) {
@@ -479,23 +241,7 @@ Status makeDefaultCharacter(const DefaultCharacterDesc& in_desc, Character* out)
     c.mesh.sub_meshes.push_back(sm);
   }
 
-  c.clips.push_back(buildClip(idleClip()));
-  c.clips.push_back(buildClip(
-      gaitClip("walk", {1.0, 0.45, 0.1, 0.5, 0.35, 0.25, 0.04, 0.02, 0.08}, 25,
-               Interpolation::kLinear)));  // walk_forward's gait too (below).
-  c.clips.push_back(buildClip(
-      gaitClip("run", {0.66, 0.8, 0.2, 1.0, 0.6, 1.1, 0.18, 0.04, 0.12}, 9,
-               Interpolation::kCubicSpline)));
-  c.clips.push_back(buildClip(waveClip()));
-  if (desc.moving_clips) {
-    const Gait walk = {1.0, 0.45, 0.1, 0.5, 0.35, 0.25, 0.04, 0.02, 0.08};
-    c.clips.push_back(buildClip(travelingClip(
-        "walk_forward", gaitClip("", walk, 25, Interpolation::kLinear), 1.3, 0.0)));
-    c.clips.push_back(buildClip(travelingClip(
-        "walk_turn_left", gaitClip("", walk, 25, Interpolation::kLinear), 1.0, kPi / 4)));
-    for (size_t i = c.clips.size() - 2; i < c.clips.size(); ++i) c.clips[i].root_motion.extract = true;
-  }
-
+  c.clips = detail::embedded::defaultClips(desc.moving_clips);
   c.materials.push_back(Material{"character", glm::vec4(1.0f), 0});
   c.images.emplace_back();
   makeTexture(&c.images.back());
