@@ -27,8 +27,6 @@ struct Rigid {
   double scale = 1.0;
 };
 
-constexpr double kPi = 3.14159265358979323846;
-
 // Relative tolerance for "uniform and orthogonal" when checking a joint for the rigid format.
 constexpr double kRigidTolerance = 1e-4;
 
@@ -109,7 +107,7 @@ Status bakeTexels(const Character& character, const BakeDesc& d, const PalettePl
       if (!s.isOk()) return s;
       if (clip.root_motion.extract) {  // Yaw unwrapped from the previous frame's.
         const double previous = f == 0 ? 0.0 : double(bc.root_motion.back().z);
-        const double yaw = f == 0 ? 0.0 : previous + std::remainder(motion.yaw - previous, 2.0 * kPi);
+        const double yaw = f == 0 ? 0.0 : previous + wrapAngle(motion.yaw - previous);
         bc.root_motion.push_back(f == 0 ? glm::vec3(0.0f)
                                         : glm::vec3(glm::dvec3(motion.translation, yaw)));
       }

@@ -13,8 +13,6 @@ namespace si::detail {
 
 namespace {
 
-constexpr double kPi = 3.14159265358979323846;
-
 // Times at which the shader's result is compared with the reference: every frame interval at
 // fractions 0, 1/4, 1/2, 3/4 (or only 1/2 for the rate search), and the clip's end.
 std::vector<double> measurementTimes(const BakedClip& clip, bool midpoints_only) {
@@ -138,7 +136,7 @@ Status measureClip(const Character& character, const SkinnedMesh& mesh,
       if (!s.isOk()) return s;
       const GroundMotion baked = sampleRootMotion(bc, sample);
       const double e = glm::length(baked.translation - exact.translation) +
-                       std::fabs(std::remainder(baked.yaw - exact.yaw, 2.0 * kPi)) * height;
+                       std::fabs(wrapAngle(baked.yaw - exact.yaw)) * height;
       r.root_motion_max_error_units = std::max(r.root_motion_max_error_units, e);
     }
     for (uint32_t j : p.palette_joints)
@@ -155,10 +153,9 @@ Status measureClip(const Character& character, const SkinnedMesh& mesh,
     const size_t k = std::min(errors.size() - 1, size_t(std::ceil(0.99 * errors.size())) - 1);
     std::nth_element(errors.begin(), errors.begin() + std::ptrdiff_t(k), errors.end());
     r.p99_error_units = errors[k];
-    const double h = height;
-    r.max_error_ratio = r.max_error_units / h;
-    r.p99_error_ratio = r.p99_error_units / h;
-    r.mean_error_ratio = r.mean_error_units / h;
+    r.max_error_ratio = r.max_error_units / height;
+    r.p99_error_ratio = r.p99_error_units / height;
+    r.mean_error_ratio = r.mean_error_units / height;
   }
   r.root_motion_max_error_ratio = r.root_motion_max_error_units / height;
   return Status::ok();

@@ -27,11 +27,12 @@ glm::dvec2 rotateY(double yaw, const glm::dvec2& v) {
   return {c * v.x + s * v.y, -s * v.x + c * v.y};
 }
 
-double wrapPi(double a) {
-  a = std::remainder(a, 2.0 * kPi);  // [-pi, pi]
+}  // namespace
+
+double wrapAngle(double radians) {
+  const double a = std::remainder(radians, 2.0 * kPi);  // [-pi, pi]
   return a <= -kPi ? a + 2.0 * kPi : a;
 }
-}  // namespace
 
 glm::dmat4 groundMotionMatrix(const GroundMotion& m) {
   const double c = std::cos(m.yaw), s = std::sin(m.yaw);
@@ -88,7 +89,7 @@ double groundYaw(const glm::dmat4& model) {
   const glm::dquat q = glm::quat_cast(glm::dmat3(c0, c1, c2));
   // The twist of q about +Y: its (w, y) components (the same for swing-twist in either order).
   if (std::fabs(q.w) < 1e-12 && std::fabs(q.y) < 1e-12) return 0.0;  // Upside down: none.
-  return wrapPi(2.0 * std::atan2(q.y, q.w));
+  return wrapAngle(2.0 * std::atan2(q.y, q.w));
 }
 
 GroundMotion groundMotionBetween(const glm::dmat4& model_at_start, const glm::dmat4& model_at_t) {
@@ -96,7 +97,7 @@ GroundMotion groundMotionBetween(const glm::dmat4& model_at_start, const glm::dm
   const GroundMotion g0{{model_at_start[3].x, model_at_start[3].z}, groundYaw(model_at_start)};
   const GroundMotion gt{{model_at_t[3].x, model_at_t[3].z}, groundYaw(model_at_t)};
   GroundMotion m = composeGroundMotion(gt, inverseGroundMotion(g0));
-  m.yaw = wrapPi(m.yaw);
+  m.yaw = wrapAngle(m.yaw);
   return m;
 }
 

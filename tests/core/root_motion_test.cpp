@@ -38,6 +38,11 @@ TEST(GroundMotion, AlgebraMatchesTheMatrices) {
   const GroundMotion none = repeatGroundMotion(a, 0);
   EXPECT_EQ(none.translation, glm::dvec2(0.0));
   EXPECT_EQ(none.yaw, 0.0);
+  // Angles wrap into (-pi, pi].
+  EXPECT_NEAR(wrapAngle(1.5 * kPi), -0.5 * kPi, 1e-12);
+  EXPECT_EQ(wrapAngle(-kPi), kPi);
+  EXPECT_EQ(wrapAngle(kPi), kPi);
+  EXPECT_NEAR(wrapAngle(7.0 * kPi + 0.25), -kPi + 0.25, 1e-12);
   // A million repeats of a pure turn: yaw adds up without wrapping.
   EXPECT_NEAR(repeatGroundMotion({{0, 0}, 1e-3}, 1000000).yaw, 1000.0, 1e-9);
 }

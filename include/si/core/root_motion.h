@@ -56,6 +56,9 @@ struct GroundMotion {
                                              ///< samples are continuous, so yaw can pass pi).
 };
 
+/// `radians` wrapped into (-pi, pi]: the shorter way between two yaws is wrapAngle(b - a).
+double wrapAngle(double radians);
+
 /// The 4x4 matrix T(x, 0, z) * R_y(yaw).
 glm::dmat4 groundMotionMatrix(const GroundMotion& m);
 /// `a` then `b` in `a`'s frame: the motion whose matrix is matrix(a) * matrix(b).
