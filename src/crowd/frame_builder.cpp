@@ -332,6 +332,7 @@ void forEachChunk(const FrameInputs& in, uint32_t chunk_count, const Body& body)
 
 void buildFrame(const FrameInputs& in, InstanceStore& st, CrowdFrame* frame) {
   CrowdFrame& f = *frame;
+  const uint32_t last_visible = f.stats.visible;  // The records the last update wrote.
   const uint32_t n = st.size();
   const uint32_t chunk_count = (n + kChunkInstances - 1) / kChunkInstances;
   f.stats = CrowdFrameStats();
@@ -350,7 +351,7 @@ void buildFrame(const FrameInputs& in, InstanceStore& st, CrowdFrame* frame) {
   // Motion vectors: the last update's records become the previous ones (a swap, no copy).
   if (in.previous_records) {
     std::swap(f.records, f.previous_records);
-    f.previous_visible = f.stats_visible_last;
+    f.previous_visible = last_visible;
   }
   // Grown, never shrunk: records() views the first stats.visible (no zeroing per frame).
   const uint32_t visible = f.stats.visible;
@@ -360,7 +361,6 @@ void buildFrame(const FrameInputs& in, InstanceStore& st, CrowdFrame* frame) {
   if (fallback && f.record_masks.size() < visible) f.record_masks.resize(visible);
   forEachChunk(in, chunk_count, [&](uint32_t c) { writeChunk(in, st, fallback, f.chunks[c], f); });
   buildBucketRuns(in.params.lod_count, in.sub_mesh_count, fallback, &f);
-  f.stats_visible_last = visible;
 }
 
 }  // namespace si::detail

@@ -50,7 +50,6 @@ struct CrowdFrame {
   // previous_visible), and per record the index of the instance's record in them.
   std::vector<InstanceRecord> previous_records;
   uint32_t previous_visible = 0;
-  uint32_t stats_visible_last = 0;  // Records the last buildFrame() wrote.
   std::vector<uint32_t> previous_index;
   std::vector<uint32_t> record_masks;           // Parallel: worn masks.
   std::vector<ChunkWork> chunks;

@@ -54,8 +54,8 @@ SI_INLINE MotionAt uniformMotionAt(const BakedClip& clip, const ClipTiming& c, d
 
 // The baked motion of playback `p` between crowd clocks c0 <= c1 (from its start at the
 // latest): M(u0)^-1 * M(u1). Within one cycle of a uniform clip (almost every step) that is
-// (R(-yaw0) (t1 - t0), yaw1 - yaw0) from two lerps and one sine and cosine; otherwise
-// si::rootMotionBetween.
+// (R(-yaw0) (t1 - t0), yaw1 - yaw0) from two lerps, the cosine table and small-angle
+// polynomials; otherwise si::rootMotionBetween.
 SI_INLINE GroundMotion playbackMotion(const BakedPalette& palette, const std::vector<ClipTiming>& clips,
                             const Playback& p, double c0, double c1) {
   const BakedClip& clip = palette.clips[p.clip];
