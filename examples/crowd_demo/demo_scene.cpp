@@ -41,7 +41,7 @@ si::Status DemoScene::loadCharacter(const SceneOptions& options) {
   }
   if (options.model.empty()) {
     si::DefaultCharacterDesc embedded;
-    embedded.moving_clips = true;  // Played only with root motion on (key R).
+    embedded.moving_clips = options.root_motion;  // Else added when key R first asks.
     s = si::makeDefaultCharacter(embedded, &character_);
   } else {
     si::GltfImportReport gr;
@@ -120,10 +120,10 @@ void DemoScene::printSummary() const {
     else
       std::printf("\nLOD by distance lines (the technique's)\n");
   }
-  std::printf("%-8s %10s %6s %9s %8s %12s\n", "clip", "duration s", "loop", "rate Hz", "frames",
+  std::printf("%-14s %10s %6s %9s %8s %12s\n", "clip", "duration s", "loop", "rate Hz", "frames",
               "max error");
   for (size_t i = 0; i < p.clips.size(); ++i) {
-    std::printf("%-8s %10.3f %6s %9.1f %8u ", p.clips[i].name.c_str(),
+    std::printf("%-14s %10.3f %6s %9.1f %8u ", p.clips[i].name.c_str(),
                 double(p.clips[i].duration_seconds),
                 p.clips[i].loop_mode == si::LoopMode::kLoop ? "yes" : "no",
                 p.clips[i].sampleRateHz(), p.clips[i].frame_count);
@@ -361,9 +361,30 @@ si::Status DemoScene::toggleEvents() {
   return gl_ready_ ? buildCrowd() : si::Status::ok();
 }
 
+si::Status DemoScene::addTravellingClips() {
+  si::DefaultCharacterDesc moving;
+  moving.moving_clips = true;
+  si::Character c;
+  si::Status s = si::makeDefaultCharacter(moving, &c);
+  if (!s.isOk()) return s;
+  for (si::Clip& clip : c.clips)
+    if (clip.root_motion.extract) character_.clips.push_back(std::move(clip));
+  s = bake();
+  if (s.isOk() && gl_ready_) s = renderer_.uploadPalette(palette_);
+  if (s.isOk() && gl_ready_) s = renderer_.uploadCharacter(character_, palette_);
+  return s;
+}
+
 si::Status DemoScene::toggleRootMotion() {
   options_.root_motion = !options_.root_motion;
-  si::Status s = gl_ready_ ? buildCrowd() : si::Status::ok();
+  si::Status s;
+  bool travelling = false;
+  for (const si::BakedClip& clip : palette_.clips) travelling |= !clip.root_motion.empty();
+  // The embedded character, baked here without its travelling clips: add them now.
+  if (options_.root_motion && !travelling && options_.model.empty() && options_.palette.empty() &&
+      options_.clips.empty())
+    s = addTravellingClips();
+  if (s.isOk() && gl_ready_) s = buildCrowd();
   if (!s.isOk()) {
     options_.root_motion = !options_.root_motion;
     if (gl_ready_) (void)buildCrowd();

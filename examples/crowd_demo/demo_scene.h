@@ -70,9 +70,9 @@ class DemoScene {
   /// character (kept across re-layouts); the events each update reports are counted.
   si::Status toggleEvents();
   /// Root motion on or off: the field plays the palette's clips that carry root motion (the
-  /// embedded character's walk_forward and walk_turn_left; a model's from si-bake
-  /// --root-motion) and the crowd moves every character by it; off, the clips in place.
-  /// kUnsupported when no clip carries root motion.
+  /// embedded character's walk_forward and walk_turn_left, baked the first time it is turned
+  /// on; a model's from si-bake --root-motion) and the crowd moves every character by it; off,
+  /// the clips in place. kUnsupported when no clip carries root motion.
   si::Status toggleRootMotion();
 
   DrawPath path() const { return path_; }
@@ -128,6 +128,8 @@ class DemoScene {
   bool lod_tint_ = false, restore_colors_ = false;
   bool gl_ready_ = false;
   si::Status addEventMarkers();
+  /// The embedded character's travelling clips, added and baked (then re-uploaded).
+  si::Status addTravellingClips();
 
   DemoCast cast_;
   bool mixed_ = false;
