@@ -306,6 +306,9 @@ Status CrowdManager::update(double dt, const Camera& camera, const ParallelFor& 
   in.root_motion = state_->store.root_motion_count > 0;
   in.previous_records = desc_.previous_records;
   detail::buildFrame(in, state_->store, &state_->frame);
+  state_->previous_camera = state_->updated ? state_->camera : camera;
+  state_->camera = camera;
+  state_->updated = true;
   // Instances moved by their root motion: the exported state changed.
   if (in.root_motion && dt > 0.0) state_->store.version = detail::nextStateVersion();
   return Status::ok();
@@ -353,6 +356,12 @@ Span<const InstanceRecord> CrowdManager::previousRecords() const {
   if (!state_ || !desc_.previous_records) return {};
   const detail::CrowdFrame& f = state_->frame;
   return Span<const InstanceRecord>(f.previous_records.data(), f.previous_visible);
+}
+const Camera& CrowdManager::updateCamera() const {
+  return (state_ ? *state_ : emptyState()).camera;
+}
+const Camera& CrowdManager::previousUpdateCamera() const {
+  return (state_ ? *state_ : emptyState()).previous_camera;
 }
 Span<const uint32_t> CrowdManager::previousRecordIndices() const {
   if (!state_ || !desc_.previous_records) return {};

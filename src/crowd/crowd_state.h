@@ -22,6 +22,9 @@ struct CrowdManager::State {
   std::vector<float> lod_lines;           // Resolved distances in radii.
   float radius = 1.0f;
   double clock = 0.0, clock_compensation = 0.0;
+  // The cameras of the last update and of the one before it (motion vectors).
+  Camera camera, previous_camera;
+  bool updated = false;  // Whether update() has run since init().
   // update(dt, camera)'s own workers (CrowdDesc::worker_threads), started when first needed.
   std::unique_ptr<WorkerPool> pool;
 };

@@ -53,6 +53,49 @@ size_t InstanceBatcher::recordBufferBound(const CrowdManager& crowd) const {
   return bytes;
 }
 
+namespace {
+
+// build()'s walk: every bucket cut into batches of at most `capacity` entries at aligned
+// offsets, each filled from consecutive pieces of the bucket's runs by copy(dst, first, count)
+// (records()[first .. first + count) go to dst). Adds each batch to `draws` when non-null.
+template <typename CopyRun>
+void walkBatches(const CrowdManager& crowd, uint32_t capacity, uint32_t alignment, uint8_t* out,
+                 std::vector<DrawBatch>* draws, const CopyRun& copy) {
+  const std::vector<uint32_t>& offsets = crowd.bucketOffsets();
+  const std::vector<uint32_t>& run_offsets = crowd.bucketRunOffsets();
+  const std::vector<RecordRun>& runs = crowd.bucketRuns();
+  const uint32_t submeshes = crowd.desc().sub_mesh_count;
+  size_t cursor = 0;
+  for (uint32_t b = 0; b + 1 < offsets.size(); ++b) {
+    uint32_t r = run_offsets[b], used_of_run = 0;
+    for (uint32_t left = offsets[b + 1] - offsets[b]; left > 0;) {
+      const uint32_t n = std::min(capacity, left);
+      cursor = alignUp(cursor, alignment);
+      DrawBatch d;
+      d.lod = static_cast<uint16_t>(b / submeshes);
+      d.sub_mesh = static_cast<uint16_t>(b % submeshes);
+      d.byte_offset = static_cast<uint32_t>(cursor);
+      d.instance_count = n;
+      for (uint32_t copied = 0; copied < n;) {
+        const RecordRun& run = runs[r];
+        const uint32_t take = std::min(n - copied, run.count - used_of_run);
+        copy(out + cursor, run.first + used_of_run, take);
+        cursor += size_t(take) * kInstanceRecordSize;
+        copied += take;
+        used_of_run += take;
+        if (used_of_run == run.count) {
+          ++r;
+          used_of_run = 0;
+        }
+      }
+      if (draws != nullptr) draws->push_back(d);
+      left -= n;
+    }
+  }
+}
+
+}  // namespace
+
 Status InstanceBatcher::build(const CrowdManager& crowd, Span<uint8_t> out,
                               std::vector<DrawBatch>* draws) const {
   if (capacity_ == 0) return {StatusCode::kInvalidArgument, "InstanceBatcher: init() first"};
@@ -63,41 +106,41 @@ Status InstanceBatcher::build(const CrowdManager& crowd, Span<uint8_t> out,
     return {StatusCode::kCountMismatch, strCat("InstanceBatcher::build: the record buffer holds ",
                                                out.size(), " bytes, the frame needs ", needed)};
   draws->clear();
-  const std::vector<uint32_t>& offsets = crowd.bucketOffsets();
-  const std::vector<uint32_t>& run_offsets = crowd.bucketRunOffsets();
-  const std::vector<RecordRun>& runs = crowd.bucketRuns();
   const uint8_t* records = reinterpret_cast<const uint8_t*>(crowd.records().data());
-  const uint32_t submeshes = crowd.desc().sub_mesh_count;
-  size_t cursor = 0;
-  for (uint32_t b = 0; b + 1 < offsets.size(); ++b) {
-    // Batches of up to capacity_ entries, each filled from consecutive pieces of the runs.
-    uint32_t r = run_offsets[b], used_of_run = 0;
-    for (uint32_t left = offsets[b + 1] - offsets[b]; left > 0;) {
-      const uint32_t n = std::min(capacity_, left);
-      cursor = alignUp(cursor, alignment_);
-      DrawBatch d;
-      d.lod = static_cast<uint16_t>(b / submeshes);
-      d.sub_mesh = static_cast<uint16_t>(b % submeshes);
-      d.byte_offset = static_cast<uint32_t>(cursor);
-      d.instance_count = n;
-      for (uint32_t copied = 0; copied < n;) {
-        const RecordRun& run = runs[r];
-        const uint32_t take = std::min(n - copied, run.count - used_of_run);
-        std::memcpy(out.data() + cursor,
-                    records + size_t(run.first + used_of_run) * kInstanceRecordSize,
-                    size_t(take) * kInstanceRecordSize);
-        cursor += size_t(take) * kInstanceRecordSize;
-        copied += take;
-        used_of_run += take;
-        if (used_of_run == run.count) {
-          ++r;
-          used_of_run = 0;
-        }
-      }
-      draws->push_back(d);
-      left -= n;
-    }
-  }
+  walkBatches(crowd, capacity_, alignment_, out.data(), draws,
+              [records](uint8_t* dst, uint32_t first, uint32_t count) {
+                std::memcpy(dst, records + size_t(first) * kInstanceRecordSize,
+                            size_t(count) * kInstanceRecordSize);
+              });
+  return Status::ok();
+}
+
+Status InstanceBatcher::buildPrevious(const CrowdManager& crowd, Span<uint8_t> out) const {
+  if (capacity_ == 0) return {StatusCode::kInvalidArgument, "InstanceBatcher: init() first"};
+  if (!crowd.desc().previous_records)
+    return {StatusCode::kInvalidArgument,
+            "InstanceBatcher::buildPrevious: the crowd keeps no previous records "
+            "(CrowdDesc::previous_records)"};
+  const size_t needed = recordBufferBound(crowd);
+  if (out.size() < needed)
+    return {StatusCode::kCountMismatch,
+            strCat("InstanceBatcher::buildPrevious: the record buffer holds ", out.size(),
+                   " bytes, the frame needs ", needed)};
+  const Span<const InstanceRecord> records = crowd.records();
+  const Span<const InstanceRecord> previous = crowd.previousRecords();
+  const Span<const uint32_t> index = crowd.previousRecordIndices();
+  // The fallback's translation moves from the last camera's origin to the previous one's.
+  const glm::vec3 shift(crowd.updateCamera().position - crowd.previousUpdateCamera().position);
+  walkBatches(crowd, capacity_, alignment_, out.data(), nullptr,
+              [&](uint8_t* dst, uint32_t first, uint32_t count) {
+                for (uint32_t k = 0; k < count; ++k) {
+                  const uint32_t i = first + k, p = index[i];
+                  InstanceRecord rec = p < previous.size() ? previous[p] : records[i];
+                  if (p >= previous.size())
+                    for (int row = 0; row < 3; ++row) rec.world_rows[row][3] += shift[row];
+                  std::memcpy(dst + size_t(k) * kInstanceRecordSize, &rec, kInstanceRecordSize);
+                }
+              });
   return Status::ok();
 }
 

@@ -9,6 +9,7 @@
 #include <map>
 
 #include "crowd/crowd_test_helpers.h"
+#include "si/crowd/instance_batcher.h"
 
 namespace si {
 namespace {
@@ -148,6 +149,76 @@ TEST(PreviousRecords, OffByDefault) {
   EXPECT_EQ(crowd.records().size(), 1u);
   EXPECT_TRUE(crowd.previousRecords().empty());
   EXPECT_TRUE(crowd.previousRecordIndices().empty());
+}
+
+TEST(PreviousRecords, TheCamerasOfTheLastTwoUpdates) {
+  CrowdManager crowd = makeCrowd(1);
+  const Camera a = test::testCamera({0, 2, -6}, {0, 1, 0}), b = test::testCamera({1, 2, -6}, {0, 1, 0});
+  ASSERT_TRUE(crowd.update(0.1, a).isOk());
+  EXPECT_EQ(crowd.updateCamera().position, a.position);
+  EXPECT_EQ(crowd.previousUpdateCamera().position, a.position);  // No update before: the same.
+  ASSERT_TRUE(crowd.update(0.1, b).isOk());
+  EXPECT_EQ(crowd.updateCamera().position, b.position);
+  EXPECT_EQ(crowd.previousUpdateCamera().position, a.position);
+  EXPECT_EQ(crowd.previousUpdateCamera().viewProjection(), a.viewProjection());
+}
+
+// buildPrevious: build()'s slots, each holding its instance's previous record, or where it has
+// none its current record moved from the last camera's origin to the previous one's.
+TEST(PreviousRecords, TheBatcherWritesThemInBuildsSlots) {
+  CrowdManager crowd = makeCrowd(3);
+  std::vector<glm::dvec3> spots;
+  for (int i = 0; i < 3000; ++i) spots.push_back({(i % 60) * 1.5, 0.0, (i / 60) * 1.5});
+  RandomCrowdDesc r;
+  r.positions = spots;
+  r.optional_mask = 0xE;
+  std::vector<InstanceHandle> handles;
+  ASSERT_TRUE(crowd.addRandom(r, &handles).isOk());
+  InstanceBatcher batcher;
+  ASSERT_TRUE(batcher.init({16384, 256, 0}).isOk());  // Many batches.
+  size_t with = 0, without = 0;
+  for (int frame = 0; frame < 4; ++frame) {
+    if (frame == 2)  // Teleports: no previous record.
+      for (size_t i = 0; i < handles.size(); i += 50) {
+        InstanceDesc d;
+        ASSERT_TRUE(crowd.get(handles[i], &d).isOk());
+        ASSERT_TRUE(crowd.setTransform(handles[i], d.position, d.rotation, d.scale).isOk());
+      }
+    const Camera camera = test::testCamera({45, 10, -20.0 + 5.0 * frame}, {45, 0, 50});
+    ASSERT_TRUE(crowd.update(0.1, camera).isOk());
+    std::vector<uint8_t> current(batcher.recordBufferBound(crowd)), previous(current.size());
+    std::vector<DrawBatch> draws;
+    ASSERT_TRUE(batcher.build(crowd, current, &draws).isOk());
+    ASSERT_TRUE(batcher.buildPrevious(crowd, previous).isOk());
+    const glm::vec3 shift(crowd.updateCamera().position - crowd.previousUpdateCamera().position);
+    const std::vector<uint32_t>& entries = crowd.bucketEntries();
+    size_t e = 0;
+    for (const DrawBatch& d : draws)
+      for (uint32_t k = 0; k < d.instance_count; ++k, ++e) {
+        const uint32_t rec = entries[e], p = crowd.previousRecordIndices()[rec];
+        InstanceRecord now, then;
+        std::memcpy(&now, current.data() + d.byte_offset + k * kInstanceRecordSize, sizeof now);
+        std::memcpy(&then, previous.data() + d.byte_offset + k * kInstanceRecordSize, sizeof then);
+        ASSERT_TRUE(sameRecord(now, crowd.records()[rec]));
+        InstanceRecord expected = crowd.records()[rec];
+        if (p != CrowdManager::kNoPreviousRecord) {
+          expected = crowd.previousRecords()[p];
+          ++with;
+        } else {
+          for (int row = 0; row < 3; ++row) expected.world_rows[row][3] += shift[row];
+          ++without;
+        }
+        ASSERT_TRUE(sameRecord(then, expected)) << "frame " << frame << " record " << rec;
+      }
+    EXPECT_EQ(e, entries.size());
+  }
+  EXPECT_GT(with, 1000u);
+  EXPECT_GT(without, 1000u);  // The first frame, instances entering the view, the teleported.
+  std::vector<uint8_t> small(batcher.recordBufferBound(crowd) - 1);
+  EXPECT_EQ(batcher.buildPrevious(crowd, small).code(), StatusCode::kCountMismatch);
+  CrowdManager plain = makeCrowd(1, false);
+  EXPECT_EQ(batcher.buildPrevious(plain, small).code(), StatusCode::kInvalidArgument);
+  EXPECT_EQ(InstanceBatcher().buildPrevious(crowd, small).code(), StatusCode::kInvalidArgument);
 }
 
 }  // namespace

@@ -306,6 +306,12 @@ class CrowdManager {
   /// does a crossfade or a new clip (the record holds what was drawn). Empty unless
   /// CrowdDesc::previous_records.
   Span<const uint32_t> previousRecordIndices() const;
+  /// The camera the last update() was given: records() are relative to its position.
+  const Camera& updateCamera() const;
+  /// The camera of the update() before the last one (previousRecords() are relative to its
+  /// position); after the first update, the last one's. Renderers project previous positions
+  /// with it (Renderer motion vectors, InstanceBatcher::buildPrevious).
+  const Camera& previousUpdateCamera() const;
   /// The LOD an instance was given by the last update() (kNotFound for stale handles).
   Status lodOf(InstanceHandle h, uint32_t* lod) const;
 

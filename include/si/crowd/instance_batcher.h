@@ -85,6 +85,17 @@ class InstanceBatcher {
   /// Does not allocate once `draws` has reached the needed capacity.
   Status build(const CrowdManager& crowd, Span<uint8_t> out, std::vector<DrawBatch>* draws) const;
 
+  /// Motion vectors: writes, in build()'s layout (the same draws, byte offsets and slots), each
+  /// instance's record of the previous update (CrowdManager::previousRecords()), relative to
+  /// the previous update's camera. Where an instance has none (kNoPreviousRecord: not drawn
+  /// then, added or teleported since), its slot holds its current record moved to the previous
+  /// camera's origin: it has not moved, only the camera has. Bind it beside the current block
+  /// (si_skinning.glsl's SiPreviousInstances, SI_PREVIOUS_RECORDS) and project with the
+  /// previous camera. kInvalidArgument if not initialized or the crowd does not keep previous
+  /// records (CrowdDesc::previous_records); kCountMismatch when `out` is smaller than
+  /// recordBufferBound(crowd) (nothing written).
+  Status buildPrevious(const CrowdManager& crowd, Span<uint8_t> out) const;
+
   /// The same draws without copying a record: each bucket's runs (CrowdManager::bucketRuns)
   /// cut where a block would exceed capacityPerDraw(). An application uploads records() once
   /// (80 bytes per visible instance, instead of 80 per worn sub-mesh) and binds each draw's
