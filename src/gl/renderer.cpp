@@ -236,6 +236,11 @@ void Renderer::setGpuOcclusionCulling(bool on) {
   if (impl_) impl_->desc.gpu_occlusion_culling = on;
 }
 
+void Renderer::setMotionVectors(bool on) {
+  if (impl_) impl_->desc.motion_vectors = on;
+}
+bool Renderer::motionVectors() const { return impl_ && impl_->desc.motion_vectors; }
+
 // Before a character's upload: the explicit setting, or the vertex shader until measured.
 SkinningPath Renderer::skinningPath(CharacterId id) const {
   if (!impl_) return SkinningPath::kVertexShader;
@@ -285,24 +290,42 @@ Status Renderer::drawCrowd(CharacterId id, const CrowdManager& crowd,
             strCat("drawCrowd: the batcher's ", batcher.capacityPerDraw(),
                    " instances per draw exceed the shader's ", m.capacity,
                    " (init the batcher with batchLimits())")};
+  if (mode == DrawMode::kDefault)
+    mode = c->path == SkinningPath::kCompute ? DrawMode::kComputeSkinned : DrawMode::kSkinned;
+  // Motion vectors: the skinned colour modes (depth-only and rigid draws write none).
+  const bool motion = m.desc.motion_vectors &&
+                      (mode == DrawMode::kSkinned || mode == DrawMode::kComputeSkinned);
+  if (motion && !crowd.desc().previous_records)
+    return {StatusCode::kInvalidArgument,
+            "drawCrowd: motion vectors (RendererDesc::motion_vectors) need a crowd that keeps its "
+            "previous records (CrowdDesc::previous_records)"};
   const auto t0 = std::chrono::steady_clock::now();
-  s = m.ring.reserve(batcher.recordBufferBound(crowd));
+  // The previous records (motion vectors) follow the records at the next aligned offset.
+  const size_t bound = batcher.recordBufferBound(crowd);
+  const size_t previous_offset = (bound + m.alignment - 1) / m.alignment * m.alignment;
+  s = m.ring.reserve(motion ? previous_offset + bound : bound);
   if (!s.isOk()) return s;
   const size_t base = m.ring.acquire();
   s = batcher.build(crowd, Span<uint8_t>(m.ring.mapped(base), m.ring.writableBytes()),
                     &m.batches);
+  if (s.isOk() && motion)
+    s = batcher.buildPrevious(crowd, Span<uint8_t>(m.ring.mapped(base + previous_offset),
+                                                   m.ring.writableBytes() - previous_offset));
   if (!s.isOk()) return s;
-  if (mode == DrawMode::kDefault)
-    mode = c->path == SkinningPath::kCompute ? DrawMode::kComputeSkinned : DrawMode::kSkinned;
   detail::PathFrame frame;
   frame.crowd = &crowd;
   frame.camera = camera;
   frame.light = light_direction_;
   frame.program = mode == DrawMode::kDepthOnly ? detail::ProgramId::kDepthOnly
                   : mode == DrawMode::kRigid   ? detail::ProgramId::kRigid
+                  : motion                     ? detail::ProgramId::kSkinnedMotion
                                                : detail::ProgramId::kSkinned;
   frame.batches = &m.batches;
   frame.ring_base = base;
+  frame.motion = motion;
+  frame.previous_base = base + previous_offset;
+  frame.motion_view_projection = crowd.updateCamera().viewProjection();
+  frame.previous_view_projection = crowd.previousUpdateCamera().viewProjection();
   detail::DrawPath& path = mode == DrawMode::kComputeSkinned
                                ? static_cast<detail::DrawPath&>(c->compute_path)
                                : m.vertex_path;
@@ -319,6 +342,7 @@ Status Renderer::drawTraditional(CharacterId id, const CrowdManager& crowd, cons
                                  DrawStats* stats) {
   detail::CharacterSlot* c = nullptr;
   Status s = impl_ ? impl_->find(id, "drawTraditional", &c, &crowd) : noRenderer("drawTraditional");
+  if (s.isOk()) s = impl_->noMotion("drawTraditional");
   return s.isOk() ? impl_->drawCrowdOnly(*c, impl_->traditional_path, "drawTraditional", crowd,
                                          camera, light_direction_, stats)
                   : s;
@@ -328,6 +352,7 @@ Status Renderer::drawCpuSkinned(CharacterId id, const CrowdManager& crowd, const
                                 DrawStats* stats) {
   detail::CharacterSlot* c = nullptr;
   Status s = impl_ ? impl_->find(id, "drawCpuSkinned", &c, &crowd) : noRenderer("drawCpuSkinned");
+  if (s.isOk()) s = impl_->noMotion("drawCpuSkinned");
   return s.isOk() ? impl_->drawCrowdOnly(*c, c->cpu_path, "drawCpuSkinned", crowd, camera,
                                          light_direction_, stats)
                   : s;
@@ -339,6 +364,7 @@ Status Renderer::drawCrowdGpuCulled(CharacterId id, const CrowdManager& crowd,
   Impl& m = *impl_;
   detail::CharacterSlot* c = nullptr;
   Status s = m.find(id, "drawCrowdGpuCulled", &c, &crowd);
+  if (s.isOk()) s = m.noMotion("drawCrowdGpuCulled");
   if (!s.isOk()) return s;
   if (mode == DrawMode::kDepthOnly || mode == DrawMode::kRigid)
     return {StatusCode::kInvalidArgument,

@@ -46,6 +46,14 @@ struct Renderer::Impl {
 
   Status check(const char* what) const { return debug ? checkGlErrors(what) : Status::ok(); }
 
+  /// kUnsupported naming `what` while motion vectors are on: only drawCrowd draws them.
+  Status noMotion(const char* what) const {
+    if (!desc.motion_vectors) return Status::ok();
+    return {StatusCode::kUnsupported,
+            detail::strCat(what, " draws no motion vectors; with RendererDesc::motion_vectors "
+                                 "(setMotionVectors) on, draw the crowd with drawCrowd")};
+  }
+
   /// Character 0, created (empty) if there is none: what uploadPalette and uploadCharacter
   /// replace.
   detail::CharacterSlot& firstCharacter() {

@@ -99,6 +99,21 @@ struct RendererDesc {
   /// one without occlusion culling; what the application drew before also occludes, so it must
   /// have been drawn with the same camera. Switchable with setGpuOcclusionCulling().
   bool gpu_occlusion_culling = false;
+  /// Motion vectors, for temporal anti-aliasing, upscalers and motion blur. drawCrowd's skinned
+  /// colour draws (kDefault, kSkinned, kComputeSkinned; both skinning paths) also write each
+  /// fragment's screen motion since the previous frame to fragment output 1 (bind a framebuffer
+  /// with a second colour attachment, e.g. GL_RG16F, and both draw buffers): this frame's
+  /// position minus the previous one, in texture coordinate units (the viewport spans 1 in x
+  /// and y; a pixel p came from p - motion). The previous position skins each vertex with the
+  /// instance's previous record (CrowdDesc::previous_records, required: kInvalidArgument
+  /// otherwise) and projects it with the camera of the crowd's previous update(); the current
+  /// one uses the camera of its last update (CrowdManager::previousUpdateCamera(),
+  /// updateCamera()), so a jittered projection given to the draw does not enter the motion. An
+  /// instance without a previous record (not drawn then, added or teleported since) gets the
+  /// camera's motion only (InstanceBatcher::buildPrevious). kDepthOnly and kRigid draws write
+  /// no motion; drawTraditional, drawCpuSkinned and drawCrowdGpuCulled return kUnsupported while
+  /// it is on. Switchable with setMotionVectors().
+  bool motion_vectors = false;
   /// Largest side of the base colour texture array's layers (si::buildMaterialTable: every
   /// material image resized to one size, so all materials share a draw); 0 means 2048.
   uint32_t max_texture_size = 0;
@@ -187,6 +202,9 @@ class Renderer {
   uint64_t computeRingBytes() const;
   /// Turns RendererDesc::gpu_occlusion_culling on or off from the next drawCrowdGpuCulled().
   void setGpuOcclusionCulling(bool on);
+  /// Turns RendererDesc::motion_vectors on or off from the next draw.
+  void setMotionVectors(bool on);
+  bool motionVectors() const;
 
   /// The application's custom texture array, which instances select a layer of
   /// (InstanceDesc::custom_layer: 0 none, k layer k - 1): a GL_TEXTURE_2D_ARRAY name, sampled

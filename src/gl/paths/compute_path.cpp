@@ -38,8 +38,16 @@ Status ComputePath::draw(const DrawResources& r, const PathFrame& f, DrawStats* 
   Status s = ensureRing(r);
   if (!s.isOk()) return s;
   const PreSkinLists& lists = *r.preskin;
-  const Program& skin = (*r.programs)[ProgramId::kComputeSkin];
-  const Program& pulled = (*r.programs)[ProgramId::kPulled];
+  const Program& skin = (*r.programs)[f.motion ? ProgramId::kComputeSkinMotion
+                                                : ProgramId::kComputeSkin];
+  const Program& pulled = (*r.programs)[f.motion ? ProgramId::kPulledMotion : ProgramId::kPulled];
+  if (f.motion) {
+    s = r.scratch->compute_previous_ring.ensure(r.scratch->compute_ring.vertices, true,
+                                                "motion vectors: the previous position ring");
+    if (!s.isOk()) return s;
+    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 4, r.scratch->compute_previous_ring.buffer);
+    setMotionUniforms(pulled, f);
+  }
   const glm::mat4 vp = f.camera.viewProjection();
   const GLuint ring = r.scratch->compute_ring.buffer;
   const uint64_t ring_vertices = r.scratch->compute_ring.vertices;
@@ -58,6 +66,7 @@ Status ComputePath::draw(const DrawResources& r, const PathFrame& f, DrawStats* 
     glUseProgram(pulled.id);
     for (const PendingDraw& p : pending_) {
       r.ring->bindBatch(f.ring_base, p.batch);
+      if (f.motion) r.ring->bindBatch(f.previous_base, p.batch, 1);
       glProgramUniform4ui(pulled.id, 5, p.ring_first, p.lod.vertex_count, p.lod.vertex_offset,
                           p.first_instance);
       glProgramUniform2ui(pulled.id, 6, p.instances, lists.source_words);
@@ -90,6 +99,7 @@ Status ComputePath::draw(const DrawResources& r, const PathFrame& f, DrawStats* 
         glUseProgram(skin.id);
       }
       r.ring->bindBatch(f.ring_base, d);
+      if (f.motion) r.ring->bindBatch(f.previous_base, d, 1);
       glProgramUniform4ui(skin.id, 5, uint32_t(cursor), l.vertex_count, l.vertex_offset, first);
       glProgramUniform2ui(skin.id, 6, count, lists.source_words);
       const uint64_t threads = uint64_t(count) * l.vertex_count;

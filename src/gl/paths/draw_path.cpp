@@ -28,6 +28,16 @@ void bindShading(const DrawResources& r, const Program& program, const Camera& c
     glProgramUniform3fv(program.id, program.light_direction, 1, &light[0]);
 }
 
+void setMotionUniforms(const Program& program, const PathFrame& f) {
+  if (!f.motion) return;
+  if (program.motion_view_projection >= 0)
+    glProgramUniformMatrix4fv(program.id, program.motion_view_projection, 1, GL_FALSE,
+                              &f.motion_view_projection[0][0]);
+  if (program.previous_view_projection >= 0)
+    glProgramUniformMatrix4fv(program.id, program.previous_view_projection, 1, GL_FALSE,
+                              &f.previous_view_projection[0][0]);
+}
+
 glm::mat4 recordJointMatrix(const BakedPalette& palette, const InstanceRecord& rec, uint32_t slot) {
   IntervalMode ma, mb;
   const float fa = unpackFraction(rec.blend[0], &ma), fb = unpackFraction(rec.blend[1], &mb);

@@ -53,6 +53,12 @@ struct PathFrame {
   size_t ring_base = 0;
   /// The GPU-driven path: pre-skin (compute) rather than skin in the vertex shader.
   bool preskin = false;
+  /// Motion vectors (the instanced paths, RendererDesc::motion_vectors): the previous records
+  /// in the batches' layout at `previous_base` of the ring, and the crowd's last and previous
+  /// update cameras' view-projections.
+  bool motion = false;
+  size_t previous_base = 0;
+  glm::mat4 motion_view_projection{1.0f}, previous_view_projection{1.0f};
 };
 
 class DrawPath {
@@ -81,6 +87,10 @@ void bindShading(const DrawResources& r, const Program& program, const Camera& c
 
 /// What the instanced shader computes for palette slot `slot` of `record`: clip A's frames
 /// lerped, crossfaded towards clip B by the record's weight (the two CPU baselines use it).
+/// Motion vectors: sets `program`'s two motion view-projections when `frame.motion` (each
+/// batch then binds its previous records at uniform binding 1).
+void setMotionUniforms(const Program& program, const PathFrame& frame);
+
 glm::mat4 recordJointMatrix(const BakedPalette& palette, const InstanceRecord& record,
                             uint32_t slot);
 

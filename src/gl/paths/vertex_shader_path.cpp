@@ -6,12 +6,15 @@ namespace si::detail {
 
 Status VertexShaderPath::draw(const DrawResources& r, const PathFrame& f, DrawStats* st) {
   const bool depth_only = f.program == ProgramId::kDepthOnly;
-  bindShading(r, (*r.programs)[f.program], f.camera, f.light);
+  const Program& program = (*r.programs)[f.program];
+  bindShading(r, program, f.camera, f.light);
+  setMotionUniforms(program, f);
   if (depth_only) glColorMask(GL_FALSE, GL_FALSE, GL_FALSE, GL_FALSE);
   for (const DrawBatch& d : *f.batches) {
     if (d.sub_mesh >= r.character->sub_meshes.size()) continue;
     const IndexRange range = r.character->lodRange(d.sub_mesh, d.lod);
     r.ring->bindBatch(f.ring_base, d);
+    if (f.motion) r.ring->bindBatch(f.previous_base, d, 1);
     glDrawElementsInstanced(GL_TRIANGLES, GLsizei(range.index_count), GL_UNSIGNED_INT,
                             reinterpret_cast<const void*>(uintptr_t(range.first_index) * 4),
                             GLsizei(d.instance_count));

@@ -33,6 +33,12 @@ const ProgramSpec kSpecs[kProgramCount] = {
      nullptr},
     {"depth pyramid copy", "#define SI_HIZ_COPY\n", nullptr, nullptr, "hiz.comp.glsl", nullptr},
     {"depth pyramid reduce", "", nullptr, nullptr, "hiz.comp.glsl", nullptr},
+    {"skinned with motion vectors", "#define SI_MOTION_VECTORS\n", "skinned.vert.glsl",
+     "shade.frag.glsl", nullptr, nullptr},
+    {"compute skinning with previous positions", "#define SI_MOTION_VECTORS\n", nullptr, nullptr,
+     "compute_skin.comp.glsl", nullptr},
+    {"pre-skinned pulling with motion vectors", "#define SI_MOTION_VECTORS\n", "pulled.vert.glsl",
+     "shade.frag.glsl", nullptr, nullptr},
 };
 
 }  // namespace

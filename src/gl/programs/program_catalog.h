@@ -28,6 +28,9 @@ enum class ProgramId : uint8_t {
   kGpuPulled,          ///< GPU-driven pre-skinned draw (vertex pulling through entries).
   kHizCopy,            ///< Occlusion culling: depth into the pyramid's level 0.
   kHizReduce,          ///< Occlusion culling: one pyramid level from the one below.
+  kSkinnedMotion,      ///< kSkinned, also writing motion vectors (RendererDesc::motion_vectors).
+  kComputeSkinMotion,  ///< kComputeSkin, also skinning the previous position.
+  kPulledMotion,       ///< kPulled, also writing motion vectors.
   kCount
 };
 inline constexpr size_t kProgramCount = size_t(ProgramId::kCount);

@@ -48,6 +48,8 @@ Program describe(GLuint id) {
   p.view_projection = glGetUniformLocation(id, "u_view_projection");
   p.light_direction = glGetUniformLocation(id, "u_light_direction");
   p.custom_layers = glGetUniformLocation(id, "u_custom_layers");
+  p.motion_view_projection = glGetUniformLocation(id, "u_motion_view_projection");
+  p.previous_view_projection = glGetUniformLocation(id, "u_previous_view_projection");
   return p;
 }
 

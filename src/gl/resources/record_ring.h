@@ -33,9 +33,10 @@ class RecordRing {
   /// The mapped bytes of the region at `base` that records may be written to.
   uint8_t* mapped(size_t base) const { return mapped_ + base; }
   size_t writableBytes() const { return region_size_ - block_size_; }
-  /// Binds batch `d` of the region at `base` to uniform buffer binding 0 (`block_size` bytes).
-  void bindBatch(size_t base, const DrawBatch& d) const {
-    glBindBufferRange(GL_UNIFORM_BUFFER, 0, buffer_, GLintptr(base + d.byte_offset),
+  /// Binds batch `d` of the records at `base` to uniform buffer binding `binding` (0: the
+  /// records; 1: the previous records of motion vectors) with `block_size` bytes.
+  void bindBatch(size_t base, const DrawBatch& d, GLuint binding = 0) const {
+    glBindBufferRange(GL_UNIFORM_BUFFER, binding, buffer_, GLintptr(base + d.byte_offset),
                       GLsizeiptr(block_size_));
   }
   GLuint buffer() const { return buffer_; }

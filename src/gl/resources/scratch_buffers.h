@@ -26,6 +26,8 @@ struct VertexRing {
 
 struct ScratchBuffers {
   VertexRing compute_ring;     ///< The compute path's (RendererDesc::compute_ring_bytes).
+  /// Its twin for previous positions (RendererDesc::motion_vectors): the same vertex slots.
+  VertexRing compute_previous_ring;
   VertexRing gpu_driven_ring;  ///< The GPU-driven path's (RendererDesc::gpu_driven_ring_bytes).
   GLuint cpu_stream = kNoObject;  ///< The CPU-skinning path's vertex stream (orphaned per chunk).
 

@@ -39,18 +39,15 @@ vec2 siSourceTexcoord(uint list_offset, uint k) {
 }
 
 #ifdef SI_SKINNING_GLSL
-// Source vertex `source` skinned for `inst`: camera-relative world position, and the normal
-// octahedral-encoded in the w component's bits.
-vec4 siPreSkin(uint source, SiInstance inst) {
+// Source vertex `source`: bind-pose position and normal, palette slots and weights.
+void siSourceVertex(uint source, out vec3 p, out vec3 n, out uvec4 joints, out vec4 weights) {
   uint base = source * u_layout.y;
-  vec3 p = vec3(uintBitsToFloat(si_source[base]), uintBitsToFloat(si_source[base + 1u]),
-                uintBitsToFloat(si_source[base + 2u]));
+  p = vec3(uintBitsToFloat(si_source[base]), uintBitsToFloat(si_source[base + 1u]),
+           uintBitsToFloat(si_source[base + 2u]));
   int normal_bits = int(si_source[base + 3u]);
   // GL_INT_2_10_10_10_REV, normalized: what the vertex-shader path's attribute fetch computes.
-  vec3 n = max(vec3(bitfieldExtract(normal_bits, 0, 10), bitfieldExtract(normal_bits, 10, 10),
-                    bitfieldExtract(normal_bits, 20, 10)) / 511.0, vec3(-1.0));
-  uvec4 joints;
-  vec4 weights;
+  n = max(vec3(bitfieldExtract(normal_bits, 0, 10), bitfieldExtract(normal_bits, 10, 10),
+               bitfieldExtract(normal_bits, 20, 10)) / 511.0, vec3(-1.0));
   if (u_layout.y == 8u) {
     joints = uvec4(unpackUnorm4x8(si_source[base + 5u]) * 255.0 + 0.5);
     weights = vec4(unpackUnorm2x16(si_source[base + 6u]), unpackUnorm2x16(si_source[base + 7u]));
@@ -59,6 +56,15 @@ vec4 siPreSkin(uint source, SiInstance inst) {
     joints = uvec4(j01 & 0xFFFFu, j01 >> 16, j23 & 0xFFFFu, j23 >> 16);
     weights = vec4(unpackUnorm2x16(si_source[base + 7u]), unpackUnorm2x16(si_source[base + 8u]));
   }
+}
+
+// Source vertex `source` skinned for `inst`: camera-relative world position, and the normal
+// octahedral-encoded in the w component's bits.
+vec4 siPreSkin(uint source, SiInstance inst) {
+  vec3 p, n;
+  uvec4 joints;
+  vec4 weights;
+  siSourceVertex(source, p, n, joints, weights);
   vec4 m0, m1, m2;
   siSkin(inst, joints, weights, m0, m1, m2);
   vec4 w0 = inst.world_rows[0], w1 = inst.world_rows[1], w2 = inst.world_rows[2];
@@ -66,5 +72,17 @@ vec4 siPreSkin(uint source, SiInstance inst) {
   vec3 normal = siTransformNormal(w0, w1, w2, siTransformNormal(m0, m1, m2, n));
   return vec4(world, uintBitsToFloat(packSnorm2x16(siOctEncode(normal))));
 }
+
+#ifdef SI_PREVIOUS_RECORDS
+// Source vertex `source` where instance slot `instance` drew it in the previous frame
+// (siSkinPrevious): world position relative to the previous camera.
+vec3 siPreSkinPrevious(uint source, uint instance) {
+  vec3 p, n;
+  uvec4 joints;
+  vec4 weights;
+  siSourceVertex(source, p, n, joints, weights);
+  return siSkinPrevious(instance, joints, weights, p);
+}
+#endif
 #endif
 #endif

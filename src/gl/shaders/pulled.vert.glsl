@@ -3,7 +3,9 @@
 // texture coordinates from the source vertex.
 // SI_GPU_DRIVEN: the instance is a bucket entry (a_entry = baseInstance + gl_InstanceID, an
 // identity buffer with divisor 1) whose ring base and list offset the GPU-driven passes wrote;
-// otherwise the batch's u_chunk says where its instances are.
+// otherwise the batch's u_chunk says where its instances are. SI_MOTION_VECTORS (not with
+// SI_GPU_DRIVEN): the clip positions of the vertex and of its previous position (the previous
+// ring) under the crowd's last two update cameras, for the fragment shader's motion output.
 #ifdef SI_GPU_DRIVEN
 #define SI_SOURCE_BINDING 14
 #define SI_LOD_VERTICES_BINDING 15
@@ -21,6 +23,13 @@ layout(std430, binding = 12) readonly buffer SiEntryData { uvec2 si_entry_data[]
 #else
 layout(std430, binding = 1) readonly buffer SiSkinned { vec4 si_skinned[]; };
 #endif
+#ifdef SI_MOTION_VECTORS
+layout(std430, binding = 4) readonly buffer SiSkinnedPrevious { vec4 si_skinned_previous[]; };
+uniform mat4 u_motion_view_projection;
+uniform mat4 u_previous_view_projection;
+out vec4 v_motion_current;
+out vec4 v_motion_previous;
+#endif
 layout(location = 1) uniform mat4 u_view_projection;
 out vec3 v_normal;
 out vec2 v_texcoord;
@@ -35,7 +44,12 @@ void main() {
   v_material = siVertexMaterial(si_lod_vertices[at.y + k]);
   v_color = si_records[si_entries[a_entry]].blend.w;
 #else
-  vec4 s = si_skinned[u_chunk.x + uint(gl_InstanceID) * u_chunk.y + k];
+  uint at = u_chunk.x + uint(gl_InstanceID) * u_chunk.y + k;
+  vec4 s = si_skinned[at];
+#ifdef SI_MOTION_VECTORS
+  v_motion_current = u_motion_view_projection * vec4(s.xyz, 1.0);
+  v_motion_previous = u_previous_view_projection * vec4(si_skinned_previous[at].xyz, 1.0);
+#endif
   v_texcoord = siSourceTexcoord(u_chunk.z, k);
   v_material = siVertexMaterial(si_lod_vertices[u_chunk.z + k]);
   v_color = si_instances[u_chunk.w + uint(gl_InstanceID)].blend.w;

@@ -2,7 +2,8 @@
 // Shading of every colour path: the vertex's material (its layer of the base colour texture
 // array times its factor), the instance's tint where the texture's alpha (the tint mask) says
 // so, there over the instance's layer of the application's custom texture array when it selects
-// one, and one directional light.
+// one, and one directional light. SI_MOTION_VECTORS: also the fragment's screen motion since the
+// previous frame at output 1 (motion_output.glsl).
 #define SI_MATERIAL_TABLE
 #include "material_common.glsl"
 in vec3 v_normal;
@@ -15,7 +16,10 @@ layout(binding = 1) uniform sampler2DArray u_base_color;
 layout(binding = 2) uniform sampler2DArray u_custom;
 uniform uint u_custom_layers;
 layout(location = 3) uniform vec3 u_light_direction;
-out vec4 o_color;
+layout(location = 0) out vec4 o_color;
+#ifdef SI_MOTION_VECTORS
+#include "motion_output.glsl"
+#endif
 void main() {
   SiMaterial material = si_materials[v_material];
   vec4 texel = texture(u_base_color, vec3(v_texcoord, float(material.layer.x))) * material.factor;
@@ -32,4 +36,7 @@ void main() {
   vec3 albedo = mix(texel.rgb, tinted * tint, texel.a);
   float lambert = max(dot(normalize(v_normal), -u_light_direction), 0.0);
   o_color = vec4(albedo * (0.35 + 0.65 * lambert), 1.0);
+#ifdef SI_MOTION_VECTORS
+  siWriteMotion();
+#endif
 }

@@ -2,8 +2,9 @@
 // The skinning include for your own vertex (or compute) shaders: the instance record, the
 // instance block, the palette and functions that fetch, interpolate, crossfade and blend the
 // bone matrices exactly as si::emulateSkinningMatrix() and si::emulateSkinning() do on the CPU.
-// Interface version 3 (2: the fraction words carry the interval mode, cubic clips; 3: the
-// record's fourth blend word is the appearance: tint RGB8 and the custom texture layer);
+// Interface version 4 (2: the fraction words carry the interval mode, cubic clips; 3: the
+// record's fourth blend word is the appearance: tint RGB8 and the custom texture layer; 4: the
+// previous frame's records and siSkinPrevious, for motion vectors);
 // docs/glsl-interface.md documents every name, binding and define.
 //
 // Before including, define SI_MAX_INSTANCES (records per draw: InstanceBatcher::
@@ -11,6 +12,9 @@
 // storage buffer at binding 0 instead of the uniform block.
 // Bindings: the records at (uniform or storage) buffer binding 0, the palette at texture unit 0,
 // `uniform uvec4 si_palette_info` at location 0 (si::paletteShaderInfo()).
+// Motion vectors: define SI_PREVIOUS_RECORDS for the previous frame's records, in the same
+// slots, at (uniform or storage) buffer binding SI_PREVIOUS_BINDING (default 1; written by
+// si::InstanceBatcher::buildPrevious) and siSkinPrevious().
 #ifndef SI_SKINNING_GLSL
 #define SI_SKINNING_GLSL
 #define SI_GLSL_INTERFACE_VERSION 3
@@ -21,6 +25,20 @@
 layout(std430, binding = 0) readonly buffer SiInstances { SiInstance si_instances[]; };
 #else
 layout(std140, binding = 0) uniform SiInstances { SiInstance si_instances[SI_MAX_INSTANCES]; };
+#endif
+#ifdef SI_PREVIOUS_RECORDS
+#ifndef SI_PREVIOUS_BINDING
+#define SI_PREVIOUS_BINDING 1
+#endif
+#ifdef SI_INSTANCES_IN_STORAGE
+layout(std430, binding = SI_PREVIOUS_BINDING) readonly buffer SiPreviousInstances {
+  SiInstance si_previous_instances[];
+};
+#else
+layout(std140, binding = SI_PREVIOUS_BINDING) uniform SiPreviousInstances {
+  SiInstance si_previous_instances[SI_MAX_INSTANCES];
+};
+#endif
 #endif
 layout(binding = 0) uniform sampler2D si_palette;
 layout(location = 0) uniform uvec4 si_palette_info;
@@ -127,4 +145,17 @@ void siSkin(SiInstance inst, uvec4 joints, vec4 weights, out vec4 m0, out vec4 m
     m2 += w * r2;
   }
 }
+
+#ifdef SI_PREVIOUS_RECORDS
+// Where bind-pose `position` of instance slot `instance` was drawn in the previous frame:
+// camera-relative (to the previous camera) world position, skinned with the instance's previous
+// record exactly as siSkin skinned it then. Project it with the previous frame's camera.
+vec3 siSkinPrevious(uint instance, uvec4 joints, vec4 weights, vec3 position) {
+  SiInstance prev = si_previous_instances[instance];
+  vec4 m0, m1, m2;
+  siSkin(prev, joints, weights, m0, m1, m2);
+  return siTransformPoint(prev.world_rows[0], prev.world_rows[1], prev.world_rows[2],
+                          siTransformPoint(m0, m1, m2, position));
+}
+#endif
 #endif

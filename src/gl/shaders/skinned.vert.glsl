@@ -4,8 +4,13 @@
 // Variants: SI_RIGID (no skinning: the rigid-instancing floor), SI_CAPTURE (also outputs the
 // model-space position for transform feedback), SI_GPU_DRIVEN (the record through a bucket
 // entry, from storage buffers), SI_TRADITIONAL (one character per draw, its joint matrices in
-// a uniform block).
+// a uniform block), SI_MOTION_VECTORS (also the clip positions of the vertex under the crowd's
+// last update camera and, skinned with its previous record, under the previous one: the
+// fragment shader's motion output).
 #define SI_VERTEX_MATERIALS
+#ifdef SI_MOTION_VECTORS
+#define SI_PREVIOUS_RECORDS
+#endif
 #include "material_common.glsl"
 #ifdef SI_TRADITIONAL
 #include "si_transform.glsl"
@@ -30,6 +35,12 @@ flat out uint v_color;
 flat out uint v_material;
 #ifdef SI_CAPTURE
 out vec3 tf_position;
+#endif
+#ifdef SI_MOTION_VECTORS
+uniform mat4 u_motion_view_projection;    // The crowd's last update camera.
+uniform mat4 u_previous_view_projection;  // The update camera before it.
+out vec4 v_motion_current;
+out vec4 v_motion_previous;
 #endif
 #ifdef SI_GPU_DRIVEN
 // GPU-driven culling: the record of this draw's instance, through its bucket entry; a_entry is
@@ -76,4 +87,9 @@ void main() {
   v_color = color;
   v_material = siVertexMaterial(uint(gl_VertexID));  // The mesh vertex: no base vertex.
   gl_Position = u_view_projection * vec4(world, 1.0);
+#ifdef SI_MOTION_VECTORS
+  v_motion_current = u_motion_view_projection * vec4(world, 1.0);
+  v_motion_previous = u_previous_view_projection *
+                      vec4(siSkinPrevious(uint(gl_InstanceID), a_joints, a_weights, a_position), 1.0);
+#endif
 }

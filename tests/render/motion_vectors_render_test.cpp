@@ -1,0 +1,358 @@
+// SkinnedInstancing — SPDX-License-Identifier: MIT (see LICENSE)
+// Motion vectors, the GL half. An engine's own program built on the public include
+// (si_skinning.glsl with SI_PREVIOUS_RECORDS, InstanceBatcher::buildPrevious) draws each vertex
+// at its previous position with the previous camera: that image is the previous frame's image,
+// pixel for pixel, across crossfades and speed changes. The renderer's motion output (both
+// skinning paths) equals what that program computes from the same records.
+#include <glad/gl.h>
+
+#include <cstring>
+
+#include "gl/resources/palette_texture.h"
+#include "render/render_fixture.h"
+#include "si/core/shader_inputs.h"
+#include "si/gl/skinning_glsl.h"
+
+namespace si {
+namespace {
+
+using namespace test;
+
+// The engine's shaders. Mode 0 draws each vertex where it is now (current camera), mode 1
+// where it was drawn in the previous frame (previous camera); both write the flat tint and the
+// motion, as the renderer defines it, to outputs 0 and 1.
+const char* kEngineVertex = R"(
+layout(location = 0) in vec3 a_position;
+layout(location = 3) in uvec4 a_joints;
+layout(location = 4) in vec4 a_weights;
+uniform mat4 u_current;
+uniform mat4 u_previous;
+uniform int u_draw_previous;
+out vec4 v_current;
+out vec4 v_previous;
+flat out uint v_color;
+void main() {
+  SiInstance inst = si_instances[gl_InstanceID];
+  vec4 m0, m1, m2;
+  siSkin(inst, a_joints, a_weights, m0, m1, m2);
+  vec3 world = siTransformPoint(inst.world_rows[0], inst.world_rows[1], inst.world_rows[2],
+                                siTransformPoint(m0, m1, m2, a_position));
+  v_current = u_current * vec4(world, 1.0);
+  v_previous = u_previous * vec4(siSkinPrevious(uint(gl_InstanceID), a_joints, a_weights, a_position), 1.0);
+  v_color = inst.blend.w;
+  gl_Position = u_draw_previous != 0 ? v_previous : v_current;
+}
+)";
+const char* kEngineFragment = R"(#version 450 core
+in vec4 v_current;
+in vec4 v_previous;
+flat in uint v_color;
+layout(location = 0) out vec4 o_color;
+layout(location = 1) out vec2 o_motion;
+void main() {
+  o_color = vec4(unpackUnorm4x8(v_color).rgb, 1.0);
+  o_motion = 0.5 * (v_current.xy / v_current.w - v_previous.xy / v_previous.w);
+}
+)";
+
+GLuint compile(GLenum type, const std::string& text) {
+  const GLuint s = glCreateShader(type);
+  const char* p = text.c_str();
+  glShaderSource(s, 1, &p, nullptr);
+  glCompileShader(s);
+  GLint ok = 0;
+  glGetShaderiv(s, GL_COMPILE_STATUS, &ok);
+  if (!ok) {
+    char log[4096] = {};
+    glGetShaderInfoLog(s, sizeof log, nullptr, log);
+    ADD_FAILURE() << log;
+  }
+  return s;
+}
+
+// A colour, motion (RG32F) and depth target of kSize x kSize.
+struct MotionTarget {
+  GLuint fbo = 0, color = 0, motion = 0, depth = 0;
+  void create() {
+    glCreateTextures(GL_TEXTURE_2D, 1, &color);
+    glTextureStorage2D(color, 1, GL_RGBA8, kSize, kSize);
+    glCreateTextures(GL_TEXTURE_2D, 1, &motion);
+    glTextureStorage2D(motion, 1, GL_RG32F, kSize, kSize);
+    glCreateTextures(GL_TEXTURE_2D, 1, &depth);
+    glTextureStorage2D(depth, 1, GL_DEPTH_COMPONENT32F, kSize, kSize);
+    glCreateFramebuffers(1, &fbo);
+    glNamedFramebufferTexture(fbo, GL_COLOR_ATTACHMENT0, color, 0);
+    glNamedFramebufferTexture(fbo, GL_COLOR_ATTACHMENT1, motion, 0);
+    glNamedFramebufferTexture(fbo, GL_DEPTH_ATTACHMENT, depth, 0);
+    const GLenum buffers[2] = {GL_COLOR_ATTACHMENT0, GL_COLOR_ATTACHMENT1};
+    glNamedFramebufferDrawBuffers(fbo, 2, buffers);
+    EXPECT_EQ(glCheckNamedFramebufferStatus(fbo, GL_FRAMEBUFFER), GLenum(GL_FRAMEBUFFER_COMPLETE));
+  }
+  void clear() {
+    glBindFramebuffer(GL_FRAMEBUFFER, fbo);
+    glViewport(0, 0, kSize, kSize);
+    const float black[4] = {0, 0, 0, 0}, one = 1.0f;
+    glClearNamedFramebufferfv(fbo, GL_COLOR, 0, black);
+    glClearNamedFramebufferfv(fbo, GL_COLOR, 1, black);
+    glClearNamedFramebufferfv(fbo, GL_DEPTH, 0, &one);
+  }
+  std::vector<uint8_t> colors() const {
+    std::vector<uint8_t> out(size_t(kSize) * kSize * 4);
+    glGetTextureImage(color, 0, GL_RGBA, GL_UNSIGNED_BYTE, GLsizei(out.size()), out.data());
+    return out;
+  }
+  std::vector<glm::vec2> motions() const {
+    std::vector<glm::vec2> out(size_t(kSize) * kSize);
+    glGetTextureImage(motion, 0, GL_RG, GL_FLOAT, GLsizei(out.size() * 8), out.data());
+    return out;
+  }
+  std::vector<float> depths() const {
+    std::vector<float> out(size_t(kSize) * kSize);
+    glGetTextureImage(depth, 0, GL_DEPTH_COMPONENT, GL_FLOAT, GLsizei(out.size() * 4), out.data());
+    return out;
+  }
+  void release() {
+    glDeleteFramebuffers(1, &fbo);
+    const GLuint textures[3] = {color, motion, depth};
+    glDeleteTextures(3, textures);
+  }
+};
+
+class MotionVectorTest : public RenderTest {
+ protected:
+  void SetUp() override {
+    RenderTest::SetUp();
+    if (IsSkipped() || HasFailure()) return;
+    glGetIntegerv(GL_DRAW_FRAMEBUFFER_BINDING, &context_fbo_);
+    target_.create();
+    CrowdDesc cd;
+    cd.palette = &palette();
+    cd.sub_mesh_count = 4;
+    cd.lod_count = 1;  // The same triangles in both frames: images compare exactly.
+    cd.previous_records = true;
+    ASSERT_TRUE(crowd_.init(cd).isOk());
+    const uint32_t clips = uint32_t(palette().clips.size());
+    for (int k = 0; k < 16; ++k) {
+      InstanceDesc d;
+      d.position = glm::dvec3((k % 4 - 1.5) * 1.3, 0.0, -3.0 - 1.6 * (k / 4));
+      d.variation_mask = 1u | (uint32_t(k) << 1);
+      d.clip = uint32_t(k) % clips;
+      d.time_seconds = 0.13 * k;
+      d.speed = 1.0f + 0.1f * float(k % 3);
+      d.color = glm::u8vec4(uint8_t(40 + 13 * k), uint8_t(230 - 11 * k), uint8_t(60 + 37 * (k % 5)), 255);
+      InstanceHandle h;
+      ASSERT_TRUE(crowd_.add(d, &h).isOk());
+      handles_.push_back(h);
+    }
+    ASSERT_TRUE(crowd_.update(0.05, camera(0)).isOk());
+    for (size_t k = 0; k < handles_.size(); k += 3)  // Crossfading through frame N.
+      ASSERT_TRUE(crowd_.crossfade(handles_[k], (uint32_t(k) + 1) % clips, 0.4).isOk());
+  }
+  void TearDown() override {
+    if (context_) {
+      target_.release();
+      glBindFramebuffer(GL_FRAMEBUFFER, GLuint(context_fbo_));
+    }
+  }
+
+  // The camera of frame `f`: moving sideways and turning.
+  static Camera camera(int f) {
+    return Camera::lookAt({0.3 * f, 1.6, 2.5 - 0.2 * f}, {0.1 * f, 0.9, -5.0},
+                          glm::vec3(0, 1, 0), 0.9f, 1.0f, 0.1f, 100.0f);
+  }
+  // Frame N+1 after frame N: new crossfades, a cut and a speed change between them.
+  void nextFrame() {
+    const uint32_t clips = uint32_t(palette().clips.size());
+    for (size_t k = 1; k < handles_.size(); k += 4)
+      ASSERT_TRUE(crowd_.crossfade(handles_[k], (uint32_t(k) + 2) % clips, 0.3).isOk());
+    ASSERT_TRUE(crowd_.play(handles_[0], 0, 0.5, 1.0f).isOk());  // A cut, mid-crossfade.
+    ASSERT_TRUE(crowd_.play(handles_[2], 2 % clips, 0.2, 2.5f).isOk());
+    ASSERT_TRUE(crowd_.update(1.0 / 30.0, camera(2)).isOk());
+  }
+
+  // Draws the crowd's last update with the engine's program (mode 1: previous positions).
+  void drawEngine(bool previous) {
+    InstanceBatcher batcher;
+    ASSERT_TRUE(batcher.init({65536, 256, 0}).isOk());
+    const uint32_t capacity = batcher.capacityPerDraw();
+    std::string vs = "#version 450 core\n#define SI_MAX_INSTANCES " + std::to_string(capacity) +
+                     "\n#define SI_PREVIOUS_RECORDS\n" + skinningGlsl() + kEngineVertex;
+    const GLuint program = glCreateProgram();
+    const GLuint v = compile(GL_VERTEX_SHADER, vs), f = compile(GL_FRAGMENT_SHADER, kEngineFragment);
+    glAttachShader(program, v);
+    glAttachShader(program, f);
+    glLinkProgram(program);
+    glDeleteShader(v);
+    glDeleteShader(f);
+    GLint linked = 0;
+    glGetProgramiv(program, GL_LINK_STATUS, &linked);
+    ASSERT_TRUE(linked);
+
+    const size_t slack = size_t(capacity) * kInstanceRecordSize;
+    std::vector<uint8_t> current(batcher.recordBufferBound(crowd_) + slack), prior(current.size());
+    std::vector<DrawBatch> draws;
+    ASSERT_TRUE(batcher.build(crowd_, current, &draws).isOk());
+    ASSERT_TRUE(batcher.buildPrevious(crowd_, prior).isOk());
+    VertexStream stream;
+    ASSERT_TRUE(buildVertexStream(character().mesh, palette(), &stream).isOk());
+    GLuint buffers[4];
+    glCreateBuffers(4, buffers);
+    glNamedBufferStorage(buffers[0], GLsizeiptr(stream.bytes.size()), stream.bytes.data(), 0);
+    const std::vector<uint32_t>& indices = character().mesh.indices;
+    glNamedBufferStorage(buffers[1], GLsizeiptr(indices.size() * 4), indices.data(), 0);
+    glNamedBufferStorage(buffers[2], GLsizeiptr(current.size()), current.data(), 0);
+    glNamedBufferStorage(buffers[3], GLsizeiptr(prior.size()), prior.data(), 0);
+    GLuint vao = 0;
+    glCreateVertexArrays(1, &vao);
+    glVertexArrayVertexBuffer(vao, 0, buffers[0], 0, GLsizei(stream.stride_bytes));
+    glVertexArrayElementBuffer(vao, buffers[1]);
+    for (GLuint loc : {0u, 3u, 4u}) {
+      glEnableVertexArrayAttrib(vao, loc);
+      glVertexArrayAttribBinding(vao, loc, 0);
+    }
+    glVertexArrayAttribFormat(vao, 0, 3, GL_FLOAT, GL_FALSE, VertexStream::kPositionOffset);
+    glVertexArrayAttribIFormat(vao, 3, 4, stream.wide_joints ? GL_UNSIGNED_SHORT : GL_UNSIGNED_BYTE,
+                               VertexStream::kJointsOffset);
+    glVertexArrayAttribFormat(vao, 4, 4, GL_UNSIGNED_SHORT, GL_TRUE, stream.weights_offset);
+    detail::PaletteTexture texture;
+    ASSERT_TRUE(texture.upload(palette(), info_).isOk());
+
+    glUseProgram(program);
+    glBindVertexArray(vao);
+    glBindTextureUnit(0, texture.texture());
+    glUniform4uiv(0, 1, &texture.shaderInfo()[0]);
+    const glm::mat4 now = crowd_.updateCamera().viewProjection();
+    const glm::mat4 then = crowd_.previousUpdateCamera().viewProjection();
+    glUniformMatrix4fv(glGetUniformLocation(program, "u_current"), 1, GL_FALSE, &now[0][0]);
+    glUniformMatrix4fv(glGetUniformLocation(program, "u_previous"), 1, GL_FALSE, &then[0][0]);
+    glUniform1i(glGetUniformLocation(program, "u_draw_previous"), previous ? 1 : 0);
+    glEnable(GL_DEPTH_TEST);
+    glEnable(GL_CULL_FACE);
+    for (const DrawBatch& d : draws) {
+      const IndexRange range = character().mesh.sub_meshes[d.sub_mesh].lods[d.lod];
+      glBindBufferRange(GL_UNIFORM_BUFFER, 0, buffers[2], d.byte_offset, GLsizeiptr(slack));
+      glBindBufferRange(GL_UNIFORM_BUFFER, 1, buffers[3], d.byte_offset, GLsizeiptr(slack));
+      glDrawElementsInstanced(GL_TRIANGLES, GLsizei(range.index_count), GL_UNSIGNED_INT,
+                              reinterpret_cast<const void*>(uintptr_t(range.first_index) * 4),
+                              GLsizei(d.instance_count));
+    }
+    EXPECT_EQ(glGetError(), GLenum(GL_NO_ERROR));
+    texture.release();
+    glDeleteVertexArrays(1, &vao);
+    glDeleteBuffers(4, buffers);
+    glDeleteProgram(program);
+  }
+
+  GLint context_fbo_ = 0;
+  MotionTarget target_;
+  CrowdManager crowd_;
+  std::vector<InstanceHandle> handles_;
+};
+
+size_t differingPixels(const std::vector<uint8_t>& a, const std::vector<uint8_t>& b) {
+  size_t n = 0;
+  for (size_t p = 0; p < a.size(); p += 4) n += std::memcmp(&a[p], &b[p], 4) != 0;
+  return n;
+}
+
+// Drawing frame N+1 at each vertex's previous position with frame N's camera gives frame N's
+// image exactly; drawing it where it is now does not.
+TEST_P(MotionVectorTest, PreviousPositionsDrawTheLastFrame) {
+  ASSERT_TRUE(crowd_.update(1.0 / 30.0, camera(1)).isOk());  // Frame N.
+  target_.clear();
+  drawEngine(false);
+  const std::vector<uint8_t> frame_n = target_.colors();
+  nextFrame();
+  ASSERT_EQ(crowd_.records().size(), handles_.size());  // Every instance in view in both.
+  target_.clear();
+  drawEngine(true);
+  const std::vector<uint8_t> previous = target_.colors();
+  target_.clear();
+  drawEngine(false);
+  const std::vector<uint8_t> frame_n1 = target_.colors();
+  size_t covered = 0;
+  for (size_t p = 3; p < frame_n.size(); p += 4) covered += frame_n[p] != 0;
+  EXPECT_GT(covered, size_t(kSize) * kSize / 10);
+  EXPECT_EQ(differingPixels(previous, frame_n), 0u);
+  EXPECT_GT(differingPixels(frame_n1, frame_n), covered / 4);  // There was motion.
+}
+
+// The renderer's motion output, on both skinning paths, equals the engine program's (the same
+// records, the same cameras) where both drew; nothing is written for paths that draw none.
+TEST_P(MotionVectorTest, TheRendererWritesTheIncludesMotion) {
+  ASSERT_TRUE(crowd_.update(1.0 / 30.0, camera(1)).isOk());
+  nextFrame();
+  target_.clear();
+  drawEngine(false);
+  const std::vector<glm::vec2> expected = target_.motions();
+  const std::vector<float> expected_depth = target_.depths();
+  float largest = 0.0f;
+  for (const glm::vec2& m : expected) largest = std::max(largest, glm::length(m));
+  EXPECT_GT(largest, 0.02f);  // At least 5 pixels somewhere.
+  for (SkinningPath path : {SkinningPath::kVertexShader, SkinningPath::kCompute}) {
+    SCOPED_TRACE(skinningPathName(path));
+    RendererDesc rd;
+    rd.skinning_path = path;
+    rd.motion_vectors = true;
+    Renderer r;
+    makeRenderer(&r, 0, PaletteFormat::kMatrix3x4F32, &rd);
+    InstanceBatcher batcher;
+    ASSERT_TRUE(batcher.init(r.batchLimits()).isOk());
+    target_.clear();
+    const Status s = r.drawCrowd(crowd_, batcher, crowd_.updateCamera(), nullptr);
+    ASSERT_TRUE(s.isOk()) << s.toString();
+    const std::vector<glm::vec2> motion = target_.motions();
+    const std::vector<float> depth = target_.depths();
+    size_t compared = 0, within = 0;
+    double worst = 0.0;
+    for (size_t p = 0; p < motion.size(); ++p) {
+      if (depth[p] >= 1.0f || expected_depth[p] >= 1.0f) continue;  // Drawn by both.
+      ++compared;
+      const double off = glm::length(motion[p] - expected[p]);
+      within += off <= 1e-4;  // 0.026 pixels.
+      worst = std::max(worst, off);
+    }
+    EXPECT_GT(compared, size_t(kSize) * kSize / 10);
+    // Silhouette pixels may come from another triangle where rounding differs.
+    EXPECT_GE(double(within), 0.995 * double(compared)) << "worst " << worst;
+    // Motion vectors only from drawCrowd.
+    EXPECT_EQ(r.drawCrowdGpuCulled(crowd_, crowd_.updateCamera(), nullptr).code(),
+              StatusCode::kUnsupported);
+    EXPECT_EQ(r.drawTraditional(crowd_, crowd_.updateCamera(), nullptr).code(),
+              StatusCode::kUnsupported);
+    EXPECT_EQ(r.drawCpuSkinned(crowd_, crowd_.updateCamera(), nullptr).code(),
+              StatusCode::kUnsupported);
+    r.setMotionVectors(false);
+    EXPECT_FALSE(r.motionVectors());
+    EXPECT_TRUE(r.drawCpuSkinned(crowd_, crowd_.updateCamera(), nullptr).isOk());
+    r.shutdown();
+  }
+}
+
+// A crowd without previous records cannot draw motion vectors: a named error, not garbage.
+TEST_P(MotionVectorTest, NeedsTheCrowdsPreviousRecords) {
+  RendererDesc rd;
+  rd.motion_vectors = true;
+  rd.skinning_path = SkinningPath::kVertexShader;
+  Renderer r;
+  makeRenderer(&r, 0, PaletteFormat::kMatrix3x4F32, &rd);
+  CrowdManager plain;
+  makeCrowd(&plain);
+  InstanceDesc d;
+  InstanceHandle h;
+  ASSERT_TRUE(plain.add(d, &h).isOk());
+  ASSERT_TRUE(plain.update(0.1, closeCamera()).isOk());
+  InstanceBatcher batcher;
+  ASSERT_TRUE(batcher.init(r.batchLimits()).isOk());
+  const Status s = r.drawCrowd(plain, batcher, closeCamera(), nullptr);
+  EXPECT_EQ(s.code(), StatusCode::kInvalidArgument);
+  EXPECT_NE(s.message().find("previous_records"), std::string::npos) << s.message();
+  // Depth-only draws write no motion and need none.
+  EXPECT_TRUE(r.drawCrowd(plain, batcher, closeCamera(), nullptr, DrawMode::kDepthOnly).isOk());
+  r.shutdown();
+}
+
+INSTANTIATE_TEST_SUITE_P(Backends, MotionVectorTest, allBackends(), backendTestName);
+
+}  // namespace
+}  // namespace si
