@@ -15,6 +15,7 @@
 #include "crowd_bench/bench_scene.h"
 #include "crowd_bench/lod_quality.h"
 #include "crowd_bench/mixed_scene.h"
+#include "crowd_bench/motion_vectors_table.h"
 #include "crowd_bench/root_motion_table.h"
 #include "si/bake/animation_baker.h"
 #include "si/bake/lod_chain.h"
@@ -53,6 +54,7 @@ struct Options {
   si::HeadlessBackend backend = si::HeadlessBackend::kAuto;
   std::vector<std::string> mix;  // glTF kinds of the mixed table; empty: no mixed table.
   bool root_motion = false;      // The root motion table.
+  bool motion_vectors = false;   // The motion vectors table.
 };
 
 void usage(std::FILE* f) {
@@ -87,6 +89,8 @@ void usage(std::FILE* f) {
       "                   these glTF kinds share the field; one renderer against one per kind)\n"
       "                   [--root-motion] (the root motion table: travelling clips played in\n"
       "                   place against moved by their root motion, side by side)\n"
+      "                   [--motion-vectors] (the motion vectors table: the instanced and\n"
+      "                   compute paths without and with motion vectors, side by side)\n"
       "                   [--no-gpu-time] (no blocking timer queries: CPU columns only;\n"
       "                   GPU ms and the GPU-culled path's visible count read -1 / 0)\n");
 }
@@ -133,6 +137,7 @@ bool parse(int argc, char** argv, Options* o) {
     }
     else if (a == "--no-gpu-time") o->gpu_timer = false;
     else if (a == "--root-motion") o->root_motion = true;
+    else if (a == "--motion-vectors") o->motion_vectors = true;
     else if (a == "--backend" && has) {
       if (!si::examples::parseBackend(argv[++i], &o->backend)) return false;
     } else return false;
@@ -371,6 +376,10 @@ int main(int argc, char** argv) {
     motion_rd.skinning_path = si::SkinningPath::kVertexShader;  // Each path says its own.
     s = si::bench::rootMotionTable(b.setup, motion_rd, b.o.sizes, b.o.paths, b.o.max_baseline, csv);
     if (!s.isOk()) return fail("root motion", s);
+  }
+  if (b.o.motion_vectors) {
+    s = si::bench::motionVectorsTable(b.setup, palette, rd, b.o.sizes, b.o.paths, csv);
+    if (!s.isOk()) return fail("motion vectors", s);
   }
 
   // Speed against error: each bake configuration, on the field, drawn by --error-path. The

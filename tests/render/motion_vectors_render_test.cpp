@@ -11,6 +11,7 @@
 #include "gl/resources/palette_texture.h"
 #include "render/render_fixture.h"
 #include "si/core/shader_inputs.h"
+#include "si/gl/motion_target.h"
 #include "si/gl/skinning_glsl.h"
 
 namespace si {
@@ -70,61 +71,14 @@ GLuint compile(GLenum type, const std::string& text) {
   return s;
 }
 
-// A colour, motion (RG32F) and depth target of kSize x kSize.
-struct MotionTarget {
-  GLuint fbo = 0, color = 0, motion = 0, depth = 0;
-  void create() {
-    glCreateTextures(GL_TEXTURE_2D, 1, &color);
-    glTextureStorage2D(color, 1, GL_RGBA8, kSize, kSize);
-    glCreateTextures(GL_TEXTURE_2D, 1, &motion);
-    glTextureStorage2D(motion, 1, GL_RG32F, kSize, kSize);
-    glCreateTextures(GL_TEXTURE_2D, 1, &depth);
-    glTextureStorage2D(depth, 1, GL_DEPTH_COMPONENT32F, kSize, kSize);
-    glCreateFramebuffers(1, &fbo);
-    glNamedFramebufferTexture(fbo, GL_COLOR_ATTACHMENT0, color, 0);
-    glNamedFramebufferTexture(fbo, GL_COLOR_ATTACHMENT1, motion, 0);
-    glNamedFramebufferTexture(fbo, GL_DEPTH_ATTACHMENT, depth, 0);
-    const GLenum buffers[2] = {GL_COLOR_ATTACHMENT0, GL_COLOR_ATTACHMENT1};
-    glNamedFramebufferDrawBuffers(fbo, 2, buffers);
-    EXPECT_EQ(glCheckNamedFramebufferStatus(fbo, GL_FRAMEBUFFER), GLenum(GL_FRAMEBUFFER_COMPLETE));
-  }
-  void clear() {
-    glBindFramebuffer(GL_FRAMEBUFFER, fbo);
-    glViewport(0, 0, kSize, kSize);
-    const float black[4] = {0, 0, 0, 0}, one = 1.0f;
-    glClearNamedFramebufferfv(fbo, GL_COLOR, 0, black);
-    glClearNamedFramebufferfv(fbo, GL_COLOR, 1, black);
-    glClearNamedFramebufferfv(fbo, GL_DEPTH, 0, &one);
-  }
-  std::vector<uint8_t> colors() const {
-    std::vector<uint8_t> out(size_t(kSize) * kSize * 4);
-    glGetTextureImage(color, 0, GL_RGBA, GL_UNSIGNED_BYTE, GLsizei(out.size()), out.data());
-    return out;
-  }
-  std::vector<glm::vec2> motions() const {
-    std::vector<glm::vec2> out(size_t(kSize) * kSize);
-    glGetTextureImage(motion, 0, GL_RG, GL_FLOAT, GLsizei(out.size() * 8), out.data());
-    return out;
-  }
-  std::vector<float> depths() const {
-    std::vector<float> out(size_t(kSize) * kSize);
-    glGetTextureImage(depth, 0, GL_DEPTH_COMPONENT, GL_FLOAT, GLsizei(out.size() * 4), out.data());
-    return out;
-  }
-  void release() {
-    glDeleteFramebuffers(1, &fbo);
-    const GLuint textures[3] = {color, motion, depth};
-    glDeleteTextures(3, textures);
-  }
-};
-
 class MotionVectorTest : public RenderTest {
  protected:
   void SetUp() override {
     RenderTest::SetUp();
     if (IsSkipped() || HasFailure()) return;
     glGetIntegerv(GL_DRAW_FRAMEBUFFER_BINDING, &context_fbo_);
-    target_.create();
+    const Status made = target_.create(kSize, kSize);
+    ASSERT_TRUE(made.isOk()) << made.toString();
     CrowdDesc cd;
     cd.palette = &palette();
     cd.sub_mesh_count = 4;
@@ -245,6 +199,22 @@ class MotionVectorTest : public RenderTest {
 
   GLint context_fbo_ = 0;
   MotionTarget target_;
+
+  std::vector<uint8_t> colors() {
+    std::vector<uint8_t> out;
+    EXPECT_TRUE(target_.readColor(&out).isOk());
+    return out;
+  }
+  std::vector<glm::vec2> motions() {
+    std::vector<glm::vec2> out;
+    EXPECT_TRUE(target_.readMotion(&out).isOk());
+    return out;
+  }
+  std::vector<float> depths() {
+    std::vector<float> out;
+    EXPECT_TRUE(target_.readDepth(&out).isOk());
+    return out;
+  }
   CrowdManager crowd_;
   std::vector<InstanceHandle> handles_;
 };
@@ -259,17 +229,17 @@ size_t differingPixels(const std::vector<uint8_t>& a, const std::vector<uint8_t>
 // image exactly; drawing it where it is now does not.
 TEST_P(MotionVectorTest, PreviousPositionsDrawTheLastFrame) {
   ASSERT_TRUE(crowd_.update(1.0 / 30.0, camera(1)).isOk());  // Frame N.
-  target_.clear();
+  target_.clear(glm::vec4(0.0f));
   drawEngine(false);
-  const std::vector<uint8_t> frame_n = target_.colors();
+  const std::vector<uint8_t> frame_n = colors();
   nextFrame();
   ASSERT_EQ(crowd_.records().size(), handles_.size());  // Every instance in view in both.
-  target_.clear();
+  target_.clear(glm::vec4(0.0f));
   drawEngine(true);
-  const std::vector<uint8_t> previous = target_.colors();
-  target_.clear();
+  const std::vector<uint8_t> previous = colors();
+  target_.clear(glm::vec4(0.0f));
   drawEngine(false);
-  const std::vector<uint8_t> frame_n1 = target_.colors();
+  const std::vector<uint8_t> frame_n1 = colors();
   size_t covered = 0;
   for (size_t p = 3; p < frame_n.size(); p += 4) covered += frame_n[p] != 0;
   EXPECT_GT(covered, size_t(kSize) * kSize / 10);
@@ -282,10 +252,10 @@ TEST_P(MotionVectorTest, PreviousPositionsDrawTheLastFrame) {
 TEST_P(MotionVectorTest, TheRendererWritesTheIncludesMotion) {
   ASSERT_TRUE(crowd_.update(1.0 / 30.0, camera(1)).isOk());
   nextFrame();
-  target_.clear();
+  target_.clear(glm::vec4(0.0f));
   drawEngine(false);
-  const std::vector<glm::vec2> expected = target_.motions();
-  const std::vector<float> expected_depth = target_.depths();
+  const std::vector<glm::vec2> expected = motions();
+  const std::vector<float> expected_depth = depths();
   float largest = 0.0f;
   for (const glm::vec2& m : expected) largest = std::max(largest, glm::length(m));
   EXPECT_GT(largest, 0.02f);  // At least 5 pixels somewhere.
@@ -298,11 +268,11 @@ TEST_P(MotionVectorTest, TheRendererWritesTheIncludesMotion) {
     makeRenderer(&r, 0, PaletteFormat::kMatrix3x4F32, &rd);
     InstanceBatcher batcher;
     ASSERT_TRUE(batcher.init(r.batchLimits()).isOk());
-    target_.clear();
+    target_.clear(glm::vec4(0.0f));
     const Status s = r.drawCrowd(crowd_, batcher, crowd_.updateCamera(), nullptr);
     ASSERT_TRUE(s.isOk()) << s.toString();
-    const std::vector<glm::vec2> motion = target_.motions();
-    const std::vector<float> depth = target_.depths();
+    const std::vector<glm::vec2> motion = motions();
+    const std::vector<float> depth = depths();
     size_t compared = 0, within = 0;
     double worst = 0.0;
     for (size_t p = 0; p < motion.size(); ++p) {
@@ -315,6 +285,13 @@ TEST_P(MotionVectorTest, TheRendererWritesTheIncludesMotion) {
     EXPECT_GT(compared, size_t(kSize) * kSize / 10);
     // Silhouette pixels may come from another triangle where rounding differs.
     EXPECT_GE(double(within), 0.995 * double(compared)) << "worst " << worst;
+    // The target's summary: the drawn pixels and their motion in pixels.
+    MotionSummary summary;
+    ASSERT_TRUE(target_.summarize(&summary).isOk());
+    EXPECT_EQ(summary.drawn_pixels, size_t(std::count_if(depth.begin(), depth.end(),
+                                                         [](float z) { return z < 1.0f; })));
+    EXPECT_NEAR(summary.max_pixels, double(largest) * kSize, 0.5);
+    EXPECT_GT(summary.mean_pixels, 0.5);
     // Motion vectors only from drawCrowd.
     EXPECT_EQ(r.drawCrowdGpuCulled(crowd_, crowd_.updateCamera(), nullptr).code(),
               StatusCode::kUnsupported);
@@ -346,6 +323,10 @@ TEST_P(MotionVectorTest, NeedsTheCrowdsPreviousRecords) {
   ASSERT_TRUE(batcher.init(r.batchLimits()).isOk());
   const Status s = r.drawCrowd(plain, batcher, closeCamera(), nullptr);
   EXPECT_EQ(s.code(), StatusCode::kInvalidArgument);
+  MotionTarget unmade;
+  EXPECT_EQ(unmade.create(0, 16).code(), StatusCode::kInvalidArgument);
+  std::vector<glm::vec2> motion;
+  EXPECT_EQ(unmade.readMotion(&motion).code(), StatusCode::kInvalidArgument);
   EXPECT_NE(s.message().find("previous_records"), std::string::npos) << s.message();
   // Depth-only draws write no motion and need none.
   EXPECT_TRUE(r.drawCrowd(plain, batcher, closeCamera(), nullptr, DrawMode::kDepthOnly).isOk());

@@ -1,0 +1,100 @@
+// SkinnedInstancing — SPDX-License-Identifier: MIT (see LICENSE)
+#include "crowd_bench/motion_vectors_table.h"
+
+#include "si/gl/motion_target.h"
+
+namespace si::bench {
+
+namespace {
+
+// Times `path` on the field of `count` drawn into `target`, with motion vectors or without.
+Status runMotion(Setup& setup, const BakedPalette& palette, const RendererDesc& desc,
+                 MotionTarget& target, uint32_t count, const std::string& path, bool motion,
+                 Row* row, MotionSummary* summary) {
+  const std::vector<glm::dvec3> places = scenePositions("field", count);
+  RendererDesc rd = desc;
+  rd.skinning_path = path == "compute" ? SkinningPath::kCompute : SkinningPath::kVertexShader;
+  rd.motion_vectors = motion;
+  Renderer renderer;
+  Status s = renderer.init(setup.info, rd);
+  if (s.isOk()) s = renderer.uploadPalette(palette);
+  if (s.isOk()) s = renderer.uploadCharacter(setup.character, palette);
+  CrowdManager crowd;
+  CrowdDesc cd;
+  cd.palette = &palette;
+  cd.sub_mesh_count = uint32_t(setup.character.mesh.sub_meshes.size());
+  cd.lod_count = uint32_t(setup.character.mesh.maxLodCount());
+  cd.max_distance_radii = -1.0f;  // As the paths table: everything in view, however far.
+  cd.previous_records = motion;
+  if (s.isOk()) s = crowd.init(cd);
+  RandomCrowdDesc rc;
+  rc.positions = places;
+  rc.seed = 2026;
+  rc.optional_mask = 0xE;
+  if (s.isOk()) s = crowd.addRandom(rc, nullptr);
+  InstanceBatcher batcher;
+  if (s.isOk()) s = batcher.init(renderer.batchLimits());
+  if (!s.isOk()) return s;
+  row->path = path;
+  row->lod = motion ? "on" : "off";
+  row->instances = count;
+  s = timeFrames(
+      setup, "field", places, [&](const Camera& cam) { return crowd.update(1.0 / 60.0, cam); },
+      [&](const Camera& cam, DrawStats* st, uint32_t* visible) {
+        target.clear(kClearColor);
+        const Status drawn = renderer.drawCrowd(crowd, batcher, cam, st);
+        *visible = crowd.stats().visible;
+        return drawn;
+      },
+      row);
+  if (s.isOk()) s = target.summarize(summary);
+  renderer.shutdown();
+  return s;
+}
+
+}  // namespace
+
+Status motionVectorsTable(Setup& setup, const BakedPalette& palette, const RendererDesc& desc,
+                          const std::vector<uint32_t>& sizes, const std::vector<std::string>& paths,
+                          std::FILE* csv) {
+  MotionTarget target;
+  Status s = target.create(setup.width, setup.height);
+  if (!s.isOk()) return s;
+  std::printf("\nMotion vectors (field, drawn into colour + RG16F motion + depth): off against "
+              "on, in the same run\n");
+  std::printf("%-11s %-6s %9s %9s %6s %9s %9s %9s %8s %8s %9s %9s\n", "path", "motion",
+              "instances", "visible", "draws", "update", "submit", "GPU ms", "CPU x", "GPU x",
+              "mean px", "max px");
+  for (uint32_t count : sizes)
+    for (const std::string& path : paths) {
+      if (path != "instanced" && path != "compute") continue;
+      Row rows[2];
+      MotionSummary summaries[2];
+      for (int on = 0; on < 2; ++on) {
+        s = runMotion(setup, palette, desc, target, count, path, on == 1, &rows[on],
+                      &summaries[on]);
+        if (!s.isOk()) return {s.code(), "motion vectors, " + path + ": " + s.message()};
+      }
+      for (int on = 0; on < 2; ++on) {
+        const Row& r = rows[on];
+        const double cpu_x = (r.update_ms + r.submit_ms) /
+                             std::max(1e-9, rows[0].update_ms + rows[0].submit_ms);
+        const double gpu_x = r.gpu_ms / std::max(1e-9, rows[0].gpu_ms);
+        std::printf("%-11s %-6s %9u %9u %6u %9.3f %9.3f %9.3f %8.2f %8.2f", r.path.c_str(),
+                    r.lod.c_str(), r.instances, r.visible, r.draws, r.update_ms, r.submit_ms,
+                    r.gpu_ms, cpu_x, gpu_x);
+        // Without motion vectors nothing defines what the motion attachment gets.
+        if (on == 1)
+          std::printf(" %9.2f %9.2f\n", summaries[on].mean_pixels, summaries[on].max_pixels);
+        else
+          std::printf(" %9s %9s\n", "-", "-");
+        std::fprintf(csv, "motion-vectors,field,%s,%u,%u,%u,%.0f,%.4f,%.4f,%.4f,,,,,%s,,,\n",
+                     r.path.c_str(), r.instances, r.visible, r.draws, r.triangles, r.update_ms,
+                     r.submit_ms, r.gpu_ms, r.lod.c_str());
+      }
+    }
+  target.release();
+  return Status::ok();
+}
+
+}  // namespace si::bench
