@@ -160,6 +160,7 @@ si::Status DemoScene::buildCrowd() {
   cd.palette = &palette_;
   cd.sub_mesh_count = uint32_t(character_.mesh.sub_meshes.size());
   cd.lod_count = uint32_t(character_.mesh.maxLodCount());
+  cd.previous_records = true;  // Motion vectors (key X) may be turned on at any frame.
   si::Status s;
   if (options_.lod_pixels > 0.0f) {
     cd.lod_mode = si::LodMode::kScreenError;
@@ -248,6 +249,28 @@ si::Camera DemoScene::overviewCamera(float aspect) const {
                             float(2000.0 * unit_));
 }
 
+si::Status DemoScene::measureMotion(const si::Camera& camera) {
+  motion_summary_ = si::MotionSummary();
+  const bool instanced = path_ == DrawPath::kInstanced || path_ == DrawPath::kVertexShader ||
+                         path_ == DrawPath::kCompute;
+  if (!options_.motion_vectors || !instanced || viewport_width_ == 0 || viewport_height_ == 0)
+    return si::Status::ok();
+  si::Status s = si::Status::ok();
+  if (motion_target_.width() != viewport_width_ || motion_target_.height() != viewport_height_)
+    s = motion_target_.create(viewport_width_, viewport_height_);
+  if (!s.isOk()) return s;
+  const si::DrawMode mode = path_ == DrawPath::kVertexShader ? si::DrawMode::kSkinned
+                            : path_ == DrawPath::kCompute    ? si::DrawMode::kComputeSkinned
+                                                             : si::DrawMode::kDefault;
+  motion_target_.clear(glm::vec4(0.0f));
+  renderer_.setMotionVectors(true);  // For this draw only: the baselines draw none.
+  si::DrawStats motion_stats;
+  s = renderer_.drawCrowd(crowd_, batcher_, camera, &motion_stats, mode);
+  renderer_.setMotionVectors(false);
+  motion_target_.restore();
+  return s.isOk() ? motion_target_.summarize(&motion_summary_) : s;
+}
+
 si::Status DemoScene::frame(double dt, const si::Camera& camera, si::DrawStats* stats) {
   const auto start = std::chrono::steady_clock::now();
   si::Status s = crowd_.update(dt, camera);
@@ -282,6 +305,7 @@ si::Status DemoScene::frame(double dt, const si::Camera& camera, si::DrawStats* 
     s = cast_.draw(renderer_, batcher_, camera, mode, path_ == DrawPath::kTraditional,
                    path_ == DrawPath::kCpuSkinned, stats);
   }
+  if (s.isOk()) s = measureMotion(camera);
   if (!s.isOk()) return s;
   // LOD tint (for the next frame): red LOD 0, green LOD 1, blue LOD 2, ...
   static const glm::u8vec4 kLodColors[] = {{255, 60, 60, 255},  {60, 220, 60, 255},

@@ -12,6 +12,7 @@
 #include "si/bake/animation_baker.h"
 #include "si/core/core.h"
 #include "si/crowd/instance_batcher.h"
+#include "si/gl/motion_target.h"
 #include "si/gl/renderer.h"
 
 namespace demo {
@@ -36,6 +37,7 @@ struct SceneOptions {
   std::vector<std::string> mix;  // Other kinds (glTF files) of the mixed scene; starts mixed.
   bool events = false;  // Animation events on from the start (key V).
   bool root_motion = false;  // The field travels from the start (key R).
+  bool motion_vectors = false;  // Motion vectors measured from the start (key X).
 };
 
 /// The sample models key M mixes in when --mix named none (the sample Fox and CesiumMan).
@@ -49,6 +51,7 @@ class DemoScene {
   si::Status initGl(const si::GlInfo& info);
   /// Releases the GL objects; call with the context still current (before destroying it).
   void releaseGl() {
+    motion_target_.release();
     renderer_.shutdown();
     cast_.releaseGl();
   }
@@ -74,6 +77,15 @@ class DemoScene {
   /// on; a model's from si-bake --root-motion) and the crowd moves every character by it; off,
   /// the clips in place. kUnsupported when no clip carries root motion.
   si::Status toggleRootMotion();
+  /// Motion vectors on or off: each frame the crowd is drawn once more, with motion vectors,
+  /// into an offscreen colour + motion target the size of the viewport, whose motion is
+  /// summarized (motionSummary()). The instanced paths only (the others draw none).
+  void toggleMotionVectors() { options_.motion_vectors = !options_.motion_vectors; }
+  /// The size of the framebuffer frames are drawn to (the motion target's).
+  void setViewportSize(uint32_t width, uint32_t height) {
+    viewport_width_ = width;
+    viewport_height_ = height;
+  }
 
   DrawPath path() const { return path_; }
   const si::CrowdManager& crowd() const { return crowd_; }
@@ -86,6 +98,9 @@ class DemoScene {
   bool mixed() const { return mixed_; }
   bool events() const { return options_.events; }
   bool rootMotion() const { return options_.root_motion; }
+  bool motionVectors() const { return options_.motion_vectors; }
+  /// The last frame's motion (drawn_pixels 0 when off or on a path without motion vectors).
+  const si::MotionSummary& motionSummary() const { return motion_summary_; }
   /// Mean distance of the main crowd's characters from where the layout put them.
   double meanTravel() const;
   /// Events reported by the main crowd's last update, and since events were turned on.
@@ -130,6 +145,12 @@ class DemoScene {
   si::Status addEventMarkers();
   /// The embedded character's travelling clips, added and baked (then re-uploaded).
   si::Status addTravellingClips();
+
+  /// Draws the crowd into motion_target_ with motion vectors and summarizes them.
+  si::Status measureMotion(const si::Camera& camera);
+  si::MotionTarget motion_target_;
+  si::MotionSummary motion_summary_;
+  uint32_t viewport_width_ = 0, viewport_height_ = 0;
 
   DemoCast cast_;
   bool mixed_ = false;

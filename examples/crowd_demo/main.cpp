@@ -39,7 +39,7 @@ void usage(std::FILE* f) {
       "                  [--format f32|f16|quat] [--rate HZ] [--seed N] [--summary]\n"
       "                  [--model FILE.gltf|FILE.glb] [--clips NAME,...] [--palette FILE]\n"
       "                  [--keys K,K,...] [--lod-pixels PX] [--mix FILE,...|samples]\n"
-      "                  [--events] [--root-motion]\n"
+      "                  [--events] [--root-motion] [--motion-vectors]\n"
       "Renders a crowd of the embedded character (default 4000 characters, 1280x720).\n"
       "With a display it opens a window (F1 lists the keys; ESC quits); without one, or with\n"
       "--headless, it renders --frames frames (default 3, 1/60 s apart) offscreen, writes the\n"
@@ -56,6 +56,9 @@ void usage(std::FILE* f) {
       "--root-motion plays the clips that carry root motion (the embedded character's\n"
       "walk_forward and walk_turn_left) and lets the crowd move every character by it; the\n"
       "statistics give the mean distance travelled (key R toggles it).\n"
+      "--motion-vectors also draws the crowd with motion vectors into an offscreen colour +\n"
+      "motion target each frame; the statistics give the mean and largest motion in pixels\n"
+      "(key X toggles it).\n"
       "--lod-pixels extends the LOD chains (si::buildLodChain, errors over the clips' poses)\n"
       "and picks each character's LOD by projected error within PX pixels instead of the\n"
       "technique's distance lines.\n");
@@ -95,6 +98,8 @@ bool parse(int argc, char** argv, Options* o) {
       o->scene.events = true;
     } else if (a == "--root-motion") {
       o->scene.root_motion = true;
+    } else if (a == "--motion-vectors") {
+      o->scene.motion_vectors = true;
     } else if (a == "--mix" && has) {
       o->scene.mix = si::examples::splitList(argv[++i]);
       if (std::string(argv[i]) == "samples") o->scene.mix = demo::defaultMix();
@@ -141,6 +146,11 @@ void printStats(const demo::DemoScene& scene, const si::DrawStats& stats, double
                 static_cast<unsigned long long>(scene.eventsSinceOn()));
   if (scene.rootMotion())
     std::printf("%-28s %12.3f units\n", "root motion: mean travel", scene.meanTravel());
+  if (scene.motionVectors()) {
+    const si::MotionSummary& m = scene.motionSummary();
+    std::printf("%-28s %12.3f px\n", "motion vectors: mean", m.mean_pixels);
+    std::printf("%-28s %12.3f px\n", "motion vectors: largest", m.max_pixels);
+  }
   if (scene.otherKinds() > 0)
     std::printf("%-28s %12u (%zu character kinds in one renderer)\n", "other kinds visible",
                 scene.otherKindsVisible(), scene.otherKinds() + 1);
@@ -169,6 +179,7 @@ int runHeadless(const Options& o, demo::DemoScene* scene) {
     scene->releaseGl();
     return fail("renderer", s);
   }
+  scene->setViewportSize(o.width, o.height);
   si::Camera camera = scene->overviewCamera(float(o.width) / float(o.height));
   camera.viewport_height_pixels = float(o.height);  // For --lod-pixels.
   double update_ms = 0.0, submit_ms = 0.0, gpu_ms = 0.0;

@@ -36,7 +36,9 @@ constexpr char kHelp[] =
     "  V           animation events on/off: markers at every clip's start and middle; the\n"
     "              console prints the events reported each second\n"
     "  R           root motion on/off: the field walks and turns (clips baked in place, the\n"
-    "              crowd moves each character by its clip's motion)\n";
+    "              crowd moves each character by its clip's motion)\n"
+    "  X           motion vectors on/off: the crowd is drawn once more into a colour + motion\n"
+    "              target; the console prints the mean and largest motion twice a second\n";
 
 std::string g_glfw_error;
 void onGlfwError(int code, const char* message) {
@@ -118,6 +120,10 @@ class App {
       case GLFW_KEY_R:
         s = scene_->toggleRootMotion();
         std::printf("root motion %s\n", scene_->rootMotion() ? "on" : "off");
+        break;
+      case GLFW_KEY_X:
+        scene_->toggleMotionVectors();
+        std::printf("motion vectors %s\n", scene_->motionVectors() ? "on" : "off");
         break;
       case GLFW_KEY_C:
         s = scene_->crossfadeAll();
@@ -272,6 +278,7 @@ WindowResult runWindow(const WindowOptions& o, DemoScene* scene, std::string* wh
       last = now;
       si::Camera camera = app.camera(dt, float(w) / float(h));
       camera.viewport_height_pixels = float(h);  // For --lod-pixels.
+      scene->setViewportSize(uint32_t(w), uint32_t(h));
       s = scene->frame(dt, camera, &stats);
       if (!s.isOk()) break;
       gpu_ms_sum += std::max(0.0, stats.gpu_ms);
@@ -291,6 +298,15 @@ WindowResult runWindow(const WindowOptions& o, DemoScene* scene, std::string* wh
                       static_cast<unsigned long long>(scene->eventsSinceOn() - events_printed),
                       std::chrono::duration<double>(now - last_title).count());
           events_printed = scene->eventsSinceOn();
+        }
+        if (scene->motionVectors()) {
+          const si::MotionSummary& m = scene->motionSummary();
+          if (m.drawn_pixels > 0)
+            std::printf("motion vectors: mean %.2f px, largest %.2f px over %llu drawn pixels\n",
+                        m.mean_pixels, m.max_pixels,
+                        static_cast<unsigned long long>(m.drawn_pixels));
+          else
+            std::printf("motion vectors: none on the %s path\n", drawPathName(scene->path()));
         }
         last_title = now;
         frame_ms_sum = gpu_ms_sum = 0.0;

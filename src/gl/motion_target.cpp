@@ -47,12 +47,21 @@ Status MotionTarget::create(uint32_t width, uint32_t height) {
   return s;
 }
 
-void MotionTarget::bind() const {
+void MotionTarget::bind() {
+  glGetIntegerv(GL_DRAW_FRAMEBUFFER_BINDING, &saved_draw_);
+  glGetIntegerv(GL_READ_FRAMEBUFFER_BINDING, &saved_read_);
+  glGetIntegerv(GL_VIEWPORT, saved_viewport_);
   glBindFramebuffer(GL_FRAMEBUFFER, framebuffer_);
   glViewport(0, 0, GLsizei(width_), GLsizei(height_));
 }
 
-void MotionTarget::clear(const glm::vec4& color) const {
+void MotionTarget::restore() const {
+  glBindFramebuffer(GL_DRAW_FRAMEBUFFER, GLuint(saved_draw_));
+  glBindFramebuffer(GL_READ_FRAMEBUFFER, GLuint(saved_read_));
+  glViewport(saved_viewport_[0], saved_viewport_[1], saved_viewport_[2], saved_viewport_[3]);
+}
+
+void MotionTarget::clear(const glm::vec4& color) {
   bind();
   const float none[4] = {0.0f, 0.0f, 0.0f, 0.0f}, far_depth = 1.0f;
   glClearNamedFramebufferfv(framebuffer_, GL_COLOR, 0, &color[0]);

@@ -76,9 +76,9 @@ class MotionVectorTest : public RenderTest {
   void SetUp() override {
     RenderTest::SetUp();
     if (IsSkipped() || HasFailure()) return;
-    glGetIntegerv(GL_DRAW_FRAMEBUFFER_BINDING, &context_fbo_);
     const Status made = target_.create(kSize, kSize);
     ASSERT_TRUE(made.isOk()) << made.toString();
+    target_.bind();
     CrowdDesc cd;
     cd.palette = &palette();
     cd.sub_mesh_count = 4;
@@ -104,8 +104,8 @@ class MotionVectorTest : public RenderTest {
   }
   void TearDown() override {
     if (context_) {
+      target_.restore();
       target_.release();
-      glBindFramebuffer(GL_FRAMEBUFFER, GLuint(context_fbo_));
     }
   }
 
@@ -197,7 +197,6 @@ class MotionVectorTest : public RenderTest {
     glDeleteProgram(program);
   }
 
-  GLint context_fbo_ = 0;
   MotionTarget target_;
 
   std::vector<uint8_t> colors() {

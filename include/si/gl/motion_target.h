@@ -11,12 +11,13 @@
 /// \code
 ///   si::MotionTarget target;
 ///   si::Status s = target.create(1920, 1080);
-///   target.bind();                        // draw framebuffer and viewport
-///   target.clear(glm::vec4(0.6f, 0.65f, 0.6f, 1.0f));
+///   target.clear(glm::vec4(0.6f, 0.65f, 0.6f, 1.0f));  // binds it
+
 ///   s = renderer.drawCrowd(crowd, batcher, camera, &stats);
 ///   si::MotionSummary summary;
 ///   s = target.summarize(&summary);       // mean and largest motion in pixels
-///   target.blitColor(0, 1920, 1080);      // show it
+///   target.restore();                     // the framebuffer bound before
+///   target.blitColor(0, 1920, 1080);      // show it (into a single-sampled framebuffer)
 /// \endcode
 
 #include <cstdint>
@@ -47,10 +48,13 @@ class MotionTarget {
   /// side or one past GL_MAX_RENDERBUFFER_SIZE; kBackend when it is not complete or a GL error
   /// occurred (named); nothing kept then.
   Status create(uint32_t width, uint32_t height);
-  /// Binds it as the draw and read framebuffer (both draw buffers) and sets the viewport.
-  void bind() const;
+  /// Binds it as the draw and read framebuffer (both draw buffers) and sets the viewport,
+  /// remembering the framebuffers and viewport bound before (restore()).
+  void bind();
   /// Clears colour to `color`, motion to 0 and depth to 1 (binds it).
-  void clear(const glm::vec4& color) const;
+  void clear(const glm::vec4& color);
+  /// Binds again the framebuffers and viewport that were bound when bind() was last called.
+  void restore() const;
   /// The motion image, width * height texels from the bottom row up, in texture coordinate
   /// units (multiply by the size for pixels). kInvalidArgument before create() or for a null out.
   Status readMotion(std::vector<glm::vec2>* out) const;
@@ -73,6 +77,7 @@ class MotionTarget {
  private:
   uint32_t framebuffer_ = 0, color_ = 0, motion_ = 0, depth_ = 0;
   uint32_t width_ = 0, height_ = 0;
+  int32_t saved_draw_ = 0, saved_read_ = 0, saved_viewport_[4] = {0, 0, 0, 0};
 };
 
 }  // namespace si
