@@ -129,8 +129,11 @@ Status InstanceBatcher::buildPrevious(const CrowdManager& crowd, Span<uint8_t> o
   const Span<const InstanceRecord> records = crowd.records();
   const Span<const InstanceRecord> previous = crowd.previousRecords();
   const Span<const uint32_t> index = crowd.previousRecordIndices();
-  // The fallback's translation moves from the last camera's origin to the previous one's.
-  const glm::vec3 shift(crowd.updateCamera().position - crowd.previousUpdateCamera().position);
+  // The fallback's translation moves from the last camera's origin to the previous one's; a
+  // camera cut too far for a float (past 1e30) keeps it (no motion is meaningful there).
+  const glm::dvec3 delta = crowd.updateCamera().position - crowd.previousUpdateCamera().position;
+  const bool representable = glm::all(glm::lessThan(glm::abs(delta), glm::dvec3(1e30)));
+  const glm::vec3 shift = representable ? glm::vec3(delta) : glm::vec3(0.0f);
   walkBatches(crowd, capacity_, alignment_, out.data(), nullptr,
               [&](uint8_t* dst, uint32_t first, uint32_t count) {
                 for (uint32_t k = 0; k < count; ++k) {

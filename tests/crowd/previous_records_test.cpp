@@ -221,5 +221,24 @@ TEST(PreviousRecords, TheBatcherWritesThemInBuildsSlots) {
   EXPECT_EQ(InstanceBatcher().buildPrevious(crowd, small).code(), StatusCode::kInvalidArgument);
 }
 
+// A camera cut past a float's range: the fallback keeps the current translation rather than
+// writing an infinite one.
+TEST(PreviousRecords, ACameraCutPastAFloatKeepsFiniteRecords) {
+  CrowdManager crowd = makeCrowd(1);
+  InstanceDesc d;
+  InstanceHandle h;
+  ASSERT_TRUE(crowd.add(d, &h).isOk());
+  ASSERT_TRUE(crowd.update(0.1, test::testCamera({1e39, 2, -6}, {1e39, 1, 0})).isOk());
+  ASSERT_TRUE(crowd.update(0.1, test::testCamera({0, 2, -6}, {0, 1, 0})).isOk());
+  ASSERT_EQ(crowd.records().size(), 1u);
+  InstanceBatcher batcher;
+  ASSERT_TRUE(batcher.init({16384, 256, 0}).isOk());
+  std::vector<uint8_t> previous(batcher.recordBufferBound(crowd));
+  ASSERT_TRUE(batcher.buildPrevious(crowd, previous).isOk());
+  InstanceRecord r;
+  std::memcpy(&r, previous.data(), sizeof r);
+  EXPECT_TRUE(sameRecord(r, crowd.records()[0]));
+}
+
 }  // namespace
 }  // namespace si

@@ -173,6 +173,27 @@ void checkFrame(const si::CrowdManager& crowd) {
   for (const si::RecordSpanDraw& d : spans)
     for (uint32_t k = 0; k < d.instance_count; ++k) from_spans.push_back(d.first_record + k);
   if (from_spans != crowd.bucketEntries()) fail("the spans are not the bucket entries");
+  // Motion vectors: each record's previous index is none or names a kept record; the batcher's
+  // previous block (build()'s layout) holds finite world rows.
+  if (crowd.desc().previous_records) {
+    if (crowd.previousRecordIndices().size() != crowd.records().size())
+      fail("the previous indices do not match the records");
+    for (uint32_t p : crowd.previousRecordIndices())
+      if (p != si::CrowdManager::kNoPreviousRecord && p >= crowd.previousRecords().size())
+        fail("a previous index is past the previous records");
+    std::vector<uint8_t> now(batcher.recordBufferBound(crowd)), then(now.size());
+    std::vector<si::DrawBatch> draws;
+    if (!batcher.build(crowd, now, &draws).isOk() || !batcher.buildPrevious(crowd, then).isOk())
+      fail("build or buildPrevious failed on a valid frame");
+    for (const si::DrawBatch& d : draws)
+      for (uint32_t k = 0; k < d.instance_count; ++k) {
+        si::InstanceRecord r;
+        std::memcpy(&r, then.data() + d.byte_offset + k * si::kInstanceRecordSize, sizeof r);
+        for (const auto& row : r.world_rows)
+          for (float v : row)
+            if (!std::isfinite(v)) fail("a previous record's world rows are not finite");
+      }
+  }
   const uint64_t texels = palette().layout.textureTexelCount();
   for (const si::InstanceRecord& r : crowd.records()) {
     for (const auto& row : r.world_rows)
@@ -196,7 +217,9 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
   si::CrowdDesc cd;
   cd.palette = &palette();
   cd.sub_mesh_count = 1 + in.u8() % 4;
-  cd.lod_count = 1 + in.u8() % 3;
+  const uint8_t lods = in.u8();  // Its high bit: previous records (the input layout is kept).
+  cd.lod_count = 1 + lods % 3;
+  cd.previous_records = (lods & 0x80) != 0;
   si::CrowdManager crowd;
   if (!crowd.init(cd).isOk()) fail("init refused a valid desc");
   std::vector<si::InstanceHandle> live, released;

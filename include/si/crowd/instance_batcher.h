@@ -89,7 +89,8 @@ class InstanceBatcher {
   /// instance's record of the previous update (CrowdManager::previousRecords()), relative to
   /// the previous update's camera. Where an instance has none (kNoPreviousRecord: not drawn
   /// then, added or teleported since), its slot holds its current record moved to the previous
-  /// camera's origin: it has not moved, only the camera has. Bind it beside the current block
+  /// camera's origin: it has not moved, only the camera has (kept where the cameras are 1e30
+  /// or more apart, past a float). Bind it beside the current block
   /// (si_skinning.glsl's SiPreviousInstances, SI_PREVIOUS_RECORDS) and project with the
   /// previous camera. kInvalidArgument if not initialized or the crowd does not keep previous
   /// records (CrowdDesc::previous_records); kCountMismatch when `out` is smaller than
