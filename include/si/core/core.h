@@ -22,6 +22,7 @@
 #include "si/core/clip.h"
 #include "si/core/default_character.h"
 #include "si/core/log.h"
+#include "si/core/layer_mask.h"
 #include "si/core/lod_error.h"
 #include "si/core/palette_layout.h"
 #include "si/core/reference_evaluator.h"

@@ -1,0 +1,105 @@
+// SkinnedInstancing — SPDX-License-Identifier: MIT (see LICENSE)
+#pragma once
+
+/// \file
+/// Layered (masked) animation: an overlay clip drives the joints of a mask (for example the
+/// right arm waving) over a base clip that drives every joint (walking). The palette stores
+/// model-space skinning matrices, so taking the overlay's matrix for a masked joint would detach
+/// the branch from the base pose: the arm would wave where the overlay clip's chest is, not
+/// where the walking chest is. Done correctly, in local space, a masked joint takes the
+/// overlay's local transforms from the branch root down, attached to the base pose's branch
+/// parent (the anchor a). In skinning matrices (S = global * inverse bind) that is exactly
+///
+///   S_j = S_base(a) * inverse(S_overlay(a)) * S_overlay(j)
+///
+/// (the bind matrices cancel), which the shader computes from the palette as it stands: no
+/// extra baking. A weight w in (0, 1) blends S_base(j) towards it, matrix by matrix, where the
+/// reference (evaluateLayeredPose) blends the local transforms (slerp): that difference and the
+/// palette's sampling are the approximation's error, which measureLayeredError (si::bake)
+/// reports.
+///
+/// Usage:
+/// \code
+///   si::LayerMask arm;
+///   si::Status s = si::buildLayerMask(character.skeleton, palette, "right arm",
+///                                     {"r_clavicle"}, &arm);
+///   crowd.addLayerMask(arm, &mask_id);  // si::CrowdManager (a handful per crowd)
+/// \endcode
+
+#include <cstdint>
+#include <string>
+#include <vector>
+
+#include <glm/glm.hpp>
+
+#include "si/core/baked_palette.h"
+#include "si/core/clip.h"
+#include "si/core/reference_evaluator.h"
+#include "si/core/skeleton.h"
+#include "si/core/span.h"
+#include "si/core/status.h"
+
+namespace si {
+
+/// A joint mask of one character (one palette): whole branches, each a joint and all its
+/// descendants.
+struct LayerMask {
+  /// slot_anchor value of a palette slot outside the mask.
+  static constexpr int32_t kNotInMask = -2;
+  /// slot_anchor value of a masked slot whose branch root has no parent: the overlay's matrix
+  /// is taken as it is (its anchor is the model origin).
+  static constexpr int32_t kModelAnchor = -1;
+
+  std::string name;
+  /// Per palette slot: kNotInMask, kModelAnchor, or the palette slot of the anchor (the parent
+  /// of the slot's branch root), which is itself outside the mask.
+  std::vector<int32_t> slot_anchor;
+  /// The skeleton joints in the mask, increasing (stored in the palette or not): what the
+  /// reference blends.
+  std::vector<uint32_t> joints;
+
+  /// Whether palette slot `slot` is in the mask.
+  bool contains(uint32_t slot) const {
+    return slot < slot_anchor.size() && slot_anchor[slot] != kNotInMask;
+  }
+  /// Checks it against `palette`: one entry per palette slot, each kNotInMask, kModelAnchor or
+  /// a slot outside the mask, at least one slot in it (kInvalidArgument); joints increasing,
+  /// below the palette's skeleton size, and exactly the skeleton joints of the masked slots
+  /// among them (kInvalidArgument).
+  Status validate(const BakedPalette& palette) const;
+};
+
+/// Builds the mask of the branches rooted at the joints named `branch_roots` (each with all
+/// its descendants). kInvalidArgument for a null `out` or no names; kNotFound naming an unknown
+/// joint; kInvalidArgument when the skeleton does not validate or is not the palette's (joint
+/// count); kNotFound when a branch's anchor (its root's parent) drives vertices outside the
+/// palette, i.e. is not stored in it: the shader needs its matrix (bake a palette that stores
+/// it, or pick the anchor's parent's branch). Nothing is written on failure.
+Status buildLayerMask(const Skeleton& skeleton, const BakedPalette& palette,
+                      const std::string& name, const std::vector<std::string>& branch_roots,
+                      LayerMask* out);
+
+/// The same from an explicit list of joint names, which must hold every descendant of each
+/// (kInvalidArgument naming the first listed joint whose child is missing): a set of branches.
+Status buildLayerMaskFromJoints(const Skeleton& skeleton, const BakedPalette& palette,
+                                const std::string& name, const std::vector<std::string>& joints,
+                                LayerMask* out);
+
+/// The layered skinning matrix the shader computes for a masked slot (float): S_base(j) blended
+/// by `weight` towards S_base(a) * inverse(S_overlay(a)) * S_overlay(j), matrix element by
+/// element. `anchor` is the slot's slot_anchor (kModelAnchor: the overlay's matrix alone;
+/// base_anchor and overlay_anchor are then ignored). Matrices are affine (last row 0 0 0 1).
+glm::mat4 emulateLayeredMatrix(const glm::mat4& base, const glm::mat4& overlay,
+                               const glm::mat4& base_anchor, const glm::mat4& overlay_anchor,
+                               int32_t anchor, float weight);
+
+/// The reference: `base` at clip time `base_time` on every joint, and on the mask's joints the
+/// local transforms blended towards `overlay` at `overlay_time` by `weight` (translation and
+/// scale lerped, rotation slerped along the shorter arc), composed in double. Times are mapped
+/// by each clip's loop mode (clipLocalTime). Fails as evaluatePose() does, and kInvalidArgument
+/// for a weight outside [0, 1] or a mask joint past the skeleton.
+Status evaluateLayeredPose(const Skeleton& skeleton, const Clip& base, double base_time,
+                           const Clip& overlay, double overlay_time, const LayerMask& mask,
+                           double weight, ReferencePose* pose);
+
+}  // namespace si

@@ -1,0 +1,190 @@
+// SkinnedInstancing — SPDX-License-Identifier: MIT (see LICENSE)
+// Layered animation's joint masks, the shader's layered matrix and the local-space reference.
+#include "si/core/layer_mask.h"
+
+#include <algorithm>
+
+#include <glm/gtc/quaternion.hpp>
+
+#include "core/str_cat.h"
+
+namespace si {
+
+using detail::strCat;
+
+namespace {
+
+// The mask of the joints flagged in `in_mask` (closed under descendants), with each masked
+// joint's anchor: the parent of its branch root.
+Status finishMask(const Skeleton& skeleton, const BakedPalette& palette, const std::string& name,
+                  const std::vector<uint8_t>& in_mask, LayerMask* out) {
+  const size_t n = skeleton.jointCount();
+  LayerMask m;
+  m.name = name;
+  m.slot_anchor.assign(palette.palette_joints.size(), LayerMask::kNotInMask);
+  std::vector<int32_t> anchor_joint(n, Skeleton::kNoParent);
+  for (size_t j = 0; j < n; ++j) {
+    if (!in_mask[j]) continue;
+    m.joints.push_back(uint32_t(j));
+    const int32_t parent = skeleton.parents[j];
+    anchor_joint[j] = parent >= 0 && in_mask[size_t(parent)] ? anchor_joint[size_t(parent)] : parent;
+    const int32_t slot = palette.skeleton_to_palette[j];
+    if (slot < 0) continue;  // Drives no vertex.
+    const int32_t a = anchor_joint[j];
+    if (a < 0) {
+      m.slot_anchor[size_t(slot)] = LayerMask::kModelAnchor;
+      continue;
+    }
+    const int32_t anchor_slot = palette.skeleton_to_palette[size_t(a)];
+    if (anchor_slot < 0)
+      return {StatusCode::kNotFound,
+              strCat("layer mask '", name, "': joint '", skeleton.joint_names[j],
+                     "' hangs from '", skeleton.joint_names[size_t(a)],
+                     "', which the palette does not store (no vertex is weighted to it); the ",
+                     "shader needs its matrix: mask its parent's branch instead")};
+    m.slot_anchor[size_t(slot)] = anchor_slot;
+  }
+  const Status s = m.validate(palette);
+  if (!s.isOk()) return {s.code(), strCat("layer mask '", name, "': ", s.message())};
+  *out = std::move(m);
+  return Status::ok();
+}
+
+Status checkInputs(const Skeleton& skeleton, const BakedPalette& palette, const void* out,
+                   size_t names) {
+  if (out == nullptr) return {StatusCode::kInvalidArgument, "layer mask: null output"};
+  if (names == 0) return {StatusCode::kInvalidArgument, "layer mask: no joints named"};
+  const Status s = skeleton.validate();
+  if (!s.isOk()) return {StatusCode::kInvalidArgument, "layer mask: " + s.message()};
+  if (palette.skeleton_to_palette.size() != skeleton.jointCount())
+    return {StatusCode::kInvalidArgument,
+            strCat("layer mask: the skeleton has ", skeleton.jointCount(),
+                   " joints, the palette was baked for ", palette.skeleton_to_palette.size())};
+  return Status::ok();
+}
+
+Status findJoint(const Skeleton& skeleton, const std::string& joint, const std::string& name,
+                 int32_t* out) {
+  *out = skeleton.findJoint(joint);
+  if (*out < 0)
+    return {StatusCode::kNotFound, strCat("layer mask '", name, "': no joint named '", joint, "'")};
+  return Status::ok();
+}
+
+}  // namespace
+
+Status LayerMask::validate(const BakedPalette& palette) const {
+  const size_t slots = palette.palette_joints.size();
+  if (slot_anchor.size() != slots)
+    return {StatusCode::kInvalidArgument,
+            strCat("the mask has ", slot_anchor.size(), " slots, the palette ", slots)};
+  size_t masked = 0;
+  for (size_t s = 0; s < slots; ++s) {
+    const int32_t a = slot_anchor[s];
+    if (a == kNotInMask) continue;
+    ++masked;
+    if (a == kModelAnchor) continue;
+    if (a < 0 || size_t(a) >= slots || slot_anchor[size_t(a)] != kNotInMask)
+      return {StatusCode::kInvalidArgument,
+              strCat("slot ", s, "'s anchor ", a, " is not a palette slot outside the mask")};
+  }
+  if (masked == 0) return {StatusCode::kInvalidArgument, "no palette slot is in the mask"};
+  for (size_t i = 0; i < joints.size(); ++i)
+    if (joints[i] >= palette.skeleton_to_palette.size() || (i > 0 && joints[i] <= joints[i - 1]))
+      return {StatusCode::kInvalidArgument, "the mask's joints are not increasing skeleton joints"};
+  size_t stored = 0;
+  for (uint32_t j : joints) {
+    const int32_t slot = palette.skeleton_to_palette[j];
+    if (slot < 0) continue;
+    if (slot_anchor[size_t(slot)] == kNotInMask)
+      return {StatusCode::kInvalidArgument, strCat("joint ", j, " is listed but its slot is not masked")};
+    ++stored;
+  }
+  if (stored != masked)
+    return {StatusCode::kInvalidArgument, "a masked slot's joint is not listed"};
+  return Status::ok();
+}
+
+Status buildLayerMask(const Skeleton& skeleton, const BakedPalette& palette,
+                      const std::string& name, const std::vector<std::string>& branch_roots,
+                      LayerMask* out) {
+  Status s = checkInputs(skeleton, palette, out, branch_roots.size());
+  if (!s.isOk()) return s;
+  std::vector<uint8_t> in_mask(skeleton.jointCount(), 0);
+  for (const std::string& root : branch_roots) {
+    int32_t j = -1;
+    s = findJoint(skeleton, root, name, &j);
+    if (!s.isOk()) return s;
+    in_mask[size_t(j)] = 1;
+  }
+  for (size_t j = 0; j < skeleton.jointCount(); ++j)  // Parents precede children.
+    if (skeleton.parents[j] >= 0 && in_mask[size_t(skeleton.parents[j])]) in_mask[j] = 1;
+  return finishMask(skeleton, palette, name, in_mask, out);
+}
+
+Status buildLayerMaskFromJoints(const Skeleton& skeleton, const BakedPalette& palette,
+                                const std::string& name, const std::vector<std::string>& joints,
+                                LayerMask* out) {
+  Status s = checkInputs(skeleton, palette, out, joints.size());
+  if (!s.isOk()) return s;
+  std::vector<uint8_t> in_mask(skeleton.jointCount(), 0);
+  for (const std::string& joint : joints) {
+    int32_t j = -1;
+    s = findJoint(skeleton, joint, name, &j);
+    if (!s.isOk()) return s;
+    in_mask[size_t(j)] = 1;
+  }
+  for (size_t j = 0; j < skeleton.jointCount(); ++j) {
+    const int32_t p = skeleton.parents[j];
+    if (p >= 0 && in_mask[size_t(p)] && !in_mask[j])
+      return {StatusCode::kInvalidArgument,
+              strCat("layer mask '", name, "': '", skeleton.joint_names[size_t(p)],
+                     "' is listed but its child '", skeleton.joint_names[j],
+                     "' is not (a mask holds whole branches)")};
+  }
+  return finishMask(skeleton, palette, name, in_mask, out);
+}
+
+glm::mat4 emulateLayeredMatrix(const glm::mat4& base, const glm::mat4& overlay,
+                               const glm::mat4& base_anchor, const glm::mat4& overlay_anchor,
+                               int32_t anchor, float weight) {
+  glm::mat4 layered = overlay;
+  if (anchor != LayerMask::kModelAnchor) {
+    // The affine inverse, as the shader forms it: the 3x3's inverse and -inverse * t.
+    const glm::mat3 a_inv = glm::inverse(glm::mat3(overlay_anchor));
+    glm::mat4 inv(a_inv);
+    inv[3] = glm::vec4(-(a_inv * glm::vec3(overlay_anchor[3])), 1.0f);
+    layered = base_anchor * (inv * overlay);
+  }
+  return base * (1.0f - weight) + layered * weight;
+}
+
+Status evaluateLayeredPose(const Skeleton& skeleton, const Clip& base, double base_time,
+                           const Clip& overlay, double overlay_time, const LayerMask& mask,
+                           double weight, ReferencePose* pose) {
+  if (pose == nullptr) return {StatusCode::kInvalidArgument, "evaluateLayeredPose: null pose"};
+  if (!(weight >= 0.0 && weight <= 1.0))
+    return {StatusCode::kInvalidArgument, "evaluateLayeredPose: weight outside [0, 1]"};
+  for (uint32_t j : mask.joints)
+    if (j >= skeleton.jointCount())
+      return {StatusCode::kInvalidArgument, "evaluateLayeredPose: a mask joint is past the skeleton"};
+  ReferencePose b, o;
+  Status s = evaluatePose(skeleton, base, base_time, &b);
+  if (s.isOk()) s = evaluatePose(skeleton, overlay, overlay_time, &o);
+  if (!s.isOk()) return s;
+  for (uint32_t j : mask.joints) {
+    TransformD& l = b.local[j];
+    const TransformD& v = o.local[j];
+    l.translation = glm::mix(l.translation, v.translation, weight);
+    l.scale = glm::mix(l.scale, v.scale, weight);
+    glm::dquat q = v.rotation;
+    if (glm::dot(l.rotation, q) < 0.0) q = -q;  // The shorter arc.
+    l.rotation = glm::slerp(glm::normalize(l.rotation), glm::normalize(q), weight);
+  }
+  s = composePose(skeleton, b.local, b.model, b.skinning);
+  if (!s.isOk()) return s;
+  *pose = std::move(b);
+  return Status::ok();
+}
+
+}  // namespace si
