@@ -201,9 +201,9 @@ Status CrowdManager::addRandom(const RandomCrowdDesc& r, std::vector<InstanceHan
   return Status::ok();
 }
 
-namespace {
-Status noCrowd() { return {StatusCode::kNotFound, "CrowdManager: init() first (no instances)"}; }
-}  // namespace
+Status CrowdManager::noCrowd() {
+  return {StatusCode::kNotFound, "CrowdManager: init() first (no instances)"};
+}
 
 bool CrowdManager::contains(InstanceHandle h) const {
   return state_ && state_->store.handles.state(h) == HandleState::kAlive;
@@ -305,6 +305,7 @@ Status CrowdManager::update(double dt, const Camera& camera, const ParallelFor& 
   in.markers = &state_->markers;
   in.root_motion = state_->store.root_motion_count > 0;
   in.previous_records = desc_.previous_records;
+  in.layers = state_->store.overlay_count > 0;
   detail::buildFrame(in, state_->store, &state_->frame);
   state_->previous_camera = state_->updated ? state_->camera : camera;
   state_->camera = camera;
@@ -436,14 +437,27 @@ Status CrowdManager::jointMatrix(InstanceHandle h, uint32_t joint, glm::dmat4* o
     return {StatusCode::kOutOfRange, strCat("jointMatrix: joint ", joint, " is not in the palette")};
   const uint32_t slot = uint32_t(p.skeleton_to_palette[joint]);
   const double clock = state_->clock;
-  const auto matrix = [&](const detail::Playback& pb) {
+  const auto matrix = [&](const detail::Playback& pb, uint32_t at) {
     const double t = detail::localTime(pb, state_->clips[pb.clip], clock);
-    return emulateSkinningMatrix(p, pb.clip, sampleFrames(p.clips[pb.clip], t), slot);
+    return emulateSkinningMatrix(p, pb.clip, sampleFrames(p.clips[pb.clip], t), at);
   };
-  glm::mat4 m = matrix(st.playback[i]);
-  if (st.fade_duration[i] > 0.0) {
-    const float w = float(std::clamp((clock - st.fade_start[i]) / st.fade_duration[i], 0.0, 1.0));
-    m = matrix(st.fade_from[i]) * (1.0f - w) + m * w;  // The shader blends the two the same way.
+  const auto base = [&](uint32_t at) {
+    glm::mat4 m = matrix(st.playback[i], at);
+    if (st.fade_duration[i] > 0.0) {
+      const float w = float(std::clamp((clock - st.fade_start[i]) / st.fade_duration[i], 0.0, 1.0));
+      m = matrix(st.fade_from[i], at) * (1.0f - w) + m * w;  // The shader blends them so.
+    }
+    return m;
+  };
+  glm::mat4 m = base(slot);
+  // Layered animation: the overlay on its mask, as the shader composes it.
+  const detail::OverlayState& o = st.overlays[i];
+  const float weight = o.active ? layerWeight(detail::layerRecordOf(o, state_->clips, p, clock)) : 0.0f;
+  if (weight > 0.0f && state_->layer_masks[o.mask].contains(slot)) {
+    const int32_t a = state_->layer_masks[o.mask].slot_anchor[slot];
+    const uint32_t anchor = a >= 0 ? uint32_t(a) : slot;
+    m = emulateLayeredMatrix(m, matrix(o.playback, slot), base(anchor), matrix(o.playback, anchor),
+                             a, weight);
   }
   glm::dmat4 world(glm::mat3_cast(glm::dquat(st.rotations[i])) * double(st.scales[i]));
   world[3] = glm::dvec4(st.positions[i], 1.0);

@@ -25,6 +25,7 @@ struct CrowdManager::State {
   // The cameras of the last update and of the one before it (motion vectors).
   Camera camera, previous_camera;
   bool updated = false;  // Whether update() has run since init().
+  std::vector<LayerMask> layer_masks;  // addLayerMask(), in id order.
   // update(dt, camera)'s own workers (CrowdDesc::worker_threads), started when first needed.
   std::unique_ptr<WorkerPool> pool;
 };

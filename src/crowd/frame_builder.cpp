@@ -309,6 +309,8 @@ SI_CPU_CLONES void writeChunk(const FrameInputs& in, InstanceStore& st, bool fal
       }
       f.visible_handles[slot] = st.dense_handles[i];
       if (fallback) f.record_masks[slot] = wornMask(st.masks[i], in.sub_mesh_count);
+      if (in.layers)
+        f.layer_records[slot] = layerRecordOf(st.overlays[i], clips, *in.palette, in.clock);
       if (in.previous_records) {
         f.previous_index[slot] = st.previous_slot[i];
         st.record_slot[i] = slot;
@@ -358,6 +360,8 @@ void buildFrame(const FrameInputs& in, InstanceStore& st, CrowdFrame* frame) {
   if (f.records.size() < visible) f.records.resize(visible);
   if (f.visible_handles.size() < visible) f.visible_handles.resize(visible);
   if (in.previous_records && f.previous_index.size() < visible) f.previous_index.resize(visible);
+  f.layers = in.layers;
+  if (in.layers && f.layer_records.size() < visible) f.layer_records.resize(visible);
   if (fallback && f.record_masks.size() < visible) f.record_masks.resize(visible);
   forEachChunk(in, chunk_count, [&](uint32_t c) { writeChunk(in, st, fallback, f.chunks[c], f); });
   buildBucketRuns(in.params.lod_count, in.sub_mesh_count, fallback, &f);

@@ -51,6 +51,9 @@ struct CrowdFrame {
   std::vector<InstanceRecord> previous_records;
   uint32_t previous_visible = 0;
   std::vector<uint32_t> previous_index;
+  // Layered animation (FrameInputs::layers): parallel to records.
+  std::vector<LayerRecord> layer_records;
+  bool layers = false;  // Whether this frame wrote them.
   std::vector<uint32_t> record_masks;           // Parallel: worn masks.
   std::vector<ChunkWork> chunks;
   // Groups of this frame: the distinct worn masks in increasing order, and the record ranges
@@ -80,6 +83,7 @@ struct FrameInputs {
   const MarkerTable* markers = nullptr;       // Null or empty: no events.
   bool root_motion = false;                   // Some instance opted in to root motion.
   bool previous_records = false;              // CrowdDesc::previous_records.
+  bool layers = false;                        // Some instance played an overlay.
 };
 
 /// Builds `frame` from `store`; updates each visible instance's LOD and ends crossfades whose

@@ -82,6 +82,7 @@ void InstanceStore::push(const InstanceDesc& d, InstanceHandle h, double clock) 
   root_motion_count += d.root_motion ? 1u : 0u;
   record_slot.push_back(CrowdManager::kNoPreviousRecord);
   previous_slot.push_back(CrowdManager::kNoPreviousRecord);
+  overlays.push_back(OverlayState());
   dense_handles.push_back(h);
   version = nextStateVersion();
 }
@@ -104,6 +105,7 @@ Status InstanceStore::remove(InstanceHandle h) {
     v.pop_back();
   };
   root_motion_count -= root_motion[i];
+  overlay_count -= overlays[i].active ? 1u : 0u;
   if (i != last) {
     uint32_t moved_slot = 0;
     (void)handles.slot(dense_handles[last], &moved_slot);
@@ -125,6 +127,7 @@ Status InstanceStore::remove(InstanceHandle h) {
   move_last(motion_clock);
   move_last(record_slot);
   move_last(previous_slot);
+  move_last(overlays);
   move_last(dense_handles);
   version = nextStateVersion();
   return handles.release(h);
@@ -224,6 +227,40 @@ Status InstanceStore::crossfade(InstanceHandle h, uint32_t clip, double blend_se
   playback[i] = Playback{clip, palette->clips[clip].loop_mode, playback[i].speed, clock,
                          time_seconds};
   events_new[i] = 1;
+  version = nextStateVersion();
+  return Status::ok();
+}
+
+Status InstanceStore::playOverlay(InstanceHandle h, uint32_t clip, uint32_t mask, float weight,
+                                  double blend_seconds, double time_seconds, float speed,
+                                  double clock) {
+  uint32_t i = 0;
+  Status s = denseIndex(h, &i);
+  if (!s.isOk()) return s;
+  OverlayState& o = overlays[i];
+  const float from = o.active ? overlayWeight(o, clock) : 0.0f;
+  if (!o.active) ++overlay_count;
+  o.playback = Playback{clip, palette->clips[clip].loop_mode, speed, clock, time_seconds};
+  o.mask = mask;
+  o.weight_from = blend_seconds > 0.0 ? from : weight;
+  o.weight_to = weight;
+  o.fade_start = clock;
+  o.fade_duration = blend_seconds;
+  o.active = true;
+  version = nextStateVersion();
+  return Status::ok();
+}
+
+Status InstanceStore::stopOverlay(InstanceHandle h, double blend_seconds, double clock) {
+  uint32_t i = 0;
+  Status s = denseIndex(h, &i);
+  if (!s.isOk()) return s;
+  OverlayState& o = overlays[i];
+  if (!o.active) return Status::ok();
+  o.weight_from = blend_seconds > 0.0 ? overlayWeight(o, clock) : 0.0f;
+  o.weight_to = 0.0f;
+  o.fade_start = clock;
+  o.fade_duration = blend_seconds;
   version = nextStateVersion();
   return Status::ok();
 }

@@ -10,6 +10,7 @@
 #include <glm/glm.hpp>
 #include <glm/gtc/quaternion.hpp>
 
+#include "crowd/instance_overlay.h"
 #include "crowd/playback.h"
 #include "si/crowd/crowd_manager.h"
 #include "si/crowd/handle_pool.h"
@@ -48,6 +49,13 @@ struct InstanceStore {
   Status play(InstanceHandle h, uint32_t clip, double time_seconds, float speed, double clock);
   Status crossfade(InstanceHandle h, uint32_t clip, double blend_seconds, double time_seconds,
                    double clock);
+  /// Plays `clip` on mask `mask` over instance `h`'s clip, its weight fading from what it is
+  /// now to `weight` over `blend_seconds` (0: at once); the arguments checked by the caller
+  /// except the handle.
+  Status playOverlay(InstanceHandle h, uint32_t clip, uint32_t mask, float weight,
+                     double blend_seconds, double time_seconds, float speed, double clock);
+  /// Fades `h`'s overlay out over `blend_seconds` (nothing when it has none).
+  Status stopOverlay(InstanceHandle h, double blend_seconds, double clock);
   /// Every instance's events counted as reported up to `clock` (when markers first appear).
   void markEventsReported(double clock);
 
@@ -80,6 +88,10 @@ struct InstanceStore {
   // in the one before (CrowdManager::kNoPreviousRecord for none; setTransform() clears it).
   std::vector<uint32_t> record_slot;
   std::vector<uint32_t> previous_slot;
+  // Layered animation (instance_overlay.h): each instance's overlay, and how many ever played
+  // one (0: update() writes no layer records).
+  std::vector<OverlayState> overlays;
+  uint32_t overlay_count = 0;
   std::vector<InstanceHandle> dense_handles;
   std::vector<uint32_t> slot_to_dense;
 };

@@ -34,6 +34,7 @@
 #include <glm/gtc/quaternion.hpp>
 
 #include "si/core/baked_palette.h"
+#include "si/core/layer_mask.h"
 #include "si/crowd/camera.h"
 #include "si/crowd/gpu_crowd_state.h"
 #include "si/crowd/handle_pool.h"
@@ -312,6 +313,34 @@ class CrowdManager {
   /// position); after the first update, the last one's. Renderers project previous positions
   /// with it (Renderer motion vectors, InstanceBatcher::buildPrevious).
   const Camera& previousUpdateCamera() const;
+
+  // ---- Layered animation (si/core/layer_mask.h) ----
+  /// Masks a crowd may hold.
+  static constexpr uint32_t kMaxLayerMasks = 16;
+  /// Adds a joint mask of the crowd's palette (si::buildLayerMask) and gives its index in
+  /// `id` (may be null): the masks' ids are 0, 1, ... in the order they are added.
+  /// kInvalidArgument when the mask fails mask.validate(palette) (naming why); kLimitExceeded
+  /// past kMaxLayerMasks.
+  Status addLayerMask(const LayerMask& mask, uint32_t* id);
+  /// The masks added, in id order.
+  Span<const LayerMask> layerMasks() const;
+  /// Plays `clip` from clip-local `time_seconds` at `speed` on the joints of mask `mask`, over
+  /// the instance's clip (which keeps playing every other joint, crossfades included). The
+  /// overlay's weight fades from its current value (0 when none plays) to `weight` over
+  /// `blend_seconds` (0: at once). A new overlay replaces the one playing, continuing from its
+  /// weight. kNotFound for a stale handle; kInvalidArgument for a clip or mask out of range,
+  /// a weight outside [0, 1], a negative or non-finite blend, a non-finite time or speed.
+  Status playOverlay(InstanceHandle h, uint32_t clip, uint32_t mask, float weight,
+                     double blend_seconds, double time_seconds = 0.0, float speed = 1.0f);
+  /// Fades the instance's overlay to weight 0 over `blend_seconds` (0: at once); nothing when
+  /// it plays none. kNotFound for a stale handle, kInvalidArgument for a negative or
+  /// non-finite blend.
+  Status stopOverlay(InstanceHandle h, double blend_seconds);
+  /// Parallel to records(): each drawn instance's overlay at the last update() (a zero record,
+  /// weight 0, where it plays none). Empty when no instance had played one then: crowds without
+  /// layered animation write nothing and pay nothing.
+  Span<const LayerRecord> layerRecords() const;
+
   /// The LOD an instance was given by the last update() (kNotFound for stale handles).
   Status lodOf(InstanceHandle h, uint32_t* lod) const;
 
@@ -320,7 +349,8 @@ class CrowdManager {
   FrameSample frameSample(uint32_t clip, double local_time_seconds) const;
 
   /// The instance's skinning matrix of skeleton joint `joint` at the crowd clock's current
-  /// time, in world space (instance world * palette skinning matrix, crossfade blended), from
+  /// time, in world space (instance world * palette skinning matrix, crossfade blended, the
+  /// overlay composed on its mask), from
   /// the baked palette so it matches what is drawn: it maps a bind-pose model-space point
   /// weighted to the joint to its drawn world position. Multiply by the joint's bind matrix
   /// (inverse of its inverse bind matrix) for the joint's own frame (attachments, picking).
@@ -363,6 +393,7 @@ class CrowdManager {
  private:
   struct State;  // Instance store, clip timings and the last frame (src/crowd).
   static const State& emptyState();
+  static Status noCrowd();
   std::unique_ptr<State> state_;
   CrowdDesc desc_;
 };

@@ -46,4 +46,31 @@ inline constexpr uint32_t packAppearance(uint8_t r, uint8_t g, uint8_t b, uint8_
 /// Size of InstanceRecord in bytes (its std140 array stride).
 inline constexpr uint32_t kInstanceRecordSize = sizeof(InstanceRecord);
 
+/// Layered animation (CrowdManager::playOverlay): the overlay clip an instance plays on a
+/// joint mask, as a second record parallel to its InstanceRecord (16 bytes, a uvec4 in std140
+/// and std430). Weight 0: no overlay (the shader skips it).
+///
+/// | word | content |
+/// | --- | --- |
+/// | 0, 1 | texel of the overlay clip's frame and next frame |
+/// | 2 | fraction word (si::packFraction) |
+/// | 3 | weight as unorm16 in the low half, the crowd's mask index in the high half |
+struct LayerRecord {
+  uint32_t frames[2] = {0, 0};
+  uint32_t fraction = 0;
+  uint32_t weight_mask = 0;
+};
+static_assert(sizeof(LayerRecord) == 16, "std140 layer record is 16 bytes");
+inline constexpr uint32_t kLayerRecordSize = sizeof(LayerRecord);
+
+/// A layer record's last word: `weight` in [0, 1] rounded to unorm16, and mask `mask`.
+inline uint32_t packLayerWeight(float weight, uint32_t mask) {
+  const float w = weight > 0.0f ? (weight < 1.0f ? weight : 1.0f) : 0.0f;
+  return uint32_t(w * 65535.0f + 0.5f) | (mask << 16);
+}
+/// Its weight, as the shader reads it.
+inline float layerWeight(const LayerRecord& r) { return float(r.weight_mask & 0xFFFFu) / 65535.0f; }
+/// Its mask index.
+inline uint32_t layerMask(const LayerRecord& r) { return r.weight_mask >> 16; }
+
 }  // namespace si

@@ -2,7 +2,8 @@
 // What the draw paths share.
 #include "gl/paths/draw_path.h"
 
-#include <cstring>
+#include "si/crowd/record_emulation.h"
+
 
 namespace si::detail {
 
@@ -39,15 +40,7 @@ void setMotionUniforms(const Program& program, const PathFrame& f) {
 }
 
 glm::mat4 recordJointMatrix(const BakedPalette& palette, const InstanceRecord& rec, uint32_t slot) {
-  IntervalMode ma, mb;
-  const float fa = unpackFraction(rec.blend[0], &ma), fb = unpackFraction(rec.blend[1], &mb);
-  float wb;
-  std::memcpy(&wb, &rec.blend[2], 4);
-  glm::mat4 mat = emulateFrameMatrix(palette, rec.frames[0], rec.frames[1], fa, ma, slot);
-  if (wb > 0.0f)
-    mat = mat * (1.0f - wb) +
-          emulateFrameMatrix(palette, rec.frames[2], rec.frames[3], fb, mb, slot) * wb;
-  return mat;
+  return emulateRecordMatrix(palette, rec, slot);
 }
 
 }  // namespace si::detail

@@ -1,0 +1,34 @@
+// SkinnedInstancing — SPDX-License-Identifier: MIT (see LICENSE)
+#pragma once
+
+/// \file
+/// What the shader computes from an instance's records, on the CPU in float: the skinning
+/// matrix of a palette slot for an InstanceRecord (frames interpolated, crossfade blended) and,
+/// with layered animation, for its LayerRecord over the crowd's masks. The CPU baselines draw
+/// with it; the tests compare the GPU with it.
+
+#include <cstdint>
+
+#include <glm/glm.hpp>
+
+#include "si/core/baked_palette.h"
+#include "si/core/layer_mask.h"
+#include "si/core/span.h"
+#include "si/crowd/instance_record.h"
+
+namespace si {
+
+/// Palette slot `slot`'s matrix for `record`: clip A's frames interpolated, crossfaded towards
+/// clip B by the record's weight. The record's frames must lie inside the palette.
+glm::mat4 emulateRecordMatrix(const BakedPalette& palette, const InstanceRecord& record,
+                              uint32_t slot);
+
+/// The same with the instance's overlay: where `layer`'s weight is above 0 and its mask (an
+/// index into `masks`, CrowdManager::layerMasks()) holds the slot, emulateLayeredMatrix() of
+/// the record's matrices and the overlay's (its frames interpolated) at the slot and its
+/// anchor; otherwise emulateRecordMatrix(). A mask index past `masks` reads as no overlay.
+glm::mat4 emulateLayeredRecordMatrix(const BakedPalette& palette, const InstanceRecord& record,
+                                     const LayerRecord& layer, Span<const LayerMask> masks,
+                                     uint32_t slot);
+
+}  // namespace si

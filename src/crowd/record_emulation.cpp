@@ -1,0 +1,43 @@
+// SkinnedInstancing — SPDX-License-Identifier: MIT (see LICENSE)
+// The shader's arithmetic on a record, on the CPU.
+#include "si/crowd/record_emulation.h"
+
+#include <cstring>
+
+namespace si {
+
+glm::mat4 emulateRecordMatrix(const BakedPalette& palette, const InstanceRecord& rec,
+                              uint32_t slot) {
+  IntervalMode ma, mb;
+  const float fa = unpackFraction(rec.blend[0], &ma), fb = unpackFraction(rec.blend[1], &mb);
+  float wb;
+  std::memcpy(&wb, &rec.blend[2], 4);
+  glm::mat4 mat = emulateFrameMatrix(palette, rec.frames[0], rec.frames[1], fa, ma, slot);
+  if (wb > 0.0f)
+    mat = mat * (1.0f - wb) +
+          emulateFrameMatrix(palette, rec.frames[2], rec.frames[3], fb, mb, slot) * wb;
+  return mat;
+}
+
+glm::mat4 emulateLayeredRecordMatrix(const BakedPalette& palette, const InstanceRecord& rec,
+                                     const LayerRecord& layer, Span<const LayerMask> masks,
+                                     uint32_t slot) {
+  const glm::mat4 base = emulateRecordMatrix(palette, rec, slot);
+  const float weight = layerWeight(layer);
+  const uint32_t m = layerMask(layer);
+  if (!(weight > 0.0f) || m >= masks.size() || !masks[m].contains(slot)) return base;
+  const int32_t anchor = masks[m].slot_anchor[slot];
+  IntervalMode mode;
+  const float fraction = unpackFraction(layer.fraction, &mode);
+  const auto overlay = [&](uint32_t s) {
+    return emulateFrameMatrix(palette, layer.frames[0], layer.frames[1], fraction, mode, s);
+  };
+  if (anchor == LayerMask::kModelAnchor)
+    return emulateLayeredMatrix(base, overlay(slot), glm::mat4(1.0f), glm::mat4(1.0f), anchor,
+                                weight);
+  const uint32_t a = uint32_t(anchor);
+  return emulateLayeredMatrix(base, overlay(slot), emulateRecordMatrix(palette, rec, a),
+                              overlay(a), anchor, weight);
+}
+
+}  // namespace si
