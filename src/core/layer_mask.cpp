@@ -145,6 +145,12 @@ Status buildLayerMaskFromJoints(const Skeleton& skeleton, const BakedPalette& pa
   return finishMask(skeleton, palette, name, in_mask, out);
 }
 
+std::vector<int32_t> layerMaskTable(Span<const LayerMask> masks) {
+  std::vector<int32_t> table{masks.empty() ? 0 : int32_t(masks[0].slot_anchor.size())};
+  for (const LayerMask& m : masks) table.insert(table.end(), m.slot_anchor.begin(), m.slot_anchor.end());
+  return table;
+}
+
 glm::mat4 emulateLayeredMatrix(const glm::mat4& base, const glm::mat4& overlay,
                                const glm::mat4& base_anchor, const glm::mat4& overlay_anchor,
                                int32_t anchor, float weight) {

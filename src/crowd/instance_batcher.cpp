@@ -56,31 +56,34 @@ size_t InstanceBatcher::recordBufferBound(const CrowdManager& crowd) const {
 namespace {
 
 // build()'s walk: every bucket cut into batches of at most `capacity` entries at aligned
-// offsets, each filled from consecutive pieces of the bucket's runs by copy(dst, first, count)
-// (records()[first .. first + count) go to dst). Adds each batch to `draws` when non-null.
+// offsets (records at byte_offset, layer records at layer_byte_offset), each filled from
+// consecutive pieces of the bucket's runs by copy(batch, slot, first, count): records()[first ..
+// first + count) go to the batch's slots from `slot` on. Adds each batch to `draws` when
+// non-null.
 template <typename CopyRun>
-void walkBatches(const CrowdManager& crowd, uint32_t capacity, uint32_t alignment, uint8_t* out,
+void walkBatches(const CrowdManager& crowd, uint32_t capacity, uint32_t alignment,
                  std::vector<DrawBatch>* draws, const CopyRun& copy) {
   const std::vector<uint32_t>& offsets = crowd.bucketOffsets();
   const std::vector<uint32_t>& run_offsets = crowd.bucketRunOffsets();
   const std::vector<RecordRun>& runs = crowd.bucketRuns();
   const uint32_t submeshes = crowd.desc().sub_mesh_count;
-  size_t cursor = 0;
+  size_t cursor = 0, layer_cursor = 0;
   for (uint32_t b = 0; b + 1 < offsets.size(); ++b) {
     uint32_t r = run_offsets[b], used_of_run = 0;
     for (uint32_t left = offsets[b + 1] - offsets[b]; left > 0;) {
       const uint32_t n = std::min(capacity, left);
       cursor = alignUp(cursor, alignment);
+      layer_cursor = alignUp(layer_cursor, alignment);
       DrawBatch d;
       d.lod = static_cast<uint16_t>(b / submeshes);
       d.sub_mesh = static_cast<uint16_t>(b % submeshes);
       d.byte_offset = static_cast<uint32_t>(cursor);
       d.instance_count = n;
+      d.layer_byte_offset = static_cast<uint32_t>(layer_cursor);
       for (uint32_t copied = 0; copied < n;) {
         const RecordRun& run = runs[r];
         const uint32_t take = std::min(n - copied, run.count - used_of_run);
-        copy(out + cursor, run.first + used_of_run, take);
-        cursor += size_t(take) * kInstanceRecordSize;
+        copy(d, copied, run.first + used_of_run, take);
         copied += take;
         used_of_run += take;
         if (used_of_run == run.count) {
@@ -88,6 +91,8 @@ void walkBatches(const CrowdManager& crowd, uint32_t capacity, uint32_t alignmen
           used_of_run = 0;
         }
       }
+      cursor += size_t(n) * kInstanceRecordSize;
+      layer_cursor += size_t(n) * kLayerRecordSize;
       if (draws != nullptr) draws->push_back(d);
       left -= n;
     }
@@ -107,9 +112,11 @@ Status InstanceBatcher::build(const CrowdManager& crowd, Span<uint8_t> out,
                                                out.size(), " bytes, the frame needs ", needed)};
   draws->clear();
   const uint8_t* records = reinterpret_cast<const uint8_t*>(crowd.records().data());
-  walkBatches(crowd, capacity_, alignment_, out.data(), draws,
-              [records](uint8_t* dst, uint32_t first, uint32_t count) {
-                std::memcpy(dst, records + size_t(first) * kInstanceRecordSize,
+  uint8_t* dst = out.data();
+  walkBatches(crowd, capacity_, alignment_, draws,
+              [&](const DrawBatch& d, uint32_t slot, uint32_t first, uint32_t count) {
+                std::memcpy(dst + d.byte_offset + size_t(slot) * kInstanceRecordSize,
+                            records + size_t(first) * kInstanceRecordSize,
                             size_t(count) * kInstanceRecordSize);
               });
   return Status::ok();
@@ -134,8 +141,10 @@ Status InstanceBatcher::buildPrevious(const CrowdManager& crowd, Span<uint8_t> o
   const glm::dvec3 delta = crowd.updateCamera().position - crowd.previousUpdateCamera().position;
   const bool representable = glm::all(glm::lessThan(glm::abs(delta), glm::dvec3(1e30)));
   const glm::vec3 shift = representable ? glm::vec3(delta) : glm::vec3(0.0f);
-  walkBatches(crowd, capacity_, alignment_, out.data(), nullptr,
-              [&](uint8_t* dst, uint32_t first, uint32_t count) {
+  uint8_t* base = out.data();
+  walkBatches(crowd, capacity_, alignment_, nullptr,
+              [&](const DrawBatch& d, uint32_t slot, uint32_t first, uint32_t count) {
+                uint8_t* dst = base + d.byte_offset + size_t(slot) * kInstanceRecordSize;
                 for (uint32_t k = 0; k < count; ++k) {
                   const uint32_t i = first + k, p = index[i];
                   InstanceRecord rec = p < previous.size() ? previous[p] : records[i];
@@ -143,6 +152,40 @@ Status InstanceBatcher::buildPrevious(const CrowdManager& crowd, Span<uint8_t> o
                     for (int row = 0; row < 3; ++row) rec.world_rows[row][3] += shift[row];
                   std::memcpy(dst + size_t(k) * kInstanceRecordSize, &rec, kInstanceRecordSize);
                 }
+              });
+  return Status::ok();
+}
+
+size_t InstanceBatcher::layerBufferBound(const CrowdManager& crowd) const {
+  if (capacity_ == 0) return 0;
+  const std::vector<uint32_t>& offsets = crowd.bucketOffsets();
+  size_t bytes = 0;
+  for (uint32_t b = 0; b + 1 < offsets.size(); ++b)
+    for (uint32_t left = offsets[b + 1] - offsets[b]; left > 0;) {
+      const uint32_t n = left < capacity_ ? left : capacity_;
+      bytes = alignUp(bytes, alignment_) + size_t(n) * kLayerRecordSize;
+      left -= n;
+    }
+  return bytes;
+}
+
+Status InstanceBatcher::buildLayers(const CrowdManager& crowd, Span<uint8_t> out) const {
+  if (capacity_ == 0) return {StatusCode::kInvalidArgument, "InstanceBatcher: init() first"};
+  const Span<const LayerRecord> layers = crowd.layerRecords();
+  if (layers.empty())
+    return {StatusCode::kInvalidArgument,
+            "InstanceBatcher::buildLayers: the crowd's last update wrote no layer records (no "
+            "instance plays an overlay)"};
+  const size_t needed = layerBufferBound(crowd);
+  if (out.size() < needed)
+    return {StatusCode::kCountMismatch,
+            strCat("InstanceBatcher::buildLayers: the layer buffer holds ", out.size(),
+                   " bytes, the frame needs ", needed)};
+  uint8_t* base = out.data();
+  walkBatches(crowd, capacity_, alignment_, nullptr,
+              [&](const DrawBatch& d, uint32_t slot, uint32_t first, uint32_t count) {
+                std::memcpy(base + d.layer_byte_offset + size_t(slot) * kLayerRecordSize,
+                            layers.data() + first, size_t(count) * kLayerRecordSize);
               });
   return Status::ok();
 }

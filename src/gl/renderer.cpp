@@ -299,18 +299,31 @@ Status Renderer::drawCrowd(CharacterId id, const CrowdManager& crowd,
     return {StatusCode::kInvalidArgument,
             "drawCrowd: motion vectors (RendererDesc::motion_vectors) need a crowd that keeps its "
             "previous records (CrowdDesc::previous_records)"};
+  // Layered animation: the crowd's last update wrote layer records.
+  const bool layers = !crowd.layerRecords().empty() && mode != DrawMode::kRigid;
+  if (layers && (motion || mode == DrawMode::kDepthOnly))
+    return {StatusCode::kUnsupported,
+            motion ? "drawCrowd: motion vectors of a crowd playing overlays (layered animation) "
+                     "are not built; turn one of them off"
+                   : "drawCrowd: depth-only drawing of a crowd playing overlays (layered "
+                     "animation) is not built"};
   const auto t0 = std::chrono::steady_clock::now();
-  // The previous records (motion vectors) follow the records at the next aligned offset.
+  // The ring region: the records; the previous records (motion vectors) or the layer records
+  // (layered animation) after them, each at the next aligned offset.
+  const auto align = [&](size_t v) { return (v + m.alignment - 1) / m.alignment * m.alignment; };
   const size_t bound = batcher.recordBufferBound(crowd);
-  const size_t previous_offset = (bound + m.alignment - 1) / m.alignment * m.alignment;
-  s = m.ring.reserve(motion ? previous_offset + bound : bound);
+  const size_t extra_offset = align(bound);
+  const size_t extra = motion ? bound : layers ? batcher.layerBufferBound(crowd) : 0;
+  s = m.ring.reserve(extra > 0 ? extra_offset + extra : bound);
   if (!s.isOk()) return s;
   const size_t base = m.ring.acquire();
   s = batcher.build(crowd, Span<uint8_t>(m.ring.mapped(base), m.ring.writableBytes()),
                     &m.batches);
-  if (s.isOk() && motion)
-    s = batcher.buildPrevious(crowd, Span<uint8_t>(m.ring.mapped(base + previous_offset),
-                                                   m.ring.writableBytes() - previous_offset));
+  const Span<uint8_t> extra_bytes(m.ring.mapped(base + extra_offset),
+                                  m.ring.writableBytes() - extra_offset);
+  if (s.isOk() && motion) s = batcher.buildPrevious(crowd, extra_bytes);
+  if (s.isOk() && layers) s = batcher.buildLayers(crowd, extra_bytes);
+  if (s.isOk() && layers) s = m.scratch.uploadMaskTable(layerMaskTable(crowd.layerMasks()));
   if (!s.isOk()) return s;
   detail::PathFrame frame;
   frame.crowd = &crowd;
@@ -319,11 +332,14 @@ Status Renderer::drawCrowd(CharacterId id, const CrowdManager& crowd,
   frame.program = mode == DrawMode::kDepthOnly ? detail::ProgramId::kDepthOnly
                   : mode == DrawMode::kRigid   ? detail::ProgramId::kRigid
                   : motion                     ? detail::ProgramId::kSkinnedMotion
+                  : layers                     ? detail::ProgramId::kSkinnedLayers
                                                : detail::ProgramId::kSkinned;
   frame.batches = &m.batches;
   frame.ring_base = base;
   frame.motion = motion;
-  frame.previous_base = base + previous_offset;
+  frame.previous_base = base + extra_offset;
+  frame.layers = layers;
+  frame.layer_base = base + extra_offset;
   frame.motion_view_projection = crowd.updateCamera().viewProjection();
   frame.previous_view_projection = crowd.previousUpdateCamera().viewProjection();
   detail::DrawPath& path = mode == DrawMode::kComputeSkinned
@@ -365,6 +381,10 @@ Status Renderer::drawCrowdGpuCulled(CharacterId id, const CrowdManager& crowd,
   detail::CharacterSlot* c = nullptr;
   Status s = m.find(id, "drawCrowdGpuCulled", &c, &crowd);
   if (s.isOk()) s = m.noMotion("drawCrowdGpuCulled");
+  if (s.isOk() && !crowd.layerRecords().empty())
+    s = {StatusCode::kUnsupported,
+         "drawCrowdGpuCulled: the GPU-driven path does not draw overlays (layered animation) "
+         "yet; draw a crowd playing them with drawCrowd"};
   if (!s.isOk()) return s;
   if (mode == DrawMode::kDepthOnly || mode == DrawMode::kRigid)
     return {StatusCode::kInvalidArgument,

@@ -82,8 +82,8 @@ TEST(GlslCheck, EveryProgramCompilesWithGlslang) {
       }
     }
   }
-  // The catalog's 16 programs: 9 with a vertex and a fragment stage, 7 compute: 25 stages.
-  EXPECT_EQ(compiled, 2 * 25);
+  // The catalog's 21 programs: 12 with a vertex and a fragment stage, 9 compute: 33 stages.
+  EXPECT_EQ(compiled, 2 * 33);
 }
 
 TEST(GlslCheck, AssembleNamesAMissingStage) {
@@ -122,8 +122,14 @@ TEST(GlslCheck, UserShaderOnThePublicIncludeCompiles) {
   EXPECT_EQ(compileWithGlslang(userShader("#define SI_INSTANCES_IN_STORAGE\n"), "vert",
                                "user_ssbo"),
             "");
+  // Motion vectors and layered animation, in both record modes.
+  for (const char* mode : {"#define SI_MAX_INSTANCES 819\n", "#define SI_INSTANCES_IN_STORAGE\n"})
+    EXPECT_EQ(compileWithGlslang(userShader(std::string(mode) +
+                                            "#define SI_PREVIOUS_RECORDS\n#define SI_LAYERS\n"),
+                                 "vert", "user_previous_layers"),
+              "");
   // The interface version is part of the include.
-  EXPECT_NE(std::string(skinningGlsl()).find("#define SI_GLSL_INTERFACE_VERSION 3"),
+  EXPECT_NE(std::string(skinningGlsl()).find("#define SI_GLSL_INTERFACE_VERSION 5"),
             std::string::npos);
 }
 

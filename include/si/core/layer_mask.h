@@ -85,6 +85,11 @@ Status buildLayerMaskFromJoints(const Skeleton& skeleton, const BakedPalette& pa
                                 const std::string& name, const std::vector<std::string>& joints,
                                 LayerMask* out);
 
+/// The mask table si_skinning.glsl reads (SI_LAYERS, storage binding SI_MASK_BINDING): the
+/// palette slot count, then each mask's slot_anchor in order (`masks` all of one palette, as a
+/// crowd's are). {0} for no masks.
+std::vector<int32_t> layerMaskTable(Span<const LayerMask> masks);
+
 /// The layered skinning matrix the shader computes for a masked slot (float): S_base(j) blended
 /// by `weight` towards S_base(a) * inverse(S_overlay(a)) * S_overlay(j), matrix element by
 /// element. `anchor` is the slot's slot_anchor (kModelAnchor: the overlay's matrix alone;

@@ -46,6 +46,9 @@ struct DrawBatch {
   uint16_t sub_mesh = 0;
   uint32_t byte_offset = 0;
   uint32_t instance_count = 0;
+  /// Layered animation: where buildLayers() puts the batch's layer records (kLayerRecordSize
+  /// bytes each, a multiple of the offset alignment) in the layer buffer.
+  uint32_t layer_byte_offset = 0;
 };
 
 /// One draw straight from the crowd's records (InstanceBatcher::buildSpans, no copy): its
@@ -96,6 +99,16 @@ class InstanceBatcher {
   /// records (CrowdDesc::previous_records); kCountMismatch when `out` is smaller than
   /// recordBufferBound(crowd) (nothing written).
   Status buildPrevious(const CrowdManager& crowd, Span<uint8_t> out) const;
+
+  /// Layered animation: bytes buildLayers() needs (each batch's layer records padded to the
+  /// alignment).
+  size_t layerBufferBound(const CrowdManager& crowd) const;
+  /// Writes each batch's layer records (CrowdManager::layerRecords(), 16 bytes a slot) at its
+  /// layer_byte_offset, in the slots build() gives its records: bind a batch's at
+  /// si_skinning.glsl's SiLayers (SI_LAYERS) beside its records. kInvalidArgument if not
+  /// initialized or the crowd's last update wrote no layer records; kCountMismatch when `out`
+  /// is smaller than layerBufferBound(crowd) (nothing written).
+  Status buildLayers(const CrowdManager& crowd, Span<uint8_t> out) const;
 
   /// The same draws without copying a record: each bucket's runs (CrowdManager::bucketRuns)
   /// cut where a block would exceed capacityPerDraw(). An application uploads records() once

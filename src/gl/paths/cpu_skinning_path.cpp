@@ -94,7 +94,7 @@ Status CpuSkinningPath::draw(const DrawResources& r, const PathFrame& f, DrawSta
     for (size_t j = 0; j < joint.size(); ++j) {
       const int32_t slot = palette.skeleton_to_palette[j];
       if (slot < 0) continue;
-      joint[j] = world * recordJointMatrix(palette, rec, uint32_t(slot));
+      joint[j] = world * recordJointMatrix(palette, crowd, v, uint32_t(slot));
     }
     for (uint32_t sm = 0; sm < sub_meshes.size() && sm < 32; ++sm) {
       if (!((desc.variation_mask >> sm) & 1u)) continue;

@@ -39,8 +39,12 @@ void setMotionUniforms(const Program& program, const PathFrame& f) {
                               &f.previous_view_projection[0][0]);
 }
 
-glm::mat4 recordJointMatrix(const BakedPalette& palette, const InstanceRecord& rec, uint32_t slot) {
-  return emulateRecordMatrix(palette, rec, slot);
+glm::mat4 recordJointMatrix(const BakedPalette& palette, const CrowdManager& crowd, size_t record,
+                            uint32_t slot) {
+  const Span<const LayerRecord> layers = crowd.layerRecords();
+  return layers.empty() ? emulateRecordMatrix(palette, crowd.records()[record], slot)
+                        : emulateLayeredRecordMatrix(palette, crowd.records()[record],
+                                                     layers[record], crowd.layerMasks(), slot);
 }
 
 }  // namespace si::detail

@@ -59,6 +59,10 @@ struct PathFrame {
   bool motion = false;
   size_t previous_base = 0;
   glm::mat4 motion_view_projection{1.0f}, previous_view_projection{1.0f};
+  /// Layered animation (the instanced paths): the batches' layer records at `layer_base` of the
+  /// ring (DrawBatch::layer_byte_offset); the mask table is bound.
+  bool layers = false;
+  size_t layer_base = 0;
 };
 
 class DrawPath {
@@ -85,13 +89,14 @@ void bindAppearance(const DrawResources& r, const Program& program);
 void bindShading(const DrawResources& r, const Program& program, const Camera& camera,
                  const glm::vec3& light);
 
-/// What the instanced shader computes for palette slot `slot` of `record`: clip A's frames
-/// lerped, crossfaded towards clip B by the record's weight (the two CPU baselines use it).
 /// Motion vectors: sets `program`'s two motion view-projections when `frame.motion` (each
 /// batch then binds its previous records at uniform binding 1).
 void setMotionUniforms(const Program& program, const PathFrame& frame);
 
-glm::mat4 recordJointMatrix(const BakedPalette& palette, const InstanceRecord& record,
+/// What the instanced shader computes for palette slot `slot` of the crowd's record `record`:
+/// clip A's frames lerped, crossfaded towards clip B by the record's weight, and the overlay on
+/// its mask when the crowd plays any (the two CPU baselines use it).
+glm::mat4 recordJointMatrix(const BakedPalette& palette, const CrowdManager& crowd, size_t record,
                             uint32_t slot);
 
 }  // namespace si::detail

@@ -35,7 +35,7 @@ Status TraditionalPath::draw(const DrawResources& r, const PathFrame& f, DrawSta
     std::memcpy(block + 48, &rec.blend[3], 4);
     // The CPU does what the instanced shader does per vertex, once per joint per character.
     for (uint32_t slot = 0; slot < slots; ++slot) {
-      const glm::mat4 mat = recordJointMatrix(palette, rec, slot);
+      const glm::mat4 mat = recordJointMatrix(palette, crowd, v, slot);
       float rows[12];
       for (int row = 0; row < 3; ++row)
         for (int col = 0; col < 4; ++col) rows[row * 4 + col] = mat[col][row];

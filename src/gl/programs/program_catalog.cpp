@@ -39,6 +39,10 @@ const ProgramSpec kSpecs[kProgramCount] = {
      "compute_skin.comp.glsl", nullptr},
     {"pre-skinned pulling with motion vectors", "#define SI_MOTION_VECTORS\n", "pulled.vert.glsl",
      "shade.frag.glsl", nullptr, nullptr},
+    {"skinned with layers", "#define SI_LAYERS\n", "skinned.vert.glsl", "shade.frag.glsl", nullptr,
+     nullptr},
+    {"compute skinning with layers", "#define SI_LAYERS\n", nullptr, nullptr,
+     "compute_skin.comp.glsl", nullptr},
 };
 
 }  // namespace

@@ -31,6 +31,8 @@ enum class ProgramId : uint8_t {
   kSkinnedMotion,      ///< kSkinned, also writing motion vectors (RendererDesc::motion_vectors).
   kComputeSkinMotion,  ///< kComputeSkin, also skinning the previous position.
   kPulledMotion,       ///< kPulled, also writing motion vectors.
+  kSkinnedLayers,      ///< kSkinned with layered animation (overlays on masks).
+  kComputeSkinLayers,  ///< kComputeSkin with layered animation.
   kCount
 };
 inline constexpr size_t kProgramCount = size_t(ProgramId::kCount);

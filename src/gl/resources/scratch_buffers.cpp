@@ -21,7 +21,25 @@ void VertexRing::release() {
   vertices = 0;
 }
 
+Status ScratchBuffers::uploadMaskTable(const std::vector<int32_t>& table) {
+  const size_t bytes = table.size() * sizeof(int32_t);
+  if (mask_table == kNoObject || mask_table_bytes < bytes) {
+    if (mask_table != kNoObject) glDeleteBuffers(1, &mask_table);
+    mask_table_bytes = 0;
+    const Status s = createBuffer(&mask_table, bytes, nullptr, GL_DYNAMIC_STORAGE_BIT,
+                                  "layered animation: the mask table");
+    if (!s.isOk()) return s;
+    mask_table_bytes = bytes;
+  }
+  glNamedBufferSubData(mask_table, 0, GLsizeiptr(bytes), table.data());
+  glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 8, mask_table);
+  return Status::ok();
+}
+
 void ScratchBuffers::release() {
+  if (mask_table != kNoObject) glDeleteBuffers(1, &mask_table);
+  mask_table = kNoObject;
+  mask_table_bytes = 0;
   compute_ring.release();
   compute_previous_ring.release();
   gpu_driven_ring.release();

@@ -6,6 +6,7 @@
 #include <glad/gl.h>
 
 #include <cstdint>
+#include <vector>
 
 #include "gl/programs/program_set.h"
 #include "si/core/status.h"
@@ -30,6 +31,13 @@ struct ScratchBuffers {
   VertexRing compute_previous_ring;
   VertexRing gpu_driven_ring;  ///< The GPU-driven path's (RendererDesc::gpu_driven_ring_bytes).
   GLuint cpu_stream = kNoObject;  ///< The CPU-skinning path's vertex stream (orphaned per chunk).
+  /// Layered animation: the drawn crowd's mask table (si::layerMaskTable) and its capacity.
+  GLuint mask_table = kNoObject;
+  size_t mask_table_bytes = 0;
+
+  /// Uploads `table` into mask_table (regrown when too small) and binds it at storage binding
+  /// 8 (si_skinning.glsl's SI_MASK_BINDING).
+  Status uploadMaskTable(const std::vector<int32_t>& table);
 
   void release();
 };

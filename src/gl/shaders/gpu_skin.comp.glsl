@@ -29,5 +29,5 @@ void main() {
   uint i = local / info.x;
   uint k = local - i * info.x;
   SiInstance inst = si_records[si_entries[si_bucket_offset[lo] + i]];
-  si_skinned_out[g] = siPreSkin(si_lod_vertices[info.y + k], inst);
+  si_skinned_out[g] = siPreSkin(si_lod_vertices[info.y + k], inst, uvec4(0u));
 }

@@ -58,15 +58,20 @@ void siSourceVertex(uint source, out vec3 p, out vec3 n, out uvec4 joints, out v
   }
 }
 
-// Source vertex `source` skinned for `inst`: camera-relative world position, and the normal
-// octahedral-encoded in the w component's bits.
-vec4 siPreSkin(uint source, SiInstance inst) {
+// Source vertex `source` skinned for `inst` (with SI_LAYERS, its overlay `layer` composed on its
+// mask): camera-relative world position, and the normal octahedral-encoded in the w
+// component's bits.
+vec4 siPreSkin(uint source, SiInstance inst, uvec4 layer) {
   vec3 p, n;
   uvec4 joints;
   vec4 weights;
   siSourceVertex(source, p, n, joints, weights);
   vec4 m0, m1, m2;
+#ifdef SI_LAYERS
+  siSkinLayered(inst, layer, joints, weights, m0, m1, m2);
+#else
   siSkin(inst, joints, weights, m0, m1, m2);
+#endif
   vec4 w0 = inst.world_rows[0], w1 = inst.world_rows[1], w2 = inst.world_rows[2];
   vec3 world = siTransformPoint(w0, w1, w2, siTransformPoint(m0, m1, m2, p));
   vec3 normal = siTransformNormal(w0, w1, w2, siTransformNormal(m0, m1, m2, n));

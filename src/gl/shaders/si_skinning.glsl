@@ -2,9 +2,10 @@
 // The skinning include for your own vertex (or compute) shaders: the instance record, the
 // instance block, the palette and functions that fetch, interpolate, crossfade and blend the
 // bone matrices exactly as si::emulateSkinningMatrix() and si::emulateSkinning() do on the CPU.
-// Interface version 4 (2: the fraction words carry the interval mode, cubic clips; 3: the
+// Interface version 5 (2: the fraction words carry the interval mode, cubic clips; 3: the
 // record's fourth blend word is the appearance: tint RGB8 and the custom texture layer; 4: the
-// previous frame's records and siSkinPrevious, for motion vectors);
+// previous frame's records and siSkinPrevious, for motion vectors; 5: layered animation, the
+// layer records, the mask table and siSkinLayered);
 // docs/glsl-interface.md documents every name, binding and define.
 //
 // Before including, define SI_MAX_INSTANCES (records per draw: InstanceBatcher::
@@ -15,9 +16,13 @@
 // Motion vectors: define SI_PREVIOUS_RECORDS for the previous frame's records, in the same
 // slots, at (uniform or storage) buffer binding SI_PREVIOUS_BINDING (default 1; written by
 // si::InstanceBatcher::buildPrevious) and siSkinPrevious().
+// Layered animation: define SI_LAYERS for each slot's layer record (si::LayerRecord, a uvec4)
+// at (uniform or storage) buffer binding SI_LAYER_BINDING (default 2; written by
+// si::InstanceBatcher::buildLayers), the crowd's mask table at storage binding
+// SI_MASK_BINDING (default 8; si::layerMaskTable) and siSkinLayered().
 #ifndef SI_SKINNING_GLSL
 #define SI_SKINNING_GLSL
-#define SI_GLSL_INTERFACE_VERSION 3
+#define SI_GLSL_INTERFACE_VERSION 5
 #include "si_instance_record.glsl"
 #include "si_transform.glsl"
 
@@ -39,6 +44,22 @@ layout(std140, binding = SI_PREVIOUS_BINDING) uniform SiPreviousInstances {
   SiInstance si_previous_instances[SI_MAX_INSTANCES];
 };
 #endif
+#endif
+#ifdef SI_LAYERS
+#ifndef SI_LAYER_BINDING
+#define SI_LAYER_BINDING 2
+#endif
+#ifndef SI_MASK_BINDING
+#define SI_MASK_BINDING 8
+#endif
+#ifdef SI_INSTANCES_IN_STORAGE
+layout(std430, binding = SI_LAYER_BINDING) readonly buffer SiLayers { uvec4 si_layers[]; };
+#else
+layout(std140, binding = SI_LAYER_BINDING) uniform SiLayers { uvec4 si_layers[SI_MAX_INSTANCES]; };
+#endif
+// [0]: palette slots per mask; then per mask, per slot: -2 outside the mask, -1 the overlay's
+// own matrix, else the anchor slot.
+layout(std430, binding = SI_MASK_BINDING) readonly buffer SiLayerMasks { int si_mask_anchor[]; };
 #endif
 layout(binding = 0) uniform sampler2D si_palette;
 layout(location = 0) uniform uvec4 si_palette_info;
@@ -156,6 +177,65 @@ vec3 siSkinPrevious(uint instance, uvec4 joints, vec4 weights, vec3 position) {
   siSkin(prev, joints, weights, m0, m1, m2);
   return siTransformPoint(prev.world_rows[0], prev.world_rows[1], prev.world_rows[2],
                           siTransformPoint(m0, m1, m2, position));
+}
+#endif
+
+#ifdef SI_LAYERS
+// The affine inverse of rows (r0, r1, r2): the 3x3's inverse and -inverse * translation.
+void siAffineInverse(vec4 r0, vec4 r1, vec4 r2, out vec4 i0, out vec4 i1, out vec4 i2) {
+  mat3 inv = inverse(mat3(r0.xyz, r1.xyz, r2.xyz));  // Columns of the transpose: rows of A^-1.
+  vec3 t = vec3(r0.w, r1.w, r2.w);
+  i0 = vec4(inv[0], -dot(inv[0], t));
+  i1 = vec4(inv[1], -dot(inv[1], t));
+  i2 = vec4(inv[2], -dot(inv[2], t));
+}
+// Row k of (A * B) for affine rows.
+vec4 siMulRow(vec4 a, vec4 b0, vec4 b1, vec4 b2) {
+  return a.x * b0 + a.y * b1 + a.z * b2 + vec4(0.0, 0.0, 0.0, a.w);
+}
+
+// The matrix rows of palette slot `joint` with the layer record `layer` composed on it:
+// si::emulateLayeredMatrix. Outside the layer's mask, or at weight 0, the base rows.
+void siLayeredJointRows(SiInstance inst, uvec4 layer, uint joint, out vec4 r0, out vec4 r1,
+                        out vec4 r2) {
+  siInstanceJointRows(inst, joint, r0, r1, r2);
+  float w = float(layer.w & 0xFFFFu) / 65535.0;
+  if (w == 0.0) return;
+  int anchor = si_mask_anchor[1u + (layer.w >> 16) * uint(si_mask_anchor[0]) + joint];
+  if (anchor == -2) return;
+  vec4 o0, o1, o2;
+  siInterpolatedRows(layer.x, layer.y, layer.z, joint, o0, o1, o2);
+  if (anchor >= 0) {
+    vec4 b0, b1, b2, a0, a1, a2, i0, i1, i2;
+    siInstanceJointRows(inst, uint(anchor), b0, b1, b2);
+    siInterpolatedRows(layer.x, layer.y, layer.z, uint(anchor), a0, a1, a2);
+    siAffineInverse(a0, a1, a2, i0, i1, i2);
+    // inverse(overlay anchor) * overlay, then base anchor * that.
+    vec4 c0 = siMulRow(i0, o0, o1, o2), c1 = siMulRow(i1, o0, o1, o2), c2 = siMulRow(i2, o0, o1, o2);
+    o0 = siMulRow(b0, c0, c1, c2);
+    o1 = siMulRow(b1, c0, c1, c2);
+    o2 = siMulRow(b2, c0, c1, c2);
+  }
+  r0 = mix(r0, o0, w);
+  r1 = mix(r1, o1, w);
+  r2 = mix(r2, o2, w);
+}
+
+// siSkin with the instance's overlay (its layer record) on its mask.
+void siSkinLayered(SiInstance inst, uvec4 layer, uvec4 joints, vec4 weights, out vec4 m0,
+                   out vec4 m1, out vec4 m2) {
+  m0 = vec4(0.0);
+  m1 = vec4(0.0);
+  m2 = vec4(0.0);
+  for (int k = 0; k < 4; ++k) {
+    float w = weights[k];
+    if (w == 0.0) continue;
+    vec4 r0, r1, r2;
+    siLayeredJointRows(inst, layer, joints[k], r0, r1, r2);
+    m0 += w * r0;
+    m1 += w * r1;
+    m2 += w * r2;
+  }
 }
 #endif
 #endif

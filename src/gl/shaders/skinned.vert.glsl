@@ -6,7 +6,8 @@
 // entry, from storage buffers), SI_TRADITIONAL (one character per draw, its joint matrices in
 // a uniform block), SI_MOTION_VECTORS (also the clip positions of the vertex under the crowd's
 // last update camera and, skinned with its previous record, under the previous one: the
-// fragment shader's motion output).
+// fragment shader's motion output), SI_LAYERS (each instance's overlay composed on its mask:
+// siSkinLayered).
 #define SI_VERTEX_MATERIALS
 #ifdef SI_MOTION_VECTORS
 #define SI_PREVIOUS_RECORDS
@@ -70,6 +71,9 @@ void main() {
 #endif
 #if defined(SI_RIGID)
   vec4 m0 = vec4(1, 0, 0, 0), m1 = vec4(0, 1, 0, 0), m2 = vec4(0, 0, 1, 0);
+#elif defined(SI_LAYERS)
+  vec4 m0, m1, m2;
+  siSkinLayered(inst, si_layers[gl_InstanceID], a_joints, a_weights, m0, m1, m2);
 #else
   vec4 m0, m1, m2;
   siSkin(inst, a_joints, a_weights, m0, m1, m2);

@@ -1,0 +1,108 @@
+// SkinnedInstancing — SPDX-License-Identifier: MIT (see LICENSE)
+// Layered animation, the GL half: both skinning paths draw the overlays (the right arm waving
+// over the walk, at full weight and half-way through a fade) as the CPU emulation does
+// (drawCpuSkinned skins with si::emulateLayeredRecordMatrix), in 64 KiB and 16 KiB batches;
+// the overlay shows; the paths and modes that do not draw overlays yet say so.
+#include "render/render_fixture.h"
+
+namespace si {
+namespace {
+
+using namespace test;
+
+class LayeredRenderTest : public RenderTest {
+ protected:
+  void populate(CrowdManager* crowd) {
+    LayerMask arm;
+    ASSERT_TRUE(buildLayerMask(character().skeleton, palette(), "right arm", {"r_clavicle"}, &arm).isOk());
+    uint32_t mask = 0;
+    ASSERT_TRUE(crowd->addLayerMask(arm, &mask).isOk());
+    const uint32_t walk = uint32_t(palette().findClip("walk"));
+    const uint32_t wave = uint32_t(palette().findClip("wave"));
+    for (int k = 0; k < 12; ++k) {
+      InstanceDesc d;
+      d.position = glm::dvec3((k % 4 - 1.5) * 1.2, 0.0, -2.5 - 1.5 * (k / 4));
+      d.rotation = glm::angleAxis(0.6f * float(k % 3 - 1), glm::vec3(0, 1, 0));
+      d.clip = walk;
+      d.time_seconds = 0.11 * k;
+      d.color = glm::u8vec4(uint8_t(60 + 15 * k), uint8_t(220 - 12 * k), 120, 255);
+      InstanceHandle h;
+      ASSERT_TRUE(crowd->add(d, &h).isOk());
+      handles_.push_back(h);
+      // Two thirds wave: at once, or fading in over 1 s (half-way at the update below).
+      if (k % 3 != 2) {
+        ASSERT_TRUE(crowd->playOverlay(h, wave, mask, 1.0f, k % 3 == 0 ? 0.0 : 1.0, 0.13 * k).isOk());
+      }
+    }
+    ASSERT_TRUE(crowd->update(0.5, closeView()).isOk());
+  }
+  static Camera closeView() {
+    return Camera::lookAt({0.0, 1.6, 2.5}, {0.0, 1.0, -4.0}, glm::vec3(0, 1, 0), 0.9f, 1.0f, 0.1f, 100.0f);
+  }
+  std::vector<InstanceHandle> handles_;
+};
+
+TEST_P(LayeredRenderTest, BothSkinningPathsDrawTheEmulatedOverlay) {
+  Renderer r;
+  makeRenderer(&r);
+  CrowdManager crowd;
+  makeCrowd(&crowd);
+  populate(&crowd);
+  ASSERT_EQ(crowd.layerRecords().size(), crowd.records().size());
+  const std::vector<uint8_t> cpu = draw(r, crowd, closeView(), 0, false, nullptr, Path::kCpuSkinned);
+  const std::vector<uint8_t> vertex = draw(r, crowd, closeView(), 0);
+  const std::vector<uint8_t> compute = draw(r, crowd, closeView(), 0, false, nullptr, Path::kCompute);
+  const Diff dv = compare(vertex, cpu, nullptr), dc = compare(compute, cpu, nullptr);
+  EXPECT_LE(dv.share, 0.001) << "vertex shader: max channel difference " << dv.max_channel;
+  EXPECT_LE(dc.share, 0.001) << "compute: max channel difference " << dc.max_channel;
+  // 16 KiB batches: the same layer records through other offsets.
+  Renderer r16;
+  makeRenderer(&r16, 16384);
+  const std::vector<uint8_t> small = draw(r16, crowd, closeView(), 16384);
+  EXPECT_EQ(compare(small, vertex, nullptr).max_channel, 0);
+  r16.shutdown();
+  // The overlay shows: without it (weight 0 at once) the arms are elsewhere.
+  for (InstanceHandle h : handles_) ASSERT_TRUE(crowd.stopOverlay(h, 0.0).isOk());
+  ASSERT_TRUE(crowd.update(0.0, closeView()).isOk());
+  const std::vector<uint8_t> plain = draw(r, crowd, closeView(), 0);
+  EXPECT_GT(compare(plain, vertex, nullptr).share, 0.01);
+  // With every weight 0 the layered program draws the plain pose: the CPU agrees.
+  const std::vector<uint8_t> plain_cpu = draw(r, crowd, closeView(), 0, false, nullptr, Path::kCpuSkinned);
+  EXPECT_LE(compare(plain, plain_cpu, nullptr).share, 0.001);
+}
+
+TEST_P(LayeredRenderTest, WhatDoesNotDrawOverlaysYetSaysSo) {
+  RendererDesc rd;
+  rd.skinning_path = SkinningPath::kVertexShader;
+  Renderer r;
+  makeRenderer(&r, 0, PaletteFormat::kMatrix3x4F32, &rd);
+  CrowdManager crowd;
+  makeCrowd(&crowd);
+  populate(&crowd);
+  InstanceBatcher batcher;
+  ASSERT_TRUE(batcher.init(r.batchLimits()).isOk());
+  EXPECT_EQ(r.drawCrowdGpuCulled(crowd, closeView(), nullptr).code(), StatusCode::kUnsupported);
+  EXPECT_EQ(r.drawCrowd(crowd, batcher, closeView(), nullptr, DrawMode::kDepthOnly).code(),
+            StatusCode::kUnsupported);
+  EXPECT_TRUE(r.drawCrowd(crowd, batcher, closeView(), nullptr, DrawMode::kRigid).isOk());
+  r.shutdown();
+  // Motion vectors of a layered crowd.
+  CrowdDesc cd = crowd.desc();
+  cd.previous_records = true;
+  CrowdManager moving;
+  ASSERT_TRUE(moving.init(cd).isOk());
+  handles_.clear();
+  populate(&moving);
+  rd.motion_vectors = true;
+  Renderer rm;
+  makeRenderer(&rm, 0, PaletteFormat::kMatrix3x4F32, &rd);
+  const Status s = rm.drawCrowd(moving, batcher, closeView(), nullptr);
+  EXPECT_EQ(s.code(), StatusCode::kUnsupported);
+  EXPECT_NE(s.message().find("overlays"), std::string::npos) << s.message();
+  rm.shutdown();
+}
+
+INSTANTIATE_TEST_SUITE_P(Backends, LayeredRenderTest, allBackends(), backendTestName);
+
+}  // namespace
+}  // namespace si
