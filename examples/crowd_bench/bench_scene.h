@@ -3,6 +3,7 @@
 // crowd_bench's scenes and one timed configuration: seeded crowds (a field, a stadium), the
 // fixed camera paths, and runPath(), which times one drawing path with one LOD mode.
 #include <chrono>
+#include <cstdio>
 #include <cstdint>
 #include <functional>
 #include <memory>
@@ -92,6 +93,11 @@ using DrawFrame = std::function<Status(const Camera&, DrawStats*, uint32_t* visi
 Status timeFrames(const Setup& setup, const std::string& scene,
                   const std::vector<glm::dvec3>& places, const StepFrame& step,
                   const DrawFrame& draw, Row* row);
+
+/// A side-by-side table's row: `r`'s path, switch (Row::lod), instances, visible, draws,
+/// update, submit and GPU times and its CPU and GPU ratios to `off` (the feature off), printed
+/// without the line's end; and its CSV row, tagged `table` ("root-motion", ...).
+void printSideBySideRow(const Row& r, const Row& off, const char* table, std::FILE* csv);
 
 /// Times one path on one scene; returns a named error.
 Status runPath(Setup& setup, Renderer& renderer, const BakedPalette& palette,

@@ -76,21 +76,12 @@ Status motionVectorsTable(Setup& setup, const BakedPalette& palette, const Rende
         if (!s.isOk()) return {s.code(), "motion vectors, " + path + ": " + s.message()};
       }
       for (int on = 0; on < 2; ++on) {
-        const Row& r = rows[on];
-        const double cpu_x = (r.update_ms + r.submit_ms) /
-                             std::max(1e-9, rows[0].update_ms + rows[0].submit_ms);
-        const double gpu_x = r.gpu_ms / std::max(1e-9, rows[0].gpu_ms);
-        std::printf("%-11s %-6s %9u %9u %6u %9.3f %9.3f %9.3f %8.2f %8.2f", r.path.c_str(),
-                    r.lod.c_str(), r.instances, r.visible, r.draws, r.update_ms, r.submit_ms,
-                    r.gpu_ms, cpu_x, gpu_x);
+        printSideBySideRow(rows[on], rows[0], "motion-vectors", csv);
         // Without motion vectors nothing defines what the motion attachment gets.
         if (on == 1)
           std::printf(" %9.2f %9.2f\n", summaries[on].mean_pixels, summaries[on].max_pixels);
         else
           std::printf(" %9s %9s\n", "-", "-");
-        std::fprintf(csv, "motion-vectors,field,%s,%u,%u,%u,%.0f,%.4f,%.4f,%.4f,,,,,%s,,,\n",
-                     r.path.c_str(), r.instances, r.visible, r.draws, r.triangles, r.update_ms,
-                     r.submit_ms, r.gpu_ms, r.lod.c_str());
       }
     }
   target.release();

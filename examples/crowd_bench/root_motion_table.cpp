@@ -83,15 +83,8 @@ Status rootMotionTable(Setup& setup, const RendererDesc& desc, const std::vector
         if (!s.isOk()) return {s.code(), "root motion, " + path + ": " + s.message()};
       }
       for (const Row& r : rows) {
-        const double cpu_x = (r.update_ms + r.submit_ms) /
-                             std::max(1e-9, rows[0].update_ms + rows[0].submit_ms);
-        const double gpu_x = r.gpu_ms / std::max(1e-9, rows[0].gpu_ms);
-        std::printf("%-11s %-6s %9u %9u %6u %9.3f %9.3f %9.3f %8.2f %8.2f\n", r.path.c_str(),
-                    r.lod.c_str(), r.instances, r.visible, r.draws, r.update_ms, r.submit_ms,
-                    r.gpu_ms, cpu_x, gpu_x);
-        std::fprintf(csv, "root-motion,field,%s,%u,%u,%u,%.0f,%.4f,%.4f,%.4f,,,,,%s,,,\n",
-                     r.path.c_str(), r.instances, r.visible, r.draws, r.triangles, r.update_ms,
-                     r.submit_ms, r.gpu_ms, r.lod.c_str());
+        printSideBySideRow(r, rows[0], "root-motion", csv);
+        std::printf("\n");
       }
     }
   renderer.shutdown();
