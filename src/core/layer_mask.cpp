@@ -7,6 +7,7 @@
 #include <glm/gtc/quaternion.hpp>
 
 #include "core/str_cat.h"
+#include "si/core/rigid_blend.h"
 
 namespace si {
 
@@ -22,14 +23,21 @@ Status finishMask(const Skeleton& skeleton, const BakedPalette& palette, const s
   LayerMask m;
   m.name = name;
   m.slot_anchor.assign(palette.palette_joints.size(), LayerMask::kNotInMask);
+  m.slot_parent.assign(palette.palette_joints.size(), LayerMask::kNoParentSlot);
   std::vector<int32_t> anchor_joint(n, Skeleton::kNoParent);
+  // Per joint: the palette slot of the nearest masked ancestor (or itself) that is stored.
+  std::vector<int32_t> stored_in_mask(n, LayerMask::kNoParentSlot);
   for (size_t j = 0; j < n; ++j) {
     if (!in_mask[j]) continue;
     m.joints.push_back(uint32_t(j));
     const int32_t parent = skeleton.parents[j];
     anchor_joint[j] = parent >= 0 && in_mask[size_t(parent)] ? anchor_joint[size_t(parent)] : parent;
     const int32_t slot = palette.skeleton_to_palette[j];
+    const int32_t up = parent >= 0 && in_mask[size_t(parent)] ? stored_in_mask[size_t(parent)]
+                                                             : LayerMask::kNoParentSlot;
+    stored_in_mask[j] = slot >= 0 ? slot : up;
     if (slot < 0) continue;  // Drives no vertex.
+    m.slot_parent[size_t(slot)] = up;
     const int32_t a = anchor_joint[j];
     if (a < 0) {
       m.slot_anchor[size_t(slot)] = LayerMask::kModelAnchor;
@@ -89,6 +97,21 @@ Status LayerMask::validate(const BakedPalette& palette) const {
               strCat("slot ", s, "'s anchor ", a, " is not a palette slot outside the mask")};
   }
   if (masked == 0) return {StatusCode::kInvalidArgument, "no palette slot is in the mask"};
+  if (slot_parent.size() != slots)
+    return {StatusCode::kInvalidArgument,
+            strCat("the mask has ", slot_parent.size(), " parent slots, the palette ", slots)};
+  for (size_t s = 0; s < slots; ++s) {
+    const int32_t p = slot_parent[s];
+    if (p == kNoParentSlot) continue;
+    if (p < 0 || size_t(p) >= slots || size_t(p) == s || slot_anchor[s] == kNotInMask ||
+        slot_anchor[size_t(p)] == kNotInMask)
+      return {StatusCode::kInvalidArgument,
+              strCat("slot ", s, "'s parent slot ", p, " is not another slot of the mask")};
+    size_t steps = 0;  // The shader follows the chain: it must end.
+    for (int32_t up = p; up >= 0; up = slot_parent[size_t(up)])
+      if (++steps > slots)
+        return {StatusCode::kInvalidArgument, strCat("slot ", s, "'s parent slots form a cycle")};
+  }
   for (size_t i = 0; i < joints.size(); ++i)
     if (joints[i] >= palette.skeleton_to_palette.size() || (i > 0 && joints[i] <= joints[i - 1]))
       return {StatusCode::kInvalidArgument, "the mask's joints are not increasing skeleton joints"};
@@ -145,24 +168,53 @@ Status buildLayerMaskFromJoints(const Skeleton& skeleton, const BakedPalette& pa
   return finishMask(skeleton, palette, name, in_mask, out);
 }
 
+std::vector<uint32_t> layerChain(const LayerMask& mask, uint32_t slot) {
+  std::vector<uint32_t> chain;
+  int32_t p = slot < mask.slot_parent.size() ? mask.slot_parent[slot] : LayerMask::kNoParentSlot;
+  while (p >= 0 && size_t(p) < mask.slot_parent.size() && chain.size() < mask.slot_parent.size()) {
+    chain.push_back(uint32_t(p));
+    p = mask.slot_parent[size_t(p)];
+  }
+  return chain;
+}
+
 std::vector<int32_t> layerMaskTable(Span<const LayerMask> masks) {
   std::vector<int32_t> table{masks.empty() ? 0 : int32_t(masks[0].slot_anchor.size())};
-  for (const LayerMask& m : masks) table.insert(table.end(), m.slot_anchor.begin(), m.slot_anchor.end());
+  for (const LayerMask& m : masks) {
+    table.insert(table.end(), m.slot_anchor.begin(), m.slot_anchor.end());
+    table.insert(table.end(), m.slot_parent.begin(), m.slot_parent.end());
+  }
   return table;
 }
 
 glm::mat4 emulateLayeredMatrix(const glm::mat4& base, const glm::mat4& overlay,
                                const glm::mat4& base_anchor, const glm::mat4& overlay_anchor,
-                               int32_t anchor, float weight) {
-  glm::mat4 layered = overlay;
+                               int32_t anchor, float weight, Span<const glm::mat4> base_chain,
+                               Span<const glm::mat4> overlay_chain) {
+  if (weight <= 0.0f) return base;
+  // K = S_base(a) * inverse(S_overlay(a)) (the affine inverse, as the shader forms it).
+  glm::mat4 k(1.0f);
   if (anchor != LayerMask::kModelAnchor) {
-    // The affine inverse, as the shader forms it: the 3x3's inverse and -inverse * t.
     const glm::mat3 a_inv = glm::inverse(glm::mat3(overlay_anchor));
     glm::mat4 inv(a_inv);
     inv[3] = glm::vec4(-(a_inv * glm::vec3(overlay_anchor[3])), 1.0f);
-    layered = base_anchor * (inv * overlay);
+    k = base_anchor * inv;
   }
-  return base * (1.0f - weight) + layered * weight;
+  const glm::mat4 layered = k * overlay;
+  if (weight >= 1.0f) return layered;
+  // Each joint turns less than half a turn from its parent, so its delta's quaternion lies in
+  // its parent's half: the sign of each step up the chain, multiplied to the branch root
+  // (which turns the shorter way).
+  const glm::vec4 identity(0.0f, 0.0f, 0.0f, 1.0f);
+  glm::vec4 q = rigidDeltaRotation(base, layered, identity);
+  float sign = 1.0f;
+  const size_t depth = std::min(base_chain.size(), overlay_chain.size());
+  for (size_t i = 0; i < depth; ++i) {
+    const glm::vec4 up = rigidDeltaRotation(base_chain[i], k * overlay_chain[i], identity);
+    if (glm::dot(q, up) < 0.0f) sign = -sign;
+    q = up;
+  }
+  return rigidBlend(base, layered, weight, sign * rigidDeltaRotation(base, layered, identity));
 }
 
 Status evaluateLayeredPose(const Skeleton& skeleton, const Clip& base, double base_time,

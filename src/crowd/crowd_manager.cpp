@@ -456,8 +456,13 @@ Status CrowdManager::jointMatrix(InstanceHandle h, uint32_t joint, glm::dmat4* o
   if (weight > 0.0f && state_->layer_masks[o.mask].contains(slot)) {
     const int32_t a = state_->layer_masks[o.mask].slot_anchor[slot];
     const uint32_t anchor = a >= 0 ? uint32_t(a) : slot;
+    std::vector<glm::mat4> base_chain, overlay_chain;
+    for (uint32_t up : layerChain(state_->layer_masks[o.mask], slot)) {
+      base_chain.push_back(base(up));
+      overlay_chain.push_back(matrix(o.playback, up));
+    }
     m = emulateLayeredMatrix(m, matrix(o.playback, slot), base(anchor), matrix(o.playback, anchor),
-                             a, weight);
+                             a, weight, base_chain, overlay_chain);
   }
   glm::dmat4 world(glm::mat3_cast(glm::dquat(st.rotations[i])) * double(st.scales[i]));
   world[3] = glm::dvec4(st.positions[i], 1.0);

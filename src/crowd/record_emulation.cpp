@@ -32,12 +32,16 @@ glm::mat4 emulateLayeredRecordMatrix(const BakedPalette& palette, const Instance
   const auto overlay = [&](uint32_t s) {
     return emulateFrameMatrix(palette, layer.frames[0], layer.frames[1], fraction, mode, s);
   };
-  if (anchor == LayerMask::kModelAnchor)
-    return emulateLayeredMatrix(base, overlay(slot), glm::mat4(1.0f), glm::mat4(1.0f), anchor,
-                                weight);
-  const uint32_t a = uint32_t(anchor);
-  return emulateLayeredMatrix(base, overlay(slot), emulateRecordMatrix(palette, rec, a),
-                              overlay(a), anchor, weight);
+  const glm::mat4 base_anchor =
+      anchor >= 0 ? emulateRecordMatrix(palette, rec, uint32_t(anchor)) : glm::mat4(1.0f);
+  const glm::mat4 overlay_anchor = anchor >= 0 ? overlay(uint32_t(anchor)) : glm::mat4(1.0f);
+  std::vector<glm::mat4> base_chain, overlay_chain;
+  for (uint32_t up : layerChain(masks[m], slot)) {
+    base_chain.push_back(emulateRecordMatrix(palette, rec, up));
+    overlay_chain.push_back(overlay(up));
+  }
+  return emulateLayeredMatrix(base, overlay(slot), base_anchor, overlay_anchor, anchor, weight,
+                              base_chain, overlay_chain);
 }
 
 }  // namespace si

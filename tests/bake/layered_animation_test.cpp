@@ -12,6 +12,8 @@
 #include "si/core/default_character.h"
 #include "si/core/layer_mask.h"
 
+#include <glm/gtc/matrix_transform.hpp>
+
 namespace si {
 namespace {
 
@@ -145,9 +147,11 @@ TEST(LayeredAnimation, TheCompositionIsTheLocalSpaceLayering) {
 
 // The palette blend against the reference blending local transforms: at weight 1 only the
 // palette's sampling remains (bounded by the two clips' own bake errors, propagated through the
-// anchor); at weights between, the matrix lerp's departure from the slerp adds to it, and for
-// an arm raised far from where the walk holds it that is large (the arm's matrices shrink
-// half-way, as a crossfade's do): the report says so.
+// anchor); at weights between, blending each joint's whole rigid motion instead of each local
+// transform adds to it (the wave raises the arm 139 degrees and bends the forearm: the hand's
+// path between is not the chain's), which the report says. An element-wise lerp measured
+// 1.04 units there (the arm shrinks half-way); a blend that turned each joint the shorter way
+// regardless of its parents, 2.1 (the hand passes half a turn).
 TEST(LayeredAnimation, TheMeasuredErrorIsReportedPerWeight) {
   const Baked& b = baked();
   LayerMask arm;
@@ -169,6 +173,7 @@ TEST(LayeredAnimation, TheMeasuredErrorIsReportedPerWeight) {
   EXPECT_LE(r.per_weight[2].max_error_units, 3.0 * bake_error + 1e-5);
   EXPECT_GT(r.per_weight[2].max_error_units, 0.0);
   EXPECT_GT(r.per_weight[1].max_error_units, 10.0 * r.per_weight[2].max_error_units);
+  EXPECT_LT(r.per_weight[1].max_error_ratio, 0.12);
   EXPECT_DOUBLE_EQ(r.max_error_units, std::max({r.per_weight[0].max_error_units,
                                                 r.per_weight[1].max_error_units,
                                                 r.per_weight[2].max_error_units}));
@@ -180,6 +185,65 @@ TEST(LayeredAnimation, TheMeasuredErrorIsReportedPerWeight) {
             StatusCode::kInvalidArgument);
   EXPECT_EQ(measureLayeredError(b.character, b.palette, LayerMask(), walk, wave, {}, &r).code(),
             StatusCode::kInvalidArgument);
+}
+
+glm::mat4 turnZ(float degrees, float pivot_x) {
+  return glm::translate(glm::mat4(1.0f), {pivot_x, 0, 0}) *
+         glm::rotate(glm::mat4(1.0f), glm::radians(degrees), {0, 0, 1}) *
+         glm::translate(glm::mat4(1.0f), {-pivot_x, 0, 0});
+}
+
+// A two-joint chain on the model anchor: the overlay turns the parent 140 degrees and the child
+// 60 more (200 in all). Half-way the reference turns them 70 and 30: the child has turned 100
+// degrees. Given its parent's chain, the blend turns the child the chain's way (+100, exactly
+// that rotation); without it, the shorter way (-80).
+TEST(LayeredAnimation, TheBlendTurnsAJointTheWayItsChainTurns) {
+  const glm::mat4 identity(1.0f);
+  const glm::mat4 parent = turnZ(140, 0), child = parent * turnZ(60, 1);
+  const glm::mat4 chain_base[] = {identity}, chain_overlay[] = {parent};
+  const glm::mat4 along = emulateLayeredMatrix(identity, child, identity, identity,
+                                               LayerMask::kModelAnchor, 0.5f, chain_base, chain_overlay);
+  const glm::mat4 shorter =
+      emulateLayeredMatrix(identity, child, identity, identity, LayerMask::kModelAnchor, 0.5f);
+  const float along_deg = glm::degrees(std::atan2(along[0][1], along[0][0]));
+  const float shorter_deg = glm::degrees(std::atan2(shorter[0][1], shorter[0][0]));
+  EXPECT_NEAR(along_deg, 100.0f, 1e-3f);
+  EXPECT_NEAR(shorter_deg, -80.0f, 1e-3f);
+  // The child's tip against the reference's (70 then 30 about the child's pivot): the screw
+  // turns about one pivot where the chain turns about two, 0.46 apart on a chain of length 2.
+  const glm::vec4 tip(2, 0, 0, 1);
+  const glm::vec3 reference = turnZ(70, 0) * turnZ(30, 1) * tip;
+  EXPECT_LT(glm::distance(glm::vec3(along * tip), reference), 0.5f);
+  EXPECT_GT(glm::distance(glm::vec3(shorter * tip), reference), 1.5f);
+  // The ends are the base and the layered matrix whatever the chain.
+  EXPECT_EQ(emulateLayeredMatrix(identity, child, identity, identity, LayerMask::kModelAnchor, 0.0f,
+                                 chain_base, chain_overlay),
+            identity);
+  EXPECT_EQ(emulateLayeredMatrix(identity, child, identity, identity, LayerMask::kModelAnchor, 1.0f,
+                                 chain_base, chain_overlay),
+            child);
+}
+
+TEST(LayeredAnimation, ChainsFollowTheMasksParentSlots) {
+  const Baked& b = baked();
+  LayerMask arm;
+  ASSERT_TRUE(buildLayerMask(b.character.skeleton, b.palette, "arm", {"r_clavicle"}, &arm).isOk());
+  const std::vector<uint32_t> hand = layerChain(arm, uint32_t(slotOf("r_hand")));
+  const std::vector<uint32_t> expected{uint32_t(slotOf("r_forearm")), uint32_t(slotOf("r_upperarm")),
+                                       uint32_t(slotOf("r_clavicle"))};
+  EXPECT_EQ(hand, expected);
+  EXPECT_TRUE(layerChain(arm, uint32_t(slotOf("r_clavicle"))).empty());  // The branch root.
+  EXPECT_EQ(arm.slot_parent[size_t(slotOf("head"))], LayerMask::kNoParentSlot);
+  // The table holds each mask's anchors, then its parents.
+  const std::vector<int32_t> table = layerMaskTable(Span<const LayerMask>(&arm, 1));
+  ASSERT_EQ(table.size(), 1 + 2 * arm.slot_anchor.size());
+  EXPECT_EQ(table[1 + arm.slot_anchor.size() + size_t(slotOf("r_hand"))], slotOf("r_forearm"));
+  // A cycle of parent slots is refused: the shader follows them.
+  LayerMask bad = arm;
+  bad.slot_parent[size_t(slotOf("r_clavicle"))] = slotOf("r_hand");
+  const Status s = bad.validate(b.palette);
+  EXPECT_EQ(s.code(), StatusCode::kInvalidArgument);
+  EXPECT_NE(s.message().find("cycle"), std::string::npos) << s.message();
 }
 
 }  // namespace

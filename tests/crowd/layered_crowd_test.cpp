@@ -98,7 +98,7 @@ TEST(LayeredCrowd, RecordsSkinTheReferenceLayeredPose) {
   }
   // At full weight, the palette's sampling of both clips through the anchor (the baker's own
   // test bounds it by three times the two clips' errors; at 30 Hz they are about 5e-3 and
-  // 7e-3 units). While fading, the matrix blend's departure from the slerp adds to it.
+  // 7e-3 units). While fading, the rigid blend of whole joints (not of each local transform) adds to it.
   std::printf("[ layered  ] full weight %.3g units, fading %.3g units\n", worst_full, worst_fading);
   EXPECT_LT(worst_full, 0.04);
   EXPECT_GT(worst_fading, worst_full);

@@ -13,10 +13,11 @@
 ///   S_j = S_base(a) * inverse(S_overlay(a)) * S_overlay(j)
 ///
 /// (the bind matrices cancel), which the shader computes from the palette as it stands: no
-/// extra baking. A weight w in (0, 1) blends S_base(j) towards it, matrix by matrix, where the
-/// reference (evaluateLayeredPose) blends the local transforms (slerp): that difference and the
-/// palette's sampling are the approximation's error, which measureLayeredError (si::bake)
-/// reports.
+/// extra baking. A weight w in (0, 1) moves S_base(j) that fraction of the rigid motion towards
+/// it (si::rigidBlend: a dual quaternion blend, which does not depend on the space the two are
+/// in, so it equals blending the branch relative to its anchor), where the reference
+/// (evaluateLayeredPose) blends each local transform (slerp): that difference and the palette's
+/// sampling are the approximation's error, which measureLayeredError (si::bake) reports.
 ///
 /// Usage:
 /// \code
@@ -54,6 +55,13 @@ struct LayerMask {
   /// Per palette slot: kNotInMask, kModelAnchor, or the palette slot of the anchor (the parent
   /// of the slot's branch root), which is itself outside the mask.
   std::vector<int32_t> slot_anchor;
+  /// slot_parent value of a slot outside the mask or of one with no masked ancestor stored.
+  static constexpr int32_t kNoParentSlot = -1;
+  /// Per palette slot: for a masked slot, the palette slot of its nearest masked ancestor that
+  /// the palette stores, else kNoParentSlot. Between weights 0 and 1 the blend follows this
+  /// chain to turn each joint the way its ancestors turn (a hand whose overlay is 190 degrees
+  /// from the base follows the arm rather than swinging the other way through the body).
+  std::vector<int32_t> slot_parent;
   /// The skeleton joints in the mask, increasing (stored in the palette or not): what the
   /// reference blends.
   std::vector<uint32_t> joints;
@@ -86,17 +94,28 @@ Status buildLayerMaskFromJoints(const Skeleton& skeleton, const BakedPalette& pa
                                 LayerMask* out);
 
 /// The mask table si_skinning.glsl reads (SI_LAYERS, storage binding SI_MASK_BINDING): the
-/// palette slot count, then each mask's slot_anchor in order (`masks` all of one palette, as a
-/// crowd's are). {0} for no masks.
+/// palette slot count, then for each mask in order its slot_anchor and its slot_parent
+/// (`masks` all of one palette, as a crowd's are). {0} for no masks.
 std::vector<int32_t> layerMaskTable(Span<const LayerMask> masks);
 
-/// The layered skinning matrix the shader computes for a masked slot (float): S_base(j) blended
-/// by `weight` towards S_base(a) * inverse(S_overlay(a)) * S_overlay(j), matrix element by
-/// element. `anchor` is the slot's slot_anchor (kModelAnchor: the overlay's matrix alone;
-/// base_anchor and overlay_anchor are then ignored). Matrices are affine (last row 0 0 0 1).
+/// The layered skinning matrix the shader computes for a masked slot (float): S_base(j) at
+/// weight 0, S_base(a) * inverse(S_overlay(a)) * S_overlay(j) at weight 1, and between them
+/// si::rigidBlend of the two by `weight`. `anchor` is the slot's slot_anchor (kModelAnchor: the
+/// overlay's matrix alone; base_anchor and overlay_anchor are then ignored). `base_chain` and
+/// `overlay_chain` hold the base's and the overlay's matrices of the slot's masked ancestors,
+/// parent first (slot_parent, followed to kNoParentSlot): the blend turns the slot the way the
+/// chain turns it, past half a turn where the chain's joints add up to more (each joint's own
+/// turn is taken the shorter way, as the reference's slerp does); without them, the shorter
+/// way. Matrices are affine (last row 0 0 0 1).
 glm::mat4 emulateLayeredMatrix(const glm::mat4& base, const glm::mat4& overlay,
                                const glm::mat4& base_anchor, const glm::mat4& overlay_anchor,
-                               int32_t anchor, float weight);
+                               int32_t anchor, float weight,
+                               Span<const glm::mat4> base_chain = {},
+                               Span<const glm::mat4> overlay_chain = {});
+
+/// The palette slots of `slot`'s masked ancestors in `mask`, parent first (slot_parent followed
+/// to kNoParentSlot, at most the mask's slot count): the chain emulateLayeredMatrix takes.
+std::vector<uint32_t> layerChain(const LayerMask& mask, uint32_t slot);
 
 /// The reference: `base` at clip time `base_time` on every joint, and on the mask's joints the
 /// local transforms blended towards `overlay` at `overlay_time` by `weight` (translation and

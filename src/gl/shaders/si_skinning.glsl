@@ -194,31 +194,138 @@ vec4 siMulRow(vec4 a, vec4 b0, vec4 b1, vec4 b2) {
   return a.x * b0 + a.y * b1 + a.z * b2 + vec4(0.0, 0.0, 0.0, a.w);
 }
 
-// The matrix rows of palette slot `joint` with the layer record `layer` composed on it:
+// Quaternions are (x, y, z, w).
+vec4 siQuatMul(vec4 a, vec4 b) {
+  return vec4(a.w * b.xyz + b.w * a.xyz + cross(a.xyz, b.xyz), a.w * b.w - dot(a.xyz, b.xyz));
+}
+// The unit quaternion of the rotation in rows (r0, r1, r2) (Shepperd's method).
+vec4 siQuatFromRows(vec3 r0, vec3 r1, vec3 r2) {
+  float tr = r0.x + r1.y + r2.z;
+  vec4 q;
+  if (tr > 0.0) {
+    float s = sqrt(tr + 1.0) * 2.0;
+    q = vec4((r2.y - r1.z) / s, (r0.z - r2.x) / s, (r1.x - r0.y) / s, 0.25 * s);
+  } else if (r0.x > r1.y && r0.x > r2.z) {
+    float s = sqrt(1.0 + r0.x - r1.y - r2.z) * 2.0;
+    q = vec4(0.25 * s, (r0.y + r1.x) / s, (r0.z + r2.x) / s, (r2.y - r1.z) / s);
+  } else if (r1.y > r2.z) {
+    float s = sqrt(1.0 + r1.y - r0.x - r2.z) * 2.0;
+    q = vec4((r0.y + r1.x) / s, 0.25 * s, (r1.z + r2.y) / s, (r0.z - r2.x) / s);
+  } else {
+    float s = sqrt(1.0 + r2.z - r0.x - r1.y) * 2.0;
+    q = vec4((r0.z + r2.x) / s, (r1.z + r2.y) / s, 0.25 * s, (r1.x - r0.y) / s);
+  }
+  return normalize(q);
+}
+// The delta C * inverse(A) (rows d0..d2), its uniform scale and its rotation in hemisphere h's
+// half; false where it mirrors or is degenerate. si::rigidDeltaRotation.
+bool siSplitDelta(vec4 a0, vec4 a1, vec4 a2, vec4 c0, vec4 c1, vec4 c2, vec4 h, out vec4 d0,
+                  out vec4 d1, out vec4 d2, out float scale, out vec4 q) {
+  vec4 i0, i1, i2;
+  siAffineInverse(a0, a1, a2, i0, i1, i2);
+  d0 = siMulRow(c0, i0, i1, i2);
+  d1 = siMulRow(c1, i0, i1, i2);
+  d2 = siMulRow(c2, i0, i1, i2);
+  float det = determinant(mat3(d0.xyz, d1.xyz, d2.xyz));
+  scale = 1.0;
+  q = vec4(0.0, 0.0, 0.0, 1.0);
+  if (!(det > 1e-30)) return false;
+  scale = pow(det, 1.0 / 3.0);
+  q = siQuatFromRows(d0.xyz / scale, d1.xyz / scale, d2.xyz / scale);
+  if (dot(q, h) < 0.0) q = -q;
+  return true;
+}
+// si::rigidBlend: rows A moved a fraction t of the rigid motion towards rows C (a dual
+// quaternion blend with the identity, on the screw motion's path), turning in hemisphere h.
+void siRigidBlend(vec4 a0, vec4 a1, vec4 a2, vec4 c0, vec4 c1, vec4 c2, float t, vec4 h,
+                  out vec4 r0, out vec4 r1, out vec4 r2) {
+  vec4 d0, d1, d2, q;
+  float scale;
+  r0 = mix(a0, c0, t);
+  r1 = mix(a1, c1, t);
+  r2 = mix(a2, c2, t);
+  if (!siSplitDelta(a0, a1, a2, c0, c1, c2, h, d0, d1, d2, scale, q)) return;
+  vec3 v = vec3(d0.w, d1.w, d2.w);
+  vec4 dual = 0.5 * siQuatMul(vec4(v, 0.0), q);
+  float half_angle = acos(clamp(q.w, -1.0, 1.0));
+  float s = t;
+  if (half_angle > 1e-4) {
+    float sa = sin(t * half_angle), sb = sin((1.0 - t) * half_angle);
+    s = sa / (sa + sb);
+  }
+  vec4 qr = vec4(0.0, 0.0, 0.0, 1.0 - s) + s * q;
+  float n = length(qr);
+  if (!(n > 1e-6)) return;  // A whole turn: the lerp.
+  qr /= n;
+  vec4 qd = s * dual / n;
+  vec3 translation = 2.0 * siQuatMul(qd, vec4(-qr.xyz, qr.w)).xyz;
+  vec4 b0, b1, b2, g0, g1, g2;
+  siRigidRows(qr, vec4(translation, 1.0 - t + t * scale), b0, b1, b2);
+  siRigidRows(q, vec4(v, scale), g0, g1, g2);
+  // Blended rigid part plus what the delta holds beyond it, in proportion; then times A.
+  b0 += (d0 - g0) * t;
+  b1 += (d1 - g1) * t;
+  b2 += (d2 - g2) * t;
+  r0 = siMulRow(b0, a0, a1, a2);
+  r1 = siMulRow(b1, a0, a1, a2);
+  r2 = siMulRow(b2, a0, a1, a2);
+}
+
+// The rows of palette slot `joint` with the layer record `layer` composed on it:
 // si::emulateLayeredMatrix. Outside the layer's mask, or at weight 0, the base rows.
 void siLayeredJointRows(SiInstance inst, uvec4 layer, uint joint, out vec4 r0, out vec4 r1,
                         out vec4 r2) {
   siInstanceJointRows(inst, joint, r0, r1, r2);
   float w = float(layer.w & 0xFFFFu) / 65535.0;
   if (w == 0.0) return;
-  int anchor = si_mask_anchor[1u + (layer.w >> 16) * uint(si_mask_anchor[0]) + joint];
+  uint slots = uint(si_mask_anchor[0]);
+  uint table = 1u + (layer.w >> 16) * 2u * slots;
+  int anchor = si_mask_anchor[table + joint];
   if (anchor == -2) return;
-  vec4 o0, o1, o2;
-  siInterpolatedRows(layer.x, layer.y, layer.z, joint, o0, o1, o2);
+  // K = base anchor * inverse(overlay anchor); the identity for the model anchor.
+  vec4 k0 = vec4(1.0, 0.0, 0.0, 0.0), k1 = vec4(0.0, 1.0, 0.0, 0.0), k2 = vec4(0.0, 0.0, 1.0, 0.0);
   if (anchor >= 0) {
     vec4 b0, b1, b2, a0, a1, a2, i0, i1, i2;
     siInstanceJointRows(inst, uint(anchor), b0, b1, b2);
     siInterpolatedRows(layer.x, layer.y, layer.z, uint(anchor), a0, a1, a2);
     siAffineInverse(a0, a1, a2, i0, i1, i2);
-    // inverse(overlay anchor) * overlay, then base anchor * that.
-    vec4 c0 = siMulRow(i0, o0, o1, o2), c1 = siMulRow(i1, o0, o1, o2), c2 = siMulRow(i2, o0, o1, o2);
-    o0 = siMulRow(b0, c0, c1, c2);
-    o1 = siMulRow(b1, c0, c1, c2);
-    o2 = siMulRow(b2, c0, c1, c2);
+    k0 = siMulRow(b0, i0, i1, i2);
+    k1 = siMulRow(b1, i0, i1, i2);
+    k2 = siMulRow(b2, i0, i1, i2);
   }
-  r0 = mix(r0, o0, w);
-  r1 = mix(r1, o1, w);
-  r2 = mix(r2, o2, w);
+  vec4 o0, o1, o2;
+  siInterpolatedRows(layer.x, layer.y, layer.z, joint, o0, o1, o2);
+  vec4 c0 = siMulRow(k0, o0, o1, o2), c1 = siMulRow(k1, o0, o1, o2), c2 = siMulRow(k2, o0, o1, o2);
+  if (w >= 1.0) {
+    r0 = c0;
+    r1 = c1;
+    r2 = c2;
+    return;
+  }
+  // Each joint turns less than half a turn from its parent, so its delta's quaternion lies in
+  // its parent's half: multiply the sign of each step up the mask's parent slots (the branch
+  // root turns the shorter way), then blend in that hemisphere.
+  vec4 d0, d1, d2, q, h;
+  float scale;
+  const vec4 identity = vec4(0.0, 0.0, 0.0, 1.0);
+  siSplitDelta(r0, r1, r2, c0, c1, c2, identity, d0, d1, d2, scale, h);
+  q = h;
+  float sign = 1.0;
+  int parent = si_mask_anchor[table + slots + joint];
+  for (uint steps = 0u; parent >= 0 && steps < slots; ++steps) {
+    vec4 p0, p1, p2, e0, e1, e2, up;
+    siInstanceJointRows(inst, uint(parent), p0, p1, p2);
+    siInterpolatedRows(layer.x, layer.y, layer.z, uint(parent), o0, o1, o2);
+    e0 = siMulRow(k0, o0, o1, o2);
+    e1 = siMulRow(k1, o0, o1, o2);
+    e2 = siMulRow(k2, o0, o1, o2);
+    siSplitDelta(p0, p1, p2, e0, e1, e2, identity, d0, d1, d2, scale, up);
+    if (dot(q, up) < 0.0) sign = -sign;
+    q = up;
+    parent = si_mask_anchor[table + slots + uint(parent)];
+  }
+  h *= sign;
+  siRigidBlend(r0, r1, r2, c0, c1, c2, w, h, r0, r1, r2);
 }
 
 // siSkin with the instance's overlay (its layer record) on its mask.
