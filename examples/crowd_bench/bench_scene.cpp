@@ -80,7 +80,7 @@ Camera cameraAt(const Setup& setup, const std::string& scene,
 
 Status makeCrowd(const Setup& setup, const BakedPalette& palette,
                  const std::vector<glm::dvec3>& positions, const LodChoice& lod,
-                 CrowdManager* crowd) {
+                 CrowdManager* crowd, std::vector<InstanceHandle>* handles) {
   CrowdDesc cd;
   cd.palette = &palette;
   cd.sub_mesh_count = uint32_t(setup.character.mesh.sub_meshes.size());
@@ -97,7 +97,7 @@ Status makeCrowd(const Setup& setup, const BakedPalette& palette,
   rc.positions = positions;
   rc.seed = 2026;
   rc.optional_mask = 0xE;
-  if (s.isOk()) s = crowd->addRandom(rc, nullptr);
+  if (s.isOk()) s = crowd->addRandom(rc, handles);
   return s;
 }
 

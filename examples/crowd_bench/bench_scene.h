@@ -53,10 +53,11 @@ std::vector<glm::dvec3> scenePositions(const std::string& scene, uint32_t count)
 Camera cameraAt(const Setup& setup, const std::string& scene,
                 const std::vector<glm::dvec3>& positions, uint32_t f, uint32_t n);
 
-/// A crowd of random instances at `positions` (scenePositions()), LODs chosen by `lod`.
+/// A crowd of random instances at `positions` (scenePositions()), LODs chosen by `lod`; their
+/// handles in `handles` when it is not null.
 Status makeCrowd(const Setup& setup, const BakedPalette& palette,
                  const std::vector<glm::dvec3>& positions, const LodChoice& lod,
-                 CrowdManager* crowd);
+                 CrowdManager* crowd, std::vector<InstanceHandle>* handles = nullptr);
 
 /// Paths whose culling and LOD selection run on the GPU (gpu-culled, gpu-driven, and both with
 /// two-phase occlusion culling: gpu-culled-occlusion, gpu-driven-occlusion).

@@ -15,6 +15,7 @@
 #include "crowd_bench/bench_scene.h"
 #include "crowd_bench/lod_quality.h"
 #include "crowd_bench/mixed_scene.h"
+#include "crowd_bench/layers_table.h"
 #include "crowd_bench/motion_vectors_table.h"
 #include "crowd_bench/root_motion_table.h"
 #include "si/bake/animation_baker.h"
@@ -55,6 +56,7 @@ struct Options {
   std::vector<std::string> mix;  // glTF kinds of the mixed table; empty: no mixed table.
   bool root_motion = false;      // The root motion table.
   bool motion_vectors = false;   // The motion vectors table.
+  bool layers = false;           // The layered animation table.
 };
 
 void usage(std::FILE* f) {
@@ -91,6 +93,8 @@ void usage(std::FILE* f) {
       "                   place against moved by their root motion, side by side)\n"
       "                   [--motion-vectors] (the motion vectors table: the instanced and\n"
       "                   compute paths without and with motion vectors, side by side)\n"
+      "                   [--layers] (the layered animation table: the instanced and compute\n"
+      "                   paths with no overlay, at weight 1 and at 0.5, side by side)\n"
       "                   [--no-gpu-time] (no blocking timer queries: CPU columns only;\n"
       "                   GPU ms and the GPU-culled path's visible count read -1 / 0)\n");
 }
@@ -138,6 +142,7 @@ bool parse(int argc, char** argv, Options* o) {
     else if (a == "--no-gpu-time") o->gpu_timer = false;
     else if (a == "--root-motion") o->root_motion = true;
     else if (a == "--motion-vectors") o->motion_vectors = true;
+    else if (a == "--layers") o->layers = true;
     else if (a == "--backend" && has) {
       if (!si::examples::parseBackend(argv[++i], &o->backend)) return false;
     } else return false;
@@ -380,6 +385,10 @@ int main(int argc, char** argv) {
   if (b.o.motion_vectors) {
     s = si::bench::motionVectorsTable(b.setup, palette, rd, b.o.sizes, b.o.paths, csv);
     if (!s.isOk()) return fail("motion vectors", s);
+  }
+  if (b.o.layers) {
+    s = si::bench::layersTable(b.setup, renderer, palette, b.o.sizes, b.o.paths, csv);
+    if (!s.isOk()) return fail("layers", s);
   }
 
   // Speed against error: each bake configuration, on the field, drawn by --error-path. The

@@ -228,7 +228,7 @@ si::Status DemoScene::buildCrowd() {
     if (!s.isOk()) return s;
     colors_.push_back(d.color);
   }
-  return s;
+  return options_.layers ? applyLayers(0.0) : s;
 }
 
 double DemoScene::fieldHalfExtent() const {
@@ -253,7 +253,8 @@ si::Status DemoScene::measureMotion(const si::Camera& camera) {
   motion_summary_ = si::MotionSummary();
   const bool instanced = path_ == DrawPath::kInstanced || path_ == DrawPath::kVertexShader ||
                          path_ == DrawPath::kCompute;
-  if (!options_.motion_vectors || !instanced || viewport_width_ == 0 || viewport_height_ == 0)
+  if (!options_.motion_vectors || !instanced || viewport_width_ == 0 || viewport_height_ == 0 ||
+      !crowd_.layerRecords().empty())  // No motion vectors with overlays yet.
     return si::Status::ok();
   si::Status s = si::Status::ok();
   if (motion_target_.width() != viewport_width_ || motion_target_.height() != viewport_height_)

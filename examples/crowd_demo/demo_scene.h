@@ -38,6 +38,9 @@ struct SceneOptions {
   bool events = false;  // Animation events on from the start (key V).
   bool root_motion = false;  // The field travels from the start (key R).
   bool motion_vectors = false;  // Motion vectors measured from the start (key X).
+  bool layers = false;  // Every other character overlays layer_clip on layer_root (key L).
+  std::string layer_root = "r_clavicle";  // The overlay's branch root joint.
+  std::string layer_clip = "wave";        // The overlay clip.
 };
 
 /// The sample models key M mixes in when --mix named none (the sample Fox and CesiumMan).
@@ -81,6 +84,11 @@ class DemoScene {
   /// into an offscreen colour + motion target the size of the viewport, whose motion is
   /// summarized (motionSummary()). The instanced paths only (the others draw none).
   void toggleMotionVectors() { options_.motion_vectors = !options_.motion_vectors; }
+  /// Layered animation on or off: every other character of the main crowd fades in (0.5 s)
+  /// SceneOptions::layer_clip on the branch of SceneOptions::layer_root over its own clip,
+  /// or fades it out. kNotFound naming the clip or joint the character lacks. Motion vectors
+  /// are not measured while overlays play (drawCrowd draws none with them).
+  si::Status toggleLayers();
   /// The size of the framebuffer frames are drawn to (the motion target's).
   void setViewportSize(uint32_t width, uint32_t height) {
     viewport_width_ = width;
@@ -99,6 +107,9 @@ class DemoScene {
   bool events() const { return options_.events; }
   bool rootMotion() const { return options_.root_motion; }
   bool motionVectors() const { return options_.motion_vectors; }
+  bool layers() const { return options_.layers; }
+  /// Characters playing the overlay (0 when layers are off).
+  uint32_t overlays() const { return overlays_; }
   /// The last frame's motion (drawn_pixels 0 when off or on a path without motion vectors).
   const si::MotionSummary& motionSummary() const { return motion_summary_; }
   /// Mean distance of the main crowd's characters from where the layout put them.
@@ -143,6 +154,9 @@ class DemoScene {
   bool lod_tint_ = false, restore_colors_ = false;
   bool gl_ready_ = false;
   si::Status addEventMarkers();
+  /// Plays (layers on) or stops (off) the overlays over `blend_seconds` (demo_layers.cpp).
+  si::Status applyLayers(double blend_seconds);
+  uint32_t overlays_ = 0;
   /// The embedded character's travelling clips, added and baked (then re-uploaded).
   si::Status addTravellingClips();
 

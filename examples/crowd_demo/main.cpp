@@ -39,7 +39,7 @@ void usage(std::FILE* f) {
       "                  [--format f32|f16|quat] [--rate HZ] [--seed N] [--summary]\n"
       "                  [--model FILE.gltf|FILE.glb] [--clips NAME,...] [--palette FILE]\n"
       "                  [--keys K,K,...] [--lod-pixels PX] [--mix FILE,...|samples]\n"
-      "                  [--events] [--root-motion] [--motion-vectors]\n"
+      "                  [--events] [--root-motion] [--motion-vectors] [--layers]\n"
       "Renders a crowd of the embedded character (default 4000 characters, 1280x720).\n"
       "With a display it opens a window (F1 lists the keys; ESC quits); without one, or with\n"
       "--headless, it renders --frames frames (default 3, 1/60 s apart) offscreen, writes the\n"
@@ -59,6 +59,8 @@ void usage(std::FILE* f) {
       "--motion-vectors also draws the crowd with motion vectors into an offscreen colour +\n"
       "motion target each frame; the statistics give the mean and largest motion in pixels\n"
       "(key X toggles it).\n"
+      "--layers has every other character wave its right arm over what it plays (layered\n"
+      "animation: the wave clip on the right clavicle's branch; key L toggles it).\n"
       "--lod-pixels extends the LOD chains (si::buildLodChain, errors over the clips' poses)\n"
       "and picks each character's LOD by projected error within PX pixels instead of the\n"
       "technique's distance lines.\n");
@@ -100,6 +102,8 @@ bool parse(int argc, char** argv, Options* o) {
       o->scene.root_motion = true;
     } else if (a == "--motion-vectors") {
       o->scene.motion_vectors = true;
+    } else if (a == "--layers") {
+      o->scene.layers = true;
     } else if (a == "--mix" && has) {
       o->scene.mix = si::examples::splitList(argv[++i]);
       if (std::string(argv[i]) == "samples") o->scene.mix = demo::defaultMix();
@@ -151,6 +155,8 @@ void printStats(const demo::DemoScene& scene, const si::DrawStats& stats, double
     std::printf("%-28s %12.3f px\n", "motion vectors: mean", m.mean_pixels);
     std::printf("%-28s %12.3f px\n", "motion vectors: largest", m.max_pixels);
   }
+  if (scene.layers())
+    std::printf("%-28s %12u\n", "layers: overlays playing", scene.overlays());
   if (scene.otherKinds() > 0)
     std::printf("%-28s %12u (%zu character kinds in one renderer)\n", "other kinds visible",
                 scene.otherKindsVisible(), scene.otherKinds() + 1);

@@ -38,7 +38,9 @@ constexpr char kHelp[] =
     "  R           root motion on/off: the field walks and turns (clips baked in place, the\n"
     "              crowd moves each character by its clip's motion)\n"
     "  X           motion vectors on/off: the crowd is drawn once more into a colour + motion\n"
-    "              target; the console prints the mean and largest motion twice a second\n";
+    "              target; the console prints the mean and largest motion twice a second\n"
+    "  L           layered animation on/off: every other character waves its right arm over\n"
+    "              what it plays (an overlay on the arm's joints, fading in and out)\n";
 
 std::string g_glfw_error;
 void onGlfwError(int code, const char* message) {
@@ -124,6 +126,10 @@ class App {
       case GLFW_KEY_X:
         scene_->toggleMotionVectors();
         std::printf("motion vectors %s\n", scene_->motionVectors() ? "on" : "off");
+        break;
+      case GLFW_KEY_L:
+        s = scene_->toggleLayers();
+        std::printf("layered animation %s\n", scene_->layers() ? "on" : "off");
         break;
       case GLFW_KEY_C:
         s = scene_->crossfadeAll();

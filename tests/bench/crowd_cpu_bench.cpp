@@ -12,6 +12,7 @@
 
 #include "si/bake/animation_baker.h"
 #include "si/core/default_character.h"
+#include "si/core/layer_mask.h"
 #include "si/crowd/instance_batcher.h"
 
 namespace {
@@ -31,6 +32,19 @@ const si::BakedPalette& palette(bool moving = false) {
   };
   static const si::BakedPalette plain = bake(false), travelling = bake(true);
   return moving ? travelling : plain;
+}
+
+// The right arm's mask of the plain palette (the overlay of the overlays argument).
+const si::LayerMask& armMask() {
+  static const si::LayerMask mask = [] {
+    si::Character c;
+    if (!si::makeDefaultCharacter({}, &c).isOk()) std::abort();
+    si::LayerMask m;
+    if (!si::buildLayerMask(c.skeleton, palette(), "right arm", {"r_clavicle"}, &m).isOk())
+      std::abort();
+    return m;
+  }();
+  return mask;
 }
 
 // A square field of `count` characters 1.5 m apart, random armour, clips and times;
@@ -68,8 +82,9 @@ std::unique_ptr<si::CrowdManager> field(int64_t count, float max_distance_radii,
 // worker_threads); batching (0: InstanceBatcher::build, records copied per draw; 1: buildSpans,
 // no copy); markers (1: a marker at the middle of every clip, so animation events are counted
 // for every instance); motion (field()'s: compare 1 and 2 for what root motion costs);
-// previous (1: CrowdDesc::previous_records, for motion vectors). Two frames run before timing
-// (the buffers reach their size).
+// previous (1: CrowdDesc::previous_records, for motion vectors); overlays (1: every instance
+// waves its right arm over its clip, and batching writes the layer records too). Two frames run
+// before timing (the buffers reach their size).
 void crowdFrame(benchmark::State& state) {
   const int64_t count = state.range(0);
   const bool all_visible = state.range(1) != 0;
@@ -93,9 +108,21 @@ void crowdFrame(benchmark::State& state) {
       if (!crowd->addClipMarker(c, crowd->desc().palette->clips[c].duration_seconds * 0.5,
                                 "half").isOk())
         std::abort();
+  const bool overlays = state.range(7) != 0;
+  if (overlays) {
+    uint32_t mask = 0;
+    std::vector<si::InstanceHandle> handles;
+    std::vector<si::GpuInstanceState> states;
+    crowd->exportGpuState(&states, &handles);
+    const uint32_t wave = uint32_t(crowd->desc().palette->findClip("wave"));
+    if (!crowd->addLayerMask(armMask(), &mask).isOk()) std::abort();
+    for (size_t i = 0; i < handles.size(); ++i)
+      if (!crowd->playOverlay(handles[i], wave, mask, 1.0f, 0.0, 0.37 * double(i % 7)).isOk())
+        std::abort();
+  }
   si::InstanceBatcher batcher;
   if (!batcher.init({65536, 256, 0}).isOk()) std::abort();
-  std::vector<uint8_t> buffer;
+  std::vector<uint8_t> buffer, layers;
   std::vector<si::DrawBatch> draws;
   std::vector<si::RecordSpanDraw> span_draws;
   const auto frame = [&] {
@@ -109,6 +136,11 @@ void crowdFrame(benchmark::State& state) {
     if (buffer.size() < need) buffer.resize(need);
     if (!batcher.build(*crowd, buffer, &draws).isOk()) std::abort();
     benchmark::DoNotOptimize(buffer.data());
+    if (!overlays) return;
+    const size_t layer_need = batcher.layerBufferBound(*crowd);
+    if (layers.size() < layer_need) layers.resize(layer_need);
+    if (!batcher.buildLayers(*crowd, layers).isOk()) std::abort();
+    benchmark::DoNotOptimize(layers.data());
   };
   frame();
   frame();  // Two: previous_records swaps two record buffers, both then at their size.
@@ -116,18 +148,21 @@ void crowdFrame(benchmark::State& state) {
   state.SetItemsProcessed(state.iterations() * count);
   state.counters["visible"] = crowd->stats().visible;
   state.counters["events"] = double(crowd->events().size());
+  state.counters["layer_records"] = double(crowd->layerRecords().size());
   state.counters["draws"] = double(spans ? span_draws.size() : draws.size());
   state.counters["ns_per_instance"] =
       benchmark::Counter(double(count), benchmark::Counter::kIsIterationInvariantRate |
                                             benchmark::Counter::kInvert);
 }
 BENCHMARK(crowdFrame)
-    ->ArgsProduct({{10000, 100000, 1000000}, {0, 1}, {1, 2, 4, 8, 16}, {0, 1}, {0}, {0}, {0}})
-    ->Args({100000, 1, 1, 1, 1, 0, 0})
-    ->Args({1000000, 0, 1, 1, 1, 0, 0})
-    ->ArgsProduct({{100000, 1000000}, {0, 1}, {1, 8}, {1}, {0}, {1, 2}, {0}})
-    ->ArgsProduct({{100000, 1000000}, {0, 1}, {1}, {1}, {0}, {0}, {1}})
-    ->ArgNames({"instances", "all_visible", "threads", "spans", "markers", "motion", "previous"})
+    ->ArgsProduct({{10000, 100000, 1000000}, {0, 1}, {1, 2, 4, 8, 16}, {0, 1}, {0}, {0}, {0}, {0}})
+    ->Args({100000, 1, 1, 1, 1, 0, 0, 0})
+    ->Args({1000000, 0, 1, 1, 1, 0, 0, 0})
+    ->ArgsProduct({{100000, 1000000}, {0, 1}, {1, 8}, {1}, {0}, {1, 2}, {0}, {0}})
+    ->ArgsProduct({{100000, 1000000}, {0, 1}, {1}, {1}, {0}, {0}, {1}, {0}})
+    ->ArgsProduct({{100000, 1000000}, {0, 1}, {1, 8}, {0}, {0}, {0}, {0}, {1}})
+    ->ArgNames({"instances", "all_visible", "threads", "spans", "markers", "motion", "previous",
+                "overlays"})
     ->Unit(benchmark::kMillisecond)
     ->UseRealTime();
 

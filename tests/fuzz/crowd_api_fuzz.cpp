@@ -1,11 +1,11 @@
 // SkinnedInstancing — SPDX-License-Identifier: MIT (see LICENSE)
 // libFuzzer target: random sequences of CrowdManager calls (add, remove, play, crossfade,
 // setTransform, setColor, setCustomLayer, setVariationMask, setRootMotion, setLodDistances,
-// update, queries) with hostile values (NaN, infinities, negative and huge times, speeds,
+// playOverlay, stopOverlay, update, queries) with hostile values (NaN, infinities, negative and huge times, speeds,
 // scales, stale and forged handles) against a shadow list of the live handles. After every
 // call: every live handle resolves, released ones do not, the size matches; after an update
 // the statistics add up, buckets are consistent, records are finite with frames inside the
-// palette. A rejected call must return a named error and leave the crowd exactly as it was.
+// palette, layer records (overlays on two masks: a branch and the whole chain) likewise. A rejected call must return a named error and leave the crowd exactly as it was.
 // Run with scripts/fuzz.sh.
 #include <cmath>
 #include <cstdint>
@@ -15,6 +15,7 @@
 #include <vector>
 
 #include "si/bake/animation_baker.h"
+#include "si/core/layer_mask.h"
 #include "si/crowd/crowd_manager.h"
 #include "si/crowd/instance_batcher.h"
 
@@ -27,8 +28,8 @@ namespace {
 
 // A three-joint chain with a looping clip, a once clip with a STEP key, and a single-frame
 // pose: every kind of clip timing.
-const si::BakedPalette& palette() {
-  static const si::BakedPalette p = [] {
+const si::Character& character() {
+  static const si::Character character = [] {
     si::Character c;
     for (int i = 0; i < 3; ++i) {
       c.skeleton.joint_names.push_back("j" + std::to_string(i));
@@ -71,6 +72,14 @@ const si::BakedPalette& palette() {
     step.joint_tracks[0].translation.times_seconds = {0.0f, 0.6f};
     step.joint_tracks[0].translation.values = {{0, 0, 0}, {0, 0, -0.7f}};
     c.clips = {swing, step, clip("pose", 0.0f, si::LoopMode::kOnce)};
+    return c;
+  }();
+  return character;
+}
+
+const si::BakedPalette& palette() {
+  static const si::BakedPalette p = [] {
+    const si::Character& c = character();
     si::BakeDesc d;
     d.rate_mode = si::RateMode::kFixed;
     d.sample_rate_hz = 10.0f;
@@ -195,6 +204,22 @@ void checkFrame(const si::CrowdManager& crowd) {
       }
   }
   const uint64_t texels = palette().layout.textureTexelCount();
+  // Layered animation: none, or one layer record per record, naming an added mask where its
+  // weight is not 0, with frames inside the palette; the batcher lays them out.
+  const auto layers = crowd.layerRecords();
+  if (!layers.empty()) {
+    if (layers.size() != crowd.records().size()) fail("the layer records do not match the records");
+    for (const si::LayerRecord& l : layers) {
+      if (si::layerWeight(l) > 0.0f && si::layerMask(l) >= crowd.layerMasks().size())
+        fail("a layer record names a mask the crowd does not hold");
+      if (!(si::layerWeight(l) >= 0.0f && si::layerWeight(l) <= 1.0f)) fail("a layer weight is outside [0, 1]");
+      for (uint32_t f : l.frames)
+        if (uint64_t(f) + palette().layout.frame_stride_texels > texels)
+          fail("an overlay frame is outside the palette");
+    }
+    std::vector<uint8_t> layer_bytes(batcher.layerBufferBound(crowd));
+    if (!batcher.buildLayers(crowd, layer_bytes).isOk()) fail("buildLayers failed on a valid frame");
+  }
   for (const si::InstanceRecord& r : crowd.records()) {
     for (const auto& row : r.world_rows)
       for (float v : row)
@@ -222,10 +247,18 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
   cd.previous_records = (lods & 0x80) != 0;
   si::CrowdManager crowd;
   if (!crowd.init(cd).isOk()) fail("init refused a valid desc");
+  // Two masks: the branch of j1 (anchored on j0) and the whole chain (the model anchor).
+  for (const char* root : {"j1", "j0"}) {
+    si::LayerMask mask;
+    if (!si::buildLayerMask(character().skeleton, palette(), root, {root}, &mask).isOk() ||
+        !crowd.addLayerMask(mask, nullptr).isOk())
+      fail("cannot add a valid layer mask");
+  }
+  const uint32_t masks = uint32_t(crowd.layerMasks().size());
   std::vector<si::InstanceHandle> live, released;
   const uint32_t clips = uint32_t(palette().clips.size());
   for (int op = 0; op < 256 && !in.done(); ++op) {
-    const uint8_t kind = in.u8() % 11;
+    const uint8_t kind = in.u8() % 12;
     // A handle: live, released (stale) or forged.
     const uint8_t which = in.u8();
     si::InstanceHandle h;
@@ -308,18 +341,28 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
               fail("an event names a dead instance, an unknown marker or no pass");
         break;
       }
+      case 10:  // Overlays: clip and mask sometimes out of range, hostile weights and times.
+        if (in.u8() & 1)
+          s = crowd.playOverlay(h, in.u8() % (clips + 1), in.u8() % (masks + 1), in.f32(),
+                                in.f64(), in.f64(), in.f32());
+        else
+          s = crowd.stopOverlay(h, in.f64());
+        break;
       default: {  // Queries change nothing.
         si::InstanceDesc d;
         uint32_t lod = 0;
         glm::dmat4 m;
         (void)crowd.get(h, &d);
         (void)crowd.lodOf(h, &lod);
-        (void)crowd.jointMatrix(h, in.u8() % 4, &m);
+        if (crowd.jointMatrix(h, in.u8() % 4, &m).isOk())  // The overlay composed too.
+          for (int c = 0; c < 4; ++c)
+            for (int r = 0; r < 4; ++r)
+              if (!std::isfinite(m[c][r])) fail("a joint matrix is not finite");
         if (!(snapshot(crowd) == before)) fail("a query changed the crowd");
         break;
       }
     }
-    if (kind <= 9 && !s.isOk()) {
+    if (kind <= 10 && !s.isOk()) {
       if (s.message().empty()) fail("a rejected call has no message");
       if (!(snapshot(crowd) == before)) fail("a rejected call changed the crowd");
     }
