@@ -301,12 +301,10 @@ Status Renderer::drawCrowd(CharacterId id, const CrowdManager& crowd,
             "previous records (CrowdDesc::previous_records)"};
   // Layered animation: the crowd's last update wrote layer records.
   const bool layers = !crowd.layerRecords().empty() && mode != DrawMode::kRigid;
-  if (layers && (motion || mode == DrawMode::kDepthOnly))
+  if (layers && motion)
     return {StatusCode::kUnsupported,
-            motion ? "drawCrowd: motion vectors of a crowd playing overlays (layered animation) "
-                     "are not built; turn one of them off"
-                   : "drawCrowd: depth-only drawing of a crowd playing overlays (layered "
-                     "animation) is not built"};
+            "drawCrowd: motion vectors of a crowd playing overlays (layered animation) are not "
+            "built; turn one of them off"};
   const auto t0 = std::chrono::steady_clock::now();
   // The ring region: the records; the previous records (motion vectors) or the layer records
   // (layered animation) after them, each at the next aligned offset.
@@ -329,7 +327,8 @@ Status Renderer::drawCrowd(CharacterId id, const CrowdManager& crowd,
   frame.crowd = &crowd;
   frame.camera = camera;
   frame.light = light_direction_;
-  frame.program = mode == DrawMode::kDepthOnly ? detail::ProgramId::kDepthOnly
+  frame.program = mode == DrawMode::kDepthOnly
+                      ? (layers ? detail::ProgramId::kDepthOnlyLayers : detail::ProgramId::kDepthOnly)
                   : mode == DrawMode::kRigid   ? detail::ProgramId::kRigid
                   : motion                     ? detail::ProgramId::kSkinnedMotion
                   : layers                     ? detail::ProgramId::kSkinnedLayers

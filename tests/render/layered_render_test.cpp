@@ -2,8 +2,10 @@
 // Layered animation, the GL half: both skinning paths draw the overlays (the right arm waving
 // over the walk, at full weight and half-way through a fade) as the CPU emulation does
 // (drawCpuSkinned skins with si::emulateLayeredRecordMatrix), in 64 KiB and 16 KiB batches;
-// the overlay shows; the paths and modes that do not draw overlays yet say so.
+// the overlay shows; depth-only draws put the overlaid arms where the colour draw does; the paths
+// and modes that do not draw overlays yet say so.
 #include "render/render_fixture.h"
+#include "si/gl/motion_target.h"
 
 namespace si {
 namespace {
@@ -71,6 +73,45 @@ TEST_P(LayeredRenderTest, BothSkinningPathsDrawTheEmulatedOverlay) {
   EXPECT_LE(compare(plain, plain_cpu, nullptr).share, 0.001);
 }
 
+// A depth pre-pass of a crowd playing overlays writes the depth the colour draw writes (the
+// layered depth-only program), not the pose without the overlay.
+TEST_P(LayeredRenderTest, DepthOnlyDrawsTheOverlaidPose) {
+  RendererDesc rd;
+  rd.skinning_path = SkinningPath::kVertexShader;
+  Renderer r;
+  makeRenderer(&r, 0, PaletteFormat::kMatrix3x4F32, &rd);
+  CrowdManager crowd;
+  makeCrowd(&crowd);
+  populate(&crowd);
+  InstanceBatcher batcher;
+  ASSERT_TRUE(batcher.init(r.batchLimits()).isOk());
+  MotionTarget target;
+  ASSERT_TRUE(target.create(kSize, kSize).isOk());
+  const auto depthOf = [&](DrawMode mode) {
+    target.clear(glm::vec4(0.0f));
+    EXPECT_TRUE(r.drawCrowd(crowd, batcher, closeView(), nullptr, mode).isOk());
+    std::vector<float> depth;
+    EXPECT_TRUE(target.readDepth(&depth).isOk());
+    return depth;
+  };
+  const auto differing = [](const std::vector<float>& a, const std::vector<float>& b) {
+    size_t n = 0;
+    for (size_t i = 0; i < a.size() && i < b.size(); ++i) n += std::abs(a[i] - b[i]) > 1e-6f;
+    return n;
+  };
+  const std::vector<float> colour = depthOf(DrawMode::kSkinned);
+  const std::vector<float> depth_only = depthOf(DrawMode::kDepthOnly);
+  ASSERT_EQ(colour.size(), size_t(kSize) * kSize);
+  EXPECT_EQ(differing(colour, depth_only), 0u);
+  for (InstanceHandle h : handles_) ASSERT_TRUE(crowd.stopOverlay(h, 0.0).isOk());
+  ASSERT_TRUE(crowd.update(0.0, closeView()).isOk());
+  const std::vector<float> plain = depthOf(DrawMode::kDepthOnly);
+  EXPECT_GT(differing(plain, depth_only), colour.size() / 100);  // The arms moved.
+  target.restore();
+  target.release();
+  r.shutdown();
+}
+
 TEST_P(LayeredRenderTest, WhatDoesNotDrawOverlaysYetSaysSo) {
   RendererDesc rd;
   rd.skinning_path = SkinningPath::kVertexShader;
@@ -82,8 +123,6 @@ TEST_P(LayeredRenderTest, WhatDoesNotDrawOverlaysYetSaysSo) {
   InstanceBatcher batcher;
   ASSERT_TRUE(batcher.init(r.batchLimits()).isOk());
   EXPECT_EQ(r.drawCrowdGpuCulled(crowd, closeView(), nullptr).code(), StatusCode::kUnsupported);
-  EXPECT_EQ(r.drawCrowd(crowd, batcher, closeView(), nullptr, DrawMode::kDepthOnly).code(),
-            StatusCode::kUnsupported);
   EXPECT_TRUE(r.drawCrowd(crowd, batcher, closeView(), nullptr, DrawMode::kRigid).isOk());
   r.shutdown();
   // Motion vectors of a layered crowd.

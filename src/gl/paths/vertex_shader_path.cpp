@@ -5,7 +5,8 @@
 namespace si::detail {
 
 Status VertexShaderPath::draw(const DrawResources& r, const PathFrame& f, DrawStats* st) {
-  const bool depth_only = f.program == ProgramId::kDepthOnly;
+  const bool depth_only =
+      f.program == ProgramId::kDepthOnly || f.program == ProgramId::kDepthOnlyLayers;
   const Program& program = (*r.programs)[f.program];
   bindShading(r, program, f.camera, f.light);
   setMotionUniforms(program, f);

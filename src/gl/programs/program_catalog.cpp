@@ -43,6 +43,8 @@ const ProgramSpec kSpecs[kProgramCount] = {
      nullptr},
     {"compute skinning with layers", "#define SI_LAYERS\n", nullptr, nullptr,
      "compute_skin.comp.glsl", nullptr},
+    {"depth-only with layers", "#define SI_LAYERS\n", "skinned.vert.glsl", "depth.frag.glsl",
+     nullptr, nullptr},
 };
 
 }  // namespace

@@ -33,6 +33,7 @@ enum class ProgramId : uint8_t {
   kPulledMotion,       ///< kPulled, also writing motion vectors.
   kSkinnedLayers,      ///< kSkinned with layered animation (overlays on masks).
   kComputeSkinLayers,  ///< kComputeSkin with layered animation.
+  kDepthOnlyLayers,    ///< kDepthOnly with layered animation.
   kCount
 };
 inline constexpr size_t kProgramCount = size_t(ProgramId::kCount);
