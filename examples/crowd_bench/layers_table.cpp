@@ -33,10 +33,11 @@ Status runLayers(Setup& setup, Renderer& renderer, const BakedPalette& palette,
   row->lod = kNames[state];
   row->instances = count;
   return timeFrames(
-      setup, "field", places, [&](const Camera& cam) { return crowd.update(1.0 / 60.0, cam); },
+      setup, "field", places,
+      [&](const Camera& cam) { return stepCrowd(crowd, path, cam, 1.0 / 60.0); },
       [&](const Camera& cam, DrawStats* st, uint32_t* visible) {
         const Status drawn = drawPath(renderer, crowd, batcher, path, cam, st);
-        *visible = crowd.stats().visible;
+        *visible = isGpuSelected(path) ? st->gpu_visible : crowd.stats().visible;
         return drawn;
       },
       row);
@@ -63,7 +64,8 @@ Status layersTable(Setup& setup, Renderer& renderer, const BakedPalette& palette
               "visible", "draws", "update", "submit", "GPU ms", "CPU x", "GPU x");
   for (uint32_t count : sizes)
     for (const std::string& path : paths) {
-      if (path != "instanced" && path != "compute") continue;
+      if (path != "instanced" && path != "compute" && path != "gpu-culled" && path != "gpu-driven")
+        continue;
       Row rows[3];
       for (int state = 0; state < 3; ++state) {
         s = runLayers(setup, renderer, palette, arm, uint32_t(wave), count, path, state, &rows[state]);

@@ -1,7 +1,8 @@
 // SkinnedInstancing — SPDX-License-Identifier: MIT (see LICENSE)
 #pragma once
 // crowd_bench's layered animation table (--layers): the field drawn by drawCrowd's two
-// skinning paths with no overlay, with every instance waving its right arm over its clip at
+// skinning paths and the GPU-driven paths (gpu-culled: vertex-shader skinning, gpu-driven:
+// pre-skinning) with no overlay, with every instance waving its right arm over its clip at
 // full weight (the anchor's composition), and held half-way (weight 0.5: the rigid blend
 // along the arm's chain too), side by side in one run, with the layered error of each weight
 // (si::measureLayeredError) against the local-space reference.
@@ -13,8 +14,8 @@
 
 namespace si::bench {
 
-/// Prints the table (and CSV rows "layers") for every size and for the instanced and compute
-/// paths among `paths`, drawn by `renderer` (holding `palette` and setup.character).
+/// Prints the table (and CSV rows "layers") for every size and for the instanced, compute,
+/// gpu-culled and gpu-driven paths among `paths`, drawn by `renderer` (holding `palette` and setup.character).
 /// kNotFound when the character has no "wave" clip or "r_clavicle" joint.
 Status layersTable(Setup& setup, Renderer& renderer, const BakedPalette& palette,
                    const std::vector<uint32_t>& sizes, const std::vector<std::string>& paths,

@@ -93,8 +93,8 @@ void usage(std::FILE* f) {
       "                   place against moved by their root motion, side by side)\n"
       "                   [--motion-vectors] (the motion vectors table: the instanced and\n"
       "                   compute paths without and with motion vectors, side by side)\n"
-      "                   [--layers] (the layered animation table: the instanced and compute\n"
-      "                   paths with no overlay, at weight 1 and at 0.5, side by side)\n"
+      "                   [--layers] (the layered animation table: the instanced, compute and\n"
+      "                   GPU-driven paths with no overlay, at weight 1 and 0.5, side by side)\n"
       "                   [--no-gpu-time] (no blocking timer queries: CPU columns only;\n"
       "                   GPU ms and the GPU-culled path's visible count read -1 / 0)\n");
 }

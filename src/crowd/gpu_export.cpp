@@ -77,6 +77,30 @@ void CrowdManager::exportGpuState(std::vector<GpuInstanceState>* out,
   if (handles != nullptr) *handles = st.dense_handles;
 }
 
+void CrowdManager::exportGpuOverlays(std::vector<GpuOverlayState>* out) const {
+  out->clear();
+  if (!state_ || state_->store.overlay_count == 0) return;
+  const detail::InstanceStore& st = state_->store;
+  out->resize(size());
+  for (uint32_t i = 0; i < size(); ++i) {
+    const detail::OverlayState& o = st.overlays[i];
+    GpuOverlayState& g = (*out)[i];
+    g = GpuOverlayState{};
+    if (!o.active) continue;
+    g.start_clock = o.playback.start_clock;
+    g.start_time = o.playback.start_time;
+    g.fade_start = o.fade_start;
+    g.fade_duration = o.fade_duration;
+    g.clip = o.playback.clip;
+    g.loop = uint32_t(o.playback.loop);
+    g.speed = o.playback.speed;
+    g.mask = o.mask;
+    g.weight_from = o.weight_from;
+    g.weight_to = o.weight_to;
+    g.active = 1u;
+  }
+}
+
 void CrowdManager::exportGpuClips(std::vector<GpuClipInfo>* clips,
                                   std::vector<double>* frame_times) const {
   clips->clear();

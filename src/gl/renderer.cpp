@@ -380,10 +380,6 @@ Status Renderer::drawCrowdGpuCulled(CharacterId id, const CrowdManager& crowd,
   detail::CharacterSlot* c = nullptr;
   Status s = m.find(id, "drawCrowdGpuCulled", &c, &crowd);
   if (s.isOk()) s = m.noMotion("drawCrowdGpuCulled");
-  if (s.isOk() && !crowd.layerRecords().empty())
-    s = {StatusCode::kUnsupported,
-         "drawCrowdGpuCulled: the GPU-driven path does not draw overlays (layered animation) "
-         "yet; draw a crowd playing them with drawCrowd"};
   if (!s.isOk()) return s;
   if (mode == DrawMode::kDepthOnly || mode == DrawMode::kRigid)
     return {StatusCode::kInvalidArgument,

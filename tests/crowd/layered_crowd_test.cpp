@@ -139,6 +139,42 @@ TEST(LayeredCrowd, TheWeightFadesInAndOut) {
   EXPECT_LT(glm::length(glm::dvec3(world_hand * p) - glm::dvec3(glm::dmat4(drawn) * p)), 1e-4);
 }
 
+// What GPU-driven culling reads: nothing while no overlay plays; then every instance in dense
+// order, playing or not, and playing or stopping one moves the state version.
+TEST(LayeredCrowd, ExportsTheOverlaysForTheGpu) {
+  Layered l;
+  makeLayered(&l, 3);
+  std::vector<GpuOverlayState> out(5);
+  l.crowd.exportGpuOverlays(&out);
+  EXPECT_TRUE(out.empty());
+  const uint64_t before = l.crowd.stateVersion();
+  ASSERT_TRUE(l.crowd.advanceClock(0.25).isOk());
+  ASSERT_TRUE(l.crowd.playOverlay(l.handles[1], l.wave, l.mask, 0.75f, 0.5, 0.2, 1.5f).isOk());
+  EXPECT_NE(l.crowd.stateVersion(), before);
+  l.crowd.exportGpuOverlays(&out);
+  ASSERT_EQ(out.size(), 3u);
+  EXPECT_EQ(out[0].active, 0u);
+  EXPECT_EQ(out[2].active, 0u);
+  const GpuOverlayState& o = out[1];
+  EXPECT_EQ(o.active, 1u);
+  EXPECT_EQ(o.clip, l.wave);
+  EXPECT_EQ(o.mask, l.mask);
+  EXPECT_DOUBLE_EQ(o.start_clock, 0.25);
+  EXPECT_DOUBLE_EQ(o.start_time, 0.2);
+  EXPECT_FLOAT_EQ(o.speed, 1.5f);
+  EXPECT_FLOAT_EQ(o.weight_from, 0.0f);
+  EXPECT_FLOAT_EQ(o.weight_to, 0.75f);
+  EXPECT_DOUBLE_EQ(o.fade_start, 0.25);
+  EXPECT_DOUBLE_EQ(o.fade_duration, 0.5);
+  EXPECT_EQ(o.loop, uint32_t(defaultPalette().clips[l.wave].loop_mode));
+  const uint64_t playing = l.crowd.stateVersion();
+  ASSERT_TRUE(l.crowd.stopOverlay(l.handles[1], 0.0).isOk());
+  EXPECT_NE(l.crowd.stateVersion(), playing);
+  l.crowd.exportGpuOverlays(&out);
+  ASSERT_EQ(out.size(), 3u);  // Stopped overlays stay, at weight 0.
+  EXPECT_FLOAT_EQ(out[1].weight_to, 0.0f);
+}
+
 TEST(LayeredCrowd, RefusesBadMasksAndArguments) {
   Layered l;
   makeLayered(&l, 1);

@@ -2,8 +2,9 @@
 // Layered animation, the GL half: both skinning paths draw the overlays (the right arm waving
 // over the walk, at full weight and half-way through a fade) as the CPU emulation does
 // (drawCpuSkinned skins with si::emulateLayeredRecordMatrix), in 64 KiB and 16 KiB batches;
-// the overlay shows; depth-only draws put the overlaid arms where the colour draw does; the paths
-// and modes that do not draw overlays yet say so.
+// the overlay shows; depth-only draws put the overlaid arms where the colour draw does; the
+// GPU-driven path draws the same image from its own layer records; what does not draw overlays
+// yet says so.
 #include "render/render_fixture.h"
 #include "si/gl/motion_target.h"
 
@@ -112,6 +113,41 @@ TEST_P(LayeredRenderTest, DepthOnlyDrawsTheOverlaidPose) {
   r.shutdown();
 }
 
+// The GPU-driven path writes each visible instance's layer record in its cull pass, at the
+// crowd's clock, and both its draws (vertex-shader skinning and pre-skinning) skin with it:
+// the image drawCrowd draws from update()'s layer records.
+TEST_P(LayeredRenderTest, TheGpuDrivenPathDrawsTheOverlays) {
+  RendererDesc rd;
+  rd.measure_gpu_time = true;  // The selection's counts are read back after the timer.
+  Renderer r;
+  makeRenderer(&r, 0, PaletteFormat::kMatrix3x4F32, &rd);
+  CrowdManager crowd;
+  makeCrowd(&crowd);
+  populate(&crowd);
+  const std::vector<uint8_t> reference = draw(r, crowd, closeView(), 0);
+  for (DrawMode mode : {DrawMode::kSkinned, DrawMode::kComputeSkinned}) {
+    r.clear(glm::vec4(0.2f, 0.25f, 0.3f, 1.0f));
+    DrawStats stats;
+    const Status s = r.drawCrowdGpuCulled(crowd, closeView(), &stats, mode);
+    ASSERT_TRUE(s.isOk()) << s.toString();
+    EXPECT_EQ(stats.gpu_visible, crowd.stats().visible);
+    std::vector<uint8_t> gpu;
+    ASSERT_TRUE(context_->readPixels(&gpu).isOk());
+    const Diff d = compare(gpu, reference, nullptr);
+    EXPECT_LE(d.share, 0.001) << (mode == DrawMode::kSkinned ? "vertex shader" : "pre-skinned")
+                              << ": max channel difference " << d.max_channel;
+  }
+  // Without the layer records (every overlay stopped at once) the GPU draws the plain pose,
+  // which the overlaid image is not.
+  for (InstanceHandle h : handles_) ASSERT_TRUE(crowd.stopOverlay(h, 0.0).isOk());
+  r.clear(glm::vec4(0.2f, 0.25f, 0.3f, 1.0f));
+  ASSERT_TRUE(r.drawCrowdGpuCulled(crowd, closeView(), nullptr, DrawMode::kSkinned).isOk());
+  std::vector<uint8_t> plain;
+  ASSERT_TRUE(context_->readPixels(&plain).isOk());
+  EXPECT_GT(compare(plain, reference, nullptr).share, 0.01);
+  r.shutdown();
+}
+
 TEST_P(LayeredRenderTest, WhatDoesNotDrawOverlaysYetSaysSo) {
   RendererDesc rd;
   rd.skinning_path = SkinningPath::kVertexShader;
@@ -122,7 +158,6 @@ TEST_P(LayeredRenderTest, WhatDoesNotDrawOverlaysYetSaysSo) {
   populate(&crowd);
   InstanceBatcher batcher;
   ASSERT_TRUE(batcher.init(r.batchLimits()).isOk());
-  EXPECT_EQ(r.drawCrowdGpuCulled(crowd, closeView(), nullptr).code(), StatusCode::kUnsupported);
   EXPECT_TRUE(r.drawCrowd(crowd, batcher, closeView(), nullptr, DrawMode::kRigid).isOk());
   r.shutdown();
   // Motion vectors of a layered crowd.

@@ -122,6 +122,22 @@ TEST_P(ShaderInterface, GpuCrowdStateMatchesTheCppStructs) {
   for (const Field& f : clip_fields)
     EXPECT_EQ(offsetOf(cull, GL_BUFFER_VARIABLE, f.glsl), GLint(f.offset)) << f.glsl;
   EXPECT_EQ(topLevelStride(cull, "si_clips[0].duration"), GLint(sizeof(GpuClipInfo)));
+  const Field overlay_fields[] = {
+      {"si_overlays[0].start_clock", offsetof(GpuOverlayState, start_clock)},
+      {"si_overlays[0].start_time", offsetof(GpuOverlayState, start_time)},
+      {"si_overlays[0].fade_start", offsetof(GpuOverlayState, fade_start)},
+      {"si_overlays[0].fade_duration", offsetof(GpuOverlayState, fade_duration)},
+      {"si_overlays[0].clip", offsetof(GpuOverlayState, clip)},
+      {"si_overlays[0].loop", offsetof(GpuOverlayState, loop)},
+      {"si_overlays[0].speed", offsetof(GpuOverlayState, speed)},
+      {"si_overlays[0].mask", offsetof(GpuOverlayState, mask)},
+      {"si_overlays[0].weight_from", offsetof(GpuOverlayState, weight_from)},
+      {"si_overlays[0].weight_to", offsetof(GpuOverlayState, weight_to)},
+      {"si_overlays[0].playing", offsetof(GpuOverlayState, active)},
+  };
+  for (const Field& f : overlay_fields)
+    EXPECT_EQ(offsetOf(cull, GL_BUFFER_VARIABLE, f.glsl), GLint(f.offset)) << f.glsl;
+  EXPECT_EQ(topLevelStride(cull, "si_overlays[0].start_clock"), GLint(sizeof(GpuOverlayState)));
 }
 
 INSTANTIATE_TEST_SUITE_P(Backends, ShaderInterface, test::allBackends(), test::backendTestName);

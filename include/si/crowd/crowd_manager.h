@@ -387,6 +387,10 @@ class CrowdManager {
   /// The palette's clips as the GPU reads them, and the frame times of non-uniform clips (then
   /// the interval modes of cubic clips, as small whole numbers: GpuClipInfo::modes_offset).
   void exportGpuClips(std::vector<GpuClipInfo>* clips, std::vector<double>* frame_times) const;
+  /// Every instance's overlay in dense order (as exportGpuState), or nothing (`out` emptied)
+  /// while no instance plays one: what GPU-driven culling needs to write the layer records.
+  /// Playing or stopping an overlay changes stateVersion().
+  void exportGpuOverlays(std::vector<GpuOverlayState>* out) const;
   /// This frame's selection parameters for `camera` (what update() uses).
   CullParams cullParams(const Camera& camera) const;
 

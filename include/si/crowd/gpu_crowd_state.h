@@ -35,6 +35,20 @@ struct GpuInstanceState {
 };
 static_assert(sizeof(GpuInstanceState) == 144, "std430 layout");
 
+/// One instance's overlay (layered animation; std430, 64 bytes): CrowdManager's overlay state,
+/// from which the GPU writes the layer record at the crowd's clock as update() does.
+struct GpuOverlayState {
+  double start_clock, start_time;    ///< The overlay's playback: crowd clock and clip time at
+  double fade_start, fade_duration;  ///< start; its weight fades over this span of the clock
+  uint32_t clip, loop;               ///< clip and si::LoopMode,
+  float speed;
+  uint32_t mask;                     ///< the crowd's mask index,
+  float weight_from, weight_to;      ///< from this weight to that one;
+  uint32_t active;                   ///< 0: none played (a zero layer record).
+  uint32_t pad;
+};
+static_assert(sizeof(GpuOverlayState) == 64, "std430 layout");
+
 /// One clip (std430, 80 bytes).
 struct GpuClipInfo {
   double duration, inv_duration, interval, inv_interval;

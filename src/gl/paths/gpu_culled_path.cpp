@@ -8,6 +8,7 @@
 
 #include "core/str_cat.h"
 #include "gl/resources/gl_allocation.h"
+#include "si/core/layer_mask.h"
 
 namespace si::detail {
 
@@ -82,6 +83,8 @@ Status GpuCulledPath::uploadState(const DrawResources& r, const CrowdManager& cr
   }
   if (n > 0)
     glNamedBufferSubData(state_, 0, GLsizeiptr(state.size() * sizeof(state[0])), state.data());
+  s = uploadOverlays(crowd);
+  if (!s.isOk()) return s;
   // Indices may now name other instances: none counts as visible last frame.
   glClearNamedBufferData(visible_last_, GL_R32UI, GL_RED_INTEGER, GL_UNSIGNED_INT, nullptr);
   std::vector<glm::uvec2> ranges(buckets);
@@ -136,6 +139,28 @@ Status GpuCulledPath::uploadState(const DrawResources& r, const CrowdManager& cr
   return Status::ok();
 }
 
+Status GpuCulledPath::uploadOverlays(const CrowdManager& crowd) {
+  std::vector<GpuOverlayState> overlays;
+  crowd.exportGpuOverlays(&overlays);
+  layers_ = !overlays.empty();
+  if (!layers_) return Status::ok();
+  Status s = Status::ok();
+  if (overlays.size() > layer_capacity_ || overlays_ == kNoObject) {
+    layer_capacity_ = 0;
+    const size_t capacity = overlays.size();
+    s = recreate(&overlays_, capacity * sizeof(GpuOverlayState), nullptr,
+                 "GPU culling: the overlays");
+    if (s.isOk())
+      s = recreate(&layers_out_, capacity * kLayerRecordSize, nullptr,
+                   "GPU culling: the layer records");
+    if (!s.isOk()) return s;
+    layer_capacity_ = uint32_t(capacity);
+  }
+  glNamedBufferSubData(overlays_, 0, GLsizeiptr(overlays.size() * sizeof(GpuOverlayState)),
+                       overlays.data());
+  return Status::ok();
+}
+
 Status GpuCulledPath::uploadFrame(const DrawResources& r, const PathFrame& f) {
   const CrowdManager& crowd = *f.crowd;
   const CrowdDesc& cd = crowd.desc();
@@ -155,6 +180,10 @@ Status GpuCulledPath::uploadFrame(const DrawResources& r, const PathFrame& f) {
     Status s = ensureRing(r);
     if (!s.isOk()) return s;
   }
+  if (layers_) {  // Every frame: drawCrowd of another crowd may have replaced the table.
+    Status s = r.scratch->uploadMaskTable(layerMaskTable(crowd.layerMasks()));
+    if (!s.isOk()) return s;
+  }
 
   // Per-frame parameters: the same CullParams CrowdManager::update() uses.
   const CullParams p = crowd.cullParams(f.camera);
@@ -169,8 +198,10 @@ Status GpuCulledPath::uploadFrame(const DrawResources& r, const PathFrame& f) {
   const GLuint counts[4] = {n, cd.lod_count, cd.sub_mesh_count,
                             r.palette->palette()->layout.frame_stride_texels};
   const GLuint skin = (*r.programs)[ProgramId::kGpuSkin].id;
-  for (GLuint program : {cull, commands, scatter, skin})
+  const GLuint layered_skin = (*r.programs)[ProgramId::kGpuSkinLayers].id;
+  for (GLuint program : {cull, commands, scatter, skin, layered_skin})
     glProgramUniform4uiv(program, 16, 1, counts);
+  glProgramUniform1ui(cull, 23, layers_ ? 1u : 0u);
   glProgramUniform1ui(cull, 17, p.animation_lod_start);
   glProgramUniform1d(cull, 18, p.animation_step_seconds);
   glProgramUniform1ui(commands, 19,
@@ -233,6 +264,10 @@ void GpuCulledPath::runPasses(const DrawResources& r, const PathFrame& f, uint32
                                  r.preskin->lod_vertex_list};
   if (f.preskin) glBindBuffersBase(GL_SHADER_STORAGE_BUFFER, 12, 4, preskin_ssbo);
   else glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 12, entry_data_);
+  if (layers_) {
+    const GLuint layer_ssbo[] = {overlays_, layers_out_};
+    glBindBuffersBase(GL_SHADER_STORAGE_BUFFER, 17, 2, layer_ssbo);
+  }
   // Also orders last frame's (or the first phase's) reads of the ring, records, entries and
   // commands before these passes' writes.
   glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT | GL_BUFFER_UPDATE_BARRIER_BIT |
@@ -248,9 +283,11 @@ void GpuCulledPath::runPasses(const DrawResources& r, const PathFrame& f, uint32
   glDispatchComputeIndirect(GLintptr(kDispatchWord) * 4);
   glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT | GL_COMMAND_BARRIER_BIT);
   glBindBuffer(GL_DRAW_INDIRECT_BUFFER, commands_);
+  // The skinning passes read the mask table where the command pass read the ranges.
+  if (layers_) glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 8, r.scratch->mask_table);
   if (f.preskin) {
     // Every pre-skinned entry's vertices into the ring, then one vertex-pulling multi-draw.
-    const Program& skin = (*r.programs)[ProgramId::kGpuSkin];
+    const Program& skin = (*r.programs)[layers_ ? ProgramId::kGpuSkinLayers : ProgramId::kGpuSkin];
     glUseProgram(skin.id);
     glBindTextureUnit(0, r.palette->texture());
     glProgramUniform4uiv(skin.id, skin.palette_info, 1, &r.palette->shaderInfo()[0]);
@@ -267,7 +304,9 @@ void GpuCulledPath::runPasses(const DrawResources& r, const PathFrame& f, uint32
     ++st->draw_calls;
   }
   // Vertex-shader skinning: every instance without pre-skinning, those past the ring with.
-  bindShading(r, (*r.programs)[ProgramId::kGpuDrivenSkinned], f.camera, f.light);
+  bindShading(r,
+              (*r.programs)[layers_ ? ProgramId::kGpuDrivenSkinnedLayers : ProgramId::kGpuDrivenSkinned],
+              f.camera, f.light);
   glBindVertexArray(vao_);
   glMultiDrawElementsIndirect(GL_TRIANGLES, GL_UNSIGNED_INT, nullptr, GLsizei(buckets_), 0);
   ++st->draw_calls;
@@ -309,7 +348,8 @@ Status GpuCulledPath::readSelection(std::vector<glm::uvec2>* selection) const {
 void GpuCulledPath::release() {
   const GLuint buffers[] = {state_,    clips_,    times_,       counters_,  records_,
                             visible_,  entries_,  identity_,    commands_,  ranges_,
-                            bucket_info_, entry_data_, visible_last_, first_phase_counters_};
+                            bucket_info_, entry_data_, visible_last_, first_phase_counters_,
+                            overlays_,  layers_out_};
   glDeleteBuffers(GLsizei(sizeof(buffers) / sizeof(buffers[0])), buffers);
   const GLuint arrays[] = {vao_, preskin_vao_};
   glDeleteVertexArrays(2, arrays);

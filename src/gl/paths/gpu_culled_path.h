@@ -5,7 +5,9 @@
 // sub-mesh); then either an indirect pre-skinning dispatch (shaders/gpu_skin.comp.glsl) and a
 // vertex-pulling multi-draw, or vertex-shader skinning, each one glMultiDrawElementsIndirect.
 // The selection arithmetic is src/crowd/cull_math.h's, so both select exactly the same
-// instances and LODs. The CPU's work per frame does not depend on the crowd's size.
+// instances and LODs. With overlays (layered animation) the cull pass also writes each visible
+// instance's layer record, which the layered skinning programs read by visible index. The CPU's
+// work per frame does not depend on the crowd's size.
 
 #include <vector>
 
@@ -35,6 +37,8 @@ class GpuCulledPath final : public DrawPath {
  private:
   // Uploads the crowd's state when it changed (or the crowd, its shape or the character did).
   Status uploadState(const DrawResources& r, const CrowdManager& crowd, uint32_t buckets);
+  // The crowd's overlays, when it plays any (sets layers_).
+  Status uploadOverlays(const CrowdManager& crowd);
   Status ensureRing(const DrawResources& r);
   // Cull, commands, scatter and the draws, with the cull pass in occlusion `phase` (0 off).
   void runPasses(const DrawResources& r, const PathFrame& f, uint32_t phase, DrawStats* st);
@@ -47,6 +51,11 @@ class GpuCulledPath final : public DrawPath {
   // Occlusion culling: per instance, visible at the end of the last frame (0 or 1); the first
   // phase's counters (the second phase overwrites the counters); the depth pyramid.
   GLuint visible_last_ = kNoObject, first_phase_counters_ = kNoObject;
+  // Layered animation: the crowd's overlays (si::GpuOverlayState) and the cull pass's layer
+  // record per visible instance; layers_ while the crowd plays overlays.
+  GLuint overlays_ = kNoObject, layers_out_ = kNoObject;
+  uint32_t layer_capacity_ = 0;
+  bool layers_ = false;
   DepthPyramid pyramid_;
   bool two_phases_ = false;  // The last frame drew in two phases.
   uint32_t capacity_ = 0, instances_ = 0, buckets_ = 0, sub_meshes_ = 0;

@@ -45,6 +45,10 @@ const ProgramSpec kSpecs[kProgramCount] = {
      "compute_skin.comp.glsl", nullptr},
     {"depth-only with layers", "#define SI_LAYERS\n", "skinned.vert.glsl", "depth.frag.glsl",
      nullptr, nullptr},
+    {"GPU-driven skinned with layers", "#define SI_GPU_DRIVEN\n#define SI_LAYERS\n",
+     "skinned.vert.glsl", "shade.frag.glsl", nullptr, nullptr},
+    {"GPU-driven pre-skinning with layers", "#define SI_LAYERS\n", nullptr, nullptr,
+     "gpu_skin.comp.glsl", nullptr},
 };
 
 }  // namespace

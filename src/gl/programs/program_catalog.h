@@ -34,6 +34,8 @@ enum class ProgramId : uint8_t {
   kSkinnedLayers,      ///< kSkinned with layered animation (overlays on masks).
   kComputeSkinLayers,  ///< kComputeSkin with layered animation.
   kDepthOnlyLayers,    ///< kDepthOnly with layered animation.
+  kGpuDrivenSkinnedLayers,  ///< kGpuDrivenSkinned with layered animation.
+  kGpuSkinLayers,           ///< kGpuSkin with layered animation.
   kCount
 };
 inline constexpr size_t kProgramCount = size_t(ProgramId::kCount);

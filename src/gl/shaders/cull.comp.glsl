@@ -16,6 +16,11 @@ layout(location = 18) uniform double u_anim_step;
 // (every instance in the frustum tested against the pyramid of what the first phase drew:
 // those not occluded are visible next frame, and drawn now unless the first phase drew them).
 layout(location = 20) uniform uint u_occlusion_phase;
+// Layered animation: 1 when the crowd plays overlays; each visible instance's layer record
+// (si::LayerRecord, CrowdManager's layerRecordOf) then goes beside its record.
+layout(location = 23) uniform uint u_layers;
+layout(std430, binding = 17) readonly buffer SiOverlays { SiGpuOverlay si_overlays[]; };
+layout(std430, binding = 18) writeonly buffer SiLayersOut { uvec4 si_layers_out[]; };
 
 // cull_math.h's dot3, cross3 and rotate, in the same order and unfused.
 float siDot3(vec3 a, vec3 b) {
@@ -70,6 +75,21 @@ uvec3 siSample(SiGpuClip c, double t) {  // frame, next frame, fraction word
   double t0 = si_times[c.times_offset + i], span = si_times[c.times_offset + i + 1u] - t0;
   float f = span > 0.0lf ? float(clamp((tt - t0) / span, 0.0lf, 1.0lf)) : 1.0;
   return uvec3(i, i + 1u, siPackFraction(c, i, f));
+}
+
+// The overlay's layer record at the crowd's clock (overlayWeight, packLayerWeight).
+uvec4 siLayerRecord(SiGpuOverlay o, uint stride) {
+  if (o.playing == 0u) return uvec4(0u);
+  SiGpuClip c = si_clips[o.clip];
+  uvec3 f = siSample(c, siLocalTime(o.start_time, o.start_clock, o.speed, o.loop, c));
+  float w = o.weight_to;
+  if (o.fade_duration > 0.0lf && u_clock < o.fade_start + o.fade_duration) {
+    double u = clamp((u_clock - o.fade_start) / o.fade_duration, 0.0lf, 1.0lf);
+    w = float(double(o.weight_from) + (double(o.weight_to) - double(o.weight_from)) * u);
+  }
+  precise float q = clamp(w, 0.0, 1.0) * 65535.0 + 0.5;
+  return uvec4(c.first_texel + f.x * stride, c.first_texel + f.y * stride, f.z,
+               uint(q) | (o.mask << 16));
 }
 
 void main() {
@@ -149,6 +169,7 @@ void main() {
   }
   uint v = atomicAdd(si_visible_count, 1u);
   si_records[v] = rec;
+  if (u_layers != 0u) si_layers_out[v] = siLayerRecord(si_overlays[i], stride);
   uint subs = u_counts.z;
   uint mask = st.mask & (subs >= 32u ? 0xFFFFFFFFu : ((1u << subs) - 1u));
   si_visible[v] = uvec4(i, lod, mask, 0u);

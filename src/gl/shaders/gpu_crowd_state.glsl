@@ -1,6 +1,6 @@
 // SkinnedInstancing - SPDX-License-Identifier: MIT (see LICENSE)
-// The crowd's state as GPU-driven culling reads it (std430). C++ twins: si::GpuInstanceState and
-// si::GpuClipInfo (include/si/crowd/gpu_crowd_state.h); the render tests compare the layouts by
+// The crowd's state as GPU-driven culling reads it (std430). C++ twins: si::GpuInstanceState,
+// si::GpuOverlayState and si::GpuClipInfo (include/si/crowd/gpu_crowd_state.h); the render tests compare the layouts by
 // GL introspection.
 #ifndef SI_GPU_CROWD_STATE_GLSL
 #define SI_GPU_CROWD_STATE_GLSL
@@ -13,6 +13,11 @@ struct SiGpuInstance {
   double fade_start, fade_duration;
   double from_start_clock, from_start_time;
   uint from_clip, from_loop; float from_speed; uint pad1;
+};
+struct SiGpuOverlay {
+  double start_clock, start_time, fade_start, fade_duration;
+  uint clip, loop; float speed; uint mask;
+  float weight_from, weight_to; uint playing, pad;
 };
 struct SiGpuClip {
   double duration, inv_duration, interval, inv_interval;

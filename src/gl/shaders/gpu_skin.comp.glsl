@@ -2,6 +2,12 @@
 // GPU-driven pre-skinning (after the three culling passes, dispatched indirectly): one thread
 // per vertex of every pre-skinned entry, buckets one after another as the command pass laid
 // them out; thread g writes ring vertex g.
+// SI_LAYERS: each entry's overlay (the cull pass's layer record at storage binding 18) composed
+// on its mask.
+#ifdef SI_LAYERS
+#define SI_LAYERS_IN_STORAGE
+#define SI_LAYER_BINDING 18
+#endif
 #define SI_SOURCE_BINDING 14
 #define SI_LOD_VERTICES_BINDING 15
 #include "si_skinning.glsl"
@@ -28,6 +34,11 @@ void main() {
   uint local = g - si_thread_base[lo];
   uint i = local / info.x;
   uint k = local - i * info.x;
-  SiInstance inst = si_records[si_entries[si_bucket_offset[lo] + i]];
-  si_skinned_out[g] = siPreSkin(si_lod_vertices[info.y + k], inst, uvec4(0u));
+  uint v = si_entries[si_bucket_offset[lo] + i];
+#ifdef SI_LAYERS
+  uvec4 layer = si_layers[v];
+#else
+  uvec4 layer = uvec4(0u);
+#endif
+  si_skinned_out[g] = siPreSkin(si_lod_vertices[info.y + k], si_records[v], layer);
 }

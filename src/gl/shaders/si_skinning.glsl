@@ -17,9 +17,10 @@
 // slots, at (uniform or storage) buffer binding SI_PREVIOUS_BINDING (default 1; written by
 // si::InstanceBatcher::buildPrevious) and siSkinPrevious().
 // Layered animation: define SI_LAYERS for each slot's layer record (si::LayerRecord, a uvec4)
-// at (uniform or storage) buffer binding SI_LAYER_BINDING (default 2; written by
-// si::InstanceBatcher::buildLayers), the crowd's mask table at storage binding
-// SI_MASK_BINDING (default 8; si::layerMaskTable) and siSkinLayered().
+// at (uniform or storage: SI_INSTANCES_IN_STORAGE or SI_LAYERS_IN_STORAGE) buffer binding
+// SI_LAYER_BINDING (default 2; written by si::InstanceBatcher::buildLayers), the crowd's
+// mask table at storage binding SI_MASK_BINDING (default 8; si::layerMaskTable) and
+// siSkinLayered().
 #ifndef SI_SKINNING_GLSL
 #define SI_SKINNING_GLSL
 #define SI_GLSL_INTERFACE_VERSION 5
@@ -52,7 +53,7 @@ layout(std140, binding = SI_PREVIOUS_BINDING) uniform SiPreviousInstances {
 #ifndef SI_MASK_BINDING
 #define SI_MASK_BINDING 8
 #endif
-#ifdef SI_INSTANCES_IN_STORAGE
+#if defined(SI_INSTANCES_IN_STORAGE) || defined(SI_LAYERS_IN_STORAGE)
 layout(std430, binding = SI_LAYER_BINDING) readonly buffer SiLayers { uvec4 si_layers[]; };
 #else
 layout(std140, binding = SI_LAYER_BINDING) uniform SiLayers { uvec4 si_layers[SI_MAX_INSTANCES]; };

@@ -9,6 +9,10 @@
 // fragment shader's motion output), SI_LAYERS (each instance's overlay composed on its mask:
 // siSkinLayered).
 #define SI_VERTEX_MATERIALS
+#if defined(SI_GPU_DRIVEN) && defined(SI_LAYERS)
+#define SI_LAYERS_IN_STORAGE  // The cull pass's layer records, by visible index.
+#define SI_LAYER_BINDING 18
+#endif
 #ifdef SI_MOTION_VECTORS
 #define SI_PREVIOUS_RECORDS
 #endif
@@ -73,7 +77,11 @@ void main() {
   vec4 m0 = vec4(1, 0, 0, 0), m1 = vec4(0, 1, 0, 0), m2 = vec4(0, 0, 1, 0);
 #elif defined(SI_LAYERS)
   vec4 m0, m1, m2;
+#if defined(SI_GPU_DRIVEN)
+  siSkinLayered(inst, si_layers[si_entries[a_entry]], a_joints, a_weights, m0, m1, m2);
+#else
   siSkinLayered(inst, si_layers[gl_InstanceID], a_joints, a_weights, m0, m1, m2);
+#endif
 #else
   vec4 m0, m1, m2;
   siSkin(inst, a_joints, a_weights, m0, m1, m2);
