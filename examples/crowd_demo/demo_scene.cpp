@@ -253,8 +253,7 @@ si::Status DemoScene::measureMotion(const si::Camera& camera) {
   motion_summary_ = si::MotionSummary();
   const bool instanced = path_ == DrawPath::kInstanced || path_ == DrawPath::kVertexShader ||
                          path_ == DrawPath::kCompute;
-  if (!options_.motion_vectors || !instanced || viewport_width_ == 0 || viewport_height_ == 0 ||
-      !crowd_.layerRecords().empty())  // No motion vectors with overlays yet.
+  if (!options_.motion_vectors || !instanced || viewport_width_ == 0 || viewport_height_ == 0)
     return si::Status::ok();
   si::Status s = si::Status::ok();
   if (motion_target_.width() != viewport_width_ || motion_target_.height() != viewport_height_)

@@ -86,8 +86,7 @@ class DemoScene {
   void toggleMotionVectors() { options_.motion_vectors = !options_.motion_vectors; }
   /// Layered animation on or off: every other character of the main crowd fades in (0.5 s)
   /// SceneOptions::layer_clip on the branch of SceneOptions::layer_root over its own clip,
-  /// or fades it out. kNotFound naming the clip or joint the character lacks. Motion vectors
-  /// are not measured while overlays play (drawCrowd draws none with them).
+  /// or fades it out. kNotFound naming the clip or joint the character lacks.
   si::Status toggleLayers();
   /// The size of the framebuffer frames are drawn to (the motion target's).
   void setViewportSize(uint32_t width, uint32_t height) {

@@ -364,6 +364,13 @@ const Camera& CrowdManager::updateCamera() const {
 const Camera& CrowdManager::previousUpdateCamera() const {
   return (state_ ? *state_ : emptyState()).previous_camera;
 }
+Span<const LayerRecord> CrowdManager::previousLayerRecords() const {
+  if (!state_ || !desc_.previous_records) return {};
+  const detail::CrowdFrame& f = state_->frame;
+  return f.previous_layers ? Span<const LayerRecord>(f.previous_layer_records.data(), f.previous_visible)
+                           : Span<const LayerRecord>();
+}
+
 Span<const uint32_t> CrowdManager::previousRecordIndices() const {
   if (!state_ || !desc_.previous_records) return {};
   const detail::CrowdFrame& f = state_->frame;

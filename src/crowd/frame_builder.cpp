@@ -353,6 +353,8 @@ void buildFrame(const FrameInputs& in, InstanceStore& st, CrowdFrame* frame) {
   // Motion vectors: the last update's records become the previous ones (a swap, no copy).
   if (in.previous_records) {
     std::swap(f.records, f.previous_records);
+    std::swap(f.layer_records, f.previous_layer_records);
+    f.previous_layers = f.layers;
     f.previous_visible = last_visible;
   }
   // Grown, never shrunk: records() views the first stats.visible (no zeroing per frame).

@@ -51,9 +51,12 @@ struct CrowdFrame {
   std::vector<InstanceRecord> previous_records;
   uint32_t previous_visible = 0;
   std::vector<uint32_t> previous_index;
-  // Layered animation (FrameInputs::layers): parallel to records.
+  // Layered animation (FrameInputs::layers): parallel to records; with previous records, the
+  // previous update's too (parallel to previous_records, when that update wrote them).
   std::vector<LayerRecord> layer_records;
   bool layers = false;  // Whether this frame wrote them.
+  std::vector<LayerRecord> previous_layer_records;
+  bool previous_layers = false;
   std::vector<uint32_t> record_masks;           // Parallel: worn masks.
   std::vector<ChunkWork> chunks;
   // Groups of this frame: the distinct worn masks in increasing order, and the record ranges

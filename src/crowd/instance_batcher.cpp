@@ -190,6 +190,40 @@ Status InstanceBatcher::buildLayers(const CrowdManager& crowd, Span<uint8_t> out
   return Status::ok();
 }
 
+Status InstanceBatcher::buildPreviousLayers(const CrowdManager& crowd, Span<uint8_t> out) const {
+  if (capacity_ == 0) return {StatusCode::kInvalidArgument, "InstanceBatcher: init() first"};
+  if (!crowd.desc().previous_records)
+    return {StatusCode::kInvalidArgument,
+            "InstanceBatcher::buildPreviousLayers: the crowd keeps no previous records "
+            "(CrowdDesc::previous_records)"};
+  const Span<const LayerRecord> layers = crowd.layerRecords();
+  if (layers.empty())
+    return {StatusCode::kInvalidArgument,
+            "InstanceBatcher::buildPreviousLayers: the crowd's last update wrote no layer "
+            "records (no instance plays an overlay)"};
+  const size_t needed = layerBufferBound(crowd);
+  if (out.size() < needed)
+    return {StatusCode::kCountMismatch,
+            strCat("InstanceBatcher::buildPreviousLayers: the layer buffer holds ", out.size(),
+                   " bytes, the frame needs ", needed)};
+  const Span<const LayerRecord> previous = crowd.previousLayerRecords();
+  const size_t previous_records = crowd.previousRecords().size();
+  const Span<const uint32_t> index = crowd.previousRecordIndices();
+  uint8_t* base = out.data();
+  walkBatches(crowd, capacity_, alignment_, nullptr,
+              [&](const DrawBatch& d, uint32_t slot, uint32_t first, uint32_t count) {
+                uint8_t* dst = base + d.layer_byte_offset + size_t(slot) * kLayerRecordSize;
+                for (uint32_t k = 0; k < count; ++k) {
+                  const uint32_t i = first + k, p = index[i];
+                  const LayerRecord rec = p >= previous_records ? layers[i]
+                                          : p < previous.size() ? previous[p]
+                                                                : LayerRecord();
+                  std::memcpy(dst + size_t(k) * kLayerRecordSize, &rec, kLayerRecordSize);
+                }
+              });
+  return Status::ok();
+}
+
 Status InstanceBatcher::buildSpans(const CrowdManager& crowd,
                                    std::vector<RecordSpanDraw>* draws) const {
   if (capacity_ == 0) return {StatusCode::kInvalidArgument, "InstanceBatcher: init() first"};

@@ -301,26 +301,31 @@ Status Renderer::drawCrowd(CharacterId id, const CrowdManager& crowd,
             "previous records (CrowdDesc::previous_records)"};
   // Layered animation: the crowd's last update wrote layer records.
   const bool layers = !crowd.layerRecords().empty() && mode != DrawMode::kRigid;
-  if (layers && motion)
-    return {StatusCode::kUnsupported,
-            "drawCrowd: motion vectors of a crowd playing overlays (layered animation) are not "
-            "built; turn one of them off"};
   const auto t0 = std::chrono::steady_clock::now();
-  // The ring region: the records; the previous records (motion vectors) or the layer records
-  // (layered animation) after them, each at the next aligned offset.
+  // The ring region: the records; then, each at the next aligned offset, the previous records
+  // (motion vectors), the layer records (layered animation) and the previous layer records
+  // (both).
   const auto align = [&](size_t v) { return (v + m.alignment - 1) / m.alignment * m.alignment; };
   const size_t bound = batcher.recordBufferBound(crowd);
-  const size_t extra_offset = align(bound);
-  const size_t extra = motion ? bound : layers ? batcher.layerBufferBound(crowd) : 0;
-  s = m.ring.reserve(extra > 0 ? extra_offset + extra : bound);
+  const size_t layer_bound = layers ? batcher.layerBufferBound(crowd) : 0;
+  const size_t previous_offset = align(bound);
+  const size_t layer_offset = motion ? align(previous_offset + bound) : previous_offset;
+  const size_t previous_layer_offset = align(layer_offset + layer_bound);
+  const size_t end = layers && motion ? previous_layer_offset + layer_bound
+                     : layers         ? layer_offset + layer_bound
+                     : motion         ? previous_offset + bound
+                                      : bound;
+  s = m.ring.reserve(end);
   if (!s.isOk()) return s;
   const size_t base = m.ring.acquire();
   s = batcher.build(crowd, Span<uint8_t>(m.ring.mapped(base), m.ring.writableBytes()),
                     &m.batches);
-  const Span<uint8_t> extra_bytes(m.ring.mapped(base + extra_offset),
-                                  m.ring.writableBytes() - extra_offset);
-  if (s.isOk() && motion) s = batcher.buildPrevious(crowd, extra_bytes);
-  if (s.isOk() && layers) s = batcher.buildLayers(crowd, extra_bytes);
+  const auto region = [&](size_t offset) {
+    return Span<uint8_t>(m.ring.mapped(base + offset), m.ring.writableBytes() - offset);
+  };
+  if (s.isOk() && motion) s = batcher.buildPrevious(crowd, region(previous_offset));
+  if (s.isOk() && layers) s = batcher.buildLayers(crowd, region(layer_offset));
+  if (s.isOk() && layers && motion) s = batcher.buildPreviousLayers(crowd, region(previous_layer_offset));
   if (s.isOk() && layers) s = m.scratch.uploadMaskTable(layerMaskTable(crowd.layerMasks()));
   if (!s.isOk()) return s;
   detail::PathFrame frame;
@@ -330,15 +335,17 @@ Status Renderer::drawCrowd(CharacterId id, const CrowdManager& crowd,
   frame.program = mode == DrawMode::kDepthOnly
                       ? (layers ? detail::ProgramId::kDepthOnlyLayers : detail::ProgramId::kDepthOnly)
                   : mode == DrawMode::kRigid   ? detail::ProgramId::kRigid
+                  : motion && layers           ? detail::ProgramId::kSkinnedMotionLayers
                   : motion                     ? detail::ProgramId::kSkinnedMotion
                   : layers                     ? detail::ProgramId::kSkinnedLayers
                                                : detail::ProgramId::kSkinned;
   frame.batches = &m.batches;
   frame.ring_base = base;
   frame.motion = motion;
-  frame.previous_base = base + extra_offset;
+  frame.previous_base = base + previous_offset;
   frame.layers = layers;
-  frame.layer_base = base + extra_offset;
+  frame.layer_base = base + layer_offset;
+  frame.previous_layer_base = base + previous_layer_offset;
   frame.motion_view_projection = crowd.updateCamera().viewProjection();
   frame.previous_view_projection = crowd.previousUpdateCamera().viewProjection();
   detail::DrawPath& path = mode == DrawMode::kComputeSkinned

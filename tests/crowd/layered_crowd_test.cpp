@@ -5,7 +5,10 @@
 // crowds without overlays write no layer records.
 #include <gtest/gtest.h>
 
+#include <cstring>
+
 #include "crowd/crowd_test_helpers.h"
+#include "si/crowd/instance_batcher.h"
 #include "si/crowd/record_emulation.h"
 
 namespace si {
@@ -173,6 +176,76 @@ TEST(LayeredCrowd, ExportsTheOverlaysForTheGpu) {
   l.crowd.exportGpuOverlays(&out);
   ASSERT_EQ(out.size(), 3u);  // Stopped overlays stay, at weight 0.
   EXPECT_FLOAT_EQ(out[1].weight_to, 0.0f);
+}
+
+// Motion vectors of overlays: the previous update's layer records are kept beside the previous
+// records, and the batcher lays each slot's out as build() lays its record (an instance added
+// since gets its current one, as buildPrevious does).
+TEST(LayeredCrowd, KeepsThePreviousLayerRecords) {
+  Layered l;
+  CrowdDesc cd = test::defaultCrowdDesc();
+  cd.previous_records = true;
+  ASSERT_TRUE(l.crowd.init(cd).isOk());
+  ASSERT_TRUE(buildLayerMask(defaultCharacter().skeleton, defaultPalette(), "right arm",
+                             {"r_clavicle"}, &l.arm).isOk());
+  ASSERT_TRUE(l.crowd.addLayerMask(l.arm, &l.mask).isOk());
+  l.wave = uint32_t(defaultPalette().findClip("wave"));
+  const auto addOne = [&](uint32_t k) {
+    InstanceDesc d;
+    d.position = glm::dvec3(1.5 * k, 0.0, 0.0);
+    d.time_seconds = 0.1 * k;
+    InstanceHandle h;
+    ASSERT_TRUE(l.crowd.add(d, &h).isOk());
+    ASSERT_TRUE(l.crowd.playOverlay(h, l.wave, l.mask, 1.0f, 0.0, 0.2 * k).isOk());
+    l.handles.push_back(h);
+  };
+  for (uint32_t k = 0; k < 5; ++k) addOne(k);
+  const Camera camera = viewOf(6);
+  ASSERT_TRUE(l.crowd.update(0.0, camera).isOk());
+  EXPECT_TRUE(l.crowd.previousLayerRecords().empty());  // The first update had no previous one.
+  const std::vector<LayerRecord> first(l.crowd.layerRecords().begin(), l.crowd.layerRecords().end());
+  ASSERT_EQ(first.size(), 5u);
+  addOne(5);
+  ASSERT_TRUE(l.crowd.update(0.1, camera).isOk());
+  ASSERT_EQ(l.crowd.previousLayerRecords().size(), first.size());
+  for (size_t i = 0; i < first.size(); ++i)
+    EXPECT_EQ(std::memcmp(&l.crowd.previousLayerRecords()[i], &first[i], sizeof(LayerRecord)), 0);
+  InstanceBatcher batcher;
+  ASSERT_TRUE(batcher.init({16384, 256, 0}).isOk());
+  std::vector<uint8_t> records(batcher.recordBufferBound(l.crowd));
+  std::vector<uint8_t> previous(batcher.layerBufferBound(l.crowd)), current(previous.size());
+  std::vector<DrawBatch> draws;
+  ASSERT_TRUE(batcher.build(l.crowd, records, &draws).isOk());
+  ASSERT_TRUE(batcher.buildLayers(l.crowd, current).isOk());
+  ASSERT_TRUE(batcher.buildPreviousLayers(l.crowd, previous).isOk());
+  size_t kept = 0, fallbacks = 0;
+  for (const DrawBatch& d : draws)
+    for (uint32_t k = 0; k < d.instance_count; ++k) {
+      InstanceRecord rec;
+      std::memcpy(&rec, records.data() + d.byte_offset + k * kInstanceRecordSize, sizeof rec);
+      // The slot's record is records()[i] for the i whose record it is.
+      size_t i = 0;
+      while (i < l.crowd.records().size() &&
+             std::memcmp(&l.crowd.records()[i], &rec, sizeof rec) != 0)
+        ++i;
+      ASSERT_LT(i, l.crowd.records().size());
+      const uint32_t p = l.crowd.previousRecordIndices()[i];
+      const uint8_t* slot = previous.data() + d.layer_byte_offset + k * kLayerRecordSize;
+      const void* expected = p == CrowdManager::kNoPreviousRecord
+                                 ? static_cast<const void*>(&l.crowd.layerRecords()[i])
+                                 : static_cast<const void*>(&l.crowd.previousLayerRecords()[p]);
+      EXPECT_EQ(std::memcmp(slot, expected, kLayerRecordSize), 0) << i;
+      (p == CrowdManager::kNoPreviousRecord ? fallbacks : kept) += 1;
+    }
+  EXPECT_GT(kept, 0u);
+  EXPECT_GT(fallbacks, 0u);  // The instance added between the updates.
+  // Refused: a crowd without previous records.
+  Layered plain;
+  makeLayered(&plain, 2);
+  ASSERT_TRUE(plain.crowd.playOverlay(plain.handles[0], plain.wave, plain.mask, 1.0f, 0.0).isOk());
+  ASSERT_TRUE(plain.crowd.update(0.0, viewOf(2)).isOk());
+  std::vector<uint8_t> out(batcher.layerBufferBound(plain.crowd));
+  EXPECT_EQ(batcher.buildPreviousLayers(plain.crowd, out).code(), StatusCode::kInvalidArgument);
 }
 
 TEST(LayeredCrowd, RefusesBadMasksAndArguments) {

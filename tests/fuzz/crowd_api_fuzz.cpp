@@ -219,6 +219,13 @@ void checkFrame(const si::CrowdManager& crowd) {
     }
     std::vector<uint8_t> layer_bytes(batcher.layerBufferBound(crowd));
     if (!batcher.buildLayers(crowd, layer_bytes).isOk()) fail("buildLayers failed on a valid frame");
+    if (crowd.desc().previous_records) {
+      const auto previous = crowd.previousLayerRecords();
+      if (!previous.empty() && previous.size() != crowd.previousRecords().size())
+        fail("the previous layer records do not match the previous records");
+      if (!batcher.buildPreviousLayers(crowd, layer_bytes).isOk())
+        fail("buildPreviousLayers failed on a valid frame");
+    }
   }
   for (const si::InstanceRecord& r : crowd.records()) {
     for (const auto& row : r.world_rows)

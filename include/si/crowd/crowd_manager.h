@@ -340,6 +340,9 @@ class CrowdManager {
   /// weight 0, where it plays none). Empty when no instance had played one then: crowds without
   /// layered animation write nothing and pay nothing.
   Span<const LayerRecord> layerRecords() const;
+  /// With CrowdDesc::previous_records: parallel to previousRecords(), the previous update's
+  /// layer records (empty when that update wrote none). Motion vectors of overlays.
+  Span<const LayerRecord> previousLayerRecords() const;
 
   /// The LOD an instance was given by the last update() (kNotFound for stale handles).
   Status lodOf(InstanceHandle h, uint32_t* lod) const;

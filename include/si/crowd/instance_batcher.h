@@ -109,6 +109,13 @@ class InstanceBatcher {
   /// initialized or the crowd's last update wrote no layer records; kCountMismatch when `out`
   /// is smaller than layerBufferBound(crowd) (nothing written).
   Status buildLayers(const CrowdManager& crowd, Span<uint8_t> out) const;
+  /// Motion vectors of overlays: buildLayers()'s layout holding each slot's previous layer
+  /// record (CrowdManager::previousLayerRecords() through previousRecordIndices()); where the
+  /// instance has no previous record, its current layer record (buildPrevious()'s fallback);
+  /// where the previous update wrote no layer records, a zero record (no overlay then).
+  /// kInvalidArgument as buildLayers(), or when the crowd keeps no previous records;
+  /// kCountMismatch when `out` is smaller than layerBufferBound(crowd).
+  Status buildPreviousLayers(const CrowdManager& crowd, Span<uint8_t> out) const;
 
   /// The same draws without copying a record: each bucket's runs (CrowdManager::bucketRuns)
   /// cut where a block would exceed capacityPerDraw(). An application uploads records() once

@@ -38,9 +38,11 @@ Status ComputePath::draw(const DrawResources& r, const PathFrame& f, DrawStats* 
   Status s = ensureRing(r);
   if (!s.isOk()) return s;
   const PreSkinLists& lists = *r.preskin;
-  const Program& skin = (*r.programs)[f.motion   ? ProgramId::kComputeSkinMotion
-                                      : f.layers ? ProgramId::kComputeSkinLayers
-                                                 : ProgramId::kComputeSkin];
+  const Program& skin =
+      (*r.programs)[f.motion && f.layers ? ProgramId::kComputeSkinMotionLayers
+                    : f.motion           ? ProgramId::kComputeSkinMotion
+                    : f.layers           ? ProgramId::kComputeSkinLayers
+                                         : ProgramId::kComputeSkin];
   const Program& pulled = (*r.programs)[f.motion ? ProgramId::kPulledMotion : ProgramId::kPulled];
   if (f.motion) {
     s = r.scratch->compute_previous_ring.ensure(r.scratch->compute_ring.vertices, true,
@@ -102,6 +104,7 @@ Status ComputePath::draw(const DrawResources& r, const PathFrame& f, DrawStats* 
       r.ring->bindBatch(f.ring_base, d);
       if (f.motion) r.ring->bindBatch(f.previous_base, d, 1);
       if (f.layers) r.ring->bindLayers(f.layer_base, d);
+      if (f.layers && f.motion) r.ring->bindLayers(f.previous_layer_base, d, 3);
       glProgramUniform4ui(skin.id, 5, uint32_t(cursor), l.vertex_count, l.vertex_offset, first);
       glProgramUniform2ui(skin.id, 6, count, lists.source_words);
       const uint64_t threads = uint64_t(count) * l.vertex_count;

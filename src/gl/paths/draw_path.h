@@ -63,6 +63,9 @@ struct PathFrame {
   /// ring (DrawBatch::layer_byte_offset); the mask table is bound.
   bool layers = false;
   size_t layer_base = 0;
+  /// Both: the previous layer records (InstanceBatcher::buildPreviousLayers) at uniform binding
+  /// 3 from `previous_layer_base`.
+  size_t previous_layer_base = 0;
 };
 
 class DrawPath {

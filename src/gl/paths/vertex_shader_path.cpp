@@ -17,6 +17,7 @@ Status VertexShaderPath::draw(const DrawResources& r, const PathFrame& f, DrawSt
     r.ring->bindBatch(f.ring_base, d);
     if (f.motion) r.ring->bindBatch(f.previous_base, d, 1);
     if (f.layers) r.ring->bindLayers(f.layer_base, d);
+    if (f.layers && f.motion) r.ring->bindLayers(f.previous_layer_base, d, 3);
     glDrawElementsInstanced(GL_TRIANGLES, GLsizei(range.index_count), GL_UNSIGNED_INT,
                             reinterpret_cast<const void*>(uintptr_t(range.first_index) * 4),
                             GLsizei(d.instance_count));

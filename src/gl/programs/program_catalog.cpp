@@ -49,6 +49,11 @@ const ProgramSpec kSpecs[kProgramCount] = {
      "skinned.vert.glsl", "shade.frag.glsl", nullptr, nullptr},
     {"GPU-driven pre-skinning with layers", "#define SI_LAYERS\n", nullptr, nullptr,
      "gpu_skin.comp.glsl", nullptr},
+    {"skinned with motion vectors and layers", "#define SI_MOTION_VECTORS\n#define SI_LAYERS\n",
+     "skinned.vert.glsl", "shade.frag.glsl", nullptr, nullptr},
+    {"compute skinning with previous positions and layers",
+     "#define SI_MOTION_VECTORS\n#define SI_LAYERS\n", nullptr, nullptr, "compute_skin.comp.glsl",
+     nullptr},
 };
 
 }  // namespace

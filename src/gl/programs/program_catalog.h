@@ -36,6 +36,8 @@ enum class ProgramId : uint8_t {
   kDepthOnlyLayers,    ///< kDepthOnly with layered animation.
   kGpuDrivenSkinnedLayers,  ///< kGpuDrivenSkinned with layered animation.
   kGpuSkinLayers,           ///< kGpuSkin with layered animation.
+  kSkinnedMotionLayers,     ///< kSkinnedMotion with layered animation.
+  kComputeSkinMotionLayers, ///< kComputeSkinMotion with layered animation.
   kCount
 };
 inline constexpr size_t kProgramCount = size_t(ProgramId::kCount);

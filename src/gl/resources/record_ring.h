@@ -41,8 +41,8 @@ class RecordRing {
   }
   /// Binds batch `d`'s layer records of the layer block at `base` to uniform binding 2 (the
   /// block's records at 16 bytes each).
-  void bindLayers(size_t base, const DrawBatch& d) const {
-    glBindBufferRange(GL_UNIFORM_BUFFER, 2, buffer_, GLintptr(base + d.layer_byte_offset),
+  void bindLayers(size_t base, const DrawBatch& d, GLuint binding = 2) const {
+    glBindBufferRange(GL_UNIFORM_BUFFER, binding, buffer_, GLintptr(base + d.layer_byte_offset),
                       GLsizeiptr(block_size_ / kInstanceRecordSize * kLayerRecordSize));
   }
   GLuint buffer() const { return buffer_; }

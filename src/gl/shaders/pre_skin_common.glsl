@@ -86,7 +86,11 @@ vec3 siPreSkinPrevious(uint source, uint instance) {
   uvec4 joints;
   vec4 weights;
   siSourceVertex(source, p, n, joints, weights);
+#ifdef SI_LAYERS
+  return siSkinPreviousLayered(instance, joints, weights, p);
+#else
   return siSkinPrevious(instance, joints, weights, p);
+#endif
 }
 #endif
 #endif

@@ -20,7 +20,9 @@
 // at (uniform or storage: SI_INSTANCES_IN_STORAGE or SI_LAYERS_IN_STORAGE) buffer binding
 // SI_LAYER_BINDING (default 2; written by si::InstanceBatcher::buildLayers), the crowd's
 // mask table at storage binding SI_MASK_BINDING (default 8; si::layerMaskTable) and
-// siSkinLayered().
+// siSkinLayered(); with SI_PREVIOUS_RECORDS too, the previous layer records at binding
+// SI_PREVIOUS_LAYER_BINDING (default 3; InstanceBatcher::buildPreviousLayers) and
+// siSkinPreviousLayered().
 #ifndef SI_SKINNING_GLSL
 #define SI_SKINNING_GLSL
 #define SI_GLSL_INTERFACE_VERSION 5
@@ -57,6 +59,20 @@ layout(std140, binding = SI_PREVIOUS_BINDING) uniform SiPreviousInstances {
 layout(std430, binding = SI_LAYER_BINDING) readonly buffer SiLayers { uvec4 si_layers[]; };
 #else
 layout(std140, binding = SI_LAYER_BINDING) uniform SiLayers { uvec4 si_layers[SI_MAX_INSTANCES]; };
+#endif
+#ifdef SI_PREVIOUS_RECORDS
+#ifndef SI_PREVIOUS_LAYER_BINDING
+#define SI_PREVIOUS_LAYER_BINDING 3
+#endif
+#if defined(SI_INSTANCES_IN_STORAGE) || defined(SI_LAYERS_IN_STORAGE)
+layout(std430, binding = SI_PREVIOUS_LAYER_BINDING) readonly buffer SiPreviousLayers {
+  uvec4 si_previous_layers[];
+};
+#else
+layout(std140, binding = SI_PREVIOUS_LAYER_BINDING) uniform SiPreviousLayers {
+  uvec4 si_previous_layers[SI_MAX_INSTANCES];
+};
+#endif
 #endif
 // [0]: palette slots per mask; then per mask, per slot: -2 outside the mask, -1 the overlay's
 // own matrix, else the anchor slot.
@@ -345,5 +361,16 @@ void siSkinLayered(SiInstance inst, uvec4 layer, uvec4 joints, vec4 weights, out
     m2 += w * r2;
   }
 }
+#ifdef SI_PREVIOUS_RECORDS
+// siSkinPrevious with the slot's previous layer record (InstanceBatcher::buildPreviousLayers):
+// where the vertex was drawn in the previous frame, its overlay included.
+vec3 siSkinPreviousLayered(uint instance, uvec4 joints, vec4 weights, vec3 position) {
+  SiInstance prev = si_previous_instances[instance];
+  vec4 m0, m1, m2;
+  siSkinLayered(prev, si_previous_layers[instance], joints, weights, m0, m1, m2);
+  return siTransformPoint(prev.world_rows[0], prev.world_rows[1], prev.world_rows[2],
+                          siTransformPoint(m0, m1, m2, position));
+}
+#endif
 #endif
 #endif

@@ -101,7 +101,11 @@ void main() {
   gl_Position = u_view_projection * vec4(world, 1.0);
 #ifdef SI_MOTION_VECTORS
   v_motion_current = u_motion_view_projection * vec4(world, 1.0);
-  v_motion_previous = u_previous_view_projection *
-                      vec4(siSkinPrevious(uint(gl_InstanceID), a_joints, a_weights, a_position), 1.0);
+#ifdef SI_LAYERS
+  vec3 previous = siSkinPreviousLayered(uint(gl_InstanceID), a_joints, a_weights, a_position);
+#else
+  vec3 previous = siSkinPrevious(uint(gl_InstanceID), a_joints, a_weights, a_position);
+#endif
+  v_motion_previous = u_previous_view_projection * vec4(previous, 1.0);
 #endif
 }
