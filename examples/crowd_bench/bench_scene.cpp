@@ -205,6 +205,11 @@ double median(std::vector<double> v) {
   return v[v.size() / 2];
 }
 
+void printSideBySideHeader(const char* feature) {
+  std::printf("%-11s %-6s %9s %9s %6s %9s %9s %9s %8s %8s", "path", feature, "instances",
+              "visible", "draws", "update", "submit", "GPU ms", "CPU x", "GPU x");
+}
+
 void printSideBySideRow(const Row& r, const Row& off, const char* table, std::FILE* csv) {
   const double cpu_x = (r.update_ms + r.submit_ms) / std::max(1e-9, off.update_ms + off.submit_ms);
   const double gpu_x = r.gpu_ms / std::max(1e-9, off.gpu_ms);

@@ -99,6 +99,8 @@ Status timeFrames(const Setup& setup, const std::string& scene,
 /// update, submit and GPU times and its CPU and GPU ratios to `off` (the feature off), printed
 /// without the line's end; and its CSV row, tagged `table` ("root-motion", ...).
 void printSideBySideRow(const Row& r, const Row& off, const char* table, std::FILE* csv);
+/// Its header, the feature's column named `feature`, without the line's end.
+void printSideBySideHeader(const char* feature);
 
 /// Times one path on one scene; returns a named error.
 Status runPath(Setup& setup, Renderer& renderer, const BakedPalette& palette,

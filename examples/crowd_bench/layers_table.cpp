@@ -60,8 +60,8 @@ Status layersTable(Setup& setup, Renderer& renderer, const BakedPalette& palette
   if (!s.isOk()) return s;
   std::printf("\nLayered animation (field; every instance waves its right arm over its clip): "
               "no overlay against weight 1 and weight 0.5, in the same run\n");
-  std::printf("%-11s %-6s %9s %9s %6s %9s %9s %9s %8s %8s\n", "path", "layer", "instances",
-              "visible", "draws", "update", "submit", "GPU ms", "CPU x", "GPU x");
+  printSideBySideHeader("layer");
+  std::printf("\n");
   for (uint32_t count : sizes)
     for (const std::string& path : paths) {
       if (path != "instanced" && path != "compute" && path != "gpu-culled" && path != "gpu-driven")

@@ -62,9 +62,8 @@ Status motionVectorsTable(Setup& setup, const BakedPalette& palette, const Rende
   if (!s.isOk()) return s;
   std::printf("\nMotion vectors (field, drawn into colour + RG16F motion + depth): off against "
               "on, in the same run\n");
-  std::printf("%-11s %-6s %9s %9s %6s %9s %9s %9s %8s %8s %9s %9s\n", "path", "motion",
-              "instances", "visible", "draws", "update", "submit", "GPU ms", "CPU x", "GPU x",
-              "mean px", "max px");
+  printSideBySideHeader("motion");
+  std::printf(" %9s %9s\n", "mean px", "max px");
   for (uint32_t count : sizes)
     for (const std::string& path : paths) {
       if (path != "instanced" && path != "compute") continue;

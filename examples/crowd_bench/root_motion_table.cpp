@@ -72,8 +72,8 @@ Status rootMotionTable(Setup& setup, const RendererDesc& desc, const std::vector
   if (!s.isOk()) return s;
   std::printf("\nRoot motion (field; walk_forward and walk_turn_left baked in place at 30 Hz): "
               "played in place against moved by their root motion, in the same run\n");
-  std::printf("%-11s %-6s %9s %9s %6s %9s %9s %9s %8s %8s\n", "path", "motion", "instances",
-              "visible", "draws", "update", "submit", "GPU ms", "CPU x", "GPU x");
+  printSideBySideHeader("motion");
+  std::printf("\n");
   for (uint32_t count : sizes)
     for (const std::string& path : paths) {
       if ((path == "traditional" || path == "cpu") && count > max_baseline) continue;

@@ -169,18 +169,25 @@ size_t InstanceBatcher::layerBufferBound(const CrowdManager& crowd) const {
   return bytes;
 }
 
-Status InstanceBatcher::buildLayers(const CrowdManager& crowd, Span<uint8_t> out) const {
+Status InstanceBatcher::checkLayerBuffer(const char* what, const CrowdManager& crowd,
+                                         size_t out_bytes) const {
   if (capacity_ == 0) return {StatusCode::kInvalidArgument, "InstanceBatcher: init() first"};
-  const Span<const LayerRecord> layers = crowd.layerRecords();
-  if (layers.empty())
+  if (crowd.layerRecords().empty())
     return {StatusCode::kInvalidArgument,
-            "InstanceBatcher::buildLayers: the crowd's last update wrote no layer records (no "
-            "instance plays an overlay)"};
+            strCat("InstanceBatcher::", what, ": the crowd's last update wrote no layer records ",
+                   "(no instance plays an overlay)")};
   const size_t needed = layerBufferBound(crowd);
-  if (out.size() < needed)
+  if (out_bytes < needed)
     return {StatusCode::kCountMismatch,
-            strCat("InstanceBatcher::buildLayers: the layer buffer holds ", out.size(),
+            strCat("InstanceBatcher::", what, ": the layer buffer holds ", out_bytes,
                    " bytes, the frame needs ", needed)};
+  return Status::ok();
+}
+
+Status InstanceBatcher::buildLayers(const CrowdManager& crowd, Span<uint8_t> out) const {
+  const Status s = checkLayerBuffer("buildLayers", crowd, out.size());
+  if (!s.isOk()) return s;
+  const Span<const LayerRecord> layers = crowd.layerRecords();
   uint8_t* base = out.data();
   walkBatches(crowd, capacity_, alignment_, nullptr,
               [&](const DrawBatch& d, uint32_t slot, uint32_t first, uint32_t count) {
@@ -191,21 +198,13 @@ Status InstanceBatcher::buildLayers(const CrowdManager& crowd, Span<uint8_t> out
 }
 
 Status InstanceBatcher::buildPreviousLayers(const CrowdManager& crowd, Span<uint8_t> out) const {
-  if (capacity_ == 0) return {StatusCode::kInvalidArgument, "InstanceBatcher: init() first"};
-  if (!crowd.desc().previous_records)
+  if (capacity_ != 0 && !crowd.desc().previous_records)
     return {StatusCode::kInvalidArgument,
             "InstanceBatcher::buildPreviousLayers: the crowd keeps no previous records "
             "(CrowdDesc::previous_records)"};
+  const Status s = checkLayerBuffer("buildPreviousLayers", crowd, out.size());
+  if (!s.isOk()) return s;
   const Span<const LayerRecord> layers = crowd.layerRecords();
-  if (layers.empty())
-    return {StatusCode::kInvalidArgument,
-            "InstanceBatcher::buildPreviousLayers: the crowd's last update wrote no layer "
-            "records (no instance plays an overlay)"};
-  const size_t needed = layerBufferBound(crowd);
-  if (out.size() < needed)
-    return {StatusCode::kCountMismatch,
-            strCat("InstanceBatcher::buildPreviousLayers: the layer buffer holds ", out.size(),
-                   " bytes, the frame needs ", needed)};
   const Span<const LayerRecord> previous = crowd.previousLayerRecords();
   const size_t previous_records = crowd.previousRecords().size();
   const Span<const uint32_t> index = crowd.previousRecordIndices();

@@ -39,6 +39,15 @@ class LayeredRenderTest : public RenderTest {
     }
     ASSERT_TRUE(crowd->update(0.5, closeView()).isOk());
   }
+  // A vertex-shader renderer, the populated crowd and a batcher for it.
+  void vertexShaderSetUp(Renderer* r, CrowdManager* crowd, InstanceBatcher* batcher) {
+    RendererDesc rd;
+    rd.skinning_path = SkinningPath::kVertexShader;
+    makeRenderer(r, 0, PaletteFormat::kMatrix3x4F32, &rd);
+    makeCrowd(crowd);
+    populate(crowd);
+    ASSERT_TRUE(batcher->init(r->batchLimits()).isOk());
+  }
   static Camera closeView() {
     return Camera::lookAt({0.0, 1.6, 2.5}, {0.0, 1.0, -4.0}, glm::vec3(0, 1, 0), 0.9f, 1.0f, 0.1f, 100.0f);
   }
@@ -77,15 +86,10 @@ TEST_P(LayeredRenderTest, BothSkinningPathsDrawTheEmulatedOverlay) {
 // A depth pre-pass of a crowd playing overlays writes the depth the colour draw writes (the
 // layered depth-only program), not the pose without the overlay.
 TEST_P(LayeredRenderTest, DepthOnlyDrawsTheOverlaidPose) {
-  RendererDesc rd;
-  rd.skinning_path = SkinningPath::kVertexShader;
   Renderer r;
-  makeRenderer(&r, 0, PaletteFormat::kMatrix3x4F32, &rd);
   CrowdManager crowd;
-  makeCrowd(&crowd);
-  populate(&crowd);
   InstanceBatcher batcher;
-  ASSERT_TRUE(batcher.init(r.batchLimits()).isOk());
+  vertexShaderSetUp(&r, &crowd, &batcher);
   MotionTarget target;
   ASSERT_TRUE(target.create(kSize, kSize).isOk());
   const auto depthOf = [&](DrawMode mode) {
@@ -217,15 +221,10 @@ TEST_P(LayeredRenderTest, MotionVectorsFollowTheOverlay) {
 
 // Rigid instancing draws the instances unskinned: overlays change nothing there.
 TEST_P(LayeredRenderTest, RigidDrawsIgnoreTheOverlays) {
-  RendererDesc rd;
-  rd.skinning_path = SkinningPath::kVertexShader;
   Renderer r;
-  makeRenderer(&r, 0, PaletteFormat::kMatrix3x4F32, &rd);
   CrowdManager crowd;
-  makeCrowd(&crowd);
-  populate(&crowd);
   InstanceBatcher batcher;
-  ASSERT_TRUE(batcher.init(r.batchLimits()).isOk());
+  vertexShaderSetUp(&r, &crowd, &batcher);
   EXPECT_TRUE(r.drawCrowd(crowd, batcher, closeView(), nullptr, DrawMode::kRigid).isOk());
   r.shutdown();
 }

@@ -128,6 +128,9 @@ class InstanceBatcher {
   Status buildSpans(const CrowdManager& crowd, std::vector<RecordSpanDraw>* draws) const;
 
  private:
+  // buildLayers' and buildPreviousLayers' checks: initialized, layer records written, `out`
+  // large enough (named `what`).
+  Status checkLayerBuffer(const char* what, const CrowdManager& crowd, size_t out_bytes) const;
   uint32_t capacity_ = 0;
   uint32_t alignment_ = 0;
 };
