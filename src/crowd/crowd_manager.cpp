@@ -408,6 +408,7 @@ Span<const AnimationEvent> CrowdManager::events() const {
 }
 
 uint64_t CrowdManager::stateVersion() const { return state_ ? state_->store.version : 0; }
+uint64_t CrowdManager::identity() const { return state_ ? state_->store.identity : 0; }
 
 Status CrowdManager::setLodMode(LodMode mode, float pixel_error_budget) {
   if (!state_) return {StatusCode::kInvalidArgument, "CrowdManager: init() first"};

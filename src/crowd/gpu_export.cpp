@@ -73,6 +73,7 @@ void CrowdManager::exportGpuState(std::vector<GpuInstanceState>* out,
     g.from_clip = b.clip;
     g.from_loop = uint32_t(b.loop);
     g.from_speed = b.speed;
+    g.handle = st.dense_handles[i].id;
   }
   if (handles != nullptr) *handles = st.dense_handles;
 }

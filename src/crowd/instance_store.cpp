@@ -33,6 +33,7 @@ void InstanceStore::reset(const BakedPalette* p) {
   *this = InstanceStore();
   palette = p;
   version = nextStateVersion();
+  identity = version;
 }
 
 Status InstanceStore::validate(const InstanceDesc& d) const {

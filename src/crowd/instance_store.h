@@ -63,6 +63,7 @@ struct InstanceStore {
   const std::vector<ClipTiming>* clip_timings = nullptr;  // The palette's (the crowd's State).
   HandlePool handles;
   uint64_t version = 0;
+  uint64_t identity = 0;  // The version reset() gave: one per init() of one crowd.
 
   // Dense state; slot_to_dense maps handle slots to it.
   std::vector<glm::dvec3> positions;

@@ -104,6 +104,32 @@ TEST(CrowdManager, RemoveKeepsOtherInstancesIntact) {
   }
 }
 
+// identity() names one crowd from its init() on: state changes keep it, another crowd or a new
+// init() gets another; the exported state names each instance's handle.
+TEST(CrowdManager, IdentityNamesOneInitOfOneCrowd) {
+  CrowdManager a, b;
+  EXPECT_EQ(a.identity(), 0u);
+  ASSERT_TRUE(a.init(defaultCrowdDesc()).isOk());
+  ASSERT_TRUE(b.init(defaultCrowdDesc()).isOk());
+  const uint64_t first = a.identity();
+  EXPECT_NE(first, 0u);
+  EXPECT_NE(b.identity(), first);
+  InstanceHandle h, g;
+  ASSERT_TRUE(a.add(InstanceDesc(), &h).isOk());
+  ASSERT_TRUE(a.add(InstanceDesc(), &g).isOk());
+  ASSERT_TRUE(a.play(h, 0, 0.2, 1.5f).isOk());
+  ASSERT_TRUE(a.remove(h).isOk());
+  EXPECT_EQ(a.identity(), first);
+  std::vector<GpuInstanceState> state;
+  std::vector<InstanceHandle> handles;
+  a.exportGpuState(&state, &handles);
+  ASSERT_EQ(state.size(), 1u);
+  EXPECT_EQ(state[0].handle, g.id);
+  ASSERT_TRUE(a.init(defaultCrowdDesc()).isOk());
+  EXPECT_NE(a.identity(), first);
+  EXPECT_NE(a.identity(), b.identity());
+}
+
 TEST(CrowdManager, AddRandomIsSeededAndDeterministic) {
   std::vector<glm::dvec3> positions;
   for (int i = 0; i < 200; ++i) positions.push_back(glm::dvec3(i % 20, 0, i / 20) * 2.0);

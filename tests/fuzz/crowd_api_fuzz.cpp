@@ -142,6 +142,9 @@ struct Snapshot {
 Snapshot snapshot(const si::CrowdManager& crowd) {
   Snapshot s;
   crowd.exportGpuState(&s.state, &s.handles);
+  if (s.handles.size() != s.state.size()) fail("exportGpuState: a handle per instance");
+  for (size_t i = 0; i < s.state.size(); ++i)
+    if (s.state[i].handle != s.handles[i].id) fail("exportGpuState: the state names another handle");
   s.version = crowd.stateVersion();
   s.lines = crowd.desc().lod_distances_radii;
   s.far_line = crowd.desc().max_distance_radii;

@@ -383,6 +383,10 @@ class CrowdManager {
   /// setLodDistances); not when update() moves LODs or ends crossfades (the GPU does the same).
   /// Unique across all crowds of the process: a new crowd never repeats an old one's version.
   uint64_t stateVersion() const;
+  /// This crowd since its last init(): unique across all crowds and init() calls of the process
+  /// (0 before init). What GPU-driven draws kept of a crowd (motion vectors' previous frame)
+  /// belongs to this identity, so a new crowd at a reused address never inherits it.
+  uint64_t identity() const;
   /// Every instance's state in dense order (`handles`, may be null, receives the handles in the
   /// same order): index i of the GPU's selection is dense index i.
   void exportGpuState(std::vector<GpuInstanceState>* out,

@@ -31,7 +31,9 @@ struct GpuInstanceState {
   double from_start_clock, from_start_time;
   uint32_t from_clip, from_loop;
   float from_speed;
-  uint32_t pad1;
+  /// The instance's InstanceHandle::id: the GPU-driven path keys what it drew last frame by it
+  /// (motion vectors), so dense indices may change between frames.
+  uint32_t handle;
 };
 static_assert(sizeof(GpuInstanceState) == 144, "std430 layout");
 

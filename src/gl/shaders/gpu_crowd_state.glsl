@@ -12,7 +12,7 @@ struct SiGpuInstance {
   uint clip, loop; float speed; uint fading;
   double fade_start, fade_duration;
   double from_start_clock, from_start_time;
-  uint from_clip, from_loop; float from_speed; uint pad1;
+  uint from_clip, from_loop; float from_speed; uint handle;
 };
 struct SiGpuOverlay {
   double start_clock, start_time, fade_start, fade_duration;
