@@ -240,6 +240,11 @@ void Renderer::setMotionVectors(bool on) {
   if (impl_) impl_->desc.motion_vectors = on;
 }
 bool Renderer::motionVectors() const { return impl_ && impl_->desc.motion_vectors; }
+void Renderer::setGpuMotionProjection(const glm::mat4* projection) {
+  if (!impl_) return;
+  impl_->has_motion_projection = projection != nullptr;
+  if (projection != nullptr) impl_->motion_projection = *projection;
+}
 
 // Before a character's upload: the explicit setting, or the vertex shader until measured.
 SkinningPath Renderer::skinningPath(CharacterId id) const {
@@ -386,7 +391,6 @@ Status Renderer::drawCrowdGpuCulled(CharacterId id, const CrowdManager& crowd,
   Impl& m = *impl_;
   detail::CharacterSlot* c = nullptr;
   Status s = m.find(id, "drawCrowdGpuCulled", &c, &crowd);
-  if (s.isOk()) s = m.noMotion("drawCrowdGpuCulled");
   if (!s.isOk()) return s;
   if (mode == DrawMode::kDepthOnly || mode == DrawMode::kRigid)
     return {StatusCode::kInvalidArgument,
@@ -398,6 +402,9 @@ Status Renderer::drawCrowdGpuCulled(CharacterId id, const CrowdManager& crowd,
   frame.light = light_direction_;
   frame.preskin = mode == DrawMode::kComputeSkinned ||
                   (mode == DrawMode::kDefault && c->path == SkinningPath::kCompute);
+  frame.motion = m.desc.motion_vectors;  // The path keeps what it drew: no previous records.
+  frame.motion_view_projection =
+      (m.has_motion_projection ? m.motion_projection : camera.projection) * camera.view_rotation;
   DrawStats st;
   s = m.runPath(*c, c->gpu_culled_path, frame, t0, stats != nullptr, &st);
   // Visible instances and triangles: the counters, read back after the timer anyway blocked.

@@ -38,6 +38,9 @@ struct Renderer::Impl {
   std::vector<DrawBatch> batches;  // The batcher's draws of the current frame.
   GLuint custom_texture = detail::kNoObject;  // Renderer::setCustomTextureArray.
   uint32_t custom_layers = 0;
+  // Renderer::setGpuMotionProjection.
+  bool has_motion_projection = false;
+  glm::mat4 motion_projection{1.0f};
 
   /// Uploads `character` (its palette already in `c`), prepares the paths' per-character state
   /// and picks its skinning path (measured with `light` under SkinningPath::kAutomatic).
@@ -46,12 +49,14 @@ struct Renderer::Impl {
 
   Status check(const char* what) const { return debug ? checkGlErrors(what) : Status::ok(); }
 
-  /// kUnsupported naming `what` while motion vectors are on: only drawCrowd draws them.
+  /// kUnsupported naming `what` while motion vectors are on: only drawCrowd and
+  /// drawCrowdGpuCulled draw them.
   Status noMotion(const char* what) const {
     if (!desc.motion_vectors) return Status::ok();
     return {StatusCode::kUnsupported,
             detail::strCat(what, " draws no motion vectors; with RendererDesc::motion_vectors "
-                                 "(setMotionVectors) on, draw the crowd with drawCrowd")};
+                                 "(setMotionVectors) on, draw the crowd with drawCrowd or "
+                                 "drawCrowdGpuCulled")};
   }
 
   /// Character 0, created (empty) if there is none: what uploadPalette and uploadCharacter

@@ -155,10 +155,13 @@ TEST_P(LayeredRenderTest, TheGpuDrivenPathDrawsTheOverlays) {
 // Motion vectors of overlays: the previous position is skinned with the previous layer record.
 // With the camera and the base clips still, only the overlay moves: its arms have motion while
 // it plays, and none at all when it is held still too (so neither the current layer record nor
-// none stands in for the previous one). Both skinning paths agree.
+// none stands in for the previous one). Both skinning paths and both GPU-driven draws (their
+// own previous layer records) agree.
 TEST_P(LayeredRenderTest, MotionVectorsFollowTheOverlay) {
   RendererDesc rd;
   rd.motion_vectors = true;
+  rd.gpu_driven_ring_bytes = 4u << 20;
+  rd.skinning_path = SkinningPath::kVertexShader;  // Every draw names its mode: no timing.
   Renderer r;
   makeRenderer(&r, 0, PaletteFormat::kMatrix3x4F32, &rd);
   InstanceBatcher batcher;
@@ -168,7 +171,9 @@ TEST_P(LayeredRenderTest, MotionVectorsFollowTheOverlay) {
   LayerMask arm;
   ASSERT_TRUE(buildLayerMask(character().skeleton, palette(), "right arm", {"r_clavicle"}, &arm).isOk());
   const uint32_t walk = uint32_t(palette().findClip("walk")), wave = uint32_t(palette().findClip("wave"));
-  const auto motionOf = [&](float overlay_speed, DrawMode mode, std::vector<glm::vec2>* motion) {
+  // Two frames 0.05 s apart: drawCrowd draws the second; the GPU-driven path draws both.
+  const auto motionOf = [&](float overlay_speed, DrawMode mode, bool gpu_driven,
+                            std::vector<glm::vec2>* motion) {
     CrowdManager crowd;
     CrowdDesc cd;
     cd.palette = &palette();
@@ -189,6 +194,15 @@ TEST_P(LayeredRenderTest, MotionVectorsFollowTheOverlay) {
       ASSERT_TRUE(crowd.playOverlay(h, wave, mask, 1.0f, 0.0, 0.9 + 0.1 * k, overlay_speed).isOk());
     }
     ASSERT_TRUE(crowd.update(0.0, closeView()).isOk());
+    if (gpu_driven) {
+      ASSERT_TRUE(r.drawCrowdGpuCulled(crowd, closeView(), nullptr, mode).isOk());
+      ASSERT_TRUE(crowd.advanceClock(0.05).isOk());
+      target.clear(glm::vec4(0.0f));
+      const Status s = r.drawCrowdGpuCulled(crowd, closeView(), nullptr, mode);
+      ASSERT_TRUE(s.isOk()) << s.toString();
+      ASSERT_TRUE(target.readMotion(motion).isOk());
+      return;
+    }
     ASSERT_TRUE(crowd.update(0.05, closeView()).isOk());
     ASSERT_EQ(crowd.previousLayerRecords().size(), crowd.previousRecords().size());
     target.clear(glm::vec4(0.0f));
@@ -201,19 +215,26 @@ TEST_P(LayeredRenderTest, MotionVectorsFollowTheOverlay) {
     for (const glm::vec2& v : m) worst = std::max(worst, glm::length(v) * float(kSize));
     return worst;
   };
-  std::vector<glm::vec2> waving_vs, waving_cs, still;
-  motionOf(1.0f, DrawMode::kSkinned, &waving_vs);
-  motionOf(1.0f, DrawMode::kComputeSkinned, &waving_cs);
-  motionOf(0.0f, DrawMode::kSkinned, &still);
+  std::vector<glm::vec2> waving_vs, waving_cs, still, gpu_vs, gpu_cs, gpu_still;
+  motionOf(1.0f, DrawMode::kSkinned, false, &waving_vs);
+  motionOf(1.0f, DrawMode::kComputeSkinned, false, &waving_cs);
+  motionOf(0.0f, DrawMode::kSkinned, false, &still);
+  motionOf(1.0f, DrawMode::kSkinned, true, &gpu_vs);
+  motionOf(1.0f, DrawMode::kComputeSkinned, true, &gpu_cs);
+  motionOf(0.0f, DrawMode::kComputeSkinned, true, &gpu_still);
   std::printf("[ layered  ] largest motion: waving %.2f px, held %.4f px\n", largest(waving_vs),
               largest(still));
   EXPECT_GT(largest(waving_vs), 0.5f);
   EXPECT_LT(largest(still), 1e-3f);
-  ASSERT_EQ(waving_vs.size(), waving_cs.size());
-  size_t agree = 0;
-  for (size_t i = 0; i < waving_vs.size(); ++i)
-    agree += glm::length(waving_vs[i] - waving_cs[i]) < 1e-4f;
-  EXPECT_GE(double(agree), 0.995 * double(waving_vs.size()));
+  EXPECT_LT(largest(gpu_still), 1e-3f);
+  // Both skinning paths and both GPU-driven draws agree.
+  for (const std::vector<glm::vec2>* other : {&waving_cs, &gpu_vs, &gpu_cs}) {
+    ASSERT_EQ(waving_vs.size(), other->size());
+    size_t agree = 0;
+    for (size_t i = 0; i < waving_vs.size(); ++i)
+      agree += glm::length(waving_vs[i] - (*other)[i]) < 1e-4f;
+    EXPECT_GE(double(agree), 0.995 * double(waving_vs.size())) << other - &waving_vs;
+  }
   target.restore();
   target.release();
   r.shutdown();

@@ -101,6 +101,7 @@ TEST_P(ShaderInterface, GpuCrowdStateMatchesTheCppStructs) {
       {"si_state[0].from_clip", offsetof(GpuInstanceState, from_clip)},
       {"si_state[0].from_loop", offsetof(GpuInstanceState, from_loop)},
       {"si_state[0].from_speed", offsetof(GpuInstanceState, from_speed)},
+      {"si_state[0].handle", offsetof(GpuInstanceState, handle)},
   };
   for (const Field& f : instance_fields)
     EXPECT_EQ(offsetOf(cull, GL_BUFFER_VARIABLE, f.glsl), GLint(f.offset)) << f.glsl;

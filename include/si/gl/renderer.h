@@ -110,9 +110,10 @@ struct RendererDesc {
   /// one uses the camera of its last update (CrowdManager::previousUpdateCamera(),
   /// updateCamera()), so a jittered projection given to the draw does not enter the motion. An
   /// instance without a previous record (not drawn then, added or teleported since) gets the
-  /// camera's motion only (InstanceBatcher::buildPrevious). kDepthOnly and kRigid draws write
-  /// no motion; drawTraditional, drawCpuSkinned and drawCrowdGpuCulled return kUnsupported while
-  /// it is on. Switchable with setMotionVectors().
+  /// camera's motion only (InstanceBatcher::buildPrevious). drawCrowdGpuCulled writes them too,
+  /// from what it drew itself (see there; no previous records needed). kDepthOnly and kRigid
+  /// draws write no motion; drawTraditional and drawCpuSkinned return kUnsupported while it is
+  /// on. Switchable with setMotionVectors().
   bool motion_vectors = false;
   /// Largest side of the base colour texture array's layers (si::buildMaterialTable: every
   /// material image resized to one size, so all materials share a draw); 0 means 2048.
@@ -205,6 +206,11 @@ class Renderer {
   /// Turns RendererDesc::motion_vectors on or off from the next draw.
   void setMotionVectors(bool on);
   bool motionVectors() const;
+  /// drawCrowdGpuCulled's motion vectors: the projection they use in place of the draw camera's
+  /// from the next GPU-driven draw on (the draw camera's without its temporal anti-aliasing
+  /// jitter, so the jitter does not enter the motion; drawCrowd gets the same from the crowd's
+  /// update camera). Null: the draw camera's own. Culling and the image use the draw camera.
+  void setGpuMotionProjection(const glm::mat4* projection);
 
   /// The application's custom texture array, which instances select a layer of
   /// (InstanceDesc::custom_layer: 0 none, k layer k - 1): a GL_TEXTURE_2D_ARRAY name, sampled
@@ -269,6 +275,14 @@ class Renderer {
   /// pre-skinned vertices (read back after the timer); otherwise only draw_calls and the CPU
   /// time. kInvalidArgument for kDepthOnly or kRigid. Each character keeps the GPU state of
   /// the last crowd it drew: draw one crowd per character (another re-uploads).
+  /// With RendererDesc::motion_vectors, the cull pass also writes each visible instance's
+  /// previous record: what this path drew of the same instance (by handle) in the previous
+  /// frame, kept on the GPU, or else the camera-motion-only fallback of drawCrowd. A frame is
+  /// one crowd clock: draws at the same clock are the same frame, and the previous frame is the
+  /// last one drawn at an earlier clock, with the camera of its last draw. Positions are
+  /// projected with the draw cameras, or with setGpuMotionProjection()'s projection (an
+  /// unjittered one) in their place. A character's frames follow one crowd: drawing another
+  /// crowd (CrowdManager::identity()) starts over with the fallback.
   Status drawCrowdGpuCulled(const CrowdManager& crowd, const Camera& camera, DrawStats* stats,
                             DrawMode mode = DrawMode::kDefault) {
     return drawCrowdGpuCulled(CharacterId{}, crowd, camera, stats, mode);

@@ -55,7 +55,8 @@ struct PathFrame {
   bool preskin = false;
   /// Motion vectors (the instanced paths, RendererDesc::motion_vectors): the previous records
   /// in the batches' layout at `previous_base` of the ring, and the crowd's last and previous
-  /// update cameras' view-projections.
+  /// update cameras' view-projections. The GPU-driven path: `motion` and the view-projection
+  /// its motion uses for this frame (it keeps the previous frame's).
   bool motion = false;
   size_t previous_base = 0;
   glm::mat4 motion_view_projection{1.0f}, previous_view_projection{1.0f};

@@ -9,6 +9,7 @@
 #include "core/str_cat.h"
 #include "gl/resources/gl_allocation.h"
 #include "si/core/layer_mask.h"
+#include "si/crowd/handle_pool.h"
 
 namespace si::detail {
 
@@ -23,6 +24,8 @@ constexpr uint32_t kFittedWord = kThreadBaseWord + kMaxBuckets + 1;
 constexpr uint32_t kCounterWords = kFittedWord + kMaxBuckets;
 // SiCommands: vertex-shader draws at 0, pre-skinned draws from command 256 on (20 bytes each).
 constexpr GLintptr kPreskinnedCommands = GLintptr(kMaxBuckets) * 20;
+// cull.comp.glsl's SiDrawn: a record, a layer record and a tag.
+constexpr size_t kDrawnBytes = kInstanceRecordSize + kLayerRecordSize + 16;
 
 // (Re)creates `buffer` with `bytes` of storage, at least 16 (and its first `bytes` from `data`
 // when given), dynamic.
@@ -42,7 +45,12 @@ Status GpuCulledPath::uploadState(const DrawResources& r, const CrowdManager& cr
   const CrowdDesc& cd = crowd.desc();
   const uint32_t n = crowd.size();
   std::vector<GpuInstanceState> state;
-  crowd.exportGpuState(&state, nullptr);
+  std::vector<InstanceHandle> handles;
+  crowd.exportGpuState(&state, &handles);
+  // Motion vectors key what was drawn by handle slot: as many as the largest slot.
+  slots_needed_ = 1;
+  for (const InstanceHandle& h : handles)
+    slots_needed_ = std::max(slots_needed_, (h.id & (HandlePool::kMaxSlots - 1)) + 1);
   std::vector<GpuClipInfo> clips;
   std::vector<double> times;
   crowd.exportGpuClips(&clips, &times);
@@ -171,15 +179,22 @@ Status GpuCulledPath::uploadFrame(const DrawResources& r, const PathFrame& f) {
                    " LODs do not fit the uploaded character (", r.character->sub_meshes.size(),
                    " sub-meshes) or 256 buckets")};
   const uint32_t n = crowd.size();
+  if (crowd_identity_ != crowd.identity()) {  // Another crowd: nothing drawn is its last frame.
+    frame_ += 2;
+    framed_ = false;
+    crowd_identity_ = crowd.identity();
+  }
   if (crowd_ != &crowd || version_ != crowd.stateVersion() || instances_ != n ||
       buckets_ != buckets || vertex_source_ != r.character->vertex_buffer || vao_ == kNoObject) {
     Status s = uploadState(r, crowd, buckets);
     if (!s.isOk()) return s;
   }
   if (f.preskin) {
-    Status s = ensureRing(r);
+    Status s = ensureRing(r, f.motion);
     if (!s.isOk()) return s;
   }
+  Status motion = prepareMotion(r, f);
+  if (!motion.isOk()) return motion;
   if (layers_) {  // Every frame: drawCrowd of another crowd may have replaced the table.
     Status s = r.scratch->uploadMaskTable(layerMaskTable(crowd.layerMasks()));
     if (!s.isOk()) return s;
@@ -199,7 +214,10 @@ Status GpuCulledPath::uploadFrame(const DrawResources& r, const PathFrame& f) {
                             r.palette->palette()->layout.frame_stride_texels};
   const GLuint skin = (*r.programs)[ProgramId::kGpuSkin].id;
   const GLuint layered_skin = (*r.programs)[ProgramId::kGpuSkinLayers].id;
-  for (GLuint program : {cull, commands, scatter, skin, layered_skin})
+  const GLuint motion_skin = (*r.programs)[ProgramId::kGpuSkinMotion].id;
+  const GLuint motion_layered_skin = (*r.programs)[ProgramId::kGpuSkinMotionLayers].id;
+  for (GLuint program : {cull, commands, scatter, skin, layered_skin, motion_skin,
+                         motion_layered_skin})
     glProgramUniform4uiv(program, 16, 1, counts);
   glProgramUniform1ui(cull, 23, layers_ ? 1u : 0u);
   glProgramUniform1ui(cull, 17, p.animation_lod_start);
@@ -211,7 +229,58 @@ Status GpuCulledPath::uploadFrame(const DrawResources& r, const PathFrame& f) {
   return Status::ok();
 }
 
-Status GpuCulledPath::ensureRing(const DrawResources& r) {
+Status GpuCulledPath::prepareMotion(const DrawResources& r, const PathFrame& f) {
+  const double clock = f.crowd->clockSeconds();
+  if (!framed_ || !(clock == frame_clock_)) {  // A new frame, with or without motion vectors.
+    ++frame_;
+    previous_camera_ = framed_ ? camera_ : f.camera;
+    previous_view_projection_ = framed_ ? view_projection_ : f.motion_view_projection;
+    frame_clock_ = clock;
+    framed_ = true;
+  }
+  camera_ = f.camera;
+  view_projection_ = f.motion_view_projection;
+  motion_ = f.motion;
+  const GLuint cull = (*r.programs)[ProgramId::kCull].id;
+  glProgramUniform1ui(cull, 24, motion_ ? 1u : 0u);
+  if (!motion_) return Status::ok();
+  Status s = Status::ok();
+  if (slots_needed_ > drawn_slots_) {
+    const uint32_t slots = std::max(slots_needed_, std::min(2 * drawn_slots_, HandlePool::kMaxSlots));
+    const uint64_t bytes = uint64_t(slots) * 2 * kDrawnBytes;
+    if (bytes > r.info->max_shader_storage_block_size_bytes)
+      return {StatusCode::kLimitExceeded,
+              strCat("drawCrowdGpuCulled: motion vectors keep ", bytes, " bytes of drawn records "
+                     "for ", slots, " handle slots, GL_MAX_SHADER_STORAGE_BLOCK_SIZE is ",
+                     r.info->max_shader_storage_block_size_bytes)};
+    drawn_slots_ = 0;
+    s = recreate(&drawn_, size_t(bytes), nullptr, "motion vectors: the drawn records");
+    if (!s.isOk()) return s;
+    // No tag names a handle (handle ids are never 0): every instance starts with the fallback.
+    glClearNamedBufferData(drawn_, GL_R32UI, GL_RED_INTEGER, GL_UNSIGNED_INT, nullptr);
+    drawn_slots_ = slots;
+  }
+  if (capacity_ > previous_capacity_) {
+    previous_capacity_ = 0;
+    s = recreate(&previous_out_, size_t(capacity_) * kInstanceRecordSize, nullptr,
+                 "motion vectors: the previous records");
+    if (s.isOk())
+      s = recreate(&previous_layers_out_, size_t(capacity_) * kLayerRecordSize, nullptr,
+                   "motion vectors: the previous layer records");
+    if (!s.isOk()) return s;
+    previous_capacity_ = capacity_;
+  }
+  glProgramUniform2ui(cull, 25, frame_, drawn_slots_);
+  // The fallback moves the current record from this camera's origin to the previous one's
+  // (kept when they are too far apart for a float, as InstanceBatcher::buildPrevious does).
+  const glm::dvec3 delta = camera_.position - previous_camera_.position;
+  const bool representable = glm::all(glm::lessThan(glm::abs(delta), glm::dvec3(1e30)));
+  const glm::vec3 shift = representable ? glm::vec3(delta) : glm::vec3(0.0f);
+  glProgramUniform3fv(cull, 26, 1, &shift[0]);
+  return Status::ok();
+}
+
+Status GpuCulledPath::ensureRing(const DrawResources& r, bool motion) {
   const uint64_t largest = r.info->max_shader_storage_block_size_bytes;
   const uint64_t bytes = std::min<uint64_t>(
       r.desc->gpu_driven_ring_bytes != 0 ? r.desc->gpu_driven_ring_bytes : uint64_t(256) << 20,
@@ -222,7 +291,11 @@ Status GpuCulledPath::ensureRing(const DrawResources& r) {
             strCat("drawCrowdGpuCulled: the pre-skinned ring of ", bytes,
                    " bytes does not hold one instance of the largest LOD (",
                    r.preskin->max_lod_vertices, " vertices)")};
-  return r.scratch->gpu_driven_ring.ensure(vertices, true, "GPU-driven pre-skinning: the ring");
+  Status s = r.scratch->gpu_driven_ring.ensure(vertices, true, "GPU-driven pre-skinning: the ring");
+  if (s.isOk() && motion)
+    s = r.scratch->gpu_driven_previous_ring.ensure(vertices, true,
+                                                   "GPU-driven pre-skinning: the previous ring");
+  return s;
 }
 
 Status GpuCulledPath::draw(const DrawResources& r, const PathFrame& f, DrawStats* st) {
@@ -268,6 +341,22 @@ void GpuCulledPath::runPasses(const DrawResources& r, const PathFrame& f, uint32
     const GLuint layer_ssbo[] = {overlays_, layers_out_};
     glBindBuffersBase(GL_SHADER_STORAGE_BUFFER, 17, 2, layer_ssbo);
   }
+  if (motion_) {
+    const GLuint motion_ssbo[] = {drawn_, previous_out_, previous_layers_out_};
+    glBindBuffersBase(GL_SHADER_STORAGE_BUFFER, 19, 3, motion_ssbo);
+    if (f.preskin)
+      glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 22, r.scratch->gpu_driven_previous_ring.buffer);
+  }
+  // Motion vectors: this frame's camera and the previous frame's.
+  const glm::mat4& now = view_projection_;
+  const glm::mat4& then = previous_view_projection_;
+  const auto set_motion = [&](const Program& p) {
+    if (!motion_) return;
+    if (p.motion_view_projection >= 0)
+      glProgramUniformMatrix4fv(p.id, p.motion_view_projection, 1, GL_FALSE, &now[0][0]);
+    if (p.previous_view_projection >= 0)
+      glProgramUniformMatrix4fv(p.id, p.previous_view_projection, 1, GL_FALSE, &then[0][0]);
+  };
   // Also orders last frame's (or the first phase's) reads of the ring, records, entries and
   // commands before these passes' writes.
   glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT | GL_BUFFER_UPDATE_BARRIER_BIT |
@@ -287,15 +376,19 @@ void GpuCulledPath::runPasses(const DrawResources& r, const PathFrame& f, uint32
   if (layers_) glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 8, r.scratch->mask_table);
   if (f.preskin) {
     // Every pre-skinned entry's vertices into the ring, then one vertex-pulling multi-draw.
-    const Program& skin = (*r.programs)[layers_ ? ProgramId::kGpuSkinLayers : ProgramId::kGpuSkin];
+    const Program& skin =
+        (*r.programs)[motion_ ? (layers_ ? ProgramId::kGpuSkinMotionLayers : ProgramId::kGpuSkinMotion)
+                              : (layers_ ? ProgramId::kGpuSkinLayers : ProgramId::kGpuSkin)];
     glUseProgram(skin.id);
     glBindTextureUnit(0, r.palette->texture());
     glProgramUniform4uiv(skin.id, skin.palette_info, 1, &r.palette->shaderInfo()[0]);
     glProgramUniform2ui(skin.id, 6, 0u, r.preskin->source_words);
     glDispatchComputeIndirect(GLintptr(kSkinDispatchWord) * 4);
     glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT);
-    const Program& pulled = (*r.programs)[ProgramId::kGpuPulled];
+    const Program& pulled =
+        (*r.programs)[motion_ ? ProgramId::kGpuPulledMotion : ProgramId::kGpuPulled];
     bindShading(r, pulled, f.camera, f.light);
+    set_motion(pulled);
     glProgramUniform2ui(pulled.id, 6, 0u, r.preskin->source_words);
     glBindVertexArray(preskin_vao_);
     glMultiDrawElementsIndirect(GL_TRIANGLES, GL_UNSIGNED_INT,
@@ -304,9 +397,13 @@ void GpuCulledPath::runPasses(const DrawResources& r, const PathFrame& f, uint32
     ++st->draw_calls;
   }
   // Vertex-shader skinning: every instance without pre-skinning, those past the ring with.
-  bindShading(r,
-              (*r.programs)[layers_ ? ProgramId::kGpuDrivenSkinnedLayers : ProgramId::kGpuDrivenSkinned],
-              f.camera, f.light);
+  const Program& skinned =
+      (*r.programs)[motion_ ? (layers_ ? ProgramId::kGpuDrivenSkinnedMotionLayers
+                                       : ProgramId::kGpuDrivenSkinnedMotion)
+                            : (layers_ ? ProgramId::kGpuDrivenSkinnedLayers
+                                       : ProgramId::kGpuDrivenSkinned)];
+  bindShading(r, skinned, f.camera, f.light);
+  set_motion(skinned);
   glBindVertexArray(vao_);
   glMultiDrawElementsIndirect(GL_TRIANGLES, GL_UNSIGNED_INT, nullptr, GLsizei(buckets_), 0);
   ++st->draw_calls;
@@ -349,7 +446,8 @@ void GpuCulledPath::release() {
   const GLuint buffers[] = {state_,    clips_,    times_,       counters_,  records_,
                             visible_,  entries_,  identity_,    commands_,  ranges_,
                             bucket_info_, entry_data_, visible_last_, first_phase_counters_,
-                            overlays_,  layers_out_};
+                            overlays_,  layers_out_, drawn_, previous_out_,
+                            previous_layers_out_};
   glDeleteBuffers(GLsizei(sizeof(buffers) / sizeof(buffers[0])), buffers);
   const GLuint arrays[] = {vao_, preskin_vao_};
   glDeleteVertexArrays(2, arrays);

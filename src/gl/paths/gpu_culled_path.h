@@ -6,8 +6,11 @@
 // vertex-pulling multi-draw, or vertex-shader skinning, each one glMultiDrawElementsIndirect.
 // The selection arithmetic is src/crowd/cull_math.h's, so both select exactly the same
 // instances and LODs. With overlays (layered animation) the cull pass also writes each visible
-// instance's layer record, which the layered skinning programs read by visible index. The CPU's
-// work per frame does not depend on the crowd's size.
+// instance's layer record, which the layered skinning programs read by visible index. With motion
+// vectors it also writes each visible instance's previous record: what it drew of the same
+// instance (by handle) at the previous frame, kept on the GPU, or else InstanceBatcher::
+// buildPrevious's fallback. A frame is a crowd clock: draws at the same clock are one frame. The
+// CPU's work per frame does not depend on the crowd's size.
 
 #include <vector>
 
@@ -39,7 +42,10 @@ class GpuCulledPath final : public DrawPath {
   Status uploadState(const DrawResources& r, const CrowdManager& crowd, uint32_t buckets);
   // The crowd's overlays, when it plays any (sets layers_).
   Status uploadOverlays(const CrowdManager& crowd);
-  Status ensureRing(const DrawResources& r);
+  Status ensureRing(const DrawResources& r, bool motion);
+  // Motion vectors: starts a frame when the crowd's clock moved (the cameras of this frame and
+  // the last), creates the drawn records and the previous outputs, sets the cull pass's uniforms.
+  Status prepareMotion(const DrawResources& r, const PathFrame& f);
   // Cull, commands, scatter and the draws, with the cull pass in occlusion `phase` (0 off).
   void runPasses(const DrawResources& r, const PathFrame& f, uint32_t phase, DrawStats* st);
 
@@ -56,6 +62,17 @@ class GpuCulledPath final : public DrawPath {
   GLuint overlays_ = kNoObject, layers_out_ = kNoObject;
   uint32_t layer_capacity_ = 0;
   bool layers_ = false;
+  // Motion vectors: per handle slot and frame parity, what the cull pass drew (SiDrawn, 112
+  // bytes); the previous records and previous layer records per visible instance. frame_ counts
+  // the crowd clocks drawn; camera_ drew frame_, previous_camera_ the frame before (and the
+  // view-projections their motion used: PathFrame::motion_view_projection).
+  GLuint drawn_ = kNoObject, previous_out_ = kNoObject, previous_layers_out_ = kNoObject;
+  uint32_t drawn_slots_ = 0, previous_capacity_ = 0, slots_needed_ = 1, frame_ = 1;
+  double frame_clock_ = 0.0;
+  uint64_t crowd_identity_ = 0;  // CrowdManager::identity() of the crowd the frames are of.
+  bool motion_ = false, framed_ = false;
+  Camera camera_, previous_camera_;
+  glm::mat4 view_projection_{1.0f}, previous_view_projection_{1.0f};  // The motion's.
   DepthPyramid pyramid_;
   bool two_phases_ = false;  // The last frame drew in two phases.
   uint32_t capacity_ = 0, instances_ = 0, buckets_ = 0, sub_meshes_ = 0;

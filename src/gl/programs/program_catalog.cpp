@@ -54,6 +54,18 @@ const ProgramSpec kSpecs[kProgramCount] = {
     {"compute skinning with previous positions and layers",
      "#define SI_MOTION_VECTORS\n#define SI_LAYERS\n", nullptr, nullptr, "compute_skin.comp.glsl",
      nullptr},
+    {"GPU-driven skinned with motion vectors", "#define SI_GPU_DRIVEN\n#define SI_MOTION_VECTORS\n",
+     "skinned.vert.glsl", "shade.frag.glsl", nullptr, nullptr},
+    {"GPU-driven pre-skinning with previous positions", "#define SI_MOTION_VECTORS\n", nullptr,
+     nullptr, "gpu_skin.comp.glsl", nullptr},
+    {"GPU-driven pulling with motion vectors", "#define SI_GPU_DRIVEN\n#define SI_MOTION_VECTORS\n",
+     "pulled.vert.glsl", "shade.frag.glsl", nullptr, nullptr},
+    {"GPU-driven skinned with motion vectors and layers",
+     "#define SI_GPU_DRIVEN\n#define SI_MOTION_VECTORS\n#define SI_LAYERS\n", "skinned.vert.glsl",
+     "shade.frag.glsl", nullptr, nullptr},
+    {"GPU-driven pre-skinning with previous positions and layers",
+     "#define SI_MOTION_VECTORS\n#define SI_LAYERS\n", nullptr, nullptr, "gpu_skin.comp.glsl",
+     nullptr},
 };
 
 }  // namespace

@@ -38,6 +38,11 @@ enum class ProgramId : uint8_t {
   kGpuSkinLayers,           ///< kGpuSkin with layered animation.
   kSkinnedMotionLayers,     ///< kSkinnedMotion with layered animation.
   kComputeSkinMotionLayers, ///< kComputeSkinMotion with layered animation.
+  kGpuDrivenSkinnedMotion,  ///< kGpuDrivenSkinned, also writing motion vectors.
+  kGpuSkinMotion,           ///< kGpuSkin, also skinning the previous position.
+  kGpuPulledMotion,         ///< kGpuPulled, also writing motion vectors.
+  kGpuDrivenSkinnedMotionLayers,  ///< kGpuDrivenSkinnedMotion with layered animation.
+  kGpuSkinMotionLayers,           ///< kGpuSkinMotion with layered animation.
   kCount
 };
 inline constexpr size_t kProgramCount = size_t(ProgramId::kCount);

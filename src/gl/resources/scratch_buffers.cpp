@@ -43,6 +43,7 @@ void ScratchBuffers::release() {
   compute_ring.release();
   compute_previous_ring.release();
   gpu_driven_ring.release();
+  gpu_driven_previous_ring.release();
   if (cpu_stream != kNoObject) glDeleteBuffers(1, &cpu_stream);
   cpu_stream = kNoObject;
 }

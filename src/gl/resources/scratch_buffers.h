@@ -30,6 +30,8 @@ struct ScratchBuffers {
   /// Its twin for previous positions (RendererDesc::motion_vectors): the same vertex slots.
   VertexRing compute_previous_ring;
   VertexRing gpu_driven_ring;  ///< The GPU-driven path's (RendererDesc::gpu_driven_ring_bytes).
+  /// Its twin for previous positions (motion vectors): the same vertex slots.
+  VertexRing gpu_driven_previous_ring;
   GLuint cpu_stream = kNoObject;  ///< The CPU-skinning path's vertex stream (orphaned per chunk).
   /// Layered animation: the drawn crowd's mask table (si::layerMaskTable) and its capacity.
   GLuint mask_table = kNoObject;

@@ -21,6 +21,24 @@ layout(location = 20) uniform uint u_occlusion_phase;
 layout(location = 23) uniform uint u_layers;
 layout(std430, binding = 17) readonly buffer SiOverlays { SiGpuOverlay si_overlays[]; };
 layout(std430, binding = 18) writeonly buffer SiLayersOut { uvec4 si_layers_out[]; };
+// Motion vectors: 1 when the renderer draws them. Each visible instance's previous record (and
+// previous layer record) then goes beside its record: what this path drew of the same instance
+// (keyed by its handle's slot, checked by the whole handle) at the previous frame, or, when it
+// drew none, the current one moved to the previous camera's origin (InstanceBatcher::
+// buildPrevious's fallback). Two parities of drawn records: the frame's own, the previous one's.
+layout(location = 24) uniform uint u_motion;
+layout(location = 25) uniform uvec2 u_frame;  // this frame's number, drawn records per parity
+layout(location = 26) uniform vec3 u_camera_shift;  // camera position minus the previous frame's
+struct SiDrawn {
+  SiInstance record;
+  uvec4 layer;
+  uvec4 tag;  // handle, frame
+};
+layout(std430, binding = 19) buffer SiDrawnRecords { SiDrawn si_drawn[]; };
+layout(std430, binding = 20) writeonly buffer SiPreviousOut { SiInstance si_previous_out[]; };
+layout(std430, binding = 21) writeonly buffer SiPreviousLayersOut {
+  uvec4 si_previous_layers_out[];
+};
 
 // cull_math.h's dot3, cross3 and rotate, in the same order and unfused.
 float siDot3(vec3 a, vec3 b) {
@@ -169,7 +187,24 @@ void main() {
   }
   uint v = atomicAdd(si_visible_count, 1u);
   si_records[v] = rec;
-  if (u_layers != 0u) si_layers_out[v] = siLayerRecord(si_overlays[i], stride);
+  uvec4 layer = u_layers != 0u ? siLayerRecord(si_overlays[i], stride) : uvec4(0u);
+  if (u_layers != 0u) si_layers_out[v] = layer;
+  if (u_motion != 0u) {
+    uint slot = st.handle & 0xFFFFFu;  // HandlePool::kSlotBits
+    uint here = (u_frame.x & 1u) * u_frame.y + slot, there = (~u_frame.x & 1u) * u_frame.y + slot;
+    SiDrawn last = si_drawn[there];
+    SiInstance prev = rec;
+    uvec4 prev_layer = layer;
+    if (last.tag.x == st.handle && last.tag.y == u_frame.x - 1u) {
+      prev = last.record;
+      prev_layer = last.layer;
+    } else {
+      for (int row = 0; row < 3; ++row) prev.world_rows[row].w += u_camera_shift[row];
+    }
+    si_previous_out[v] = prev;
+    if (u_layers != 0u) si_previous_layers_out[v] = prev_layer;
+    si_drawn[here] = SiDrawn(rec, layer, uvec4(st.handle, u_frame.x, 0u, 0u));
+  }
   uint subs = u_counts.z;
   uint mask = st.mask & (subs >= 32u ? 0xFFFFFFFFu : ((1u << subs) - 1u));
   si_visible[v] = uvec4(i, lod, mask, 0u);

@@ -8,6 +8,12 @@
 #define SI_LAYERS_IN_STORAGE
 #define SI_LAYER_BINDING 18
 #endif
+#ifdef SI_MOTION_VECTORS  // Also the previous position (siPreSkinPrevious) into the previous ring.
+#define SI_PREVIOUS_RECORDS
+#define SI_PREVIOUS_IN_STORAGE  // The cull pass's previous (layer) records, by visible index.
+#define SI_PREVIOUS_BINDING 20
+#define SI_PREVIOUS_LAYER_BINDING 21
+#endif
 #define SI_SOURCE_BINDING 14
 #define SI_LOD_VERTICES_BINDING 15
 #include "si_skinning.glsl"
@@ -19,6 +25,9 @@ layout(std430, binding = 4) readonly buffer SiRecords { SiInstance si_records[];
 layout(std430, binding = 5) readonly buffer SiEntries { uint si_entries[]; };
 layout(std430, binding = 9) readonly buffer SiBucketInfo { uvec4 si_bucket_info[]; };
 layout(std430, binding = 13) writeonly buffer SiSkinnedOut { vec4 si_skinned_out[]; };
+#ifdef SI_MOTION_VECTORS
+layout(std430, binding = 22) writeonly buffer SiSkinnedPreviousOut { vec4 si_previous_out[]; };
+#endif
 void main() {
   uint g = (gl_WorkGroupID.y * gl_NumWorkGroups.x + gl_WorkGroupID.x) * 64u +
            gl_LocalInvocationIndex;
@@ -40,5 +49,9 @@ void main() {
 #else
   uvec4 layer = uvec4(0u);
 #endif
-  si_skinned_out[g] = siPreSkin(si_lod_vertices[info.y + k], si_records[v], layer);
+  uint source = si_lod_vertices[info.y + k];
+  si_skinned_out[g] = siPreSkin(source, si_records[v], layer);
+#ifdef SI_MOTION_VECTORS
+  si_previous_out[g] = vec4(siPreSkinPrevious(source, v), 1.0);
+#endif
 }

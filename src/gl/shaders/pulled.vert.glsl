@@ -3,9 +3,9 @@
 // texture coordinates from the source vertex.
 // SI_GPU_DRIVEN: the instance is a bucket entry (a_entry = baseInstance + gl_InstanceID, an
 // identity buffer with divisor 1) whose ring base and list offset the GPU-driven passes wrote;
-// otherwise the batch's u_chunk says where its instances are. SI_MOTION_VECTORS (not with
-// SI_GPU_DRIVEN): the clip positions of the vertex and of its previous position (the previous
-// ring) under the crowd's last two update cameras, for the fragment shader's motion output.
+// otherwise the batch's u_chunk says where its instances are. SI_MOTION_VECTORS: the clip
+// positions of the vertex and of its previous position (the previous ring, at the same slot)
+// under the last two frames' cameras, for the fragment shader's motion output.
 #ifdef SI_GPU_DRIVEN
 #define SI_SOURCE_BINDING 14
 #define SI_LOD_VERTICES_BINDING 15
@@ -24,7 +24,14 @@ layout(std430, binding = 12) readonly buffer SiEntryData { uvec2 si_entry_data[]
 layout(std430, binding = 1) readonly buffer SiSkinned { vec4 si_skinned[]; };
 #endif
 #ifdef SI_MOTION_VECTORS
-layout(std430, binding = 4) readonly buffer SiSkinnedPrevious { vec4 si_skinned_previous[]; };
+#ifdef SI_GPU_DRIVEN
+#define SI_PREVIOUS_RING_BINDING 22
+#else
+#define SI_PREVIOUS_RING_BINDING 4
+#endif
+layout(std430, binding = SI_PREVIOUS_RING_BINDING) readonly buffer SiSkinnedPrevious {
+  vec4 si_skinned_previous[];
+};
 uniform mat4 u_motion_view_projection;
 uniform mat4 u_previous_view_projection;
 out vec4 v_motion_current;
@@ -40,6 +47,10 @@ void main() {
 #ifdef SI_GPU_DRIVEN
   uvec2 at = si_entry_data[a_entry];
   vec4 s = si_skinned[at.x + k];
+#ifdef SI_MOTION_VECTORS
+  v_motion_current = u_motion_view_projection * vec4(s.xyz, 1.0);
+  v_motion_previous = u_previous_view_projection * vec4(si_skinned_previous[at.x + k].xyz, 1.0);
+#endif
   v_texcoord = siSourceTexcoord(at.y, k);
   v_material = siVertexMaterial(si_lod_vertices[at.y + k]);
   v_color = si_records[si_entries[a_entry]].blend.w;

@@ -15,7 +15,8 @@
 // `uniform uvec4 si_palette_info` at location 0 (si::paletteShaderInfo()).
 // Motion vectors: define SI_PREVIOUS_RECORDS for the previous frame's records, in the same
 // slots, at (uniform or storage) buffer binding SI_PREVIOUS_BINDING (default 1; written by
-// si::InstanceBatcher::buildPrevious) and siSkinPrevious().
+// si::InstanceBatcher::buildPrevious) and siSkinPrevious(); SI_PREVIOUS_IN_STORAGE reads them
+// (and the previous layer records) from a storage buffer when the records are in a uniform block.
 // Layered animation: define SI_LAYERS for each slot's layer record (si::LayerRecord, a uvec4)
 // at (uniform or storage: SI_INSTANCES_IN_STORAGE or SI_LAYERS_IN_STORAGE) buffer binding
 // SI_LAYER_BINDING (default 2; written by si::InstanceBatcher::buildLayers), the crowd's
@@ -38,7 +39,7 @@ layout(std140, binding = 0) uniform SiInstances { SiInstance si_instances[SI_MAX
 #ifndef SI_PREVIOUS_BINDING
 #define SI_PREVIOUS_BINDING 1
 #endif
-#ifdef SI_INSTANCES_IN_STORAGE
+#if defined(SI_INSTANCES_IN_STORAGE) || defined(SI_PREVIOUS_IN_STORAGE)
 layout(std430, binding = SI_PREVIOUS_BINDING) readonly buffer SiPreviousInstances {
   SiInstance si_previous_instances[];
 };
@@ -64,7 +65,8 @@ layout(std140, binding = SI_LAYER_BINDING) uniform SiLayers { uvec4 si_layers[SI
 #ifndef SI_PREVIOUS_LAYER_BINDING
 #define SI_PREVIOUS_LAYER_BINDING 3
 #endif
-#if defined(SI_INSTANCES_IN_STORAGE) || defined(SI_LAYERS_IN_STORAGE)
+#if defined(SI_INSTANCES_IN_STORAGE) || defined(SI_LAYERS_IN_STORAGE) || \
+    defined(SI_PREVIOUS_IN_STORAGE)
 layout(std430, binding = SI_PREVIOUS_LAYER_BINDING) readonly buffer SiPreviousLayers {
   uvec4 si_previous_layers[];
 };

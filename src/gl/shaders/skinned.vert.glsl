@@ -6,8 +6,8 @@
 // entry, from storage buffers), SI_TRADITIONAL (one character per draw, its joint matrices in
 // a uniform block), SI_MOTION_VECTORS (also the clip positions of the vertex under the crowd's
 // last update camera and, skinned with its previous record, under the previous one: the
-// fragment shader's motion output), SI_LAYERS (each instance's overlay composed on its mask:
-// siSkinLayered).
+// fragment shader's motion output; with SI_GPU_DRIVEN the cull pass's previous records),
+// SI_LAYERS (each instance's overlay composed on its mask: siSkinLayered).
 #define SI_VERTEX_MATERIALS
 #if defined(SI_GPU_DRIVEN) && defined(SI_LAYERS)
 #define SI_LAYERS_IN_STORAGE  // The cull pass's layer records, by visible index.
@@ -15,6 +15,11 @@
 #endif
 #ifdef SI_MOTION_VECTORS
 #define SI_PREVIOUS_RECORDS
+#ifdef SI_GPU_DRIVEN
+#define SI_PREVIOUS_IN_STORAGE  // The cull pass's previous (layer) records, by visible index.
+#define SI_PREVIOUS_BINDING 20
+#define SI_PREVIOUS_LAYER_BINDING 21
+#endif
 #endif
 #include "material_common.glsl"
 #ifdef SI_TRADITIONAL
@@ -69,19 +74,17 @@ void main() {
   uint color = si_color;
 #else
 #if defined(SI_GPU_DRIVEN)
-  SiInstance inst = si_records[si_entries[a_entry]];
+  uint slot = si_entries[a_entry];  // The visible index.
+  SiInstance inst = si_records[slot];
 #else
-  SiInstance inst = si_instances[gl_InstanceID];
+  uint slot = uint(gl_InstanceID);
+  SiInstance inst = si_instances[slot];
 #endif
 #if defined(SI_RIGID)
   vec4 m0 = vec4(1, 0, 0, 0), m1 = vec4(0, 1, 0, 0), m2 = vec4(0, 0, 1, 0);
 #elif defined(SI_LAYERS)
   vec4 m0, m1, m2;
-#if defined(SI_GPU_DRIVEN)
-  siSkinLayered(inst, si_layers[si_entries[a_entry]], a_joints, a_weights, m0, m1, m2);
-#else
-  siSkinLayered(inst, si_layers[gl_InstanceID], a_joints, a_weights, m0, m1, m2);
-#endif
+  siSkinLayered(inst, si_layers[slot], a_joints, a_weights, m0, m1, m2);
 #else
   vec4 m0, m1, m2;
   siSkin(inst, a_joints, a_weights, m0, m1, m2);
@@ -102,9 +105,9 @@ void main() {
 #ifdef SI_MOTION_VECTORS
   v_motion_current = u_motion_view_projection * vec4(world, 1.0);
 #ifdef SI_LAYERS
-  vec3 previous = siSkinPreviousLayered(uint(gl_InstanceID), a_joints, a_weights, a_position);
+  vec3 previous = siSkinPreviousLayered(slot, a_joints, a_weights, a_position);
 #else
-  vec3 previous = siSkinPrevious(uint(gl_InstanceID), a_joints, a_weights, a_position);
+  vec3 previous = siSkinPrevious(slot, a_joints, a_weights, a_position);
 #endif
   v_motion_previous = u_previous_view_projection * vec4(previous, 1.0);
 #endif
