@@ -25,7 +25,7 @@ Status runMotion(Setup& setup, const BakedPalette& palette, const RendererDesc& 
   cd.sub_mesh_count = uint32_t(setup.character.mesh.sub_meshes.size());
   cd.lod_count = uint32_t(setup.character.mesh.maxLodCount());
   cd.max_distance_radii = -1.0f;  // As the paths table: everything in view, however far.
-  cd.previous_records = motion;
+  cd.previous_records = motion && !isGpuSelected(path);  // The GPU-driven paths keep their own.
   if (s.isOk()) s = crowd.init(cd);
   RandomCrowdDesc rc;
   rc.positions = places;
@@ -39,11 +39,12 @@ Status runMotion(Setup& setup, const BakedPalette& palette, const RendererDesc& 
   row->lod = motion ? "on" : "off";
   row->instances = count;
   s = timeFrames(
-      setup, "field", places, [&](const Camera& cam) { return crowd.update(1.0 / 60.0, cam); },
+      setup, "field", places,
+      [&](const Camera& cam) { return stepCrowd(crowd, path, cam, 1.0 / 60.0); },
       [&](const Camera& cam, DrawStats* st, uint32_t* visible) {
         target.clear(kClearColor);
-        const Status drawn = renderer.drawCrowd(crowd, batcher, cam, st);
-        *visible = crowd.stats().visible;
+        const Status drawn = drawKind(renderer, CharacterId{}, crowd, batcher, path, cam, st);
+        *visible = isGpuSelected(path) ? st->gpu_visible : crowd.stats().visible;
         return drawn;
       },
       row);
@@ -66,7 +67,8 @@ Status motionVectorsTable(Setup& setup, const BakedPalette& palette, const Rende
   std::printf(" %9s %9s\n", "mean px", "max px");
   for (uint32_t count : sizes)
     for (const std::string& path : paths) {
-      if (path != "instanced" && path != "compute") continue;
+      if (path != "instanced" && path != "compute" && path != "gpu-culled" && path != "gpu-driven")
+        continue;
       Row rows[2];
       MotionSummary summaries[2];
       for (int on = 0; on < 2; ++on) {
