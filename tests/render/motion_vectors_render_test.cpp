@@ -201,6 +201,14 @@ class MotionVectorTest : public RenderTest {
     glDeleteProgram(program);
   }
 
+  // A vertex-shader renderer with motion vectors on.
+  void makeMotionRenderer(Renderer* r) {
+    RendererDesc rd;
+    rd.motion_vectors = true;
+    rd.skinning_path = SkinningPath::kVertexShader;
+    makeRenderer(r, 0, PaletteFormat::kMatrix3x4F32, &rd);
+  }
+
   MotionTarget target_;
 
   std::vector<uint8_t> colors() {
@@ -410,11 +418,8 @@ TEST_P(MotionVectorTest, TheGpuDrivenPathKeepsWhatItDrew) {
 // same handles, drawn at the next clock, gets the fallback (still camera: no motion), not the
 // old crowd's records.
 TEST_P(MotionVectorTest, AnotherCrowdStartsOverOnTheGpuDrivenPath) {
-  RendererDesc rd;
-  rd.motion_vectors = true;
-  rd.skinning_path = SkinningPath::kVertexShader;
   Renderer r;
-  makeRenderer(&r, 0, PaletteFormat::kMatrix3x4F32, &rd);
+  makeMotionRenderer(&r);
   const auto populate = [&](double x) {
     CrowdDesc cd = crowd_.desc();
     ASSERT_TRUE(crowd_.init(cd).isOk());
@@ -450,11 +455,8 @@ TEST_P(MotionVectorTest, AnotherCrowdStartsOverOnTheGpuDrivenPath) {
 
 // A crowd without previous records cannot draw motion vectors: a named error, not garbage.
 TEST_P(MotionVectorTest, NeedsTheCrowdsPreviousRecords) {
-  RendererDesc rd;
-  rd.motion_vectors = true;
-  rd.skinning_path = SkinningPath::kVertexShader;
   Renderer r;
-  makeRenderer(&r, 0, PaletteFormat::kMatrix3x4F32, &rd);
+  makeMotionRenderer(&r);
   CrowdManager plain;
   makeCrowd(&plain);
   InstanceDesc d;
