@@ -453,6 +453,52 @@ TEST_P(MotionVectorTest, AnotherCrowdStartsOverOnTheGpuDrivenPath) {
   r.shutdown();
 }
 
+// A GPU-driven draw without motion vectors (a shadow view) at a frame's clock changes neither
+// that frame's camera nor what was drawn: the next frame's motion is the one without it.
+TEST_P(MotionVectorTest, ADrawWithoutMotionLeavesTheGpuDrivenFrameAlone) {
+  Renderer plain, shadowed;
+  makeMotionRenderer(&plain);
+  makeMotionRenderer(&shadowed);
+  const Camera shadow = Camera::lookAt({6.0, 9.0, -4.0}, {0.0, 0.0, -5.0}, glm::vec3(0, 1, 0),
+                                       0.9f, 1.0f, 0.1f, 100.0f);
+  std::vector<glm::vec2> motion[2];
+  std::vector<float> depth[2];
+  for (int frame = 1; frame <= 2; ++frame) {
+    if (frame == 2) nextFrame();
+    else ASSERT_TRUE(crowd_.update(1.0 / 30.0, camera(1)).isOk());
+    for (int k = 0; k < 2; ++k) {
+      Renderer& r = k == 0 ? plain : shadowed;
+      target_.clear(glm::vec4(0.0f));
+      ASSERT_TRUE(r.drawCrowdGpuCulled(crowd_, camera(frame), nullptr, DrawMode::kSkinned).isOk());
+      if (frame == 2) motion[k] = motions(), depth[k] = depths();
+      if (k == 1) {  // The shadow view, after the frame's motion draw.
+        r.setMotionVectors(false);
+        ASSERT_TRUE(r.drawCrowdGpuCulled(crowd_, shadow, nullptr, DrawMode::kSkinned).isOk());
+        r.setMotionVectors(true);
+      }
+    }
+  }
+  // Both equal the engine program's motion from the crowd's records (as
+  // TheGpuDrivenPathKeepsWhatItDrew checks), so neither took the shadow view as its camera.
+  target_.clear(glm::vec4(0.0f));
+  drawEngine(false);
+  const std::vector<glm::vec2> expected = motions();
+  const std::vector<float> expected_depth = depths();
+  for (int k = 0; k < 2; ++k) {
+    SCOPED_TRACE(k == 0 ? "without the shadow view" : "with the shadow view");
+    size_t compared = 0, within = 0;
+    for (size_t p = 0; p < expected.size(); ++p) {
+      if (expected_depth[p] >= 1.0f || depth[k][p] >= 1.0f) continue;
+      ++compared;
+      within += glm::length(motion[k][p] - expected[p]) <= 1e-4f;
+    }
+    EXPECT_GT(compared, size_t(kSize) * kSize / 20);
+    EXPECT_GE(double(within), 0.995 * double(compared));
+  }
+  plain.shutdown();
+  shadowed.shutdown();
+}
+
 // A crowd without previous records cannot draw motion vectors: a named error, not garbage.
 TEST_P(MotionVectorTest, NeedsTheCrowdsPreviousRecords) {
   Renderer r;

@@ -279,7 +279,8 @@ class Renderer {
   /// previous record: what this path drew of the same instance (by handle) in the previous
   /// frame, kept on the GPU, or else the camera-motion-only fallback of drawCrowd. A frame is
   /// one crowd clock: draws at the same clock are the same frame, and the previous frame is the
-  /// last one drawn at an earlier clock, with the camera of its last draw. Positions are
+  /// last one drawn at an earlier clock, with the camera of its last draw with motion vectors
+  /// (turn them off for other views of the same frame, such as shadows). Positions are
   /// projected with the draw cameras, or with setGpuMotionProjection()'s projection (an
   /// unjittered one) in their place. A character's frames follow one crowd: drawing another
   /// crowd (CrowdManager::identity()) starts over with the fallback.

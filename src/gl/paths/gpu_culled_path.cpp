@@ -233,17 +233,26 @@ Status GpuCulledPath::prepareMotion(const DrawResources& r, const PathFrame& f) 
   const double clock = f.crowd->clockSeconds();
   if (!framed_ || !(clock == frame_clock_)) {  // A new frame, with or without motion vectors.
     ++frame_;
-    previous_camera_ = framed_ ? camera_ : f.camera;
-    previous_view_projection_ = framed_ ? view_projection_ : f.motion_view_projection;
+    // The last frame's motion camera is the previous one if that frame drew motion vectors.
+    previous_known_ = camera_frame_ == frame_ - 1;
+    previous_camera_ = camera_;
+    previous_view_projection_ = view_projection_;
     frame_clock_ = clock;
     framed_ = true;
   }
-  camera_ = f.camera;
-  view_projection_ = f.motion_view_projection;
   motion_ = f.motion;
   const GLuint cull = (*r.programs)[ProgramId::kCull].id;
   glProgramUniform1ui(cull, 24, motion_ ? 1u : 0u);
+  // Only draws with motion vectors set the frame's camera (a shadow draw without them at the
+  // same clock does not), as only they write the drawn records.
   if (!motion_) return Status::ok();
+  camera_ = f.camera;
+  view_projection_ = f.motion_view_projection;
+  camera_frame_ = frame_;
+  if (!previous_known_) {  // No previous frame with motion vectors: no camera motion either.
+    previous_camera_ = camera_;
+    previous_view_projection_ = view_projection_;
+  }
   Status s = Status::ok();
   if (slots_needed_ > drawn_slots_) {
     const uint32_t slots = std::max(slots_needed_, std::min(2 * drawn_slots_, HandlePool::kMaxSlots));

@@ -64,13 +64,15 @@ class GpuCulledPath final : public DrawPath {
   bool layers_ = false;
   // Motion vectors: per handle slot and frame parity, what the cull pass drew (SiDrawn, 112
   // bytes); the previous records and previous layer records per visible instance. frame_ counts
-  // the crowd clocks drawn; camera_ drew frame_, previous_camera_ the frame before (and the
-  // view-projections their motion used: PathFrame::motion_view_projection).
+  // the crowd clocks drawn; camera_ is the last motion draw's camera, previous_camera_ the
+  // previous frame's (this frame's when that frame drew no motion), and the view-projections
+  // their motion used (PathFrame::motion_view_projection).
   GLuint drawn_ = kNoObject, previous_out_ = kNoObject, previous_layers_out_ = kNoObject;
   uint32_t drawn_slots_ = 0, previous_capacity_ = 0, slots_needed_ = 1, frame_ = 1;
+  uint32_t camera_frame_ = 0;  // The frame camera_ was set in (by a draw with motion vectors).
   double frame_clock_ = 0.0;
   uint64_t crowd_identity_ = 0;  // CrowdManager::identity() of the crowd the frames are of.
-  bool motion_ = false, framed_ = false;
+  bool motion_ = false, framed_ = false, previous_known_ = false;
   Camera camera_, previous_camera_;
   glm::mat4 view_projection_{1.0f}, previous_view_projection_{1.0f};  // The motion's.
   DepthPyramid pyramid_;
