@@ -255,7 +255,11 @@ Status GpuCulledPath::prepareMotion(const DrawResources& r, const PathFrame& f) 
   }
   Status s = Status::ok();
   if (slots_needed_ > drawn_slots_) {
-    const uint32_t slots = std::max(slots_needed_, std::min(2 * drawn_slots_, HandlePool::kMaxSlots));
+    // Room to grow (twice the last), within the handle slots and the storage-block limit.
+    const uint64_t fit = r.info->max_shader_storage_block_size_bytes / (2 * kDrawnBytes);
+    const uint32_t room = uint32_t(
+        std::min<uint64_t>({uint64_t(2) * drawn_slots_, HandlePool::kMaxSlots, fit}));
+    const uint32_t slots = std::max(slots_needed_, room);
     const uint64_t bytes = uint64_t(slots) * 2 * kDrawnBytes;
     if (bytes > r.info->max_shader_storage_block_size_bytes)
       return {StatusCode::kLimitExceeded,
