@@ -3,8 +3,8 @@
 // crowd_bench's layered animation table (--layers): the field drawn by drawCrowd's two
 // skinning paths and the GPU-driven paths (gpu-culled: vertex-shader skinning, gpu-driven:
 // pre-skinning) with no overlay, with every instance waving its right arm over its clip at
-// full weight (the anchor's composition), and held half-way (weight 0.5: the rigid blend
-// along the arm's chain too), side by side in one run, with the layered error of each weight
+// full weight (the anchor's composition), and held half-way (weight 0.5: each link of the
+// arm's chain blended in local space too), side by side in one run, with the layered error of each weight
 // (si::measureLayeredError) against the local-space reference.
 #include <cstdio>
 #include <string>

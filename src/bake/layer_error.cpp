@@ -29,19 +29,9 @@ void emulateLayered(const BakedPalette& palette, const LayerMask& mask, uint32_t
   for (size_t j = 0; j < out->size(); ++j) {
     const int32_t s = palette.skeleton_to_palette[j];
     if (s < 0) continue;
-    const int32_t a = mask.slot_anchor[size_t(s)];
-    if (a == LayerMask::kNotInMask) {
-      (*out)[j] = b[size_t(s)];
-      continue;
-    }
-    std::vector<glm::mat4> base_chain, overlay_chain;
-    for (uint32_t up : layerChain(mask, uint32_t(s))) {
-      base_chain.push_back(b[up]);
-      overlay_chain.push_back(o[up]);
-    }
-    (*out)[j] = emulateLayeredMatrix(b[size_t(s)], o[size_t(s)], a >= 0 ? b[size_t(a)] : b[0],
-                                     a >= 0 ? o[size_t(a)] : o[0], a, weight, base_chain,
-                                     overlay_chain);
+    (*out)[j] = emulateLayeredMatrix(mask, uint32_t(s), weight,
+                                     [&](uint32_t at) { return b[at]; },
+                                     [&](uint32_t at) { return o[at]; });
   }
 }
 

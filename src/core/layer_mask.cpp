@@ -3,11 +3,13 @@
 #include "si/core/layer_mask.h"
 
 #include <algorithm>
+#include <cmath>
+#include <cstring>
 
 #include <glm/gtc/quaternion.hpp>
 
 #include "core/str_cat.h"
-#include "si/core/rigid_blend.h"
+#include "si/core/local_blend.h"
 
 namespace si {
 
@@ -24,6 +26,7 @@ Status finishMask(const Skeleton& skeleton, const BakedPalette& palette, const s
   m.name = name;
   m.slot_anchor.assign(palette.palette_joints.size(), LayerMask::kNotInMask);
   m.slot_parent.assign(palette.palette_joints.size(), LayerMask::kNoParentSlot);
+  m.slot_bind_origin.assign(palette.palette_joints.size(), glm::vec3(0.0f));
   std::vector<int32_t> anchor_joint(n, Skeleton::kNoParent);
   // Per joint: the palette slot of the nearest masked ancestor (or itself) that is stored.
   std::vector<int32_t> stored_in_mask(n, LayerMask::kNoParentSlot);
@@ -38,6 +41,7 @@ Status finishMask(const Skeleton& skeleton, const BakedPalette& palette, const s
     stored_in_mask[j] = slot >= 0 ? slot : up;
     if (slot < 0) continue;  // Drives no vertex.
     m.slot_parent[size_t(slot)] = up;
+    m.slot_bind_origin[size_t(slot)] = glm::vec3(glm::inverse(skeleton.inverse_bind_matrices[j])[3]);
     const int32_t a = anchor_joint[j];
     if (a < 0) {
       m.slot_anchor[size_t(slot)] = LayerMask::kModelAnchor;
@@ -112,6 +116,15 @@ Status LayerMask::validate(const BakedPalette& palette) const {
       if (++steps > slots)
         return {StatusCode::kInvalidArgument, strCat("slot ", s, "'s parent slots form a cycle")};
   }
+  if (slot_bind_origin.size() != slots)
+    return {StatusCode::kInvalidArgument,
+            strCat("the mask has ", slot_bind_origin.size(), " bind origins, the palette ", slots, " slots")};
+  for (size_t s = 0; s < slots; ++s) {
+    const glm::vec3& o = slot_bind_origin[s];
+    if (slot_anchor[s] != kNotInMask && !(std::isfinite(o.x) && std::isfinite(o.y) && std::isfinite(o.z)))
+      return {StatusCode::kNotFinite,
+              strCat("slot ", s, "'s bind origin is not finite (is its inverse bind matrix singular?)")};
+  }
   for (size_t i = 0; i < joints.size(); ++i)
     if (joints[i] >= palette.skeleton_to_palette.size() || (i > 0 && joints[i] <= joints[i - 1]))
       return {StatusCode::kInvalidArgument, "the mask's joints are not increasing skeleton joints"};
@@ -183,38 +196,46 @@ std::vector<int32_t> layerMaskTable(Span<const LayerMask> masks) {
   for (const LayerMask& m : masks) {
     table.insert(table.end(), m.slot_anchor.begin(), m.slot_anchor.end());
     table.insert(table.end(), m.slot_parent.begin(), m.slot_parent.end());
+    for (const glm::vec3& o : m.slot_bind_origin)
+      for (int k = 0; k < 3; ++k) {
+        int32_t bits;
+        std::memcpy(&bits, &o[k], sizeof bits);  // The shader reads it with intBitsToFloat.
+        table.push_back(bits);
+      }
   }
   return table;
 }
 
-glm::mat4 emulateLayeredMatrix(const glm::mat4& base, const glm::mat4& overlay,
-                               const glm::mat4& base_anchor, const glm::mat4& overlay_anchor,
-                               int32_t anchor, float weight, Span<const glm::mat4> base_chain,
-                               Span<const glm::mat4> overlay_chain) {
-  if (weight <= 0.0f) return base;
-  // K = S_base(a) * inverse(S_overlay(a)) (the affine inverse, as the shader forms it).
-  glm::mat4 k(1.0f);
-  if (anchor != LayerMask::kModelAnchor) {
-    const glm::mat3 a_inv = glm::inverse(glm::mat3(overlay_anchor));
-    glm::mat4 inv(a_inv);
-    inv[3] = glm::vec4(-(a_inv * glm::vec3(overlay_anchor[3])), 1.0f);
-    k = base_anchor * inv;
+glm::mat4 emulateLayeredMatrix(const LayerMask& mask, uint32_t slot, float weight,
+                               const SlotMatrices& base, const SlotMatrices& overlay) {
+  const glm::mat4 base_slot = base(slot);
+  if (!(weight > 0.0f) || !mask.contains(slot)) return base_slot;
+  const int32_t anchor = mask.slot_anchor[slot];
+  const glm::mat4 identity(1.0f);
+  const glm::mat4 base_anchor = anchor >= 0 ? base(uint32_t(anchor)) : identity;
+  const glm::mat4 overlay_anchor = anchor >= 0 ? overlay(uint32_t(anchor)) : identity;
+  glm::mat4 child_overlay = overlay(slot);
+  // Weight 1: the overlay's branch attached to the base's anchor.
+  if (weight >= 1.0f) return base_anchor * affineInverse(overlay_anchor) * child_overlay;
+  // Between: each link from the slot up to the anchor blended in local space, composed on the
+  // base's anchor (the chain is at most the mask's slot count long; validate() refuses cycles).
+  glm::mat4 blended(1.0f), child_base = base_slot;
+  uint32_t link = slot;
+  for (size_t steps = 0;; ++steps) {
+    const int32_t p = steps < mask.slot_parent.size() && link < mask.slot_parent.size()
+                          ? mask.slot_parent[link]
+                          : LayerMask::kNoParentSlot;
+    const glm::mat4 parent_base = p >= 0 ? base(uint32_t(p)) : base_anchor;
+    const glm::mat4 parent_overlay = p >= 0 ? overlay(uint32_t(p)) : overlay_anchor;
+    const glm::vec3 pivot =
+        link < mask.slot_bind_origin.size() ? mask.slot_bind_origin[link] : glm::vec3(0.0f);
+    blended = localBlend(affineInverse(parent_base) * child_base,
+                         affineInverse(parent_overlay) * child_overlay, pivot, weight) * blended;
+    if (p < 0) return parent_base * blended;
+    link = uint32_t(p);
+    child_base = parent_base;
+    child_overlay = parent_overlay;
   }
-  const glm::mat4 layered = k * overlay;
-  if (weight >= 1.0f) return layered;
-  // Each joint turns less than half a turn from its parent, so its delta's quaternion lies in
-  // its parent's half: the sign of each step up the chain, multiplied to the branch root
-  // (which turns the shorter way).
-  const glm::vec4 identity(0.0f, 0.0f, 0.0f, 1.0f);
-  glm::vec4 q = rigidDeltaRotation(base, layered, identity);
-  float sign = 1.0f;
-  const size_t depth = std::min(base_chain.size(), overlay_chain.size());
-  for (size_t i = 0; i < depth; ++i) {
-    const glm::vec4 up = rigidDeltaRotation(base_chain[i], k * overlay_chain[i], identity);
-    if (glm::dot(q, up) < 0.0f) sign = -sign;
-    q = up;
-  }
-  return rigidBlend(base, layered, weight, sign * rigidDeltaRotation(base, layered, identity));
 }
 
 Status evaluateLayeredPose(const Skeleton& skeleton, const Clip& base, double base_time,

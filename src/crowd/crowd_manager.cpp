@@ -457,21 +457,12 @@ Status CrowdManager::jointMatrix(InstanceHandle h, uint32_t joint, glm::dmat4* o
     }
     return m;
   };
-  glm::mat4 m = base(slot);
   // Layered animation: the overlay on its mask, as the shader composes it.
   const detail::OverlayState& o = st.overlays[i];
   const float weight = o.active ? layerWeight(detail::layerRecordOf(o, state_->clips, p, clock)) : 0.0f;
-  if (weight > 0.0f && state_->layer_masks[o.mask].contains(slot)) {
-    const int32_t a = state_->layer_masks[o.mask].slot_anchor[slot];
-    const uint32_t anchor = a >= 0 ? uint32_t(a) : slot;
-    std::vector<glm::mat4> base_chain, overlay_chain;
-    for (uint32_t up : layerChain(state_->layer_masks[o.mask], slot)) {
-      base_chain.push_back(base(up));
-      overlay_chain.push_back(matrix(o.playback, up));
-    }
-    m = emulateLayeredMatrix(m, matrix(o.playback, slot), base(anchor), matrix(o.playback, anchor),
-                             a, weight, base_chain, overlay_chain);
-  }
+  const glm::mat4 m = weight > 0.0f ? emulateLayeredMatrix(state_->layer_masks[o.mask], slot, weight, base,
+                                                           [&](uint32_t at) { return matrix(o.playback, at); })
+                                    : base(slot);
   glm::dmat4 world(glm::mat3_cast(glm::dquat(st.rotations[i])) * double(st.scales[i]));
   world[3] = glm::dvec4(st.positions[i], 1.0);
   *out = world * glm::dmat4(m);

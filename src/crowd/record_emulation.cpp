@@ -22,26 +22,16 @@ glm::mat4 emulateRecordMatrix(const BakedPalette& palette, const InstanceRecord&
 glm::mat4 emulateLayeredRecordMatrix(const BakedPalette& palette, const InstanceRecord& rec,
                                      const LayerRecord& layer, Span<const LayerMask> masks,
                                      uint32_t slot) {
-  const glm::mat4 base = emulateRecordMatrix(palette, rec, slot);
   const float weight = layerWeight(layer);
   const uint32_t m = layerMask(layer);
-  if (!(weight > 0.0f) || m >= masks.size() || !masks[m].contains(slot)) return base;
-  const int32_t anchor = masks[m].slot_anchor[slot];
+  const auto base = [&](uint32_t s) { return emulateRecordMatrix(palette, rec, s); };
+  if (!(weight > 0.0f) || m >= masks.size()) return base(slot);
   IntervalMode mode;
   const float fraction = unpackFraction(layer.fraction, &mode);
   const auto overlay = [&](uint32_t s) {
     return emulateFrameMatrix(palette, layer.frames[0], layer.frames[1], fraction, mode, s);
   };
-  const glm::mat4 base_anchor =
-      anchor >= 0 ? emulateRecordMatrix(palette, rec, uint32_t(anchor)) : glm::mat4(1.0f);
-  const glm::mat4 overlay_anchor = anchor >= 0 ? overlay(uint32_t(anchor)) : glm::mat4(1.0f);
-  std::vector<glm::mat4> base_chain, overlay_chain;
-  for (uint32_t up : layerChain(masks[m], slot)) {
-    base_chain.push_back(emulateRecordMatrix(palette, rec, up));
-    overlay_chain.push_back(overlay(up));
-  }
-  return emulateLayeredMatrix(base, overlay(slot), base_anchor, overlay_anchor, anchor, weight,
-                              base_chain, overlay_chain);
+  return emulateLayeredMatrix(masks[m], slot, weight, base, overlay);
 }
 
 }  // namespace si

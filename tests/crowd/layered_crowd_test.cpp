@@ -101,10 +101,14 @@ TEST(LayeredCrowd, RecordsSkinTheReferenceLayeredPose) {
   }
   // At full weight, the palette's sampling of both clips through the anchor (the baker's own
   // test bounds it by three times the two clips' errors; at 30 Hz they are about 5e-3 and
-  // 7e-3 units). While fading, the rigid blend of whole joints (not of each local transform) adds to it.
+  // 7e-3 units). While fading, each link of the arm blended in local space, as the reference
+  // blends it: the same sampling error, no more (the dual quaternion blend of whole joints
+  // this replaced measured 0.189 units here).
   std::printf("[ layered  ] full weight %.3g units, fading %.3g units\n", worst_full, worst_fading);
+  EXPECT_GT(worst_full, 0.0);
   EXPECT_LT(worst_full, 0.04);
-  EXPECT_GT(worst_fading, worst_full);
+  EXPECT_GT(worst_fading, 0.0);
+  EXPECT_LT(worst_fading, 0.04);
 }
 
 TEST(LayeredCrowd, TheWeightFadesInAndOut) {

@@ -13,11 +13,14 @@
 ///   S_j = S_base(a) * inverse(S_overlay(a)) * S_overlay(j)
 ///
 /// (the bind matrices cancel), which the shader computes from the palette as it stands: no
-/// extra baking. A weight w in (0, 1) moves S_base(j) that fraction of the rigid motion towards
-/// it (si::rigidBlend: a dual quaternion blend, which does not depend on the space the two are
-/// in, so it equals blending the branch relative to its anchor), where the reference
-/// (evaluateLayeredPose) blends each local transform (slerp): that difference and the palette's
-/// sampling are the approximation's error, which measureLayeredError (si::bake) reports.
+/// extra baking. A weight w in (0, 1) blends as the reference (evaluateLayeredPose) does, each
+/// masked joint's local transform a fraction w of the way to the overlay's, composed from the
+/// anchor down: the palette gives each stored joint's transform relative to its nearest stored
+/// masked ancestor (inverse(S_parent) * S_joint), which si::localBlend blends as the local
+/// transform it is seen through the bind matrices (the mask keeps each slot's bind-pose origin
+/// for that). What remains is the palette's sampling, and where a masked joint is not stored
+/// (no vertex is weighted to it) its transform is blended together with its stored child's;
+/// measureLayeredError (si::bake) reports the difference.
 ///
 /// Usage:
 /// \code
@@ -28,6 +31,7 @@
 /// \endcode
 
 #include <cstdint>
+#include <functional>
 #include <string>
 #include <vector>
 
@@ -65,13 +69,19 @@ struct LayerMask {
   /// The skeleton joints in the mask, increasing (stored in the palette or not): what the
   /// reference blends.
   std::vector<uint32_t> joints;
+  /// Per palette slot: its joint's bind-pose origin in model space (the translation of the
+  /// inverse of its inverse bind matrix), the pivot si::localBlend blends about. Only masked
+  /// slots' values are read.
+  std::vector<glm::vec3> slot_bind_origin;
 
   /// Whether palette slot `slot` is in the mask.
   bool contains(uint32_t slot) const {
     return slot < slot_anchor.size() && slot_anchor[slot] != kNotInMask;
   }
   /// Checks it against `palette`: one entry per palette slot, each kNotInMask, kModelAnchor or
-  /// a slot outside the mask, at least one slot in it (kInvalidArgument); joints increasing,
+  /// a slot outside the mask, at least one slot in it (kInvalidArgument); parent slots masked
+  /// and without cycles (kInvalidArgument); one bind origin per slot (kInvalidArgument), the
+  /// masked slots' finite (kNotFinite); joints increasing,
   /// below the palette's skeleton size, and exactly the skeleton joints of the masked slots
   /// among them (kInvalidArgument).
   Status validate(const BakedPalette& palette) const;
@@ -94,27 +104,28 @@ Status buildLayerMaskFromJoints(const Skeleton& skeleton, const BakedPalette& pa
                                 LayerMask* out);
 
 /// The mask table si_skinning.glsl reads (SI_LAYERS, storage binding SI_MASK_BINDING): the
-/// palette slot count, then for each mask in order its slot_anchor and its slot_parent
-/// (`masks` all of one palette, as a crowd's are). {0} for no masks.
+/// palette slot count, then for each mask in order its slot_anchor, its slot_parent and its
+/// slot_bind_origin (x, y, z per slot, each float's bits) (`masks` all of one palette, as a
+/// crowd's are). {0} for no masks.
 std::vector<int32_t> layerMaskTable(Span<const LayerMask> masks);
 
-/// The layered skinning matrix the shader computes for a masked slot (float): S_base(j) at
-/// weight 0, S_base(a) * inverse(S_overlay(a)) * S_overlay(j) at weight 1, and between them
-/// si::rigidBlend of the two by `weight`. `anchor` is the slot's slot_anchor (kModelAnchor: the
-/// overlay's matrix alone; base_anchor and overlay_anchor are then ignored). `base_chain` and
-/// `overlay_chain` hold the base's and the overlay's matrices of the slot's masked ancestors,
-/// parent first (slot_parent, followed to kNoParentSlot): the blend turns the slot the way the
-/// chain turns it, past half a turn where the chain's joints add up to more (each joint's own
-/// turn is taken the shorter way, as the reference's slerp does); without them, the shorter
-/// way. Matrices are affine (last row 0 0 0 1).
-glm::mat4 emulateLayeredMatrix(const glm::mat4& base, const glm::mat4& overlay,
-                               const glm::mat4& base_anchor, const glm::mat4& overlay_anchor,
-                               int32_t anchor, float weight,
-                               Span<const glm::mat4> base_chain = {},
-                               Span<const glm::mat4> overlay_chain = {});
+/// A pose's skinning matrix by palette slot (affine: last row 0 0 0 1), as emulateLayeredMatrix
+/// reads the base and the overlay.
+using SlotMatrices = std::function<glm::mat4(uint32_t slot)>;
+
+/// The layered skinning matrix the shader computes for palette slot `slot` of `mask` (float):
+/// base(slot) outside the mask or at weight 0; at weight 1
+/// base(a) * inverse(overlay(a)) * overlay(slot), a the slot's anchor (the identity for
+/// kModelAnchor); between them, the slot's transform relative to its nearest masked ancestor
+/// (slot_parent, followed to the anchor) blended by si::localBlend for each link of the chain
+/// and composed on base(a): the reference's local-space blend where every masked joint is
+/// stored. `mask` is assumed valid (LayerMask::validate) for the palette `base` and `overlay`
+/// read; a slot past it is treated as outside it.
+glm::mat4 emulateLayeredMatrix(const LayerMask& mask, uint32_t slot, float weight,
+                               const SlotMatrices& base, const SlotMatrices& overlay);
 
 /// The palette slots of `slot`'s masked ancestors in `mask`, parent first (slot_parent followed
-/// to kNoParentSlot, at most the mask's slot count): the chain emulateLayeredMatrix takes.
+/// to kNoParentSlot, at most the mask's slot count): the chain emulateLayeredMatrix follows.
 std::vector<uint32_t> layerChain(const LayerMask& mask, uint32_t slot);
 
 /// The reference: `base` at clip time `base_time` on every joint, and on the mask's joints the

@@ -2,10 +2,11 @@
 // The skinning include for your own vertex (or compute) shaders: the instance record, the
 // instance block, the palette and functions that fetch, interpolate, crossfade and blend the
 // bone matrices exactly as si::emulateSkinningMatrix() and si::emulateSkinning() do on the CPU.
-// Interface version 5 (2: the fraction words carry the interval mode, cubic clips; 3: the
+// Interface version 6 (2: the fraction words carry the interval mode, cubic clips; 3: the
 // record's fourth blend word is the appearance: tint RGB8 and the custom texture layer; 4: the
 // previous frame's records and siSkinPrevious, for motion vectors; 5: layered animation, the
-// layer records, the mask table and siSkinLayered);
+// layer records, the mask table and siSkinLayered; 6: the mask table holds each slot's bind-pose
+// origin and weights between 0 and 1 blend each joint in local space);
 // docs/glsl-interface.md documents every name, binding and define.
 //
 // Before including, define SI_MAX_INSTANCES (records per draw: InstanceBatcher::
@@ -26,7 +27,7 @@
 // siSkinPreviousLayered().
 #ifndef SI_SKINNING_GLSL
 #define SI_SKINNING_GLSL
-#define SI_GLSL_INTERFACE_VERSION 5
+#define SI_GLSL_INTERFACE_VERSION 6
 #include "si_instance_record.glsl"
 #include "si_transform.glsl"
 
@@ -214,9 +215,6 @@ vec4 siMulRow(vec4 a, vec4 b0, vec4 b1, vec4 b2) {
 }
 
 // Quaternions are (x, y, z, w).
-vec4 siQuatMul(vec4 a, vec4 b) {
-  return vec4(a.w * b.xyz + b.w * a.xyz + cross(a.xyz, b.xyz), a.w * b.w - dot(a.xyz, b.xyz));
-}
 // The unit quaternion of the rotation in rows (r0, r1, r2) (Shepperd's method).
 vec4 siQuatFromRows(vec3 r0, vec3 r1, vec3 r2) {
   float tr = r0.x + r1.y + r2.z;
@@ -236,58 +234,65 @@ vec4 siQuatFromRows(vec3 r0, vec3 r1, vec3 r2) {
   }
   return normalize(q);
 }
-// The delta C * inverse(A) (rows d0..d2), its uniform scale and its rotation in hemisphere h's
-// half; false where it mirrors or is degenerate. si::rigidDeltaRotation.
-bool siSplitDelta(vec4 a0, vec4 a1, vec4 a2, vec4 c0, vec4 c1, vec4 c2, vec4 h, out vec4 d0,
-                  out vec4 d1, out vec4 d2, out float scale, out vec4 q) {
-  vec4 i0, i1, i2;
-  siAffineInverse(a0, a1, a2, i0, i1, i2);
-  d0 = siMulRow(c0, i0, i1, i2);
-  d1 = siMulRow(c1, i0, i1, i2);
-  d2 = siMulRow(c2, i0, i1, i2);
-  float det = determinant(mat3(d0.xyz, d1.xyz, d2.xyz));
-  scale = 1.0;
-  q = vec4(0.0, 0.0, 0.0, 1.0);
-  if (!(det > 1e-30)) return false;
-  scale = pow(det, 1.0 / 3.0);
-  q = siQuatFromRows(d0.xyz / scale, d1.xyz / scale, d2.xyz / scale);
-  if (dot(q, h) < 0.0) q = -q;
-  return true;
-}
-// si::rigidBlend: rows A moved a fraction t of the rigid motion towards rows C (a dual
-// quaternion blend with the identity, on the screw motion's path), turning in hemisphere h.
-void siRigidBlend(vec4 a0, vec4 a1, vec4 a2, vec4 c0, vec4 c1, vec4 c2, float t, vec4 h,
+// si::localBlend: the joint transform a fraction t of the way from rows A to rows C (each the
+// joint relative to its parent): the rotation slerped the shorter way, the uniform scale
+// lerped, what the linear parts hold beyond them lerped, and the bind-pose origin `pivot`
+// taken where the two take it, lerped. Mirrored or degenerate: the element-wise lerp.
+void siLocalBlend(vec4 a0, vec4 a1, vec4 a2, vec4 c0, vec4 c1, vec4 c2, vec3 pivot, float t,
                   out vec4 r0, out vec4 r1, out vec4 r2) {
-  vec4 d0, d1, d2, q;
-  float scale;
   r0 = mix(a0, c0, t);
   r1 = mix(a1, c1, t);
   r2 = mix(a2, c2, t);
-  if (!siSplitDelta(a0, a1, a2, c0, c1, c2, h, d0, d1, d2, scale, q)) return;
-  vec3 v = vec3(d0.w, d1.w, d2.w);
-  vec4 dual = 0.5 * siQuatMul(vec4(v, 0.0), q);
-  float half_angle = acos(clamp(q.w, -1.0, 1.0));
-  float s = t;
-  if (half_angle > 1e-4) {
-    float sa = sin(t * half_angle), sb = sin((1.0 - t) * half_angle);
-    s = sa / (sa + sb);
+  float det_a = determinant(mat3(a0.xyz, a1.xyz, a2.xyz));
+  float det_c = determinant(mat3(c0.xyz, c1.xyz, c2.xyz));
+  if (!(det_a > 1e-30 && det_c > 1e-30)) return;
+  float sa = pow(det_a, 1.0 / 3.0), sc = pow(det_c, 1.0 / 3.0);
+  vec4 qa = siQuatFromRows(a0.xyz / sa, a1.xyz / sa, a2.xyz / sa);
+  vec4 qc = siQuatFromRows(c0.xyz / sc, c1.xyz / sc, c2.xyz / sc);
+  float d = dot(qa, qc);
+  if (d < 0.0) {  // The shorter arc, as the reference's slerp takes it.
+    qc = -qc;
+    d = -d;
   }
-  vec4 qr = vec4(0.0, 0.0, 0.0, 1.0 - s) + s * q;
-  float n = length(qr);
-  if (!(n > 1e-6)) return;  // A whole turn: the lerp.
-  qr /= n;
-  vec4 qd = s * dual / n;
-  vec3 translation = 2.0 * siQuatMul(qd, vec4(-qr.xyz, qr.w)).xyz;
-  vec4 b0, b1, b2, g0, g1, g2;
-  siRigidRows(qr, vec4(translation, 1.0 - t + t * scale), b0, b1, b2);
-  siRigidRows(q, vec4(v, scale), g0, g1, g2);
-  // Blended rigid part plus what the delta holds beyond it, in proportion; then times A.
-  b0 += (d0 - g0) * t;
-  b1 += (d1 - g1) * t;
-  b2 += (d2 - g2) * t;
-  r0 = siMulRow(b0, a0, a1, a2);
-  r1 = siMulRow(b1, a0, a1, a2);
-  r2 = siMulRow(b2, a0, a1, a2);
+  float angle = acos(min(d, 1.0));
+  vec4 q = mix(qa, qc, t);
+  if (angle > 1e-4) q = (sin((1.0 - t) * angle) * qa + sin(t * angle) * qc) / sin(angle);
+  vec4 g0, g1, g2, ga0, ga1, ga2, gc0, gc1, gc2;
+  siRigidRows(normalize(q), vec4(0.0, 0.0, 0.0, mix(sa, sc, t)), g0, g1, g2);
+  siRigidRows(qa, vec4(0.0, 0.0, 0.0, sa), ga0, ga1, ga2);
+  siRigidRows(qc, vec4(0.0, 0.0, 0.0, sc), gc0, gc1, gc2);
+  vec3 l0 = g0.xyz + mix(a0.xyz - ga0.xyz, c0.xyz - gc0.xyz, t);
+  vec3 l1 = g1.xyz + mix(a1.xyz - ga1.xyz, c1.xyz - gc1.xyz, t);
+  vec3 l2 = g2.xyz + mix(a2.xyz - ga2.xyz, c2.xyz - gc2.xyz, t);
+  vec4 p = vec4(pivot, 1.0);
+  vec3 origin = mix(vec3(dot(a0, p), dot(a1, p), dot(a2, p)), vec3(dot(c0, p), dot(c1, p), dot(c2, p)), t);
+  r0 = vec4(l0, origin.x - dot(l0, pivot));
+  r1 = vec4(l1, origin.y - dot(l1, pivot));
+  r2 = vec4(l2, origin.z - dot(l2, pivot));
+}
+
+// The base rows (b) and the overlay rows (v) of palette slot `slot`; the identity for -1 (the
+// model anchor).
+void siLinkRows(SiInstance inst, uvec4 layer, int slot, out vec4 b0, out vec4 b1, out vec4 b2,
+                out vec4 v0, out vec4 v1, out vec4 v2) {
+  b0 = vec4(1.0, 0.0, 0.0, 0.0);
+  b1 = vec4(0.0, 1.0, 0.0, 0.0);
+  b2 = vec4(0.0, 0.0, 1.0, 0.0);
+  v0 = b0;
+  v1 = b1;
+  v2 = b2;
+  if (slot < 0) return;
+  siInstanceJointRows(inst, uint(slot), b0, b1, b2);
+  siInterpolatedRows(layer.x, layer.y, layer.z, uint(slot), v0, v1, v2);
+}
+// Rows C replaced by inverse(P) * C.
+void siRelativeRows(vec4 p0, vec4 p1, vec4 p2, inout vec4 c0, inout vec4 c1, inout vec4 c2) {
+  vec4 i0, i1, i2;
+  siAffineInverse(p0, p1, p2, i0, i1, i2);
+  vec4 d0 = siMulRow(i0, c0, c1, c2), d1 = siMulRow(i1, c0, c1, c2);
+  c2 = siMulRow(i2, c0, c1, c2);
+  c0 = d0;
+  c1 = d1;
 }
 
 // The rows of palette slot `joint` with the layer record `layer` composed on it:
@@ -297,54 +302,53 @@ void siLayeredJointRows(SiInstance inst, uvec4 layer, uint joint, out vec4 r0, o
   siInstanceJointRows(inst, joint, r0, r1, r2);
   float w = float(layer.w & 0xFFFFu) / 65535.0;
   if (w == 0.0) return;
+  // The table: the slot count, then per mask its anchors, parents and bind origins (x, y, z).
   uint slots = uint(si_mask_anchor[0]);
-  uint table = 1u + (layer.w >> 16) * 2u * slots;
+  uint table = 1u + (layer.w >> 16) * 5u * slots;
   int anchor = si_mask_anchor[table + joint];
   if (anchor == -2) return;
-  // K = base anchor * inverse(overlay anchor); the identity for the model anchor.
-  vec4 k0 = vec4(1.0, 0.0, 0.0, 0.0), k1 = vec4(0.0, 1.0, 0.0, 0.0), k2 = vec4(0.0, 0.0, 1.0, 0.0);
-  if (anchor >= 0) {
-    vec4 b0, b1, b2, a0, a1, a2, i0, i1, i2;
-    siInstanceJointRows(inst, uint(anchor), b0, b1, b2);
-    siInterpolatedRows(layer.x, layer.y, layer.z, uint(anchor), a0, a1, a2);
-    siAffineInverse(a0, a1, a2, i0, i1, i2);
-    k0 = siMulRow(b0, i0, i1, i2);
-    k1 = siMulRow(b1, i0, i1, i2);
-    k2 = siMulRow(b2, i0, i1, i2);
-  }
-  vec4 o0, o1, o2;
+  vec4 o0, o1, o2, p0, p1, p2, q0, q1, q2;
   siInterpolatedRows(layer.x, layer.y, layer.z, joint, o0, o1, o2);
-  vec4 c0 = siMulRow(k0, o0, o1, o2), c1 = siMulRow(k1, o0, o1, o2), c2 = siMulRow(k2, o0, o1, o2);
-  if (w >= 1.0) {
-    r0 = c0;
-    r1 = c1;
-    r2 = c2;
+  if (w >= 1.0) {  // Base anchor * inverse(overlay anchor) * overlay.
+    siLinkRows(inst, layer, anchor, p0, p1, p2, q0, q1, q2);
+    siRelativeRows(q0, q1, q2, o0, o1, o2);
+    r0 = siMulRow(p0, o0, o1, o2);
+    r1 = siMulRow(p1, o0, o1, o2);
+    r2 = siMulRow(p2, o0, o1, o2);
     return;
   }
-  // Each joint turns less than half a turn from its parent, so its delta's quaternion lies in
-  // its parent's half: multiply the sign of each step up the mask's parent slots (the branch
-  // root turns the shorter way), then blend in that hemisphere.
-  vec4 d0, d1, d2, q, h;
-  float scale;
-  const vec4 identity = vec4(0.0, 0.0, 0.0, 1.0);
-  siSplitDelta(r0, r1, r2, c0, c1, c2, identity, d0, d1, d2, scale, h);
-  q = h;
-  float sign = 1.0;
-  int parent = si_mask_anchor[table + slots + joint];
-  for (uint steps = 0u; parent >= 0 && steps < slots; ++steps) {
-    vec4 p0, p1, p2, e0, e1, e2, up;
-    siInstanceJointRows(inst, uint(parent), p0, p1, p2);
-    siInterpolatedRows(layer.x, layer.y, layer.z, uint(parent), o0, o1, o2);
-    e0 = siMulRow(k0, o0, o1, o2);
-    e1 = siMulRow(k1, o0, o1, o2);
-    e2 = siMulRow(k2, o0, o1, o2);
-    siSplitDelta(p0, p1, p2, e0, e1, e2, identity, d0, d1, d2, scale, up);
-    if (dot(q, up) < 0.0) sign = -sign;
-    q = up;
-    parent = si_mask_anchor[table + slots + uint(parent)];
+  // Between: each link from the joint up to the anchor (its masked parent slots) blended in
+  // local space, composed as x = link * x, then placed on the base's anchor. r and o hold the
+  // link's lower end (base and overlay), p and q its upper end.
+  vec4 x0 = vec4(1.0, 0.0, 0.0, 0.0), x1 = vec4(0.0, 1.0, 0.0, 0.0), x2 = vec4(0.0, 0.0, 1.0, 0.0);
+  uint link = joint;
+  for (uint steps = 0u; steps <= slots; ++steps) {
+    int parent = steps < slots ? si_mask_anchor[table + slots + link] : -1;
+    siLinkRows(inst, layer, parent >= 0 ? parent : anchor, p0, p1, p2, q0, q1, q2);
+    siRelativeRows(p0, p1, p2, r0, r1, r2);
+    siRelativeRows(q0, q1, q2, o0, o1, o2);
+    uint at = table + 2u * slots + 3u * link;
+    vec3 pivot = intBitsToFloat(ivec3(si_mask_anchor[at], si_mask_anchor[at + 1u], si_mask_anchor[at + 2u]));
+    vec4 l0, l1, l2;
+    siLocalBlend(r0, r1, r2, o0, o1, o2, pivot, w, l0, l1, l2);
+    vec4 n0 = siMulRow(l0, x0, x1, x2), n1 = siMulRow(l1, x0, x1, x2);
+    x2 = siMulRow(l2, x0, x1, x2);
+    x0 = n0;
+    x1 = n1;
+    r0 = p0;
+    r1 = p1;
+    r2 = p2;
+    o0 = q0;
+    o1 = q1;
+    o2 = q2;
+    if (parent < 0) break;
+    link = uint(parent);
   }
-  h *= sign;
-  siRigidBlend(r0, r1, r2, c0, c1, c2, w, h, r0, r1, r2);
+  // The chain's last link hangs from the anchor, whose base rows r now holds.
+  vec4 a0 = r0, a1 = r1, a2 = r2;
+  r0 = siMulRow(a0, x0, x1, x2);
+  r1 = siMulRow(a1, x0, x1, x2);
+  r2 = siMulRow(a2, x0, x1, x2);
 }
 
 // siSkin with the instance's overlay (its layer record) on its mask.
