@@ -179,6 +179,10 @@ Status GpuCulledPath::uploadFrame(const DrawResources& r, const PathFrame& f) {
                    " LODs do not fit the uploaded character (", r.character->sub_meshes.size(),
                    " sub-meshes) or 256 buckets")};
   const uint32_t n = crowd.size();
+  // The uploads and clears below rewrite buffers the last passes wrote (the state's LOD, the
+  // drawn records, the visible-last flags): GL orders buffer updates after incoherent shader
+  // writes only past this barrier.
+  glMemoryBarrier(GL_BUFFER_UPDATE_BARRIER_BIT);
   if (crowd_identity_ != crowd.identity()) {  // Another crowd: nothing drawn is its last frame.
     frame_ += 2;
     framed_ = false;
@@ -321,6 +325,7 @@ Status GpuCulledPath::draw(const DrawResources& r, const PathFrame& f, DrawStats
   // Phase 1: what was visible last frame. Then the pyramid of the depth it left (and of what
   // the application drew before), and phase 2: every instance in the frustum tested against it.
   runPasses(r, f, 1, st);
+  glMemoryBarrier(GL_BUFFER_UPDATE_BARRIER_BIT);  // The counters the passes wrote, then copied.
   glCopyNamedBufferSubData(counters_, first_phase_counters_, 0, 0, GLsizeiptr(kCounterWords) * 4);
   Status s = pyramid_.build(*r.programs);
   if (!s.isOk()) return s;
@@ -337,7 +342,8 @@ void GpuCulledPath::runPasses(const DrawResources& r, const PathFrame& f, uint32
   const GLuint cull = (*r.programs)[ProgramId::kCull].id;
   const GLuint commands = (*r.programs)[ProgramId::kCullCommands].id;
   const GLuint scatter = (*r.programs)[ProgramId::kCullScatter].id;
-  // Zero the visible count and the bucket counts.
+  // Zero the visible count and the bucket counts (after the first phase's writes to them).
+  glMemoryBarrier(GL_BUFFER_UPDATE_BARRIER_BIT);
   glClearNamedBufferSubData(counters_, GL_R32UI, 0, GLsizeiptr(kBucketCountWord + kMaxBuckets) * 4,
                             GL_RED_INTEGER, GL_UNSIGNED_INT, nullptr);
   const GLuint ssbo[] = {state_, clips_, times_, counters_, records_, entries_, visible_,
@@ -425,6 +431,7 @@ void GpuCulledPath::runPasses(const DrawResources& r, const PathFrame& f, uint32
 void GpuCulledPath::readCounts(const DrawResources& r, const CrowdDesc& cd, DrawStats* st) const {
   st->gpu_visible = 0;
   st->skinned_vertices = 0;
+  glMemoryBarrier(GL_BUFFER_UPDATE_BARRIER_BIT);  // Reads of what the passes wrote.
   for (const GLuint buffer : {counters_, two_phases_ ? first_phase_counters_ : kNoObject}) {
     if (buffer == kNoObject) continue;
     std::vector<uint32_t> counters(kCounterWords);
@@ -445,6 +452,7 @@ void GpuCulledPath::readCounts(const DrawResources& r, const CrowdDesc& cd, Draw
 Status GpuCulledPath::readSelection(std::vector<glm::uvec2>* selection) const {
   selection->clear();
   if (counters_ == kNoObject) return Status::ok();
+  glMemoryBarrier(GL_BUFFER_UPDATE_BARRIER_BIT);  // Reads of what the passes wrote.
   uint32_t visible = 0;
   glGetNamedBufferSubData(counters_, 0, 4, &visible);
   std::vector<glm::uvec4> rows(visible);
