@@ -217,22 +217,21 @@ glm::mat4 emulateLayeredMatrix(const LayerMask& mask, uint32_t slot, float weigh
   glm::mat4 child_overlay = overlay(slot);
   // Weight 1: the overlay's branch attached to the base's anchor.
   if (weight >= 1.0f) return base_anchor * affineInverse(overlay_anchor) * child_overlay;
-  // Between: each link from the slot up to the anchor blended in local space, composed on the
-  // base's anchor (the chain is at most the mask's slot count long; validate() refuses cycles).
+  // Between: each link from the slot up to the anchor (layerChain, then the anchor) blended in
+  // local space, composed on the base's anchor.
+  const std::vector<uint32_t> chain = layerChain(mask, slot);
   glm::mat4 blended(1.0f), child_base = base_slot;
   uint32_t link = slot;
-  for (size_t steps = 0;; ++steps) {
-    const int32_t p = steps < mask.slot_parent.size() && link < mask.slot_parent.size()
-                          ? mask.slot_parent[link]
-                          : LayerMask::kNoParentSlot;
-    const glm::mat4 parent_base = p >= 0 ? base(uint32_t(p)) : base_anchor;
-    const glm::mat4 parent_overlay = p >= 0 ? overlay(uint32_t(p)) : overlay_anchor;
+  for (size_t i = 0;; ++i) {
+    const bool to_anchor = i == chain.size();
+    const glm::mat4 parent_base = to_anchor ? base_anchor : base(chain[i]);
+    const glm::mat4 parent_overlay = to_anchor ? overlay_anchor : overlay(chain[i]);
     const glm::vec3 pivot =
         link < mask.slot_bind_origin.size() ? mask.slot_bind_origin[link] : glm::vec3(0.0f);
     blended = localBlend(affineInverse(parent_base) * child_base,
                          affineInverse(parent_overlay) * child_overlay, pivot, weight) * blended;
-    if (p < 0) return parent_base * blended;
-    link = uint32_t(p);
+    if (to_anchor) return parent_base * blended;
+    link = chain[i];
     child_base = parent_base;
     child_overlay = parent_overlay;
   }
