@@ -23,6 +23,11 @@
 namespace si {
 namespace {
 
+// The fixture's instance k's tint (distinct for its 16 instances): how a failure names it.
+glm::u8vec3 tintOf(int k) {
+  return glm::u8vec3(uint8_t(40 + 13 * k), uint8_t(230 - 11 * k), uint8_t(60 + 37 * (k % 5)));
+}
+
 using namespace test;
 
 // The engine's shaders. Mode 0 draws each vertex where it is now (current camera), mode 1
@@ -99,7 +104,7 @@ class MotionVectorTest : public RenderTest {
       d.clip = uint32_t(k) % clips;
       d.time_seconds = 0.13 * k;
       d.speed = 1.0f + 0.1f * float(k % 3);
-      d.color = glm::u8vec4(uint8_t(40 + 13 * k), uint8_t(230 - 11 * k), uint8_t(60 + 37 * (k % 5)), 255);
+      d.color = glm::u8vec4(tintOf(k), 255);
       InstanceHandle h;
       ASSERT_TRUE(crowd_.add(d, &h).isOk());
       handles_.push_back(h);
@@ -219,7 +224,7 @@ class MotionVectorTest : public RenderTest {
     std::string out;
     for (size_t i = 0; i < handles_.size(); ++i) {
       const int k = int(i);
-      const glm::u8vec3 tint(uint8_t(40 + 13 * k), uint8_t(230 - 11 * k), uint8_t(60 + 37 * (k % 5)));
+      const glm::u8vec3 tint = tintOf(k);
       size_t off = 0;
       glm::vec2 drawn(0.0f), wanted(0.0f);
       for (size_t p = 0; p < motion.size(); ++p) {
