@@ -4,7 +4,9 @@
 // (drawCpuSkinned skins with si::emulateLayeredRecordMatrix), in 64 KiB and 16 KiB batches;
 // the overlay shows; depth-only draws put the overlaid arms where the colour draw does; the
 // GPU-driven path draws the same image from its own layer records; motion vectors follow the
-// overlay.
+// overlay; two crowds with other masks draw in one frame, each with its own mask.
+#include <functional>
+
 #include "render/render_fixture.h"
 #include "si/gl/motion_target.h"
 
@@ -15,16 +17,19 @@ using namespace test;
 
 class LayeredRenderTest : public RenderTest {
  protected:
-  void populate(CrowdManager* crowd) {
+  // 12 instances walking; two thirds play the wave on the mask rooted at `branch`, shifted by
+  // `offset`.
+  void populate(CrowdManager* crowd, const char* branch = "r_clavicle",
+                const glm::dvec3& offset = glm::dvec3(0.0)) {
     LayerMask arm;
-    ASSERT_TRUE(buildLayerMask(character().skeleton, palette(), "right arm", {"r_clavicle"}, &arm).isOk());
+    ASSERT_TRUE(buildLayerMask(character().skeleton, palette(), branch, {branch}, &arm).isOk());
     uint32_t mask = 0;
     ASSERT_TRUE(crowd->addLayerMask(arm, &mask).isOk());
     const uint32_t walk = uint32_t(palette().findClip("walk"));
     const uint32_t wave = uint32_t(palette().findClip("wave"));
     for (int k = 0; k < 12; ++k) {
       InstanceDesc d;
-      d.position = glm::dvec3((k % 4 - 1.5) * 1.2, 0.0, -2.5 - 1.5 * (k / 4));
+      d.position = offset + glm::dvec3((k % 4 - 1.5) * 1.2, 0.0, -2.5 - 1.5 * (k / 4));
       d.rotation = glm::angleAxis(0.6f * float(k % 3 - 1), glm::vec3(0, 1, 0));
       d.clip = walk;
       d.time_seconds = 0.11 * k;
@@ -81,6 +86,51 @@ TEST_P(LayeredRenderTest, BothSkinningPathsDrawTheEmulatedOverlay) {
   // With every weight 0 the layered program draws the plain pose: the CPU agrees.
   const std::vector<uint8_t> plain_cpu = draw(r, crowd, closeView(), 0, false, nullptr, Path::kCpuSkinned);
   EXPECT_LE(compare(plain, plain_cpu, nullptr).share, 0.001);
+}
+
+// Two crowds with other masks (the right arm, the left arm) drawn one after the other into one
+// frame, nothing read back between them: each draw reads its own crowd's mask table, on both
+// skinning paths, as the CPU emulation draws the two.
+TEST_P(LayeredRenderTest, TwoCrowdsWithOtherMasksDrawInOneFrame) {
+  Renderer r;
+  makeRenderer(&r);
+  CrowdManager right, left;
+  makeCrowd(&right);
+  makeCrowd(&left);
+  populate(&right);
+  populate(&left, "l_clavicle", glm::dvec3(0.6, 0.0, -0.75));
+  InstanceBatcher batcher;
+  ASSERT_TRUE(batcher.init(r.batchLimits()).isOk());
+  const auto drawBoth = [&](const std::function<Status(const CrowdManager&)>& drawOne) {
+    r.clear(glm::vec4(0.2f, 0.25f, 0.3f, 1.0f));
+    EXPECT_TRUE(drawOne(right).isOk());
+    EXPECT_TRUE(drawOne(left).isOk());
+    std::vector<uint8_t> rgba;
+    EXPECT_TRUE(context_->readPixels(&rgba).isOk());
+    return rgba;
+  };
+  const std::vector<uint8_t> cpu =
+      drawBoth([&](const CrowdManager& c) { return r.drawCpuSkinned(c, closeView(), nullptr); });
+  const std::vector<uint8_t> vertex =
+      drawBoth([&](const CrowdManager& c) { return r.drawCrowd(c, batcher, closeView(), nullptr); });
+  const std::vector<uint8_t> compute = drawBoth([&](const CrowdManager& c) {
+    return r.drawCrowd(c, batcher, closeView(), nullptr, DrawMode::kComputeSkinned);
+  });
+  const Diff dv = compare(vertex, cpu, nullptr), dc = compare(compute, cpu, nullptr);
+  EXPECT_LE(dv.share, 0.001) << "vertex shader: max channel difference " << dv.max_channel;
+  EXPECT_LE(dc.share, 0.001) << "compute: max channel difference " << dc.max_channel;
+  // The left crowd's mask shows: drawn with the right arm's mask it looks otherwise.
+  CrowdManager both_right;
+  makeCrowd(&both_right);
+  handles_.clear();
+  populate(&both_right, "r_clavicle", glm::dvec3(0.6, 0.0, -0.75));
+  r.clear(glm::vec4(0.2f, 0.25f, 0.3f, 1.0f));
+  ASSERT_TRUE(r.drawCrowd(right, batcher, closeView(), nullptr).isOk());
+  ASSERT_TRUE(r.drawCrowd(both_right, batcher, closeView(), nullptr).isOk());
+  std::vector<uint8_t> wrong_mask;
+  ASSERT_TRUE(context_->readPixels(&wrong_mask).isOk());
+  EXPECT_GT(compare(wrong_mask, vertex, nullptr).share, 0.005);
+  r.shutdown();
 }
 
 // A depth pre-pass of a crowd playing overlays writes the depth the colour draw writes (the
