@@ -2,7 +2,7 @@
 # Builds the libFuzzer targets with clang (ASan + UBSan + libFuzzer) and runs them all at once,
 # spread over the machine's cores, then prints one row per target: executions, coverage (edges
 # libFuzzer counted), corpus size and crashes (the inputs it saved under build/fuzz/crashes/).
-# Seeds: generated palettes and call sequences, ../shared/assets, ../shared/regressions.
+# Seeds: generated palettes and call sequences, assets/, tests/regressions/inputs/.
 #
 # Usage: scripts/fuzz.sh [-t SECONDS] [-w WORKERS] [--build-only] [--run-only] [TARGET...]
 #   -t SECONDS   fuzzing time of each target (default 60)
@@ -26,7 +26,8 @@ while [ $# -gt 0 ]; do
 done
 [ ${#targets[@]} -gt 0 ] || targets=(palette palette_crowd crowd_api gltf gltf_bake)
 out=build/fuzz
-shared="$(pwd)/../shared"
+assets="$(pwd)/assets"
+regressions="$(pwd)/tests/regressions/inputs"
 
 if [ "$build" = 1 ]; then
   bash scripts/deps.sh
@@ -45,13 +46,11 @@ if [ "$build" = 1 ]; then
   mkdir -p "$out/seeds/palette" "$out/seeds/crowd-api" "$out/seeds/gltf"
   "$out/tests/fuzz/si_write_fuzz_seeds" palette "$out/seeds/palette"
   "$out/tests/fuzz/si_write_fuzz_seeds" crowd-api "$out/seeds/crowd-api"
-  for f in "$shared"/assets/*/glTF-Binary/*.glb "$shared"/assets/*/glTF-Embedded/*.gltf; do
+  for f in "$assets"/*/glTF-Binary/*.glb "$assets"/*/glTF-Embedded/*.gltf; do
     [ -f "$f" ] && cp "$f" "$out/seeds/gltf/"
   done
-  if [ -d "$shared/regressions" ]; then
-    for f in "$shared"/regressions/*.sipal; do [ -f "$f" ] && cp "$f" "$out/seeds/palette/"; done
-    for f in "$shared"/regressions/*.gl*; do [ -f "$f" ] && cp "$f" "$out/seeds/gltf/"; done
-  fi
+  for f in "$regressions"/*.sipal; do [ -f "$f" ] && cp "$f" "$out/seeds/palette/"; done
+  for f in "$regressions"/*.gl*; do [ -f "$f" ] && cp "$f" "$out/seeds/gltf/"; done
 fi
 [ "$run" = 1 ] || exit 0
 

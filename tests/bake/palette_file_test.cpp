@@ -207,7 +207,7 @@ TEST(PaletteFile, FilesAndErrors) {
   EXPECT_EQ(savePalette(broken, &bytes).code(), StatusCode::kInvalidArgument);
 }
 
-// The fuzzer's find (../shared/regressions/palette-clip-timing-ub.sipal): a clip whose frame
+// The fuzzer's find (tests/regressions/inputs/palette-clip-timing-ub.sipal): a clip whose frame
 // interval disagrees with its duration and frame count by orders of magnitude loaded, then
 // si::sampleFrames converted 2e232 to uint32_t. Every such file must now be refused.
 TEST(PaletteFile, ClipTimingThatDisagreesWithItsFramesIsRejected) {

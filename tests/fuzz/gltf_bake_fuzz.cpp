@@ -3,7 +3,7 @@
 // automatic rate. Any bytes give an error or a palette that passes BakedPalette::validate();
 // never a crash, a sanitizer report, gigabytes or minutes (the baker refuses palettes past
 // BakeDesc::max_palette_bytes, here 8 MiB, and bakes past max_evaluations, here 2^22, before
-// allocating or evaluating). Seeded with ../shared/assets; run with scripts/fuzz.sh.
+// allocating or evaluating). Seeded with assets; run with scripts/fuzz.sh.
 #include <cstdint>
 #include <algorithm>
 #include <cstdio>

@@ -1,7 +1,7 @@
 // SkinnedInstancing — SPDX-License-Identifier: MIT (see LICENSE)
 // libFuzzer target for the glTF importer (from memory, no folder: external URIs refused):
 // any bytes give an error or a character that validates; never a crash or sanitizer report.
-// Run with scripts/fuzz.sh, seeded with ../shared/assets.
+// Run with scripts/fuzz.sh, seeded with assets.
 #include <cstdint>
 #include <cstdlib>
 

@@ -2,7 +2,7 @@
 // libFuzzer target: palette load (as is and with the checksum repaired) followed by a crowd
 // playing every clip through a few updates. A palette that loads must init a crowd, and every
 // record must be finite with frame texels inside the palette; never a crash or a sanitizer
-// report. Seeded with the palette seeds and ../shared/regressions; run with scripts/fuzz.sh.
+// report. Seeded with the palette seeds and tests/regressions/inputs; run with scripts/fuzz.sh.
 #include <cmath>
 #include <cstdint>
 #include <cstdlib>

@@ -1,5 +1,5 @@
 // SkinnedInstancing — SPDX-License-Identifier: MIT (see LICENSE)
-// glTF import on the real sample assets in ../shared/assets and on synthetic files.
+// glTF import on the real sample assets in assets and on synthetic files.
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -11,16 +11,14 @@
 #include "si/bake/animation_baker.h"
 #include "si/core/reference_evaluator.h"
 #include "si/gltf/gltf_import.h"
+#include "test_assets.h"
 
 namespace si {
 namespace {
 
 constexpr int kFloat = 5126, kUByte = 5121, kUShort = 5123;
 
-std::string assets() {
-  const char* dir = std::getenv("SI_SHARED_DIR");
-  return std::string(dir ? dir : "../shared") + "/assets";
-}
+std::string assets() { return SI_ASSETS_DIR; }
 
 std::vector<uint8_t> readFile(const std::string& path) {
   std::ifstream f(path, std::ios::binary);
@@ -50,7 +48,7 @@ class SampleAsset : public ::testing::TestWithParam<Sample> {};
 TEST_P(SampleAsset, LoadsValidatesEvaluatesAndBakes) {
   const Sample& sample = GetParam();
   const std::string path = assets() + "/" + sample.path;
-  if (!std::ifstream(path)) GTEST_SKIP() << "sample asset missing: " << path;
+  ASSERT_TRUE(test::assetExists(path));
   Character c;
   GltfImportReport r;
   const Status s = importGltfFile(path, {}, &c, &r);
@@ -106,7 +104,7 @@ INSTANTIATE_TEST_SUITE_P(Assets, SampleAsset, ::testing::ValuesIn(kSamples),
 
 TEST(GltfImport, FoxHasItsTextureAndClips) {
   const std::string path = assets() + "/Fox/glTF/Fox.gltf";
-  if (!std::ifstream(path)) GTEST_SKIP() << "sample asset missing";
+  ASSERT_TRUE(test::assetExists(path));
   Character c;
   ASSERT_TRUE(importGltfFile(path, {}, &c, nullptr).isOk());
   ASSERT_GE(c.images.size(), 1u);
@@ -122,7 +120,7 @@ TEST(GltfImport, FoxHasItsTextureAndClips) {
 
 TEST(GltfImport, GeneratesLodsWithMeshoptimizer) {
   const std::string path = assets() + "/CesiumMan/glTF-Binary/CesiumMan.glb";
-  if (!std::ifstream(path)) GTEST_SKIP() << "sample asset missing";
+  ASSERT_TRUE(test::assetExists(path));
   GltfImportDesc d;
   d.generate_lods = 2;
   Character c;
@@ -137,7 +135,7 @@ TEST(GltfImport, GeneratesLodsWithMeshoptimizer) {
 
 TEST(GltfImport, EveryTruncationAndManyByteFlipsGiveAnErrorOrAValidResult) {
   const std::string path = assets() + "/RiggedSimple/glTF-Binary/RiggedSimple.glb";
-  if (!std::ifstream(path)) GTEST_SKIP() << "sample asset missing";
+  ASSERT_TRUE(test::assetExists(path));
   const std::vector<uint8_t> bytes = readFile(path);
   ASSERT_GT(bytes.size(), 100u);
   size_t errors = 0;

@@ -1,9 +1,10 @@
 // SkinnedInstancing — SPDX-License-Identifier: MIT (see LICENSE)
-// Every input that once broke the library (../shared/regressions, see its README) fed to its
+// Every input that once broke the library (tests/regressions/inputs, see its README) fed to its
 // entry point under the sanitizers: each must load with a clear error, or load correctly and
 // then behave (a palette validates, samples every clip within its frames and plays in a crowd;
 // a glTF file imports and bakes). A file of a kind no entry point below takes fails the test,
-// so a new regression input cannot go unreplayed. Skips when the folder is absent.
+// so a new regression input cannot go unreplayed. The inputs are part of the checkout (copies of
+// the steering repository's shared/regressions), so every checkout replays them.
 #include <gtest/gtest.h>
 
 #include <dirent.h>
@@ -20,6 +21,7 @@
 #include "si/bake/animation_baker.h"
 #include "si/bake/palette_file.h"
 #include "si/crowd/crowd_manager.h"
+#include "test_assets.h"
 #ifdef SI_HAVE_GLTF
 #include "si/gltf/gltf_import.h"
 #endif
@@ -27,10 +29,7 @@
 namespace si {
 namespace {
 
-std::string regressionsDir() {
-  const char* dir = std::getenv("SI_SHARED_DIR");
-  return std::string(dir ? dir : "../shared") + "/regressions";
-}
+using test::regressionsDir;
 
 std::vector<std::string> regressionFiles() {
   std::vector<std::string> files;
@@ -80,7 +79,8 @@ void exercisePalette(const BakedPalette& p) {
 
 TEST(RegressionInputs, EachLoadsWithAClearErrorOrBehaves) {
   const std::vector<std::string> files = regressionFiles();
-  if (files.empty()) GTEST_SKIP() << "no regression inputs at " << regressionsDir();
+  ASSERT_FALSE(files.empty()) << "no regression inputs at " << regressionsDir()
+                               << " (tests/regressions/inputs is part of the checkout)";
   for (const std::string& name : files) {
     SCOPED_TRACE(name);
     const std::string path = regressionsDir() + "/" + name;

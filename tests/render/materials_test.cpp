@@ -9,6 +9,7 @@
 #include "gltf/parts_asset.h"
 #include "render/render_fixture.h"
 #include "si/gltf/gltf_import.h"
+#include "test_assets.h"
 
 namespace si {
 namespace {
@@ -123,8 +124,6 @@ TEST_P(MaterialsTest, TwoHundredPartsDrawLikeEachMaterialDrawnAlone) {
 }
 
 TEST_P(MaterialsTest, SampleAssetsDrawOnTheGpuAsSkinnedOnTheCpu) {
-  const char* dir = std::getenv("SI_SHARED_DIR");
-  const std::string assets = std::string(dir ? dir : "../shared") + "/assets/";
   for (const char* file :
        {"RiggedSimple/glTF/RiggedSimple.gltf", "RiggedSimple/glTF-Binary/RiggedSimple.glb",
         "RiggedFigure/glTF-Binary/RiggedFigure.glb", "CesiumMan/glTF/CesiumMan.gltf",
@@ -132,9 +131,10 @@ TEST_P(MaterialsTest, SampleAssetsDrawOnTheGpuAsSkinnedOnTheCpu) {
         "Fox/glTF-Binary/Fox.glb", "Fox/glTF/Fox.gltf",
         "SimpleSkin/glTF/SimpleSkin.gltf", "SimpleSkin/glTF-Embedded/SimpleSkin.gltf"}) {
     SCOPED_TRACE(file);
+    const std::string path = test::assetPath(file);
+    ASSERT_TRUE(test::assetExists(path));
     Character c;
-    const Status s = importGltfFile(assets + file, {}, &c, nullptr);
-    if (!s.isOk() && dir == nullptr) GTEST_SKIP() << "no ../shared/assets: " << s.toString();
+    const Status s = importGltfFile(path, {}, &c, nullptr);
     ASSERT_TRUE(s.isOk()) << s.toString();
     BakeDesc bd;
     bd.rate_mode = RateMode::kFixed;

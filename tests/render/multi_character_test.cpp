@@ -1,7 +1,7 @@
 // SkinnedInstancing — SPDX-License-Identifier: MIT (see LICENSE)
 // Several characters in one renderer (Renderer::addCharacter): a mixed scene (the embedded
 // character twice, as two kinds with different palettes and LOD counts, plus the sample Fox and
-// CesiumMan when ../shared/assets is there) drawn by one renderer equals the same crowds drawn
+// CesiumMan from assets/) drawn by one renderer equals the same crowds drawn
 // by one renderer per character, on every drawing path and over several frames; and the ids
 // and palettes are checked.
 #include <glad/gl.h>
@@ -10,6 +10,7 @@
 
 #include "render/render_fixture.h"
 #include "si/gltf/gltf_import.h"
+#include "test_assets.h"
 
 namespace si {
 namespace {
@@ -40,12 +41,11 @@ std::vector<std::unique_ptr<Kind>> makeKinds() {
   Character second;
   EXPECT_TRUE(makeDefaultCharacter(one_lod, &second).isOk());
   add(std::move(second), PaletteFormat::kQuatTranslationF32);
-  const char* dir = std::getenv("SI_SHARED_DIR");
-  const std::string assets = std::string(dir ? dir : "../shared") + "/assets/";
   for (const char* file : {"Fox/glTF-Binary/Fox.glb", "CesiumMan/glTF-Binary/CesiumMan.glb"}) {
+    const std::string path = test::assetPath(file);
+    EXPECT_TRUE(test::assetExists(path));
     Character c;
-    const Status s = importGltfFile(assets + file, {}, &c, nullptr);
-    if (!s.isOk() && dir == nullptr) continue;  // No ../shared: the two embedded kinds only.
+    const Status s = importGltfFile(path, {}, &c, nullptr);
     EXPECT_TRUE(s.isOk()) << file << ": " << s.toString();
     if (s.isOk()) add(std::move(c), PaletteFormat::kMatrix3x4F32);
   }

@@ -16,6 +16,7 @@
 #include "si/bake/palette_file.h"
 #include "si/core/default_character.h"
 #include "gltf/parts_asset.h"
+#include "test_assets.h"
 
 namespace si {
 namespace {
@@ -45,10 +46,7 @@ std::string tempPath(const std::string& name) {
 
 bool exists(const std::string& path) { return std::ifstream(path).good(); }
 
-std::string fox() {
-  const char* dir = std::getenv("SI_SHARED_DIR");
-  return std::string(dir ? dir : "../shared") + "/assets/Fox/glTF-Binary/Fox.glb";
-}
+std::string fox() { return test::assetPath("Fox/glTF-Binary/Fox.glb"); }
 
 TEST(SiBake, WritesThePaletteTheLibraryBakes) {
   const std::string out = tempPath("embedded.sipal"), csv = tempPath("embedded.csv");
@@ -247,7 +245,7 @@ TEST(SiBake, ProgressBarWhenAsked) {
 }
 
 TEST(SiBake, BakesAGltfSample) {
-  if (!exists(fox())) GTEST_SKIP() << "sample asset missing: " << fox();
+  ASSERT_TRUE(test::assetExists(fox()));
   const std::string out = tempPath("fox.sipal");
   const ToolRun r = runTool("'" + fox() + "' --rate 15 --clips Walk --no-progress -o '" + out + "'");
   ASSERT_EQ(r.exit_code, 0) << r.output;
