@@ -32,7 +32,7 @@ Status loadGl(GlGetProcAddress get_proc, void* user_data, GlInfo* info) {
   if (get_proc == nullptr || info == nullptr)
     return {StatusCode::kInvalidArgument, "loadGl: get_proc and info must not be null"};
   Loader loader{get_proc, user_data};
-  const int version = gladLoadGLUserPtr(&loadOne, &loader);
+  const int version = glad::gladLoadGLUserPtr(&loadOne, &loader);
   if (version == 0)
     return {StatusCode::kBackend, "loadGl: no GL context is current, or glGetString failed"};
   GlInfo out;
@@ -42,7 +42,7 @@ Status loadGl(GlGetProcAddress get_proc, void* user_data, GlInfo* info) {
   out.renderer = glString(GL_RENDERER);
   out.version = glString(GL_VERSION);
   if (out.major_version < 4 || (out.major_version == 4 && out.minor_version < 5) ||
-      glad_glCreateBuffers == nullptr)
+      glCreateBuffers == nullptr)
     return {StatusCode::kBackend, strCat("loadGl: need OpenGL 4.5 core, the context has '",
                                          out.version, "' (", out.renderer, ")")};
   out.max_uniform_block_size_bytes = glInt(GL_MAX_UNIFORM_BLOCK_SIZE);
@@ -52,7 +52,7 @@ Status loadGl(GlGetProcAddress get_proc, void* user_data, GlInfo* info) {
   GLint64 ssbo = 0;
   glGetInteger64v(GL_MAX_SHADER_STORAGE_BLOCK_SIZE, &ssbo);
   out.max_shader_storage_block_size_bytes = ssbo > 0 ? uint64_t(ssbo) : 0;
-  out.has_khr_debug = GLAD_GL_KHR_debug != 0;
+  out.has_khr_debug = glad::GLAD_GL_KHR_debug != 0;
   Status s = checkGlErrors("loadGl: querying limits");
   if (!s.isOk()) return s;
   *info = std::move(out);
@@ -74,7 +74,7 @@ const char* glErrorName(uint32_t error) {
 }
 
 Status checkGlErrors(const char* what) {
-  if (glad_glGetError == nullptr)
+  if (glGetError == nullptr)
     return {StatusCode::kBackend, strCat(what, ": GL is not loaded (call loadGl first)")};
   std::string errors;
   // Bounded: a lost context can report errors forever.

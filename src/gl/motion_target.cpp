@@ -125,7 +125,7 @@ void MotionTarget::blitColor(uint32_t framebuffer, uint32_t width, uint32_t heig
 
 void MotionTarget::release() {
   if (framebuffer_ == 0 && color_ == 0) return;
-  if (glad_glDeleteFramebuffers == nullptr) return;  // No GL loaded: nothing was made.
+  if (glDeleteFramebuffers == nullptr) return;  // No GL loaded: nothing was made.
   glDeleteFramebuffers(1, &framebuffer_);
   const GLuint textures[3] = {color_, motion_, depth_};
   glDeleteTextures(3, textures);

@@ -64,7 +64,7 @@ Renderer::~Renderer() { shutdown(); }
 
 Status Renderer::init(const GlInfo& info, const RendererDesc& desc) {
   shutdown();
-  if (glad_glGetString == nullptr || glGetString(GL_VERSION) == nullptr)
+  if (glGetString == nullptr || glGetString(GL_VERSION) == nullptr)
     return {StatusCode::kBackend,
             "Renderer::init: no GL context is current (make one current and call loadGl first)"};
   const uint64_t ring_bytes = desc.compute_ring_bytes == 0 ? uint64_t(32) << 20
