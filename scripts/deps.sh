@@ -12,7 +12,7 @@ packages=(
   libegl-dev libgl-dev libosmesa6-dev libegl-mesa0 libgl1-mesa-dri libglfw3-dev
   python3-glad
   # Tests and benchmarks; glslang compiles every shader offline (tests/gl)
-  libgtest-dev libgmock-dev libbenchmark-dev glslang-tools
+  libgtest-dev libgmock-dev libbenchmark-dev glslang-tools spirv-tools
   # The demo's window test: a virtual X server (xvfb-run needs xauth)
   xvfb xauth
 )

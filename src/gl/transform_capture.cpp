@@ -46,7 +46,7 @@ void captureVertexShader(const detail::DrawResources& r, uint32_t vertices,
 void captureCompute(const detail::DrawResources& r, uint32_t vertices, const CaptureBuffers& b) {
   const detail::Program& skin = (*r.programs)[detail::ProgramId::kComputeSkin];
   glUseProgram(skin.id);
-  detail::bindPreSkinning(r, skin, b.out, b.list);
+  detail::bindPreSkinning(r, b.out, b.list);
   glBindBufferBase(GL_UNIFORM_BUFFER, 0, b.block);
   glProgramUniform4ui(skin.id, 5, 0, vertices, 0, 0);
   glProgramUniform2ui(skin.id, 6, 1, r.preskin->source_words);

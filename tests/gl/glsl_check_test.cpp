@@ -7,11 +7,14 @@
 // unless SI_REQUIRE_GLSLANG is set (scripts/test.sh sets it in CI).
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cstdio>
 #include <cstdlib>
 #include <fstream>
+#include <map>
 #include <sstream>
 #include <string>
+#include <vector>
 
 #include "gl/programs/program_catalog.h"
 #include "si/gl/skinning_glsl.h"
@@ -129,8 +132,102 @@ TEST(GlslCheck, UserShaderOnThePublicIncludeCompiles) {
                                  "vert", "user_previous_layers"),
               "");
   // The interface version is part of the include.
-  EXPECT_NE(std::string(skinningGlsl()).find("#define SI_GLSL_INTERFACE_VERSION 6"),
+  EXPECT_NE(std::string(skinningGlsl()).find("#define SI_GLSL_INTERFACE_VERSION 7"),
             std::string::npos);
+}
+
+// The docs' Vulkan user shader: gl_InstanceIndex, the host's own uniforms in a block, every
+// binding of the include moved by its define into descriptor set 2 (docs/glsl-interface.md,
+// "Moving the bindings").
+std::string vulkanUserShader(const std::string& records) {
+  return "#version 450\n" + records + R"(
+#define SI_PREVIOUS_RECORDS
+#define SI_LAYERS
+#define SI_DESCRIPTOR_SET 2
+#define SI_RECORDS_BINDING 10
+#define SI_PALETTE_BINDING 11
+#define SI_PALETTE_INFO_BINDING 12
+#define SI_PREVIOUS_BINDING 13
+#define SI_LAYER_BINDING 14
+#define SI_PREVIOUS_LAYER_BINDING 15
+#define SI_MASK_BINDING 16
+)" + std::string(skinningGlsl()) + R"(
+layout(location = 0) in vec3 a_position;
+layout(location = 3) in uvec4 a_joints;
+layout(location = 4) in vec4 a_weights;
+layout(std140, set = 0, binding = 0) uniform Camera { mat4 u_view_projection; };
+layout(location = 0) out vec3 v_previous;
+void main() {
+  uint slot = uint(gl_InstanceIndex);
+  SiInstance inst = si_instances[slot];
+  vec4 m0, m1, m2;
+  siSkinLayered(inst, si_layers[slot], a_joints, a_weights, m0, m1, m2);
+  vec3 world = siTransformPoint(inst.world_rows[0], inst.world_rows[1], inst.world_rows[2],
+                                siTransformPoint(m0, m1, m2, a_position));
+  v_previous = siSkinPreviousLayered(slot, a_joints, a_weights, a_position);
+  gl_Position = u_view_projection * vec4(world, 1.0);
+}
+)";
+}
+
+// Compiles `source` for Vulkan 1.1 (SPIR-V) and returns the spirv-dis text, or "" with the
+// error in `error`.
+std::string compileForVulkan(const std::string& source, const std::string& name,
+                             std::string* error) {
+  const std::string file = ::testing::TempDir() + "si_glsl_vk_" + name + ".vert";
+  const std::string log = file + ".log", spv = file + ".spv", dis = file + ".spvasm";
+  std::ofstream(file, std::ios::binary) << source;
+  const std::string compile = "glslangValidator -V --target-env vulkan1.1 '" + file + "' -o '" +
+                              spv + "' >'" + log + "' 2>&1";
+  if (std::system(compile.c_str()) != 0) {
+    *error = "glslangValidator -V failed on " + file + ":\n" + readFile(log);
+    return "";
+  }
+  const std::string disassemble = "spirv-dis '" + spv + "' -o '" + dis + "' >'" + log + "' 2>&1";
+  if (std::system(disassemble.c_str()) != 0) {
+    *error = "spirv-dis failed on " + spv + ":\n" + readFile(log);
+    return "";
+  }
+  return readFile(dis);
+}
+
+// Every (set, binding) decoration of a spirv-dis listing, as "set:binding", sorted.
+std::vector<std::string> descriptorBindings(const std::string& spirv) {
+  std::map<std::string, std::pair<std::string, std::string>> by_id;
+  std::istringstream in(spirv);
+  std::string line;
+  while (std::getline(in, line)) {
+    std::istringstream words(line);
+    std::string op, id, decoration, value;
+    words >> op >> id >> decoration >> value;
+    if (op != "OpDecorate") continue;
+    if (decoration == "DescriptorSet") by_id[id].first = value;
+    if (decoration == "Binding") by_id[id].second = value;
+  }
+  std::vector<std::string> out;
+  for (const auto& [id, sb] : by_id) out.push_back(sb.first + ":" + sb.second);
+  std::sort(out.begin(), out.end());
+  return out;
+}
+
+TEST(GlslCheck, TheIncludeCompilesForVulkanWithEveryBindingMoved) {
+  skipWithoutGlslang();
+  if (std::system("spirv-dis --version >/dev/null 2>&1") != 0) {
+    if (std::getenv("SI_REQUIRE_GLSLANG") != nullptr)
+      FAIL() << "spirv-dis not found (install spirv-tools: scripts/deps.sh)";
+    GTEST_SKIP() << "spirv-dis not found (Debian package spirv-tools)";
+  }
+  for (const char* records : {"#define SI_MAX_INSTANCES 819\n", "#define SI_INSTANCES_IN_STORAGE\n"}) {
+    SCOPED_TRACE(records);
+    std::string error;
+    const std::string spirv = compileForVulkan(vulkanUserShader(records), "moved", &error);
+    ASSERT_EQ(error, "");
+    // The host's camera block, and each of the include's seven resources where its define put
+    // it: a binding left fixed in the include would show up at its old number or set.
+    EXPECT_EQ(descriptorBindings(spirv),
+              (std::vector<std::string>{"0:0", "2:10", "2:11", "2:12", "2:13", "2:14", "2:15",
+                                        "2:16"}));
+  }
 }
 
 TEST(GlslCheck, UserShaderWithoutCapacityFailsToCompile) {

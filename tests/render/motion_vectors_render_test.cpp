@@ -184,8 +184,7 @@ class MotionVectorTest : public RenderTest {
 
     glUseProgram(program);
     glBindVertexArray(vao);
-    glBindTextureUnit(0, texture.texture());
-    glUniform4uiv(0, 1, &texture.shaderInfo()[0]);
+    texture.bind();  // The palette at unit 0, its info block at uniform binding 4.
     const glm::mat4 now = crowd_.updateCamera().viewProjection();
     const glm::mat4 then = crowd_.previousUpdateCamera().viewProjection();
     glUniformMatrix4fv(glGetUniformLocation(program, "u_current"), 1, GL_FALSE, &now[0][0]);
@@ -248,12 +247,14 @@ class MotionVectorTest : public RenderTest {
 
   std::vector<uint8_t> colors() {
     std::vector<uint8_t> out;
-    EXPECT_TRUE(target_.readColor(&out).isOk());
+    const Status s = target_.readColor(&out);
+    EXPECT_TRUE(s.isOk()) << s.toString();
     return out;
   }
   std::vector<glm::vec2> motions() {
     std::vector<glm::vec2> out;
-    EXPECT_TRUE(target_.readMotion(&out).isOk());
+    const Status s = target_.readMotion(&out);
+    EXPECT_TRUE(s.isOk()) << s.toString();
     return out;
   }
   std::vector<float> depths() {

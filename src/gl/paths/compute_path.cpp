@@ -8,9 +8,8 @@
 
 namespace si::detail {
 
-void bindPreSkinning(const DrawResources& r, const Program& skin, GLuint out, GLuint vertex_list) {
-  glBindTextureUnit(0, r.palette->texture());
-  glProgramUniform4uiv(skin.id, skin.palette_info, 1, &r.palette->shaderInfo()[0]);
+void bindPreSkinning(const DrawResources& r, GLuint out, GLuint vertex_list) {
+  r.palette->bind();
   glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 1, out);
   glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 2, r.character->vertex_buffer);
   glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 3, vertex_list);
@@ -54,7 +53,7 @@ Status ComputePath::draw(const DrawResources& r, const PathFrame& f, DrawStats* 
   const glm::mat4 vp = f.camera.viewProjection();
   const GLuint ring = r.scratch->compute_ring.buffer;
   const uint64_t ring_vertices = r.scratch->compute_ring.vertices;
-  bindPreSkinning(r, skin, ring, lists.lod_vertex_list);
+  bindPreSkinning(r, ring, lists.lod_vertex_list);
   bindAppearance(r, pulled);
   glProgramUniformMatrix4fv(pulled.id, pulled.view_projection, 1, GL_FALSE, &vp[0][0]);
   glProgramUniform3fv(pulled.id, pulled.light_direction, 1, &f.light[0]);

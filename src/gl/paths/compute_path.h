@@ -11,11 +11,11 @@
 
 namespace si::detail {
 
-/// Binds what the compute skinning pass (ProgramId::kComputeSkin, `skin`) reads and writes: the
-/// palette at texture unit 0 with the program's palette info, `out` (pre-skinned vertices) at
-/// storage binding 1, the character's source vertices at 2 and `vertex_list` at 3. The draws
-/// and Renderer::captureSkinnedPositions share it.
-void bindPreSkinning(const DrawResources& r, const Program& skin, GLuint out, GLuint vertex_list);
+/// Binds what the compute skinning passes (ProgramId::kComputeSkin and its variants) read and
+/// write: the palette (texture unit 0, info block at uniform binding 4), `out` (pre-skinned
+/// vertices) at storage binding 1, the character's source vertices at 2 and `vertex_list` at 3.
+/// The draws and Renderer::captureSkinnedPositions share it.
+void bindPreSkinning(const DrawResources& r, GLuint out, GLuint vertex_list);
 
 class ComputePath final : public DrawPath {
  public:

@@ -18,11 +18,9 @@ void bindShading(const DrawResources& r, const Program& program, const Camera& c
                  const glm::vec3& light) {
   glUseProgram(program.id);
   glBindVertexArray(r.character->vao);
-  glBindTextureUnit(0, r.palette->texture());
+  r.palette->bind();
   bindAppearance(r, program);
   const glm::mat4 vp = camera.viewProjection();
-  if (program.palette_info >= 0)
-    glProgramUniform4uiv(program.id, program.palette_info, 1, &r.palette->shaderInfo()[0]);
   if (program.view_projection >= 0)
     glProgramUniformMatrix4fv(program.id, program.view_projection, 1, GL_FALSE, &vp[0][0]);
   if (program.light_direction >= 0)

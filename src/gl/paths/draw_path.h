@@ -87,8 +87,8 @@ class DrawPath {
 /// (CharacterBuffers::bindMaterials) and the custom texture array at unit 2 with its layer count.
 void bindAppearance(const DrawResources& r, const Program& program);
 
-/// Binds `program`, the character's vertex array, the palette texture, the appearance
-/// (bindAppearance), and sets the shared uniforms it declares (palette info, view-projection,
+/// Binds `program`, the character's vertex array, the palette (texture and info block), the
+/// appearance (bindAppearance), and sets the shared uniforms it declares (view-projection,
 /// light).
 void bindShading(const DrawResources& r, const Program& program, const Camera& camera,
                  const glm::vec3& light);

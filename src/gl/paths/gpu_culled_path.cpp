@@ -407,8 +407,7 @@ void GpuCulledPath::runPasses(const DrawResources& r, const PathFrame& f, uint32
         (*r.programs)[motion_ ? (layers_ ? ProgramId::kGpuSkinMotionLayers : ProgramId::kGpuSkinMotion)
                               : (layers_ ? ProgramId::kGpuSkinLayers : ProgramId::kGpuSkin)];
     glUseProgram(skin.id);
-    glBindTextureUnit(0, r.palette->texture());
-    glProgramUniform4uiv(skin.id, skin.palette_info, 1, &r.palette->shaderInfo()[0]);
+    r.palette->bind();
     glProgramUniform2ui(skin.id, 6, 0u, r.preskin->source_words);
     glDispatchComputeIndirect(GLintptr(kSkinDispatchWord) * 4);
     glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT);

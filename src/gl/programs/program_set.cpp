@@ -44,7 +44,6 @@ Status finishLink(GLuint program, const char* name, GLuint* out) {
 Program describe(GLuint id) {
   Program p;
   p.id = id;
-  p.palette_info = glGetUniformLocation(id, "si_palette_info");
   p.view_projection = glGetUniformLocation(id, "u_view_projection");
   p.light_direction = glGetUniformLocation(id, "u_light_direction");
   p.custom_layers = glGetUniformLocation(id, "u_custom_layers");

@@ -19,7 +19,7 @@ inline constexpr GLuint kNoObject = 0;
 /// absent location is GL_INVALID_OPERATION).
 struct Program {
   GLuint id = kNoObject;
-  GLint palette_info = -1, view_projection = -1, light_direction = -1, custom_layers = -1;
+  GLint view_projection = -1, light_direction = -1, custom_layers = -1;
   /// Motion vectors: the crowd's last and previous update cameras' view-projections.
   GLint motion_view_projection = -1, previous_view_projection = -1;
 };

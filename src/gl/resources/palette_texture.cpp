@@ -27,14 +27,27 @@ Status PaletteTexture::upload(const BakedPalette& palette, const GlInfo& info) {
                       half ? GL_HALF_FLOAT : GL_FLOAT, palette.texel_bytes.data());
   glTextureParameteri(texture_, GL_TEXTURE_MIN_FILTER, GL_NEAREST);
   glTextureParameteri(texture_, GL_TEXTURE_MAG_FILTER, GL_NEAREST);
-  shader_info_ = paletteShaderInfo(palette);
+  const glm::uvec4 info_value = paletteShaderInfo(palette);
+  s = createBuffer(&info_buffer_, sizeof(info_value), &info_value[0], 0,
+                   "uploadPalette: the palette's info block");
+  if (!s.isOk()) {
+    release();
+    return s;
+  }
+  shader_info_ = info_value;
   palette_ = &palette;
   return Status::ok();
 }
 
+void PaletteTexture::bind() const {
+  glBindTextureUnit(0, texture_);
+  glBindBufferBase(GL_UNIFORM_BUFFER, 4, info_buffer_);
+}
+
 void PaletteTexture::release() {
   if (texture_ != kNoObject) glDeleteTextures(1, &texture_);
-  texture_ = kNoObject;
+  if (info_buffer_ != kNoObject) glDeleteBuffers(1, &info_buffer_);
+  texture_ = info_buffer_ = kNoObject;
   palette_ = nullptr;
 }
 

@@ -2,87 +2,124 @@
 // The skinning include for your own vertex (or compute) shaders: the instance record, the
 // instance block, the palette and functions that fetch, interpolate, crossfade and blend the
 // bone matrices exactly as si::emulateSkinningMatrix() and si::emulateSkinning() do on the CPU.
-// Interface version 6 (2: the fraction words carry the interval mode, cubic clips; 3: the
+// Interface version 7 (2: the fraction words carry the interval mode, cubic clips; 3: the
 // record's fourth blend word is the appearance: tint RGB8 and the custom texture layer; 4: the
 // previous frame's records and siSkinPrevious, for motion vectors; 5: layered animation, the
 // layer records, the mask table and siSkinLayered; 6: the mask table holds each slot's bind-pose
-// origin and weights between 0 and 1 blend each joint in local space);
+// origin and weights between 0 and 1 blend each joint in local space; 7: every binding is a
+// define, si_palette_info is in a uniform block, descriptor sets under Vulkan);
 // docs/glsl-interface.md documents every name, binding and define.
 //
 // Before including, define SI_MAX_INSTANCES (records per draw: InstanceBatcher::
 // capacityPerDraw()), or define SI_INSTANCES_IN_STORAGE to read the records from a shader
-// storage buffer at binding 0 instead of the uniform block.
-// Bindings: the records at (uniform or storage) buffer binding 0, the palette at texture unit 0,
-// `uniform uvec4 si_palette_info` at location 0 (si::paletteShaderInfo()).
+// storage buffer instead of the uniform block.
+// Bindings, each a define you may set before including (default in brackets):
+//   SI_RECORDS_BINDING [0]       the records (uniform, or storage with SI_INSTANCES_IN_STORAGE)
+//   SI_PALETTE_BINDING [0]       the palette texture (the texture unit under OpenGL)
+//   SI_PALETTE_INFO_BINDING [4]  uniform block SiPaletteInfo { uvec4 si_palette_info; }
+//                                (si::paletteShaderInfo())
+//   SI_PREVIOUS_BINDING [1], SI_LAYER_BINDING [2], SI_PREVIOUS_LAYER_BINDING [3],
+//   SI_MASK_BINDING [8]          motion vectors and layered animation, below
+// Under Vulkan (glslang defines VULKAN), every resource is in descriptor set SI_DESCRIPTOR_SET
+// [0]; Vulkan shares binding numbers between resource kinds, so give each its own there.
 // Motion vectors: define SI_PREVIOUS_RECORDS for the previous frame's records, in the same
-// slots, at (uniform or storage) buffer binding SI_PREVIOUS_BINDING (default 1; written by
+// slots, at (uniform or storage) buffer binding SI_PREVIOUS_BINDING (written by
 // si::InstanceBatcher::buildPrevious) and siSkinPrevious(); SI_PREVIOUS_IN_STORAGE reads them
 // (and the previous layer records) from a storage buffer when the records are in a uniform block.
 // Layered animation: define SI_LAYERS for each slot's layer record (si::LayerRecord, a uvec4)
 // at (uniform or storage: SI_INSTANCES_IN_STORAGE or SI_LAYERS_IN_STORAGE) buffer binding
-// SI_LAYER_BINDING (default 2; written by si::InstanceBatcher::buildLayers), the crowd's
-// mask table at storage binding SI_MASK_BINDING (default 8; si::layerMaskTable) and
-// siSkinLayered(); with SI_PREVIOUS_RECORDS too, the previous layer records at binding
-// SI_PREVIOUS_LAYER_BINDING (default 3; InstanceBatcher::buildPreviousLayers) and
-// siSkinPreviousLayered().
+// SI_LAYER_BINDING (written by si::InstanceBatcher::buildLayers), the crowd's mask table at
+// storage binding SI_MASK_BINDING (si::layerMaskTable) and siSkinLayered(); with
+// SI_PREVIOUS_RECORDS too, the previous layer records at binding SI_PREVIOUS_LAYER_BINDING
+// (InstanceBatcher::buildPreviousLayers) and siSkinPreviousLayered().
 #ifndef SI_SKINNING_GLSL
 #define SI_SKINNING_GLSL
-#define SI_GLSL_INTERFACE_VERSION 6
+#define SI_GLSL_INTERFACE_VERSION 7
 #include "si_instance_record.glsl"
 #include "si_transform.glsl"
 
-#ifdef SI_INSTANCES_IN_STORAGE
-layout(std430, binding = 0) readonly buffer SiInstances { SiInstance si_instances[]; };
-#else
-layout(std140, binding = 0) uniform SiInstances { SiInstance si_instances[SI_MAX_INSTANCES]; };
+#ifndef SI_RECORDS_BINDING
+#define SI_RECORDS_BINDING 0
 #endif
-#ifdef SI_PREVIOUS_RECORDS
+#ifndef SI_PALETTE_BINDING
+#define SI_PALETTE_BINDING 0
+#endif
+#ifndef SI_PALETTE_INFO_BINDING
+#define SI_PALETTE_INFO_BINDING 4
+#endif
 #ifndef SI_PREVIOUS_BINDING
 #define SI_PREVIOUS_BINDING 1
 #endif
+#ifndef SI_LAYER_BINDING
+#define SI_LAYER_BINDING 2
+#endif
+#ifndef SI_PREVIOUS_LAYER_BINDING
+#define SI_PREVIOUS_LAYER_BINDING 3
+#endif
+#ifndef SI_MASK_BINDING
+#define SI_MASK_BINDING 8
+#endif
+// SI_BINDING(b): the layout qualifier of binding b (and the descriptor set under Vulkan).
+#ifdef VULKAN
+#ifndef SI_DESCRIPTOR_SET
+#define SI_DESCRIPTOR_SET 0
+#endif
+#define SI_BINDING(b) set = SI_DESCRIPTOR_SET, binding = b
+#else
+#define SI_BINDING(b) binding = b
+#endif
+
+#ifdef SI_INSTANCES_IN_STORAGE
+layout(std430, SI_BINDING(SI_RECORDS_BINDING)) readonly buffer SiInstances {
+  SiInstance si_instances[];
+};
+#else
+layout(std140, SI_BINDING(SI_RECORDS_BINDING)) uniform SiInstances {
+  SiInstance si_instances[SI_MAX_INSTANCES];
+};
+#endif
+#ifdef SI_PREVIOUS_RECORDS
 #if defined(SI_INSTANCES_IN_STORAGE) || defined(SI_PREVIOUS_IN_STORAGE)
-layout(std430, binding = SI_PREVIOUS_BINDING) readonly buffer SiPreviousInstances {
+layout(std430, SI_BINDING(SI_PREVIOUS_BINDING)) readonly buffer SiPreviousInstances {
   SiInstance si_previous_instances[];
 };
 #else
-layout(std140, binding = SI_PREVIOUS_BINDING) uniform SiPreviousInstances {
+layout(std140, SI_BINDING(SI_PREVIOUS_BINDING)) uniform SiPreviousInstances {
   SiInstance si_previous_instances[SI_MAX_INSTANCES];
 };
 #endif
 #endif
 #ifdef SI_LAYERS
-#ifndef SI_LAYER_BINDING
-#define SI_LAYER_BINDING 2
-#endif
-#ifndef SI_MASK_BINDING
-#define SI_MASK_BINDING 8
-#endif
 #if defined(SI_INSTANCES_IN_STORAGE) || defined(SI_LAYERS_IN_STORAGE)
-layout(std430, binding = SI_LAYER_BINDING) readonly buffer SiLayers { uvec4 si_layers[]; };
+layout(std430, SI_BINDING(SI_LAYER_BINDING)) readonly buffer SiLayers { uvec4 si_layers[]; };
 #else
-layout(std140, binding = SI_LAYER_BINDING) uniform SiLayers { uvec4 si_layers[SI_MAX_INSTANCES]; };
+layout(std140, SI_BINDING(SI_LAYER_BINDING)) uniform SiLayers {
+  uvec4 si_layers[SI_MAX_INSTANCES];
+};
 #endif
 #ifdef SI_PREVIOUS_RECORDS
-#ifndef SI_PREVIOUS_LAYER_BINDING
-#define SI_PREVIOUS_LAYER_BINDING 3
-#endif
 #if defined(SI_INSTANCES_IN_STORAGE) || defined(SI_LAYERS_IN_STORAGE) || \
     defined(SI_PREVIOUS_IN_STORAGE)
-layout(std430, binding = SI_PREVIOUS_LAYER_BINDING) readonly buffer SiPreviousLayers {
+layout(std430, SI_BINDING(SI_PREVIOUS_LAYER_BINDING)) readonly buffer SiPreviousLayers {
   uvec4 si_previous_layers[];
 };
 #else
-layout(std140, binding = SI_PREVIOUS_LAYER_BINDING) uniform SiPreviousLayers {
+layout(std140, SI_BINDING(SI_PREVIOUS_LAYER_BINDING)) uniform SiPreviousLayers {
   uvec4 si_previous_layers[SI_MAX_INSTANCES];
 };
 #endif
 #endif
 // [0]: palette slots per mask; then per mask, per slot: -2 outside the mask, -1 the overlay's
 // own matrix, else the anchor slot.
-layout(std430, binding = SI_MASK_BINDING) readonly buffer SiLayerMasks { int si_mask_anchor[]; };
+layout(std430, SI_BINDING(SI_MASK_BINDING)) readonly buffer SiLayerMasks {
+  int si_mask_anchor[];
+};
 #endif
-layout(binding = 0) uniform sampler2D si_palette;
-layout(location = 0) uniform uvec4 si_palette_info;
+layout(SI_BINDING(SI_PALETTE_BINDING)) uniform sampler2D si_palette;
+// x: log2 of the palette's width, y: joint stride in texels, z: 0 matrices, 1 quaternions.
+layout(std140, SI_BINDING(SI_PALETTE_INFO_BINDING)) uniform SiPaletteInfo {
+  uvec4 si_palette_info;
+};
 
 ivec2 siTexel(uint i) {
   return ivec2(int(i & ((1u << si_palette_info.x) - 1u)), int(i >> si_palette_info.x));

@@ -40,7 +40,7 @@ namespace {
   X(PFNGLTEXTUREPARAMETERIPROC, TextureParameteri)                                           \
   X(PFNGLGENERATETEXTUREMIPMAPPROC, GenerateTextureMipmap)                                   \
   X(PFNGLBINDTEXTUREUNITPROC, BindTextureUnit) X(PFNGLPIXELSTOREIPROC, PixelStorei)          \
-  X(PFNGLPROGRAMUNIFORM4UIVPROC, ProgramUniform4uiv)                                         \
+  X(PFNGLBINDBUFFERBASEPROC, BindBufferBase)                                                 \
   X(PFNGLPROGRAMUNIFORM4FVPROC, ProgramUniform4fv)                                           \
   X(PFNGLPROGRAMUNIFORM3FVPROC, ProgramUniform3fv)                                           \
   X(PFNGLPROGRAMUNIFORMMATRIX4FVPROC, ProgramUniformMatrix4fv)                               \
@@ -164,7 +164,8 @@ std::string drawWithOwnRenderer(GetProc get_proc, void* user, const std::string&
 
   // Program: the include as installed, resolved by the engine.
   const std::string vs_text = resolveIncludes(
-      "#version 450 core\n#define SI_MAX_INSTANCES " + std::to_string(capacity) + kVertexMain,
+      "#version 450 core\n#define SI_MAX_INSTANCES " + std::to_string(capacity) +
+          "\n#define SI_PALETTE_INFO_BINDING 7\n" + kVertexMain,
       glsl_dir);
   GLuint vs = 0, fs = 0;
   error = compile(gl, GL_VERTEX_SHADER, vs_text, &vs);
@@ -184,8 +185,8 @@ std::string drawWithOwnRenderer(GetProc get_proc, void* user, const std::string&
   si::VertexStream stream;
   s = si::buildVertexStream(character.mesh, palette, &stream);
   if (!s.isOk()) return s.toString();
-  GLuint buffers[3] = {0, 0, 0};  // vertices, indices, records
-  gl.CreateBuffers(3, buffers);
+  GLuint buffers[4] = {0, 0, 0, 0};  // vertices, indices, records, palette info
+  gl.CreateBuffers(4, buffers);
   gl.NamedBufferStorage(buffers[0], GLsizeiptr(stream.bytes.size()), stream.bytes.data(), 0);
   gl.NamedBufferStorage(buffers[1], GLsizeiptr(character.mesh.indices.size() * 4),
                         character.mesh.indices.data(), 0);
@@ -227,9 +228,11 @@ std::string drawWithOwnRenderer(GetProc get_proc, void* user, const std::string&
   gl.TextureParameteri(textures[1], GL_TEXTURE_MIN_FILTER, GL_LINEAR_MIPMAP_LINEAR);
   gl.TextureParameteri(textures[1], GL_TEXTURE_MAG_FILTER, GL_LINEAR);
 
-  // Uniforms: the palette's (si::paletteShaderInfo), the camera and shading.
+  // The palette's info block (si::paletteShaderInfo) at the binding the engine chose for it
+  // (SI_PALETTE_INFO_BINDING above), the camera and shading.
   const glm::uvec4 palette_info = si::paletteShaderInfo(palette);
-  gl.ProgramUniform4uiv(program, 0, 1, &palette_info[0]);
+  gl.NamedBufferStorage(buffers[3], sizeof(palette_info), &palette_info[0], 0);
+  gl.BindBufferBase(GL_UNIFORM_BUFFER, 7, buffers[3]);
   gl.ProgramUniformMatrix4fv(program, 1, 1, GL_FALSE, view_projection);
   gl.ProgramUniform4fv(program, 2, 1, &material.base_color_factor[0]);
   gl.ProgramUniform3fv(program, 3, 1, light);
@@ -260,7 +263,7 @@ std::string drawWithOwnRenderer(GetProc get_proc, void* user, const std::string&
   }
   const GLenum gl_error = gl.GetError();
   gl.DeleteProgram(program);
-  gl.DeleteBuffers(3, buffers);
+  gl.DeleteBuffers(4, buffers);
   gl.DeleteVertexArrays(1, &vao);
   gl.DeleteTextures(2, textures);
   return gl_error == GL_NO_ERROR ? "" : "GL error " + std::to_string(gl_error);
