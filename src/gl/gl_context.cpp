@@ -4,6 +4,8 @@
 #include <glad/gl.h>
 
 #include "core/str_cat.h"
+#include "gl/host_errors.h"
+#include "si/core/log.h"
 
 namespace si {
 using detail::strCat;
@@ -86,5 +88,19 @@ Status checkGlErrors(const char* what) {
   if (errors.empty()) return Status::ok();
   return {StatusCode::kBackend, strCat(what, ": ", errors)};
 }
+
+namespace detail {
+
+void logHostErrors(const char* what) {
+  if (glGetError == nullptr) return;
+  for (int i = 0; i < 16; ++i) {
+    const GLenum e = glGetError();
+    if (e == GL_NO_ERROR) break;
+    logMessage(LogLevel::kWarning, strCat("GL error ", glErrorName(e), " was pending before ", what,
+                                          " (left by the application; not the library's)"));
+  }
+}
+
+}  // namespace detail
 
 }  // namespace si

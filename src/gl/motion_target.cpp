@@ -8,6 +8,7 @@
 #include <cmath>
 
 #include "core/str_cat.h"
+#include "gl/state/gl_state_guard.h"
 #include "si/gl/gl_context.h"
 
 namespace si {
@@ -72,6 +73,7 @@ void MotionTarget::clear(const glm::vec4& color) {
 Status MotionTarget::readMotion(std::vector<glm::vec2>* out) const {
   if (framebuffer_ == 0 || out == nullptr)
     return {StatusCode::kInvalidArgument, "MotionTarget::readMotion: create() first, non-null out"};
+  const detail::GlStateGuard guard(detail::readbackFootprint(), true);
   out->resize(size_t(width_) * height_);
   glGetTextureImage(motion_, 0, GL_RG, GL_FLOAT, GLsizei(out->size() * sizeof(glm::vec2)),
                     out->data());
@@ -81,6 +83,7 @@ Status MotionTarget::readMotion(std::vector<glm::vec2>* out) const {
 Status MotionTarget::readColor(std::vector<uint8_t>* rgba) const {
   if (framebuffer_ == 0 || rgba == nullptr)
     return {StatusCode::kInvalidArgument, "MotionTarget::readColor: create() first, non-null out"};
+  const detail::GlStateGuard guard(detail::readbackFootprint(), true);
   rgba->resize(size_t(width_) * height_ * 4);
   glGetTextureImage(color_, 0, GL_RGBA, GL_UNSIGNED_BYTE, GLsizei(rgba->size()), rgba->data());
   return checkGlErrors("MotionTarget::readColor");
@@ -89,6 +92,7 @@ Status MotionTarget::readColor(std::vector<uint8_t>* rgba) const {
 Status MotionTarget::readDepth(std::vector<float>* out) const {
   if (framebuffer_ == 0 || out == nullptr)
     return {StatusCode::kInvalidArgument, "MotionTarget::readDepth: create() first, non-null out"};
+  const detail::GlStateGuard guard(detail::readbackFootprint(), true);
   out->resize(size_t(width_) * height_);
   glGetTextureImage(depth_, 0, GL_DEPTH_COMPONENT, GL_FLOAT, GLsizei(out->size() * 4),
                     out->data());

@@ -10,6 +10,7 @@
 
 #include "core/str_cat.h"
 #include "gl/paths/skinning_path_choice.h"
+#include "gl/host_errors.h"
 #include "gl/renderer_impl.h"
 #include "si/core/log.h"
 
@@ -17,15 +18,6 @@ namespace si {
 using detail::strCat;
 
 namespace {
-
-void GLAD_API_PTR debugCallback(GLenum, GLenum type, GLuint, GLenum severity, GLsizei,
-                                const GLchar* message, const void*) {
-  const LogLevel level = type == GL_DEBUG_TYPE_ERROR || severity == GL_DEBUG_SEVERITY_HIGH
-                             ? LogLevel::kError
-                         : severity == GL_DEBUG_SEVERITY_MEDIUM ? LogLevel::kWarning
-                                                                : LogLevel::kDebug;
-  logMessage(level, strCat("GL: ", message));
-}
 
 Status noRenderer(const char* what) {
   return {StatusCode::kInvalidArgument,
@@ -92,11 +84,8 @@ Status Renderer::init(const GlInfo& info, const RendererDesc& desc) {
   impl->alignment = std::max<uint32_t>(16, info.uniform_buffer_offset_alignment);
   impl->ring_frames = desc.ring_frames == 0 ? 3 : desc.ring_frames;
   impl->ring.configure(impl->block_size, impl->alignment, impl->ring_frames);
-  if (impl->debug && info.has_khr_debug) {
-    glEnable(GL_DEBUG_OUTPUT);
-    glEnable(GL_DEBUG_OUTPUT_SYNCHRONOUS);
-    glDebugMessageCallback(&debugCallback, nullptr);
-  }
+  if (impl->debug) detail::logHostErrors("Renderer::init");
+  if (desc.debug_messages && info.has_khr_debug) impl->debug_chain.install();
   detail::ShaderConfig config;
   config.max_instances = impl->capacity;
   config.max_joints = detail::kMaxTraditionalJoints;
@@ -113,6 +102,7 @@ Status Renderer::init(const GlInfo& info, const RendererDesc& desc) {
 void Renderer::shutdown() {
   if (!impl_) return;
   Impl& m = *impl_;
+  m.debug_chain.remove();
   for (auto& c : m.characters) c->release();
   m.vertex_path.release();
   m.traditional_path.release();
@@ -133,6 +123,7 @@ BatchLimits Renderer::batchLimits() const {
 
 Status Renderer::uploadPalette(const BakedPalette& palette) {
   if (!impl_) return {StatusCode::kInvalidArgument, "Renderer: init() first"};
+  const auto guard = impl_->enter("uploadPalette", detail::uploadFootprint());
   Status s = impl_->firstCharacter().palette.upload(palette, impl_->info);
   if (s.isOk()) impl_->sizeRing();
   return s.isOk() ? impl_->check("uploadPalette") : s;
@@ -140,6 +131,7 @@ Status Renderer::uploadPalette(const BakedPalette& palette) {
 
 Status Renderer::uploadCharacter(const Character& character, const BakedPalette& palette) {
   if (!impl_) return {StatusCode::kInvalidArgument, "Renderer: init() first"};
+  const auto guard = impl_->enter("uploadCharacter", detail::uploadFootprint());
   impl_->sizeRing();
   return impl_->uploadMesh(character, palette, impl_->firstCharacter(), light_direction_);
 }
@@ -178,6 +170,7 @@ Status Renderer::addCharacter(const Character& character, const BakedPalette& pa
   if (!impl_) return {StatusCode::kInvalidArgument, "Renderer: init() first"};
   if (id == nullptr) return {StatusCode::kInvalidArgument, "addCharacter: id is null"};
   Impl& m = *impl_;
+  const auto guard = m.enter("addCharacter", detail::uploadFootprint());
   auto slot = std::make_unique<detail::CharacterSlot>();
   Status s = slot->palette.upload(palette, m.info);
   if (!s.isOk()) return {s.code(), "addCharacter: " + s.message()};
@@ -239,6 +232,9 @@ void Renderer::setGpuOcclusionCulling(bool on) {
 void Renderer::setMotionVectors(bool on) {
   if (impl_) impl_->desc.motion_vectors = on;
 }
+void Renderer::setRestoreState(bool on) {
+  if (impl_) impl_->desc.restore_state = on;
+}
 bool Renderer::motionVectors() const { return impl_ && impl_->desc.motion_vectors; }
 void Renderer::setGpuMotionProjection(const glm::mat4* projection) {
   if (!impl_) return;
@@ -277,9 +273,11 @@ uint32_t Renderer::triangleCount(CharacterId id, uint32_t sub_mesh, uint32_t lod
 }
 
 void Renderer::clear(const glm::vec4& color) {
-  glClearColor(color.r, color.g, color.b, color.a);
-  glClearDepth(1.0);
-  glClear(GL_COLOR_BUFFER_BIT | GL_DEPTH_BUFFER_BIT);
+  GLint framebuffer = 0;
+  glGetIntegerv(GL_DRAW_FRAMEBUFFER_BINDING, &framebuffer);
+  const float far_depth = 1.0f;
+  glClearNamedFramebufferfv(GLuint(framebuffer), GL_COLOR, 0, &color[0]);
+  glClearNamedFramebufferfv(GLuint(framebuffer), GL_DEPTH, 0, &far_depth);
 }
 
 Status Renderer::drawCrowd(CharacterId id, const CrowdManager& crowd,
@@ -307,6 +305,7 @@ Status Renderer::drawCrowd(CharacterId id, const CrowdManager& crowd,
   // Layered animation: the crowd's last update wrote layer records.
   const bool layers = !crowd.layerRecords().empty() && mode != DrawMode::kRigid;
   const auto t0 = std::chrono::steady_clock::now();
+  const auto guard = m.enter("drawCrowd", detail::drawFootprint());
   // The ring region: the records; then, each at the next aligned offset, the previous records
   // (motion vectors), the layer records (layered animation) and the previous layer records
   // (both).
@@ -396,6 +395,7 @@ Status Renderer::drawCrowdGpuCulled(CharacterId id, const CrowdManager& crowd,
     return {StatusCode::kInvalidArgument,
             "drawCrowdGpuCulled: the GPU-driven path skins (kDefault, kSkinned, kComputeSkinned)"};
   const auto t0 = std::chrono::steady_clock::now();
+  const auto guard = m.enter("drawCrowdGpuCulled", detail::gpuDrivenFootprint());
   detail::PathFrame frame;
   frame.crowd = &crowd;
   frame.camera = camera;

@@ -13,12 +13,15 @@
 
 #include "core/str_cat.h"
 #include "gl/character_slot.h"
+#include "gl/host_errors.h"
 #include "gl/paths/traditional_path.h"
 #include "gl/paths/vertex_shader_path.h"
 #include "gl/programs/program_set.h"
 #include "gl/resources/gpu_timer.h"
 #include "gl/resources/record_ring.h"
 #include "gl/resources/scratch_buffers.h"
+#include "gl/state/debug_chain.h"
+#include "gl/state/gl_state_guard.h"
 #include "si/gl/renderer.h"
 
 namespace si {
@@ -41,6 +44,7 @@ struct Renderer::Impl {
   // Renderer::setGpuMotionProjection.
   bool has_motion_projection = false;
   glm::mat4 motion_projection{1.0f};
+  detail::DebugChain debug_chain;  // RendererDesc::debug_messages.
 
   /// Uploads `character` (its palette already in `c`), prepares the paths' per-character state
   /// and picks its skinning path (measured with `light` under SkinningPath::kAutomatic).
@@ -48,6 +52,16 @@ struct Renderer::Impl {
                     detail::CharacterSlot& c, const glm::vec3& light);
 
   Status check(const char* what) const { return debug ? checkGlErrors(what) : Status::ok(); }
+
+  /// The start of a public call named `what` that changes context state: with debug checks,
+  /// errors the host left pending are drained and logged as its own (so the call's final check
+  /// reports only the library's); then the guard of `footprint` (gl/state/gl_state_guard.h)
+  /// saves the state it may change (RendererDesc::restore_state) and sets the draw state.
+  std::unique_ptr<detail::GlStateGuard> enter(const char* what,
+                                              const detail::GlFootprint& footprint) const {
+    if (debug) detail::logHostErrors(what);
+    return std::make_unique<detail::GlStateGuard>(footprint, desc.restore_state);
+  }
 
   /// kUnsupported naming `what` while motion vectors are on: only drawCrowd and
   /// drawCrowdGpuCulled draw them.
@@ -115,6 +129,7 @@ struct Renderer::Impl {
                        const CrowdManager& crowd, const Camera& camera, const glm::vec3& light,
                        DrawStats* stats) {
     const auto t0 = std::chrono::steady_clock::now();
+    const auto guard = enter(what, detail::drawFootprint());
     detail::PathFrame frame;
     frame.crowd = &crowd;
     frame.camera = camera;
@@ -126,16 +141,14 @@ struct Renderer::Impl {
     return s;
   }
 
-  /// Runs `p` for character `c` and `frame`: its uploads, then its commands with depth test and
-  /// back-face culling under the GPU timer (when asked for and `stats` is non-null). Fills `st`
-  /// with what it drew, the CPU milliseconds since `t0` and the GPU milliseconds.
+  /// Runs `p` for character `c` and `frame`: its uploads, then its commands under the GPU timer
+  /// (when asked for and `stats` is non-null), inside the caller's state guard (enter()). Fills
+  /// `st` with what it drew, the CPU milliseconds since `t0` and the GPU milliseconds.
   Status runPath(detail::CharacterSlot& c, detail::DrawPath& p, const detail::PathFrame& frame,
                  std::chrono::steady_clock::time_point t0, bool timed, DrawStats* st) {
     const detail::DrawResources r = resources(c);
     Status s = p.uploadFrame(r, frame);
     if (!s.isOk()) return s;
-    glEnable(GL_DEPTH_TEST);
-    glEnable(GL_CULL_FACE);
     timer.begin(desc.measure_gpu_time && timed);
     s = p.draw(r, frame, st);
     st->cpu_submit_ms = detail::msSince(t0);  // Before the (blocking) timer read.

@@ -92,6 +92,7 @@ Status Renderer::captureSkinnedPositions(CharacterId id, const InstanceRecord& r
                              "captureSkinnedPositions: the vertex list");
   }
   if (!s.isOk()) return s;
+  const auto guard = m.enter("captureSkinnedPositions", detail::captureFootprint());
   out->resize(vertices);
   if (compute) {
     captureCompute(m.resources(*c), vertices, b);

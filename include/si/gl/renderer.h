@@ -72,9 +72,27 @@ struct RendererDesc {
   /// Frames the record ring holds before reusing a region (each guarded by a fence); 0 means 3.
   /// The ring has this many regions per character (each character's draw takes one).
   uint32_t ring_frames = 0;
-  /// Check glGetError after each group of calls and route KHR_debug messages to the log
-  /// callback. 0 means: on in debug builds (no NDEBUG), off otherwise; 1 on; 2 off.
+  /// Check glGetError after each group of calls (a failing check is the call's kBackend
+  /// status, naming the GL error). Errors already pending when a call starts are the host's:
+  /// they are drained and logged as warnings naming the call, never returned as its failure.
+  /// 0 means: on in debug builds (no NDEBUG), off otherwise; 1 on; 2 off.
   uint32_t debug_checks = 0;
+  /// Opt-in: route the driver's KHR_debug messages to si's log callback (si::setLogCallback).
+  /// The renderer then installs a debug callback that first hands every message to the
+  /// callback installed before it (with that callback's user pointer), so the host's callback
+  /// still receives every message; it enables GL_DEBUG_OUTPUT (never the synchronous mode).
+  /// shutdown() puts the previous callback and GL_DEBUG_OUTPUT back, if the host has not
+  /// installed another callback since. Off (the default), the renderer never touches debug
+  /// output. Ignored without KHR_debug (GlInfo::has_khr_debug).
+  bool debug_messages = false;
+  /// The GL state contract. On (the default), every call that changes context state saves the
+  /// state it may change and restores it before it returns: the host finds its program, vertex
+  /// array, buffer bindings (indexed ones included), textures and samplers, enables, face
+  /// culling, colour mask, framebuffers, viewport and pixel store as it left them. Off, the
+  /// calls skip the save and restore and leave what docs/rendering.md ("A guest in the host's
+  /// engine") lists; the cost of restoring is measured there. Switchable with
+  /// setRestoreState().
+  bool restore_state = true;
   /// Measure GPU time of each draw call group with a timer query (blocks until the result is
   /// available: for benchmarks and tests).
   bool measure_gpu_time = false;
@@ -205,6 +223,8 @@ class Renderer {
   void setGpuOcclusionCulling(bool on);
   /// Turns RendererDesc::motion_vectors on or off from the next draw.
   void setMotionVectors(bool on);
+  /// Turns RendererDesc::restore_state on or off from the next call.
+  void setRestoreState(bool on);
   bool motionVectors() const;
   /// drawCrowdGpuCulled's motion vectors: the projection they use in place of the draw camera's
   /// from the next GPU-driven draw on (the draw camera's without its temporal anti-aliasing
@@ -226,7 +246,9 @@ class Renderer {
 
   /// Sets the directional light (world direction the light travels along).
   void setLightDirection(const glm::vec3& direction) { light_direction_ = direction; }
-  /// The colour the frame is cleared to by clear().
+  /// Clears the bound draw framebuffer's draw buffer 0 to `color` and its depth to 1
+  /// (glClearNamedFramebufferfv: the clear colour and depth of the context are left as they
+  /// are; the scissor test and the write masks apply).
   void clear(const glm::vec4& color);
 
   /// Builds the crowd's batches with `batcher` straight into the mapped record ring and draws

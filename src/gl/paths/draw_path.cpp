@@ -9,7 +9,9 @@ namespace si::detail {
 
 void bindAppearance(const DrawResources& r, const Program& program) {
   r.character->bindMaterials();
-  glBindTextureUnit(2, r.custom_texture);
+  // Unit 2 is sampled only while a custom array is set (u_custom_layers > 0); binding 0 there
+  // would unbind every target of the unit.
+  if (r.custom_texture != kNoObject) glBindTextureUnit(2, r.custom_texture);
   if (program.custom_layers >= 0)
     glProgramUniform1ui(program.id, program.custom_layers, r.custom_layers);
 }

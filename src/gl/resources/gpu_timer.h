@@ -1,6 +1,6 @@
 // SkinnedInstancing — SPDX-License-Identifier: MIT (see LICENSE)
 #pragma once
-// GPU time of a draw function (RendererDesc::measure_gpu_time): one GL_TIME_ELAPSED query.
+// GPU time of a draw function (RendererDesc::measure_gpu_time): two timestamp queries.
 
 #include <glad/gl.h>
 
@@ -17,29 +17,31 @@ inline double msSince(std::chrono::steady_clock::time_point t0) {
 
 class GpuTimer {
  public:
-  void create() { glCreateQueries(GL_TIME_ELAPSED, 1, &query_); }
+  void create() { glCreateQueries(GL_TIMESTAMP, 2, queries_); }
   void release() {
-    if (query_ != kNoObject) glDeleteQueries(1, &query_);
-    query_ = kNoObject;
+    if (queries_[0] != kNoObject) glDeleteQueries(2, queries_);
+    queries_[0] = queries_[1] = kNoObject;
   }
-  /// Starts timing when `enabled`.
+  /// Starts timing when `enabled`. Timestamps (glQueryCounter), not a GL_TIME_ELAPSED query:
+  /// the host may have its own elapsed-time query active around the call.
   void begin(bool enabled) {
     active_ = enabled;
-    if (active_) glBeginQuery(GL_TIME_ELAPSED, query_);
+    if (active_) glQueryCounter(queries_[0], GL_TIMESTAMP);
   }
   /// Ends what begin() started and returns the GPU milliseconds (blocking), or -1 when it did
   /// not start.
   double end() {
     if (!active_) return -1.0;
     active_ = false;
-    glEndQuery(GL_TIME_ELAPSED);
-    GLuint64 ns = 0;
-    glGetQueryObjectui64v(query_, GL_QUERY_RESULT, &ns);
-    return double(ns) * 1e-6;
+    glQueryCounter(queries_[1], GL_TIMESTAMP);
+    GLuint64 start = 0, stop = 0;
+    glGetQueryObjectui64v(queries_[0], GL_QUERY_RESULT, &start);
+    glGetQueryObjectui64v(queries_[1], GL_QUERY_RESULT, &stop);
+    return stop > start ? double(stop - start) * 1e-6 : 0.0;
   }
 
  private:
-  GLuint query_ = kNoObject;
+  GLuint queries_[2] = {kNoObject, kNoObject};
   bool active_ = false;
 };
 
