@@ -1,7 +1,7 @@
 // See own_renderer.h.
 #include "own_renderer.h"
 
-#include <GL/glcorearb.h>
+#include <glad/gl.h>
 
 #include <algorithm>
 #include <cmath>
@@ -13,55 +13,6 @@
 namespace consumer {
 
 namespace {
-
-// The engine's own loader: the functions it uses, from the context.
-#define CONSUMER_GL_FUNCTIONS(X)                                                            \
-  X(PFNGLCREATESHADERPROC, CreateShader) X(PFNGLSHADERSOURCEPROC, ShaderSource)              \
-  X(PFNGLCOMPILESHADERPROC, CompileShader) X(PFNGLGETSHADERIVPROC, GetShaderiv)              \
-  X(PFNGLGETSHADERINFOLOGPROC, GetShaderInfoLog) X(PFNGLCREATEPROGRAMPROC, CreateProgram)    \
-  X(PFNGLATTACHSHADERPROC, AttachShader) X(PFNGLLINKPROGRAMPROC, LinkProgram)                \
-  X(PFNGLGETPROGRAMIVPROC, GetProgramiv) X(PFNGLGETPROGRAMINFOLOGPROC, GetProgramInfoLog)    \
-  X(PFNGLDELETESHADERPROC, DeleteShader) X(PFNGLDELETEPROGRAMPROC, DeleteProgram)            \
-  X(PFNGLUSEPROGRAMPROC, UseProgram) X(PFNGLCREATEBUFFERSPROC, CreateBuffers)                \
-  X(PFNGLNAMEDBUFFERSTORAGEPROC, NamedBufferStorage)                                         \
-  X(PFNGLNAMEDBUFFERSUBDATAPROC, NamedBufferSubData) X(PFNGLDELETEBUFFERSPROC, DeleteBuffers) \
-  X(PFNGLCREATEVERTEXARRAYSPROC, CreateVertexArrays)                                         \
-  X(PFNGLDELETEVERTEXARRAYSPROC, DeleteVertexArrays)                                         \
-  X(PFNGLVERTEXARRAYVERTEXBUFFERPROC, VertexArrayVertexBuffer)                               \
-  X(PFNGLVERTEXARRAYELEMENTBUFFERPROC, VertexArrayElementBuffer)                             \
-  X(PFNGLENABLEVERTEXARRAYATTRIBPROC, EnableVertexArrayAttrib)                               \
-  X(PFNGLVERTEXARRAYATTRIBBINDINGPROC, VertexArrayAttribBinding)                             \
-  X(PFNGLVERTEXARRAYATTRIBFORMATPROC, VertexArrayAttribFormat)                               \
-  X(PFNGLVERTEXARRAYATTRIBIFORMATPROC, VertexArrayAttribIFormat)                             \
-  X(PFNGLBINDVERTEXARRAYPROC, BindVertexArray) X(PFNGLBINDBUFFERRANGEPROC, BindBufferRange)  \
-  X(PFNGLCREATETEXTURESPROC, CreateTextures) X(PFNGLDELETETEXTURESPROC, DeleteTextures)      \
-  X(PFNGLTEXTURESTORAGE2DPROC, TextureStorage2D)                                             \
-  X(PFNGLTEXTURESUBIMAGE2DPROC, TextureSubImage2D)                                           \
-  X(PFNGLTEXTUREPARAMETERIPROC, TextureParameteri)                                           \
-  X(PFNGLGENERATETEXTUREMIPMAPPROC, GenerateTextureMipmap)                                   \
-  X(PFNGLBINDTEXTUREUNITPROC, BindTextureUnit) X(PFNGLPIXELSTOREIPROC, PixelStorei)          \
-  X(PFNGLBINDBUFFERBASEPROC, BindBufferBase)                                                 \
-  X(PFNGLPROGRAMUNIFORM4FVPROC, ProgramUniform4fv)                                           \
-  X(PFNGLPROGRAMUNIFORM3FVPROC, ProgramUniform3fv)                                           \
-  X(PFNGLPROGRAMUNIFORMMATRIX4FVPROC, ProgramUniformMatrix4fv)                               \
-  X(PFNGLDRAWELEMENTSINSTANCEDPROC, DrawElementsInstanced) X(PFNGLENABLEPROC, Enable)        \
-  X(PFNGLGETERRORPROC, GetError) X(PFNGLCLEARCOLORPROC, ClearColor)                          \
-  X(PFNGLCLEARDEPTHPROC, ClearDepth) X(PFNGLCLEARPROC, Clear)
-
-struct Gl {
-#define CONSUMER_DECLARE(type, name) type name = nullptr;
-  CONSUMER_GL_FUNCTIONS(CONSUMER_DECLARE)
-#undef CONSUMER_DECLARE
-};
-
-std::string load(GetProc get_proc, void* user, Gl* gl) {
-#define CONSUMER_LOAD(type, name)                                          \
-  gl->name = reinterpret_cast<type>(get_proc(user, "gl" #name));           \
-  if (gl->name == nullptr) return "no gl" #name;
-  CONSUMER_GL_FUNCTIONS(CONSUMER_LOAD)
-#undef CONSUMER_LOAD
-  return "";
-}
 
 // The engine's include resolver, reduced to what GLSL needs here: each `#include "x"` line of
 // `text` replaced by x's text (from `dir`), recursively.
@@ -124,17 +75,17 @@ void main() {
 }
 )";
 
-std::string compile(const Gl& gl, GLenum type, const std::string& source, GLuint* out) {
-  const GLuint s = gl.CreateShader(type);
+std::string compile(GLenum type, const std::string& source, GLuint* out) {
+  const GLuint s = glCreateShader(type);
   const char* text = source.c_str();
-  gl.ShaderSource(s, 1, &text, nullptr);
-  gl.CompileShader(s);
+  glShaderSource(s, 1, &text, nullptr);
+  glCompileShader(s);
   GLint ok = 0;
-  gl.GetShaderiv(s, GL_COMPILE_STATUS, &ok);
+  glGetShaderiv(s, GL_COMPILE_STATUS, &ok);
   if (!ok) {
     char log[4096] = {};
-    gl.GetShaderInfoLog(s, sizeof log, nullptr, log);
-    gl.DeleteShader(s);
+    glGetShaderInfoLog(s, sizeof log, nullptr, log);
+    glDeleteShader(s);
     return std::string("shader compile failed: ") + log;
   }
   *out = s;
@@ -143,15 +94,13 @@ std::string compile(const Gl& gl, GLenum type, const std::string& source, GLuint
 
 }  // namespace
 
-std::string drawWithOwnRenderer(GetProc get_proc, void* user, const std::string& glsl_dir,
+std::string drawWithOwnRenderer(const std::string& glsl_dir,
                                 const si::Character& character, const si::BakedPalette& palette,
                                 const si::CrowdManager& crowd, const float view_projection[16],
                                 const float light[3], const float clear_rgb[3],
                                 uint32_t max_uniform_block_bytes,
                                 uint32_t uniform_offset_alignment) {
-  Gl gl;
-  std::string error = load(get_proc, user, &gl);
-  if (!error.empty()) return error;
+  std::string error;
 
   // Batching for the engine's uniform block.
   si::InstanceBatcher batcher;
@@ -168,17 +117,17 @@ std::string drawWithOwnRenderer(GetProc get_proc, void* user, const std::string&
           "\n#define SI_PALETTE_INFO_BINDING 7\n" + kVertexMain,
       glsl_dir);
   GLuint vs = 0, fs = 0;
-  error = compile(gl, GL_VERTEX_SHADER, vs_text, &vs);
-  if (error.empty()) error = compile(gl, GL_FRAGMENT_SHADER, kFragment, &fs);
+  error = compile(GL_VERTEX_SHADER, vs_text, &vs);
+  if (error.empty()) error = compile(GL_FRAGMENT_SHADER, kFragment, &fs);
   if (!error.empty()) return error;
-  const GLuint program = gl.CreateProgram();
-  gl.AttachShader(program, vs);
-  gl.AttachShader(program, fs);
-  gl.LinkProgram(program);
-  gl.DeleteShader(vs);
-  gl.DeleteShader(fs);
+  const GLuint program = glCreateProgram();
+  glAttachShader(program, vs);
+  glAttachShader(program, fs);
+  glLinkProgram(program);
+  glDeleteShader(vs);
+  glDeleteShader(fs);
   GLint linked = 0;
-  gl.GetProgramiv(program, GL_LINK_STATUS, &linked);
+  glGetProgramiv(program, GL_LINK_STATUS, &linked);
   if (!linked) return "program link failed";
 
   // The character: the vertex stream the include expects, and the indices.
@@ -186,86 +135,86 @@ std::string drawWithOwnRenderer(GetProc get_proc, void* user, const std::string&
   s = si::buildVertexStream(character.mesh, palette, &stream);
   if (!s.isOk()) return s.toString();
   GLuint buffers[4] = {0, 0, 0, 0};  // vertices, indices, records, palette info
-  gl.CreateBuffers(4, buffers);
-  gl.NamedBufferStorage(buffers[0], GLsizeiptr(stream.bytes.size()), stream.bytes.data(), 0);
-  gl.NamedBufferStorage(buffers[1], GLsizeiptr(character.mesh.indices.size() * 4),
+  glCreateBuffers(4, buffers);
+  glNamedBufferStorage(buffers[0], GLsizeiptr(stream.bytes.size()), stream.bytes.data(), 0);
+  glNamedBufferStorage(buffers[1], GLsizeiptr(character.mesh.indices.size() * 4),
                         character.mesh.indices.data(), 0);
   GLuint vao = 0;
-  gl.CreateVertexArrays(1, &vao);
-  gl.VertexArrayVertexBuffer(vao, 0, buffers[0], 0, GLsizei(stream.stride_bytes));
-  gl.VertexArrayElementBuffer(vao, buffers[1]);
+  glCreateVertexArrays(1, &vao);
+  glVertexArrayVertexBuffer(vao, 0, buffers[0], 0, GLsizei(stream.stride_bytes));
+  glVertexArrayElementBuffer(vao, buffers[1]);
   for (GLuint loc = 0; loc < 5; ++loc) {
-    gl.EnableVertexArrayAttrib(vao, loc);
-    gl.VertexArrayAttribBinding(vao, loc, 0);
+    glEnableVertexArrayAttrib(vao, loc);
+    glVertexArrayAttribBinding(vao, loc, 0);
   }
-  gl.VertexArrayAttribFormat(vao, 0, 3, GL_FLOAT, GL_FALSE, si::VertexStream::kPositionOffset);
-  gl.VertexArrayAttribFormat(vao, 1, 4, GL_INT_2_10_10_10_REV, GL_TRUE,
+  glVertexArrayAttribFormat(vao, 0, 3, GL_FLOAT, GL_FALSE, si::VertexStream::kPositionOffset);
+  glVertexArrayAttribFormat(vao, 1, 4, GL_INT_2_10_10_10_REV, GL_TRUE,
                              si::VertexStream::kNormalOffset);
-  gl.VertexArrayAttribFormat(vao, 2, 2, GL_HALF_FLOAT, GL_FALSE, si::VertexStream::kTexcoordOffset);
-  gl.VertexArrayAttribIFormat(vao, 3, 4, stream.wide_joints ? GL_UNSIGNED_SHORT : GL_UNSIGNED_BYTE,
+  glVertexArrayAttribFormat(vao, 2, 2, GL_HALF_FLOAT, GL_FALSE, si::VertexStream::kTexcoordOffset);
+  glVertexArrayAttribIFormat(vao, 3, 4, stream.wide_joints ? GL_UNSIGNED_SHORT : GL_UNSIGNED_BYTE,
                               si::VertexStream::kJointsOffset);
-  gl.VertexArrayAttribFormat(vao, 4, 4, GL_UNSIGNED_SHORT, GL_TRUE, stream.weights_offset);
+  glVertexArrayAttribFormat(vao, 4, 4, GL_UNSIGNED_SHORT, GL_TRUE, stream.weights_offset);
 
   // The palette (matrix formats in float32 here) and the base colour texture.
   GLuint textures[2] = {0, 0};
-  gl.CreateTextures(GL_TEXTURE_2D, 2, textures);
-  gl.TextureStorage2D(textures[0], 1, GL_RGBA32F, GLsizei(palette.layout.width),
+  glCreateTextures(GL_TEXTURE_2D, 2, textures);
+  glTextureStorage2D(textures[0], 1, GL_RGBA32F, GLsizei(palette.layout.width),
                       GLsizei(palette.layout.height));
-  gl.PixelStorei(GL_UNPACK_ALIGNMENT, 1);
-  gl.TextureSubImage2D(textures[0], 0, 0, 0, GLsizei(palette.layout.width),
+  glPixelStorei(GL_UNPACK_ALIGNMENT, 1);
+  glTextureSubImage2D(textures[0], 0, 0, 0, GLsizei(palette.layout.width),
                        GLsizei(palette.layout.height), GL_RGBA, GL_FLOAT,
                        palette.texel_bytes.data());
-  gl.TextureParameteri(textures[0], GL_TEXTURE_MIN_FILTER, GL_NEAREST);
-  gl.TextureParameteri(textures[0], GL_TEXTURE_MAG_FILTER, GL_NEAREST);
+  glTextureParameteri(textures[0], GL_TEXTURE_MIN_FILTER, GL_NEAREST);
+  glTextureParameteri(textures[0], GL_TEXTURE_MAG_FILTER, GL_NEAREST);
   const si::Material& material = character.materials.at(0);
   const si::Image& image = character.images.at(size_t(material.base_color_image));
   const GLsizei levels =
       GLsizei(std::floor(std::log2(double(std::max(image.width, image.height))))) + 1;
-  gl.TextureStorage2D(textures[1], levels, GL_RGBA8, GLsizei(image.width), GLsizei(image.height));
-  gl.TextureSubImage2D(textures[1], 0, 0, 0, GLsizei(image.width), GLsizei(image.height), GL_RGBA,
+  glTextureStorage2D(textures[1], levels, GL_RGBA8, GLsizei(image.width), GLsizei(image.height));
+  glTextureSubImage2D(textures[1], 0, 0, 0, GLsizei(image.width), GLsizei(image.height), GL_RGBA,
                        GL_UNSIGNED_BYTE, image.rgba8.data());
-  gl.GenerateTextureMipmap(textures[1]);
-  gl.TextureParameteri(textures[1], GL_TEXTURE_MIN_FILTER, GL_LINEAR_MIPMAP_LINEAR);
-  gl.TextureParameteri(textures[1], GL_TEXTURE_MAG_FILTER, GL_LINEAR);
+  glGenerateTextureMipmap(textures[1]);
+  glTextureParameteri(textures[1], GL_TEXTURE_MIN_FILTER, GL_LINEAR_MIPMAP_LINEAR);
+  glTextureParameteri(textures[1], GL_TEXTURE_MAG_FILTER, GL_LINEAR);
 
   // The palette's info block (si::paletteShaderInfo) at the binding the engine chose for it
   // (SI_PALETTE_INFO_BINDING above), the camera and shading.
   const glm::uvec4 palette_info = si::paletteShaderInfo(palette);
-  gl.NamedBufferStorage(buffers[3], sizeof(palette_info), &palette_info[0], 0);
-  gl.BindBufferBase(GL_UNIFORM_BUFFER, 7, buffers[3]);
-  gl.ProgramUniformMatrix4fv(program, 1, 1, GL_FALSE, view_projection);
-  gl.ProgramUniform4fv(program, 2, 1, &material.base_color_factor[0]);
-  gl.ProgramUniform3fv(program, 3, 1, light);
+  glNamedBufferStorage(buffers[3], sizeof(palette_info), &palette_info[0], 0);
+  glBindBufferBase(GL_UNIFORM_BUFFER, 7, buffers[3]);
+  glProgramUniformMatrix4fv(program, 1, 1, GL_FALSE, view_projection);
+  glProgramUniform4fv(program, 2, 1, &material.base_color_factor[0]);
+  glProgramUniform3fv(program, 3, 1, light);
 
   // The frame: records into the engine's buffer, then one instanced draw per batch.
-  gl.ClearColor(clear_rgb[0], clear_rgb[1], clear_rgb[2], 1.0f);
-  gl.ClearDepth(1.0);
-  gl.Clear(GL_COLOR_BUFFER_BIT | GL_DEPTH_BUFFER_BIT);
+  glClearColor(clear_rgb[0], clear_rgb[1], clear_rgb[2], 1.0f);
+  glClearDepth(1.0);
+  glClear(GL_COLOR_BUFFER_BIT | GL_DEPTH_BUFFER_BIT);
   const GLsizeiptr block_bytes = GLsizeiptr(capacity) * GLsizeiptr(si::kInstanceRecordSize);
   std::vector<uint8_t> records(batcher.recordBufferBound(crowd) + size_t(block_bytes));
   std::vector<si::DrawBatch> draws;
   s = batcher.build(crowd, records, &draws);
   if (!s.isOk()) return s.toString();
-  gl.NamedBufferStorage(buffers[2], GLsizeiptr(records.size()), records.data(), 0);
-  gl.UseProgram(program);
-  gl.BindVertexArray(vao);
-  gl.BindTextureUnit(0, textures[0]);
-  gl.BindTextureUnit(1, textures[1]);
-  gl.Enable(GL_DEPTH_TEST);
-  gl.Enable(GL_CULL_FACE);
+  glNamedBufferStorage(buffers[2], GLsizeiptr(records.size()), records.data(), 0);
+  glUseProgram(program);
+  glBindVertexArray(vao);
+  glBindTextureUnit(0, textures[0]);
+  glBindTextureUnit(1, textures[1]);
+  glEnable(GL_DEPTH_TEST);
+  glEnable(GL_CULL_FACE);
   for (const si::DrawBatch& d : draws) {
     const std::vector<si::IndexRange>& lods = character.mesh.sub_meshes[d.sub_mesh].lods;
     const si::IndexRange r = lods[std::min<size_t>(d.lod, lods.size() - 1)];
-    gl.BindBufferRange(GL_UNIFORM_BUFFER, 0, buffers[2], GLintptr(d.byte_offset), block_bytes);
-    gl.DrawElementsInstanced(GL_TRIANGLES, GLsizei(r.index_count), GL_UNSIGNED_INT,
+    glBindBufferRange(GL_UNIFORM_BUFFER, 0, buffers[2], GLintptr(d.byte_offset), block_bytes);
+    glDrawElementsInstanced(GL_TRIANGLES, GLsizei(r.index_count), GL_UNSIGNED_INT,
                              reinterpret_cast<const void*>(uintptr_t(r.first_index) * 4),
                              GLsizei(d.instance_count));
   }
-  const GLenum gl_error = gl.GetError();
-  gl.DeleteProgram(program);
-  gl.DeleteBuffers(4, buffers);
-  gl.DeleteVertexArrays(1, &vao);
-  gl.DeleteTextures(2, textures);
+  const GLenum gl_error = glGetError();
+  glDeleteProgram(program);
+  glDeleteBuffers(4, buffers);
+  glDeleteVertexArrays(1, &vao);
+  glDeleteTextures(2, textures);
   return gl_error == GL_NO_ERROR ? "" : "GL error " + std::to_string(gl_error);
 }
 

@@ -1,7 +1,7 @@
-// An engine's own renderer on SkinnedInstancing's CPU side and its public GLSL include: its own
-// GL loader (function pointers from the context's get-proc-address, glcorearb.h types), its
-// own shaders built on si_skinning.glsl as installed (through a tiny include resolver), its own
-// buffers. docs/glsl-interface.md walks through it.
+// An engine's own renderer on SkinnedInstancing's CPU side and its public GLSL include: the
+// engine's own GL loader (its glad, loaded by the caller), its own shaders built on
+// si_skinning.glsl as installed (through a tiny include resolver), its own buffers.
+// docs/glsl-interface.md walks through it.
 #pragma once
 
 #include <cstdint>
@@ -15,13 +15,10 @@
 
 namespace consumer {
 
-/// Returns a GL function's address, or null (as eglGetProcAddress does).
-using GetProc = void* (*)(void* user, const char* name);
-
-/// Clears the current framebuffer to `clear_rgb` and draws `crowd` (after its update) with the
+/// With the engine's loader loaded for the current context: clears the current framebuffer to `clear_rgb` and draws `crowd` (after its update) with the
 /// character and palette, camera-relative `view_projection` and light `light`. `glsl_dir` holds
 /// si_skinning.glsl. Returns "" or what failed.
-std::string drawWithOwnRenderer(GetProc get_proc, void* user, const std::string& glsl_dir,
+std::string drawWithOwnRenderer(const std::string& glsl_dir,
                                 const si::Character& character, const si::BakedPalette& palette,
                                 const si::CrowdManager& crowd, const float view_projection[16],
                                 const float light[3], const float clear_rgb[3],
