@@ -346,8 +346,8 @@ int main(int argc, char** argv) {
   rd.measure_gpu_time = b.o.gpu_timer;
   rd.debug_checks = 2;
   if (s.isOk()) s = renderer.init(b.setup.info, rd);
-  if (s.isOk()) s = renderer.uploadPalette(palette);
-  if (s.isOk()) s = renderer.uploadCharacter(character, palette);
+  si::CharacterId id;
+  if (s.isOk()) s = renderer.addCharacter(character, palette, &id);
   if (!s.isOk()) return fail("setup", s);
   std::printf("Automatic skinning path choice: %s (%s)\n",
               si::skinningPathName(renderer.skinningPath()), renderer.skinningPathReason().c_str());
@@ -435,8 +435,7 @@ int main(int argc, char** argv) {
     si::BakedPalette p;
     si::BakeReport r;
     s = si::bakePalette(character, d, &p, &r);
-    if (s.isOk()) s = renderer.uploadPalette(p);
-    if (s.isOk()) s = renderer.uploadCharacter(character, p);
+    if (s.isOk()) s = renderer.replaceCharacter(id, character, p);
     if (!s.isOk()) return fail("bake configuration", s);
     Row row;
     s = si::bench::runPath(b.setup, renderer, p, "field", b.o.error_table_size, b.o.error_path,

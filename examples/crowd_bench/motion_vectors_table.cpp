@@ -17,8 +17,8 @@ Status runMotion(Setup& setup, const BakedPalette& palette, const RendererDesc& 
   rd.motion_vectors = motion;
   Renderer renderer;
   Status s = renderer.init(setup.info, rd);
-  if (s.isOk()) s = renderer.uploadPalette(palette);
-  if (s.isOk()) s = renderer.uploadCharacter(setup.character, palette);
+  CharacterId id;
+  if (s.isOk()) s = renderer.addCharacter(setup.character, palette, &id);
   CrowdManager crowd;
   CrowdDesc cd;
   cd.palette = &palette;

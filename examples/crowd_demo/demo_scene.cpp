@@ -144,8 +144,8 @@ si::Status DemoScene::initGl(const si::GlInfo& info) {
   si::RendererDesc rd;
   rd.measure_gpu_time = true;
   si::Status s = renderer_.init(info, rd);
-  if (s.isOk()) s = renderer_.uploadPalette(palette_);
-  if (s.isOk()) s = renderer_.uploadCharacter(character_, palette_);
+  si::CharacterId id;  // Character 0, the embedded or loaded one; the mixed cast adds more.
+  if (s.isOk()) s = renderer_.addCharacter(character_, palette_, &id);
   if (s.isOk()) s = batcher_.init(renderer_.batchLimits());
   if (s.isOk() && mixed_) s = cast_.upload(renderer_);
   if (!s.isOk()) return s;
@@ -347,8 +347,7 @@ si::Status DemoScene::cycleFormat() {
     options_.format = previous;
     return s;
   }
-  s = renderer_.uploadPalette(palette_);
-  if (s.isOk()) s = renderer_.uploadCharacter(character_, palette_);
+  s = renderer_.replaceCharacter(si::CharacterId{}, character_, palette_);
   if (s.isOk()) s = buildCrowd();
   return s;
 }
@@ -394,8 +393,7 @@ si::Status DemoScene::addTravellingClips() {
   for (si::Clip& clip : c.clips)
     if (clip.root_motion.extract) character_.clips.push_back(std::move(clip));
   s = bake();
-  if (s.isOk() && gl_ready_) s = renderer_.uploadPalette(palette_);
-  if (s.isOk() && gl_ready_) s = renderer_.uploadCharacter(character_, palette_);
+  if (s.isOk() && gl_ready_) s = renderer_.replaceCharacter(si::CharacterId{}, character_, palette_);
   return s;
 }
 

@@ -21,7 +21,7 @@ namespace {
 
 Status noRenderer(const char* what) {
   return {StatusCode::kInvalidArgument,
-          strCat(what, ": init, uploadPalette and uploadCharacter first")};
+          strCat(what, ": init and addCharacter first")};
 }
 
 const char* textureTargetName(GLint target) {
@@ -121,33 +121,23 @@ BatchLimits Renderer::batchLimits() const {
   return l;
 }
 
-Status Renderer::uploadPalette(const BakedPalette& palette) {
-  if (!impl_) return {StatusCode::kInvalidArgument, "Renderer: init() first"};
-  const auto guard = impl_->enter("uploadPalette", detail::uploadFootprint());
-  Status s = impl_->firstCharacter().palette.upload(palette, impl_->info);
-  if (s.isOk()) impl_->sizeRing();
-  return s.isOk() ? impl_->check("uploadPalette") : s;
-}
-
-Status Renderer::uploadCharacter(const Character& character, const BakedPalette& palette) {
-  if (!impl_) return {StatusCode::kInvalidArgument, "Renderer: init() first"};
-  const auto guard = impl_->enter("uploadCharacter", detail::uploadFootprint());
-  impl_->sizeRing();
-  return impl_->uploadMesh(character, palette, impl_->firstCharacter(), light_direction_);
-}
-
-Status Renderer::Impl::uploadMesh(const Character& character, const BakedPalette& palette,
-                                  detail::CharacterSlot& c, const glm::vec3& light) {
+Status Renderer::Impl::uploadCharacter(const char* what, const Character& character,
+                                       const BakedPalette& palette, detail::CharacterSlot& c,
+                                       const glm::vec3& light) {
   Impl& m = *this;
-  Status s = c.character.upload(character, palette, m.desc.max_texture_size);
+  const auto named = [what](const Status& s) {
+    return s.isOk() ? s : Status(s.code(), strCat(what, ": ", s.message()));
+  };
+  Status s = c.palette.upload(palette, m.info);
+  if (s.isOk()) s = c.character.upload(character, palette, m.desc.max_texture_size);
   if (s.isOk()) s = c.preskin.build(c.character);
-  if (!s.isOk()) return s;
+  if (!s.isOk()) return named(s);
   const detail::DrawResources r = m.resources(c);
   for (detail::DrawPath* p : std::initializer_list<detail::DrawPath*>{
            &m.vertex_path, &c.compute_path, &m.traditional_path, &c.cpu_path,
            &c.gpu_culled_path})
     if (s.isOk()) s = p->prepare(r);
-  if (s.isOk()) s = m.check("uploadCharacter");
+  if (s.isOk()) s = m.check(what);
   c.path = m.desc.skinning_path == SkinningPath::kCompute ? SkinningPath::kCompute
                                                            : SkinningPath::kVertexShader;
   c.path_reason = "explicit setting";
@@ -162,7 +152,7 @@ Status Renderer::Impl::uploadMesh(const Character& character, const BakedPalette
       s = m.check("measuring the skinning paths");
     }
   }
-  return s;
+  return named(s);
 }
 
 Status Renderer::addCharacter(const Character& character, const BakedPalette& palette,
@@ -171,13 +161,11 @@ Status Renderer::addCharacter(const Character& character, const BakedPalette& pa
   if (id == nullptr) return {StatusCode::kInvalidArgument, "addCharacter: id is null"};
   Impl& m = *impl_;
   const auto guard = m.enter("addCharacter", detail::uploadFootprint());
-  auto slot = std::make_unique<detail::CharacterSlot>();
-  Status s = slot->palette.upload(palette, m.info);
-  if (!s.isOk()) return {s.code(), "addCharacter: " + s.message()};
   // The new character's ring regions exist before its path choice draws.
-  m.characters.push_back(std::move(slot));
+  m.characters.push_back(std::make_unique<detail::CharacterSlot>());
   m.sizeRing();
-  s = m.uploadMesh(character, palette, *m.characters.back(), light_direction_);
+  const Status s =
+      m.uploadCharacter("addCharacter", character, palette, *m.characters.back(), light_direction_);
   if (!s.isOk()) {
     m.characters.back()->release();
     m.characters.pop_back();
@@ -185,6 +173,27 @@ Status Renderer::addCharacter(const Character& character, const BakedPalette& pa
     return s;
   }
   id->index = uint32_t(m.characters.size() - 1);
+  return Status::ok();
+}
+
+Status Renderer::replaceCharacter(CharacterId id, const Character& character,
+                                  const BakedPalette& palette) {
+  if (!impl_) return {StatusCode::kInvalidArgument, "Renderer: init() first"};
+  Impl& m = *impl_;
+  if (id.index >= m.characters.size())
+    return {StatusCode::kInvalidArgument,
+            strCat("replaceCharacter: no character ", id.index, " (", m.characters.size(),
+                   " added; addCharacter gives the ids)")};
+  const auto guard = m.enter("replaceCharacter", detail::uploadFootprint());
+  auto slot = std::make_unique<detail::CharacterSlot>();
+  const Status s = m.uploadCharacter("replaceCharacter", character, palette, *slot,
+                                     light_direction_);
+  if (!s.isOk()) {
+    slot->release();
+    return s;
+  }
+  m.characters[id.index]->release();
+  m.characters[id.index] = std::move(slot);
   return Status::ok();
 }
 

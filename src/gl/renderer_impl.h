@@ -46,10 +46,12 @@ struct Renderer::Impl {
   glm::mat4 motion_projection{1.0f};
   detail::DebugChain debug_chain;  // RendererDesc::debug_messages.
 
-  /// Uploads `character` (its palette already in `c`), prepares the paths' per-character state
-  /// and picks its skinning path (measured with `light` under SkinningPath::kAutomatic).
-  Status uploadMesh(const Character& character, const BakedPalette& palette,
-                    detail::CharacterSlot& c, const glm::vec3& light);
+  /// Uploads `palette` and `character` into `c`, prepares the paths' per-character state and
+  /// picks its skinning path (measured with `light` under SkinningPath::kAutomatic). Errors are
+  /// prefixed with `what` (the public call).
+  Status uploadCharacter(const char* what, const Character& character,
+                         const BakedPalette& palette, detail::CharacterSlot& c,
+                         const glm::vec3& light);
 
   Status check(const char* what) const { return debug ? checkGlErrors(what) : Status::ok(); }
 
@@ -73,13 +75,6 @@ struct Renderer::Impl {
                                  "drawCrowdGpuCulled")};
   }
 
-  /// Character 0, created (empty) if there is none: what uploadPalette and uploadCharacter
-  /// replace.
-  detail::CharacterSlot& firstCharacter() {
-    if (characters.empty()) characters.push_back(std::make_unique<detail::CharacterSlot>());
-    return *characters[0];
-  }
-
   /// The uploaded character `id`; kInvalidArgument naming `what` when there is none, it is
   /// not complete (palette and mesh), or `crowd` (when given) plays another palette.
   Status find(CharacterId id, const char* what, detail::CharacterSlot** out,
@@ -87,7 +82,7 @@ struct Renderer::Impl {
     if (id.index >= characters.size() || !characters[id.index]->ready())
       return {StatusCode::kInvalidArgument,
               id.index == 0 && characters.size() <= 1
-                  ? detail::strCat(what, ": init, uploadPalette and uploadCharacter first")
+                  ? detail::strCat(what, ": init and addCharacter first")
                   : detail::strCat(what, ": no character ", id.index, " (", characters.size(),
                                    " added; addCharacter gives the ids)")};
     if (crowd != nullptr && crowd->desc().palette != characters[id.index]->palette.palette())

@@ -20,7 +20,8 @@ TEST_P(RenderTest, UploadsPastTheContextsLimitsAreNamedErrors) {
   RendererDesc rd;
   rd.skinning_path = SkinningPath::kVertexShader;
   ASSERT_TRUE(limited.init(small, rd).isOk());
-  const Status s = limited.uploadPalette(palette());
+  CharacterId id;
+  const Status s = limited.addCharacter(character(), palette(), &id);
   EXPECT_EQ(s.code(), StatusCode::kLimitExceeded);
   EXPECT_NE(s.message().find("GL_MAX_TEXTURE_SIZE"), std::string::npos) << s.message();
   EXPECT_EQ(glGetError(), GLenum(GL_NO_ERROR));
@@ -65,8 +66,8 @@ TEST_P(RenderTest, StoragePastTheBlockLimitIsRefusedByName) {
   small.max_shader_storage_block_size_bytes = 144 * 100;
   rd.compute_ring_bytes = 4096;
   ASSERT_TRUE(r.init(small, rd).isOk());
-  ASSERT_TRUE(r.uploadPalette(palette()).isOk());
-  ASSERT_TRUE(r.uploadCharacter(character(), palette()).isOk());
+  CharacterId id;
+  ASSERT_TRUE(r.addCharacter(character(), palette(), &id).isOk());
   CrowdManager crowd;
   makeCrowd(&crowd);
   std::vector<glm::dvec3> positions(100, glm::dvec3(0.0, 0.0, -5.0));

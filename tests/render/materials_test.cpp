@@ -58,7 +58,10 @@ class MaterialsTest : public RenderTest {
   // Draws `c` (after clearing when `clear`) and reads the image.
   std::vector<uint8_t> drawCharacter(Renderer& r, const Character& c, const BakedPalette& p,
                                      Path path, bool clear = true) {
-    EXPECT_TRUE(r.uploadCharacter(c, p).isOk());
+    // Character 0 is each call's character: added the first time, replaced after.
+    const Status uploaded = r.characterCount() == 0 ? r.addCharacter(c, p, &id_)
+                                                    : r.replaceCharacter(id_, c, p);
+    EXPECT_TRUE(uploaded.isOk()) << uploaded.toString();
     CrowdManager crowd;
     oneInstance(p, uint32_t(c.mesh.sub_meshes.size()), 0.3, &crowd);
     InstanceBatcher batcher;
@@ -75,15 +78,15 @@ class MaterialsTest : public RenderTest {
     return rgba;
   }
 
-  Renderer& renderer(const BakedPalette& p) {
+  Renderer& renderer() {
     RendererDesc rd;
     rd.skinning_path = SkinningPath::kVertexShader;
-    EXPECT_TRUE(renderer_.init(info_, rd).isOk());
-    EXPECT_TRUE(renderer_.uploadPalette(p).isOk());
+    EXPECT_TRUE(renderer_.init(info_, rd).isOk());  // drawCharacter uploads each character.
     return renderer_;
   }
 
   Renderer renderer_;
+  CharacterId id_;
 };
 
 TEST_P(MaterialsTest, TwoHundredPartsDrawLikeEachMaterialDrawnAlone) {
@@ -100,7 +103,7 @@ TEST_P(MaterialsTest, TwoHundredPartsDrawLikeEachMaterialDrawnAlone) {
   bd.sample_rate_hz = 30.0f;
   BakedPalette p;
   ASSERT_TRUE(bakePalette(c, bd, &p, nullptr).isOk());
-  Renderer& r = renderer(p);
+  Renderer& r = renderer();
   // The reference: one draw per material, each with that material alone, into one image.
   std::vector<uint8_t> reference;
   r.clear(glm::vec4(0.2f, 0.25f, 0.3f, 1.0f));
@@ -146,8 +149,8 @@ TEST_P(MaterialsTest, SampleAssetsDrawOnTheGpuAsSkinnedOnTheCpu) {
     RendererDesc rd;
     rd.skinning_path = SkinningPath::kVertexShader;
     ASSERT_TRUE(r.init(info_, rd).isOk());
-    ASSERT_TRUE(r.uploadPalette(p).isOk());
-    ASSERT_TRUE(r.uploadCharacter(c, p).isOk());
+    CharacterId id;
+    ASSERT_TRUE(r.addCharacter(c, p, &id).isOk());
     CrowdDesc cd;
     cd.palette = &p;
     cd.sub_mesh_count = uint32_t(c.mesh.sub_meshes.size());

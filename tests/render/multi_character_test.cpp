@@ -131,8 +131,9 @@ TEST_P(MultiCharacterTest, OneRendererDrawsTheImageOfOneRendererPerCharacter) {
     ids.push_back(id);
     separate.push_back(std::make_unique<Renderer>());
     ASSERT_TRUE(separate.back()->init(info_, rd).isOk());
-    ASSERT_TRUE(separate.back()->uploadPalette(kinds[k]->palette).isOk());
-    ASSERT_TRUE(separate.back()->uploadCharacter(kinds[k]->character, kinds[k]->palette).isOk());
+    CharacterId alone;  // Character 0 of its own renderer.
+    ASSERT_TRUE(
+        separate.back()->addCharacter(kinds[k]->character, kinds[k]->palette, &alone).isOk());
     crowds.push_back(std::make_unique<CrowdManager>());
     populate(*kinds[k], k, kinds.size(), crowds.back().get());
   }
@@ -220,6 +221,21 @@ TEST_P(MultiCharacterTest, IdsAndPalettesAreChecked) {
   std::vector<glm::vec3> positions;
   EXPECT_TRUE(r.captureSkinnedPositions(CharacterId{1}, crowd1.records()[0], &positions).isOk());
   EXPECT_EQ(positions.size(), kinds[1]->character.mesh.vertexCount());
+
+  // Replacing character 0 with character 1's kind keeps the id: crowds of the old palette are
+  // refused from then on, the new one's draw. A replacement that fails leaves it as it was.
+  EXPECT_EQ(r.replaceCharacter(CharacterId{2}, kinds[1]->character, kinds[1]->palette).code(),
+            StatusCode::kInvalidArgument);
+  ASSERT_TRUE(r.replaceCharacter(CharacterId{0}, kinds[1]->character, kinds[1]->palette).isOk());
+  EXPECT_EQ(r.characterCount(), 2u);
+  EXPECT_EQ(r.drawCrowd(CharacterId{0}, crowd, batcher, sceneCamera(), nullptr).code(),
+            StatusCode::kInvalidArgument);
+  EXPECT_TRUE(r.drawCrowd(CharacterId{0}, crowd1, batcher, sceneCamera(), nullptr).isOk());
+  EXPECT_EQ(r.triangleCount(CharacterId{0}, 0, 0), r.triangleCount(CharacterId{1}, 0, 0));
+  const Status failed = r.replaceCharacter(CharacterId{0}, kinds[0]->character, wrong_palette);
+  EXPECT_EQ(failed.code(), StatusCode::kInvalidArgument);
+  EXPECT_NE(failed.message().find("replaceCharacter"), std::string::npos) << failed.message();
+  EXPECT_TRUE(r.drawCrowd(CharacterId{0}, crowd1, batcher, sceneCamera(), nullptr).isOk());
   EXPECT_EQ(glGetError(), GLenum(GL_NO_ERROR));
 }
 

@@ -155,8 +155,8 @@ TEST_P(RenderTest, AutomaticSkinningPathIsMeasuredAndLogged) {
   r.clear(clear);
   std::vector<uint8_t> before;
   ASSERT_TRUE(context_->readPixels(&before).isOk());
-  ASSERT_TRUE(r.uploadPalette(palette()).isOk());
-  ASSERT_TRUE(r.uploadCharacter(character(), palette()).isOk());
+  CharacterId id;
+  ASSERT_TRUE(r.addCharacter(character(), palette(), &id).isOk());
   setLogCallback(nullptr, nullptr);
   std::vector<uint8_t> after;
   ASSERT_TRUE(context_->readPixels(&after).isOk());

@@ -124,8 +124,9 @@ class RenderTest : public ::testing::TestWithParam<HeadlessBackend> {
     rd.uniform_block_size_bytes = block_size;
     const Status init = r->init(info_, rd);
     ASSERT_TRUE(init.isOk()) << init.toString();
-    ASSERT_TRUE(r->uploadPalette(palette(format, interpolation)).isOk());
-    ASSERT_TRUE(r->uploadCharacter(character(), palette(format, interpolation)).isOk());
+    CharacterId id;
+    const Status added = r->addCharacter(character(), palette(format, interpolation), &id);
+    ASSERT_TRUE(added.isOk()) << added.toString();
   }
 
   void makeCrowd(CrowdManager* crowd, PaletteFormat format = PaletteFormat::kMatrix3x4F32,

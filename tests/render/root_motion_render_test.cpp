@@ -44,8 +44,8 @@ class RootMotionRenderTest : public RenderTest {
     RendererDesc rd;
     rd.skinning_path = SkinningPath::kVertexShader;
     ASSERT_TRUE(r->init(info_, rd).isOk());
-    ASSERT_TRUE(r->uploadPalette(moving().palette).isOk());
-    ASSERT_TRUE(r->uploadCharacter(moving().character, moving().palette).isOk());
+    CharacterId id;
+    ASSERT_TRUE(r->addCharacter(moving().character, moving().palette, &id).isOk());
   }
   void makeMovingCrowd(CrowdManager* crowd) {
     CrowdDesc cd;

@@ -14,8 +14,8 @@
 ///   si::loadGl(getProc, user, &info);
 ///   si::Renderer renderer;
 ///   si::Status s = renderer.init(info, {});
-///   s = renderer.uploadPalette(palette);
-///   s = renderer.uploadCharacter(character, palette);
+///   si::CharacterId id;
+///   s = renderer.addCharacter(character, palette, &id);  // the first character is id 0
 ///   si::InstanceBatcher batcher;
 ///   s = batcher.init(renderer.batchLimits());
 ///   // each frame, after crowd.update(dt, camera):
@@ -25,8 +25,8 @@
 ///
 /// Several character kinds (soldiers, animals, ...) share one renderer: addCharacter() uploads
 /// each with its palette and returns its id; each crowd (made for that character's palette) is
-/// drawn with the overload that takes the id. The programs, the record ring and the scratch
-/// buffers are shared; uploadPalette() and uploadCharacter() are character 0.
+/// drawn with the overload that takes the id (the overloads without one draw character 0). The
+/// programs, the record ring and the scratch buffers are shared.
 /// \code
 ///   si::CharacterId soldiers, foxes;
 ///   renderer.addCharacter(soldier, soldier_palette, &soldiers);
@@ -57,7 +57,7 @@ namespace si {
 
 /// Where the crowd's vertices are skinned.
 enum class SkinningPath : uint8_t {
-  kAutomatic = 0,  ///< Measure both at uploadCharacter() and keep the faster (logged).
+  kAutomatic = 0,  ///< Measure both at addCharacter() and keep the faster (logged).
   kVertexShader,   ///< The vertex shader skins each vertex as it draws (the technique's path).
   kCompute,        ///< A compute pass pre-skins the visible vertices into a buffer ring; the
                    ///< draw reads them by vertex id (GL 4.3 compute, vertex pulling).
@@ -97,7 +97,7 @@ struct RendererDesc {
   /// available: for benchmarks and tests).
   bool measure_gpu_time = false;
   /// The skinning path of DrawMode::kDefault. kAutomatic (the default) times both paths on a
-  /// synthetic crowd of about 2^20 vertices of the uploaded character at uploadCharacter()
+  /// synthetic crowd of about 2^20 vertices of the uploaded character at addCharacter()
   /// (offscreen; milliseconds on a GPU, about 2 s on llvmpipe) and logs the choice with its
   /// reason; the others are explicit.
   SkinningPath skinning_path = SkinningPath::kAutomatic;
@@ -139,8 +139,7 @@ struct RendererDesc {
 };
 
 /// A character uploaded into a Renderer: its index in upload order (addCharacter gives it).
-/// Character 0 is the one uploadPalette() and uploadCharacter() replace and the draw functions
-/// without an id draw.
+/// Character 0, the first added, is the one the draw functions without an id draw.
 struct CharacterId {
   uint32_t index = 0;
   bool operator==(const CharacterId& o) const { return index == o.index; }
@@ -194,20 +193,23 @@ class Renderer {
   /// The limits to give the InstanceBatcher (the block size in use and the offset alignment).
   BatchLimits batchLimits() const;
 
-  /// Uploads character 0's palette texture (RGBA32F or RGBA16F). kLimitExceeded when it is
-  /// larger than GL_MAX_TEXTURE_SIZE; kInvalidArgument for a palette that fails
-  /// BakedPalette::validate(). The palette is borrowed: keep it alive while it is drawn.
-  Status uploadPalette(const BakedPalette& palette);
-  /// Uploads character 0's mesh (joint indices remapped to palette slots) and materials (the
-  /// material table and base colour texture array). The palette must be the one baked for it.
-  /// With SkinningPath::kAutomatic it then measures both skinning paths and picks the faster.
-  Status uploadCharacter(const Character& character, const BakedPalette& palette);
-  /// Uploads one more character with its palette (both as uploadPalette and uploadCharacter
-  /// do, the skinning path measured per character) and returns its id in `id`: the number of
-  /// characters before it. Nothing is added when it fails (the same errors as those two, and
-  /// kInvalidArgument for a null `id`).
+  /// Uploads a character with the palette baked for it and returns its id in `id`: the number
+  /// of characters before it. The palette texture (RGBA32F or RGBA16F) and the mesh (joint
+  /// indices remapped to the palette's slots) with its materials (the material table and base
+  /// colour texture array) are uploaded together; with SkinningPath::kAutomatic both skinning
+  /// paths are then measured for it and the faster kept. The palette is borrowed: keep it
+  /// alive while the character is drawn, and draw the crowds that play it. Nothing is added
+  /// when it fails: kInvalidArgument for a null `id`, a palette that fails
+  /// BakedPalette::validate(), one baked for another skeleton or a mesh that fails
+  /// SkinnedMesh::validate(); kLimitExceeded for a palette larger than GL_MAX_TEXTURE_SIZE or
+  /// more base colour layers than a texture array holds; the allocation errors of init().
   Status addCharacter(const Character& character, const BakedPalette& palette, CharacterId* id);
-  /// Characters uploaded (addCharacter, or character 0 by uploadPalette/uploadCharacter).
+  /// Replaces character `id` with `character` and its `palette` (a re-bake, another format,
+  /// content reloaded), uploaded and measured as addCharacter() does; the id stays, and crowds
+  /// drawn with it must play the new palette. On failure the old character stays (the same
+  /// errors, and kInvalidArgument for an id no addCharacter() gave).
+  Status replaceCharacter(CharacterId id, const Character& character, const BakedPalette& palette);
+  /// Characters added.
   uint32_t characterCount() const;
 
   /// The path DrawMode::kDefault uses for character 0 (or `id`), and why (measured times, or

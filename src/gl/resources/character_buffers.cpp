@@ -19,16 +19,16 @@ Status CharacterBuffers::upload(const Character& character, const BakedPalette& 
   if (!s.isOk()) return s;
   if (palette.skeleton_to_palette.size() != character.skeleton.jointCount())
     return {StatusCode::kInvalidArgument,
-            "uploadCharacter: the palette was baked for another skeleton"};
+            "the palette was baked for another skeleton"};
   VertexStream stream;
   s = buildVertexStream(m, palette, &stream);
-  if (!s.isOk()) return {s.code(), "uploadCharacter: " + s.message()};
+  if (!s.isOk()) return s;
   release();
   s = createBuffer(&vertex_buffer, stream.bytes.size(), stream.bytes.data(), 0,
-                   "uploadCharacter: the vertex buffer");
+                   "the character's vertex buffer");
   if (s.isOk())
     s = createBuffer(&index_buffer, m.indices.size() * 4, m.indices.data(), 0,
-                     "uploadCharacter: the index buffer");
+                     "the character's index buffer");
   if (!s.isOk()) {
     release();
     return s;
@@ -56,21 +56,21 @@ Status CharacterBuffers::upload(const Character& character, const BakedPalette& 
     entries.push_back({e.base_color_factor, glm::uvec4(e.layer, 0, 0, 0)});
   if (s.isOk())
     s = createBuffer(&vertex_materials, words.size() * 4, words.data(), 0,
-                     "uploadCharacter: the per-vertex materials");
+                     "the character's per-vertex materials");
   if (s.isOk())
     s = createBuffer(&material_table, entries.size() * sizeof(GpuMaterial), entries.data(), 0,
-                     "uploadCharacter: the material table");
+                     "the character's material table");
   GLint max_layers = 0;
   glGetIntegerv(GL_MAX_ARRAY_TEXTURE_LAYERS, &max_layers);
   if (s.isOk() && table.layers.size() > size_t(max_layers))
     s = {StatusCode::kLimitExceeded,
-         strCat("uploadCharacter: ", table.layers.size(), " base colour layers (this context ",
+         strCat(table.layers.size(), " base colour layers (this context ",
                 "holds at most ", max_layers, " in a texture array)")};
   const GLsizei w = GLsizei(table.width), h = GLsizei(table.height);
   const GLsizei levels = GLsizei(std::floor(std::log2(double(std::max(w, h))))) + 1;
   if (s.isOk())
     s = createTexture2DArray(&base_texture, levels, GL_RGBA8, w, h, GLsizei(table.layers.size()),
-                             "uploadCharacter: the base colour texture array");
+                             "the character's base colour texture array");
   if (!s.isOk()) {
     release();
     return s;

@@ -11,16 +11,16 @@ namespace si::detail {
 Status PaletteTexture::upload(const BakedPalette& palette, const GlInfo& info) {
   const PaletteLayout& l = palette.layout;
   const Status valid = palette.validate();  // Never draws from an inconsistent palette.
-  if (!valid.isOk()) return {StatusCode::kInvalidArgument, "uploadPalette: " + valid.message()};
+  if (!valid.isOk()) return {StatusCode::kInvalidArgument, "the palette: " + valid.message()};
   if (l.width > info.max_texture_size || l.height > info.max_texture_size)
     return {StatusCode::kLimitExceeded,
-            strCat("uploadPalette: the palette is ", l.width, "x", l.height,
+            strCat("the palette is ", l.width, "x", l.height,
                    ", GL_MAX_TEXTURE_SIZE is ", info.max_texture_size,
                    " (bake with BakeDesc::max_texture_size)")};
   release();
   const bool half = palette.format == PaletteFormat::kMatrix3x4F16;
   Status s = createTexture2D(&texture_, 1, half ? GL_RGBA16F : GL_RGBA32F, GLsizei(l.width),
-                             GLsizei(l.height), "uploadPalette: the palette texture");
+                             GLsizei(l.height), "the palette texture");
   if (!s.isOk()) return s;
   glPixelStorei(GL_UNPACK_ALIGNMENT, 1);
   glTextureSubImage2D(texture_, 0, 0, 0, GLsizei(l.width), GLsizei(l.height), GL_RGBA,
@@ -29,7 +29,7 @@ Status PaletteTexture::upload(const BakedPalette& palette, const GlInfo& info) {
   glTextureParameteri(texture_, GL_TEXTURE_MAG_FILTER, GL_NEAREST);
   const glm::uvec4 info_value = paletteShaderInfo(palette);
   s = createBuffer(&info_buffer_, sizeof(info_value), &info_value[0], 0,
-                   "uploadPalette: the palette's info block");
+                   "the palette's info block");
   if (!s.isOk()) {
     release();
     return s;
