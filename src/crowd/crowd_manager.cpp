@@ -110,7 +110,8 @@ Status CrowdManager::init(const CrowdDesc& in_desc) {
   if (!std::isfinite(d.lod_hysteresis_ratio) ||
       d.lod_hysteresis_ratio < 0.0f || d.lod_hysteresis_ratio >= 1.0f)
     return {StatusCode::kInvalidArgument,
-            "CrowdDesc.max_distance_radii must be finite; lod_hysteresis_ratio in [0, 1)"};
+            strCat("CrowdDesc.lod_hysteresis_ratio must be finite and in [0, 1) (it is ",
+                   d.lod_hysteresis_ratio, ")")};
   if (!std::isfinite(d.animation_lod_rate_hz) || d.animation_lod_rate_hz <= 0.0f)
     return {StatusCode::kInvalidArgument, "CrowdDesc.animation_lod_rate_hz must be > 0"};
   s = checkLodMode(d.lod_mode, d.pixel_error_budget, d.lod_count, d.lod_errors_units);
@@ -445,15 +446,20 @@ Status CrowdManager::jointMatrix(InstanceHandle h, uint32_t joint, glm::dmat4* o
     return {StatusCode::kOutOfRange, strCat("jointMatrix: joint ", joint, " is not in the palette")};
   const uint32_t slot = uint32_t(p.skeleton_to_palette[joint]);
   const double clock = state_->clock;
-  const auto matrix = [&](const detail::Playback& pb, uint32_t at) {
-    const double t = detail::localTime(pb, state_->clips[pb.clip], clock);
+  // The instance's clips at the times its record draws them: held on the animation-LOD grid at
+  // and past CrowdDesc::animation_lod_start (its LOD of the last update), as writeRecord does.
+  const bool stepped = st.lods[i] >= detail::animationLodStart(desc_);
+  const double step_seconds = detail::animationStepSeconds(desc_);
+  const auto matrix = [&](const detail::Playback& pb, uint32_t at, bool step) {
+    double t = detail::localTime(pb, state_->clips[pb.clip], clock);
+    if (step) t = detail::steppedTime(t, step_seconds);
     return emulateSkinningMatrix(p, pb.clip, sampleFrames(p.clips[pb.clip], t), at);
   };
   const auto base = [&](uint32_t at) {
-    glm::mat4 m = matrix(st.playback[i], at);
+    glm::mat4 m = matrix(st.playback[i], at, stepped);
     if (st.fade_duration[i] > 0.0) {
       const float w = float(std::clamp((clock - st.fade_start[i]) / st.fade_duration[i], 0.0, 1.0));
-      m = matrix(st.fade_from[i], at) * (1.0f - w) + m * w;  // The shader blends them so.
+      m = matrix(st.fade_from[i], at, stepped) * (1.0f - w) + m * w;  // The shader blends them so.
     }
     return m;
   };
@@ -461,7 +467,7 @@ Status CrowdManager::jointMatrix(InstanceHandle h, uint32_t joint, glm::dmat4* o
   const detail::OverlayState& o = st.overlays[i];
   const float weight = o.active ? layerWeight(detail::layerRecordOf(o, state_->clips, p, clock)) : 0.0f;
   const glm::mat4 m = weight > 0.0f ? emulateLayeredMatrix(state_->layer_masks[o.mask], slot, weight, base,
-                                                           [&](uint32_t at) { return matrix(o.playback, at); })
+                                                           [&](uint32_t at) { return matrix(o.playback, at, false); })
                                     : base(slot);
   glm::dmat4 world(glm::mat3_cast(glm::dquat(st.rotations[i])) * double(st.scales[i]));
   world[3] = glm::dvec4(st.positions[i], 1.0);

@@ -33,6 +33,15 @@ struct CrowdManager::State {
 namespace detail {
 /// LOD levels a crowd may have (the GPU's 256 buckets hold 8 x 32).
 inline constexpr uint32_t kMaxLods = 8;
+
+/// Animation-LOD stepping of a resolved desc: the first LOD whose instances are stepped (past
+/// the last LOD when off) and the step in seconds (CrowdDesc::animation_lod_start, _rate_hz).
+inline uint32_t animationLodStart(const CrowdDesc& d) {
+  return d.animation_lod_start == 0 ? kMaxLods : d.animation_lod_start;
+}
+inline double animationStepSeconds(const CrowdDesc& d) {
+  return 1.0 / double(d.animation_lod_rate_hz);
+}
 }  // namespace detail
 
 }  // namespace si

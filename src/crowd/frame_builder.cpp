@@ -171,7 +171,7 @@ __attribute__((always_inline)) inline void writeRecord(const FrameInputs& in,
     rec.world_rows[row][3] = rel[row];
   }
   double ta = localTime(pb, ca, clock);
-  if (step_anim) ta = std::floor(ta / anim_step) * anim_step;
+  if (step_anim) ta = steppedTime(ta, anim_step);
   const FrameSample fa = fastSample(ca, palette.clips[pb.clip], ta);
   const uint32_t a0 = ca.first_texel + fa.frame * stride;
   const uint32_t a1 = ca.first_texel + fa.next_frame * stride;
@@ -181,7 +181,7 @@ __attribute__((always_inline)) inline void writeRecord(const FrameInputs& in,
     const Playback& old = st.fade_from[i];
     const ClipTiming& cb = clips[old.clip];
     double tb = localTime(old, cb, clock);
-    if (step_anim) tb = std::floor(tb / anim_step) * anim_step;
+    if (step_anim) tb = steppedTime(tb, anim_step);
     const FrameSample fo = fastSample(cb, palette.clips[old.clip], tb);
     rec.frames[0] = cb.first_texel + fo.frame * stride;
     rec.frames[1] = cb.first_texel + fo.next_frame * stride;

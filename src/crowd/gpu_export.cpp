@@ -33,9 +33,8 @@ CullParams CrowdManager::cullParams(const Camera& camera) const {
     for (size_t l = 0; l < state_->lod_lines.size() && l < 7; ++l)
       p.lod_lines[l] = state_->lod_lines[l];
   }
-  p.animation_lod_start = desc_.animation_lod_start == 0 ? detail::kMaxLods
-                                                         : desc_.animation_lod_start;
-  p.animation_step_seconds = 1.0 / double(desc_.animation_lod_rate_hz);
+  p.animation_lod_start = detail::animationLodStart(desc_);
+  p.animation_step_seconds = detail::animationStepSeconds(desc_);
   return p;
 }
 

@@ -60,6 +60,13 @@ inline ClipTiming makeClipTiming(const BakedClip& c) {
 
 /// Clip-local time of `p` at crowd clock `clock`: wrapped for loops, clamped otherwise; always
 /// within [0, duration] (0 when the unwrapped time overflows: a hostile speed or start time).
+/// The time animation-LOD stepping draws an instance at (CrowdDesc::animation_lod_start and
+/// animation_lod_rate_hz): `t` held on the grid of `step_seconds`. The records and
+/// CrowdManager::jointMatrix both step through it.
+inline double steppedTime(double t, double step_seconds) {
+  return std::floor(t / step_seconds) * step_seconds;
+}
+
 inline double localTime(const Playback& p, const ClipTiming& c, double clock) {
   const double duration = c.duration;
   const double t = p.start_time + (clock - p.start_clock) * double(p.speed);
