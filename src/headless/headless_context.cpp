@@ -141,7 +141,7 @@ class EglContext final : public HeadlessContext {
     return {StatusCode::kBackend, errors};
   }
 
-  Status makeCurrent() override {
+  Status makeContextCurrent() override {
     if (!eglMakeCurrent(display_, EGL_NO_SURFACE, EGL_NO_SURFACE, context_))
       return {StatusCode::kBackend, strCat("eglMakeCurrent failed: 0x", std::hex, eglGetError())};
     return Status::ok();
@@ -181,7 +181,7 @@ class EglContext final : public HeadlessContext {
     if (context_ == EGL_NO_CONTEXT)
       return {StatusCode::kBackend,
               strCat("eglCreateContext (4.5 core) failed: 0x", std::hex, eglGetError())};
-    return makeCurrent();
+    return makeContextCurrent();
   }
 
   HeadlessBackend backend_ = HeadlessBackend::kEglDevice;
@@ -210,9 +210,9 @@ class OsMesaContext final : public HeadlessContext {
       return {StatusCode::kBackend, "OSMesaCreateContextAttribs (4.5 core) failed"};
     // OSMesa needs a buffer for its default framebuffer; we draw into our FBO, so 1x1 is enough.
     buffer_.assign(4, 0);
-    return makeCurrent();
+    return makeContextCurrent();
   }
-  Status makeCurrent() override {
+  Status makeContextCurrent() override {
     if (!OSMesaMakeCurrent(context_, buffer_.data(), GL_UNSIGNED_BYTE, 1, 1))
       return {StatusCode::kBackend, "OSMesaMakeCurrent failed"};
     return Status::ok();
@@ -233,6 +233,15 @@ class OsMesaContext final : public HeadlessContext {
 }  // namespace
 
 HeadlessContext::~HeadlessContext() = default;
+
+Status HeadlessContext::makeCurrent() {
+  Status s = makeContextCurrent();
+  if (!s.isOk() || fbo_ == 0) return s;
+  GlFns gl;
+  if (!loadFns(this, &gl)) return {StatusCode::kBackend, "makeCurrent: GL entry points missing"};
+  gl.BindFramebuffer(GL_FRAMEBUFFER, fbo_);
+  return Status::ok();
+}
 
 void* HeadlessContext::getProcAddress(void* user_data, const char* name) {
   if (user_data == nullptr || name == nullptr) return nullptr;

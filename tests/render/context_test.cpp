@@ -65,6 +65,22 @@ TEST_P(ContextTest, CreatesLoadsClearsAndReadsBack) {
   ASSERT_TRUE(readPng(path, &w, &h, &back).isOk());
   EXPECT_EQ(back, rgba);
   std::remove(path.c_str());
+  // makeCurrent() binds the context's framebuffer again, as its documentation says.
+  using BindFramebufferFn = void (*)(unsigned, unsigned);
+  using GetIntegervFn = void (*)(unsigned, int*);
+  auto bind = reinterpret_cast<BindFramebufferFn>(
+      HeadlessContext::getProcAddress(ctx.get(), "glBindFramebuffer"));
+  auto get = reinterpret_cast<GetIntegervFn>(
+      HeadlessContext::getProcAddress(ctx.get(), "glGetIntegerv"));
+  constexpr unsigned kFramebuffer = 0x8D40, kDrawBinding = 0x8CA6, kReadBinding = 0x8CAA;
+  bind(kFramebuffer, 0);
+  ASSERT_TRUE(ctx->makeCurrent().isOk());
+  int draw = -1, read = -1;
+  get(kDrawBinding, &draw);
+  get(kReadBinding, &read);
+  EXPECT_EQ(uint32_t(draw), ctx->framebuffer());
+  EXPECT_EQ(uint32_t(read), ctx->framebuffer());
+  EXPECT_NE(ctx->framebuffer(), 0u);
 }
 
 INSTANTIATE_TEST_SUITE_P(Backends, ContextTest, test::allBackends(), test::backendTestName);

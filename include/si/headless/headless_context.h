@@ -63,8 +63,9 @@ class HeadlessContext {
   static Status create(const HeadlessDesc& desc, std::unique_ptr<HeadlessContext>* out);
   virtual ~HeadlessContext();
 
-  /// Makes the context current on this thread and binds its framebuffer.
-  virtual Status makeCurrent() = 0;
+  /// Makes the context current on this thread and binds its framebuffer (draw and read).
+  /// kBackend when the platform refuses.
+  Status makeCurrent();
   /// The mechanism in use (never kAuto).
   virtual HeadlessBackend backend() const = 0;
   /// A GlGetProcAddress for si::loadGl; `user_data` must be the context.
@@ -84,6 +85,8 @@ class HeadlessContext {
  protected:
   HeadlessContext() = default;
   virtual void* procAddress(const char* name) const = 0;
+  /// Makes the platform context current (makeCurrent() then binds the framebuffer).
+  virtual Status makeContextCurrent() = 0;
   Status createFramebuffer(uint32_t width, uint32_t height, uint32_t samples);
   void destroyFramebuffer();
 
