@@ -50,7 +50,6 @@ Status loadGl(GlGetProcAddress get_proc, void* user_data, GlInfo* info) {
   out.max_uniform_block_size_bytes = glInt(GL_MAX_UNIFORM_BLOCK_SIZE);
   out.uniform_buffer_offset_alignment = glInt(GL_UNIFORM_BUFFER_OFFSET_ALIGNMENT);
   out.max_texture_size = glInt(GL_MAX_TEXTURE_SIZE);
-  out.max_texture_buffer_size = glInt(GL_MAX_TEXTURE_BUFFER_SIZE);
   GLint64 ssbo = 0;
   glGetInteger64v(GL_MAX_SHADER_STORAGE_BLOCK_SIZE, &ssbo);
   out.max_shader_storage_block_size_bytes = ssbo > 0 ? uint64_t(ssbo) : 0;

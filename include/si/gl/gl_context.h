@@ -34,7 +34,6 @@ struct GlInfo {
   uint32_t max_uniform_block_size_bytes = 0;   ///< GL_MAX_UNIFORM_BLOCK_SIZE.
   uint32_t uniform_buffer_offset_alignment = 0;  ///< GL_UNIFORM_BUFFER_OFFSET_ALIGNMENT.
   uint32_t max_texture_size = 0;               ///< GL_MAX_TEXTURE_SIZE.
-  uint32_t max_texture_buffer_size = 0;        ///< GL_MAX_TEXTURE_BUFFER_SIZE (texels).
   /// GL_MAX_SHADER_STORAGE_BLOCK_SIZE: the largest storage buffer a shader may read whole (the
   /// compute ring, the GPU-driven crowd state).
   uint64_t max_shader_storage_block_size_bytes = 0;
