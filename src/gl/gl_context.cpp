@@ -53,6 +53,11 @@ Status loadGl(GlGetProcAddress get_proc, void* user_data, GlInfo* info) {
   GLint64 ssbo = 0;
   glGetInteger64v(GL_MAX_SHADER_STORAGE_BLOCK_SIZE, &ssbo);
   out.max_shader_storage_block_size_bytes = ssbo > 0 ? uint64_t(ssbo) : 0;
+  GLint groups[2] = {0, 0};
+  glGetIntegeri_v(GL_MAX_COMPUTE_WORK_GROUP_COUNT, 0, &groups[0]);
+  glGetIntegeri_v(GL_MAX_COMPUTE_WORK_GROUP_COUNT, 1, &groups[1]);
+  out.max_compute_groups_x = groups[0] > 0 ? uint32_t(groups[0]) : 0;
+  out.max_compute_groups_y = groups[1] > 0 ? uint32_t(groups[1]) : 0;
   out.has_khr_debug = glad::GLAD_GL_KHR_debug != 0;
   Status s = checkGlErrors("loadGl: querying limits");
   if (!s.isOk()) return s;

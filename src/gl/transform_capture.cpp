@@ -43,15 +43,17 @@ void captureVertexShader(const detail::DrawResources& r, uint32_t vertices,
 // The compute path: its skinning pass over a vertex list of every vertex in mesh order, for one
 // instance whose world transform is the identity (so the camera-relative world position it
 // writes is the model-space position).
-void captureCompute(const detail::DrawResources& r, uint32_t vertices, const CaptureBuffers& b) {
+Status captureCompute(const detail::DrawResources& r, uint32_t vertices, const CaptureBuffers& b) {
   const detail::Program& skin = (*r.programs)[detail::ProgramId::kComputeSkin];
   glUseProgram(skin.id);
   detail::bindPreSkinning(r, b.out, b.list);
   glBindBufferBase(GL_UNIFORM_BUFFER, 0, b.block);
   glProgramUniform4ui(skin.id, 5, 0, vertices, 0, 0);
   glProgramUniform2ui(skin.id, 6, 1, r.preskin->source_words);
-  glDispatchCompute(GLuint((uint64_t(vertices) + 63) / 64), 1, 1);
+  const Status s = detail::dispatchGroups(*r.info, (uint64_t(vertices) + 63) / 64,
+                                          "captureSkinnedPositions");
   glMemoryBarrier(GL_BUFFER_UPDATE_BARRIER_BIT);
+  return s;
 }
 
 }  // namespace
@@ -95,7 +97,8 @@ Status Renderer::captureSkinnedPositions(CharacterId id, const InstanceRecord& r
   const auto guard = m.enter("captureSkinnedPositions", detail::captureFootprint());
   out->resize(vertices);
   if (compute) {
-    captureCompute(m.resources(*c), vertices, b);
+    s = captureCompute(m.resources(*c), vertices, b);
+    if (!s.isOk()) return s;
     std::vector<glm::vec4> skinned(vertices);
     glGetNamedBufferSubData(b.out, 0, GLsizeiptr(size_t(vertices) * 16), skinned.data());
     for (uint32_t v = 0; v < vertices; ++v) (*out)[v] = glm::vec3(skinned[v]);

@@ -37,6 +37,10 @@ struct GlInfo {
   /// GL_MAX_SHADER_STORAGE_BLOCK_SIZE: the largest storage buffer a shader may read whole (the
   /// compute ring, the GPU-driven crowd state).
   uint64_t max_shader_storage_block_size_bytes = 0;
+  /// GL_MAX_COMPUTE_WORK_GROUP_COUNT in x and y (GL guarantees 65535 each): the compute passes
+  /// lay their groups out in rows of at most x, at most y rows, and refuse a pass past that
+  /// (kLimitExceeded). Lowering them (tests) makes every pass use several rows.
+  uint32_t max_compute_groups_x = 0, max_compute_groups_y = 0;
   bool has_khr_debug = false;
 };
 

@@ -4,6 +4,7 @@
 
 #include <algorithm>
 
+#include "core/str_cat.h"
 #include "gl/resources/gl_allocation.h"
 
 namespace si::detail {
@@ -58,8 +59,7 @@ Status ComputePath::draw(const DrawResources& r, const PathFrame& f, DrawStats* 
   glProgramUniformMatrix4fv(pulled.id, pulled.view_projection, 1, GL_FALSE, &vp[0][0]);
   glProgramUniform3fv(pulled.id, pulled.light_direction, 1, &f.light[0]);
   glBindVertexArray(vao_);
-  // One dispatch covers at most 65535 groups of 64 (GL's guaranteed minimum).
-  const uint64_t dispatch_limit = uint64_t(65535) * 64;
+  // A dispatch's groups go in rows (dispatchGroups): only the ring bounds a chunk.
   uint64_t cursor = 0;
   pending_.clear();
   const auto flush = [&] {
@@ -89,8 +89,13 @@ Status ComputePath::draw(const DrawResources& r, const PathFrame& f, DrawStats* 
     const PreSkinLists::Lod& l = lists.lod(d.sub_mesh, d.lod);
     if (l.vertex_count == 0 || l.index_count == 0) continue;
     for (uint32_t first = 0; first < d.instance_count;) {
-      const uint64_t fit = std::min(ring_vertices - cursor, dispatch_limit) / l.vertex_count;
+      const uint64_t fit = (ring_vertices - cursor) / l.vertex_count;
       if (fit == 0) {
+        if (pending_.empty())  // The whole ring does not hold one instance: refuse, never loop.
+          return {StatusCode::kLimitExceeded,
+                  strCat("compute pre-skinning: the ring of ", ring_vertices,
+                         " vertices does not hold one instance of a LOD of ", l.vertex_count,
+                         " vertices")};
         flush();
         continue;
       }
@@ -107,7 +112,8 @@ Status ComputePath::draw(const DrawResources& r, const PathFrame& f, DrawStats* 
       glProgramUniform4ui(skin.id, 5, uint32_t(cursor), l.vertex_count, l.vertex_offset, first);
       glProgramUniform2ui(skin.id, 6, count, lists.source_words);
       const uint64_t threads = uint64_t(count) * l.vertex_count;
-      glDispatchCompute(GLuint((threads + 63) / 64), 1, 1);
+      s = dispatchGroups(*r.info, (threads + 63) / 64, "compute pre-skinning");
+      if (!s.isOk()) return s;
       pending_.push_back({d, l, first, count, uint32_t(cursor)});
       ++st->compute_dispatches;
       st->skinned_vertices += threads;

@@ -2,6 +2,8 @@
 // What the draw paths share.
 #include "gl/paths/draw_path.h"
 
+#include "core/str_cat.h"
+#include "gl/paths/dispatch_grid.h"
 #include "si/crowd/record_emulation.h"
 
 
@@ -37,6 +39,16 @@ void setMotionUniforms(const Program& program, const PathFrame& f) {
   if (program.previous_view_projection >= 0)
     glProgramUniformMatrix4fv(program.id, program.previous_view_projection, 1, GL_FALSE,
                               &f.previous_view_projection[0][0]);
+}
+
+Status dispatchGroups(const GlInfo& info, uint64_t groups, const char* what) {
+  DispatchGrid grid;
+  if (!dispatchGrid(groups, info.max_compute_groups_x, info.max_compute_groups_y, &grid))
+    return {StatusCode::kLimitExceeded,
+            strCat(what, ": ", groups, " compute groups exceed GL_MAX_COMPUTE_WORK_GROUP_COUNT (",
+                   info.max_compute_groups_x, " x ", info.max_compute_groups_y, ")")};
+  glDispatchCompute(grid.x, grid.y, 1);
+  return Status::ok();
 }
 
 glm::mat4 recordJointMatrix(const BakedPalette& palette, const CrowdManager& crowd, size_t record,

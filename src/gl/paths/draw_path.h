@@ -97,6 +97,12 @@ void bindShading(const DrawResources& r, const Program& program, const Camera& c
 /// batch then binds its previous records at uniform binding 1).
 void setMotionUniforms(const Program& program, const PathFrame& frame);
 
+/// Dispatches `groups` groups of 64 invocations for the bound program (which indexes them with
+/// siFlatInvocation(), shaders/dispatch_index.glsl) in rows within GlInfo's limits
+/// (dispatch_grid.h); kLimitExceeded naming `what` and the count when they do not fit, nothing
+/// dispatched.
+Status dispatchGroups(const GlInfo& info, uint64_t groups, const char* what);
+
 /// What the instanced shader computes for palette slot `slot` of the crowd's record `record`:
 /// clip A's frames lerped, crossfaded towards clip B by the record's weight, and the overlay on
 /// its mask when the crowd plays any (the two CPU baselines use it).

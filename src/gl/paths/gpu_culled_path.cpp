@@ -7,6 +7,7 @@
 #include <cstring>
 
 #include "core/str_cat.h"
+#include "gl/paths/dispatch_grid.h"
 #include "gl/resources/gl_allocation.h"
 #include "si/core/layer_mask.h"
 #include "si/crowd/handle_pool.h"
@@ -187,6 +188,13 @@ Status GpuCulledPath::uploadFrame(const DrawResources& r, const PathFrame& f) {
                    " LODs do not fit the uploaded character (", r.character->sub_meshes.size(),
                    " sub-meshes) or 256 buckets")};
   const uint32_t n = crowd.size();
+  DispatchGrid grid;
+  if (!dispatchGrid((uint64_t(n) + 63) / 64, r.info->max_compute_groups_x,
+                    r.info->max_compute_groups_y, &grid))
+    return {StatusCode::kLimitExceeded,
+            strCat("drawCrowdGpuCulled: ", n, " instances need more compute groups than "
+                   "GL_MAX_COMPUTE_WORK_GROUP_COUNT (", r.info->max_compute_groups_x, " x ",
+                   r.info->max_compute_groups_y, ")")};
   // The uploads and clears below rewrite buffers the last passes wrote (the state's LOD, the
   // drawn records, the visible-last flags): GL orders buffer updates after incoherent shader
   // writes only past this barrier.
@@ -236,6 +244,10 @@ Status GpuCulledPath::uploadFrame(const DrawResources& r, const PathFrame& f) {
   glProgramUniform1d(cull, 18, p.animation_step_seconds);
   glProgramUniform1ui(commands, 19,
                       f.preskin ? uint32_t(r.scratch->gpu_driven_ring.vertices) : 0u);
+  // The scatter and pre-skinning passes' rows (their counts are the GPU's: in rows of this many
+  // groups they fit whenever the cull pass's, checked above, does).
+  glProgramUniform1ui(commands, 27,
+                      r.info->max_compute_groups_x == 0 ? 65535u : r.info->max_compute_groups_x);
   const glm::mat4 vp = f.camera.viewProjection();
   glProgramUniformMatrix4fv(cull, 21, 1, GL_FALSE, &vp[0][0]);
   return Status::ok();
@@ -389,7 +401,8 @@ void GpuCulledPath::runPasses(const DrawResources& r, const PathFrame& f, uint32
   glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT | GL_BUFFER_UPDATE_BARRIER_BIT |
                   GL_COMMAND_BARRIER_BIT);
   glUseProgram(cull);
-  glDispatchCompute((n + 63) / 64, 1, 1);
+  // uploadFrame() checked that the instances' groups fit (dispatchGroups cannot fail here).
+  (void)dispatchGroups(*r.info, (uint64_t(n) + 63) / 64, "drawCrowdGpuCulled: the cull pass");
   glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT);
   glUseProgram(commands);
   glDispatchCompute(1, 1, 1);

@@ -8,13 +8,14 @@
 #endif
 #include "si_skinning.glsl"
 #include "pre_skin_common.glsl"
+#include "dispatch_index.glsl"
 layout(local_size_x = 64) in;
 layout(std430, binding = 1) writeonly buffer SiSkinnedOut { vec4 si_skinned_out[]; };
 #ifdef SI_MOTION_VECTORS
 layout(std430, binding = 4) writeonly buffer SiSkinnedPreviousOut { vec4 si_previous_out[]; };
 #endif
 void main() {
-  uint g = gl_GlobalInvocationID.x;
+  uint g = siFlatInvocation();
   uint i = g / u_chunk.y;
   if (i >= u_layout.x) return;
   uint k = g - i * u_chunk.y;

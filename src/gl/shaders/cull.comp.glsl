@@ -4,6 +4,7 @@
 // and its record at the crowd's clock; the visible instance's row and its bucket counts.
 #include "cull_common.glsl"
 #include "cull_occlusion.glsl"
+#include "dispatch_index.glsl"
 layout(local_size_x = 64) in;
 layout(location = 0) uniform vec4 u_planes[6];
 layout(location = 6) uniform dvec3 u_camera;
@@ -111,7 +112,7 @@ uvec4 siLayerRecord(SiGpuOverlay o, uint stride) {
 }
 
 void main() {
-  uint i = gl_GlobalInvocationID.x;
+  uint i = siFlatInvocation();
   if (i >= u_counts.x) return;
   SiGpuInstance st = si_state[i];
   precise vec3 rel = vec3(dvec3(st.px, st.py, st.pz) - u_camera);

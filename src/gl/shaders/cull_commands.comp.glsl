@@ -9,6 +9,9 @@ layout(local_size_x = 1) in;
 layout(std430, binding = 7) writeonly buffer SiCommands { uint si_commands[]; };
 layout(std430, binding = 8) readonly buffer SiRanges { uvec2 si_ranges[]; };  // first, count
 layout(location = 19) uniform uint u_ring_vertices;
+// GL_MAX_COMPUTE_WORK_GROUP_COUNT's x (GlInfo::max_compute_groups_x): the later passes' groups
+// are laid out in rows of at most this many (src/gl/paths/dispatch_grid.h).
+layout(location = 27) uniform uint u_max_groups_x;
 void main() {
   uint buckets = u_counts.y * u_counts.z, offset = 0u, threads = 0u;
   for (uint b = 0u; b < buckets; ++b) {
@@ -35,12 +38,13 @@ void main() {
     threads += fit * info.x;
   }
   si_thread_base[buckets] = threads;
-  si_dispatch[0] = (si_visible_count + 63u) / 64u;
-  si_dispatch[1] = 1u;
+  uint scatter_groups = max((si_visible_count + 63u) / 64u, 1u);
+  si_dispatch[0] = min(scatter_groups, u_max_groups_x);
+  si_dispatch[1] = (scatter_groups + u_max_groups_x - 1u) / u_max_groups_x;
   si_dispatch[2] = 1u;
-  uint groups = (threads + 63u) / 64u;  // At most 65535 a dimension.
-  si_skin_dispatch[0] = min(groups, 65535u);
-  si_skin_dispatch[1] = (groups + 65534u) / 65535u;
+  uint groups = max((threads + 63u) / 64u, 1u);
+  si_skin_dispatch[0] = min(groups, u_max_groups_x);
+  si_skin_dispatch[1] = (groups + u_max_groups_x - 1u) / u_max_groups_x;
   si_skin_dispatch[2] = 1u;
   si_skin_dispatch[3] = threads;
 }

@@ -3,10 +3,11 @@
 // worn sub-mesh's bucket, and for an entry that is pre-skinned, where its vertices go in the
 // ring and which list they come from.
 #include "cull_common.glsl"
+#include "dispatch_index.glsl"
 layout(local_size_x = 64) in;
 layout(std430, binding = 12) writeonly buffer SiEntryData { uvec2 si_entry_data[]; };
 void main() {
-  uint v = gl_GlobalInvocationID.x;
+  uint v = siFlatInvocation();
   if (v >= si_visible_count) return;
   uvec4 e = si_visible[v];
   for (uint m = e.z; m != 0u; m &= m - 1u) {

@@ -19,6 +19,7 @@
 #include "si_skinning.glsl"
 #include "pre_skin_common.glsl"
 #include "cull_counters.glsl"
+#include "dispatch_index.glsl"
 layout(local_size_x = 64) in;
 layout(location = 16) uniform uvec4 u_counts;  // instances, lod count, sub-meshes, frame stride
 layout(std430, binding = 4) readonly buffer SiRecords { SiInstance si_records[]; };
@@ -29,8 +30,7 @@ layout(std430, binding = 13) writeonly buffer SiSkinnedOut { vec4 si_skinned_out
 layout(std430, binding = 22) writeonly buffer SiSkinnedPreviousOut { vec4 si_previous_out[]; };
 #endif
 void main() {
-  uint g = (gl_WorkGroupID.y * gl_NumWorkGroups.x + gl_WorkGroupID.x) * 64u +
-           gl_LocalInvocationIndex;
+  uint g = siFlatInvocation();
   uint buckets = u_counts.y * u_counts.z;
   if (g >= si_thread_base[buckets]) return;
   // The last bucket starting at or before g (it is not empty: the next one starts after g).
