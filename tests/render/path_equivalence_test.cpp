@@ -32,6 +32,88 @@ TEST_P(RenderTest, InstancedEqualsTraditionalAndCpuSkinned) {
   EXPECT_EQ(cpu_stats.triangles, instanced_stats.triangles);
 }
 
+// The CPU-skinning baseline draws the crowd's sub-meshes (CrowdDesc::sub_mesh_count), as every
+// other path does, also for a character with more.
+TEST_P(RenderTest, CpuSkinningDrawsTheCrowdsSubMeshesOnly) {
+  Renderer r;
+  makeRenderer(&r);
+  CrowdManager crowd;
+  CrowdDesc cd;
+  cd.palette = &palette();
+  cd.sub_mesh_count = 2;  // Of the character's 4.
+  cd.lod_count = 3;
+  ASSERT_TRUE(crowd.init(cd).isOk());
+  populateLodCrowd(&crowd);
+  ASSERT_TRUE(crowd.update(0.3, lodCamera()).isOk());
+  DrawStats instanced_stats, traditional_stats, cpu_stats;
+  const std::vector<uint8_t> a = draw(r, crowd, lodCamera(), 0, false, &instanced_stats);
+  (void)draw(r, crowd, lodCamera(), 0, true, &traditional_stats);
+  const std::vector<uint8_t> c =
+      draw(r, crowd, lodCamera(), 0, false, &cpu_stats, Path::kCpuSkinned);
+  EXPECT_GT(instanced_stats.triangles, 0u);
+  EXPECT_EQ(cpu_stats.triangles, instanced_stats.triangles);
+  EXPECT_EQ(cpu_stats.triangles, traditional_stats.triangles);
+  EXPECT_LE(compare(a, c, nullptr).share, 0.001);
+}
+
+// One LOD of more vertices than the CPU-skinning stream's 8 MiB chunk holds (262,144 of 32
+// bytes): the stream grows to hold it and draws what the vertex shader draws.
+TEST_P(RenderTest, CpuSkinningStreamsALodLargerThanItsChunk) {
+  Character big = character();  // The same skeleton: the palette baked for it plays.
+  SkinnedMesh& m = big.mesh;
+  const glm::u16vec4 joints = m.joints[0];
+  const glm::vec4 weights = m.weights[0];
+  const uint32_t side = 520, n = side * side;  // 270,400 vertices.
+  m.positions.resize(n);
+  for (uint32_t y = 0; y < side; ++y)
+    for (uint32_t x = 0; x < side; ++x)
+      m.positions[y * side + x] = glm::vec3(-0.6f + 1.2f * x / side, 0.2f + 1.2f * y / side, 0.0f);
+  m.normals.assign(n, glm::vec3(0.0f, 0.0f, 1.0f));
+  if (!m.tangents.empty()) m.tangents.assign(n, glm::vec4(1.0f, 0.0f, 0.0f, 1.0f));
+  if (!m.texcoords.empty()) m.texcoords.assign(n, glm::vec2(0.5f));
+  if (!m.vertex_materials.empty()) m.vertex_materials.assign(n, 0);
+  m.joints.assign(n, joints);
+  m.weights.assign(n, weights);
+  m.indices.clear();
+  for (uint32_t y = 0; y + 1 < side; ++y)
+    for (uint32_t x = 0; x + 1 < side; ++x) {
+      const uint32_t a = y * side + x;
+      m.indices.insert(m.indices.end(), {a, a + 1, a + side + 1, a, a + side + 1, a + side});
+    }
+  m.sub_meshes.resize(1);
+  m.sub_meshes[0].lods = {IndexRange{0, uint32_t(m.indices.size())}};
+  m.sub_meshes[0].lod_error_units = {0.0f};
+  ASSERT_TRUE(m.validate(big.skeleton.jointCount()).isOk());
+  Renderer r;
+  RendererDesc rd;
+  rd.skinning_path = SkinningPath::kVertexShader;
+  ASSERT_TRUE(r.init(info_, rd).isOk());
+  CharacterId id;
+  ASSERT_TRUE(r.addCharacter(big, palette(), &id).isOk());
+  CrowdManager crowd;
+  CrowdDesc cd;
+  cd.palette = &palette();
+  cd.sub_mesh_count = 1;
+  cd.lod_count = 1;
+  ASSERT_TRUE(crowd.init(cd).isOk());
+  InstanceDesc d;
+  d.position = glm::dvec3(0.0, 0.0, -2.0);
+  InstanceHandle h;
+  ASSERT_TRUE(crowd.add(d, &h).isOk());
+  const Camera camera = Camera::lookAt({0.0, 0.8, 0.5}, {0.0, 0.8, -2.0}, glm::vec3(0, 1, 0),
+                                       1.0f, 1.0f, 0.1f, 100.0f);
+  ASSERT_TRUE(crowd.update(0.2, camera).isOk());
+  DrawStats vs_stats, cpu_stats;
+  const std::vector<uint8_t> a = draw(r, crowd, camera, 0, false, &vs_stats);
+  const std::vector<uint8_t> c = draw(r, crowd, camera, 0, false, &cpu_stats, Path::kCpuSkinned);
+  EXPECT_EQ(cpu_stats.triangles, vs_stats.triangles);
+  EXPECT_EQ(cpu_stats.draw_calls, 1u);
+  EXPECT_LE(compare(a, c, nullptr).share, 0.001);
+  size_t covered = 0;  // The grid covers a good part of the view: an empty frame cannot pass.
+  for (size_t p = 0; p < c.size(); p += 4) covered += c[p] != a[0] || c[p + 1] != a[1];
+  EXPECT_GT(covered, size_t(kSize) * kSize / 8);
+}
+
 TEST_P(RenderTest, SixteenKiBBatchesGiveTheSameImage) {
   Renderer r64, r16;
   makeRenderer(&r64);

@@ -11,7 +11,7 @@ namespace si::detail {
 
 namespace {
 constexpr size_t kVertexBytes = 32;             // Position, normal, texcoord as floats.
-constexpr size_t kChunkBytes = size_t(8) << 20;  // The streaming buffer.
+constexpr size_t kChunkBytes = size_t(8) << 20;  // The streaming buffer, at least.
 }  // namespace
 
 Status CpuSkinningPath::prepare(const DrawResources& r) {
@@ -28,6 +28,11 @@ Status CpuSkinningPath::prepare(const DrawResources& r) {
       range_of_[sm].push_back(uint32_t(ranges_.size()));
       ranges_.push_back(glm::uvec2(lo, hi - lo + 1));
     }
+  // A chunk holds at least one instance of the largest range: a LOD past 8 MiB of streamed
+  // vertices (262,144) is streamed whole, never written past the buffer.
+  chunk_bytes_ = kChunkBytes;
+  for (const glm::uvec2& range : ranges_)
+    chunk_bytes_ = std::max(chunk_bytes_, size_t(range.y) * kVertexBytes);
   if (vao_ != kNoObject) glDeleteVertexArrays(1, &vao_);
   glCreateVertexArrays(1, &vao_);
   glVertexArrayElementBuffer(vao_, r.character->index_buffer);
@@ -43,10 +48,12 @@ Status CpuSkinningPath::prepare(const DrawResources& r) {
 
 Status CpuSkinningPath::draw(const DrawResources& r, const PathFrame& f, DrawStats* st) {
   GLuint& stream = r.scratch->cpu_stream;  // Shared by every character's draws.
-  if (stream == kNoObject) {
-    Status s = createMutableBuffer(&stream, kChunkBytes, GL_STREAM_DRAW,
+  if (stream == kNoObject || r.scratch->cpu_stream_bytes < chunk_bytes_) {
+    r.scratch->cpu_stream_bytes = 0;
+    Status s = createMutableBuffer(&stream, chunk_bytes_, GL_STREAM_DRAW,
                                    "the CPU-skinning vertex stream");
     if (!s.isOk()) return s;
+    r.scratch->cpu_stream_bytes = chunk_bytes_;
   }
   glVertexArrayVertexBuffer(vao_, 0, stream, 0, GLsizei(kVertexBytes));
   const Program& program = (*r.programs)[ProgramId::kPreSkinned];
@@ -59,6 +66,9 @@ Status CpuSkinningPath::draw(const DrawResources& r, const PathFrame& f, DrawSta
   const BakedPalette& palette = *r.palette->palette();
   const SkinnedMesh& mesh = r.character->mesh;
   const std::vector<SubMesh>& sub_meshes = r.character->sub_meshes;
+  // The crowd's sub-meshes (CrowdDesc::sub_mesh_count), as every other path draws them.
+  const size_t worn_sub_meshes =
+      std::min<size_t>({sub_meshes.size(), f.crowd->desc().sub_mesh_count, 32});
   std::vector<glm::mat4> joint(palette.skeleton_to_palette.size(), glm::mat4(1.0f));
   pending_.clear();
   vertices_.clear();
@@ -96,11 +106,11 @@ Status CpuSkinningPath::draw(const DrawResources& r, const PathFrame& f, DrawSta
       if (slot < 0) continue;
       joint[j] = world * recordJointMatrix(palette, crowd, v, uint32_t(slot));
     }
-    for (uint32_t sm = 0; sm < sub_meshes.size() && sm < 32; ++sm) {
+    for (uint32_t sm = 0; sm < worn_sub_meshes; ++sm) {
       if (!((desc.variation_mask >> sm) & 1u)) continue;
       const size_t lod_index = std::min<size_t>(lod, sub_meshes[sm].lods.size() - 1);
       const glm::uvec2 vr = ranges_[range_of_[sm][lod_index]];
-      if (vertices_.size() + size_t(vr.y) * kVertexBytes > kChunkBytes) flush();
+      if (vertices_.size() + size_t(vr.y) * kVertexBytes > chunk_bytes_) flush();
       const GLint first = GLint(vertices_.size() / kVertexBytes);
       vertices_.resize(vertices_.size() + size_t(vr.y) * kVertexBytes);
       float* out = reinterpret_cast<float*>(vertices_.data() + size_t(first) * kVertexBytes);

@@ -46,6 +46,7 @@ void ScratchBuffers::release() {
   gpu_driven_previous_ring.release();
   if (cpu_stream != kNoObject) glDeleteBuffers(1, &cpu_stream);
   cpu_stream = kNoObject;
+  cpu_stream_bytes = 0;
 }
 
 }  // namespace si::detail

@@ -33,6 +33,7 @@ struct ScratchBuffers {
   /// Its twin for previous positions (motion vectors): the same vertex slots.
   VertexRing gpu_driven_previous_ring;
   GLuint cpu_stream = kNoObject;  ///< The CPU-skinning path's vertex stream (orphaned per chunk).
+  size_t cpu_stream_bytes = 0;    ///< Its size: grown to the largest character's chunk.
   /// Layered animation: the drawn crowd's mask table (si::layerMaskTable) and its capacity.
   GLuint mask_table = kNoObject;
   size_t mask_table_bytes = 0;
