@@ -330,7 +330,9 @@ Status Renderer::drawCrowd(CharacterId id, const CrowdManager& crowd,
                                       : bound;
   s = m.ring.reserve(end);
   if (!s.isOk()) return s;
-  const size_t base = m.ring.acquire();
+  size_t base = 0;
+  s = m.ring.acquire(&base);
+  if (!s.isOk()) return s;
   s = batcher.build(crowd, Span<uint8_t>(m.ring.mapped(base), m.ring.writableBytes()),
                     &m.batches);
   const auto region = [&](size_t offset) {

@@ -70,7 +70,9 @@ Status chooseSkinningPath(const DrawResources& r, VertexShaderPath& vertex_path,
   const size_t block = (size_t(r.block_size) + r.alignment - 1) / r.alignment * r.alignment;
   Status s = r.ring->reserve(block * batches);
   if (!s.isOk()) return s;
-  const size_t base = r.ring->acquire();
+  size_t base = 0;
+  s = r.ring->acquire(&base);
+  if (!s.isOk()) return s;
   std::vector<DrawBatch> draws;
   writeGrid(r, n, base, block, &draws);
   // A framebuffer of its own.

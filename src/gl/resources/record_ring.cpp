@@ -4,13 +4,12 @@
 
 #include <algorithm>
 
+#include "core/str_cat.h"
 #include "gl/resources/gl_allocation.h"
+#include "si/gl/gl_context.h"
 
 namespace si::detail {
 
-namespace {
-constexpr GLuint64 kWaitNanoseconds = GLuint64(1e10);
-}
 
 void RecordRing::configure(uint32_t block_size, uint32_t alignment, uint32_t frames) {
   block_size_ = block_size;
@@ -65,14 +64,24 @@ Status RecordRing::reserve(size_t bytes_per_frame) {
   return Status::ok();
 }
 
-size_t RecordRing::acquire() {
+Status RecordRing::acquire(size_t* base) {
   GLsync& f = fences_[index_];
   if (f) {
-    glClientWaitSync(f, GL_SYNC_FLUSH_COMMANDS_BIT, kWaitNanoseconds);
+    const GLenum waited = (wait_ != nullptr ? wait_ : glClientWaitSync)(
+        f, GL_SYNC_FLUSH_COMMANDS_BIT, kWaitNanoseconds);
+    if (waited == GL_WAIT_FAILED)
+      return {StatusCode::kBackend,
+              strCat("the instance record ring: waiting for the GPU failed (",
+                     glErrorName(glGetError()), ")")};
+    if (waited != GL_ALREADY_SIGNALED && waited != GL_CONDITION_SATISFIED)
+      return {StatusCode::kBackend,
+              strCat("the instance record ring: the GPU has not finished reading its region ",
+                     "after ", kWaitNanoseconds / 1000000000u, " s (lost or overloaded device)")};
     glDeleteSync(f);
     f = nullptr;
   }
-  return size_t(index_) * region_size_;
+  *base = size_t(index_) * region_size_;
+  return Status::ok();
 }
 
 void RecordRing::finishFrame() {

@@ -13,8 +13,13 @@
 
 namespace si::detail {
 
+/// glClientWaitSync's signature: the ring waits through one (tests hand it others).
+using ClientWaitSync = GLenum(GLAD_API_PTR*)(GLsync sync, GLbitfield flags, GLuint64 timeout);
+
 class RecordRing {
  public:
+  /// How long acquire() waits for the GPU to finish reading a region before it gives up.
+  static constexpr GLuint64 kWaitNanoseconds = GLuint64(1e10);
   /// The uniform block size every bound range has, the offset alignment and the region count.
   void configure(uint32_t block_size, uint32_t alignment, uint32_t frames);
   /// Changes the region count (one region per draw call group); waits for the GPU and drops
@@ -24,8 +29,11 @@ class RecordRing {
   /// the full block size bound at the last batch stays inside the buffer). Regrows
   /// geometrically, waiting for the GPU first. kBackend when mapping fails.
   Status reserve(size_t bytes_per_frame);
-  /// Waits until the GPU is done with the current region and returns its byte offset.
-  size_t acquire();
+  /// Waits until the GPU is done with the current region and gives its byte offset in `base`.
+  /// kBackend when the wait fails (GL_WAIT_FAILED, naming the GL error) or the GPU has not
+  /// finished reading the region within kWaitNanoseconds: nothing may be written then, and the
+  /// region's fence stays for the next try.
+  Status acquire(size_t* base);
   /// Fences the current region and moves to the next.
   void finishFrame();
   void release();
@@ -46,6 +54,9 @@ class RecordRing {
                       GLsizeiptr(block_size_ / kInstanceRecordSize * kLayerRecordSize));
   }
   GLuint buffer() const { return buffer_; }
+  /// The wait acquire() uses; null restores glClientWaitSync. For tests of the timeout and
+  /// failure paths.
+  void setClientWait(ClientWaitSync wait) { wait_ = wait; }
 
  private:
   void waitAll();
@@ -55,6 +66,7 @@ class RecordRing {
   size_t region_size_ = 0;
   uint32_t block_size_ = 0, alignment_ = 256, frames_ = 3, index_ = 0;
   std::vector<GLsync> fences_;
+  ClientWaitSync wait_ = nullptr;
 };
 
 }  // namespace si::detail
