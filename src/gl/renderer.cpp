@@ -302,6 +302,11 @@ Status Renderer::drawCrowd(CharacterId id, const CrowdManager& crowd,
             strCat("drawCrowd: the batcher's ", batcher.capacityPerDraw(),
                    " instances per draw exceed the shader's ", m.capacity,
                    " (init the batcher with batchLimits())")};
+  if (batcher.alignment() == 0 || batcher.alignment() % m.alignment != 0)
+    return {StatusCode::kInvalidArgument,
+            strCat("drawCrowd: the batcher's offset alignment ", batcher.alignment(),
+                   " is not a multiple of the context's GL_UNIFORM_BUFFER_OFFSET_ALIGNMENT ",
+                   m.alignment, " (init the batcher with batchLimits())")};
   if (mode == DrawMode::kDefault)
     mode = c->path == SkinningPath::kCompute ? DrawMode::kComputeSkinned : DrawMode::kSkinned;
   // Motion vectors: the skinned colour modes (depth-only and rigid draws write none).

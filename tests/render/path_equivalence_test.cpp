@@ -284,12 +284,45 @@ TEST_P(RenderTest, InitRejectsBadBlockSizes) {
   EXPECT_EQ(r.init(info_, rd).code(), StatusCode::kInvalidArgument);
   rd.uniform_block_size_bytes = info_.max_uniform_block_size_bytes + 16;
   EXPECT_EQ(r.init(info_, rd).code(), StatusCode::kInvalidArgument);
+}
+
+// A batcher the renderer cannot bind is refused before anything is written: more records per
+// draw than the shader's block holds, or batch offsets not aligned to the context's
+// GL_UNIFORM_BUFFER_OFFSET_ALIGNMENT (a binding there is GL_INVALID_VALUE on a GPU whose
+// alignment is 256).
+TEST_P(RenderTest, DrawsRefuseABatcherTheRendererCannotBind) {
+  GlInfo aligned = info_;
+  aligned.uniform_buffer_offset_alignment = 256;  // As NVIDIA's; a multiple of any real one.
+  Renderer r;
+  makeRenderer(&r, 16384);  // 204 records per draw.
   CrowdManager crowd;
   makeCrowd(&crowd);
+  populateLodCrowd(&crowd);
+  ASSERT_TRUE(crowd.update(0.0, lodCamera()).isOk());
   InstanceBatcher batcher;
-  ASSERT_TRUE(batcher.init({65536, 256, 0}).isOk());
-  DrawStats stats;
-  EXPECT_EQ(r.drawCrowd(crowd, batcher, closeCamera(), &stats).code(), StatusCode::kInvalidArgument);
+  ASSERT_TRUE(batcher.init({65536, 256, 0}).isOk());  // 819 per draw.
+  const Status capacity = r.drawCrowd(crowd, batcher, lodCamera(), nullptr);
+  EXPECT_EQ(capacity.code(), StatusCode::kInvalidArgument);
+  EXPECT_NE(capacity.message().find("per draw"), std::string::npos) << capacity.message();
+  Renderer strict;
+  RendererDesc rd;
+  rd.skinning_path = SkinningPath::kVertexShader;
+  ASSERT_TRUE(strict.init(aligned, rd).isOk());
+  CharacterId id;
+  ASSERT_TRUE(strict.addCharacter(character(), palette(), &id).isOk());
+  for (uint32_t alignment : {16u, 64u, 128u}) {
+    ASSERT_TRUE(batcher.init({16384, alignment, 0}).isOk());
+    const Status s = strict.drawCrowd(crowd, batcher, lodCamera(), nullptr);
+    EXPECT_EQ(s.code(), StatusCode::kInvalidArgument) << alignment;
+    EXPECT_NE(s.message().find("GL_UNIFORM_BUFFER_OFFSET_ALIGNMENT"), std::string::npos)
+        << s.message();
+  }
+  for (uint32_t alignment : {256u, 512u}) {  // Multiples of the context's: drawn.
+    ASSERT_TRUE(batcher.init({16384, alignment, 0}).isOk());
+    EXPECT_TRUE(strict.drawCrowd(crowd, batcher, lodCamera(), nullptr).isOk()) << alignment;
+  }
+  ASSERT_TRUE(batcher.init(strict.batchLimits()).isOk());
+  EXPECT_TRUE(strict.drawCrowd(crowd, batcher, lodCamera(), nullptr).isOk());
 }
 
 }  // namespace
