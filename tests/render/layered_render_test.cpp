@@ -119,6 +119,12 @@ TEST_P(LayeredRenderTest, TwoCrowdsWithOtherMasksDrawInOneFrame) {
   const Diff dv = compare(vertex, cpu, nullptr), dc = compare(compute, cpu, nullptr);
   EXPECT_LE(dv.share, 0.001) << "vertex shader: max channel difference " << dv.max_channel;
   EXPECT_LE(dc.share, 0.001) << "compute: max channel difference " << dc.max_channel;
+  if (HasFailure()) {  // Which path drew what: the three frames beside the test's temp files.
+    const std::string base = ::testing::TempDir() + "si_two_crowds_" + headlessBackendName(GetParam());
+    (void)writePng(base + "_cpu.png", kSize, kSize, cpu);
+    (void)writePng(base + "_vertex.png", kSize, kSize, vertex);
+    (void)writePng(base + "_compute.png", kSize, kSize, compute);
+  }
   // The left crowd's mask shows: drawn with the right arm's mask it looks otherwise.
   CrowdManager both_right;
   makeCrowd(&both_right);

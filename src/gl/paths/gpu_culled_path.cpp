@@ -39,15 +39,6 @@ Status recreate(GLuint* buffer, size_t bytes, const void* data, const char* what
   return createBuffer(buffer, std::max<size_t>(bytes, 16), data, GL_DYNAMIC_STORAGE_BIT, what);
 }
 
-// Writes `bytes` of `data` at the start of `buffer`, after the passes already issued that read
-// it. glNamedBufferSubData alone should be ordered so; on the H100's driver a cull pass issued
-// before it, and not yet flushed, read the new data. Flushing first submits those passes, which
-// the driver then waits for. (A copy from a new buffer was ordered too but cost 14 ms a frame
-// at 100k instances when root motion re-uploads the state every frame.)
-void uploadInOrder(GLuint buffer, size_t bytes, const void* data) {
-  glFlush();
-  glNamedBufferSubData(buffer, 0, GLsizeiptr(bytes), data);
-}
 
 }  // namespace
 

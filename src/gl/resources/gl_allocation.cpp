@@ -73,6 +73,11 @@ Status createBuffer(GLuint* buffer, uint64_t bytes, const void* data, GLbitfield
   });
 }
 
+void uploadInOrder(GLuint buffer, size_t bytes, const void* data) {
+  glFlush();
+  glNamedBufferSubData(buffer, 0, GLsizeiptr(bytes), data);
+}
+
 Status createMutableBuffer(GLuint* buffer, uint64_t bytes, GLenum usage, const char* what) {
   return makeBuffer(buffer, bytes, what, [&](GLuint b, GLsizeiptr size) {
     glNamedBufferData(b, size, nullptr, usage);

@@ -24,6 +24,14 @@ Status createBuffer(GLuint* buffer, uint64_t bytes, const void* data, GLbitfield
 /// orphan on each rewrite.
 Status createMutableBuffer(GLuint* buffer, uint64_t bytes, GLenum usage, const char* what);
 
+/// Writes `bytes` of `data` at the start of `buffer`, after the commands already issued that
+/// read it. glNamedBufferSubData alone should be ordered so; on the H100's driver a pass issued
+/// before it, and not yet flushed, read the new data (the GPU-driven state). Flushing first
+/// submits those commands, which the driver then waits for. (A copy
+/// from a new buffer was ordered too but cost 14 ms a frame at 100k instances when root motion
+/// re-uploads the state every frame.)
+void uploadInOrder(GLuint buffer, size_t bytes, const void* data);
+
 /// Replaces `*texture` by a 2D texture with `levels` levels of `internal_format` storage,
 /// `width` x `height`; fails as createBuffer() does (the size named in texels).
 Status createTexture2D(GLuint* texture, GLsizei levels, GLenum internal_format, GLsizei width,

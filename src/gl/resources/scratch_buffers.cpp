@@ -22,16 +22,17 @@ void VertexRing::release() {
 }
 
 Status ScratchBuffers::uploadMaskTable(const std::vector<int32_t>& table) {
-  const size_t bytes = table.size() * sizeof(int32_t);
-  if (mask_table == kNoObject || mask_table_bytes < bytes) {
-    if (mask_table != kNoObject) glDeleteBuffers(1, &mask_table);
-    mask_table_bytes = 0;
-    const Status s = createBuffer(&mask_table, bytes, nullptr, GL_DYNAMIC_STORAGE_BIT,
+  // A new buffer whenever the table changes (another crowd's masks): draws issued before may
+  // still read the old one, which GL keeps until they are done. Rewriting it in place raced
+  // with them on the H100's driver (the second of two crowds' tables read by the first's draws),
+  // flushing first or not.
+  if (mask_table == kNoObject || table != mask_table_content) {
+    mask_table_content.clear();
+    const Status s = createBuffer(&mask_table, table.size() * sizeof(int32_t), table.data(), 0,
                                   "layered animation: the mask table");
     if (!s.isOk()) return s;
-    mask_table_bytes = bytes;
+    mask_table_content = table;
   }
-  glNamedBufferSubData(mask_table, 0, GLsizeiptr(bytes), table.data());
   glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 8, mask_table);
   return Status::ok();
 }
@@ -39,7 +40,7 @@ Status ScratchBuffers::uploadMaskTable(const std::vector<int32_t>& table) {
 void ScratchBuffers::release() {
   if (mask_table != kNoObject) glDeleteBuffers(1, &mask_table);
   mask_table = kNoObject;
-  mask_table_bytes = 0;
+  mask_table_content.clear();
   compute_ring.release();
   compute_previous_ring.release();
   gpu_driven_ring.release();
