@@ -17,6 +17,7 @@
 #include "crowd_bench/mixed_scene.h"
 #include "crowd_bench/layers_table.h"
 #include "crowd_bench/motion_vectors_table.h"
+#include "crowd_bench/restore_state_table.h"
 #include "crowd_bench/root_motion_table.h"
 #include "si/bake/animation_baker.h"
 #include "si/bake/lod_chain.h"
@@ -56,6 +57,7 @@ struct Options {
   std::vector<std::string> mix;  // glTF kinds of the mixed table; empty: no mixed table.
   bool root_motion = false;      // The root motion table.
   bool motion_vectors = false;   // The motion vectors table.
+  bool restore_state = false;    // The state contract table.
   bool layers = false;           // The layered animation table.
 };
 
@@ -94,6 +96,8 @@ void usage(std::FILE* f) {
       "                   [--motion-vectors] (the motion vectors table: the instanced,\n"
       "                   compute, gpu-culled and gpu-driven paths without and with motion\n"
       "                   vectors, side by side)\n"
+      "                   [--restore-state] (the GL state contract table: each frame drawn\n"
+      "                   with RendererDesc::restore_state off and on, side by side)\n"
       "                   [--layers] (the layered animation table: the instanced, compute and\n"
       "                   GPU-driven paths with no overlay, at weight 1 and 0.5, side by side)\n"
       "                   [--no-gpu-time] (no blocking timer queries: CPU columns only;\n"
@@ -143,6 +147,7 @@ bool parse(int argc, char** argv, Options* o) {
     else if (a == "--no-gpu-time") o->gpu_timer = false;
     else if (a == "--root-motion") o->root_motion = true;
     else if (a == "--motion-vectors") o->motion_vectors = true;
+    else if (a == "--restore-state") o->restore_state = true;
     else if (a == "--layers") o->layers = true;
     else if (a == "--backend" && has) {
       if (!si::examples::parseBackend(argv[++i], &o->backend)) return false;
@@ -387,6 +392,10 @@ int main(int argc, char** argv) {
     s = si::bench::motionVectorsTable(b.setup, palette, rd, b.o.sizes, b.o.paths, csv);
     if (!s.isOk()) return fail("motion vectors", s);
   }
+  if (b.o.restore_state) {
+    s = si::bench::restoreStateTable(b.setup, palette, rd, b.o.sizes, b.o.paths, csv);
+    if (!s.isOk()) return fail("restore state", s);
+  }
   if (b.o.layers) {
     s = si::bench::layersTable(b.setup, renderer, palette, b.o.sizes, b.o.paths, csv);
     if (!s.isOk()) return fail("layers", s);
@@ -435,7 +444,10 @@ int main(int argc, char** argv) {
     si::BakedPalette p;
     si::BakeReport r;
     s = si::bakePalette(character, d, &p, &r);
-    if (s.isOk()) s = renderer.replaceCharacter(id, character, p);
+    // The re-made renderer's character 0: added by the first configuration, replaced after.
+    if (s.isOk())
+      s = renderer.characterCount() == 0 ? renderer.addCharacter(character, p, &id)
+                                         : renderer.replaceCharacter(id, character, p);
     if (!s.isOk()) return fail("bake configuration", s);
     Row row;
     s = si::bench::runPath(b.setup, renderer, p, "field", b.o.error_table_size, b.o.error_path,

@@ -319,7 +319,7 @@ Status Renderer::drawCrowd(CharacterId id, const CrowdManager& crowd,
   // Layered animation: the crowd's last update wrote layer records.
   const bool layers = !crowd.layerRecords().empty() && mode != DrawMode::kRigid;
   const auto t0 = std::chrono::steady_clock::now();
-  const auto guard = m.enter("drawCrowd", detail::drawFootprint());
+  Impl::Guard guard = m.enter("drawCrowd", detail::drawFootprint());
   // The ring region: the records; then, each at the next aligned offset, the previous records
   // (motion vectors), the layer records (layered animation) and the previous layer records
   // (both).
@@ -372,7 +372,7 @@ Status Renderer::drawCrowd(CharacterId id, const CrowdManager& crowd,
                                ? static_cast<detail::DrawPath&>(c->compute_path)
                                : m.vertex_path;
   DrawStats st;
-  s = m.runPath(*c, path, frame, t0, stats != nullptr, &st);
+  s = m.runPath(*c, path, frame, t0, stats != nullptr, &st, guard);
   m.ring.finishFrame();
   if (s.isOk()) s = m.check("drawCrowd");
   if (stats != nullptr) *stats = st;
@@ -411,7 +411,7 @@ Status Renderer::drawCrowdGpuCulled(CharacterId id, const CrowdManager& crowd,
     return {StatusCode::kInvalidArgument,
             "drawCrowdGpuCulled: the GPU-driven path skins (kDefault, kSkinned, kComputeSkinned)"};
   const auto t0 = std::chrono::steady_clock::now();
-  const auto guard = m.enter("drawCrowdGpuCulled", detail::gpuDrivenFootprint());
+  Impl::Guard guard = m.enter("drawCrowdGpuCulled", detail::gpuDrivenFootprint());
   detail::PathFrame frame;
   frame.crowd = &crowd;
   frame.camera = camera;
@@ -422,7 +422,7 @@ Status Renderer::drawCrowdGpuCulled(CharacterId id, const CrowdManager& crowd,
   frame.motion_view_projection =
       (m.has_motion_projection ? m.motion_projection : camera.projection) * camera.view_rotation;
   DrawStats st;
-  s = m.runPath(*c, c->gpu_culled_path, frame, t0, stats != nullptr, &st);
+  s = m.runPath(*c, c->gpu_culled_path, frame, t0, stats != nullptr, &st, guard);
   // Visible instances and triangles: the counters, read back after the timer anyway blocked.
   if (s.isOk() && st.gpu_ms >= 0.0)
     c->gpu_culled_path.readCounts(m.resources(*c), crowd.desc(), &st);

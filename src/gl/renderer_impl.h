@@ -59,7 +59,8 @@ struct Renderer::Impl {
   /// errors the host left pending are drained and logged as its own (so the call's final check
   /// reports only the library's); then the guard of `footprint` (gl/state/gl_state_guard.h)
   /// saves the state it may change (RendererDesc::restore_state) and sets the draw state.
-  std::unique_ptr<detail::GlStateGuard> enter(const char* what,
+  using Guard = std::unique_ptr<detail::GlStateGuard>;
+  Guard enter(const char* what,
                                               const detail::GlFootprint& footprint) const {
     if (debug) detail::logHostErrors(what);
     return std::make_unique<detail::GlStateGuard>(footprint, desc.restore_state);
@@ -124,30 +125,34 @@ struct Renderer::Impl {
                        const CrowdManager& crowd, const Camera& camera, const glm::vec3& light,
                        DrawStats* stats) {
     const auto t0 = std::chrono::steady_clock::now();
-    const auto guard = enter(what, detail::drawFootprint());
+    Guard guard = enter(what, detail::drawFootprint());
     detail::PathFrame frame;
     frame.crowd = &crowd;
     frame.camera = camera;
     frame.light = light;
     DrawStats st;
-    Status s = runPath(c, p, frame, t0, stats != nullptr, &st);
+    Status s = runPath(c, p, frame, t0, stats != nullptr, &st, guard);
     if (s.isOk()) s = check(what);
     if (stats != nullptr) *stats = st;
     return s;
   }
 
   /// Runs `p` for character `c` and `frame`: its uploads, then its commands under the GPU timer
-  /// (when asked for and `stats` is non-null), inside the caller's state guard (enter()). Fills
-  /// `st` with what it drew, the CPU milliseconds since `t0` and the GPU milliseconds.
+  /// (when asked for and `stats` is non-null), inside the caller's state guard (enter()), which
+  /// it then ends (the host's state restored). Fills `st` with what it drew, the CPU
+  /// milliseconds since `t0` (the state's save and restore included) and the GPU milliseconds.
   Status runPath(detail::CharacterSlot& c, detail::DrawPath& p, const detail::PathFrame& frame,
-                 std::chrono::steady_clock::time_point t0, bool timed, DrawStats* st) {
+                 std::chrono::steady_clock::time_point t0, bool timed, DrawStats* st,
+                 Guard& guard) {
     const detail::DrawResources r = resources(c);
     Status s = p.uploadFrame(r, frame);
     if (!s.isOk()) return s;
     timer.begin(desc.measure_gpu_time && timed);
     s = p.draw(r, frame, st);
+    timer.stop();
+    guard.reset();
     st->cpu_submit_ms = detail::msSince(t0);  // Before the (blocking) timer read.
-    st->gpu_ms = timer.end();
+    st->gpu_ms = timer.read();
     const GLenum reset = glGetGraphicsResetStatus();
     if (reset != GL_NO_ERROR)
       return {StatusCode::kBackend,

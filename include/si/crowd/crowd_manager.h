@@ -353,7 +353,8 @@ class CrowdManager {
 
   /// The instance's skinning matrix of skeleton joint `joint` at the crowd clock's current
   /// time, in world space (instance world * palette skinning matrix, crossfade blended, the
-  /// overlay composed on its mask), from
+  /// overlay composed on its mask; at and past CrowdDesc::animation_lod_start, at the stepped
+  /// times its record draws, by its LOD of the last update), from
   /// the baked palette so it matches what is drawn: it maps a bind-pose model-space point
   /// weighted to the joint to its drawn world position. Multiply by the joint's bind matrix
   /// (inverse of its inverse bind matrix) for the joint's own frame (attachments, picking).

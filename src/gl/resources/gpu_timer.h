@@ -28,16 +28,29 @@ class GpuTimer {
     active_ = enabled;
     if (active_) glQueryCounter(queries_[0], GL_TIMESTAMP);
   }
-  /// Ends what begin() started and returns the GPU milliseconds (blocking), or -1 when it did
-  /// not start.
-  double end() {
+  /// Ends what begin() started (its second timestamp).
+  void stop() {
+    if (active_) glQueryCounter(queries_[1], GL_TIMESTAMP);
+  }
+  /// The GPU milliseconds between begin() and stop() (blocking), or -1 when it did not start.
+  /// Safe outside the state guard: a host's query buffer would turn the result pointer into an
+  /// offset, so it is unbound for the read and bound again.
+  double read() {
     if (!active_) return -1.0;
     active_ = false;
-    glQueryCounter(queries_[1], GL_TIMESTAMP);
+    GLint query_buffer = 0;
+    glGetIntegerv(GL_QUERY_BUFFER_BINDING, &query_buffer);
+    if (query_buffer != 0) glBindBuffer(GL_QUERY_BUFFER, 0);
     GLuint64 start = 0, stop = 0;
     glGetQueryObjectui64v(queries_[0], GL_QUERY_RESULT, &start);
     glGetQueryObjectui64v(queries_[1], GL_QUERY_RESULT, &stop);
+    if (query_buffer != 0) glBindBuffer(GL_QUERY_BUFFER, GLuint(query_buffer));
     return stop > start ? double(stop - start) * 1e-6 : 0.0;
+  }
+  /// stop() and read().
+  double end() {
+    stop();
+    return read();
   }
 
  private:
