@@ -38,11 +38,7 @@ class DispatchRowsTest : public RenderTest {
   };
   void drawAll(const GlInfo& info, const CrowdManager& crowd, Output* out) {
     Renderer r;
-    RendererDesc rd;
-    rd.skinning_path = SkinningPath::kVertexShader;
-    ASSERT_TRUE(r.init(info, rd).isOk());
-    CharacterId id;
-    ASSERT_TRUE(r.addCharacter(character(), palette(), &id).isOk());
+    makeRenderer(&r, info);
     out->compute = draw(r, crowd, lodCamera(), 0, false, nullptr, Path::kCompute);
     for (DrawMode mode : {DrawMode::kSkinned, DrawMode::kComputeSkinned}) {
       r.clear(glm::vec4(0.2f, 0.25f, 0.3f, 1.0f));
@@ -92,11 +88,7 @@ TEST_P(DispatchRowsTest, APassPastBothLimitsIsRefusedByName) {
   tiny.max_compute_groups_x = 1;
   tiny.max_compute_groups_y = 1;  // At most 64 instances per cull pass.
   Renderer r;
-  RendererDesc rd;
-  rd.skinning_path = SkinningPath::kVertexShader;
-  ASSERT_TRUE(r.init(tiny, rd).isOk());
-  CharacterId id;
-  ASSERT_TRUE(r.addCharacter(character(), palette(), &id).isOk());
+  makeRenderer(&r, tiny);
   const Status s = r.drawCrowdGpuCulled(crowd, lodCamera(), nullptr);
   EXPECT_EQ(s.code(), StatusCode::kLimitExceeded);
   EXPECT_NE(s.message().find("GL_MAX_COMPUTE_WORK_GROUP_COUNT"), std::string::npos)

@@ -305,11 +305,7 @@ TEST_P(RenderTest, DrawsRefuseABatcherTheRendererCannotBind) {
   EXPECT_EQ(capacity.code(), StatusCode::kInvalidArgument);
   EXPECT_NE(capacity.message().find("per draw"), std::string::npos) << capacity.message();
   Renderer strict;
-  RendererDesc rd;
-  rd.skinning_path = SkinningPath::kVertexShader;
-  ASSERT_TRUE(strict.init(aligned, rd).isOk());
-  CharacterId id;
-  ASSERT_TRUE(strict.addCharacter(character(), palette(), &id).isOk());
+  makeRenderer(&strict, aligned);
   for (uint32_t alignment : {16u, 64u, 128u}) {
     ASSERT_TRUE(batcher.init({16384, alignment, 0}).isOk());
     const Status s = strict.drawCrowd(crowd, batcher, lodCamera(), nullptr);

@@ -114,19 +114,24 @@ class RenderTest : public ::testing::TestWithParam<HeadlessBackend> {
 
   // A renderer with the default character uploaded (block size 0: the context's limit).
   // The skinning path is explicit (the vertex shader) unless `rd_in` says otherwise.
+  // `info` (when given) stands for the context's: limits lowered as a smaller GPU reports them.
   void makeRenderer(Renderer* r, uint32_t block_size = 0,
                     PaletteFormat format = PaletteFormat::kMatrix3x4F32,
                     const RendererDesc* rd_in = nullptr,
-                    InterpolationChoice interpolation = InterpolationChoice::kLinear) {
+                    InterpolationChoice interpolation = InterpolationChoice::kLinear,
+                    const GlInfo* info = nullptr) {
     RendererDesc rd;
     rd.skinning_path = SkinningPath::kVertexShader;
     if (rd_in) rd = *rd_in;
     rd.uniform_block_size_bytes = block_size;
-    const Status init = r->init(info_, rd);
+    const Status init = r->init(info != nullptr ? *info : info_, rd);
     ASSERT_TRUE(init.isOk()) << init.toString();
     CharacterId id;
     const Status added = r->addCharacter(character(), palette(format, interpolation), &id);
     ASSERT_TRUE(added.isOk()) << added.toString();
+  }
+  void makeRenderer(Renderer* r, const GlInfo& info) {
+    makeRenderer(r, 0, PaletteFormat::kMatrix3x4F32, nullptr, InterpolationChoice::kLinear, &info);
   }
 
   void makeCrowd(CrowdManager* crowd, PaletteFormat format = PaletteFormat::kMatrix3x4F32,
