@@ -12,6 +12,7 @@
 #include <vector>
 
 #include "common/example_options.h"
+#include "crowd_bench/bake_error_table.h"
 #include "crowd_bench/bench_scene.h"
 #include "crowd_bench/lod_quality.h"
 #include "crowd_bench/mixed_scene.h"
@@ -406,71 +407,11 @@ int main(int argc, char** argv) {
   rd.skinning_path = si::SkinningPath::kVertexShader;
   s = renderer.init(b.setup.info, rd);
   if (!s.isOk()) return fail("renderer", s);
-  std::printf("\nGPU time against bake error (field, %u instances, %s path)\n",
-              b.o.error_table_size, b.o.error_path.c_str());
-  std::printf("%-22s %-6s %6s %6s %10s %10s %9s %12s %12s\n", "format", "interp", "rate",
-              "stride", "texels", "bytes", "GPU ms", "max error", "P99 error");
-  using Interp = si::InterpolationChoice;
-  struct Config {
-    si::PaletteFormat format;
-    float rate;
-    uint32_t stride;  // Joint stride in texels; 0: the default (4, or 2 for quaternions).
-    Interp interpolation = Interp::kLinear;
-  };
-  const Config configs[] = {{si::PaletteFormat::kMatrix3x4F32, 15, 0},
-                            {si::PaletteFormat::kMatrix3x4F32, 30, 0},
-                            {si::PaletteFormat::kMatrix3x4F32, 60, 0},
-                            {si::PaletteFormat::kMatrix3x4F32, 0, 0},
-                            {si::PaletteFormat::kMatrix3x4F32, 0, 3},
-                            {si::PaletteFormat::kMatrix3x4F16, 30, 0},
-                            {si::PaletteFormat::kMatrix3x4F16, 0, 0},
-                            {si::PaletteFormat::kQuatTranslationF32, 30, 0},
-                            {si::PaletteFormat::kQuatTranslationF32, 0, 0},
-                            {si::PaletteFormat::kMatrix3x4F32, 30, 0, Interp::kCubic},
-                            {si::PaletteFormat::kMatrix3x4F32, 0, 0, Interp::kCubic},
-                            {si::PaletteFormat::kQuatTranslationF32, 30, 0, Interp::kCubic},
-                            {si::PaletteFormat::kQuatTranslationF32, 0, 0, Interp::kCubic}};
   std::string error_data;
-  for (const Config& c : configs) {
-    if (b.o.quick && c.rate == 0.0f) continue;
-    si::BakeDesc d;
-    d.format = c.format;
-    d.joint_stride_texels = c.stride;
-    d.interpolation = c.interpolation;
-    if (c.rate > 0.0f) {
-      d.rate_mode = si::RateMode::kFixed;
-      d.sample_rate_hz = c.rate;
-    }
-    si::BakedPalette p;
-    si::BakeReport r;
-    s = si::bakePalette(character, d, &p, &r);
-    // The re-made renderer's character 0: added by the first configuration, replaced after.
-    if (s.isOk())
-      s = renderer.characterCount() == 0 ? renderer.addCharacter(character, p, &id)
-                                         : renderer.replaceCharacter(id, character, p);
-    if (!s.isOk()) return fail("bake configuration", s);
-    Row row;
-    s = si::bench::runPath(b.setup, renderer, p, "field", b.o.error_table_size, b.o.error_path,
-                           lodChoice(b.o.lods.front(), b.o.pixel_budget), &row);
-    if (!s.isOk()) return fail(b.o.error_path.c_str(), s);
-    const std::string rate = c.rate > 0.0f ? std::to_string(int(c.rate)) : "auto";
-    const std::string texels = std::to_string(p.layout.width) + "x" + std::to_string(p.layout.height);
-    const char* interp = si::interpolationChoiceName(c.interpolation);
-    std::printf("%-22s %-6s %6s %6u %10s %10llu %9.3f %12.3g %12.3g\n",
-                si::paletteFormatName(c.format), interp, rate.c_str(),
-                p.layout.joint_stride_texels, texels.c_str(),
-                static_cast<unsigned long long>(r.palette_bytes), row.gpu_ms, r.max_error_units,
-                r.p99_error_units);
-    std::fprintf(csv, "error,field,%s,%u,%u,%u,%.0f,%.4f,%.4f,%.4f,%s%s%s,%s,%.6g,%.6g,%s,,,\n",
-                 b.o.error_path.c_str(), row.instances, row.visible, row.draws, row.triangles,
-                 row.update_ms, row.submit_ms, row.gpu_ms, si::paletteFormatName(c.format),
-                 p.layout.joint_stride_texels == 3 ? "_stride3" : "",
-                 c.interpolation == Interp::kCubic ? "_cubic" : "", rate.c_str(),
-                 r.max_error_units, r.p99_error_units, row.lod.c_str());
-    error_data += std::to_string(r.max_error_units) + " " + std::to_string(row.gpu_ms) + " \"" +
-                  si::paletteFormatName(c.format) + "@" + rate +
-                  (c.interpolation == Interp::kCubic ? " cubic" : "") + "\"\n";
-  }
+  s = si::bench::bakeErrorTable(b.setup, renderer, character, b.o.error_table_size, b.o.error_path,
+                                lodChoice(b.o.lods.front(), b.o.pixel_budget), b.o.quick, csv,
+                                &error_data);
+  if (!s.isOk()) return fail("bake configurations", s);
   std::fclose(csv);
   std::printf("\nWrote %s\n", b.o.csv.c_str());
 
