@@ -16,15 +16,24 @@ using detail::kMaxLods;
 using detail::strCat;
 
 // What an uninitialized (or moved-from) crowd reports.
-const CrowdManager::State& CrowdManager::emptyState() {
-  static const State empty;
+const detail::CrowdState& CrowdManager::emptyState() {
+  static const detail::CrowdState empty;
   return empty;
 }
 
 CrowdManager::CrowdManager() = default;
 CrowdManager::~CrowdManager() = default;
-CrowdManager::CrowdManager(CrowdManager&&) noexcept = default;
-CrowdManager& CrowdManager::operator=(CrowdManager&&) noexcept = default;
+CrowdManager::CrowdManager(CrowdManager&& other) noexcept
+    : state_(std::move(other.state_)), desc_(std::move(other.desc_)) {
+  if (state_) state_->owner = this;
+}
+CrowdManager& CrowdManager::operator=(CrowdManager&& other) noexcept {
+  if (this == &other) return *this;
+  state_ = std::move(other.state_);  // The old state, if any, detaches its views.
+  desc_ = std::move(other.desc_);
+  if (state_) state_->owner = this;
+  return *this;
+}
 
 CrowdDesc resolveDefaults(const CrowdDesc& in) {
   CrowdDesc d = in;
@@ -118,12 +127,10 @@ Status CrowdManager::init(const CrowdDesc& in_desc) {
   if (!s.isOk()) return s;
   if (d.worker_threads > 256)
     return {StatusCode::kInvalidArgument, "CrowdDesc.worker_threads must be at most 256"};
-  auto state = std::make_unique<State>();
+  auto state = std::make_unique<detail::CrowdState>();
   state->store.reset(d.palette);
   state->radius = d.character_radius;
   state->lod_lines = d.lod_distances_radii;
-  state->frame.bucket_offsets.assign(size_t(d.lod_count) * d.sub_mesh_count + 1, 0);
-  state->frame.run_offsets.assign(size_t(d.lod_count) * d.sub_mesh_count + 1, 0);
   for (const BakedClip& c : d.palette->clips) state->clips.push_back(detail::makeClipTiming(c));
   state->store.clip_timings = &state->clips;  // Stable: the State is not moved.
   // The palette's markers (BakedClip::markers, e.g. from a glTF file) come first.
@@ -132,7 +139,14 @@ Status CrowdManager::init(const CrowdDesc& in_desc) {
     for (const AnimationMarker& m : d.palette->clips[c].markers)
       state->markers.add(ClipMarker{c, m.time_seconds, m.name});
   desc_ = d;
-  state_ = std::move(state);
+  state_ = std::move(state);  // The old state, if any, detaches its views.
+  state_->owner = this;
+  detail::ViewState& own = *state_->own_view.state_;
+  own.crowd = state_.get();
+  own.lane = 0;  // The store's first lane, made by reset().
+  own.previous_records = d.previous_records;
+  detail::resetSelection(d, &own);
+  state_->views.push_back(&own);
   return Status::ok();
 }
 
@@ -262,11 +276,7 @@ Status CrowdManager::get(InstanceHandle h, InstanceDesc* out) const {
 }
 
 Status CrowdManager::lodOf(InstanceHandle h, uint32_t* lod) const {
-  if (!state_) return noCrowd();
-  uint32_t i = 0;
-  Status s = state_->store.denseIndex(h, &i);
-  if (s.isOk() && lod != nullptr) *lod = state_->store.lods[i];
-  return s;
+  return state_ ? view().lodOf(h, lod) : noCrowd();
 }
 
 FrameSample CrowdManager::frameSample(uint32_t clip, double local_time_seconds) const {
@@ -279,48 +289,48 @@ FrameSample CrowdManager::frameSample(uint32_t clip, double local_time_seconds) 
 
 Status CrowdManager::update(double dt, const Camera& camera) {
   if (!state_) return advanceClock(dt);  // The init() error.
-  State& st = *state_;
-  if (desc_.worker_threads == 1 || st.store.size() <= detail::kChunkInstances)
-    return update(dt, camera, ParallelFor());
-  if (!st.pool) {
-    const uint32_t hw = std::max(1u, std::thread::hardware_concurrency());
-    st.pool = std::make_unique<WorkerPool>(
-        desc_.worker_threads == 0 ? std::min(hw, 16u) : desc_.worker_threads);
-  }
-  WorkerPool* pool = st.pool.get();  // One pointer: the std::function does not allocate.
-  return update(dt, camera,
-                [pool](uint32_t count, const ParallelTask& task) { pool->run(count, task); });
+  return update(dt, camera, detail::crowdParallelFor(*state_));
 }
 
 Status CrowdManager::update(double dt, const Camera& camera, const ParallelFor& parallel_for) {
   Status advanced = advanceClock(dt);  // Checks init() and dt.
   if (!advanced.isOk()) return advanced;
-  detail::FrameInputs in;
-  in.palette = desc_.palette;
-  in.clips = &state_->clips;
-  in.params = cullParams(camera);
-  in.camera_position = camera.position;
-  in.clock = state_->clock;
-  in.sub_mesh_count = desc_.sub_mesh_count;
-  in.parallel_for = &parallel_for;
-  in.markers = &state_->markers;
-  in.root_motion = state_->store.root_motion_count > 0;
-  in.previous_records = desc_.previous_records;
-  in.layers = state_->store.overlay_count > 0;
-  detail::buildFrame(in, state_->store, &state_->frame);
-  state_->previous_camera = state_->updated ? state_->camera : camera;
-  state_->camera = camera;
-  state_->updated = true;
+  detail::FrameInputs in =
+      detail::frameInputs(*state_, *state_->own_view.state_, camera, parallel_for);
+  in.simulate = true;
+  detail::selectView(in, camera, state_->own_view.state_.get());
+  detail::gatherEvents(state_.get());
   // Instances moved by their root motion: the exported state changed.
   if (in.root_motion && dt > 0.0) state_->store.version = detail::nextStateVersion();
   return Status::ok();
+}
+
+Status CrowdManager::advance(double dt) {
+  if (!state_) return advanceClock(dt);  // The init() error.
+  return advance(dt, detail::crowdParallelFor(*state_));
+}
+
+Status CrowdManager::advance(double dt, const ParallelFor& parallel_for) {
+  Status advanced = advanceClock(dt);  // Checks init() and dt.
+  if (!advanced.isOk()) return advanced;
+  detail::FrameInputs in =
+      detail::frameInputs(*state_, *state_->own_view.state_, Camera(), parallel_for);
+  detail::simulateFrame(in, state_->store);
+  detail::gatherEvents(state_.get());
+  if (in.root_motion && dt > 0.0) state_->store.version = detail::nextStateVersion();
+  return Status::ok();
+}
+
+const CrowdView& CrowdManager::view() const {
+  static const CrowdView empty;
+  return state_ ? state_->own_view : empty;
 }
 
 Status CrowdManager::advanceClock(double dt) {
   if (!state_) return {StatusCode::kInvalidArgument, "CrowdManager: init() first"};
   if (!std::isfinite(dt) || dt < 0.0)
     return {StatusCode::kInvalidArgument, "dt_seconds must be finite and >= 0"};
-  State& s = *state_;
+  detail::CrowdState& s = *state_;
   if (!std::isfinite(s.clock + dt))
     return {StatusCode::kInvalidArgument, "dt_seconds would take the crowd clock past a double"};
   // Compensated (Kahan) sum: after a week of 60 Hz frames the clock is still within a few
@@ -332,56 +342,29 @@ Status CrowdManager::advanceClock(double dt) {
   return Status::ok();
 }
 
-const CrowdFrameStats& CrowdManager::stats() const {
-  return (state_ ? *state_ : emptyState()).frame.stats;
-}
+const CrowdFrameStats& CrowdManager::stats() const { return view().stats(); }
 double CrowdManager::clockSeconds() const { return state_ ? state_->clock : 0.0; }
-const std::vector<uint32_t>& CrowdManager::bucketOffsets() const {
-  return (state_ ? *state_ : emptyState()).frame.bucket_offsets;
-}
-const std::vector<uint32_t>& CrowdManager::bucketEntries() const {
-  if (!state_) return emptyState().frame.bucket_entries;
-  if (!state_->frame.entries_valid) detail::expandBucketEntries(&state_->frame);
-  return state_->frame.bucket_entries;
-}
+uint32_t CrowdManager::bucketCount() const { return view().bucketCount(); }
+const std::vector<uint32_t>& CrowdManager::bucketOffsets() const { return view().bucketOffsets(); }
+const std::vector<uint32_t>& CrowdManager::bucketEntries() const { return view().bucketEntries(); }
 const std::vector<uint32_t>& CrowdManager::bucketRunOffsets() const {
-  return (state_ ? *state_ : emptyState()).frame.run_offsets;
+  return view().bucketRunOffsets();
 }
-const std::vector<RecordRun>& CrowdManager::bucketRuns() const {
-  return (state_ ? *state_ : emptyState()).frame.runs;
-}
-Span<const InstanceRecord> CrowdManager::records() const {
-  const detail::CrowdFrame& f = (state_ ? *state_ : emptyState()).frame;
-  return Span<const InstanceRecord>(f.records.data(), f.stats.visible);
-}
+const std::vector<RecordRun>& CrowdManager::bucketRuns() const { return view().bucketRuns(); }
+Span<const InstanceRecord> CrowdManager::records() const { return view().records(); }
 Span<const InstanceRecord> CrowdManager::previousRecords() const {
-  if (!state_ || !desc_.previous_records) return {};
-  const detail::CrowdFrame& f = state_->frame;
-  return Span<const InstanceRecord>(f.previous_records.data(), f.previous_visible);
+  return view().previousRecords();
 }
-const Camera& CrowdManager::updateCamera() const {
-  return (state_ ? *state_ : emptyState()).camera;
-}
-const Camera& CrowdManager::previousUpdateCamera() const {
-  return (state_ ? *state_ : emptyState()).previous_camera;
-}
+const Camera& CrowdManager::updateCamera() const { return view().camera(); }
+const Camera& CrowdManager::previousUpdateCamera() const { return view().previousCamera(); }
+Span<const LayerRecord> CrowdManager::layerRecords() const { return view().layerRecords(); }
 Span<const LayerRecord> CrowdManager::previousLayerRecords() const {
-  if (!state_ || !desc_.previous_records) return {};
-  const detail::CrowdFrame& f = state_->frame;
-  return f.previous_layers ? Span<const LayerRecord>(f.previous_layer_records.data(), f.previous_visible)
-                           : Span<const LayerRecord>();
+  return view().previousLayerRecords();
 }
-
 Span<const uint32_t> CrowdManager::previousRecordIndices() const {
-  if (!state_ || !desc_.previous_records) return {};
-  const detail::CrowdFrame& f = state_->frame;
-  return Span<const uint32_t>(f.previous_index.data(), f.stats.visible);
+  return view().previousRecordIndices();
 }
-
-Span<const InstanceHandle> CrowdManager::visibleHandles() const {
-  const detail::CrowdFrame& f = (state_ ? *state_ : emptyState()).frame;
-  return Span<const InstanceHandle>(f.visible_handles.data(), f.stats.visible);
-}
+Span<const InstanceHandle> CrowdManager::visibleHandles() const { return view().visibleHandles(); }
 Status CrowdManager::addClipMarker(uint32_t clip, double time_seconds, const std::string& name,
                                    uint32_t* index) {
   if (!state_) return {StatusCode::kInvalidArgument, "CrowdManager: init() first"};
@@ -405,7 +388,7 @@ const std::vector<ClipMarker>& CrowdManager::clipMarkers() const {
 }
 
 Span<const AnimationEvent> CrowdManager::events() const {
-  return (state_ ? *state_ : emptyState()).frame.events;
+  return (state_ ? *state_ : emptyState()).events;
 }
 
 uint64_t CrowdManager::stateVersion() const { return state_ ? state_->store.version : 0; }
@@ -448,7 +431,7 @@ Status CrowdManager::jointMatrix(InstanceHandle h, uint32_t joint, glm::dmat4* o
   const double clock = state_->clock;
   // The instance's clips at the times its record draws them: held on the animation-LOD grid at
   // and past CrowdDesc::animation_lod_start (its LOD of the last update), as writeRecord does.
-  const bool stepped = st.lods[i] >= detail::animationLodStart(desc_);
+  const bool stepped = st.views[0].lods[i] >= detail::animationLodStart(desc_);
   const double step_seconds = detail::animationStepSeconds(desc_);
   const auto matrix = [&](const detail::Playback& pb, uint32_t at, bool step) {
     double t = detail::localTime(pb, state_->clips[pb.clip], clock);

@@ -23,7 +23,7 @@ Status CrowdManager::addLayerMask(const LayerMask& mask, uint32_t* id) {
 }
 
 Span<const LayerMask> CrowdManager::layerMasks() const {
-  const State& st = state_ ? *state_ : emptyState();
+  const detail::CrowdState& st = state_ ? *state_ : emptyState();
   return Span<const LayerMask>(st.layer_masks.data(), st.layer_masks.size());
 }
 
@@ -51,12 +51,6 @@ Status CrowdManager::stopOverlay(InstanceHandle h, double blend_seconds) {
   if (!std::isfinite(blend_seconds) || blend_seconds < 0.0)
     return {StatusCode::kInvalidArgument, "stopOverlay: blend_seconds must be finite and >= 0"};
   return state_->store.stopOverlay(h, blend_seconds, state_->clock);
-}
-
-Span<const LayerRecord> CrowdManager::layerRecords() const {
-  const detail::CrowdFrame& f = (state_ ? *state_ : emptyState()).frame;
-  return f.layers ? Span<const LayerRecord>(f.layer_records.data(), f.stats.visible)
-                  : Span<const LayerRecord>();
 }
 
 }  // namespace si

@@ -1,8 +1,9 @@
 // SkinnedInstancing — SPDX-License-Identifier: MIT (see LICENSE)
 #pragma once
 // CrowdManager's private state: the instance store, the clip timings, the LOD lines, the
-// crowd clock and the last frame. crowd_manager.cpp holds the API, gpu_export.cpp the export
-// for GPU-driven culling, frame_builder.cpp the per-frame work.
+// crowd clock and the views; a CrowdView's: its lane of the store and its last selection.
+// crowd_manager.cpp holds the API, crowd_view.cpp the views', gpu_export.cpp the export for
+// GPU-driven culling, frame_builder.cpp the per-frame work.
 
 #include <memory>
 #include <vector>
@@ -14,23 +15,57 @@
 
 namespace si {
 
-struct CrowdManager::State {
-  detail::InstanceStore store;
-  detail::CrowdFrame frame;
-  std::vector<detail::ClipTiming> clips;  // Per palette clip.
-  detail::MarkerTable markers;
-  std::vector<float> lod_lines;           // Resolved distances in radii.
+namespace detail {
+
+/// A view's private state: which crowd and lane, its rules and its last selection.
+struct ViewState {
+  CrowdState* crowd = nullptr;  // Null: detached.
+  uint32_t lane = 0;            // Its lane of the crowd's store (InstanceStore::views).
+  CrowdViewDesc desc;
+  bool previous_records = false;  // Resolved: the crowd's own view follows CrowdDesc.
+  CrowdFrame frame;
+  // The cameras of the last selection and of the one before it (motion vectors).
+  Camera camera, previous_camera;
+  bool selected = false;  // Whether select() has run since init().
+};
+
+struct CrowdState {
+  CrowdState();
+  ~CrowdState();  // Detaches every view still attached.
+  CrowdState(const CrowdState&) = delete;
+  CrowdState& operator=(const CrowdState&) = delete;
+
+  CrowdManager* owner = nullptr;  // Kept up to date by CrowdManager's moves.
+  InstanceStore store;
+  std::vector<ClipTiming> clips;  // Per palette clip.
+  MarkerTable markers;
+  std::vector<float> lod_lines;   // Resolved distances in radii.
   float radius = 1.0f;
   double clock = 0.0, clock_compensation = 0.0;
-  // The cameras of the last update and of the one before it (motion vectors).
-  Camera camera, previous_camera;
-  bool updated = false;  // Whether update() has run since init().
   std::vector<LayerMask> layer_masks;  // addLayerMask(), in id order.
-  // update(dt, camera)'s own workers (CrowdDesc::worker_threads), started when first needed.
+  // The frame's events (update() or advance()), and each chunk's while it runs.
+  std::vector<AnimationEvent> events;
+  std::vector<std::vector<AnimationEvent>> chunk_events;
+  std::vector<ViewState*> views;  // Attached views, the crowd's own first.
+  CrowdView own_view;             // Lane 0: update()'s.
+  // The crowd's own workers (CrowdDesc::worker_threads), started when first needed.
   std::unique_ptr<WorkerPool> pool;
 };
 
-namespace detail {
+/// Empties a view's selection for a crowd of `desc` (no records, empty buckets).
+void resetSelection(const CrowdDesc& desc, ViewState* view);
+/// What runs the crowd's tasks: its own workers (CrowdDesc::worker_threads, started when first
+/// needed), or nothing (the calling thread) for one thread or a crowd of one chunk.
+ParallelFor crowdParallelFor(CrowdState& crowd);
+/// The inputs of a frame of `view` at `camera` (its cull parameters and rules, the crowd's
+/// state), its tasks run by `parallel_for` (which must outlive them); chunk_events grown.
+FrameInputs frameInputs(CrowdState& crowd, const ViewState& view, const Camera& camera,
+                        const ParallelFor& parallel_for);
+/// Builds the view's selection from `in` and moves its cameras on.
+void selectView(const FrameInputs& in, const Camera& camera, ViewState* view);
+/// The chunks' events of the frame just built, in chunk order, as the crowd's events.
+void gatherEvents(CrowdState* crowd);
+
 /// LOD levels a crowd may have (the GPU's 256 buckets hold 8 x 32).
 inline constexpr uint32_t kMaxLods = 8;
 

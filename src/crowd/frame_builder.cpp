@@ -53,12 +53,29 @@ uint32_t localGroup(ChunkWork& w, uint32_t worn) {
 #define SI_CPU_CLONES
 #endif
 
-// Select: cull, LOD and key of every instance of [begin, end).
-SI_CPU_CLONES void selectChunk(const FrameInputs& in, InstanceStore& st, uint32_t begin,
-                               uint32_t end, ChunkWork& w) {
+// Simulate chunk `chunk`, instances [begin, end): its events, root motion, crossfade ends.
+void simulateChunk(const FrameInputs& in, InstanceStore& st, uint32_t chunk, uint32_t begin,
+                   uint32_t end) {
+  const std::vector<ClipTiming>& clips = *in.clips;
+  const double clock = in.clock;
+  std::vector<AnimationEvent>& events = (*in.chunk_events)[chunk];
+  events.clear();
+  if (in.markers != nullptr && !in.markers->empty())
+    collectEvents(*in.markers, clips, clock, st, begin, end, &events);
+  if (in.root_motion) applyRootMotion(*in.palette, clips, clock, st, begin, end);  // Before culling.
+  // A crossfade is over once the clock passes its end (compared without a division).
+  for (uint32_t i = begin; i < end; ++i)
+    if (st.fade_duration[i] > 0.0 && !(clock - st.fade_start[i] < st.fade_duration[i]))
+      st.fade_duration[i] = 0.0;
+}
+
+// Select: cull, LOD and key of every instance of chunk `chunk`, instances [begin, end).
+SI_CPU_CLONES void selectChunk(const FrameInputs& in, InstanceStore& st, uint32_t chunk,
+                               uint32_t begin, uint32_t end, ChunkWork& w) {
   const std::vector<ClipTiming>& clips = *in.clips;
   const cull::Params& cull_params = in.params;
-  const double clock = in.clock;
+  ViewLanes& view = st.views[in.lane];
+  const uint32_t coarsest = in.params.lod_count - 1;
   w.visible.clear();
   w.keys.clear();
   w.mask_count = 0;
@@ -66,14 +83,11 @@ SI_CPU_CLONES void selectChunk(const FrameInputs& in, InstanceStore& st, uint32_
   std::memset(w.slot_of, 0xFF, sizeof w.slot_of);
   std::memset(w.counts, 0, sizeof w.counts);
   w.stats = CrowdFrameStats();
-  w.events.clear();
-  if (in.markers != nullptr && !in.markers->empty())
-    collectEvents(*in.markers, clips, clock, st, begin, end, &w.events);
-  if (in.root_motion) applyRootMotion(*in.palette, clips, clock, st, begin, end);  // Before culling.
-  if (in.previous_records) {  // Last update's slots become the previous ones; none yet now.
-    std::copy(st.record_slot.begin() + begin, st.record_slot.begin() + end,
-              st.previous_slot.begin() + begin);
-    std::fill(st.record_slot.begin() + begin, st.record_slot.begin() + end,
+  if (in.simulate) simulateChunk(in, st, chunk, begin, end);
+  if (in.previous_records) {  // Last selection's slots become the previous ones; none yet now.
+    std::copy(view.record_slot.begin() + begin, view.record_slot.begin() + end,
+              view.previous_slot.begin() + begin);
+    std::fill(view.record_slot.begin() + begin, view.record_slot.begin() + end,
               CrowdManager::kNoPreviousRecord);
   }
   // The selection uses only +, -, * and comparisons in a fixed order (cull_math.h, and
@@ -89,9 +103,6 @@ SI_CPU_CLONES void selectChunk(const FrameInputs& in, InstanceStore& st, uint32_
     uint32_t near_lanes = 0;
     for (uint32_t k = 0; k < padded; ++k) {
       const uint32_t i = i0 + (k < count ? k : 0);  // Past the end: lane 0's instance again.
-      // A crossfade is over once the clock passes its end (compared without a division).
-      if (st.fade_duration[i] > 0.0 && !(clock - st.fade_start[i] < st.fade_duration[i]))
-        st.fade_duration[i] = 0.0;
       const glm::vec3 rel(st.positions[i] - in.camera_position);  // Camera-relative, from double.
       const float s = st.scales[i];
       // The far line first: most of a large crowd may lie beyond it, and such an instance
@@ -109,7 +120,7 @@ SI_CPU_CLONES void selectChunk(const FrameInputs& in, InstanceStore& st, uint32_
       lanes.az[k] = ca.sphere_center.z, lanes.ar[k] = ca.sphere_radius;
       lanes.bx[k] = cb.sphere_center.x, lanes.by[k] = cb.sphere_center.y;
       lanes.bz[k] = cb.sphere_center.z, lanes.br[k] = cb.sphere_radius;
-      lanes.lod[k] = st.lods[i];
+      lanes.lod[k] = view.lods[i];
     }
     if (near_lanes == 0) {
       w.stats.culled_distance += count;
@@ -126,8 +137,8 @@ SI_CPU_CLONES void selectChunk(const FrameInputs& in, InstanceStore& st, uint32_
                                                           : w.stats.culled_frustum);
         continue;
       }
-      const uint32_t lod = uint32_t(lanes.lod[k]);
-      st.lods[i] = static_cast<uint8_t>(lod);
+      view.lods[i] = static_cast<uint8_t>(lanes.lod[k]);  // Hysteresis goes on from it.
+      const uint32_t lod = std::min(uint32_t(lanes.lod[k]) + in.lod_bias, coarsest);
       ++w.stats.per_lod[lod];
       const uint32_t key =
           lod * kMaxMaskGroups + localGroup(w, wornMask(st.masks[i], in.sub_mesh_count));
@@ -201,7 +212,6 @@ __attribute__((always_inline)) inline void writeRecord(const FrameInputs& in,
 void placeChunks(const FrameInputs& in, uint32_t chunk_count, CrowdFrame& f, bool* fallback) {
   const uint32_t lods = in.params.lod_count;
   f.group_masks.clear();
-  f.events.clear();
   bool overflow = false;
   for (uint32_t c = 0; c < chunk_count; ++c) {
     const ChunkWork& w = f.chunks[c];
@@ -212,7 +222,6 @@ void placeChunks(const FrameInputs& in, uint32_t chunk_count, CrowdFrame& f, boo
     s.culled_distance += w.stats.culled_distance;
     for (uint32_t l = 0; l < 8; ++l) s.per_lod[l] += w.stats.per_lod[l];
     s.visible += uint32_t(w.visible.size());
-    f.events.insert(f.events.end(), w.events.begin(), w.events.end());
   }
   std::sort(f.group_masks.begin(), f.group_masks.end());
   f.group_masks.erase(std::unique(f.group_masks.begin(), f.group_masks.end()), f.group_masks.end());
@@ -260,6 +269,7 @@ void placeChunks(const FrameInputs& in, uint32_t chunk_count, CrowdFrame& f, boo
 // Write: every visible instance of the chunk, its record at its place.
 SI_CPU_CLONES void writeChunk(const FrameInputs& in, InstanceStore& st, bool fallback,
                               ChunkWork& w, CrowdFrame& f) {
+  ViewLanes& view = st.views[in.lane];
   const uint16_t key_mask = fallback ? uint16_t(~(kMaxMaskGroups - 1)) : uint16_t(0xFFFF);
   const std::vector<ClipTiming>& clips = *in.clips;
   const uint32_t stride = in.palette->layout.frame_stride_texels;
@@ -312,8 +322,8 @@ SI_CPU_CLONES void writeChunk(const FrameInputs& in, InstanceStore& st, bool fal
       if (in.layers)
         f.layer_records[slot] = layerRecordOf(st.overlays[i], clips, *in.palette, in.clock);
       if (in.previous_records) {
-        f.previous_index[slot] = st.previous_slot[i];
-        st.record_slot[i] = slot;
+        f.previous_index[slot] = view.previous_slot[i];
+        view.record_slot[i] = slot;
       }
     }
   }
@@ -336,7 +346,7 @@ void buildFrame(const FrameInputs& in, InstanceStore& st, CrowdFrame* frame) {
   CrowdFrame& f = *frame;
   const uint32_t last_visible = f.stats.visible;  // The records the last update wrote.
   const uint32_t n = st.size();
-  const uint32_t chunk_count = (n + kChunkInstances - 1) / kChunkInstances;
+  const uint32_t chunk_count = chunkCount(n);
   f.stats = CrowdFrameStats();
   f.stats.instances = n;
   f.entries_valid = false;
@@ -346,7 +356,7 @@ void buildFrame(const FrameInputs& in, InstanceStore& st, CrowdFrame* frame) {
     f.chunks.back().keys.reserve(kChunkInstances);
   }
   forEachChunk(in, chunk_count, [&](uint32_t c) {
-    selectChunk(in, st, c * kChunkInstances, std::min(n, (c + 1) * kChunkInstances), f.chunks[c]);
+    selectChunk(in, st, c, c * kChunkInstances, std::min(n, (c + 1) * kChunkInstances), f.chunks[c]);
   });
   bool fallback = false;
   placeChunks(in, chunk_count, f, &fallback);
@@ -367,6 +377,13 @@ void buildFrame(const FrameInputs& in, InstanceStore& st, CrowdFrame* frame) {
   if (fallback && f.record_masks.size() < visible) f.record_masks.resize(visible);
   forEachChunk(in, chunk_count, [&](uint32_t c) { writeChunk(in, st, fallback, f.chunks[c], f); });
   buildBucketRuns(in.params.lod_count, in.sub_mesh_count, fallback, &f);
+}
+
+void simulateFrame(const FrameInputs& in, InstanceStore& st) {
+  const uint32_t n = st.size();
+  forEachChunk(in, chunkCount(n), [&](uint32_t c) {
+    simulateChunk(in, st, c, c * kChunkInstances, std::min(n, (c + 1) * kChunkInstances));
+  });
 }
 
 }  // namespace si::detail

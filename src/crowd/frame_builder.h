@@ -1,9 +1,11 @@
 // SkinnedInstancing — SPDX-License-Identifier: MIT (see LICENSE)
 #pragma once
-// The crowd's per-frame work (CrowdManager::update after the clock advanced), in three phases
-// over fixed chunks of instances, the first and last run as parallel tasks:
-//   select (per chunk)  crossfade ends, far-line and frustum culling, LOD with hysteresis; each
-//                       visible instance gets a key (LOD, worn-mask group);
+// The crowd's per-frame work after the clock advanced: the simulation (events, root motion,
+// crossfade ends; once per frame) and a view's selection (CrowdManager::update does both in one
+// pass, CrowdManager::advance the first, CrowdView::select the second), in three phases over
+// fixed chunks of instances, the first and last run as parallel tasks:
+//   select (per chunk)  [the simulation,] far-line and frustum culling, LOD with hysteresis;
+//                       each visible instance gets a key (LOD, worn-mask group);
 //   place (serial)      the chunks' distinct worn masks merged and sorted, every key's place in
 //                       the records by prefix sums (key-major, then chunk, then dense order);
 //   write (per chunk)   each visible instance's record written once, at its place.
@@ -38,7 +40,6 @@ struct ChunkWork {
   uint32_t counts[8 * kMaxMaskGroups];  // Per local key.
   uint32_t cursor[8 * kMaxMaskGroups];  // Per local key: the next record to write.
   CrowdFrameStats stats;
-  std::vector<AnimationEvent> events;  // Of its instances, in dense order.
 };
 
 /// One frame's output, reused between frames (allocates only while the crowd grows).
@@ -71,7 +72,6 @@ struct CrowdFrame {
   // bucketEntries(), expanded from the runs when first asked for.
   std::vector<uint32_t> bucket_entries;
   bool entries_valid = false;
-  std::vector<AnimationEvent> events;  // The chunks' events, in chunk order.
 };
 
 /// What a frame is built from besides the instances.
@@ -87,11 +87,24 @@ struct FrameInputs {
   bool root_motion = false;                   // Some instance opted in to root motion.
   bool previous_records = false;              // CrowdDesc::previous_records.
   bool layers = false;                        // Some instance played an overlay.
+  // The view: its lane of the store (InstanceStore::views) and its LOD bias.
+  uint32_t lane = 0;
+  uint32_t lod_bias = 0;
+  // The simulation in the same pass (CrowdManager::update), its events into chunk_events[c]
+  // for chunk c (grown to the chunk count).
+  bool simulate = false;
+  std::vector<std::vector<AnimationEvent>>* chunk_events = nullptr;
 };
 
-/// Builds `frame` from `store`; updates each visible instance's LOD and ends crossfades whose
-/// time is over (neither changes the state version: the GPU-driven pass does the same).
+/// Builds `frame` from `store` for the view of lane in.lane, updating that lane's LODs and,
+/// with in.simulate, simulating first (neither the LODs nor crossfade ends change the state
+/// version: the GPU-driven pass does the same).
 void buildFrame(const FrameInputs& in, InstanceStore& store, CrowdFrame* frame);
+/// The simulation alone (CrowdManager::advance): root motion, crossfade ends, events into
+/// in.chunk_events (in.palette, clips, clock, markers, root_motion and parallel_for are read).
+void simulateFrame(const FrameInputs& in, InstanceStore& store);
+/// Chunks of a store of `n` instances.
+inline uint32_t chunkCount(uint32_t n) { return (n + kChunkInstances - 1) / kChunkInstances; }
 
 /// The bucket runs of a placed frame (frame.key_offsets and group_masks set, records written;
 /// in the fallback, record_masks too).

@@ -56,7 +56,7 @@ void CrowdManager::exportGpuState(std::vector<GpuInstanceState>* out,
     g.scale = st.scales[i];
     g.color = st.colors[i];
     g.variation_mask = st.masks[i];
-    g.lod = st.lods[i];
+    g.lod = st.views[0].lods[i];
     const detail::Playback& a = st.playback[i];
     g.start_clock = a.start_clock;
     g.start_time = a.start_time;

@@ -32,8 +32,27 @@ uint64_t nextStateVersion() {
 void InstanceStore::reset(const BakedPalette* p) {
   *this = InstanceStore();
   palette = p;
+  views.resize(1);
+  views[0].used = true;
   version = nextStateVersion();
   identity = version;
+}
+
+uint32_t InstanceStore::addView() {
+  uint32_t lane = 0;
+  while (lane < views.size() && views[lane].used) ++lane;
+  if (lane == views.size()) views.emplace_back();
+  ViewLanes& v = views[lane];
+  v.used = true;
+  v.lods.assign(size(), 0);
+  v.record_slot.assign(size(), CrowdManager::kNoPreviousRecord);
+  v.previous_slot.assign(size(), CrowdManager::kNoPreviousRecord);
+  return lane;
+}
+
+void InstanceStore::releaseView(uint32_t lane) {
+  if (lane == 0 || lane >= views.size()) return;
+  views[lane] = ViewLanes();  // Frees its memory; unused lanes follow no instance.
 }
 
 Status InstanceStore::validate(const InstanceDesc& d) const {
@@ -75,14 +94,17 @@ void InstanceStore::push(const InstanceDesc& d, InstanceHandle h, double clock) 
   fade_from.push_back(playback.back());
   fade_start.push_back(0.0);
   fade_duration.push_back(0.0);
-  lods.push_back(0);
   events_clock.push_back(clock);
   events_new.push_back(1);
   root_motion.push_back(d.root_motion ? 1 : 0);
   motion_clock.push_back(clock);
   root_motion_count += d.root_motion ? 1u : 0u;
-  record_slot.push_back(CrowdManager::kNoPreviousRecord);
-  previous_slot.push_back(CrowdManager::kNoPreviousRecord);
+  for (ViewLanes& v : views) {
+    if (!v.used) continue;
+    v.lods.push_back(0);
+    v.record_slot.push_back(CrowdManager::kNoPreviousRecord);
+    v.previous_slot.push_back(CrowdManager::kNoPreviousRecord);
+  }
   overlays.push_back(OverlayState());
   dense_handles.push_back(h);
   version = nextStateVersion();
@@ -121,13 +143,16 @@ Status InstanceStore::remove(InstanceHandle h) {
   move_last(fade_from);
   move_last(fade_start);
   move_last(fade_duration);
-  move_last(lods);
   move_last(events_clock);
   move_last(events_new);
   move_last(root_motion);
   move_last(motion_clock);
-  move_last(record_slot);
-  move_last(previous_slot);
+  for (ViewLanes& v : views) {
+    if (!v.used) continue;
+    move_last(v.lods);
+    move_last(v.record_slot);
+    move_last(v.previous_slot);
+  }
   move_last(overlays);
   move_last(dense_handles);
   version = nextStateVersion();
@@ -147,7 +172,8 @@ Status InstanceStore::setTransform(InstanceHandle h, const glm::dvec3& position,
   rotations[i] = glm::normalize(rotation);
   scales[i] = scale;
   motion_clock[i] = clock;
-  record_slot[i] = CrowdManager::kNoPreviousRecord;  // A teleport: no motion vector.
+  for (ViewLanes& v : views)  // A teleport: no motion vector in any view.
+    if (v.used) v.record_slot[i] = CrowdManager::kNoPreviousRecord;
   version = nextStateVersion();
   return Status::ok();
 }

@@ -21,6 +21,16 @@ namespace si::detail {
 /// (address, version) never mistakes a new crowd at a reused address for the old one.
 uint64_t nextStateVersion();
 
+/// What one view (si::CrowdView; lane 0 is the crowd's own update()) keeps per instance, in
+/// dense order: the LOD its hysteresis starts from and, with previous records, each instance's
+/// record index in the view's last selection and, during a selection, in the one before.
+struct ViewLanes {
+  std::vector<uint8_t> lods;
+  std::vector<uint32_t> record_slot;
+  std::vector<uint32_t> previous_slot;
+  bool used = false;
+};
+
 struct InstanceStore {
   /// Empties the store for instances playing `palette`'s clips.
   void reset(const BakedPalette* palette);
@@ -58,6 +68,10 @@ struct InstanceStore {
   Status stopOverlay(InstanceHandle h, double blend_seconds, double clock);
   /// Every instance's events counted as reported up to `clock` (when markers first appear).
   void markEventsReported(double clock);
+  /// A lane for a new view (every instance at LOD 0, no previous record); its index.
+  uint32_t addView();
+  /// Frees a lane (lane 0, the crowd's own, is never released).
+  void releaseView(uint32_t lane);
 
   const BakedPalette* palette = nullptr;
   const std::vector<ClipTiming>* clip_timings = nullptr;  // The palette's (the crowd's State).
@@ -75,7 +89,6 @@ struct InstanceStore {
   std::vector<Playback> fade_from;      // Valid while fade_duration > 0.
   std::vector<double> fade_start;
   std::vector<double> fade_duration;    // 0 when no crossfade runs.
-  std::vector<uint8_t> lods;            // The LOD hysteresis starts from.
   // Animation events (animation_events.h): the crowd clock each instance last reported at, and
   // whether its playback started since then (reported from its start, inclusive).
   std::vector<double> events_clock;
@@ -85,10 +98,9 @@ struct InstanceStore {
   std::vector<uint8_t> root_motion;
   std::vector<double> motion_clock;
   uint32_t root_motion_count = 0;
-  // Motion vectors: each instance's record index in the last update and, during an update,
-  // in the one before (CrowdManager::kNoPreviousRecord for none; setTransform() clears it).
-  std::vector<uint32_t> record_slot;
-  std::vector<uint32_t> previous_slot;
+  // Per view (lane 0: CrowdManager::update()'s): LODs and, for motion vectors, record indices
+  // (CrowdManager::kNoPreviousRecord for none; setTransform() clears them in every lane).
+  std::vector<ViewLanes> views;
   // Layered animation (instance_overlay.h): each instance's overlay, and how many ever played
   // one (0: update() writes no layer records).
   std::vector<OverlayState> overlays;

@@ -36,6 +36,7 @@
 #include "si/core/baked_palette.h"
 #include "si/core/layer_mask.h"
 #include "si/crowd/camera.h"
+#include "si/crowd/crowd_view.h"
 #include "si/crowd/gpu_crowd_state.h"
 #include "si/crowd/handle_pool.h"
 #include "si/crowd/instance_record.h"
@@ -110,12 +111,6 @@ struct AnimationEvent {
   uint32_t count = 1;
 };
 
-/// A run of consecutive records of one bucket: records()[first .. first + count).
-struct RecordRun {
-  uint32_t first = 0;
-  uint32_t count = 0;
-};
-
 /// Returns the desc with zeros replaced by their documented defaults.
 CrowdDesc resolveDefaults(const CrowdDesc& desc);
 
@@ -158,23 +153,23 @@ struct RandomCrowdDesc {
   bool root_motion = false;           ///< InstanceDesc::root_motion of every instance.
 };
 
-/// Per-frame statistics of CrowdManager::update().
-struct CrowdFrameStats {
-  uint32_t instances = 0;
-  uint32_t visible = 0;
-  uint32_t culled_frustum = 0;
-  uint32_t culled_distance = 0;
-  uint32_t per_lod[8] = {};  ///< Visible instances per LOD.
-  uint32_t bucket_entries = 0;  ///< Sum over buckets (instances x worn sub-meshes).
-};
+namespace detail {
+struct CrowdState;
+}
 
 /// Owns instance state and produces, each frame, the visible instances bucketed per
 /// (LOD, sub-mesh) with their shader records. Not thread-safe; one update at a time. Movable,
 /// not copyable.
+///
+/// A crowd simulates once per frame and selects for any number of cameras: update(dt, camera)
+/// does both for the crowd's own view (view(); the selection accessors below read it); frames
+/// drawn from several cameras (shadow cascades, split screen) call advance(dt) once, then
+/// CrowdView::select for each view (crowd_view.h).
 class CrowdManager {
  public:
   CrowdManager();
   ~CrowdManager();
+  /// Moving keeps the crowd's views attached to it.
   CrowdManager(CrowdManager&&) noexcept;
   CrowdManager& operator=(CrowdManager&&) noexcept;
   CrowdManager(const CrowdManager&) = delete;
@@ -245,7 +240,19 @@ class CrowdManager {
   /// every task on the calling thread.
   Status update(double dt_seconds, const Camera& camera, const ParallelFor& parallel_for);
 
-  /// Statistics of the last update().
+  /// The frame's simulation without a selection, for frames that select with CrowdViews:
+  /// advances the clock (as advanceClock()), applies root motion, ends crossfades that are over
+  /// and reports the animation events passed (events()), each once per frame whatever the
+  /// number of views. update(dt, camera) is advance(dt) then view().select(camera), in one pass.
+  /// kInvalidArgument as update() for a bad dt. Runs on CrowdDesc::worker_threads threads.
+  Status advance(double dt_seconds);
+  /// The same, with the tasks run by `parallel_for`.
+  Status advance(double dt_seconds, const ParallelFor& parallel_for);
+  /// The crowd's own view: what update() selects, and what the accessors below read. Draws of
+  /// a CrowdManager draw it.
+  const CrowdView& view() const;
+
+  /// Statistics of the last update() (of view()).
   const CrowdFrameStats& stats() const;
 
   // ---- Animation events ----
@@ -264,8 +271,8 @@ class CrowdManager {
   /// file's animation extras, or Clip::markers), added by init() clip by clip, then those of
   /// addClipMarker().
   const std::vector<ClipMarker>& clipMarkers() const;
-  /// The events of the last update(), by instance in dense order (the same for any thread
-  /// count). Frames that only advanceClock() report nothing; the next update() reports what
+  /// The events of the last update() or advance(), by instance in dense order (the same for
+  /// any thread count). Frames that only advanceClock() report nothing; the next update() reports what
   /// they passed.
   Span<const AnimationEvent> events() const;
   /// Seconds on the crowd clock (compensated sum of every dt).
@@ -274,7 +281,7 @@ class CrowdManager {
   /// Buckets of the last update(): bucket b = lod * sub_mesh_count + sub_mesh holds
   /// bucketEntries()[bucketOffsets()[b] .. bucketOffsets()[b + 1]), indices into records()
   /// in increasing order.
-  uint32_t bucketCount() const { return desc_.lod_count * desc_.sub_mesh_count; }
+  uint32_t bucketCount() const;
   const std::vector<uint32_t>& bucketOffsets() const;
   /// Expanded from the runs on the first call after an update() (so a caller that reads the
   /// runs pays nothing for it).
@@ -403,10 +410,11 @@ class CrowdManager {
   CullParams cullParams(const Camera& camera) const;
 
  private:
-  struct State;  // Instance store, clip timings and the last frame (src/crowd).
-  static const State& emptyState();
+  friend class CrowdView;
+  static const detail::CrowdState& emptyState();
   static Status noCrowd();
-  std::unique_ptr<State> state_;
+  // Instance store, clip timings, the clock, the views (src/crowd/crowd_state.h).
+  std::unique_ptr<detail::CrowdState> state_;
   CrowdDesc desc_;
 };
 

@@ -1,0 +1,148 @@
+// SkinnedInstancing — SPDX-License-Identifier: MIT (see LICENSE)
+#pragma once
+
+/// \file
+/// si::CrowdView: one camera's selection of a crowd. A frame draws a crowd several times (the
+/// main camera, shadow cascades, a second player, a reflection); each view culls, picks LODs
+/// (with its own hysteresis) and buckets the records for its own camera, while the crowd
+/// advances once per frame (CrowdManager::advance: clock, playback, crossfades, events, root
+/// motion). Views are independent of each other and of their order.
+///
+/// A frame with a main view and three shadow cascades:
+/// \code
+///   si::CrowdView main_view, cascade[3];
+///   main_view.init(crowd);
+///   si::CrowdViewDesc shadow;
+///   shadow.lod_bias = 1;                  // one LOD coarser in the shadow maps
+///   shadow.max_distance_radii = -1.0f;    // the cascade's own frustum is the far line
+///   for (si::CrowdView& c : cascade) c.init(crowd, shadow);
+///   // every frame:
+///   crowd.advance(dt);                    // once
+///   main_view.select(camera);
+///   for (int i = 0; i < 3; ++i) cascade[i].select(light_camera[i]);
+///   // then draw each view: Renderer::drawCrowd(view, batcher, view_camera, ...)
+/// \endcode
+///
+/// CrowdManager::update(dt, camera) is advance(dt) and the selection of the crowd's own view
+/// (CrowdManager::view()) in one pass; a CrowdView given the same camera selects exactly the same
+/// records, buckets, LODs and statistics.
+
+#include <cstdint>
+#include <memory>
+#include <vector>
+
+#include "si/core/span.h"
+#include "si/core/status.h"
+#include "si/crowd/camera.h"
+#include "si/crowd/handle_pool.h"
+#include "si/crowd/instance_record.h"
+#include "si/crowd/parallel_for.h"
+
+namespace si {
+
+class CrowdManager;
+namespace detail {
+struct ViewState;
+}
+
+/// Statistics of one selection (CrowdManager::update(), CrowdView::select()).
+struct CrowdFrameStats {
+  uint32_t instances = 0;
+  uint32_t visible = 0;
+  uint32_t culled_frustum = 0;
+  uint32_t culled_distance = 0;
+  uint32_t per_lod[8] = {};  ///< Visible instances per LOD.
+  uint32_t bucket_entries = 0;  ///< Sum over buckets (instances x worn sub-meshes).
+};
+
+/// A run of consecutive records of one bucket: records()[first .. first + count).
+struct RecordRun {
+  uint32_t first = 0;
+  uint32_t count = 0;
+};
+
+/// A view's own selection rules. Zero fields take the crowd's.
+struct CrowdViewDesc {
+  /// Drawn LODs are this many levels coarser than the view's distance (or screen-error) LOD,
+  /// clamped to the coarsest: shadow cascades usually want coarser meshes. 0 to 7.
+  uint32_t lod_bias = 0;
+  /// The crowd's LOD lines times this (> 0; 0 means 1): 0.5 brings every LOD in to half the
+  /// distance. Hysteresis and the far line are unchanged.
+  float lod_distance_scale = 0.0f;
+  /// The view's far line in radii; 0 means the crowd's CrowdDesc::max_distance_radii, negative
+  /// means none (a shadow cascade whose camera sits far up the light: its frustum culls).
+  float max_distance_radii = 0.0f;
+  /// Keep the previous selection's records for motion vectors (as CrowdDesc::previous_records,
+  /// which the crowd's own view follows). Off by default.
+  bool previous_records = false;
+};
+
+/// One camera's culling, LODs and buckets of a CrowdManager's instances, with the same accessors
+/// as the crowd's own view. Movable, not copyable. A view follows its crowd through moves; when
+/// the crowd is destroyed or init() again, the view is detached: select() fails until the view
+/// is init() again, and its accessors give what it last selected. One call at a time on a crowd
+/// and its views.
+class CrowdView {
+ public:
+  CrowdView();
+  ~CrowdView();
+  CrowdView(CrowdView&&) noexcept;
+  CrowdView& operator=(CrowdView&&) noexcept;
+  CrowdView(const CrowdView&) = delete;
+  CrowdView& operator=(const CrowdView&) = delete;
+
+  /// Attaches the view to an initialized crowd (detaching it from any other). Every instance
+  /// starts at LOD 0 with no previous record, as in a new crowd. kInvalidArgument for a crowd
+  /// without init(), a lod_bias above 7, a lod_distance_scale negative or not finite, a
+  /// max_distance_radii not finite; the view is unchanged then.
+  Status init(CrowdManager& crowd, const CrowdViewDesc& desc = CrowdViewDesc());
+  /// Whether the view is attached to a crowd (init() succeeded and the crowd lives and was not
+  /// init() again since).
+  bool attached() const;
+  /// The crowd the view selects from, or null when detached.
+  const CrowdManager* crowd() const;
+  const CrowdViewDesc& desc() const;
+
+  /// Culls the crowd's instances against `camera` and the far line, picks their LODs from this
+  /// view's last ones, and buckets the visible ones with their records, at the crowd's clock
+  /// (call CrowdManager::advance() once per frame first). Moves no instance and reports no
+  /// event. kInvalidArgument when detached. Runs on the crowd's worker threads
+  /// (CrowdDesc::worker_threads); the output does not depend on their number.
+  Status select(const Camera& camera);
+  /// The same, with the tasks run by `parallel_for` (parallel_for.h).
+  Status select(const Camera& camera, const ParallelFor& parallel_for);
+
+  // ---- The last selection (as CrowdManager's accessors of the same names describe) ----
+  const CrowdFrameStats& stats() const;
+  uint32_t bucketCount() const;
+  const std::vector<uint32_t>& bucketOffsets() const;
+  const std::vector<uint32_t>& bucketEntries() const;
+  const std::vector<uint32_t>& bucketRunOffsets() const;
+  const std::vector<RecordRun>& bucketRuns() const;
+  Span<const InstanceRecord> records() const;
+  Span<const InstanceHandle> visibleHandles() const;
+  /// Each drawn instance's overlay (empty when no instance of the crowd played one).
+  Span<const LayerRecord> layerRecords() const;
+  /// Motion vectors (CrowdViewDesc::previous_records): the previous selection's records, and
+  /// per record the index of the same instance's record in them (CrowdManager::
+  /// kNoPreviousRecord where there is none: not drawn by this view then, added since, or placed
+  /// by setTransform since).
+  Span<const InstanceRecord> previousRecords() const;
+  Span<const uint32_t> previousRecordIndices() const;
+  Span<const LayerRecord> previousLayerRecords() const;
+  /// The camera of the last selection (records are relative to its position) and of the one
+  /// before it (after the first, the last one's).
+  const Camera& camera() const;
+  const Camera& previousCamera() const;
+  /// The LOD the instance was drawn at by the last selection, lod_bias included (kNotFound for
+  /// a stale handle, kInvalidArgument when detached).
+  Status lodOf(InstanceHandle h, uint32_t* lod) const;
+
+ private:
+  friend class CrowdManager;
+  static const detail::ViewState& emptyView();
+  const detail::ViewState& view() const;
+  std::unique_ptr<detail::ViewState> state_;
+};
+
+}  // namespace si

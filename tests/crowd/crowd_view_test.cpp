@@ -1,0 +1,316 @@
+// SkinnedInstancing — SPDX-License-Identifier: MIT (see LICENSE)
+// CrowdView: a crowd advanced once per frame and selected by several cameras gives each view
+// exactly what a single-view crowd at that camera gives (1, 2 and 7 threads; crossfades,
+// overlays, root motion, events, motion vectors, instances added, removed and teleported), in any
+// order of the views, with views added and removed mid-run; the per-view LOD rules; attachment.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <cstring>
+#include <memory>
+#include <random>
+#include <vector>
+
+#include "crowd/crowd_test_helpers.h"
+#include "si/core/layer_mask.h"
+#include "si/crowd/crowd_view.h"
+#include "si/crowd/parallel_for.h"
+
+namespace si {
+namespace {
+
+using test::movingCharacter;
+using test::movingPalette;
+using test::testCamera;
+
+// Everything a selection hands out, for comparison.
+struct Selection {
+  std::vector<uint8_t> records, layers, previous, previous_layers;
+  std::vector<uint32_t> handles, previous_index, offsets, entries, run_offsets, runs;
+  std::vector<uint32_t> stats;
+};
+
+template <typename T>
+std::vector<uint8_t> bytesOf(Span<const T> s) {
+  std::vector<uint8_t> out(s.size_bytes());
+  if (!out.empty()) std::memcpy(out.data(), s.data(), out.size());
+  return out;
+}
+
+// `v` is a CrowdManager (its own view) or a CrowdView.
+template <typename V>
+Selection selectionOf(const V& v) {
+  Selection s;
+  s.records = bytesOf(v.records());
+  s.layers = bytesOf(v.layerRecords());
+  s.previous = bytesOf(v.previousRecords());
+  s.previous_layers = bytesOf(v.previousLayerRecords());
+  for (const InstanceHandle& h : v.visibleHandles()) s.handles.push_back(h.id);
+  s.previous_index.assign(v.previousRecordIndices().begin(), v.previousRecordIndices().end());
+  s.offsets = v.bucketOffsets();
+  s.entries = v.bucketEntries();
+  s.run_offsets = v.bucketRunOffsets();
+  for (const RecordRun& r : v.bucketRuns()) s.runs.insert(s.runs.end(), {r.first, r.count});
+  const CrowdFrameStats& st = v.stats();
+  s.stats = {st.instances, st.visible, st.culled_frustum, st.culled_distance, st.bucket_entries};
+  s.stats.insert(s.stats.end(), st.per_lod, st.per_lod + 8);
+  return s;
+}
+
+void expectSame(const Selection& a, const Selection& b, const std::string& what) {
+  EXPECT_EQ(a.stats, b.stats) << what;
+  EXPECT_EQ(a.records, b.records) << what;
+  EXPECT_EQ(a.layers, b.layers) << what;
+  EXPECT_EQ(a.previous, b.previous) << what;
+  EXPECT_EQ(a.previous_layers, b.previous_layers) << what;
+  EXPECT_EQ(a.handles, b.handles) << what;
+  EXPECT_EQ(a.previous_index, b.previous_index) << what;
+  EXPECT_EQ(a.offsets, b.offsets) << what;
+  EXPECT_EQ(a.entries, b.entries) << what;
+  EXPECT_EQ(a.run_offsets, b.run_offsets) << what;
+  EXPECT_EQ(a.runs, b.runs) << what;
+}
+
+std::vector<uint32_t> eventsOf(const CrowdManager& c) {
+  std::vector<uint32_t> out;
+  for (const AnimationEvent& e : c.events()) out.insert(out.end(), {e.instance.id, e.marker, e.count});
+  return out;
+}
+
+// A crowd of `n` instances around and behind the cameras, playing the moving character's clips:
+// a quarter crossfading, every fifth with root motion, every seventh an overlay on the right
+// arm, markers on every clip. The same arguments give the same crowd.
+struct World {
+  CrowdManager crowd;
+  std::vector<InstanceHandle> handles;
+};
+
+void makeWorld(World* w, uint32_t n, uint32_t threads) {
+  CrowdDesc d;
+  d.palette = &movingPalette();
+  d.sub_mesh_count = uint32_t(movingCharacter().mesh.sub_meshes.size());
+  d.lod_count = uint32_t(movingCharacter().mesh.maxLodCount());
+  d.previous_records = true;
+  d.worker_threads = threads;
+  ASSERT_TRUE(w->crowd.init(d).isOk());
+  LayerMask arm;
+  ASSERT_TRUE(buildLayerMask(movingCharacter().skeleton, movingPalette(), "right arm",
+                             {"r_clavicle"}, &arm).isOk());
+  uint32_t mask = 0;
+  ASSERT_TRUE(w->crowd.addLayerMask(arm, &mask).isOk());
+  const uint32_t clips = uint32_t(movingPalette().clips.size());
+  for (uint32_t c = 0; c < clips; ++c)
+    ASSERT_TRUE(w->crowd.addClipMarker(c, movingPalette().clips[c].duration_seconds * 0.5, "mid").isOk());
+  std::mt19937_64 rng(7);
+  std::uniform_real_distribution<double> u(0.0, 1.0);
+  for (uint32_t i = 0; i < n; ++i) {
+    InstanceDesc one;
+    one.position = {u(rng) * 300.0 - 150.0, 0.0, u(rng) * 300.0 - 80.0};
+    const double a = u(rng) * 6.283185307179586;
+    one.rotation = glm::quat(float(std::cos(a / 2)), 0.0f, float(std::sin(a / 2)), 0.0f);
+    one.scale = float(0.5 + u(rng));
+    one.variation_mask = uint32_t(rng()) | 1u;
+    one.clip = uint32_t(rng() % clips);
+    one.time_seconds = u(rng) * 2.0;
+    one.speed = float(0.5 + u(rng));
+    one.root_motion = i % 5 == 0;
+    InstanceHandle h;
+    ASSERT_TRUE(w->crowd.add(one, &h).isOk());
+    if (i % 4 == 0) {
+      ASSERT_TRUE(w->crowd.crossfade(h, uint32_t(rng() % clips), 0.1 + u(rng)).isOk());
+    }
+    if (i % 7 == 0) {
+      ASSERT_TRUE(w->crowd.playOverlay(h, uint32_t(rng() % clips), mask, 0.7f, 0.3).isOk());
+    }
+    w->handles.push_back(h);
+  }
+}
+
+// What every crowd of a run does between frames: remove one, teleport one, add one.
+void editWorld(World* w, int frame) {
+  const size_t k = size_t(frame) * 101 % w->handles.size();
+  ASSERT_TRUE(w->crowd.remove(w->handles[k]).isOk());
+  w->handles.erase(w->handles.begin() + long(k));
+  ASSERT_TRUE(w->crowd.setTransform(w->handles[k / 2], {1.0, 0.0, 5.0 + frame}, glm::quat(1, 0, 0, 0), 1.0f).isOk());
+  InstanceDesc one;
+  one.position = {2.0 * frame, 0.0, 10.0};
+  one.clip = uint32_t(frame) % uint32_t(movingPalette().clips.size());
+  InstanceHandle h;
+  ASSERT_TRUE(w->crowd.add(one, &h).isOk());
+  w->handles.push_back(h);
+}
+
+// The main camera and a shadow-like one high above, looking down over the crowd.
+Camera mainCamera(int frame) { return testCamera({frame * 8.0, 2.0 + frame * 6.0, -30.0}, {0, 0, 100}); }
+Camera topCamera(int frame) { return testCamera({-frame * 5.0, 120.0, 20.0}, {0.0, 0.0, 60.0 + frame}); }
+
+TEST(CrowdView, EachViewSelectsWhatASingleViewCrowdAtItsCameraSelects) {
+  WorkerPool seven(7);
+  const ParallelFor on_seven = [&](uint32_t n, const ParallelTask& t) { seven.run(n, t); };
+  const uint32_t n = 9000;  // 3 tasks, the last one partial.
+  for (uint32_t threads : {1u, 2u, 7u}) {
+    SCOPED_TRACE(testing::Message() << threads << " threads");
+    World both, main_only, top_only;
+    makeWorld(&both, n, threads);
+    makeWorld(&main_only, n, threads);
+    makeWorld(&top_only, n, threads);
+    CrowdView main_view, top_view;
+    ASSERT_TRUE(main_view.init(both.crowd, CrowdViewDesc{0, 0.0f, 0.0f, true}).isOk());
+    ASSERT_TRUE(top_view.init(both.crowd, CrowdViewDesc{0, 0.0f, 0.0f, true}).isOk());
+    size_t events = 0, top_visible = 0;
+    for (int frame = 0; frame < 6; ++frame) {
+      const double dt = 0.25;
+      if (threads == 7) {  // An engine's job system.
+        ASSERT_TRUE(both.crowd.advance(dt, on_seven).isOk());
+      } else {
+        ASSERT_TRUE(both.crowd.advance(dt).isOk());
+      }
+      if (frame % 2 == 0) {  // Views in either order.
+        ASSERT_TRUE(main_view.select(mainCamera(frame)).isOk());
+        ASSERT_TRUE(top_view.select(topCamera(frame)).isOk());
+      } else {
+        ASSERT_TRUE(top_view.select(topCamera(frame)).isOk());
+        ASSERT_TRUE(main_view.select(mainCamera(frame)).isOk());
+      }
+      ASSERT_TRUE(main_only.crowd.update(dt, mainCamera(frame)).isOk());
+      ASSERT_TRUE(top_only.crowd.update(dt, topCamera(frame)).isOk());
+      const std::string at = "frame " + std::to_string(frame);
+      expectSame(selectionOf(main_only.crowd), selectionOf(main_view), "main view, " + at);
+      expectSame(selectionOf(top_only.crowd), selectionOf(top_view), "top view, " + at);
+      // Events once per frame, not per view.
+      EXPECT_EQ(eventsOf(main_only.crowd), eventsOf(both.crowd)) << at;
+      events += both.crowd.events().size();
+      top_visible += top_view.stats().visible;
+      for (InstanceHandle h : {both.handles[0], both.handles[1]}) {
+        uint32_t a = 9, b = 9;
+        ASSERT_TRUE(main_view.lodOf(h, &a).isOk());
+        ASSERT_TRUE(main_only.crowd.lodOf(h, &b).isOk());
+        EXPECT_EQ(a, b) << at;
+      }
+      editWorld(&both, frame);
+      editWorld(&main_only, frame);
+      editWorld(&top_only, frame);
+    }
+    // The run exercised what it claims to.
+    EXPECT_GT(events, 0u);
+    EXPECT_GT(top_visible, 0u);
+    EXPECT_NE(selectionOf(main_view).records, selectionOf(top_view).records);
+  }
+}
+
+TEST(CrowdView, AViewAddedOrRemovedMidRunChangesNothingForTheOthers) {
+  World both, alone;
+  makeWorld(&both, 5000, 1);
+  makeWorld(&alone, 5000, 1);
+  CrowdView main_view;
+  ASSERT_TRUE(main_view.init(both.crowd, CrowdViewDesc{0, 0.0f, 0.0f, true}).isOk());
+  auto extra = std::make_unique<CrowdView>();
+  for (int frame = 0; frame < 6; ++frame) {
+    ASSERT_TRUE(both.crowd.advance(0.2).isOk());
+    if (frame == 2) {
+      ASSERT_TRUE(extra->init(both.crowd, CrowdViewDesc{1, 0.5f, -1.0f, true}).isOk());
+    }
+    if (frame >= 2 && extra) {
+      ASSERT_TRUE(extra->select(topCamera(frame)).isOk());
+    }
+    if (frame == 4) extra.reset();  // Its lane freed mid-run.
+    ASSERT_TRUE(main_view.select(mainCamera(frame)).isOk());
+    ASSERT_TRUE(alone.crowd.update(0.2, mainCamera(frame)).isOk());
+    expectSame(selectionOf(alone.crowd), selectionOf(main_view), "frame " + std::to_string(frame));
+    editWorld(&both, frame);
+    editWorld(&alone, frame);
+  }
+  // A view added after the removal reuses the lane, starting afresh.
+  CrowdView again;
+  ASSERT_TRUE(again.init(both.crowd).isOk());
+  ASSERT_TRUE(again.select(mainCamera(0)).isOk());
+  EXPECT_TRUE(again.previousRecords().empty());
+}
+
+// The per-view rules: LODs of a biased view are the unbiased view's plus the bias (clamped); a
+// distance scale equals the crowd's lines scaled; a negative far line culls by frustum only.
+TEST(CrowdView, TheViewsOwnLodRules) {
+  World w, scaled;
+  makeWorld(&w, 4000, 1);
+  makeWorld(&scaled, 4000, 1);
+  const uint32_t lods = w.crowd.desc().lod_count;
+  ASSERT_GE(lods, 3u);
+  std::vector<float> half;
+  for (float line : w.crowd.desc().lod_distances_radii) half.push_back(line * 0.5f);
+  ASSERT_TRUE(scaled.crowd.setLodDistances(half).isOk());
+  CrowdView plain, biased, near_lods, no_far;
+  ASSERT_TRUE(plain.init(w.crowd).isOk());
+  ASSERT_TRUE(biased.init(w.crowd, CrowdViewDesc{1, 0.0f, 0.0f, false}).isOk());
+  ASSERT_TRUE(near_lods.init(w.crowd, CrowdViewDesc{0, 0.5f, 0.0f, true}).isOk());
+  ASSERT_TRUE(no_far.init(w.crowd, CrowdViewDesc{0, 0.0f, -1.0f, false}).isOk());
+  for (int frame = 0; frame < 3; ++frame) {
+    const Camera cam = mainCamera(frame);
+    ASSERT_TRUE(w.crowd.advance(0.1).isOk());
+    for (CrowdView* v : {&plain, &biased, &near_lods, &no_far}) ASSERT_TRUE(v->select(cam).isOk());
+    ASSERT_TRUE(scaled.crowd.update(0.1, cam).isOk());
+    expectSame(selectionOf(scaled.crowd), selectionOf(near_lods), "distance scale 0.5");
+    EXPECT_EQ(plain.stats().visible, biased.stats().visible);
+    uint32_t moved = 0;
+    for (InstanceHandle h : plain.visibleHandles()) {
+      uint32_t a = 0, b = 0;
+      ASSERT_TRUE(plain.lodOf(h, &a).isOk());
+      ASSERT_TRUE(biased.lodOf(h, &b).isOk());
+      EXPECT_EQ(std::min(a + 1, lods - 1), b);
+      moved += a + 1 < lods;
+    }
+    EXPECT_GT(moved, 0u);
+    EXPECT_EQ(biased.stats().per_lod[0], 0u);
+    EXPECT_GT(plain.stats().culled_distance, 0u);
+    EXPECT_EQ(no_far.stats().culled_distance, 0u);
+    EXPECT_EQ(no_far.stats().visible, plain.stats().visible + plain.stats().culled_distance -
+                                          (no_far.stats().culled_frustum - plain.stats().culled_frustum));
+  }
+}
+
+TEST(CrowdView, AttachmentFollowsTheCrowd) {
+  CrowdView view;
+  EXPECT_FALSE(view.attached());
+  EXPECT_EQ(view.crowd(), nullptr);
+  Status s = view.select(mainCamera(0));
+  EXPECT_EQ(s.code(), StatusCode::kInvalidArgument);
+  EXPECT_NE(s.message().find("not attached"), std::string::npos) << s.message();
+  CrowdManager never_initialized;
+  s = view.init(never_initialized);
+  EXPECT_EQ(s.code(), StatusCode::kInvalidArgument);
+  EXPECT_NE(s.message().find("init() first"), std::string::npos) << s.message();
+
+  auto w = std::make_unique<World>();
+  makeWorld(w.get(), 100, 1);
+  EXPECT_EQ(view.init(w->crowd, CrowdViewDesc{8, 0.0f, 0.0f, false}).code(), StatusCode::kInvalidArgument);
+  EXPECT_EQ(view.init(w->crowd, CrowdViewDesc{0, -1.0f, 0.0f, false}).code(), StatusCode::kInvalidArgument);
+  EXPECT_EQ(view.init(w->crowd, CrowdViewDesc{0, 0.0f, NAN, false}).code(), StatusCode::kInvalidArgument);
+  EXPECT_FALSE(view.attached());
+  ASSERT_TRUE(view.init(w->crowd).isOk());
+  EXPECT_EQ(view.crowd(), &w->crowd);
+  ASSERT_TRUE(w->crowd.advance(0.1).isOk());
+  ASSERT_TRUE(view.select(mainCamera(0)).isOk());
+  const uint32_t visible = view.stats().visible;
+  EXPECT_GT(visible, 0u);
+
+  // A moved crowd keeps its views; a moved view keeps its crowd.
+  CrowdManager moved(std::move(w->crowd));
+  EXPECT_EQ(view.crowd(), &moved);
+  CrowdView other(std::move(view));
+  EXPECT_TRUE(other.attached());
+  ASSERT_TRUE(other.select(mainCamera(0)).isOk());
+  EXPECT_EQ(other.stats().visible, visible);
+
+  // A crowd init() again or destroyed detaches its views, which keep their last selection.
+  ASSERT_TRUE(moved.init(moved.desc()).isOk());
+  EXPECT_FALSE(other.attached());
+  EXPECT_EQ(other.stats().visible, visible);
+  EXPECT_EQ(other.select(mainCamera(0)).code(), StatusCode::kInvalidArgument);
+  ASSERT_TRUE(other.init(moved).isOk());
+  { CrowdManager gone(std::move(moved)); }
+  EXPECT_FALSE(other.attached());
+  uint32_t lod = 0;
+  EXPECT_EQ(other.lodOf(InstanceHandle(), &lod).code(), StatusCode::kInvalidArgument);
+}
+
+}  // namespace
+}  // namespace si
