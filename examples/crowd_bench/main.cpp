@@ -20,6 +20,7 @@
 #include "crowd_bench/motion_vectors_table.h"
 #include "crowd_bench/restore_state_table.h"
 #include "crowd_bench/root_motion_table.h"
+#include "crowd_bench/views_table.h"
 #include "si/bake/animation_baker.h"
 #include "si/bake/lod_chain.h"
 #include "si/core/default_character.h"
@@ -60,6 +61,7 @@ struct Options {
   bool motion_vectors = false;   // The motion vectors table.
   bool restore_state = false;    // The state contract table.
   bool layers = false;           // The layered animation table.
+  std::vector<uint32_t> views;   // The views table's view counts; empty: no views table.
 };
 
 void usage(std::FILE* f) {
@@ -101,6 +103,8 @@ void usage(std::FILE* f) {
       "                   with RendererDesc::restore_state off and on, side by side)\n"
       "                   [--layers] (the layered animation table: the instanced, compute and\n"
       "                   GPU-driven paths with no overlay, at weight 1 and 0.5, side by side)\n"
+      "                   [--views N,M,...] (the views table: 1 main view and N - 1 shadow\n"
+      "                   cascades per frame, for each count, side by side)\n"
       "                   [--no-gpu-time] (no blocking timer queries: CPU columns only;\n"
       "                   GPU ms and the GPU-culled path's visible count read -1 / 0)\n");
 }
@@ -150,6 +154,14 @@ bool parse(int argc, char** argv, Options* o) {
     else if (a == "--motion-vectors") o->motion_vectors = true;
     else if (a == "--restore-state") o->restore_state = true;
     else if (a == "--layers") o->layers = true;
+    else if (a == "--views" && has) {
+      o->views.clear();
+      for (const std::string& v : si::examples::splitList(argv[++i])) {
+        const unsigned long n = std::stoul(v);
+        if (n < 1 || n > 8) return false;  // 1 main view and up to 7 cascades.
+        o->views.push_back(uint32_t(n));
+      }
+    }
     else if (a == "--backend" && has) {
       if (!si::examples::parseBackend(argv[++i], &o->backend)) return false;
     } else return false;
@@ -392,6 +404,11 @@ int main(int argc, char** argv) {
   if (b.o.motion_vectors) {
     s = si::bench::motionVectorsTable(b.setup, palette, rd, b.o.sizes, b.o.paths, csv);
     if (!s.isOk()) return fail("motion vectors", s);
+  }
+  if (!b.o.views.empty()) {
+    s = si::bench::viewsTable(b.setup, palette, rd, b.o.sizes, b.o.views, b.o.paths,
+                              b.o.max_baseline, csv);
+    if (!s.isOk()) return fail("views", s);
   }
   if (b.o.restore_state) {
     s = si::bench::restoreStateTable(b.setup, palette, rd, b.o.sizes, b.o.paths, csv);

@@ -144,7 +144,8 @@ Status CrowdManager::init(const CrowdDesc& in_desc) {
   detail::ViewState& own = *state_->own_view.state_;
   own.crowd = state_.get();
   own.lane = 0;  // The store's first lane, made by reset().
-  own.previous_records = d.previous_records;
+  own.desc = CrowdViewDesc();
+  own.desc.previous_records = own.previous_records = d.previous_records;
   detail::resetSelection(d, &own);
   state_->views.push_back(&own);
   return Status::ok();

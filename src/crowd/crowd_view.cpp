@@ -27,6 +27,8 @@ void resetSelection(const CrowdDesc& desc, ViewState* v) {
   v->frame.run_offsets.assign(size_t(desc.lod_count) * desc.sub_mesh_count + 1, 0);
   v->camera = v->previous_camera = Camera();
   v->selected = false;
+  v->sub_mesh_count = desc.sub_mesh_count;
+  v->lod_count = desc.lod_count;
 }
 
 ParallelFor crowdParallelFor(CrowdState& st) {
@@ -146,6 +148,8 @@ const CrowdManager* CrowdView::crowd() const {
   return view().crowd != nullptr ? view().crowd->owner : nullptr;
 }
 const CrowdViewDesc& CrowdView::desc() const { return view().desc; }
+uint32_t CrowdView::subMeshCount() const { return view().sub_mesh_count; }
+uint32_t CrowdView::lodCount() const { return view().lod_count; }
 
 Status CrowdView::select(const Camera& camera) {
   if (!attached()) return select(camera, ParallelFor());  // The detached error.
@@ -214,7 +218,7 @@ Status CrowdView::lodOf(InstanceHandle h, uint32_t* lod) const {
   Status s = st.denseIndex(h, &i);
   if (s.isOk() && lod != nullptr)
     *lod = std::min(uint32_t(st.views[v.lane].lods[i]) + v.desc.lod_bias,
-                    v.crowd->owner->desc().lod_count - 1);
+                    v.lod_count - 1);
   return s;
 }
 

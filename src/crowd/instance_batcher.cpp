@@ -38,7 +38,7 @@ size_t alignUp(size_t v, size_t a) {
 }
 }  // namespace
 
-size_t InstanceBatcher::recordBufferBound(const CrowdManager& crowd) const {
+size_t InstanceBatcher::recordBufferBound(const CrowdView& crowd) const {
   if (capacity_ == 0) return 0;
   const std::vector<uint32_t>& offsets = crowd.bucketOffsets();
   size_t bytes = 0;
@@ -61,12 +61,12 @@ namespace {
 // first + count) go to the batch's slots from `slot` on. Adds each batch to `draws` when
 // non-null.
 template <typename CopyRun>
-void walkBatches(const CrowdManager& crowd, uint32_t capacity, uint32_t alignment,
+void walkBatches(const CrowdView& crowd, uint32_t capacity, uint32_t alignment,
                  std::vector<DrawBatch>* draws, const CopyRun& copy) {
   const std::vector<uint32_t>& offsets = crowd.bucketOffsets();
   const std::vector<uint32_t>& run_offsets = crowd.bucketRunOffsets();
   const std::vector<RecordRun>& runs = crowd.bucketRuns();
-  const uint32_t submeshes = crowd.desc().sub_mesh_count;
+  const uint32_t submeshes = crowd.subMeshCount();
   size_t cursor = 0, layer_cursor = 0;
   for (uint32_t b = 0; b + 1 < offsets.size(); ++b) {
     uint32_t r = run_offsets[b], used_of_run = 0;
@@ -101,7 +101,7 @@ void walkBatches(const CrowdManager& crowd, uint32_t capacity, uint32_t alignmen
 
 }  // namespace
 
-Status InstanceBatcher::build(const CrowdManager& crowd, Span<uint8_t> out,
+Status InstanceBatcher::build(const CrowdView& crowd, Span<uint8_t> out,
                               std::vector<DrawBatch>* draws) const {
   if (capacity_ == 0) return {StatusCode::kInvalidArgument, "InstanceBatcher: init() first"};
   if (draws == nullptr)
@@ -122,12 +122,12 @@ Status InstanceBatcher::build(const CrowdManager& crowd, Span<uint8_t> out,
   return Status::ok();
 }
 
-Status InstanceBatcher::buildPrevious(const CrowdManager& crowd, Span<uint8_t> out) const {
+Status InstanceBatcher::buildPrevious(const CrowdView& crowd, Span<uint8_t> out) const {
   if (capacity_ == 0) return {StatusCode::kInvalidArgument, "InstanceBatcher: init() first"};
   if (!crowd.desc().previous_records)
     return {StatusCode::kInvalidArgument,
             "InstanceBatcher::buildPrevious: the crowd keeps no previous records "
-            "(CrowdDesc::previous_records)"};
+            "(CrowdDesc::previous_records, CrowdViewDesc::previous_records)"};
   const size_t needed = recordBufferBound(crowd);
   if (out.size() < needed)
     return {StatusCode::kCountMismatch,
@@ -138,7 +138,7 @@ Status InstanceBatcher::buildPrevious(const CrowdManager& crowd, Span<uint8_t> o
   const Span<const uint32_t> index = crowd.previousRecordIndices();
   // The fallback's translation moves from the last camera's origin to the previous one's; a
   // camera cut too far for a float (past 1e30) keeps it (no motion is meaningful there).
-  const glm::dvec3 delta = crowd.updateCamera().position - crowd.previousUpdateCamera().position;
+  const glm::dvec3 delta = crowd.camera().position - crowd.previousCamera().position;
   const bool representable = glm::all(glm::lessThan(glm::abs(delta), glm::dvec3(1e30)));
   const glm::vec3 shift = representable ? glm::vec3(delta) : glm::vec3(0.0f);
   uint8_t* base = out.data();
@@ -156,7 +156,7 @@ Status InstanceBatcher::buildPrevious(const CrowdManager& crowd, Span<uint8_t> o
   return Status::ok();
 }
 
-size_t InstanceBatcher::layerBufferBound(const CrowdManager& crowd) const {
+size_t InstanceBatcher::layerBufferBound(const CrowdView& crowd) const {
   if (capacity_ == 0) return 0;
   const std::vector<uint32_t>& offsets = crowd.bucketOffsets();
   size_t bytes = 0;
@@ -169,7 +169,7 @@ size_t InstanceBatcher::layerBufferBound(const CrowdManager& crowd) const {
   return bytes;
 }
 
-Status InstanceBatcher::checkLayerBuffer(const char* what, const CrowdManager& crowd,
+Status InstanceBatcher::checkLayerBuffer(const char* what, const CrowdView& crowd,
                                          size_t out_bytes) const {
   if (capacity_ == 0) return {StatusCode::kInvalidArgument, "InstanceBatcher: init() first"};
   if (crowd.layerRecords().empty())
@@ -184,7 +184,7 @@ Status InstanceBatcher::checkLayerBuffer(const char* what, const CrowdManager& c
   return Status::ok();
 }
 
-Status InstanceBatcher::buildLayers(const CrowdManager& crowd, Span<uint8_t> out) const {
+Status InstanceBatcher::buildLayers(const CrowdView& crowd, Span<uint8_t> out) const {
   const Status s = checkLayerBuffer("buildLayers", crowd, out.size());
   if (!s.isOk()) return s;
   const Span<const LayerRecord> layers = crowd.layerRecords();
@@ -197,11 +197,11 @@ Status InstanceBatcher::buildLayers(const CrowdManager& crowd, Span<uint8_t> out
   return Status::ok();
 }
 
-Status InstanceBatcher::buildPreviousLayers(const CrowdManager& crowd, Span<uint8_t> out) const {
+Status InstanceBatcher::buildPreviousLayers(const CrowdView& crowd, Span<uint8_t> out) const {
   if (capacity_ != 0 && !crowd.desc().previous_records)
     return {StatusCode::kInvalidArgument,
             "InstanceBatcher::buildPreviousLayers: the crowd keeps no previous records "
-            "(CrowdDesc::previous_records)"};
+            "(CrowdDesc::previous_records, CrowdViewDesc::previous_records)"};
   const Status s = checkLayerBuffer("buildPreviousLayers", crowd, out.size());
   if (!s.isOk()) return s;
   const Span<const LayerRecord> layers = crowd.layerRecords();
@@ -223,7 +223,7 @@ Status InstanceBatcher::buildPreviousLayers(const CrowdManager& crowd, Span<uint
   return Status::ok();
 }
 
-Status InstanceBatcher::buildSpans(const CrowdManager& crowd,
+Status InstanceBatcher::buildSpans(const CrowdView& crowd,
                                    std::vector<RecordSpanDraw>* draws) const {
   if (capacity_ == 0) return {StatusCode::kInvalidArgument, "InstanceBatcher: init() first"};
   if (draws == nullptr)
@@ -233,7 +233,7 @@ Status InstanceBatcher::buildSpans(const CrowdManager& crowd,
   const uint32_t step = alignment_ / std::gcd(kInstanceRecordSize, alignment_);
   const std::vector<uint32_t>& run_offsets = crowd.bucketRunOffsets();
   const std::vector<RecordRun>& runs = crowd.bucketRuns();
-  const uint32_t submeshes = crowd.desc().sub_mesh_count;
+  const uint32_t submeshes = crowd.subMeshCount();
   for (uint32_t b = 0; b + 1 < run_offsets.size(); ++b) {
     for (uint32_t r = run_offsets[b]; r < run_offsets[b + 1]; ++r) {
       for (uint32_t first = runs[r].first, left = runs[r].count; left > 0;) {

@@ -289,14 +289,14 @@ void Renderer::clear(const glm::vec4& color) {
   glClearNamedFramebufferfv(GLuint(framebuffer), GL_DEPTH, 0, &far_depth);
 }
 
-Status Renderer::drawCrowd(CharacterId id, const CrowdManager& crowd,
-                           const InstanceBatcher& batcher, const Camera& camera, DrawStats* stats,
-                           DrawMode mode) {
+Status Renderer::drawCrowd(CharacterId id, const CrowdView& view, const InstanceBatcher& batcher,
+                           const Camera& camera, DrawStats* stats, DrawMode mode) {
   if (!impl_) return noRenderer("drawCrowd");
   Impl& m = *impl_;
   detail::CharacterSlot* c = nullptr;
-  Status s = m.find(id, "drawCrowd", &c, &crowd);
+  Status s = m.find(id, "drawCrowd", &c, view);
   if (!s.isOk()) return s;
+  const CrowdManager& crowd = *view.crowd();
   if (batcher.capacityPerDraw() > m.capacity)
     return {StatusCode::kInvalidArgument,
             strCat("drawCrowd: the batcher's ", batcher.capacityPerDraw(),
@@ -312,20 +312,20 @@ Status Renderer::drawCrowd(CharacterId id, const CrowdManager& crowd,
   // Motion vectors: the skinned colour modes (depth-only and rigid draws write none).
   const bool motion = m.desc.motion_vectors &&
                       (mode == DrawMode::kSkinned || mode == DrawMode::kComputeSkinned);
-  if (motion && !crowd.desc().previous_records)
+  if (motion && !view.desc().previous_records)
     return {StatusCode::kInvalidArgument,
             "drawCrowd: motion vectors (RendererDesc::motion_vectors) need a crowd that keeps its "
-            "previous records (CrowdDesc::previous_records)"};
-  // Layered animation: the crowd's last update wrote layer records.
-  const bool layers = !crowd.layerRecords().empty() && mode != DrawMode::kRigid;
+            "previous records (CrowdDesc::previous_records; a view: CrowdViewDesc::previous_records)"};
+  // Layered animation: the view's last selection wrote layer records.
+  const bool layers = !view.layerRecords().empty() && mode != DrawMode::kRigid;
   const auto t0 = std::chrono::steady_clock::now();
   Impl::Guard guard = m.enter("drawCrowd", detail::drawFootprint());
   // The ring region: the records; then, each at the next aligned offset, the previous records
   // (motion vectors), the layer records (layered animation) and the previous layer records
   // (both).
   const auto align = [&](size_t v) { return (v + m.alignment - 1) / m.alignment * m.alignment; };
-  const size_t bound = batcher.recordBufferBound(crowd);
-  const size_t layer_bound = layers ? batcher.layerBufferBound(crowd) : 0;
+  const size_t bound = batcher.recordBufferBound(view);
+  const size_t layer_bound = layers ? batcher.layerBufferBound(view) : 0;
   const size_t previous_offset = align(bound);
   const size_t layer_offset = motion ? align(previous_offset + bound) : previous_offset;
   const size_t previous_layer_offset = align(layer_offset + layer_bound);
@@ -338,18 +338,19 @@ Status Renderer::drawCrowd(CharacterId id, const CrowdManager& crowd,
   size_t base = 0;
   s = m.ring.acquire(&base);
   if (!s.isOk()) return s;
-  s = batcher.build(crowd, Span<uint8_t>(m.ring.mapped(base), m.ring.writableBytes()),
+  s = batcher.build(view, Span<uint8_t>(m.ring.mapped(base), m.ring.writableBytes()),
                     &m.batches);
   const auto region = [&](size_t offset) {
     return Span<uint8_t>(m.ring.mapped(base + offset), m.ring.writableBytes() - offset);
   };
-  if (s.isOk() && motion) s = batcher.buildPrevious(crowd, region(previous_offset));
-  if (s.isOk() && layers) s = batcher.buildLayers(crowd, region(layer_offset));
-  if (s.isOk() && layers && motion) s = batcher.buildPreviousLayers(crowd, region(previous_layer_offset));
+  if (s.isOk() && motion) s = batcher.buildPrevious(view, region(previous_offset));
+  if (s.isOk() && layers) s = batcher.buildLayers(view, region(layer_offset));
+  if (s.isOk() && layers && motion) s = batcher.buildPreviousLayers(view, region(previous_layer_offset));
   if (s.isOk() && layers) s = m.scratch.uploadMaskTable(layerMaskTable(crowd.layerMasks()));
   if (!s.isOk()) return s;
   detail::PathFrame frame;
   frame.crowd = &crowd;
+  frame.view = &view;
   frame.camera = camera;
   frame.light = light_direction_;
   frame.program = mode == DrawMode::kDepthOnly
@@ -366,8 +367,8 @@ Status Renderer::drawCrowd(CharacterId id, const CrowdManager& crowd,
   frame.layers = layers;
   frame.layer_base = base + layer_offset;
   frame.previous_layer_base = base + previous_layer_offset;
-  frame.motion_view_projection = crowd.updateCamera().viewProjection();
-  frame.previous_view_projection = crowd.previousUpdateCamera().viewProjection();
+  frame.motion_view_projection = view.camera().viewProjection();
+  frame.previous_view_projection = view.previousCamera().viewProjection();
   detail::DrawPath& path = mode == DrawMode::kComputeSkinned
                                ? static_cast<detail::DrawPath&>(c->compute_path)
                                : m.vertex_path;
@@ -380,22 +381,22 @@ Status Renderer::drawCrowd(CharacterId id, const CrowdManager& crowd,
 }
 
 // The crowd-only paths: the baselines and GPU-driven culling.
-Status Renderer::drawTraditional(CharacterId id, const CrowdManager& crowd, const Camera& camera,
+Status Renderer::drawTraditional(CharacterId id, const CrowdView& view, const Camera& camera,
                                  DrawStats* stats) {
   detail::CharacterSlot* c = nullptr;
-  Status s = impl_ ? impl_->find(id, "drawTraditional", &c, &crowd) : noRenderer("drawTraditional");
+  Status s = impl_ ? impl_->find(id, "drawTraditional", &c, view) : noRenderer("drawTraditional");
   if (s.isOk()) s = impl_->noMotion("drawTraditional");
-  return s.isOk() ? impl_->drawCrowdOnly(*c, impl_->traditional_path, "drawTraditional", crowd,
+  return s.isOk() ? impl_->drawCrowdOnly(*c, impl_->traditional_path, "drawTraditional", view,
                                          camera, light_direction_, stats)
                   : s;
 }
 
-Status Renderer::drawCpuSkinned(CharacterId id, const CrowdManager& crowd, const Camera& camera,
+Status Renderer::drawCpuSkinned(CharacterId id, const CrowdView& view, const Camera& camera,
                                 DrawStats* stats) {
   detail::CharacterSlot* c = nullptr;
-  Status s = impl_ ? impl_->find(id, "drawCpuSkinned", &c, &crowd) : noRenderer("drawCpuSkinned");
+  Status s = impl_ ? impl_->find(id, "drawCpuSkinned", &c, view) : noRenderer("drawCpuSkinned");
   if (s.isOk()) s = impl_->noMotion("drawCpuSkinned");
-  return s.isOk() ? impl_->drawCrowdOnly(*c, c->cpu_path, "drawCpuSkinned", crowd, camera,
+  return s.isOk() ? impl_->drawCrowdOnly(*c, c->cpu_path, "drawCpuSkinned", view, camera,
                                          light_direction_, stats)
                   : s;
 }

@@ -80,13 +80,25 @@ struct Renderer::Impl {
   /// not complete (palette and mesh), or `crowd` (when given) plays another palette.
   Status find(CharacterId id, const char* what, detail::CharacterSlot** out,
               const CrowdManager* crowd = nullptr) {
+    return findFor(id, what, out, crowd, crowd != nullptr ? crowd->desc().palette : nullptr);
+  }
+  /// The same for a view: kInvalidArgument when it is not attached to a crowd.
+  Status find(CharacterId id, const char* what, detail::CharacterSlot** out, const CrowdView& view) {
+    if (view.crowd() == nullptr)
+      return {StatusCode::kInvalidArgument,
+              detail::strCat(what, ": the view is not attached to a crowd (init() the crowd, and "
+                                   "the view with CrowdView::init)")};
+    return find(id, what, out, view.crowd());
+  }
+  Status findFor(CharacterId id, const char* what, detail::CharacterSlot** out,
+                 const CrowdManager* crowd, const BakedPalette* palette) {
     if (id.index >= characters.size() || !characters[id.index]->ready())
       return {StatusCode::kInvalidArgument,
               id.index == 0 && characters.size() <= 1
                   ? detail::strCat(what, ": init and addCharacter first")
                   : detail::strCat(what, ": no character ", id.index, " (", characters.size(),
                                    " added; addCharacter gives the ids)")};
-    if (crowd != nullptr && crowd->desc().palette != characters[id.index]->palette.palette())
+    if (crowd != nullptr && palette != characters[id.index]->palette.palette())
       return {StatusCode::kInvalidArgument,
               detail::strCat(what, ": the crowd plays another palette than the character's ",
                              "(draw each crowd with the CharacterId of the character uploaded ",
@@ -119,15 +131,16 @@ struct Renderer::Impl {
     return r;
   }
 
-  /// A crowd-only path (no batcher, no mode) of character `c` for `crowd` seen by `camera`:
+  /// A crowd-only path (no batcher, no mode) of character `c` for `view` seen by `camera`:
   /// runPath(), the error check named `what`, and the stats (when non-null).
   Status drawCrowdOnly(detail::CharacterSlot& c, detail::DrawPath& p, const char* what,
-                       const CrowdManager& crowd, const Camera& camera, const glm::vec3& light,
+                       const CrowdView& view, const Camera& camera, const glm::vec3& light,
                        DrawStats* stats) {
     const auto t0 = std::chrono::steady_clock::now();
     Guard guard = enter(what, detail::drawFootprint());
     detail::PathFrame frame;
-    frame.crowd = &crowd;
+    frame.crowd = view.crowd();
+    frame.view = &view;
     frame.camera = camera;
     frame.light = light;
     DrawStats st;

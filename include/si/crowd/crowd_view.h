@@ -101,7 +101,12 @@ class CrowdView {
   bool attached() const;
   /// The crowd the view selects from, or null when detached.
   const CrowdManager* crowd() const;
+  /// The view's rules (the crowd's own view: previous_records as CrowdDesc's, no other rule).
   const CrowdViewDesc& desc() const;
+  /// The crowd's sub-mesh and LOD counts when the view was init() (bucket b = lod *
+  /// subMeshCount() + sub-mesh); 0 before.
+  uint32_t subMeshCount() const;
+  uint32_t lodCount() const;
 
   /// Culls the crowd's instances against `camera` and the far line, picks their LODs from this
   /// view's last ones, and buckets the visible ones with their records, at the crowd's clock

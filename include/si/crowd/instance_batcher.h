@@ -79,14 +79,18 @@ class InstanceBatcher {
   uint32_t alignment() const { return alignment_; }
 
   /// Bytes build() needs for `crowd`'s last frame: each batch padded to the alignment.
-  size_t recordBufferBound(const CrowdManager& crowd) const;
+  size_t recordBufferBound(const CrowdView& view) const;
+  size_t recordBufferBound(const CrowdManager& crowd) const { return recordBufferBound(crowd.view()); }
 
   /// Splits every bucket of `crowd`'s last update() into batches of at most capacityPerDraw()
   /// instances (buckets in order: LOD-major, then sub-mesh), copies their records into `out`
   /// and replaces `draws` with the draw list. kInvalidArgument if not initialized or `draws` is
   /// null; kCountMismatch when `out` is smaller than recordBufferBound(crowd) (nothing written).
   /// Does not allocate once `draws` has reached the needed capacity.
-  Status build(const CrowdManager& crowd, Span<uint8_t> out, std::vector<DrawBatch>* draws) const;
+  Status build(const CrowdView& view, Span<uint8_t> out, std::vector<DrawBatch>* draws) const;
+  Status build(const CrowdManager& crowd, Span<uint8_t> out, std::vector<DrawBatch>* draws) const {
+    return build(crowd.view(), out, draws);
+  }
 
   /// Motion vectors: writes, in build()'s layout (the same draws, byte offsets and slots), each
   /// instance's record of the previous update (CrowdManager::previousRecords()), relative to
@@ -98,24 +102,34 @@ class InstanceBatcher {
   /// previous camera. kInvalidArgument if not initialized or the crowd does not keep previous
   /// records (CrowdDesc::previous_records); kCountMismatch when `out` is smaller than
   /// recordBufferBound(crowd) (nothing written).
-  Status buildPrevious(const CrowdManager& crowd, Span<uint8_t> out) const;
+  Status buildPrevious(const CrowdView& view, Span<uint8_t> out) const;
+  Status buildPrevious(const CrowdManager& crowd, Span<uint8_t> out) const {
+    return buildPrevious(crowd.view(), out);
+  }
 
   /// Layered animation: bytes buildLayers() needs (each batch's layer records padded to the
   /// alignment).
-  size_t layerBufferBound(const CrowdManager& crowd) const;
+  size_t layerBufferBound(const CrowdView& view) const;
+  size_t layerBufferBound(const CrowdManager& crowd) const { return layerBufferBound(crowd.view()); }
   /// Writes each batch's layer records (CrowdManager::layerRecords(), 16 bytes a slot) at its
   /// layer_byte_offset, in the slots build() gives its records: bind a batch's at
   /// si_skinning.glsl's SiLayers (SI_LAYERS) beside its records. kInvalidArgument if not
   /// initialized or the crowd's last update wrote no layer records; kCountMismatch when `out`
   /// is smaller than layerBufferBound(crowd) (nothing written).
-  Status buildLayers(const CrowdManager& crowd, Span<uint8_t> out) const;
+  Status buildLayers(const CrowdView& view, Span<uint8_t> out) const;
+  Status buildLayers(const CrowdManager& crowd, Span<uint8_t> out) const {
+    return buildLayers(crowd.view(), out);
+  }
   /// Motion vectors of overlays: buildLayers()'s layout holding each slot's previous layer
   /// record (CrowdManager::previousLayerRecords() through previousRecordIndices()); where the
   /// instance has no previous record, its current layer record (buildPrevious()'s fallback);
   /// where the previous update wrote no layer records, a zero record (no overlay then).
   /// kInvalidArgument as buildLayers(), or when the crowd keeps no previous records;
   /// kCountMismatch when `out` is smaller than layerBufferBound(crowd).
-  Status buildPreviousLayers(const CrowdManager& crowd, Span<uint8_t> out) const;
+  Status buildPreviousLayers(const CrowdView& view, Span<uint8_t> out) const;
+  Status buildPreviousLayers(const CrowdManager& crowd, Span<uint8_t> out) const {
+    return buildPreviousLayers(crowd.view(), out);
+  }
 
   /// The same draws without copying a record: each bucket's runs (CrowdManager::bucketRuns)
   /// cut where a block would exceed capacityPerDraw(). An application uploads records() once
@@ -125,12 +139,15 @@ class InstanceBatcher {
   /// kUnsupported when the alignment is too coarse for spans (a block start more than
   /// capacityPerDraw() records before a run; not with GL's usual alignments of 256 or less).
   /// Does not allocate once `draws` has reached the needed capacity.
-  Status buildSpans(const CrowdManager& crowd, std::vector<RecordSpanDraw>* draws) const;
+  Status buildSpans(const CrowdView& view, std::vector<RecordSpanDraw>* draws) const;
+  Status buildSpans(const CrowdManager& crowd, std::vector<RecordSpanDraw>* draws) const {
+    return buildSpans(crowd.view(), draws);
+  }
 
  private:
   // buildLayers' and buildPreviousLayers' checks: initialized, layer records written, `out`
   // large enough (named `what`).
-  Status checkLayerBuffer(const char* what, const CrowdManager& crowd, size_t out_bytes) const;
+  Status checkLayerBuffer(const char* what, const CrowdView& view, size_t out_bytes) const;
   uint32_t capacity_ = 0;
   uint32_t alignment_ = 0;
 };

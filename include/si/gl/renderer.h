@@ -253,34 +253,56 @@ class Renderer {
   /// are; the scissor test and the write masks apply).
   void clear(const glm::vec4& color);
 
-  /// Builds the crowd's batches with `batcher` straight into the mapped record ring and draws
-  /// each with one glDrawElementsInstanced. `mode` picks the program.
+  /// Builds the batches of the crowd's own view (CrowdManager::update()'s selection) with
+  /// `batcher` straight into the mapped record ring and draws each with one
+  /// glDrawElementsInstanced. `mode` picks the program.
   Status drawCrowd(const CrowdManager& crowd, const InstanceBatcher& batcher, const Camera& camera,
                    DrawStats* stats, DrawMode mode = DrawMode::kDefault) {
-    return drawCrowd(CharacterId{}, crowd, batcher, camera, stats, mode);
+    return drawCrowd(CharacterId{}, crowd.view(), batcher, camera, stats, mode);
   }
   /// The same for character `character`, whose palette `crowd` must play (kInvalidArgument
   /// otherwise, or for an unknown id). Every draw function has this overload.
   Status drawCrowd(CharacterId character, const CrowdManager& crowd,
                    const InstanceBatcher& batcher, const Camera& camera, DrawStats* stats,
-                   DrawMode mode = DrawMode::kDefault);
+                   DrawMode mode = DrawMode::kDefault) {
+    return drawCrowd(character, crowd.view(), batcher, camera, stats, mode);
+  }
+  /// The same for a view's selection (si::CrowdView: a shadow cascade, a second camera), drawn
+  /// with `camera`, which must sit where the view's last select() camera sat (the records are
+  /// relative to it). Motion vectors use the view's previous records (CrowdViewDesc::
+  /// previous_records) and cameras. kInvalidArgument for a view that is not attached.
+  Status drawCrowd(const CrowdView& view, const InstanceBatcher& batcher, const Camera& camera,
+                   DrawStats* stats, DrawMode mode = DrawMode::kDefault) {
+    return drawCrowd(CharacterId{}, view, batcher, camera, stats, mode);
+  }
+  Status drawCrowd(CharacterId character, const CrowdView& view, const InstanceBatcher& batcher,
+                   const Camera& camera, DrawStats* stats, DrawMode mode = DrawMode::kDefault);
   /// The traditional path: for each visible instance, computes its joint matrices on the CPU
   /// from the palette, uploads them into a uniform block and issues one glDrawElements per worn
-  /// sub-mesh.
+  /// sub-mesh. Of the crowd's own view, or of a CrowdView.
   Status drawTraditional(const CrowdManager& crowd, const Camera& camera, DrawStats* stats) {
-    return drawTraditional(CharacterId{}, crowd, camera, stats);
+    return drawTraditional(CharacterId{}, crowd.view(), camera, stats);
   }
   Status drawTraditional(CharacterId character, const CrowdManager& crowd, const Camera& camera,
+                         DrawStats* stats) {
+    return drawTraditional(character, crowd.view(), camera, stats);
+  }
+  Status drawTraditional(CharacterId character, const CrowdView& view, const Camera& camera,
                          DrawStats* stats);
 
   /// The CPU-skinning baseline: for each visible instance, computes its joint matrices from the
   /// palette, skins the vertices of its worn sub-meshes at its LOD on the CPU (si::emulateSkinning
   /// arithmetic), streams them to the GPU (camera-relative world space) and draws them without
-  /// any skinning in the shader, one glDrawElementsBaseVertex per sub-mesh.
+  /// any skinning in the shader, one glDrawElementsBaseVertex per sub-mesh. Of the crowd's own
+  /// view, or of a CrowdView.
   Status drawCpuSkinned(const CrowdManager& crowd, const Camera& camera, DrawStats* stats) {
-    return drawCpuSkinned(CharacterId{}, crowd, camera, stats);
+    return drawCpuSkinned(CharacterId{}, crowd.view(), camera, stats);
   }
   Status drawCpuSkinned(CharacterId character, const CrowdManager& crowd, const Camera& camera,
+                        DrawStats* stats) {
+    return drawCpuSkinned(character, crowd.view(), camera, stats);
+  }
+  Status drawCpuSkinned(CharacterId character, const CrowdView& view, const Camera& camera,
                         DrawStats* stats);
 
   /// GPU-driven culling and LOD: the crowd's state lives in shader storage buffers (uploaded

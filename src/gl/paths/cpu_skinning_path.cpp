@@ -68,7 +68,7 @@ Status CpuSkinningPath::draw(const DrawResources& r, const PathFrame& f, DrawSta
   const std::vector<SubMesh>& sub_meshes = r.character->sub_meshes;
   // The crowd's sub-meshes (CrowdDesc::sub_mesh_count), as every other path draws them.
   const size_t worn_sub_meshes =
-      std::min<size_t>({sub_meshes.size(), f.crowd->desc().sub_mesh_count, 32});
+      std::min<size_t>({sub_meshes.size(), f.view->subMeshCount(), 32});
   std::vector<glm::mat4> joint(palette.skeleton_to_palette.size(), glm::mat4(1.0f));
   pending_.clear();
   vertices_.clear();
@@ -90,13 +90,14 @@ Status CpuSkinningPath::draw(const DrawResources& r, const PathFrame& f, DrawSta
     vertices_.clear();
   };
   const CrowdManager& crowd = *f.crowd;
-  const Span<const InstanceRecord> records = crowd.records();
+  const CrowdView& view = *f.view;
+  const Span<const InstanceRecord> records = view.records();
   for (size_t v = 0; v < records.size(); ++v) {
     const InstanceRecord& rec = records[v];
     uint32_t lod = 0;
     InstanceDesc desc;
-    if (!crowd.lodOf(crowd.visibleHandles()[v], &lod).isOk() ||
-        !crowd.get(crowd.visibleHandles()[v], &desc).isOk())
+    if (!view.lodOf(view.visibleHandles()[v], &lod).isOk() ||
+        !crowd.get(view.visibleHandles()[v], &desc).isOk())
       continue;
     glm::mat4 world(1.0f);
     for (int row = 0; row < 3; ++row)
@@ -104,7 +105,7 @@ Status CpuSkinningPath::draw(const DrawResources& r, const PathFrame& f, DrawSta
     for (size_t j = 0; j < joint.size(); ++j) {
       const int32_t slot = palette.skeleton_to_palette[j];
       if (slot < 0) continue;
-      joint[j] = world * recordJointMatrix(palette, crowd, v, uint32_t(slot));
+      joint[j] = world * recordJointMatrix(palette, view, v, uint32_t(slot));
     }
     for (uint32_t sm = 0; sm < worn_sub_meshes; ++sm) {
       if (!((desc.variation_mask >> sm) & 1u)) continue;

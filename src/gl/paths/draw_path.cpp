@@ -51,12 +51,12 @@ Status dispatchGroups(const GlInfo& info, uint64_t groups, const char* what) {
   return Status::ok();
 }
 
-glm::mat4 recordJointMatrix(const BakedPalette& palette, const CrowdManager& crowd, size_t record,
+glm::mat4 recordJointMatrix(const BakedPalette& palette, const CrowdView& view, size_t record,
                             uint32_t slot) {
-  const Span<const LayerRecord> layers = crowd.layerRecords();
-  return layers.empty() ? emulateRecordMatrix(palette, crowd.records()[record], slot)
-                        : emulateLayeredRecordMatrix(palette, crowd.records()[record],
-                                                     layers[record], crowd.layerMasks(), slot);
+  const Span<const LayerRecord> layers = view.layerRecords();
+  return layers.empty() ? emulateRecordMatrix(palette, view.records()[record], slot)
+                        : emulateLayeredRecordMatrix(palette, view.records()[record],
+                                                     layers[record], view.crowd()->layerMasks(), slot);
 }
 
 }  // namespace si::detail

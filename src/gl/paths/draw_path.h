@@ -44,6 +44,9 @@ struct DrawResources {
 /// One frame's inputs.
 struct PathFrame {
   const CrowdManager* crowd = nullptr;
+  /// The selection drawn (the instanced paths and the baselines): the crowd's own view or a
+  /// CrowdView of it. The GPU-driven path selects itself.
+  const CrowdView* view = nullptr;
   Camera camera;
   glm::vec3 light{0.0f, -1.0f, 0.0f};
   /// The vertex-shader path's program (skinned, depth-only or rigid).
@@ -106,7 +109,7 @@ Status dispatchGroups(const GlInfo& info, uint64_t groups, const char* what);
 /// What the instanced shader computes for palette slot `slot` of the crowd's record `record`:
 /// clip A's frames lerped, crossfaded towards clip B by the record's weight, and the overlay on
 /// its mask when the crowd plays any (the two CPU baselines use it).
-glm::mat4 recordJointMatrix(const BakedPalette& palette, const CrowdManager& crowd, size_t record,
+glm::mat4 recordJointMatrix(const BakedPalette& palette, const CrowdView& view, size_t record,
                             uint32_t slot);
 
 }  // namespace si::detail

@@ -23,10 +23,11 @@ Status TraditionalPath::draw(const DrawResources& r, const PathFrame& f, DrawSta
   if (slots > kMaxTraditionalJoints)
     return {StatusCode::kLimitExceeded, "drawTraditional: more joints than the uniform block holds"};
   const CrowdManager& crowd = *f.crowd;
+  const CrowdView& view = *f.view;
   bindShading(r, (*r.programs)[ProgramId::kTraditional], f.camera, f.light);
   glBindBufferBase(GL_UNIFORM_BUFFER, 1, block_buffer_);
-  const Span<const InstanceRecord> records = crowd.records();
-  const uint32_t sub_meshes = crowd.desc().sub_mesh_count;
+  const Span<const InstanceRecord> records = view.records();
+  const uint32_t sub_meshes = view.subMeshCount();
   const size_t block_bytes = 64 + size_t(slots) * 48;
   for (size_t v = 0; v < records.size(); ++v) {
     const InstanceRecord& rec = records[v];
@@ -35,18 +36,18 @@ Status TraditionalPath::draw(const DrawResources& r, const PathFrame& f, DrawSta
     std::memcpy(block + 48, &rec.blend[3], 4);
     // The CPU does what the instanced shader does per vertex, once per joint per character.
     for (uint32_t slot = 0; slot < slots; ++slot) {
-      const glm::mat4 mat = recordJointMatrix(palette, crowd, v, slot);
+      const glm::mat4 mat = recordJointMatrix(palette, view, v, slot);
       float rows[12];
       for (int row = 0; row < 3; ++row)
         for (int col = 0; col < 4; ++col) rows[row * 4 + col] = mat[col][row];
       std::memcpy(block + 64 + size_t(slot) * 48, rows, 48);
     }
     glNamedBufferSubData(block_buffer_, 0, GLsizeiptr(block_bytes), block);
-    // This instance's worn sub-meshes at its LOD: from the crowd's buckets.
+    // This instance's worn sub-meshes at the view's LOD.
     uint32_t lod = 0;
-    if (!crowd.lodOf(crowd.visibleHandles()[v], &lod).isOk()) continue;
+    if (!view.lodOf(view.visibleHandles()[v], &lod).isOk()) continue;
     InstanceDesc desc;
-    if (!crowd.get(crowd.visibleHandles()[v], &desc).isOk()) continue;
+    if (!crowd.get(view.visibleHandles()[v], &desc).isOk()) continue;
     for (uint32_t sm = 0; sm < sub_meshes && sm < r.character->sub_meshes.size(); ++sm) {
       if (!((desc.variation_mask >> sm) & 1u)) continue;
       const IndexRange range = r.character->lodRange(sm, lod);

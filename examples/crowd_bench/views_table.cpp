@@ -1,0 +1,150 @@
+// SkinnedInstancing — SPDX-License-Identifier: MIT (see LICENSE)
+#include "crowd_bench/views_table.h"
+
+#include <algorithm>
+#include <cmath>
+#include <memory>
+
+#include <glm/gtc/matrix_transform.hpp>
+
+#include "si/crowd/crowd_view.h"
+
+namespace si::bench {
+
+std::vector<Camera> cascadeCameras(const Camera& main, uint32_t cascades,
+                                   const glm::vec3& sun_direction, float resolution) {
+  // The main camera's forward direction: view space looks down -z.
+  const glm::mat4& v = main.view_rotation;
+  const glm::dvec3 forward = -glm::dvec3(v[0][2], v[1][2], v[2][2]);
+  const glm::dvec3 sun = glm::normalize(glm::dvec3(sun_direction));
+  std::vector<Camera> out;
+  double near_m = 0.0, far_m = 20.0;
+  for (uint32_t c = 0; c < cascades; ++c) {
+    // A sphere round the slice: its centre on the axis, wide enough for a 60-degree frustum.
+    const double half = 0.5 * (far_m - near_m);
+    const glm::dvec3 centre = main.position + forward * (near_m + half);
+    const float radius = float(std::sqrt(half * half + far_m * far_m * 0.34));
+    Camera cam;
+    cam.position = centre - sun * (double(radius) + 100.0);
+    const glm::vec3 up = std::abs(sun.y) > 0.99 ? glm::vec3(1, 0, 0) : glm::vec3(0, 1, 0);
+    cam.view_rotation = glm::lookAt(glm::vec3(0.0f), glm::vec3(sun), up);
+    cam.projection = glm::ortho(-radius, radius, -radius, radius, 1.0f, 2.0f * radius + 200.0f);
+    cam.viewport_height_pixels = resolution;
+    out.push_back(cam);
+    near_m = far_m;
+    far_m *= 3.0;
+  }
+  return out;
+}
+
+namespace {
+
+// Times `path` on the field of `count` with 1 main view and views - 1 cascades.
+Status runViews(Setup& setup, Renderer& renderer, const BakedPalette& palette, uint32_t count,
+                const std::string& path, uint32_t views, Row* row) {
+  const std::vector<glm::dvec3> places = scenePositions("field", count);
+  CrowdManager crowd;
+  Status s = makeCrowd(setup, palette, places, LodChoice(), &crowd);
+  CrowdView main_view;
+  std::vector<std::unique_ptr<CrowdView>> cascades;
+  if (s.isOk()) s = main_view.init(crowd);
+  CrowdViewDesc shadow;
+  shadow.lod_bias = 1;
+  shadow.max_distance_radii = -1.0f;
+  for (uint32_t k = 1; k < views && s.isOk(); ++k) {
+    cascades.push_back(std::make_unique<CrowdView>());
+    s = cascades.back()->init(crowd, shadow);
+  }
+  InstanceBatcher batcher;
+  if (s.isOk()) s = batcher.init(renderer.batchLimits());
+  if (!s.isOk()) return s;
+  const glm::vec3 sun(-0.4f, -1.0f, -0.3f);
+  std::vector<Camera> lights;
+  row->path = path;
+  row->lod = std::to_string(views) + (views == 1 ? " view" : " views");
+  row->instances = count;
+  return timeFrames(
+      setup, "field", places,
+      [&](const Camera& cam) {  // The crowd's simulation once, then each view's selection.
+        Status st = crowd.advance(1.0 / 60.0);
+        if (st.isOk()) st = main_view.select(cam);
+        lights = cascadeCameras(cam, uint32_t(cascades.size()), sun, float(setup.height));
+        for (size_t k = 0; k < cascades.size() && st.isOk(); ++k) st = cascades[k]->select(lights[k]);
+        return st;
+      },
+      [&](const Camera& cam, DrawStats* st, uint32_t* visible) {
+        // Each cascade depth-only (into the bench's framebuffer, cleared between them as a
+        // shadow map would be), then the main view in colour.
+        Status drawn = Status::ok();
+        DrawStats one;
+        for (size_t k = 0; k < cascades.size() && drawn.isOk(); ++k) {
+          renderer.clear(kClearColor);
+          drawn = path == "traditional" ? renderer.drawTraditional(CharacterId{}, *cascades[k], lights[k], &one)
+                  : path == "cpu"       ? renderer.drawCpuSkinned(CharacterId{}, *cascades[k], lights[k], &one)
+                                        : renderer.drawCrowd(*cascades[k], batcher, lights[k], &one,
+                                                             DrawMode::kDepthOnly);
+          st->cpu_submit_ms += one.cpu_submit_ms;
+          st->gpu_ms += one.gpu_ms;
+          st->draw_calls += one.draw_calls;
+          st->triangles += one.triangles;
+        }
+        renderer.clear(kClearColor);
+        const DrawMode mode = path == "compute" ? DrawMode::kComputeSkinned
+                              : path == "rigid" ? DrawMode::kRigid
+                                                : DrawMode::kDefault;
+        if (drawn.isOk())
+          drawn = path == "traditional" ? renderer.drawTraditional(CharacterId{}, main_view, cam, &one)
+                  : path == "cpu"       ? renderer.drawCpuSkinned(CharacterId{}, main_view, cam, &one)
+                                        : renderer.drawCrowd(main_view, batcher, cam, &one, mode);
+        st->cpu_submit_ms += one.cpu_submit_ms;
+        st->gpu_ms += one.gpu_ms;
+        st->draw_calls += one.draw_calls;
+        st->triangles += one.triangles;
+        *visible = main_view.stats().visible;
+        for (const auto& c : cascades) *visible += c->stats().visible;
+        return drawn;
+      },
+      row);
+}
+
+}  // namespace
+
+Status viewsTable(Setup& setup, const BakedPalette& palette, const RendererDesc& desc,
+                  const std::vector<uint32_t>& sizes, const std::vector<uint32_t>& view_counts,
+                  const std::vector<std::string>& paths, uint32_t max_baseline, std::FILE* csv) {
+  RendererDesc rd = desc;
+  rd.skinning_path = SkinningPath::kVertexShader;  // Each path names its mode.
+  // A region of the record ring per draw of 3 frames, so no view waits for another's.
+  rd.ring_frames = 3 * *std::max_element(view_counts.begin(), view_counts.end());
+  Renderer renderer;
+  Status s = renderer.init(setup.info, rd);
+  CharacterId id;
+  if (s.isOk()) s = renderer.addCharacter(setup.character, palette, &id);
+  if (!s.isOk()) return {s.code(), "views: " + s.message()};
+  std::printf("\nViews (field): 1 main view and N - 1 shadow cascades per frame (CrowdManager::"
+              "advance once, CrowdView::select per view, cascades depth-only, one LOD coarser), "
+              "side by side with the main view alone; visible sums the views\n");
+  printSideBySideHeader("views");
+  std::printf("\n");
+  for (uint32_t count : sizes)
+    for (const std::string& path : paths) {
+      if (isGpuSelected(path)) {
+        std::printf("%-22s %9u   (GPU-driven paths do not draw views yet)\n", path.c_str(), count);
+        continue;
+      }
+      if ((path == "traditional" || path == "cpu") && count > max_baseline) continue;
+      std::vector<Row> rows(view_counts.size());
+      for (size_t k = 0; k < view_counts.size(); ++k) {
+        s = runViews(setup, renderer, palette, count, path, view_counts[k], &rows[k]);
+        if (!s.isOk()) return {s.code(), "views, " + path + ": " + s.message()};
+      }
+      for (const Row& r : rows) {
+        printSideBySideRow(r, rows[0], "views", csv);
+        std::printf("\n");
+      }
+    }
+  renderer.shutdown();
+  return Status::ok();
+}
+
+}  // namespace si::bench
