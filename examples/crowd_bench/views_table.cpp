@@ -12,18 +12,26 @@
 namespace si::bench {
 
 std::vector<Camera> cascadeCameras(const Camera& main, uint32_t cascades,
-                                   const glm::vec3& sun_direction, float resolution) {
-  // The main camera's forward direction: view space looks down -z.
+                                   const glm::vec3& sun_direction, float resolution,
+                                   double near_m, double far_m) {
+  // The main camera's forward direction (view space looks down -z), and how far a slice's
+  // corner lies off its axis per metre ahead (from the projection's field of view).
   const glm::mat4& v = main.view_rotation;
   const glm::dvec3 forward = -glm::dvec3(v[0][2], v[1][2], v[2][2]);
+  const double p00 = std::max(1e-6, double(main.projection[0][0]));
+  const double p11 = std::max(1e-6, double(main.projection[1][1]));
+  const double corner = std::sqrt(1.0 / (p00 * p00) + 1.0 / (p11 * p11));
   const glm::dvec3 sun = glm::normalize(glm::dvec3(sun_direction));
+  near_m = std::max(near_m, 0.1);
+  far_m = std::max(far_m, near_m * 2.0);
   std::vector<Camera> out;
-  double near_m = 0.0, far_m = 20.0;
   for (uint32_t c = 0; c < cascades; ++c) {
-    // A sphere round the slice: its centre on the axis, wide enough for a 60-degree frustum.
-    const double half = 0.5 * (far_m - near_m);
-    const glm::dvec3 centre = main.position + forward * (near_m + half);
-    const float radius = float(std::sqrt(half * half + far_m * far_m * 0.34));
+    // Slices split the depth range geometrically; each cascade a sphere round its slice.
+    const double a = near_m * std::pow(far_m / near_m, double(c) / cascades);
+    const double b = near_m * std::pow(far_m / near_m, double(c + 1) / cascades);
+    const double half = 0.5 * (b - a);
+    const glm::dvec3 centre = main.position + forward * (a + half);
+    const float radius = float(std::sqrt(half * half + b * corner * b * corner));
     Camera cam;
     cam.position = centre - sun * (double(radius) + 100.0);
     const glm::vec3 up = std::abs(sun.y) > 0.99 ? glm::vec3(1, 0, 0) : glm::vec3(0, 1, 0);
@@ -31,8 +39,6 @@ std::vector<Camera> cascadeCameras(const Camera& main, uint32_t cascades,
     cam.projection = glm::ortho(-radius, radius, -radius, radius, 1.0f, 2.0f * radius + 200.0f);
     cam.viewport_height_pixels = resolution;
     out.push_back(cam);
-    near_m = far_m;
-    far_m *= 3.0;
   }
   return out;
 }
@@ -60,6 +66,12 @@ Status runViews(Setup& setup, Renderer& renderer, const BakedPalette& palette, u
   if (!s.isOk()) return s;
   const glm::vec3 sun(-0.4f, -1.0f, -0.3f);
   std::vector<Camera> lights;
+  // The crowd's bounding sphere on the ground: the cascades cover the part of the main
+  // camera's depth range where characters stand.
+  glm::dvec3 centre(0.0);
+  for (const glm::dvec3& p : places) centre += p / double(std::max<size_t>(1, places.size()));
+  double scene_radius = 2.0;
+  for (const glm::dvec3& p : places) scene_radius = std::max(scene_radius, glm::length(p - centre) + 2.0);
   row->path = path;
   row->lod = std::to_string(views) + (views == 1 ? " view" : " views");
   row->instances = count;
@@ -68,7 +80,11 @@ Status runViews(Setup& setup, Renderer& renderer, const BakedPalette& palette, u
       [&](const Camera& cam) {  // The crowd's simulation once, then each view's selection.
         Status st = crowd.advance(1.0 / 60.0);
         if (st.isOk()) st = main_view.select(cam);
-        lights = cascadeCameras(cam, uint32_t(cascades.size()), sun, float(setup.height));
+        const glm::mat4& v = cam.view_rotation;
+        const glm::dvec3 forward = -glm::dvec3(v[0][2], v[1][2], v[2][2]);
+        const double depth = glm::dot(centre - cam.position, forward);
+        lights = cascadeCameras(cam, uint32_t(cascades.size()), sun, float(setup.height),
+                                std::max(1.0, depth - scene_radius), depth + scene_radius);
         for (size_t k = 0; k < cascades.size() && st.isOk(); ++k) st = cascades[k]->select(lights[k]);
         return st;
       },

@@ -53,9 +53,16 @@ uint32_t localGroup(ChunkWork& w, uint32_t worn) {
 #define SI_CPU_CLONES
 #endif
 
-// Simulate chunk `chunk`, instances [begin, end): its events, root motion, crossfade ends.
+// A crossfade is over once the clock passes its end (compared without a division).
+inline void endFinishedFade(InstanceStore& st, uint32_t i, double clock) {
+  if (st.fade_duration[i] > 0.0 && !(clock - st.fade_start[i] < st.fade_duration[i]))
+    st.fade_duration[i] = 0.0;
+}
+
+// Simulate chunk `chunk`, instances [begin, end): its events, root motion and, with
+// `end_fades`, crossfade ends (the fused update() ends them in its culling loop instead).
 void simulateChunk(const FrameInputs& in, InstanceStore& st, uint32_t chunk, uint32_t begin,
-                   uint32_t end) {
+                   uint32_t end, bool end_fades) {
   const std::vector<ClipTiming>& clips = *in.clips;
   const double clock = in.clock;
   std::vector<AnimationEvent>& events = (*in.chunk_events)[chunk];
@@ -63,10 +70,8 @@ void simulateChunk(const FrameInputs& in, InstanceStore& st, uint32_t chunk, uin
   if (in.markers != nullptr && !in.markers->empty())
     collectEvents(*in.markers, clips, clock, st, begin, end, &events);
   if (in.root_motion) applyRootMotion(*in.palette, clips, clock, st, begin, end);  // Before culling.
-  // A crossfade is over once the clock passes its end (compared without a division).
-  for (uint32_t i = begin; i < end; ++i)
-    if (st.fade_duration[i] > 0.0 && !(clock - st.fade_start[i] < st.fade_duration[i]))
-      st.fade_duration[i] = 0.0;
+  if (!end_fades) return;
+  for (uint32_t i = begin; i < end; ++i) endFinishedFade(st, i, clock);
 }
 
 // Select: cull, LOD and key of every instance of chunk `chunk`, instances [begin, end).
@@ -83,7 +88,7 @@ SI_CPU_CLONES void selectChunk(const FrameInputs& in, InstanceStore& st, uint32_
   std::memset(w.slot_of, 0xFF, sizeof w.slot_of);
   std::memset(w.counts, 0, sizeof w.counts);
   w.stats = CrowdFrameStats();
-  if (in.simulate) simulateChunk(in, st, chunk, begin, end);
+  if (in.simulate) simulateChunk(in, st, chunk, begin, end, false);
   if (in.previous_records) {  // Last selection's slots become the previous ones; none yet now.
     std::copy(view.record_slot.begin() + begin, view.record_slot.begin() + end,
               view.previous_slot.begin() + begin);
@@ -103,6 +108,7 @@ SI_CPU_CLONES void selectChunk(const FrameInputs& in, InstanceStore& st, uint32_
     uint32_t near_lanes = 0;
     for (uint32_t k = 0; k < padded; ++k) {
       const uint32_t i = i0 + (k < count ? k : 0);  // Past the end: lane 0's instance again.
+      if (in.simulate) endFinishedFade(st, i, in.clock);
       const glm::vec3 rel(st.positions[i] - in.camera_position);  // Camera-relative, from double.
       const float s = st.scales[i];
       // The far line first: most of a large crowd may lie beyond it, and such an instance
@@ -382,7 +388,7 @@ void buildFrame(const FrameInputs& in, InstanceStore& st, CrowdFrame* frame) {
 void simulateFrame(const FrameInputs& in, InstanceStore& st) {
   const uint32_t n = st.size();
   forEachChunk(in, chunkCount(n), [&](uint32_t c) {
-    simulateChunk(in, st, c, c * kChunkInstances, std::min(n, (c + 1) * kChunkInstances));
+    simulateChunk(in, st, c, c * kChunkInstances, std::min(n, (c + 1) * kChunkInstances), true);
   });
 }
 
