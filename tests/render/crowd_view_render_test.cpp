@@ -10,6 +10,7 @@
 
 #include "render/render_fixture.h"
 #include "si/crowd/crowd_view.h"
+#include "si/gl/motion_target.h"
 
 namespace si {
 namespace {
@@ -134,6 +135,80 @@ TEST_P(RenderTest, EachViewDrawsWhatACrowdWithOnlyThatViewDraws) {
     EXPECT_EQ(differ, 0u) << "of " << covered << " covered depth pixels";
     EXPECT_EQ(compare(main_image, main_reference, nullptr).max_channel, 0);
   }
+}
+
+// Motion vectors are each view's own: a second camera's view of a crowd that a main view also
+// selects draws the motion image of a crowd with only that view (three frames, both cameras
+// moving, crossfades and a speed change between them), on both skinning paths.
+TEST_P(RenderTest, EachViewDrawsItsOwnMotionVectors) {
+  MotionTarget target;
+  ASSERT_TRUE(target.create(kSize, kSize).isOk());
+  target.bind();
+  Renderer r;
+  RendererDesc rd;
+  rd.motion_vectors = true;
+  rd.skinning_path = SkinningPath::kVertexShader;
+  makeRenderer(&r, 0, PaletteFormat::kMatrix3x4F32, &rd);
+  InstanceBatcher batcher;
+  ASSERT_TRUE(batcher.init(r.batchLimits()).isOk());
+  CrowdManager both, alone;
+  std::vector<InstanceHandle> handles[2];
+  for (int c = 0; c < 2; ++c) {
+    CrowdManager& crowd = c == 0 ? both : alone;
+    makeCrowd(&crowd);
+    populate(&crowd, &handles[c]);
+  }
+  CrowdViewDesc with_motion;
+  with_motion.previous_records = true;
+  CrowdView main_view, second, second_alone;
+  ASSERT_TRUE(main_view.init(both, with_motion).isOk());
+  ASSERT_TRUE(second.init(both, with_motion).isOk());
+  ASSERT_TRUE(second_alone.init(alone, with_motion).isOk());
+  const auto main_camera = [](int f) {
+    return Camera::lookAt({0.4 * f, 1.5, 4.0 - 0.3 * f}, {0.0, 0.8, -4.0}, glm::vec3(0, 1, 0),
+                          0.9f, 1.0f, 0.1f, 200.0f);
+  };
+  const auto second_camera = [](int f) {  // A second player, behind the first row.
+    return Camera::lookAt({-2.0 + 0.5 * f, 1.7, -8.0}, {0.0, 0.9, 9.0}, glm::vec3(0, 1, 0),
+                          0.9f, 1.0f, 0.1f, 200.0f);
+  };
+  size_t moving = 0;
+  for (int f = 0; f < 3; ++f) {
+    for (int c = 0; c < 2; ++c) {
+      CrowdManager& crowd = c == 0 ? both : alone;
+      if (f == 1) {
+        ASSERT_TRUE(crowd.crossfade(handles[c][0], 1, 0.3).isOk());
+        ASSERT_TRUE(crowd.play(handles[c][1], 0, 0.2, 2.5f).isOk());
+      }
+      ASSERT_TRUE(crowd.advance(1.0 / 30.0).isOk());
+    }
+    ASSERT_TRUE(main_view.select(main_camera(f)).isOk());
+    ASSERT_TRUE(second.select(second_camera(f)).isOk());
+    ASSERT_TRUE(second_alone.select(second_camera(f)).isOk());
+    if (f == 0) continue;  // From the second frame on, there is a previous one.
+    for (DrawMode mode : {DrawMode::kSkinned, DrawMode::kComputeSkinned}) {
+      DrawStats stats;
+      target.clear(glm::vec4(0.0f));
+      ASSERT_TRUE(r.drawCrowd(second_alone, batcher, second_camera(f), &stats, mode).isOk());
+      std::vector<glm::vec2> expected, drawn;
+      ASSERT_TRUE(target.readMotion(&expected).isOk());
+      target.clear(glm::vec4(0.0f));
+      ASSERT_TRUE(r.drawCrowd(main_view, batcher, main_camera(f), &stats, mode).isOk());
+      target.clear(glm::vec4(0.0f));
+      ASSERT_TRUE(r.drawCrowd(second, batcher, second_camera(f), &stats, mode).isOk());
+      ASSERT_TRUE(target.readMotion(&drawn).isOk());
+      ASSERT_EQ(drawn.size(), expected.size());
+      size_t differ = 0;
+      for (size_t p = 0; p < drawn.size(); ++p) {
+        differ += drawn[p] != expected[p];
+        moving += glm::length(expected[p]) > 1e-3f;
+      }
+      EXPECT_EQ(differ, 0u) << "frame " << f << (mode == DrawMode::kSkinned ? " vertex" : " compute");
+    }
+  }
+  EXPECT_GT(moving, 100u) << "the second view's characters move on screen";
+  target.restore();
+  target.release();
 }
 
 // Drawing a view that is not attached is refused by name.
