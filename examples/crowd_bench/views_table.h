@@ -14,13 +14,6 @@
 
 namespace si::bench {
 
-/// The sun cameras of `cascades` cascades of `main`: its depth range [near_m, far_m] ahead
-/// split geometrically into slices, each covered by an orthographic camera looking along
-/// `sun_direction` round the slice's bounding sphere, `resolution` pixels high.
-std::vector<Camera> cascadeCameras(const Camera& main, uint32_t cascades,
-                                   const glm::vec3& sun_direction, float resolution,
-                                   double near_m, double far_m);
-
 /// Prints the table (and CSV rows "views") for every size, view count and path among
 /// `paths` that selects on the CPU (instanced, compute, traditional, cpu, rigid; the GPU-driven
 /// paths are listed as not taking views yet). `view_counts` holds 1 and more (1: main only).

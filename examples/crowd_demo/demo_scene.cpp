@@ -148,6 +148,7 @@ si::Status DemoScene::initGl(const si::GlInfo& info) {
   if (s.isOk()) s = renderer_.addCharacter(character_, palette_, &id);
   if (s.isOk()) s = batcher_.init(renderer_.batchLimits());
   if (s.isOk() && mixed_) s = cast_.upload(renderer_);
+  if (s.isOk()) s = shadows_.initGl();
   if (!s.isOk()) return s;
   std::printf("Skinning path: %s (%s)\n", si::skinningPathName(renderer_.skinningPath()),
               renderer_.skinningPathReason().c_str());
@@ -281,7 +282,17 @@ si::Status DemoScene::frame(double dt, const si::Camera& camera, si::DrawStats* 
   update_ms_ =
       std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
   if (!s.isOk()) return s;
+  // Shadows: the cascades select after the crowd's update, at the same clock, and draw into
+  // the shadow map; the ground reads it.
+  const double ground_radius = 1.6 * fieldHalfExtent();
+  if (options_.shadows && !shadows_.attached()) s = shadows_.attach(crowd_);
+  if (s.isOk() && options_.shadows)
+    s = shadows_.render(renderer_, batcher_, camera, fieldCenter(), ground_radius);
+  if (!s.isOk()) return s;
   renderer_.clear(glm::vec4(0.62f, 0.66f, 0.58f, 1.0f));
+  if (options_.shadows)
+    s = shadows_.drawGround(camera, fieldCenter(), ground_radius, CascadedShadows::sunDirection());
+  if (!s.isOk()) return s;
   switch (path_) {
     case DrawPath::kInstanced: s = renderer_.drawCrowd(crowd_, batcher_, camera, stats); break;
     case DrawPath::kVertexShader:

@@ -9,6 +9,7 @@
 #include <vector>
 
 #include "demo_cast.h"
+#include "demo_shadows.h"
 #include "si/bake/animation_baker.h"
 #include "si/core/core.h"
 #include "si/crowd/instance_batcher.h"
@@ -39,6 +40,7 @@ struct SceneOptions {
   bool root_motion = false;  // The field travels from the start (key R).
   bool motion_vectors = false;  // Motion vectors measured from the start (key X).
   bool layers = false;  // Every other character overlays layer_clip on layer_root (key L).
+  bool shadows = false;  // Cascaded shadows on a ground plane (key H).
   std::string layer_root = "r_clavicle";  // The overlay's branch root joint.
   std::string layer_clip = "wave";        // The overlay clip.
 };
@@ -55,6 +57,7 @@ class DemoScene {
   /// Releases the GL objects; call with the context still current (before destroying it).
   void releaseGl() {
     motion_target_.release();
+    shadows_.releaseGl();
     renderer_.shutdown();
     cast_.releaseGl();
   }
@@ -84,6 +87,12 @@ class DemoScene {
   /// into an offscreen colour + motion target the size of the viewport, whose motion is
   /// summarized (motionSummary()). The instanced paths only (the others draw none).
   void toggleMotionVectors() { options_.motion_vectors = !options_.motion_vectors; }
+  /// Cascaded shadows on or off: three CrowdViews of the crowd drawn depth-only from the sun
+  /// into a shadow map each frame, and a ground plane that receives their shadows.
+  void toggleShadows() { options_.shadows = !options_.shadows; }
+  bool shadows() const { return options_.shadows; }
+  /// Characters the shadow cascades drew in the last frame (0 when off).
+  uint32_t shadowCasters() const { return options_.shadows ? shadows_.drawn() : 0; }
   /// Layered animation on or off: every other character of the main crowd fades in (0.5 s)
   /// SceneOptions::layer_clip on the branch of SceneOptions::layer_root over its own clip,
   /// or fades it out. kNotFound naming the clip or joint the character lacks.
@@ -162,6 +171,7 @@ class DemoScene {
   /// Draws the crowd into motion_target_ with motion vectors and summarizes them.
   si::Status measureMotion(const si::Camera& camera);
   si::MotionTarget motion_target_;
+  CascadedShadows shadows_;
   si::MotionSummary motion_summary_;
   uint32_t viewport_width_ = 0, viewport_height_ = 0;
 

@@ -39,7 +39,7 @@ void usage(std::FILE* f) {
       "                  [--format f32|f16|quat] [--rate HZ] [--seed N] [--summary]\n"
       "                  [--model FILE.gltf|FILE.glb] [--clips NAME,...] [--palette FILE]\n"
       "                  [--keys K,K,...] [--lod-pixels PX] [--mix FILE,...|samples]\n"
-      "                  [--events] [--root-motion] [--motion-vectors] [--layers]\n"
+      "                  [--events] [--root-motion] [--motion-vectors] [--layers] [--shadows]\n"
       "Renders a crowd of the embedded character (default 4000 characters, 1280x720).\n"
       "With a display it opens a window (F1 lists the keys; ESC quits); without one, or with\n"
       "--headless, it renders --frames frames (default 3, 1/60 s apart) offscreen, writes the\n"
@@ -61,6 +61,8 @@ void usage(std::FILE* f) {
       "(key X toggles it).\n"
       "--layers has every other character wave its right arm over what it plays (layered\n"
       "animation: the wave clip on the right clavicle's branch; key L toggles it).\n"
+      "--shadows draws the crowd's shadows on a ground plane: three shadow cascades, each a\n"
+      "view of the crowd (si::CrowdView) culled and LOD'd for its own sun camera (key H).\n"
       "--lod-pixels extends the LOD chains (si::buildLodChain, errors over the clips' poses)\n"
       "and picks each character's LOD by projected error within PX pixels instead of the\n"
       "technique's distance lines.\n");
@@ -104,6 +106,8 @@ bool parse(int argc, char** argv, Options* o) {
       o->scene.motion_vectors = true;
     } else if (a == "--layers") {
       o->scene.layers = true;
+    } else if (a == "--shadows") {
+      o->scene.shadows = true;
     } else if (a == "--mix" && has) {
       o->scene.mix = si::examples::splitList(argv[++i]);
       if (std::string(argv[i]) == "samples") o->scene.mix = demo::defaultMix();
@@ -157,6 +161,9 @@ void printStats(const demo::DemoScene& scene, const si::DrawStats& stats, double
   }
   if (scene.layers())
     std::printf("%-28s %12u\n", "layers: overlays playing", scene.overlays());
+  if (scene.shadows())
+    std::printf("%-28s %12u (3 cascades, %u drawn by the main view)\n", "shadows: casters drawn",
+                scene.shadowCasters(), scene.crowd().stats().visible);
   if (scene.otherKinds() > 0)
     std::printf("%-28s %12u (%zu character kinds in one renderer)\n", "other kinds visible",
                 scene.otherKindsVisible(), scene.otherKinds() + 1);

@@ -40,7 +40,9 @@ constexpr char kHelp[] =
     "  X           motion vectors on/off: the crowd is drawn once more into a colour + motion\n"
     "              target; the console prints the mean and largest motion twice a second\n"
     "  L           layered animation on/off: every other character waves its right arm over\n"
-    "              what it plays (an overlay on the arm's joints, fading in and out)\n";
+    "              what it plays (an overlay on the arm's joints, fading in and out)\n"
+    "  H           shadows on/off: three cascades, each a view of the crowd culled for its\n"
+    "              own sun camera, cast the characters' shadows on a ground plane\n";
 
 std::string g_glfw_error;
 void onGlfwError(int code, const char* message) {
@@ -130,6 +132,10 @@ class App {
       case GLFW_KEY_L:
         s = scene_->toggleLayers();
         std::printf("layered animation %s\n", scene_->layers() ? "on" : "off");
+        break;
+      case GLFW_KEY_H:
+        scene_->toggleShadows();
+        std::printf("shadows %s\n", scene_->shadows() ? "on" : "off");
         break;
       case GLFW_KEY_C:
         s = scene_->crossfadeAll();
