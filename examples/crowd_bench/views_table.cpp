@@ -53,38 +53,32 @@ Status runViews(Setup& setup, Renderer& renderer, const BakedPalette& palette, u
         const glm::dvec3 forward = -glm::dvec3(v[0][2], v[1][2], v[2][2]);
         const double depth = glm::dot(centre - cam.position, forward);
         lights = si::examples::cascadeCameras(cam, uint32_t(cascades.size()), sun, float(setup.height),
-                                std::max(1.0, depth - scene_radius), depth + scene_radius);
+                                              std::max(1.0, depth - scene_radius), depth + scene_radius);
         for (size_t k = 0; k < cascades.size() && st.isOk(); ++k) st = cascades[k]->select(lights[k]);
         return st;
       },
       [&](const Camera& cam, DrawStats* st, uint32_t* visible) {
         // Each cascade depth-only (into the bench's framebuffer, cleared between them as a
-        // shadow map would be), then the main view in colour.
-        Status drawn = Status::ok();
-        DrawStats one;
-        for (size_t k = 0; k < cascades.size() && drawn.isOk(); ++k) {
+        // shadow map would be), then the main view in colour; the statistics summed.
+        const auto draw_view = [&](const CrowdView& view, const Camera& at, DrawMode mode) {
           renderer.clear(kClearColor);
-          drawn = path == "traditional" ? renderer.drawTraditional(CharacterId{}, *cascades[k], lights[k], &one)
-                  : path == "cpu"       ? renderer.drawCpuSkinned(CharacterId{}, *cascades[k], lights[k], &one)
-                                        : renderer.drawCrowd(*cascades[k], batcher, lights[k], &one,
-                                                             DrawMode::kDepthOnly);
+          DrawStats one;
+          const Status drawn = path == "traditional" ? renderer.drawTraditional(CharacterId{}, view, at, &one)
+                               : path == "cpu"       ? renderer.drawCpuSkinned(CharacterId{}, view, at, &one)
+                                                     : renderer.drawCrowd(view, batcher, at, &one, mode);
           st->cpu_submit_ms += one.cpu_submit_ms;
           st->gpu_ms += one.gpu_ms;
           st->draw_calls += one.draw_calls;
           st->triangles += one.triangles;
-        }
-        renderer.clear(kClearColor);
+          return drawn;
+        };
+        Status drawn = Status::ok();
+        for (size_t k = 0; k < cascades.size() && drawn.isOk(); ++k)
+          drawn = draw_view(*cascades[k], lights[k], DrawMode::kDepthOnly);
         const DrawMode mode = path == "compute" ? DrawMode::kComputeSkinned
                               : path == "rigid" ? DrawMode::kRigid
                                                 : DrawMode::kDefault;
-        if (drawn.isOk())
-          drawn = path == "traditional" ? renderer.drawTraditional(CharacterId{}, main_view, cam, &one)
-                  : path == "cpu"       ? renderer.drawCpuSkinned(CharacterId{}, main_view, cam, &one)
-                                        : renderer.drawCrowd(main_view, batcher, cam, &one, mode);
-        st->cpu_submit_ms += one.cpu_submit_ms;
-        st->gpu_ms += one.gpu_ms;
-        st->draw_calls += one.draw_calls;
-        st->triangles += one.triangles;
+        if (drawn.isOk()) drawn = draw_view(main_view, cam, mode);
         *visible = main_view.stats().visible;
         for (const auto& c : cascades) *visible += c->stats().visible;
         return drawn;
