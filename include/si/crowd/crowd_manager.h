@@ -6,7 +6,9 @@
 /// structure-of-arrays form and, each frame, advances time, picks a LOD by distance, culls
 /// against the camera and buckets the survivors per (LOD, sub-mesh); InstanceBatcher
 /// (instance_batcher.h) splits the buckets into uniform-block-sized batches of std140 records.
-/// No GPU is needed: the GPU's limits arrive as plain numbers.
+/// No GPU is needed: the GPU's limits arrive as plain numbers. Its options (crowd_desc.h), an
+/// instance's description (instance_desc.h), animation events (animation_event.h) and views
+/// (crowd_view.h) have headers of their own.
 ///
 /// Usage:
 /// \code
@@ -35,123 +37,17 @@
 
 #include "si/core/baked_palette.h"
 #include "si/core/layer_mask.h"
+#include "si/crowd/animation_event.h"
 #include "si/crowd/camera.h"
+#include "si/crowd/crowd_desc.h"
 #include "si/crowd/crowd_view.h"
 #include "si/crowd/gpu_crowd_state.h"
 #include "si/crowd/handle_pool.h"
+#include "si/crowd/instance_desc.h"
 #include "si/crowd/instance_record.h"
 #include "si/crowd/parallel_for.h"
 
 namespace si {
-
-/// How an instance's LOD is chosen.
-enum class LodMode : uint8_t {
-  kDefault = 0,   ///< kDistance.
-  kDistance,      ///< The technique's lines: LOD l + 1 from lod_distances_radii[l] radii on.
-  kScreenError,   ///< The coarsest LOD whose geometric error (lod_errors_units), projected at
-                  ///< the instance's distance with the camera's vertical field of view and
-                  ///< viewport height, stays within pixel_error_budget pixels.
-};
-const char* lodModeName(LodMode mode);
-
-/// Crowd options. Zero fields take the defaults documented on each (resolveDefaults()).
-struct CrowdDesc {
-  /// The baked palette the instances play; borrowed, must outlive the crowd. Required.
-  const BakedPalette* palette = nullptr;
-  uint32_t sub_mesh_count = 0;  ///< Sub-meshes of the character, 1..32. Required.
-  uint32_t lod_count = 0;       ///< LOD levels of the character, 1..8; 0 means 1.
-  /// The character's radius in model units; 0 means the largest clip bounding-sphere radius of
-  /// the palette. LOD distances are measured in units of radius * instance scale.
-  float character_radius = 0.0f;
-  /// lod_count - 1 increasing distances (in radii) where LOD l + 1 starts; empty means
-  /// 20, 60, 180, ... (the technique's lines at 20 and 60 radii, then x3).
-  std::vector<float> lod_distances_radii;
-  /// Instances farther than this many radii are culled; 0 means 100 (the technique's far
-  /// line); negative means never.
-  float max_distance_radii = 0.0f;
-  /// A LOD changes only once the distance is this fraction past the line (both directions),
-  /// so characters at a boundary do not flicker; 0 means 0.05.
-  float lod_hysteresis_ratio = 0.0f;
-  /// How LODs are chosen; kDefault means kDistance.
-  LodMode lod_mode = LodMode::kDefault;
-  /// Each LOD level's geometric error in model units (si::lodErrorsByLevel(), or the character's
-  /// SubMesh::lod_error_units): lod_count values, non-decreasing, level 0 first. Required for
-  /// kScreenError (may also be given for kDistance, to switch with setLodMode() later).
-  std::vector<float> lod_errors_units;
-  /// kScreenError: the largest projected error allowed, in pixels; 0 means 1.
-  float pixel_error_budget = 0.0f;
-  /// Animation LOD: instances at this LOD or coarser step their animation at
-  /// animation_lod_rate_hz instead of interpolating every frame; 0 means off.
-  uint32_t animation_lod_start = 0;
-  float animation_lod_rate_hz = 0.0f;  ///< 0 means 10 Hz.
-  /// Motion vectors: keep the previous update's records and, per record, the index of the same
-  /// instance's record in them (previousRecords(), previousRecordIndices()), so a renderer can
-  /// skin each vertex where it was drawn last frame. Off by default (it costs two words per
-  /// instance and a pass over them per update).
-  bool previous_records = false;
-  /// Threads update(dt, camera) uses (it runs the work on a WorkerPool of its own, started at
-  /// the first update with more than one task): 0 means std::thread::hardware_concurrency(),
-  /// at most 16; 1 means the calling thread only. update(dt, camera, parallel_for) ignores it.
-  uint32_t worker_threads = 0;
-};
-
-/// A named point in a clip's time (an animation event: a footstep, a hit), added with
-/// CrowdManager::addClipMarker.
-struct ClipMarker {
-  uint32_t clip = 0;          ///< Index into the palette's clips.
-  double time_seconds = 0.0;  ///< Clip-local, within [0, duration].
-  std::string name;
-};
-
-/// An instance's playback passed a marker during the last update(): `count` times (more than
-/// once when a looping clip wrapped several times in one step).
-struct AnimationEvent {
-  InstanceHandle instance;
-  uint32_t marker = 0;  ///< Index into CrowdManager::clipMarkers().
-  uint32_t count = 1;
-};
-
-/// Returns the desc with zeros replaced by their documented defaults.
-CrowdDesc resolveDefaults(const CrowdDesc& desc);
-
-/// One instance's initial state.
-struct InstanceDesc {
-  glm::dvec3 position = glm::dvec3(0.0);  ///< World position (double: far from the origin).
-  glm::quat rotation = glm::quat(1.0f, 0.0f, 0.0f, 0.0f);
-  float scale = 1.0f;                         ///< Uniform, > 0.
-  /// Tint (RGB) where the texture's alpha says so. The alpha must be 255: the record's fourth
-  /// byte holds `custom_layer` instead.
-  glm::u8vec4 color = glm::u8vec4(255);
-  /// The instance's layer of the application's custom texture array (Renderer::
-  /// setCustomTextureArray): 0 for none, k for layer k - 1 (at most kMaxCustomLayers). Where the
-  /// tint mask is, that layer's texel (over the base texel by its own alpha) is what the tint
-  /// multiplies.
-  uint8_t custom_layer = 0;
-  uint32_t variation_mask = 0xFFFFFFFFu;      ///< Bit s: sub-mesh s is worn.
-  uint32_t clip = 0;                          ///< Index into the palette's clips.
-  double time_seconds = 0.0;                  ///< Clip-local start time.
-  float speed = 1.0f;                         ///< Playback speed, >= 0.
-  /// kDefault uses the clip's loop mode; kOnce holds the last frame, kLoop wraps.
-  LoopMode loop_mode = LoopMode::kDefault;
-  /// Root motion (si/core/root_motion.h): update() moves and turns the instance by the baked
-  /// motion of what it plays (BakedClip::root_motion; clips without it do not move it), times
-  /// its scale, in its own frame. Off: the application places it (setTransform()).
-  bool root_motion = false;
-};
-
-/// Options of CrowdManager::addRandom(): the technique's random armour at load time.
-struct RandomCrowdDesc {
-  Span<const glm::dvec3> positions;  ///< One instance per position.
-  uint64_t seed = 1;
-  uint32_t required_mask = 1;         ///< Sub-meshes every instance wears (e.g. the body).
-  uint32_t optional_mask = 0;         ///< Sub-meshes each worn with `optional_probability`.
-  float optional_probability = 0.5f;
-  Span<const uint32_t> clips;         ///< Clips to pick from; empty means all.
-  bool random_time = true;            ///< Random start time within the clip.
-  bool random_heading = true;         ///< Random rotation about +Y.
-  float min_speed = 0.9f, max_speed = 1.1f;
-  bool root_motion = false;           ///< InstanceDesc::root_motion of every instance.
-};
 
 namespace detail {
 struct CrowdState;
