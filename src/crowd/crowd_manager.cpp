@@ -145,7 +145,7 @@ Status CrowdManager::init(const CrowdDesc& in_desc) {
   own.crowd = state_.get();
   own.lane = 0;  // The store's first lane, made by reset().
   own.desc = CrowdViewDesc();
-  own.desc.previous_records = own.previous_records = d.previous_records;
+  own.desc.previous_records = d.previous_records;
   detail::resetSelection(d, &own);
   state_->views.push_back(&own);
   return Status::ok();

@@ -21,8 +21,7 @@ namespace detail {
 struct ViewState {
   CrowdState* crowd = nullptr;  // Null: detached.
   uint32_t lane = 0;            // Its lane of the crowd's store (InstanceStore::views).
-  CrowdViewDesc desc;
-  bool previous_records = false;  // desc.previous_records (the crowd's own: CrowdDesc's).
+  CrowdViewDesc desc;  // The crowd's own view: previous_records as CrowdDesc's.
   uint32_t sub_mesh_count = 0, lod_count = 0;  // The crowd's, at init().
   CrowdFrame frame;
   // The cameras of the last selection and of the one before it (motion vectors).

@@ -64,7 +64,7 @@ FrameInputs frameInputs(CrowdState& st, const ViewState& view, const Camera& cam
   in.parallel_for = &parallel_for;
   in.markers = &st.markers;
   in.root_motion = st.store.root_motion_count > 0;
-  in.previous_records = view.previous_records;
+  in.previous_records = view.desc.previous_records;
   in.layers = st.store.overlay_count > 0;
   in.lane = view.lane;
   in.lod_bias = view.desc.lod_bias;
@@ -137,7 +137,6 @@ Status CrowdView::init(CrowdManager& crowd, const CrowdViewDesc& desc) {
   v.crowd = &st;
   v.lane = st.store.addView();
   v.desc = desc;
-  v.previous_records = desc.previous_records;
   detail::resetSelection(crowd.desc(), &v);
   st.views.push_back(&v);
   return Status::ok();
@@ -193,17 +192,17 @@ Span<const LayerRecord> CrowdView::layerRecords() const {
 }
 Span<const InstanceRecord> CrowdView::previousRecords() const {
   const ViewState& v = view();
-  if (!v.previous_records) return {};
+  if (!v.desc.previous_records) return {};
   return Span<const InstanceRecord>(v.frame.previous_records.data(), v.frame.previous_visible);
 }
 Span<const uint32_t> CrowdView::previousRecordIndices() const {
   const ViewState& v = view();
-  if (!v.previous_records) return {};
+  if (!v.desc.previous_records) return {};
   return Span<const uint32_t>(v.frame.previous_index.data(), v.frame.stats.visible);
 }
 Span<const LayerRecord> CrowdView::previousLayerRecords() const {
   const ViewState& v = view();
-  if (!v.previous_records || !v.frame.previous_layers) return {};
+  if (!v.desc.previous_records || !v.frame.previous_layers) return {};
   return Span<const LayerRecord>(v.frame.previous_layer_records.data(), v.frame.previous_visible);
 }
 const Camera& CrowdView::camera() const { return view().camera; }

@@ -80,7 +80,19 @@ struct Renderer::Impl {
   /// not complete (palette and mesh), or `crowd` (when given) plays another palette.
   Status find(CharacterId id, const char* what, detail::CharacterSlot** out,
               const CrowdManager* crowd = nullptr) {
-    return findFor(id, what, out, crowd, crowd != nullptr ? crowd->desc().palette : nullptr);
+    if (id.index >= characters.size() || !characters[id.index]->ready())
+      return {StatusCode::kInvalidArgument,
+              id.index == 0 && characters.size() <= 1
+                  ? detail::strCat(what, ": init and addCharacter first")
+                  : detail::strCat(what, ": no character ", id.index, " (", characters.size(),
+                                   " added; addCharacter gives the ids)")};
+    if (crowd != nullptr && crowd->desc().palette != characters[id.index]->palette.palette())
+      return {StatusCode::kInvalidArgument,
+              detail::strCat(what, ": the crowd plays another palette than the character's ",
+                             "(draw each crowd with the CharacterId of the character uploaded ",
+                             "with its palette)")};
+    *out = characters[id.index].get();
+    return Status::ok();
   }
   /// The same for a view: kInvalidArgument when it is not attached to a crowd.
   Status find(CharacterId id, const char* what, detail::CharacterSlot** out, const CrowdView& view) {
@@ -89,22 +101,6 @@ struct Renderer::Impl {
               detail::strCat(what, ": the view is not attached to a crowd (init() the crowd, and "
                                    "the view with CrowdView::init)")};
     return find(id, what, out, view.crowd());
-  }
-  Status findFor(CharacterId id, const char* what, detail::CharacterSlot** out,
-                 const CrowdManager* crowd, const BakedPalette* palette) {
-    if (id.index >= characters.size() || !characters[id.index]->ready())
-      return {StatusCode::kInvalidArgument,
-              id.index == 0 && characters.size() <= 1
-                  ? detail::strCat(what, ": init and addCharacter first")
-                  : detail::strCat(what, ": no character ", id.index, " (", characters.size(),
-                                   " added; addCharacter gives the ids)")};
-    if (crowd != nullptr && palette != characters[id.index]->palette.palette())
-      return {StatusCode::kInvalidArgument,
-              detail::strCat(what, ": the crowd plays another palette than the character's ",
-                             "(draw each crowd with the CharacterId of the character uploaded ",
-                             "with its palette)")};
-    *out = characters[id.index].get();
-    return Status::ok();
   }
 
   /// The record ring keeps `ring_frames` regions per character: each character's draw takes
