@@ -1,0 +1,151 @@
+// SkinnedInstancing — SPDX-License-Identifier: MIT (see LICENSE)
+// CrowdManager's LOD and culling: distance lines in radii with hysteresis, moving the lines,
+// and the frustum and far-line culling against a brute-force reference.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <cstring>
+#include <random>
+
+#include "crowd/crowd_test_helpers.h"
+#include "si/crowd/crowd_manager.h"
+
+namespace si {
+namespace {
+using test::defaultCrowdDesc;
+using test::defaultPalette;
+using test::testCamera;
+
+uint32_t lodSeenFrom(CrowdManager* crowd, InstanceHandle h, double distance) {
+  EXPECT_TRUE(crowd->update(0.0, testCamera({0, 0, distance}, {0, 0, 0})).isOk());
+  uint32_t lod = 99;
+  EXPECT_TRUE(crowd->lodOf(h, &lod).isOk());
+  return crowd->stats().visible == 1 ? lod : 99u;
+}
+
+TEST(CrowdManager, LodByDistanceInRadiiWithHysteresis) {
+  CrowdDesc cd = defaultCrowdDesc();
+  cd.character_radius = 1.0f;
+  cd.lod_distances_radii = {20.0f, 60.0f};
+  cd.lod_hysteresis_ratio = 0.1f;
+  CrowdManager crowd;
+  ASSERT_TRUE(crowd.init(cd).isOk());
+  InstanceDesc d;
+  InstanceHandle h;
+  ASSERT_TRUE(crowd.add(d, &h).isOk());
+  const auto lodAt = [&](double distance) { return lodSeenFrom(&crowd, h, distance); };
+  EXPECT_EQ(lodAt(10), 0u);
+  EXPECT_EQ(lodAt(21), 0u);   // Past 20 but within the 10 % margin: stays.
+  EXPECT_EQ(lodAt(22.5), 1u);
+  EXPECT_EQ(lodAt(19), 1u);   // Back under 20 but not under 18: stays.
+  EXPECT_EQ(lodAt(17.5), 0u);
+  EXPECT_EQ(lodAt(80), 2u);   // Jumps two levels at once.
+  EXPECT_EQ(lodAt(10), 0u);
+  EXPECT_EQ(crowd.stats().per_lod[0], 1u);
+  EXPECT_EQ(lodAt(150), 99u);  // Beyond 100 radii: culled by distance.
+  EXPECT_EQ(crowd.stats().visible, 0u);
+  EXPECT_EQ(crowd.stats().culled_distance, 1u);
+  // The radius scales with the instance.
+  ASSERT_TRUE(crowd.setTransform(h, glm::dvec3(0), glm::quat(1, 0, 0, 0), 2.0f).isOk());
+  EXPECT_EQ(lodAt(150), 2u);  // 75 radii of a twice larger character.
+}
+
+TEST(CrowdManager, SetLodDistancesMovesTheLinesAndValidates) {
+  CrowdDesc cd = defaultCrowdDesc();
+  cd.character_radius = 1.0f;
+  cd.lod_distances_radii = {20.0f, 60.0f};
+  cd.lod_hysteresis_ratio = 0.01f;
+  CrowdManager crowd;
+  EXPECT_EQ(crowd.setLodDistances(std::vector<float>{1.0f, 2.0f}).code(),
+            StatusCode::kInvalidArgument);  // Before init().
+  ASSERT_TRUE(crowd.init(cd).isOk());
+  InstanceDesc d;
+  InstanceHandle h;
+  ASSERT_TRUE(crowd.add(d, &h).isOk());
+  const auto lodAt = [&](double distance) { return lodSeenFrom(&crowd, h, distance); };
+  EXPECT_EQ(lodAt(30), 1u);
+  ASSERT_TRUE(crowd.setLodDistances(std::vector<float>{40.0f, 120.0f}).isOk());
+  EXPECT_EQ(lodAt(30), 0u);
+  EXPECT_EQ(lodAt(130), 99u);  // The far line (100) is kept.
+  ASSERT_TRUE(crowd.setLodDistances(std::vector<float>{40.0f, 120.0f}, 200.0f).isOk());
+  EXPECT_EQ(lodAt(130), 2u);
+  EXPECT_EQ(crowd.desc().max_distance_radii, 200.0f);
+  // Bad lines change nothing.
+  const std::vector<std::vector<float>> bad = {
+      {40.0f}, {40.0f, 30.0f}, {0.0f, 10.0f}, {10.0f, INFINITY}, {10.0f, 20.0f, 30.0f}};
+  for (const std::vector<float>& lines : bad)
+    EXPECT_EQ(crowd.setLodDistances(lines).code(), StatusCode::kInvalidArgument);
+  EXPECT_EQ(crowd.setLodDistances(std::vector<float>{10.0f, 20.0f}, NAN).code(),
+            StatusCode::kInvalidArgument);
+  EXPECT_EQ(crowd.desc().lod_distances_radii, (std::vector<float>{40.0f, 120.0f}));
+  EXPECT_EQ(lodAt(130), 2u);
+}
+
+// Brute-force reference: an instance is truly visible when a skinned vertex of its current
+// pose (emulated from the palette, double-transformed) lies inside the frustum.
+TEST(CrowdManager, CullingMatchesABruteForceReference) {
+  const Character& ch = test::defaultCharacter();
+  const BakedPalette& p = defaultPalette();
+  CrowdManager crowd;
+  ASSERT_TRUE(crowd.init(defaultCrowdDesc()).isOk());
+  std::mt19937 rng(11);
+  std::uniform_real_distribution<double> pos(-40.0, 40.0), unit(0.0, 1.0);
+  std::vector<InstanceHandle> hs;
+  for (int i = 0; i < 300; ++i) {
+    InstanceDesc d;
+    d.position = glm::dvec3(pos(rng), pos(rng) * 0.1, pos(rng));
+    d.rotation = glm::angleAxis(float(unit(rng) * 6.28), glm::vec3(0, 1, 0));
+    d.scale = float(0.5 + unit(rng));
+    d.clip = uint32_t(unit(rng) * p.clips.size()) % uint32_t(p.clips.size());
+    d.time_seconds = unit(rng) * 3.0;
+    InstanceHandle h;
+    ASSERT_TRUE(crowd.add(d, &h).isOk());
+    hs.push_back(h);
+  }
+  std::vector<glm::mat4> mats(ch.skeleton.jointCount());
+  std::vector<glm::vec3> skinned(ch.mesh.vertexCount());
+  size_t false_positives = 0, truly_visible = 0;
+  for (int trial = 0; trial < 4; ++trial) {
+    const glm::dvec3 eye(pos(rng), 1.7, pos(rng));
+    const Camera cam = testCamera(eye, glm::dvec3(pos(rng), 0.0, pos(rng)));
+    ASSERT_TRUE(crowd.update(0.1, cam).isOk());
+    std::vector<bool> marked(hs.size(), false);
+    for (InstanceHandle h : crowd.visibleHandles())
+      for (size_t i = 0; i < hs.size(); ++i)
+        if (hs[i] == h) marked[i] = true;
+    const glm::dmat4 vp(cam.viewProjection());
+    for (size_t i = 0; i < hs.size(); ++i) {
+      InstanceDesc d;
+      ASSERT_TRUE(crowd.get(hs[i], &d).isOk());
+      ASSERT_TRUE(emulateSkinningMatrices(p, d.clip, sampleFrames(p.clips[d.clip], d.time_seconds),
+                                          mats).isOk());
+      ASSERT_TRUE(emulateSkinning(ch.mesh, mats, skinned, {}).isOk());
+      const glm::dmat3 rs = glm::dmat3(glm::mat3_cast(d.rotation)) * double(d.scale);
+      bool inside = false;
+      for (const glm::vec3& v : skinned) {
+        const glm::dvec3 rel = d.position - eye + rs * glm::dvec3(v);
+        const glm::dvec4 c = vp * glm::dvec4(rel, 1.0);
+        if (std::fabs(c.x) <= c.w && std::fabs(c.y) <= c.w && std::fabs(c.z) <= c.w) {
+          inside = true;
+          break;
+        }
+      }
+      const double dist_radii = glm::length(d.position - eye) /
+                                (crowd.desc().character_radius * d.scale);
+      if (dist_radii > crowd.desc().max_distance_radii) continue;  // Distance-culled by design.
+      if (inside) {
+        ++truly_visible;
+        EXPECT_TRUE(marked[i]) << "false negative: instance " << i << " trial " << trial;
+      } else if (marked[i]) {
+        ++false_positives;  // Allowed: the bounding sphere is conservative.
+      }
+    }
+  }
+  EXPECT_GT(truly_visible, 50u);  // The scenes do exercise culling.
+  EXPECT_LT(false_positives, truly_visible);
+  std::printf("[ culling  ] %zu truly visible, %zu conservative extras over 4 cameras\n",
+              truly_visible, false_positives);
+}
+
+}  // namespace
+}  // namespace si
