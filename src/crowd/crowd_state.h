@@ -27,6 +27,7 @@ struct ViewState {
   // The cameras of the last selection and of the one before it (motion vectors).
   Camera camera, previous_camera;
   bool selected = false;  // Whether select() has run since init().
+  uint64_t identity = 0;  // CrowdView::identity(): new at every init() (nextStateVersion()).
 };
 
 struct CrowdState {
@@ -54,6 +55,8 @@ struct CrowdState {
 
 /// Empties a view's selection for a crowd of `desc` (no records, empty buckets).
 void resetSelection(const CrowdDesc& desc, ViewState* view);
+/// The crowd's cull parameters for `camera` with the view's rules (CrowdViewDesc) applied.
+CullParams viewCullParams(const CrowdManager& crowd, const ViewState& view, const Camera& camera);
 /// What runs the crowd's tasks: its own workers (CrowdDesc::worker_threads, started when first
 /// needed), or nothing (the calling thread) for one thread or a crowd of one chunk.
 ParallelFor crowdParallelFor(CrowdState& crowd);

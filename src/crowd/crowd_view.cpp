@@ -27,6 +27,7 @@ void resetSelection(const CrowdDesc& desc, ViewState* v) {
   v->frame.run_offsets.assign(size_t(desc.lod_count) * desc.sub_mesh_count + 1, 0);
   v->camera = v->previous_camera = Camera();
   v->selected = false;
+  v->identity = nextStateVersion();
   v->sub_mesh_count = desc.sub_mesh_count;
   v->lod_count = desc.lod_count;
 }
@@ -43,6 +44,19 @@ ParallelFor crowdParallelFor(CrowdState& st) {
   return [pool](uint32_t count, const ParallelTask& task) { pool->run(count, task); };
 }
 
+CullParams viewCullParams(const CrowdManager& crowd, const ViewState& view, const Camera& camera) {
+  CullParams p = crowd.cullParams(camera);
+  // The view's own rules over the crowd's lines.
+  const float scale = view.desc.lod_distance_scale == 0.0f ? 1.0f : view.desc.lod_distance_scale;
+  if (scale != 1.0f)
+    for (uint32_t l = 0; l + 1 < p.lod_count && l < 7; ++l)
+      p.lod_lines[l] = float(std::min(double(p.lod_lines[l]) * double(scale),
+                                      double(std::numeric_limits<float>::max())));
+  if (view.desc.max_distance_radii != 0.0f) p.max_distance_radii = view.desc.max_distance_radii;
+  p.lod_bias = view.desc.lod_bias;
+  return p;
+}
+
 FrameInputs frameInputs(CrowdState& st, const ViewState& view, const Camera& camera,
                         const ParallelFor& parallel_for) {
   const CrowdManager& crowd = *st.owner;
@@ -50,14 +64,7 @@ FrameInputs frameInputs(CrowdState& st, const ViewState& view, const Camera& cam
   FrameInputs in;
   in.palette = desc.palette;
   in.clips = &st.clips;
-  in.params = crowd.cullParams(camera);
-  // The view's own rules over the crowd's lines.
-  const float scale = view.desc.lod_distance_scale == 0.0f ? 1.0f : view.desc.lod_distance_scale;
-  if (scale != 1.0f)
-    for (uint32_t l = 0; l + 1 < in.params.lod_count && l < 7; ++l)
-      in.params.lod_lines[l] = float(std::min(double(in.params.lod_lines[l]) * double(scale),
-                                              double(std::numeric_limits<float>::max())));
-  if (view.desc.max_distance_radii != 0.0f) in.params.max_distance_radii = view.desc.max_distance_radii;
+  in.params = viewCullParams(crowd, view, camera);
   in.camera_position = camera.position;
   in.clock = st.clock;
   in.sub_mesh_count = desc.sub_mesh_count;
@@ -67,7 +74,7 @@ FrameInputs frameInputs(CrowdState& st, const ViewState& view, const Camera& cam
   in.previous_records = view.desc.previous_records;
   in.layers = st.store.overlay_count > 0;
   in.lane = view.lane;
-  in.lod_bias = view.desc.lod_bias;
+  in.lod_bias = in.params.lod_bias;
   const uint32_t chunks = chunkCount(st.store.size());
   if (st.chunk_events.size() < chunks) st.chunk_events.resize(chunks);
   in.chunk_events = &st.chunk_events;
@@ -205,6 +212,22 @@ Span<const LayerRecord> CrowdView::previousLayerRecords() const {
   if (!v.desc.previous_records || !v.frame.previous_layers) return {};
   return Span<const LayerRecord>(v.frame.previous_layer_records.data(), v.frame.previous_visible);
 }
+uint64_t CrowdView::identity() const { return view().identity; }
+
+CullParams CrowdView::cullParams(const Camera& camera) const {
+  const ViewState& v = view();
+  if (v.crowd == nullptr) return CullParams();
+  return detail::viewCullParams(*v.crowd->owner, v, camera);
+}
+
+void CrowdView::exportGpuLods(std::vector<uint32_t>* out) const {
+  const ViewState& v = view();
+  out->clear();
+  if (v.crowd == nullptr) return;
+  const std::vector<uint8_t>& lods = v.crowd->store.views[v.lane].lods;
+  out->assign(lods.begin(), lods.end());
+}
+
 const Camera& CrowdView::camera() const { return view().camera; }
 const Camera& CrowdView::previousCamera() const { return view().previous_camera; }
 

@@ -5,6 +5,7 @@
 // order of the views, with views added and removed mid-run; the per-view LOD rules; attachment.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <cstring>
 #include <memory>
@@ -265,6 +266,70 @@ TEST(CrowdView, TheViewsOwnLodRules) {
     EXPECT_EQ(no_far.stats().visible, plain.stats().visible + plain.stats().culled_distance -
                                           (no_far.stats().culled_frustum - plain.stats().culled_frustum));
   }
+}
+
+// What GPU-driven culling reads of a view: its identity (new at every init, unique across views
+// and crowds), its cull parameters (the crowd's with its rules applied, as select() uses them)
+// and its LODs before the bias (what select() left), in exportGpuState's dense order.
+TEST(CrowdView, WhatTheGpuReadsOfAView) {
+  World w, other;
+  makeWorld(&w, 2000, 1);
+  makeWorld(&other, 10, 1);
+  CrowdView plain, shadow;
+  EXPECT_EQ(plain.identity(), 0u);
+  ASSERT_TRUE(plain.init(w.crowd).isOk());
+  ASSERT_TRUE(shadow.init(w.crowd, CrowdViewDesc{2, 0.5f, -1.0f, false}).isOk());
+  const uint64_t ids[] = {plain.identity(), shadow.identity(), w.crowd.view().identity(),
+                          other.crowd.view().identity()};
+  for (size_t a = 0; a < 4; ++a) {
+    EXPECT_NE(ids[a], 0u);
+    for (size_t b = a + 1; b < 4; ++b) EXPECT_NE(ids[a], ids[b]) << a << " " << b;
+  }
+  const Camera cam = mainCamera(1);
+  const CullParams crowd_params = w.crowd.cullParams(cam), own = plain.cullParams(cam),
+                   rules = shadow.cullParams(cam);
+  EXPECT_EQ(own.lod_bias, 0u);
+  EXPECT_EQ(own.max_distance_radii, crowd_params.max_distance_radii);
+  EXPECT_EQ(rules.lod_bias, 2u);
+  EXPECT_EQ(rules.max_distance_radii, -1.0f);
+  for (uint32_t l = 0; l + 1 < crowd_params.lod_count; ++l) {
+    EXPECT_EQ(own.lod_lines[l], crowd_params.lod_lines[l]);
+    EXPECT_EQ(rules.lod_lines[l], crowd_params.lod_lines[l] * 0.5f);
+  }
+  ASSERT_TRUE(w.crowd.advance(0.1).isOk());
+  ASSERT_TRUE(plain.select(cam).isOk());
+  ASSERT_TRUE(shadow.select(cam).isOk());
+  std::vector<GpuInstanceState> state;
+  std::vector<InstanceHandle> dense;
+  w.crowd.exportGpuState(&state, &dense);
+  std::vector<uint32_t> lods;
+  shadow.exportGpuLods(&lods);
+  ASSERT_EQ(lods.size(), dense.size());
+  uint32_t checked = 0, biased = 0;
+  for (InstanceHandle h : shadow.visibleHandles()) {
+    const size_t i = size_t(std::find(dense.begin(), dense.end(), h) - dense.begin());
+    ASSERT_LT(i, dense.size());
+    uint32_t drawn = 0;
+    ASSERT_TRUE(shadow.lodOf(h, &drawn).isOk());
+    EXPECT_EQ(std::min(lods[i] + 2, shadow.lodCount() - 1), drawn);
+    ++checked;
+    biased += lods[i] + 2 < shadow.lodCount() && lods[i] < drawn;
+  }
+  EXPECT_GT(checked, 100u);
+  EXPECT_GT(biased, 0u) << "some LODs are below the drawn ones";
+  // The crowd's own view exports the LODs exportGpuState carries.
+  w.crowd.view().exportGpuLods(&lods);
+  for (size_t i = 0; i < state.size(); ++i) EXPECT_EQ(lods[i], state[i].lod);
+  // Re-init: a new identity, LODs back to 0; detached: nothing.
+  const uint64_t before = shadow.identity();
+  ASSERT_TRUE(shadow.init(w.crowd).isOk());
+  EXPECT_NE(shadow.identity(), before);
+  shadow.exportGpuLods(&lods);
+  EXPECT_EQ(std::count(lods.begin(), lods.end(), 0u), std::ptrdiff_t(lods.size()));
+  CrowdView detached;
+  detached.exportGpuLods(&lods);
+  EXPECT_TRUE(lods.empty());
+  EXPECT_EQ(detached.cullParams(cam).lod_bias, 0u);
 }
 
 TEST(CrowdView, AttachmentFollowsTheCrowd) {

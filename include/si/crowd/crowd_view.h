@@ -34,6 +34,7 @@
 #include "si/core/span.h"
 #include "si/core/status.h"
 #include "si/crowd/camera.h"
+#include "si/crowd/gpu_crowd_state.h"
 #include "si/crowd/handle_pool.h"
 #include "si/crowd/instance_record.h"
 #include "si/crowd/parallel_for.h"
@@ -139,6 +140,20 @@ class CrowdView {
   /// before it (after the first, the last one's).
   const Camera& camera() const;
   const Camera& previousCamera() const;
+  // ---- For GPU-driven culling (Renderer::drawCrowdGpuCulled of a view) ----
+  /// This view since its last init() (the crowd's own view: since the crowd's init()): unique
+  /// across all views, crowds and init() calls of the process; 0 for a view never init().
+  /// What a GPU-driven renderer keeps per view (LODs, visibility history, drawn records) belongs
+  /// to this identity.
+  uint64_t identity() const;
+  /// The crowd's cull parameters for `camera` with this view's rules applied (its LOD lines,
+  /// far line and lod_bias): what select() uses. Default parameters when detached.
+  CullParams cullParams(const Camera& camera) const;
+  /// The view's LOD per instance in dense order (CrowdManager::exportGpuState's), before the
+  /// lod_bias: the hysteresis state select() left, which GPU-driven culling starts from. Empty
+  /// when detached.
+  void exportGpuLods(std::vector<uint32_t>* out) const;
+
   /// The LOD the instance was drawn at by the last selection, lod_bias included (kNotFound for
   /// a stale handle, kInvalidArgument when detached).
   Status lodOf(InstanceHandle h, uint32_t* lod) const;

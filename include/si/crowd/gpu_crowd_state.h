@@ -78,6 +78,9 @@ struct CullParams {
   float lod_lines[7] = {};            ///< In radii, lod_count - 1 of them.
   uint32_t animation_lod_start = 8;   ///< LODs at or past this step their animation,
   double animation_step_seconds = 0.1;  ///< at this interval.
+  /// Drawn LODs are this many levels coarser than the hysteresis LOD, clamped to the coarsest
+  /// (a view's CrowdViewDesc::lod_bias); animation stepping follows the drawn LOD.
+  uint32_t lod_bias = 0;
 };
 
 }  // namespace si
