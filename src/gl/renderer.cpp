@@ -401,25 +401,31 @@ Status Renderer::drawCpuSkinned(CharacterId id, const CrowdView& view, const Cam
                   : s;
 }
 
-Status Renderer::drawCrowdGpuCulled(CharacterId id, const CrowdManager& crowd,
-                                    const Camera& camera, DrawStats* stats, DrawMode mode) {
+Status Renderer::drawCrowdGpuCulled(CharacterId id, const CrowdView& view, const Camera& camera,
+                                    DrawStats* stats, DrawMode mode) {
   if (!impl_) return noRenderer("drawCrowdGpuCulled");
   Impl& m = *impl_;
   detail::CharacterSlot* c = nullptr;
-  Status s = m.find(id, "drawCrowdGpuCulled", &c, &crowd);
+  Status s = m.find(id, "drawCrowdGpuCulled", &c, view);
   if (!s.isOk()) return s;
-  if (mode == DrawMode::kDepthOnly || mode == DrawMode::kRigid)
+  const CrowdManager& crowd = *view.crowd();
+  if (mode == DrawMode::kRigid)
     return {StatusCode::kInvalidArgument,
-            "drawCrowdGpuCulled: the GPU-driven path skins (kDefault, kSkinned, kComputeSkinned)"};
+            "drawCrowdGpuCulled: the GPU-driven path skins (kDefault, kSkinned, kComputeSkinned, "
+            "kDepthOnly)"};
   const auto t0 = std::chrono::steady_clock::now();
   Impl::Guard guard = m.enter("drawCrowdGpuCulled", detail::gpuDrivenFootprint());
   detail::PathFrame frame;
   frame.crowd = &crowd;
+  frame.view = &view;
   frame.camera = camera;
   frame.light = light_direction_;
   frame.preskin = mode == DrawMode::kComputeSkinned ||
-                  (mode == DrawMode::kDefault && c->path == SkinningPath::kCompute);
-  frame.motion = m.desc.motion_vectors;  // The path keeps what it drew: no previous records.
+                  ((mode == DrawMode::kDefault || mode == DrawMode::kDepthOnly) &&
+                   c->path == SkinningPath::kCompute);
+  frame.depth_only = mode == DrawMode::kDepthOnly;
+  // The path keeps what it drew: no previous records. Depth-only draws write no motion.
+  frame.motion = m.desc.motion_vectors && !frame.depth_only;
   frame.motion_view_projection =
       (m.has_motion_projection ? m.motion_projection : camera.projection) * camera.view_rotation;
   DrawStats st;

@@ -303,7 +303,7 @@ TEST_P(RenderTest, GpuDrivenComputePathEqualsTheCpuComputePath) {
     EXPECT_EQ(gpu_stats.skinned_vertices, 0u);
     EXPECT_EQ(gpu_stats.vertex_shader_instances, gpu_stats.instances);
   }
-  // kDepthOnly and kRigid are refused.
+  // kRigid is refused (kDepthOnly draws: gpu_views_render_test.cpp).
   Renderer r;
   makeRenderer(&r);
   EXPECT_EQ(r.drawCrowdGpuCulled(crowd, lodCamera(), nullptr, DrawMode::kRigid).code(),

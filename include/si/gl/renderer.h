@@ -163,8 +163,9 @@ struct DrawStats {
 };
 
 /// Which program draws: kDefault skins by the renderer's skinning path; kSkinned forces the
-/// vertex-shader path and kComputeSkinned the compute pre-skinning path; kDepthOnly is the
-/// vertex-shader skinning writing depth only (shadow maps); kRigid is rigid instancing of the
+/// vertex-shader path and kComputeSkinned the compute pre-skinning path; kDepthOnly writes depth
+/// only (shadow maps): vertex-shader skinning in drawCrowd, the renderer's skinning path in
+/// drawCrowdGpuCulled; kRigid is rigid instancing of the
 /// bind pose (the floor baseline).
 enum class DrawMode : uint8_t { kDefault = 0, kSkinned, kDepthOnly, kRigid, kComputeSkinned };
 
@@ -305,38 +306,51 @@ class Renderer {
   Status drawCpuSkinned(CharacterId character, const CrowdView& view, const Camera& camera,
                         DrawStats* stats);
 
-  /// GPU-driven culling and LOD: the crowd's state lives in shader storage buffers (uploaded
-  /// again only when crowd.stateVersion() changes); a compute pass culls every instance against
-  /// the frustum and the far line, picks its LOD with hysteresis (the same arithmetic as
-  /// CrowdManager::update(), so the same instances and LODs), computes its record at the
-  /// crowd's clock, and buckets it per (LOD, sub-mesh). Then, with pre-skinning (`mode`
-  /// kComputeSkinned, or kDefault when the renderer's path is kCompute), an indirect compute
-  /// dispatch skins every bucket's vertices into a ring and one glMultiDrawElementsIndirect
-  /// draws them by vertex pulling (instances past the ring: vertex-shader skinning, a second
-  /// multi-draw); without (kSkinned, or kDefault on the vertex-shader path), one multi-draw
-  /// with vertex-shader skinning. The CPU cost per frame does not grow with the crowd: advance
-  /// the clock with CrowdManager::advanceClock() instead of update(). The GPU keeps each
-  /// instance's LOD between frames (re-seeded from the crowd's at each upload). With
-  /// RendererDesc::measure_gpu_time, `stats` also gets the visible instances, triangles and
-  /// pre-skinned vertices (read back after the timer); otherwise only draw_calls and the CPU
-  /// time. kInvalidArgument for kDepthOnly or kRigid. Each character keeps the GPU state of
-  /// the last crowd it drew: draw one crowd per character (another re-uploads).
+  /// GPU-driven culling and LOD of a view: the crowd's state lives in shader storage buffers
+  /// (uploaded again only when crowd.stateVersion() changes, once for all its views); a compute
+  /// pass culls every instance against the frustum and the view's far line, picks its LOD with
+  /// hysteresis (the same arithmetic and rules as CrowdView::select(), so the same instances
+  /// and LODs, lod_bias included), computes its record at the crowd's clock, and buckets it per
+  /// (LOD, sub-mesh). Then, with pre-skinning (`mode` kComputeSkinned, or kDefault when the
+  /// renderer's path is kCompute), an indirect compute dispatch skins every bucket's vertices
+  /// into a ring and one glMultiDrawElementsIndirect draws them by vertex pulling (instances
+  /// past the ring: vertex-shader skinning, a second multi-draw); without (kSkinned, or
+  /// kDefault on the vertex-shader path), one multi-draw with vertex-shader skinning. The CPU
+  /// cost per frame does not grow with the crowd: advance the clock with CrowdManager::
+  /// advanceClock() instead of update() (the view needs no select()). With RendererDesc::
+  /// measure_gpu_time, `stats` also gets the visible instances, triangles and pre-skinned
+  /// vertices (read back after the timer); otherwise only draw_calls and the CPU time.
+  /// kDepthOnly draws depth only (a shadow view) on the renderer's path, with no motion vectors.
+  /// kInvalidArgument for kRigid or a detached view. Each character keeps the
+  /// GPU state of the last crowd it drew: draw one crowd per character (another re-uploads).
+  ///
+  /// Views: each view (CrowdView::identity(); the crowd overloads draw the crowd's own view)
+  /// keeps its own GPU state between frames: its LOD per instance (seeded from CrowdView::
+  /// exportGpuLods at each upload), its visibility history for two-phase occlusion culling and
+  /// its drawn records for motion vectors. Views drawn in any order give the same images. A
+  /// view not drawn for 16 frames (crowd clocks), or the least recently drawn past 32 views,
+  /// loses that state and starts again as a new view.
+  ///
   /// With RendererDesc::motion_vectors, the cull pass also writes each visible instance's
-  /// previous record: what this path drew of the same instance (by handle) in the previous
+  /// previous record: what this view drew of the same instance (by handle) in the previous
   /// frame, kept on the GPU, or else the camera-motion-only fallback of drawCrowd. A frame is
   /// one crowd clock: draws at the same clock are the same frame, and the previous frame is the
-  /// last one drawn at an earlier clock, with the camera of its last draw with motion vectors
-  /// (turn them off for other views of the same frame, such as shadows). Positions are
-  /// projected with the draw cameras, or with setGpuMotionProjection()'s projection (an
-  /// unjittered one) in their place. A character's frames follow one crowd: drawing another
-  /// crowd (CrowdManager::identity()) starts over with the fallback.
+  /// last one drawn at an earlier clock, with the view's camera of its last draw with motion
+  /// vectors there. Positions are projected with the draw cameras, or with
+  /// setGpuMotionProjection()'s projection (an unjittered one) in their place. A character's
+  /// frames follow one crowd: drawing another crowd (CrowdManager::identity()) starts every
+  /// view over with the fallback.
   Status drawCrowdGpuCulled(const CrowdManager& crowd, const Camera& camera, DrawStats* stats,
                             DrawMode mode = DrawMode::kDefault) {
-    return drawCrowdGpuCulled(CharacterId{}, crowd, camera, stats, mode);
+    return drawCrowdGpuCulled(CharacterId{}, crowd.view(), camera, stats, mode);
   }
   Status drawCrowdGpuCulled(CharacterId character, const CrowdManager& crowd,
                             const Camera& camera, DrawStats* stats,
-                            DrawMode mode = DrawMode::kDefault);
+                            DrawMode mode = DrawMode::kDefault) {
+    return drawCrowdGpuCulled(character, crowd.view(), camera, stats, mode);
+  }
+  Status drawCrowdGpuCulled(CharacterId character, const CrowdView& view, const Camera& camera,
+                            DrawStats* stats, DrawMode mode = DrawMode::kDefault);
   /// The last drawCrowdGpuCulled() frame's selection (of character 0, or `character`), read
   /// back: (dense index, LOD) per visible instance in no particular order (dense index i is
   /// exportGpuState's instance i).

@@ -45,7 +45,8 @@ struct DrawResources {
 struct PathFrame {
   const CrowdManager* crowd = nullptr;
   /// The selection drawn (the instanced paths and the baselines): the crowd's own view or a
-  /// CrowdView of it. The GPU-driven path selects itself.
+  /// CrowdView of it. The GPU-driven path selects on the GPU with the view's rules and keeps
+  /// the view's own state (gpu_view_slots.h).
   const CrowdView* view = nullptr;
   Camera camera;
   glm::vec3 light{0.0f, -1.0f, 0.0f};
@@ -54,8 +55,10 @@ struct PathFrame {
   /// The batcher's draws and the ring region holding their records (the instanced paths).
   const std::vector<DrawBatch>* batches = nullptr;
   size_t ring_base = 0;
-  /// The GPU-driven path: pre-skin (compute) rather than skin in the vertex shader.
+  /// The GPU-driven path: pre-skin (compute) rather than skin in the vertex shader; draw depth
+  /// only (no colour, no motion vectors).
   bool preskin = false;
+  bool depth_only = false;
   /// Motion vectors (the instanced paths, RendererDesc::motion_vectors): the previous records
   /// in the batches' layout at `previous_base` of the ring, and the crowd's last and previous
   /// update cameras' view-projections. The GPU-driven path: `motion` and the view-projection

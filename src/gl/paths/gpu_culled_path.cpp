@@ -25,8 +25,6 @@ constexpr uint32_t kFittedWord = kThreadBaseWord + kMaxBuckets + 1;
 constexpr uint32_t kCounterWords = kFittedWord + kMaxBuckets;
 // SiCommands: vertex-shader draws at 0, pre-skinned draws from command 256 on (20 bytes each).
 constexpr GLintptr kPreskinnedCommands = GLintptr(kMaxBuckets) * 20;
-// cull.comp.glsl's SiDrawn: a record, a layer record and a tag.
-constexpr size_t kDrawnBytes = kInstanceRecordSize + kLayerRecordSize + 16;
 
 // (Re)creates `buffer` with `bytes` of storage, at least 16 (and its first `bytes` from `data`
 // when given), dynamic.
@@ -84,9 +82,6 @@ Status GpuCulledPath::uploadState(const DrawResources& r, const CrowdManager& cr
                    "GPU culling: the entry indices");
     if (s.isOk())
       s = recreate(&entry_data_, size_t(entries) * 8, nullptr, "GPU culling: the entry data");
-    if (s.isOk())
-      s = recreate(&visible_last_, size_t(capacity) * 4, nullptr,
-                   "occlusion culling: the visible-last-frame flags");
     if (!s.isOk()) return s;
     capacity_ = capacity;
     sub_meshes_ = cd.sub_mesh_count;
@@ -94,8 +89,6 @@ Status GpuCulledPath::uploadState(const DrawResources& r, const CrowdManager& cr
   if (n > 0) uploadInOrder(state_, state.size() * sizeof(state[0]), state.data());
   s = uploadOverlays(crowd);
   if (!s.isOk()) return s;
-  // Indices may now name other instances: none counts as visible last frame.
-  glClearNamedBufferData(visible_last_, GL_R32UI, GL_RED_INTEGER, GL_UNSIGNED_INT, nullptr);
   std::vector<glm::uvec2> ranges(buckets);
   std::vector<glm::uvec4> info(buckets);
   for (uint32_t b = 0; b < buckets; ++b) {
@@ -141,6 +134,7 @@ Status GpuCulledPath::uploadState(const DrawResources& r, const CrowdManager& cr
   glVertexArrayAttribBinding(preskin_vao_, 5, 1);
   glVertexArrayAttribIFormat(preskin_vao_, 5, 1, GL_UNSIGNED_INT, 0);
   crowd_ = &crowd;
+  ++uploads_;  // Every view's LODs and flags are seeded again (indices may name others now).
   version_ = crowd.stateVersion();
   instances_ = n;
   buckets_ = buckets;
@@ -186,14 +180,21 @@ Status GpuCulledPath::uploadFrame(const DrawResources& r, const PathFrame& f) {
             strCat("drawCrowdGpuCulled: ", n, " instances need more compute groups than "
                    "GL_MAX_COMPUTE_WORK_GROUP_COUNT (", r.info->max_compute_groups_x, " x ",
                    r.info->max_compute_groups_y, ")")};
-  // The uploads and clears below rewrite buffers the last passes wrote (the state's LOD, the
-  // drawn records, the visible-last flags): GL orders buffer updates after incoherent shader
-  // writes only past this barrier.
+  // The uploads and clears below rewrite buffers the last passes wrote (a view's LODs and
+  // flags, its drawn records): GL orders buffer updates after incoherent shader writes only
+  // past this barrier.
   glMemoryBarrier(GL_BUFFER_UPDATE_BARRIER_BIT);
   if (crowd_identity_ != crowd.identity()) {  // Another crowd: nothing drawn is its last frame.
+    views_.clear();
     frame_ += 2;
     framed_ = false;
     crowd_identity_ = crowd.identity();
+  }
+  const double clock = crowd.clockSeconds();
+  if (!framed_ || !(clock == frame_clock_)) {  // A new frame: the crowd's clock moved.
+    ++frame_;
+    frame_clock_ = clock;
+    framed_ = true;
   }
   if (crowd_ != &crowd || version_ != crowd.stateVersion() || instances_ != n ||
       buckets_ != buckets || vertex_source_ != r.character->vertex_buffer || vao_ == kNoObject) {
@@ -204,6 +205,8 @@ Status GpuCulledPath::uploadFrame(const DrawResources& r, const PathFrame& f) {
     Status s = ensureRing(r, f.motion);
     if (!s.isOk()) return s;
   }
+  Status view = prepareView(f);
+  if (!view.isOk()) return view;
   Status motion = prepareMotion(r, f);
   if (!motion.isOk()) return motion;
   if (layers_) {  // Every frame: drawCrowd of another crowd may have replaced the table.
@@ -211,8 +214,8 @@ Status GpuCulledPath::uploadFrame(const DrawResources& r, const PathFrame& f) {
     if (!s.isOk()) return s;
   }
 
-  // Per-frame parameters: the same CullParams CrowdManager::update() uses.
-  const CullParams p = crowd.cullParams(f.camera);
+  // Per-frame parameters: the same CullParams CrowdView::select() uses.
+  const CullParams p = f.view->cullParams(f.camera);
   const GLuint cull = (*r.programs)[ProgramId::kCull].id;
   const GLuint commands = (*r.programs)[ProgramId::kCullCommands].id;
   const GLuint scatter = (*r.programs)[ProgramId::kCullScatter].id;
@@ -233,6 +236,7 @@ Status GpuCulledPath::uploadFrame(const DrawResources& r, const PathFrame& f) {
   glProgramUniform1ui(cull, 23, layers_ ? 1u : 0u);
   glProgramUniform1ui(cull, 17, p.animation_lod_start);
   glProgramUniform1d(cull, 18, p.animation_step_seconds);
+  glProgramUniform1ui(cull, 28, p.lod_bias);
   glProgramUniform1ui(commands, 19,
                       f.preskin ? uint32_t(r.scratch->gpu_driven_ring.vertices) : 0u);
   // The scatter and pre-skinning passes' rows (their counts are the GPU's: in rows of this many
@@ -244,50 +248,43 @@ Status GpuCulledPath::uploadFrame(const DrawResources& r, const PathFrame& f) {
   return Status::ok();
 }
 
+Status GpuCulledPath::prepareView(const PathFrame& f) {
+  view_ = views_.find(f.view->identity(), frame_);
+  GpuViewSlot& v = *view_;
+  v.last_frame = frame_;
+  Status s = v.ensureInstances(capacity_);
+  if (!s.isOk()) return s;
+  if (v.seeded_upload != uploads_) {  // The view's LODs as its CPU selection left them.
+    std::vector<uint32_t> lods;
+    f.view->exportGpuLods(&lods);
+    v.seed(lods, instances_, uploads_);
+  }
+  return Status::ok();
+}
+
 Status GpuCulledPath::prepareMotion(const DrawResources& r, const PathFrame& f) {
-  const double clock = f.crowd->clockSeconds();
-  if (!framed_ || !(clock == frame_clock_)) {  // A new frame, with or without motion vectors.
-    ++frame_;
-    // The last frame's motion camera is the previous one if that frame drew motion vectors.
-    previous_known_ = camera_frame_ == frame_ - 1;
-    previous_camera_ = camera_;
-    previous_view_projection_ = view_projection_;
-    frame_clock_ = clock;
-    framed_ = true;
+  GpuViewSlot& v = *view_;
+  if (v.frame != frame_) {  // The view's first draw of this frame.
+    // Its last frame's motion camera is the previous one if it drew motion vectors then.
+    v.previous_known = v.camera_frame == frame_ - 1 && v.camera_frame != 0;
+    v.previous_camera = v.camera;
+    v.previous_view_projection = v.view_projection;
+    v.frame = frame_;
   }
   motion_ = f.motion;
   const GLuint cull = (*r.programs)[ProgramId::kCull].id;
   glProgramUniform1ui(cull, 24, motion_ ? 1u : 0u);
-  // Only draws with motion vectors set the frame's camera (a shadow draw without them at the
-  // same clock does not), as only they write the drawn records.
+  // Only draws with motion vectors set the view's camera, as only they write drawn records.
   if (!motion_) return Status::ok();
-  camera_ = f.camera;
-  view_projection_ = f.motion_view_projection;
-  camera_frame_ = frame_;
-  if (!previous_known_) {  // No previous frame with motion vectors: no camera motion either.
-    previous_camera_ = camera_;
-    previous_view_projection_ = view_projection_;
+  v.camera = f.camera;
+  v.view_projection = f.motion_view_projection;
+  v.camera_frame = frame_;
+  if (!v.previous_known) {  // No previous frame with motion vectors: no camera motion either.
+    v.previous_camera = v.camera;
+    v.previous_view_projection = v.view_projection;
   }
-  Status s = Status::ok();
-  if (slots_needed_ > drawn_slots_) {
-    // Room to grow (twice the last), within the handle slots and the storage-block limit.
-    const uint64_t fit = r.info->max_shader_storage_block_size_bytes / (2 * kDrawnBytes);
-    const uint32_t room = uint32_t(
-        std::min<uint64_t>({uint64_t(2) * drawn_slots_, HandlePool::kMaxSlots, fit}));
-    const uint32_t slots = std::max(slots_needed_, room);
-    const uint64_t bytes = uint64_t(slots) * 2 * kDrawnBytes;
-    if (bytes > r.info->max_shader_storage_block_size_bytes)
-      return {StatusCode::kLimitExceeded,
-              strCat("drawCrowdGpuCulled: motion vectors keep ", bytes, " bytes of drawn records "
-                     "for ", slots, " handle slots, GL_MAX_SHADER_STORAGE_BLOCK_SIZE is ",
-                     r.info->max_shader_storage_block_size_bytes)};
-    drawn_slots_ = 0;
-    s = recreate(&drawn_, size_t(bytes), nullptr, "motion vectors: the drawn records");
-    if (!s.isOk()) return s;
-    // No tag names a handle (handle ids are never 0): every instance starts with the fallback.
-    glClearNamedBufferData(drawn_, GL_R32UI, GL_RED_INTEGER, GL_UNSIGNED_INT, nullptr);
-    drawn_slots_ = slots;
-  }
+  Status s = v.ensureDrawn(slots_needed_, r.info->max_shader_storage_block_size_bytes);
+  if (!s.isOk()) return s;
   if (capacity_ > previous_capacity_) {
     previous_capacity_ = 0;
     s = recreate(&previous_out_, size_t(capacity_) * kInstanceRecordSize, nullptr,
@@ -298,10 +295,10 @@ Status GpuCulledPath::prepareMotion(const DrawResources& r, const PathFrame& f) 
     if (!s.isOk()) return s;
     previous_capacity_ = capacity_;
   }
-  glProgramUniform2ui(cull, 25, frame_, drawn_slots_);
+  glProgramUniform2ui(cull, 25, frame_, v.drawn_slots);
   // The fallback moves the current record from this camera's origin to the previous one's
   // (kept when they are too far apart for a float, as InstanceBatcher::buildPrevious does).
-  const glm::dvec3 delta = camera_.position - previous_camera_.position;
+  const glm::dvec3 delta = v.camera.position - v.previous_camera.position;
   const bool representable = glm::all(glm::lessThan(glm::abs(delta), glm::dvec3(1e30)));
   const glm::vec3 shift = representable ? glm::vec3(delta) : glm::vec3(0.0f);
   glProgramUniform3fv(cull, 26, 1, &shift[0]);
@@ -338,11 +335,12 @@ Status GpuCulledPath::draw(const DrawResources& r, const PathFrame& f, DrawStats
   runPasses(r, f, 1, st);
   glMemoryBarrier(GL_BUFFER_UPDATE_BARRIER_BIT);  // The counters the passes wrote, then copied.
   glCopyNamedBufferSubData(counters_, first_phase_counters_, 0, 0, GLsizeiptr(kCounterWords) * 4);
-  Status s = pyramid_.build(*r.programs);
+  DepthPyramid& pyramid = view_->pyramid;
+  Status s = pyramid.build(*r.programs);
   if (!s.isOk()) return s;
   const GLuint cull = (*r.programs)[ProgramId::kCull].id;
-  glProgramUniform3i(cull, 22, pyramid_.width(), pyramid_.height(), pyramid_.levels());
-  glBindTextureUnit(1, pyramid_.texture());
+  glProgramUniform3i(cull, 22, pyramid.width(), pyramid.height(), pyramid.levels());
+  glBindTextureUnit(1, pyramid.texture());
   runPasses(r, f, 2, st);
   return Status::ok();
 }
@@ -360,7 +358,7 @@ void GpuCulledPath::runPasses(const DrawResources& r, const PathFrame& f, uint32
   const GLuint ssbo[] = {state_, clips_, times_, counters_, records_, entries_, visible_,
                          commands_, ranges_, bucket_info_};
   glBindBuffersBase(GL_SHADER_STORAGE_BUFFER, 0, 10, ssbo);
-  glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 16, visible_last_);
+  glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 16, view_->instances);
   glProgramUniform1ui(cull, 20, phase);
   const GLuint preskin_ssbo[] = {entry_data_, r.scratch->gpu_driven_ring.buffer,
                                  r.character->vertex_buffer,
@@ -372,14 +370,14 @@ void GpuCulledPath::runPasses(const DrawResources& r, const PathFrame& f, uint32
     glBindBuffersBase(GL_SHADER_STORAGE_BUFFER, 17, 2, layer_ssbo);
   }
   if (motion_) {
-    const GLuint motion_ssbo[] = {drawn_, previous_out_, previous_layers_out_};
+    const GLuint motion_ssbo[] = {view_->drawn, previous_out_, previous_layers_out_};
     glBindBuffersBase(GL_SHADER_STORAGE_BUFFER, 19, 3, motion_ssbo);
     if (f.preskin)
       glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 22, r.scratch->gpu_driven_previous_ring.buffer);
   }
-  // Motion vectors: this frame's camera and the previous frame's.
-  const glm::mat4& now = view_projection_;
-  const glm::mat4& then = previous_view_projection_;
+  // Motion vectors: this frame's camera of the view and its previous frame's.
+  const glm::mat4& now = view_->view_projection;
+  const glm::mat4& then = view_->previous_view_projection;
   const auto set_motion = [&](const Program& p) {
     if (!motion_) return;
     if (p.motion_view_projection >= 0)
@@ -416,7 +414,9 @@ void GpuCulledPath::runPasses(const DrawResources& r, const PathFrame& f, uint32
     glDispatchComputeIndirect(GLintptr(kSkinDispatchWord) * 4);
     glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT);
     const Program& pulled =
-        (*r.programs)[motion_ ? ProgramId::kGpuPulledMotion : ProgramId::kGpuPulled];
+        (*r.programs)[f.depth_only ? ProgramId::kGpuPulledDepthOnly
+                      : motion_    ? ProgramId::kGpuPulledMotion
+                                   : ProgramId::kGpuPulled];
     bindShading(r, pulled, f.camera, f.light);
     set_motion(pulled);
     glProgramUniform2ui(pulled.id, 6, 0u, r.preskin->source_words);
@@ -428,10 +428,12 @@ void GpuCulledPath::runPasses(const DrawResources& r, const PathFrame& f, uint32
   }
   // Vertex-shader skinning: every instance without pre-skinning, those past the ring with.
   const Program& skinned =
-      (*r.programs)[motion_ ? (layers_ ? ProgramId::kGpuDrivenSkinnedMotionLayers
-                                       : ProgramId::kGpuDrivenSkinnedMotion)
-                            : (layers_ ? ProgramId::kGpuDrivenSkinnedLayers
-                                       : ProgramId::kGpuDrivenSkinned)];
+      (*r.programs)[f.depth_only ? (layers_ ? ProgramId::kGpuDrivenDepthOnlyLayers
+                                            : ProgramId::kGpuDrivenDepthOnly)
+                    : motion_    ? (layers_ ? ProgramId::kGpuDrivenSkinnedMotionLayers
+                                            : ProgramId::kGpuDrivenSkinnedMotion)
+                                 : (layers_ ? ProgramId::kGpuDrivenSkinnedLayers
+                                            : ProgramId::kGpuDrivenSkinned)];
   bindShading(r, skinned, f.camera, f.light);
   set_motion(skinned);
   glBindVertexArray(vao_);
@@ -477,13 +479,12 @@ Status GpuCulledPath::readSelection(std::vector<glm::uvec2>* selection) const {
 void GpuCulledPath::release() {
   const GLuint buffers[] = {state_,    clips_,    times_,       counters_,  records_,
                             visible_,  entries_,  identity_,    commands_,  ranges_,
-                            bucket_info_, entry_data_, visible_last_, first_phase_counters_,
-                            overlays_,  layers_out_, drawn_, previous_out_,
-                            previous_layers_out_};
+                            bucket_info_, entry_data_, first_phase_counters_,
+                            overlays_,  layers_out_, previous_out_, previous_layers_out_};
   glDeleteBuffers(GLsizei(sizeof(buffers) / sizeof(buffers[0])), buffers);
   const GLuint arrays[] = {vao_, preskin_vao_};
   glDeleteVertexArrays(2, arrays);
-  pyramid_.release();
+  views_.clear();
   *this = GpuCulledPath();
 }
 

@@ -1,7 +1,7 @@
 // SkinnedInstancing — SPDX-License-Identifier: MIT (see LICENSE)
 #pragma once
-// The GPU-driven path: CrowdManager::update()'s selection and records computed by compute passes
-// over the crowd's state in shader storage (shaders/cull*.comp.glsl), bucketed per (LOD,
+// The GPU-driven path: a CrowdView's selection and records computed by compute passes over the
+// crowd's state in shader storage (shaders/cull*.comp.glsl), bucketed per (LOD,
 // sub-mesh); then either an indirect pre-skinning dispatch (shaders/gpu_skin.comp.glsl) and a
 // vertex-pulling multi-draw, or vertex-shader skinning, each one glMultiDrawElementsIndirect.
 // The selection arithmetic is src/crowd/cull_math.h's, so both select exactly the same
@@ -10,12 +10,14 @@
 // vectors it also writes each visible instance's previous record: what it drew of the same
 // instance (by handle) at the previous frame, kept on the GPU, or else InstanceBatcher::
 // buildPrevious's fallback. A frame is a crowd clock: draws at the same clock are one frame. The
-// CPU's work per frame does not depend on the crowd's size.
+// crowd's state is the path's, uploaded once for every view; what a view keeps between frames
+// (LODs, visibility history, drawn records) is its own (gpu_view_slots.h). The CPU's work per
+// frame does not depend on the crowd's size.
 
 #include <vector>
 
 #include "gl/paths/draw_path.h"
-#include "gl/resources/depth_pyramid.h"
+#include "gl/paths/gpu_view_slots.h"
 
 namespace si::detail {
 
@@ -43,8 +45,11 @@ class GpuCulledPath final : public DrawPath {
   // The crowd's overlays, when it plays any (sets layers_).
   Status uploadOverlays(const CrowdManager& crowd);
   Status ensureRing(const DrawResources& r, bool motion);
-  // Motion vectors: starts a frame when the crowd's clock moved (the cameras of this frame and
-  // the last), creates the drawn records and the previous outputs, sets the cull pass's uniforms.
+  // The view's slot: found or made, sized for the crowd and seeded after each upload (its LODs
+  // from CrowdView::exportGpuLods, nothing visible last frame).
+  Status prepareView(const PathFrame& f);
+  // Motion vectors: moves the view's cameras on at a new frame, creates its drawn records and
+  // the previous outputs, sets the cull pass's uniforms.
   Status prepareMotion(const DrawResources& r, const PathFrame& f);
   // Cull, commands, scatter and the draws, with the cull pass in occlusion `phase` (0 off).
   void runPasses(const DrawResources& r, const PathFrame& f, uint32_t phase, DrawStats* st);
@@ -54,28 +59,25 @@ class GpuCulledPath final : public DrawPath {
   GLuint records_ = kNoObject, visible_ = kNoObject, entries_ = kNoObject, identity_ = kNoObject;
   GLuint commands_ = kNoObject, ranges_ = kNoObject, bucket_info_ = kNoObject;
   GLuint entry_data_ = kNoObject;
-  // Occlusion culling: per instance, visible at the end of the last frame (0 or 1); the first
-  // phase's counters (the second phase overwrites the counters); the depth pyramid.
-  GLuint visible_last_ = kNoObject, first_phase_counters_ = kNoObject;
+  // Occlusion culling: the first phase's counters (the second phase overwrites the counters).
+  GLuint first_phase_counters_ = kNoObject;
   // Layered animation: the crowd's overlays (si::GpuOverlayState) and the cull pass's layer
   // record per visible instance; layers_ while the crowd plays overlays.
   GLuint overlays_ = kNoObject, layers_out_ = kNoObject;
   uint32_t layer_capacity_ = 0;
   bool layers_ = false;
-  // Motion vectors: per handle slot and frame parity, what the cull pass drew (SiDrawn, 112
-  // bytes); the previous records and previous layer records per visible instance. frame_ counts
-  // the crowd clocks drawn; camera_ is the last motion draw's camera, previous_camera_ the
-  // previous frame's (this frame's when that frame drew no motion), and the view-projections
-  // their motion used (PathFrame::motion_view_projection).
-  GLuint drawn_ = kNoObject, previous_out_ = kNoObject, previous_layers_out_ = kNoObject;
-  uint32_t drawn_slots_ = 0, previous_capacity_ = 0, slots_needed_ = 1, frame_ = 1;
-  uint32_t camera_frame_ = 0;  // The frame camera_ was set in (by a draw with motion vectors).
+  // Motion vectors: the previous records and previous layer records per visible instance (the
+  // passes' output; what each view drew is its slot's). frame_ counts the crowd clocks drawn.
+  GLuint previous_out_ = kNoObject, previous_layers_out_ = kNoObject;
+  uint32_t previous_capacity_ = 0, slots_needed_ = 1, frame_ = 1;
   double frame_clock_ = 0.0;
   uint64_t crowd_identity_ = 0;  // CrowdManager::identity() of the crowd the frames are of.
-  bool motion_ = false, framed_ = false, previous_known_ = false;
-  Camera camera_, previous_camera_;
-  glm::mat4 view_projection_{1.0f}, previous_view_projection_{1.0f};  // The motion's.
-  DepthPyramid pyramid_;
+  bool motion_ = false, framed_ = false;
+  // Per view: LODs, visibility history, drawn records, motion cameras, the depth pyramid; the
+  // view of this draw (set by uploadFrame). uploads_ counts the crowd state's uploads.
+  GpuViewSlots views_;
+  GpuViewSlot* view_ = nullptr;
+  uint64_t uploads_ = 0;
   bool two_phases_ = false;  // The last frame drew in two phases.
   uint32_t capacity_ = 0, instances_ = 0, buckets_ = 0, sub_meshes_ = 0;
   uint64_t version_ = 0;

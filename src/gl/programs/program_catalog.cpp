@@ -66,6 +66,12 @@ const ProgramSpec kSpecs[kProgramCount] = {
     {"GPU-driven pre-skinning with previous positions and layers",
      "#define SI_MOTION_VECTORS\n#define SI_LAYERS\n", nullptr, nullptr, "gpu_skin.comp.glsl",
      nullptr},
+    {"GPU-driven depth-only", "#define SI_GPU_DRIVEN\n", "skinned.vert.glsl", "depth.frag.glsl",
+     nullptr, nullptr},
+    {"GPU-driven depth-only with layers", "#define SI_GPU_DRIVEN\n#define SI_LAYERS\n",
+     "skinned.vert.glsl", "depth.frag.glsl", nullptr, nullptr},
+    {"GPU-driven pulling, depth only", "#define SI_GPU_DRIVEN\n", "pulled.vert.glsl",
+     "depth.frag.glsl", nullptr, nullptr},
 };
 
 }  // namespace

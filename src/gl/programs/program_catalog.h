@@ -43,6 +43,9 @@ enum class ProgramId : uint8_t {
   kGpuPulledMotion,         ///< kGpuPulled, also writing motion vectors.
   kGpuDrivenSkinnedMotionLayers,  ///< kGpuDrivenSkinnedMotion with layered animation.
   kGpuSkinMotionLayers,           ///< kGpuSkinMotion with layered animation.
+  kGpuDrivenDepthOnly,            ///< kGpuDrivenSkinned, depth only (shadow views).
+  kGpuDrivenDepthOnlyLayers,      ///< kGpuDrivenDepthOnly with layered animation.
+  kGpuPulledDepthOnly,            ///< kGpuPulled, depth only.
   kCount
 };
 inline constexpr size_t kProgramCount = size_t(ProgramId::kCount);

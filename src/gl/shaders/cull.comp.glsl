@@ -13,6 +13,10 @@ layout(location = 8) uniform vec4 u_params;  // radius, far line (radii), hyster
 layout(location = 9) uniform float u_lines[7];
 layout(location = 17) uniform uint u_anim_lod;
 layout(location = 18) uniform double u_anim_step;
+layout(location = 28) uniform uint u_lod_bias;  // The view's: drawn LOD = min(lod + bias, last).
+// The view's own state per instance (src/gl/paths/gpu_view_slots.h): x its LOD before the
+// bias (hysteresis), y visible at the end of its last frame (occlusion culling), 0 or 1.
+layout(std430, binding = 16) buffer SiViewInstances { uvec2 si_view[]; };
 // Occlusion culling: 0 off; 1 the first phase (instances visible last frame); 2 the second
 // (every instance in the frustum tested against the pyramid of what the first phase drew:
 // those not occluded are visible next frame, and drawn now unless the first phase drew them).
@@ -138,7 +142,7 @@ void main() {
     if (!(da >= -ra) && !(db >= -rb)) return;
   }
   uint lods = u_counts.y;
-  uint lod = min(st.lod, lods - 1u);
+  uint lod = min(si_view[i].x, lods - 1u);
   while (lod + 1u < lods) {
     precise float line = u_lines[lod] * (1.0 + u_params.z) * radius;
     if (!(d2 > line * line)) break;
@@ -149,15 +153,16 @@ void main() {
     if (!(d2 < line * line)) break;
     --lod;
   }
-  si_state[i].lod = lod;  // Applying the hysteresis again in the second phase changes nothing.
-  if (u_occlusion_phase == 1u && si_visible_last[i] == 0u) return;
+  si_view[i].x = lod;  // Applying the hysteresis again in the second phase changes nothing.
+  if (u_occlusion_phase == 1u && si_view[i].y == 0u) return;
   if (u_occlusion_phase == 2u) {
     bool occluded = siOccluded(rel, st.rotation, s, ca.box_min.xyz, ca.box_max.xyz) &&
                     (!fading || siOccluded(rel, st.rotation, s, cb.box_min.xyz, cb.box_max.xyz));
-    uint drawn = si_visible_last[i];
-    si_visible_last[i] = occluded ? 0u : 1u;
+    uint drawn = si_view[i].y;
+    si_view[i].y = occluded ? 0u : 1u;
     if (occluded || drawn != 0u) return;
   }
+  lod = min(lod + u_lod_bias, lods - 1u);  // The drawn LOD (CrowdViewDesc::lod_bias).
 
   // The record (CrowdManager::update()'s).
   SiInstance rec;

@@ -4,7 +4,7 @@
 #define SI_CULL_COMMON_GLSL
 #include "si_instance_record.glsl"
 #include "gpu_crowd_state.glsl"
-layout(std430, binding = 0) buffer SiState { SiGpuInstance si_state[]; };
+layout(std430, binding = 0) readonly buffer SiState { SiGpuInstance si_state[]; };
 layout(std430, binding = 1) readonly buffer SiClips { SiGpuClip si_clips[]; };
 layout(std430, binding = 2) readonly buffer SiTimes { double si_times[]; };
 #include "cull_counters.glsl"

@@ -12,7 +12,6 @@
 layout(location = 21) uniform mat4 u_view_proj;  // camera-relative world to clip
 layout(location = 22) uniform ivec3 u_hiz_size;  // level 0 width, height; levels
 layout(binding = 1) uniform sampler2D u_hiz;
-layout(std430, binding = 16) buffer SiVisibleLast { uint si_visible_last[]; };
 
 vec3 siRotate(vec4 q, vec3 v);
 
