@@ -62,6 +62,7 @@ struct Options {
   bool restore_state = false;    // The state contract table.
   bool layers = false;           // The layered animation table.
   std::vector<uint32_t> views;   // The views table's view counts; empty: no views table.
+  uint32_t views_lod_bias = 1;   // Its cascades' CrowdViewDesc::lod_bias.
 };
 
 void usage(std::FILE* f) {
@@ -105,6 +106,7 @@ void usage(std::FILE* f) {
       "                   GPU-driven paths with no overlay, at weight 1 and 0.5, side by side)\n"
       "                   [--views N,M,...] (the views table: 1 main view and N - 1 shadow\n"
       "                   cascades per frame, for each count, side by side)\n"
+      "                   [--views-lod-bias B] (its cascades' LOD bias, 0 to 7; default 1)\n"
       "                   [--no-gpu-time] (no blocking timer queries: CPU columns only;\n"
       "                   GPU ms and the GPU-culled path's visible count read -1 / 0)\n");
 }
@@ -161,6 +163,11 @@ bool parse(int argc, char** argv, Options* o) {
         if (n < 1 || n > 8) return false;  // 1 main view and up to 7 cascades.
         o->views.push_back(uint32_t(n));
       }
+    }
+    else if (a == "--views-lod-bias" && has) {
+      const unsigned long n = std::stoul(argv[++i]);
+      if (n > 7) return false;
+      o->views_lod_bias = uint32_t(n);
     }
     else if (a == "--backend" && has) {
       if (!si::examples::parseBackend(argv[++i], &o->backend)) return false;
@@ -406,8 +413,8 @@ int main(int argc, char** argv) {
     if (!s.isOk()) return fail("motion vectors", s);
   }
   if (!b.o.views.empty()) {
-    s = si::bench::viewsTable(b.setup, palette, rd, b.o.sizes, b.o.views, b.o.paths,
-                              b.o.max_baseline, csv);
+    s = si::bench::viewsTable(b.setup, palette, rd, b.o.sizes, b.o.views, b.o.views_lod_bias,
+                              b.o.paths, b.o.max_baseline, csv);
     if (!s.isOk()) return fail("views", s);
   }
   if (b.o.restore_state) {

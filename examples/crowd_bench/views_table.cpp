@@ -16,7 +16,7 @@ namespace {
 
 // Times `path` on the field of `count` with 1 main view and views - 1 cascades.
 Status runViews(Setup& setup, Renderer& renderer, const BakedPalette& palette, uint32_t count,
-                const std::string& path, uint32_t views, Row* row) {
+                const std::string& path, uint32_t views, uint32_t lod_bias, Row* row) {
   const std::vector<glm::dvec3> places = scenePositions("field", count);
   CrowdManager crowd;
   Status s = makeCrowd(setup, palette, places, LodChoice(), &crowd);
@@ -24,7 +24,7 @@ Status runViews(Setup& setup, Renderer& renderer, const BakedPalette& palette, u
   std::vector<std::unique_ptr<CrowdView>> cascades;
   if (s.isOk()) s = main_view.init(crowd);
   CrowdViewDesc shadow;
-  shadow.lod_bias = 1;
+  shadow.lod_bias = lod_bias;
   shadow.max_distance_radii = -1.0f;
   for (uint32_t k = 1; k < views && s.isOk(); ++k) {
     cascades.push_back(std::make_unique<CrowdView>());
@@ -44,17 +44,23 @@ Status runViews(Setup& setup, Renderer& renderer, const BakedPalette& palette, u
   row->path = path;
   row->lod = std::to_string(views) + (views == 1 ? " view" : " views");
   row->instances = count;
-  return timeFrames(
+  const bool gpu = isGpuSelected(path);
+  const bool occlusion = gpu && path.size() > 10 && path.compare(path.size() - 10, 10, "-occlusion") == 0;
+  renderer.setGpuOcclusionCulling(occlusion);
+  const Status timed = timeFrames(
       setup, "field", places,
-      [&](const Camera& cam) {  // The crowd's simulation once, then each view's selection.
-        Status st = crowd.advance(1.0 / 60.0);
-        if (st.isOk()) st = main_view.select(cam);
+      [&](const Camera& cam) {
+        // The crowd's simulation once, then each view's selection (on the GPU-driven paths the
+        // clock only: the draws select).
+        Status st = gpu ? crowd.advanceClock(1.0 / 60.0) : crowd.advance(1.0 / 60.0);
+        if (st.isOk() && !gpu) st = main_view.select(cam);
         const glm::mat4& v = cam.view_rotation;
         const glm::dvec3 forward = -glm::dvec3(v[0][2], v[1][2], v[2][2]);
         const double depth = glm::dot(centre - cam.position, forward);
         lights = si::examples::cascadeCameras(cam, uint32_t(cascades.size()), sun, float(setup.height),
                                               std::max(1.0, depth - scene_radius), depth + scene_radius);
-        for (size_t k = 0; k < cascades.size() && st.isOk(); ++k) st = cascades[k]->select(lights[k]);
+        for (size_t k = 0; k < cascades.size() && st.isOk() && !gpu; ++k)
+          st = cascades[k]->select(lights[k]);
         return st;
       },
       [&](const Camera& cam, DrawStats* st, uint32_t* visible) {
@@ -63,9 +69,12 @@ Status runViews(Setup& setup, Renderer& renderer, const BakedPalette& palette, u
         const auto draw_view = [&](const CrowdView& view, const Camera& at, DrawMode mode) {
           renderer.clear(kClearColor);
           DrawStats one;
-          const Status drawn = path == "traditional" ? renderer.drawTraditional(CharacterId{}, view, at, &one)
-                               : path == "cpu"       ? renderer.drawCpuSkinned(CharacterId{}, view, at, &one)
-                                                     : renderer.drawCrowd(view, batcher, at, &one, mode);
+          const Status drawn =
+              gpu                   ? renderer.drawCrowdGpuCulled(CharacterId{}, view, at, &one, mode)
+              : path == "traditional" ? renderer.drawTraditional(CharacterId{}, view, at, &one)
+              : path == "cpu"       ? renderer.drawCpuSkinned(CharacterId{}, view, at, &one)
+                                    : renderer.drawCrowd(view, batcher, at, &one, mode);
+          st->gpu_visible += one.gpu_visible;
           st->cpu_submit_ms += one.cpu_submit_ms;
           st->gpu_ms += one.gpu_ms;
           st->draw_calls += one.draw_calls;
@@ -79,42 +88,55 @@ Status runViews(Setup& setup, Renderer& renderer, const BakedPalette& palette, u
                               : path == "rigid" ? DrawMode::kRigid
                                                 : DrawMode::kDefault;
         if (drawn.isOk()) drawn = draw_view(main_view, cam, mode);
-        *visible = main_view.stats().visible;
-        for (const auto& c : cascades) *visible += c->stats().visible;
+        if (gpu) {
+          *visible = st->gpu_visible;
+        } else {
+          *visible = main_view.stats().visible;
+          for (const auto& c : cascades) *visible += c->stats().visible;
+        }
         return drawn;
       },
       row);
+  renderer.setGpuOcclusionCulling(false);
+  return timed;
 }
 
 }  // namespace
 
 Status viewsTable(Setup& setup, const BakedPalette& palette, const RendererDesc& desc,
                   const std::vector<uint32_t>& sizes, const std::vector<uint32_t>& view_counts,
-                  const std::vector<std::string>& paths, uint32_t max_baseline, std::FILE* csv) {
-  RendererDesc rd = desc;
-  rd.skinning_path = SkinningPath::kVertexShader;  // Each path names its mode.
-  // A region of the record ring per draw of 3 frames, so no view waits for another's.
-  rd.ring_frames = 3 * *std::max_element(view_counts.begin(), view_counts.end());
-  Renderer renderer;
-  Status s = renderer.init(setup.info, rd);
-  CharacterId id;
-  if (s.isOk()) s = renderer.addCharacter(setup.character, palette, &id);
-  if (!s.isOk()) return {s.code(), "views: " + s.message()};
+                  uint32_t cascade_lod_bias, const std::vector<std::string>& paths,
+                  uint32_t max_baseline, std::FILE* csv) {
+  // The instanced paths and the baselines name their mode; the GPU-driven paths draw kDefault
+  // and kDepthOnly on the renderer's skinning path: the vertex shader for gpu-culled*, compute
+  // pre-skinning for gpu-driven*.
+  Renderer renderers[2];
+  for (int k = 0; k < 2; ++k) {
+    RendererDesc rd = desc;
+    rd.skinning_path = k == 0 ? SkinningPath::kVertexShader : SkinningPath::kCompute;
+    // A region of the record ring per draw of 3 frames, so no view waits for another's.
+    rd.ring_frames = 3 * *std::max_element(view_counts.begin(), view_counts.end());
+    Status s = renderers[k].init(setup.info, rd);
+    CharacterId id;
+    if (s.isOk()) s = renderers[k].addCharacter(setup.character, palette, &id);
+    if (!s.isOk()) return {s.code(), "views: " + s.message()};
+  }
+  Status s = Status::ok();
   std::printf("\nViews (field): 1 main view and N - 1 shadow cascades per frame (CrowdManager::"
-              "advance once, CrowdView::select per view, cascades depth-only, one LOD coarser), "
-              "side by side with the main view alone; visible sums the views\n");
+              "advance once, CrowdView::select per view, or the clock and a GPU selection per "
+              "view on the GPU-driven paths; cascades depth-only, %u LOD%s coarser), side by side "
+              "with the main view alone; visible sums the views\n",
+              cascade_lod_bias, cascade_lod_bias == 1 ? "" : "s");
   printSideBySideHeader("views");
   std::printf("\n");
   for (uint32_t count : sizes)
     for (const std::string& path : paths) {
-      if (isGpuSelected(path)) {
-        std::printf("%-22s %9u   (GPU-driven paths do not draw views yet)\n", path.c_str(), count);
-        continue;
-      }
+      Renderer& renderer = renderers[path.compare(0, 10, "gpu-driven") == 0 ? 1 : 0];
       if ((path == "traditional" || path == "cpu") && count > max_baseline) continue;
       std::vector<Row> rows(view_counts.size());
       for (size_t k = 0; k < view_counts.size(); ++k) {
-        s = runViews(setup, renderer, palette, count, path, view_counts[k], &rows[k]);
+        s = runViews(setup, renderer, palette, count, path, view_counts[k], cascade_lod_bias,
+                     &rows[k]);
         if (!s.isOk()) return {s.code(), "views, " + path + ": " + s.message()};
       }
       for (const Row& r : rows) {
@@ -122,7 +144,7 @@ Status viewsTable(Setup& setup, const BakedPalette& palette, const RendererDesc&
         std::printf("\n");
       }
     }
-  renderer.shutdown();
+  for (Renderer& r : renderers) r.shutdown();
   return Status::ok();
 }
 

@@ -2,9 +2,10 @@
 #pragma once
 // crowd_bench's views table (--views): one main view and N - 1 shadow cascades per frame. The
 // crowd advances once (CrowdManager::advance), each view selects for its own camera
-// (si::CrowdView; cascades one LOD coarser, no far line) and is drawn: the main view in colour,
-// each cascade depth-only from an orthographic sun camera fitted round its slice of the main
-// camera's frustum. Side by side with 1 view in the same run.
+// (si::CrowdView; cascades `cascade_lod_bias` LODs coarser, no far line) and is drawn: the main
+// view in colour, each cascade depth-only from an orthographic sun camera fitted round its slice
+// of the main camera's frustum. On the GPU-driven paths the crowd advances its clock only and
+// each view selects on the GPU. Side by side with 1 view in the same run.
 #include <cstdio>
 #include <string>
 #include <vector>
@@ -14,11 +15,11 @@
 
 namespace si::bench {
 
-/// Prints the table (and CSV rows "views") for every size, view count and path among
-/// `paths` that selects on the CPU (instanced, compute, traditional, cpu, rigid; the GPU-driven
-/// paths are listed as not taking views yet). `view_counts` holds 1 and more (1: main only).
+/// Prints the table (and CSV rows "views") for every size, view count and path among `paths`.
+/// `view_counts` holds 1 and more (1: main only); `cascade_lod_bias` is 0 to 7.
 Status viewsTable(Setup& setup, const BakedPalette& palette, const RendererDesc& desc,
                   const std::vector<uint32_t>& sizes, const std::vector<uint32_t>& view_counts,
-                  const std::vector<std::string>& paths, uint32_t max_baseline, std::FILE* csv);
+                  uint32_t cascade_lod_bias, const std::vector<std::string>& paths,
+                  uint32_t max_baseline, std::FILE* csv);
 
 }  // namespace si::bench
