@@ -212,10 +212,10 @@ void printSideBySideHeader(const char* feature) {
 
 void printSideBySideRow(const Row& r, const Row& off, const char* table, std::FILE* csv) {
   const double cpu_x = (r.update_ms + r.submit_ms) / std::max(1e-9, off.update_ms + off.submit_ms);
-  const double gpu_x = r.gpu_ms / std::max(1e-9, off.gpu_ms);
-  std::printf("%-11s %-6s %9u %9u %6u %9.3f %9.3f %9.3f %8.2f %8.2f", r.path.c_str(),
-              r.lod.c_str(), r.instances, r.visible, r.draws, r.update_ms, r.submit_ms, r.gpu_ms,
-              cpu_x, gpu_x);
+  std::printf("%-11s %-6s %9u %9u %6u %9.3f %9.3f %9.3f %8.2f", r.path.c_str(), r.lod.c_str(),
+              r.instances, r.visible, r.draws, r.update_ms, r.submit_ms, r.gpu_ms, cpu_x);
+  if (r.gpu_ms >= 0.0 && off.gpu_ms > 0.0) std::printf(" %8.2f", r.gpu_ms / off.gpu_ms);
+  else std::printf(" %8s", "-");  // No GPU time (--no-gpu-time).
   std::fprintf(csv, "%s,field,%s,%u,%u,%u,%.0f,%.4f,%.4f,%.4f,,,,,%s,,,\n", table,
                r.path.c_str(), r.instances, r.visible, r.draws, r.triangles, r.update_ms,
                r.submit_ms, r.gpu_ms, r.lod.c_str());

@@ -41,6 +41,11 @@ Status runViews(Setup& setup, Renderer& renderer, const BakedPalette& palette, u
   for (const glm::dvec3& p : places) centre += p / double(std::max<size_t>(1, places.size()));
   double scene_radius = 2.0;
   for (const glm::dvec3& p : places) scene_radius = std::max(scene_radius, glm::length(p - centre) + 2.0);
+  // The cascades fit the height range the characters stand in (their positions, up to two
+  // bounding radii above).
+  const double radius = double(crowd.cullParams(Camera()).radius);
+  double low = 1e30, high = -1e30;
+  for (const glm::dvec3& p : places) low = std::min(low, p.y), high = std::max(high, p.y);
   row->path = path;
   row->lod = std::to_string(views) + (views == 1 ? " view" : " views");
   row->instances = count;
@@ -58,7 +63,8 @@ Status runViews(Setup& setup, Renderer& renderer, const BakedPalette& palette, u
         const glm::dvec3 forward = -glm::dvec3(v[0][2], v[1][2], v[2][2]);
         const double depth = glm::dot(centre - cam.position, forward);
         lights = si::examples::cascadeCameras(cam, uint32_t(cascades.size()), sun, float(setup.height),
-                                              std::max(1.0, depth - scene_radius), depth + scene_radius);
+                                              std::max(1.0, depth - scene_radius), depth + scene_radius,
+                                              low - radius, high + 2.0 * radius);
         for (size_t k = 0; k < cascades.size() && st.isOk() && !gpu; ++k)
           st = cascades[k]->select(lights[k]);
         return st;
@@ -76,12 +82,14 @@ Status runViews(Setup& setup, Renderer& renderer, const BakedPalette& palette, u
                                     : renderer.drawCrowd(view, batcher, at, &one, mode);
           st->gpu_visible += one.gpu_visible;
           st->cpu_submit_ms += one.cpu_submit_ms;
-          st->gpu_ms += one.gpu_ms;
+          // No GPU time (--no-gpu-time) reads -1 for the frame, not a sum of them.
+          st->gpu_ms = one.gpu_ms >= 0.0 && st->gpu_ms >= 0.0 ? st->gpu_ms + one.gpu_ms : -1.0;
           st->draw_calls += one.draw_calls;
           st->triangles += one.triangles;
           return drawn;
         };
         Status drawn = Status::ok();
+        st->gpu_ms = 0.0;  // The views' sum (-1 when a view has none).
         for (size_t k = 0; k < cascades.size() && drawn.isOk(); ++k)
           drawn = draw_view(*cascades[k], lights[k], DrawMode::kDepthOnly);
         const DrawMode mode = path == "compute" ? DrawMode::kComputeSkinned

@@ -135,8 +135,12 @@ si::Status CascadedShadows::render(si::Renderer& renderer, const si::InstanceBat
   const glm::dvec3 forward = -glm::dvec3(v[0][2], v[1][2], v[2][2]);
   const double depth = glm::dot(centre - camera.position, forward);
   const double near_m = std::max(0.5, depth - radius), far_m = std::max(near_m * 2.0, depth + radius);
+  // The cascades fit the height range the crowd stands in: the ground (at the crowd's centre
+  // height) up to two character radii above it.
+  const double character = double(views_[0].cullParams(camera).radius);
   lights_ = si::examples::cascadeCameras(camera, kCascades, sunDirection(), float(kResolution),
-                                         near_m, far_m);
+                                         near_m, far_m, centre.y - character,
+                                         centre.y + 2.0 * character);
   GLint framebuffer = 0, viewport[4] = {0, 0, 0, 0};
   glGetIntegerv(GL_DRAW_FRAMEBUFFER_BINDING, &framebuffer);
   glGetIntegerv(GL_VIEWPORT, viewport);
