@@ -9,6 +9,7 @@
 #include <glm/gtc/matrix_transform.hpp>
 
 #include "render/render_fixture.h"
+#include "render/view_scenes.h"
 #include "si/crowd/crowd_view.h"
 #include "si/gl/motion_target.h"
 
@@ -19,37 +20,19 @@ using namespace test;
 
 // A sun-like orthographic camera up and to the side of the near rows, looking down at them.
 Camera lightCamera() {
-  const glm::dvec3 target(0.0, 0.0, 2.0), eye = target + glm::dvec3(30.0, 50.0, 25.0);
-  Camera c;
-  c.position = eye;
-  c.view_rotation = glm::lookAt(glm::vec3(0.0f), glm::vec3(target - eye), glm::vec3(0, 1, 0));
-  c.projection = glm::ortho(-16.0f, 16.0f, -16.0f, 16.0f, 1.0f, 200.0f);
-  c.viewport_height_pixels = float(kSize);
-  return c;
+  return test::lightCamera(glm::dvec3(0.0, 0.0, 2.0), glm::dvec3(30.0, 50.0, 25.0), 16.0f);
 }
 
 // The LOD scene plus a row behind the main camera (which it culls and the light sees).
 void populate(CrowdManager* crowd, std::vector<InstanceHandle>* behind) {
   populateLodCrowd(crowd);
-  for (int k = 0; k < 4; ++k) {
-    InstanceDesc d;
-    d.position = glm::dvec3(k * 2.0 - 3.0, 0.0, 9.0);
-    InstanceHandle h;
-    ASSERT_TRUE(crowd->add(d, &h).isOk());
-    behind->push_back(h);
-  }
+  addRowBehind(crowd, behind);
 }
 
 bool drawn(const CrowdView& view, InstanceHandle h) {
   for (InstanceHandle v : view.visibleHandles())
     if (v == h) return true;
   return false;
-}
-
-std::vector<float> readDepth() {
-  std::vector<float> depth(size_t(kSize) * kSize, -1.0f);
-  glReadPixels(0, 0, GLsizei(kSize), GLsizei(kSize), GL_DEPTH_COMPONENT, GL_FLOAT, depth.data());
-  return depth;
 }
 
 enum class ViewPath { kInstanced, kCompute, kTraditional, kCpuSkinned };

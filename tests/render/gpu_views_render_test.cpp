@@ -11,6 +11,7 @@
 #include <glm/gtc/matrix_transform.hpp>
 
 #include "render/render_fixture.h"
+#include "render/view_scenes.h"
 #include "si/crowd/crowd_view.h"
 #include "si/gl/motion_target.h"
 
@@ -22,13 +23,7 @@ using namespace test;
 // A sun-like orthographic camera up and to the side of the near rows, looking down at them
 // (near enough that its distance LOD there is 0).
 Camera lightCamera() {
-  const glm::dvec3 target(0.0, 0.0, -6.0), eye = target + glm::dvec3(6.0, 10.0, 5.0);
-  Camera c;
-  c.position = eye;
-  c.view_rotation = glm::lookAt(glm::vec3(0.0f), glm::vec3(target - eye), glm::vec3(0, 1, 0));
-  c.projection = glm::ortho(-24.0f, 24.0f, -24.0f, 24.0f, 1.0f, 200.0f);
-  c.viewport_height_pixels = float(kSize);
-  return c;
+  return test::lightCamera(glm::dvec3(0.0, 0.0, -6.0), glm::dvec3(6.0, 10.0, 5.0), 24.0f);
 }
 
 // The main camera walks forward frame by frame: instances cross LOD lines and sit inside the
@@ -43,18 +38,7 @@ Camera mainCamera(int frame) {
 void populate(CrowdManager* crowd) {
   populateLodCrowd(crowd);
   addFadingCharacter(crowd);
-  for (int k = 0; k < 4; ++k) {
-    InstanceDesc d;
-    d.position = glm::dvec3(k * 2.0 - 3.0, 0.0, 9.0);
-    InstanceHandle h;
-    ASSERT_TRUE(crowd->add(d, &h).isOk());
-  }
-}
-
-std::vector<float> readDepth() {
-  std::vector<float> depth(size_t(kSize) * kSize, -1.0f);
-  glReadPixels(0, 0, GLsizei(kSize), GLsizei(kSize), GL_DEPTH_COMPONENT, GL_FLOAT, depth.data());
-  return depth;
+  addRowBehind(crowd, nullptr);
 }
 
 // One view's draw: the image (colour, or depth for a depth-only draw), the counts and the
