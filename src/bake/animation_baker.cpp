@@ -150,7 +150,8 @@ struct RateSearch {
   const SkinnedMesh& gpu_mesh;
   const std::vector<uint32_t>& vertices;
   double shell;
-  SkinnedMesh search_mesh, search_gpu_mesh;  // searchMesh() of the mesh and of gpu_mesh.
+  // The same searchVertices() of the mesh and of gpu_mesh (chosen once, on the mesh).
+  SkinnedMesh search_mesh, search_gpu_mesh;
   std::vector<uint32_t> search_vertices;     // Every vertex of search_mesh.
   std::vector<double> candidates;            // Rates tried, lowest first.
 };
@@ -262,9 +263,11 @@ Status bakePalette(const Character& character, const BakeDesc& in_desc, BakedPal
   std::vector<double> rates(plan.clip_indices.size(), double(d.sample_rate_hz));
   std::vector<FrameInterpolation> interpolations = plan.interpolations;
   if (d.rate_mode == RateMode::kAutomatic) {
+    const std::vector<uint32_t> picked =
+        detail::searchVertices(character, character.mesh, vertices);
     RateSearch search{character, d, gpu_mesh, vertices, shell,
-                      detail::searchMesh(character, character.mesh, vertices),
-                      detail::searchMesh(character, gpu_mesh, vertices), {}, {}};
+                      detail::subsetMesh(character.mesh, picked),
+                      detail::subsetMesh(gpu_mesh, picked), {}, {}};
     search.search_vertices.resize(search.search_mesh.vertexCount());
     for (size_t i = 0; i < search.search_vertices.size(); ++i) search.search_vertices[i] = uint32_t(i);
     for (double r : kCandidateRates)

@@ -37,14 +37,13 @@ std::vector<double> measurementTimes(const BakedClip& clip, bool midpoints_only)
   return times;
 }
 
-// Per stored joint, the 8 drawn vertices weighted to it that lie
-// farthest from its bind position, as a mesh of their own. Interpolation error grows with the
-// lever arm, so these bound the search's error cheaply; the final report still measures every
-// drawn vertex.
 }  // namespace
 
-SkinnedMesh searchMesh(const Character& character, const SkinnedMesh& mesh,
-                       const std::vector<uint32_t>& drawn) {
+// Per stored joint, the 8 drawn vertices weighted to it that lie farthest from its bind
+// position. Interpolation error grows with the lever arm, so these bound the search's error
+// cheaply; the final report still measures every drawn vertex.
+std::vector<uint32_t> searchVertices(const Character& character, const SkinnedMesh& mesh,
+                                     const std::vector<uint32_t>& drawn) {
   const size_t nj = character.skeleton.jointCount();
   std::vector<std::vector<std::pair<float, uint32_t>>> per_joint(nj);
   for (uint32_t v : drawn)
@@ -63,8 +62,12 @@ SkinnedMesh searchMesh(const Character& character, const SkinnedMesh& mesh,
   }
   std::sort(out.begin(), out.end());
   out.erase(std::unique(out.begin(), out.end()), out.end());
+  return out;
+}
+
+SkinnedMesh subsetMesh(const SkinnedMesh& mesh, const std::vector<uint32_t>& vertices) {
   SkinnedMesh subset;
-  for (uint32_t v : out) {
+  for (uint32_t v : vertices) {
     subset.positions.push_back(mesh.positions[v]);
     subset.normals.push_back(mesh.normals[v]);
     subset.joints.push_back(mesh.joints[v]);

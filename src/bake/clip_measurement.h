@@ -27,9 +27,13 @@ Status measureClip(const Character& character, const SkinnedMesh& mesh,
 Status clipBounds(const BakedPalette& p, uint32_t clip_index, const SkinnedMesh& gpu_mesh,
                   const std::vector<uint32_t>& vertices, Aabb* out);
 
-/// For the automatic rate search: per stored joint, the 8 drawn vertices weighted to it that lie
-/// farthest from its bind position, as a mesh of their own.
-SkinnedMesh searchMesh(const Character& character, const SkinnedMesh& mesh,
-                       const std::vector<uint32_t>& drawn);
+/// For the automatic rate search: per stored joint, the 8 drawn vertices of `mesh` weighted to
+/// it that lie farthest from its bind position (indices into `mesh`, sorted, once each). Chosen
+/// once, on the reference mesh: the stored mesh (quantized weights, where a tiny weight may read
+/// 0) is measured at the same vertices.
+std::vector<uint32_t> searchVertices(const Character& character, const SkinnedMesh& mesh,
+                                     const std::vector<uint32_t>& drawn);
+/// The `vertices` of `mesh` as a mesh of their own (positions, normals, joints, weights).
+SkinnedMesh subsetMesh(const SkinnedMesh& mesh, const std::vector<uint32_t>& vertices);
 
 }  // namespace si::detail

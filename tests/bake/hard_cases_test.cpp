@@ -253,6 +253,39 @@ TEST(HardCases, WeightsSummingTo098AreRenormalizedAndZeroRejected) {
   EXPECT_EQ(bakePalette(c, fixedRate(30), &p, nullptr).code(), StatusCode::kInvalidArgument);
 }
 
+// A weight too small for the vertex format (unorm16: below 1 / 131070 it stores 0) changes
+// which vertices bound each joint's lever arm on the stored mesh. The automatic rate search must
+// measure the same vertices on the reference and on the stored mesh: the rates it picks are
+// those of the same character without the tiny weights (the mesh moves by < 1e-5 of a unit).
+TEST(HardCases, TinyWeightsDoNotChangeTheRateSearchsVertices) {
+  Character plain = chainCharacter(4);  // Rings 0..4 bound to joints 0, 1, 2, 3, 3.
+  Clip clip = blankClip(plain, "bend", 1.0f, LoopMode::kLoop);
+  QuatTrack& r = clip.joint_tracks[1].rotation;
+  for (int k = 0; k <= 32; ++k) {  // 90 deg/s about Z, finely keyed.
+    const double t = k / 32.0;
+    r.times_seconds.push_back(float(t));
+    r.values.push_back(axisAngleF(0.5 * kPi * std::sin(2.0 * kPi * t), {0, 0, 1}));
+  }
+  plain.clips.push_back(clip);
+  // Rings 1 to 4 also lean on joint 0 by 5e-6: the reference's farthest vertices of joint 0
+  // are then rings 3 and 4, the stored mesh's ring 0.
+  Character tiny = plain;
+  for (size_t v = 4; v < tiny.mesh.vertexCount(); ++v) {
+    tiny.mesh.joints[v][1] = 0;
+    tiny.mesh.weights[v] = glm::vec4(1.0f - 5e-6f, 5e-6f, 0.0f, 0.0f);
+  }
+  BakeDesc automatic;  // The default: automatic rates.
+  BakeReport with_plain, with_tiny;
+  bakeAndCheck(plain, automatic, &with_plain);
+  bakeAndCheck(tiny, automatic, &with_tiny);
+  ASSERT_EQ(with_plain.clips.size(), 1u);
+  ASSERT_EQ(with_tiny.clips.size(), 1u);
+  std::printf("[ tiny     ] rate %.0f Hz (plain %.0f Hz)\n", with_tiny.clips[0].sample_rate_hz,
+              with_plain.clips[0].sample_rate_hz);
+  EXPECT_EQ(with_tiny.clips[0].sample_rate_hz, with_plain.clips[0].sample_rate_hz);
+  EXPECT_NEAR(with_tiny.max_error_units, with_plain.max_error_units, 1e-4);
+}
+
 TEST(HardCases, MoreThanFourInfluencesKeepTheLargestFour) {
   Character c = chainCharacter(6);
   c.clips.push_back(blankClip(c, "still", 1.0f));
