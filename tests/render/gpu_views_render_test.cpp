@@ -239,6 +239,45 @@ TEST_P(GpuViews, EachViewDrawsItsOwnMotionVectors) {
   target.release();
 }
 
+// What a view keeps on the GPU lasts while it is drawn: its LOD hysteresis holds an instance at
+// LOD 1 inside the band round the line. Past 32 views the least recently drawn starts over, from
+// its CPU LODs (0 here), and the same draw then picks LOD 0.
+TEST_P(GpuViews, TheLeastRecentlyDrawnViewPast32StartsOver) {
+  Renderer r;
+  makeRenderer(&r);
+  CrowdManager crowd;
+  makeCrowd(&crowd);
+  InstanceDesc one;
+  InstanceHandle h;
+  ASSERT_TRUE(crowd.add(one, &h).isOk());
+  const CullParams p = crowd.cullParams(closeCamera());
+  const double line = double(p.lod_lines[0]) * double(p.radius);
+  const auto at = [](double distance) {  // Looking at the instance from `distance` away.
+    return Camera::lookAt({0.0, 0.0, distance}, {0.0, 0.0, 0.0}, glm::vec3(0, 1, 0), 0.9f, 1.0f,
+                          0.1f, 500.0f);
+  };
+  const auto lod = [&](const CrowdView& view, double distance) {
+    DrawStats stats;
+    EXPECT_TRUE(r.drawCrowdGpuCulled(CharacterId{}, view, at(distance), &stats).isOk());
+    std::vector<glm::uvec2> selection;
+    EXPECT_TRUE(r.readGpuSelection(&selection).isOk());
+    return selection.size() == 1 ? selection[0].y : 99u;
+  };
+  for (const uint32_t others : {31u, 32u}) {
+    SCOPED_TRACE(others);
+    CrowdView view;
+    std::vector<CrowdView> rest(others);
+    ASSERT_TRUE(view.init(crowd).isOk());
+    for (CrowdView& v : rest) ASSERT_TRUE(v.init(crowd).isOk());
+    ASSERT_TRUE(crowd.advanceClock(0.1).isOk());
+    EXPECT_EQ(lod(view, line * 1.2), 1u);  // Past the line and its band.
+    ASSERT_TRUE(crowd.advanceClock(0.1).isOk());
+    EXPECT_EQ(lod(view, line), 1u);  // Inside the band: held.
+    for (CrowdView& v : rest) lod(v, line);
+    EXPECT_EQ(lod(view, line), others < 32 ? 1u : 0u);
+  }
+}
+
 // A detached view is refused by name; kRigid is refused.
 TEST_P(GpuViews, ADetachedViewAndRigidAreRefused) {
   Renderer r;
