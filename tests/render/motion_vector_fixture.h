@@ -13,6 +13,7 @@
 #include <memory>
 #include <string>
 
+#include "gl/programs/program_set.h"
 #include "gl/resources/palette_texture.h"
 #include "render/render_fixture.h"
 #include "si/core/shader_inputs.h"
@@ -63,19 +64,12 @@ void main() {
 }
 )";
 
+// The library's own compile step (the driver's log in the failure).
 inline GLuint compile(GLenum type, const std::string& text) {
-  const GLuint s = glCreateShader(type);
-  const char* p = text.c_str();
-  glShaderSource(s, 1, &p, nullptr);
-  glCompileShader(s);
-  GLint ok = 0;
-  glGetShaderiv(s, GL_COMPILE_STATUS, &ok);
-  if (!ok) {
-    char log[4096] = {};
-    glGetShaderInfoLog(s, sizeof log, nullptr, log);
-    ADD_FAILURE() << log;
-  }
-  return s;
+  GLuint shader = 0;
+  const Status s = detail::compileShader(type, text, "engine", &shader);
+  EXPECT_TRUE(s.isOk()) << s.toString();
+  return shader;
 }
 
 class MotionVectorTest : public RenderTest {
