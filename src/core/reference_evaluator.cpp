@@ -10,6 +10,7 @@
 
 #include "core/root_motion_frame.h"
 #include "core/str_cat.h"
+#include "core/validated_evaluation.h"
 
 namespace si {
 using detail::strCat;
@@ -179,11 +180,11 @@ double wrapTarget(const Clip& clip, bool loop) {
 
 // Checks what every evaluation needs; the root motion joint of a clip that extracts it.
 Status checkInputs(const Skeleton& skeleton, const Clip& clip, double t, const void* out,
-                   const char* what, uint32_t* root_joint) {
+                   const char* what, uint32_t* root_joint, bool validated = false) {
   if (out == nullptr) return {StatusCode::kInvalidArgument, strCat(what, ": output is null")};
   if (!std::isfinite(t)) return {StatusCode::kNotFinite, strCat(what, ": time is not finite")};
-  Status s = skeleton.validate();
-  if (s.isOk()) s = clip.validate(skeleton.jointCount());
+  Status s = validated ? Status::ok() : skeleton.validate();
+  if (s.isOk() && !validated) s = clip.validate(skeleton.jointCount());
   if (s.isOk()) s = rootMotionJoint(skeleton, clip, root_joint);
   return s;
 }
@@ -191,9 +192,9 @@ Status checkInputs(const Skeleton& skeleton, const Clip& clip, double t, const v
 // Evaluates at clip-local time t in [0, duration]; `loop` selects the wrap interpolation. A clip
 // that extracts its root motion gives M(t)^-1 * pose (root joints' local transforms included).
 Status evaluateAt(const Skeleton& skeleton, const Clip& clip, double t, bool loop,
-                  ReferencePose* pose) {
+                  ReferencePose* pose, bool validated = false) {
   uint32_t root_joint = 0;
-  Status s = checkInputs(skeleton, clip, t, pose, "evaluatePose", &root_joint);
+  Status s = checkInputs(skeleton, clip, t, pose, "evaluatePose", &root_joint, validated);
   if (!s.isOk()) return s;
   t = std::clamp(t, 0.0, double(clip.duration_seconds));
   const double wrap_to = wrapTarget(clip, loop);
@@ -220,10 +221,12 @@ Status evaluateAt(const Skeleton& skeleton, const Clip& clip, double t, bool loo
 }
 }  // namespace
 
-Status evaluateRootMotion(const Skeleton& skeleton, const Clip& clip, double local_time_seconds,
-                          GroundMotion* out) {
+namespace {
+Status rootMotionAt(const Skeleton& skeleton, const Clip& clip, double local_time_seconds,
+                    GroundMotion* out, bool validated) {
   uint32_t root_joint = 0;
-  Status s = checkInputs(skeleton, clip, local_time_seconds, out, "evaluateRootMotion", &root_joint);
+  Status s = checkInputs(skeleton, clip, local_time_seconds, out, "evaluateRootMotion",
+                         &root_joint, validated);
   if (!s.isOk()) return s;
   const double t = std::clamp(local_time_seconds, 0.0, double(clip.duration_seconds));
   const double wrap_to = wrapTarget(clip, resolveLoopMode(clip.loop_mode) == LoopMode::kLoop);
@@ -231,6 +234,24 @@ Status evaluateRootMotion(const Skeleton& skeleton, const Clip& clip, double loc
                                      chainModelAt(skeleton, clip, root_joint, t, wrap_to));
   return Status::ok();
 }
+}  // namespace
+
+Status evaluateRootMotion(const Skeleton& skeleton, const Clip& clip, double local_time_seconds,
+                          GroundMotion* out) {
+  return rootMotionAt(skeleton, clip, local_time_seconds, out, false);
+}
+
+namespace detail {
+Status evaluateValidatedLocalPose(const Skeleton& skeleton, const Clip& clip,
+                                  double local_time_seconds, ReferencePose* pose) {
+  return evaluateAt(skeleton, clip, local_time_seconds,
+                    resolveLoopMode(clip.loop_mode) == LoopMode::kLoop, pose, true);
+}
+Status evaluateValidatedRootMotion(const Skeleton& skeleton, const Clip& clip,
+                                   double local_time_seconds, GroundMotion* out) {
+  return rootMotionAt(skeleton, clip, local_time_seconds, out, true);
+}
+}  // namespace detail
 
 Status evaluatePose(const Skeleton& skeleton, const Clip& clip, double time_seconds,
                     ReferencePose* pose, TimeWrap wrap) {

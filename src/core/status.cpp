@@ -18,6 +18,7 @@ const char* statusCodeName(StatusCode code) {
     case StatusCode::kNotFound: return "NotFound";
     case StatusCode::kAmbiguous: return "Ambiguous";
     case StatusCode::kBackend: return "Backend";
+    case StatusCode::kToleranceNotMet: return "ToleranceNotMet";
   }
   return "Unknown";
 }

@@ -27,6 +27,7 @@ enum class StatusCode : uint8_t {
   kNotFound,         ///< A named or indexed element does not exist.
   kAmbiguous,        ///< A choice is needed (several candidates) and none was given.
   kBackend,          ///< The graphics back-end or context reported an error.
+  kToleranceNotMet,  ///< An approximation could not meet the error tolerance asked for.
 };
 
 /// Returns the enumerator's name without the `k`, e.g. "InvalidArgument".
