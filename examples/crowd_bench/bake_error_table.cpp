@@ -39,6 +39,7 @@ Status bakeErrorTable(Setup& setup, Renderer& renderer, const Character& charact
     d.format = c.format;
     d.joint_stride_texels = c.stride;
     d.interpolation = c.interpolation;
+    d.accept_tolerance_miss = true;  // The table reports the error reached.
     if (c.rate > 0.0f) {
       d.rate_mode = RateMode::kFixed;
       d.sample_rate_hz = c.rate;

@@ -4,6 +4,7 @@
 #include <algorithm>
 #include <cmath>
 
+#include "bake/key_frames.h"
 #include "core/str_cat.h"
 
 namespace si {
@@ -214,9 +215,12 @@ FramePlan planClipFrames(const Clip& clip, double rate_hz, bool breaks_at_corner
   return plan;
 }
 
-Status planPalette(const Character& character, const BakeDesc& in_desc, PalettePlan* out,
-                   Span<const double> clip_rates_hz,
-                   Span<const FrameInterpolation> clip_interpolations) {
+namespace {
+// planPalette(), or with `given` (one plan per selected clip) the frames as given.
+Status planPaletteImpl(const Character& character, const BakeDesc& in_desc, PalettePlan* out,
+                       Span<const double> clip_rates_hz,
+                       Span<const FrameInterpolation> clip_interpolations,
+                       const std::vector<FramePlan>* given) {
   if (out == nullptr) return {StatusCode::kInvalidArgument, "planPalette: out is null"};
   const BakeDesc d = resolveDefaults(in_desc);
   if (!std::isfinite(d.sample_rate_hz) || d.sample_rate_hz <= 0.0f)
@@ -280,8 +284,12 @@ Status planPalette(const Character& character, const BakeDesc& in_desc, PaletteP
     if (!std::isfinite(rate) || rate <= 0.0)
       return {StatusCode::kInvalidArgument, strCat("bake: clip '", clip.name, "' rate ", rate,
                                                    " Hz must be finite and positive")};
+    if (given != nullptr && given->size() != plan.clip_indices.size())
+      return {StatusCode::kCountMismatch, strCat("bake: ", given->size(), " frame plans for ",
+                                                 plan.clip_indices.size(), " clips")};
     const FramePlan f =
-        planClipFrames(clip, rate, plan.interpolations[i] == FrameInterpolation::kCubic);
+        given != nullptr ? (*given)[i]
+                         : planClipFrames(clip, rate, plan.interpolations[i] == FrameInterpolation::kCubic);
     if (f.frame_count > (1u << 20))
       return {StatusCode::kLimitExceeded, strCat("bake: clip '", clip.name, "' would need ",
                                                  f.frame_count, " frames (at most 2^20)")};
@@ -318,5 +326,22 @@ Status planPalette(const Character& character, const BakeDesc& in_desc, PaletteP
   *out = std::move(plan);
   return Status::ok();
 }
+
+}  // namespace
+
+Status planPalette(const Character& character, const BakeDesc& desc, PalettePlan* out,
+                   Span<const double> clip_rates_hz,
+                   Span<const FrameInterpolation> clip_interpolations) {
+  return planPaletteImpl(character, desc, out, clip_rates_hz, clip_interpolations, nullptr);
+}
+
+namespace detail {
+Status planPaletteWithFrames(const Character& character, const BakeDesc& desc,
+                             const std::vector<FramePlan>& frames,
+                             Span<const FrameInterpolation> clip_interpolations,
+                             PalettePlan* out) {
+  return planPaletteImpl(character, desc, out, {}, clip_interpolations, &frames);
+}
+}  // namespace detail
 
 }  // namespace si

@@ -34,6 +34,7 @@ bool printCastTable(std::FILE* f, const std::vector<CastMember>& cast, const si:
         d.format = formats[fi];
         d.interpolation = choices[ci];
         d.progress = nullptr;
+        d.accept_tolerance_miss = true;  // The table says which meet it.
         si::BakedPalette palette;
         si::BakeReport report;
         const si::Status s = si::bakePalette(m.character, d, &palette, &report);

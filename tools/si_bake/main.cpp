@@ -10,7 +10,8 @@
 //   4  the bake failed (unknown clip or root joint, a format the character cannot use, texture
 //      too large)
 //   5  the output (palette or CSV) could not be written
-//   6  --require-tolerance and a clip's max error is above the tolerance (nothing written)
+//   6  a clip's max error is above the tolerance (nothing written): with automatic rates (the
+//      default) unless --accept-tolerance-miss, with a fixed --rate under --require-tolerance
 // Errors go to stderr as one line "si-bake: error: ..."; the table goes to stdout.
 #include <unistd.h>
 
@@ -95,6 +96,8 @@ void usage(std::FILE* f) {
       "                           rest is always worn) or one group per glTF mesh\n"
       "  --csv PATH               also write the error table as CSV\n"
       "  --require-tolerance      fail (exit 6, nothing written) when a clip misses it\n"
+      "                           (automatic rates always do, unless told otherwise:)\n"
+      "  --accept-tolerance-miss  write an automatic bake that misses the tolerance\n"
       "  --progress / --no-progress  force the progress bar on or off (default: on a terminal)\n"
       "  -q, --quiet              no table, errors only\n"
       "Exit codes: 0 written, 2 usage, 3 input, 4 bake, 5 output, 6 tolerance missed.\n");
@@ -142,6 +145,8 @@ int parse(int argc, char** argv, Options* o) {
       o->cast = true;
     } else if (a == "--require-tolerance") {
       o->require_tolerance = true;
+    } else if (a == "--accept-tolerance-miss") {
+      o->bake.accept_tolerance_miss = true;
     } else if (a == "-q" || a == "--quiet") {
       o->quiet = true;
     } else if (a == "--progress") {
@@ -413,6 +418,8 @@ int main(int argc, char** argv) {
   si::BakeReport report;
   s = si::bakePalette(character, o.bake, &palette, &report);
   bar.finish();
+  if (s.code() == si::StatusCode::kToleranceNotMet)
+    return error(kExitTolerance, "bake: " + s.toString() + "; nothing written");
   if (!s.isOk()) return error(kExitBake, "bake: " + s.toString());
   const double seconds =
       std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();

@@ -57,6 +57,9 @@ struct ClipErrorReport {
   double shell_distance_units = 0.0;
   /// Whether max_error_ratio <= BakeDesc::error_tolerance_ratio (in every rate mode).
   bool tolerance_met = true;
+  /// Frames placed at the clip's keys, each key interval divided for its own error (automatic
+  /// mode); sample_rate_hz is then the average, (frame_count - 1) / duration.
+  bool frames_at_keys = false;
   uint64_t samples = 0;       ///< (time, vertex) pairs measured.
   /// Root motion (Clip::root_motion.extract; empty and 0 otherwise): the joint it was taken
   /// from, and the largest error of the baked motion (BakedClip::root_motion lerped between

@@ -19,8 +19,11 @@ namespace si {
 enum class RateMode : uint8_t {
   kDefault = 0,  ///< Resolved to kAutomatic.
   kFixed,        ///< Every clip at BakeDesc::sample_rate_hz.
-  kAutomatic,    ///< Per clip, the lowest candidate rate whose measured max error is at most
-                 ///< error_tolerance_ratio * character height (or max_sample_rate_hz if none).
+  kAutomatic,    ///< Per clip, the fewest frames whose measured max error is at most
+                 ///< error_tolerance_ratio * character height: on a uniform grid (the lowest
+                 ///< candidate rate) or placed at the clip's keys with each key interval
+                 ///< divided for its own error, whichever has fewer. A clip that cannot meet
+                 ///< it fails the bake with kToleranceNotMet (BakeDesc::accept_tolerance_miss).
 };
 
 /// How clips interpolate between their baked frames (si::FrameInterpolation per clip).
@@ -58,8 +61,12 @@ struct BakeDesc {
   /// The default bake (kAutomatic) keeps every clip's max error within it where the format
   /// allows (the report says per clip whether it did).
   float error_tolerance_ratio = 0.0f;
-  /// For kAutomatic: the highest rate tried; 0 means 240.
+  /// For kAutomatic: the highest rate tried on a uniform grid; 0 means 240. Frames placed at a
+  /// clip's keys may reach 4 times it within the key intervals that need it.
   float max_sample_rate_hz = 0.0f;
+  /// For kAutomatic: keep a bake that misses the tolerance (the report says where) instead of
+  /// failing with kToleranceNotMet.
+  bool accept_tolerance_miss = false;
   /// Shell metric distance as a fraction of the character's height; 0 means 0.05.
   float shell_distance_ratio = 0.0f;
   /// Names of the clips to bake, in palette order; empty means all clips of the character.
