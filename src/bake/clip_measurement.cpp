@@ -7,6 +7,7 @@
 #include <cmath>
 #include <functional>
 
+#include "bake/error_kernel.h"
 #include "core/validated_evaluation.h"
 #include "si/core/reference_evaluator.h"
 #include "si/core/root_motion.h"
@@ -47,93 +48,6 @@ std::vector<MeasureTime> measurementTimes(const BakedClip& clip, bool midpoints_
   if (!midpoints_only) times.push_back({double(clip.duration_seconds), true});
   return times;
 }
-
-// Per joint, as float rows of 3x4 matrices: the difference the shader leaves (emulated minus
-// reference) and the reference. Small differences keep their precision in float.
-struct JointRows {
-  float diff[12];
-  float ref[12];
-};
-
-JointRows jointRows(const glm::mat4& emulated, const glm::dmat4& reference) {
-  JointRows r;
-  for (int row = 0; row < 3; ++row)
-    for (int col = 0; col < 4; ++col) {
-      r.diff[row * 4 + col] = float(double(emulated[col][row]) - reference[col][row]);
-      r.ref[row * 4 + col] = float(reference[col][row]);
-    }
-  return r;
-}
-
-// One measured vertex, gathered once: position, influences, the vertex format's weights and
-// their difference from the source's (zero where both are zero: skipped, as both sides do).
-struct MeasuredVertex {
-  glm::vec3 p;
-  uint16_t joint[4];
-  float wq[4];
-  float dw[4];
-};
-
-MeasuredVertex gatherVertex(const SkinnedMesh& mesh, const SkinnedMesh& gpu_mesh, uint32_t v) {
-  MeasuredVertex m;
-  m.p = mesh.positions[v];
-  for (int k = 0; k < 4; ++k) {
-    const float w = mesh.weights[v][k], wq = gpu_mesh.weights[v][k];
-    const bool used = w != 0.0f || wq != 0.0f;
-    m.joint[k] = used ? mesh.joints[v][k] : 0;
-    m.wq[k] = used ? wq : 0.0f;
-    m.dw[k] = used ? wq - w : 0.0f;
-  }
-  return m;
-}
-
-// The shader's position minus the reference's: sum over influences of (wq D + (wq - w) R)
-// (p, 1), where wq is the vertex format's weight and w the source's.
-float vertexError(const MeasuredVertex& m, const std::vector<JointRows>& rows) {
-  float e[3] = {0.0f, 0.0f, 0.0f};
-  for (int k = 0; k < 4; ++k) {
-    const JointRows& r = rows[m.joint[k]];
-    for (int row = 0; row < 3; ++row) {
-      const float* d = r.diff + row * 4;
-      const float* q = r.ref + row * 4;
-      e[row] += m.wq[k] * (d[0] * m.p.x + d[1] * m.p.y + d[2] * m.p.z + d[3]) +
-                m.dw[k] * (q[0] * m.p.x + q[1] * m.p.y + q[2] * m.p.z + q[3]);
-    }
-  }
-  return std::sqrt(e[0] * e[0] + e[1] * e[1] + e[2] * e[2]);
-}
-
-// The k-th largest of a stream, exactly, in memory for 2k values: candidates above the running
-// threshold are kept and trimmed to the k largest whenever 2k have gathered.
-class LargestK {
- public:
-  explicit LargestK(uint64_t k) : k_(std::max<uint64_t>(k, 1)) {}
-  void add(float e) {
-    if (kept_ >= k_ && !(e > threshold_)) return;
-    values_.push_back(e);
-    ++kept_;
-    if (values_.size() >= 2 * k_) trim();
-  }
-  // The k-th largest value added (the smallest value when fewer were added).
-  float kth() {
-    trim();
-    return values_.empty() ? 0.0f : *std::min_element(values_.begin(), values_.end());
-  }
-
- private:
-  void trim() {
-    if (values_.size() > k_) {
-      std::nth_element(values_.begin(), values_.begin() + std::ptrdiff_t(k_ - 1), values_.end(),
-                       std::greater<float>());
-      values_.resize(k_);
-    }
-    if (values_.size() >= k_) threshold_ = *std::min_element(values_.begin(), values_.end());
-  }
-  uint64_t k_;
-  uint64_t kept_ = 0;
-  float threshold_ = 0.0f;
-  std::vector<float> values_;
-};
 
 }  // namespace
 
@@ -186,7 +100,6 @@ Status measureClip(const Character& character, const SkinnedMesh& mesh,
   const Clip& clip = character.clips[size_t(character.findClip(bc.name))];
   const size_t nj = character.skeleton.jointCount();
   std::vector<glm::mat4> emulated(nj);
-  std::vector<JointRows> rows(nj);
   ReferencePose pose;
   ClipErrorReport& r = *out;
   r.name = bc.name;
@@ -212,15 +125,13 @@ Status measureClip(const Character& character, const SkinnedMesh& mesh,
   uint64_t count = 0;
   for (const MeasureTime& mt : times)
     count += mt.all_vertices || short_list == nullptr ? vertices.size() : short_list->size();
-  // The P99 exactly, in bounded memory: the largest `keep` samples in a min-heap, where the
-  // 99th percentile is the keep-th largest (1 % of the samples, not all of them).
+  // The P99 exactly, in bounded memory: the 99th percentile is the keep-th largest sample.
   const uint64_t rank = count == 0 ? 0 : std::min<uint64_t>(count - 1, uint64_t(std::ceil(0.99 * double(count))) - 1);
   const uint64_t keep = count - rank;
   LargestK largest(keep);
-  std::vector<MeasuredVertex> all, few;
-  for (uint32_t v : vertices) all.push_back(gatherVertex(mesh, gpu_mesh, v));
-  if (short_list != nullptr)
-    for (uint32_t v : *short_list) few.push_back(gatherVertex(mesh, gpu_mesh, v));
+  const InfluenceGroups all(mesh, gpu_mesh, vertices);
+  const InfluenceGroups few(mesh, gpu_mesh, short_list != nullptr ? *short_list : std::vector<uint32_t>{});
+  std::vector<float> errors;
   uint64_t samples = 0;
   if (interval_errors != nullptr)
     interval_errors->assign(bc.frame_count > 1 ? bc.frame_count - 1 : 0, 0.0);
@@ -230,27 +141,40 @@ Status measureClip(const Character& character, const SkinnedMesh& mesh,
     Status s = emulateSkinningMatrices(p, clip_index, sample, emulated);
     if (s.isOk()) s = evaluateValidatedLocalPose(character.skeleton, clip, t, &pose);
     if (!s.isOk()) return s;
-    for (size_t j = 0; j < nj; ++j) rows[j] = jointRows(emulated[j], pose.skinning[j]);
-    double time_max = 0.0;
-    const bool every = mt.all_vertices || short_list == nullptr;
-    const std::vector<MeasuredVertex>& measured = every ? all : few;
-    for (size_t i = 0; i < measured.size(); ++i) {
-      const uint32_t v = every ? vertices[i] : (*short_list)[i];
-      const float ef = vertexError(measured[i], rows);
-      const double e = ef;
-      largest.add(ef);
-      ++samples;
-      sum += e;
-      time_max = std::max(time_max, e);
-      if (e > r.max_error_units || samples == 1) {
-        r.max_error_units = e;
-        r.max_error_time_seconds = t;
-        r.max_error_vertex = v;
-        int best = 0;
-        for (int k = 1; k < 4; ++k)
-          if (mesh.weights[v][k] > mesh.weights[v][best]) best = k;
-        r.max_error_joint = mesh.joints[v][best];
+    const InfluenceGroups& measured = mt.all_vertices || short_list == nullptr ? all : few;
+    measured.errors(emulated, pose.skinning, &errors);
+    // Sum and max in four lanes (the loop's latency, not its arithmetic, bounds it), then the
+    // P99's candidates.
+    double lane_sum[4] = {0.0, 0.0, 0.0, 0.0};
+    float lane_max[4] = {0.0f, 0.0f, 0.0f, 0.0f};
+    const size_t n4 = errors.size() / 4 * 4;
+    for (size_t i = 0; i < n4; i += 4)
+      for (int l = 0; l < 4; ++l) {
+        lane_sum[l] += double(errors[i + size_t(l)]);
+        lane_max[l] = std::max(lane_max[l], errors[i + size_t(l)]);
       }
+    for (size_t i = n4; i < errors.size(); ++i) {
+      lane_sum[0] += double(errors[i]);
+      lane_max[0] = std::max(lane_max[0], errors[i]);
+    }
+    sum += (lane_sum[0] + lane_sum[1]) + (lane_sum[2] + lane_sum[3]);
+    const float top = std::max(std::max(lane_max[0], lane_max[1]), std::max(lane_max[2], lane_max[3]));
+    size_t worst = 0;
+    while (worst < errors.size() && errors[worst] != top) ++worst;
+    if (worst == errors.size()) worst = 0;  // NaN: the first, as before.
+    for (float e : errors) largest.add(e);
+    const double time_max = errors.empty() ? 0.0 : double(errors[worst]);
+    const bool first = samples == 0 && !errors.empty();
+    samples += errors.size();
+    if (!errors.empty() && (time_max > r.max_error_units || first)) {
+      const uint32_t v = measured.vertex(worst);
+      r.max_error_units = time_max;
+      r.max_error_time_seconds = t;
+      r.max_error_vertex = v;
+      int best = 0;
+      for (int k = 1; k < 4; ++k)
+        if (mesh.weights[v][k] > mesh.weights[v][best]) best = k;
+      r.max_error_joint = mesh.joints[v][best];
     }
     if (interval_errors != nullptr && !interval_errors->empty()) {
       double& slot = (*interval_errors)[std::min<size_t>(sample.frame, interval_errors->size() - 1)];
@@ -295,6 +219,11 @@ Status clipBounds(const BakedPalette& p, uint32_t clip_index, const SkinnedMesh&
   // Positions of the last four frames (border frames included): frame f in ring[(f + 4) % 4].
   std::vector<glm::vec3> ring[4];
   const auto at = [&](int64_t f) -> const std::vector<glm::vec3>& { return ring[(f + 4) % 4]; };
+  for (uint32_t v : vertices)
+    for (int k = 0; k < 4; ++k)
+      if (gpu_mesh.weights[v][k] != 0.0f && gpu_mesh.joints[v][k] >= nj)
+        return {StatusCode::kOutOfRange, "clipBounds: a vertex's joint is out of range"};
+  const InfluenceGroups groups(gpu_mesh, gpu_mesh, vertices);
   std::vector<glm::mat4> matrices(nj);
   Aabb box;
   for (int64_t f = -border; f < n + border; ++f) {
@@ -305,21 +234,9 @@ Status clipBounds(const BakedPalette& p, uint32_t clip_index, const SkinnedMesh&
                              : emulateFrameMatrix(p, texel, texel, 0.0f, uint32_t(slot));
     }
     std::vector<glm::vec3>& positions = ring[(f + 4) % 4];
-    positions.resize(gpu_mesh.vertexCount());
-    // As emulateSkinning(): blend the influences' matrices (zero weights skipped), transform.
-    for (uint32_t v : vertices) {
-      glm::mat4 m(0.0f);
-      for (int k = 0; k < 4; ++k) {
-        const float w = gpu_mesh.weights[v][k];
-        if (w == 0.0f) continue;
-        const uint16_t j = gpu_mesh.joints[v][k];
-        if (j >= nj) return {StatusCode::kOutOfRange, "clipBounds: a vertex's joint is out of range"};
-        m += matrices[j] * w;
-      }
-      positions[v] = glm::vec3(m * glm::vec4(gpu_mesh.positions[v], 1.0f));
-    }
+    groups.positions(matrices, &positions);  // Per slot, as emulateSkinning().
     if (f >= 0 && f < n)
-      for (uint32_t v : vertices) box.extend(positions[v]);
+      for (const glm::vec3& q : positions) box.extend(q);
     // Interval i = f - 2 reads at most frames i - 1 to i + 2 = f, all in the ring now.
     const int64_t i = f - 2;
     if (!cubic || i < 0 || i + 1 >= n) continue;
@@ -328,7 +245,7 @@ Status clipBounds(const BakedPalette& p, uint32_t clip_index, const SkinnedMesh&
                               ? i - 1 : i;
     const int64_t last = mode == IntervalMode::kCubic || mode == IntervalMode::kCubicStartsHere
                              ? i + 2 : i + 1;
-    for (uint32_t v : vertices) {
+    for (size_t v = 0; v < groups.size(); ++v) {
       Aabb local;
       for (int64_t k = first; k <= last; ++k) local.extend(at(k)[v]);
       const glm::vec3 widen = 0.125f * (local.max - local.min);
