@@ -28,6 +28,10 @@ TEST(ErrorKernel, LargestKIsTheKthLargestOfTheStream) {
     std::nth_element(all.begin(), all.begin() + std::ptrdiff_t(k - 1), all.end(), std::greater<float>());
     EXPECT_EQ(largest.kth(), all[k - 1]) << "k=" << k;
   }
+  // After a trim, a value between the kept ones still enters: {10, 9, 8} kept, then 9.5.
+  LargestK three(3);
+  for (float e : {10.0f, 9.0f, 8.0f, 1.0f, 1.0f, 1.0f, 9.5f}) three.add(e);
+  EXPECT_EQ(three.kth(), 9.0f);
   LargestK few(10);
   few.add(2.0f);
   few.add(1.0f);
