@@ -108,9 +108,9 @@ Status bakePalette(const Character& character, const BakeDesc& in_desc, BakedPal
     if (!automatic || round >= 4) break;
     bool refined = false;
     for (uint32_t c = 0; c < clip_count; ++c) {
-      if (!(measured[c].max_error_units > tolerance)) continue;
+      if (!(measured[c].max_error_units > choices[c].target)) continue;
       const Clip& clip = character.clips[plan.clip_indices[c]];
-      if (search->refine(clip, interval_errors[c], tolerance, &choices[c])) stale[c] = refined = 1;
+      if (search->refine(clip, interval_errors[c], &choices[c])) stale[c] = refined = 1;
     }
     if (!refined) break;
     s = replan();
@@ -180,8 +180,12 @@ Status bakePalette(const Character& character, const BakeDesc& in_desc, BakedPal
                      4.0 * double(d.max_sample_rate_hz),
                      " Hz within key intervals; chose ", m.frame_count, " frames",
                      ch.at_keys ? " at the keys" : " on a grid",
-                     ". A finer format or a higher BakeDesc::max_sample_rate_hz may reach it; "
-                     "BakeDesc::accept_tolerance_miss keeps this bake")};
+                     ch.target > tolerance
+                         ? strCat("; the densest frames tried reach ", ch.target / 1.1,
+                                  " units on the short list: the format's precision bounds it, "
+                                  "a finer format may reach it")
+                         : std::string("; a higher BakeDesc::max_sample_rate_hz may reach it"),
+                     ". BakeDesc::accept_tolerance_miss keeps this bake")};
     }
   }
   if (report != nullptr) {

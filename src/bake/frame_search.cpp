@@ -168,17 +168,28 @@ Status FrameSearch::choose(const Clip& clip, FrameInterpolation interpolation,
                            FrameChoice* out) const {
   // A format whose precision floor is above the tolerance (half floats) cannot meet it: then
   // aim for 1.1 x the error at the highest rate instead of climbing to it.
+  // The floor is the smaller error of the densest grid and the densest key placement (a grid
+  // cuts the corners at keys off it, so its floor can be far above the format's); the key
+  // placement's trial is skipped where it would pass the bake's limits.
   const bool cubic = interpolation == FrameInterpolation::kCubic;
   double floor_error = 0.0;
   Status s = trial(clip, interpolation, planClipFrames(clip, candidates_.back(), cubic),
                    &floor_error, nullptr);
   if (!s.isOk()) return s;
+  const std::vector<double> breakpoints = keyBreakpoints(clip);
+  if (floor_error > tolerance_ && breakpoints.size() >= 2) {
+    double keys_floor = 0.0;
+    if (trial(clip, interpolation, framesAtKeys(clip, breakpoints, maxPieces(breakpoints), cubic),
+              &keys_floor, nullptr).isOk())
+      floor_error = std::min(floor_error, keys_floor);
+  }
   const double target = std::max(tolerance_, 1.1 * floor_error);
   FrameChoice grid, keys;
   s = gridChoice(clip, interpolation, target, &grid);
   if (!s.isOk()) return s;
   if (!(clip.duration_seconds > 0.0f)) {
     *out = std::move(grid);
+    out->target = target;
     return Status::ok();
   }
   s = keyChoice(clip, interpolation, target, &keys);
@@ -190,11 +201,13 @@ Status FrameSearch::choose(const Clip& clip, FrameInterpolation interpolation,
                              ? keys.frames.frame_count < grid.frames.frame_count
                              : keys.subset_error < grid.subset_error;
   *out = std::move(pick_keys ? keys : grid);
+  out->target = target;
   return Status::ok();
 }
 
 bool FrameSearch::refine(const Clip& clip, const std::vector<double>& interval_errors,
-                         double tolerance, FrameChoice* choice) const {
+                         FrameChoice* choice) const {
+  const double tolerance = choice->target;
   if (!choice->can_refine) return false;
   const bool cubic = choice->interpolation == FrameInterpolation::kCubic;
   if (choice->at_keys) {
@@ -212,6 +225,7 @@ bool FrameSearch::refine(const Clip& clip, const std::vector<double>& interval_e
   FrameChoice next = *choice;
   if (!gridChoice(clip, choice->interpolation, 0.0, &next).isOk() || next.rate_hz <= choice->rate_hz)
     return false;
+  next.target = choice->target;
   *choice = std::move(next);
   return true;
 }

@@ -18,6 +18,9 @@ struct FrameChoice {
   double rate_hz = 0.0;     ///< The grid's rate; for key placement, frames / duration.
   FramePlan frames;
   double subset_error = 0.0;  ///< Max error on the subset at the frame intervals' midpoints.
+  /// What the search aimed for: the tolerance, or 1.1 x the format's floor where that is
+  /// above it (half floats). Refining past it cannot help.
+  double target = 0.0;
   /// Key placement: keyBreakpoints() and the pieces of each key interval.
   std::vector<double> breakpoints;
   std::vector<uint32_t> pieces;
@@ -39,9 +42,9 @@ class FrameSearch {
   Status choose(const Clip& clip, FrameInterpolation interpolation, FrameChoice* out) const;
 
   /// After the whole mesh's measurement (`interval_errors` per frame interval of
-  /// choice->frames) missed `tolerance`: denser frames where it missed. False when nothing is
-  /// left to refine (the highest rate, every interval at its limit).
-  bool refine(const Clip& clip, const std::vector<double>& interval_errors, double tolerance,
+  /// choice->frames) missed choice->target: denser frames where it missed. False when nothing
+  /// is left to refine (the highest rate, every interval at its limit).
+  bool refine(const Clip& clip, const std::vector<double>& interval_errors,
               FrameChoice* choice) const;
 
  private:
