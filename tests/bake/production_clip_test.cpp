@@ -131,6 +131,28 @@ TEST(ProductionClips, FramesSitOnEveryKeyWhereAGridMisses) {
   EXPECT_GT(longest, 1.2 * shortest);
 }
 
+// kSmaller takes cubic where it needs fewer frames at the tolerance (a grid's cut corners
+// once hid that), and half floats stop near their precision floor instead of dividing every
+// key interval to its limit.
+TEST(ProductionClips, SmallerTakesCubicAndHalfFloatsStopAtTheirFloor) {
+  const Character& c = shortStress();
+  BakedPalette p;
+  BakeReport linear, smaller, half;
+  ASSERT_TRUE(bakePalette(c, BakeDesc{}, &p, &linear).isOk());
+  BakeDesc d;
+  d.interpolation = InterpolationChoice::kSmaller;
+  ASSERT_TRUE(bakePalette(c, d, &p, &smaller).isOk());
+  EXPECT_EQ(smaller.clips[0].interpolation, FrameInterpolation::kCubic);
+  EXPECT_TRUE(smaller.clips[0].tolerance_met);
+  EXPECT_LT(smaller.clips[0].frame_count, linear.clips[0].frame_count);
+  BakeDesc h;
+  h.format = PaletteFormat::kMatrix3x4F16;
+  h.accept_tolerance_miss = true;
+  ASSERT_TRUE(bakePalette(c, h, &p, &half).isOk());
+  EXPECT_FALSE(half.clips[0].tolerance_met);
+  EXPECT_LT(half.clips[0].frame_count, linear.clips[0].frame_count);
+}
+
 // Half floats cannot reach 1e-4 of the height: the default bake fails by name, saying which
 // clip and joint, the error reached and what was tried; accept_tolerance_miss keeps it.
 TEST(ProductionClips, ATolerancePastTheFormatIsNamed) {

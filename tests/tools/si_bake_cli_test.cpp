@@ -232,6 +232,21 @@ TEST(SiBake, MissedToleranceExitsWith6WhenRequired) {
   std::remove(out.c_str());
 }
 
+TEST(SiBake, AnAutomaticBakeThatMissesExitsWith6UnlessAccepted) {
+  // Automatic rates (the default) refuse a miss by name: the library's kToleranceNotMet.
+  const std::string out = tempPath("f16auto.sipal");
+  ToolRun r = runTool("--embedded --format f16 --clips idle -o '" + out + "'");
+  EXPECT_EQ(r.exit_code, 6) << r.output;
+  EXPECT_NE(r.output.find("ToleranceNotMet"), std::string::npos) << r.output;
+  EXPECT_NE(r.output.find("clip 'idle'"), std::string::npos) << r.output;
+  EXPECT_FALSE(exists(out));
+  r = runTool("--embedded --format f16 --clips idle --accept-tolerance-miss -o '" + out + "'");
+  EXPECT_EQ(r.exit_code, 0) << r.output;
+  EXPECT_NE(r.output.find("NO"), std::string::npos) << r.output;
+  EXPECT_TRUE(exists(out));
+  std::remove(out.c_str());
+}
+
 TEST(SiBake, ProgressBarWhenAsked) {
   const std::string out = tempPath("progress.sipal");
   ToolRun r = runTool("--embedded --rate 30 --clips walk,wave --progress -o '" + out + "'");
