@@ -45,8 +45,11 @@ bool divideWhereMissed(const std::vector<double>& key_errors, double target, boo
   for (size_t i = 0; i < pieces->size(); ++i) {
     uint32_t& p = (*pieces)[i];
     if (!(key_errors[i] > target) || p >= cap[i]) continue;
-    const double order = cubic && p >= 3 ? 4.0 : 2.0;
-    const double grown = std::ceil(double(p) * std::pow(key_errors[i] / target, 1.0 / order) * 1.05);
+    // Cubic below 3 pieces is linear or quadratic: growing by their order overshoots, so an
+    // interval that misses goes to 3, the fewest a Catmull-Rom interval needs.
+    const double grown =
+        cubic ? (p < 3 ? 3.0 : std::ceil(double(p) * std::pow(key_errors[i] / target, 0.25) * 1.05))
+              : std::ceil(double(p) * std::sqrt(key_errors[i] / target) * 1.05);
     p = uint32_t(std::min<double>(std::max<double>(grown, p + 1.0), cap[i]));
     changed = true;
   }
