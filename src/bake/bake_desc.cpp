@@ -20,8 +20,19 @@ const char* interpolationChoiceName(InterpolationChoice c) {
   return "invalid";
 }
 
+const char* framePlacementName(FramePlacement p) {
+  switch (p) {
+    case FramePlacement::kDefault: return "default";
+    case FramePlacement::kFewer: return "fewer";
+    case FramePlacement::kGrid: return "grid";
+    case FramePlacement::kKeys: return "keys";
+  }
+  return "invalid";
+}
+
 BakeDesc resolveDefaults(const BakeDesc& desc) {
   BakeDesc d = desc;
+  if (d.placement == FramePlacement::kDefault) d.placement = FramePlacement::kFewer;
   if (d.interpolation == InterpolationChoice::kDefault) d.interpolation = InterpolationChoice::kLinear;
   d.format = resolvePaletteFormat(d.format);
   if (d.rate_mode == RateMode::kDefault) d.rate_mode = RateMode::kAutomatic;
@@ -227,6 +238,9 @@ Status planPaletteImpl(const Character& character, const BakeDesc& in_desc, Pale
     return {StatusCode::kInvalidArgument, "BakeDesc.sample_rate_hz must be finite and positive"};
   if (d.rate_mode != RateMode::kFixed && d.rate_mode != RateMode::kAutomatic)
     return {StatusCode::kInvalidArgument, "BakeDesc.rate_mode is not a known RateMode"};
+  if (d.placement != FramePlacement::kFewer && d.placement != FramePlacement::kGrid &&
+      d.placement != FramePlacement::kKeys)
+    return {StatusCode::kInvalidArgument, "BakeDesc.placement is not a known FramePlacement"};
   if (!std::isfinite(d.error_tolerance_ratio) || d.error_tolerance_ratio <= 0.0f)
     return {StatusCode::kInvalidArgument, "BakeDesc.error_tolerance_ratio must be positive"};
   if (!std::isfinite(d.max_sample_rate_hz) || d.max_sample_rate_hz <= 0.0f)

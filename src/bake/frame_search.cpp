@@ -180,7 +180,8 @@ Status FrameSearch::choose(const Clip& clip, FrameInterpolation interpolation,
                    &floor_error, nullptr);
   if (!s.isOk()) return s;
   const std::vector<double> breakpoints = keyBreakpoints(clip);
-  if (floor_error > tolerance_ && breakpoints.size() >= 2) {
+  if (floor_error > tolerance_ && breakpoints.size() >= 2 &&
+      desc_.placement != FramePlacement::kGrid) {
     double keys_floor = 0.0;
     if (trial(clip, interpolation, framesAtKeys(clip, breakpoints, maxPieces(breakpoints), cubic),
               &keys_floor, nullptr).isOk())
@@ -188,15 +189,23 @@ Status FrameSearch::choose(const Clip& clip, FrameInterpolation interpolation,
   }
   const double target = std::max(tolerance_, 1.1 * floor_error);
   FrameChoice grid, keys;
-  s = gridChoice(clip, interpolation, target, &grid);
-  if (!s.isOk()) return s;
-  if (!(clip.duration_seconds > 0.0f)) {
+  const bool timed = clip.duration_seconds > 0.0f;
+  if (!timed || desc_.placement != FramePlacement::kKeys) {
+    s = gridChoice(clip, interpolation, target, &grid);
+    if (!s.isOk()) return s;
+  }
+  if (!timed || desc_.placement == FramePlacement::kGrid) {
     *out = std::move(grid);
     out->target = target;
     return Status::ok();
   }
   s = keyChoice(clip, interpolation, target, &keys);
   if (!s.isOk()) return s;
+  if (desc_.placement == FramePlacement::kKeys) {
+    *out = std::move(keys);
+    out->target = target;
+    return Status::ok();
+  }
   // One that meets the target beats one that does not; then fewer frames; then smaller error.
   const bool grid_met = grid.subset_error <= target, keys_met = keys.subset_error <= target;
   const bool pick_keys = grid_met != keys_met ? keys_met

@@ -153,6 +153,29 @@ TEST(ProductionClips, SmallerTakesCubicAndHalfFloatsStopAtTheirFloor) {
   EXPECT_LT(half.clips[0].frame_count, linear.clips[0].frame_count);
 }
 
+// BakeDesc::placement: a grid keeps frames uniform (and misses these keys, by name), keys
+// place them at the keys; an unknown value is refused.
+TEST(ProductionClips, PlacementChoosesGridOrKeys) {
+  const Character& c = shortStress();
+  BakedPalette p;
+  BakeReport r;
+  BakeDesc d;
+  d.placement = FramePlacement::kGrid;
+  EXPECT_EQ(bakePalette(c, d, &p, &r).code(), StatusCode::kToleranceNotMet);
+  d.accept_tolerance_miss = true;
+  ASSERT_TRUE(bakePalette(c, d, &p, &r).isOk());
+  EXPECT_TRUE(p.clips[0].frame_times_seconds.empty());
+  EXPECT_FALSE(r.clips[0].frames_at_keys);
+  d.placement = FramePlacement::kKeys;
+  d.accept_tolerance_miss = false;
+  ASSERT_TRUE(bakePalette(c, d, &p, &r).isOk());
+  EXPECT_TRUE(r.clips[0].frames_at_keys);
+  EXPECT_EQ(p.clips[0].frame_times_seconds.size(), p.clips[0].frame_count);
+  d.placement = static_cast<FramePlacement>(9);
+  EXPECT_EQ(bakePalette(c, d, &p, &r).code(), StatusCode::kInvalidArgument);
+  EXPECT_STREQ(framePlacementName(FramePlacement::kKeys), "keys");
+}
+
 // Half floats cannot reach 1e-4 of the height: the default bake fails by name, saying which
 // clip and joint, the error reached and what was tried; accept_tolerance_miss keeps it.
 TEST(ProductionClips, ATolerancePastTheFormatIsNamed) {

@@ -26,9 +26,18 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
     sm.lods[0].index_count = std::min<uint32_t>(sm.lods[0].index_count, 64 * 3);
   }
   if (!c.validate().isOk()) std::abort();
-  for (si::RateMode mode : {si::RateMode::kFixed, si::RateMode::kAutomatic}) {
+  // Fixed rates; automatic frames (grid or keys); frames at the keys, cubic. A miss of the
+  // tolerance is kept, so every palette the search makes is validated.
+  const si::RateMode modes[] = {si::RateMode::kFixed, si::RateMode::kAutomatic, si::RateMode::kAutomatic};
+  for (int config = 0; config < 3; ++config) {
+    const si::RateMode mode = modes[config];
     si::BakeDesc b;
     b.rate_mode = mode;
+    b.accept_tolerance_miss = true;
+    if (config == 2) {
+      b.placement = si::FramePlacement::kKeys;
+      b.interpolation = si::InterpolationChoice::kCubic;
+    }
     b.max_palette_bytes = uint64_t(8) << 20;
     b.max_evaluations = uint64_t(1) << 22;
     b.max_sample_rate_hz = 60.0f;  // Bounds the automatic search's work per clip.

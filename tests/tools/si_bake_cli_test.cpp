@@ -157,32 +157,62 @@ TEST(SiBake, CubicPalettesAndTheCastTable) {
   for (const BakedClip& c : loaded.clips) EXPECT_EQ(c.interpolation, FrameInterpolation::kCubic);
   std::remove(out.c_str());
 
-  r = runTool("--cast --embedded --rate 30 --clips idle,run");
+  // Automatic rates: each row has the grid placement and the default one side by side.
+  r = runTool("--cast --embedded --clips idle,run");
   ASSERT_EQ(r.exit_code, 0) << r.output;
-  unsigned long long row_sum[3][3] = {}, total[3][3] = {};
+  unsigned long long row_sum[2][3][3] = {}, total[2][3][3] = {};
   const char* formats[] = {"matrix3x4_f32", "matrix3x4_f16", "quat_translation_f32"};
   const char* choices[] = {"linear", "cubic", "smaller"};
   std::istringstream lines(r.output);
   std::string line;
   int rows = 0;
   while (std::getline(lines, line)) {
-    char who[64], format[64], choice[64];
-    unsigned long long a = 0, b = 0;
-    if (std::sscanf(line.c_str(), "%63s %63s %63s %llu %llu", who, format, choice, &a, &b) != 5)
+    char who[64], format[64], choice[64], place[2][16];
+    unsigned frames[2] = {};
+    unsigned long long bytes[2] = {}, chars = 0;
+    int f = -1, c = -1;
+    if (std::sscanf(line.c_str(), "%63s %63s %63s", who, format, choice) != 3) continue;
+    for (int i = 0; i < 3; ++i) {
+      if (std::string(format) == formats[i]) f = i;
+      if (std::string(choice) == choices[i]) c = i;
+    }
+    if (f < 0 || c < 0) continue;
+    const size_t bar = line.find('|'), bar2 = line.find('|', bar + 1);
+    if (bar == std::string::npos || bar2 == std::string::npos) continue;
+    if (std::string(who) == "(cast)") {
+      char ok[8];
+      if (std::sscanf(line.c_str() + bar + 1, "%llu %llu %7s", &chars, &total[0][f][c], ok) == 3 &&
+          std::sscanf(line.c_str() + bar2 + 1, "%llu", &total[1][f][c]) == 1) {
+        EXPECT_EQ(chars, 1u) << line;
+      }
       continue;
-    for (int f = 0; f < 3; ++f)
-      for (int c = 0; c < 3; ++c)
-        if (std::string(format) == formats[f] && std::string(choice) == choices[c]) {
-          if (std::string(who) == "embedded") row_sum[f][c] += b, ++rows;
-          if (std::string(who) == "(cast)") total[f][c] = b;
-        }
+    }
+    double error[2] = {};
+    char met[2][8] = {};
+    if (std::sscanf(line.c_str() + bar + 1, "%15s %u %llu %lf %7s", place[0], &frames[0],
+                    &bytes[0], &error[0], met[0]) != 5 ||
+        std::sscanf(line.c_str() + bar2 + 1, "%15s %u %llu %lf %7s", place[1], &frames[1],
+                    &bytes[1], &error[1], met[1]) != 5)
+      continue;
+    EXPECT_STREQ(place[0], "grid") << line;
+    EXPECT_STREQ(place[1], "fewer") << line;
+    // Where both meet the tolerance the default placement takes no more frames than the grid
+    // (it picks the fewer); where the format cannot, it aims at the lower floor it can reach.
+    if (std::string(met[0]) == "yes" && std::string(met[1]) == "yes") {
+      EXPECT_LE(frames[1], frames[0]) << line;
+    } else {
+      EXPECT_LE(error[1], error[0] * 1.05) << line;
+    }
+    for (int p = 0; p < 2; ++p) row_sum[p][f][c] += bytes[p];
+    ++rows;
   }
   EXPECT_EQ(rows, 9) << r.output;
-  for (int f = 0; f < 3; ++f)
-    for (int c = 0; c < 3; ++c) {
-      EXPECT_GT(row_sum[f][c], 0u) << formats[f] << " " << choices[c];
-      EXPECT_EQ(total[f][c], row_sum[f][c]) << formats[f] << " " << choices[c];
-    }
+  for (int p = 0; p < 2; ++p)
+    for (int f = 0; f < 3; ++f)
+      for (int c = 0; c < 3; ++c) {
+        EXPECT_GT(row_sum[p][f][c], 0u) << formats[f] << " " << choices[c];
+        EXPECT_EQ(total[p][f][c], row_sum[p][f][c]) << formats[f] << " " << choices[c];
+      }
 }
 
 TEST(SiBake, UnreadableInputsExitWith3) {

@@ -17,10 +17,12 @@ struct CastMember {
 };
 
 /// Bakes every member with `base` (automatic rates unless it says otherwise) in each format
-/// and interpolation and prints one row per (character, format, interpolation): frames, bytes,
-/// max error in units and as a fraction of the height, whether every clip met the tolerance;
-/// then the cast's totals per (format, interpolation). A bake a character refuses (the rotation
-/// format with scaled joints) prints its reason instead. Returns false when no bake succeeded.
+/// and interpolation, once with frames on a uniform grid (FramePlacement::kGrid) and once with
+/// the default placement (kFewer), and prints one row per (character, format, interpolation)
+/// with both side by side: frames, bytes, max error as a fraction of the height, whether every
+/// clip met the tolerance, bake time and peak memory (MiB, where the system reports it); then
+/// the cast's totals. A bake a character refuses (the rotation format with scaled joints) prints
+/// its reason instead. Returns false when no bake succeeded.
 bool printCastTable(std::FILE* f, const std::vector<CastMember>& cast, const si::BakeDesc& base);
 
 }  // namespace si_bake

@@ -78,6 +78,9 @@ void usage(std::FILE* f) {
       "  --interpolation linear|cubic|smaller\n"
       "                           between baked frames: lerp (default), Catmull-Rom, or per\n"
       "                           clip whichever needs fewer frames at the tolerance\n"
+      "  --placement P            automatic frames: fewer (default: per clip the fewer of\n"
+      "                           the two), grid (one rate) or keys (at every key, each key\n"
+      "                           interval divided for its own error)\n"
       "  --tolerance RATIO        automatic rate target: max error / character height (1e-4)\n"
       "  --max-rate HZ            highest automatic rate tried (240)\n"
       "  --clips NAME,NAME,...    clips to bake, in palette order (default: all)\n"
@@ -154,7 +157,7 @@ int parse(int argc, char** argv, Options* o) {
     } else if (a == "--no-progress") {
       o->progress = 0;
     } else if (a == "-o" || a == "--output" || a == "--format" || a == "--rate" ||
-               a == "--interpolation" || a == "--tolerance" || a == "--max-rate" || a == "--clips" || a == "--skin" ||
+               a == "--interpolation" || a == "--placement" || a == "--tolerance" || a == "--max-rate" || a == "--clips" || a == "--skin" ||
                a == "--root-motion" || a == "--root-joint" ||
                a == "--csv" || a == "--lods" || a == "--variations") {
       if (int r = needsValue()) return r;
@@ -173,6 +176,11 @@ int parse(int argc, char** argv, Options* o) {
         else if (v == "cubic") o->bake.interpolation = si::InterpolationChoice::kCubic;
         else if (v == "smaller") o->bake.interpolation = si::InterpolationChoice::kSmaller;
         else return bad("unknown --interpolation '" + v + "' (linear, cubic or smaller)");
+      } else if (a == "--placement") {
+        if (v == "fewer") o->bake.placement = si::FramePlacement::kFewer;
+        else if (v == "grid") o->bake.placement = si::FramePlacement::kGrid;
+        else if (v == "keys") o->bake.placement = si::FramePlacement::kKeys;
+        else return bad("unknown --placement '" + v + "' (fewer, grid or keys)");
       } else if (a == "--rate") {
         if (v == "auto") {
           o->bake.rate_mode = si::RateMode::kAutomatic;

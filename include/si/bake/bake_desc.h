@@ -38,6 +38,18 @@ enum class InterpolationChoice : uint8_t {
 /// "linear", "cubic", "smaller" (or "default").
 const char* interpolationChoiceName(InterpolationChoice c);
 
+/// Where the automatic mode may place a clip's frames.
+enum class FramePlacement : uint8_t {
+  kDefault = 0,  ///< Resolved to kFewer.
+  kFewer,        ///< Per clip, whichever of kGrid and kKeys meets the tolerance with fewer frames.
+  kGrid,         ///< A uniform grid at one of the candidate rates (a frame follows from the time
+                 ///< alone; keys off the grid have their corners cut).
+  kKeys,         ///< A frame at every key of every track, each key interval divided evenly for
+                 ///< its own error (up to 4 x max_sample_rate_hz within it).
+};
+/// "fewer", "grid", "keys" (or "default").
+const char* framePlacementName(FramePlacement p);
+
 /// Where bakePalette() stands, for a progress bar.
 struct BakeProgress {
   double fraction = 0.0;       ///< 0 at the start, 1 when done; never decreases.
@@ -54,6 +66,8 @@ struct BakeDesc {
   /// palette border frames (two more frames per clip: the loop's continuation, or copies of
   /// the end frames).
   InterpolationChoice interpolation = InterpolationChoice::kDefault;
+  /// For kAutomatic: where frames may sit (kFewer by default). kFixed always uses a grid.
+  FramePlacement placement = FramePlacement::kDefault;
   /// Frames per second of every clip for kFixed (and unselected clips' figure in the report's
   /// bytes_saved); 0 means 30.
   float sample_rate_hz = 0.0f;
