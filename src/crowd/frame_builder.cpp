@@ -301,7 +301,7 @@ SI_CPU_CLONES void writeChunk(const FrameInputs& in, InstanceStore& st, bool fal
       lanes.duration[k] = c.duration, lanes.inv_duration[k] = c.inv_duration;
       lanes.inv_interval[k] = c.inv_interval, lanes.last_interval[k] = double(c.last_interval);
       lanes.loop[k] = pb.loop == LoopMode::kLoop ? -1 : 0;
-      lanes.scalar[k] = st.fade_duration[i] > 0.0 || !c.uniform || lod >= anim_lod ? -1 : 0;
+      lanes.scalar[k] = st.fade_duration[i] > 0.0 || lod >= anim_lod ? -1 : 0;
     }
     for (uint32_t base = 0; base < padded; base += kRecordLanes)
       computeRecordLanes(in.clock, lanes, base);
@@ -318,10 +318,14 @@ SI_CPU_CLONES void writeChunk(const FrameInputs& in, InstanceStore& st, bool fal
           for (int col = 0; col < 3; ++col) rec.world_rows[row][col] = lanes.rows[row][col][k];
           rec.world_rows[row][3] = rel[row];
         }
-        const uint32_t clip = st.playback[i].clip, frame = uint32_t(lanes.frame[k]);
-        const uint32_t a0 = clips[clip].first_texel + frame * stride;
-        setOneClip(a0, a0 + stride, lanes.fraction[k],
-                   intervalModeAt(clips[clip].modes, frame), st.colors[i], &rec);
+        const uint32_t clip = st.playback[i].clip;
+        const ClipTiming& c = clips[clip];
+        // A clip with frame times: the frame from the lane's time, through the clip's table.
+        const FrameSample fs = c.uniform ? FrameSample{} : fastSample(c, in.palette->clips[clip], lanes.time[k]);
+        const uint32_t frame = c.uniform ? uint32_t(lanes.frame[k]) : fs.frame;
+        const uint32_t a0 = c.first_texel + frame * stride;
+        setOneClip(a0, a0 + stride, c.uniform ? lanes.fraction[k] : fs.fraction,
+                   c.uniform ? intervalModeAt(c.modes, frame) : fs.mode, st.colors[i], &rec);
       }
       f.visible_handles[slot] = st.dense_handles[i];
       if (fallback) f.record_masks[slot] = wornMask(st.masks[i], in.sub_mesh_count);

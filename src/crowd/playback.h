@@ -30,8 +30,12 @@ struct ClipTiming {
   bool uniform;  // No STEP frames: the frame follows from the time alone.
   glm::vec3 sphere_center;
   float sphere_radius;
-  // Clips with STEP keys: si::frameSearchStarts, so a frame is found in a step or two.
-  std::vector<uint32_t> scan_from;
+  // Clips with frame times (STEP keys, frames at keys): per cell of 1 / inv_cell seconds
+  // (four cells per frame), the last frame in an earlier cell, so a frame is found in a step or
+  // two however unevenly the frames are spaced (the grid of frame_interval_seconds is as wide
+  // as the widest gap).
+  std::vector<uint32_t> cell_frame;
+  double inv_cell;
   // The clip's interval modes (empty for linear clips): read here, next to the timing the
   // record writer already holds, instead of from the BakedClip.
   std::vector<uint8_t> modes;
@@ -51,7 +55,21 @@ inline ClipTiming makeClipTiming(const BakedClip& c) {
   t.uniform = c.frame_times_seconds.empty() && c.frame_count >= 2 && t.interval > 0.0;
   t.sphere_center = c.bounding_sphere.center;
   t.sphere_radius = c.bounding_sphere.radius;
-  t.scan_from = frameSearchStarts(c);
+  t.inv_cell = 0.0;
+  const std::vector<double>& times = c.frame_times_seconds;
+  if (!t.uniform && times.size() == c.frame_count && c.frame_count >= 2 &&
+      c.duration_seconds > 0.0f) {
+    const size_t cells = size_t(c.frame_count) * 4;
+    t.inv_cell = double(cells) / double(c.duration_seconds);
+    t.cell_frame.assign(cells + 1, 0);
+    // cell_frame[k] = the last frame whose cell (floor(time * inv_cell)) is below k: the same
+    // product the lookup takes, so a frame found there is never after the time looked up.
+    size_t f = 0;
+    for (size_t k = 1; k <= cells; ++k) {
+      while (f + 1 < times.size() && times[f + 1] * t.inv_cell < double(k)) ++f;
+      t.cell_frame[k] = uint32_t(f);
+    }
+  }
   t.modes = c.interval_modes;
   for (const glm::vec3& m : c.root_motion)
     t.yaw_cos_sin.push_back({std::cos(double(m.z)), std::sin(double(m.z))});
@@ -87,7 +105,24 @@ inline double localTime(const Playback& p, const ClipTiming& c, double clock) {
 /// si::sampleFrames(clip, t) for t within [0, duration], with a reciprocal instead of a
 /// division on uniform grids.
 inline FrameSample fastSample(const ClipTiming& c, const BakedClip& clip, double t) {
-  if (!c.uniform) return sampleFrames(clip, t, c.scan_from);  // STEP keys: from the table.
+  if (!c.uniform) {
+    if (c.cell_frame.empty()) return sampleFrames(clip, t);
+    // sampleFrames(clip, t) from the cell table: the last frame at or before t.
+    const double tc = t > 0.0 ? std::min(t, double(clip.duration_seconds)) : 0.0;
+    const std::vector<double>& times = clip.frame_times_seconds;
+    const double cell = std::floor(tc * c.inv_cell);
+    size_t k = c.cell_frame[std::min(size_t(cell), c.cell_frame.size() - 1)];
+    while (k + 1 < times.size() && times[k + 1] <= tc) ++k;
+    const uint32_t i = std::min(uint32_t(k), c.last_interval);
+    const double span = times[i + 1] - times[i];
+    FrameSample s;
+    s.frame = i;
+    s.next_frame = i + 1;
+    s.fraction = span > 0.0 ? static_cast<float>(std::min(std::max((tc - times[i]) / span, 0.0), 1.0))
+                            : 1.0f;
+    s.mode = intervalModeAt(c.modes, i);
+    return s;
+  }
   const double position = t * c.inv_interval;
   // Compared before the conversion: a position past the last interval never converts.
   const uint32_t i = position >= double(c.last_interval) ? c.last_interval

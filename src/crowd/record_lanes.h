@@ -4,8 +4,9 @@
 // the world rows (glm::mat3_cast * scale, the camera-relative translation) and clip A's frame
 // pair and fraction (playback time from the crowd clock, looped or clamped; the uniform-grid
 // frame sample), lane by lane the same operations as frame_builder.cpp's scalar writeRecord,
-// playback.h's localTime and fastSample. Lanes that need more (a crossfade, STEP keys, animation
-// LOD, a time that is not finite or a loop past 2^53 intervals) are marked for the scalar path.
+// playback.h's localTime and fastSample. Lanes that need more (a crossfade, animation LOD, a
+// time that is not finite or a loop past 2^53 intervals) are marked for the scalar path; for a
+// clip with frame times (STEP keys, frames at keys) the caller finds the frame from time[].
 
 #include <cstdint>
 #include <cstring>
@@ -30,6 +31,7 @@ struct RecordLanes {
   alignas(32) float rows[3][3][kRecordBlock];  // rows[row][column]: rotation * scale.
   alignas(32) int32_t frame[kRecordBlock];
   alignas(32) float fraction[kRecordBlock];
+  alignas(64) double time[kRecordBlock];  // The clip-local time (localTime) of each lane.
 };
 
 /// Computes the outputs of the 8 lanes of `l` from `base` on at crowd clock `clock`. Always
@@ -93,6 +95,7 @@ __attribute__((always_inline)) inline void computeRecordLanes(double clock, Reco
     const l4 loop = __builtin_convertvector(loop_in, l4);
     scalar |= loop & ~((w >= zero) & (w < duration));  // The exact remainder: scalar.
     const d4 ta = SI_DBLEND(loop, w, clamped);
+    std::memcpy(l.time + half, &ta, sizeof ta);
     // The uniform-grid frame sample (fastSample).
     const d4 position = ta * inv_interval;
     const d4 pc = SI_DBLEND(position >= last, last, SI_DBLEND(position > zero, position, zero));

@@ -17,21 +17,24 @@
 
 namespace {
 
-// The embedded character at 30 Hz; `moving`: with its travelling clips (root motion).
-const si::BakedPalette& palette(bool moving = false) {
-  static const auto bake = [](bool with_moving_clips) {
+// The embedded character at 30 Hz; `moving`: with its travelling clips (root motion);
+// `automatic`: baked with the default desc instead (automatic rates, frames at the keys where
+// that takes fewer: non-uniform frame times, found by a search per instance).
+const si::BakedPalette& palette(bool moving = false, bool automatic = false) {
+  static const auto bake = [](bool with_moving_clips, bool default_desc) {
     si::DefaultCharacterDesc cd;
     cd.moving_clips = with_moving_clips;
     si::Character c;
     if (!si::makeDefaultCharacter(cd, &c).isOk()) std::abort();
     si::BakeDesc d;
-    d.rate_mode = si::RateMode::kFixed;
+    if (!default_desc) d.rate_mode = si::RateMode::kFixed;
     si::BakedPalette out;
     if (!si::bakePalette(c, d, &out, nullptr).isOk()) std::abort();
     return out;
   };
-  static const si::BakedPalette plain = bake(false), travelling = bake(true);
-  return moving ? travelling : plain;
+  static const si::BakedPalette plain = bake(false, false), travelling = bake(true, false);
+  static const si::BakedPalette plain_default = bake(false, true);
+  return automatic ? plain_default : moving ? travelling : plain;
 }
 
 // The right arm's mask of the plain palette (the overlay of the overlays argument).
@@ -50,12 +53,13 @@ const si::LayerMask& armMask() {
 // A square field of `count` characters 1.5 m apart, random armour, clips and times;
 // `max_distance_radii` as in CrowdDesc (0: the default far line, negative: none). `motion`: 0
 // any clip of the plain palette; 1 the travelling clips (walk_forward, walk_turn_left) played
-// in place; 2 the same with root motion applied to every instance.
+// in place; 2 the same with root motion applied to every instance; 3 any clip of the plain
+// character baked with the default desc (compare with 0: what non-uniform frames cost).
 std::unique_ptr<si::CrowdManager> field(int64_t count, float max_distance_radii, uint32_t threads,
                                         int64_t motion, bool previous_records) {
   auto crowd = std::make_unique<si::CrowdManager>();
   si::CrowdDesc d;
-  d.palette = &palette(motion != 0);
+  d.palette = &palette(motion == 1 || motion == 2, motion == 3);
   d.sub_mesh_count = 4;
   d.lod_count = 3;
   d.max_distance_radii = max_distance_radii;
@@ -71,7 +75,7 @@ std::unique_ptr<si::CrowdManager> field(int64_t count, float max_distance_radii,
   r.optional_mask = 0xE;
   const uint32_t travelling[] = {uint32_t(palette(true).findClip("walk_forward")),
                                  uint32_t(palette(true).findClip("walk_turn_left"))};
-  if (motion != 0) r.clips = travelling;
+  if (motion == 1 || motion == 2) r.clips = travelling;
   r.root_motion = motion == 2;
   if (!crowd->addRandom(r, nullptr).isOk()) std::abort();
   return crowd;
@@ -161,6 +165,7 @@ BENCHMARK(crowdFrame)
     ->ArgsProduct({{100000, 1000000}, {0, 1}, {1, 8}, {1}, {0}, {1, 2}, {0}, {0}})
     ->ArgsProduct({{100000, 1000000}, {0, 1}, {1}, {1}, {0}, {0}, {1}, {0}})
     ->ArgsProduct({{100000, 1000000}, {0, 1}, {1, 8}, {0}, {0}, {0}, {0}, {1}})
+    ->ArgsProduct({{100000}, {1}, {1}, {1}, {0}, {0, 3}, {0}, {0}})
     ->ArgNames({"instances", "all_visible", "threads", "spans", "markers", "motion", "previous",
                 "overlays"})
     ->Unit(benchmark::kMillisecond)

@@ -385,8 +385,13 @@ TEST(ParallelUpdate, VectorRecordsEqualTheScalarOnesOrDeferToThem) {
         continue;
       }
       const detail::ClipTiming& c = clips[clip_of[k]];
-      const FrameSample want =
-          detail::fastSample(c, p.clips[clip_of[k]], detail::localTime(pb[k], c, clock));
+      const double local = detail::localTime(pb[k], c, clock);
+      // The lane's time: a clip with frame times finds its frame from it (frame_builder.cpp).
+      uint64_t time_bits = 0, local_bits = 0;
+      std::memcpy(&time_bits, &lanes.time[k], 8);
+      std::memcpy(&local_bits, &local, 8);
+      ASSERT_EQ(time_bits, local_bits) << trial << " " << k;
+      const FrameSample want = detail::fastSample(c, p.clips[clip_of[k]], local);
       ASSERT_EQ(uint32_t(lanes.frame[k]), want.frame) << trial << " " << k;
       ASSERT_EQ(bitsOf(lanes.fraction[k]), bitsOf(want.fraction)) << trial << " " << k;
       ++vector_lanes;
@@ -394,6 +399,32 @@ TEST(ParallelUpdate, VectorRecordsEqualTheScalarOnesOrDeferToThem) {
   }
   EXPECT_GT(vector_lanes, 100000u);
   EXPECT_GT(deferred, 3000u);  // The pinned lane, non-finite times, loops past 2^53 intervals.
+}
+
+// A clip with frame times (frames at keys, STEP keys) finds its frame through the crowd's
+// cell table: the same frame, fraction and mode as si::sampleFrames at every frame time, just
+// before and after it, between frames, past the ends and at non-finite times.
+TEST(ParallelUpdate, FrameTimesFoundThroughTheCellTableEqualSampleFrames) {
+  BakedClip clip;
+  clip.duration_seconds = 2.0f;
+  clip.frame_times_seconds = {0.0, 0.01, 0.011, 0.3, 0.3, 0.31, 0.7, 1.0, 1.0005, 1.5, 2.0};
+  clip.frame_count = uint32_t(clip.frame_times_seconds.size());
+  clip.frame_interval_seconds = 0.5;  // The widest gap fits one grid interval.
+  const detail::ClipTiming c = detail::makeClipTiming(clip);
+  ASSERT_FALSE(c.uniform);
+  ASSERT_FALSE(c.cell_frame.empty());
+  std::vector<double> times = {-1.0, 2.5, 1e300, std::numeric_limits<double>::quiet_NaN(),
+                               std::numeric_limits<double>::infinity()};
+  for (double t : clip.frame_times_seconds)
+    times.insert(times.end(), {t, std::nextafter(t, -1.0), std::nextafter(t, 3.0), t + 1e-4});
+  for (int k = 0; k <= 4000; ++k) times.push_back(2.0 * k / 4000.0);
+  for (double t : times) {
+    const FrameSample want = sampleFrames(clip, t), got = detail::fastSample(c, clip, t);
+    ASSERT_EQ(got.frame, want.frame) << t;
+    ASSERT_EQ(got.next_frame, want.next_frame) << t;
+    ASSERT_EQ(bitsOf(got.fraction), bitsOf(want.fraction)) << t;
+    ASSERT_EQ(got.mode, want.mode) << t;
+  }
 }
 
 }  // namespace
