@@ -19,10 +19,12 @@ Status bakeErrorTable(Setup& setup, Renderer& renderer, const Character& charact
     float rate;
     uint32_t stride;  // Joint stride in texels; 0: the default (4, or 2 for quaternions).
     Interp interpolation = Interp::kLinear;
+    FramePlacement placement = FramePlacement::kDefault;  // Automatic rates: fewer of grid, keys.
   };
   const Config configs[] = {{PaletteFormat::kMatrix3x4F32, 15, 0},
                             {PaletteFormat::kMatrix3x4F32, 30, 0},
                             {PaletteFormat::kMatrix3x4F32, 60, 0},
+                            {PaletteFormat::kMatrix3x4F32, 0, 0, Interp::kLinear, FramePlacement::kGrid},
                             {PaletteFormat::kMatrix3x4F32, 0, 0},
                             {PaletteFormat::kMatrix3x4F32, 0, 3},
                             {PaletteFormat::kMatrix3x4F16, 30, 0},
@@ -30,6 +32,7 @@ Status bakeErrorTable(Setup& setup, Renderer& renderer, const Character& charact
                             {PaletteFormat::kQuatTranslationF32, 30, 0},
                             {PaletteFormat::kQuatTranslationF32, 0, 0},
                             {PaletteFormat::kMatrix3x4F32, 30, 0, Interp::kCubic},
+                            {PaletteFormat::kMatrix3x4F32, 0, 0, Interp::kCubic, FramePlacement::kGrid},
                             {PaletteFormat::kMatrix3x4F32, 0, 0, Interp::kCubic},
                             {PaletteFormat::kQuatTranslationF32, 30, 0, Interp::kCubic},
                             {PaletteFormat::kQuatTranslationF32, 0, 0, Interp::kCubic}};
@@ -39,6 +42,7 @@ Status bakeErrorTable(Setup& setup, Renderer& renderer, const Character& charact
     d.format = c.format;
     d.joint_stride_texels = c.stride;
     d.interpolation = c.interpolation;
+    d.placement = c.placement;
     d.accept_tolerance_miss = true;  // The table reports the error reached.
     if (c.rate > 0.0f) {
       d.rate_mode = RateMode::kFixed;
@@ -56,7 +60,9 @@ Status bakeErrorTable(Setup& setup, Renderer& renderer, const Character& charact
     s = runPath(setup, renderer, p, "field", instances, path,
                            lod, &row);
     if (!s.isOk()) return {s.code(), path + ": " + s.message()};
-    const std::string rate = c.rate > 0.0f ? std::to_string(int(c.rate)) : "auto";
+    // Automatic rates: "auto" frames at keys where fewer, "grid" on one grid per clip.
+    const std::string rate = c.rate > 0.0f ? std::to_string(int(c.rate))
+                             : c.placement == FramePlacement::kGrid ? "grid" : "auto";
     const std::string texels = std::to_string(p.layout.width) + "x" + std::to_string(p.layout.height);
     const char* interp = interpolationChoiceName(c.interpolation);
     std::printf("%-22s %-6s %6s %6u %10s %10llu %9.3f %12.3g %12.3g\n",

@@ -51,6 +51,7 @@ struct Options {
   uint32_t max_baseline = 20000;  // Traditional and CPU skinning are skipped above this.
   uint32_t error_table_size = 2000;
   std::string error_path = "instanced";  // The path the speed-against-error table draws with.
+  std::string placement;  // --placement: the main bake automatic with these frames (fewer, grid, keys).
   std::string csv = "crowd_bench.csv";
   std::string plots;  // Folder for PNG plots (gnuplot), empty for none.
   bool quick = false;  // Fixed-rate bakes only (smoke tests under sanitizers).
@@ -93,6 +94,8 @@ void usage(std::FILE* f) {
       "                   [--error-path instanced|compute]\n"
       "                   [--plots DIR] [--backend auto|egl-device|egl-surfaceless|osmesa]\n"
       "                   [--quick]   (fixed-rate bakes only, for smoke tests)\n"
+      "                   [--placement fewer|grid|keys] (the main bake automatic with these\n"
+      "                   frames, --quick or not: grid against keys costs side by side)\n"
       "                   [--mix FILE,...|samples] (the mixed table: the embedded character and\n"
       "                   these glTF kinds share the field; one renderer against one per kind)\n"
       "                   [--root-motion] (the root motion table: travelling clips played in\n"
@@ -145,6 +148,7 @@ bool parse(int argc, char** argv, Options* o) {
     else if (a == "--csv" && has) o->csv = argv[++i];
     else if (a == "--plots" && has) o->plots = argv[++i];
     else if (a == "--quick") o->quick = true;
+    else if (a == "--placement" && has) o->placement = argv[++i];
     else if (a == "--mix" && has) {
       o->mix = si::examples::splitList(argv[++i]);
       if (o->mix.size() == 1 && o->mix[0] == "samples")
@@ -192,6 +196,9 @@ bool parse(int argc, char** argv, Options* o) {
   if (o->lods.empty() || o->quality_frames == 0) return false;
   if (o->quality_ss == 0 || o->quality_ss > 8) return false;
   if (o->error_path != "instanced" && o->error_path != "compute") return false;
+  if (!o->placement.empty() && o->placement != "fewer" && o->placement != "grid" &&
+      o->placement != "keys")
+    return false;
   return !o->sizes.empty() && o->frames > 0;
 }
 
@@ -365,6 +372,12 @@ int main(int argc, char** argv) {
   si::BakeReport report;
   si::BakeDesc main_bake;  // The default (automatic) bake, or 30 Hz with --quick.
   if (b.o.quick) main_bake.rate_mode = si::RateMode::kFixed;
+  if (!b.o.placement.empty()) {  // Automatic rates with these frames, --quick or not.
+    main_bake.rate_mode = si::RateMode::kAutomatic;
+    main_bake.placement = b.o.placement == "grid"   ? si::FramePlacement::kGrid
+                          : b.o.placement == "keys" ? si::FramePlacement::kKeys
+                                                    : si::FramePlacement::kFewer;
+  }
   s = si::bakePalette(character, main_bake, &palette, &report);
   si::Renderer renderer;
   si::RendererDesc rd;
