@@ -1,6 +1,7 @@
 // SkinnedInstancing — SPDX-License-Identifier: MIT (see LICENSE)
 // bake_report: speed against error for the baker. For the embedded character it bakes every
-// format x sample rate (and the automatic rate) and prints one table: palette bytes, bake time,
+// format x sample rate (and the automatic frames, on one grid and with the default placement)
+// and prints one table: palette bytes, bake time,
 // max / P99 / shell error in model units and as a fraction of the character's height.
 // Usage: bake_report [--csv PATH] [--quick] [--model FILE.gltf|FILE.glb]...
 //   --quick: f32 at 30 Hz and automatic only, for smoke tests; each --model adds a glTF
@@ -59,11 +60,14 @@ int main(int argc, char** argv) {
   const si::PaletteFormat formats[] = {si::PaletteFormat::kMatrix3x4F32,
                                        si::PaletteFormat::kMatrix3x4F16,
                                        si::PaletteFormat::kQuatTranslationF32};
-  const float rates[] = {15.0f, 30.0f, 60.0f, 0.0f};  // 0: automatic.
+  // 0: automatic (the default: per clip the fewer of one grid and frames at the keys); -1:
+  // automatic on one grid only (the placement before frames at keys), side by side.
+  const float rates[] = {15.0f, 30.0f, 60.0f, -1.0f, 0.0f};
   for (si::PaletteFormat format : formats) {
     if (quick && format != si::PaletteFormat::kMatrix3x4F32) continue;
     for (float rate : rates) {
       if (quick && rate != 30.0f && rate != 0.0f) continue;
+      const std::string rate_name = rate > 0.0f ? std::to_string(int(rate)) : rate < 0.0f ? "grid" : "auto";
       si::BakeDesc desc;
       desc.format = format;
       if (rate > 0.0f) {
@@ -72,6 +76,7 @@ int main(int argc, char** argv) {
       } else {
         desc.rate_mode = si::RateMode::kAutomatic;
         desc.accept_tolerance_miss = true;  // The table reports the error reached.
+        if (rate < 0.0f) desc.placement = si::FramePlacement::kGrid;
       }
       si::BakedPalette palette;
       si::BakeReport report;
@@ -80,13 +85,12 @@ int main(int argc, char** argv) {
       const double ms =
           std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
       if (!s.isOk()) {  // E.g. the rotation format on a model with non-uniform scale.
-        std::printf("%-22s %6s  %s\n", si::paletteFormatName(format),
-                    rate > 0.0f ? std::to_string(int(rate)).c_str() : "auto", s.message().c_str());
+        std::printf("%-22s %6s  %s\n", si::paletteFormatName(format), rate_name.c_str(),
+                    s.message().c_str());
         continue;
       }
       double shell = 0.0;
       for (const auto& c : report.clips) shell = std::max(shell, c.shell_max_error_units);
-      const std::string rate_name = rate > 0.0f ? std::to_string(int(rate)) : "auto";
       std::printf("%-22s %6s %10llu %9.1f %11.3g %11.3g %10.3g %10.3g %11.3g\n",
                   si::paletteFormatName(format), rate_name.c_str(),
                   static_cast<unsigned long long>(report.palette_bytes), ms,
@@ -98,11 +102,12 @@ int main(int argc, char** argv) {
                      static_cast<unsigned long long>(report.palette_bytes), ms,
                      report.max_error_units, report.p99_error_units, report.max_error_ratio,
                      report.p99_error_units / double(character.height()), shell);
-      if (rate == 0.0f)
+      if (rate <= 0.0f)
         for (const auto& c : report.clips)
-          std::printf("    auto %-6s -> %6.1f Hz, %4u frames, max %.3g units%s\n", c.name.c_str(),
-                      c.sample_rate_hz, c.frame_count, c.max_error_units,
-                      c.tolerance_met ? "" : " (tolerance not reached)");
+          std::printf("    %s %-6s -> %6.1f Hz%s, %4u frames, max %.3g units%s\n",
+                      rate_name.c_str(), c.name.c_str(), c.sample_rate_hz,
+                      c.frames_at_keys ? " (at keys, average)" : "", c.frame_count,
+                      c.max_error_units, c.tolerance_met ? "" : " (tolerance not reached)");
     }
   }
   }
