@@ -117,8 +117,8 @@ BakeDesc resolveDefaults(const BakeDesc& desc);
 struct FramePlan {
   uint32_t frame_count = 1;
   double frame_interval_seconds = 0.0;  ///< 0 for a single frame.
-  /// Empty for the uniform grid above. For a clip with STEP keys: the time of every frame,
-  /// non-decreasing. Each STEP key time k inside the clip holds two frames, the pose just
+  /// Empty for the uniform grid above. For a clip with STEP keys, or frames placed at its keys
+  /// (FramePlacement::kKeys): the time of every frame, non-decreasing. Each STEP key time k inside the clip holds two frames, the pose just
   /// before k and the pose at k (grid frames within 1e-6 intervals of k are replaced), so a
   /// hold never blends and the other channels keep interpolating.
   std::vector<double> frame_times_seconds;

@@ -68,8 +68,9 @@ struct BakedClip {
   double frame_interval_seconds = 0.0;  ///< Grid spacing; 0 for a single frame.
   uint32_t frame_count = 1;
   uint32_t first_texel = 0;             ///< Same as the layout's clip_first_texel.
-  /// Empty when frames sit on the uniform grid; otherwise each frame's clip-local time
-  /// (non-decreasing; a STEP key appears twice: the pose before it, then at it).
+  /// Empty when frames sit on the uniform grid; otherwise (STEP keys, frames placed at the
+  /// keys) each frame's clip-local time (non-decreasing; a STEP key appears twice: the pose
+  /// before it, then at it).
   std::vector<double> frame_times_seconds;
   FrameInterpolation interpolation = FrameInterpolation::kLinear;
   /// For a cubic clip, one IntervalMode value per frame interval (frame_count - 1; none for a
@@ -171,8 +172,8 @@ float unpackFraction(uint32_t word, IntervalMode* mode);
 
 /// Frame sample for clip-local time `local_time_seconds` (clamped to [0, duration], NaN read
 /// as 0; any clip, valid or not, gives frames within its frame count): constant
-/// time on the uniform grid, a binary search over frame_times_seconds for clips with STEP keys
-/// (at a key time exactly, the frame after the jump).
+/// time on the uniform grid, a binary search over frame_times_seconds for clips with frame
+/// times (STEP keys, frames at keys; at a STEP key time exactly, the frame after the jump).
 FrameSample sampleFrames(const BakedClip& clip, double local_time_seconds);
 
 /// For a clip with STEP keys (frame_times_seconds), per grid interval i the frame index its
