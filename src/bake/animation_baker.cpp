@@ -106,6 +106,7 @@ Status bakePalette(const Character& character, const BakeDesc& in_desc, BakedPal
       stale[c] = 0;
     }
     if (!automatic || round >= 4) break;
+    const std::vector<detail::FrameChoice> before = choices;
     bool refined = false;
     for (uint32_t c = 0; c < clip_count; ++c) {
       if (!(measured[c].max_error_units > choices[c].target)) continue;
@@ -114,6 +115,12 @@ Status bakePalette(const Character& character, const BakeDesc& in_desc, BakedPal
     }
     if (!refined) break;
     s = replan();
+    if (s.code() == StatusCode::kLimitExceeded) {  // Denser frames pass a limit: keep the last.
+      choices = before;
+      s = replan();
+      if (!s.isOk()) return s;
+      break;
+    }
     if (s.isOk()) s = detail::bakeTexels(character, d, plan, &baked);
     if (!s.isOk()) return s;
   }

@@ -200,6 +200,13 @@ Status FrameSearch::choose(const Clip& clip, FrameInterpolation interpolation,
     return Status::ok();
   }
   s = keyChoice(clip, interpolation, target, &keys);
+  // Frames at every key may pass the bake's limits (a clip keyed far more densely than it
+  // needs) where the grid does not: then the grid, unless only keys were asked for.
+  if (s.code() == StatusCode::kLimitExceeded && desc_.placement != FramePlacement::kKeys) {
+    *out = std::move(grid);
+    out->target = target;
+    return Status::ok();
+  }
   if (!s.isOk()) return s;
   if (desc_.placement == FramePlacement::kKeys) {
     *out = std::move(keys);

@@ -176,6 +176,29 @@ TEST(ProductionClips, PlacementChoosesGridOrKeys) {
   EXPECT_STREQ(framePlacementName(FramePlacement::kKeys), "keys");
 }
 
+// A clip keyed far more densely than it needs: frames at every key would pass the bake's work
+// limit, so the default placement takes the grid (only kKeys is refused, by name).
+TEST(ProductionClips, KeysPastTheLimitsFallBackToTheGrid) {
+  Character c = test::chainCharacter(4);
+  Clip dense = test::blankClip(c, "dense", 1.0f);
+  for (int k = 0; k <= 3000; ++k) {
+    dense.joint_tracks[1].rotation.times_seconds.push_back(float(k) / 3000.0f);
+    dense.joint_tracks[1].rotation.values.push_back(test::axisAngleF(0.3 * std::sin(6.0 * k / 3000.0), {0, 0, 1}));
+  }
+  c.clips.push_back(dense);
+  BakeDesc d;
+  d.max_evaluations = 20000;  // About 800 frames of this character: the grid's 241 fit.
+  d.accept_tolerance_miss = true;
+  BakedPalette p;
+  BakeReport r;
+  const Status s = bakePalette(c, d, &p, &r);
+  ASSERT_TRUE(s.isOk()) << s.toString();
+  EXPECT_FALSE(r.clips[0].frames_at_keys);
+  EXPECT_TRUE(p.clips[0].frame_times_seconds.empty());
+  d.placement = FramePlacement::kKeys;
+  EXPECT_EQ(bakePalette(c, d, &p, &r).code(), StatusCode::kLimitExceeded);
+}
+
 // Half floats cannot reach 1e-4 of the height: the default bake fails by name, saying which
 // clip and joint, the error reached and what was tried; accept_tolerance_miss keeps it.
 TEST(ProductionClips, ATolerancePastTheFormatIsNamed) {
