@@ -6,6 +6,8 @@
 #include <cstdlib>
 #include <limits>
 
+#include "common/image_metrics.h"
+
 namespace si::bench {
 namespace {
 
@@ -88,6 +90,7 @@ Status measureLodQuality(Setup& setup, Renderer& renderer, const BakedPalette& p
     for (uint32_t f = 0; f < frames; ++f) {
       const std::vector<uint8_t>& a = images[f];
       const std::vector<uint8_t>& b = ref_images[f];
+      row.ssim += examples::ssim(a, b, setup.width / ss, setup.height / ss) / double(frames);
       covered += coveredPixels(a);
       for (size_t i = 0; i + 3 < a.size() && i + 3 < b.size(); i += 4) {
         int worst = 0;

@@ -19,6 +19,7 @@ struct QualityRow {
   double triangles_per_pixel = 0; ///< Triangles over covered pixels, summed over the frames.
   double differing_share = 0;     ///< Pixels off by > kQualityChannelTolerance, of all pixels.
   double psnr_db = 0;             ///< Against the LOD 0 image (RGB); infinite when equal.
+  double ssim = 0;                ///< Mean SSIM against the LOD 0 image (luma), over the frames.
   int max_channel = 0;            ///< Largest channel difference seen.
 };
 
