@@ -6,6 +6,7 @@
 #include <cmath>
 #include <cstring>
 
+#include "core/frame_times_sample.h"
 #include "core/str_cat.h"
 #include "si/core/baked_palette.h"
 
@@ -160,8 +161,16 @@ FrameSample sampleFrames(const BakedClip& clip, double local_time_seconds,
     const auto first = times.begin() + std::ptrdiff_t(std::min<size_t>(i, times.size()));
     k = size_t(std::upper_bound(first, times.end(), t) - times.begin());
   }
-  i = static_cast<uint32_t>(std::min<size_t>(k == 0 ? 0 : k - 1, last_interval));
+  return detail::frameTimesSample(clip, t, k);
+}
+
+namespace detail {
+FrameSample frameTimesSample(const BakedClip& clip, double t, size_t after) {
+  const std::vector<double>& times = clip.frame_times_seconds;
+  const uint32_t i = static_cast<uint32_t>(std::min<size_t>(after == 0 ? 0 : after - 1,
+                                                            clip.frame_count - 2));
   const double span = times[i + 1] - times[i];
+  FrameSample s;
   s.frame = i;
   s.next_frame = i + 1;
   s.fraction = span > 0.0 ? static_cast<float>(std::min(std::max((t - times[i]) / span, 0.0), 1.0))
@@ -169,6 +178,7 @@ FrameSample sampleFrames(const BakedClip& clip, double local_time_seconds,
   s.mode = intervalModeAt(clip, i);
   return s;
 }
+}  // namespace detail
 
 std::vector<uint8_t> cubicIntervalModes(const BakedClip& clip, bool wraps,
                                         Span<const uint8_t> breaks) {

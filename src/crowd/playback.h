@@ -10,6 +10,7 @@
 
 #include <glm/glm.hpp>
 
+#include "core/frame_times_sample.h"
 #include "si/core/baked_palette.h"
 
 namespace si::detail {
@@ -111,17 +112,9 @@ inline FrameSample fastSample(const ClipTiming& c, const BakedClip& clip, double
     const double tc = t > 0.0 ? std::min(t, double(clip.duration_seconds)) : 0.0;
     const std::vector<double>& times = clip.frame_times_seconds;
     const double cell = std::floor(tc * c.inv_cell);
-    size_t k = c.cell_frame[std::min(size_t(cell), c.cell_frame.size() - 1)];
-    while (k + 1 < times.size() && times[k + 1] <= tc) ++k;
-    const uint32_t i = std::min(uint32_t(k), c.last_interval);
-    const double span = times[i + 1] - times[i];
-    FrameSample s;
-    s.frame = i;
-    s.next_frame = i + 1;
-    s.fraction = span > 0.0 ? static_cast<float>(std::min(std::max((tc - times[i]) / span, 0.0), 1.0))
-                            : 1.0f;
-    s.mode = intervalModeAt(c.modes, i);
-    return s;
+    size_t after = c.cell_frame[std::min(size_t(cell), c.cell_frame.size() - 1)] + 1;
+    while (after < times.size() && times[after] <= tc) ++after;
+    return frameTimesSample(clip, tc, after);
   }
   const double position = t * c.inv_interval;
   // Compared before the conversion: a position past the last interval never converts.
