@@ -53,7 +53,9 @@ Status bakePalette(const Character& character, const BakeDesc& in_desc, BakedPal
     return detail::planPaletteWithFrames(character, d, frames, interpolations, &plan);
   };
   // The search's subset, and the short list measured at the intervals' other fractions.
-  const std::vector<uint32_t> short_list = detail::searchVertices(character, character.mesh, vertices);
+  const bool measure = report != nullptr || automatic;
+  const std::vector<uint32_t> short_list =
+      measure ? detail::searchVertices(character, character.mesh, vertices) : std::vector<uint32_t>{};
   std::unique_ptr<detail::FrameSearch> search;
   if (automatic) {
     search = std::make_unique<detail::FrameSearch>(character, d, gpu_mesh, short_list);
@@ -67,13 +69,7 @@ Status bakePalette(const Character& character, const BakeDesc& in_desc, BakedPal
         s = search->choose(clip, FrameInterpolation::kLinear, &linear);
         if (s.isOk()) s = search->choose(clip, FrameInterpolation::kCubic, &cubic);
         if (!s.isOk()) return s;
-        const bool linear_met = linear.subset_error <= tolerance;
-        const bool cubic_met = cubic.subset_error <= tolerance;
-        const bool pick_cubic = linear_met != cubic_met ? cubic_met
-                                : cubic.frames.frame_count != linear.frames.frame_count
-                                    ? cubic.frames.frame_count < linear.frames.frame_count
-                                    : cubic.subset_error < linear.subset_error;
-        choices[c] = std::move(pick_cubic ? cubic : linear);
+        choices[c] = std::move(detail::betterChoice(cubic, linear, tolerance) ? cubic : linear);
       } else {
         s = search->choose(clip, interpolations[c], &choices[c]);
         if (!s.isOk()) return s;
@@ -91,7 +87,6 @@ Status bakePalette(const Character& character, const BakeDesc& in_desc, BakedPal
 
   // The whole mesh, measured once per clip; automatic choices that miss the tolerance there
   // are made denser where they miss and measured again (a few rounds at most).
-  const bool measure = report != nullptr || automatic;
   std::vector<ClipErrorReport> measured(clip_count);
   std::vector<std::vector<double>> interval_errors(clip_count);
   std::vector<uint8_t> stale(clip_count, measure ? 1 : 0);

@@ -57,13 +57,15 @@ std::vector<MeasureTime> measurementTimes(const BakedClip& clip, bool midpoints_
 std::vector<uint32_t> searchVertices(const Character& character, const SkinnedMesh& mesh,
                                      const std::vector<uint32_t>& drawn) {
   const size_t nj = character.skeleton.jointCount();
+  std::vector<glm::vec3> joint_pos(nj);  // Bind positions, once per joint.
+  for (size_t j = 0; j < nj; ++j)
+    joint_pos[j] = glm::vec3(glm::inverse(character.skeleton.inverse_bind_matrices[j])[3]);
   std::vector<std::vector<std::pair<float, uint32_t>>> per_joint(nj);
   for (uint32_t v : drawn)
     for (int k = 0; k < 4; ++k) {
       if (mesh.weights[v][k] <= 0.0f) continue;
       const uint16_t j = mesh.joints[v][k];
-      const glm::vec3 joint_pos(glm::inverse(character.skeleton.inverse_bind_matrices[j])[3]);
-      per_joint[j].push_back({glm::length(mesh.positions[v] - joint_pos), v});
+      per_joint[j].push_back({glm::length(mesh.positions[v] - joint_pos[j]), v});
     }
   std::vector<uint32_t> out;
   for (auto& list : per_joint) {

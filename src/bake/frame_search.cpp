@@ -58,6 +58,14 @@ bool divideWhereMissed(const std::vector<double>& key_errors, double target, boo
 
 }  // namespace
 
+bool betterChoice(const FrameChoice& b, const FrameChoice& a, double target) {
+  const bool a_met = a.subset_error <= target, b_met = b.subset_error <= target;
+  if (a_met != b_met) return b_met;
+  if (a.frames.frame_count != b.frames.frame_count)
+    return b.frames.frame_count < a.frames.frame_count;
+  return b.subset_error < a.subset_error;
+}
+
 FrameSearch::FrameSearch(const Character& character, const BakeDesc& desc,
                          const SkinnedMesh& gpu_mesh, const std::vector<uint32_t>& picked)
     : character_(character), desc_(desc) {
@@ -111,12 +119,13 @@ Status FrameSearch::gridChoice(const Clip& clip, FrameInterpolation interpolatio
     while (lo < hi && candidates[lo] <= out->rate_hz) ++lo;
     hi = lo;
   }
-  double error = 0.0;
+  std::vector<double> errors(candidates.size(), -1.0);  // Trials made, by candidate.
   while (lo < hi) {  // The lowest candidate meeting the target (error falls as the rate rises).
     const size_t mid = (lo + hi) / 2;
-    Status s = trial(clip, interpolation, planClipFrames(clip, candidates[mid], cubic), &error, nullptr);
+    Status s = trial(clip, interpolation, planClipFrames(clip, candidates[mid], cubic),
+                     &errors[mid], nullptr);
     if (!s.isOk()) return s;
-    if (error <= target) {
+    if (errors[mid] <= target) {
       hi = mid;
     } else {
       lo = mid + 1;
@@ -126,7 +135,9 @@ Status FrameSearch::gridChoice(const Clip& clip, FrameInterpolation interpolatio
   c.interpolation = interpolation;
   c.rate_hz = candidates[lo];
   c.frames = planClipFrames(clip, c.rate_hz, cubic);
-  Status s = trial(clip, interpolation, c.frames, &c.subset_error, nullptr);
+  c.subset_error = errors[lo];
+  Status s = errors[lo] >= 0.0 ? Status::ok()
+                               : trial(clip, interpolation, c.frames, &c.subset_error, nullptr);
   c.can_refine = lo + 1 < candidates.size();
   *out = std::move(c);
   return s;
@@ -213,13 +224,7 @@ Status FrameSearch::choose(const Clip& clip, FrameInterpolation interpolation,
     out->target = target;
     return Status::ok();
   }
-  // One that meets the target beats one that does not; then fewer frames; then smaller error.
-  const bool grid_met = grid.subset_error <= target, keys_met = keys.subset_error <= target;
-  const bool pick_keys = grid_met != keys_met ? keys_met
-                         : grid.frames.frame_count != keys.frames.frame_count
-                             ? keys.frames.frame_count < grid.frames.frame_count
-                             : keys.subset_error < grid.subset_error;
-  *out = std::move(pick_keys ? keys : grid);
+  *out = std::move(betterChoice(keys, grid, target) ? keys : grid);
   out->target = target;
   return Status::ok();
 }

@@ -29,6 +29,10 @@ struct FrameChoice {
   bool can_refine = false;
 };
 
+/// Whether `b` is the better choice than `a` for `target`: one that meets it beats one that
+/// does not (subset errors); then fewer frames; then the smaller error (a tie keeps `a`).
+bool betterChoice(const FrameChoice& b, const FrameChoice& a, double target);
+
 class FrameSearch {
  public:
   /// `desc` resolved; `gpu_mesh` the mesh with the vertex format's weights; `subset` the
