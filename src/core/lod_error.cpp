@@ -201,6 +201,17 @@ Status measureLodErrors(SkinnedMesh* mesh, bool overwrite) {
     };
     errors[sm].push_back(0.0f);
     for (size_t l = 1; l < sub.lods.size(); ++l) {
+      if (sub.lods[l].index_count == 0) {
+        // A dropped level's error is how far the part lies from the rest of the character,
+        // which the part alone cannot tell (si::buildPartLods measures it): kept as given.
+        if (sub.lod_error_units.size() != sub.lods.size())
+          return {StatusCode::kInvalidArgument,
+                  strCat("measureLodErrors: sub-mesh ", sm, " '", sub.name, "' LOD ", l,
+                         " is empty (the part dropped) and has no error; give its error "
+                         "(si::buildPartLods measures it)")};
+        errors[sm].push_back(sub.lod_error_units[l]);
+        continue;
+      }
       float e = 0.0f;
       s = surfaceDistance(mesh->positions, range(sub.lods[0]), range(sub.lods[l]), &e);
       if (!s.isOk()) return s;

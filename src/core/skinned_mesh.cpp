@@ -84,15 +84,17 @@ Status SkinnedMesh::validate(size_t joint_count) const {
       return {StatusCode::kOutOfRange, strCat("mesh: sub-mesh ", s, " '", sm.name, "' has no LOD")};
     for (size_t l = 0; l < sm.lods.size(); ++l) {
       const IndexRange& r = sm.lods[l];
-      const bool ok = r.index_count > 0 && r.index_count % 3 == 0 && r.first_index % 3 == 0 &&
+      // Past LOD 0 a level may be empty: the part is not drawn there (si::buildPartLods).
+      const bool ok = (r.index_count > 0 || l > 0) && r.index_count % 3 == 0 &&
+                      r.first_index % 3 == 0 &&
                       size_t(r.first_index) <= indices.size() &&
                       size_t(r.index_count) <= indices.size() - r.first_index;
       if (!ok)
         return {StatusCode::kOutOfRange,
                 strCat("mesh: sub-mesh ", s, " '", sm.name, "' LOD ", l, " range [",
                        r.first_index, ", +", r.index_count,
-                       ") must be non-empty, triangle aligned and inside the ", indices.size(),
-                       " indices")};
+                       ") must be triangle aligned, inside the ", indices.size(),
+                       " indices and, at LOD 0, non-empty")};
     }
     if (!sm.lod_error_units.empty() && sm.lod_error_units.size() != sm.lods.size())
       return {StatusCode::kCountMismatch,

@@ -4,8 +4,10 @@
 // Run with scripts/fuzz.sh, seeded with assets.
 #include <cstdint>
 #include <cstdlib>
+#include <vector>
 
 #include "si/core/material_table.h"
+#include "si/core/part_lod.h"
 #include "si/gltf/gltf_import.h"
 
 extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
@@ -14,6 +16,17 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
   d.load_images = false;  // stb_image is fuzzed by its own project; keep the focus here.
   const si::Status s = si::importGltfMemory(si::Span<const uint8_t>(data, size), "", d, &c, nullptr);
   if (s.isOk() && !c.validate().isOk()) std::abort();
+  // Per-part LOD on what imports: a character that still validates, whose error per level
+  // lodErrorsByLevel gives, and a second call succeeds on it.
+  if (s.isOk() && si::measureLodErrors(&c.mesh, false).isOk()) {
+    si::PartLodDesc pd;
+    pd.poses.max_poses = 3;
+    if (si::buildPartLods(&c, pd, nullptr).isOk()) {
+      std::vector<float> errors;
+      if (!c.validate().isOk() || !si::lodErrorsByLevel(c.mesh, &errors).isOk()) std::abort();
+      if (!si::buildPartLods(&c, pd, nullptr).isOk()) std::abort();
+    }
+  }
   // Every variation source; each valid result gives a material table with one entry per
   // material and every vertex's material in it.
   d.variations = size % 2 ? si::VariationSource::kEachMesh : si::VariationSource::kConvention;

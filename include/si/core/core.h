@@ -25,6 +25,7 @@
 #include "si/core/layer_mask.h"
 #include "si/core/lod_error.h"
 #include "si/core/palette_layout.h"
+#include "si/core/part_lod.h"
 #include "si/core/reference_evaluator.h"
 #include "si/core/shader_inputs.h"
 #include "si/core/skeleton.h"

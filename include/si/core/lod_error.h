@@ -38,7 +38,8 @@ Status surfaceDistance(Span<const glm::vec3> positions, Span<const uint32_t> a,
 
 /// Measures every sub-mesh's LOD errors against its LOD 0 in the bind pose (surfaceDistance)
 /// into SubMesh::lod_error_units: only for sub-meshes that have none, or for all when
-/// `overwrite`. Fails, leaving the mesh untouched, with the status of SkinnedMesh::validate()
+/// `overwrite`. An empty level (a dropped part, si::buildPartLods) keeps its given error; one
+/// without an error fails with kInvalidArgument. Fails, leaving the mesh untouched, with the status of SkinnedMesh::validate()
 /// for a mesh that is not valid for its own joints.
 Status measureLodErrors(SkinnedMesh* mesh, bool overwrite);
 
@@ -56,7 +57,7 @@ struct AnimatedLodErrorDesc {
 /// simplification that welds vertices of different joints (legs merged in the bind pose) is
 /// small there and large once they move apart. Errors are only raised (never lowered) and kept
 /// non-decreasing along each chain; sub-meshes without errors are measured in the bind pose
-/// first. Fails, leaving the character untouched, with kInvalidArgument for a null character
+/// first. Empty levels (dropped parts) keep the error they have. Fails, leaving the character untouched, with kInvalidArgument for a null character
 /// and the status of the evaluator or of SkinnedMesh::validate() for an invalid one.
 /// `worst_pose_clip` (may be null) receives, per sub-mesh and level, the clip index of the
 /// worst pose (-1: the rest pose or bind pose).

@@ -29,7 +29,9 @@ struct IndexRange {
 };
 
 /// A named group of triangles that can be switched on or off per instance. `lods[0]` is the most
-/// detailed level; later entries are coarser versions of the same piece.
+/// detailed level; later entries are coarser versions of the same piece, or empty (index_count
+/// 0): the piece is not drawn at that level (si::buildPartLods drops parts that lie within the
+/// level's error of the rest).
 struct SubMesh {
   std::string name;
   std::vector<IndexRange> lods;
@@ -80,8 +82,9 @@ struct SkinnedMesh {
   /// - joint indices below `joint_count` (kOutOfRange);
   /// - indices: count a multiple of 3 (kInvalidArgument), each below the vertex count
   ///   (kOutOfRange);
-  /// - 1 to kMaxSubMeshes sub-meshes (kLimitExceeded), each with at least one LOD whose range is
-  ///   non-empty, triangle aligned and inside `indices` (kOutOfRange);
+  /// - 1 to kMaxSubMeshes sub-meshes (kLimitExceeded), each with at least one LOD, LOD 0
+  ///   non-empty, every range triangle aligned and inside `indices` (kOutOfRange); a level past
+  ///   LOD 0 may be empty: the sub-mesh is not drawn at that level (si::buildPartLods);
   /// - lod_error_units empty or one per LOD (kCountMismatch), each finite and >= 0
   ///   (kOutOfRange).
   Status validate(size_t joint_count) const;
