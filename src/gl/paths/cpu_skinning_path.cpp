@@ -110,6 +110,7 @@ Status CpuSkinningPath::draw(const DrawResources& r, const PathFrame& f, DrawSta
     for (uint32_t sm = 0; sm < worn_sub_meshes; ++sm) {
       if (!((desc.variation_mask >> sm) & 1u)) continue;
       const size_t lod_index = std::min<size_t>(lod, sub_meshes[sm].lods.size() - 1);
+      if (sub_meshes[sm].lods[lod_index].index_count == 0) continue;  // Dropped (buildPartLods).
       const glm::uvec2 vr = ranges_[range_of_[sm][lod_index]];
       if (vertices_.size() + size_t(vr.y) * kVertexBytes > chunk_bytes_) flush();
       const GLint first = GLint(vertices_.size() / kVertexBytes);

@@ -237,6 +237,11 @@ Status GpuCulledPath::uploadFrame(const DrawResources& r, const PathFrame& f) {
   glProgramUniform1ui(cull, 17, p.animation_lod_start);
   glProgramUniform1d(cull, 18, p.animation_step_seconds);
   glProgramUniform1ui(cull, 28, p.lod_bias);
+  GLuint drawn_parts[8] = {};
+  for (uint32_t lod = 0; lod < cd.lod_count && lod < 8; ++lod)
+    for (uint32_t sm = 0; sm < cd.sub_mesh_count && sm < r.character->sub_meshes.size(); ++sm)
+      if (r.character->lodRange(sm, lod).index_count > 0) drawn_parts[lod] |= 1u << sm;
+  glProgramUniform1uiv(cull, 29, 8, drawn_parts);
   glProgramUniform1ui(commands, 19,
                       f.preskin ? uint32_t(r.scratch->gpu_driven_ring.vertices) : 0u);
   // The scatter and pre-skinning passes' rows (their counts are the GPU's: in rows of this many

@@ -51,6 +51,7 @@ Status TraditionalPath::draw(const DrawResources& r, const PathFrame& f, DrawSta
     for (uint32_t sm = 0; sm < sub_meshes && sm < r.character->sub_meshes.size(); ++sm) {
       if (!((desc.variation_mask >> sm) & 1u)) continue;
       const IndexRange range = r.character->lodRange(sm, lod);
+      if (range.index_count == 0) continue;  // Dropped at this LOD (si::buildPartLods).
       glDrawElements(GL_TRIANGLES, GLsizei(range.index_count), GL_UNSIGNED_INT,
                      reinterpret_cast<const void*>(uintptr_t(range.first_index) * 4));
       ++st->draw_calls;

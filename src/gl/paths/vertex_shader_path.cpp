@@ -14,6 +14,7 @@ Status VertexShaderPath::draw(const DrawResources& r, const PathFrame& f, DrawSt
   for (const DrawBatch& d : *f.batches) {
     if (d.sub_mesh >= r.character->sub_meshes.size()) continue;
     const IndexRange range = r.character->lodRange(d.sub_mesh, d.lod);
+    if (range.index_count == 0) continue;  // The part is dropped at this LOD (buildPartLods).
     r.ring->bindBatch(f.ring_base, d);
     if (f.motion) r.ring->bindBatch(f.previous_base, d, 1);
     if (f.layers) r.ring->bindLayers(f.layer_base, d);

@@ -14,6 +14,9 @@ layout(location = 9) uniform float u_lines[7];
 layout(location = 17) uniform uint u_anim_lod;
 layout(location = 18) uniform double u_anim_step;
 layout(location = 28) uniform uint u_lod_bias;  // The view's: drawn LOD = min(lod + bias, last).
+// Per LOD, the sub-meshes with triangles there (bit s): a part dropped at a LOD (an empty range,
+// si::buildPartLods) joins no bucket.
+layout(location = 29) uniform uint u_drawn_parts[8];
 // The view's own state per instance (src/gl/paths/gpu_view_slots.h): x its LOD before the
 // bias (hysteresis), y visible at the end of its last frame (occlusion culling), 0 or 1.
 layout(std430, binding = 16) buffer SiViewInstances { uvec2 si_view[]; };
@@ -212,7 +215,7 @@ void main() {
     si_drawn[here] = SiDrawn(rec, layer, uvec4(st.handle, u_frame.x, 0u, 0u));
   }
   uint subs = u_counts.z;
-  uint mask = st.mask & (subs >= 32u ? 0xFFFFFFFFu : ((1u << subs) - 1u));
+  uint mask = st.mask & (subs >= 32u ? 0xFFFFFFFFu : ((1u << subs) - 1u)) & u_drawn_parts[lod];
   si_visible[v] = uvec4(i, lod, mask, 0u);
   for (uint m = mask; m != 0u; m &= m - 1u)
     atomicAdd(si_bucket_count[lod * subs + uint(findLSB(m))], 1u);
