@@ -23,6 +23,7 @@
 #include "crowd_bench/views_table.h"
 #include "si/bake/animation_baker.h"
 #include "si/bake/lod_chain.h"
+#include "si/core/part_lod.h"
 #include "si/core/default_character.h"
 #include "si/core/lod_error.h"
 
@@ -40,6 +41,7 @@ struct Options {
   float pixel_budget = 1.0f;
   std::string lod_chain = "deep";
   uint32_t lod_min_triangles = 0;  // LodChainDesc::min_triangles; 0: the library's default.  // deep: buildLodChain's 6 levels; technique: the 3 embedded.
+  bool part_lod = false;  // --part-lod: si::buildPartLods (each part its own level, parts dropped).
   std::vector<float> quality_budgets = {0.5f, 1.0f, 2.0f, 4.0f};  // Empty: no quality table.
   uint32_t quality_size = 10000;
   uint32_t quality_frames = 3;
@@ -84,6 +86,8 @@ void usage(std::FILE* f) {
       "                    gpu-driven-occlusion,traditional,cpu,rigid]\n"
       "                   [--lods distance,screen] [--pixel-budget PX] [--lod-chain deep|technique]\n"
       "                   [--lod-min-triangles N]\n"
+      "                   [--part-lod] (each sub-mesh at its own level within the character's\n"
+      "                   error, parts dropped where that is within it: si::buildPartLods)\n"
       "                   [--quality-budgets PX,PX,... | none] [--quality-size N]\n"
       "                   [--quality-frames N] [--quality-path PATH] [--quality-images DIR]\n"
       "                   [--quality-ss N] (compare images box-filtered N x N: give --size at\n"
@@ -129,6 +133,7 @@ bool parse(int argc, char** argv, Options* o) {
     else if (a == "--pixel-budget" && has) o->pixel_budget = std::stof(argv[++i]);
     else if (a == "--lod-chain" && has) o->lod_chain = argv[++i];
     else if (a == "--lod-min-triangles" && has) o->lod_min_triangles = uint32_t(std::stoul(argv[++i]));
+    else if (a == "--part-lod") o->part_lod = true;
     else if (a == "--quality-budgets" && has) {
       o->quality_budgets.clear();
       const std::string v = argv[++i];
@@ -230,15 +235,37 @@ si::Status makeCharacter(const Options& o, si::bench::Setup* setup) {
   if (s.isOk()) s = si::summarizeLodLevels(setup->character.mesh, &bind);
   // Errors over the clips' poses: what the screen-error mode selects by.
   if (s.isOk()) s = si::measureAnimatedLodErrors(&setup->character, {});
+  si::PartLodReport parts;
+  if (s.isOk() && o.part_lod) s = si::buildPartLods(&setup->character, {}, &parts);
   if (s.isOk()) s = si::lodErrorsByLevel(setup->character.mesh, &setup->lod_errors);
   if (!s.isOk()) return s;
-  std::printf("LOD chain (%s): level, triangles drawn (all sub-meshes; one with fewer levels draws "
-              "its last), max error (model units) in the bind pose and over the clips' poses\n",
-              o.lod_chain.c_str());
-  for (size_t l = 0; l < bind.size(); ++l)
-    std::printf("  LOD %zu %8llu %10.4g %10.4g\n", l,
-                static_cast<unsigned long long>(bind[l].triangles), double(bind[l].error_units),
-                double(setup->lod_errors[l]));
+  if (o.part_lod) {
+    std::printf("Per-part LOD (si::buildPartLods): per character level, each part's own level "
+                "(- where dropped); drop error = distance to the kept parts (model units)\n");
+    for (const si::PartLodReport::Part& p : parts.parts) {
+      std::printf("  %-10s %s", p.name.c_str(), p.kept ? "kept      " : "");
+      if (!p.kept) std::printf("drop %5.3f", double(p.drop_error_units));
+      for (int level : p.level_of) level < 0 ? std::printf("    -") : std::printf(" %4d", level);
+      std::printf("\n");
+    }
+    std::printf("  triangles  before    ");
+    for (uint64_t t : parts.triangles_before) std::printf(" %llu", static_cast<unsigned long long>(t));
+    std::printf("\n  triangles  after     ");
+    for (uint64_t t : parts.triangles_after) std::printf(" %llu", static_cast<unsigned long long>(t));
+    std::printf("\n");
+  }
+  std::vector<si::LodLevelSummary> drawn;  // After per-part LOD, which may add a level.
+  s = si::summarizeLodLevels(setup->character.mesh, &drawn);
+  if (!s.isOk()) return s;
+  std::printf("LOD chain (%s%s): level, triangles drawn (all sub-meshes; one with fewer levels "
+              "draws its last), max error (model units) in the bind pose (- for a level per-part "
+              "LOD added) and over the clips' poses\n",
+              o.lod_chain.c_str(), o.part_lod ? ", per-part LOD" : "");
+  for (size_t l = 0; l < drawn.size(); ++l) {
+    std::printf("  LOD %zu %8llu ", l, static_cast<unsigned long long>(drawn[l].triangles));
+    l < bind.size() ? std::printf("%10.4g", double(bind[l].error_units)) : std::printf("%10s", "-");
+    std::printf(" %10.4g\n", double(setup->lod_errors[l]));
+  }
   return s;
 }
 
