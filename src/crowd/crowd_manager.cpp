@@ -299,10 +299,11 @@ Status CrowdManager::update(double dt, const Camera& camera, const ParallelFor& 
   detail::FrameInputs in =
       detail::frameInputs(*state_, *state_->own_view.state_, camera, parallel_for);
   in.simulate = true;
+  // Instances moved by their root motion: the exported state changes, each moved one stamped
+  // with this version.
+  if (in.root_motion && dt > 0.0) state_->store.version = detail::nextStateVersion();
   detail::selectView(in, camera, state_->own_view.state_.get());
   detail::gatherEvents(state_.get());
-  // Instances moved by their root motion: the exported state changed.
-  if (in.root_motion && dt > 0.0) state_->store.version = detail::nextStateVersion();
   return Status::ok();
 }
 
@@ -316,9 +317,9 @@ Status CrowdManager::advance(double dt, const ParallelFor& parallel_for) {
   if (!advanced.isOk()) return advanced;
   detail::FrameInputs in =
       detail::frameInputs(*state_, *state_->own_view.state_, Camera(), parallel_for);
+  if (in.root_motion && dt > 0.0) state_->store.version = detail::nextStateVersion();
   detail::simulateFrame(in, state_->store);
   detail::gatherEvents(state_.get());
-  if (in.root_motion && dt > 0.0) state_->store.version = detail::nextStateVersion();
   return Status::ok();
 }
 

@@ -24,6 +24,7 @@ namespace si::detail {
 
 /// Instances per task. A multiple of 64; small enough to balance 16 threads at 100k.
 inline constexpr uint32_t kChunkInstances = 4096;
+static_assert(kChunkInstances % kStampChunk == 0, "tasks stamp disjoint chunks (root motion)");
 /// Distinct worn masks per frame that get a group of their own; past this the frame falls back
 /// to one group per LOD (records in dense order; runs found by scanning).
 inline constexpr uint32_t kMaxMaskGroups = 64;

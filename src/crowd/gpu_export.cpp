@@ -3,6 +3,7 @@
 // the shaders read them (si/crowd/gpu_crowd_state.h).
 #include "crowd/crowd_state.h"
 
+#include <algorithm>
 #include <cmath>
 #include <limits>
 
@@ -38,6 +39,75 @@ CullParams CrowdManager::cullParams(const Camera& camera) const {
   return p;
 }
 
+namespace {
+
+void exportInstance(const detail::InstanceStore& st, uint32_t i, GpuInstanceState* out) {
+  GpuInstanceState& g = *out;
+  g = GpuInstanceState{};
+  for (int k = 0; k < 3; ++k) g.position[k] = st.positions[i][k];
+  const glm::quat& q = st.rotations[i];
+  g.rotation[0] = q.x, g.rotation[1] = q.y, g.rotation[2] = q.z, g.rotation[3] = q.w;
+  g.scale = st.scales[i];
+  g.color = st.colors[i];
+  g.variation_mask = st.masks[i];
+  g.lod = st.views[0].lods[i];
+  const detail::Playback& a = st.playback[i];
+  g.start_clock = a.start_clock;
+  g.start_time = a.start_time;
+  g.clip = a.clip;
+  g.loop = uint32_t(a.loop);
+  g.speed = a.speed;
+  g.fading = st.fade_duration[i] > 0.0 ? 1u : 0u;
+  g.fade_start = st.fade_start[i];
+  g.fade_duration = st.fade_duration[i];
+  const detail::Playback& b = st.fade_from[i];
+  g.from_start_clock = b.start_clock;
+  g.from_start_time = b.start_time;
+  g.from_clip = b.clip;
+  g.from_loop = uint32_t(b.loop);
+  g.from_speed = b.speed;
+  g.handle = st.dense_handles[i].id;
+}
+
+void exportOverlay(const detail::OverlayState& o, GpuOverlayState* out) {
+  GpuOverlayState& g = *out;
+  g = GpuOverlayState{};
+  if (!o.active) return;
+  g.start_clock = o.playback.start_clock;
+  g.start_time = o.playback.start_time;
+  g.fade_start = o.fade_start;
+  g.fade_duration = o.fade_duration;
+  g.clip = o.playback.clip;
+  g.loop = uint32_t(o.playback.loop);
+  g.speed = o.playback.speed;
+  g.mask = o.mask;
+  g.weight_from = o.weight_from;
+  g.weight_to = o.weight_to;
+  g.active = 1u;
+}
+
+// The runs of indices below `n` stamped after `since` (chunks first), merged across gaps of
+// fewer than kMergeGap indices.
+constexpr uint32_t kMergeGap = 64;
+void stampedRuns(const std::vector<uint64_t>& stamps, const std::vector<uint64_t>& chunk_stamps,
+                 uint64_t since, uint32_t n, std::vector<DenseRange>* out) {
+  out->clear();
+  const auto add = [&](uint32_t i) {
+    if (!out->empty() && i < out->back().first + out->back().count + kMergeGap)
+      out->back().count = i + 1 - out->back().first;
+    else
+      out->push_back(DenseRange{i, 1});
+  };
+  for (uint32_t c = 0; c < chunk_stamps.size() && c * detail::kStampChunk < n; ++c) {
+    if (chunk_stamps[c] <= since) continue;
+    const uint32_t end = std::min(n, (c + 1) * detail::kStampChunk);
+    for (uint32_t i = c * detail::kStampChunk; i < end; ++i)
+      if (stamps[i] > since) add(i);
+  }
+}
+
+}  // namespace
+
 void CrowdManager::exportGpuState(std::vector<GpuInstanceState>* out,
                                   std::vector<InstanceHandle>* handles) const {
   const uint32_t n = size();
@@ -47,58 +117,47 @@ void CrowdManager::exportGpuState(std::vector<GpuInstanceState>* out,
     return;
   }
   const detail::InstanceStore& st = state_->store;
-  for (uint32_t i = 0; i < n; ++i) {
-    GpuInstanceState& g = (*out)[i];
-    g = GpuInstanceState{};
-    for (int k = 0; k < 3; ++k) g.position[k] = st.positions[i][k];
-    const glm::quat& q = st.rotations[i];
-    g.rotation[0] = q.x, g.rotation[1] = q.y, g.rotation[2] = q.z, g.rotation[3] = q.w;
-    g.scale = st.scales[i];
-    g.color = st.colors[i];
-    g.variation_mask = st.masks[i];
-    g.lod = st.views[0].lods[i];
-    const detail::Playback& a = st.playback[i];
-    g.start_clock = a.start_clock;
-    g.start_time = a.start_time;
-    g.clip = a.clip;
-    g.loop = uint32_t(a.loop);
-    g.speed = a.speed;
-    g.fading = st.fade_duration[i] > 0.0 ? 1u : 0u;
-    g.fade_start = st.fade_start[i];
-    g.fade_duration = st.fade_duration[i];
-    const detail::Playback& b = st.fade_from[i];
-    g.from_start_clock = b.start_clock;
-    g.from_start_time = b.start_time;
-    g.from_clip = b.clip;
-    g.from_loop = uint32_t(b.loop);
-    g.from_speed = b.speed;
-    g.handle = st.dense_handles[i].id;
-  }
+  for (uint32_t i = 0; i < n; ++i) exportInstance(st, i, &(*out)[i]);
   if (handles != nullptr) *handles = st.dense_handles;
 }
 
+void CrowdManager::exportGpuState(DenseRange range, GpuInstanceState* out,
+                                  InstanceHandle* handles) const {
+  if (!state_ || out == nullptr || range.first > size() || range.count > size() - range.first)
+    return;
+  const detail::InstanceStore& st = state_->store;
+  for (uint32_t k = 0; k < range.count; ++k) {
+    exportInstance(st, range.first + k, out + k);
+    if (handles != nullptr) handles[k] = st.dense_handles[range.first + k];
+  }
+}
+
+void CrowdManager::changedSince(uint64_t since, std::vector<DenseRange>* changed,
+                                std::vector<DenseRange>* placed) const {
+  const uint32_t n = size();
+  if (changed != nullptr) changed->clear();
+  if (placed != nullptr) placed->clear();
+  if (n == 0) return;
+  const detail::InstanceStore& st = state_->store;
+  if (changed != nullptr) stampedRuns(st.changed_at, st.chunk_changed_at, since, n, changed);
+  if (placed != nullptr) stampedRuns(st.placed_at, st.chunk_placed_at, since, n, placed);
+}
+
+bool CrowdManager::playsOverlays() const { return state_ && state_->store.overlay_count > 0; }
+
 void CrowdManager::exportGpuOverlays(std::vector<GpuOverlayState>* out) const {
   out->clear();
-  if (!state_ || state_->store.overlay_count == 0) return;
+  if (!playsOverlays()) return;
   const detail::InstanceStore& st = state_->store;
   out->resize(size());
-  for (uint32_t i = 0; i < size(); ++i) {
-    const detail::OverlayState& o = st.overlays[i];
-    GpuOverlayState& g = (*out)[i];
-    g = GpuOverlayState{};
-    if (!o.active) continue;
-    g.start_clock = o.playback.start_clock;
-    g.start_time = o.playback.start_time;
-    g.fade_start = o.fade_start;
-    g.fade_duration = o.fade_duration;
-    g.clip = o.playback.clip;
-    g.loop = uint32_t(o.playback.loop);
-    g.speed = o.playback.speed;
-    g.mask = o.mask;
-    g.weight_from = o.weight_from;
-    g.weight_to = o.weight_to;
-    g.active = 1u;
-  }
+  for (uint32_t i = 0; i < size(); ++i) exportOverlay(st.overlays[i], &(*out)[i]);
+}
+
+void CrowdManager::exportGpuOverlays(DenseRange range, GpuOverlayState* out) const {
+  if (!state_ || out == nullptr || range.first > size() || range.count > size() - range.first)
+    return;
+  const detail::InstanceStore& st = state_->store;
+  for (uint32_t k = 0; k < range.count; ++k) exportOverlay(st.overlays[range.first + k], out + k);
 }
 
 void CrowdManager::exportGpuClips(std::vector<GpuClipInfo>* clips,

@@ -114,8 +114,13 @@ void applyRootMotion(const BakedPalette& palette, const std::vector<ClipTiming>&
 
 void applyRootMotion(const BakedPalette& palette, const std::vector<ClipTiming>& clips,
                      double clock, InstanceStore& st, uint32_t begin, uint32_t end) {
-  for (uint32_t i = begin; i < end; ++i)
-    if (st.root_motion[i]) applyRootMotion(palette, clips, clock, st, i);
+  for (uint32_t i = begin; i < end; ++i) {
+    if (!st.root_motion[i]) continue;
+    const glm::dvec3 position = st.positions[i];
+    const glm::quat rotation = st.rotations[i];
+    applyRootMotion(palette, clips, clock, st, i);
+    if (st.positions[i] != position || st.rotations[i] != rotation) st.stamp(i);
+  }
 }
 
 }  // namespace si::detail

@@ -22,7 +22,8 @@ namespace si::detail {
 void applyRootMotion(const BakedPalette& palette, const std::vector<ClipTiming>& clips,
                      double clock, InstanceStore& st, uint32_t i);
 
-/// The same for every instance of [begin, end) that opted in.
+/// The same for every instance of [begin, end) that opted in; each one that moved is stamped
+/// with the store's version (InstanceStore::stamp: bump it first).
 void applyRootMotion(const BakedPalette& palette, const std::vector<ClipTiming>& clips,
                      double clock, InstanceStore& st, uint32_t begin, uint32_t end);
 

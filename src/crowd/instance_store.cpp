@@ -50,6 +50,19 @@ uint32_t InstanceStore::addView() {
   return lane;
 }
 
+void InstanceStore::stamp(uint32_t i, bool placed) {
+  const uint32_t chunk = i / kStampChunk;
+  if (chunk_changed_at.size() <= chunk) {
+    chunk_changed_at.resize(chunk + 1, 0);
+    chunk_placed_at.resize(chunk + 1, 0);
+  }
+  changed_at[i] = version;
+  chunk_changed_at[chunk] = version;
+  if (!placed) return;
+  placed_at[i] = version;
+  chunk_placed_at[chunk] = version;
+}
+
 void InstanceStore::releaseView(uint32_t lane) {
   if (lane == 0 || lane >= views.size()) return;
   views[lane] = ViewLanes();  // Frees its memory; unused lanes follow no instance.
@@ -107,7 +120,10 @@ void InstanceStore::push(const InstanceDesc& d, InstanceHandle h, double clock) 
   }
   overlays.push_back(OverlayState());
   dense_handles.push_back(h);
+  changed_at.push_back(0);
+  placed_at.push_back(0);
   version = nextStateVersion();
+  stamp(size() - 1, true);
 }
 
 Status InstanceStore::denseIndex(InstanceHandle h, uint32_t* dense) const {
@@ -155,7 +171,10 @@ Status InstanceStore::remove(InstanceHandle h) {
   }
   move_last(overlays);
   move_last(dense_handles);
+  move_last(changed_at);
+  move_last(placed_at);
   version = nextStateVersion();
+  if (i != last) stamp(i, true);  // The last instance moved into the hole.
   return handles.release(h);
 }
 
@@ -175,6 +194,7 @@ Status InstanceStore::setTransform(InstanceHandle h, const glm::dvec3& position,
   for (ViewLanes& v : views)  // A teleport: no motion vector in any view.
     if (v.used) v.record_slot[i] = CrowdManager::kNoPreviousRecord;
   version = nextStateVersion();
+  stamp(i);
   return Status::ok();
 }
 
@@ -191,6 +211,7 @@ Status InstanceStore::setRootMotion(InstanceHandle h, bool enabled, double clock
   }
   root_motion[i] = enabled ? 1 : 0;
   version = nextStateVersion();
+  stamp(i);
   return s;
 }
 
@@ -202,22 +223,27 @@ Status InstanceStore::setColor(InstanceHandle h, glm::u8vec4 color) {
   if (!s.isOk()) return {s.code(), "setColor: " + s.message()};
   colors[i] = (colors[i] & 0xFF000000u) | si::packAppearance(color.r, color.g, color.b, 0);
   version = nextStateVersion();
+  stamp(i);
   return s;
 }
 
 Status InstanceStore::setCustomLayer(InstanceHandle h, uint8_t custom_layer) {
   uint32_t i = 0;
   Status s = denseIndex(h, &i);
-  if (s.isOk())
-    colors[i] = (colors[i] & 0x00FFFFFFu) | (uint32_t(custom_layer) << 24),
-    version = nextStateVersion();
+  if (!s.isOk()) return s;
+  colors[i] = (colors[i] & 0x00FFFFFFu) | (uint32_t(custom_layer) << 24);
+  version = nextStateVersion();
+  stamp(i);
   return s;
 }
 
 Status InstanceStore::setVariationMask(InstanceHandle h, uint32_t mask) {
   uint32_t i = 0;
   Status s = denseIndex(h, &i);
-  if (s.isOk()) masks[i] = mask, version = nextStateVersion();
+  if (!s.isOk()) return s;
+  masks[i] = mask;
+  version = nextStateVersion();
+  stamp(i);
   return s;
 }
 
@@ -235,6 +261,7 @@ Status InstanceStore::play(InstanceHandle h, uint32_t clip, double time_seconds,
   fade_duration[i] = 0.0;
   events_new[i] = 1;
   version = nextStateVersion();
+  stamp(i);
   return Status::ok();
 }
 
@@ -255,6 +282,7 @@ Status InstanceStore::crossfade(InstanceHandle h, uint32_t clip, double blend_se
                          time_seconds};
   events_new[i] = 1;
   version = nextStateVersion();
+  stamp(i);
   return Status::ok();
 }
 
@@ -275,6 +303,7 @@ Status InstanceStore::playOverlay(InstanceHandle h, uint32_t clip, uint32_t mask
   o.fade_duration = blend_seconds;
   o.active = true;
   version = nextStateVersion();
+  stamp(i);
   return Status::ok();
 }
 
@@ -289,6 +318,7 @@ Status InstanceStore::stopOverlay(InstanceHandle h, double blend_seconds, double
   o.fade_start = clock;
   o.fade_duration = blend_seconds;
   version = nextStateVersion();
+  stamp(i);
   return Status::ok();
 }
 

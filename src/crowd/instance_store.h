@@ -31,6 +31,10 @@ struct ViewLanes {
   bool used = false;
 };
 
+/// Change stamps are kept per chunk of this many dense indices too (a multiple of it divides
+/// the frame builder's chunks, so its parallel tasks stamp disjoint chunks).
+inline constexpr uint32_t kStampChunk = 1024;
+
 struct InstanceStore {
   /// Empties the store for instances playing `palette`'s clips.
   void reset(const BakedPalette* palette);
@@ -68,6 +72,9 @@ struct InstanceStore {
   Status stopOverlay(InstanceHandle h, double blend_seconds, double clock);
   /// Every instance's events counted as reported up to `clock` (when markers first appear).
   void markEventsReported(double clock);
+  /// Stamps dense index `i` with the current version: its exported state changed
+  /// (CrowdManager::changedSince). `placed`: a different instance is there now.
+  void stamp(uint32_t i, bool placed = false);
   /// A lane for a new view (every instance at LOD 0, no previous record); its index.
   uint32_t addView();
   /// Frees a lane (lane 0, the crowd's own, is never released).
@@ -107,6 +114,11 @@ struct InstanceStore {
   uint32_t overlay_count = 0;
   std::vector<InstanceHandle> dense_handles;
   std::vector<uint32_t> slot_to_dense;
+  // Change stamps (GPU-driven uploads in proportion to change): per dense index the version at
+  // which its exported state last changed, and at which its occupant did (an instance added
+  // there, or moved there by a removal); per chunk of kStampChunk indices the largest of each.
+  std::vector<uint64_t> changed_at, placed_at;
+  std::vector<uint64_t> chunk_changed_at, chunk_placed_at;
 };
 
 /// An instance's appearance word from its desc (si::packAppearance).

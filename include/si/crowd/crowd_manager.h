@@ -295,6 +295,20 @@ class CrowdManager {
   /// same order): index i of the GPU's selection is dense index i.
   void exportGpuState(std::vector<GpuInstanceState>* out,
                       std::vector<InstanceHandle>* handles) const;
+  /// The instances of dense indices [range.first, range.first + range.count) as exportGpuState()
+  /// exports them, into `out` (range.count entries) and, when not null, their handles into
+  /// `handles`; the range must lie within size() (nothing is written otherwise).
+  void exportGpuState(DenseRange range, GpuInstanceState* out, InstanceHandle* handles) const;
+  /// Which dense indices changed since this crowd's stateVersion() was `since` (a version it
+  /// returned earlier, under the same identity()): into `changed`, the indices whose exported
+  /// state (exportGpuState, exportGpuOverlays) changed after it, by a setter, play, crossfade,
+  /// overlay, add, remove or root motion; into `placed` (may be null), those holding another
+  /// instance than then (added, or moved there by a removal: what is kept per index must
+  /// start over there). Both sorted, within size(), runs closer than 64 indices merged (a few
+  /// unchanged ones uploaded again cost less than another upload call). A `since` of 0 gives
+  /// everything. O(size() / 1024) plus the changed chunks: what GPU-driven draws upload.
+  void changedSince(uint64_t since, std::vector<DenseRange>* changed,
+                    std::vector<DenseRange>* placed) const;
   /// The palette's clips as the GPU reads them, and the frame times of non-uniform clips (then
   /// the interval modes of cubic clips, as small whole numbers: GpuClipInfo::modes_offset).
   void exportGpuClips(std::vector<GpuClipInfo>* clips, std::vector<double>* frame_times) const;
@@ -302,6 +316,12 @@ class CrowdManager {
   /// while no instance plays one: what GPU-driven culling needs to write the layer records.
   /// Playing or stopping an overlay changes stateVersion().
   void exportGpuOverlays(std::vector<GpuOverlayState>* out) const;
+  /// The overlays of dense indices [range.first, range.first + range.count) into `out`
+  /// (range.count entries; a zero entry where none plays), within size().
+  void exportGpuOverlays(DenseRange range, GpuOverlayState* out) const;
+  /// Whether exportGpuOverlays() exports anything: some instance holds an overlay (playing or
+  /// faded out).
+  bool playsOverlays() const;
   /// This frame's selection parameters for `camera` (what update() uses).
   CullParams cullParams(const Camera& camera) const;
 

@@ -14,6 +14,12 @@
 
 namespace si {
 
+/// A run of dense instance indices [first, first + count) (CrowdManager::changedSince).
+struct DenseRange {
+  uint32_t first = 0;
+  uint32_t count = 0;
+};
+
 /// One instance (std430, 144 bytes; array stride 144).
 struct GpuInstanceState {
   double position[3];         ///< World position (double, as the crowd keeps it).
