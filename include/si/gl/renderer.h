@@ -64,6 +64,12 @@ enum class SkinningPath : uint8_t {
 };
 const char* skinningPathName(SkinningPath path);
 
+/// How drawCrowdGpuCulled() brings a crowd's changes to the GPU (RendererDesc::gpu_state_upload).
+enum class GpuStateUpload : uint8_t {
+  kChanged = 0,  ///< The instances changed since the last upload.
+  kWhole,        ///< Every instance, at any change.
+};
+
 /// Renderer options. Zero fields take the defaults documented on each.
 struct RendererDesc {
   /// Uniform block size to batch for, in bytes; 0 means the context's limit. Lower it (e.g. to
@@ -117,6 +123,13 @@ struct RendererDesc {
   /// one without occlusion culling; what the application drew before also occludes, so it must
   /// have been drawn with the same camera. Switchable with setGpuOcclusionCulling().
   bool gpu_occlusion_culling = false;
+  /// drawCrowdGpuCulled(): how a crowd's changes reach the GPU. kChanged (the default) exports
+  /// and uploads only the instances that changed since the last upload
+  /// (CrowdManager::changedSince: a setter, root motion, an add or a removal), and restarts each
+  /// view's per-instance history (LOD hysteresis, visible last frame) only where another
+  /// instance now sits. kWhole exports and uploads every instance at any change and restarts
+  /// every view's history (the library before 2026-11-26; for comparison).
+  GpuStateUpload gpu_state_upload = GpuStateUpload::kChanged;
   /// Motion vectors, for temporal anti-aliasing, upscalers and motion blur. drawCrowd's skinned
   /// colour draws (kDefault, kSkinned, kComputeSkinned; both skinning paths) also write each
   /// fragment's screen motion since the previous frame to fragment output 1 (bind a framebuffer
@@ -159,7 +172,11 @@ struct DrawStats {
   uint64_t ring_bytes_used = 0;     ///< and the most ring bytes one chunk used.
   uint32_t gpu_visible = 0;         ///< drawCrowdGpuCulled: instances selected (read back),
   uint64_t vertex_shader_instances = 0;  ///< and instance-draws skinned in the vertex shader
-                                         ///< (all without pre-skinning; past the ring with).
+                                         ///< (all without pre-skinning; past the ring with),
+  /// drawCrowdGpuCulled: bytes of the crowd's instance state and overlays this draw uploaded
+  /// (RendererDesc::gpu_state_upload; 0 when nothing changed or another view's draw of the
+  /// same frame uploaded it).
+  uint64_t state_bytes_uploaded = 0;
 };
 
 /// Which program draws: kDefault skins by the renderer's skinning path; kSkinned forces the

@@ -87,6 +87,7 @@ Status GpuCulledPath::uploadState(const DrawResources& r, const CrowdManager& cr
     sub_meshes_ = cd.sub_mesh_count;
   }
   if (n > 0) uploadInOrder(state_, state.size() * sizeof(state[0]), state.data());
+  uploaded_bytes_ += state.size() * sizeof(state[0]);
   s = uploadOverlays(crowd);
   if (!s.isOk()) return s;
   std::vector<glm::uvec2> ranges(buckets);
@@ -134,32 +135,13 @@ Status GpuCulledPath::uploadState(const DrawResources& r, const CrowdManager& cr
   glVertexArrayAttribBinding(preskin_vao_, 5, 1);
   glVertexArrayAttribIFormat(preskin_vao_, 5, 1, GL_UNSIGNED_INT, 0);
   crowd_ = &crowd;
+  uploaded_identity_ = crowd.identity();
   ++uploads_;  // Every view's LODs and flags are seeded again (indices may name others now).
+  placed_upload_ = 0;
   version_ = crowd.stateVersion();
   instances_ = n;
   buckets_ = buckets;
   vertex_source_ = r.character->vertex_buffer;
-  return Status::ok();
-}
-
-Status GpuCulledPath::uploadOverlays(const CrowdManager& crowd) {
-  std::vector<GpuOverlayState> overlays;
-  crowd.exportGpuOverlays(&overlays);
-  layers_ = !overlays.empty();
-  if (!layers_) return Status::ok();
-  Status s = Status::ok();
-  if (overlays.size() > layer_capacity_ || overlays_ == kNoObject) {
-    layer_capacity_ = 0;
-    const size_t capacity = overlays.size();
-    s = recreate(&overlays_, capacity * sizeof(GpuOverlayState), nullptr,
-                 "GPU culling: the overlays");
-    if (s.isOk())
-      s = recreate(&layers_out_, capacity * kLayerRecordSize, nullptr,
-                   "GPU culling: the layer records");
-    if (!s.isOk()) return s;
-    layer_capacity_ = uint32_t(capacity);
-  }
-  uploadInOrder(overlays_, overlays.size() * sizeof(GpuOverlayState), overlays.data());
   return Status::ok();
 }
 
@@ -196,9 +178,17 @@ Status GpuCulledPath::uploadFrame(const DrawResources& r, const PathFrame& f) {
     frame_clock_ = clock;
     framed_ = true;
   }
-  if (crowd_ != &crowd || version_ != crowd.stateVersion() || instances_ != n ||
-      buckets_ != buckets || vertex_source_ != r.character->vertex_buffer || vao_ == kNoObject) {
+  // The whole state when the crowd, its shape or the character changed (or as asked); else
+  // what changed since the last upload.
+  const bool reshaped = crowd_ != &crowd || uploaded_identity_ != crowd.identity() ||
+                        n > capacity_ || sub_meshes_ != cd.sub_mesh_count || buckets_ != buckets ||
+                        vertex_source_ != r.character->vertex_buffer || vao_ == kNoObject;
+  const bool changed = version_ != crowd.stateVersion() || instances_ != n;
+  if (reshaped || (changed && r.desc->gpu_state_upload == GpuStateUpload::kWhole)) {
     Status s = uploadState(r, crowd, buckets);
+    if (!s.isOk()) return s;
+  } else if (changed) {
+    Status s = uploadChanges(crowd);
     if (!s.isOk()) return s;
   }
   if (f.preskin) {
@@ -259,10 +249,13 @@ Status GpuCulledPath::prepareView(const PathFrame& f) {
   v.last_frame = frame_;
   Status s = v.ensureInstances(capacity_);
   if (!s.isOk()) return s;
-  if (v.seeded_upload != uploads_) {  // The view's LODs as its CPU selection left them.
+  if (v.seeded_upload != uploads_) {  // The view's LODs as its CPU selection left them:
     std::vector<uint32_t> lods;
     f.view->exportGpuLods(&lods);
-    v.seed(lods, instances_, uploads_);
+    if (v.seeded_upload + 1 == uploads_ && placed_upload_ == uploads_)
+      v.seed(lods, placed_, uploads_);  // where other instances sit since its last upload,
+    else
+      v.seed(lods, instances_, uploads_);  // or everywhere.
   }
   return Status::ok();
 }
@@ -330,6 +323,8 @@ Status GpuCulledPath::ensureRing(const DrawResources& r, bool motion) {
 
 Status GpuCulledPath::draw(const DrawResources& r, const PathFrame& f, DrawStats* st) {
   st->draw_calls = 0;
+  st->state_bytes_uploaded = uploaded_bytes_;
+  uploaded_bytes_ = 0;
   two_phases_ = r.desc->gpu_occlusion_culling;
   if (!two_phases_) {
     runPasses(r, f, 0, st);

@@ -44,6 +44,9 @@ class GpuCulledPath final : public DrawPath {
   Status uploadState(const DrawResources& r, const CrowdManager& crowd, uint32_t buckets);
   // The crowd's overlays, when it plays any (sets layers_).
   Status uploadOverlays(const CrowdManager& crowd);
+  // What changed since the upload of version_ (gpu_state_upload.cpp): the changed instances'
+  // state and overlays; where other instances sit now, the views start over (placed_).
+  Status uploadChanges(const CrowdManager& crowd);
   Status ensureRing(const DrawResources& r, bool motion);
   // The view's slot: found or made, sized for the crowd and seeded after each upload (its LODs
   // from CrowdView::exportGpuLods, nothing visible last frame).
@@ -80,7 +83,16 @@ class GpuCulledPath final : public DrawPath {
   uint64_t uploads_ = 0;
   bool two_phases_ = false;  // The last frame drew in two phases.
   uint32_t capacity_ = 0, instances_ = 0, buckets_ = 0, sub_meshes_ = 0;
-  uint64_t version_ = 0;
+  uint64_t version_ = 0, uploaded_identity_ = 0;
+  // The dense ranges holding other instances after upload placed_upload_ (a partial one; 0
+  // after a whole one): a view seeded at the upload before reseeds only these.
+  std::vector<DenseRange> placed_;
+  uint64_t placed_upload_ = 0;
+  uint64_t uploaded_bytes_ = 0;  // Since the last draw (DrawStats::state_bytes_uploaded).
+  // uploadChanges' exports, kept between frames.
+  std::vector<GpuInstanceState> changed_state_;
+  std::vector<InstanceHandle> changed_handles_;
+  std::vector<GpuOverlayState> changed_overlays_;
   const CrowdManager* crowd_ = nullptr;
   GLuint vertex_source_ = kNoObject;  // The vertex buffer the VAOs were made for.
 };

@@ -38,6 +38,24 @@ void GpuViewSlot::seed(const std::vector<uint32_t>& lods, uint32_t count, uint64
   seeded_upload = upload;
 }
 
+void GpuViewSlot::seed(const std::vector<uint32_t>& lods, const std::vector<DenseRange>& ranges,
+                       uint64_t upload) {
+  std::vector<glm::uvec2> rows;
+  for (const DenseRange& r : ranges)
+    for (uint32_t i = r.first; i < r.first + r.count; ++i)
+      rows.push_back(glm::uvec2(i < lods.size() ? lods[i] : 0u, 0u));
+  std::vector<BufferPiece> pieces;
+  size_t at = 0;
+  for (const DenseRange& r : ranges) {
+    if (r.first + r.count > capacity) break;  // Never past the buffer (the caller sized it).
+    pieces.push_back({size_t(r.first) * sizeof(rows[0]), size_t(r.count) * sizeof(rows[0]),
+                      rows.data() + at});
+    at += r.count;
+  }
+  uploadInOrder(instances, pieces);
+  seeded_upload = upload;
+}
+
 Status GpuViewSlot::ensureDrawn(uint32_t slots_needed, uint64_t max_block_bytes) {
   if (slots_needed <= drawn_slots) return Status::ok();
   // Room to grow (twice the last), within the handle slots and the storage-block limit.

@@ -13,6 +13,7 @@
 #include "gl/resources/depth_pyramid.h"
 #include "si/core/status.h"
 #include "si/crowd/camera.h"
+#include "si/crowd/gpu_crowd_state.h"
 #include "si/crowd/instance_record.h"
 
 namespace si::detail {
@@ -43,6 +44,9 @@ struct GpuViewSlot {
   /// Seeds the first `count` instances for crowd upload `upload`: LODs from `lods` (the view's
   /// CPU LODs in dense order; 0 past its end), none visible last frame.
   void seed(const std::vector<uint32_t>& lods, uint32_t count, uint64_t upload);
+  /// The same for the instances of `ranges` only; the others keep what they have.
+  void seed(const std::vector<uint32_t>& lods, const std::vector<DenseRange>& ranges,
+            uint64_t upload);
   /// Motion vectors: drawn records for at least `slots_needed` handle slots (room to grow: twice
   /// the last), all with the fallback. kLimitExceeded past `max_block_bytes`
   /// (GL_MAX_SHADER_STORAGE_BLOCK_SIZE).

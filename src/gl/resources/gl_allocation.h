@@ -7,6 +7,7 @@
 #include <glad/gl.h>
 
 #include <cstdint>
+#include <vector>
 
 #include "gl/programs/program_set.h"
 #include "si/core/status.h"
@@ -31,6 +32,13 @@ Status createMutableBuffer(GLuint* buffer, uint64_t bytes, GLenum usage, const c
 /// from a new buffer was ordered too but cost 14 ms a frame at 100k instances when root motion
 /// re-uploads the state every frame.)
 void uploadInOrder(GLuint buffer, size_t bytes, const void* data);
+/// One piece of a buffer to write: `bytes` of `data` at `offset`.
+struct BufferPiece {
+  size_t offset = 0, bytes = 0;
+  const void* data = nullptr;
+};
+/// The same for several pieces, after one flush.
+void uploadInOrder(GLuint buffer, const std::vector<BufferPiece>& pieces);
 
 /// Replaces `*texture` by a 2D texture with `levels` levels of `internal_format` storage,
 /// `width` x `height`; fails as createBuffer() does (the size named in texels).

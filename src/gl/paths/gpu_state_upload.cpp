@@ -1,0 +1,84 @@
+// SkinnedInstancing — SPDX-License-Identifier: MIT (see LICENSE)
+// The GPU-driven path's uploads in proportion to change: only the instances the crowd changed
+// since the last upload (CrowdManager::changedSince) are exported and written, and only where
+// other instances sit now do the views start their history over. And the overlays, whole.
+#include <algorithm>
+
+#include "gl/paths/gpu_culled_path.h"
+#include "gl/resources/gl_allocation.h"
+#include "si/crowd/handle_pool.h"
+
+namespace si::detail {
+
+Status GpuCulledPath::uploadOverlays(const CrowdManager& crowd) {
+  std::vector<GpuOverlayState> overlays;
+  crowd.exportGpuOverlays(&overlays);
+  layers_ = !overlays.empty();
+  if (!layers_) return Status::ok();
+  Status s = Status::ok();
+  if (overlays.size() > layer_capacity_ || overlays_ == kNoObject) {
+    layer_capacity_ = 0;
+    const size_t capacity = overlays.size();
+    s = createBuffer(&overlays_, capacity * sizeof(GpuOverlayState), nullptr,
+                     GL_DYNAMIC_STORAGE_BIT, "GPU culling: the overlays");
+    if (s.isOk())
+      s = createBuffer(&layers_out_, capacity * kLayerRecordSize, nullptr,
+                       GL_DYNAMIC_STORAGE_BIT, "GPU culling: the layer records");
+    if (!s.isOk()) return s;
+    layer_capacity_ = uint32_t(capacity);
+  }
+  uploadInOrder(overlays_, overlays.size() * sizeof(GpuOverlayState), overlays.data());
+  uploaded_bytes_ += overlays.size() * sizeof(GpuOverlayState);
+  return Status::ok();
+}
+
+Status GpuCulledPath::uploadChanges(const CrowdManager& crowd) {
+  std::vector<DenseRange> changed, placed;
+  crowd.changedSince(version_, &changed, &placed);
+  size_t total = 0;
+  for (const DenseRange& c : changed) total += c.count;
+  changed_state_.resize(total);
+  changed_handles_.resize(total);
+  std::vector<BufferPiece> pieces;
+  size_t at = 0;
+  for (const DenseRange& c : changed) {
+    crowd.exportGpuState(c, changed_state_.data() + at, changed_handles_.data() + at);
+    pieces.push_back({size_t(c.first) * sizeof(GpuInstanceState),
+                      size_t(c.count) * sizeof(GpuInstanceState), changed_state_.data() + at});
+    at += c.count;
+  }
+  // Motion vectors key what was drawn by handle slot: room for the largest (never less).
+  for (const InstanceHandle& h : changed_handles_)
+    slots_needed_ = std::max(slots_needed_, (h.id & (HandlePool::kMaxSlots - 1)) + 1);
+  uploadInOrder(state_, pieces);
+  uploaded_bytes_ += total * sizeof(GpuInstanceState);
+
+  // Overlays: all of them when the crowd starts or stops holding any or outgrows the buffer,
+  // else the changed instances'.
+  const uint32_t n = crowd.size();
+  if (crowd.playsOverlays() != layers_ || (layers_ && n > layer_capacity_)) {
+    Status s = uploadOverlays(crowd);
+    if (!s.isOk()) return s;
+  } else if (layers_) {
+    changed_overlays_.resize(total);
+    pieces.clear();
+    at = 0;
+    for (const DenseRange& c : changed) {
+      crowd.exportGpuOverlays(c, changed_overlays_.data() + at);
+      pieces.push_back({size_t(c.first) * sizeof(GpuOverlayState),
+                        size_t(c.count) * sizeof(GpuOverlayState), changed_overlays_.data() + at});
+      at += c.count;
+    }
+    uploadInOrder(overlays_, pieces);
+    uploaded_bytes_ += total * sizeof(GpuOverlayState);
+  }
+  if (!placed.empty()) {  // Views seeded at the last upload start over there only.
+    placed_ = std::move(placed);
+    placed_upload_ = ++uploads_;
+  }
+  version_ = crowd.stateVersion();
+  instances_ = n;
+  return Status::ok();
+}
+
+}  // namespace si::detail

@@ -1,0 +1,157 @@
+// SkinnedInstancing — SPDX-License-Identifier: MIT (see LICENSE)
+// GPU-driven uploads in proportion to change (RendererDesc::gpu_state_upload): over frames of
+// moves, tints, removals, additions, crossfades, masks and overlays, uploading only what
+// changed selects and draws what uploading everything does, and what the CPU path draws (with
+// occlusion culling too), while the bytes uploaded follow the change.
+#include <algorithm>
+#include <cmath>
+
+#include "render/render_fixture.h"
+
+namespace si {
+namespace {
+
+using namespace test;
+
+TEST_P(RenderTest, ChangedStateUploadsDrawWhatWholeUploadsDraw) {
+  struct Drawer {
+    GpuStateUpload upload;
+    bool occlusion;
+    Renderer renderer;
+  };
+  Drawer drawers[3] = {{GpuStateUpload::kChanged, false, {}},
+                       {GpuStateUpload::kWhole, false, {}},
+                       {GpuStateUpload::kChanged, true, {}}};
+  for (Drawer& d : drawers) {
+    RendererDesc rd;
+    rd.skinning_path = SkinningPath::kVertexShader;
+    rd.measure_gpu_time = true;  // Reads back the selection's counts.
+    rd.gpu_state_upload = d.upload;
+    rd.gpu_occlusion_culling = d.occlusion;
+    ASSERT_TRUE(d.renderer.init(info_, rd).isOk());
+    CharacterId id;
+    ASSERT_TRUE(d.renderer.addCharacter(character(), palette(), &id).isOk());
+  }
+  // Lines at 20 and 60 units, wide hysteresis (16-24, 48-72 units): an instance's LOD there
+  // depends on where it came from.
+  CrowdManager crowd;
+  CrowdDesc cd;
+  cd.palette = &palette();
+  cd.sub_mesh_count = 4;
+  cd.lod_count = 3;
+  cd.character_radius = 1.0f;
+  cd.lod_distances_radii = {20.0f, 60.0f};
+  cd.lod_hysteresis_ratio = 0.2f;
+  cd.max_distance_radii = -1.0f;
+  ASSERT_TRUE(crowd.init(cd).isOk());
+  const uint32_t clips = uint32_t(palette().clips.size());
+  std::vector<InstanceHandle> handles;
+  for (int row = 0; row < 15; ++row)
+    for (int k = 0; k < 20; ++k) {
+      InstanceDesc d;
+      d.position = glm::dvec3((k - 9.5) * 3.0, 0.0, -25.0 - 4.0 * row);
+      d.clip = uint32_t(k + row) % clips;
+      d.time_seconds = 0.05 * k;
+      d.variation_mask = 1u | (uint32_t(k) << 1);
+      InstanceHandle h;
+      ASSERT_TRUE(crowd.add(d, &h).isOk());
+      handles.push_back(h);
+    }
+  {  // Last: 20 units from the camera, in the first band, at LOD 0 (it never left it). The
+     // first removal moves it into the slot of an instance at LOD 1: where it sits, each view
+     // must start over from its LOD (0), or the GPU goes on from the other's (1).
+    InstanceDesc d;
+    d.position = glm::dvec3(0.0, 0.0, 4.0 - std::sqrt(20.0 * 20.0 - 16.0));
+    InstanceHandle h;
+    ASSERT_TRUE(crowd.add(d, &h).isOk());
+    handles.push_back(h);
+  }
+  LayerMask arm;
+  ASSERT_TRUE(buildLayerMask(character().skeleton, palette(), "arm", {"r_clavicle"}, &arm).isOk());
+  uint32_t mask = 0;
+  ASSERT_TRUE(crowd.addLayerMask(arm, &mask).isOk());
+  const Camera camera = Camera::lookAt({0.0, 4.0, 4.0}, {0.0, 0.0, -30.0}, glm::vec3(0, 1, 0),
+                                       1.0f, 1.0f, 0.1f, 300.0f);
+  const uint64_t whole_bytes = uint64_t(handles.size()) * sizeof(GpuInstanceState);
+  for (int frame = 0; frame < 7; ++frame) {
+    SCOPED_TRACE(frame);
+    // Changes 67 or more dense indices apart (closer runs are merged).
+    if (frame == 1) {  // Moves and tints.
+      for (int k = 0; k < 4; ++k)
+        ASSERT_TRUE(crowd.setTransform(handles[k * 67], glm::dvec3(k - 2.0, 0.0, -6.0 - k),
+                                       glm::quat(1, 0, 0, 0), 1.1f).isOk());
+      for (int k = 0; k < 4; ++k)
+        ASSERT_TRUE(crowd.setColor(handles[k * 67 + 1], glm::u8vec4(250, 40, 40, 255)).isOk());
+    } else if (frame == 2) {  // Removals (the last instances move into the holes), additions.
+      for (int k = 0; k < 3; ++k) {
+        ASSERT_TRUE(crowd.remove(handles[k * 67 + 10]).isOk());
+        handles[k * 67 + 10] = handles.back();
+        handles.pop_back();
+      }
+      for (int k = 0; k < 2; ++k) {
+        InstanceDesc d;
+        d.position = glm::dvec3(k - 7.0, 0.0, -3.0);
+        d.clip = uint32_t(k) % clips;
+        InstanceHandle h;
+        ASSERT_TRUE(crowd.add(d, &h).isOk());
+        handles.push_back(h);
+      }
+    } else if (frame == 3) {  // Crossfades and masks.
+      for (int k = 0; k < 4; ++k)
+        ASSERT_TRUE(crowd.crossfade(handles[k * 67 + 3], uint32_t(k + 1) % clips, 0.4).isOk());
+      for (int k = 0; k < 4; ++k)
+        ASSERT_TRUE(crowd.setVariationMask(handles[k * 67 + 4], 1u).isOk());
+    } else if (frame == 5) {  // The first overlays: the overlays uploaded whole.
+      for (int k = 0; k < 4; ++k)
+        ASSERT_TRUE(crowd.playOverlay(handles[k * 67 + 5], 1, mask, 1.0f, 0.0).isOk());
+    } else if (frame == 6) {  // One more: only its instance.
+      ASSERT_TRUE(crowd.playOverlay(handles[150], 1, mask, 0.6f, 0.0).isOk());
+    }
+    ASSERT_TRUE(crowd.advanceClock(0.1).isOk());
+    std::vector<std::vector<uint8_t>> images;
+    std::vector<std::vector<glm::uvec2>> selections;
+    std::vector<DrawStats> stats(3);
+    for (int d = 0; d < 3; ++d) {
+      drawers[d].renderer.clear(glm::vec4(0.2f, 0.25f, 0.3f, 1.0f));
+      const Status s = drawers[d].renderer.drawCrowdGpuCulled(crowd, camera, &stats[size_t(d)]);
+      ASSERT_TRUE(s.isOk()) << s.toString();
+      images.emplace_back();
+      ASSERT_TRUE(context_->readPixels(&images.back()).isOk());
+      selections.emplace_back();
+      ASSERT_TRUE(drawers[d].renderer.readGpuSelection(&selections.back()).isOk());
+      std::sort(selections.back().begin(), selections.back().end(),
+                [](const glm::uvec2& a, const glm::uvec2& b) {
+                  return a.x != b.x ? a.x < b.x : a.y < b.y;
+                });
+    }
+    ASSERT_TRUE(crowd.update(0.0, camera).isOk());
+    std::vector<glm::uvec2> cpu = cpuSelection(crowd);
+    std::sort(cpu.begin(), cpu.end(), [](const glm::uvec2& a, const glm::uvec2& b) {
+      return a.x != b.x ? a.x < b.x : a.y < b.y;
+    });
+    const std::vector<uint8_t> cpu_image = draw(drawers[0].renderer, crowd, camera, 0);
+    EXPECT_EQ(selections[0], cpu);
+    EXPECT_EQ(selections[1], cpu);
+    for (int d = 0; d < 3; ++d) {
+      const Diff diff = compare(images[size_t(d)], cpu_image, nullptr);
+      EXPECT_LE(diff.share, 0.001) << d << ": max channel difference " << diff.max_channel;
+    }
+    // Bytes: everything at the first frame; a few runs after each change; none when nothing
+    // changed; uploading whole, everything at every change.
+    const uint64_t changed = stats[0].state_bytes_uploaded, whole = stats[1].state_bytes_uploaded;
+    if (frame == 0) {
+      EXPECT_EQ(changed, whole_bytes);
+    } else if (frame == 4) {
+      EXPECT_EQ(changed, 0u);
+      EXPECT_EQ(whole, 0u);
+    } else {
+      EXPECT_GT(changed, 0u);
+      EXPECT_LT(changed, whole / 2);
+      EXPECT_GE(whole, uint64_t(crowd.size()) * sizeof(GpuInstanceState));
+    }
+    EXPECT_EQ(stats[2].state_bytes_uploaded, changed);
+  }
+}
+
+}  // namespace
+}  // namespace si
