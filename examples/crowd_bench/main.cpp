@@ -19,6 +19,7 @@
 #include "crowd_bench/layers_table.h"
 #include "crowd_bench/motion_vectors_table.h"
 #include "crowd_bench/restore_state_table.h"
+#include "crowd_bench/uploads_table.h"
 #include "crowd_bench/root_motion_table.h"
 #include "crowd_bench/views_table.h"
 #include "si/bake/animation_baker.h"
@@ -63,6 +64,7 @@ struct Options {
   bool root_motion = false;      // The root motion table.
   bool motion_vectors = false;   // The motion vectors table.
   bool restore_state = false;    // The state contract table.
+  std::vector<double> moving;    // The state uploads table's shares moved; empty: no table.
   bool layers = false;           // The layered animation table.
   std::vector<uint32_t> views;   // The views table's view counts; empty: no views table.
   uint32_t views_lod_bias = 1;   // Its cascades' CrowdViewDesc::lod_bias.
@@ -109,6 +111,9 @@ void usage(std::FILE* f) {
       "                   vectors, side by side)\n"
       "                   [--restore-state] (the GL state contract table: each frame drawn\n"
       "                   with RendererDesc::restore_state off and on, side by side)\n"
+      "                   [--moving F,F,...] (the state uploads table: a share F of the crowd\n"
+      "                   moved each frame, the GPU-driven path uploading what changed against\n"
+      "                   everything, side by side)\n"
       "                   [--layers] (the layered animation table: the instanced, compute and\n"
       "                   GPU-driven paths with no overlay, at weight 1 and 0.5, side by side)\n"
       "                   [--views N,M,...] (the views table: 1 main view and N - 1 shadow\n"
@@ -164,6 +169,10 @@ bool parse(int argc, char** argv, Options* o) {
     else if (a == "--root-motion") o->root_motion = true;
     else if (a == "--motion-vectors") o->motion_vectors = true;
     else if (a == "--restore-state") o->restore_state = true;
+    else if (a == "--moving" && has) {
+      o->moving.clear();
+      for (const std::string& v : si::examples::splitList(argv[++i])) o->moving.push_back(std::stod(v));
+    }
     else if (a == "--layers") o->layers = true;
     else if (a == "--views" && has) {
       o->views.clear();
@@ -194,6 +203,8 @@ bool parse(int argc, char** argv, Options* o) {
   if (!known_path(o->quality_path) || o->quality_path == "rigid") return false;
   for (const std::string& l : o->lods)
     if (l != "distance" && l != "screen") return false;
+  for (double m : o->moving)
+    if (!(m >= 0.0 && m <= 1.0)) return false;
   for (float b : o->quality_budgets)
     if (!(b > 0.0f) || !std::isfinite(b)) return false;
   if (!(o->pixel_budget > 0.0f) || !std::isfinite(o->pixel_budget)) return false;
@@ -460,6 +471,10 @@ int main(int argc, char** argv) {
   if (b.o.restore_state) {
     s = si::bench::restoreStateTable(b.setup, palette, rd, b.o.sizes, b.o.paths, csv);
     if (!s.isOk()) return fail("restore state", s);
+  }
+  if (!b.o.moving.empty()) {
+    s = si::bench::uploadsTable(b.setup, palette, rd, b.o.sizes, b.o.moving, csv);
+    if (!s.isOk()) return fail("uploads", s);
   }
   if (b.o.layers) {
     s = si::bench::layersTable(b.setup, renderer, palette, b.o.sizes, b.o.paths, csv);
