@@ -1,0 +1,95 @@
+// SkinnedInstancing — SPDX-License-Identifier: MIT (see LICENSE)
+#pragma once
+
+/// \file
+/// The image error of each LOD level: how many pixels of a character's image a level changes
+/// against LOD 0, shading included, measured by drawing the character with the renderer's own
+/// programs at several heights in pixels, poses of its clips and view directions. A geometric
+/// error (si::lodErrorsByLevel) bounds how far the surface moves; it does not see normals and
+/// texture coordinates interpolated over larger triangles, nor a dropped helmet uncovering hair.
+/// The image error does, and as "equivalent units" it can drive the crowd's screen-error LOD
+/// choice in place of the geometric error: the pixel budget then bounds the pixels that change.
+///
+/// Usage (a GL context current, as for si::Renderer):
+/// \code
+///   si::ImageLodErrorReport report;
+///   si::Status s = si::measureImageLodErrors(info, character, palette, {}, &report);
+///   crowd_desc.lod_errors_units = si::imageLodErrorsUnits(report);  // or the geometric ones
+/// \endcode
+
+#include <cstdint>
+#include <vector>
+
+#include "si/core/baked_palette.h"
+#include "si/core/character.h"
+#include "si/core/status.h"
+#include "si/gl/gl_context.h"
+
+namespace si {
+
+/// Options of measureImageLodErrors(). Zero or empty fields take the documented defaults.
+struct ImageLodErrorDesc {
+  /// The character's height on screen (its largest bind-pose extent, si::Character::height),
+  /// in display pixels, at which every level is drawn; empty means 4, 8, 16, 32 and 64.
+  std::vector<uint32_t> heights_pixels;
+  /// Each image is drawn at this many times the display size and box-filtered down before it
+  /// is compared (an antialiased display, where a sub-pixel change moves a pixel a little
+  /// instead of flipping it); 0 means 4, 1 compares the aliased images.
+  uint32_t supersample = 0;
+  /// View directions around the vertical axis; 0 means 8.
+  uint32_t azimuths = 0;
+  /// View elevations in degrees (0: level, 90: from above); empty means 0 and 30.
+  std::vector<float> elevations_degrees;
+  /// Poses per clip, evenly over its duration; 0 means 2. At most max_poses in all (0: 6),
+  /// clips taken in order.
+  uint32_t poses_per_clip = 0;
+  uint32_t max_poses = 0;
+  /// A pixel differs when a channel is off by more than this (of 255); 0 means 8.
+  uint32_t channel_tolerance = 0;
+};
+
+/// One LOD level's errors.
+struct ImageLodLevel {
+  /// si::lodErrorsByLevel's value: the geometric error in model units.
+  float geometric_units = 0.0f;
+  /// Per height (ImageLodErrorReport::heights_pixels): the pixels of one character's image
+  /// that differ from LOD 0, the mean and the largest over the poses and view directions.
+  std::vector<double> mean_differing_pixels, max_differing_pixels;
+  /// The height in display pixels at which the level changes one pixel of the character's
+  /// image on average (interpolated between the measured heights on a log-log scale, and
+  /// extrapolated past them along the nearest two): below it, the level changes less.
+  /// Infinite when it changes nothing at any height; 0 for level 0.
+  double one_pixel_height = 0.0;
+  /// The image error as a length in model units: the character's height over
+  /// one_pixel_height. Projected like a geometric error, it reaches 1 pixel exactly where the
+  /// level changes one pixel of the image, so a screen-error budget of 1 pixel selects the level
+  /// where it changes at most one pixel per character (another budget scales that height in
+  /// proportion, which the differing pixels follow only roughly: they grow faster than the
+  /// height). Level 0: 0.
+  float image_units = 0.0f;
+};
+
+struct ImageLodErrorReport {
+  std::vector<uint32_t> heights_pixels;  ///< The heights measured.
+  float character_height_units = 0.0f;   ///< si::Character::height().
+  uint32_t views = 0, poses = 0;         ///< Drawn at every height and level.
+  std::vector<ImageLodLevel> levels;     ///< maxLodCount() of the mesh, LOD 0 first.
+};
+
+/// Draws the character (every sub-mesh worn, its palette's poses, the renderer's vertex-shader
+/// program and default light, an orthographic camera, offscreen) at every level, height, pose
+/// and view direction, and compares each level's image with LOD 0's, per character. The host's
+/// framebuffer bindings, viewport and pixel-pack state are restored. kInvalidArgument for a
+/// null report, a height of 0, an invalid character or a palette without clips; the status of
+/// lodErrorsByLevel() when the mesh has no LOD errors; kLimitExceeded when the images would
+/// pass GL_MAX_TEXTURE_SIZE; the renderer's status for what it refuses; kBackend naming the GL
+/// error or an incomplete framebuffer. Nothing is written on failure.
+Status measureImageLodErrors(const GlInfo& info, const Character& character,
+                             const BakedPalette& palette, const ImageLodErrorDesc& desc,
+                             ImageLodErrorReport* report);
+
+/// The report's image errors, made non-decreasing (a coarser level never claims less), ready
+/// for CrowdDesc::lod_errors_units.
+std::vector<float> imageLodErrorsUnits(const ImageLodErrorReport& report);
+
+}  // namespace si

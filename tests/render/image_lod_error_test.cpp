@@ -1,0 +1,113 @@
+// SkinnedInstancing — SPDX-License-Identifier: MIT (see LICENSE)
+// The image error per LOD level (si::measureImageLodErrors): zero for a level that draws LOD 0's
+// triangles, growing with the height and the level for the embedded character's real levels,
+// the equivalent units where one pixel changes; the host's framebuffer and viewport kept; bad
+// input refused.
+#include <cmath>
+
+#include "render/render_fixture.h"
+#include "si/gl/image_lod_error.h"
+
+namespace si {
+namespace {
+
+using namespace test;
+
+ImageLodErrorDesc smallDesc() {
+  ImageLodErrorDesc d;
+  d.heights_pixels = {8, 16, 32};
+  d.azimuths = 4;
+  d.elevations_degrees = {0.0f, 40.0f};
+  d.max_poses = 3;
+  return d;
+}
+
+TEST_P(RenderTest, ImageLodErrorsGrowWithTheLevelAndTheHeight) {
+  // The host's framebuffer (the context's own, not 0) and a viewport that must survive the call.
+  using GetIntegervFn = void (*)(unsigned, int*);
+  using ViewportFn = void (*)(int, int, int, int);
+  auto get = reinterpret_cast<GetIntegervFn>(
+      HeadlessContext::getProcAddress(context_.get(), "glGetIntegerv"));
+  auto viewport = reinterpret_cast<ViewportFn>(
+      HeadlessContext::getProcAddress(context_.get(), "glViewport"));
+  constexpr unsigned kDrawBinding = 0x8CA6, kReadBinding = 0x8CAA, kViewport = 0x0BA2;
+  viewport(3, 5, 17, 19);
+  int draw_before = -1, read_before = -1;
+  get(kDrawBinding, &draw_before);
+  get(kReadBinding, &read_before);
+  ImageLodErrorReport r;
+  const Status s = measureImageLodErrors(info_, character(), palette(), smallDesc(), &r);
+  ASSERT_TRUE(s.isOk()) << s.toString();
+  int draw = -1, read = -1, box[4] = {};
+  get(kDrawBinding, &draw);
+  get(kReadBinding, &read);
+  get(kViewport, box);
+  EXPECT_EQ(draw, draw_before);
+  EXPECT_EQ(read, read_before);
+  EXPECT_EQ(box[0], 3);
+  EXPECT_EQ(box[1], 5);
+  EXPECT_EQ(box[2], 17);
+  EXPECT_EQ(box[3], 19);
+
+  ASSERT_EQ(r.levels.size(), character().mesh.maxLodCount());
+  EXPECT_EQ(r.poses, 3u);
+  EXPECT_EQ(r.views, 8u);
+  EXPECT_EQ(r.levels[0].image_units, 0.0f);
+  for (size_t l = 1; l < r.levels.size(); ++l) {
+    const ImageLodLevel& level = r.levels[l];
+    ASSERT_EQ(level.mean_differing_pixels.size(), 3u);
+    // A simplified level changes pixels, more at larger heights, never more than the cells hold.
+    EXPECT_GT(level.mean_differing_pixels[2], level.mean_differing_pixels[0]) << l;
+    EXPECT_GE(level.max_differing_pixels[2], level.mean_differing_pixels[2]);
+    EXPECT_LT(level.max_differing_pixels[2], 48.0 * 48.0);
+    // One pixel changes between the measured heights or past them; the units follow.
+    EXPECT_GT(level.one_pixel_height, 0.0);
+    EXPECT_NEAR(level.image_units, r.character_height_units / level.one_pixel_height, 1e-4);
+  }
+  // Coarser levels change more (at the largest height).
+  EXPECT_GT(r.levels.back().mean_differing_pixels[2], r.levels[1].mean_differing_pixels[2]);
+  const std::vector<float> units = imageLodErrorsUnits(r);
+  for (size_t l = 1; l < units.size(); ++l) EXPECT_GE(units[l], units[l - 1]);
+}
+
+// A level drawing LOD 0's own triangles changes no pixel: its image error is 0 at every height.
+TEST_P(RenderTest, ALevelEqualToLodZeroHasNoImageError) {
+  Character same = character();
+  for (SubMesh& sm : same.mesh.sub_meshes) {
+    sm.lods[1] = sm.lods[0];
+    sm.lod_error_units[1] = 0.0f;
+  }
+  ImageLodErrorReport r;
+  ASSERT_TRUE(measureImageLodErrors(info_, same, palette(), smallDesc(), &r).isOk());
+  for (double px : r.levels[1].mean_differing_pixels) EXPECT_EQ(px, 0.0);
+  EXPECT_TRUE(std::isinf(r.levels[1].one_pixel_height));
+  EXPECT_EQ(r.levels[1].image_units, 0.0f);
+  EXPECT_GT(r.levels[2].mean_differing_pixels[2], 0.0);
+}
+
+TEST_P(RenderTest, ImageLodErrorsRefuseBadInput) {
+  ImageLodErrorReport r;
+  r.character_height_units = 7.0f;
+  EXPECT_EQ(measureImageLodErrors(info_, character(), palette(), {}, nullptr).code(),
+            StatusCode::kInvalidArgument);
+  ImageLodErrorDesc zero = smallDesc();
+  zero.heights_pixels = {8, 0};
+  EXPECT_EQ(measureImageLodErrors(info_, character(), palette(), zero, &r).code(),
+            StatusCode::kInvalidArgument);
+  ImageLodErrorDesc huge = smallDesc();
+  huge.heights_pixels = {100000};
+  EXPECT_EQ(measureImageLodErrors(info_, character(), palette(), huge, &r).code(),
+            StatusCode::kLimitExceeded);
+  BakedPalette empty = palette();
+  empty.clips.clear();
+  EXPECT_EQ(measureImageLodErrors(info_, character(), empty, smallDesc(), &r).code(),
+            StatusCode::kInvalidArgument);
+  Character no_errors = character();
+  for (SubMesh& sm : no_errors.mesh.sub_meshes) sm.lod_error_units.clear();
+  EXPECT_EQ(measureImageLodErrors(info_, no_errors, palette(), smallDesc(), &r).code(),
+            StatusCode::kInvalidArgument);
+  EXPECT_EQ(r.character_height_units, 7.0f);  // Nothing written.
+}
+
+}  // namespace
+}  // namespace si
