@@ -25,6 +25,7 @@
 #include "si/bake/animation_baker.h"
 #include "si/bake/lod_chain.h"
 #include "si/core/part_lod.h"
+#include "si/gl/image_lod_error.h"
 #include "si/core/default_character.h"
 #include "si/core/lod_error.h"
 
@@ -43,6 +44,10 @@ struct Options {
   std::string lod_chain = "deep";
   uint32_t lod_min_triangles = 0;  // LodChainDesc::min_triangles; 0: the library's default.  // deep: buildLodChain's 6 levels; technique: the 3 embedded.
   bool part_lod = false;  // --part-lod: si::buildPartLods (each part its own level, parts dropped).
+  // --lod-errors: what the screen-error mode selects by, the geometric errors (default) or the
+  // image errors (si::measureImageLodErrors); --image-errors prints the latter either way.
+  std::string lod_errors = "geometric";
+  bool image_errors = false;
   std::vector<float> quality_budgets = {0.5f, 1.0f, 2.0f, 4.0f};  // Empty: no quality table.
   uint32_t quality_size = 10000;
   uint32_t quality_frames = 3;
@@ -88,6 +93,9 @@ void usage(std::FILE* f) {
       "                    gpu-driven-occlusion,traditional,cpu,rigid]\n"
       "                   [--lods distance,screen] [--pixel-budget PX] [--lod-chain deep|technique]\n"
       "                   [--lod-min-triangles N]\n"
+      "                   [--lod-errors geometric|image] (what the screen-error LOD mode selects\n"
+      "                   by: si::lodErrorsByLevel, or the measured image errors of\n"
+      "                   si::measureImageLodErrors) [--image-errors] (print those either way)\n"
       "                   [--part-lod] (each sub-mesh at its own level within the character's\n"
       "                   error, parts dropped where that is within it: si::buildPartLods)\n"
       "                   [--quality-budgets PX,PX,... | none] [--quality-size N]\n"
@@ -139,6 +147,8 @@ bool parse(int argc, char** argv, Options* o) {
     else if (a == "--lod-chain" && has) o->lod_chain = argv[++i];
     else if (a == "--lod-min-triangles" && has) o->lod_min_triangles = uint32_t(std::stoul(argv[++i]));
     else if (a == "--part-lod") o->part_lod = true;
+    else if (a == "--lod-errors" && has) o->lod_errors = argv[++i];
+    else if (a == "--image-errors") o->image_errors = true;
     else if (a == "--quality-budgets" && has) {
       o->quality_budgets.clear();
       const std::string v = argv[++i];
@@ -209,6 +219,7 @@ bool parse(int argc, char** argv, Options* o) {
     if (!(b > 0.0f) || !std::isfinite(b)) return false;
   if (!(o->pixel_budget > 0.0f) || !std::isfinite(o->pixel_budget)) return false;
   if (o->lod_chain != "deep" && o->lod_chain != "technique") return false;
+  if (o->lod_errors != "geometric" && o->lod_errors != "image") return false;
   if (o->lods.empty() || o->quality_frames == 0) return false;
   if (o->quality_ss == 0 || o->quality_ss > 8) return false;
   if (o->error_path != "instanced" && o->error_path != "compute") return false;
@@ -276,6 +287,33 @@ si::Status makeCharacter(const Options& o, si::bench::Setup* setup) {
     std::printf("  LOD %zu %8llu ", l, static_cast<unsigned long long>(drawn[l].triangles));
     l < bind.size() ? std::printf("%10.4g", double(bind[l].error_units)) : std::printf("%10s", "-");
     std::printf(" %10.4g\n", double(setup->lod_errors[l]));
+  }
+  return s;
+}
+
+// Measures the image error of each LOD level (si::measureImageLodErrors), prints it beside the
+// geometric error and, with `select`, makes it what the screen-error mode selects by.
+si::Status imageErrors(si::bench::Setup& setup, const si::BakedPalette& palette, bool select) {
+  si::ImageLodErrorReport r;
+  const si::Status s = si::measureImageLodErrors(setup.info, setup.character, palette, {}, &r);
+  if (!s.isOk()) return s;
+  std::printf("Image error per LOD level (si::measureImageLodErrors: %u poses x %u views, "
+              "4x4 supersampled; pixels of one character differing by > 8/255 from LOD 0, mean "
+              "at each height in pixels; 1px at: the height where it changes one pixel; the "
+              "character is %.3g units tall)\n",
+              r.poses, r.views, double(r.character_height_units));
+  std::printf("  level  geometric units  image units  1px at");
+  for (uint32_t h : r.heights_pixels) std::printf(" %7upx", h);
+  std::printf("\n");
+  for (size_t l = 0; l < r.levels.size(); ++l) {
+    std::printf("  LOD %zu %16.4g %12.4g %7.3g", l, double(r.levels[l].geometric_units),
+                double(r.levels[l].image_units), r.levels[l].one_pixel_height);
+    for (double px : r.levels[l].mean_differing_pixels) std::printf(" %9.2f", px);
+    std::printf("\n");
+  }
+  if (select) {
+    setup.lod_errors = si::imageLodErrorsUnits(r);
+    std::printf("  the screen-error mode selects by the image errors (--lod-errors image)\n");
   }
   return s;
 }
@@ -417,6 +455,10 @@ int main(int argc, char** argv) {
                                                     : si::FramePlacement::kFewer;
   }
   s = si::bakePalette(character, main_bake, &palette, &report);
+  if (s.isOk() && (b.o.image_errors || b.o.lod_errors == "image")) {
+    s = imageErrors(b.setup, palette, b.o.lod_errors == "image");
+    if (!s.isOk()) return fail("image errors", s);
+  }
   si::Renderer renderer;
   si::RendererDesc rd;
   rd.measure_gpu_time = b.o.gpu_timer;
