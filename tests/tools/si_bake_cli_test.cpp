@@ -125,6 +125,27 @@ TEST(SiBake, RootMotionIsExtractedReportedAndWritten) {
   }
 }
 
+// --image-errors: each LOD level's image error, measured in an offscreen context, beside the
+// geometric one (a build without a headless back-end refuses the option, exit 2).
+TEST(SiBake, ImageErrorsPerLevel) {
+  const std::string out = tempPath("image_errors.sipal");
+  const ToolRun r = runTool("--embedded --rate 30 --no-progress -q --image-errors -o '" + out + "'");
+#if SI_BAKE_IMAGE_ERRORS
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  EXPECT_NE(r.output.find("Image error per LOD level"), std::string::npos) << r.output;
+  // LOD 1 changes pixels at 64 px: a number past 0 in its row's last column.
+  const size_t row = r.output.rfind("\nLOD 1 ");
+  ASSERT_NE(row, std::string::npos) << r.output;
+  const std::string line = r.output.substr(row + 1, r.output.find('\n', row + 1) - row - 1);
+  EXPECT_GT(std::stod(line.substr(line.rfind(' ') + 1)), 0.0) << line;
+  EXPECT_TRUE(exists(out));
+#else
+  EXPECT_EQ(r.exit_code, 2) << r.output;
+  EXPECT_NE(r.output.find("SI_HEADLESS"), std::string::npos) << r.output;
+#endif
+  std::remove(out.c_str());
+}
+
 TEST(SiBake, BadCommandLinesExitWith2) {
   for (const char* args : {"", "--embedded", "-o x.sipal", "--embedded -o x.sipal --bogus",
                            "--embedded -o x.sipal --rate 0", "--embedded -o x.sipal --rate fast",

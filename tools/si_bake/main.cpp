@@ -26,6 +26,9 @@
 #include <vector>
 
 #include "cast_table.h"
+#if SI_BAKE_IMAGE_ERRORS
+#include "image_errors.h"
+#endif
 #include "si/bake/animation_baker.h"
 #include "si/bake/palette_file.h"
 #include "si/core/default_character.h"
@@ -57,6 +60,7 @@ struct Options {
   si::BakeDesc bake;
   si::GltfImportDesc import;
   bool require_tolerance = false;
+  bool image_errors = false;  // --image-errors: each LOD level's image error (a GL context).
   bool quiet = false;
   int progress = -1;  // -1: when stderr is a terminal; 0 never; 1 always.
 };
@@ -98,6 +102,8 @@ void usage(std::FILE* f) {
       "                           variation groups: meshes named VAR_<group> (default; the\n"
       "                           rest is always worn) or one group per glTF mesh\n"
       "  --csv PATH               also write the error table as CSV\n"
+      "  --image-errors           also measure each LOD level's image error (pixels of the\n"
+      "                           character's image it changes) in an offscreen GL context\n"
       "  --require-tolerance      fail (exit 6, nothing written) when a clip misses it\n"
       "                           (automatic rates always do, unless told otherwise:)\n"
       "  --accept-tolerance-miss  write an automatic bake that misses the tolerance\n"
@@ -148,6 +154,12 @@ int parse(int argc, char** argv, Options* o) {
       o->cast = true;
     } else if (a == "--require-tolerance") {
       o->require_tolerance = true;
+    } else if (a == "--image-errors") {
+#if SI_BAKE_IMAGE_ERRORS
+      o->image_errors = true;
+#else
+      return bad("--image-errors needs a build with a headless GL back-end (SI_HEADLESS)");
+#endif
     } else if (a == "--accept-tolerance-miss") {
       o->bake.accept_tolerance_miss = true;
     } else if (a == "-q" || a == "--quiet") {
@@ -301,7 +313,9 @@ void printTable(std::FILE* f, const si::BakedPalette& p, const si::BakeReport& r
 // Triangles and geometric error per LOD level as instances draw them (a sub-mesh with fewer
 // levels draws its last), in the bind pose and over poses of the clips; the errors are what
 // the crowd's screen-error LOD mode selects by (docs/crowd.md).
-void printLodTable(std::FILE* f, const si::Character& character) {
+// Also the image errors with --image-errors (false with `why` when they cannot be measured).
+bool printLodTable(std::FILE* f, const si::Character& character, const si::BakedPalette& palette,
+                   bool image_errors, std::string* why) {
   si::Character posed = character;
   si::AnimatedLodErrorDesc poses;
   poses.poses_per_clip = 4;
@@ -312,7 +326,8 @@ void printLodTable(std::FILE* f, const si::Character& character) {
   if (s.isOk()) s = si::summarizeLodLevels(posed.mesh, &animated);
   if (!s.isOk()) {
     std::fprintf(f, "LOD errors not measured: %s\n", s.toString().c_str());
-    return;
+    *why = s.toString();
+    return !image_errors;
   }
   const double height = std::max(1e-30, double(character.height()));
   std::fprintf(f, "%-6s %10s %12s %12s %12s\n", "LOD", "triangles", "bind units", "posed units",
@@ -321,6 +336,12 @@ void printLodTable(std::FILE* f, const si::Character& character) {
     std::fprintf(f, "LOD %-2zu %10llu %12.4g %12.4g %12.4g\n", l,
                  static_cast<unsigned long long>(bind[l].triangles), double(bind[l].error_units),
                  double(animated[l].error_units), double(animated[l].error_units) / height);
+#if SI_BAKE_IMAGE_ERRORS
+  if (image_errors) return si::tools::printImageErrors(f, posed, palette, why);
+#else
+  (void)palette;
+#endif
+  return true;
 }
 
 bool writeCsv(const std::string& path, const si::BakedPalette& p, const si::BakeReport& r) {
@@ -441,8 +462,11 @@ int main(int argc, char** argv) {
     printTable(stdout, palette, report, double(character.height()),
                double(resolved.error_tolerance_ratio));
     printRootMotionTable(stdout, palette, report);
-    printLodTable(stdout, character);
   }
+  std::string why;
+  if ((!o.quiet || o.image_errors) &&
+      !printLodTable(stdout, character, palette, o.image_errors, &why))
+    return error(kExitBake, "--image-errors: " + why);
   if (!o.csv.empty() && !writeCsv(o.csv, palette, report))
     return error(kExitOutput, "cannot write the CSV '" + o.csv + "'");
   if (o.require_tolerance)

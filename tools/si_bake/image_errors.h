@@ -1,0 +1,19 @@
+// SkinnedInstancing — SPDX-License-Identifier: MIT (see LICENSE)
+#pragma once
+// si-bake --image-errors: each LOD level's image error beside its geometric error, measured in
+// an offscreen context of its own (si::HeadlessContext, si::measureImageLodErrors). Built only
+// where the library has a headless back-end (SI_HEADLESS).
+#include <cstdio>
+#include <string>
+
+#include "si/core/baked_palette.h"
+#include "si/core/character.h"
+
+namespace si::tools {
+
+/// Prints the table to `f`; false with `why` set when no context can be made or the
+/// measurement fails. `character` must carry LOD errors (as printLodTable measures them).
+bool printImageErrors(std::FILE* f, const Character& character, const BakedPalette& palette,
+                      std::string* why);
+
+}  // namespace si::tools
