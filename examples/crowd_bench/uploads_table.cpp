@@ -63,6 +63,8 @@ Status uploadsTable(Setup& setup, const BakedPalette& palette, const RendererDes
   Renderer renderers[2];
   for (int side = 0; side < 2; ++side) {
     RendererDesc rd = desc;
+    rd.skinning_path = SkinningPath::kCompute;  // Pre-skinned, as the automatic choice picks on
+                                                // the H100 and llvmpipe; never re-measured.
     rd.gpu_state_upload = side == 0 ? GpuStateUpload::kChanged : GpuStateUpload::kWhole;
     Status s = renderers[side].init(setup.info, rd);
     CharacterId id;
