@@ -107,7 +107,8 @@ void usage(std::FILE* f) {
       "                   [--max-baseline N] [--error-table-size N] [--csv PATH]\n"
       "                   [--error-path instanced|compute]\n"
       "                   [--plots DIR] [--backend auto|egl-device|egl-surfaceless|osmesa]\n"
-      "                   [--quick]   (fixed-rate bakes only, for smoke tests)\n"
+      "                   [--quick]   (fixed-rate bakes and a small image-error measurement,\n"
+      "                   for smoke tests)\n"
       "                   [--placement fewer|grid|keys] (the main bake automatic with these\n"
       "                   frames, --quick or not: grid against keys costs side by side)\n"
       "                   [--mix FILE,...|samples] (the mixed table: the embedded character and\n"
@@ -293,9 +294,18 @@ si::Status makeCharacter(const Options& o, si::bench::Setup* setup) {
 
 // Measures the image error of each LOD level (si::measureImageLodErrors), prints it beside the
 // geometric error and, with `select`, makes it what the screen-error mode selects by.
-si::Status imageErrors(si::bench::Setup& setup, const si::BakedPalette& palette, bool select) {
+// With `quick` (--quick, the sanitizer smoke run): 3 heights up to 16 px, 2 poses, 4 views.
+si::Status imageErrors(si::bench::Setup& setup, const si::BakedPalette& palette, bool select,
+                       bool quick) {
+  si::ImageLodErrorDesc desc;
+  if (quick) {
+    desc.heights_pixels = {4, 8, 16};
+    desc.max_poses = 2;
+    desc.azimuths = 4;
+    desc.elevations_degrees = {20.0f};
+  }
   si::ImageLodErrorReport r;
-  const si::Status s = si::measureImageLodErrors(setup.info, setup.character, palette, {}, &r);
+  const si::Status s = si::measureImageLodErrors(setup.info, setup.character, palette, desc, &r);
   if (!s.isOk()) return s;
   std::printf("Image error per LOD level (si::measureImageLodErrors: %u poses x %u views, "
               "4x4 supersampled; pixels of one character differing by > 8/255 from LOD 0, mean "
@@ -456,7 +466,7 @@ int main(int argc, char** argv) {
   }
   s = si::bakePalette(character, main_bake, &palette, &report);
   if (s.isOk() && (b.o.image_errors || b.o.lod_errors == "image")) {
-    s = imageErrors(b.setup, palette, b.o.lod_errors == "image");
+    s = imageErrors(b.setup, palette, b.o.lod_errors == "image", b.o.quick);
     if (!s.isOk()) return fail("image errors", s);
   }
   si::Renderer renderer;
