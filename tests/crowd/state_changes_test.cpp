@@ -4,7 +4,9 @@
 // holding another instance; the range exports equal the whole exports there.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cstring>
+#include <random>
 
 #include "crowd/crowd_test_helpers.h"
 
@@ -172,6 +174,111 @@ TEST(StateChanges, RootMotionStampsWhatMovedAndRangeExportsEqualTheWhole) {
   sentinel.scale = 7.0f;
   crowd.exportGpuState(DenseRange{2990, 11}, &sentinel, nullptr);
   EXPECT_EQ(sentinel.scale, 7.0f);
+}
+
+// An instance's state as the GPU-driven pass reads it at crowd clock `clock`: update()'s LOD
+// field and a crossfade past its end (update() ends it; the GPU sees it over) do not count.
+GpuInstanceState onGpu(GpuInstanceState g, double clock) {
+  g.lod = 0;
+  if (g.fading == 0 || !(g.fade_duration > 0.0) || !(clock - g.fade_start < g.fade_duration)) {
+    g.fading = 0;
+    g.fade_start = g.fade_duration = g.from_start_clock = g.from_start_time = 0.0;
+    g.from_clip = g.from_loop = 0;
+    g.from_speed = 0.0f;
+  }
+  return g;
+}
+
+// Random sequences of every kind of change, walkers moving by root motion between them: after
+// each step, every dense index whose state (or overlay) differs on the GPU from the last check,
+// or holds another instance, lies in changedSince's ranges, and every re-occupied one in its
+// placed ranges.
+TEST(StateChanges, RandomSequencesNameEveryChange) {
+  CrowdManager crowd;
+  CrowdDesc cd = test::defaultCrowdDesc();
+  cd.palette = &test::movingPalette();
+  ASSERT_TRUE(crowd.init(cd).isOk());
+  LayerMask arm;
+  ASSERT_TRUE(buildLayerMask(test::movingCharacter().skeleton, test::movingPalette(), "arm",
+                             {"r_clavicle"}, &arm).isOk());
+  uint32_t mask = 0;
+  ASSERT_TRUE(crowd.addLayerMask(arm, &mask).isOk());
+  const uint32_t clips = uint32_t(test::movingPalette().clips.size());
+  std::mt19937 rng(20261126);
+  std::uniform_real_distribution<double> u(0.0, 1.0);
+  std::vector<InstanceHandle> live;
+  std::vector<GpuInstanceState> was, is;
+  std::vector<InstanceHandle> was_handles, is_handles;
+  std::vector<GpuOverlayState> was_overlays, is_overlays;
+  uint64_t since = crowd.stateVersion();
+  crowd.exportGpuState(&was, &was_handles);
+  uint32_t checked = 0;
+  for (int step = 0; step < 600; ++step) {
+    const uint32_t pick = uint32_t(rng() % 12);  // 0, 10 and 11: add.
+    const uint32_t kind = live.empty() || pick >= 10 ? 0u : pick;
+    const InstanceHandle h = live.empty() ? InstanceHandle{} : live[rng() % live.size()];
+    for (int repeat = 0; repeat < 1 + int(rng() % 3); ++repeat) switch (kind) {
+      case 0: {
+        InstanceDesc d;
+        d.position = glm::dvec3(u(rng) * 100.0, 0.0, u(rng) * 100.0);
+        d.clip = uint32_t(rng() % clips);
+        d.root_motion = rng() % 3 == 0;
+        InstanceHandle added;
+        ASSERT_TRUE(crowd.add(d, &added).isOk());
+        live.push_back(added);
+        break;
+      }
+      case 1:
+        if (crowd.remove(h).isOk()) live.erase(std::find(live.begin(), live.end(), h));
+        break;
+      case 2: (void)crowd.setColor(h, glm::u8vec4(uint8_t(rng()), 9, 9, 255)); break;
+      case 3:
+        (void)crowd.setTransform(h, glm::dvec3(u(rng), 0.0, u(rng)), glm::quat(1, 0, 0, 0), 1.0f);
+        break;
+      case 4: (void)crowd.play(h, uint32_t(rng() % clips), u(rng), 1.0f); break;
+      case 5: (void)crowd.crossfade(h, uint32_t(rng() % clips), 0.05 + u(rng) * 0.3); break;
+      case 6: (void)crowd.setVariationMask(h, uint32_t(rng())); break;
+      case 7: (void)crowd.setRootMotion(h, rng() % 2 == 0); break;
+      case 8:
+        if (rng() % 2) (void)crowd.playOverlay(h, uint32_t(rng() % clips), mask, float(u(rng)), 0.1);
+        else (void)crowd.stopOverlay(h, 0.1);
+        break;
+      default:
+        if (rng() % 2) ASSERT_TRUE(crowd.advance(u(rng) * 0.2).isOk());
+        else ASSERT_TRUE(crowd.update(u(rng) * 0.2, test::testCamera({0, 2, -10}, {50, 0, 50})).isOk());
+        break;
+    }
+    crowd.exportGpuState(&is, &is_handles);
+    crowd.exportGpuOverlays(&is_overlays);
+    std::vector<DenseRange> changed, placed;
+    crowd.changedSince(since, &changed, &placed);
+    std::vector<uint8_t> covered(is.size(), 0), moved(is.size(), 0);
+    for (const DenseRange& r : changed) std::fill(covered.begin() + r.first, covered.begin() + r.first + r.count, 1);
+    for (const DenseRange& r : placed) std::fill(moved.begin() + r.first, moved.begin() + r.first + r.count, 1);
+    const double clock = crowd.clockSeconds();
+    const GpuOverlayState none{};
+    for (size_t i = 0; i < is.size(); ++i) {
+      const bool other = i >= was.size() || was_handles[i] != is_handles[i];
+      if (other) {
+        ASSERT_TRUE(moved[i] && covered[i]) << "step " << step << ": index " << i << " not placed";
+        continue;
+      }
+      const GpuInstanceState a = onGpu(was[i], clock), b = onGpu(is[i], clock);
+      const GpuOverlayState& oa = i < was_overlays.size() ? was_overlays[i] : none;
+      const GpuOverlayState& ob = i < is_overlays.size() ? is_overlays[i] : none;
+      if (std::memcmp(&a, &b, sizeof(a)) != 0 || std::memcmp(&oa, &ob, sizeof(oa)) != 0) {
+        ASSERT_TRUE(covered[i]) << "step " << step << " kind " << kind << ": index " << i
+                                << " changed unnamed";
+        ++checked;
+      }
+    }
+    since = crowd.stateVersion();
+    was.swap(is);
+    was_handles.swap(is_handles);
+    was_overlays.swap(is_overlays);
+  }
+  EXPECT_GT(checked, 500u);  // Changes were made and named.
+  EXPECT_GT(live.size(), 50u);
 }
 
 }  // namespace

@@ -7,6 +7,7 @@
 // the statistics add up, buckets are consistent, records are finite with frames inside the
 // palette, layer records (overlays on two masks: a branch and the whole chain) likewise. A rejected call must return a named error and leave the crowd exactly as it was.
 // Run with scripts/fuzz.sh.
+#include <algorithm>
 #include <cmath>
 #include <cstdint>
 #include <cstdlib>
@@ -126,6 +127,7 @@ class Input {
 struct Snapshot {
   std::vector<si::GpuInstanceState> state;
   std::vector<si::InstanceHandle> handles;
+  std::vector<si::GpuOverlayState> overlays;
   uint64_t version = 0;
   std::vector<float> lines;
   float far_line = 0.0f;
@@ -135,6 +137,9 @@ struct Snapshot {
            (state.empty() ||
             std::memcmp(state.data(), o.state.data(), state.size() * sizeof(state[0])) == 0) &&
            handles == o.handles && version == o.version && lines == o.lines &&
+           overlays.size() == o.overlays.size() &&
+           (overlays.empty() || std::memcmp(overlays.data(), o.overlays.data(),
+                                            overlays.size() * sizeof(overlays[0])) == 0) &&
            std::memcmp(&far_line, &o.far_line, 4) == 0 && std::memcmp(&clock, &o.clock, 8) == 0;
   }
 };
@@ -146,10 +151,71 @@ Snapshot snapshot(const si::CrowdManager& crowd) {
   for (size_t i = 0; i < s.state.size(); ++i)
     if (s.state[i].handle != s.handles[i].id) fail("exportGpuState: the state names another handle");
   s.version = crowd.stateVersion();
+  crowd.exportGpuOverlays(&s.overlays);
   s.lines = crowd.desc().lod_distances_radii;
   s.far_line = crowd.desc().max_distance_radii;
   s.clock = crowd.clockSeconds();
   return s;
+}
+
+// An instance's state as the GPU-driven pass reads it at crowd clock `clock`: the LOD field
+// (update()'s, which the GPU keeps its own of) and a crossfade past its end (update() ends it,
+// the GPU sees it over) do not count.
+si::GpuInstanceState onGpu(si::GpuInstanceState g, double clock) {
+  g.lod = 0;
+  if (g.fading == 0 || !(g.fade_duration > 0.0) || !(clock - g.fade_start < g.fade_duration)) {
+    g.fading = 0;
+    g.fade_start = g.fade_duration = 0.0;
+    g.from_start_clock = g.from_start_time = 0.0;
+    g.from_clip = g.from_loop = 0;
+    g.from_speed = 0.0f;
+  }
+  return g;
+}
+
+// changedSince(before.version) names every dense index whose exported state or overlay now
+// differs from `before` on the GPU, or that did not exist then, in sorted ranges within the
+// crowd whose range exports equal the whole export; and among them every index that holds
+// another instance than then.
+void checkChanges(const si::CrowdManager& crowd, const Snapshot& before) {
+  const Snapshot after = snapshot(crowd);
+  std::vector<si::DenseRange> changed, placed;
+  crowd.changedSince(before.version, &changed, &placed);
+  const size_t n = after.state.size();
+  std::vector<uint8_t> covered(n, 0), moved(n, 0);
+  for (int list = 0; list < 2; ++list) {
+    uint32_t end = 0;
+    for (const si::DenseRange& r : list == 0 ? changed : placed) {
+      if (r.count == 0 || r.first < end || size_t(r.first) + r.count > n)
+        fail("changedSince: ranges empty, out of order or past the end");
+      end = r.first + r.count;
+      std::fill((list == 0 ? covered : moved).begin() + r.first,
+                (list == 0 ? covered : moved).begin() + end, uint8_t(1));
+    }
+  }
+  for (const si::DenseRange& r : changed) {
+    std::vector<si::GpuInstanceState> part(r.count);
+    crowd.exportGpuState(r, part.data(), nullptr);
+    if (std::memcmp(part.data(), &after.state[r.first], r.count * sizeof(part[0])) != 0)
+      fail("a range export differs from the whole export");
+  }
+  const double clock = crowd.clockSeconds();
+  for (size_t i = 0; i < n; ++i) {
+    if (moved[i] && !covered[i]) fail("changedSince: a re-occupied index is not changed");
+    if (covered[i]) continue;
+    if (i >= before.state.size() || after.handles[i] != before.handles[i])
+      fail("changedSince misses an added or moved instance");
+    const si::GpuInstanceState a = onGpu(before.state[i], clock), b = onGpu(after.state[i], clock);
+    if (std::memcmp(&a, &b, sizeof(a)) != 0) fail("changedSince misses a changed instance");
+    // No overlays exported (none held) reads as a zero overlay per instance.
+    const si::GpuOverlayState none{};
+    const si::GpuOverlayState& was = i < before.overlays.size() ? before.overlays[i] : none;
+    const si::GpuOverlayState& is = i < after.overlays.size() ? after.overlays[i] : none;
+    if (std::memcmp(&was, &is, sizeof(is)) != 0) fail("changedSince misses a changed overlay");
+  }
+  for (size_t i = 0; i < n && i < before.state.size(); ++i)
+    if (after.handles[i] != before.handles[i] && !moved[i])
+      fail("changedSince: another instance sits at an index not marked placed");
 }
 
 void checkFrame(const si::CrowdManager& crowd) {
@@ -372,6 +438,7 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
         break;
       }
     }
+    checkChanges(crowd, before);
     if (kind <= 10 && !s.isOk()) {
       if (s.message().empty()) fail("a rejected call has no message");
       if (!(snapshot(crowd) == before)) fail("a rejected call changed the crowd");
