@@ -3,7 +3,9 @@
 //   palette:   palette files of the embedded character's STEP clip and of a clip with root
 //              motion, in every format
 //   crowd-api: byte strings for the CrowdManager call-sequence fuzzer (a fixed generator: the
-//              same seeds every time), each a few hundred calls
+//              same seeds every time), each a few hundred calls; random ones, and ones whose
+//              bytes make valid instances
+#include <cstdint>
 #include <cstdio>
 #include <fstream>
 #include <random>
@@ -51,6 +53,21 @@ int writeCrowdApi(const std::string& dir) {
     std::vector<char> bytes(size_t(512) << (k % 4));
     for (char& b : bytes) b = char(rng() & 0xFF);
     std::ofstream out(dir + "/crowd_api_" + std::to_string(k) + ".bin", std::ios::binary);
+    out.write(bytes.data(), std::streamsize(bytes.size()));
+    if (!out) {
+      std::fprintf(stderr, "si_write_fuzz_seeds: cannot write into %s\n", dir.c_str());
+      return 1;
+    }
+  }
+  // Random bytes almost never make a valid instance (a NaN, a zero scale or a translucent tint
+  // somewhere), so the replay would test little past init. These draw from bytes that read as
+  // finite values of the fuzzer's table (index b % 14: 0, -0, -1, 0.5, 1), alphas of 255 and
+  // every kind of call: a dozen instances live in each.
+  const uint8_t benign[] = {73, 80, 81, 74, 76, 94};
+  for (int k = 0; k < 6; ++k) {
+    std::vector<char> bytes(2048);
+    for (char& b : bytes) b = char(benign[rng() % sizeof(benign)]);
+    std::ofstream out(dir + "/crowd_api_benign_" + std::to_string(k) + ".bin", std::ios::binary);
     out.write(bytes.data(), std::streamsize(bytes.size()));
     if (!out) {
       std::fprintf(stderr, "si_write_fuzz_seeds: cannot write into %s\n", dir.c_str());
