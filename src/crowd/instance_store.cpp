@@ -50,12 +50,13 @@ uint32_t InstanceStore::addView() {
   return lane;
 }
 
+void InstanceStore::changed(uint32_t i, bool placed) {
+  version = nextStateVersion();
+  stamp(i, placed);
+}
+
 void InstanceStore::stamp(uint32_t i, bool placed) {
   const uint32_t chunk = i / kStampChunk;
-  if (chunk_changed_at.size() <= chunk) {
-    chunk_changed_at.resize(chunk + 1, 0);
-    chunk_placed_at.resize(chunk + 1, 0);
-  }
   changed_at[i] = version;
   chunk_changed_at[chunk] = version;
   if (!placed) return;
@@ -122,8 +123,12 @@ void InstanceStore::push(const InstanceDesc& d, InstanceHandle h, double clock) 
   dense_handles.push_back(h);
   changed_at.push_back(0);
   placed_at.push_back(0);
-  version = nextStateVersion();
-  stamp(size() - 1, true);
+  const uint32_t chunks = (size() + kStampChunk - 1) / kStampChunk;
+  if (chunk_changed_at.size() < chunks) {  // Only adds grow the store: stamps never resize.
+    chunk_changed_at.resize(chunks, 0);
+    chunk_placed_at.resize(chunks, 0);
+  }
+  changed(size() - 1, true);
 }
 
 Status InstanceStore::denseIndex(InstanceHandle h, uint32_t* dense) const {
@@ -173,8 +178,10 @@ Status InstanceStore::remove(InstanceHandle h) {
   move_last(dense_handles);
   move_last(changed_at);
   move_last(placed_at);
-  version = nextStateVersion();
-  if (i != last) stamp(i, true);  // The last instance moved into the hole.
+  if (i != last)
+    changed(i, true);  // The last instance moved into the hole.
+  else
+    version = nextStateVersion();
   return handles.release(h);
 }
 
@@ -193,8 +200,7 @@ Status InstanceStore::setTransform(InstanceHandle h, const glm::dvec3& position,
   motion_clock[i] = clock;
   for (ViewLanes& v : views)  // A teleport: no motion vector in any view.
     if (v.used) v.record_slot[i] = CrowdManager::kNoPreviousRecord;
-  version = nextStateVersion();
-  stamp(i);
+  changed(i);
   return Status::ok();
 }
 
@@ -210,8 +216,7 @@ Status InstanceStore::setRootMotion(InstanceHandle h, bool enabled, double clock
     --root_motion_count;
   }
   root_motion[i] = enabled ? 1 : 0;
-  version = nextStateVersion();
-  stamp(i);
+  changed(i);
   return s;
 }
 
@@ -222,8 +227,7 @@ Status InstanceStore::setColor(InstanceHandle h, glm::u8vec4 color) {
   s = validateColor(color);
   if (!s.isOk()) return {s.code(), "setColor: " + s.message()};
   colors[i] = (colors[i] & 0xFF000000u) | si::packAppearance(color.r, color.g, color.b, 0);
-  version = nextStateVersion();
-  stamp(i);
+  changed(i);
   return s;
 }
 
@@ -232,8 +236,7 @@ Status InstanceStore::setCustomLayer(InstanceHandle h, uint8_t custom_layer) {
   Status s = denseIndex(h, &i);
   if (!s.isOk()) return s;
   colors[i] = (colors[i] & 0x00FFFFFFu) | (uint32_t(custom_layer) << 24);
-  version = nextStateVersion();
-  stamp(i);
+  changed(i);
   return s;
 }
 
@@ -242,8 +245,7 @@ Status InstanceStore::setVariationMask(InstanceHandle h, uint32_t mask) {
   Status s = denseIndex(h, &i);
   if (!s.isOk()) return s;
   masks[i] = mask;
-  version = nextStateVersion();
-  stamp(i);
+  changed(i);
   return s;
 }
 
@@ -260,8 +262,7 @@ Status InstanceStore::play(InstanceHandle h, uint32_t clip, double time_seconds,
   playback[i] = Playback{clip, palette->clips[clip].loop_mode, speed, clock, time_seconds};
   fade_duration[i] = 0.0;
   events_new[i] = 1;
-  version = nextStateVersion();
-  stamp(i);
+  changed(i);
   return Status::ok();
 }
 
@@ -281,8 +282,7 @@ Status InstanceStore::crossfade(InstanceHandle h, uint32_t clip, double blend_se
   playback[i] = Playback{clip, palette->clips[clip].loop_mode, playback[i].speed, clock,
                          time_seconds};
   events_new[i] = 1;
-  version = nextStateVersion();
-  stamp(i);
+  changed(i);
   return Status::ok();
 }
 
@@ -302,8 +302,7 @@ Status InstanceStore::playOverlay(InstanceHandle h, uint32_t clip, uint32_t mask
   o.fade_start = clock;
   o.fade_duration = blend_seconds;
   o.active = true;
-  version = nextStateVersion();
-  stamp(i);
+  changed(i);
   return Status::ok();
 }
 
@@ -317,8 +316,7 @@ Status InstanceStore::stopOverlay(InstanceHandle h, double blend_seconds, double
   o.weight_to = 0.0f;
   o.fade_start = clock;
   o.fade_duration = blend_seconds;
-  version = nextStateVersion();
-  stamp(i);
+  changed(i);
   return Status::ok();
 }
 

@@ -75,6 +75,8 @@ struct InstanceStore {
   /// Stamps dense index `i` with the current version: its exported state changed
   /// (CrowdManager::changedSince). `placed`: a different instance is there now.
   void stamp(uint32_t i, bool placed = false);
+  /// A new version, and index `i` stamped with it: what every change of one instance ends with.
+  void changed(uint32_t i, bool placed = false);
   /// A lane for a new view (every instance at LOD 0, no previous record); its index.
   uint32_t addView();
   /// Frees a lane (lane 0, the crowd's own, is never released).
