@@ -98,8 +98,7 @@ Status buildPartLods(Character* character, const PartLodDesc& desc, PartLodRepor
                    " names sub-meshes past the mesh's ", parts)};
   const uint32_t keep = desc.keep_mask != 0 ? desc.keep_mask : 1u << largestSubMesh(mesh);
 
-  // Each part's chain as it may be drawn: its levels, then (droppable, not yet dropped) an
-  // empty level whose error is its distance to the kept parts.
+  // The parts that may be dropped: outside the kept ones, not dropped by an earlier call.
   uint32_t drop_mask = 0;
   if (desc.drop)
     for (size_t sm = 0; sm < parts; ++sm)
@@ -178,8 +177,7 @@ Status buildPartLods(Character* character, const PartLodDesc& desc, PartLodRepor
     }
     rep.parts.push_back(std::move(part));
   }
-  const size_t report_levels = std::max(levels, mesh.maxLodCount());
-  for (size_t l = 0; l < report_levels; ++l) {
+  for (size_t l = 0; l < levels; ++l) {  // levels >= existing: the longer chain's length.
     uint64_t before = 0, after = 0;
     for (size_t sm = 0; sm < parts; ++sm) {
       before += mesh.triangleCount(sm, l);

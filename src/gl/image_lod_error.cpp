@@ -71,7 +71,7 @@ std::vector<float> linesFor(uint32_t level, uint32_t levels) {
 // log-log scale: interpolated between the measurements around it, extrapolated along the
 // nearest two (or in proportion to the height, from one) past them; infinite when nothing
 // differs.
-double onePixelHeight(std::vector<uint32_t> heights, std::vector<double> differing) {
+double onePixelHeight(const std::vector<uint32_t>& heights, const std::vector<double>& differing) {
   std::vector<size_t> order(heights.size());
   for (size_t k = 0; k < order.size(); ++k) order[k] = k;
   std::sort(order.begin(), order.end(), [&](size_t a, size_t b) { return heights[a] < heights[b]; });
