@@ -71,13 +71,18 @@ std::vector<float> linesFor(uint32_t level, uint32_t levels) {
 // log-log scale: interpolated between the measurements around it, extrapolated along the
 // nearest two (or in proportion to the height, from one) past them; infinite when nothing
 // differs.
-double onePixelHeight(const std::vector<uint32_t>& heights, const std::vector<double>& differing) {
+double onePixelHeight(const std::vector<uint32_t>& heights,
+                      const std::vector<double>& differing) {
   std::vector<size_t> order(heights.size());
   for (size_t k = 0; k < order.size(); ++k) order[k] = k;
-  std::sort(order.begin(), order.end(), [&](size_t a, size_t b) { return heights[a] < heights[b]; });
+  std::sort(order.begin(), order.end(),
+            [&](size_t a, size_t b) { return heights[a] < heights[b]; });
   std::vector<double> x, y;  // log height, log differing, where something differs.
   for (size_t k : order)
-    if (differing[k] > 0.0) x.push_back(std::log(double(heights[k]))), y.push_back(std::log(differing[k]));
+    if (differing[k] > 0.0) {
+      x.push_back(std::log(double(heights[k])));
+      y.push_back(std::log(differing[k]));
+    }
   if (x.empty()) return std::numeric_limits<double>::infinity();
   if (x.size() == 1) return std::exp(x[0] - y[0]);  // In proportion to the height.
   size_t i = 0;  // The segment [i, i + 1] around log 1 = 0, or the nearest end one.
@@ -162,8 +167,8 @@ Status measureImageLodErrors(const GlInfo& info, const Character& character,
     inst.speed = 0.0f;
     inst.rotation = views[i % views.size()];
     inst.variation_mask = 0xFFFFFFFFu;
-    const glm::dvec3 cell_centre((i % columns + 0.5) * cell_units, -(i / columns + 0.5) * cell_units,
-                                 0.0);
+    const glm::dvec3 cell_centre((i % columns + 0.5) * cell_units,
+                                 -(i / columns + 0.5) * cell_units, 0.0);
     inst.position = cell_centre - glm::dvec3(inst.rotation * centre);
     InstanceHandle h;
     s = crowd.add(inst, &h);
