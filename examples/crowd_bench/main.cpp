@@ -13,6 +13,7 @@
 
 #include "common/example_options.h"
 #include "crowd_bench/bake_error_table.h"
+#include "crowd_bench/bench_character.h"
 #include "crowd_bench/bench_scene.h"
 #include "crowd_bench/lod_quality.h"
 #include "crowd_bench/mixed_scene.h"
@@ -23,11 +24,6 @@
 #include "crowd_bench/root_motion_table.h"
 #include "crowd_bench/views_table.h"
 #include "si/bake/animation_baker.h"
-#include "si/bake/lod_chain.h"
-#include "si/core/part_lod.h"
-#include "si/gl/image_lod_error.h"
-#include "si/core/default_character.h"
-#include "si/core/lod_error.h"
 
 namespace {
 
@@ -247,87 +243,6 @@ LodChoice lodChoice(const std::string& name, float budget) {
   return c;
 }
 
-// The embedded character with its LOD chain (deep: 6 levels down to a few dozen triangles),
-// and the error of each level. Prints triangles and error per LOD.
-si::Status makeCharacter(const Options& o, si::bench::Setup* setup) {
-  si::Status s = si::makeDefaultCharacter({}, &setup->character);
-  si::LodChainDesc chain;
-  chain.min_triangles = o.lod_min_triangles;
-  if (s.isOk() && o.lod_chain == "deep") s = si::buildLodChain(&setup->character.mesh, chain, nullptr);
-  std::vector<si::LodLevelSummary> bind;
-  if (s.isOk()) s = si::summarizeLodLevels(setup->character.mesh, &bind);
-  // Errors over the clips' poses: what the screen-error mode selects by.
-  if (s.isOk()) s = si::measureAnimatedLodErrors(&setup->character, {});
-  si::PartLodReport parts;
-  if (s.isOk() && o.part_lod) s = si::buildPartLods(&setup->character, {}, &parts);
-  if (s.isOk()) s = si::lodErrorsByLevel(setup->character.mesh, &setup->lod_errors);
-  if (!s.isOk()) return s;
-  if (o.part_lod) {
-    std::printf("Per-part LOD (si::buildPartLods): per character level, each part's own level "
-                "(- where dropped); drop error = distance to the kept parts (model units)\n");
-    for (const si::PartLodReport::Part& p : parts.parts) {
-      std::printf("  %-10s %s", p.name.c_str(), p.kept ? "kept      " : "");
-      if (!p.kept) std::printf("drop %5.3f", double(p.drop_error_units));
-      for (int level : p.level_of) level < 0 ? std::printf("    -") : std::printf(" %4d", level);
-      std::printf("\n");
-    }
-    std::printf("  triangles  before    ");
-    for (uint64_t t : parts.triangles_before) std::printf(" %llu", static_cast<unsigned long long>(t));
-    std::printf("\n  triangles  after     ");
-    for (uint64_t t : parts.triangles_after) std::printf(" %llu", static_cast<unsigned long long>(t));
-    std::printf("\n");
-  }
-  std::vector<si::LodLevelSummary> drawn;  // After per-part LOD, which may add a level.
-  s = si::summarizeLodLevels(setup->character.mesh, &drawn);
-  if (!s.isOk()) return s;
-  std::printf("LOD chain (%s%s): level, triangles drawn (all sub-meshes; one with fewer levels "
-              "draws its last), max error (model units) in the bind pose (- for a level per-part "
-              "LOD added) and over the clips' poses\n",
-              o.lod_chain.c_str(), o.part_lod ? ", per-part LOD" : "");
-  for (size_t l = 0; l < drawn.size(); ++l) {
-    std::printf("  LOD %zu %8llu ", l, static_cast<unsigned long long>(drawn[l].triangles));
-    l < bind.size() ? std::printf("%10.4g", double(bind[l].error_units)) : std::printf("%10s", "-");
-    std::printf(" %10.4g\n", double(setup->lod_errors[l]));
-  }
-  return s;
-}
-
-// Measures the image error of each LOD level (si::measureImageLodErrors), prints it beside the
-// geometric error and, with `select`, makes it what the screen-error mode selects by.
-// With `quick` (--quick, the sanitizer smoke run): 3 heights up to 16 px, 2 poses, 4 views.
-si::Status imageErrors(si::bench::Setup& setup, const si::BakedPalette& palette, bool select,
-                       bool quick) {
-  si::ImageLodErrorDesc desc;
-  if (quick) {
-    desc.heights_pixels = {4, 8, 16};
-    desc.max_poses = 2;
-    desc.azimuths = 4;
-    desc.elevations_degrees = {20.0f};
-  }
-  si::ImageLodErrorReport r;
-  const si::Status s = si::measureImageLodErrors(setup.info, setup.character, palette, desc, &r);
-  if (!s.isOk()) return s;
-  std::printf("Image error per LOD level (si::measureImageLodErrors: %u poses x %u views, "
-              "4x4 supersampled; pixels of one character differing by > 8/255 from LOD 0, mean "
-              "at each height in pixels; 1px at: the height where it changes one pixel; the "
-              "character is %.3g units tall)\n",
-              r.poses, r.views, double(r.character_height_units));
-  std::printf("  level  geometric units  image units  1px at");
-  for (uint32_t h : r.heights_pixels) std::printf(" %7upx", h);
-  std::printf("\n");
-  for (size_t l = 0; l < r.levels.size(); ++l) {
-    std::printf("  LOD %zu %16.4g %12.4g %7.3g", l, double(r.levels[l].geometric_units),
-                double(r.levels[l].image_units), r.levels[l].one_pixel_height);
-    for (double px : r.levels[l].mean_differing_pixels) std::printf(" %9.2f", px);
-    std::printf("\n");
-  }
-  if (select) {
-    setup.lod_errors = si::imageLodErrorsUnits(r);
-    std::printf("  the screen-error mode selects by the image errors (--lod-errors image)\n");
-  }
-  return s;
-}
-
 // Writes the gnuplot script next to the plots and runs gnuplot on it; false when it cannot.
 bool plot(const Options& o, const std::string& script) {
   const std::string file = o.plots + "/plot.gp";
@@ -437,7 +352,11 @@ int main(int argc, char** argv) {
     usage(stderr);
     return 2;
   }
-  si::Status s = makeCharacter(b.o, &b.setup);
+  si::bench::CharacterChoice choice;
+  choice.lod_chain = b.o.lod_chain;
+  choice.lod_min_triangles = b.o.lod_min_triangles;
+  choice.part_lod = b.o.part_lod;
+  si::Status s = si::bench::makeCharacter(choice, &b.setup);
   if (!s.isOk()) return fail("character", s);
   si::HeadlessDesc hd;
   hd.width = b.setup.width = b.o.width;
@@ -466,7 +385,7 @@ int main(int argc, char** argv) {
   }
   s = si::bakePalette(character, main_bake, &palette, &report);
   if (s.isOk() && (b.o.image_errors || b.o.lod_errors == "image")) {
-    s = imageErrors(b.setup, palette, b.o.lod_errors == "image", b.o.quick);
+    s = si::bench::imageErrors(b.setup, palette, b.o.lod_errors == "image", b.o.quick);
     if (!s.isOk()) return fail("image errors", s);
   }
   si::Renderer renderer;

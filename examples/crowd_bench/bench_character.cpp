@@ -1,0 +1,92 @@
+// SkinnedInstancing — SPDX-License-Identifier: MIT (see LICENSE)
+#include "crowd_bench/bench_character.h"
+
+#include <cstdio>
+#include <vector>
+
+#include "si/bake/lod_chain.h"
+#include "si/core/default_character.h"
+#include "si/core/lod_error.h"
+#include "si/core/part_lod.h"
+#include "si/gl/image_lod_error.h"
+
+namespace si::bench {
+
+Status makeCharacter(const CharacterChoice& choice, Setup* setup) {
+  Status s = makeDefaultCharacter({}, &setup->character);
+  LodChainDesc chain;
+  chain.min_triangles = choice.lod_min_triangles;
+  if (s.isOk() && choice.lod_chain == "deep")
+    s = buildLodChain(&setup->character.mesh, chain, nullptr);
+  std::vector<LodLevelSummary> bind;
+  if (s.isOk()) s = summarizeLodLevels(setup->character.mesh, &bind);
+  // Errors over the clips' poses: what the screen-error mode selects by.
+  if (s.isOk()) s = measureAnimatedLodErrors(&setup->character, {});
+  PartLodReport parts;
+  if (s.isOk() && choice.part_lod) s = buildPartLods(&setup->character, {}, &parts);
+  if (s.isOk()) s = lodErrorsByLevel(setup->character.mesh, &setup->lod_errors);
+  if (!s.isOk()) return s;
+  if (choice.part_lod) {
+    std::printf("Per-part LOD (buildPartLods): per character level, each part's own level "
+                "(- where dropped); drop error = distance to the kept parts (model units)\n");
+    for (const PartLodReport::Part& p : parts.parts) {
+      std::printf("  %-10s %s", p.name.c_str(), p.kept ? "kept      " : "");
+      if (!p.kept) std::printf("drop %5.3f", double(p.drop_error_units));
+      for (int level : p.level_of) level < 0 ? std::printf("    -") : std::printf(" %4d", level);
+      std::printf("\n");
+    }
+    std::printf("  triangles  before    ");
+    for (uint64_t t : parts.triangles_before)
+      std::printf(" %llu", static_cast<unsigned long long>(t));
+    std::printf("\n  triangles  after     ");
+    for (uint64_t t : parts.triangles_after)
+      std::printf(" %llu", static_cast<unsigned long long>(t));
+    std::printf("\n");
+  }
+  std::vector<LodLevelSummary> drawn;  // After per-part LOD, which may add a level.
+  s = summarizeLodLevels(setup->character.mesh, &drawn);
+  if (!s.isOk()) return s;
+  std::printf("LOD chain (%s%s): level, triangles drawn (all sub-meshes; one with fewer levels "
+              "draws its last), max error (model units) in the bind pose (- for a level per-part "
+              "LOD added) and over the clips' poses\n",
+              choice.lod_chain.c_str(), choice.part_lod ? ", per-part LOD" : "");
+  for (size_t l = 0; l < drawn.size(); ++l) {
+    std::printf("  LOD %zu %8llu ", l, static_cast<unsigned long long>(drawn[l].triangles));
+    l < bind.size() ? std::printf("%10.4g", double(bind[l].error_units)) : std::printf("%10s", "-");
+    std::printf(" %10.4g\n", double(setup->lod_errors[l]));
+  }
+  return s;
+}
+
+Status imageErrors(Setup& setup, const BakedPalette& palette, bool select, bool quick) {
+  ImageLodErrorDesc desc;
+  if (quick) {
+    desc.heights_pixels = {4, 8, 16};
+    desc.max_poses = 2;
+    desc.azimuths = 4;
+    desc.elevations_degrees = {20.0f};
+  }
+  ImageLodErrorReport r;
+  const Status s = measureImageLodErrors(setup.info, setup.character, palette, desc, &r);
+  if (!s.isOk()) return s;
+  std::printf("Image error per LOD level (measureImageLodErrors: %u poses x %u views, "
+              "4x4 supersampled; pixels of one character differing by > 8/255 from LOD 0, mean "
+              "at each height in pixels; 1px at: the height where it changes one pixel; the "
+              "character is %.3g units tall)\n",
+              r.poses, r.views, double(r.character_height_units));
+  std::printf("  level  geometric units  image units  1px at");
+  for (uint32_t h : r.heights_pixels) std::printf(" %7upx", h);
+  std::printf("\n");
+  for (size_t l = 0; l < r.levels.size(); ++l) {
+    std::printf("  LOD %zu %16.4g %12.4g %7.3g", l, double(r.levels[l].geometric_units),
+                double(r.levels[l].image_units), r.levels[l].one_pixel_height);
+    for (double px : r.levels[l].mean_differing_pixels) std::printf(" %9.2f", px);
+    std::printf("\n");
+  }
+  if (select) {
+    setup.lod_errors = imageLodErrorsUnits(r);
+    std::printf("  the screen-error mode selects by the image errors (--lod-errors image)\n");
+  }
+  return s;
+}
+}  // namespace si::bench

@@ -1,0 +1,30 @@
+// SkinnedInstancing — SPDX-License-Identifier: MIT (see LICENSE)
+#pragma once
+// crowd_bench's character: the embedded one with its LOD chain, the error of each level over
+// the clips' poses, optionally per-part LOD, and each level's image error; each printed.
+#include <cstdint>
+#include <string>
+
+#include "crowd_bench/bench_scene.h"
+
+namespace si::bench {
+
+/// How the bench's character is made (its command-line options).
+struct CharacterChoice {
+  std::string lod_chain = "deep";  ///< deep: si::buildLodChain's levels; technique: the 3 embedded.
+  uint32_t lod_min_triangles = 0;  ///< LodChainDesc::min_triangles; 0: the library's default.
+  bool part_lod = false;           ///< si::buildPartLods (each part its own level, parts dropped).
+};
+
+/// The embedded character with its LOD chain (deep: 6 levels down to a few dozen triangles),
+/// and the error of each level (setup->lod_errors); prints triangles and error per level, and
+/// with per-part LOD each part's level per character level and its drop error.
+Status makeCharacter(const CharacterChoice& choice, Setup* setup);
+
+/// Measures the image error of each LOD level (si::measureImageLodErrors), prints it beside the
+/// geometric error and, with `select`, makes it what the screen-error mode selects by
+/// (setup.lod_errors). With `quick` (--quick, the sanitizer smoke run): 3 heights up to 16 px,
+/// 2 poses, 4 views.
+Status imageErrors(Setup& setup, const BakedPalette& palette, bool select, bool quick);
+
+}  // namespace si::bench
