@@ -27,7 +27,7 @@ Status makeCharacter(const CharacterChoice& choice, Setup* setup) {
   if (s.isOk()) s = lodErrorsByLevel(setup->character.mesh, &setup->lod_errors);
   if (!s.isOk()) return s;
   if (choice.part_lod) {
-    std::printf("Per-part LOD (buildPartLods): per character level, each part's own level "
+    std::printf("Per-part LOD (si::buildPartLods): per character level, each part's own level "
                 "(- where dropped); drop error = distance to the kept parts (model units)\n");
     for (const PartLodReport::Part& p : parts.parts) {
       std::printf("  %-10s %s", p.name.c_str(), p.kept ? "kept      " : "");
@@ -69,7 +69,7 @@ Status imageErrors(Setup& setup, const BakedPalette& palette, bool select, bool 
   ImageLodErrorReport r;
   const Status s = measureImageLodErrors(setup.info, setup.character, palette, desc, &r);
   if (!s.isOk()) return s;
-  std::printf("Image error per LOD level (measureImageLodErrors: %u poses x %u views, "
+  std::printf("Image error per LOD level (si::measureImageLodErrors: %u poses x %u views, "
               "4x4 supersampled; pixels of one character differing by > 8/255 from LOD 0, mean "
               "at each height in pixels; 1px at: the height where it changes one pixel; the "
               "character is %.3g units tall)\n",
