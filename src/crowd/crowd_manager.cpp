@@ -112,6 +112,10 @@ Status CrowdManager::init(const CrowdDesc& in_desc) {
     return {StatusCode::kInvalidArgument, "CrowdDesc.sub_mesh_count must be 1 to 32"};
   if (d.lod_count > kMaxLods)
     return {StatusCode::kInvalidArgument, "CrowdDesc.lod_count must be at most 8"};
+  if (d.impostor_lod != 0 && d.impostor_lod + 1 != d.lod_count)
+    return {StatusCode::kInvalidArgument,
+            strCat("CrowdDesc.impostor_lod must be 0 (none) or the last level, lod_count - 1 = ",
+                   d.lod_count - 1, " (it is ", d.impostor_lod, ")")};
   if (!std::isfinite(d.character_radius) || d.character_radius <= 0.0f)
     return {StatusCode::kInvalidArgument, "CrowdDesc.character_radius must be finite and > 0"};
   s = checkLodLines(d.lod_count, d.lod_distances_radii, d.max_distance_radii);

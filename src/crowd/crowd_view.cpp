@@ -68,6 +68,7 @@ FrameInputs frameInputs(CrowdState& st, const ViewState& view, const Camera& cam
   in.camera_position = camera.position;
   in.clock = st.clock;
   in.sub_mesh_count = desc.sub_mesh_count;
+  in.impostor_lod = desc.impostor_lod;
   in.parallel_for = &parallel_for;
   in.markers = &st.markers;
   in.root_motion = st.store.root_motion_count > 0;

@@ -146,8 +146,10 @@ SI_CPU_CLONES void selectChunk(const FrameInputs& in, InstanceStore& st, uint32_
       view.lods[i] = static_cast<uint8_t>(lanes.lod[k]);  // Hysteresis goes on from it.
       const uint32_t lod = std::min(uint32_t(lanes.lod[k]) + in.lod_bias, coarsest);
       ++w.stats.per_lod[lod];
-      const uint32_t key =
-          lod * kMaxMaskGroups + localGroup(w, wornMask(st.masks[i], in.sub_mesh_count));
+      const uint32_t worn = in.impostor_lod != 0 && lod >= in.impostor_lod
+                                ? 1u  // One impostor per instance, in sub-mesh 0's bucket.
+                                : wornMask(st.masks[i], in.sub_mesh_count);
+      const uint32_t key = lod * kMaxMaskGroups + localGroup(w, worn);
       ++w.counts[key];
       w.visible.push_back(i);
       w.keys.push_back(static_cast<uint16_t>(key));

@@ -83,6 +83,7 @@ struct FrameInputs {
   glm::dvec3 camera_position{0.0};
   double clock = 0.0;  // The crowd clock, already advanced.
   uint32_t sub_mesh_count = 1;
+  uint32_t impostor_lod = 0;  // CrowdDesc::impostor_lod: its instances join sub-mesh 0's bucket.
   const ParallelFor* parallel_for = nullptr;  // Null: every task on the calling thread.
   const MarkerTable* markers = nullptr;       // Null or empty: no events.
   bool root_motion = false;                   // Some instance opted in to root motion.

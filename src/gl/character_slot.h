@@ -11,6 +11,7 @@
 #include "gl/paths/cpu_skinning_path.h"
 #include "gl/paths/gpu_culled_path.h"
 #include "gl/resources/character_buffers.h"
+#include "gl/resources/impostor_atlas.h"
 #include "gl/resources/palette_texture.h"
 #include "gl/resources/preskin_lists.h"
 #include "si/gl/renderer.h"
@@ -21,6 +22,7 @@ struct CharacterSlot {
   PaletteTexture palette;
   CharacterBuffers character;
   PreSkinLists preskin;
+  ImpostorAtlas impostor;  ///< Renderer::buildImpostor's atlas (not ready when none).
   ComputePath compute_path;
   CpuSkinningPath cpu_path;
   GpuCulledPath gpu_culled_path;
@@ -34,6 +36,7 @@ struct CharacterSlot {
     cpu_path.release();
     gpu_culled_path.release();
     preskin.release();
+    impostor.release();
     character.release();
     palette.release();
   }

@@ -116,18 +116,27 @@ Status measureImageLodErrors(const GlInfo& info, const Character& character,
   const int tolerance = int(d.channel_tolerance ? d.channel_tolerance : 8u);
   for (uint32_t h : d.heights_pixels)
     if (h == 0) return {StatusCode::kInvalidArgument, "measureImageLodErrors: a height of 0"};
+  if (!(d.pose_phase >= 0.0f && d.pose_phase < 1.0f) || !std::isfinite(d.azimuth_offset_degrees))
+    return {StatusCode::kInvalidArgument,
+            "measureImageLodErrors: pose_phase must be in [0, 1) and the azimuth offset finite"};
+  if (d.impostor != nullptr && character.mesh.maxLodCount() < 2)
+    return {StatusCode::kInvalidArgument,
+            "measureImageLodErrors: an impostor needs its level past LOD 0 "
+            "(si::appendImpostorLevel)"};
 
   std::vector<Pose> poses;
   for (uint32_t c = 0; c < palette.clips.size() && poses.size() < max_poses; ++c) {
     const double duration = palette.clips[c].duration_seconds;
     for (uint32_t k = 0; k < per_clip && poses.size() < max_poses; ++k)
-      poses.push_back({c, duration * double(k) / double(per_clip)});
+      poses.push_back({c, duration * (double(k) + double(d.pose_phase)) / double(per_clip)});
   }
   std::vector<glm::quat> views;
   for (float elevation : d.elevations_degrees)
     for (uint32_t a = 0; a < d.azimuths; ++a)
       views.push_back(glm::angleAxis(float(elevation * kPi / 180.0), glm::vec3(1, 0, 0)) *
-                      glm::angleAxis(float(2.0 * kPi * a / d.azimuths), glm::vec3(0, 1, 0)));
+                      glm::angleAxis(float(2.0 * kPi * a / d.azimuths +
+                                           double(d.azimuth_offset_degrees) * kPi / 180.0),
+                                     glm::vec3(0, 1, 0)));
   const uint32_t cells = uint32_t(poses.size() * views.size());
   const uint32_t columns = uint32_t(std::ceil(std::sqrt(double(cells))));
   const uint32_t rows = (cells + columns - 1) / columns;
@@ -151,6 +160,7 @@ Status measureImageLodErrors(const GlInfo& info, const Character& character,
   s = renderer.init(info, rd);
   CharacterId id;
   if (s.isOk()) s = renderer.addCharacter(character, palette, &id);
+  if (s.isOk() && d.impostor != nullptr) s = renderer.buildImpostor(id, *d.impostor);
   CrowdManager crowd;
   CrowdDesc cd;
   cd.palette = &palette;
@@ -158,6 +168,7 @@ Status measureImageLodErrors(const GlInfo& info, const Character& character,
   cd.lod_count = levels;
   cd.lod_distances_radii = linesFor(0, levels);
   cd.max_distance_radii = -1.0f;
+  cd.impostor_lod = d.impostor != nullptr ? levels - 1 : 0;
   if (s.isOk()) s = crowd.init(cd);
   for (uint32_t i = 0; i < cells && s.isOk(); ++i) {
     const Pose& pose = poses[i / views.size()];

@@ -316,6 +316,8 @@ Status Renderer::drawCrowd(CharacterId id, const CrowdView& view, const Instance
     return {StatusCode::kInvalidArgument,
             "drawCrowd: motion vectors (RendererDesc::motion_vectors) need a crowd that keeps its "
             "previous records (CrowdDesc::previous_records; a view: CrowdViewDesc::previous_records)"};
+  s = m.impostorsDrawable(*c, crowd, "drawCrowd", motion);
+  if (!s.isOk()) return s;
   // Layered animation: the view's last selection wrote layer records.
   const bool layers = !view.layerRecords().empty() && mode != DrawMode::kRigid;
   const auto t0 = std::chrono::steady_clock::now();
@@ -360,6 +362,7 @@ Status Renderer::drawCrowd(CharacterId id, const CrowdView& view, const Instance
                   : motion                     ? detail::ProgramId::kSkinnedMotion
                   : layers                     ? detail::ProgramId::kSkinnedLayers
                                                : detail::ProgramId::kSkinned;
+  if (m.program_override != detail::ProgramId::kCount) frame.program = m.program_override;
   frame.batches = &m.batches;
   frame.ring_base = base;
   frame.motion = motion;
@@ -367,6 +370,7 @@ Status Renderer::drawCrowd(CharacterId id, const CrowdView& view, const Instance
   frame.layers = layers;
   frame.layer_base = base + layer_offset;
   frame.previous_layer_base = base + previous_layer_offset;
+  frame.impostor_lod = mode == DrawMode::kRigid ? 0 : crowd.desc().impostor_lod;
   frame.motion_view_projection = view.camera().viewProjection();
   frame.previous_view_projection = view.previousCamera().viewProjection();
   detail::DrawPath& path = mode == DrawMode::kComputeSkinned
@@ -386,6 +390,7 @@ Status Renderer::drawTraditional(CharacterId id, const CrowdView& view, const Ca
   detail::CharacterSlot* c = nullptr;
   Status s = impl_ ? impl_->find(id, "drawTraditional", &c, view) : noRenderer("drawTraditional");
   if (s.isOk()) s = impl_->noMotion("drawTraditional");
+  if (s.isOk()) s = impl_->noImpostors(*view.crowd(), "drawTraditional");
   return s.isOk() ? impl_->drawCrowdOnly(*c, impl_->traditional_path, "drawTraditional", view,
                                          camera, light_direction_, stats)
                   : s;
@@ -396,6 +401,7 @@ Status Renderer::drawCpuSkinned(CharacterId id, const CrowdView& view, const Cam
   detail::CharacterSlot* c = nullptr;
   Status s = impl_ ? impl_->find(id, "drawCpuSkinned", &c, view) : noRenderer("drawCpuSkinned");
   if (s.isOk()) s = impl_->noMotion("drawCpuSkinned");
+  if (s.isOk()) s = impl_->noImpostors(*view.crowd(), "drawCpuSkinned");
   return s.isOk() ? impl_->drawCrowdOnly(*c, c->cpu_path, "drawCpuSkinned", view, camera,
                                          light_direction_, stats)
                   : s;
@@ -428,6 +434,9 @@ Status Renderer::drawCrowdGpuCulled(CharacterId id, const CrowdView& view, const
   frame.motion = m.desc.motion_vectors && !frame.depth_only;
   frame.motion_view_projection =
       (m.has_motion_projection ? m.motion_projection : camera.projection) * camera.view_rotation;
+  frame.impostor_lod = crowd.desc().impostor_lod;
+  s = m.impostorsDrawable(*c, crowd, "drawCrowdGpuCulled", frame.motion);
+  if (!s.isOk()) return s;
   DrawStats st;
   s = m.runPath(*c, c->gpu_culled_path, frame, t0, stats != nullptr, &st, guard);
   // Visible instances and triangles: the counters, read back after the timer anyway blocked.

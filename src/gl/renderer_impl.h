@@ -45,6 +45,8 @@ struct Renderer::Impl {
   bool has_motion_projection = false;
   glm::mat4 motion_projection{1.0f};
   detail::DebugChain debug_chain;  // RendererDesc::debug_messages.
+  // drawCrowd's program in place of the mode's while not kCount (buildImpostor's capture).
+  detail::ProgramId program_override = detail::ProgramId::kCount;
 
   /// Uploads `palette` and `character` into `c`, prepares the paths' per-character state and
   /// picks its skinning path (measured with `light` under SkinningPath::kAutomatic). Errors are
@@ -68,6 +70,30 @@ struct Renderer::Impl {
 
   /// kUnsupported naming `what` while motion vectors are on: only drawCrowd and
   /// drawCrowdGpuCulled draw them.
+  /// A crowd with an impostor level (CrowdDesc::impostor_lod) needs the character's atlas, and
+  /// draws no motion vectors (`motion`: the draw would write them).
+  Status impostorsDrawable(const detail::CharacterSlot& c, const CrowdManager& crowd,
+                           const char* what, bool motion) const {
+    if (crowd.desc().impostor_lod == 0) return Status::ok();
+    if (!c.impostor.ready())
+      return {StatusCode::kInvalidArgument,
+              detail::strCat(what, ": the crowd draws impostors from LOD ",
+                             crowd.desc().impostor_lod,
+                             " (CrowdDesc::impostor_lod) but the character has no impostor atlas "
+                             "(Renderer::buildImpostor)")};
+    if (motion)
+      return {StatusCode::kUnsupported,
+              detail::strCat(what, ": impostors draw no motion vectors; turn them off "
+                                   "(setMotionVectors) or draw this crowd without impostors")};
+    return Status::ok();
+  }
+  /// The baselines draw meshes only: kUnsupported for a crowd with an impostor level.
+  static Status noImpostors(const CrowdManager& crowd, const char* what) {
+    if (crowd.desc().impostor_lod == 0) return Status::ok();
+    return {StatusCode::kUnsupported,
+            detail::strCat(what, ": the baseline draws meshes only; this crowd draws impostors "
+                                 "(CrowdDesc::impostor_lod)")};
+  }
   Status noMotion(const char* what) const {
     if (!desc.motion_vectors) return Status::ok();
     return {StatusCode::kUnsupported,
@@ -124,6 +150,7 @@ struct Renderer::Impl {
     r.alignment = alignment;
     r.custom_texture = custom_texture;
     r.custom_layers = custom_layers;
+    r.impostor = &c.impostor;
     return r;
   }
 

@@ -149,3 +149,53 @@ TEST(CrowdManager, CullingMatchesABruteForceReference) {
 
 }  // namespace
 }  // namespace si
+
+namespace si {
+namespace {
+
+// CrowdDesc::impostor_lod: only the last level; its instances join sub-mesh 0's bucket once,
+// whatever parts they wear; nearer instances keep one bucket entry per worn part.
+TEST(CrowdManager, ImpostorLevelBucketsEachInstanceOnceInSubMeshZero) {
+  CrowdDesc cd = defaultCrowdDesc();
+  cd.lod_count = 3;
+  cd.character_radius = 1.0f;
+  cd.lod_distances_radii = {20.0f, 60.0f};
+  cd.max_distance_radii = -1.0f;
+  CrowdManager crowd;
+  for (uint32_t bad : {1u, 3u}) {
+    cd.impostor_lod = bad;
+    const Status s = crowd.init(cd);
+    EXPECT_EQ(s.code(), StatusCode::kInvalidArgument) << bad;
+    EXPECT_NE(s.message().find("impostor_lod"), std::string::npos) << s.message();
+  }
+  cd.impostor_lod = 2;
+  ASSERT_TRUE(crowd.init(cd).isOk());
+  const uint32_t subs = cd.sub_mesh_count;
+  ASSERT_GE(subs, 3u);
+  const uint32_t masks[4] = {0x1u, 0x6u, 0x7u, 0x4u};  // Two of them without sub-mesh 0.
+  for (int k = 0; k < 4; ++k)
+    for (double z : {-5.0, -200.0}) {  // LOD 0, and the impostor level.
+      InstanceDesc d;
+      d.position = glm::dvec3(k * 0.5, 0.0, z);
+      d.variation_mask = masks[k];
+      InstanceHandle h;
+      ASSERT_TRUE(crowd.add(d, &h).isOk());
+    }
+  ASSERT_TRUE(crowd.update(0.0, testCamera({0, 1, 10}, {0, 0, -100})).isOk());
+  ASSERT_EQ(crowd.stats().per_lod[0], 4u);
+  ASSERT_EQ(crowd.stats().per_lod[2], 4u);
+  const std::vector<uint32_t>& offsets = crowd.view().bucketOffsets();
+  const auto entries = [&](uint32_t lod, uint32_t sub) {
+    const uint32_t b = lod * subs + sub;
+    return offsets[b + 1] - offsets[b];
+  };
+  EXPECT_EQ(entries(2, 0), 4u);  // Every impostor, once.
+  for (uint32_t s = 1; s < subs; ++s) EXPECT_EQ(entries(2, s), 0u) << s;
+  EXPECT_EQ(entries(0, 0), 2u);  // Nearer: per worn part.
+  EXPECT_EQ(entries(0, 1), 2u);
+  EXPECT_EQ(entries(0, 2), 3u);
+  EXPECT_EQ(crowd.stats().bucket_entries, 4u + 7u);
+}
+
+}  // namespace
+}  // namespace si

@@ -47,6 +47,12 @@ struct CrowdDesc {
   std::vector<float> lod_errors_units;
   /// kScreenError: the largest projected error allowed, in pixels; 0 means 1.
   float pixel_error_budget = 0.0f;
+  /// Impostors (si::Renderer::buildImpostor): the last LOD level is the character's animated
+  /// impostor, one textured quad per instance, when this is lod_count - 1 (at least 1); 0 means
+  /// none. Its instances join one bucket, sub-mesh 0's, whatever parts they wear (each is drawn
+  /// once, not once per part); its value in lod_errors_units is the impostor's measured image
+  /// error (si::measureImageLodErrors with ImageLodErrorDesc::impostor).
+  uint32_t impostor_lod = 0;
   /// Animation LOD: instances at this LOD or coarser step their animation at
   /// animation_lod_rate_hz instead of interpolating every frame; 0 means off.
   uint32_t animation_lod_start = 0;

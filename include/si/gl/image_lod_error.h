@@ -24,6 +24,7 @@
 #include "si/core/character.h"
 #include "si/core/status.h"
 #include "si/gl/gl_context.h"
+#include "si/gl/impostor.h"
 
 namespace si {
 
@@ -46,6 +47,15 @@ struct ImageLodErrorDesc {
   uint32_t max_poses = 0;
   /// A pixel differs when a channel is off by more than this (of 255); 0 means 8.
   uint32_t channel_tolerance = 0;
+  /// The first view direction's azimuth in degrees (the others follow every 360 / azimuths).
+  /// An impostor is exact at its captured views: measure it between them (half its step).
+  float azimuth_offset_degrees = 0.0f;
+  /// Where the poses sit between their even steps, as a fraction of a step in [0, 1): clip c's
+  /// pose k at (k + pose_phase) / poses_per_clip of its duration.
+  float pose_phase = 0.0f;
+  /// Non-null: the mesh's last level is its impostor level (si::appendImpostorLevel), drawn as
+  /// the impostor this desc captures (Renderer::buildImpostor), and measured like the others.
+  const ImpostorDesc* impostor = nullptr;
 };
 
 /// One LOD level's errors.
@@ -83,7 +93,9 @@ struct ImageLodErrorReport {
 /// null report, a height of 0, an invalid character or a palette without clips; the status of
 /// lodErrorsByLevel() when the mesh has no LOD errors; kLimitExceeded when the images would
 /// pass GL_MAX_TEXTURE_SIZE; the renderer's status for what it refuses; kBackend naming the GL
-/// error or an incomplete framebuffer. Nothing is written on failure.
+/// error or an incomplete framebuffer; kInvalidArgument for a pose_phase outside [0, 1) or an
+/// azimuth offset that is not finite; with an impostor, buildImpostor's errors and
+/// kInvalidArgument for a mesh of one level. Nothing is written on failure.
 Status measureImageLodErrors(const GlInfo& info, const Character& character,
                              const BakedPalette& palette, const ImageLodErrorDesc& desc,
                              ImageLodErrorReport* report);

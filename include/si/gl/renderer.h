@@ -52,6 +52,7 @@
 #include "si/crowd/crowd_manager.h"
 #include "si/crowd/instance_batcher.h"
 #include "si/gl/gl_context.h"
+#include "si/gl/impostor.h"
 
 namespace si {
 
@@ -229,6 +230,20 @@ class Renderer {
   Status replaceCharacter(CharacterId id, const Character& character, const BakedPalette& palette);
   /// Characters added.
   uint32_t characterCount() const;
+
+  /// Draws character `id`'s animated impostor atlas (si/gl/impostor.h) on the GPU: every
+  /// clip's reduced frames from every view direction of `desc`, with this renderer's programs
+  /// (vertex-shader skinning), offscreen; the host's framebuffers and viewport are kept. Crowds
+  /// whose CrowdDesc::impostor_lod is set then draw their instances at that level as impostors
+  /// (drawCrowd and drawCrowdGpuCulled; the baselines return kUnsupported for such crowds).
+  /// Replaces an earlier atlas; replaceCharacter() drops it. `info` (may be null) gets the
+  /// atlas's size. kInvalidArgument for an unknown id, more than 4 elevations, elevations not
+  /// increasing or outside [-90, 90] degrees, a mask wearing no sub-mesh; kLimitExceeded when
+  /// the atlas would pass GL_MAX_TEXTURE_SIZE (fewer frames, views or texels per cell);
+  /// the allocation errors of init(). The old atlas stays on failure.
+  Status buildImpostor(CharacterId id, const ImpostorDesc& desc, ImpostorInfo* info = nullptr);
+  /// Whether character `id` has an impostor atlas.
+  bool hasImpostor(CharacterId id) const;
 
   /// The path DrawMode::kDefault uses for character 0 (or `id`), and why (measured times, or
   /// "explicit setting").

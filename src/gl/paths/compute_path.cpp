@@ -5,6 +5,7 @@
 #include <algorithm>
 
 #include "core/str_cat.h"
+#include "gl/paths/impostor_draw.h"
 #include "gl/resources/gl_allocation.h"
 
 namespace si::detail {
@@ -122,6 +123,7 @@ Status ComputePath::draw(const DrawResources& r, const PathFrame& f, DrawStats* 
     }
   }
   flush();
+  drawImpostorBatches(r, f, false, st);
   return Status::ok();
 }
 

@@ -11,6 +11,7 @@
 
 #include "gl/programs/program_set.h"
 #include "gl/resources/character_buffers.h"
+#include "gl/resources/impostor_atlas.h"
 #include "gl/resources/palette_texture.h"
 #include "gl/resources/preskin_lists.h"
 #include "gl/resources/record_ring.h"
@@ -39,6 +40,8 @@ struct DrawResources {
   /// kNoObject and 0 when none is set.
   GLuint custom_texture = kNoObject;
   uint32_t custom_layers = 0;
+  /// The character's impostor atlas (Renderer::buildImpostor; not ready when none was built).
+  const ImpostorAtlas* impostor = nullptr;
 };
 
 /// One frame's inputs.
@@ -73,6 +76,9 @@ struct PathFrame {
   /// Both: the previous layer records (InstanceBatcher::buildPreviousLayers) at uniform binding
   /// 3 from `previous_layer_base`.
   size_t previous_layer_base = 0;
+  /// The crowd's impostor level (CrowdDesc::impostor_lod; 0 none): its instances are drawn as
+  /// impostor quads (impostor_draw.h), not as meshes.
+  uint32_t impostor_lod = 0;
 };
 
 class DrawPath {

@@ -8,6 +8,7 @@
 
 #include "core/str_cat.h"
 #include "gl/paths/dispatch_grid.h"
+#include "gl/paths/impostor_draw.h"
 #include "gl/resources/gl_allocation.h"
 #include "si/core/layer_mask.h"
 #include "si/crowd/handle_pool.h"
@@ -25,6 +26,8 @@ constexpr uint32_t kFittedWord = kThreadBaseWord + kMaxBuckets + 1;
 constexpr uint32_t kCounterWords = kFittedWord + kMaxBuckets;
 // SiCommands: vertex-shader draws at 0, pre-skinned draws from command 256 on (20 bytes each).
 constexpr GLintptr kPreskinnedCommands = GLintptr(kMaxBuckets) * 20;
+// The impostor bucket's glDrawArraysIndirect command (cull_commands.comp.glsl's word 2560).
+constexpr GLintptr kImpostorCommand = kPreskinnedCommands * 2;
 
 // (Re)creates `buffer` with `bytes` of storage, at least 16 (and its first `bytes` from `data`
 // when given), dynamic.
@@ -109,7 +112,7 @@ Status GpuCulledPath::uploadState(const DrawResources& r, const CrowdManager& cr
     s = recreate(&first_phase_counters_, size_t(kCounterWords) * 4, nullptr,
                  "occlusion culling: the first phase's counters");
   if (s.isOk() && commands_ == kNoObject)
-    s = recreate(&commands_, size_t(kPreskinnedCommands) * 2, nullptr, "GPU culling: the commands");
+    s = recreate(&commands_, size_t(kImpostorCommand) + 16, nullptr, "GPU culling: the commands");
   if (s.isOk()) s = recreate(&ranges_, ranges.size() * 8, ranges.data(), "GPU culling: the ranges");
   if (s.isOk())
     s = recreate(&bucket_info_, info.size() * 16, info.data(), "GPU culling: the bucket lists");
@@ -232,6 +235,9 @@ Status GpuCulledPath::uploadFrame(const DrawResources& r, const PathFrame& f) {
     for (uint32_t sm = 0; sm < cd.sub_mesh_count && sm < r.character->sub_meshes.size(); ++sm)
       if (r.character->lodRange(sm, lod).index_count > 0) drawn_parts[lod] |= 1u << sm;
   glProgramUniform1uiv(cull, 29, 8, drawn_parts);
+  glProgramUniform1ui(cull, 37, f.impostor_lod);
+  glProgramUniform1ui(commands, 37,
+                      f.impostor_lod != 0 ? f.impostor_lod * cd.sub_mesh_count : 0xFFFFFFFFu);
   glProgramUniform1ui(commands, 19,
                       f.preskin ? uint32_t(r.scratch->gpu_driven_ring.vertices) : 0u);
   // The scatter and pre-skinning passes' rows (their counts are the GPU's: in rows of this many
@@ -439,6 +445,7 @@ void GpuCulledPath::runPasses(const DrawResources& r, const PathFrame& f, uint32
   glBindVertexArray(vao_);
   glMultiDrawElementsIndirect(GL_TRIANGLES, GL_UNSIGNED_INT, nullptr, GLsizei(buckets_), 0);
   ++st->draw_calls;
+  drawImpostorsIndirect(r, f, vao_, kImpostorCommand, st);
 }
 
 void GpuCulledPath::readCounts(const DrawResources& r, const CrowdDesc& cd, DrawStats* st) const {
@@ -454,7 +461,8 @@ void GpuCulledPath::readCounts(const DrawResources& r, const CrowdDesc& cd, Draw
     for (uint32_t b = 0; b < buckets; ++b) {
       const uint32_t instances = counters[kBucketCountWord + b];
       const IndexRange range = r.character->lodRange(b % cd.sub_mesh_count, b / cd.sub_mesh_count);
-      st->triangles += uint64_t(range.index_count / 3) * instances;
+      const bool impostors = cd.impostor_lod != 0 && b == cd.impostor_lod * cd.sub_mesh_count;
+      st->triangles += uint64_t(impostors ? 2 : range.index_count / 3) * instances;
       st->instances += instances;
       st->vertex_shader_instances += instances - counters[kFittedWord + b];
     }

@@ -2,6 +2,8 @@
 // One instanced draw per batch (B. Dudash, "Skinned Instancing", NVIDIA 2007).
 #include "gl/paths/vertex_shader_path.h"
 
+#include "gl/paths/impostor_draw.h"
+
 namespace si::detail {
 
 Status VertexShaderPath::draw(const DrawResources& r, const PathFrame& f, DrawStats* st) {
@@ -27,6 +29,7 @@ Status VertexShaderPath::draw(const DrawResources& r, const PathFrame& f, DrawSt
     st->instances += d.instance_count;
   }
   if (depth_only) glColorMask(GL_TRUE, GL_TRUE, GL_TRUE, GL_TRUE);
+  drawImpostorBatches(r, f, depth_only, st);
   return Status::ok();
 }
 

@@ -72,6 +72,15 @@ const ProgramSpec kSpecs[kProgramCount] = {
      "skinned.vert.glsl", "depth.frag.glsl", nullptr, nullptr},
     {"GPU-driven pulling, depth only", "#define SI_GPU_DRIVEN\n", "pulled.vert.glsl",
      "depth.frag.glsl", nullptr, nullptr},
+    {"impostor capture", "#define SI_IMPOSTOR_CAPTURE\n", "skinned.vert.glsl", "shade.frag.glsl",
+     nullptr, nullptr},
+    {"impostor", "", "impostor.vert.glsl", "impostor.frag.glsl", nullptr, nullptr},
+    {"impostor, depth only", "#define SI_DEPTH_ONLY\n", "impostor.vert.glsl",
+     "impostor.frag.glsl", nullptr, nullptr},
+    {"GPU-driven impostor", "#define SI_GPU_DRIVEN\n", "impostor.vert.glsl",
+     "impostor.frag.glsl", nullptr, nullptr},
+    {"GPU-driven impostor, depth only", "#define SI_GPU_DRIVEN\n#define SI_DEPTH_ONLY\n",
+     "impostor.vert.glsl", "impostor.frag.glsl", nullptr, nullptr},
 };
 
 }  // namespace

@@ -46,6 +46,11 @@ enum class ProgramId : uint8_t {
   kGpuDrivenDepthOnly,            ///< kGpuDrivenSkinned, depth only (shadow views).
   kGpuDrivenDepthOnlyLayers,      ///< kGpuDrivenDepthOnly with layered animation.
   kGpuPulledDepthOnly,            ///< kGpuPulled, depth only.
+  kImpostorCapture,               ///< kSkinned writing the impostor atlas's two layers.
+  kImpostor,                      ///< Impostor quads, records from the instance block.
+  kImpostorDepthOnly,             ///< kImpostor, depth only.
+  kGpuDrivenImpostor,             ///< Impostor quads, records through bucket entries.
+  kGpuDrivenImpostorDepthOnly,    ///< kGpuDrivenImpostor, depth only.
   kCount
 };
 inline constexpr size_t kProgramCount = size_t(ProgramId::kCount);

@@ -17,6 +17,8 @@ layout(location = 28) uniform uint u_lod_bias;  // The view's: drawn LOD = min(l
 // Per LOD, the sub-meshes with triangles there (bit s): a part dropped at a LOD (an empty range,
 // si::buildPartLods) joins no bucket.
 layout(location = 29) uniform uint u_drawn_parts[8];
+// CrowdDesc::impostor_lod (0: none): an instance there joins one bucket, sub-mesh 0's.
+layout(location = 37) uniform uint u_impostor_lod;
 // The view's own state per instance (src/gl/paths/gpu_view_slots.h): x its LOD before the
 // bias (hysteresis), y visible at the end of its last frame (occlusion culling), 0 or 1.
 layout(std430, binding = 16) buffer SiViewInstances { uvec2 si_view[]; };
@@ -216,6 +218,7 @@ void main() {
   }
   uint subs = u_counts.z;
   uint mask = st.mask & (subs >= 32u ? 0xFFFFFFFFu : ((1u << subs) - 1u)) & u_drawn_parts[lod];
+  if (u_impostor_lod != 0u && lod >= u_impostor_lod) mask = 1u;
   si_visible[v] = uvec4(i, lod, mask, 0u);
   for (uint m = mask; m != 0u; m &= m - 1u)
     atomicAdd(si_bucket_count[lod * subs + uint(findLSB(m))], 1u);

@@ -3,7 +3,9 @@
 // indirect draw commands and the scatter pass's dispatch size; and the pre-skinning split: in
 // bucket order, as many of each bucket's instances as the ring still holds are pre-skinned
 // (commands 256 and up, drawn by vertex pulling), the rest drawn with vertex-shader skinning
-// (commands 0 to 255). u_ring_vertices 0 pre-skins nothing.
+// (commands 0 to 255). u_ring_vertices 0 pre-skins nothing. The impostor bucket's instances
+// (its range is empty) are also drawn as quads: a glDrawArraysIndirect command after the
+// others (word 2560).
 #include "cull_common.glsl"
 layout(local_size_x = 1) in;
 layout(std430, binding = 7) writeonly buffer SiCommands { uint si_commands[]; };
@@ -12,6 +14,8 @@ layout(location = 19) uniform uint u_ring_vertices;
 // GL_MAX_COMPUTE_WORK_GROUP_COUNT's x (GlInfo::max_compute_groups_x): the later passes' groups
 // are laid out in rows of at most this many (src/gl/paths/dispatch_grid.h).
 layout(location = 27) uniform uint u_max_groups_x;
+// The impostor level's bucket (CrowdDesc::impostor_lod x sub-meshes); past the buckets: none.
+layout(location = 37) uniform uint u_impostor_bucket;
 void main() {
   uint buckets = u_counts.y * u_counts.z, offset = 0u, threads = 0u;
   for (uint b = 0u; b < buckets; ++b) {
@@ -38,6 +42,11 @@ void main() {
     threads += fit * info.x;
   }
   si_thread_base[buckets] = threads;
+  bool impostors = u_impostor_bucket < buckets;
+  si_commands[2560u] = 4u;
+  si_commands[2561u] = impostors ? si_bucket_count[u_impostor_bucket] : 0u;
+  si_commands[2562u] = 0u;
+  si_commands[2563u] = impostors ? si_bucket_offset[u_impostor_bucket] : 0u;
   uint scatter_groups = max((si_visible_count + 63u) / 64u, 1u);
   si_dispatch[0] = min(scatter_groups, u_max_groups_x);
   si_dispatch[1] = (scatter_groups + u_max_groups_x - 1u) / u_max_groups_x;

@@ -3,7 +3,9 @@
 // array times its factor), the instance's tint where the texture's alpha (the tint mask) says
 // so, there over the instance's layer of the application's custom texture array when it selects
 // one, and one directional light. SI_MOTION_VECTORS: also the fragment's screen motion since the
-// previous frame at output 1 (motion_output.glsl).
+// previous frame at output 1 (motion_output.glsl). SI_IMPOSTOR_CAPTURE: the impostor atlas's two
+// layers instead (impostor.frag.glsl reads them): the unlit texel and coverage 1, and the
+// normal (0.5 n + 0.5) with the tint mask.
 #define SI_MATERIAL_TABLE
 #include "material_common.glsl"
 in vec3 v_normal;
@@ -17,12 +19,20 @@ layout(binding = 2) uniform sampler2DArray u_custom;
 uniform uint u_custom_layers;
 layout(location = 3) uniform vec3 u_light_direction;
 layout(location = 0) out vec4 o_color;
+#ifdef SI_IMPOSTOR_CAPTURE
+layout(location = 1) out vec4 o_normal_mask;
+#endif
 #ifdef SI_MOTION_VECTORS
 #include "motion_output.glsl"
 #endif
 void main() {
   SiMaterial material = si_materials[v_material];
   vec4 texel = texture(u_base_color, vec3(v_texcoord, float(material.layer.x))) * material.factor;
+#ifdef SI_IMPOSTOR_CAPTURE
+  o_color = vec4(clamp(texel.rgb, 0.0, 1.0), 1.0);
+  o_normal_mask = vec4(normalize(v_normal) * 0.5 + 0.5, clamp(texel.a, 0.0, 1.0));
+  return;
+#endif
   vec3 tint = unpackUnorm4x8(v_color).rgb;
   // The instance's custom layer (the appearance word's high byte: 0 none, k layer k - 1; a
   // select past the array's layers is ignored), over the base texel by its own alpha.

@@ -19,14 +19,14 @@ constexpr uint32_t bits(std::initializer_list<int> indices) {
 // shipped include's defaults):
 //   uniform buffers 0-3: records, previous records, layer records, previous layer records; 4:
 //     the palette's info block;
-//   storage 1-4, 8, 10, 11: compute pre-skinning (ring, source, list, previous ring), the mask
-//     table, the material buffers; the GPU-driven passes use 0-22;
-//   texture units 0-2: palette (or the depth copy), base colour array (or the depth pyramid),
-//     custom array; image units 0-1: the depth pyramid's levels.
+//   storage 1-4, 8-11: compute pre-skinning (ring, source, list, previous ring), the mask
+//     table, the impostor clip table, the material buffers; the GPU-driven passes use 0-22;
+//   texture units 0-3: palette (or the depth copy), base colour array (or the depth pyramid),
+//     custom array, impostor atlas; image units 0-1: the depth pyramid's levels.
 constexpr uint32_t kUniforms = bits({0, 1, 2, 3, 4});
-constexpr uint32_t kDrawStorage = bits({1, 2, 3, 4, 8, 10, 11});
+constexpr uint32_t kDrawStorage = bits({1, 2, 3, 4, 8, 9, 10, 11});
 constexpr uint32_t kAllStorage = (1u << 23) - 1u;
-constexpr uint32_t kUnits = bits({0, 1, 2});
+constexpr uint32_t kUnits = bits({0, 1, 2, 3});
 
 constexpr GLenum kUnpack[8] = {GL_UNPACK_SWAP_BYTES,  GL_UNPACK_LSB_FIRST,  GL_UNPACK_ROW_LENGTH,
                                GL_UNPACK_IMAGE_HEIGHT, GL_UNPACK_SKIP_ROWS,  GL_UNPACK_SKIP_PIXELS,

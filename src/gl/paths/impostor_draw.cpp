@@ -1,0 +1,57 @@
+// SkinnedInstancing — SPDX-License-Identifier: MIT (see LICENSE)
+// Impostor quads for the instanced paths and the GPU-driven path.
+#include "gl/paths/impostor_draw.h"
+
+namespace si::detail {
+
+namespace {
+
+// Binds `id`, the palette's frame layout does not matter (the quad reads no palette), the
+// atlas and the shared uniforms.
+const Program& useImpostorProgram(const DrawResources& r, const PathFrame& f, ProgramId id) {
+  const Program& program = (*r.programs)[id];
+  glUseProgram(program.id);
+  const glm::mat4 vp = f.camera.viewProjection();
+  if (program.view_projection >= 0)
+    glProgramUniformMatrix4fv(program.id, program.view_projection, 1, GL_FALSE, &vp[0][0]);
+  if (program.light_direction >= 0)
+    glProgramUniform3fv(program.id, program.light_direction, 1, &f.light[0]);
+  r.impostor->bind(program, f.camera);
+  return program;
+}
+
+}  // namespace
+
+void drawImpostorBatches(const DrawResources& r, const PathFrame& f, bool depth_only,
+                         DrawStats* st) {
+  if (f.impostor_lod == 0 || r.impostor == nullptr || !r.impostor->ready()) return;
+  bool bound = false;
+  for (const DrawBatch& d : *f.batches) {
+    if (d.lod != f.impostor_lod || d.sub_mesh != 0) continue;
+    if (!bound) {
+      useImpostorProgram(r, f, depth_only ? ProgramId::kImpostorDepthOnly : ProgramId::kImpostor);
+      if (depth_only) glColorMask(GL_FALSE, GL_FALSE, GL_FALSE, GL_FALSE);
+      bound = true;
+    }
+    r.ring->bindBatch(f.ring_base, d);
+    glDrawArraysInstanced(GL_TRIANGLE_STRIP, 0, 4, GLsizei(d.instance_count));
+    ++st->draw_calls;
+    st->triangles += uint64_t(2) * d.instance_count;
+    st->instances += d.instance_count;
+  }
+  if (bound && depth_only) glColorMask(GL_TRUE, GL_TRUE, GL_TRUE, GL_TRUE);
+}
+
+void drawImpostorsIndirect(const DrawResources& r, const PathFrame& f, GLuint vao,
+                           GLintptr command, DrawStats* st) {
+  if (f.impostor_lod == 0 || r.impostor == nullptr || !r.impostor->ready()) return;
+  useImpostorProgram(r, f, f.depth_only ? ProgramId::kGpuDrivenImpostorDepthOnly
+                                        : ProgramId::kGpuDrivenImpostor);
+  glBindVertexArray(vao);
+  if (f.depth_only) glColorMask(GL_FALSE, GL_FALSE, GL_FALSE, GL_FALSE);
+  glDrawArraysIndirect(GL_TRIANGLE_STRIP, reinterpret_cast<const void*>(command));
+  if (f.depth_only) glColorMask(GL_TRUE, GL_TRUE, GL_TRUE, GL_TRUE);
+  ++st->draw_calls;
+}
+
+}  // namespace si::detail

@@ -1,0 +1,37 @@
+// SkinnedInstancing — SPDX-License-Identifier: MIT (see LICENSE)
+#pragma once
+// One character's impostor atlas on the GPU (Renderer::buildImpostor fills it): the texture
+// array of two layers, the clip table the impostor vertex shader finds frames in, and the
+// numbers its uniforms carry (shaders/impostor.vert.glsl).
+
+#include <glad/gl.h>
+
+#include <cstdint>
+
+#include <glm/glm.hpp>
+
+#include "gl/programs/program_set.h"
+#include "si/crowd/camera.h"
+
+namespace si::detail {
+
+struct ImpostorAtlas {
+  GLuint texture = kNoObject;  ///< GL_TEXTURE_2D_ARRAY, RGBA8, 2 layers, mipmapped.
+  GLuint clips = kNoObject;    ///< Storage: per clip (first texel, frames, first cell frame, frames).
+  uint32_t clip_count = 0;
+  uint32_t columns = 0, rows = 0;  ///< Cells across and down.
+  uint32_t azimuths = 0, elevations = 0;
+  float elevations_radians[4] = {};
+  uint32_t frame_stride_texels = 0;  ///< The palette's.
+  glm::vec3 centre{0.0f};            ///< The cell's centre in model units.
+  float cell_units = 0.0f;           ///< The cell's side in model units.
+
+  bool ready() const { return texture != kNoObject; }
+  /// Binds the atlas (texture unit 3, storage binding 9) and sets `program`'s impostor
+  /// uniforms for `camera`.
+  void bind(const Program& program, const Camera& camera) const;
+  /// Deletes the texture and the clip table (context current). Idempotent.
+  void release();
+};
+
+}  // namespace si::detail

@@ -1,0 +1,82 @@
+// SkinnedInstancing - SPDX-License-Identifier: MIT (see LICENSE)
+// Animated impostors (Renderer::buildImpostor): one quad per instance at the crowd's impostor
+// level, a triangle strip of 4 vertices. The instance's record gives its world transform, its
+// clip and frame (the heavier clip of a crossfade) and its tint; the quad faces the viewer
+// around the character's centre, upright along the character's own vertical axis, and shows
+// the atlas cell of the captured view direction and frame nearest the instance's.
+// SI_GPU_DRIVEN: the record through a bucket entry (a_entry), from storage buffers.
+#include "si_instance_record.glsl"
+#ifdef SI_GPU_DRIVEN
+layout(location = 5) in uint a_entry;
+layout(std430, binding = 4) readonly buffer SiRecords { SiInstance si_records[]; };
+layout(std430, binding = 5) readonly buffer SiEntries { uint si_entries[]; };
+#else
+layout(std140, binding = 0) uniform SiInstances { SiInstance si_instances[SI_MAX_INSTANCES]; };
+#endif
+// Per clip, by increasing first texel: x its first palette texel, y its baked frames, z its
+// first atlas frame, w its atlas frames.
+layout(std430, binding = 9) readonly buffer SiImpostorClips { uvec4 si_impostor_clips[]; };
+layout(location = 1) uniform mat4 u_view_projection;
+layout(location = 3) uniform vec3 u_light_direction;
+layout(location = 40) uniform uvec4 u_impostor_grid;    // columns, rows, azimuths, elevations
+layout(location = 41) uniform uvec4 u_impostor_counts;  // clips, palette frame stride, views
+layout(location = 42) uniform vec4 u_impostor_elevations;  // radians, increasing
+layout(location = 43) uniform vec4 u_impostor_cell;     // centre (model units), cell side
+layout(location = 44) uniform vec4 u_viewer;  // the camera's back direction; w 1 orthographic
+out vec2 v_uv;
+flat out uint v_color;
+flat out vec3 v_light;  // The light direction in the quad's frame (right, up, towards viewer).
+const float kPi = 3.14159265358979;
+void main() {
+#ifdef SI_GPU_DRIVEN
+  SiInstance inst = si_records[si_entries[a_entry]];
+#else
+  SiInstance inst = si_instances[gl_InstanceID];
+#endif
+  vec4 r0 = inst.world_rows[0], r1 = inst.world_rows[1], r2 = inst.world_rows[2];
+  mat3 m = transpose(mat3(r0.xyz, r1.xyz, r2.xyz));  // Model to world (rotation * scale).
+  vec3 centre = m * u_impostor_cell.xyz + vec3(r0.w, r1.w, r2.w);  // Camera-relative.
+  float scale = length(m[0]);
+  // Towards the viewer; the character's vertical axis made perpendicular to it.
+  vec3 towards = u_viewer.w > 0.5 ? u_viewer.xyz : -normalize(centre);
+  vec3 up0 = normalize(m[1]);
+  vec3 right = cross(up0, towards);
+  if (dot(right, right) < 1e-8) right = cross(normalize(m[2]), towards);
+  right = normalize(right);
+  vec3 up = cross(towards, right);
+  // The view direction in model space: elevation and azimuth, the nearest captured of each.
+  vec3 d = normalize(transpose(m) * towards);
+  float elevation = asin(clamp(d.y, -1.0, 1.0));
+  uint e = 0u;
+  for (uint k = 1u; k < u_impostor_grid.w; ++k)
+    if (abs(elevation - u_impostor_elevations[k]) < abs(elevation - u_impostor_elevations[e])) e = k;
+  float step = 2.0 * kPi / float(u_impostor_grid.z);
+  int a = int(floor(atan(-d.x, d.z) / step + 0.5)) % int(u_impostor_grid.z);
+  if (a < 0) a += int(u_impostor_grid.z);
+  uint view = e * u_impostor_grid.z + uint(a);
+  // The frame: the heavier clip's texel and fraction, its clip by binary search.
+  bool b = uintBitsToFloat(inst.blend.z) > 0.5;
+  uint texel = b ? inst.frames.z : inst.frames.x;
+  float fraction = uintBitsToFloat((b ? inst.blend.y : inst.blend.x) & 0x3FFFFFFFu);
+  int lo = 0, hi = int(u_impostor_counts.x) - 1;
+  while (lo < hi) {
+    int mid = (lo + hi + 1) / 2;
+    if (si_impostor_clips[mid].x <= texel) lo = mid;
+    else hi = mid - 1;
+  }
+  uvec4 clip = si_impostor_clips[lo];
+  float frame = float((texel - clip.x) / u_impostor_counts.y) + fraction;
+  uint k = clip.w > 1u && clip.y > 1u
+               ? min(uint(frame * float(clip.w - 1u) / float(clip.y - 1u) + 0.5), clip.w - 1u)
+               : 0u;
+  uint cell = (clip.z + k) * u_impostor_counts.z + view;
+  vec2 corner = vec2(float(gl_VertexID & 1), float(gl_VertexID >> 1));
+  v_uv = (vec2(float(cell % u_impostor_grid.x), float(cell / u_impostor_grid.x)) + corner) /
+         vec2(u_impostor_grid.xy);
+  v_color = inst.blend.w;
+  v_light = vec3(dot(u_light_direction, right), dot(u_light_direction, up),
+                 dot(u_light_direction, towards));
+  vec3 world = centre + ((corner.x - 0.5) * right + (corner.y - 0.5) * up) *
+                            (u_impostor_cell.w * scale);
+  gl_Position = u_view_projection * vec4(world, 1.0);
+}

@@ -1,0 +1,264 @@
+// SkinnedInstancing — SPDX-License-Identifier: MIT (see LICENSE)
+// Animated impostors (Renderer::buildImpostor, CrowdDesc::impostor_lod): the GPU-driven path's
+// selection and impostor draw give the instanced path's image; an impostor at the height
+// where its measured image error is one pixel differs from the mesh there by about that much;
+// bad input refused with named statuses.
+#include <cmath>
+
+#include "render/render_fixture.h"
+#include "si/core/impostor_level.h"
+#include "si/gl/image_lod_error.h"
+
+namespace si {
+namespace {
+
+using namespace test;
+
+// The embedded character with its impostor level appended.
+const Character& impostorCharacter() {
+  static const Character c = [] {
+    Character k = character();
+    EXPECT_TRUE(appendImpostorLevel(&k.mesh).isOk());
+    return k;
+  }();
+  return c;
+}
+
+uint32_t impostorLevels() { return uint32_t(impostorCharacter().mesh.maxLodCount()); }
+
+ImpostorDesc smallImpostor() {
+  ImpostorDesc d;
+  d.azimuths = 8;
+  d.elevations_degrees = {0.0f, 30.0f};
+  d.frames_per_clip = 4;
+  d.cell_pixels = 32;
+  return d;
+}
+
+// Rows at 4, 30, 70 and 150 units in front of lodCamera(); lines (radius 1) put the last two
+// rows past the impostor's line unless `lines` says otherwise.
+void impostorCrowd(std::vector<float> lines, uint32_t impostor_lod, CrowdManager* crowd) {
+  CrowdDesc cd;
+  cd.palette = &palette();
+  cd.sub_mesh_count = 4;
+  cd.lod_count = impostorLevels();
+  cd.character_radius = 1.0f;
+  cd.lod_distances_radii = std::move(lines);
+  cd.max_distance_radii = -1.0f;
+  cd.impostor_lod = impostor_lod;
+  ASSERT_TRUE(crowd->init(cd).isOk());
+  const uint32_t clips = uint32_t(palette().clips.size());
+  const double rows[4] = {-4.0, -30.0, -70.0, -150.0}, spacing[4] = {1.2, 4.0, 8.0, 16.0};
+  for (int row = 0; row < 4; ++row)
+    for (int k = 0; k < 8; ++k) {
+      InstanceDesc d;
+      d.position = glm::dvec3((k - 3.5) * spacing[row], 0.0, rows[row]);
+      d.rotation = glm::angleAxis(0.7f * float(k + row), glm::vec3(0, 1, 0));
+      d.variation_mask = k % 3 == 0 ? 0x6u : 1u | (uint32_t(k) << 1);  // Some without part 0.
+      d.clip = uint32_t(k) % clips;
+      d.time_seconds = 0.13 * k;
+      d.scale = 1.0f + 0.1f * float(row);
+      d.color = glm::u8vec4(uint8_t(40 + 30 * k), uint8_t(200 - 20 * k), uint8_t(60 + 50 * row), 255);
+      InstanceHandle h;
+      ASSERT_TRUE(crowd->add(d, &h).isOk());
+    }
+  ASSERT_TRUE(crowd->advanceClock(0.4).isOk());
+  ASSERT_TRUE(crowd->update(0.0, lodCamera()).isOk());
+}
+
+// Lines of `levels` levels: the impostor's at `impostor_line` radii, the others before it.
+std::vector<float> linesTo(float impostor_line) {
+  std::vector<float> lines;
+  for (uint32_t l = 1; l + 1 < impostorLevels(); ++l) lines.push_back(impostor_line * float(l) / 8.0f);
+  lines.push_back(impostor_line);
+  return lines;
+}
+
+uint32_t backgroundlessPixels(const std::vector<uint8_t>& rgba) {
+  uint32_t n = 0;
+  for (size_t p = 0; p < rgba.size(); p += 4)
+    n += (rgba[p] != 51 || rgba[p + 1] != 64 || rgba[p + 2] != 77) ? 1u : 0u;
+  return n;
+}
+
+TEST_P(RenderTest, ImpostorsDrawTheInstancedPathsImageOnTheGpuDrivenPath) {
+  CrowdManager crowd;
+  impostorCrowd(linesTo(60.0f), impostorLevels() - 1, &crowd);
+  ASSERT_EQ(crowd.stats().per_lod[impostorLevels() - 1], 16u);
+  const auto renderer = [&](Renderer* r, SkinningPath path) {
+    RendererDesc rd;
+    rd.skinning_path = path;
+    rd.measure_gpu_time = true;  // The GPU-driven path reads back its counts.
+    ASSERT_TRUE(r->init(info_, rd).isOk());
+    CharacterId id;
+    ASSERT_TRUE(r->addCharacter(impostorCharacter(), palette(), &id).isOk());
+    ImpostorInfo info;
+    const Status s = r->buildImpostor(id, smallImpostor(), &info);
+    ASSERT_TRUE(s.isOk()) << s.toString();
+    EXPECT_TRUE(r->hasImpostor(id));
+    EXPECT_EQ(info.views, 16u);
+    EXPECT_EQ(info.cells, info.views * info.frames);
+    EXPECT_GE(uint64_t(info.width / 32) * (info.height / 32), info.cells);
+  };
+  Renderer vs, cs;
+  renderer(&vs, SkinningPath::kVertexShader);
+  renderer(&cs, SkinningPath::kCompute);
+  DrawStats reference_stats;
+  const std::vector<uint8_t> reference = draw(vs, crowd, lodCamera(), 0, false, &reference_stats);
+  // The impostors drew: about as many pixels as the same crowd with meshes everywhere.
+  CrowdManager meshes;
+  impostorCrowd(linesTo(1e6f), 0, &meshes);
+  const std::vector<uint8_t> mesh_image = draw(vs, meshes, lodCamera(), 0);
+  const double covered = backgroundlessPixels(reference), mesh_covered = backgroundlessPixels(mesh_image);
+  EXPECT_NEAR(covered / mesh_covered, 1.0, 0.1) << covered << " against " << mesh_covered;
+  const Diff to_meshes = compare(reference, mesh_image, nullptr);
+  EXPECT_GT(to_meshes.share, 0.0);   // Not the meshes' image,
+  EXPECT_LT(to_meshes.share, 0.03);  // but close: small and far.
+
+  struct Case {
+    const char* name;
+    Renderer* r;
+    bool gpu_driven;
+    DrawMode mode;
+  };
+  for (const Case& k : {Case{"compute", &cs, false, DrawMode::kComputeSkinned},
+                        Case{"gpu-driven", &vs, true, DrawMode::kSkinned},
+                        Case{"gpu-driven compute", &cs, true, DrawMode::kComputeSkinned}}) {
+    SCOPED_TRACE(k.name);
+    DrawStats stats;
+    std::vector<uint8_t> image;
+    if (k.gpu_driven) {
+      k.r->clear(glm::vec4(0.2f, 0.25f, 0.3f, 1.0f));
+      const Status s = k.r->drawCrowdGpuCulled(crowd, lodCamera(), &stats, k.mode);
+      ASSERT_TRUE(s.isOk()) << s.toString();
+      ASSERT_TRUE(context_->readPixels(&image).isOk());
+    } else {
+      image = draw(*k.r, crowd, lodCamera(), 0, false, &stats, Path::kCompute);
+    }
+    const Diff diff = compare(image, reference, nullptr);
+    EXPECT_LE(diff.share, 0.001) << "max channel difference " << diff.max_channel;
+    EXPECT_EQ(stats.triangles, reference_stats.triangles);
+    EXPECT_EQ(stats.instances, reference_stats.instances);
+  }
+}
+
+// At the origin looking along -z, lodCamera()'s field of view.
+Camera flatCamera() {
+  return Camera::lookAt({0.0, 0.0, 0.0}, {0.0, 0.0, -1.0}, glm::vec3(0, 1, 0), 0.9f, 1.0f, 0.1f,
+                        500.0f);
+}
+
+TEST_P(RenderTest, AnImpostorAtItsHandOverHeightDiffersFromTheMeshByItsMeasuredError) {
+  ImpostorDesc id = smallImpostor();
+  ImageLodErrorDesc d;
+  d.heights_pixels = {8, 16, 32};
+  d.supersample = 1;  // As the test's images are drawn.
+  d.azimuths = 8;
+  d.azimuth_offset_degrees = 22.5f;  // Between the atlas's views,
+  d.elevations_degrees = {10.0f};
+  d.pose_phase = 0.37f;              // and between its frames.
+  d.max_poses = 4;
+  d.impostor = &id;
+  ImageLodErrorReport report;
+  Status s = measureImageLodErrors(info_, impostorCharacter(), palette(), d, &report);
+  ASSERT_TRUE(s.isOk()) << s.toString();
+  const ImageLodLevel& level = report.levels.back();
+  ASSERT_EQ(level.mean_differing_pixels.size(), 3u);
+  // It changes pixels, more when larger; the height where it changes one is finite.
+  EXPECT_GT(level.mean_differing_pixels[2], level.mean_differing_pixels[0]);
+  EXPECT_GT(level.one_pixel_height, 1.0);
+  EXPECT_LT(level.one_pixel_height, 64.0);
+  std::printf("[ impostor ] differing %.2f %.2f %.2f px at 8 16 32; one pixel at %.2f px\n",
+              level.mean_differing_pixels[0], level.mean_differing_pixels[1],
+              level.mean_differing_pixels[2], level.one_pixel_height);
+
+  // The same character drawn 16 pixels tall by the crowd, from views and at times none of the
+  // measured ones: as impostors and as meshes.
+  RendererDesc rd;
+  rd.skinning_path = SkinningPath::kVertexShader;
+  Renderer r;
+  ASSERT_TRUE(r.init(info_, rd).isOk());
+  CharacterId cid;
+  ASSERT_TRUE(r.addCharacter(impostorCharacter(), palette(), &cid).isOk());
+  ASSERT_TRUE(r.buildImpostor(cid, id).isOk());
+  const float height = impostorCharacter().height();
+  const auto crowdAt = [&](bool impostors, CrowdManager* crowd) {
+    CrowdDesc cd;
+    cd.palette = &palette();
+    cd.sub_mesh_count = 4;
+    cd.lod_count = impostorLevels();
+    cd.character_radius = 1.0f;
+    cd.lod_distances_radii = linesTo(impostors ? 1e-3f : 1e6f);
+    cd.max_distance_radii = -1.0f;
+    cd.impostor_lod = impostorLevels() - 1;
+    ASSERT_TRUE(crowd->init(cd).isOk());
+    // 16 px tall at distance z: height / (2 z tan(fov / 2)) * 256 = 16.
+    const double z = double(height) * 256.0 / (16.0 * 2.0 * std::tan(0.45));
+    for (int k = 0; k < 6; ++k) {
+      InstanceDesc inst;
+      inst.position = glm::dvec3((k - 2.5) * 0.25 * z * 0.3, -0.5 * height, -z);
+      inst.rotation = glm::angleAxis(0.45f + 1.1f * float(k), glm::vec3(0, 1, 0));
+      inst.clip = uint32_t(k) % uint32_t(palette().clips.size());
+      inst.time_seconds = 0.21 + 0.17 * k;
+      inst.speed = 0.0f;
+      inst.variation_mask = 0xFFFFFFFFu;
+      InstanceHandle h;
+      ASSERT_TRUE(crowd->add(inst, &h).isOk());
+    }
+    ASSERT_TRUE(crowd->update(0.0, flatCamera()).isOk());
+  };
+  CrowdManager as_impostors, as_meshes;
+  crowdAt(true, &as_impostors);
+  crowdAt(false, &as_meshes);
+  ASSERT_EQ(as_impostors.stats().per_lod[impostorLevels() - 1], 6u);
+  ASSERT_EQ(as_meshes.stats().per_lod[0], 6u);
+  const std::vector<uint8_t> a = draw(r, as_impostors, flatCamera(), 0);
+  const std::vector<uint8_t> b = draw(r, as_meshes, flatCamera(), 0);
+  const Diff diff = compare(a, b, nullptr);
+  const double per_character = diff.share * kSize * kSize / 6.0;
+  std::printf("[ impostor ] drawn 16 px tall: %.2f px differ per character (measured %.2f)\n",
+              per_character, level.mean_differing_pixels[1]);
+  EXPECT_GT(per_character, 0.0);
+  // Within the measured error, with room for other views and times than the measured ones.
+  EXPECT_LE(per_character, 2.0 * level.mean_differing_pixels[1] + 2.0);
+}
+
+TEST_P(RenderTest, ImpostorsRefuseWhatTheyCannotDraw) {
+  Renderer r;
+  ASSERT_TRUE(r.init(info_, {}).isOk());
+  CharacterId cid;
+  ASSERT_TRUE(r.addCharacter(impostorCharacter(), palette(), &cid).isOk());
+  EXPECT_FALSE(r.hasImpostor(cid));
+  ImpostorDesc bad = smallImpostor();
+  bad.elevations_degrees = {0, 10, 20, 30, 40};
+  EXPECT_EQ(r.buildImpostor(cid, bad).code(), StatusCode::kInvalidArgument);
+  bad.elevations_degrees = {30, 10};
+  EXPECT_EQ(r.buildImpostor(cid, bad).code(), StatusCode::kInvalidArgument);
+  bad = smallImpostor();
+  bad.variation_mask = 0x100u;  // None of the 4 sub-meshes.
+  EXPECT_EQ(r.buildImpostor(cid, bad).code(), StatusCode::kInvalidArgument);
+  bad = smallImpostor();
+  bad.cell_pixels = 1u << 20;
+  EXPECT_EQ(r.buildImpostor(cid, bad).code(), StatusCode::kLimitExceeded);
+  EXPECT_EQ(r.buildImpostor(CharacterId{7}, smallImpostor()).code(), StatusCode::kInvalidArgument);
+  EXPECT_FALSE(r.hasImpostor(cid));
+
+  CrowdManager crowd;
+  impostorCrowd(linesTo(60.0f), impostorLevels() - 1, &crowd);
+  InstanceBatcher batcher;
+  ASSERT_TRUE(batcher.init(r.batchLimits()).isOk());
+  DrawStats stats;
+  // No atlas yet.
+  EXPECT_EQ(r.drawCrowd(crowd, batcher, lodCamera(), &stats).code(), StatusCode::kInvalidArgument);
+  EXPECT_EQ(r.drawCrowdGpuCulled(crowd, lodCamera(), &stats).code(), StatusCode::kInvalidArgument);
+  ASSERT_TRUE(r.buildImpostor(cid, smallImpostor()).isOk());
+  EXPECT_TRUE(r.drawCrowd(crowd, batcher, lodCamera(), &stats).isOk());
+  // The baselines draw meshes only; impostors draw no motion vectors.
+  EXPECT_EQ(r.drawTraditional(crowd, lodCamera(), &stats).code(), StatusCode::kUnsupported);
+  EXPECT_EQ(r.drawCpuSkinned(crowd, lodCamera(), &stats).code(), StatusCode::kUnsupported);
+  r.setMotionVectors(true);
+  EXPECT_EQ(r.drawCrowdGpuCulled(crowd, lodCamera(), &stats).code(), StatusCode::kUnsupported);
+}
+
+}  // namespace
+}  // namespace si
