@@ -1,5 +1,6 @@
 // SkinnedInstancing — SPDX-License-Identifier: MIT (see LICENSE)
 #include "crowd_bench/bake_error_table.h"
+#include "crowd_bench/bench_character.h"
 
 #include "si/bake/animation_baker.h"
 
@@ -55,6 +56,7 @@ Status bakeErrorTable(Setup& setup, Renderer& renderer, const Character& charact
     if (s.isOk())
       s = renderer.characterCount() == 0 ? renderer.addCharacter(character, p, &id)
                                          : renderer.replaceCharacter(id, character, p);
+    if (s.isOk()) s = addImpostor(setup, renderer, id);
     if (!s.isOk()) return {s.code(), "bake configuration: " + s.message()};
     Row row;
     s = runPath(setup, renderer, p, "field", instances, path,

@@ -1,11 +1,13 @@
 // SkinnedInstancing — SPDX-License-Identifier: MIT (see LICENSE)
 #include "crowd_bench/bench_character.h"
 
+#include <algorithm>
 #include <cstdio>
 #include <vector>
 
 #include "si/bake/lod_chain.h"
 #include "si/core/default_character.h"
+#include "si/core/impostor_level.h"
 #include "si/core/lod_error.h"
 #include "si/core/part_lod.h"
 #include "si/gl/image_lod_error.h"
@@ -24,8 +26,10 @@ Status makeCharacter(const CharacterChoice& choice, Setup* setup) {
   if (s.isOk()) s = measureAnimatedLodErrors(&setup->character, {});
   PartLodReport parts;
   if (s.isOk() && choice.part_lod) s = buildPartLods(&setup->character, {}, &parts);
+  if (s.isOk() && choice.impostor) s = appendImpostorLevel(&setup->character.mesh);
   if (s.isOk()) s = lodErrorsByLevel(setup->character.mesh, &setup->lod_errors);
   if (!s.isOk()) return s;
+  setup->impostor = choice.impostor;
   if (choice.part_lod) {
     std::printf("Per-part LOD (si::buildPartLods): per character level, each part's own level "
                 "(- where dropped); drop error = distance to the kept parts (model units)\n");
@@ -51,6 +55,10 @@ Status makeCharacter(const CharacterChoice& choice, Setup* setup) {
               "LOD added) and over the clips' poses\n",
               choice.lod_chain.c_str(), choice.part_lod ? ", per-part LOD" : "");
   for (size_t l = 0; l < drawn.size(); ++l) {
+    if (choice.impostor && l + 1 == drawn.size()) {
+      std::printf("  LOD %zu impostor (one quad; its error is measured in image space)\n", l);
+      continue;
+    }
     std::printf("  LOD %zu %8llu ", l, static_cast<unsigned long long>(drawn[l].triangles));
     l < bind.size() ? std::printf("%10.4g", double(bind[l].error_units)) : std::printf("%10s", "-");
     std::printf(" %10.4g\n", double(setup->lod_errors[l]));
@@ -60,6 +68,11 @@ Status makeCharacter(const CharacterChoice& choice, Setup* setup) {
 
 Status imageErrors(Setup& setup, const BakedPalette& palette, bool select, bool quick) {
   ImageLodErrorDesc desc;
+  if (setup.impostor) {  // Between the atlas's views and frames.
+    desc.impostor = &kImpostor;
+    desc.azimuth_offset_degrees = 180.0f / 16.0f;  // Half of ImpostorDesc's default step.
+    desc.pose_phase = 0.5f;
+  }
   if (quick) {
     desc.heights_pixels = {4, 8, 16};
     desc.max_poses = 2;
@@ -78,15 +91,34 @@ Status imageErrors(Setup& setup, const BakedPalette& palette, bool select, bool 
   for (uint32_t h : r.heights_pixels) std::printf(" %7upx", h);
   std::printf("\n");
   for (size_t l = 0; l < r.levels.size(); ++l) {
-    std::printf("  LOD %zu %16.4g %12.4g %7.3g", l, double(r.levels[l].geometric_units),
-                double(r.levels[l].image_units), r.levels[l].one_pixel_height);
+    if (setup.impostor && l + 1 == r.levels.size())
+      std::printf("  impostor %15s %12.4g %7.3g", "-", double(r.levels[l].image_units),
+                  r.levels[l].one_pixel_height);
+    else
+      std::printf("  LOD %zu %16.4g %12.4g %7.3g", l, double(r.levels[l].geometric_units),
+                  double(r.levels[l].image_units), r.levels[l].one_pixel_height);
     for (double px : r.levels[l].mean_differing_pixels) std::printf(" %9.2f", px);
     std::printf("\n");
   }
   if (select) {
     setup.lod_errors = imageLodErrorsUnits(r);
     std::printf("  the screen-error mode selects by the image errors (--lod-errors image)\n");
+  } else if (setup.impostor) {
+    const size_t last = setup.lod_errors.size() - 1;
+    setup.lod_errors[last] = std::max(setup.lod_errors[last - 1], r.levels[last].image_units);
+    std::printf("  LOD %zu (the impostor) is selected by its image error, %.4g units; the mesh "
+                "levels by their geometric errors\n", last, double(setup.lod_errors[last]));
   }
+  return s;
+}
+
+Status buildImpostor(Renderer& renderer, CharacterId id, bool print) {
+  ImpostorInfo info;
+  const Status s = renderer.buildImpostor(id, kImpostor, &info);
+  if (s.isOk() && print)
+    std::printf("Impostor atlas (Renderer::buildImpostor): %u views x %u frames, %u x %u texels, "
+                "%.1f MiB with mip levels\n",
+                info.views, info.frames, info.width, info.height, double(info.bytes) / 1048576.0);
   return s;
 }
 }  // namespace si::bench

@@ -6,6 +6,8 @@
 #include <string>
 
 #include "crowd_bench/bench_scene.h"
+#include "si/gl/impostor.h"
+#include "si/gl/renderer.h"
 
 namespace si::bench {
 
@@ -14,6 +16,7 @@ struct CharacterChoice {
   std::string lod_chain = "deep";  ///< deep: si::buildLodChain's levels; technique: the 3 embedded.
   uint32_t lod_min_triangles = 0;  ///< LodChainDesc::min_triangles; 0: the library's default.
   bool part_lod = false;           ///< si::buildPartLods (each part its own level, parts dropped).
+  bool impostor = false;           ///< si::appendImpostorLevel: the last level is the impostor.
 };
 
 /// The embedded character with its LOD chain (deep: 6 levels down to a few dozen triangles),
@@ -23,8 +26,20 @@ Status makeCharacter(const CharacterChoice& choice, Setup* setup);
 
 /// Measures the image error of each LOD level (si::measureImageLodErrors), prints it beside the
 /// geometric error and, with `select`, makes it what the screen-error mode selects by
-/// (setup.lod_errors). With `quick` (--quick, the sanitizer smoke run): 3 heights up to 16 px,
-/// 2 poses, 4 views.
+/// (setup.lod_errors). With an impostor level (setup.impostor), it is drawn as the impostor
+/// (kImpostor), every level is measured between the impostor's captured views and frames, and
+/// the impostor's image error is its value in setup.lod_errors in either case. With `quick`
+/// (--quick, the sanitizer smoke run): 3 heights up to 16 px, 2 poses, 4 views.
 Status imageErrors(Setup& setup, const BakedPalette& palette, bool select, bool quick);
+
+/// The impostor crowd_bench draws: si::ImpostorDesc's defaults.
+inline const ImpostorDesc kImpostor{};
+
+/// Builds character `id`'s impostor atlas (kImpostor) and, with `print`, prints its size.
+Status buildImpostor(Renderer& renderer, CharacterId id, bool print = true);
+/// buildImpostor() without printing when the setup has an impostor level; nothing otherwise.
+inline Status addImpostor(const Setup& setup, Renderer& renderer, CharacterId id) {
+  return setup.impostor ? buildImpostor(renderer, id, false) : Status::ok();
+}
 
 }  // namespace si::bench

@@ -87,6 +87,7 @@ Status makeCrowd(const Setup& setup, const BakedPalette& palette,
   cd.lod_count = uint32_t(setup.character.mesh.maxLodCount());
   cd.max_distance_radii = -1.0f;  // Measure everything in view, however far.
   cd.lod_errors_units = setup.lod_errors;
+  cd.impostor_lod = setup.impostor ? cd.lod_count - 1 : 0;
   cd.lod_mode = lod.fixed_lod >= 0 ? LodMode::kDistance : lod.mode;
   cd.pixel_error_budget = lod.pixel_budget;
   if (lod.fixed_lod >= 0)  // Lines before the level at (almost) zero, after it out of reach.

@@ -28,6 +28,7 @@ struct Setup {
   GlInfo info;
   Character character;              ///< The embedded character, with its LOD chain.
   std::vector<float> lod_errors;    ///< Per LOD level, model units (lodErrorsByLevel).
+  bool impostor = false;            ///< The last level is the impostor (CrowdDesc::impostor_lod).
   uint32_t width = 0, height = 0;  ///< Of the context.
   uint32_t supersample = 1;  ///< The display is width/supersample x height/supersample: the
                              ///< pixels that LOD budgets are counted in.

@@ -40,6 +40,7 @@ struct Options {
   std::string lod_chain = "deep";
   uint32_t lod_min_triangles = 0;  // LodChainDesc::min_triangles; 0: the library's default.  // deep: buildLodChain's 6 levels; technique: the 3 embedded.
   bool part_lod = false;  // --part-lod: si::buildPartLods (each part its own level, parts dropped).
+  bool impostor = false;  // --impostor: an impostor level past the meshes (Renderer::buildImpostor).
   // --lod-errors: what the screen-error mode selects by, the geometric errors (default) or the
   // image errors (si::measureImageLodErrors); --image-errors prints the latter either way.
   std::string lod_errors = "geometric";
@@ -94,6 +95,9 @@ void usage(std::FILE* f) {
       "                   si::measureImageLodErrors) [--image-errors] (print those either way)\n"
       "                   [--part-lod] (each sub-mesh at its own level within the character's\n"
       "                   error, parts dropped where that is within it: si::buildPartLods)\n"
+      "                   [--impostor] (an animated impostor past the last mesh level, chosen by\n"
+      "                   its image error; not with the baselines, --mix, --root-motion or\n"
+      "                   --motion-vectors)\n"
       "                   [--quality-budgets PX,PX,... | none] [--quality-size N]\n"
       "                   [--quality-frames N] [--quality-path PATH] [--quality-images DIR]\n"
       "                   [--quality-ss N] (compare images box-filtered N x N: give --size at\n"
@@ -144,6 +148,7 @@ bool parse(int argc, char** argv, Options* o) {
     else if (a == "--lod-chain" && has) o->lod_chain = argv[++i];
     else if (a == "--lod-min-triangles" && has) o->lod_min_triangles = uint32_t(std::stoul(argv[++i]));
     else if (a == "--part-lod") o->part_lod = true;
+    else if (a == "--impostor") o->impostor = true;
     else if (a == "--lod-errors" && has) o->lod_errors = argv[++i];
     else if (a == "--image-errors") o->image_errors = true;
     else if (a == "--quality-budgets" && has) {
@@ -219,6 +224,13 @@ bool parse(int argc, char** argv, Options* o) {
   if (o->lod_errors != "geometric" && o->lod_errors != "image") return false;
   if (o->lods.empty() || o->quality_frames == 0) return false;
   if (o->quality_ss == 0 || o->quality_ss > 8) return false;
+  if (o->impostor) {  // The baselines and the mixed, root motion and motion vector tables draw
+                      // meshes only.
+    for (const std::string& p : o->paths)
+      if (p == "traditional" || p == "cpu" || p == "rigid") return false;
+    if (o->quality_path == "traditional" || o->quality_path == "cpu") return false;
+    if (!o->mix.empty() || o->root_motion || o->motion_vectors) return false;
+  }
   if (o->error_path != "instanced" && o->error_path != "compute") return false;
   if (!o->placement.empty() && o->placement != "fewer" && o->placement != "grid" &&
       o->placement != "keys")
@@ -356,6 +368,7 @@ int main(int argc, char** argv) {
   choice.lod_chain = b.o.lod_chain;
   choice.lod_min_triangles = b.o.lod_min_triangles;
   choice.part_lod = b.o.part_lod;
+  choice.impostor = b.o.impostor;
   si::Status s = si::bench::makeCharacter(choice, &b.setup);
   if (!s.isOk()) return fail("character", s);
   si::HeadlessDesc hd;
@@ -384,7 +397,7 @@ int main(int argc, char** argv) {
                                                     : si::FramePlacement::kFewer;
   }
   s = si::bakePalette(character, main_bake, &palette, &report);
-  if (s.isOk() && (b.o.image_errors || b.o.lod_errors == "image")) {
+  if (s.isOk() && (b.o.image_errors || b.o.lod_errors == "image" || b.o.impostor)) {
     s = si::bench::imageErrors(b.setup, palette, b.o.lod_errors == "image", b.o.quick);
     if (!s.isOk()) return fail("image errors", s);
   }
@@ -395,6 +408,7 @@ int main(int argc, char** argv) {
   if (s.isOk()) s = renderer.init(b.setup.info, rd);
   si::CharacterId id;
   if (s.isOk()) s = renderer.addCharacter(character, palette, &id);
+  if (s.isOk() && b.o.impostor) s = si::bench::buildImpostor(renderer, id);
   if (!s.isOk()) return fail("setup", s);
   std::printf("Automatic skinning path choice: %s (%s)\n",
               si::skinningPathName(renderer.skinningPath()), renderer.skinningPathReason().c_str());

@@ -1,5 +1,6 @@
 // SkinnedInstancing — SPDX-License-Identifier: MIT (see LICENSE)
 #include "crowd_bench/restore_state_table.h"
+#include "crowd_bench/bench_character.h"
 
 namespace si::bench {
 
@@ -82,6 +83,7 @@ Status restoreStateTable(Setup& setup, const BakedPalette& palette, const Render
   Status init = renderer.init(setup.info, rd);
   CharacterId id;
   if (init.isOk()) init = renderer.addCharacter(setup.character, palette, &id);
+  if (init.isOk()) init = addImpostor(setup, renderer, id);
   if (!init.isOk()) return {init.code(), "restore state: " + init.message()};
   std::printf("\nThe GL state contract (RendererDesc::restore_state): one call's own cost, on an "
               "empty crowd, restore off and on alternately, 200 calls each, medians\n");

@@ -1,5 +1,6 @@
 // SkinnedInstancing — SPDX-License-Identifier: MIT (see LICENSE)
 #include "crowd_bench/uploads_table.h"
+#include "crowd_bench/bench_character.h"
 
 #include <cmath>
 
@@ -69,6 +70,7 @@ Status uploadsTable(Setup& setup, const BakedPalette& palette, const RendererDes
     Status s = renderers[side].init(setup.info, rd);
     CharacterId id;
     if (s.isOk()) s = renderers[side].addCharacter(setup.character, palette, &id);
+    if (s.isOk()) s = addImpostor(setup, renderers[side], id);
     if (!s.isOk()) return {s.code(), "uploads: " + s.message()};
   }
   std::printf("\nState uploads (field, gpu-driven): a share of the crowd moved each frame by "

@@ -1,5 +1,6 @@
 // SkinnedInstancing — SPDX-License-Identifier: MIT (see LICENSE)
 #include "crowd_bench/views_table.h"
+#include "crowd_bench/bench_character.h"
 
 #include <algorithm>
 #include <cmath>
@@ -127,6 +128,7 @@ Status viewsTable(Setup& setup, const BakedPalette& palette, const RendererDesc&
     Status s = renderers[k].init(setup.info, rd);
     CharacterId id;
     if (s.isOk()) s = renderers[k].addCharacter(setup.character, palette, &id);
+    if (s.isOk()) s = addImpostor(setup, renderers[k], id);
     if (!s.isOk()) return {s.code(), "views: " + s.message()};
   }
   Status s = Status::ok();

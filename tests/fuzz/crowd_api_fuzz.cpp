@@ -318,9 +318,12 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
   si::CrowdDesc cd;
   cd.palette = &palette();
   cd.sub_mesh_count = 1 + in.u8() % 4;
-  const uint8_t lods = in.u8();  // Its high bit: previous records (the input layout is kept).
+  // Its high bit: previous records; bit 5: the last level is an impostor level (the input
+  // layout is kept).
+  const uint8_t lods = in.u8();
   cd.lod_count = 1 + lods % 3;
   cd.previous_records = (lods & 0x80) != 0;
+  cd.impostor_lod = (lods & 0x20) != 0 && cd.lod_count > 1 ? cd.lod_count - 1 : 0;
   si::CrowdManager crowd;
   if (!crowd.init(cd).isOk()) fail("init refused a valid desc");
   // Two masks: the branch of j1 (anchored on j0) and the whole chain (the model anchor).

@@ -7,6 +7,7 @@
 #include <vector>
 
 #include "si/core/material_table.h"
+#include "si/core/impostor_level.h"
 #include "si/core/part_lod.h"
 #include "si/gltf/gltf_import.h"
 
@@ -26,6 +27,11 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
       if (!c.validate().isOk() || !si::lodErrorsByLevel(c.mesh, &errors).isOk()) std::abort();
       if (!si::buildPartLods(&c, pd, nullptr).isOk()) std::abort();
     }
+    // An impostor level past the others: one level more, the mesh still valid.
+    const size_t levels = c.mesh.maxLodCount();
+    if (si::appendImpostorLevel(&c.mesh).isOk() &&
+        (c.mesh.maxLodCount() != levels + 1 || !c.validate().isOk()))
+      std::abort();
   }
   // Every variation source; each valid result gives a material table with one entry per
   // material and every vertex's material in it.

@@ -63,10 +63,12 @@ int writeCrowdApi(const std::string& dir) {
   // somewhere), so the replay would test little past init. These draw from bytes that read as
   // finite values of the fuzzer's table (index b % 14: 0, -0, -1, 0.5, 1), alphas of 255 and
   // every kind of call: a dozen instances live in each.
+  // Seeds 6 and 7: the same with an impostor level (the desc byte's bit 5), 2 and 3 levels.
   const uint8_t benign[] = {73, 80, 81, 74, 76, 94};
-  for (int k = 0; k < 6; ++k) {
+  for (int k = 0; k < 8; ++k) {
     std::vector<char> bytes(2048);
     for (char& b : bytes) b = char(benign[rng() % sizeof(benign)]);
+    if (k >= 6) bytes[1] = char(k == 6 ? 34 : 35);
     std::ofstream out(dir + "/crowd_api_benign_" + std::to_string(k) + ".bin", std::ios::binary);
     out.write(bytes.data(), std::streamsize(bytes.size()));
     if (!out) {

@@ -129,15 +129,18 @@ TEST(SiBake, RootMotionIsExtractedReportedAndWritten) {
 // geometric one (a build without a headless back-end refuses the option, exit 2).
 TEST(SiBake, ImageErrorsPerLevel) {
   const std::string out = tempPath("image_errors.sipal");
-  const ToolRun r = runTool("--embedded --rate 30 --no-progress -q --image-errors -o '" + out + "'");
+  const ToolRun r =
+      runTool("--embedded --rate 30 --no-progress -q --image-errors --impostor -o '" + out + "'");
 #if SI_BAKE_IMAGE_ERRORS
   ASSERT_EQ(r.exit_code, 0) << r.output;
   EXPECT_NE(r.output.find("Image error per LOD level"), std::string::npos) << r.output;
-  // LOD 1 changes pixels at 64 px: a number past 0 in its row's last column.
-  const size_t row = r.output.rfind("\nLOD 1 ");
-  ASSERT_NE(row, std::string::npos) << r.output;
-  const std::string line = r.output.substr(row + 1, r.output.find('\n', row + 1) - row - 1);
-  EXPECT_GT(std::stod(line.substr(line.rfind(' ') + 1)), 0.0) << line;
+  // LOD 1 and the impostor change pixels at 64 px: a number past 0 in their rows' last column.
+  for (const char* name : {"\nLOD 1 ", "\nimp. "}) {
+    const size_t row = r.output.rfind(name);
+    ASSERT_NE(row, std::string::npos) << name << r.output;
+    const std::string line = r.output.substr(row + 1, r.output.find('\n', row + 1) - row - 1);
+    EXPECT_GT(std::stod(line.substr(line.rfind(' ') + 1)), 0.0) << line;
+  }
   EXPECT_TRUE(exists(out));
 #else
   EXPECT_EQ(r.exit_code, 2) << r.output;
@@ -155,7 +158,8 @@ TEST(SiBake, BadCommandLinesExitWith2) {
                            "--embedded -o x.sipal --interpolation spline", "--cast",
                            "--cast --embedded -o x.sipal", "--moving-clips -o x.sipal a.glb",
                            "--embedded -o x.sipal --root-joint root",
-                           "--embedded -o x.sipal --root-motion ,"}) {
+                           "--embedded -o x.sipal --root-motion ,",
+                           "--embedded -o x.sipal --impostor"}) {
     const ToolRun r = runTool(args);
     EXPECT_EQ(r.exit_code, 2) << args << "\n" << r.output;
     EXPECT_NE(r.output.find("si-bake: error:"), std::string::npos) << args;

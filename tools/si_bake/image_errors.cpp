@@ -3,6 +3,7 @@
 
 #include <memory>
 
+#include "si/core/impostor_level.h"
 #include "si/gl/gl_context.h"
 #include "si/gl/image_lod_error.h"
 #include "si/headless/headless_context.h"
@@ -10,15 +11,24 @@
 namespace si::tools {
 
 bool printImageErrors(std::FILE* f, const Character& character, const BakedPalette& palette,
-                      std::string* why) {
+                      bool impostor, std::string* why) {
+  Character measured = character;
+  const ImpostorDesc impostor_desc;
+  ImageLodErrorDesc desc;
+  if (impostor) {
+    desc.impostor = &impostor_desc;
+    desc.azimuth_offset_degrees = 180.0f / 16.0f;  // Half of ImpostorDesc's default step,
+    desc.pose_phase = 0.5f;                       // and between its frames.
+  }
   std::unique_ptr<HeadlessContext> context;
   HeadlessDesc hd;
   hd.width = hd.height = 64;  // Drawn offscreen at its own size.
   Status s = HeadlessContext::create(hd, &context);
   GlInfo info;
   if (s.isOk()) s = loadGl(&HeadlessContext::getProcAddress, context.get(), &info);
+  if (s.isOk() && impostor) s = appendImpostorLevel(&measured.mesh);
   ImageLodErrorReport r;
-  if (s.isOk()) s = measureImageLodErrors(info, character, palette, {}, &r);
+  if (s.isOk()) s = measureImageLodErrors(info, measured, palette, desc, &r);
   if (!s.isOk()) {
     *why = s.toString();
     return false;
@@ -33,8 +43,12 @@ bool printImageErrors(std::FILE* f, const Character& character, const BakedPalet
   std::fprintf(f, "\n");
   for (size_t l = 0; l < r.levels.size(); ++l) {
     const ImageLodLevel& level = r.levels[l];
-    std::fprintf(f, "LOD %-2zu %12.4g %12.4g %8.3g", l, double(level.geometric_units),
-                 double(level.image_units), level.one_pixel_height);
+    if (impostor && l + 1 == r.levels.size())
+      std::fprintf(f, "%-6s %12s %12.4g %8.3g", "imp.", "-", double(level.image_units),
+                   level.one_pixel_height);
+    else
+      std::fprintf(f, "LOD %-2zu %12.4g %12.4g %8.3g", l, double(level.geometric_units),
+                   double(level.image_units), level.one_pixel_height);
     for (double px : level.mean_differing_pixels) std::fprintf(f, " %8.2f", px);
     std::fprintf(f, "\n");
   }

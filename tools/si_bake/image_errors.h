@@ -12,8 +12,10 @@
 namespace si::tools {
 
 /// Prints the table to `f`; false with `why` set when no context can be made or the
-/// measurement fails. `character` must carry LOD errors (as printLodTable measures them).
+/// measurement fails. `character` must carry LOD errors (as printLodTable measures them). With
+/// `impostor` (--impostor), an impostor level (si::ImpostorDesc's defaults) is appended and
+/// measured too, every level between the impostor's captured views and frames.
 bool printImageErrors(std::FILE* f, const Character& character, const BakedPalette& palette,
-                      std::string* why);
+                      bool impostor, std::string* why);
 
 }  // namespace si::tools

@@ -61,6 +61,7 @@ struct Options {
   si::GltfImportDesc import;
   bool require_tolerance = false;
   bool image_errors = false;  // --image-errors: each LOD level's image error (a GL context).
+  bool impostor = false;      // --impostor: with --image-errors, the impostor's too.
   bool quiet = false;
   int progress = -1;  // -1: when stderr is a terminal; 0 never; 1 always.
 };
@@ -104,6 +105,8 @@ void usage(std::FILE* f) {
       "  --csv PATH               also write the error table as CSV\n"
       "  --image-errors           also measure each LOD level's image error (pixels of the\n"
       "                           character's image it changes) in an offscreen GL context\n"
+      "  --impostor               with --image-errors: also the animated impostor's (drawn\n"
+      "                           past the last level), every level measured between its views\n"
       "  --require-tolerance      fail (exit 6, nothing written) when a clip misses it\n"
       "                           (automatic rates always do, unless told otherwise:)\n"
       "  --accept-tolerance-miss  write an automatic bake that misses the tolerance\n"
@@ -154,6 +157,8 @@ int parse(int argc, char** argv, Options* o) {
       o->cast = true;
     } else if (a == "--require-tolerance") {
       o->require_tolerance = true;
+    } else if (a == "--impostor") {
+      o->impostor = true;
     } else if (a == "--image-errors") {
 #if SI_BAKE_IMAGE_ERRORS
       o->image_errors = true;
@@ -250,6 +255,7 @@ int parse(int argc, char** argv, Options* o) {
     return kExitOk;
   }
   if (o->moving_clips && !o->embedded) return bad("--moving-clips is for --embedded");
+  if (o->impostor && !o->image_errors) return bad("--impostor is for --image-errors");
   if (!o->root_joint.empty() && o->root_motion.empty())
     return bad("--root-joint without --root-motion");
   if (o->embedded == !o->input.empty())
@@ -315,7 +321,7 @@ void printTable(std::FILE* f, const si::BakedPalette& p, const si::BakeReport& r
 // the crowd's screen-error LOD mode selects by (docs/crowd.md).
 // Also the image errors with --image-errors (false with `why` when they cannot be measured).
 bool printLodTable(std::FILE* f, const si::Character& character, const si::BakedPalette& palette,
-                   bool image_errors, std::string* why) {
+                   bool image_errors, bool impostor, std::string* why) {
   si::Character posed = character;
   si::AnimatedLodErrorDesc poses;
   poses.poses_per_clip = 4;
@@ -337,9 +343,10 @@ bool printLodTable(std::FILE* f, const si::Character& character, const si::Baked
                  static_cast<unsigned long long>(bind[l].triangles), double(bind[l].error_units),
                  double(animated[l].error_units), double(animated[l].error_units) / height);
 #if SI_BAKE_IMAGE_ERRORS
-  if (image_errors) return si::tools::printImageErrors(f, posed, palette, why);
+  if (image_errors) return si::tools::printImageErrors(f, posed, palette, impostor, why);
 #else
   (void)palette;
+  (void)impostor;
 #endif
   return true;
 }
@@ -465,7 +472,7 @@ int main(int argc, char** argv) {
   }
   std::string why;
   if ((!o.quiet || o.image_errors) &&
-      !printLodTable(stdout, character, palette, o.image_errors, &why))
+      !printLodTable(stdout, character, palette, o.image_errors, o.impostor, &why))
     return error(kExitBake, "--image-errors: " + why);
   if (!o.csv.empty() && !writeCsv(o.csv, palette, report))
     return error(kExitOutput, "cannot write the CSV '" + o.csv + "'");
