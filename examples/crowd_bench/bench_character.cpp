@@ -30,6 +30,11 @@ Status makeCharacter(const CharacterChoice& choice, Setup* setup) {
   if (s.isOk()) s = lodErrorsByLevel(setup->character.mesh, &setup->lod_errors);
   if (!s.isOk()) return s;
   setup->impostor = choice.impostor;
+  if (choice.quick) {  // ImpostorDesc's defaults otherwise.
+    setup->impostor_desc.azimuths = 8;
+    setup->impostor_desc.elevations_degrees = {0.0f, 30.0f};
+    setup->impostor_desc.frames_per_clip = 4;
+  }
   if (choice.part_lod) {
     std::printf("Per-part LOD (si::buildPartLods): per character level, each part's own level "
                 "(- where dropped); drop error = distance to the kept parts (model units)\n");
@@ -69,8 +74,9 @@ Status makeCharacter(const CharacterChoice& choice, Setup* setup) {
 Status imageErrors(Setup& setup, const BakedPalette& palette, bool select, bool quick) {
   ImageLodErrorDesc desc;
   if (setup.impostor) {  // Between the atlas's views and frames.
-    desc.impostor = &kImpostor;
-    desc.azimuth_offset_degrees = 180.0f / 16.0f;  // Half of ImpostorDesc's default step.
+    desc.impostor = &setup.impostor_desc;
+    const uint32_t azimuths = setup.impostor_desc.azimuths ? setup.impostor_desc.azimuths : 16u;
+    desc.azimuth_offset_degrees = 180.0f / float(azimuths);  // Half the atlas's step.
     desc.pose_phase = 0.5f;
   }
   if (quick) {
@@ -112,9 +118,9 @@ Status imageErrors(Setup& setup, const BakedPalette& palette, bool select, bool 
   return s;
 }
 
-Status buildImpostor(Renderer& renderer, CharacterId id, bool print) {
+Status buildImpostor(const Setup& setup, Renderer& renderer, CharacterId id, bool print) {
   ImpostorInfo info;
-  const Status s = renderer.buildImpostor(id, kImpostor, &info);
+  const Status s = renderer.buildImpostor(id, setup.impostor_desc, &info);
   if (s.isOk() && print)
     std::printf("Impostor atlas (Renderer::buildImpostor): %u views x %u frames, %u x %u texels, "
                 "%.1f MiB with mip levels\n",

@@ -17,6 +17,7 @@ struct CharacterChoice {
   uint32_t lod_min_triangles = 0;  ///< LodChainDesc::min_triangles; 0: the library's default.
   bool part_lod = false;           ///< si::buildPartLods (each part its own level, parts dropped).
   bool impostor = false;           ///< si::appendImpostorLevel: the last level is the impostor.
+  bool quick = false;              ///< --quick: a smaller atlas (8 azimuths, 2 elevations, 4 frames).
 };
 
 /// The embedded character with its LOD chain (deep: 6 levels down to a few dozen triangles),
@@ -32,14 +33,12 @@ Status makeCharacter(const CharacterChoice& choice, Setup* setup);
 /// (--quick, the sanitizer smoke run): 3 heights up to 16 px, 2 poses, 4 views.
 Status imageErrors(Setup& setup, const BakedPalette& palette, bool select, bool quick);
 
-/// The impostor crowd_bench draws: si::ImpostorDesc's defaults.
-inline const ImpostorDesc kImpostor{};
-
-/// Builds character `id`'s impostor atlas (kImpostor) and, with `print`, prints its size.
-Status buildImpostor(Renderer& renderer, CharacterId id, bool print = true);
+/// Builds character `id`'s impostor atlas (setup.impostor_desc) and, with `print`, prints its
+/// size.
+Status buildImpostor(const Setup& setup, Renderer& renderer, CharacterId id, bool print = true);
 /// buildImpostor() without printing when the setup has an impostor level; nothing otherwise.
 inline Status addImpostor(const Setup& setup, Renderer& renderer, CharacterId id) {
-  return setup.impostor ? buildImpostor(renderer, id, false) : Status::ok();
+  return setup.impostor ? buildImpostor(setup, renderer, id, false) : Status::ok();
 }
 
 }  // namespace si::bench

@@ -15,6 +15,7 @@
 #include "si/core/character.h"
 #include "si/crowd/crowd_manager.h"
 #include "si/crowd/instance_batcher.h"
+#include "si/gl/impostor.h"
 #include "si/gl/renderer.h"
 #include "si/headless/headless_context.h"
 
@@ -29,6 +30,7 @@ struct Setup {
   Character character;              ///< The embedded character, with its LOD chain.
   std::vector<float> lod_errors;    ///< Per LOD level, model units (lodErrorsByLevel).
   bool impostor = false;            ///< The last level is the impostor (CrowdDesc::impostor_lod).
+  ImpostorDesc impostor_desc;       ///< What its atlas captures (Renderer::buildImpostor).
   uint32_t width = 0, height = 0;  ///< Of the context.
   uint32_t supersample = 1;  ///< The display is width/supersample x height/supersample: the
                              ///< pixels that LOD budgets are counted in.

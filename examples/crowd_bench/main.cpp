@@ -369,6 +369,7 @@ int main(int argc, char** argv) {
   choice.lod_min_triangles = b.o.lod_min_triangles;
   choice.part_lod = b.o.part_lod;
   choice.impostor = b.o.impostor;
+  choice.quick = b.o.quick;
   si::Status s = si::bench::makeCharacter(choice, &b.setup);
   if (!s.isOk()) return fail("character", s);
   si::HeadlessDesc hd;
@@ -408,7 +409,7 @@ int main(int argc, char** argv) {
   if (s.isOk()) s = renderer.init(b.setup.info, rd);
   si::CharacterId id;
   if (s.isOk()) s = renderer.addCharacter(character, palette, &id);
-  if (s.isOk() && b.o.impostor) s = si::bench::buildImpostor(renderer, id);
+  if (s.isOk() && b.o.impostor) s = si::bench::buildImpostor(b.setup, renderer, id);
   if (!s.isOk()) return fail("setup", s);
   std::printf("Automatic skinning path choice: %s (%s)\n",
               si::skinningPathName(renderer.skinningPath()), renderer.skinningPathReason().c_str());

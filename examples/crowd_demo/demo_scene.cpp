@@ -8,7 +8,9 @@
 
 #include "si/bake/lod_chain.h"
 #include "si/bake/palette_file.h"
+#include "si/core/impostor_level.h"
 #include "si/core/lod_error.h"
+#include "si/gl/image_lod_error.h"
 #include "si/gltf/gltf_import.h"
 
 namespace demo {
@@ -53,6 +55,7 @@ si::Status DemoScene::loadCharacter(const SceneOptions& options) {
   if (s.isOk() && options.lod_pixels > 0.0f) {  // Chains deep enough for a few pixels.
     s = si::buildLodChain(&character_.mesh, {}, nullptr);
     if (s.isOk()) s = si::measureAnimatedLodErrors(&character_, {}, nullptr);
+    if (s.isOk() && options.impostors) s = si::appendImpostorLevel(&character_.mesh);
   }
   if (!s.isOk()) return s;
   // Lay the crowd out in units of the character's size (the embedded one is 2.05 units tall).
@@ -146,6 +149,7 @@ si::Status DemoScene::initGl(const si::GlInfo& info) {
   si::Status s = renderer_.init(info, rd);
   si::CharacterId id;  // Character 0, the embedded or loaded one; the mixed cast adds more.
   if (s.isOk()) s = renderer_.addCharacter(character_, palette_, &id);
+  if (s.isOk() && options_.impostors) s = buildImpostor(info, id);
   if (s.isOk()) s = batcher_.init(renderer_.batchLimits());
   if (s.isOk() && mixed_) s = cast_.upload(renderer_);
   if (s.isOk()) s = shadows_.initGl();
@@ -154,6 +158,32 @@ si::Status DemoScene::initGl(const si::GlInfo& info) {
               renderer_.skinningPathReason().c_str());
   gl_ready_ = true;
   return buildCrowd();
+}
+
+// The impostor atlas, and the impostor's image error (a quick measurement: 3 heights up to
+// 16 px, 4 views, 2 poses, between the atlas's views and frames): where the crowd hands over.
+si::Status DemoScene::buildImpostor(const si::GlInfo& info, si::CharacterId id) {
+  const si::ImpostorDesc impostor;
+  si::ImpostorInfo atlas;
+  si::Status s = renderer_.buildImpostor(id, impostor, &atlas);
+  si::ImageLodErrorDesc d;
+  d.heights_pixels = {4, 8, 16};
+  d.azimuths = 4;
+  d.azimuth_offset_degrees = 180.0f / 16.0f;
+  d.elevations_degrees = {20.0f};
+  d.max_poses = 2;
+  d.pose_phase = 0.5f;
+  d.impostor = &impostor;
+  si::ImageLodErrorReport r;
+  if (s.isOk()) s = si::measureImageLodErrors(info, character_, palette_, d, &r);
+  if (!s.isOk()) return s;
+  impostor_error_units_ = r.levels.back().image_units;
+  std::printf("Impostors: %u views x %u frames, %u x %u texels (%.1f MiB); image error %.3g units "
+              "(one pixel of the character changes at %.3g px tall)\n",
+              atlas.views, atlas.frames, atlas.width, atlas.height,
+              double(atlas.bytes) / 1048576.0, double(impostor_error_units_),
+              r.levels.back().one_pixel_height);
+  return s;
 }
 
 si::Status DemoScene::buildCrowd() {
@@ -168,6 +198,12 @@ si::Status DemoScene::buildCrowd() {
     cd.pixel_error_budget = options_.lod_pixels;
     s = si::lodErrorsByLevel(character_.mesh, &cd.lod_errors_units);
     if (!s.isOk()) return s;
+    if (options_.impostors) {  // The impostor where its image error is within the budget,
+      const size_t last = cd.lod_errors_units.size() - 1;  // and no far line: the whole field.
+      cd.impostor_lod = uint32_t(last);
+      cd.max_distance_radii = -1.0f;
+      cd.lod_errors_units[last] = std::max(cd.lod_errors_units[last - 1], impostor_error_units_);
+    }
   }
   s = crowd_.init(cd);
   if (s.isOk() && options_.events) s = addEventMarkers();

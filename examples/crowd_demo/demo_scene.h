@@ -35,6 +35,7 @@ struct SceneOptions {
   std::string palette;  // Palette file (si-bake) to load instead of baking.
   std::vector<std::string> clips;
   float lod_pixels = 0.0f;  // > 0: deeper LOD chains, LOD by projected error within this budget.
+  bool impostors = false;   // An animated impostor past the last LOD (with lod_pixels).
   std::vector<std::string> mix;  // Other kinds (glTF files) of the mixed scene; starts mixed.
   bool events = false;  // Animation events on from the start (key V).
   bool root_motion = false;  // The field travels from the start (key R).
@@ -86,7 +87,10 @@ class DemoScene {
   /// Motion vectors on or off: each frame the crowd is drawn once more, with motion vectors,
   /// into an offscreen colour + motion target the size of the viewport, whose motion is
   /// summarized (motionSummary()). The instanced paths only (the others draw none).
-  void toggleMotionVectors() { options_.motion_vectors = !options_.motion_vectors; }
+  /// (Not with impostors: they draw no motion vectors.)
+  void toggleMotionVectors() {
+    if (!options_.impostors) options_.motion_vectors = !options_.motion_vectors;
+  }
   /// Cascaded shadows on or off: three CrowdViews of the crowd drawn depth-only from the sun
   /// into a shadow map each frame, and a ground plane that receives their shadows.
   void toggleShadows() { options_.shadows = !options_.shadows; }
@@ -140,6 +144,7 @@ class DemoScene {
   double unit() const { return unit_; }
 
  private:
+  si::Status buildImpostor(const si::GlInfo& info, si::CharacterId id);
   si::Status bake();
   si::Status buildCrowd();
   void printSummary() const;
@@ -151,6 +156,7 @@ class DemoScene {
   bool report_valid_ = false;
   double bake_ms_ = 0.0, update_ms_ = 0.0;
   double unit_ = 1.0;
+  float impostor_error_units_ = 0.0f;  // The impostor's measured image error (--impostors).
   si::Renderer renderer_;
   si::CrowdManager crowd_;
   si::InstanceBatcher batcher_;

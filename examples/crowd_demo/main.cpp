@@ -40,6 +40,7 @@ void usage(std::FILE* f) {
       "                  [--model FILE.gltf|FILE.glb] [--clips NAME,...] [--palette FILE]\n"
       "                  [--keys K,K,...] [--lod-pixels PX] [--mix FILE,...|samples]\n"
       "                  [--events] [--root-motion] [--motion-vectors] [--layers] [--shadows]\n"
+      "                  [--impostors]\n"
       "Renders a crowd of the embedded character (default 4000 characters, 1280x720).\n"
       "With a display it opens a window (F1 lists the keys; ESC quits); without one, or with\n"
       "--headless, it renders --frames frames (default 3, 1/60 s apart) offscreen, writes the\n"
@@ -65,7 +66,10 @@ void usage(std::FILE* f) {
       "view of the crowd (si::CrowdView) culled and LOD'd for its own sun camera (key H).\n"
       "--lod-pixels extends the LOD chains (si::buildLodChain, errors over the clips' poses)\n"
       "and picks each character's LOD by projected error within PX pixels instead of the\n"
-      "technique's distance lines.\n");
+      "technique's distance lines.\n"
+      "--impostors adds an animated impostor past the last LOD (Renderer::buildImpostor), drawn\n"
+      "where its measured image error is within the budget (--lod-pixels, 1 if not given); not\n"
+      "with --motion-vectors (key X is then off), and the baseline paths draw none.\n");
 }
 
 bool parse(int argc, char** argv, Options* o) {
@@ -116,6 +120,8 @@ bool parse(int argc, char** argv, Options* o) {
     } else if (a == "--lod-pixels" && has) {
       o->scene.lod_pixels = std::strtof(argv[++i], nullptr);
       if (!(o->scene.lod_pixels > 0.0f) || !std::isfinite(o->scene.lod_pixels)) return false;
+    } else if (a == "--impostors") {
+      o->scene.impostors = true;
     } else if (a == "--summary") {
       o->summary = true;
     } else if (a == "--backend" && has) {
@@ -129,6 +135,10 @@ bool parse(int argc, char** argv, Options* o) {
     } else {
       return false;
     }
+  }
+  if (o->scene.impostors) {
+    if (o->scene.motion_vectors) return false;  // Impostors draw no motion vectors.
+    if (o->scene.lod_pixels == 0.0f) o->scene.lod_pixels = 1.0f;
   }
   return o->scene.instances > 0 && o->scene.instances <= (1u << 20) && o->width > 0 &&
          o->height > 0;
