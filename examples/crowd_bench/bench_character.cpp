@@ -30,7 +30,7 @@ Status makeCharacter(const CharacterChoice& choice, Setup* setup) {
   if (s.isOk()) s = lodErrorsByLevel(setup->character.mesh, &setup->lod_errors);
   if (!s.isOk()) return s;
   setup->impostor = choice.impostor;
-  if (choice.quick) {  // ImpostorDesc's defaults otherwise.
+  if (choice.small_atlas) {  // ImpostorDesc's defaults otherwise.
     setup->impostor_desc.azimuths = 8;
     setup->impostor_desc.elevations_degrees = {0.0f, 30.0f};
     setup->impostor_desc.frames_per_clip = 4;

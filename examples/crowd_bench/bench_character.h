@@ -17,7 +17,7 @@ struct CharacterChoice {
   uint32_t lod_min_triangles = 0;  ///< LodChainDesc::min_triangles; 0: the library's default.
   bool part_lod = false;           ///< si::buildPartLods (each part its own level, parts dropped).
   bool impostor = false;           ///< si::appendImpostorLevel: the last level is the impostor.
-  bool quick = false;              ///< --quick: a smaller atlas (8 azimuths, 2 elevations, 4 frames).
+  bool small_atlas = false;        ///< --impostor-atlas small: 8 azimuths, 2 elevations, 4 frames.
 };
 
 /// The embedded character with its LOD chain (deep: 6 levels down to a few dozen triangles),

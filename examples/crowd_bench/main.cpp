@@ -41,6 +41,7 @@ struct Options {
   uint32_t lod_min_triangles = 0;  // LodChainDesc::min_triangles; 0: the library's default.  // deep: buildLodChain's 6 levels; technique: the 3 embedded.
   bool part_lod = false;  // --part-lod: si::buildPartLods (each part its own level, parts dropped).
   bool impostor = false;  // --impostor: an impostor level past the meshes (Renderer::buildImpostor).
+  std::string impostor_atlas = "full";  // --impostor-atlas: full (ImpostorDesc's defaults) or small.
   // --lod-errors: what the screen-error mode selects by, the geometric errors (default) or the
   // image errors (si::measureImageLodErrors); --image-errors prints the latter either way.
   std::string lod_errors = "geometric";
@@ -97,7 +98,8 @@ void usage(std::FILE* f) {
       "                   error, parts dropped where that is within it: si::buildPartLods)\n"
       "                   [--impostor] (an animated impostor past the last mesh level, chosen by\n"
       "                   its image error; not with the baselines, --mix, --root-motion or\n"
-      "                   --motion-vectors)\n"
+      "                   --motion-vectors) [--impostor-atlas full|small] (small: 8 azimuths,\n"
+      "                   2 elevations, 4 frames per clip; full: si::ImpostorDesc's defaults)\n"
       "                   [--quality-budgets PX,PX,... | none] [--quality-size N]\n"
       "                   [--quality-frames N] [--quality-path PATH] [--quality-images DIR]\n"
       "                   [--quality-ss N] (compare images box-filtered N x N: give --size at\n"
@@ -149,6 +151,7 @@ bool parse(int argc, char** argv, Options* o) {
     else if (a == "--lod-min-triangles" && has) o->lod_min_triangles = uint32_t(std::stoul(argv[++i]));
     else if (a == "--part-lod") o->part_lod = true;
     else if (a == "--impostor") o->impostor = true;
+    else if (a == "--impostor-atlas" && has) o->impostor_atlas = argv[++i];
     else if (a == "--lod-errors" && has) o->lod_errors = argv[++i];
     else if (a == "--image-errors") o->image_errors = true;
     else if (a == "--quality-budgets" && has) {
@@ -224,6 +227,7 @@ bool parse(int argc, char** argv, Options* o) {
   if (o->lod_errors != "geometric" && o->lod_errors != "image") return false;
   if (o->lods.empty() || o->quality_frames == 0) return false;
   if (o->quality_ss == 0 || o->quality_ss > 8) return false;
+  if (o->impostor_atlas != "full" && o->impostor_atlas != "small") return false;
   if (o->impostor) {  // The baselines and the mixed, root motion and motion vector tables draw
                       // meshes only.
     for (const std::string& p : o->paths)
@@ -369,7 +373,7 @@ int main(int argc, char** argv) {
   choice.lod_min_triangles = b.o.lod_min_triangles;
   choice.part_lod = b.o.part_lod;
   choice.impostor = b.o.impostor;
-  choice.quick = b.o.quick;
+  choice.small_atlas = b.o.impostor_atlas == "small";
   si::Status s = si::bench::makeCharacter(choice, &b.setup);
   if (!s.isOk()) return fail("character", s);
   si::HeadlessDesc hd;
