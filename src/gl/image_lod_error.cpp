@@ -202,6 +202,7 @@ Status measureImageLodErrors(const GlInfo& info, const Character& character,
   out.heights_pixels = d.heights_pixels;
   out.character_height_units = height_units;
   out.views = uint32_t(views.size());
+  out.impostor = d.impostor != nullptr;
   out.poses = uint32_t(poses.size());
   out.levels.resize(levels);
   for (uint32_t l = 0; l < levels; ++l) out.levels[l].geometric_units = geometric[l];
@@ -282,6 +283,11 @@ std::vector<float> imageLodErrorsUnits(const ImageLodErrorReport& report) {
   std::vector<float> out;
   for (const ImageLodLevel& level : report.levels)
     out.push_back(out.empty() ? 0.0f : std::max(out.back(), level.image_units));
+  if (report.impostor && out.size() > 1) {  // Levels the impostor dominates take its error.
+    const float impostor = report.levels.back().image_units;
+    for (size_t l = 1; l + 1 < out.size(); ++l) out[l] = std::min(out[l], impostor);
+    out.back() = std::max(impostor, out[out.size() - 2]);
+  }
   return out;
 }
 

@@ -109,5 +109,21 @@ TEST_P(RenderTest, ImageLodErrorsRefuseBadInput) {
   EXPECT_EQ(r.character_height_units, 7.0f);  // Nothing written.
 }
 
+// Non-decreasing; with an impostor, the mesh levels whose error exceeds the impostor's take
+// its error (the choice skips them), and the impostor keeps its own.
+TEST(ImageLodErrors, UnitsAreNonDecreasingAndSkipLevelsTheImpostorDominates) {
+  ImageLodErrorReport r;
+  for (float units : {0.0f, 0.3f, 0.2f, 0.8f, 0.9f, 0.6f}) {
+    ImageLodLevel level;
+    level.image_units = units;
+    r.levels.push_back(level);
+  }
+  EXPECT_EQ(imageLodErrorsUnits(r), (std::vector<float>{0.0f, 0.3f, 0.3f, 0.8f, 0.9f, 0.9f}));
+  r.impostor = true;
+  EXPECT_EQ(imageLodErrorsUnits(r), (std::vector<float>{0.0f, 0.3f, 0.3f, 0.6f, 0.6f, 0.6f}));
+  r.levels.back().image_units = 1.5f;  // Worse than every mesh level: handed over last.
+  EXPECT_EQ(imageLodErrorsUnits(r), (std::vector<float>{0.0f, 0.3f, 0.3f, 0.8f, 0.9f, 1.5f}));
+}
+
 }  // namespace
 }  // namespace si

@@ -84,6 +84,7 @@ struct ImageLodErrorReport {
   float character_height_units = 0.0f;   ///< si::Character::height().
   uint32_t views = 0, poses = 0;         ///< Drawn at every height and level.
   std::vector<ImageLodLevel> levels;     ///< maxLodCount() of the mesh, LOD 0 first.
+  bool impostor = false;  ///< The last level was drawn as the impostor (ImageLodErrorDesc).
 };
 
 /// Draws the character (every sub-mesh worn, its palette's poses, the renderer's vertex-shader
@@ -101,7 +102,10 @@ Status measureImageLodErrors(const GlInfo& info, const Character& character,
                              ImageLodErrorReport* report);
 
 /// The report's image errors, made non-decreasing (a coarser level never claims less), ready
-/// for CrowdDesc::lod_errors_units.
+/// for CrowdDesc::lod_errors_units. With an impostor (report.impostor), a mesh level whose
+/// image error exceeds the impostor's is dominated (more triangles, and more pixels changed)
+/// and gets the impostor's error: the screen-error choice then hands the character straight to
+/// the impostor wherever its error is within the budget, skipping those levels.
 std::vector<float> imageLodErrorsUnits(const ImageLodErrorReport& report);
 
 }  // namespace si
