@@ -72,13 +72,13 @@ Status makeCharacter(const CharacterChoice& choice, Setup* setup) {
 }
 
 Status imageErrors(Setup& setup, const BakedPalette& palette, bool select, bool quick) {
+  // Every level between the impostor atlas's views and frames, with impostors or without (so
+  // that runs with and without them select their mesh levels alike).
   ImageLodErrorDesc desc;
-  if (setup.impostor) {  // Between the atlas's views and frames.
-    desc.impostor = &setup.impostor_desc;
-    const uint32_t azimuths = setup.impostor_desc.azimuths ? setup.impostor_desc.azimuths : 16u;
-    desc.azimuth_offset_degrees = 180.0f / float(azimuths);  // Half the atlas's step.
-    desc.pose_phase = 0.5f;
-  }
+  const uint32_t azimuths = setup.impostor_desc.azimuths ? setup.impostor_desc.azimuths : 16u;
+  desc.azimuth_offset_degrees = 180.0f / float(azimuths);  // Half the atlas's step.
+  desc.pose_phase = 0.5f;
+  if (setup.impostor) desc.impostor = &setup.impostor_desc;
   if (quick) {
     desc.heights_pixels = {4, 8, 16};
     desc.max_poses = 2;

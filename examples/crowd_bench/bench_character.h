@@ -27,9 +27,10 @@ Status makeCharacter(const CharacterChoice& choice, Setup* setup);
 
 /// Measures the image error of each LOD level (si::measureImageLodErrors), prints it beside the
 /// geometric error and, with `select`, makes it what the screen-error mode selects by
-/// (setup.lod_errors). With an impostor level (setup.impostor), it is drawn as the impostor
-/// (kImpostor), every level is measured between the impostor's captured views and frames, and
-/// the impostor's image error is its value in setup.lod_errors in either case. With `quick`
+/// (setup.lod_errors). Every level is measured between the impostor atlas's captured views and
+/// frames (half an azimuth step, half a pose step), with an impostor level or without; with one
+/// (setup.impostor), it is drawn as the impostor (setup.impostor_desc), and its image error is
+/// its value in setup.lod_errors in either case. With `quick`
 /// (--quick, the sanitizer smoke run): 3 heights up to 16 px, 2 poses, 4 views.
 Status imageErrors(Setup& setup, const BakedPalette& palette, bool select, bool quick);
 
