@@ -9,6 +9,7 @@
 #include "host_state.h"
 #include "si/bake/animation_baker.h"
 #include "si/core/default_character.h"
+#include "si/core/impostor_level.h"
 #include "si/core/layer_mask.h"
 #include "si/crowd/crowd_manager.h"
 #include "si/crowd/instance_batcher.h"
@@ -65,6 +66,28 @@ si::Status makeCrowd(const si::Character& c, const si::BakedPalette& palette, bo
                                0.1f, 100.0f);
   if (s.isOk()) s = crowd->update(1.0 / 30.0, *camera);
   if (s.isOk()) s = crowd->update(1.0 / 30.0, *camera);  // Previous records of the first.
+  return s;
+}
+
+// Every instance at the impostor level of `c` (whose last level is one, si::appendImpostorLevel).
+si::Status makeImpostorCrowd(const si::Character& c, const si::BakedPalette& palette,
+                             const si::Camera& camera, si::CrowdManager* crowd) {
+  si::CrowdDesc cd;
+  cd.palette = &palette;
+  cd.sub_mesh_count = uint32_t(c.mesh.sub_meshes.size());
+  cd.lod_count = uint32_t(c.mesh.maxLodCount());
+  cd.impostor_lod = cd.lod_count - 1;
+  for (uint32_t l = 1; l < cd.lod_count; ++l) cd.lod_distances_radii.push_back(1e-6f * float(l));
+  si::Status s = crowd->init(cd);
+  for (int k = 0; k < 12 && s.isOk(); ++k) {
+    si::InstanceDesc d;
+    d.position = glm::dvec3(-2.5 + 0.9 * (k % 6), 0.0, -1.0 - 1.4 * (k / 6));
+    d.clip = uint32_t(k) % uint32_t(palette.clips.size());
+    d.color = glm::u8vec4(uint8_t(40 + 17 * k), uint8_t(220 - 13 * k), 90, 255);
+    si::InstanceHandle h;
+    s = crowd->add(d, &h);
+  }
+  if (s.isOk()) s = crowd->update(1.0 / 30.0, camera);
   return s;
 }
 
@@ -190,6 +213,29 @@ GuestReport checkEveryCall(void* (*get_proc)(void* user, const char* name), void
                   [&] { return renderer->drawTraditional(id, *crowd, camera, nullptr); });
     checker.check("Renderer::drawCpuSkinned" + overlays,
                   [&] { return renderer->drawCpuSkinned(id, *crowd, camera, nullptr); });
+  }
+  // Impostors: a second character with an impostor level, its atlas drawn on the GPU, and a
+  // crowd drawn as impostors on the instanced and GPU-driven paths, colour and depth only.
+  si::Character far_character = character;
+  s = si::appendImpostorLevel(&far_character.mesh);
+  si::CharacterId far_id;
+  if (s.isOk()) s = renderer->addCharacter(far_character, palette, &far_id);
+  si::CrowdManager far_crowd;
+  if (s.isOk()) s = makeImpostorCrowd(far_character, palette, camera, &far_crowd);
+  if (!s.isOk()) return fail("setting up the impostor crowd", s);
+  si::ImpostorDesc small;
+  small.azimuths = 4;
+  small.elevations_degrees = {0.0f};
+  small.frames_per_clip = 2;
+  checker.check("Renderer::buildImpostor", [&] { return renderer->buildImpostor(far_id, small); });
+  for (const auto& [mode, name] : {modes[0], modes[3]}) {
+    checker.check(std::string("Renderer::drawCrowd(") + name + ", impostors)", [&, mode = mode] {
+      return renderer->drawCrowd(far_id, far_crowd, batcher, camera, nullptr, mode);
+    });
+    checker.check(std::string("Renderer::drawCrowdGpuCulled(") + name + ", impostors)",
+                  [&, mode = mode] {
+                    return renderer->drawCrowdGpuCulled(far_id, far_crowd, camera, nullptr, mode);
+                  });
   }
   std::vector<glm::uvec2> selection;
   checker.check("Renderer::readGpuSelection",
