@@ -75,35 +75,13 @@ TEST_P(RenderTest, PartLodsDrawTheCpuEmulationsImageOnEveryPath) {
       draw(vs, crowd, lodCamera(), 0, false, &emulation_stats, Path::kCpuSkinned);
   ASSERT_GT(emulation_stats.triangles, 0u);
 
-  struct Case {
-    const char* name;
-    Renderer* r;
-    Path path;
-    bool gpu_driven;
-    DrawMode mode;
-  };
-  for (const Case& k : {Case{"instanced", &vs, Path::kInstanced, false, DrawMode::kSkinned},
-                        Case{"traditional", &vs, Path::kTraditional, false, DrawMode::kSkinned},
-                        Case{"compute", &cs, Path::kCompute, false, DrawMode::kSkinned},
-                        Case{"gpu-driven", &vs, Path::kInstanced, true, DrawMode::kSkinned},
-                        Case{"gpu-driven compute", &cs, Path::kInstanced, true,
-                             DrawMode::kComputeSkinned}}) {
-    SCOPED_TRACE(k.name);
-    DrawStats stats;
-    std::vector<uint8_t> image;
-    if (k.gpu_driven) {
-      k.r->clear(glm::vec4(0.2f, 0.25f, 0.3f, 1.0f));
-      const Status s = k.r->drawCrowdGpuCulled(crowd, lodCamera(), &stats, k.mode);
-      ASSERT_TRUE(s.isOk()) << s.toString();
-      ASSERT_TRUE(context_->readPixels(&image).isOk());
-    } else {
-      image = draw(*k.r, crowd, lodCamera(), 0, false, &stats, k.path);
-    }
-    const Diff diff = compare(image, emulation, nullptr);
-    EXPECT_LE(diff.share, 0.001) << "max channel difference " << diff.max_channel;
-    EXPECT_EQ(stats.triangles, emulation_stats.triangles);
-    EXPECT_EQ(stats.instances, emulation_stats.instances);
-  }
+  expectEveryCaseDraws({{"instanced", &vs, Path::kInstanced, false, DrawMode::kSkinned},
+                        {"traditional", &vs, Path::kTraditional, false, DrawMode::kSkinned},
+                        {"compute", &cs, Path::kCompute, false, DrawMode::kSkinned},
+                        {"gpu-driven", &vs, Path::kInstanced, true, DrawMode::kSkinned},
+                        {"gpu-driven compute", &cs, Path::kInstanced, true,
+                         DrawMode::kComputeSkinned}},
+                       crowd, lodCamera(), emulation, emulation_stats);
 
   // The same crowd of the character without per-part LOD (its last level repeated past its
   // chain) draws more triangles.

@@ -14,6 +14,7 @@
 #include <cstdio>
 #include <cstdlib>
 #include <cstring>
+#include <initializer_list>
 #include <map>
 #include <memory>
 #include <string>
@@ -164,6 +165,39 @@ class RenderTest : public ::testing::TestWithParam<HeadlessBackend> {
     std::vector<uint8_t> rgba;
     EXPECT_TRUE(context_->readPixels(&rgba).isOk());
     return rgba;
+  }
+
+  // One drawing path of a comparison: drawCrowdGpuCulled in `mode` when `gpu_driven`, else
+  // draw() on `path`.
+  struct PathCase {
+    const char* name;
+    Renderer* r;
+    Path path;
+    bool gpu_driven;
+    DrawMode mode;
+  };
+  // Every case draws `crowd` seen by `camera` with `reference`'s image (at most 0.1 % of pixels
+  // apart) and `reference_stats`' triangles and instances.
+  void expectEveryCaseDraws(std::initializer_list<PathCase> cases, const CrowdManager& crowd,
+                            const Camera& camera, const std::vector<uint8_t>& reference,
+                            const DrawStats& reference_stats) {
+    for (const PathCase& k : cases) {
+      SCOPED_TRACE(k.name);
+      DrawStats stats;
+      std::vector<uint8_t> image;
+      if (k.gpu_driven) {
+        k.r->clear(glm::vec4(0.2f, 0.25f, 0.3f, 1.0f));
+        const Status s = k.r->drawCrowdGpuCulled(crowd, camera, &stats, k.mode);
+        ASSERT_TRUE(s.isOk()) << s.toString();
+        ASSERT_TRUE(context_->readPixels(&image).isOk());
+      } else {
+        image = draw(*k.r, crowd, camera, 0, false, &stats, k.path);
+      }
+      const Diff diff = compare(image, reference, nullptr);
+      EXPECT_LE(diff.share, 0.001) << "max channel difference " << diff.max_channel;
+      EXPECT_EQ(stats.triangles, reference_stats.triangles);
+      EXPECT_EQ(stats.instances, reference_stats.instances);
+    }
   }
 
   // Compares with tests/render/golden/<name>.png; writes actual and diff images on failure.

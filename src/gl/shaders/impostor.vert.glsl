@@ -50,10 +50,11 @@ void main() {
   uint e = 0u;
   for (uint k = 1u; k < u_impostor_grid.w; ++k)
     if (abs(elevation - u_impostor_elevations[k]) < abs(elevation - u_impostor_elevations[e])) e = k;
-  float step = 2.0 * kPi / float(u_impostor_grid.z);
-  int a = int(floor(atan(-d.x, d.z) / step + 0.5)) % int(u_impostor_grid.z);
-  if (a < 0) a += int(u_impostor_grid.z);
-  uint view = e * u_impostor_grid.z + uint(a);
+  // The nearest azimuth step, wrapped into [0, azimuths) by mod() (a negative int % is undefined).
+  float azimuths = float(u_impostor_grid.z);
+  uint a = min(uint(mod(floor(atan(-d.x, d.z) * azimuths / (2.0 * kPi) + 0.5), azimuths)),
+               u_impostor_grid.z - 1u);
+  uint view = e * u_impostor_grid.z + a;
   // The frame: the heavier clip's texel and fraction, its clip by binary search.
   bool b = uintBitsToFloat(inst.blend.z) > 0.5;
   uint texel = b ? inst.frames.z : inst.frames.x;
@@ -65,7 +66,7 @@ void main() {
     else hi = mid - 1;
   }
   uvec4 clip = si_impostor_clips[lo];
-  float frame = float((texel - clip.x) / u_impostor_counts.y) + fraction;
+  float frame = texel >= clip.x ? float((texel - clip.x) / u_impostor_counts.y) + fraction : 0.0;
   uint k = clip.w > 1u && clip.y > 1u
                ? min(uint(frame * float(clip.w - 1u) / float(clip.y - 1u) + 0.5), clip.w - 1u)
                : 0u;
