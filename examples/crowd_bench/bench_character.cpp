@@ -110,10 +110,13 @@ Status imageErrors(Setup& setup, const BakedPalette& palette, bool select, bool 
     setup.lod_errors = imageLodErrorsUnits(r);
     std::printf("  the screen-error mode selects by the image errors (--lod-errors image)\n");
   } else if (setup.impostor) {
+    setup.lod_errors = impostorLodErrorsUnits(setup.lod_errors, r);
     const size_t last = setup.lod_errors.size() - 1;
-    setup.lod_errors[last] = std::max(setup.lod_errors[last - 1], r.levels[last].image_units);
-    std::printf("  LOD %zu (the impostor) is selected by its image error, %.4g units; the mesh "
-                "levels by their geometric errors\n", last, double(setup.lod_errors[last]));
+    size_t first = last;
+    while (first > 1 && setup.lod_errors[first - 1] == setup.lod_errors[last]) --first;
+    std::printf("  the mesh levels are selected by their geometric errors; the impostor (LOD %zu) "
+                "takes over at %.4g units%s\n", last, double(setup.lod_errors[last]),
+                first < last ? " from the levels whose image error exceeds its own, skipped" : "");
   }
   return s;
 }

@@ -30,7 +30,8 @@ Status makeCharacter(const CharacterChoice& choice, Setup* setup);
 /// (setup.lod_errors). Every level is measured between the impostor atlas's captured views and
 /// frames (half an azimuth step, half a pose step), with an impostor level or without; with one
 /// (setup.impostor), it is drawn as the impostor (setup.impostor_desc), and its image error is
-/// its value in setup.lod_errors in either case. With `quick`
+/// where it takes over in setup.lod_errors (si::impostorLodErrorsUnits, or imageLodErrorsUnits
+/// with `select`). With `quick`
 /// (--quick, the sanitizer smoke run): 3 heights up to 16 px, 2 poses, 4 views.
 Status imageErrors(Setup& setup, const BakedPalette& palette, bool select, bool quick);
 

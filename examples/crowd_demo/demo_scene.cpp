@@ -176,13 +176,16 @@ si::Status DemoScene::buildImpostor(const si::GlInfo& info, si::CharacterId id) 
   d.impostor = &impostor;
   si::ImageLodErrorReport r;
   if (s.isOk()) s = si::measureImageLodErrors(info, character_, palette_, d, &r);
+  std::vector<float> geometric;
+  if (s.isOk()) s = si::lodErrorsByLevel(character_.mesh, &geometric);
   if (!s.isOk()) return s;
-  impostor_error_units_ = r.levels.back().image_units;
+  impostor_errors_units_ = si::impostorLodErrorsUnits(geometric, r);
   std::printf("Impostors: %u views x %u frames, %u x %u texels (%.1f MiB); image error %.3g units "
-              "(one pixel of the character changes at %.3g px tall)\n",
+              "(one pixel of the character changes at %.3g px tall); they take over at %.3g "
+              "units of projected error\n",
               atlas.views, atlas.frames, atlas.width, atlas.height,
-              double(atlas.bytes) / 1048576.0, double(impostor_error_units_),
-              r.levels.back().one_pixel_height);
+              double(atlas.bytes) / 1048576.0, double(r.levels.back().image_units),
+              r.levels.back().one_pixel_height, double(impostor_errors_units_.back()));
   return s;
 }
 
@@ -198,11 +201,10 @@ si::Status DemoScene::buildCrowd() {
     cd.pixel_error_budget = options_.lod_pixels;
     s = si::lodErrorsByLevel(character_.mesh, &cd.lod_errors_units);
     if (!s.isOk()) return s;
-    if (options_.impostors) {  // The impostor where its image error is within the budget,
-      const size_t last = cd.lod_errors_units.size() - 1;  // and no far line: the whole field.
-      cd.impostor_lod = uint32_t(last);
+    if (options_.impostors) {  // The impostor taking over from the levels it beats, and no
+      cd.lod_errors_units = impostor_errors_units_;  // far line: the whole field.
+      cd.impostor_lod = uint32_t(cd.lod_errors_units.size() - 1);
       cd.max_distance_radii = -1.0f;
-      cd.lod_errors_units[last] = std::max(cd.lod_errors_units[last - 1], impostor_error_units_);
     }
   }
   s = crowd_.init(cd);

@@ -156,7 +156,8 @@ class DemoScene {
   bool report_valid_ = false;
   double bake_ms_ = 0.0, update_ms_ = 0.0;
   double unit_ = 1.0;
-  float impostor_error_units_ = 0.0f;  // The impostor's measured image error (--impostors).
+  // With --impostors: the crowd's errors per level (si::impostorLodErrorsUnits).
+  std::vector<float> impostor_errors_units_;
   si::Renderer renderer_;
   si::CrowdManager crowd_;
   si::InstanceBatcher batcher_;

@@ -291,4 +291,18 @@ std::vector<float> imageLodErrorsUnits(const ImageLodErrorReport& report) {
   return out;
 }
 
+std::vector<float> impostorLodErrorsUnits(const std::vector<float>& geometric_units,
+                                          const ImageLodErrorReport& report) {
+  std::vector<float> out = geometric_units;
+  const size_t n = out.size();
+  if (!report.impostor || n < 2 || report.levels.size() != n) return out;
+  const float impostor = report.levels.back().image_units;
+  size_t first = n - 1;  // The first dominated mesh level of the trailing run (n - 1: none).
+  while (first > 1 && report.levels[first - 1].image_units > impostor) --first;
+  const float handover =
+      first < n - 1 ? out[first] : std::max(out[n - 2], impostor);
+  for (size_t l = first; l < n; ++l) out[l] = handover;
+  return out;
+}
+
 }  // namespace si

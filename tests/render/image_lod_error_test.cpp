@@ -125,5 +125,28 @@ TEST(ImageLodErrors, UnitsAreNonDecreasingAndSkipLevelsTheImpostorDominates) {
   EXPECT_EQ(imageLodErrorsUnits(r), (std::vector<float>{0.0f, 0.3f, 0.3f, 0.8f, 0.9f, 1.5f}));
 }
 
+// Geometric errors with an impostor: the trailing mesh levels it beats in image error hand over
+// to it at the first one's geometric error; none beaten: after the last mesh level.
+TEST(ImageLodErrors, ImpostorTakesOverFromTheMeshLevelsItBeats) {
+  ImageLodErrorReport r;
+  for (float units : {0.0f, 0.24f, 0.57f, 0.80f, 0.90f, 0.63f}) {
+    ImageLodLevel level;
+    level.image_units = units;
+    r.levels.push_back(level);
+  }
+  const std::vector<float> geometric = {0.0f, 0.027f, 0.1f, 0.26f, 0.85f, 0.85f};
+  EXPECT_EQ(impostorLodErrorsUnits(geometric, r), geometric);  // Not an impostor report.
+  r.impostor = true;
+  EXPECT_EQ(impostorLodErrorsUnits(geometric, r),
+            (std::vector<float>{0.0f, 0.027f, 0.1f, 0.26f, 0.26f, 0.26f}));
+  r.levels.back().image_units = 0.95f;  // Beats none: after LOD 4, at its own error if larger.
+  EXPECT_EQ(impostorLodErrorsUnits(geometric, r),
+            (std::vector<float>{0.0f, 0.027f, 0.1f, 0.26f, 0.85f, 0.95f}));
+  r.levels.back().image_units = 0.1f;  // Beats every mesh level past LOD 0.
+  EXPECT_EQ(impostorLodErrorsUnits(geometric, r),
+            (std::vector<float>{0.0f, 0.027f, 0.027f, 0.027f, 0.027f, 0.027f}));
+  EXPECT_EQ(impostorLodErrorsUnits({0.0f, 1.0f}, r), (std::vector<float>{0.0f, 1.0f}));  // Counts.
+}
+
 }  // namespace
 }  // namespace si

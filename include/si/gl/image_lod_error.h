@@ -108,4 +108,15 @@ Status measureImageLodErrors(const GlInfo& info, const Character& character,
 /// the impostor wherever its error is within the budget, skipping those levels.
 std::vector<float> imageLodErrorsUnits(const ImageLodErrorReport& report);
 
+/// The crowd's errors (CrowdDesc::lod_errors_units) for mesh levels selected by their geometric
+/// errors `geometric_units` (si::lodErrorsByLevel, the impostor level's entry included) with an
+/// impostor level last (report.impostor). The trailing mesh levels whose image error exceeds
+/// the impostor's (report's image_units; more triangles and more pixels changed) are dominated:
+/// the impostor takes over from the first of them, at its geometric error, and they get that
+/// error too, so the choice skips them. Where no mesh level is dominated, the impostor comes
+/// after the last, at the larger of that level's error and its own image error. Without an
+/// impostor, or with counts that differ, `geometric_units` unchanged.
+std::vector<float> impostorLodErrorsUnits(const std::vector<float>& geometric_units,
+                                          const ImageLodErrorReport& report);
+
 }  // namespace si
