@@ -106,7 +106,8 @@ void usage(std::FILE* f) {
       "                   N times the display size for an antialiased comparison; pixel\n"
       "                   budgets then count display pixels in every table)\n"
       "                   [--size WxH]\n"
-      "                   [--max-baseline N] [--error-table-size N] [--csv PATH]\n"
+      "                   [--max-baseline N] [--error-table-size N (0: no bake table)]\n"
+      "                   [--csv PATH]\n"
       "                   [--error-path instanced|compute]\n"
       "                   [--plots DIR] [--backend auto|egl-device|egl-surfaceless|osmesa]\n"
       "                   [--quick]   (fixed-rate bakes and a small image-error measurement,\n"
@@ -471,16 +472,19 @@ int main(int argc, char** argv) {
     if (!s.isOk()) return fail("layers", s);
   }
 
-  // Speed against error: each bake configuration, on the field, drawn by --error-path. The
-  // renderer is re-made with an explicit path so each upload does not re-measure.
-  rd.skinning_path = si::SkinningPath::kVertexShader;
-  s = renderer.init(b.setup.info, rd);
-  if (!s.isOk()) return fail("renderer", s);
+  // Speed against error: each bake configuration, on the field, drawn by --error-path (none
+  // with --error-table-size 0). The renderer is re-made with an explicit path so each upload
+  // does not re-measure.
   std::string error_data;
-  s = si::bench::bakeErrorTable(b.setup, renderer, character, b.o.error_table_size, b.o.error_path,
-                                lodChoice(b.o.lods.front(), b.o.pixel_budget), b.o.quick, csv,
-                                &error_data);
-  if (!s.isOk()) return fail("bake configurations", s);
+  if (b.o.error_table_size > 0) {
+    rd.skinning_path = si::SkinningPath::kVertexShader;
+    s = renderer.init(b.setup.info, rd);
+    if (!s.isOk()) return fail("renderer", s);
+    s = si::bench::bakeErrorTable(b.setup, renderer, character, b.o.error_table_size,
+                                  b.o.error_path, lodChoice(b.o.lods.front(), b.o.pixel_budget),
+                                  b.o.quick, csv, &error_data);
+    if (!s.isOk()) return fail("bake configurations", s);
+  }
   std::fclose(csv);
   std::printf("\nWrote %s\n", b.o.csv.c_str());
 

@@ -67,9 +67,10 @@ void usage(std::FILE* f) {
       "--lod-pixels extends the LOD chains (si::buildLodChain, errors over the clips' poses)\n"
       "and picks each character's LOD by projected error within PX pixels instead of the\n"
       "technique's distance lines.\n"
-      "--impostors adds an animated impostor past the last LOD (Renderer::buildImpostor), drawn\n"
-      "where its measured image error is within the budget (--lod-pixels, 1 if not given); not\n"
-      "with --motion-vectors (key X is then off), and the baseline paths draw none.\n");
+      "--impostors adds an animated impostor past the last LOD (Renderer::buildImpostor); it\n"
+      "takes over from the levels whose measured image error exceeds its own (budget:\n"
+      "--lod-pixels, 1 if not given); not with --motion-vectors (key X is then off), and the\n"
+      "baseline paths draw none.\n");
 }
 
 bool parse(int argc, char** argv, Options* o) {
