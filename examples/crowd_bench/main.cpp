@@ -14,6 +14,7 @@
 #include "common/example_options.h"
 #include "crowd_bench/bake_error_table.h"
 #include "crowd_bench/bench_character.h"
+#include "crowd_bench/bench_plots.h"
 #include "crowd_bench/bench_scene.h"
 #include "crowd_bench/lod_quality.h"
 #include "crowd_bench/mixed_scene.h"
@@ -261,22 +262,6 @@ LodChoice lodChoice(const std::string& name, float budget) {
 }
 
 // Writes the gnuplot script next to the plots and runs gnuplot on it; false when it cannot.
-bool plot(const Options& o, const std::string& script) {
-  const std::string file = o.plots + "/plot.gp";
-  std::FILE* f = std::fopen(file.c_str(), "w");
-  if (f == nullptr) {
-    std::printf("(cannot write %s: no plots)\n", file.c_str());
-    return false;
-  }
-  std::fputs(script.c_str(), f);
-  std::fclose(f);
-  if (std::system("command -v gnuplot > /dev/null 2>&1") != 0) {
-    std::printf("(gnuplot not found: wrote %s only; install gnuplot-nox)\n", file.c_str());
-    return false;
-  }
-  return std::system(("gnuplot " + file).c_str()) == 0;
-}
-
 // The paths table: each scene, size, path and LOD mode; returns max(CPU, GPU) ms per frame of
 // the first scene's rows by "path/lod" and size for the plot.
 bool pathsTable(Bench& b, si::Renderer& renderer, const si::BakedPalette& palette, std::FILE* csv,
@@ -488,28 +473,8 @@ int main(int argc, char** argv) {
   std::fclose(csv);
   std::printf("\nWrote %s\n", b.o.csv.c_str());
 
-  if (!b.o.plots.empty()) {
-    std::string script = "set terminal png size 900,560\nset grid\n";
-    script += "set output '" + b.o.plots + "/frame_time.png'\nset logscale xy\n"
-              "set xlabel 'characters'\nset ylabel 'max(CPU, GPU) ms per frame'\n"
-              "set title 'Frame time against crowd size (" + b.o.scenes.front() + ")'\nplot ";
-    bool first = true;
-    for (const auto& [path, points] : frame_ms) {
-      script += std::string(first ? "" : ", ") + "'-' with linespoints title '" + path + "'";
-      first = false;
-    }
-    script += "\n";
-    for (const auto& [path, points] : frame_ms) {
-      for (const auto& [n, ms] : points) script += std::to_string(n) + " " + std::to_string(ms) + "\n";
-      script += "e\n";
-    }
-    script += "set output '" + b.o.plots + "/gpu_vs_error.png'\nunset logscale y\n"
-              "set logscale x\nset xlabel 'max vertex error (model units)'\n"
-              "set ylabel 'GPU ms per frame'\nset title 'GPU time against bake error'\n"
-              "plot '-' using 1:2 with points pt 7 notitle, '-' using 1:2:3 with labels offset 1,1 "
-              "notitle\n" + error_data + "e\n" + error_data + "e\n";
-    if (plot(b.o, script))
-      std::printf("Plots in %s (frame_time.png, gpu_vs_error.png)\n", b.o.plots.c_str());
-  }
+  if (!b.o.plots.empty() &&
+      si::bench::writePlots(b.o.plots, b.o.scenes.front(), frame_ms, error_data))
+    std::printf("Plots in %s (frame_time.png, gpu_vs_error.png)\n", b.o.plots.c_str());
   return 0;
 }
