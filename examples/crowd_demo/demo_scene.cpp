@@ -163,13 +163,18 @@ si::Status DemoScene::initGl(const si::GlInfo& info) {
 // The impostor atlas, and the impostor's image error (a quick measurement: 3 heights up to
 // 16 px, 4 views, 2 poses, between the atlas's views and frames): where the crowd hands over.
 si::Status DemoScene::buildImpostor(const si::GlInfo& info, si::CharacterId id) {
-  const si::ImpostorDesc impostor;
+  si::ImpostorDesc impostor;  // ImpostorDesc's defaults, or the small atlas.
+  if (options_.small_atlas) {
+    impostor.azimuths = 8;
+    impostor.elevations_degrees = {0.0f, 30.0f};
+    impostor.frames_per_clip = 4;
+  }
   si::ImpostorInfo atlas;
   si::Status s = renderer_.buildImpostor(id, impostor, &atlas);
   si::ImageLodErrorDesc d;
   d.heights_pixels = {4, 8, 16};
   d.azimuths = 4;
-  d.azimuth_offset_degrees = 180.0f / 16.0f;
+  d.azimuth_offset_degrees = 180.0f / float(impostor.azimuths ? impostor.azimuths : 16u);
   d.elevations_degrees = {20.0f};
   d.max_poses = 2;
   d.pose_phase = 0.5f;

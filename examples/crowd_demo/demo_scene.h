@@ -36,6 +36,7 @@ struct SceneOptions {
   std::vector<std::string> clips;
   float lod_pixels = 0.0f;  // > 0: deeper LOD chains, LOD by projected error within this budget.
   bool impostors = false;   // An animated impostor past the last LOD (with lod_pixels).
+  bool small_atlas = false;  // Its atlas: 8 azimuths, 2 elevations, 4 frames per clip.
   std::vector<std::string> mix;  // Other kinds (glTF files) of the mixed scene; starts mixed.
   bool events = false;  // Animation events on from the start (key V).
   bool root_motion = false;  // The field travels from the start (key R).

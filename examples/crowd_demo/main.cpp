@@ -40,7 +40,7 @@ void usage(std::FILE* f) {
       "                  [--model FILE.gltf|FILE.glb] [--clips NAME,...] [--palette FILE]\n"
       "                  [--keys K,K,...] [--lod-pixels PX] [--mix FILE,...|samples]\n"
       "                  [--events] [--root-motion] [--motion-vectors] [--layers] [--shadows]\n"
-      "                  [--impostors]\n"
+      "                  [--impostors] [--impostor-atlas full|small]\n"
       "Renders a crowd of the embedded character (default 4000 characters, 1280x720).\n"
       "With a display it opens a window (F1 lists the keys; ESC quits); without one, or with\n"
       "--headless, it renders --frames frames (default 3, 1/60 s apart) offscreen, writes the\n"
@@ -70,7 +70,8 @@ void usage(std::FILE* f) {
       "--impostors adds an animated impostor past the last LOD (Renderer::buildImpostor); it\n"
       "takes over from the levels whose measured image error exceeds its own (budget:\n"
       "--lod-pixels, 1 if not given); not with --motion-vectors (key X is then off), and the\n"
-      "baseline paths draw none.\n");
+      "baseline paths draw none. --impostor-atlas small: 8 azimuths, 2 elevations, 4 frames per\n"
+      "clip (full: si::ImpostorDesc's defaults).\n");
 }
 
 bool parse(int argc, char** argv, Options* o) {
@@ -123,6 +124,10 @@ bool parse(int argc, char** argv, Options* o) {
       if (!(o->scene.lod_pixels > 0.0f) || !std::isfinite(o->scene.lod_pixels)) return false;
     } else if (a == "--impostors") {
       o->scene.impostors = true;
+    } else if (a == "--impostor-atlas" && has) {
+      const std::string v = argv[++i];
+      if (v != "full" && v != "small") return false;
+      o->scene.small_atlas = v == "small";
     } else if (a == "--summary") {
       o->summary = true;
     } else if (a == "--backend" && has) {
