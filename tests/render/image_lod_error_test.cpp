@@ -4,6 +4,7 @@
 // the equivalent units where one pixel changes; the host's framebuffer and viewport kept; bad
 // input refused.
 #include <cmath>
+#include <initializer_list>
 
 #include "render/render_fixture.h"
 #include "si/gl/image_lod_error.h"
@@ -111,13 +112,19 @@ TEST_P(RenderTest, ImageLodErrorsRefuseBadInput) {
 
 // Non-decreasing; with an impostor, the mesh levels whose error exceeds the impostor's take
 // its error (the choice skips them), and the impostor keeps its own.
-TEST(ImageLodErrors, UnitsAreNonDecreasingAndSkipLevelsTheImpostorDominates) {
+// A report of levels with these image errors (nothing else measured).
+ImageLodErrorReport reportOf(std::initializer_list<float> image_units) {
   ImageLodErrorReport r;
-  for (float units : {0.0f, 0.3f, 0.2f, 0.8f, 0.9f, 0.6f}) {
+  for (float units : image_units) {
     ImageLodLevel level;
     level.image_units = units;
     r.levels.push_back(level);
   }
+  return r;
+}
+
+TEST(ImageLodErrors, UnitsAreNonDecreasingAndSkipLevelsTheImpostorDominates) {
+  ImageLodErrorReport r = reportOf({0.0f, 0.3f, 0.2f, 0.8f, 0.9f, 0.6f});
   EXPECT_EQ(imageLodErrorsUnits(r), (std::vector<float>{0.0f, 0.3f, 0.3f, 0.8f, 0.9f, 0.9f}));
   r.impostor = true;
   EXPECT_EQ(imageLodErrorsUnits(r), (std::vector<float>{0.0f, 0.3f, 0.3f, 0.6f, 0.6f, 0.6f}));
@@ -128,12 +135,7 @@ TEST(ImageLodErrors, UnitsAreNonDecreasingAndSkipLevelsTheImpostorDominates) {
 // Geometric errors with an impostor: the trailing mesh levels it beats in image error hand over
 // to it at the first one's geometric error; none beaten: after the last mesh level.
 TEST(ImageLodErrors, ImpostorTakesOverFromTheMeshLevelsItBeats) {
-  ImageLodErrorReport r;
-  for (float units : {0.0f, 0.24f, 0.57f, 0.80f, 0.90f, 0.63f}) {
-    ImageLodLevel level;
-    level.image_units = units;
-    r.levels.push_back(level);
-  }
+  ImageLodErrorReport r = reportOf({0.0f, 0.24f, 0.57f, 0.80f, 0.90f, 0.63f});
   const std::vector<float> geometric = {0.0f, 0.027f, 0.1f, 0.26f, 0.85f, 0.85f};
   EXPECT_EQ(impostorLodErrorsUnits(geometric, r), geometric);  // Not an impostor report.
   r.impostor = true;
