@@ -52,13 +52,11 @@ Status ComputePath::draw(const DrawResources& r, const PathFrame& f, DrawStats* 
     glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 4, r.scratch->compute_previous_ring.buffer);
     setMotionUniforms(pulled, f);
   }
-  const glm::mat4 vp = f.camera.viewProjection();
   const GLuint ring = r.scratch->compute_ring.buffer;
   const uint64_t ring_vertices = r.scratch->compute_ring.vertices;
   bindPreSkinning(r, ring, lists.lod_vertex_list);
   bindAppearance(r, pulled);
-  glProgramUniformMatrix4fv(pulled.id, pulled.view_projection, 1, GL_FALSE, &vp[0][0]);
-  glProgramUniform3fv(pulled.id, pulled.light_direction, 1, &f.light[0]);
+  setCameraUniforms(pulled, f.camera, f.light);
   glBindVertexArray(vao_);
   // A dispatch's groups go in rows (dispatchGroups): only the ring bounds a chunk.
   uint64_t cursor = 0;

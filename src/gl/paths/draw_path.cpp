@@ -18,17 +18,21 @@ void bindAppearance(const DrawResources& r, const Program& program) {
     glProgramUniform1ui(program.id, program.custom_layers, r.custom_layers);
 }
 
+void setCameraUniforms(const Program& program, const Camera& camera, const glm::vec3& light) {
+  const glm::mat4 vp = camera.viewProjection();
+  if (program.view_projection >= 0)
+    glProgramUniformMatrix4fv(program.id, program.view_projection, 1, GL_FALSE, &vp[0][0]);
+  if (program.light_direction >= 0)
+    glProgramUniform3fv(program.id, program.light_direction, 1, &light[0]);
+}
+
 void bindShading(const DrawResources& r, const Program& program, const Camera& camera,
                  const glm::vec3& light) {
   glUseProgram(program.id);
   glBindVertexArray(r.character->vao);
   r.palette->bind();
   bindAppearance(r, program);
-  const glm::mat4 vp = camera.viewProjection();
-  if (program.view_projection >= 0)
-    glProgramUniformMatrix4fv(program.id, program.view_projection, 1, GL_FALSE, &vp[0][0]);
-  if (program.light_direction >= 0)
-    glProgramUniform3fv(program.id, program.light_direction, 1, &light[0]);
+  setCameraUniforms(program, camera, light);
 }
 
 void setMotionUniforms(const Program& program, const PathFrame& f) {

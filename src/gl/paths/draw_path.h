@@ -99,9 +99,11 @@ class DrawPath {
 /// (CharacterBuffers::bindMaterials) and the custom texture array at unit 2 with its layer count.
 void bindAppearance(const DrawResources& r, const Program& program);
 
+/// Sets the shared uniforms `program` declares: the camera's view-projection and the light.
+void setCameraUniforms(const Program& program, const Camera& camera, const glm::vec3& light);
+
 /// Binds `program`, the character's vertex array, the palette (texture and info block), the
-/// appearance (bindAppearance), and sets the shared uniforms it declares (view-projection,
-/// light).
+/// appearance (bindAppearance), and sets the shared uniforms it declares (setCameraUniforms).
 void bindShading(const DrawResources& r, const Program& program, const Camera& camera,
                  const glm::vec3& light);
 

@@ -6,18 +6,13 @@ namespace si::detail {
 
 namespace {
 
-// Binds `id`, the palette's frame layout does not matter (the quad reads no palette), the
-// atlas and the shared uniforms.
-const Program& useImpostorProgram(const DrawResources& r, const PathFrame& f, ProgramId id) {
+// Binds program `id`, the camera and light uniforms and the atlas (the quad reads no palette,
+// vertex buffer or material).
+void useImpostorProgram(const DrawResources& r, const PathFrame& f, ProgramId id) {
   const Program& program = (*r.programs)[id];
   glUseProgram(program.id);
-  const glm::mat4 vp = f.camera.viewProjection();
-  if (program.view_projection >= 0)
-    glProgramUniformMatrix4fv(program.id, program.view_projection, 1, GL_FALSE, &vp[0][0]);
-  if (program.light_direction >= 0)
-    glProgramUniform3fv(program.id, program.light_direction, 1, &f.light[0]);
+  setCameraUniforms(program, f.camera, f.light);
   r.impostor->bind(program, f.camera);
-  return program;
 }
 
 }  // namespace
