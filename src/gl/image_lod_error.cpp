@@ -14,6 +14,7 @@
 
 #include "core/str_cat.h"
 #include "gl/state/gl_state_guard.h"
+#include "gl/view_rotation.h"
 #include "si/core/lod_error.h"
 #include "si/crowd/crowd_manager.h"
 #include "si/crowd/instance_batcher.h"
@@ -133,10 +134,8 @@ Status measureImageLodErrors(const GlInfo& info, const Character& character,
   std::vector<glm::quat> views;
   for (float elevation : d.elevations_degrees)
     for (uint32_t a = 0; a < d.azimuths; ++a)
-      views.push_back(glm::angleAxis(float(elevation * kPi / 180.0), glm::vec3(1, 0, 0)) *
-                      glm::angleAxis(float(2.0 * kPi * a / d.azimuths +
-                                           double(d.azimuth_offset_degrees) * kPi / 180.0),
-                                     glm::vec3(0, 1, 0)));
+      views.push_back(detail::viewRotation(
+          elevation, 2.0 * kPi * a / d.azimuths + double(d.azimuth_offset_degrees) * kPi / 180.0));
   const uint32_t cells = uint32_t(poses.size() * views.size());
   const uint32_t columns = uint32_t(std::ceil(std::sqrt(double(cells))));
   const uint32_t rows = (cells + columns - 1) / columns;

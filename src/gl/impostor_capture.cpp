@@ -13,6 +13,7 @@
 #include "core/str_cat.h"
 #include "gl/renderer_impl.h"
 #include "gl/resources/gl_allocation.h"
+#include "gl/view_rotation.h"
 #include "si/crowd/crowd_manager.h"
 #include "si/crowd/instance_batcher.h"
 
@@ -120,9 +121,8 @@ Status Renderer::buildImpostor(CharacterId id, const ImpostorDesc& desc, Imposto
   // widest view shows them.
   std::vector<glm::quat> rotations;
   for (uint32_t view = 0; view < views; ++view)
-    rotations.push_back(
-        glm::angleAxis(float(elevations[view / azimuths] * kPi / 180.0), glm::vec3(1, 0, 0)) *
-        glm::angleAxis(float(2.0 * kPi * (view % azimuths) / azimuths), glm::vec3(0, 1, 0)));
+    rotations.push_back(detail::viewRotation(elevations[view / azimuths],
+                                             2.0 * kPi * (view % azimuths) / azimuths));
   Aabb box = palette.clips[0].bounds;
   for (const BakedClip& clip : palette.clips) {
     box.min = glm::min(box.min, clip.bounds.min);
