@@ -26,13 +26,10 @@
 #include <vector>
 
 #include "cast_table.h"
-#if SI_BAKE_IMAGE_ERRORS
-#include "image_errors.h"
-#endif
+#include "lod_table.h"
 #include "si/bake/animation_baker.h"
 #include "si/bake/palette_file.h"
 #include "si/core/default_character.h"
-#include "si/core/lod_error.h"
 #include "si/core/root_motion.h"
 #include "si/gltf/gltf_import.h"
 
@@ -316,41 +313,6 @@ void printTable(std::FILE* f, const si::BakedPalette& p, const si::BakeReport& r
                tolerance_ratio);
 }
 
-// Triangles and geometric error per LOD level as instances draw them (a sub-mesh with fewer
-// levels draws its last), in the bind pose and over poses of the clips; the errors are what
-// the crowd's screen-error LOD mode selects by (docs/crowd.md).
-// Also the image errors with --image-errors (false with `why` when they cannot be measured).
-bool printLodTable(std::FILE* f, const si::Character& character, const si::BakedPalette& palette,
-                   bool image_errors, bool impostor, std::string* why) {
-  si::Character posed = character;
-  si::AnimatedLodErrorDesc poses;
-  poses.poses_per_clip = 4;
-  poses.max_poses = 64;
-  std::vector<si::LodLevelSummary> bind, animated;
-  si::Status s = si::summarizeLodLevels(character.mesh, &bind);
-  if (s.isOk()) s = si::measureAnimatedLodErrors(&posed, poses, nullptr);
-  if (s.isOk()) s = si::summarizeLodLevels(posed.mesh, &animated);
-  if (!s.isOk()) {
-    std::fprintf(f, "LOD errors not measured: %s\n", s.toString().c_str());
-    *why = s.toString();
-    return !image_errors;
-  }
-  const double height = std::max(1e-30, double(character.height()));
-  std::fprintf(f, "%-6s %10s %12s %12s %12s\n", "LOD", "triangles", "bind units", "posed units",
-               "posed/h");
-  for (size_t l = 0; l < bind.size(); ++l)
-    std::fprintf(f, "LOD %-2zu %10llu %12.4g %12.4g %12.4g\n", l,
-                 static_cast<unsigned long long>(bind[l].triangles), double(bind[l].error_units),
-                 double(animated[l].error_units), double(animated[l].error_units) / height);
-#if SI_BAKE_IMAGE_ERRORS
-  if (image_errors) return si::tools::printImageErrors(f, posed, palette, impostor, why);
-#else
-  (void)palette;
-  (void)impostor;
-#endif
-  return true;
-}
-
 bool writeCsv(const std::string& path, const si::BakedPalette& p, const si::BakeReport& r) {
   std::FILE* f = std::fopen(path.c_str(), "w");
   if (f == nullptr) return false;
@@ -472,7 +434,7 @@ int main(int argc, char** argv) {
   }
   std::string why;
   if ((!o.quiet || o.image_errors) &&
-      !printLodTable(stdout, character, palette, o.image_errors, o.impostor, &why))
+      !si_bake::printLodTable(stdout, character, palette, o.image_errors, o.impostor, &why))
     return error(kExitBake, "--image-errors: " + why);
   if (!o.csv.empty() && !writeCsv(o.csv, palette, report))
     return error(kExitOutput, "cannot write the CSV '" + o.csv + "'");
