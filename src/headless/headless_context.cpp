@@ -100,6 +100,7 @@ class EglContext final : public HeadlessContext {
   // other context on it (and unload the driver while it still owns memory).
   ~EglContext() override {
     if (display_ != EGL_NO_DISPLAY && context_ != EGL_NO_CONTEXT) {
+      bindApi();  // The current context and its release are per client API.
       if (eglGetCurrentContext() == context_) destroyFramebuffer();
       eglMakeCurrent(display_, EGL_NO_SURFACE, EGL_NO_SURFACE, EGL_NO_CONTEXT);
       eglDestroyContext(display_, context_);
@@ -107,8 +108,9 @@ class EglContext final : public HeadlessContext {
   }
 
   // Tries `platform`; on failure returns why (the object is then destroyed by the caller).
-  Status init(HeadlessBackend platform) {
+  Status init(HeadlessBackend platform, bool es) {
     backend_ = platform;
+    es_ = es;
     const char* client_ext = eglQueryString(EGL_NO_DISPLAY, EGL_EXTENSIONS);
     if (client_ext == nullptr) return {StatusCode::kBackend, "EGL client extensions unavailable"};
     auto get_platform_display = reinterpret_cast<PFNEGLGETPLATFORMDISPLAYEXTPROC>(
@@ -142,6 +144,7 @@ class EglContext final : public HeadlessContext {
   }
 
   Status makeContextCurrent() override {
+    bindApi();
     if (!eglMakeCurrent(display_, EGL_NO_SURFACE, EGL_NO_SURFACE, context_))
       return {StatusCode::kBackend, strCat("eglMakeCurrent failed: 0x", std::hex, eglGetError())};
     return Status::ok();
@@ -162,29 +165,42 @@ class EglContext final : public HeadlessContext {
     const char* ext = eglQueryString(display_, EGL_EXTENSIONS);
     if (ext == nullptr || std::strstr(ext, "EGL_KHR_surfaceless_context") == nullptr)
       return {StatusCode::kBackend, "EGL_KHR_surfaceless_context is not supported"};
-    if (!eglBindAPI(EGL_OPENGL_API))
-      return {StatusCode::kBackend, "eglBindAPI(EGL_OPENGL_API) failed"};
+    if (!bindApi())
+      return {StatusCode::kBackend,
+              es_ ? "eglBindAPI(EGL_OPENGL_ES_API) failed" : "eglBindAPI(EGL_OPENGL_API) failed"};
     EGLConfig config = nullptr;
     const EGLint config_attribs[] = {EGL_SURFACE_TYPE, EGL_PBUFFER_BIT, EGL_RENDERABLE_TYPE,
-                                     EGL_OPENGL_BIT, EGL_NONE};
+                                     es_ ? EGL_OPENGL_ES3_BIT : EGL_OPENGL_BIT, EGL_NONE};
     EGLint configs = 0;
     if (!eglChooseConfig(display_, config_attribs, &config, 1, &configs) || configs == 0) {
       // Surfaceless displays may expose no pbuffer config; fall back to no config.
       if (std::strstr(ext, "EGL_KHR_no_config_context") == nullptr)
-        return {StatusCode::kBackend, "no EGL config for desktop OpenGL"};
+        return {StatusCode::kBackend,
+                es_ ? "no EGL config for OpenGL ES 3" : "no EGL config for desktop OpenGL"};
       config = nullptr;
     }
-    const EGLint context_attribs[] = {EGL_CONTEXT_MAJOR_VERSION, 4, EGL_CONTEXT_MINOR_VERSION, 5,
+    const EGLint desktop_attribs[] = {EGL_CONTEXT_MAJOR_VERSION,
+                                      4,
+                                      EGL_CONTEXT_MINOR_VERSION,
+                                      5,
                                       EGL_CONTEXT_OPENGL_PROFILE_MASK,
-                                      EGL_CONTEXT_OPENGL_CORE_PROFILE_BIT, EGL_NONE};
-    context_ = eglCreateContext(display_, config, EGL_NO_CONTEXT, context_attribs);
+                                      EGL_CONTEXT_OPENGL_CORE_PROFILE_BIT,
+                                      EGL_NONE};
+    // ES 3.0 or any later version compatible with it (Mesa gives 3.2).
+    const EGLint es_attribs[] = {EGL_CONTEXT_MAJOR_VERSION, 3, EGL_CONTEXT_MINOR_VERSION, 0,
+                                 EGL_NONE};
+    context_ =
+        eglCreateContext(display_, config, EGL_NO_CONTEXT, es_ ? es_attribs : desktop_attribs);
     if (context_ == EGL_NO_CONTEXT)
-      return {StatusCode::kBackend,
-              strCat("eglCreateContext (4.5 core) failed: 0x", std::hex, eglGetError())};
+      return {StatusCode::kBackend, strCat("eglCreateContext (", es_ ? "ES 3.0" : "4.5 core",
+                                           ") failed: 0x", std::hex, eglGetError())};
     return makeContextCurrent();
   }
 
+  bool bindApi() const { return eglBindAPI(es_ ? EGL_OPENGL_ES_API : EGL_OPENGL_API) == EGL_TRUE; }
+
   HeadlessBackend backend_ = HeadlessBackend::kEglDevice;
+  bool es_ = false;
   EGLDisplay display_ = EGL_NO_DISPLAY;
   EGLContext context_ = EGL_NO_CONTEXT;
 };
@@ -343,7 +359,9 @@ Status HeadlessContext::create(const HeadlessDesc& in_desc, std::unique_ptr<Head
   for (HeadlessBackend b : order) {
     std::unique_ptr<HeadlessContext> ctx;
     Status s;
-    if (b == HeadlessBackend::kOsMesa) {
+    if (b == HeadlessBackend::kOsMesa && d.es) {
+      s = Status(StatusCode::kUnsupported, "OSMesa makes no OpenGL ES contexts");
+    } else if (b == HeadlessBackend::kOsMesa) {
 #if SI_HEADLESS_OSMESA
       auto c = std::make_unique<OsMesaContext>();
       s = c->init();
@@ -354,7 +372,7 @@ Status HeadlessContext::create(const HeadlessDesc& in_desc, std::unique_ptr<Head
     } else if (b == HeadlessBackend::kEglDevice || b == HeadlessBackend::kEglSurfaceless) {
 #if SI_HEADLESS_EGL
       auto c = std::make_unique<EglContext>();
-      s = c->init(b);
+      s = c->init(b, d.es);
       ctx = std::move(c);
 #else
       s = Status(StatusCode::kUnsupported, "not built in (SI_HEADLESS has no EGL)");
@@ -369,7 +387,9 @@ Status HeadlessContext::create(const HeadlessDesc& in_desc, std::unique_ptr<Head
     }
     tried += strCat(tried.empty() ? "" : "; ", headlessBackendName(b), ": ", s.message());
   }
-  return {StatusCode::kBackend, "no offscreen OpenGL 4.5 context: " + tried};
+  return {StatusCode::kBackend,
+          strCat(d.es ? "no offscreen OpenGL ES 3 context: " : "no offscreen OpenGL 4.5 context: ",
+                 tried)};
 }
 
 }  // namespace si

@@ -2,10 +2,11 @@
 #pragma once
 
 /// \file
-/// si::headless: an offscreen OpenGL 4.5 core context for tests, examples and servers without a
-/// display, through EGL (the device platform, which NVIDIA needs without a display, then Mesa's
-/// surfaceless platform) or OSMesa. The context renders into a framebuffer object of the
-/// requested size, bound when the context is made current; readPixels() returns it as RGBA8.
+/// si::headless: an offscreen OpenGL 4.5 core (or OpenGL ES 3) context for tests, examples and
+/// servers without a display, through EGL (the device platform, which NVIDIA needs without a
+/// display, then Mesa's surfaceless platform) or OSMesa. The context renders into a framebuffer
+/// object of the requested size, bound when the context is made current; readPixels() returns
+/// it as RGBA8.
 ///
 /// Usage:
 /// \code
@@ -47,6 +48,10 @@ struct HeadlessDesc {
   uint32_t height = 0;  ///< Framebuffer height in pixels; 0 means 256.
   HeadlessBackend backend = HeadlessBackend::kAuto;
   uint32_t samples = 0;  ///< MSAA samples of the framebuffer; 0 means none.
+  /// An OpenGL ES 3.0 (or later, compatible) context instead of desktop 4.5 core: the
+  /// renderer's ES profile (si::GlInfo::es). EGL only: OSMesa is refused (kUnsupported, in
+  /// the message of the kBackend failure).
+  bool es = false;
 };
 
 /// Returns the desc with zeros replaced by their documented defaults.
