@@ -5,6 +5,7 @@
 
 #include "core/str_cat.h"
 #include "gl/host_errors.h"
+#include "gl/profile/gl_profile.h"
 #include "si/core/log.h"
 
 namespace si {
@@ -43,22 +44,34 @@ Status loadGl(GlGetProcAddress get_proc, void* user_data, GlInfo* info) {
   out.vendor = glString(GL_VENDOR);
   out.renderer = glString(GL_RENDERER);
   out.version = glString(GL_VERSION);
-  if (out.major_version < 4 || (out.major_version == 4 && out.minor_version < 5) ||
-      glCreateBuffers == nullptr)
-    return {StatusCode::kBackend, strCat("loadGl: need OpenGL 4.5 core, the context has '",
-                                         out.version, "' (", out.renderer, ")")};
+  out.es = out.version.rfind("OpenGL ES ", 0) == 0;
+  detail::setEsProfile(false);
+  if (out.es) {
+    if (out.major_version < 3)
+      return {StatusCode::kBackend, strCat("loadGl: need OpenGL ES 3.0 or later, the context has '",
+                                           out.version, "' (", out.renderer, ")")};
+    const Status loaded = detail::loadEsEntryPoints(get_proc, user_data);
+    if (!loaded.isOk()) return loaded;
+    detail::setEsProfile(true);
+  } else if (out.major_version < 4 || (out.major_version == 4 && out.minor_version < 5) ||
+             glCreateBuffers == nullptr) {
+    return {StatusCode::kBackend, strCat("loadGl: need OpenGL 4.5 core or OpenGL ES 3.0, the ",
+                                         "context has '", out.version, "' (", out.renderer, ")")};
+  }
   out.max_uniform_block_size_bytes = glInt(GL_MAX_UNIFORM_BLOCK_SIZE);
   out.uniform_buffer_offset_alignment = glInt(GL_UNIFORM_BUFFER_OFFSET_ALIGNMENT);
   out.max_texture_size = glInt(GL_MAX_TEXTURE_SIZE);
-  GLint64 ssbo = 0;
-  glGetInteger64v(GL_MAX_SHADER_STORAGE_BLOCK_SIZE, &ssbo);
-  out.max_shader_storage_block_size_bytes = ssbo > 0 ? uint64_t(ssbo) : 0;
-  GLint groups[2] = {0, 0};
-  glGetIntegeri_v(GL_MAX_COMPUTE_WORK_GROUP_COUNT, 0, &groups[0]);
-  glGetIntegeri_v(GL_MAX_COMPUTE_WORK_GROUP_COUNT, 1, &groups[1]);
-  out.max_compute_groups_x = groups[0] > 0 ? uint32_t(groups[0]) : 0;
-  out.max_compute_groups_y = groups[1] > 0 ? uint32_t(groups[1]) : 0;
-  out.has_khr_debug = glad::GLAD_GL_KHR_debug != 0;
+  if (!out.es) {  // The ES profile has neither storage buffers nor compute (gl_profile.h).
+    GLint64 ssbo = 0;
+    glGetInteger64v(GL_MAX_SHADER_STORAGE_BLOCK_SIZE, &ssbo);
+    out.max_shader_storage_block_size_bytes = ssbo > 0 ? uint64_t(ssbo) : 0;
+    GLint groups[2] = {0, 0};
+    glGetIntegeri_v(GL_MAX_COMPUTE_WORK_GROUP_COUNT, 0, &groups[0]);
+    glGetIntegeri_v(GL_MAX_COMPUTE_WORK_GROUP_COUNT, 1, &groups[1]);
+    out.max_compute_groups_x = groups[0] > 0 ? uint32_t(groups[0]) : 0;
+    out.max_compute_groups_y = groups[1] > 0 ? uint32_t(groups[1]) : 0;
+    out.has_khr_debug = glad::GLAD_GL_KHR_debug != 0;
+  }
   Status s = checkGlErrors("loadGl: querying limits");
   if (!s.isOk()) return s;
   *info = std::move(out);

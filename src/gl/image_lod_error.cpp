@@ -13,6 +13,7 @@
 #include <glm/gtc/quaternion.hpp>
 
 #include "core/str_cat.h"
+#include "gl/profile/gl_profile.h"
 #include "gl/state/gl_state_guard.h"
 #include "gl/view_rotation.h"
 #include "si/core/lod_error.h"
@@ -98,6 +99,8 @@ double onePixelHeight(const std::vector<uint32_t>& heights,
 Status measureImageLodErrors(const GlInfo& info, const Character& character,
                              const BakedPalette& palette, const ImageLodErrorDesc& desc_in,
                              ImageLodErrorReport* report) {
+  if (info.es)
+    return detail::esUnsupported("measureImageLodErrors", "compute or impostor programs");
   if (report == nullptr)
     return {StatusCode::kInvalidArgument, "measureImageLodErrors: report is null"};
   Status s = character.validate();

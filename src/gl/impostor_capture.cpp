@@ -68,6 +68,9 @@ Status Renderer::buildImpostor(CharacterId id, const ImpostorDesc& desc, Imposto
     return {StatusCode::kInvalidArgument,
             strCat("buildImpostor: no character ", id.index, " (", m.characters.size(),
                    " added; addCharacter gives the ids)")};
+  const Status es =
+      m.esRefuses("buildImpostor", "impostor programs (their clip table is a storage buffer)");
+  if (!es.isOk()) return es;
   detail::CharacterSlot& c = *m.characters[id.index];
   const BakedPalette& palette = *c.palette.palette();
   const uint32_t azimuths = desc.azimuths ? desc.azimuths : 16u;

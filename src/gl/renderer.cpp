@@ -61,7 +61,10 @@ Status Renderer::init(const GlInfo& info, const RendererDesc& desc) {
             "Renderer::init: no GL context is current (make one current and call loadGl first)"};
   const uint64_t ring_bytes = desc.compute_ring_bytes == 0 ? uint64_t(32) << 20
                                                            : desc.compute_ring_bytes;
-  if (ring_bytes > info.max_shader_storage_block_size_bytes)
+  if (info.es) {
+    const Status refused = detail::esRefusesDesc(desc);
+    if (!refused.isOk()) return refused;
+  } else if (ring_bytes > info.max_shader_storage_block_size_bytes)
     return {StatusCode::kLimitExceeded,
             strCat("RendererDesc.compute_ring_bytes ", ring_bytes,
                    " exceeds GL_MAX_SHADER_STORAGE_BLOCK_SIZE ",
@@ -89,9 +92,10 @@ Status Renderer::init(const GlInfo& info, const RendererDesc& desc) {
   detail::ShaderConfig config;
   config.max_instances = impl->capacity;
   config.max_joints = detail::kMaxTraditionalJoints;
+  config.es = info.es;
   Status s = impl->programs.build(config);
   if (s.isOk()) {
-    impl->timer.create();
+    if (!info.es) impl->timer.create();  // ES 3.0 has no timer queries (measure_gpu_time).
     s = impl->check("Renderer::init");
   }
   impl_ = std::move(impl);
@@ -130,17 +134,21 @@ Status Renderer::Impl::uploadCharacter(const char* what, const Character& charac
   };
   Status s = c.palette.upload(palette, m.info);
   if (s.isOk()) s = c.character.upload(character, palette, m.desc.max_texture_size);
-  if (s.isOk()) s = c.preskin.build(c.character);
+  if (s.isOk() && !m.info.es) s = c.preskin.build(c.character);
   if (!s.isOk()) return named(s);
   const detail::DrawResources r = m.resources(c);
   for (detail::DrawPath* p : std::initializer_list<detail::DrawPath*>{
            &m.vertex_path, &c.compute_path, &m.traditional_path, &c.cpu_path,
            &c.gpu_culled_path})
-    if (s.isOk()) s = p->prepare(r);
+    if (s.isOk() && (p == &m.vertex_path || !m.info.es)) s = p->prepare(r);
   if (s.isOk()) s = m.check(what);
   c.path = m.desc.skinning_path == SkinningPath::kCompute ? SkinningPath::kCompute
                                                            : SkinningPath::kVertexShader;
   c.path_reason = "explicit setting";
+  if (m.info.es) {
+    c.path_reason = "the OpenGL ES profile has only the vertex-shader path";
+    return named(s);
+  }
   if (s.isOk() && m.desc.skinning_path == SkinningPath::kAutomatic) {
     detail::PathChoice choice;
     s = detail::chooseSkinningPath(r, m.vertex_path, c.compute_path, light, &choice);
@@ -309,6 +317,11 @@ Status Renderer::drawCrowd(CharacterId id, const CrowdView& view, const Instance
                    m.alignment, " (init the batcher with batchLimits())")};
   if (mode == DrawMode::kDefault)
     mode = c->path == SkinningPath::kCompute ? DrawMode::kComputeSkinned : DrawMode::kSkinned;
+  if (mode == DrawMode::kComputeSkinned)
+    s = m.esRefuses("drawCrowd", "compute shaders (kComputeSkinned)");
+  if (s.isOk() && !view.layerRecords().empty())
+    s = m.esRefuses("drawCrowd", "storage buffers (layered animation's mask table)");
+  if (!s.isOk()) return s;
   // Motion vectors: the skinned colour modes (depth-only and rigid draws write none).
   const bool motion = m.desc.motion_vectors &&
                       (mode == DrawMode::kSkinned || mode == DrawMode::kComputeSkinned);
@@ -350,6 +363,7 @@ Status Renderer::drawCrowd(CharacterId id, const CrowdView& view, const Instance
   if (s.isOk() && layers && motion) s = batcher.buildPreviousLayers(view, region(previous_layer_offset));
   if (s.isOk() && layers) s = m.scratch.uploadMaskTable(layerMaskTable(crowd.layerMasks()));
   if (!s.isOk()) return s;
+  m.ring.publish(base, end);
   detail::PathFrame frame;
   frame.crowd = &crowd;
   frame.view = &view;
@@ -389,6 +403,7 @@ Status Renderer::drawTraditional(CharacterId id, const CrowdView& view, const Ca
                                  DrawStats* stats) {
   detail::CharacterSlot* c = nullptr;
   Status s = impl_ ? impl_->find(id, "drawTraditional", &c, view) : noRenderer("drawTraditional");
+  if (s.isOk()) s = impl_->esRefuses("drawTraditional", "traditional program (a desktop baseline)");
   if (s.isOk()) s = impl_->noMotion("drawTraditional");
   if (s.isOk()) s = impl_->noImpostors(*view.crowd(), "drawTraditional");
   return s.isOk() ? impl_->drawCrowdOnly(*c, impl_->traditional_path, "drawTraditional", view,
@@ -400,6 +415,7 @@ Status Renderer::drawCpuSkinned(CharacterId id, const CrowdView& view, const Cam
                                 DrawStats* stats) {
   detail::CharacterSlot* c = nullptr;
   Status s = impl_ ? impl_->find(id, "drawCpuSkinned", &c, view) : noRenderer("drawCpuSkinned");
+  if (s.isOk()) s = impl_->esRefuses("drawCpuSkinned", "storage buffers (a baseline)");
   if (s.isOk()) s = impl_->noMotion("drawCpuSkinned");
   if (s.isOk()) s = impl_->noImpostors(*view.crowd(), "drawCpuSkinned");
   return s.isOk() ? impl_->drawCrowdOnly(*c, c->cpu_path, "drawCpuSkinned", view, camera,
@@ -413,6 +429,7 @@ Status Renderer::drawCrowdGpuCulled(CharacterId id, const CrowdView& view, const
   Impl& m = *impl_;
   detail::CharacterSlot* c = nullptr;
   Status s = m.find(id, "drawCrowdGpuCulled", &c, view);
+  if (s.isOk()) s = m.esRefuses("drawCrowdGpuCulled", "compute shaders (GPU-driven culling)");
   if (!s.isOk()) return s;
   const CrowdManager& crowd = *view.crowd();
   if (mode == DrawMode::kRigid)
@@ -452,6 +469,7 @@ Status Renderer::readGpuSelection(CharacterId id, std::vector<glm::uvec2>* selec
     return {StatusCode::kInvalidArgument, "readGpuSelection: init() first, non-null output"};
   detail::CharacterSlot* c = nullptr;
   Status s = impl_->find(id, "readGpuSelection", &c);
+  if (s.isOk()) s = impl_->esRefuses("readGpuSelection", "compute shaders (GPU-driven culling)");
   if (s.isOk()) s = c->gpu_culled_path.readSelection(selection);
   return s.isOk() ? checkGlErrors("readGpuSelection") : s;
 }

@@ -16,6 +16,7 @@
 #include "gl/host_errors.h"
 #include "gl/paths/traditional_path.h"
 #include "gl/paths/vertex_shader_path.h"
+#include "gl/profile/gl_profile.h"
 #include "gl/programs/program_set.h"
 #include "gl/resources/gpu_timer.h"
 #include "gl/resources/record_ring.h"
@@ -68,13 +69,18 @@ struct Renderer::Impl {
     return std::make_unique<detail::GlStateGuard>(footprint, desc.restore_state);
   }
 
-  /// kUnsupported naming `what` while motion vectors are on: only drawCrowd and
-  /// drawCrowdGpuCulled draw them.
+  /// On the ES profile (GlInfo::es), kUnsupported naming `what` and the `capability` it lacks
+  /// (gl/profile/gl_profile.h); ok on desktop GL.
+  Status esRefuses(const char* what, const char* capability) const {
+    return info.es ? detail::esUnsupported(what, capability) : Status::ok();
+  }
+
   /// A crowd with an impostor level (CrowdDesc::impostor_lod) needs the character's atlas, and
   /// draws no motion vectors (`motion`: the draw would write them).
   Status impostorsDrawable(const detail::CharacterSlot& c, const CrowdManager& crowd,
                            const char* what, bool motion) const {
     if (crowd.desc().impostor_lod == 0) return Status::ok();
+    if (info.es) return detail::esUnsupported(what, "impostor programs (CrowdDesc::impostor_lod)");
     if (!c.impostor.ready())
       return {StatusCode::kInvalidArgument,
               detail::strCat(what, ": the crowd draws impostors from LOD ",
@@ -94,6 +100,8 @@ struct Renderer::Impl {
             detail::strCat(what, ": the baseline draws meshes only; this crowd draws impostors "
                                  "(CrowdDesc::impostor_lod)")};
   }
+  /// kUnsupported naming `what` while motion vectors are on: only drawCrowd and
+  /// drawCrowdGpuCulled draw them.
   Status noMotion(const char* what) const {
     if (!desc.motion_vectors) return Status::ok();
     return {StatusCode::kUnsupported,
@@ -189,7 +197,8 @@ struct Renderer::Impl {
     guard.reset();
     st->cpu_submit_ms = detail::msSince(t0);  // Before the (blocking) timer read.
     st->gpu_ms = timer.read();
-    const GLenum reset = glGetGraphicsResetStatus();
+    // ES 3.0 has no reset status (ES 3.2 and KHR_robustness do).
+    const GLenum reset = glGetGraphicsResetStatus ? glGetGraphicsResetStatus() : GL_NO_ERROR;
     if (reset != GL_NO_ERROR)
       return {StatusCode::kBackend,
               reset == GL_GUILTY_CONTEXT_RESET     ? "the GL context was lost (reset, caused here)"

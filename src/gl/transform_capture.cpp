@@ -66,6 +66,8 @@ Status Renderer::captureSkinnedPositions(CharacterId id, const InstanceRecord& r
   Impl& m = *impl_;
   detail::CharacterSlot* c = nullptr;
   Status found = m.find(id, "captureSkinnedPositions", &c);
+  if (found.isOk())
+    found = m.esRefuses("captureSkinnedPositions", "capture programs (desktop GLSL only)");
   if (!found.isOk()) return found;
   if (path == SkinningPath::kAutomatic) path = c->path;
   if (path == SkinningPath::kCompute && m.programs[detail::ProgramId::kComputeSkin].id == 0)

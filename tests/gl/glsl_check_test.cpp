@@ -132,8 +132,47 @@ TEST(GlslCheck, UserShaderOnThePublicIncludeCompiles) {
                                  "vert", "user_previous_layers"),
               "");
   // The interface version is part of the include.
-  EXPECT_NE(std::string(skinningGlsl()).find("#define SI_GLSL_INTERFACE_VERSION 7"),
+  EXPECT_NE(std::string(skinningGlsl()).find("#define SI_GLSL_INTERFACE_VERSION 8"),
             std::string::npos);
+}
+
+// The ES profile: its programs compile as GLSL ES 3.00 (WebGL 2's), the others are refused by
+// the catalog, and the docs' user shader compiles on the include under "#version 300 es".
+TEST(GlslCheck, TheEsProfilesProgramsCompileAsGlslEs300) {
+  skipWithoutGlslang();
+  detail::ShaderConfig config;
+  config.max_instances = 204;
+  config.max_joints = 1024;
+  config.es = true;
+  int compiled = 0;
+  for (size_t p = 0; p < detail::kProgramCount; ++p) {
+    const ProgramId id = ProgramId(p);
+    for (ShaderStage stage :
+         {ShaderStage::kVertex, ShaderStage::kFragment, ShaderStage::kCompute}) {
+      if (detail::programSpec(id).file(stage) == nullptr) continue;
+      std::string source;
+      const Status s = detail::assembleStage(id, stage, config, &source);
+      if (!detail::esProgram(id)) {
+        EXPECT_EQ(s.code(), StatusCode::kUnsupported) << detail::programSpec(id).name;
+        continue;
+      }
+      ASSERT_TRUE(s.isOk()) << s.toString();
+      ASSERT_EQ(source.rfind("#version 300 es\n", 0), 0u);
+      std::string name = std::string("es_") + detail::programSpec(id).name;
+      for (char& c : name)
+        if (c == ' ') c = '_';
+      EXPECT_EQ(compileWithGlslang(source, stageExtension(stage), name), "");
+      ++compiled;
+    }
+  }
+  EXPECT_EQ(compiled, 3 * 2);  // Skinned, depth-only and rigid: a vertex and a fragment stage.
+  std::string user = userShader("#define SI_MAX_INSTANCES 204\n");
+  const std::string located = "layout(location = 1) uniform mat4";
+  user.replace(user.find(located), located.size(), "uniform mat4");
+  user.replace(0, user.find('\n'),
+               "#version 300 es\nprecision highp float;\nprecision highp int;\n"
+               "precision highp sampler2D;");
+  EXPECT_EQ(compileWithGlslang(user, "vert", "user_es"), "");
 }
 
 // The docs' Vulkan user shader: gl_InstanceIndex, the host's own uniforms in a block, every

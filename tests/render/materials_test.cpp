@@ -38,8 +38,11 @@ Character onlyMaterial(const Character& c, uint16_t m) {
   return out;
 }
 
-class MaterialsTest : public RenderTest {
+template <bool kEs>
+class MaterialScenes : public RenderTest {
  protected:
+  bool es() const override { return kEs; }
+
   // One instance at the origin playing clip 0 at `time`.
   void oneInstance(const BakedPalette& p, uint32_t sub_meshes, double time, CrowdManager* crowd) {
     CrowdDesc cd;
@@ -85,24 +88,34 @@ class MaterialsTest : public RenderTest {
     return renderer_;
   }
 
+  // A generated asset of 200 primitives and `materials` materials, one part, and its palette.
+  static void partsCharacter(int materials, Character* c, BakedPalette* p) {
+    GltfImportReport report;
+    const std::string json = partsAsset({{"Body", 200}}, materials);
+    ASSERT_TRUE(importGltfMemory(
+                    Span<const uint8_t>(reinterpret_cast<const uint8_t*>(json.data()), json.size()),
+                    "", {}, c, &report)
+                    .isOk());
+    ASSERT_EQ(c->mesh.sub_meshes.size(), 1u);
+    BakeDesc bd;
+    bd.rate_mode = RateMode::kFixed;
+    bd.sample_rate_hz = 30.0f;
+    ASSERT_TRUE(bakePalette(*c, bd, p, nullptr).isOk());
+  }
+
+  void twoHundredPartsDrawLikeEachMaterialDrawnAlone();
+
   Renderer renderer_;
   CharacterId id_;
 };
+using MaterialsTest = MaterialScenes<false>;
+using EsMaterialsTest = MaterialScenes<true>;  // The ES profile: its one path.
 
-TEST_P(MaterialsTest, TwoHundredPartsDrawLikeEachMaterialDrawnAlone) {
+template <bool kEs>
+void MaterialScenes<kEs>::twoHundredPartsDrawLikeEachMaterialDrawnAlone() {
   Character c;
-  GltfImportReport report;
-  const std::string json = partsAsset({{"Body", 200}}, 100);
-  ASSERT_TRUE(importGltfMemory(Span<const uint8_t>(reinterpret_cast<const uint8_t*>(json.data()),
-                                                   json.size()),
-                               "", {}, &c, &report)
-                  .isOk());
-  ASSERT_EQ(c.mesh.sub_meshes.size(), 1u);
-  BakeDesc bd;
-  bd.rate_mode = RateMode::kFixed;
-  bd.sample_rate_hz = 30.0f;
   BakedPalette p;
-  ASSERT_TRUE(bakePalette(c, bd, &p, nullptr).isOk());
+  partsCharacter(100, &c, &p);
   Renderer& r = renderer();
   // The reference: one draw per material, each with that material alone, into one image.
   std::vector<uint8_t> reference;
@@ -117,6 +130,7 @@ TEST_P(MaterialsTest, TwoHundredPartsDrawLikeEachMaterialDrawnAlone) {
     colours.insert(uint32_t(reference[i]) | uint32_t(reference[i + 1]) << 8 | uint32_t(reference[i + 2]) << 16);
   EXPECT_GE(colours.size(), 50u);  // The materials show: many distinct colours.
   for (Path path : {Path::kInstanced, Path::kCompute, Path::kCpuSkinned}) {
+    if (kEs && path != Path::kInstanced) continue;
     const Diff d = compare(drawCharacter(r, c, p, path), reference, nullptr);
     EXPECT_LE(d.share, kMaxDifferingShare) << "path " << int(path) << " max " << d.max_channel;
   }
@@ -124,6 +138,29 @@ TEST_P(MaterialsTest, TwoHundredPartsDrawLikeEachMaterialDrawnAlone) {
   Character one = c;
   one.mesh.vertex_materials.assign(one.mesh.vertexCount(), 5);
   EXPECT_GT(compare(drawCharacter(r, one, p, Path::kInstanced), reference, nullptr).share, 0.01);
+}
+
+TEST_P(MaterialsTest, TwoHundredPartsDrawLikeEachMaterialDrawnAlone) {
+  twoHundredPartsDrawLikeEachMaterialDrawnAlone();
+}
+TEST_P(EsMaterialsTest, TwoHundredPartsDrawLikeEachMaterialDrawnAlone) {
+  twoHundredPartsDrawLikeEachMaterialDrawnAlone();
+}
+
+// The ES profile's material table is a uniform block of kEsMaxMaterials (256) entries: a
+// character with more is refused by name, and the renderer keeps working.
+TEST_P(EsMaterialsTest, MoreMaterialsThanTheBlockHoldsAreRefused) {
+  Character c;
+  BakedPalette p;
+  partsCharacter(300, &c, &p);
+  ASSERT_GT(c.materials.size(), 256u);
+  Renderer& r = renderer();
+  CharacterId id;
+  const Status s = r.addCharacter(c, p, &id);
+  EXPECT_EQ(s.code(), StatusCode::kLimitExceeded);
+  EXPECT_NE(s.message().find("material block holds 256"), std::string::npos) << s.message();
+  EXPECT_EQ(r.characterCount(), 0u);
+  EXPECT_TRUE(checkGlErrors("after the refusal").isOk());
 }
 
 TEST_P(MaterialsTest, SampleAssetsDrawOnTheGpuAsSkinnedOnTheCpu) {
@@ -192,6 +229,7 @@ TEST_P(MaterialsTest, SampleAssetsDrawOnTheGpuAsSkinnedOnTheCpu) {
 }
 
 INSTANTIATE_TEST_SUITE_P(Backends, MaterialsTest, allBackends(), backendTestName);
+INSTANTIATE_TEST_SUITE_P(Backends, EsMaterialsTest, esBackends(), backendTestName);
 
 }  // namespace
 }  // namespace si

@@ -90,19 +90,31 @@ inline Diff compare(const std::vector<uint8_t>& a, const std::vector<uint8_t>& b
   return d;
 }
 
+// Scenes defined below the fixture.
+inline Camera closeCamera();
+inline Camera lodCamera();
+inline void populateLodCrowd(CrowdManager* crowd);
+
 class RenderTest : public ::testing::TestWithParam<HeadlessBackend> {
  protected:
+  // The OpenGL ES profile's fixture (EsRenderTest) answers true: an ES 3 context.
+  virtual bool es() const { return false; }
+
   void SetUp() override {
     HeadlessDesc d;
     d.width = kSize;
     d.height = kSize;
     d.backend = GetParam();
+    d.es = es();
     const Status s = HeadlessContext::create(d, &context_);
     if (!s.isOk()) {
       if (requireGl(GetParam())) FAIL() << s.toString();
-      GTEST_SKIP() << "no " << headlessBackendName(GetParam()) << " context: " << s.message();
+      GTEST_SKIP() << "no " << headlessBackendName(GetParam()) << (es() ? " ES" : "")
+                   << " context: " << s.message();
     }
-    ASSERT_TRUE(loadGl(&HeadlessContext::getProcAddress, context_.get(), &info_).isOk());
+    const Status loaded = loadGl(&HeadlessContext::getProcAddress, context_.get(), &info_);
+    ASSERT_TRUE(loaded.isOk()) << loaded.toString();
+    ASSERT_EQ(info_.es, es()) << info_.version;
     // Without a GPU the EGL device platform reaches the same llvmpipe driver egl_surfaceless
     // tests, so each render test runs on it once (ContextTest still creates, clears and reads
     // back through egl_device). SI_ALL_BACKENDS=1 runs them on it anyway.
@@ -217,13 +229,60 @@ class RenderTest : public ::testing::TestWithParam<HeadlessBackend> {
     const Diff d = compare(rgba, expected, &diff);
     if (d.share > kMaxDifferingShare) {
       const std::string base = ::testing::TempDir() + "si_" + name + "_" +
-                               headlessBackendName(GetParam());
+                               headlessBackendName(GetParam()) + (es() ? "_es" : "");
       (void)writePng(base + "_actual.png", kSize, kSize, rgba);
       (void)writePng(base + "_diff.png", kSize, kSize, diff);
       ADD_FAILURE() << name << ": " << d.share * 100 << " % of pixels differ (max channel "
                     << d.max_channel << "); actual " << base << "_actual.png, diff " << base
                     << "_diff.png, golden " << golden;
     }
+  }
+
+  // The golden scenes (golden_test.cpp), drawn on the desktop and the ES profile alike.
+  void goldenSingleCharacter() {
+    Renderer r;
+    makeRenderer(&r);
+    CrowdManager crowd;
+    makeCrowd(&crowd);
+    InstanceDesc d;
+    d.clip = uint32_t(palette().findClip("walk"));
+    d.time_seconds = 0.3;
+    d.speed = 0.0f;
+    d.color = glm::u8vec4(200, 40, 40, 255);
+    d.variation_mask = 0xF;
+    InstanceHandle h;
+    ASSERT_TRUE(crowd.add(d, &h).isOk());
+    ASSERT_TRUE(crowd.update(0.0, closeCamera()).isOk());
+    expectGolden("single_walk", draw(r, crowd, closeCamera(), 0));
+  }
+
+  void goldenCrowdLods() {
+    Renderer r;
+    makeRenderer(&r);
+    CrowdManager crowd;
+    makeCrowd(&crowd);
+    populateLodCrowd(&crowd);
+    ASSERT_TRUE(crowd.update(0.0, lodCamera()).isOk());
+    for (int l = 0; l < 3; ++l) EXPECT_GT(crowd.stats().per_lod[l], 0u) << "LOD " << l;
+    expectGolden("crowd_lods", draw(r, crowd, lodCamera(), 0));
+  }
+
+  void goldenCrossfadeMidpoint() {
+    Renderer r;
+    makeRenderer(&r);
+    CrowdManager crowd;
+    makeCrowd(&crowd);
+    InstanceDesc d;
+    d.clip = uint32_t(palette().findClip("idle"));
+    d.color = glm::u8vec4(40, 120, 220, 255);
+    InstanceHandle h;
+    ASSERT_TRUE(crowd.add(d, &h).isOk());
+    ASSERT_TRUE(crowd.crossfade(h, uint32_t(palette().findClip("wave")), 1.0, 0.5).isOk());
+    ASSERT_TRUE(crowd.update(0.5, closeCamera()).isOk());  // Half way through the blend.
+    float weight;
+    std::memcpy(&weight, &crowd.records()[0].blend[2], 4);
+    ASSERT_NEAR(weight, 0.5f, 1e-6f);
+    expectGolden("crossfade_mid", draw(r, crowd, closeCamera(), 0));
   }
 
   std::unique_ptr<HeadlessContext> context_;

@@ -27,6 +27,11 @@ allBackends() {
                            HeadlessBackend::kEglDevice);
 }
 
+/// The back-ends of the OpenGL ES profile's render tests (EGL: OSMesa makes no ES context).
+inline ::testing::internal::ValueArray<HeadlessBackend, HeadlessBackend> esBackends() {
+  return ::testing::Values(HeadlessBackend::kEglSurfaceless, HeadlessBackend::kEglDevice);
+}
+
 /// "egl_surfaceless" for kEglSurfaceless: the back-end's name as a test-name suffix.
 inline std::string backendTestName(const ::testing::TestParamInfo<HeadlessBackend>& info) {
   std::string n = headlessBackendName(info.param);

@@ -7,7 +7,7 @@
 ///
 /// Usage:
 /// \code
-///   // After making a GL 4.5 core context current:
+///   // After making a GL 4.5 core (or OpenGL ES 3.0+ / WebGL 2) context current:
 ///   si::GlInfo info;
 ///   si::Status s = si::loadGl(&myGetProc, nullptr, &info);
 ///   // info.max_uniform_block_size_bytes goes to the InstanceBatcher.
@@ -41,12 +41,20 @@ struct GlInfo {
   /// lay their groups out in rows of at most x, at most y rows, and refuse a pass past that
   /// (kLimitExceeded). Lowering them (tests) makes every pass use several rows.
   uint32_t max_compute_groups_x = 0, max_compute_groups_y = 0;
-  bool has_khr_debug = false;
+  bool has_khr_debug = false;  ///< Always false on the ES profile (debug output stays the host's).
+  /// An OpenGL ES 3.0 or later context (WebGL 2 included): the renderer's ES profile, which
+  /// draws the vertex-shader path and refuses what ES 3.0 lacks by name (docs/rendering.md,
+  /// "The ES profile"). The storage, compute and debug fields above are then 0.
+  bool es = false;
 };
 
 /// Loads the GL 4.5 core entry points through `get_proc` for the context current on this
-/// thread and fills `info`. Fails with kInvalidArgument for a null `get_proc` or `info`, and
-/// kBackend (naming the version found) when no context is current or it is older than 4.5 core.
+/// thread and fills `info`. An OpenGL ES context (its GL_VERSION starts "OpenGL ES ") loads the
+/// ES profile instead: ES 3.0 entry points, the GL 4.5 direct-state-access calls the profile
+/// uses emulated by binding (each puts back the binding it changed). Fails with
+/// kInvalidArgument for a null `get_proc` or `info`, and kBackend (naming the version found)
+/// when no context is current, it is older than 4.5 core (or ES 3.0), or it lacks an ES 3.0
+/// entry point.
 /// Entry points are process-wide: load again after switching to a context of another driver.
 Status loadGl(GlGetProcAddress get_proc, void* user_data, GlInfo* info);
 

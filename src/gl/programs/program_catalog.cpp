@@ -102,6 +102,21 @@ const char* shaderStageName(ShaderStage stage) {
 
 const ProgramSpec& programSpec(ProgramId id) { return kSpecs[size_t(id) % kProgramCount]; }
 
+bool esProgram(ProgramId id) {
+  return id == ProgramId::kSkinned || id == ProgramId::kDepthOnly || id == ProgramId::kRigid;
+}
+
+const EsBinding* esBindings(size_t* count) {
+  // The desktop shaders' layout qualifiers: si_skinning.glsl's defaults, shade.frag.glsl's
+  // samplers, material_common.glsl's table (a uniform block on ES).
+  static const EsBinding kBindings[] = {
+      {"SiInstances", false, 0}, {"SiPaletteInfo", false, 4}, {"SiMaterials", false, 11},
+      {"si_palette", true, 0},   {"u_base_color", true, 1},   {"u_custom", true, 2},
+  };
+  *count = sizeof(kBindings) / sizeof(kBindings[0]);
+  return kBindings;
+}
+
 Status assembleStage(ProgramId id, ShaderStage stage, const ShaderConfig& config,
                      std::string* out) {
   const ProgramSpec& spec = programSpec(id);
@@ -113,8 +128,17 @@ Status assembleStage(ProgramId id, ShaderStage stage, const ShaderConfig& config
   if (text == nullptr)
     return {StatusCode::kNotFound, strCat("program ", spec.name, ": shader file ", file,
                                           " was not embedded (cmake/SiEmbedGlsl.cmake)")};
-  *out = strCat("#version 450 core\n#define SI_MAX_INSTANCES ", config.max_instances,
-                "\n#define SI_MAX_JOINTS ", config.max_joints, "\n", spec.defines, text);
+  if (config.es && !esProgram(id))
+    return {StatusCode::kUnsupported,
+            strCat("program ", spec.name, " is not in the OpenGL ES profile")};
+  const char* version = config.es
+                            ? "#version 300 es\nprecision highp float;\nprecision highp int;\n"
+                              "precision highp sampler2D;\nprecision highp sampler2DArray;\n"
+                            : "#version 450 core\n";
+  *out = strCat(version, "#define SI_MAX_INSTANCES ", config.max_instances,
+                "\n#define SI_MAX_JOINTS ", config.max_joints, "\n",
+                config.es ? strCat("#define SI_MAX_MATERIALS ", kEsMaxMaterials, "\n") : "",
+                spec.defines, text);
   return Status::ok();
 }
 

@@ -79,10 +79,33 @@ const ProgramSpec& programSpec(ProgramId id);
 struct ShaderConfig {
   uint32_t max_instances = 0;  ///< SI_MAX_INSTANCES: records in the instance uniform block.
   uint32_t max_joints = 0;     ///< SI_MAX_JOINTS: joints in the traditional path's block.
+  /// The ES profile: "#version 300 es" (GLSL ES 3.00, WebGL 2's), default precisions and
+  /// SI_MAX_MATERIALS (kEsMaxMaterials); only esProgram() programs are built.
+  bool es = false;
 };
 
-/// The source of one stage as the driver compiles it: "#version 450 core", the shared
-/// defines, the program's defines, then the stage's file. kInvalidArgument when the program
+/// Entries of the material table's uniform block on the ES profile (material_common.glsl):
+/// 32 bytes each, 8 KiB. A character with more materials is refused there (kLimitExceeded).
+inline constexpr uint32_t kEsMaxMaterials = 256;
+
+/// Whether the ES profile has program `id`: the vertex-shader path's programs (skinned,
+/// depth-only, rigid). The others need storage buffers, compute or transform feedback.
+bool esProgram(ProgramId id);
+
+/// A uniform block or sampler of the catalog's shaders and the binding (texture unit for a
+/// sampler) the desktop shaders give it with a layout qualifier; GLSL ES 3.00 has none, so the
+/// ES profile sets these after linking (ProgramSet).
+struct EsBinding {
+  const char* name;
+  bool sampler;
+  uint32_t binding;
+};
+/// The ES profile's programs' blocks and samplers, `*count` of them.
+const EsBinding* esBindings(size_t* count);
+
+/// The source of one stage as the driver compiles it: "#version 450 core" (or the ES
+/// profile's "#version 300 es" and precisions), the shared defines, the program's defines, then
+/// the stage's file. kInvalidArgument when the program
 /// has no such stage; kNotFound when its file was not embedded.
 Status assembleStage(ProgramId id, ShaderStage stage, const ShaderConfig& config,
                      std::string* out);

@@ -77,6 +77,23 @@ Status buildProgram(ProgramId id, const ShaderConfig& config, GLuint* out) {
   return finishLink(program, spec.name, out);
 }
 
+// GLSL ES 3.00 has no binding qualifiers: the blocks and samplers get the bindings the
+// desktop shaders declare (esBindings()) once linked. A name the program lacks is skipped.
+void bindEsResources(GLuint program) {
+  size_t count = 0;
+  const EsBinding* bindings = esBindings(&count);
+  for (size_t i = 0; i < count; ++i) {
+    const EsBinding& b = bindings[i];
+    if (b.sampler) {
+      const GLint location = glGetUniformLocation(program, b.name);
+      if (location >= 0) glProgramUniform1i(program, location, GLint(b.binding));
+    } else {
+      const GLuint block = glGetUniformBlockIndex(program, b.name);
+      if (block != GL_INVALID_INDEX) glUniformBlockBinding(program, block, b.binding);
+    }
+  }
+}
+
 }  // namespace
 
 Status compileShader(GLenum type, const std::string& source, const char* name, GLuint* out) {
@@ -103,12 +120,14 @@ Status compileShader(GLenum type, const std::string& source, const char* name, G
 Status ProgramSet::build(const ShaderConfig& config) {
   release();
   for (size_t i = 0; i < kProgramCount; ++i) {
+    if (config.es && !esProgram(ProgramId(i))) continue;  // Stays kNoObject.
     GLuint id = kNoObject;
     const Status s = buildProgram(ProgramId(i), config, &id);
     if (!s.isOk()) {
       release();
       return s;
     }
+    if (config.es) bindEsResources(id);
     programs_[i] = describe(id);
   }
   return Status::ok();

@@ -6,6 +6,8 @@
 #include <cmath>
 
 #include "core/str_cat.h"
+#include "gl/profile/gl_profile.h"
+#include "gl/programs/program_catalog.h"
 #include "gl/resources/gl_allocation.h"
 #include "si/core/material_table.h"
 #include "si/core/shader_inputs.h"
@@ -35,8 +37,6 @@ Status CharacterBuffers::upload(const Character& character, const BakedPalette& 
   }
   wide_joints = stream.wide_joints;
   stride_bytes = stream.stride_bytes;
-  glCreateVertexArrays(1, &vao);
-  describeVertexFormat(vao);
   sub_meshes = m.sub_meshes;
   vertex_count = uint32_t(m.vertexCount());
   mesh = m;
@@ -54,6 +54,15 @@ Status CharacterBuffers::upload(const Character& character, const BakedPalette& 
   std::vector<GpuMaterial> entries;
   for (const MaterialEntry& e : table.materials)
     entries.push_back({e.base_color_factor, glm::uvec4(e.layer, 0, 0, 0)});
+  if (s.isOk() && esProfile()) {
+    // A uniform block of kEsMaxMaterials entries there; the bound buffer holds it whole (WebGL 2
+    // refuses a draw whose uniform buffer is smaller than its block).
+    if (entries.size() > kEsMaxMaterials)
+      s = {StatusCode::kLimitExceeded,
+           strCat(entries.size(), " materials (the OpenGL ES profile's material block holds ",
+                  kEsMaxMaterials, ")")};
+    entries.resize(kEsMaxMaterials, GpuMaterial{glm::vec4(1.0f), glm::uvec4(0)});
+  }
   if (s.isOk())
     s = createBuffer(&vertex_materials, words.size() * 4, words.data(), 0,
                      "the character's per-vertex materials");
@@ -75,6 +84,8 @@ Status CharacterBuffers::upload(const Character& character, const BakedPalette& 
     release();
     return s;
   }
+  glCreateVertexArrays(1, &vao);
+  describeVertexFormat(vao);
   glPixelStorei(GL_UNPACK_ALIGNMENT, 1);
   for (size_t l = 0; l < table.layers.size(); ++l)
     glTextureSubImage3D(base_texture, 0, 0, 0, GLint(l), w, h, 1, GL_RGBA, GL_UNSIGNED_BYTE,
@@ -87,6 +98,10 @@ Status CharacterBuffers::upload(const Character& character, const BakedPalette& 
 
 void CharacterBuffers::bindMaterials() const {
   glBindTextureUnit(1, base_texture);
+  if (esProfile()) {  // The indices are vertex attribute 6 there (describeVertexFormat).
+    glBindBufferBase(GL_UNIFORM_BUFFER, 11, material_table);
+    return;
+  }
   glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 10, vertex_materials);
   glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 11, material_table);
 }
@@ -104,6 +119,12 @@ void CharacterBuffers::describeVertexFormat(GLuint v) const {
   glVertexArrayAttribIFormat(v, 3, 4, wide_joints ? GL_UNSIGNED_SHORT : GL_UNSIGNED_BYTE,
                              VertexStream::kJointsOffset);
   glVertexArrayAttribFormat(v, 4, 4, GL_UNSIGNED_SHORT, GL_TRUE, wide_joints ? 28 : 24);
+  if (esProfile()) {  // GLSL ES 3.00 reads each vertex's material index as attribute 6.
+    glVertexArrayVertexBuffer(v, 1, vertex_materials, 0, 2);
+    glEnableVertexArrayAttrib(v, 6);
+    glVertexArrayAttribBinding(v, 6, 1);
+    glVertexArrayAttribIFormat(v, 6, 1, GL_UNSIGNED_SHORT, 0);
+  }
 }
 
 void CharacterBuffers::release() {

@@ -5,6 +5,7 @@
 #include <algorithm>
 
 #include "core/str_cat.h"
+#include "gl/profile/gl_profile.h"
 #include "gl/resources/gl_allocation.h"
 #include "si/gl/gl_context.h"
 
@@ -38,7 +39,7 @@ Status RecordRing::reserve(size_t bytes_per_frame) {
   if (buffer_ != kNoObject && need <= region_size_) return Status::ok();
   waitAll();
   if (buffer_ != kNoObject) {
-    glUnmapNamedBuffer(buffer_);
+    if (!es_) glUnmapNamedBuffer(buffer_);
     glDeleteBuffers(1, &buffer_);
   }
   region_size_ = std::max<size_t>(need * 2, size_t(1) << 20);  // Grow geometrically.
@@ -46,6 +47,19 @@ Status RecordRing::reserve(size_t bytes_per_frame) {
   const size_t ring_size = region_size_ * frames_;
   buffer_ = kNoObject;
   mapped_ = nullptr;
+  es_ = esProfile();
+  if (es_) {  // No fences either: each upload is ordered after the draws before it.
+    Status s =
+        createMutableBuffer(&buffer_, ring_size, GL_DYNAMIC_DRAW, "the instance record ring");
+    fences_.assign(frames_, nullptr);
+    if (!s.isOk()) {
+      region_size_ = 0;
+      return s;
+    }
+    shadow_.assign(ring_size, 0);
+    mapped_ = shadow_.data();
+    return Status::ok();
+  }
   const GLbitfield flags = GL_MAP_WRITE_BIT | GL_MAP_PERSISTENT_BIT | GL_MAP_COHERENT_BIT;
   Status s = createBuffer(&buffer_, ring_size, nullptr, flags, "the instance record ring");
   fences_.assign(frames_, nullptr);
@@ -84,8 +98,13 @@ Status RecordRing::acquire(size_t* base) {
   return Status::ok();
 }
 
+void RecordRing::publish(size_t base, size_t bytes) const {
+  if (es_ && bytes > 0)
+    glNamedBufferSubData(buffer_, GLintptr(base), GLsizeiptr(bytes), mapped_ + base);
+}
+
 void RecordRing::finishFrame() {
-  fences_[index_] = glFenceSync(GL_SYNC_GPU_COMMANDS_COMPLETE, 0);
+  if (!es_) fences_[index_] = glFenceSync(GL_SYNC_GPU_COMMANDS_COMPLETE, 0);
   index_ = (index_ + 1) % frames_;
 }
 
@@ -94,11 +113,13 @@ void RecordRing::release() {
     if (f) glDeleteSync(f);
   fences_.clear();
   if (buffer_ != kNoObject) {
-    glUnmapNamedBuffer(buffer_);
+    if (!es_) glUnmapNamedBuffer(buffer_);
     glDeleteBuffers(1, &buffer_);
   }
   buffer_ = kNoObject;
   mapped_ = nullptr;
+  shadow_.clear();
+  shadow_.shrink_to_fit();
   region_size_ = 0;
   index_ = 0;
 }

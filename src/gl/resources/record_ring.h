@@ -1,7 +1,9 @@
 // SkinnedInstancing — SPDX-License-Identifier: MIT (see LICENSE)
 #pragma once
 // The instance-record ring: one persistently mapped buffer of `frames` regions, each guarded by
-// a fence, so the CPU writes a frame's records while the GPU still reads earlier frames'.
+// a fence, so the CPU writes a frame's records while the GPU still reads earlier frames'. On the
+// ES profile (no persistent mapping) the records are written to a copy in memory and publish()
+// uploads each frame's bytes with glBufferSubData, which orders itself after earlier draws.
 
 #include <glad/gl.h>
 
@@ -34,6 +36,9 @@ class RecordRing {
   /// finished reading the region within kWaitNanoseconds: nothing may be written then, and the
   /// region's fence stays for the next try.
   Status acquire(size_t* base);
+  /// Makes the `bytes` written at `base` visible to the GPU: nothing to do with the persistent
+  /// coherent mapping; an upload on the ES profile. Call after writing, before drawing.
+  void publish(size_t base, size_t bytes) const;
   /// Fences the current region and moves to the next.
   void finishFrame();
   void release();
@@ -63,6 +68,8 @@ class RecordRing {
 
   GLuint buffer_ = kNoObject;
   uint8_t* mapped_ = nullptr;
+  bool es_ = false;  // The ES profile: mapped_ is shadow_'s bytes.
+  std::vector<uint8_t> shadow_;
   size_t region_size_ = 0;
   uint32_t block_size_ = 0, alignment_ = 256, frames_ = 3, index_ = 0;
   std::vector<GLsync> fences_;

@@ -1,13 +1,26 @@
 // SkinnedInstancing - SPDX-License-Identifier: MIT (see LICENSE)
 // Per-vertex materials (si::MaterialTable): each mesh vertex's material index, 16 bits, two to
 // a word, at storage binding 10; the table of (base colour factor, texture array layer) at
-// storage binding 11. Vertex shaders pass the index flat to the fragment shader.
+// storage binding 11. Vertex shaders pass the index flat to the fragment shader. GLSL ES 3.00
+// has no storage buffers: there the same index buffer is vertex attribute 6 (16 bits a vertex)
+// and the table a uniform block of SI_MAX_MATERIALS entries (std140 lays them out as std430
+// does), bound at uniform binding 11.
 #ifndef SI_MATERIAL_COMMON_GLSL
 #define SI_MATERIAL_COMMON_GLSL
+#include "si_profile.glsl"
 struct SiMaterial {
   vec4 factor;
   uvec4 layer;  // x: layer of the base colour array.
 };
+#if defined(GL_ES) && __VERSION__ < 310
+#ifdef SI_VERTEX_MATERIALS
+layout(location = 6) in uint a_material;
+uint siVertexMaterial(uint vertex) { return a_material; }
+#endif
+#ifdef SI_MATERIAL_TABLE
+layout(std140) uniform SiMaterials { SiMaterial si_materials[SI_MAX_MATERIALS]; };
+#endif
+#else
 #ifdef SI_VERTEX_MATERIALS
 layout(std430, binding = 10) readonly buffer SiVertexMaterials { uint si_vertex_materials[]; };
 uint siVertexMaterial(uint vertex) {
@@ -16,5 +29,6 @@ uint siVertexMaterial(uint vertex) {
 #endif
 #ifdef SI_MATERIAL_TABLE
 layout(std430, binding = 11) readonly buffer SiMaterials { SiMaterial si_materials[]; };
+#endif
 #endif
 #endif

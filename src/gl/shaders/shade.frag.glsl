@@ -12,12 +12,12 @@ in vec3 v_normal;
 in vec2 v_texcoord;
 flat in uint v_color;
 flat in uint v_material;
-layout(binding = 1) uniform sampler2DArray u_base_color;
+SI_BINDING_LAYOUT(1) uniform sampler2DArray u_base_color;
 // The application's custom texture array (Renderer::setCustomTextureArray) and its layer count
 // (0: none set; every select is then ignored).
-layout(binding = 2) uniform sampler2DArray u_custom;
+SI_BINDING_LAYOUT(2) uniform sampler2DArray u_custom;
 uniform uint u_custom_layers;
-layout(location = 3) uniform vec3 u_light_direction;
+SI_LOCATION_LAYOUT(3) uniform vec3 u_light_direction;
 layout(location = 0) out vec4 o_color;
 #ifdef SI_IMPOSTOR_CAPTURE
 layout(location = 1) out vec4 o_normal_mask;
@@ -33,7 +33,7 @@ void main() {
   o_normal_mask = vec4(normalize(v_normal) * 0.5 + 0.5, clamp(texel.a, 0.0, 1.0));
   return;
 #endif
-  vec3 tint = unpackUnorm4x8(v_color).rgb;
+  vec3 tint = siUnpackUnorm4x8(v_color).rgb;
   // The instance's custom layer (the appearance word's high byte: 0 none, k layer k - 1; a
   // select past the array's layers is ignored), over the base texel by its own alpha.
   vec3 tinted = texel.rgb;

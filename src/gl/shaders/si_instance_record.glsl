@@ -9,13 +9,14 @@
 //               custom texture layer select in the high byte (0: none; k: layer k - 1)
 #ifndef SI_INSTANCE_RECORD_GLSL
 #define SI_INSTANCE_RECORD_GLSL
+#include "si_profile.glsl"
 struct SiInstance {
   vec4 world_rows[3];
   uvec4 frames;
   uvec4 blend;
 };
 // The instance's tint, RGB in [0, 1].
-vec3 siInstanceTint(SiInstance inst) { return unpackUnorm4x8(inst.blend.w).rgb; }
+vec3 siInstanceTint(SiInstance inst) { return siUnpackUnorm4x8(inst.blend.w).rgb; }
 // The instance's layer of the application's custom texture array; -1 when it selects none.
 int siInstanceCustomLayer(SiInstance inst) { return int(inst.blend.w >> 24u) - 1; }
 #endif

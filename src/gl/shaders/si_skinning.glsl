@@ -7,7 +7,9 @@
 // previous frame's records and siSkinPrevious, for motion vectors; 5: layered animation, the
 // layer records, the mask table and siSkinLayered; 6: the mask table holds each slot's bind-pose
 // origin and weights between 0 and 1 blend each joint in local space; 7: every binding is a
-// define, si_palette_info is in a uniform block, descriptor sets under Vulkan);
+// define, si_palette_info is in a uniform block, descriptor sets under Vulkan; 8: GLSL ES 3.00
+// (OpenGL ES 3.0, WebGL 2) through si_profile.glsl: there the application binds the blocks and
+// the palette sampler after linking);
 // docs/glsl-interface.md documents every name, binding and define.
 //
 // Before including, define SI_MAX_INSTANCES (records per draw: InstanceBatcher::
@@ -21,7 +23,10 @@
 //   SI_PREVIOUS_BINDING [1], SI_LAYER_BINDING [2], SI_PREVIOUS_LAYER_BINDING [3],
 //   SI_MASK_BINDING [8]          motion vectors and layered animation, below
 // Under Vulkan (glslang defines VULKAN), every resource is in descriptor set SI_DESCRIPTOR_SET
-// [0]; Vulkan shares binding numbers between resource kinds, so give each its own there.
+// [0]; Vulkan shares binding numbers between resource kinds, so give each its own there. Under
+// GLSL ES 3.00 the bindings are the application's to set (si_profile.glsl): uniform blocks
+// SiInstances, SiPaletteInfo (and SiPreviousInstances) with glUniformBlockBinding, the sampler
+// si_palette with glUniform1i; storage-buffer variants need GLSL ES 3.10.
 // Motion vectors: define SI_PREVIOUS_RECORDS for the previous frame's records, in the same
 // slots, at (uniform or storage) buffer binding SI_PREVIOUS_BINDING (written by
 // si::InstanceBatcher::buildPrevious) and siSkinPrevious(); SI_PREVIOUS_IN_STORAGE reads them
@@ -34,7 +39,8 @@
 // (InstanceBatcher::buildPreviousLayers) and siSkinPreviousLayered().
 #ifndef SI_SKINNING_GLSL
 #define SI_SKINNING_GLSL
-#define SI_GLSL_INTERFACE_VERSION 7
+#define SI_GLSL_INTERFACE_VERSION 8
+#include "si_profile.glsl"
 #include "si_instance_record.glsl"
 #include "si_transform.glsl"
 
@@ -59,65 +65,55 @@
 #ifndef SI_MASK_BINDING
 #define SI_MASK_BINDING 8
 #endif
-// SI_BINDING(b): the layout qualifier of binding b (and the descriptor set under Vulkan).
-#ifdef VULKAN
-#ifndef SI_DESCRIPTOR_SET
-#define SI_DESCRIPTOR_SET 0
-#endif
-#define SI_BINDING(b) set = SI_DESCRIPTOR_SET, binding = b
-#else
-#define SI_BINDING(b) binding = b
-#endif
-
 #ifdef SI_INSTANCES_IN_STORAGE
-layout(std430, SI_BINDING(SI_RECORDS_BINDING)) readonly buffer SiInstances {
+layout(std430 SI_WITH_BINDING(SI_RECORDS_BINDING)) readonly buffer SiInstances {
   SiInstance si_instances[];
 };
 #else
-layout(std140, SI_BINDING(SI_RECORDS_BINDING)) uniform SiInstances {
+layout(std140 SI_WITH_BINDING(SI_RECORDS_BINDING)) uniform SiInstances {
   SiInstance si_instances[SI_MAX_INSTANCES];
 };
 #endif
 #ifdef SI_PREVIOUS_RECORDS
 #if defined(SI_INSTANCES_IN_STORAGE) || defined(SI_PREVIOUS_IN_STORAGE)
-layout(std430, SI_BINDING(SI_PREVIOUS_BINDING)) readonly buffer SiPreviousInstances {
+layout(std430 SI_WITH_BINDING(SI_PREVIOUS_BINDING)) readonly buffer SiPreviousInstances {
   SiInstance si_previous_instances[];
 };
 #else
-layout(std140, SI_BINDING(SI_PREVIOUS_BINDING)) uniform SiPreviousInstances {
+layout(std140 SI_WITH_BINDING(SI_PREVIOUS_BINDING)) uniform SiPreviousInstances {
   SiInstance si_previous_instances[SI_MAX_INSTANCES];
 };
 #endif
 #endif
 #ifdef SI_LAYERS
 #if defined(SI_INSTANCES_IN_STORAGE) || defined(SI_LAYERS_IN_STORAGE)
-layout(std430, SI_BINDING(SI_LAYER_BINDING)) readonly buffer SiLayers { uvec4 si_layers[]; };
+layout(std430 SI_WITH_BINDING(SI_LAYER_BINDING)) readonly buffer SiLayers { uvec4 si_layers[]; };
 #else
-layout(std140, SI_BINDING(SI_LAYER_BINDING)) uniform SiLayers {
+layout(std140 SI_WITH_BINDING(SI_LAYER_BINDING)) uniform SiLayers {
   uvec4 si_layers[SI_MAX_INSTANCES];
 };
 #endif
 #ifdef SI_PREVIOUS_RECORDS
 #if defined(SI_INSTANCES_IN_STORAGE) || defined(SI_LAYERS_IN_STORAGE) || \
     defined(SI_PREVIOUS_IN_STORAGE)
-layout(std430, SI_BINDING(SI_PREVIOUS_LAYER_BINDING)) readonly buffer SiPreviousLayers {
+layout(std430 SI_WITH_BINDING(SI_PREVIOUS_LAYER_BINDING)) readonly buffer SiPreviousLayers {
   uvec4 si_previous_layers[];
 };
 #else
-layout(std140, SI_BINDING(SI_PREVIOUS_LAYER_BINDING)) uniform SiPreviousLayers {
+layout(std140 SI_WITH_BINDING(SI_PREVIOUS_LAYER_BINDING)) uniform SiPreviousLayers {
   uvec4 si_previous_layers[SI_MAX_INSTANCES];
 };
 #endif
 #endif
 // [0]: palette slots per mask; then per mask, per slot: -2 outside the mask, -1 the overlay's
 // own matrix, else the anchor slot.
-layout(std430, SI_BINDING(SI_MASK_BINDING)) readonly buffer SiLayerMasks {
+layout(std430 SI_WITH_BINDING(SI_MASK_BINDING)) readonly buffer SiLayerMasks {
   int si_mask_anchor[];
 };
 #endif
-layout(SI_BINDING(SI_PALETTE_BINDING)) uniform sampler2D si_palette;
+SI_BINDING_LAYOUT(SI_PALETTE_BINDING) uniform sampler2D si_palette;
 // x: log2 of the palette's width, y: joint stride in texels, z: 0 matrices, 1 quaternions.
-layout(std140, SI_BINDING(SI_PALETTE_INFO_BINDING)) uniform SiPaletteInfo {
+layout(std140 SI_WITH_BINDING(SI_PALETTE_INFO_BINDING)) uniform SiPaletteInfo {
   uvec4 si_palette_info;
 };
 

@@ -24,7 +24,7 @@
 #include "material_common.glsl"
 #ifdef SI_TRADITIONAL
 #include "si_transform.glsl"
-layout(std140, binding = 1) uniform SiCharacter {
+layout(std140 SI_WITH_BINDING(1)) uniform SiCharacter {
   vec4 si_world_rows[3];
   uint si_color;
   vec4 si_joint_rows[3 * SI_MAX_JOINTS];
@@ -38,7 +38,7 @@ layout(location = 1) in vec4 a_normal;
 layout(location = 2) in vec2 a_texcoord;
 layout(location = 3) in uvec4 a_joints;
 layout(location = 4) in vec4 a_weights;
-layout(location = 1) uniform mat4 u_view_projection;
+SI_LOCATION_LAYOUT(1) uniform mat4 u_view_projection;
 out vec3 v_normal;
 out vec2 v_texcoord;
 flat out uint v_color;

@@ -5,6 +5,8 @@
 
 #include <initializer_list>
 
+#include "gl/profile/gl_profile.h"
+
 namespace si::detail {
 
 namespace {
@@ -34,6 +36,13 @@ constexpr GLenum kUnpack[8] = {GL_UNPACK_SWAP_BYTES,  GL_UNPACK_LSB_FIRST,  GL_U
 constexpr GLenum kPack[8] = {GL_PACK_SWAP_BYTES,  GL_PACK_LSB_FIRST,  GL_PACK_ROW_LENGTH,
                              GL_PACK_IMAGE_HEIGHT, GL_PACK_SKIP_ROWS,  GL_PACK_SKIP_PIXELS,
                              GL_PACK_SKIP_IMAGES,  GL_PACK_ALIGNMENT};
+
+// Which of kUnpack / kPack ES 3.0 has (no byte swapping or bit order; packing has no images).
+constexpr bool kEsUnpack[8] = {false, false, true, true, true, true, true, true};
+constexpr bool kEsPack[8] = {false, false, true, false, true, true, false, true};
+bool hasPixelStore(bool pack, int k) {
+  return !esProfile() || (pack ? kEsPack[k] : kEsUnpack[k]);
+}
 
 void setEnabled(GLenum cap, GLboolean on) {
   if (on) glEnable(cap);
@@ -100,26 +109,36 @@ void GlStateGuard::restoreIndexed(GLenum target, uint32_t mask, const IndexedBuf
 
 void GlStateGuard::savePixelStore(bool pack, PixelStore* out) {
   const GLenum* names = pack ? kPack : kUnpack;
-  for (int k = 0; k < 8; ++k) glGetIntegerv(names[k], &out->values[k]);
+  for (int k = 0; k < 8; ++k)
+    if (hasPixelStore(pack, k)) glGetIntegerv(names[k], &out->values[k]);
   glGetIntegerv(pack ? GL_PIXEL_PACK_BUFFER_BINDING : GL_PIXEL_UNPACK_BUFFER_BINDING, &out->buffer);
 }
 
 void GlStateGuard::restorePixelStore(bool pack, const PixelStore& saved) {
   const GLenum* names = pack ? kPack : kUnpack;
-  for (int k = 0; k < 8; ++k) glPixelStorei(names[k], saved.values[k]);
+  for (int k = 0; k < 8; ++k)
+    if (hasPixelStore(pack, k)) glPixelStorei(names[k], saved.values[k]);
   glBindBuffer(pack ? GL_PIXEL_PACK_BUFFER : GL_PIXEL_UNPACK_BUFFER, GLuint(saved.buffer));
 }
 
 // Tightly packed rows from client memory: what every upload and readback of the library means.
 void GlStateGuard::setDefaultPixelStore(bool pack) {
   const GLenum* names = pack ? kPack : kUnpack;
-  for (int k = 0; k < 7; ++k) glPixelStorei(names[k], 0);
+  for (int k = 0; k < 7; ++k)
+    if (hasPixelStore(pack, k)) glPixelStorei(names[k], 0);
   glPixelStorei(names[7], 1);
   glBindBuffer(pack ? GL_PIXEL_PACK_BUFFER : GL_PIXEL_UNPACK_BUFFER, 0);
 }
 
 GlStateGuard::GlStateGuard(const GlFootprint& footprint, bool restore)
-    : footprint_(footprint), restore_(restore) {
+    : footprint_(footprint), restore_(restore), es_(esProfile()) {
+  if (es_) {  // No storage buffers, image units, indirect or query buffers, transform capture.
+    // The material table a draw reads from storage binding 11 is a uniform block there.
+    if (footprint_.storage_buffers >> 11 & 1u) footprint_.uniform_buffers |= 1u << 11;
+    footprint_.storage_buffers = 0;
+    footprint_.image_units = 0;
+    footprint_.transform_feedback = false;
+  }
   const GlFootprint& f = footprint_;
   if (restore_) {
     saveIndexed(GL_UNIFORM_BUFFER_BINDING, GL_UNIFORM_BUFFER_START, GL_UNIFORM_BUFFER_SIZE,
@@ -152,13 +171,15 @@ GlStateGuard::GlStateGuard(const GlFootprint& footprint, bool restore)
     if (f.draw) {
       glGetIntegerv(GL_CURRENT_PROGRAM, &program_);
       glGetIntegerv(GL_VERTEX_ARRAY_BINDING, &vertex_array_);
-      glGetIntegerv(GL_DRAW_INDIRECT_BUFFER_BINDING, &draw_indirect_);
-      glGetIntegerv(GL_DISPATCH_INDIRECT_BUFFER_BINDING, &dispatch_indirect_);
-      glGetIntegerv(GL_QUERY_BUFFER_BINDING, &query_buffer_);
+      if (!es_) {
+        glGetIntegerv(GL_DRAW_INDIRECT_BUFFER_BINDING, &draw_indirect_);
+        glGetIntegerv(GL_DISPATCH_INDIRECT_BUFFER_BINDING, &dispatch_indirect_);
+        glGetIntegerv(GL_QUERY_BUFFER_BINDING, &query_buffer_);
+        primitive_restart_ = glIsEnabled(GL_PRIMITIVE_RESTART);
+      }
       depth_test_ = glIsEnabled(GL_DEPTH_TEST);
       cull_face_ = glIsEnabled(GL_CULL_FACE);
       rasterizer_discard_ = glIsEnabled(GL_RASTERIZER_DISCARD);
-      primitive_restart_ = glIsEnabled(GL_PRIMITIVE_RESTART);
       fixed_index_restart_ = glIsEnabled(GL_PRIMITIVE_RESTART_FIXED_INDEX);
       glGetIntegerv(GL_CULL_FACE_MODE, &cull_face_mode_);
       glGetIntegerv(GL_FRONT_FACE, &front_face_);
@@ -184,9 +205,11 @@ GlStateGuard::GlStateGuard(const GlFootprint& footprint, bool restore)
     glCullFace(GL_BACK);
     glFrontFace(GL_CCW);
     glDisable(GL_RASTERIZER_DISCARD);
-    glDisable(GL_PRIMITIVE_RESTART);
     glDisable(GL_PRIMITIVE_RESTART_FIXED_INDEX);
-    glBindBuffer(GL_QUERY_BUFFER, 0);
+    if (!es_) {
+      glDisable(GL_PRIMITIVE_RESTART);
+      glBindBuffer(GL_QUERY_BUFFER, 0);
+    }
   }
   if (f.texture_units) {  // Each texture's own sampling parameters, not a sampler object's.
     for (int u = 0; u < kMaxUnits; ++u)
@@ -225,13 +248,15 @@ GlStateGuard::~GlStateGuard() {
     // library's programs replaced it, it is gone, and no program is current again.
     glUseProgram(program_ != 0 && glIsProgram(GLuint(program_)) ? GLuint(program_) : 0u);
     glBindVertexArray(GLuint(vertex_array_));
-    glBindBuffer(GL_DRAW_INDIRECT_BUFFER, GLuint(draw_indirect_));
-    glBindBuffer(GL_DISPATCH_INDIRECT_BUFFER, GLuint(dispatch_indirect_));
-    glBindBuffer(GL_QUERY_BUFFER, GLuint(query_buffer_));
+    if (!es_) {
+      glBindBuffer(GL_DRAW_INDIRECT_BUFFER, GLuint(draw_indirect_));
+      glBindBuffer(GL_DISPATCH_INDIRECT_BUFFER, GLuint(dispatch_indirect_));
+      glBindBuffer(GL_QUERY_BUFFER, GLuint(query_buffer_));
+      setEnabled(GL_PRIMITIVE_RESTART, primitive_restart_);
+    }
     setEnabled(GL_DEPTH_TEST, depth_test_);
     setEnabled(GL_CULL_FACE, cull_face_);
     setEnabled(GL_RASTERIZER_DISCARD, rasterizer_discard_);
-    setEnabled(GL_PRIMITIVE_RESTART, primitive_restart_);
     setEnabled(GL_PRIMITIVE_RESTART_FIXED_INDEX, fixed_index_restart_);
     glCullFace(GLenum(cull_face_mode_));
     glFrontFace(GLenum(front_face_));

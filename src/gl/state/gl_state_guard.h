@@ -75,6 +75,7 @@ class GlStateGuard {
 
   GlFootprint footprint_;
   bool restore_ = false;
+  bool es_ = false;  // The ES profile: only the state ES 3.0 has (gl_profile.h).
   IndexedBuffer uniform_[kMaxIndexed], storage_[kMaxIndexed];
   GLint generic_uniform_ = 0, generic_storage_ = 0;
   Unit units_[kMaxUnits];

@@ -1,0 +1,255 @@
+// SkinnedInstancing — SPDX-License-Identifier: MIT (see LICENSE)
+// The OpenGL ES profile (GlInfo::es) on an ES 3 context (EGL only: OSMesa makes none): the
+// golden scenes within the desktop goldens' tolerance; every palette format and cubic clips
+// equal to a desktop context's image of the same crowd; many batches (the smallest uniform block)
+// equal to one; depth-only and rigid draws; the host's state as it was; the named refusals of
+// what ES 3.0 lacks. The custom texture's tests run on the profile too (custom_texture_test.cpp).
+#include <glad/gl.h>
+
+#include "render/render_fixture.h"
+#include "si/gl/image_lod_error.h"
+
+namespace si {
+namespace {
+
+using namespace test;
+
+class EsRenderTest : public RenderTest {
+ protected:
+  bool es() const override { return true; }
+
+  // A field of `count` walkers facing the camera at LOD distances, tinted by index.
+  static void populateField(CrowdManager* crowd, int count) {
+    for (int i = 0; i < count; ++i) {
+      InstanceDesc d;
+      d.position = glm::dvec3((i % 25 - 12) * 1.1, 0.0, -3.0 - (i / 25) * 2.5);
+      d.clip = uint32_t(i) % uint32_t(palette().clips.size());
+      d.time_seconds = 0.07 * i;
+      d.speed = 0.0f;
+      d.color = glm::u8vec4(uint8_t(40 + i * 7), uint8_t(200 - i * 3), uint8_t(90 + i * 5), 255);
+      d.variation_mask = 1u | (uint32_t(i) % 8u) << 1;
+      InstanceHandle h;
+      ASSERT_TRUE(crowd->add(d, &h).isOk());
+    }
+  }
+};
+
+TEST_P(EsRenderTest, GoldenSingleCharacter) {
+  goldenSingleCharacter();
+}
+TEST_P(EsRenderTest, GoldenCrowdWithEveryLodVariationAndTint) {
+  goldenCrowdLods();
+}
+TEST_P(EsRenderTest, GoldenCrossfadeMidpoint) {
+  goldenCrossfadeMidpoint();
+}
+
+// The same crowd on a desktop 4.5 context of the same back-end and on the ES context: every
+// palette format, linear and cubic, within 0.1 % of pixels.
+TEST_P(EsRenderTest, EveryPaletteFormatDrawsTheDesktopImage) {
+  struct Case {
+    PaletteFormat format;
+    InterpolationChoice interpolation;
+  };
+  const Case cases[] = {{PaletteFormat::kMatrix3x4F32, InterpolationChoice::kLinear},
+                        {PaletteFormat::kMatrix3x4F16, InterpolationChoice::kLinear},
+                        {PaletteFormat::kQuatTranslationF32, InterpolationChoice::kLinear},
+                        {PaletteFormat::kMatrix3x4F32, InterpolationChoice::kCubic}};
+  std::vector<std::vector<uint8_t>> es_images;
+  const auto drawAll = [&](std::vector<std::vector<uint8_t>>* out) {
+    for (const Case& k : cases) {
+      Renderer r;
+      makeRenderer(&r, 0, k.format, nullptr, k.interpolation);
+      CrowdManager crowd;
+      makeCrowd(&crowd, k.format, k.interpolation);
+      populateLodCrowd(&crowd);
+      addFadingCharacter(&crowd, k.format);
+      ASSERT_TRUE(crowd.update(0.3, lodCamera()).isOk());
+      out->push_back(draw(r, crowd, lodCamera(), 0));
+    }
+  };
+  drawAll(&es_images);
+  HeadlessDesc d;
+  d.width = d.height = kSize;
+  d.backend = GetParam();
+  std::unique_ptr<HeadlessContext> desktop;
+  ASSERT_TRUE(HeadlessContext::create(d, &desktop).isOk());
+  std::swap(desktop, context_);  // draw() reads context_.
+  ASSERT_TRUE(loadGl(&HeadlessContext::getProcAddress, context_.get(), &info_).isOk());
+  ASSERT_FALSE(info_.es);
+  std::vector<std::vector<uint8_t>> desktop_images;
+  drawAll(&desktop_images);
+  std::swap(desktop, context_);
+  desktop.reset();
+  ASSERT_TRUE(context_->makeCurrent().isOk());
+  ASSERT_TRUE(loadGl(&HeadlessContext::getProcAddress, context_.get(), &info_).isOk());
+  ASSERT_TRUE(info_.es);
+  ASSERT_EQ(es_images.size(), desktop_images.size());
+  for (size_t i = 0; i < es_images.size(); ++i) {
+    const Diff diff = compare(es_images[i], desktop_images[i], nullptr);
+    EXPECT_LE(diff.share, 0.001) << "case " << i << ": max channel " << diff.max_channel;
+  }
+}
+
+// 600 instances at the smallest uniform block GL allows (204 records a draw) draw the image of
+// one batch per bucket, in more draw calls.
+TEST_P(EsRenderTest, BatchesOfTheSmallestUniformBlockDrawTheImageOfOne) {
+  Renderer whole, smallest;
+  makeRenderer(&whole);
+  makeRenderer(&smallest, 16384);
+  CrowdManager crowd;
+  makeCrowd(&crowd);
+  populateField(&crowd, 600);
+  ASSERT_TRUE(crowd.update(0.0, lodCamera()).isOk());
+  DrawStats one, many;
+  const std::vector<uint8_t> a = draw(whole, crowd, lodCamera(), 0, false, &one);
+  const std::vector<uint8_t> b = draw(smallest, crowd, lodCamera(), 16384, false, &many);
+  EXPECT_GT(many.draw_calls, one.draw_calls);
+  EXPECT_EQ(many.triangles, one.triangles);
+  EXPECT_EQ(compare(a, b, nullptr).max_channel, 0);
+}
+
+// A depth-only pass writes the depth the shaded draw then fails against (GL_LESS), and no
+// colour; rigid instancing draws the bind pose (another image, the same triangles).
+TEST_P(EsRenderTest, DepthOnlyAndRigidDraws) {
+  Renderer r;
+  makeRenderer(&r);
+  CrowdManager crowd;
+  makeCrowd(&crowd);
+  populateLodCrowd(&crowd);
+  ASSERT_TRUE(crowd.update(0.0, lodCamera()).isOk());
+  InstanceBatcher batcher;
+  ASSERT_TRUE(batcher.init(r.batchLimits()).isOk());
+  const glm::vec4 background(0.2f, 0.25f, 0.3f, 1.0f);
+  r.clear(background);
+  std::vector<uint8_t> cleared, depth_then_colour;
+  ASSERT_TRUE(context_->readPixels(&cleared).isOk());
+  DrawStats depth, colour, rigid;
+  ASSERT_TRUE(r.drawCrowd(crowd, batcher, lodCamera(), &depth, DrawMode::kDepthOnly).isOk());
+  std::vector<uint8_t> after_depth;
+  ASSERT_TRUE(context_->readPixels(&after_depth).isOk());
+  EXPECT_EQ(compare(cleared, after_depth, nullptr).max_channel, 0) << "depth-only wrote colour";
+  ASSERT_TRUE(r.drawCrowd(crowd, batcher, lodCamera(), nullptr, DrawMode::kSkinned).isOk());
+  ASSERT_TRUE(context_->readPixels(&depth_then_colour).isOk());
+  EXPECT_LE(compare(cleared, depth_then_colour, nullptr).share, 0.005)
+      << "the shaded draw passed the depth-only pass's depth";
+  const std::vector<uint8_t> skinned = draw(r, crowd, lodCamera(), 0, false, &colour);
+  EXPECT_GT(compare(cleared, skinned, nullptr).share, 0.02);
+  EXPECT_EQ(depth.triangles, colour.triangles);
+  r.clear(background);
+  ASSERT_TRUE(r.drawCrowd(crowd, batcher, lodCamera(), &rigid, DrawMode::kRigid).isOk());
+  std::vector<uint8_t> bind_pose;
+  ASSERT_TRUE(context_->readPixels(&bind_pose).isOk());
+  EXPECT_EQ(rigid.triangles, colour.triangles);
+  EXPECT_GT(compare(skinned, bind_pose, nullptr).share, 0.005) << "rigid drew the animated pose";
+}
+
+// The host's bindings that the emulated direct-state-access calls bind through (copy-write and
+// array buffers, the active unit's textures, the current program, the vertex array) and the
+// uniform bindings the draws use, as the host left them after an upload and a draw.
+TEST_P(EsRenderTest, TheHostsBindingsStayAsTheyWere) {
+  GLuint buffers[3] = {0, 0, 0}, textures[2] = {0, 0}, vao = 0;
+  glGenBuffers(3, buffers);
+  glGenTextures(2, textures);
+  glGenVertexArrays(1, &vao);
+  glBindVertexArray(vao);
+  glBindBuffer(GL_ARRAY_BUFFER, buffers[0]);
+  glBindBuffer(GL_COPY_WRITE_BUFFER, buffers[1]);
+  glBindBufferBase(GL_UNIFORM_BUFFER, 11, buffers[2]);
+  glBindBufferBase(GL_UNIFORM_BUFFER, 0, buffers[2]);
+  glActiveTexture(GL_TEXTURE5);
+  glBindTexture(GL_TEXTURE_2D, textures[0]);
+  glBindTexture(GL_TEXTURE_2D_ARRAY, textures[1]);
+  const auto bindings = [] {
+    std::vector<GLint> v;
+    for (GLenum name :
+         {GL_VERTEX_ARRAY_BINDING, GL_ARRAY_BUFFER_BINDING, GL_COPY_WRITE_BUFFER_BINDING,
+          GL_ACTIVE_TEXTURE, GL_TEXTURE_BINDING_2D, GL_TEXTURE_BINDING_2D_ARRAY, GL_CURRENT_PROGRAM,
+          GL_UNIFORM_BUFFER_BINDING}) {
+      GLint value = -1;
+      glGetIntegerv(name, &value);
+      v.push_back(value);
+    }
+    for (GLuint index : {0u, 4u, 11u}) {
+      GLint value = -1;
+      glGetIntegeri_v(GL_UNIFORM_BUFFER_BINDING, index, &value);
+      v.push_back(value);
+    }
+    return v;
+  };
+  const std::vector<GLint> before = bindings();
+  {
+    Renderer r;
+    makeRenderer(&r);
+    CrowdManager crowd;
+    makeCrowd(&crowd);
+    populateLodCrowd(&crowd);
+    ASSERT_TRUE(crowd.update(0.0, lodCamera()).isOk());
+    InstanceBatcher batcher;
+    ASSERT_TRUE(batcher.init(r.batchLimits()).isOk());
+    ASSERT_TRUE(r.drawCrowd(crowd, batcher, lodCamera(), nullptr).isOk());
+    EXPECT_EQ(bindings(), before);
+  }
+  EXPECT_EQ(glGetError(), GLenum(GL_NO_ERROR));
+  glBindVertexArray(0);
+  glDeleteVertexArrays(1, &vao);
+  glDeleteBuffers(3, buffers);
+  glDeleteTextures(2, textures);
+}
+
+// What ES 3.0 lacks is refused by name (kUnsupported, "the OpenGL ES profile has no ..."), and
+// the automatic path choice takes the vertex shader without measuring.
+TEST_P(EsRenderTest, RefusesWhatEs30LacksByName) {
+  const auto refused = [](const Status& s, const char* capability) {
+    EXPECT_EQ(s.code(), StatusCode::kUnsupported) << s.toString();
+    EXPECT_NE(s.message().find(std::string("OpenGL ES profile has no ") + capability),
+              std::string::npos)
+        << s.message();
+  };
+  {
+    RendererDesc rd;
+    rd.skinning_path = SkinningPath::kCompute;
+    Renderer r;
+    refused(r.init(info_, rd), "compute shaders");
+    rd = RendererDesc();
+    rd.gpu_occlusion_culling = true;
+    refused(r.init(info_, rd), "compute shaders");
+    rd = RendererDesc();
+    rd.motion_vectors = true;
+    refused(r.init(info_, rd), "motion-vector programs");
+    rd = RendererDesc();
+    rd.measure_gpu_time = true;
+    refused(r.init(info_, rd), "timer queries");
+  }
+  RendererDesc automatic;
+  automatic.skinning_path = SkinningPath::kAutomatic;
+  Renderer r;
+  makeRenderer(&r, 0, PaletteFormat::kMatrix3x4F32, &automatic);
+  EXPECT_EQ(r.skinningPath(CharacterId{0}), SkinningPath::kVertexShader);
+  EXPECT_NE(r.skinningPathReason(CharacterId{0}).find("OpenGL ES"), std::string::npos);
+  CrowdManager crowd;
+  makeCrowd(&crowd);
+  populateLodCrowd(&crowd);
+  ASSERT_TRUE(crowd.update(0.0, lodCamera()).isOk());
+  InstanceBatcher batcher;
+  ASSERT_TRUE(batcher.init(r.batchLimits()).isOk());
+  refused(r.drawCrowd(crowd, batcher, lodCamera(), nullptr, DrawMode::kComputeSkinned),
+          "compute shaders");
+  refused(r.drawCrowdGpuCulled(crowd, lodCamera(), nullptr), "compute shaders");
+  refused(r.drawTraditional(crowd, lodCamera(), nullptr), "traditional program");
+  refused(r.drawCpuSkinned(crowd, lodCamera(), nullptr), "storage buffers");
+  refused(r.buildImpostor(CharacterId{0}, ImpostorDesc{}), "impostor programs");
+  std::vector<glm::vec3> positions;
+  refused(r.captureSkinnedPositions(crowd.records()[0], &positions), "capture programs");
+  ImageLodErrorReport report;
+  refused(measureImageLodErrors(info_, character(), palette(), ImageLodErrorDesc{}, &report),
+          "compute or impostor programs");
+  EXPECT_EQ(glGetError(), GLenum(GL_NO_ERROR));
+  // A refused draw left the renderer whole: the vertex-shader path still draws.
+  EXPECT_TRUE(r.drawCrowd(crowd, batcher, lodCamera(), nullptr).isOk());
+}
+
+INSTANTIATE_TEST_SUITE_P(Backends, EsRenderTest, test::esBackends(), test::backendTestName);
+
+}  // namespace
+}  // namespace si
