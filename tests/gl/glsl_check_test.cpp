@@ -62,6 +62,14 @@ const char* stageExtension(ShaderStage s) {
   return s == ShaderStage::kVertex ? "vert" : s == ShaderStage::kFragment ? "frag" : "comp";
 }
 
+// A file name for program `id`'s stage: its catalog name, spaces as underscores.
+std::string fileName(ProgramId id, const std::string& prefix, const std::string& suffix) {
+  std::string name = prefix + detail::programSpec(id).name + suffix;
+  for (char& c : name)
+    if (c == ' ') c = '_';
+  return name;
+}
+
 TEST(GlslCheck, EveryProgramCompilesWithGlslang) {
   skipWithoutGlslang();
   int compiled = 0;
@@ -76,11 +84,9 @@ TEST(GlslCheck, EveryProgramCompilesWithGlslang) {
         if (detail::programSpec(id).file(stage) == nullptr) continue;
         std::string source;
         ASSERT_TRUE(detail::assembleStage(id, stage, config, &source).isOk());
-        std::string name = detail::programSpec(id).name;
-        for (char& c : name)
-          if (c == ' ') c = '_';
-        name += "_" + std::to_string(max_instances);
-        EXPECT_EQ(compileWithGlslang(source, stageExtension(stage), name), "");
+        EXPECT_EQ(compileWithGlslang(source, stageExtension(stage),
+                                     fileName(id, "", "_" + std::to_string(max_instances))),
+                  "");
         ++compiled;
       }
     }
@@ -158,10 +164,7 @@ TEST(GlslCheck, TheEsProfilesProgramsCompileAsGlslEs300) {
       }
       ASSERT_TRUE(s.isOk()) << s.toString();
       ASSERT_EQ(source.rfind("#version 300 es\n", 0), 0u);
-      std::string name = std::string("es_") + detail::programSpec(id).name;
-      for (char& c : name)
-        if (c == ' ') c = '_';
-      EXPECT_EQ(compileWithGlslang(source, stageExtension(stage), name), "");
+      EXPECT_EQ(compileWithGlslang(source, stageExtension(stage), fileName(id, "es_", "")), "");
       ++compiled;
     }
   }

@@ -18,6 +18,16 @@ class EsRenderTest : public RenderTest {
  protected:
   bool es() const override { return true; }
 
+  // A renderer of the embedded character and the LOD crowd (populateLodCrowd) selected for
+  // lodCamera(), with a batcher for the renderer.
+  void lodScene(Renderer* r, CrowdManager* crowd, InstanceBatcher* batcher) {
+    makeRenderer(r);
+    makeCrowd(crowd);
+    populateLodCrowd(crowd);
+    ASSERT_TRUE(crowd->update(0.0, lodCamera()).isOk());
+    ASSERT_TRUE(batcher->init(r->batchLimits()).isOk());
+  }
+
   // A field of `count` walkers facing the camera at LOD distances, tinted by index.
   static void populateField(CrowdManager* crowd, int count) {
     for (int i = 0; i < count; ++i) {
@@ -113,13 +123,9 @@ TEST_P(EsRenderTest, BatchesOfTheSmallestUniformBlockDrawTheImageOfOne) {
 // colour; rigid instancing draws the bind pose (another image, the same triangles).
 TEST_P(EsRenderTest, DepthOnlyAndRigidDraws) {
   Renderer r;
-  makeRenderer(&r);
   CrowdManager crowd;
-  makeCrowd(&crowd);
-  populateLodCrowd(&crowd);
-  ASSERT_TRUE(crowd.update(0.0, lodCamera()).isOk());
   InstanceBatcher batcher;
-  ASSERT_TRUE(batcher.init(r.batchLimits()).isOk());
+  lodScene(&r, &crowd, &batcher);
   const glm::vec4 background(0.2f, 0.25f, 0.3f, 1.0f);
   r.clear(background);
   std::vector<uint8_t> cleared, depth_then_colour;
@@ -180,13 +186,9 @@ TEST_P(EsRenderTest, TheHostsBindingsStayAsTheyWere) {
   const std::vector<GLint> before = bindings();
   {
     Renderer r;
-    makeRenderer(&r);
     CrowdManager crowd;
-    makeCrowd(&crowd);
-    populateLodCrowd(&crowd);
-    ASSERT_TRUE(crowd.update(0.0, lodCamera()).isOk());
     InstanceBatcher batcher;
-    ASSERT_TRUE(batcher.init(r.batchLimits()).isOk());
+    lodScene(&r, &crowd, &batcher);
     ASSERT_TRUE(r.drawCrowd(crowd, batcher, lodCamera(), nullptr).isOk());
     EXPECT_EQ(bindings(), before);
   }
