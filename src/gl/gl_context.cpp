@@ -45,7 +45,9 @@ Status loadGl(GlGetProcAddress get_proc, void* user_data, GlInfo* info) {
   out.renderer = glString(GL_RENDERER);
   out.version = glString(GL_VERSION);
   out.es = out.version.rfind("OpenGL ES ", 0) == 0;
+  out.webgl = out.es && out.version.find("WebGL") != std::string::npos;
   detail::setEsProfile(false);
+  detail::setWebglProfile(out.webgl);
   if (out.es) {
     if (out.major_version < 3)
       return {StatusCode::kBackend, strCat("loadGl: need OpenGL ES 3.0 or later, the context has '",

@@ -46,6 +46,8 @@ struct GlInfo {
   /// draws the vertex-shader path and refuses what ES 3.0 lacks by name (docs/rendering.md,
   /// "The ES profile"). The storage, compute and debug fields above are then 0.
   bool es = false;
+  /// A browser's WebGL 2 context (an ES context whose GL_VERSION names WebGL; Emscripten's).
+  bool webgl = false;
 };
 
 /// Loads the GL 4.5 core entry points through `get_proc` for the context current on this

@@ -10,6 +10,7 @@
 
 #include <cstring>
 #include <unordered_map>
+#include <unordered_set>
 
 #include "core/str_cat.h"
 #include "gl/profile/gl_profile.h"
@@ -18,49 +19,73 @@ namespace si::detail {
 
 namespace {
 
-bool g_es = false;
+bool g_es = false, g_webgl = false;
 
-// ---- Buffers: edited through GL_COPY_WRITE_BUFFER, which no draw reads.
+// ---- Buffers: edited through GL_COPY_WRITE_BUFFER, which no draw reads. WebGL 2 fixes a
+// buffer's kind at its first binding (an index buffer can never be bound elsewhere, nor another
+// buffer as indices), so index buffers (esMarkIndexBuffer) are edited through
+// GL_ELEMENT_ARRAY_BUFFER of the default vertex array, whose binding is put back too.
+std::unordered_set<GLuint>& indexBuffers() {
+  static std::unordered_set<GLuint> set;
+  return set;
+}
+
 class BoundBuffer {
  public:
-  explicit BoundBuffer(GLuint buffer) {
-    glGetIntegerv(GL_COPY_WRITE_BUFFER_BINDING, &previous_);
-    glBindBuffer(GL_COPY_WRITE_BUFFER, buffer);
+  explicit BoundBuffer(GLuint buffer) : indices_(indexBuffers().count(buffer) != 0) {
+    if (indices_) {
+      glGetIntegerv(GL_VERTEX_ARRAY_BINDING, &vertex_array_);
+      glBindVertexArray(0);
+      glGetIntegerv(GL_ELEMENT_ARRAY_BUFFER_BINDING, &previous_);
+    } else {
+      glGetIntegerv(GL_COPY_WRITE_BUFFER_BINDING, &previous_);
+    }
+    glBindBuffer(target(), buffer);
   }
-  ~BoundBuffer() { glBindBuffer(GL_COPY_WRITE_BUFFER, GLuint(previous_)); }
+  ~BoundBuffer() {
+    glBindBuffer(target(), GLuint(previous_));
+    if (indices_) glBindVertexArray(GLuint(vertex_array_));
+  }
   BoundBuffer(const BoundBuffer&) = delete;
   BoundBuffer& operator=(const BoundBuffer&) = delete;
+  GLenum target() const { return indices_ ? GL_ELEMENT_ARRAY_BUFFER : GL_COPY_WRITE_BUFFER; }
 
  private:
-  GLint previous_ = 0;
+  bool indices_;
+  GLint previous_ = 0, vertex_array_ = 0;
 };
 
+// Names only: the first binding (an upload, or the draw's) creates the buffer with its kind.
 void GLAD_API_PTR createBuffers(GLsizei n, GLuint* buffers) {
   glGenBuffers(n, buffers);
-  for (GLsizei i = 0; i < n; ++i) BoundBuffer create(buffers[i]);  // Binding creates it.
+}
+PFNGLDELETEBUFFERSPROC g_delete_buffers = nullptr;
+void GLAD_API_PTR deleteBuffers(GLsizei n, const GLuint* buffers) {
+  for (GLsizei i = 0; i < n; ++i) indexBuffers().erase(buffers[i]);
+  g_delete_buffers(n, buffers);
 }
 void GLAD_API_PTR namedBufferStorage(GLuint buffer, GLsizeiptr size, const void* data,
                                      GLbitfield flags) {
   BoundBuffer b(buffer);
-  glBufferData(GL_COPY_WRITE_BUFFER, size, data,
+  glBufferData(b.target(), size, data,
                (flags & GL_DYNAMIC_STORAGE_BIT) != 0 ? GL_DYNAMIC_DRAW : GL_STATIC_DRAW);
 }
 void GLAD_API_PTR namedBufferData(GLuint buffer, GLsizeiptr size, const void* data, GLenum usage) {
   BoundBuffer b(buffer);
-  glBufferData(GL_COPY_WRITE_BUFFER, size, data, usage);
+  glBufferData(b.target(), size, data, usage);
 }
 void GLAD_API_PTR namedBufferSubData(GLuint buffer, GLintptr offset, GLsizeiptr size,
                                      const void* data) {
   BoundBuffer b(buffer);
-  glBufferSubData(GL_COPY_WRITE_BUFFER, offset, size, data);
+  glBufferSubData(b.target(), offset, size, data);
 }
 // ES 3.0 has no glGetBufferSubData: a read mapping of the range.
 void GLAD_API_PTR getNamedBufferSubData(GLuint buffer, GLintptr offset, GLsizeiptr size,
                                         void* data) {
   BoundBuffer b(buffer);
-  const void* p = glMapBufferRange(GL_COPY_WRITE_BUFFER, offset, size, GL_MAP_READ_BIT);
+  const void* p = glMapBufferRange(b.target(), offset, size, GL_MAP_READ_BIT);
   if (p != nullptr) std::memcpy(data, p, size_t(size));
-  glUnmapBuffer(GL_COPY_WRITE_BUFFER);
+  glUnmapBuffer(b.target());
 }
 
 // ---- Textures: ES has no query of a texture's target, so the emulation keeps the target of
@@ -345,6 +370,17 @@ bool load(GlGetProcAddress get_proc, void* user_data, const char* name, Pointer*
 
 }  // namespace
 
+bool webglProfile() {
+  return g_webgl;
+}
+void setWebglProfile(bool webgl) {
+  g_webgl = webgl;
+}
+
+void esMarkIndexBuffer(unsigned buffer) {
+  if (g_es) indexBuffers().insert(buffer);
+}
+
 bool esProfile() {
   return g_es;
 }
@@ -353,22 +389,41 @@ void setEsProfile(bool es) {
 }
 
 Status loadEsEntryPoints(GlGetProcAddress get_proc, void* user_data) {
-  // ES 3.0 functions past desktop GL 3.2 (glad loads a "3.x" version string's 3.x functions).
+  // ES 3.0 functions that came to desktop GL after 3.0: glad loads a version string's "3.x"
+  // functions only (WebGL 2 reads "OpenGL ES 3.0"), so these are loaded by name. A context
+  // without one of them is no ES 3.0 context.
   const char* missing = nullptr;
-  if (!load(get_proc, user_data, "glTexStorage2D", &glTexStorage2D)) missing = "glTexStorage2D";
-  if (!load(get_proc, user_data, "glTexStorage3D", &glTexStorage3D)) missing = "glTexStorage3D";
-  if (!load(get_proc, user_data, "glVertexAttribDivisor", &glVertexAttribDivisor))
-    missing = "glVertexAttribDivisor";
-  if (!load(get_proc, user_data, "glBindSampler", &glBindSampler)) missing = "glBindSampler";
-  if (!load(get_proc, user_data, "glDeleteTextures", &g_delete_textures))
+#define SI_ES_LOAD(name) \
+  if (!load(get_proc, user_data, #name, &name) && missing == nullptr) missing = #name
+  SI_ES_LOAD(glGetUniformBlockIndex);
+  SI_ES_LOAD(glUniformBlockBinding);
+  SI_ES_LOAD(glGetActiveUniformBlockiv);
+  SI_ES_LOAD(glDrawArraysInstanced);
+  SI_ES_LOAD(glDrawElementsInstanced);
+  SI_ES_LOAD(glCopyBufferSubData);
+  SI_ES_LOAD(glFenceSync);
+  SI_ES_LOAD(glDeleteSync);
+  SI_ES_LOAD(glClientWaitSync);
+  SI_ES_LOAD(glGetInteger64v);
+  SI_ES_LOAD(glGetInteger64i_v);
+  SI_ES_LOAD(glVertexAttribDivisor);
+  SI_ES_LOAD(glBindSampler);
+  SI_ES_LOAD(glTexStorage2D);
+  SI_ES_LOAD(glTexStorage3D);
+#undef SI_ES_LOAD
+  if (!load(get_proc, user_data, "glDeleteBuffers", &g_delete_buffers) && missing == nullptr)
+    missing = "glDeleteBuffers";
+  if (!load(get_proc, user_data, "glDeleteTextures", &g_delete_textures) && missing == nullptr)
     missing = "glDeleteTextures";
-  if (!load(get_proc, user_data, "glDeleteVertexArrays", &g_delete_vertex_arrays))
+  if (!load(get_proc, user_data, "glDeleteVertexArrays", &g_delete_vertex_arrays) &&
+      missing == nullptr)
     missing = "glDeleteVertexArrays";
   if (missing != nullptr)
     return {StatusCode::kBackend, strCat("loadGl: the OpenGL ES context has no ", missing)};
   load(get_proc, user_data, "glGetTexLevelParameteriv", &g_level_parameter);         // ES 3.1.
   load(get_proc, user_data, "glGetGraphicsResetStatus", &glGetGraphicsResetStatus);  // ES 3.2.
   glCreateBuffers = &createBuffers;
+  glDeleteBuffers = &deleteBuffers;
   glNamedBufferStorage = &namedBufferStorage;
   glNamedBufferData = &namedBufferData;
   glNamedBufferSubData = &namedBufferSubData;

@@ -17,6 +17,15 @@ namespace si::detail {
 /// True while the loaded entry points are an OpenGL ES context's.
 bool esProfile();
 void setEsProfile(bool es);
+/// True while the loaded ES context is a browser's WebGL 2 (GlInfo::webgl), which has the
+/// primitive restart of GL_PRIMITIVE_RESTART_FIXED_INDEX always on and no switch for it.
+bool webglProfile();
+void setWebglProfile(bool webgl);
+
+/// Marks `buffer` (a name from glCreateBuffers, not yet given storage) as an index buffer: on
+/// the ES profile its uploads bind it as GL_ELEMENT_ARRAY_BUFFER, since WebGL 2 lets an index
+/// buffer be bound nowhere else. No-op on desktop GL.
+void esMarkIndexBuffer(unsigned buffer);
 
 /// Loads the ES 3.0 entry points that glad's desktop loader does not load for a context whose
 /// version string reads 3.x (glTexStorage2D, glVertexAttribDivisor, ...), then points the

@@ -29,8 +29,8 @@ Status CharacterBuffers::upload(const Character& character, const BakedPalette& 
   s = createBuffer(&vertex_buffer, stream.bytes.size(), stream.bytes.data(), 0,
                    "the character's vertex buffer");
   if (s.isOk())
-    s = createBuffer(&index_buffer, m.indices.size() * 4, m.indices.data(), 0,
-                     "the character's index buffer");
+    s = createIndexBuffer(&index_buffer, m.indices.size() * 4, m.indices.data(),
+                          "the character's index buffer");
   if (!s.isOk()) {
     release();
     return s;

@@ -6,6 +6,7 @@
 #include <string>
 
 #include "core/str_cat.h"
+#include "gl/profile/gl_profile.h"
 #include "si/gl/gl_context.h"
 
 namespace si::detail {
@@ -70,6 +71,13 @@ Status createBuffer(GLuint* buffer, uint64_t bytes, const void* data, GLbitfield
                     const char* what) {
   return makeBuffer(buffer, bytes, what, [&](GLuint b, GLsizeiptr size) {
     glNamedBufferStorage(b, size, data, flags);
+  });
+}
+
+Status createIndexBuffer(GLuint* buffer, uint64_t bytes, const void* data, const char* what) {
+  return makeBuffer(buffer, bytes, what, [&](GLuint b, GLsizeiptr size) {
+    esMarkIndexBuffer(b);
+    glNamedBufferStorage(b, size, data, 0);
   });
 }
 

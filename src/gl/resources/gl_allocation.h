@@ -21,6 +21,10 @@ namespace si::detail {
 Status createBuffer(GLuint* buffer, uint64_t bytes, const void* data, GLbitfield flags,
                     const char* what);
 
+/// createBuffer() for an index buffer (immutable, from `data`): on the ES profile it is bound
+/// only as indices (gl_profile.h, esMarkIndexBuffer), as WebGL 2 requires.
+Status createIndexBuffer(GLuint* buffer, uint64_t bytes, const void* data, const char* what);
+
 /// The same with mutable storage (glNamedBufferData with `usage`), for a stream the driver may
 /// orphan on each rewrite.
 Status createMutableBuffer(GLuint* buffer, uint64_t bytes, GLenum usage, const char* what);

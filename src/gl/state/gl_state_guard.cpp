@@ -131,7 +131,7 @@ void GlStateGuard::setDefaultPixelStore(bool pack) {
 }
 
 GlStateGuard::GlStateGuard(const GlFootprint& footprint, bool restore)
-    : footprint_(footprint), restore_(restore), es_(esProfile()) {
+    : footprint_(footprint), restore_(restore), es_(esProfile()), webgl_(webglProfile()) {
   if (es_) {  // No storage buffers, image units, indirect or query buffers, transform capture.
     // The material table a draw reads from storage binding 11 is a uniform block there.
     if (footprint_.storage_buffers >> 11 & 1u) footprint_.uniform_buffers |= 1u << 11;
@@ -180,7 +180,7 @@ GlStateGuard::GlStateGuard(const GlFootprint& footprint, bool restore)
       depth_test_ = glIsEnabled(GL_DEPTH_TEST);
       cull_face_ = glIsEnabled(GL_CULL_FACE);
       rasterizer_discard_ = glIsEnabled(GL_RASTERIZER_DISCARD);
-      fixed_index_restart_ = glIsEnabled(GL_PRIMITIVE_RESTART_FIXED_INDEX);
+      if (!webgl_) fixed_index_restart_ = glIsEnabled(GL_PRIMITIVE_RESTART_FIXED_INDEX);
       glGetIntegerv(GL_CULL_FACE_MODE, &cull_face_mode_);
       glGetIntegerv(GL_FRONT_FACE, &front_face_);
       glGetBooleanv(GL_COLOR_WRITEMASK, color_mask_);
@@ -205,7 +205,7 @@ GlStateGuard::GlStateGuard(const GlFootprint& footprint, bool restore)
     glCullFace(GL_BACK);
     glFrontFace(GL_CCW);
     glDisable(GL_RASTERIZER_DISCARD);
-    glDisable(GL_PRIMITIVE_RESTART_FIXED_INDEX);
+    if (!webgl_) glDisable(GL_PRIMITIVE_RESTART_FIXED_INDEX);  // Always on in WebGL 2.
     if (!es_) {
       glDisable(GL_PRIMITIVE_RESTART);
       glBindBuffer(GL_QUERY_BUFFER, 0);
@@ -257,7 +257,7 @@ GlStateGuard::~GlStateGuard() {
     setEnabled(GL_DEPTH_TEST, depth_test_);
     setEnabled(GL_CULL_FACE, cull_face_);
     setEnabled(GL_RASTERIZER_DISCARD, rasterizer_discard_);
-    setEnabled(GL_PRIMITIVE_RESTART_FIXED_INDEX, fixed_index_restart_);
+    if (!webgl_) setEnabled(GL_PRIMITIVE_RESTART_FIXED_INDEX, fixed_index_restart_);
     glCullFace(GLenum(cull_face_mode_));
     glFrontFace(GLenum(front_face_));
     glColorMask(color_mask_[0], color_mask_[1], color_mask_[2], color_mask_[3]);

@@ -76,6 +76,7 @@ class GlStateGuard {
   GlFootprint footprint_;
   bool restore_ = false;
   bool es_ = false;  // The ES profile: only the state ES 3.0 has (gl_profile.h).
+  bool webgl_ = false;  // WebGL 2: primitive restart at the fixed index is always on.
   IndexedBuffer uniform_[kMaxIndexed], storage_[kMaxIndexed];
   GLint generic_uniform_ = 0, generic_storage_ = 0;
   Unit units_[kMaxUnits];
