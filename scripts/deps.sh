@@ -15,6 +15,9 @@ packages=(
   libgtest-dev libgmock-dev libbenchmark-dev glslang-tools spirv-tools
   # The demo's window test: a virtual X server (xvfb-run needs xauth)
   xvfb xauth
+  # The browser page (scripts/web.sh) and its test in headless Chromium (tests/web); emcc's
+  # JavaScript optimizer needs node-acorn
+  emscripten node-acorn chromium
 )
 
 missing=()

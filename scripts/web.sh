@@ -1,0 +1,38 @@
+#!/usr/bin/env bash
+# The crowd in a browser: installs what is missing (Debian's emscripten among it), bakes the
+# embedded character's palette with the native si-bake, and builds the page with Emscripten into
+# build/web/site (index.html, crowd_web.js, crowd_web.wasm: a static folder any web server
+# serves). --serve then serves it on http://127.0.0.1:PORT/ (8080 unless given). docs/web.md
+# says what the page does; tests/web/browser_test.sh opens it in headless Chromium.
+# Usage: scripts/web.sh [--serve [PORT]]
+set -euo pipefail
+root="$(cd "$(dirname "$0")/.." && pwd)"
+serve=0
+port=8080
+while [ $# -gt 0 ]; do
+  case "$1" in
+    --serve) serve=1; if [ $# -gt 1 ] && [[ "$2" =~ ^[0-9]+$ ]]; then port="$2"; shift; fi ;;
+    -h|--help) sed -n '2,7p' "$0"; exit 0 ;;
+    *) echo "web.sh: unknown argument $1 (--serve [PORT])" >&2; exit 2 ;;
+  esac
+  shift
+done
+bash "$root/scripts/deps.sh"
+cd "$root"
+cmake --preset release >/dev/null
+cmake --build --preset release --target si-bake
+mkdir -p build/web
+palette="$root/build/web/default.sipal"
+if [ ! -f "$palette" ] || [ build/release/tools/si_bake/si-bake -nt "$palette" ]; then
+  build/release/tools/si_bake/si-bake --embedded -o "$palette" >/dev/null
+fi
+# Debian's emcc runs its JavaScript optimizer on Debian's node-acorn (docs/web.md).
+export NODE_PATH="/usr/share/nodejs${NODE_PATH:+:$NODE_PATH}"
+emcmake cmake -S "$root" -B build/web -G Ninja -DCMAKE_BUILD_TYPE=Release \
+  -DSI_WEB_PALETTE="$palette" >/dev/null
+cmake --build build/web --target crowd_web
+echo "web.sh: the page is build/web/site/index.html"
+if [ "$serve" -eq 1 ]; then
+  echo "web.sh: serving on http://127.0.0.1:$port/ (Ctrl-C stops)"
+  exec python3 -m http.server "$port" --bind 127.0.0.1 --directory build/web/site
+fi
