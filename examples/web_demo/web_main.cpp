@@ -8,7 +8,8 @@
 // No threads (the crowd updates on the page's thread) and no file system beyond Emscripten's.
 // The test mode (?test=FRAMES, the browser test) steps the clock by a fixed 1/30 s, stops after
 // FRAMES frames and logs "si web demo: done": web_reference.cpp draws the same frame natively.
-// ?count=CHARACTERS sets the crowd's first size.
+// ?count=CHARACTERS sets the crowd's first size; ?bench=SECONDS logs the statistics once after
+// that long measured (scripts/web_bench.sh); ?restore=0 turns the GL state contract off.
 #include <emscripten/emscripten.h>
 #include <emscripten/html5.h>
 
@@ -41,8 +42,14 @@ struct App {
   uint32_t instances = 0;
   float lod_scale = 1.0f;
   si::web::Orbit orbit;
-  double clock = 0.0, last_ms = 0.0, frame_ms_average = 16.7, cpu_ms_average = 0.0;
+  // Means over the frames after the first kWarmUp (shader compiling, first uploads) since the
+  // crowd or its LOD scale last changed: the frame interval and the CPU time of a frame's code.
+  static constexpr uint64_t kWarmUp = 2;
+  double clock = 0.0, last_ms = 0.0, frame_ms_sum = 0.0, cpu_ms_sum = 0.0;
+  uint64_t measured = 0, since_change = 0;
   uint64_t frames = 0, test_frames = 0;  // test_frames > 0: the test mode.
+  double bench_seconds = 0.0;            // > 0: log the statistics once, after so long measured.
+  bool bench_logged = false;
   double last_stats_ms = 0.0;
   bool failed = false;
 };
@@ -53,7 +60,14 @@ void fail(const char* what, const si::Status& s) {
   if (g_app != nullptr) g_app->failed = true;
 }
 
+// Starts the means over (the scene changed).
+void restartMeans(App& a) {
+  a.frame_ms_sum = a.cpu_ms_sum = 0.0;
+  a.measured = a.since_change = 0;
+}
+
 si::Status buildCrowd(App& a, uint32_t instances) {
+  restartMeans(a);
   si::Status s = si::web::buildCrowd(a.character, a.palette, instances, &a.crowd);
   a.base_lod_lines = a.crowd.desc().lod_distances_radii;
   a.base_far = a.crowd.desc().max_distance_radii;
@@ -62,6 +76,7 @@ si::Status buildCrowd(App& a, uint32_t instances) {
 }
 
 si::Status applyLodScale(App& a) {
+  restartMeans(a);
   std::vector<float> lines = a.base_lod_lines;
   for (float& l : lines) l *= a.lod_scale;
   return a.crowd.setLodDistances(lines, a.base_far * a.lod_scale);
@@ -73,7 +88,8 @@ void frame() {
   const double now = emscripten_get_now();
   double dt = a.last_ms > 0.0 ? std::min(0.1, (now - a.last_ms) * 1e-3) : 0.0;
   if (a.test_frames > 0) dt = a.frames == 0 ? 0.0 : si::web::kTestStepSeconds;
-  if (a.last_ms > 0.0) a.frame_ms_average += 0.05 * ((now - a.last_ms) - a.frame_ms_average);
+  const bool measuring = a.since_change > App::kWarmUp;
+  if (measuring) a.frame_ms_sum += now - a.last_ms;
   a.last_ms = now;
   int width = 0, height = 0;
   emscripten_get_canvas_element_size("#canvas", &width, &height);
@@ -85,8 +101,11 @@ void frame() {
   si::DrawStats stats;
   if (s.isOk()) s = a.renderer.drawCrowd(a.crowd, a.batcher, camera, &stats);
   if (!s.isOk()) return fail("drawing the frame", s);
-  const double cpu_ms = emscripten_get_now() - now;
-  a.cpu_ms_average = a.frames == 0 ? cpu_ms : a.cpu_ms_average + 0.05 * (cpu_ms - a.cpu_ms_average);
+  if (measuring) {
+    a.cpu_ms_sum += emscripten_get_now() - now;
+    ++a.measured;
+  }
+  ++a.since_change;
   ++a.frames;
   const bool done = a.test_frames > 0 && a.frames >= a.test_frames;
   if (done) {
@@ -100,12 +119,18 @@ void frame() {
   char text[512];
   std::snprintf(text, sizeof(text),
                 "%u characters, %u visible (LOD 0-3: %u %u %u %u) | %u draw calls, %.2f M "
-                "triangles | %.1f frames/s, CPU %.2f ms a frame | frame %llu",
+                "triangles | %.1f frames/s, CPU %.2f ms a frame (mean of %llu) | frame %llu",
                 a.instances, cs.visible, cs.per_lod[0], cs.per_lod[1], cs.per_lod[2], cs.per_lod[3],
                 stats.draw_calls, double(stats.triangles) * 1e-6,
-                1000.0 / std::max(a.frame_ms_average, 1e-3), a.cpu_ms_average,
+                a.measured ? 1000.0 * a.measured / a.frame_ms_sum : 0.0,
+                a.measured ? a.cpu_ms_sum / a.measured : 0.0,
+                static_cast<unsigned long long>(a.measured),
                 static_cast<unsigned long long>(a.frames));
   EM_ASM({ siWebStats(UTF8ToString($0), $1); }, text, double(a.frames));
+  if (a.bench_seconds > 0.0 && !a.bench_logged && a.frame_ms_sum >= 1000.0 * a.bench_seconds) {
+    a.bench_logged = true;  // scripts/web_bench.sh reads this line from the browser's log.
+    std::printf("si web demo: bench %s\n", text);
+  }
 }
 
 bool readFile(const char* path, std::vector<uint8_t>* out) {
@@ -149,6 +174,10 @@ int main() {
       { return parseInt(new URLSearchParams(location.search).get("test") || "0", 10) || 0; });
   const int count = EM_ASM_INT(
       { return parseInt(new URLSearchParams(location.search).get("count") || "0", 10) || 0; });
+  const int bench = EM_ASM_INT(
+      { return parseInt(new URLSearchParams(location.search).get("bench") || "0", 10) || 0; });
+  const int restore =
+      EM_ASM_INT({ return new URLSearchParams(location.search).get("restore") == "0" ? 0 : 1; });
   EmscriptenWebGLContextAttributes attributes;
   emscripten_webgl_init_context_attributes(&attributes);
   attributes.majorVersion = 2;
@@ -165,6 +194,7 @@ int main() {
   g_app = new App();
   App& a = *g_app;
   a.test_frames = uint64_t(std::max(test_frames, 0));
+  a.bench_seconds = std::max(bench, 0);
   si::GlInfo info;
   si::Status s =
       si::loadGl([](void*, const char* name) { return emscripten_webgl_get_proc_address(name); },
@@ -180,6 +210,7 @@ int main() {
   if (s.isOk()) s = si::loadPalette(bytes, &a.palette);
   si::RendererDesc rd;
   rd.debug_checks = 1;  // Every GL error named, and the page stops.
+  rd.restore_state = restore != 0;  // ?restore=0: the state contract off (docs/web.md's table).
   if (s.isOk()) s = a.renderer.init(info, rd);
   si::CharacterId id;
   if (s.isOk()) s = a.renderer.addCharacter(a.character, a.palette, &id);

@@ -4,9 +4,14 @@
 // compares the page's screenshot with. With --compare, reads that screenshot, takes the
 // canvas's pixels (its top-left 960 x 540) and prints the share of pixels differing by more than
 // 8/255 in a channel; exits 1 when the share passes --max-share.
+// With --bench N, then plays N more frames of 1/30 s as the page does and prints the CPU
+// milliseconds a frame (update and draw calls, the page's "CPU" figure) and the whole frame's
+// (to the read-back of the image, which waits for the GPU): scripts/web_bench.sh sets them
+// beside the page's.
 // Usage: web_reference --palette FILE --frames N --out REF.png [--instances N]
-//                      [--compare SHOT.png] [--max-share S]
+//                      [--compare SHOT.png] [--max-share S] [--bench N]
 #include <algorithm>
+#include <chrono>
 #include <cstdio>
 #include <cstdlib>
 #include <cstring>
@@ -37,7 +42,7 @@ int fail(const char* what, const si::Status& s) {
 
 int main(int argc, char** argv) {
   std::string palette_path, out, compare;
-  int frames = 10;
+  int frames = 10, bench = 0;
   uint32_t instances = si::web::kDefaultInstances;
   double max_share = 0.02;
   for (int i = 1; i + 1 < argc; i += 2) {
@@ -54,6 +59,8 @@ int main(int argc, char** argv) {
       compare = v;
     else if (k == "--max-share")
       max_share = std::atof(v.c_str());
+    else if (k == "--bench")
+      bench = std::max(0, std::atoi(v.c_str()));
     else
       return fail("arguments", {si::StatusCode::kInvalidArgument, "unknown option " + k});
   }
@@ -96,6 +103,27 @@ int main(int argc, char** argv) {
   if (!s.isOk()) return fail("drawing the reference", s);
   std::printf("web_reference: %s (%s), frame %d, %u characters\n", out.c_str(),
               info.version.c_str(), frames, instances);
+  if (bench > 0) {
+    double cpu_ms = 0.0, frame_ms = 0.0;
+    std::vector<uint8_t> image;
+    for (int f = 0; f < bench && s.isOk(); ++f) {
+      const auto t0 = std::chrono::steady_clock::now();
+      s = crowd.update(si::web::kTestStepSeconds, camera);
+      renderer.clear(glm::vec4(0.55f, 0.62f, 0.7f, 1.0f));
+      if (s.isOk()) s = renderer.drawCrowd(crowd, batcher, camera, nullptr);
+      const auto t1 = std::chrono::steady_clock::now();
+      if (s.isOk()) s = context->readPixels(&image);
+      const auto t2 = std::chrono::steady_clock::now();
+      cpu_ms += std::chrono::duration<double, std::milli>(t1 - t0).count();
+      frame_ms += std::chrono::duration<double, std::milli>(t2 - t0).count();
+    }
+    if (!s.isOk()) return fail("the benchmark frames", s);
+    std::printf(
+        "web_reference: native %s, %u characters, %d frames: CPU %.2f ms a frame, "
+        "frame %.2f ms (%.1f frames/s)\n",
+        info.renderer.c_str(), instances, bench, cpu_ms / bench, frame_ms / bench,
+        1000.0 * bench / frame_ms);
+  }
   if (compare.empty()) return 0;
   uint32_t w = 0, h = 0;
   std::vector<uint8_t> shot;
