@@ -87,7 +87,11 @@ void frame() {
   if (a.failed) return;
   const double now = emscripten_get_now();
   double dt = a.last_ms > 0.0 ? std::min(0.1, (now - a.last_ms) * 1e-3) : 0.0;
-  if (a.test_frames > 0) dt = a.frames == 0 ? 0.0 : si::web::kTestStepSeconds;
+  // The test mode: frame k (from 0) at k steps; then kHoldFrames more draws of the last state
+  // (no step), so that the browser's compositor, which may present a frame or two late under
+  // load, shows the last state when the screenshot is taken.
+  if (a.test_frames > 0)
+    dt = a.frames == 0 || a.frames >= a.test_frames ? 0.0 : si::web::kTestStepSeconds;
   const bool measuring = a.since_change > App::kWarmUp;
   if (measuring) a.frame_ms_sum += now - a.last_ms;
   a.last_ms = now;
@@ -107,11 +111,12 @@ void frame() {
   }
   ++a.since_change;
   ++a.frames;
-  const bool done = a.test_frames > 0 && a.frames >= a.test_frames;
+  constexpr uint64_t kHoldFrames = 3;
+  const bool done = a.test_frames > 0 && a.frames >= a.test_frames + kHoldFrames;
   if (done) {
     emscripten_cancel_main_loop();
     std::printf("si web demo: done, %llu frames, clock %.4f s\n",
-                static_cast<unsigned long long>(a.frames), a.clock);
+                static_cast<unsigned long long>(a.test_frames), a.clock);
   }
   if (now - a.last_stats_ms < 250.0 && !done) return;
   a.last_stats_ms = now;
