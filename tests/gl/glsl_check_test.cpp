@@ -70,6 +70,14 @@ std::string fileName(ProgramId id, const std::string& prefix, const std::string&
   return name;
 }
 
+// Calls `visit(id, stage)` for every stage every program of the catalog has.
+template <typename Visit>
+void forEachStage(const Visit& visit) {
+  for (size_t p = 0; p < detail::kProgramCount; ++p)
+    for (ShaderStage stage : {ShaderStage::kVertex, ShaderStage::kFragment, ShaderStage::kCompute})
+      if (detail::programSpec(ProgramId(p)).file(stage) != nullptr) visit(ProgramId(p), stage);
+}
+
 TEST(GlslCheck, EveryProgramCompilesWithGlslang) {
   skipWithoutGlslang();
   int compiled = 0;
@@ -77,19 +85,14 @@ TEST(GlslCheck, EveryProgramCompilesWithGlslang) {
     detail::ShaderConfig config;
     config.max_instances = max_instances;
     config.max_joints = 1024;
-    for (size_t p = 0; p < detail::kProgramCount; ++p) {
-      const ProgramId id = ProgramId(p);
-      for (ShaderStage stage :
-           {ShaderStage::kVertex, ShaderStage::kFragment, ShaderStage::kCompute}) {
-        if (detail::programSpec(id).file(stage) == nullptr) continue;
-        std::string source;
-        ASSERT_TRUE(detail::assembleStage(id, stage, config, &source).isOk());
-        EXPECT_EQ(compileWithGlslang(source, stageExtension(stage),
-                                     fileName(id, "", "_" + std::to_string(max_instances))),
-                  "");
-        ++compiled;
-      }
-    }
+    forEachStage([&](ProgramId id, ShaderStage stage) {
+      std::string source;
+      ASSERT_TRUE(detail::assembleStage(id, stage, config, &source).isOk());
+      EXPECT_EQ(compileWithGlslang(source, stageExtension(stage),
+                                   fileName(id, "", "_" + std::to_string(max_instances))),
+                "");
+      ++compiled;
+    });
   }
   // The catalog's 39 programs: 26 with a vertex and a fragment stage, 13 compute: 65 stages.
   EXPECT_EQ(compiled, 2 * 65);
@@ -151,23 +154,18 @@ TEST(GlslCheck, TheEsProfilesProgramsCompileAsGlslEs300) {
   config.max_joints = 1024;
   config.es = true;
   int compiled = 0;
-  for (size_t p = 0; p < detail::kProgramCount; ++p) {
-    const ProgramId id = ProgramId(p);
-    for (ShaderStage stage :
-         {ShaderStage::kVertex, ShaderStage::kFragment, ShaderStage::kCompute}) {
-      if (detail::programSpec(id).file(stage) == nullptr) continue;
-      std::string source;
-      const Status s = detail::assembleStage(id, stage, config, &source);
-      if (!detail::esProgram(id)) {
-        EXPECT_EQ(s.code(), StatusCode::kUnsupported) << detail::programSpec(id).name;
-        continue;
-      }
-      ASSERT_TRUE(s.isOk()) << s.toString();
-      ASSERT_EQ(source.rfind("#version 300 es\n", 0), 0u);
-      EXPECT_EQ(compileWithGlslang(source, stageExtension(stage), fileName(id, "es_", "")), "");
-      ++compiled;
+  forEachStage([&](ProgramId id, ShaderStage stage) {
+    std::string source;
+    const Status s = detail::assembleStage(id, stage, config, &source);
+    if (!detail::esProgram(id)) {
+      EXPECT_EQ(s.code(), StatusCode::kUnsupported) << detail::programSpec(id).name;
+      return;
     }
-  }
+    ASSERT_TRUE(s.isOk()) << s.toString();
+    ASSERT_EQ(source.rfind("#version 300 es\n", 0), 0u);
+    EXPECT_EQ(compileWithGlslang(source, stageExtension(stage), fileName(id, "es_", "")), "");
+    ++compiled;
+  });
   EXPECT_EQ(compiled, 3 * 2);  // Skinned, depth-only and rigid: a vertex and a fragment stage.
   std::string user = userShader("#define SI_MAX_INSTANCES 204\n");
   const std::string located = "layout(location = 1) uniform mat4";
