@@ -21,16 +21,8 @@ bash "$root/scripts/deps.sh"
 cd "$root"
 cmake --preset release >/dev/null
 cmake --build --preset release --target si-bake
-mkdir -p build/web
-palette="$root/build/web/default.sipal"
-if [ ! -f "$palette" ] || [ build/release/tools/si_bake/si-bake -nt "$palette" ]; then
-  build/release/tools/si_bake/si-bake --embedded -o "$palette" >/dev/null
-fi
-# Debian's emcc runs its JavaScript optimizer on Debian's node-acorn (docs/web.md).
-export NODE_PATH="/usr/share/nodejs${NODE_PATH:+:$NODE_PATH}"
-emcmake cmake -S "$root" -B build/web -G Ninja -DCMAKE_BUILD_TYPE=Release \
-  -DSI_WEB_PALETTE="$palette" >/dev/null
-cmake --build build/web --target crowd_web
+bash scripts/web_build.sh build/release/tools/si_bake/si-bake "$root/build/web/default.sipal" \
+  build/web
 echo "web.sh: the page is build/web/site/index.html"
 if [ "$serve" -eq 1 ]; then
   echo "web.sh: serving on http://127.0.0.1:$port/ (Ctrl-C stops)"

@@ -19,12 +19,8 @@ for tool in emcc emcmake chromium python3; do
   fi
 done
 mkdir -p "$work"
-"$si_bake" --embedded -o "$work/default.sipal" >/dev/null
-export NODE_PATH="/usr/share/nodejs${NODE_PATH:+:$NODE_PATH}"
-# The sanitizers and the project's warnings flags are the native build's; the page has its own.
-env -u CFLAGS -u CXXFLAGS -u LDFLAGS emcmake cmake -S "$source_dir" -B "$work/build" -G Ninja \
-  -DCMAKE_BUILD_TYPE=Release -DSI_WEB_PALETTE="$work/default.sipal" >"$work/configure.log"
-cmake --build "$work/build" --target crowd_web >"$work/build.log" || { cat "$work/build.log"; exit 1; }
+bash "$source_dir/scripts/web_build.sh" "$si_bake" "$work/default.sipal" "$work/build" \
+  >"$work/build.log" 2>&1 || { cat "$work/build.log"; exit 1; }
 site="$work/build/site"
 port="$(python3 -c 'import socket; s = socket.socket(); s.bind(("127.0.0.1", 0)); print(s.getsockname()[1])')"
 python3 -m http.server "$port" --bind 127.0.0.1 --directory "$site" >"$work/server.log" 2>&1 &
