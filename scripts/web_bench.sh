@@ -32,8 +32,8 @@ printf '%-10s | %-36s | %-36s | %-36s\n' characters "browser" "browser, state co
 for n in $sizes; do
   on="$(browser "$n" "" | sed -n "$summary")"
   off="$(browser "$n" "&restore=0" | sed -n "$summary")"
-  native="$("$reference" --palette build/web/default.sipal --frames 1 --instances "$n" \
-    --out "/tmp/si_web_bench_$n.png" --bench 30 |
+  native="$("$reference" --palette build/web/default.sipal --instances "$n" --step 0 \
+    --bench 30 |
     sed -n 's/.*frames: CPU \([0-9.]*\) ms a frame, frame [0-9.]* ms (\([0-9.]*\) frames\/s).*/\2 frames\/s, CPU \1 ms (30 frames)/p')"
   printf '%-10s | %-36s | %-36s | %-36s\n' "$n" "${on:-no statistics}" "${off:-no statistics}" "$native"
 done

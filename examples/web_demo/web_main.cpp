@@ -3,18 +3,19 @@
 // WebGL 2 context. The embedded procedural character (si::makeDefaultCharacter) plays the
 // palette si-bake baked for it natively, embedded into the page's files at /default.sipal, or
 // the palette file the page fetched to /url.sipal (the page's ?palette=URL; same character).
-// An orbit camera (drag, wheel), the crowd size and the LOD distance scale come from the page
-// through the exported si_web_* functions; the frame statistics go back to its #stats element.
-// No threads (the crowd updates on the page's thread) and no file system beyond Emscripten's.
-// The test mode (?test=FRAMES, the browser test) steps the clock by a fixed 1/30 s, stops after
-// FRAMES frames and logs "si web demo: done": web_reference.cpp draws the same frame natively.
+// The scene and its controls (web_scene.h: orbit by drag, zoom by wheel, crowd size, LOD
+// distance scale) are driven from the page's event handlers through the exported si_web_*
+// functions; the frame statistics go back to its #stats element. No threads (the crowd updates
+// on the page's thread) and no file system beyond Emscripten's.
+// ?test=1 (the browser test, tests/web/browser_drive.py): no frame loop; each si_web_step(dt)
+// call draws one frame after stepping the clock by dt, with its statistics, so that the test
+// draws the frames web_reference.cpp draws natively, between the control moves it makes.
 // ?count=CHARACTERS sets the crowd's first size; ?bench=SECONDS logs the statistics once after
 // that long measured (scripts/web_bench.sh); ?restore=0 turns the GL state contract off.
 #include <emscripten/emscripten.h>
 #include <emscripten/html5.h>
 
 #include <algorithm>
-#include <cmath>
 #include <cstdio>
 #include <fstream>
 #include <iterator>
@@ -23,8 +24,6 @@
 
 #include "si/core/default_character.h"
 #include "si/core/palette_file.h"
-#include "si/crowd/crowd_manager.h"
-#include "si/crowd/instance_batcher.h"
 #include "si/gl/gl_context.h"
 #include "si/gl/renderer.h"
 #include "web_scene.h"
@@ -34,21 +33,14 @@ namespace {
 struct App {
   si::Character character;
   si::BakedPalette palette;
-  si::Renderer renderer;
-  si::CrowdManager crowd;
-  si::InstanceBatcher batcher;
-  std::vector<float> base_lod_lines;
-  float base_far = 0.0f;
-  uint32_t instances = 0;
-  float lod_scale = 1.0f;
-  si::web::Orbit orbit;
+  si::web::Scene scene;
   // Means over the frames after the first kWarmUp (shader compiling, first uploads) since the
   // crowd or its LOD scale last changed: the frame interval and the CPU time of a frame's code.
   static constexpr uint64_t kWarmUp = 2;
-  double clock = 0.0, last_ms = 0.0, frame_ms_sum = 0.0, cpu_ms_sum = 0.0;
-  uint64_t measured = 0, since_change = 0;
-  uint64_t frames = 0, test_frames = 0;  // test_frames > 0: the test mode.
-  double bench_seconds = 0.0;            // > 0: log the statistics once, after so long measured.
+  double last_ms = 0.0, frame_ms_sum = 0.0, cpu_ms_sum = 0.0;
+  uint64_t measured = 0, since_change = 0, frames = 0;
+  bool test = false;           // ?test=1: frames drawn by si_web_step only.
+  double bench_seconds = 0.0;  // > 0: log the statistics once, after so long measured.
   bool bench_logged = false;
   double last_stats_ms = 0.0;
   bool failed = false;
@@ -66,44 +58,15 @@ void restartMeans(App& a) {
   a.measured = a.since_change = 0;
 }
 
-si::Status buildCrowd(App& a, uint32_t instances) {
-  restartMeans(a);
-  si::Status s = si::web::buildCrowd(a.character, a.palette, instances, &a.crowd);
-  a.base_lod_lines = a.crowd.desc().lod_distances_radii;
-  a.base_far = a.crowd.desc().max_distance_radii;
-  a.instances = instances;
-  return s;
-}
-
-si::Status applyLodScale(App& a) {
-  restartMeans(a);
-  std::vector<float> lines = a.base_lod_lines;
-  for (float& l : lines) l *= a.lod_scale;
-  return a.crowd.setLodDistances(lines, a.base_far * a.lod_scale);
-}
-
-void frame() {
-  App& a = *g_app;
-  if (a.failed) return;
+// Draws one frame `dt` seconds on; shows the statistics (every 250 ms, each frame in the test).
+void drawFrame(App& a, double dt) {
   const double now = emscripten_get_now();
-  double dt = a.last_ms > 0.0 ? std::min(0.1, (now - a.last_ms) * 1e-3) : 0.0;
-  // The test mode: frame k (from 0) at k steps; then kHoldFrames more draws of the last state
-  // (no step), so that the browser's compositor, which may present a frame or two late under
-  // load, shows the last state when the screenshot is taken.
-  if (a.test_frames > 0)
-    dt = a.frames == 0 || a.frames >= a.test_frames ? 0.0 : si::web::kTestStepSeconds;
   const bool measuring = a.since_change > App::kWarmUp;
   if (measuring) a.frame_ms_sum += now - a.last_ms;
   a.last_ms = now;
   int width = 0, height = 0;
   emscripten_get_canvas_element_size("#canvas", &width, &height);
-  const si::Camera camera =
-      si::web::orbitCamera(a.orbit, a.instances, float(width) / float(std::max(height, 1)));
-  a.clock += dt;
-  si::Status s = a.crowd.update(dt, camera);
-  a.renderer.clear(glm::vec4(0.55f, 0.62f, 0.7f, 1.0f));
-  si::DrawStats stats;
-  if (s.isOk()) s = a.renderer.drawCrowd(a.crowd, a.batcher, camera, &stats);
+  const si::Status s = a.scene.frame(dt, float(width) / float(std::max(height, 1)), nullptr);
   if (!s.isOk()) return fail("drawing the frame", s);
   if (measuring) {
     a.cpu_ms_sum += emscripten_get_now() - now;
@@ -111,31 +74,27 @@ void frame() {
   }
   ++a.since_change;
   ++a.frames;
-  constexpr uint64_t kHoldFrames = 3;
-  const bool done = a.test_frames > 0 && a.frames >= a.test_frames + kHoldFrames;
-  if (done) {
-    emscripten_cancel_main_loop();
-    std::printf("si web demo: done, %llu frames, clock %.4f s\n",
-                static_cast<unsigned long long>(a.test_frames), a.clock);
-  }
-  if (now - a.last_stats_ms < 250.0 && !done) return;
+  if (now - a.last_stats_ms < 250.0 && !a.test) return;
   a.last_stats_ms = now;
-  const si::CrowdFrameStats& cs = a.crowd.stats();
-  char text[512];
-  std::snprintf(text, sizeof(text),
-                "%u characters, %u visible (LOD 0-3: %u %u %u %u) | %u draw calls, %.2f M "
-                "triangles | %.1f frames/s, CPU %.2f ms a frame (mean of %llu) | frame %llu",
-                a.instances, cs.visible, cs.per_lod[0], cs.per_lod[1], cs.per_lod[2], cs.per_lod[3],
-                stats.draw_calls, double(stats.triangles) * 1e-6,
-                a.measured ? 1000.0 * a.measured / a.frame_ms_sum : 0.0,
-                a.measured ? a.cpu_ms_sum / a.measured : 0.0,
-                static_cast<unsigned long long>(a.measured),
-                static_cast<unsigned long long>(a.frames));
-  EM_ASM({ siWebStats(UTF8ToString($0), $1); }, text, double(a.frames));
+  char timing[160] = " | test mode: frames drawn when the test asks";  // No frame rate.
+  if (!a.test)
+    std::snprintf(timing, sizeof(timing), " | %.1f frames/s, CPU %.2f ms a frame (mean of %llu)",
+                  a.measured ? 1000.0 * a.measured / a.frame_ms_sum : 0.0,
+                  a.measured ? a.cpu_ms_sum / a.measured : 0.0,
+                  static_cast<unsigned long long>(a.measured));
+  const std::string text = a.scene.statsLine() + timing + " | frame " + std::to_string(a.frames);
+  EM_ASM({ siWebStats(UTF8ToString($0), $1); }, text.c_str(), double(a.frames));
   if (a.bench_seconds > 0.0 && !a.bench_logged && a.frame_ms_sum >= 1000.0 * a.bench_seconds) {
     a.bench_logged = true;  // scripts/web_bench.sh reads this line from the browser's log.
-    std::printf("si web demo: bench %s\n", text);
+    std::printf("si web demo: bench %s\n", text.c_str());
   }
+}
+
+void loopFrame() {
+  App& a = *g_app;
+  if (a.failed) return;
+  const double now = emscripten_get_now();
+  drawFrame(a, a.last_ms > 0.0 ? std::min(0.1, (now - a.last_ms) * 1e-3) : 0.0);
 }
 
 bool readFile(const char* path, std::vector<uint8_t>* out) {
@@ -148,34 +107,37 @@ bool readFile(const char* path, std::vector<uint8_t>* out) {
 }  // namespace
 
 extern "C" {
-// The page's controls.
+// The page's controls (index.html's handlers) and the test mode's frame.
 EMSCRIPTEN_KEEPALIVE void si_web_orbit(double dx, double dy) {
-  if (g_app == nullptr) return;
-  g_app->orbit.yaw -= dx * 0.006;
-  g_app->orbit.pitch = std::clamp(g_app->orbit.pitch + dy * 0.006, 0.05, 1.5);
+  if (g_app != nullptr) g_app->scene.drag(dx, dy);
 }
-EMSCRIPTEN_KEEPALIVE void si_web_zoom(double factor) {
-  if (g_app != nullptr)
-    g_app->orbit.distance = std::clamp(g_app->orbit.distance * factor, 2.0, 1500.0);
+EMSCRIPTEN_KEEPALIVE void si_web_zoom(double wheel_delta_y) {
+  if (g_app != nullptr) g_app->scene.wheel(wheel_delta_y);
 }
 EMSCRIPTEN_KEEPALIVE void si_web_set_instances(int count) {
   if (g_app == nullptr) return;
-  const si::Status s = buildCrowd(*g_app, uint32_t(std::clamp(count, 1, 200000)));
-  if (!s.isOk()) return fail("building the crowd", s);
-  const si::Status l = applyLodScale(*g_app);
-  if (!l.isOk()) fail("setting the LOD distances", l);
+  restartMeans(*g_app);
+  const si::Status s = g_app->scene.setInstances(uint32_t(std::max(count, 1)));
+  if (!s.isOk()) fail("building the crowd", s);
 }
 EMSCRIPTEN_KEEPALIVE void si_web_set_lod_scale(double scale) {
   if (g_app == nullptr) return;
-  g_app->lod_scale = float(std::clamp(scale, 0.05, 20.0));
-  const si::Status s = applyLodScale(*g_app);
+  restartMeans(*g_app);
+  const si::Status s = g_app->scene.setLodScale(scale);
   if (!s.isOk()) fail("setting the LOD distances", s);
+}
+/// ?test=1: draws one frame after stepping the clock by `dt` seconds; returns 0, or 1 when the
+/// page has failed (the error is on the console).
+EMSCRIPTEN_KEEPALIVE int si_web_step(double dt) {
+  if (g_app == nullptr || g_app->failed) return 1;
+  drawFrame(*g_app, dt);
+  return g_app->failed ? 1 : 0;
 }
 }
 
 int main() {
-  // ?test=FRAMES and ?count=CHARACTERS from the page's query string (0: not given).
-  const int test_frames = EM_ASM_INT(
+  // The page's query string (0: not given).
+  const int test = EM_ASM_INT(
       { return parseInt(new URLSearchParams(location.search).get("test") || "0", 10) || 0; });
   const int count = EM_ASM_INT(
       { return parseInt(new URLSearchParams(location.search).get("count") || "0", 10) || 0; });
@@ -198,7 +160,7 @@ int main() {
   }
   g_app = new App();
   App& a = *g_app;
-  a.test_frames = uint64_t(std::max(test_frames, 0));
+  a.test = test > 0;
   a.bench_seconds = std::max(bench, 0);
   si::GlInfo info;
   si::Status s =
@@ -216,15 +178,17 @@ int main() {
   si::RendererDesc rd;
   rd.debug_checks = 1;  // Every GL error named, and the page stops.
   rd.restore_state = restore != 0;  // ?restore=0: the state contract off (docs/web.md's table).
-  if (s.isOk()) s = a.renderer.init(info, rd);
-  si::CharacterId id;
-  if (s.isOk()) s = a.renderer.addCharacter(a.character, a.palette, &id);
-  if (s.isOk()) s = a.batcher.init(a.renderer.batchLimits());
   if (s.isOk())
-    s = buildCrowd(a, count > 0 ? uint32_t(std::min(count, 200000)) : si::web::kDefaultInstances);
+    s = a.scene.init(info, rd, a.character, a.palette,
+                     count > 0 ? uint32_t(count) : si::web::kDefaultInstances);
   if (!s.isOk()) return fail("starting", s), 1;
-  std::printf("si web demo: %s, %zu clips from %s\n", a.renderer.skinningPathReason(id).c_str(),
+  std::printf("si web demo: %s, %zu clips from %s\n",
+              a.scene.renderer().skinningPathReason(a.scene.character()).c_str(),
               a.palette.clips.size(), file);
-  emscripten_set_main_loop(frame, 0, false);
+  if (a.test) {
+    EM_ASM({ window.siWeb.ready = true; });  // The browser test steps the frames.
+    return 0;
+  }
+  emscripten_set_main_loop(loopFrame, 0, false);
   return 0;
 }

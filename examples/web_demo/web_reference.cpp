@@ -1,20 +1,27 @@
 // SkinnedInstancing — SPDX-License-Identifier: MIT (see LICENSE)
-// The browser page's test frame drawn natively: the same scene (web_scene.h) at the same time
-// on an OpenGL ES 3 context of si::headless (EGL), the reference tests/web/browser_test.sh
-// compares the page's screenshot with. With --compare, reads that screenshot, takes the
-// canvas's pixels (its top-left 960 x 540) and prints the share of pixels differing by more than
-// 8/255 in a channel; exits 1 when the share passes --max-share.
-// With --bench N, then plays N more frames of 1/30 s as the page does and prints the CPU
-// milliseconds a frame (update and draw calls, the page's "CPU" figure) and the whole frame's
-// (to the read-back of the image, which waits for the GPU): scripts/web_bench.sh sets them
-// beside the page's.
-// Usage: web_reference --palette FILE --frames N --out REF.png [--instances N]
-//                      [--compare SHOT.png] [--max-share S] [--bench N]
+// The browser page's frames drawn natively: the same scene (web_scene.h) on an OpenGL ES 3
+// context of si::headless (EGL), driven by the same script of frames and control moves the
+// browser test (tests/web/browser_drive.py) plays on the page. The actions run in order:
+//   --step DT            draws a frame after stepping the clock by DT seconds (si_web_step)
+//   --drag DX DY         a drag of (DX, DY) pixels (the page's pointer handler)
+//   --wheel DY           a wheel turn (the page's wheel handler, WheelEvent.deltaY)
+//   --set-instances N    the crowd size select
+//   --lod SCALE          the LOD distance slider
+//   --out FILE           writes the last frame to FILE (PNG)
+//   --check SHOT STATS   compares the last frame with the page's canvas SHOT (PNG, its top-left
+//                        960 x 540; the share of pixels differing by more than 8/255 in a
+//                        channel, at most --max-share) and the scene's statistics line with
+//                        the first line of the page's STATS text (it must begin with it);
+//                        writes the frame beside SHOT as SHOT.reference.png
+//   --bench N            plays N more frames of 1/30 s and prints the CPU milliseconds a frame
+//                        (update and draw calls, the page's "CPU" figure) and the whole frame's
+//                        (to the read-back, which waits for the GPU): scripts/web_bench.sh
+// Options: --palette FILE (required), --instances N (the first crowd size), --max-share S.
+// Exits 1 when a check fails, 2 on an error.
 #include <algorithm>
 #include <chrono>
 #include <cstdio>
 #include <cstdlib>
-#include <cstring>
 #include <fstream>
 #include <iterator>
 #include <memory>
@@ -23,50 +30,102 @@
 
 #include "si/core/default_character.h"
 #include "si/core/palette_file.h"
-#include "si/crowd/instance_batcher.h"
 #include "si/gl/gl_context.h"
-#include "si/gl/renderer.h"
 #include "si/headless/headless_context.h"
 #include "web_scene.h"
 
 namespace {
 
 constexpr uint32_t kWidth = 960, kHeight = 540;
+constexpr float kAspect = float(kWidth) / float(kHeight);
 
-int fail(const char* what, const si::Status& s) {
-  std::fprintf(stderr, "web_reference: %s: %s\n", what, s.toString().c_str());
+int fail(const std::string& what, const si::Status& s) {
+  std::fprintf(stderr, "web_reference: %s: %s\n", what.c_str(), s.toString().c_str());
   return 2;
+}
+
+// The share of pixels of `reference` (kWidth x kHeight) differing from the top-left of `shot`
+// by more than 8/255 in a colour channel, and the largest difference.
+double differingShare(const std::vector<uint8_t>& reference, const std::vector<uint8_t>& shot,
+                      uint32_t shot_width, int* max_channel) {
+  size_t differing = 0;
+  *max_channel = 0;
+  for (uint32_t y = 0; y < kHeight; ++y)
+    for (uint32_t x = 0; x < kWidth; ++x) {
+      const uint8_t* a = &reference[(size_t(y) * kWidth + x) * 4];
+      const uint8_t* b = &shot[(size_t(y) * shot_width + x) * 4];
+      int m = 0;
+      for (int c = 0; c < 3; ++c) m = std::max(m, std::abs(int(a[c]) - int(b[c])));
+      *max_channel = std::max(*max_channel, m);
+      differing += m > 8 ? 1 : 0;
+    }
+  return double(differing) / double(kWidth * kHeight);
+}
+
+// --check: 0 when SHOT and STATS match the last frame, 1 when not, 2 on an error.
+int check(const si::web::Scene& scene, const std::vector<uint8_t>& frame, const std::string& shot,
+          const std::string& stats_file, double max_share) {
+  uint32_t w = 0, h = 0;
+  std::vector<uint8_t> pixels;
+  si::Status s = si::readPng(shot, &w, &h, &pixels);
+  if (!s.isOk()) return fail(shot, s);
+  if (w < kWidth || h < kHeight)
+    return fail(shot, {si::StatusCode::kCountMismatch, "smaller than the canvas"});
+  s = si::writePng(shot + ".reference.png", kWidth, kHeight, frame);
+  if (!s.isOk()) return fail(shot + ".reference.png", s);
+  int max_channel = 0;
+  const double share = differingShare(frame, pixels, w, &max_channel);
+  std::ifstream in(stats_file);
+  std::string page_stats;
+  std::getline(in, page_stats);
+  const std::string stats = scene.statsLine();
+  const bool same_stats = page_stats.compare(0, stats.size(), stats) == 0;
+  std::printf(
+      "web_reference: %s: %.3f %% of pixels differ by more than 8/255 (largest %d), allowed "
+      "%.3f %%\n  statistics: %s\n  the page's:  %s\n",
+      shot.c_str(), share * 100.0, max_channel, max_share * 100.0, stats.c_str(),
+      page_stats.c_str());
+  if (!same_stats) std::printf("web_reference: the page's statistics differ\n");
+  return share <= max_share && same_stats ? 0 : 1;
+}
+
+// --bench N: N frames of 1/30 s, timed.
+si::Status bench(si::web::Scene& scene, si::HeadlessContext& context, int frames,
+                 const std::string& renderer) {
+  double cpu_ms = 0.0, frame_ms = 0.0;
+  std::vector<uint8_t> image;
+  for (int f = 0; f < frames; ++f) {
+    const auto t0 = std::chrono::steady_clock::now();
+    si::Status s = scene.frame(si::web::kTestStepSeconds, kAspect, nullptr);
+    const auto t1 = std::chrono::steady_clock::now();
+    if (s.isOk()) s = context.readPixels(&image);
+    if (!s.isOk()) return s;
+    const auto t2 = std::chrono::steady_clock::now();
+    cpu_ms += std::chrono::duration<double, std::milli>(t1 - t0).count();
+    frame_ms += std::chrono::duration<double, std::milli>(t2 - t0).count();
+  }
+  std::printf(
+      "web_reference: native %s, %u characters, %d frames: CPU %.2f ms a frame, frame %.2f ms "
+      "(%.1f frames/s)\n",
+      renderer.c_str(), scene.instances(), frames, cpu_ms / frames, frame_ms / frames,
+      1000.0 * frames / frame_ms);
+  return si::Status::ok();
 }
 
 }  // namespace
 
 int main(int argc, char** argv) {
-  std::string palette_path, out, compare;
-  int frames = 10, bench = 0;
+  const std::vector<std::string> args(argv + 1, argv + argc);
+  std::string palette_path;
   uint32_t instances = si::web::kDefaultInstances;
-  double max_share = 0.02;
-  for (int i = 1; i + 1 < argc; i += 2) {
-    const std::string k = argv[i], v = argv[i + 1];
-    if (k == "--palette")
-      palette_path = v;
-    else if (k == "--frames")
-      frames = std::atoi(v.c_str());
-    else if (k == "--out")
-      out = v;
-    else if (k == "--instances")
-      instances = uint32_t(std::max(1, std::atoi(v.c_str())));
-    else if (k == "--compare")
-      compare = v;
-    else if (k == "--max-share")
-      max_share = std::atof(v.c_str());
-    else if (k == "--bench")
-      bench = std::max(0, std::atoi(v.c_str()));
-    else
-      return fail("arguments", {si::StatusCode::kInvalidArgument, "unknown option " + k});
+  double max_share = 0.005;
+  for (size_t i = 0; i + 1 < args.size(); ++i) {
+    if (args[i] == "--palette") palette_path = args[i + 1];
+    if (args[i] == "--instances") instances = uint32_t(std::max(1, std::atoi(args[i + 1].c_str())));
+    if (args[i] == "--max-share") max_share = std::atof(args[i + 1].c_str());
   }
-  if (palette_path.empty() || out.empty() || frames < 1)
-    return fail("arguments", {si::StatusCode::kInvalidArgument,
-                              "--palette FILE --frames N (>= 1) --out REF.png are required"});
+  if (palette_path.empty())
+    return fail("arguments", {si::StatusCode::kInvalidArgument, "--palette FILE is required"});
   std::ifstream in(palette_path, std::ios::binary);
   const std::vector<uint8_t> bytes((std::istreambuf_iterator<char>(in)),
                                    std::istreambuf_iterator<char>());
@@ -74,7 +133,7 @@ int main(int argc, char** argv) {
   si::BakedPalette palette;
   si::Status s = si::makeDefaultCharacter({}, &character);
   if (s.isOk()) s = si::loadPalette(bytes, &palette);
-  if (!s.isOk()) return fail(palette_path.c_str(), s);
+  if (!s.isOk()) return fail(palette_path, s);
   si::HeadlessDesc hd;
   hd.width = kWidth;
   hd.height = kHeight;
@@ -84,68 +143,46 @@ int main(int argc, char** argv) {
   si::GlInfo info;
   if (s.isOk()) s = si::loadGl(&si::HeadlessContext::getProcAddress, context.get(), &info);
   if (!s.isOk()) return fail("an OpenGL ES context", s);
-  si::Renderer renderer;
-  si::CharacterId id;
-  si::InstanceBatcher batcher;
-  si::CrowdManager crowd;
-  s = renderer.init(info, {});
-  if (s.isOk()) s = renderer.addCharacter(character, palette, &id);
-  if (s.isOk()) s = batcher.init(renderer.batchLimits());
-  if (s.isOk()) s = si::web::buildCrowd(character, palette, instances, &crowd);
-  const si::Camera camera = si::web::orbitCamera({}, instances, float(kWidth) / float(kHeight));
-  // The page's frame `frames` (from 1) plays at (frames - 1) steps of the crowd clock.
-  if (s.isOk()) s = crowd.update((frames - 1) * si::web::kTestStepSeconds, camera);
-  renderer.clear(glm::vec4(0.55f, 0.62f, 0.7f, 1.0f));
-  if (s.isOk()) s = renderer.drawCrowd(crowd, batcher, camera, nullptr);
-  std::vector<uint8_t> reference;
-  if (s.isOk()) s = context->readPixels(&reference);
-  if (s.isOk()) s = si::writePng(out, kWidth, kHeight, reference);
-  if (!s.isOk()) return fail("drawing the reference", s);
-  std::printf("web_reference: %s (%s), frame %d, %u characters\n", out.c_str(),
-              info.version.c_str(), frames, instances);
-  if (bench > 0) {
-    double cpu_ms = 0.0, frame_ms = 0.0;
-    std::vector<uint8_t> image;
-    for (int f = 0; f < bench && s.isOk(); ++f) {
-      const auto t0 = std::chrono::steady_clock::now();
-      s = crowd.update(si::web::kTestStepSeconds, camera);
-      renderer.clear(glm::vec4(0.55f, 0.62f, 0.7f, 1.0f));
-      if (s.isOk()) s = renderer.drawCrowd(crowd, batcher, camera, nullptr);
-      const auto t1 = std::chrono::steady_clock::now();
-      if (s.isOk()) s = context->readPixels(&image);
-      const auto t2 = std::chrono::steady_clock::now();
-      cpu_ms += std::chrono::duration<double, std::milli>(t1 - t0).count();
-      frame_ms += std::chrono::duration<double, std::milli>(t2 - t0).count();
+  si::web::Scene scene;
+  s = scene.init(info, {}, character, palette, instances);
+  if (!s.isOk()) return fail("the scene", s);
+  std::vector<uint8_t> frame;
+  int result = 0;
+  // The actions, in order; each takes its values from the arguments after it.
+  auto value = [&](size_t i) { return i < args.size() ? args[i] : std::string(); };
+  for (size_t i = 0; i < args.size(); ++i) {
+    const std::string& a = args[i];
+    if (a == "--palette" || a == "--instances" || a == "--max-share") {
+      ++i;
+    } else if (a == "--step") {
+      s = scene.frame(std::atof(value(++i).c_str()), kAspect, nullptr);
+      if (s.isOk()) s = context->readPixels(&frame);
+    } else if (a == "--drag") {
+      const double dx = std::atof(value(++i).c_str());
+      scene.drag(dx, std::atof(value(++i).c_str()));
+    } else if (a == "--wheel") {
+      scene.wheel(std::atof(value(++i).c_str()));
+    } else if (a == "--set-instances") {
+      s = scene.setInstances(uint32_t(std::max(1, std::atoi(value(++i).c_str()))));
+    } else if (a == "--lod") {
+      s = scene.setLodScale(std::atof(value(++i).c_str()));
+    } else if ((a == "--out" || a == "--check") && frame.empty()) {
+      s = {si::StatusCode::kInvalidArgument, a + " before the first --step"};
+    } else if (a == "--out") {
+      s = si::writePng(value(++i), kWidth, kHeight, frame);
+    } else if (a == "--check") {
+      const std::string shot = value(++i), stats = value(++i);
+      const int r = check(scene, frame, shot, stats, max_share);
+      if (r == 2) return r;
+      result = std::max(result, r);
+    } else if (a == "--bench") {
+      s = bench(scene, *context, std::max(1, std::atoi(value(++i).c_str())), info.renderer);
+    } else {
+      s = {si::StatusCode::kInvalidArgument, "unknown action " + a};
     }
-    if (!s.isOk()) return fail("the benchmark frames", s);
-    std::printf(
-        "web_reference: native %s, %u characters, %d frames: CPU %.2f ms a frame, "
-        "frame %.2f ms (%.1f frames/s)\n",
-        info.renderer.c_str(), instances, bench, cpu_ms / bench, frame_ms / bench,
-        1000.0 * bench / frame_ms);
+    if (!s.isOk()) return fail(a, s);
   }
-  if (compare.empty()) return 0;
-  uint32_t w = 0, h = 0;
-  std::vector<uint8_t> shot;
-  s = si::readPng(compare, &w, &h, &shot);
-  if (!s.isOk()) return fail(compare.c_str(), s);
-  if (w < kWidth || h < kHeight)
-    return fail(compare.c_str(), {si::StatusCode::kCountMismatch, "smaller than the canvas"});
-  size_t differing = 0;
-  int max_channel = 0;
-  for (uint32_t y = 0; y < kHeight; ++y)
-    for (uint32_t x = 0; x < kWidth; ++x) {
-      const uint8_t* a = &reference[(size_t(y) * kWidth + x) * 4];
-      const uint8_t* b = &shot[(size_t(y) * w + x) * 4];
-      int m = 0;
-      for (int c = 0; c < 3; ++c) m = std::max(m, std::abs(int(a[c]) - int(b[c])));
-      max_channel = std::max(max_channel, m);
-      differing += m > 8 ? 1 : 0;
-    }
-  const double share = double(differing) / double(kWidth * kHeight);
-  std::printf(
-      "web_reference: %s against the reference: %.3f %% of pixels differ by more than "
-      "8/255 (largest %d), allowed %.3f %%\n",
-      compare.c_str(), share * 100.0, max_channel, max_share * 100.0);
-  return share <= max_share ? 0 : 1;
+  std::printf("web_reference: %s, %u characters at the end\n", info.version.c_str(),
+              scene.instances());
+  return result;
 }
