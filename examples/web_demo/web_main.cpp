@@ -11,7 +11,10 @@
 // call draws one frame after stepping the clock by dt, with its statistics, so that the test
 // draws the frames web_reference.cpp draws natively, between the control moves it makes.
 // ?count=CHARACTERS sets the crowd's first size; ?bench=SECONDS logs the statistics once after
-// that long measured (scripts/web_bench.sh); ?restore=0 turns the GL state contract off.
+// that long measured (scripts/web_bench.sh); ?restore=0 turns the GL state contract off;
+// ?checks=1 checks GL errors after each call (the test mode's default), ?checks=0 does not;
+// ?raster=1 has the state contract ask WebGL for the values it answers by a round trip
+// (RendererDesc::webgl_restore_raster_state).
 #include <emscripten/emscripten.h>
 #include <emscripten/html5.h>
 
@@ -97,6 +100,16 @@ void loopFrame() {
   drawFrame(a, a.last_ms > 0.0 ? std::min(0.1, (now - a.last_ms) * 1e-3) : 0.0);
 }
 
+// The integer the page's query string gives `name`, or `absent`.
+int queryInt(const char* name, int absent) {
+  return EM_ASM_INT(
+      {
+        const v = new URLSearchParams(location.search).get(UTF8ToString($0));
+        return v == null ? $1 : (parseInt(v, 10) || 0);
+      },
+      name, absent);
+}
+
 bool readFile(const char* path, std::vector<uint8_t>* out) {
   std::ifstream in(path, std::ios::binary);
   if (!in) return false;
@@ -136,15 +149,12 @@ EMSCRIPTEN_KEEPALIVE int si_web_step(double dt) {
 }
 
 int main() {
-  // The page's query string (0: not given).
-  const int test = EM_ASM_INT(
-      { return parseInt(new URLSearchParams(location.search).get("test") || "0", 10) || 0; });
-  const int count = EM_ASM_INT(
-      { return parseInt(new URLSearchParams(location.search).get("count") || "0", 10) || 0; });
-  const int bench = EM_ASM_INT(
-      { return parseInt(new URLSearchParams(location.search).get("bench") || "0", 10) || 0; });
-  const int restore =
-      EM_ASM_INT({ return new URLSearchParams(location.search).get("restore") == "0" ? 0 : 1; });
+  const int test = queryInt("test", 0);
+  const int count = queryInt("count", 0);
+  const int bench = queryInt("bench", 0);
+  const int checks = queryInt("checks", -1);
+  const int restore = queryInt("restore", 1);
+  const int raster = queryInt("raster", 0);
   EmscriptenWebGLContextAttributes attributes;
   emscripten_webgl_init_context_attributes(&attributes);
   attributes.majorVersion = 2;
@@ -176,8 +186,12 @@ int main() {
   s = si::makeDefaultCharacter({}, &a.character);
   if (s.isOk()) s = si::loadPalette(bytes, &a.palette);
   si::RendererDesc rd;
-  rd.debug_checks = 1;  // Every GL error named, and the page stops.
+  // In the test mode (or with ?checks=1) every GL error is named and the page stops. Not by
+  // default (or with ?checks=0): in a browser glGetError waits for the GPU process to finish
+  // the queued work (docs/web.md), which makes every frame wait for the last.
+  rd.debug_checks = checks == 1 || (checks < 0 && a.test) ? 1 : 2;
   rd.restore_state = restore != 0;  // ?restore=0: the state contract off (docs/web.md's table).
+  rd.webgl_restore_raster_state = raster != 0;  // ?raster=1: its round trips too.
   if (s.isOk())
     s = a.scene.init(info, rd, a.character, a.palette,
                      count > 0 ? uint32_t(count) : si::web::kDefaultInstances);

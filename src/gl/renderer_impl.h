@@ -66,7 +66,8 @@ struct Renderer::Impl {
   Guard enter(const char* what,
                                               const detail::GlFootprint& footprint) const {
     if (debug) detail::logHostErrors(what);
-    return std::make_unique<detail::GlStateGuard>(footprint, desc.restore_state);
+    return std::make_unique<detail::GlStateGuard>(footprint, desc.restore_state,
+                                                  desc.webgl_restore_raster_state);
   }
 
   /// On the ES profile (GlInfo::es), kUnsupported naming `what` and the `capability` it lacks

@@ -6,6 +6,7 @@
 // what ES 3.0 lacks. The custom texture's tests run on the profile too (custom_texture_test.cpp).
 #include <glad/gl.h>
 
+#include "gl/profile/gl_profile.h"
 #include "render/render_fixture.h"
 #include "si/gl/image_lod_error.h"
 
@@ -197,6 +198,53 @@ TEST_P(EsRenderTest, TheHostsBindingsStayAsTheyWere) {
   glDeleteVertexArrays(1, &vao);
   glDeleteBuffers(3, buffers);
   glDeleteTextures(2, textures);
+}
+
+// Under WebGL (GlInfo::webgl; the profile's flag set here on the native ES context) the state
+// contract does not ask for the cull face mode, front face and colour mask, which WebGL answers
+// only by a round trip to the GPU process: it leaves them at GL's defaults, unless
+// RendererDesc::webgl_restore_raster_state asks for them. Desktop-like ES restores them.
+TEST_P(EsRenderTest, UnderWebGlTheRoundTripValuesAreLeftAtDefaultsUnlessAsked) {
+  struct WebGl {
+    explicit WebGl(bool on) { detail::setWebglProfile(on); }
+    ~WebGl() { detail::setWebglProfile(false); }
+  };
+  const auto raster = [] {
+    GLint cull = 0, front = 0;
+    GLboolean mask[4] = {};
+    glGetIntegerv(GL_CULL_FACE_MODE, &cull);
+    glGetIntegerv(GL_FRONT_FACE, &front);
+    glGetBooleanv(GL_COLOR_WRITEMASK, mask);
+    return std::vector<GLint>{cull, front, mask[0], mask[1], mask[2], mask[3]};
+  };
+  const std::vector<GLint> host = {GL_FRONT, GL_CW, GL_TRUE, GL_FALSE, GL_TRUE, GL_FALSE};
+  const std::vector<GLint> defaults = {GL_BACK, GL_CCW, GL_TRUE, GL_TRUE, GL_TRUE, GL_TRUE};
+  for (const bool webgl : {true, false}) {
+    for (const bool ask : {false, true}) {
+      SCOPED_TRACE(testing::Message() << "webgl " << webgl << ", asked " << ask);
+      const WebGl profile(webgl);
+      glCullFace(GL_FRONT);
+      glFrontFace(GL_CW);
+      glColorMask(GL_TRUE, GL_FALSE, GL_TRUE, GL_FALSE);
+      RendererDesc rd;
+      rd.skinning_path = SkinningPath::kVertexShader;
+      rd.webgl_restore_raster_state = ask;
+      Renderer r;
+      CrowdManager crowd;
+      InstanceBatcher batcher;
+      makeRenderer(&r, 0, PaletteFormat::kMatrix3x4F32, &rd);
+      makeCrowd(&crowd);
+      populateLodCrowd(&crowd);
+      ASSERT_TRUE(crowd.update(0.0, lodCamera()).isOk());
+      ASSERT_TRUE(batcher.init(r.batchLimits()).isOk());
+      ASSERT_TRUE(r.drawCrowd(crowd, batcher, lodCamera(), nullptr).isOk());
+      EXPECT_EQ(raster(), webgl && !ask ? defaults : host);
+    }
+  }
+  glCullFace(GL_BACK);
+  glFrontFace(GL_CCW);
+  glColorMask(GL_TRUE, GL_TRUE, GL_TRUE, GL_TRUE);
+  EXPECT_EQ(glGetError(), GLenum(GL_NO_ERROR));
 }
 
 // What ES 3.0 lacks is refused by name (kUnsupported, "the OpenGL ES profile has no ..."), and

@@ -46,7 +46,10 @@ struct GlInfo {
   /// draws the vertex-shader path and refuses what ES 3.0 lacks by name (docs/rendering.md,
   /// "The ES profile"). The storage, compute and debug fields above are then 0.
   bool es = false;
-  /// A browser's WebGL 2 context (an ES context whose GL_VERSION names WebGL; Emscripten's).
+  /// A browser's WebGL 2 context (an ES context whose GL_VERSION names WebGL; Emscripten's):
+  /// primitive restart at the fixed index is left alone (always on there), and the state
+  /// contract skips the values WebGL answers by a round trip to the GPU process unless
+  /// RendererDesc::webgl_restore_raster_state asks for them.
   bool webgl = false;
 };
 

@@ -100,6 +100,15 @@ struct RendererDesc {
   /// engine") lists; the cost of restoring is measured there. Switchable with
   /// setRestoreState().
   bool restore_state = true;
+  /// WebGL 2 only (GlInfo::webgl). WebGL answers the face-culling mode (GL_CULL_FACE_MODE), the
+  /// front face (GL_FRONT_FACE) and the colour mask (GL_COLOR_WRITEMASK) only through a
+  /// synchronous round trip to the browser's GPU process, which waits for all the queued work
+  /// (docs/web.md measures it); every other value the state contract saves is answered by the
+  /// page. Off (the default), the contract does not ask for these three and leaves them at
+  /// GL's defaults, the values it draws with: glCullFace(GL_BACK), glFrontFace(GL_CCW), every
+  /// colour channel written. On, it asks and restores them like the rest. Ignored elsewhere
+  /// and with restore_state off.
+  bool webgl_restore_raster_state = false;
   /// Measure GPU time of each draw call group with a timer query (blocks until the result is
   /// available: for benchmarks and tests).
   bool measure_gpu_time = false;

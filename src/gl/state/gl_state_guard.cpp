@@ -91,6 +91,10 @@ void GlStateGuard::saveIndexed(GLenum binding, GLenum start, GLenum size, uint32
   for (int i = 0; i < kMaxIndexed; ++i) {
     if (!(mask >> i & 1u)) continue;
     glGetIntegeri_v(binding, GLuint(i), &out[i].buffer);
+    // No buffer is restored as none (glBindBufferBase of 0) whatever its range reads, so the
+    // range is asked for only with a buffer: in a browser the binding is answered by the page,
+    // the range by a round trip to the GPU process (docs/web.md).
+    if (out[i].buffer == 0) continue;
     glGetInteger64i_v(start, GLuint(i), &out[i].start);
     glGetInteger64i_v(size, GLuint(i), &out[i].size);
   }
@@ -130,8 +134,12 @@ void GlStateGuard::setDefaultPixelStore(bool pack) {
   glBindBuffer(pack ? GL_PIXEL_PACK_BUFFER : GL_PIXEL_UNPACK_BUFFER, 0);
 }
 
-GlStateGuard::GlStateGuard(const GlFootprint& footprint, bool restore)
-    : footprint_(footprint), restore_(restore), es_(esProfile()), webgl_(webglProfile()) {
+GlStateGuard::GlStateGuard(const GlFootprint& footprint, bool restore, bool webgl_raster)
+    : footprint_(footprint),
+      restore_(restore),
+      es_(esProfile()),
+      webgl_(webglProfile()),
+      raster_(!webgl_ || webgl_raster) {
   if (es_) {  // No storage buffers, image units, indirect or query buffers, transform capture.
     // The material table a draw reads from storage binding 11 is a uniform block there.
     if (footprint_.storage_buffers >> 11 & 1u) footprint_.uniform_buffers |= 1u << 11;
@@ -181,9 +189,11 @@ GlStateGuard::GlStateGuard(const GlFootprint& footprint, bool restore)
       cull_face_ = glIsEnabled(GL_CULL_FACE);
       rasterizer_discard_ = glIsEnabled(GL_RASTERIZER_DISCARD);
       if (!webgl_) fixed_index_restart_ = glIsEnabled(GL_PRIMITIVE_RESTART_FIXED_INDEX);
-      glGetIntegerv(GL_CULL_FACE_MODE, &cull_face_mode_);
-      glGetIntegerv(GL_FRONT_FACE, &front_face_);
-      glGetBooleanv(GL_COLOR_WRITEMASK, color_mask_);
+      if (raster_) {  // Else restored as GL's defaults (the members' initial values).
+        glGetIntegerv(GL_CULL_FACE_MODE, &cull_face_mode_);
+        glGetIntegerv(GL_FRONT_FACE, &front_face_);
+        glGetBooleanv(GL_COLOR_WRITEMASK, color_mask_);
+      }
     }
     if (f.framebuffer) {
       glGetIntegerv(GL_DRAW_FRAMEBUFFER_BINDING, &draw_framebuffer_);

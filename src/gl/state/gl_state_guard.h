@@ -43,7 +43,9 @@ GlFootprint readbackFootprint();    ///< Reading textures back (MotionTarget).
 /// restores what it saved. Needs a current context with GL loaded. Not copyable.
 class GlStateGuard {
  public:
-  GlStateGuard(const GlFootprint& footprint, bool restore);
+  /// `webgl_raster`: under WebGL, also save the cull face mode, front face and colour mask
+  /// (each a round trip to the GPU process; RendererDesc::webgl_restore_raster_state).
+  GlStateGuard(const GlFootprint& footprint, bool restore, bool webgl_raster = true);
   ~GlStateGuard();
   GlStateGuard(const GlStateGuard&) = delete;
   GlStateGuard& operator=(const GlStateGuard&) = delete;
@@ -77,6 +79,7 @@ class GlStateGuard {
   bool restore_ = false;
   bool es_ = false;  // The ES profile: only the state ES 3.0 has (gl_profile.h).
   bool webgl_ = false;  // WebGL 2: primitive restart at the fixed index is always on.
+  bool raster_ = true;  // Save the cull face mode, front face and colour mask (see above).
   IndexedBuffer uniform_[kMaxIndexed], storage_[kMaxIndexed];
   GLint generic_uniform_ = 0, generic_storage_ = 0;
   Unit units_[kMaxUnits];
