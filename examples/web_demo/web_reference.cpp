@@ -16,7 +16,9 @@
 //   --bench N            plays N more frames of 1/30 s and prints the CPU milliseconds a frame
 //                        (update and draw calls, the page's "CPU" figure) and the whole frame's
 //                        (to the read-back, which waits for the GPU): scripts/web_bench.sh
-// Options: --palette FILE (required), --instances N (the first crowd size), --max-share S.
+// Options: --palette FILE (required), --instances N (the first crowd size), --max-share S,
+// --desktop (the same scene on a desktop OpenGL 4.5 context instead: the ES profile's cost
+// against the desktop back-end's, both on the vertex-shader path, with --bench).
 // Exits 1 when a check fails, 2 on an error.
 #include <algorithm>
 #include <chrono>
@@ -119,7 +121,10 @@ int main(int argc, char** argv) {
   std::string palette_path;
   uint32_t instances = si::web::kDefaultInstances;
   double max_share = 0.005;
-  for (size_t i = 0; i + 1 < args.size(); ++i) {
+  bool desktop = false;
+  for (size_t i = 0; i < args.size(); ++i) {
+    if (args[i] == "--desktop") desktop = true;
+    if (i + 1 == args.size()) break;
     if (args[i] == "--palette") palette_path = args[i + 1];
     if (args[i] == "--instances") instances = uint32_t(std::max(1, std::atoi(args[i + 1].c_str())));
     if (args[i] == "--max-share") max_share = std::atof(args[i + 1].c_str());
@@ -137,14 +142,16 @@ int main(int argc, char** argv) {
   si::HeadlessDesc hd;
   hd.width = kWidth;
   hd.height = kHeight;
-  hd.es = true;
+  hd.es = !desktop;
   std::unique_ptr<si::HeadlessContext> context;
   s = si::HeadlessContext::create(hd, &context);
   si::GlInfo info;
   if (s.isOk()) s = si::loadGl(&si::HeadlessContext::getProcAddress, context.get(), &info);
-  if (!s.isOk()) return fail("an OpenGL ES context", s);
+  if (!s.isOk()) return fail(desktop ? "an OpenGL context" : "an OpenGL ES context", s);
   si::web::Scene scene;
-  s = scene.init(info, {}, character, palette, instances);
+  si::RendererDesc rd;
+  rd.skinning_path = si::SkinningPath::kVertexShader;  // The ES profile's path, on both.
+  s = scene.init(info, rd, character, palette, instances);
   if (!s.isOk()) return fail("the scene", s);
   std::vector<uint8_t> frame;
   int result = 0;
@@ -154,6 +161,7 @@ int main(int argc, char** argv) {
     const std::string& a = args[i];
     if (a == "--palette" || a == "--instances" || a == "--max-share") {
       ++i;
+    } else if (a == "--desktop") {
     } else if (a == "--step") {
       s = scene.frame(std::atof(value(++i).c_str()), kAspect, nullptr);
       if (s.isOk()) s = context->readPixels(&frame);
@@ -176,7 +184,8 @@ int main(int argc, char** argv) {
       if (r == 2) return r;
       result = std::max(result, r);
     } else if (a == "--bench") {
-      s = bench(scene, *context, std::max(1, std::atoi(value(++i).c_str())), info.renderer);
+      s = bench(scene, *context, std::max(1, std::atoi(value(++i).c_str())),
+                info.renderer + ", " + info.version);
     } else {
       s = {si::StatusCode::kInvalidArgument, "unknown action " + a};
     }
