@@ -153,7 +153,8 @@ int main(int argc, char** argv) {
   rd.skinning_path = si::SkinningPath::kVertexShader;  // The ES profile's path, on both.
   s = scene.init(info, rd, character, palette, instances);
   if (!s.isOk()) return fail("the scene", s);
-  std::vector<uint8_t> frame;
+  std::vector<uint8_t> frame;  // The last frame's pixels, read back at --out and --check.
+  bool drawn = false;
   int result = 0;
   // The actions, in order; each takes its values from the arguments after it.
   auto value = [&](size_t i) { return i < args.size() ? args[i] : std::string(); };
@@ -164,7 +165,7 @@ int main(int argc, char** argv) {
     } else if (a == "--desktop") {
     } else if (a == "--step") {
       s = scene.frame(std::atof(value(++i).c_str()), kAspect, nullptr);
-      if (s.isOk()) s = context->readPixels(&frame);
+      drawn = true;
     } else if (a == "--drag") {
       const double dx = std::atof(value(++i).c_str());
       scene.drag(dx, std::atof(value(++i).c_str()));
@@ -174,11 +175,14 @@ int main(int argc, char** argv) {
       s = scene.setInstances(uint32_t(std::max(1, std::atoi(value(++i).c_str()))));
     } else if (a == "--lod") {
       s = scene.setLodScale(std::atof(value(++i).c_str()));
-    } else if ((a == "--out" || a == "--check") && frame.empty()) {
+    } else if ((a == "--out" || a == "--check") && !drawn) {
       s = {si::StatusCode::kInvalidArgument, a + " before the first --step"};
     } else if (a == "--out") {
-      s = si::writePng(value(++i), kWidth, kHeight, frame);
+      s = context->readPixels(&frame);
+      if (s.isOk()) s = si::writePng(value(++i), kWidth, kHeight, frame);
     } else if (a == "--check") {
+      s = context->readPixels(&frame);
+      if (!s.isOk()) return fail(a, s);
       const std::string shot = value(++i), stats = value(++i);
       const int r = check(scene, frame, shot, stats, max_share);
       if (r == 2) return r;

@@ -19,10 +19,11 @@ class EsRenderTest : public RenderTest {
  protected:
   bool es() const override { return true; }
 
-  // A renderer of the embedded character and the LOD crowd (populateLodCrowd) selected for
-  // lodCamera(), with a batcher for the renderer.
-  void lodScene(Renderer* r, CrowdManager* crowd, InstanceBatcher* batcher) {
-    makeRenderer(r);
+  // A renderer of the embedded character (with `rd` when given) and the LOD crowd
+  // (populateLodCrowd) selected for lodCamera(), with a batcher for the renderer.
+  void lodScene(Renderer* r, CrowdManager* crowd, InstanceBatcher* batcher,
+                const RendererDesc* rd = nullptr) {
+    makeRenderer(r, 0, PaletteFormat::kMatrix3x4F32, rd);
     makeCrowd(crowd);
     populateLodCrowd(crowd);
     ASSERT_TRUE(crowd->update(0.0, lodCamera()).isOk());
@@ -232,11 +233,7 @@ TEST_P(EsRenderTest, UnderWebGlTheRoundTripValuesAreLeftAtDefaultsUnlessAsked) {
       Renderer r;
       CrowdManager crowd;
       InstanceBatcher batcher;
-      makeRenderer(&r, 0, PaletteFormat::kMatrix3x4F32, &rd);
-      makeCrowd(&crowd);
-      populateLodCrowd(&crowd);
-      ASSERT_TRUE(crowd.update(0.0, lodCamera()).isOk());
-      ASSERT_TRUE(batcher.init(r.batchLimits()).isOk());
+      lodScene(&r, &crowd, &batcher, &rd);
       ASSERT_TRUE(r.drawCrowd(crowd, batcher, lodCamera(), nullptr).isOk());
       EXPECT_EQ(raster(), webgl && !ask ? defaults : host);
     }
