@@ -35,12 +35,6 @@ const char* frameInterpolationName(FrameInterpolation i) {
   return "invalid";
 }
 
-uint32_t packFraction(float fraction, IntervalMode mode) {
-  uint32_t bits;
-  std::memcpy(&bits, &fraction, 4);
-  return (bits & 0x3FFFFFFFu) | (uint32_t(mode) & 3u) << 30;
-}
-
 float unpackFraction(uint32_t word, IntervalMode* mode) {
   if (mode != nullptr) *mode = static_cast<IntervalMode>(word >> 30);
   word &= 0x3FFFFFFFu;
@@ -163,22 +157,6 @@ FrameSample sampleFrames(const BakedClip& clip, double local_time_seconds,
   }
   return detail::frameTimesSample(clip, t, k);
 }
-
-namespace detail {
-FrameSample frameTimesSample(const BakedClip& clip, double t, size_t after) {
-  const std::vector<double>& times = clip.frame_times_seconds;
-  const uint32_t i = static_cast<uint32_t>(std::min<size_t>(after == 0 ? 0 : after - 1,
-                                                            clip.frame_count - 2));
-  const double span = times[i + 1] - times[i];
-  FrameSample s;
-  s.frame = i;
-  s.next_frame = i + 1;
-  s.fraction = span > 0.0 ? static_cast<float>(std::min(std::max((t - times[i]) / span, 0.0), 1.0))
-                          : 1.0f;
-  s.mode = intervalModeAt(clip, i);
-  return s;
-}
-}  // namespace detail
 
 std::vector<uint8_t> cubicIntervalModes(const BakedClip& clip, bool wraps,
                                         Span<const uint8_t> breaks) {

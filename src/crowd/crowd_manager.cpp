@@ -265,8 +265,8 @@ Status CrowdManager::get(InstanceHandle h, InstanceDesc* out) const {
   if (!s.isOk()) return s;
   if (out == nullptr) return {StatusCode::kInvalidArgument, "get: out is null"};
   InstanceDesc d;
-  d.position = st.positions[i];
-  d.rotation = st.rotations[i];
+  d.position = st.positions.get(i);
+  d.rotation = st.rotations.get(i);
   d.scale = st.scales[i];
   d.color = detail::appearanceColor(st.colors[i]);
   d.custom_layer = uint8_t(st.colors[i] >> 24);
@@ -458,8 +458,8 @@ Status CrowdManager::jointMatrix(InstanceHandle h, uint32_t joint, glm::dmat4* o
   const glm::mat4 m = weight > 0.0f ? emulateLayeredMatrix(state_->layer_masks[o.mask], slot, weight, base,
                                                            [&](uint32_t at) { return matrix(o.playback, at, false); })
                                     : base(slot);
-  glm::dmat4 world(glm::mat3_cast(glm::dquat(st.rotations[i])) * double(st.scales[i]));
-  world[3] = glm::dvec4(st.positions[i], 1.0);
+  glm::dmat4 world(glm::mat3_cast(glm::dquat(st.rotations.get(i))) * double(st.scales[i]));
+  world[3] = glm::dvec4(st.positions.get(i), 1.0);
   *out = world * glm::dmat4(m);
   return Status::ok();
 }

@@ -74,6 +74,65 @@ void simulateChunk(const FrameInputs& in, InstanceStore& st, uint32_t chunk, uin
   for (uint32_t i = begin; i < end; ++i) endFinishedFade(st, i, clock);
 }
 
+// A block's camera-relative positions (the float of the double difference) and scales into
+// lanes 0..count of `l`, from instances first..first+count (vector loads, a column block at a
+// time) or, with `dense`, from instances dense[0..count); lanes count..padded repeat lane 0.
+// Inlined: the caller's CPU clone vectorises it.
+template <typename Lanes>
+__attribute__((always_inline)) inline void loadPositions(const InstanceStore& st,
+                                                         const glm::dvec3& camera, uint32_t first,
+                                                         const uint32_t* dense, uint32_t count,
+                                                         uint32_t padded, Lanes& l) {
+  if (dense == nullptr) {
+    for (uint32_t k = 0; k < count;) {
+      const uint32_t i = first + k, at = i % kColumnBlock;
+      const uint32_t n = std::min(count - k, kColumnBlock - at);
+      const DVec3Block& b = st.positions.blockOf(i);
+      for (uint32_t j = 0; j < n; ++j) l.rx[k + j] = float(b.x[at + j] - camera.x);
+      for (uint32_t j = 0; j < n; ++j) l.ry[k + j] = float(b.y[at + j] - camera.y);
+      for (uint32_t j = 0; j < n; ++j) l.rz[k + j] = float(b.z[at + j] - camera.z);
+      std::memcpy(l.s + k, st.scales.data() + i, n * sizeof(float));
+      k += n;
+    }
+  } else {
+    for (uint32_t k = 0; k < count; ++k) {
+      const uint32_t i = dense[k], at = i % kColumnBlock;
+      const DVec3Block& b = st.positions.blockOf(i);
+      l.rx[k] = float(b.x[at] - camera.x), l.ry[k] = float(b.y[at] - camera.y);
+      l.rz[k] = float(b.z[at] - camera.z), l.s[k] = st.scales[i];
+    }
+  }
+  for (uint32_t k = count; k < padded; ++k)
+    l.rx[k] = l.rx[0], l.ry[k] = l.ry[0], l.rz[k] = l.rz[0], l.s[k] = l.s[0];
+}
+
+// The rotations of the same block (as loadPositions).
+template <typename Lanes>
+__attribute__((always_inline)) inline void loadRotations(const InstanceStore& st, uint32_t first,
+                                                         const uint32_t* dense, uint32_t count,
+                                                         uint32_t padded, Lanes& l) {
+  if (dense == nullptr) {
+    for (uint32_t k = 0; k < count;) {
+      const uint32_t i = first + k, at = i % kColumnBlock;
+      const uint32_t n = std::min(count - k, kColumnBlock - at);
+      const QuatBlock& b = st.rotations.blockOf(i);
+      std::memcpy(l.qx + k, b.x + at, n * sizeof(float));
+      std::memcpy(l.qy + k, b.y + at, n * sizeof(float));
+      std::memcpy(l.qz + k, b.z + at, n * sizeof(float));
+      std::memcpy(l.qw + k, b.w + at, n * sizeof(float));
+      k += n;
+    }
+  } else {
+    for (uint32_t k = 0; k < count; ++k) {
+      const uint32_t i = dense[k], at = i % kColumnBlock;
+      const QuatBlock& b = st.rotations.blockOf(i);
+      l.qx[k] = b.x[at], l.qy[k] = b.y[at], l.qz[k] = b.z[at], l.qw[k] = b.w[at];
+    }
+  }
+  for (uint32_t k = count; k < padded; ++k)
+    l.qx[k] = l.qx[0], l.qy[k] = l.qy[0], l.qz[k] = l.qz[0], l.qw[k] = l.qw[0];
+}
+
 // Select: cull, LOD and key of every instance of chunk `chunk`, instances [begin, end).
 SI_CPU_CLONES void selectChunk(const FrameInputs& in, InstanceStore& st, uint32_t chunk,
                                uint32_t begin, uint32_t end, ChunkWork& w) {
@@ -81,8 +140,13 @@ SI_CPU_CLONES void selectChunk(const FrameInputs& in, InstanceStore& st, uint32_
   const cull::Params& cull_params = in.params;
   ViewLanes& view = st.views[in.lane];
   const uint32_t coarsest = in.params.lod_count - 1;
-  w.visible.clear();
-  w.keys.clear();
+  const uint32_t worn_bits = wornMask(~0u, in.sub_mesh_count);
+  // Sized for a whole chunk once (never shrunk: no fill per frame); visible_count of them used.
+  if (w.visible.size() < end - begin) {
+    w.visible.resize(kChunkInstances);
+    w.keys.resize(kChunkInstances);
+  }
+  uint32_t visible = 0;
   w.mask_count = 0;
   w.mask_overflow = false;
   std::memset(w.slot_of, 0xFF, sizeof w.slot_of);
@@ -105,28 +169,29 @@ SI_CPU_CLONES void selectChunk(const FrameInputs& in, InstanceStore& st, uint32_
   for (uint32_t i0 = begin; i0 < end; i0 += cull::kBlock) {
     const uint32_t count = std::min(cull::kBlock, end - i0);
     const uint32_t padded = (count + cull::kLanes - 1) / cull::kLanes * cull::kLanes;
+    // Positions and scales first: most of a large crowd may lie beyond the far line, and a
+    // block wholly beyond it reads nothing more.
+    loadPositions(st, in.camera_position, i0, nullptr, count, padded, lanes);
     uint32_t near_lanes = 0;
     for (uint32_t k = 0; k < padded; ++k) {
-      const uint32_t i = i0 + (k < count ? k : 0);  // Past the end: lane 0's instance again.
-      if (in.simulate) endFinishedFade(st, i, in.clock);
-      const glm::vec3 rel(st.positions[i] - in.camera_position);  // Camera-relative, from double.
-      const float s = st.scales[i];
-      // The far line first: most of a large crowd may lie beyond it, and such an instance
-      // reads nothing more.
-      far[k] = cull::beyondFarLine(rel, s, cull_params);
+      far[k] = cull::beyondFarLine(glm::vec3(lanes.rx[k], lanes.ry[k], lanes.rz[k]), lanes.s[k],
+                                   cull_params);
       near_lanes += !far[k];
-      lanes.rx[k] = rel.x, lanes.ry[k] = rel.y, lanes.rz[k] = rel.z;
-      lanes.s[k] = s;
-      if (far[k]) continue;  // The lane's other inputs keep older values: its result is unused.
-      const ClipTiming& ca = clips[st.playback[i].clip];
-      const ClipTiming& cb = st.fade_duration[i] > 0.0 ? clips[st.fade_from[i].clip] : ca;
-      const glm::quat& q = st.rotations[i];
-      lanes.qx[k] = q.x, lanes.qy[k] = q.y, lanes.qz[k] = q.z, lanes.qw[k] = q.w;
-      lanes.ax[k] = ca.sphere_center.x, lanes.ay[k] = ca.sphere_center.y;
-      lanes.az[k] = ca.sphere_center.z, lanes.ar[k] = ca.sphere_radius;
-      lanes.bx[k] = cb.sphere_center.x, lanes.by[k] = cb.sphere_center.y;
-      lanes.bz[k] = cb.sphere_center.z, lanes.br[k] = cb.sphere_radius;
-      lanes.lod[k] = view.lods[i];
+    }
+    if (in.simulate)
+      for (uint32_t k = 0; k < count; ++k) endFinishedFade(st, i0 + k, in.clock);
+    if (near_lanes != 0) {
+      loadRotations(st, i0, nullptr, count, padded, lanes);
+      for (uint32_t k = 0; k < padded; ++k) {
+        const uint32_t i = i0 + (k < count ? k : 0);  // Past the end: lane 0's instance again.
+        const ClipTiming& ca = clips[st.playback[i].clip];
+        const ClipTiming& cb = st.fade_duration[i] > 0.0 ? clips[st.fade_from[i].clip] : ca;
+        lanes.ax[k] = ca.sphere_center.x, lanes.ay[k] = ca.sphere_center.y;
+        lanes.az[k] = ca.sphere_center.z, lanes.ar[k] = ca.sphere_radius;
+        lanes.bx[k] = cb.sphere_center.x, lanes.by[k] = cb.sphere_center.y;
+        lanes.bz[k] = cb.sphere_center.z, lanes.br[k] = cb.sphere_radius;
+        lanes.lod[k] = view.lods[i];
+      }
     }
     if (near_lanes == 0) {
       w.stats.culled_distance += count;
@@ -148,13 +213,14 @@ SI_CPU_CLONES void selectChunk(const FrameInputs& in, InstanceStore& st, uint32_
       ++w.stats.per_lod[lod];
       const uint32_t worn = in.impostor_lod != 0 && lod >= in.impostor_lod
                                 ? 1u  // One impostor per instance, in sub-mesh 0's bucket.
-                                : wornMask(st.masks[i], in.sub_mesh_count);
+                                : st.masks[i] & worn_bits;
       const uint32_t key = lod * kMaxMaskGroups + localGroup(w, worn);
       ++w.counts[key];
-      w.visible.push_back(i);
-      w.keys.push_back(static_cast<uint16_t>(key));
+      w.visible[visible] = i;
+      w.keys[visible++] = static_cast<uint16_t>(key);
     }
   }
+  w.visible_count = visible;
 }
 
 // The frames and blend of a record playing one clip (no crossfade): B repeats A, weight 0.
@@ -165,55 +231,6 @@ void setOneClip(uint32_t frame, uint32_t next_frame, float fraction, IntervalMod
   rec->blend[0] = rec->blend[1] = packFraction(fraction, mode);
   rec->blend[2] = floatBits(0.0f);
   rec->blend[3] = color;
-}
-
-// The record of visible instance `i` at LOD `lod`. Inlined: compiled into each CPU clone of
-// writeChunk.
-__attribute__((always_inline)) inline void writeRecord(const FrameInputs& in,
-                                                       const InstanceStore& st, uint32_t i,
-                                                       uint32_t lod, InstanceRecord* out) {
-  const BakedPalette& palette = *in.palette;
-  const std::vector<ClipTiming>& clips = *in.clips;
-  const double clock = in.clock;
-  const uint32_t stride = palette.layout.frame_stride_texels;
-  const bool step_anim = lod >= in.params.animation_lod_start;
-  const double anim_step = in.params.animation_step_seconds;
-  const glm::vec3 rel(st.positions[i] - in.camera_position);
-  const Playback& pb = st.playback[i];
-  const ClipTiming& ca = clips[pb.clip];
-  InstanceRecord rec;
-  const glm::mat3 r = glm::mat3_cast(st.rotations[i]) * st.scales[i];
-  for (int row = 0; row < 3; ++row) {
-    rec.world_rows[row][0] = r[0][row];
-    rec.world_rows[row][1] = r[1][row];
-    rec.world_rows[row][2] = r[2][row];
-    rec.world_rows[row][3] = rel[row];
-  }
-  double ta = localTime(pb, ca, clock);
-  if (step_anim) ta = steppedTime(ta, anim_step);
-  const FrameSample fa = fastSample(ca, palette.clips[pb.clip], ta);
-  const uint32_t a0 = ca.first_texel + fa.frame * stride;
-  const uint32_t a1 = ca.first_texel + fa.next_frame * stride;
-  if (st.fade_duration[i] > 0.0) {
-    // Clip A is the one fading out; B the new one, weighted by weight_b.
-    const float weight_b = std::min(float((clock - st.fade_start[i]) / st.fade_duration[i]), 1.0f);
-    const Playback& old = st.fade_from[i];
-    const ClipTiming& cb = clips[old.clip];
-    double tb = localTime(old, cb, clock);
-    if (step_anim) tb = steppedTime(tb, anim_step);
-    const FrameSample fo = fastSample(cb, palette.clips[old.clip], tb);
-    rec.frames[0] = cb.first_texel + fo.frame * stride;
-    rec.frames[1] = cb.first_texel + fo.next_frame * stride;
-    rec.frames[2] = a0;
-    rec.frames[3] = a1;
-    rec.blend[0] = packFraction(fo.fraction, fo.mode);
-    rec.blend[1] = packFraction(fa.fraction, fa.mode);
-    rec.blend[2] = floatBits(std::max(0.0f, weight_b));
-    rec.blend[3] = st.colors[i];
-  } else {
-    setOneClip(a0, a1, fa.fraction, fa.mode, st.colors[i], &rec);
-  }
-  *out = rec;
 }
 
 // Place: the frame's groups, the record range of every key, each chunk's cursors.
@@ -229,7 +246,7 @@ void placeChunks(const FrameInputs& in, uint32_t chunk_count, CrowdFrame& f, boo
     s.culled_frustum += w.stats.culled_frustum;
     s.culled_distance += w.stats.culled_distance;
     for (uint32_t l = 0; l < 8; ++l) s.per_lod[l] += w.stats.per_lod[l];
-    s.visible += uint32_t(w.visible.size());
+    s.visible += w.visible_count;
   }
   std::sort(f.group_masks.begin(), f.group_masks.end());
   f.group_masks.erase(std::unique(f.group_masks.begin(), f.group_masks.end()), f.group_masks.end());
@@ -274,7 +291,19 @@ void placeChunks(const FrameInputs& in, uint32_t chunk_count, CrowdFrame& f, boo
   }
 }
 
-// Write: every visible instance of the chunk, its record at its place.
+// The frame sample of `pb` playing clip timing `c` at clip-local time `t` (localTime), held on
+// the animation-LOD grid with `step`: what scalarRecord samples, from a lane's time.
+__attribute__((always_inline)) inline FrameSample sampleAt(const FrameInputs& in,
+                                                           const Playback& pb, const ClipTiming& c,
+                                                           double t, bool step) {
+  if (step) t = steppedTime(t, in.params.animation_step_seconds);
+  return fastSample(c, in.palette->clips[pb.clip], t);
+}
+
+// Write: every visible instance of the chunk, its record at its place. Blocks of 64: gathered,
+// their rows, times and uniform-grid frames computed 8 lanes at a time (record_lanes.h), the
+// rest per lane (frames with frame times, animation-LOD steps, crossfades' second clip), then
+// the records stored 8 at a time, each exactly what scalarRecord writes.
 SI_CPU_CLONES void writeChunk(const FrameInputs& in, InstanceStore& st, bool fallback,
                               ChunkWork& w, CrowdFrame& f) {
   ViewLanes& view = st.views[in.lane];
@@ -283,51 +312,68 @@ SI_CPU_CLONES void writeChunk(const FrameInputs& in, InstanceStore& st, bool fal
   const uint32_t stride = in.palette->layout.frame_stride_texels;
   const uint32_t anim_lod = in.params.animation_lod_start;
   RecordLanes lanes = {};
-  const size_t n = w.visible.size();
+  void* out[kRecordBlock];
+  bool special[kRecordBlock];
+  const size_t n = w.visible_count;
   for (size_t j0 = 0; j0 < n; j0 += kRecordBlock) {
     const uint32_t count = uint32_t(std::min<size_t>(kRecordBlock, n - j0));
     const uint32_t padded = (count + kRecordLanes - 1) / kRecordLanes * kRecordLanes;
-    // Gather a block (padded with its first instance), compute 8 at a time, place each record.
-    for (uint32_t k = 0; k < padded; ++k) {
-      const uint32_t i = w.visible[j0 + (k < count ? k : 0)];
-      const uint32_t lod = w.keys[j0 + (k < count ? k : 0)] / kMaxMaskGroups;
-      const glm::vec3 rel(st.positions[i] - in.camera_position);
-      const glm::quat& q = st.rotations[i];
+    // Transforms by vector loads where the block's instances are consecutive (all in view).
+    const uint32_t* dense = w.visible.data() + j0;
+    const bool consecutive = dense[count - 1] - dense[0] == count - 1;
+    loadPositions(st, in.camera_position, dense[0], consecutive ? nullptr : dense, count, padded,
+                  lanes);
+    loadRotations(st, dense[0], consecutive ? nullptr : dense, count, padded, lanes);
+    for (uint32_t k = 0; k < padded; ++k) {  // Padded with the block's first instance.
+      const uint32_t i = dense[k < count ? k : 0];
       const Playback& pb = st.playback[i];
       const ClipTiming& c = clips[pb.clip];
-      lanes.rx[k] = rel.x, lanes.ry[k] = rel.y, lanes.rz[k] = rel.z;
-      lanes.qx[k] = q.x, lanes.qy[k] = q.y, lanes.qz[k] = q.z, lanes.qw[k] = q.w;
-      lanes.s[k] = st.scales[i];
+      // The lanes' frames and blend stand where one clip plays on a uniform grid of linear
+      // intervals, unstepped; the rest is done per lane after them.
+      special[k] = !c.plain || st.fade_duration[i] > 0.0 ||
+                   w.keys[j0 + (k < count ? k : 0)] / kMaxMaskGroups >= anim_lod;
       lanes.start_time[k] = pb.start_time, lanes.start_clock[k] = pb.start_clock;
       lanes.speed[k] = double(pb.speed);
       lanes.duration[k] = c.duration, lanes.inv_duration[k] = c.inv_duration;
       lanes.inv_interval[k] = c.inv_interval, lanes.last_interval[k] = double(c.last_interval);
       lanes.loop[k] = pb.loop == LoopMode::kLoop ? -1 : 0;
-      lanes.scalar[k] = st.fade_duration[i] > 0.0 || lod >= anim_lod ? -1 : 0;
+      lanes.scalar[k] = 0;
+      lanes.first_texel[k] = c.first_texel;
+      lanes.color[k] = st.colors[i];
     }
     for (uint32_t base = 0; base < padded; base += kRecordLanes)
-      computeRecordLanes(in.clock, lanes, base);
+      computeRecordLanes(in.clock, stride, lanes, base);
     for (uint32_t k = 0; k < count; ++k) {
-      const uint32_t i = w.visible[j0 + k];
-      const uint32_t key = w.keys[j0 + k] & key_mask;
-      const uint32_t slot = w.cursor[key]++;
-      InstanceRecord& rec = f.records[slot];
-      if (lanes.scalar[k] != 0) {
-        writeRecord(in, st, i, w.keys[j0 + k] / kMaxMaskGroups, &rec);
-      } else {
-        const float rel[3] = {lanes.rx[k], lanes.ry[k], lanes.rz[k]};
-        for (int row = 0; row < 3; ++row) {
-          for (int col = 0; col < 3; ++col) rec.world_rows[row][col] = lanes.rows[row][col][k];
-          rec.world_rows[row][3] = rel[row];
+      const uint32_t i = dense[k];
+      const uint32_t lod = w.keys[j0 + k] / kMaxMaskGroups;
+      const uint32_t slot = w.cursor[w.keys[j0 + k] & key_mask]++;
+      out[k] = &f.records[slot];
+      if (special[k] || lanes.scalar[k] != 0) {  // Or a time the lanes could not compute.
+        const Playback& pb = st.playback[i];
+        const ClipTiming& c = clips[pb.clip];
+        const bool step = lod >= anim_lod;
+        const bool fading = st.fade_duration[i] > 0.0;
+        const FrameSample a = sampleAt(
+            in, pb, c, lanes.scalar[k] == 0 ? lanes.time[k] : localTime(pb, c, in.clock), step);
+        const uint32_t a0 = c.first_texel + a.frame * stride;
+        const uint32_t a1 = c.first_texel + a.next_frame * stride;
+        const uint32_t word_a = packFraction(a.fraction, a.mode);
+        lanes.frames[2][k] = a0, lanes.frames[3][k] = a1;
+        lanes.blend[1][k] = word_a;
+        if (fading) {  // Clip A fades out: the old playback, B the new one.
+          const Playback& old = st.fade_from[i];
+          const ClipTiming& cb = clips[old.clip];
+          const FrameSample b = sampleAt(in, old, cb, localTime(old, cb, in.clock), step);
+          const float weight_b =
+              std::min(float((in.clock - st.fade_start[i]) / st.fade_duration[i]), 1.0f);
+          lanes.frames[0][k] = cb.first_texel + b.frame * stride;
+          lanes.frames[1][k] = cb.first_texel + b.next_frame * stride;
+          lanes.blend[0][k] = packFraction(b.fraction, b.mode);
+          lanes.blend[2][k] = floatBits(std::max(0.0f, weight_b));
+        } else {  // One clip: B repeats A, weight 0.
+          lanes.frames[0][k] = a0, lanes.frames[1][k] = a1;
+          lanes.blend[0][k] = word_a;
         }
-        const uint32_t clip = st.playback[i].clip;
-        const ClipTiming& c = clips[clip];
-        // A clip with frame times: the frame from the lane's time, through the clip's table.
-        const FrameSample fs = c.uniform ? FrameSample{} : fastSample(c, in.palette->clips[clip], lanes.time[k]);
-        const uint32_t frame = c.uniform ? uint32_t(lanes.frame[k]) : fs.frame;
-        const uint32_t a0 = c.first_texel + frame * stride;
-        setOneClip(a0, a0 + stride, c.uniform ? lanes.fraction[k] : fs.fraction,
-                   c.uniform ? intervalModeAt(c.modes, frame) : fs.mode, st.colors[i], &rec);
       }
       f.visible_handles[slot] = st.dense_handles[i];
       if (fallback) f.record_masks[slot] = wornMask(st.masks[i], in.sub_mesh_count);
@@ -338,6 +384,10 @@ SI_CPU_CLONES void writeChunk(const FrameInputs& in, InstanceStore& st, bool fal
         view.record_slot[i] = slot;
       }
     }
+    // Stored once the block is finished: the lanes' vector loads then find the per-lane
+    // stores above in the cache (a load spanning narrower stores still in flight waits).
+    for (uint32_t base = 0; base < count; base += kRecordLanes)
+      storeRecordLanes(lanes, base, std::min(kRecordLanes, count - base), out + base);
   }
 }
 
@@ -354,6 +404,52 @@ void forEachChunk(const FrameInputs& in, uint32_t chunk_count, const Body& body)
 
 }  // namespace
 
+void scalarRecord(const FrameInputs& in, const InstanceStore& st, uint32_t i, uint32_t lod,
+                  InstanceRecord* out) {
+  const BakedPalette& palette = *in.palette;
+  const std::vector<ClipTiming>& clips = *in.clips;
+  const double clock = in.clock;
+  const uint32_t stride = palette.layout.frame_stride_texels;
+  const bool step_anim = lod >= in.params.animation_lod_start;
+  const double anim_step = in.params.animation_step_seconds;
+  const glm::vec3 rel(st.positions.get(i) - in.camera_position);
+  const Playback& pb = st.playback[i];
+  const ClipTiming& ca = clips[pb.clip];
+  InstanceRecord rec;
+  const glm::mat3 r = glm::mat3_cast(st.rotations.get(i)) * st.scales[i];
+  for (int row = 0; row < 3; ++row) {
+    rec.world_rows[row][0] = r[0][row];
+    rec.world_rows[row][1] = r[1][row];
+    rec.world_rows[row][2] = r[2][row];
+    rec.world_rows[row][3] = rel[row];
+  }
+  double ta = localTime(pb, ca, clock);
+  if (step_anim) ta = steppedTime(ta, anim_step);
+  const FrameSample fa = fastSample(ca, palette.clips[pb.clip], ta);
+  const uint32_t a0 = ca.first_texel + fa.frame * stride;
+  const uint32_t a1 = ca.first_texel + fa.next_frame * stride;
+  if (st.fade_duration[i] > 0.0) {
+    // Clip A is the one fading out; B the new one, weighted by weight_b.
+    const float weight_b = std::min(float((clock - st.fade_start[i]) / st.fade_duration[i]), 1.0f);
+    const Playback& old = st.fade_from[i];
+    const ClipTiming& cb = clips[old.clip];
+    double tb = localTime(old, cb, clock);
+    if (step_anim) tb = steppedTime(tb, anim_step);
+    const FrameSample fo = fastSample(cb, palette.clips[old.clip], tb);
+    rec.frames[0] = cb.first_texel + fo.frame * stride;
+    rec.frames[1] = cb.first_texel + fo.next_frame * stride;
+    rec.frames[2] = a0;
+    rec.frames[3] = a1;
+    rec.blend[0] = packFraction(fo.fraction, fo.mode);
+    rec.blend[1] = packFraction(fa.fraction, fa.mode);
+    rec.blend[2] = floatBits(std::max(0.0f, weight_b));
+    rec.blend[3] = st.colors[i];
+  } else {
+    setOneClip(a0, a1, fa.fraction, fa.mode, st.colors[i], &rec);
+  }
+  *out = rec;
+}
+
 void buildFrame(const FrameInputs& in, InstanceStore& st, CrowdFrame* frame) {
   CrowdFrame& f = *frame;
   const uint32_t last_visible = f.stats.visible;  // The records the last update wrote.
@@ -362,11 +458,7 @@ void buildFrame(const FrameInputs& in, InstanceStore& st, CrowdFrame* frame) {
   f.stats = CrowdFrameStats();
   f.stats.instances = n;
   f.entries_valid = false;
-  while (f.chunks.size() < chunk_count) {
-    f.chunks.emplace_back();
-    f.chunks.back().visible.reserve(kChunkInstances);
-    f.chunks.back().keys.reserve(kChunkInstances);
-  }
+  while (f.chunks.size() < chunk_count) f.chunks.emplace_back();
   forEachChunk(in, chunk_count, [&](uint32_t c) {
     selectChunk(in, st, c, c * kChunkInstances, std::min(n, (c + 1) * kChunkInstances), f.chunks[c]);
   });

@@ -31,8 +31,9 @@ inline constexpr uint32_t kMaxMaskGroups = 64;
 
 /// One chunk's work between the phases.
 struct ChunkWork {
-  std::vector<uint32_t> visible;      // Dense indices of its visible instances, in order.
-  std::vector<uint16_t> keys;         // Parallel: lod * kMaxMaskGroups + local group.
+  std::vector<uint32_t> visible;      // Dense indices of its visible instances, in order,
+  std::vector<uint16_t> keys;         // and their keys (lod * kMaxMaskGroups + local group):
+  uint32_t visible_count = 0;         // the first visible_count of each (sized for a chunk).
   uint32_t masks[kMaxMaskGroups];     // Local group -> worn mask.
   uint32_t to_group[kMaxMaskGroups];  // Local group -> the frame's group (set by place).
   uint32_t mask_count = 0;
@@ -105,6 +106,11 @@ void buildFrame(const FrameInputs& in, InstanceStore& store, CrowdFrame* frame);
 /// The simulation alone (CrowdManager::advance): root motion, crossfade ends, events into
 /// in.chunk_events (in.palette, clips, clock, markers, root_motion and parallel_for are read).
 void simulateFrame(const FrameInputs& in, InstanceStore& store);
+/// The record of visible instance `i` (dense index) at LOD `lod`, one instance at a time in
+/// scalar code: what buildFrame writes for it, block by block (the reference its tests hold the
+/// block path to).
+void scalarRecord(const FrameInputs& in, const InstanceStore& st, uint32_t i, uint32_t lod,
+                  InstanceRecord* out);
 /// Chunks of a store of `n` instances.
 inline uint32_t chunkCount(uint32_t n) { return (n + kChunkInstances - 1) / kChunkInstances; }
 

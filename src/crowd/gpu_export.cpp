@@ -44,8 +44,9 @@ namespace {
 void exportInstance(const detail::InstanceStore& st, uint32_t i, GpuInstanceState* out) {
   GpuInstanceState& g = *out;
   g = GpuInstanceState{};
-  for (int k = 0; k < 3; ++k) g.position[k] = st.positions[i][k];
-  const glm::quat& q = st.rotations[i];
+  const glm::dvec3 p = st.positions.get(i);
+  for (int k = 0; k < 3; ++k) g.position[k] = p[k];
+  const glm::quat q = st.rotations.get(i);
   g.rotation[0] = q.x, g.rotation[1] = q.y, g.rotation[2] = q.z, g.rotation[3] = q.w;
   g.scale = st.scales[i];
   g.color = st.colors[i];

@@ -98,28 +98,28 @@ void applyRootMotion(const BakedPalette& palette, const std::vector<ClipTiming>&
     m.yaw = old.yaw + (m.yaw - old.yaw) * w;
   }
   if (m.translation == glm::dvec2(0.0) && m.yaw == 0.0) return;
-  const glm::quat& r = st.rotations[i];
+  const glm::quat r = st.rotations.get(i);
   const glm::vec3 step =
       r * (st.scales[i] * glm::vec3(float(m.translation.x), 0.0f, float(m.translation.y)));
-  const glm::dvec3 position = st.positions[i] + glm::dvec3(step);
+  const glm::dvec3 position = st.positions.get(i) + glm::dvec3(step);
   double sn = 0.0, cs = 1.0;
   sinCos(0.5 * m.yaw, &sn, &cs);
   const glm::quat turned = glm::normalize(r * glm::quat(float(cs), 0.0f, float(sn), 0.0f));
   if (!std::isfinite(position.x + position.y + position.z) ||
       !std::isfinite(turned.w + turned.x + turned.y + turned.z))
     return;
-  st.positions[i] = position;
-  st.rotations[i] = turned;
+  st.positions.set(i, position);
+  st.rotations.set(i, turned);
 }
 
 void applyRootMotion(const BakedPalette& palette, const std::vector<ClipTiming>& clips,
                      double clock, InstanceStore& st, uint32_t begin, uint32_t end) {
   for (uint32_t i = begin; i < end; ++i) {
     if (!st.root_motion[i]) continue;
-    const glm::dvec3 position = st.positions[i];
-    const glm::quat rotation = st.rotations[i];
+    const glm::dvec3 position = st.positions.get(i);
+    const glm::quat rotation = st.rotations.get(i);
     applyRootMotion(palette, clips, clock, st, i);
-    if (st.positions[i] != position || st.rotations[i] != rotation) st.stamp(i);
+    if (st.positions.get(i) != position || st.rotations.get(i) != rotation) st.stamp(i);
   }
 }
 

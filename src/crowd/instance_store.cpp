@@ -97,8 +97,8 @@ void InstanceStore::push(const InstanceDesc& d, InstanceHandle h, double clock) 
   (void)handles.slot(h, &slot);  // Just issued: alive.
   if (slot_to_dense.size() <= slot) slot_to_dense.resize(slot + 1, 0);
   slot_to_dense[slot] = size();
-  positions.push_back(d.position);
-  rotations.push_back(glm::normalize(d.rotation));
+  positions.push(d.position);
+  rotations.push(glm::normalize(d.rotation));
   scales.push_back(d.scale);
   colors.push_back(packAppearance(d));
   masks.push_back(d.variation_mask);
@@ -155,8 +155,8 @@ Status InstanceStore::remove(InstanceHandle h) {
     (void)handles.slot(dense_handles[last], &moved_slot);
     slot_to_dense[moved_slot] = i;
   }
-  move_last(positions);
-  move_last(rotations);
+  positions.moveLast(i);
+  rotations.moveLast(i);
   move_last(scales);
   move_last(colors);
   move_last(masks);
@@ -194,8 +194,8 @@ Status InstanceStore::setTransform(InstanceHandle h, const glm::dvec3& position,
       !std::isfinite(scale) || scale <= 0.0f)
     return {StatusCode::kInvalidArgument,
             "setTransform: position, rotation must be finite, rotation non-zero, scale > 0"};
-  positions[i] = position;
-  rotations[i] = glm::normalize(rotation);
+  positions.set(i, position);
+  rotations.set(i, glm::normalize(rotation));
   scales[i] = scale;
   motion_clock[i] = clock;
   for (ViewLanes& v : views)  // A teleport: no motion vector in any view.

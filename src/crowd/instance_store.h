@@ -10,6 +10,7 @@
 #include <glm/glm.hpp>
 #include <glm/gtc/quaternion.hpp>
 
+#include "crowd/instance_columns.h"
 #include "crowd/instance_overlay.h"
 #include "crowd/playback.h"
 #include "si/crowd/crowd_manager.h"
@@ -38,7 +39,7 @@ inline constexpr uint32_t kStampChunk = 1024;
 struct InstanceStore {
   /// Empties the store for instances playing `palette`'s clips.
   void reset(const BakedPalette* palette);
-  uint32_t size() const { return static_cast<uint32_t>(positions.size()); }
+  uint32_t size() const { return static_cast<uint32_t>(scales.size()); }
 
   /// kInvalidArgument naming the field (see CrowdManager::add).
   Status validate(const InstanceDesc& d) const;
@@ -88,9 +89,10 @@ struct InstanceStore {
   uint64_t version = 0;
   uint64_t identity = 0;  // The version reset() gave: one per init() of one crowd.
 
-  // Dense state; slot_to_dense maps handle slots to it.
-  std::vector<glm::dvec3> positions;
-  std::vector<glm::quat> rotations;
+  // Dense state; slot_to_dense maps handle slots to it. Positions and rotations one array per
+  // component (the frame builder's blocks load them with vector loads).
+  DVec3Columns positions;
+  QuatColumns rotations;
   std::vector<float> scales;
   std::vector<uint32_t> colors;  // The record's appearance word (si::packAppearance).
   std::vector<uint32_t> masks;

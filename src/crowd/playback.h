@@ -29,6 +29,7 @@ struct ClipTiming {
   double duration, inv_duration, interval, inv_interval;
   uint32_t first_texel, last_interval;
   bool uniform;  // No STEP frames: the frame follows from the time alone.
+  bool plain;    // Uniform and every interval linear (no interval modes).
   glm::vec3 sphere_center;
   float sphere_radius;
   // Clips with frame times (STEP keys, frames at keys): per cell of 1 / inv_cell seconds
@@ -72,6 +73,7 @@ inline ClipTiming makeClipTiming(const BakedClip& c) {
     }
   }
   t.modes = c.interval_modes;
+  t.plain = t.uniform && t.modes.empty();
   for (const glm::vec3& m : c.root_motion)
     t.yaw_cos_sin.push_back({std::cos(double(m.z)), std::sin(double(m.z))});
   return t;

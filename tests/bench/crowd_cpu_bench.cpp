@@ -54,7 +54,9 @@ const si::LayerMask& armMask() {
 // `max_distance_radii` as in CrowdDesc (0: the default far line, negative: none). `motion`: 0
 // any clip of the plain palette; 1 the travelling clips (walk_forward, walk_turn_left) played
 // in place; 2 the same with root motion applied to every instance; 3 any clip of the plain
-// character baked with the default desc (compare with 0: what non-uniform frames cost).
+// character baked with the default desc (compare with 0: what non-uniform frames cost); 4 as 0,
+// every instance crossfading into another clip (a 1000 s fade: it never ends while timed); 5 as
+// 0 with animation-LOD stepping from LOD 1 (CrowdDesc::animation_lod_start).
 std::unique_ptr<si::CrowdManager> field(int64_t count, float max_distance_radii, uint32_t threads,
                                         int64_t motion, bool previous_records) {
   auto crowd = std::make_unique<si::CrowdManager>();
@@ -65,6 +67,7 @@ std::unique_ptr<si::CrowdManager> field(int64_t count, float max_distance_radii,
   d.max_distance_radii = max_distance_radii;
   d.worker_threads = threads;
   d.previous_records = previous_records;
+  if (motion == 5) d.animation_lod_start = 1;
   if (!crowd->init(d).isOk()) std::abort();
   const int64_t side = int64_t(std::ceil(std::sqrt(double(count))));
   std::vector<glm::dvec3> positions;
@@ -77,7 +80,14 @@ std::unique_ptr<si::CrowdManager> field(int64_t count, float max_distance_radii,
                                  uint32_t(palette(true).findClip("walk_turn_left"))};
   if (motion == 1 || motion == 2) r.clips = travelling;
   r.root_motion = motion == 2;
-  if (!crowd->addRandom(r, nullptr).isOk()) std::abort();
+  std::vector<si::InstanceHandle> handles;
+  if (!crowd->addRandom(r, &handles).isOk()) std::abort();
+  if (motion == 4) {
+    const uint32_t clips = uint32_t(d.palette->clips.size());
+    for (size_t i = 0; i < handles.size(); ++i)
+      if (!crowd->crossfade(handles[i], uint32_t(i % clips), 1000.0, 0.1 * double(i % 13)).isOk())
+        std::abort();
+  }
   return crowd;
 }
 
@@ -165,7 +175,7 @@ BENCHMARK(crowdFrame)
     ->ArgsProduct({{100000, 1000000}, {0, 1}, {1, 8}, {1}, {0}, {1, 2}, {0}, {0}})
     ->ArgsProduct({{100000, 1000000}, {0, 1}, {1}, {1}, {0}, {0}, {1}, {0}})
     ->ArgsProduct({{100000, 1000000}, {0, 1}, {1, 8}, {0}, {0}, {0}, {0}, {1}})
-    ->ArgsProduct({{100000}, {1}, {1}, {1}, {0}, {0, 3}, {0}, {0}})
+    ->ArgsProduct({{100000}, {1}, {1}, {1}, {0}, {0, 3, 4, 5}, {0}, {0}})
     ->ArgNames({"instances", "all_visible", "threads", "spans", "markers", "motion", "previous",
                 "overlays"})
     ->Unit(benchmark::kMillisecond)

@@ -8,6 +8,7 @@
 /// them; si::gl uploads them. docs/palette-format.md specifies the layout.
 
 #include <cstdint>
+#include <cstring>
 #include <string>
 #include <vector>
 
@@ -166,7 +167,11 @@ inline IntervalMode intervalModeAt(const BakedClip& clip, uint32_t interval) {
 
 /// The fraction word of an InstanceRecord (blend.x or blend.y): the float bits of `fraction`
 /// (in [0, 1], where bits 30 and 31 are 0) with the interval mode in bits 30-31.
-uint32_t packFraction(float fraction, IntervalMode mode);
+inline uint32_t packFraction(float fraction, IntervalMode mode) {
+  uint32_t bits;
+  std::memcpy(&bits, &fraction, 4);
+  return (bits & 0x3FFFFFFFu) | (uint32_t(mode) & 3u) << 30;
+}
 /// The inverse of packFraction(): the fraction (bits 30-31 cleared) and the mode.
 float unpackFraction(uint32_t word, IntervalMode* mode);
 
