@@ -74,6 +74,19 @@ void simulateChunk(const FrameInputs& in, InstanceStore& st, uint32_t chunk, uin
   for (uint32_t i = begin; i < end; ++i) endFinishedFade(st, i, clock);
 }
 
+// Calls body(k, i, at, n) for each piece of instances first..first+count that lies in one
+// column block: n instances from i (index `at` of its block), into lanes k...
+template <typename Body>
+__attribute__((always_inline)) inline void forEachColumnPiece(uint32_t first, uint32_t count,
+                                                              const Body& body) {
+  for (uint32_t k = 0; k < count;) {
+    const uint32_t i = first + k, at = i % kColumnBlock;
+    const uint32_t n = std::min(count - k, kColumnBlock - at);
+    body(k, i, at, n);
+    k += n;
+  }
+}
+
 // A block's camera-relative positions (the float of the double difference) and scales into
 // lanes 0..count of `l`, from instances first..first+count (vector loads, a column block at a
 // time) or, with `dense`, from instances dense[0..count); lanes count..padded repeat lane 0.
@@ -84,16 +97,13 @@ __attribute__((always_inline)) inline void loadPositions(const InstanceStore& st
                                                          const uint32_t* dense, uint32_t count,
                                                          uint32_t padded, Lanes& l) {
   if (dense == nullptr) {
-    for (uint32_t k = 0; k < count;) {
-      const uint32_t i = first + k, at = i % kColumnBlock;
-      const uint32_t n = std::min(count - k, kColumnBlock - at);
+    forEachColumnPiece(first, count, [&](uint32_t k, uint32_t i, uint32_t at, uint32_t n) {
       const DVec3Block& b = st.positions.blockOf(i);
       for (uint32_t j = 0; j < n; ++j) l.rx[k + j] = float(b.x[at + j] - camera.x);
       for (uint32_t j = 0; j < n; ++j) l.ry[k + j] = float(b.y[at + j] - camera.y);
       for (uint32_t j = 0; j < n; ++j) l.rz[k + j] = float(b.z[at + j] - camera.z);
       std::memcpy(l.s + k, st.scales.data() + i, n * sizeof(float));
-      k += n;
-    }
+    });
   } else {
     for (uint32_t k = 0; k < count; ++k) {
       const uint32_t i = dense[k], at = i % kColumnBlock;
@@ -112,16 +122,13 @@ __attribute__((always_inline)) inline void loadRotations(const InstanceStore& st
                                                          const uint32_t* dense, uint32_t count,
                                                          uint32_t padded, Lanes& l) {
   if (dense == nullptr) {
-    for (uint32_t k = 0; k < count;) {
-      const uint32_t i = first + k, at = i % kColumnBlock;
-      const uint32_t n = std::min(count - k, kColumnBlock - at);
+    forEachColumnPiece(first, count, [&](uint32_t k, uint32_t i, uint32_t at, uint32_t n) {
       const QuatBlock& b = st.rotations.blockOf(i);
       std::memcpy(l.qx + k, b.x + at, n * sizeof(float));
       std::memcpy(l.qy + k, b.y + at, n * sizeof(float));
       std::memcpy(l.qz + k, b.z + at, n * sizeof(float));
       std::memcpy(l.qw + k, b.w + at, n * sizeof(float));
-      k += n;
-    }
+    });
   } else {
     for (uint32_t k = 0; k < count; ++k) {
       const uint32_t i = dense[k], at = i % kColumnBlock;
