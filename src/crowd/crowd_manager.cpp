@@ -436,7 +436,8 @@ Status CrowdManager::jointMatrix(InstanceHandle h, uint32_t joint, glm::dmat4* o
   const uint32_t slot = uint32_t(p.skeleton_to_palette[joint]);
   const double clock = state_->clock;
   // The instance's clips at the times its record draws them: held on the animation-LOD grid at
-  // and past CrowdDesc::animation_lod_start (its LOD of the last update), as writeRecord does.
+  // and past CrowdDesc::animation_lod_start (its LOD of the last update), as the records do
+  // (detail::scalarRecord).
   const bool stepped = st.views[0].lods[i] >= detail::animationLodStart(desc_);
   const double step_seconds = detail::animationStepSeconds(desc_);
   const auto matrix = [&](const detail::Playback& pb, uint32_t at, bool step) {

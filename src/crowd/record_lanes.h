@@ -1,12 +1,13 @@
 // SkinnedInstancing — SPDX-License-Identifier: MIT (see LICENSE)
 #pragma once
-// The common case of an instance record for 8 instances at once, in GCC/Clang vector types:
-// the world rows (glm::mat3_cast * scale, the camera-relative translation) and clip A's frame
-// pair and fraction (playback time from the crowd clock, looped or clamped; the uniform-grid
-// frame sample), lane by lane the same operations as frame_builder.cpp's scalar writeRecord,
-// playback.h's localTime and fastSample. Lanes that need more (a crossfade, animation LOD, a
-// time that is not finite or a loop past 2^53 intervals) are marked for the scalar path; for a
-// clip with frame times (STEP keys, frames at keys) the caller finds the frame from time[].
+// Instance records for 8 instances at once, in GCC/Clang vector types: the world rows
+// (glm::mat3_cast * scale, the camera-relative translation), clip A's time (from the crowd
+// clock, looped or clamped), its uniform-grid frame and fraction and the record words of one
+// clip playing, lane by lane the same operations as frame_builder.cpp's scalarRecord,
+// playback.h's localTime and fastSample; then the records stored 8 at a time. A time the lanes
+// cannot compute (not finite, or a loop past 2^53 intervals) is marked in scalar[]; the caller
+// finishes per lane what the one-clip words do not cover (a crossfade, animation LOD, a clip
+// with frame times, whose frame it finds from time[]).
 
 #include <cstdint>
 #include <cstring>
@@ -25,7 +26,7 @@ struct RecordLanes {
   alignas(64) double duration[kRecordBlock], inv_duration[kRecordBlock], inv_interval[kRecordBlock],
       last_interval[kRecordBlock];
   alignas(32) int32_t loop[kRecordBlock];    // -1: the clip loops; 0: it plays once.
-  alignas(32) int32_t scalar[kRecordBlock];  // In: -1 where the lane takes the scalar path anyway.
+  alignas(32) int32_t scalar[kRecordBlock];  // In: -1 marks a lane for the caller regardless.
   alignas(32) uint32_t first_texel[kRecordBlock];  // The clip's first frame texel.
   alignas(32) uint32_t color[kRecordBlock];        // The appearance word.
   // Out: the world rows, the frame index and fraction; scalar[] also marks lanes whose time
