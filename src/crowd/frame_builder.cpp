@@ -308,9 +308,10 @@ __attribute__((always_inline)) inline FrameSample sampleAt(const FrameInputs& in
 }
 
 // Write: every visible instance of the chunk, its record at its place. Blocks of 64: gathered,
-// their rows, times and uniform-grid frames computed 8 lanes at a time (record_lanes.h), the
-// rest per lane (frames with frame times, animation-LOD steps, crossfades' second clip), then
-// the records stored 8 at a time, each exactly what scalarRecord writes.
+// their rows, times and uniform-grid frames computed 8 lanes at a time (record_lanes.h), then
+// each record written at its place; a crossfade's second clip, animation-LOD steps, frames
+// with frame times and times the lanes could not compute are finished per lane. Each record is
+// exactly what scalarRecord writes.
 SI_CPU_CLONES void writeChunk(const FrameInputs& in, InstanceStore& st, bool fallback,
                               ChunkWork& w, CrowdFrame& f) {
   ViewLanes& view = st.views[in.lane];
@@ -319,8 +320,6 @@ SI_CPU_CLONES void writeChunk(const FrameInputs& in, InstanceStore& st, bool fal
   const uint32_t stride = in.palette->layout.frame_stride_texels;
   const uint32_t anim_lod = in.params.animation_lod_start;
   RecordLanes lanes = {};
-  void* out[kRecordBlock];
-  bool special[kRecordBlock];
   const size_t n = w.visible_count;
   for (size_t j0 = 0; j0 < n; j0 += kRecordBlock) {
     const uint32_t count = uint32_t(std::min<size_t>(kRecordBlock, n - j0));
@@ -332,54 +331,55 @@ SI_CPU_CLONES void writeChunk(const FrameInputs& in, InstanceStore& st, bool fal
                   lanes);
     loadRotations(st, dense[0], consecutive ? nullptr : dense, count, padded, lanes);
     for (uint32_t k = 0; k < padded; ++k) {  // Padded with the block's first instance.
-      const uint32_t i = dense[k < count ? k : 0];
-      const Playback& pb = st.playback[i];
+      const Playback& pb = st.playback[dense[k < count ? k : 0]];
       const ClipTiming& c = clips[pb.clip];
-      // The lanes' frames and blend stand where one clip plays on a uniform grid of linear
-      // intervals, unstepped; the rest is done per lane after them.
-      special[k] = !c.plain || st.fade_duration[i] > 0.0 ||
-                   w.keys[j0 + (k < count ? k : 0)] / kMaxMaskGroups >= anim_lod;
       lanes.start_time[k] = pb.start_time, lanes.start_clock[k] = pb.start_clock;
       lanes.speed[k] = double(pb.speed);
       lanes.duration[k] = c.duration, lanes.inv_duration[k] = c.inv_duration;
       lanes.inv_interval[k] = c.inv_interval, lanes.last_interval[k] = double(c.last_interval);
       lanes.loop[k] = pb.loop == LoopMode::kLoop ? -1 : 0;
       lanes.scalar[k] = 0;
-      lanes.first_texel[k] = c.first_texel;
-      lanes.color[k] = st.colors[i];
     }
     for (uint32_t base = 0; base < padded; base += kRecordLanes)
-      computeRecordLanes(in.clock, stride, lanes, base);
+      computeRecordLanes(in.clock, lanes, base);
     for (uint32_t k = 0; k < count; ++k) {
       const uint32_t i = dense[k];
       const uint32_t lod = w.keys[j0 + k] / kMaxMaskGroups;
       const uint32_t slot = w.cursor[w.keys[j0 + k] & key_mask]++;
-      out[k] = &f.records[slot];
-      if (special[k] || lanes.scalar[k] != 0) {  // Or a time the lanes could not compute.
-        const Playback& pb = st.playback[i];
-        const ClipTiming& c = clips[pb.clip];
-        const bool step = lod >= anim_lod;
-        const bool fading = st.fade_duration[i] > 0.0;
+      InstanceRecord& rec = f.records[slot];
+      const float rel[3] = {lanes.rx[k], lanes.ry[k], lanes.rz[k]};
+      for (int row = 0; row < 3; ++row) {
+        for (int col = 0; col < 3; ++col) rec.world_rows[row][col] = lanes.rows[row][col][k];
+        rec.world_rows[row][3] = rel[row];
+      }
+      const Playback& pb = st.playback[i];
+      const ClipTiming& c = clips[pb.clip];
+      const bool step = lod >= anim_lod;
+      const bool fading = st.fade_duration[i] > 0.0;
+      if (c.plain && !step && !fading && lanes.scalar[k] == 0) {  // The lanes' frame.
+        const uint32_t a0 = c.first_texel + uint32_t(lanes.frame[k]) * stride;
+        setOneClip(a0, a0 + stride, lanes.fraction[k], IntervalMode::kLinear, st.colors[i], &rec);
+      } else {  // The lane's time, or the scalar one where the lanes could not compute it.
         const FrameSample a = sampleAt(
             in, pb, c, lanes.scalar[k] == 0 ? lanes.time[k] : localTime(pb, c, in.clock), step);
         const uint32_t a0 = c.first_texel + a.frame * stride;
         const uint32_t a1 = c.first_texel + a.next_frame * stride;
-        const uint32_t word_a = packFraction(a.fraction, a.mode);
-        lanes.frames[2][k] = a0, lanes.frames[3][k] = a1;
-        lanes.blend[1][k] = word_a;
         if (fading) {  // Clip A fades out: the old playback, B the new one.
           const Playback& old = st.fade_from[i];
           const ClipTiming& cb = clips[old.clip];
           const FrameSample b = sampleAt(in, old, cb, localTime(old, cb, in.clock), step);
           const float weight_b =
               std::min(float((in.clock - st.fade_start[i]) / st.fade_duration[i]), 1.0f);
-          lanes.frames[0][k] = cb.first_texel + b.frame * stride;
-          lanes.frames[1][k] = cb.first_texel + b.next_frame * stride;
-          lanes.blend[0][k] = packFraction(b.fraction, b.mode);
-          lanes.blend[2][k] = floatBits(std::max(0.0f, weight_b));
-        } else {  // One clip: B repeats A, weight 0.
-          lanes.frames[0][k] = a0, lanes.frames[1][k] = a1;
-          lanes.blend[0][k] = word_a;
+          rec.frames[0] = cb.first_texel + b.frame * stride;
+          rec.frames[1] = cb.first_texel + b.next_frame * stride;
+          rec.frames[2] = a0;
+          rec.frames[3] = a1;
+          rec.blend[0] = packFraction(b.fraction, b.mode);
+          rec.blend[1] = packFraction(a.fraction, a.mode);
+          rec.blend[2] = floatBits(std::max(0.0f, weight_b));
+          rec.blend[3] = st.colors[i];
+        } else {
+          setOneClip(a0, a1, a.fraction, a.mode, st.colors[i], &rec);
         }
       }
       f.visible_handles[slot] = st.dense_handles[i];
@@ -391,10 +391,6 @@ SI_CPU_CLONES void writeChunk(const FrameInputs& in, InstanceStore& st, bool fal
         view.record_slot[i] = slot;
       }
     }
-    // Stored once the block is finished: the lanes' vector loads then find the per-lane
-    // stores above in the cache (a load spanning narrower stores still in flight waits).
-    for (uint32_t base = 0; base < count; base += kRecordLanes)
-      storeRecordLanes(lanes, base, std::min(kRecordLanes, count - base), out + base);
   }
 }
 

@@ -1,13 +1,12 @@
 // SkinnedInstancing — SPDX-License-Identifier: MIT (see LICENSE)
 #pragma once
 // Instance records for 8 instances at once, in GCC/Clang vector types: the world rows
-// (glm::mat3_cast * scale, the camera-relative translation), clip A's time (from the crowd
-// clock, looped or clamped), its uniform-grid frame and fraction and the record words of one
-// clip playing, lane by lane the same operations as frame_builder.cpp's scalarRecord,
-// playback.h's localTime and fastSample; then the records stored 8 at a time. A time the lanes
+// (glm::mat3_cast * scale, the camera-relative translation) and clip A's time (from the crowd
+// clock, looped or clamped), uniform-grid frame and fraction, lane by lane the same operations
+// as frame_builder.cpp's scalarRecord, playback.h's localTime and fastSample. A time the lanes
 // cannot compute (not finite, or a loop past 2^53 intervals) is marked in scalar[]; the caller
-// finishes per lane what the one-clip words do not cover (a crossfade, animation LOD, a clip
-// with frame times, whose frame it finds from time[]).
+// finishes per lane what one clip on a uniform grid does not cover (a crossfade, animation
+// LOD, a clip with frame times, whose frame it finds from time[]).
 
 #include <cstdint>
 #include <cstring>
@@ -27,24 +26,18 @@ struct RecordLanes {
       last_interval[kRecordBlock];
   alignas(32) int32_t loop[kRecordBlock];    // -1: the clip loops; 0: it plays once.
   alignas(32) int32_t scalar[kRecordBlock];  // In: -1 marks a lane for the caller regardless.
-  alignas(32) uint32_t first_texel[kRecordBlock];  // The clip's first frame texel.
-  alignas(32) uint32_t color[kRecordBlock];        // The appearance word.
   // Out: the world rows, the frame index and fraction; scalar[] also marks lanes whose time
-  // needs the scalar path.
+  // the lanes cannot compute.
   alignas(32) float rows[3][3][kRecordBlock];  // rows[row][column]: rotation * scale.
   alignas(32) int32_t frame[kRecordBlock];
   alignas(32) float fraction[kRecordBlock];
   alignas(64) double time[kRecordBlock];  // The clip-local time (localTime) of each lane.
-  // Each record's frames and blend words, for one clip on a uniform grid of linear intervals
-  // (the caller replaces them where the lane needs more; storeRecordLanes stores them).
-  alignas(32) uint32_t frames[4][kRecordBlock];
-  alignas(32) uint32_t blend[4][kRecordBlock];
 };
 
-/// Computes the outputs of the 8 lanes of `l` from `base` on at crowd clock `clock`, frames
-/// `stride` texels apart. Always inlined: the vector types never cross a call.
-__attribute__((always_inline)) inline void computeRecordLanes(double clock, uint32_t stride,
-                                                              RecordLanes& l, uint32_t base) {
+/// Computes the outputs of the 8 lanes of `l` from `base` on at crowd clock `clock`. Always
+/// inlined: the vector types never cross a call.
+__attribute__((always_inline)) inline void computeRecordLanes(double clock, RecordLanes& l,
+                                                              uint32_t base) {
   typedef float f8 __attribute__((vector_size(32)));
 #define SI_LOAD(dst, src) std::memcpy(&(dst), (src) + base, sizeof(dst))
 #define SI_BLEND(m, a, b) (((m) & (a)) | (~(m) & (b)))
@@ -70,8 +63,6 @@ __attribute__((always_inline)) inline void computeRecordLanes(double clock, uint
   typedef int64_t l4 __attribute__((vector_size(32)));
   typedef int32_t i4 __attribute__((vector_size(16)));
   typedef float f4 __attribute__((vector_size(16)));
-  i4 frame_half[2];
-  f4 fraction_half[2];
   for (uint32_t half = base; half < base + 8; half += 4) {
 #define SI_LOAD4(dst, src) std::memcpy(&(dst), (src) + half, sizeof(dst))
 #define SI_DBLEND(m, a, b) ((d4)SI_BLEND((m), (l4)(a), (l4)(b)))
@@ -117,75 +108,11 @@ __attribute__((always_inline)) inline void computeRecordLanes(double clock, uint
     std::memcpy(l.frame + half, &frame, sizeof frame);
     std::memcpy(l.fraction + half, &fraction, sizeof fraction);
     std::memcpy(l.scalar + half, &scalar_out, sizeof scalar_out);
-    frame_half[(half - base) / 4] = frame;
-    fraction_half[(half - base) / 4] = fraction;
 #undef SI_LOAD4
   }
-  // One clip, linear intervals (setOneClip): frames (a0, a1, a0, a1), blend (the fraction's
-  // bits with mode 0 in bits 30-31, the same, weight 0, the appearance). 8 lanes at once from
-  // the halves in registers, stored whole: storeRecordLanes loads them 8 at a time, and a load
-  // spanning two narrower stores would wait for them to reach the cache.
-  typedef uint32_t u8 __attribute__((vector_size(32)));
-  u8 first, color;
-  SI_LOAD(first, l.first_texel);
-  SI_LOAD(color, l.color);
-  const u8 frame8 =
-      (u8)__builtin_shufflevector(frame_half[0], frame_half[1], 0, 1, 2, 3, 4, 5, 6, 7);
-  const f8 fraction8 =
-      __builtin_shufflevector(fraction_half[0], fraction_half[1], 0, 1, 2, 3, 4, 5, 6, 7);
-  u8 word;
-  std::memcpy(&word, &fraction8, sizeof word);
-  word &= 0x3FFFFFFFu;
-  const u8 a0 = first + frame8 * stride, a1 = a0 + stride;
-  const u8 zero_word = {};
-  std::memcpy(l.frames[0] + base, &a0, sizeof a0);
-  std::memcpy(l.frames[1] + base, &a1, sizeof a1);
-  std::memcpy(l.frames[2] + base, &a0, sizeof a0);
-  std::memcpy(l.frames[3] + base, &a1, sizeof a1);
-  std::memcpy(l.blend[0] + base, &word, sizeof word);
-  std::memcpy(l.blend[1] + base, &word, sizeof word);
-  std::memcpy(l.blend[2] + base, &zero_word, sizeof zero_word);
-  std::memcpy(l.blend[3] + base, &color, sizeof color);
 #undef SI_DBLEND
 #undef SI_BLEND
 #undef SI_LOAD
-}
-
-/// Stores the records of the `n` (at most 8) lanes of `l` from `base` on, lane k at out[k]:
-/// rows[row][0..2] and the camera-relative translation (rx, ry, rz) as the world rows, then
-/// frames[0..3] and blend[0..3]. The lanes are transposed in vector registers (four inputs of 8
-/// lanes into 8 rows of 4) and each record is written as 5 rows of 16 bytes. Always inlined.
-__attribute__((always_inline)) inline void storeRecordLanes(const RecordLanes& l, uint32_t base,
-                                                            uint32_t n, void* const* out) {
-  typedef float f8 __attribute__((vector_size(32)));
-  typedef float f4 __attribute__((vector_size(16)));
-  f4 rows[8][5];  // Per lane its record's five 16-byte rows.
-  const auto transpose = [&](const void* a, const void* b, const void* c, const void* d, int row) {
-    f8 va, vb, vc, vd;
-    std::memcpy(&va, static_cast<const float*>(a) + base, sizeof va);
-    std::memcpy(&vb, static_cast<const float*>(b) + base, sizeof vb);
-    std::memcpy(&vc, static_cast<const float*>(c) + base, sizeof vc);
-    std::memcpy(&vd, static_cast<const float*>(d) + base, sizeof vd);
-    // Pairs (a0 b0 a1 b1 | a4 b4 a5 b5) ..., then quadruples (a0 b0 c0 d0 | a4 b4 c4 d4) ...
-    const f8 t0 = __builtin_shufflevector(va, vb, 0, 8, 1, 9, 4, 12, 5, 13);
-    const f8 t1 = __builtin_shufflevector(va, vb, 2, 10, 3, 11, 6, 14, 7, 15);
-    const f8 t2 = __builtin_shufflevector(vc, vd, 0, 8, 1, 9, 4, 12, 5, 13);
-    const f8 t3 = __builtin_shufflevector(vc, vd, 2, 10, 3, 11, 6, 14, 7, 15);
-    const f8 u[4] = {__builtin_shufflevector(t0, t2, 0, 1, 8, 9, 4, 5, 12, 13),
-                     __builtin_shufflevector(t0, t2, 2, 3, 10, 11, 6, 7, 14, 15),
-                     __builtin_shufflevector(t1, t3, 0, 1, 8, 9, 4, 5, 12, 13),
-                     __builtin_shufflevector(t1, t3, 2, 3, 10, 11, 6, 7, 14, 15)};
-    for (int k = 0; k < 4; ++k) {
-      rows[k][row] = __builtin_shufflevector(u[k], u[k], 0, 1, 2, 3);
-      rows[k + 4][row] = __builtin_shufflevector(u[k], u[k], 4, 5, 6, 7);
-    }
-  };
-  transpose(l.rows[0][0], l.rows[0][1], l.rows[0][2], l.rx, 0);
-  transpose(l.rows[1][0], l.rows[1][1], l.rows[1][2], l.ry, 1);
-  transpose(l.rows[2][0], l.rows[2][1], l.rows[2][2], l.rz, 2);
-  transpose(l.frames[0], l.frames[1], l.frames[2], l.frames[3], 3);
-  transpose(l.blend[0], l.blend[1], l.blend[2], l.blend[3], 4);
-  for (uint32_t k = 0; k < n; ++k) std::memcpy(out[k], rows[k], sizeof rows[k]);
 }
 
 }  // namespace si::detail

@@ -371,7 +371,7 @@ TEST(ParallelUpdate, VectorRecordsEqualTheScalarOnesOrDeferToThem) {
       lanes.scalar[k] = k == 5 ? -1 : 0;  // A lane already bound for the scalar path stays so.
     }
     for (uint32_t base = 0; base < detail::kRecordBlock; base += detail::kRecordLanes)
-      detail::computeRecordLanes(clock, 1u, lanes, base);
+      detail::computeRecordLanes(clock, lanes, base);
     for (uint32_t k = 0; k < detail::kRecordBlock; ++k) {
       const glm::mat3 m = glm::mat3_cast(q[k]) * lanes.s[k];
       for (int row = 0; row < 3; ++row)
