@@ -240,6 +240,23 @@ void setOneClip(uint32_t frame, uint32_t next_frame, float fraction, IntervalMod
   rec->blend[3] = color;
 }
 
+// The frames and blend of instance i's record while it crossfades at `clock`: the playback it
+// fades from (`from` sampled as `fs`) as the record's clip A, the one it fades to (`to`, `ts`)
+// as clip B, weighted by how far the fade has gone.
+__attribute__((always_inline)) inline void setCrossfade(
+    const InstanceStore& st, uint32_t i, double clock, uint32_t stride, const ClipTiming& from,
+    const FrameSample& fs, const ClipTiming& to, const FrameSample& ts, InstanceRecord* rec) {
+  const float weight_b = std::min(float((clock - st.fade_start[i]) / st.fade_duration[i]), 1.0f);
+  rec->frames[0] = from.first_texel + fs.frame * stride;
+  rec->frames[1] = from.first_texel + fs.next_frame * stride;
+  rec->frames[2] = to.first_texel + ts.frame * stride;
+  rec->frames[3] = to.first_texel + ts.next_frame * stride;
+  rec->blend[0] = packFraction(fs.fraction, fs.mode);
+  rec->blend[1] = packFraction(ts.fraction, ts.mode);
+  rec->blend[2] = floatBits(std::max(0.0f, weight_b));
+  rec->blend[3] = st.colors[i];
+}
+
 // Place: the frame's groups, the record range of every key, each chunk's cursors.
 void placeChunks(const FrameInputs& in, uint32_t chunk_count, CrowdFrame& f, bool* fallback) {
   const uint32_t lods = in.params.lod_count;
@@ -362,24 +379,14 @@ SI_CPU_CLONES void writeChunk(const FrameInputs& in, InstanceStore& st, bool fal
       } else {  // The lane's time, or the scalar one where the lanes could not compute it.
         const FrameSample a = sampleAt(
             in, pb, c, lanes.scalar[k] == 0 ? lanes.time[k] : localTime(pb, c, in.clock), step);
-        const uint32_t a0 = c.first_texel + a.frame * stride;
-        const uint32_t a1 = c.first_texel + a.next_frame * stride;
-        if (fading) {  // Clip A fades out: the old playback, B the new one.
+        if (fading) {  // From the old playback to this one.
           const Playback& old = st.fade_from[i];
           const ClipTiming& cb = clips[old.clip];
           const FrameSample b = sampleAt(in, old, cb, localTime(old, cb, in.clock), step);
-          const float weight_b =
-              std::min(float((in.clock - st.fade_start[i]) / st.fade_duration[i]), 1.0f);
-          rec.frames[0] = cb.first_texel + b.frame * stride;
-          rec.frames[1] = cb.first_texel + b.next_frame * stride;
-          rec.frames[2] = a0;
-          rec.frames[3] = a1;
-          rec.blend[0] = packFraction(b.fraction, b.mode);
-          rec.blend[1] = packFraction(a.fraction, a.mode);
-          rec.blend[2] = floatBits(std::max(0.0f, weight_b));
-          rec.blend[3] = st.colors[i];
+          setCrossfade(st, i, in.clock, stride, cb, b, c, a, &rec);
         } else {
-          setOneClip(a0, a1, a.fraction, a.mode, st.colors[i], &rec);
+          setOneClip(c.first_texel + a.frame * stride, c.first_texel + a.next_frame * stride,
+                     a.fraction, a.mode, st.colors[i], &rec);
         }
       }
       f.visible_handles[slot] = st.dense_handles[i];
@@ -429,26 +436,16 @@ void scalarRecord(const FrameInputs& in, const InstanceStore& st, uint32_t i, ui
   double ta = localTime(pb, ca, clock);
   if (step_anim) ta = steppedTime(ta, anim_step);
   const FrameSample fa = fastSample(ca, palette.clips[pb.clip], ta);
-  const uint32_t a0 = ca.first_texel + fa.frame * stride;
-  const uint32_t a1 = ca.first_texel + fa.next_frame * stride;
-  if (st.fade_duration[i] > 0.0) {
-    // Clip A is the one fading out; B the new one, weighted by weight_b.
-    const float weight_b = std::min(float((clock - st.fade_start[i]) / st.fade_duration[i]), 1.0f);
+  if (st.fade_duration[i] > 0.0) {  // From the old playback to this one.
     const Playback& old = st.fade_from[i];
     const ClipTiming& cb = clips[old.clip];
     double tb = localTime(old, cb, clock);
     if (step_anim) tb = steppedTime(tb, anim_step);
     const FrameSample fo = fastSample(cb, palette.clips[old.clip], tb);
-    rec.frames[0] = cb.first_texel + fo.frame * stride;
-    rec.frames[1] = cb.first_texel + fo.next_frame * stride;
-    rec.frames[2] = a0;
-    rec.frames[3] = a1;
-    rec.blend[0] = packFraction(fo.fraction, fo.mode);
-    rec.blend[1] = packFraction(fa.fraction, fa.mode);
-    rec.blend[2] = floatBits(std::max(0.0f, weight_b));
-    rec.blend[3] = st.colors[i];
+    setCrossfade(st, i, clock, stride, cb, fo, ca, fa, &rec);
   } else {
-    setOneClip(a0, a1, fa.fraction, fa.mode, st.colors[i], &rec);
+    setOneClip(ca.first_texel + fa.frame * stride, ca.first_texel + fa.next_frame * stride,
+               fa.fraction, fa.mode, st.colors[i], &rec);
   }
   *out = rec;
 }
