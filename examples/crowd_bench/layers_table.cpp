@@ -1,6 +1,8 @@
 // SkinnedInstancing — SPDX-License-Identifier: MIT (see LICENSE)
 #include "crowd_bench/layers_table.h"
 
+#include <algorithm>
+
 #include "si/bake/layer_error.h"
 #include "si/core/layer_mask.h"
 
@@ -8,8 +10,11 @@ namespace si::bench {
 
 namespace {
 
-constexpr float kWeights[] = {0.0f, 1.0f, 0.5f};  // Off, full, half-way.
-const char* const kNames[] = {"off", "w=1", "w=0.5"};
+// Off, full, half-way; the vertex-shader paths' full and half-way again with composing off
+// (RendererDesc::compose_layers: each vertex walks its influences' chains).
+constexpr float kWeights[] = {0.0f, 1.0f, 0.5f, 1.0f, 0.5f};
+const char* const kNames[] = {"off", "w=1", "w=0.5", "walk1", "walk.5"};
+constexpr int kComposedStates = 3;
 
 // Times `path` on the field of `count`, every instance's overlay held at `weight` (0: none).
 Status runLayers(Setup& setup, Renderer& renderer, const BakedPalette& palette,
@@ -58,17 +63,30 @@ Status layersTable(Setup& setup, Renderer& renderer, const BakedPalette& palette
   s = measureLayeredError(setup.character, palette, arm, uint32_t(walk), uint32_t(wave),
                           {0.5f, 1.0f}, &error, 32);
   if (!s.isOk()) return s;
-  std::printf("\nLayered animation (field; every instance waves its right arm over its clip): "
-              "no overlay against weight 1 and weight 0.5, in the same run\n");
+  std::printf(
+      "\nLayered animation (field; every instance waves its right arm over its clip): "
+      "no overlay against weight 1 and weight 0.5, in the same run (the vertex-shader "
+      "paths compose the layers; walk1, walk.5: weight 1 and 0.5 with composing off, "
+      "each vertex walking its chains)\n");
+  const size_t masked = size_t(std::count_if(arm.slot_anchor.begin(), arm.slot_anchor.end(),
+                                             [](int32_t a) { return a != LayerMask::kNotInMask; }));
+  std::printf(
+      "The right arm's mask: %zu of %zu palette slots (composed rows: %zu bytes per "
+      "drawn record)\n",
+      masked, arm.slot_anchor.size(), masked * 48);
   printSideBySideHeader("layer");
   std::printf("\n");
   for (uint32_t count : sizes)
     for (const std::string& path : paths) {
       if (path != "instanced" && path != "compute" && path != "gpu-culled" && path != "gpu-driven")
         continue;
-      Row rows[3];
-      for (int state = 0; state < 3; ++state) {
+      Row rows[5];
+      // The vertex-shader paths compose; pre-skinning walks the chains once per vertex.
+      const int states = path == "instanced" || path == "gpu-culled" ? 5 : kComposedStates;
+      for (int state = 0; state < states; ++state) {
+        renderer.setComposeLayers(state < kComposedStates);
         s = runLayers(setup, renderer, palette, arm, uint32_t(wave), count, path, state, &rows[state]);
+        renderer.setComposeLayers(true);
         if (!s.isOk()) return {s.code(), "layers, " + path + ": " + s.message()};
         printSideBySideRow(rows[state], rows[0], "layers", csv);
         std::printf("\n");

@@ -9,8 +9,9 @@
 #include <algorithm>
 
 #include "core/str_cat.h"
-#include "gl/paths/skinning_path_choice.h"
 #include "gl/host_errors.h"
+#include "gl/paths/layer_compose_pass.h"
+#include "gl/paths/skinning_path_choice.h"
 #include "gl/renderer_impl.h"
 #include "si/core/log.h"
 
@@ -252,6 +253,9 @@ void Renderer::setMotionVectors(bool on) {
 void Renderer::setRestoreState(bool on) {
   if (impl_) impl_->desc.restore_state = on;
 }
+void Renderer::setComposeLayers(bool on) {
+  if (impl_) impl_->desc.compose_layers = on;
+}
 bool Renderer::motionVectors() const { return impl_ && impl_->desc.motion_vectors; }
 void Renderer::setGpuMotionProjection(const glm::mat4* projection) {
   if (!impl_) return;
@@ -348,7 +352,9 @@ Status Renderer::drawCrowd(CharacterId id, const CrowdView& view, const Instance
                      : layers         ? layer_offset + layer_bound
                      : motion         ? previous_offset + bound
                                       : bound;
-  s = m.ring.reserve(end);
+  // Composed layers: their batch table (16 bytes a batch; a batch takes 80 bytes or more).
+  const size_t compose_offset = align(end);
+  s = m.ring.reserve(layers ? compose_offset + (bound / 64 + 1) * 16 : end);
   if (!s.isOk()) return s;
   size_t base = 0;
   s = m.ring.acquire(&base);
@@ -362,20 +368,26 @@ Status Renderer::drawCrowd(CharacterId id, const CrowdView& view, const Instance
   if (s.isOk() && layers) s = batcher.buildLayers(view, region(layer_offset));
   if (s.isOk() && layers && motion) s = batcher.buildPreviousLayers(view, region(previous_layer_offset));
   if (s.isOk() && layers) s = m.scratch.uploadMaskTable(layerMaskTable(crowd.layerMasks()));
+  // Composed layers: the vertex-shader draws' rows, where they fit (paths/layer_compose_pass.h).
+  // The compose pass reads the whole ring as a storage buffer.
+  uint32_t compose_stride = 0;
+  if (s.isOk() && layers && (mode == DrawMode::kSkinned || mode == DrawMode::kDepthOnly) &&
+      m.ring.bytes() <= m.info.max_shader_storage_block_size_bytes)
+    s = detail::prepareComposedRows(m.resources(*c), crowd.layerMasks(),
+                                    layer_bound / kLayerRecordSize, motion, &compose_stride);
   if (!s.isOk()) return s;
-  m.ring.publish(base, end);
+  if ((uint64_t(batcher.capacityPerDraw()) * compose_stride + 63) / 64 >
+      (m.info.max_compute_groups_x ? m.info.max_compute_groups_x : 65535u))
+    compose_stride = 0;  // A batch's row of groups would not fit: walk the chains.
   detail::PathFrame frame;
   frame.crowd = &crowd;
   frame.view = &view;
   frame.camera = camera;
   frame.light = light_direction_;
-  frame.program = mode == DrawMode::kDepthOnly
-                      ? (layers ? detail::ProgramId::kDepthOnlyLayers : detail::ProgramId::kDepthOnly)
-                  : mode == DrawMode::kRigid   ? detail::ProgramId::kRigid
-                  : motion && layers           ? detail::ProgramId::kSkinnedMotionLayers
-                  : motion                     ? detail::ProgramId::kSkinnedMotion
-                  : layers                     ? detail::ProgramId::kSkinnedLayers
-                                               : detail::ProgramId::kSkinned;
+  frame.program = mode == DrawMode::kRigid
+                      ? detail::ProgramId::kRigid
+                      : detail::skinningProgram(false, mode == DrawMode::kDepthOnly, motion, layers,
+                                                compose_stride > 0);
   if (m.program_override != detail::ProgramId::kCount) frame.program = m.program_override;
   frame.batches = &m.batches;
   frame.ring_base = base;
@@ -384,6 +396,13 @@ Status Renderer::drawCrowd(CharacterId id, const CrowdView& view, const Instance
   frame.layers = layers;
   frame.layer_base = base + layer_offset;
   frame.previous_layer_base = base + previous_layer_offset;
+  frame.composed = compose_stride > 0;
+  frame.compose_stride = compose_stride;
+  frame.compose_table_base = base + compose_offset;
+  if (frame.composed)
+    frame.compose_batches =
+        detail::writeComposeBatches(m.resources(*c), frame, m.ring.mapped(base + compose_offset));
+  m.ring.publish(base, frame.composed ? compose_offset + frame.compose_batches * 16 : end);
   frame.impostor_lod = mode == DrawMode::kRigid ? 0 : crowd.desc().impostor_lod;
   frame.motion_view_projection = view.camera().viewProjection();
   frame.previous_view_projection = view.previousCamera().viewProjection();

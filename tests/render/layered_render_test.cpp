@@ -88,6 +88,69 @@ TEST_P(LayeredRenderTest, BothSkinningPathsDrawTheEmulatedOverlay) {
   EXPECT_LE(compare(plain, plain_cpu, nullptr).share, 0.001);
 }
 
+// Composed layers (RendererDesc::compose_layers, the default): the vertex-shader path's compose
+// pass composes each drawn record's masked slots once and the draws read them; the image is
+// the one the per-vertex chain walk draws (composing off), in batches of 64 KiB and of 5
+// records (each bucket split, so batches hold other instances at other offsets), with the
+// batches' rows of groups in pieces of 2 (a context whose GL_MAX_COMPUTE_WORK_GROUP_COUNT's y
+// is 2), and where a batch's row would not fit its x (1 group) the draws walk the chains.
+// The depth-only draw composes too.
+TEST_P(LayeredRenderTest, ComposedRowsDrawWhatTheChainWalkDraws) {
+  Renderer r;
+  CrowdManager crowd;
+  InstanceBatcher unused;
+  vertexShaderSetUp(&r, &crowd, &unused);
+  GlInfo narrow_y = info_, narrow_x = info_;
+  narrow_y.max_compute_groups_y = 2;
+  narrow_x.max_compute_groups_x = 1;
+  RendererDesc rd;
+  rd.skinning_path = SkinningPath::kVertexShader;
+  Renderer pieces, walking;
+  makeRenderer(&pieces, 0, PaletteFormat::kMatrix3x4F32, &rd, InterpolationChoice::kLinear,
+               &narrow_y);
+  makeRenderer(&walking, 0, PaletteFormat::kMatrix3x4F32, &rd, InterpolationChoice::kLinear,
+               &narrow_x);
+  for (uint32_t per_draw : {0u, 5u}) {
+    SCOPED_TRACE(per_draw);
+    BatchLimits limits = r.batchLimits();
+    limits.max_instances_per_draw = per_draw;
+    InstanceBatcher batcher;
+    ASSERT_TRUE(batcher.init(limits).isOk());
+    const auto drawn = [&](Renderer& renderer, bool compose, DrawStats* stats) {
+      renderer.setComposeLayers(compose);
+      renderer.clear(glm::vec4(0.2f, 0.25f, 0.3f, 1.0f));
+      EXPECT_TRUE(renderer.drawCrowd(crowd, batcher, closeView(), stats).isOk());
+      std::vector<uint8_t> rgba;
+      EXPECT_TRUE(context_->readPixels(&rgba).isOk());
+      return rgba;
+    };
+    DrawStats composed_stats, walk_stats, pieces_stats, walking_stats;
+    const std::vector<uint8_t> composed = drawn(r, true, &composed_stats);
+    const std::vector<uint8_t> walk = drawn(r, false, &walk_stats);
+    const std::vector<uint8_t> in_pieces = drawn(pieces, true, &pieces_stats);
+    const std::vector<uint8_t> narrow = drawn(walking, true, &walking_stats);
+    EXPECT_EQ(composed_stats.compose_dispatches, 1u);
+    EXPECT_EQ(composed_stats.composed_records, composed_stats.instances);
+    EXPECT_EQ(walk_stats.compose_dispatches, 0u);
+    // One group holds a batch of 5 records' masked slots (the arm's at most 12), not of 819.
+    EXPECT_EQ(walking_stats.compose_dispatches, per_draw == 0 ? 0u : 1u);
+    // 4 sub-meshes' batches of 12 records: 4 batches, or 12 of at most 5 (2 rows a dispatch).
+    EXPECT_EQ(pieces_stats.compose_dispatches, per_draw == 0 ? 2u : 6u);
+    const Diff d = compare(composed, walk, nullptr);
+    EXPECT_LE(d.share, 0.0005) << "max channel difference " << d.max_channel;
+    EXPECT_LE(d.max_channel, 8);
+    EXPECT_EQ(compare(in_pieces, composed, nullptr).max_channel, 0);
+    EXPECT_EQ(compare(narrow, per_draw == 0 ? walk : composed, nullptr).max_channel, 0);
+  }
+  pieces.shutdown();
+  walking.shutdown();
+  r.setComposeLayers(true);
+  DrawStats depth_stats;
+  ASSERT_TRUE(r.drawCrowd(crowd, unused, closeView(), &depth_stats, DrawMode::kDepthOnly).isOk());
+  EXPECT_EQ(depth_stats.compose_dispatches, 1u);
+  r.shutdown();
+}
+
 // Two crowds with other masks (the right arm, the left arm) drawn one after the other into one
 // frame, nothing read back between them: each draw reads its own crowd's mask table, on both
 // skinning paths, as the CPU emulation draws the two.
@@ -140,7 +203,8 @@ TEST_P(LayeredRenderTest, TwoCrowdsWithOtherMasksDrawInOneFrame) {
 }
 
 // A depth pre-pass of a crowd playing overlays writes the depth the colour draw writes (the
-// layered depth-only program), not the pose without the overlay.
+// layered depth-only programs, drawCrowd's and the GPU-driven path's), not the pose without
+// the overlay.
 TEST_P(LayeredRenderTest, DepthOnlyDrawsTheOverlaidPose) {
   Renderer r;
   CrowdManager crowd;
@@ -164,6 +228,14 @@ TEST_P(LayeredRenderTest, DepthOnlyDrawsTheOverlaidPose) {
   const std::vector<float> depth_only = depthOf(DrawMode::kDepthOnly);
   ASSERT_EQ(colour.size(), size_t(kSize) * kSize);
   EXPECT_EQ(differing(colour, depth_only), 0u);
+  // The GPU-driven depth-only draw (vertex-shader skinning: composed rows) writes it too.
+  target.clear(glm::vec4(0.0f));
+  DrawStats gpu_stats;
+  ASSERT_TRUE(r.drawCrowdGpuCulled(crowd, closeView(), &gpu_stats, DrawMode::kDepthOnly).isOk());
+  EXPECT_EQ(gpu_stats.compose_dispatches, 1u);
+  std::vector<float> gpu_depth;
+  ASSERT_TRUE(target.readDepth(&gpu_depth).isOk());
+  EXPECT_LE(differing(colour, gpu_depth), colour.size() / 1000);
   for (InstanceHandle h : handles_) ASSERT_TRUE(crowd.stopOverlay(h, 0.0).isOk());
   ASSERT_TRUE(crowd.update(0.0, closeView()).isOk());
   const std::vector<float> plain = depthOf(DrawMode::kDepthOnly);
@@ -174,8 +246,8 @@ TEST_P(LayeredRenderTest, DepthOnlyDrawsTheOverlaidPose) {
 }
 
 // The GPU-driven path writes each visible instance's layer record in its cull pass, at the
-// crowd's clock, and both its draws (vertex-shader skinning and pre-skinning) skin with it:
-// the image drawCrowd draws from update()'s layer records.
+// crowd's clock, and both its draws (vertex-shader skinning, from composed rows, and
+// pre-skinning) skin with it: the image drawCrowd draws from update()'s layer records.
 TEST_P(LayeredRenderTest, TheGpuDrivenPathDrawsTheOverlays) {
   RendererDesc rd;
   rd.measure_gpu_time = true;  // The selection's counts are read back after the timer.
@@ -191,6 +263,8 @@ TEST_P(LayeredRenderTest, TheGpuDrivenPathDrawsTheOverlays) {
     const Status s = r.drawCrowdGpuCulled(crowd, closeView(), &stats, mode);
     ASSERT_TRUE(s.isOk()) << s.toString();
     EXPECT_EQ(stats.gpu_visible, crowd.stats().visible);
+    // Vertex-shader skinning reads composed rows (one compose pass); pre-skinning walks.
+    EXPECT_EQ(stats.compose_dispatches, mode == DrawMode::kSkinned ? 1u : 0u);
     std::vector<uint8_t> gpu;
     ASSERT_TRUE(context_->readPixels(&gpu).isOk());
     const Diff d = compare(gpu, reference, nullptr);
@@ -229,7 +303,7 @@ TEST_P(LayeredRenderTest, MotionVectorsFollowTheOverlay) {
   const uint32_t walk = uint32_t(palette().findClip("walk")), wave = uint32_t(palette().findClip("wave"));
   // Two frames 0.05 s apart: drawCrowd draws the second; the GPU-driven path draws both.
   const auto motionOf = [&](float overlay_speed, DrawMode mode, bool gpu_driven,
-                            std::vector<glm::vec2>* motion) {
+                            std::vector<glm::vec2>* motion, float base_speed = 0.0f) {
     CrowdManager crowd;
     CrowdDesc cd;
     cd.palette = &palette();
@@ -244,7 +318,7 @@ TEST_P(LayeredRenderTest, MotionVectorsFollowTheOverlay) {
       d.position = glm::dvec3((k % 4 - 1.5) * 1.2, 0.0, -2.5 - 1.5 * (k / 4));
       d.clip = walk;
       d.time_seconds = 0.11 * k;
-      d.speed = 0.0f;  // The base pose holds still.
+      d.speed = base_speed;  // The base pose holds still (by default).
       InstanceHandle h;
       ASSERT_TRUE(crowd.add(d, &h).isOk());
       ASSERT_TRUE(crowd.playOverlay(h, wave, mask, 1.0f, 0.0, 0.9 + 0.1 * k, overlay_speed).isOk());
@@ -284,13 +358,26 @@ TEST_P(LayeredRenderTest, MotionVectorsFollowTheOverlay) {
   EXPECT_LT(largest(still), 1e-3f);
   EXPECT_LT(largest(gpu_still), 1e-3f);
   // Both skinning paths and both GPU-driven draws agree.
-  for (const std::vector<glm::vec2>* other : {&waving_cs, &gpu_vs, &gpu_cs}) {
-    ASSERT_EQ(waving_vs.size(), other->size());
+  const auto expectAgree = [](const std::vector<glm::vec2>& a, const std::vector<glm::vec2>& b) {
+    ASSERT_EQ(a.size(), b.size());
     size_t agree = 0;
-    for (size_t i = 0; i < waving_vs.size(); ++i)
-      agree += glm::length(waving_vs[i] - (*other)[i]) < 1e-4f;
-    EXPECT_GE(double(agree), 0.995 * double(waving_vs.size())) << other - &waving_vs;
+    for (size_t i = 0; i < a.size(); ++i) agree += glm::length(a[i] - b[i]) < 1e-4f;
+    EXPECT_GE(double(agree), 0.995 * double(a.size()));
+  };
+  for (const std::vector<glm::vec2>* other : {&waving_cs, &gpu_vs, &gpu_cs}) {
+    SCOPED_TRACE(other - &waving_vs);
+    expectAgree(waving_vs, *other);
   }
+  // Walking and waving: the composed previous rows (previous records and previous layer
+  // records) move as the per-vertex chain walk's, and as pre-skinning's.
+  std::vector<glm::vec2> walking_composed, walking_walk, walking_cs;
+  motionOf(1.0f, DrawMode::kSkinned, false, &walking_composed, 1.0f);
+  motionOf(1.0f, DrawMode::kComputeSkinned, false, &walking_cs, 1.0f);
+  r.setComposeLayers(false);
+  motionOf(1.0f, DrawMode::kSkinned, false, &walking_walk, 1.0f);
+  r.setComposeLayers(true);
+  expectAgree(walking_composed, walking_walk);
+  expectAgree(walking_composed, walking_cs);
   target.restore();
   target.release();
   r.shutdown();

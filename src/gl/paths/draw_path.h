@@ -76,6 +76,14 @@ struct PathFrame {
   /// Both: the previous layer records (InstanceBatcher::buildPreviousLayers) at uniform binding
   /// 3 from `previous_layer_base`.
   size_t previous_layer_base = 0;
+  /// Composed layers (the vertex-shader path, layer_compose_pass.h): the compose pass runs
+  /// first and the program reads its rows, `compose_stride` masked slots a record; its batch
+  /// table (writeComposeBatches) is at `compose_table_base` of the ring, `compose_batches`
+  /// entries.
+  bool composed = false;
+  uint32_t compose_stride = 0;
+  size_t compose_table_base = 0;
+  uint32_t compose_batches = 0;
   /// The crowd's impostor level (CrowdDesc::impostor_lod; 0 none): its instances are drawn as
   /// impostor quads (impostor_draw.h), not as meshes.
   uint32_t impostor_lod = 0;

@@ -9,6 +9,7 @@
 #include "core/str_cat.h"
 #include "gl/paths/dispatch_grid.h"
 #include "gl/paths/impostor_draw.h"
+#include "gl/paths/layer_compose_pass.h"
 #include "gl/resources/gl_allocation.h"
 #include "si/core/layer_mask.h"
 #include "si/crowd/handle_pool.h"
@@ -202,8 +203,12 @@ Status GpuCulledPath::uploadFrame(const DrawResources& r, const PathFrame& f) {
   if (!view.isOk()) return view;
   Status motion = prepareMotion(r, f);
   if (!motion.isOk()) return motion;
-  if (layers_) {  // Every frame: drawCrowd of another crowd may have replaced the table.
+  compose_stride_ = 0;
+  if (layers_) {  // Every frame: drawCrowd of another crowd may have replaced the tables.
     Status s = r.scratch->uploadMaskTable(layerMaskTable(crowd.layerMasks()));
+    // Vertex-shader skinning reads composed rows (layer_compose_pass.h); pre-skinning walks.
+    if (s.isOk() && !f.preskin)
+      s = prepareComposedRows(r, crowd.layerMasks(), n, motion_, &compose_stride_);
     if (!s.isOk()) return s;
   }
 
@@ -433,13 +438,10 @@ void GpuCulledPath::runPasses(const DrawResources& r, const PathFrame& f, uint32
     ++st->draw_calls;
   }
   // Vertex-shader skinning: every instance without pre-skinning, those past the ring with.
+  const bool composed = compose_stride_ > 0;
+  if (composed) (void)composeGpuLayers(r, motion_, compose_stride_, n, st);  // It fits.
   const Program& skinned =
-      (*r.programs)[f.depth_only ? (layers_ ? ProgramId::kGpuDrivenDepthOnlyLayers
-                                            : ProgramId::kGpuDrivenDepthOnly)
-                    : motion_    ? (layers_ ? ProgramId::kGpuDrivenSkinnedMotionLayers
-                                            : ProgramId::kGpuDrivenSkinnedMotion)
-                                 : (layers_ ? ProgramId::kGpuDrivenSkinnedLayers
-                                            : ProgramId::kGpuDrivenSkinned)];
+      (*r.programs)[skinningProgram(true, f.depth_only, motion_, layers_, composed)];
   bindShading(r, skinned, f.camera, f.light);
   set_motion(skinned);
   glBindVertexArray(vao_);

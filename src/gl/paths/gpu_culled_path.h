@@ -69,6 +69,7 @@ class GpuCulledPath final : public DrawPath {
   GLuint overlays_ = kNoObject, layers_out_ = kNoObject;
   uint32_t layer_capacity_ = 0;
   bool layers_ = false;
+  uint32_t compose_stride_ = 0;  // Composed layers' row stride this frame; 0: none.
   // Motion vectors: the previous records and previous layer records per visible instance (the
   // passes' output; what each view drew is its slot's). frame_ counts the crowd clocks drawn.
   GLuint previous_out_ = kNoObject, previous_layers_out_ = kNoObject;

@@ -3,12 +3,18 @@
 #include "gl/paths/vertex_shader_path.h"
 
 #include "gl/paths/impostor_draw.h"
+#include "gl/paths/layer_compose_pass.h"
 
 namespace si::detail {
 
 Status VertexShaderPath::draw(const DrawResources& r, const PathFrame& f, DrawStats* st) {
-  const bool depth_only =
-      f.program == ProgramId::kDepthOnly || f.program == ProgramId::kDepthOnlyLayers;
+  const bool depth_only = f.program == ProgramId::kDepthOnly ||
+                          f.program == ProgramId::kDepthOnlyLayers ||
+                          f.program == ProgramId::kDepthOnlyComposed;
+  if (f.composed) {
+    const Status s = composeLayers(r, f, st);
+    if (!s.isOk()) return s;
+  }
   const Program& program = (*r.programs)[f.program];
   bindShading(r, program, f.camera, f.light);
   setMotionUniforms(program, f);
@@ -21,6 +27,8 @@ Status VertexShaderPath::draw(const DrawResources& r, const PathFrame& f, DrawSt
     if (f.motion) r.ring->bindBatch(f.previous_base, d, 1);
     if (f.layers) r.ring->bindLayers(f.layer_base, d);
     if (f.layers && f.motion) r.ring->bindLayers(f.previous_layer_base, d, 3);
+    if (f.composed)  // The batch's composed records start where its layer records do.
+      glProgramUniform1ui(program.id, 7, d.layer_byte_offset / kLayerRecordSize);
     glDrawElementsInstanced(GL_TRIANGLES, GLsizei(range.index_count), GL_UNSIGNED_INT,
                             reinterpret_cast<const void*>(uintptr_t(range.first_index) * 4),
                             GLsizei(d.instance_count));

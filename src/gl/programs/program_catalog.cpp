@@ -29,8 +29,8 @@ const ProgramSpec kSpecs[kProgramCount] = {
     {"GPU culling commands", "", nullptr, nullptr, "cull_commands.comp.glsl", nullptr},
     {"GPU culling scatter", "", nullptr, nullptr, "cull_scatter.comp.glsl", nullptr},
     {"GPU-driven pre-skinning", "", nullptr, nullptr, "gpu_skin.comp.glsl", nullptr},
-    {"GPU-driven pulling", "#define SI_GPU_DRIVEN\n", "pulled.vert.glsl", "shade.frag.glsl", nullptr,
-     nullptr},
+    {"GPU-driven pulling", "#define SI_GPU_DRIVEN\n", "pulled.vert.glsl", "shade.frag.glsl",
+     nullptr, nullptr},
     {"depth pyramid copy", "#define SI_HIZ_COPY\n", nullptr, nullptr, "hiz.comp.glsl", nullptr},
     {"depth pyramid reduce", "", nullptr, nullptr, "hiz.comp.glsl", nullptr},
     {"skinned with motion vectors", "#define SI_MOTION_VECTORS\n", "skinned.vert.glsl",
@@ -75,12 +75,37 @@ const ProgramSpec kSpecs[kProgramCount] = {
     {"impostor capture", "#define SI_IMPOSTOR_CAPTURE\n", "skinned.vert.glsl", "shade.frag.glsl",
      nullptr, nullptr},
     {"impostor", "", "impostor.vert.glsl", "impostor.frag.glsl", nullptr, nullptr},
-    {"impostor, depth only", "#define SI_DEPTH_ONLY\n", "impostor.vert.glsl",
-     "impostor.frag.glsl", nullptr, nullptr},
-    {"GPU-driven impostor", "#define SI_GPU_DRIVEN\n", "impostor.vert.glsl",
-     "impostor.frag.glsl", nullptr, nullptr},
+    {"impostor, depth only", "#define SI_DEPTH_ONLY\n", "impostor.vert.glsl", "impostor.frag.glsl",
+     nullptr, nullptr},
+    {"GPU-driven impostor", "#define SI_GPU_DRIVEN\n", "impostor.vert.glsl", "impostor.frag.glsl",
+     nullptr, nullptr},
     {"GPU-driven impostor, depth only", "#define SI_GPU_DRIVEN\n#define SI_DEPTH_ONLY\n",
      "impostor.vert.glsl", "impostor.frag.glsl", nullptr, nullptr},
+    {"layer compose", "", nullptr, nullptr, "layer_compose.comp.glsl", nullptr},
+    {"layer compose with previous records", "#define SI_MOTION_VECTORS\n", nullptr, nullptr,
+     "layer_compose.comp.glsl", nullptr},
+    {"skinned with composed layers", "#define SI_LAYERS\n#define SI_COMPOSED_LAYERS\n",
+     "skinned.vert.glsl", "shade.frag.glsl", nullptr, nullptr},
+    {"skinned with motion vectors and composed layers",
+     "#define SI_MOTION_VECTORS\n#define SI_LAYERS\n#define SI_COMPOSED_LAYERS\n",
+     "skinned.vert.glsl", "shade.frag.glsl", nullptr, nullptr},
+    {"depth-only with composed layers", "#define SI_LAYERS\n#define SI_COMPOSED_LAYERS\n",
+     "skinned.vert.glsl", "depth.frag.glsl", nullptr, nullptr},
+    {"GPU-driven layer compose", "#define SI_GPU_DRIVEN\n", nullptr, nullptr,
+     "layer_compose.comp.glsl", nullptr},
+    {"GPU-driven layer compose with previous records",
+     "#define SI_GPU_DRIVEN\n#define SI_MOTION_VECTORS\n", nullptr, nullptr,
+     "layer_compose.comp.glsl", nullptr},
+    {"GPU-driven skinned with composed layers",
+     "#define SI_GPU_DRIVEN\n#define SI_LAYERS\n#define SI_COMPOSED_LAYERS\n", "skinned.vert.glsl",
+     "shade.frag.glsl", nullptr, nullptr},
+    {"GPU-driven skinned with motion vectors and composed layers",
+     "#define SI_GPU_DRIVEN\n#define SI_MOTION_VECTORS\n#define SI_LAYERS\n"
+     "#define SI_COMPOSED_LAYERS\n",
+     "skinned.vert.glsl", "shade.frag.glsl", nullptr, nullptr},
+    {"GPU-driven depth-only with composed layers",
+     "#define SI_GPU_DRIVEN\n#define SI_LAYERS\n#define SI_COMPOSED_LAYERS\n", "skinned.vert.glsl",
+     "depth.frag.glsl", nullptr, nullptr},
 };
 
 }  // namespace
@@ -101,6 +126,27 @@ const char* shaderStageName(ShaderStage stage) {
 }
 
 const ProgramSpec& programSpec(ProgramId id) { return kSpecs[size_t(id) % kProgramCount]; }
+
+ProgramId skinningProgram(bool gpu_driven, bool depth_only, bool motion, bool layers,
+                          bool composed) {
+  // [gpu_driven][depth-only, shaded, shaded with motion][plain, layers, composed]
+  static constexpr ProgramId kTable[2][3][3] = {
+      {{ProgramId::kDepthOnly, ProgramId::kDepthOnlyLayers, ProgramId::kDepthOnlyComposed},
+       {ProgramId::kSkinned, ProgramId::kSkinnedLayers, ProgramId::kSkinnedComposed},
+       {ProgramId::kSkinnedMotion, ProgramId::kSkinnedMotionLayers,
+        ProgramId::kSkinnedMotionComposed}},
+      {{ProgramId::kGpuDrivenDepthOnly, ProgramId::kGpuDrivenDepthOnlyLayers,
+        ProgramId::kGpuDrivenDepthOnlyComposed},
+       {ProgramId::kGpuDrivenSkinned, ProgramId::kGpuDrivenSkinnedLayers,
+        ProgramId::kGpuDrivenSkinnedComposed},
+       {ProgramId::kGpuDrivenSkinnedMotion, ProgramId::kGpuDrivenSkinnedMotionLayers,
+        ProgramId::kGpuDrivenSkinnedMotionComposed}}};
+  return kTable[gpu_driven ? 1 : 0][depth_only ? 0
+                                    : motion   ? 2
+                                               : 1][composed && layers ? 2
+                                                  : layers           ? 1
+                                                                     : 0];
+}
 
 bool esProgram(ProgramId id) {
   return id == ProgramId::kSkinned || id == ProgramId::kDepthOnly || id == ProgramId::kRigid;

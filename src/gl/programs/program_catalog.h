@@ -34,23 +34,33 @@ enum class ProgramId : uint8_t {
   kSkinnedLayers,      ///< kSkinned with layered animation (overlays on masks).
   kComputeSkinLayers,  ///< kComputeSkin with layered animation.
   kDepthOnlyLayers,    ///< kDepthOnly with layered animation.
-  kGpuDrivenSkinnedLayers,  ///< kGpuDrivenSkinned with layered animation.
-  kGpuSkinLayers,           ///< kGpuSkin with layered animation.
-  kSkinnedMotionLayers,     ///< kSkinnedMotion with layered animation.
-  kComputeSkinMotionLayers, ///< kComputeSkinMotion with layered animation.
-  kGpuDrivenSkinnedMotion,  ///< kGpuDrivenSkinned, also writing motion vectors.
-  kGpuSkinMotion,           ///< kGpuSkin, also skinning the previous position.
-  kGpuPulledMotion,         ///< kGpuPulled, also writing motion vectors.
-  kGpuDrivenSkinnedMotionLayers,  ///< kGpuDrivenSkinnedMotion with layered animation.
-  kGpuSkinMotionLayers,           ///< kGpuSkinMotion with layered animation.
-  kGpuDrivenDepthOnly,            ///< kGpuDrivenSkinned, depth only (shadow views).
-  kGpuDrivenDepthOnlyLayers,      ///< kGpuDrivenDepthOnly with layered animation.
-  kGpuPulledDepthOnly,            ///< kGpuPulled, depth only.
-  kImpostorCapture,               ///< kSkinned writing the impostor atlas's two layers.
-  kImpostor,                      ///< Impostor quads, records from the instance block.
-  kImpostorDepthOnly,             ///< kImpostor, depth only.
-  kGpuDrivenImpostor,             ///< Impostor quads, records through bucket entries.
-  kGpuDrivenImpostorDepthOnly,    ///< kGpuDrivenImpostor, depth only.
+  kGpuDrivenSkinnedLayers,          ///< kGpuDrivenSkinned with layered animation.
+  kGpuSkinLayers,                   ///< kGpuSkin with layered animation.
+  kSkinnedMotionLayers,             ///< kSkinnedMotion with layered animation.
+  kComputeSkinMotionLayers,         ///< kComputeSkinMotion with layered animation.
+  kGpuDrivenSkinnedMotion,          ///< kGpuDrivenSkinned, also writing motion vectors.
+  kGpuSkinMotion,                   ///< kGpuSkin, also skinning the previous position.
+  kGpuPulledMotion,                 ///< kGpuPulled, also writing motion vectors.
+  kGpuDrivenSkinnedMotionLayers,    ///< kGpuDrivenSkinnedMotion with layered animation.
+  kGpuSkinMotionLayers,             ///< kGpuSkinMotion with layered animation.
+  kGpuDrivenDepthOnly,              ///< kGpuDrivenSkinned, depth only (shadow views).
+  kGpuDrivenDepthOnlyLayers,        ///< kGpuDrivenDepthOnly with layered animation.
+  kGpuPulledDepthOnly,              ///< kGpuPulled, depth only.
+  kImpostorCapture,                 ///< kSkinned writing the impostor atlas's two layers.
+  kImpostor,                        ///< Impostor quads, records from the instance block.
+  kImpostorDepthOnly,               ///< kImpostor, depth only.
+  kGpuDrivenImpostor,               ///< Impostor quads, records through bucket entries.
+  kGpuDrivenImpostorDepthOnly,      ///< kGpuDrivenImpostor, depth only.
+  kLayerCompose,                    ///< Layered animation: each batch's masked rows composed.
+  kLayerComposeMotion,              ///< kLayerCompose, also the previous records' rows.
+  kSkinnedComposed,                 ///< kSkinnedLayers reading the composed rows.
+  kSkinnedMotionComposed,           ///< kSkinnedMotionLayers reading the composed rows.
+  kDepthOnlyComposed,               ///< kDepthOnlyLayers reading the composed rows.
+  kGpuLayerCompose,                 ///< kLayerCompose over the cull pass's visible records.
+  kGpuLayerComposeMotion,           ///< kGpuLayerCompose, also the previous records' rows.
+  kGpuDrivenSkinnedComposed,        ///< kGpuDrivenSkinnedLayers reading the composed rows.
+  kGpuDrivenSkinnedMotionComposed,  ///< kGpuDrivenSkinnedMotionLayers reading them.
+  kGpuDrivenDepthOnlyComposed,      ///< kGpuDrivenDepthOnlyLayers reading them.
   kCount
 };
 inline constexpr size_t kProgramCount = size_t(ProgramId::kCount);
@@ -74,6 +84,12 @@ struct ProgramSpec {
   }
 };
 const ProgramSpec& programSpec(ProgramId id);
+
+/// The vertex-shader skinning program of drawCrowd (`gpu_driven` false) or of the GPU-driven
+/// path: depth only or shaded, with motion vectors (shaded only), overlays walked per vertex
+/// (`layers`) or read from the compose pass's rows (`composed`, with `layers`).
+ProgramId skinningProgram(bool gpu_driven, bool depth_only, bool motion, bool layers,
+                          bool composed);
 
 /// The values of the defines every program gets.
 struct ShaderConfig {

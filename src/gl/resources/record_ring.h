@@ -59,6 +59,8 @@ class RecordRing {
                       GLsizeiptr(block_size_ / kInstanceRecordSize * kLayerRecordSize));
   }
   GLuint buffer() const { return buffer_; }
+  /// The whole ring's bytes (every region).
+  size_t bytes() const { return region_size_ * frames_; }
   /// The wait acquire() uses; null restores glClientWaitSync. For tests of the timeout and
   /// failure paths.
   void setClientWait(ClientWaitSync wait) { wait_ = wait; }

@@ -41,6 +41,7 @@ void ScratchBuffers::release() {
   if (mask_table != kNoObject) glDeleteBuffers(1, &mask_table);
   mask_table = kNoObject;
   mask_table_content.clear();
+  layer_compose.release();
   compute_ring.release();
   compute_previous_ring.release();
   gpu_driven_ring.release();

@@ -9,6 +9,7 @@
 #include <vector>
 
 #include "gl/programs/program_set.h"
+#include "gl/resources/layer_compose_buffers.h"
 #include "si/core/status.h"
 
 namespace si::detail {
@@ -37,6 +38,8 @@ struct ScratchBuffers {
   /// Layered animation: the drawn crowd's mask table (si::layerMaskTable) and what it holds.
   GLuint mask_table = kNoObject;
   std::vector<int32_t> mask_table_content;
+  /// Composed layers (drawCrowd's vertex-shader path): the compose table and rows.
+  LayerComposeBuffers layer_compose;
 
   /// Makes mask_table hold `table` (a new buffer when it differs from the last: never rewritten
   /// under draws that may still read it) and binds it at storage binding 8 (si_skinning.glsl's

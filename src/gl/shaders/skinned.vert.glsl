@@ -7,7 +7,8 @@
 // a uniform block), SI_MOTION_VECTORS (also the clip positions of the vertex under the crowd's
 // last update camera and, skinned with its previous record, under the previous one: the
 // fragment shader's motion output; with SI_GPU_DRIVEN the cull pass's previous records),
-// SI_LAYERS (each instance's overlay composed on its mask: siSkinLayered).
+// SI_LAYERS (each instance's overlay composed on its mask: siSkinLayered; with SI_COMPOSED_LAYERS
+// its masked slots' rows read from the compose pass, siSkinComposed, layer_compose.glsl).
 #define SI_VERTEX_MATERIALS
 #if defined(SI_GPU_DRIVEN) && defined(SI_LAYERS)
 #define SI_LAYERS_IN_STORAGE  // The cull pass's layer records, by visible index.
@@ -31,6 +32,12 @@ layout(std140 SI_WITH_BINDING(1)) uniform SiCharacter {
 };
 #else
 #include "si_skinning.glsl"
+#ifdef SI_COMPOSED_LAYERS
+#define SI_COMPOSED_READ
+#include "layer_compose.glsl"
+// The batch's first composed record: the batch's layer records' first index in the layer block.
+layout(location = 7) uniform uint u_composed_first;
+#endif
 #endif
 
 layout(location = 0) in vec3 a_position;
@@ -82,6 +89,10 @@ void main() {
 #endif
 #if defined(SI_RIGID)
   vec4 m0 = vec4(1, 0, 0, 0), m1 = vec4(0, 1, 0, 0), m2 = vec4(0, 0, 1, 0);
+#elif defined(SI_COMPOSED_LAYERS)
+  vec4 m0, m1, m2;
+  siSkinComposed(inst, si_layers[slot], u_composed_first + slot, false, a_joints, a_weights, m0,
+                 m1, m2);
 #elif defined(SI_LAYERS)
   vec4 m0, m1, m2;
   siSkinLayered(inst, si_layers[slot], a_joints, a_weights, m0, m1, m2);
@@ -104,7 +115,14 @@ void main() {
   gl_Position = u_view_projection * vec4(world, 1.0);
 #ifdef SI_MOTION_VECTORS
   v_motion_current = u_motion_view_projection * vec4(world, 1.0);
-#ifdef SI_LAYERS
+#if defined(SI_COMPOSED_LAYERS)
+  SiInstance prev = si_previous_instances[slot];
+  vec4 p0, p1, p2;
+  siSkinComposed(prev, si_previous_layers[slot], u_composed_first + slot, true, a_joints,
+                 a_weights, p0, p1, p2);
+  vec3 previous = siTransformPoint(prev.world_rows[0], prev.world_rows[1], prev.world_rows[2],
+                                   siTransformPoint(p0, p1, p2, a_position));
+#elif defined(SI_LAYERS)
   vec3 previous = siSkinPreviousLayered(slot, a_joints, a_weights, a_position);
 #else
   vec3 previous = siSkinPrevious(slot, a_joints, a_weights, a_position);

@@ -1,0 +1,113 @@
+// SkinnedInstancing — SPDX-License-Identifier: MIT (see LICENSE)
+// The compose pass of layered animation's vertex-shader draws.
+#include "gl/paths/layer_compose_pass.h"
+
+#include <algorithm>
+#include <cstring>
+
+#include "core/str_cat.h"
+#include "gl/paths/dispatch_grid.h"
+#include "gl/resources/layer_compose_table.h"
+
+namespace si::detail {
+
+Status prepareComposedRows(const DrawResources& r, Span<const LayerMask> masks, uint64_t records,
+                           bool previous, uint32_t* stride) {
+  *stride = 0;
+  if (!r.desc->compose_layers) return Status::ok();
+  const std::vector<int32_t> table = layerComposeTable(masks);
+  const uint64_t limit = r.info->max_shader_storage_block_size_bytes;
+  DispatchGrid grid;  // All `records` in one dispatch (the GPU-driven pass) fit the grid.
+  if (!composedRowsFit(limit, records, uint32_t(table[1])) ||
+      !dispatchGrid((records * uint32_t(table[1]) + 63) / 64, r.info->max_compute_groups_x,
+                    r.info->max_compute_groups_y, &grid))
+    return Status::ok();
+  LayerComposeBuffers& buffers = r.scratch->layer_compose;
+  Status s = buffers.uploadTable(table);
+  if (s.isOk())
+    s = buffers.ensureRows(composedRowBytes(records, uint32_t(table[1])), limit, previous);
+  if (s.isOk()) *stride = uint32_t(table[1]);
+  return s;
+}
+
+namespace {
+
+// Whether the vertex-shader path draws batch `d` (vertex_shader_path.cpp): the others need no
+// rows.
+bool drawn(const DrawResources& r, const DrawBatch& d) {
+  return d.sub_mesh < r.character->sub_meshes.size() &&
+         r.character->lodRange(d.sub_mesh, d.lod).index_count > 0;
+}
+
+}  // namespace
+
+uint32_t writeComposeBatches(const DrawResources& r, const PathFrame& f, uint8_t* out) {
+  uint32_t n = 0;
+  for (const DrawBatch& d : *f.batches) {
+    if (!drawn(r, d)) continue;
+    const uint32_t entry[4] = {uint32_t((f.ring_base + d.byte_offset) / 16),
+                               uint32_t((f.layer_base + d.layer_byte_offset) / 16),
+                               d.instance_count, d.layer_byte_offset / kLayerRecordSize};
+    std::memcpy(out + size_t(n++) * sizeof entry, entry, sizeof entry);
+  }
+  return n;
+}
+
+Status composeLayers(const DrawResources& r, const PathFrame& f, DrawStats* st) {
+  const uint32_t stride = f.compose_stride;
+  uint32_t most = 0;  // The largest batch: the groups of every row.
+  uint64_t records = 0;
+  for (const DrawBatch& d : *f.batches)
+    if (drawn(r, d)) {
+      most = std::max(most, d.instance_count);
+      records += d.instance_count;
+    }
+  const uint64_t groups_x = (uint64_t(most) * stride + 63) / 64;
+  // Zero limits are GL's minimum.
+  const uint32_t max_x = r.info->max_compute_groups_x ? r.info->max_compute_groups_x : 65535u;
+  const uint32_t max_y = r.info->max_compute_groups_y ? r.info->max_compute_groups_y : 65535u;
+  if (groups_x > max_x)
+    return {StatusCode::kLimitExceeded, strCat("composed layers: ", groups_x,
+                                               " compute groups per batch exceed "
+                                               "GL_MAX_COMPUTE_WORK_GROUP_COUNT's x (",
+                                               max_x, ")")};
+  const Program& compose =
+      (*r.programs)[f.motion ? ProgramId::kLayerComposeMotion : ProgramId::kLayerCompose];
+  glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT);  // Earlier draws are done reading the rows.
+  glUseProgram(compose.id);
+  r.palette->bind();
+  r.scratch->layer_compose.bind(f.motion);
+  glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 24, r.ring->buffer());
+  // The previous records and layer records: the same slots at their blocks' offsets.
+  glProgramUniform2ui(compose.id, 6, uint32_t((f.previous_base - f.ring_base) / 16),
+                      uint32_t((f.previous_layer_base - f.layer_base) / 16));
+  const uint32_t table = uint32_t(f.compose_table_base / 16);
+  for (uint32_t first = 0; first < f.compose_batches; first += max_y) {
+    const uint32_t rows = std::min(f.compose_batches - first, max_y);
+    glProgramUniform1ui(compose.id, 5, table + first);
+    glDispatchCompute(GLuint(groups_x), rows, 1);
+    ++st->compose_dispatches;
+  }
+  st->composed_records += records;
+  glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT);  // The rows before the draws read them.
+  return Status::ok();
+}
+
+Status composeGpuLayers(const DrawResources& r, bool motion, uint32_t stride, uint32_t instances,
+                        DrawStats* st) {
+  const Program& compose =
+      (*r.programs)[motion ? ProgramId::kGpuLayerComposeMotion : ProgramId::kGpuLayerCompose];
+  glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT);  // The cull pass's records; earlier reads.
+  glUseProgram(compose.id);
+  r.palette->bind();
+  r.scratch->layer_compose.bind(motion);
+  glProgramUniform1ui(compose.id, 5, instances);
+  const uint64_t invocations = uint64_t(instances) * stride;
+  const Status s = dispatchGroups(*r.info, (invocations + 63) / 64, "composed layers");
+  if (!s.isOk()) return s;
+  ++st->compose_dispatches;
+  glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT);
+  return Status::ok();
+}
+
+}  // namespace si::detail

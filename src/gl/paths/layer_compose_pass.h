@@ -1,0 +1,46 @@
+// SkinnedInstancing — SPDX-License-Identifier: MIT (see LICENSE)
+#pragma once
+// Composed layers: before the vertex-shader draws of a layered crowd (drawCrowd's, and the
+// GPU-driven path's without pre-skinning), a compute pass composes each overlaid record's
+// masked palette slots once per frame (layer_compose.comp.glsl: siLayeredJointRows, the
+// overlay's frames and the anchor's, and between weights each masked ancestor's link blended
+// in local space), and the draws read those rows (siSkinComposed) instead of repeating the
+// chain per vertex and influence. RendererDesc::compose_layers turns it off.
+
+#include "gl/paths/draw_path.h"
+
+namespace si::detail {
+
+/// When RendererDesc::compose_layers is on, the rows of `records` composed records of `masks`'
+/// row stride fit GL_MAX_SHADER_STORAGE_BLOCK_SIZE (layer_compose_table.h) and one pass over
+/// them fits GL_MAX_COMPUTE_WORK_GROUP_COUNT (dispatch_grid.h): uploads
+/// the compose table (storage binding 23), makes the rows buffers hold them (storage bindings
+/// 14, and 15 with `previous`: motion vectors) and sets `*stride` to the row stride. Otherwise
+/// `*stride` is 0: the draws walk the chain per vertex (the layered programs). kLimitExceeded
+/// when the driver has no memory for the rows.
+Status prepareComposedRows(const DrawResources& r, Span<const LayerMask> masks, uint64_t records,
+                           bool previous, uint32_t* stride);
+
+/// drawCrowd's compose pass table: for each batch of `frame` that the draws draw, 16 bytes at
+/// `out` (the ring, at frame.compose_table_base): its records' and layer records' first 16-byte
+/// word in the ring, its record count and its first composed record (its layer records' index
+/// in the layer block). Returns the entries written.
+uint32_t writeComposeBatches(const DrawResources& r, const PathFrame& frame, uint8_t* out);
+
+/// drawCrowd's compose pass: one dispatch (a row of groups per batch of the table, in pieces of
+/// GL_MAX_COMPUTE_WORK_GROUP_COUNT's y) reading the records and layer records (the previous
+/// ones too with frame.motion) from the ring bound whole as a storage buffer (binding 24),
+/// between two storage barriers: the last draws' reads before, the rows after. The mask table
+/// (binding 8) is bound; prepareComposedRows' buffers are bound again. Counts the dispatches
+/// and the composed records in `stats`. kLimitExceeded when a batch's groups exceed
+/// GL_MAX_COMPUTE_WORK_GROUP_COUNT's x (nothing dispatched).
+Status composeLayers(const DrawResources& r, const PathFrame& frame, DrawStats* stats);
+
+/// The GPU-driven path's compose pass, after its cull pass: the records and layer records by
+/// visible index at storage bindings 4 and 18 (previous ones at 20 and 21 with `motion`), the
+/// visible count at 3 (at most `instances`), composed record = visible index; the same barriers.
+/// kLimitExceeded past the dispatch grid.
+Status composeGpuLayers(const DrawResources& r, bool motion, uint32_t stride, uint32_t instances,
+                        DrawStats* stats);
+
+}  // namespace si::detail

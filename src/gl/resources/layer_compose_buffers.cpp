@@ -1,0 +1,56 @@
+// SkinnedInstancing — SPDX-License-Identifier: MIT (see LICENSE)
+// The compose table's buffer and the composed rows.
+#include "gl/resources/layer_compose_buffers.h"
+
+#include <algorithm>
+
+#include "gl/resources/gl_allocation.h"
+
+namespace si::detail {
+
+Status LayerComposeBuffers::uploadTable(const std::vector<int32_t>& content) {
+  if (table == kNoObject || content != table_content) {
+    table_content.clear();
+    const Status s = createBuffer(&table, content.size() * sizeof(int32_t), content.data(), 0,
+                                  "composed layers: the compose table");
+    if (!s.isOk()) return s;
+    table_content = content;
+  }
+  glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 23, table);
+  return Status::ok();
+}
+
+Status LayerComposeBuffers::ensureRows(uint64_t bytes, uint64_t limit, bool previous) {
+  for (int k = 0; k < (previous ? 2 : 1); ++k) {
+    if (rows[k] == kNoObject || bytes > row_bytes[k]) {
+      const uint64_t grown = std::max(bytes, std::min(limit, row_bytes[k] + row_bytes[k] / 2));
+      row_bytes[k] = 0;
+      const Status s = createBuffer(&rows[k], grown, nullptr, 0,
+                                    k == 0 ? "composed layers: the composed rows"
+                                           : "composed layers: the previous records' rows");
+      if (!s.isOk()) return s;
+      row_bytes[k] = grown;
+    }
+    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, GLuint(14 + k), rows[k]);
+  }
+  return Status::ok();
+}
+
+void LayerComposeBuffers::bind(bool previous) const {
+  glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 23, table);
+  glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 14, rows[0]);
+  if (previous) glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 15, rows[1]);
+}
+
+void LayerComposeBuffers::release() {
+  if (table != kNoObject) glDeleteBuffers(1, &table);
+  table = kNoObject;
+  table_content.clear();
+  for (int k = 0; k < 2; ++k) {
+    if (rows[k] != kNoObject) glDeleteBuffers(1, &rows[k]);
+    rows[k] = kNoObject;
+    row_bytes[k] = 0;
+  }
+}
+
+}  // namespace si::detail

@@ -1,0 +1,96 @@
+// SkinnedInstancing - SPDX-License-Identifier: MIT (see LICENSE)
+// The layer compose pass: one invocation per (record of a batch, masked index of the row
+// stride) composes the record's overlay on that masked palette slot (siLayeredJointRows, the
+// chain walk the vertex shaders would otherwise repeat per vertex and influence) into the rows
+// buffer (layer_compose.glsl). Records at weight 0, and indices past their mask's count, write
+// nothing: the vertex shaders never read them. SI_MOTION_VECTORS: the previous records' too.
+// drawCrowd's: one row of groups per batch of the compose table the renderer wrote into the
+// ring (layer_compose_pass.h, writeComposeBatches), the records read from the ring. With
+// SI_GPU_DRIVEN: the cull pass's records (and previous records) by visible index, as many as it
+// counted visible, composed record = visible index.
+#ifdef SI_MOTION_VECTORS
+#define SI_PREVIOUS_RECORDS
+#endif
+#define SI_LAYERS
+#ifdef SI_GPU_DRIVEN
+#define SI_INSTANCES_IN_STORAGE
+#define SI_RECORDS_BINDING 4
+#define SI_LAYER_BINDING 18
+#define SI_PREVIOUS_BINDING 20
+#define SI_PREVIOUS_LAYER_BINDING 21
+#endif
+#include "si_skinning.glsl"
+#ifdef SI_GPU_DRIVEN
+#include "cull_counters.glsl"
+#endif
+#include "layer_compose.glsl"
+#include "dispatch_index.glsl"
+layout(local_size_x = 64) in;
+layout(std430, binding = 14) writeonly buffer SiComposedOut { vec4 si_composed_out[]; };
+#ifdef SI_MOTION_VECTORS
+layout(std430, binding = 15) writeonly buffer SiComposedPreviousOut {
+  vec4 si_composed_previous_out[];
+};
+#endif
+#ifdef SI_GPU_DRIVEN
+layout(location = 5) uniform uint u_instances;  // Bounds the visible count.
+#else
+// The ring, whole: the batch table, the records and the layer records, by 16-byte word.
+layout(std430, binding = 24) readonly buffer SiRing { uvec4 si_ring[]; };
+layout(location = 5) uniform uint u_table;  // The first batch entry of this dispatch.
+// The previous records' and previous layer records' words after the current ones'.
+layout(location = 6) uniform uvec2 u_previous_shift;
+SiInstance siRingRecord(uint word) {
+  SiInstance r;
+  r.world_rows[0] = uintBitsToFloat(si_ring[word]);
+  r.world_rows[1] = uintBitsToFloat(si_ring[word + 1u]);
+  r.world_rows[2] = uintBitsToFloat(si_ring[word + 2u]);
+  r.frames = si_ring[word + 3u];
+  r.blend = si_ring[word + 4u];
+  return r;
+}
+#endif
+
+// Composes record `inst`'s overlay `layer` on masked index `k` into `rows` at vec4 `at`.
+#define SI_COMPOSE(inst, layer, k, rows, at)                                         \
+  {                                                                                  \
+    int slot = siComposedSlot(layer, k);                                             \
+    if (slot >= 0) {                                                                 \
+      vec4 r0, r1, r2;                                                               \
+      siLayeredJointRows(inst, layer, uint(slot), r0, r1, r2);                       \
+      rows[at] = r0;                                                                 \
+      rows[at + 1u] = r1;                                                            \
+      rows[at + 2u] = r2;                                                            \
+    }                                                                                \
+  }
+
+void main() {
+  uint stride = siComposeStride();
+#ifdef SI_GPU_DRIVEN
+  // One flat pass over the visible records: composed record = visible index.
+  uint g = siFlatInvocation();
+  uint i = g / stride;
+  if (i >= min(si_visible_count, u_instances)) return;
+  uint k = g - i * stride;
+  uint at = g * 3u;
+  SI_COMPOSE(si_instances[i], si_layers[i], k, si_composed_out, at);
+#ifdef SI_MOTION_VECTORS
+  SI_COMPOSE(si_previous_instances[i], si_previous_layers[i], k, si_composed_previous_out, at);
+#endif
+#else
+  // A row of groups per batch: its records' word, its layer records' word, its record count,
+  // its first composed record.
+  uvec4 batch = si_ring[u_table + gl_WorkGroupID.y];
+  uint g = gl_WorkGroupID.x * 64u + gl_LocalInvocationIndex;
+  uint i = g / stride;
+  if (i >= batch.z) return;
+  uint k = g - i * stride;
+  uint at = ((batch.w + i) * stride + k) * 3u;
+  uint record = batch.x + 5u * i, layer = batch.y + i;
+  SI_COMPOSE(siRingRecord(record), si_ring[layer], k, si_composed_out, at);
+#ifdef SI_MOTION_VECTORS
+  SI_COMPOSE(siRingRecord(record + u_previous_shift.x), si_ring[layer + u_previous_shift.y], k,
+             si_composed_previous_out, at);
+#endif
+#endif
+}

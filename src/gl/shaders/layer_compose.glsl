@@ -1,0 +1,72 @@
+// SkinnedInstancing - SPDX-License-Identifier: MIT (see LICENSE)
+// Composed layers, after si_skinning.glsl with SI_LAYERS: the compose pass
+// (layer_compose.comp.glsl) runs siLayeredJointRows once per frame for each overlaid record's
+// masked palette slots, and the vertex shaders read those rows instead of walking each
+// influence's chain per vertex (src/gl/paths/layer_compose_pass.h).
+// The compose table (storage binding 23; si::detail::layerComposeTable): [0] palette slots,
+// [1] the row stride (the most masked slots of any mask), [2] the mask count; then per mask
+// each slot's index among the mask's masked slots (-1 outside it); then per mask its masked
+// slots in order (-1 past its count).
+// The rows (storage binding 14; the previous records' at 15): 3 vec4 per (record, masked
+// index), composed record r's index k at (r * stride + k) * 3.
+#ifndef SI_LAYER_COMPOSE_GLSL
+#define SI_LAYER_COMPOSE_GLSL
+layout(std430, binding = 23) readonly buffer SiComposeTable { int si_compose_table[]; };
+
+uint siComposeStride() { return uint(si_compose_table[1]); }
+
+// The index of palette slot `joint` among the masked slots of `layer`'s mask; -1 outside the
+// mask or at weight 0 (the base rows then, as siLayeredJointRows gives).
+int siComposedIndex(uvec4 layer, uint joint) {
+  if ((layer.w & 0xFFFFu) == 0u) return -1;
+  return si_compose_table[3u + (layer.w >> 16) * uint(si_compose_table[0]) + joint];
+}
+
+// The palette slot of masked index `k` of `layer`'s mask; -1 past its count or at weight 0.
+int siComposedSlot(uvec4 layer, uint k) {
+  if ((layer.w & 0xFFFFu) == 0u) return -1;
+  uint slots = uint(si_compose_table[0]), masks = uint(si_compose_table[2]);
+  return si_compose_table[3u + masks * slots + (layer.w >> 16) * siComposeStride() + k];
+}
+
+#ifdef SI_COMPOSED_READ
+layout(std430, binding = 14) readonly buffer SiComposedRows { vec4 si_composed[]; };
+#ifdef SI_PREVIOUS_RECORDS
+layout(std430, binding = 15) readonly buffer SiComposedPreviousRows {
+  vec4 si_composed_previous[];
+};
+#endif
+vec4 siComposedRow(bool previous, uint at) {
+#ifdef SI_PREVIOUS_RECORDS
+  if (previous) return si_composed_previous[at];
+#endif
+  return si_composed[at];
+}
+
+// siSkinLayered with composed record `record`'s rows (the previous records' when `previous`):
+// masked influences read three rows, the others fetch and interpolate the palette as siSkin.
+void siSkinComposed(SiInstance inst, uvec4 layer, uint record, bool previous, uvec4 joints,
+                    vec4 weights, out vec4 m0, out vec4 m1, out vec4 m2) {
+  m0 = vec4(0.0);
+  m1 = vec4(0.0);
+  m2 = vec4(0.0);
+  for (int k = 0; k < 4; ++k) {
+    float w = weights[k];
+    if (w == 0.0) continue;
+    vec4 r0, r1, r2;
+    int c = siComposedIndex(layer, joints[k]);
+    if (c < 0) {
+      siInstanceJointRows(inst, joints[k], r0, r1, r2);
+    } else {
+      uint at = (record * siComposeStride() + uint(c)) * 3u;
+      r0 = siComposedRow(previous, at);
+      r1 = siComposedRow(previous, at + 1u);
+      r2 = siComposedRow(previous, at + 2u);
+    }
+    m0 += w * r0;
+    m1 += w * r1;
+    m2 += w * r2;
+  }
+}
+#endif
+#endif
