@@ -156,6 +156,31 @@ Status InstanceBatcher::buildPrevious(const CrowdView& crowd, Span<uint8_t> out)
   return Status::ok();
 }
 
+size_t InstanceBatcher::previousIndexBufferBound(const CrowdView& crowd) const {
+  return layerBufferBound(crowd) / kLayerRecordSize * sizeof(uint32_t);
+}
+
+Status InstanceBatcher::buildPreviousIndices(const CrowdView& crowd, Span<uint8_t> out) const {
+  if (capacity_ == 0) return {StatusCode::kInvalidArgument, "InstanceBatcher: init() first"};
+  if (!crowd.desc().previous_records)
+    return {StatusCode::kInvalidArgument,
+            "InstanceBatcher::buildPreviousIndices: the crowd keeps no previous records "
+            "(CrowdDesc::previous_records, CrowdViewDesc::previous_records)"};
+  const size_t needed = previousIndexBufferBound(crowd);
+  if (out.size() < needed)
+    return {StatusCode::kCountMismatch,
+            strCat("InstanceBatcher::buildPreviousIndices: the index buffer holds ", out.size(),
+                   " bytes, the frame needs ", needed)};
+  const Span<const uint32_t> index = crowd.previousRecordIndices();
+  uint8_t* base = out.data();
+  walkBatches(crowd, capacity_, alignment_, nullptr,
+              [&](const DrawBatch& d, uint32_t slot, uint32_t first, uint32_t count) {
+                std::memcpy(base + (d.layer_byte_offset / kLayerRecordSize + slot) * 4,
+                            index.data() + first, size_t(count) * sizeof(uint32_t));
+              });
+  return Status::ok();
+}
+
 size_t InstanceBatcher::layerBufferBound(const CrowdView& crowd) const {
   if (capacity_ == 0) return 0;
   const std::vector<uint32_t>& offsets = crowd.bucketOffsets();

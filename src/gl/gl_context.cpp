@@ -67,6 +67,7 @@ Status loadGl(GlGetProcAddress get_proc, void* user_data, GlInfo* info) {
     GLint64 ssbo = 0;
     glGetInteger64v(GL_MAX_SHADER_STORAGE_BLOCK_SIZE, &ssbo);
     out.max_shader_storage_block_size_bytes = ssbo > 0 ? uint64_t(ssbo) : 0;
+    out.storage_buffer_offset_alignment = glInt(GL_SHADER_STORAGE_BUFFER_OFFSET_ALIGNMENT);
     GLint groups[2] = {0, 0};
     glGetIntegeri_v(GL_MAX_COMPUTE_WORK_GROUP_COUNT, 0, &groups[0]);
     glGetIntegeri_v(GL_MAX_COMPUTE_WORK_GROUP_COUNT, 1, &groups[1]);

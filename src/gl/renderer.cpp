@@ -13,6 +13,7 @@
 #include "gl/paths/layer_compose_pass.h"
 #include "gl/paths/skinning_path_choice.h"
 #include "gl/renderer_impl.h"
+#include "gl/resources/ring_frame.h"
 #include "si/core/log.h"
 
 namespace si {
@@ -87,7 +88,8 @@ Status Renderer::init(const GlInfo& info, const RendererDesc& desc) {
   impl->capacity = impl->block_size / kInstanceRecordSize;
   impl->alignment = std::max<uint32_t>(16, info.uniform_buffer_offset_alignment);
   impl->ring_frames = desc.ring_frames == 0 ? 3 : desc.ring_frames;
-  impl->ring.configure(impl->block_size, impl->alignment, impl->ring_frames);
+  impl->ring.configure(impl->block_size, impl->alignment, impl->ring_frames,
+                       info.storage_buffer_offset_alignment);
   if (impl->debug) detail::logHostErrors("Renderer::init");
   if (desc.debug_messages && info.has_khr_debug) impl->debug_chain.install();
   detail::ShaderConfig config;
@@ -339,42 +341,31 @@ Status Renderer::drawCrowd(CharacterId id, const CrowdView& view, const Instance
   const bool layers = !view.layerRecords().empty() && mode != DrawMode::kRigid;
   const auto t0 = std::chrono::steady_clock::now();
   Impl::Guard guard = m.enter("drawCrowd", detail::drawFootprint());
-  // The ring region: the records; then, each at the next aligned offset, the previous records
-  // (motion vectors), the layer records (layered animation) and the previous layer records
-  // (both).
-  const auto align = [&](size_t v) { return (v + m.alignment - 1) / m.alignment * m.alignment; };
-  const size_t bound = batcher.recordBufferBound(view);
-  const size_t layer_bound = layers ? batcher.layerBufferBound(view) : 0;
-  const size_t previous_offset = align(bound);
-  const size_t layer_offset = motion ? align(previous_offset + bound) : previous_offset;
-  const size_t previous_layer_offset = align(layer_offset + layer_bound);
-  const size_t end = layers && motion ? previous_layer_offset + layer_bound
-                     : layers         ? layer_offset + layer_bound
-                     : motion         ? previous_offset + bound
-                                      : bound;
-  // Composed layers: their batch table (16 bytes a batch; a batch takes 80 bytes or more).
-  const size_t compose_offset = align(end);
-  s = m.ring.reserve(layers ? compose_offset + (bound / 64 + 1) * 16 : end);
+  // The ring region (resources/ring_frame.h); its blocks start where storage buffers may too.
+  const detail::RingFrame plan = detail::planRingFrame(
+      batcher, view, std::max(m.alignment, m.info.storage_buffer_offset_alignment), motion, layers);
+  const uint64_t storage_limit = m.info.max_shader_storage_block_size_bytes;
+  if (motion && plan.previous_end - plan.previous_indices > storage_limit)
+    return {StatusCode::kLimitExceeded,
+            strCat("drawCrowd: motion vectors: the frame's previous-record indices and records (",
+                   plan.previous_end - plan.previous_indices,
+                   " bytes) exceed GL_MAX_SHADER_STORAGE_BLOCK_SIZE (", storage_limit, ")")};
+  s = m.ring.reserve(plan.end);
   if (!s.isOk()) return s;
   size_t base = 0;
   s = m.ring.acquire(&base);
-  if (!s.isOk()) return s;
-  s = batcher.build(view, Span<uint8_t>(m.ring.mapped(base), m.ring.writableBytes()),
-                    &m.batches);
-  const auto region = [&](size_t offset) {
-    return Span<uint8_t>(m.ring.mapped(base + offset), m.ring.writableBytes() - offset);
-  };
-  if (s.isOk() && motion) s = batcher.buildPrevious(view, region(previous_offset));
-  if (s.isOk() && layers) s = batcher.buildLayers(view, region(layer_offset));
-  if (s.isOk() && layers && motion) s = batcher.buildPreviousLayers(view, region(previous_layer_offset));
+  if (s.isOk())
+    s = detail::writeRingFrame(batcher, view, plan, m.ring.mapped(base), m.ring.writableBytes(),
+                               &m.batches);
   if (s.isOk() && layers) s = m.scratch.uploadMaskTable(layerMaskTable(crowd.layerMasks()));
-  // Composed layers: the vertex-shader draws' rows, where they fit (paths/layer_compose_pass.h).
-  // The compose pass reads the whole ring as a storage buffer.
+  // Composed layers: the vertex-shader draws' rows, where they fit (paths/layer_compose_pass.h;
+  // the pass reads the region as a storage buffer).
   uint32_t compose_stride = 0;
   if (s.isOk() && layers && (mode == DrawMode::kSkinned || mode == DrawMode::kDepthOnly) &&
-      m.ring.bytes() <= m.info.max_shader_storage_block_size_bytes)
+      plan.end <= storage_limit)
     s = detail::prepareComposedRows(m.resources(*c), crowd.layerMasks(),
-                                    layer_bound / kLayerRecordSize, motion, &compose_stride);
+                                    batcher.layerBufferBound(view) / kLayerRecordSize, motion,
+                                    &compose_stride);
   if (!s.isOk()) return s;
   if ((uint64_t(batcher.capacityPerDraw()) * compose_stride + 63) / 64 >
       (m.info.max_compute_groups_x ? m.info.max_compute_groups_x : 65535u))
@@ -391,18 +382,22 @@ Status Renderer::drawCrowd(CharacterId id, const CrowdView& view, const Instance
   if (m.program_override != detail::ProgramId::kCount) frame.program = m.program_override;
   frame.batches = &m.batches;
   frame.ring_base = base;
+  frame.ring_bytes = plan.end;
   frame.motion = motion;
-  frame.previous_base = base + previous_offset;
+  frame.previous_base = base + plan.previous_indices;
+  frame.previous_bytes = plan.previous_end - plan.previous_indices;
+  frame.previous_records_word = uint32_t((plan.previous_records - plan.previous_indices) / 16);
+  frame.previous_shift = detail::previousShift(view);
   frame.layers = layers;
-  frame.layer_base = base + layer_offset;
-  frame.previous_layer_base = base + previous_layer_offset;
+  frame.layer_base = base + plan.layer_records;
+  frame.previous_layer_base = base + plan.previous_layers;
   frame.composed = compose_stride > 0;
   frame.compose_stride = compose_stride;
-  frame.compose_table_base = base + compose_offset;
+  frame.compose_table_base = base + plan.compose_table;
   if (frame.composed)
-    frame.compose_batches =
-        detail::writeComposeBatches(m.resources(*c), frame, m.ring.mapped(base + compose_offset));
-  m.ring.publish(base, frame.composed ? compose_offset + frame.compose_batches * 16 : end);
+    frame.compose_batches = detail::writeComposeBatches(m.resources(*c), frame,
+                                                        m.ring.mapped(frame.compose_table_base));
+  m.ring.publish(base, frame.composed ? plan.compose_table + frame.compose_batches * 16 : plan.end);
   frame.impostor_lod = mode == DrawMode::kRigid ? 0 : crowd.desc().impostor_lod;
   frame.motion_view_projection = view.camera().viewProjection();
   frame.previous_view_projection = view.previousCamera().viewProjection();

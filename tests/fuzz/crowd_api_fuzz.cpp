@@ -263,6 +263,10 @@ void checkFrame(const si::CrowdManager& crowd) {
     std::vector<si::DrawBatch> draws;
     if (!batcher.build(crowd, now, &draws).isOk() || !batcher.buildPrevious(crowd, then).isOk())
       fail("build or buildPrevious failed on a valid frame");
+    // drawCrowd's form: each slot's index, none or a kept previous record.
+    std::vector<uint8_t> indices(batcher.previousIndexBufferBound(crowd));
+    if (!batcher.buildPreviousIndices(crowd, indices).isOk())
+      fail("buildPreviousIndices failed on a valid frame");
     for (const si::DrawBatch& d : draws)
       for (uint32_t k = 0; k < d.instance_count; ++k) {
         si::InstanceRecord r;
@@ -270,6 +274,10 @@ void checkFrame(const si::CrowdManager& crowd) {
         for (const auto& row : r.world_rows)
           for (float v : row)
             if (!std::isfinite(v)) fail("a previous record's world rows are not finite");
+        uint32_t p;
+        std::memcpy(&p, indices.data() + (d.layer_byte_offset / si::kLayerRecordSize + k) * 4, 4);
+        if (p != si::CrowdManager::kNoPreviousRecord && p >= crowd.previousRecords().size())
+          fail("a slot's previous index is past the previous records");
       }
   }
   const uint64_t texels = palette().layout.textureTexelCount();

@@ -34,7 +34,9 @@ TEST(LayerComposeTable, MapsEachMasksSlotsToItsMaskedIndicesAndBack) {
   for (uint32_t m = 0; m < 2; ++m)
     for (int32_t k = 0; k < t[1]; ++k) {
       const int32_t slot = t[3 + 2 * 6 + m * 3 + uint32_t(k)];
-      if (slot >= 0) EXPECT_EQ(t[3 + m * 6 + uint32_t(slot)], k) << m << " " << k;
+      if (slot >= 0) {
+        EXPECT_EQ(t[3 + m * 6 + uint32_t(slot)], k) << m << " " << k;
+      }
     }
   EXPECT_EQ(layerComposeTable({}), (std::vector<int32_t>{0, 0, 0}));
 }

@@ -32,10 +32,20 @@ TEST_P(MotionVectorTest, PreviousPositionsDrawTheLastFrame) {
 }
 
 // The renderer's motion output, on both skinning paths, equals the engine program's (the same
-// records, the same cameras) where both drew; nothing is written for paths that draw none.
+// records, the same cameras) where both drew; nothing is written for paths that draw none. Two
+// instances placed anew between the frames have no previous record: the renderer (which reads
+// previous records through indices) takes buildPrevious's fallback, the camera's motion only.
 TEST_P(MotionVectorTest, TheRendererWritesTheIncludesMotion) {
   ASSERT_TRUE(crowd_.update(1.0 / 30.0, camera(1)).isOk());
+  for (size_t k : {5u, 10u}) {
+    InstanceDesc d;
+    ASSERT_TRUE(crowd_.get(handles_[k], &d).isOk());
+    ASSERT_TRUE(crowd_.setTransform(handles_[k], d.position, d.rotation, d.scale).isOk());
+  }
   nextFrame();
+  EXPECT_EQ(std::count(crowd_.previousRecordIndices().begin(), crowd_.previousRecordIndices().end(),
+                       CrowdManager::kNoPreviousRecord),
+            2);
   target_.clear(glm::vec4(0.0f));
   drawEngine(false);
   const std::vector<glm::vec2> expected = motions();
@@ -110,6 +120,38 @@ TEST_P(MotionVectorTest, NeedsTheCrowdsPreviousRecords) {
   // Depth-only draws write no motion and need none.
   EXPECT_TRUE(r.drawCrowd(plain, batcher, closeCamera(), nullptr, DrawMode::kDepthOnly).isOk());
   r.shutdown();
+}
+
+// Frames that draw nothing (every instance behind the camera) after one that drew: no records
+// and no previous indices, then no previous records either; both skinning paths draw them with
+// motion vectors, no GL error.
+TEST_P(MotionVectorTest, AnEmptyFrameDrawsWithMotionVectors) {
+  for (SkinningPath path : {SkinningPath::kVertexShader, SkinningPath::kCompute}) {
+    SCOPED_TRACE(skinningPathName(path));
+    RendererDesc rd;
+    rd.skinning_path = path;
+    rd.motion_vectors = true;
+    Renderer r;
+    makeRenderer(&r, 0, PaletteFormat::kMatrix3x4F32, &rd);
+    InstanceBatcher batcher;
+    ASSERT_TRUE(batcher.init(r.batchLimits()).isOk());
+    ASSERT_TRUE(crowd_.update(0.05, camera(1)).isOk());
+    ASSERT_TRUE(r.drawCrowd(crowd_, batcher, crowd_.updateCamera(), nullptr).isOk());
+    const Camera away = Camera::lookAt({0.0, 1.6, 2.5}, {0.0, 1.6, 10.0}, glm::vec3(0, 1, 0), 0.9f,
+                                       1.0f, 0.1f, 100.0f);
+    ASSERT_TRUE(crowd_.update(0.05, away).isOk());
+    ASSERT_TRUE(crowd_.records().empty());
+    for (int frame = 0; frame < 2; ++frame) {  // Then no previous records either.
+      DrawStats stats;
+      const Status s = r.drawCrowd(crowd_, batcher, away, &stats);
+      EXPECT_TRUE(s.isOk()) << s.toString();
+      EXPECT_EQ(stats.instances, 0u);
+      EXPECT_TRUE(checkGlErrors("an empty frame with motion vectors").isOk());
+      ASSERT_TRUE(crowd_.update(0.05, away).isOk());
+    }
+    EXPECT_TRUE(crowd_.previousRecords().empty());
+    r.shutdown();
+  }
 }
 
 INSTANTIATE_TEST_SUITE_P(Backends, MotionVectorTest, allBackends(), backendTestName);

@@ -107,6 +107,26 @@ class InstanceBatcher {
     return buildPrevious(crowd.view(), out);
   }
 
+  /// Motion vectors without a copy of each previous record per slot: bytes
+  /// buildPreviousIndices() needs (4 per slot, in buildLayers()' slot numbering:
+  /// layerBufferBound() / 4).
+  size_t previousIndexBufferBound(const CrowdView& view) const;
+  size_t previousIndexBufferBound(const CrowdManager& crowd) const {
+    return previousIndexBufferBound(crowd.view());
+  }
+  /// Writes, for each slot of build()'s draws, the index of its instance's previous record in
+  /// previousRecords() (CrowdView::previousRecordIndices(); CrowdManager::kNoPreviousRecord
+  /// where it has none, for which a shader takes buildPrevious()'s fallback: the current record
+  /// moved by the cameras' shift) as a 32-bit word at (layer_byte_offset / 16 + slot) * 4. With
+  /// previousRecords() uploaded once beside it, a shader reads each previous record through
+  /// its slot's index: 4 bytes a slot instead of buildPrevious()'s 80 (what drawCrowd does).
+  /// kInvalidArgument if not initialized or the crowd keeps no previous records; kCountMismatch
+  /// when `out` is smaller than previousIndexBufferBound() (nothing written).
+  Status buildPreviousIndices(const CrowdView& view, Span<uint8_t> out) const;
+  Status buildPreviousIndices(const CrowdManager& crowd, Span<uint8_t> out) const {
+    return buildPreviousIndices(crowd.view(), out);
+  }
+
   /// Layered animation: bytes buildLayers() needs (each batch's layer records padded to the
   /// alignment).
   size_t layerBufferBound(const CrowdView& view) const;

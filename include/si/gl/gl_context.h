@@ -37,6 +37,8 @@ struct GlInfo {
   /// GL_MAX_SHADER_STORAGE_BLOCK_SIZE: the largest storage buffer a shader may read whole (the
   /// compute ring, the GPU-driven crowd state).
   uint64_t max_shader_storage_block_size_bytes = 0;
+  /// GL_SHADER_STORAGE_BUFFER_OFFSET_ALIGNMENT (0 on the ES profile).
+  uint32_t storage_buffer_offset_alignment = 0;
   /// GL_MAX_COMPUTE_WORK_GROUP_COUNT in x and y (GL guarantees 65535 each): the compute passes
   /// lay their groups out in rows of at most x, at most y rows, and refuse a pass past that
   /// (kLimitExceeded). Lowering them (tests) makes every pass use several rows.

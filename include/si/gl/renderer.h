@@ -151,7 +151,10 @@ struct RendererDesc {
   /// one uses the camera of its last update (CrowdManager::previousUpdateCamera(),
   /// updateCamera()), so a jittered projection given to the draw does not enter the motion. An
   /// instance without a previous record (not drawn then, added or teleported since) gets the
-  /// camera's motion only (InstanceBatcher::buildPrevious). drawCrowdGpuCulled writes them too,
+  /// camera's motion only (InstanceBatcher::buildPrevious's fallback; drawCrowd reads the
+  /// previous records through InstanceBatcher::buildPreviousIndices, docs/rendering.md). A
+  /// frame whose previous records and indices exceed GL_MAX_SHADER_STORAGE_BLOCK_SIZE is
+  /// refused (kLimitExceeded). drawCrowdGpuCulled writes them too,
   /// from what it drew itself (see there; no previous records needed). kDepthOnly and kRigid
   /// draws write no motion; drawTraditional and drawCpuSkinned return kUnsupported while it is
   /// on. Switchable with setMotionVectors().

@@ -51,6 +51,7 @@ Status ComputePath::draw(const DrawResources& r, const PathFrame& f, DrawStats* 
     if (!s.isOk()) return s;
     glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 4, r.scratch->compute_previous_ring.buffer);
     setMotionUniforms(pulled, f);
+    bindPreviousRecords(r, skin, f);
   }
   const GLuint ring = r.scratch->compute_ring.buffer;
   const uint64_t ring_vertices = r.scratch->compute_ring.vertices;
@@ -67,7 +68,6 @@ Status ComputePath::draw(const DrawResources& r, const PathFrame& f, DrawStats* 
     glUseProgram(pulled.id);
     for (const PendingDraw& p : pending_) {
       r.ring->bindBatch(f.ring_base, p.batch);
-      if (f.motion) r.ring->bindBatch(f.previous_base, p.batch, 1);
       glProgramUniform4ui(pulled.id, 5, p.ring_first, p.lod.vertex_count, p.lod.vertex_offset,
                           p.first_instance);
       glProgramUniform2ui(pulled.id, 6, p.instances, lists.source_words);
@@ -105,7 +105,8 @@ Status ComputePath::draw(const DrawResources& r, const PathFrame& f, DrawStats* 
         glUseProgram(skin.id);
       }
       r.ring->bindBatch(f.ring_base, d);
-      if (f.motion) r.ring->bindBatch(f.previous_base, d, 1);
+      if (f.motion)  // The batch's previous indices start at its first slot.
+        glProgramUniform1ui(skin.id, 7, d.layer_byte_offset / kLayerRecordSize);
       if (f.layers) r.ring->bindLayers(f.layer_base, d);
       if (f.layers && f.motion) r.ring->bindLayers(f.previous_layer_base, d, 3);
       glProgramUniform4ui(skin.id, 5, uint32_t(cursor), l.vertex_count, l.vertex_offset, first);

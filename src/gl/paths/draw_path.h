@@ -55,19 +55,26 @@ struct PathFrame {
   glm::vec3 light{0.0f, -1.0f, 0.0f};
   /// The vertex-shader path's program (skinned, depth-only or rigid).
   ProgramId program = ProgramId::kSkinned;
-  /// The batcher's draws and the ring region holding their records (the instanced paths).
+  /// The batcher's draws and the ring region holding their records (the instanced paths), and
+  /// the bytes of it the frame uses (resources/ring_frame.h).
   const std::vector<DrawBatch>* batches = nullptr;
   size_t ring_base = 0;
+  size_t ring_bytes = 0;
   /// The GPU-driven path: pre-skin (compute) rather than skin in the vertex shader; draw depth
   /// only (no colour, no motion vectors).
   bool preskin = false;
   bool depth_only = false;
-  /// Motion vectors (the instanced paths, RendererDesc::motion_vectors): the previous records
-  /// in the batches' layout at `previous_base` of the ring, and the crowd's last and previous
-  /// update cameras' view-projections. The GPU-driven path: `motion` and the view-projection
-  /// its motion uses for this frame (it keeps the previous frame's).
+  /// Motion vectors (the instanced paths, RendererDesc::motion_vectors): each slot's
+  /// previous-record index and the previous records once each, `previous_bytes` at
+  /// `previous_base` of the ring, the records from its word `previous_records_word`
+  /// (shaders/previous_index.glsl), the shift of the fallback (previousShift), and the crowd's
+  /// last and previous update cameras' view-projections. The GPU-driven path: `motion` and the
+  /// view-projection its motion uses for this frame (it keeps the previous frame's).
   bool motion = false;
   size_t previous_base = 0;
+  size_t previous_bytes = 0;
+  uint32_t previous_records_word = 0;
+  glm::vec3 previous_shift{0.0f};
   glm::mat4 motion_view_projection{1.0f}, previous_view_projection{1.0f};
   /// Layered animation (the instanced paths): the batches' layer records at `layer_base` of the
   /// ring (DrawBatch::layer_byte_offset); the mask table is bound.
@@ -118,6 +125,14 @@ void bindShading(const DrawResources& r, const Program& program, const Camera& c
 /// Motion vectors: sets `program`'s two motion view-projections when `frame.motion` (each
 /// batch then binds its previous records at uniform binding 1).
 void setMotionUniforms(const Program& program, const PathFrame& frame);
+
+/// The shift of a previous record's fallback (InstanceBatcher::buildPrevious): `view`'s last
+/// camera position minus the previous one's, as floats; 0 where they are 1e30 or more apart.
+glm::vec3 previousShift(const CrowdView& view);
+
+/// Motion vectors of drawCrowd: binds `frame`'s previous-record blocks at storage binding 25
+/// and sets `program`'s previous_index.glsl uniforms (locations 8 and 9).
+void bindPreviousRecords(const DrawResources& r, const Program& program, const PathFrame& frame);
 
 /// Dispatches `groups` groups of 64 invocations for the bound program (which indexes them with
 /// siFlatInvocation(), shaders/dispatch_index.glsl) in rows within GlInfo's limits

@@ -45,8 +45,9 @@ uint32_t writeComposeBatches(const DrawResources& r, const PathFrame& f, uint8_t
   uint32_t n = 0;
   for (const DrawBatch& d : *f.batches) {
     if (!drawn(r, d)) continue;
-    const uint32_t entry[4] = {uint32_t((f.ring_base + d.byte_offset) / 16),
-                               uint32_t((f.layer_base + d.layer_byte_offset) / 16),
+    // Words from the region's start.
+    const uint32_t entry[4] = {uint32_t(d.byte_offset / 16),
+                               uint32_t((f.layer_base - f.ring_base + d.layer_byte_offset) / 16),
                                d.instance_count, d.layer_byte_offset / kLayerRecordSize};
     std::memcpy(out + size_t(n++) * sizeof entry, entry, sizeof entry);
   }
@@ -77,11 +78,13 @@ Status composeLayers(const DrawResources& r, const PathFrame& f, DrawStats* st) 
   glUseProgram(compose.id);
   r.palette->bind();
   r.scratch->layer_compose.bind(f.motion);
-  glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 24, r.ring->buffer());
-  // The previous records and layer records: the same slots at their blocks' offsets.
-  glProgramUniform2ui(compose.id, 6, uint32_t((f.previous_base - f.ring_base) / 16),
-                      uint32_t((f.previous_layer_base - f.layer_base) / 16));
-  const uint32_t table = uint32_t(f.compose_table_base / 16);
+  r.ring->bindRegion(f.ring_base, f.ring_bytes, 24);
+  if (f.motion) {  // The previous records through their indices; the previous layer records
+                   // in the same slots at their block's offset.
+    bindPreviousRecords(r, compose, f);
+    glProgramUniform1ui(compose.id, 6, uint32_t((f.previous_layer_base - f.layer_base) / 16));
+  }
+  const uint32_t table = uint32_t((f.compose_table_base - f.ring_base) / 16);
   for (uint32_t first = 0; first < f.compose_batches; first += max_y) {
     const uint32_t rows = std::min(f.compose_batches - first, max_y);
     glProgramUniform1ui(compose.id, 5, table + first);

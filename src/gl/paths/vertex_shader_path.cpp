@@ -18,16 +18,16 @@ Status VertexShaderPath::draw(const DrawResources& r, const PathFrame& f, DrawSt
   const Program& program = (*r.programs)[f.program];
   bindShading(r, program, f.camera, f.light);
   setMotionUniforms(program, f);
+  if (f.motion) bindPreviousRecords(r, program, f);
   if (depth_only) glColorMask(GL_FALSE, GL_FALSE, GL_FALSE, GL_FALSE);
   for (const DrawBatch& d : *f.batches) {
     if (d.sub_mesh >= r.character->sub_meshes.size()) continue;
     const IndexRange range = r.character->lodRange(d.sub_mesh, d.lod);
     if (range.index_count == 0) continue;  // The part is dropped at this LOD (buildPartLods).
     r.ring->bindBatch(f.ring_base, d);
-    if (f.motion) r.ring->bindBatch(f.previous_base, d, 1);
     if (f.layers) r.ring->bindLayers(f.layer_base, d);
     if (f.layers && f.motion) r.ring->bindLayers(f.previous_layer_base, d, 3);
-    if (f.composed)  // The batch's composed records start where its layer records do.
+    if (f.composed || f.motion)  // Its composed records and previous indices: its first slot.
       glProgramUniform1ui(program.id, 7, d.layer_byte_offset / kLayerRecordSize);
     glDrawElementsInstanced(GL_TRIANGLES, GLsizei(range.index_count), GL_UNSIGNED_INT,
                             reinterpret_cast<const void*>(uintptr_t(range.first_index) * 4),

@@ -11,10 +11,11 @@
 
 namespace si::detail {
 
-
-void RecordRing::configure(uint32_t block_size, uint32_t alignment, uint32_t frames) {
+void RecordRing::configure(uint32_t block_size, uint32_t alignment, uint32_t frames,
+                           uint32_t storage_alignment) {
   block_size_ = block_size;
   alignment_ = alignment;
+  region_alignment_ = std::max(alignment, storage_alignment);  // Both powers of two.
   frames_ = frames;
 }
 
@@ -43,7 +44,7 @@ Status RecordRing::reserve(size_t bytes_per_frame) {
     glDeleteBuffers(1, &buffer_);
   }
   region_size_ = std::max<size_t>(need * 2, size_t(1) << 20);  // Grow geometrically.
-  region_size_ = (region_size_ + alignment_ - 1) / alignment_ * alignment_;
+  region_size_ = (region_size_ + region_alignment_ - 1) / region_alignment_ * region_alignment_;
   const size_t ring_size = region_size_ * frames_;
   buffer_ = kNoObject;
   mapped_ = nullptr;

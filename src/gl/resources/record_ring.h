@@ -22,8 +22,10 @@ class RecordRing {
  public:
   /// How long acquire() waits for the GPU to finish reading a region before it gives up.
   static constexpr GLuint64 kWaitNanoseconds = GLuint64(1e10);
-  /// The uniform block size every bound range has, the offset alignment and the region count.
-  void configure(uint32_t block_size, uint32_t alignment, uint32_t frames);
+  /// The uniform block size every bound range has, the offset alignment and the region count;
+  /// regions start at multiples of `storage_alignment` too (bindRegion).
+  void configure(uint32_t block_size, uint32_t alignment, uint32_t frames,
+                 uint32_t storage_alignment = 0);
   /// Changes the region count (one region per draw call group); waits for the GPU and drops
   /// the buffer, which the next reserve() re-creates.
   void setRegions(uint32_t regions);
@@ -58,6 +60,13 @@ class RecordRing {
     glBindBufferRange(GL_UNIFORM_BUFFER, binding, buffer_, GLintptr(base + d.layer_byte_offset),
                       GLsizeiptr(block_size_ / kInstanceRecordSize * kLayerRecordSize));
   }
+  /// Binds `bytes` of the ring at `base` (a multiple of the storage alignment configure()
+  /// was given) to shader storage binding `binding`, for the passes that read it by 16-byte
+  /// word; at least 16 bytes (GL refuses an empty range; the region's slack holds them).
+  void bindRegion(size_t base, size_t bytes, GLuint binding) const {
+    glBindBufferRange(GL_SHADER_STORAGE_BUFFER, binding, buffer_, GLintptr(base),
+                      GLsizeiptr(bytes < 16 ? 16 : bytes));
+  }
   GLuint buffer() const { return buffer_; }
   /// The whole ring's bytes (every region).
   size_t bytes() const { return region_size_ * frames_; }
@@ -73,7 +82,7 @@ class RecordRing {
   bool es_ = false;  // The ES profile: mapped_ is shadow_'s bytes.
   std::vector<uint8_t> shadow_;
   size_t region_size_ = 0;
-  uint32_t block_size_ = 0, alignment_ = 256, frames_ = 3, index_ = 0;
+  uint32_t block_size_ = 0, alignment_ = 256, region_alignment_ = 256, frames_ = 3, index_ = 0;
   std::vector<GLsync> fences_;
   ClientWaitSync wait_ = nullptr;
 };

@@ -3,12 +3,18 @@
 // camera-relative world position and the octahedral normal into the ring. SI_MOTION_VECTORS:
 // also the previous frame's position (siSkinPrevious) into the parallel previous ring.
 // SI_LAYERS: each instance's overlay composed on its mask (siSkinLayered).
+// With SI_MOTION_VECTORS the previous records come through an index (previous_index.glsl),
+// u_batch_slot the batch's first slot in that numbering.
 #ifdef SI_MOTION_VECTORS
 #define SI_PREVIOUS_RECORDS
 #endif
 #include "si_skinning.glsl"
 #include "pre_skin_common.glsl"
 #include "dispatch_index.glsl"
+#ifdef SI_MOTION_VECTORS
+#include "previous_index.glsl"
+layout(location = 7) uniform uint u_batch_slot;
+#endif
 layout(local_size_x = 64) in;
 layout(std430, binding = 1) writeonly buffer SiSkinnedOut { vec4 si_skinned_out[]; };
 #ifdef SI_MOTION_VECTORS
@@ -25,8 +31,15 @@ void main() {
 #else
   uvec4 layer = uvec4(0u);
 #endif
-  si_skinned_out[u_chunk.x + g] = siPreSkin(source, si_instances[u_chunk.w + i], layer);
+  SiInstance inst = si_instances[u_chunk.w + i];
+  si_skinned_out[u_chunk.x + g] = siPreSkin(source, inst, layer);
 #ifdef SI_MOTION_VECTORS
-  si_previous_out[u_chunk.x + g] = vec4(siPreSkinPrevious(source, u_chunk.w + i), 1.0);
+#ifdef SI_LAYERS
+  uvec4 previous_layer = si_previous_layers[u_chunk.w + i];
+#else
+  uvec4 previous_layer = uvec4(0u);
+#endif
+  SiInstance prev = siPreviousRecord(u_batch_slot + u_chunk.w + i, inst);
+  si_previous_out[u_chunk.x + g] = vec4(siPreSkinPrevious(source, prev, previous_layer), 1.0);
 #endif
 }

@@ -52,6 +52,11 @@ void main() {
   uint source = si_lod_vertices[info.y + k];
   si_skinned_out[g] = siPreSkin(source, si_records[v], layer);
 #ifdef SI_MOTION_VECTORS
-  si_previous_out[g] = vec4(siPreSkinPrevious(source, v), 1.0);
+#ifdef SI_LAYERS
+  uvec4 previous_layer = si_previous_layers[v];
+#else
+  uvec4 previous_layer = uvec4(0u);
+#endif
+  si_previous_out[g] = vec4(siPreSkinPrevious(source, si_previous_instances[v], previous_layer), 1.0);
 #endif
 }

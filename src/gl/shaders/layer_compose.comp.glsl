@@ -35,20 +35,15 @@ layout(std430, binding = 15) writeonly buffer SiComposedPreviousOut {
 #ifdef SI_GPU_DRIVEN
 layout(location = 5) uniform uint u_instances;  // Bounds the visible count.
 #else
-// The ring, whole: the batch table, the records and the layer records, by 16-byte word.
-layout(std430, binding = 24) readonly buffer SiRing { uvec4 si_ring[]; };
+// The frame's region of the ring (ring_words.glsl): the batch table, the records, the layer
+// records; with SI_MOTION_VECTORS the previous indices and records (previous_index.glsl).
+#include "ring_words.glsl"
+#ifdef SI_MOTION_VECTORS
+#include "previous_index.glsl"
+#endif
 layout(location = 5) uniform uint u_table;  // The first batch entry of this dispatch.
-// The previous records' and previous layer records' words after the current ones'.
-layout(location = 6) uniform uvec2 u_previous_shift;
-SiInstance siRingRecord(uint word) {
-  SiInstance r;
-  r.world_rows[0] = uintBitsToFloat(si_ring[word]);
-  r.world_rows[1] = uintBitsToFloat(si_ring[word + 1u]);
-  r.world_rows[2] = uintBitsToFloat(si_ring[word + 2u]);
-  r.frames = si_ring[word + 3u];
-  r.blend = si_ring[word + 4u];
-  return r;
-}
+// The previous layer records' words after the current ones'.
+layout(location = 6) uniform uint u_previous_layer_shift;
 #endif
 
 // Composes record `inst`'s overlay `layer` on masked index `k` into `rows` at vec4 `at`.
@@ -87,9 +82,10 @@ void main() {
   uint k = g - i * stride;
   uint at = ((batch.w + i) * stride + k) * 3u;
   uint record = batch.x + 5u * i, layer = batch.y + i;
-  SI_COMPOSE(siRingRecord(record), si_ring[layer], k, si_composed_out, at);
+  SiInstance inst = siRingRecord(record);
+  SI_COMPOSE(inst, si_ring[layer], k, si_composed_out, at);
 #ifdef SI_MOTION_VECTORS
-  SI_COMPOSE(siRingRecord(record + u_previous_shift.x), si_ring[layer + u_previous_shift.y], k,
+  SI_COMPOSE(siPreviousRecord(batch.w + i, inst), si_ring[layer + u_previous_layer_shift], k,
              si_composed_previous_out, at);
 #endif
 #endif

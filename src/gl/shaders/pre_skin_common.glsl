@@ -79,18 +79,22 @@ vec4 siPreSkin(uint source, SiInstance inst, uvec4 layer) {
 }
 
 #ifdef SI_PREVIOUS_RECORDS
-// Source vertex `source` where instance slot `instance` drew it in the previous frame
-// (siSkinPrevious): world position relative to the previous camera.
-vec3 siPreSkinPrevious(uint source, uint instance) {
+// Source vertex `source` where the previous frame drew it with record `prev` (and, with
+// SI_LAYERS, layer record `prev_layer`), as siSkinPrevious: world position relative to the
+// previous camera.
+vec3 siPreSkinPrevious(uint source, SiInstance prev, uvec4 prev_layer) {
   vec3 p, n;
   uvec4 joints;
   vec4 weights;
   siSourceVertex(source, p, n, joints, weights);
+  vec4 m0, m1, m2;
 #ifdef SI_LAYERS
-  return siSkinPreviousLayered(instance, joints, weights, p);
+  siSkinLayered(prev, prev_layer, joints, weights, m0, m1, m2);
 #else
-  return siSkinPrevious(instance, joints, weights, p);
+  siSkin(prev, joints, weights, m0, m1, m2);
 #endif
+  return siTransformPoint(prev.world_rows[0], prev.world_rows[1], prev.world_rows[2],
+                          siTransformPoint(m0, m1, m2, p));
 }
 #endif
 #endif

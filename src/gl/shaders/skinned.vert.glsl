@@ -6,7 +6,8 @@
 // entry, from storage buffers), SI_TRADITIONAL (one character per draw, its joint matrices in
 // a uniform block), SI_MOTION_VECTORS (also the clip positions of the vertex under the crowd's
 // last update camera and, skinned with its previous record, under the previous one: the
-// fragment shader's motion output; with SI_GPU_DRIVEN the cull pass's previous records),
+// fragment shader's motion output; drawCrowd's previous records through an index,
+// previous_index.glsl; with SI_GPU_DRIVEN the cull pass's previous records),
 // SI_LAYERS (each instance's overlay composed on its mask: siSkinLayered; with SI_COMPOSED_LAYERS
 // its masked slots' rows read from the compose pass, siSkinComposed, layer_compose.glsl).
 #define SI_VERTEX_MATERIALS
@@ -35,8 +36,14 @@ layout(std140 SI_WITH_BINDING(1)) uniform SiCharacter {
 #ifdef SI_COMPOSED_LAYERS
 #define SI_COMPOSED_READ
 #include "layer_compose.glsl"
-// The batch's first composed record: the batch's layer records' first index in the layer block.
-layout(location = 7) uniform uint u_composed_first;
+#endif
+#if defined(SI_MOTION_VECTORS) && !defined(SI_GPU_DRIVEN)
+#include "previous_index.glsl"  // drawCrowd's previous records, by index.
+#endif
+#if defined(SI_COMPOSED_LAYERS) || defined(SI_MOTION_VECTORS)
+// drawCrowd: the batch's first slot, numbered as the layer records are (its layer records'
+// first index in the layer block): its composed records and previous indices. GPU-driven: 0.
+layout(location = 7) uniform uint u_batch_slot;
 #endif
 #endif
 
@@ -91,7 +98,7 @@ void main() {
   vec4 m0 = vec4(1, 0, 0, 0), m1 = vec4(0, 1, 0, 0), m2 = vec4(0, 0, 1, 0);
 #elif defined(SI_COMPOSED_LAYERS)
   vec4 m0, m1, m2;
-  siSkinComposed(inst, si_layers[slot], u_composed_first + slot, false, a_joints, a_weights, m0,
+  siSkinComposed(inst, si_layers[slot], u_batch_slot + slot, false, a_joints, a_weights, m0,
                  m1, m2);
 #elif defined(SI_LAYERS)
   vec4 m0, m1, m2;
@@ -115,18 +122,22 @@ void main() {
   gl_Position = u_view_projection * vec4(world, 1.0);
 #ifdef SI_MOTION_VECTORS
   v_motion_current = u_motion_view_projection * vec4(world, 1.0);
-#if defined(SI_COMPOSED_LAYERS)
+#ifdef SI_GPU_DRIVEN
   SiInstance prev = si_previous_instances[slot];
+#else
+  SiInstance prev = siPreviousRecord(u_batch_slot + slot, inst);
+#endif
   vec4 p0, p1, p2;
-  siSkinComposed(prev, si_previous_layers[slot], u_composed_first + slot, true, a_joints,
-                 a_weights, p0, p1, p2);
+#if defined(SI_COMPOSED_LAYERS)
+  siSkinComposed(prev, si_previous_layers[slot], u_batch_slot + slot, true, a_joints, a_weights,
+                 p0, p1, p2);
+#elif defined(SI_LAYERS)
+  siSkinLayered(prev, si_previous_layers[slot], a_joints, a_weights, p0, p1, p2);
+#else
+  siSkin(prev, a_joints, a_weights, p0, p1, p2);
+#endif
   vec3 previous = siTransformPoint(prev.world_rows[0], prev.world_rows[1], prev.world_rows[2],
                                    siTransformPoint(p0, p1, p2, a_position));
-#elif defined(SI_LAYERS)
-  vec3 previous = siSkinPreviousLayered(slot, a_joints, a_weights, a_position);
-#else
-  vec3 previous = siSkinPrevious(slot, a_joints, a_weights, a_position);
-#endif
   v_motion_previous = u_previous_view_projection * vec4(previous, 1.0);
 #endif
 }

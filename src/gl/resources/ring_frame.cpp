@@ -1,0 +1,55 @@
+// SkinnedInstancing — SPDX-License-Identifier: MIT (see LICENSE)
+// drawCrowd's frame in the record ring.
+#include "gl/resources/ring_frame.h"
+
+#include <cstring>
+
+namespace si::detail {
+
+RingFrame planRingFrame(const InstanceBatcher& batcher, const CrowdView& view, uint32_t alignment,
+                        bool motion, bool layers) {
+  const auto align = [&](size_t v) { return (v + alignment - 1) / alignment * alignment; };
+  RingFrame f;
+  f.motion = motion;
+  f.layers = layers;
+  size_t end = batcher.recordBufferBound(view);
+  if (motion) {
+    f.previous_indices = align(end);
+    f.previous_records = align(f.previous_indices + batcher.previousIndexBufferBound(view));
+    f.previous_end = f.previous_records + view.previousRecords().size() * kInstanceRecordSize;
+    end = f.previous_end;
+  }
+  if (layers) {
+    const size_t layer_bound = batcher.layerBufferBound(view);
+    f.layer_records = align(end);
+    end = f.layer_records + layer_bound;
+    if (motion) {
+      f.previous_layers = align(end);
+      end = f.previous_layers + layer_bound;
+    }
+    // A batch takes at least 80 bytes of records: at most bound / 64 + 1 batches.
+    f.compose_table = align(end);
+    end = f.compose_table + (batcher.recordBufferBound(view) / 64 + 1) * 16;
+  }
+  f.end = end;
+  return f;
+}
+
+Status writeRingFrame(const InstanceBatcher& batcher, const CrowdView& view, const RingFrame& f,
+                      uint8_t* region, size_t bytes, std::vector<DrawBatch>* batches) {
+  const auto at = [&](size_t offset) { return Span<uint8_t>(region + offset, bytes - offset); };
+  Status s = batcher.build(view, at(0), batches);
+  if (s.isOk() && f.motion) {
+    s = batcher.buildPreviousIndices(view, at(f.previous_indices));
+    const Span<const InstanceRecord> previous = view.previousRecords();
+    if (s.isOk() && !previous.empty())
+      std::memcpy(region + f.previous_records, previous.data(),
+                  previous.size() * kInstanceRecordSize);
+  }
+  if (s.isOk() && f.layers) s = batcher.buildLayers(view, at(f.layer_records));
+  if (s.isOk() && f.layers && f.motion)
+    s = batcher.buildPreviousLayers(view, at(f.previous_layers));
+  return s;
+}
+
+}  // namespace si::detail

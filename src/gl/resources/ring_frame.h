@@ -1,0 +1,40 @@
+// SkinnedInstancing — SPDX-License-Identifier: MIT (see LICENSE)
+#pragma once
+// What drawCrowd writes into its region of the record ring, and where: the batches' records;
+// with motion vectors each slot's previous-record index and the previous records once each;
+// with overlays the layer records (and previous layer records) and the compose pass's batch
+// table. Offsets are from the region's start, each block at the next multiple of the
+// alignment.
+
+#include <cstddef>
+#include <cstdint>
+#include <vector>
+
+#include "si/core/status.h"
+#include "si/crowd/instance_batcher.h"
+
+namespace si::detail {
+
+struct RingFrame {
+  bool motion = false, layers = false;
+  size_t records = 0;           ///< InstanceBatcher::build's records, at 0.
+  size_t previous_indices = 0;  ///< buildPreviousIndices (4 bytes a slot).
+  size_t previous_records = 0;  ///< CrowdView::previousRecords(), 80 bytes each.
+  size_t previous_end = 0;      ///< The end of the previous records.
+  size_t layer_records = 0;     ///< buildLayers.
+  size_t previous_layers = 0;   ///< buildPreviousLayers.
+  size_t compose_table = 0;     ///< The compose pass's batch table (16 bytes a batch).
+  size_t end = 0;               ///< Bytes of the region the frame may use.
+};
+
+/// Where each block of `view`'s frame goes for `batcher` (`alignment`: a power of two, the
+/// uniform and storage buffer offset alignments' larger).
+RingFrame planRingFrame(const InstanceBatcher& batcher, const CrowdView& view, uint32_t alignment,
+                        bool motion, bool layers);
+
+/// Writes the planned blocks (all but the compose table) at `region` (`bytes` writable) and
+/// replaces `batches` with the draws. The batcher's status on failure.
+Status writeRingFrame(const InstanceBatcher& batcher, const CrowdView& view, const RingFrame& plan,
+                      uint8_t* region, size_t bytes, std::vector<DrawBatch>* batches);
+
+}  // namespace si::detail
