@@ -164,7 +164,9 @@ TEST(PreviousRecords, TheCamerasOfTheLastTwoUpdates) {
 }
 
 // buildPrevious: build()'s slots, each holding its instance's previous record, or where it has
-// none its current record moved from the last camera's origin to the previous one's.
+// none its current record moved from the last camera's origin to the previous one's. And
+// buildPreviousIndices (what drawCrowd reads): in buildLayers' slot numbering, each slot's index
+// into previousRecords(), kNoPreviousRecord exactly where buildPrevious took the fallback.
 TEST(PreviousRecords, TheBatcherWritesThemInBuildsSlots) {
   CrowdManager crowd = makeCrowd(3);
   std::vector<glm::dvec3> spots;
@@ -187,9 +189,12 @@ TEST(PreviousRecords, TheBatcherWritesThemInBuildsSlots) {
     const Camera camera = test::testCamera({45, 10, -20.0 + 5.0 * frame}, {45, 0, 50});
     ASSERT_TRUE(crowd.update(0.1, camera).isOk());
     std::vector<uint8_t> current(batcher.recordBufferBound(crowd)), previous(current.size());
+    std::vector<uint8_t> indices(batcher.previousIndexBufferBound(crowd));
+    EXPECT_EQ(indices.size(), batcher.layerBufferBound(crowd) / 4);
     std::vector<DrawBatch> draws;
     ASSERT_TRUE(batcher.build(crowd, current, &draws).isOk());
     ASSERT_TRUE(batcher.buildPrevious(crowd, previous).isOk());
+    ASSERT_TRUE(batcher.buildPreviousIndices(crowd, indices).isOk());
     const glm::vec3 shift(crowd.updateCamera().position - crowd.previousUpdateCamera().position);
     const std::vector<uint32_t>& entries = crowd.bucketEntries();
     size_t e = 0;
@@ -209,6 +214,9 @@ TEST(PreviousRecords, TheBatcherWritesThemInBuildsSlots) {
           ++without;
         }
         ASSERT_TRUE(sameRecord(then, expected)) << "frame " << frame << " record " << rec;
+        uint32_t index;
+        std::memcpy(&index, indices.data() + (d.layer_byte_offset / kLayerRecordSize + k) * 4, 4);
+        ASSERT_EQ(index, p) << "frame " << frame << " record " << rec;
       }
     EXPECT_EQ(e, entries.size());
   }
@@ -219,60 +227,10 @@ TEST(PreviousRecords, TheBatcherWritesThemInBuildsSlots) {
   CrowdManager plain = makeCrowd(1, false);
   EXPECT_EQ(batcher.buildPrevious(plain, small).code(), StatusCode::kInvalidArgument);
   EXPECT_EQ(InstanceBatcher().buildPrevious(crowd, small).code(), StatusCode::kInvalidArgument);
-}
-
-// buildPreviousIndices: in buildLayers' slot numbering, each slot's index into
-// previousRecords() (kNoPreviousRecord where there is none), naming the record buildPrevious
-// writes into that slot (drawCrowd reads the previous records through it).
-TEST(PreviousRecords, TheIndicesNameEachSlotsPreviousRecord) {
-  CrowdManager crowd = makeCrowd(3);
-  std::vector<glm::dvec3> spots;
-  for (int i = 0; i < 3000; ++i) spots.push_back({(i % 60) * 1.5, 0.0, (i / 60) * 1.5});
-  RandomCrowdDesc r;
-  r.positions = spots;
-  r.optional_mask = 0xE;
-  std::vector<InstanceHandle> handles;
-  ASSERT_TRUE(crowd.addRandom(r, &handles).isOk());
-  InstanceBatcher batcher;
-  ASSERT_TRUE(batcher.init({16384, 256, 0}).isOk());  // Many batches.
-  size_t with = 0, without = 0;
-  for (int frame = 0; frame < 3; ++frame) {
-    const Camera camera = test::testCamera({45, 10, -20.0 + 5.0 * frame}, {45, 0, 50});
-    ASSERT_TRUE(crowd.update(0.1, camera).isOk());
-    std::vector<uint8_t> current(batcher.recordBufferBound(crowd)), previous(current.size());
-    std::vector<uint8_t> indices(batcher.previousIndexBufferBound(crowd));
-    EXPECT_EQ(indices.size(), batcher.layerBufferBound(crowd) / 4);
-    std::vector<DrawBatch> draws;
-    ASSERT_TRUE(batcher.build(crowd, current, &draws).isOk());
-    ASSERT_TRUE(batcher.buildPrevious(crowd, previous).isOk());
-    ASSERT_TRUE(batcher.buildPreviousIndices(crowd, indices).isOk());
-    const glm::vec3 shift(crowd.updateCamera().position - crowd.previousUpdateCamera().position);
-    for (const DrawBatch& d : draws)
-      for (uint32_t k = 0; k < d.instance_count; ++k) {
-        uint32_t p;
-        std::memcpy(&p, indices.data() + (d.layer_byte_offset / kLayerRecordSize + k) * 4, 4);
-        InstanceRecord now, then;
-        std::memcpy(&now, current.data() + d.byte_offset + k * kInstanceRecordSize, sizeof now);
-        std::memcpy(&then, previous.data() + d.byte_offset + k * kInstanceRecordSize, sizeof then);
-        InstanceRecord expected = now;
-        if (p != CrowdManager::kNoPreviousRecord) {
-          ASSERT_LT(p, crowd.previousRecords().size());
-          expected = crowd.previousRecords()[p];
-          ++with;
-        } else {
-          for (int row = 0; row < 3; ++row) expected.world_rows[row][3] += shift[row];
-          ++without;
-        }
-        ASSERT_TRUE(sameRecord(then, expected)) << "frame " << frame << " slot " << k;
-      }
-  }
-  EXPECT_GT(with, 1000u);
-  EXPECT_GT(without, 1000u);
-  std::vector<uint8_t> small(batcher.previousIndexBufferBound(crowd) - 1);
-  EXPECT_EQ(batcher.buildPreviousIndices(crowd, small).code(), StatusCode::kCountMismatch);
-  CrowdManager plain = makeCrowd(1, false);
-  EXPECT_EQ(batcher.buildPreviousIndices(plain, small).code(), StatusCode::kInvalidArgument);
-  EXPECT_EQ(InstanceBatcher().buildPreviousIndices(crowd, small).code(),
+  std::vector<uint8_t> few(batcher.previousIndexBufferBound(crowd) - 1);
+  EXPECT_EQ(batcher.buildPreviousIndices(crowd, few).code(), StatusCode::kCountMismatch);
+  EXPECT_EQ(batcher.buildPreviousIndices(plain, few).code(), StatusCode::kInvalidArgument);
+  EXPECT_EQ(InstanceBatcher().buildPreviousIndices(crowd, few).code(),
             StatusCode::kInvalidArgument);
 }
 

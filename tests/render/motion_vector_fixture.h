@@ -197,11 +197,11 @@ class MotionVectorTest : public RenderTest {
     glDeleteProgram(program);
   }
 
-  // A vertex-shader renderer with motion vectors on.
-  void makeMotionRenderer(Renderer* r) {
+  // A renderer on skinning path `path` (vertex-shader by default) with motion vectors on.
+  void makeMotionRenderer(Renderer* r, SkinningPath path = SkinningPath::kVertexShader) {
     RendererDesc rd;
     rd.motion_vectors = true;
-    rd.skinning_path = SkinningPath::kVertexShader;
+    rd.skinning_path = path;
     makeRenderer(r, 0, PaletteFormat::kMatrix3x4F32, &rd);
   }
 

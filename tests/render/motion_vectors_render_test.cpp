@@ -55,11 +55,8 @@ TEST_P(MotionVectorTest, TheRendererWritesTheIncludesMotion) {
   EXPECT_GT(largest, 0.02f);  // At least 5 pixels somewhere.
   for (SkinningPath path : {SkinningPath::kVertexShader, SkinningPath::kCompute}) {
     SCOPED_TRACE(skinningPathName(path));
-    RendererDesc rd;
-    rd.skinning_path = path;
-    rd.motion_vectors = true;
     Renderer r;
-    makeRenderer(&r, 0, PaletteFormat::kMatrix3x4F32, &rd);
+    makeMotionRenderer(&r, path);
     InstanceBatcher batcher;
     ASSERT_TRUE(batcher.init(r.batchLimits()).isOk());
     target_.clear(glm::vec4(0.0f));
@@ -128,11 +125,8 @@ TEST_P(MotionVectorTest, NeedsTheCrowdsPreviousRecords) {
 TEST_P(MotionVectorTest, AnEmptyFrameDrawsWithMotionVectors) {
   for (SkinningPath path : {SkinningPath::kVertexShader, SkinningPath::kCompute}) {
     SCOPED_TRACE(skinningPathName(path));
-    RendererDesc rd;
-    rd.skinning_path = path;
-    rd.motion_vectors = true;
     Renderer r;
-    makeRenderer(&r, 0, PaletteFormat::kMatrix3x4F32, &rd);
+    makeMotionRenderer(&r, path);
     InstanceBatcher batcher;
     ASSERT_TRUE(batcher.init(r.batchLimits()).isOk());
     ASSERT_TRUE(crowd_.update(0.05, camera(1)).isOk());
