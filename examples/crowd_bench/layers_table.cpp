@@ -10,8 +10,8 @@ namespace si::bench {
 
 namespace {
 
-// Off, full, half-way; the vertex-shader paths' full and half-way again with composing off
-// (RendererDesc::compose_layers: each vertex walks its influences' chains).
+// Off, full, half-way; full and half-way again with composing off (RendererDesc::compose_layers:
+// each vertex walks its influences' chains).
 constexpr float kWeights[] = {0.0f, 1.0f, 0.5f, 1.0f, 0.5f};
 const char* const kNames[] = {"off", "w=1", "w=0.5", "walk1", "walk.5"};
 constexpr int kComposedStates = 3;
@@ -65,9 +65,9 @@ Status layersTable(Setup& setup, Renderer& renderer, const BakedPalette& palette
   if (!s.isOk()) return s;
   std::printf(
       "\nLayered animation (field; every instance waves its right arm over its clip): "
-      "no overlay against weight 1 and weight 0.5, in the same run (the vertex-shader "
-      "paths compose the layers; walk1, walk.5: weight 1 and 0.5 with composing off, "
-      "each vertex walking its chains)\n");
+      "no overlay against weight 1 and weight 0.5, in the same run (composed layers; "
+      "walk1, walk.5: weight 1 and 0.5 with composing off, each vertex walking its "
+      "chains)\n");
   const size_t masked = size_t(std::count_if(arm.slot_anchor.begin(), arm.slot_anchor.end(),
                                              [](int32_t a) { return a != LayerMask::kNotInMask; }));
   std::printf(
@@ -81,9 +81,7 @@ Status layersTable(Setup& setup, Renderer& renderer, const BakedPalette& palette
       if (path != "instanced" && path != "compute" && path != "gpu-culled" && path != "gpu-driven")
         continue;
       Row rows[5];
-      // The vertex-shader paths compose; pre-skinning walks the chains once per vertex.
-      const int states = path == "instanced" || path == "gpu-culled" ? 5 : kComposedStates;
-      for (int state = 0; state < states; ++state) {
+      for (int state = 0; state < 5; ++state) {
         renderer.setComposeLayers(state < kComposedStates);
         s = runLayers(setup, renderer, palette, arm, uint32_t(wave), count, path, state, &rows[state]);
         renderer.setComposeLayers(true);

@@ -4,10 +4,10 @@
 // skinning paths and the GPU-driven paths (gpu-culled: vertex-shader skinning, gpu-driven:
 // pre-skinning) with no overlay, with every instance waving its right arm over its clip at
 // full weight (the anchor's composition), and held half-way (weight 0.5: each link of the
-// arm's chain blended in local space too), side by side in one run, with the layered error of each
-// weight (si::measureLayeredError) against the local-space reference. The vertex-shader paths
-// (instanced, gpu-culled) compose the layers (RendererDesc::compose_layers) and run both
-// weights again with composing off (each vertex walking its chains).
+// arm's chain blended in local space too), side by side in one run, with the layered error of
+// each weight (si::measureLayeredError) against the local-space reference. Every path composes
+// the layers (RendererDesc::compose_layers) and runs both weights again with composing off
+// (each vertex walking its chains).
 #include <cstdio>
 #include <string>
 #include <vector>

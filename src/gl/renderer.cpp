@@ -358,11 +358,10 @@ Status Renderer::drawCrowd(CharacterId id, const CrowdView& view, const Instance
     s = detail::writeRingFrame(batcher, view, plan, m.ring.mapped(base), m.ring.writableBytes(),
                                &m.batches);
   if (s.isOk() && layers) s = m.scratch.uploadMaskTable(layerMaskTable(crowd.layerMasks()));
-  // Composed layers: the vertex-shader draws' rows, where they fit (paths/layer_compose_pass.h;
-  // the pass reads the region as a storage buffer).
+  // Composed layers: the skinning passes' rows, where they fit (paths/layer_compose_pass.h; the
+  // pass reads the region as a storage buffer).
   uint32_t compose_stride = 0;
-  if (s.isOk() && layers && (mode == DrawMode::kSkinned || mode == DrawMode::kDepthOnly) &&
-      plan.end <= storage_limit)
+  if (s.isOk() && layers && plan.end <= storage_limit)
     s = detail::prepareComposedRows(m.resources(*c), crowd.layerMasks(),
                                     batcher.layerBufferBound(view) / kLayerRecordSize, motion,
                                     &compose_stride);

@@ -94,7 +94,7 @@ TEST_P(LayeredRenderTest, BothSkinningPathsDrawTheEmulatedOverlay) {
 // records (each bucket split, so batches hold other instances at other offsets), with the
 // batches' rows of groups in pieces of 2 (a context whose GL_MAX_COMPUTE_WORK_GROUP_COUNT's y
 // is 2), and where a batch's row would not fit its x (1 group) the draws walk the chains.
-// The depth-only draw composes too.
+// The depth-only draw and the compute path's pre-skinning compose too.
 TEST_P(LayeredRenderTest, ComposedRowsDrawWhatTheChainWalkDraws) {
   Renderer r;
   CrowdManager crowd;
@@ -116,10 +116,11 @@ TEST_P(LayeredRenderTest, ComposedRowsDrawWhatTheChainWalkDraws) {
     limits.max_instances_per_draw = per_draw;
     InstanceBatcher batcher;
     ASSERT_TRUE(batcher.init(limits).isOk());
-    const auto drawn = [&](Renderer& renderer, bool compose, DrawStats* stats) {
+    const auto drawn = [&](Renderer& renderer, bool compose, DrawStats* stats,
+                           DrawMode mode = DrawMode::kDefault) {
       renderer.setComposeLayers(compose);
       renderer.clear(glm::vec4(0.2f, 0.25f, 0.3f, 1.0f));
-      EXPECT_TRUE(renderer.drawCrowd(crowd, batcher, closeView(), stats).isOk());
+      EXPECT_TRUE(renderer.drawCrowd(crowd, batcher, closeView(), stats, mode).isOk());
       std::vector<uint8_t> rgba;
       EXPECT_TRUE(context_->readPixels(&rgba).isOk());
       return rgba;
@@ -141,6 +142,15 @@ TEST_P(LayeredRenderTest, ComposedRowsDrawWhatTheChainWalkDraws) {
     EXPECT_LE(d.max_channel, 8);
     EXPECT_EQ(compare(in_pieces, composed, nullptr).max_channel, 0);
     EXPECT_EQ(compare(narrow, per_draw == 0 ? walk : composed, nullptr).max_channel, 0);
+    // Pre-skinning reads the rows too: the compute path's image is its walk's.
+    DrawStats compute_stats, compute_walk_stats;
+    const std::vector<uint8_t> compute = drawn(r, true, &compute_stats, DrawMode::kComputeSkinned);
+    const std::vector<uint8_t> compute_walk =
+        drawn(r, false, &compute_walk_stats, DrawMode::kComputeSkinned);
+    EXPECT_EQ(compute_stats.compose_dispatches, 1u);
+    EXPECT_EQ(compute_walk_stats.compose_dispatches, 0u);
+    const Diff dc = compare(compute, compute_walk, nullptr);
+    EXPECT_LE(dc.share, 0.0005) << "compute: max channel difference " << dc.max_channel;
   }
   pieces.shutdown();
   walking.shutdown();
@@ -263,8 +273,8 @@ TEST_P(LayeredRenderTest, TheGpuDrivenPathDrawsTheOverlays) {
     const Status s = r.drawCrowdGpuCulled(crowd, closeView(), &stats, mode);
     ASSERT_TRUE(s.isOk()) << s.toString();
     EXPECT_EQ(stats.gpu_visible, crowd.stats().visible);
-    // Vertex-shader skinning reads composed rows (one compose pass); pre-skinning walks.
-    EXPECT_EQ(stats.compose_dispatches, mode == DrawMode::kSkinned ? 1u : 0u);
+    // Both skinnings read composed rows: one compose pass.
+    EXPECT_EQ(stats.compose_dispatches, 1u);
     std::vector<uint8_t> gpu;
     ASSERT_TRUE(context_->readPixels(&gpu).isOk());
     const Diff d = compare(gpu, reference, nullptr);

@@ -159,17 +159,16 @@ struct RendererDesc {
   /// draws write no motion; drawTraditional and drawCpuSkinned return kUnsupported while it is
   /// on. Switchable with setMotionVectors().
   bool motion_vectors = false;
-  /// Layered animation on the vertex-shader draws (drawCrowd's kSkinned and kDepthOnly, and
-  /// kDefault on that path; drawCrowdGpuCulled without pre-skinning). On (the default), a
-  /// compute pass first composes each overlaid record's masked joints once per frame (the
-  /// overlay's matrices on the base's anchor, and between weights every masked link blended in
-  /// local space) into a buffer of 48 bytes per masked joint and record (the previous records'
-  /// too with motion vectors), which the vertex shader reads in place of walking each
-  /// influence's chain per vertex; the image is the same. Off, or where those rows (or
-  /// drawCrowd's record ring, which the pass reads) would exceed
-  /// GL_MAX_SHADER_STORAGE_BLOCK_SIZE or the pass GL_MAX_COMPUTE_WORK_GROUP_COUNT, the vertex
-  /// shader walks the chain (DrawStats::compose_dispatches tells which). Pre-skinning always
-  /// walks it, once per vertex. Switchable with setComposeLayers().
+  /// Layered animation on every skinning draw (drawCrowd's and drawCrowdGpuCulled's, both
+  /// skinning paths, depth-only included). On (the default), a compute pass first composes each
+  /// overlaid record's masked joints once per frame (the overlay's matrices on the base's anchor,
+  /// and between weights every masked link blended in local space) into a buffer of 48 bytes per
+  /// masked joint and record (the previous records' too with motion vectors), which the vertex
+  /// shader or the pre-skinning pass reads in place of walking each influence's chain per vertex;
+  /// the image is the same. Off, or where those rows (or drawCrowd's record ring, which the pass
+  /// reads) would exceed GL_MAX_SHADER_STORAGE_BLOCK_SIZE or the pass
+  /// GL_MAX_COMPUTE_WORK_GROUP_COUNT, each vertex walks the chain (DrawStats::compose_dispatches
+  /// tells which). Switchable with setComposeLayers().
   bool compose_layers = true;
   /// Largest side of the base colour texture array's layers (si::buildMaterialTable: every
   /// material image resized to one size, so all materials share a draw); 0 means 2048.
@@ -202,7 +201,7 @@ struct DrawStats {
   /// (RendererDesc::gpu_state_upload; 0 when nothing changed or another view's draw of the
   /// same frame uploaded it).
   uint64_t state_bytes_uploaded = 0;
-  /// Vertex-shader draws of overlays (RendererDesc::compose_layers): the compose pass's
+  /// Draws of overlays (RendererDesc::compose_layers): the compose pass's
   /// dispatches (0 when the draws walked the chains), and the records drawCrowd's composed (an
   /// instance counts once per sub-mesh; the GPU-driven pass's count stays on the GPU).
   uint32_t compose_dispatches = 0;

@@ -6,6 +6,7 @@
 
 #include "core/str_cat.h"
 #include "gl/paths/impostor_draw.h"
+#include "gl/paths/layer_compose_pass.h"
 #include "gl/resources/gl_allocation.h"
 
 namespace si::detail {
@@ -39,11 +40,16 @@ Status ComputePath::draw(const DrawResources& r, const PathFrame& f, DrawStats* 
   Status s = ensureRing(r);
   if (!s.isOk()) return s;
   const PreSkinLists& lists = *r.preskin;
-  const Program& skin =
-      (*r.programs)[f.motion && f.layers ? ProgramId::kComputeSkinMotionLayers
-                    : f.motion           ? ProgramId::kComputeSkinMotion
-                    : f.layers           ? ProgramId::kComputeSkinLayers
-                                         : ProgramId::kComputeSkin];
+  const Program& skin = (*r.programs)[f.motion && f.composed ? ProgramId::kComputeSkinMotionComposed
+                                      : f.composed           ? ProgramId::kComputeSkinComposed
+                                      : f.motion && f.layers ? ProgramId::kComputeSkinMotionLayers
+                                      : f.motion             ? ProgramId::kComputeSkinMotion
+                                      : f.layers             ? ProgramId::kComputeSkinLayers
+                                                             : ProgramId::kComputeSkin];
+  if (f.composed) {  // The overlays' masked joints, once per record (layer_compose_pass.h).
+    s = composeLayers(r, f, st);
+    if (!s.isOk()) return s;
+  }
   const Program& pulled = (*r.programs)[f.motion ? ProgramId::kPulledMotion : ProgramId::kPulled];
   if (f.motion) {
     s = r.scratch->compute_previous_ring.ensure(r.scratch->compute_ring.vertices, true,
@@ -105,7 +111,7 @@ Status ComputePath::draw(const DrawResources& r, const PathFrame& f, DrawStats* 
         glUseProgram(skin.id);
       }
       r.ring->bindBatch(f.ring_base, d);
-      if (f.motion)  // The batch's previous indices start at its first slot.
+      if (f.motion || f.composed)  // Its previous indices and composed records: its first slot.
         glProgramUniform1ui(skin.id, 7, d.layer_byte_offset / kLayerRecordSize);
       if (f.layers) r.ring->bindLayers(f.layer_base, d);
       if (f.layers && f.motion) r.ring->bindLayers(f.previous_layer_base, d, 3);

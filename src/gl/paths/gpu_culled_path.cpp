@@ -206,9 +206,8 @@ Status GpuCulledPath::uploadFrame(const DrawResources& r, const PathFrame& f) {
   compose_stride_ = 0;
   if (layers_) {  // Every frame: drawCrowd of another crowd may have replaced the tables.
     Status s = r.scratch->uploadMaskTable(layerMaskTable(crowd.layerMasks()));
-    // Vertex-shader skinning reads composed rows (layer_compose_pass.h); pre-skinning walks.
-    if (s.isOk() && !f.preskin)
-      s = prepareComposedRows(r, crowd.layerMasks(), n, motion_, &compose_stride_);
+    // Both skinnings read composed rows (layer_compose_pass.h), by visible index.
+    if (s.isOk()) s = prepareComposedRows(r, crowd.layerMasks(), n, motion_, &compose_stride_);
     if (!s.isOk()) return s;
   }
 
@@ -224,13 +223,11 @@ Status GpuCulledPath::uploadFrame(const DrawResources& r, const PathFrame& f) {
   glProgramUniform1fv(cull, 9, 7, p.lod_lines);
   const GLuint counts[4] = {n, cd.lod_count, cd.sub_mesh_count,
                             r.palette->palette()->layout.frame_stride_texels};
-  const GLuint skin = (*r.programs)[ProgramId::kGpuSkin].id;
-  const GLuint layered_skin = (*r.programs)[ProgramId::kGpuSkinLayers].id;
-  const GLuint motion_skin = (*r.programs)[ProgramId::kGpuSkinMotion].id;
-  const GLuint motion_layered_skin = (*r.programs)[ProgramId::kGpuSkinMotionLayers].id;
-  for (GLuint program : {cull, commands, scatter, skin, layered_skin, motion_skin,
-                         motion_layered_skin})
-    glProgramUniform4uiv(program, 16, 1, counts);
+  for (ProgramId skin : {ProgramId::kGpuSkin, ProgramId::kGpuSkinLayers, ProgramId::kGpuSkinMotion,
+                         ProgramId::kGpuSkinMotionLayers, ProgramId::kGpuSkinComposed,
+                         ProgramId::kGpuSkinMotionComposed})
+    glProgramUniform4uiv((*r.programs)[skin].id, 16, 1, counts);
+  for (GLuint program : {cull, commands, scatter}) glProgramUniform4uiv(program, 16, 1, counts);
   glProgramUniform1ui(cull, 23, layers_ ? 1u : 0u);
   glProgramUniform1ui(cull, 17, p.animation_lod_start);
   glProgramUniform1d(cull, 18, p.animation_step_seconds);
@@ -414,11 +411,16 @@ void GpuCulledPath::runPasses(const DrawResources& r, const PathFrame& f, uint32
   glBindBuffer(GL_DRAW_INDIRECT_BUFFER, commands_);
   // The skinning passes read the mask table where the command pass read the ranges.
   if (layers_) glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 8, r.scratch->mask_table);
+  const bool composed = compose_stride_ > 0;
+  if (composed) (void)composeGpuLayers(r, motion_, compose_stride_, n, st);  // It fits.
   if (f.preskin) {
     // Every pre-skinned entry's vertices into the ring, then one vertex-pulling multi-draw.
-    const Program& skin =
-        (*r.programs)[motion_ ? (layers_ ? ProgramId::kGpuSkinMotionLayers : ProgramId::kGpuSkinMotion)
-                              : (layers_ ? ProgramId::kGpuSkinLayers : ProgramId::kGpuSkin)];
+    const Program& skin = (*r.programs)[motion_ ? (composed  ? ProgramId::kGpuSkinMotionComposed
+                                                   : layers_ ? ProgramId::kGpuSkinMotionLayers
+                                                             : ProgramId::kGpuSkinMotion)
+                                                : (composed  ? ProgramId::kGpuSkinComposed
+                                                   : layers_ ? ProgramId::kGpuSkinLayers
+                                                             : ProgramId::kGpuSkin)];
     glUseProgram(skin.id);
     r.palette->bind();
     glProgramUniform2ui(skin.id, 6, 0u, r.preskin->source_words);
@@ -438,8 +440,6 @@ void GpuCulledPath::runPasses(const DrawResources& r, const PathFrame& f, uint32
     ++st->draw_calls;
   }
   // Vertex-shader skinning: every instance without pre-skinning, those past the ring with.
-  const bool composed = compose_stride_ > 0;
-  if (composed) (void)composeGpuLayers(r, motion_, compose_stride_, n, st);  // It fits.
   const Program& skinned =
       (*r.programs)[skinningProgram(true, f.depth_only, motion_, layers_, composed)];
   bindShading(r, skinned, f.camera, f.light);

@@ -1,5 +1,5 @@
 // SkinnedInstancing — SPDX-License-Identifier: MIT (see LICENSE)
-// The compose pass of layered animation's vertex-shader draws.
+// The compose pass of layered animation: each overlaid record's masked joints, once a frame.
 #include "gl/paths/layer_compose_pass.h"
 
 #include <algorithm>
@@ -32,8 +32,8 @@ Status prepareComposedRows(const DrawResources& r, Span<const LayerMask> masks, 
 
 namespace {
 
-// Whether the vertex-shader path draws batch `d` (vertex_shader_path.cpp): the others need no
-// rows.
+// Whether the skinning paths draw batch `d` (vertex_shader_path.cpp, compute_path.cpp): the
+// others need no rows.
 bool drawn(const DrawResources& r, const DrawBatch& d) {
   return d.sub_mesh < r.character->sub_meshes.size() &&
          r.character->lodRange(d.sub_mesh, d.lod).index_count > 0;

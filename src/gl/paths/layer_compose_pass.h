@@ -1,10 +1,10 @@
 // SkinnedInstancing — SPDX-License-Identifier: MIT (see LICENSE)
 #pragma once
-// Composed layers: before the vertex-shader draws of a layered crowd (drawCrowd's, and the
-// GPU-driven path's without pre-skinning), a compute pass composes each overlaid record's
+// Composed layers: before a layered crowd is skinned (drawCrowd's vertex shaders or compute
+// pre-skinning, both GPU-driven draws), a compute pass composes each overlaid record's
 // masked palette slots once per frame (layer_compose.comp.glsl: siLayeredJointRows, the
 // overlay's frames and the anchor's, and between weights each masked ancestor's link blended
-// in local space), and the draws read those rows (siSkinComposed) instead of repeating the
+// in local space), and the skinning reads those rows (siSkinComposed) instead of repeating the
 // chain per vertex and influence. RendererDesc::compose_layers turns it off.
 
 #include "gl/paths/draw_path.h"
@@ -15,7 +15,7 @@ namespace si::detail {
 /// row stride fit GL_MAX_SHADER_STORAGE_BLOCK_SIZE (layer_compose_table.h) and one pass over
 /// them fits GL_MAX_COMPUTE_WORK_GROUP_COUNT (dispatch_grid.h): uploads
 /// the compose table (storage binding 23), makes the rows buffers hold them (storage bindings
-/// 14, and 15 with `previous`: motion vectors) and sets `*stride` to the row stride. Otherwise
+/// 26, and 27 with `previous`: motion vectors) and sets `*stride` to the row stride. Otherwise
 /// `*stride` is 0: the draws walk the chain per vertex (the layered programs). kLimitExceeded
 /// when the driver has no memory for the rows.
 Status prepareComposedRows(const DrawResources& r, Span<const LayerMask> masks, uint64_t records,

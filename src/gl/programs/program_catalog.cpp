@@ -106,6 +106,17 @@ const ProgramSpec kSpecs[kProgramCount] = {
     {"GPU-driven depth-only with composed layers",
      "#define SI_GPU_DRIVEN\n#define SI_LAYERS\n#define SI_COMPOSED_LAYERS\n", "skinned.vert.glsl",
      "depth.frag.glsl", nullptr, nullptr},
+    {"compute skinning with composed layers", "#define SI_LAYERS\n#define SI_COMPOSED_LAYERS\n",
+     nullptr, nullptr, "compute_skin.comp.glsl", nullptr},
+    {"compute skinning with previous positions and composed layers",
+     "#define SI_MOTION_VECTORS\n#define SI_LAYERS\n#define SI_COMPOSED_LAYERS\n", nullptr, nullptr,
+     "compute_skin.comp.glsl", nullptr},
+    {"GPU-driven pre-skinning with composed layers",
+     "#define SI_LAYERS\n#define SI_COMPOSED_LAYERS\n", nullptr, nullptr, "gpu_skin.comp.glsl",
+     nullptr},
+    {"GPU-driven pre-skinning with previous positions and composed layers",
+     "#define SI_MOTION_VECTORS\n#define SI_LAYERS\n#define SI_COMPOSED_LAYERS\n", nullptr, nullptr,
+     "gpu_skin.comp.glsl", nullptr},
 };
 
 }  // namespace

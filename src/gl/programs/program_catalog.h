@@ -61,6 +61,10 @@ enum class ProgramId : uint8_t {
   kGpuDrivenSkinnedComposed,        ///< kGpuDrivenSkinnedLayers reading the composed rows.
   kGpuDrivenSkinnedMotionComposed,  ///< kGpuDrivenSkinnedMotionLayers reading them.
   kGpuDrivenDepthOnlyComposed,      ///< kGpuDrivenDepthOnlyLayers reading them.
+  kComputeSkinComposed,             ///< kComputeSkinLayers reading the composed rows.
+  kComputeSkinMotionComposed,       ///< kComputeSkinMotionLayers reading them.
+  kGpuSkinComposed,                 ///< kGpuSkinLayers reading them.
+  kGpuSkinMotionComposed,           ///< kGpuSkinMotionLayers reading them.
   kCount
 };
 inline constexpr size_t kProgramCount = size_t(ProgramId::kCount);

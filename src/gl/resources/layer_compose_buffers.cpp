@@ -31,15 +31,15 @@ Status LayerComposeBuffers::ensureRows(uint64_t bytes, uint64_t limit, bool prev
       if (!s.isOk()) return s;
       row_bytes[k] = grown;
     }
-    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, GLuint(14 + k), rows[k]);
+    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, GLuint(26 + k), rows[k]);
   }
   return Status::ok();
 }
 
 void LayerComposeBuffers::bind(bool previous) const {
   glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 23, table);
-  glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 14, rows[0]);
-  if (previous) glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 15, rows[1]);
+  glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 26, rows[0]);
+  if (previous) glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 27, rows[1]);
 }
 
 void LayerComposeBuffers::release() {

@@ -27,7 +27,7 @@ struct LayerComposeBuffers {
   Status uploadTable(const std::vector<int32_t>& content);
   /// Makes the rows buffer (both with `previous`) hold at least `bytes`, grown geometrically
   /// up to `limit` (GL_MAX_SHADER_STORAGE_BLOCK_SIZE; `bytes` is at most that), and binds them at
-  /// storage bindings 14 and 15. kLimitExceeded (createBuffer) when the driver has no memory.
+  /// storage bindings 26 and 27. kLimitExceeded (createBuffer) when the driver has no memory.
   Status ensureRows(uint64_t bytes, uint64_t limit, bool previous);
   /// Binds the table and the rows (the previous records' too with `previous`) again.
   void bind(bool previous) const;

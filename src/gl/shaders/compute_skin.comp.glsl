@@ -2,18 +2,27 @@
 // Compute pre-skinning: one thread per (instance, vertex of its LOD) of a batch, writing the
 // camera-relative world position and the octahedral normal into the ring. SI_MOTION_VECTORS:
 // also the previous frame's position (siSkinPrevious) into the parallel previous ring.
-// SI_LAYERS: each instance's overlay composed on its mask (siSkinLayered).
+// SI_LAYERS: each instance's overlay composed on its mask (siSkinLayered; with
+// SI_COMPOSED_LAYERS read from the compose pass's rows, siSkinComposed).
 // With SI_MOTION_VECTORS the previous records come through an index (previous_index.glsl),
 // u_batch_slot the batch's first slot in that numbering.
 #ifdef SI_MOTION_VECTORS
 #define SI_PREVIOUS_RECORDS
 #endif
 #include "si_skinning.glsl"
+#ifdef SI_COMPOSED_LAYERS
+#define SI_COMPOSED_READ
+#include "layer_compose.glsl"
+#endif
 #include "pre_skin_common.glsl"
 #include "dispatch_index.glsl"
 #ifdef SI_MOTION_VECTORS
 #include "previous_index.glsl"
-layout(location = 7) uniform uint u_batch_slot;
+#endif
+#if defined(SI_MOTION_VECTORS) || defined(SI_COMPOSED_LAYERS)
+layout(location = 7) uniform uint u_batch_slot;  // Its composed records and previous indices.
+#else
+const uint u_batch_slot = 0u;
 #endif
 layout(local_size_x = 64) in;
 layout(std430, binding = 1) writeonly buffer SiSkinnedOut { vec4 si_skinned_out[]; };
@@ -32,14 +41,15 @@ void main() {
   uvec4 layer = uvec4(0u);
 #endif
   SiInstance inst = si_instances[u_chunk.w + i];
-  si_skinned_out[u_chunk.x + g] = siPreSkin(source, inst, layer);
+  uint slot = u_batch_slot + u_chunk.w + i;
+  si_skinned_out[u_chunk.x + g] = siPreSkin(source, inst, layer, slot);
 #ifdef SI_MOTION_VECTORS
 #ifdef SI_LAYERS
   uvec4 previous_layer = si_previous_layers[u_chunk.w + i];
 #else
   uvec4 previous_layer = uvec4(0u);
 #endif
-  SiInstance prev = siPreviousRecord(u_batch_slot + u_chunk.w + i, inst);
-  si_previous_out[u_chunk.x + g] = vec4(siPreSkinPrevious(source, prev, previous_layer), 1.0);
+  SiInstance prev = siPreviousRecord(slot, inst);
+  si_previous_out[u_chunk.x + g] = vec4(siPreSkinPrevious(source, prev, previous_layer, slot), 1.0);
 #endif
 }

@@ -3,7 +3,7 @@
 // per vertex of every pre-skinned entry, buckets one after another as the command pass laid
 // them out; thread g writes ring vertex g.
 // SI_LAYERS: each entry's overlay (the cull pass's layer record at storage binding 18) composed
-// on its mask.
+// on its mask (with SI_COMPOSED_LAYERS read from the compose pass's rows).
 #ifdef SI_LAYERS
 #define SI_LAYERS_IN_STORAGE
 #define SI_LAYER_BINDING 18
@@ -17,6 +17,10 @@
 #define SI_SOURCE_BINDING 14
 #define SI_LOD_VERTICES_BINDING 15
 #include "si_skinning.glsl"
+#ifdef SI_COMPOSED_LAYERS  // The compose pass's rows, by visible index.
+#define SI_COMPOSED_READ
+#include "layer_compose.glsl"
+#endif
 #include "pre_skin_common.glsl"
 #include "cull_counters.glsl"
 #include "dispatch_index.glsl"
@@ -50,13 +54,14 @@ void main() {
   uvec4 layer = uvec4(0u);
 #endif
   uint source = si_lod_vertices[info.y + k];
-  si_skinned_out[g] = siPreSkin(source, si_records[v], layer);
+  si_skinned_out[g] = siPreSkin(source, si_records[v], layer, v);
 #ifdef SI_MOTION_VECTORS
 #ifdef SI_LAYERS
   uvec4 previous_layer = si_previous_layers[v];
 #else
   uvec4 previous_layer = uvec4(0u);
 #endif
-  si_previous_out[g] = vec4(siPreSkinPrevious(source, si_previous_instances[v], previous_layer), 1.0);
+  si_previous_out[g] =
+      vec4(siPreSkinPrevious(source, si_previous_instances[v], previous_layer, v), 1.0);
 #endif
 }

@@ -26,9 +26,9 @@
 #include "layer_compose.glsl"
 #include "dispatch_index.glsl"
 layout(local_size_x = 64) in;
-layout(std430, binding = 14) writeonly buffer SiComposedOut { vec4 si_composed_out[]; };
+layout(std430, binding = 26) writeonly buffer SiComposedOut { vec4 si_composed_out[]; };
 #ifdef SI_MOTION_VECTORS
-layout(std430, binding = 15) writeonly buffer SiComposedPreviousOut {
+layout(std430, binding = 27) writeonly buffer SiComposedPreviousOut {
   vec4 si_composed_previous_out[];
 };
 #endif

@@ -7,7 +7,7 @@
 // [1] the row stride (the most masked slots of any mask), [2] the mask count; then per mask
 // each slot's index among the mask's masked slots (-1 outside it); then per mask its masked
 // slots in order (-1 past its count).
-// The rows (storage binding 14; the previous records' at 15): 3 vec4 per (record, masked
+// The rows (storage binding 26; the previous records' at 27): 3 vec4 per (record, masked
 // index), composed record r's index k at (r * stride + k) * 3.
 #ifndef SI_LAYER_COMPOSE_GLSL
 #define SI_LAYER_COMPOSE_GLSL
@@ -30,9 +30,9 @@ int siComposedSlot(uvec4 layer, uint k) {
 }
 
 #ifdef SI_COMPOSED_READ
-layout(std430, binding = 14) readonly buffer SiComposedRows { vec4 si_composed[]; };
+layout(std430, binding = 26) readonly buffer SiComposedRows { vec4 si_composed[]; };
 #ifdef SI_PREVIOUS_RECORDS
-layout(std430, binding = 15) readonly buffer SiComposedPreviousRows {
+layout(std430, binding = 27) readonly buffer SiComposedPreviousRows {
   vec4 si_composed_previous[];
 };
 #endif

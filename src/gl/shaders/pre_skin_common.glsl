@@ -59,15 +59,17 @@ void siSourceVertex(uint source, out vec3 p, out vec3 n, out uvec4 joints, out v
 }
 
 // Source vertex `source` skinned for `inst` (with SI_LAYERS, its overlay `layer` composed on its
-// mask): camera-relative world position, and the normal octahedral-encoded in the w
-// component's bits.
-vec4 siPreSkin(uint source, SiInstance inst, uvec4 layer) {
+// mask; with SI_COMPOSED_LAYERS read from composed record `record`'s rows): camera-relative
+// world position, and the normal octahedral-encoded in the w component's bits.
+vec4 siPreSkin(uint source, SiInstance inst, uvec4 layer, uint record) {
   vec3 p, n;
   uvec4 joints;
   vec4 weights;
   siSourceVertex(source, p, n, joints, weights);
   vec4 m0, m1, m2;
-#ifdef SI_LAYERS
+#if defined(SI_COMPOSED_LAYERS)
+  siSkinComposed(inst, layer, record, false, joints, weights, m0, m1, m2);
+#elif defined(SI_LAYERS)
   siSkinLayered(inst, layer, joints, weights, m0, m1, m2);
 #else
   siSkin(inst, joints, weights, m0, m1, m2);
@@ -80,15 +82,17 @@ vec4 siPreSkin(uint source, SiInstance inst, uvec4 layer) {
 
 #ifdef SI_PREVIOUS_RECORDS
 // Source vertex `source` where the previous frame drew it with record `prev` (and, with
-// SI_LAYERS, layer record `prev_layer`), as siSkinPrevious: world position relative to the
-// previous camera.
-vec3 siPreSkinPrevious(uint source, SiInstance prev, uvec4 prev_layer) {
+// SI_LAYERS, layer record `prev_layer`; SI_COMPOSED_LAYERS: composed record `record`'s previous
+// rows), as siSkinPrevious: world position relative to the previous camera.
+vec3 siPreSkinPrevious(uint source, SiInstance prev, uvec4 prev_layer, uint record) {
   vec3 p, n;
   uvec4 joints;
   vec4 weights;
   siSourceVertex(source, p, n, joints, weights);
   vec4 m0, m1, m2;
-#ifdef SI_LAYERS
+#if defined(SI_COMPOSED_LAYERS)
+  siSkinComposed(prev, prev_layer, record, true, joints, weights, m0, m1, m2);
+#elif defined(SI_LAYERS)
   siSkinLayered(prev, prev_layer, joints, weights, m0, m1, m2);
 #else
   siSkin(prev, joints, weights, m0, m1, m2);

@@ -22,13 +22,13 @@ constexpr uint32_t bits(std::initializer_list<int> indices) {
 //   uniform buffers 0-3: records, previous records, layer records, previous layer records; 4:
 //     the palette's info block;
 //   storage 1-4, 8-11: compute pre-skinning (ring, source, list, previous ring), the mask
-//     table, the impostor clip table, the material buffers; 14, 15, 23, 24, 25: composed layers'
-//     rows, compose table, the record ring and drawCrowd's previous records; the GPU-driven
-//     passes use 0-23;
+//     table, the impostor clip table, the material buffers; 23-27: the compose table, the
+//     record ring, drawCrowd's previous records, the composed rows (current and previous);
+//     the GPU-driven passes use 0-23 and 26-27;
 //   texture units 0-3: palette (or the depth copy), base colour array (or the depth pyramid),
 //     custom array, impostor atlas; image units 0-1: the depth pyramid's levels.
 constexpr uint32_t kUniforms = bits({0, 1, 2, 3, 4});
-constexpr uint32_t kDrawStorage = bits({1, 2, 3, 4, 8, 9, 10, 11, 14, 15, 23, 24, 25});
+constexpr uint32_t kDrawStorage = bits({1, 2, 3, 4, 8, 9, 10, 11, 23, 24, 25, 26, 27});
 constexpr uint32_t kAllStorage = kDrawStorage | ((1u << 24) - 1u);
 constexpr uint32_t kUnits = bits({0, 1, 2, 3});
 
