@@ -23,7 +23,9 @@ Status LayerComposeBuffers::uploadTable(const std::vector<int32_t>& content) {
 Status LayerComposeBuffers::ensureRows(uint64_t bytes, uint64_t limit, bool previous) {
   for (int k = 0; k < (previous ? 2 : 1); ++k) {
     if (rows[k] == kNoObject || bytes > row_bytes[k]) {
-      const uint64_t grown = std::max(bytes, std::min(limit, row_bytes[k] + row_bytes[k] / 2));
+      // Geometric growth; never empty (GL refuses a buffer of no bytes).
+      const uint64_t grown =
+          std::max<uint64_t>({bytes, std::min(limit, row_bytes[k] + row_bytes[k] / 2), 48});
       row_bytes[k] = 0;
       const Status s = createBuffer(&rows[k], grown, nullptr, 0,
                                     k == 0 ? "composed layers: the composed rows"
