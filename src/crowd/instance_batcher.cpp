@@ -122,6 +122,14 @@ Status InstanceBatcher::build(const CrowdView& crowd, Span<uint8_t> out,
   return Status::ok();
 }
 
+glm::vec3 previousRecordShift(const CrowdView& view) {
+  // A camera cut too far for a float (past 1e30) keeps the translation (no motion is
+  // meaningful there).
+  const glm::dvec3 delta = view.camera().position - view.previousCamera().position;
+  const bool representable = glm::all(glm::lessThan(glm::abs(delta), glm::dvec3(1e30)));
+  return representable ? glm::vec3(delta) : glm::vec3(0.0f);
+}
+
 Status InstanceBatcher::buildPrevious(const CrowdView& crowd, Span<uint8_t> out) const {
   if (capacity_ == 0) return {StatusCode::kInvalidArgument, "InstanceBatcher: init() first"};
   if (!crowd.desc().previous_records)
@@ -136,11 +144,7 @@ Status InstanceBatcher::buildPrevious(const CrowdView& crowd, Span<uint8_t> out)
   const Span<const InstanceRecord> records = crowd.records();
   const Span<const InstanceRecord> previous = crowd.previousRecords();
   const Span<const uint32_t> index = crowd.previousRecordIndices();
-  // The fallback's translation moves from the last camera's origin to the previous one's; a
-  // camera cut too far for a float (past 1e30) keeps it (no motion is meaningful there).
-  const glm::dvec3 delta = crowd.camera().position - crowd.previousCamera().position;
-  const bool representable = glm::all(glm::lessThan(glm::abs(delta), glm::dvec3(1e30)));
-  const glm::vec3 shift = representable ? glm::vec3(delta) : glm::vec3(0.0f);
+  const glm::vec3 shift = previousRecordShift(crowd);
   uint8_t* base = out.data();
   walkBatches(crowd, capacity_, alignment_, nullptr,
               [&](const DrawBatch& d, uint32_t slot, uint32_t first, uint32_t count) {

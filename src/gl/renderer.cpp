@@ -386,7 +386,7 @@ Status Renderer::drawCrowd(CharacterId id, const CrowdView& view, const Instance
   frame.previous_base = base + plan.previous_indices;
   frame.previous_bytes = plan.previous_end - plan.previous_indices;
   frame.previous_records_word = uint32_t((plan.previous_records - plan.previous_indices) / 16);
-  frame.previous_shift = detail::previousShift(view);
+  frame.previous_shift = previousRecordShift(view);
   frame.layers = layers;
   frame.layer_base = base + plan.layer_records;
   frame.previous_layer_base = base + plan.previous_layers;

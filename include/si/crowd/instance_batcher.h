@@ -23,6 +23,8 @@
 #include <cstdint>
 #include <vector>
 
+#include <glm/glm.hpp>
+
 #include "si/core/span.h"
 #include "si/core/status.h"
 #include "si/crowd/crowd_manager.h"
@@ -64,6 +66,12 @@ struct RecordSpanDraw {
   uint32_t instance_count = 0;
   uint32_t block_first_record = 0;
 };
+
+/// The shift buildPrevious() adds to the translation of a record without a previous one: the
+/// view's last camera position minus the previous one's, as floats (the record moves from the
+/// last camera's origin to the previous one's); 0 where they are 1e30 or more apart, past a
+/// float. A shader reading previous records through buildPreviousIndices() adds it the same way.
+glm::vec3 previousRecordShift(const CrowdView& view);
 
 /// Stateless apart from its limits: build() is deterministic for the same crowd frame.
 class InstanceBatcher {

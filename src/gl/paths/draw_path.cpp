@@ -45,12 +45,6 @@ void setMotionUniforms(const Program& program, const PathFrame& f) {
                               &f.previous_view_projection[0][0]);
 }
 
-glm::vec3 previousShift(const CrowdView& view) {
-  const glm::dvec3 delta = view.camera().position - view.previousCamera().position;
-  const bool representable = glm::all(glm::lessThan(glm::abs(delta), glm::dvec3(1e30)));
-  return representable ? glm::vec3(delta) : glm::vec3(0.0f);
-}
-
 void bindPreviousRecords(const DrawResources& r, const Program& program, const PathFrame& f) {
   r.ring->bindRegion(f.previous_base, f.previous_bytes, 25);
   glProgramUniform1ui(program.id, 8, f.previous_records_word);

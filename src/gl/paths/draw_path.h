@@ -67,7 +67,7 @@ struct PathFrame {
   /// Motion vectors (the instanced paths, RendererDesc::motion_vectors): each slot's
   /// previous-record index and the previous records once each, `previous_bytes` at
   /// `previous_base` of the ring, the records from its word `previous_records_word`
-  /// (shaders/previous_index.glsl), the shift of the fallback (previousShift), and the crowd's
+  /// (shaders/previous_index.glsl), the fallback's shift (si::previousRecordShift), and the crowd's
   /// last and previous update cameras' view-projections. The GPU-driven path: `motion` and the
   /// view-projection its motion uses for this frame (it keeps the previous frame's).
   bool motion = false;
@@ -125,10 +125,6 @@ void bindShading(const DrawResources& r, const Program& program, const Camera& c
 /// Motion vectors: sets `program`'s two motion view-projections when `frame.motion` (each
 /// batch then binds its previous records at uniform binding 1).
 void setMotionUniforms(const Program& program, const PathFrame& frame);
-
-/// The shift of a previous record's fallback (InstanceBatcher::buildPrevious): `view`'s last
-/// camera position minus the previous one's, as floats; 0 where they are 1e30 or more apart.
-glm::vec3 previousShift(const CrowdView& view);
 
 /// Motion vectors of drawCrowd: binds `frame`'s previous-record blocks at storage binding 25
 /// and sets `program`'s previous_index.glsl uniforms (locations 8 and 9).
