@@ -362,13 +362,9 @@ Status Renderer::drawCrowd(CharacterId id, const CrowdView& view, const Instance
   // pass reads the region as a storage buffer).
   uint32_t compose_stride = 0;
   if (s.isOk() && layers && plan.end <= storage_limit)
-    s = detail::prepareComposedRows(m.resources(*c), crowd.layerMasks(),
-                                    batcher.layerBufferBound(view) / kLayerRecordSize, motion,
-                                    &compose_stride);
+    s = detail::prepareComposedRows(m.resources(*c), crowd.layerMasks(), plan.layer_slots,
+                                    batcher.capacityPerDraw(), motion, &compose_stride);
   if (!s.isOk()) return s;
-  if ((uint64_t(batcher.capacityPerDraw()) * compose_stride + 63) / 64 >
-      (m.info.max_compute_groups_x ? m.info.max_compute_groups_x : 65535u))
-    compose_stride = 0;  // A batch's row of groups would not fit: walk the chains.
   detail::PathFrame frame;
   frame.crowd = &crowd;
   frame.view = &view;

@@ -46,10 +46,7 @@ Status ComputePath::draw(const DrawResources& r, const PathFrame& f, DrawStats* 
                                       : f.motion             ? ProgramId::kComputeSkinMotion
                                       : f.layers             ? ProgramId::kComputeSkinLayers
                                                              : ProgramId::kComputeSkin];
-  if (f.composed) {  // The overlays' masked joints, once per record (layer_compose_pass.h).
-    s = composeLayers(r, f, st);
-    if (!s.isOk()) return s;
-  }
+  if (f.composed) composeLayers(r, f, st);  // Masked joints once a record (layer_compose_pass.h).
   const Program& pulled = (*r.programs)[f.motion ? ProgramId::kPulledMotion : ProgramId::kPulled];
   if (f.motion) {
     s = r.scratch->compute_previous_ring.ensure(r.scratch->compute_ring.vertices, true,

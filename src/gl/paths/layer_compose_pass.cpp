@@ -5,23 +5,25 @@
 #include <algorithm>
 #include <cstring>
 
-#include "core/str_cat.h"
 #include "gl/paths/dispatch_grid.h"
 #include "gl/resources/layer_compose_table.h"
 
 namespace si::detail {
 
 Status prepareComposedRows(const DrawResources& r, Span<const LayerMask> masks, uint64_t records,
-                           bool previous, uint32_t* stride) {
+                           uint32_t batch_records, bool previous, uint32_t* stride) {
   *stride = 0;
   if (!r.desc->compose_layers) return Status::ok();
   const std::vector<int32_t> table = layerComposeTable(masks);
   const uint64_t limit = r.info->max_shader_storage_block_size_bytes;
-  DispatchGrid grid;  // All `records` in one dispatch (the GPU-driven pass) fit the grid.
-  if (!composedRowsFit(limit, records, uint32_t(table[1])) ||
-      !dispatchGrid((records * uint32_t(table[1]) + 63) / 64, r.info->max_compute_groups_x,
-                    r.info->max_compute_groups_y, &grid))
-    return Status::ok();
+  const uint32_t masked = uint32_t(table[1]);
+  DispatchGrid grid;
+  const bool dispatch_fits =
+      batch_records > 0
+          ? (uint64_t(batch_records) * masked + 63) / 64 <= groupLimit(r.info->max_compute_groups_x)
+          : dispatchGrid((records * masked + 63) / 64, r.info->max_compute_groups_x,
+                         r.info->max_compute_groups_y, &grid);
+  if (!composedRowsFit(limit, records, masked) || !dispatch_fits) return Status::ok();
   LayerComposeBuffers& buffers = r.scratch->layer_compose;
   Status s = buffers.uploadTable(table);
   if (s.isOk())
@@ -54,7 +56,7 @@ uint32_t writeComposeBatches(const DrawResources& r, const PathFrame& f, uint8_t
   return n;
 }
 
-Status composeLayers(const DrawResources& r, const PathFrame& f, DrawStats* st) {
+void composeLayers(const DrawResources& r, const PathFrame& f, DrawStats* st) {
   const uint32_t stride = f.compose_stride;
   uint32_t most = 0;  // The largest batch: the groups of every row.
   uint64_t records = 0;
@@ -63,15 +65,8 @@ Status composeLayers(const DrawResources& r, const PathFrame& f, DrawStats* st) 
       most = std::max(most, d.instance_count);
       records += d.instance_count;
     }
-  const uint64_t groups_x = (uint64_t(most) * stride + 63) / 64;
-  // Zero limits are GL's minimum.
-  const uint32_t max_x = r.info->max_compute_groups_x ? r.info->max_compute_groups_x : 65535u;
-  const uint32_t max_y = r.info->max_compute_groups_y ? r.info->max_compute_groups_y : 65535u;
-  if (groups_x > max_x)
-    return {StatusCode::kLimitExceeded, strCat("composed layers: ", groups_x,
-                                               " compute groups per batch exceed "
-                                               "GL_MAX_COMPUTE_WORK_GROUP_COUNT's x (",
-                                               max_x, ")")};
+  const uint64_t groups_x = (uint64_t(most) * stride + 63) / 64;  // Fits: prepareComposedRows.
+  const uint32_t max_y = groupLimit(r.info->max_compute_groups_y);
   const Program& compose =
       (*r.programs)[f.motion ? ProgramId::kLayerComposeMotion : ProgramId::kLayerCompose];
   glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT);  // Earlier draws are done reading the rows.
@@ -93,7 +88,6 @@ Status composeLayers(const DrawResources& r, const PathFrame& f, DrawStats* st) 
   }
   st->composed_records += records;
   glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT);  // The rows before the draws read them.
-  return Status::ok();
 }
 
 Status composeGpuLayers(const DrawResources& r, bool motion, uint32_t stride, uint32_t instances,

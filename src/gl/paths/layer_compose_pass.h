@@ -12,14 +12,16 @@
 namespace si::detail {
 
 /// When RendererDesc::compose_layers is on, the rows of `records` composed records of `masks`'
-/// row stride fit GL_MAX_SHADER_STORAGE_BLOCK_SIZE (layer_compose_table.h) and one pass over
-/// them fits GL_MAX_COMPUTE_WORK_GROUP_COUNT (dispatch_grid.h): uploads
+/// row stride fit GL_MAX_SHADER_STORAGE_BLOCK_SIZE (layer_compose_table.h) and the pass fits
+/// GL_MAX_COMPUTE_WORK_GROUP_COUNT (dispatch_grid.h): drawCrowd's a row of groups per batch of
+/// at most `batch_records` records (its x), the GPU-driven one (`batch_records` 0) a flat pass
+/// over them all laid out in rows: uploads
 /// the compose table (storage binding 23), makes the rows buffers hold them (storage bindings
 /// 26, and 27 with `previous`: motion vectors) and sets `*stride` to the row stride. Otherwise
 /// `*stride` is 0: the draws walk the chain per vertex (the layered programs). kLimitExceeded
 /// when the driver has no memory for the rows.
 Status prepareComposedRows(const DrawResources& r, Span<const LayerMask> masks, uint64_t records,
-                           bool previous, uint32_t* stride);
+                           uint32_t batch_records, bool previous, uint32_t* stride);
 
 /// drawCrowd's compose pass table: for each batch of `frame` that the draws draw, 16 bytes at
 /// `out` (the ring, at frame.compose_table_base): its records' and layer records' first 16-byte
@@ -31,10 +33,9 @@ uint32_t writeComposeBatches(const DrawResources& r, const PathFrame& frame, uin
 /// GL_MAX_COMPUTE_WORK_GROUP_COUNT's y) reading the records and layer records (the previous
 /// ones too with frame.motion) from the ring bound whole as a storage buffer (binding 24),
 /// between two storage barriers: the last draws' reads before, the rows after. The mask table
-/// (binding 8) is bound; prepareComposedRows' buffers are bound again. Counts the dispatches
-/// and the composed records in `stats`. kLimitExceeded when a batch's groups exceed
-/// GL_MAX_COMPUTE_WORK_GROUP_COUNT's x (nothing dispatched).
-Status composeLayers(const DrawResources& r, const PathFrame& frame, DrawStats* stats);
+/// (binding 8) is bound; prepareComposedRows' buffers are bound again (it checked that a
+/// batch's groups fit). Counts the dispatches and the composed records in `stats`.
+void composeLayers(const DrawResources& r, const PathFrame& frame, DrawStats* stats);
 
 /// The GPU-driven path's compose pass, after its cull pass: the records and layer records by
 /// visible index at storage bindings 4 and 18 (previous ones at 20 and 21 with `motion`), the

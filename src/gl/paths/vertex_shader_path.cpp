@@ -11,10 +11,7 @@ Status VertexShaderPath::draw(const DrawResources& r, const PathFrame& f, DrawSt
   const bool depth_only = f.program == ProgramId::kDepthOnly ||
                           f.program == ProgramId::kDepthOnlyLayers ||
                           f.program == ProgramId::kDepthOnlyComposed;
-  if (f.composed) {
-    const Status s = composeLayers(r, f, st);
-    if (!s.isOk()) return s;
-  }
+  if (f.composed) composeLayers(r, f, st);
   const Program& program = (*r.programs)[f.program];
   bindShading(r, program, f.camera, f.light);
   setMotionUniforms(program, f);

@@ -12,7 +12,8 @@ RingFrame planRingFrame(const InstanceBatcher& batcher, const CrowdView& view, u
   RingFrame f;
   f.motion = motion;
   f.layers = layers;
-  size_t end = batcher.recordBufferBound(view);
+  const size_t record_bound = batcher.recordBufferBound(view);
+  size_t end = record_bound;
   if (motion) {
     f.previous_indices = align(end);
     f.previous_records = align(f.previous_indices + batcher.previousIndexBufferBound(view));
@@ -21,6 +22,7 @@ RingFrame planRingFrame(const InstanceBatcher& batcher, const CrowdView& view, u
   }
   if (layers) {
     const size_t layer_bound = batcher.layerBufferBound(view);
+    f.layer_slots = layer_bound / kLayerRecordSize;
     f.layer_records = align(end);
     end = f.layer_records + layer_bound;
     if (motion) {
@@ -29,7 +31,7 @@ RingFrame planRingFrame(const InstanceBatcher& batcher, const CrowdView& view, u
     }
     // A batch takes at least 80 bytes of records: at most bound / 64 + 1 batches.
     f.compose_table = align(end);
-    end = f.compose_table + (batcher.recordBufferBound(view) / 64 + 1) * 16;
+    end = f.compose_table + (record_bound / 64 + 1) * 16;
   }
   f.end = end;
   return f;

@@ -24,6 +24,7 @@ struct RingFrame {
   size_t layer_records = 0;     ///< buildLayers.
   size_t previous_layers = 0;   ///< buildPreviousLayers.
   size_t compose_table = 0;     ///< The compose pass's batch table (16 bytes a batch).
+  uint64_t layer_slots = 0;     ///< Layer records the layer block holds (padding included).
   size_t end = 0;               ///< Bytes of the region the frame may use.
 };
 
