@@ -40,12 +40,7 @@ Status ComputePath::draw(const DrawResources& r, const PathFrame& f, DrawStats* 
   Status s = ensureRing(r);
   if (!s.isOk()) return s;
   const PreSkinLists& lists = *r.preskin;
-  const Program& skin = (*r.programs)[f.motion && f.composed ? ProgramId::kComputeSkinMotionComposed
-                                      : f.composed           ? ProgramId::kComputeSkinComposed
-                                      : f.motion && f.layers ? ProgramId::kComputeSkinMotionLayers
-                                      : f.motion             ? ProgramId::kComputeSkinMotion
-                                      : f.layers             ? ProgramId::kComputeSkinLayers
-                                                             : ProgramId::kComputeSkin];
+  const Program& skin = (*r.programs)[preSkinningProgram(false, f.motion, f.layers, f.composed)];
   if (f.composed) composeLayers(r, f, st);  // Masked joints once a record (layer_compose_pass.h).
   const Program& pulled = (*r.programs)[f.motion ? ProgramId::kPulledMotion : ProgramId::kPulled];
   if (f.motion) {

@@ -412,15 +412,10 @@ void GpuCulledPath::runPasses(const DrawResources& r, const PathFrame& f, uint32
   // The skinning passes read the mask table where the command pass read the ranges.
   if (layers_) glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 8, r.scratch->mask_table);
   const bool composed = compose_stride_ > 0;
-  if (composed) (void)composeGpuLayers(r, motion_, compose_stride_, n, st);  // It fits.
+  if (composed) composeGpuLayers(r, motion_, compose_stride_, n, st);
   if (f.preskin) {
     // Every pre-skinned entry's vertices into the ring, then one vertex-pulling multi-draw.
-    const Program& skin = (*r.programs)[motion_ ? (composed  ? ProgramId::kGpuSkinMotionComposed
-                                                   : layers_ ? ProgramId::kGpuSkinMotionLayers
-                                                             : ProgramId::kGpuSkinMotion)
-                                                : (composed  ? ProgramId::kGpuSkinComposed
-                                                   : layers_ ? ProgramId::kGpuSkinLayers
-                                                             : ProgramId::kGpuSkin)];
+    const Program& skin = (*r.programs)[preSkinningProgram(true, motion_, layers_, composed)];
     glUseProgram(skin.id);
     r.palette->bind();
     glProgramUniform2ui(skin.id, 6, 0u, r.preskin->source_words);

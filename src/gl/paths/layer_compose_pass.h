@@ -39,9 +39,9 @@ void composeLayers(const DrawResources& r, const PathFrame& frame, DrawStats* st
 
 /// The GPU-driven path's compose pass, after its cull pass: the records and layer records by
 /// visible index at storage bindings 4 and 18 (previous ones at 20 and 21 with `motion`), the
-/// visible count at 3 (at most `instances`), composed record = visible index; the same barriers.
-/// kLimitExceeded past the dispatch grid.
-Status composeGpuLayers(const DrawResources& r, bool motion, uint32_t stride, uint32_t instances,
-                        DrawStats* stats);
+/// visible count at 3 (at most `instances`, for which prepareComposedRows checked the dispatch
+/// grid), composed record = visible index; the same barriers.
+void composeGpuLayers(const DrawResources& r, bool motion, uint32_t stride, uint32_t instances,
+                      DrawStats* stats);
 
 }  // namespace si::detail

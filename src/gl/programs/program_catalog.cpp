@@ -159,6 +159,18 @@ ProgramId skinningProgram(bool gpu_driven, bool depth_only, bool motion, bool la
                                                                      : 0];
 }
 
+ProgramId preSkinningProgram(bool gpu_driven, bool motion, bool layers, bool composed) {
+  // [gpu_driven][plain, with previous positions][plain, layers, composed]
+  static constexpr ProgramId kTable[2][2][3] = {
+      {{ProgramId::kComputeSkin, ProgramId::kComputeSkinLayers, ProgramId::kComputeSkinComposed},
+       {ProgramId::kComputeSkinMotion, ProgramId::kComputeSkinMotionLayers,
+        ProgramId::kComputeSkinMotionComposed}},
+      {{ProgramId::kGpuSkin, ProgramId::kGpuSkinLayers, ProgramId::kGpuSkinComposed},
+       {ProgramId::kGpuSkinMotion, ProgramId::kGpuSkinMotionLayers,
+        ProgramId::kGpuSkinMotionComposed}}};
+  return kTable[gpu_driven ? 1 : 0][motion ? 1 : 0][composed && layers ? 2 : layers ? 1 : 0];
+}
+
 bool esProgram(ProgramId id) {
   return id == ProgramId::kSkinned || id == ProgramId::kDepthOnly || id == ProgramId::kRigid;
 }

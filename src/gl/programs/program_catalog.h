@@ -95,6 +95,11 @@ const ProgramSpec& programSpec(ProgramId id);
 ProgramId skinningProgram(bool gpu_driven, bool depth_only, bool motion, bool layers,
                           bool composed);
 
+/// The pre-skinning (compute) program of drawCrowd's compute path (`gpu_driven` false) or of
+/// the GPU-driven path: with previous positions (`motion`), overlays walked per vertex
+/// (`layers`) or read from the compose pass's rows (`composed`, with `layers`).
+ProgramId preSkinningProgram(bool gpu_driven, bool motion, bool layers, bool composed);
+
 /// The values of the defines every program gets.
 struct ShaderConfig {
   uint32_t max_instances = 0;  ///< SI_MAX_INSTANCES: records in the instance uniform block.
