@@ -410,7 +410,7 @@ void GpuCulledPath::runPasses(const DrawResources& r, const PathFrame& f, uint32
   glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT | GL_COMMAND_BARRIER_BIT);
   glBindBuffer(GL_DRAW_INDIRECT_BUFFER, commands_);
   // The skinning passes read the mask table where the command pass read the ranges.
-  if (layers_) glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 8, r.scratch->mask_table);
+  if (layers_) glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 8, r.scratch->mask_table.buffer);
   const bool composed = compose_stride_ > 0;
   if (composed) composeGpuLayers(r, motion_, compose_stride_, n, st);
   if (f.preskin) {

@@ -113,4 +113,21 @@ Status createTexture2DArray(GLuint* texture, GLsizei levels, GLenum internal_for
                      });
 }
 
+Status TableBuffer::upload(const std::vector<int32_t>& table, GLuint binding, const char* what) {
+  if (buffer == kNoObject || table != content) {
+    content.clear();
+    const Status s = createBuffer(&buffer, table.size() * sizeof(int32_t), table.data(), 0, what);
+    if (!s.isOk()) return s;
+    content = table;
+  }
+  glBindBufferBase(GL_SHADER_STORAGE_BUFFER, binding, buffer);
+  return Status::ok();
+}
+
+void TableBuffer::release() {
+  if (buffer != kNoObject) glDeleteBuffers(1, &buffer);
+  buffer = kNoObject;
+  content.clear();
+}
+
 }  // namespace si::detail

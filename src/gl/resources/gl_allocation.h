@@ -44,6 +44,21 @@ struct BufferPiece {
 /// The same for several pieces, after one flush.
 void uploadInOrder(GLuint buffer, const std::vector<BufferPiece>& pieces);
 
+/// A small table of 32-bit words that the shaders read as a storage buffer (the mask table, the
+/// compose table), replaced only when its content changes.
+struct TableBuffer {
+  GLuint buffer = kNoObject;
+  std::vector<int32_t> content;
+
+  /// Makes the buffer hold `table` and binds it at storage binding `binding`. A new buffer
+  /// whenever the table changes (another crowd's masks): draws issued before may still read the
+  /// old one, which GL keeps until they are done. Rewriting it in place raced with them on the
+  /// H100's driver (the second of two crowds' tables read by the first's draws), flushing first
+  /// or not. `what` names it in errors (createBuffer's).
+  Status upload(const std::vector<int32_t>& table, GLuint binding, const char* what);
+  void release();
+};
+
 /// Replaces `*texture` by a 2D texture with `levels` levels of `internal_format` storage,
 /// `width` x `height`; fails as createBuffer() does (the size named in texels).
 Status createTexture2D(GLuint* texture, GLsizei levels, GLenum internal_format, GLsizei width,

@@ -9,15 +9,7 @@
 namespace si::detail {
 
 Status LayerComposeBuffers::uploadTable(const std::vector<int32_t>& content) {
-  if (table == kNoObject || content != table_content) {
-    table_content.clear();
-    const Status s = createBuffer(&table, content.size() * sizeof(int32_t), content.data(), 0,
-                                  "composed layers: the compose table");
-    if (!s.isOk()) return s;
-    table_content = content;
-  }
-  glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 23, table);
-  return Status::ok();
+  return table.upload(content, 23, "composed layers: the compose table");
 }
 
 Status LayerComposeBuffers::ensureRows(uint64_t bytes, uint64_t limit, bool previous) {
@@ -39,15 +31,13 @@ Status LayerComposeBuffers::ensureRows(uint64_t bytes, uint64_t limit, bool prev
 }
 
 void LayerComposeBuffers::bind(bool previous) const {
-  glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 23, table);
+  glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 23, table.buffer);
   glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 26, rows[0]);
   if (previous) glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 27, rows[1]);
 }
 
 void LayerComposeBuffers::release() {
-  if (table != kNoObject) glDeleteBuffers(1, &table);
-  table = kNoObject;
-  table_content.clear();
+  table.release();
   for (int k = 0; k < 2; ++k) {
     if (rows[k] != kNoObject) glDeleteBuffers(1, &rows[k]);
     rows[k] = kNoObject;

@@ -10,20 +10,19 @@
 #include <vector>
 
 #include "gl/programs/program_set.h"
+#include "gl/resources/gl_allocation.h"
 #include "gl/resources/layer_compose_table.h"
 #include "si/core/status.h"
 
 namespace si::detail {
 
 struct LayerComposeBuffers {
-  GLuint table = kNoObject;
-  std::vector<int32_t> table_content;
+  TableBuffer table;
   /// This frame's records' rows; the previous records' (motion vectors only).
   GLuint rows[2] = {kNoObject, kNoObject};
   uint64_t row_bytes[2] = {0, 0};  ///< Their sizes.
 
-  /// Makes `table` hold `content` (a new buffer when it differs from the last, as
-  /// ScratchBuffers::uploadMaskTable) and binds it at storage binding 23.
+  /// Makes `table` hold `content` (TableBuffer::upload) and binds it at storage binding 23.
   Status uploadTable(const std::vector<int32_t>& content);
   /// Makes the rows buffer (both with `previous`) hold at least `bytes`, grown geometrically
   /// up to `limit` (GL_MAX_SHADER_STORAGE_BLOCK_SIZE; `bytes` is at most that), and binds them at

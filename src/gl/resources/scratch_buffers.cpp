@@ -22,25 +22,11 @@ void VertexRing::release() {
 }
 
 Status ScratchBuffers::uploadMaskTable(const std::vector<int32_t>& table) {
-  // A new buffer whenever the table changes (another crowd's masks): draws issued before may
-  // still read the old one, which GL keeps until they are done. Rewriting it in place raced
-  // with them on the H100's driver (the second of two crowds' tables read by the first's draws),
-  // flushing first or not.
-  if (mask_table == kNoObject || table != mask_table_content) {
-    mask_table_content.clear();
-    const Status s = createBuffer(&mask_table, table.size() * sizeof(int32_t), table.data(), 0,
-                                  "layered animation: the mask table");
-    if (!s.isOk()) return s;
-    mask_table_content = table;
-  }
-  glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 8, mask_table);
-  return Status::ok();
+  return mask_table.upload(table, 8, "layered animation: the mask table");
 }
 
 void ScratchBuffers::release() {
-  if (mask_table != kNoObject) glDeleteBuffers(1, &mask_table);
-  mask_table = kNoObject;
-  mask_table_content.clear();
+  mask_table.release();
   layer_compose.release();
   compute_ring.release();
   compute_previous_ring.release();

@@ -9,6 +9,7 @@
 #include <vector>
 
 #include "gl/programs/program_set.h"
+#include "gl/resources/gl_allocation.h"
 #include "gl/resources/layer_compose_buffers.h"
 #include "si/core/status.h"
 
@@ -35,15 +36,13 @@ struct ScratchBuffers {
   VertexRing gpu_driven_previous_ring;
   GLuint cpu_stream = kNoObject;  ///< The CPU-skinning path's vertex stream (orphaned per chunk).
   size_t cpu_stream_bytes = 0;    ///< Its size: grown to the largest character's chunk.
-  /// Layered animation: the drawn crowd's mask table (si::layerMaskTable) and what it holds.
-  GLuint mask_table = kNoObject;
-  std::vector<int32_t> mask_table_content;
+  /// Layered animation: the drawn crowd's mask table (si::layerMaskTable).
+  TableBuffer mask_table;
   /// Composed layers (drawCrowd's vertex-shader path): the compose table and rows.
   LayerComposeBuffers layer_compose;
 
-  /// Makes mask_table hold `table` (a new buffer when it differs from the last: never rewritten
-  /// under draws that may still read it) and binds it at storage binding 8 (si_skinning.glsl's
-  /// SI_MASK_BINDING).
+  /// Makes mask_table hold `table` (TableBuffer::upload) and binds it at storage binding 8
+  /// (si_skinning.glsl's SI_MASK_BINDING).
   Status uploadMaskTable(const std::vector<int32_t>& table);
 
   void release();
