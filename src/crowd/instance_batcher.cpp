@@ -130,17 +130,25 @@ glm::vec3 previousRecordShift(const CrowdView& view) {
   return representable ? glm::vec3(delta) : glm::vec3(0.0f);
 }
 
-Status InstanceBatcher::buildPrevious(const CrowdView& crowd, Span<uint8_t> out) const {
+Status InstanceBatcher::checkPreviousBuffer(const char* what, const char* buffer,
+                                            const CrowdView& crowd, size_t out_bytes,
+                                            size_t needed) const {
   if (capacity_ == 0) return {StatusCode::kInvalidArgument, "InstanceBatcher: init() first"};
   if (!crowd.desc().previous_records)
     return {StatusCode::kInvalidArgument,
-            "InstanceBatcher::buildPrevious: the crowd keeps no previous records "
-            "(CrowdDesc::previous_records, CrowdViewDesc::previous_records)"};
-  const size_t needed = recordBufferBound(crowd);
-  if (out.size() < needed)
+            strCat("InstanceBatcher::", what, ": the crowd keeps no previous records ",
+                   "(CrowdDesc::previous_records, CrowdViewDesc::previous_records)")};
+  if (out_bytes < needed)
     return {StatusCode::kCountMismatch,
-            strCat("InstanceBatcher::buildPrevious: the record buffer holds ", out.size(),
+            strCat("InstanceBatcher::", what, ": the ", buffer, " buffer holds ", out_bytes,
                    " bytes, the frame needs ", needed)};
+  return Status::ok();
+}
+
+Status InstanceBatcher::buildPrevious(const CrowdView& crowd, Span<uint8_t> out) const {
+  const Status s =
+      checkPreviousBuffer("buildPrevious", "record", crowd, out.size(), recordBufferBound(crowd));
+  if (!s.isOk()) return s;
   const Span<const InstanceRecord> records = crowd.records();
   const Span<const InstanceRecord> previous = crowd.previousRecords();
   const Span<const uint32_t> index = crowd.previousRecordIndices();
@@ -165,16 +173,9 @@ size_t InstanceBatcher::previousIndexBufferBound(const CrowdView& crowd) const {
 }
 
 Status InstanceBatcher::buildPreviousIndices(const CrowdView& crowd, Span<uint8_t> out) const {
-  if (capacity_ == 0) return {StatusCode::kInvalidArgument, "InstanceBatcher: init() first"};
-  if (!crowd.desc().previous_records)
-    return {StatusCode::kInvalidArgument,
-            "InstanceBatcher::buildPreviousIndices: the crowd keeps no previous records "
-            "(CrowdDesc::previous_records, CrowdViewDesc::previous_records)"};
-  const size_t needed = previousIndexBufferBound(crowd);
-  if (out.size() < needed)
-    return {StatusCode::kCountMismatch,
-            strCat("InstanceBatcher::buildPreviousIndices: the index buffer holds ", out.size(),
-                   " bytes, the frame needs ", needed)};
+  const Status s = checkPreviousBuffer("buildPreviousIndices", "index", crowd, out.size(),
+                                       previousIndexBufferBound(crowd));
+  if (!s.isOk()) return s;
   const Span<const uint32_t> index = crowd.previousRecordIndices();
   uint8_t* base = out.data();
   walkBatches(crowd, capacity_, alignment_, nullptr,

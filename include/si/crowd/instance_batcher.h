@@ -173,6 +173,10 @@ class InstanceBatcher {
   }
 
  private:
+  // buildPrevious' and buildPreviousIndices' checks: initialized, previous records kept, `out`
+  // (the `buffer` buffer) holding `needed` bytes (named `what`).
+  Status checkPreviousBuffer(const char* what, const char* buffer, const CrowdView& view,
+                             size_t out_bytes, size_t needed) const;
   // buildLayers' and buildPreviousLayers' checks: initialized, layer records written, `out`
   // large enough (named `what`).
   Status checkLayerBuffer(const char* what, const CrowdView& view, size_t out_bytes) const;
