@@ -465,4 +465,14 @@ Status CrowdManager::jointMatrix(InstanceHandle h, uint32_t joint, glm::dmat4* o
   return Status::ok();
 }
 
+Status CrowdManager::socketTransform(InstanceHandle h, const Socket& socket,
+                                     glm::dmat4* out) const {
+  if (out == nullptr) return {StatusCode::kInvalidArgument, "socketTransform: out is null"};
+  glm::dmat4 joint;
+  const Status s = jointMatrix(h, socket.joint, &joint);
+  if (!s.isOk()) return {s.code(), strCat("socketTransform '", socket.name, "': ", s.message())};
+  *out = joint * glm::dmat4(socket.bind_frame);
+  return Status::ok();
+}
+
 }  // namespace si

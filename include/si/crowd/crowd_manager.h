@@ -37,6 +37,7 @@
 
 #include "si/core/baked_palette.h"
 #include "si/core/layer_mask.h"
+#include "si/core/prop.h"
 #include "si/crowd/animation_event.h"
 #include "si/crowd/camera.h"
 #include "si/crowd/crowd_desc.h"
@@ -263,6 +264,13 @@ class CrowdManager {
   /// (inverse of its inverse bind matrix) for the joint's own frame (attachments, picking).
   /// kNotFound for a stale handle, kOutOfRange for a joint not in the palette.
   Status jointMatrix(InstanceHandle h, uint32_t joint, glm::dmat4* out) const;
+  /// The world frame of `socket` (si/core/prop.h) on the instance as drawn:
+  /// jointMatrix(socket.joint) * socket.bind_frame, so a prop attached there (si::attachProp)
+  /// is drawn at this frame times its own vertices (spawn effects, physics, hit tests at it).
+  /// kNotFound for a stale handle, kOutOfRange for a socket joint not in the palette (bake
+  /// after attaching the prop, or any part weighted to the joint), kInvalidArgument for a
+  /// null `out`.
+  Status socketTransform(InstanceHandle h, const Socket& socket, glm::dmat4* out) const;
 
   /// Switches how LODs are chosen (and the pixel budget of kScreenError; 0 means 1) from the
   /// next update() on; instances keep their LOD until hysteresis lets them move. Fails with
