@@ -6,6 +6,7 @@
 #include "core/prop_fixture.h"
 #include "crowd/crowd_test_helpers.h"
 #include "si/core/reference_evaluator.h"
+#include "si/core/shader_inputs.h"
 #include "si/crowd/crowd_manager.h"
 #include "si/crowd/record_emulation.h"
 
@@ -150,16 +151,20 @@ TEST(CrowdManager, SocketTransformIsWhereThePropIsDrawn) {
   EXPECT_EQ(crowd.socketTransform(h, grip, &socket).code(), StatusCode::kNotFound);
 }
 
-// A prop on a joint no other vertex is weighted to: baked after attaching, the palette stores
-// the joint and the socket is answered.
+// A prop on a joint no other vertex is weighted to: the palette baked before cannot draw it;
+// baked after attaching, the palette stores the joint and the socket is answered.
 TEST(CrowdManager, ASocketJointOnlyThePropUsesIsStoredWhenBakedAfter) {
   Character ch = test::defaultCharacter();
   Socket belt;
   ASSERT_TRUE(makeSocket(ch.skeleton, "belt", "root", gripOffset(), &belt).isOk());
   ASSERT_LT(defaultPalette().skeleton_to_palette[belt.joint], 0);
   ASSERT_TRUE(attachProp(belt, boxProp({0.05f, 0.05f, 0.05f}), &ch, nullptr).isOk());
+  // The palette baked before does not store it: the renderer's vertex stream is refused.
+  VertexStream stream;
+  EXPECT_EQ(buildVertexStream(ch.mesh, defaultPalette(), &stream).code(), StatusCode::kInvalidArgument);
   const BakedPalette p = bakeAt30Hz(ch);
   ASSERT_GE(p.skeleton_to_palette[belt.joint], 0);
+  EXPECT_TRUE(buildVertexStream(ch.mesh, p, &stream).isOk());
   CrowdDesc cd = defaultCrowdDesc();
   cd.palette = &p;
   cd.sub_mesh_count = uint32_t(ch.mesh.sub_meshes.size());
