@@ -52,6 +52,20 @@ Status convertSkeleton(const tinygltf::Model& m, const GltfImportDesc& desc,
                        GltfImportReport* report, Character* c, SkinBinding* out);
 
 // ---- gltf_mesh.cpp: triangle primitives of nodes skinned by the skin, into the vertex arrays.
+/// A triangle primitive's surface: what a skinned part and a prop (gltf_prop.cpp) both read.
+struct PrimitiveSurface {
+  std::vector<glm::vec3> positions;
+  std::vector<glm::vec3> normals;    ///< From the file, or smooth (area weighted) when it has none.
+  std::vector<glm::vec4> tangents;   ///< Empty when the file has none.
+  std::vector<glm::vec2> texcoords;  ///< TEXCOORD_0, zeros when the file has none.
+  std::vector<uint32_t> indices;     ///< Local, each below the vertex count, a multiple of 3.
+  bool has_texcoords = false;
+  bool generated_normals = false;
+};
+/// Reads POSITION, NORMAL, TANGENT, TEXCOORD_0 and the indices (or 0, 1, ... without), checking
+/// counts and ranges (kCorrupt naming `where`). A primitive without vertices reads as empty.
+Status readPrimitiveSurface(const tinygltf::Model& m, const tinygltf::Primitive& prim,
+                            const std::string& where, PrimitiveSurface* out);
 struct ImportedPrimitive {
   std::string mesh_name;  ///< Mesh name (node name or "mesh<n>" without one), "_LOD<n>" removed.
   std::string node_name;

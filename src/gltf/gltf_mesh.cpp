@@ -26,6 +26,87 @@ std::pair<std::string, uint32_t> lodName(const std::string& name) {
 
 }  // namespace
 
+Status readPrimitiveSurface(const tinygltf::Model& m, const tinygltf::Primitive& prim,
+                            const std::string& where, PrimitiveSurface* out) {
+  const auto attr = [&](const char* key) {
+    const auto it = prim.attributes.find(key);
+    return it == prim.attributes.end() ? -1 : it->second;
+  };
+  if (attr("POSITION") < 0) return corrupt(where + ": has no POSITION");
+  std::vector<double> pos, nrm, tan, uv, idx;
+  Status s =
+      readAccessor(m, attr("POSITION"), {TINYGLTF_TYPE_VEC3}, kFloat, where + " POSITION", &pos);
+  const size_t nv = pos.size() / 3;
+  const auto same_count = [&](const std::vector<double>& v, size_t comps, const char* what) {
+    return v.size() == nv * comps ? Status::ok()
+                                  : corrupt(strCat(where, ": ", what, " has ", v.size() / comps,
+                                                   " elements for ", nv, " positions"));
+  };
+  if (s.isOk() && attr("NORMAL") >= 0) {
+    s = readAccessor(m, attr("NORMAL"), {TINYGLTF_TYPE_VEC3}, kFloat, where + " NORMAL", &nrm);
+    if (s.isOk()) s = same_count(nrm, 3, "NORMAL");
+  }
+  if (s.isOk() && attr("TANGENT") >= 0) {
+    s = readAccessor(m, attr("TANGENT"), {TINYGLTF_TYPE_VEC4}, kFloat, where + " TANGENT", &tan);
+    if (s.isOk()) s = same_count(tan, 4, "TANGENT");
+  }
+  if (s.isOk() && attr("TEXCOORD_0") >= 0) {
+    s = readAccessor(m, attr("TEXCOORD_0"), {TINYGLTF_TYPE_VEC2}, kFloatOrNormalized,
+                     where + " TEXCOORD_0", &uv);
+    if (s.isOk()) s = same_count(uv, 2, "TEXCOORD_0");
+  }
+  if (s.isOk() && prim.indices >= 0)
+    s = readAccessor(m, prim.indices, {TINYGLTF_TYPE_SCALAR}, kAnyInt, where + " indices", &idx);
+  if (!s.isOk()) return s;
+  PrimitiveSurface out_surface;
+  out_surface.has_texcoords = !uv.empty();
+  for (size_t v = 0; v < nv; ++v) {
+    out_surface.positions.push_back(
+        glm::vec3(glm::dvec3(pos[v * 3], pos[v * 3 + 1], pos[v * 3 + 2])));
+    out_surface.normals.push_back(
+        nrm.empty() ? glm::vec3(0.0f)
+                    : glm::vec3(glm::dvec3(nrm[v * 3], nrm[v * 3 + 1], nrm[v * 3 + 2])));
+    out_surface.texcoords.push_back(uv.empty() ? glm::vec2(0.0f)
+                                               : glm::vec2(float(uv[v * 2]), float(uv[v * 2 + 1])));
+    if (!tan.empty())
+      out_surface.tangents.push_back(glm::vec4(float(tan[v * 4]), float(tan[v * 4 + 1]),
+                                               float(tan[v * 4 + 2]), float(tan[v * 4 + 3])));
+  }
+  if (nv == 0) {  // The caller skips it.
+    *out = std::move(out_surface);
+    return Status::ok();
+  }
+  std::vector<uint32_t>& indices = out_surface.indices;
+  if (idx.empty()) {
+    for (size_t v = 0; v < nv; ++v) indices.push_back(uint32_t(v));
+  } else {
+    for (double i : idx) {
+      if (i >= double(nv)) return corrupt(strCat(where, ": index ", i, " is not below ", nv));
+      indices.push_back(uint32_t(i));
+    }
+  }
+  if (indices.size() % 3 != 0)
+    return corrupt(strCat(where, ": ", indices.size(), " indices are not triangles"));
+  if (nrm.empty()) {  // Smooth normals, area weighted.
+    std::vector<glm::vec3>& p = out_surface.positions;
+    std::vector<glm::vec3>& n = out_surface.normals;
+    for (size_t t = 0; t + 2 < indices.size(); t += 3) {
+      const uint32_t a = indices[t], b = indices[t + 1], d = indices[t + 2];
+      const glm::vec3 fn = glm::cross(p[b] - p[a], p[d] - p[a]);
+      n[a] += fn;
+      n[b] += fn;
+      n[d] += fn;
+    }
+    for (glm::vec3& v : n) {
+      const float len = glm::length(v);
+      v = len > 0.0f ? v / len : glm::vec3(0, 1, 0);
+    }
+    out_surface.generated_normals = true;
+  }
+  *out = std::move(out_surface);
+  return Status::ok();
+}
+
 Status convertMeshes(const tinygltf::Model& m, const SkinBinding& binding, GltfImportReport* report,
                      Character* c, std::vector<ImportedPrimitive>* out) {
   std::vector<std::string>& warnings = report->warnings;
@@ -64,27 +145,15 @@ Status convertMeshes(const tinygltf::Model& m, const SkinBinding& binding, GltfI
       if (attr("POSITION") < 0) return corrupt(where + ": has no POSITION");
       if (attr("JOINTS_0") < 0 || attr("WEIGHTS_0") < 0)
         return corrupt(where + ": is skinned but has no JOINTS_0/WEIGHTS_0");
-      std::vector<double> pos, nrm, tan, uv, j0, w0, j1, w1, idx;
-      Status s = readAccessor(m, attr("POSITION"), {TINYGLTF_TYPE_VEC3}, kFloat, where + " POSITION", &pos);
-      const size_t nv = pos.size() / 3;
+      PrimitiveSurface surface;
+      Status s = readPrimitiveSurface(m, prim, where, &surface);
+      const size_t nv = surface.positions.size();
       const auto same_count = [&](const std::vector<double>& v, size_t comps, const char* what) {
         return v.size() == nv * comps ? Status::ok()
                                       : corrupt(strCat(where, ": ", what, " has ", v.size() / comps,
                                                        " elements for ", nv, " positions"));
       };
-      if (s.isOk() && attr("NORMAL") >= 0) {
-        s = readAccessor(m, attr("NORMAL"), {TINYGLTF_TYPE_VEC3}, kFloat, where + " NORMAL", &nrm);
-        if (s.isOk()) s = same_count(nrm, 3, "NORMAL");
-      }
-      if (s.isOk() && attr("TANGENT") >= 0) {
-        s = readAccessor(m, attr("TANGENT"), {TINYGLTF_TYPE_VEC4}, kFloat, where + " TANGENT", &tan);
-        if (s.isOk()) s = same_count(tan, 4, "TANGENT");
-      }
-      if (s.isOk() && attr("TEXCOORD_0") >= 0) {
-        s = readAccessor(m, attr("TEXCOORD_0"), {TINYGLTF_TYPE_VEC2}, kFloatOrNormalized,
-                         where + " TEXCOORD_0", &uv);
-        if (s.isOk()) s = same_count(uv, 2, "TEXCOORD_0");
-      }
+      std::vector<double> j0, w0, j1, w1;
       const std::vector<int> joint_types = {TINYGLTF_COMPONENT_TYPE_UNSIGNED_BYTE,
                                             TINYGLTF_COMPONENT_TYPE_UNSIGNED_SHORT};
       const std::vector<int> weight_types = {TINYGLTF_COMPONENT_TYPE_FLOAT,
@@ -101,8 +170,6 @@ Status convertMeshes(const tinygltf::Model& m, const SkinBinding& binding, GltfI
         if (s.isOk()) s = readAccessor(m, attr("WEIGHTS_1"), {TINYGLTF_TYPE_VEC4}, weight_types, where + " WEIGHTS_1", &w1);
         if (s.isOk()) s = same_count(w1, 4, "WEIGHTS_1");
       }
-      if (s.isOk() && prim.indices >= 0)
-        s = readAccessor(m, prim.indices, {TINYGLTF_TYPE_SCALAR}, kAnyInt, where + " indices", &idx);
       if (!s.isOk()) return s;
       if (nv == 0) {
         warnings.push_back(where + ": no vertices: skipped");
@@ -119,11 +186,12 @@ Status convertMeshes(const tinygltf::Model& m, const SkinBinding& binding, GltfI
       if (prim.material >= 0 && size_t(prim.material) >= m.materials.size())
         return corrupt(strCat(where, ": material ", prim.material, " does not exist"));
       const uint32_t first = uint32_t(c->mesh.positions.size());
+      c->mesh.positions.insert(c->mesh.positions.end(), surface.positions.begin(),
+                               surface.positions.end());
+      c->mesh.normals.insert(c->mesh.normals.end(), surface.normals.begin(), surface.normals.end());
+      c->mesh.texcoords.insert(c->mesh.texcoords.end(), surface.texcoords.begin(),
+                               surface.texcoords.end());
       for (size_t v = 0; v < nv; ++v) {
-        c->mesh.positions.push_back(glm::vec3(glm::dvec3(pos[v * 3], pos[v * 3 + 1], pos[v * 3 + 2])));
-        c->mesh.normals.push_back(nrm.empty() ? glm::vec3(0.0f)
-                                             : glm::vec3(glm::dvec3(nrm[v * 3], nrm[v * 3 + 1], nrm[v * 3 + 2])));
-        c->mesh.texcoords.push_back(uv.empty() ? glm::vec2(0.0f) : glm::vec2(float(uv[v * 2]), float(uv[v * 2 + 1])));
         Influence infl[8];
         size_t k = 0;
         for (int i = 0; i < 4; ++i) infl[k++] = {uint32_t(j0[v * 4 + size_t(i)]), float(w0[v * 4 + size_t(i)])};
@@ -154,39 +222,11 @@ Status convertMeshes(const tinygltf::Model& m, const SkinBinding& binding, GltfI
         c->mesh.joints.push_back(joints);
         c->mesh.weights.push_back(weights);
       }
-      tangent_parts.emplace_back();
-      if (tan.empty()) {
-        all_tangents = false;
-      } else {
-        for (size_t v = 0; v < nv; ++v)
-          tangent_parts.back().push_back(glm::vec4(float(tan[v * 4]), float(tan[v * 4 + 1]),
-                                                   float(tan[v * 4 + 2]), float(tan[v * 4 + 3])));
-      }
-      if (idx.empty()) {
-        for (size_t v = 0; v < nv; ++v) out_prim.indices.push_back(first + uint32_t(v));
-      } else {
-        for (double i : idx) {
-          if (i >= double(nv)) return corrupt(strCat(where, ": index ", i, " is not below ", nv));
-          out_prim.indices.push_back(first + uint32_t(i));
-        }
-      }
-      if (out_prim.indices.size() % 3 != 0)
-        return corrupt(strCat(where, ": ", out_prim.indices.size(), " indices are not triangles"));
-      if (nrm.empty()) {  // Smooth normals, area weighted.
-        for (size_t t = 0; t + 2 < out_prim.indices.size(); t += 3) {
-          const uint32_t a = out_prim.indices[t], b = out_prim.indices[t + 1], d = out_prim.indices[t + 2];
-          const glm::vec3 fn = glm::cross(c->mesh.positions[b] - c->mesh.positions[a],
-                                          c->mesh.positions[d] - c->mesh.positions[a]);
-          c->mesh.normals[a] += fn;
-          c->mesh.normals[b] += fn;
-          c->mesh.normals[d] += fn;
-        }
-        for (size_t v = first; v < c->mesh.normals.size(); ++v) {
-          const float len = glm::length(c->mesh.normals[v]);
-          c->mesh.normals[v] = len > 0.0f ? c->mesh.normals[v] / len : glm::vec3(0, 1, 0);
-        }
+      tangent_parts.push_back(std::move(surface.tangents));
+      if (tangent_parts.back().empty()) all_tangents = false;
+      for (uint32_t i : surface.indices) out_prim.indices.push_back(first + i);
+      if (surface.generated_normals)
         warnings.push_back(where + ": no NORMAL: generated smooth normals");
-      }
       ++report->skinned_primitives;
       primitives.push_back(std::move(out_prim));
     }

@@ -1,12 +1,13 @@
 // SkinnedInstancing — SPDX-License-Identifier: MIT (see LICENSE)
 // libFuzzer target: random sequences of CrowdManager calls (add, remove, play, crossfade,
 // setTransform, setColor, setCustomLayer, setVariationMask, setRootMotion, setLodDistances,
-// playOverlay, stopOverlay, update, queries) with hostile values (NaN, infinities, negative and huge times, speeds,
-// scales, stale and forged handles) against a shadow list of the live handles. After every
-// call: every live handle resolves, released ones do not, the size matches; after an update
+// playOverlay, stopOverlay, update, queries including socketTransform; makeSocket and
+// attachProp on a copy of the character) with hostile values (NaN, infinities, negative and huge
+// times, speeds, scales, stale and forged handles) against a shadow list of the live handles. After
+// every call: every live handle resolves, released ones do not, the size matches; after an update
 // the statistics add up, buckets are consistent, records are finite with frames inside the
-// palette, layer records (overlays on two masks: a branch and the whole chain) likewise. A rejected call must return a named error and leave the crowd exactly as it was.
-// Run with scripts/fuzz.sh.
+// palette, layer records (overlays on two masks: a branch and the whole chain) likewise. A rejected
+// call must return a named error and leave the crowd exactly as it was. Run with scripts/fuzz.sh.
 #include <algorithm>
 #include <cmath>
 #include <cstdint>
@@ -17,6 +18,7 @@
 
 #include "si/bake/animation_baker.h"
 #include "si/core/layer_mask.h"
+#include "si/core/prop.h"
 #include "si/crowd/crowd_manager.h"
 #include "si/crowd/instance_batcher.h"
 
@@ -321,6 +323,57 @@ void checkFrame(const si::CrowdManager& crowd) {
 
 }  // namespace
 
+// makeSocket and attachProp with a hostile socket (any joint name, any offset) and mesh (counts,
+// indices, materials and images sometimes out of range, values sometimes not finite): a refusal
+// names why and leaves the character as it was; an attached prop adds one sub-mesh and its
+// vertices, weighted 1 to the socket's joint, and the character still validates.
+void attachFuzzedProp(Input& in) {
+  si::Character c = character();
+  const size_t vertices = c.mesh.vertexCount(), parts = c.mesh.sub_meshes.size();
+  glm::mat4 offset(1.0f);
+  for (int k = 0; k < 4; ++k) offset[3][k % 3] = in.f32();
+  if (in.u8() < 32) offset[in.u8() % 4][in.u8() % 4] = in.f32();
+  const char* names[] = {"j0", "j1", "j2", "nope"};
+  si::Socket socket;
+  si::Status s =
+      si::makeSocket(c.skeleton, in.u8() & 1 ? "grip" : "", names[in.u8() % 4], offset, &socket);
+  if (!s.isOk()) {
+    if (s.message().empty()) fail("a refused makeSocket has no message");
+    return;
+  }
+  si::PropMesh p;
+  p.name = in.u8() & 1 ? "prop" : (in.u8() & 1 ? "body" : "");
+  const size_t n = in.u8() % 9;
+  for (size_t v = 0; v < n; ++v) {
+    p.positions.push_back(glm::vec3(in.f32(), in.f32(), in.f32()));
+    p.normals.push_back(glm::vec3(in.f32(), in.f32(), in.f32()));
+    if (in.u8() & 1) p.texcoords.push_back(glm::vec2(in.f32(), in.f32()));
+    if (in.u8() & 1) p.tangents.push_back(glm::vec4(in.f32(), in.f32(), in.f32(), 1.0f));
+    if (in.u8() & 1) p.vertex_materials.push_back(uint16_t(in.u8() % 3));
+  }
+  const size_t indices = in.u8() % 13;
+  for (size_t i = 0; i < indices; ++i) p.indices.push_back(in.u8() % 10);
+  const size_t materials = in.u8() % 3;
+  for (size_t m = 0; m < materials; ++m)
+    p.materials.push_back(si::Material{"m", glm::vec4(1.0f), int32_t(in.u8() % 3) - 1});
+  if (in.u8() & 1)
+    p.images.push_back(si::Image{in.u8() % 3u, 1, std::vector<uint8_t>(4 * (in.u8() % 3u), 255)});
+  uint32_t part = 0;
+  s = si::attachProp(socket, p, &c, &part);
+  if (!s.isOk()) {
+    if (s.message().empty()) fail("a refused attachProp has no message");
+    if (c.mesh.vertexCount() != vertices || c.mesh.sub_meshes.size() != parts)
+      fail("a refused attachProp changed the character");
+    return;
+  }
+  if (part != parts || c.mesh.sub_meshes.size() != parts + 1 ||
+      c.mesh.vertexCount() != vertices + n || !c.validate().isOk())
+    fail("an attached prop is not one more valid sub-mesh");
+  for (size_t v = vertices; v < c.mesh.vertexCount(); ++v)
+    if (c.mesh.joints[v][0] != socket.joint || c.mesh.weights[v][0] != 1.0f)
+      fail("a prop vertex is not on its joint");
+}
+
 extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
   Input in(data, size);
   si::CrowdDesc cd;
@@ -345,7 +398,7 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
   std::vector<si::InstanceHandle> live, released;
   const uint32_t clips = uint32_t(palette().clips.size());
   for (int op = 0; op < 256 && !in.done(); ++op) {
-    const uint8_t kind = in.u8() % 12;
+    const uint8_t kind = in.u8() % 13;
     // A handle: live, released (stale) or forged.
     const uint8_t which = in.u8();
     si::InstanceHandle h;
@@ -435,6 +488,9 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
         else
           s = crowd.stopOverlay(h, in.f64());
         break;
+      case 11:  // Props: a hostile socket and mesh attached to a copy of the character.
+        attachFuzzedProp(in);
+        break;
       default: {  // Queries change nothing.
         si::InstanceDesc d;
         uint32_t lod = 0;
@@ -445,6 +501,22 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
           for (int c = 0; c < 4; ++c)
             for (int r = 0; r < 4; ++r)
               if (!std::isfinite(m[c][r])) fail("a joint matrix is not finite");
+        // A socket on any joint (sometimes past the skeleton), its frame finite or not.
+        si::Socket socket;
+        socket.joint = in.u8() % 4;
+        for (int c = 0; c < 4; ++c)
+          for (int r = 0; r < 3; ++r)
+            socket.bind_frame[c][r] = in.u8() < 16 ? in.f32() : 0.25f * float(c == r);
+        bool finite_frame = true;
+        for (int c = 0; c < 4; ++c)
+          for (int r = 0; r < 4; ++r)
+            finite_frame = finite_frame && std::isfinite(socket.bind_frame[c][r]);
+        const si::Status st = crowd.socketTransform(h, socket, &m);
+        if (!st.isOk() && st.message().empty()) fail("a refused socketTransform has no message");
+        if (st.isOk() && finite_frame)
+          for (int c = 0; c < 4; ++c)
+            for (int r = 0; r < 4; ++r)
+              if (!std::isfinite(m[c][r])) fail("a socket transform is not finite");
         if (!(snapshot(crowd) == before)) fail("a query changed the crowd");
         break;
       }

@@ -58,8 +58,12 @@ class PropsRenderTest : public RenderTest {
       InstanceHandle h;
       ASSERT_TRUE(crowd->add(d, &h).isOk());
       handles_.push_back(h);
-      if (k % 3 == 1) ASSERT_TRUE(crowd->crossfade(h, run, 1.0).isOk());
-      if (k % 4 == 0) ASSERT_TRUE(crowd->playOverlay(h, wave, mask, 1.0f, 0.0, 0.1 * k).isOk());
+      if (k % 3 == 1) {
+        ASSERT_TRUE(crowd->crossfade(h, run, 1.0).isOk());
+      }
+      if (k % 4 == 0) {
+        ASSERT_TRUE(crowd->playOverlay(h, wave, mask, 1.0f, 0.0, 0.1 * k).isOk());
+      }
     }
     ASSERT_TRUE(crowd->update(0.4, view()).isOk());
   }
