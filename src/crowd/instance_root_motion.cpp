@@ -3,6 +3,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstring>
 
 #include "si/core/root_motion.h"
 
@@ -119,7 +120,12 @@ void applyRootMotion(const BakedPalette& palette, const std::vector<ClipTiming>&
     const glm::dvec3 position = st.positions.get(i);
     const glm::quat rotation = st.rotations.get(i);
     applyRootMotion(palette, clips, clock, st, i);
-    if (st.positions.get(i) != position || st.rotations.get(i) != rotation) st.stamp(i);
+    // Bitwise: a turn that only flips a zero's sign changes what the GPU state exports.
+    const glm::dvec3 moved = st.positions.get(i);
+    const glm::quat turned = st.rotations.get(i);
+    if (std::memcmp(&moved, &position, sizeof(moved)) != 0 ||
+        std::memcmp(&turned, &rotation, sizeof(turned)) != 0)
+      st.stamp(i);
   }
 }
 

@@ -3,6 +3,9 @@
 // motion, the same for any time step, across loops, speed changes, crossfades and setters.
 #include <gtest/gtest.h>
 
+#include <cmath>
+#include <cstring>
+
 #include <glm/gtc/matrix_transform.hpp>
 
 #include "crowd/crowd_test_helpers.h"
@@ -210,6 +213,30 @@ TEST(RootMotionCrowd, JointsFollowTheReferencePathOfTheTravellingClip) {
   }
   EXPECT_LT(worst, 1e-3 * 1.5 * c.height()) << worst;  // 30 Hz linear bake of the walk.
   EXPECT_GT(glm::length(m.get(h).position - start), 3.0);  // It did travel.
+}
+
+// Root motion that moves nothing the store can see (a step below the position's precision) but
+// re-normalizes a rotation holding -0 into +0 changes the exported bytes: changedSince names it,
+// so the GPU-driven upload does not keep the old bytes (found by the crowd API fuzzer).
+TEST(RootMotionCrowd, ATurnThatOnlyFlipsAZerosSignIsAChange) {
+  MovingCrowd m;
+  const glm::dvec3 far(1e17, 0, 1e17);
+  const InstanceHandle h = m.add(m.walk, true, far);
+  ASSERT_TRUE(m.crowd.update(1.0 / 60.0, m.camera).isOk());
+  ASSERT_TRUE(m.crowd.setTransform(h, far, glm::quat(1.0f, 0.0f, -0.0f, 0.0f), 1.0f).isOk());
+  std::vector<GpuInstanceState> before, after;
+  m.crowd.exportGpuState(&before, nullptr);
+  const uint64_t version = m.crowd.stateVersion();
+  ASSERT_TRUE(m.crowd.update(1.0 / 60.0, m.camera).isOk());
+  m.crowd.exportGpuState(&after, nullptr);
+  ASSERT_EQ(std::memcmp(after[0].position, before[0].position, 24),
+            0);  // The step is below its precision.
+  ASSERT_TRUE(std::signbit(before[0].rotation[1]));
+  ASSERT_NE(std::memcmp(&before[0], &after[0], sizeof(GpuInstanceState)), 0);
+  std::vector<DenseRange> changed;
+  m.crowd.changedSince(version, &changed, nullptr);
+  ASSERT_EQ(changed.size(), 1u);
+  EXPECT_EQ(changed[0].first, 0u);
 }
 
 }  // namespace
