@@ -29,6 +29,12 @@ struct ImageContext {
   std::vector<std::string>* warnings;
 };
 void installCallbacks(tinygltf::TinyGLTF* loader, FsContext* fs, ImageContext* images);
+/// Parses a .glb (magic "glTF") or .gltf JSON in memory into `model` with those callbacks
+/// (kLimitExceeded past 2 GiB, kCorrupt when tinygltf cannot parse it); its warnings are added.
+Status parseGltf(Span<const uint8_t> bytes, const std::string& base_dir, bool load_images,
+                 std::vector<std::string>* warnings, tinygltf::Model* model);
+/// Reads the file at `path` whole (kIo when it cannot, or past 2 GiB) and gives its folder.
+Status readGltfFile(const std::string& path, std::vector<uint8_t>* bytes, std::string* dir);
 
 // ---- gltf_accessors.cpp: typed, range-checked accessor reads.
 extern const std::vector<int> kFloat;              ///< FLOAT components.

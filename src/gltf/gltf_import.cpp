@@ -4,8 +4,6 @@
 #include "si/gltf/gltf_import.h"
 
 #include <algorithm>
-#include <cstring>
-#include <fstream>
 
 #include "gltf/gltf_convert.h"
 #include "si/bake/lod_chain.h"
@@ -68,24 +66,9 @@ Status importImpl(Span<const uint8_t> bytes, const std::string& base_dir, const 
   GltfImportReport local;
   GltfImportReport& r = report ? *report : local;
   r = GltfImportReport();
-  if (bytes.size() > (size_t(1) << 31))
-    return {StatusCode::kLimitExceeded, "glTF: the file is larger than 2 GiB"};
-  tinygltf::TinyGLTF loader;
-  detail::FsContext fs{base_dir};
-  detail::ImageContext images{desc.load_images, &r.warnings};
-  detail::installCallbacks(&loader, &fs, &images);
   tinygltf::Model model;
-  std::string err, warn;
-  bool ok;
-  if (bytes.size() >= 4 && std::memcmp(bytes.data(), "glTF", 4) == 0) {
-    ok = loader.LoadBinaryFromMemory(&model, &err, &warn, bytes.data(), unsigned(bytes.size()),
-                                     base_dir);
-  } else {
-    ok = loader.LoadASCIIFromString(&model, &err, &warn, reinterpret_cast<const char*>(bytes.data()),
-                                    unsigned(bytes.size()), base_dir);
-  }
-  if (!warn.empty()) r.warnings.push_back("tinygltf: " + warn);
-  if (!ok) return corrupt("cannot parse: " + (err.empty() ? std::string("unknown error") : err));
+  const Status s = detail::parseGltf(bytes, base_dir, desc.load_images, &r.warnings, &model);
+  if (!s.isOk()) return s;
   return convert(model, desc, out, &r);
 }
 
@@ -99,17 +82,10 @@ Status importGltfMemory(Span<const uint8_t> bytes, const std::string& base_dir,
 
 Status importGltfFile(const std::string& path, const GltfImportDesc& desc, Character* out,
                       GltfImportReport* report) {
-  std::ifstream f(path, std::ios::binary | std::ios::ate);
-  if (!f) return {StatusCode::kIo, strCat("glTF: cannot open '", path, "'")};
-  const std::streamoff size = f.tellg();
-  if (size < 0 || uint64_t(size) > (uint64_t(1) << 31))
-    return {StatusCode::kIo, strCat("glTF: cannot read '", path, "'")};
-  std::vector<uint8_t> bytes(static_cast<size_t>(size));
-  f.seekg(0);
-  f.read(reinterpret_cast<char*>(bytes.data()), size);
-  if (!f) return {StatusCode::kIo, strCat("glTF: cannot read '", path, "'")};
-  const size_t slash = path.find_last_of('/');
-  const std::string dir = slash == std::string::npos ? "." : path.substr(0, slash);
+  std::vector<uint8_t> bytes;
+  std::string dir;
+  const Status s = detail::readGltfFile(path, &bytes, &dir);
+  if (!s.isOk()) return s;
   return importImpl(bytes, dir, desc, out, report);
 }
 

@@ -1,6 +1,7 @@
 // SkinnedInstancing — SPDX-License-Identifier: MIT (see LICENSE)
 // tinygltf's callbacks: files only from the asset's folder, no path expansion, no writing;
-// images decoded when asked for, a failed decode a warning.
+// images decoded when asked for, a failed decode a warning; parsing bytes and reading files.
+#include <cstring>
 #include <fstream>
 
 #include "gltf/gltf_convert.h"
@@ -68,6 +69,43 @@ bool loadImage(tinygltf::Image* image, const int index, std::string* err, std::s
 void installCallbacks(tinygltf::TinyGLTF* loader, FsContext* fs, ImageContext* images) {
   loader->SetFsCallbacks({&fileExists, &noExpansion, &readWholeFile, &refuseWrite, fs});
   loader->SetImageLoader(&loadImage, images);
+}
+
+Status parseGltf(Span<const uint8_t> bytes, const std::string& base_dir, bool load_images,
+                 std::vector<std::string>* warnings, tinygltf::Model* model) {
+  if (bytes.size() > (size_t(1) << 31))
+    return {StatusCode::kLimitExceeded, "glTF: the file is larger than 2 GiB"};
+  tinygltf::TinyGLTF loader;
+  FsContext fs{base_dir};
+  ImageContext images{load_images, warnings};
+  installCallbacks(&loader, &fs, &images);
+  std::string err, warn;
+  bool ok;
+  if (bytes.size() >= 4 && std::memcmp(bytes.data(), "glTF", 4) == 0) {
+    ok = loader.LoadBinaryFromMemory(model, &err, &warn, bytes.data(), unsigned(bytes.size()),
+                                     base_dir);
+  } else {
+    ok = loader.LoadASCIIFromString(model, &err, &warn, reinterpret_cast<const char*>(bytes.data()),
+                                    unsigned(bytes.size()), base_dir);
+  }
+  if (!warn.empty()) warnings->push_back("tinygltf: " + warn);
+  if (!ok) return corrupt("cannot parse: " + (err.empty() ? std::string("unknown error") : err));
+  return Status::ok();
+}
+
+Status readGltfFile(const std::string& path, std::vector<uint8_t>* bytes, std::string* dir) {
+  std::ifstream f(path, std::ios::binary | std::ios::ate);
+  if (!f) return {StatusCode::kIo, strCat("glTF: cannot open '", path, "'")};
+  const std::streamoff size = f.tellg();
+  if (size < 0 || uint64_t(size) > (uint64_t(1) << 31))
+    return {StatusCode::kIo, strCat("glTF: cannot read '", path, "'")};
+  bytes->resize(static_cast<size_t>(size));
+  f.seekg(0);
+  f.read(reinterpret_cast<char*>(bytes->data()), size);
+  if (!f) return {StatusCode::kIo, strCat("glTF: cannot read '", path, "'")};
+  const size_t slash = path.find_last_of('/');
+  *dir = slash == std::string::npos ? "." : path.substr(0, slash);
+  return Status::ok();
 }
 
 }  // namespace si::detail

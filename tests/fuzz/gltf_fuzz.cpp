@@ -1,15 +1,17 @@
 // SkinnedInstancing — SPDX-License-Identifier: MIT (see LICENSE)
 // libFuzzer target for the glTF importer (from memory, no folder: external URIs refused):
-// any bytes give an error or a character that validates; never a crash or sanitizer report.
+// any bytes give an error or a character that validates, and as a prop (importGltfPropMemory)
+// an error or a mesh that validates and attaches; never a crash or sanitizer report.
 // Run with scripts/fuzz.sh, seeded with assets.
 #include <cstdint>
 #include <cstdlib>
 #include <vector>
 
-#include "si/core/material_table.h"
 #include "si/core/impostor_level.h"
+#include "si/core/material_table.h"
 #include "si/core/part_lod.h"
 #include "si/gltf/gltf_import.h"
+#include "si/gltf/gltf_prop.h"
 
 extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
   si::Character c;
@@ -42,6 +44,23 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
     if (t.vertex_materials.size() != c.mesh.vertexCount()) std::abort();
     for (uint16_t m : t.vertex_materials)
       if (m >= t.materials.size()) std::abort();
+  }
+  // The same bytes as a prop: an error, or a mesh that validates and attaches to what imported.
+  si::PropMesh prop;
+  si::GltfPropDesc pd;
+  pd.load_images = false;
+  if (si::importGltfPropMemory(si::Span<const uint8_t>(data, size), "", pd, &prop, nullptr)
+          .isOk()) {
+    if (!prop.validate().isOk()) std::abort();
+    if (s.isOk() && c.skeleton.jointCount() > 0) {
+      si::Socket socket;
+      socket.name = "fuzz";
+      const size_t parts = c.mesh.sub_meshes.size();
+      const si::Status attached = si::attachProp(socket, prop, &c, nullptr);
+      if (attached.isOk() && (c.mesh.sub_meshes.size() != parts + 1 || !c.validate().isOk()))
+        std::abort();
+      if (!attached.isOk() && c.mesh.sub_meshes.size() != parts) std::abort();
+    }
   }
   return 0;
 }

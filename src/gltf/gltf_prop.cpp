@@ -1,0 +1,172 @@
+// SkinnedInstancing — SPDX-License-Identifier: MIT (see LICENSE)
+// A prop from a glTF file (si/gltf/gltf_prop.h): the scene's triangle primitives at their nodes'
+// world matrices (glTF 2.0 specification, "Transformations": matrix, or T * R * S; a skinned
+// node's own transform does not apply to its mesh), materials as a character's.
+#include "si/gltf/gltf_prop.h"
+
+#include <cmath>
+
+#include "gltf/gltf_convert.h"
+
+namespace si {
+using detail::corrupt;
+using detail::strCat;
+
+namespace {
+
+glm::dmat4 nodeMatrix(const tinygltf::Node& n) {
+  glm::dmat4 m(1.0);
+  if (n.matrix.size() == 16) {
+    for (int c = 0; c < 4; ++c)
+      for (int r = 0; r < 4; ++r) m[c][r] = n.matrix[size_t(c * 4 + r)];
+    return m;
+  }
+  if (n.translation.size() == 3)
+    m[3] = glm::dvec4(n.translation[0], n.translation[1], n.translation[2], 1.0);
+  if (n.rotation.size() == 4) {
+    const glm::dquat q(n.rotation[3], n.rotation[0], n.rotation[1], n.rotation[2]);
+    const glm::dmat3 r = glm::mat3_cast(glm::normalize(q));
+    for (int c = 0; c < 3; ++c) m[c] = glm::dvec4(r[c], 0.0);
+  }
+  if (n.scale.size() == 3)
+    for (int c = 0; c < 3; ++c) m[c] *= n.scale[size_t(c)];
+  return m;
+}
+
+// Appends primitive `p` of node `node` at world matrix `world` to `out`.
+Status addPrimitive(const tinygltf::Model& m, const tinygltf::Node& node, size_t p,
+                    const glm::dmat4& world, GltfImportReport* report, PropMesh* out) {
+  const tinygltf::Mesh& mesh = m.meshes[size_t(node.mesh)];
+  const tinygltf::Primitive& prim = mesh.primitives[p];
+  const std::string where =
+      strCat("mesh '", mesh.name.empty() ? node.name : mesh.name, "' primitive ", p);
+  if (prim.mode != -1 && prim.mode != TINYGLTF_MODE_TRIANGLES) {
+    report->warnings.push_back(where + ": not a triangle list: skipped");
+    return Status::ok();
+  }
+  if (!prim.targets.empty()) report->warnings.push_back(where + ": morph targets ignored");
+  if (prim.material >= 0 && size_t(prim.material) >= m.materials.size())
+    return corrupt(strCat(where, ": material ", prim.material, " does not exist"));
+  detail::PrimitiveSurface surface;
+  const Status s = detail::readPrimitiveSurface(m, prim, where, &surface);
+  if (!s.isOk()) return s;
+  if (surface.positions.empty()) {
+    report->warnings.push_back(where + ": no vertices: skipped");
+    return Status::ok();
+  }
+  if (surface.generated_normals)
+    report->warnings.push_back(where + ": no NORMAL: generated smooth normals");
+  const glm::dmat3 linear(world);
+  const glm::dmat3 normal_matrix = glm::transpose(glm::inverse(linear));
+  const bool mirrored = glm::determinant(linear) < 0.0;
+  const uint32_t first = uint32_t(out->positions.size());
+  for (size_t v = 0; v < surface.positions.size(); ++v) {
+    out->positions.push_back(glm::vec3(world * glm::dvec4(glm::dvec3(surface.positions[v]), 1.0)));
+    const glm::dvec3 n = normal_matrix * glm::dvec3(surface.normals[v]);
+    const double len = glm::length(n);
+    out->normals.push_back(len > 0.0 && std::isfinite(len) ? glm::vec3(n / len)
+                                                           : glm::vec3(0, 1, 0));
+    out->texcoords.push_back(surface.texcoords[v]);
+    out->vertex_materials.push_back(uint16_t(prim.material >= 0 ? prim.material + 1 : 0));
+  }
+  for (size_t i = 0; i < surface.indices.size(); i += 3) {
+    const uint32_t a = surface.indices[i], b = surface.indices[i + 1], c = surface.indices[i + 2];
+    out->indices.insert(out->indices.end(),
+                        {first + a, first + (mirrored ? c : b), first + (mirrored ? b : c)});
+  }
+  return Status::ok();
+}
+
+Status convertProp(const tinygltf::Model& m, const GltfPropDesc& desc, PropMesh* out,
+                   GltfImportReport* report) {
+  if (m.materials.size() >= 65535)
+    return {StatusCode::kLimitExceeded, "glTF: more than 65534 materials"};
+  // Roots: the default scene's nodes (the first scene's without one), or every node no other
+  // node names as a child.
+  std::vector<int> roots;
+  if (!m.scenes.empty()) {
+    const size_t scene = m.defaultScene >= 0 && size_t(m.defaultScene) < m.scenes.size()
+                             ? size_t(m.defaultScene)
+                             : 0;
+    roots = m.scenes[scene].nodes;
+  } else {
+    std::vector<bool> child(m.nodes.size(), false);
+    for (const tinygltf::Node& n : m.nodes)
+      for (int c : n.children)
+        if (c >= 0 && size_t(c) < m.nodes.size()) child[size_t(c)] = true;
+    for (size_t n = 0; n < m.nodes.size(); ++n)
+      if (!child[n]) roots.push_back(int(n));
+  }
+  PropMesh prop;
+  std::vector<bool> seen(m.nodes.size(), false);
+  std::vector<std::pair<int, glm::dmat4>> stack;
+  for (auto it = roots.rbegin(); it != roots.rend(); ++it) stack.emplace_back(*it, glm::dmat4(1.0));
+  while (!stack.empty()) {
+    const auto [index, parent] = stack.back();
+    stack.pop_back();
+    if (index < 0 || size_t(index) >= m.nodes.size())
+      return corrupt(strCat("node ", index, " does not exist"));
+    if (seen[size_t(index)])
+      return corrupt(strCat("node ", index, " is reached twice: the node hierarchy is not a tree"));
+    seen[size_t(index)] = true;
+    const tinygltf::Node& node = m.nodes[size_t(index)];
+    const glm::dmat4 world = parent * nodeMatrix(node);
+    if (node.mesh >= 0) {
+      if (size_t(node.mesh) >= m.meshes.size())
+        return corrupt(strCat("node ", index, " names mesh ", node.mesh, ", which does not exist"));
+      if (prop.name.empty()) prop.name = m.meshes[size_t(node.mesh)].name;
+      const glm::dmat4 placed = node.skin >= 0 ? glm::dmat4(1.0) : world;  // Skinned: bind pose.
+      for (size_t p = 0; p < m.meshes[size_t(node.mesh)].primitives.size(); ++p) {
+        const Status s = addPrimitive(m, node, p, placed, report, &prop);
+        if (!s.isOk()) return s;
+      }
+    }
+    for (auto c = node.children.rbegin(); c != node.children.rend(); ++c)
+      stack.emplace_back(*c, world);
+  }
+  if (prop.indices.empty())
+    return {StatusCode::kUnsupported, "glTF: the file has no triangle for a prop"};
+  if (desc.scale != 1.0f)
+    for (glm::vec3& p : prop.positions) p *= desc.scale;
+  Character materials;  // Materials and images exactly as a character's import makes them.
+  detail::convertMaterials(m, report, &materials);
+  prop.materials = std::move(materials.materials);
+  prop.images = std::move(materials.images);
+  report->materials = uint32_t(prop.materials.size());
+  report->images = uint32_t(prop.images.size());
+  if (!desc.name.empty()) prop.name = desc.name;
+  if (prop.name.empty()) prop.name = "prop";
+  const Status s = prop.validate();
+  if (!s.isOk()) return s;
+  *out = std::move(prop);
+  return Status::ok();
+}
+
+}  // namespace
+
+Status importGltfPropMemory(Span<const uint8_t> bytes, const std::string& base_dir,
+                            const GltfPropDesc& desc, PropMesh* out, GltfImportReport* report) {
+  if (out == nullptr) return {StatusCode::kInvalidArgument, "importGltfProp: out is null"};
+  if (!std::isfinite(desc.scale) || desc.scale <= 0.0f)
+    return {StatusCode::kInvalidArgument,
+            strCat("importGltfProp: scale ", desc.scale, " is not finite and positive")};
+  GltfImportReport local;
+  GltfImportReport& r = report ? *report : local;
+  r = GltfImportReport();
+  tinygltf::Model model;
+  const Status s = detail::parseGltf(bytes, base_dir, desc.load_images, &r.warnings, &model);
+  if (!s.isOk()) return s;
+  return convertProp(model, desc, out, &r);
+}
+
+Status importGltfPropFile(const std::string& path, const GltfPropDesc& desc, PropMesh* out,
+                          GltfImportReport* report) {
+  if (out == nullptr) return {StatusCode::kInvalidArgument, "importGltfProp: out is null"};
+  std::vector<uint8_t> bytes;
+  std::string dir;
+  const Status s = detail::readGltfFile(path, &bytes, &dir);
+  if (!s.isOk()) return s;
+  return importGltfPropMemory(bytes, dir, desc, out, report);
+}
+
+}  // namespace si
