@@ -44,6 +44,7 @@ si::Status DemoScene::loadCharacter(const SceneOptions& options) {
     si::DefaultCharacterDesc embedded;
     embedded.moving_clips = options.root_motion;  // Else added when key R first asks.
     s = si::makeDefaultCharacter(embedded, &character_);
+    if (s.isOk() && options.palette.empty()) s = attachStaff();  // Before the LODs and the bake.
   } else {
     si::GltfImportReport gr;
     s = si::importGltfFile(options.model, {}, &character_, &gr);
@@ -237,6 +238,8 @@ si::Status DemoScene::buildCrowd() {
     if (!s.isOk()) return s;
     colors_.push_back(d.color);
   }
+  s = applyProps();
+  if (!s.isOk()) return s;
   return options_.layers ? applyLayers(0.0) : s;
 }
 

@@ -42,6 +42,7 @@ struct SceneOptions {
   bool root_motion = false;  // The field travels from the start (key R).
   bool motion_vectors = false;  // Motion vectors measured from the start (key X).
   bool layers = false;  // Every other character overlays layer_clip on layer_root (key L).
+  bool props = false;   // Every other character holds a staff (key O; the embedded character).
   bool shadows = false;  // Cascaded shadows on a ground plane (key H).
   std::string layer_root = "r_clavicle";  // The overlay's branch root joint.
   std::string layer_clip = "wave";        // The overlay clip.
@@ -102,6 +103,8 @@ class DemoScene {
   /// SceneOptions::layer_clip on the branch of SceneOptions::layer_root over its own clip,
   /// or fades it out. kNotFound naming the clip or joint the character lacks.
   si::Status toggleLayers();
+  /// Props on/off: every other character holds the staff (demo_props.cpp).
+  si::Status toggleProps();
   /// The size of the framebuffer frames are drawn to (the motion target's).
   void setViewportSize(uint32_t width, uint32_t height) {
     viewport_width_ = width;
@@ -123,6 +126,9 @@ class DemoScene {
   bool layers() const { return options_.layers; }
   /// Characters playing the overlay (0 when layers are off).
   uint32_t overlays() const { return overlays_; }
+  bool props() const { return options_.props; }
+  /// Characters holding the staff (0 when props are off).
+  uint32_t propsHeld() const { return props_; }
   /// The last frame's motion (drawn_pixels 0 when off or on a path without motion vectors).
   const si::MotionSummary& motionSummary() const { return motion_summary_; }
   /// Mean distance of the main crowd's characters from where the layout put them.
@@ -172,6 +178,13 @@ class DemoScene {
   si::Status addEventMarkers();
   /// Plays (layers on) or stops (off) the overlays over `blend_seconds` (demo_layers.cpp).
   si::Status applyLayers(double blend_seconds);
+  /// Attaches the staff to the embedded character (before baking), and shows (props on) or
+  /// hides it on every other character (demo_props.cpp).
+  si::Status attachStaff();
+  si::Status applyProps();
+  static constexpr uint32_t kNoStaff = 0xFFFFFFFFu;
+  uint32_t staff_bit_ = kNoStaff;
+  uint32_t props_ = 0;
   uint32_t overlays_ = 0;
   /// The embedded character's travelling clips, added and baked (then re-uploaded).
   si::Status addTravellingClips();

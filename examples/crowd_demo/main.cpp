@@ -39,7 +39,8 @@ void usage(std::FILE* f) {
       "                  [--format f32|f16|quat] [--rate HZ] [--seed N] [--summary]\n"
       "                  [--model FILE.gltf|FILE.glb] [--clips NAME,...] [--palette FILE]\n"
       "                  [--keys K,K,...] [--lod-pixels PX] [--mix FILE,...|samples]\n"
-      "                  [--events] [--root-motion] [--motion-vectors] [--layers] [--shadows]\n"
+      "                  [--events] [--root-motion] [--motion-vectors] [--layers] [--props] "
+      "[--shadows]\n"
       "                  [--impostors] [--impostor-atlas full|small]\n"
       "Renders a crowd of the embedded character (default 4000 characters, 1280x720).\n"
       "With a display it opens a window (F1 lists the keys; ESC quits); without one, or with\n"
@@ -62,6 +63,8 @@ void usage(std::FILE* f) {
       "(key X toggles it).\n"
       "--layers has every other character wave its right arm over what it plays (layered\n"
       "animation: the wave clip on the right clavicle's branch; key L toggles it).\n"
+      "--props has every other character hold a staff in its left hand: a prop read from a\n"
+      "glTF file (the sample RiggedSimple) attached at a socket (key O toggles it).\n"
       "--shadows draws the crowd's shadows on a ground plane: three shadow cascades, each a\n"
       "view of the crowd (si::CrowdView) culled and LOD'd for its own sun camera (key H).\n"
       "--lod-pixels extends the LOD chains (si::buildLodChain, errors over the clips' poses)\n"
@@ -112,6 +115,8 @@ bool parse(int argc, char** argv, Options* o) {
       o->scene.motion_vectors = true;
     } else if (a == "--layers") {
       o->scene.layers = true;
+    } else if (a == "--props") {
+      o->scene.props = true;
     } else if (a == "--shadows") {
       o->scene.shadows = true;
     } else if (a == "--mix" && has) {
@@ -177,6 +182,7 @@ void printStats(const demo::DemoScene& scene, const si::DrawStats& stats, double
   }
   if (scene.layers())
     std::printf("%-28s %12u\n", "layers: overlays playing", scene.overlays());
+  if (scene.props()) std::printf("%-28s %12u\n", "props: staffs held", scene.propsHeld());
   if (scene.shadows())
     std::printf("%-28s %12u (3 cascades, %u drawn by the main view)\n", "shadows: casters drawn",
                 scene.shadowCasters(), scene.crowd().stats().visible);
