@@ -65,10 +65,10 @@ __attribute__((always_inline)) inline void selectLanes(const Params& p, const Lo
   SI_LOAD(s, l.s);
   const f8 radius = p.radius * s;
   const f8 d2 = (rx * rx + ry * ry) + rz * rz;
-  i8 by_distance = {};
+  i8 by_distance = ~(d2 <= kMaxSquaredDistance);  // Not finite: culled, far line or not.
   if (p.max_distance_radii >= 0.0f) {
     const f8 far_line = p.max_distance_radii * radius;
-    by_distance = d2 > far_line * far_line;
+    by_distance |= d2 > far_line * far_line;
   }
   // The sphere centre rel + rotate(q, c * s), as cull::rotate computes it.
   const auto center = [&](const float* cx, const float* cy, const float* cz, f8* ox, f8* oy,

@@ -41,12 +41,19 @@ inline glm::vec3 rotate(const glm::quat& q, const glm::vec3& v) {
   return v + ((uv * q.w) + uuv) * 2.0f;
 }
 
-/// Whether an instance at camera-relative `rel` with scale `s` lies past the far line (never
-/// when there is none): the first test of select(), also run alone before gathering.
+/// The largest finite float: a squared camera distance past it (1.8e19 units, or a position
+/// whose camera-relative float is not finite) is culled by distance, far line or not.
+inline constexpr float kMaxSquaredDistance = 3.40282347e38f;
+
+/// Whether an instance at camera-relative `rel` with scale `s` lies past the far line, or so far
+/// that its squared distance is not a finite float (then even without a far line): the first
+/// test of select(), also run alone before gathering.
 inline bool beyondFarLine(const glm::vec3& rel, float s, const Params& p) {
+  const float d2 = dot3(rel, rel);
+  if (!(d2 <= kMaxSquaredDistance)) return true;
   if (!(p.max_distance_radii >= 0.0f)) return false;
   const float far_line = p.max_distance_radii * (p.radius * s);
-  return dot3(rel, rel) > far_line * far_line;
+  return d2 > far_line * far_line;
 }
 
 /// Selects an instance at camera-relative position `rel` with rotation `q` and scale `s`,

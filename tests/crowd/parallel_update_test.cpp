@@ -247,6 +247,36 @@ TEST(ParallelUpdate, StepClipLookupMatchesSampleFramesEverywhere) {
 
 // The 8-lane selection against the scalar one, bit for bit, on hostile values: boundaries of
 // the far line, the planes and the LOD lines, zero and huge scales, NaN and infinities.
+// An instance so far from the camera that its squared distance passes a float (or its
+// camera-relative position does) is culled by distance even without a far line, by the scalar
+// and the 8-lane selection alike, and the crowd writes no record for it (the crowd API fuzzer
+// once drew one at an infinite translation).
+TEST(ParallelUpdate, PositionsPastAFloatAreCulledByDistanceWithoutAFarLine) {
+  CrowdDesc cd = test::defaultCrowdDesc();
+  cd.max_distance_radii = -1.0f;
+  CrowdManager crowd;
+  ASSERT_TRUE(crowd.init(cd).isOk());
+  const Camera camera = test::testCamera({0, 1.6, 0}, {0, 1, -10});
+  for (double z : {-5.0, -2e19, -1e39, -1e300}) {
+    InstanceDesc d;
+    d.position = glm::dvec3(0.0, 0.0, z);
+    InstanceHandle h;
+    ASSERT_TRUE(crowd.add(d, &h).isOk());
+  }
+  ASSERT_TRUE(crowd.update(0.0, camera).isOk());
+  EXPECT_EQ(crowd.stats().visible, 1u);
+  EXPECT_EQ(crowd.stats().culled_distance, 3u);
+  for (const InstanceRecord& r : crowd.records())
+    for (const auto& row : r.world_rows)
+      for (float v : row) EXPECT_TRUE(std::isfinite(v));
+  const CullParams p = crowd.cullParams(camera);
+  cull::Selection sel;
+  const glm::vec3 c(0.0f, 1.0f, 0.0f);
+  EXPECT_FALSE(cull::select(glm::vec3(0.0f, 0.0f, -std::numeric_limits<float>::infinity()),
+                            glm::quat(1, 0, 0, 0), 1.0f, c, 1.0f, c, 1.0f, p, &sel));
+  EXPECT_TRUE(sel.culled_by_distance);
+}
+
 TEST(ParallelUpdate, EightLaneCullingSelectsExactlyWhatTheScalarOneSelects) {
   std::mt19937 rng(11);
   std::uniform_real_distribution<float> u(-1.0f, 1.0f);

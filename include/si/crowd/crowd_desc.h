@@ -34,7 +34,9 @@ struct CrowdDesc {
   /// 20, 60, 180, ... (the technique's lines at 20 and 60 radii, then x3).
   std::vector<float> lod_distances_radii;
   /// Instances farther than this many radii are culled; 0 means 100 (the technique's far
-  /// line); negative means never.
+  /// line); negative means never, except that an instance whose squared distance from the
+  /// camera passes a float (about 1.8e19 units, or whose camera-relative position does) is
+  /// always culled by distance: nothing can be drawn there.
   float max_distance_radii = 0.0f;
   /// A LOD changes only once the distance is this fraction past the line (both directions),
   /// so characters at a boundary do not flicker; 0 means 0.05.

@@ -132,6 +132,9 @@ void main() {
   float s = st.scale;
   precise float radius = u_params.x * s;
   precise float d2 = siDot3(rel, rel);
+  // A squared distance past a float (or a position past one) is culled, far line or not, as
+  // on the CPU (cull_math.h, kMaxSquaredDistance).
+  if (!(d2 <= uintBitsToFloat(0x7F7FFFFFu)) || isinf(d2) || isnan(d2)) return;
   if (u_params.y >= 0.0) {
     precise float far_line = u_params.y * radius;
     if (d2 > far_line * far_line) return;
