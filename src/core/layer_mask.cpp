@@ -158,6 +158,13 @@ Status buildLayerMask(const Skeleton& skeleton, const BakedPalette& palette,
   return finishMask(skeleton, palette, name, in_mask, out);
 }
 
+Status buildFullBodyMask(const Skeleton& skeleton, const BakedPalette& palette,
+                         const std::string& name, LayerMask* out) {
+  const Status s = checkInputs(skeleton, palette, out, 1);
+  if (!s.isOk()) return s;
+  return finishMask(skeleton, palette, name, std::vector<uint8_t>(skeleton.jointCount(), 1), out);
+}
+
 Status buildLayerMaskFromJoints(const Skeleton& skeleton, const BakedPalette& palette,
                                 const std::string& name, const std::vector<std::string>& joints,
                                 LayerMask* out) {

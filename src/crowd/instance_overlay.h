@@ -18,7 +18,22 @@ struct OverlayState {
   float weight_from = 0.0f, weight_to = 0.0f;  // Fading from one to the other,
   double fade_start = 0.0, fade_duration = 0.0;  // over this span of the crowd clock.
   bool active = false;  // Played since the instance was added (stopped ones stay, at weight 0).
+  // A blend (CrowdManager::playBlend; instance_blend.cpp): the overlay plays the pair's upper
+  // clip and the instance its lower one, both re-anchored on a shared phase whenever the
+  // parameter moves.
+  bool blend = false;
+  uint32_t space = 0;
+  float parameter = 0.0f;
+  float blend_speed = 1.0f;  // The instance's speed along the blend.
+  double phase = 0.0;        // Cycles at phase_clock, in [0, 1) for looping clips.
+  double phase_clock = 0.0;
+  double cycles_per_second = 0.0;  // blend_speed / the blended period (0: a zero period).
 };
+
+/// A blend's phase (cycles) at crowd clock `clock`.
+inline double blendPhase(const OverlayState& o, double clock) {
+  return o.phase + (clock - o.phase_clock) * o.cycles_per_second;
+}
 
 /// The overlay's weight at crowd clock `clock`.
 inline float overlayWeight(const OverlayState& o, double clock) {

@@ -98,6 +98,13 @@ void applyRootMotion(const BakedPalette& palette, const std::vector<ClipTiming>&
     m.translation = old.translation + (m.translation - old.translation) * w;
     m.yaw = old.yaw + (m.yaw - old.yaw) * w;
   }
+  const OverlayState& o = st.overlays[i];
+  if (o.blend) {  // A blend travels as it blends: the upper clip's motion by the blend weight.
+    const GroundMotion up = playbackMotion(palette, clips, o.playback, since, clock);
+    const double w = double(overlayWeight(o, 0.5 * (since + clock)));
+    m.translation += (up.translation - m.translation) * w;
+    m.yaw += (up.yaw - m.yaw) * w;
+  }
   if (m.translation == glm::dvec2(0.0) && m.yaw == 0.0) return;
   const glm::quat r = st.rotations.get(i);
   const glm::vec3 step =

@@ -259,6 +259,7 @@ Status InstanceStore::play(InstanceHandle h, uint32_t clip, double time_seconds,
     return {StatusCode::kInvalidArgument,
             "play: clip must be in range, time finite, speed finite and >= 0"};
   if (root_motion[i]) applyRootMotion(*palette, *clip_timings, clock, *this, i);
+  endBlend(i, 0.0, clock);
   playback[i] = Playback{clip, palette->clips[clip].loop_mode, speed, clock, time_seconds};
   fade_duration[i] = 0.0;
   events_new[i] = 1;
@@ -276,6 +277,7 @@ Status InstanceStore::crossfade(InstanceHandle h, uint32_t clip, double blend_se
     return {StatusCode::kInvalidArgument,
             "crossfade: clip must be in range, blend_seconds finite and > 0, time finite"};
   if (root_motion[i]) applyRootMotion(*palette, *clip_timings, clock, *this, i);
+  endBlend(i, blend_seconds, clock);
   fade_from[i] = playback[i];
   fade_start[i] = clock;
   fade_duration[i] = blend_seconds;
@@ -292,9 +294,11 @@ Status InstanceStore::playOverlay(InstanceHandle h, uint32_t clip, uint32_t mask
   uint32_t i = 0;
   Status s = denseIndex(h, &i);
   if (!s.isOk()) return s;
+  if (root_motion[i]) applyRootMotion(*palette, *clip_timings, clock, *this, i);
   OverlayState& o = overlays[i];
   const float from = o.active ? overlayWeight(o, clock) : 0.0f;
   if (!o.active) ++overlay_count;
+  o.blend = false;  // The new overlay replaces a blend's upper clip; the lower one plays on.
   o.playback = Playback{clip, palette->clips[clip].loop_mode, speed, clock, time_seconds};
   o.mask = mask;
   o.weight_from = blend_seconds > 0.0 ? from : weight;
@@ -312,6 +316,8 @@ Status InstanceStore::stopOverlay(InstanceHandle h, double blend_seconds, double
   if (!s.isOk()) return s;
   OverlayState& o = overlays[i];
   if (!o.active) return Status::ok();
+  if (root_motion[i] && o.blend) applyRootMotion(*palette, *clip_timings, clock, *this, i);
+  o.blend = false;
   o.weight_from = blend_seconds > 0.0 ? overlayWeight(o, clock) : 0.0f;
   o.weight_to = 0.0f;
   o.fade_start = clock;

@@ -13,6 +13,7 @@
 #include "crowd/instance_columns.h"
 #include "crowd/instance_overlay.h"
 #include "crowd/playback.h"
+#include "si/crowd/blend_space.h"
 #include "si/crowd/crowd_manager.h"
 #include "si/crowd/handle_pool.h"
 
@@ -69,8 +70,24 @@ struct InstanceStore {
   /// except the handle.
   Status playOverlay(InstanceHandle h, uint32_t clip, uint32_t mask, float weight,
                      double blend_seconds, double time_seconds, float speed, double clock);
-  /// Fades `h`'s overlay out over `blend_seconds` (nothing when it has none).
+  /// Fades `h`'s overlay out over `blend_seconds` (nothing when it has none); a blend ends.
   Status stopOverlay(InstanceHandle h, double blend_seconds, double clock);
+  /// Blend spaces (instance_blend.cpp; arguments checked by the caller except the handle):
+  /// starts `space` (crowd id `space_id`) at `parameter` from phase `phase` (cycles), the
+  /// instance's clip crossfading to the lower clip and the overlay's weight fading to the
+  /// blend's over `blend_seconds` (0: at once).
+  Status playBlend(InstanceHandle h, const BlendSpace& space, uint32_t space_id, float parameter,
+                   double blend_seconds, double phase, float speed, double clock);
+  /// Moves a blending instance to `parameter`, keeping its phase (kInvalidArgument when it
+  /// does not blend).
+  Status setBlendParameter(InstanceHandle h, const BlendSpace& space, float parameter,
+                           double clock);
+  /// Dense index `i`'s playback and overlay for its blend at `parameter` from `phase` at
+  /// `clock` (a crossfade or weight fade under way keeps running towards the new clips).
+  void anchorBlend(uint32_t i, const BlendSpace& space, float parameter, double phase,
+                   double clock);
+  /// Ends dense index `i`'s blend, if any: its overlay fades out over `seconds` (0: at once).
+  void endBlend(uint32_t i, double seconds, double clock);
   /// Every instance's events counted as reported up to `clock` (when markers first appear).
   void markEventsReported(double clock);
   /// Stamps dense index `i` with the current version: its exported state changed

@@ -1,7 +1,8 @@
 // SkinnedInstancing — SPDX-License-Identifier: MIT (see LICENSE)
 // libFuzzer target: random sequences of CrowdManager calls (add, remove, play, crossfade,
 // setTransform, setColor, setCustomLayer, setVariationMask, setRootMotion, setLodDistances,
-// playOverlay, stopOverlay, update, queries including socketTransform; makeSocket and
+// playOverlay, stopOverlay, playBlend, setBlendParameter, update, queries including
+// socketTransform; makeSocket and
 // attachProp on a copy of the character) with hostile values (NaN, infinities, negative and huge
 // times, speeds, scales, stale and forged handles) against a shadow list of the live handles. After
 // every call: every live handle resolves, released ones do not, the size matches; after an update
@@ -395,6 +396,9 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
       fail("cannot add a valid layer mask");
   }
   const uint32_t masks = uint32_t(crowd.layerMasks().size());
+  // A blend space of the loop and the STEP clip on the whole chain.
+  if (!crowd.addBlendSpace({"sway", {0, 1}, {0.0f, 1.0f}, 1}, nullptr).isOk())
+    fail("cannot add a valid blend space");
   std::vector<si::InstanceHandle> live, released;
   const uint32_t clips = uint32_t(palette().clips.size());
   for (int op = 0; op < 256 && !in.done(); ++op) {
@@ -481,13 +485,26 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
               fail("an event names a dead instance, an unknown marker or no pass");
         break;
       }
-      case 10:  // Overlays: clip and mask sometimes out of range, hostile weights and times.
-        if (in.u8() & 1)
+      case 10: {  // Overlays and blends: clip, mask, space sometimes out of range, hostile values.
+        const uint8_t which_call = in.u8() % 4;
+        if (which_call == 0)
           s = crowd.playOverlay(h, in.u8() % (clips + 1), in.u8() % (masks + 1), in.f32(),
                                 in.f64(), in.f64(), in.f32());
-        else
+        else if (which_call == 1)
           s = crowd.stopOverlay(h, in.f64());
+        else if (which_call == 2)
+          s = crowd.playBlend(h, in.u8() % 2, in.f32(), in.f64(), in.f64(), in.f32());
+        else
+          s = crowd.setBlendParameter(h, in.f32());
+        uint32_t space = 0;
+        float parameter = 0.0f;
+        double phase = 0.0;
+        if (crowd.blendState(h, &space, &parameter, &phase).isOk() &&
+            (space != 0 || !(parameter >= 0.0f && parameter <= 1.0f) ||
+             !(phase >= 0.0 && phase < 1.0)))
+          fail("a blend's state is out of its space");
         break;
+      }
       case 11:  // Props: a hostile socket and mesh attached to a copy of the character.
         attachFuzzedProp(in);
         break;

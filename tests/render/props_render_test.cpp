@@ -1,12 +1,14 @@
 // SkinnedInstancing — SPDX-License-Identifier: MIT (see LICENSE)
 // Sockets and props, the GL half: a box held at the right hand's grip (si::attachProp), shown
 // by two thirds of a walking crowd (its variation bit), some crossfading, some waving the arm
-// that holds it (an overlay), is drawn by every path as the CPU emulation draws it; the prop
-// shows; drawn alone it lies where CrowdManager::socketTransform says.
+// that holds it (an overlay), some blending the walk and the run (a blend space), is drawn by
+// every path as the CPU emulation draws it; the prop shows; drawn alone it lies where
+// CrowdManager::socketTransform says.
 #include <cstring>
 
 #include "core/prop_fixture.h"
 #include "render/render_fixture.h"
+#include "si/gl/motion_target.h"
 
 namespace si {
 namespace {
@@ -34,7 +36,7 @@ class PropsRenderTest : public RenderTest {
     ASSERT_TRUE(s.isOk()) << s.toString();
   }
   // 12 instances walking; two thirds hold the prop, a third crossfades into the run, a quarter
-  // wave the arm that holds it.
+  // wave the arm that holds it, a quarter blend the walk and the run.
   void populate(CrowdManager* crowd) {
     CrowdDesc cd;
     cd.palette = &palette();
@@ -43,11 +45,17 @@ class PropsRenderTest : public RenderTest {
     ASSERT_TRUE(crowd->init(cd).isOk());
     LayerMask arm;
     ASSERT_TRUE(buildLayerMask(held_.skeleton, palette(), "arm", {"r_clavicle"}, &arm).isOk());
-    uint32_t mask = 0;
+    uint32_t mask = 0, body_mask = 0, locomotion = 0;
     ASSERT_TRUE(crowd->addLayerMask(arm, &mask).isOk());
+    LayerMask body;
+    ASSERT_TRUE(buildFullBodyMask(held_.skeleton, palette(), "body", &body).isOk());
+    ASSERT_TRUE(crowd->addLayerMask(body, &body_mask).isOk());
     const uint32_t walk = uint32_t(palette().findClip("walk")),
                    run = uint32_t(palette().findClip("run"));
     const uint32_t wave = uint32_t(palette().findClip("wave"));
+    ASSERT_TRUE(
+        crowd->addBlendSpace({"locomotion", {walk, run}, {0.0f, 1.0f}, body_mask}, &locomotion)
+            .isOk());
     for (int k = 0; k < 12; ++k) {
       InstanceDesc d;
       d.position = glm::dvec3((k % 4 - 1.5) * 1.2, 0.0, -2.5 - 1.5 * (k / 4));
@@ -63,6 +71,10 @@ class PropsRenderTest : public RenderTest {
       }
       if (k % 4 == 0) {
         ASSERT_TRUE(crowd->playOverlay(h, wave, mask, 1.0f, 0.0, 0.1 * k).isOk());
+      } else if (k % 4 == 2) {  // Blending the walk and the run (a blend space), some fading in.
+        ASSERT_TRUE(
+            crowd->playBlend(h, locomotion, 0.2f * float(k % 5), k % 3 == 0 ? 0.0 : 1.0, 0.07 * k)
+                .isOk());
       }
     }
     ASSERT_TRUE(crowd->update(0.4, view()).isOk());
@@ -154,6 +166,110 @@ TEST_P(PropsRenderTest, ThePropIsDrawnWhereTheSocketSays) {
     ++checked;
   }
   EXPECT_GE(checked, 6);
+  r.shutdown();
+}
+
+// Motion vectors of a prop held by a character moving through a blend (walking, the parameter
+// moving from the walk towards the run between the frames): every path writes the same motion,
+// and over the prop's pixels it averages the motion of the box's centre placed by
+// socketTransform in each frame (a rigid box moving a few pixels: its pixels move as its centre
+// does, within a quarter of a pixel).
+TEST_P(PropsRenderTest, PropsOfBlendingCharactersMoveAsTheirSocketsSay) {
+  RendererDesc rd;
+  rd.motion_vectors = true;
+  rd.gpu_driven_ring_bytes = 4u << 20;
+  rd.skinning_path = SkinningPath::kVertexShader;
+  Renderer r;
+  ASSERT_TRUE(r.init(info_, rd).isOk());
+  CharacterId id;
+  ASSERT_TRUE(r.addCharacter(held_, palette(), &id).isOk());
+  InstanceBatcher batcher;
+  ASSERT_TRUE(batcher.init(r.batchLimits()).isOk());
+  MotionTarget target;
+  ASSERT_TRUE(target.create(kSize, kSize).isOk());
+  const Camera camera = view();
+  glm::dvec2 expected(0.0);
+  const auto motionOf = [&](DrawMode mode, bool gpu_driven, std::vector<glm::vec2>* motion,
+                            std::vector<uint8_t>* color) {
+    CrowdManager crowd;
+    CrowdDesc cd;
+    cd.palette = &palette();
+    cd.sub_mesh_count = uint32_t(held_.mesh.sub_meshes.size());
+    cd.lod_count = 1;
+    cd.previous_records = true;
+    ASSERT_TRUE(crowd.init(cd).isOk());
+    LayerMask body;
+    ASSERT_TRUE(buildFullBodyMask(held_.skeleton, palette(), "body", &body).isOk());
+    uint32_t mask = 0, space = 0;
+    ASSERT_TRUE(crowd.addLayerMask(body, &mask).isOk());
+    const uint32_t walk = uint32_t(palette().findClip("walk")),
+                   run = uint32_t(palette().findClip("run"));
+    ASSERT_TRUE(
+        crowd.addBlendSpace({"locomotion", {walk, run}, {0.0f, 1.0f}, mask}, &space).isOk());
+    InstanceDesc d;
+    d.position = glm::dvec3(0.3, 0.0, -2.8);
+    d.rotation = glm::angleAxis(-1.2f, glm::vec3(0, 1, 0));  // The right hand towards the camera.
+    d.variation_mask = 1u << prop_bit_;                      // The prop alone.
+    InstanceHandle h;
+    ASSERT_TRUE(crowd.add(d, &h).isOk());
+    ASSERT_TRUE(crowd.playBlend(h, space, 0.2f, 0.0, 0.3).isOk());
+    ASSERT_TRUE(crowd.update(0.0, camera).isOk());
+    glm::dmat4 before, after;
+    ASSERT_TRUE(crowd.socketTransform(h, grip_, &before).isOk());
+    if (gpu_driven) {
+      ASSERT_TRUE(r.drawCrowdGpuCulled(crowd, camera, nullptr, mode).isOk());
+    }
+    ASSERT_TRUE(crowd.setBlendParameter(h, 0.35f).isOk());
+    if (gpu_driven) {
+      ASSERT_TRUE(crowd.advanceClock(0.05).isOk());
+    } else {
+      ASSERT_TRUE(crowd.update(0.05, camera).isOk());
+    }
+    ASSERT_TRUE(crowd.socketTransform(h, grip_, &after).isOk());
+    target.clear(glm::vec4(0.0f));
+    const Status s = gpu_driven ? r.drawCrowdGpuCulled(crowd, camera, nullptr, mode)
+                                : r.drawCrowd(crowd, batcher, camera, nullptr, mode);
+    ASSERT_TRUE(s.isOk()) << s.toString();
+    ASSERT_TRUE(target.readMotion(motion).isOk());
+    ASSERT_TRUE(target.readColor(color).isOk());
+    // Texture coordinates of the box's centre in each frame (bottom row up, as readMotion).
+    const auto uv = [&](const glm::dmat4& m) {
+      const glm::dvec3 c(m * glm::dvec4(0.0, 0.0, kHalf.z, 1.0));
+      const glm::dvec4 clip =
+          glm::dmat4(camera.viewProjection()) * glm::dvec4(c - camera.position, 1.0);
+      return glm::dvec2(clip.x / clip.w, clip.y / clip.w) * 0.5 + 0.5;
+    };
+    expected = uv(after) - uv(before);
+  };
+  std::vector<glm::vec2> vs, cs, gpu_vs, gpu_cs;
+  std::vector<uint8_t> color, unused;
+  motionOf(DrawMode::kSkinned, false, &vs, &color);
+  motionOf(DrawMode::kComputeSkinned, false, &cs, &unused);
+  motionOf(DrawMode::kSkinned, true, &gpu_vs, &unused);
+  motionOf(DrawMode::kComputeSkinned, true, &gpu_cs, &unused);
+  glm::dvec2 mean(0.0);
+  size_t covered = 0;
+  for (size_t i = 0; i < vs.size(); ++i) {
+    if (color[i * 4 + 3] == 0) continue;  // Nothing drawn (cleared to 0).
+    mean += glm::dvec2(vs[i]);
+    ++covered;
+  }
+  ASSERT_GT(covered, 30u);
+  mean /= double(covered);
+  std::printf(
+      "[ props    ] %zu prop pixels: mean motion (%.2f, %.2f) px, the socket's (%.2f, %.2f) px\n",
+      covered, mean.x * kSize, mean.y * kSize, expected.x * kSize, expected.y * kSize);
+  EXPECT_GT(glm::length(expected) * kSize, 1.0);  // It moves.
+  EXPECT_LT(glm::length(mean - expected) * kSize, 0.25);
+  for (const std::vector<glm::vec2>* other : {&cs, &gpu_vs, &gpu_cs}) {
+    SCOPED_TRACE(other - &vs);
+    ASSERT_EQ(other->size(), vs.size());
+    size_t agree = 0;
+    for (size_t i = 0; i < vs.size(); ++i) agree += glm::length(vs[i] - (*other)[i]) < 1e-4f;
+    EXPECT_GE(double(agree), 0.995 * double(vs.size()));
+  }
+  target.restore();
+  target.release();
   r.shutdown();
 }
 

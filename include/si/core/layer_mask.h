@@ -103,6 +103,12 @@ Status buildLayerMaskFromJoints(const Skeleton& skeleton, const BakedPalette& pa
                                 const std::string& name, const std::vector<std::string>& joints,
                                 LayerMask* out);
 
+/// The mask of every joint (the branches of the skeleton's roots, each anchored on the model):
+/// a blend space's mask (si::BlendSpace), whose upper clip then composes on the whole
+/// character, the local-space blend of two clips. Fails as buildLayerMask() does.
+Status buildFullBodyMask(const Skeleton& skeleton, const BakedPalette& palette,
+                         const std::string& name, LayerMask* out);
+
 /// The mask table si_skinning.glsl reads (SI_LAYERS, storage binding SI_MASK_BINDING): the
 /// palette slot count, then for each mask in order its slot_anchor, its slot_parent and its
 /// slot_bind_origin (x, y, z per slot, each float's bits) (`masks` all of one palette, as a

@@ -39,6 +39,7 @@
 #include "si/core/layer_mask.h"
 #include "si/core/prop.h"
 #include "si/crowd/animation_event.h"
+#include "si/crowd/blend_space.h"
 #include "si/crowd/camera.h"
 #include "si/crowd/crowd_desc.h"
 #include "si/crowd/crowd_view.h"
@@ -247,6 +248,36 @@ class CrowdManager {
   /// With CrowdDesc::previous_records: parallel to previousRecords(), the previous update's
   /// layer records (empty when that update wrote none). Motion vectors of overlays.
   Span<const LayerRecord> previousLayerRecords() const;
+
+  // ---- Blend spaces (si/crowd/blend_space.h) ----
+  /// Blend spaces a crowd may hold.
+  static constexpr uint32_t kMaxBlendSpaces = 16;
+  /// Adds a blend space of the crowd's palette on one of its layer masks and gives its index in
+  /// `id` (may be null; ids are 0, 1, ... in order). kInvalidArgument when space.validate()
+  /// fails (naming why), kLimitExceeded past kMaxBlendSpaces.
+  Status addBlendSpace(const BlendSpace& space, uint32_t* id);
+  /// The blend spaces added, in id order.
+  Span<const BlendSpace> blendSpaces() const;
+  /// Plays blend space `space` at `parameter` (clamped to its first and last positions) from
+  /// `phase` (the fraction of the cycle, 0 at every clip's start) at `speed` (1: each clip at
+  /// its own rate when it plays alone). With `blend_seconds` > 0 the instance crossfades into
+  /// it: its clip fades to the blend's lower clip and its overlay's weight to the blend's, over
+  /// that span. The blend replaces the instance's overlay; play(), crossfade(), playOverlay()
+  /// and stopOverlay() end it (crossfade() fades the upper clip out over its span). Root
+  /// motion travels as the clips blend. kNotFound for a stale handle; kInvalidArgument for a
+  /// space out of range, a parameter, phase or speed not finite, a negative speed, a negative
+  /// or non-finite blend.
+  Status playBlend(InstanceHandle h, uint32_t space, float parameter, double blend_seconds,
+                   double phase = 0.0, float speed = 1.0f);
+  /// Moves a blending instance to `parameter` (clamped), keeping its phase: the clips around the
+  /// new value continue from the fraction of the cycle reached, at the new blended period.
+  /// kNotFound for a stale handle; kInvalidArgument for a non-finite parameter or an instance
+  /// that plays no blend.
+  Status setBlendParameter(InstanceHandle h, float parameter);
+  /// A blending instance's space, parameter and phase (cycles, in [0, 1) for looping clips) at
+  /// the crowd clock. kNotFound for a stale handle, kInvalidArgument for an instance that plays
+  /// no blend or a null output.
+  Status blendState(InstanceHandle h, uint32_t* space, float* parameter, double* phase) const;
 
   /// The LOD an instance was given by the last update() (kNotFound for stale handles).
   Status lodOf(InstanceHandle h, uint32_t* lod) const;
