@@ -239,6 +239,7 @@ si::Status DemoScene::buildCrowd() {
     colors_.push_back(d.color);
   }
   s = applyProps();
+  if (s.isOk() && options_.blend) s = applyBlend(0.0);
   if (!s.isOk()) return s;
   return options_.layers ? applyLayers(0.0) : s;
 }
@@ -285,7 +286,8 @@ si::Status DemoScene::measureMotion(const si::Camera& camera) {
 
 si::Status DemoScene::frame(double dt, const si::Camera& camera, si::DrawStats* stats) {
   const auto start = std::chrono::steady_clock::now();
-  si::Status s = crowd_.update(dt, camera);
+  si::Status s = moveBlends();
+  if (s.isOk()) s = crowd_.update(dt, camera);
   if (s.isOk() && mixed_) s = cast_.update(dt, camera);
   last_events_ = 0;
   for (const si::AnimationEvent& e : crowd_.events()) last_events_ += e.count;

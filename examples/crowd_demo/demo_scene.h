@@ -43,6 +43,7 @@ struct SceneOptions {
   bool motion_vectors = false;  // Motion vectors measured from the start (key X).
   bool layers = false;  // Every other character overlays layer_clip on layer_root (key L).
   bool props = false;   // Every other character holds a staff (key O; the embedded character).
+  bool blend = false;   // Every other character walks and runs by a drifting speed (key B).
   bool shadows = false;  // Cascaded shadows on a ground plane (key H).
   std::string layer_root = "r_clavicle";  // The overlay's branch root joint.
   std::string layer_clip = "wave";        // The overlay clip.
@@ -105,6 +106,9 @@ class DemoScene {
   si::Status toggleLayers();
   /// Props on/off: every other character holds the staff (demo_props.cpp).
   si::Status toggleProps();
+  /// Blend space on/off: every other character walks and runs by a speed drifting over time
+  /// (demo_blend.cpp); off, they crossfade back to the walk.
+  si::Status toggleBlend();
   /// The size of the framebuffer frames are drawn to (the motion target's).
   void setViewportSize(uint32_t width, uint32_t height) {
     viewport_width_ = width;
@@ -127,6 +131,9 @@ class DemoScene {
   /// Characters playing the overlay (0 when layers are off).
   uint32_t overlays() const { return overlays_; }
   bool props() const { return options_.props; }
+  bool blend() const { return options_.blend; }
+  /// Characters blending the walk and the run (0 when the blend is off).
+  uint32_t blending() const { return blending_; }
   /// Characters holding the staff (0 when props are off).
   uint32_t propsHeld() const { return props_; }
   /// The last frame's motion (drawn_pixels 0 when off or on a path without motion vectors).
@@ -185,6 +192,12 @@ class DemoScene {
   static constexpr uint32_t kNoStaff = 0xFFFFFFFFu;
   uint32_t staff_bit_ = kNoStaff;
   uint32_t props_ = 0;
+  /// Starts (blend on) or ends (off) the blends over `blend_seconds`, moves them each frame
+  /// (demo_blend.cpp).
+  si::Status applyBlend(double blend_seconds);
+  si::Status moveBlends();
+  float blendParameter(size_t i) const;
+  uint32_t blending_ = 0;
   uint32_t overlays_ = 0;
   /// The embedded character's travelling clips, added and baked (then re-uploaded).
   si::Status addTravellingClips();

@@ -40,6 +40,7 @@ void usage(std::FILE* f) {
       "                  [--model FILE.gltf|FILE.glb] [--clips NAME,...] [--palette FILE]\n"
       "                  [--keys K,K,...] [--lod-pixels PX] [--mix FILE,...|samples]\n"
       "                  [--events] [--root-motion] [--motion-vectors] [--layers] [--props] "
+      "[--blend] "
       "[--shadows]\n"
       "                  [--impostors] [--impostor-atlas full|small]\n"
       "Renders a crowd of the embedded character (default 4000 characters, 1280x720).\n"
@@ -65,6 +66,8 @@ void usage(std::FILE* f) {
       "animation: the wave clip on the right clavicle's branch; key L toggles it).\n"
       "--props has every other character hold a staff in its left hand: a prop read from a\n"
       "glTF file (the sample RiggedSimple) attached at a socket (key O toggles it).\n"
+      "--blend has every other character walk and run by a speed drifting over time: a blend\n"
+      "space of the walk and the run, phase-synchronised (key B toggles it).\n"
       "--shadows draws the crowd's shadows on a ground plane: three shadow cascades, each a\n"
       "view of the crowd (si::CrowdView) culled and LOD'd for its own sun camera (key H).\n"
       "--lod-pixels extends the LOD chains (si::buildLodChain, errors over the clips' poses)\n"
@@ -117,6 +120,8 @@ bool parse(int argc, char** argv, Options* o) {
       o->scene.layers = true;
     } else if (a == "--props") {
       o->scene.props = true;
+    } else if (a == "--blend") {
+      o->scene.blend = true;
     } else if (a == "--shadows") {
       o->scene.shadows = true;
     } else if (a == "--mix" && has) {
@@ -183,6 +188,7 @@ void printStats(const demo::DemoScene& scene, const si::DrawStats& stats, double
   if (scene.layers())
     std::printf("%-28s %12u\n", "layers: overlays playing", scene.overlays());
   if (scene.props()) std::printf("%-28s %12u\n", "props: staffs held", scene.propsHeld());
+  if (scene.blend()) std::printf("%-28s %12u\n", "blend: characters blending", scene.blending());
   if (scene.shadows())
     std::printf("%-28s %12u (3 cascades, %u drawn by the main view)\n", "shadows: casters drawn",
                 scene.shadowCasters(), scene.crowd().stats().visible);

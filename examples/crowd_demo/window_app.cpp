@@ -41,6 +41,8 @@ constexpr char kHelp[] =
     "              target; the console prints the mean and largest motion twice a second\n"
     "  L           layered animation on/off: every other character waves its right arm over\n"
     "              what it plays (an overlay on the arm's joints, fading in and out)\n"
+    "  B           blend space on/off: every other character walks and runs by a speed that\n"
+    "              drifts over time (the walk and the run blended in local space, in step)\n"
     "  O           props on/off: every other character holds a staff in its left hand (a\n"
     "              prop from a glTF file at a socket; the embedded character)\n"
     "  H           shadows on/off: three cascades, each a view of the crowd culled for its\n"
@@ -134,6 +136,10 @@ class App {
       case GLFW_KEY_L:
         s = scene_->toggleLayers();
         std::printf("layered animation %s\n", scene_->layers() ? "on" : "off");
+        break;
+      case GLFW_KEY_B:
+        s = scene_->toggleBlend();
+        std::printf("blend space %s\n", scene_->blend() ? "on" : "off");
         break;
       case GLFW_KEY_O:
         s = scene_->toggleProps();
