@@ -80,10 +80,12 @@ Camera cameraAt(const Setup& setup, const std::string& scene,
 
 Status makeCrowd(const Setup& setup, const BakedPalette& palette,
                  const std::vector<glm::dvec3>& positions, const LodChoice& lod,
-                 CrowdManager* crowd, std::vector<InstanceHandle>* handles) {
+                 CrowdManager* crowd, std::vector<InstanceHandle>* handles,
+                 uint32_t sub_mesh_count) {
   CrowdDesc cd;
   cd.palette = &palette;
-  cd.sub_mesh_count = uint32_t(setup.character.mesh.sub_meshes.size());
+  cd.sub_mesh_count =
+      sub_mesh_count > 0 ? sub_mesh_count : uint32_t(setup.character.mesh.sub_meshes.size());
   cd.lod_count = uint32_t(setup.character.mesh.maxLodCount());
   cd.max_distance_radii = -1.0f;  // Measure everything in view, however far.
   cd.lod_errors_units = setup.lod_errors;

@@ -16,13 +16,14 @@
 #include "crowd_bench/bench_character.h"
 #include "crowd_bench/bench_plots.h"
 #include "crowd_bench/bench_scene.h"
+#include "crowd_bench/blend_props_table.h"
+#include "crowd_bench/layers_table.h"
 #include "crowd_bench/lod_quality.h"
 #include "crowd_bench/mixed_scene.h"
-#include "crowd_bench/layers_table.h"
 #include "crowd_bench/motion_vectors_table.h"
 #include "crowd_bench/restore_state_table.h"
-#include "crowd_bench/uploads_table.h"
 #include "crowd_bench/root_motion_table.h"
+#include "crowd_bench/uploads_table.h"
 #include "crowd_bench/views_table.h"
 #include "si/bake/animation_baker.h"
 
@@ -70,12 +71,14 @@ struct Options {
   bool restore_state = false;    // The state contract table.
   std::vector<double> moving;    // The state uploads table's shares moved; empty: no table.
   bool layers = false;           // The layered animation table.
+  bool blend = false;            // The blend spaces and props table.
   std::vector<uint32_t> views;   // The views table's view counts; empty: no views table.
   uint32_t views_lod_bias = 1;   // Its cascades' CrowdViewDesc::lod_bias.
 };
 
 void usage(std::FILE* f) {
-  std::fprintf(f,
+  std::fprintf(
+      f,
       "Times per path are medians over the measured frames (after 2 warm-up frames).\n"
       "Paths: instanced (vertex-shader skinning), compute (compute pre-skinning), gpu-culled\n"
       "(culling, LOD and records on the GPU, one multi-draw with vertex-shader skinning; the CPU\n"
@@ -90,7 +93,8 @@ void usage(std::FILE* f) {
       "usage: crowd_bench [--sizes N,N,...] [--scenes field,stadium,plaza] [--frames N]\n"
       "                   [--paths instanced,compute,gpu-culled,gpu-driven,gpu-culled-occlusion,\n"
       "                    gpu-driven-occlusion,traditional,cpu,rigid]\n"
-      "                   [--lods distance,screen] [--pixel-budget PX] [--lod-chain deep|technique]\n"
+      "                   [--lods distance,screen] [--pixel-budget PX] [--lod-chain "
+      "deep|technique]\n"
       "                   [--lod-min-triangles N]\n"
       "                   [--lod-errors geometric|image] (what the screen-error LOD mode selects\n"
       "                   by: si::lodErrorsByLevel, or the measured image errors of\n"
@@ -129,6 +133,9 @@ void usage(std::FILE* f) {
       "                   everything, side by side)\n"
       "                   [--layers] (the layered animation table: the instanced, compute and\n"
       "                   GPU-driven paths with no overlay, at weight 1 and 0.5, side by side)\n"
+      "                   [--blend] (the blend spaces and props table: every instance playing\n"
+      "                   its clip, blending the walk and the run, holding a staff, and both,\n"
+      "                   side by side)\n"
       "                   [--views N,M,...] (the views table: 1 main view and N - 1 shadow\n"
       "                   cascades per frame, for each count, side by side)\n"
       "                   [--views-lod-bias B] (its cascades' LOD bias, 0 to 7; default 1)\n"
@@ -191,6 +198,8 @@ bool parse(int argc, char** argv, Options* o) {
       for (const std::string& v : si::examples::splitList(argv[++i])) o->moving.push_back(std::stod(v));
     }
     else if (a == "--layers") o->layers = true;
+    else if (a == "--blend")
+      o->blend = true;
     else if (a == "--views" && has) {
       o->views.clear();
       for (const std::string& v : si::examples::splitList(argv[++i])) {
@@ -455,6 +464,10 @@ int main(int argc, char** argv) {
   if (b.o.layers) {
     s = si::bench::layersTable(b.setup, renderer, palette, b.o.sizes, b.o.paths, csv);
     if (!s.isOk()) return fail("layers", s);
+  }
+  if (b.o.blend) {
+    s = si::bench::blendPropsTable(b.setup, palette, rd, b.o.sizes, b.o.paths, csv);
+    if (!s.isOk()) return fail("blend", s);
   }
 
   // Speed against error: each bake configuration, on the field, drawn by --error-path (none
