@@ -140,17 +140,28 @@ Status runPath(Setup& setup, Renderer& renderer, const BakedPalette& palette,
                const std::string& scene, uint32_t count, const std::string& path,
                const LodChoice& lod, Row* row) {
   CrowdManager crowd;
-  InstanceBatcher batcher;
   const std::vector<glm::dvec3> positions = scenePositions(scene, count);
   Status s = makeCrowd(setup, palette, positions, lod, &crowd);
-  if (s.isOk()) s = batcher.init(renderer.batchLimits());
   if (!s.isOk()) return s;
   row->scene = scene;
-  row->path = path;
   row->lod = lod.name();
-  row->instances = count;
-  s = timeFrames(
-      setup, scene, positions,
+  s = timeCrowd(setup, renderer, crowd, scene, positions, path, row);
+  std::vector<uint8_t> rgba;
+  if (s.isOk()) s = setup.context->readPixels(&rgba);
+  if (!s.isOk()) return s;
+  row->covered_pixels = coveredPixels(rgba);
+  return Status();
+}
+
+Status timeCrowd(Setup& setup, Renderer& renderer, CrowdManager& crowd, const std::string& scene,
+                 const std::vector<glm::dvec3>& places, const std::string& path, Row* row) {
+  InstanceBatcher batcher;
+  const Status s = batcher.init(renderer.batchLimits());
+  if (!s.isOk()) return s;
+  row->path = path;
+  row->instances = uint32_t(places.size());
+  return timeFrames(
+      setup, scene, places,
       [&](const Camera& cam) { return stepCrowd(crowd, path, cam, 1.0 / 60.0); },
       [&](const Camera& cam, DrawStats* st, uint32_t* visible) {
         const Status drawn = drawPath(renderer, crowd, batcher, path, cam, st);
@@ -158,11 +169,6 @@ Status runPath(Setup& setup, Renderer& renderer, const BakedPalette& palette,
         return drawn;
       },
       row);
-  std::vector<uint8_t> rgba;
-  if (s.isOk()) s = setup.context->readPixels(&rgba);
-  if (!s.isOk()) return s;
-  row->covered_pixels = coveredPixels(rgba);
-  return Status();
 }
 
 Status timeFrames(const Setup& setup, const std::string& scene,

@@ -107,6 +107,12 @@ void printSideBySideRow(const Row& r, const Row& off, const char* table, std::FI
 /// Its header, the feature's column named `feature`, without the line's end.
 void printSideBySideHeader(const char* feature);
 
+/// Times `path` drawing `crowd` (standing at `places` of `scene`) by `renderer`: a batcher for
+/// the renderer's limits, the crowd stepped 1/60 s a frame (stepCrowd), each frame cleared and
+/// drawn (drawPath); fills the row's path and instance count and its timings (timeFrames).
+Status timeCrowd(Setup& setup, Renderer& renderer, CrowdManager& crowd, const std::string& scene,
+                 const std::vector<glm::dvec3>& places, const std::string& path, Row* row);
+
 /// Times one path on one scene; returns a named error.
 Status runPath(Setup& setup, Renderer& renderer, const BakedPalette& palette,
                const std::string& scene, uint32_t count, const std::string& path,

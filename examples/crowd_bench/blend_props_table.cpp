@@ -35,21 +35,9 @@ Status runState(Setup& setup, Renderer& renderer, const BakedPalette& palette,
     if (s.isOk() && props)
       s = crowd.setVariationMask(handles[i], d.variation_mask | (1u << staff_bit));
   }
-  InstanceBatcher batcher;
-  if (s.isOk()) s = batcher.init(renderer.batchLimits());
   if (!s.isOk()) return s;
-  row->path = path;
   row->lod = kNames[state];
-  row->instances = count;
-  return timeFrames(
-      setup, "field", places,
-      [&](const Camera& cam) { return stepCrowd(crowd, path, cam, 1.0 / 60.0); },
-      [&](const Camera& cam, DrawStats* st, uint32_t* visible) {
-        const Status drawn = drawPath(renderer, crowd, batcher, path, cam, st);
-        *visible = isGpuSelected(path) ? st->gpu_visible : crowd.stats().visible;
-        return drawn;
-      },
-      row);
+  return timeCrowd(setup, renderer, crowd, "field", places, path, row);
 }
 
 }  // namespace

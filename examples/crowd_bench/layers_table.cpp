@@ -31,21 +31,9 @@ Status runLayers(Setup& setup, Renderer& renderer, const BakedPalette& palette,
     for (size_t i = 0; s.isOk() && i < handles.size(); ++i)  // Out of step with each other.
       s = crowd.playOverlay(handles[i], wave, mask, kWeights[state], 0.0, 0.37 * double(i % 7));
   }
-  InstanceBatcher batcher;
-  if (s.isOk()) s = batcher.init(renderer.batchLimits());
   if (!s.isOk()) return s;
-  row->path = path;
   row->lod = kNames[state];
-  row->instances = count;
-  return timeFrames(
-      setup, "field", places,
-      [&](const Camera& cam) { return stepCrowd(crowd, path, cam, 1.0 / 60.0); },
-      [&](const Camera& cam, DrawStats* st, uint32_t* visible) {
-        const Status drawn = drawPath(renderer, crowd, batcher, path, cam, st);
-        *visible = isGpuSelected(path) ? st->gpu_visible : crowd.stats().visible;
-        return drawn;
-      },
-      row);
+  return timeCrowd(setup, renderer, crowd, "field", places, path, row);
 }
 
 }  // namespace

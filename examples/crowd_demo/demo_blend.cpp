@@ -60,10 +60,7 @@ si::Status DemoScene::moveBlends() {
 }
 
 si::Status DemoScene::toggleBlend() {
-  options_.blend = !options_.blend;
-  const si::Status s = applyBlend(0.5);
-  if (!s.isOk()) options_.blend = !options_.blend;  // The scene keeps its previous state.
-  return s;
+  return toggleOption(&options_.blend, [&] { return applyBlend(0.5); });
 }
 
 }  // namespace demo

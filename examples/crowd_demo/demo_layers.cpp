@@ -40,10 +40,7 @@ si::Status DemoScene::applyLayers(double blend_seconds) {
 }
 
 si::Status DemoScene::toggleLayers() {
-  options_.layers = !options_.layers;
-  const si::Status s = applyLayers(0.5);
-  if (!s.isOk()) options_.layers = !options_.layers;  // The scene keeps its previous state.
-  return s;
+  return toggleOption(&options_.layers, [&] { return applyLayers(0.5); });
 }
 
 }  // namespace demo

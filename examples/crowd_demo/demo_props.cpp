@@ -52,10 +52,7 @@ si::Status DemoScene::applyProps() {
 }
 
 si::Status DemoScene::toggleProps() {
-  options_.props = !options_.props;
-  const si::Status s = applyProps();
-  if (!s.isOk()) options_.props = !options_.props;  // The scene keeps its previous state.
-  return s;
+  return toggleOption(&options_.props, [&] { return applyProps(); });
 }
 
 }  // namespace demo

@@ -52,6 +52,16 @@ struct SceneOptions {
 /// The sample models key M mixes in when --mix named none (the sample Fox and CesiumMan).
 std::vector<std::string> defaultMix();
 
+/// Flips `*option` and applies it (`apply`); when that fails the option is flipped back, so the
+/// scene keeps its previous state.
+template <typename Apply>
+si::Status toggleOption(bool* option, Apply apply) {
+  *option = !*option;
+  const si::Status s = apply();
+  if (!s.isOk()) *option = !*option;
+  return s;
+}
+
 class DemoScene {
  public:
   /// Loads the character and its palette (printing the summary), without GL.

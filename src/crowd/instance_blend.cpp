@@ -53,11 +53,8 @@ Status InstanceStore::playBlend(InstanceHandle h, const BlendSpace& space, uint3
   uint32_t i = 0;
   Status s = denseIndex(h, &i);
   if (!s.isOk()) return s;
-  if (root_motion[i]) applyRootMotion(*palette, *clip_timings, clock, *this, i);
+  const float from = restartOverlay(i, clock);
   OverlayState& o = overlays[i];
-  const float from = o.active ? overlayWeight(o, clock) : 0.0f;
-  if (!o.active) ++overlay_count;
-  o.active = true;
   o.blend = true;
   o.space = space_id;
   o.blend_speed = speed;

@@ -294,10 +294,8 @@ Status InstanceStore::playOverlay(InstanceHandle h, uint32_t clip, uint32_t mask
   uint32_t i = 0;
   Status s = denseIndex(h, &i);
   if (!s.isOk()) return s;
-  if (root_motion[i]) applyRootMotion(*palette, *clip_timings, clock, *this, i);
+  const float from = restartOverlay(i, clock);
   OverlayState& o = overlays[i];
-  const float from = o.active ? overlayWeight(o, clock) : 0.0f;
-  if (!o.active) ++overlay_count;
   o.blend = false;  // The new overlay replaces a blend's upper clip; the lower one plays on.
   o.playback = Playback{clip, palette->clips[clip].loop_mode, speed, clock, time_seconds};
   o.mask = mask;
@@ -305,9 +303,17 @@ Status InstanceStore::playOverlay(InstanceHandle h, uint32_t clip, uint32_t mask
   o.weight_to = weight;
   o.fade_start = clock;
   o.fade_duration = blend_seconds;
-  o.active = true;
   changed(i);
   return Status::ok();
+}
+
+float InstanceStore::restartOverlay(uint32_t i, double clock) {
+  if (root_motion[i]) applyRootMotion(*palette, *clip_timings, clock, *this, i);
+  OverlayState& o = overlays[i];
+  const float from = o.active ? overlayWeight(o, clock) : 0.0f;
+  if (!o.active) ++overlay_count;
+  o.active = true;
+  return from;
 }
 
 Status InstanceStore::stopOverlay(InstanceHandle h, double blend_seconds, double clock) {

@@ -72,6 +72,10 @@ struct InstanceStore {
                      double blend_seconds, double time_seconds, float speed, double clock);
   /// Fades `h`'s overlay out over `blend_seconds` (nothing when it has none); a blend ends.
   Status stopOverlay(InstanceHandle h, double blend_seconds, double clock);
+  /// Dense index `i`'s overlay about to start anew at `clock` (playOverlay, playBlend): the root
+  /// motion of what it replaces applied, the overlay counted and marked active; its weight
+  /// before (0 when it played none) to fade from.
+  float restartOverlay(uint32_t i, double clock);
   /// Blend spaces (instance_blend.cpp; arguments checked by the caller except the handle):
   /// starts `space` (crowd id `space_id`) at `parameter` from phase `phase` (cycles), the
   /// instance's clip crossfading to the lower clip and the overlay's weight fading to the
