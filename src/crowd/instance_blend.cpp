@@ -5,6 +5,7 @@
 // in step; each parameter change re-anchors both at the phase reached.
 #include <algorithm>
 #include <cmath>
+#include <limits>
 
 #include "crowd/instance_root_motion.h"
 #include "crowd/instance_store.h"
@@ -23,10 +24,15 @@ void InstanceStore::anchorBlend(uint32_t i, const BlendSpace& space, float param
   const double rate = period > 0.0 ? double(o.blend_speed) / period : 0.0;
   if (phase >= 1.0 || phase < 0.0) phase -= std::floor(phase);  // Cycles repeat.
   if (!(phase >= 0.0 && phase < 1.0)) phase = 0.0;
+  // Each clip at its duration over the period, held within a float (a huge speed over clips of
+  // very different lengths would pass it).
+  const auto speedOf = [&](double seconds) {
+    return float(std::min(seconds * rate, double(std::numeric_limits<float>::max())));
+  };
   // The instance's clip: a crossfade under way keeps fading from what it came from.
-  playback[i] = Playback{lower, palette->clips[lower].loop_mode, float(lower_seconds * rate), clock,
+  playback[i] = Playback{lower, palette->clips[lower].loop_mode, speedOf(lower_seconds), clock,
                          phase * lower_seconds};
-  o.playback = Playback{upper, palette->clips[upper].loop_mode, float(upper_seconds * rate), clock,
+  o.playback = Playback{upper, palette->clips[upper].loop_mode, speedOf(upper_seconds), clock,
                         phase * upper_seconds};
   o.mask = space.mask;
   if (o.fade_duration > 0.0 && clock < o.fade_start + o.fade_duration) {

@@ -267,6 +267,20 @@ TEST(BlendSpace, RootMotionTravelsAsTheClipsBlend) {
   EXPECT_LT(glm::length(half - 0.5 * (straight + turning)), 0.25 * glm::length(straight - turning));
 }
 
+// A speed so large that a clip's rate over the blended period would pass a float is held at
+// the largest float: every playback speed stays finite (the records too).
+TEST(BlendSpace, HugeSpeedsStayFinite) {
+  Blending b;
+  ASSERT_TRUE(b.crowd.playBlend(b.h, b.space, 1.0f, 0.0, 0.0, 3e38f).isOk());
+  ASSERT_TRUE(b.crowd.setBlendParameter(b.h, 4.0f).isOk());
+  InstanceDesc d;
+  ASSERT_TRUE(b.crowd.get(b.h, &d).isOk());
+  EXPECT_TRUE(std::isfinite(d.speed));
+  ASSERT_TRUE(b.crowd.update(0.01, b.camera()).isOk());
+  for (const auto& row : b.crowd.records()[0].world_rows)
+    for (float v : row) EXPECT_TRUE(std::isfinite(v));
+}
+
 TEST(BlendSpace, RefusalsNameWhatIsWrong) {
   Blending b;
   EXPECT_EQ(b.crowd.playBlend(b.h, 7, 1.0f, 0.0).code(), StatusCode::kInvalidArgument);
