@@ -4,6 +4,7 @@
 // that holds it (an overlay), some blending the walk and the run (a blend space), is drawn by
 // every path as the CPU emulation draws it; the prop shows; drawn alone it lies where
 // CrowdManager::socketTransform says.
+#include <cmath>
 #include <cstring>
 
 #include "core/prop_fixture.h"
@@ -268,6 +269,49 @@ TEST_P(PropsRenderTest, PropsOfBlendingCharactersMoveAsTheirSocketsSay) {
     for (size_t i = 0; i < vs.size(); ++i) agree += glm::length(vs[i] - (*other)[i]) < 1e-4f;
     EXPECT_GE(double(agree), 0.995 * double(vs.size()));
   }
+  target.restore();
+  target.release();
+  r.shutdown();
+}
+
+// Depth-only draws (shadow maps) of the blending, prop-holding crowd write the depth the colour
+// draw writes, on drawCrowd's path and the GPU-driven one; without the blends and props the
+// depth differs.
+TEST_P(PropsRenderTest, DepthOnlyDrawsTheBlendedPropHolders) {
+  Renderer r;
+  makePropRenderer(&r);
+  CrowdManager crowd;
+  populate(&crowd);
+  InstanceBatcher batcher;
+  ASSERT_TRUE(batcher.init(r.batchLimits()).isOk());
+  MotionTarget target;
+  ASSERT_TRUE(target.create(kSize, kSize).isOk());
+  const auto depthOf = [&](DrawMode mode, bool gpu_driven) {
+    target.clear(glm::vec4(0.0f));
+    const Status s = gpu_driven ? r.drawCrowdGpuCulled(crowd, view(), nullptr, mode)
+                                : r.drawCrowd(crowd, batcher, view(), nullptr, mode);
+    EXPECT_TRUE(s.isOk()) << s.toString();
+    std::vector<float> depth;
+    EXPECT_TRUE(target.readDepth(&depth).isOk());
+    return depth;
+  };
+  const auto differing = [](const std::vector<float>& a, const std::vector<float>& b) {
+    size_t n = 0;
+    for (size_t i = 0; i < a.size() && i < b.size(); ++i) n += std::abs(a[i] - b[i]) > 1e-6f;
+    return n;
+  };
+  const std::vector<float> colour = depthOf(DrawMode::kSkinned, false);
+  ASSERT_EQ(colour.size(), size_t(kSize) * kSize);
+  EXPECT_EQ(differing(colour, depthOf(DrawMode::kDepthOnly, false)), 0u);
+  EXPECT_LE(differing(colour, depthOf(DrawMode::kDepthOnly, true)), colour.size() / 1000);
+  // Without: every instance back on its plain walk, the body alone.
+  const uint32_t walk = uint32_t(palette().findClip("walk"));
+  for (InstanceHandle h : handles_) {
+    ASSERT_TRUE(crowd.play(h, walk, 0.0, 1.0f).isOk());
+    ASSERT_TRUE(crowd.setVariationMask(h, 0x1u).isOk());
+  }
+  ASSERT_TRUE(crowd.update(0.0, view()).isOk());
+  EXPECT_GT(differing(colour, depthOf(DrawMode::kDepthOnly, false)), colour.size() / 100);
   target.restore();
   target.release();
   r.shutdown();
