@@ -181,6 +181,50 @@ BENCHMARK(crowdFrame)
     ->Unit(benchmark::kMillisecond)
     ->UseRealTime();
 
+// Moving every instance's blend parameter once (CrowdManager::setBlendParameter, what a game
+// does each frame from its characters' speeds): a field of `instances` all blending the walk
+// and the run on a full-body mask, each call re-anchoring both clips at the phase reached.
+// ns_per_instance is one call's cost.
+void moveBlends(benchmark::State& state) {
+  const int64_t count = state.range(0);
+  auto crowd = field(count, -1.0f, 1, 0, false);
+  si::Character c;
+  if (!si::makeDefaultCharacter({}, &c).isOk()) std::abort();
+  si::LayerMask body;
+  uint32_t mask = 0, space = 0;
+  if (!si::buildFullBodyMask(c.skeleton, palette(), "body", &body).isOk() ||
+      !crowd->addLayerMask(body, &mask).isOk() ||
+      !crowd
+           ->addBlendSpace(
+               {"locomotion",
+                {uint32_t(palette().findClip("walk")), uint32_t(palette().findClip("run"))},
+                {0.0f, 1.0f},
+                mask},
+               &space)
+           .isOk())
+    std::abort();
+  std::vector<si::InstanceHandle> handles;
+  std::vector<si::GpuInstanceState> states;
+  crowd->exportGpuState(&states, &handles);
+  for (size_t i = 0; i < handles.size(); ++i)
+    if (!crowd->playBlend(handles[i], space, float(i % 11) / 10.0f, 0.0).isOk()) std::abort();
+  float shift = 0.0f;
+  for (auto _ : state) {
+    shift = shift > 0.5f ? 0.0f : shift + 0.01f;
+    for (size_t i = 0; i < handles.size(); ++i)
+      if (!crowd->setBlendParameter(handles[i], float(i % 11) / 20.0f + shift).isOk()) std::abort();
+  }
+  state.SetItemsProcessed(state.iterations() * count);
+  state.counters["ns_per_instance"] = benchmark::Counter(
+      double(count), benchmark::Counter::kIsIterationInvariantRate | benchmark::Counter::kInvert);
+}
+BENCHMARK(moveBlends)
+    ->Arg(10000)
+    ->Arg(100000)
+    ->ArgName("instances")
+    ->Unit(benchmark::kMillisecond)
+    ->UseRealTime();
+
 }  // namespace
 
 BENCHMARK_MAIN();
