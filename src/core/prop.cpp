@@ -8,25 +8,15 @@
 #include <limits>
 
 #include "core/str_cat.h"
+#include "si/core/transform.h"
 
 namespace si {
 using detail::strCat;
 
 namespace {
 
-bool finite(const glm::mat4& m) {
-  for (int c = 0; c < 4; ++c)
-    for (int r = 0; r < 4; ++r)
-      if (!std::isfinite(m[c][r])) return false;
-  return true;
-}
-
 bool affine(const glm::mat4& m) {
   return m[0][3] == 0.0f && m[1][3] == 0.0f && m[2][3] == 0.0f && m[3][3] == 1.0f;
-}
-
-bool finite(const glm::vec3& v) {
-  return std::isfinite(v.x) && std::isfinite(v.y) && std::isfinite(v.z);
 }
 
 // A unit vector perpendicular to unit `n`.
@@ -41,7 +31,7 @@ Status makeSocket(const Skeleton& skeleton, const std::string& name, const std::
                   const glm::mat4& offset, Socket* out) {
   if (out == nullptr) return {StatusCode::kInvalidArgument, "makeSocket: out is null"};
   if (name.empty()) return {StatusCode::kInvalidArgument, "makeSocket: the socket has no name"};
-  if (!finite(offset))
+  if (!isFinite(offset))
     return {StatusCode::kNotFinite, strCat("makeSocket '", name, "': the offset is not finite")};
   if (!affine(offset))
     return {StatusCode::kInvalidArgument,
@@ -66,7 +56,7 @@ Status makeSocket(const Skeleton& skeleton, const std::string& name, const std::
   s.name = name;
   s.joint = uint32_t(joint);
   s.bind_frame = bind * offset;
-  if (!finite(s.bind_frame))
+  if (!isFinite(s.bind_frame))
     return {StatusCode::kNotFinite, strCat("makeSocket '", name, "': joint '", joint_name,
                                            "' has an inverse bind matrix that cannot be inverted")};
   *out = std::move(s);
@@ -94,8 +84,8 @@ Status PropMesh::validate() const {
   if (!s.isOk()) return s;
   for (size_t v = 0; v < n; ++v) {
     const bool ok =
-        finite(positions[v]) && finite(normals[v]) &&
-        (tangents.empty() || (finite(glm::vec3(tangents[v])) && std::isfinite(tangents[v].w))) &&
+        isFinite(positions[v]) && isFinite(normals[v]) &&
+        (tangents.empty() || isFinite(tangents[v])) &&
         (texcoords.empty() || (std::isfinite(texcoords[v].x) && std::isfinite(texcoords[v].y)));
     if (!ok)
       return {StatusCode::kNotFinite,
@@ -130,7 +120,7 @@ Status attachProp(const Socket& socket, const PropMesh& prop, Character* charact
   if (!s.isOk()) return {s.code(), "attachProp: " + s.message()};
   const glm::mat4& frame = socket.bind_frame;
   const float det = glm::determinant(glm::mat3(frame));
-  if (!finite(frame) || !affine(frame) || det == 0.0f || !std::isfinite(det))
+  if (!isFinite(frame) || !affine(frame) || det == 0.0f || !std::isfinite(det))
     return {StatusCode::kInvalidArgument,
             strCat("attachProp: socket '", socket.name,
                    "' has a frame that is not finite, affine and invertible")};
