@@ -45,17 +45,9 @@ Status CrowdManager::playBlend(InstanceHandle h, uint32_t space, float parameter
 
 Status CrowdManager::setBlendParameter(InstanceHandle h, float parameter) {
   if (!state_) return noCrowd();
-  detail::InstanceStore& st = state_->store;
-  uint32_t i = 0;
-  Status s = st.denseIndex(h, &i);
-  if (!s.isOk()) return s;
   if (!std::isfinite(parameter))
     return {StatusCode::kInvalidArgument, "setBlendParameter: the parameter is not finite"};
-  if (!st.overlays[i].blend)
-    return {StatusCode::kInvalidArgument,
-            "setBlendParameter: the instance plays no blend (playBlend)"};
-  return st.setBlendParameter(h, state_->blend_spaces[st.overlays[i].space], parameter,
-                              state_->clock);
+  return state_->store.setBlendParameter(h, state_->blend_spaces, parameter, state_->clock);
 }
 
 Status CrowdManager::blendState(InstanceHandle h, uint32_t* space, float* parameter,

@@ -80,16 +80,17 @@ Status InstanceStore::playBlend(InstanceHandle h, const BlendSpace& space, uint3
   return Status::ok();
 }
 
-Status InstanceStore::setBlendParameter(InstanceHandle h, const BlendSpace& space, float parameter,
-                                        double clock) {
+Status InstanceStore::setBlendParameter(InstanceHandle h, const std::vector<BlendSpace>& spaces,
+                                        float parameter, double clock) {
   uint32_t i = 0;
   Status s = denseIndex(h, &i);
   if (!s.isOk()) return s;
   const OverlayState& o = overlays[i];
   if (!o.blend)
-    return {StatusCode::kInvalidArgument, "setBlendParameter: the instance plays no blend"};
+    return {StatusCode::kInvalidArgument,
+            "setBlendParameter: the instance plays no blend (playBlend)"};
   if (root_motion[i]) applyRootMotion(*palette, *clip_timings, clock, *this, i);
-  anchorBlend(i, space, parameter, blendPhase(o, clock), clock);
+  anchorBlend(i, spaces[o.space], parameter, blendPhase(o, clock), clock);
   return Status::ok();
 }
 

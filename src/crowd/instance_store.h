@@ -82,9 +82,9 @@ struct InstanceStore {
   /// blend's over `blend_seconds` (0: at once).
   Status playBlend(InstanceHandle h, const BlendSpace& space, uint32_t space_id, float parameter,
                    double blend_seconds, double phase, float speed, double clock);
-  /// Moves a blending instance to `parameter`, keeping its phase (kInvalidArgument when it
-  /// does not blend).
-  Status setBlendParameter(InstanceHandle h, const BlendSpace& space, float parameter,
+  /// Moves a blending instance to `parameter` on its space (of `spaces`, the crowd's), keeping
+  /// its phase (kInvalidArgument when it does not blend).
+  Status setBlendParameter(InstanceHandle h, const std::vector<BlendSpace>& spaces, float parameter,
                            double clock);
   /// Dense index `i`'s playback and overlay for its blend at `parameter` from `phase` at
   /// `clock` (a crossfade or weight fade under way keeps running towards the new clips).
