@@ -229,15 +229,10 @@ TEST_P(LayeredRenderTest, DepthOnlyDrawsTheOverlaidPose) {
     EXPECT_TRUE(target.readDepth(&depth).isOk());
     return depth;
   };
-  const auto differing = [](const std::vector<float>& a, const std::vector<float>& b) {
-    size_t n = 0;
-    for (size_t i = 0; i < a.size() && i < b.size(); ++i) n += std::abs(a[i] - b[i]) > 1e-6f;
-    return n;
-  };
   const std::vector<float> colour = depthOf(DrawMode::kSkinned);
   const std::vector<float> depth_only = depthOf(DrawMode::kDepthOnly);
   ASSERT_EQ(colour.size(), size_t(kSize) * kSize);
-  EXPECT_EQ(differing(colour, depth_only), 0u);
+  EXPECT_EQ(differingDepths(colour, depth_only), 0u);
   // The GPU-driven depth-only draw (vertex-shader skinning: composed rows) writes it too.
   target.clear(glm::vec4(0.0f));
   DrawStats gpu_stats;
@@ -245,11 +240,11 @@ TEST_P(LayeredRenderTest, DepthOnlyDrawsTheOverlaidPose) {
   EXPECT_EQ(gpu_stats.compose_dispatches, 1u);
   std::vector<float> gpu_depth;
   ASSERT_TRUE(target.readDepth(&gpu_depth).isOk());
-  EXPECT_LE(differing(colour, gpu_depth), colour.size() / 1000);
+  EXPECT_LE(differingDepths(colour, gpu_depth), colour.size() / 1000);
   for (InstanceHandle h : handles_) ASSERT_TRUE(crowd.stopOverlay(h, 0.0).isOk());
   ASSERT_TRUE(crowd.update(0.0, closeView()).isOk());
   const std::vector<float> plain = depthOf(DrawMode::kDepthOnly);
-  EXPECT_GT(differing(plain, depth_only), colour.size() / 100);  // The arms moved.
+  EXPECT_GT(differingDepths(plain, depth_only), colour.size() / 100);  // The arms moved.
   target.restore();
   target.release();
   r.shutdown();
@@ -368,15 +363,9 @@ TEST_P(LayeredRenderTest, MotionVectorsFollowTheOverlay) {
   EXPECT_LT(largest(still), 1e-3f);
   EXPECT_LT(largest(gpu_still), 1e-3f);
   // Both skinning paths and both GPU-driven draws agree.
-  const auto expectAgree = [](const std::vector<glm::vec2>& a, const std::vector<glm::vec2>& b) {
-    ASSERT_EQ(a.size(), b.size());
-    size_t agree = 0;
-    for (size_t i = 0; i < a.size(); ++i) agree += glm::length(a[i] - b[i]) < 1e-4f;
-    EXPECT_GE(double(agree), 0.995 * double(a.size()));
-  };
   for (const std::vector<glm::vec2>* other : {&waving_cs, &gpu_vs, &gpu_cs}) {
     SCOPED_TRACE(other - &waving_vs);
-    expectAgree(waving_vs, *other);
+    expectMotionAgrees(waving_vs, *other);
   }
   // Walking and waving: the composed previous rows (previous records and previous layer
   // records) move as the per-vertex chain walk's, and as pre-skinning's.
@@ -386,8 +375,8 @@ TEST_P(LayeredRenderTest, MotionVectorsFollowTheOverlay) {
   r.setComposeLayers(false);
   motionOf(1.0f, DrawMode::kSkinned, false, &walking_walk, 1.0f);
   r.setComposeLayers(true);
-  expectAgree(walking_composed, walking_walk);
-  expectAgree(walking_composed, walking_cs);
+  expectMotionAgrees(walking_composed, walking_walk);
+  expectMotionAgrees(walking_composed, walking_cs);
   target.restore();
   target.release();
   r.shutdown();

@@ -264,10 +264,7 @@ TEST_P(PropsRenderTest, PropsOfBlendingCharactersMoveAsTheirSocketsSay) {
   EXPECT_LT(glm::length(mean - expected) * kSize, 0.25);
   for (const std::vector<glm::vec2>* other : {&cs, &gpu_vs, &gpu_cs}) {
     SCOPED_TRACE(other - &vs);
-    ASSERT_EQ(other->size(), vs.size());
-    size_t agree = 0;
-    for (size_t i = 0; i < vs.size(); ++i) agree += glm::length(vs[i] - (*other)[i]) < 1e-4f;
-    EXPECT_GE(double(agree), 0.995 * double(vs.size()));
+    expectMotionAgrees(vs, *other);
   }
   target.restore();
   target.release();
@@ -295,15 +292,10 @@ TEST_P(PropsRenderTest, DepthOnlyDrawsTheBlendedPropHolders) {
     EXPECT_TRUE(target.readDepth(&depth).isOk());
     return depth;
   };
-  const auto differing = [](const std::vector<float>& a, const std::vector<float>& b) {
-    size_t n = 0;
-    for (size_t i = 0; i < a.size() && i < b.size(); ++i) n += std::abs(a[i] - b[i]) > 1e-6f;
-    return n;
-  };
   const std::vector<float> colour = depthOf(DrawMode::kSkinned, false);
   ASSERT_EQ(colour.size(), size_t(kSize) * kSize);
-  EXPECT_EQ(differing(colour, depthOf(DrawMode::kDepthOnly, false)), 0u);
-  EXPECT_LE(differing(colour, depthOf(DrawMode::kDepthOnly, true)), colour.size() / 1000);
+  EXPECT_EQ(differingDepths(colour, depthOf(DrawMode::kDepthOnly, false)), 0u);
+  EXPECT_LE(differingDepths(colour, depthOf(DrawMode::kDepthOnly, true)), colour.size() / 1000);
   // Without: every instance back on its plain walk, the body alone.
   const uint32_t walk = uint32_t(palette().findClip("walk"));
   for (InstanceHandle h : handles_) {
@@ -311,7 +303,7 @@ TEST_P(PropsRenderTest, DepthOnlyDrawsTheBlendedPropHolders) {
     ASSERT_TRUE(crowd.setVariationMask(h, 0x1u).isOk());
   }
   ASSERT_TRUE(crowd.update(0.0, view()).isOk());
-  EXPECT_GT(differing(colour, depthOf(DrawMode::kDepthOnly, false)), colour.size() / 100);
+  EXPECT_GT(differingDepths(colour, depthOf(DrawMode::kDepthOnly, false)), colour.size() / 100);
   target.restore();
   target.release();
   r.shutdown();

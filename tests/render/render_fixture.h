@@ -90,6 +90,22 @@ inline Diff compare(const std::vector<uint8_t>& a, const std::vector<uint8_t>& b
   return d;
 }
 
+// Texels of two depth images more than 1e-6 apart.
+inline size_t differingDepths(const std::vector<float>& a, const std::vector<float>& b) {
+  size_t n = 0;
+  for (size_t i = 0; i < a.size() && i < b.size(); ++i) n += std::abs(a[i] - b[i]) > 1e-6f;
+  return n;
+}
+
+// Two motion images (MotionTarget::readMotion) of one size agree: at least 99.5 % of their
+// texels within 1e-4 texture units.
+inline void expectMotionAgrees(const std::vector<glm::vec2>& a, const std::vector<glm::vec2>& b) {
+  ASSERT_EQ(a.size(), b.size());
+  size_t agree = 0;
+  for (size_t i = 0; i < a.size(); ++i) agree += glm::length(a[i] - b[i]) < 1e-4f;
+  EXPECT_GE(double(agree), 0.995 * double(a.size()));
+}
+
 // Scenes defined below the fixture.
 inline Camera closeCamera();
 inline Camera lodCamera();
