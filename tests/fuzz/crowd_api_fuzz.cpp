@@ -19,9 +19,11 @@
 
 #include "si/bake/animation_baker.h"
 #include "si/core/layer_mask.h"
-#include "si/core/prop.h"
 #include "si/crowd/crowd_manager.h"
 #include "si/crowd/instance_batcher.h"
+
+#include "fuzz_input.h"
+#include "prop_fuzz_step.h"
 
 namespace {
 
@@ -94,37 +96,7 @@ const si::BakedPalette& palette() {
   return p;
 }
 
-// Reads the input; past its end everything is zero.
-class Input {
- public:
-  Input(const uint8_t* data, size_t size) : data_(data), size_(size) {}
-  bool done() const { return pos_ >= size_; }
-  uint8_t u8() { return pos_ < size_ ? data_[pos_++] : 0; }
-  uint32_t u32() {
-    uint32_t v = 0;
-    for (int i = 0; i < 4; ++i) v |= uint32_t(u8()) << (8 * i);
-    return v;
-  }
-  // A value that is hostile half of the time, any bit pattern otherwise.
-  double f64() {
-    static const double kHostile[] = {std::numeric_limits<double>::quiet_NaN(),
-                                      std::numeric_limits<double>::infinity(),
-                                      -std::numeric_limits<double>::infinity(),
-                                      0.0, -0.0, 1e-300, -1.0, 1e300, -1e300, 1e9, 0.5, 1.0,
-                                      std::numeric_limits<double>::max(), 1.0 / 60.0};
-    const uint8_t pick = u8();
-    if (pick < 128) return kHostile[pick % (sizeof(kHostile) / sizeof(kHostile[0]))];
-    uint64_t bits = uint64_t(u32()) | (uint64_t(u32()) << 32);
-    double v;
-    std::memcpy(&v, &bits, 8);
-    return v;
-  }
-  float f32() { return float(f64()); }
-
- private:
-  const uint8_t* data_;
-  size_t size_, pos_ = 0;
-};
+using si::fuzz::Input;
 
 // Everything a call could change, to compare before and after a rejected call.
 struct Snapshot {
@@ -324,57 +296,6 @@ void checkFrame(const si::CrowdManager& crowd) {
 
 }  // namespace
 
-// makeSocket and attachProp with a hostile socket (any joint name, any offset) and mesh (counts,
-// indices, materials and images sometimes out of range, values sometimes not finite): a refusal
-// names why and leaves the character as it was; an attached prop adds one sub-mesh and its
-// vertices, weighted 1 to the socket's joint, and the character still validates.
-void attachFuzzedProp(Input& in) {
-  si::Character c = character();
-  const size_t vertices = c.mesh.vertexCount(), parts = c.mesh.sub_meshes.size();
-  glm::mat4 offset(1.0f);
-  for (int k = 0; k < 4; ++k) offset[3][k % 3] = in.f32();
-  if (in.u8() < 32) offset[in.u8() % 4][in.u8() % 4] = in.f32();
-  const char* names[] = {"j0", "j1", "j2", "nope"};
-  si::Socket socket;
-  si::Status s =
-      si::makeSocket(c.skeleton, in.u8() & 1 ? "grip" : "", names[in.u8() % 4], offset, &socket);
-  if (!s.isOk()) {
-    if (s.message().empty()) fail("a refused makeSocket has no message");
-    return;
-  }
-  si::PropMesh p;
-  p.name = in.u8() & 1 ? "prop" : (in.u8() & 1 ? "body" : "");
-  const size_t n = in.u8() % 9;
-  for (size_t v = 0; v < n; ++v) {
-    p.positions.push_back(glm::vec3(in.f32(), in.f32(), in.f32()));
-    p.normals.push_back(glm::vec3(in.f32(), in.f32(), in.f32()));
-    if (in.u8() & 1) p.texcoords.push_back(glm::vec2(in.f32(), in.f32()));
-    if (in.u8() & 1) p.tangents.push_back(glm::vec4(in.f32(), in.f32(), in.f32(), 1.0f));
-    if (in.u8() & 1) p.vertex_materials.push_back(uint16_t(in.u8() % 3));
-  }
-  const size_t indices = in.u8() % 13;
-  for (size_t i = 0; i < indices; ++i) p.indices.push_back(in.u8() % 10);
-  const size_t materials = in.u8() % 3;
-  for (size_t m = 0; m < materials; ++m)
-    p.materials.push_back(si::Material{"m", glm::vec4(1.0f), int32_t(in.u8() % 3) - 1});
-  if (in.u8() & 1)
-    p.images.push_back(si::Image{in.u8() % 3u, 1, std::vector<uint8_t>(4 * (in.u8() % 3u), 255)});
-  uint32_t part = 0;
-  s = si::attachProp(socket, p, &c, &part);
-  if (!s.isOk()) {
-    if (s.message().empty()) fail("a refused attachProp has no message");
-    if (c.mesh.vertexCount() != vertices || c.mesh.sub_meshes.size() != parts)
-      fail("a refused attachProp changed the character");
-    return;
-  }
-  if (part != parts || c.mesh.sub_meshes.size() != parts + 1 ||
-      c.mesh.vertexCount() != vertices + n || !c.validate().isOk())
-    fail("an attached prop is not one more valid sub-mesh");
-  for (size_t v = vertices; v < c.mesh.vertexCount(); ++v)
-    if (c.mesh.joints[v][0] != socket.joint || c.mesh.weights[v][0] != 1.0f)
-      fail("a prop vertex is not on its joint");
-}
-
 extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
   Input in(data, size);
   si::CrowdDesc cd;
@@ -506,7 +427,7 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
         break;
       }
       case 11:  // Props: a hostile socket and mesh attached to a copy of the character.
-        attachFuzzedProp(in);
+        attachFuzzedProp(character(), in, fail);
         break;
       default: {  // Queries change nothing.
         si::InstanceDesc d;
