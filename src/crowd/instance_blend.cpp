@@ -95,13 +95,7 @@ Status InstanceStore::setBlendParameter(InstanceHandle h, const std::vector<Blen
 }
 
 void InstanceStore::endBlend(uint32_t i, double seconds, double clock) {
-  OverlayState& o = overlays[i];
-  if (!o.blend) return;
-  o.blend = false;
-  o.weight_from = seconds > 0.0 ? overlayWeight(o, clock) : 0.0f;
-  o.weight_to = 0.0f;
-  o.fade_start = clock;
-  o.fade_duration = seconds;
+  if (overlays[i].blend) fadeOverlayOut(i, seconds, clock);
 }
 
 }  // namespace si::detail

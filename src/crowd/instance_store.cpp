@@ -307,6 +307,15 @@ Status InstanceStore::playOverlay(InstanceHandle h, uint32_t clip, uint32_t mask
   return Status::ok();
 }
 
+void InstanceStore::fadeOverlayOut(uint32_t i, double seconds, double clock) {
+  OverlayState& o = overlays[i];
+  o.blend = false;
+  o.weight_from = seconds > 0.0 ? overlayWeight(o, clock) : 0.0f;
+  o.weight_to = 0.0f;
+  o.fade_start = clock;
+  o.fade_duration = seconds;
+}
+
 float InstanceStore::restartOverlay(uint32_t i, double clock) {
   if (root_motion[i]) applyRootMotion(*palette, *clip_timings, clock, *this, i);
   OverlayState& o = overlays[i];
@@ -323,11 +332,7 @@ Status InstanceStore::stopOverlay(InstanceHandle h, double blend_seconds, double
   OverlayState& o = overlays[i];
   if (!o.active) return Status::ok();
   if (root_motion[i] && o.blend) applyRootMotion(*palette, *clip_timings, clock, *this, i);
-  o.blend = false;
-  o.weight_from = blend_seconds > 0.0 ? overlayWeight(o, clock) : 0.0f;
-  o.weight_to = 0.0f;
-  o.fade_start = clock;
-  o.fade_duration = blend_seconds;
+  fadeOverlayOut(i, blend_seconds, clock);
   changed(i);
   return Status::ok();
 }

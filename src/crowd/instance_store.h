@@ -72,6 +72,9 @@ struct InstanceStore {
                      double blend_seconds, double time_seconds, float speed, double clock);
   /// Fades `h`'s overlay out over `blend_seconds` (nothing when it has none); a blend ends.
   Status stopOverlay(InstanceHandle h, double blend_seconds, double clock);
+  /// Fades dense index `i`'s overlay out over `seconds` (0: at once) from the weight it has at
+  /// `clock`; a blend ends (the lower clip plays on).
+  void fadeOverlayOut(uint32_t i, double seconds, double clock);
   /// Dense index `i`'s overlay about to start anew at `clock` (playOverlay, playBlend): the root
   /// motion of what it replaces applied, the overlay counted and marked active; its weight
   /// before (0 when it played none) to fade from.
