@@ -215,61 +215,117 @@ std::vector<int32_t> layerMaskTable(Span<const LayerMask> masks) {
 
 glm::mat4 emulateLayeredMatrix(const LayerMask& mask, uint32_t slot, float weight,
                                const SlotMatrices& base, const SlotMatrices& overlay) {
+  const LayerPose layer{overlay, weight};
+  return emulateLayeredChain(mask, slot, base, Span<const LayerPose>(&layer, 1));
+}
+
+glm::mat4 emulateLayeredChain(const LayerMask& mask, uint32_t slot, const SlotMatrices& base,
+                              Span<const LayerPose> layers) {
   const glm::mat4 base_slot = base(slot);
-  if (!(weight > 0.0f) || !mask.contains(slot)) return base_slot;
+  if (!mask.contains(slot)) return base_slot;
+  // The layers drawn: from the last one at weight 1 (it replaces those before it) on.
+  size_t first = 0, drawn = 0, last = 0;
+  for (size_t k = 0; k < layers.size(); ++k) {
+    if (layers[k].weight >= 1.0f) first = k;
+  }
+  for (size_t k = first; k < layers.size(); ++k)
+    if (layers[k].weight > 0.0f) {
+      ++drawn;
+      last = k;
+    }
+  if (drawn == 0) return base_slot;
   const int32_t anchor = mask.slot_anchor[slot];
   const glm::mat4 identity(1.0f);
-  const glm::mat4 base_anchor = anchor >= 0 ? base(uint32_t(anchor)) : identity;
-  const glm::mat4 overlay_anchor = anchor >= 0 ? overlay(uint32_t(anchor)) : identity;
-  glm::mat4 child_overlay = overlay(slot);
-  // Weight 1: the overlay's branch attached to the base's anchor.
-  if (weight >= 1.0f) return base_anchor * affineInverse(overlay_anchor) * child_overlay;
-  // Between: each link from the slot up to the anchor (layerChain, then the anchor) blended in
-  // local space, composed on the base's anchor.
+  const auto at = [&](const SlotMatrices& pose, int32_t s) {
+    return s >= 0 ? pose(uint32_t(s)) : identity;
+  };
+  const glm::mat4 base_anchor = at(base, anchor);
+  // A layer at weight 1 drawn alone: its branch attached to the base's anchor.
+  if (drawn == 1 && layers[last].weight >= 1.0f)
+    return base_anchor * affineInverse(at(layers[last].matrices, anchor)) *
+           layers[last].matrices(slot);
+  // Each link from the slot up to the anchor (layerChain, then the anchor) blended in local
+  // space, layer after layer, composed on the base's anchor.
+  const bool from_layer = layers[first].weight >= 1.0f;
   const std::vector<uint32_t> chain = layerChain(mask, slot);
+  std::vector<glm::mat4> child(layers.size());
+  for (size_t k = first; k < layers.size(); ++k)
+    if (layers[k].weight > 0.0f) child[k] = layers[k].matrices(slot);
   glm::mat4 blended(1.0f), child_base = base_slot;
   uint32_t link = slot;
   for (size_t i = 0;; ++i) {
     const bool to_anchor = i == chain.size();
-    const glm::mat4 parent_base = to_anchor ? base_anchor : base(chain[i]);
-    const glm::mat4 parent_overlay = to_anchor ? overlay_anchor : overlay(chain[i]);
+    const int32_t up = to_anchor ? anchor : int32_t(chain[i]);
+    const glm::mat4 parent_base = at(base, up);
     const glm::vec3 pivot =
         link < mask.slot_bind_origin.size() ? mask.slot_bind_origin[link] : glm::vec3(0.0f);
-    blended = localBlend(affineInverse(parent_base) * child_base,
-                         affineInverse(parent_overlay) * child_overlay, pivot, weight) * blended;
+    glm::mat4 local = affineInverse(parent_base) * child_base;
+    for (size_t k = first; k < layers.size(); ++k) {
+      if (!(layers[k].weight > 0.0f)) continue;
+      const glm::mat4 parent = at(layers[k].matrices, up);
+      const glm::mat4 own = affineInverse(parent) * child[k];
+      local = k == first && from_layer ? own : localBlend(local, own, pivot, layers[k].weight);
+      child[k] = parent;
+    }
+    blended = local * blended;
     if (to_anchor) return parent_base * blended;
     link = chain[i];
     child_base = parent_base;
-    child_overlay = parent_overlay;
   }
 }
 
-Status evaluateLayeredPose(const Skeleton& skeleton, const Clip& base, double base_time,
-                           const Clip& overlay, double overlay_time, const LayerMask& mask,
-                           double weight, ReferencePose* pose) {
-  if (pose == nullptr) return {StatusCode::kInvalidArgument, "evaluateLayeredPose: null pose"};
-  if (!(weight >= 0.0 && weight <= 1.0))
-    return {StatusCode::kInvalidArgument, "evaluateLayeredPose: weight outside [0, 1]"};
+namespace {
+
+// evaluateLayeredChainPose, its messages naming `who`.
+Status chainPose(const char* who, const Skeleton& skeleton, const Clip& base, double base_time,
+                 Span<const LayerSample> layers, const LayerMask& mask, ReferencePose* pose) {
+  if (pose == nullptr) return {StatusCode::kInvalidArgument, strCat(who, ": null pose")};
+  for (const LayerSample& l : layers) {
+    if (l.clip == nullptr)
+      return {StatusCode::kInvalidArgument, strCat(who, ": a layer's clip is null")};
+    if (!(l.weight >= 0.0 && l.weight <= 1.0))
+      return {StatusCode::kInvalidArgument, strCat(who, ": weight outside [0, 1]")};
+  }
   for (uint32_t j : mask.joints)
     if (j >= skeleton.jointCount())
-      return {StatusCode::kInvalidArgument, "evaluateLayeredPose: a mask joint is past the skeleton"};
-  ReferencePose b, o;
+      return {StatusCode::kInvalidArgument, strCat(who, ": a mask joint is past the skeleton")};
+  ReferencePose b;
   Status s = evaluatePose(skeleton, base, base_time, &b);
-  if (s.isOk()) s = evaluatePose(skeleton, overlay, overlay_time, &o);
   if (!s.isOk()) return s;
-  for (uint32_t j : mask.joints) {
-    TransformD& l = b.local[j];
-    const TransformD& v = o.local[j];
-    l.translation = glm::mix(l.translation, v.translation, weight);
-    l.scale = glm::mix(l.scale, v.scale, weight);
-    glm::dquat q = v.rotation;
-    if (glm::dot(l.rotation, q) < 0.0) q = -q;  // The shorter arc.
-    l.rotation = glm::slerp(glm::normalize(l.rotation), glm::normalize(q), weight);
+  for (const LayerSample& l : layers) {
+    ReferencePose o;
+    s = evaluatePose(skeleton, *l.clip, l.time, &o);
+    if (!s.isOk()) return s;
+    for (uint32_t j : mask.joints) {
+      TransformD& t = b.local[j];
+      const TransformD& v = o.local[j];
+      t.translation = glm::mix(t.translation, v.translation, l.weight);
+      t.scale = glm::mix(t.scale, v.scale, l.weight);
+      glm::dquat q = v.rotation;
+      if (glm::dot(t.rotation, q) < 0.0) q = -q;  // The shorter arc.
+      t.rotation = glm::slerp(glm::normalize(t.rotation), glm::normalize(q), l.weight);
+    }
   }
   s = composePose(skeleton, b.local, b.model, b.skinning);
   if (!s.isOk()) return s;
   *pose = std::move(b);
   return Status::ok();
+}
+
+}  // namespace
+
+Status evaluateLayeredPose(const Skeleton& skeleton, const Clip& base, double base_time,
+                           const Clip& overlay, double overlay_time, const LayerMask& mask,
+                           double weight, ReferencePose* pose) {
+  const LayerSample layer{&overlay, overlay_time, weight};
+  return chainPose("evaluateLayeredPose", skeleton, base, base_time,
+                   Span<const LayerSample>(&layer, 1), mask, pose);
+}
+
+Status evaluateLayeredChainPose(const Skeleton& skeleton, const Clip& base, double base_time,
+                                Span<const LayerSample> layers, const LayerMask& mask,
+                                ReferencePose* pose) {
+  return chainPose("evaluateLayeredChainPose", skeleton, base, base_time, layers, mask, pose);
 }
 
 }  // namespace si

@@ -5,6 +5,7 @@
 // reference (the embedded character waving its right arm while it walks).
 #include <gtest/gtest.h>
 
+#include <array>
 #include <cstdio>
 #include <cstring>
 #include <limits>
@@ -166,6 +167,73 @@ TEST(LayeredAnimation, TheBlendIsTheLocalSpaceLayering) {
   }
   std::printf("[ layered  ] naive switch %.3g units\n", worst_naive);
   EXPECT_GT(worst_naive, 1e-3);  // The walk moves the chest; the naive arm does not follow.
+}
+
+// Layers composed one after another (a 2D blend's chain) on a branch hung from the chest:
+// emulateLayeredChain from the exact poses' matrices against evaluateLayeredChainPose, at
+// several weight sets; weight-0 layers change nothing; a layer at weight 1 replaces those before
+// it; one layer is emulateLayeredMatrix.
+TEST(LayeredAnimation, AChainOfLayersIsTheLocalSpaceChain) {
+  const Baked& b = baked();
+  const Character& c = b.character;
+  LayerMask arm;
+  ASSERT_TRUE(buildLayerMask(c.skeleton, b.palette, "arm", {"r_clavicle"}, &arm).isOk());
+  const Clip* clips[4] = {&c.clips[size_t(c.findClip("walk"))], &c.clips[size_t(c.findClip("run"))],
+                          &c.clips[size_t(c.findClip("wave"))],
+                          &c.clips[size_t(c.findClip("idle"))]};
+  const double t = 0.37;
+  ReferencePose poses[4];
+  for (int k = 0; k < 4; ++k) ASSERT_TRUE(evaluatePose(c.skeleton, *clips[k], t, &poses[k]).isOk());
+  const auto matrices = [&](const ReferencePose& pose) -> SlotMatrices {
+    return [&](uint32_t slot) { return glm::mat4(pose.skinning[b.palette.palette_joints[slot]]); };
+  };
+  const auto chainError = [&](std::array<float, 3> w) {
+    std::vector<LayerPose> layers;
+    std::vector<LayerSample> samples;
+    for (int k = 0; k < 3; ++k) {
+      layers.push_back({matrices(poses[k + 1]), w[k]});
+      samples.push_back({clips[k + 1], t, double(w[k])});
+    }
+    ReferencePose chained;
+    EXPECT_TRUE(evaluateLayeredChainPose(c.skeleton, *clips[0], t, samples, arm, &chained).isOk());
+    double worst = 0.0;
+    for (uint32_t slot = 0; slot < arm.slot_anchor.size(); ++slot) {
+      const uint32_t j = b.palette.palette_joints[slot];
+      const glm::mat4 m = emulateLayeredChain(arm, slot, matrices(poses[0]), layers);
+      const glm::dvec3 p = glm::dvec3(glm::inverse(c.skeleton.inverse_bind_matrices[j])[3]);
+      const glm::dvec3 expected = glm::dvec3(chained.skinning[j] * glm::dvec4(p, 1.0));
+      worst = std::max(worst, glm::length(glm::dvec3(m * glm::vec4(p, 1.0)) - expected));
+    }
+    return worst;
+  };
+  for (const std::array<float, 3>& w :
+       {std::array<float, 3>{0.4f, 0.3f, 0.2f}, std::array<float, 3>{0.5f, 0.0f, 0.6f},
+        std::array<float, 3>{0.3f, 1.0f, 0.25f}, std::array<float, 3>{0.0f, 0.0f, 1.0f}}) {
+    const double e = chainError(w);
+    std::printf("[ layered  ] chain %.2f %.2f %.2f: %.3g units\n", w[0], w[1], w[2], e);
+    EXPECT_LT(e, 1e-5);
+  }
+  // The chain's arithmetic: zero weights skipped, weight 1 replacing, one layer as before.
+  const uint32_t hand = uint32_t(slotOf("r_hand"));
+  const std::vector<LayerPose> one{{matrices(poses[2]), 0.6f}};
+  const std::vector<LayerPose> padded{
+      {matrices(poses[1]), 0.0f}, {matrices(poses[2]), 0.6f}, {matrices(poses[3]), 0.0f}};
+  const std::vector<LayerPose> replaced{{matrices(poses[1]), 0.7f}, {matrices(poses[2]), 1.0f}};
+  const std::vector<LayerPose> alone{{matrices(poses[2]), 1.0f}};
+  const glm::mat4 single =
+      emulateLayeredMatrix(arm, hand, 0.6f, matrices(poses[0]), matrices(poses[2]));
+  EXPECT_EQ(emulateLayeredChain(arm, hand, matrices(poses[0]), one), single);
+  EXPECT_EQ(emulateLayeredChain(arm, hand, matrices(poses[0]), padded), single);
+  EXPECT_EQ(emulateLayeredChain(arm, hand, matrices(poses[0]), replaced),
+            emulateLayeredChain(arm, hand, matrices(poses[0]), alone));
+  EXPECT_NE(emulateLayeredChain(arm, hand, matrices(poses[0]), replaced), single);
+  ReferencePose unused;
+  const std::vector<LayerSample> null_clip{{nullptr, 0.0, 0.5}};
+  EXPECT_EQ(evaluateLayeredChainPose(c.skeleton, *clips[0], t, null_clip, arm, &unused).code(),
+            StatusCode::kInvalidArgument);
+  const std::vector<LayerSample> heavy{{clips[1], 0.0, 1.5}};
+  EXPECT_EQ(evaluateLayeredChainPose(c.skeleton, *clips[0], t, heavy, arm, &unused).code(),
+            StatusCode::kInvalidArgument);
 }
 
 // The palette blend against the reference blending local transforms: at every weight only

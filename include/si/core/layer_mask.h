@@ -130,6 +130,22 @@ using SlotMatrices = std::function<glm::mat4(uint32_t slot)>;
 glm::mat4 emulateLayeredMatrix(const LayerMask& mask, uint32_t slot, float weight,
                                const SlotMatrices& base, const SlotMatrices& overlay);
 
+/// One overlay of a chain (emulateLayeredChain): its pose and its weight over what the layers
+/// before it composed.
+struct LayerPose {
+  SlotMatrices matrices;
+  float weight = 0.0f;
+};
+
+/// Layers composed one after another on one mask (a blend of up to four clips, si::BlendSpace):
+/// layer k blends each masked link's local transform a fraction `weight` of the way from what
+/// the base and layers 0..k-1 gave to its own. One layer is emulateLayeredMatrix(). Layers at
+/// weight 0 are skipped; a layer at weight 1 replaces all before it, and when it is the last
+/// one drawn its branch is attached to the base's anchor as emulateLayeredMatrix() does at
+/// weight 1. Outside the mask, or with every weight 0, base(slot).
+glm::mat4 emulateLayeredChain(const LayerMask& mask, uint32_t slot, const SlotMatrices& base,
+                              Span<const LayerPose> layers);
+
 /// The palette slots of `slot`'s masked ancestors in `mask`, parent first (slot_parent followed
 /// to kNoParentSlot, at most the mask's slot count): the chain emulateLayeredMatrix follows.
 std::vector<uint32_t> layerChain(const LayerMask& mask, uint32_t slot);
@@ -142,5 +158,21 @@ std::vector<uint32_t> layerChain(const LayerMask& mask, uint32_t slot);
 Status evaluateLayeredPose(const Skeleton& skeleton, const Clip& base, double base_time,
                            const Clip& overlay, double overlay_time, const LayerMask& mask,
                            double weight, ReferencePose* pose);
+
+/// One overlay of evaluateLayeredChainPose: a clip at a time, and its weight over what the layers
+/// before it composed.
+struct LayerSample {
+  const Clip* clip = nullptr;
+  double time = 0.0;
+  double weight = 0.0;
+};
+
+/// The reference of a chain of layers on one mask: `base` at `base_time` on every joint, then
+/// for each layer in order the mask's local transforms blended towards it by its weight (as
+/// evaluateLayeredPose blends one). Fails as evaluateLayeredPose() does, and kInvalidArgument
+/// for a null clip.
+Status evaluateLayeredChainPose(const Skeleton& skeleton, const Clip& base, double base_time,
+                                Span<const LayerSample> layers, const LayerMask& mask,
+                                ReferencePose* pose);
 
 }  // namespace si
