@@ -3,6 +3,7 @@
 // a phase-synchronised blend.
 #include "si/crowd/blend_space.h"
 
+#include <algorithm>
 #include <cmath>
 
 #include "core/str_cat.h"
@@ -17,17 +18,29 @@ Status BlendSpace::validate(const BakedPalette& palette, uint32_t mask_count) co
   if (name.empty()) return {StatusCode::kInvalidArgument, "blend space: it has no name"};
   if (clips.size() < 2 || clips.size() > kMaxBlendClips)
     return bad(strCat(clips.size(), " clips; a blend space holds 2 to ", kMaxBlendClips));
-  if (positions.size() != clips.size())
+  if (!is2D() && positions.size() != clips.size())
     return bad(strCat(positions.size(), " positions for ", clips.size(), " clips"));
-  for (size_t k = 0; k < clips.size(); ++k) {
+  if (is2D() && (positions.size() < 2 || positions_y.size() < 2 ||
+                 positions.size() * positions_y.size() != clips.size()))
+    return bad(strCat("a 2D grid of ", positions.size(), " x ", positions_y.size(), " lines for ",
+                      clips.size(),
+                      " clips; it needs at least 2 x 2 lines, a clip for each point"));
+  for (size_t k = 0; k < clips.size(); ++k)
     if (clips[k] >= palette.clips.size())
       return bad(
           strCat("clip ", k, " is ", clips[k], ", past the palette's ", palette.clips.size()));
-    if (!std::isfinite(positions[k])) return bad(strCat("position ", k, " is not finite"));
-    if (k > 0 && !(positions[k] > positions[k - 1]))
-      return bad(strCat("position ", k, " (", positions[k], ") is not above position ", k - 1, " (",
-                        positions[k - 1], ")"));
-  }
+  const auto increasing = [&](const std::vector<float>& lines, const char* what) -> std::string {
+    for (size_t k = 0; k < lines.size(); ++k) {
+      if (!std::isfinite(lines[k])) return strCat(what, " ", k, " is not finite");
+      if (k > 0 && !(lines[k] > lines[k - 1]))
+        return strCat(what, " ", k, " (", lines[k], ") is not above ", what, " ", k - 1, " (",
+                      lines[k - 1], ")");
+    }
+    return {};
+  };
+  std::string why = increasing(positions, "position");
+  if (why.empty()) why = increasing(positions_y, "y position");
+  if (!why.empty()) return bad(why);
   if (mask >= mask_count)
     return bad(strCat("mask ", mask, " is past the crowd's ", mask_count, " (addLayerMask)"));
   return Status::ok();
@@ -49,6 +62,39 @@ BlendPair blendPair(const std::vector<float>& positions, float parameter) {
   const float w = (parameter - positions[upper - 1]) / span;
   p.weight = w < 1.0f ? w : 1.0f;
   return p;
+}
+
+BlendPoint blendPoint(const BlendSpace& space, float x, float y) {
+  BlendPoint b;
+  const BlendPair px = blendPair(space.positions, x);
+  if (!space.is2D()) {
+    b.count = 2;
+    b.clips[0] = px.lower;
+    b.clips[1] = px.upper;
+    b.shares[0] = 1.0f - px.weight;
+    b.shares[1] = px.weight;
+    b.chain[1] = px.weight;
+  } else {
+    const BlendPair py = blendPair(space.positions_y, y);
+    const uint32_t nx = uint32_t(space.positions.size());
+    const float u = px.weight, v = py.weight;
+    b.count = 4;
+    b.clips[0] = py.lower * nx + px.lower;
+    b.clips[1] = py.lower * nx + px.upper;
+    b.clips[2] = py.upper * nx + px.lower;
+    b.clips[3] = py.upper * nx + px.upper;
+    b.shares[0] = (1.0f - u) * (1.0f - v);
+    b.shares[1] = u * (1.0f - v);
+    b.shares[2] = (1.0f - u) * v;
+    b.shares[3] = u * v;
+    // shares[k] over the sum of shares 0..k: u, (1 - u) v / (1 - u v), u v.
+    b.chain[1] = u;
+    const float rest = 1.0f - u * v;
+    b.chain[2] = rest > 0.0f ? std::min(b.shares[2] / rest, 1.0f) : 0.0f;
+    b.chain[3] = b.shares[3];
+  }
+  b.chain[0] = 1.0f;
+  return b;
 }
 
 double blendPeriod(double lower_seconds, double upper_seconds, float weight) {

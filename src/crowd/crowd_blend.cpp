@@ -18,6 +18,7 @@ Status CrowdManager::addBlendSpace(const BlendSpace& space, uint32_t* id) {
     return {StatusCode::kLimitExceeded,
             strCat("addBlendSpace: a crowd holds at most ", kMaxBlendSpaces, " blend spaces")};
   state_->blend_spaces.push_back(space);
+  if (space.is2D()) state_->extra_layers = true;
   if (id != nullptr) *id = uint32_t(state_->blend_spaces.size() - 1);
   return Status::ok();
 }
@@ -29,13 +30,18 @@ Span<const BlendSpace> CrowdManager::blendSpaces() const {
 
 Status CrowdManager::playBlend(InstanceHandle h, uint32_t space, float parameter,
                                double blend_seconds, double phase, float speed) {
+  return playBlend(h, space, glm::vec2(parameter, 0.0f), blend_seconds, phase, speed);
+}
+
+Status CrowdManager::playBlend(InstanceHandle h, uint32_t space, glm::vec2 parameter,
+                               double blend_seconds, double phase, float speed) {
   if (!state_) return noCrowd();
   if (space >= state_->blend_spaces.size())
     return {StatusCode::kInvalidArgument,
             strCat("playBlend: space ", space, " is past the crowd's ", state_->blend_spaces.size(),
                    " (addBlendSpace)")};
-  if (!std::isfinite(parameter) || !std::isfinite(phase) || !std::isfinite(speed) || speed < 0.0f ||
-      !std::isfinite(blend_seconds) || blend_seconds < 0.0)
+  if (!std::isfinite(parameter.x) || !std::isfinite(parameter.y) || !std::isfinite(phase) ||
+      !std::isfinite(speed) || speed < 0.0f || !std::isfinite(blend_seconds) || blend_seconds < 0.0)
     return {StatusCode::kInvalidArgument,
             "playBlend: parameter, phase and speed must be finite, speed >= 0, blend_seconds "
             "finite and >= 0"};
@@ -47,11 +53,29 @@ Status CrowdManager::setBlendParameter(InstanceHandle h, float parameter) {
   if (!state_) return noCrowd();
   if (!std::isfinite(parameter))
     return {StatusCode::kInvalidArgument, "setBlendParameter: the parameter is not finite"};
+  uint32_t i = 0;
+  const Status s = state_->store.denseIndex(h, &i);
+  if (!s.isOk()) return s;
+  return setBlendParameter(h, glm::vec2(parameter, state_->store.overlays[i].parameter_y));
+}
+
+Status CrowdManager::setBlendParameter(InstanceHandle h, glm::vec2 parameter) {
+  if (!state_) return noCrowd();
+  if (!std::isfinite(parameter.x) || !std::isfinite(parameter.y))
+    return {StatusCode::kInvalidArgument, "setBlendParameter: the parameter is not finite"};
   return state_->store.setBlendParameter(h, state_->blend_spaces, parameter, state_->clock);
 }
 
 Status CrowdManager::blendState(InstanceHandle h, uint32_t* space, float* parameter,
                                 double* phase) const {
+  glm::vec2 both(0.0f);
+  const Status s = blendState2D(h, space, parameter != nullptr ? &both : nullptr, phase);
+  if (s.isOk()) *parameter = both.x;
+  return s;
+}
+
+Status CrowdManager::blendState2D(InstanceHandle h, uint32_t* space, glm::vec2* parameter,
+                                  double* phase) const {
   if (!state_) return noCrowd();
   const detail::InstanceStore& st = state_->store;
   uint32_t i = 0;
@@ -62,7 +86,7 @@ Status CrowdManager::blendState(InstanceHandle h, uint32_t* space, float* parame
   const detail::OverlayState& o = st.overlays[i];
   if (!o.blend) return {StatusCode::kInvalidArgument, "blendState: the instance plays no blend"};
   *space = o.space;
-  *parameter = o.parameter;
+  *parameter = glm::vec2(o.parameter, o.parameter_y);
   const double p = detail::blendPhase(o, state_->clock);
   *phase = p - std::floor(p);
   return Status::ok();

@@ -364,6 +364,12 @@ Span<const InstanceRecord> CrowdManager::previousRecords() const {
 const Camera& CrowdManager::updateCamera() const { return view().camera(); }
 const Camera& CrowdManager::previousUpdateCamera() const { return view().previousCamera(); }
 Span<const LayerRecord> CrowdManager::layerRecords() const { return view().layerRecords(); }
+Span<const LayerRecord> CrowdManager::extraLayerRecords() const {
+  return view().extraLayerRecords();
+}
+Span<const LayerRecord> CrowdManager::previousExtraLayerRecords() const {
+  return view().previousExtraLayerRecords();
+}
 Span<const LayerRecord> CrowdManager::previousLayerRecords() const {
   return view().previousLayerRecords();
 }
@@ -453,12 +459,21 @@ Status CrowdManager::jointMatrix(InstanceHandle h, uint32_t joint, glm::dmat4* o
     }
     return m;
   };
-  // Layered animation: the overlay on its mask, as the shader composes it.
+  // Layered animation: the overlay on its mask and a 2D blend's extra layers after it, at the
+  // weights their records carry, as the shader composes them.
   const detail::OverlayState& o = st.overlays[i];
-  const float weight = o.active ? layerWeight(detail::layerRecordOf(o, state_->clips, p, clock)) : 0.0f;
-  const glm::mat4 m = weight > 0.0f ? emulateLayeredMatrix(state_->layer_masks[o.mask], slot, weight, base,
-                                                           [&](uint32_t at) { return matrix(o.playback, at, false); })
-                                    : base(slot);
+  LayerRecord extras[kExtraLayerRecords];
+  const LayerRecord layer =
+      o.active ? detail::layerRecordsOf(o, state_->clips, p, clock, extras) : LayerRecord{};
+  LayerPose layers[1 + kExtraLayerRecords];
+  layers[0] = {[&](uint32_t at) { return matrix(o.playback, at, false); }, layerWeight(layer)};
+  for (uint32_t k = 0; k < kExtraLayerRecords; ++k)
+    layers[1 + k] = {[&, k](uint32_t at) { return matrix(o.extra[k].playback, at, false); },
+                     layerWeight(extras[k])};
+  const glm::mat4 m =
+      o.active ? emulateLayeredChain(state_->layer_masks[o.mask], slot, base,
+                                     Span<const LayerPose>(layers, 1 + kExtraLayerRecords))
+               : base(slot);
   glm::dmat4 world(glm::mat3_cast(glm::dquat(st.rotations.get(i))) * double(st.scales[i]));
   world[3] = glm::dvec4(st.positions.get(i), 1.0);
   *out = world * glm::dmat4(m);

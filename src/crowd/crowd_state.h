@@ -45,6 +45,7 @@ struct CrowdState {
   double clock = 0.0, clock_compensation = 0.0;
   std::vector<LayerMask> layer_masks;  // addLayerMask(), in id order.
   std::vector<BlendSpace> blend_spaces;  // addBlendSpace(), in id order.
+  bool extra_layers = false;             // A 2D space was added: updates write extra layer records.
   // The frame's events (update() or advance()), and each chunk's while it runs.
   std::vector<AnimationEvent> events;
   std::vector<std::vector<AnimationEvent>> chunk_events;

@@ -74,6 +74,7 @@ FrameInputs frameInputs(CrowdState& st, const ViewState& view, const Camera& cam
   in.root_motion = st.store.root_motion_count > 0;
   in.previous_records = view.desc.previous_records;
   in.layers = st.store.overlay_count > 0;
+  in.extra_layers = in.layers && st.extra_layers;
   in.lane = view.lane;
   in.lod_bias = in.params.lod_bias;
   const uint32_t chunks = chunkCount(st.store.size());
@@ -198,6 +199,12 @@ Span<const LayerRecord> CrowdView::layerRecords() const {
   return f.layers ? Span<const LayerRecord>(f.layer_records.data(), f.stats.visible)
                   : Span<const LayerRecord>();
 }
+Span<const LayerRecord> CrowdView::extraLayerRecords() const {
+  const detail::CrowdFrame& f = view().frame;
+  return f.extras ? Span<const LayerRecord>(f.extra_layer_records.data(),
+                                            size_t(f.stats.visible) * kExtraLayerRecords)
+                  : Span<const LayerRecord>();
+}
 Span<const InstanceRecord> CrowdView::previousRecords() const {
   const ViewState& v = view();
   if (!v.desc.previous_records) return {};
@@ -212,6 +219,12 @@ Span<const LayerRecord> CrowdView::previousLayerRecords() const {
   const ViewState& v = view();
   if (!v.desc.previous_records || !v.frame.previous_layers) return {};
   return Span<const LayerRecord>(v.frame.previous_layer_records.data(), v.frame.previous_visible);
+}
+Span<const LayerRecord> CrowdView::previousExtraLayerRecords() const {
+  const ViewState& v = view();
+  if (!v.desc.previous_records || !v.frame.previous_extras) return {};
+  return Span<const LayerRecord>(v.frame.previous_extra_layer_records.data(),
+                                 size_t(v.frame.previous_visible) * kExtraLayerRecords);
 }
 uint64_t CrowdView::identity() const { return view().identity; }
 

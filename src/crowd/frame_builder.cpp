@@ -391,7 +391,11 @@ SI_CPU_CLONES void writeChunk(const FrameInputs& in, InstanceStore& st, bool fal
       }
       f.visible_handles[slot] = st.dense_handles[i];
       if (fallback) f.record_masks[slot] = wornMask(st.masks[i], in.sub_mesh_count);
-      if (in.layers)
+      if (in.extra_layers)
+        f.layer_records[slot] =
+            layerRecordsOf(st.overlays[i], clips, *in.palette, in.clock,
+                           &f.extra_layer_records[size_t(slot) * kExtraLayerRecords]);
+      else if (in.layers)
         f.layer_records[slot] = layerRecordOf(st.overlays[i], clips, *in.palette, in.clock);
       if (in.previous_records) {
         f.previous_index[slot] = view.previous_slot[i];
@@ -469,6 +473,8 @@ void buildFrame(const FrameInputs& in, InstanceStore& st, CrowdFrame* frame) {
     std::swap(f.records, f.previous_records);
     std::swap(f.layer_records, f.previous_layer_records);
     f.previous_layers = f.layers;
+    std::swap(f.extra_layer_records, f.previous_extra_layer_records);
+    f.previous_extras = f.extras;
     f.previous_visible = last_visible;
   }
   // Grown, never shrunk: records() views the first stats.visible (no zeroing per frame).
@@ -478,6 +484,9 @@ void buildFrame(const FrameInputs& in, InstanceStore& st, CrowdFrame* frame) {
   if (in.previous_records && f.previous_index.size() < visible) f.previous_index.resize(visible);
   f.layers = in.layers;
   if (in.layers && f.layer_records.size() < visible) f.layer_records.resize(visible);
+  f.extras = in.layers && in.extra_layers;
+  if (f.extras && f.extra_layer_records.size() < size_t(visible) * kExtraLayerRecords)
+    f.extra_layer_records.resize(size_t(visible) * kExtraLayerRecords);
   if (fallback && f.record_masks.size() < visible) f.record_masks.resize(visible);
   forEachChunk(in, chunk_count, [&](uint32_t c) { writeChunk(in, st, fallback, f.chunks[c], f); });
   buildBucketRuns(in.params.lod_count, in.sub_mesh_count, fallback, &f);

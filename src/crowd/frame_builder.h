@@ -60,6 +60,11 @@ struct CrowdFrame {
   bool layers = false;  // Whether this frame wrote them.
   std::vector<LayerRecord> previous_layer_records;
   bool previous_layers = false;
+  // With FrameInputs::extra_layers, kExtraLayerRecords per record: 2D blends' extra layers.
+  std::vector<LayerRecord> extra_layer_records;
+  bool extras = false;
+  std::vector<LayerRecord> previous_extra_layer_records;
+  bool previous_extras = false;
   std::vector<uint32_t> record_masks;           // Parallel: worn masks.
   std::vector<ChunkWork> chunks;
   // Groups of this frame: the distinct worn masks in increasing order, and the record ranges
@@ -90,6 +95,7 @@ struct FrameInputs {
   bool root_motion = false;                   // Some instance opted in to root motion.
   bool previous_records = false;              // CrowdDesc::previous_records.
   bool layers = false;                        // Some instance played an overlay.
+  bool extra_layers = false;                  // With layers: the crowd holds a 2D blend space.
   // The view: its lane of the store (InstanceStore::views) and its LOD bias.
   uint32_t lane = 0;
   uint32_t lod_bias = 0;

@@ -87,6 +87,20 @@ void exportOverlay(const detail::OverlayState& o, GpuOverlayState* out) {
   g.active = 1u;
 }
 
+// Extra layer `k` of `o` as an overlay state of its own.
+void exportExtraLayer(const detail::OverlayState& o, uint32_t k, GpuOverlayState* out) {
+  exportOverlay(o, out);
+  if (!o.active) return;
+  const detail::ExtraLayer& e = o.extra[k];
+  out->start_clock = e.playback.start_clock;
+  out->start_time = e.playback.start_time;
+  out->clip = e.playback.clip;
+  out->loop = uint32_t(e.playback.loop);
+  out->speed = e.playback.speed;
+  out->weight_from = e.weight_from;
+  out->weight_to = e.weight_to;
+}
+
 // The runs of indices below `n` stamped after `since` (chunks first), merged across gaps of
 // fewer than kMergeGap indices.
 constexpr uint32_t kMergeGap = 64;
@@ -159,6 +173,26 @@ void CrowdManager::exportGpuOverlays(DenseRange range, GpuOverlayState* out) con
     return;
   const detail::InstanceStore& st = state_->store;
   for (uint32_t k = 0; k < range.count; ++k) exportOverlay(st.overlays[range.first + k], out + k);
+}
+
+bool CrowdManager::writesExtraLayers() const {
+  return playsOverlays() && state_->extra_layers;
+}
+
+void CrowdManager::exportGpuExtraLayers(std::vector<GpuOverlayState>* out) const {
+  out->clear();
+  if (!writesExtraLayers()) return;
+  out->resize(size_t(size()) * kExtraLayerRecords);
+  exportGpuExtraLayers(DenseRange{0, size()}, out->data());
+}
+
+void CrowdManager::exportGpuExtraLayers(DenseRange range, GpuOverlayState* out) const {
+  if (!state_ || out == nullptr || range.first > size() || range.count > size() - range.first)
+    return;
+  const detail::InstanceStore& st = state_->store;
+  for (uint32_t i = 0; i < range.count; ++i)
+    for (uint32_t k = 0; k < kExtraLayerRecords; ++k)
+      exportExtraLayer(st.overlays[range.first + i], k, out + size_t(i) * kExtraLayerRecords + k);
 }
 
 void CrowdManager::exportGpuClips(std::vector<GpuClipInfo>* clips,

@@ -253,6 +253,70 @@ Status InstanceBatcher::buildPreviousLayers(const CrowdView& crowd, Span<uint8_t
   return Status::ok();
 }
 
+size_t InstanceBatcher::extraLayerBufferBound(const CrowdView& crowd) const {
+  return layerBufferBound(crowd) * kExtraLayerRecords;
+}
+
+Status InstanceBatcher::checkExtraLayerBuffer(const char* what, const CrowdView& crowd,
+                                              size_t out_bytes) const {
+  if (capacity_ == 0) return {StatusCode::kInvalidArgument, "InstanceBatcher: init() first"};
+  if (crowd.extraLayerRecords().empty())
+    return {StatusCode::kInvalidArgument,
+            strCat("InstanceBatcher::", what, ": the crowd's last update wrote no extra layer ",
+                   "records (no 2D blend space)")};
+  const size_t needed = extraLayerBufferBound(crowd);
+  if (out_bytes < needed)
+    return {StatusCode::kCountMismatch,
+            strCat("InstanceBatcher::", what, ": the extra layer buffer holds ", out_bytes,
+                   " bytes, the frame needs ", needed)};
+  return Status::ok();
+}
+
+Status InstanceBatcher::buildExtraLayers(const CrowdView& crowd, Span<uint8_t> out) const {
+  const Status s = checkExtraLayerBuffer("buildExtraLayers", crowd, out.size());
+  if (!s.isOk()) return s;
+  const Span<const LayerRecord> extras = crowd.extraLayerRecords();
+  constexpr size_t kSlotBytes = kExtraLayerRecords * kLayerRecordSize;
+  uint8_t* base = out.data();
+  walkBatches(crowd, capacity_, alignment_, nullptr,
+              [&](const DrawBatch& d, uint32_t slot, uint32_t first, uint32_t count) {
+                std::memcpy(base + (d.layer_byte_offset / kLayerRecordSize + slot) * kSlotBytes,
+                            extras.data() + size_t(first) * kExtraLayerRecords,
+                            size_t(count) * kSlotBytes);
+              });
+  return Status::ok();
+}
+
+Status InstanceBatcher::buildPreviousExtraLayers(const CrowdView& crowd, Span<uint8_t> out) const {
+  if (capacity_ != 0 && !crowd.desc().previous_records)
+    return {StatusCode::kInvalidArgument,
+            "InstanceBatcher::buildPreviousExtraLayers: the crowd keeps no previous records "
+            "(CrowdDesc::previous_records, CrowdViewDesc::previous_records)"};
+  const Status s = checkExtraLayerBuffer("buildPreviousExtraLayers", crowd, out.size());
+  if (!s.isOk()) return s;
+  const Span<const LayerRecord> extras = crowd.extraLayerRecords();
+  const Span<const LayerRecord> previous = crowd.previousExtraLayerRecords();
+  const size_t previous_records = crowd.previousRecords().size();
+  const Span<const uint32_t> index = crowd.previousRecordIndices();
+  constexpr size_t kSlotBytes = kExtraLayerRecords * kLayerRecordSize;
+  uint8_t* base = out.data();
+  walkBatches(crowd, capacity_, alignment_, nullptr,
+              [&](const DrawBatch& d, uint32_t slot, uint32_t first, uint32_t count) {
+                uint8_t* dst = base + (d.layer_byte_offset / kLayerRecordSize + slot) * kSlotBytes;
+                for (uint32_t k = 0; k < count; ++k) {
+                  const uint32_t i = first + k, p = index[i];
+                  const LayerRecord zero[kExtraLayerRecords] = {};
+                  const LayerRecord* rec = p >= previous_records
+                                               ? extras.data() + size_t(i) * kExtraLayerRecords
+                                           : (size_t(p) + 1) * kExtraLayerRecords <= previous.size()
+                                               ? previous.data() + size_t(p) * kExtraLayerRecords
+                                               : zero;
+                  std::memcpy(dst + size_t(k) * kSlotBytes, rec, kSlotBytes);
+                }
+              });
+  return Status::ok();
+}
+
 Status InstanceBatcher::buildSpans(const CrowdView& crowd,
                                    std::vector<RecordSpanDraw>* draws) const {
   if (capacity_ == 0) return {StatusCode::kInvalidArgument, "InstanceBatcher: init() first"};

@@ -1,8 +1,9 @@
 // SkinnedInstancing — SPDX-License-Identifier: MIT (see LICENSE)
 // Blend spaces in the instance store (si/crowd/blend_space.h): the instance's clip plays the
-// pair's lower clip and its overlay the upper one on the space's mask, both started at the same
-// phase of their cycles and advancing at their durations over the blended period, so they stay
-// in step; each parameter change re-anchors both at the phase reached.
+// blend's first clip, its overlay the second on the space's mask and a 2D blend's third and
+// fourth clips its extra layers, all started at the same phase of their cycles and advancing at
+// their durations over the blended period, so they stay in step; each parameter change
+// re-anchors them at the phase reached.
 #include <algorithm>
 #include <cmath>
 #include <limits>
@@ -12,41 +13,61 @@
 
 namespace si::detail {
 
-void InstanceStore::anchorBlend(uint32_t i, const BlendSpace& space, float parameter, double phase,
-                                double clock) {
+void InstanceStore::anchorBlend(uint32_t i, const BlendSpace& space, glm::vec2 parameter,
+                                double phase, double clock) {
   OverlayState& o = overlays[i];
-  parameter = std::clamp(parameter, space.positions.front(), space.positions.back());
-  const BlendPair pair = blendPair(space.positions, parameter);
-  const uint32_t lower = space.clips[pair.lower], upper = space.clips[pair.upper];
-  const double lower_seconds = (*clip_timings)[lower].duration;
-  const double upper_seconds = (*clip_timings)[upper].duration;
-  const double period = blendPeriod(lower_seconds, upper_seconds, pair.weight);
+  parameter.x = std::clamp(parameter.x, space.positions.front(), space.positions.back());
+  if (space.is2D())
+    parameter.y = std::clamp(parameter.y, space.positions_y.front(), space.positions_y.back());
+  const BlendPoint b = blendPoint(space, parameter.x, parameter.y);
+  double seconds[kMaxBlendLayers] = {};
+  for (uint32_t k = 0; k < b.count; ++k)
+    seconds[k] = (*clip_timings)[space.clips[b.clips[k]]].duration;
+  // 1D: blendPeriod's arithmetic; 2D: the durations weighted by the clips' shares.
+  double period = blendPeriod(seconds[0], seconds[1], b.chain[1]);
+  if (space.is2D()) {
+    period = 0.0;
+    for (uint32_t k = 0; k < b.count; ++k) period += double(b.shares[k]) * seconds[k];
+  }
   const double rate = period > 0.0 ? double(o.blend_speed) / period : 0.0;
   if (phase >= 1.0 || phase < 0.0) phase -= std::floor(phase);  // Cycles repeat.
   if (!(phase >= 0.0 && phase < 1.0)) phase = 0.0;
   // Each clip at its duration over the period, held within a float (a huge speed over clips of
   // very different lengths would pass it).
-  const auto speedOf = [&](double seconds) {
-    return float(std::min(seconds * rate, double(std::numeric_limits<float>::max())));
+  const auto playbackOf = [&](uint32_t k) {
+    const uint32_t clip = space.clips[b.clips[k]];
+    const float speed =
+        float(std::min(seconds[k] * rate, double(std::numeric_limits<float>::max())));
+    return Playback{clip, palette->clips[clip].loop_mode, speed, clock, phase * seconds[k]};
   };
-  // The instance's clip: a crossfade under way keeps fading from what it came from.
-  playback[i] = Playback{lower, palette->clips[lower].loop_mode, speedOf(lower_seconds), clock,
-                         phase * lower_seconds};
-  o.playback = Playback{upper, palette->clips[upper].loop_mode, speedOf(upper_seconds), clock,
-                        phase * upper_seconds};
+  // The instance's clip (a crossfade under way keeps fading from what it came from), the
+  // overlay, and a 2D blend's other two clips as extra layers; a 1D blend's extra layers fade
+  // out.
+  playback[i] = playbackOf(0);
+  o.playback = playbackOf(1);
   o.mask = space.mask;
+  float targets[kExtraLayers] = {};
+  for (uint32_t k = 0; k < kExtraLayers; ++k)
+    if (2 + k < b.count) {
+      o.extra[k].playback = playbackOf(2 + k);
+      targets[k] = b.chain[2 + k];
+    }
   if (o.fade_duration > 0.0 && clock < o.fade_start + o.fade_duration) {
-    // Still fading: on from the weight reached towards the new one, over the span left.
+    // Still fading: on from the weights reached towards the new ones, over the span left.
     const double end = o.fade_start + o.fade_duration;
     o.weight_from = overlayWeight(o, clock);
-    o.weight_to = pair.weight;
+    for (uint32_t k = 0; k < kExtraLayers; ++k) o.extra[k].weight_from = extraWeight(o, k, clock);
     o.fade_start = clock;
     o.fade_duration = end - clock;
   } else {
-    o.weight_from = o.weight_to = pair.weight;
+    o.weight_from = b.chain[1];
+    for (uint32_t k = 0; k < kExtraLayers; ++k) o.extra[k].weight_from = targets[k];
     o.fade_duration = 0.0;
   }
-  o.parameter = parameter;
+  o.weight_to = b.chain[1];
+  for (uint32_t k = 0; k < kExtraLayers; ++k) o.extra[k].weight_to = targets[k];
+  o.parameter = parameter.x;
+  o.parameter_y = space.is2D() ? parameter.y : 0.0f;
   o.phase = phase;
   o.phase_clock = clock;
   o.cycles_per_second = rate;
@@ -54,8 +75,8 @@ void InstanceStore::anchorBlend(uint32_t i, const BlendSpace& space, float param
 }
 
 Status InstanceStore::playBlend(InstanceHandle h, const BlendSpace& space, uint32_t space_id,
-                                float parameter, double blend_seconds, double phase, float speed,
-                                double clock) {
+                                glm::vec2 parameter, double blend_seconds, double phase,
+                                float speed, double clock) {
   uint32_t i = 0;
   Status s = denseIndex(h, &i);
   if (!s.isOk()) return s;
@@ -81,7 +102,7 @@ Status InstanceStore::playBlend(InstanceHandle h, const BlendSpace& space, uint3
 }
 
 Status InstanceStore::setBlendParameter(InstanceHandle h, const std::vector<BlendSpace>& spaces,
-                                        float parameter, double clock) {
+                                        glm::vec2 parameter, double clock) {
   uint32_t i = 0;
   Status s = denseIndex(h, &i);
   if (!s.isOk()) return s;

@@ -99,11 +99,17 @@ void applyRootMotion(const BakedPalette& palette, const std::vector<ClipTiming>&
     m.yaw = old.yaw + (m.yaw - old.yaw) * w;
   }
   const OverlayState& o = st.overlays[i];
-  if (o.blend) {  // A blend travels as it blends: the upper clip's motion by the blend weight.
-    const GroundMotion up = playbackMotion(palette, clips, o.playback, since, clock);
-    const double w = double(overlayWeight(o, 0.5 * (since + clock)));
-    m.translation += (up.translation - m.translation) * w;
-    m.yaw += (up.yaw - m.yaw) * w;
+  if (o.blend) {  // A blend travels as it blends: each layer's motion by its weight in turn.
+    const double middle = 0.5 * (since + clock);
+    const auto mixIn = [&](const Playback& p, double w) {
+      if (!(w > 0.0)) return;
+      const GroundMotion up = playbackMotion(palette, clips, p, since, clock);
+      m.translation += (up.translation - m.translation) * w;
+      m.yaw += (up.yaw - m.yaw) * w;
+    };
+    mixIn(o.playback, double(overlayWeight(o, middle)));
+    for (uint32_t k = 0; k < kExtraLayers; ++k)
+      mixIn(o.extra[k].playback, double(extraWeight(o, k, middle)));
   }
   if (m.translation == glm::dvec2(0.0) && m.yaw == 0.0) return;
   const glm::quat r = st.rotations.get(i);

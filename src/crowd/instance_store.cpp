@@ -301,6 +301,10 @@ Status InstanceStore::playOverlay(InstanceHandle h, uint32_t clip, uint32_t mask
   o.mask = mask;
   o.weight_from = blend_seconds > 0.0 ? from : weight;
   o.weight_to = weight;
+  for (ExtraLayer& e : o.extra) {  // A 2D blend's other clips fade out with it.
+    if (!(blend_seconds > 0.0)) e.weight_from = 0.0f;
+    e.weight_to = 0.0f;
+  }
   o.fade_start = clock;
   o.fade_duration = blend_seconds;
   changed(i);
@@ -310,6 +314,10 @@ Status InstanceStore::playOverlay(InstanceHandle h, uint32_t clip, uint32_t mask
 void InstanceStore::fadeOverlayOut(uint32_t i, double seconds, double clock) {
   OverlayState& o = overlays[i];
   o.blend = false;
+  for (uint32_t k = 0; k < kExtraLayers; ++k) {
+    o.extra[k].weight_from = seconds > 0.0 ? extraWeight(o, k, clock) : 0.0f;
+    o.extra[k].weight_to = 0.0f;
+  }
   o.weight_from = seconds > 0.0 ? overlayWeight(o, clock) : 0.0f;
   o.weight_to = 0.0f;
   o.fade_start = clock;
@@ -320,6 +328,7 @@ float InstanceStore::restartOverlay(uint32_t i, double clock) {
   if (root_motion[i]) applyRootMotion(*palette, *clip_timings, clock, *this, i);
   OverlayState& o = overlays[i];
   const float from = o.active ? overlayWeight(o, clock) : 0.0f;
+  holdExtraWeights(o, clock);
   if (!o.active) ++overlay_count;
   o.active = true;
   return from;

@@ -81,17 +81,18 @@ struct InstanceStore {
   float restartOverlay(uint32_t i, double clock);
   /// Blend spaces (instance_blend.cpp; arguments checked by the caller except the handle):
   /// starts `space` (crowd id `space_id`) at `parameter` from phase `phase` (cycles), the
-  /// instance's clip crossfading to the lower clip and the overlay's weight fading to the
-  /// blend's over `blend_seconds` (0: at once).
-  Status playBlend(InstanceHandle h, const BlendSpace& space, uint32_t space_id, float parameter,
-                   double blend_seconds, double phase, float speed, double clock);
+  /// instance's clip crossfading to the blend's first clip and the layers' weights fading to
+  /// the blend's over `blend_seconds` (0: at once).
+  Status playBlend(InstanceHandle h, const BlendSpace& space, uint32_t space_id,
+                   glm::vec2 parameter, double blend_seconds, double phase, float speed,
+                   double clock);
   /// Moves a blending instance to `parameter` on its space (of `spaces`, the crowd's), keeping
   /// its phase (kInvalidArgument when it does not blend).
-  Status setBlendParameter(InstanceHandle h, const std::vector<BlendSpace>& spaces, float parameter,
-                           double clock);
-  /// Dense index `i`'s playback and overlay for its blend at `parameter` from `phase` at
+  Status setBlendParameter(InstanceHandle h, const std::vector<BlendSpace>& spaces,
+                           glm::vec2 parameter, double clock);
+  /// Dense index `i`'s playback and layers for its blend at `parameter` from `phase` at
   /// `clock` (a crossfade or weight fade under way keeps running towards the new clips).
-  void anchorBlend(uint32_t i, const BlendSpace& space, float parameter, double phase,
+  void anchorBlend(uint32_t i, const BlendSpace& space, glm::vec2 parameter, double phase,
                    double clock);
   /// Ends dense index `i`'s blend, if any: its overlay fades out over `seconds` (0: at once).
   void endBlend(uint32_t i, double seconds, double clock);

@@ -22,16 +22,37 @@ glm::mat4 emulateRecordMatrix(const BakedPalette& palette, const InstanceRecord&
 glm::mat4 emulateLayeredRecordMatrix(const BakedPalette& palette, const InstanceRecord& rec,
                                      const LayerRecord& layer, Span<const LayerMask> masks,
                                      uint32_t slot) {
-  const float weight = layerWeight(layer);
+  return emulateLayeredRecordMatrix(palette, rec, layer, Span<const LayerRecord>(), masks, slot);
+}
+
+glm::mat4 emulateLayeredRecordMatrix(const BakedPalette& palette, const InstanceRecord& rec,
+                                     const LayerRecord& layer, Span<const LayerRecord> extras,
+                                     Span<const LayerMask> masks, uint32_t slot) {
   const uint32_t m = layerMask(layer);
   const auto base = [&](uint32_t s) { return emulateRecordMatrix(palette, rec, s); };
-  if (!(weight > 0.0f) || m >= masks.size()) return base(slot);
-  IntervalMode mode;
-  const float fraction = unpackFraction(layer.fraction, &mode);
-  const auto overlay = [&](uint32_t s) {
-    return emulateFrameMatrix(palette, layer.frames[0], layer.frames[1], fraction, mode, s);
+  const bool chained = layerHasExtras(layer) && extras.size() >= kExtraLayerRecords;
+  if (m >= masks.size() || (!chained && !(layerWeight(layer) > 0.0f))) return base(slot);
+  if (!chained) {
+    IntervalMode mode;
+    const float fraction = unpackFraction(layer.fraction, &mode);
+    const auto overlay = [&](uint32_t s) {
+      return emulateFrameMatrix(palette, layer.frames[0], layer.frames[1], fraction, mode, s);
+    };
+    return emulateLayeredMatrix(masks[m], slot, layerWeight(layer), base, overlay);
+  }
+  const auto poseOf = [&](const LayerRecord& r) {
+    IntervalMode mode;
+    const float fraction = unpackFraction(r.fraction, &mode);
+    return LayerPose{[&palette, r, fraction, mode](uint32_t s) {
+                       return emulateFrameMatrix(palette, r.frames[0], r.frames[1], fraction, mode,
+                                                 s);
+                     },
+                     layerWeight(r)};
   };
-  return emulateLayeredMatrix(masks[m], slot, weight, base, overlay);
+  const LayerPose layers[1 + kExtraLayerRecords] = {poseOf(layer), poseOf(extras[0]),
+                                                    poseOf(extras[1])};
+  return emulateLayeredChain(masks[m], slot, base,
+                             Span<const LayerPose>(layers, 1 + kExtraLayerRecords));
 }
 
 }  // namespace si

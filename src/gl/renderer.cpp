@@ -364,6 +364,7 @@ Status Renderer::drawCrowd(CharacterId id, const CrowdView& view, const Instance
   if (s.isOk() && layers && plan.end <= storage_limit)
     s = detail::prepareComposedRows(m.resources(*c), crowd.layerMasks(), plan.layer_slots,
                                     batcher.capacityPerDraw(), motion, &compose_stride);
+  if (s.isOk()) s = detail::extrasNeedComposing("drawCrowd", plan.extras, compose_stride);
   if (!s.isOk()) return s;
   detail::PathFrame frame;
   frame.crowd = &crowd;
@@ -387,6 +388,9 @@ Status Renderer::drawCrowd(CharacterId id, const CrowdView& view, const Instance
   frame.layer_base = base + plan.layer_records;
   frame.previous_layer_base = base + plan.previous_layers;
   frame.composed = compose_stride > 0;
+  frame.extras = plan.extras;
+  frame.extra_layer_base = base + plan.extra_layers;
+  frame.previous_extra_base = base + plan.previous_extras;
   frame.compose_stride = compose_stride;
   frame.compose_table_base = base + plan.compose_table;
   if (frame.composed)

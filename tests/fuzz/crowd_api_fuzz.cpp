@@ -7,7 +7,8 @@
 // times, speeds, scales, stale and forged handles) against a shadow list of the live handles. After
 // every call: every live handle resolves, released ones do not, the size matches; after an update
 // the statistics add up, buckets are consistent, records are finite with frames inside the
-// palette, layer records (overlays on two masks: a branch and the whole chain) likewise. A rejected
+// palette, layer records (overlays on two masks: a branch and the whole chain; a 2D blend's extra
+// layer records) likewise. A rejected
 // call must return a named error and leave the crowd exactly as it was. Run with scripts/fuzz.sh.
 #include <algorithm>
 #include <cmath>
@@ -23,6 +24,7 @@
 #include "si/crowd/instance_batcher.h"
 
 #include "fuzz_input.h"
+#include "layer_fuzz_checks.h"
 #include "prop_fuzz_step.h"
 
 namespace {
@@ -256,29 +258,7 @@ void checkFrame(const si::CrowdManager& crowd) {
       }
   }
   const uint64_t texels = palette().layout.textureTexelCount();
-  // Layered animation: none, or one layer record per record, naming an added mask where its
-  // weight is not 0, with frames inside the palette; the batcher lays them out.
-  const auto layers = crowd.layerRecords();
-  if (!layers.empty()) {
-    if (layers.size() != crowd.records().size()) fail("the layer records do not match the records");
-    for (const si::LayerRecord& l : layers) {
-      if (si::layerWeight(l) > 0.0f && si::layerMask(l) >= crowd.layerMasks().size())
-        fail("a layer record names a mask the crowd does not hold");
-      if (!(si::layerWeight(l) >= 0.0f && si::layerWeight(l) <= 1.0f)) fail("a layer weight is outside [0, 1]");
-      for (uint32_t f : l.frames)
-        if (uint64_t(f) + palette().layout.frame_stride_texels > texels)
-          fail("an overlay frame is outside the palette");
-    }
-    std::vector<uint8_t> layer_bytes(batcher.layerBufferBound(crowd));
-    if (!batcher.buildLayers(crowd, layer_bytes).isOk()) fail("buildLayers failed on a valid frame");
-    if (crowd.desc().previous_records) {
-      const auto previous = crowd.previousLayerRecords();
-      if (!previous.empty() && previous.size() != crowd.previousRecords().size())
-        fail("the previous layer records do not match the previous records");
-      if (!batcher.buildPreviousLayers(crowd, layer_bytes).isOk())
-        fail("buildPreviousLayers failed on a valid frame");
-    }
-  }
+  si::fuzz::checkLayerRecords(crowd, batcher, palette(), fail);
   for (const si::InstanceRecord& r : crowd.records()) {
     for (const auto& row : r.world_rows)
       for (float v : row)
@@ -317,9 +297,15 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
       fail("cannot add a valid layer mask");
   }
   const uint32_t masks = uint32_t(crowd.layerMasks().size());
-  // A blend space of the loop and the STEP clip on the whole chain.
+  // A blend space of the loop and the STEP clip on the whole chain; with bit 6 of the LOD byte,
+  // a 2D one of both on the branch too (updates then write extra layer records).
   if (!crowd.addBlendSpace({"sway", {0, 1}, {0.0f, 1.0f}, 1}, nullptr).isOk())
     fail("cannot add a valid blend space");
+  const bool grid = (lods & 0x40) != 0;
+  if (grid &&
+      !crowd.addBlendSpace({"grid", {0, 1, 1, 0}, {0.0f, 1.0f}, 0, {0.0f, 1.0f}}, nullptr).isOk())
+    fail("cannot add a valid 2D blend space");
+  const uint32_t spaces = uint32_t(crowd.blendSpaces().size());
   std::vector<si::InstanceHandle> live, released;
   const uint32_t clips = uint32_t(palette().clips.size());
   for (int op = 0; op < 256 && !in.done(); ++op) {
@@ -407,21 +393,27 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
         break;
       }
       case 10: {  // Overlays and blends: clip, mask, space sometimes out of range, hostile values.
-        const uint8_t which_call = in.u8() % 4;
+        const uint8_t which_call = in.u8() % 6;
         if (which_call == 0)
           s = crowd.playOverlay(h, in.u8() % (clips + 1), in.u8() % (masks + 1), in.f32(),
                                 in.f64(), in.f64(), in.f32());
         else if (which_call == 1)
           s = crowd.stopOverlay(h, in.f64());
         else if (which_call == 2)
-          s = crowd.playBlend(h, in.u8() % 2, in.f32(), in.f64(), in.f64(), in.f32());
-        else
+          s = crowd.playBlend(h, in.u8() % (spaces + 1), in.f32(), in.f64(), in.f64(), in.f32());
+        else if (which_call == 3)
           s = crowd.setBlendParameter(h, in.f32());
+        else if (which_call == 4)
+          s = crowd.playBlend(h, in.u8() % (spaces + 1), glm::vec2(in.f32(), in.f32()), in.f64(),
+                              in.f64(), in.f32());
+        else
+          s = crowd.setBlendParameter(h, glm::vec2(in.f32(), in.f32()));
         uint32_t space = 0;
-        float parameter = 0.0f;
+        glm::vec2 parameter(0.0f);
         double phase = 0.0;
-        if (crowd.blendState(h, &space, &parameter, &phase).isOk() &&
-            (space != 0 || !(parameter >= 0.0f && parameter <= 1.0f) ||
+        if (crowd.blendState2D(h, &space, &parameter, &phase).isOk() &&
+            (space >= spaces || !(parameter.x >= 0.0f && parameter.x <= 1.0f) ||
+             !(parameter.y >= 0.0f && parameter.y <= (space == 1 ? 1.0f : 0.0f)) ||
              !(phase >= 0.0 && phase < 1.0)))
           fail("a blend's state is out of its space");
         break;

@@ -141,7 +141,7 @@ TEST(GlslCheck, UserShaderOnThePublicIncludeCompiles) {
                                  "vert", "user_previous_layers"),
               "");
   // The interface version is part of the include.
-  EXPECT_NE(std::string(skinningGlsl()).find("#define SI_GLSL_INTERFACE_VERSION 8"),
+  EXPECT_NE(std::string(skinningGlsl()).find("#define SI_GLSL_INTERFACE_VERSION 9"),
             std::string::npos);
 }
 

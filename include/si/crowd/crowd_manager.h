@@ -245,9 +245,17 @@ class CrowdManager {
   /// weight 0, where it plays none). Empty when no instance had played one then: crowds without
   /// layered animation write nothing and pay nothing.
   Span<const LayerRecord> layerRecords() const;
+  /// Once a 2D blend space is added (addBlendSpace), kExtraLayerRecords per record of
+  /// records(): a 2D blend's third and fourth clips, composed after the overlay on its mask
+  /// (zero records, weight 0, where an instance draws none; its layer record's kLayerExtrasBit
+  /// says it draws them). Empty before, and when layerRecords() is.
+  Span<const LayerRecord> extraLayerRecords() const;
   /// With CrowdDesc::previous_records: parallel to previousRecords(), the previous update's
   /// layer records (empty when that update wrote none). Motion vectors of overlays.
   Span<const LayerRecord> previousLayerRecords() const;
+  /// The same of extraLayerRecords(), parallel to previousLayerRecords() (empty when the
+  /// previous update wrote none).
+  Span<const LayerRecord> previousExtraLayerRecords() const;
 
   // ---- Blend spaces (si/crowd/blend_space.h) ----
   /// Blend spaces a crowd may hold.
@@ -269,15 +277,24 @@ class CrowdManager {
   /// or non-finite blend.
   Status playBlend(InstanceHandle h, uint32_t space, float parameter, double blend_seconds,
                    double phase = 0.0, float speed = 1.0f);
+  /// The same at a 2D space's point `parameter` (x, y), each clamped to the grid; its y is
+  /// unused by a 1D space.
+  Status playBlend(InstanceHandle h, uint32_t space, glm::vec2 parameter, double blend_seconds,
+                   double phase = 0.0, float speed = 1.0f);
   /// Moves a blending instance to `parameter` (clamped), keeping its phase: the clips around the
   /// new value continue from the fraction of the cycle reached, at the new blended period.
   /// kNotFound for a stale handle; kInvalidArgument for a non-finite parameter or an instance
   /// that plays no blend.
   Status setBlendParameter(InstanceHandle h, float parameter);
+  /// The same at a 2D space's point (x, y); a 1D space reads x. setBlendParameter(h, x) on a 2D
+  /// space keeps the instance's y.
+  Status setBlendParameter(InstanceHandle h, glm::vec2 parameter);
   /// A blending instance's space, parameter and phase (cycles, in [0, 1) for looping clips) at
   /// the crowd clock. kNotFound for a stale handle, kInvalidArgument for an instance that plays
   /// no blend or a null output.
   Status blendState(InstanceHandle h, uint32_t* space, float* parameter, double* phase) const;
+  /// The same with both parameters (y 0 on a 1D space).
+  Status blendState2D(InstanceHandle h, uint32_t* space, glm::vec2* parameter, double* phase) const;
 
   /// The LOD an instance was given by the last update() (kNotFound for stale handles).
   Status lodOf(InstanceHandle h, uint32_t* lod) const;
@@ -361,6 +378,17 @@ class CrowdManager {
   /// Whether exportGpuOverlays() exports anything: some instance holds an overlay (playing or
   /// faded out).
   bool playsOverlays() const;
+  /// 2D blends: kExtraLayerRecords entries per instance in dense order, each extra layer as
+  /// its own overlay state (on the overlay's mask, fading over the overlay's span), from which
+  /// the GPU writes extraLayerRecords() as update() does; nothing (`out` emptied) unless
+  /// writesExtraLayers(). Changes mark the instance as exportGpuOverlays()' do.
+  void exportGpuExtraLayers(std::vector<GpuOverlayState>* out) const;
+  /// The extra layers of dense indices [range.first, range.first + range.count) into `out`
+  /// (kExtraLayerRecords * range.count entries), within size().
+  void exportGpuExtraLayers(DenseRange range, GpuOverlayState* out) const;
+  /// Whether updates write extra layer records: the crowd holds a 2D blend space and some
+  /// instance holds an overlay.
+  bool writesExtraLayers() const;
   /// This frame's selection parameters for `camera` (what update() uses).
   CullParams cullParams(const Camera& camera) const;
 

@@ -129,6 +129,8 @@ class CrowdView {
   Span<const InstanceHandle> visibleHandles() const;
   /// Each drawn instance's overlay (empty when no instance of the crowd played one).
   Span<const LayerRecord> layerRecords() const;
+  /// A 2D blend's extra layers, kExtraLayerRecords per record (CrowdManager::extraLayerRecords).
+  Span<const LayerRecord> extraLayerRecords() const;
   /// Motion vectors (CrowdViewDesc::previous_records): the previous selection's records, and
   /// per record the index of the same instance's record in them (CrowdManager::
   /// kNoPreviousRecord where there is none: not drawn by this view then, added since, or placed
@@ -136,6 +138,7 @@ class CrowdView {
   Span<const InstanceRecord> previousRecords() const;
   Span<const uint32_t> previousRecordIndices() const;
   Span<const LayerRecord> previousLayerRecords() const;
+  Span<const LayerRecord> previousExtraLayerRecords() const;
   /// The camera of the last selection (records are relative to its position) and of the one
   /// before it (after the first, the last one's).
   const Camera& camera() const;

@@ -159,6 +159,23 @@ class InstanceBatcher {
     return buildPreviousLayers(crowd.view(), out);
   }
 
+  /// 2D blends (CrowdManager::extraLayerRecords): bytes buildExtraLayers() needs, two records
+  /// a slot of buildLayers()' slot numbering (layerBufferBound() * 2).
+  size_t extraLayerBufferBound(const CrowdView& view) const;
+  /// Writes each slot's kExtraLayerRecords extra layer records at
+  /// ((layer_byte_offset / 16 + slot) * 2 + k) * 16, in the slots build() gives its records
+  /// (one storage buffer for the frame; drawCrowd's compose pass reads it).
+  /// kInvalidArgument if not initialized or the crowd's last update wrote no extra layer
+  /// records (no 2D blend space); kCountMismatch when `out` is smaller than
+  /// extraLayerBufferBound() (nothing written).
+  Status buildExtraLayers(const CrowdView& view, Span<uint8_t> out) const;
+  /// Motion vectors of 2D blends: buildExtraLayers()'s layout holding each slot's previous
+  /// extra layer records (CrowdManager::previousExtraLayerRecords() through
+  /// previousRecordIndices()), with buildPreviousLayers()' fallbacks. kInvalidArgument as
+  /// buildExtraLayers(), or when the crowd keeps no previous records; kCountMismatch as
+  /// buildExtraLayers().
+  Status buildPreviousExtraLayers(const CrowdView& view, Span<uint8_t> out) const;
+
   /// The same draws without copying a record: each bucket's runs (CrowdManager::bucketRuns)
   /// cut where a block would exceed capacityPerDraw(). An application uploads records() once
   /// (80 bytes per visible instance, instead of 80 per worn sub-mesh) and binds each draw's
@@ -180,6 +197,8 @@ class InstanceBatcher {
   // buildLayers' and buildPreviousLayers' checks: initialized, layer records written, `out`
   // large enough (named `what`).
   Status checkLayerBuffer(const char* what, const CrowdView& view, size_t out_bytes) const;
+  // The extra layers' checks (buildExtraLayers, buildPreviousExtraLayers).
+  Status checkExtraLayerBuffer(const char* what, const CrowdView& view, size_t out_bytes) const;
   uint32_t capacity_ = 0;
   uint32_t alignment_ = 0;
 };

@@ -54,7 +54,12 @@ inline constexpr uint32_t kInstanceRecordSize = sizeof(InstanceRecord);
 /// | --- | --- |
 /// | 0, 1 | texel of the overlay clip's frame and next frame |
 /// | 2 | fraction word (si::packFraction) |
-/// | 3 | weight as unorm16 in the low half, the crowd's mask index in the high half |
+/// | 3 | weight as unorm16 in the low half, the crowd's mask index in bits 16-30; bit 31 set when
+/// the instance draws extra layers (kLayerExtrasBit) |
+///
+/// A 2D blend's third and fourth clips are two more layer records of the same form
+/// (CrowdManager::extraLayerRecords), composed after this one on its mask, each at its own
+/// weight; bit 31 of this record's last word says they are there.
 struct LayerRecord {
   uint32_t frames[2] = {0, 0};
   uint32_t fraction = 0;
@@ -68,9 +73,21 @@ inline uint32_t packLayerWeight(float weight, uint32_t mask) {
   const float w = weight > 0.0f ? (weight < 1.0f ? weight : 1.0f) : 0.0f;
   return uint32_t(w * 65535.0f + 0.5f) | (mask << 16);
 }
+/// Bit of a layer record's last word set when its instance's extra layer records (a 2D blend's
+/// third and fourth clips) hold a weight above 0.
+inline constexpr uint32_t kLayerExtrasBit = 1u << 31;
+/// Extra layer records per drawn instance (CrowdManager::extraLayerRecords).
+inline constexpr uint32_t kExtraLayerRecords = 2;
+
 /// Its weight, as the shader reads it.
 inline float layerWeight(const LayerRecord& r) { return float(r.weight_mask & 0xFFFFu) / 65535.0f; }
 /// Its mask index.
-inline uint32_t layerMask(const LayerRecord& r) { return r.weight_mask >> 16; }
+inline uint32_t layerMask(const LayerRecord& r) {
+  return (r.weight_mask & ~kLayerExtrasBit) >> 16;
+}
+/// Whether its instance's extra layer records are drawn.
+inline bool layerHasExtras(const LayerRecord& r) {
+  return (r.weight_mask & kLayerExtrasBit) != 0;
+}
 
 }  // namespace si

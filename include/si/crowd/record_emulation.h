@@ -31,4 +31,11 @@ glm::mat4 emulateLayeredRecordMatrix(const BakedPalette& palette, const Instance
                                      const LayerRecord& layer, Span<const LayerMask> masks,
                                      uint32_t slot);
 
+/// The same with a 2D blend's extra layers: where `layer` has kLayerExtrasBit and `extras`
+/// holds the instance's kExtraLayerRecords (CrowdManager::extraLayerRecords), the overlay and
+/// then each extra layer composed on `layer`'s mask (emulateLayeredChain); otherwise as above.
+glm::mat4 emulateLayeredRecordMatrix(const BakedPalette& palette, const InstanceRecord& record,
+                                     const LayerRecord& layer, Span<const LayerRecord> extras,
+                                     Span<const LayerMask> masks, uint32_t slot);
+
 }  // namespace si

@@ -64,9 +64,14 @@ Status dispatchGroups(const GlInfo& info, uint64_t groups, const char* what) {
 glm::mat4 recordJointMatrix(const BakedPalette& palette, const CrowdView& view, size_t record,
                             uint32_t slot) {
   const Span<const LayerRecord> layers = view.layerRecords();
-  return layers.empty() ? emulateRecordMatrix(palette, view.records()[record], slot)
-                        : emulateLayeredRecordMatrix(palette, view.records()[record],
-                                                     layers[record], view.crowd()->layerMasks(), slot);
+  if (layers.empty()) return emulateRecordMatrix(palette, view.records()[record], slot);
+  const Span<const LayerRecord> extras = view.extraLayerRecords();
+  return emulateLayeredRecordMatrix(
+      palette, view.records()[record], layers[record],
+      extras.empty() ? Span<const LayerRecord>()
+                     : Span<const LayerRecord>(extras.data() + record * kExtraLayerRecords,
+                                               kExtraLayerRecords),
+      view.crowd()->layerMasks(), slot);
 }
 
 }  // namespace si::detail

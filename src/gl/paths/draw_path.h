@@ -88,6 +88,11 @@ struct PathFrame {
   /// table (writeComposeBatches) is at `compose_table_base` of the ring, `compose_batches`
   /// entries.
   bool composed = false;
+  /// 2D blends: the extra layer records (and with motion the previous ones) at these bases of
+  /// the ring, read by the compose pass only (2D blends are drawn composed).
+  bool extras = false;
+  size_t extra_layer_base = 0;
+  size_t previous_extra_base = 0;
   uint32_t compose_stride = 0;
   size_t compose_table_base = 0;
   uint32_t compose_batches = 0;

@@ -41,7 +41,6 @@ Status recreate(GLuint* buffer, size_t bytes, const void* data, const char* what
   return createBuffer(buffer, std::max<size_t>(bytes, 16), data, GL_DYNAMIC_STORAGE_BIT, what);
 }
 
-
 }  // namespace
 
 Status GpuCulledPath::uploadState(const DrawResources& r, const CrowdManager& crowd,
@@ -208,6 +207,7 @@ Status GpuCulledPath::uploadFrame(const DrawResources& r, const PathFrame& f) {
     Status s = r.scratch->uploadMaskTable(layerMaskTable(crowd.layerMasks()));
     // Both skinnings read composed rows (layer_compose_pass.h), by visible index.
     if (s.isOk()) s = prepareComposedRows(r, crowd.layerMasks(), n, 0, motion_, &compose_stride_);
+    if (s.isOk()) s = extrasNeedComposing("drawCrowdGpuCulled", extras_, compose_stride_);
     if (!s.isOk()) return s;
   }
 
@@ -229,6 +229,8 @@ Status GpuCulledPath::uploadFrame(const DrawResources& r, const PathFrame& f) {
     glProgramUniform4uiv((*r.programs)[skin].id, 16, 1, counts);
   for (GLuint program : {cull, commands, scatter}) glProgramUniform4uiv(program, 16, 1, counts);
   glProgramUniform1ui(cull, 23, layers_ ? 1u : 0u);
+  glProgramUniform1ui(cull, 38, extras_ ? layer_capacity_ : 0u);
+  glProgramUniform1ui(cull, 39, extras_ && motion_ ? previous_capacity_ : 0u);
   glProgramUniform1ui(cull, 17, p.animation_lod_start);
   glProgramUniform1d(cull, 18, p.animation_step_seconds);
   glProgramUniform1ui(cull, 28, p.lod_bias);
@@ -296,7 +298,8 @@ Status GpuCulledPath::prepareMotion(const DrawResources& r, const PathFrame& f) 
     s = recreate(&previous_out_, size_t(capacity_) * kInstanceRecordSize, nullptr,
                  "motion vectors: the previous records");
     if (s.isOk())
-      s = recreate(&previous_layers_out_, size_t(capacity_) * kLayerRecordSize, nullptr,
+      s = recreate(&previous_layers_out_,
+                   size_t(capacity_) * (1 + kExtraLayerRecords) * kLayerRecordSize, nullptr,
                    "motion vectors: the previous layer records");
     if (!s.isOk()) return s;
     previous_capacity_ = capacity_;
@@ -412,7 +415,9 @@ void GpuCulledPath::runPasses(const DrawResources& r, const PathFrame& f, uint32
   // The skinning passes read the mask table where the command pass read the ranges.
   if (layers_) glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 8, r.scratch->mask_table.buffer);
   const bool composed = compose_stride_ > 0;
-  if (composed) composeGpuLayers(r, motion_, compose_stride_, n, st);
+  if (composed)
+    composeGpuLayers(r, motion_, compose_stride_, n, extras_ ? layer_capacity_ : 0u,
+                     extras_ && motion_ ? previous_capacity_ : 0u, st);
   if (f.preskin) {
     // Every pre-skinned entry's vertices into the ring, then one vertex-pulling multi-draw.
     const Program& skin = (*r.programs)[preSkinningProgram(true, motion_, layers_, composed)];

@@ -66,12 +66,15 @@ class GpuCulledPath final : public DrawPath {
   GLuint first_phase_counters_ = kNoObject;
   // Layered animation: the crowd's overlays (si::GpuOverlayState) and the cull pass's layer
   // record per visible instance; layers_ while the crowd plays overlays.
+  // 2D blends (extras_, CrowdManager::writesExtraLayers): both hold the extra layers after
+  // layer_capacity_ entries, 2 per instance (layer_copies_ 3; 1 without).
   GLuint overlays_ = kNoObject, layers_out_ = kNoObject;
-  uint32_t layer_capacity_ = 0;
-  bool layers_ = false;
+  uint32_t layer_capacity_ = 0, layer_copies_ = 1;
+  bool layers_ = false, extras_ = false;
   uint32_t compose_stride_ = 0;  // Composed layers' row stride this frame; 0: none.
   // Motion vectors: the previous records and previous layer records per visible instance (the
-  // passes' output; what each view drew is its slot's). frame_ counts the crowd clocks drawn.
+  // passes' output; what each view drew is its slot's; 2D blends' previous extra layers after
+  // previous_capacity_ layer records). frame_ counts the crowd clocks drawn.
   GLuint previous_out_ = kNoObject, previous_layers_out_ = kNoObject;
   uint32_t previous_capacity_ = 0, slots_needed_ = 1, frame_ = 1;
   double frame_clock_ = 0.0;
@@ -93,7 +96,7 @@ class GpuCulledPath final : public DrawPath {
   // uploadChanges' exports, kept between frames.
   std::vector<GpuInstanceState> changed_state_;
   std::vector<InstanceHandle> changed_handles_;
-  std::vector<GpuOverlayState> changed_overlays_;
+  std::vector<GpuOverlayState> changed_overlays_, changed_extras_;
   const CrowdManager* crowd_ = nullptr;
   GLuint vertex_source_ = kNoObject;  // The vertex buffer the VAOs were made for.
 };

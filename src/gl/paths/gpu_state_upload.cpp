@@ -11,24 +11,33 @@
 namespace si::detail {
 
 Status GpuCulledPath::uploadOverlays(const CrowdManager& crowd) {
-  std::vector<GpuOverlayState> overlays;
+  std::vector<GpuOverlayState> overlays, extras;
   crowd.exportGpuOverlays(&overlays);
   layers_ = !overlays.empty();
+  extras_ = layers_ && crowd.writesExtraLayers();
   if (!layers_) return Status::ok();
   Status s = Status::ok();
-  if (overlays.size() > layer_capacity_ || overlays_ == kNoObject) {
+  const uint32_t copies = extras_ ? 1 + kExtraLayerRecords : 1;
+  if (overlays.size() > layer_capacity_ || overlays_ == kNoObject || copies > layer_copies_) {
     layer_capacity_ = 0;
-    const size_t capacity = overlays.size();
+    const size_t capacity = overlays.size() * copies;
     s = createBuffer(&overlays_, capacity * sizeof(GpuOverlayState), nullptr,
                      GL_DYNAMIC_STORAGE_BIT, "GPU culling: the overlays");
     if (s.isOk())
       s = createBuffer(&layers_out_, capacity * kLayerRecordSize, nullptr,
                        GL_DYNAMIC_STORAGE_BIT, "GPU culling: the layer records");
     if (!s.isOk()) return s;
-    layer_capacity_ = uint32_t(capacity);
+    layer_capacity_ = uint32_t(overlays.size());
+    layer_copies_ = copies;
   }
-  uploadInOrder(overlays_, overlays.size() * sizeof(GpuOverlayState), overlays.data());
-  uploaded_bytes_ += overlays.size() * sizeof(GpuOverlayState);
+  std::vector<BufferPiece> pieces{{0, overlays.size() * sizeof(GpuOverlayState), overlays.data()}};
+  if (extras_) {  // After the overlays' capacity (cull.comp.glsl's u_extras).
+    crowd.exportGpuExtraLayers(&extras);
+    pieces.push_back({size_t(layer_capacity_) * sizeof(GpuOverlayState),
+                      extras.size() * sizeof(GpuOverlayState), extras.data()});
+  }
+  uploadInOrder(overlays_, pieces);
+  uploaded_bytes_ += (overlays.size() + extras.size()) * sizeof(GpuOverlayState);
   return Status::ok();
 }
 
@@ -56,7 +65,8 @@ Status GpuCulledPath::uploadChanges(const CrowdManager& crowd) {
   // Overlays: all of them when the crowd starts or stops holding any or outgrows the buffer,
   // else the changed instances'.
   const uint32_t n = crowd.size();
-  if (crowd.playsOverlays() != layers_ || (layers_ && n > layer_capacity_)) {
+  if (crowd.playsOverlays() != layers_ || (layers_ && n > layer_capacity_) ||
+      (layers_ && crowd.writesExtraLayers() != extras_)) {
     Status s = uploadOverlays(crowd);
     if (!s.isOk()) return s;
   } else if (layers_) {
@@ -69,8 +79,20 @@ Status GpuCulledPath::uploadChanges(const CrowdManager& crowd) {
                         size_t(c.count) * sizeof(GpuOverlayState), changed_overlays_.data() + at});
       at += c.count;
     }
+    if (extras_) {  // Each changed instance's extra layers, after the overlays' capacity.
+      changed_extras_.resize(total * kExtraLayerRecords);
+      at = 0;
+      for (const DenseRange& c : changed) {
+        GpuOverlayState* out = changed_extras_.data() + at * kExtraLayerRecords;
+        crowd.exportGpuExtraLayers(c, out);
+        pieces.push_back({(size_t(layer_capacity_) + size_t(c.first) * kExtraLayerRecords) *
+                              sizeof(GpuOverlayState),
+                          size_t(c.count) * kExtraLayerRecords * sizeof(GpuOverlayState), out});
+        at += c.count;
+      }
+    }
     uploadInOrder(overlays_, pieces);
-    uploaded_bytes_ += total * sizeof(GpuOverlayState);
+    uploaded_bytes_ += total * (extras_ ? 1 + kExtraLayerRecords : 1) * sizeof(GpuOverlayState);
   }
   if (!placed.empty()) {  // Views seeded at the last upload start over there only.
     placed_ = std::move(placed);

@@ -18,8 +18,9 @@
 
 namespace si::detail {
 
-// cull.comp.glsl's SiDrawn: a record, a layer record and a tag.
-inline constexpr size_t kDrawnBytes = kInstanceRecordSize + kLayerRecordSize + 16;
+// cull.comp.glsl's SiDrawn: a record, a layer record, a 2D blend's extra layer records and a tag.
+inline constexpr size_t kDrawnBytes =
+    kInstanceRecordSize + (1 + kExtraLayerRecords) * kLayerRecordSize + 16;
 
 struct GpuViewSlot {
   uint64_t view = 0;          // CrowdView::identity().

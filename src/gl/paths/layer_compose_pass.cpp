@@ -4,6 +4,7 @@
 
 #include <algorithm>
 #include <cstring>
+#include <string>
 
 #include "gl/paths/dispatch_grid.h"
 #include "gl/resources/layer_compose_table.h"
@@ -79,6 +80,12 @@ void composeLayers(const DrawResources& r, const PathFrame& f, DrawStats* st) {
     bindPreviousRecords(r, compose, f);
     glProgramUniform1ui(compose.id, 6, uint32_t((f.previous_layer_base - f.layer_base) / 16));
   }
+  // 2D blends' extra layer records, by word from the region's start (0: none).
+  glProgramUniform1ui(compose.id, 7,
+                      f.extras ? uint32_t((f.extra_layer_base - f.ring_base) / 16) : 0u);
+  if (f.motion)
+    glProgramUniform1ui(compose.id, 10,
+                        f.extras ? uint32_t((f.previous_extra_base - f.ring_base) / 16) : 0u);
   const uint32_t table = uint32_t((f.compose_table_base - f.ring_base) / 16);
   for (uint32_t first = 0; first < f.compose_batches; first += max_y) {
     const uint32_t rows = std::min(f.compose_batches - first, max_y);
@@ -90,8 +97,17 @@ void composeLayers(const DrawResources& r, const PathFrame& f, DrawStats* st) {
   glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT);  // The rows before the draws read them.
 }
 
+Status extrasNeedComposing(const char* who, bool extras, uint32_t stride) {
+  if (!extras || stride > 0) return Status::ok();
+  return {StatusCode::kUnsupported,
+          std::string(who) +
+              ": 2D blends are drawn through composed layers, and these do not fit "
+              "(RendererDesc::compose_layers off, or the rows past "
+              "GL_MAX_SHADER_STORAGE_BLOCK_SIZE or the compute grid): draw fewer instances"};
+}
+
 void composeGpuLayers(const DrawResources& r, bool motion, uint32_t stride, uint32_t instances,
-                      DrawStats* st) {
+                      uint32_t extras, uint32_t previous_extras, DrawStats* st) {
   const Program& compose =
       (*r.programs)[motion ? ProgramId::kGpuLayerComposeMotion : ProgramId::kGpuLayerCompose];
   glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT);  // The cull pass's records; earlier reads.
@@ -99,6 +115,8 @@ void composeGpuLayers(const DrawResources& r, bool motion, uint32_t stride, uint
   r.palette->bind();
   r.scratch->layer_compose.bind(motion);
   glProgramUniform1ui(compose.id, 5, instances);
+  glProgramUniform1ui(compose.id, 6, extras);
+  if (motion) glProgramUniform1ui(compose.id, 7, previous_extras);
   const uint64_t invocations = uint64_t(instances) * stride;
   // prepareComposedRows checked that the grid holds them: dispatchGroups cannot refuse.
   (void)dispatchGroups(*r.info, (invocations + 63) / 64, "composed layers");

@@ -37,11 +37,17 @@ uint32_t writeComposeBatches(const DrawResources& r, const PathFrame& frame, uin
 /// batch's groups fit). Counts the dispatches and the composed records in `stats`.
 void composeLayers(const DrawResources& r, const PathFrame& frame, DrawStats* stats);
 
+/// kUnsupported, naming `who`, when a frame draws a 2D blend's extra layer records (`extras`)
+/// without composed rows (`stride` 0): the per-vertex chain walk composes one overlay only.
+Status extrasNeedComposing(const char* who, bool extras, uint32_t stride);
+
 /// The GPU-driven path's compose pass, after its cull pass: the records and layer records by
 /// visible index at storage bindings 4 and 18 (previous ones at 20 and 21 with `motion`), the
 /// visible count at 3 (at most `instances`, for which prepareComposedRows checked the dispatch
-/// grid), composed record = visible index; the same barriers.
+/// grid), composed record = visible index; the same barriers. 2D blends: the extra layer
+/// records from index `extras` of the layer records (`previous_extras` of the previous ones),
+/// 2 per visible index; 0: none.
 void composeGpuLayers(const DrawResources& r, bool motion, uint32_t stride, uint32_t instances,
-                      DrawStats* stats);
+                      uint32_t extras, uint32_t previous_extras, DrawStats* stats);
 
 }  // namespace si::detail

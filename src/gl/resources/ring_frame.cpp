@@ -29,6 +29,16 @@ RingFrame planRingFrame(const InstanceBatcher& batcher, const CrowdView& view, u
       f.previous_layers = align(end);
       end = f.previous_layers + layer_bound;
     }
+    f.extras = !view.extraLayerRecords().empty();
+    if (f.extras) {
+      const size_t extra_bound = batcher.extraLayerBufferBound(view);
+      f.extra_layers = align(end);
+      end = f.extra_layers + extra_bound;
+      if (motion) {
+        f.previous_extras = align(end);
+        end = f.previous_extras + extra_bound;
+      }
+    }
     // A batch takes at least 80 bytes of records: at most bound / 64 + 1 batches.
     f.compose_table = align(end);
     end = f.compose_table + (record_bound / 64 + 1) * 16;
@@ -51,6 +61,9 @@ Status writeRingFrame(const InstanceBatcher& batcher, const CrowdView& view, con
   if (s.isOk() && f.layers) s = batcher.buildLayers(view, at(f.layer_records));
   if (s.isOk() && f.layers && f.motion)
     s = batcher.buildPreviousLayers(view, at(f.previous_layers));
+  if (s.isOk() && f.extras) s = batcher.buildExtraLayers(view, at(f.extra_layers));
+  if (s.isOk() && f.extras && f.motion)
+    s = batcher.buildPreviousExtraLayers(view, at(f.previous_extras));
   return s;
 }
 

@@ -2,9 +2,9 @@
 #pragma once
 // What drawCrowd writes into its region of the record ring, and where: the batches' records;
 // with motion vectors each slot's previous-record index and the previous records once each;
-// with overlays the layer records (and previous layer records) and the compose pass's batch
-// table. Offsets are from the region's start, each block at the next multiple of the
-// alignment.
+// with overlays the layer records (and previous layer records), a 2D blend's extra layer
+// records (and previous ones) and the compose pass's batch table. Offsets are from the region's
+// start, each block at the next multiple of the alignment.
 
 #include <cstddef>
 #include <cstdint>
@@ -23,6 +23,9 @@ struct RingFrame {
   size_t previous_end = 0;      ///< The end of the previous records.
   size_t layer_records = 0;     ///< buildLayers.
   size_t previous_layers = 0;   ///< buildPreviousLayers.
+  bool extras = false;          ///< 2D blends: the extra layer records too.
+  size_t extra_layers = 0;      ///< buildExtraLayers.
+  size_t previous_extras = 0;   ///< buildPreviousExtraLayers.
   size_t compose_table = 0;     ///< The compose pass's batch table (16 bytes a batch).
   uint64_t layer_slots = 0;     ///< Layer records the layer block holds (padding included).
   size_t end = 0;               ///< Bytes of the region the frame may use.

@@ -31,6 +31,12 @@ layout(location = 20) uniform uint u_occlusion_phase;
 layout(location = 23) uniform uint u_layers;
 layout(std430, binding = 17) readonly buffer SiOverlays { SiGpuOverlay si_overlays[]; };
 layout(std430, binding = 18) writeonly buffer SiLayersOut { uvec4 si_layers_out[]; };
+// 2D blends: the first index of the extra layers (2 per instance) in si_overlays, and of their
+// records (2 per visible instance) in si_layers_out; 0 while the crowd writes none
+// (CrowdManager::writesExtraLayers). With motion vectors, the previous ones' first index in
+// si_previous_layers_out.
+layout(location = 38) uniform uint u_extras;
+layout(location = 39) uniform uint u_previous_extras;
 // Motion vectors: 1 when the renderer draws them. Each visible instance's previous record (and
 // previous layer record) then goes beside its record: what this path drew of the same instance
 // (keyed by its handle's slot, checked by the whole handle) at the previous frame, or, when it
@@ -42,6 +48,7 @@ layout(location = 26) uniform vec3 u_camera_shift;  // camera position minus the
 struct SiDrawn {
   SiInstance record;
   uvec4 layer;
+  uvec4 extra[2];  // A 2D blend's extra layer records (zero without).
   uvec4 tag;  // handle, frame
 };
 layout(std430, binding = 19) buffer SiDrawnRecords { SiDrawn si_drawn[]; };
@@ -202,6 +209,14 @@ void main() {
   uint v = atomicAdd(si_visible_count, 1u);
   si_records[v] = rec;
   uvec4 layer = u_layers != 0u ? siLayerRecord(si_overlays[i], stride) : uvec4(0u);
+  uvec4 extra[2] = uvec4[2](uvec4(0u), uvec4(0u));
+  if (u_extras != 0u) {  // Flagged on the layer record when either is drawn (layerRecordsOf).
+    extra[0] = siLayerRecord(si_overlays[u_extras + 2u * i], stride);
+    extra[1] = siLayerRecord(si_overlays[u_extras + 2u * i + 1u], stride);
+    if (((extra[0].w | extra[1].w) & 0xFFFFu) != 0u) layer.w |= 0x80000000u;
+    si_layers_out[u_extras + 2u * v] = extra[0];
+    si_layers_out[u_extras + 2u * v + 1u] = extra[1];
+  }
   if (u_layers != 0u) si_layers_out[v] = layer;
   if (u_motion != 0u) {
     uint slot = st.handle & 0xFFFFFu;  // HandlePool::kSlotBits
@@ -209,15 +224,21 @@ void main() {
     SiDrawn last = si_drawn[there];
     SiInstance prev = rec;
     uvec4 prev_layer = layer;
+    uvec4 prev_extra[2] = extra;
     if (last.tag.x == st.handle && last.tag.y == u_frame.x - 1u) {
       prev = last.record;
       prev_layer = last.layer;
+      prev_extra = last.extra;
     } else {
       for (int row = 0; row < 3; ++row) prev.world_rows[row].w += u_camera_shift[row];
     }
     si_previous_out[v] = prev;
     if (u_layers != 0u) si_previous_layers_out[v] = prev_layer;
-    si_drawn[here] = SiDrawn(rec, layer, uvec4(st.handle, u_frame.x, 0u, 0u));
+    if (u_previous_extras != 0u) {
+      si_previous_layers_out[u_previous_extras + 2u * v] = prev_extra[0];
+      si_previous_layers_out[u_previous_extras + 2u * v + 1u] = prev_extra[1];
+    }
+    si_drawn[here] = SiDrawn(rec, layer, extra, uvec4(st.handle, u_frame.x, 0u, 0u));
   }
   uint subs = u_counts.z;
   uint mask = st.mask & (subs >= 32u ? 0xFFFFFFFFu : ((1u << subs) - 1u)) & u_drawn_parts[lod];

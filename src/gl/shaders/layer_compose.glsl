@@ -15,18 +15,22 @@ layout(std430, binding = 23) readonly buffer SiComposeTable { int si_compose_tab
 
 uint siComposeStride() { return uint(si_compose_table[1]); }
 
+// Whether `layer` composes anything: a weight above 0, or a 2D blend's extra layers (bit 31).
+bool siLayerDrawn(uvec4 layer) { return (layer.w & 0x8000FFFFu) != 0u; }
+
 // The index of palette slot `joint` among the masked slots of `layer`'s mask; -1 outside the
-// mask or at weight 0 (the base rows then, as siLayeredJointRows gives).
+// mask or with nothing composed (the base rows then, as siLayeredJointRows gives).
 int siComposedIndex(uvec4 layer, uint joint) {
-  if ((layer.w & 0xFFFFu) == 0u) return -1;
-  return si_compose_table[3u + (layer.w >> 16) * uint(si_compose_table[0]) + joint];
+  if (!siLayerDrawn(layer)) return -1;
+  return si_compose_table[3u + siLayerMask(layer) * uint(si_compose_table[0]) + joint];
 }
 
-// The palette slot of masked index `k` of `layer`'s mask; -1 past its count or at weight 0.
+// The palette slot of masked index `k` of `layer`'s mask; -1 past its count or with nothing
+// composed.
 int siComposedSlot(uvec4 layer, uint k) {
-  if ((layer.w & 0xFFFFu) == 0u) return -1;
+  if (!siLayerDrawn(layer)) return -1;
   uint slots = uint(si_compose_table[0]), masks = uint(si_compose_table[2]);
-  return si_compose_table[3u + masks * slots + (layer.w >> 16) * siComposeStride() + k];
+  return si_compose_table[3u + masks * slots + siLayerMask(layer) * siComposeStride() + k];
 }
 
 #ifdef SI_COMPOSED_READ
