@@ -12,24 +12,40 @@ namespace si::bench {
 
 namespace {
 
-const char* const kNames[] = {"plain", "blend", "props", "both"};
+// The states: plain playback, a 1D blend of two clips, a 2D blend of four, props, a 1D blend
+// with props.
+const char* const kNames[] = {"plain", "blend 2", "blend 4", "props", "both"};
+constexpr int kStates = 5;
+
+// The clips a state blends (walk and run; a 2 x 2 grid of walk, run, idle and wave).
+struct BlendClips {
+  uint32_t walk, run, idle, wave;
+};
 
 // Times `path` on the field of `count` in state `state` (kNames).
 Status runState(Setup& setup, Renderer& renderer, const BakedPalette& palette,
-                const LayerMask& body, uint32_t walk, uint32_t run, uint32_t staff_bit,
-                uint32_t sub_meshes, uint32_t count, const std::string& path, int state, Row* row) {
+                const LayerMask& body, const BlendClips& c, uint32_t staff_bit, uint32_t sub_meshes,
+                uint32_t count, const std::string& path, int state, Row* row) {
   const std::vector<glm::dvec3> places = scenePositions("field", count);
   CrowdManager crowd;
   std::vector<InstanceHandle> handles;
   Status s = makeCrowd(setup, palette, places, LodChoice(), &crowd, &handles, sub_meshes);
   uint32_t mask = 0, space = 0;
-  const bool blend = state == 1 || state == 3, props = state >= 2;
+  const bool blend = state == 1 || state == 2 || state == 4, grid = state == 2;
+  const bool props = state >= 3;
   if (s.isOk() && blend) s = crowd.addLayerMask(body, &mask);
-  if (s.isOk() && blend)
-    s = crowd.addBlendSpace({"locomotion", {walk, run}, {0.0f, 1.0f}, mask}, &space);
+  if (s.isOk() && blend && !grid)
+    s = crowd.addBlendSpace({"locomotion", {c.walk, c.run}, {0.0f, 1.0f}, mask}, &space);
+  if (s.isOk() && grid)
+    s = crowd.addBlendSpace(
+        {"grid", {c.walk, c.run, c.idle, c.wave}, {0.0f, 1.0f}, mask, {0.0f, 1.0f}}, &space);
   for (size_t i = 0; s.isOk() && i < handles.size(); ++i) {
-    if (blend)  // Each at its own parameter and phase.
+    if (blend && !grid)  // Each at its own parameter and phase.
       s = crowd.playBlend(handles[i], space, float(i % 11) / 10.0f, 0.0, 0.13 * double(i % 7));
+    if (grid)  // Each at its own point inside the cell: all four clips drawn.
+      s = crowd.playBlend(handles[i], space,
+                          glm::vec2(0.05f + 0.09f * float(i % 11), 0.05f + 0.15f * float(i % 7)),
+                          0.0, 0.13 * double(i % 5));
     InstanceDesc d;
     if (s.isOk() && props) s = crowd.get(handles[i], &d);
     if (s.isOk() && props)
@@ -46,8 +62,11 @@ Status blendPropsTable(Setup& setup, const BakedPalette& palette, const Renderer
                        const std::vector<uint32_t>& sizes, const std::vector<std::string>& paths,
                        std::FILE* csv) {
   const int32_t walk = palette.findClip("walk"), run = palette.findClip("run");
-  if (walk < 0 || run < 0)
-    return {StatusCode::kNotFound, "blend: the palette has no 'walk' and 'run' clips"};
+  const int32_t idle = palette.findClip("idle"), wave = palette.findClip("wave");
+  if (walk < 0 || run < 0 || idle < 0 || wave < 0)
+    return {StatusCode::kNotFound,
+            "blend: the palette has no 'walk', 'run', 'idle' and 'wave' clips"};
+  const BlendClips clips{uint32_t(walk), uint32_t(run), uint32_t(idle), uint32_t(wave)};
   // The staff of crowd_demo: RiggedSimple's cylinder, thin and 1.6 units long, in the right hand.
   Character held = setup.character;
   GltfPropDesc pd;
@@ -79,8 +98,10 @@ Status blendPropsTable(Setup& setup, const BakedPalette& palette, const Renderer
   if (!s.isOk()) return {s.code(), "blend: " + s.message()};
   std::printf(
       "\nBlend spaces and props (field): every instance playing its clip (plain), blending the "
-      "walk and the run (a blend space on a full-body mask, parameters 0 to 1), holding a staff "
-      "(%zu triangles at LOD 0, %zu at LOD %u), and both, side by side in one run\n",
+      "walk and the run (blend 2: a 1D blend space on a full-body mask, parameters 0 to 1), "
+      "blending four clips (blend 4: a 2 x 2 grid of walk, run, idle and wave, each instance "
+      "inside the cell), holding a staff (%zu triangles at LOD 0, %zu at LOD %u), and blend 2 "
+      "with the staff (both), side by side in one run\n",
       held.mesh.triangleCount(staff_bit, 0), held.mesh.triangleCount(staff_bit, levels - 1),
       levels - 1);
   printSideBySideHeader("state");
@@ -89,9 +110,9 @@ Status blendPropsTable(Setup& setup, const BakedPalette& palette, const Renderer
     for (const std::string& path : paths) {
       if (path != "instanced" && path != "compute" && path != "gpu-culled" && path != "gpu-driven")
         continue;
-      Row rows[4];
-      for (int state = 0; state < 4; ++state) {
-        s = runState(setup, renderer, palette, body, uint32_t(walk), uint32_t(run), staff_bit,
+      Row rows[kStates];
+      for (int state = 0; state < kStates; ++state) {
+        s = runState(setup, renderer, palette, body, clips, staff_bit,
                      uint32_t(held.mesh.sub_meshes.size()), count, path, state, &rows[state]);
         if (!s.isOk()) return {s.code(), "blend, " + path + ": " + s.message()};
         printSideBySideRow(rows[state], rows[0], "blend", csv);

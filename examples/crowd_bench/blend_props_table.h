@@ -1,10 +1,11 @@
 // SkinnedInstancing — SPDX-License-Identifier: MIT (see LICENSE)
 #pragma once
 // crowd_bench's blend spaces and props table (--blend): the field with every instance playing
-// its clip (plain), blending the walk and the run (a blend space on a full-body mask, each at
-// its own parameter), holding a staff (a prop read from the sample RiggedSimple at a right-hand
-// socket, its LOD chain built to the character's levels), and both, side by side in one run,
-// drawn by drawCrowd's two skinning paths and the GPU-driven paths.
+// its clip (plain), blending the walk and the run (a 1D blend space on a full-body mask, each at
+// its own parameter), blending four clips (a 2D space: a 2 x 2 grid, each at its own point
+// inside the cell), holding a staff (a prop read from the sample RiggedSimple at a right-hand
+// socket, its LOD chain built to the character's levels), and the two-clip blend with the staff,
+// side by side in one run, drawn by drawCrowd's two skinning paths and the GPU-driven paths.
 #include <cstdio>
 #include <string>
 #include <vector>
