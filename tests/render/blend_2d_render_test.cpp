@@ -5,6 +5,7 @@
 // (emulateLayeredChain through the extra layer records) draws it; the extra layers show;
 // motion vectors follow a moving blend point; depth-only draws write the colour draw's depth.
 #include <cstring>
+#include <utility>
 
 #include "render/render_fixture.h"
 #include "si/gl/motion_target.h"
@@ -103,8 +104,9 @@ TEST_P(Blend2dRenderTest, EveryPathDrawsTheEmulatedBlend) {
     uint32_t space = 0;
     glm::vec2 p;
     double phase = 0.0;
-    if (crowd.blendState2D(h, &space, &p, &phase).isOk())
+    if (crowd.blendState2D(h, &space, &p, &phase).isOk()) {
       ASSERT_TRUE(crowd.setBlendParameter(h, glm::vec2(p.x, 0.0f)).isOk());
+    }
   }
   ASSERT_TRUE(crowd.update(0.0, view()).isOk());
   EXPECT_GT(compare(draw(r, crowd, view(), 0), cpu, nullptr).share, 0.003);
@@ -175,8 +177,10 @@ TEST_P(Blend2dRenderTest, MotionAndDepthFollowTheBlend) {
   motionOf(DrawMode::kComputeSkinned, glm::vec2(0.7f, 0.9f), &cs);
   motionOf(DrawMode::kSkinned, glm::vec2(0.7f, 0.9f), &gpu_vs, true);
   motionOf(DrawMode::kComputeSkinned, glm::vec2(0.7f, 0.9f), &gpu_cs, true);
-  for (const std::vector<glm::vec2>* other : {&cs, &gpu_vs, &gpu_cs}) {
-    SCOPED_TRACE(other - &vs);
+  const std::pair<const char*, const std::vector<glm::vec2>*> others[] = {
+      {"compute", &cs}, {"gpu-driven", &gpu_vs}, {"gpu-driven pre-skinned", &gpu_cs}};
+  for (const auto& [name, other] : others) {
+    SCOPED_TRACE(name);
     expectMotionAgrees(vs, *other);
   }
   // Towards another point the motion differs (the extra layers move it).

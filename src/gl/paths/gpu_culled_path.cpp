@@ -89,7 +89,10 @@ Status GpuCulledPath::uploadState(const DrawResources& r, const CrowdManager& cr
     capacity_ = capacity;
     sub_meshes_ = cd.sub_mesh_count;
   }
-  if (n > 0) uploadInOrder(state_, state.size() * sizeof(state[0]), state.data());
+  if (n > 0) {
+    Status up = staging_.upload(state_, state.size() * sizeof(state[0]), state.data());
+    if (!up.isOk()) return up;
+  }
   uploaded_bytes_ += state.size() * sizeof(state[0]);
   s = uploadOverlays(crowd);
   if (!s.isOk()) return s;
@@ -158,6 +161,7 @@ Status GpuCulledPath::uploadFrame(const DrawResources& r, const PathFrame& f) {
                    " LODs do not fit the uploaded character (", r.character->sub_meshes.size(),
                    " sub-meshes) or 256 buckets")};
   const uint32_t n = crowd.size();
+  staging_.prepare((*r.programs)[ProgramId::kUploadScatter].id, *r.info);
   DispatchGrid grid;
   if (!dispatchGrid((uint64_t(n) + 63) / 64, r.info->max_compute_groups_x,
                     r.info->max_compute_groups_y, &grid))
@@ -263,9 +267,10 @@ Status GpuCulledPath::prepareView(const PathFrame& f) {
     std::vector<uint32_t> lods;
     f.view->exportGpuLods(&lods);
     if (v.seeded_upload + 1 == uploads_ && placed_upload_ == uploads_)
-      v.seed(lods, placed_, uploads_);  // where other instances sit since its last upload,
-    else
-      v.seed(lods, instances_, uploads_);  // or everywhere.
+      s = v.seed(staging_, lods, placed_, uploads_);     // where other instances sit since its last
+    else                                                 // upload,
+      s = v.seed(staging_, lods, instances_, uploads_);  // or everywhere.
+    if (!s.isOk()) return s;
   }
   return Status::ok();
 }
@@ -495,6 +500,7 @@ void GpuCulledPath::release() {
   const GLuint arrays[] = {vao_, preskin_vao_};
   glDeleteVertexArrays(2, arrays);
   views_.clear();
+  staging_.release();
   *this = GpuCulledPath();
 }
 

@@ -85,6 +85,7 @@ class GpuCulledPath final : public DrawPath {
   GpuViewSlots views_;
   GpuViewSlot* view_ = nullptr;
   uint64_t uploads_ = 0;
+  UploadRing staging_;       // Every upload into the buffers the passes read (upload_ring.h).
   bool two_phases_ = false;  // The last frame drew in two phases.
   uint32_t capacity_ = 0, instances_ = 0, buckets_ = 0, sub_meshes_ = 0;
   uint64_t version_ = 0, uploaded_identity_ = 0;

@@ -1,7 +1,9 @@
 // SkinnedInstancing — SPDX-License-Identifier: MIT (see LICENSE)
 // The GPU-driven path's uploads in proportion to change: only the instances the crowd changed
 // since the last upload (CrowdManager::changedSince) are exported and written, and only where
-// other instances sit now do the views start their history over. And the overlays, whole.
+// other instances sit now do the views start their history over. And the overlays, whole. Every
+// write goes through the staging ring (resources/upload_ring.h): the last frame's passes may
+// still be reading these buffers.
 #include <algorithm>
 
 #include "gl/paths/gpu_culled_path.h"
@@ -36,9 +38,9 @@ Status GpuCulledPath::uploadOverlays(const CrowdManager& crowd) {
     pieces.push_back({size_t(layer_capacity_) * sizeof(GpuOverlayState),
                       extras.size() * sizeof(GpuOverlayState), extras.data()});
   }
-  uploadInOrder(overlays_, pieces);
-  uploaded_bytes_ += (overlays.size() + extras.size()) * sizeof(GpuOverlayState);
-  return Status::ok();
+  s = staging_.upload(overlays_, pieces);
+  if (s.isOk()) uploaded_bytes_ += (overlays.size() + extras.size()) * sizeof(GpuOverlayState);
+  return s;
 }
 
 Status GpuCulledPath::uploadChanges(const CrowdManager& crowd) {
@@ -59,7 +61,8 @@ Status GpuCulledPath::uploadChanges(const CrowdManager& crowd) {
   // Motion vectors key what was drawn by handle slot: room for the largest (never less).
   for (const InstanceHandle& h : changed_handles_)
     slots_needed_ = std::max(slots_needed_, (h.id & (HandlePool::kMaxSlots - 1)) + 1);
-  uploadInOrder(state_, pieces);
+  Status up = staging_.upload(state_, pieces);
+  if (!up.isOk()) return up;
   uploaded_bytes_ += total * sizeof(GpuInstanceState);
 
   // Overlays: all of them when the crowd starts or stops holding any or outgrows the buffer,
@@ -91,7 +94,8 @@ Status GpuCulledPath::uploadChanges(const CrowdManager& crowd) {
         at += c.count;
       }
     }
-    uploadInOrder(overlays_, pieces);
+    up = staging_.upload(overlays_, pieces);
+    if (!up.isOk()) return up;
     uploaded_bytes_ += total * (extras_ ? 1 + kExtraLayerRecords : 1) * sizeof(GpuOverlayState);
   }
   if (!placed.empty()) {  // Views seeded at the last upload start over there only.

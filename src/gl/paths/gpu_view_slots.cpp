@@ -31,15 +31,17 @@ Status GpuViewSlot::ensureInstances(uint32_t count) {
   return s;
 }
 
-void GpuViewSlot::seed(const std::vector<uint32_t>& lods, uint32_t count, uint64_t upload) {
+Status GpuViewSlot::seed(UploadRing& uploads, const std::vector<uint32_t>& lods, uint32_t count,
+                         uint64_t upload) {
   std::vector<glm::uvec2> rows(count, glm::uvec2(0u));
   for (size_t i = 0; i < rows.size() && i < lods.size(); ++i) rows[i].x = lods[i];
-  if (!rows.empty()) uploadInOrder(instances, rows.size() * sizeof(rows[0]), rows.data());
-  seeded_upload = upload;
+  const Status s = uploads.upload(instances, rows.size() * sizeof(rows[0]), rows.data());
+  if (s.isOk()) seeded_upload = upload;
+  return s;
 }
 
-void GpuViewSlot::seed(const std::vector<uint32_t>& lods, const std::vector<DenseRange>& ranges,
-                       uint64_t upload) {
+Status GpuViewSlot::seed(UploadRing& uploads, const std::vector<uint32_t>& lods,
+                         const std::vector<DenseRange>& ranges, uint64_t upload) {
   std::vector<glm::uvec2> rows;
   for (const DenseRange& r : ranges)
     for (uint32_t i = r.first; i < r.first + r.count; ++i)
@@ -52,8 +54,9 @@ void GpuViewSlot::seed(const std::vector<uint32_t>& lods, const std::vector<Dens
                       rows.data() + at});
     at += r.count;
   }
-  uploadInOrder(instances, pieces);
-  seeded_upload = upload;
+  const Status s = uploads.upload(instances, pieces);
+  if (s.isOk()) seeded_upload = upload;
+  return s;
 }
 
 Status GpuViewSlot::ensureDrawn(uint32_t slots_needed, uint64_t max_block_bytes) {

@@ -11,6 +11,7 @@
 #include <vector>
 
 #include "gl/resources/depth_pyramid.h"
+#include "gl/resources/upload_ring.h"
 #include "si/core/status.h"
 #include "si/crowd/camera.h"
 #include "si/crowd/gpu_crowd_state.h"
@@ -42,12 +43,14 @@ struct GpuViewSlot {
 
   /// Room for `count` instances' LODs and flags (recreated, and then to be seeded, when less).
   Status ensureInstances(uint32_t count);
-  /// Seeds the first `count` instances for crowd upload `upload`: LODs from `lods` (the view's
-  /// CPU LODs in dense order; 0 past its end), none visible last frame.
-  void seed(const std::vector<uint32_t>& lods, uint32_t count, uint64_t upload);
+  /// Seeds the first `count` instances for crowd upload `upload` through `uploads`: LODs from
+  /// `lods` (the view's CPU LODs in dense order; 0 past its end), none visible last frame. The
+  /// upload's status (the slot stays unseeded on failure).
+  Status seed(UploadRing& uploads, const std::vector<uint32_t>& lods, uint32_t count,
+              uint64_t upload);
   /// The same for the instances of `ranges` only; the others keep what they have.
-  void seed(const std::vector<uint32_t>& lods, const std::vector<DenseRange>& ranges,
-            uint64_t upload);
+  Status seed(UploadRing& uploads, const std::vector<uint32_t>& lods,
+              const std::vector<DenseRange>& ranges, uint64_t upload);
   /// Motion vectors: drawn records for at least `slots_needed` handle slots (room to grow: twice
   /// the last), all with the fallback. kLimitExceeded past `max_block_bytes`
   /// (GL_MAX_SHADER_STORAGE_BLOCK_SIZE).

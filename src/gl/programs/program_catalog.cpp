@@ -117,6 +117,7 @@ const ProgramSpec kSpecs[kProgramCount] = {
     {"GPU-driven pre-skinning with previous positions and composed layers",
      "#define SI_MOTION_VECTORS\n#define SI_LAYERS\n#define SI_COMPOSED_LAYERS\n", nullptr, nullptr,
      "gpu_skin.comp.glsl", nullptr},
+    {"staged upload scatter", "", nullptr, nullptr, "upload_scatter.comp.glsl", nullptr},
 };
 
 }  // namespace

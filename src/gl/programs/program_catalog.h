@@ -65,6 +65,7 @@ enum class ProgramId : uint8_t {
   kComputeSkinMotionComposed,       ///< kComputeSkinMotionLayers reading them.
   kGpuSkinComposed,                 ///< kGpuSkinLayers reading them.
   kGpuSkinMotionComposed,           ///< kGpuSkinMotionLayers reading them.
+  kUploadScatter,                   ///< Staged uploads into place (resources/upload_ring.h).
   kCount
 };
 inline constexpr size_t kProgramCount = size_t(ProgramId::kCount);

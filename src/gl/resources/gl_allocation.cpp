@@ -81,18 +81,6 @@ Status createIndexBuffer(GLuint* buffer, uint64_t bytes, const void* data, const
   });
 }
 
-void uploadInOrder(GLuint buffer, size_t bytes, const void* data) {
-  glFlush();
-  glNamedBufferSubData(buffer, 0, GLsizeiptr(bytes), data);
-}
-
-void uploadInOrder(GLuint buffer, const std::vector<BufferPiece>& pieces) {
-  if (pieces.empty()) return;
-  glFlush();
-  for (const BufferPiece& p : pieces)
-    glNamedBufferSubData(buffer, GLintptr(p.offset), GLsizeiptr(p.bytes), p.data);
-}
-
 Status createMutableBuffer(GLuint* buffer, uint64_t bytes, GLenum usage, const char* what) {
   return makeBuffer(buffer, bytes, what, [&](GLuint b, GLsizeiptr size) {
     glNamedBufferData(b, size, nullptr, usage);

@@ -29,21 +29,6 @@ Status createIndexBuffer(GLuint* buffer, uint64_t bytes, const void* data, const
 /// orphan on each rewrite.
 Status createMutableBuffer(GLuint* buffer, uint64_t bytes, GLenum usage, const char* what);
 
-/// Writes `bytes` of `data` at the start of `buffer`, after the commands already issued that
-/// read it. glNamedBufferSubData alone should be ordered so; on the H100's driver a pass issued
-/// before it, and not yet flushed, read the new data (the GPU-driven state). Flushing first
-/// submits those commands, which the driver then waits for. (A copy
-/// from a new buffer was ordered too but cost 14 ms a frame at 100k instances when root motion
-/// re-uploads the state every frame.)
-void uploadInOrder(GLuint buffer, size_t bytes, const void* data);
-/// One piece of a buffer to write: `bytes` of `data` at `offset`.
-struct BufferPiece {
-  size_t offset = 0, bytes = 0;
-  const void* data = nullptr;
-};
-/// The same for several pieces, after one flush.
-void uploadInOrder(GLuint buffer, const std::vector<BufferPiece>& pieces);
-
 /// A small table of 32-bit words that the shaders read as a storage buffer (the mask table, the
 /// compose table), replaced only when its content changes.
 struct TableBuffer {
