@@ -99,6 +99,32 @@ void walkBatches(const CrowdView& crowd, uint32_t capacity, uint32_t alignment,
   }
 }
 
+// Writes each slot's `per_slot` previous layer records at (layer_byte_offset / 16 + slot) *
+// per_slot * 16 of `out`: its instance's records in `previous` (per_slot per previous record)
+// through previousRecordIndices(); where it has no previous record, its current ones
+// (`current`); where the previous update wrote none, zero records.
+void writePreviousLayers(const CrowdView& crowd, uint32_t capacity, uint32_t alignment,
+                         Span<const LayerRecord> current, Span<const LayerRecord> previous,
+                         uint32_t per_slot, uint8_t* out) {
+  const size_t previous_records = crowd.previousRecords().size();
+  const Span<const uint32_t> index = crowd.previousRecordIndices();
+  const size_t slot_bytes = size_t(per_slot) * kLayerRecordSize;
+  const std::vector<LayerRecord> zero(per_slot);
+  walkBatches(crowd, capacity, alignment, nullptr,
+              [&](const DrawBatch& d, uint32_t slot, uint32_t first, uint32_t count) {
+                uint8_t* dst = out + (d.layer_byte_offset / kLayerRecordSize + slot) * slot_bytes;
+                for (uint32_t k = 0; k < count; ++k) {
+                  const uint32_t i = first + k, p = index[i];
+                  const LayerRecord* rec = p >= previous_records
+                                               ? current.data() + size_t(i) * per_slot
+                                           : (size_t(p) + 1) * per_slot <= previous.size()
+                                               ? previous.data() + size_t(p) * per_slot
+                                               : zero.data();
+                  std::memcpy(dst + size_t(k) * slot_bytes, rec, slot_bytes);
+                }
+              });
+}
+
 }  // namespace
 
 Status InstanceBatcher::build(const CrowdView& crowd, Span<uint8_t> out,
@@ -234,22 +260,8 @@ Status InstanceBatcher::buildPreviousLayers(const CrowdView& crowd, Span<uint8_t
             "(CrowdDesc::previous_records, CrowdViewDesc::previous_records)"};
   const Status s = checkLayerBuffer("buildPreviousLayers", crowd, out.size());
   if (!s.isOk()) return s;
-  const Span<const LayerRecord> layers = crowd.layerRecords();
-  const Span<const LayerRecord> previous = crowd.previousLayerRecords();
-  const size_t previous_records = crowd.previousRecords().size();
-  const Span<const uint32_t> index = crowd.previousRecordIndices();
-  uint8_t* base = out.data();
-  walkBatches(crowd, capacity_, alignment_, nullptr,
-              [&](const DrawBatch& d, uint32_t slot, uint32_t first, uint32_t count) {
-                uint8_t* dst = base + d.layer_byte_offset + size_t(slot) * kLayerRecordSize;
-                for (uint32_t k = 0; k < count; ++k) {
-                  const uint32_t i = first + k, p = index[i];
-                  const LayerRecord rec = p >= previous_records ? layers[i]
-                                          : p < previous.size() ? previous[p]
-                                                                : LayerRecord();
-                  std::memcpy(dst + size_t(k) * kLayerRecordSize, &rec, kLayerRecordSize);
-                }
-              });
+  writePreviousLayers(crowd, capacity_, alignment_, crowd.layerRecords(),
+                      crowd.previousLayerRecords(), 1, out.data());
   return Status::ok();
 }
 
@@ -294,26 +306,8 @@ Status InstanceBatcher::buildPreviousExtraLayers(const CrowdView& crowd, Span<ui
             "(CrowdDesc::previous_records, CrowdViewDesc::previous_records)"};
   const Status s = checkExtraLayerBuffer("buildPreviousExtraLayers", crowd, out.size());
   if (!s.isOk()) return s;
-  const Span<const LayerRecord> extras = crowd.extraLayerRecords();
-  const Span<const LayerRecord> previous = crowd.previousExtraLayerRecords();
-  const size_t previous_records = crowd.previousRecords().size();
-  const Span<const uint32_t> index = crowd.previousRecordIndices();
-  constexpr size_t kSlotBytes = kExtraLayerRecords * kLayerRecordSize;
-  uint8_t* base = out.data();
-  walkBatches(crowd, capacity_, alignment_, nullptr,
-              [&](const DrawBatch& d, uint32_t slot, uint32_t first, uint32_t count) {
-                uint8_t* dst = base + (d.layer_byte_offset / kLayerRecordSize + slot) * kSlotBytes;
-                for (uint32_t k = 0; k < count; ++k) {
-                  const uint32_t i = first + k, p = index[i];
-                  const LayerRecord zero[kExtraLayerRecords] = {};
-                  const LayerRecord* rec = p >= previous_records
-                                               ? extras.data() + size_t(i) * kExtraLayerRecords
-                                           : (size_t(p) + 1) * kExtraLayerRecords <= previous.size()
-                                               ? previous.data() + size_t(p) * kExtraLayerRecords
-                                               : zero;
-                  std::memcpy(dst + size_t(k) * kSlotBytes, rec, kSlotBytes);
-                }
-              });
+  writePreviousLayers(crowd, capacity_, alignment_, crowd.extraLayerRecords(),
+                      crowd.previousExtraLayerRecords(), kExtraLayerRecords, out.data());
   return Status::ok();
 }
 
