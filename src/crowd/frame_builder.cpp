@@ -391,12 +391,10 @@ SI_CPU_CLONES void writeChunk(const FrameInputs& in, InstanceStore& st, bool fal
       }
       f.visible_handles[slot] = st.dense_handles[i];
       if (fallback) f.record_masks[slot] = wornMask(st.masks[i], in.sub_mesh_count);
-      if (in.extra_layers)
-        f.layer_records[slot] =
-            layerRecordsOf(st.overlays[i], clips, *in.palette, in.clock,
-                           &f.extra_layer_records[size_t(slot) * kExtraLayerRecords]);
-      else if (in.layers)
-        f.layer_records[slot] = layerRecordOf(st.overlays[i], clips, *in.palette, in.clock);
+      if (in.layers)
+        f.layer_records[slot] = layerRecordsOf(
+            st.overlays[i], clips, *in.palette, in.clock,
+            in.extra_layers ? &f.extra_layer_records[size_t(slot) * kExtraLayerRecords] : nullptr);
       if (in.previous_records) {
         f.previous_index[slot] = view.previous_slot[i];
         view.record_slot[i] = slot;
@@ -484,7 +482,7 @@ void buildFrame(const FrameInputs& in, InstanceStore& st, CrowdFrame* frame) {
   if (in.previous_records && f.previous_index.size() < visible) f.previous_index.resize(visible);
   f.layers = in.layers;
   if (in.layers && f.layer_records.size() < visible) f.layer_records.resize(visible);
-  f.extras = in.layers && in.extra_layers;
+  f.extras = in.extra_layers;
   if (f.extras && f.extra_layer_records.size() < size_t(visible) * kExtraLayerRecords)
     f.extra_layer_records.resize(size_t(visible) * kExtraLayerRecords);
   if (fallback && f.record_masks.size() < visible) f.record_masks.resize(visible);

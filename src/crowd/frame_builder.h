@@ -95,7 +95,7 @@ struct FrameInputs {
   bool root_motion = false;                   // Some instance opted in to root motion.
   bool previous_records = false;              // CrowdDesc::previous_records.
   bool layers = false;                        // Some instance played an overlay.
-  bool extra_layers = false;                  // With layers: the crowd holds a 2D blend space.
+  bool extra_layers = false;  // Implies layers: the crowd holds a 2D blend space too.
   // The view: its lane of the store (InstanceStore::views) and its LOD bias.
   uint32_t lane = 0;
   uint32_t lod_bias = 0;

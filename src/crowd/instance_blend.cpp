@@ -24,11 +24,8 @@ void InstanceStore::anchorBlend(uint32_t i, const BlendSpace& space, glm::vec2 p
   for (uint32_t k = 0; k < b.count; ++k)
     seconds[k] = (*clip_timings)[space.clips[b.clips[k]]].duration;
   // 1D: blendPeriod's arithmetic; 2D: the durations weighted by the clips' shares.
-  double period = blendPeriod(seconds[0], seconds[1], b.chain[1]);
-  if (space.is2D()) {
-    period = 0.0;
-    for (uint32_t k = 0; k < b.count; ++k) period += double(b.shares[k]) * seconds[k];
-  }
+  double period = space.is2D() ? 0.0 : blendPeriod(seconds[0], seconds[1], b.chain[1]);
+  for (uint32_t k = 0; space.is2D() && k < b.count; ++k) period += double(b.shares[k]) * seconds[k];
   const double rate = period > 0.0 ? double(o.blend_speed) / period : 0.0;
   if (phase >= 1.0 || phase < 0.0) phase -= std::floor(phase);  // Cycles repeat.
   if (!(phase >= 0.0 && phase < 1.0)) phase = 0.0;

@@ -92,13 +92,14 @@ inline LayerRecord layerRecordOf(const OverlayState& o, const std::vector<ClipTi
   return layerRecordAt(o.playback, overlayWeight(o, clock), o.mask, clips, palette, clock);
 }
 
-/// The layer record of `o` at `clock` with its kExtraLayerRecords extra ones into `extras`
-/// (zero where a layer's weight is 0), kLayerExtrasBit set on it when any is drawn.
+/// The layer record of `o` at `clock`; unless `extras` is null, its kExtraLayerRecords extra ones
+/// into `extras` (zero where a layer's weight is 0) and kLayerExtrasBit set on it when any is
+/// drawn.
 inline LayerRecord layerRecordsOf(const OverlayState& o, const std::vector<ClipTiming>& clips,
                                   const BakedPalette& palette, double clock, LayerRecord* extras) {
   static_assert(kExtraLayers == kExtraLayerRecords, "a record per extra layer");
   LayerRecord r = layerRecordOf(o, clips, palette, clock);
-  for (uint32_t k = 0; k < kExtraLayers; ++k) {
+  for (uint32_t k = 0; extras != nullptr && k < kExtraLayers; ++k) {
     const float w = o.active ? extraWeight(o, k, clock) : 0.0f;
     const LayerRecord e = w > 0.0f
                               ? layerRecordAt(o.extra[k].playback, w, o.mask, clips, palette, clock)

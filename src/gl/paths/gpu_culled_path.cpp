@@ -233,8 +233,8 @@ Status GpuCulledPath::uploadFrame(const DrawResources& r, const PathFrame& f) {
     glProgramUniform4uiv((*r.programs)[skin].id, 16, 1, counts);
   for (GLuint program : {cull, commands, scatter}) glProgramUniform4uiv(program, 16, 1, counts);
   glProgramUniform1ui(cull, 23, layers_ ? 1u : 0u);
-  glProgramUniform1ui(cull, 38, extras_ ? layer_capacity_ : 0u);
-  glProgramUniform1ui(cull, 39, extras_ && motion_ ? previous_capacity_ : 0u);
+  glProgramUniform1ui(cull, 38, extraBase());
+  glProgramUniform1ui(cull, 39, previousExtraBase());
   glProgramUniform1ui(cull, 17, p.animation_lod_start);
   glProgramUniform1d(cull, 18, p.animation_step_seconds);
   glProgramUniform1ui(cull, 28, p.lod_bias);
@@ -254,24 +254,6 @@ Status GpuCulledPath::uploadFrame(const DrawResources& r, const PathFrame& f) {
                       r.info->max_compute_groups_x == 0 ? 65535u : r.info->max_compute_groups_x);
   const glm::mat4 vp = f.camera.viewProjection();
   glProgramUniformMatrix4fv(cull, 21, 1, GL_FALSE, &vp[0][0]);
-  return Status::ok();
-}
-
-Status GpuCulledPath::prepareView(const PathFrame& f) {
-  view_ = views_.find(f.view->identity(), frame_);
-  GpuViewSlot& v = *view_;
-  v.last_frame = frame_;
-  Status s = v.ensureInstances(capacity_);
-  if (!s.isOk()) return s;
-  if (v.seeded_upload != uploads_) {  // The view's LODs as its CPU selection left them:
-    std::vector<uint32_t> lods;
-    f.view->exportGpuLods(&lods);
-    if (v.seeded_upload + 1 == uploads_ && placed_upload_ == uploads_)
-      s = v.seed(staging_, lods, placed_, uploads_);     // where other instances sit since its last
-    else                                                 // upload,
-      s = v.seed(staging_, lods, instances_, uploads_);  // or everywhere.
-    if (!s.isOk()) return s;
-  }
   return Status::ok();
 }
 
@@ -421,8 +403,7 @@ void GpuCulledPath::runPasses(const DrawResources& r, const PathFrame& f, uint32
   if (layers_) glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 8, r.scratch->mask_table.buffer);
   const bool composed = compose_stride_ > 0;
   if (composed)
-    composeGpuLayers(r, motion_, compose_stride_, n, extras_ ? layer_capacity_ : 0u,
-                     extras_ && motion_ ? previous_capacity_ : 0u, st);
+    composeGpuLayers(r, motion_, compose_stride_, n, extraBase(), previousExtraBase(), st);
   if (f.preskin) {
     // Every pre-skinned entry's vertices into the ring, then one vertex-pulling multi-draw.
     const Program& skin = (*r.programs)[preSkinningProgram(true, motion_, layers_, composed)];

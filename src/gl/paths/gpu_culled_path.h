@@ -72,6 +72,10 @@ class GpuCulledPath final : public DrawPath {
   uint32_t layer_capacity_ = 0, layer_copies_ = 1;
   bool layers_ = false, extras_ = false;
   uint32_t compose_stride_ = 0;  // Composed layers' row stride this frame; 0: none.
+  // 2D blends: the extra layers' first index in overlays_ and layers_out_, and in
+  // previous_layers_out_ (0: none; cull.comp.glsl's u_extras, u_previous_extras).
+  uint32_t extraBase() const { return extras_ ? layer_capacity_ : 0u; }
+  uint32_t previousExtraBase() const { return extras_ && motion_ ? previous_capacity_ : 0u; }
   // Motion vectors: the previous records and previous layer records per visible instance (the
   // passes' output; what each view drew is its slot's; 2D blends' previous extra layers after
   // previous_capacity_ layer records). frame_ counts the crowd clocks drawn.

@@ -3,7 +3,7 @@
 // since the last upload (CrowdManager::changedSince) are exported and written, and only where
 // other instances sit now do the views start their history over. And the overlays, whole. Every
 // write goes through the staging ring (resources/upload_ring.h): the last frame's passes may
-// still be reading these buffers.
+// still be reading these buffers. Each view's LODs and flags are seeded after an upload.
 #include <algorithm>
 
 #include "gl/paths/gpu_culled_path.h"
@@ -68,31 +68,27 @@ Status GpuCulledPath::uploadChanges(const CrowdManager& crowd) {
   // Overlays: all of them when the crowd starts or stops holding any or outgrows the buffer,
   // else the changed instances'.
   const uint32_t n = crowd.size();
-  if (crowd.playsOverlays() != layers_ || (layers_ && n > layer_capacity_) ||
-      (layers_ && crowd.writesExtraLayers() != extras_)) {
+  if (crowd.playsOverlays() != layers_ ||
+      (layers_ && (n > layer_capacity_ || crowd.writesExtraLayers() != extras_))) {
     Status s = uploadOverlays(crowd);
     if (!s.isOk()) return s;
   } else if (layers_) {
     changed_overlays_.resize(total);
+    if (extras_) changed_extras_.resize(total * kExtraLayerRecords);
     pieces.clear();
     at = 0;
     for (const DenseRange& c : changed) {
       crowd.exportGpuOverlays(c, changed_overlays_.data() + at);
       pieces.push_back({size_t(c.first) * sizeof(GpuOverlayState),
                         size_t(c.count) * sizeof(GpuOverlayState), changed_overlays_.data() + at});
-      at += c.count;
-    }
-    if (extras_) {  // Each changed instance's extra layers, after the overlays' capacity.
-      changed_extras_.resize(total * kExtraLayerRecords);
-      at = 0;
-      for (const DenseRange& c : changed) {
+      if (extras_) {  // Its extra layers, after the overlays' capacity.
         GpuOverlayState* out = changed_extras_.data() + at * kExtraLayerRecords;
         crowd.exportGpuExtraLayers(c, out);
         pieces.push_back({(size_t(layer_capacity_) + size_t(c.first) * kExtraLayerRecords) *
                               sizeof(GpuOverlayState),
                           size_t(c.count) * kExtraLayerRecords * sizeof(GpuOverlayState), out});
-        at += c.count;
       }
+      at += c.count;
     }
     up = staging_.upload(overlays_, pieces);
     if (!up.isOk()) return up;
@@ -104,6 +100,24 @@ Status GpuCulledPath::uploadChanges(const CrowdManager& crowd) {
   }
   version_ = crowd.stateVersion();
   instances_ = n;
+  return Status::ok();
+}
+
+Status GpuCulledPath::prepareView(const PathFrame& f) {
+  view_ = views_.find(f.view->identity(), frame_);
+  GpuViewSlot& v = *view_;
+  v.last_frame = frame_;
+  Status s = v.ensureInstances(capacity_);
+  if (!s.isOk()) return s;
+  if (v.seeded_upload != uploads_) {  // The view's LODs as its CPU selection left them:
+    std::vector<uint32_t> lods;
+    f.view->exportGpuLods(&lods);
+    if (v.seeded_upload + 1 == uploads_ && placed_upload_ == uploads_)
+      s = v.seed(staging_, lods, placed_, uploads_);     // where other instances sit since its last
+    else                                                 // upload,
+      s = v.seed(staging_, lods, instances_, uploads_);  // or everywhere.
+    if (!s.isOk()) return s;
+  }
   return Status::ok();
 }
 

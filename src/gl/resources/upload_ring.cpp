@@ -13,7 +13,8 @@ namespace si::detail {
 
 void UploadRing::prepare(GLuint scatter_program, const GlInfo& info) {
   program_ = scatter_program;
-  info_ = info;
+  max_groups_x_ = info.max_compute_groups_x;
+  max_groups_y_ = info.max_compute_groups_y;
   if (!configured_) {
     ring_.configure(16, 16, kRegions, info.storage_buffer_offset_alignment);
     configured_ = true;
@@ -32,8 +33,7 @@ Status UploadRing::upload(GLuint buffer, const std::vector<BufferPiece>& pieces)
   const uint64_t staged_words = uint64_t(count) * 4 + words;
   DispatchGrid grid;
   if (staged_words > std::numeric_limits<uint32_t>::max() ||
-      !dispatchGrid((words + 63) / 64, info_.max_compute_groups_x, info_.max_compute_groups_y,
-                    &grid))
+      !dispatchGrid((words + 63) / 64, max_groups_x_, max_groups_y_, &grid))
     return {StatusCode::kLimitExceeded,
             strCat("staged upload: ", words, " words exceed 2^32 or the compute grid")};
   Status s = ring_.reserve(size_t(staged_words) * 4);

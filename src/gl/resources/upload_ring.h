@@ -49,7 +49,7 @@ class UploadRing {
  private:
   RecordRing ring_;
   GLuint program_ = 0;
-  GlInfo info_;
+  uint32_t max_groups_x_ = 0, max_groups_y_ = 0;  // GlInfo's compute grid.
   bool configured_ = false;
 };
 
