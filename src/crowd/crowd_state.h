@@ -28,6 +28,7 @@ struct ViewState {
   Camera camera, previous_camera;
   bool selected = false;  // Whether select() has run since init().
   uint64_t identity = 0;  // CrowdView::identity(): new at every init() (nextStateVersion()).
+  uint64_t selections = 0;  // CrowdView::selectionCount(): selections since init().
 };
 
 struct CrowdState {

@@ -28,6 +28,7 @@ void resetSelection(const CrowdDesc& desc, ViewState* v) {
   v->camera = v->previous_camera = Camera();
   v->selected = false;
   v->identity = nextStateVersion();
+  v->selections = 0;
   v->sub_mesh_count = desc.sub_mesh_count;
   v->lod_count = desc.lod_count;
 }
@@ -88,6 +89,7 @@ void selectView(const FrameInputs& in, const Camera& camera, ViewState* v) {
   v->previous_camera = v->selected ? v->camera : camera;
   v->camera = camera;
   v->selected = true;
+  ++v->selections;
 }
 
 void gatherEvents(CrowdState* st) {
@@ -227,6 +229,9 @@ Span<const LayerRecord> CrowdView::previousExtraLayerRecords() const {
                                  size_t(v.frame.previous_visible) * kExtraLayerRecords);
 }
 uint64_t CrowdView::identity() const { return view().identity; }
+uint64_t CrowdView::selectionCount() const {
+  return view().selections;
+}
 
 CullParams CrowdView::cullParams(const Camera& camera) const {
   const ViewState& v = view();

@@ -212,6 +212,48 @@ Status InstanceBatcher::buildPreviousIndices(const CrowdView& crowd, Span<uint8_
   return Status::ok();
 }
 
+Status InstanceBatcher::buildPreviousIndices(const CrowdView& crowd, Span<uint8_t> out,
+                                             Span<const uint32_t> previous_places) const {
+  Status s = checkPreviousBuffer("buildPreviousIndices", "index", crowd, out.size(),
+                                 previousIndexBufferBound(crowd));
+  const size_t previous = crowd.previousRecords().size();
+  if (s.isOk() && previous_places.size() < previous)
+    s = {StatusCode::kCountMismatch,
+         strCat("InstanceBatcher::buildPreviousIndices: the place table holds ",
+                previous_places.size(), " entries, the previous selection drew ", previous,
+                " records")};
+  if (!s.isOk()) return s;
+  const Span<const uint32_t> index = crowd.previousRecordIndices();
+  uint8_t* base = out.data();
+  walkBatches(crowd, capacity_, alignment_, nullptr,
+              [&](const DrawBatch& d, uint32_t slot, uint32_t first, uint32_t count) {
+                uint32_t* dst = reinterpret_cast<uint32_t*>(base) +
+                                d.layer_byte_offset / kLayerRecordSize + slot;
+                for (uint32_t k = 0; k < count; ++k) {
+                  const uint32_t p = index[first + k];
+                  dst[k] = p < previous ? previous_places[p] : CrowdManager::kNoPreviousRecord;
+                }
+              });
+  return Status::ok();
+}
+
+Status InstanceBatcher::buildRecordPlaces(const CrowdView& crowd, Span<uint32_t> out) const {
+  if (capacity_ == 0) return {StatusCode::kInvalidArgument, "InstanceBatcher: init() first"};
+  const size_t records = crowd.records().size();
+  if (out.size() < records)
+    return {StatusCode::kCountMismatch,
+            strCat("InstanceBatcher::buildRecordPlaces: the place table holds ", out.size(),
+                   " entries, the frame has ", records, " records")};
+  std::fill(out.data(), out.data() + records, kNoRecordPlace);
+  walkBatches(crowd, capacity_, alignment_, nullptr,
+              [&](const DrawBatch& d, uint32_t slot, uint32_t first, uint32_t count) {
+                const uint32_t word = (d.byte_offset + slot * kInstanceRecordSize) / 16;
+                for (uint32_t k = 0; k < count; ++k)
+                  out[first + k] = word + k * (kInstanceRecordSize / 16);
+              });
+  return Status::ok();
+}
+
 size_t InstanceBatcher::layerBufferBound(const CrowdView& crowd) const {
   if (capacity_ == 0) return 0;
   const std::vector<uint32_t>& offsets = crowd.bucketOffsets();

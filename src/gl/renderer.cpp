@@ -114,6 +114,7 @@ void Renderer::shutdown() {
   m.vertex_path.release();
   m.traditional_path.release();
   m.ring.release();
+  m.drawn.clear();
   m.scratch.release();
   m.timer.release();
   m.programs.release();
@@ -342,21 +343,24 @@ Status Renderer::drawCrowd(CharacterId id, const CrowdView& view, const Instance
   const auto t0 = std::chrono::steady_clock::now();
   Impl::Guard guard = m.enter("drawCrowd", detail::drawFootprint());
   // The ring region (resources/ring_frame.h); its blocks start where storage buffers may too.
-  const detail::RingFrame plan = detail::planRingFrame(
-      batcher, view, std::max(m.alignment, m.info.storage_buffer_offset_alignment), motion, layers);
+  // Motion vectors read the previous records where the previous selection's draw left them
+  // while that region survives (resources/drawn_regions.h), else copy them.
   const uint64_t storage_limit = m.info.max_shader_storage_block_size_bytes;
-  if (motion && plan.previous_end - plan.previous_indices > storage_limit)
-    return {StatusCode::kLimitExceeded,
-            strCat("drawCrowd: motion vectors: the frame's previous-record indices and records (",
-                   plan.previous_end - plan.previous_indices,
-                   " bytes) exceed GL_MAX_SHADER_STORAGE_BLOCK_SIZE (", storage_limit, ")")};
-  s = m.ring.reserve(plan.end);
-  if (!s.isOk()) return s;
+  detail::RingFrame plan;
+  const detail::DrawnRegion* last = nullptr;
+  s = detail::reserveRingFrame(batcher, view,
+                               std::max(m.alignment, m.info.storage_buffer_offset_alignment),
+                               motion, layers, storage_limit, m.drawn, &m.ring, &plan, &last);
   size_t base = 0;
-  s = m.ring.acquire(&base);
+  if (s.isOk()) s = m.ring.acquire(&base);
   if (s.isOk())
-    s = detail::writeRingFrame(batcher, view, plan, m.ring.mapped(base), m.ring.writableBytes(),
-                               &m.batches);
+    s = detail::writeRingFrame(
+        batcher, view, plan, m.ring.mapped(base), m.ring.writableBytes(),
+        last != nullptr ? Span<const uint32_t>(last->places) : Span<const uint32_t>(), &m.batches);
+  const detail::PreviousBinding previous = detail::previousBinding(plan, base, last);
+  if (s.isOk() && last != nullptr) m.ring.borrow(last->serial);
+  if (s.isOk() && m.desc.motion_vectors && view.desc().previous_records)
+    s = m.drawn.keep(batcher, view, m.ring, base, base + plan.records_end);
   if (s.isOk() && layers) s = m.scratch.uploadMaskTable(layerMaskTable(crowd.layerMasks()));
   // Composed layers: the skinning passes' rows, where they fit (paths/layer_compose_pass.h; the
   // pass reads the region as a storage buffer).
@@ -380,9 +384,9 @@ Status Renderer::drawCrowd(CharacterId id, const CrowdView& view, const Instance
   frame.ring_base = base;
   frame.ring_bytes = plan.end;
   frame.motion = motion;
-  frame.previous_base = base + plan.previous_indices;
-  frame.previous_bytes = plan.previous_end - plan.previous_indices;
-  frame.previous_records_word = uint32_t((plan.previous_records - plan.previous_indices) / 16);
+  frame.previous_base = previous.base;
+  frame.previous_bytes = previous.bytes;
+  frame.previous_words = previous.words;
   frame.previous_shift = previousRecordShift(view);
   frame.layers = layers;
   frame.layer_base = base + plan.layer_records;
@@ -405,6 +409,7 @@ Status Renderer::drawCrowd(CharacterId id, const CrowdView& view, const Instance
                                : m.vertex_path;
   DrawStats st;
   s = m.runPath(*c, path, frame, t0, stats != nullptr, &st, guard);
+  st.previous_records_copied = plan.previous_copied ? view.previousRecords().size() : 0;
   m.ring.finishFrame();
   if (s.isOk()) s = m.check("drawCrowd");
   if (stats != nullptr) *stats = st;

@@ -18,6 +18,7 @@
 #include "gl/paths/vertex_shader_path.h"
 #include "gl/profile/gl_profile.h"
 #include "gl/programs/program_set.h"
+#include "gl/resources/drawn_regions.h"
 #include "gl/resources/gpu_timer.h"
 #include "gl/resources/record_ring.h"
 #include "gl/resources/scratch_buffers.h"
@@ -34,6 +35,7 @@ struct Renderer::Impl {
   uint32_t block_size = 0, capacity = 0, alignment = 256, ring_frames = 3;
   detail::ProgramSet programs;
   detail::RecordRing ring;
+  detail::DrawnRegions drawn;  // drawCrowd's recent records, read as previous ones.
   detail::ScratchBuffers scratch;
   detail::GpuTimer timer;
   detail::VertexShaderPath vertex_path;

@@ -234,6 +234,84 @@ TEST(PreviousRecords, TheBatcherWritesThemInBuildsSlots) {
             StatusCode::kInvalidArgument);
 }
 
+// drawCrowd's motion vectors without a copy: buildRecordPlaces says where build() put each record,
+// and the next selection's buildPreviousIndices through that table points each slot at its
+// previous record in the buffer the last frame's build() wrote, which holds buildPrevious's
+// record there (the selection's records are the next one's previous records, byte for byte).
+TEST(PreviousRecords, TheLastFramesBufferHoldsThePreviousRecords) {
+  CrowdManager crowd = makeCrowd(3);
+  std::vector<glm::dvec3> spots;
+  for (int i = 0; i < 3000; ++i) spots.push_back({(i % 60) * 1.5, 0.0, (i / 60) * 1.5});
+  RandomCrowdDesc r;
+  r.positions = spots;
+  r.optional_mask = 0xE;
+  std::vector<InstanceHandle> handles;
+  ASSERT_TRUE(crowd.addRandom(r, &handles).isOk());
+  InstanceBatcher batcher;
+  ASSERT_TRUE(batcher.init({16384, 256, 0}).isOk());  // Many batches.
+  std::vector<uint8_t> last_buffer;
+  std::vector<uint32_t> last_places;
+  size_t through = 0, without = 0;
+  const uint64_t selections = crowd.view().selectionCount();
+  for (int frame = 0; frame < 4; ++frame) {
+    if (frame == 2)  // Teleports: no previous record.
+      for (size_t i = 0; i < handles.size(); i += 50) {
+        InstanceDesc d;
+        ASSERT_TRUE(crowd.get(handles[i], &d).isOk());
+        ASSERT_TRUE(crowd.setTransform(handles[i], d.position, d.rotation, d.scale).isOk());
+      }
+    const Camera camera = test::testCamera({45, 10, -20.0 + 5.0 * frame}, {45, 0, 50});
+    ASSERT_TRUE(crowd.update(0.1, camera).isOk());
+    EXPECT_EQ(crowd.view().selectionCount(), selections + uint64_t(frame) + 1);
+    std::vector<uint8_t> current(batcher.recordBufferBound(crowd)), previous(current.size());
+    std::vector<uint8_t> indices(batcher.previousIndexBufferBound(crowd));
+    std::vector<DrawBatch> draws;
+    ASSERT_TRUE(batcher.build(crowd, current, &draws).isOk());
+    ASSERT_TRUE(batcher.buildPrevious(crowd, previous).isOk());
+    if (frame > 0) {
+      ASSERT_TRUE(batcher.buildPreviousIndices(crowd.view(), indices, last_places).isOk());
+      for (const DrawBatch& d : draws)
+        for (uint32_t k = 0; k < d.instance_count; ++k) {
+          uint32_t word;
+          std::memcpy(&word, indices.data() + (d.layer_byte_offset / kLayerRecordSize + k) * 4, 4);
+          InstanceRecord then;
+          std::memcpy(&then, previous.data() + d.byte_offset + k * kInstanceRecordSize,
+                      sizeof then);
+          if (word == CrowdManager::kNoPreviousRecord) {
+            ++without;  // buildPrevious' fallback: the current record moved.
+            continue;
+          }
+          ASSERT_LE(size_t(word) * 16 + kInstanceRecordSize, last_buffer.size());
+          InstanceRecord there;
+          std::memcpy(&there, last_buffer.data() + size_t(word) * 16, sizeof there);
+          ASSERT_TRUE(sameRecord(there, then)) << "frame " << frame << " slot " << k;
+          ++through;
+        }
+    }
+    std::vector<uint32_t> places(crowd.records().size() + 1, 7u);
+    ASSERT_TRUE(batcher.buildRecordPlaces(crowd.view(), places).isOk());
+    EXPECT_EQ(places.back(), 7u);  // Past records(): untouched.
+    for (size_t i = 0; i < crowd.records().size(); ++i) {
+      ASSERT_NE(places[i], InstanceBatcher::kNoRecordPlace);
+      InstanceRecord there;
+      std::memcpy(&there, current.data() + size_t(places[i]) * 16, sizeof there);
+      ASSERT_TRUE(sameRecord(there, crowd.records()[i])) << "frame " << frame << " record " << i;
+    }
+    last_buffer = current;
+    last_places.assign(places.begin(), places.end() - 1);
+  }
+  EXPECT_GT(through, 1000u);
+  EXPECT_GT(without, 100u);  // Instances entering the view, the teleported.
+  std::vector<uint8_t> indices(batcher.previousIndexBufferBound(crowd));
+  const Span<const uint32_t> short_table(last_places.data(), crowd.previousRecords().size() - 1);
+  EXPECT_EQ(batcher.buildPreviousIndices(crowd.view(), indices, short_table).code(),
+            StatusCode::kCountMismatch);
+  std::vector<uint32_t> few(crowd.records().size() - 1);
+  EXPECT_EQ(batcher.buildRecordPlaces(crowd.view(), few).code(), StatusCode::kCountMismatch);
+  EXPECT_EQ(InstanceBatcher().buildRecordPlaces(crowd.view(), few).code(),
+            StatusCode::kInvalidArgument);
+}
+
 // A camera cut past a float's range: the fallback keeps the current translation rather than
 // writing an infinite one.
 TEST(PreviousRecords, ACameraCutPastAFloatKeepsFiniteRecords) {

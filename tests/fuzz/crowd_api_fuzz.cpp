@@ -256,6 +256,38 @@ void checkFrame(const si::CrowdManager& crowd) {
         if (p != si::CrowdManager::kNoPreviousRecord && p >= crowd.previousRecords().size())
           fail("a slot's previous index is past the previous records");
       }
+    // Through a table (drawCrowd reading the last frame's region): each index looked up.
+    std::vector<uint32_t> table(crowd.previousRecords().size());
+    for (size_t p = 0; p < table.size(); ++p) table[p] = uint32_t(p * 5 + 3);
+    std::vector<uint8_t> looked_up(indices.size());
+    if (!batcher.buildPreviousIndices(crowd.view(), looked_up, table).isOk())
+      fail("buildPreviousIndices through a table failed on a valid frame");
+    for (const si::DrawBatch& d : draws)
+      for (uint32_t k = 0; k < d.instance_count; ++k) {
+        const size_t at = (d.layer_byte_offset / si::kLayerRecordSize + k) * 4;
+        uint32_t p, q;
+        std::memcpy(&p, indices.data() + at, 4);
+        std::memcpy(&q, looked_up.data() + at, 4);
+        if (q != (p < table.size() ? table[p] : si::CrowdManager::kNoPreviousRecord))
+          fail("a slot's index through the table is not the table's entry");
+      }
+  }
+  // Where build() put each record: none, or a copy of it.
+  {
+    std::vector<uint8_t> now(batcher.recordBufferBound(crowd));
+    std::vector<si::DrawBatch> draws;
+    std::vector<uint32_t> places(crowd.records().size());
+    if (!batcher.build(crowd, now, &draws).isOk() ||
+        !batcher.buildRecordPlaces(crowd.view(), places).isOk())
+      fail("build or buildRecordPlaces failed on a valid frame");
+    for (size_t i = 0; i < places.size(); ++i) {
+      if (places[i] == si::InstanceBatcher::kNoRecordPlace) continue;
+      if (size_t(places[i]) * 16 + si::kInstanceRecordSize > now.size())
+        fail("a record's place is past build()'s buffer");
+      else if (std::memcmp(now.data() + size_t(places[i]) * 16, &crowd.records()[i],
+                           si::kInstanceRecordSize) != 0)
+        fail("a record's place does not hold the record");
+    }
   }
   const uint64_t texels = palette().layout.textureTexelCount();
   si::fuzz::checkLayerRecords(crowd, batcher, palette(), fail);

@@ -148,6 +148,60 @@ TEST_P(MotionVectorTest, AnEmptyFrameDrawsWithMotionVectors) {
   }
 }
 
+// drawCrowd reads the previous records where its draw of the previous selection left them (no
+// copy) while the ring holds that region: its motion equals that of a renderer that copies them
+// (one ring region, which never holds the last draw), on both skinning paths, with a depth-only
+// draw of the new selection between them and two instances placed anew (no previous record).
+// Once three more draws have come round the ring, the records are copied again.
+TEST_P(MotionVectorTest, TheLastDrawsRegionServesAsThePreviousRecords) {
+  for (SkinningPath path : {SkinningPath::kVertexShader, SkinningPath::kCompute}) {
+    SCOPED_TRACE(skinningPathName(path));
+    Renderer reuse, copy;
+    RendererDesc rd;
+    rd.motion_vectors = true;
+    rd.skinning_path = path;
+    makeRenderer(&reuse, 0, PaletteFormat::kMatrix3x4F32, &rd);
+    rd.ring_frames = 1;
+    makeRenderer(&copy, 0, PaletteFormat::kMatrix3x4F32, &rd);
+    InstanceBatcher batcher;
+    ASSERT_TRUE(batcher.init(reuse.batchLimits()).isOk());
+    const auto draw = [&](Renderer& r, DrawMode mode, std::vector<glm::vec2>* motion) {
+      target_.clear(glm::vec4(0.0f));
+      DrawStats stats;
+      const Status s = r.drawCrowd(crowd_, batcher, crowd_.updateCamera(), &stats, mode);
+      EXPECT_TRUE(s.isOk()) << s.toString();
+      if (motion != nullptr) *motion = motions();
+      return stats.previous_records_copied;
+    };
+    ASSERT_TRUE(crowd_.update(1.0 / 30.0, camera(1)).isOk());
+    draw(reuse, DrawMode::kDefault, nullptr);
+    draw(copy, DrawMode::kDefault, nullptr);
+    for (size_t k : {5u, 10u}) {
+      InstanceDesc d;
+      ASSERT_TRUE(crowd_.get(handles_[k], &d).isOk());
+      ASSERT_TRUE(crowd_.setTransform(handles_[k], d.position, d.rotation, d.scale).isOk());
+    }
+    nextFrame();
+    const size_t previous = crowd_.previousRecords().size();
+    ASSERT_GT(previous, 10u);
+    std::vector<glm::vec2> read, copied;
+    EXPECT_EQ(draw(reuse, DrawMode::kDepthOnly, nullptr), 0u);
+    EXPECT_EQ(draw(reuse, DrawMode::kDefault, &read), 0u);
+    EXPECT_EQ(draw(copy, DrawMode::kDefault, &copied), previous);
+    float largest = 0.0f;
+    for (const glm::vec2& m : copied) largest = std::max(largest, glm::length(m));
+    EXPECT_GT(largest, 0.02f);
+    EXPECT_TRUE(read == copied);
+    nextFrame();
+    for (int k = 0; k < 3; ++k) draw(reuse, DrawMode::kDepthOnly, nullptr);
+    EXPECT_EQ(draw(reuse, DrawMode::kDefault, &read), crowd_.previousRecords().size());
+    EXPECT_EQ(draw(copy, DrawMode::kDefault, &copied), crowd_.previousRecords().size());
+    EXPECT_TRUE(read == copied);
+    reuse.shutdown();
+    copy.shutdown();
+  }
+}
+
 INSTANTIATE_TEST_SUITE_P(Backends, MotionVectorTest, allBackends(), backendTestName);
 
 }  // namespace test

@@ -149,6 +149,10 @@ class CrowdView {
   /// What a GPU-driven renderer keeps per view (LODs, visibility history, drawn records) belongs
   /// to this identity.
   uint64_t identity() const;
+  /// Selections (select(); the crowd's own view: update()) since init(). With identity() it
+  /// names the records: selection n's records() are selection n + 1's previousRecords(), byte
+  /// for byte, so a renderer that kept where it uploaded them can read them there again.
+  uint64_t selectionCount() const;
   /// The crowd's cull parameters for `camera` with this view's rules applied (its LOD lines,
   /// far line and lod_bias): what select() uses. Default parameters when detached.
   CullParams cullParams(const Camera& camera) const;

@@ -134,6 +134,22 @@ class InstanceBatcher {
   Status buildPreviousIndices(const CrowdManager& crowd, Span<uint8_t> out) const {
     return buildPreviousIndices(crowd.view(), out);
   }
+  /// The same through a table: writes `previous_places[p]` instead of each index p (what
+  /// buildRecordPlaces() gave for the previous selection: the 16-byte word of each previous
+  /// record in the buffer the previous frame's build() wrote), so a shader reads the previous
+  /// records where that frame left them, with no copy (what drawCrowd does while that buffer is
+  /// intact). kNoPreviousRecord stays where there is no previous record or the table has none
+  /// (kNoRecordPlace). kCountMismatch also when `previous_places` holds fewer entries than
+  /// previousRecords() (nothing written).
+  Status buildPreviousIndices(const CrowdView& view, Span<uint8_t> out,
+                              Span<const uint32_t> previous_places) const;
+
+  /// Where build() puts each record: for each of records(), the 16-byte word (byte offset / 16)
+  /// in build()'s buffer of one of its copies (the last in build()'s order), or kNoRecordPlace
+  /// where no batch holds it. kInvalidArgument if not initialized; kCountMismatch when `out`
+  /// holds fewer entries than records() (nothing written).
+  Status buildRecordPlaces(const CrowdView& view, Span<uint32_t> out) const;
+  static constexpr uint32_t kNoRecordPlace = 0xFFFFFFFFu;
 
   /// Layered animation: bytes buildLayers() needs (each batch's layer records padded to the
   /// alignment).

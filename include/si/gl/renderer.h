@@ -77,7 +77,9 @@ struct RendererDesc {
   /// GL's minimum 16384) to test batching; it can never exceed the limit.
   uint32_t uniform_block_size_bytes = 0;
   /// Frames the record ring holds before reusing a region (each guarded by a fence); 0 means 3.
-  /// The ring has this many regions per character (each character's draw takes one).
+  /// The ring has this many regions per character (each character's draw takes one). With
+  /// motion vectors, drawCrowd reads the previous records where the view's last draw left them
+  /// only while fewer than this many draws of the character came since (else it copies them).
   uint32_t ring_frames = 0;
   /// Check glGetError after each group of calls (a failing check is the call's kBackend
   /// status, naming the GL error). Errors already pending when a call starts are the host's:
@@ -206,6 +208,11 @@ struct DrawStats {
   /// instance counts once per sub-mesh; the GPU-driven pass's count stays on the GPU).
   uint32_t compose_dispatches = 0;
   uint64_t composed_records = 0;
+  /// drawCrowd with motion vectors: previous records copied into the ring this draw (80 bytes
+  /// each). 0 when they were read where the draw of the view's previous selection left them,
+  /// which holds while the ring has not come round to that draw's region since
+  /// (RendererDesc::ring_frames; docs/rendering.md, "Motion vectors").
+  uint64_t previous_records_copied = 0;
 };
 
 /// Which program draws: kDefault skins by the renderer's skinning path; kSkinned forces the

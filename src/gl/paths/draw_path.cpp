@@ -47,7 +47,7 @@ void setMotionUniforms(const Program& program, const PathFrame& f) {
 
 void bindPreviousRecords(const DrawResources& r, const Program& program, const PathFrame& f) {
   r.ring->bindRegion(f.previous_base, f.previous_bytes, 25);
-  glProgramUniform1ui(program.id, 8, f.previous_records_word);
+  glProgramUniform3ui(program.id, 8, f.previous_words.x, f.previous_words.y, f.previous_words.z);
   glProgramUniform3f(program.id, 9, f.previous_shift.x, f.previous_shift.y, f.previous_shift.z);
 }
 

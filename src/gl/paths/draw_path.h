@@ -65,15 +65,16 @@ struct PathFrame {
   bool preskin = false;
   bool depth_only = false;
   /// Motion vectors (the instanced paths, RendererDesc::motion_vectors): each slot's
-  /// previous-record index and the previous records once each, `previous_bytes` at
-  /// `previous_base` of the ring, the records from its word `previous_records_word`
-  /// (shaders/previous_index.glsl), the fallback's shift (si::previousRecordShift), and the crowd's
+  /// previous-record index and the previous records (copied, or the previous frame's),
+  /// `previous_bytes` at `previous_base` of the ring, with `previous_words` (the indices' first
+  /// word, the records' base word, words per index step: shaders/previous_index.glsl,
+  /// resources/drawn_regions.h), the fallback's shift (si::previousRecordShift), and the crowd's
   /// last and previous update cameras' view-projections. The GPU-driven path: `motion` and the
   /// view-projection its motion uses for this frame (it keeps the previous frame's).
   bool motion = false;
   size_t previous_base = 0;
   size_t previous_bytes = 0;
-  uint32_t previous_records_word = 0;
+  glm::uvec3 previous_words{0u};
   glm::vec3 previous_shift{0.0f};
   glm::mat4 motion_view_projection{1.0f}, previous_view_projection{1.0f};
   /// Layered animation (the instanced paths): the batches' layer records at `layer_base` of the

@@ -43,6 +43,7 @@ Status RecordRing::reserve(size_t bytes_per_frame) {
     if (!es_) glUnmapNamedBuffer(buffer_);
     glDeleteBuffers(1, &buffer_);
   }
+  first_valid_ = serial_;  // The regions written so far are gone with the buffer.
   region_size_ = std::max<size_t>(need * 2, size_t(1) << 20);  // Grow geometrically.
   region_size_ = (region_size_ + region_alignment_ - 1) / region_alignment_ * region_alignment_;
   const size_t ring_size = region_size_ * frames_;
@@ -105,8 +106,17 @@ void RecordRing::publish(size_t base, size_t bytes) const {
 }
 
 void RecordRing::finishFrame() {
-  if (!es_) fences_[index_] = glFenceSync(GL_SYNC_GPU_COMMANDS_COMPLETE, 0);
+  if (!es_) {
+    fences_[index_] = glFenceSync(GL_SYNC_GPU_COMMANDS_COMPLETE, 0);
+    if (has_borrowed_ && holds(borrowed_)) {
+      GLsync& f = fences_[(index_ + frames_ - (serial_ - borrowed_)) % frames_];
+      if (f) glDeleteSync(f);
+      f = glFenceSync(GL_SYNC_GPU_COMMANDS_COMPLETE, 0);
+    }
+  }
+  has_borrowed_ = false;
   index_ = (index_ + 1) % frames_;
+  ++serial_;
 }
 
 void RecordRing::release() {
@@ -123,6 +133,8 @@ void RecordRing::release() {
   shadow_.shrink_to_fit();
   region_size_ = 0;
   index_ = 0;
+  first_valid_ = serial_;
+  has_borrowed_ = false;
 }
 
 }  // namespace si::detail

@@ -41,8 +41,22 @@ class RecordRing {
   /// Makes the `bytes` written at `base` visible to the GPU: nothing to do with the persistent
   /// coherent mapping; an upload on the ES profile. Call after writing, before drawing.
   void publish(size_t base, size_t bytes) const;
-  /// Fences the current region and moves to the next.
+  /// Fences the current region (and one borrow()ed this frame) and moves to the next.
   void finishFrame();
+  /// The current region's serial: regions finished so far (each finishFrame() moves it on).
+  uint64_t serial() const { return serial_; }
+  /// Whether the region finished as `serial` still holds what was written there while the
+  /// current region is written: not the current one, not reached again, the buffer not
+  /// re-created since.
+  bool holds(uint64_t serial) const {
+    return serial >= first_valid_ && serial < serial_ && serial_ - serial < frames_;
+  }
+  /// The current frame reads the region of `serial` (holds()): finishFrame fences it again, so
+  /// it is not written before the GPU is done with this frame too.
+  void borrow(uint64_t serial) {
+    borrowed_ = serial;
+    has_borrowed_ = true;
+  }
   void release();
 
   /// The mapped bytes of the region at `base` that records may be written to.
@@ -83,6 +97,10 @@ class RecordRing {
   std::vector<uint8_t> shadow_;
   size_t region_size_ = 0;
   uint32_t block_size_ = 0, alignment_ = 256, region_alignment_ = 256, frames_ = 3, index_ = 0;
+  // Regions finished so far; the first whose bytes are still there (the buffer was re-created
+  // before it); the one borrow() named, if has_borrowed_.
+  uint64_t serial_ = 0, first_valid_ = 0, borrowed_ = 0;
+  bool has_borrowed_ = false;
   std::vector<GLsync> fences_;
   ClientWaitSync wait_ = nullptr;
 };

@@ -7,17 +7,22 @@
 namespace si::detail {
 
 RingFrame planRingFrame(const InstanceBatcher& batcher, const CrowdView& view, uint32_t alignment,
-                        bool motion, bool layers) {
+                        bool motion, bool layers, bool copy_previous) {
   const auto align = [&](size_t v) { return (v + alignment - 1) / alignment * alignment; };
   RingFrame f;
   f.motion = motion;
   f.layers = layers;
   const size_t record_bound = batcher.recordBufferBound(view);
+  f.records_end = record_bound;
   size_t end = record_bound;
   if (motion) {
+    f.previous_copied = copy_previous;
     f.previous_indices = align(end);
-    f.previous_records = align(f.previous_indices + batcher.previousIndexBufferBound(view));
-    f.previous_end = f.previous_records + view.previousRecords().size() * kInstanceRecordSize;
+    f.previous_end = f.previous_indices + batcher.previousIndexBufferBound(view);
+    if (copy_previous) {
+      f.previous_records = align(f.previous_end);
+      f.previous_end = f.previous_records + view.previousRecords().size() * kInstanceRecordSize;
+    }
     end = f.previous_end;
   }
   if (layers) {
@@ -48,10 +53,13 @@ RingFrame planRingFrame(const InstanceBatcher& batcher, const CrowdView& view, u
 }
 
 Status writeRingFrame(const InstanceBatcher& batcher, const CrowdView& view, const RingFrame& f,
-                      uint8_t* region, size_t bytes, std::vector<DrawBatch>* batches) {
+                      uint8_t* region, size_t bytes, Span<const uint32_t> previous_places,
+                      std::vector<DrawBatch>* batches) {
   const auto at = [&](size_t offset) { return Span<uint8_t>(region + offset, bytes - offset); };
   Status s = batcher.build(view, at(0), batches);
-  if (s.isOk() && f.motion) {
+  if (s.isOk() && f.motion && !f.previous_copied)
+    s = batcher.buildPreviousIndices(view, at(f.previous_indices), previous_places);
+  if (s.isOk() && f.motion && f.previous_copied) {
     s = batcher.buildPreviousIndices(view, at(f.previous_indices));
     const Span<const InstanceRecord> previous = view.previousRecords();
     if (s.isOk() && !previous.empty())

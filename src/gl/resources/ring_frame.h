@@ -1,7 +1,8 @@
 // SkinnedInstancing — SPDX-License-Identifier: MIT (see LICENSE)
 #pragma once
 // What drawCrowd writes into its region of the record ring, and where: the batches' records;
-// with motion vectors each slot's previous-record index and the previous records once each;
+// with motion vectors each slot's previous-record index and, unless the previous frame's region
+// still holds them (resources/drawn_regions.h), the previous records once each;
 // with overlays the layer records (and previous layer records), a 2D blend's extra layer
 // records (and previous ones) and the compose pass's batch table. Offsets are from the region's
 // start, each block at the next multiple of the alignment.
@@ -17,10 +18,11 @@ namespace si::detail {
 
 struct RingFrame {
   bool motion = false, layers = false;
-  size_t records = 0;           ///< InstanceBatcher::build's records, at 0.
-  size_t previous_indices = 0;  ///< buildPreviousIndices (4 bytes a slot).
-  size_t previous_records = 0;  ///< CrowdView::previousRecords(), 80 bytes each.
-  size_t previous_end = 0;      ///< The end of the previous records.
+  bool previous_copied = false;  ///< Motion: the previous records are written here.
+  size_t records_end = 0;        ///< InstanceBatcher::build's records, from 0.
+  size_t previous_indices = 0;   ///< buildPreviousIndices (4 bytes a slot).
+  size_t previous_records = 0;   ///< When copied: CrowdView::previousRecords(), 80 bytes each.
+  size_t previous_end = 0;       ///< The end of the indices, or of the copied records.
   size_t layer_records = 0;     ///< buildLayers.
   size_t previous_layers = 0;   ///< buildPreviousLayers.
   bool extras = false;          ///< 2D blends: the extra layer records too.
@@ -32,13 +34,17 @@ struct RingFrame {
 };
 
 /// Where each block of `view`'s frame goes for `batcher` (`alignment`: a power of two, the
-/// uniform and storage buffer offset alignments' larger).
+/// uniform and storage buffer offset alignments' larger); with motion, whether the previous
+/// records are copied into the region (`copy_previous`).
 RingFrame planRingFrame(const InstanceBatcher& batcher, const CrowdView& view, uint32_t alignment,
-                        bool motion, bool layers);
+                        bool motion, bool layers, bool copy_previous);
 
 /// Writes the planned blocks (all but the compose table) at `region` (`bytes` writable) and
-/// replaces `batches` with the draws. The batcher's status on failure.
+/// replaces `batches` with the draws. With motion and records not copied, each slot's index is
+/// its previous record's word in `previous_places` (InstanceBatcher::buildRecordPlaces of the
+/// previous selection's draw). The batcher's status on failure.
 Status writeRingFrame(const InstanceBatcher& batcher, const CrowdView& view, const RingFrame& plan,
-                      uint8_t* region, size_t bytes, std::vector<DrawBatch>* batches);
+                      uint8_t* region, size_t bytes, Span<const uint32_t> previous_places,
+                      std::vector<DrawBatch>* batches);
 
 }  // namespace si::detail
