@@ -163,31 +163,44 @@ TEST(PreviousRecords, TheCamerasOfTheLastTwoUpdates) {
   EXPECT_EQ(crowd.previousUpdateCamera().viewProjection(), a.viewProjection());
 }
 
+// The batcher tests' scene: 3000 instances on a 60 x 50 grid with random clips and worn
+// sub-meshes, and a batcher of 16 KiB blocks (many batches).
+void makeBatcherScene(CrowdManager* crowd, std::vector<InstanceHandle>* handles,
+                      InstanceBatcher* batcher) {
+  std::vector<glm::dvec3> spots;
+  for (int i = 0; i < 3000; ++i) spots.push_back({(i % 60) * 1.5, 0.0, (i / 60) * 1.5});
+  RandomCrowdDesc r;
+  r.positions = spots;
+  r.optional_mask = 0xE;
+  ASSERT_TRUE(crowd->addRandom(r, handles).isOk());
+  ASSERT_TRUE(batcher->init({16384, 256, 0}).isOk());
+}
+
+// Its frame `frame`: the camera moves along the grid; before frame 2 every 50th instance is
+// placed anew (a teleport: no previous record).
+void batcherSceneFrame(int frame, const std::vector<InstanceHandle>& handles, CrowdManager* crowd) {
+  if (frame == 2)
+    for (size_t i = 0; i < handles.size(); i += 50) {
+      InstanceDesc d;
+      ASSERT_TRUE(crowd->get(handles[i], &d).isOk());
+      ASSERT_TRUE(crowd->setTransform(handles[i], d.position, d.rotation, d.scale).isOk());
+    }
+  const Camera camera = test::testCamera({45, 10, -20.0 + 5.0 * frame}, {45, 0, 50});
+  ASSERT_TRUE(crowd->update(0.1, camera).isOk());
+}
+
 // buildPrevious: build()'s slots, each holding its instance's previous record, or where it has
 // none its current record moved from the last camera's origin to the previous one's. And
 // buildPreviousIndices (what drawCrowd reads): in buildLayers' slot numbering, each slot's index
 // into previousRecords(), kNoPreviousRecord exactly where buildPrevious took the fallback.
 TEST(PreviousRecords, TheBatcherWritesThemInBuildsSlots) {
   CrowdManager crowd = makeCrowd(3);
-  std::vector<glm::dvec3> spots;
-  for (int i = 0; i < 3000; ++i) spots.push_back({(i % 60) * 1.5, 0.0, (i / 60) * 1.5});
-  RandomCrowdDesc r;
-  r.positions = spots;
-  r.optional_mask = 0xE;
   std::vector<InstanceHandle> handles;
-  ASSERT_TRUE(crowd.addRandom(r, &handles).isOk());
   InstanceBatcher batcher;
-  ASSERT_TRUE(batcher.init({16384, 256, 0}).isOk());  // Many batches.
+  ASSERT_NO_FATAL_FAILURE(makeBatcherScene(&crowd, &handles, &batcher));
   size_t with = 0, without = 0;
   for (int frame = 0; frame < 4; ++frame) {
-    if (frame == 2)  // Teleports: no previous record.
-      for (size_t i = 0; i < handles.size(); i += 50) {
-        InstanceDesc d;
-        ASSERT_TRUE(crowd.get(handles[i], &d).isOk());
-        ASSERT_TRUE(crowd.setTransform(handles[i], d.position, d.rotation, d.scale).isOk());
-      }
-    const Camera camera = test::testCamera({45, 10, -20.0 + 5.0 * frame}, {45, 0, 50});
-    ASSERT_TRUE(crowd.update(0.1, camera).isOk());
+    ASSERT_NO_FATAL_FAILURE(batcherSceneFrame(frame, handles, &crowd));
     std::vector<uint8_t> current(batcher.recordBufferBound(crowd)), previous(current.size());
     std::vector<uint8_t> indices(batcher.previousIndexBufferBound(crowd));
     EXPECT_EQ(indices.size(), batcher.layerBufferBound(crowd) / 4);
@@ -240,28 +253,15 @@ TEST(PreviousRecords, TheBatcherWritesThemInBuildsSlots) {
 // record there (the selection's records are the next one's previous records, byte for byte).
 TEST(PreviousRecords, TheLastFramesBufferHoldsThePreviousRecords) {
   CrowdManager crowd = makeCrowd(3);
-  std::vector<glm::dvec3> spots;
-  for (int i = 0; i < 3000; ++i) spots.push_back({(i % 60) * 1.5, 0.0, (i / 60) * 1.5});
-  RandomCrowdDesc r;
-  r.positions = spots;
-  r.optional_mask = 0xE;
   std::vector<InstanceHandle> handles;
-  ASSERT_TRUE(crowd.addRandom(r, &handles).isOk());
   InstanceBatcher batcher;
-  ASSERT_TRUE(batcher.init({16384, 256, 0}).isOk());  // Many batches.
+  ASSERT_NO_FATAL_FAILURE(makeBatcherScene(&crowd, &handles, &batcher));
   std::vector<uint8_t> last_buffer;
   std::vector<uint32_t> last_places;
   size_t through = 0, without = 0;
   const uint64_t selections = crowd.view().selectionCount();
   for (int frame = 0; frame < 4; ++frame) {
-    if (frame == 2)  // Teleports: no previous record.
-      for (size_t i = 0; i < handles.size(); i += 50) {
-        InstanceDesc d;
-        ASSERT_TRUE(crowd.get(handles[i], &d).isOk());
-        ASSERT_TRUE(crowd.setTransform(handles[i], d.position, d.rotation, d.scale).isOk());
-      }
-    const Camera camera = test::testCamera({45, 10, -20.0 + 5.0 * frame}, {45, 0, 50});
-    ASSERT_TRUE(crowd.update(0.1, camera).isOk());
+    ASSERT_NO_FATAL_FAILURE(batcherSceneFrame(frame, handles, &crowd));
     EXPECT_EQ(crowd.view().selectionCount(), selections + uint64_t(frame) + 1);
     std::vector<uint8_t> current(batcher.recordBufferBound(crowd)), previous(current.size());
     std::vector<uint8_t> indices(batcher.previousIndexBufferBound(crowd));
