@@ -151,9 +151,18 @@ TEST_P(MotionVectorTest, AnEmptyFrameDrawsWithMotionVectors) {
 // drawCrowd reads the previous records where its draw of the previous selection left them (no
 // copy) while the ring holds that region: its motion equals that of a renderer that copies them
 // (one ring region, which never holds the last draw), on both skinning paths, with a depth-only
-// draw of the new selection between them and two instances placed anew (no previous record).
-// Once three more draws have come round the ring, the records are copied again.
+// draw of the new selection between them, two instances placed anew (no previous record) and
+// overlays on half of them (the compose pass reads the previous records too). Once three more
+// draws have come round the ring, the records are copied again.
 TEST_P(MotionVectorTest, TheLastDrawsRegionServesAsThePreviousRecords) {
+  LayerMask arm;
+  ASSERT_TRUE(
+      buildLayerMask(character().skeleton, palette(), "right arm", {"r_clavicle"}, &arm).isOk());
+  uint32_t mask = 0;
+  ASSERT_TRUE(crowd_.addLayerMask(arm, &mask).isOk());
+  const uint32_t wave = uint32_t(palette().findClip("wave"));
+  for (size_t k = 0; k < handles_.size(); k += 2)
+    ASSERT_TRUE(crowd_.playOverlay(handles_[k], wave, mask, 0.7f, 0.0, 0.1 * double(k)).isOk());
   for (SkinningPath path : {SkinningPath::kVertexShader, SkinningPath::kCompute}) {
     SCOPED_TRACE(skinningPathName(path));
     Renderer reuse, copy;
@@ -188,6 +197,7 @@ TEST_P(MotionVectorTest, TheLastDrawsRegionServesAsThePreviousRecords) {
     EXPECT_EQ(draw(reuse, DrawMode::kDepthOnly, nullptr), 0u);
     EXPECT_EQ(draw(reuse, DrawMode::kDefault, &read), 0u);
     EXPECT_EQ(draw(copy, DrawMode::kDefault, &copied), previous);
+    EXPECT_FALSE(crowd_.previousLayerRecords().empty());
     float largest = 0.0f;
     for (const glm::vec2& m : copied) largest = std::max(largest, glm::length(m));
     EXPECT_GT(largest, 0.02f);
