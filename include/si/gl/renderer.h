@@ -79,7 +79,8 @@ struct RendererDesc {
   /// Frames the record ring holds before reusing a region (each guarded by a fence); 0 means 3.
   /// The ring has this many regions per character (each character's draw takes one). With
   /// motion vectors, drawCrowd reads the previous records where the view's last draw left them
-  /// only while fewer than this many draws of the character came since (else it copies them).
+  /// only while fewer than this many draws of the character came since (else it copies them),
+  /// and a region read so is written again only once that reading draw is done too.
   uint32_t ring_frames = 0;
   /// Check glGetError after each group of calls (a failing check is the call's kBackend
   /// status, naming the GL error). Errors already pending when a call starts are the host's:
