@@ -87,8 +87,8 @@ Status Renderer::init(const GlInfo& info, const RendererDesc& desc) {
                    " must be within 16384 and the context's limit ", limit)};
   impl->capacity = impl->block_size / kInstanceRecordSize;
   impl->alignment = std::max<uint32_t>(16, info.uniform_buffer_offset_alignment);
-  impl->ring_frames = desc.ring_frames == 0 ? 3 : desc.ring_frames;
-  impl->ring.configure(impl->block_size, impl->alignment, impl->ring_frames,
+  impl->ring_frames = desc.ring_frames;
+  impl->ring.configure(impl->block_size, impl->alignment, impl->ringFrames(),
                        info.storage_buffer_offset_alignment);
   if (impl->debug) detail::logHostErrors("Renderer::init");
   if (desc.debug_messages && info.has_khr_debug) impl->debug_chain.install();
@@ -342,6 +342,7 @@ Status Renderer::drawCrowd(CharacterId id, const CrowdView& view, const Instance
   const bool layers = !view.layerRecords().empty() && mode != DrawMode::kRigid;
   const auto t0 = std::chrono::steady_clock::now();
   Impl::Guard guard = m.enter("drawCrowd", detail::drawFootprint());
+  m.sizeRing();  // setMotionVectors may have changed the default region count.
   // The ring region (resources/ring_frame.h); its blocks start where storage buffers may too.
   // Motion vectors read the previous records where the previous selection's draw left them
   // while that region survives (resources/drawn_regions.h), else copy them.

@@ -32,7 +32,8 @@ struct Renderer::Impl {
   GlInfo info;
   RendererDesc desc;
   bool debug = false;
-  uint32_t block_size = 0, capacity = 0, alignment = 256, ring_frames = 3;
+  uint32_t block_size = 0, capacity = 0, alignment = 256;
+  uint32_t ring_frames = 0;  // RendererDesc::ring_frames (0: ringFrames() picks).
   detail::ProgramSet programs;
   detail::RecordRing ring;
   detail::DrawnRegions drawn;  // drawCrowd's recent records, read as previous ones.
@@ -140,10 +141,16 @@ struct Renderer::Impl {
     return find(id, what, out, view.crowd());
   }
 
-  /// The record ring keeps `ring_frames` regions per character: each character's draw takes
-  /// one, so a frame drawing every character waits for none of this frame's regions.
+  /// Ring regions per character: RendererDesc::ring_frames, else 3, and 4 with motion vectors
+  /// (a region the next draw reads as its previous records is held one draw longer).
+  uint32_t ringFrames() const {
+    return ring_frames != 0 ? ring_frames : desc.motion_vectors ? 4u : 3u;
+  }
+  /// The record ring keeps ringFrames() regions per character: each character's draw takes
+  /// one, so a frame drawing every character waits for none of this frame's regions. Nothing
+  /// to do when the count is unchanged; otherwise it waits for the GPU and drops the buffer.
   void sizeRing() {
-    ring.setRegions(ring_frames * uint32_t(std::max<size_t>(1, characters.size())));
+    ring.setRegions(ringFrames() * uint32_t(std::max<size_t>(1, characters.size())));
   }
 
   detail::DrawResources resources(detail::CharacterSlot& c) {

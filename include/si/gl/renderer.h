@@ -76,11 +76,14 @@ struct RendererDesc {
   /// Uniform block size to batch for, in bytes; 0 means the context's limit. Lower it (e.g. to
   /// GL's minimum 16384) to test batching; it can never exceed the limit.
   uint32_t uniform_block_size_bytes = 0;
-  /// Frames the record ring holds before reusing a region (each guarded by a fence); 0 means 3.
-  /// The ring has this many regions per character (each character's draw takes one). With
-  /// motion vectors, drawCrowd reads the previous records where the view's last draw left them
-  /// only while fewer than this many draws of the character came since (else it copies them),
-  /// and a region read so is written again only once that reading draw is done too.
+  /// Frames the record ring holds before reusing a region (each guarded by a fence); 0 means 3,
+  /// or 4 while motion vectors are on (set again at the next drawCrowd after
+  /// setMotionVectors). The ring has this many regions per character (each character's draw
+  /// takes one). With motion vectors, drawCrowd reads the previous records where the view's
+  /// last draw left them only when this draw is at most ring_frames - 2 draws of the character
+  /// after that one (else it copies them), since a region read so is written again only once
+  /// the reading draw is done too: with 4 regions and one draw a frame, the CPU stays as far
+  /// ahead of the GPU as with 3 and no motion vectors (docs/rendering.md, "Motion vectors").
   uint32_t ring_frames = 0;
   /// Check glGetError after each group of calls (a failing check is the call's kBackend
   /// status, naming the GL error). Errors already pending when a call starts are the host's:

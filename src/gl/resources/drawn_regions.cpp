@@ -11,7 +11,8 @@ namespace si::detail {
 const DrawnRegion* DrawnRegions::find(uint64_t view, uint64_t selection,
                                       const RecordRing& ring) const {
   for (const DrawnRegion& r : regions_)
-    if (r.view == view && r.selection == selection && r.complete && ring.holds(r.serial)) return &r;
+    if (r.view == view && r.selection == selection && r.complete && ring.canBorrow(r.serial))
+      return &r;
   return nullptr;
 }
 
@@ -51,7 +52,7 @@ Status reserveRingFrame(const InstanceBatcher& batcher, const CrowdView& view, u
     const Status s = ring->reserve(plan->end);
     if (!s.isOk()) return s;
     // Growing re-creates the buffer; a ring past one binding cannot bind both regions.
-    if (!ring->holds((*previous)->serial) || ring->bytes() > storage_limit) {
+    if (!ring->canBorrow((*previous)->serial) || ring->bytes() > storage_limit) {
       *previous = nullptr;
       *plan = planRingFrame(batcher, view, alignment, motion, layers, true);
     }

@@ -32,8 +32,8 @@ struct DrawnRegion {
 class DrawnRegions {
  public:
   static constexpr size_t kKept = 8;
-  /// The region holding selection `selection` of view `view`, every record placed, that
-  /// `ring` still holds while its current region is written (RecordRing::holds); null if none.
+  /// The region holding selection `selection` of view `view`, every record placed, that the
+  /// current draw may read (RecordRing::canBorrow); null if none.
   const DrawnRegion* find(uint64_t view, uint64_t selection, const RecordRing& ring) const;
   /// Keeps where this draw of `view` (its last selection) wrote its records: the region of
   /// `ring`'s current serial, from byte `records` to `records_end`. It replaces the entry of
@@ -47,9 +47,10 @@ class DrawnRegions {
 };
 
 /// drawCrowd's plan and the ring reserved for it. With motion, the previous records come from
-/// `regions`' region of the view's previous selection (`*previous`, else null) when the ring
-/// still holds it and the whole ring fits one storage binding (`storage_limit`); otherwise
-/// they are copied. kLimitExceeded when copied indices and records exceed `storage_limit`.
+/// `regions`' region of the view's previous selection (`*previous`, else null) when the draw
+/// may read it (RecordRing::canBorrow) and the whole ring fits one storage binding
+/// (`storage_limit`); otherwise they are copied. kLimitExceeded when copied indices and records
+/// exceed `storage_limit`.
 Status reserveRingFrame(const InstanceBatcher& batcher, const CrowdView& view, uint32_t alignment,
                         bool motion, bool layers, uint64_t storage_limit,
                         const DrawnRegions& regions, RecordRing* ring, RingFrame* plan,

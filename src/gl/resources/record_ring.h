@@ -51,8 +51,12 @@ class RecordRing {
   bool holds(uint64_t serial) const {
     return serial >= first_valid_ && serial < serial_ && serial_ - serial < frames_;
   }
-  /// The current frame reads the region of `serial` (holds()): finishFrame fences it again, so
-  /// it is not written before the GPU is done with this frame too.
+  /// Whether the current draw may read the region of `serial` (borrow()): the ring holds it,
+  /// and when the ring comes round to it, at least one draw will lie between the current one
+  /// and the draw acquiring it, so that acquire() never waits for the draw just before it.
+  bool canBorrow(uint64_t serial) const { return holds(serial) && serial_ - serial + 2 <= frames_; }
+  /// The current frame reads the region of `serial` (canBorrow()): finishFrame fences it
+  /// again, so it is not written before the GPU is done with this frame too.
   void borrow(uint64_t serial) {
     borrowed_ = serial;
     has_borrowed_ = true;
