@@ -25,6 +25,7 @@
 
 #include "fuzz_input.h"
 #include "layer_fuzz_checks.h"
+#include "previous_fuzz_checks.h"
 #include "prop_fuzz_step.h"
 
 namespace {
@@ -228,67 +229,8 @@ void checkFrame(const si::CrowdManager& crowd) {
   for (const si::RecordSpanDraw& d : spans)
     for (uint32_t k = 0; k < d.instance_count; ++k) from_spans.push_back(d.first_record + k);
   if (from_spans != crowd.bucketEntries()) fail("the spans are not the bucket entries");
-  // Motion vectors: each record's previous index is none or names a kept record; the batcher's
-  // previous block (build()'s layout) holds finite world rows.
-  if (crowd.desc().previous_records) {
-    if (crowd.previousRecordIndices().size() != crowd.records().size())
-      fail("the previous indices do not match the records");
-    for (uint32_t p : crowd.previousRecordIndices())
-      if (p != si::CrowdManager::kNoPreviousRecord && p >= crowd.previousRecords().size())
-        fail("a previous index is past the previous records");
-    std::vector<uint8_t> now(batcher.recordBufferBound(crowd)), then(now.size());
-    std::vector<si::DrawBatch> draws;
-    if (!batcher.build(crowd, now, &draws).isOk() || !batcher.buildPrevious(crowd, then).isOk())
-      fail("build or buildPrevious failed on a valid frame");
-    // drawCrowd's form: each slot's index, none or a kept previous record.
-    std::vector<uint8_t> indices(batcher.previousIndexBufferBound(crowd));
-    if (!batcher.buildPreviousIndices(crowd, indices).isOk())
-      fail("buildPreviousIndices failed on a valid frame");
-    for (const si::DrawBatch& d : draws)
-      for (uint32_t k = 0; k < d.instance_count; ++k) {
-        si::InstanceRecord r;
-        std::memcpy(&r, then.data() + d.byte_offset + k * si::kInstanceRecordSize, sizeof r);
-        for (const auto& row : r.world_rows)
-          for (float v : row)
-            if (!std::isfinite(v)) fail("a previous record's world rows are not finite");
-        uint32_t p;
-        std::memcpy(&p, indices.data() + (d.layer_byte_offset / si::kLayerRecordSize + k) * 4, 4);
-        if (p != si::CrowdManager::kNoPreviousRecord && p >= crowd.previousRecords().size())
-          fail("a slot's previous index is past the previous records");
-      }
-    // Through a table (drawCrowd reading the last frame's region): each index looked up.
-    std::vector<uint32_t> table(crowd.previousRecords().size());
-    for (size_t p = 0; p < table.size(); ++p) table[p] = uint32_t(p * 5 + 3);
-    std::vector<uint8_t> looked_up(indices.size());
-    if (!batcher.buildPreviousIndices(crowd.view(), looked_up, table).isOk())
-      fail("buildPreviousIndices through a table failed on a valid frame");
-    for (const si::DrawBatch& d : draws)
-      for (uint32_t k = 0; k < d.instance_count; ++k) {
-        const size_t at = (d.layer_byte_offset / si::kLayerRecordSize + k) * 4;
-        uint32_t p, q;
-        std::memcpy(&p, indices.data() + at, 4);
-        std::memcpy(&q, looked_up.data() + at, 4);
-        if (q != (p < table.size() ? table[p] : si::CrowdManager::kNoPreviousRecord))
-          fail("a slot's index through the table is not the table's entry");
-      }
-  }
-  // Where build() put each record: none, or a copy of it.
-  {
-    std::vector<uint8_t> now(batcher.recordBufferBound(crowd));
-    std::vector<si::DrawBatch> draws;
-    std::vector<uint32_t> places(crowd.records().size());
-    if (!batcher.build(crowd, now, &draws).isOk() ||
-        !batcher.buildRecordPlaces(crowd.view(), places).isOk())
-      fail("build or buildRecordPlaces failed on a valid frame");
-    for (size_t i = 0; i < places.size(); ++i) {
-      if (places[i] == si::InstanceBatcher::kNoRecordPlace) continue;
-      if (size_t(places[i]) * 16 + si::kInstanceRecordSize > now.size())
-        fail("a record's place is past build()'s buffer");
-      else if (std::memcmp(now.data() + size_t(places[i]) * 16, &crowd.records()[i],
-                           si::kInstanceRecordSize) != 0)
-        fail("a record's place does not hold the record");
-    }
-  }
+  si::fuzz::checkPreviousRecords(crowd, batcher, fail);
+  si::fuzz::checkRecordPlaces(crowd, batcher, fail);
   const uint64_t texels = palette().layout.textureTexelCount();
   si::fuzz::checkLayerRecords(crowd, batcher, palette(), fail);
   for (const si::InstanceRecord& r : crowd.records()) {

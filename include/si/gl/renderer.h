@@ -214,8 +214,8 @@ struct DrawStats {
   uint64_t composed_records = 0;
   /// drawCrowd with motion vectors: previous records copied into the ring this draw (80 bytes
   /// each). 0 when they were read where the draw of the view's previous selection left them,
-  /// which holds while the ring has not come round to that draw's region since
-  /// (RendererDesc::ring_frames; docs/rendering.md, "Motion vectors").
+  /// which this draw does when it is at most RendererDesc::ring_frames - 2 draws of the
+  /// character after that one (docs/rendering.md, "Motion vectors").
   uint64_t previous_records_copied = 0;
 };
 
