@@ -46,10 +46,11 @@ inline LodLines lodLines(const Params& p) {
   return l;
 }
 
-/// select() on the 8 lanes of `l` from `base` on. Always inlined: the vector types never cross a
-/// call.
+/// select() on the 8 lanes of `l` from `base` on; without `fades` (no lane crossfades: clip B's
+/// sphere is clip A's in every lane) one sphere is tested, which selects the same. Always
+/// inlined: the vector types never cross a call.
 __attribute__((always_inline)) inline void selectLanes(const Params& p, const LodLines& lines,
-                                                       Lanes& l, uint32_t base) {
+                                                       Lanes& l, uint32_t base, bool fades = true) {
   typedef float f8 __attribute__((vector_size(32)));
   typedef int32_t i8 __attribute__((vector_size(32)));
 #define SI_LOAD(dst, src) std::memcpy(&(dst), (src) + base, sizeof(dst))
@@ -86,17 +87,24 @@ __attribute__((always_inline)) inline void selectLanes(const Params& p, const Lo
     *oy = ry + (vy + ((uvy * qw) + uuvy) * 2.0f);
     *oz = rz + (vz + ((uvz * qw) + uuvz) * 2.0f);
   };
-  f8 cax, cay, caz, cbx, cby, cbz, ar, br;
+  f8 cax, cay, caz, ar;
   center(l.ax, l.ay, l.az, &cax, &cay, &caz);
-  center(l.bx, l.by, l.bz, &cbx, &cby, &cbz);
   SI_LOAD(ar, l.ar);
-  SI_LOAD(br, l.br);
-  const f8 ra = ar * s, rb = br * s;
+  const f8 ra = ar * s;
   i8 inside = ~i8{};
-  for (const glm::vec4& plane : p.planes) {
-    const i8 a_in = ((plane.x * cax + plane.y * cay) + plane.z * caz) + plane.w >= -ra;
-    const i8 b_in = ((plane.x * cbx + plane.y * cby) + plane.z * cbz) + plane.w >= -rb;
-    inside &= a_in | b_in;
+  if (!fades) {  // Clip B's sphere is clip A's in every lane: one test a plane.
+    for (const glm::vec4& plane : p.planes)
+      inside &= ((plane.x * cax + plane.y * cay) + plane.z * caz) + plane.w >= -ra;
+  } else {
+    f8 cbx, cby, cbz, br;
+    center(l.bx, l.by, l.bz, &cbx, &cby, &cbz);
+    SI_LOAD(br, l.br);
+    const f8 rb = br * s;
+    for (const glm::vec4& plane : p.planes) {
+      const i8 a_in = ((plane.x * cax + plane.y * cay) + plane.z * caz) + plane.w >= -ra;
+      const i8 b_in = ((plane.x * cbx + plane.y * cby) + plane.z * cbz) + plane.w >= -rb;
+      inside &= a_in | b_in;
+    }
   }
   // LOD with hysteresis: up while past the next line, then down while inside the previous one.
   i8 lod;

@@ -187,12 +187,15 @@ SI_CPU_CLONES void selectChunk(const FrameInputs& in, InstanceStore& st, uint32_
     }
     if (in.simulate)
       for (uint32_t k = 0; k < count; ++k) endFinishedFade(st, i0 + k, in.clock);
+    uint32_t fading_groups = 0;  // Bit g: a lane of group g (8 lanes) crossfades.
     if (near_lanes != 0) {
       loadRotations(st, i0, nullptr, count, padded, lanes);
       for (uint32_t k = 0; k < padded; ++k) {
         const uint32_t i = i0 + (k < count ? k : 0);  // Past the end: lane 0's instance again.
         const ClipTiming& ca = clips[st.playback[i].clip];
-        const ClipTiming& cb = st.fade_duration[i] > 0.0 ? clips[st.fade_from[i].clip] : ca;
+        const bool fading = st.fade_duration[i] > 0.0;
+        fading_groups |= uint32_t(fading) << (k / cull::kLanes);
+        const ClipTiming& cb = fading ? clips[st.fade_from[i].clip] : ca;
         lanes.ax[k] = ca.sphere_center.x, lanes.ay[k] = ca.sphere_center.y;
         lanes.az[k] = ca.sphere_center.z, lanes.ar[k] = ca.sphere_radius;
         lanes.bx[k] = cb.sphere_center.x, lanes.by[k] = cb.sphere_center.y;
@@ -205,7 +208,8 @@ SI_CPU_CLONES void selectChunk(const FrameInputs& in, InstanceStore& st, uint32_
       continue;
     }
     for (uint32_t base = 0; base < padded; base += cull::kLanes)
-      cull::selectLanes(cull_params, lines, lanes, base);
+      cull::selectLanes(cull_params, lines, lanes, base,
+                        (fading_groups >> (base / cull::kLanes)) & 1u);
     for (uint32_t k = 0; k < count; ++k)
       if (far[k]) lanes.result[k] = cull::kLaneCulledByDistance;
     for (uint32_t k = 0; k < count; ++k) {
@@ -217,7 +221,6 @@ SI_CPU_CLONES void selectChunk(const FrameInputs& in, InstanceStore& st, uint32_
       }
       view.lods[i] = static_cast<uint8_t>(lanes.lod[k]);  // Hysteresis goes on from it.
       const uint32_t lod = std::min(uint32_t(lanes.lod[k]) + in.lod_bias, coarsest);
-      ++w.stats.per_lod[lod];
       const uint32_t worn = in.impostor_lod != 0 && lod >= in.impostor_lod
                                 ? 1u  // One impostor per instance, in sub-mesh 0's bucket.
                                 : st.masks[i] & worn_bits;
@@ -228,6 +231,11 @@ SI_CPU_CLONES void selectChunk(const FrameInputs& in, InstanceStore& st, uint32_
     }
   }
   w.visible_count = visible;
+  // Per LOD from the keys' counts (not counted per instance: one counter's increments wait on
+  // each other).
+  for (uint32_t lod = 0; lod <= coarsest; ++lod)
+    for (uint32_t g = 0; g < w.mask_count; ++g)
+      w.stats.per_lod[lod] += w.counts[lod * kMaxMaskGroups + g];
 }
 
 // The frames and blend of a record playing one clip (no crossfade): B repeats A, weight 0.

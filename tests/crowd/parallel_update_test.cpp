@@ -312,9 +312,11 @@ TEST(ParallelUpdate, EightLaneCullingSelectsExactlyWhatTheScalarOneSelects) {
       q[k] = glm::normalize(glm::quat(u(rng), u(rng), u(rng), u(rng)));
       s[k] = uint32_t(trial % 11) == k ? specials[rng() % 9] : 0.5f + u(rng) * 0.4f;
       ca[k] = glm::vec3(u(rng), u(rng) + 1.0f, u(rng));
-      cb[k] = k % 2 ? ca[k] : glm::vec3(u(rng), u(rng) + 1.0f, u(rng)) * 2.0f;
+      // Odd lanes, and every lane of odd trials, have no second sphere (no crossfade).
+      const bool one_sphere = k % 2 == 1 || trial % 2 == 1;
+      cb[k] = one_sphere ? ca[k] : glm::vec3(u(rng), u(rng) + 1.0f, u(rng)) * 2.0f;
       ra[k] = 1.0f + u(rng) * 0.2f;
-      rb[k] = k % 2 ? ra[k] : 1.5f;
+      rb[k] = one_sphere ? ra[k] : 1.5f;
       prev[k] = uint32_t(rng() % 9);  // Past lod_count too.
       lanes.rx[k] = rel[k].x, lanes.ry[k] = rel[k].y, lanes.rz[k] = rel[k].z;
       lanes.qx[k] = q[k].x, lanes.qy[k] = q[k].y, lanes.qz[k] = q[k].z, lanes.qw[k] = q[k].w;
@@ -323,11 +325,12 @@ TEST(ParallelUpdate, EightLaneCullingSelectsExactlyWhatTheScalarOneSelects) {
       lanes.bx[k] = cb[k].x, lanes.by[k] = cb[k].y, lanes.bz[k] = cb[k].z, lanes.br[k] = rb[k];
       lanes.lod[k] = int32_t(prev[k]);
     }
-    cull::selectLanes(p, lines, lanes, 0);
+    // Odd trials as the frame builder calls it for 8 lanes none of which crossfades.
+    cull::selectLanes(p, lines, lanes, 0, /*fades=*/trial % 2 == 0);
     for (uint32_t k = 0; k < 8; ++k) {
       cull::Selection sel;
       sel.lod = prev[k];
-      const bool same = k % 2 == 1;
+      const bool same = k % 2 == 1 || trial % 2 == 1;
       const bool vis = same ? cull::select(rel[k], q[k], s[k], ca[k], ra[k], ca[k], ra[k], p, &sel)
                             : cull::select(rel[k], q[k], s[k], ca[k], ra[k], cb[k], rb[k], p, &sel);
       const int32_t want = vis                      ? cull::kLaneVisible

@@ -145,5 +145,56 @@ TEST(RecordBlocks, EveryRecordEqualsTheOneInstanceReference) {
   EXPECT_GT(cover.huge_times, 500u);
 }
 
+// Culling keeps a crossfading instance while either clip's bounding sphere is in view: blocks
+// where no lane fades test one sphere, the others both. Clip 1's sphere is moved 60 m ahead of
+// the instances, which stand 30 m behind the camera: only the 19 that fade from clip 1 to clip
+// 0 are visible, in blocks with and without other fading lanes.
+TEST(RecordBlocks, ACrossfadeIsKeptWhileEitherClipsSphereIsInView) {
+  Scene s;
+  const BakedPalette& p = test::defaultPalette();
+  ASSERT_TRUE(s.crowd.init(test::defaultCrowdDesc()).isOk());
+  s.store.reset(&p);
+  for (const BakedClip& c : p.clips) s.clips.push_back(detail::makeClipTiming(c));
+  s.clips[1].sphere_center = {0.0f, 0.0f, 60.0f};
+  s.clips[1].sphere_radius = 1.0f;
+  s.store.clip_timings = &s.clips;
+  const double clock = 10.0;
+  std::vector<bool> fading;
+  for (uint32_t k = 0; k < 40; ++k) {
+    InstanceDesc one;
+    one.position = {double(k % 8) - 4.0, 0.0, -30.0};
+    one.clip = 1;
+    InstanceHandle h;
+    ASSERT_TRUE(s.store.handles.allocate(&h).isOk());
+    s.store.push(one, h, clock);
+    // Lanes 8-15: none fades; 16-23 and 32-39: every one; the rest a few.
+    const bool fades = k >= 16 && k < 24 ? true : k >= 32 ? true : k < 8 && k % 3 == 0;
+    ASSERT_TRUE(fades ? s.store.crossfade(h, 0, 100.0, 0.0, clock).isOk()
+                      : s.store.play(h, 0, 0.0, 1.0f, clock).isOk());
+    fading.push_back(fades);
+  }
+  const Camera camera = test::testCamera({0.0, 2.0, 0.0}, {0.0, 0.0, 100.0});
+  std::vector<std::vector<AnimationEvent>> events(1);
+  detail::FrameInputs in;
+  in.palette = &p;
+  in.clips = &s.clips;
+  in.params = s.crowd.cullParams(camera);
+  in.camera_position = camera.position;
+  in.clock = clock + 1.0;
+  in.sub_mesh_count = s.crowd.desc().sub_mesh_count;
+  in.chunk_events = &events;
+  detail::CrowdFrame f;
+  detail::buildFrame(in, s.store, &f);
+  uint32_t want = 0;
+  for (bool b : fading) want += b;
+  ASSERT_EQ(want, 19u);
+  EXPECT_EQ(f.stats.visible, want);
+  for (uint32_t slot = 0; slot < f.stats.visible; ++slot) {
+    uint32_t i = 0;
+    ASSERT_TRUE(s.store.denseIndex(f.visible_handles[slot], &i).isOk());
+    EXPECT_TRUE(fading[i]) << i;
+  }
+}
+
 }  // namespace
 }  // namespace si
