@@ -120,6 +120,9 @@ void scalarRecord(const FrameInputs& in, const InstanceStore& st, uint32_t i, ui
 /// Chunks of a store of `n` instances.
 inline uint32_t chunkCount(uint32_t n) { return (n + kChunkInstances - 1) / kChunkInstances; }
 
+/// Place: the frame's groups (f.group_masks; *fallback when past kMaxMaskGroups), the record
+/// range of every key (f.key_offsets), each chunk's cursors, and f.stats summed from the chunks'.
+void placeChunks(const FrameInputs& in, uint32_t chunk_count, CrowdFrame& f, bool* fallback);
 /// The bucket runs of a placed frame (frame.key_offsets and group_masks set, records written;
 /// in the fallback, record_masks too).
 void buildBucketRuns(uint32_t lod_count, uint32_t sub_mesh_count, bool fallback, CrowdFrame* frame);
