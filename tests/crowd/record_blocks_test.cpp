@@ -24,6 +24,29 @@ struct Scene {
   CrowdManager crowd;  // Empty: only its cullParams() are used.
 };
 
+// Initializes the scene's crowd with `d` and an empty store of the default palette.
+void initScene(Scene& s, const CrowdDesc& d) {
+  const BakedPalette& p = test::defaultPalette();
+  ASSERT_TRUE(s.crowd.init(d).isOk());
+  s.store.reset(&p);
+  for (const BakedClip& c : p.clips) s.clips.push_back(detail::makeClipTiming(c));
+  s.store.clip_timings = &s.clips;
+}
+
+// The inputs of a frame of `s` at `clock` for `camera`, its events into `events`.
+detail::FrameInputs frameInputs(const Scene& s, const Camera& camera, double clock,
+                                std::vector<std::vector<AnimationEvent>>* events) {
+  detail::FrameInputs in;
+  in.palette = &test::defaultPalette();
+  in.clips = &s.clips;
+  in.params = s.crowd.cullParams(camera);
+  in.camera_position = camera.position;
+  in.clock = clock;
+  in.sub_mesh_count = s.crowd.desc().sub_mesh_count;
+  in.chunk_events = events;
+  return in;
+}
+
 // `n` instances on a grid 1.5 m apart, 100 to a row, with random rotations, scales, tints,
 // clips, times and speeds; of every 8, two crossfading (begun up to their blend time ago), one
 // at a start time of 9.1e15 s (a loop past 2^53 intervals: the lanes defer it to scalar code)
@@ -35,10 +58,8 @@ void fill(Scene& s, uint32_t n, double clock) {
   d.lod_distances_radii = {80.0f, 90.0f};
   d.animation_lod_start = 1;
   d.animation_lod_rate_hz = 7.5f;
-  ASSERT_TRUE(s.crowd.init(d).isOk());
-  s.store.reset(&p);
-  for (const BakedClip& c : p.clips) s.clips.push_back(detail::makeClipTiming(c));
-  s.store.clip_timings = &s.clips;
+  initScene(s, d);
+  if (::testing::Test::HasFatalFailure()) return;
   std::mt19937_64 rng(11);
   std::uniform_real_distribution<double> u(0.0, 1.0);
   const uint32_t clip_count = uint32_t(p.clips.size());
@@ -87,16 +108,9 @@ void expectBlocksEqualReference(Scene& s, const Camera& camera, double clock, ui
   const ParallelFor parallel_for = [&pool](uint32_t count, const ParallelTask& task) {
     pool.run(count, task);
   };
-  detail::FrameInputs in;
-  in.palette = &test::defaultPalette();
-  in.clips = &s.clips;
-  in.params = s.crowd.cullParams(camera);
-  in.camera_position = camera.position;
-  in.clock = clock;
-  in.sub_mesh_count = s.crowd.desc().sub_mesh_count;
+  detail::FrameInputs in = frameInputs(s, camera, clock, &events);
   in.parallel_for = &parallel_for;
   in.simulate = true;
-  in.chunk_events = &events;
   detail::CrowdFrame f;
   detail::buildFrame(in, s.store, &f);
   const uint32_t groups = uint32_t(f.group_masks.size());
@@ -151,13 +165,10 @@ TEST(RecordBlocks, EveryRecordEqualsTheOneInstanceReference) {
 // 0 are visible, in blocks with and without other fading lanes.
 TEST(RecordBlocks, ACrossfadeIsKeptWhileEitherClipsSphereIsInView) {
   Scene s;
-  const BakedPalette& p = test::defaultPalette();
-  ASSERT_TRUE(s.crowd.init(test::defaultCrowdDesc()).isOk());
-  s.store.reset(&p);
-  for (const BakedClip& c : p.clips) s.clips.push_back(detail::makeClipTiming(c));
+  initScene(s, test::defaultCrowdDesc());
+  ASSERT_FALSE(HasFatalFailure());
   s.clips[1].sphere_center = {0.0f, 0.0f, 60.0f};
   s.clips[1].sphere_radius = 1.0f;
-  s.store.clip_timings = &s.clips;
   const double clock = 10.0;
   std::vector<bool> fading;
   for (uint32_t k = 0; k < 40; ++k) {
@@ -167,22 +178,15 @@ TEST(RecordBlocks, ACrossfadeIsKeptWhileEitherClipsSphereIsInView) {
     InstanceHandle h;
     ASSERT_TRUE(s.store.handles.allocate(&h).isOk());
     s.store.push(one, h, clock);
-    // Lanes 8-15: none fades; 16-23 and 32-39: every one; the rest a few.
-    const bool fades = k >= 16 && k < 24 ? true : k >= 32 ? true : k < 8 && k % 3 == 0;
+    // Lanes 0-7: three fade; 8-15 and 24-31: none; 16-23 and 32-39: every one.
+    const bool fades = (k >= 16 && k < 24) || k >= 32 || (k < 8 && k % 3 == 0);
     ASSERT_TRUE(fades ? s.store.crossfade(h, 0, 100.0, 0.0, clock).isOk()
                       : s.store.play(h, 0, 0.0, 1.0f, clock).isOk());
     fading.push_back(fades);
   }
   const Camera camera = test::testCamera({0.0, 2.0, 0.0}, {0.0, 0.0, 100.0});
   std::vector<std::vector<AnimationEvent>> events(1);
-  detail::FrameInputs in;
-  in.palette = &p;
-  in.clips = &s.clips;
-  in.params = s.crowd.cullParams(camera);
-  in.camera_position = camera.position;
-  in.clock = clock + 1.0;
-  in.sub_mesh_count = s.crowd.desc().sub_mesh_count;
-  in.chunk_events = &events;
+  const detail::FrameInputs in = frameInputs(s, camera, clock + 1.0, &events);
   detail::CrowdFrame f;
   detail::buildFrame(in, s.store, &f);
   uint32_t want = 0;
