@@ -46,6 +46,28 @@ inline LodLines lodLines(const Params& p) {
   return l;
 }
 
+/// beyondFarLine() on the 8 lanes of `l` from `base` on, as bits (bit k: lane base + k), the
+/// same float operations in the same order. Always inlined, as selectLanes.
+__attribute__((always_inline)) inline uint32_t farLanes(const Params& p, const Lanes& l,
+                                                        uint32_t base) {
+  typedef float f8 __attribute__((vector_size(32)));
+  typedef int32_t i8 __attribute__((vector_size(32)));
+  f8 rx, ry, rz, s;
+  std::memcpy(&rx, l.rx + base, sizeof rx);
+  std::memcpy(&ry, l.ry + base, sizeof ry);
+  std::memcpy(&rz, l.rz + base, sizeof rz);
+  std::memcpy(&s, l.s + base, sizeof s);
+  const f8 d2 = (rx * rx + ry * ry) + rz * rz;
+  i8 far = ~(d2 <= kMaxSquaredDistance);
+  if (p.max_distance_radii >= 0.0f) {
+    const f8 far_line = p.max_distance_radii * (p.radius * s);
+    far |= d2 > far_line * far_line;
+  }
+  uint32_t bits = 0;
+  for (uint32_t k = 0; k < kLanes; ++k) bits |= uint32_t(far[k] & 1) << k;
+  return bits;
+}
+
 /// select() on the 8 lanes of `l` from `base` on; without `fades` (no lane crossfades: clip B's
 /// sphere is clip A's in every lane) one sphere is tested, which selects the same. Always
 /// inlined: the vector types never cross a call.

@@ -172,23 +172,22 @@ SI_CPU_CLONES void selectChunk(const FrameInputs& in, InstanceStore& st, uint32_
   // at a time in vector registers, then counted.
   const cull::LodLines lines = cull::lodLines(cull_params);
   cull::Lanes lanes = {};
-  bool far[cull::kBlock];
   for (uint32_t i0 = begin; i0 < end; i0 += cull::kBlock) {
     const uint32_t count = std::min(cull::kBlock, end - i0);
     const uint32_t padded = (count + cull::kLanes - 1) / cull::kLanes * cull::kLanes;
     // Positions and scales first: most of a large crowd may lie beyond the far line, and a
-    // block wholly beyond it reads nothing more.
+    // block wholly beyond it reads nothing more (selectLanes repeats the same test per lane).
     loadPositions(st, in.camera_position, i0, nullptr, count, padded, lanes);
-    uint32_t near_lanes = 0;
-    for (uint32_t k = 0; k < padded; ++k) {
-      far[k] = cull::beyondFarLine(glm::vec3(lanes.rx[k], lanes.ry[k], lanes.rz[k]), lanes.s[k],
-                                   cull_params);
-      near_lanes += !far[k];
-    }
+    static_assert(cull::kBlock <= 64, "a block's lanes are the bits of one word");
+    uint64_t far_bits = 0;  // Bit k: lane k lies beyond the far line.
+    for (uint32_t base = 0; base < padded; base += cull::kLanes)
+      far_bits |= uint64_t(cull::farLanes(cull_params, lanes, base)) << base;
+    const uint64_t used = padded == 64 ? ~uint64_t(0) : (uint64_t(1) << padded) - 1;
+    const bool any_near = (~far_bits & used) != 0;
     if (in.simulate)
       for (uint32_t k = 0; k < count; ++k) endFinishedFade(st, i0 + k, in.clock);
     uint32_t fading_groups = 0;  // Bit g: a lane of group g (8 lanes) crossfades.
-    if (near_lanes != 0) {
+    if (any_near) {
       loadRotations(st, i0, nullptr, count, padded, lanes);
       for (uint32_t k = 0; k < padded; ++k) {
         const uint32_t i = i0 + (k < count ? k : 0);  // Past the end: lane 0's instance again.
@@ -203,15 +202,13 @@ SI_CPU_CLONES void selectChunk(const FrameInputs& in, InstanceStore& st, uint32_
         lanes.lod[k] = view.lods[i];
       }
     }
-    if (near_lanes == 0) {
+    if (!any_near) {
       w.stats.culled_distance += count;
       continue;
     }
     for (uint32_t base = 0; base < padded; base += cull::kLanes)
       cull::selectLanes(cull_params, lines, lanes, base,
                         (fading_groups >> (base / cull::kLanes)) & 1u);
-    for (uint32_t k = 0; k < count; ++k)
-      if (far[k]) lanes.result[k] = cull::kLaneCulledByDistance;
     for (uint32_t k = 0; k < count; ++k) {
       const uint32_t i = i0 + k;
       if (lanes.result[k] != cull::kLaneVisible) {

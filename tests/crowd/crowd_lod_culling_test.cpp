@@ -3,6 +3,7 @@
 // and the frustum and far-line culling against a brute-force reference.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <cstring>
 #include <random>
@@ -145,6 +146,32 @@ TEST(CrowdManager, CullingMatchesABruteForceReference) {
   EXPECT_LT(false_positives, truly_visible);
   std::printf("[ culling  ] %zu truly visible, %zu conservative extras over 4 cameras\n",
               truly_visible, false_positives);
+}
+
+// The culling pass skips a block of 64 instances whose every lane lies beyond the far line
+// (cull::farLanes): a block with a single nearer lane, first, last or in the padded last block,
+// still selects it.
+TEST(CrowdManager, ABlockBeyondTheFarLineButForOneLaneSelectsThatLane) {
+  CrowdDesc cd = defaultCrowdDesc();
+  cd.character_radius = 1.0f;
+  cd.max_distance_radii = 100.0f;
+  CrowdManager crowd;
+  ASSERT_TRUE(crowd.init(cd).isOk());
+  const uint32_t nearer[] = {0, 127, 137};  // Lane 0 of block 0, 63 of block 1, 9 of block 2.
+  std::vector<InstanceHandle> want;
+  for (uint32_t i = 0; i < 138; ++i) {
+    const bool near = std::find(std::begin(nearer), std::end(nearer), i) != std::end(nearer);
+    InstanceDesc d;
+    d.position = glm::dvec3(double(i % 8) * 0.5, 0.0, near ? -5.0 : -500.0);
+    InstanceHandle h;
+    ASSERT_TRUE(crowd.add(d, &h).isOk());
+    if (near) want.push_back(h);
+  }
+  ASSERT_TRUE(crowd.update(0.0, testCamera({0, 1, 10}, {0, 0, -100})).isOk());
+  EXPECT_EQ(crowd.stats().culled_distance, 135u);
+  const std::vector<InstanceHandle> seen(crowd.visibleHandles().begin(),
+                                         crowd.visibleHandles().end());
+  EXPECT_EQ(seen, want);
 }
 
 }  // namespace

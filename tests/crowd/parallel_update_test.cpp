@@ -289,7 +289,7 @@ TEST(ParallelUpdate, EightLaneCullingSelectsExactlyWhatTheScalarOneSelects) {
                             20.0f,
                             60.0f,
                             100.0f};
-  uint32_t culled = 0, visible = 0, lods_seen = 0;
+  uint32_t culled = 0, visible = 0, lods_seen = 0, beyond_far_line = 0;
   for (int trial = 0; trial < 4000; ++trial) {
     const Camera cam = testCamera({u(rng) * 5, 2 + u(rng), u(rng) * 5}, {u(rng) * 50, 0, 60});
     cull::Params p;
@@ -325,9 +325,14 @@ TEST(ParallelUpdate, EightLaneCullingSelectsExactlyWhatTheScalarOneSelects) {
       lanes.bx[k] = cb[k].x, lanes.by[k] = cb[k].y, lanes.bz[k] = cb[k].z, lanes.br[k] = rb[k];
       lanes.lod[k] = int32_t(prev[k]);
     }
+    // The far-line pass the frame builder runs before gathering, lane by lane.
+    const uint32_t far = cull::farLanes(p, lanes, 0);
     // Odd trials as the frame builder calls it for 8 lanes none of which crossfades.
     cull::selectLanes(p, lines, lanes, 0, /*fades=*/trial % 2 == 0);
     for (uint32_t k = 0; k < 8; ++k) {
+      const bool beyond = cull::beyondFarLine(rel[k], s[k], p);
+      ASSERT_EQ((far >> k) & 1u, uint32_t(beyond)) << "trial " << trial << " lane " << k;
+      beyond_far_line += beyond;
       cull::Selection sel;
       sel.lod = prev[k];
       const bool same = k % 2 == 1 || trial % 2 == 1;
@@ -344,9 +349,10 @@ TEST(ParallelUpdate, EightLaneCullingSelectsExactlyWhatTheScalarOneSelects) {
       (vis ? visible : culled) += 1;
     }
   }
-  // The trials reach both outcomes and several LODs.
+  // The trials reach both outcomes, both sides of the far line and several LODs.
   EXPECT_GT(visible, 1000u);
   EXPECT_GT(culled, 1000u);
+  EXPECT_GT(beyond_far_line, 500u);
   EXPECT_GE(__builtin_popcount(lods_seen), 4);
 }
 
