@@ -46,26 +46,38 @@ inline LodLines lodLines(const Params& p) {
   return l;
 }
 
-/// beyondFarLine() on the 8 lanes of `l` from `base` on, as bits (bit k: lane base + k), the
-/// same float operations in the same order. Always inlined, as selectLanes.
-__attribute__((always_inline)) inline uint32_t farLanes(const Params& p, const Lanes& l,
-                                                        uint32_t base) {
-  typedef float f8 __attribute__((vector_size(32)));
-  typedef int32_t i8 __attribute__((vector_size(32)));
-  f8 rx, ry, rz, s;
+/// 8 lanes of floats and of lane masks (true: all bits set), as the vector code below uses them.
+typedef float LaneFloats __attribute__((vector_size(32)));
+typedef int32_t LaneMasks __attribute__((vector_size(32)));
+
+/// beyondFarLine() on the 8 lanes of `l` from `base` on, the same float operations in the same
+/// order: `*d2` the squared distances, `*far` true in the lanes past the far line (or not
+/// finite). Always inlined, as selectLanes, which starts with it.
+__attribute__((always_inline)) inline void farLineLanes(const Params& p, const Lanes& l,
+                                                        uint32_t base, LaneFloats* d2,
+                                                        LaneMasks* far) {
+  LaneFloats rx, ry, rz, s;
   std::memcpy(&rx, l.rx + base, sizeof rx);
   std::memcpy(&ry, l.ry + base, sizeof ry);
   std::memcpy(&rz, l.rz + base, sizeof rz);
   std::memcpy(&s, l.s + base, sizeof s);
-  const f8 d2 = (rx * rx + ry * ry) + rz * rz;
-  i8 far = ~(d2 <= kMaxSquaredDistance);
+  *d2 = (rx * rx + ry * ry) + rz * rz;
+  *far = ~(*d2 <= kMaxSquaredDistance);  // Not finite: culled, far line or not.
   if (p.max_distance_radii >= 0.0f) {
-    const f8 far_line = p.max_distance_radii * (p.radius * s);
-    far |= d2 > far_line * far_line;
+    const LaneFloats far_line = p.max_distance_radii * (p.radius * s);
+    *far |= *d2 > far_line * far_line;
   }
-  uint32_t bits = 0;
-  for (uint32_t k = 0; k < kLanes; ++k) bits |= uint32_t(far[k] & 1) << k;
-  return bits;
+}
+
+/// Whether any of the 8 lanes of `l` from `base` on lies nearer than the far line.
+__attribute__((always_inline)) inline bool anyNearLane(const Params& p, const Lanes& l,
+                                                       uint32_t base) {
+  LaneFloats d2;
+  LaneMasks far;
+  farLineLanes(p, l, base, &d2, &far);
+  bool any = false;
+  for (uint32_t k = 0; k < kLanes; ++k) any |= far[k] == 0;
+  return any;
 }
 
 /// select() on the 8 lanes of `l` from `base` on; without `fades` (no lane crossfades: clip B's
@@ -87,12 +99,9 @@ __attribute__((always_inline)) inline void selectLanes(const Params& p, const Lo
   SI_LOAD(qw, l.qw);
   SI_LOAD(s, l.s);
   const f8 radius = p.radius * s;
-  const f8 d2 = (rx * rx + ry * ry) + rz * rz;
-  i8 by_distance = ~(d2 <= kMaxSquaredDistance);  // Not finite: culled, far line or not.
-  if (p.max_distance_radii >= 0.0f) {
-    const f8 far_line = p.max_distance_radii * radius;
-    by_distance |= d2 > far_line * far_line;
-  }
+  f8 d2;
+  i8 by_distance;
+  farLineLanes(p, l, base, &d2, &by_distance);
   // The sphere centre rel + rotate(q, c * s), as cull::rotate computes it.
   const auto center = [&](const float* cx, const float* cy, const float* cz, f8* ox, f8* oy,
                           f8* oz) {

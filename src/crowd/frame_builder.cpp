@@ -178,12 +178,9 @@ SI_CPU_CLONES void selectChunk(const FrameInputs& in, InstanceStore& st, uint32_
     // Positions and scales first: most of a large crowd may lie beyond the far line, and a
     // block wholly beyond it reads nothing more (selectLanes repeats the same test per lane).
     loadPositions(st, in.camera_position, i0, nullptr, count, padded, lanes);
-    static_assert(cull::kBlock <= 64, "a block's lanes are the bits of one word");
-    uint64_t far_bits = 0;  // Bit k: lane k lies beyond the far line.
+    bool any_near = false;
     for (uint32_t base = 0; base < padded; base += cull::kLanes)
-      far_bits |= uint64_t(cull::farLanes(cull_params, lanes, base)) << base;
-    const uint64_t used = padded == 64 ? ~uint64_t(0) : (uint64_t(1) << padded) - 1;
-    const bool any_near = (~far_bits & used) != 0;
+      any_near |= cull::anyNearLane(cull_params, lanes, base);
     if (in.simulate)
       for (uint32_t k = 0; k < count; ++k) endFinishedFade(st, i0 + k, in.clock);
     uint32_t fading_groups = 0;  // Bit g: a lane of group g (8 lanes) crossfades.

@@ -149,7 +149,7 @@ TEST(CrowdManager, CullingMatchesABruteForceReference) {
 }
 
 // The culling pass skips a block of 64 instances whose every lane lies beyond the far line
-// (cull::farLanes): a block with a single nearer lane, first, last or in the padded last block,
+// (cull::anyNearLane): a block with a single nearer lane, first, last or in the padded last block,
 // still selects it.
 TEST(CrowdManager, ABlockBeyondTheFarLineButForOneLaneSelectsThatLane) {
   CrowdDesc cd = defaultCrowdDesc();

@@ -325,14 +325,18 @@ TEST(ParallelUpdate, EightLaneCullingSelectsExactlyWhatTheScalarOneSelects) {
       lanes.bx[k] = cb[k].x, lanes.by[k] = cb[k].y, lanes.bz[k] = cb[k].z, lanes.br[k] = rb[k];
       lanes.lod[k] = int32_t(prev[k]);
     }
-    // The far-line pass the frame builder runs before gathering, lane by lane.
-    const uint32_t far = cull::farLanes(p, lanes, 0);
+    // The far-line test the frame builder runs before gathering, lane by lane.
+    cull::LaneFloats d2;
+    cull::LaneMasks far;
+    cull::farLineLanes(p, lanes, 0, &d2, &far);
+    bool any_near = false;
     // Odd trials as the frame builder calls it for 8 lanes none of which crossfades.
     cull::selectLanes(p, lines, lanes, 0, /*fades=*/trial % 2 == 0);
     for (uint32_t k = 0; k < 8; ++k) {
       const bool beyond = cull::beyondFarLine(rel[k], s[k], p);
-      ASSERT_EQ((far >> k) & 1u, uint32_t(beyond)) << "trial " << trial << " lane " << k;
+      ASSERT_EQ(far[k], beyond ? -1 : 0) << "trial " << trial << " lane " << k;
       beyond_far_line += beyond;
+      any_near |= !beyond;
       cull::Selection sel;
       sel.lod = prev[k];
       const bool same = k % 2 == 1 || trial % 2 == 1;
@@ -348,6 +352,7 @@ TEST(ParallelUpdate, EightLaneCullingSelectsExactlyWhatTheScalarOneSelects) {
       }
       (vis ? visible : culled) += 1;
     }
+    ASSERT_EQ(cull::anyNearLane(p, lanes, 0), any_near) << "trial " << trial;
   }
   // The trials reach both outcomes, both sides of the far line and several LODs.
   EXPECT_GT(visible, 1000u);
