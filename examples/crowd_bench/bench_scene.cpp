@@ -200,6 +200,43 @@ Status timeFrames(const Setup& setup, const std::string& scene,
   return s;
 }
 
+Status timePaired(Setup& setup, Renderer& renderer, const BakedPalette& palette, uint32_t count,
+                  const std::string& path, const std::function<Status(int)>& set, Row rows[2]) {
+  const std::vector<glm::dvec3> places = scenePositions("field", count);
+  CrowdManager crowd;
+  Status s = makeCrowd(setup, palette, places, LodChoice(), &crowd);
+  InstanceBatcher batcher;
+  if (s.isOk()) s = batcher.init(renderer.batchLimits());
+  std::vector<double> update, submit[2], gpu[2];
+  const uint32_t warmup = 2, n = setup.frames;
+  for (uint32_t f = 0; f < warmup + n && s.isOk(); ++f) {
+    const Camera cam = cameraAt(setup, "field", places, f < warmup ? 0 : f - warmup, n);
+    const auto t0 = Clock::now();
+    s = stepCrowd(crowd, path, cam, 1.0 / 60.0);
+    const double update_ms = msSince(t0);
+    for (int k = 0; k < 2 && s.isOk(); ++k) {
+      s = set(k);
+      DrawStats st;
+      if (s.isOk()) s = drawPath(renderer, crowd, batcher, path, cam, &st);
+      if (f < warmup) continue;
+      submit[k].push_back(st.cpu_submit_ms);
+      gpu[k].push_back(st.gpu_ms);
+      rows[k].visible = isGpuSelected(path) ? st.gpu_visible : crowd.stats().visible;
+      rows[k].draws = st.draw_calls;
+      rows[k].triangles = double(st.triangles);
+    }
+    if (f >= warmup) update.push_back(update_ms);
+  }
+  for (int k = 0; k < 2; ++k) {
+    rows[k].path = path;
+    rows[k].instances = count;
+    rows[k].update_ms = median(update);
+    rows[k].submit_ms = median(submit[k]);
+    rows[k].gpu_ms = median(gpu[k]);
+  }
+  return s;
+}
+
 uint64_t coveredPixels(const std::vector<uint8_t>& rgba) {
   const glm::u8vec4 clear = glm::u8vec4(glm::round(kClearColor * 255.0f));
   uint64_t n = 0;

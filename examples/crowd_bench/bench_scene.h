@@ -113,6 +113,13 @@ void printSideBySideHeader(const char* feature);
 Status timeCrowd(Setup& setup, Renderer& renderer, CrowdManager& crowd, const std::string& scene,
                  const std::vector<glm::dvec3>& places, const std::string& path, Row* row);
 
+/// Two variants of `path` on the field of `count` characters, drawn on every frame by the same
+/// renderer one after the other (`set(k)` switches to variant k before its draw), so both see
+/// the same crowd, camera and machine load: `rows[k]` gets variant k's path, instances, visible
+/// instances, draws and the medians of its update (shared), submit and GPU times.
+Status timePaired(Setup& setup, Renderer& renderer, const BakedPalette& palette, uint32_t count,
+                  const std::string& path, const std::function<Status(int)>& set, Row rows[2]);
+
 /// Times one path on one scene; returns a named error.
 Status runPath(Setup& setup, Renderer& renderer, const BakedPalette& palette,
                const std::string& scene, uint32_t count, const std::string& path,

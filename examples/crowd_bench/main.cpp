@@ -19,6 +19,7 @@
 #include "crowd_bench/blend_props_table.h"
 #include "crowd_bench/layers_table.h"
 #include "crowd_bench/lod_quality.h"
+#include "crowd_bench/materials_table.h"
 #include "crowd_bench/mixed_scene.h"
 #include "crowd_bench/motion_vectors_table.h"
 #include "crowd_bench/restore_state_table.h"
@@ -69,6 +70,7 @@ struct Options {
   bool root_motion = false;      // The root motion table.
   bool motion_vectors = false;   // The motion vectors table.
   bool restore_state = false;    // The state contract table.
+  bool materials = false;        // The materials table.
   std::vector<double> moving;    // The state uploads table's shares moved; empty: no table.
   bool layers = false;           // The layered animation table.
   bool blend = false;            // The blend spaces and props table.
@@ -128,6 +130,9 @@ void usage(std::FILE* f) {
       "                   vectors, side by side)\n"
       "                   [--restore-state] (the GL state contract table: each frame drawn\n"
       "                   with RendererDesc::restore_state off and on, side by side)\n"
+      "                   [--materials] (the materials table: each frame drawn with the\n"
+      "                   built-in material and a host material computing the same, side by\n"
+      "                   side)\n"
       "                   [--moving F,F,...] (the state uploads table: a share F of the crowd\n"
       "                   moved each frame, the GPU-driven path uploading what changed against\n"
       "                   everything, side by side)\n"
@@ -193,6 +198,7 @@ bool parse(int argc, char** argv, Options* o) {
     else if (a == "--root-motion") o->root_motion = true;
     else if (a == "--motion-vectors") o->motion_vectors = true;
     else if (a == "--restore-state") o->restore_state = true;
+    else if (a == "--materials") o->materials = true;
     else if (a == "--moving" && has) {
       o->moving.clear();
       for (const std::string& v : si::examples::splitList(argv[++i])) o->moving.push_back(std::stod(v));
@@ -456,6 +462,10 @@ int main(int argc, char** argv) {
   if (b.o.restore_state) {
     s = si::bench::restoreStateTable(b.setup, palette, rd, b.o.sizes, b.o.paths, csv);
     if (!s.isOk()) return fail("restore state", s);
+  }
+  if (b.o.materials) {
+    s = si::bench::materialsTable(b.setup, palette, rd, b.o.sizes, b.o.paths, csv);
+    if (!s.isOk()) return fail("materials", s);
   }
   if (!b.o.moving.empty()) {
     s = si::bench::uploadsTable(b.setup, palette, rd, b.o.sizes, b.o.moving, csv);

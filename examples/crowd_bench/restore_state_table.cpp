@@ -6,47 +6,6 @@ namespace si::bench {
 
 namespace {
 
-// The medians of one path's frames with restore off ([0]) and on ([1]).
-struct Paired {
-  double submit_ms[2] = {0, 0}, gpu_ms[2] = {0, 0}, update_ms = 0;
-  uint32_t visible = 0, draws = 0;
-};
-
-Status runPaired(Setup& setup, Renderer& renderer, const BakedPalette& palette, uint32_t count,
-                 const std::string& path, Paired* out) {
-  const std::vector<glm::dvec3> places = scenePositions("field", count);
-  CrowdManager crowd;
-  Status s = makeCrowd(setup, palette, places, LodChoice(), &crowd);
-  InstanceBatcher batcher;
-  if (s.isOk()) s = batcher.init(renderer.batchLimits());
-  std::vector<double> update, submit[2], gpu[2];
-  const uint32_t warmup = 2, n = setup.frames;
-  for (uint32_t f = 0; f < warmup + n && s.isOk(); ++f) {
-    const Camera cam = cameraAt(setup, "field", places, f < warmup ? 0 : f - warmup, n);
-    const auto t0 = Clock::now();
-    s = stepCrowd(crowd, path, cam, 1.0 / 60.0);
-    const double update_ms = msSince(t0);
-    for (int on = 0; on < 2 && s.isOk(); ++on) {
-      renderer.setRestoreState(on == 1);
-      DrawStats st;
-      s = drawPath(renderer, crowd, batcher, path, cam, &st);
-      if (f < warmup) continue;
-      submit[on].push_back(st.cpu_submit_ms);
-      gpu[on].push_back(st.gpu_ms);
-      out->visible = isGpuSelected(path) ? st.gpu_visible : crowd.stats().visible;
-      out->draws = st.draw_calls;
-    }
-    if (f >= warmup) update.push_back(update_ms);
-  }
-  for (int on = 0; on < 2; ++on) {
-    out->submit_ms[on] = median(submit[on]);
-    out->gpu_ms[on] = median(gpu[on]);
-  }
-  out->update_ms = median(update);
-  renderer.setRestoreState(true);
-  return s;
-}
-
 // The cost of one call itself: `calls` draws of an empty crowd, alternating restore off and on;
 // the median submit of each in microseconds (the save and restore are most of what is left).
 Status perCallMicroseconds(Renderer& renderer, const Setup& setup, const BakedPalette& palette,
@@ -105,24 +64,28 @@ Status restoreStateTable(Setup& setup, const BakedPalette& palette, const Render
               "GPU on", "GPU x");
   for (uint32_t count : sizes)
     for (const std::string& path : paths) {
-      Paired p;
-      const Status s = runPaired(setup, renderer, palette, count, path, &p);
+      Row p[2];  // Restore off, then on.
+      const Status s = timePaired(setup, renderer, palette, count, path, [&](int on) {
+        renderer.setRestoreState(on == 1);
+        return Status::ok();
+      }, p);
+      renderer.setRestoreState(true);
       if (!s.isOk()) return {s.code(), "restore state, " + path + ": " + s.message()};
-      const double delta_ms = p.submit_ms[1] - p.submit_ms[0];
+      const double delta_ms = p[1].submit_ms - p[0].submit_ms;
       // The frame: the CPU's update and submit, or the GPU's time when that is longer.
-      const double frame_ms = std::max(p.update_ms + p.submit_ms[1], p.gpu_ms[1]);
+      const double frame_ms = std::max(p[1].update_ms + p[1].submit_ms, p[1].gpu_ms);
       std::printf("%-22s %9u %9u %6u %10.3f %10.3f %9.1f %8.3f%%", path.c_str(), count,
-                  p.visible, p.draws, p.submit_ms[0], p.submit_ms[1], delta_ms * 1000.0,
+                  p[1].visible, p[1].draws, p[0].submit_ms, p[1].submit_ms, delta_ms * 1000.0,
                   100.0 * delta_ms / std::max(1e-9, frame_ms));
-      if (p.gpu_ms[0] >= 0.0)  // Without GPU timing (--no-gpu-time) the GPU columns are empty.
-        std::printf(" %9.3f %9.3f %8.3f\n", p.gpu_ms[0], p.gpu_ms[1],
-                    p.gpu_ms[1] / std::max(1e-9, p.gpu_ms[0]));
+      if (p[0].gpu_ms >= 0.0)  // Without GPU timing (--no-gpu-time) the GPU columns are empty.
+        std::printf(" %9.3f %9.3f %8.3f\n", p[0].gpu_ms, p[1].gpu_ms,
+                    p[1].gpu_ms / std::max(1e-9, p[0].gpu_ms));
       else
         std::printf(" %9s %9s %8s\n", "-", "-", "-");
       for (int on = 0; on < 2; ++on)
         std::fprintf(csv, "restore-state,field,%s,%u,%u,%u,,%.4f,%.4f,%.4f,,,,,%s,,,\n",
-                     path.c_str(), count, p.visible, p.draws, p.update_ms, p.submit_ms[on],
-                     p.gpu_ms[on], on == 1 ? "on" : "off");
+                     path.c_str(), count, p[on].visible, p[on].draws, p[on].update_ms,
+                     p[on].submit_ms, p[on].gpu_ms, on == 1 ? "on" : "off");
     }
   return Status::ok();
 }

@@ -27,6 +27,7 @@ struct CharacterSlot {
   CpuSkinningPath cpu_path;
   GpuCulledPath gpu_culled_path;
   SkinningPath path = SkinningPath::kVertexShader;  ///< DrawMode::kDefault's path.
+  uint32_t material = 0;  ///< Renderer::setMaterial (0: the built-in material).
   std::string path_reason = "explicit setting";
 
   bool ready() const { return character.ready() && palette.ready(); }

@@ -204,6 +204,7 @@ Status Renderer::replaceCharacter(CharacterId id, const Character& character,
     slot->release();
     return s;
   }
+  slot->material = m.characters[id.index]->material;
   m.characters[id.index]->release();
   m.characters[id.index] = std::move(slot);
   return Status::ok();

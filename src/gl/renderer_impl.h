@@ -157,7 +157,7 @@ struct Renderer::Impl {
     detail::DrawResources r;
     r.info = &info;
     r.desc = &desc;
-    r.programs = &programs;
+    r.programs = detail::ProgramTable{&programs, c.material};
     r.palette = &c.palette;
     r.character = &c.character;
     r.preskin = &c.preskin;

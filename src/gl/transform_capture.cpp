@@ -30,7 +30,7 @@ struct CaptureBuffers {
 void captureVertexShader(const detail::DrawResources& r, uint32_t vertices,
                          const glm::vec3& light, const CaptureBuffers& b) {
   Camera identity;  // Model space out: the capture reads positions before the world transform.
-  detail::bindShading(r, (*r.programs)[detail::ProgramId::kCapture], identity, light);
+  detail::bindShading(r, r.programs[detail::ProgramId::kCapture], identity, light);
   glBindBufferBase(GL_UNIFORM_BUFFER, 0, b.block);
   glBindBufferBase(GL_TRANSFORM_FEEDBACK_BUFFER, 0, b.out);
   glEnable(GL_RASTERIZER_DISCARD);
@@ -44,7 +44,7 @@ void captureVertexShader(const detail::DrawResources& r, uint32_t vertices,
 // instance whose world transform is the identity (so the camera-relative world position it
 // writes is the model-space position).
 Status captureCompute(const detail::DrawResources& r, uint32_t vertices, const CaptureBuffers& b) {
-  const detail::Program& skin = (*r.programs)[detail::ProgramId::kComputeSkin];
+  const detail::Program& skin = r.programs[detail::ProgramId::kComputeSkin];
   glUseProgram(skin.id);
   detail::bindPreSkinning(r, b.out, b.list);
   glBindBufferBase(GL_UNIFORM_BUFFER, 0, b.block);

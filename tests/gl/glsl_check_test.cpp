@@ -98,6 +98,53 @@ TEST(GlslCheck, EveryProgramCompilesWithGlslang) {
   EXPECT_EQ(compiled, 2 * 86);
 }
 
+// A G-buffer material like docs/rendering.md's ("Materials"): two targets, a uniform block of
+// its own, a discard (so the depth-only programs take it too).
+constexpr const char* kGbufferMaterial = R"(
+layout(location = 0) out vec4 o_albedo;
+layout(location = 1) out vec4 o_normal;
+layout(std140, binding = 7) uniform Tone { vec4 tone; };
+void siMaterial(SiSurface s) {
+  if (s.base_color.a < 0.01 && !s.impostor) discard;
+  o_albedo = vec4(siSurfaceAlbedo(s) * tone.rgb, 1.0);
+  o_normal = vec4(s.normal * 0.5 + 0.5, float(s.lod) / 8.0);
+#ifdef SI_MOTION_VECTORS
+  o_normal.a = length(siSurfaceMotion(s));
+#endif
+})";
+
+// The material assembled into every program that takes one compiles, after "#line 1 1".
+TEST(GlslCheck, AHostMaterialCompilesIntoEveryProgramThatTakesOne) {
+  skipWithoutGlslang();
+  detail::ShaderConfig config;
+  config.max_instances = 819;
+  config.max_joints = 1024;
+  detail::MaterialSource material;
+  material.name = "gbuffer";
+  material.text = kGbufferMaterial;
+  material.depth_discard = true;
+  int shaded = 0, depth = 0;
+  forEachStage([&](ProgramId id, ShaderStage stage) {
+    if (stage != ShaderStage::kFragment || !detail::takesMaterial(id, material)) return;
+    std::string source;
+    ASSERT_TRUE(detail::assembleStage(id, stage, config, &source, &material).isOk());
+    EXPECT_NE(source.find(std::string("#line 1 1\n") + kGbufferMaterial), std::string::npos);
+    EXPECT_EQ(compileWithGlslang(source, "frag", fileName(id, "material_", "")), "");
+    ++(detail::materialUse(id) == detail::MaterialUse::kDepth ? depth : shaded);
+  });
+  // Every colour program of every path (21: the impostor capture keeps its own material) and
+  // every depth-only program of a mesh (7).
+  EXPECT_EQ(shaded, 21);
+  EXPECT_EQ(depth, 7);
+  // Without depth_discard the depth-only programs keep depth.frag.glsl.
+  material.depth_discard = false;
+  std::string source;
+  ASSERT_TRUE(detail::assembleStage(ProgramId::kDepthOnly, ShaderStage::kFragment, config, &source,
+                                    &material)
+                  .isOk());
+  EXPECT_EQ(source.find("siMaterial"), std::string::npos);
+}
+
 TEST(GlslCheck, AssembleNamesAMissingStage) {
   std::string source;
   EXPECT_EQ(detail::assembleStage(ProgramId::kCull, ShaderStage::kVertex, {}, &source).code(),

@@ -291,6 +291,11 @@ TEST_P(EsRenderTest, RefusesWhatEs30LacksByName) {
   ImageLodErrorReport report;
   refused(measureImageLodErrors(info_, character(), palette(), ImageLodErrorDesc{}, &report),
           "compute or impostor programs");
+  MaterialDesc material;
+  material.name = "es";
+  material.source = "layout(location = 0) out vec4 o;\nvoid siMaterial(SiSurface s) { o = s.base_color; }";
+  MaterialId material_id;
+  refused(r.addMaterial(material, &material_id), "host materials");
   EXPECT_EQ(glGetError(), GLenum(GL_NO_ERROR));
   // A refused draw left the renderer whole: the vertex-shader path still draws.
   EXPECT_TRUE(r.drawCrowd(crowd, batcher, lodCamera(), nullptr).isOk());

@@ -6,23 +6,12 @@
 #include <cmath>
 
 #include "render/render_fixture.h"
-#include "si/core/impostor_level.h"
 #include "si/gl/image_lod_error.h"
 
 namespace si {
 namespace {
 
 using namespace test;
-
-// The embedded character with its impostor level appended.
-const Character& impostorCharacter() {
-  static const Character c = [] {
-    Character k = character();
-    EXPECT_TRUE(appendImpostorLevel(&k.mesh).isOk());
-    return k;
-  }();
-  return c;
-}
 
 uint32_t impostorLevels() { return uint32_t(impostorCharacter().mesh.maxLodCount()); }
 

@@ -23,6 +23,7 @@
 #include "render/render_test_helpers.h"
 #include "si/bake/animation_baker.h"
 #include "si/core/default_character.h"
+#include "si/core/impostor_level.h"
 #include "si/gl/renderer.h"
 #include "si/headless/headless_context.h"
 
@@ -45,6 +46,16 @@ inline const Character& character() {
     Character out;
     if (!makeDefaultCharacter({}, &out).isOk()) std::abort();
     return out;
+  }();
+  return c;
+}
+
+// The embedded character with its impostor level appended (si::appendImpostorLevel).
+inline const Character& impostorCharacter() {
+  static const Character c = [] {
+    Character k = character();
+    if (!appendImpostorLevel(&k.mesh).isOk()) std::abort();
+    return k;
   }();
   return c;
 }

@@ -40,9 +40,9 @@ Status ComputePath::draw(const DrawResources& r, const PathFrame& f, DrawStats* 
   Status s = ensureRing(r);
   if (!s.isOk()) return s;
   const PreSkinLists& lists = *r.preskin;
-  const Program& skin = (*r.programs)[preSkinningProgram(false, f.motion, f.layers, f.composed)];
+  const Program& skin = r.programs[preSkinningProgram(false, f.motion, f.layers, f.composed)];
   if (f.composed) composeLayers(r, f, st);  // Masked joints once a record (layer_compose_pass.h).
-  const Program& pulled = (*r.programs)[f.motion ? ProgramId::kPulledMotion : ProgramId::kPulled];
+  const Program& pulled = r.programs[f.motion ? ProgramId::kPulledMotion : ProgramId::kPulled];
   if (f.motion) {
     s = r.scratch->compute_previous_ring.ensure(r.scratch->compute_ring.vertices, true,
                                                 "motion vectors: the previous position ring");
@@ -69,6 +69,7 @@ Status ComputePath::draw(const DrawResources& r, const PathFrame& f, DrawStats* 
       glProgramUniform4ui(pulled.id, 5, p.ring_first, p.lod.vertex_count, p.lod.vertex_offset,
                           p.first_instance);
       glProgramUniform2ui(pulled.id, 6, p.instances, lists.source_words);
+      if (pulled.lod >= 0) glProgramUniform1ui(pulled.id, pulled.lod, p.batch.lod);
       glDrawElementsInstanced(GL_TRIANGLES, GLsizei(p.lod.index_count), GL_UNSIGNED_INT,
                               reinterpret_cast<const void*>(uintptr_t(p.lod.first_index) * 4),
                               GLsizei(p.instances));

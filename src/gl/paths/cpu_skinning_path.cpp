@@ -56,13 +56,11 @@ Status CpuSkinningPath::draw(const DrawResources& r, const PathFrame& f, DrawSta
     r.scratch->cpu_stream_bytes = chunk_bytes_;
   }
   glVertexArrayVertexBuffer(vao_, 0, stream, 0, GLsizei(kVertexBytes));
-  const Program& program = (*r.programs)[ProgramId::kPreSkinned];
+  const Program& program = r.programs[ProgramId::kPreSkinned];
   glUseProgram(program.id);
   glBindVertexArray(vao_);
   bindAppearance(r, program);
-  const glm::mat4 vp = f.camera.viewProjection();
-  glProgramUniformMatrix4fv(program.id, 1, 1, GL_FALSE, &vp[0][0]);
-  glProgramUniform3fv(program.id, 3, 1, &f.light[0]);
+  setCameraUniforms(program, f.camera, f.light);
   const BakedPalette& palette = *r.palette->palette();
   const SkinnedMesh& mesh = r.character->mesh;
   const std::vector<SubMesh>& sub_meshes = r.character->sub_meshes;
@@ -79,6 +77,7 @@ Status CpuSkinningPath::draw(const DrawResources& r, const PathFrame& f, DrawSta
     for (const PendingDraw& d : pending_) {
       glProgramUniform1ui(program.id, 4, d.color);
       glProgramUniform1i(program.id, 5, d.base_vertex);
+      if (program.lod >= 0) glProgramUniform1ui(program.id, program.lod, d.lod);
       glDrawElementsBaseVertex(GL_TRIANGLES, GLsizei(d.range.index_count), GL_UNSIGNED_INT,
                                reinterpret_cast<const void*>(uintptr_t(d.range.first_index) * 4),
                                d.base_vertex);
@@ -129,7 +128,8 @@ Status CpuSkinningPath::draw(const DrawResources& r, const PathFrame& f, DrawSta
         const float values[8] = {p.x, p.y, p.z, n.x, n.y, n.z, uv.x, uv.y};
         std::memcpy(out, values, sizeof(values));
       }
-      pending_.push_back({sub_meshes[sm].lods[lod_index], first - GLint(vr.x), rec.blend[3]});
+      pending_.push_back(
+          {sub_meshes[sm].lods[lod_index], first - GLint(vr.x), rec.blend[3], lod});
     }
   }
   flush();

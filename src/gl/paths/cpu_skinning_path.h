@@ -22,6 +22,7 @@ class CpuSkinningPath final : public DrawPath {
     IndexRange range;
     GLint base_vertex;
     uint32_t color;
+    uint32_t lod;
   };
   GLuint vao_ = kNoObject;  // Its vertex buffer: ScratchBuffers::cpu_stream.
   std::vector<uint8_t> vertices_;

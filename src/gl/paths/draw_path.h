@@ -27,7 +27,8 @@ namespace si::detail {
 struct DrawResources {
   const GlInfo* info = nullptr;
   const RendererDesc* desc = nullptr;
-  const ProgramSet* programs = nullptr;
+  /// The renderer's programs through the character's material (Renderer::setMaterial).
+  ProgramTable programs;
   const PaletteTexture* palette = nullptr;
   const CharacterBuffers* character = nullptr;
   const PreSkinLists* preskin = nullptr;  ///< The character's pre-skinning lists.
@@ -116,7 +117,7 @@ class DrawPath {
   virtual void release() = 0;
 };
 
-/// Binds what the shading of `program` reads (shade.frag.glsl): the character's materials
+/// Binds what the surface of `program` reads (surface.frag.glsl): the character's materials
 /// (CharacterBuffers::bindMaterials) and the custom texture array at unit 2 with its layer count.
 void bindAppearance(const DrawResources& r, const Program& program);
 

@@ -161,7 +161,7 @@ Status GpuCulledPath::uploadFrame(const DrawResources& r, const PathFrame& f) {
                    " LODs do not fit the uploaded character (", r.character->sub_meshes.size(),
                    " sub-meshes) or 256 buckets")};
   const uint32_t n = crowd.size();
-  staging_.prepare((*r.programs)[ProgramId::kUploadScatter].id, *r.info);
+  staging_.prepare(r.programs[ProgramId::kUploadScatter].id, *r.info);
   DispatchGrid grid;
   if (!dispatchGrid((uint64_t(n) + 63) / 64, r.info->max_compute_groups_x,
                     r.info->max_compute_groups_y, &grid))
@@ -217,9 +217,9 @@ Status GpuCulledPath::uploadFrame(const DrawResources& r, const PathFrame& f) {
 
   // Per-frame parameters: the same CullParams CrowdView::select() uses.
   const CullParams p = f.view->cullParams(f.camera);
-  const GLuint cull = (*r.programs)[ProgramId::kCull].id;
-  const GLuint commands = (*r.programs)[ProgramId::kCullCommands].id;
-  const GLuint scatter = (*r.programs)[ProgramId::kCullScatter].id;
+  const GLuint cull = r.programs[ProgramId::kCull].id;
+  const GLuint commands = r.programs[ProgramId::kCullCommands].id;
+  const GLuint scatter = r.programs[ProgramId::kCullScatter].id;
   glProgramUniform4fv(cull, 0, 6, &p.planes[0][0]);
   glProgramUniform3d(cull, 6, f.camera.position.x, f.camera.position.y, f.camera.position.z);
   glProgramUniform1d(cull, 7, crowd.clockSeconds());
@@ -230,7 +230,7 @@ Status GpuCulledPath::uploadFrame(const DrawResources& r, const PathFrame& f) {
   for (ProgramId skin : {ProgramId::kGpuSkin, ProgramId::kGpuSkinLayers, ProgramId::kGpuSkinMotion,
                          ProgramId::kGpuSkinMotionLayers, ProgramId::kGpuSkinComposed,
                          ProgramId::kGpuSkinMotionComposed})
-    glProgramUniform4uiv((*r.programs)[skin].id, 16, 1, counts);
+    glProgramUniform4uiv(r.programs[skin].id, 16, 1, counts);
   for (GLuint program : {cull, commands, scatter}) glProgramUniform4uiv(program, 16, 1, counts);
   glProgramUniform1ui(cull, 23, layers_ ? 1u : 0u);
   glProgramUniform1ui(cull, 38, extraBase());
@@ -267,7 +267,7 @@ Status GpuCulledPath::prepareMotion(const DrawResources& r, const PathFrame& f) 
     v.frame = frame_;
   }
   motion_ = f.motion;
-  const GLuint cull = (*r.programs)[ProgramId::kCull].id;
+  const GLuint cull = r.programs[ProgramId::kCull].id;
   glProgramUniform1ui(cull, 24, motion_ ? 1u : 0u);
   // Only draws with motion vectors set the view's camera, as only they write drawn records.
   if (!motion_) return Status::ok();
@@ -334,9 +334,9 @@ Status GpuCulledPath::draw(const DrawResources& r, const PathFrame& f, DrawStats
   glMemoryBarrier(GL_BUFFER_UPDATE_BARRIER_BIT);  // The counters the passes wrote, then copied.
   glCopyNamedBufferSubData(counters_, first_phase_counters_, 0, 0, GLsizeiptr(kCounterWords) * 4);
   DepthPyramid& pyramid = view_->pyramid;
-  Status s = pyramid.build(*r.programs);
+  Status s = pyramid.build(*r.programs.set);
   if (!s.isOk()) return s;
-  const GLuint cull = (*r.programs)[ProgramId::kCull].id;
+  const GLuint cull = r.programs[ProgramId::kCull].id;
   glProgramUniform3i(cull, 22, pyramid.width(), pyramid.height(), pyramid.levels());
   glBindTextureUnit(1, pyramid.texture());
   runPasses(r, f, 2, st);
@@ -346,9 +346,9 @@ Status GpuCulledPath::draw(const DrawResources& r, const PathFrame& f, DrawStats
 void GpuCulledPath::runPasses(const DrawResources& r, const PathFrame& f, uint32_t phase,
                               DrawStats* st) {
   const uint32_t n = instances_;
-  const GLuint cull = (*r.programs)[ProgramId::kCull].id;
-  const GLuint commands = (*r.programs)[ProgramId::kCullCommands].id;
-  const GLuint scatter = (*r.programs)[ProgramId::kCullScatter].id;
+  const GLuint cull = r.programs[ProgramId::kCull].id;
+  const GLuint commands = r.programs[ProgramId::kCullCommands].id;
+  const GLuint scatter = r.programs[ProgramId::kCullScatter].id;
   // Zero the visible count and the bucket counts (after the first phase's writes to them).
   glMemoryBarrier(GL_BUFFER_UPDATE_BARRIER_BIT);
   glClearNamedBufferSubData(counters_, GL_R32UI, 0, GLsizeiptr(kBucketCountWord + kMaxBuckets) * 4,
@@ -406,14 +406,14 @@ void GpuCulledPath::runPasses(const DrawResources& r, const PathFrame& f, uint32
     composeGpuLayers(r, motion_, compose_stride_, n, extraBase(), previousExtraBase(), st);
   if (f.preskin) {
     // Every pre-skinned entry's vertices into the ring, then one vertex-pulling multi-draw.
-    const Program& skin = (*r.programs)[preSkinningProgram(true, motion_, layers_, composed)];
+    const Program& skin = r.programs[preSkinningProgram(true, motion_, layers_, composed)];
     glUseProgram(skin.id);
     r.palette->bind();
     glProgramUniform2ui(skin.id, 6, 0u, r.preskin->source_words);
     glDispatchComputeIndirect(GLintptr(kSkinDispatchWord) * 4);
     glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT);
     const Program& pulled =
-        (*r.programs)[f.depth_only ? ProgramId::kGpuPulledDepthOnly
+        r.programs[f.depth_only ? ProgramId::kGpuPulledDepthOnly
                       : motion_    ? ProgramId::kGpuPulledMotion
                                    : ProgramId::kGpuPulled];
     bindShading(r, pulled, f.camera, f.light);
@@ -427,7 +427,7 @@ void GpuCulledPath::runPasses(const DrawResources& r, const PathFrame& f, uint32
   }
   // Vertex-shader skinning: every instance without pre-skinning, those past the ring with.
   const Program& skinned =
-      (*r.programs)[skinningProgram(true, f.depth_only, motion_, layers_, composed)];
+      r.programs[skinningProgram(true, f.depth_only, motion_, layers_, composed)];
   bindShading(r, skinned, f.camera, f.light);
   set_motion(skinned);
   glBindVertexArray(vao_);

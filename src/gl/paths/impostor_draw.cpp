@@ -9,9 +9,10 @@ namespace {
 // Binds program `id`, the camera and light uniforms and the atlas (the quad reads no palette,
 // vertex buffer or material).
 void useImpostorProgram(const DrawResources& r, const PathFrame& f, ProgramId id) {
-  const Program& program = (*r.programs)[id];
+  const Program& program = r.programs[id];
   glUseProgram(program.id);
   setCameraUniforms(program, f.camera, f.light);
+  if (program.lod >= 0) glProgramUniform1ui(program.id, program.lod, f.impostor_lod);
   r.impostor->bind(program, f.camera);
 }
 

@@ -69,7 +69,7 @@ void composeLayers(const DrawResources& r, const PathFrame& f, DrawStats* st) {
   const uint64_t groups_x = (uint64_t(most) * stride + 63) / 64;  // Fits: prepareComposedRows.
   const uint32_t max_y = groupLimit(r.info->max_compute_groups_y);
   const Program& compose =
-      (*r.programs)[f.motion ? ProgramId::kLayerComposeMotion : ProgramId::kLayerCompose];
+      r.programs[f.motion ? ProgramId::kLayerComposeMotion : ProgramId::kLayerCompose];
   glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT);  // Earlier draws are done reading the rows.
   glUseProgram(compose.id);
   r.palette->bind();
@@ -109,7 +109,7 @@ Status extrasNeedComposing(const char* who, bool extras, uint32_t stride) {
 void composeGpuLayers(const DrawResources& r, bool motion, uint32_t stride, uint32_t instances,
                       uint32_t extras, uint32_t previous_extras, DrawStats* st) {
   const Program& compose =
-      (*r.programs)[motion ? ProgramId::kGpuLayerComposeMotion : ProgramId::kGpuLayerCompose];
+      r.programs[motion ? ProgramId::kGpuLayerComposeMotion : ProgramId::kGpuLayerCompose];
   glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT);  // The cull pass's records; earlier reads.
   glUseProgram(compose.id);
   r.palette->bind();

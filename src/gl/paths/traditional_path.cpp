@@ -24,7 +24,8 @@ Status TraditionalPath::draw(const DrawResources& r, const PathFrame& f, DrawSta
     return {StatusCode::kLimitExceeded, "drawTraditional: more joints than the uniform block holds"};
   const CrowdManager& crowd = *f.crowd;
   const CrowdView& view = *f.view;
-  bindShading(r, (*r.programs)[ProgramId::kTraditional], f.camera, f.light);
+  const Program& program = r.programs[ProgramId::kTraditional];
+  bindShading(r, program, f.camera, f.light);
   glBindBufferBase(GL_UNIFORM_BUFFER, 1, block_buffer_);
   const Span<const InstanceRecord> records = view.records();
   const uint32_t sub_meshes = view.subMeshCount();
@@ -46,6 +47,7 @@ Status TraditionalPath::draw(const DrawResources& r, const PathFrame& f, DrawSta
     // This instance's worn sub-meshes at the view's LOD.
     uint32_t lod = 0;
     if (!view.lodOf(view.visibleHandles()[v], &lod).isOk()) continue;
+    if (program.lod >= 0) glProgramUniform1ui(program.id, program.lod, lod);
     InstanceDesc desc;
     if (!crowd.get(view.visibleHandles()[v], &desc).isOk()) continue;
     for (uint32_t sm = 0; sm < sub_meshes && sm < r.character->sub_meshes.size(); ++sm) {

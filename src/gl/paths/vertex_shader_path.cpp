@@ -12,7 +12,7 @@ Status VertexShaderPath::draw(const DrawResources& r, const PathFrame& f, DrawSt
                           f.program == ProgramId::kDepthOnlyLayers ||
                           f.program == ProgramId::kDepthOnlyComposed;
   if (f.composed) composeLayers(r, f, st);
-  const Program& program = (*r.programs)[f.program];
+  const Program& program = r.programs[f.program];
   bindShading(r, program, f.camera, f.light);
   setMotionUniforms(program, f);
   if (f.motion) bindPreviousRecords(r, program, f);
@@ -26,6 +26,7 @@ Status VertexShaderPath::draw(const DrawResources& r, const PathFrame& f, DrawSt
     if (f.layers && f.motion) r.ring->bindLayers(f.previous_layer_base, d, 3);
     if (f.composed || f.motion)  // Its composed records and previous indices: its first slot.
       glProgramUniform1ui(program.id, 7, d.layer_byte_offset / kLayerRecordSize);
+    if (program.lod >= 0) glProgramUniform1ui(program.id, program.lod, d.lod);
     glDrawElementsInstanced(GL_TRIANGLES, GLsizei(range.index_count), GL_UNSIGNED_INT,
                             reinterpret_cast<const void*>(uintptr_t(range.first_index) * 4),
                             GLsizei(d.instance_count));

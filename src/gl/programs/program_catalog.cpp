@@ -13,56 +13,56 @@ namespace {
 
 // Indexed by ProgramId.
 const ProgramSpec kSpecs[kProgramCount] = {
-    {"skinned", "", "skinned.vert.glsl", "shade.frag.glsl", nullptr, nullptr},
+    {"skinned", "", "skinned.vert.glsl", "surface.frag.glsl", nullptr, nullptr},
     {"depth-only", "", "skinned.vert.glsl", "depth.frag.glsl", nullptr, nullptr},
-    {"rigid", "#define SI_RIGID\n", "skinned.vert.glsl", "shade.frag.glsl", nullptr, nullptr},
-    {"traditional", "#define SI_TRADITIONAL\n", "skinned.vert.glsl", "shade.frag.glsl", nullptr,
+    {"rigid", "#define SI_RIGID\n", "skinned.vert.glsl", "surface.frag.glsl", nullptr, nullptr},
+    {"traditional", "#define SI_TRADITIONAL\n", "skinned.vert.glsl", "surface.frag.glsl", nullptr,
      nullptr},
     {"capture", "#define SI_CAPTURE\n", "skinned.vert.glsl", "depth.frag.glsl", nullptr,
      "tf_position"},
-    {"pre-skinned", "", "preskinned.vert.glsl", "shade.frag.glsl", nullptr, nullptr},
+    {"pre-skinned", "", "preskinned.vert.glsl", "surface.frag.glsl", nullptr, nullptr},
     {"compute skinning", "", nullptr, nullptr, "compute_skin.comp.glsl", nullptr},
-    {"pre-skinned pulling", "", "pulled.vert.glsl", "shade.frag.glsl", nullptr, nullptr},
-    {"GPU-driven skinned", "#define SI_GPU_DRIVEN\n", "skinned.vert.glsl", "shade.frag.glsl",
+    {"pre-skinned pulling", "", "pulled.vert.glsl", "surface.frag.glsl", nullptr, nullptr},
+    {"GPU-driven skinned", "#define SI_GPU_DRIVEN\n", "skinned.vert.glsl", "surface.frag.glsl",
      nullptr, nullptr},
     {"GPU culling", "", nullptr, nullptr, "cull.comp.glsl", nullptr},
     {"GPU culling commands", "", nullptr, nullptr, "cull_commands.comp.glsl", nullptr},
     {"GPU culling scatter", "", nullptr, nullptr, "cull_scatter.comp.glsl", nullptr},
     {"GPU-driven pre-skinning", "", nullptr, nullptr, "gpu_skin.comp.glsl", nullptr},
-    {"GPU-driven pulling", "#define SI_GPU_DRIVEN\n", "pulled.vert.glsl", "shade.frag.glsl",
+    {"GPU-driven pulling", "#define SI_GPU_DRIVEN\n", "pulled.vert.glsl", "surface.frag.glsl",
      nullptr, nullptr},
     {"depth pyramid copy", "#define SI_HIZ_COPY\n", nullptr, nullptr, "hiz.comp.glsl", nullptr},
     {"depth pyramid reduce", "", nullptr, nullptr, "hiz.comp.glsl", nullptr},
     {"skinned with motion vectors", "#define SI_MOTION_VECTORS\n", "skinned.vert.glsl",
-     "shade.frag.glsl", nullptr, nullptr},
+     "surface.frag.glsl", nullptr, nullptr},
     {"compute skinning with previous positions", "#define SI_MOTION_VECTORS\n", nullptr, nullptr,
      "compute_skin.comp.glsl", nullptr},
     {"pre-skinned pulling with motion vectors", "#define SI_MOTION_VECTORS\n", "pulled.vert.glsl",
-     "shade.frag.glsl", nullptr, nullptr},
-    {"skinned with layers", "#define SI_LAYERS\n", "skinned.vert.glsl", "shade.frag.glsl", nullptr,
+     "surface.frag.glsl", nullptr, nullptr},
+    {"skinned with layers", "#define SI_LAYERS\n", "skinned.vert.glsl", "surface.frag.glsl", nullptr,
      nullptr},
     {"compute skinning with layers", "#define SI_LAYERS\n", nullptr, nullptr,
      "compute_skin.comp.glsl", nullptr},
     {"depth-only with layers", "#define SI_LAYERS\n", "skinned.vert.glsl", "depth.frag.glsl",
      nullptr, nullptr},
     {"GPU-driven skinned with layers", "#define SI_GPU_DRIVEN\n#define SI_LAYERS\n",
-     "skinned.vert.glsl", "shade.frag.glsl", nullptr, nullptr},
+     "skinned.vert.glsl", "surface.frag.glsl", nullptr, nullptr},
     {"GPU-driven pre-skinning with layers", "#define SI_LAYERS\n", nullptr, nullptr,
      "gpu_skin.comp.glsl", nullptr},
     {"skinned with motion vectors and layers", "#define SI_MOTION_VECTORS\n#define SI_LAYERS\n",
-     "skinned.vert.glsl", "shade.frag.glsl", nullptr, nullptr},
+     "skinned.vert.glsl", "surface.frag.glsl", nullptr, nullptr},
     {"compute skinning with previous positions and layers",
      "#define SI_MOTION_VECTORS\n#define SI_LAYERS\n", nullptr, nullptr, "compute_skin.comp.glsl",
      nullptr},
     {"GPU-driven skinned with motion vectors", "#define SI_GPU_DRIVEN\n#define SI_MOTION_VECTORS\n",
-     "skinned.vert.glsl", "shade.frag.glsl", nullptr, nullptr},
+     "skinned.vert.glsl", "surface.frag.glsl", nullptr, nullptr},
     {"GPU-driven pre-skinning with previous positions", "#define SI_MOTION_VECTORS\n", nullptr,
      nullptr, "gpu_skin.comp.glsl", nullptr},
     {"GPU-driven pulling with motion vectors", "#define SI_GPU_DRIVEN\n#define SI_MOTION_VECTORS\n",
-     "pulled.vert.glsl", "shade.frag.glsl", nullptr, nullptr},
+     "pulled.vert.glsl", "surface.frag.glsl", nullptr, nullptr},
     {"GPU-driven skinned with motion vectors and layers",
      "#define SI_GPU_DRIVEN\n#define SI_MOTION_VECTORS\n#define SI_LAYERS\n", "skinned.vert.glsl",
-     "shade.frag.glsl", nullptr, nullptr},
+     "surface.frag.glsl", nullptr, nullptr},
     {"GPU-driven pre-skinning with previous positions and layers",
      "#define SI_MOTION_VECTORS\n#define SI_LAYERS\n", nullptr, nullptr, "gpu_skin.comp.glsl",
      nullptr},
@@ -72,8 +72,7 @@ const ProgramSpec kSpecs[kProgramCount] = {
      "skinned.vert.glsl", "depth.frag.glsl", nullptr, nullptr},
     {"GPU-driven pulling, depth only", "#define SI_GPU_DRIVEN\n", "pulled.vert.glsl",
      "depth.frag.glsl", nullptr, nullptr},
-    {"impostor capture", "#define SI_IMPOSTOR_CAPTURE\n", "skinned.vert.glsl", "shade.frag.glsl",
-     nullptr, nullptr},
+    {"impostor capture", "", "skinned.vert.glsl", "surface.frag.glsl", nullptr, nullptr},
     {"impostor", "", "impostor.vert.glsl", "impostor.frag.glsl", nullptr, nullptr},
     {"impostor, depth only", "#define SI_DEPTH_ONLY\n", "impostor.vert.glsl", "impostor.frag.glsl",
      nullptr, nullptr},
@@ -85,10 +84,10 @@ const ProgramSpec kSpecs[kProgramCount] = {
     {"layer compose with previous records", "#define SI_MOTION_VECTORS\n", nullptr, nullptr,
      "layer_compose.comp.glsl", nullptr},
     {"skinned with composed layers", "#define SI_LAYERS\n#define SI_COMPOSED_LAYERS\n",
-     "skinned.vert.glsl", "shade.frag.glsl", nullptr, nullptr},
+     "skinned.vert.glsl", "surface.frag.glsl", nullptr, nullptr},
     {"skinned with motion vectors and composed layers",
      "#define SI_MOTION_VECTORS\n#define SI_LAYERS\n#define SI_COMPOSED_LAYERS\n",
-     "skinned.vert.glsl", "shade.frag.glsl", nullptr, nullptr},
+     "skinned.vert.glsl", "surface.frag.glsl", nullptr, nullptr},
     {"depth-only with composed layers", "#define SI_LAYERS\n#define SI_COMPOSED_LAYERS\n",
      "skinned.vert.glsl", "depth.frag.glsl", nullptr, nullptr},
     {"GPU-driven layer compose", "#define SI_GPU_DRIVEN\n", nullptr, nullptr,
@@ -98,11 +97,11 @@ const ProgramSpec kSpecs[kProgramCount] = {
      "layer_compose.comp.glsl", nullptr},
     {"GPU-driven skinned with composed layers",
      "#define SI_GPU_DRIVEN\n#define SI_LAYERS\n#define SI_COMPOSED_LAYERS\n", "skinned.vert.glsl",
-     "shade.frag.glsl", nullptr, nullptr},
+     "surface.frag.glsl", nullptr, nullptr},
     {"GPU-driven skinned with motion vectors and composed layers",
      "#define SI_GPU_DRIVEN\n#define SI_MOTION_VECTORS\n#define SI_LAYERS\n"
      "#define SI_COMPOSED_LAYERS\n",
-     "skinned.vert.glsl", "shade.frag.glsl", nullptr, nullptr},
+     "skinned.vert.glsl", "surface.frag.glsl", nullptr, nullptr},
     {"GPU-driven depth-only with composed layers",
      "#define SI_GPU_DRIVEN\n#define SI_LAYERS\n#define SI_COMPOSED_LAYERS\n", "skinned.vert.glsl",
      "depth.frag.glsl", nullptr, nullptr},
@@ -172,6 +171,23 @@ ProgramId preSkinningProgram(bool gpu_driven, bool motion, bool layers, bool com
   return kTable[gpu_driven ? 1 : 0][motion ? 1 : 0][composed && layers ? 2 : layers ? 1 : 0];
 }
 
+MaterialUse materialUse(ProgramId id) {
+  const ProgramSpec& spec = programSpec(id);
+  if (id == ProgramId::kImpostorCapture) return MaterialUse::kCapture;
+  if (spec.fragment == nullptr || id == ProgramId::kCapture) return MaterialUse::kNone;
+  const std::string fragment = spec.fragment;
+  if (fragment == "surface.frag.glsl") return MaterialUse::kShaded;
+  if (fragment == "depth.frag.glsl") return MaterialUse::kDepth;
+  // impostor.frag.glsl: shaded, or (SI_DEPTH_ONLY) the atlas's coverage test alone.
+  return std::strstr(spec.defines, "SI_DEPTH_ONLY") != nullptr ? MaterialUse::kNone
+                                                               : MaterialUse::kShaded;
+}
+
+bool takesMaterial(ProgramId id, const MaterialSource& material) {
+  const MaterialUse use = materialUse(id);
+  return use == MaterialUse::kShaded || (use == MaterialUse::kDepth && material.depth_discard);
+}
+
 bool esProgram(ProgramId id) {
   return id == ProgramId::kSkinned || id == ProgramId::kDepthOnly || id == ProgramId::kRigid;
 }
@@ -188,9 +204,29 @@ const EsBinding* esBindings(size_t* count) {
 }
 
 Status assembleStage(ProgramId id, ShaderStage stage, const ShaderConfig& config,
-                     std::string* out) {
+                     std::string* out, const MaterialSource* material) {
   const ProgramSpec& spec = programSpec(id);
   const char* file = spec.file(stage);
+  // The fragment stage's material: its text after the stage's file (which declares siMaterial).
+  const char* material_file = nullptr;
+  std::string material_defines;
+  if (stage != ShaderStage::kFragment) {
+    material = nullptr;  // Only the fragment stage takes a material.
+  } else {
+    const MaterialUse use = materialUse(id);
+    const bool discards = material != nullptr && material->depth_discard;
+    if (use == MaterialUse::kShaded) {
+      material_file = "builtin_material.glsl";
+    } else if (use == MaterialUse::kCapture) {
+      material_file = "impostor_capture_material.glsl";
+      material = nullptr;
+    } else if (use == MaterialUse::kDepth && discards) {
+      file = "surface.frag.glsl";
+      material_defines = "#define SI_DEPTH_ONLY\n";
+    } else {
+      material = nullptr;
+    }
+  }
   if (file == nullptr)
     return {StatusCode::kInvalidArgument,
             strCat("program ", spec.name, " has no ", shaderStageName(stage), " shader")};
@@ -205,10 +241,23 @@ Status assembleStage(ProgramId id, ShaderStage stage, const ShaderConfig& config
                             ? "#version 300 es\nprecision highp float;\nprecision highp int;\n"
                               "precision highp sampler2D;\nprecision highp sampler2DArray;\n"
                             : "#version 450 core\n";
+  std::string material_text;
+  if (material != nullptr) {
+    material_text = material->text;
+  } else if (material_file != nullptr) {
+    const char* builtin = embeddedShader(material_file);
+    if (builtin == nullptr)
+      return {StatusCode::kNotFound, strCat("program ", spec.name, ": shader file ",
+                                            material_file, " was not embedded")};
+    material_text = builtin;
+  }
   *out = strCat(version, "#define SI_MAX_INSTANCES ", config.max_instances,
                 "\n#define SI_MAX_JOINTS ", config.max_joints, "\n",
                 config.es ? strCat("#define SI_MAX_MATERIALS ", kEsMaxMaterials, "\n") : "",
-                spec.defines, text);
+                spec.defines, material_defines, text);
+  // The material's lines are numbered from 1 as source string 1 in the compiler's log.
+  if (material != nullptr || material_file != nullptr)
+    *out += strCat("\n#line 1 1\n", material_text, "\n");
   return Status::ok();
 }
 

@@ -101,6 +101,28 @@ ProgramId skinningProgram(bool gpu_driven, bool depth_only, bool motion, bool la
 /// (`layers`) or read from the compose pass's rows (`composed`, with `layers`).
 ProgramId preSkinningProgram(bool gpu_driven, bool motion, bool layers, bool composed);
 
+/// What a program's fragment stage does with the draw's material (si::MaterialDesc).
+enum class MaterialUse : uint8_t {
+  kNone = 0,  ///< No material: compute passes, transform feedback, the impostors' coverage test.
+  kShaded,    ///< The fragment stage hands its surface to the material (surface.frag.glsl,
+              ///< impostor.frag.glsl): one such program per material.
+  kDepth,     ///< Depth only: depth.frag.glsl, or for a material that discards
+              ///< (MaterialDesc::depth_discard) surface.frag.glsl with SI_DEPTH_ONLY and it.
+  kCapture,   ///< The impostor capture: surface.frag.glsl with the capture's own material.
+};
+MaterialUse materialUse(ProgramId id);
+
+/// A material's GLSL as the programs compile it (si::MaterialDesc's).
+struct MaterialSource {
+  std::string name;
+  std::string text;
+  bool depth_discard = false;
+};
+
+/// Whether program `id` differs between `material` and the built-in material: its fragment
+/// stage calls the material (kShaded), or discards by it (kDepth, `material.depth_discard`).
+bool takesMaterial(ProgramId id, const MaterialSource& material);
+
 /// The values of the defines every program gets.
 struct ShaderConfig {
   uint32_t max_instances = 0;  ///< SI_MAX_INSTANCES: records in the instance uniform block.
@@ -131,9 +153,12 @@ const EsBinding* esBindings(size_t* count);
 
 /// The source of one stage as the driver compiles it: "#version 450 core" (or the ES
 /// profile's "#version 300 es" and precisions), the shared defines, the program's defines, then
-/// the stage's file. kInvalidArgument when the program
-/// has no such stage; kNotFound when its file was not embedded.
+/// the stage's file, and for a fragment stage that takes a material (materialUse()) the
+/// material's text after "#line 1 1", so a compiler names the material's own lines as those
+/// of source string 1. `material` null: the built-in material (builtin_material.glsl).
+/// kInvalidArgument when the program has no such stage; kNotFound when its file was not
+/// embedded.
 Status assembleStage(ProgramId id, ShaderStage stage, const ShaderConfig& config,
-                     std::string* out);
+                     std::string* out, const MaterialSource* material = nullptr);
 
 }  // namespace si::detail

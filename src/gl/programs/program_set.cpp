@@ -5,6 +5,7 @@
 #include <algorithm>
 
 #include "core/str_cat.h"
+#include "gl/programs/material_check.h"
 
 namespace si::detail {
 
@@ -47,20 +48,22 @@ Program describe(GLuint id) {
   p.view_projection = glGetUniformLocation(id, "u_view_projection");
   p.light_direction = glGetUniformLocation(id, "u_light_direction");
   p.custom_layers = glGetUniformLocation(id, "u_custom_layers");
+  p.lod = glGetUniformLocation(id, "u_lod");
   p.motion_view_projection = glGetUniformLocation(id, "u_motion_view_projection");
   p.previous_view_projection = glGetUniformLocation(id, "u_previous_view_projection");
   return p;
 }
 
-// Compiles every stage of `id` and links them.
-Status buildProgram(ProgramId id, const ShaderConfig& config, GLuint* out) {
+// Compiles every stage of `id` with `material` (null: the built-in one) and links them.
+Status buildProgram(ProgramId id, const ShaderConfig& config, const MaterialSource* material,
+                    GLuint* out) {
   const ProgramSpec& spec = programSpec(id);
   const GLuint program = glCreateProgram();
   Status s;
   for (ShaderStage stage : {ShaderStage::kVertex, ShaderStage::kFragment, ShaderStage::kCompute}) {
     if (spec.file(stage) == nullptr) continue;
     std::string source;
-    s = assembleStage(id, stage, config, &source);
+    s = assembleStage(id, stage, config, &source, material);
     GLuint shader = kNoObject;
     if (s.isOk()) s = compileShader(glStage(stage), source, spec.name, &shader);
     if (!s.isOk()) break;
@@ -119,25 +122,69 @@ Status compileShader(GLenum type, const std::string& source, const char* name, G
 
 Status ProgramSet::build(const ShaderConfig& config) {
   release();
+  config_ = config;
   for (size_t i = 0; i < kProgramCount; ++i) {
     if (config.es && !esProgram(ProgramId(i))) continue;  // Stays kNoObject.
     GLuint id = kNoObject;
-    const Status s = buildProgram(ProgramId(i), config, &id);
+    const Status s = buildProgram(ProgramId(i), config, nullptr, &id);
     if (!s.isOk()) {
       release();
       return s;
     }
     if (config.es) bindEsResources(id);
+    else bindings_.add(id);
     programs_[i] = describe(id);
   }
   return Status::ok();
 }
 
+Status ProgramSet::addMaterial(const MaterialSource& material, uint32_t* index) {
+  auto m = std::make_unique<MaterialPrograms>();
+  m->source = material;
+  const auto drop = [&m] {
+    for (Program& p : m->programs)
+      if (p.id != kNoObject) glDeleteProgram(p.id);
+  };
+  for (size_t i = 0; i < kProgramCount; ++i) {
+    const ProgramId id = ProgramId(i);
+    if (programs_[i].id == kNoObject || !takesMaterial(id, material)) continue;
+    GLuint program = kNoObject;
+    Status s = buildProgram(id, config_, &m->source, &program);
+    if (s.isOk()) {
+      m->programs[i] = describe(program);
+      s = checkMaterialResources(bindings_, program);
+    }
+    if (!s.isOk()) {
+      drop();
+      return {s.code(), strCat("material '", material.name, "', ", programSpec(id).name,
+                               " program: ", s.message(),
+                               s.code() == StatusCode::kBackend
+                                   ? " (the material's own lines are numbered from 1, as source "
+                                     "string 1 where the driver names source strings)"
+                                   : "")};
+    }
+  }
+  materials_.push_back(std::move(m));
+  *index = uint32_t(materials_.size());
+  return Status::ok();
+}
+
+const Program& ProgramSet::get(ProgramId id, uint32_t material) const {
+  if (material == 0 || material > materials_.size()) return programs_[size_t(id)];
+  const Program& p = materials_[material - 1]->programs[size_t(id)];
+  return p.id != kNoObject ? p : programs_[size_t(id)];  // Unset: the material changes nothing.
+}
+
 void ProgramSet::release() {
+  bindings_ = LibraryBindings();
   for (Program& p : programs_) {
     if (p.id != kNoObject) glDeleteProgram(p.id);
     p = Program();
   }
+  for (const auto& m : materials_)
+    for (const Program& p : m->programs)
+      if (p.id != kNoObject) glDeleteProgram(p.id);
+  materials_.clear();
 }
 
 }  // namespace si::detail

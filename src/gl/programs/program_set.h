@@ -1,13 +1,17 @@
 // SkinnedInstancing — SPDX-License-Identifier: MIT (see LICENSE)
 #pragma once
 // Compiling and linking: every program of the catalog (program_catalog.h), built once by
-// Renderer::init(), each with the locations of the shared uniforms it declares.
+// Renderer::init() with the built-in material, each with the locations of the shared uniforms
+// it declares; and per host material (Renderer::addMaterial) the programs that take it.
 
 #include <glad/gl.h>
 
 #include <array>
+#include <memory>
 #include <string>
+#include <vector>
 
+#include "gl/programs/material_check.h"
 #include "gl/programs/program_catalog.h"
 #include "si/core/status.h"
 
@@ -20,6 +24,8 @@ inline constexpr GLuint kNoObject = 0;
 struct Program {
   GLuint id = kNoObject;
   GLint view_projection = -1, light_direction = -1, custom_layers = -1;
+  /// The LOD of the batch drawn (SiSurface.lod) on the paths that draw one LOD a call.
+  GLint lod = -1;
   /// Motion vectors: the crowd's last and previous update cameras' view-projections.
   GLint motion_view_projection = -1, previous_view_projection = -1;
 };
@@ -35,16 +41,42 @@ class ProgramSet {
   ProgramSet& operator=(const ProgramSet&) = delete;
   ~ProgramSet() = default;  // release() needs the context: the renderer calls it.
 
-  /// Builds every program of the catalog with `config`'s defines. kBackend with the driver's
-  /// log (and nothing kept) when one fails to compile or link.
+  /// Builds every program of the catalog with `config`'s defines and the built-in material
+  /// (material 0). kBackend with the driver's log (and nothing kept) when one fails to compile
+  /// or link.
   Status build(const ShaderConfig& config);
+  /// Builds the programs that take `material` (takesMaterial()) and keeps them as material
+  /// `*index` (1 and up). kBackend with the driver's log naming the material and the program
+  /// when one fails to compile or link; kInvalidArgument when the material declares a
+  /// resource the library's draws cannot leave alone (material_check.h). Nothing kept then.
+  Status addMaterial(const MaterialSource& material, uint32_t* index);
   /// Deletes every program (context current). Idempotent.
   void release();
 
+  /// Program `id` of the built-in material.
   const Program& operator[](ProgramId id) const { return programs_[size_t(id)]; }
+  /// Program `id` drawing material `material` (0: the built-in; the built-in program where
+  /// the material does not change it, or for an unknown material).
+  const Program& get(ProgramId id, uint32_t material) const;
+  /// Materials, the built-in one included.
+  uint32_t materialCount() const { return uint32_t(materials_.size()) + 1; }
 
  private:
+  struct MaterialPrograms {
+    MaterialSource source;
+    std::array<Program, kProgramCount> programs{};
+  };
+  ShaderConfig config_;
+  LibraryBindings bindings_;  // Of every built-in program (desktop GL): what materials avoid.
   std::array<Program, kProgramCount> programs_{};
+  std::vector<std::unique_ptr<MaterialPrograms>> materials_;  // Material index - 1.
+};
+
+/// The programs a draw uses: the renderer's set seen through one material.
+struct ProgramTable {
+  const ProgramSet* set = nullptr;
+  uint32_t material = 0;
+  const Program& operator[](ProgramId id) const { return set->get(id, material); }
 };
 
 }  // namespace si::detail

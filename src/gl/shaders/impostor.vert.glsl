@@ -5,6 +5,7 @@
 // around the character's centre, upright along the character's own vertical axis, and shows
 // the atlas cell of the captured view direction and frame nearest the instance's.
 // SI_GPU_DRIVEN: the record through a bucket entry (a_entry), from storage buffers.
+// SI_DEPTH_ONLY: the atlas coordinate alone (the fragment stage tests coverage only).
 #include "si_instance_record.glsl"
 #ifdef SI_GPU_DRIVEN
 layout(location = 5) in uint a_entry;
@@ -17,15 +18,22 @@ layout(std140, binding = 0) uniform SiInstances { SiInstance si_instances[SI_MAX
 // first atlas frame, w its atlas frames.
 layout(std430, binding = 9) readonly buffer SiImpostorClips { uvec4 si_impostor_clips[]; };
 layout(location = 1) uniform mat4 u_view_projection;
-layout(location = 3) uniform vec3 u_light_direction;
 layout(location = 40) uniform uvec4 u_impostor_grid;    // columns, rows, azimuths, elevations
 layout(location = 41) uniform uvec4 u_impostor_counts;  // clips, palette frame stride, views
 layout(location = 42) uniform vec4 u_impostor_elevations;  // radians, increasing
 layout(location = 43) uniform vec4 u_impostor_cell;     // centre (model units), cell side
 layout(location = 44) uniform vec4 u_viewer;  // the camera's back direction; w 1 orthographic
+uniform uint u_lod;  // The crowd's impostor level (SiSurface.lod).
 out vec2 v_uv;
+#ifndef SI_DEPTH_ONLY
+out vec3 v_position;
 flat out uint v_color;
-flat out vec3 v_light;  // The light direction in the quad's frame (right, up, towards viewer).
+flat out uint v_lod;
+// The quad's frame in world axes: right, up, towards the viewer (the atlas normal's axes).
+flat out vec3 v_right;
+flat out vec3 v_up;
+flat out vec3 v_towards;
+#endif
 const float kPi = 3.14159265358979;
 void main() {
 #ifdef SI_GPU_DRIVEN
@@ -74,10 +82,15 @@ void main() {
   vec2 corner = vec2(float(gl_VertexID & 1), float(gl_VertexID >> 1));
   v_uv = (vec2(float(cell % u_impostor_grid.x), float(cell / u_impostor_grid.x)) + corner) /
          vec2(u_impostor_grid.xy);
-  v_color = inst.blend.w;
-  v_light = vec3(dot(u_light_direction, right), dot(u_light_direction, up),
-                 dot(u_light_direction, towards));
   vec3 world = centre + ((corner.x - 0.5) * right + (corner.y - 0.5) * up) *
                             (u_impostor_cell.w * scale);
+#ifndef SI_DEPTH_ONLY
+  v_position = world;
+  v_color = inst.blend.w;
+  v_lod = u_lod;
+  v_right = right;
+  v_up = up;
+  v_towards = towards;
+#endif
   gl_Position = u_view_projection * vec4(world, 1.0);
 }

@@ -9,14 +9,19 @@ layout(location = 2) in vec2 a_texcoord;
 layout(location = 1) uniform mat4 u_view_projection;
 layout(location = 4) uniform uint u_color;
 layout(location = 5) uniform int u_base_vertex;
+uniform uint u_lod;  // The instance's LOD (SiSurface.lod).
+out vec3 v_position;  // Camera-relative world position (SiSurface.position).
 out vec3 v_normal;
 out vec2 v_texcoord;
 flat out uint v_color;
 flat out uint v_material;
+flat out uint v_lod;
 void main() {
   v_material = siVertexMaterial(uint(gl_VertexID - u_base_vertex));
   v_normal = a_normal;
   v_texcoord = a_texcoord;
   v_color = u_color;
+  v_lod = u_lod;
+  v_position = a_position;
   gl_Position = u_view_projection * vec4(a_position, 1.0);
 }

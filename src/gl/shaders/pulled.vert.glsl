@@ -20,7 +20,10 @@ layout(location = 5) in uint a_entry;
 layout(std430, binding = 4) readonly buffer SiRecords { SiInstance si_records[]; };
 layout(std430, binding = 5) readonly buffer SiEntries { uint si_entries[]; };
 layout(std430, binding = 12) readonly buffer SiEntryData { uvec2 si_entry_data[]; };  // ring, list
+// The cull pass's visible list: x dense index, y LOD, z worn mask (cull_common.glsl).
+layout(std430, binding = 6) readonly buffer SiVisible { uvec4 si_visible[]; };
 #else
+uniform uint u_lod;  // The batch's LOD (SiSurface.lod).
 layout(std430, binding = 1) readonly buffer SiSkinned { vec4 si_skinned[]; };
 #endif
 #ifdef SI_MOTION_VECTORS
@@ -38,10 +41,12 @@ out vec4 v_motion_current;
 out vec4 v_motion_previous;
 #endif
 layout(location = 1) uniform mat4 u_view_projection;
+out vec3 v_position;  // Camera-relative world position (SiSurface.position).
 out vec3 v_normal;
 out vec2 v_texcoord;
 flat out uint v_color;
 flat out uint v_material;
+flat out uint v_lod;
 void main() {
   uint k = uint(gl_VertexID);
 #ifdef SI_GPU_DRIVEN
@@ -53,7 +58,9 @@ void main() {
 #endif
   v_texcoord = siSourceTexcoord(at.y, k);
   v_material = siVertexMaterial(si_lod_vertices[at.y + k]);
-  v_color = si_records[si_entries[a_entry]].blend.w;
+  uint slot = si_entries[a_entry];  // The visible index.
+  v_color = si_records[slot].blend.w;
+  v_lod = si_visible[slot].y;
 #else
   uint at = u_chunk.x + uint(gl_InstanceID) * u_chunk.y + k;
   vec4 s = si_skinned[at];
@@ -64,7 +71,9 @@ void main() {
   v_texcoord = siSourceTexcoord(u_chunk.z, k);
   v_material = siVertexMaterial(si_lod_vertices[u_chunk.z + k]);
   v_color = si_instances[u_chunk.w + uint(gl_InstanceID)].blend.w;
+  v_lod = u_lod;
 #endif
+  v_position = s.xyz;
   v_normal = siOctDecode(unpackSnorm2x16(floatBitsToUint(s.w)));
   gl_Position = u_view_projection * vec4(s.xyz, 1.0);
 }

@@ -53,10 +53,15 @@ layout(location = 2) in vec2 a_texcoord;
 layout(location = 3) in uvec4 a_joints;
 layout(location = 4) in vec4 a_weights;
 SI_LOCATION_LAYOUT(1) uniform mat4 u_view_projection;
+out vec3 v_position;  // Camera-relative world position (SiSurface.position).
 out vec3 v_normal;
 out vec2 v_texcoord;
 flat out uint v_color;
 flat out uint v_material;
+flat out uint v_lod;
+#ifndef SI_GPU_DRIVEN
+uniform uint u_lod;  // The batch's LOD (SiSurface.lod).
+#endif
 #ifdef SI_CAPTURE
 out vec3 tf_position;
 #endif
@@ -72,6 +77,8 @@ out vec4 v_motion_previous;
 layout(location = 5) in uint a_entry;
 layout(std430, binding = 4) readonly buffer SiRecords { SiInstance si_records[]; };
 layout(std430, binding = 5) readonly buffer SiEntries { uint si_entries[]; };
+// The cull pass's visible list: x dense index, y LOD, z worn mask (cull_common.glsl).
+layout(std430, binding = 6) readonly buffer SiVisible { uvec4 si_visible[]; };
 #endif
 void main() {
 #if defined(SI_TRADITIONAL)
@@ -115,6 +122,12 @@ void main() {
   tf_position = model;
 #endif
   vec3 world = siTransformPoint(w0, w1, w2, model);
+  v_position = world;
+#if defined(SI_GPU_DRIVEN)
+  v_lod = si_visible[slot].y;
+#else
+  v_lod = u_lod;
+#endif
   v_normal = siTransformNormal(w0, w1, w2, siTransformNormal(m0, m1, m2, a_normal.xyz));
   v_texcoord = a_texcoord;
   v_color = color;

@@ -237,6 +237,28 @@ GuestReport checkEveryCall(void* (*get_proc)(void* user, const char* name), void
                     return renderer->drawCrowdGpuCulled(far_id, far_crowd, camera, nullptr, mode);
                   });
   }
+  // A material of the engine's, reading a uniform block of its own (at binding 7, which the
+  // engine's state binds), on meshes and impostors.
+  si::MaterialDesc engine_material;
+  engine_material.name = "engine";
+  engine_material.source =
+      "layout(location = 0) out vec4 o_color;\n"
+      "layout(std140, binding = 7) uniform EngineTone { vec4 tone; };\n"
+      "void siMaterial(SiSurface s) { o_color = vec4(siSurfaceAlbedo(s) * tone.rgb, 1.0); }\n";
+  si::MaterialId material;
+  checker.check("Renderer::addMaterial",
+                [&] { return renderer->addMaterial(engine_material, &material); });
+  for (const si::CharacterId kind : {id, far_id}) {
+    const si::Status set = renderer->setMaterial(kind, material);
+    if (!set.isOk()) return fail("Renderer::setMaterial", set);
+    const si::CrowdManager& crowd = kind == id ? plain : far_crowd;
+    checker.check("Renderer::drawCrowd (a host material)", [&] {
+      return renderer->drawCrowd(kind, crowd, batcher, camera, nullptr);
+    });
+    checker.check("Renderer::drawCrowdGpuCulled (a host material)", [&] {
+      return renderer->drawCrowdGpuCulled(kind, crowd, camera, nullptr);
+    });
+  }
   std::vector<glm::uvec2> selection;
   checker.check("Renderer::readGpuSelection",
                 [&] { return renderer->readGpuSelection(id, &selection); });

@@ -1,0 +1,57 @@
+// SkinnedInstancing - SPDX-License-Identifier: MIT (see LICENSE)
+// The material interface (docs/glsl-interface.md, "Materials"): what the fragment stage of
+// every draw path hands a material (si::MaterialDesc), and the library's functions a material
+// may call. The renderer compiles a material's source after this file and after its own
+// fragment inputs; the material defines
+//   void siMaterial(SiSurface surface);
+// which writes the material's own outputs (declared by the material: one colour target, or a
+// G-buffer of several) and may discard. Defines a material may test: SI_MOTION_VECTORS (the
+// draw writes motion vectors: the clip positions below are set), SI_DEPTH_ONLY (a depth-only
+// pass of a material with MaterialDesc::depth_discard: only the discard matters),
+// SI_IMPOSTOR (an impostor quad's fragment: the surface comes from the impostor atlas).
+// Interface version 1.
+#ifndef SI_SURFACE_GLSL
+#define SI_SURFACE_GLSL
+#define SI_MATERIAL_INTERFACE_VERSION 1
+// SiSurface.material of an impostor's fragment: the atlas stores no material index.
+#define SI_NO_MATERIAL 0xFFFFFFFFu
+struct SiSurface {
+  // The fragment's world position relative to the camera (world axes, the camera at the
+  // origin: the records' camera-relative space), model units.
+  vec3 position;
+  // The skinned normal in world axes, unit length (as interpolated; not flipped on back faces).
+  vec3 normal;
+  // Texture coordinate 0 of the mesh (an impostor: the atlas cell's coordinate).
+  vec2 uv0;
+  // The vertex's entry of the character's material table (si::MaterialTable); SI_NO_MATERIAL on
+  // an impostor.
+  uint material;
+  // The material table entry's base colour: its texture layer sampled at uv0 times its factor
+  // (an impostor: the texel the atlas captured). Alpha is the texture's alpha, which the
+  // built-in material reads as the tint mask.
+  vec4 base_color;
+  // The instance's tint (InstanceDesc::color's RGB, in [0, 1]).
+  vec3 tint;
+  // The instance's layer of the application's custom texture array (InstanceDesc::custom_layer
+  // - 1); -1 when it selects none or no array is set (always -1 on an impostor).
+  int custom_layer;
+  // The LOD level drawn (an impostor: the crowd's impostor level).
+  uint lod;
+  // Whether the fragment is an impostor quad's.
+  bool impostor;
+  // SI_MOTION_VECTORS: the fragment's clip positions under the motion camera this frame and
+  // under the previous frame's (RendererDesc::motion_vectors); vec4(0) otherwise.
+  vec4 clip_position;
+  vec4 previous_clip_position;
+};
+// The library's functions (defined by every fragment stage that calls siMaterial):
+// The built-in albedo: the base colour with the instance's custom layer over it by the custom
+// texel's alpha, multiplied by the tint where base_color.a (the tint mask) says so.
+vec3 siSurfaceAlbedo(SiSurface surface);
+// The fragment's screen motion since the previous frame, in texture coordinate units (the
+// built-in material's output 1); vec2(0) without SI_MOTION_VECTORS or behind either camera.
+vec2 siSurfaceMotion(SiSurface surface);
+// The renderer's directional light (Renderer::setLightDirection): the world direction the
+// light travels along, as set.
+vec3 siLightDirection();
+#endif

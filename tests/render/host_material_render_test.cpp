@@ -1,0 +1,392 @@
+// SkinnedInstancing — SPDX-License-Identifier: MIT (see LICENSE)
+// Host materials (si/gl/material.h): a material of the host's writing two render targets, lit by
+// the host's own uniform block, draws the same two images on every path (instanced, compute
+// pre-skinning, GPU-driven with and without pre-skinning and occlusion culling, the traditional
+// and CPU-skinning baselines) and on impostors; depth-only draws take its discards; its compile
+// errors name its own lines; what it may not declare is refused by name.
+#include <glad/gl.h>
+
+#include <algorithm>
+#include <set>
+
+#include "render/render_fixture.h"
+
+namespace si {
+namespace {
+
+using namespace test;
+
+// Output 0: the built-in albedo under the host's light and tone (its uniform block at binding
+// 7); output 1: where the fragment is (fract of its camera-relative position) and, in alpha,
+// its LOD + 1 in eighths (the impostors': 1; the cleared background: 0).
+constexpr const char* kTwoTargets = R"(
+layout(location = 0) out vec4 o_lit;
+layout(location = 1) out vec4 o_surface;
+layout(std140, binding = 7) uniform HostLight {
+  vec4 host_direction;
+  vec4 host_tone;
+};
+void siMaterial(SiSurface s) {
+  float diffuse = max(dot(s.normal, -host_direction.xyz), 0.0);
+  o_lit = vec4(siSurfaceAlbedo(s) * host_tone.rgb * (0.25 + 0.75 * diffuse), 1.0);
+  o_surface = vec4(fract(s.position * 0.73), s.impostor ? 1.0 : float(s.lod + 1u) / 8.0);
+})";
+
+// The host's framebuffer: two RGBA8 colour targets (both drawn) and a depth buffer.
+class TwoTargets {
+ public:
+  explicit TwoTargets(uint32_t size) : size_(size) {
+    glCreateFramebuffers(1, &fbo_);
+    glCreateTextures(GL_TEXTURE_2D, 2, colour_);
+    for (GLuint t : colour_) glTextureStorage2D(t, 1, GL_RGBA8, GLsizei(size), GLsizei(size));
+    glCreateRenderbuffers(1, &depth_);
+    glNamedRenderbufferStorage(depth_, GL_DEPTH_COMPONENT32F, GLsizei(size), GLsizei(size));
+    glNamedFramebufferTexture(fbo_, GL_COLOR_ATTACHMENT0, colour_[0], 0);
+    glNamedFramebufferTexture(fbo_, GL_COLOR_ATTACHMENT1, colour_[1], 0);
+    glNamedFramebufferRenderbuffer(fbo_, GL_DEPTH_ATTACHMENT, GL_RENDERBUFFER, depth_);
+    const GLenum buffers[] = {GL_COLOR_ATTACHMENT0, GL_COLOR_ATTACHMENT1};
+    glNamedFramebufferDrawBuffers(fbo_, 2, buffers);
+    glBindFramebuffer(GL_FRAMEBUFFER, fbo_);
+    glViewport(0, 0, GLsizei(size), GLsizei(size));
+  }
+  ~TwoTargets() {
+    glBindFramebuffer(GL_FRAMEBUFFER, 0);
+    glDeleteFramebuffers(1, &fbo_);
+    glDeleteTextures(2, colour_);
+    glDeleteRenderbuffers(1, &depth_);
+  }
+  bool complete() const {
+    return glCheckNamedFramebufferStatus(fbo_, GL_FRAMEBUFFER) == GL_FRAMEBUFFER_COMPLETE;
+  }
+  void clear() const {
+    const float background[4] = {0.2f, 0.25f, 0.3f, 1.0f}, zero[4] = {0, 0, 0, 0}, far = 1.0f;
+    glClearNamedFramebufferfv(fbo_, GL_COLOR, 0, background);
+    glClearNamedFramebufferfv(fbo_, GL_COLOR, 1, zero);
+    glClearNamedFramebufferfv(fbo_, GL_DEPTH, 0, &far);
+  }
+  std::vector<uint8_t> read(int target) const {
+    std::vector<uint8_t> rgba(size_t(size_) * size_ * 4);
+    glGetTextureImage(colour_[target], 0, GL_RGBA, GL_UNSIGNED_BYTE, GLsizei(rgba.size()),
+                      rgba.data());
+    return rgba;
+  }
+  std::vector<float> readDepth() const {
+    std::vector<float> depth(size_t(size_) * size_);
+    glReadPixels(0, 0, GLsizei(size_), GLsizei(size_), GL_DEPTH_COMPONENT, GL_FLOAT,
+                 depth.data());
+    return depth;
+  }
+
+ private:
+  uint32_t size_;
+  GLuint fbo_ = 0, colour_[2] = {0, 0}, depth_ = 0;
+};
+
+// The host's uniform block of kTwoTargets, bound at uniform buffer binding 7.
+class HostLight {
+ public:
+  HostLight(const glm::vec3& direction, const glm::vec3& tone) {
+    const glm::vec4 data[2] = {glm::vec4(glm::normalize(direction), 0.0f), glm::vec4(tone, 1.0f)};
+    glCreateBuffers(1, &buffer_);
+    glNamedBufferStorage(buffer_, sizeof(data), data, 0);
+    glBindBufferBase(GL_UNIFORM_BUFFER, 7, buffer_);
+  }
+  ~HostLight() { glDeleteBuffers(1, &buffer_); }
+
+ private:
+  GLuint buffer_ = 0;
+};
+
+// Pixels whose alpha channels differ (compare() looks at RGB only).
+size_t differingAlpha(const std::vector<uint8_t>& a, const std::vector<uint8_t>& b) {
+  size_t n = 0;
+  for (size_t p = 3; p < a.size() && p < b.size(); p += 4) n += a[p] != b[p];
+  return n;
+}
+
+class HostMaterialTest : public RenderTest {
+ protected:
+  // A renderer on `path` with the default character (or `c`) and the two-target material set
+  // on it.
+  void makeMaterialRenderer(Renderer* r, SkinningPath path, const Character* c = nullptr,
+                            bool depth_discard = false, const char* source = kTwoTargets) {
+    RendererDesc rd;
+    rd.skinning_path = path;
+    ASSERT_TRUE(r->init(info_, rd).isOk());
+    CharacterId id;
+    ASSERT_TRUE(r->addCharacter(c ? *c : character(), palette(), &id).isOk());
+    MaterialDesc md;
+    md.name = "two targets";
+    md.source = source;
+    md.depth_discard = depth_discard;
+    MaterialId material;
+    const Status s = r->addMaterial(md, &material);
+    ASSERT_TRUE(s.isOk()) << s.toString();
+    EXPECT_NE(material, kBuiltinMaterial);
+    ASSERT_TRUE(r->setMaterial(id, material).isOk());
+    EXPECT_EQ(r->material(id), material);
+  }
+
+  enum class Kind { kInstanced, kCompute, kGpuDriven, kGpuDrivenCompute, kTraditional, kCpu };
+  // Draws `crowd` with `r` on `kind` into `targets` after clearing them.
+  void drawInto(Renderer& r, Kind kind, const CrowdManager& crowd, const TwoTargets& targets,
+                DrawMode mode = DrawMode::kDefault) {
+    targets.clear();
+    InstanceBatcher batcher;
+    ASSERT_TRUE(batcher.init(r.batchLimits()).isOk());
+    DrawStats stats;
+    Status s;
+    switch (kind) {
+      case Kind::kInstanced:
+        s = r.drawCrowd(crowd, batcher, lodCamera(), &stats,
+                        mode == DrawMode::kDefault ? DrawMode::kSkinned : mode);
+        break;
+      case Kind::kCompute:
+        s = r.drawCrowd(crowd, batcher, lodCamera(), &stats, DrawMode::kComputeSkinned);
+        break;
+      case Kind::kGpuDriven:
+        s = r.drawCrowdGpuCulled(crowd, lodCamera(), &stats,
+                                 mode == DrawMode::kDefault ? DrawMode::kSkinned : mode);
+        break;
+      case Kind::kGpuDrivenCompute:
+        s = r.drawCrowdGpuCulled(crowd, lodCamera(), &stats, DrawMode::kComputeSkinned);
+        break;
+      case Kind::kTraditional: s = r.drawTraditional(crowd, lodCamera(), &stats); break;
+      case Kind::kCpu: s = r.drawCpuSkinned(crowd, lodCamera(), &stats); break;
+    }
+    ASSERT_TRUE(s.isOk()) << s.toString();
+    EXPECT_GT(stats.draw_calls, 0u);
+  }
+};
+
+TEST_P(HostMaterialTest, AHostMaterialWritingTwoTargetsDrawsTheSameImagesOnEveryPath) {
+  TwoTargets targets(kSize);
+  ASSERT_TRUE(targets.complete());
+  HostLight light(glm::vec3(0.3f, -1.0f, -0.5f), glm::vec3(1.0f, 0.0f, 0.0f));  // Red only.
+  CrowdManager crowd;
+  makeCrowd(&crowd);
+  populateLodCrowd(&crowd);
+  addFadingCharacter(&crowd);
+  ASSERT_TRUE(crowd.update(0.3, lodCamera()).isOk());
+  Renderer vs, cs;
+  makeMaterialRenderer(&vs, SkinningPath::kVertexShader);
+  makeMaterialRenderer(&cs, SkinningPath::kCompute);
+
+  drawInto(vs, Kind::kInstanced, crowd, targets);
+  const std::vector<uint8_t> lit = targets.read(0), surface = targets.read(1);
+  // The material drew: the host's tone (red only) everywhere the crowd is, every LOD in the
+  // second target's alpha.
+  size_t drawn = 0, green_or_blue = 0;
+  std::set<uint8_t> lods;
+  for (size_t p = 0; p < lit.size(); p += 4) {
+    if (surface[p + 3] == 0) continue;  // Background.
+    ++drawn;
+    green_or_blue += lit[p + 1] != 0 || lit[p + 2] != 0;
+    lods.insert(surface[p + 3]);
+  }
+  EXPECT_GT(drawn, 2000u);
+  EXPECT_EQ(green_or_blue, 0u);
+  EXPECT_EQ(lods.size(), 3u) << "the crowd's 3 LODs";
+
+  struct Case {
+    const char* name;
+    Renderer* r;
+    Kind kind;
+    bool occlusion;
+  };
+  for (const Case& k : {Case{"compute", &cs, Kind::kCompute, false},
+                        Case{"gpu-driven", &vs, Kind::kGpuDriven, false},
+                        Case{"gpu-driven compute", &cs, Kind::kGpuDrivenCompute, false},
+                        Case{"gpu-driven occlusion", &vs, Kind::kGpuDriven, true},
+                        Case{"gpu-driven compute occlusion", &cs, Kind::kGpuDrivenCompute, true},
+                        Case{"traditional", &vs, Kind::kTraditional, false},
+                        Case{"cpu-skinned", &vs, Kind::kCpu, false}}) {
+    SCOPED_TRACE(k.name);
+    k.r->setGpuOcclusionCulling(k.occlusion);
+    drawInto(*k.r, k.kind, crowd, targets);
+    if (k.occlusion) drawInto(*k.r, k.kind, crowd, targets);  // Last frame's visible set.
+    k.r->setGpuOcclusionCulling(false);
+    const std::vector<uint8_t> lit_k = targets.read(0), surface_k = targets.read(1);
+    const Diff d0 = compare(lit_k, lit, nullptr), d1 = compare(surface_k, surface, nullptr);
+    EXPECT_LE(d0.share, 0.001) << "target 0, max channel difference " << d0.max_channel;
+    EXPECT_LE(d1.share, 0.002) << "target 1, max channel difference " << d1.max_channel;
+    EXPECT_LE(differingAlpha(surface_k, surface), lit.size() / 4 / 1000) << "the LODs";
+  }
+
+  // The same renderer with the built-in material draws the built-in image into target 0.
+  ASSERT_TRUE(vs.setMaterial(CharacterId{}, kBuiltinMaterial).isOk());
+  drawInto(vs, Kind::kInstanced, crowd, targets);
+  EXPECT_GT(compare(targets.read(0), lit, nullptr).share, 0.01);
+  Renderer builtin;
+  makeRenderer(&builtin);
+  drawInto(builtin, Kind::kInstanced, crowd, targets);
+  const std::vector<uint8_t> builtin_image = targets.read(0);
+  drawInto(vs, Kind::kInstanced, crowd, targets);
+  EXPECT_EQ(compare(targets.read(0), builtin_image, nullptr).max_channel, 0);
+}
+
+TEST_P(HostMaterialTest, ImpostorsHandTheirSurfaceToTheHostMaterial) {
+  TwoTargets targets(kSize);
+  HostLight light(glm::vec3(0.3f, -1.0f, -0.5f), glm::vec3(0.0f, 1.0f, 0.0f));  // Green only.
+  const uint32_t levels = uint32_t(impostorCharacter().mesh.maxLodCount());
+  CrowdManager crowd;
+  CrowdDesc cd;
+  cd.palette = &palette();
+  cd.sub_mesh_count = 4;
+  cd.lod_count = levels;
+  cd.character_radius = 1.0f;
+  for (uint32_t l = 1; l < levels; ++l) cd.lod_distances_radii.push_back(2.0f * float(l));
+  cd.max_distance_radii = -1.0f;
+  cd.impostor_lod = levels - 1;
+  ASSERT_TRUE(crowd.init(cd).isOk());
+  for (int k = 0; k < 16; ++k) {
+    InstanceDesc d;
+    d.position = glm::dvec3((k % 8 - 3.5) * 3.0, 0.0, -30.0 - 20.0 * (k / 8));
+    d.rotation = glm::angleAxis(0.7f * float(k), glm::vec3(0, 1, 0));
+    d.clip = uint32_t(k) % uint32_t(palette().clips.size());
+    d.color = glm::u8vec4(uint8_t(40 + 12 * k), 200, 90, 255);
+    InstanceHandle h;
+    ASSERT_TRUE(crowd.add(d, &h).isOk());
+  }
+  ASSERT_TRUE(crowd.update(0.2, lodCamera()).isOk());
+  ASSERT_EQ(crowd.stats().per_lod[levels - 1], 16u);
+  Renderer r;
+  makeMaterialRenderer(&r, SkinningPath::kVertexShader, &impostorCharacter());
+  ImpostorDesc id;
+  id.azimuths = 8;
+  id.frames_per_clip = 4;
+  ASSERT_TRUE(r.buildImpostor(CharacterId{}, id).isOk());
+  drawInto(r, Kind::kInstanced, crowd, targets);
+  const std::vector<uint8_t> lit = targets.read(0), surface = targets.read(1);
+  size_t impostor_pixels = 0, red_or_blue = 0;
+  for (size_t p = 0; p < lit.size(); p += 4) {
+    if (surface[p + 3] == 0) continue;
+    impostor_pixels += surface[p + 3] == 255;
+    red_or_blue += lit[p] != 0 || lit[p + 2] != 0;
+  }
+  EXPECT_GT(impostor_pixels, 100u);  // SiSurface.impostor reached the material,
+  EXPECT_EQ(red_or_blue, 0u);        // which lit them with the host's tone.
+  // The GPU-driven impostors draw the same.
+  drawInto(r, Kind::kGpuDriven, crowd, targets);
+  EXPECT_LE(compare(targets.read(0), lit, nullptr).share, 0.001);
+  EXPECT_LE(compare(targets.read(1), surface, nullptr).share, 0.001);
+}
+
+// A material that discards the upper half of the character (above 1 unit: an alpha test's
+// stand-in): depth-only draws with depth_discard leave that depth unwritten, on the instanced
+// and the GPU-driven path alike; without it they write every covered fragment.
+TEST_P(HostMaterialTest, DepthOnlyDrawsTakeTheMaterialsDiscards) {
+  constexpr const char* kCut = R"(
+layout(location = 0) out vec4 o_color;
+void siMaterial(SiSurface s) {
+  if (s.normal.y > 0.2) discard;
+#ifndef SI_DEPTH_ONLY
+  o_color = vec4(siSurfaceAlbedo(s), 1.0);
+#endif
+})";
+  TwoTargets targets(kSize);
+  CrowdManager crowd;
+  makeCrowd(&crowd);
+  populateLodCrowd(&crowd);
+  ASSERT_TRUE(crowd.update(0.3, lodCamera()).isOk());
+  const auto written = [](const std::vector<float>& depth) {
+    return size_t(std::count_if(depth.begin(), depth.end(), [](float z) { return z < 1.0f; }));
+  };
+  Renderer cut, whole;
+  makeMaterialRenderer(&cut, SkinningPath::kVertexShader, nullptr, true, kCut);
+  makeMaterialRenderer(&whole, SkinningPath::kVertexShader, nullptr, false, kCut);
+  drawInto(whole, Kind::kInstanced, crowd, targets, DrawMode::kDepthOnly);
+  const std::vector<float> all = targets.readDepth();
+  drawInto(cut, Kind::kInstanced, crowd, targets, DrawMode::kDepthOnly);
+  const std::vector<float> some = targets.readDepth();
+  EXPECT_GT(written(all), 2000u);
+  EXPECT_LT(written(some), written(all) * 9 / 10);
+  EXPECT_GT(written(some), written(all) / 10);
+  // The colour pass covers what the depth-only pass wrote.
+  drawInto(cut, Kind::kInstanced, crowd, targets);
+  EXPECT_LE(differingDepths(targets.readDepth(), some), some.size() / 1000);
+  // The GPU-driven depth-only pass (vertex-shader skinning and pre-skinning) discards alike.
+  drawInto(cut, Kind::kGpuDriven, crowd, targets, DrawMode::kDepthOnly);
+  EXPECT_LE(differingDepths(targets.readDepth(), some), some.size() / 1000);
+  Renderer cut_compute;
+  makeMaterialRenderer(&cut_compute, SkinningPath::kCompute, nullptr, true, kCut);
+  drawInto(cut_compute, Kind::kGpuDriven, crowd, targets, DrawMode::kDepthOnly);
+  EXPECT_LE(differingDepths(targets.readDepth(), some), some.size() / 1000);
+}
+
+TEST_P(HostMaterialTest, ACompileErrorNamesTheMaterialsOwnLine) {
+  Renderer r;
+  makeRenderer(&r);
+  MaterialDesc md;
+  md.name = "broken";
+  md.source = "layout(location = 0) out vec4 o_color;\n"
+              "void siMaterial(SiSurface s) {\n"
+              "  o_color = vec4(s.no_such_field, 1.0);\n"
+              "}\n";
+  MaterialId id;
+  const Status s = r.addMaterial(md, &id);
+  EXPECT_EQ(s.code(), StatusCode::kBackend);
+  EXPECT_NE(s.message().find("material 'broken'"), std::string::npos) << s.message();
+  EXPECT_NE(s.message().find("numbered from 1"), std::string::npos) << s.message();
+  if (info_.renderer.find("llvmpipe") != std::string::npos) {  // Mesa: "0:3(17): error: ..."
+    EXPECT_NE(s.message().find(":3(17): error"), std::string::npos) << s.message();
+  }
+  EXPECT_EQ(r.setMaterial(CharacterId{}, MaterialId{1}).code(), StatusCode::kInvalidArgument);
+}
+
+TEST_P(HostMaterialTest, ResourcesTheLibraryCannotLeaveAloneAreRefusedByName) {
+  Renderer r;
+  makeRenderer(&r);
+  const auto refusal = [&](const char* source) {
+    MaterialDesc md;
+    md.name = "refused";
+    md.source = source;
+    MaterialId id;
+    const Status s = r.addMaterial(md, &id);
+    EXPECT_EQ(s.code(), StatusCode::kInvalidArgument) << s.toString();
+    return s.message();
+  };
+  EXPECT_NE(refusal("uniform float u_gain;\nlayout(location = 0) out vec4 o;\n"
+                    "void siMaterial(SiSurface s) { o = vec4(u_gain); }")
+                .find("'u_gain' is a loose uniform"),
+            std::string::npos);
+  EXPECT_NE(refusal("layout(binding = 1) uniform sampler2D host_map;\n"
+                    "layout(location = 0) out vec4 o;\n"
+                    "void siMaterial(SiSurface s) { o = texture(host_map, s.uv0); }")
+                .find("sampler 'host_map' is at texture unit 1, where the library's draws bind "
+                      "their own 'u_base_color'"),
+            std::string::npos);
+  EXPECT_NE(refusal("layout(std140, binding = 4) uniform Host { vec4 gain; };\n"
+                    "layout(location = 0) out vec4 o;\n"
+                    "void siMaterial(SiSurface s) { o = gain; }")
+                .find("uniform block 'Host' is at uniform buffer binding 4"),
+            std::string::npos);
+  EXPECT_NE(refusal("layout(std430, binding = 10) readonly buffer Host { vec4 gain[]; };\n"
+                    "layout(location = 0) out vec4 o;\n"
+                    "void siMaterial(SiSurface s) { o = gain[0]; }")
+                .find("storage block 'Host' is at shader storage binding 10"),
+            std::string::npos);
+  EXPECT_NE(refusal("layout(binding = 0, rgba8) writeonly uniform image2D host_image;\n"
+                    "layout(location = 0) out vec4 o;\n"
+                    "void siMaterial(SiSurface s) { imageStore(host_image, ivec2(0), vec4(1));"
+                    " o = vec4(1); }")
+                .find("image 'host_image' is at image unit 0"),
+            std::string::npos);
+  EXPECT_NE(refusal("#version 450\nvoid siMaterial(SiSurface s) {}").find("#version"),
+            std::string::npos);
+  MaterialDesc unnamed;
+  unnamed.source = "void siMaterial(SiSurface s) {}";
+  MaterialId id;
+  EXPECT_EQ(r.addMaterial(unnamed, &id).code(), StatusCode::kInvalidArgument);
+  // The refusals added nothing: the next material is 1.
+  MaterialDesc fine;
+  fine.name = "fine";
+  fine.source = "layout(location = 0) out vec4 o;\nvoid siMaterial(SiSurface s) { o = s.base_color; }";
+  ASSERT_TRUE(r.addMaterial(fine, &id).isOk());
+  EXPECT_EQ(id.index, 1u);
+}
+
+INSTANTIATE_TEST_SUITE_P(Backends, HostMaterialTest, allBackends(), backendTestName);
+
+}  // namespace
+}  // namespace si
