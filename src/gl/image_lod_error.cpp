@@ -190,9 +190,11 @@ Status measureImageLodErrors(const GlInfo& info, const Character& character,
   if (s.isOk()) s = batcher.init(renderer.batchLimits());
   if (!s.isOk()) return s;
 
-  // Offscreen, the host's framebuffers, viewport and pixel pack state put back on return.
+  // Offscreen under its own raster state; the host's framebuffers, viewport, raster and pixel
+  // pack state put back on return.
   detail::GlFootprint footprint;
   footprint.framebuffer = true;
+  footprint.raster = true;
   footprint.pack = true;
   detail::GlStateGuard guard(footprint, true);
   Target target;

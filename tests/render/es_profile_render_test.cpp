@@ -202,9 +202,10 @@ TEST_P(EsRenderTest, TheHostsBindingsStayAsTheyWere) {
 }
 
 // Under WebGL (GlInfo::webgl; the profile's flag set here on the native ES context) the state
-// contract does not ask for the cull face mode, front face and colour mask, which WebGL answers
-// only by a round trip to the GPU process: it leaves them at GL's defaults, unless
-// RendererDesc::webgl_restore_raster_state asks for them. Desktop-like ES restores them.
+// contract does not ask for the cull face mode, front face, colour mask and depth write mask,
+// which WebGL may answer only by a round trip to the GPU process: it leaves them at GL's
+// defaults, unless RendererDesc::webgl_restore_raster_state asks for them. Desktop-like ES
+// restores them.
 TEST_P(EsRenderTest, UnderWebGlTheRoundTripValuesAreLeftAtDefaultsUnlessAsked) {
   struct WebGl {
     explicit WebGl(bool on) { detail::setWebglProfile(on); }
@@ -212,14 +213,17 @@ TEST_P(EsRenderTest, UnderWebGlTheRoundTripValuesAreLeftAtDefaultsUnlessAsked) {
   };
   const auto raster = [] {
     GLint cull = 0, front = 0;
-    GLboolean mask[4] = {};
+    GLboolean mask[4] = {}, depth = GL_FALSE;
     glGetIntegerv(GL_CULL_FACE_MODE, &cull);
     glGetIntegerv(GL_FRONT_FACE, &front);
     glGetBooleanv(GL_COLOR_WRITEMASK, mask);
-    return std::vector<GLint>{cull, front, mask[0], mask[1], mask[2], mask[3]};
+    glGetBooleanv(GL_DEPTH_WRITEMASK, &depth);
+    return std::vector<GLint>{cull, front, mask[0], mask[1], mask[2], mask[3], depth};
   };
-  const std::vector<GLint> host = {GL_FRONT, GL_CW, GL_TRUE, GL_FALSE, GL_TRUE, GL_FALSE};
-  const std::vector<GLint> defaults = {GL_BACK, GL_CCW, GL_TRUE, GL_TRUE, GL_TRUE, GL_TRUE};
+  const std::vector<GLint> host = {GL_FRONT, GL_CW, GL_TRUE, GL_FALSE, GL_TRUE, GL_FALSE,
+                                   GL_FALSE};
+  const std::vector<GLint> defaults = {GL_BACK, GL_CCW, GL_TRUE, GL_TRUE, GL_TRUE, GL_TRUE,
+                                       GL_TRUE};
   for (const bool webgl : {true, false}) {
     for (const bool ask : {false, true}) {
       SCOPED_TRACE(testing::Message() << "webgl " << webgl << ", asked " << ask);
@@ -234,8 +238,10 @@ TEST_P(EsRenderTest, UnderWebGlTheRoundTripValuesAreLeftAtDefaultsUnlessAsked) {
       CrowdManager crowd;
       InstanceBatcher batcher;
       lodScene(&r, &crowd, &batcher, &rd);
+      glDepthMask(GL_FALSE);
       ASSERT_TRUE(r.drawCrowd(crowd, batcher, lodCamera(), nullptr).isOk());
       EXPECT_EQ(raster(), webgl && !ask ? defaults : host);
+      glDepthMask(GL_TRUE);
     }
   }
   glCullFace(GL_BACK);

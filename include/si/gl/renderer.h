@@ -102,7 +102,11 @@ struct RendererDesc {
   /// The GL state contract. On (the default), every call that changes context state saves the
   /// state it may change and restores it before it returns: the host finds its program, vertex
   /// array, buffer bindings (indexed ones included), textures and samplers, enables, face
-  /// culling, colour mask, framebuffers, viewport and pixel store as it left them. Off, the
+  /// culling, colour and depth masks, blending, framebuffers, viewport, the raster state of the
+  /// offscreen passes (depth function and range, clip control, polygon mode, ...) and pixel
+  /// store as it left them. Draws write depth and blend nothing whatever the host's last pass
+  /// left; offscreen passes (the automatic path measurement, buildImpostor, measureImage-
+  /// LodErrors) run under GL's default raster state (docs/rendering.md). Off, the
   /// calls skip the save and restore and leave what docs/rendering.md ("A guest in the host's
   /// engine") lists; the cost of restoring is measured there. Switchable with
   /// setRestoreState().
@@ -110,11 +114,12 @@ struct RendererDesc {
   /// WebGL 2 only (GlInfo::webgl). WebGL answers the face-culling mode (GL_CULL_FACE_MODE), the
   /// front face (GL_FRONT_FACE) and the colour mask (GL_COLOR_WRITEMASK) only through a
   /// synchronous round trip to the browser's GPU process, which waits for all the queued work
-  /// (docs/web.md measures it); every other value the state contract saves is answered by the
-  /// page. Off (the default), the contract does not ask for these three and leaves them at
-  /// GL's defaults, the values it draws with: glCullFace(GL_BACK), glFrontFace(GL_CCW), every
-  /// colour channel written. On, it asks and restores them like the rest. Ignored elsewhere
-  /// and with restore_state off.
+  /// (docs/web.md measures it); the depth write mask (GL_DEPTH_WRITEMASK) is treated alike.
+  /// Every other value the state contract saves is answered by the page. Off (the default),
+  /// the contract does not ask for these four and leaves them at GL's defaults, the values it
+  /// draws with: glCullFace(GL_BACK), glFrontFace(GL_CCW), every colour channel and depth
+  /// written. On, it asks and restores them like the rest. Ignored elsewhere and with
+  /// restore_state off.
   bool webgl_restore_raster_state = false;
   /// Measure GPU time of each draw call group with a timer query (blocks until the result is
   /// available: for benchmarks and tests).

@@ -51,6 +51,15 @@ void setEnabled(GLenum cap, GLboolean on) {
   else glDisable(cap);
 }
 
+// The enables an offscreen pass turns off (GlFootprint::raster): whatever the host left on
+// among them would change what the pass draws or clears (rasterizer discard drops clears too).
+constexpr GLenum kOffscreenCaps[] = {
+    GL_RASTERIZER_DISCARD, GL_BLEND, GL_SCISSOR_TEST, GL_STENCIL_TEST, GL_POLYGON_OFFSET_FILL, GL_POLYGON_OFFSET_LINE,
+    GL_POLYGON_OFFSET_POINT, GL_SAMPLE_ALPHA_TO_COVERAGE, GL_SAMPLE_ALPHA_TO_ONE,
+    GL_SAMPLE_COVERAGE, GL_SAMPLE_MASK, GL_SAMPLE_SHADING, GL_COLOR_LOGIC_OP, GL_DEPTH_CLAMP,
+    GL_FRAMEBUFFER_SRGB, GL_CLIP_DISTANCE0, GL_CLIP_DISTANCE1, GL_CLIP_DISTANCE2,
+    GL_CLIP_DISTANCE3, GL_CLIP_DISTANCE4, GL_CLIP_DISTANCE5};
+
 }  // namespace
 
 GlFootprint drawFootprint() {
@@ -70,8 +79,9 @@ GlFootprint gpuDrivenFootprint() {
 }
 
 GlFootprint uploadFootprint() {
-  GlFootprint f = drawFootprint();  // The automatic path choice draws both skinning paths,
-  f.framebuffer = true;             // into a framebuffer of its own.
+  GlFootprint f = drawFootprint();  // The automatic path choice draws both skinning paths
+  f.framebuffer = true;             // (and buildImpostor its atlas) into a framebuffer of its
+  f.raster = true;                  // own, under the raster state of its own.
   f.unpack = true;
   return f;
 }
@@ -113,6 +123,35 @@ void GlStateGuard::restoreIndexed(GLenum target, uint32_t mask, const IndexedBuf
   }
 }
 
+void GlStateGuard::saveRaster() {
+  static_assert(sizeof(kOffscreenCaps) / sizeof(kOffscreenCaps[0]) == kRasterCaps,
+                "one saved value per offscreen enable");
+  for (int k = 0; k < kRasterCaps; ++k) raster_caps_[k] = glIsEnabled(kOffscreenCaps[k]);
+  glGetIntegerv(GL_DEPTH_FUNC, &depth_func_);
+  glGetDoublev(GL_DEPTH_RANGE, depth_range_);
+  glGetIntegerv(GL_CLIP_ORIGIN, &clip_origin_);
+  glGetIntegerv(GL_CLIP_DEPTH_MODE, &clip_depth_);
+  glGetIntegerv(GL_POLYGON_MODE, polygon_mode_);  // Front and back (one mode in core).
+}
+
+void GlStateGuard::setRaster() const {
+  for (GLenum cap : kOffscreenCaps) glDisable(cap);
+  glDepthFunc(GL_LESS);
+  glDepthMask(GL_TRUE);
+  glDepthRange(0.0, 1.0);
+  glClipControl(GL_LOWER_LEFT, GL_NEGATIVE_ONE_TO_ONE);
+  glPolygonMode(GL_FRONT_AND_BACK, GL_FILL);
+  glColorMask(GL_TRUE, GL_TRUE, GL_TRUE, GL_TRUE);
+}
+
+void GlStateGuard::restoreRaster() const {
+  for (int k = 0; k < kRasterCaps; ++k) setEnabled(kOffscreenCaps[k], raster_caps_[k]);
+  glDepthFunc(GLenum(depth_func_));
+  glDepthRange(depth_range_[0], depth_range_[1]);
+  glClipControl(GLenum(clip_origin_), GLenum(clip_depth_));
+  glPolygonMode(GL_FRONT_AND_BACK, GLenum(polygon_mode_[0]));
+}
+
 void GlStateGuard::savePixelStore(bool pack, PixelStore* out) {
   const GLenum* names = pack ? kPack : kUnpack;
   for (int k = 0; k < 8; ++k)
@@ -142,7 +181,9 @@ GlStateGuard::GlStateGuard(const GlFootprint& footprint, bool restore, bool webg
       es_(esProfile()),
       webgl_(webglProfile()),
       raster_(!webgl_ || webgl_raster) {
-  if (es_) {  // No storage buffers, image units, indirect or query buffers, transform capture.
+  if (es_) {  // No storage buffers, image units, indirect or query buffers, transform capture,
+              // offscreen passes.
+    footprint_.raster = false;
     // The material table a draw reads from storage binding 11 is a uniform block there.
     if (footprint_.storage_buffers >> 11 & 1u) footprint_.uniform_buffers |= 1u << 11;
     footprint_.storage_buffers = 0;
@@ -189,13 +230,20 @@ GlStateGuard::GlStateGuard(const GlFootprint& footprint, bool restore, bool webg
       }
       depth_test_ = glIsEnabled(GL_DEPTH_TEST);
       cull_face_ = glIsEnabled(GL_CULL_FACE);
+      blend_ = glIsEnabled(GL_BLEND);
       rasterizer_discard_ = glIsEnabled(GL_RASTERIZER_DISCARD);
       if (!webgl_) fixed_index_restart_ = glIsEnabled(GL_PRIMITIVE_RESTART_FIXED_INDEX);
       if (raster_) {  // Else restored as GL's defaults (the members' initial values).
         glGetIntegerv(GL_CULL_FACE_MODE, &cull_face_mode_);
         glGetIntegerv(GL_FRONT_FACE, &front_face_);
         glGetBooleanv(GL_COLOR_WRITEMASK, color_mask_);
+        glGetBooleanv(GL_DEPTH_WRITEMASK, &depth_mask_);
       }
+    }
+    if (f.raster) {
+      if (!f.draw && raster_) glGetBooleanv(GL_COLOR_WRITEMASK, color_mask_);
+      if (!f.draw && raster_) glGetBooleanv(GL_DEPTH_WRITEMASK, &depth_mask_);
+      saveRaster();
     }
     if (f.framebuffer) {
       glGetIntegerv(GL_DRAW_FRAMEBUFFER_BINDING, &draw_framebuffer_);
@@ -217,12 +265,15 @@ GlStateGuard::GlStateGuard(const GlFootprint& footprint, bool restore, bool webg
     glCullFace(GL_BACK);
     glFrontFace(GL_CCW);
     glDisable(GL_RASTERIZER_DISCARD);
+    glDepthMask(GL_TRUE);  // Opaque: the crowd writes its depth and blends nothing.
+    glDisable(GL_BLEND);
     if (!webgl_) glDisable(GL_PRIMITIVE_RESTART_FIXED_INDEX);  // Always on in WebGL 2.
     if (!es_) {
       glDisable(GL_PRIMITIVE_RESTART);
       glBindBuffer(GL_QUERY_BUFFER, 0);
     }
   }
+  if (f.raster) setRaster();
   if (f.texture_units) {  // Each texture's own sampling parameters, not a sampler object's.
     for (int u = 0; u < kMaxUnits; ++u)
       if (f.texture_units >> u & 1u) glBindSampler(GLuint(u), 0);
@@ -270,9 +321,14 @@ GlStateGuard::~GlStateGuard() {
     setEnabled(GL_CULL_FACE, cull_face_);
     setEnabled(GL_RASTERIZER_DISCARD, rasterizer_discard_);
     if (!webgl_) setEnabled(GL_PRIMITIVE_RESTART_FIXED_INDEX, fixed_index_restart_);
+    setEnabled(GL_BLEND, blend_);
     glCullFace(GLenum(cull_face_mode_));
     glFrontFace(GLenum(front_face_));
+  }
+  if (f.raster) restoreRaster();
+  if (f.draw || f.raster) {
     glColorMask(color_mask_[0], color_mask_[1], color_mask_[2], color_mask_[3]);
+    glDepthMask(depth_mask_);
   }
   if (f.framebuffer) {
     glBindFramebuffer(GL_DRAW_FRAMEBUFFER, GLuint(draw_framebuffer_));

@@ -26,6 +26,13 @@ struct GlFootprint {
   /// (mode and front face), colour mask, rasterizer discard, primitive restart (both kinds).
   bool draw = false;
   bool framebuffer = false;         ///< Draw and read framebuffers, viewport.
+  /// The offscreen passes' whole raster state (buildImpostor's capture, the automatic path
+  /// measurement, measureImageLodErrors): depth function, writes and range, clip control,
+  /// polygon mode, colour mask, and the blending, scissor, stencil, polygon offset, multisample
+  /// coverage, logic op, depth clamp, sRGB and clip distance enables, set to GL's defaults
+  /// (those enables off), so what the host left never enters an atlas or a measurement. Desktop
+  /// GL only: the ES profile draws nothing offscreen.
+  bool raster = false;
   bool unpack = false;              ///< Pixel unpack state and the pixel unpack buffer.
   bool pack = false;                ///< Pixel pack state and the pixel pack buffer.
   bool transform_feedback = false;  ///< Transform feedback buffer binding 0 (and the generic).
@@ -39,7 +46,8 @@ GlFootprint captureFootprint();     ///< captureSkinnedPositions.
 GlFootprint readbackFootprint();    ///< Reading textures back (MotionTarget).
 
 /// Saves the state of `footprint` (when `restore`), then sets the draw state the library needs
-/// (when footprint.draw) and the default pixel store (when unpack or pack); the destructor
+/// (when footprint.draw: also depth writes on and blending off), the offscreen raster state
+/// (when footprint.raster) and the default pixel store (when unpack or pack); the destructor
 /// restores what it saved. Needs a current context with GL loaded. Not copyable.
 class GlStateGuard {
  public:
@@ -71,6 +79,9 @@ class GlStateGuard {
 
   void saveIndexed(GLenum binding, GLenum start, GLenum size, uint32_t mask, IndexedBuffer* out);
   void restoreIndexed(GLenum target, uint32_t mask, const IndexedBuffer* saved) const;
+  void saveRaster();
+  void setRaster() const;
+  void restoreRaster() const;
   void savePixelStore(bool pack, PixelStore* out);
   static void restorePixelStore(bool pack, const PixelStore& saved);
   static void setDefaultPixelStore(bool pack);
@@ -91,6 +102,13 @@ class GlStateGuard {
   GLboolean primitive_restart_ = GL_FALSE, fixed_index_restart_ = GL_FALSE;
   GLint cull_face_mode_ = GL_BACK, front_face_ = GL_CCW;
   GLboolean color_mask_[4] = {GL_TRUE, GL_TRUE, GL_TRUE, GL_TRUE};
+  GLboolean depth_mask_ = GL_TRUE, blend_ = GL_FALSE;
+  // The offscreen raster state (GlFootprint::raster): kRasterCaps' enables and the rest.
+  static constexpr int kRasterCaps = 21;
+  GLboolean raster_caps_[kRasterCaps] = {};
+  GLint depth_func_ = GL_LESS, clip_origin_ = GL_LOWER_LEFT,
+        clip_depth_ = GL_NEGATIVE_ONE_TO_ONE, polygon_mode_[2] = {GL_FILL, GL_FILL};
+  GLdouble depth_range_[2] = {0.0, 1.0};
   GLint draw_framebuffer_ = 0, read_framebuffer_ = 0, viewport_[4] = {0, 0, 0, 0};
   PixelStore unpack_, pack_;
   IndexedBuffer feedback_;
