@@ -99,27 +99,8 @@ TEST_P(GuestStateTest, OffscreenWorkUnderTheEnginesStateEqualsItsWorkFromDefault
               from_defaults.levels[l].max_differing_pixels);
   }
   // Sixteen characters far enough to be impostors, drawn by both renderers.
-  const uint32_t levels = uint32_t(impostorCharacter().mesh.maxLodCount());
   CrowdManager crowd;
-  CrowdDesc cd;
-  cd.palette = &palette();
-  cd.sub_mesh_count = 4;
-  cd.lod_count = levels;
-  cd.character_radius = 1.0f;
-  for (uint32_t l = 1; l < levels; ++l) cd.lod_distances_radii.push_back(2.0f * float(l));
-  cd.max_distance_radii = -1.0f;
-  cd.impostor_lod = levels - 1;
-  ASSERT_TRUE(crowd.init(cd).isOk());
-  for (int k = 0; k < 16; ++k) {
-    InstanceDesc inst;
-    inst.position = glm::dvec3((k % 8 - 3.5) * 2.0, 0.0, -16.0 - 8.0 * (k / 8));
-    inst.rotation = glm::angleAxis(0.9f * float(k), glm::vec3(0, 1, 0));
-    inst.clip = uint32_t(k) % uint32_t(palette().clips.size());
-    InstanceHandle h;
-    ASSERT_TRUE(crowd.add(inst, &h).isOk());
-  }
-  ASSERT_TRUE(crowd.update(0.2, lodCamera()).isOk());
-  ASSERT_EQ(crowd.stats().per_lod[levels - 1], 16u);
+  impostorRowsCrowd(2.0, 16.0, 8.0, &crowd);
   const std::vector<uint8_t> image_a = draw(a, crowd, lodCamera(), 0);
   const std::vector<uint8_t> image_b = draw(b, crowd, lodCamera(), 0);
   EXPECT_GT(compare(image_a, std::vector<uint8_t>(image_a.size(), 0), nullptr).share, 0.01);

@@ -228,28 +228,8 @@ TEST_P(HostMaterialTest, AHostMaterialWritingTwoTargetsDrawsTheSameImagesOnEvery
 TEST_P(HostMaterialTest, ImpostorsHandTheirSurfaceToTheHostMaterial) {
   TwoTargets targets(kSize);
   HostLight light(glm::vec3(0.3f, -1.0f, -0.5f), glm::vec3(0.0f, 1.0f, 0.0f));  // Green only.
-  const uint32_t levels = uint32_t(impostorCharacter().mesh.maxLodCount());
   CrowdManager crowd;
-  CrowdDesc cd;
-  cd.palette = &palette();
-  cd.sub_mesh_count = 4;
-  cd.lod_count = levels;
-  cd.character_radius = 1.0f;
-  for (uint32_t l = 1; l < levels; ++l) cd.lod_distances_radii.push_back(2.0f * float(l));
-  cd.max_distance_radii = -1.0f;
-  cd.impostor_lod = levels - 1;
-  ASSERT_TRUE(crowd.init(cd).isOk());
-  for (int k = 0; k < 16; ++k) {
-    InstanceDesc d;
-    d.position = glm::dvec3((k % 8 - 3.5) * 3.0, 0.0, -30.0 - 20.0 * (k / 8));
-    d.rotation = glm::angleAxis(0.7f * float(k), glm::vec3(0, 1, 0));
-    d.clip = uint32_t(k) % uint32_t(palette().clips.size());
-    d.color = glm::u8vec4(uint8_t(40 + 12 * k), 200, 90, 255);
-    InstanceHandle h;
-    ASSERT_TRUE(crowd.add(d, &h).isOk());
-  }
-  ASSERT_TRUE(crowd.update(0.2, lodCamera()).isOk());
-  ASSERT_EQ(crowd.stats().per_lod[levels - 1], 16u);
+  impostorRowsCrowd(3.0, 30.0, 20.0, &crowd);
   Renderer r;
   makeMaterialRenderer(&r, SkinningPath::kVertexShader, &impostorCharacter());
   ImpostorDesc id;

@@ -350,6 +350,33 @@ inline void addFadingCharacter(CrowdManager* crowd, PaletteFormat format = Palet
   ASSERT_TRUE(crowd->crossfade(fading, uint32_t(palette(format).findClip("run")), 1.0).isOk());
 }
 
+// Sixteen characters of impostorCharacter() in two rows of 8, `spacing` apart, the first row at
+// z = -`z` (in front of lodCamera()) and the second `row_step` further, every one at the
+// impostor level (each mesh level's line 2 radii after the last), updated 0.2 s.
+inline void impostorRowsCrowd(double spacing, double z, double row_step, CrowdManager* crowd) {
+  const uint32_t levels = uint32_t(impostorCharacter().mesh.maxLodCount());
+  CrowdDesc cd;
+  cd.palette = &palette();
+  cd.sub_mesh_count = 4;
+  cd.lod_count = levels;
+  cd.character_radius = 1.0f;
+  for (uint32_t l = 1; l < levels; ++l) cd.lod_distances_radii.push_back(2.0f * float(l));
+  cd.max_distance_radii = -1.0f;
+  cd.impostor_lod = levels - 1;
+  ASSERT_TRUE(crowd->init(cd).isOk());
+  for (int k = 0; k < 16; ++k) {
+    InstanceDesc d;
+    d.position = glm::dvec3((k % 8 - 3.5) * spacing, 0.0, -z - row_step * (k / 8));
+    d.rotation = glm::angleAxis(0.7f * float(k), glm::vec3(0, 1, 0));
+    d.clip = uint32_t(k) % uint32_t(palette().clips.size());
+    d.color = glm::u8vec4(uint8_t(40 + 12 * k), 200, 90, 255);
+    InstanceHandle h;
+    ASSERT_TRUE(crowd->add(d, &h).isOk());
+  }
+  ASSERT_TRUE(crowd->update(0.2, lodCamera()).isOk());
+  ASSERT_EQ(crowd->stats().per_lod[levels - 1], 16u);
+}
+
 // The CPU's selection of the last update(): (dense index as exportGpuState orders it, LOD) per
 // visible instance.
 inline std::vector<glm::uvec2> cpuSelection(const CrowdManager& crowd) {
