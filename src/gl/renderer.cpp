@@ -297,12 +297,11 @@ uint32_t Renderer::triangleCount(CharacterId id, uint32_t sub_mesh, uint32_t lod
   return c.lodRange(sub_mesh, lod).index_count / 3;
 }
 
-void Renderer::clear(const glm::vec4& color) {
+void Renderer::clear(const glm::vec4& color, float depth) {
   GLint framebuffer = 0;
   glGetIntegerv(GL_DRAW_FRAMEBUFFER_BINDING, &framebuffer);
-  const float far_depth = 1.0f;
   glClearNamedFramebufferfv(GLuint(framebuffer), GL_COLOR, 0, &color[0]);
-  glClearNamedFramebufferfv(GLuint(framebuffer), GL_DEPTH, 0, &far_depth);
+  glClearNamedFramebufferfv(GLuint(framebuffer), GL_DEPTH, 0, &depth);
 }
 
 Status Renderer::drawCrowd(CharacterId id, const CrowdView& view, const InstanceBatcher& batcher,
@@ -311,6 +310,7 @@ Status Renderer::drawCrowd(CharacterId id, const CrowdView& view, const Instance
   Impl& m = *impl_;
   detail::CharacterSlot* c = nullptr;
   Status s = m.find(id, "drawCrowd", &c, view);
+  if (s.isOk()) s = m.depthMatches(camera, "drawCrowd");
   if (!s.isOk()) return s;
   const CrowdManager& crowd = *view.crowd();
   if (batcher.capacityPerDraw() > m.capacity)
@@ -423,6 +423,7 @@ Status Renderer::drawTraditional(CharacterId id, const CrowdView& view, const Ca
                                  DrawStats* stats) {
   detail::CharacterSlot* c = nullptr;
   Status s = impl_ ? impl_->find(id, "drawTraditional", &c, view) : noRenderer("drawTraditional");
+  if (s.isOk()) s = impl_->depthMatches(camera, "drawTraditional");
   if (s.isOk()) s = impl_->esRefuses("drawTraditional", "traditional program (a desktop baseline)");
   if (s.isOk()) s = impl_->noMotion("drawTraditional");
   if (s.isOk()) s = impl_->noImpostors(*view.crowd(), "drawTraditional");
@@ -435,6 +436,7 @@ Status Renderer::drawCpuSkinned(CharacterId id, const CrowdView& view, const Cam
                                 DrawStats* stats) {
   detail::CharacterSlot* c = nullptr;
   Status s = impl_ ? impl_->find(id, "drawCpuSkinned", &c, view) : noRenderer("drawCpuSkinned");
+  if (s.isOk()) s = impl_->depthMatches(camera, "drawCpuSkinned");
   if (s.isOk()) s = impl_->esRefuses("drawCpuSkinned", "storage buffers (a baseline)");
   if (s.isOk()) s = impl_->noMotion("drawCpuSkinned");
   if (s.isOk()) s = impl_->noImpostors(*view.crowd(), "drawCpuSkinned");
@@ -450,6 +452,7 @@ Status Renderer::drawCrowdGpuCulled(CharacterId id, const CrowdView& view, const
   detail::CharacterSlot* c = nullptr;
   Status s = m.find(id, "drawCrowdGpuCulled", &c, view);
   if (s.isOk()) s = m.esRefuses("drawCrowdGpuCulled", "compute shaders (GPU-driven culling)");
+  if (s.isOk()) s = m.depthMatches(camera, "drawCrowdGpuCulled");
   if (!s.isOk()) return s;
   const CrowdManager& crowd = *view.crowd();
   if (mode == DrawMode::kRigid)

@@ -97,6 +97,23 @@ struct Renderer::Impl {
                                    "(setMotionVectors) or draw this crowd without impostors")};
     return Status::ok();
   }
+  /// The camera's depth convention (si::DepthConvention) against the context's clip control:
+  /// kInvalidArgument naming `what` and both when a zero-to-one convention meets the default
+  /// depth mode or the default convention meets GL_ZERO_TO_ONE (the draws would clip depth
+  /// where the projection does not mean it). The ES profile has no clip control: there the
+  /// default convention only.
+  Status depthMatches(const Camera& camera, const char* what) const {
+    GLint mode = GL_NEGATIVE_ONE_TO_ONE;
+    if (!info.es) glGetIntegerv(GL_CLIP_DEPTH_MODE, &mode);
+    const bool zero_to_one = camera.depth != DepthConvention::kNegativeOneToOne;
+    if ((mode == GL_ZERO_TO_ONE) == zero_to_one) return Status::ok();
+    return {StatusCode::kInvalidArgument,
+            detail::strCat(what, ": the camera's depth convention is ",
+                           depthConventionName(camera.depth),
+                           " but the context's clip control depth mode is ",
+                           mode == GL_ZERO_TO_ONE ? "GL_ZERO_TO_ONE" : "GL_NEGATIVE_ONE_TO_ONE",
+                           " (set glClipControl to match Camera::depth)")};
+  }
   /// The baselines draw meshes only: kUnsupported for a crowd with an impostor level.
   static Status noImpostors(const CrowdManager& crowd, const char* what) {
     if (crowd.desc().impostor_lod == 0) return Status::ok();

@@ -318,27 +318,8 @@ TEST_P(RenderTest, GpuDrivenComputePathEqualsTheCpuComputePath) {
 TEST_P(RenderTest, GpuOcclusionCullingDrawsTheSameImageWithFewerTriangles) {
   CrowdManager crowd;
   makeCrowd(&crowd);
-  std::mt19937 rng(7);
-  std::uniform_real_distribution<double> u(0.0, 1.0);
-  for (int row = 0; row < 3; ++row)  // The wall: 3 staggered rows, shoulder to shoulder.
-    for (int k = 0; k < 40; ++k) {
-      InstanceDesc d;
-      d.position = glm::dvec3(-6.0 + 0.3 * k + 0.15 * row, 0.0, -2.0 - 0.4 * row);
-      d.clip = uint32_t(k % 2);
-      d.time_seconds = u(rng);
-      InstanceHandle h;
-      ASSERT_TRUE(crowd.add(d, &h).isOk());
-    }
-  for (int k = 0; k < 600; ++k) {  // The crowd behind it.
-    InstanceDesc d;
-    d.position = glm::dvec3(-8.0 + 16.0 * u(rng), 0.0, -8.0 - 30.0 * u(rng));
-    d.clip = uint32_t(k % 3);
-    d.time_seconds = u(rng);
-    InstanceHandle h;
-    ASSERT_TRUE(crowd.add(d, &h).isOk());
-  }
-  const Camera camera = Camera::lookAt({0.0, 1.0, 2.0}, {0.0, 1.0, -40.0}, glm::vec3(0, 1, 0),
-                                       0.9f, 1.0f, 0.1f, 500.0f);
+  populateWallCrowd(&crowd);
+  const Camera camera = wallCamera();
   for (const SkinningPath path : {SkinningPath::kVertexShader, SkinningPath::kCompute}) {
     SCOPED_TRACE(skinningPathName(path));
     Renderer plain, occluding;

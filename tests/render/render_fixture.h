@@ -17,6 +17,7 @@
 #include <initializer_list>
 #include <map>
 #include <memory>
+#include <random>
 #include <string>
 #include <vector>
 
@@ -338,6 +339,35 @@ inline void populateLodCrowd(CrowdManager* crowd) {
       InstanceHandle h;
       ASSERT_TRUE(crowd->add(d, &h).isOk());
     }
+}
+
+// Occlusion culling's scene: a dense wall of 3 staggered rows of 40 characters, shoulder to
+// shoulder 2 units in front of wallCamera(), and a crowd of 600 behind it (seeded).
+inline void populateWallCrowd(CrowdManager* crowd) {
+  std::mt19937 rng(7);
+  std::uniform_real_distribution<double> u(0.0, 1.0);
+  for (int row = 0; row < 3; ++row)
+    for (int k = 0; k < 40; ++k) {
+      InstanceDesc d;
+      d.position = glm::dvec3(-6.0 + 0.3 * k + 0.15 * row, 0.0, -2.0 - 0.4 * row);
+      d.clip = uint32_t(k % 2);
+      d.time_seconds = u(rng);
+      InstanceHandle h;
+      ASSERT_TRUE(crowd->add(d, &h).isOk());
+    }
+  for (int k = 0; k < 600; ++k) {
+    InstanceDesc d;
+    d.position = glm::dvec3(-8.0 + 16.0 * u(rng), 0.0, -8.0 - 30.0 * u(rng));
+    d.clip = uint32_t(k % 3);
+    d.time_seconds = u(rng);
+    InstanceHandle h;
+    ASSERT_TRUE(crowd->add(d, &h).isOk());
+  }
+}
+// At eye height in front of the wall, looking along -z.
+inline Camera wallCamera() {
+  return Camera::lookAt({0.0, 1.0, 2.0}, {0.0, 1.0, -40.0}, glm::vec3(0, 1, 0), 0.9f, 1.0f, 0.1f,
+                        500.0f);
 }
 
 // One more character, close to the camera, crossfading from clip 0 to run over 1 s from the

@@ -344,14 +344,17 @@ class Renderer {
 
   /// Sets the directional light (world direction the light travels along).
   void setLightDirection(const glm::vec3& direction) { light_direction_ = direction; }
-  /// Clears the bound draw framebuffer's draw buffer 0 to `color` and its depth to 1
-  /// (glClearNamedFramebufferfv: the clear colour and depth of the context are left as they
-  /// are; the scissor test and the write masks apply).
-  void clear(const glm::vec4& color);
+  /// Clears the bound draw framebuffer's draw buffer 0 to `color` and its depth to `depth`
+  /// (1, the far plane; 0 under reverse-Z, DepthConvention::kReversedZeroToOne) with
+  /// glClearNamedFramebufferfv: the clear colour and depth of the context are left as they
+  /// are; the scissor test and the write masks apply.
+  void clear(const glm::vec4& color, float depth = 1.0f);
 
   /// Builds the batches of the crowd's own view (CrowdManager::update()'s selection) with
   /// `batcher` straight into the mapped record ring and draws each with one
-  /// glDrawElementsInstanced. `mode` picks the program.
+  /// glDrawElementsInstanced. `mode` picks the program. The draws use the bound framebuffer and
+  /// the host's depth function; every draw function returns kInvalidArgument when `camera.depth`
+  /// (si::DepthConvention, e.g. reverse-Z) does not match the context's clip control depth mode.
   Status drawCrowd(const CrowdManager& crowd, const InstanceBatcher& batcher, const Camera& camera,
                    DrawStats* stats, DrawMode mode = DrawMode::kDefault) {
     return drawCrowd(CharacterId{}, crowd.view(), batcher, camera, stats, mode);

@@ -333,11 +333,18 @@ Status GpuCulledPath::draw(const DrawResources& r, const PathFrame& f, DrawStats
   runPasses(r, f, 1, st);
   glMemoryBarrier(GL_BUFFER_UPDATE_BARRIER_BIT);  // The counters the passes wrote, then copied.
   glCopyNamedBufferSubData(counters_, first_phase_counters_, 0, 0, GLsizeiptr(kCounterWords) * 4);
+  // Window depth as the draws wrote it: the camera's clip depth through the host's depth range.
+  GLfloat range[2] = {0.0f, 1.0f};
+  glGetFloatv(GL_DEPTH_RANGE, range);
+  const bool reversed = f.camera.depth == DepthConvention::kReversedZeroToOne;
+  const bool far_is_max = reversed == (range[1] < range[0]);
   DepthPyramid& pyramid = view_->pyramid;
-  Status s = pyramid.build(*r.programs.set);
+  Status s = pyramid.build(*r.programs.set, far_is_max);
   if (!s.isOk()) return s;
   const GLuint cull = r.programs[ProgramId::kCull].id;
   glProgramUniform3i(cull, 22, pyramid.width(), pyramid.height(), pyramid.levels());
+  glProgramUniform2i(cull, 40, GLint(f.camera.depth), far_is_max ? 1 : 0);
+  glProgramUniform2f(cull, 41, range[0], range[1]);
   glBindTextureUnit(1, pyramid.texture());
   runPasses(r, f, 2, st);
   return Status::ok();

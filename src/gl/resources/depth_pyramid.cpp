@@ -54,7 +54,7 @@ Status depthFormat(GLuint framebuffer, GLenum* format) {
 
 }  // namespace
 
-Status DepthPyramid::build(const ProgramSet& programs) {
+Status DepthPyramid::build(const ProgramSet& programs, bool far_is_max) {
   GLint framebuffer = 0, viewport[4] = {0, 0, 0, 0};
   glGetIntegerv(GL_DRAW_FRAMEBUFFER_BINDING, &framebuffer);
   glGetIntegerv(GL_VIEWPORT, viewport);
@@ -99,9 +99,11 @@ Status DepthPyramid::build(const ProgramSet& programs) {
   glBindImageTexture(0, pyramid_, 0, GL_FALSE, 0, GL_WRITE_ONLY, GL_R32F);
   glProgramUniform2i(copy, 0, pyramid_width_, pyramid_height_);
   glProgramUniform2i(copy, 1, w, h);
+  glProgramUniform1i(copy, 2, far_is_max ? 1 : 0);
   glDispatchCompute(GLuint(pyramid_width_ + 7) / 8, GLuint(pyramid_height_ + 7) / 8, 1);
   const GLuint reduce = programs[ProgramId::kHizReduce].id;
   glUseProgram(reduce);
+  glProgramUniform1i(reduce, 2, far_is_max ? 1 : 0);
   int lw = pyramid_width_, lh = pyramid_height_;
   for (int level = 1; level < levels_; ++level) {
     glMemoryBarrier(GL_SHADER_IMAGE_ACCESS_BARRIER_BIT);

@@ -2,7 +2,8 @@
 #pragma once
 // Occlusion culling's depth pyramid: the bound draw framebuffer's depth over the viewport,
 // blitted into a depth texture of the same format, then reduced level by level to the farthest
-// depth of each 2 x 2 block (shaders/hiz.comp.glsl) in an R32F mip chain.
+// depth of each 2 x 2 block (shaders/hiz.comp.glsl: the largest, or the smallest under
+// reverse-Z) in an R32F mip chain.
 #include "gl/programs/program_set.h"
 #include "si/core/status.h"
 
@@ -16,7 +17,9 @@ class DepthPyramid {
   /// and the next build may fail to blit). kUnsupported for a
   /// framebuffer without depth or with multisampling (a blit would resolve one sample);
   /// createTexture2D()'s status when a texture cannot be made.
-  Status build(const ProgramSet& programs);
+  /// `far_is_max`: window depth grows with distance (the farthest depth is the largest);
+  /// false for reverse-Z (or a depth range from far to near), where the pyramid keeps minima.
+  Status build(const ProgramSet& programs, bool far_is_max);
   GLuint texture() const { return pyramid_; }
   int width() const { return width_; }    ///< Of the viewport (level 0's texels from 0).
   int height() const { return height_; }

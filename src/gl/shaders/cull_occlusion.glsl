@@ -5,20 +5,27 @@
 // baked box contains the skinned mesh at every frame and between frames, the rectangle and the
 // nearest depth are taken over the box's corners (a convex shape in front of the camera
 // projects into the hull of its corners), the pyramid keeps the farthest depth; anything
-// crossing the near plane is visible. (siRotate comes from cull.comp.glsl.) Depth as the draws write it: window depth in
-// [0, 1] (glDepthRange 0..1, clip depth -1..1), less is nearer.
+// crossing the near plane is visible. (siRotate comes from cull.comp.glsl.) Depth as the draws
+// write it: the camera's clip depth (si::DepthConvention: -w..w, 0..w, or reversed with the near
+// plane at w) mapped to window depth by the host's depth range; the pyramid holds the farthest
+// depth, the largest or, where depth shrinks with distance, the smallest.
 #ifndef SI_CULL_OCCLUSION_GLSL
 #define SI_CULL_OCCLUSION_GLSL
 layout(location = 21) uniform mat4 u_view_proj;  // camera-relative world to clip
 layout(location = 22) uniform ivec3 u_hiz_size;  // level 0 width, height; levels
 layout(binding = 1) uniform sampler2D u_hiz;
+// x: si::DepthConvention (0 -w..w, 1 0..w, 2 reversed 0..w); y: 1 when window depth grows with
+// distance (the pyramid keeps maxima), else 0.
+layout(location = 40) uniform ivec2 u_depth_mode;
+layout(location = 41) uniform vec2 u_depth_range;  // glDepthRange's near and far
 
 vec3 siRotate(vec4 q, vec3 v);
 
 // `rel`: the instance's camera-relative position; `q`, `s`: its rotation and scale.
 bool siOccluded(vec3 rel, vec4 q, float s, vec3 box_min, vec3 box_max) {
   vec2 lo = vec2(1.0), hi = vec2(-1.0);
-  float nearest = 1.0;
+  bool far_is_max = u_depth_mode.y != 0;
+  float nearest = far_is_max ? 1.0 : 0.0;
   for (int k = 0; k < 8; ++k) {
     vec3 local = vec3((k & 1) != 0 ? box_max.x : box_min.x, (k & 2) != 0 ? box_max.y : box_min.y,
                       (k & 4) != 0 ? box_max.z : box_min.z);
@@ -26,10 +33,15 @@ bool siOccluded(vec3 rel, vec4 q, float s, vec3 box_min, vec3 box_max) {
     vec4 c = u_view_proj * vec4(corner, 1.0);
     if (!(c.w > 0.0)) return false;  // Behind the eye: visible.
     vec3 ndc = c.xyz / c.w;
-    if (!(ndc.z > -1.0)) return false;  // Nearer than the near plane: visible.
+    // Nearer than the near plane: visible.
+    if (u_depth_mode.x == 0 ? !(ndc.z > -1.0) : u_depth_mode.x == 1 ? !(ndc.z > 0.0)
+                                                                     : !(ndc.z < 1.0))
+      return false;
     lo = min(lo, ndc.xy);
     hi = max(hi, ndc.xy);
-    nearest = min(nearest, ndc.z * 0.5 + 0.5);
+    float z01 = u_depth_mode.x == 0 ? ndc.z * 0.5 + 0.5 : ndc.z;
+    float window = u_depth_range.x + (u_depth_range.y - u_depth_range.x) * z01;
+    nearest = far_is_max ? min(nearest, window) : max(nearest, window);
   }
   if (any(greaterThan(lo, vec2(1.0))) || any(lessThan(hi, vec2(-1.0)))) return false;
   ivec2 size = u_hiz_size.xy;
@@ -40,9 +52,12 @@ bool siOccluded(vec3 rel, vec4 q, float s, vec3 box_min, vec3 box_max) {
          ((p1.x >> level) - (p0.x >> level) > 1 || (p1.y >> level) - (p0.y >> level) > 1))
     ++level;
   ivec2 a = p0 >> level, b = p1 >> level;
-  float farthest = 0.0;
+  float farthest = far_is_max ? 0.0 : 1.0;
   for (int y = a.y; y <= b.y; ++y)
-    for (int x = a.x; x <= b.x; ++x) farthest = max(farthest, texelFetch(u_hiz, ivec2(x, y), level).r);
-  return nearest > farthest;
+    for (int x = a.x; x <= b.x; ++x) {
+      float d = texelFetch(u_hiz, ivec2(x, y), level).r;
+      farthest = far_is_max ? max(farthest, d) : min(farthest, d);
+    }
+  return far_is_max ? nearest > farthest : nearest < farthest;
 }
 #endif

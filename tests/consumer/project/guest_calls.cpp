@@ -1,6 +1,8 @@
 // See guest_calls.h.
 #include "guest_calls.h"
 
+#include <glm/gtc/matrix_transform.hpp>
+
 #include <glad/gl.h>
 
 #include <functional>
@@ -64,6 +66,10 @@ si::Status makeCrowd(const si::Character& c, const si::BakedPalette& palette, bo
   }
   *camera = si::Camera::lookAt({0.0, 1.6, 4.0}, {0.0, 0.9, -1.5}, glm::vec3(0, 1, 0), 0.9f, 1.0f,
                                0.1f, 100.0f);
+  // The engine's projection matches its zero-to-one clip control (host_state.cpp); the draws
+  // refuse a camera that does not.
+  camera->depth = si::DepthConvention::kZeroToOne;
+  camera->projection = glm::perspectiveRH_ZO(0.9f, 1.0f, 0.1f, 100.0f);
   if (s.isOk()) s = crowd->update(1.0 / 30.0, *camera);
   if (s.isOk()) s = crowd->update(1.0 / 30.0, *camera);  // Previous records of the first.
   return s;

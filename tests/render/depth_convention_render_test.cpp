@@ -1,0 +1,220 @@
+// SkinnedInstancing — SPDX-License-Identifier: MIT (see LICENSE)
+// The engine's depth convention (si::DepthConvention): under glClipControl's zero-to-one depth
+// and under reverse-Z with an infinite far plane, every path draws the standard camera's image
+// and, converted back to distances along the view axis, its depth; two-phase occlusion culling
+// culls the same instances under all three; a camera whose convention does not match the
+// context's clip control is refused by name.
+#include <glad/gl.h>
+
+#include <glm/gtc/matrix_transform.hpp>
+
+#include <algorithm>
+
+#include "render/render_fixture.h"
+
+namespace si {
+namespace {
+
+using namespace test;
+
+// `standard` (a lookAt camera) with `convention`'s projection: zero-to-one (glm's ZO
+// perspective, the same near and far), or reverse-Z with an infinite far plane.
+Camera withConvention(const Camera& standard, DepthConvention convention, float fov,
+                      float near_plane, float far_plane) {
+  Camera c = standard;
+  c.depth = convention;
+  if (convention == DepthConvention::kZeroToOne)
+    c.projection = glm::perspectiveRH_ZO(fov, 1.0f, near_plane, far_plane);
+  if (convention == DepthConvention::kReversedZeroToOne) {
+    const Camera reversed = Camera::lookAtReverseZ({0, 0, 0}, {0, 0, -1}, glm::vec3(0, 1, 0), fov,
+                                                   1.0f, near_plane);
+    c.projection = reversed.projection;
+  }
+  return c;
+}
+
+// The context's clip control, depth function and depth clear for `convention`.
+struct DepthState {
+  explicit DepthState(DepthConvention convention) {
+    const bool zero_to_one = convention != DepthConvention::kNegativeOneToOne;
+    reversed = convention == DepthConvention::kReversedZeroToOne;
+    glClipControl(GL_LOWER_LEFT, zero_to_one ? GL_ZERO_TO_ONE : GL_NEGATIVE_ONE_TO_ONE);
+    glDepthFunc(reversed ? GL_GREATER : GL_LESS);
+  }
+  ~DepthState() {
+    glClipControl(GL_LOWER_LEFT, GL_NEGATIVE_ONE_TO_ONE);
+    glDepthFunc(GL_LESS);
+  }
+  float clearDepth() const { return reversed ? 0.0f : 1.0f; }
+  bool reversed = false;
+};
+
+// Distance along the view axis of window depth `d` under `camera` (depth range 0-1; clip z =
+// A z + B, w = -z), or -1 for the cleared background.
+std::vector<float> viewDistances(const std::vector<float>& depth, const Camera& camera) {
+  const float a = camera.projection[2][2], b = camera.projection[3][2];
+  const bool reversed = camera.depth == DepthConvention::kReversedZeroToOne;
+  std::vector<float> out(depth.size(), -1.0f);
+  for (size_t i = 0; i < depth.size(); ++i) {
+    const float d = depth[i];
+    if (reversed ? d <= 0.0f : d >= 1.0f) continue;
+    const float ndc = camera.depth == DepthConvention::kNegativeOneToOne ? 2.0f * d - 1.0f : d;
+    out[i] = b / (ndc + a);  // -z
+  }
+  return out;
+}
+
+std::vector<float> readDepth() {
+  std::vector<float> z(size_t(kSize) * kSize);
+  glReadPixels(0, 0, GLsizei(kSize), GLsizei(kSize), GL_DEPTH_COMPONENT, GL_FLOAT, z.data());
+  return z;
+}
+
+class DepthConventionTest : public RenderTest {
+ protected:
+  enum class Kind { kInstanced, kCompute, kGpuDriven, kGpuDrivenCompute, kTraditional, kCpu };
+  // Clears (colour and `clear_depth`) and draws `crowd` with `camera` on `kind`; the image.
+  std::vector<uint8_t> drawKind(Renderer& r, Kind kind, const CrowdManager& crowd,
+                                const Camera& camera, float clear_depth, DrawStats* st) {
+    InstanceBatcher batcher;
+    EXPECT_TRUE(batcher.init(r.batchLimits()).isOk());
+    r.clear(glm::vec4(0.2f, 0.25f, 0.3f, 1.0f), clear_depth);
+    Status s;
+    switch (kind) {
+      case Kind::kInstanced:
+        s = r.drawCrowd(crowd, batcher, camera, st, DrawMode::kSkinned);
+        break;
+      case Kind::kCompute:
+        s = r.drawCrowd(crowd, batcher, camera, st, DrawMode::kComputeSkinned);
+        break;
+      case Kind::kGpuDriven: s = r.drawCrowdGpuCulled(crowd, camera, st, DrawMode::kSkinned); break;
+      case Kind::kGpuDrivenCompute:
+        s = r.drawCrowdGpuCulled(crowd, camera, st, DrawMode::kComputeSkinned);
+        break;
+      case Kind::kTraditional: s = r.drawTraditional(crowd, camera, st); break;
+      case Kind::kCpu: s = r.drawCpuSkinned(crowd, camera, st); break;
+    }
+    EXPECT_TRUE(s.isOk()) << s.toString();
+    std::vector<uint8_t> rgba;
+    EXPECT_TRUE(context_->readPixels(&rgba).isOk());
+    return rgba;
+  }
+};
+
+TEST_P(DepthConventionTest, EveryPathDrawsTheStandardImageAndDepthUnderEveryConvention) {
+  const float fov = 0.9f, near_plane = 0.1f, far_plane = 500.0f;
+  const Camera standard = lodCamera();
+  CrowdManager crowd;
+  makeCrowd(&crowd);
+  populateLodCrowd(&crowd);
+  addFadingCharacter(&crowd);
+  ASSERT_TRUE(crowd.update(0.3, standard).isOk());
+  Renderer r;
+  makeRenderer(&r);
+  DrawStats reference_stats;
+  const std::vector<uint8_t> reference =
+      drawKind(r, Kind::kInstanced, crowd, standard, 1.0f, &reference_stats);
+  const std::vector<float> reference_distance = viewDistances(readDepth(), standard);
+  for (DepthConvention convention :
+       {DepthConvention::kZeroToOne, DepthConvention::kReversedZeroToOne}) {
+    SCOPED_TRACE(depthConventionName(convention));
+    const Camera camera = withConvention(standard, convention, fov, near_plane, far_plane);
+    CrowdManager seen;  // The same crowd selected by this camera: the same instances and LODs.
+    makeCrowd(&seen);
+    populateLodCrowd(&seen);
+    addFadingCharacter(&seen);
+    ASSERT_TRUE(seen.update(0.3, camera).isOk());
+    EXPECT_EQ(seen.stats().visible, crowd.stats().visible);
+    const DepthState state(convention);
+    for (Kind kind : {Kind::kInstanced, Kind::kCompute, Kind::kGpuDriven, Kind::kGpuDrivenCompute,
+                      Kind::kTraditional, Kind::kCpu}) {
+      SCOPED_TRACE(int(kind));
+      DrawStats st;
+      const std::vector<uint8_t> image = drawKind(r, kind, seen, camera, state.clearDepth(), &st);
+      const Diff diff = compare(image, reference, nullptr);
+      EXPECT_LE(diff.share, 0.001) << "max channel difference " << diff.max_channel;
+      const std::vector<float> distance = viewDistances(readDepth(), camera);
+      size_t covered = 0, apart = 0;
+      for (size_t i = 0; i < distance.size(); ++i) {
+        if (reference_distance[i] < 0.0f && distance[i] < 0.0f) continue;
+        ++covered;
+        // Within a thousandth of the distance (24-bit standard depth at 110 units is the
+        // coarser of the two), or one of them background at a silhouette.
+        apart += std::abs(distance[i] - reference_distance[i]) >
+                 1e-3f * std::max(1.0f, reference_distance[i]);
+      }
+      EXPECT_GT(covered, 2000u);
+      EXPECT_LE(apart, covered / 200) << apart << " of " << covered;
+    }
+  }
+}
+
+TEST_P(DepthConventionTest, OcclusionCullsTheSameInstancesUnderEveryConvention) {
+  const Camera standard = wallCamera();
+  CrowdManager crowd;
+  makeCrowd(&crowd);
+  populateWallCrowd(&crowd);
+  std::vector<DrawStats> culled;
+  std::vector<std::vector<uint8_t>> images;
+  for (DepthConvention convention :
+       {DepthConvention::kNegativeOneToOne, DepthConvention::kZeroToOne,
+        DepthConvention::kReversedZeroToOne}) {
+    SCOPED_TRACE(depthConventionName(convention));
+    const Camera camera = withConvention(standard, convention, 0.9f, 0.1f, 500.0f);
+    const DepthState state(convention);
+    RendererDesc rd;
+    rd.skinning_path = SkinningPath::kVertexShader;
+    rd.gpu_occlusion_culling = true;
+    rd.measure_gpu_time = true;  // Reads back the counts.
+    Renderer r;
+    makeRenderer(&r, 0, PaletteFormat::kMatrix3x4F32, &rd);
+    DrawStats st;
+    std::vector<uint8_t> image;
+    for (int frame = 0; frame < 3; ++frame)  // Frame 2 knows what frame 1 found hidden.
+      image = drawKind(r, Kind::kGpuDriven, crowd, camera, state.clearDepth(), &st);
+    // Most of the crowd behind the wall is culled, its front row drawn.
+    EXPECT_LT(st.gpu_visible, 400u);
+    EXPECT_GE(st.gpu_visible, 40u);
+    culled.push_back(st);
+    images.push_back(image);
+  }
+  for (size_t k = 1; k < culled.size(); ++k) {
+    EXPECT_EQ(culled[k].gpu_visible, culled[0].gpu_visible) << k;
+    EXPECT_EQ(culled[k].triangles, culled[0].triangles) << k;
+    EXPECT_LE(compare(images[k], images[0], nullptr).share, 0.001) << k;
+  }
+}
+
+TEST_P(DepthConventionTest, ACameraOfAnotherConventionThanTheClipControlIsRefusedByName) {
+  Renderer r;
+  makeRenderer(&r);
+  CrowdManager crowd;
+  makeCrowd(&crowd);
+  populateLodCrowd(&crowd);
+  const Camera reversed =
+      withConvention(lodCamera(), DepthConvention::kReversedZeroToOne, 0.9f, 0.1f, 500.0f);
+  ASSERT_TRUE(crowd.update(0.0, reversed).isOk());
+  InstanceBatcher batcher;
+  ASSERT_TRUE(batcher.init(r.batchLimits()).isOk());
+  const auto refused = [](const Status& s, const char* mode) {
+    EXPECT_EQ(s.code(), StatusCode::kInvalidArgument) << s.toString();
+    EXPECT_NE(s.message().find(std::string("clip control depth mode is ") + mode),
+              std::string::npos)
+        << s.message();
+  };
+  refused(r.drawCrowd(crowd, batcher, reversed, nullptr), "GL_NEGATIVE_ONE_TO_ONE");
+  refused(r.drawCrowdGpuCulled(crowd, reversed, nullptr), "GL_NEGATIVE_ONE_TO_ONE");
+  refused(r.drawTraditional(crowd, reversed, nullptr), "GL_NEGATIVE_ONE_TO_ONE");
+  refused(r.drawCpuSkinned(crowd, reversed, nullptr), "GL_NEGATIVE_ONE_TO_ONE");
+  {
+    const DepthState state(DepthConvention::kZeroToOne);
+    refused(r.drawCrowd(crowd, batcher, lodCamera(), nullptr), "GL_ZERO_TO_ONE");
+    EXPECT_TRUE(r.drawCrowd(crowd, batcher, reversed, nullptr).isOk());
+  }
+  EXPECT_EQ(glGetError(), GLenum(GL_NO_ERROR));
+}
+
+INSTANTIATE_TEST_SUITE_P(Backends, DepthConventionTest, allBackends(), backendTestName);
+
+}  // namespace
+}  // namespace si
