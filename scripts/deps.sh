@@ -15,6 +15,8 @@ packages=(
   libgtest-dev libgmock-dev libbenchmark-dev glslang-tools spirv-tools
   # The demo's window test: a virtual X server (xvfb-run needs xauth)
   xvfb xauth
+  # A real engine as host (examples/ogre_host): OGRE 1.12, its GL3Plus render system
+  libogre-1.12-dev
   # The browser page (scripts/web.sh) and its test in headless Chromium (tests/web); emcc's
   # JavaScript optimizer needs node-acorn
   emscripten node-acorn chromium
