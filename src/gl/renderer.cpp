@@ -342,7 +342,7 @@ Status Renderer::drawCrowd(CharacterId id, const CrowdView& view, const Instance
   // Layered animation: the view's last selection wrote layer records.
   const bool layers = !view.layerRecords().empty() && mode != DrawMode::kRigid;
   const auto t0 = std::chrono::steady_clock::now();
-  Impl::Guard guard = m.enter("drawCrowd", detail::drawFootprint());
+  Impl::Guard guard = m.enter("drawCrowd", detail::drawFootprint(), &camera);
   m.sizeRing();  // setMotionVectors may have changed the default region count.
   // The ring region (resources/ring_frame.h); its blocks start where storage buffers may too.
   // Motion vectors read the previous records where the previous selection's draw left them
@@ -460,7 +460,7 @@ Status Renderer::drawCrowdGpuCulled(CharacterId id, const CrowdView& view, const
             "drawCrowdGpuCulled: the GPU-driven path skins (kDefault, kSkinned, kComputeSkinned, "
             "kDepthOnly)"};
   const auto t0 = std::chrono::steady_clock::now();
-  Impl::Guard guard = m.enter("drawCrowdGpuCulled", detail::gpuDrivenFootprint());
+  Impl::Guard guard = m.enter("drawCrowdGpuCulled", detail::gpuDrivenFootprint(), &camera);
   detail::PathFrame frame;
   frame.crowd = &crowd;
   frame.view = &view;

@@ -66,11 +66,15 @@ struct Renderer::Impl {
   /// reports only the library's); then the guard of `footprint` (gl/state/gl_state_guard.h)
   /// saves the state it may change (RendererDesc::restore_state) and sets the draw state.
   using Guard = std::unique_ptr<detail::GlStateGuard>;
-  Guard enter(const char* what,
-                                              const detail::GlFootprint& footprint) const {
+  /// A draw's guard also takes its `camera`: a projection that mirrors the image (a y-flipped
+  /// render target's, Camera::flipsWinding) draws with clockwise front faces for the call.
+  Guard enter(const char* what, const detail::GlFootprint& footprint,
+              const Camera* camera = nullptr) const {
     if (debug) detail::logHostErrors(what);
-    return std::make_unique<detail::GlStateGuard>(footprint, desc.restore_state,
-                                                  desc.webgl_restore_raster_state);
+    Guard guard = std::make_unique<detail::GlStateGuard>(footprint, desc.restore_state,
+                                                         desc.webgl_restore_raster_state);
+    if (camera != nullptr && camera->flipsWinding()) glFrontFace(GL_CW);
+    return guard;
   }
 
   /// On the ES profile (GlInfo::es), kUnsupported naming `what` and the `capability` it lacks
@@ -195,7 +199,7 @@ struct Renderer::Impl {
                        const CrowdView& view, const Camera& camera, const glm::vec3& light,
                        DrawStats* stats) {
     const auto t0 = std::chrono::steady_clock::now();
-    Guard guard = enter(what, detail::drawFootprint());
+    Guard guard = enter(what, detail::drawFootprint(), &camera);
     detail::PathFrame frame;
     frame.crowd = view.crowd();
     frame.view = &view;

@@ -68,6 +68,14 @@ struct Camera {
                              DepthConvention depth = DepthConvention::kNegativeOneToOne,
                              float viewport_height_pixels = 1080.0f);
 
+  /// Whether the projection mirrors the image on screen (y flipped for a render texture, as
+  /// OGRE and others draw them, or x flipped): its x-y part has a negative determinant, so
+  /// triangles turn the other way on screen. The draws then take clockwise triangles as front
+  /// faces, so the same faces are culled as with the unflipped projection.
+  bool flipsWinding() const {
+    return projection[0][0] * projection[1][1] - projection[1][0] * projection[0][1] < 0.0f;
+  }
+
   /// projection * view_rotation: camera-relative world to clip space.
   glm::mat4 viewProjection() const { return projection * view_rotation; }
 
