@@ -1,6 +1,8 @@
 // SkinnedInstancing — SPDX-License-Identifier: MIT (see LICENSE)
 // GPU-driven culling selects exactly what the CPU selects, on random scenes and on the
 // boundaries, and draws the same image.
+#include <glad/gl.h>
+
 #include <optional>
 #include <random>
 
@@ -356,6 +358,74 @@ TEST_P(RenderTest, GpuOcclusionCullingDrawsTheSameImageWithFewerTriangles) {
       }
     }
   }
+}
+
+// A multisampled target (4 samples): occlusion culling copies its depth with the samples and
+// takes each pixel's farthest, instead of refusing the target (it did: "needs a single-sampled
+// depth buffer", an empty frame). The resolved image equals the one drawn without occlusion
+// culling on the same target, the crowd behind the wall is culled, and the host's multisample
+// texture on unit 0 is back afterwards.
+TEST_P(RenderTest, GpuOcclusionCullingOnAMultisampledTarget) {
+  GLint max_samples = 0;
+  glGetIntegerv(GL_MAX_SAMPLES, &max_samples);
+  if (max_samples < 4) GTEST_SKIP() << "GL_MAX_SAMPLES " << max_samples;
+  GLuint fbo[2] = {0, 0}, buffers[3] = {0, 0, 0}, host_texture = 0;
+  glCreateFramebuffers(2, fbo);
+  glCreateRenderbuffers(3, buffers);
+  glNamedRenderbufferStorageMultisample(buffers[0], 4, GL_RGBA8, GLsizei(kSize), GLsizei(kSize));
+  glNamedRenderbufferStorageMultisample(buffers[1], 4, GL_DEPTH_COMPONENT24, GLsizei(kSize),
+                                        GLsizei(kSize));
+  glNamedRenderbufferStorage(buffers[2], GL_RGBA8, GLsizei(kSize), GLsizei(kSize));
+  glNamedFramebufferRenderbuffer(fbo[0], GL_COLOR_ATTACHMENT0, GL_RENDERBUFFER, buffers[0]);
+  glNamedFramebufferRenderbuffer(fbo[0], GL_DEPTH_ATTACHMENT, GL_RENDERBUFFER, buffers[1]);
+  glNamedFramebufferRenderbuffer(fbo[1], GL_COLOR_ATTACHMENT0, GL_RENDERBUFFER, buffers[2]);
+  ASSERT_EQ(glCheckNamedFramebufferStatus(fbo[0], GL_FRAMEBUFFER), GLenum(GL_FRAMEBUFFER_COMPLETE));
+  glCreateTextures(GL_TEXTURE_2D_MULTISAMPLE, 1, &host_texture);
+  glTextureStorage2DMultisample(host_texture, 2, GL_RGBA8, 4, 4, GL_TRUE);
+  glBindTextureUnit(0, host_texture);
+  GLint previous = 0;
+  glGetIntegerv(GL_DRAW_FRAMEBUFFER_BINDING, &previous);
+  glBindFramebuffer(GL_FRAMEBUFFER, fbo[0]);
+  CrowdManager crowd;
+  makeCrowd(&crowd);
+  populateWallCrowd(&crowd);
+  const auto frames = [&](bool occlusion, DrawStats* st) {
+    RendererDesc rd;
+    rd.skinning_path = SkinningPath::kVertexShader;
+    rd.gpu_occlusion_culling = occlusion;
+    rd.measure_gpu_time = true;
+    Renderer r;
+    makeRenderer(&r, 0, PaletteFormat::kMatrix3x4F32, &rd);
+    for (int frame = 0; frame < 3; ++frame) {
+      r.clear(glm::vec4(0.2f, 0.25f, 0.3f, 1.0f));
+      const Status s = r.drawCrowdGpuCulled(crowd, wallCamera(), st);
+      EXPECT_TRUE(s.isOk()) << s.toString();
+    }
+    glBlitNamedFramebuffer(fbo[0], fbo[1], 0, 0, GLsizei(kSize), GLsizei(kSize), 0, 0,
+                           GLsizei(kSize), GLsizei(kSize), GL_COLOR_BUFFER_BIT, GL_NEAREST);
+    std::vector<uint8_t> rgba(size_t(kSize) * kSize * 4);
+    glBindFramebuffer(GL_READ_FRAMEBUFFER, fbo[1]);
+    glReadPixels(0, 0, GLsizei(kSize), GLsizei(kSize), GL_RGBA, GL_UNSIGNED_BYTE, rgba.data());
+    glBindFramebuffer(GL_READ_FRAMEBUFFER, fbo[0]);
+    return rgba;
+  };
+  DrawStats all, culled;
+  const std::vector<uint8_t> expected = frames(false, &all);
+  const std::vector<uint8_t> actual = frames(true, &culled);
+  const Diff diff = compare(actual, expected, nullptr);
+  EXPECT_LE(diff.share, 0.001) << "max channel difference " << diff.max_channel;
+  EXPECT_LT(culled.gpu_visible * 2, all.gpu_visible);  // Most of the crowd is hidden,
+  EXPECT_GE(culled.gpu_visible, 40u);                  // the wall's front row drawn.
+  GLint unit0 = 0;
+  glActiveTexture(GL_TEXTURE0);
+  glGetIntegerv(GL_TEXTURE_BINDING_2D_MULTISAMPLE, &unit0);
+  EXPECT_EQ(GLuint(unit0), host_texture);
+  glBindFramebuffer(GL_FRAMEBUFFER, GLuint(previous));
+  glBindTextureUnit(0, 0);
+  glDeleteTextures(1, &host_texture);
+  glDeleteFramebuffers(2, fbo);
+  glDeleteRenderbuffers(3, buffers);
+  EXPECT_EQ(glGetError(), GLenum(GL_NO_ERROR));
 }
 
 }  // namespace

@@ -139,7 +139,8 @@ struct RendererDesc {
   uint64_t gpu_driven_ring_bytes = 0;
   /// drawCrowdGpuCulled(): two-phase occlusion culling. Phase 1 draws the instances visible at
   /// the end of the last frame; the depth buffer (of the framebuffer bound when drawing, over
-  /// the viewport; single-sampled) is reduced into a depth pyramid; phase 2 tests every
+  /// the viewport; a multisampled one by each pixel's farthest sample) is reduced into a depth
+  /// pyramid; phase 2 tests every
   /// instance in the frustum against it (its bounding sphere's box), draws those not occluded
   /// that phase 1 did not, and remembers which are visible for the next frame. The image is the
   /// one without occlusion culling; what the application drew before also occludes, so it must

@@ -117,6 +117,8 @@ const ProgramSpec kSpecs[kProgramCount] = {
      "#define SI_MOTION_VECTORS\n#define SI_LAYERS\n#define SI_COMPOSED_LAYERS\n", nullptr, nullptr,
      "gpu_skin.comp.glsl", nullptr},
     {"staged upload scatter", "", nullptr, nullptr, "upload_scatter.comp.glsl", nullptr},
+    {"depth pyramid copy, multisampled", "#define SI_HIZ_COPY\n#define SI_HIZ_MULTISAMPLE\n",
+     nullptr, nullptr, "hiz.comp.glsl", nullptr},
 };
 
 }  // namespace

@@ -66,6 +66,7 @@ enum class ProgramId : uint8_t {
   kGpuSkinComposed,                 ///< kGpuSkinLayers reading them.
   kGpuSkinMotionComposed,           ///< kGpuSkinMotionLayers reading them.
   kUploadScatter,                   ///< Staged uploads into place (resources/upload_ring.h).
+  kHizCopyMultisample,              ///< kHizCopy from a multisampled depth (farthest sample).
   kCount
 };
 inline constexpr size_t kProgramCount = size_t(ProgramId::kCount);

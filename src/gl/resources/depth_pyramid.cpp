@@ -11,14 +11,11 @@ namespace {
 
 using detail::strCat;
 
-// The depth format of the draw framebuffer's depth attachment (0: none), for a blit's target.
-Status depthFormat(GLuint framebuffer, GLenum* format) {
-  GLint samples = 0;
-  glGetNamedFramebufferParameteriv(framebuffer, GL_SAMPLES, &samples);
-  if (samples > 0)
-    return {StatusCode::kUnsupported,
-            strCat("occlusion culling: the framebuffer has ", samples,
-                   " samples; it needs a single-sampled depth buffer")};
+// The depth format of the draw framebuffer's depth attachment (0: none) and its samples (0:
+// single-sampled), for a blit's target.
+Status depthFormat(GLuint framebuffer, GLenum* format, GLint* samples) {
+  *samples = 0;
+  glGetNamedFramebufferParameteriv(framebuffer, GL_SAMPLES, samples);
   const GLenum attachment = framebuffer == 0 ? GL_DEPTH : GL_DEPTH_ATTACHMENT;
   const GLenum stencil_attachment = framebuffer == 0 ? GL_STENCIL : GL_STENCIL_ATTACHMENT;
   GLint type = GL_NONE, depth_bits = 0, stencil_bits = 0, component = GL_NONE;
@@ -61,21 +58,27 @@ Status DepthPyramid::build(const ProgramSet& programs, bool far_is_max) {
   // Framebuffer queries can wait for the GPU on some drivers: the format is queried again only
   // when the bound framebuffer changes.
   GLenum format = depth_format_;
+  GLint samples = samples_;
   Status s;
   if (GLuint(framebuffer) != framebuffer_ || depth_format_ == 0) {
-    s = depthFormat(GLuint(framebuffer), &format);
+    s = depthFormat(GLuint(framebuffer), &format, &samples);
     if (!s.isOk()) return s;
     framebuffer_ = GLuint(framebuffer);
   }
   const int w = std::max(1, viewport[2]), h = std::max(1, viewport[3]);
-  if (w != width_ || h != height_ || format != depth_format_ || pyramid_ == kNoObject) {
+  if (w != width_ || h != height_ || format != depth_format_ || samples != samples_ ||
+      pyramid_ == kNoObject) {
     width_ = height_ = levels_ = 0;  // Until both textures exist.
     // Level 0 has power-of-two sides at least the viewport's, so every level halves exactly.
     int pw = 1, ph = 1, levels = 1;
     while (pw < w) pw *= 2;
     while (ph < h) ph *= 2;
     while ((std::max(pw, ph) >> (levels - 1)) > 1) ++levels;
-    s = createTexture2D(&depth_, 1, format, w, h, "occlusion culling: the depth copy");
+    // A multisampled depth is copied as it is (a blit between equal sample counts); the copy
+    // pass takes each pixel's farthest sample, never one sample's depth.
+    s = samples > 0 ? createTexture2DMultisample(&depth_, samples, format, w, h,
+                                                 "occlusion culling: the depth copy")
+                    : createTexture2D(&depth_, 1, format, w, h, "occlusion culling: the depth copy");
     if (s.isOk())
       s = createTexture2D(&pyramid_, levels, GL_R32F, pw, ph,
                           "occlusion culling: the depth pyramid");
@@ -84,17 +87,21 @@ Status DepthPyramid::build(const ProgramSet& programs, bool far_is_max) {
     glNamedFramebufferTexture(fbo_, GL_DEPTH_ATTACHMENT, depth_, 0);
     glTextureParameteri(pyramid_, GL_TEXTURE_MIN_FILTER, GL_NEAREST_MIPMAP_NEAREST);
     glTextureParameteri(pyramid_, GL_TEXTURE_MAG_FILTER, GL_NEAREST);
-    glTextureParameteri(depth_, GL_TEXTURE_MIN_FILTER, GL_NEAREST);
-    glTextureParameteri(depth_, GL_TEXTURE_MAG_FILTER, GL_NEAREST);
-    glTextureParameteri(depth_, GL_TEXTURE_COMPARE_MODE, GL_NONE);
-    width_ = w, height_ = h, levels_ = levels, depth_format_ = format;
+    if (samples == 0) {  // Multisampled textures have no sampling state.
+      glTextureParameteri(depth_, GL_TEXTURE_MIN_FILTER, GL_NEAREST);
+      glTextureParameteri(depth_, GL_TEXTURE_MAG_FILTER, GL_NEAREST);
+      glTextureParameteri(depth_, GL_TEXTURE_COMPARE_MODE, GL_NONE);
+    }
+    width_ = w, height_ = h, levels_ = levels, depth_format_ = format, samples_ = samples;
     pyramid_width_ = pw, pyramid_height_ = ph;
   }
   glBlitNamedFramebuffer(GLuint(framebuffer), fbo_, viewport[0], viewport[1], viewport[0] + w,
                          viewport[1] + h, 0, 0, w, h, GL_DEPTH_BUFFER_BIT, GL_NEAREST);
   // Level 0 from the copy, then each level from the one below.
-  const GLuint copy = programs[ProgramId::kHizCopy].id;
+  const GLuint copy =
+      programs[samples_ > 0 ? ProgramId::kHizCopyMultisample : ProgramId::kHizCopy].id;
   glUseProgram(copy);
+  if (samples_ > 0) glProgramUniform1i(copy, 3, samples_);
   glBindTextureUnit(0, depth_);
   glBindImageTexture(0, pyramid_, 0, GL_FALSE, 0, GL_WRITE_ONLY, GL_R32F);
   glProgramUniform2i(copy, 0, pyramid_width_, pyramid_height_);

@@ -12,11 +12,12 @@ namespace si::detail {
 class DepthPyramid {
  public:
   /// Builds the pyramid from what the bound draw framebuffer's depth holds now. Recreates its
-  /// textures when the viewport's size or the depth format changes (the format is queried when
-  /// the bound framebuffer changes: attach another depth buffer to the same framebuffer object
-  /// and the next build may fail to blit). kUnsupported for a
-  /// framebuffer without depth or with multisampling (a blit would resolve one sample);
-  /// createTexture2D()'s status when a texture cannot be made.
+  /// textures when the viewport's size, the depth format or the sample count changes (both are
+  /// queried when the bound framebuffer changes: attach another depth buffer to the same
+  /// framebuffer object and the next build may fail to blit). A multisampled depth is copied
+  /// with its samples and level 0 takes each pixel's farthest sample. kUnsupported for a
+  /// framebuffer without a depth this can copy; createTexture2D()'s status when a texture
+  /// cannot be made.
   /// `far_is_max`: window depth grows with distance (the farthest depth is the largest);
   /// false for reverse-Z (or a depth range from far to near), where the pyramid keeps minima.
   Status build(const ProgramSet& programs, bool far_is_max);
@@ -32,6 +33,7 @@ class DepthPyramid {
   GLuint framebuffer_ = 0;  // The one depth_format_ was queried for.
   int width_ = 0, height_ = 0, levels_ = 0;  // The viewport's size; the pyramid's levels.
   int pyramid_width_ = 0, pyramid_height_ = 0;  // Level 0: powers of two.
+  GLint samples_ = 0;  // Of the depth copy: the framebuffer's (0: single-sampled).
 };
 
 }  // namespace si::detail

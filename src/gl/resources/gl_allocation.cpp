@@ -93,6 +93,16 @@ Status createTexture2D(GLuint* texture, GLsizei levels, GLenum internal_format, 
                      [&](GLuint t) { glTextureStorage2D(t, levels, internal_format, width, height); });
 }
 
+Status createTexture2DMultisample(GLuint* texture, GLsizei samples, GLenum internal_format,
+                                  GLsizei width, GLsizei height, const char* what) {
+  return makeTexture(texture, GL_TEXTURE_2D_MULTISAMPLE, what,
+                     strCat(width, " x ", height, " texels of ", samples, " samples"),
+                     [&](GLuint t) {
+                       glTextureStorage2DMultisample(t, samples, internal_format, width, height,
+                                                     GL_TRUE);
+                     });
+}
+
 Status createTexture2DArray(GLuint* texture, GLsizei levels, GLenum internal_format,
                             GLsizei width, GLsizei height, GLsizei layers, const char* what) {
   return makeTexture(texture, GL_TEXTURE_2D_ARRAY, what,

@@ -48,6 +48,9 @@ struct TableBuffer {
 /// `width` x `height`; fails as createBuffer() does (the size named in texels).
 Status createTexture2D(GLuint* texture, GLsizei levels, GLenum internal_format, GLsizei width,
                        GLsizei height, const char* what);
+/// The same for a multisampled 2D texture of `samples` samples (fixed sample locations).
+Status createTexture2DMultisample(GLuint* texture, GLsizei samples, GLenum internal_format,
+                                  GLsizei width, GLsizei height, const char* what);
 /// The same for a 2D array texture of `layers` layers.
 Status createTexture2DArray(GLuint* texture, GLsizei levels, GLenum internal_format,
                             GLsizei width, GLsizei height, GLsizei layers, const char* what);

@@ -1,6 +1,7 @@
 // SkinnedInstancing - SPDX-License-Identifier: MIT (see LICENSE)
 // Occlusion culling's depth pyramid (resources/depth_pyramid.cpp): with SI_HIZ_COPY, level 0
-// from the depth texture (texels past the viewport hold the farthest depth there is); otherwise
+// from the depth texture (texels past the viewport hold the farthest depth there is; with
+// SI_HIZ_MULTISAMPLE each texel the farthest of its samples); otherwise
 // level k from level k - 1, each texel the farthest depth of the 2 x 2 texels it covers: the
 // largest, or the smallest where depth shrinks with distance (reverse-Z, u_far_is_max 0).
 // Level 0 has power-of-two sides, so every level halves exactly: texel x of level k covers
@@ -12,13 +13,24 @@ layout(location = 1) uniform ivec2 u_source_size;  // of the depth copy, or of t
 layout(location = 2) uniform int u_far_is_max;     // 1: depth grows with distance
 float siFarther(float a, float b) { return u_far_is_max != 0 ? max(a, b) : min(a, b); }
 #ifdef SI_HIZ_COPY
+#ifdef SI_HIZ_MULTISAMPLE  // A multisampled depth: each pixel's farthest sample.
+layout(binding = 0) uniform sampler2DMS u_depth;
+layout(location = 3) uniform int u_samples;
+float siDepth(ivec2 p) {
+  float d = texelFetch(u_depth, p, 0).r;
+  for (int k = 1; k < u_samples; ++k) d = siFarther(d, texelFetch(u_depth, p, k).r);
+  return d;
+}
+#else
 layout(binding = 0) uniform sampler2D u_depth;
+float siDepth(ivec2 p) { return texelFetch(u_depth, p, 0).r; }
+#endif
 layout(binding = 0, r32f) writeonly uniform image2D u_out;
 void main() {
   ivec2 p = ivec2(gl_GlobalInvocationID.xy);
   if (any(greaterThanEqual(p, u_size))) return;
   bool inside = all(lessThan(p, u_source_size));
-  imageStore(u_out, p, vec4(inside ? texelFetch(u_depth, p, 0).r : float(u_far_is_max)));
+  imageStore(u_out, p, vec4(inside ? siDepth(p) : float(u_far_is_max)));
 }
 #else
 layout(binding = 0, r32f) readonly uniform image2D u_in;

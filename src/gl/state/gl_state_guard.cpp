@@ -205,6 +205,8 @@ GlStateGuard::GlStateGuard(const GlFootprint& footprint, bool restore, bool webg
         glActiveTexture(GLenum(GL_TEXTURE0 + u));
         glGetIntegerv(GL_TEXTURE_BINDING_2D, &units_[u].texture_2d);
         glGetIntegerv(GL_TEXTURE_BINDING_2D_ARRAY, &units_[u].texture_2d_array);
+        if (!es_)  // Occlusion culling's copy of a multisampled depth.
+          glGetIntegerv(GL_TEXTURE_BINDING_2D_MULTISAMPLE, &units_[u].texture_2d_multisample);
         glGetIntegerv(GL_SAMPLER_BINDING, &units_[u].sampler);
       }
       glActiveTexture(GLenum(active_texture_));
@@ -296,6 +298,7 @@ GlStateGuard::~GlStateGuard() {
       glActiveTexture(GLenum(GL_TEXTURE0 + u));
       glBindTexture(GL_TEXTURE_2D, GLuint(units_[u].texture_2d));
       glBindTexture(GL_TEXTURE_2D_ARRAY, GLuint(units_[u].texture_2d_array));
+      if (!es_) glBindTexture(GL_TEXTURE_2D_MULTISAMPLE, GLuint(units_[u].texture_2d_multisample));
       glBindSampler(GLuint(u), GLuint(units_[u].sampler));
     }
     glActiveTexture(GLenum(active_texture_));

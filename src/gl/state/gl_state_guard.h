@@ -19,7 +19,8 @@ namespace si::detail {
 struct GlFootprint {
   uint32_t uniform_buffers = 0;  ///< Bit i: uniform buffer binding i (and the generic one).
   uint32_t storage_buffers = 0;  ///< Bit i: shader storage binding i (and the generic one).
-  uint32_t texture_units = 0;    ///< Bit u: unit u's 2D and 2D array textures and its sampler.
+  uint32_t texture_units = 0;    ///< Bit u: unit u's 2D, 2D array and (desktop) 2D multisample
+                                 ///< textures and its sampler.
   uint32_t image_units = 0;      ///< Bit i: image unit i.
   /// Program, vertex array, the draw and dispatch indirect buffers, the query buffer (its
   /// binding turns the GPU timer's result pointer into an offset), depth test, face culling
@@ -64,7 +65,7 @@ class GlStateGuard {
     GLint64 start = 0, size = 0;
   };
   struct Unit {
-    GLint texture_2d = 0, texture_2d_array = 0, sampler = 0;
+    GLint texture_2d = 0, texture_2d_array = 0, texture_2d_multisample = 0, sampler = 0;
   };
   struct Image {
     GLint texture = 0, level = 0, layer = 0, access = GL_READ_ONLY, format = GL_R8;
