@@ -72,28 +72,11 @@ std::vector<float> readDepth() {
 
 class DepthConventionTest : public RenderTest {
  protected:
-  enum class Kind { kInstanced, kCompute, kGpuDriven, kGpuDrivenCompute, kTraditional, kCpu };
   // Clears (colour and `clear_depth`) and draws `crowd` with `camera` on `kind`; the image.
-  std::vector<uint8_t> drawKind(Renderer& r, Kind kind, const CrowdManager& crowd,
+  std::vector<uint8_t> drawKind(Renderer& r, PathKind kind, const CrowdManager& crowd,
                                 const Camera& camera, float clear_depth, DrawStats* st) {
-    InstanceBatcher batcher;
-    EXPECT_TRUE(batcher.init(r.batchLimits()).isOk());
     r.clear(glm::vec4(0.2f, 0.25f, 0.3f, 1.0f), clear_depth);
-    Status s;
-    switch (kind) {
-      case Kind::kInstanced:
-        s = r.drawCrowd(crowd, batcher, camera, st, DrawMode::kSkinned);
-        break;
-      case Kind::kCompute:
-        s = r.drawCrowd(crowd, batcher, camera, st, DrawMode::kComputeSkinned);
-        break;
-      case Kind::kGpuDriven: s = r.drawCrowdGpuCulled(crowd, camera, st, DrawMode::kSkinned); break;
-      case Kind::kGpuDrivenCompute:
-        s = r.drawCrowdGpuCulled(crowd, camera, st, DrawMode::kComputeSkinned);
-        break;
-      case Kind::kTraditional: s = r.drawTraditional(crowd, camera, st); break;
-      case Kind::kCpu: s = r.drawCpuSkinned(crowd, camera, st); break;
-    }
+    const Status s = drawOnPath(r, kind, crowd, camera, st);
     EXPECT_TRUE(s.isOk()) << s.toString();
     std::vector<uint8_t> rgba;
     EXPECT_TRUE(context_->readPixels(&rgba).isOk());
@@ -113,7 +96,7 @@ TEST_P(DepthConventionTest, EveryPathDrawsTheStandardImageAndDepthUnderEveryConv
   makeRenderer(&r);
   DrawStats reference_stats;
   const std::vector<uint8_t> reference =
-      drawKind(r, Kind::kInstanced, crowd, standard, 1.0f, &reference_stats);
+      drawKind(r, PathKind::kInstanced, crowd, standard, 1.0f, &reference_stats);
   const std::vector<float> reference_distance = viewDistances(readDepth(), standard);
   for (DepthConvention convention :
        {DepthConvention::kZeroToOne, DepthConvention::kReversedZeroToOne}) {
@@ -126,9 +109,8 @@ TEST_P(DepthConventionTest, EveryPathDrawsTheStandardImageAndDepthUnderEveryConv
     ASSERT_TRUE(seen.update(0.3, camera).isOk());
     EXPECT_EQ(seen.stats().visible, crowd.stats().visible);
     const DepthState state(convention);
-    for (Kind kind : {Kind::kInstanced, Kind::kCompute, Kind::kGpuDriven, Kind::kGpuDrivenCompute,
-                      Kind::kTraditional, Kind::kCpu}) {
-      SCOPED_TRACE(int(kind));
+    for (PathKind kind : kEveryPath) {
+      SCOPED_TRACE(pathKindName(kind));
       DrawStats st;
       const std::vector<uint8_t> image = drawKind(r, kind, seen, camera, state.clearDepth(), &st);
       const Diff diff = compare(image, reference, nullptr);
@@ -171,7 +153,7 @@ TEST_P(DepthConventionTest, OcclusionCullsTheSameInstancesUnderEveryConvention) 
     DrawStats st;
     std::vector<uint8_t> image;
     for (int frame = 0; frame < 3; ++frame)  // Frame 2 knows what frame 1 found hidden.
-      image = drawKind(r, Kind::kGpuDriven, crowd, camera, state.clearDepth(), &st);
+      image = drawKind(r, PathKind::kGpuDriven, crowd, camera, state.clearDepth(), &st);
     // Most of the crowd behind the wall is culled, its front row drawn.
     EXPECT_LT(st.gpu_visible, 400u);
     EXPECT_GE(st.gpu_visible, 40u);

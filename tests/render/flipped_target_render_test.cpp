@@ -27,26 +27,11 @@ Camera yFlipped(Camera c) {
 
 class FlippedTargetTest : public RenderTest {
  protected:
-  enum class Kind { kInstanced, kCompute, kGpuDriven, kGpuDrivenCompute, kTraditional, kCpu };
-  std::vector<uint8_t> drawKind(Renderer& r, Kind kind, const CrowdManager& crowd,
+  // Clears and draws `crowd` with `camera` on `kind`; the image.
+  std::vector<uint8_t> drawKind(Renderer& r, PathKind kind, const CrowdManager& crowd,
                                 const Camera& camera) {
-    InstanceBatcher batcher;
-    EXPECT_TRUE(batcher.init(r.batchLimits()).isOk());
     r.clear(glm::vec4(0.2f, 0.25f, 0.3f, 1.0f));
-    DrawStats st;
-    Status s;
-    switch (kind) {
-      case Kind::kInstanced: s = r.drawCrowd(crowd, batcher, camera, &st, DrawMode::kSkinned); break;
-      case Kind::kCompute:
-        s = r.drawCrowd(crowd, batcher, camera, &st, DrawMode::kComputeSkinned);
-        break;
-      case Kind::kGpuDriven: s = r.drawCrowdGpuCulled(crowd, camera, &st, DrawMode::kSkinned); break;
-      case Kind::kGpuDrivenCompute:
-        s = r.drawCrowdGpuCulled(crowd, camera, &st, DrawMode::kComputeSkinned);
-        break;
-      case Kind::kTraditional: s = r.drawTraditional(crowd, camera, &st); break;
-      case Kind::kCpu: s = r.drawCpuSkinned(crowd, camera, &st); break;
-    }
+    const Status s = drawOnPath(r, kind, crowd, camera, nullptr);
     EXPECT_TRUE(s.isOk()) << s.toString();
     std::vector<uint8_t> rgba;
     EXPECT_TRUE(context_->readPixels(&rgba).isOk());
@@ -64,10 +49,10 @@ TEST_P(FlippedTargetTest, EveryPathDrawsTheStandardImageUpsideDown) {
   ASSERT_TRUE(crowd.update(0.3, lodCamera()).isOk());
   Renderer r;
   makeRenderer(&r);
-  const std::vector<uint8_t> expected = flipped(drawKind(r, Kind::kInstanced, crowd, lodCamera()));
-  for (Kind kind : {Kind::kInstanced, Kind::kCompute, Kind::kGpuDriven, Kind::kGpuDrivenCompute,
-                    Kind::kTraditional, Kind::kCpu}) {
-    SCOPED_TRACE(int(kind));
+  const std::vector<uint8_t> expected =
+      flipped(drawKind(r, PathKind::kInstanced, crowd, lodCamera()));
+  for (PathKind kind : kEveryPath) {
+    SCOPED_TRACE(pathKindName(kind));
     const Diff diff = compare(drawKind(r, kind, crowd, yFlipped(lodCamera())), expected, nullptr);
     EXPECT_LE(diff.share, 0.001) << "max channel difference " << diff.max_channel;
   }
@@ -87,8 +72,8 @@ TEST_P(FlippedTargetTest, ImpostorsAndOcclusionCullingDrawTheStandardImageUpside
   ASSERT_TRUE(r.buildImpostor(id, small).isOk());
   CrowdManager far;
   impostorRowsCrowd(3.0, 30.0, 20.0, &far);
-  for (Kind kind : {Kind::kInstanced, Kind::kGpuDriven}) {
-    SCOPED_TRACE(int(kind));
+  for (PathKind kind : {PathKind::kInstanced, PathKind::kGpuDriven}) {
+    SCOPED_TRACE(pathKindName(kind));
     const std::vector<uint8_t> expected = flipped(drawKind(r, kind, far, lodCamera()));
     const Diff diff = compare(drawKind(r, kind, far, yFlipped(lodCamera())), expected, nullptr);
     EXPECT_LE(diff.share, 0.001) << "max channel difference " << diff.max_channel;
@@ -107,7 +92,7 @@ TEST_P(FlippedTargetTest, ImpostorsAndOcclusionCullingDrawTheStandardImageUpside
   for (int flip = 0; flip < 2; ++flip) {
     const Camera camera = flip ? yFlipped(wallCamera()) : wallCamera();
     for (int frame = 0; frame < 3; ++frame)
-      images[flip] = drawKind(occluding, Kind::kGpuDriven, wall, camera);
+      images[flip] = drawKind(occluding, PathKind::kGpuDriven, wall, camera);
   }
   const Diff diff = compare(images[1], flipped(images[0]), nullptr);
   EXPECT_LE(diff.share, 0.001) << "max channel difference " << diff.max_channel;

@@ -127,33 +127,13 @@ class HostMaterialTest : public RenderTest {
     EXPECT_EQ(r->material(id), material);
   }
 
-  enum class Kind { kInstanced, kCompute, kGpuDriven, kGpuDrivenCompute, kTraditional, kCpu };
-  // Draws `crowd` with `r` on `kind` into `targets` after clearing them.
-  void drawInto(Renderer& r, Kind kind, const CrowdManager& crowd, const TwoTargets& targets,
-                DrawMode mode = DrawMode::kDefault) {
+  // Draws `crowd` with `r` on `kind` (depth only when `depth_only`) into `targets` after clearing
+  // them.
+  void drawInto(Renderer& r, PathKind kind, const CrowdManager& crowd, const TwoTargets& targets,
+                bool depth_only = false) {
     targets.clear();
-    InstanceBatcher batcher;
-    ASSERT_TRUE(batcher.init(r.batchLimits()).isOk());
     DrawStats stats;
-    Status s;
-    switch (kind) {
-      case Kind::kInstanced:
-        s = r.drawCrowd(crowd, batcher, lodCamera(), &stats,
-                        mode == DrawMode::kDefault ? DrawMode::kSkinned : mode);
-        break;
-      case Kind::kCompute:
-        s = r.drawCrowd(crowd, batcher, lodCamera(), &stats, DrawMode::kComputeSkinned);
-        break;
-      case Kind::kGpuDriven:
-        s = r.drawCrowdGpuCulled(crowd, lodCamera(), &stats,
-                                 mode == DrawMode::kDefault ? DrawMode::kSkinned : mode);
-        break;
-      case Kind::kGpuDrivenCompute:
-        s = r.drawCrowdGpuCulled(crowd, lodCamera(), &stats, DrawMode::kComputeSkinned);
-        break;
-      case Kind::kTraditional: s = r.drawTraditional(crowd, lodCamera(), &stats); break;
-      case Kind::kCpu: s = r.drawCpuSkinned(crowd, lodCamera(), &stats); break;
-    }
+    const Status s = drawOnPath(r, kind, crowd, lodCamera(), &stats, depth_only);
     ASSERT_TRUE(s.isOk()) << s.toString();
     EXPECT_GT(stats.draw_calls, 0u);
   }
@@ -172,7 +152,7 @@ TEST_P(HostMaterialTest, AHostMaterialWritingTwoTargetsDrawsTheSameImagesOnEvery
   makeMaterialRenderer(&vs, SkinningPath::kVertexShader);
   makeMaterialRenderer(&cs, SkinningPath::kCompute);
 
-  drawInto(vs, Kind::kInstanced, crowd, targets);
+  drawInto(vs, PathKind::kInstanced, crowd, targets);
   const std::vector<uint8_t> lit = targets.read(0), surface = targets.read(1);
   // The material drew: the host's tone (red only) everywhere the crowd is, every LOD in the
   // second target's alpha.
@@ -191,16 +171,16 @@ TEST_P(HostMaterialTest, AHostMaterialWritingTwoTargetsDrawsTheSameImagesOnEvery
   struct Case {
     const char* name;
     Renderer* r;
-    Kind kind;
+    PathKind kind;
     bool occlusion;
   };
-  for (const Case& k : {Case{"compute", &cs, Kind::kCompute, false},
-                        Case{"gpu-driven", &vs, Kind::kGpuDriven, false},
-                        Case{"gpu-driven compute", &cs, Kind::kGpuDrivenCompute, false},
-                        Case{"gpu-driven occlusion", &vs, Kind::kGpuDriven, true},
-                        Case{"gpu-driven compute occlusion", &cs, Kind::kGpuDrivenCompute, true},
-                        Case{"traditional", &vs, Kind::kTraditional, false},
-                        Case{"cpu-skinned", &vs, Kind::kCpu, false}}) {
+  for (const Case& k : {Case{"compute", &cs, PathKind::kCompute, false},
+                        Case{"gpu-driven", &vs, PathKind::kGpuDriven, false},
+                        Case{"gpu-driven compute", &cs, PathKind::kGpuDrivenCompute, false},
+                        Case{"gpu-driven occlusion", &vs, PathKind::kGpuDriven, true},
+                        Case{"gpu-driven compute occlusion", &cs, PathKind::kGpuDrivenCompute, true},
+                        Case{"traditional", &vs, PathKind::kTraditional, false},
+                        Case{"cpu-skinned", &vs, PathKind::kCpu, false}}) {
     SCOPED_TRACE(k.name);
     k.r->setGpuOcclusionCulling(k.occlusion);
     drawInto(*k.r, k.kind, crowd, targets);
@@ -215,13 +195,13 @@ TEST_P(HostMaterialTest, AHostMaterialWritingTwoTargetsDrawsTheSameImagesOnEvery
 
   // The same renderer with the built-in material draws the built-in image into target 0.
   ASSERT_TRUE(vs.setMaterial(CharacterId{}, kBuiltinMaterial).isOk());
-  drawInto(vs, Kind::kInstanced, crowd, targets);
+  drawInto(vs, PathKind::kInstanced, crowd, targets);
   EXPECT_GT(compare(targets.read(0), lit, nullptr).share, 0.01);
   Renderer builtin;
   makeRenderer(&builtin);
-  drawInto(builtin, Kind::kInstanced, crowd, targets);
+  drawInto(builtin, PathKind::kInstanced, crowd, targets);
   const std::vector<uint8_t> builtin_image = targets.read(0);
-  drawInto(vs, Kind::kInstanced, crowd, targets);
+  drawInto(vs, PathKind::kInstanced, crowd, targets);
   EXPECT_EQ(compare(targets.read(0), builtin_image, nullptr).max_channel, 0);
 }
 
@@ -236,7 +216,7 @@ TEST_P(HostMaterialTest, ImpostorsHandTheirSurfaceToTheHostMaterial) {
   id.azimuths = 8;
   id.frames_per_clip = 4;
   ASSERT_TRUE(r.buildImpostor(CharacterId{}, id).isOk());
-  drawInto(r, Kind::kInstanced, crowd, targets);
+  drawInto(r, PathKind::kInstanced, crowd, targets);
   const std::vector<uint8_t> lit = targets.read(0), surface = targets.read(1);
   size_t impostor_pixels = 0, red_or_blue = 0;
   for (size_t p = 0; p < lit.size(); p += 4) {
@@ -247,7 +227,7 @@ TEST_P(HostMaterialTest, ImpostorsHandTheirSurfaceToTheHostMaterial) {
   EXPECT_GT(impostor_pixels, 100u);  // SiSurface.impostor reached the material,
   EXPECT_EQ(red_or_blue, 0u);        // which lit them with the host's tone.
   // The GPU-driven impostors draw the same.
-  drawInto(r, Kind::kGpuDriven, crowd, targets);
+  drawInto(r, PathKind::kGpuDriven, crowd, targets);
   EXPECT_LE(compare(targets.read(0), lit, nullptr).share, 0.001);
   EXPECT_LE(compare(targets.read(1), surface, nullptr).share, 0.001);
 }
@@ -275,22 +255,22 @@ void siMaterial(SiSurface s) {
   Renderer cut, whole;
   makeMaterialRenderer(&cut, SkinningPath::kVertexShader, nullptr, true, kCut);
   makeMaterialRenderer(&whole, SkinningPath::kVertexShader, nullptr, false, kCut);
-  drawInto(whole, Kind::kInstanced, crowd, targets, DrawMode::kDepthOnly);
+  drawInto(whole, PathKind::kInstanced, crowd, targets, true);
   const std::vector<float> all = targets.readDepth();
-  drawInto(cut, Kind::kInstanced, crowd, targets, DrawMode::kDepthOnly);
+  drawInto(cut, PathKind::kInstanced, crowd, targets, true);
   const std::vector<float> some = targets.readDepth();
   EXPECT_GT(written(all), 2000u);
   EXPECT_LT(written(some), written(all) * 9 / 10);
   EXPECT_GT(written(some), written(all) / 10);
   // The colour pass covers what the depth-only pass wrote.
-  drawInto(cut, Kind::kInstanced, crowd, targets);
+  drawInto(cut, PathKind::kInstanced, crowd, targets);
   EXPECT_LE(differingDepths(targets.readDepth(), some), some.size() / 1000);
   // The GPU-driven depth-only pass (vertex-shader skinning and pre-skinning) discards alike.
-  drawInto(cut, Kind::kGpuDriven, crowd, targets, DrawMode::kDepthOnly);
+  drawInto(cut, PathKind::kGpuDriven, crowd, targets, true);
   EXPECT_LE(differingDepths(targets.readDepth(), some), some.size() / 1000);
   Renderer cut_compute;
   makeMaterialRenderer(&cut_compute, SkinningPath::kCompute, nullptr, true, kCut);
-  drawInto(cut_compute, Kind::kGpuDriven, crowd, targets, DrawMode::kDepthOnly);
+  drawInto(cut_compute, PathKind::kGpuDriven, crowd, targets, true);
   EXPECT_LE(differingDepths(targets.readDepth(), some), some.size() / 1000);
 }
 

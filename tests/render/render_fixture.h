@@ -118,6 +118,45 @@ inline void expectMotionAgrees(const std::vector<glm::vec2>& a, const std::vecto
   EXPECT_GE(double(agree), 0.995 * double(a.size()));
 }
 
+// Every drawing path by one name, for the tests that draw one scene on each: the instanced
+// paths (drawCrowd, vertex-shader skinning or compute pre-skinning), the GPU-driven ones
+// (drawCrowdGpuCulled, either skinning) and the two baselines.
+enum class PathKind { kInstanced, kCompute, kGpuDriven, kGpuDrivenCompute, kTraditional, kCpu };
+inline constexpr PathKind kEveryPath[] = {PathKind::kInstanced,        PathKind::kCompute,
+                                          PathKind::kGpuDriven,        PathKind::kGpuDrivenCompute,
+                                          PathKind::kTraditional,      PathKind::kCpu};
+inline const char* pathKindName(PathKind k) {
+  switch (k) {
+    case PathKind::kInstanced: return "instanced";
+    case PathKind::kCompute: return "compute";
+    case PathKind::kGpuDriven: return "gpu-driven";
+    case PathKind::kGpuDrivenCompute: return "gpu-driven compute";
+    case PathKind::kTraditional: return "traditional";
+    case PathKind::kCpu: return "cpu-skinned";
+  }
+  return "?";
+}
+// Draws `crowd`'s own view with `camera` on `kind` (depth only when `depth_only`: the instanced
+// and GPU-driven kinds), without clearing; adds the draw's statistics to `stats` when given.
+inline Status drawOnPath(Renderer& r, PathKind kind, const CrowdManager& crowd,
+                         const Camera& camera, DrawStats* stats, bool depth_only = false) {
+  InstanceBatcher batcher;
+  Status s = batcher.init(r.batchLimits());
+  if (!s.isOk()) return s;
+  const DrawMode skinned = depth_only ? DrawMode::kDepthOnly : DrawMode::kSkinned;
+  switch (kind) {
+    case PathKind::kInstanced: return r.drawCrowd(crowd, batcher, camera, stats, skinned);
+    case PathKind::kCompute:
+      return r.drawCrowd(crowd, batcher, camera, stats, DrawMode::kComputeSkinned);
+    case PathKind::kGpuDriven: return r.drawCrowdGpuCulled(crowd, camera, stats, skinned);
+    case PathKind::kGpuDrivenCompute:
+      return r.drawCrowdGpuCulled(crowd, camera, stats, DrawMode::kComputeSkinned);
+    case PathKind::kTraditional: return r.drawTraditional(crowd, camera, stats);
+    case PathKind::kCpu: return r.drawCpuSkinned(crowd, camera, stats);
+  }
+  return Status::ok();
+}
+
 // Scenes defined below the fixture.
 inline Camera closeCamera();
 inline Camera lodCamera();
