@@ -8,12 +8,35 @@
 #include "gltf/gltf_convert.h"
 #include "si/bake/lod_chain.h"
 #include "si/core/lod_error.h"
+#include "si/core/tangents.h"
 
 namespace si {
 using detail::corrupt;
 using detail::strCat;
 
 namespace {
+
+// Normal maps need the mesh's tangents: generated where the file has none, or the maps
+// dropped (with a warning) from a mesh without texture coordinates.
+Status tangentsForNormalMaps(GltfImportReport* report, Character* c) {
+  const bool normal_maps = std::any_of(c->materials.begin(), c->materials.end(),
+                                       [](const Material& m) { return m.normal_image >= 0; });
+  if (!normal_maps || !c->mesh.tangents.empty()) return Status::ok();
+  if (c->mesh.texcoords.size() != c->mesh.vertexCount()) {
+    for (Material& m : c->materials) m.normal_image = -1;
+    report->warnings.push_back(
+        "normal maps dropped: the mesh has no TEXCOORD_0 to derive tangents from");
+    return Status::ok();
+  }
+  TangentReport tr;
+  const Status s = generateTangents(&c->mesh, &tr);
+  if (!s.isOk()) return corrupt(s.message());
+  report->generated_tangents = uint32_t(tr.vertices);
+  report->degenerate_tangents = uint32_t(tr.degenerate);
+  report->warnings.push_back(strCat("no TANGENT for the normal maps: generated for ", tr.vertices,
+                                    " vertices (", tr.degenerate, " without a UV gradient)"));
+  return Status::ok();
+}
 
 Status convert(const tinygltf::Model& m, const GltfImportDesc& desc, Character* out,
                GltfImportReport* report) {
@@ -27,6 +50,8 @@ Status convert(const tinygltf::Model& m, const GltfImportDesc& desc, Character* 
   detail::convertMaterials(m, report, &c);
   report->materials = uint32_t(c.materials.size());
   report->images = uint32_t(c.images.size());
+  s = tangentsForNormalMaps(report, &c);
+  if (!s.isOk()) return s;
   s = detail::convertClips(m, desc, skin, report, &c);
   if (!s.isOk()) return s;
   if (c.clips.empty() && desc.rest_pose_clip_when_none) {

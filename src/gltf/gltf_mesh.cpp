@@ -237,7 +237,9 @@ Status convertMeshes(const tinygltf::Model& m, const SkinBinding& binding, GltfI
     for (const auto& part : tangent_parts) c->mesh.tangents.insert(c->mesh.tangents.end(), part.begin(), part.end());
   else if (!tangent_parts.empty() && std::any_of(tangent_parts.begin(), tangent_parts.end(),
                                                  [](const auto& t) { return !t.empty(); }))
-    warnings.push_back("some primitives have TANGENT and others not: tangents dropped");
+    warnings.push_back(
+        "some primitives have TANGENT and others not: tangents dropped (generated where a normal "
+        "map needs them)");
 
   return Status::ok();
 }

@@ -3,6 +3,8 @@
 // texture array's layers and the documented resize filter.
 #include <gtest/gtest.h>
 
+#include <cmath>
+
 #include "core/test_helpers.h"
 #include "si/core/default_character.h"
 #include "si/core/material_table.h"
@@ -29,6 +31,35 @@ TEST(MaterialTable, VertexMaterialsAreValidated) {
   const Status s = c.validate();
   EXPECT_EQ(s.code(), StatusCode::kOutOfRange);
   EXPECT_NE(s.message().find("vertex 7"), std::string::npos) << s.message();
+}
+
+TEST(MaterialTable, MetallicRoughnessMaterialsAreValidated) {
+  Character c = test::embeddedCharacter();
+  c.images = {solid(2, 2, {128, 128, 255, 255})};
+  c.materials.assign(1, Material{});
+  EXPECT_TRUE(c.validate().isOk());
+  const auto broken = [&](auto edit, StatusCode code, const char* words) {
+    Character d = c;
+    edit(d.materials[0]);
+    const Status s = d.validate();
+    EXPECT_EQ(s.code(), code) << s.message();
+    EXPECT_NE(s.message().find(words), std::string::npos) << s.message();
+  };
+  broken([](Material& m) { m.metallic_factor = 1.5f; }, StatusCode::kOutOfRange, "[0, 1]");
+  broken([](Material& m) { m.roughness_factor = -0.1f; }, StatusCode::kOutOfRange, "[0, 1]");
+  broken([](Material& m) { m.occlusion_strength = 2.0f; }, StatusCode::kOutOfRange, "[0, 1]");
+  broken([](Material& m) { m.emissive_factor.y = -1.0f; }, StatusCode::kOutOfRange, "emissive");
+  broken([](Material& m) { m.alpha_cutoff = -0.5f; }, StatusCode::kOutOfRange, "cutoff");
+  broken([](Material& m) { m.normal_scale = NAN; }, StatusCode::kNotFinite, "not finite");
+  broken([](Material& m) { m.emissive_image = 1; }, StatusCode::kOutOfRange, "image 1 of 1");
+  broken([](Material& m) { m.occlusion_image = -2; }, StatusCode::kOutOfRange, "image -2");
+  broken([](Material& m) { m.alpha_mode = AlphaMode(7); }, StatusCode::kOutOfRange, "alpha mode");
+  // A normal map needs the mesh's tangents.
+  c.mesh.tangents.clear();
+  broken([](Material& m) { m.normal_image = 0; }, StatusCode::kInvalidArgument, "tangents");
+  c.mesh.tangents.assign(c.mesh.vertexCount(), glm::vec4(1, 0, 0, 1));
+  c.materials[0].normal_image = 0;
+  EXPECT_TRUE(c.validate().isOk());
 }
 
 TEST(MaterialTable, VerticesTakeTheirSubMeshMaterialUnlessSet) {

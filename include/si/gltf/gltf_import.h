@@ -46,8 +46,8 @@ struct GltfImportDesc {
   /// The skin to import: its index, or -1 to pick by `skin_name`, or the only skin.
   int32_t skin_index = -1;
   std::string skin_name;  ///< Used when skin_index is -1 and the file has several skins.
-  /// Decode images (base colour textures). When false, or when an image cannot be decoded,
-  /// materials keep their factor and no image (a warning says why).
+  /// Decode images (every texture of the metallic-roughness materials). When false, or when an
+  /// image cannot be decoded, materials keep their factors and no image (a warning says why).
   bool load_images = true;
   /// Loop mode given to every clip (glTF does not say); kDefault means kLoop.
   LoopMode loop_mode = LoopMode::kDefault;
@@ -88,7 +88,11 @@ struct GltfImportReport {
   };
   std::vector<Group> groups;
   uint32_t materials = 0;               ///< Character materials (index 0: the default white).
-  uint32_t images = 0;                  ///< Decoded base colour images.
+  uint32_t images = 0;                  ///< Decoded images (every texture the materials use).
+  /// Vertices whose tangents were generated (si::generateTangents): a material has a normal
+  /// map and the file has no TANGENT for every primitive; 0 otherwise.
+  uint32_t generated_tangents = 0;
+  uint32_t degenerate_tangents = 0;     ///< Of those, vertices without a usable UV gradient.
 };
 
 /// Imports a .gltf or .glb file. External URIs resolve against the file's folder and may not
