@@ -46,8 +46,8 @@ Status materialsTable(Setup& setup, const BakedPalette& palette, const RendererD
   glNamedBufferStorage(block, sizeof(light), &light, 0);
   glBindBufferBase(GL_UNIFORM_BUFFER, 7, block);
   std::printf("\nMaterials: each frame of the field drawn with the built-in material, then with "
-              "a host material computing the same Lambert from its own uniform block, by the "
-              "same renderer; medians over the frames (addMaterial compiled its programs in "
+              "a host material computing the library's former look (Lambert over a constant ambient) "
+              "from its own uniform block, by the same renderer; medians over the frames (addMaterial compiled its programs in "
               "%.0f ms)\n",
               compile_ms);
   printSideBySideHeader("material");

@@ -60,44 +60,85 @@ Image resizeImage(const Image& in, uint32_t width, uint32_t height) {
   return out;
 }
 
+namespace {
+
+// The layers of one texture array: images in first-use order, resized to the largest size.
+class LayerSet {
+ public:
+  explicit LayerSet(size_t image_count) : layer_of_image_(image_count, -1) {}
+  void use(int32_t image) {
+    if (image >= 0 && layer_of_image_[size_t(image)] < 0) {
+      layer_of_image_[size_t(image)] = 0;
+      used_.push_back(image);
+    }
+  }
+  // Resizes the used images into `out` after `first_layers` (already there, of size 1 x 1
+  // until now: resized too), setting the size; counts resized images.
+  void build(const std::vector<Image>& images, uint32_t cap, std::vector<Image>* out,
+             uint32_t* width, uint32_t* height, uint32_t* resized) {
+    for (int32_t i : used_) {
+      *width = std::max(*width, std::min(cap, images[size_t(i)].width));
+      *height = std::max(*height, std::min(cap, images[size_t(i)].height));
+    }
+    for (Image& l : *out) l = resizeImage(l, *width, *height);
+    for (int32_t i : used_) {
+      const Image& img = images[size_t(i)];
+      layer_of_image_[size_t(i)] = int32_t(out->size());
+      if (img.width != *width || img.height != *height) ++*resized;
+      out->push_back(resizeImage(img, *width, *height));
+    }
+  }
+  uint32_t layer(int32_t image) const {
+    return image < 0 ? kNoLayer : uint32_t(layer_of_image_[size_t(image)]);
+  }
+
+ private:
+  std::vector<int32_t> layer_of_image_;
+  std::vector<int32_t> used_;
+};
+
+}  // namespace
+
 Status buildMaterialTable(const Character& character, uint32_t max_size, MaterialTable* out) {
   if (out == nullptr) return {StatusCode::kInvalidArgument, "buildMaterialTable: null output"};
   Status s = character.validate();
   if (!s.isOk()) return s;
   const uint32_t cap = max_size == 0 ? 2048 : std::min<uint32_t>(max_size, 16384);
   MaterialTable t;
-  std::vector<int32_t> layer_of_image(character.images.size(), -1);
-  std::vector<int32_t> used;  // Images in first-use order.
+  LayerSet colour(character.images.size()), data(character.images.size());
   bool needs_white = character.materials.empty();
   for (const Material& m : character.materials) {
-    if (m.base_color_image < 0) {
-      needs_white = true;
-    } else if (layer_of_image[size_t(m.base_color_image)] < 0) {
-      layer_of_image[size_t(m.base_color_image)] = 0;
-      used.push_back(m.base_color_image);
-    }
-  }
-  for (int32_t i : used) {
-    t.width = std::max(t.width, std::min(cap, character.images[size_t(i)].width));
-    t.height = std::max(t.height, std::min(cap, character.images[size_t(i)].height));
+    needs_white |= m.base_color_image < 0;
+    colour.use(m.base_color_image);
+    colour.use(m.emissive_image);
+    data.use(m.normal_image);
+    data.use(m.metallic_roughness_image);
+    data.use(m.occlusion_image);
   }
   if (needs_white) {
     Image white;
-    white.width = t.width;
-    white.height = t.height;
-    white.rgba8.assign(size_t(t.width) * t.height * 4, 255);
+    white.width = white.height = 1;
+    white.rgba8.assign(4, 255);
     t.layers.push_back(std::move(white));
   }
-  for (int32_t i : used) {
-    const Image& img = character.images[size_t(i)];
-    layer_of_image[size_t(i)] = int32_t(t.layers.size());
-    if (img.width != t.width || img.height != t.height) ++t.resized_images;
-    t.layers.push_back(resizeImage(img, t.width, t.height));
-  }
+  colour.build(character.images, cap, &t.layers, &t.width, &t.height, &t.resized_images);
+  data.build(character.images, cap, &t.data_layers, &t.data_width, &t.data_height,
+             &t.resized_images);
   for (const Material& m : character.materials) {
     MaterialEntry e;
     e.base_color_factor = m.base_color_factor;
-    e.layer = m.base_color_image < 0 ? 0 : uint32_t(layer_of_image[size_t(m.base_color_image)]);
+    e.layer = m.base_color_image < 0 ? 0 : colour.layer(m.base_color_image);
+    e.emissive_layer = colour.layer(m.emissive_image);
+    e.normal_layer = data.layer(m.normal_image);
+    e.metallic_roughness_layer = data.layer(m.metallic_roughness_image);
+    e.occlusion_layer = data.layer(m.occlusion_image);
+    e.metallic = m.metallic_factor;
+    e.roughness = m.roughness_factor;
+    e.normal_scale = m.normal_scale;
+    e.occlusion_strength = m.occlusion_strength;
+    e.emissive_factor = m.emissive_factor;
+    e.alpha_cutoff = m.alpha_mode == AlphaMode::kMask ? m.alpha_cutoff : -1.0f;
+    e.double_sided = m.double_sided;
     t.materials.push_back(e);
   }
   if (t.materials.empty()) t.materials.push_back(MaterialEntry{});

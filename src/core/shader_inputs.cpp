@@ -18,6 +18,10 @@ uint32_t packNormal10(const glm::vec3& n) {
   return c(n.x) | (c(n.y) << 10) | (c(n.z) << 20);
 }
 
+uint32_t packTangent10(const glm::vec4& t) {
+  return packNormal10(glm::vec3(t)) | ((t.w < 0.0f ? 3u : 1u) << 30);
+}
+
 Status buildVertexStream(const SkinnedMesh& mesh, const BakedPalette& palette, VertexStream* out) {
   if (out == nullptr) return {StatusCode::kInvalidArgument, "buildVertexStream: out is null"};
   Status s = mesh.validate(palette.skeleton_to_palette.size());
@@ -25,6 +29,9 @@ Status buildVertexStream(const SkinnedMesh& mesh, const BakedPalette& palette, V
   VertexStream stream;
   stream.wide_joints = palette.palette_joints.size() > 256;
   stream.stride_bytes = stream.wide_joints ? 36 : 32;
+  const bool tangents = !mesh.tangents.empty();
+  if (tangents) stream.tangent_offset = stream.stride_bytes;
+  if (tangents) stream.stride_bytes += 4;
   stream.weights_offset = stream.wide_joints ? 28 : 24;
   stream.vertex_count = uint32_t(mesh.vertexCount());
   stream.bytes.resize(mesh.vertexCount() * stream.stride_bytes);
@@ -55,6 +62,10 @@ Status buildVertexStream(const SkinnedMesh& mesh, const BakedPalette& palette, V
     }
     const glm::u16vec4 w = quantizeWeights(mesh.weights[v]);
     std::memcpy(dst + stream.weights_offset, &w, 8);
+    if (tangents) {
+      const uint32_t t = packTangent10(mesh.tangents[v]);
+      std::memcpy(dst + stream.tangent_offset, &t, 4);
+    }
   }
   *out = std::move(stream);
   return Status::ok();

@@ -125,6 +125,61 @@ TEST(MaterialTable, ImagesBecomeLayersOfOneSize) {
   EXPECT_EQ(buildMaterialTable(c, 0, &t).code(), StatusCode::kOutOfRange);
 }
 
+TEST(MaterialTable, ColourAndDataImagesGoToTheirOwnArrays) {
+  Character c = test::embeddedCharacter();
+  c.images = {solid(4, 4, {200, 100, 50, 255}), solid(2, 2, {128, 128, 255, 255}),
+              solid(8, 2, {0, 200, 100, 255}), solid(2, 2, {90, 0, 0, 255})};
+  c.mesh.tangents.assign(c.mesh.vertexCount(), glm::vec4(1, 0, 0, 1));
+  c.materials.assign(2, Material{});
+  Material& m = c.materials[0];
+  m.base_color_image = 0;
+  m.emissive_image = 0;  // The same image as colour twice: one layer.
+  m.normal_image = 1;
+  m.metallic_roughness_image = 2;
+  m.occlusion_image = 3;
+  m.metallic_factor = 0.3f;
+  m.roughness_factor = 0.7f;
+  m.normal_scale = 0.5f;
+  m.occlusion_strength = 0.25f;
+  m.emissive_factor = glm::vec3(1.0f, 0.5f, 0.0f);
+  m.alpha_mode = AlphaMode::kMask;
+  m.alpha_cutoff = 0.4f;
+  m.double_sided = true;
+  c.materials[1].alpha_mode = AlphaMode::kBlend;  // Drawn opaque.
+  MaterialTable t;
+  ASSERT_TRUE(buildMaterialTable(c, 0, &t).isOk());
+  ASSERT_EQ(t.layers.size(), 2u);       // White (material 1 has no base colour), image 0.
+  ASSERT_EQ(t.data_layers.size(), 3u);  // Images 1, 2, 3.
+  EXPECT_EQ(t.width, 4u);
+  EXPECT_EQ(t.data_width, 8u);
+  EXPECT_EQ(t.data_height, 2u);
+  const MaterialEntry& e = t.materials[0];
+  EXPECT_EQ(e.layer, 1u);
+  EXPECT_EQ(e.emissive_layer, 1u);
+  EXPECT_EQ(t.data_layers[e.normal_layer].rgba8[2], 255);
+  EXPECT_EQ(t.data_layers[e.metallic_roughness_layer].rgba8[1], 200);
+  EXPECT_EQ(t.data_layers[e.occlusion_layer].rgba8[0], 90);
+  EXPECT_FLOAT_EQ(e.metallic, 0.3f);
+  EXPECT_FLOAT_EQ(e.roughness, 0.7f);
+  EXPECT_FLOAT_EQ(e.normal_scale, 0.5f);
+  EXPECT_FLOAT_EQ(e.occlusion_strength, 0.25f);
+  EXPECT_EQ(e.emissive_factor, glm::vec3(1.0f, 0.5f, 0.0f));
+  EXPECT_FLOAT_EQ(e.alpha_cutoff, 0.4f);
+  EXPECT_TRUE(e.double_sided);
+  const MaterialEntry& plain = t.materials[1];
+  EXPECT_EQ(plain.layer, 0u);
+  EXPECT_EQ(plain.emissive_layer, kNoLayer);
+  EXPECT_EQ(plain.normal_layer, kNoLayer);
+  EXPECT_EQ(plain.metallic_roughness_layer, kNoLayer);
+  EXPECT_EQ(plain.occlusion_layer, kNoLayer);
+  EXPECT_LT(plain.alpha_cutoff, 0.0f);
+  EXPECT_FALSE(plain.double_sided);
+  // No data images: no data layers.
+  c.materials.assign(1, Material{});
+  ASSERT_TRUE(buildMaterialTable(c, 0, &t).isOk());
+  EXPECT_TRUE(t.data_layers.empty());
+}
+
 TEST(MaterialTable, ResizeIsABoxWhenShrinkingAndBilinearWhenGrowing) {
   // A 4x1 ramp halved: each texel the average of two.
   Image ramp;

@@ -27,7 +27,8 @@
 
 namespace si {
 
-/// One vertex buffer of interleaved vertices, 32 bytes each (36 with wide joints):
+/// One vertex buffer of interleaved vertices, 32 bytes each (36 with wide joints; 4 more with
+/// tangents):
 ///
 /// | offset | attribute (location) | format |
 /// | --- | --- | --- |
@@ -36,6 +37,7 @@ namespace si {
 /// | 16 | texcoord (2) | 2 x float16 (0 when the mesh has none) |
 /// | 20 | joints (3) | 4 x uint8 palette slots; 4 x uint16 when wide_joints |
 /// | 24 (28) | weights (4) | 4 x unorm16 summing to exactly 65535 (si::quantizeWeights) |
+/// | 32 (36) | tangent (7) | 10:10:10:2 signed normalized: xyz the unit tangent, w +-1; only when the mesh has tangents |
 ///
 /// Joints are palette slots (BakedPalette::skeleton_to_palette applied), not skeleton joints;
 /// a zero weight's joint is 0. Wide joints are used when the palette stores more than 256.
@@ -50,6 +52,9 @@ struct VertexStream {
   uint32_t stride_bytes = 0;    ///< 32, or 36 with wide joints.
   bool wide_joints = false;     ///< Joints as 4 x uint16.
   uint32_t weights_offset = 0;  ///< 24, or 28 with wide joints.
+  /// 32 or 36 (the last word) when the mesh has tangents; 0 without. Without tangents the
+  /// renderer feeds attribute 7 the normal's word, whose w is 0: "no tangent frame".
+  uint32_t tangent_offset = 0;
 };
 
 /// Builds the vertex stream of `mesh` for `palette` (the palette baked for the mesh's
@@ -67,5 +72,8 @@ glm::uvec4 paletteShaderInfo(const BakedPalette& palette);
 /// A unit normal packed as GL_INT_2_10_10_10_REV (x, y, z signed normalized to 511; w 0), as
 /// the vertex stream stores it.
 uint32_t packNormal10(const glm::vec3& normal);
+/// A tangent packed as the vertex stream stores it: xyz as packNormal10(), w's sign in the
+/// 2-bit field (1 or -1).
+uint32_t packTangent10(const glm::vec4& tangent);
 
 }  // namespace si

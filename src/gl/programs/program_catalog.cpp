@@ -195,11 +195,12 @@ bool esProgram(ProgramId id) {
 }
 
 const EsBinding* esBindings(size_t* count) {
-  // The desktop shaders' layout qualifiers: si_skinning.glsl's defaults, shade.frag.glsl's
-  // samplers, material_common.glsl's table (a uniform block on ES).
+  // The desktop shaders' layout qualifiers: si_skinning.glsl's defaults, surface.frag.glsl's and
+  // surface_common.glsl's samplers, material_common.glsl's table (a uniform block on ES).
   static const EsBinding kBindings[] = {
       {"SiInstances", false, 0}, {"SiPaletteInfo", false, 4}, {"SiMaterials", false, 11},
       {"si_palette", true, 0},   {"u_base_color", true, 1},   {"u_custom", true, 2},
+      {"u_material_data", true, 4},
   };
   *count = sizeof(kBindings) / sizeof(kBindings[0]);
   return kBindings;

@@ -14,6 +14,47 @@
 
 namespace si::detail {
 
+namespace {
+
+// The shaders' SiMaterial (material_common.glsl): 64 bytes, so the OpenGL ES profile's block
+// of kEsMaxMaterials entries fits the 16 KiB every ES 3.0 context has.
+struct GpuMaterial {
+  glm::vec4 factor;    // Base colour factor.
+  glm::vec4 emissive;  // rgb emissive factor, w the alpha cutoff (negative: not masked).
+  glm::vec4 pbr;       // Metallic, roughness, normal scale, occlusion strength.
+  glm::uvec4 layer;    // x base colour | emissive << 16 (colour layers), y normal |
+                       // metallic-roughness << 16, z occlusion | flags << 16 (data layers;
+                       // flag 1: double-sided), w 0.
+};
+static_assert(sizeof(GpuMaterial) == 64, "material_common.glsl's SiMaterial");
+
+GpuMaterial gpuMaterial(const MaterialEntry& e) {
+  return {e.base_color_factor, glm::vec4(e.emissive_factor, e.alpha_cutoff),
+          glm::vec4(e.metallic, e.roughness, e.normal_scale, e.occlusion_strength),
+          glm::uvec4(e.layer | (e.emissive_layer << 16),
+                     e.normal_layer | (e.metallic_roughness_layer << 16),
+                     e.occlusion_layer | (uint32_t(e.double_sided ? 1 : 0) << 16), 0u)};
+}
+
+// A texture array of `layers` (each width x height) in `format`, mipmapped.
+Status uploadLayers(GLuint* texture, GLenum format, const std::vector<Image>& layers,
+                    uint32_t width, uint32_t height, const char* what) {
+  const GLsizei w = GLsizei(width), h = GLsizei(height);
+  const GLsizei levels = GLsizei(std::floor(std::log2(double(std::max(w, h))))) + 1;
+  Status s = createTexture2DArray(texture, levels, format, w, h, GLsizei(layers.size()), what);
+  if (!s.isOk()) return s;
+  glPixelStorei(GL_UNPACK_ALIGNMENT, 1);
+  for (size_t l = 0; l < layers.size(); ++l)
+    glTextureSubImage3D(*texture, 0, 0, 0, GLint(l), w, h, 1, GL_RGBA, GL_UNSIGNED_BYTE,
+                        layers[l].rgba8.data());
+  glGenerateTextureMipmap(*texture);
+  glTextureParameteri(*texture, GL_TEXTURE_MIN_FILTER, GL_LINEAR_MIPMAP_LINEAR);
+  glTextureParameteri(*texture, GL_TEXTURE_MAG_FILTER, GL_LINEAR);
+  return Status::ok();
+}
+
+}  // namespace
+
 Status CharacterBuffers::upload(const Character& character, const BakedPalette& palette,
                                 uint32_t max_texture_size) {
   const SkinnedMesh& m = character.mesh;
@@ -47,13 +88,8 @@ Status CharacterBuffers::upload(const Character& character, const BakedPalette& 
   std::vector<uint32_t> words((table.vertex_materials.size() + 1) / 2, 0);
   for (size_t v = 0; v < table.vertex_materials.size(); ++v)
     words[v / 2] |= uint32_t(table.vertex_materials[v]) << ((v % 2) * 16);
-  struct GpuMaterial {
-    glm::vec4 factor;
-    glm::uvec4 layer;
-  };
   std::vector<GpuMaterial> entries;
-  for (const MaterialEntry& e : table.materials)
-    entries.push_back({e.base_color_factor, glm::uvec4(e.layer, 0, 0, 0)});
+  for (const MaterialEntry& e : table.materials) entries.push_back(gpuMaterial(e));
   if (s.isOk() && esProfile()) {
     // A uniform block of kEsMaxMaterials entries there; the bound buffer holds it whole (WebGL 2
     // refuses a draw whose uniform buffer is smaller than its block).
@@ -61,7 +97,7 @@ Status CharacterBuffers::upload(const Character& character, const BakedPalette& 
       s = {StatusCode::kLimitExceeded,
            strCat(entries.size(), " materials (the OpenGL ES profile's material block holds ",
                   kEsMaxMaterials, ")")};
-    entries.resize(kEsMaxMaterials, GpuMaterial{glm::vec4(1.0f), glm::uvec4(0)});
+    entries.resize(kEsMaxMaterials, gpuMaterial(MaterialEntry{}));
   }
   if (s.isOk())
     s = createBuffer(&vertex_materials, words.size() * 4, words.data(), 0,
@@ -71,33 +107,38 @@ Status CharacterBuffers::upload(const Character& character, const BakedPalette& 
                      "the character's material table");
   GLint max_layers = 0;
   glGetIntegerv(GL_MAX_ARRAY_TEXTURE_LAYERS, &max_layers);
-  if (s.isOk() && table.layers.size() > size_t(max_layers))
-    s = {StatusCode::kLimitExceeded,
-         strCat(table.layers.size(), " base colour layers (this context ",
-                "holds at most ", max_layers, " in a texture array)")};
-  const GLsizei w = GLsizei(table.width), h = GLsizei(table.height);
-  const GLsizei levels = GLsizei(std::floor(std::log2(double(std::max(w, h))))) + 1;
+  for (const size_t layers : {table.layers.size(), table.data_layers.size()})
+    if (s.isOk() && layers > size_t(max_layers))
+      s = {StatusCode::kLimitExceeded,
+           strCat(layers, " material texture layers in one array (this context ",
+                  "holds at most ", max_layers, " in a texture array)")};
+  // Colour layers decode sRGB as they are sampled; data layers are linear. A character without
+  // data images gets one 1 x 1 data layer, so the unit always holds a complete texture.
+  if (table.data_layers.empty()) {
+    Image flat;
+    flat.width = flat.height = 1;
+    flat.rgba8 = {128, 128, 255, 255};
+    table.data_layers.push_back(flat);
+  }
   if (s.isOk())
-    s = createTexture2DArray(&base_texture, levels, GL_RGBA8, w, h, GLsizei(table.layers.size()),
-                             "the character's base colour texture array");
+    s = uploadLayers(&base_texture, GL_SRGB8_ALPHA8, table.layers, table.width, table.height,
+                     "the character's colour texture array");
+  if (s.isOk())
+    s = uploadLayers(&data_texture, GL_RGBA8, table.data_layers, table.data_width,
+                     table.data_height, "the character's data texture array");
   if (!s.isOk()) {
     release();
     return s;
   }
+  has_tangents = stream.tangent_offset != 0;
   glCreateVertexArrays(1, &vao);
   describeVertexFormat(vao);
-  glPixelStorei(GL_UNPACK_ALIGNMENT, 1);
-  for (size_t l = 0; l < table.layers.size(); ++l)
-    glTextureSubImage3D(base_texture, 0, 0, 0, GLint(l), w, h, 1, GL_RGBA, GL_UNSIGNED_BYTE,
-                        table.layers[l].rgba8.data());
-  glGenerateTextureMipmap(base_texture);
-  glTextureParameteri(base_texture, GL_TEXTURE_MIN_FILTER, GL_LINEAR_MIPMAP_LINEAR);
-  glTextureParameteri(base_texture, GL_TEXTURE_MAG_FILTER, GL_LINEAR);
   return Status::ok();
 }
 
 void CharacterBuffers::bindMaterials() const {
   glBindTextureUnit(1, base_texture);
+  glBindTextureUnit(4, data_texture);
   if (esProfile()) {  // The indices are vertex attribute 6 there (describeVertexFormat).
     glBindBufferBase(GL_UNIFORM_BUFFER, 11, material_table);
     return;
@@ -119,6 +160,12 @@ void CharacterBuffers::describeVertexFormat(GLuint v) const {
   glVertexArrayAttribIFormat(v, 3, 4, wide_joints ? GL_UNSIGNED_SHORT : GL_UNSIGNED_BYTE,
                              VertexStream::kJointsOffset);
   glVertexArrayAttribFormat(v, 4, 4, GL_UNSIGNED_SHORT, GL_TRUE, wide_joints ? 28 : 24);
+  // The tangent (attribute 7); without tangents the normal's bits, whose w is 0: the shaders
+  // read w == 0 as "no tangent frame" (nothing read from the host's generic attribute state).
+  glEnableVertexArrayAttrib(v, 7);
+  glVertexArrayAttribBinding(v, 7, 0);
+  glVertexArrayAttribFormat(v, 7, 4, GL_INT_2_10_10_10_REV, GL_TRUE,
+                            has_tangents ? stride_bytes - 4 : VertexStream::kNormalOffset);
   if (esProfile()) {  // GLSL ES 3.00 reads each vertex's material index as attribute 6.
     glVertexArrayVertexBuffer(v, 1, vertex_materials, 0, 2);
     glEnableVertexArrayAttrib(v, 6);
@@ -131,8 +178,10 @@ void CharacterBuffers::release() {
   if (vao != kNoObject) glDeleteVertexArrays(1, &vao);
   const GLuint buffers[] = {vertex_buffer, index_buffer, vertex_materials, material_table};
   glDeleteBuffers(4, buffers);
-  if (base_texture != kNoObject) glDeleteTextures(1, &base_texture);
-  vao = vertex_buffer = index_buffer = base_texture = vertex_materials = material_table = kNoObject;
+  const GLuint textures[] = {base_texture, data_texture};
+  glDeleteTextures(2, textures);
+  vao = vertex_buffer = index_buffer = base_texture = data_texture = vertex_materials =
+      material_table = kNoObject;
 }
 
 }  // namespace si::detail

@@ -25,10 +25,11 @@ struct CharacterBuffers {
   void release();
   bool ready() const { return vao != kNoObject; }
 
-  /// Sets the vertex format (attributes 0-4 from binding 0) and the index buffer on `vao`.
+  /// Sets the vertex format (attributes 0-4 and 7 from binding 0) and the index buffer on `vao`.
   void describeVertexFormat(GLuint vao) const;
-  /// Binds the materials where the shading reads them (material_common.glsl): the base colour
-  /// array at texture unit 1, the per-vertex materials and the table at storage bindings 10, 11.
+  /// Binds the materials where the shading reads them (material_common.glsl): the colour array
+  /// at texture unit 1, the data array at unit 4, the per-vertex materials and the table at
+  /// storage bindings 10, 11.
   void bindMaterials() const;
   /// The index range of `sub_mesh` at `lod` (its last LOD when `lod` is past it).
   IndexRange lodRange(uint32_t sub_mesh, uint32_t lod) const {
@@ -37,12 +38,14 @@ struct CharacterBuffers {
   }
 
   GLuint vao = kNoObject, vertex_buffer = kNoObject, index_buffer = kNoObject;
-  GLuint base_texture = kNoObject;  ///< GL_TEXTURE_2D_ARRAY, one layer per image.
+  GLuint base_texture = kNoObject;  ///< GL_TEXTURE_2D_ARRAY (sRGB): the colour layers.
+  GLuint data_texture = kNoObject;  ///< GL_TEXTURE_2D_ARRAY (linear): the data layers.
   GLuint vertex_materials = kNoObject, material_table = kNoObject;
   std::vector<SubMesh> sub_meshes;
   uint32_t vertex_count = 0;
   uint32_t stride_bytes = 32;
   bool wide_joints = false;
+  bool has_tangents = false;  ///< The stream's last word is the tangent (attribute 7).
   SkinnedMesh mesh;  ///< A copy, for the paths that read vertices on the CPU.
 };
 

@@ -41,7 +41,7 @@ Status PreSkinLists::build(const CharacterBuffers& character) {
   if (!s.isOk()) return s;
   lods = std::move(built);
   max_lod_vertices = largest;
-  source_words = character.stride_bytes / 4;
+  source_words = character.stride_bytes / 4 | (character.wide_joints ? 0x100u : 0u);
   return Status::ok();
 }
 

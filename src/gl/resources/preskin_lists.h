@@ -33,7 +33,9 @@ struct PreSkinLists {
   GLuint index_buffer = kNoObject;     ///< Local indices of every (sub-mesh, LOD).
   GLuint lod_vertex_list = kNoObject;  ///< Source vertex of each local vertex.
   uint32_t max_lod_vertices = 0;       ///< The largest list.
-  uint32_t source_words = 8;           ///< 32-bit words per source vertex (stride / 4).
+  /// 32-bit words per source vertex (stride / 4), | 0x100 with wide joints: pre_skin_common.glsl's
+  /// u_layout.y.
+  uint32_t source_words = 8;
 };
 
 }  // namespace si::detail

@@ -1,7 +1,6 @@
 // SkinnedInstancing - SPDX-License-Identifier: MIT (see LICENSE)
 // Per-vertex materials (si::MaterialTable): each mesh vertex's material index, 16 bits, two to
-// a word, at storage binding 10; the table of (base colour factor, texture array layer) at
-// storage binding 11. Vertex shaders pass the index flat to the fragment shader. GLSL ES 3.00
+// a word, at storage binding 10; the table of metallic-roughness entries at storage binding 11. Vertex shaders pass the index flat to the fragment shader. GLSL ES 3.00
 // has no storage buffers: there the same index buffer is vertex attribute 6 (16 bits a vertex)
 // and the table a uniform block of SI_MAX_MATERIALS entries (std140 lays them out as std430
 // does), bound at uniform binding 11.
@@ -9,8 +8,12 @@
 #define SI_MATERIAL_COMMON_GLSL
 #include "si_profile.glsl"
 struct SiMaterial {
-  vec4 factor;
-  uvec4 layer;  // x: layer of the base colour array.
+  vec4 factor;    // Base colour factor.
+  vec4 emissive;  // rgb emissive factor; w the alpha cutoff (negative: not masked).
+  vec4 pbr;       // Metallic, roughness, normal scale, occlusion strength.
+  // x base colour layer | emissive layer << 16 (colour array), y normal | metallic-roughness
+  // << 16, z occlusion | flags << 16 (data array; flag 1 double-sided); 0xFFFF: none.
+  uvec4 layer;
 };
 #if defined(GL_ES) && __VERSION__ < 310
 #ifdef SI_VERTEX_MATERIALS

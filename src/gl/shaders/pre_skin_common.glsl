@@ -4,7 +4,8 @@
 // LOD), the pre-skinned vertex (16 bytes: camera-relative world position, octahedral normal as
 // 2 x snorm16), and skinning one source vertex for an instance (after si_skinning.glsl).
 // u_chunk: x first ring vertex of the draw, y vertices of the LOD, z offset into the LOD vertex
-// list, w first instance of the batch; u_layout: x instances, y words per source vertex.
+// list, w first instance of the batch; u_layout: x instances, y words per source vertex (low
+// byte; 8 or 9, one more with tangents) | 0x100 with wide joints.
 // The bindings can be moved (the GPU-driven passes use 2 and 3 for other buffers).
 #ifndef SI_PRE_SKIN_COMMON_GLSL
 #define SI_PRE_SKIN_COMMON_GLSL
@@ -35,20 +36,20 @@ vec3 siOctDecode(vec2 e) {
 
 // The texture coordinates of local vertex k of the list starting at `list_offset`.
 vec2 siSourceTexcoord(uint list_offset, uint k) {
-  return unpackHalf2x16(si_source[si_lod_vertices[list_offset + k] * u_layout.y + 4u]);
+  return unpackHalf2x16(si_source[si_lod_vertices[list_offset + k] * (u_layout.y & 0xFFu) + 4u]);
 }
 
 #ifdef SI_SKINNING_GLSL
 // Source vertex `source`: bind-pose position and normal, palette slots and weights.
 void siSourceVertex(uint source, out vec3 p, out vec3 n, out uvec4 joints, out vec4 weights) {
-  uint base = source * u_layout.y;
+  uint base = source * (u_layout.y & 0xFFu);
   p = vec3(uintBitsToFloat(si_source[base]), uintBitsToFloat(si_source[base + 1u]),
            uintBitsToFloat(si_source[base + 2u]));
   int normal_bits = int(si_source[base + 3u]);
   // GL_INT_2_10_10_10_REV, normalized: what the vertex-shader path's attribute fetch computes.
   n = max(vec3(bitfieldExtract(normal_bits, 0, 10), bitfieldExtract(normal_bits, 10, 10),
                bitfieldExtract(normal_bits, 20, 10)) / 511.0, vec3(-1.0));
-  if (u_layout.y == 8u) {
+  if ((u_layout.y & 0x100u) == 0u) {
     joints = uvec4(unpackUnorm4x8(si_source[base + 5u]) * 255.0 + 0.5);
     weights = vec4(unpackUnorm2x16(si_source[base + 6u]), unpackUnorm2x16(si_source[base + 7u]));
   } else {

@@ -12,6 +12,7 @@ layout(location = 5) uniform int u_base_vertex;
 uniform uint u_lod;  // The instance's LOD (SiSurface.lod).
 out vec3 v_position;  // Camera-relative world position (SiSurface.position).
 out vec3 v_normal;
+out vec4 v_tangent;  // Not carried by this path yet: vec4(0), no tangent frame.
 out vec2 v_texcoord;
 flat out uint v_color;
 flat out uint v_material;
@@ -22,6 +23,7 @@ void main() {
   v_texcoord = a_texcoord;
   v_color = u_color;
   v_lod = u_lod;
+  v_tangent = vec4(0.0);
   v_position = a_position;
   gl_Position = u_view_projection * vec4(a_position, 1.0);
 }

@@ -43,6 +43,7 @@ out vec4 v_motion_previous;
 layout(location = 1) uniform mat4 u_view_projection;
 out vec3 v_position;  // Camera-relative world position (SiSurface.position).
 out vec3 v_normal;
+out vec4 v_tangent;  // Not carried by this path yet: vec4(0), no tangent frame.
 out vec2 v_texcoord;
 flat out uint v_color;
 flat out uint v_material;
@@ -73,6 +74,7 @@ void main() {
   v_color = si_instances[u_chunk.w + uint(gl_InstanceID)].blend.w;
   v_lod = u_lod;
 #endif
+  v_tangent = vec4(0.0);
   v_position = s.xyz;
   v_normal = siOctDecode(unpackSnorm2x16(floatBitsToUint(s.w)));
   gl_Position = u_view_projection * vec4(s.xyz, 1.0);

@@ -9,27 +9,44 @@
 // draw writes motion vectors: the clip positions below are set), SI_DEPTH_ONLY (a depth-only
 // pass of a material with MaterialDesc::depth_discard: only the discard matters),
 // SI_IMPOSTOR (an impostor quad's fragment: the surface comes from the impostor atlas).
-// Interface version 1.
+// Interface version 2 (1 had no tangent frame and no metallic-roughness fields).
 #ifndef SI_SURFACE_GLSL
 #define SI_SURFACE_GLSL
-#define SI_MATERIAL_INTERFACE_VERSION 1
+#define SI_MATERIAL_INTERFACE_VERSION 2
 // SiSurface.material of an impostor's fragment: the atlas stores no material index.
 #define SI_NO_MATERIAL 0xFFFFFFFFu
 struct SiSurface {
   // The fragment's world position relative to the camera (world axes, the camera at the
   // origin: the records' camera-relative space), model units.
   vec3 position;
-  // The skinned normal in world axes, unit length (as interpolated; not flipped on back faces).
+  // The shading normal in world axes, unit length: the skinned vertex normal, through the
+  // material's normal map where it has one (tangent frame below), turned towards the viewer on
+  // a double-sided material's back faces.
   vec3 normal;
+  // The skinned vertex normal as interpolated, unit length (flipped as `normal` is).
+  vec3 vertex_normal;
+  // The skinned tangent in world axes (xyz unit, orthogonal to vertex_normal; w the
+  // bitangent's sign: bitangent = w * cross(vertex_normal, tangent.xyz)); vec4(0) where the
+  // mesh has no tangents, on the paths that pre-skin (compute, GPU-driven pre-skinned, CPU
+  // skinning: not yet carried) and on impostors.
+  vec4 tangent;
   // Texture coordinate 0 of the mesh (an impostor: the atlas cell's coordinate).
   vec2 uv0;
   // The vertex's entry of the character's material table (si::MaterialTable); SI_NO_MATERIAL on
   // an impostor.
   uint material;
-  // The material table entry's base colour: its texture layer sampled at uv0 times its factor
-  // (an impostor: the texel the atlas captured). Alpha is the texture's alpha, which the
-  // built-in material reads as the tint mask.
+  // The material table entry's base colour, linear: its sRGB texture sampled at uv0 times its
+  // factor (an impostor: the texel the atlas captured). Alpha is the tint mask the built-in
+  // albedo reads; for an alpha-masked material (si::AlphaMode::kMask) the fragments below its
+  // cutoff are discarded before the material runs and alpha is 1 (tint everywhere).
   vec4 base_color;
+  // The material's metallic and roughness (factors times the metallic-roughness texture's
+  // blue and green), ambient occlusion (1 + strength * (red - 1)) and emissive colour (factor
+  // times the sRGB emissive texture, linear). An impostor: 0, 1, 1 and vec3(0).
+  float metallic;
+  float roughness;
+  float occlusion;
+  vec3 emissive;
   // The instance's tint (InstanceDesc::color's RGB, in [0, 1]).
   vec3 tint;
   // The instance's layer of the application's custom texture array (InstanceDesc::custom_layer

@@ -52,9 +52,13 @@ layout(location = 1) in vec4 a_normal;
 layout(location = 2) in vec2 a_texcoord;
 layout(location = 3) in uvec4 a_joints;
 layout(location = 4) in vec4 a_weights;
+// The tangent (xyz, w the bitangent's sign); w 0 where the mesh has none (the normal's bits).
+layout(location = 7) in vec4 a_tangent;
 SI_LOCATION_LAYOUT(1) uniform mat4 u_view_projection;
 out vec3 v_position;  // Camera-relative world position (SiSurface.position).
 out vec3 v_normal;
+out vec4 v_tangent;  // Skinned as the normal is (the seed's S), w kept; cross(N, T) in the
+                     // fragment stage gives the bitangent.
 out vec2 v_texcoord;
 flat out uint v_color;
 flat out uint v_material;
@@ -129,6 +133,9 @@ void main() {
   v_lod = u_lod;
 #endif
   v_normal = siTransformNormal(w0, w1, w2, siTransformNormal(m0, m1, m2, a_normal.xyz));
+  vec3 tangent = siTransformVector(w0, w1, w2, siTransformVector(m0, m1, m2, a_tangent.xyz));
+  float tangent_length = length(tangent);
+  v_tangent = vec4(tangent_length > 0.0 ? tangent / tangent_length : tangent, a_tangent.w);
   v_texcoord = a_texcoord;
   v_color = color;
   v_material = siVertexMaterial(uint(gl_VertexID));  // The mesh vertex: no base vertex.

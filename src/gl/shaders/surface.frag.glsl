@@ -1,7 +1,8 @@
 // SkinnedInstancing - SPDX-License-Identifier: MIT (see LICENSE)
 // The fragment stage of every mesh colour path: the surface (si_surface.glsl) from the vertex
 // shader's outputs and the character's materials (the vertex's entry of the material table:
-// its base colour layer times its factor), handed to the material (si::MaterialDesc, compiled
+// its textures sampled, its factors applied, the normal map through the skinned tangent frame,
+// the alpha mask's discard), handed to the material (si::MaterialDesc, compiled
 // after this file; the built-in one is builtin_material.glsl). SI_DEPTH_ONLY: a depth-only
 // pass of a material that discards (MaterialDesc::depth_discard).
 #define SI_MATERIAL_TABLE
@@ -9,19 +10,53 @@
 #include "surface_common.glsl"
 in vec3 v_position;
 in vec3 v_normal;
+in vec4 v_tangent;  // w 0: the mesh has no tangents (or the path does not carry them).
 in vec2 v_texcoord;
 flat in uint v_color;
 flat in uint v_material;
 flat in uint v_lod;
-SI_BINDING_LAYOUT(1) uniform sampler2DArray u_base_color;
+SI_BINDING_LAYOUT(1) uniform sampler2DArray u_base_color;     // Colour layers (sRGB).
+SI_BINDING_LAYOUT(4) uniform sampler2DArray u_material_data;  // Data layers (linear).
 void main() {
   SiSurface s = siEmptySurface();
   SiMaterial material = si_materials[v_material];
+  uvec4 layer = material.layer;  // Flat: every branch on it is uniform within a primitive.
+  vec4 base = texture(u_base_color, vec3(v_texcoord, float(layer.x & 0xFFFFu))) * material.factor;
+  if (material.emissive.w >= 0.0) {  // Alpha-masked: alpha is coverage, the tint everywhere.
+    if (base.a < material.emissive.w) discard;
+    base.a = 1.0;
+  }
   s.position = v_position;
-  s.normal = normalize(v_normal);
+  vec3 n = normalize(v_normal);
+  if ((layer.z & 0x10000u) != 0u && !gl_FrontFacing) n = -n;  // Double-sided: its back face.
+  s.vertex_normal = n;
+  s.normal = n;
+  if (v_tangent.w != 0.0) {
+    vec3 t = normalize(v_tangent.xyz - n * dot(n, v_tangent.xyz));
+    s.tangent = vec4(t, v_tangent.w < 0.0 ? -1.0 : 1.0);
+  }
   s.uv0 = v_texcoord;
   s.material = v_material;
-  s.base_color = texture(u_base_color, vec3(v_texcoord, float(material.layer.x))) * material.factor;
+  s.base_color = base;
+  s.metallic = material.pbr.x;
+  s.roughness = material.pbr.y;
+  if ((layer.y >> 16) != 0xFFFFu) {
+    vec4 mr = texture(u_material_data, vec3(v_texcoord, float(layer.y >> 16)));
+    s.metallic *= mr.b;
+    s.roughness *= mr.g;
+  }
+  if ((layer.y & 0xFFFFu) != 0xFFFFu) {  // Sampled under the flat test alone (derivatives).
+    vec3 m = texture(u_material_data, vec3(v_texcoord, float(layer.y & 0xFFFFu))).xyz * 2.0 - 1.0;
+    m.xy *= material.pbr.z;
+    vec3 b = s.tangent.w * cross(n, s.tangent.xyz);
+    if (s.tangent.w != 0.0) s.normal = normalize(m.x * s.tangent.xyz + m.y * b + m.z * n);
+  }
+  if ((layer.z & 0xFFFFu) != 0xFFFFu)
+    s.occlusion = 1.0 + material.pbr.w *
+                            (texture(u_material_data, vec3(v_texcoord, float(layer.z & 0xFFFFu))).r - 1.0);
+  s.emissive = material.emissive.rgb;
+  if ((layer.x >> 16) != 0xFFFFu)
+    s.emissive *= texture(u_base_color, vec3(v_texcoord, float(layer.x >> 16))).rgb;
   s.tint = siUnpackUnorm4x8(v_color).rgb;
   s.custom_layer = siCustomLayer(v_color);
   s.lod = v_lod;

@@ -47,6 +47,12 @@ SiSurface siEmptySurface() {
   SiSurface s;
   s.position = vec3(0.0);
   s.normal = vec3(0.0, 0.0, 1.0);
+  s.vertex_normal = s.normal;
+  s.tangent = vec4(0.0);
+  s.metallic = 0.0;
+  s.roughness = 1.0;
+  s.occlusion = 1.0;
+  s.emissive = vec3(0.0);
   s.uv0 = vec2(0.0);
   s.material = SI_NO_MATERIAL;
   s.base_color = vec4(1.0);
