@@ -12,6 +12,15 @@
 namespace si {
 namespace {
 
+// Appends a vertex bound rigidly to joint 0.
+void addVertex(SkinnedMesh* m, const glm::vec3& p, const glm::vec3& n, const glm::vec2& uv) {
+  m->positions.push_back(p);
+  m->normals.push_back(n);
+  m->texcoords.push_back(uv);
+  m->joints.push_back(glm::u16vec4(0));
+  m->weights.push_back(glm::vec4(1, 0, 0, 0));
+}
+
 // A (cells x cells) grid on z = 0 over [0, 1]^2, normal +z, uv = (su * x, -sv * y): v grows
 // down the image as y falls, glTF's convention, so the image's up is +y.
 SkinnedMesh grid(int cells, float su, float sv) {
@@ -19,11 +28,7 @@ SkinnedMesh grid(int cells, float su, float sv) {
   for (int y = 0; y <= cells; ++y)
     for (int x = 0; x <= cells; ++x) {
       const glm::vec2 p(float(x) / cells, float(y) / cells);
-      m.positions.push_back(glm::vec3(p, 0.0f));
-      m.normals.push_back(glm::vec3(0, 0, 1));
-      m.texcoords.push_back(glm::vec2(su * p.x, -sv * p.y));
-      m.joints.push_back(glm::u16vec4(0));
-      m.weights.push_back(glm::vec4(1, 0, 0, 0));
+      addVertex(&m, glm::vec3(p, 0.0f), glm::vec3(0, 0, 1), glm::vec2(su * p.x, -sv * p.y));
     }
   const auto at = [&](int x, int y) { return uint32_t(y * (cells + 1) + x); };
   for (int y = 0; y < cells; ++y)
@@ -75,11 +80,9 @@ TEST(Tangents, ACylinderGetsItsCircumferenceWithinAFractionOfADegree) {
   for (int k = 0; k <= rings; ++k)
     for (int i = 0; i <= seg; ++i) {
       const float a = 2.0f * float(M_PI) * float(i) / seg;
-      m.positions.push_back(glm::vec3(std::cos(a), std::sin(a), float(k) / rings));
-      m.normals.push_back(glm::vec3(std::cos(a), std::sin(a), 0.0f));
-      m.texcoords.push_back(glm::vec2(float(i) / seg, 1.0f - float(k) / rings));
-      m.joints.push_back(glm::u16vec4(0));
-      m.weights.push_back(glm::vec4(1, 0, 0, 0));
+      addVertex(&m, glm::vec3(std::cos(a), std::sin(a), float(k) / rings),
+                glm::vec3(std::cos(a), std::sin(a), 0.0f),
+                glm::vec2(float(i) / seg, 1.0f - float(k) / rings));
     }
   const auto at = [&](int i, int k) { return uint32_t(k * (seg + 1) + i); };
   for (int k = 0; k < rings; ++k)
@@ -114,11 +117,7 @@ TEST(Tangents, UnusableMappingsAndCoarseOnlyVertices) {
   // A vertex only LOD 1 uses: its frame from LOD 1's triangle.
   m = grid(1, 1.0f, 1.0f);
   const uint32_t extra = uint32_t(m.positions.size());
-  m.positions.push_back(glm::vec3(2, 0, 0));
-  m.normals.push_back(glm::vec3(0, 0, 1));
-  m.texcoords.push_back(glm::vec2(0, 2));  // u along -y from vertex 0 and 1: rotated mapping.
-  m.joints.push_back(glm::u16vec4(0));
-  m.weights.push_back(glm::vec4(1, 0, 0, 0));
+  addVertex(&m, glm::vec3(2, 0, 0), glm::vec3(0, 0, 1), glm::vec2(0, 2));
   // (0,0) uv (0,0); (1,0) uv (1,0) -> u along +x, and (2,0) uv (0,2): a second triangle.
   m.indices.insert(m.indices.end(), {0, 1, extra});
   m.indices.insert(m.indices.end(), {1, extra, 3});

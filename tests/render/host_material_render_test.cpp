@@ -10,6 +10,7 @@
 #include <set>
 
 #include "render/render_fixture.h"
+#include "render/two_targets.h"
 
 namespace si {
 namespace {
@@ -31,56 +32,6 @@ void siMaterial(SiSurface s) {
   o_lit = vec4(siSurfaceAlbedo(s) * host_tone.rgb * (0.25 + 0.75 * diffuse), 1.0);
   o_surface = vec4(fract(s.position * 0.73), s.impostor ? 1.0 : float(s.lod + 1u) / 8.0);
 })";
-
-// The host's framebuffer: two RGBA8 colour targets (both drawn) and a depth buffer.
-class TwoTargets {
- public:
-  explicit TwoTargets(uint32_t size) : size_(size) {
-    glCreateFramebuffers(1, &fbo_);
-    glCreateTextures(GL_TEXTURE_2D, 2, colour_);
-    for (GLuint t : colour_) glTextureStorage2D(t, 1, GL_RGBA8, GLsizei(size), GLsizei(size));
-    glCreateRenderbuffers(1, &depth_);
-    glNamedRenderbufferStorage(depth_, GL_DEPTH_COMPONENT32F, GLsizei(size), GLsizei(size));
-    glNamedFramebufferTexture(fbo_, GL_COLOR_ATTACHMENT0, colour_[0], 0);
-    glNamedFramebufferTexture(fbo_, GL_COLOR_ATTACHMENT1, colour_[1], 0);
-    glNamedFramebufferRenderbuffer(fbo_, GL_DEPTH_ATTACHMENT, GL_RENDERBUFFER, depth_);
-    const GLenum buffers[] = {GL_COLOR_ATTACHMENT0, GL_COLOR_ATTACHMENT1};
-    glNamedFramebufferDrawBuffers(fbo_, 2, buffers);
-    glBindFramebuffer(GL_FRAMEBUFFER, fbo_);
-    glViewport(0, 0, GLsizei(size), GLsizei(size));
-  }
-  ~TwoTargets() {
-    glBindFramebuffer(GL_FRAMEBUFFER, 0);
-    glDeleteFramebuffers(1, &fbo_);
-    glDeleteTextures(2, colour_);
-    glDeleteRenderbuffers(1, &depth_);
-  }
-  bool complete() const {
-    return glCheckNamedFramebufferStatus(fbo_, GL_FRAMEBUFFER) == GL_FRAMEBUFFER_COMPLETE;
-  }
-  void clear() const {
-    const float background[4] = {0.2f, 0.25f, 0.3f, 1.0f}, zero[4] = {0, 0, 0, 0}, far = 1.0f;
-    glClearNamedFramebufferfv(fbo_, GL_COLOR, 0, background);
-    glClearNamedFramebufferfv(fbo_, GL_COLOR, 1, zero);
-    glClearNamedFramebufferfv(fbo_, GL_DEPTH, 0, &far);
-  }
-  std::vector<uint8_t> read(int target) const {
-    std::vector<uint8_t> rgba(size_t(size_) * size_ * 4);
-    glGetTextureImage(colour_[target], 0, GL_RGBA, GL_UNSIGNED_BYTE, GLsizei(rgba.size()),
-                      rgba.data());
-    return rgba;
-  }
-  std::vector<float> readDepth() const {
-    std::vector<float> depth(size_t(size_) * size_);
-    glReadPixels(0, 0, GLsizei(size_), GLsizei(size_), GL_DEPTH_COMPONENT, GL_FLOAT,
-                 depth.data());
-    return depth;
-  }
-
- private:
-  uint32_t size_;
-  GLuint fbo_ = 0, colour_[2] = {0, 0}, depth_ = 0;
-};
 
 // The host's uniform block of kTwoTargets, bound at uniform buffer binding 7.
 class HostLight {

@@ -10,6 +10,7 @@
 
 #include "gltf/pbr_asset.h"
 #include "render/render_fixture.h"
+#include "render/two_targets.h"
 #include "si/core/reference_evaluator.h"
 #include "si/gltf/gltf_import.h"
 
@@ -26,45 +27,6 @@ void siMaterial(SiSurface s) {
   o_normal = vec4(s.normal, 1.0);
   o_uv = vec4(s.uv0, s.tangent.w, 1.0);
 })";
-
-// Two RGBA32F targets and a depth buffer, bound as the draw framebuffer.
-class FloatTargets {
- public:
-  explicit FloatTargets(uint32_t size) : size_(size) {
-    glCreateFramebuffers(1, &fbo_);
-    glCreateTextures(GL_TEXTURE_2D, 2, colour_);
-    for (GLuint t : colour_) glTextureStorage2D(t, 1, GL_RGBA32F, GLsizei(size), GLsizei(size));
-    glCreateRenderbuffers(1, &depth_);
-    glNamedRenderbufferStorage(depth_, GL_DEPTH_COMPONENT32F, GLsizei(size), GLsizei(size));
-    glNamedFramebufferTexture(fbo_, GL_COLOR_ATTACHMENT0, colour_[0], 0);
-    glNamedFramebufferTexture(fbo_, GL_COLOR_ATTACHMENT1, colour_[1], 0);
-    glNamedFramebufferRenderbuffer(fbo_, GL_DEPTH_ATTACHMENT, GL_RENDERBUFFER, depth_);
-    const GLenum buffers[] = {GL_COLOR_ATTACHMENT0, GL_COLOR_ATTACHMENT1};
-    glNamedFramebufferDrawBuffers(fbo_, 2, buffers);
-    glBindFramebuffer(GL_FRAMEBUFFER, fbo_);
-    glViewport(0, 0, GLsizei(size), GLsizei(size));
-    const float zero[4] = {0, 0, 0, 0}, far = 1.0f;
-    glClearNamedFramebufferfv(fbo_, GL_COLOR, 0, zero);
-    glClearNamedFramebufferfv(fbo_, GL_COLOR, 1, zero);
-    glClearNamedFramebufferfv(fbo_, GL_DEPTH, 0, &far);
-  }
-  ~FloatTargets() {
-    glBindFramebuffer(GL_FRAMEBUFFER, 0);
-    glDeleteFramebuffers(1, &fbo_);
-    glDeleteTextures(2, colour_);
-    glDeleteRenderbuffers(1, &depth_);
-  }
-  std::vector<glm::vec4> read(int target) const {
-    std::vector<glm::vec4> texels(size_t(size_) * size_);
-    glGetTextureImage(colour_[target], 0, GL_RGBA, GL_FLOAT, GLsizei(texels.size() * 16),
-                      texels.data());
-    return texels;
-  }
-
- private:
-  uint32_t size_;
-  GLuint fbo_ = 0, colour_[2] = {0, 0}, depth_ = 0;
-};
 
 class PbrMaterialTest : public RenderTest {
  protected:
@@ -168,7 +130,7 @@ class PbrMaterialTest : public RenderTest {
   };
   // The drawn normals against the reference at every covered pixel whose uv lies inside a
   // stripe of the map (away from the filtered borders between stripes).
-  AngleStats compareNormals(const FloatTargets& targets) const {
+  AngleStats compareNormals(const TwoTargets& targets) const {
     // Per vertex, the reference pose's blended skinning matrix M (doubles): M on the tangent,
     // its cofactor on the normal, so the skinned frame stays orthogonal (what the shaders do).
     ReferencePose pose;
@@ -184,7 +146,7 @@ class PbrMaterialTest : public RenderTest {
       normals[v] = glm::normalize(cofactor * glm::dvec3(mesh.normals[v]));
       tangents[v] = glm::dvec4(glm::normalize(m * glm::dvec3(mesh.tangents[v])), mesh.tangents[v].w);
     }
-    const std::vector<glm::vec4> drawn = targets.read(0), uvs = targets.read(1);
+    const std::vector<glm::vec4> drawn = targets.readFloat(0), uvs = targets.readFloat(1);
     AngleStats st;
     for (size_t p = 0; p < drawn.size(); ++p) {
       if (uvs[p].a == 0.0f) continue;  // Background.
@@ -220,7 +182,8 @@ class PbrMaterialTest : public RenderTest {
 TEST_P(PbrMaterialTest, NormalMappedShadingFollowsTheSkinnedTangentFrame) {
   for (PathKind kind : {PathKind::kInstanced, PathKind::kGpuDriven, PathKind::kTraditional}) {
     SCOPED_TRACE(pathKindName(kind));
-    FloatTargets targets(kSize);
+    TwoTargets targets(kSize, GL_RGBA32F);
+    targets.clear(glm::vec4(0.0f));
     Renderer r;
     drawPatch(kind, kSurfaceProbe, &r);
     if (HasFatalFailure()) return;
@@ -243,12 +206,13 @@ TEST_P(PbrMaterialTest, AlphaMaskedTexelsAreDiscarded) {
     PbrAssetDesc d;
     d.mask = mask;
     load(d);
-    FloatTargets targets(kSize);
+    TwoTargets targets(kSize, GL_RGBA32F);
+    targets.clear(glm::vec4(0.0f));
     Renderer r;
     crowd_ = CrowdManager();
     drawPatch(PathKind::kInstanced, kSurfaceProbe, &r);
     size_t left = 0, right = 0;
-    for (const glm::vec4& t : targets.read(1))
+    for (const glm::vec4& t : targets.readFloat(1))
       if (t.a != 0.0f) (t.x < 0.5f ? left : right) += 1;
     return std::make_pair(left, right);
   };

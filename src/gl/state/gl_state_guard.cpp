@@ -25,12 +25,12 @@ constexpr uint32_t bits(std::initializer_list<int> indices) {
 //     table, the impostor clip table, the material buffers; 23-27: the compose table, the
 //     record ring, drawCrowd's previous records, the composed rows (current and previous);
 //     the GPU-driven passes use 0-23 and 26-27;
-//   texture units 0-3: palette (or the depth copy), base colour array (or the depth pyramid),
-//     custom array, impostor atlas; image units 0-1: the depth pyramid's levels.
+//   texture units 0-4: palette (or the depth copy), colour array (or the depth pyramid),
+//     custom array, impostor atlas, material data array; image units 0-1: the depth pyramid's levels.
 constexpr uint32_t kUniforms = bits({0, 1, 2, 3, 4});
 constexpr uint32_t kDrawStorage = bits({1, 2, 3, 4, 8, 9, 10, 11, 23, 24, 25, 26, 27});
 constexpr uint32_t kAllStorage = kDrawStorage | ((1u << 24) - 1u);
-constexpr uint32_t kUnits = bits({0, 1, 2, 3});
+constexpr uint32_t kUnits = bits({0, 1, 2, 3, 4});
 
 constexpr GLenum kUnpack[8] = {GL_UNPACK_SWAP_BYTES,  GL_UNPACK_LSB_FIRST,  GL_UNPACK_ROW_LENGTH,
                                GL_UNPACK_IMAGE_HEIGHT, GL_UNPACK_SKIP_ROWS,  GL_UNPACK_SKIP_PIXELS,
