@@ -72,8 +72,8 @@ class LayerSet {
       used_.push_back(image);
     }
   }
-  // Resizes the used images into `out` after `first_layers` (already there, of size 1 x 1
-  // until now: resized too), setting the size; counts resized images.
+  // Sets `width` and `height` to the largest used image's (capped), resizes the layers already
+  // in `out` (the white one) to it, then appends the used images resized; counts resized images.
   void build(const std::vector<Image>& images, uint32_t cap, std::vector<Image>* out,
              uint32_t* width, uint32_t* height, uint32_t* resized) {
     for (int32_t i : used_) {

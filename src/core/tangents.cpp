@@ -18,7 +18,9 @@ using detail::strCat;
 
 namespace {
 
+// Per vertex: the angle-weighted tangents and bitangents of its triangles.
 struct Accumulated {
+  explicit Accumulated(size_t n) : t(n), b(n), touched(n) {}
   std::vector<glm::dvec3> t, b;
   std::vector<bool> touched;
 };
@@ -73,12 +75,12 @@ Status generateTangents(SkinnedMesh* mesh, TangentReport* report) {
   const auto rangeOk = [&](const IndexRange& r) {
     return r.index_count % 3 == 0 && uint64_t(r.first_index) + r.index_count <= mesh->indices.size();
   };
-  Accumulated acc{std::vector<glm::dvec3>(n), std::vector<glm::dvec3>(n), std::vector<bool>(n)};
+  Accumulated acc(n);
   for (const SubMesh& sm : mesh->sub_meshes)
     if (!sm.lods.empty() && rangeOk(sm.lods[0]))
       accumulate(*mesh, sm.lods[0].first_index, sm.lods[0].index_count, &acc);
   // Vertices only coarser levels use: their levels' triangles, added to those vertices only.
-  Accumulated coarse{std::vector<glm::dvec3>(n), std::vector<glm::dvec3>(n), std::vector<bool>(n)};
+  Accumulated coarse(n);
   for (const SubMesh& sm : mesh->sub_meshes)
     for (size_t l = 1; l < sm.lods.size(); ++l)
       if (rangeOk(sm.lods[l])) accumulate(*mesh, sm.lods[l].first_index, sm.lods[l].index_count, &coarse);

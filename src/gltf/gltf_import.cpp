@@ -16,18 +16,13 @@ using detail::strCat;
 
 namespace {
 
-// Normal maps need the mesh's tangents: generated where the file has none, or the maps
-// dropped (with a warning) from a mesh without texture coordinates.
+// Normal maps need the mesh's tangents: generated where the file has none (every vertex has
+// texture coordinates: convertMeshes gives a primitive without TEXCOORD_0 zeros, whose
+// vertices are then counted as without a UV gradient).
 Status tangentsForNormalMaps(GltfImportReport* report, Character* c) {
   const bool normal_maps = std::any_of(c->materials.begin(), c->materials.end(),
                                        [](const Material& m) { return m.normal_image >= 0; });
   if (!normal_maps || !c->mesh.tangents.empty()) return Status::ok();
-  if (c->mesh.texcoords.size() != c->mesh.vertexCount()) {
-    for (Material& m : c->materials) m.normal_image = -1;
-    report->warnings.push_back(
-        "normal maps dropped: the mesh has no TEXCOORD_0 to derive tangents from");
-    return Status::ok();
-  }
   TangentReport tr;
   const Status s = generateTangents(&c->mesh, &tr);
   if (!s.isOk()) return corrupt(s.message());

@@ -59,12 +59,11 @@ class GltfWriter {
                  rgba.begin() + ptrdiff_t(y + 1) * width * 4);
     }
     std::vector<uint8_t> z = {0x78, 0x01};
-    for (size_t at = 0; at < raw.size() || at == 0; at += 65535) {
+    for (size_t at = 0; at < raw.size(); at += 65535) {  // Stored blocks; the last says so.
       const size_t n = std::min<size_t>(65535, raw.size() - at);
       z.push_back(at + n >= raw.size() ? 1 : 0);
       z.insert(z.end(), {uint8_t(n), uint8_t(n >> 8), uint8_t(~n), uint8_t(~n >> 8)});
       z.insert(z.end(), raw.begin() + ptrdiff_t(at), raw.begin() + ptrdiff_t(at + n));
-      if (raw.empty()) break;
     }
     uint32_t a = 1, b = 0;
     for (uint8_t c : raw) a = (a + c) % 65521, b = (b + a) % 65521;

@@ -53,7 +53,8 @@ struct MaterialTable {
 /// Builds the table of `character` (which must be valid). Each array's layer size is the
 /// largest width and the largest height of the images in it, each capped at `max_size` (0
 /// means 2048); images of another size are resized with resizeImage(). An image used both as
-/// colour and as data is in both arrays; images no material uses are in neither. kInvalidArgument for a null output or a character that does not validate.
+/// colour and as data is in both arrays; images no material uses are in neither.
+/// kInvalidArgument for a null output or a character that does not validate.
 Status buildMaterialTable(const Character& character, uint32_t max_size, MaterialTable* out);
 
 /// `in` resized to `width` x `height` (each 1..16384), per axis: where the image shrinks, each

@@ -32,9 +32,8 @@ struct TangentReport {
 /// with bitangent = w * cross(normal, tangent)), replacing any it had. glTF's convention: the
 /// tangent points where u grows, the bitangent where v falls (up in the image: images are
 /// stored top row first and texture coordinates have v growing down, so a normal map's +y is
-/// up in its image). The triangles of every
-/// sub-mesh's LOD 0 make the frame; vertices only coarser levels use take theirs from the
-/// levels' triangles. Fails, leaving `mesh` untouched, with kInvalidArgument for a null mesh,
+/// up in its image). The triangles of every sub-mesh's LOD 0 make the frame; vertices only
+/// coarser levels use take theirs from the levels' triangles. Fails, leaving `mesh` untouched, with kInvalidArgument for a null mesh,
 /// one without texture coordinates, or normals that do not match the vertices, and with
 /// kOutOfRange for an index past the vertices.
 Status generateTangents(SkinnedMesh* mesh, TangentReport* report);

@@ -130,7 +130,7 @@ Status CharacterBuffers::upload(const Character& character, const BakedPalette& 
     release();
     return s;
   }
-  has_tangents = stream.tangent_offset != 0;
+  tangent_offset = stream.tangent_offset;
   glCreateVertexArrays(1, &vao);
   describeVertexFormat(vao);
   return Status::ok();
@@ -165,7 +165,7 @@ void CharacterBuffers::describeVertexFormat(GLuint v) const {
   glEnableVertexArrayAttrib(v, 7);
   glVertexArrayAttribBinding(v, 7, 0);
   glVertexArrayAttribFormat(v, 7, 4, GL_INT_2_10_10_10_REV, GL_TRUE,
-                            has_tangents ? stride_bytes - 4 : VertexStream::kNormalOffset);
+                            tangent_offset != 0 ? tangent_offset : VertexStream::kNormalOffset);
   if (esProfile()) {  // GLSL ES 3.00 reads each vertex's material index as attribute 6.
     glVertexArrayVertexBuffer(v, 1, vertex_materials, 0, 2);
     glEnableVertexArrayAttrib(v, 6);

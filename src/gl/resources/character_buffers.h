@@ -45,7 +45,7 @@ struct CharacterBuffers {
   uint32_t vertex_count = 0;
   uint32_t stride_bytes = 32;
   bool wide_joints = false;
-  bool has_tangents = false;  ///< The stream's last word is the tangent (attribute 7).
+  uint32_t tangent_offset = 0;  ///< VertexStream::tangent_offset (0: no tangents).
   SkinnedMesh mesh;  ///< A copy, for the paths that read vertices on the CPU.
 };
 

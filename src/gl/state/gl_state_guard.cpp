@@ -26,7 +26,8 @@ constexpr uint32_t bits(std::initializer_list<int> indices) {
 //     record ring, drawCrowd's previous records, the composed rows (current and previous);
 //     the GPU-driven passes use 0-23 and 26-27;
 //   texture units 0-4: palette (or the depth copy), colour array (or the depth pyramid),
-//     custom array, impostor atlas, material data array; image units 0-1: the depth pyramid's levels.
+//     custom array, impostor atlas, material data array; image units 0-1: the depth
+//     pyramid's levels.
 constexpr uint32_t kUniforms = bits({0, 1, 2, 3, 4});
 constexpr uint32_t kDrawStorage = bits({1, 2, 3, 4, 8, 9, 10, 11, 23, 24, 25, 26, 27});
 constexpr uint32_t kAllStorage = kDrawStorage | ((1u << 24) - 1u);
