@@ -34,8 +34,10 @@ std::string resolveIncludes(const std::string& text, const std::string& dir, int
   return out;
 }
 
-// The engine's shaders: skinning from the include, shading as si::Renderer shades (base colour
-// times factor, tint where the texture's alpha says so, one directional light).
+// The engine's shaders: skinning from the include, shading through the installed built-in
+// material (si_surface.glsl's interface, builtin_material.glsl's glTF metallic-roughness) with
+// the three library functions it calls defined here as si::Renderer defines them (the tint
+// where the texture's alpha says so, the renderer's light, no motion).
 const char* kVertexMain = R"(
 #include "si_skinning.glsl"
 layout(location = 0) in vec3 a_position;
@@ -44,6 +46,7 @@ layout(location = 2) in vec2 a_texcoord;
 layout(location = 3) in uvec4 a_joints;
 layout(location = 4) in vec4 a_weights;
 layout(location = 1) uniform mat4 u_view_projection;
+out vec3 v_position;  // Camera-relative, as the records are.
 out vec3 v_normal;
 out vec2 v_texcoord;
 flat out uint v_color;
@@ -53,26 +56,51 @@ void main() {
   siSkin(inst, a_joints, a_weights, m0, m1, m2);
   vec4 w0 = inst.world_rows[0], w1 = inst.world_rows[1], w2 = inst.world_rows[2];
   vec3 world = siTransformPoint(w0, w1, w2, siTransformPoint(m0, m1, m2, a_position));
+  v_position = world;
   v_normal = siTransformNormal(w0, w1, w2, siTransformNormal(m0, m1, m2, a_normal.xyz));
   v_texcoord = a_texcoord;
   v_color = inst.blend.w;
   gl_Position = u_view_projection * vec4(world, 1.0);
 }
 )";
-const char* kFragment = R"(#version 450 core
+const char* kFragmentMain = R"(
+#include "si_surface.glsl"
+in vec3 v_position;
 in vec3 v_normal;
 in vec2 v_texcoord;
 flat in uint v_color;
-layout(binding = 1) uniform sampler2D u_base_color;
+layout(binding = 1) uniform sampler2D u_base_color;  // sRGB: decoded as it is sampled.
 layout(location = 2) uniform vec4 u_base_factor;
 layout(location = 3) uniform vec3 u_light_direction;
-out vec4 o_color;
-void main() {
-  vec4 texel = texture(u_base_color, v_texcoord) * u_base_factor;
-  vec3 albedo = mix(texel.rgb, texel.rgb * unpackUnorm4x8(v_color).rgb, texel.a);
-  float lambert = max(dot(normalize(v_normal), -u_light_direction), 0.0);
-  o_color = vec4(albedo * (0.35 + 0.65 * lambert), 1.0);
+layout(location = 4) uniform vec2 u_metallic_roughness;
+vec3 siSurfaceAlbedo(SiSurface s) {
+  return mix(s.base_color.rgb, s.base_color.rgb * s.tint, s.base_color.a);
 }
+vec2 siSurfaceMotion(SiSurface s) { return vec2(0.0); }
+vec3 siLightDirection() { return u_light_direction; }
+void siMaterial(SiSurface s);
+void main() {
+  SiSurface s;
+  s.position = v_position;
+  s.normal = normalize(v_normal);
+  s.vertex_normal = s.normal;
+  s.tangent = vec4(0.0);
+  s.uv0 = v_texcoord;
+  s.material = 0u;
+  s.base_color = texture(u_base_color, v_texcoord) * u_base_factor;
+  s.metallic = u_metallic_roughness.x;
+  s.roughness = u_metallic_roughness.y;
+  s.occlusion = 1.0;
+  s.emissive = vec3(0.0);
+  s.tint = unpackUnorm4x8(v_color).rgb;
+  s.custom_layer = -1;
+  s.lod = 0u;
+  s.impostor = false;
+  s.clip_position = vec4(0.0);
+  s.previous_clip_position = vec4(0.0);
+  siMaterial(s);
+}
+#include "builtin_material.glsl"
 )";
 
 std::string compile(GLenum type, const std::string& source, GLuint* out) {
@@ -118,7 +146,10 @@ std::string drawWithOwnRenderer(const std::string& glsl_dir,
       glsl_dir);
   GLuint vs = 0, fs = 0;
   error = compile(GL_VERTEX_SHADER, vs_text, &vs);
-  if (error.empty()) error = compile(GL_FRAGMENT_SHADER, kFragment, &fs);
+  if (error.empty())
+    error = compile(GL_FRAGMENT_SHADER,
+                    resolveIncludes(std::string("#version 450 core\n") + kFragmentMain, glsl_dir),
+                    &fs);
   if (!error.empty()) return error;
   const GLuint program = glCreateProgram();
   glAttachShader(program, vs);
@@ -170,7 +201,8 @@ std::string drawWithOwnRenderer(const std::string& glsl_dir,
   const si::Image& image = character.images.at(size_t(material.base_color_image));
   const GLsizei levels =
       GLsizei(std::floor(std::log2(double(std::max(image.width, image.height))))) + 1;
-  glTextureStorage2D(textures[1], levels, GL_RGBA8, GLsizei(image.width), GLsizei(image.height));
+  glTextureStorage2D(textures[1], levels, GL_SRGB8_ALPHA8, GLsizei(image.width),
+                     GLsizei(image.height));
   glTextureSubImage2D(textures[1], 0, 0, 0, GLsizei(image.width), GLsizei(image.height), GL_RGBA,
                        GL_UNSIGNED_BYTE, image.rgba8.data());
   glGenerateTextureMipmap(textures[1]);
@@ -185,6 +217,7 @@ std::string drawWithOwnRenderer(const std::string& glsl_dir,
   glProgramUniformMatrix4fv(program, 1, 1, GL_FALSE, view_projection);
   glProgramUniform4fv(program, 2, 1, &material.base_color_factor[0]);
   glProgramUniform3fv(program, 3, 1, light);
+  glProgramUniform2f(program, 4, material.metallic_factor, material.roughness_factor);
 
   // The frame: records into the engine's buffer, then one instanced draw per batch.
   glClearColor(clear_rgb[0], clear_rgb[1], clear_rgb[2], 1.0f);
