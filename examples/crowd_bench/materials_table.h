@@ -2,9 +2,10 @@
 #pragma once
 // crowd_bench's materials table (--materials): what drawing through a host material costs
 // (si::MaterialDesc, Renderer::setMaterial). Each frame of the field is drawn twice by the same
-// renderer, with the built-in material and then with a host material that computes the same
-// Lambert from a uniform block of its own, so both columns see the same crowd, camera and
-// machine load; the medians over the frames and their ratios.
+// renderer, with the built-in material (glTF metallic-roughness) and then with a host material
+// computing the library's former look (Lambert over a constant ambient) from a uniform block of
+// its own, so both columns see the same crowd, camera and machine load; the medians over the
+// frames and their ratios.
 #include <cstdio>
 #include <string>
 #include <vector>
