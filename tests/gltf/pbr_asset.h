@@ -19,6 +19,7 @@ namespace si::test {
 struct PbrAssetDesc {
   int cells = 8;
   bool tangents = true;  ///< TANGENT in the file (+x, w = 1); otherwise the import makes them.
+  float bitangent_sign = 1.0f;  ///< The file's TANGENT w (-1: the bitangent is -v).
   bool mask = false;     ///< alphaMode MASK (cutoff 0.5); the base colour alpha's left half 0.
   bool double_sided = false;
   bool normal_map = true;
@@ -45,7 +46,7 @@ inline std::string pbrAsset(const PbrAssetDesc& d) {
       const float x = float(i) / n - 0.5f, y = float(j) / n;
       pos.insert(pos.end(), {x, y, 0});
       nrm.insert(nrm.end(), {0, 0, 1});
-      tan.insert(tan.end(), {1, 0, 0, 1});
+      tan.insert(tan.end(), {1, 0, 0, d.bitangent_sign});
       uv.insert(uv.end(), {x + 0.5f, 1.0f - y});
       const float child = std::fmin(std::fmax((y - 1.0f / 3.0f) * 3.0f, 0.0f), 1.0f);
       joints.insert(joints.end(), {0, 1, 0, 0});

@@ -131,11 +131,13 @@ struct RendererDesc {
   SkinningPath skinning_path = SkinningPath::kAutomatic;
   /// Bytes of the compute path's pre-skinned vertex ring (16 bytes a vertex); 0 means 32 MiB.
   /// The visible set is skinned and drawn in chunks that fit; it never grows past this, except
-  /// to hold at least one instance of the largest sub-mesh LOD.
+  /// to hold at least one instance of the largest sub-mesh LOD. Once a character with tangents
+  /// is drawn, a tangent ring of a quarter as many bytes (4 a vertex) sits beside it.
   uint64_t compute_ring_bytes = 0;
   /// Bytes of the GPU-driven path's pre-skinned vertex ring (16 bytes a vertex); 0 means
   /// 256 MiB or GL_MAX_SHADER_STORAGE_BLOCK_SIZE if smaller. Instances that do not fit in a
   /// frame are drawn with vertex-shader skinning instead (DrawStats::vertex_shader_instances).
+  /// With tangents, a tangent ring of a quarter as many bytes beside it, as compute_ring_bytes.
   uint64_t gpu_driven_ring_bytes = 0;
   /// drawCrowdGpuCulled(): two-phase occlusion culling. Phase 1 draws the instances visible at
   /// the end of the last frame; the depth buffer (of the framebuffer bound when drawing, over

@@ -11,11 +11,12 @@
 
 namespace si::detail {
 
-void bindPreSkinning(const DrawResources& r, GLuint out, GLuint vertex_list) {
+void bindPreSkinning(const DrawResources& r, GLuint out, GLuint vertex_list, GLuint tangents) {
   r.palette->bind();
   glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 1, out);
   glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 2, r.character->vertex_buffer);
   glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 3, vertex_list);
+  glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 28, tangents != kNoObject ? tangents : out);
 }
 
 Status ComputePath::prepare(const DrawResources& r) {
@@ -28,9 +29,13 @@ Status ComputePath::prepare(const DrawResources& r) {
 Status ComputePath::ensureRing(const DrawResources& r) {
   const uint64_t bytes =
       r.desc->compute_ring_bytes == 0 ? uint64_t(32) << 20 : r.desc->compute_ring_bytes;
-  return r.scratch->compute_ring.ensure(
-      std::max<uint64_t>(bytes / 16, r.preskin->max_lod_vertices), false,
-      "compute pre-skinning: the pre-skinned vertex ring");
+  Status s =
+      r.scratch->compute_ring.ensure(std::max<uint64_t>(bytes / 16, r.preskin->max_lod_vertices),
+                                     false, "compute pre-skinning: the pre-skinned vertex ring");
+  if (s.isOk() && r.preskin->tangents)
+    s = r.scratch->compute_tangent_ring.ensure(r.scratch->compute_ring.vertices, true,
+                                               "compute pre-skinning: the tangent ring");
+  return s;
 }
 
 // For each batch, a compute dispatch skins its instances' vertices into the ring; when the ring
@@ -53,7 +58,8 @@ Status ComputePath::draw(const DrawResources& r, const PathFrame& f, DrawStats* 
   }
   const GLuint ring = r.scratch->compute_ring.buffer;
   const uint64_t ring_vertices = r.scratch->compute_ring.vertices;
-  bindPreSkinning(r, ring, lists.lod_vertex_list);
+  bindPreSkinning(r, ring, lists.lod_vertex_list,
+                  lists.tangents ? r.scratch->compute_tangent_ring.buffer : kNoObject);
   bindAppearance(r, pulled);
   setCameraUniforms(pulled, f.camera, f.light);
   glBindVertexArray(vao_);
@@ -68,7 +74,7 @@ Status ComputePath::draw(const DrawResources& r, const PathFrame& f, DrawStats* 
       r.ring->bindBatch(f.ring_base, p.batch);
       glProgramUniform4ui(pulled.id, 5, p.ring_first, p.lod.vertex_count, p.lod.vertex_offset,
                           p.first_instance);
-      glProgramUniform2ui(pulled.id, 6, p.instances, lists.source_words);
+      glProgramUniform2ui(pulled.id, 6, p.instances, lists.drawLayout());
       if (pulled.lod >= 0) glProgramUniform1ui(pulled.id, pulled.lod, p.batch.lod);
       glDrawElementsInstanced(GL_TRIANGLES, GLsizei(p.lod.index_count), GL_UNSIGNED_INT,
                               reinterpret_cast<const void*>(uintptr_t(p.lod.first_index) * 4),
@@ -109,7 +115,7 @@ Status ComputePath::draw(const DrawResources& r, const PathFrame& f, DrawStats* 
       if (f.layers) r.ring->bindLayers(f.layer_base, d);
       if (f.layers && f.motion) r.ring->bindLayers(f.previous_layer_base, d, 3);
       glProgramUniform4ui(skin.id, 5, uint32_t(cursor), l.vertex_count, l.vertex_offset, first);
-      glProgramUniform2ui(skin.id, 6, count, lists.source_words);
+      glProgramUniform2ui(skin.id, 6, count, lists.drawLayout());
       const uint64_t threads = uint64_t(count) * l.vertex_count;
       s = dispatchGroups(*r.info, (threads + 63) / 64, "compute pre-skinning");
       if (!s.isOk()) return s;

@@ -13,9 +13,11 @@ namespace si::detail {
 
 /// Binds what the compute skinning passes (ProgramId::kComputeSkin and its variants) read and
 /// write: the palette (texture unit 0, info block at uniform binding 4), `out` (pre-skinned
-/// vertices) at storage binding 1, the character's source vertices at 2 and `vertex_list` at 3.
+/// vertices) at storage binding 1, the character's source vertices at 2, `vertex_list` at 3 and
+/// `tangents` (the tangent ring; `out` when the pass writes none, never read then) at 28.
 /// The draws and Renderer::captureSkinnedPositions share it.
-void bindPreSkinning(const DrawResources& r, GLuint out, GLuint vertex_list);
+void bindPreSkinning(const DrawResources& r, GLuint out, GLuint vertex_list,
+                     GLuint tangents = kNoObject);
 
 class ComputePath final : public DrawPath {
  public:
@@ -30,7 +32,8 @@ class ComputePath final : public DrawPath {
 
   /// Creates the shared pre-skinned vertex ring (ScratchBuffers::compute_ring: RendererDesc::
   /// compute_ring_bytes, at least one instance of the character's largest LOD) if there is none
-  /// or it is too small for the character.
+  /// or it is too small for the character; for a character with tangents, its tangent ring too
+  /// (compute_tangent_ring, as many vertices).
   Status ensureRing(const DrawResources& r);
 
  private:

@@ -10,7 +10,6 @@
 namespace si::detail {
 
 namespace {
-constexpr size_t kVertexBytes = 32;             // Position, normal, texcoord as floats.
 constexpr size_t kChunkBytes = size_t(8) << 20;  // The streaming buffer, at least.
 }  // namespace
 
@@ -30,19 +29,23 @@ Status CpuSkinningPath::prepare(const DrawResources& r) {
     }
   // A chunk holds at least one instance of the largest range: a LOD past 8 MiB of streamed
   // vertices (262,144) is streamed whole, never written past the buffer.
+  vertex_bytes_ = mesh.tangents.empty() ? 32 : 48;
   chunk_bytes_ = kChunkBytes;
   for (const glm::uvec2& range : ranges_)
-    chunk_bytes_ = std::max(chunk_bytes_, size_t(range.y) * kVertexBytes);
+    chunk_bytes_ = std::max(chunk_bytes_, size_t(range.y) * vertex_bytes_);
   if (vao_ != kNoObject) glDeleteVertexArrays(1, &vao_);
   glCreateVertexArrays(1, &vao_);
   glVertexArrayElementBuffer(vao_, r.character->index_buffer);
-  for (GLuint loc : {0u, 1u, 2u}) {
+  for (GLuint loc : {0u, 1u, 2u, 3u}) {
     glEnableVertexArrayAttrib(vao_, loc);
     glVertexArrayAttribBinding(vao_, loc, 0);
   }
   glVertexArrayAttribFormat(vao_, 0, 3, GL_FLOAT, GL_FALSE, 0);
   glVertexArrayAttribFormat(vao_, 1, 3, GL_FLOAT, GL_FALSE, 12);
   glVertexArrayAttribFormat(vao_, 2, 2, GL_FLOAT, GL_FALSE, 24);
+  // The tangent; without tangents the attribute reads the position (preskinned.vert's
+  // u_tangents is 0 and ignores it), so nothing comes from the host's generic attribute state.
+  glVertexArrayAttribFormat(vao_, 3, 4, GL_FLOAT, GL_FALSE, vertex_bytes_ == 48 ? 32 : 0);
   return Status::ok();
 }
 
@@ -55,12 +58,14 @@ Status CpuSkinningPath::draw(const DrawResources& r, const PathFrame& f, DrawSta
     if (!s.isOk()) return s;
     r.scratch->cpu_stream_bytes = chunk_bytes_;
   }
-  glVertexArrayVertexBuffer(vao_, 0, stream, 0, GLsizei(kVertexBytes));
+  glVertexArrayVertexBuffer(vao_, 0, stream, 0, GLsizei(vertex_bytes_));
   const Program& program = r.programs[ProgramId::kPreSkinned];
   glUseProgram(program.id);
   glBindVertexArray(vao_);
   bindAppearance(r, program);
   setCameraUniforms(program, f.camera, f.light);
+  const bool tangents = vertex_bytes_ == 48;
+  glProgramUniform1ui(program.id, 6, tangents ? 1u : 0u);
   const BakedPalette& palette = *r.palette->palette();
   const SkinnedMesh& mesh = r.character->mesh;
   const std::vector<SubMesh>& sub_meshes = r.character->sub_meshes;
@@ -111,11 +116,11 @@ Status CpuSkinningPath::draw(const DrawResources& r, const PathFrame& f, DrawSta
       const size_t lod_index = std::min<size_t>(lod, sub_meshes[sm].lods.size() - 1);
       if (sub_meshes[sm].lods[lod_index].index_count == 0) continue;  // Dropped (buildPartLods).
       const glm::uvec2 vr = ranges_[range_of_[sm][lod_index]];
-      if (vertices_.size() + size_t(vr.y) * kVertexBytes > chunk_bytes_) flush();
-      const GLint first = GLint(vertices_.size() / kVertexBytes);
-      vertices_.resize(vertices_.size() + size_t(vr.y) * kVertexBytes);
-      float* out = reinterpret_cast<float*>(vertices_.data() + size_t(first) * kVertexBytes);
-      for (uint32_t k = 0; k < vr.y; ++k, out += 8) {
+      if (vertices_.size() + size_t(vr.y) * vertex_bytes_ > chunk_bytes_) flush();
+      const GLint first = GLint(vertices_.size() / vertex_bytes_);
+      vertices_.resize(vertices_.size() + size_t(vr.y) * vertex_bytes_);
+      float* out = reinterpret_cast<float*>(vertices_.data() + size_t(first) * vertex_bytes_);
+      for (uint32_t k = 0; k < vr.y; ++k, out += vertex_bytes_ / 4) {
         const uint32_t vi = vr.x + k;
         glm::mat4 blended(0.0f);
         for (int i = 0; i < 4; ++i) {
@@ -123,10 +128,22 @@ Status CpuSkinningPath::draw(const DrawResources& r, const PathFrame& f, DrawSta
           if (w != 0.0f) blended += joint[mesh.joints[vi][i]] * w;
         }
         const glm::vec3 p(blended * glm::vec4(mesh.positions[vi], 1.0f));
-        const glm::vec3 n = glm::normalize(glm::mat3(blended) * mesh.normals[vi]);
+        // The normal through the blended matrix's cofactor, as the shaders skin it
+        // (si_transform.glsl's siTransformNormal): a blend of rotations is no rotation.
+        const glm::mat3 m(blended);
+        glm::mat3 cofactor(glm::cross(m[1], m[2]), glm::cross(m[2], m[0]), glm::cross(m[0], m[1]));
+        if (glm::dot(m[0], cofactor[0]) < 0.0f) cofactor = -cofactor;
+        const glm::vec3 n = glm::normalize(cofactor * mesh.normals[vi]);
         const glm::vec2 uv = mesh.texcoords.empty() ? glm::vec2(0.0f) : mesh.texcoords[vi];
         const float values[8] = {p.x, p.y, p.z, n.x, n.y, n.z, uv.x, uv.y};
         std::memcpy(out, values, sizeof(values));
+        if (!tangents) continue;
+        // Skinned as the vertex shader skins it: the blended matrix, normalized, w kept.
+        const glm::vec4& t = mesh.tangents[vi];
+        const glm::vec3 turned = m * glm::vec3(t);
+        const float length = glm::length(turned);
+        const glm::vec4 skinned = length > 0.0f ? glm::vec4(turned / length, t.w) : glm::vec4(0.0f);
+        std::memcpy(out + 8, &skinned[0], sizeof(skinned));
       }
       pending_.push_back(
           {sub_meshes[sm].lods[lod_index], first - GLint(vr.x), rec.blend[3], lod});

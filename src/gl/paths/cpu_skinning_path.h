@@ -30,6 +30,7 @@ class CpuSkinningPath final : public DrawPath {
   std::vector<glm::uvec2> ranges_;              // Per (sub-mesh, lod): first vertex, count.
   std::vector<std::vector<uint32_t>> range_of_;  // [sub_mesh][lod] -> ranges_.
   size_t chunk_bytes_ = 0;  // The stream's size for this character: 8 MiB or its largest range.
+  size_t vertex_bytes_ = 32;  // Position, normal, texcoord as floats; 48 with the tangent.
 };
 
 }  // namespace si::detail

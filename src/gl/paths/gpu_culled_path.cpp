@@ -313,6 +313,9 @@ Status GpuCulledPath::ensureRing(const DrawResources& r, bool motion) {
                    " bytes does not hold one instance of the largest LOD (",
                    r.preskin->max_lod_vertices, " vertices)")};
   Status s = r.scratch->gpu_driven_ring.ensure(vertices, true, "GPU-driven pre-skinning: the ring");
+  if (s.isOk() && r.preskin->tangents)
+    s = r.scratch->gpu_driven_tangent_ring.ensure(vertices, true,
+                                                  "GPU-driven pre-skinning: the tangent ring");
   if (s.isOk() && motion)
     s = r.scratch->gpu_driven_previous_ring.ensure(vertices, true,
                                                    "GPU-driven pre-skinning: the previous ring");
@@ -368,8 +371,15 @@ void GpuCulledPath::runPasses(const DrawResources& r, const PathFrame& f, uint32
   const GLuint preskin_ssbo[] = {entry_data_, r.scratch->gpu_driven_ring.buffer,
                                  r.character->vertex_buffer,
                                  r.preskin->lod_vertex_list};
-  if (f.preskin) glBindBuffersBase(GL_SHADER_STORAGE_BUFFER, 12, 4, preskin_ssbo);
-  else glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 12, entry_data_);
+  if (f.preskin) {
+    glBindBuffersBase(GL_SHADER_STORAGE_BUFFER, 12, 4, preskin_ssbo);
+    // The tangent ring (the vertex ring stands in, never read, for a character without).
+    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 28,
+                     r.preskin->tangents ? r.scratch->gpu_driven_tangent_ring.buffer
+                                         : r.scratch->gpu_driven_ring.buffer);
+  } else {
+    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 12, entry_data_);
+  }
   if (layers_) {
     const GLuint layer_ssbo[] = {overlays_, layers_out_};
     glBindBuffersBase(GL_SHADER_STORAGE_BUFFER, 17, 2, layer_ssbo);
@@ -416,7 +426,7 @@ void GpuCulledPath::runPasses(const DrawResources& r, const PathFrame& f, uint32
     const Program& skin = r.programs[preSkinningProgram(true, motion_, layers_, composed)];
     glUseProgram(skin.id);
     r.palette->bind();
-    glProgramUniform2ui(skin.id, 6, 0u, r.preskin->source_words);
+    glProgramUniform2ui(skin.id, 6, 0u, r.preskin->drawLayout());
     glDispatchComputeIndirect(GLintptr(kSkinDispatchWord) * 4);
     glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT);
     const Program& pulled =
@@ -425,7 +435,7 @@ void GpuCulledPath::runPasses(const DrawResources& r, const PathFrame& f, uint32
                                    : ProgramId::kGpuPulled];
     bindShading(r, pulled, f.camera, f.light);
     set_motion(pulled);
-    glProgramUniform2ui(pulled.id, 6, 0u, r.preskin->source_words);
+    glProgramUniform2ui(pulled.id, 6, 0u, r.preskin->drawLayout());
     glBindVertexArray(preskin_vao_);
     glMultiDrawElementsIndirect(GL_TRIANGLES, GL_UNSIGNED_INT,
                                 reinterpret_cast<const void*>(kPreskinnedCommands),

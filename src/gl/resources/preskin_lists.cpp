@@ -42,6 +42,7 @@ Status PreSkinLists::build(const CharacterBuffers& character) {
   lods = std::move(built);
   max_lod_vertices = largest;
   source_words = character.stride_bytes / 4 | (character.wide_joints ? 0x100u : 0u);
+  tangents = character.tangent_offset != 0;
   return Status::ok();
 }
 

@@ -34,8 +34,13 @@ struct PreSkinLists {
   GLuint lod_vertex_list = kNoObject;  ///< Source vertex of each local vertex.
   uint32_t max_lod_vertices = 0;       ///< The largest list.
   /// 32-bit words per source vertex (stride / 4), | 0x100 with wide joints: pre_skin_common.glsl's
-  /// u_layout.y.
+  /// u_layout.y for a pass that writes no tangents (captureSkinnedPositions).
   uint32_t source_words = 8;
+  /// The source vertices end with a tangent word (CharacterBuffers::tangent_offset).
+  bool tangents = false;
+  /// u_layout.y for the passes that pre-skin into, and draw from, the tangent ring beside the
+  /// vertex ring (ScratchBuffers): source_words, | 0x200 when the source has tangents.
+  uint32_t drawLayout() const { return source_words | (tangents ? 0x200u : 0u); }
 };
 
 }  // namespace si::detail

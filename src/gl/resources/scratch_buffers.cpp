@@ -10,7 +10,7 @@ Status VertexRing::ensure(uint64_t wanted, bool exact, const char* what) {
   if (buffer != kNoObject && (exact ? vertices == wanted : vertices >= wanted))
     return Status::ok();
   vertices = 0;
-  Status s = createBuffer(&buffer, wanted * 16, nullptr, 0, what);
+  Status s = createBuffer(&buffer, wanted * vertex_bytes, nullptr, 0, what);
   if (s.isOk()) vertices = wanted;
   return s;
 }
@@ -32,6 +32,8 @@ void ScratchBuffers::release() {
   compute_previous_ring.release();
   gpu_driven_ring.release();
   gpu_driven_previous_ring.release();
+  compute_tangent_ring.release();
+  gpu_driven_tangent_ring.release();
   if (cpu_stream != kNoObject) glDeleteBuffers(1, &cpu_stream);
   cpu_stream = kNoObject;
   cpu_stream_bytes = 0;

@@ -15,9 +15,12 @@
 
 namespace si::detail {
 
-/// A buffer of pre-skinned vertices (16 bytes each) that the compute passes write and the
-/// pulling draws read.
+/// A buffer of pre-skinned vertices (16 bytes each; 4 for a tangent ring) that the compute
+/// passes write and the pulling draws read.
 struct VertexRing {
+  explicit VertexRing(uint32_t bytes_per_vertex = 16) : vertex_bytes(bytes_per_vertex) {}
+
+  uint32_t vertex_bytes;
   GLuint buffer = kNoObject;
   uint64_t vertices = 0;  ///< Capacity; 0 until created.
 
@@ -34,6 +37,11 @@ struct ScratchBuffers {
   VertexRing gpu_driven_ring;  ///< The GPU-driven path's (RendererDesc::gpu_driven_ring_bytes).
   /// Its twin for previous positions (motion vectors): the same vertex slots.
   VertexRing gpu_driven_previous_ring;
+  /// The skinned tangents of characters with tangents (pre_skin_common.glsl's siPackTangent),
+  /// beside compute_ring and gpu_driven_ring at the same vertex slots; created on the first
+  /// such character's draw.
+  VertexRing compute_tangent_ring{4};
+  VertexRing gpu_driven_tangent_ring{4};
   GLuint cpu_stream = kNoObject;  ///< The CPU-skinning path's vertex stream (orphaned per chunk).
   size_t cpu_stream_bytes = 0;    ///< Its size: grown to the largest character's chunk.
   /// Layered animation: the drawn crowd's mask table (si::layerMaskTable).

@@ -1,6 +1,7 @@
 // SkinnedInstancing - SPDX-License-Identifier: MIT (see LICENSE)
 // Compute pre-skinning: one thread per (instance, vertex of its LOD) of a batch, writing the
-// camera-relative world position and the octahedral normal into the ring. SI_MOTION_VECTORS:
+// camera-relative world position and the octahedral normal into the ring (and, for a source
+// with tangents, the packed skinned tangent into the tangent ring). SI_MOTION_VECTORS:
 // also the previous frame's position (siSkinPrevious) into the parallel previous ring.
 // SI_LAYERS: each instance's overlay composed on its mask (siSkinLayered; with
 // SI_COMPOSED_LAYERS read from the compose pass's rows, siSkinComposed).
@@ -26,6 +27,7 @@ const uint u_batch_slot = 0u;
 #endif
 layout(local_size_x = 64) in;
 layout(std430, binding = 1) writeonly buffer SiSkinnedOut { vec4 si_skinned_out[]; };
+layout(std430, binding = 28) writeonly buffer SiTangentsOut { uint si_tangents_out[]; };
 #ifdef SI_MOTION_VECTORS
 layout(std430, binding = 4) writeonly buffer SiSkinnedPreviousOut { vec4 si_previous_out[]; };
 #endif
@@ -42,7 +44,9 @@ void main() {
 #endif
   SiInstance inst = si_instances[u_chunk.w + i];
   uint slot = u_batch_slot + u_chunk.w + i;
-  si_skinned_out[u_chunk.x + g] = siPreSkin(source, inst, layer, slot);
+  uint tangent;
+  si_skinned_out[u_chunk.x + g] = siPreSkin(source, inst, layer, slot, tangent);
+  if (siHasTangents()) si_tangents_out[u_chunk.x + g] = tangent;
 #ifdef SI_MOTION_VECTORS
 #ifdef SI_LAYERS
   uvec4 previous_layer = si_previous_layers[u_chunk.w + i];

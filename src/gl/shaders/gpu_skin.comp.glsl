@@ -1,7 +1,7 @@
 // SkinnedInstancing - SPDX-License-Identifier: MIT (see LICENSE)
 // GPU-driven pre-skinning (after the three culling passes, dispatched indirectly): one thread
 // per vertex of every pre-skinned entry, buckets one after another as the command pass laid
-// them out; thread g writes ring vertex g.
+// them out; thread g writes ring vertex g (and, for a source with tangents, tangent ring word g).
 // SI_LAYERS: each entry's overlay (the cull pass's layer record at storage binding 18) composed
 // on its mask (with SI_COMPOSED_LAYERS read from the compose pass's rows).
 #ifdef SI_LAYERS
@@ -30,6 +30,7 @@ layout(std430, binding = 4) readonly buffer SiRecords { SiInstance si_records[];
 layout(std430, binding = 5) readonly buffer SiEntries { uint si_entries[]; };
 layout(std430, binding = 9) readonly buffer SiBucketInfo { uvec4 si_bucket_info[]; };
 layout(std430, binding = 13) writeonly buffer SiSkinnedOut { vec4 si_skinned_out[]; };
+layout(std430, binding = 28) writeonly buffer SiTangentsOut { uint si_tangents_out[]; };
 #ifdef SI_MOTION_VECTORS
 layout(std430, binding = 22) writeonly buffer SiSkinnedPreviousOut { vec4 si_previous_out[]; };
 #endif
@@ -54,7 +55,9 @@ void main() {
   uvec4 layer = uvec4(0u);
 #endif
   uint source = si_lod_vertices[info.y + k];
-  si_skinned_out[g] = siPreSkin(source, si_records[v], layer, v);
+  uint tangent;
+  si_skinned_out[g] = siPreSkin(source, si_records[v], layer, v, tangent);
+  if (siHasTangents()) si_tangents_out[g] = tangent;
 #ifdef SI_MOTION_VECTORS
 #ifdef SI_LAYERS
   uvec4 previous_layer = si_previous_layers[v];

@@ -2,10 +2,13 @@
 // Pre-skinning, shared by the skinning passes and the vertex-pulling draws: the raw vertex
 // buffer (32 or 36 bytes a vertex, read as words), the compacted vertex list of each (sub-mesh,
 // LOD), the pre-skinned vertex (16 bytes: camera-relative world position, octahedral normal as
-// 2 x snorm16), and skinning one source vertex for an instance (after si_skinning.glsl).
+// 2 x snorm16) with, for meshes with tangents, its skinned tangent in the parallel tangent ring
+// (4 bytes: siPackTangent), and skinning one source vertex for an instance (after
+// si_skinning.glsl).
 // u_chunk: x first ring vertex of the draw, y vertices of the LOD, z offset into the LOD vertex
 // list, w first instance of the batch; u_layout: x instances, y words per source vertex (low
-// byte; 8 or 9, one more with tangents) | 0x100 with wide joints.
+// byte; 8 or 9, one more with tangents) | 0x100 with wide joints | 0x200 when the source has
+// tangents and the tangent ring (storage binding 28) is written and read.
 // The bindings can be moved (the GPU-driven passes use 2 and 3 for other buffers).
 #ifndef SI_PRE_SKIN_COMMON_GLSL
 #define SI_PRE_SKIN_COMMON_GLSL
@@ -22,6 +25,8 @@ layout(std430, binding = SI_LOD_VERTICES_BINDING) readonly buffer SiLodVertices 
 layout(location = 5) uniform uvec4 u_chunk;
 layout(location = 6) uniform uvec2 u_layout;
 
+bool siHasTangents() { return (u_layout.y & 0x200u) != 0u; }
+
 vec2 siOctEncode(vec3 n) {
   n /= abs(n.x) + abs(n.y) + abs(n.z);
   vec2 e = n.xy;
@@ -34,9 +39,30 @@ vec3 siOctDecode(vec2 e) {
   return normalize(n);
 }
 
+// A unit tangent with its bitangent sign (w = +-1) in one word: the octahedral direction as
+// 2 x snorm16 whose lowest bit carries the sign (set: w = -1); vec4(0) packs as "no tangent",
+// a y of 0x8000, which packSnorm2x16 never writes (it clamps to -32767).
+uint siPackTangent(vec4 t) {
+  if (t.w == 0.0) return 0x80000000u;
+  return (packSnorm2x16(siOctEncode(t.xyz)) & ~1u) | (t.w < 0.0 ? 1u : 0u);
+}
+vec4 siUnpackTangent(uint word) {
+  if ((word >> 16) == 0x8000u) return vec4(0.0);
+  return vec4(siOctDecode(unpackSnorm2x16(word & ~1u)), (word & 1u) != 0u ? -1.0 : 1.0);
+}
+
 // The texture coordinates of local vertex k of the list starting at `list_offset`.
 vec2 siSourceTexcoord(uint list_offset, uint k) {
   return unpackHalf2x16(si_source[si_lod_vertices[list_offset + k] * (u_layout.y & 0xFFu) + 4u]);
+}
+
+// A GL_INT_2_10_10_10_REV word, normalized: what the vertex-shader path's attribute fetch
+// computes.
+vec4 siUnpackSigned1010102(uint word) {
+  int bits = int(word);
+  return max(vec4(bitfieldExtract(bits, 0, 10), bitfieldExtract(bits, 10, 10),
+                  bitfieldExtract(bits, 20, 10), bitfieldExtract(bits, 30, 2) * 511) / 511.0,
+             vec4(-1.0));
 }
 
 #ifdef SI_SKINNING_GLSL
@@ -45,10 +71,7 @@ void siSourceVertex(uint source, out vec3 p, out vec3 n, out uvec4 joints, out v
   uint base = source * (u_layout.y & 0xFFu);
   p = vec3(uintBitsToFloat(si_source[base]), uintBitsToFloat(si_source[base + 1u]),
            uintBitsToFloat(si_source[base + 2u]));
-  int normal_bits = int(si_source[base + 3u]);
-  // GL_INT_2_10_10_10_REV, normalized: what the vertex-shader path's attribute fetch computes.
-  n = max(vec3(bitfieldExtract(normal_bits, 0, 10), bitfieldExtract(normal_bits, 10, 10),
-               bitfieldExtract(normal_bits, 20, 10)) / 511.0, vec3(-1.0));
+  n = siUnpackSigned1010102(si_source[base + 3u]).xyz;
   if ((u_layout.y & 0x100u) == 0u) {
     joints = uvec4(unpackUnorm4x8(si_source[base + 5u]) * 255.0 + 0.5);
     weights = vec4(unpackUnorm2x16(si_source[base + 6u]), unpackUnorm2x16(si_source[base + 7u]));
@@ -59,10 +82,18 @@ void siSourceVertex(uint source, out vec3 p, out vec3 n, out uvec4 joints, out v
   }
 }
 
+// The bind-pose tangent of source vertex `source` (its last word; siHasTangents()).
+vec4 siSourceTangent(uint source) {
+  uint words = u_layout.y & 0xFFu;
+  return siUnpackSigned1010102(si_source[source * words + words - 1u]);
+}
+
 // Source vertex `source` skinned for `inst` (with SI_LAYERS, its overlay `layer` composed on its
 // mask; with SI_COMPOSED_LAYERS read from composed record `record`'s rows): camera-relative
-// world position, and the normal octahedral-encoded in the w component's bits.
-vec4 siPreSkin(uint source, SiInstance inst, uvec4 layer, uint record) {
+// world position, and the normal octahedral-encoded in the w component's bits; `tangent` the
+// packed skinned tangent (as skinned.vert skins it: the blended matrix, then the world rows),
+// or the packed "no tangent" without siHasTangents().
+vec4 siPreSkin(uint source, SiInstance inst, uvec4 layer, uint record, out uint tangent) {
   vec3 p, n;
   uvec4 joints;
   vec4 weights;
@@ -78,6 +109,10 @@ vec4 siPreSkin(uint source, SiInstance inst, uvec4 layer, uint record) {
   vec4 w0 = inst.world_rows[0], w1 = inst.world_rows[1], w2 = inst.world_rows[2];
   vec3 world = siTransformPoint(w0, w1, w2, siTransformPoint(m0, m1, m2, p));
   vec3 normal = siTransformNormal(w0, w1, w2, siTransformNormal(m0, m1, m2, n));
+  vec4 t = siHasTangents() ? siSourceTangent(source) : vec4(0.0);
+  vec3 skinned_t = siTransformVector(w0, w1, w2, siTransformVector(m0, m1, m2, t.xyz));
+  float t_length = length(skinned_t);
+  tangent = siPackTangent(t_length > 0.0 ? vec4(skinned_t / t_length, t.w) : vec4(0.0));
   return vec4(world, uintBitsToFloat(packSnorm2x16(siOctEncode(normal))));
 }
 

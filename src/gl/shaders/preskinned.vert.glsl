@@ -1,18 +1,21 @@
 // SkinnedInstancing - SPDX-License-Identifier: MIT (see LICENSE)
-// The CPU-skinning baseline: positions and normals arrive skinned, in camera-relative world
-// space; u_base_vertex is the draw's base vertex (mesh vertex = gl_VertexID - u_base_vertex).
+// The CPU-skinning baseline: positions, normals and (u_tangents 1) tangents arrive skinned, in
+// camera-relative world space; u_base_vertex is the draw's base vertex (mesh vertex =
+// gl_VertexID - u_base_vertex).
 #define SI_VERTEX_MATERIALS
 #include "material_common.glsl"
 layout(location = 0) in vec3 a_position;
 layout(location = 1) in vec3 a_normal;
 layout(location = 2) in vec2 a_texcoord;
+layout(location = 3) in vec4 a_tangent;  // Read only with u_tangents 1.
 layout(location = 1) uniform mat4 u_view_projection;
 layout(location = 4) uniform uint u_color;
 layout(location = 5) uniform int u_base_vertex;
+layout(location = 6) uniform uint u_tangents;  // 1: the stream carries tangents.
 uniform uint u_lod;  // The instance's LOD (SiSurface.lod).
 out vec3 v_position;  // Camera-relative world position (SiSurface.position).
 out vec3 v_normal;
-out vec4 v_tangent;  // Not carried by this path yet: vec4(0), no tangent frame.
+out vec4 v_tangent;  // vec4(0) without tangents: no tangent frame.
 out vec2 v_texcoord;
 flat out uint v_color;
 flat out uint v_material;
@@ -23,7 +26,7 @@ void main() {
   v_texcoord = a_texcoord;
   v_color = u_color;
   v_lod = u_lod;
-  v_tangent = vec4(0.0);
+  v_tangent = u_tangents != 0u ? a_tangent : vec4(0.0);
   v_position = a_position;
   gl_Position = u_view_projection * vec4(a_position, 1.0);
 }

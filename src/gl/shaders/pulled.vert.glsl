@@ -1,5 +1,6 @@
 // SkinnedInstancing - SPDX-License-Identifier: MIT (see LICENSE)
-// Pre-skinning's draw: pulls the pre-skinned vertex of (instance, gl_VertexID) from the ring;
+// Pre-skinning's draw: pulls the pre-skinned vertex of (instance, gl_VertexID) from the ring
+// (and its skinned tangent from the tangent ring at the same slot, for a source with tangents);
 // texture coordinates from the source vertex.
 // SI_GPU_DRIVEN: the instance is a bucket entry (a_entry = baseInstance + gl_InstanceID, an
 // identity buffer with divisor 1) whose ring base and list offset the GPU-driven passes wrote;
@@ -26,6 +27,7 @@ layout(std430, binding = 6) readonly buffer SiVisible { uvec4 si_visible[]; };
 uniform uint u_lod;  // The batch's LOD (SiSurface.lod).
 layout(std430, binding = 1) readonly buffer SiSkinned { vec4 si_skinned[]; };
 #endif
+layout(std430, binding = 28) readonly buffer SiTangents { uint si_tangents[]; };
 #ifdef SI_MOTION_VECTORS
 #ifdef SI_GPU_DRIVEN
 #define SI_PREVIOUS_RING_BINDING 22
@@ -43,7 +45,7 @@ out vec4 v_motion_previous;
 layout(location = 1) uniform mat4 u_view_projection;
 out vec3 v_position;  // Camera-relative world position (SiSurface.position).
 out vec3 v_normal;
-out vec4 v_tangent;  // Not carried by this path yet: vec4(0), no tangent frame.
+out vec4 v_tangent;  // vec4(0) without tangents: no tangent frame.
 out vec2 v_texcoord;
 flat out uint v_color;
 flat out uint v_material;
@@ -52,10 +54,11 @@ void main() {
   uint k = uint(gl_VertexID);
 #ifdef SI_GPU_DRIVEN
   uvec2 at = si_entry_data[a_entry];
-  vec4 s = si_skinned[at.x + k];
+  uint ring = at.x + k;
+  vec4 s = si_skinned[ring];
 #ifdef SI_MOTION_VECTORS
   v_motion_current = u_motion_view_projection * vec4(s.xyz, 1.0);
-  v_motion_previous = u_previous_view_projection * vec4(si_skinned_previous[at.x + k].xyz, 1.0);
+  v_motion_previous = u_previous_view_projection * vec4(si_skinned_previous[ring].xyz, 1.0);
 #endif
   v_texcoord = siSourceTexcoord(at.y, k);
   v_material = siVertexMaterial(si_lod_vertices[at.y + k]);
@@ -63,18 +66,18 @@ void main() {
   v_color = si_records[slot].blend.w;
   v_lod = si_visible[slot].y;
 #else
-  uint at = u_chunk.x + uint(gl_InstanceID) * u_chunk.y + k;
-  vec4 s = si_skinned[at];
+  uint ring = u_chunk.x + uint(gl_InstanceID) * u_chunk.y + k;
+  vec4 s = si_skinned[ring];
 #ifdef SI_MOTION_VECTORS
   v_motion_current = u_motion_view_projection * vec4(s.xyz, 1.0);
-  v_motion_previous = u_previous_view_projection * vec4(si_skinned_previous[at].xyz, 1.0);
+  v_motion_previous = u_previous_view_projection * vec4(si_skinned_previous[ring].xyz, 1.0);
 #endif
   v_texcoord = siSourceTexcoord(u_chunk.z, k);
   v_material = siVertexMaterial(si_lod_vertices[u_chunk.z + k]);
   v_color = si_instances[u_chunk.w + uint(gl_InstanceID)].blend.w;
   v_lod = u_lod;
 #endif
-  v_tangent = vec4(0.0);
+  v_tangent = siHasTangents() ? siUnpackTangent(si_tangents[ring]) : vec4(0.0);
   v_position = s.xyz;
   v_normal = siOctDecode(unpackSnorm2x16(floatBitsToUint(s.w)));
   gl_Position = u_view_projection * vec4(s.xyz, 1.0);
