@@ -139,6 +139,8 @@ Status Renderer::Impl::uploadCharacter(const char* what, const Character& charac
   Status s = c.palette.upload(palette, m.info);
   if (s.isOk()) s = c.character.upload(character, palette, m.desc.max_texture_size);
   if (s.isOk() && !m.info.es) s = c.preskin.build(c.character);
+  // Depth-only draws of an alpha-masked character discard by its mask (built once).
+  if (s.isOk() && c.character.alpha_masked) s = m.programs.buildMaskedDepth();
   if (!s.isOk()) return named(s);
   const detail::DrawResources r = m.resources(c);
   for (detail::DrawPath* p : std::initializer_list<detail::DrawPath*>{

@@ -178,7 +178,7 @@ struct Renderer::Impl {
     detail::DrawResources r;
     r.info = &info;
     r.desc = &desc;
-    r.programs = detail::ProgramTable{&programs, c.material};
+    r.programs = detail::ProgramTable{&programs, c.material, c.character.alpha_masked};
     r.palette = &c.palette;
     r.character = &c.character;
     r.preskin = &c.preskin;
@@ -223,7 +223,10 @@ struct Renderer::Impl {
     Status s = p.uploadFrame(r, frame);
     if (!s.isOk()) return s;
     timer.begin(desc.measure_gpu_time && timed);
+    // A double-sided material's back faces are drawn (the surface turns their normal).
+    if (c.character.double_sided) glDisable(GL_CULL_FACE);
     s = p.draw(r, frame, st);
+    if (c.character.double_sided) glEnable(GL_CULL_FACE);
     timer.stop();
     guard.reset();
     st->cpu_submit_ms = detail::msSince(t0);  // Before the (blocking) timer read.

@@ -6,11 +6,15 @@
 // normal map's texel; alpha-masked texels are discarded; the built-in material lights it.
 #include <glad/gl.h>
 
+#include <algorithm>
 #include <cmath>
+#include <utility>
+#include <vector>
 
 #include "gltf/pbr_asset.h"
 #include "render/render_fixture.h"
 #include "render/two_targets.h"
+#include "si/core/impostor_level.h"
 #include "si/core/reference_evaluator.h"
 #include "si/gltf/gltf_import.h"
 
@@ -48,9 +52,11 @@ class PbrMaterialTest : public RenderTest {
     bd.sample_rate_hz = 30.0f;
     ASSERT_TRUE(bakePalette(character_, bd, &palette_, nullptr).isOk());
   }
-  // The patch at kTime (the child joint turned) on `kind`, seen from the front, through
-  // `material` (kBuiltinMaterial: the built-in one).
-  void drawPatch(PathKind kind, const char* material_source, Renderer* r) {
+  // The patch at kTime (the child joint turned) on `kind`, seen by `view` (from the front by
+  // default), through `material_source` (nullptr: the built-in material); depth only with
+  // `depth_only` (the instanced and both GPU-driven kinds).
+  void drawPatch(PathKind kind, const char* material_source, Renderer* r, bool depth_only = false,
+                 const Camera& view = camera()) {
     RendererDesc rd;
     rd.skinning_path = kind == PathKind::kCompute || kind == PathKind::kGpuDrivenCompute
                            ? SkinningPath::kCompute : SkinningPath::kVertexShader;
@@ -77,9 +83,11 @@ class PbrMaterialTest : public RenderTest {
     d.speed = 0.0f;
     InstanceHandle h;
     ASSERT_TRUE(crowd_.add(d, &h).isOk());
-    ASSERT_TRUE(crowd_.update(0.0, camera()).isOk());
+    ASSERT_TRUE(crowd_.update(0.0, view).isOk());
     DrawStats stats;
-    const Status s = drawOnPath(*r, kind, crowd_, camera(), &stats);
+    const Status s = depth_only && kind == PathKind::kGpuDrivenCompute
+                         ? r->drawCrowdGpuCulled(crowd_, view, &stats, DrawMode::kDepthOnly)
+                         : drawOnPath(*r, kind, crowd_, view, &stats, depth_only);
     ASSERT_TRUE(s.isOk()) << s.toString();
   }
   static Camera camera() {
@@ -174,14 +182,22 @@ class PbrMaterialTest : public RenderTest {
   CrowdManager crowd_;
 };
 
-// The seed's tangent frame on the vertex-shader paths: the drawn shading normal within 0.01
-// degrees of the CPU reference on average and 0.05 at worst (float math; measured 0.0000 mean
-// and 0.0002 max on llvmpipe). With the tangent left unskinned (only the instance's world
-// transform applied) the error is 7.9 degrees on average and 17 at worst: the test sees the
-// frame.
+// The seed's tangent frame on every mesh path: the drawn shading normal within 0.01 degrees of
+// the CPU reference on average and 0.05 at worst (float math; measured 0.0000 mean and 0.0002
+// max on llvmpipe for the vertex-shader paths, the pre-skinning paths' packed tangent adding
+// its rounding). With the tangent left unskinned (only the instance's world transform applied)
+// the error is 7.9 degrees on average and 17 at worst: the test sees the frame.
+// The file's bitangent sign -1 (a mirrored mapping's) is followed too, on one path of each
+// skinning code (the vertex shader, pre-skinning's packed tangent, the CPU); +1 on every path.
 TEST_P(PbrMaterialTest, NormalMappedShadingFollowsTheSkinnedTangentFrame) {
-  for (PathKind kind : {PathKind::kInstanced, PathKind::kGpuDriven, PathKind::kTraditional}) {
-    SCOPED_TRACE(pathKindName(kind));
+  std::vector<std::pair<float, PathKind>> runs = {
+      {-1.0f, PathKind::kInstanced}, {-1.0f, PathKind::kGpuDrivenCompute}, {-1.0f, PathKind::kCpu}};
+  for (PathKind kind : kEveryPath) runs.emplace_back(1.0f, kind);
+  for (const auto& [sign, kind] : runs) {
+    SCOPED_TRACE(std::string(pathKindName(kind)) + (sign < 0.0f ? ", bitangent -1" : ""));
+    PbrAssetDesc desc;
+    desc.bitangent_sign = sign;
+    load(desc);
     TwoTargets targets(kSize, GL_RGBA32F);
     targets.clear(glm::vec4(0.0f));
     Renderer r;
@@ -191,10 +207,13 @@ TEST_P(PbrMaterialTest, NormalMappedShadingFollowsTheSkinnedTangentFrame) {
     EXPECT_GT(st.pixels, size_t(kSize) * kSize / 20) << "the patch covers 5 % of the view";
     EXPECT_LT(st.mean_degrees, 0.01);
     EXPECT_LT(st.max_degrees, 0.05);
-    RecordProperty(std::string("mean_degrees_") + pathKindName(kind), std::to_string(st.mean_degrees));
-    RecordProperty(std::string("max_degrees_") + pathKindName(kind), std::to_string(st.max_degrees));
-    std::printf("[ normals  ] %s: %zu pixels, mean %.4f, max %.4f degrees from the CPU reference\n",
-                pathKindName(kind), st.pixels, st.mean_degrees, st.max_degrees);
+    const std::string name = pathKindName(kind) + std::string(sign < 0.0f ? "_mirrored" : "");
+    RecordProperty("mean_degrees_" + name, std::to_string(st.mean_degrees));
+    RecordProperty("max_degrees_" + name, std::to_string(st.max_degrees));
+    std::printf(
+        "[ normals  ] %s, bitangent %+.0f: %zu pixels, mean %.4f, max %.4f degrees from "
+        "the CPU reference\n",
+        pathKindName(kind), double(sign), st.pixels, st.mean_degrees, st.max_degrees);
     crowd_ = CrowdManager();
   }
 }
@@ -221,6 +240,135 @@ TEST_P(PbrMaterialTest, AlphaMaskedTexelsAreDiscarded) {
   EXPECT_GT(opaque.second, 1000u);
   EXPECT_LT(masked.first, opaque.first / 50) << "the masked half is discarded";
   EXPECT_GT(masked.second, opaque.second * 9 / 10) << "the opaque half is drawn";
+}
+
+// Alpha MASK in depth-only draws (shadow maps, depth pre-passes): exactly the colour draw's
+// covered pixels get depth, on the vertex-shader, GPU-driven and GPU-driven pre-skinned depth
+// programs; the opaque patch's depth-only draw covers the masked half too (so the comparison
+// sees a depth-only draw that ignores the mask).
+TEST_P(PbrMaterialTest, AlphaMaskedTexelsAreDiscardedFromDepthOnlyDraws) {
+  const auto covered = [&](bool mask, PathKind kind, bool depth_only) {
+    PbrAssetDesc d;
+    d.mask = mask;
+    load(d);
+    TwoTargets targets(kSize, GL_RGBA32F);
+    targets.clear(glm::vec4(0.0f));
+    Renderer r;
+    crowd_ = CrowdManager();
+    drawPatch(kind, kSurfaceProbe, &r, depth_only);
+    std::vector<bool> out;
+    if (depth_only) {
+      for (const float z : targets.readDepth()) out.push_back(z < 1.0f);
+    } else {
+      for (const glm::vec4& t : targets.readFloat(1)) out.push_back(t.a != 0.0f);
+    }
+    return out;
+  };
+  const auto count = [](const std::vector<bool>& v) {
+    return std::count(v.begin(), v.end(), true);
+  };
+  const std::vector<bool> colour = covered(true, PathKind::kInstanced, false);
+  ASSERT_GT(count(colour), 1000);
+  for (PathKind kind : {PathKind::kInstanced, PathKind::kGpuDriven, PathKind::kGpuDrivenCompute}) {
+    SCOPED_TRACE(pathKindName(kind));
+    const std::vector<bool> masked = covered(true, kind, true);
+    const std::vector<bool> opaque = covered(false, kind, true);
+    if (HasFatalFailure()) return;
+    size_t differing = 0;
+    for (size_t p = 0; p < colour.size(); ++p) differing += masked[p] != colour[p] ? 1 : 0;
+    EXPECT_EQ(differing, 0u)
+        << "depth-only pixels where the colour draw has none, or none where it has";
+    EXPECT_GT(count(opaque), count(colour) * 3 / 2)
+        << "the opaque patch's depth covers both halves";
+  }
+}
+
+// Alpha MASK in the impostor capture: the masked patch's impostor covers about half what the
+// opaque patch's does (the atlas keeps the mask's coverage); capturing without the discard
+// gives the same coverage for both.
+TEST_P(PbrMaterialTest, AlphaMaskedTexelsAreLeftOutOfTheImpostorAtlas) {
+  const auto impostorCoverage = [&](bool mask) -> size_t {
+    PbrAssetDesc d;
+    d.mask = mask;
+    load(d);
+    EXPECT_TRUE(appendImpostorLevel(&character_.mesh).isOk());
+    TwoTargets targets(kSize, GL_RGBA32F);
+    targets.clear(glm::vec4(0.0f));
+    Renderer r;
+    RendererDesc rd;
+    rd.skinning_path = SkinningPath::kVertexShader;
+    EXPECT_TRUE(r.init(info_, rd).isOk());
+    CharacterId id;
+    EXPECT_TRUE(r.addCharacter(character_, palette_, &id).isOk());
+    MaterialDesc md;
+    md.name = "surface probe";
+    md.source = kSurfaceProbe;
+    MaterialId mid;
+    EXPECT_TRUE(r.addMaterial(md, &mid).isOk());
+    EXPECT_TRUE(r.setMaterial(id, mid).isOk());
+    EXPECT_TRUE(r.buildImpostor(id, ImpostorDesc{}).isOk());
+    CrowdManager crowd;
+    CrowdDesc cd;
+    cd.palette = &palette_;
+    cd.sub_mesh_count = 1;
+    cd.lod_count = uint32_t(character_.mesh.maxLodCount());
+    cd.impostor_lod = cd.lod_count - 1;
+    cd.lod_distances_radii = {1e-3f};  // Every instance an impostor.
+    EXPECT_TRUE(crowd.init(cd).isOk());
+    InstanceDesc inst;
+    inst.time_seconds = kTime;
+    inst.speed = 0.0f;
+    InstanceHandle h;
+    EXPECT_TRUE(crowd.add(inst, &h).isOk());
+    EXPECT_TRUE(crowd.update(0.0, camera()).isOk());
+    EXPECT_EQ(crowd.stats().per_lod[cd.impostor_lod], 1u);
+    DrawStats stats;
+    EXPECT_TRUE(drawOnPath(r, PathKind::kInstanced, crowd, camera(), &stats).isOk());
+    size_t covered = 0;
+    for (const glm::vec4& t : targets.readFloat(1)) covered += t.a != 0.0f ? 1 : 0;
+    return covered;
+  };
+  const size_t opaque = impostorCoverage(false), masked = impostorCoverage(true);
+  std::printf("[ impostor ] covered pixels: opaque %zu, masked %zu\n", opaque, masked);
+  EXPECT_GT(opaque, 1000u);
+  EXPECT_GT(masked, opaque * 3 / 10);
+  EXPECT_LT(masked, opaque * 7 / 10) << "the masked half is not in the atlas";
+}
+
+// glTF doubleSided: seen from behind, a single-sided patch is culled, a double-sided one is
+// drawn on every path with its shading normal turned towards the viewer.
+TEST_P(PbrMaterialTest, DoubleSidedMaterialsDrawTheirBackFaces) {
+  const Camera behind = Camera::lookAt({-0.1, 0.6, -1.6}, {0.0, 0.55, 0.0}, glm::vec3(0, 1, 0),
+                                       0.9f, 1.0f, 0.1f, 20.0f);
+  for (const bool double_sided : {false, true}) {
+    PbrAssetDesc d;
+    d.double_sided = double_sided;
+    load(d);
+    for (PathKind kind : kEveryPath) {
+      // Single-sided: the culling every path shares, seen once.
+      if (!double_sided && kind != PathKind::kInstanced) continue;
+      SCOPED_TRACE(std::string(pathKindName(kind)) + (double_sided ? ", double-sided" : ""));
+      TwoTargets targets(kSize, GL_RGBA32F);
+      targets.clear(glm::vec4(0.0f));
+      Renderer r;
+      crowd_ = CrowdManager();
+      drawPatch(kind, kSurfaceProbe, &r, false, behind);
+      if (HasFatalFailure()) return;
+      const std::vector<glm::vec4> normals = targets.readFloat(0), uvs = targets.readFloat(1);
+      size_t covered = 0, facing = 0;
+      for (size_t p = 0; p < normals.size(); ++p) {
+        if (uvs[p].a == 0.0f) continue;
+        ++covered;
+        facing += normals[p].z < 0.0f ? 1 : 0;  // Towards the camera behind the patch.
+      }
+      if (!double_sided) {
+        EXPECT_EQ(covered, 0u) << "back faces of a single-sided material are culled";
+      } else {
+        EXPECT_GT(covered, size_t(kSize) * kSize / 20);
+        EXPECT_EQ(facing, covered) << "the back face's normal is turned";
+      }
+    }
+  }
 }
 
 INSTANTIATE_TEST_SUITE_P(Backends, PbrMaterialTest, test::allBackends(), test::backendTestName);

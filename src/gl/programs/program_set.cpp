@@ -169,18 +169,41 @@ Status ProgramSet::addMaterial(const MaterialSource& material, uint32_t* index) 
   return Status::ok();
 }
 
-const Program& ProgramSet::get(ProgramId id, uint32_t material) const {
-  if (material == 0 || material > materials_.size()) return programs_[size_t(id)];
-  const Program& p = materials_[material - 1]->programs[size_t(id)];
-  return p.id != kNoObject ? p : programs_[size_t(id)];  // Unset: the material changes nothing.
+Status ProgramSet::buildMaskedDepth() {
+  MaterialSource mask_only;
+  mask_only.name = "alpha mask (depth only)";
+  mask_only.text = "void siMaterial(SiSurface surface) {}\n";
+  mask_only.depth_discard = true;
+  for (size_t i = 0; i < kProgramCount; ++i) {
+    const ProgramId id = ProgramId(i);
+    if (programs_[i].id == kNoObject || masked_depth_[i].id != kNoObject ||
+        materialUse(id) != MaterialUse::kDepth)
+      continue;
+    GLuint program = kNoObject;
+    const Status s = buildProgram(id, config_, &mask_only, &program);
+    if (!s.isOk()) return s;
+    if (config_.es) bindEsResources(program);
+    masked_depth_[i] = describe(program);
+  }
+  return Status::ok();
+}
+
+const Program& ProgramSet::get(ProgramId id, uint32_t material, bool alpha_masked) const {
+  if (material != 0 && material <= materials_.size()) {
+    const Program& p = materials_[material - 1]->programs[size_t(id)];
+    if (p.id != kNoObject) return p;  // Unset: the material changes nothing.
+  }
+  const Program& masked = masked_depth_[size_t(id)];
+  return alpha_masked && masked.id != kNoObject ? masked : programs_[size_t(id)];
 }
 
 void ProgramSet::release() {
   bindings_ = LibraryBindings();
-  for (Program& p : programs_) {
-    if (p.id != kNoObject) glDeleteProgram(p.id);
-    p = Program();
-  }
+  for (auto* set : {&programs_, &masked_depth_})
+    for (Program& p : *set) {
+      if (p.id != kNoObject) glDeleteProgram(p.id);
+      p = Program();
+    }
   for (const auto& m : materials_)
     for (const Program& p : m->programs)
       if (p.id != kNoObject) glDeleteProgram(p.id);

@@ -50,14 +50,20 @@ class ProgramSet {
   /// when one fails to compile or link; kInvalidArgument when the material declares a
   /// resource the library's draws cannot leave alone (material_check.h). Nothing kept then.
   Status addMaterial(const MaterialSource& material, uint32_t* index);
+  /// Builds, once, the depth-only programs of alpha-masked characters: surface.frag.glsl with
+  /// SI_DEPTH_ONLY and a material that writes nothing, so the surface's alpha-mask discard
+  /// (glTF MASK) alone cuts the depth. kBackend with the driver's log when one fails.
+  Status buildMaskedDepth();
   /// Deletes every program (context current). Idempotent.
   void release();
 
   /// Program `id` of the built-in material.
   const Program& operator[](ProgramId id) const { return programs_[size_t(id)]; }
   /// Program `id` drawing material `material` (0: the built-in; the built-in program where
-  /// the material does not change it, or for an unknown material).
-  const Program& get(ProgramId id, uint32_t material) const;
+  /// the material does not change it, or for an unknown material) for a character with
+  /// alpha-masked materials or without: the depth-only programs of a masked character
+  /// discard by its mask (buildMaskedDepth), unless the material's own do (depth_discard).
+  const Program& get(ProgramId id, uint32_t material, bool alpha_masked) const;
   /// Materials, the built-in one included.
   uint32_t materialCount() const { return uint32_t(materials_.size()) + 1; }
 
@@ -69,14 +75,16 @@ class ProgramSet {
   ShaderConfig config_;
   LibraryBindings bindings_;  // Of every built-in program (desktop GL): what materials avoid.
   std::array<Program, kProgramCount> programs_{};
+  std::array<Program, kProgramCount> masked_depth_{};  // buildMaskedDepth's (kDepth ids only).
   std::vector<std::unique_ptr<MaterialPrograms>> materials_;  // Material index - 1.
 };
 
-/// The programs a draw uses: the renderer's set seen through one material.
+/// The programs a draw uses: the renderer's set seen through one character's material.
 struct ProgramTable {
   const ProgramSet* set = nullptr;
   uint32_t material = 0;
-  const Program& operator[](ProgramId id) const { return set->get(id, material); }
+  bool alpha_masked = false;  ///< The character has alpha-masked materials.
+  const Program& operator[](ProgramId id) const { return set->get(id, material, alpha_masked); }
 };
 
 }  // namespace si::detail

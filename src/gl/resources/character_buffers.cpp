@@ -89,7 +89,12 @@ Status CharacterBuffers::upload(const Character& character, const BakedPalette& 
   for (size_t v = 0; v < table.vertex_materials.size(); ++v)
     words[v / 2] |= uint32_t(table.vertex_materials[v]) << ((v % 2) * 16);
   std::vector<GpuMaterial> entries;
-  for (const MaterialEntry& e : table.materials) entries.push_back(gpuMaterial(e));
+  bool both_faces = false, masked = false;
+  for (const MaterialEntry& e : table.materials) {
+    entries.push_back(gpuMaterial(e));
+    both_faces = both_faces || e.double_sided;
+    masked = masked || e.alpha_cutoff >= 0.0f;
+  }
   if (s.isOk() && esProfile()) {
     // A uniform block of kEsMaxMaterials entries there; the bound buffer holds it whole (WebGL 2
     // refuses a draw whose uniform buffer is smaller than its block).
@@ -131,6 +136,8 @@ Status CharacterBuffers::upload(const Character& character, const BakedPalette& 
     return s;
   }
   tangent_offset = stream.tangent_offset;
+  double_sided = both_faces;
+  alpha_masked = masked;
   glCreateVertexArrays(1, &vao);
   describeVertexFormat(vao);
   return Status::ok();

@@ -46,6 +46,11 @@ struct CharacterBuffers {
   uint32_t stride_bytes = 32;
   bool wide_joints = false;
   uint32_t tangent_offset = 0;  ///< VertexStream::tangent_offset (0: no tangents).
+  /// A material draws both faces (glTF doubleSided): the character's draws cull no faces.
+  bool double_sided = false;
+  /// A material is alpha-masked (glTF MASK): the character's depth-only draws discard by it
+  /// (ProgramTable::alpha_masked).
+  bool alpha_masked = false;
   SkinnedMesh mesh;  ///< A copy, for the paths that read vertices on the CPU.
 };
 
