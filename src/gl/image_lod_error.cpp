@@ -162,6 +162,11 @@ Status measureImageLodErrors(const GlInfo& info, const Character& character,
   s = renderer.init(info, rd);
   CharacterId id;
   if (s.isOk()) s = renderer.addCharacter(character, palette, &id);
+  if (s.isOk() && d.material != nullptr) {
+    MaterialId material;
+    s = renderer.addMaterial(*d.material, &material);
+    if (s.isOk()) s = renderer.setMaterial(id, material);
+  }
   if (s.isOk() && d.impostor != nullptr) s = renderer.buildImpostor(id, *d.impostor);
   CrowdManager crowd;
   CrowdDesc cd;

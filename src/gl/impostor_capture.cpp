@@ -29,7 +29,7 @@ struct CapturedFrame {
   uint32_t clip, frame;
 };
 
-// The capture framebuffer: the atlas's two layers and a depth buffer, deleted with it.
+// The capture framebuffer: the atlas's three layers and a depth buffer, deleted with it.
 struct CaptureTarget {
   GLuint framebuffer = 0, depth = 0;
   ~CaptureTarget() {
@@ -42,9 +42,10 @@ struct CaptureTarget {
     glCreateFramebuffers(1, &framebuffer);
     glNamedFramebufferTextureLayer(framebuffer, GL_COLOR_ATTACHMENT0, atlas, 0, 0);
     glNamedFramebufferTextureLayer(framebuffer, GL_COLOR_ATTACHMENT1, atlas, 0, 1);
+    glNamedFramebufferTextureLayer(framebuffer, GL_COLOR_ATTACHMENT2, atlas, 0, 2);
     glNamedFramebufferRenderbuffer(framebuffer, GL_DEPTH_ATTACHMENT, GL_RENDERBUFFER, depth);
-    const GLenum buffers[2] = {GL_COLOR_ATTACHMENT0, GL_COLOR_ATTACHMENT1};
-    glNamedFramebufferDrawBuffers(framebuffer, 2, buffers);
+    const GLenum buffers[3] = {GL_COLOR_ATTACHMENT0, GL_COLOR_ATTACHMENT1, GL_COLOR_ATTACHMENT2};
+    glNamedFramebufferDrawBuffers(framebuffer, 3, buffers);
     const GLenum complete = glCheckNamedFramebufferStatus(framebuffer, GL_DRAW_FRAMEBUFFER);
     if (complete != GL_FRAMEBUFFER_COMPLETE)
       return {StatusCode::kBackend,
@@ -145,8 +146,9 @@ Status Renderer::buildImpostor(CharacterId id, const ImpostorDesc& desc, Imposto
   const GLsizei w = GLsizei(columns * cell), h = GLsizei(rows * cell);
   GLsizei levels = 1;
   while ((cell >> levels) > 0) ++levels;  // Down to one texel a cell.
-  Status s = detail::createTexture2DArray(&atlas.texture, levels, GL_RGBA8, w, h, 2,
-                                          "buildImpostor: the atlas");
+  Status s =
+      detail::createTexture2DArray(&atlas.texture, levels, GL_RGBA8, w, h,
+                                   detail::ImpostorAtlas::kLayers, "buildImpostor: the atlas");
   if (s.isOk())
     s = detail::createBuffer(&atlas.clips, clips.size() * sizeof(glm::uvec4), clips.data(), 0,
                              "buildImpostor: the clip table");
@@ -194,8 +196,8 @@ Status Renderer::buildImpostor(CharacterId id, const ImpostorDesc& desc, Imposto
     glViewport(0, 0, w, h);
     glEnable(GL_DEPTH_TEST);
     const float zero[4] = {0.0f, 0.0f, 0.0f, 0.0f}, far_depth = 1.0f;
-    glClearNamedFramebufferfv(target.framebuffer, GL_COLOR, 0, zero);
-    glClearNamedFramebufferfv(target.framebuffer, GL_COLOR, 1, zero);
+    for (GLint layer = 0; layer < GLint(detail::ImpostorAtlas::kLayers); ++layer)
+      glClearNamedFramebufferfv(target.framebuffer, GL_COLOR, layer, zero);
     glClearNamedFramebufferfv(target.framebuffer, GL_DEPTH, 0, &far_depth);
     const bool motion = m.desc.motion_vectors;
     m.desc.motion_vectors = false;
@@ -237,7 +239,8 @@ Status Renderer::buildImpostor(CharacterId id, const ImpostorDesc& desc, Imposto
     out.height = uint32_t(h);
     uint64_t bytes = 0;
     for (GLsizei l = 0; l < levels; ++l)
-      bytes += uint64_t(std::max(w >> l, 1)) * uint64_t(std::max(h >> l, 1)) * 4 * 2;
+      bytes += uint64_t(std::max(w >> l, 1)) * uint64_t(std::max(h >> l, 1)) * 4 *
+               detail::ImpostorAtlas::kLayers;
     out.bytes = bytes;
     *info = out;
   }

@@ -86,6 +86,33 @@ TEST_P(RenderTest, ALevelEqualToLodZeroHasNoImageError) {
   EXPECT_GT(r.levels[2].mean_differing_pixels[2], 0.0);
 }
 
+// Measured through a material (ImageLodErrorDesc::material), the error is the one its image
+// shows: a material colouring each level apart makes that same level differ at every pixel.
+TEST_P(RenderTest, ImageLodErrorsAreMeasuredThroughTheMaterial) {
+  Character same = character();
+  for (SubMesh& sm : same.mesh.sub_meshes) {
+    sm.lods[1] = sm.lods[0];
+    sm.lod_error_units[1] = 0.0f;
+  }
+  MaterialDesc by_level;
+  by_level.name = "colour by level";
+  by_level.source = R"(
+layout(location = 0) out vec4 o_colour;
+void siMaterial(SiSurface s) { o_colour = vec4(s.lod == 0u ? 1.0 : 0.0, 0.5, 0.5, 1.0); })";
+  ImageLodErrorDesc d = smallDesc();
+  d.material = &by_level;
+  ImageLodErrorReport r;
+  const Status s = measureImageLodErrors(info_, same, palette(), d, &r);
+  ASSERT_TRUE(s.isOk()) << s.toString();
+  // Every covered pixel of level 1 (a character 32 pixels tall covers far more than 20).
+  EXPECT_GT(r.levels[1].mean_differing_pixels[2], 20.0);
+  EXPECT_GT(r.levels[1].image_units, 0.0f);
+  MaterialDesc broken = by_level;
+  broken.source = "void siMaterial(SiSurface s) { undeclared(); }";
+  d.material = &broken;
+  EXPECT_EQ(measureImageLodErrors(info_, same, palette(), d, &r).code(), StatusCode::kBackend);
+}
+
 TEST_P(RenderTest, ImageLodErrorsRefuseBadInput) {
   ImageLodErrorReport r;
   r.character_height_units = 7.0f;

@@ -335,6 +335,81 @@ TEST_P(PbrMaterialTest, AlphaMaskedTexelsAreLeftOutOfTheImpostorAtlas) {
   EXPECT_LT(masked, opaque * 7 / 10) << "the masked half is not in the atlas";
 }
 
+// Impostors carry the surface a material reads: drawn as an impostor, the patch hands the
+// material the metallic, roughness and occlusion its mesh does (means over the covered pixels
+// within 0.05; the atlas keeps 8 bits and filters them) and the mesh's material index.
+TEST_P(PbrMaterialTest, ImpostorsHandTheMaterialTheMeshesMetallicRoughnessOcclusionAndIndex) {
+  constexpr const char* kPbrProbe = R"(
+layout(location = 0) out vec4 o_pbr;
+layout(location = 1) out vec4 o_index;
+void siMaterial(SiSurface s) {
+  o_pbr = vec4(s.metallic, s.roughness, s.occlusion, 1.0);
+  o_index = vec4(float(s.material), s.impostor ? 1.0 : 0.0, 0.0, 1.0);
+})";
+  load(PbrAssetDesc{});
+  ASSERT_TRUE(appendImpostorLevel(&character_.mesh).isOk());
+  RendererDesc rd;
+  rd.skinning_path = SkinningPath::kVertexShader;
+  Renderer r;
+  ASSERT_TRUE(r.init(info_, rd).isOk());
+  CharacterId id;
+  ASSERT_TRUE(r.addCharacter(character_, palette_, &id).isOk());
+  MaterialDesc md;
+  md.name = "pbr probe";
+  md.source = kPbrProbe;
+  MaterialId mid;
+  ASSERT_TRUE(r.addMaterial(md, &mid).isOk());
+  ASSERT_TRUE(r.setMaterial(id, mid).isOk());
+  ASSERT_TRUE(r.buildImpostor(id, ImpostorDesc{}).isOk());
+  struct Means {
+    size_t pixels = 0, impostor = 0, index_one = 0;
+    glm::dvec3 pbr{0.0};
+  };
+  const auto draw = [&](bool as_impostor) {
+    TwoTargets targets(kSize, GL_RGBA32F);
+    targets.clear(glm::vec4(0.0f));
+    CrowdManager crowd;
+    CrowdDesc cd;
+    cd.palette = &palette_;
+    cd.sub_mesh_count = 1;
+    cd.lod_count = uint32_t(character_.mesh.maxLodCount());
+    cd.impostor_lod = cd.lod_count - 1;
+    cd.lod_distances_radii = {as_impostor ? 1e-3f : 1e6f};
+    EXPECT_TRUE(crowd.init(cd).isOk());
+    InstanceDesc inst;
+    inst.time_seconds = kTime;
+    inst.speed = 0.0f;
+    InstanceHandle h;
+    EXPECT_TRUE(crowd.add(inst, &h).isOk());
+    EXPECT_TRUE(crowd.update(0.0, camera()).isOk());
+    DrawStats stats;
+    EXPECT_TRUE(drawOnPath(r, PathKind::kInstanced, crowd, camera(), &stats).isOk());
+    Means m;
+    const std::vector<glm::vec4> pbr = targets.readFloat(0), index = targets.readFloat(1);
+    for (size_t p = 0; p < pbr.size(); ++p) {
+      if (index[p].a == 0.0f) continue;
+      ++m.pixels;
+      m.pbr += glm::dvec3(glm::vec3(pbr[p]));
+      m.impostor += index[p].y == 1.0f ? 1 : 0;
+      m.index_one += index[p].x == 1.0f ? 1 : 0;  // The patch's material (0: the default).
+    }
+    if (m.pixels > 0) m.pbr /= double(m.pixels);
+    return m;
+  };
+  const Means mesh = draw(false), impostor = draw(true);
+  std::printf(
+      "[ impostor ] metallic, roughness, occlusion: mesh %.3f %.3f %.3f, impostor %.3f "
+      "%.3f %.3f\n",
+      mesh.pbr.x, mesh.pbr.y, mesh.pbr.z, impostor.pbr.x, impostor.pbr.y, impostor.pbr.z);
+  ASSERT_GT(mesh.pixels, 1000u);
+  ASSERT_GT(impostor.pixels, 1000u);
+  EXPECT_EQ(mesh.impostor, 0u);
+  EXPECT_EQ(impostor.impostor, impostor.pixels);
+  EXPECT_EQ(mesh.index_one, mesh.pixels);
+  EXPECT_EQ(impostor.index_one, impostor.pixels) << "the impostor hands the mesh's material index";
+  for (int c = 0; c < 3; ++c) EXPECT_NEAR(impostor.pbr[c], mesh.pbr[c], 0.05) << "channel " << c;
+}
+
 // glTF doubleSided: seen from behind, a single-sided patch is culled, a double-sided one is
 // drawn on every path with its shading normal turned towards the viewer.
 TEST_P(PbrMaterialTest, DoubleSidedMaterialsDrawTheirBackFaces) {

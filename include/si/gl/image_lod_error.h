@@ -25,6 +25,7 @@
 #include "si/core/status.h"
 #include "si/gl/gl_context.h"
 #include "si/gl/impostor.h"
+#include "si/gl/material.h"
 
 namespace si {
 
@@ -56,6 +57,10 @@ struct ImageLodErrorDesc {
   /// Non-null: the mesh's last level is its impostor level (si::appendImpostorLevel), drawn as
   /// the impostor this desc captures (Renderer::buildImpostor), and measured like the others.
   const ImpostorDesc* impostor = nullptr;
+  /// Non-null: every level (the impostor too) is drawn through this material
+  /// (Renderer::addMaterial) and its output 0 compared, so the error is the one the host's look
+  /// shows; null: the built-in material.
+  const MaterialDesc* material = nullptr;
 };
 
 /// One LOD level's errors.
@@ -88,15 +93,16 @@ struct ImageLodErrorReport {
 };
 
 /// Draws the character (every sub-mesh worn, its palette's poses, the renderer's vertex-shader
-/// program and default light, an orthographic camera, offscreen) at every level, height, pose
-/// and view direction, and compares each level's image with LOD 0's, per character. The host's
-/// framebuffer bindings, viewport and pixel-pack state are restored. kInvalidArgument for a
-/// null report, a height of 0, an invalid character or a palette without clips; the status of
-/// lodErrorsByLevel() when the mesh has no LOD errors; kLimitExceeded when the images would
-/// pass GL_MAX_TEXTURE_SIZE; the renderer's status for what it refuses; kBackend naming the GL
-/// error or an incomplete framebuffer; kInvalidArgument for a pose_phase outside [0, 1) or an
-/// azimuth offset that is not finite; with an impostor, buildImpostor's errors and
-/// kInvalidArgument for a mesh of one level. Nothing is written on failure.
+/// program and default light, through the built-in material or ImageLodErrorDesc::material, an
+/// orthographic camera, offscreen) at every level, height, pose and view direction, and compares
+/// each level's image with LOD 0's, per character. The host's framebuffer bindings, viewport and
+/// pixel-pack state are restored. kInvalidArgument for a null report, a height of 0, an invalid
+/// character or a palette without clips; the status of lodErrorsByLevel() when the mesh has no LOD
+/// errors; kLimitExceeded when the images would pass GL_MAX_TEXTURE_SIZE; the renderer's status for
+/// what it refuses; kBackend naming the GL error or an incomplete framebuffer; kInvalidArgument for
+/// a pose_phase outside [0, 1) or an azimuth offset that is not finite; with an impostor,
+/// buildImpostor's errors and kInvalidArgument for a mesh of one level; with a material,
+/// addMaterial's errors. Nothing is written on failure.
 Status measureImageLodErrors(const GlInfo& info, const Character& character,
                              const BakedPalette& palette, const ImageLodErrorDesc& desc,
                              ImageLodErrorReport* report);

@@ -5,20 +5,23 @@
 /// Animated impostors: a character's far LOD drawn as one textured quad per instance. The
 /// renderer draws the character into an atlas at upload (Renderer::buildImpostor): every view
 /// direction of a ring of azimuths at a few elevations, for a reduced set of every clip's
-/// frames, each cell holding the unlit base colour with the coverage, and the normal with the
-/// tint mask. At draw time each instance at the crowd's impostor level (CrowdDesc::impostor_lod,
-/// si::appendImpostorLevel) shows the cell of the view direction and frame nearest its own,
-/// lit by the renderer's light and tinted by its colour as the mesh would be.
+/// frames, each cell holding the unlit base colour with the coverage, the normal with the tint
+/// mask, and the metallic, roughness, occlusion and material index. At draw time each instance at
+/// the crowd's impostor level (CrowdDesc::impostor_lod, si::appendImpostorLevel) shows the cell of
+/// the view direction and frame nearest its own, lit by the renderer's light and tinted by its
+/// colour as the mesh would be.
 ///
 /// What the atlas keeps and loses:
 /// - kept: the pose (nearest of the reduced frames, crossfades show the heavier clip), the
 ///   view direction (nearest of azimuths x elevations), the base colour and material factors,
-///   the tint and its mask, the lighting (from the captured normals), the instance's scale;
+///   metallic, roughness, occlusion and material index (what a material reads: it lights an
+///   impostor as it lights the mesh), the tint and its mask, the lighting (from the captured
+///   normals), the instance's scale;
 /// - lost: the variation parts (the atlas shows the parts of ImpostorDesc::variation_mask for
 ///   every instance), the custom texture layer, overlays (layered animation), the depth within
 ///   the character (the quad has one depth, at the character's centre) and, between the
-///   captured views and frames, the in-between views and poses. Motion vectors are not drawn
-///   for impostors (the draws return kUnsupported while they are on).
+///   captured views and frames, the in-between views and poses; emissive light. Motion vectors
+///   are not drawn for impostors (the draws return kUnsupported while they are on).
 /// How much this changes the image is measured like every other level's error:
 /// si::measureImageLodErrors with ImageLodErrorDesc::impostor.
 ///
@@ -56,7 +59,7 @@ struct ImpostorInfo {
   uint32_t views = 0;        ///< azimuths x elevations.
   uint32_t frames = 0;       ///< Captured frames, every clip's together.
   uint32_t cells = 0;        ///< views x frames.
-  uint32_t width = 0, height = 0;  ///< Texels of each of the atlas's two layers.
+  uint32_t width = 0, height = 0;  ///< Texels of each of the atlas's three layers.
   uint64_t bytes = 0;        ///< GPU memory of the atlas with its mip levels.
 };
 

@@ -46,7 +46,7 @@ enum class ProgramId : uint8_t {
   kGpuDrivenDepthOnly,              ///< kGpuDrivenSkinned, depth only (shadow views).
   kGpuDrivenDepthOnlyLayers,        ///< kGpuDrivenDepthOnly with layered animation.
   kGpuPulledDepthOnly,              ///< kGpuPulled, depth only.
-  kImpostorCapture,                 ///< kSkinned writing the impostor atlas's two layers.
+  kImpostorCapture,                 ///< kSkinned writing the impostor atlas's three layers.
   kImpostor,                        ///< Impostor quads, records from the instance block.
   kImpostorDepthOnly,               ///< kImpostor, depth only.
   kGpuDrivenImpostor,               ///< Impostor quads, records through bucket entries.

@@ -1,7 +1,7 @@
 // SkinnedInstancing — SPDX-License-Identifier: MIT (see LICENSE)
 #pragma once
 // One character's impostor atlas on the GPU (Renderer::buildImpostor fills it): the texture
-// array of two layers, the clip table the impostor vertex shader finds frames in, and the
+// array of three layers, the clip table the impostor vertex shader finds frames in, and the
 // numbers its uniforms carry (shaders/impostor.vert.glsl).
 
 #include <glad/gl.h>
@@ -16,7 +16,11 @@
 namespace si::detail {
 
 struct ImpostorAtlas {
-  GLuint texture = kNoObject;  ///< GL_TEXTURE_2D_ARRAY, RGBA8, 2 layers, mipmapped.
+  /// Base colour and coverage; normal and tint mask; metallic, roughness, occlusion and the
+  /// material's code (impostor_capture_material.glsl).
+  static constexpr uint32_t kLayers = 3;
+
+  GLuint texture = kNoObject;  ///< GL_TEXTURE_2D_ARRAY, RGBA8, kLayers layers, mipmapped.
   GLuint clips = kNoObject;    ///< Storage: per clip (first texel, frames, first cell frame, frames).
   uint32_t clip_count = 0;
   uint32_t columns = 0, rows = 0;  ///< Cells across and down.

@@ -9,11 +9,12 @@
 // draw writes motion vectors: the clip positions below are set), SI_DEPTH_ONLY (a depth-only
 // pass of a material with MaterialDesc::depth_discard: only the discard matters),
 // SI_IMPOSTOR (an impostor quad's fragment: the surface comes from the impostor atlas).
-// Interface version 2 (1 had no tangent frame and no metallic-roughness fields).
+// Interface version 3 (2 gave impostors metallic 0, roughness 1, occlusion 1 and no material
+// index; 1 had no tangent frame and no metallic-roughness fields).
 #ifndef SI_SURFACE_GLSL
 #define SI_SURFACE_GLSL
-#define SI_MATERIAL_INTERFACE_VERSION 2
-// SiSurface.material of an impostor's fragment: the atlas stores no material index.
+#define SI_MATERIAL_INTERFACE_VERSION 3
+// SiSurface.material where there is none (kept for materials that test it; no draw sets it).
 #define SI_NO_MATERIAL 0xFFFFFFFFu
 struct SiSurface {
   // The fragment's world position relative to the camera (world axes, the camera at the
@@ -27,13 +28,13 @@ struct SiSurface {
   vec3 vertex_normal;
   // The skinned tangent in world axes (xyz unit, orthogonal to vertex_normal; w the
   // bitangent's sign: bitangent = w * cross(vertex_normal, tangent.xyz)); vec4(0) where the
-  // mesh has no tangents, on the paths that pre-skin (compute, GPU-driven pre-skinned, CPU
-  // skinning: not yet carried) and on impostors.
+  // mesh has no tangents and on impostors.
   vec4 tangent;
   // Texture coordinate 0 of the mesh (an impostor: the atlas cell's coordinate).
   vec2 uv0;
-  // The vertex's entry of the character's material table (si::MaterialTable); SI_NO_MATERIAL on
-  // an impostor.
+  // The vertex's entry of the character's material table (si::MaterialTable). An impostor: the
+  // largest entry the capture drew among the 2 x 2 nearest texels of the atlas's full
+  // resolution (entries past 254 read as 254; never blended between entries).
   uint material;
   // The material table entry's base colour, linear: its sRGB texture sampled at uv0 times its
   // factor (an impostor: the texel the atlas captured). Alpha is the tint mask the built-in
@@ -42,7 +43,8 @@ struct SiSurface {
   vec4 base_color;
   // The material's metallic and roughness (factors times the metallic-roughness texture's
   // blue and green), ambient occlusion (1 + strength * (red - 1)) and emissive colour (factor
-  // times the sRGB emissive texture, linear). An impostor: 0, 1, 1 and vec3(0).
+  // times the sRGB emissive texture, linear). An impostor: the captured metallic, roughness and
+  // occlusion (filtered as the base colour is), and no emissive (vec3(0)).
   float metallic;
   float roughness;
   float occlusion;
