@@ -430,9 +430,11 @@ void GpuCulledPath::runPasses(const DrawResources& r, const PathFrame& f, uint32
     glDispatchComputeIndirect(GLintptr(kSkinDispatchWord) * 4);
     glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT);
     const Program& pulled =
-        r.programs[f.depth_only ? ProgramId::kGpuPulledDepthOnly
-                      : motion_    ? ProgramId::kGpuPulledMotion
-                                   : ProgramId::kGpuPulled];
+        r.programs[f.depth_only          ? ProgramId::kGpuPulledDepthOnly
+                   : r.preskin->tangents ? (motion_ ? ProgramId::kGpuPulledMotionTangents
+                                                    : ProgramId::kGpuPulledTangents)
+                   : motion_             ? ProgramId::kGpuPulledMotion
+                                         : ProgramId::kGpuPulled];
     bindShading(r, pulled, f.camera, f.light);
     set_motion(pulled);
     glProgramUniform2ui(pulled.id, 6, 0u, r.preskin->drawLayout());

@@ -39,8 +39,8 @@ const ProgramSpec kSpecs[kProgramCount] = {
      "compute_skin.comp.glsl", nullptr},
     {"pre-skinned pulling with motion vectors", "#define SI_MOTION_VECTORS\n", "pulled.vert.glsl",
      "surface.frag.glsl", nullptr, nullptr},
-    {"skinned with layers", "#define SI_LAYERS\n", "skinned.vert.glsl", "surface.frag.glsl", nullptr,
-     nullptr},
+    {"skinned with layers", "#define SI_LAYERS\n", "skinned.vert.glsl", "surface.frag.glsl",
+     nullptr, nullptr},
     {"compute skinning with layers", "#define SI_LAYERS\n", nullptr, nullptr,
      "compute_skin.comp.glsl", nullptr},
     {"depth-only with layers", "#define SI_LAYERS\n", "skinned.vert.glsl", "depth.frag.glsl",
@@ -119,6 +119,16 @@ const ProgramSpec kSpecs[kProgramCount] = {
     {"staged upload scatter", "", nullptr, nullptr, "upload_scatter.comp.glsl", nullptr},
     {"depth pyramid copy, multisampled", "#define SI_HIZ_COPY\n#define SI_HIZ_MULTISAMPLE\n",
      nullptr, nullptr, "hiz.comp.glsl", nullptr},
+    {"pre-skinned pulling with tangents", "#define SI_TANGENTS\n", "pulled.vert.glsl",
+     "surface.frag.glsl", nullptr, nullptr},
+    {"pre-skinned pulling with motion vectors and tangents",
+     "#define SI_MOTION_VECTORS\n#define SI_TANGENTS\n", "pulled.vert.glsl", "surface.frag.glsl",
+     nullptr, nullptr},
+    {"GPU-driven pulling with tangents", "#define SI_GPU_DRIVEN\n#define SI_TANGENTS\n",
+     "pulled.vert.glsl", "surface.frag.glsl", nullptr, nullptr},
+    {"GPU-driven pulling with motion vectors and tangents",
+     "#define SI_GPU_DRIVEN\n#define SI_MOTION_VECTORS\n#define SI_TANGENTS\n", "pulled.vert.glsl",
+     "surface.frag.glsl", nullptr, nullptr},
 };
 
 }  // namespace

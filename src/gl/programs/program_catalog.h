@@ -67,6 +67,10 @@ enum class ProgramId : uint8_t {
   kGpuSkinMotionComposed,           ///< kGpuSkinMotionLayers reading them.
   kUploadScatter,                   ///< Staged uploads into place (resources/upload_ring.h).
   kHizCopyMultisample,              ///< kHizCopy from a multisampled depth (farthest sample).
+  kPulledTangents,                  ///< kPulled with the tangent ring (a character's tangents).
+  kPulledMotionTangents,            ///< kPulledMotion with the tangent ring.
+  kGpuPulledTangents,               ///< kGpuPulled with the tangent ring.
+  kGpuPulledMotionTangents,         ///< kGpuPulledMotion with the tangent ring.
   kCount
 };
 inline constexpr size_t kProgramCount = size_t(ProgramId::kCount);

@@ -8,7 +8,8 @@
 // u_chunk: x first ring vertex of the draw, y vertices of the LOD, z offset into the LOD vertex
 // list, w first instance of the batch; u_layout: x instances, y words per source vertex (low
 // byte; 8 or 9, one more with tangents) | 0x100 with wide joints | 0x200 when the source has
-// tangents and the tangent ring (storage binding 28) is written and read.
+// tangents and the skinning passes write the tangent ring (storage binding 28; the pulling
+// draws read it when compiled with SI_TANGENTS).
 // The bindings can be moved (the GPU-driven passes use 2 and 3 for other buffers).
 #ifndef SI_PRE_SKIN_COMMON_GLSL
 #define SI_PRE_SKIN_COMMON_GLSL
@@ -109,10 +110,13 @@ vec4 siPreSkin(uint source, SiInstance inst, uvec4 layer, uint record, out uint 
   vec4 w0 = inst.world_rows[0], w1 = inst.world_rows[1], w2 = inst.world_rows[2];
   vec3 world = siTransformPoint(w0, w1, w2, siTransformPoint(m0, m1, m2, p));
   vec3 normal = siTransformNormal(w0, w1, w2, siTransformNormal(m0, m1, m2, n));
-  vec4 t = siHasTangents() ? siSourceTangent(source) : vec4(0.0);
-  vec3 skinned_t = siTransformVector(w0, w1, w2, siTransformVector(m0, m1, m2, t.xyz));
-  float t_length = length(skinned_t);
-  tangent = siPackTangent(t_length > 0.0 ? vec4(skinned_t / t_length, t.w) : vec4(0.0));
+  tangent = siPackTangent(vec4(0.0));
+  if (siHasTangents()) {  // Uniform: a character without tangents does none of this work.
+    vec4 t = siSourceTangent(source);
+    vec3 skinned_t = siTransformVector(w0, w1, w2, siTransformVector(m0, m1, m2, t.xyz));
+    float t_length = length(skinned_t);
+    if (t_length > 0.0) tangent = siPackTangent(vec4(skinned_t / t_length, t.w));
+  }
   return vec4(world, uintBitsToFloat(packSnorm2x16(siOctEncode(normal))));
 }
 

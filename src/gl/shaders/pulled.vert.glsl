@@ -1,6 +1,7 @@
 // SkinnedInstancing - SPDX-License-Identifier: MIT (see LICENSE)
 // Pre-skinning's draw: pulls the pre-skinned vertex of (instance, gl_VertexID) from the ring
-// (and its skinned tangent from the tangent ring at the same slot, for a source with tangents);
+// (SI_TANGENTS, for a character with tangents: its skinned tangent from the tangent ring at the
+// same slot; without, the tangent output is the constant "none", which costs no varying);
 // texture coordinates from the source vertex.
 // SI_GPU_DRIVEN: the instance is a bucket entry (a_entry = baseInstance + gl_InstanceID, an
 // identity buffer with divisor 1) whose ring base and list offset the GPU-driven passes wrote;
@@ -27,7 +28,9 @@ layout(std430, binding = 6) readonly buffer SiVisible { uvec4 si_visible[]; };
 uniform uint u_lod;  // The batch's LOD (SiSurface.lod).
 layout(std430, binding = 1) readonly buffer SiSkinned { vec4 si_skinned[]; };
 #endif
+#ifdef SI_TANGENTS
 layout(std430, binding = 28) readonly buffer SiTangents { uint si_tangents[]; };
+#endif
 #ifdef SI_MOTION_VECTORS
 #ifdef SI_GPU_DRIVEN
 #define SI_PREVIOUS_RING_BINDING 22
@@ -77,7 +80,11 @@ void main() {
   v_color = si_instances[u_chunk.w + uint(gl_InstanceID)].blend.w;
   v_lod = u_lod;
 #endif
-  v_tangent = siHasTangents() ? siUnpackTangent(si_tangents[ring]) : vec4(0.0);
+#ifdef SI_TANGENTS
+  v_tangent = siUnpackTangent(si_tangents[ring]);
+#else
+  v_tangent = vec4(0.0);
+#endif
   v_position = s.xyz;
   v_normal = siOctDecode(unpackSnorm2x16(floatBitsToUint(s.w)));
   gl_Position = u_view_projection * vec4(s.xyz, 1.0);
