@@ -11,20 +11,6 @@ namespace {
 
 using namespace test;
 
-// `image` (RGBA8, kSize x kSize) upside down.
-std::vector<uint8_t> flipped(const std::vector<uint8_t>& image) {
-  std::vector<uint8_t> out(image.size());
-  const size_t row = size_t(kSize) * 4;
-  for (uint32_t y = 0; y < kSize; ++y)
-    std::memcpy(&out[size_t(kSize - 1 - y) * row], &image[size_t(y) * row], row);
-  return out;
-}
-
-Camera yFlipped(Camera c) {
-  c.projection[1][1] = -c.projection[1][1];
-  return c;
-}
-
 class FlippedTargetTest : public RenderTest {
  protected:
   // Clears and draws `crowd` with `camera` on `kind`; the image.

@@ -8,6 +8,8 @@
 
 #include <algorithm>
 #include <set>
+#include <utility>
+#include <vector>
 
 #include "render/render_fixture.h"
 #include "render/two_targets.h"
@@ -78,15 +80,77 @@ class HostMaterialTest : public RenderTest {
     EXPECT_EQ(r->material(id), material);
   }
 
-  // Draws `crowd` with `r` on `kind` (depth only when `depth_only`) into `targets` after clearing
-  // them.
+  // Draws `crowd` with `r` on `kind` (depth only when `depth_only`) seen by `camera` into
+  // `targets` after clearing them.
   void drawInto(Renderer& r, PathKind kind, const CrowdManager& crowd, const TwoTargets& targets,
-                bool depth_only = false) {
+                bool depth_only = false, const Camera& camera = lodCamera()) {
     targets.clear();
     DrawStats stats;
-    const Status s = drawOnPath(r, kind, crowd, lodCamera(), &stats, depth_only);
+    const Status s = drawOnPath(r, kind, crowd, camera, &stats, depth_only);
     ASSERT_TRUE(s.isOk()) << s.toString();
     EXPECT_GT(stats.draw_calls, 0u);
+  }
+
+  // The two-target material on the instanced path, seen by `camera` into `targets` (`resolved`:
+  // multisampled ones), then on every other path (vertex-shader and compute renderers `vs` and
+  // `cs`), each drawing the same two images; the instanced path's images.
+  std::pair<std::vector<uint8_t>, std::vector<uint8_t>> expectTheSameImagesOnEveryPath(
+      Renderer& vs, Renderer& cs, const CrowdManager& crowd, const TwoTargets& targets,
+      const Camera& camera, bool resolved = false) {
+    drawInto(vs, PathKind::kInstanced, crowd, targets, false, camera);
+    const std::vector<uint8_t> lit = targets.read(0), surface = targets.read(1);
+    // The material drew: the host's tone (red only) everywhere the crowd is, every LOD in the
+    // second target's alpha. Resolved, edges blend with the background, and far characters
+    // cover no whole pixel: only what is drawn is checked there.
+    size_t drawn = 0, green_or_blue = 0;
+    std::set<uint8_t> lods;
+    for (size_t p = 0; p < lit.size(); p += 4) {
+      if (surface[p + 3] == 0) continue;  // Background.
+      ++drawn;
+      green_or_blue += lit[p + 1] != 0 || lit[p + 2] != 0;
+      lods.insert(surface[p + 3]);
+    }
+    EXPECT_GT(drawn, 2000u);
+    if (!resolved) {
+      EXPECT_EQ(green_or_blue, 0u);
+      EXPECT_EQ(lods, (std::set<uint8_t>{32, 64, 96})) << "LOD + 1 in eighths: the crowd's 3 LODs";
+    }
+
+    struct Case {
+      const char* name;
+      Renderer* r;
+      PathKind kind;
+      bool occlusion;
+    };
+    for (const Case& k :
+         {Case{"compute", &cs, PathKind::kCompute, false},
+          Case{"gpu-driven", &vs, PathKind::kGpuDriven, false},
+          Case{"gpu-driven compute", &cs, PathKind::kGpuDrivenCompute, false},
+          Case{"gpu-driven occlusion", &vs, PathKind::kGpuDriven, true},
+          Case{"gpu-driven compute occlusion", &cs, PathKind::kGpuDrivenCompute, true},
+          Case{"traditional", &vs, PathKind::kTraditional, false},
+          Case{"cpu-skinned", &vs, PathKind::kCpu, false}}) {
+      SCOPED_TRACE(k.name);
+      k.r->setGpuOcclusionCulling(k.occlusion);
+      drawInto(*k.r, k.kind, crowd, targets, false, camera);
+      if (k.occlusion)  // Last frame's visible set.
+        drawInto(*k.r, k.kind, crowd, targets, false, camera);
+      k.r->setGpuOcclusionCulling(false);
+      const std::vector<uint8_t> lit_k = targets.read(0), surface_k = targets.read(1);
+      const Diff d0 = compare(lit_k, lit, nullptr), d1 = compare(surface_k, surface, nullptr);
+      EXPECT_LE(d0.share, 0.001) << "target 0, max channel difference " << d0.max_channel;
+      EXPECT_LE(d1.share, 0.002) << "target 1, max channel difference " << d1.max_channel;
+      EXPECT_LE(differingAlpha(surface_k, surface), lit.size() / 4 / 1000) << "the LODs";
+    }
+    return {lit, surface};
+  }
+
+  // The crowd of these tests: the LOD rows and a crossfading character.
+  void sceneCrowd(CrowdManager* crowd) {
+    makeCrowd(crowd);
+    populateLodCrowd(crowd);
+    addFadingCharacter(crowd);
+    ASSERT_TRUE(crowd->update(0.3, lodCamera()).isOk());
   }
 };
 
@@ -95,54 +159,12 @@ TEST_P(HostMaterialTest, AHostMaterialWritingTwoTargetsDrawsTheSameImagesOnEvery
   ASSERT_TRUE(targets.complete());
   HostLight light(glm::vec3(0.3f, -1.0f, -0.5f), glm::vec3(1.0f, 0.0f, 0.0f));  // Red only.
   CrowdManager crowd;
-  makeCrowd(&crowd);
-  populateLodCrowd(&crowd);
-  addFadingCharacter(&crowd);
-  ASSERT_TRUE(crowd.update(0.3, lodCamera()).isOk());
+  sceneCrowd(&crowd);
   Renderer vs, cs;
   makeMaterialRenderer(&vs, SkinningPath::kVertexShader);
   makeMaterialRenderer(&cs, SkinningPath::kCompute);
-
-  drawInto(vs, PathKind::kInstanced, crowd, targets);
-  const std::vector<uint8_t> lit = targets.read(0), surface = targets.read(1);
-  // The material drew: the host's tone (red only) everywhere the crowd is, every LOD in the
-  // second target's alpha.
-  size_t drawn = 0, green_or_blue = 0;
-  std::set<uint8_t> lods;
-  for (size_t p = 0; p < lit.size(); p += 4) {
-    if (surface[p + 3] == 0) continue;  // Background.
-    ++drawn;
-    green_or_blue += lit[p + 1] != 0 || lit[p + 2] != 0;
-    lods.insert(surface[p + 3]);
-  }
-  EXPECT_GT(drawn, 2000u);
-  EXPECT_EQ(green_or_blue, 0u);
-  EXPECT_EQ(lods.size(), 3u) << "the crowd's 3 LODs";
-
-  struct Case {
-    const char* name;
-    Renderer* r;
-    PathKind kind;
-    bool occlusion;
-  };
-  for (const Case& k : {Case{"compute", &cs, PathKind::kCompute, false},
-                        Case{"gpu-driven", &vs, PathKind::kGpuDriven, false},
-                        Case{"gpu-driven compute", &cs, PathKind::kGpuDrivenCompute, false},
-                        Case{"gpu-driven occlusion", &vs, PathKind::kGpuDriven, true},
-                        Case{"gpu-driven compute occlusion", &cs, PathKind::kGpuDrivenCompute, true},
-                        Case{"traditional", &vs, PathKind::kTraditional, false},
-                        Case{"cpu-skinned", &vs, PathKind::kCpu, false}}) {
-    SCOPED_TRACE(k.name);
-    k.r->setGpuOcclusionCulling(k.occlusion);
-    drawInto(*k.r, k.kind, crowd, targets);
-    if (k.occlusion) drawInto(*k.r, k.kind, crowd, targets);  // Last frame's visible set.
-    k.r->setGpuOcclusionCulling(false);
-    const std::vector<uint8_t> lit_k = targets.read(0), surface_k = targets.read(1);
-    const Diff d0 = compare(lit_k, lit, nullptr), d1 = compare(surface_k, surface, nullptr);
-    EXPECT_LE(d0.share, 0.001) << "target 0, max channel difference " << d0.max_channel;
-    EXPECT_LE(d1.share, 0.002) << "target 1, max channel difference " << d1.max_channel;
-    EXPECT_LE(differingAlpha(surface_k, surface), lit.size() / 4 / 1000) << "the LODs";
-  }
+  const std::vector<uint8_t> lit =
+      expectTheSameImagesOnEveryPath(vs, cs, crowd, targets, lodCamera()).first;
 
   // The same renderer with the built-in material draws the built-in image into target 0.
   ASSERT_TRUE(vs.setMaterial(CharacterId{}, kBuiltinMaterial).isOk());
@@ -154,6 +176,38 @@ TEST_P(HostMaterialTest, AHostMaterialWritingTwoTargetsDrawsTheSameImagesOnEvery
   const std::vector<uint8_t> builtin_image = targets.read(0);
   drawInto(vs, PathKind::kInstanced, crowd, targets);
   EXPECT_EQ(compare(targets.read(0), builtin_image, nullptr).max_channel, 0);
+}
+
+// The same into the host's targets multisampled (4 samples, resolved for the comparison) and
+// y-flipped (a render texture's projection: the standard images upside down).
+TEST_P(HostMaterialTest, EveryPathDrawsTheSameImagesIntoMultisampledAndYFlippedTargets) {
+  HostLight light(glm::vec3(0.3f, -1.0f, -0.5f), glm::vec3(1.0f, 0.0f, 0.0f));
+  CrowdManager crowd;
+  sceneCrowd(&crowd);
+  Renderer vs, cs;
+  makeMaterialRenderer(&vs, SkinningPath::kVertexShader);
+  makeMaterialRenderer(&cs, SkinningPath::kCompute);
+  {
+    SCOPED_TRACE("4 samples");
+    TwoTargets multisampled(kSize, GL_RGBA8, 4);
+    ASSERT_TRUE(multisampled.complete());
+    const std::vector<uint8_t> surface =
+        expectTheSameImagesOnEveryPath(vs, cs, crowd, multisampled, lodCamera(), true).second;
+    size_t blended = 0;  // Edges resolved to a blend of a LOD's alpha and the background's 0.
+    for (size_t p = 3; p < surface.size(); p += 4)
+      blended += surface[p] != 0 && surface[p] != 32 && surface[p] != 64 && surface[p] != 96;
+    EXPECT_GT(blended, 100u) << "the target is multisampled";
+  }
+  {
+    SCOPED_TRACE("y-flipped");
+    TwoTargets standard(kSize);
+    drawInto(vs, PathKind::kInstanced, crowd, standard);
+    const std::vector<uint8_t> upright = standard.read(0);
+    const std::vector<uint8_t> lit =
+        expectTheSameImagesOnEveryPath(vs, cs, crowd, standard, yFlipped(lodCamera())).first;
+    const Diff d = compare(lit, flipped(upright), nullptr);
+    EXPECT_LE(d.share, 0.001) << "the standard image upside down; max channel " << d.max_channel;
+  }
 }
 
 TEST_P(HostMaterialTest, ImpostorsHandTheirSurfaceToTheHostMaterial) {

@@ -71,13 +71,19 @@ TEST_P(RenderTest, ImageLodErrorsGrowWithTheLevelAndTheHeight) {
   for (size_t l = 1; l < units.size(); ++l) EXPECT_GE(units[l], units[l - 1]);
 }
 
-// A level drawing LOD 0's own triangles changes no pixel: its image error is 0 at every height.
-TEST_P(RenderTest, ALevelEqualToLodZeroHasNoImageError) {
-  Character same = character();
+// The embedded character with its level 1 drawing LOD 0's own triangles.
+Character levelOneAsLodZero() {
+  Character same = test::character();
   for (SubMesh& sm : same.mesh.sub_meshes) {
     sm.lods[1] = sm.lods[0];
     sm.lod_error_units[1] = 0.0f;
   }
+  return same;
+}
+
+// A level drawing LOD 0's own triangles changes no pixel: its image error is 0 at every height.
+TEST_P(RenderTest, ALevelEqualToLodZeroHasNoImageError) {
+  const Character same = levelOneAsLodZero();
   ImageLodErrorReport r;
   ASSERT_TRUE(measureImageLodErrors(info_, same, palette(), smallDesc(), &r).isOk());
   for (double px : r.levels[1].mean_differing_pixels) EXPECT_EQ(px, 0.0);
@@ -89,11 +95,7 @@ TEST_P(RenderTest, ALevelEqualToLodZeroHasNoImageError) {
 // Measured through a material (ImageLodErrorDesc::material), the error is the one its image
 // shows: a material colouring each level apart makes that same level differ at every pixel.
 TEST_P(RenderTest, ImageLodErrorsAreMeasuredThroughTheMaterial) {
-  Character same = character();
-  for (SubMesh& sm : same.mesh.sub_meshes) {
-    sm.lods[1] = sm.lods[0];
-    sm.lod_error_units[1] = 0.0f;
-  }
+  const Character same = levelOneAsLodZero();
   MaterialDesc by_level;
   by_level.name = "colour by level";
   by_level.source = R"(

@@ -173,6 +173,45 @@ class PbrMaterialTest : public RenderTest {
     return st;
   }
 
+  // A renderer (vertex-shader skinning) drawing the loaded patch, with an impostor level
+  // appended, through `material_source`, its impostor atlas built (ImpostorDesc's defaults).
+  void makeImpostorRenderer(const char* material_source, Renderer* r) {
+    ASSERT_TRUE(appendImpostorLevel(&character_.mesh).isOk());
+    RendererDesc rd;
+    rd.skinning_path = SkinningPath::kVertexShader;
+    ASSERT_TRUE(r->init(info_, rd).isOk());
+    CharacterId id;
+    ASSERT_TRUE(r->addCharacter(character_, palette_, &id).isOk());
+    MaterialDesc md;
+    md.name = "probe";
+    md.source = material_source;
+    MaterialId mid;
+    ASSERT_TRUE(r->addMaterial(md, &mid).isOk());
+    ASSERT_TRUE(r->setMaterial(id, mid).isOk());
+    ASSERT_TRUE(r->buildImpostor(id, ImpostorDesc{}).isOk());
+  }
+  // The patch at kTime drawn by `r` (makeImpostorRenderer's) on the instanced path from the
+  // front, as an impostor or as its mesh, into the bound framebuffer.
+  void drawImpostorLevel(Renderer& r, bool as_impostor) {
+    CrowdManager crowd;
+    CrowdDesc cd;
+    cd.palette = &palette_;
+    cd.sub_mesh_count = 1;
+    cd.lod_count = uint32_t(character_.mesh.maxLodCount());
+    cd.impostor_lod = cd.lod_count - 1;
+    cd.lod_distances_radii = {as_impostor ? 1e-3f : 1e6f};
+    ASSERT_TRUE(crowd.init(cd).isOk());
+    InstanceDesc inst;
+    inst.time_seconds = kTime;
+    inst.speed = 0.0f;
+    InstanceHandle h;
+    ASSERT_TRUE(crowd.add(inst, &h).isOk());
+    ASSERT_TRUE(crowd.update(0.0, camera()).isOk());
+    ASSERT_EQ(crowd.stats().per_lod[as_impostor ? cd.impostor_lod : 0], 1u);
+    DrawStats stats;
+    ASSERT_TRUE(drawOnPath(r, PathKind::kInstanced, crowd, camera(), &stats).isOk());
+  }
+
   // Near the clip's end (1 s, looping: 1.0 is its start again): the child turned 90 % of the
   // way, 36 degrees about z and 22 about y.
   static constexpr double kTime = 0.9;
@@ -291,39 +330,11 @@ TEST_P(PbrMaterialTest, AlphaMaskedTexelsAreLeftOutOfTheImpostorAtlas) {
     PbrAssetDesc d;
     d.mask = mask;
     load(d);
-    EXPECT_TRUE(appendImpostorLevel(&character_.mesh).isOk());
     TwoTargets targets(kSize, GL_RGBA32F);
     targets.clear(glm::vec4(0.0f));
     Renderer r;
-    RendererDesc rd;
-    rd.skinning_path = SkinningPath::kVertexShader;
-    EXPECT_TRUE(r.init(info_, rd).isOk());
-    CharacterId id;
-    EXPECT_TRUE(r.addCharacter(character_, palette_, &id).isOk());
-    MaterialDesc md;
-    md.name = "surface probe";
-    md.source = kSurfaceProbe;
-    MaterialId mid;
-    EXPECT_TRUE(r.addMaterial(md, &mid).isOk());
-    EXPECT_TRUE(r.setMaterial(id, mid).isOk());
-    EXPECT_TRUE(r.buildImpostor(id, ImpostorDesc{}).isOk());
-    CrowdManager crowd;
-    CrowdDesc cd;
-    cd.palette = &palette_;
-    cd.sub_mesh_count = 1;
-    cd.lod_count = uint32_t(character_.mesh.maxLodCount());
-    cd.impostor_lod = cd.lod_count - 1;
-    cd.lod_distances_radii = {1e-3f};  // Every instance an impostor.
-    EXPECT_TRUE(crowd.init(cd).isOk());
-    InstanceDesc inst;
-    inst.time_seconds = kTime;
-    inst.speed = 0.0f;
-    InstanceHandle h;
-    EXPECT_TRUE(crowd.add(inst, &h).isOk());
-    EXPECT_TRUE(crowd.update(0.0, camera()).isOk());
-    EXPECT_EQ(crowd.stats().per_lod[cd.impostor_lod], 1u);
-    DrawStats stats;
-    EXPECT_TRUE(drawOnPath(r, PathKind::kInstanced, crowd, camera(), &stats).isOk());
+    makeImpostorRenderer(kSurfaceProbe, &r);
+    drawImpostorLevel(r, true);
     size_t covered = 0;
     for (const glm::vec4& t : targets.readFloat(1)) covered += t.a != 0.0f ? 1 : 0;
     return covered;
@@ -346,21 +357,9 @@ void siMaterial(SiSurface s) {
   o_pbr = vec4(s.metallic, s.roughness, s.occlusion, 1.0);
   o_index = vec4(float(s.material), s.impostor ? 1.0 : 0.0, 0.0, 1.0);
 })";
-  load(PbrAssetDesc{});
-  ASSERT_TRUE(appendImpostorLevel(&character_.mesh).isOk());
-  RendererDesc rd;
-  rd.skinning_path = SkinningPath::kVertexShader;
   Renderer r;
-  ASSERT_TRUE(r.init(info_, rd).isOk());
-  CharacterId id;
-  ASSERT_TRUE(r.addCharacter(character_, palette_, &id).isOk());
-  MaterialDesc md;
-  md.name = "pbr probe";
-  md.source = kPbrProbe;
-  MaterialId mid;
-  ASSERT_TRUE(r.addMaterial(md, &mid).isOk());
-  ASSERT_TRUE(r.setMaterial(id, mid).isOk());
-  ASSERT_TRUE(r.buildImpostor(id, ImpostorDesc{}).isOk());
+  makeImpostorRenderer(kPbrProbe, &r);
+  if (HasFatalFailure()) return;
   struct Means {
     size_t pixels = 0, impostor = 0, index_one = 0;
     glm::dvec3 pbr{0.0};
@@ -368,22 +367,7 @@ void siMaterial(SiSurface s) {
   const auto draw = [&](bool as_impostor) {
     TwoTargets targets(kSize, GL_RGBA32F);
     targets.clear(glm::vec4(0.0f));
-    CrowdManager crowd;
-    CrowdDesc cd;
-    cd.palette = &palette_;
-    cd.sub_mesh_count = 1;
-    cd.lod_count = uint32_t(character_.mesh.maxLodCount());
-    cd.impostor_lod = cd.lod_count - 1;
-    cd.lod_distances_radii = {as_impostor ? 1e-3f : 1e6f};
-    EXPECT_TRUE(crowd.init(cd).isOk());
-    InstanceDesc inst;
-    inst.time_seconds = kTime;
-    inst.speed = 0.0f;
-    InstanceHandle h;
-    EXPECT_TRUE(crowd.add(inst, &h).isOk());
-    EXPECT_TRUE(crowd.update(0.0, camera()).isOk());
-    DrawStats stats;
-    EXPECT_TRUE(drawOnPath(r, PathKind::kInstanced, crowd, camera(), &stats).isOk());
+    drawImpostorLevel(r, as_impostor);
     Means m;
     const std::vector<glm::vec4> pbr = targets.readFloat(0), index = targets.readFloat(1);
     for (size_t p = 0; p < pbr.size(); ++p) {

@@ -157,6 +157,21 @@ inline Status drawOnPath(Renderer& r, PathKind kind, const CrowdManager& crowd,
   return Status::ok();
 }
 
+// `image` (RGBA8, kSize x kSize) upside down.
+inline std::vector<uint8_t> flipped(const std::vector<uint8_t>& image) {
+  std::vector<uint8_t> out(image.size());
+  const size_t row = size_t(kSize) * 4;
+  for (uint32_t y = 0; y < kSize; ++y)
+    std::memcpy(&out[size_t(kSize - 1 - y) * row], &image[size_t(y) * row], row);
+  return out;
+}
+
+// `c` drawing into a y-flipped target (a render texture as OGRE and others draw them).
+inline Camera yFlipped(Camera c) {
+  c.projection[1][1] = -c.projection[1][1];
+  return c;
+}
+
 // Scenes defined below the fixture.
 inline Camera closeCamera();
 inline Camera lodCamera();
