@@ -432,5 +432,44 @@ TEST_P(PbrMaterialTest, DoubleSidedMaterialsDrawTheirBackFaces) {
 
 INSTANTIATE_TEST_SUITE_P(Backends, PbrMaterialTest, test::allBackends(), test::backendTestName);
 
+// The OpenGL ES profile's depth-only draws take the alpha mask too (its one depth-only program,
+// built for a masked character from the ES surface stage). ES 3.0 reads no depth back, so the
+// depth is seen through a colour pass: after the masked patch's depth-only draw, the opaque
+// patch drawn with GL_LESS at the same depths shows only where the mask left no depth (the
+// masked half); after the opaque patch's depth-only draw, almost nothing.
+class EsPbrMaterialTest : public PbrMaterialTest {
+ protected:
+  bool es() const override { return true; }
+};
+
+TEST_P(EsPbrMaterialTest, AlphaMaskedTexelsAreDiscardedFromDepthOnlyDraws) {
+  const auto shownAfterDepth = [&](bool mask) -> size_t {
+    PbrAssetDesc d;
+    d.mask = mask;
+    load(d);
+    Renderer depth;
+    crowd_ = CrowdManager();
+    depth.clear(glm::vec4(0.0f, 0.0f, 0.0f, 1.0f));
+    drawPatch(PathKind::kInstanced, nullptr, &depth, true);
+    load(PbrAssetDesc{});
+    Renderer colour;
+    crowd_ = CrowdManager();
+    glDepthFunc(GL_LESS);
+    drawPatch(PathKind::kInstanced, nullptr, &colour);
+    std::vector<uint8_t> rgba;
+    EXPECT_TRUE(context_->readPixels(&rgba).isOk());
+    size_t shown = 0;
+    for (size_t p = 0; p < rgba.size(); p += 4) shown += rgba[p] + rgba[p + 1] + rgba[p + 2] > 0;
+    return shown;
+  };
+  const size_t masked = shownAfterDepth(true), opaque = shownAfterDepth(false);
+  std::printf("[ ES depth ] shown after the masked depth %zu, after the opaque depth %zu\n", masked,
+              opaque);
+  EXPECT_GT(masked, 1000u) << "the masked half wrote no depth";
+  EXPECT_LT(opaque, masked / 20) << "the opaque patch's depth hides its colour";
+}
+
+INSTANTIATE_TEST_SUITE_P(Backends, EsPbrMaterialTest, test::esBackends(), test::backendTestName);
+
 }  // namespace
 }  // namespace si
