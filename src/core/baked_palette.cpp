@@ -7,6 +7,7 @@
 #include <cstring>
 
 #include "core/frame_times_sample.h"
+#include "core/skinned_normal.h"
 #include "core/str_cat.h"
 #include "si/core/baked_palette.h"
 
@@ -332,15 +333,7 @@ Status emulateSkinning(const SkinnedMesh& mesh, Span<const glm::mat4> matrices,
       m += matrices[j] * w;
     }
     out_positions[v] = glm::vec3(m * glm::vec4(mesh.positions[v], 1.0f));
-    if (!out_normals.empty()) {
-      // sign(det) * cofactor of the blended 3x3: the inverse transpose up to a positive scale.
-      const glm::mat3 a(m);
-      glm::mat3 cof(glm::cross(a[1], a[2]), glm::cross(a[2], a[0]), glm::cross(a[0], a[1]));
-      if (glm::dot(a[0], cof[0]) < 0.0f) cof = -cof;
-      const glm::vec3 nrm = cof * mesh.normals[v];
-      const float len = glm::length(nrm);
-      out_normals[v] = len > 1e-30f ? nrm / len : mesh.normals[v];
-    }
+    if (!out_normals.empty()) out_normals[v] = detail::skinNormal(glm::mat3(m), mesh.normals[v]);
   }
   return Status::ok();
 }

@@ -5,6 +5,7 @@
 #include <algorithm>
 #include <cstring>
 
+#include "core/skinned_normal.h"
 #include "gl/resources/gl_allocation.h"
 
 namespace si::detail {
@@ -128,12 +129,10 @@ Status CpuSkinningPath::draw(const DrawResources& r, const PathFrame& f, DrawSta
           if (w != 0.0f) blended += joint[mesh.joints[vi][i]] * w;
         }
         const glm::vec3 p(blended * glm::vec4(mesh.positions[vi], 1.0f));
-        // The normal through the blended matrix's cofactor, as the shaders skin it
-        // (si_transform.glsl's siTransformNormal): a blend of rotations is no rotation.
+        // The normal as the shaders (and si::emulateSkinning) skin it: a blend of rotations is
+        // no rotation, so through the blend's cofactor, not the blend itself.
         const glm::mat3 m(blended);
-        glm::mat3 cofactor(glm::cross(m[1], m[2]), glm::cross(m[2], m[0]), glm::cross(m[0], m[1]));
-        if (glm::dot(m[0], cofactor[0]) < 0.0f) cofactor = -cofactor;
-        const glm::vec3 n = glm::normalize(cofactor * mesh.normals[vi]);
+        const glm::vec3 n = detail::skinNormal(m, mesh.normals[vi]);
         const glm::vec2 uv = mesh.texcoords.empty() ? glm::vec2(0.0f) : mesh.texcoords[vi];
         const float values[8] = {p.x, p.y, p.z, n.x, n.y, n.z, uv.x, uv.y};
         std::memcpy(out, values, sizeof(values));
