@@ -47,11 +47,7 @@ Status ComputePath::draw(const DrawResources& r, const PathFrame& f, DrawStats* 
   const PreSkinLists& lists = *r.preskin;
   const Program& skin = r.programs[preSkinningProgram(false, f.motion, f.layers, f.composed)];
   if (f.composed) composeLayers(r, f, st);  // Masked joints once a record (layer_compose_pass.h).
-  // A character without tangents draws with the programs that output none (no varying).
-  const Program& pulled =
-      r.programs[lists.tangents
-                     ? (f.motion ? ProgramId::kPulledMotionTangents : ProgramId::kPulledTangents)
-                     : (f.motion ? ProgramId::kPulledMotion : ProgramId::kPulled)];
+  const Program& pulled = r.programs[pullingProgram(false, f.motion, lists.tangents)];
   if (f.motion) {
     s = r.scratch->compute_previous_ring.ensure(r.scratch->compute_ring.vertices, true,
                                                 "motion vectors: the previous position ring");

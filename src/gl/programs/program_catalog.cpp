@@ -150,6 +150,16 @@ const char* shaderStageName(ShaderStage stage) {
 
 const ProgramSpec& programSpec(ProgramId id) { return kSpecs[size_t(id) % kProgramCount]; }
 
+ProgramId pullingProgram(bool gpu_driven, bool motion, bool tangents) {
+  // [gpu_driven][motion][tangents]
+  static constexpr ProgramId kTable[2][2][2] = {
+      {{ProgramId::kPulled, ProgramId::kPulledTangents},
+       {ProgramId::kPulledMotion, ProgramId::kPulledMotionTangents}},
+      {{ProgramId::kGpuPulled, ProgramId::kGpuPulledTangents},
+       {ProgramId::kGpuPulledMotion, ProgramId::kGpuPulledMotionTangents}}};
+  return kTable[gpu_driven ? 1 : 0][motion ? 1 : 0][tangents ? 1 : 0];
+}
+
 ProgramId skinningProgram(bool gpu_driven, bool depth_only, bool motion, bool layers,
                           bool composed) {
   // [gpu_driven][depth-only, shaded, shaded with motion][plain, layers, composed]

@@ -106,6 +106,12 @@ ProgramId skinningProgram(bool gpu_driven, bool depth_only, bool motion, bool la
 /// (`layers`) or read from the compose pass's rows (`composed`, with `layers`).
 ProgramId preSkinningProgram(bool gpu_driven, bool motion, bool layers, bool composed);
 
+/// The shaded vertex-pulling draw of the pre-skinned ring for drawCrowd's compute path
+/// (`gpu_driven` false) or the GPU-driven path: with motion vectors (`motion`), reading the
+/// tangent ring for a character with tangents (`tangents`; without, the tangent costs no
+/// varying).
+ProgramId pullingProgram(bool gpu_driven, bool motion, bool tangents);
+
 /// What a program's fragment stage does with the draw's material (si::MaterialDesc).
 enum class MaterialUse : uint8_t {
   kNone = 0,  ///< No material: compute passes, transform feedback, the impostors' coverage test.
