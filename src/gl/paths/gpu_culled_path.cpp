@@ -4,152 +4,16 @@
 #include "gl/paths/gpu_culled_path.h"
 
 #include <algorithm>
-#include <cstring>
 
 #include "core/str_cat.h"
 #include "gl/paths/dispatch_grid.h"
+#include "gl/paths/gpu_culled_layout.h"
 #include "gl/paths/impostor_draw.h"
 #include "gl/paths/layer_compose_pass.h"
 #include "gl/resources/gl_allocation.h"
 #include "si/core/layer_mask.h"
-#include "si/crowd/handle_pool.h"
 
 namespace si::detail {
-
-namespace {
-
-// SiCounters (shaders/cull_counters.glsl), in 32-bit words.
-constexpr uint32_t kMaxBuckets = 256;
-constexpr uint32_t kBucketCountWord = 4, kDispatchWord = 4 + 2 * kMaxBuckets;
-constexpr uint32_t kSkinDispatchWord = kDispatchWord + 4;
-constexpr uint32_t kThreadBaseWord = kSkinDispatchWord + 4 + kMaxBuckets;
-constexpr uint32_t kFittedWord = kThreadBaseWord + kMaxBuckets + 1;
-constexpr uint32_t kCounterWords = kFittedWord + kMaxBuckets;
-// SiCommands: vertex-shader draws at 0, pre-skinned draws from command 256 on (20 bytes each).
-constexpr GLintptr kPreskinnedCommands = GLintptr(kMaxBuckets) * 20;
-// The impostor bucket's glDrawArraysIndirect command (cull_commands.comp.glsl's word 2560).
-constexpr GLintptr kImpostorCommand = kPreskinnedCommands * 2;
-
-// (Re)creates `buffer` with `bytes` of storage, at least 16 (and its first `bytes` from `data`
-// when given), dynamic.
-Status recreate(GLuint* buffer, size_t bytes, const void* data, const char* what) {
-  uint8_t padded[16] = {};
-  if (data != nullptr && bytes < sizeof(padded)) {  // Never read past the caller's bytes.
-    std::memcpy(padded, data, bytes);
-    data = padded;
-  }
-  return createBuffer(buffer, std::max<size_t>(bytes, 16), data, GL_DYNAMIC_STORAGE_BIT, what);
-}
-
-}  // namespace
-
-Status GpuCulledPath::uploadState(const DrawResources& r, const CrowdManager& crowd,
-                                  uint32_t buckets) {
-  const CrowdDesc& cd = crowd.desc();
-  const uint32_t n = crowd.size();
-  std::vector<GpuInstanceState> state;
-  std::vector<InstanceHandle> handles;
-  crowd.exportGpuState(&state, &handles);
-  // Motion vectors key what was drawn by handle slot: as many as the largest slot.
-  slots_needed_ = 1;
-  for (const InstanceHandle& h : handles)
-    slots_needed_ = std::max(slots_needed_, (h.id & (HandlePool::kMaxSlots - 1)) + 1);
-  std::vector<GpuClipInfo> clips;
-  std::vector<double> times;
-  crowd.exportGpuClips(&clips, &times);
-  const uint32_t entries = std::max(1u, n) * cd.sub_mesh_count;
-  // The largest storage buffer the passes read whole: the state (144 bytes an instance).
-  const uint64_t state_bytes = uint64_t(std::max(n, 1u)) * sizeof(GpuInstanceState);
-  if (state_bytes > r.info->max_shader_storage_block_size_bytes)
-    return {StatusCode::kLimitExceeded,
-            strCat("drawCrowdGpuCulled: ", n, " instances need ", state_bytes,
-                   " bytes of crowd state, GL_MAX_SHADER_STORAGE_BLOCK_SIZE is ",
-                   r.info->max_shader_storage_block_size_bytes)};
-  Status s;
-  if (n > capacity_ || sub_meshes_ != cd.sub_mesh_count || records_ == kNoObject) {
-    capacity_ = 0;  // Until every buffer below exists.
-    const uint32_t capacity = std::max(n, 1u);
-    std::vector<uint32_t> identity(entries);
-    for (uint32_t k = 0; k < entries; ++k) identity[k] = k;
-    s = recreate(&state_, size_t(capacity) * sizeof(GpuInstanceState), nullptr,
-                 "GPU culling: the crowd state");
-    if (s.isOk())
-      s = recreate(&records_, size_t(capacity) * kInstanceRecordSize, nullptr,
-                   "GPU culling: the records");
-    if (s.isOk())
-      s = recreate(&visible_, size_t(capacity) * 16, nullptr, "GPU culling: the visible list");
-    if (s.isOk())
-      s = recreate(&entries_, size_t(entries) * 4, nullptr, "GPU culling: the bucket entries");
-    if (s.isOk())
-      s = recreate(&identity_, identity.size() * 4, identity.data(),
-                   "GPU culling: the entry indices");
-    if (s.isOk())
-      s = recreate(&entry_data_, size_t(entries) * 8, nullptr, "GPU culling: the entry data");
-    if (!s.isOk()) return s;
-    capacity_ = capacity;
-    sub_meshes_ = cd.sub_mesh_count;
-  }
-  if (n > 0) {
-    Status up = staging_.upload(state_, state.size() * sizeof(state[0]), state.data());
-    if (!up.isOk()) return up;
-  }
-  uploaded_bytes_ += state.size() * sizeof(state[0]);
-  s = uploadOverlays(crowd);
-  if (!s.isOk()) return s;
-  std::vector<glm::uvec2> ranges(buckets);
-  std::vector<glm::uvec4> info(buckets);
-  for (uint32_t b = 0; b < buckets; ++b) {
-    const uint32_t sm = b % cd.sub_mesh_count, lod = b / cd.sub_mesh_count;
-    const IndexRange range = r.character->lodRange(sm, lod);
-    ranges[b] = glm::uvec2(range.first_index, range.index_count);
-    const PreSkinLists::Lod& l = r.preskin->lod(sm, lod);
-    info[b] = glm::uvec4(l.vertex_count, l.vertex_offset, l.first_index, l.index_count);
-  }
-  s = recreate(&clips_, clips.size() * sizeof(GpuClipInfo), clips.data(), "GPU culling: the clips");
-  if (s.isOk())
-    s = recreate(&times_, times.size() * sizeof(double), times.empty() ? nullptr : times.data(),
-                 "GPU culling: the frame times");
-  if (s.isOk() && counters_ == kNoObject)
-    s = recreate(&counters_, size_t(kCounterWords) * 4, nullptr, "GPU culling: the counters");
-  if (s.isOk() && first_phase_counters_ == kNoObject)
-    s = recreate(&first_phase_counters_, size_t(kCounterWords) * 4, nullptr,
-                 "occlusion culling: the first phase's counters");
-  if (s.isOk() && commands_ == kNoObject)
-    s = recreate(&commands_, size_t(kImpostorCommand) + 16, nullptr, "GPU culling: the commands");
-  if (s.isOk()) s = recreate(&ranges_, ranges.size() * 8, ranges.data(), "GPU culling: the ranges");
-  if (s.isOk())
-    s = recreate(&bucket_info_, info.size() * 16, info.data(), "GPU culling: the bucket lists");
-  if (!s.isOk()) {
-    crowd_ = nullptr;  // Uploaded again next frame.
-    return s;
-  }
-  if (vao_ != kNoObject) glDeleteVertexArrays(1, &vao_);
-  glCreateVertexArrays(1, &vao_);
-  r.character->describeVertexFormat(vao_);
-  glVertexArrayVertexBuffer(vao_, 1, identity_, 0, 4);
-  glVertexArrayBindingDivisor(vao_, 1, 1);
-  glEnableVertexArrayAttrib(vao_, 5);
-  glVertexArrayAttribBinding(vao_, 5, 1);
-  glVertexArrayAttribIFormat(vao_, 5, 1, GL_UNSIGNED_INT, 0);
-  // Pre-skinned draws: the re-indexed triangles, and the same entry index.
-  if (preskin_vao_ != kNoObject) glDeleteVertexArrays(1, &preskin_vao_);
-  glCreateVertexArrays(1, &preskin_vao_);
-  glVertexArrayElementBuffer(preskin_vao_, r.preskin->index_buffer);
-  glVertexArrayVertexBuffer(preskin_vao_, 1, identity_, 0, 4);
-  glVertexArrayBindingDivisor(preskin_vao_, 1, 1);
-  glEnableVertexArrayAttrib(preskin_vao_, 5);
-  glVertexArrayAttribBinding(preskin_vao_, 5, 1);
-  glVertexArrayAttribIFormat(preskin_vao_, 5, 1, GL_UNSIGNED_INT, 0);
-  crowd_ = &crowd;
-  uploaded_identity_ = crowd.identity();
-  ++uploads_;  // Every view's LODs and flags are seeded again (indices may name others now).
-  placed_upload_ = 0;
-  version_ = crowd.stateVersion();
-  instances_ = n;
-  buckets_ = buckets;
-  vertex_source_ = r.character->vertex_buffer;
-  return Status::ok();
-}
 
 Status GpuCulledPath::uploadFrame(const DrawResources& r, const PathFrame& f) {
   const CrowdManager& crowd = *f.crowd;
@@ -430,11 +294,8 @@ void GpuCulledPath::runPasses(const DrawResources& r, const PathFrame& f, uint32
     glDispatchComputeIndirect(GLintptr(kSkinDispatchWord) * 4);
     glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT);
     const Program& pulled =
-        r.programs[f.depth_only          ? ProgramId::kGpuPulledDepthOnly
-                   : r.preskin->tangents ? (motion_ ? ProgramId::kGpuPulledMotionTangents
-                                                    : ProgramId::kGpuPulledTangents)
-                   : motion_             ? ProgramId::kGpuPulledMotion
-                                         : ProgramId::kGpuPulled];
+        r.programs[f.depth_only ? ProgramId::kGpuPulledDepthOnly
+                                : pullingProgram(true, motion_, r.preskin->tangents)];
     bindShading(r, pulled, f.camera, f.light);
     set_motion(pulled);
     glProgramUniform2ui(pulled.id, 6, 0u, r.preskin->drawLayout());

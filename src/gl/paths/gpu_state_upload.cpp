@@ -1,16 +1,128 @@
 // SkinnedInstancing — SPDX-License-Identifier: MIT (see LICENSE)
-// The GPU-driven path's uploads in proportion to change: only the instances the crowd changed
-// since the last upload (CrowdManager::changedSince) are exported and written, and only where
-// other instances sit now do the views start their history over. And the overlays, whole. Every
-// write goes through the staging ring (resources/upload_ring.h): the last frame's passes may
-// still be reading these buffers. Each view's LODs and flags are seeded after an upload.
+// The GPU-driven path's uploads: the whole crowd state, its buffers (re)created, when the
+// crowd's layout or address changes (uploadState); then in proportion to change: only the
+// instances the crowd changed since the last upload (CrowdManager::changedSince) are exported
+// and written, and only where other instances sit now do the views start their history over.
+// And the overlays, whole. Every write goes through the staging ring (resources/upload_ring.h):
+// the last frame's passes may still be reading these buffers. Each view's LODs and flags are
+// seeded after an upload.
 #include <algorithm>
 
+#include "core/str_cat.h"
+#include "gl/paths/gpu_culled_layout.h"
 #include "gl/paths/gpu_culled_path.h"
 #include "gl/resources/gl_allocation.h"
 #include "si/crowd/handle_pool.h"
 
 namespace si::detail {
+
+Status GpuCulledPath::uploadState(const DrawResources& r, const CrowdManager& crowd,
+                                  uint32_t buckets) {
+  const CrowdDesc& cd = crowd.desc();
+  const uint32_t n = crowd.size();
+  std::vector<GpuInstanceState> state;
+  std::vector<InstanceHandle> handles;
+  crowd.exportGpuState(&state, &handles);
+  // Motion vectors key what was drawn by handle slot: as many as the largest slot.
+  slots_needed_ = 1;
+  for (const InstanceHandle& h : handles)
+    slots_needed_ = std::max(slots_needed_, (h.id & (HandlePool::kMaxSlots - 1)) + 1);
+  std::vector<GpuClipInfo> clips;
+  std::vector<double> times;
+  crowd.exportGpuClips(&clips, &times);
+  const uint32_t entries = std::max(1u, n) * cd.sub_mesh_count;
+  // The largest storage buffer the passes read whole: the state (144 bytes an instance).
+  const uint64_t state_bytes = uint64_t(std::max(n, 1u)) * sizeof(GpuInstanceState);
+  if (state_bytes > r.info->max_shader_storage_block_size_bytes)
+    return {StatusCode::kLimitExceeded,
+            strCat("drawCrowdGpuCulled: ", n, " instances need ", state_bytes,
+                   " bytes of crowd state, GL_MAX_SHADER_STORAGE_BLOCK_SIZE is ",
+                   r.info->max_shader_storage_block_size_bytes)};
+  Status s;
+  if (n > capacity_ || sub_meshes_ != cd.sub_mesh_count || records_ == kNoObject) {
+    capacity_ = 0;  // Until every buffer below exists.
+    const uint32_t capacity = std::max(n, 1u);
+    std::vector<uint32_t> identity(entries);
+    for (uint32_t k = 0; k < entries; ++k) identity[k] = k;
+    s = recreate(&state_, size_t(capacity) * sizeof(GpuInstanceState), nullptr,
+                 "GPU culling: the crowd state");
+    if (s.isOk())
+      s = recreate(&records_, size_t(capacity) * kInstanceRecordSize, nullptr,
+                   "GPU culling: the records");
+    if (s.isOk())
+      s = recreate(&visible_, size_t(capacity) * 16, nullptr, "GPU culling: the visible list");
+    if (s.isOk())
+      s = recreate(&entries_, size_t(entries) * 4, nullptr, "GPU culling: the bucket entries");
+    if (s.isOk())
+      s = recreate(&identity_, identity.size() * 4, identity.data(),
+                   "GPU culling: the entry indices");
+    if (s.isOk())
+      s = recreate(&entry_data_, size_t(entries) * 8, nullptr, "GPU culling: the entry data");
+    if (!s.isOk()) return s;
+    capacity_ = capacity;
+    sub_meshes_ = cd.sub_mesh_count;
+  }
+  if (n > 0) {
+    Status up = staging_.upload(state_, state.size() * sizeof(state[0]), state.data());
+    if (!up.isOk()) return up;
+  }
+  uploaded_bytes_ += state.size() * sizeof(state[0]);
+  s = uploadOverlays(crowd);
+  if (!s.isOk()) return s;
+  std::vector<glm::uvec2> ranges(buckets);
+  std::vector<glm::uvec4> info(buckets);
+  for (uint32_t b = 0; b < buckets; ++b) {
+    const uint32_t sm = b % cd.sub_mesh_count, lod = b / cd.sub_mesh_count;
+    const IndexRange range = r.character->lodRange(sm, lod);
+    ranges[b] = glm::uvec2(range.first_index, range.index_count);
+    const PreSkinLists::Lod& l = r.preskin->lod(sm, lod);
+    info[b] = glm::uvec4(l.vertex_count, l.vertex_offset, l.first_index, l.index_count);
+  }
+  s = recreate(&clips_, clips.size() * sizeof(GpuClipInfo), clips.data(), "GPU culling: the clips");
+  if (s.isOk())
+    s = recreate(&times_, times.size() * sizeof(double), times.empty() ? nullptr : times.data(),
+                 "GPU culling: the frame times");
+  if (s.isOk() && counters_ == kNoObject)
+    s = recreate(&counters_, size_t(kCounterWords) * 4, nullptr, "GPU culling: the counters");
+  if (s.isOk() && first_phase_counters_ == kNoObject)
+    s = recreate(&first_phase_counters_, size_t(kCounterWords) * 4, nullptr,
+                 "occlusion culling: the first phase's counters");
+  if (s.isOk() && commands_ == kNoObject)
+    s = recreate(&commands_, size_t(kImpostorCommand) + 16, nullptr, "GPU culling: the commands");
+  if (s.isOk()) s = recreate(&ranges_, ranges.size() * 8, ranges.data(), "GPU culling: the ranges");
+  if (s.isOk())
+    s = recreate(&bucket_info_, info.size() * 16, info.data(), "GPU culling: the bucket lists");
+  if (!s.isOk()) {
+    crowd_ = nullptr;  // Uploaded again next frame.
+    return s;
+  }
+  if (vao_ != kNoObject) glDeleteVertexArrays(1, &vao_);
+  glCreateVertexArrays(1, &vao_);
+  r.character->describeVertexFormat(vao_);
+  glVertexArrayVertexBuffer(vao_, 1, identity_, 0, 4);
+  glVertexArrayBindingDivisor(vao_, 1, 1);
+  glEnableVertexArrayAttrib(vao_, 5);
+  glVertexArrayAttribBinding(vao_, 5, 1);
+  glVertexArrayAttribIFormat(vao_, 5, 1, GL_UNSIGNED_INT, 0);
+  // Pre-skinned draws: the re-indexed triangles, and the same entry index.
+  if (preskin_vao_ != kNoObject) glDeleteVertexArrays(1, &preskin_vao_);
+  glCreateVertexArrays(1, &preskin_vao_);
+  glVertexArrayElementBuffer(preskin_vao_, r.preskin->index_buffer);
+  glVertexArrayVertexBuffer(preskin_vao_, 1, identity_, 0, 4);
+  glVertexArrayBindingDivisor(preskin_vao_, 1, 1);
+  glEnableVertexArrayAttrib(preskin_vao_, 5);
+  glVertexArrayAttribBinding(preskin_vao_, 5, 1);
+  glVertexArrayAttribIFormat(preskin_vao_, 5, 1, GL_UNSIGNED_INT, 0);
+  crowd_ = &crowd;
+  uploaded_identity_ = crowd.identity();
+  ++uploads_;  // Every view's LODs and flags are seeded again (indices may name others now).
+  placed_upload_ = 0;
+  version_ = crowd.stateVersion();
+  instances_ = n;
+  buckets_ = buckets;
+  vertex_source_ = r.character->vertex_buffer;
+  return Status::ok();
+}
 
 Status GpuCulledPath::uploadOverlays(const CrowdManager& crowd) {
   std::vector<GpuOverlayState> overlays, extras;
