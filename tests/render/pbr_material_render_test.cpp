@@ -57,6 +57,7 @@ class PbrMaterialTest : public RenderTest {
   // `depth_only` (the instanced and both GPU-driven kinds).
   void drawPatch(PathKind kind, const char* material_source, Renderer* r, bool depth_only = false,
                  const Camera& view = camera()) {
+    crowd_ = CrowdManager();  // A fresh crowd for each draw.
     RendererDesc rd;
     rd.skinning_path = kind == PathKind::kCompute || kind == PathKind::kGpuDrivenCompute
                            ? SkinningPath::kCompute : SkinningPath::kVertexShader;
@@ -253,7 +254,6 @@ TEST_P(PbrMaterialTest, NormalMappedShadingFollowsTheSkinnedTangentFrame) {
         "[ normals  ] %s, bitangent %+.0f: %zu pixels, mean %.4f, max %.4f degrees from "
         "the CPU reference\n",
         pathKindName(kind), double(sign), st.pixels, st.mean_degrees, st.max_degrees);
-    crowd_ = CrowdManager();
   }
 }
 
@@ -267,7 +267,6 @@ TEST_P(PbrMaterialTest, AlphaMaskedTexelsAreDiscarded) {
     TwoTargets targets(kSize, GL_RGBA32F);
     targets.clear(glm::vec4(0.0f));
     Renderer r;
-    crowd_ = CrowdManager();
     drawPatch(PathKind::kInstanced, kSurfaceProbe, &r);
     size_t left = 0, right = 0;
     for (const glm::vec4& t : targets.readFloat(1))
@@ -293,7 +292,6 @@ TEST_P(PbrMaterialTest, AlphaMaskedTexelsAreDiscardedFromDepthOnlyDraws) {
     TwoTargets targets(kSize, GL_RGBA32F);
     targets.clear(glm::vec4(0.0f));
     Renderer r;
-    crowd_ = CrowdManager();
     drawPatch(kind, kSurfaceProbe, &r, depth_only);
     std::vector<bool> out;
     if (depth_only) {
@@ -410,7 +408,6 @@ TEST_P(PbrMaterialTest, DoubleSidedMaterialsDrawTheirBackFaces) {
       TwoTargets targets(kSize, GL_RGBA32F);
       targets.clear(glm::vec4(0.0f));
       Renderer r;
-      crowd_ = CrowdManager();
       drawPatch(kind, kSurfaceProbe, &r, false, behind);
       if (HasFatalFailure()) return;
       const std::vector<glm::vec4> normals = targets.readFloat(0), uvs = targets.readFloat(1);
@@ -448,12 +445,10 @@ TEST_P(EsPbrMaterialTest, AlphaMaskedTexelsAreDiscardedFromDepthOnlyDraws) {
     d.mask = mask;
     load(d);
     Renderer depth;
-    crowd_ = CrowdManager();
     depth.clear(glm::vec4(0.0f, 0.0f, 0.0f, 1.0f));
     drawPatch(PathKind::kInstanced, nullptr, &depth, true);
     load(PbrAssetDesc{});
     Renderer colour;
-    crowd_ = CrowdManager();
     glDepthFunc(GL_LESS);
     drawPatch(PathKind::kInstanced, nullptr, &colour);
     std::vector<uint8_t> rgba;
