@@ -80,16 +80,24 @@ Status PropMesh::validate() const {
   Status s = count(normals.size(), "normals", false);
   if (s.isOk()) s = count(tangents.size(), "tangents", true);
   if (s.isOk()) s = count(texcoords.size(), "texcoords", true);
+  if (s.isOk()) s = count(texcoords1.size(), "texcoords1", true);
+  if (s.isOk()) s = count(colors.size(), "colors", true);
   if (s.isOk()) s = count(vertex_materials.size(), "vertex_materials", true);
   if (!s.isOk()) return s;
   for (size_t v = 0; v < n; ++v) {
     const bool ok =
         isFinite(positions[v]) && isFinite(normals[v]) &&
         (tangents.empty() || isFinite(tangents[v])) &&
-        (texcoords.empty() || (std::isfinite(texcoords[v].x) && std::isfinite(texcoords[v].y)));
+        (texcoords.empty() || (std::isfinite(texcoords[v].x) && std::isfinite(texcoords[v].y))) &&
+        (texcoords1.empty() ||
+         (std::isfinite(texcoords1[v].x) && std::isfinite(texcoords1[v].y))) &&
+        (colors.empty() || isFinite(colors[v]));
     if (!ok)
       return {StatusCode::kNotFinite,
               strCat(where("vertex "), v, " has a value that is not finite")};
+    if (!colors.empty() && (glm::any(glm::lessThan(colors[v], glm::vec4(0.0f))) ||
+                            glm::any(glm::greaterThan(colors[v], glm::vec4(1.0f)))))
+      return {StatusCode::kOutOfRange, strCat(where("vertex "), v, " has a colour outside [0, 1]")};
   }
   for (size_t i = 0; i < indices.size(); ++i)
     if (indices[i] >= n)
@@ -167,6 +175,10 @@ Status attachProp(const Socket& socket, const PropMesh& prop, Character* charact
   const bool tangents = !m.tangents.empty() || (first_vertex == 0 && !prop.tangents.empty());
   const bool texcoords = !m.texcoords.empty() || !prop.texcoords.empty();
   if (texcoords && m.texcoords.empty()) m.texcoords.assign(first_vertex, glm::vec2(0.0f));
+  const bool texcoords1 = !m.texcoords1.empty() || !prop.texcoords1.empty();
+  if (texcoords1 && m.texcoords1.empty()) m.texcoords1.assign(first_vertex, glm::vec2(0.0f));
+  const bool colors = !m.colors.empty() || !prop.colors.empty();
+  if (colors && m.colors.empty()) m.colors.assign(first_vertex, glm::vec4(1.0f));
   for (size_t v = 0; v < n; ++v) {
     m.positions.push_back(glm::vec3(frame * glm::vec4(prop.positions[v], 1.0f)));
     const glm::vec3 nrm = normal_matrix * prop.normals[v];
@@ -181,6 +193,9 @@ Status attachProp(const Socket& socket, const PropMesh& prop, Character* charact
     }
     if (texcoords)
       m.texcoords.push_back(prop.texcoords.empty() ? glm::vec2(0.0f) : prop.texcoords[v]);
+    if (texcoords1)
+      m.texcoords1.push_back(prop.texcoords1.empty() ? glm::vec2(0.0f) : prop.texcoords1[v]);
+    if (colors) m.colors.push_back(prop.colors.empty() ? glm::vec4(1.0f) : prop.colors[v]);
     m.joints.push_back(glm::u16vec4(uint16_t(socket.joint), 0, 0, 0));
     m.weights.push_back(glm::vec4(1, 0, 0, 0));
     m.vertex_materials.push_back(

@@ -22,6 +22,13 @@ uint32_t packTangent10(const glm::vec4& t) {
   return packNormal10(glm::vec3(t)) | ((t.w < 0.0f ? 3u : 1u) << 30);
 }
 
+uint32_t packColor8(const glm::vec4& color) {
+  uint32_t word = 0;
+  for (int c = 0; c < 4; ++c)
+    word |= uint32_t(std::lround(std::clamp(color[c], 0.0f, 1.0f) * 255.0f)) << (8 * c);
+  return word;
+}
+
 Status buildVertexStream(const SkinnedMesh& mesh, const BakedPalette& palette, VertexStream* out) {
   if (out == nullptr) return {StatusCode::kInvalidArgument, "buildVertexStream: out is null"};
   Status s = mesh.validate(palette.skeleton_to_palette.size());
@@ -32,6 +39,14 @@ Status buildVertexStream(const SkinnedMesh& mesh, const BakedPalette& palette, V
   const bool tangents = !mesh.tangents.empty();
   if (tangents) stream.tangent_offset = stream.stride_bytes;
   if (tangents) stream.stride_bytes += 4;
+  if (!mesh.texcoords1.empty()) {
+    stream.texcoord1_offset = stream.stride_bytes;
+    stream.stride_bytes += 4;
+  }
+  if (!mesh.colors.empty()) {
+    stream.color_offset = stream.stride_bytes;
+    stream.stride_bytes += 4;
+  }
   stream.weights_offset = stream.wide_joints ? 28 : 24;
   stream.vertex_count = uint32_t(mesh.vertexCount());
   stream.bytes.resize(mesh.vertexCount() * stream.stride_bytes);
@@ -65,6 +80,14 @@ Status buildVertexStream(const SkinnedMesh& mesh, const BakedPalette& palette, V
     if (tangents) {
       const uint32_t t = packTangent10(mesh.tangents[v]);
       std::memcpy(dst + stream.tangent_offset, &t, 4);
+    }
+    if (stream.texcoord1_offset != 0) {
+      const uint16_t h1[2] = {floatToHalf(mesh.texcoords1[v].x), floatToHalf(mesh.texcoords1[v].y)};
+      std::memcpy(dst + stream.texcoord1_offset, h1, 4);
+    }
+    if (stream.color_offset != 0) {
+      const uint32_t rgba = packColor8(mesh.colors[v]);
+      std::memcpy(dst + stream.color_offset, &rgba, 4);
     }
   }
   *out = std::move(stream);

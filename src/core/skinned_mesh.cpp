@@ -34,11 +34,12 @@ Status SkinnedMesh::validate(size_t joint_count) const {
     return {StatusCode::kCountMismatch, strCat("mesh: ", what, " has ", c, " elements for ", n,
                                                " vertices", optional ? " (or none)" : "")};
   };
-  for (Status s : {count("normals", normals.size(), false), count("joints", joints.size(), false),
-                   count("weights", weights.size(), false),
-                   count("tangents", tangents.size(), true),
-                   count("texcoords", texcoords.size(), true),
-                   count("vertex_materials", vertex_materials.size(), true)})
+  for (Status s :
+       {count("normals", normals.size(), false), count("joints", joints.size(), false),
+        count("weights", weights.size(), false), count("tangents", tangents.size(), true),
+        count("texcoords", texcoords.size(), true), count("texcoords1", texcoords1.size(), true),
+        count("colors", colors.size(), true),
+        count("vertex_materials", vertex_materials.size(), true)})
     if (!s.isOk()) return s;
 
   for (size_t v = 0; v < n; ++v) {
@@ -50,6 +51,13 @@ Status SkinnedMesh::validate(size_t joint_count) const {
       return {StatusCode::kNotFinite, strCat("mesh: tangent ", v, " is not finite")};
     if (!texcoords.empty() && !finite2(texcoords[v]))
       return {StatusCode::kNotFinite, strCat("mesh: texcoord ", v, " is not finite")};
+    if (!texcoords1.empty() && !finite2(texcoords1[v]))
+      return {StatusCode::kNotFinite, strCat("mesh: texcoord1 ", v, " is not finite")};
+    if (!colors.empty() && !isFinite(colors[v]))
+      return {StatusCode::kNotFinite, strCat("mesh: color ", v, " is not finite")};
+    if (!colors.empty() && (glm::any(glm::lessThan(colors[v], glm::vec4(0.0f))) ||
+                            glm::any(glm::greaterThan(colors[v], glm::vec4(1.0f)))))
+      return {StatusCode::kOutOfRange, strCat("mesh: color ", v, " is outside [0, 1]")};
     const glm::vec4& w = weights[v];
     if (!isFinite(w)) return {StatusCode::kNotFinite, strCat("mesh: weights ", v, " not finite")};
     float sum = 0.0f;

@@ -64,12 +64,18 @@ struct PrimitiveSurface {
   std::vector<glm::vec3> normals;    ///< From the file, or smooth (area weighted) when it has none.
   std::vector<glm::vec4> tangents;   ///< Empty when the file has none.
   std::vector<glm::vec2> texcoords;  ///< TEXCOORD_0, zeros when the file has none.
+  std::vector<glm::vec2> texcoords1;  ///< TEXCOORD_1, zeros when the file has none.
+  std::vector<glm::vec4> colors;      ///< COLOR_0 (alpha 1 for RGB), white when the file has none.
   std::vector<uint32_t> indices;     ///< Local, each below the vertex count, a multiple of 3.
   bool has_texcoords = false;
+  bool has_texcoords1 = false;
+  bool has_colors = false;
+  size_t clamped_colors = 0;  ///< COLOR_0 values outside [0, 1], clamped.
   bool generated_normals = false;
 };
-/// Reads POSITION, NORMAL, TANGENT, TEXCOORD_0 and the indices (or 0, 1, ... without), checking
-/// counts and ranges (kCorrupt naming `where`). A primitive without vertices reads as empty.
+/// Reads POSITION, NORMAL, TANGENT, TEXCOORD_0, TEXCOORD_1, COLOR_0 and the indices (or 0, 1,
+/// ... without), checking counts and ranges (kCorrupt naming `where`). A primitive without
+/// vertices reads as empty.
 Status readPrimitiveSurface(const tinygltf::Model& m, const tinygltf::Primitive& prim,
                             const std::string& where, PrimitiveSurface* out);
 struct ImportedPrimitive {

@@ -33,7 +33,8 @@ Status readPrimitiveSurface(const tinygltf::Model& m, const tinygltf::Primitive&
     return it == prim.attributes.end() ? -1 : it->second;
   };
   if (attr("POSITION") < 0) return corrupt(where + ": has no POSITION");
-  std::vector<double> pos, nrm, tan, uv, idx;
+  std::vector<double> pos, nrm, tan, uv, uv1, color, idx;
+  int color_components = 4;
   Status s =
       readAccessor(m, attr("POSITION"), {TINYGLTF_TYPE_VEC3}, kFloat, where + " POSITION", &pos);
   const size_t nv = pos.size() / 3;
@@ -55,11 +56,23 @@ Status readPrimitiveSurface(const tinygltf::Model& m, const tinygltf::Primitive&
                      where + " TEXCOORD_0", &uv);
     if (s.isOk()) s = same_count(uv, 2, "TEXCOORD_0");
   }
+  if (s.isOk() && attr("TEXCOORD_1") >= 0) {
+    s = readAccessor(m, attr("TEXCOORD_1"), {TINYGLTF_TYPE_VEC2}, kFloatOrNormalized,
+                     where + " TEXCOORD_1", &uv1);
+    if (s.isOk()) s = same_count(uv1, 2, "TEXCOORD_1");
+  }
+  if (s.isOk() && attr("COLOR_0") >= 0) {
+    s = readAccessor(m, attr("COLOR_0"), {TINYGLTF_TYPE_VEC3, TINYGLTF_TYPE_VEC4},
+                     kFloatOrNormalized, where + " COLOR_0", &color, &color_components);
+    if (s.isOk()) s = same_count(color, size_t(color_components), "COLOR_0");
+  }
   if (s.isOk() && prim.indices >= 0)
     s = readAccessor(m, prim.indices, {TINYGLTF_TYPE_SCALAR}, kAnyInt, where + " indices", &idx);
   if (!s.isOk()) return s;
   PrimitiveSurface out_surface;
   out_surface.has_texcoords = !uv.empty();
+  out_surface.has_texcoords1 = !uv1.empty();
+  out_surface.has_colors = !color.empty();
   for (size_t v = 0; v < nv; ++v) {
     out_surface.positions.push_back(
         glm::vec3(glm::dvec3(pos[v * 3], pos[v * 3 + 1], pos[v * 3 + 2])));
@@ -68,6 +81,15 @@ Status readPrimitiveSurface(const tinygltf::Model& m, const tinygltf::Primitive&
                     : glm::vec3(glm::dvec3(nrm[v * 3], nrm[v * 3 + 1], nrm[v * 3 + 2])));
     out_surface.texcoords.push_back(uv.empty() ? glm::vec2(0.0f)
                                                : glm::vec2(float(uv[v * 2]), float(uv[v * 2 + 1])));
+    out_surface.texcoords1.push_back(
+        uv1.empty() ? glm::vec2(0.0f) : glm::vec2(float(uv1[v * 2]), float(uv1[v * 2 + 1])));
+    glm::vec4 rgba(1.0f);
+    for (size_t k = 0; k < size_t(color_components) && !color.empty(); ++k) {
+      const double c = color[v * size_t(color_components) + k];
+      if (c < 0.0 || c > 1.0) ++out_surface.clamped_colors;
+      rgba[int(k)] = float(std::clamp(c, 0.0, 1.0));
+    }
+    out_surface.colors.push_back(rgba);
     if (!tan.empty())
       out_surface.tangents.push_back(glm::vec4(float(tan[v * 4]), float(tan[v * 4 + 1]),
                                                float(tan[v * 4 + 2]), float(tan[v * 4 + 3])));
@@ -118,6 +140,7 @@ Status convertMeshes(const tinygltf::Model& m, const SkinBinding& binding, GltfI
   std::vector<ImportedPrimitive>& primitives = *out;
   primitives.clear();
   bool all_tangents = true;
+  bool any_texcoords1 = false, any_colors = false;
   std::vector<std::vector<glm::vec4>> tangent_parts;
   for (size_t n = 0; n < node_count; ++n) {
     const tinygltf::Node& node = m.nodes[n];
@@ -191,6 +214,15 @@ Status convertMeshes(const tinygltf::Model& m, const SkinBinding& binding, GltfI
       c->mesh.normals.insert(c->mesh.normals.end(), surface.normals.begin(), surface.normals.end());
       c->mesh.texcoords.insert(c->mesh.texcoords.end(), surface.texcoords.begin(),
                                surface.texcoords.end());
+      // Kept below only when some primitive has them (the others' are 0 and white).
+      c->mesh.texcoords1.insert(c->mesh.texcoords1.end(), surface.texcoords1.begin(),
+                                surface.texcoords1.end());
+      c->mesh.colors.insert(c->mesh.colors.end(), surface.colors.begin(), surface.colors.end());
+      any_texcoords1 = any_texcoords1 || surface.has_texcoords1;
+      any_colors = any_colors || surface.has_colors;
+      if (surface.clamped_colors != 0)
+        warnings.push_back(
+            strCat(where, ": ", surface.clamped_colors, " COLOR_0 values outside [0, 1] clamped"));
       for (size_t v = 0; v < nv; ++v) {
         Influence infl[8];
         size_t k = 0;
@@ -233,6 +265,8 @@ Status convertMeshes(const tinygltf::Model& m, const SkinBinding& binding, GltfI
   }
   if (primitives.empty())
     return {StatusCode::kUnsupported, strCat("glTF: no triangle mesh uses skin ", skin_index)};
+  if (!any_texcoords1) c->mesh.texcoords1.clear();
+  if (!any_colors) c->mesh.colors.clear();
   if (all_tangents)
     for (const auto& part : tangent_parts) c->mesh.tangents.insert(c->mesh.tangents.end(), part.begin(), part.end());
   else if (!tangent_parts.empty() && std::any_of(tangent_parts.begin(), tangent_parts.end(),

@@ -33,9 +33,16 @@ glm::dmat4 nodeMatrix(const tinygltf::Node& n) {
   return m;
 }
 
+// Which optional attributes some primitive of the prop has (the others get 0 and white).
+struct OptionalAttributes {
+  bool texcoords1 = false;
+  bool colors = false;
+};
+
 // Appends primitive `p` of node `node` at world matrix `world` to `out`.
 Status addPrimitive(const tinygltf::Model& m, const tinygltf::Node& node, size_t p,
-                    const glm::dmat4& world, GltfImportReport* report, PropMesh* out) {
+                    const glm::dmat4& world, GltfImportReport* report, PropMesh* out,
+                    OptionalAttributes* seen) {
   const tinygltf::Mesh& mesh = m.meshes[size_t(node.mesh)];
   const tinygltf::Primitive& prim = mesh.primitives[p];
   const std::string where =
@@ -56,6 +63,14 @@ Status addPrimitive(const tinygltf::Model& m, const tinygltf::Node& node, size_t
   }
   if (surface.generated_normals)
     report->warnings.push_back(where + ": no NORMAL: generated smooth normals");
+  if (surface.clamped_colors != 0)
+    report->warnings.push_back(
+        strCat(where, ": ", surface.clamped_colors, " COLOR_0 values outside [0, 1] clamped"));
+  seen->texcoords1 = seen->texcoords1 || surface.has_texcoords1;
+  seen->colors = seen->colors || surface.has_colors;
+  out->texcoords1.insert(out->texcoords1.end(), surface.texcoords1.begin(),
+                         surface.texcoords1.end());
+  out->colors.insert(out->colors.end(), surface.colors.begin(), surface.colors.end());
   const glm::dmat3 linear(world);
   const glm::dmat3 normal_matrix = glm::transpose(glm::inverse(linear));
   const bool mirrored = glm::determinant(linear) < 0.0;
@@ -98,6 +113,7 @@ Status convertProp(const tinygltf::Model& m, const GltfPropDesc& desc, PropMesh*
       if (!child[n]) roots.push_back(int(n));
   }
   PropMesh prop;
+  OptionalAttributes optional;
   std::vector<bool> seen(m.nodes.size(), false);
   std::vector<std::pair<int, glm::dmat4>> stack;
   for (auto it = roots.rbegin(); it != roots.rend(); ++it) stack.emplace_back(*it, glm::dmat4(1.0));
@@ -117,7 +133,7 @@ Status convertProp(const tinygltf::Model& m, const GltfPropDesc& desc, PropMesh*
       if (prop.name.empty()) prop.name = m.meshes[size_t(node.mesh)].name;
       const glm::dmat4 placed = node.skin >= 0 ? glm::dmat4(1.0) : world;  // Skinned: bind pose.
       for (size_t p = 0; p < m.meshes[size_t(node.mesh)].primitives.size(); ++p) {
-        const Status s = addPrimitive(m, node, p, placed, report, &prop);
+        const Status s = addPrimitive(m, node, p, placed, report, &prop, &optional);
         if (!s.isOk()) return s;
       }
     }
@@ -126,6 +142,8 @@ Status convertProp(const tinygltf::Model& m, const GltfPropDesc& desc, PropMesh*
   }
   if (prop.indices.empty())
     return {StatusCode::kUnsupported, "glTF: the file has no triangle for a prop"};
+  if (!optional.texcoords1) prop.texcoords1.clear();
+  if (!optional.colors) prop.colors.clear();
   if (desc.scale != 1.0f)
     for (glm::vec3& p : prop.positions) p *= desc.scale;
   Character materials;  // Materials and images exactly as a character's import makes them.

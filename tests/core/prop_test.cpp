@@ -204,5 +204,40 @@ TEST(Prop, AttributesOnlyOneSideHasAreFilled) {
   }
 }
 
+// Colours and texture coordinates 1 the prop has and the character not: the character's
+// vertices get white and 0, the prop's keep theirs; a prop without them on a character with
+// them gets white and 0. A colour outside [0, 1] is refused by name.
+TEST(Prop, ColoursAndSecondTextureCoordinatesOnlyOneSideHasAreFilled) {
+  Character c = embeddedCharacter();
+  ASSERT_TRUE(c.mesh.colors.empty() && c.mesh.texcoords1.empty());
+  Socket s;
+  ASSERT_TRUE(makeSocket(c.skeleton, "grip", "r_hand", gripOffset(), &s).isOk());
+  PropMesh p = boxProp({0.1f, 0.1f, 0.1f});
+  p.colors.assign(p.positions.size(), glm::vec4(0.25f, 0.5f, 0.75f, 1.0f));
+  p.texcoords1.assign(p.positions.size(), glm::vec2(0.5f, 2.0f));
+  const size_t first = c.mesh.vertexCount();
+  ASSERT_TRUE(attachProp(s, p, &c, nullptr).isOk());
+  ASSERT_EQ(c.mesh.colors.size(), c.mesh.vertexCount());
+  ASSERT_EQ(c.mesh.texcoords1.size(), c.mesh.vertexCount());
+  EXPECT_EQ(c.mesh.colors[0], glm::vec4(1.0f));
+  EXPECT_EQ(c.mesh.texcoords1[0], glm::vec2(0.0f));
+  EXPECT_EQ(c.mesh.colors[first], p.colors[0]);
+  EXPECT_EQ(c.mesh.texcoords1[first], p.texcoords1[0]);
+  EXPECT_TRUE(c.mesh.validate(c.skeleton.jointCount()).isOk());
+
+  const size_t second = c.mesh.vertexCount();
+  PropMesh plain = boxProp({0.1f, 0.1f, 0.1f});
+  plain.name = "plain";
+  ASSERT_TRUE(attachProp(s, plain, &c, nullptr).isOk());
+  EXPECT_EQ(c.mesh.colors[second], glm::vec4(1.0f));
+  EXPECT_EQ(c.mesh.texcoords1[second], glm::vec2(0.0f));
+
+  p.name = "bright";
+  p.colors[1].r = 1.5f;
+  const Status refused = attachProp(s, p, &c, nullptr);
+  EXPECT_EQ(refused.code(), StatusCode::kOutOfRange);
+  EXPECT_NE(refused.message().find("colour"), std::string::npos) << refused.message();
+}
+
 }  // namespace
 }  // namespace si

@@ -431,6 +431,41 @@ TEST(GltfMaterials, TheWholeMetallicRoughnessMaterialIsImported) {
   EXPECT_FLOAT_EQ(c.materials[1].metallic_factor, 0.25f);
 }
 
+// COLOR_0 (normalized u8 RGB: alpha 1; float RGBA: out-of-range values clamped with a warning)
+// and TEXCOORD_1 become the mesh's colours and second texture coordinates, vertex by vertex.
+TEST(GltfMaterials, VertexColoursAndSecondTextureCoordinatesAreImported) {
+  test::PbrAssetDesc d;
+  d.colors = 3;
+  d.texcoords1 = true;
+  Character c;
+  GltfImportReport r;
+  Status s = importJson(test::pbrAsset(d), &c, &r);
+  ASSERT_TRUE(s.isOk()) << s.toString();
+  ASSERT_EQ(c.mesh.colors.size(), c.mesh.vertexCount());
+  ASSERT_EQ(c.mesh.texcoords1.size(), c.mesh.vertexCount());
+  for (size_t v = 0; v < c.mesh.vertexCount(); ++v) {
+    const glm::vec3& p = c.mesh.positions[v];
+    const std::vector<uint8_t> rgb = test::pbrAssetColor(p.x, p.y);
+    for (int k = 0; k < 3; ++k) EXPECT_FLOAT_EQ(c.mesh.colors[v][k], rgb[size_t(k)] / 255.0f) << v;
+    EXPECT_EQ(c.mesh.colors[v].a, 1.0f);
+    EXPECT_NEAR(c.mesh.texcoords1[v].x, 2.0f * p.y, 1e-6f) << v;
+    EXPECT_NEAR(c.mesh.texcoords1[v].y, p.x + 0.5f, 1e-6f) << v;
+  }
+  d.colors = 4;
+  d.texcoords1 = false;
+  ASSERT_TRUE(importJson(test::pbrAsset(d), &c, &r).isOk());
+  EXPECT_TRUE(c.mesh.texcoords1.empty());
+  ASSERT_EQ(c.mesh.colors.size(), c.mesh.vertexCount());
+  EXPECT_EQ(c.mesh.colors[0], glm::vec4(1.0f, 0.0f, 128 / 255.0f, 0.5f)) << "red 1.25 clamped";
+  bool warned = false;
+  for (const std::string& w : r.warnings)
+    warned |= w.find("1 COLOR_0 values outside [0, 1] clamped") != std::string::npos;
+  EXPECT_TRUE(warned);
+  d.colors = 0;
+  ASSERT_TRUE(importJson(test::pbrAsset(d), &c, &r).isOk());
+  EXPECT_TRUE(c.mesh.colors.empty());
+}
+
 TEST(GltfMaterials, TangentsAreGeneratedForANormalMapWhenTheFileHasNone) {
   test::PbrAssetDesc d;
   d.tangents = false;

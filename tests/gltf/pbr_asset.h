@@ -24,7 +24,16 @@ struct PbrAssetDesc {
   bool double_sided = false;
   bool normal_map = true;
   uint32_t texture_size = 16;
+  /// COLOR_0: 0 none; 3 RGB normalized u8, pbrAssetColor(); 4 RGBA float, pbrAssetColor() with
+  /// alpha 0.5 except a red of 1.25 at vertex 0 (out of range: the import clamps it).
+  int colors = 0;
+  bool texcoords1 = false;  ///< TEXCOORD_1 = (2 y, x + 0.5), float.
 };
+
+/// COLOR_0 at (x, y) as 3: (x + 0.5, y, 0.5) in 8 bits.
+inline std::vector<uint8_t> pbrAssetColor(float x, float y) {
+  return {uint8_t(std::lround((x + 0.5f) * 255.0f)), uint8_t(std::lround(y * 255.0f)), 128};
+}
 
 /// The normal map's tangent-space normal at texel (x, y) of a size x size map: tilted 35
 /// degrees towards +u in even columns of 4 texels and towards +v in odd ones.
@@ -37,8 +46,8 @@ inline std::vector<float> pbrAssetNormal(uint32_t x, uint32_t y) {
 inline std::string pbrAsset(const PbrAssetDesc& d) {
   constexpr int kFloat = 5126, kUByte = 5121, kUShort = 5123;
   GltfWriter w;
-  std::vector<float> pos, nrm, tan, uv, weights;
-  std::vector<uint8_t> joints;
+  std::vector<float> pos, nrm, tan, uv, uv1, weights, rgba;
+  std::vector<uint8_t> joints, rgb;
   std::vector<uint16_t> idx;
   const int n = d.cells;
   for (int j = 0; j <= n; ++j)
@@ -48,6 +57,11 @@ inline std::string pbrAsset(const PbrAssetDesc& d) {
       nrm.insert(nrm.end(), {0, 0, 1});
       tan.insert(tan.end(), {1, 0, 0, d.bitangent_sign});
       uv.insert(uv.end(), {x + 0.5f, 1.0f - y});
+      uv1.insert(uv1.end(), {2.0f * y, x + 0.5f});
+      const std::vector<uint8_t> c = pbrAssetColor(x, y);
+      rgb.insert(rgb.end(), c.begin(), c.end());
+      rgba.insert(rgba.end(),
+                  {pos.size() == 3 ? 1.25f : c[0] / 255.0f, c[1] / 255.0f, c[2] / 255.0f, 0.5f});
       const float child = std::fmin(std::fmax((y - 1.0f / 3.0f) * 3.0f, 0.0f), 1.0f);
       joints.insert(joints.end(), {0, 1, 0, 0});
       weights.insert(weights.end(), {1.0f - child, child, 0, 0});
@@ -66,6 +80,13 @@ inline std::string pbrAsset(const PbrAssetDesc& d) {
       ",\"JOINTS_0\":" + std::to_string(w.accessor(joints, kUByte, "VEC4", nv)) +
       ",\"WEIGHTS_0\":" + std::to_string(w.accessor(weights, kFloat, "VEC4", nv));
   if (d.tangents) attributes += ",\"TANGENT\":" + std::to_string(w.accessor(tan, kFloat, "VEC4", nv));
+  if (d.texcoords1)
+    attributes += ",\"TEXCOORD_1\":" + std::to_string(w.accessor(uv1, kFloat, "VEC2", nv));
+  if (d.colors == 3)
+    attributes += ",\"COLOR_0\":" +
+                  std::to_string(w.accessor(rgb, kUByte, "VEC3", nv, ",\"normalized\":true"));
+  if (d.colors == 4)
+    attributes += ",\"COLOR_0\":" + std::to_string(w.accessor(rgba, kFloat, "VEC4", nv));
   const int a_idx = w.accessor(idx, kUShort, "SCALAR", idx.size());
   w.meshes = "{\"name\":\"patch\",\"primitives\":[{\"attributes\":{" + attributes +
              "},\"indices\":" + std::to_string(a_idx) + ",\"material\":0}]}";

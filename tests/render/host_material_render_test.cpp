@@ -8,6 +8,7 @@
 
 #include <algorithm>
 #include <set>
+#include <tuple>
 #include <utility>
 #include <vector>
 
@@ -208,6 +209,70 @@ TEST_P(HostMaterialTest, EveryPathDrawsTheSameImagesIntoMultisampledAndYFlippedT
     const Diff d = compare(lit, flipped(upright), nullptr);
     EXPECT_LE(d.share, 0.001) << "the standard image upside down; max channel " << d.max_channel;
   }
+}
+
+// A mesh's texture coordinates 1 and vertex colours reach the material on every path: a
+// material writing uv1 and the colour's blue (target 1) and the albedo under a red light
+// (target 0: the colour multiplies the base colour) draws the same images on every path; a
+// mesh without them hands the material 0 and white.
+TEST_P(HostMaterialTest, SecondTextureCoordinatesAndVertexColoursReachTheMaterialOnEveryPath) {
+  constexpr const char* kVertexWords = R"(
+layout(location = 0) out vec4 o_lit;
+layout(location = 1) out vec4 o_surface;
+layout(std140, binding = 7) uniform HostLight {
+  vec4 host_direction;
+  vec4 host_tone;
+};
+void siMaterial(SiSurface s) {
+  o_lit = vec4(siSurfaceAlbedo(s) * host_tone.rgb, 1.0);
+  o_surface = vec4(s.uv1, s.color.b, s.impostor ? 1.0 : float(s.lod + 1u) / 8.0);
+})";
+  TwoTargets targets(kSize);
+  HostLight light(glm::vec3(0.3f, -1.0f, -0.5f), glm::vec3(1.0f, 0.0f, 0.0f));  // Red only.
+  CrowdManager crowd;
+  sceneCrowd(&crowd);
+  Character painted = character();
+  for (const glm::vec3& p : painted.mesh.positions) {
+    painted.mesh.texcoords1.push_back(
+        glm::clamp(glm::vec2(p.y * 0.5f, p.x + 0.5f), glm::vec2(0.0f), glm::vec2(1.0f)));
+    painted.mesh.colors.push_back(glm::vec4(0.3f + 0.7f * glm::fract(p.y * 2.3f), 1.0f,
+                                            0.2f + 0.8f * glm::fract(p.x * 3.1f + p.z), 1.0f));
+  }
+  Renderer vs, cs, plain;
+  makeMaterialRenderer(&vs, SkinningPath::kVertexShader, &painted, false, kVertexWords);
+  makeMaterialRenderer(&cs, SkinningPath::kCompute, &painted, false, kVertexWords);
+  std::vector<uint8_t> lit, surface;
+  std::tie(lit, surface) = expectTheSameImagesOnEveryPath(vs, cs, crowd, targets, lodCamera());
+  // The plain character (every path's fragment stage decides by the same flags).
+  makeMaterialRenderer(&plain, SkinningPath::kVertexShader, nullptr, false, kVertexWords);
+  drawInto(plain, PathKind::kInstanced, crowd, targets);
+  const std::vector<uint8_t> plain_lit = targets.read(0), plain_surface = targets.read(1);
+  // What reached the material: uv1 and the colour's blue spread over their ranges; without
+  // them, 0 and 1 everywhere.
+  std::set<uint8_t> u, v, blue;
+  size_t plain_drawn = 0, plain_wrong = 0;
+  uint64_t red = 0, plain_red = 0;
+  for (size_t p = 0; p < surface.size(); p += 4) {
+    if (surface[p + 3] != 0) {
+      u.insert(surface[p]);
+      v.insert(surface[p + 1]);
+      blue.insert(surface[p + 2]);
+      red += lit[p];
+    }
+    if (plain_surface[p + 3] != 0) {
+      ++plain_drawn;
+      plain_wrong +=
+          plain_surface[p] != 0 || plain_surface[p + 1] != 0 || plain_surface[p + 2] != 255;
+      plain_red += plain_lit[p];
+    }
+  }
+  EXPECT_GT(u.size(), 40u);
+  EXPECT_GT(v.size(), 40u);
+  EXPECT_GT(blue.size(), 40u);
+  EXPECT_GT(plain_drawn, 2000u);
+  EXPECT_EQ(plain_wrong, 0u);
+  // The colour's red (0.3 to 1) multiplies the base colour.
+  EXPECT_LT(double(red), 0.9 * double(plain_red));
 }
 
 TEST_P(HostMaterialTest, ImpostorsHandTheirSurfaceToTheHostMaterial) {

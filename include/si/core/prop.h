@@ -57,13 +57,15 @@ Status makeSocket(const Skeleton& skeleton, const std::string& name, const std::
 
 /// A rigid triangle mesh with its materials, in its own frame (the socket's frame once
 /// attached). Per-vertex arrays: `positions` defines the count; `normals` must match it;
-/// `texcoords`, `tangents` and `vertex_materials` are empty or match it.
+/// `texcoords`, `texcoords1`, `colors`, `tangents` and `vertex_materials` are empty or match it.
 struct PropMesh {
   std::string name;
   std::vector<glm::vec3> positions;
   std::vector<glm::vec3> normals;    ///< Unit length.
   std::vector<glm::vec4> tangents;   ///< Optional; xyz unit, w = +-1.
   std::vector<glm::vec2> texcoords;  ///< Optional.
+  std::vector<glm::vec2> texcoords1;  ///< Optional: SkinnedMesh::texcoords1.
+  std::vector<glm::vec4> colors;      ///< Optional: SkinnedMesh::colors (linear, in [0, 1]).
   /// Optional: each vertex's material, an index into `materials`. Empty: material 0.
   std::vector<uint16_t> vertex_materials;
   std::vector<uint32_t> indices;  ///< Triangle list.
@@ -72,9 +74,9 @@ struct PropMesh {
   std::vector<Image> images;  ///< Base colour images the materials name.
 
   /// Checks the rules above, naming the array and element: a name, at least one triangle
-  /// (kInvalidArgument), counts (kCountMismatch), finite attributes (kNotFinite), indices below
-  /// the vertex count, vertex materials below the material count, image indices below the
-  /// image count (kOutOfRange), each image valid (Image::validate).
+  /// (kInvalidArgument), counts (kCountMismatch), finite attributes (kNotFinite), colours in
+  /// [0, 1], indices below the vertex count, vertex materials below the material count, image
+  /// indices below the image count (kOutOfRange), each image valid (Image::validate).
   Status validate() const;
 };
 
@@ -85,7 +87,8 @@ struct PropMesh {
 /// bind_frame (normals by its inverse transpose; a mirroring frame reverses the triangles'
 /// winding so their fronts stay outside) and weighted 1 to the socket's joint. The prop's
 /// materials and images follow the character's (vertex materials renumbered). Texture
-/// coordinates that only one side has are zero on the other side's vertices; tangents follow
+/// coordinates (either set) that only one side has are zero on the other side's vertices, and
+/// colours that only one side has are white (1, 1, 1, 1) on the other's; tangents follow
 /// the character: kept (transformed, their sign flipped by a mirroring frame) when it has
 /// them, with vertices of a prop without tangents given one perpendicular to their normal, and
 /// dropped when it has none.

@@ -27,8 +27,8 @@
 
 namespace si {
 
-/// One vertex buffer of interleaved vertices, 32 bytes each (36 with wide joints; 4 more with
-/// tangents):
+/// One vertex buffer of interleaved vertices, 32 bytes each (36 with wide joints; 4 more each
+/// with tangents, a second texture coordinate set and vertex colours, in that order):
 ///
 /// | offset | attribute (location) | format |
 /// | --- | --- | --- |
@@ -37,7 +37,9 @@ namespace si {
 /// | 16 | texcoord (2) | 2 x float16 (0 when the mesh has none) |
 /// | 20 | joints (3) | 4 x uint8 palette slots; 4 x uint16 when wide_joints |
 /// | 24 (28) | weights (4) | 4 x unorm16 summing to exactly 65535 (si::quantizeWeights) |
-/// | 32 (36) | tangent (7) | 10:10:10:2 signed normalized: xyz the unit tangent, w +-1; only when the mesh has tangents |
+/// | 32 (36) | tangent (7) | 10:10:10:2 signed normalized: xyz the unit tangent, w +-1; only when
+/// the mesh has tangents | | next | texcoord 1 (8) | 2 x float16; only when the mesh has
+/// `texcoords1` | | next | colour (9) | 4 x unorm8, linear RGBA; only when the mesh has `colors` |
 ///
 /// Joints are palette slots (BakedPalette::skeleton_to_palette applied), not skeleton joints;
 /// a zero weight's joint is 0. Wide joints are used when the palette stores more than 256.
@@ -49,12 +51,16 @@ struct VertexStream {
 
   std::vector<uint8_t> bytes;   ///< vertex_count * stride_bytes bytes.
   uint32_t vertex_count = 0;
-  uint32_t stride_bytes = 0;    ///< 32, or 36 with wide joints.
+  uint32_t stride_bytes = 0;    ///< 32, or 36 with wide joints; 4 more for each optional word.
   bool wide_joints = false;     ///< Joints as 4 x uint16.
   uint32_t weights_offset = 0;  ///< 24, or 28 with wide joints.
-  /// 32 or 36 (the last word) when the mesh has tangents; 0 without. Without tangents the
-  /// renderer feeds attribute 7 the normal's word, whose w is 0: "no tangent frame".
+  /// 32 or 36 when the mesh has tangents; 0 without. Without tangents the renderer feeds
+  /// attribute 7 the normal's word, whose w is 0: "no tangent frame".
   uint32_t tangent_offset = 0;
+  /// The second texture coordinate set's word when the mesh has `texcoords1`; 0 without.
+  uint32_t texcoord1_offset = 0;
+  /// The colour's word when the mesh has `colors`; 0 without.
+  uint32_t color_offset = 0;
 };
 
 /// Builds the vertex stream of `mesh` for `palette` (the palette baked for the mesh's
@@ -75,5 +81,8 @@ uint32_t packNormal10(const glm::vec3& normal);
 /// A tangent packed as the vertex stream stores it: xyz as packNormal10(), w's sign in the
 /// 2-bit field (1 or -1).
 uint32_t packTangent10(const glm::vec4& tangent);
+/// A colour packed as the vertex stream stores it: 4 x unorm8 (R in the low byte), each
+/// channel clamped to [0, 1] and rounded to the nearest of 255 steps.
+uint32_t packColor8(const glm::vec4& color);
 
 }  // namespace si

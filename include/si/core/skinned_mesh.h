@@ -45,7 +45,8 @@ struct SubMesh {
 
 /// Vertices shared by all sub-meshes and LODs, plus the index ranges that select them.
 /// Per-vertex arrays: `positions` defines the vertex count; `normals`, `joints` and `weights`
-/// must match it; `tangents`, `texcoords` and `vertex_materials` are empty or match it.
+/// must match it; `tangents`, `texcoords`, `texcoords1`, `colors` and `vertex_materials` are
+/// empty or match it.
 ///
 /// Parts and variations: a sub-mesh is what an instance can switch (its bit in the variation
 /// mask); what it draws may be many parts with different materials, merged into its index
@@ -59,6 +60,12 @@ struct SkinnedMesh {
   std::vector<glm::vec3> normals;      ///< Unit length.
   std::vector<glm::vec4> tangents;     ///< Optional; xyz unit, w = +-1 (bitangent sign).
   std::vector<glm::vec2> texcoords;    ///< Optional.
+  /// Optional: a second set of texture coordinates (glTF TEXCOORD_1), which the shaders hand a
+  /// material as SiSurface.uv1 (the built-in material does not read it).
+  std::vector<glm::vec2> texcoords1;
+  /// Optional: each vertex's colour (glTF COLOR_0), linear RGBA, each channel in [0, 1]. It
+  /// multiplies the material's base colour, as glTF says; the GPU keeps 8 bits a channel.
+  std::vector<glm::vec4> colors;
   std::vector<glm::u16vec4> joints;    ///< Up to 4 joint indices per vertex.
   std::vector<glm::vec4> weights;      ///< Matching weights, >= 0, summing to 1.
   /// Optional: each vertex's material (index into the owning Character's materials). Empty:
@@ -76,8 +83,10 @@ struct SkinnedMesh {
   /// Checks against a skeleton of `joint_count` joints; reports the first rule broken, naming
   /// the array and element:
   /// - at least one vertex (kInvalidArgument); normals, joints, weights match the vertex count
-  ///   and tangents, texcoords, vertex_materials are empty or match it (kCountMismatch);
-  /// - every attribute finite (kNotFinite); weights not negative (kOutOfRange); each vertex's
+  ///   and tangents, texcoords, texcoords1, colors, vertex_materials are empty or match it
+  ///   (kCountMismatch);
+  /// - every attribute finite (kNotFinite); weights not negative, colours in [0, 1]
+  ///   (kOutOfRange); each vertex's
   ///   weights sum to 1 within kWeightSumTolerance (kInvalidArgument; see normalizeWeights());
   /// - joint indices below `joint_count` (kOutOfRange);
   /// - indices: count a multiple of 3 (kInvalidArgument), each below the vertex count

@@ -7,6 +7,7 @@
 
 #include "core/skinned_normal.h"
 #include "gl/resources/gl_allocation.h"
+#include "si/core/shader_inputs.h"
 
 namespace si::detail {
 
@@ -30,23 +31,33 @@ Status CpuSkinningPath::prepare(const DrawResources& r) {
     }
   // A chunk holds at least one instance of the largest range: a LOD past 8 MiB of streamed
   // vertices (262,144) is streamed whole, never written past the buffer.
+  // Position, normal, texcoord as floats; then, where the mesh has them, the tangent (4
+  // floats), texture coordinates 1 (2 floats) and the colour (4 x unorm8).
+  tangent_offset_ = mesh.tangents.empty() ? 0 : 32;
   vertex_bytes_ = mesh.tangents.empty() ? 32 : 48;
+  texcoord1_offset_ = mesh.texcoords1.empty() ? 0 : vertex_bytes_;
+  vertex_bytes_ += mesh.texcoords1.empty() ? 0 : 8;
+  color_offset_ = mesh.colors.empty() ? 0 : vertex_bytes_;
+  vertex_bytes_ += mesh.colors.empty() ? 0 : 4;
   chunk_bytes_ = kChunkBytes;
   for (const glm::uvec2& range : ranges_)
     chunk_bytes_ = std::max(chunk_bytes_, size_t(range.y) * vertex_bytes_);
   if (vao_ != kNoObject) glDeleteVertexArrays(1, &vao_);
   glCreateVertexArrays(1, &vao_);
   glVertexArrayElementBuffer(vao_, r.character->index_buffer);
-  for (GLuint loc : {0u, 1u, 2u, 3u}) {
+  for (GLuint loc : {0u, 1u, 2u, 3u, 8u, 9u}) {
     glEnableVertexArrayAttrib(vao_, loc);
     glVertexArrayAttribBinding(vao_, loc, 0);
   }
   glVertexArrayAttribFormat(vao_, 0, 3, GL_FLOAT, GL_FALSE, 0);
   glVertexArrayAttribFormat(vao_, 1, 3, GL_FLOAT, GL_FALSE, 12);
   glVertexArrayAttribFormat(vao_, 2, 2, GL_FLOAT, GL_FALSE, 24);
-  // The tangent; without tangents the attribute reads the position (preskinned.vert's
-  // u_tangents is 0 and ignores it), so nothing comes from the host's generic attribute state.
-  glVertexArrayAttribFormat(vao_, 3, 4, GL_FLOAT, GL_FALSE, vertex_bytes_ == 48 ? 32 : 0);
+  // The optional words; without them the attribute reads the position (preskinned.vert's
+  // u_tangents is 0 and the fragment stage ignores the others: SiMaterial.layer.w), so nothing
+  // comes from the host's generic attribute state.
+  glVertexArrayAttribFormat(vao_, 3, 4, GL_FLOAT, GL_FALSE, GLuint(tangent_offset_));
+  glVertexArrayAttribFormat(vao_, 8, 2, GL_FLOAT, GL_FALSE, GLuint(texcoord1_offset_));
+  glVertexArrayAttribFormat(vao_, 9, 4, GL_UNSIGNED_BYTE, GL_TRUE, GLuint(color_offset_));
   return Status::ok();
 }
 
@@ -65,7 +76,7 @@ Status CpuSkinningPath::draw(const DrawResources& r, const PathFrame& f, DrawSta
   glBindVertexArray(vao_);
   bindAppearance(r, program);
   setCameraUniforms(program, f.camera, f.light);
-  const bool tangents = vertex_bytes_ == 48;
+  const bool tangents = tangent_offset_ != 0;
   glProgramUniform1ui(program.id, 6, tangents ? 1u : 0u);
   const BakedPalette& palette = *r.palette->palette();
   const SkinnedMesh& mesh = r.character->mesh;
@@ -136,13 +147,20 @@ Status CpuSkinningPath::draw(const DrawResources& r, const PathFrame& f, DrawSta
         const glm::vec2 uv = mesh.texcoords.empty() ? glm::vec2(0.0f) : mesh.texcoords[vi];
         const float values[8] = {p.x, p.y, p.z, n.x, n.y, n.z, uv.x, uv.y};
         std::memcpy(out, values, sizeof(values));
+        uint8_t* bytes = reinterpret_cast<uint8_t*>(out);
+        if (texcoord1_offset_ != 0)
+          std::memcpy(bytes + texcoord1_offset_, &mesh.texcoords1[vi][0], 8);
+        if (color_offset_ != 0) {
+          const uint32_t rgba = packColor8(mesh.colors[vi]);
+          std::memcpy(bytes + color_offset_, &rgba, 4);
+        }
         if (!tangents) continue;
         // Skinned as the vertex shader skins it: the blended matrix, normalized, w kept.
         const glm::vec4& t = mesh.tangents[vi];
         const glm::vec3 turned = m * glm::vec3(t);
         const float length = glm::length(turned);
         const glm::vec4 skinned = length > 0.0f ? glm::vec4(turned / length, t.w) : glm::vec4(0.0f);
-        std::memcpy(out + 8, &skinned[0], sizeof(skinned));
+        std::memcpy(bytes + tangent_offset_, &skinned[0], sizeof(skinned));
       }
       pending_.push_back(
           {sub_meshes[sm].lods[lod_index], first - GLint(vr.x), rec.blend[3], lod});

@@ -30,7 +30,10 @@ class CpuSkinningPath final : public DrawPath {
   std::vector<glm::uvec2> ranges_;              // Per (sub-mesh, lod): first vertex, count.
   std::vector<std::vector<uint32_t>> range_of_;  // [sub_mesh][lod] -> ranges_.
   size_t chunk_bytes_ = 0;  // The stream's size for this character: 8 MiB or its largest range.
-  size_t vertex_bytes_ = 32;  // Position, normal, texcoord as floats; 48 with the tangent.
+  size_t vertex_bytes_ = 32;     // Position, normal, texcoord as floats, then the optional words.
+  size_t tangent_offset_ = 0;    // 4 floats; 0 when the mesh has no tangents.
+  size_t texcoord1_offset_ = 0;  // 2 floats; 0 when the mesh has no texture coordinates 1.
+  size_t color_offset_ = 0;      // 4 x unorm8; 0 when the mesh has no colours.
 };
 
 }  // namespace si::detail

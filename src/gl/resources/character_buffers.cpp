@@ -24,7 +24,8 @@ struct GpuMaterial {
   glm::vec4 pbr;       // Metallic, roughness, normal scale, occlusion strength.
   glm::uvec4 layer;    // x base colour | emissive << 16 (colour layers), y normal |
                        // metallic-roughness << 16, z occlusion | flags << 16 (data layers;
-                       // flag 1: double-sided), w 0.
+                       // flag 1: double-sided), w the mesh's optional vertex words (1
+                       // texture coordinates 1, 2 colours).
 };
 static_assert(sizeof(GpuMaterial) == 64, "material_common.glsl's SiMaterial");
 
@@ -90,8 +91,11 @@ Status CharacterBuffers::upload(const Character& character, const BakedPalette& 
     words[v / 2] |= uint32_t(table.vertex_materials[v]) << ((v % 2) * 16);
   std::vector<GpuMaterial> entries;
   bool both_faces = false, masked = false;
+  const uint32_t vertex_words =
+      (stream.texcoord1_offset != 0 ? 1u : 0u) | (stream.color_offset != 0 ? 2u : 0u);
   for (const MaterialEntry& e : table.materials) {
     entries.push_back(gpuMaterial(e));
+    entries.back().layer.w = vertex_words;
     both_faces = both_faces || e.double_sided;
     masked = masked || e.alpha_cutoff >= 0.0f;
   }
@@ -136,6 +140,8 @@ Status CharacterBuffers::upload(const Character& character, const BakedPalette& 
     return s;
   }
   tangent_offset = stream.tangent_offset;
+  texcoord1_offset = stream.texcoord1_offset;
+  color_offset = stream.color_offset;
   double_sided = both_faces;
   alpha_masked = masked;
   glCreateVertexArrays(1, &vao);
@@ -173,6 +179,17 @@ void CharacterBuffers::describeVertexFormat(GLuint v) const {
   glVertexArrayAttribBinding(v, 7, 0);
   glVertexArrayAttribFormat(v, 7, 4, GL_INT_2_10_10_10_REV, GL_TRUE,
                             tangent_offset != 0 ? tangent_offset : VertexStream::kNormalOffset);
+  // Texture coordinates 1 (attribute 8) and the colour (9); without them other words of the
+  // vertex, which the fragment stage does not read (SiMaterial.layer.w says what the mesh has).
+  for (GLuint loc : {8u, 9u}) {
+    glEnableVertexArrayAttrib(v, loc);
+    glVertexArrayAttribBinding(v, loc, 0);
+  }
+  glVertexArrayAttribFormat(
+      v, 8, 2, GL_HALF_FLOAT, GL_FALSE,
+      texcoord1_offset != 0 ? texcoord1_offset : VertexStream::kTexcoordOffset);
+  glVertexArrayAttribFormat(v, 9, 4, GL_UNSIGNED_BYTE, GL_TRUE,
+                            color_offset != 0 ? color_offset : VertexStream::kNormalOffset);
   if (esProfile()) {  // GLSL ES 3.00 reads each vertex's material index as attribute 6.
     glVertexArrayVertexBuffer(v, 1, vertex_materials, 0, 2);
     glEnableVertexArrayAttrib(v, 6);

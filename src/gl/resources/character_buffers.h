@@ -25,7 +25,8 @@ struct CharacterBuffers {
   void release();
   bool ready() const { return vao != kNoObject; }
 
-  /// Sets the vertex format (attributes 0-4 and 7 from binding 0) and the index buffer on `vao`.
+  /// Sets the vertex format (attributes 0-4 and 7-9 from binding 0) and the index buffer on
+  /// `vao`.
   void describeVertexFormat(GLuint vao) const;
   /// Binds the materials where the shading reads them (material_common.glsl): the colour array
   /// at texture unit 1, the data array at unit 4, the per-vertex materials and the table at
@@ -46,6 +47,8 @@ struct CharacterBuffers {
   uint32_t stride_bytes = 32;
   bool wide_joints = false;
   uint32_t tangent_offset = 0;  ///< VertexStream::tangent_offset (0: no tangents).
+  uint32_t texcoord1_offset = 0;  ///< VertexStream::texcoord1_offset (0: none).
+  uint32_t color_offset = 0;      ///< VertexStream::color_offset (0: no colours).
   /// A material draws both faces (glTF doubleSided): the character's draws cull no faces.
   bool double_sided = false;
   /// A material is alpha-masked (glTF MASK): the character's depth-only draws discard by it

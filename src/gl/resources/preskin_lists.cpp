@@ -41,7 +41,9 @@ Status PreSkinLists::build(const CharacterBuffers& character) {
   if (!s.isOk()) return s;
   lods = std::move(built);
   max_lod_vertices = largest;
-  source_words = character.stride_bytes / 4 | (character.wide_joints ? 0x100u : 0u);
+  source_words = character.stride_bytes / 4 | (character.wide_joints ? 0x100u : 0u) |
+                 (character.texcoord1_offset != 0 ? 0x400u : 0u) |
+                 (character.color_offset != 0 ? 0x800u : 0u);
   tangents = character.tangent_offset != 0;
   return Status::ok();
 }

@@ -33,10 +33,11 @@ struct PreSkinLists {
   GLuint index_buffer = kNoObject;     ///< Local indices of every (sub-mesh, LOD).
   GLuint lod_vertex_list = kNoObject;  ///< Source vertex of each local vertex.
   uint32_t max_lod_vertices = 0;       ///< The largest list.
-  /// 32-bit words per source vertex (stride / 4), | 0x100 with wide joints: pre_skin_common.glsl's
-  /// u_layout.y for a pass that writes no tangents (captureSkinnedPositions).
+  /// 32-bit words per source vertex (stride / 4), | 0x100 with wide joints, | 0x400 with
+  /// texture coordinates 1, | 0x800 with colours: pre_skin_common.glsl's u_layout.y for a pass
+  /// that writes no tangents (captureSkinnedPositions).
   uint32_t source_words = 8;
-  /// The source vertices end with a tangent word (CharacterBuffers::tangent_offset).
+  /// The source vertices have a tangent word (CharacterBuffers::tangent_offset).
   bool tangents = false;
   /// u_layout.y for the passes that pre-skin into, and draw from, the tangent ring beside the
   /// vertex ring (ScratchBuffers): source_words, | 0x200 when the source has tangents.

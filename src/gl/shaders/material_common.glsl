@@ -12,7 +12,9 @@ struct SiMaterial {
   vec4 emissive;  // rgb emissive factor; w the alpha cutoff (negative: not masked).
   vec4 pbr;       // Metallic, roughness, normal scale, occlusion strength.
   // x base colour layer | emissive layer << 16 (colour array), y normal | metallic-roughness
-  // << 16, z occlusion | flags << 16 (data array; flag 1 double-sided); 0xFFFF: none.
+  // << 16, z occlusion | flags << 16 (data array; flag 1 double-sided); 0xFFFF: none; w the
+  // mesh's optional vertex words (the same in every entry of a character): 1 texture
+  // coordinates 1, 2 colours (without them the vertex stage's outputs for them go unread).
   uvec4 layer;
 };
 #if defined(GL_ES) && __VERSION__ < 310

@@ -7,9 +7,11 @@
 // si_skinning.glsl).
 // u_chunk: x first ring vertex of the draw, y vertices of the LOD, z offset into the LOD vertex
 // list, w first instance of the batch; u_layout: x instances, y words per source vertex (low
-// byte; 8 or 9, one more with tangents) | 0x100 with wide joints | 0x200 when the source has
-// tangents and the skinning passes write the tangent ring (storage binding 28; the pulling
-// draws read it when compiled with SI_TANGENTS).
+// byte; 8 or 9, one more each with a tangent, a second texture coordinate set and a colour,
+// in that order at the end) | 0x100 with wide joints | 0x200 when the source has tangents and
+// the skinning passes write the tangent ring (storage binding 28; the pulling draws read it
+// when compiled with SI_TANGENTS) | 0x400 when the source has texture coordinates 1 | 0x800
+// when it has colours.
 // The bindings can be moved (the GPU-driven passes use 2 and 3 for other buffers).
 #ifndef SI_PRE_SKIN_COMMON_GLSL
 #define SI_PRE_SKIN_COMMON_GLSL
@@ -52,9 +54,25 @@ vec4 siUnpackTangent(uint word) {
   return vec4(siOctDecode(unpackSnorm2x16(word & ~1u)), (word & 1u) != 0u ? -1.0 : 1.0);
 }
 
+// The words after a source vertex's tangent: its texture coordinates 1 and colour, each when
+// the source has them (0x400, 0x800).
+uint siTrailingWords() { return ((u_layout.y >> 10) & 1u) + ((u_layout.y >> 11) & 1u); }
+
 // The texture coordinates of local vertex k of the list starting at `list_offset`.
 vec2 siSourceTexcoord(uint list_offset, uint k) {
   return unpackHalf2x16(si_source[si_lod_vertices[list_offset + k] * (u_layout.y & 0xFFu) + 4u]);
+}
+// Source vertex `source`'s texture coordinates 1 (vec2(0) when the source has none) and colour
+// (vec4(1) when it has none): the draws' SiSurface.uv1 and .color.
+vec2 siSourceTexcoord1(uint source) {
+  if ((u_layout.y & 0x400u) == 0u) return vec2(0.0);
+  uint words = u_layout.y & 0xFFu;
+  return unpackHalf2x16(si_source[source * words + words - 1u - ((u_layout.y >> 11) & 1u)]);
+}
+vec4 siSourceColor(uint source) {
+  if ((u_layout.y & 0x800u) == 0u) return vec4(1.0);
+  uint words = u_layout.y & 0xFFu;
+  return unpackUnorm4x8(si_source[source * words + words - 1u]);
 }
 
 // A GL_INT_2_10_10_10_REV word, normalized: what the vertex-shader path's attribute fetch
@@ -83,10 +101,11 @@ void siSourceVertex(uint source, out vec3 p, out vec3 n, out uvec4 joints, out v
   }
 }
 
-// The bind-pose tangent of source vertex `source` (its last word; siHasTangents()).
+// The bind-pose tangent of source vertex `source` (the word before the trailing ones;
+// siHasTangents()).
 vec4 siSourceTangent(uint source) {
   uint words = u_layout.y & 0xFFu;
-  return siUnpackSigned1010102(si_source[source * words + words - 1u]);
+  return siUnpackSigned1010102(si_source[source * words + words - 1u - siTrailingWords()]);
 }
 
 // Source vertex `source` skinned for `inst` (with SI_LAYERS, its overlay `layer` composed on its

@@ -2,7 +2,7 @@
 // Pre-skinning's draw: pulls the pre-skinned vertex of (instance, gl_VertexID) from the ring
 // (SI_TANGENTS, for a character with tangents: its skinned tangent from the tangent ring at the
 // same slot; without, the tangent output is the constant "none", which costs no varying);
-// texture coordinates from the source vertex.
+// texture coordinates (both sets) and the colour from the source vertex.
 // SI_GPU_DRIVEN: the instance is a bucket entry (a_entry = baseInstance + gl_InstanceID, an
 // identity buffer with divisor 1) whose ring base and list offset the GPU-driven passes wrote;
 // otherwise the batch's u_chunk says where its instances are. SI_MOTION_VECTORS: the clip
@@ -50,6 +50,8 @@ out vec3 v_position;  // Camera-relative world position (SiSurface.position).
 out vec3 v_normal;
 out vec4 v_tangent;  // vec4(0) without tangents: no tangent frame.
 out vec2 v_texcoord;
+out vec2 v_texcoord1;      // vec2(0) where the mesh has none.
+out vec4 v_vertex_color;   // vec4(1) where the mesh has none.
 flat out uint v_color;
 flat out uint v_material;
 flat out uint v_lod;
@@ -63,8 +65,11 @@ void main() {
   v_motion_current = u_motion_view_projection * vec4(s.xyz, 1.0);
   v_motion_previous = u_previous_view_projection * vec4(si_skinned_previous[ring].xyz, 1.0);
 #endif
+  uint source = si_lod_vertices[at.y + k];
   v_texcoord = siSourceTexcoord(at.y, k);
-  v_material = siVertexMaterial(si_lod_vertices[at.y + k]);
+  v_texcoord1 = siSourceTexcoord1(source);
+  v_vertex_color = siSourceColor(source);
+  v_material = siVertexMaterial(source);
   uint slot = si_entries[a_entry];  // The visible index.
   v_color = si_records[slot].blend.w;
   v_lod = si_visible[slot].y;
@@ -75,8 +80,11 @@ void main() {
   v_motion_current = u_motion_view_projection * vec4(s.xyz, 1.0);
   v_motion_previous = u_previous_view_projection * vec4(si_skinned_previous[ring].xyz, 1.0);
 #endif
+  uint source = si_lod_vertices[u_chunk.z + k];
   v_texcoord = siSourceTexcoord(u_chunk.z, k);
-  v_material = siVertexMaterial(si_lod_vertices[u_chunk.z + k]);
+  v_texcoord1 = siSourceTexcoord1(source);
+  v_vertex_color = siSourceColor(source);
+  v_material = siVertexMaterial(source);
   v_color = si_instances[u_chunk.w + uint(gl_InstanceID)].blend.w;
   v_lod = u_lod;
 #endif

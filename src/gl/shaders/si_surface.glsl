@@ -9,11 +9,12 @@
 // draw writes motion vectors: the clip positions below are set), SI_DEPTH_ONLY (a depth-only
 // pass of a material with MaterialDesc::depth_discard: only the discard matters),
 // SI_IMPOSTOR (an impostor quad's fragment: the surface comes from the impostor atlas).
-// Interface version 3 (2 gave impostors metallic 0, roughness 1, occlusion 1 and no material
-// index; 1 had no tangent frame and no metallic-roughness fields).
+// Interface version 4 (3 had no uv1 and no vertex colour; 2 gave impostors metallic 0,
+// roughness 1, occlusion 1 and no material index; 1 had no tangent frame and no
+// metallic-roughness fields).
 #ifndef SI_SURFACE_GLSL
 #define SI_SURFACE_GLSL
-#define SI_MATERIAL_INTERFACE_VERSION 3
+#define SI_MATERIAL_INTERFACE_VERSION 4
 // SiSurface.material where there is none (kept for materials that test it; no draw sets it).
 #define SI_NO_MATERIAL 0xFFFFFFFFu
 struct SiSurface {
@@ -32,12 +33,20 @@ struct SiSurface {
   vec4 tangent;
   // Texture coordinate 0 of the mesh (an impostor: the atlas cell's coordinate).
   vec2 uv0;
+  // Texture coordinate 1 of the mesh (si::SkinnedMesh::texcoords1, glTF TEXCOORD_1); vec2(0)
+  // where the mesh has none and on impostors.
+  vec2 uv1;
+  // The vertex colour (si::SkinnedMesh::colors, glTF COLOR_0), linear RGBA, 8 bits a channel
+  // as interpolated; vec4(1) where the mesh has none and on impostors (whose captured
+  // base_color has it already). base_color is multiplied by it.
+  vec4 color;
   // The vertex's entry of the character's material table (si::MaterialTable). An impostor: the
   // largest entry the capture drew among the 2 x 2 nearest texels of the atlas's full
   // resolution (entries past 254 read as 254; never blended between entries).
   uint material;
   // The material table entry's base colour, linear: its sRGB texture sampled at uv0 times its
-  // factor (an impostor: the texel the atlas captured). Alpha is the tint mask the built-in
+  // factor times the vertex colour (an impostor: the texel the atlas captured). Alpha is the
+  // tint mask the built-in
   // albedo reads; for an alpha-masked material (si::AlphaMode::kMask) the fragments below its
   // cutoff are discarded before the material runs and alpha is 1 (tint everywhere).
   vec4 base_color;

@@ -54,6 +54,8 @@ SiSurface siEmptySurface() {
   s.occlusion = 1.0;
   s.emissive = vec3(0.0);
   s.uv0 = vec2(0.0);
+  s.uv1 = vec2(0.0);
+  s.color = vec4(1.0);
   s.material = SI_NO_MATERIAL;
   s.base_color = vec4(1.0);
   s.tint = vec3(1.0);

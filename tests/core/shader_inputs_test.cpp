@@ -1,0 +1,101 @@
+// SkinnedInstancing — SPDX-License-Identifier: MIT (see LICENSE)
+// The vertex stream of the GLSL skinning interface (si/core/shader_inputs.h): the optional words
+// (tangent, texture coordinates 1, colour) follow the fixed ones in that order, each only when
+// the mesh has it, and hold what the mesh says.
+#include <gtest/gtest.h>
+
+#include <cstring>
+#include <limits>
+
+#include "si/core/shader_inputs.h"
+
+namespace si {
+namespace {
+
+SkinnedMesh triangle() {
+  SkinnedMesh m;
+  m.positions = {{0, 0, 0}, {1, 0, 0}, {0, 1, 0}};
+  m.normals = {{0, 0, 1}, {0, 0, 1}, {0, 0, 1}};
+  m.joints = {{0, 0, 0, 0}, {1, 0, 0, 0}, {0, 1, 0, 0}};
+  m.weights = {{1, 0, 0, 0}, {1, 0, 0, 0}, {0.5f, 0.5f, 0, 0}};
+  m.indices = {0, 1, 2};
+  m.sub_meshes = {SubMesh{"body", {IndexRange{0, 3}}, 0, {}}};
+  return m;
+}
+
+// A palette that stores both joints of triangle()'s skeleton (all the stream reads of it).
+BakedPalette twoJointPalette() {
+  BakedPalette p;
+  p.palette_joints = {0, 1};
+  p.skeleton_to_palette = {0, 1};
+  return p;
+}
+
+uint32_t wordAt(const VertexStream& s, uint32_t vertex, uint32_t offset) {
+  uint32_t w = 0;
+  std::memcpy(&w, s.bytes.data() + size_t(vertex) * s.stride_bytes + offset, 4);
+  return w;
+}
+
+TEST(VertexStream, OptionalWordsFollowTheFixedOnesOnlyWhenTheMeshHasThem) {
+  VertexStream plain;
+  ASSERT_TRUE(buildVertexStream(triangle(), twoJointPalette(), &plain).isOk());
+  EXPECT_EQ(plain.stride_bytes, 32u);
+  EXPECT_EQ(plain.tangent_offset, 0u);
+  EXPECT_EQ(plain.texcoord1_offset, 0u);
+  EXPECT_EQ(plain.color_offset, 0u);
+
+  SkinnedMesh m = triangle();
+  m.colors = {{1, 0, 0, 1}, {0, 0.5f, 0, 1}, {0.2f, 0.4f, 0.6f, 0.8f}};
+  VertexStream colored;
+  ASSERT_TRUE(buildVertexStream(m, twoJointPalette(), &colored).isOk());
+  EXPECT_EQ(colored.stride_bytes, 36u);
+  EXPECT_EQ(colored.texcoord1_offset, 0u);
+  EXPECT_EQ(colored.color_offset, 32u);
+
+  m.texcoords1 = {{0.25f, 0.5f}, {1.5f, -2.0f}, {0.0f, 1.0f}};
+  m.tangents.assign(3, glm::vec4(1, 0, 0, -1));
+  VertexStream full;
+  ASSERT_TRUE(buildVertexStream(m, twoJointPalette(), &full).isOk());
+  EXPECT_EQ(full.stride_bytes, 44u);
+  EXPECT_EQ(full.tangent_offset, 32u);
+  EXPECT_EQ(full.texcoord1_offset, 36u);
+  EXPECT_EQ(full.color_offset, 40u);
+  for (uint32_t v = 0; v < 3; ++v) {
+    SCOPED_TRACE(v);
+    EXPECT_EQ(wordAt(full, v, full.tangent_offset), packTangent10(m.tangents[v]));
+    const uint32_t uv = wordAt(full, v, full.texcoord1_offset);
+    EXPECT_EQ(halfToFloat(uint16_t(uv & 0xFFFF)), m.texcoords1[v].x);
+    EXPECT_EQ(halfToFloat(uint16_t(uv >> 16)), m.texcoords1[v].y);
+    const uint32_t rgba = wordAt(full, v, full.color_offset);
+    EXPECT_EQ(rgba, packColor8(m.colors[v]));
+    for (int c = 0; c < 4; ++c)  // 8 bits a channel: within half a step.
+      EXPECT_NEAR(float((rgba >> (8 * c)) & 0xFF) / 255.0f, m.colors[v][c], 0.5001f / 255.0f) << c;
+    // The fixed words do not move.
+    EXPECT_EQ(wordAt(full, v, VertexStream::kNormalOffset),
+              wordAt(plain, v, VertexStream::kNormalOffset));
+  }
+  EXPECT_EQ(packColor8(glm::vec4(1.0f, 0.0f, 0.5f, 2.0f)), 0xFF8000FFu) << "R low; clamped";
+}
+
+TEST(VertexStream, TheMeshRefusesColoursOutsideTheUnitRangeAndMismatchedCounts) {
+  SkinnedMesh m = triangle();
+  m.colors = {{1, 0, 0, 1}, {0, 1.5f, 0, 1}, {0, 0, 1, 1}};
+  VertexStream s;
+  EXPECT_EQ(buildVertexStream(m, twoJointPalette(), &s).code(), StatusCode::kOutOfRange);
+  m.colors[1].y = std::numeric_limits<float>::quiet_NaN();
+  EXPECT_EQ(m.validate(2).code(), StatusCode::kNotFinite);
+  m.colors[1].y = -0.01f;
+  EXPECT_EQ(m.validate(2).code(), StatusCode::kOutOfRange);
+  m.colors.pop_back();
+  EXPECT_EQ(m.validate(2).code(), StatusCode::kCountMismatch);
+  m = triangle();
+  m.texcoords1 = {{0, 0}, {0, 0}};
+  EXPECT_EQ(m.validate(2).code(), StatusCode::kCountMismatch);
+  m.texcoords1.push_back({std::numeric_limits<float>::infinity(), 0});
+  EXPECT_EQ(m.validate(2).code(), StatusCode::kNotFinite);
+  EXPECT_EQ(s.stride_bytes, 0u) << "a refused stream is left untouched";
+}
+
+}  // namespace
+}  // namespace si
