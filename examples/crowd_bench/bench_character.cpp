@@ -16,6 +16,15 @@ namespace si::bench {
 
 Status makeCharacter(const CharacterChoice& choice, Setup* setup) {
   Status s = makeDefaultCharacter({}, &setup->character);
+  if (s.isOk() && choice.vertex_colors) {
+    SkinnedMesh& mesh = setup->character.mesh;
+    for (const glm::vec3& p : mesh.positions) {
+      const float shade = glm::clamp(0.5f + 0.3f * p.y, 0.5f, 1.0f);
+      mesh.colors.push_back(glm::vec4(shade, shade, shade, 1.0f));
+      mesh.texcoords1.push_back(glm::vec2(p.x, p.y));
+    }
+    std::printf("Vertex colours and texture coordinates 1 on every vertex (--vertex-colors)\n");
+  }
   LodChainDesc chain;
   chain.min_triangles = choice.lod_min_triangles;
   if (s.isOk() && choice.lod_chain == "deep")

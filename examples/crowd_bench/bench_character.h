@@ -18,6 +18,9 @@ struct CharacterChoice {
   bool part_lod = false;           ///< si::buildPartLods (each part its own level, parts dropped).
   bool impostor = false;           ///< si::appendImpostorLevel: the last level is the impostor.
   bool small_atlas = false;        ///< --impostor-atlas small: 8 azimuths, 2 elevations, 4 frames.
+  /// --vertex-colors: every vertex a colour (white to mid grey by height) and texture
+  /// coordinates 1, which the built-in material multiplies into the base colour.
+  bool vertex_colors = false;
 };
 
 /// The embedded character with its LOD chain (deep: 6 levels down to a few dozen triangles),

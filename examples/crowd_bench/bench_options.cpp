@@ -35,6 +35,8 @@ void printUsage(std::FILE* f) {
       "                   si::measureImageLodErrors) [--image-errors] (print those either way)\n"
       "                   [--part-lod] (each sub-mesh at its own level within the character's\n"
       "                   error, parts dropped where that is within it: si::buildPartLods)\n"
+      "                   [--vertex-colors] (the character's mesh gets vertex colours and\n"
+      "                   texture coordinates 1: what the optional vertex words cost)\n"
       "                   [--impostor] (an animated impostor past the last mesh level, chosen by\n"
       "                   its image error; not with the baselines, --mix, --root-motion or\n"
       "                   --motion-vectors) [--impostor-atlas full|small] (small: 8 azimuths,\n"
@@ -96,6 +98,8 @@ bool parseOptions(int argc, char** argv, Options* o) {
     else if (a == "--lod-chain" && has) o->lod_chain = argv[++i];
     else if (a == "--lod-min-triangles" && has) o->lod_min_triangles = uint32_t(std::stoul(argv[++i]));
     else if (a == "--part-lod") o->part_lod = true;
+    else if (a == "--vertex-colors")
+      o->vertex_colors = true;
     else if (a == "--impostor") o->impostor = true;
     else if (a == "--impostor-atlas" && has) o->impostor_atlas = argv[++i];
     else if (a == "--lod-errors" && has) o->lod_errors = argv[++i];

@@ -151,6 +151,7 @@ int main(int argc, char** argv) {
   choice.part_lod = b.o.part_lod;
   choice.impostor = b.o.impostor;
   choice.small_atlas = b.o.impostor_atlas == "small";
+  choice.vertex_colors = b.o.vertex_colors;
   si::Status s = si::bench::makeCharacter(choice, &b.setup);
   if (!s.isOk()) return fail("character", s);
   si::HeadlessDesc hd;

@@ -25,6 +25,8 @@ Status Renderer::Impl::uploadCharacter(const char* what, const Character& charac
   if (s.isOk() && !m.info.es) s = c.preskin.build(c.character);
   // Depth-only draws of an alpha-masked character discard by its mask (built once).
   if (s.isOk() && c.character.alpha_masked) s = m.programs.buildMaskedDepth();
+  // A mesh with texture coordinates 1 or colours draws with the variants that carry them.
+  if (s.isOk() && c.character.vertexWords()) s = m.programs.buildVertexWords(c.material);
   if (!s.isOk()) return named(s);
   const detail::DrawResources r = m.resources(c);
   for (detail::DrawPath* p : std::initializer_list<detail::DrawPath*>{

@@ -57,7 +57,12 @@ Status Renderer::setMaterial(CharacterId character, MaterialId material) {
     return {StatusCode::kInvalidArgument,
             strCat("setMaterial: no material ", material.index, " (", m.programs.materialCount(),
                    " with the built-in one; addMaterial gives the ids)")};
-  m.characters[character.index]->material = material.index;
+  detail::CharacterSlot& c = *m.characters[character.index];
+  if (c.character.vertexWords()) {  // Its variants of the material's programs, built once.
+    const Status s = m.programs.buildVertexWords(material.index);
+    if (!s.isOk()) return {s.code(), strCat("setMaterial: ", s.message())};
+  }
+  c.material = material.index;
   return Status::ok();
 }
 

@@ -178,7 +178,8 @@ struct Renderer::Impl {
     detail::DrawResources r;
     r.info = &info;
     r.desc = &desc;
-    r.programs = detail::ProgramTable{&programs, c.material, c.character.alpha_masked};
+    r.programs = detail::ProgramTable{&programs, c.material, c.character.alpha_masked,
+                                      c.character.vertexWords()};
     r.palette = &c.palette;
     r.character = &c.character;
     r.preskin = &c.preskin;

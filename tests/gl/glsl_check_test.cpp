@@ -98,6 +98,31 @@ TEST(GlslCheck, EveryProgramCompilesWithGlslang) {
   EXPECT_EQ(compiled, 2 * 95);
 }
 
+// The variants for meshes with texture coordinates 1 or colours (SI_VERTEX_WORDS): every
+// program that hands a mesh's surface to a material, both stages.
+TEST(GlslCheck, TheVertexWordsVariantsCompileWithGlslang) {
+  skipWithoutGlslang();
+  detail::ShaderConfig config;
+  config.max_instances = 819;
+  config.max_joints = 1024;
+  config.vertex_words = true;
+  int programs = 0;
+  for (size_t p = 0; p < detail::kProgramCount; ++p) {
+    const ProgramId id = ProgramId(p);
+    if (!detail::readsVertexWords(id)) continue;
+    ++programs;
+    for (ShaderStage stage : {ShaderStage::kVertex, ShaderStage::kFragment}) {
+      std::string source;
+      ASSERT_TRUE(detail::assembleStage(id, stage, config, &source).isOk());
+      EXPECT_NE(source.find("#define SI_VERTEX_WORDS\n"), std::string::npos);
+      EXPECT_EQ(compileWithGlslang(source, stageExtension(stage), fileName(id, "", "_words")), "");
+    }
+  }
+  // Every mesh colour program (surface.frag.glsl): the 23 shaded ones (the 25 that take a
+  // material less the two impostor programs) and the impostor capture.
+  EXPECT_EQ(programs, 24);
+}
+
 // A G-buffer material like docs/rendering.md's ("Materials"): two targets, a uniform block of
 // its own, a discard (so the depth-only programs take it too).
 constexpr const char* kGbufferMaterial = R"(

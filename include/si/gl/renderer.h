@@ -341,7 +341,10 @@ class Renderer {
   /// The material character `character`'s draws use from the next draw on (every path and
   /// mode; kBuiltinMaterial after addCharacter, kept by replaceCharacter). Switching costs
   /// nothing, so one crowd can be drawn with several materials in a frame (a G-buffer pass and
-  /// a forward pass). kInvalidArgument for an unknown character or material.
+  /// a forward pass), except the first time a character whose mesh has texture coordinates 1
+  /// or colours takes a material: that compiles the material's variants for such meshes (23
+  /// programs; kBackend with the driver's log if one fails, the material unchanged).
+  /// kInvalidArgument for an unknown character or material.
   Status setMaterial(CharacterId character, MaterialId material);
   /// Character `character`'s material (kBuiltinMaterial for an unknown one).
   MaterialId material(CharacterId character) const;

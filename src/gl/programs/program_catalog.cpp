@@ -205,6 +205,13 @@ MaterialUse materialUse(ProgramId id) {
                                                                : MaterialUse::kShaded;
 }
 
+bool readsVertexWords(ProgramId id) {
+  const MaterialUse use = materialUse(id);
+  const ProgramSpec& spec = programSpec(id);
+  return (use == MaterialUse::kShaded || use == MaterialUse::kCapture) &&
+         std::strcmp(spec.fragment, "surface.frag.glsl") == 0;
+}
+
 bool takesMaterial(ProgramId id, const MaterialSource& material) {
   const MaterialUse use = materialUse(id);
   return use == MaterialUse::kShaded || (use == MaterialUse::kDepth && material.depth_discard);
@@ -277,7 +284,8 @@ Status assembleStage(ProgramId id, ShaderStage stage, const ShaderConfig& config
   *out = strCat(version, "#define SI_MAX_INSTANCES ", config.max_instances,
                 "\n#define SI_MAX_JOINTS ", config.max_joints, "\n",
                 config.es ? strCat("#define SI_MAX_MATERIALS ", kEsMaxMaterials, "\n") : "",
-                spec.defines, material_defines, text);
+                config.vertex_words ? "#define SI_VERTEX_WORDS\n" : "", spec.defines,
+                material_defines, text);
   // The material's lines are numbered from 1 as source string 1 in the compiler's log.
   if (material != nullptr || material_file != nullptr)
     *out += strCat("\n#line 1 1\n", material_text, "\n");

@@ -141,7 +141,16 @@ struct ShaderConfig {
   /// The ES profile: "#version 300 es" (GLSL ES 3.00, WebGL 2's), default precisions and
   /// SI_MAX_MATERIALS (kEsMaxMaterials); only esProgram() programs are built.
   bool es = false;
+  /// SI_VERTEX_WORDS: the mesh's optional vertex words (texture coordinates 1, colours) reach
+  /// the surface. Only the variants drawn for characters whose meshes have them
+  /// (readsVertexWords()): without the define the vertex stages write no output for them.
+  bool vertex_words = false;
 };
+
+/// Whether program `id` comes in a variant for meshes with optional vertex words
+/// (ShaderConfig::vertex_words): it hands a mesh's surface to a material
+/// (surface.frag.glsl, shaded or the impostor capture).
+bool readsVertexWords(ProgramId id);
 
 /// Entries of the material table's uniform block on the ES profile (material_common.glsl):
 /// 32 bytes each, 8 KiB. A character with more materials is refused there (kLimitExceeded).

@@ -188,7 +188,41 @@ Status ProgramSet::buildMaskedDepth() {
   return Status::ok();
 }
 
-const Program& ProgramSet::get(ProgramId id, uint32_t material, bool alpha_masked) const {
+Status ProgramSet::buildVertexWords(uint32_t material) {
+  if (material >= materialCount())
+    return {StatusCode::kInvalidArgument, strCat("no material ", material)};
+  if (material != 0) {
+    const Status s = buildVertexWords(0);  // The programs the material leaves as they are.
+    if (!s.isOk()) return s;
+  }
+  if (vertex_words_.size() <= material) vertex_words_.resize(material + 1);
+  const MaterialSource* source = material == 0 ? nullptr : &materials_[material - 1]->source;
+  ShaderConfig config = config_;
+  config.vertex_words = true;
+  for (size_t i = 0; i < kProgramCount; ++i) {
+    const ProgramId id = ProgramId(i);
+    Program& variant = vertex_words_[material][i];
+    if (programs_[i].id == kNoObject || variant.id != kNoObject || !readsVertexWords(id) ||
+        (source != nullptr && !takesMaterial(id, *source)))
+      continue;
+    GLuint program = kNoObject;
+    const Status s = buildProgram(id, config, source, &program);
+    if (!s.isOk()) return s;
+    if (config_.es) bindEsResources(program);
+    variant = describe(program);
+  }
+  return Status::ok();
+}
+
+const Program& ProgramSet::get(ProgramId id, uint32_t material, bool alpha_masked,
+                               bool vertex_words) const {
+  if (vertex_words) {  // The material's variant where it changes the program, else the built-in's.
+    const bool own = material != 0 && material <= materials_.size() &&
+                     materials_[material - 1]->programs[size_t(id)].id != kNoObject;
+    const uint32_t m = own ? material : 0;
+    if (m < vertex_words_.size() && vertex_words_[m][size_t(id)].id != kNoObject)
+      return vertex_words_[m][size_t(id)];
+  }
   if (material != 0 && material <= materials_.size()) {
     const Program& p = materials_[material - 1]->programs[size_t(id)];
     if (p.id != kNoObject) return p;  // Unset: the material changes nothing.
@@ -208,6 +242,10 @@ void ProgramSet::release() {
     for (const Program& p : m->programs)
       if (p.id != kNoObject) glDeleteProgram(p.id);
   materials_.clear();
+  for (const auto& variants : vertex_words_)
+    for (const Program& p : variants)
+      if (p.id != kNoObject) glDeleteProgram(p.id);
+  vertex_words_.clear();
 }
 
 }  // namespace si::detail

@@ -54,6 +54,12 @@ class ProgramSet {
   /// SI_DEPTH_ONLY and a material that writes nothing, so the surface's alpha-mask discard
   /// (glTF MASK) alone cuts the depth. kBackend with the driver's log when one fails.
   Status buildMaskedDepth();
+  /// Builds, once for `material` (0: the built-in one; a host material also needs the built-in
+  /// variants of the programs it does not change), the variants of the programs that
+  /// readsVertexWords() with ShaderConfig::vertex_words, drawn for characters whose meshes
+  /// have texture coordinates 1 or colours (the others write no output for them). kBackend
+  /// with the driver's log when one fails; kInvalidArgument for an unknown material.
+  Status buildVertexWords(uint32_t material);
   /// Deletes every program (context current). Idempotent.
   void release();
 
@@ -62,8 +68,11 @@ class ProgramSet {
   /// Program `id` drawing material `material` (0: the built-in; the built-in program where
   /// the material does not change it, or for an unknown material) for a character with
   /// alpha-masked materials or without: the depth-only programs of a masked character
-  /// discard by its mask (buildMaskedDepth), unless the material's own do (depth_discard).
-  const Program& get(ProgramId id, uint32_t material, bool alpha_masked) const;
+  /// discard by its mask (buildMaskedDepth), unless the material's own do (depth_discard);
+  /// for a character whose mesh has optional vertex words (`vertex_words`), their variant
+  /// where buildVertexWords() built one.
+  const Program& get(ProgramId id, uint32_t material, bool alpha_masked,
+                     bool vertex_words = false) const;
   /// Materials, the built-in one included.
   uint32_t materialCount() const { return uint32_t(materials_.size()) + 1; }
 
@@ -76,6 +85,9 @@ class ProgramSet {
   LibraryBindings bindings_;  // Of every built-in program (desktop GL): what materials avoid.
   std::array<Program, kProgramCount> programs_{};
   std::array<Program, kProgramCount> masked_depth_{};  // buildMaskedDepth's (kDepth ids only).
+  // buildVertexWords's, by material (0: the built-in one; a host material's hold only the
+  // programs it changes).
+  std::vector<std::array<Program, kProgramCount>> vertex_words_;
   std::vector<std::unique_ptr<MaterialPrograms>> materials_;  // Material index - 1.
 };
 
@@ -84,7 +96,10 @@ struct ProgramTable {
   const ProgramSet* set = nullptr;
   uint32_t material = 0;
   bool alpha_masked = false;  ///< The character has alpha-masked materials.
-  const Program& operator[](ProgramId id) const { return set->get(id, material, alpha_masked); }
+  bool vertex_words = false;  ///< The character's mesh has texture coordinates 1 or colours.
+  const Program& operator[](ProgramId id) const {
+    return set->get(id, material, alpha_masked, vertex_words);
+  }
 };
 
 }  // namespace si::detail

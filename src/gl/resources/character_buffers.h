@@ -49,6 +49,9 @@ struct CharacterBuffers {
   uint32_t tangent_offset = 0;  ///< VertexStream::tangent_offset (0: no tangents).
   uint32_t texcoord1_offset = 0;  ///< VertexStream::texcoord1_offset (0: none).
   uint32_t color_offset = 0;      ///< VertexStream::color_offset (0: no colours).
+  /// The mesh has texture coordinates 1 or colours: its draws take the programs' variants
+  /// that carry them (ProgramSet::buildVertexWords).
+  bool vertexWords() const { return texcoord1_offset != 0 || color_offset != 0; }
   /// A material draws both faces (glTF doubleSided): the character's draws cull no faces.
   bool double_sided = false;
   /// A material is alpha-masked (glTF MASK): the character's depth-only draws discard by it

@@ -8,10 +8,14 @@ layout(location = 0) in vec3 a_position;
 layout(location = 1) in vec3 a_normal;
 layout(location = 2) in vec2 a_texcoord;
 layout(location = 3) in vec4 a_tangent;  // Read only with u_tangents 1.
+#ifdef SI_VERTEX_WORDS
 // Texture coordinates 1 and the colour, where the mesh has them (else other words, which the
 // fragment stage ignores: SiMaterial.layer.w).
 layout(location = 8) in vec2 a_texcoord1;
 layout(location = 9) in vec4 a_vertex_color;
+out vec2 v_texcoord1;
+out vec4 v_vertex_color;
+#endif
 layout(location = 1) uniform mat4 u_view_projection;
 layout(location = 4) uniform uint u_color;
 layout(location = 5) uniform int u_base_vertex;
@@ -21,8 +25,6 @@ out vec3 v_position;  // Camera-relative world position (SiSurface.position).
 out vec3 v_normal;
 out vec4 v_tangent;  // vec4(0) without tangents: no tangent frame.
 out vec2 v_texcoord;
-out vec2 v_texcoord1;
-out vec4 v_vertex_color;
 flat out uint v_color;
 flat out uint v_material;
 flat out uint v_lod;
@@ -30,8 +32,10 @@ void main() {
   v_material = siVertexMaterial(uint(gl_VertexID - u_base_vertex));
   v_normal = a_normal;
   v_texcoord = a_texcoord;
+#ifdef SI_VERTEX_WORDS
   v_texcoord1 = a_texcoord1;
   v_vertex_color = a_vertex_color;
+#endif
   v_color = u_color;
   v_lod = u_lod;
   v_tangent = u_tangents != 0u ? a_tangent : vec4(0.0);

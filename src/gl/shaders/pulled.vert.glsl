@@ -2,7 +2,8 @@
 // Pre-skinning's draw: pulls the pre-skinned vertex of (instance, gl_VertexID) from the ring
 // (SI_TANGENTS, for a character with tangents: its skinned tangent from the tangent ring at the
 // same slot; without, the tangent output is the constant "none", which costs no varying);
-// texture coordinates (both sets) and the colour from the source vertex.
+// texture coordinates from the source vertex (SI_VERTEX_WORDS, for a mesh with texture
+// coordinates 1 or colours: those too).
 // SI_GPU_DRIVEN: the instance is a bucket entry (a_entry = baseInstance + gl_InstanceID, an
 // identity buffer with divisor 1) whose ring base and list offset the GPU-driven passes wrote;
 // otherwise the batch's u_chunk says where its instances are. SI_MOTION_VECTORS: the clip
@@ -50,8 +51,10 @@ out vec3 v_position;  // Camera-relative world position (SiSurface.position).
 out vec3 v_normal;
 out vec4 v_tangent;  // vec4(0) without tangents: no tangent frame.
 out vec2 v_texcoord;
-out vec2 v_texcoord1;      // vec2(0) where the mesh has none.
-out vec4 v_vertex_color;   // vec4(1) where the mesh has none.
+#ifdef SI_VERTEX_WORDS
+out vec2 v_texcoord1;     // vec2(0) where the mesh has none.
+out vec4 v_vertex_color;  // vec4(1) where the mesh has none.
+#endif
 flat out uint v_color;
 flat out uint v_material;
 flat out uint v_lod;
@@ -67,8 +70,10 @@ void main() {
 #endif
   uint source = si_lod_vertices[at.y + k];
   v_texcoord = siSourceTexcoord(at.y, k);
+#ifdef SI_VERTEX_WORDS
   v_texcoord1 = siSourceTexcoord1(source);
   v_vertex_color = siSourceColor(source);
+#endif
   v_material = siVertexMaterial(source);
   uint slot = si_entries[a_entry];  // The visible index.
   v_color = si_records[slot].blend.w;
@@ -82,8 +87,10 @@ void main() {
 #endif
   uint source = si_lod_vertices[u_chunk.z + k];
   v_texcoord = siSourceTexcoord(u_chunk.z, k);
+#ifdef SI_VERTEX_WORDS
   v_texcoord1 = siSourceTexcoord1(source);
   v_vertex_color = siSourceColor(source);
+#endif
   v_material = siVertexMaterial(source);
   v_color = si_instances[u_chunk.w + uint(gl_InstanceID)].blend.w;
   v_lod = u_lod;

@@ -34,11 +34,11 @@ struct SiSurface {
   // Texture coordinate 0 of the mesh (an impostor: the atlas cell's coordinate).
   vec2 uv0;
   // Texture coordinate 1 of the mesh (si::SkinnedMesh::texcoords1, glTF TEXCOORD_1); vec2(0)
-  // where the mesh has none and on impostors.
+  // where the mesh has none, on impostors and in depth-only passes (SI_DEPTH_ONLY).
   vec2 uv1;
   // The vertex colour (si::SkinnedMesh::colors, glTF COLOR_0), linear RGBA, 8 bits a channel
-  // as interpolated; vec4(1) where the mesh has none and on impostors (whose captured
-  // base_color has it already). base_color is multiplied by it.
+  // as interpolated; vec4(1) where the mesh has none, on impostors (whose captured base_color
+  // has it already) and in depth-only passes. base_color is multiplied by it.
   vec4 color;
   // The vertex's entry of the character's material table (si::MaterialTable). An impostor: the
   // largest entry the capture drew among the 2 x 2 nearest texels of the atlas's full

@@ -9,7 +9,8 @@
 // fragment shader's motion output; drawCrowd's previous records through an index,
 // previous_index.glsl; with SI_GPU_DRIVEN the cull pass's previous records),
 // SI_LAYERS (each instance's overlay composed on its mask: siSkinLayered; with SI_COMPOSED_LAYERS
-// its masked slots' rows read from the compose pass, siSkinComposed, layer_compose.glsl).
+// its masked slots' rows read from the compose pass, siSkinComposed, layer_compose.glsl),
+// SI_VERTEX_WORDS (also texture coordinates 1 and the colour: meshes that have them).
 #define SI_VERTEX_MATERIALS
 #if defined(SI_GPU_DRIVEN) && defined(SI_LAYERS)
 #define SI_LAYERS_IN_STORAGE  // The cull pass's layer records, by visible index.
@@ -54,18 +55,21 @@ layout(location = 3) in uvec4 a_joints;
 layout(location = 4) in vec4 a_weights;
 // The tangent (xyz, w the bitangent's sign); w 0 where the mesh has none (the normal's bits).
 layout(location = 7) in vec4 a_tangent;
-// Texture coordinates 1 and the colour; where the mesh has none, other words of the vertex,
-// which the fragment stage ignores (SiMaterial.layer.w).
+#ifdef SI_VERTEX_WORDS
+// Texture coordinates 1 and the colour (the variant for meshes with either); where the mesh
+// has only one, the other reads another word of the vertex, which the fragment stage ignores
+// (SiMaterial.layer.w).
 layout(location = 8) in vec2 a_texcoord1;
 layout(location = 9) in vec4 a_vertex_color;
+out vec2 v_texcoord1;
+out vec4 v_vertex_color;
+#endif
 SI_LOCATION_LAYOUT(1) uniform mat4 u_view_projection;
 out vec3 v_position;  // Camera-relative world position (SiSurface.position).
 out vec3 v_normal;
 out vec4 v_tangent;  // Skinned as the normal is (the seed's S), w kept; cross(N, T) in the
                      // fragment stage gives the bitangent.
 out vec2 v_texcoord;
-out vec2 v_texcoord1;
-out vec4 v_vertex_color;
 flat out uint v_color;
 flat out uint v_material;
 flat out uint v_lod;
@@ -143,8 +147,10 @@ void main() {
   float tangent_length = length(tangent);
   v_tangent = vec4(tangent_length > 0.0 ? tangent / tangent_length : tangent, a_tangent.w);
   v_texcoord = a_texcoord;
+#ifdef SI_VERTEX_WORDS
   v_texcoord1 = a_texcoord1;
   v_vertex_color = a_vertex_color;
+#endif
   v_color = color;
   v_material = siVertexMaterial(uint(gl_VertexID));  // The mesh vertex: no base vertex.
   gl_Position = u_view_projection * vec4(world, 1.0);

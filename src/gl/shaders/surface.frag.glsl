@@ -12,8 +12,10 @@ in vec3 v_position;
 in vec3 v_normal;
 in vec4 v_tangent;  // w 0: the mesh has no tangents (or the path does not carry them).
 in vec2 v_texcoord;
+#ifdef SI_VERTEX_WORDS  // The variant for meshes with texture coordinates 1 or colours.
 in vec2 v_texcoord1;     // Read where the mesh has it (material.layer.w & 1).
 in vec4 v_vertex_color;  // Read where the mesh has it (material.layer.w & 2).
+#endif
 flat in uint v_color;
 flat in uint v_material;
 flat in uint v_lod;
@@ -24,11 +26,13 @@ void main() {
   SiMaterial material = si_materials[v_material];
   uvec4 layer = material.layer;  // Flat: every branch on it is uniform within a primitive.
   vec4 base = texture(u_base_color, vec3(v_texcoord, float(layer.x & 0xFFFFu))) * material.factor;
+#ifdef SI_VERTEX_WORDS
   if ((layer.w & 2u) != 0u) {  // glTF: COLOR_0 multiplies the base colour.
     s.color = v_vertex_color;
     base *= v_vertex_color;
   }
   if ((layer.w & 1u) != 0u) s.uv1 = v_texcoord1;
+#endif
   if (material.emissive.w >= 0.0) {  // Alpha-masked: alpha is coverage, the tint everywhere.
     if (base.a < material.emissive.w) discard;
     base.a = 1.0;
