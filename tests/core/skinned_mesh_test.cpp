@@ -3,20 +3,14 @@
 
 #include <limits>
 
+#include "core/test_helpers.h"
 #include "si/core/skinned_mesh.h"
 
 namespace si {
 namespace {
 
 SkinnedMesh triangle() {
-  SkinnedMesh m;
-  m.positions = {{0, 0, 0}, {1, 0, 0}, {0, 1, 0}};
-  m.normals = {{0, 0, 1}, {0, 0, 1}, {0, 0, 1}};
-  m.joints = {{0, 0, 0, 0}, {1, 0, 0, 0}, {0, 1, 0, 0}};
-  m.weights = {{1, 0, 0, 0}, {1, 0, 0, 0}, {0.5f, 0.5f, 0, 0}};
-  m.indices = {0, 1, 2};
-  m.sub_meshes = {SubMesh{"body", {IndexRange{0, 3}}, 0, {}}};
-  return m;
+  return test::twoJointTriangle();
 }
 
 TEST(SkinnedMesh, ValidityMatrix) {

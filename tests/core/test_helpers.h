@@ -20,6 +20,19 @@ inline constexpr double kFloatInputTolerance = 1e-6;  // Inputs rounded to float
 
 inline constexpr double kPi = 3.14159265358979323846;
 
+/// One triangle weighted to joints 0 and 1 (the third vertex half each), one sub-mesh "body":
+/// valid for a skeleton of two joints.
+inline SkinnedMesh twoJointTriangle() {
+  SkinnedMesh m;
+  m.positions = {{0, 0, 0}, {1, 0, 0}, {0, 1, 0}};
+  m.normals = {{0, 0, 1}, {0, 0, 1}, {0, 0, 1}};
+  m.joints = {{0, 0, 0, 0}, {1, 0, 0, 0}, {0, 1, 0, 0}};
+  m.weights = {{1, 0, 0, 0}, {1, 0, 0, 0}, {0.5f, 0.5f, 0, 0}};
+  m.indices = {0, 1, 2};
+  m.sub_meshes = {SubMesh{"body", {IndexRange{0, 3}}, 0, {}}};
+  return m;
+}
+
 /// A chain of `n` joints, each 1 unit above its parent along +Y, with matching inverse binds.
 inline Skeleton chainSkeleton(size_t n) {
   Skeleton s;

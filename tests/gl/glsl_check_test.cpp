@@ -78,13 +78,19 @@ void forEachStage(const Visit& visit) {
       if (detail::programSpec(ProgramId(p)).file(stage) != nullptr) visit(ProgramId(p), stage);
 }
 
+// The defines of a renderer with blocks of `max_instances` records and 1024 joints.
+detail::ShaderConfig checkConfig(uint32_t max_instances) {
+  detail::ShaderConfig config;
+  config.max_instances = max_instances;
+  config.max_joints = 1024;
+  return config;
+}
+
 TEST(GlslCheck, EveryProgramCompilesWithGlslang) {
   skipWithoutGlslang();
   int compiled = 0;
   for (uint32_t max_instances : {819u, 204u}) {
-    detail::ShaderConfig config;
-    config.max_instances = max_instances;
-    config.max_joints = 1024;
+    const detail::ShaderConfig config = checkConfig(max_instances);
     forEachStage([&](ProgramId id, ShaderStage stage) {
       std::string source;
       ASSERT_TRUE(detail::assembleStage(id, stage, config, &source).isOk());
@@ -102,9 +108,7 @@ TEST(GlslCheck, EveryProgramCompilesWithGlslang) {
 // program that hands a mesh's surface to a material, both stages.
 TEST(GlslCheck, TheVertexWordsVariantsCompileWithGlslang) {
   skipWithoutGlslang();
-  detail::ShaderConfig config;
-  config.max_instances = 819;
-  config.max_joints = 1024;
+  detail::ShaderConfig config = checkConfig(819);
   config.vertex_words = true;
   int programs = 0;
   for (size_t p = 0; p < detail::kProgramCount; ++p) {
@@ -141,9 +145,7 @@ void siMaterial(SiSurface s) {
 // The material assembled into every program that takes one compiles, after "#line 1 1".
 TEST(GlslCheck, AHostMaterialCompilesIntoEveryProgramThatTakesOne) {
   skipWithoutGlslang();
-  detail::ShaderConfig config;
-  config.max_instances = 819;
-  config.max_joints = 1024;
+  const detail::ShaderConfig config = checkConfig(819);
   detail::MaterialSource material;
   material.name = "gbuffer";
   material.text = kGbufferMaterial;
@@ -221,9 +223,7 @@ TEST(GlslCheck, UserShaderOnThePublicIncludeCompiles) {
 // the catalog, and the docs' user shader compiles on the include under "#version 300 es".
 TEST(GlslCheck, TheEsProfilesProgramsCompileAsGlslEs300) {
   skipWithoutGlslang();
-  detail::ShaderConfig config;
-  config.max_instances = 204;
-  config.max_joints = 1024;
+  detail::ShaderConfig config = checkConfig(204);
   config.es = true;
   int compiled = 0;
   forEachStage([&](ProgramId id, ShaderStage stage) {

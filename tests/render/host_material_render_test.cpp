@@ -212,23 +212,18 @@ TEST_P(HostMaterialTest, EveryPathDrawsTheSameImagesIntoMultisampledAndYFlippedT
 }
 
 // A mesh's texture coordinates 1 and vertex colours reach the material on every path: a
-// material writing uv1 and the colour's blue (target 1) and the albedo under a red light
-// (target 0: the colour multiplies the base colour) draws the same images on every path; a
+// material writing uv1 and the colour's blue (target 1) and the albedo's red (target 0: the
+// colour multiplies the base colour) draws the same images on every path; a
 // mesh without them hands the material 0 and white.
 TEST_P(HostMaterialTest, SecondTextureCoordinatesAndVertexColoursReachTheMaterialOnEveryPath) {
   constexpr const char* kVertexWords = R"(
 layout(location = 0) out vec4 o_lit;
 layout(location = 1) out vec4 o_surface;
-layout(std140, binding = 7) uniform HostLight {
-  vec4 host_direction;
-  vec4 host_tone;
-};
 void siMaterial(SiSurface s) {
-  o_lit = vec4(siSurfaceAlbedo(s) * host_tone.rgb, 1.0);
+  o_lit = vec4(siSurfaceAlbedo(s).r, 0.0, 0.0, 1.0);
   o_surface = vec4(s.uv1, s.color.b, s.impostor ? 1.0 : float(s.lod + 1u) / 8.0);
 })";
   TwoTargets targets(kSize);
-  HostLight light(glm::vec3(0.3f, -1.0f, -0.5f), glm::vec3(1.0f, 0.0f, 0.0f));  // Red only.
   CrowdManager crowd;
   sceneCrowd(&crowd);
   Character painted = character();

@@ -8,14 +8,7 @@ layout(location = 0) in vec3 a_position;
 layout(location = 1) in vec3 a_normal;
 layout(location = 2) in vec2 a_texcoord;
 layout(location = 3) in vec4 a_tangent;  // Read only with u_tangents 1.
-#ifdef SI_VERTEX_WORDS
-// Texture coordinates 1 and the colour, where the mesh has them (else other words, which the
-// fragment stage ignores: SiMaterial.layer.w).
-layout(location = 8) in vec2 a_texcoord1;
-layout(location = 9) in vec4 a_vertex_color;
-out vec2 v_texcoord1;
-out vec4 v_vertex_color;
-#endif
+#include "vertex_words.glsl"
 layout(location = 1) uniform mat4 u_view_projection;
 layout(location = 4) uniform uint u_color;
 layout(location = 5) uniform int u_base_vertex;
@@ -32,10 +25,7 @@ void main() {
   v_material = siVertexMaterial(uint(gl_VertexID - u_base_vertex));
   v_normal = a_normal;
   v_texcoord = a_texcoord;
-#ifdef SI_VERTEX_WORDS
-  v_texcoord1 = a_texcoord1;
-  v_vertex_color = a_vertex_color;
-#endif
+  siPassVertexWords();
   v_color = u_color;
   v_lod = u_lod;
   v_tangent = u_tangents != 0u ? a_tangent : vec4(0.0);

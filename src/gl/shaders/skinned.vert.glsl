@@ -55,15 +55,7 @@ layout(location = 3) in uvec4 a_joints;
 layout(location = 4) in vec4 a_weights;
 // The tangent (xyz, w the bitangent's sign); w 0 where the mesh has none (the normal's bits).
 layout(location = 7) in vec4 a_tangent;
-#ifdef SI_VERTEX_WORDS
-// Texture coordinates 1 and the colour (the variant for meshes with either); where the mesh
-// has only one, the other reads another word of the vertex, which the fragment stage ignores
-// (SiMaterial.layer.w).
-layout(location = 8) in vec2 a_texcoord1;
-layout(location = 9) in vec4 a_vertex_color;
-out vec2 v_texcoord1;
-out vec4 v_vertex_color;
-#endif
+#include "vertex_words.glsl"
 SI_LOCATION_LAYOUT(1) uniform mat4 u_view_projection;
 out vec3 v_position;  // Camera-relative world position (SiSurface.position).
 out vec3 v_normal;
@@ -147,10 +139,7 @@ void main() {
   float tangent_length = length(tangent);
   v_tangent = vec4(tangent_length > 0.0 ? tangent / tangent_length : tangent, a_tangent.w);
   v_texcoord = a_texcoord;
-#ifdef SI_VERTEX_WORDS
-  v_texcoord1 = a_texcoord1;
-  v_vertex_color = a_vertex_color;
-#endif
+  siPassVertexWords();
   v_color = color;
   v_material = siVertexMaterial(uint(gl_VertexID));  // The mesh vertex: no base vertex.
   gl_Position = u_view_projection * vec4(world, 1.0);
