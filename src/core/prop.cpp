@@ -8,6 +8,7 @@
 #include <limits>
 
 #include "core/str_cat.h"
+#include "core/vertex_checks.h"
 #include "si/core/transform.h"
 
 namespace si {
@@ -85,18 +86,15 @@ Status PropMesh::validate() const {
   if (s.isOk()) s = count(vertex_materials.size(), "vertex_materials", true);
   if (!s.isOk()) return s;
   for (size_t v = 0; v < n; ++v) {
-    const bool ok =
-        isFinite(positions[v]) && isFinite(normals[v]) &&
-        (tangents.empty() || isFinite(tangents[v])) &&
-        (texcoords.empty() || (std::isfinite(texcoords[v].x) && std::isfinite(texcoords[v].y))) &&
-        (texcoords1.empty() ||
-         (std::isfinite(texcoords1[v].x) && std::isfinite(texcoords1[v].y))) &&
-        (colors.empty() || isFinite(colors[v]));
+    const bool ok = isFinite(positions[v]) && isFinite(normals[v]) &&
+                    (tangents.empty() || isFinite(tangents[v])) &&
+                    (texcoords.empty() || detail::isFinite2(texcoords[v])) &&
+                    (texcoords1.empty() || detail::isFinite2(texcoords1[v])) &&
+                    (colors.empty() || isFinite(colors[v]));
     if (!ok)
       return {StatusCode::kNotFinite,
               strCat(where("vertex "), v, " has a value that is not finite")};
-    if (!colors.empty() && (glm::any(glm::lessThan(colors[v], glm::vec4(0.0f))) ||
-                            glm::any(glm::greaterThan(colors[v], glm::vec4(1.0f)))))
+    if (!colors.empty() && !detail::inUnitRange(colors[v]))
       return {StatusCode::kOutOfRange, strCat(where("vertex "), v, " has a colour outside [0, 1]")};
   }
   for (size_t i = 0; i < indices.size(); ++i)

@@ -5,6 +5,7 @@
 #include <cmath>
 
 #include "core/str_cat.h"
+#include "core/vertex_checks.h"
 #include "si/core/transform.h"
 
 namespace si {
@@ -21,10 +22,6 @@ size_t SkinnedMesh::triangleCount(size_t sub_mesh, size_t lod) const {
   const auto& lods = sub_meshes[sub_mesh].lods;
   return lods[std::min(lod, lods.size() - 1)].index_count / 3;
 }
-
-namespace {
-bool finite2(const glm::vec2& v) { return std::isfinite(v.x) && std::isfinite(v.y); }
-}  // namespace
 
 Status SkinnedMesh::validate(size_t joint_count) const {
   const size_t n = positions.size();
@@ -49,14 +46,13 @@ Status SkinnedMesh::validate(size_t joint_count) const {
       return {StatusCode::kNotFinite, strCat("mesh: normal ", v, " is not finite")};
     if (!tangents.empty() && !isFinite(tangents[v]))
       return {StatusCode::kNotFinite, strCat("mesh: tangent ", v, " is not finite")};
-    if (!texcoords.empty() && !finite2(texcoords[v]))
+    if (!texcoords.empty() && !detail::isFinite2(texcoords[v]))
       return {StatusCode::kNotFinite, strCat("mesh: texcoord ", v, " is not finite")};
-    if (!texcoords1.empty() && !finite2(texcoords1[v]))
+    if (!texcoords1.empty() && !detail::isFinite2(texcoords1[v]))
       return {StatusCode::kNotFinite, strCat("mesh: texcoord1 ", v, " is not finite")};
     if (!colors.empty() && !isFinite(colors[v]))
       return {StatusCode::kNotFinite, strCat("mesh: color ", v, " is not finite")};
-    if (!colors.empty() && (glm::any(glm::lessThan(colors[v], glm::vec4(0.0f))) ||
-                            glm::any(glm::greaterThan(colors[v], glm::vec4(1.0f)))))
+    if (!colors.empty() && !detail::inUnitRange(colors[v]))
       return {StatusCode::kOutOfRange, strCat("mesh: color ", v, " is outside [0, 1]")};
     const glm::vec4& w = weights[v];
     if (!isFinite(w)) return {StatusCode::kNotFinite, strCat("mesh: weights ", v, " not finite")};

@@ -79,10 +79,9 @@ Status Renderer::replaceCharacter(CharacterId id, const Character& character,
                                   const BakedPalette& palette) {
   if (!impl_) return {StatusCode::kInvalidArgument, "Renderer: init() first"};
   Impl& m = *impl_;
-  if (id.index >= m.characters.size())
-    return {StatusCode::kInvalidArgument,
-            strCat("replaceCharacter: no character ", id.index, " (", m.characters.size(),
-                   " added; addCharacter gives the ids)")};
+  detail::CharacterSlot* replaced = nullptr;
+  const Status found = m.find(id, "replaceCharacter", &replaced);
+  if (!found.isOk()) return found;
   const auto guard = m.enter("replaceCharacter", detail::uploadFootprint());
   auto slot = std::make_unique<detail::CharacterSlot>();
   const Status s =
@@ -91,8 +90,8 @@ Status Renderer::replaceCharacter(CharacterId id, const Character& character,
     slot->release();
     return s;
   }
-  slot->material = m.characters[id.index]->material;
-  m.characters[id.index]->release();
+  slot->material = replaced->material;
+  replaced->release();
   m.characters[id.index] = std::move(slot);
   return Status::ok();
 }

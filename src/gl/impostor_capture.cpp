@@ -65,14 +65,13 @@ bool Renderer::hasImpostor(CharacterId id) const {
 Status Renderer::buildImpostor(CharacterId id, const ImpostorDesc& desc, ImpostorInfo* info) {
   if (!impl_) return {StatusCode::kInvalidArgument, "Renderer: init() first"};
   Impl& m = *impl_;
-  if (id.index >= m.characters.size() || !m.characters[id.index]->ready())
-    return {StatusCode::kInvalidArgument,
-            strCat("buildImpostor: no character ", id.index, " (", m.characters.size(),
-                   " added; addCharacter gives the ids)")};
+  detail::CharacterSlot* slot = nullptr;
+  const Status found = m.find(id, "buildImpostor", &slot);
+  if (!found.isOk()) return found;
   const Status es =
       m.esRefuses("buildImpostor", "impostor programs (their clip table is a storage buffer)");
   if (!es.isOk()) return es;
-  detail::CharacterSlot& c = *m.characters[id.index];
+  detail::CharacterSlot& c = *slot;
   const BakedPalette& palette = *c.palette.palette();
   const uint32_t azimuths = desc.azimuths ? desc.azimuths : 16u;
   const std::vector<float> elevations =

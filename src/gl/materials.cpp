@@ -49,20 +49,18 @@ Status Renderer::addMaterial(const MaterialDesc& desc, MaterialId* id) {
 Status Renderer::setMaterial(CharacterId character, MaterialId material) {
   if (!impl_) return {StatusCode::kInvalidArgument, "Renderer: init() first"};
   Impl& m = *impl_;
-  if (character.index >= m.characters.size())
-    return {StatusCode::kInvalidArgument,
-            strCat("setMaterial: no character ", character.index, " (", m.characters.size(),
-                   " added; addCharacter gives the ids)")};
+  detail::CharacterSlot* c = nullptr;
+  const Status found = m.find(character, "setMaterial", &c);
+  if (!found.isOk()) return found;
   if (material.index >= m.programs.materialCount())
     return {StatusCode::kInvalidArgument,
             strCat("setMaterial: no material ", material.index, " (", m.programs.materialCount(),
                    " with the built-in one; addMaterial gives the ids)")};
-  detail::CharacterSlot& c = *m.characters[character.index];
-  if (c.character.vertexWords()) {  // Its variants of the material's programs, built once.
+  if (c->character.vertexWords()) {  // Its variants of the material's programs, built once.
     const Status s = m.programs.buildVertexWords(material.index);
     if (!s.isOk()) return {s.code(), strCat("setMaterial: ", s.message())};
   }
-  c.material = material.index;
+  c->material = material.index;
   return Status::ok();
 }
 

@@ -233,18 +233,17 @@ const Program& ProgramSet::get(ProgramId id, uint32_t material, bool alpha_maske
 
 void ProgramSet::release() {
   bindings_ = LibraryBindings();
-  for (auto* set : {&programs_, &masked_depth_})
-    for (Program& p : *set) {
+  const auto drop = [](std::array<Program, kProgramCount>& set) {
+    for (Program& p : set) {
       if (p.id != kNoObject) glDeleteProgram(p.id);
       p = Program();
     }
-  for (const auto& m : materials_)
-    for (const Program& p : m->programs)
-      if (p.id != kNoObject) glDeleteProgram(p.id);
+  };
+  drop(programs_);
+  drop(masked_depth_);
+  for (const auto& m : materials_) drop(m->programs);
   materials_.clear();
-  for (const auto& variants : vertex_words_)
-    for (const Program& p : variants)
-      if (p.id != kNoObject) glDeleteProgram(p.id);
+  for (auto& variants : vertex_words_) drop(variants);
   vertex_words_.clear();
 }
 

@@ -62,39 +62,27 @@ void main() {
   uint k = uint(gl_VertexID);
 #ifdef SI_GPU_DRIVEN
   uvec2 at = si_entry_data[a_entry];
-  uint ring = at.x + k;
-  vec4 s = si_skinned[ring];
-#ifdef SI_MOTION_VECTORS
-  v_motion_current = u_motion_view_projection * vec4(s.xyz, 1.0);
-  v_motion_previous = u_previous_view_projection * vec4(si_skinned_previous[ring].xyz, 1.0);
-#endif
-  uint source = si_lod_vertices[at.y + k];
-  v_texcoord = siSourceTexcoord(at.y, k);
-#ifdef SI_VERTEX_WORDS
-  v_texcoord1 = siSourceTexcoord1(source);
-  v_vertex_color = siSourceColor(source);
-#endif
-  v_material = siVertexMaterial(source);
+  uint ring = at.x + k, list = at.y;
   uint slot = si_entries[a_entry];  // The visible index.
   v_color = si_records[slot].blend.w;
   v_lod = si_visible[slot].y;
 #else
-  uint ring = u_chunk.x + uint(gl_InstanceID) * u_chunk.y + k;
+  uint ring = u_chunk.x + uint(gl_InstanceID) * u_chunk.y + k, list = u_chunk.z;
+  v_color = si_instances[u_chunk.w + uint(gl_InstanceID)].blend.w;
+  v_lod = u_lod;
+#endif
   vec4 s = si_skinned[ring];
 #ifdef SI_MOTION_VECTORS
   v_motion_current = u_motion_view_projection * vec4(s.xyz, 1.0);
   v_motion_previous = u_previous_view_projection * vec4(si_skinned_previous[ring].xyz, 1.0);
 #endif
-  uint source = si_lod_vertices[u_chunk.z + k];
-  v_texcoord = siSourceTexcoord(u_chunk.z, k);
+  uint source = si_lod_vertices[list + k];
+  v_texcoord = siSourceTexcoord(list, k);
 #ifdef SI_VERTEX_WORDS
   v_texcoord1 = siSourceTexcoord1(source);
   v_vertex_color = siSourceColor(source);
 #endif
   v_material = siVertexMaterial(source);
-  v_color = si_instances[u_chunk.w + uint(gl_InstanceID)].blend.w;
-  v_lod = u_lod;
-#endif
 #ifdef SI_TANGENTS
   v_tangent = siUnpackTangent(si_tangents[ring]);
 #else
