@@ -237,6 +237,28 @@ Status InstanceBatcher::buildPreviousIndices(const CrowdView& crowd, Span<uint8_
   return Status::ok();
 }
 
+size_t InstanceBatcher::handleBufferBound(const CrowdView& crowd) const {
+  return layerBufferBound(crowd) / kLayerRecordSize * sizeof(uint32_t);
+}
+
+Status InstanceBatcher::buildHandles(const CrowdView& crowd, Span<uint8_t> out) const {
+  if (capacity_ == 0) return {StatusCode::kInvalidArgument, "InstanceBatcher: init() first"};
+  const size_t bound = handleBufferBound(crowd);
+  if (out.size() < bound)
+    return {StatusCode::kCountMismatch,
+            strCat("InstanceBatcher::buildHandles: the buffer holds ", out.size(),
+                   " bytes, the frame's handles need ", bound)};
+  const Span<const InstanceHandle> handles = crowd.visibleHandles();
+  static_assert(sizeof(InstanceHandle) == sizeof(uint32_t), "a handle is its 32-bit id");
+  uint8_t* base = out.data();
+  walkBatches(crowd, capacity_, alignment_, nullptr,
+              [&](const DrawBatch& d, uint32_t slot, uint32_t first, uint32_t count) {
+                std::memcpy(base + (d.layer_byte_offset / kLayerRecordSize + slot) * 4,
+                            handles.data() + first, size_t(count) * sizeof(uint32_t));
+              });
+  return Status::ok();
+}
+
 Status InstanceBatcher::buildRecordPlaces(const CrowdView& crowd, Span<uint32_t> out) const {
   if (capacity_ == 0) return {StatusCode::kInvalidArgument, "InstanceBatcher: init() first"};
   const size_t records = crowd.records().size();

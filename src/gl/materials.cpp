@@ -37,6 +37,7 @@ Status Renderer::addMaterial(const MaterialDesc& desc, MaterialId* id) {
   source.name = desc.name;
   source.text = desc.source;
   source.depth_discard = desc.depth_discard;
+  source.instance_handle = desc.instance_handle;
   uint32_t index = 0;
   s = m.programs.addMaterial(source, &index);
   if (!s.isOk()) return {s.code(), strCat("addMaterial: ", s.message())};

@@ -234,9 +234,13 @@ Status Renderer::drawCrowd(CharacterId id, const CrowdView& view, const Instance
   const uint64_t storage_limit = m.info.max_shader_storage_block_size_bytes;
   detail::RingFrame plan;
   const detail::DrawnRegion* last = nullptr;
+  detail::RingContents contents;
+  contents.motion = motion;
+  contents.layers = layers;
+  contents.handles = m.resources(*c).programs.instanceHandle();  // MaterialDesc::instance_handle
   s = detail::reserveRingFrame(batcher, view,
                                std::max(m.alignment, m.info.storage_buffer_offset_alignment),
-                               motion, layers, storage_limit, m.drawn, &m.ring, &plan, &last);
+                               contents, storage_limit, m.drawn, &m.ring, &plan, &last);
   size_t base = 0;
   if (s.isOk()) s = m.ring.acquire(&base);
   if (s.isOk())
@@ -288,6 +292,9 @@ Status Renderer::drawCrowd(CharacterId id, const CrowdView& view, const Instance
                                                         m.ring.mapped(frame.compose_table_base));
   m.ring.publish(base, frame.composed ? plan.compose_table + frame.compose_batches * 16 : plan.end);
   frame.impostor_lod = mode == DrawMode::kRigid ? 0 : crowd.desc().impostor_lod;
+  frame.handles = plan.handles;
+  frame.handle_base = base + plan.handle_words;
+  frame.handle_bytes = plan.handles_end - plan.handle_words;
   frame.motion_view_projection = view.camera().viewProjection();
   frame.previous_view_projection = view.previousCamera().viewProjection();
   detail::DrawPath& path = mode == DrawMode::kComputeSkinned

@@ -132,6 +132,39 @@ TEST_F(BatcherScene, BatchesRespectCapacityAlignmentAndCoverEveryEntryOnce) {
   }
 }
 
+// buildHandles (host materials that read the instance handle): in buildLayers' slot numbering,
+// each slot holds the handle of the instance whose record build() put in that slot.
+TEST_F(BatcherScene, HandlesSitInTheSlotsOfTheirRecords) {
+  const CrowdView& view = crowd_.view();
+  for (BatchLimits limits : {BatchLimits{65536, 256, 0}, BatchLimits{16384, 16, 0}}) {
+    InstanceBatcher b;
+    ASSERT_TRUE(b.init(limits).isOk());
+    std::vector<uint8_t> records(b.recordBufferBound(view)), handles(b.handleBufferBound(view));
+    EXPECT_EQ(handles.size(), b.layerBufferBound(view) / 4);
+    std::vector<DrawBatch> draws;
+    ASSERT_TRUE(b.build(view, records, &draws).isOk());
+    ASSERT_TRUE(b.buildHandles(view, handles).isOk());
+    size_t d_index = 0, checked = 0;
+    for (uint32_t bucket = 0; bucket < crowd_.bucketCount(); ++bucket) {
+      uint32_t entry = crowd_.bucketOffsets()[bucket];
+      while (entry < crowd_.bucketOffsets()[bucket + 1]) {
+        const DrawBatch& d = draws[d_index++];
+        for (uint32_t k = 0; k < d.instance_count; ++k, ++entry, ++checked) {
+          uint32_t id = 0;
+          std::memcpy(&id, handles.data() + (d.layer_byte_offset / kLayerRecordSize + k) * 4, 4);
+          ASSERT_EQ(id, view.visibleHandles()[crowd_.bucketEntries()[entry]].id);
+        }
+      }
+    }
+    EXPECT_EQ(checked, crowd_.stats().bucket_entries);
+    std::vector<uint8_t> small(handles.size() - 1, 0xAB);
+    EXPECT_EQ(b.buildHandles(view, small).code(), StatusCode::kCountMismatch);
+    EXPECT_EQ(small, std::vector<uint8_t>(handles.size() - 1, 0xAB));  // Nothing written.
+  }
+  std::vector<uint8_t> any(64);
+  EXPECT_EQ(InstanceBatcher().buildHandles(view, any).code(), StatusCode::kInvalidArgument);
+}
+
 TEST_F(BatcherScene, WornSubMeshesOnlyAndEveryVisibleInstanceInItsLodBuckets) {
   const uint32_t sub_meshes = crowd_.desc().sub_mesh_count;
   std::vector<uint32_t> seen(crowd_.records().size(), 0);

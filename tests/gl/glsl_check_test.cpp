@@ -172,6 +172,41 @@ TEST(GlslCheck, AHostMaterialCompilesIntoEveryProgramThatTakesOne) {
   EXPECT_EQ(source.find("siMaterial"), std::string::npos);
 }
 
+// A material that reads the instance handle (MaterialDesc::instance_handle): both stages of
+// every program that takes it get SI_INSTANCE_HANDLE and compile; the others do not.
+TEST(GlslCheck, TheInstanceHandleVariantsCompileWithGlslang) {
+  skipWithoutGlslang();
+  const detail::ShaderConfig config = checkConfig(819);
+  detail::MaterialSource material;
+  material.name = "handles";
+  material.text =
+      "layout(location = 0) out vec4 o;\n"
+      "void siMaterial(SiSurface s) {\n"
+      "  if (s.instance == 7u) discard;\n"
+      "  o = unpackUnorm4x8(s.instance);\n"
+      "}\n";
+  material.depth_discard = true;
+  material.instance_handle = true;
+  int programs = 0;
+  for (size_t p = 0; p < detail::kProgramCount; ++p) {
+    const ProgramId id = ProgramId(p);
+    const bool takes = detail::takesMaterial(id, material);
+    programs += takes;
+    for (ShaderStage stage :
+         {ShaderStage::kVertex, ShaderStage::kFragment, ShaderStage::kCompute}) {
+      if (detail::programSpec(id).file(stage) == nullptr) continue;
+      std::string source;
+      ASSERT_TRUE(detail::assembleStage(id, stage, config, &source, &material).isOk());
+      EXPECT_EQ(source.find("#define SI_INSTANCE_HANDLE\n") != std::string::npos, takes)
+          << detail::programSpec(id).name;
+      if (takes)
+        EXPECT_EQ(compileWithGlslang(source, stageExtension(stage), fileName(id, "", "_handle")),
+                  "");
+    }
+  }
+  EXPECT_EQ(programs, 25 + 7);  // As AHostMaterialCompilesIntoEveryProgramThatTakesOne counts.
+}
+
 TEST(GlslCheck, AssembleNamesAMissingStage) {
   std::string source;
   EXPECT_EQ(detail::assembleStage(ProgramId::kCull, ShaderStage::kVertex, {}, &source).code(),

@@ -151,6 +151,16 @@ class InstanceBatcher {
   Status buildRecordPlaces(const CrowdView& view, Span<uint32_t> out) const;
   static constexpr uint32_t kNoRecordPlace = 0xFFFFFFFFu;
 
+  /// Materials that read the drawn instance's handle (si::MaterialDesc::instance_handle):
+  /// bytes buildHandles() needs (4 per slot, in buildLayers()' slot numbering).
+  size_t handleBufferBound(const CrowdView& view) const;
+  /// Writes, for each slot of build()'s draws, its instance's InstanceHandle::id
+  /// (CrowdView::visibleHandles()) as a 32-bit word at (layer_byte_offset / 16 + slot) * 4: a
+  /// shader finds its instance's handle at its batch's first slot plus gl_InstanceID (what
+  /// drawCrowd does, shaders/instance_handle.glsl). kInvalidArgument if not initialized;
+  /// kCountMismatch when `out` is smaller than handleBufferBound() (nothing written).
+  Status buildHandles(const CrowdView& view, Span<uint8_t> out) const;
+
   /// Layered animation: bytes buildLayers() needs (each batch's layer records padded to the
   /// alignment).
   size_t layerBufferBound(const CrowdView& view) const;

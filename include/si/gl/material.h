@@ -7,9 +7,10 @@
 /// pre-skinning, GPU-driven with and without occlusion culling, impostors, the traditional and
 /// CPU-skinning baselines). The library builds the fragment's surface (si_surface.glsl: position,
 /// skinned normal, texture coordinates, the material table's base colour, tint, custom layer,
-/// LOD, impostor, motion clip positions) and calls the material's `siMaterial`, which writes
-/// the material's own outputs: one colour target, or a G-buffer of several. The built-in look
-/// (si::kBuiltinMaterial, shaders/builtin_material.glsl) is such a material.
+/// LOD, impostor, motion clip positions, the instance's handle on request) and calls the material's
+/// `siMaterial`, which writes the material's own outputs: one colour target, or a G-buffer of
+/// several. The built-in look (si::kBuiltinMaterial, shaders/builtin_material.glsl) is such a
+/// material.
 ///
 /// Usage (docs/rendering.md, "Materials"):
 /// \code
@@ -57,7 +58,8 @@ struct MaterialDesc {
   /// the host before it draws), helper functions, and
   ///   void siMaterial(SiSurface surface);
   /// which writes the outputs and may `discard`. No `#version` line (the renderer writes it).
-  /// The defines SI_MOTION_VECTORS, SI_DEPTH_ONLY and SI_IMPOSTOR tell which pass compiles it.
+  /// The defines SI_MOTION_VECTORS, SI_DEPTH_ONLY and SI_IMPOSTOR tell which pass compiles it,
+  /// SI_INSTANCE_HANDLE that `instance_handle` is set.
   /// Not allowed, and refused by addMaterial: a loose (default-block) uniform that is not a
   /// sampler (nothing could set it: the programs are the library's), and a sampler, uniform
   /// block or storage block at a texture unit or binding the library's draw of that path binds
@@ -68,6 +70,12 @@ struct MaterialDesc {
   /// then masked. False (the default): depth-only draws write every covered fragment's depth
   /// without running it.
   bool depth_discard = false;
+  /// The material reads SiSurface.instance, the drawn instance's InstanceHandle::id (to pick
+  /// out, highlight or key the engine's own per-instance data). Its programs then pass the
+  /// handle from the vertex stage (one flat word), and drawCrowd writes 4 bytes a drawn
+  /// instance into its ring region for it; a material that leaves this false pays nothing and
+  /// reads 0 (the null handle).
+  bool instance_handle = false;
 
   /// ok, or kInvalidArgument naming the rule broken: a non-empty name; a non-empty source with
   /// no `#version` line.

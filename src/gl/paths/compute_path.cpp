@@ -61,6 +61,7 @@ Status ComputePath::draw(const DrawResources& r, const PathFrame& f, DrawStats* 
   bindPreSkinning(r, ring, lists.lod_vertex_list,
                   lists.tangents ? r.scratch->compute_tangent_ring.buffer : kNoObject);
   bindAppearance(r, pulled);
+  bindSlotHandles(r, f);
   setCameraUniforms(pulled, f.camera, f.light);
   glBindVertexArray(vao_);
   // A dispatch's groups go in rows (dispatchGroups): only the ring bounds a chunk.
@@ -75,6 +76,7 @@ Status ComputePath::draw(const DrawResources& r, const PathFrame& f, DrawStats* 
       glProgramUniform4ui(pulled.id, 5, p.ring_first, p.lod.vertex_count, p.lod.vertex_offset,
                           p.first_instance);
       glProgramUniform2ui(pulled.id, 6, p.instances, lists.drawLayout());
+      setBatchSlot(pulled, p.batch);
       if (pulled.lod >= 0) glProgramUniform1ui(pulled.id, pulled.lod, p.batch.lod);
       glDrawElementsInstanced(GL_TRIANGLES, GLsizei(p.lod.index_count), GL_UNSIGNED_INT,
                               reinterpret_cast<const void*>(uintptr_t(p.lod.first_index) * 4),
@@ -110,8 +112,7 @@ Status ComputePath::draw(const DrawResources& r, const PathFrame& f, DrawStats* 
         glUseProgram(skin.id);
       }
       r.ring->bindBatch(f.ring_base, d);
-      if (f.motion || f.composed)  // Its previous indices and composed records: its first slot.
-        glProgramUniform1ui(skin.id, 7, d.layer_byte_offset / kLayerRecordSize);
+      setBatchSlot(skin, d);  // Where its previous indices and composed records start.
       if (f.layers) r.ring->bindLayers(f.layer_base, d);
       if (f.layers && f.motion) r.ring->bindLayers(f.previous_layer_base, d, 3);
       glProgramUniform4ui(skin.id, 5, uint32_t(cursor), l.vertex_count, l.vertex_offset, first);

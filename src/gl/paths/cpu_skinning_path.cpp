@@ -95,6 +95,8 @@ Status CpuSkinningPath::draw(const DrawResources& r, const PathFrame& f, DrawSta
       glProgramUniform1ui(program.id, 4, d.color);
       glProgramUniform1i(program.id, 5, d.base_vertex);
       if (program.lod >= 0) glProgramUniform1ui(program.id, program.lod, d.lod);
+      if (program.instance_handle >= 0)
+        glProgramUniform1ui(program.id, program.instance_handle, d.handle);
       glDrawElementsBaseVertex(GL_TRIANGLES, GLsizei(d.range.index_count), GL_UNSIGNED_INT,
                                reinterpret_cast<const void*>(uintptr_t(d.range.first_index) * 4),
                                d.base_vertex);
@@ -162,8 +164,8 @@ Status CpuSkinningPath::draw(const DrawResources& r, const PathFrame& f, DrawSta
         const glm::vec4 skinned = length > 0.0f ? glm::vec4(turned / length, t.w) : glm::vec4(0.0f);
         std::memcpy(bytes + tangent_offset_, &skinned[0], sizeof(skinned));
       }
-      pending_.push_back(
-          {sub_meshes[sm].lods[lod_index], first - GLint(vr.x), rec.blend[3], lod});
+      pending_.push_back({sub_meshes[sm].lods[lod_index], first - GLint(vr.x), rec.blend[3], lod,
+                          view.visibleHandles()[v].id});
     }
   }
   flush();

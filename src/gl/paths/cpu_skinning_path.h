@@ -23,6 +23,7 @@ class CpuSkinningPath final : public DrawPath {
     GLint base_vertex;
     uint32_t color;
     uint32_t lod;
+    uint32_t handle;  ///< Its InstanceHandle::id (a material may read it).
   };
   GLuint vao_ = kNoObject;  // Its vertex buffer: ScratchBuffers::cpu_stream.
   std::vector<uint8_t> vertices_;

@@ -51,6 +51,15 @@ void bindPreviousRecords(const DrawResources& r, const Program& program, const P
   glProgramUniform3f(program.id, 9, f.previous_shift.x, f.previous_shift.y, f.previous_shift.z);
 }
 
+void bindSlotHandles(const DrawResources& r, const PathFrame& f) {
+  if (f.handles) r.ring->bindRegion(f.handle_base, f.handle_bytes, 29);
+}
+
+void setBatchSlot(const Program& program, const DrawBatch& d) {
+  if (program.batch_slot >= 0)
+    glProgramUniform1ui(program.id, program.batch_slot, d.layer_byte_offset / kLayerRecordSize);
+}
+
 Status dispatchGroups(const GlInfo& info, uint64_t groups, const char* what) {
   DispatchGrid grid;
   if (!dispatchGrid(groups, info.max_compute_groups_x, info.max_compute_groups_y, &grid))

@@ -101,6 +101,12 @@ struct PathFrame {
   /// The crowd's impostor level (CrowdDesc::impostor_lod; 0 none): its instances are drawn as
   /// impostor quads (impostor_draw.h), not as meshes.
   uint32_t impostor_lod = 0;
+  /// A material that reads the instance handle (MaterialDesc::instance_handle): each slot's
+  /// handle (InstanceBatcher::buildHandles), `handle_bytes` at `handle_base` of the ring,
+  /// bound at storage binding 29 (shaders/instance_handle.glsl).
+  bool handles = false;
+  size_t handle_base = 0;
+  size_t handle_bytes = 0;
 };
 
 class DrawPath {
@@ -136,6 +142,14 @@ void setMotionUniforms(const Program& program, const PathFrame& frame);
 /// Motion vectors of drawCrowd: binds `frame`'s previous-record blocks at storage binding 25
 /// and sets `program`'s previous_index.glsl uniforms (locations 8 and 9).
 void bindPreviousRecords(const DrawResources& r, const Program& program, const PathFrame& frame);
+
+/// A material that reads the instance handle: binds `frame`'s slot handles at storage binding
+/// 29 (nothing without).
+void bindSlotHandles(const DrawResources& r, const PathFrame& frame);
+
+/// Sets `batch`'s first slot (shaders/batch_slot.glsl) where `program` reads one: its composed
+/// rows, previous indices or instance handles start there.
+void setBatchSlot(const Program& program, const DrawBatch& batch);
 
 /// Dispatches `groups` groups of 64 invocations for the bound program (which indexes them with
 /// siFlatInvocation(), shaders/dispatch_index.glsl) in rows within GlInfo's limits

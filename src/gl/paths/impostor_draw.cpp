@@ -22,14 +22,18 @@ void drawImpostorBatches(const DrawResources& r, const PathFrame& f, bool depth_
                          DrawStats* st) {
   if (f.impostor_lod == 0 || r.impostor == nullptr || !r.impostor->ready()) return;
   bool bound = false;
+  const ProgramId id = depth_only ? ProgramId::kImpostorDepthOnly : ProgramId::kImpostor;
+  const Program& program = r.programs[id];
   for (const DrawBatch& d : *f.batches) {
     if (d.lod != f.impostor_lod || d.sub_mesh != 0) continue;
     if (!bound) {
-      useImpostorProgram(r, f, depth_only ? ProgramId::kImpostorDepthOnly : ProgramId::kImpostor);
+      useImpostorProgram(r, f, id);
       if (depth_only) glColorMask(GL_FALSE, GL_FALSE, GL_FALSE, GL_FALSE);
+      bindSlotHandles(r, f);
       bound = true;
     }
     r.ring->bindBatch(f.ring_base, d);
+    setBatchSlot(program, d);
     glDrawArraysInstanced(GL_TRIANGLE_STRIP, 0, 4, GLsizei(d.instance_count));
     ++st->draw_calls;
     st->triangles += uint64_t(2) * d.instance_count;

@@ -48,6 +48,8 @@ Status TraditionalPath::draw(const DrawResources& r, const PathFrame& f, DrawSta
     uint32_t lod = 0;
     if (!view.lodOf(view.visibleHandles()[v], &lod).isOk()) continue;
     if (program.lod >= 0) glProgramUniform1ui(program.id, program.lod, lod);
+    if (program.instance_handle >= 0)
+      glProgramUniform1ui(program.id, program.instance_handle, view.visibleHandles()[v].id);
     InstanceDesc desc;
     if (!crowd.get(view.visibleHandles()[v], &desc).isOk()) continue;
     for (uint32_t sm = 0; sm < sub_meshes && sm < r.character->sub_meshes.size(); ++sm) {

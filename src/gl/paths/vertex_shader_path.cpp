@@ -16,6 +16,7 @@ Status VertexShaderPath::draw(const DrawResources& r, const PathFrame& f, DrawSt
   bindShading(r, program, f.camera, f.light);
   setMotionUniforms(program, f);
   if (f.motion) bindPreviousRecords(r, program, f);
+  bindSlotHandles(r, f);
   if (depth_only) glColorMask(GL_FALSE, GL_FALSE, GL_FALSE, GL_FALSE);
   for (const DrawBatch& d : *f.batches) {
     if (d.sub_mesh >= r.character->sub_meshes.size()) continue;
@@ -24,8 +25,7 @@ Status VertexShaderPath::draw(const DrawResources& r, const PathFrame& f, DrawSt
     r.ring->bindBatch(f.ring_base, d);
     if (f.layers) r.ring->bindLayers(f.layer_base, d);
     if (f.layers && f.motion) r.ring->bindLayers(f.previous_layer_base, d, 3);
-    if (f.composed || f.motion)  // Its composed records and previous indices: its first slot.
-      glProgramUniform1ui(program.id, 7, d.layer_byte_offset / kLayerRecordSize);
+    setBatchSlot(program, d);
     if (program.lod >= 0) glProgramUniform1ui(program.id, program.lod, d.lod);
     glDrawElementsInstanced(GL_TRIANGLES, GLsizei(range.index_count), GL_UNSIGNED_INT,
                             reinterpret_cast<const void*>(uintptr_t(range.first_index) * 4),

@@ -240,6 +240,8 @@ Status assembleStage(ProgramId id, ShaderStage stage, const ShaderConfig& config
   // The fragment stage's material: its text after the stage's file (which declares siMaterial).
   const char* material_file = nullptr;
   std::string material_defines;
+  if (material != nullptr && material->instance_handle && takesMaterial(id, *material))
+    material_defines = "#define SI_INSTANCE_HANDLE\n";
   if (stage != ShaderStage::kFragment) {
     material = nullptr;  // Only the fragment stage takes a material.
   } else {
@@ -252,7 +254,7 @@ Status assembleStage(ProgramId id, ShaderStage stage, const ShaderConfig& config
       material = nullptr;
     } else if (use == MaterialUse::kDepth && discards) {
       file = "surface.frag.glsl";
-      material_defines = "#define SI_DEPTH_ONLY\n";
+      material_defines += "#define SI_DEPTH_ONLY\n";
     } else {
       material = nullptr;
     }

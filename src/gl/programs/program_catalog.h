@@ -128,6 +128,7 @@ struct MaterialSource {
   std::string name;
   std::string text;
   bool depth_discard = false;
+  bool instance_handle = false;  ///< SI_INSTANCE_HANDLE in both stages of the programs it takes.
 };
 
 /// Whether program `id` differs between `material` and the built-in material: its fragment
@@ -173,7 +174,9 @@ const EsBinding* esBindings(size_t* count);
 
 /// The source of one stage as the driver compiles it: "#version 450 core" (or the ES
 /// profile's "#version 300 es" and precisions), the shared defines, the program's defines, then
-/// the stage's file, and for a fragment stage that takes a material (materialUse()) the
+/// the stage's file (for a program that takes a material asking for the instance handle,
+/// SI_INSTANCE_HANDLE in its vertex and fragment stages), and for a fragment stage that takes
+/// a material (materialUse()) the
 /// material's text after "#line 1 1", so a compiler names the material's own lines as those
 /// of source string 1. `material` null: the built-in material (builtin_material.glsl).
 /// kInvalidArgument when the program has no such stage; kNotFound when its file was not

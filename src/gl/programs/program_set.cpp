@@ -51,6 +51,8 @@ Program describe(GLuint id) {
   p.lod = glGetUniformLocation(id, "u_lod");
   p.motion_view_projection = glGetUniformLocation(id, "u_motion_view_projection");
   p.previous_view_projection = glGetUniformLocation(id, "u_previous_view_projection");
+  p.instance_handle = glGetUniformLocation(id, "u_instance_handle");
+  p.batch_slot = glGetUniformLocation(id, "u_batch_slot");
   return p;
 }
 
@@ -134,6 +136,12 @@ Status ProgramSet::build(const ShaderConfig& config) {
     if (config.es) bindEsResources(id);
     else bindings_.add(id);
     programs_[i] = describe(id);
+  }
+  // The instance handles' block and the baselines' uniform (shaders/instance_handle.glsl) are
+  // in no built-in program: only the programs of materials that ask for the handle declare them.
+  if (!config.es) {
+    bindings_.storage_blocks[29].insert("SiSlotHandles");
+    bindings_.uniform_names.insert("u_instance_handle");
   }
   return Status::ok();
 }

@@ -28,6 +28,11 @@ struct Program {
   GLint lod = -1;
   /// Motion vectors: the crowd's last and previous update cameras' view-projections.
   GLint motion_view_projection = -1, previous_view_projection = -1;
+  /// SI_INSTANCE_HANDLE's baselines: the drawn instance's handle (u_instance_handle).
+  GLint instance_handle = -1;
+  /// drawCrowd's batch's first slot (shaders/batch_slot.glsl), where the program reads its
+  /// composed rows, previous indices or instance handles.
+  GLint batch_slot = -1;
 };
 
 /// Compiles one shader: kBackend with the driver's log on failure.
@@ -75,6 +80,12 @@ class ProgramSet {
                      bool vertex_words = false) const;
   /// Materials, the built-in one included.
   uint32_t materialCount() const { return uint32_t(materials_.size()) + 1; }
+  /// Whether `material`'s programs read the drawn instance's handle
+  /// (MaterialDesc::instance_handle): the draws then hand it over (shaders/instance_handle.glsl).
+  bool readsInstanceHandle(uint32_t material) const {
+    return material != 0 && material <= materials_.size() &&
+           materials_[material - 1]->source.instance_handle;
+  }
 
  private:
   struct MaterialPrograms {
@@ -100,6 +111,8 @@ struct ProgramTable {
   const Program& operator[](ProgramId id) const {
     return set->get(id, material, alpha_masked, vertex_words);
   }
+  /// The material reads the drawn instance's handle (ProgramSet::readsInstanceHandle).
+  bool instanceHandle() const { return set != nullptr && set->readsInstanceHandle(material); }
 };
 
 }  // namespace si::detail

@@ -43,25 +43,32 @@ Status DrawnRegions::keep(const InstanceBatcher& batcher, const CrowdView& view,
 }
 
 Status reserveRingFrame(const InstanceBatcher& batcher, const CrowdView& view, uint32_t alignment,
-                        bool motion, bool layers, uint64_t storage_limit,
+                        const RingContents& contents, uint64_t storage_limit,
                         const DrawnRegions& regions, RecordRing* ring, RingFrame* plan,
                         const DrawnRegion** previous) {
-  *previous = motion ? regions.find(view.identity(), view.selectionCount() - 1, *ring) : nullptr;
-  *plan = planRingFrame(batcher, view, alignment, motion, layers, *previous == nullptr);
+  *previous =
+      contents.motion ? regions.find(view.identity(), view.selectionCount() - 1, *ring) : nullptr;
+  *plan = planRingFrame(batcher, view, alignment, contents, *previous == nullptr);
   if (*previous != nullptr) {
     const Status s = ring->reserve(plan->end);
     if (!s.isOk()) return s;
     // Growing re-creates the buffer; a ring past one binding cannot bind both regions.
     if (!ring->canBorrow((*previous)->serial) || ring->bytes() > storage_limit) {
       *previous = nullptr;
-      *plan = planRingFrame(batcher, view, alignment, motion, layers, true);
+      *plan = planRingFrame(batcher, view, alignment, contents, true);
     }
   }
-  if (motion && plan->previous_end - plan->previous_indices > storage_limit)
+  if (contents.motion && plan->previous_end - plan->previous_indices > storage_limit)
     return {StatusCode::kLimitExceeded,
             strCat("drawCrowd: motion vectors: the frame's previous-record indices and records (",
                    plan->previous_end - plan->previous_indices,
                    " bytes) exceed GL_MAX_SHADER_STORAGE_BLOCK_SIZE (", storage_limit, ")")};
+  if (contents.handles && plan->handles_end - plan->handle_words > storage_limit)
+    return {
+        StatusCode::kLimitExceeded,
+        strCat("drawCrowd: the frame's instance handles (", plan->handles_end - plan->handle_words,
+               " bytes, MaterialDesc::instance_handle) exceed GL_MAX_SHADER_STORAGE_BLOCK_SIZE (",
+               storage_limit, ")")};
   return ring->reserve(plan->end);
 }
 

@@ -49,10 +49,10 @@ class DrawnRegions {
 /// drawCrowd's plan and the ring reserved for it. With motion, the previous records come from
 /// `regions`' region of the view's previous selection (`*previous`, else null) when the draw
 /// may read it (RecordRing::canBorrow) and the whole ring fits one storage binding
-/// (`storage_limit`); otherwise they are copied. kLimitExceeded when copied indices and records
-/// exceed `storage_limit`.
+/// (`storage_limit`); otherwise they are copied. kLimitExceeded when copied indices and records,
+/// or the instance handles, exceed `storage_limit`.
 Status reserveRingFrame(const InstanceBatcher& batcher, const CrowdView& view, uint32_t alignment,
-                        bool motion, bool layers, uint64_t storage_limit,
+                        const RingContents& contents, uint64_t storage_limit,
                         const DrawnRegions& regions, RecordRing* ring, RingFrame* plan,
                         const DrawnRegion** previous);
 

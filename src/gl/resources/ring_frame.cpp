@@ -7,8 +7,9 @@
 namespace si::detail {
 
 RingFrame planRingFrame(const InstanceBatcher& batcher, const CrowdView& view, uint32_t alignment,
-                        bool motion, bool layers, bool copy_previous) {
+                        const RingContents& contents, bool copy_previous) {
   const auto align = [&](size_t v) { return (v + alignment - 1) / alignment * alignment; };
+  const bool motion = contents.motion, layers = contents.layers;
   RingFrame f;
   f.motion = motion;
   f.layers = layers;
@@ -48,6 +49,12 @@ RingFrame planRingFrame(const InstanceBatcher& batcher, const CrowdView& view, u
     f.compose_table = align(end);
     end = f.compose_table + (record_bound / 64 + 1) * 16;
   }
+  f.handles = contents.handles;
+  if (f.handles) {
+    f.handle_words = align(end);
+    f.handles_end = f.handle_words + batcher.handleBufferBound(view);
+    end = f.handles_end;
+  }
   f.end = end;
   return f;
 }
@@ -72,6 +79,7 @@ Status writeRingFrame(const InstanceBatcher& batcher, const CrowdView& view, con
   if (s.isOk() && f.extras) s = batcher.buildExtraLayers(view, at(f.extra_layers));
   if (s.isOk() && f.extras && f.motion)
     s = batcher.buildPreviousExtraLayers(view, at(f.previous_extras));
+  if (s.isOk() && f.handles) s = batcher.buildHandles(view, at(f.handle_words));
   return s;
 }
 

@@ -4,8 +4,9 @@
 // with motion vectors each slot's previous-record index and, unless the previous frame's region
 // still holds them (resources/drawn_regions.h), the previous records once each;
 // with overlays the layer records (and previous layer records), a 2D blend's extra layer
-// records (and previous ones) and the compose pass's batch table. Offsets are from the region's
-// start, each block at the next multiple of the alignment.
+// records (and previous ones) and the compose pass's batch table; for a material that reads the
+// instance handle, each slot's handle. Offsets are from the region's start, each block at the
+// next multiple of the alignment.
 
 #include <cstddef>
 #include <cstdint>
@@ -15,6 +16,13 @@
 #include "si/crowd/instance_batcher.h"
 
 namespace si::detail {
+
+/// What a frame writes beside the batches' records.
+struct RingContents {
+  bool motion = false;   ///< Previous-record indices (and the previous records when copied).
+  bool layers = false;   ///< Layer records (overlays), extra ones for 2D blends.
+  bool handles = false;  ///< Each slot's instance handle (MaterialDesc::instance_handle).
+};
 
 struct RingFrame {
   bool motion = false, layers = false;
@@ -29,15 +37,18 @@ struct RingFrame {
   size_t extra_layers = 0;      ///< buildExtraLayers.
   size_t previous_extras = 0;   ///< buildPreviousExtraLayers.
   size_t compose_table = 0;     ///< The compose pass's batch table (16 bytes a batch).
+  bool handles = false;
+  size_t handle_words = 0;  ///< buildHandles (4 bytes a slot).
+  size_t handles_end = 0;
   uint64_t layer_slots = 0;     ///< Layer records the layer block holds (padding included).
   size_t end = 0;               ///< Bytes of the region the frame may use.
 };
 
 /// Where each block of `view`'s frame goes for `batcher` (`alignment`: a power of two, the
-/// uniform and storage buffer offset alignments' larger); with motion, whether the previous
-/// records are copied into the region (`copy_previous`).
+/// uniform and storage buffer offset alignments' larger) holding `contents`; with motion,
+/// whether the previous records are copied into the region (`copy_previous`).
 RingFrame planRingFrame(const InstanceBatcher& batcher, const CrowdView& view, uint32_t alignment,
-                        bool motion, bool layers, bool copy_previous);
+                        const RingContents& contents, bool copy_previous);
 
 /// Writes the planned blocks (all but the compose table) at `region` (`bytes` writable) and
 /// replaces `batches` with the draws. With motion and records not copied, each slot's index is

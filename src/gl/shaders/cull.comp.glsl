@@ -243,7 +243,7 @@ void main() {
   uint subs = u_counts.z;
   uint mask = st.mask & (subs >= 32u ? 0xFFFFFFFFu : ((1u << subs) - 1u)) & u_drawn_parts[lod];
   if (u_impostor_lod != 0u && lod >= u_impostor_lod) mask = 1u;
-  si_visible[v] = uvec4(i, lod, mask, 0u);
+  si_visible[v] = uvec4(i, lod, mask, st.handle);
   for (uint m = mask; m != 0u; m &= m - 1u)
     atomicAdd(si_bucket_count[lod * subs + uint(findLSB(m))], 1u);
 }

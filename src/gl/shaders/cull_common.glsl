@@ -10,7 +10,7 @@ layout(std430, binding = 2) readonly buffer SiTimes { double si_times[]; };
 #include "cull_counters.glsl"
 layout(std430, binding = 4) writeonly buffer SiRecordsOut { SiInstance si_records[]; };
 layout(std430, binding = 5) buffer SiEntriesOut { uint si_entries[]; };
-layout(std430, binding = 6) buffer SiVisible { uvec4 si_visible[]; };  // index, lod, mask
+layout(std430, binding = 6) buffer SiVisible { uvec4 si_visible[]; };  // index, lod, mask, handle
 layout(location = 16) uniform uvec4 u_counts;  // instances, lod count, sub-meshes, frame stride
 // Per bucket: x vertices of its pre-skinning list, y offset of the list, z first local index,
 // w local index count (PreSkinLists).

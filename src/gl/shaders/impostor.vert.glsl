@@ -6,11 +6,16 @@
 // the atlas cell of the captured view direction and frame nearest the instance's.
 // SI_GPU_DRIVEN: the record through a bucket entry (a_entry), from storage buffers.
 // SI_DEPTH_ONLY: the atlas coordinate alone (the fragment stage tests coverage only).
+// SI_INSTANCE_HANDLE: also the instance's handle (instance_handle.glsl).
 #include "si_instance_record.glsl"
+#include "instance_handle.glsl"
 #ifdef SI_GPU_DRIVEN
 layout(location = 5) in uint a_entry;
 layout(std430, binding = 4) readonly buffer SiRecords { SiInstance si_records[]; };
 layout(std430, binding = 5) readonly buffer SiEntries { uint si_entries[]; };
+#ifdef SI_INSTANCE_HANDLE  // The cull pass's visible list: w the handle (cull_common.glsl).
+layout(std430, binding = 6) readonly buffer SiVisible { uvec4 si_visible[]; };
+#endif
 #else
 layout(std140, binding = 0) uniform SiInstances { SiInstance si_instances[SI_MAX_INSTANCES]; };
 #endif
@@ -38,8 +43,14 @@ const float kPi = 3.14159265358979;
 void main() {
 #ifdef SI_GPU_DRIVEN
   SiInstance inst = si_records[si_entries[a_entry]];
+#ifdef SI_INSTANCE_HANDLE
+  v_instance_handle = si_visible[si_entries[a_entry]].w;
+#endif
 #else
   SiInstance inst = si_instances[gl_InstanceID];
+#ifdef SI_INSTANCE_HANDLE
+  v_instance_handle = siSlotHandle(uint(gl_InstanceID));
+#endif
 #endif
   vec4 r0 = inst.world_rows[0], r1 = inst.world_rows[1], r2 = inst.world_rows[2];
   mat3 m = transpose(mat3(r0.xyz, r1.xyz, r2.xyz));  // Model to world (rotation * scale).

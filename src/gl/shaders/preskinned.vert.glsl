@@ -9,6 +9,8 @@ layout(location = 1) in vec3 a_normal;
 layout(location = 2) in vec2 a_texcoord;
 layout(location = 3) in vec4 a_tangent;  // Read only with u_tangents 1.
 #include "vertex_words.glsl"
+#define SI_INSTANCE_HANDLE_UNIFORM
+#include "instance_handle.glsl"
 layout(location = 1) uniform mat4 u_view_projection;
 layout(location = 4) uniform uint u_color;
 layout(location = 5) uniform int u_base_vertex;
@@ -27,6 +29,9 @@ void main() {
   v_texcoord = a_texcoord;
   siPassVertexWords();
   v_color = u_color;
+#ifdef SI_INSTANCE_HANDLE
+  v_instance_handle = u_instance_handle;
+#endif
   v_lod = u_lod;
   v_tangent = u_tangents != 0u ? a_tangent : vec4(0.0);
   v_position = a_position;

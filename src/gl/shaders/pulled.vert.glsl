@@ -9,6 +9,7 @@
 // otherwise the batch's u_chunk says where its instances are. SI_MOTION_VECTORS: the clip
 // positions of the vertex and of its previous position (the previous ring, at the same slot)
 // under the last two frames' cameras, for the fragment shader's motion output.
+// SI_INSTANCE_HANDLE: also the instance's handle (instance_handle.glsl).
 #ifdef SI_GPU_DRIVEN
 #define SI_SOURCE_BINDING 14
 #define SI_LOD_VERTICES_BINDING 15
@@ -23,7 +24,7 @@ layout(location = 5) in uint a_entry;
 layout(std430, binding = 4) readonly buffer SiRecords { SiInstance si_records[]; };
 layout(std430, binding = 5) readonly buffer SiEntries { uint si_entries[]; };
 layout(std430, binding = 12) readonly buffer SiEntryData { uvec2 si_entry_data[]; };  // ring, list
-// The cull pass's visible list: x dense index, y LOD, z worn mask (cull_common.glsl).
+// The cull pass's visible list: x dense index, y LOD, z worn mask, w handle (cull_common.glsl).
 layout(std430, binding = 6) readonly buffer SiVisible { uvec4 si_visible[]; };
 #else
 uniform uint u_lod;  // The batch's LOD (SiSurface.lod).
@@ -46,6 +47,7 @@ uniform mat4 u_previous_view_projection;
 out vec4 v_motion_current;
 out vec4 v_motion_previous;
 #endif
+#include "instance_handle.glsl"
 layout(location = 1) uniform mat4 u_view_projection;
 out vec3 v_position;  // Camera-relative world position (SiSurface.position).
 out vec3 v_normal;
@@ -66,10 +68,16 @@ void main() {
   uint slot = si_entries[a_entry];  // The visible index.
   v_color = si_records[slot].blend.w;
   v_lod = si_visible[slot].y;
+#ifdef SI_INSTANCE_HANDLE
+  v_instance_handle = si_visible[slot].w;
+#endif
 #else
   uint ring = u_chunk.x + uint(gl_InstanceID) * u_chunk.y + k, list = u_chunk.z;
   v_color = si_instances[u_chunk.w + uint(gl_InstanceID)].blend.w;
   v_lod = u_lod;
+#ifdef SI_INSTANCE_HANDLE  // u_chunk.w: the chunk's first place in its batch.
+  v_instance_handle = siSlotHandle(u_chunk.w + uint(gl_InstanceID));
+#endif
 #endif
   vec4 s = si_skinned[ring];
 #ifdef SI_MOTION_VECTORS

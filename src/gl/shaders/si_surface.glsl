@@ -8,13 +8,14 @@
 // G-buffer of several) and may discard. Defines a material may test: SI_MOTION_VECTORS (the
 // draw writes motion vectors: the clip positions below are set), SI_DEPTH_ONLY (a depth-only
 // pass of a material with MaterialDesc::depth_discard: only the discard matters),
-// SI_IMPOSTOR (an impostor quad's fragment: the surface comes from the impostor atlas).
-// Interface version 4 (3 had no uv1 and no vertex colour; 2 gave impostors metallic 0,
+// SI_IMPOSTOR (an impostor quad's fragment: the surface comes from the impostor atlas),
+// SI_INSTANCE_HANDLE (the material asked for the instance's handle: MaterialDesc::instance_handle).
+// Interface version 5 (4 had no instance handle; 3 had no uv1 and no vertex colour; 2 gave impostors metallic 0,
 // roughness 1, occlusion 1 and no material index; 1 had no tangent frame and no
 // metallic-roughness fields).
 #ifndef SI_SURFACE_GLSL
 #define SI_SURFACE_GLSL
-#define SI_MATERIAL_INTERFACE_VERSION 4
+#define SI_MATERIAL_INTERFACE_VERSION 5
 // SiSurface.material where there is none (kept for materials that test it; no draw sets it).
 #define SI_NO_MATERIAL 0xFFFFFFFFu
 struct SiSurface {
@@ -63,6 +64,10 @@ struct SiSurface {
   // The instance's layer of the application's custom texture array (InstanceDesc::custom_layer
   // - 1); -1 when it selects none or no array is set (always -1 on an impostor).
   int custom_layer;
+  // The drawn instance's si::InstanceHandle::id, on every path and on impostors, for a
+  // material with MaterialDesc::instance_handle (SI_INSTANCE_HANDLE); 0 (the null handle)
+  // for the others.
+  uint instance;
   // The LOD level drawn (an impostor: the crowd's impostor level).
   uint lod;
   // Whether the fragment is an impostor quad's.

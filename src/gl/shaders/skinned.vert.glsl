@@ -10,7 +10,8 @@
 // previous_index.glsl; with SI_GPU_DRIVEN the cull pass's previous records),
 // SI_LAYERS (each instance's overlay composed on its mask: siSkinLayered; with SI_COMPOSED_LAYERS
 // its masked slots' rows read from the compose pass, siSkinComposed, layer_compose.glsl),
-// SI_VERTEX_WORDS (also texture coordinates 1 and the colour: meshes that have them).
+// SI_VERTEX_WORDS (also texture coordinates 1 and the colour: meshes that have them),
+// SI_INSTANCE_HANDLE (also the instance's handle: instance_handle.glsl).
 #define SI_VERTEX_MATERIALS
 #if defined(SI_GPU_DRIVEN) && defined(SI_LAYERS)
 #define SI_LAYERS_IN_STORAGE  // The cull pass's layer records, by visible index.
@@ -26,6 +27,7 @@
 #endif
 #include "material_common.glsl"
 #ifdef SI_TRADITIONAL
+#define SI_INSTANCE_HANDLE_UNIFORM
 #include "si_transform.glsl"
 layout(std140 SI_WITH_BINDING(1)) uniform SiCharacter {
   vec4 si_world_rows[3];
@@ -42,11 +44,10 @@ layout(std140 SI_WITH_BINDING(1)) uniform SiCharacter {
 #include "previous_index.glsl"  // drawCrowd's previous records, by index.
 #endif
 #if defined(SI_COMPOSED_LAYERS) || defined(SI_MOTION_VECTORS)
-// drawCrowd: the batch's first slot, numbered as the layer records are (its layer records'
-// first index in the layer block): its composed records and previous indices. GPU-driven: 0.
-layout(location = 7) uniform uint u_batch_slot;
+#include "batch_slot.glsl"
 #endif
 #endif
+#include "instance_handle.glsl"
 
 layout(location = 0) in vec3 a_position;
 layout(location = 1) in vec4 a_normal;
@@ -83,7 +84,7 @@ out vec4 v_motion_previous;
 layout(location = 5) in uint a_entry;
 layout(std430, binding = 4) readonly buffer SiRecords { SiInstance si_records[]; };
 layout(std430, binding = 5) readonly buffer SiEntries { uint si_entries[]; };
-// The cull pass's visible list: x dense index, y LOD, z worn mask (cull_common.glsl).
+// The cull pass's visible list: x dense index, y LOD, z worn mask, w handle (cull_common.glsl).
 layout(std430, binding = 6) readonly buffer SiVisible { uvec4 si_visible[]; };
 #endif
 void main() {
@@ -141,6 +142,13 @@ void main() {
   v_texcoord = a_texcoord;
   siPassVertexWords();
   v_color = color;
+#if defined(SI_INSTANCE_HANDLE) && defined(SI_TRADITIONAL)
+  v_instance_handle = u_instance_handle;
+#elif defined(SI_INSTANCE_HANDLE) && defined(SI_GPU_DRIVEN)
+  v_instance_handle = si_visible[slot].w;
+#elif defined(SI_INSTANCE_HANDLE)
+  v_instance_handle = siSlotHandle(slot);
+#endif
   v_material = siVertexMaterial(uint(gl_VertexID));  // The mesh vertex: no base vertex.
   gl_Position = u_view_projection * vec4(world, 1.0);
 #ifdef SI_MOTION_VECTORS

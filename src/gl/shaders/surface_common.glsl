@@ -14,6 +14,9 @@ SI_LOCATION_LAYOUT(3) uniform vec3 u_light_direction;
 in vec4 v_motion_current;
 in vec4 v_motion_previous;
 #endif
+#ifdef SI_INSTANCE_HANDLE
+flat in uint v_instance_handle;  // The vertex stage's instance_handle.glsl.
+#endif
 
 vec3 siLightDirection() { return u_light_direction; }
 
@@ -42,7 +45,8 @@ vec2 siSurfaceMotion(SiSurface s) {
              : vec2(0.0);
 }
 
-// The fields every surface starts from: no motion unless the stage sets it.
+// The fields every surface starts from: the motion and the instance handle where the program
+// has them.
 SiSurface siEmptySurface() {
   SiSurface s;
   s.position = vec3(0.0);
@@ -60,6 +64,11 @@ SiSurface siEmptySurface() {
   s.base_color = vec4(1.0);
   s.tint = vec3(1.0);
   s.custom_layer = -1;
+#ifdef SI_INSTANCE_HANDLE
+  s.instance = v_instance_handle;
+#else
+  s.instance = 0u;
+#endif
   s.lod = 0u;
   s.impostor = false;
 #ifdef SI_MOTION_VECTORS

@@ -30,7 +30,7 @@ constexpr uint32_t bits(std::initializer_list<int> indices) {
 //     custom array, impostor atlas, material data array; image units 0-1: the depth
 //     pyramid's levels.
 constexpr uint32_t kUniforms = bits({0, 1, 2, 3, 4});
-constexpr uint32_t kDrawStorage = bits({1, 2, 3, 4, 8, 9, 10, 11, 23, 24, 25, 26, 27, 28});
+constexpr uint32_t kDrawStorage = bits({1, 2, 3, 4, 8, 9, 10, 11, 23, 24, 25, 26, 27, 28, 29});
 constexpr uint32_t kAllStorage = kDrawStorage | ((1u << 24) - 1u);
 constexpr uint32_t kUnits = bits({0, 1, 2, 3, 4});
 

@@ -244,13 +244,17 @@ GuestReport checkEveryCall(void* (*get_proc)(void* user, const char* name), void
                   });
   }
   // A material of the engine's, reading a uniform block of its own (at binding 7, which the
-  // engine's state binds), on meshes and impostors.
+  // engine's state binds) and the instance handle (its block at storage binding 29, which the
+  // engine's state binds too), on meshes and impostors.
   si::MaterialDesc engine_material;
   engine_material.name = "engine";
   engine_material.source =
       "layout(location = 0) out vec4 o_color;\n"
       "layout(std140, binding = 7) uniform EngineTone { vec4 tone; };\n"
-      "void siMaterial(SiSurface s) { o_color = vec4(siSurfaceAlbedo(s) * tone.rgb, 1.0); }\n";
+      "void siMaterial(SiSurface s) {\n"
+      "  o_color = vec4(siSurfaceAlbedo(s) * tone.rgb, s.instance == 0u ? 0.5 : 1.0);\n"
+      "}\n";
+  engine_material.instance_handle = true;
   si::MaterialId material;
   checker.check("Renderer::addMaterial",
                 [&] { return renderer->addMaterial(engine_material, &material); });
