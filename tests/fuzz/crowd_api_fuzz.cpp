@@ -231,6 +231,7 @@ void checkFrame(const si::CrowdManager& crowd) {
   if (from_spans != crowd.bucketEntries()) fail("the spans are not the bucket entries");
   si::fuzz::checkPreviousRecords(crowd, batcher, fail);
   si::fuzz::checkRecordPlaces(crowd, batcher, fail);
+  si::fuzz::checkSlotHandles(crowd, batcher, fail);
   const uint64_t texels = palette().layout.textureTexelCount();
   si::fuzz::checkLayerRecords(crowd, batcher, palette(), fail);
   for (const si::InstanceRecord& r : crowd.records()) {

@@ -4,6 +4,7 @@
 // previous records and indices, the batcher's previous blocks, and where build() puts each
 // record (the table drawCrowd reads the last frame's records through).
 
+#include <algorithm>
 #include <cmath>
 #include <cstdint>
 #include <cstring>
@@ -79,6 +80,33 @@ inline void checkRecordPlaces(const CrowdManager& crowd, const InstanceBatcher& 
                          kInstanceRecordSize) != 0)
       fail("a record's place does not hold the record");
   }
+}
+
+// Each slot's instance handle (buildHandles): a live instance's, drawn this frame, whose record
+// is the slot's.
+inline void checkSlotHandles(const CrowdManager& crowd, const InstanceBatcher& batcher,
+                             void (*fail)(const char*)) {
+  std::vector<uint8_t> now(batcher.recordBufferBound(crowd)),
+      handles(batcher.handleBufferBound(crowd.view()));
+  std::vector<DrawBatch> draws;
+  if (!batcher.build(crowd, now, &draws).isOk() ||
+      !batcher.buildHandles(crowd.view(), handles).isOk())
+    fail("build or buildHandles failed on a valid frame");
+  const Span<const InstanceHandle> visible = crowd.visibleHandles();
+  for (const DrawBatch& d : draws)
+    for (uint32_t k = 0; k < d.instance_count; ++k) {
+      InstanceHandle h;
+      std::memcpy(&h.id, handles.data() + (d.layer_byte_offset / kLayerRecordSize + k) * 4, 4);
+      if (!crowd.contains(h)) fail("a slot's handle is not a live instance's");
+      const InstanceHandle* at = std::find(visible.begin(), visible.end(), h);
+      if (at == visible.end()) {
+        fail("a slot's handle was not drawn this frame");
+        continue;
+      }
+      if (std::memcmp(now.data() + d.byte_offset + k * kInstanceRecordSize,
+                      &crowd.records()[size_t(at - visible.begin())], kInstanceRecordSize) != 0)
+        fail("a slot's handle is not its record's instance's");
+    }
 }
 
 }  // namespace si::fuzz

@@ -370,7 +370,9 @@ TEST_P(HostMaterialTest, TheInstanceHandleReachesTheMaterialOnImpostors) {
   for (InstanceHandle h : all) {  // The second row goes: nothing stands behind the first.
     InstanceDesc d;
     ASSERT_TRUE(crowd.get(h, &d).isOk());
-    if (d.position.z < -40.0) ASSERT_TRUE(crowd.remove(h).isOk());
+    if (d.position.z < -40.0) {
+      ASSERT_TRUE(crowd.remove(h).isOk());
+    }
   }
   ASSERT_TRUE(crowd.update(0.2, lodCamera()).isOk());
   ASSERT_EQ(crowd.view().visibleHandles().size(), 8u);
