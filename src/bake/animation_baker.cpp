@@ -58,6 +58,11 @@ Status bakePalette(const Character& character, const BakeDesc& in_desc, BakedPal
       measure ? detail::searchVertices(character, character.mesh, vertices) : std::vector<uint32_t>{};
   std::unique_ptr<detail::FrameSearch> search;
   if (automatic) {
+    // The plan's first frames baked once: a pose the format cannot hold is refused by name
+    // (bakeTexels) before the search measures errors that are not numbers.
+    BakedPalette probe;
+    s = detail::bakeTexels(character, d, plan, &probe);
+    if (!s.isOk()) return s;
     search = std::make_unique<detail::FrameSearch>(character, d, gpu_mesh, short_list);
     for (uint32_t c = 0; c < clip_count; ++c) {
       progress("choosing rates", c, search_share * double(c) / clip_count);

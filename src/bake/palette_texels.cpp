@@ -5,6 +5,7 @@
 
 #include <cmath>
 #include <cstring>
+#include <limits>
 
 #include "bake/border_frames.h"
 #include "core/str_cat.h"
@@ -61,6 +62,21 @@ void storeTexel(BakedPalette* p, uint32_t index, const glm::dvec4& v) {
   }
 }
 
+// The largest magnitude `format` stores as a finite number.
+double formatRange(PaletteFormat format) {
+  return format == PaletteFormat::kMatrix3x4F16 ? 65504.0
+                                                : double(std::numeric_limits<float>::max());
+}
+
+// The first entry of skinning matrix `m`'s stored rows that is not finite or past `range`
+// (a NaN compares false), or 0 when every one fits.
+double outOfRangeEntry(const glm::dmat4& m, double range) {
+  for (int col = 0; col < 4; ++col)
+    for (int row = 0; row < 3; ++row)
+      if (!(std::fabs(m[col][row]) <= range)) return m[col][row];
+  return 0.0;
+}
+
 }  // namespace
 
 Status bakeTexels(const Character& character, const BakeDesc& d, const PalettePlan& plan,
@@ -111,6 +127,15 @@ Status bakeTexels(const Character& character, const BakeDesc& d, const PalettePl
       for (uint32_t slot = 0; slot < p.palette_joints.size(); ++slot) {
         const uint32_t joint = p.palette_joints[slot];
         const glm::dmat4& m = pose.skinning[joint];
+        // Never a non-finite texel: a pose the format cannot hold is refused by name.
+        const double bad = outOfRangeEntry(m, formatRange(d.format));
+        if (bad != 0.0)
+          return {StatusCode::kOutOfRange,
+                  strCat("bake: clip '", clip.name, "' frame ", f, " (t=", t, " s), joint ", joint,
+                         " '", character.skeleton.joint_names[joint],
+                         "': its skinning matrix holds ", bad, ", past what ",
+                         paletteFormatName(d.format), " stores (", formatRange(d.format),
+                         "): the file's transforms compose beyond the palette's range")};
         if (d.format == PaletteFormat::kQuatTranslationF32) {
           Rigid r;
           if (!decomposeRigid(m, &r))

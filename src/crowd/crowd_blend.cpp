@@ -87,8 +87,7 @@ Status CrowdManager::blendState2D(InstanceHandle h, uint32_t* space, glm::vec2* 
   if (!o.blend) return {StatusCode::kInvalidArgument, "blendState: the instance plays no blend"};
   *space = o.space;
   *parameter = glm::vec2(o.parameter, o.parameter_y);
-  const double p = detail::blendPhase(o, state_->clock);
-  *phase = p - std::floor(p);
+  *phase = detail::cycleFraction(detail::blendPhase(o, state_->clock));
   return Status::ok();
 }
 

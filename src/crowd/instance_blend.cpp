@@ -27,8 +27,7 @@ void InstanceStore::anchorBlend(uint32_t i, const BlendSpace& space, glm::vec2 p
   double period = space.is2D() ? 0.0 : blendPeriod(seconds[0], seconds[1], b.chain[1]);
   for (uint32_t k = 0; space.is2D() && k < b.count; ++k) period += double(b.shares[k]) * seconds[k];
   const double rate = period > 0.0 ? double(o.blend_speed) / period : 0.0;
-  if (phase >= 1.0 || phase < 0.0) phase -= std::floor(phase);  // Cycles repeat.
-  if (!(phase >= 0.0 && phase < 1.0)) phase = 0.0;
+  phase = cycleFraction(phase);
   // Each clip at its duration over the period, held within a float (a huge speed over clips of
   // very different lengths would pass it).
   const auto playbackOf = [&](uint32_t k) {

@@ -5,6 +5,7 @@
 // builder writes from it (si::LayerRecord).
 
 #include <algorithm>
+#include <cmath>
 #include <cstdint>
 
 #include "crowd/playback.h"
@@ -41,6 +42,13 @@ struct OverlayState {
   double phase_clock = 0.0;
   double cycles_per_second = 0.0;  // blend_speed / the blended period (0: a zero period).
 };
+
+/// A phase's place in its cycle, in [0, 1); 0 where the cycles are past what a double resolves
+/// (not finite: a clock near the largest double times the cycles a second).
+inline double cycleFraction(double phase) {
+  if (phase >= 1.0 || phase < 0.0) phase -= std::floor(phase);  // Cycles repeat.
+  return phase >= 0.0 && phase < 1.0 ? phase : 0.0;
+}
 
 /// A blend's phase (cycles) at crowd clock `clock`.
 inline double blendPhase(const OverlayState& o, double clock) {

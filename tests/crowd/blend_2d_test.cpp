@@ -9,6 +9,7 @@
 
 #include <cmath>
 #include <cstring>
+#include <limits>
 
 #include "crowd/crowd_test_helpers.h"
 #include "si/crowd/blend_space.h"
@@ -171,6 +172,27 @@ TEST(Blend2d, AllFourClipsStayInPhase) {
     }
     EXPECT_EQ(layerHasExtras(l), bp.chain[2] > 0.0f || bp.chain[3] > 0.0f);
   }
+}
+
+// A clock whose cycles a double no longer resolves (a crowd API fuzzer finding: the clock at
+// the largest double, where the phase came out NaN): the phase stays in [0, 1), a move keeps it
+// there, and the frame updates.
+TEST(Blend2d, ThePhaseStaysInItsCycleAtTheLargestClock) {
+  Blending2d b;
+  // A billion times the clips' speed: the cycles at the largest clock pass a double.
+  ASSERT_TRUE(b.crowd.playBlend(b.h, b.space, glm::vec2(0.5f, 0.5f), 0.0, 0.1, 1e9f).isOk());
+  ASSERT_TRUE(b.crowd.advanceClock(std::numeric_limits<double>::max()).isOk());
+  uint32_t space = 9;
+  glm::vec2 parameter;
+  double phase = -1.0;
+  ASSERT_TRUE(b.crowd.blendState2D(b.h, &space, &parameter, &phase).isOk());
+  EXPECT_TRUE(phase >= 0.0 && phase < 1.0) << phase;
+  ASSERT_TRUE(b.crowd.setBlendParameter(b.h, glm::vec2(1.0f, 1.0f)).isOk());
+  phase = -1.0;
+  ASSERT_TRUE(b.crowd.blendState2D(b.h, &space, &parameter, &phase).isOk());
+  EXPECT_TRUE(phase >= 0.0 && phase < 1.0) << phase;
+  ASSERT_TRUE(b.crowd.update(0.0, b.camera()).isOk());
+  ASSERT_EQ(b.crowd.layerRecords().size(), 1u);
 }
 
 // Item 2 of the issue for 2D: the drawn pose, emulated from the records as the shader composes
