@@ -22,12 +22,20 @@ CullParams CrowdManager::cullParams(const Camera& camera) const {
     // the viewport's height x projection[1][1] (1 / tan(fov_y / 2)). It is within the budget
     // from d = error x scale x K / budget on: in radii (radius x scale), a line that does not
     // depend on the instance's scale. The same selection arithmetic then runs on CPU and GPU.
-    // A camera without a usable projection or viewport keeps every instance at LOD 0.
-    const double k = 0.5 * double(camera.viewport_height_pixels) * double(camera.projection[1][1]);
+    // A camera without a usable projection or viewport keeps every instance at LOD 0. A
+    // y-flipped projection (a render texture) negates projection[1][1]: its magnitude scales.
+    // An orthographic one (a shadow cascade; projection[3][3] 1) projects an error to the same
+    // pixels at every distance: error x scale x K, K with projection[1][1] = 2 / height; a
+    // level is then within the budget everywhere (line 0) or nowhere, judged at scale 1.
+    const double k =
+        0.5 * double(camera.viewport_height_pixels) * std::fabs(double(camera.projection[1][1]));
+    const bool orthographic = camera.projection[3][3] == 1.0f && camera.projection[2][3] == 0.0f;
+    const double most = double(std::numeric_limits<float>::max());
     for (uint32_t l = 0; l + 1 < desc_.lod_count && l < 7; ++l) {
-      const double line = double(desc_.lod_errors_units[l + 1]) * k /
-                          (double(desc_.pixel_error_budget) * double(state_->radius));
-      const double most = double(std::numeric_limits<float>::max());
+      const double error = double(desc_.lod_errors_units[l + 1]);
+      const double budget = double(desc_.pixel_error_budget);
+      const double line = orthographic ? (error * k <= budget ? 0.0 : most)
+                                       : error * k / (budget * double(state_->radius));
       p.lod_lines[l] = k > 0.0 && line >= 0.0 && line < most ? float(line) : float(most);
     }
   } else {

@@ -38,7 +38,7 @@ Camera camera(float viewport = 1000.0f, float fov = 1.0471976f) {
 
 // The expected LOD: the coarsest whose projected error is within the budget.
 uint32_t expectedLod(double distance, float scale, float budget, const Camera& cam) {
-  const double k = 0.5 * cam.viewport_height_pixels * cam.projection[1][1];
+  const double k = 0.5 * cam.viewport_height_pixels * std::fabs(cam.projection[1][1]);
   uint32_t lod = 0;
   for (uint32_t l = 1; l < 4; ++l)
     if (kErrors[l] * scale * k / distance <= budget) lod = l;
@@ -78,6 +78,41 @@ TEST(ScreenErrorLod, TheCoarsestLodWithinTheBudgetWhateverTheScale) {
   expectLods(4.0f, camera());
   expectLods(1.0f, camera(2160.0f));            // A taller viewport: finer at a distance.
   expectLods(1.0f, camera(1000.0f, 0.3f));      // A narrow field of view: finer too.
+}
+
+// A y-flipped projection (a render texture) selects what the upright one does (it selected
+// LOD 0 everywhere); an orthographic one (a shadow cascade) selects by the projected error
+// alone, the same level at every distance (it selected by distance lines).
+TEST(ScreenErrorLod, FlippedAndOrthographicProjectionsProjectTheError) {
+  Camera flipped = camera();
+  flipped.projection[1][1] = -flipped.projection[1][1];
+  ASSERT_TRUE(flipped.flipsWinding());
+  expectLods(1.0f, flipped);
+  // Half the orthographic height in units, and the level expected on 1000 pixels at a budget of
+  // one pixel: an error e covers e x 500 / half pixels (kErrors 0.02, 0.08, 0.3).
+  const std::pair<float, uint32_t> cases[] = {{1.0f, 0u}, {20.0f, 1u}, {100.0f, 2u}, {1000.0f, 3u}};
+  for (const auto& [half, lod] : cases) {
+    SCOPED_TRACE(half);
+    const Camera ortho =
+        Camera::fromMatrices(glm::dmat4(1.0), glm::ortho(-half, half, -half, half, 0.1f, 1e5f),
+                             DepthConvention::kNegativeOneToOne, 1000.0f);
+    CrowdManager crowd;
+    ASSERT_TRUE(crowd.init(screenErrorDesc(1.0f)).isOk());
+    std::vector<InstanceHandle> handles;
+    for (double d = 2.0; d < 5000.0; d *= 1.5) {
+      InstanceDesc desc;
+      desc.position = glm::dvec3(0.0, 0.0, -d);
+      InstanceHandle h;
+      ASSERT_TRUE(crowd.add(desc, &h).isOk());
+      handles.push_back(h);
+    }
+    ASSERT_TRUE(crowd.update(0.0, ortho).isOk());
+    for (InstanceHandle h : handles) {
+      uint32_t got = 9;
+      ASSERT_TRUE(crowd.lodOf(h, &got).isOk());
+      EXPECT_EQ(got, lod);
+    }
+  }
 }
 
 TEST(ScreenErrorLod, ABudgetTwiceAsLargeHalvesTheDistances) {

@@ -13,11 +13,13 @@ namespace si {
 
 /// How an instance's LOD is chosen.
 enum class LodMode : uint8_t {
-  kDefault = 0,   ///< kDistance.
-  kDistance,      ///< The technique's lines: LOD l + 1 from lod_distances_radii[l] radii on.
-  kScreenError,   ///< The coarsest LOD whose geometric error (lod_errors_units), projected at
-                  ///< the instance's distance with the camera's vertical field of view and
-                  ///< viewport height, stays within pixel_error_budget pixels.
+  kDefault = 0,  ///< kDistance.
+  kDistance,     ///< The technique's lines: LOD l + 1 from lod_distances_radii[l] radii on.
+  kScreenError,  ///< The coarsest LOD whose geometric error (lod_errors_units), projected at
+                 ///< the instance's distance with the camera's vertical field of view and
+                 ///< viewport height, stays within pixel_error_budget pixels. A y-flipped
+                 ///< projection selects as the upright one; an orthographic one (a shadow
+                 ///< cascade) the same level at every distance, judged at scale 1.
 };
 const char* lodModeName(LodMode mode);
 
