@@ -70,29 +70,22 @@ Status materialsTable(Setup& setup, const BakedPalette& palette, const RendererD
   std::printf("\n");
   for (uint32_t count : sizes)
     for (const std::string& path : paths) {
-      Row rows[2];  // The built-in material, then the host's.
-      s = timePaired(setup, renderer, palette, count, path, [&](int k) {
-        return renderer.setMaterial(id, k == 0 ? kBuiltinMaterial : host);
-      }, rows);
-      if (!s.isOk()) break;
-      rows[0].lod = "builtin";
-      rows[1].lod = "host";
-      for (const Row& row : rows) {
-        printSideBySideRow(row, rows[0], "materials", csv);
-        std::printf("\n");
+      // Two pairs: the built-in material against the host's, then the host's against the same
+      // reading the instance handle; each row against its pair's first.
+      const MaterialId pairs[2][2] = {{kBuiltinMaterial, host}, {host, host_handle}};
+      const char* names[2][2] = {{"builtin", "host"}, {"host", "host+handle"}};
+      for (int p = 0; p < 2 && s.isOk(); ++p) {
+        Row rows[2];
+        s = timePaired(
+            setup, renderer, palette, count, path,
+            [&](int k) { return renderer.setMaterial(id, pairs[p][k]); }, rows);
+        for (int k = 0; k < 2 && s.isOk(); ++k) {
+          rows[k].lod = names[p][k];
+          printSideBySideRow(rows[k], rows[0], "materials", csv);
+          std::printf("\n");
+        }
       }
-      Row handle_rows[2];  // The host material, then the same reading the instance handle.
-      s = timePaired(
-          setup, renderer, palette, count, path,
-          [&](int k) { return renderer.setMaterial(id, k == 0 ? host : host_handle); },
-          handle_rows);
       if (!s.isOk()) break;
-      handle_rows[0].lod = "host";
-      handle_rows[1].lod = "host+handle";
-      for (const Row& row : handle_rows) {
-        printSideBySideRow(row, handle_rows[0], "materials", csv);
-        std::printf("\n");
-      }
     }
   (void)renderer.setMaterial(id, kBuiltinMaterial);
   glDeleteBuffers(1, &block);

@@ -99,6 +99,17 @@ void walkBatches(const CrowdView& crowd, uint32_t capacity, uint32_t alignment,
   }
 }
 
+// Writes each slot's 32-bit word, its record's entry of `words` (one per record), at
+// (layer_byte_offset / 16 + slot) * 4 of `out`: buildLayers()' slot numbering.
+void writeSlotWords(const CrowdView& crowd, uint32_t capacity, uint32_t alignment,
+                    const uint32_t* words, uint8_t* out) {
+  walkBatches(crowd, capacity, alignment, nullptr,
+              [&](const DrawBatch& d, uint32_t slot, uint32_t first, uint32_t count) {
+                std::memcpy(out + (d.layer_byte_offset / kLayerRecordSize + slot) * 4,
+                            words + first, size_t(count) * sizeof(uint32_t));
+              });
+}
+
 // Writes each slot's `per_slot` previous layer records at (layer_byte_offset / 16 + slot) *
 // per_slot * 16 of `out`: its instance's records in `previous` (per_slot per previous record)
 // through previousRecordIndices(); where it has no previous record, its current ones
@@ -202,13 +213,7 @@ Status InstanceBatcher::buildPreviousIndices(const CrowdView& crowd, Span<uint8_
   const Status s = checkPreviousBuffer("buildPreviousIndices", "index", crowd, out.size(),
                                        previousIndexBufferBound(crowd));
   if (!s.isOk()) return s;
-  const Span<const uint32_t> index = crowd.previousRecordIndices();
-  uint8_t* base = out.data();
-  walkBatches(crowd, capacity_, alignment_, nullptr,
-              [&](const DrawBatch& d, uint32_t slot, uint32_t first, uint32_t count) {
-                std::memcpy(base + (d.layer_byte_offset / kLayerRecordSize + slot) * 4,
-                            index.data() + first, size_t(count) * sizeof(uint32_t));
-              });
+  writeSlotWords(crowd, capacity_, alignment_, crowd.previousRecordIndices().data(), out.data());
   return Status::ok();
 }
 
@@ -248,14 +253,9 @@ Status InstanceBatcher::buildHandles(const CrowdView& crowd, Span<uint8_t> out) 
     return {StatusCode::kCountMismatch,
             strCat("InstanceBatcher::buildHandles: the buffer holds ", out.size(),
                    " bytes, the frame's handles need ", bound)};
-  const Span<const InstanceHandle> handles = crowd.visibleHandles();
   static_assert(sizeof(InstanceHandle) == sizeof(uint32_t), "a handle is its 32-bit id");
-  uint8_t* base = out.data();
-  walkBatches(crowd, capacity_, alignment_, nullptr,
-              [&](const DrawBatch& d, uint32_t slot, uint32_t first, uint32_t count) {
-                std::memcpy(base + (d.layer_byte_offset / kLayerRecordSize + slot) * 4,
-                            handles.data() + first, size_t(count) * sizeof(uint32_t));
-              });
+  writeSlotWords(crowd, capacity_, alignment_,
+                 reinterpret_cast<const uint32_t*>(crowd.visibleHandles().data()), out.data());
   return Status::ok();
 }
 
