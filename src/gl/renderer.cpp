@@ -237,7 +237,7 @@ Status Renderer::drawCrowd(CharacterId id, const CrowdView& view, const Instance
   detail::RingContents contents;
   contents.motion = motion;
   contents.layers = layers;
-  contents.handles = m.resources(*c).programs.instanceHandle();  // MaterialDesc::instance_handle
+  contents.handles = m.programs.readsInstanceHandle(c->material);  // MaterialDesc::instance_handle
   s = detail::reserveRingFrame(batcher, view,
                                std::max(m.alignment, m.info.storage_buffer_offset_alignment),
                                contents, storage_limit, m.drawn, &m.ring, &plan, &last);

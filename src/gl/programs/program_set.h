@@ -111,8 +111,6 @@ struct ProgramTable {
   const Program& operator[](ProgramId id) const {
     return set->get(id, material, alpha_masked, vertex_words);
   }
-  /// The material reads the drawn instance's handle (ProgramSet::readsInstanceHandle).
-  bool instanceHandle() const { return set != nullptr && set->readsInstanceHandle(material); }
 };
 
 }  // namespace si::detail
