@@ -199,9 +199,10 @@ TEST(GlslCheck, TheInstanceHandleVariantsCompileWithGlslang) {
       ASSERT_TRUE(detail::assembleStage(id, stage, config, &source, &material).isOk());
       EXPECT_EQ(source.find("#define SI_INSTANCE_HANDLE\n") != std::string::npos, takes)
           << detail::programSpec(id).name;
-      if (takes)
+      if (takes) {
         EXPECT_EQ(compileWithGlslang(source, stageExtension(stage), fileName(id, "", "_handle")),
                   "");
+      }
     }
   }
   EXPECT_EQ(programs, 25 + 7);  // As AHostMaterialCompilesIntoEveryProgramThatTakesOne counts.
