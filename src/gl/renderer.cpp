@@ -249,8 +249,6 @@ Status Renderer::drawCrowd(CharacterId id, const CrowdView& view, const Instance
         last != nullptr ? Span<const uint32_t>(last->places) : Span<const uint32_t>(), &m.batches);
   const detail::PreviousBinding previous = detail::previousBinding(plan, base, last);
   if (s.isOk() && last != nullptr) m.ring.borrow(last->serial);
-  if (s.isOk() && m.desc.motion_vectors && view.desc().previous_records)
-    s = m.drawn.keep(batcher, view, m.ring, base, base + plan.records_end);
   if (s.isOk() && layers) s = m.scratch.uploadMaskTable(layerMaskTable(crowd.layerMasks()));
   // Composed layers: the skinning passes' rows, where they fit (paths/layer_compose_pass.h; the
   // pass reads the region as a storage buffer).
@@ -303,6 +301,10 @@ Status Renderer::drawCrowd(CharacterId id, const CrowdView& view, const Instance
   DrawStats st;
   s = m.runPath(*c, path, frame, t0, stats != nullptr, &st, guard);
   st.previous_records_copied = plan.previous_copied ? view.previousRecords().size() : 0;
+  // Where the records are, for the view's next draw: only once they were drawn (a draw that
+  // failed earlier leaves its region to the next draw, which would be read as this one).
+  if (s.isOk() && m.desc.motion_vectors && view.desc().previous_records)
+    s = m.drawn.keep(batcher, view, m.ring, base, base + plan.records_end);
   m.ring.finishFrame();
   if (s.isOk()) s = m.check("drawCrowd");
   if (stats != nullptr) *stats = st;

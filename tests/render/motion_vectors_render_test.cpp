@@ -217,6 +217,64 @@ TEST_P(MotionVectorTest, TheLastDrawsRegionServesAsThePreviousRecords) {
   }
 }
 
+// A drawCrowd that fails after planning its ring region (here: compute pre-skinning on a
+// context whose compute grid is one group) leaves no note of where its records would have been: the
+// view's next draw copies its previous records, and draws the motion of a renderer that always
+// copies them, instead of reading the region another crowd's draw has written since as its own.
+TEST_P(MotionVectorTest, AFailedDrawLeavesNoPreviousRecordsBehind) {
+  RendererDesc rd;
+  rd.skinning_path = SkinningPath::kVertexShader;
+  rd.motion_vectors = true;
+  GlInfo one_group = info_;  // Compute pre-skinning of an instance needs more groups.
+  one_group.max_compute_groups_x = one_group.max_compute_groups_y = 1;
+  Renderer r, copy;
+  makeRenderer(&r, 0, PaletteFormat::kMatrix3x4F32, &rd, InterpolationChoice::kLinear,
+               &one_group);
+  rd.ring_frames = 1;  // Never holds the last draw's region: always copies.
+  makeRenderer(&copy, 0, PaletteFormat::kMatrix3x4F32, &rd);
+  InstanceBatcher batcher;
+  ASSERT_TRUE(batcher.init(r.batchLimits()).isOk());
+  CrowdManager other;
+  CrowdDesc cd = crowd_.desc();
+  ASSERT_TRUE(other.init(cd).isOk());
+  for (int k = 0; k < 6; ++k) {
+    InstanceDesc d;
+    d.position = glm::dvec3((k % 3 - 1) * 1.5, 0.0, -4.0 - 2.0 * (k / 3));
+    d.time_seconds = 0.2 * k;
+    InstanceHandle h;
+    ASSERT_TRUE(other.add(d, &h).isOk());
+  }
+  ASSERT_TRUE(other.update(0.05, camera(1)).isOk());
+  ASSERT_TRUE(crowd_.update(1.0 / 30.0, camera(1)).isOk());
+  // The other crowd's draw, this crowd's refused one, the other's again (the same selection:
+  // its note moves to the region the refused draw had planned).
+  ASSERT_TRUE(r.drawCrowd(other, batcher, camera(1), nullptr).isOk());
+  const Status refused =
+      r.drawCrowd(crowd_, batcher, camera(1), nullptr, DrawMode::kComputeSkinned);
+  EXPECT_EQ(refused.code(), StatusCode::kLimitExceeded) << refused.toString();
+  ASSERT_TRUE(r.drawCrowd(other, batcher, camera(1), nullptr).isOk());
+  nextFrame();
+  const size_t previous = crowd_.previousRecords().size();
+  ASSERT_GT(previous, 10u);
+  const auto motionOf = [&](Renderer& renderer, std::vector<glm::vec2>* motion) {
+    target_.clear(glm::vec4(0.0f));
+    DrawStats stats;
+    const Status s = renderer.drawCrowd(crowd_, batcher, crowd_.updateCamera(), &stats);
+    EXPECT_TRUE(s.isOk()) << s.toString();
+    *motion = motions();
+    return stats.previous_records_copied;
+  };
+  std::vector<glm::vec2> read, copied;
+  EXPECT_EQ(motionOf(copy, &copied), previous);
+  EXPECT_EQ(motionOf(r, &read), previous);
+  float largest = 0.0f;
+  for (const glm::vec2& m : copied) largest = std::max(largest, glm::length(m));
+  EXPECT_GT(largest, 0.02f);
+  expectMotionAgrees(copied, read);
+  r.shutdown();
+  copy.shutdown();
+}
+
 INSTANTIATE_TEST_SUITE_P(Backends, MotionVectorTest, allBackends(), backendTestName);
 
 }  // namespace test
