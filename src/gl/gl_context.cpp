@@ -60,6 +60,7 @@ Status loadGl(GlGetProcAddress get_proc, void* user_data, GlInfo* info) {
     return {StatusCode::kBackend, strCat("loadGl: need OpenGL 4.5 core or OpenGL ES 3.0, the ",
                                          "context has '", out.version, "' (", out.renderer, ")")};
   }
+  detail::takeHostErrors("loadGl");  // So that the check below blames only the queries.
   out.max_uniform_block_size_bytes = glInt(GL_MAX_UNIFORM_BLOCK_SIZE);
   out.uniform_buffer_offset_alignment = glInt(GL_UNIFORM_BUFFER_OFFSET_ALIGNMENT);
   out.max_texture_size = glInt(GL_MAX_TEXTURE_SIZE);
@@ -111,16 +112,35 @@ Status checkGlErrors(const char* what) {
 
 namespace detail {
 
-void logHostErrors(const char* what) {
+namespace {
+// The errors taken from the host on this thread, for takeHostGlErrors().
+constexpr size_t kKeptHostErrors = 64;
+thread_local std::vector<HostGlError> t_host_errors;
+thread_local uint64_t t_dropped_host_errors = 0;
+}  // namespace
+
+void takeHostErrors(const char* what) {
   if (glGetError == nullptr) return;
   for (int i = 0; i < 16; ++i) {
     const GLenum e = glGetError();
     if (e == GL_NO_ERROR) break;
     logMessage(LogLevel::kWarning, strCat("GL error ", glErrorName(e), " was pending before ", what,
-                                          " (left by the application; not the library's)"));
+                                          " (left by the application; not the library's): kept for "
+                                          "si::takeHostGlErrors"));
+    if (t_host_errors.size() < kKeptHostErrors)
+      t_host_errors.push_back({uint32_t(e), what});
+    else
+      ++t_dropped_host_errors;
   }
 }
 
 }  // namespace detail
+
+void takeHostGlErrors(std::vector<HostGlError>* out, uint64_t* dropped) {
+  if (out != nullptr) out->swap(detail::t_host_errors);
+  detail::t_host_errors.clear();
+  if (dropped != nullptr) *dropped = detail::t_dropped_host_errors;
+  detail::t_dropped_host_errors = 0;
+}
 
 }  // namespace si

@@ -1,13 +1,15 @@
 // SkinnedInstancing — SPDX-License-Identifier: MIT (see LICENSE)
 #pragma once
 // GL errors the host left pending when a library call starts are not the library's to report as
-// its failure: they are drained (glGetError cannot leave them for the host) and logged as
-// warnings naming the call, so the call's own error check blames only what it did.
+// its failure, nor its to drop: they are taken (glGetError cannot leave them for the host),
+// logged as warnings naming the call, and kept for the host (si::takeHostGlErrors), so the
+// call's own error check blames only what it did.
 
 namespace si::detail {
 
-/// Drains glGetError() (at most 16 errors: a lost context can report errors forever) and logs
-/// each pending error at LogLevel::kWarning as the host's, before the call named `what`.
-void logHostErrors(const char* what);
+/// Drains glGetError() (at most 16 errors: a lost context can report errors forever), logs
+/// each pending error at LogLevel::kWarning as the host's, before the call named `what`, and
+/// keeps it for takeHostGlErrors() on this thread.
+void takeHostErrors(const char* what);
 
 }  // namespace si::detail

@@ -13,6 +13,7 @@
 #include <glm/gtc/quaternion.hpp>
 
 #include "core/str_cat.h"
+#include "gl/host_errors.h"
 #include "gl/profile/gl_profile.h"
 #include "gl/state/gl_state_guard.h"
 #include "gl/view_rotation.h"
@@ -156,6 +157,7 @@ Status measureImageLodErrors(const GlInfo& info, const Character& character,
   const glm::vec3 centre = 0.5f * (bounds.min + bounds.max);
   const double cell_units = kCellHeights * double(height_units);
   const uint32_t levels = uint32_t(character.mesh.maxLodCount());
+  detail::takeHostErrors("measureImageLodErrors");  // It checks its own.
   Renderer renderer;
   RendererDesc rd;
   rd.skinning_path = SkinningPath::kVertexShader;

@@ -32,7 +32,7 @@ Status Renderer::addMaterial(const MaterialDesc& desc, MaterialId* id) {
   if (!s.isOk()) return s;
   s = desc.validate();
   if (!s.isOk()) return {s.code(), strCat("addMaterial: ", s.message())};
-  if (m.debug) detail::logHostErrors("addMaterial");
+  if (m.debug) detail::takeHostErrors("addMaterial");
   detail::MaterialSource source;
   source.name = desc.name;
   source.text = desc.source;

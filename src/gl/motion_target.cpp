@@ -8,6 +8,7 @@
 #include <cmath>
 
 #include "core/str_cat.h"
+#include "gl/host_errors.h"
 #include "gl/state/gl_state_guard.h"
 #include "si/gl/gl_context.h"
 
@@ -23,7 +24,7 @@ Status MotionTarget::create(uint32_t width, uint32_t height) {
     return {StatusCode::kInvalidArgument,
             detail::strCat("MotionTarget: ", width, " x ", height, " pixels (each side 1 to ",
                            limit, ", GL_MAX_RENDERBUFFER_SIZE)")};
-  (void)checkGlErrors("before MotionTarget::create");  // Not ours to report.
+  detail::takeHostErrors("MotionTarget::create");  // Not ours to report, nor to drop.
   const GLsizei w = GLsizei(width), h = GLsizei(height);
   glCreateTextures(GL_TEXTURE_2D, 1, &color_);
   glTextureStorage2D(color_, 1, GL_RGBA8, w, h);
@@ -71,6 +72,7 @@ void MotionTarget::clear(const glm::vec4& color) {
 }
 
 Status MotionTarget::readMotion(std::vector<glm::vec2>* out) const {
+  detail::takeHostErrors("MotionTarget::readMotion");
   if (framebuffer_ == 0 || out == nullptr)
     return {StatusCode::kInvalidArgument, "MotionTarget::readMotion: create() first, non-null out"};
   const detail::GlStateGuard guard(detail::readbackFootprint(), true);
@@ -81,6 +83,7 @@ Status MotionTarget::readMotion(std::vector<glm::vec2>* out) const {
 }
 
 Status MotionTarget::readColor(std::vector<uint8_t>* rgba) const {
+  detail::takeHostErrors("MotionTarget::readColor");
   if (framebuffer_ == 0 || rgba == nullptr)
     return {StatusCode::kInvalidArgument, "MotionTarget::readColor: create() first, non-null out"};
   const detail::GlStateGuard guard(detail::readbackFootprint(), true);
@@ -90,6 +93,7 @@ Status MotionTarget::readColor(std::vector<uint8_t>* rgba) const {
 }
 
 Status MotionTarget::readDepth(std::vector<float>* out) const {
+  detail::takeHostErrors("MotionTarget::readDepth");
   if (framebuffer_ == 0 || out == nullptr)
     return {StatusCode::kInvalidArgument, "MotionTarget::readDepth: create() first, non-null out"};
   const detail::GlStateGuard guard(detail::readbackFootprint(), true);

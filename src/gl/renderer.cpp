@@ -88,7 +88,7 @@ Status Renderer::init(const GlInfo& info, const RendererDesc& desc) {
   impl->ring_frames = desc.ring_frames;
   impl->ring.configure(impl->block_size, impl->alignment, impl->ringFrames(),
                        info.storage_buffer_offset_alignment);
-  if (impl->debug) detail::logHostErrors("Renderer::init");
+  if (impl->debug) detail::takeHostErrors("Renderer::init");
   if (desc.debug_messages && info.has_khr_debug) impl->debug_chain.install();
   detail::ShaderConfig config;
   config.max_instances = impl->capacity;
@@ -135,6 +135,7 @@ Status Renderer::setCustomTextureArray(uint32_t texture) {
     m.custom_layers = 0;
     return Status::ok();
   }
+  detail::takeHostErrors("setCustomTextureArray");
   if (glIsTexture(texture) != GL_TRUE)
     return {StatusCode::kInvalidArgument,
             strCat("setCustomTextureArray: ", texture, " is not a texture name")};
@@ -386,6 +387,7 @@ Status Renderer::readGpuSelection(CharacterId id, std::vector<glm::uvec2>* selec
   detail::CharacterSlot* c = nullptr;
   Status s = impl_->find(id, "readGpuSelection", &c);
   if (s.isOk()) s = impl_->esRefuses("readGpuSelection", "compute shaders (GPU-driven culling)");
+  if (s.isOk()) detail::takeHostErrors("readGpuSelection");
   if (s.isOk()) s = c->gpu_culled_path.readSelection(selection);
   return s.isOk() ? checkGlErrors("readGpuSelection") : s;
 }

@@ -61,16 +61,17 @@ struct Renderer::Impl {
 
   Status check(const char* what) const { return debug ? checkGlErrors(what) : Status::ok(); }
 
-  /// The start of a public call named `what` that changes context state: with debug checks,
-  /// errors the host left pending are drained and logged as its own (so the call's final check
-  /// reports only the library's); then the guard of `footprint` (gl/state/gl_state_guard.h)
+  /// The start of a public call named `what` that changes context state: with debug checks, or
+  /// when the call always checks its errors (`reads_errors`), errors the host left pending are
+  /// taken for it (gl/host_errors.h; so the call's final check reports only the library's);
+  /// then the guard of `footprint` (gl/state/gl_state_guard.h)
   /// saves the state it may change (RendererDesc::restore_state) and sets the draw state.
   using Guard = std::unique_ptr<detail::GlStateGuard>;
   /// A draw's guard also takes its `camera`: a projection that mirrors the image (a y-flipped
   /// render target's, Camera::flipsWinding) draws with clockwise front faces for the call.
   Guard enter(const char* what, const detail::GlFootprint& footprint,
-              const Camera* camera = nullptr) const {
-    if (debug) detail::logHostErrors(what);
+              const Camera* camera = nullptr, bool reads_errors = false) const {
+    if (debug || reads_errors) detail::takeHostErrors(what);
     Guard guard = std::make_unique<detail::GlStateGuard>(footprint, desc.restore_state,
                                                          desc.webgl_restore_raster_state);
     if (camera != nullptr && camera->flipsWinding()) glFrontFace(GL_CW);

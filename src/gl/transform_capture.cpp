@@ -96,7 +96,7 @@ Status Renderer::captureSkinnedPositions(CharacterId id, const InstanceRecord& r
                              "captureSkinnedPositions: the vertex list");
   }
   if (!s.isOk()) return s;
-  const auto guard = m.enter("captureSkinnedPositions", detail::captureFootprint());
+  const auto guard = m.enter("captureSkinnedPositions", detail::captureFootprint(), nullptr, true);
   out->resize(vertices);
   if (compute) {
     s = captureCompute(m.resources(*c), vertices, b);

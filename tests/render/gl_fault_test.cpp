@@ -1,9 +1,11 @@
 // SkinnedInstancing — SPDX-License-Identifier: MIT (see LICENSE)
 // GL faults become named errors at the call that meets them, never a GL error later: uploads
 // past the context's limits, allocations the driver refuses, a crowd whose GPU state exceeds
-// the storage-block limit, a compute ring past it, and no current context.
+// the storage-block limit, a compute ring past it, and no current context; and the
+// application's own pending errors are given back or left pending, never dropped.
 #include <glad/gl.h>
 
+#include "gl/host_errors.h"
 #include "gl/resources/gl_allocation.h"
 #include "render/render_fixture.h"
 
@@ -50,6 +52,85 @@ TEST_P(RenderTest, AllocationsTheDriverRefusesAreNamedErrors) {
   EXPECT_TRUE(s.isOk()) << s.toString();
   EXPECT_NE(buffer, 0u);
   glDeleteBuffers(1, &buffer);
+}
+
+// A GL error the application left pending is never the library's to drop: a call that reads
+// errors (an allocation, any call with debug checks, the calls that always check) takes it and
+// gives it back through takeHostGlErrors, naming the call, and still succeeds; a release draw
+// that allocates nothing reads none and leaves it pending in GL for the application.
+TEST_P(RenderTest, TheApplicationsPendingErrorsAreGivenBackOrLeftPending) {
+  takeHostGlErrors(nullptr);                                           // What earlier tests left.
+  const auto raise = [] { glBindBuffer(GL_ARRAY_BUFFER, 0xFFFFFF); };  // GL_INVALID_OPERATION.
+  std::vector<HostGlError> taken;
+  raise();
+  GLuint buffer = 0;
+  Status s = detail::createBuffer(&buffer, 4096, nullptr, 0, "a small buffer");
+  EXPECT_TRUE(s.isOk()) << s.toString();
+  glDeleteBuffers(1, &buffer);
+  EXPECT_EQ(glGetError(), GLenum(GL_NO_ERROR));
+  takeHostGlErrors(&taken);
+  ASSERT_EQ(taken.size(), 1u);
+  EXPECT_EQ(taken[0].error, uint32_t(GL_INVALID_OPERATION));
+  EXPECT_EQ(taken[0].taken_by, "a small buffer");
+  takeHostGlErrors(&taken);  // Given back once.
+  EXPECT_TRUE(taken.empty());
+  CrowdManager crowd;
+  makeCrowd(&crowd);
+  InstanceDesc d;
+  InstanceHandle h;
+  ASSERT_TRUE(crowd.add(d, &h).isOk());
+  ASSERT_TRUE(crowd.update(0.1, closeCamera()).isOk());
+  for (uint32_t checks : {1u, 2u}) {  // Debug checks on, then off.
+    SCOPED_TRACE(checks == 1 ? "debug checks" : "release");
+    RendererDesc rd;
+    rd.skinning_path = SkinningPath::kVertexShader;
+    rd.debug_checks = checks;
+    Renderer r;
+    raise();
+    makeRenderer(&r, 0, PaletteFormat::kMatrix3x4F32, &rd);  // init allocates: takes it.
+    takeHostGlErrors(&taken);
+    ASSERT_EQ(taken.size(), 1u);
+    EXPECT_EQ(taken[0].error, uint32_t(GL_INVALID_OPERATION));
+    if (checks == 1) {
+      EXPECT_EQ(taken[0].taken_by, "Renderer::init");
+    }
+    InstanceBatcher batcher;
+    ASSERT_TRUE(batcher.init(r.batchLimits()).isOk());
+    ASSERT_TRUE(r.drawCrowd(crowd, batcher, closeCamera(), nullptr).isOk());  // Sizes its buffers.
+    raise();
+    s = r.drawCrowd(crowd, batcher, closeCamera(), nullptr);
+    EXPECT_TRUE(s.isOk()) << s.toString();
+    takeHostGlErrors(&taken);
+    if (checks == 1) {
+      ASSERT_EQ(taken.size(), 1u);
+      EXPECT_EQ(taken[0].taken_by, "drawCrowd");
+      EXPECT_EQ(glGetError(), GLenum(GL_NO_ERROR));
+    } else {
+      EXPECT_TRUE(taken.empty());
+      EXPECT_EQ(glGetError(), GLenum(GL_INVALID_OPERATION));  // Still the application's.
+    }
+    // A call that always checks its errors takes it whatever the checks.
+    std::vector<glm::uvec2> selection;
+    ASSERT_TRUE(r.drawCrowdGpuCulled(crowd, closeCamera(), nullptr).isOk());
+    raise();
+    s = r.readGpuSelection(&selection);
+    EXPECT_TRUE(s.isOk()) << s.toString();
+    takeHostGlErrors(&taken);
+    ASSERT_EQ(taken.size(), 1u);
+    EXPECT_EQ(taken[0].taken_by, "readGpuSelection");
+    r.shutdown();
+  }
+  // At most 64 kept; the rest counted.
+  for (int k = 0; k < 66; ++k) {
+    raise();
+    detail::takeHostErrors("a test");
+  }
+  uint64_t dropped = 0;
+  takeHostGlErrors(&taken, &dropped);
+  EXPECT_EQ(taken.size(), 64u);
+  EXPECT_EQ(dropped, 2u);
+  takeHostGlErrors(&taken, &dropped);
+  EXPECT_EQ(dropped, 0u);
 }
 
 TEST_P(RenderTest, StoragePastTheBlockLimitIsRefusedByName) {

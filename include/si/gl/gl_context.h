@@ -15,6 +15,7 @@
 
 #include <cstdint>
 #include <string>
+#include <vector>
 
 #include "si/core/status.h"
 
@@ -71,5 +72,28 @@ const char* glErrorName(uint32_t error);
 /// Drains glGetError(). Returns kBackend naming `what` and every pending error, or ok when none.
 /// Requires loadGl() to have succeeded.
 Status checkGlErrors(const char* what);
+
+/// A GL error the application had left pending when a library call had to read glGetError().
+struct HostGlError {
+  uint32_t error = 0;    ///< The glGetError() code (glErrorName names it).
+  std::string taken_by;  ///< The library call (or its step) that took it, e.g. "drawCrowd".
+};
+
+/// Gives back the GL errors the library took from the application. GL cannot read an error
+/// and leave it pending (glGetError clears it), so a library call that reads errors first takes
+/// those already pending, logs each as a warning naming the call (si::setLogCallback), and
+/// keeps it for this function. The calls that read errors: every Renderer call with debug
+/// checks (RendererDesc::debug_checks); any call that allocates a buffer or texture (init,
+/// uploads, a draw that grows its buffers); and those that always check (buildImpostor,
+/// captureSkinnedPositions, measureImageLodErrors, readGpuSelection, setCustomTextureArray,
+/// MotionTarget). Other calls leave the application's errors pending in GL, so a release draw
+/// that allocates nothing reads none. Without debug checks an error a call's own earlier
+/// commands raised may be taken the same way (named by the step that took it).
+///
+/// Moves the errors kept for the calling thread (the thread the context was current on),
+/// oldest first, into `*out` (replaced; `out` may be null to forget them) and forgets them. At
+/// most 64 are kept; `*dropped`, when non-null, gets how many more were taken since the last
+/// call.
+void takeHostGlErrors(std::vector<HostGlError>* out, uint64_t* dropped = nullptr);
 
 }  // namespace si

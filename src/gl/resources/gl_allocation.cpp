@@ -6,6 +6,7 @@
 #include <string>
 
 #include "core/str_cat.h"
+#include "gl/host_errors.h"
 #include "gl/profile/gl_profile.h"
 #include "si/gl/gl_context.h"
 
@@ -13,6 +14,7 @@ namespace si::detail {
 
 namespace {
 
+// The errors an allocation raised after its first (a lost context can report errors forever).
 void drainErrors() {
   for (int i = 0; i < 16 && glGetError() != GL_NO_ERROR; ++i) {
   }
@@ -36,7 +38,7 @@ Status makeBuffer(GLuint* buffer, uint64_t bytes, const char* what, Allocate all
   *buffer = kNoObject;
   if (bytes > uint64_t(std::numeric_limits<GLsizeiptr>::max()))
     return {StatusCode::kLimitExceeded, strCat(what, ": ", bytes, " bytes do not fit a GL size")};
-  drainErrors();
+  takeHostErrors(what);  // So that the status names only the allocation's error.
   glCreateBuffers(1, buffer);
   allocate(*buffer, GLsizeiptr(bytes));
   Status s = allocationStatus(what, strCat(bytes, " bytes"));
@@ -54,7 +56,7 @@ Status makeTexture(GLuint* texture, GLenum target, const char* what, const std::
                    const Allocate& allocate) {
   if (*texture != kNoObject) glDeleteTextures(1, texture);
   *texture = kNoObject;
-  drainErrors();
+  takeHostErrors(what);
   glCreateTextures(target, 1, texture);
   allocate(*texture);
   Status s = allocationStatus(what, size);
