@@ -64,6 +64,11 @@ Status loadGl(GlGetProcAddress get_proc, void* user_data, GlInfo* info) {
   out.max_uniform_block_size_bytes = glInt(GL_MAX_UNIFORM_BLOCK_SIZE);
   out.uniform_buffer_offset_alignment = glInt(GL_UNIFORM_BUFFER_OFFSET_ALIGNMENT);
   out.max_texture_size = glInt(GL_MAX_TEXTURE_SIZE);
+  out.max_renderbuffer_size = glInt(GL_MAX_RENDERBUFFER_SIZE);
+  GLint viewport[2] = {0, 0};
+  glGetIntegerv(GL_MAX_VIEWPORT_DIMS, viewport);
+  out.max_viewport_width = viewport[0] > 0 ? uint32_t(viewport[0]) : 0;
+  out.max_viewport_height = viewport[1] > 0 ? uint32_t(viewport[1]) : 0;
   if (!out.es) {  // The ES profile has neither storage buffers nor compute (gl_profile.h).
     GLint64 ssbo = 0;
     glGetInteger64v(GL_MAX_SHADER_STORAGE_BLOCK_SIZE, &ssbo);

@@ -15,6 +15,7 @@
 #include "gl/resources/gl_allocation.h"
 #include "gl/view_rotation.h"
 #include "si/crowd/crowd_manager.h"
+#include "si/crowd/handle_pool.h"
 #include "si/crowd/instance_batcher.h"
 
 namespace si {
@@ -112,13 +113,50 @@ Status Renderer::buildImpostor(CharacterId id, const ImpostorDesc& desc, Imposto
   const uint64_t cells = uint64_t(frames.size()) * views;
   const uint32_t columns = uint32_t(std::ceil(std::sqrt(double(cells))));
   const uint32_t rows = uint32_t((cells + columns - 1) / columns);
-  const uint64_t max_side = std::max<uint32_t>(m.info.max_texture_size, 1);
-  if (uint64_t(columns) * cell > max_side || uint64_t(rows) * cell > max_side)
+  // The plan, reported (`info`) before anything is allocated, also when refused below.
+  const uint64_t width = uint64_t(columns) * cell, height = uint64_t(rows) * cell;
+  GLsizei levels = 1;
+  while ((cell >> levels) > 0) ++levels;  // Down to one texel a cell.
+  ImpostorInfo plan;
+  plan.views = views;
+  plan.frames = uint32_t(frames.size());
+  plan.cells = uint32_t(std::min<uint64_t>(cells, UINT32_MAX));
+  plan.width = uint32_t(std::min<uint64_t>(width, UINT32_MAX));
+  plan.height = uint32_t(std::min<uint64_t>(height, UINT32_MAX));
+  for (GLsizei l = 0; l < levels; ++l)
+    plan.bytes += std::max<uint64_t>(width >> l, 1) * std::max<uint64_t>(height >> l, 1) * 4 *
+                  detail::ImpostorAtlas::kLayers;
+  plan.capture_bytes = width * height * 4;  // GL_DEPTH_COMPONENT24, padded to 4 bytes.
+  if (info != nullptr) *info = plan;
+  // The atlas is a texture, the capture's depth a renderbuffer, drawn through one viewport: the
+  // smallest of their limits bounds each side (a viewport past its limit would be clamped
+  // silently, leaving cells empty).
+  const struct {
+    uint32_t limit;
+    const char* name;
+  } sides[] = {
+      {m.info.max_texture_size, "GL_MAX_TEXTURE_SIZE"},
+      {m.info.max_renderbuffer_size, "GL_MAX_RENDERBUFFER_SIZE"},
+      {std::min(m.info.max_viewport_width, m.info.max_viewport_height), "GL_MAX_VIEWPORT_DIMS"}};
+  for (const auto& side : sides)
+    if (width > std::max<uint32_t>(side.limit, 1) || height > std::max<uint32_t>(side.limit, 1))
+      return {StatusCode::kLimitExceeded,
+              strCat("buildImpostor: ", cells, " cells (", frames.size(), " frames x ", views,
+                     " views) of ", cell, " texels need ", width, " x ", height, " texels, past ",
+                     side.name, " (", side.limit, "): fewer frames, views or texels per cell")};
+  // One capture instance per cell.
+  if (cells > HandlePool::kMaxSlots)
     return {StatusCode::kLimitExceeded,
             strCat("buildImpostor: ", cells, " cells (", frames.size(), " frames x ", views,
-                   " views) of ", cell, " texels need ", uint64_t(columns) * cell, " x ",
-                   uint64_t(rows) * cell, " texels, past GL_MAX_TEXTURE_SIZE (", max_side,
-                   "): fewer frames, views or texels per cell")};
+                   " views), past the capture crowd's ", HandlePool::kMaxSlots,
+                   " instances: fewer frames or views")};
+  const uint64_t budget = desc.max_bytes ? desc.max_bytes : uint64_t(1) << 30;
+  if (plan.bytes + plan.capture_bytes > budget)
+    return {StatusCode::kLimitExceeded,
+            strCat("buildImpostor: the atlas takes ", plan.bytes, " bytes with its mip levels and ",
+                   "its capture ", plan.capture_bytes, " more, past the budget of ", budget,
+                   " (ImpostorDesc::max_bytes): fewer frames, views or texels per cell, or a "
+                   "larger budget")};
 
   // The views, and the cell: every clip's bounds about their centre, as wide and tall as the
   // widest view shows them.
@@ -140,11 +178,9 @@ Status Renderer::buildImpostor(CharacterId id, const ImpostorDesc& desc, Imposto
     }
   const float cell_units = 2.0f * reach * 1.02f;
 
-  const auto guard = m.enter("buildImpostor", detail::uploadFootprint());
+  const auto guard = m.enter("buildImpostor", detail::uploadFootprint(), nullptr, true);
   detail::ImpostorAtlas atlas;
-  const GLsizei w = GLsizei(columns * cell), h = GLsizei(rows * cell);
-  GLsizei levels = 1;
-  while ((cell >> levels) > 0) ++levels;  // Down to one texel a cell.
+  const GLsizei w = GLsizei(width), h = GLsizei(height);
   Status s =
       detail::createTexture2DArray(&atlas.texture, levels, GL_RGBA8, w, h,
                                    detail::ImpostorAtlas::kLayers, "buildImpostor: the atlas");
@@ -229,20 +265,6 @@ Status Renderer::buildImpostor(CharacterId id, const ImpostorDesc& desc, Imposto
   atlas.cell_units = cell_units;
   c.impostor.release();
   c.impostor = atlas;
-  if (info != nullptr) {
-    ImpostorInfo out;
-    out.views = views;
-    out.frames = uint32_t(frames.size());
-    out.cells = uint32_t(cells);
-    out.width = uint32_t(w);
-    out.height = uint32_t(h);
-    uint64_t bytes = 0;
-    for (GLsizei l = 0; l < levels; ++l)
-      bytes += uint64_t(std::max(w >> l, 1)) * uint64_t(std::max(h >> l, 1)) * 4 *
-               detail::ImpostorAtlas::kLayers;
-    out.bytes = bytes;
-    *info = out;
-  }
   return m.check("buildImpostor");
 }
 

@@ -192,6 +192,80 @@ TEST_P(RenderTest, AnImpostorAtItsHandOverHeightDiffersFromTheMeshByItsMeasuredE
   EXPECT_LE(per_character, 2.0 * level.mean_differing_pixels[1] + 2.0);
 }
 
+// A camera straight above a character (top-down) sees it along its vertical axis, where the
+// view has no azimuth: the impostor shows a captured cell turned as it was captured, so it
+// draws what the mesh draws there (within the atlas's resolution), at every turn of the
+// character, rather than a cell of an arbitrary azimuth turned another way.
+TEST_P(RenderTest, ATopDownImpostorIsTurnedAsTheMesh) {
+  ImpostorDesc id = smallImpostor();
+  id.elevations_degrees = {0.0f, 45.0f, 90.0f};
+  id.cell_pixels = 128;
+  RendererDesc rd;
+  rd.skinning_path = SkinningPath::kVertexShader;
+  Renderer r;
+  ASSERT_TRUE(r.init(info_, rd).isOk());
+  CharacterId cid;
+  ASSERT_TRUE(r.addCharacter(impostorCharacter(), palette(), &cid).isOk());
+  ASSERT_TRUE(r.buildImpostor(cid, id).isOk());
+  // The atlas's cell centre (buildImpostor's: every clip's bounds), straight below the camera.
+  Aabb box = palette().clips[0].bounds;
+  for (const BakedClip& clip : palette().clips) {
+    box.min = glm::min(box.min, clip.bounds.min);
+    box.max = glm::max(box.max, clip.bounds.max);
+  }
+  const glm::vec3 centre = 0.5f * (box.min + box.max);
+  const float height = impostorCharacter().height();
+  for (float turn : {0.0f, 0.7f, 2.0f}) {
+    SCOPED_TRACE(turn);
+    const glm::quat rotation = glm::angleAxis(turn, glm::vec3(0, 1, 0));
+    const glm::dvec3 below = -glm::dvec3(rotation * centre);  // The centre at the origin.
+    // Far and narrow (the quad's one depth barely matters): 1.5 heights across the image.
+    const Camera above = Camera::lookAt({0.0, 30.0 * height, 0.0}, {0.0, 0.0, 0.0},
+                                        glm::vec3(0, 0, -1), 0.05f, 1.0f, 1.0f, 100.0f * height);
+    const auto crowdAt = [&](bool impostors, CrowdManager* crowd) {
+      CrowdDesc cd;
+      cd.palette = &palette();
+      cd.sub_mesh_count = 4;
+      cd.lod_count = impostorLevels();
+      cd.character_radius = 1.0f;
+      cd.lod_distances_radii = linesTo(impostors ? 1e-3f : 1e6f);
+      cd.max_distance_radii = -1.0f;
+      cd.impostor_lod = impostorLevels() - 1;
+      ASSERT_TRUE(crowd->init(cd).isOk());
+      InstanceDesc inst;
+      inst.position = below;
+      inst.rotation = rotation;
+      inst.clip = uint32_t(palette().findClip("walk"));
+      inst.speed = 0.0f;
+      inst.variation_mask = 0xFFFFFFFFu;
+      InstanceHandle h;
+      ASSERT_TRUE(crowd->add(inst, &h).isOk());
+      ASSERT_TRUE(crowd->update(0.0, above).isOk());
+    };
+    CrowdManager as_impostor, as_mesh;
+    crowdAt(true, &as_impostor);
+    crowdAt(false, &as_mesh);
+    ASSERT_EQ(as_impostor.stats().per_lod[impostorLevels() - 1], 1u);
+    const std::vector<uint8_t> a = draw(r, as_impostor, above, 0);
+    const std::vector<uint8_t> b = draw(r, as_mesh, above, 0);
+    // Coverage (pixels off the background, the corner's colour), which the turn decides.
+    const auto drawn = [](const std::vector<uint8_t>& image, size_t p) {
+      for (size_t c = 0; c < 3; ++c)
+        if (std::abs(int(image[p + c]) - int(image[c])) > 2) return true;
+      return false;
+    };
+    size_t covered = 0, mismatched = 0;
+    for (size_t p = 0; p < a.size(); p += 4) {
+      covered += drawn(b, p);
+      mismatched += drawn(a, p) != drawn(b, p);
+    }
+    std::printf("[ impostor ] top-down, turned %.1f: %zu of %zu covered pixels differ\n", turn,
+                mismatched, covered);
+    EXPECT_GT(covered, 1000u);
+    EXPECT_LT(double(mismatched), 0.15 * double(covered));
+  }
+}
+
 TEST_P(RenderTest, ImpostorsRefuseWhatTheyCannotDraw) {
   Renderer r;
   RendererDesc rd;
@@ -213,12 +287,53 @@ TEST_P(RenderTest, ImpostorsRefuseWhatTheyCannotDraw) {
   EXPECT_EQ(r.buildImpostor(cid, bad).code(), StatusCode::kLimitExceeded);
   EXPECT_EQ(r.buildImpostor(CharacterId{7}, smallImpostor()).code(), StatusCode::kInvalidArgument);
   EXPECT_FALSE(r.hasImpostor(cid));
+  // Past 2^20 cells (one capture instance each), within every side limit.
+  bad = smallImpostor();
+  bad.azimuths = 300000;
+  bad.cell_pixels = 1;
+  Status s = r.buildImpostor(cid, bad);
+  EXPECT_EQ(s.code(), StatusCode::kLimitExceeded);
+  EXPECT_NE(s.message().find("1048576 instances"), std::string::npos) << s.message();
+  // Past the byte budget: refused before allocating, with the plan reported; the plan is what
+  // a build within the budget makes.
+  ImpostorInfo planned, built;
+  bad = smallImpostor();
+  bad.max_bytes = 4096;
+  s = r.buildImpostor(cid, bad, &planned);
+  EXPECT_EQ(s.code(), StatusCode::kLimitExceeded);
+  EXPECT_NE(s.message().find("max_bytes"), std::string::npos) << s.message();
+  EXPECT_FALSE(r.hasImpostor(cid));
+  EXPECT_GT(planned.bytes, 4096u);
+  EXPECT_EQ(planned.capture_bytes, uint64_t(planned.width) * planned.height * 4);
+  bad.max_bytes = planned.bytes + planned.capture_bytes;
+  ASSERT_TRUE(r.buildImpostor(cid, bad, &built).isOk());
+  EXPECT_EQ(built.bytes, planned.bytes);
+  EXPECT_EQ(built.width, planned.width);
+  EXPECT_EQ(built.cells, planned.cells);
+  // A side past the renderbuffer or viewport limit (lowered, as a smaller GPU's) is refused by
+  // name, not clamped into empty cells; the atlas built before stays.
+  for (const char* limit : {"GL_MAX_RENDERBUFFER_SIZE", "GL_MAX_VIEWPORT_DIMS"}) {
+    GlInfo small = info_;
+    (std::string(limit) == "GL_MAX_RENDERBUFFER_SIZE" ? small.max_renderbuffer_size
+                                                      : small.max_viewport_height) =
+        planned.height - 1;
+    Renderer lowered;
+    ASSERT_TRUE(lowered.init(small, rd).isOk());
+    CharacterId lid;
+    ASSERT_TRUE(lowered.addCharacter(impostorCharacter(), palette(), &lid).isOk());
+    s = lowered.buildImpostor(lid, smallImpostor());
+    EXPECT_EQ(s.code(), StatusCode::kLimitExceeded);
+    EXPECT_NE(s.message().find(limit), std::string::npos) << s.message();
+    lowered.shutdown();
+  }
+  EXPECT_TRUE(r.hasImpostor(cid));
 
   CrowdManager crowd;
   impostorCrowd(linesTo(60.0f), impostorLevels() - 1, &crowd);
   InstanceBatcher batcher;
   ASSERT_TRUE(batcher.init(r.batchLimits()).isOk());
   DrawStats stats;
+  ASSERT_TRUE(r.replaceCharacter(cid, impostorCharacter(), palette()).isOk());  // Drops it.
   // No atlas yet.
   EXPECT_EQ(r.drawCrowd(crowd, batcher, lodCamera(), &stats).code(), StatusCode::kInvalidArgument);
   EXPECT_EQ(r.drawCrowdGpuCulled(crowd, lodCamera(), &stats).code(), StatusCode::kInvalidArgument);

@@ -35,6 +35,10 @@ struct GlInfo {
   uint32_t max_uniform_block_size_bytes = 0;   ///< GL_MAX_UNIFORM_BLOCK_SIZE.
   uint32_t uniform_buffer_offset_alignment = 0;  ///< GL_UNIFORM_BUFFER_OFFSET_ALIGNMENT.
   uint32_t max_texture_size = 0;               ///< GL_MAX_TEXTURE_SIZE.
+  uint32_t max_renderbuffer_size = 0;          ///< GL_MAX_RENDERBUFFER_SIZE.
+  /// GL_MAX_VIEWPORT_DIMS: a viewport past them is clamped silently, so offscreen passes
+  /// (buildImpostor's capture) refuse targets larger.
+  uint32_t max_viewport_width = 0, max_viewport_height = 0;
   /// GL_MAX_SHADER_STORAGE_BLOCK_SIZE: the largest storage buffer a shader may read whole (the
   /// compute ring, the GPU-driven crowd state).
   uint64_t max_shader_storage_block_size_bytes = 0;

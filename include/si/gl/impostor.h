@@ -52,6 +52,10 @@ struct ImpostorDesc {
   uint32_t cell_pixels = 0;
   /// The parts every impostor shows (bit s: sub-mesh s); 0 means all.
   uint32_t variation_mask = 0;
+  /// The most GPU memory the build may take: the atlas with its mip levels and the capture's
+  /// depth buffer, which lives during the build only (ImpostorInfo::bytes + capture_bytes);
+  /// 0 means 1 GiB. Past it, buildImpostor refuses before allocating (kLimitExceeded).
+  uint64_t max_bytes = 0;
 };
 
 /// What buildImpostor() made.
@@ -61,6 +65,7 @@ struct ImpostorInfo {
   uint32_t cells = 0;        ///< views x frames.
   uint32_t width = 0, height = 0;  ///< Texels of each of the atlas's three layers.
   uint64_t bytes = 0;        ///< GPU memory of the atlas with its mip levels.
+  uint64_t capture_bytes = 0;  ///< The capture's depth buffer, freed when the build returns.
 };
 
 }  // namespace si

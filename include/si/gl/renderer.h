@@ -285,10 +285,13 @@ class Renderer {
   /// whose CrowdDesc::impostor_lod is set then draw their instances at that level as impostors
   /// (drawCrowd and drawCrowdGpuCulled; the baselines return kUnsupported for such crowds).
   /// Replaces an earlier atlas; replaceCharacter() drops it. `info` (may be null) gets the
-  /// atlas's size. kInvalidArgument for an unknown id, more than 4 elevations, elevations not
-  /// increasing or outside [-90, 90] degrees, a mask wearing no sub-mesh; kLimitExceeded when
-  /// the atlas would pass GL_MAX_TEXTURE_SIZE (fewer frames, views or texels per cell);
-  /// the allocation errors of init(). The old atlas stays on failure.
+  /// atlas's size and bytes, planned before anything is allocated: also when the build is then
+  /// refused for a limit or the budget. kInvalidArgument for an unknown id, more than 4
+  /// elevations, elevations not increasing or outside [-90, 90] degrees, a mask wearing no
+  /// sub-mesh; kLimitExceeded, naming the limit, when a side of the atlas would pass
+  /// GL_MAX_TEXTURE_SIZE, GL_MAX_RENDERBUFFER_SIZE or GL_MAX_VIEWPORT_DIMS, its cells 2^20 (one
+  /// capture instance each), or its bytes with the capture's ImpostorDesc::max_bytes; the
+  /// allocation errors of init(). The old atlas stays on failure.
   Status buildImpostor(CharacterId id, const ImpostorDesc& desc, ImpostorInfo* info = nullptr);
   /// Whether character `id` has an impostor atlas.
   bool hasImpostor(CharacterId id) const;

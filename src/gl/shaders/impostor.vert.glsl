@@ -60,9 +60,6 @@ void main() {
   vec3 towards = u_viewer.w > 0.5 ? u_viewer.xyz : -normalize(centre);
   vec3 up0 = normalize(m[1]);
   vec3 right = cross(up0, towards);
-  if (dot(right, right) < 1e-8) right = cross(normalize(m[2]), towards);
-  right = normalize(right);
-  vec3 up = cross(towards, right);
   // The view direction in model space: elevation and azimuth, the nearest captured of each.
   vec3 d = normalize(transpose(m) * towards);
   float elevation = asin(clamp(d.y, -1.0, 1.0));
@@ -73,6 +70,16 @@ void main() {
   float azimuths = float(u_impostor_grid.z);
   uint a = min(uint(mod(floor(atan(-d.x, d.z) * azimuths / (2.0 * kPi) + 0.5), azimuths)),
                u_impostor_grid.z - 1u);
+  // Straight along the vertical axis (a top-down camera) the view has no azimuth (atan(0, 0)
+  // is undefined): the middle step's cell, the billboard turned as that cell was captured (its
+  // screen right is the model's (cos, 0, sin) of the step's angle: gl/view_rotation.h).
+  if (dot(right, right) < 1e-8) {
+    a = u_impostor_grid.z / 2u;
+    float step = 2.0 * kPi * float(a) / azimuths;
+    right = m * vec3(cos(step), 0.0, sin(step));
+  }
+  right = normalize(right);
+  vec3 up = cross(towards, right);
   uint view = e * u_impostor_grid.z + a;
   // The frame: the heavier clip's texel and fraction, its clip by binary search.
   bool b = uintBitsToFloat(inst.blend.z) > 0.5;
