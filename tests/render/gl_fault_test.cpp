@@ -142,9 +142,11 @@ TEST_P(RenderTest, StoragePastTheBlockLimitIsRefusedByName) {
   Status s = r.init(info_, rd);
   EXPECT_EQ(s.code(), StatusCode::kLimitExceeded);
   EXPECT_NE(s.message().find("GL_MAX_SHADER_STORAGE_BLOCK_SIZE"), std::string::npos);
-  // So must the GPU-driven crowd state (144 bytes an instance): a context that allows 100.
+  // So must every buffer the GPU-driven passes bind whole, each refused by name: the crowd
+  // state (144 bytes an instance) and its staged copy (16 more bytes of table), in a context
+  // that allows 100 instances' state and table.
   GlInfo small = info_;
-  small.max_shader_storage_block_size_bytes = 144 * 100;
+  small.max_shader_storage_block_size_bytes = 144 * 100 + 16;
   rd.compute_ring_bytes = 4096;
   ASSERT_TRUE(r.init(small, rd).isOk());
   CharacterId id;
@@ -154,14 +156,48 @@ TEST_P(RenderTest, StoragePastTheBlockLimitIsRefusedByName) {
   std::vector<glm::dvec3> positions(100, glm::dvec3(0.0, 0.0, -5.0));
   RandomCrowdDesc rc;
   rc.positions = positions;
-  ASSERT_TRUE(crowd.addRandom(rc, nullptr).isOk());
+  std::vector<InstanceHandle> handles;
+  ASSERT_TRUE(crowd.addRandom(rc, &handles).isOk());
   ASSERT_TRUE(crowd.advanceClock(0.0).isOk());
   DrawStats stats;
   EXPECT_TRUE(r.drawCrowdGpuCulled(crowd, closeCamera(), &stats).isOk());
-  ASSERT_TRUE(crowd.addRandom(rc, nullptr).isOk());  // 200: past the limit.
+  // 2D blends: 192 bytes of overlays an instance (the overlay and two extra layers).
+  LayerMask body;
+  ASSERT_TRUE(buildFullBodyMask(character().skeleton, palette(), "body", &body).isOk());
+  uint32_t mask = 0, space = 0;
+  ASSERT_TRUE(crowd.addLayerMask(body, &mask).isOk());
+  BlendSpace grid;
+  grid.name = "grid";
+  for (const char* name : {"idle", "walk", "run", "wave"})
+    grid.clips.push_back(uint32_t(palette().findClip(name)));
+  grid.positions = {0.0f, 1.0f};
+  grid.positions_y = {0.0f, 1.0f};
+  grid.mask = mask;
+  ASSERT_TRUE(crowd.addBlendSpace(grid, &space).isOk());
+  ASSERT_TRUE(crowd.playBlend(handles[0], space, glm::vec2(0.3f, 0.6f), 0.0).isOk());
+  ASSERT_TRUE(crowd.advanceClock(0.0).isOk());
   s = r.drawCrowdGpuCulled(crowd, closeCamera(), &stats);
   EXPECT_EQ(s.code(), StatusCode::kLimitExceeded);
-  EXPECT_NE(s.message().find("200 instances need 28800 bytes"), std::string::npos) << s.message();
+  EXPECT_NE(s.message().find("100 instances need 19200 bytes of overlays"), std::string::npos)
+      << s.message();
+  ASSERT_TRUE(crowd.remove(handles[0]).isOk());  // The only overlay gone: 64 bytes, then none.
+  ASSERT_TRUE(crowd.advanceClock(0.0).isOk());
+  s = r.drawCrowdGpuCulled(crowd, closeCamera(), &stats);
+  EXPECT_TRUE(s.isOk()) << s.toString();
+  ASSERT_TRUE(crowd.addRandom(rc, nullptr).isOk());  // 199: past the limit.
+  s = r.drawCrowdGpuCulled(crowd, closeCamera(), &stats);
+  EXPECT_EQ(s.code(), StatusCode::kLimitExceeded);
+  EXPECT_NE(s.message().find("199 instances need 28656 bytes of crowd state"), std::string::npos)
+      << s.message();
+  r.shutdown();
+  // The state fits, its staged copy does not.
+  small.max_shader_storage_block_size_bytes = 144 * 199;
+  ASSERT_TRUE(r.init(small, rd).isOk());
+  ASSERT_TRUE(r.addCharacter(character(), palette(), &id).isOk());
+  s = r.drawCrowdGpuCulled(crowd, closeCamera(), &stats);
+  EXPECT_EQ(s.code(), StatusCode::kLimitExceeded);
+  EXPECT_NE(s.message().find("28672 bytes of crowd state staged"), std::string::npos)
+      << s.message();
   EXPECT_EQ(glGetError(), GLenum(GL_NO_ERROR));
 }
 

@@ -59,7 +59,7 @@ Status GpuCulledPath::uploadFrame(const DrawResources& r, const PathFrame& f) {
     Status s = uploadState(r, crowd, buckets);
     if (!s.isOk()) return s;
   } else if (changed) {
-    Status s = uploadChanges(crowd);
+    Status s = uploadChanges(*r.info, crowd);
     if (!s.isOk()) return s;
   }
   if (f.preskin) {

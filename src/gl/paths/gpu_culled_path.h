@@ -43,10 +43,10 @@ class GpuCulledPath final : public DrawPath {
   // Uploads the crowd's state when it changed (or the crowd, its shape or the character did).
   Status uploadState(const DrawResources& r, const CrowdManager& crowd, uint32_t buckets);
   // The crowd's overlays, when it plays any (sets layers_).
-  Status uploadOverlays(const CrowdManager& crowd);
+  Status uploadOverlays(const GlInfo& info, const CrowdManager& crowd);
   // What changed since the upload of version_ (gpu_state_upload.cpp): the changed instances'
   // state and overlays; where other instances sit now, the views start over (placed_).
-  Status uploadChanges(const CrowdManager& crowd);
+  Status uploadChanges(const GlInfo& info, const CrowdManager& crowd);
   Status ensureRing(const DrawResources& r, bool motion);
   // The view's slot: found or made, sized for the crowd and seeded after each upload (its LODs
   // from CrowdView::exportGpuLods, nothing visible last frame).

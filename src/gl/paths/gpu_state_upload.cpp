@@ -16,6 +16,29 @@
 
 namespace si::detail {
 
+namespace {
+
+// One storage buffer the GPU-driven passes bind whole, and its bytes.
+struct StorageNeed {
+  const char* what;
+  uint64_t bytes;
+};
+
+// kLimitExceeded naming the first of `needs` past GL_MAX_SHADER_STORAGE_BLOCK_SIZE, for a crowd
+// of `n` instances; ok when each fits.
+template <size_t N>
+Status storageFits(const GlInfo& info, uint32_t n, const StorageNeed (&needs)[N]) {
+  const uint64_t limit = info.max_shader_storage_block_size_bytes;
+  for (const StorageNeed& need : needs)
+    if (need.bytes > limit)
+      return {StatusCode::kLimitExceeded,
+              strCat("drawCrowdGpuCulled: ", n, " instances need ", need.bytes, " bytes of ",
+                     need.what, ", past GL_MAX_SHADER_STORAGE_BLOCK_SIZE (", limit, ")")};
+  return Status::ok();
+}
+
+}  // namespace
+
 Status GpuCulledPath::uploadState(const DrawResources& r, const CrowdManager& crowd,
                                   uint32_t buckets) {
   const CrowdDesc& cd = crowd.desc();
@@ -31,14 +54,19 @@ Status GpuCulledPath::uploadState(const DrawResources& r, const CrowdManager& cr
   std::vector<double> times;
   crowd.exportGpuClips(&clips, &times);
   const uint32_t entries = std::max(1u, n) * cd.sub_mesh_count;
-  // The largest storage buffer the passes read whole: the state (144 bytes an instance).
-  const uint64_t state_bytes = uint64_t(std::max(n, 1u)) * sizeof(GpuInstanceState);
-  if (state_bytes > r.info->max_shader_storage_block_size_bytes)
-    return {StatusCode::kLimitExceeded,
-            strCat("drawCrowdGpuCulled: ", n, " instances need ", state_bytes,
-                   " bytes of crowd state, GL_MAX_SHADER_STORAGE_BLOCK_SIZE is ",
-                   r.info->max_shader_storage_block_size_bytes)};
-  Status s;
+  // Every buffer the passes bind whole (the overlays: uploadOverlays; a view's: ensureDrawn).
+  const uint64_t slots = std::max(n, 1u);
+  const StorageNeed needs[] = {
+      {"crowd state", slots * sizeof(GpuInstanceState)},
+      {"crowd state staged (with its 16-byte table)", slots * sizeof(GpuInstanceState) + 16},
+      {"records", slots * kInstanceRecordSize},
+      {"visible list", slots * 16},
+      {"bucket entries", uint64_t(entries) * 4},
+      {"entry data", uint64_t(entries) * 8},
+      {"clips", uint64_t(clips.size()) * sizeof(GpuClipInfo)},
+      {"frame times", uint64_t(times.size()) * sizeof(double)}};
+  Status s = storageFits(*r.info, n, needs);
+  if (!s.isOk()) return s;
   if (n > capacity_ || sub_meshes_ != cd.sub_mesh_count || records_ == kNoObject) {
     capacity_ = 0;  // Until every buffer below exists.
     const uint32_t capacity = std::max(n, 1u);
@@ -67,7 +95,7 @@ Status GpuCulledPath::uploadState(const DrawResources& r, const CrowdManager& cr
     if (!up.isOk()) return up;
   }
   uploaded_bytes_ += state.size() * sizeof(state[0]);
-  s = uploadOverlays(crowd);
+  s = uploadOverlays(*r.info, crowd);
   if (!s.isOk()) return s;
   std::vector<glm::uvec2> ranges(buckets);
   std::vector<glm::uvec4> info(buckets);
@@ -124,7 +152,7 @@ Status GpuCulledPath::uploadState(const DrawResources& r, const CrowdManager& cr
   return Status::ok();
 }
 
-Status GpuCulledPath::uploadOverlays(const CrowdManager& crowd) {
+Status GpuCulledPath::uploadOverlays(const GlInfo& info, const CrowdManager& crowd) {
   std::vector<GpuOverlayState> overlays, extras;
   crowd.exportGpuOverlays(&overlays);
   layers_ = !overlays.empty();
@@ -132,6 +160,13 @@ Status GpuCulledPath::uploadOverlays(const CrowdManager& crowd) {
   if (!layers_) return Status::ok();
   Status s = Status::ok();
   const uint32_t copies = extras_ ? 1 + kExtraLayerRecords : 1;
+  const uint64_t layered = overlays.size();
+  const StorageNeed needs[] = {
+      {"overlays (and 2D blends' extra layers)", layered * copies * sizeof(GpuOverlayState)},
+      {"overlays staged (with their table)", layered * copies * sizeof(GpuOverlayState) + 32},
+      {"layer records", layered * copies * kLayerRecordSize}};
+  s = storageFits(info, uint32_t(layered), needs);
+  if (!s.isOk()) return s;
   if (overlays.size() > layer_capacity_ || overlays_ == kNoObject || copies > layer_copies_) {
     layer_capacity_ = 0;
     const size_t capacity = overlays.size() * copies;
@@ -155,7 +190,7 @@ Status GpuCulledPath::uploadOverlays(const CrowdManager& crowd) {
   return s;
 }
 
-Status GpuCulledPath::uploadChanges(const CrowdManager& crowd) {
+Status GpuCulledPath::uploadChanges(const GlInfo& info, const CrowdManager& crowd) {
   std::vector<DenseRange> changed, placed;
   crowd.changedSince(version_, &changed, &placed);
   size_t total = 0;
@@ -182,7 +217,7 @@ Status GpuCulledPath::uploadChanges(const CrowdManager& crowd) {
   const uint32_t n = crowd.size();
   if (crowd.playsOverlays() != layers_ ||
       (layers_ && (n > layer_capacity_ || crowd.writesExtraLayers() != extras_))) {
-    Status s = uploadOverlays(crowd);
+    Status s = uploadOverlays(info, crowd);
     if (!s.isOk()) return s;
   } else if (layers_) {
     changed_overlays_.resize(total);

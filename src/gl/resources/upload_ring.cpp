@@ -15,6 +15,7 @@ void UploadRing::prepare(GLuint scatter_program, const GlInfo& info) {
   program_ = scatter_program;
   max_groups_x_ = info.max_compute_groups_x;
   max_groups_y_ = info.max_compute_groups_y;
+  max_storage_bytes_ = info.max_shader_storage_block_size_bytes;
   if (!configured_) {
     ring_.configure(16, 16, kRegions, info.storage_buffer_offset_alignment);
     configured_ = true;
@@ -36,6 +37,10 @@ Status UploadRing::upload(GLuint buffer, const std::vector<BufferPiece>& pieces)
       !dispatchGrid((words + 63) / 64, max_groups_x_, max_groups_y_, &grid))
     return {StatusCode::kLimitExceeded,
             strCat("staged upload: ", words, " words exceed 2^32 or the compute grid")};
+  if (staged_words * 4 > max_storage_bytes_)  // The scatter binds the staged region whole.
+    return {StatusCode::kLimitExceeded,
+            strCat("staged upload: ", staged_words * 4,
+                   " bytes, past GL_MAX_SHADER_STORAGE_BLOCK_SIZE (", max_storage_bytes_, ")")};
   Status s = ring_.reserve(size_t(staged_words) * 4);
   size_t base = 0;
   if (s.isOk()) s = ring_.acquire(&base);

@@ -39,7 +39,8 @@ class UploadRing {
   /// Writes each piece into `buffer` after the commands already issued (and issues a storage
   /// barrier, so later passes read them). Uses storage bindings 0 and 1. kBackend when the
   /// staging ring cannot be mapped or its region is not free within RecordRing's wait;
-  /// kLimitExceeded past 2^32 words or the compute grid.
+  /// kLimitExceeded past 2^32 words, the compute grid or, staged with its table, the storage
+  /// block limit (GL_MAX_SHADER_STORAGE_BLOCK_SIZE).
   Status upload(GLuint buffer, const std::vector<BufferPiece>& pieces);
   Status upload(GLuint buffer, size_t bytes, const void* data) {
     return upload(buffer, std::vector<BufferPiece>{{0, bytes, data}});
@@ -50,6 +51,7 @@ class UploadRing {
   RecordRing ring_;
   GLuint program_ = 0;
   uint32_t max_groups_x_ = 0, max_groups_y_ = 0;  // GlInfo's compute grid.
+  uint64_t max_storage_bytes_ = 0;                // GlInfo's storage block limit.
   bool configured_ = false;
 };
 
