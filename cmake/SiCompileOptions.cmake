@@ -12,6 +12,20 @@ function(si_configure_target target)
   endif()
 endfunction()
 
+# What must round exactly as the GPU's `precise` shaders (the crowd's culling and records, the
+# lane tests): no fused multiply-adds, whatever -march says. GCC and Clang: -ffp-contract=off;
+# MSVC: /fp:precise, which contracts only under /fp:contract.
+if(MSVC)
+  set(SI_NO_FP_CONTRACT /fp:precise)
+else()
+  set(SI_NO_FP_CONTRACT -ffp-contract=off)
+endif()
+
+# The portable lanes (SI_PORTABLE_LANES) for the whole build tree.
+if(SI_PORTABLE_LANES)
+  add_compile_definitions(SI_PORTABLE_LANES)
+endif()
+
 # Sanitizers apply to the whole build tree (libraries, tests, examples) so that
 # the instrumented code and its runtime agree.
 if(SI_SANITIZE)

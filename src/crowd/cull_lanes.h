@@ -1,14 +1,16 @@
 // SkinnedInstancing — SPDX-License-Identifier: MIT (see LICENSE)
 #pragma once
-// cull::select (cull_math.h) for 8 instances at once, in GCC/Clang vector types: lane by lane
-// the same float operations in the same order, so every lane selects exactly what the scalar
-// function (and the GPU-driven culling shader) selects. The compiler maps the 8 lanes onto one
-// AVX register or two SSE ones, whichever the calling function is compiled for.
+// cull::select (cull_math.h) for 8 instances at once, in lane vectors (lane_vectors.h: GCC and
+// Clang vector extensions, or the portable lanes elsewhere): lane by lane the same float
+// operations in the same order, so every lane selects exactly what the scalar function (and the
+// GPU-driven culling shader) selects. The compiler maps the 8 lanes onto one AVX register or two
+// SSE ones, whichever the calling function is compiled for.
 
 #include <cstdint>
 #include <cstring>
 
 #include "crowd/cull_math.h"
+#include "crowd/lane_vectors.h"
 
 namespace si::cull {
 
@@ -46,16 +48,17 @@ inline LodLines lodLines(const Params& p) {
   return l;
 }
 
+inline namespace SI_LANES_NAMESPACE {  // lane_vectors.h: one set of symbols per kind of lanes.
+
 /// 8 lanes of floats and of lane masks (true: all bits set), as the vector code below uses them.
-typedef float LaneFloats __attribute__((vector_size(32)));
-typedef int32_t LaneMasks __attribute__((vector_size(32)));
+using LaneFloats = lanes::LaneVector<float, 8>;
+using LaneMasks = lanes::LaneVector<int32_t, 8>;
 
 /// beyondFarLine() on the 8 lanes of `l` from `base` on, the same float operations in the same
 /// order: `*d2` the squared distances, `*far` true in the lanes past the far line (or not
 /// finite). Always inlined, as selectLanes, which starts with it.
-__attribute__((always_inline)) inline void farLineLanes(const Params& p, const Lanes& l,
-                                                        uint32_t base, LaneFloats* d2,
-                                                        LaneMasks* far) {
+SI_LANES_INLINE void farLineLanes(const Params& p, const Lanes& l, uint32_t base, LaneFloats* d2,
+                                  LaneMasks* far) {
   LaneFloats rx, ry, rz, s;
   std::memcpy(&rx, l.rx + base, sizeof rx);
   std::memcpy(&ry, l.ry + base, sizeof ry);
@@ -70,8 +73,7 @@ __attribute__((always_inline)) inline void farLineLanes(const Params& p, const L
 }
 
 /// Whether any of the 8 lanes of `l` from `base` on lies nearer than the far line.
-__attribute__((always_inline)) inline bool anyNearLane(const Params& p, const Lanes& l,
-                                                       uint32_t base) {
+SI_LANES_INLINE bool anyNearLane(const Params& p, const Lanes& l, uint32_t base) {
   LaneFloats d2;
   LaneMasks far;
   farLineLanes(p, l, base, &d2, &far);
@@ -83,10 +85,10 @@ __attribute__((always_inline)) inline bool anyNearLane(const Params& p, const La
 /// select() on the 8 lanes of `l` from `base` on; without `fades` (no lane crossfades: clip B's
 /// sphere is clip A's in every lane) one sphere is tested, which selects the same. Always
 /// inlined: the vector types never cross a call.
-__attribute__((always_inline)) inline void selectLanes(const Params& p, const LodLines& lines,
-                                                       Lanes& l, uint32_t base, bool fades = true) {
-  typedef float f8 __attribute__((vector_size(32)));
-  typedef int32_t i8 __attribute__((vector_size(32)));
+SI_LANES_INLINE void selectLanes(const Params& p, const LodLines& lines, Lanes& l, uint32_t base,
+                                 bool fades = true) {
+  using f8 = LaneFloats;
+  using i8 = LaneMasks;
 #define SI_LOAD(dst, src) std::memcpy(&(dst), (src) + base, sizeof(dst))
 #define SI_BLEND(m, a, b) (((m) & (a)) | (~(m) & (b)))
   f8 rx, ry, rz, qx, qy, qz, qw, s;
@@ -146,7 +148,8 @@ __attribute__((always_inline)) inline void selectLanes(const Params& p, const Lo
   for (int32_t step = 0; step < top; ++step) {
     f8 up = {};
     for (int32_t k = 0; k < top; ++k)
-      up = (f8)SI_BLEND(lod == (i8{} + k), (i8)(f8{} + lines.up[k]), (i8)up);
+      up = SI_LANES_CAST(f8, SI_BLEND(lod == (i8{} + k), SI_LANES_CAST(i8, f8{} + lines.up[k]),
+                                      SI_LANES_CAST(i8, up)));
     const f8 line = up * radius;
     moving &= (lod < (i8{} + top)) & (d2 > line * line);
     lod -= moving;  // True lanes are -1.
@@ -155,7 +158,9 @@ __attribute__((always_inline)) inline void selectLanes(const Params& p, const Lo
   for (int32_t step = 0; step < top; ++step) {
     f8 down = {};
     for (int32_t k = 0; k < top; ++k)
-      down = (f8)SI_BLEND(lod == (i8{} + (k + 1)), (i8)(f8{} + lines.down[k]), (i8)down);
+      down = SI_LANES_CAST(
+          f8, SI_BLEND(lod == (i8{} + (k + 1)), SI_LANES_CAST(i8, f8{} + lines.down[k]),
+                       SI_LANES_CAST(i8, down)));
     const f8 line = down * radius;
     moving &= (lod > i8{}) & (d2 < line * line);
     lod += moving;
@@ -169,4 +174,5 @@ __attribute__((always_inline)) inline void selectLanes(const Params& p, const Lo
 #undef SI_LOAD
 }
 
+}  // namespace SI_LANES_NAMESPACE
 }  // namespace si::cull

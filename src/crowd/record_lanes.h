@@ -1,6 +1,6 @@
 // SkinnedInstancing — SPDX-License-Identifier: MIT (see LICENSE)
 #pragma once
-// Instance records for 8 instances at once, in GCC/Clang vector types: the world rows
+// Instance records for 8 instances at once, in lane vectors (lane_vectors.h): the world rows
 // (glm::mat3_cast * scale, the camera-relative translation) and clip A's time (from the crowd
 // clock, looped or clamped), uniform-grid frame and fraction, lane by lane the same operations
 // as frame_builder.cpp's scalarRecord, playback.h's localTime and fastSample. A time the lanes
@@ -10,6 +10,8 @@
 
 #include <cstdint>
 #include <cstring>
+
+#include "crowd/lane_vectors.h"
 
 namespace si::detail {
 
@@ -34,11 +36,12 @@ struct RecordLanes {
   alignas(64) double time[kRecordBlock];  // The clip-local time (localTime) of each lane.
 };
 
+inline namespace SI_LANES_NAMESPACE {  // lane_vectors.h: one set of symbols per kind of lanes.
+
 /// Computes the outputs of the 8 lanes of `l` from `base` on at crowd clock `clock`. Always
 /// inlined: the vector types never cross a call.
-__attribute__((always_inline)) inline void computeRecordLanes(double clock, RecordLanes& l,
-                                                              uint32_t base) {
-  typedef float f8 __attribute__((vector_size(32)));
+SI_LANES_INLINE void computeRecordLanes(double clock, RecordLanes& l, uint32_t base) {
+  using f8 = lanes::LaneVector<float, 8>;
 #define SI_LOAD(dst, src) std::memcpy(&(dst), (src) + base, sizeof(dst))
 #define SI_BLEND(m, a, b) (((m) & (a)) | (~(m) & (b)))
   // World rows: glm::mat3_cast(q) * s, transposed into rows.
@@ -59,13 +62,14 @@ __attribute__((always_inline)) inline void computeRecordLanes(double clock, Reco
       std::memcpy(l.rows[row][col] + base, &m[col][row], sizeof(f8));
 
   // Playback time (localTime) and the frame sample, 4 lanes at a time in double.
-  typedef double d4 __attribute__((vector_size(32)));
-  typedef int64_t l4 __attribute__((vector_size(32)));
-  typedef int32_t i4 __attribute__((vector_size(16)));
-  typedef float f4 __attribute__((vector_size(16)));
+  using d4 = lanes::LaneVector<double, 4>;
+  using l4 = lanes::LaneVector<int64_t, 4>;
+  using i4 = lanes::LaneVector<int32_t, 4>;
+  using f4 = lanes::LaneVector<float, 4>;
   for (uint32_t half = base; half < base + 8; half += 4) {
 #define SI_LOAD4(dst, src) std::memcpy(&(dst), (src) + half, sizeof(dst))
-#define SI_DBLEND(m, a, b) ((d4)SI_BLEND((m), (l4)(a), (l4)(b)))
+#define SI_DBLEND(m, a, b) \
+  SI_LANES_CAST(d4, SI_BLEND((m), SI_LANES_CAST(l4, a), SI_LANES_CAST(l4, b)))
     d4 start_time, start_clock, speed, duration, inv_duration, inv_interval, last;
     SI_LOAD4(start_time, l.start_time);
     SI_LOAD4(start_clock, l.start_clock);
@@ -79,7 +83,7 @@ __attribute__((always_inline)) inline void computeRecordLanes(double clock, Reco
     SI_LOAD4(loop_in, l.loop);
     const d4 zero = {}, one = zero + 1.0;
     const d4 t = start_time + (clock - start_clock) * speed;
-    l4 scalar = __builtin_convertvector(scalar_in, l4);
+    l4 scalar = SI_LANES_CONVERT(scalar_in, l4);
     scalar |= ~(duration > zero) | ~((t - t) == zero);  // No duration, or t not finite.
     // floor(x), exact: rounding by adding and subtracting 2^52 (with x's sign), then one down
     // where that went up; |x| >= 2^52 is already an integer.
@@ -92,19 +96,19 @@ __attribute__((always_inline)) inline void computeRecordLanes(double clock, Reco
     d4 w = t - fl * duration;
     w = SI_DBLEND(w < zero, w + duration, w);
     const d4 clamped = SI_DBLEND(t < zero, zero, SI_DBLEND(duration < t, duration, t));
-    const l4 loop = __builtin_convertvector(loop_in, l4);
+    const l4 loop = SI_LANES_CONVERT(loop_in, l4);
     scalar |= loop & ~((w >= zero) & (w < duration));  // The exact remainder: scalar.
     const d4 ta = SI_DBLEND(loop, w, clamped);
     std::memcpy(l.time + half, &ta, sizeof ta);
     // The uniform-grid frame sample (fastSample).
     const d4 position = ta * inv_interval;
     const d4 pc = SI_DBLEND(position >= last, last, SI_DBLEND(position > zero, position, zero));
-    const i4 frame = __builtin_convertvector(pc, i4);
-    d4 frac = position - __builtin_convertvector(frame, d4);
+    const i4 frame = SI_LANES_CONVERT(pc, i4);
+    d4 frac = position - SI_LANES_CONVERT(frame, d4);
     frac = SI_DBLEND(frac < zero, zero, frac);
     frac = SI_DBLEND(one < frac, one, frac);
-    const f4 fraction = __builtin_convertvector(frac, f4);
-    const i4 scalar_out = __builtin_convertvector(scalar, i4);
+    const f4 fraction = SI_LANES_CONVERT(frac, f4);
+    const i4 scalar_out = SI_LANES_CONVERT(scalar, i4);
     std::memcpy(l.frame + half, &frame, sizeof frame);
     std::memcpy(l.fraction + half, &fraction, sizeof fraction);
     std::memcpy(l.scalar + half, &scalar_out, sizeof scalar_out);
@@ -115,4 +119,5 @@ __attribute__((always_inline)) inline void computeRecordLanes(double clock, Reco
 #undef SI_LOAD
 }
 
+}  // namespace SI_LANES_NAMESPACE
 }  // namespace si::detail
