@@ -301,8 +301,7 @@ Status CrowdManager::update(double dt, const Camera& camera, const ParallelFor& 
   Status advanced = advanceClock(dt);  // Checks init() and dt.
   if (!advanced.isOk()) return advanced;
   detail::FrameInputs in =
-      detail::frameInputs(*state_, *state_->own_view.state_, camera, parallel_for);
-  in.simulate = true;
+      detail::frameInputs(*state_, *state_->own_view.state_, camera, parallel_for, true);
   // Instances moved by their root motion: the exported state changes, each moved one stamped
   // with this version.
   if (in.root_motion && dt > 0.0) state_->store.version = detail::nextStateVersion();
@@ -320,7 +319,7 @@ Status CrowdManager::advance(double dt, const ParallelFor& parallel_for) {
   Status advanced = advanceClock(dt);  // Checks init() and dt.
   if (!advanced.isOk()) return advanced;
   detail::FrameInputs in =
-      detail::frameInputs(*state_, *state_->own_view.state_, Camera(), parallel_for);
+      detail::frameInputs(*state_, *state_->own_view.state_, Camera(), parallel_for, true);
   if (in.root_motion && dt > 0.0) state_->store.version = detail::nextStateVersion();
   detail::simulateFrame(in, state_->store);
   detail::gatherEvents(state_.get());

@@ -6,6 +6,7 @@
 // GPU-driven culling, frame_builder.cpp the per-frame work.
 
 #include <memory>
+#include <mutex>
 #include <vector>
 
 #include "crowd/animation_events.h"
@@ -52,7 +53,9 @@ struct CrowdState {
   std::vector<std::vector<AnimationEvent>> chunk_events;
   std::vector<ViewState*> views;  // Attached views, the crowd's own first.
   CrowdView own_view;             // Lane 0: update()'s.
-  // The crowd's own workers (CrowdDesc::worker_threads), started when first needed.
+  // The crowd's own workers (CrowdDesc::worker_threads), started when first needed (under
+  // pool_mutex: views may select on several threads at once, each asking for them).
+  std::mutex pool_mutex;
   std::unique_ptr<WorkerPool> pool;
 };
 
@@ -61,12 +64,17 @@ void resetSelection(const CrowdDesc& desc, ViewState* view);
 /// The crowd's cull parameters for `camera` with the view's rules (CrowdViewDesc) applied.
 CullParams viewCullParams(const CrowdManager& crowd, const ViewState& view, const Camera& camera);
 /// What runs the crowd's tasks: its own workers (CrowdDesc::worker_threads, started when first
-/// needed), or nothing (the calling thread) for one thread or a crowd of one chunk.
+/// needed), or nothing (the calling thread) for one thread or a crowd of one chunk. Safe from
+/// several threads at once (views selecting in parallel): WorkerPool::run lets one section use
+/// the workers and runs the others' tasks on their own threads.
 ParallelFor crowdParallelFor(CrowdState& crowd);
 /// The inputs of a frame of `view` at `camera` (its cull parameters and rules, the crowd's
-/// state), its tasks run by `parallel_for` (which must outlive them); chunk_events grown.
+/// state), its tasks run by `parallel_for` (which must outlive them). With `simulate` (update()
+/// and advance(), which the crowd's owner calls on one thread) the frame simulates and collects
+/// events into chunk_events, grown here; a view's selection (simulate false) touches nothing
+/// of the crowd's but its own lane, so views of one crowd may select on several threads.
 FrameInputs frameInputs(CrowdState& crowd, const ViewState& view, const Camera& camera,
-                        const ParallelFor& parallel_for);
+                        const ParallelFor& parallel_for, bool simulate);
 /// Builds the view's selection from `in` and moves its cameras on.
 void selectView(const FrameInputs& in, const Camera& camera, ViewState* view);
 /// The chunks' events of the frame just built, in chunk order, as the crowd's events.

@@ -36,12 +36,16 @@ void resetSelection(const CrowdDesc& desc, ViewState* v) {
 ParallelFor crowdParallelFor(CrowdState& st) {
   const CrowdDesc& desc = st.owner->desc();
   if (desc.worker_threads == 1 || st.store.size() <= kChunkInstances) return ParallelFor();
-  if (!st.pool) {
-    const uint32_t hw = std::max(1u, std::thread::hardware_concurrency());
-    st.pool = std::make_unique<WorkerPool>(desc.worker_threads == 0 ? std::min(hw, 16u)
-                                                                    : desc.worker_threads);
+  WorkerPool* pool = nullptr;  // One pointer: the std::function does not allocate.
+  {
+    std::lock_guard<std::mutex> lock(st.pool_mutex);
+    if (!st.pool) {
+      const uint32_t hw = std::max(1u, std::thread::hardware_concurrency());
+      st.pool = std::make_unique<WorkerPool>(desc.worker_threads == 0 ? std::min(hw, 16u)
+                                                                      : desc.worker_threads);
+    }
+    pool = st.pool.get();
   }
-  WorkerPool* pool = st.pool.get();  // One pointer: the std::function does not allocate.
   return [pool](uint32_t count, const ParallelTask& task) { pool->run(count, task); };
 }
 
@@ -59,7 +63,7 @@ CullParams viewCullParams(const CrowdManager& crowd, const ViewState& view, cons
 }
 
 FrameInputs frameInputs(CrowdState& st, const ViewState& view, const Camera& camera,
-                        const ParallelFor& parallel_for) {
+                        const ParallelFor& parallel_for, bool simulate) {
   const CrowdManager& crowd = *st.owner;
   const CrowdDesc& desc = crowd.desc();
   FrameInputs in;
@@ -78,9 +82,12 @@ FrameInputs frameInputs(CrowdState& st, const ViewState& view, const Camera& cam
   in.extra_layers = in.layers && st.extra_layers;
   in.lane = view.lane;
   in.lod_bias = in.params.lod_bias;
-  const uint32_t chunks = chunkCount(st.store.size());
-  if (st.chunk_events.size() < chunks) st.chunk_events.resize(chunks);
-  in.chunk_events = &st.chunk_events;
+  in.simulate = simulate;
+  if (simulate) {
+    const uint32_t chunks = chunkCount(st.store.size());
+    if (st.chunk_events.size() < chunks) st.chunk_events.resize(chunks);
+    in.chunk_events = &st.chunk_events;
+  }
   return in;
 }
 
@@ -171,7 +178,8 @@ Status CrowdView::select(const Camera& camera, const ParallelFor& parallel_for) 
     return {StatusCode::kInvalidArgument,
             "CrowdView::select: the view is not attached to a crowd (init() it; a crowd destroyed "
             "or init() again detaches its views)"};
-  const detail::FrameInputs in = detail::frameInputs(*state_->crowd, *state_, camera, parallel_for);
+  const detail::FrameInputs in =
+      detail::frameInputs(*state_->crowd, *state_, camera, parallel_for, false);
   detail::selectView(in, camera, state_.get());
   return Status::ok();
 }

@@ -46,7 +46,16 @@ uint32_t localGroup(ChunkWork& w, uint32_t worn) {
 // The two per-instance loops are compiled twice, for AVX2 and for the baseline, and the loader
 // picks one for the CPU it runs on (GCC and Clang on x86-64 ELF). Both round identically: no
 // fused multiply-adds (-ffp-contract=off, and "avx2" does not enable FMA).
-#if defined(__x86_64__) && defined(__ELF__) && !defined(__SANITIZE_ADDRESS__) && \
+// Not under the sanitizers: their runtime is not ready when the loader runs the resolver.
+#if defined(__has_feature)
+#if __has_feature(thread_sanitizer) || __has_feature(address_sanitizer)
+#define SI_SANITIZED 1
+#endif
+#endif
+#if defined(__SANITIZE_ADDRESS__) || defined(__SANITIZE_THREAD__)
+#define SI_SANITIZED 1
+#endif
+#if defined(__x86_64__) && defined(__ELF__) && !defined(SI_SANITIZED) && \
     (defined(__GNUC__) || defined(__clang__))
 #define SI_CPU_CLONES __attribute__((target_clones("avx2", "default")))
 #else

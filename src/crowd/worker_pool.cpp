@@ -14,6 +14,7 @@
 namespace si {
 
 struct WorkerPool::Shared {
+  std::mutex section;  // Held by the caller whose section the workers run.
   std::mutex mutex;
   std::condition_variable wake;      // Workers: a new section or the end.
   std::condition_variable finished;  // The caller: the section's last task finished.
@@ -84,7 +85,10 @@ uint32_t WorkerPool::threads() const {
 void WorkerPool::run(uint32_t task_count, const ParallelTask& task) {
   Shared& s = *shared_;
   if (task_count == 0) return;
-  if (s.workers.empty() || task_count == 1) {
+  // One section at a time uses the workers; a caller on another thread meanwhile (views
+  // selecting in parallel) runs its own tasks, rather than waiting or sharing the section.
+  std::unique_lock<std::mutex> section(s.section, std::defer_lock);
+  if (s.workers.empty() || task_count == 1 || !section.try_lock()) {
     for (uint32_t i = 0; i < task_count; ++i) task(i);
     return;
   }

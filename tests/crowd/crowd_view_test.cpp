@@ -10,6 +10,8 @@
 #include <cstring>
 #include <memory>
 #include <random>
+#include <string>
+#include <thread>
 #include <vector>
 
 #include "crowd/crowd_test_helpers.h"
@@ -196,6 +198,42 @@ TEST(CrowdView, EachViewSelectsWhatASingleViewCrowdAtItsCameraSelects) {
     EXPECT_GT(events, 0u);
     EXPECT_GT(top_visible, 0u);
     EXPECT_NE(selectionOf(main_view).records, selectionOf(top_view).records);
+  }
+}
+
+// Views of one crowd selected on several threads at once (shadow cascades selected in
+// parallel, as engines do): each selects byte for byte what it selects on one thread, frame
+// after frame, while the crowd's workers run one view's section and the other views run their
+// own on their threads. ThreadSanitizer runs this file too (the tsan.crowd_views test).
+TEST(CrowdView, ViewsSelectedOnSeveralThreadsAtOnceSelectWhatTheySelectAlone) {
+  World w;
+  makeWorld(&w, 20000, 4);  // Five chunks: the crowd's workers take part.
+  constexpr int kViews = 4;
+  CrowdView alone[kViews], together[kViews];
+  CrowdViewDesc vd;
+  vd.previous_records = true;
+  for (int k = 0; k < kViews; ++k) {
+    ASSERT_TRUE(alone[k].init(w.crowd, vd).isOk());
+    ASSERT_TRUE(together[k].init(w.crowd, vd).isOk());
+  }
+  const auto cascade = [](int k, int frame) {
+    return testCamera({k * 20.0 - 30.0 + frame, 60.0 + 10.0 * k, -20.0}, {k * 10.0, 0.0, 80.0});
+  };
+  for (int frame = 0; frame < 4; ++frame) {
+    ASSERT_TRUE(w.crowd.update(1.0 / 30.0, mainCamera(frame)).isOk());
+    for (int k = 0; k < kViews; ++k) ASSERT_TRUE(alone[k].select(cascade(k, frame)).isOk());
+    Status results[kViews];
+    std::vector<std::thread> threads;
+    for (int k = 0; k < kViews; ++k)
+      threads.emplace_back([&, k] { results[k] = together[k].select(cascade(k, frame)); });
+    for (std::thread& t : threads) t.join();
+    for (int k = 0; k < kViews; ++k) {
+      ASSERT_TRUE(results[k].isOk()) << results[k].toString();
+      EXPECT_GT(alone[k].stats().visible, 100u);
+      expectSame(selectionOf(alone[k]), selectionOf(together[k]),
+                 "view " + std::to_string(k) + " frame " + std::to_string(frame));
+    }
+    editWorld(&w, frame);
   }
 }
 

@@ -114,6 +114,11 @@ class CrowdView {
   /// (call CrowdManager::advance() once per frame first). Moves no instance and reports no
   /// event. kInvalidArgument when detached. Runs on the crowd's worker threads
   /// (CrowdDesc::worker_threads); the output does not depend on their number.
+  ///
+  /// Threads: different views of one crowd may select on several threads at once (shadow
+  /// cascades in parallel), while nothing changes the crowd (its setters, update(), advance(),
+  /// views attached or detached): each writes only its own selection. One section at a time
+  /// uses the crowd's workers; the other views' selections run on their own threads.
   Status select(const Camera& camera);
   /// The same, with the tasks run by `parallel_for` (parallel_for.h).
   Status select(const Camera& camera, const ParallelFor& parallel_for);

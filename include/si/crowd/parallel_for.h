@@ -45,7 +45,8 @@ class WorkerPool {
   /// Threads that run a section, the caller included.
   uint32_t threads() const;
   /// Runs the tasks on the workers and the calling thread; returns when all have run. Does not
-  /// allocate.
+  /// allocate. May be called from several threads at once: one section at a time uses the
+  /// workers, and a caller that finds them busy runs its own tasks on its own thread.
   void run(uint32_t task_count, const ParallelTask& task);
 
  private:
