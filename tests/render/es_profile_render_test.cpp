@@ -3,10 +3,14 @@
 // golden scenes within the desktop goldens' tolerance; every palette format and cubic clips
 // equal to a desktop context's image of the same crowd; many batches (the smallest uniform block)
 // equal to one; depth-only and rigid draws; the host's state as it was; the named refusals of
-// what ES 3.0 lacks. The custom texture's tests run on the profile too (custom_texture_test.cpp).
+// what ES 3.0 lacks; the record ring's uploads into buffers no queued draw reads. The custom
+// texture's tests run on the profile too (custom_texture_test.cpp).
 #include <glad/gl.h>
 
+#include <cstring>
+
 #include "gl/profile/gl_profile.h"
+#include "gl/resources/record_ring.h"
 #include "render/render_fixture.h"
 #include "si/gl/image_lod_error.h"
 
@@ -305,6 +309,43 @@ TEST_P(EsRenderTest, RefusesWhatEs30LacksByName) {
   EXPECT_EQ(glGetError(), GLenum(GL_NO_ERROR));
   // A refused draw left the renderer whole: the vertex-shader path still draws.
   EXPECT_TRUE(r.drawCrowd(crowd, batcher, lodCamera(), nullptr).isOk());
+}
+
+// The ES profile's record ring: consecutive frames upload into buffers of their regions' own,
+// rotating (and each orphaned before its upload), so no upload writes storage a queued draw
+// still reads (a stall or a copy on tile-based GPUs); what each frame binds holds its records.
+TEST_P(EsRenderTest, TheRecordRingUploadsIntoBuffersNoQueuedDrawReads) {
+  detail::RecordRing ring;
+  ring.configure(16384, 256, 3);
+  ASSERT_TRUE(ring.reserve(1024).isOk());
+  std::vector<GLint> bound;
+  for (int frame = 0; frame < 4; ++frame) {
+    size_t base = 0;
+    ASSERT_TRUE(ring.acquire(&base).isOk());
+    std::memset(ring.mapped(base), 10 + frame, 1024);
+    ring.publish(base, 1024);
+    ring.bindBatch(base, DrawBatch{}, 0);
+    GLint buffer = 0;
+    GLint64 start = 0;
+    glGetIntegeri_v(GL_UNIFORM_BUFFER_BINDING, 0, &buffer);
+    glGetInteger64i_v(GL_UNIFORM_BUFFER_START, 0, &start);
+    bound.push_back(buffer);
+    glBindBuffer(GL_UNIFORM_BUFFER, GLuint(buffer));
+    const auto* bytes = static_cast<const uint8_t*>(
+        glMapBufferRange(GL_UNIFORM_BUFFER, GLintptr(start), 1024, GL_MAP_READ_BIT));
+    ASSERT_NE(bytes, nullptr);
+    EXPECT_EQ(bytes[0], 10 + frame);
+    EXPECT_EQ(bytes[1023], 10 + frame);
+    glUnmapBuffer(GL_UNIFORM_BUFFER);
+    glBindBuffer(GL_UNIFORM_BUFFER, 0);
+    ring.finishFrame();
+  }
+  EXPECT_NE(bound[0], bound[1]);
+  EXPECT_NE(bound[1], bound[2]);
+  EXPECT_NE(bound[0], bound[2]);
+  EXPECT_EQ(bound[3], bound[0]);  // Round again to the first region's.
+  ring.release();
+  EXPECT_EQ(glGetError(), GLenum(GL_NO_ERROR));
 }
 
 INSTANTIATE_TEST_SUITE_P(Backends, EsRenderTest, test::esBackends(), test::backendTestName);

@@ -39,10 +39,7 @@ Status RecordRing::reserve(size_t bytes_per_frame) {
   const size_t need = (bytes_per_frame + alignment_ - 1) / alignment_ * alignment_ + block_size_;
   if (buffer_ != kNoObject && need <= region_size_) return Status::ok();
   waitAll();
-  if (buffer_ != kNoObject) {
-    if (!es_) glUnmapNamedBuffer(buffer_);
-    glDeleteBuffers(1, &buffer_);
-  }
+  deleteBuffers();
   first_valid_ = serial_;  // The regions written so far are gone with the buffer.
   region_size_ = std::max<size_t>(need * 2, size_t(1) << 20);  // Grow geometrically.
   region_size_ = (region_size_ + region_alignment_ - 1) / region_alignment_ * region_alignment_;
@@ -50,11 +47,15 @@ Status RecordRing::reserve(size_t bytes_per_frame) {
   buffer_ = kNoObject;
   mapped_ = nullptr;
   es_ = esProfile();
-  if (es_) {  // No fences either: each upload is ordered after the draws before it.
-    Status s =
-        createMutableBuffer(&buffer_, ring_size, GL_DYNAMIC_DRAW, "the instance record ring");
+  if (es_) {  // No fences either: each upload goes to storage no queued draw reads.
     fences_.assign(frames_, nullptr);
+    es_buffers_.assign(frames_, kNoObject);
+    Status s = Status::ok();
+    for (GLuint& b : es_buffers_)
+      if (s.isOk())
+        s = createMutableBuffer(&b, region_size_, GL_DYNAMIC_DRAW, "the instance record ring");
     if (!s.isOk()) {
+      deleteBuffers();
       region_size_ = 0;
       return s;
     }
@@ -101,8 +102,22 @@ Status RecordRing::acquire(size_t* base) {
 }
 
 void RecordRing::publish(size_t base, size_t bytes) const {
-  if (es_ && bytes > 0)
-    glNamedBufferSubData(buffer_, GLintptr(base), GLsizeiptr(bytes), mapped_ + base);
+  if (!es_ || bytes == 0) return;
+  size_t at = 0;
+  const GLuint buffer = bufferAt(base, &at);
+  // Orphaned: fresh storage of the same size (the driver keeps the old while draws read it).
+  glNamedBufferData(buffer, GLsizeiptr(region_size_), nullptr, GL_DYNAMIC_DRAW);
+  glNamedBufferSubData(buffer, GLintptr(at), GLsizeiptr(bytes), mapped_ + base);
+}
+
+void RecordRing::deleteBuffers() {
+  if (buffer_ != kNoObject) {
+    if (!es_) glUnmapNamedBuffer(buffer_);
+    glDeleteBuffers(1, &buffer_);
+  }
+  buffer_ = kNoObject;
+  if (!es_buffers_.empty()) glDeleteBuffers(GLsizei(es_buffers_.size()), es_buffers_.data());
+  es_buffers_.clear();
 }
 
 void RecordRing::finishFrame() {
@@ -123,11 +138,7 @@ void RecordRing::release() {
   for (GLsync f : fences_)
     if (f) glDeleteSync(f);
   fences_.clear();
-  if (buffer_ != kNoObject) {
-    if (!es_) glUnmapNamedBuffer(buffer_);
-    glDeleteBuffers(1, &buffer_);
-  }
-  buffer_ = kNoObject;
+  deleteBuffers();
   mapped_ = nullptr;
   shadow_.clear();
   shadow_.shrink_to_fit();

@@ -2,8 +2,10 @@
 #pragma once
 // The instance-record ring: one persistently mapped buffer of `frames` regions, each guarded by
 // a fence, so the CPU writes a frame's records while the GPU still reads earlier frames'. On the
-// ES profile (no persistent mapping) the records are written to a copy in memory and publish()
-// uploads each frame's bytes with glBufferSubData, which orders itself after earlier draws.
+// ES profile (no persistent mapping, no fences) the records are written to a copy in memory and
+// publish() uploads each frame's bytes into a buffer of the region's own (the regions rotate
+// through `frames` buffers), orphaned first (glBufferData with no data): an upload never writes
+// storage a queued draw still reads, so a tile-based GPU neither stalls nor copies for it.
 
 #include <glad/gl.h>
 
@@ -41,6 +43,17 @@ class RecordRing {
   /// Makes the `bytes` written at `base` visible to the GPU: nothing to do with the persistent
   /// coherent mapping; an upload on the ES profile. Call after writing, before drawing.
   void publish(size_t base, size_t bytes) const;
+  /// The buffer holding the region at ring byte `base`, and `base`'s offset in it: the one
+  /// buffer on desktop GL; the region's own buffer on the ES profile.
+  GLuint bufferAt(size_t base, size_t* offset) const {
+    if (!es_ || region_size_ == 0) {
+      *offset = base;
+      return buffer_;
+    }
+    const size_t region = base / region_size_;
+    *offset = base - region * region_size_;
+    return region < es_buffers_.size() ? es_buffers_[region] : kNoObject;
+  }
   /// Fences the current region (and one borrow()ed this frame) and moves to the next.
   void finishFrame();
   /// The current region's serial: regions finished so far (each finishFrame() moves it on).
@@ -69,13 +82,17 @@ class RecordRing {
   /// Binds batch `d` of the records at `base` to uniform buffer binding `binding` (0: the
   /// records; 1: the previous records of motion vectors) with `block_size` bytes.
   void bindBatch(size_t base, const DrawBatch& d, GLuint binding = 0) const {
-    glBindBufferRange(GL_UNIFORM_BUFFER, binding, buffer_, GLintptr(base + d.byte_offset),
+    size_t at = 0;
+    const GLuint buffer = bufferAt(base, &at);
+    glBindBufferRange(GL_UNIFORM_BUFFER, binding, buffer, GLintptr(at + d.byte_offset),
                       GLsizeiptr(block_size_));
   }
   /// Binds batch `d`'s layer records of the layer block at `base` to uniform binding 2 (the
   /// block's records at 16 bytes each).
   void bindLayers(size_t base, const DrawBatch& d, GLuint binding = 2) const {
-    glBindBufferRange(GL_UNIFORM_BUFFER, binding, buffer_, GLintptr(base + d.layer_byte_offset),
+    size_t at = 0;
+    const GLuint buffer = bufferAt(base, &at);
+    glBindBufferRange(GL_UNIFORM_BUFFER, binding, buffer, GLintptr(at + d.layer_byte_offset),
                       GLsizeiptr(block_size_ / kInstanceRecordSize * kLayerRecordSize));
   }
   /// Binds `bytes` of the ring at `base` (a multiple of the storage alignment configure()
@@ -99,6 +116,8 @@ class RecordRing {
   uint8_t* mapped_ = nullptr;
   bool es_ = false;  // The ES profile: mapped_ is shadow_'s bytes.
   std::vector<uint8_t> shadow_;
+  std::vector<GLuint> es_buffers_;  // The ES profile: each region's buffer (buffer_ unused).
+  void deleteBuffers();             // buffer_ (unmapped first) and es_buffers_.
   size_t region_size_ = 0;
   uint32_t block_size_ = 0, alignment_ = 256, region_alignment_ = 256, frames_ = 3, index_ = 0;
   // Regions finished so far; the first whose bytes are still there (the buffer was re-created
