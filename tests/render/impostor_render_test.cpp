@@ -111,6 +111,20 @@ TEST_P(RenderTest, ImpostorsDrawTheInstancedPathsImageOnTheGpuDrivenPath) {
                        crowd, lodCamera(), reference, reference_stats);
 }
 
+// A crowd of impostorCharacter() that draws every instance as an impostor (`impostors`) or at
+// LOD 0, whatever its distance.
+void initEveryOneAt(bool impostors, CrowdManager* crowd) {
+  CrowdDesc cd;
+  cd.palette = &palette();
+  cd.sub_mesh_count = 4;
+  cd.lod_count = impostorLevels();
+  cd.character_radius = 1.0f;
+  cd.lod_distances_radii = linesTo(impostors ? 1e-3f : 1e6f);
+  cd.max_distance_radii = -1.0f;
+  cd.impostor_lod = impostorLevels() - 1;
+  ASSERT_TRUE(crowd->init(cd).isOk());
+}
+
 // At the origin looking along -z, lodCamera()'s field of view.
 Camera flatCamera() {
   return Camera::lookAt({0.0, 0.0, 0.0}, {0.0, 0.0, -1.0}, glm::vec3(0, 1, 0), 0.9f, 1.0f, 0.1f,
@@ -152,15 +166,7 @@ TEST_P(RenderTest, AnImpostorAtItsHandOverHeightDiffersFromTheMeshByItsMeasuredE
   ASSERT_TRUE(r.buildImpostor(cid, id).isOk());
   const float height = impostorCharacter().height();
   const auto crowdAt = [&](bool impostors, CrowdManager* crowd) {
-    CrowdDesc cd;
-    cd.palette = &palette();
-    cd.sub_mesh_count = 4;
-    cd.lod_count = impostorLevels();
-    cd.character_radius = 1.0f;
-    cd.lod_distances_radii = linesTo(impostors ? 1e-3f : 1e6f);
-    cd.max_distance_radii = -1.0f;
-    cd.impostor_lod = impostorLevels() - 1;
-    ASSERT_TRUE(crowd->init(cd).isOk());
+    initEveryOneAt(impostors, crowd);
     // 16 px tall at distance z: height / (2 z tan(fov / 2)) * 256 = 16.
     const double z = double(height) * 256.0 / (16.0 * 2.0 * std::tan(0.45));
     for (int k = 0; k < 6; ++k) {
@@ -223,15 +229,7 @@ TEST_P(RenderTest, ATopDownImpostorIsTurnedAsTheMesh) {
     const Camera above = Camera::lookAt({0.0, 30.0 * height, 0.0}, {0.0, 0.0, 0.0},
                                         glm::vec3(0, 0, -1), 0.05f, 1.0f, 1.0f, 100.0f * height);
     const auto crowdAt = [&](bool impostors, CrowdManager* crowd) {
-      CrowdDesc cd;
-      cd.palette = &palette();
-      cd.sub_mesh_count = 4;
-      cd.lod_count = impostorLevels();
-      cd.character_radius = 1.0f;
-      cd.lod_distances_radii = linesTo(impostors ? 1e-3f : 1e6f);
-      cd.max_distance_radii = -1.0f;
-      cd.impostor_lod = impostorLevels() - 1;
-      ASSERT_TRUE(crowd->init(cd).isOk());
+      initEveryOneAt(impostors, crowd);
       InstanceDesc inst;
       inst.position = below;
       inst.rotation = rotation;
