@@ -35,6 +35,13 @@ if(SI_SANITIZE)
   add_compile_options(-fsanitize=address,undefined -fno-omit-frame-pointer -fno-sanitize-recover=undefined)
   add_link_options(-fsanitize=address,undefined)
 endif()
+if(SI_TSAN)
+  if(MSVC OR SI_SANITIZE)
+    message(FATAL_ERROR "SI_TSAN needs GCC or Clang, and excludes SI_SANITIZE")
+  endif()
+  add_compile_options(-fsanitize=thread -fno-omit-frame-pointer)
+  add_link_options(-fsanitize=thread)
+endif()
 
 # si_add_layer(<layer> SOURCES ... [PUBLIC_DEPS ...] [PRIVATE_DEPS ...])
 # Adds the static library si_<layer> with the alias si::<layer>, exported as si::<layer>.
