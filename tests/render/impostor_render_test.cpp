@@ -111,6 +111,16 @@ TEST_P(RenderTest, ImpostorsDrawTheInstancedPathsImageOnTheGpuDrivenPath) {
                        crowd, lodCamera(), reference, reference_stats);
 }
 
+// A vertex-shader renderer of impostorCharacter() (character 0) with its atlas built from `id`.
+void impostorRenderer(const GlInfo& info, const ImpostorDesc& id, Renderer* r) {
+  RendererDesc rd;
+  rd.skinning_path = SkinningPath::kVertexShader;
+  ASSERT_TRUE(r->init(info, rd).isOk());
+  CharacterId cid;
+  ASSERT_TRUE(r->addCharacter(impostorCharacter(), palette(), &cid).isOk());
+  ASSERT_TRUE(r->buildImpostor(cid, id).isOk());
+}
+
 // A crowd of impostorCharacter() that draws every instance as an impostor (`impostors`) or at
 // LOD 0, whatever its distance.
 void initEveryOneAt(bool impostors, CrowdManager* crowd) {
@@ -157,13 +167,8 @@ TEST_P(RenderTest, AnImpostorAtItsHandOverHeightDiffersFromTheMeshByItsMeasuredE
 
   // The same character drawn 16 pixels tall by the crowd, from views and at times none of the
   // measured ones: as impostors and as meshes.
-  RendererDesc rd;
-  rd.skinning_path = SkinningPath::kVertexShader;
   Renderer r;
-  ASSERT_TRUE(r.init(info_, rd).isOk());
-  CharacterId cid;
-  ASSERT_TRUE(r.addCharacter(impostorCharacter(), palette(), &cid).isOk());
-  ASSERT_TRUE(r.buildImpostor(cid, id).isOk());
+  impostorRenderer(info_, id, &r);
   const float height = impostorCharacter().height();
   const auto crowdAt = [&](bool impostors, CrowdManager* crowd) {
     initEveryOneAt(impostors, crowd);
@@ -206,13 +211,8 @@ TEST_P(RenderTest, ATopDownImpostorIsTurnedAsTheMesh) {
   ImpostorDesc id = smallImpostor();
   id.elevations_degrees = {0.0f, 45.0f, 90.0f};
   id.cell_pixels = 128;
-  RendererDesc rd;
-  rd.skinning_path = SkinningPath::kVertexShader;
   Renderer r;
-  ASSERT_TRUE(r.init(info_, rd).isOk());
-  CharacterId cid;
-  ASSERT_TRUE(r.addCharacter(impostorCharacter(), palette(), &cid).isOk());
-  ASSERT_TRUE(r.buildImpostor(cid, id).isOk());
+  impostorRenderer(info_, id, &r);
   // The atlas's cell centre (buildImpostor's: every clip's bounds), straight below the camera.
   Aabb box = palette().clips[0].bounds;
   for (const BakedClip& clip : palette().clips) {
