@@ -228,8 +228,7 @@ TEST_P(MotionVectorTest, AFailedDrawLeavesNoPreviousRecordsBehind) {
   GlInfo one_group = info_;  // Compute pre-skinning of an instance needs more groups.
   one_group.max_compute_groups_x = one_group.max_compute_groups_y = 1;
   Renderer r, copy;
-  makeRenderer(&r, 0, PaletteFormat::kMatrix3x4F32, &rd, InterpolationChoice::kLinear,
-               &one_group);
+  makeRenderer(&r, 0, PaletteFormat::kMatrix3x4F32, &rd, InterpolationChoice::kLinear, &one_group);
   rd.ring_frames = 1;  // Never holds the last draw's region: always copies.
   makeRenderer(&copy, 0, PaletteFormat::kMatrix3x4F32, &rd);
   InstanceBatcher batcher;
