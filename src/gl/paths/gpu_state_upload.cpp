@@ -56,15 +56,15 @@ Status GpuCulledPath::uploadState(const DrawResources& r, const CrowdManager& cr
   const uint32_t entries = std::max(1u, n) * cd.sub_mesh_count;
   // Every buffer the passes bind whole (the overlays: uploadOverlays; a view's: ensureDrawn).
   const uint64_t slots = std::max(n, 1u);
-  const StorageNeed needs[] = {
-      {"crowd state", slots * sizeof(GpuInstanceState)},
-      {"crowd state staged (with its 16-byte table)", slots * sizeof(GpuInstanceState) + 16},
-      {"records", slots * kInstanceRecordSize},
-      {"visible list", slots * 16},
-      {"bucket entries", uint64_t(entries) * 4},
-      {"entry data", uint64_t(entries) * 8},
-      {"clips", uint64_t(clips.size()) * sizeof(GpuClipInfo)},
-      {"frame times", uint64_t(times.size()) * sizeof(double)}};
+  const StorageNeed needs[] = {{"crowd state", slots * sizeof(GpuInstanceState)},
+                               {"crowd state staged (with its 16-byte table)",
+                                UploadRing::stagedBytes(1, slots * sizeof(GpuInstanceState))},
+                               {"records", slots * kInstanceRecordSize},
+                               {"visible list", slots * 16},
+                               {"bucket entries", uint64_t(entries) * 4},
+                               {"entry data", uint64_t(entries) * 8},
+                               {"clips", uint64_t(clips.size()) * sizeof(GpuClipInfo)},
+                               {"frame times", uint64_t(times.size()) * sizeof(double)}};
   Status s = storageFits(*r.info, n, needs);
   if (!s.isOk()) return s;
   if (n > capacity_ || sub_meshes_ != cd.sub_mesh_count || records_ == kNoObject) {
@@ -163,7 +163,8 @@ Status GpuCulledPath::uploadOverlays(const GlInfo& info, const CrowdManager& cro
   const uint64_t layered = overlays.size();
   const StorageNeed needs[] = {
       {"overlays (and 2D blends' extra layers)", layered * copies * sizeof(GpuOverlayState)},
-      {"overlays staged (with their table)", layered * copies * sizeof(GpuOverlayState) + 32},
+      {"overlays staged (with their table)",
+       UploadRing::stagedBytes(extras_ ? 2 : 1, layered * copies * sizeof(GpuOverlayState))},
       {"layer records", layered * copies * kLayerRecordSize}};
   s = storageFits(info, uint32_t(layered), needs);
   if (!s.isOk()) return s;

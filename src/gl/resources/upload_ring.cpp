@@ -31,7 +31,7 @@ Status UploadRing::upload(GLuint buffer, const std::vector<BufferPiece>& pieces)
       ++count;
     }
   if (count == 0) return Status::ok();
-  const uint64_t staged_words = uint64_t(count) * 4 + words;
+  const uint64_t staged_words = stagedBytes(count, words * 4) / 4;
   DispatchGrid grid;
   if (staged_words > std::numeric_limits<uint32_t>::max() ||
       !dispatchGrid((words + 63) / 64, max_groups_x_, max_groups_y_, &grid))

@@ -46,6 +46,11 @@ class UploadRing {
     return upload(buffer, std::vector<BufferPiece>{{0, bytes, data}});
   }
   void release();
+  /// What upload() stages for `pieces` non-empty pieces of `bytes` in all: each piece's 16-byte
+  /// table entry, then the bytes (the staged region the scatter binds whole).
+  static uint64_t stagedBytes(uint32_t pieces, uint64_t bytes) {
+    return uint64_t(pieces) * 16 + bytes;
+  }
 
  private:
   RecordRing ring_;
