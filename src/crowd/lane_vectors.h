@@ -11,8 +11,9 @@
 // - SI_LANES_CAST(Type, v): the same bits as another lane type of the same width;
 // - SI_LANES_CONVERT(v, Type): each lane converted (as static_cast, truncating toward zero);
 // - SI_LANES_INLINE: always inlined (the vector types never cross a call);
-// - namespace si::lanes_abi: an inline namespace named after the kind, so that code built with
-//   each kind (the portable lanes' own test, beside the library) never shares a symbol.
+// - SI_LANES_NAMESPACE: an inline namespace named after the kind (vector_extensions or
+//   portable), so that code built with each kind (the portable lanes' own test, beside the
+//   library) never shares a symbol.
 
 #include <cstdint>
 #include <cstring>
@@ -76,14 +77,10 @@ struct LaneVector {
     return r;                                                               \
   }                                                                         \
   friend LaneVector operator op(const LaneVector& a, T b) {                 \
-    LaneVector r;                                                           \
-    for (int k = 0; k < N; ++k) r.v[k] = T(a.v[k] op b);                    \
-    return r;                                                               \
+    return a op splat(b);                                                   \
   }                                                                         \
   friend LaneVector operator op(T a, const LaneVector& b) {                 \
-    LaneVector r;                                                           \
-    for (int k = 0; k < N; ++k) r.v[k] = T(a op b.v[k]);                    \
-    return r;                                                               \
+    return splat(a) op b;                                                   \
   }
   SI_LANES_BINARY(+)
   SI_LANES_BINARY(-)
