@@ -75,11 +75,7 @@ TEST_P(RenderTest, TheApplicationsPendingErrorsAreGivenBackOrLeftPending) {
   takeHostGlErrors(&taken);  // Given back once.
   EXPECT_TRUE(taken.empty());
   CrowdManager crowd;
-  makeCrowd(&crowd);
-  InstanceDesc d;
-  InstanceHandle h;
-  ASSERT_TRUE(crowd.add(d, &h).isOk());
-  ASSERT_TRUE(crowd.update(0.1, closeCamera()).isOk());
+  makeOneInstanceCrowd(&crowd);
   for (uint32_t checks : {1u, 2u}) {  // Debug checks on, then off.
     SCOPED_TRACE(checks == 1 ? "debug checks" : "release");
     RendererDesc rd;

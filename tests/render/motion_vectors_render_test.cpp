@@ -100,11 +100,7 @@ TEST_P(MotionVectorTest, NeedsTheCrowdsPreviousRecords) {
   Renderer r;
   makeMotionRenderer(&r);
   CrowdManager plain;
-  makeCrowd(&plain);
-  InstanceDesc d;
-  InstanceHandle h;
-  ASSERT_TRUE(plain.add(d, &h).isOk());
-  ASSERT_TRUE(plain.update(0.1, closeCamera()).isOk());
+  makeOneInstanceCrowd(&plain);
   InstanceBatcher batcher;
   ASSERT_TRUE(batcher.init(r.batchLimits()).isOk());
   const Status s = r.drawCrowd(plain, batcher, closeCamera(), nullptr);

@@ -237,6 +237,14 @@ class RenderTest : public ::testing::TestWithParam<HeadlessBackend> {
     cd.lod_count = 3;
     ASSERT_TRUE(crowd->init(cd).isOk());
   }
+  // makeCrowd() holding one instance of InstanceDesc's defaults, updated for closeCamera().
+  void makeOneInstanceCrowd(CrowdManager* crowd) {
+    makeCrowd(crowd);
+    InstanceDesc d;
+    InstanceHandle h;
+    ASSERT_TRUE(crowd->add(d, &h).isOk());
+    ASSERT_TRUE(crowd->update(0.1, closeCamera()).isOk());
+  }
 
   enum class Path { kInstanced, kTraditional, kCpuSkinned, kCompute };
   std::vector<uint8_t> draw(Renderer& r, const CrowdManager& crowd, const Camera& camera,
