@@ -344,6 +344,7 @@ Status CrowdManager::advanceClock(double dt) {
   const double t = s.clock + y;
   s.clock_compensation = (t - s.clock) - y;
   s.clock = t;
+  ++s.steps;
   return Status::ok();
 }
 
@@ -404,6 +405,9 @@ Span<const AnimationEvent> CrowdManager::events() const {
 
 uint64_t CrowdManager::stateVersion() const { return state_ ? state_->store.version : 0; }
 uint64_t CrowdManager::identity() const { return state_ ? state_->store.identity : 0; }
+uint64_t CrowdManager::stepCount() const {
+  return state_ ? state_->steps : 0;
+}
 
 Status CrowdManager::setLodMode(LodMode mode, float pixel_error_budget) {
   if (!state_) return {StatusCode::kInvalidArgument, "CrowdManager: init() first"};

@@ -45,6 +45,7 @@ struct CrowdState {
   std::vector<float> lod_lines;   // Resolved distances in radii.
   float radius = 1.0f;
   double clock = 0.0, clock_compensation = 0.0;
+  uint64_t steps = 0;                  // Clock steps taken (CrowdManager::stepCount()).
   std::vector<LayerMask> layer_masks;  // addLayerMask(), in id order.
   std::vector<BlendSpace> blend_spaces;  // addBlendSpace(), in id order.
   bool extra_layers = false;             // A 2D space was added: updates write extra layer records.

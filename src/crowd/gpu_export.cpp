@@ -76,6 +76,7 @@ void exportInstance(const detail::InstanceStore& st, uint32_t i, GpuInstanceStat
   g.from_loop = uint32_t(b.loop);
   g.from_speed = b.speed;
   g.handle = st.dense_handles[i].id;
+  g.placement = st.placements[i];
 }
 
 void exportOverlay(const detail::OverlayState& o, GpuOverlayState* out) {

@@ -112,6 +112,7 @@ void InstanceStore::push(const InstanceDesc& d, InstanceHandle h, double clock) 
   events_new.push_back(1);
   root_motion.push_back(d.root_motion ? 1 : 0);
   motion_clock.push_back(clock);
+  placements.push_back(0);
   root_motion_count += d.root_motion ? 1u : 0u;
   for (ViewLanes& v : views) {
     if (!v.used) continue;
@@ -168,6 +169,7 @@ Status InstanceStore::remove(InstanceHandle h) {
   move_last(events_new);
   move_last(root_motion);
   move_last(motion_clock);
+  move_last(placements);
   for (ViewLanes& v : views) {
     if (!v.used) continue;
     move_last(v.lods);
@@ -198,6 +200,7 @@ Status InstanceStore::setTransform(InstanceHandle h, const glm::dvec3& position,
   rotations.set(i, glm::normalize(rotation));
   scales[i] = scale;
   motion_clock[i] = clock;
+  ++placements[i];
   for (ViewLanes& v : views)  // A teleport: no motion vector in any view.
     if (v.used) v.record_slot[i] = CrowdManager::kNoPreviousRecord;
   changed(i);

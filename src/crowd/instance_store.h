@@ -134,6 +134,9 @@ struct InstanceStore {
   std::vector<uint8_t> root_motion;
   std::vector<double> motion_clock;
   uint32_t root_motion_count = 0;
+  // setTransform() calls per instance (teleports): exported, so the GPU-driven path does not
+  // take a record drawn at another placement as the previous one.
+  std::vector<uint32_t> placements;
   // Per view (lane 0: CrowdManager::update()'s): LODs and, for motion vectors, record indices
   // (CrowdManager::kNoPreviousRecord for none; setTransform() clears them in every lane).
   std::vector<ViewLanes> views;

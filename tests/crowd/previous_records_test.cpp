@@ -163,6 +163,44 @@ TEST(PreviousRecords, TheCamerasOfTheLastTwoUpdates) {
   EXPECT_EQ(crowd.previousUpdateCamera().viewProjection(), a.viewProjection());
 }
 
+// A frame is a step of the crowd: every update(), advance() and advanceClock() counts one, dt 0
+// included, a refused one none; init() starts over. Each setTransform() of an instance counts a
+// placement in its exported state (the GPU-driven path's teleport mark), which moves with the
+// instance when a removal moves it.
+TEST(PreviousRecords, StepsAndPlacementsAreCounted) {
+  CrowdManager crowd = makeCrowd(1);
+  const Camera c = test::testCamera({0, 2, -6}, {0, 1, 0});
+  EXPECT_EQ(crowd.stepCount(), 0u);
+  ASSERT_TRUE(crowd.update(0.1, c).isOk());
+  ASSERT_TRUE(crowd.update(0.0, c).isOk());
+  ASSERT_TRUE(crowd.advance(0.0).isOk());
+  ASSERT_TRUE(crowd.advanceClock(0.0).isOk());
+  EXPECT_EQ(crowd.advanceClock(-1.0).code(), StatusCode::kInvalidArgument);
+  EXPECT_EQ(crowd.stepCount(), 4u);
+  EXPECT_EQ(crowd.clockSeconds(), 0.1);
+
+  InstanceHandle a, b;
+  InstanceDesc d;
+  ASSERT_TRUE(crowd.add(d, &a).isOk());
+  ASSERT_TRUE(crowd.add(d, &b).isOk());
+  ASSERT_TRUE(crowd.setTransform(b, {1, 0, 0}, glm::quat(1, 0, 0, 0), 1.0f).isOk());
+  ASSERT_TRUE(crowd.setTransform(b, {2, 0, 0}, glm::quat(1, 0, 0, 0), 1.0f).isOk());
+  EXPECT_EQ(crowd.setTransform(b, {2, 0, 0}, glm::quat(0, 0, 0, 0), 1.0f).code(),
+            StatusCode::kInvalidArgument);  // Refused: no placement.
+  std::vector<GpuInstanceState> state;
+  crowd.exportGpuState(&state, nullptr);
+  ASSERT_EQ(state.size(), 2u);
+  EXPECT_EQ(state[0].placement, 0u);
+  EXPECT_EQ(state[1].placement, 2u);
+  ASSERT_TRUE(crowd.remove(a).isOk());  // b moves to dense index 0 with its count.
+  crowd.exportGpuState(&state, nullptr);
+  ASSERT_EQ(state.size(), 1u);
+  EXPECT_EQ(state[0].placement, 2u);
+
+  ASSERT_TRUE(crowd.init(crowd.desc()).isOk());
+  EXPECT_EQ(crowd.stepCount(), 0u);
+}
+
 // The batcher tests' scene: 3000 instances on a 60 x 50 grid with random clips and worn
 // sub-meshes, and a batcher of 16 KiB blocks (many batches).
 void makeBatcherScene(CrowdManager* crowd, std::vector<InstanceHandle>* handles,

@@ -83,6 +83,7 @@ TEST_P(ShaderInterface, GpuCrowdStateMatchesTheCppStructs) {
   };
   const Field instance_fields[] = {
       {"si_state[0].px", offsetof(GpuInstanceState, position)},
+      {"si_state[0].placement", offsetof(GpuInstanceState, placement)},
       {"si_state[0].rotation", offsetof(GpuInstanceState, rotation)},
       {"si_state[0].scale", offsetof(GpuInstanceState, scale)},
       {"si_state[0].color", offsetof(GpuInstanceState, color)},

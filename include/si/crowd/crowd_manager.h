@@ -97,7 +97,8 @@ class CrowdManager {
   uint32_t size() const;
 
   // Per-instance setters: kNotFound for a stale handle, kInvalidArgument for bad values.
-  /// Places the instance as of the crowd clock now (root motion not yet applied is dropped).
+  /// Places the instance as of the crowd clock now (root motion not yet applied is dropped): a
+  /// teleport, drawn with no object motion in the next frame's motion vectors on every path.
   Status setTransform(InstanceHandle h, const glm::dvec3& position, const glm::quat& rotation,
                       float scale);
   /// Opts the instance in or out of root motion (InstanceDesc::root_motion). On: it moves from
@@ -339,6 +340,11 @@ class CrowdManager {
   /// on the GPU: O(1). kInvalidArgument for a dt that is negative, not finite, or would take
   /// the clock past the largest double (the clock is unchanged then).
   Status advanceClock(double dt_seconds);
+  /// The clock steps taken since init(): every update(), advance() and advanceClock() that
+  /// succeeded, dt 0 included. A step is a frame for motion vectors on every path (the
+  /// GPU-driven path counts its frames by it): step once per rendered frame, with dt 0 while
+  /// the clock is held (pause, photo mode, rendering faster than simulating).
+  uint64_t stepCount() const;
   /// Changes whenever exported state changes (init, add, remove, setters, play, crossfade,
   /// setLodDistances); not when update() moves LODs or ends crossfades (the GPU does the same).
   /// Unique across all crowds of the process: a new crowd never repeats an old one's version.

@@ -23,7 +23,10 @@ struct DenseRange {
 /// One instance (std430, 144 bytes; array stride 144).
 struct GpuInstanceState {
   double position[3];         ///< World position (double, as the crowd keeps it).
-  double pad0;
+  /// Teleports: CrowdManager::setTransform() calls so far. The GPU-driven path draws no object
+  /// motion for an instance whose placement differs from the one drawn in the previous frame.
+  uint32_t placement;
+  uint32_t pad0;
   float rotation[4];          ///< Quaternion x, y, z, w.
   float scale;
   uint32_t color;             ///< The appearance word (si::packAppearance).

@@ -43,10 +43,11 @@ Status GpuCulledPath::uploadFrame(const DrawResources& r, const PathFrame& f) {
     framed_ = false;
     crowd_identity_ = crowd.identity();
   }
-  const double clock = crowd.clockSeconds();
-  if (!framed_ || !(clock == frame_clock_)) {  // A new frame: the crowd's clock moved.
+  // A new frame: the crowd stepped (CrowdManager::stepCount(), dt 0 included), as the CPU
+  // paths' selections do. Draws between two steps are one frame.
+  if (!framed_ || crowd.stepCount() != frame_steps_) {
     ++frame_;
-    frame_clock_ = clock;
+    frame_steps_ = crowd.stepCount();
     framed_ = true;
   }
   // The whole state when the crowd, its shape or the character changed (or as asked); else

@@ -78,10 +78,10 @@ class GpuCulledPath final : public DrawPath {
   uint32_t previousExtraBase() const { return extras_ && motion_ ? previous_capacity_ : 0u; }
   // Motion vectors: the previous records and previous layer records per visible instance (the
   // passes' output; what each view drew is its slot's; 2D blends' previous extra layers after
-  // previous_capacity_ layer records). frame_ counts the crowd clocks drawn.
+  // previous_capacity_ layer records). frame_ counts the crowd steps drawn.
   GLuint previous_out_ = kNoObject, previous_layers_out_ = kNoObject;
   uint32_t previous_capacity_ = 0, slots_needed_ = 1, frame_ = 1;
-  double frame_clock_ = 0.0;
+  uint64_t frame_steps_ = 0;     // CrowdManager::stepCount() of the frame.
   uint64_t crowd_identity_ = 0;  // CrowdManager::identity() of the crowd the frames are of.
   bool motion_ = false, framed_ = false;
   // Per view: LODs, visibility history, drawn records, motion cameras, the depth pyramid; the

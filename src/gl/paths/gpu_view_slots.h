@@ -26,7 +26,7 @@ inline constexpr size_t kDrawnBytes =
 struct GpuViewSlot {
   uint64_t view = 0;          // CrowdView::identity().
   uint64_t seeded_upload = 0; // The crowd upload its LODs and flags were seeded for.
-  uint32_t last_frame = 0;    // The path frame (crowd clock) it was last drawn in.
+  uint32_t last_frame = 0;    // The path frame (crowd step) it was last drawn in.
   // Per instance (8 bytes, cull_common.glsl's SiViewInstance): the LOD before the view's bias
   // and the visible-last-frame flag. `capacity` instances.
   GLuint instances = kNoObject;

@@ -39,9 +39,10 @@ layout(location = 38) uniform uint u_extras;
 layout(location = 39) uniform uint u_previous_extras;
 // Motion vectors: 1 when the renderer draws them. Each visible instance's previous record (and
 // previous layer record) then goes beside its record: what this path drew of the same instance
-// (keyed by its handle's slot, checked by the whole handle) at the previous frame, or, when it
-// drew none, the current one moved to the previous camera's origin (InstanceBatcher::
-// buildPrevious's fallback). Two parities of drawn records: the frame's own, the previous one's.
+// (keyed by its handle's slot, checked by the whole handle and its placement: a teleport since
+// draws none) at the previous frame (crowd step), or, when it drew none, the current one moved
+// to the previous camera's origin (InstanceBatcher::buildPrevious's fallback). Two parities of
+// drawn records: the frame's own, the previous one's.
 layout(location = 24) uniform uint u_motion;
 layout(location = 25) uniform uvec2 u_frame;  // this frame's number, drawn records per parity
 layout(location = 26) uniform vec3 u_camera_shift;  // camera position minus the previous frame's
@@ -49,7 +50,7 @@ struct SiDrawn {
   SiInstance record;
   uvec4 layer;
   uvec4 extra[2];  // A 2D blend's extra layer records (zero without).
-  uvec4 tag;  // handle, frame
+  uvec4 tag;  // handle, frame, placement
 };
 layout(std430, binding = 19) buffer SiDrawnRecords { SiDrawn si_drawn[]; };
 layout(std430, binding = 20) writeonly buffer SiPreviousOut { SiInstance si_previous_out[]; };
@@ -225,7 +226,7 @@ void main() {
     SiInstance prev = rec;
     uvec4 prev_layer = layer;
     uvec4 prev_extra[2] = extra;
-    if (last.tag.x == st.handle && last.tag.y == u_frame.x - 1u) {
+    if (last.tag.x == st.handle && last.tag.y == u_frame.x - 1u && last.tag.z == st.placement) {
       prev = last.record;
       prev_layer = last.layer;
       prev_extra = last.extra;
@@ -238,7 +239,7 @@ void main() {
       si_previous_layers_out[u_previous_extras + 2u * v] = prev_extra[0];
       si_previous_layers_out[u_previous_extras + 2u * v + 1u] = prev_extra[1];
     }
-    si_drawn[here] = SiDrawn(rec, layer, extra, uvec4(st.handle, u_frame.x, 0u, 0u));
+    si_drawn[here] = SiDrawn(rec, layer, extra, uvec4(st.handle, u_frame.x, st.placement, 0u));
   }
   uint subs = u_counts.z;
   uint mask = st.mask & (subs >= 32u ? 0xFFFFFFFFu : ((1u << subs) - 1u)) & u_drawn_parts[lod];

@@ -5,7 +5,8 @@
 #ifndef SI_GPU_CROWD_STATE_GLSL
 #define SI_GPU_CROWD_STATE_GLSL
 struct SiGpuInstance {
-  double px, py, pz, pad0;
+  double px, py, pz;
+  uint placement, pad0;
   vec4 rotation;
   float scale; uint color; uint mask; uint lod;
   double start_clock, start_time;
