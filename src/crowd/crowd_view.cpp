@@ -255,6 +255,14 @@ void CrowdView::exportGpuLods(std::vector<uint32_t>* out) const {
   out->assign(lods.begin(), lods.end());
 }
 
+void CrowdView::exportGpuLods(DenseRange range, uint32_t* out) const {
+  const ViewState& v = view();
+  if (v.crowd == nullptr) return;
+  const std::vector<uint8_t>& lods = v.crowd->store.views[v.lane].lods;
+  if (uint64_t(range.first) + range.count > lods.size()) return;
+  std::copy(lods.begin() + range.first, lods.begin() + range.first + range.count, out);
+}
+
 const Camera& CrowdView::camera() const { return view().camera; }
 const Camera& CrowdView::previousCamera() const { return view().previous_camera; }
 

@@ -355,6 +355,13 @@ TEST(CrowdView, WhatTheGpuReadsOfAView) {
   }
   EXPECT_GT(checked, 100u);
   EXPECT_GT(biased, 0u) << "some LODs are below the drawn ones";
+  // A range exports its slice of the whole; past the crowd, nothing.
+  std::vector<uint32_t> slice(40, 99u);
+  shadow.exportGpuLods(DenseRange{uint32_t(lods.size()) - 40, 40}, slice.data());
+  EXPECT_TRUE(std::equal(slice.begin(), slice.end(), lods.end() - 40));
+  std::fill(slice.begin(), slice.end(), 99u);
+  shadow.exportGpuLods(DenseRange{uint32_t(lods.size()) - 39, 40}, slice.data());
+  EXPECT_EQ(std::count(slice.begin(), slice.end(), 99u), 40);
   // The crowd's own view exports the LODs exportGpuState carries.
   w.crowd.view().exportGpuLods(&lods);
   for (size_t i = 0; i < state.size(); ++i) EXPECT_EQ(lods[i], state[i].lod);

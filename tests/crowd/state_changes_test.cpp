@@ -71,14 +71,18 @@ TEST(StateChanges, EachChangeNamesItsIndexAndNothingElse) {
   crowd.changedSince(later, &changed, nullptr);
   EXPECT_EQ(indices(changed), (std::vector<uint32_t>{3000}));
 
-  // Runs closer than 64 merge (the indices between are exported again).
+  // Adjacent indices form one run; a gap of one unchanged index parts two (nothing unchanged is
+  // exported again).
   since = crowd.stateVersion();
   ASSERT_TRUE(crowd.crossfade(h[100], 2, 0.3).isOk());
-  ASSERT_TRUE(crowd.setCustomLayer(h[150], 3).isOk());
+  ASSERT_TRUE(crowd.setCustomLayer(h[101], 3).isOk());
+  ASSERT_TRUE(crowd.setCustomLayer(h[103], 3).isOk());
   crowd.changedSince(since, &changed, nullptr);
-  ASSERT_EQ(changed.size(), 1u);
+  ASSERT_EQ(changed.size(), 2u);
   EXPECT_EQ(changed[0].first, 100u);
-  EXPECT_EQ(changed[0].count, 51u);
+  EXPECT_EQ(changed[0].count, 2u);
+  EXPECT_EQ(changed[1].first, 103u);
+  EXPECT_EQ(changed[1].count, 1u);
 
   // A removal moves the last instance into the hole: changed and placed there; the count falls.
   since = crowd.stateVersion();

@@ -366,9 +366,10 @@ class CrowdManager {
   /// state (exportGpuState, exportGpuOverlays) changed after it, by a setter, play, crossfade,
   /// overlay, add, remove or root motion; into `placed` (may be null), those holding another
   /// instance than then (added, or moved there by a removal: what is kept per index must
-  /// start over there). Both sorted, within size(), runs closer than 64 indices merged (a few
-  /// unchanged ones uploaded again cost less than another upload call). A `since` of 0 gives
-  /// everything. O(size() / 1024) plus the changed chunks: what GPU-driven draws upload.
+  /// start over there). Both sorted, within size(), as runs of adjacent indices (a run costs a
+  /// GPU-driven upload a 16-byte table entry, less than one unchanged instance uploaded again).
+  /// A `since` of 0 gives everything. O(size() / 1024) plus the changed chunks: what GPU-driven
+  /// draws upload.
   void changedSince(uint64_t since, std::vector<DenseRange>* changed,
                     std::vector<DenseRange>* placed) const;
   /// The palette's clips as the GPU reads them, and the frame times of non-uniform clips (then

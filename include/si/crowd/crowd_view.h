@@ -165,6 +165,10 @@ class CrowdView {
   /// lod_bias: the hysteresis state select() left, which GPU-driven culling starts from. Empty
   /// when detached.
   void exportGpuLods(std::vector<uint32_t>* out) const;
+  /// The same for dense indices [range.first, range.first + range.count) only, into `out`
+  /// (range.count entries): what a GPU-driven draw re-seeds where instances were added or
+  /// moved. Nothing is written when the range passes the crowd's size or the view is detached.
+  void exportGpuLods(DenseRange range, uint32_t* out) const;
 
   /// The LOD the instance was drawn at by the last selection, lod_bias included (kNotFound for
   /// a stale handle, kInvalidArgument when detached).
