@@ -45,5 +45,15 @@ Status buildImpostor(const Setup& setup, Renderer& renderer, CharacterId id, boo
 inline Status addImpostor(const Setup& setup, Renderer& renderer, CharacterId id) {
   return setup.impostor ? buildImpostor(setup, renderer, id, false) : Status::ok();
 }
+/// `renderer` initialized with `desc` for the bench's character (character 0, with `palette`)
+/// and its impostor atlas (addImpostor).
+inline Status initRenderer(const Setup& setup, const BakedPalette& palette,
+                           const RendererDesc& desc, Renderer* renderer) {
+  Status s = renderer->init(setup.info, desc);
+  CharacterId id;
+  if (s.isOk()) s = renderer->addCharacter(setup.character, palette, &id);
+  if (s.isOk()) s = addImpostor(setup, *renderer, id);
+  return s;
+}
 
 }  // namespace si::bench

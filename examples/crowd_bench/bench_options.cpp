@@ -78,6 +78,10 @@ void printUsage(std::FILE* f) {
       "                   [--views N,M,...] (the views table: 1 main view and N - 1 shadow\n"
       "                   cascades per frame, for each count, side by side)\n"
       "                   [--views-lod-bias B] (its cascades' LOD bias, 0 to 7; default 1)\n"
+      "                   [--crowds N,M,...] (the several-crowds table: N crowds of each size\n"
+      "                   of one character, GPU-driven, frame time and GPU memory)\n"
+      "                   [--churn F,F,...] (the churn table: a share F removed and added each\n"
+      "                   frame, GPU-driven in 4 views, against none)\n"
       "                   [--no-gpu-time] (no blocking timer queries: CPU columns only;\n"
       "                   GPU ms and the GPU-culled path's visible count read -1 / 0)\n");
 }
@@ -149,15 +153,28 @@ bool parseOptions(int argc, char** argv, Options* o) {
         if (n < 1 || n > 8) return false;  // 1 main view and up to 7 cascades.
         o->views.push_back(uint32_t(n));
       }
-    }
-    else if (a == "--views-lod-bias" && has) {
+    } else if (a == "--churn" && has) {
+      o->churn = {0.0};  // The row without churn first.
+      for (const std::string& v : si::examples::splitList(argv[++i])) {
+        const double share = std::stod(v);
+        if (!(share > 0.0 && share <= 1.0)) return false;
+        o->churn.push_back(share);
+      }
+    } else if (a == "--crowds" && has) {
+      o->crowds.clear();
+      for (const std::string& v : si::examples::splitList(argv[++i])) {
+        const unsigned long n = std::stoul(v);
+        if (n < 1 || n > 16) return false;  // GpuCulledCrowds keeps 16 per character.
+        o->crowds.push_back(uint32_t(n));
+      }
+    } else if (a == "--views-lod-bias" && has) {
       const unsigned long n = std::stoul(argv[++i]);
       if (n > 7) return false;
       o->views_lod_bias = uint32_t(n);
-    }
-    else if (a == "--backend" && has) {
+    } else if (a == "--backend" && has) {
       if (!si::examples::parseBackend(argv[++i], &o->backend)) return false;
-    } else return false;
+    } else
+      return false;
   }
   for (const std::string& s : o->scenes)
     if (s != "field" && s != "stadium" && s != "plaza") return false;

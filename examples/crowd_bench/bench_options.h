@@ -54,6 +54,8 @@ struct Options {
   bool blend = false;            // The blend spaces and props table.
   std::vector<uint32_t> views;   // The views table's view counts; empty: no views table.
   uint32_t views_lod_bias = 1;   // Its cascades' CrowdViewDesc::lod_bias.
+  std::vector<uint32_t> crowds;  // The several-crowds table's crowd counts; empty: no table.
+  std::vector<double> churn;     // The churn table's shares; empty: no table.
 };
 
 /// Prints the usage text to `f`.

@@ -18,6 +18,8 @@
 #include "crowd_bench/bench_plots.h"
 #include "crowd_bench/bench_scene.h"
 #include "crowd_bench/blend_props_table.h"
+#include "crowd_bench/churn_table.h"
+#include "crowd_bench/crowds_table.h"
 #include "crowd_bench/layers_table.h"
 #include "crowd_bench/lod_quality.h"
 #include "crowd_bench/materials_table.h"
@@ -235,6 +237,14 @@ int main(int argc, char** argv) {
     s = si::bench::viewsTable(b.setup, palette, rd, b.o.sizes, b.o.views, b.o.views_lod_bias,
                               b.o.paths, b.o.max_baseline, csv);
     if (!s.isOk()) return fail("views", s);
+  }
+  if (!b.o.churn.empty()) {
+    s = si::bench::churnTable(b.setup, palette, rd, b.o.sizes, b.o.churn, csv);
+    if (!s.isOk()) return fail("churn", s);
+  }
+  if (!b.o.crowds.empty()) {
+    s = si::bench::crowdsTable(b.setup, palette, rd, b.o.sizes, b.o.crowds, csv);
+    if (!s.isOk()) return fail("crowds", s);
   }
   if (b.o.restore_state) {
     s = si::bench::restoreStateTable(b.setup, palette, rd, b.o.sizes, b.o.paths, csv);

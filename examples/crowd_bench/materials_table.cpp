@@ -37,10 +37,8 @@ Status materialsTable(Setup& setup, const BakedPalette& palette, const RendererD
   RendererDesc rd = desc;
   rd.skinning_path = SkinningPath::kVertexShader;  // Each path names its draw mode.
   Renderer renderer;
-  Status s = renderer.init(setup.info, rd);
-  CharacterId id;
-  if (s.isOk()) s = renderer.addCharacter(setup.character, palette, &id);
-  if (s.isOk()) s = addImpostor(setup, renderer, id);
+  Status s = initRenderer(setup, palette, rd, &renderer);
+  const CharacterId id{};  // initRenderer's character.
   MaterialDesc md;
   md.name = "host lambert";
   md.source = kHostLambert;

@@ -67,10 +67,7 @@ Status uploadsTable(Setup& setup, const BakedPalette& palette, const RendererDes
     rd.skinning_path = SkinningPath::kCompute;  // Pre-skinned, as the automatic choice picks on
                                                 // the H100 and llvmpipe; never re-measured.
     rd.gpu_state_upload = side == 0 ? GpuStateUpload::kChanged : GpuStateUpload::kWhole;
-    Status s = renderers[side].init(setup.info, rd);
-    CharacterId id;
-    if (s.isOk()) s = renderers[side].addCharacter(setup.character, palette, &id);
-    if (s.isOk()) s = addImpostor(setup, renderers[side], id);
+    const Status s = initRenderer(setup, palette, rd, &renderers[side]);
     if (!s.isOk()) return {s.code(), "uploads: " + s.message()};
   }
   std::printf("\nState uploads (field, gpu-driven): a share of the crowd moved each frame by "

@@ -125,10 +125,7 @@ Status viewsTable(Setup& setup, const BakedPalette& palette, const RendererDesc&
     rd.skinning_path = k == 0 ? SkinningPath::kVertexShader : SkinningPath::kCompute;
     // A region of the record ring per draw of 3 frames, so no view waits for another's.
     rd.ring_frames = 3 * *std::max_element(view_counts.begin(), view_counts.end());
-    Status s = renderers[k].init(setup.info, rd);
-    CharacterId id;
-    if (s.isOk()) s = renderers[k].addCharacter(setup.character, palette, &id);
-    if (s.isOk()) s = addImpostor(setup, renderers[k], id);
+    const Status s = initRenderer(setup, palette, rd, &renderers[k]);
     if (!s.isOk()) return {s.code(), "views: " + s.message()};
   }
   Status s = Status::ok();

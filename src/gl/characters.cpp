@@ -30,7 +30,7 @@ Status Renderer::Impl::uploadCharacter(const char* what, const Character& charac
   if (!s.isOk()) return named(s);
   const detail::DrawResources r = m.resources(c);
   for (detail::DrawPath* p : std::initializer_list<detail::DrawPath*>{
-           &m.vertex_path, &c.compute_path, &m.traditional_path, &c.cpu_path, &c.gpu_culled_path})
+           &m.vertex_path, &c.compute_path, &m.traditional_path, &c.cpu_path})
     if (s.isOk() && (p == &m.vertex_path || !m.info.es)) s = p->prepare(r);
   if (s.isOk()) s = m.check(what);
   c.path = m.desc.skinning_path == SkinningPath::kCompute ? SkinningPath::kCompute

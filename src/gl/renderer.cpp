@@ -372,10 +372,10 @@ Status Renderer::drawCrowdGpuCulled(CharacterId id, const CrowdView& view, const
   s = m.impostorsDrawable(*c, crowd, "drawCrowdGpuCulled", frame.motion);
   if (!s.isOk()) return s;
   DrawStats st;
-  s = m.runPath(*c, c->gpu_culled_path, frame, t0, stats != nullptr, &st, guard);
+  detail::GpuCulledPath& path = *c->gpu_culled.find(crowd.identity());  // The crowd's own state.
+  s = m.runPath(*c, path, frame, t0, stats != nullptr, &st, guard);
   // Visible instances and triangles: the counters, read back after the timer anyway blocked.
-  if (s.isOk() && st.gpu_ms >= 0.0)
-    c->gpu_culled_path.readCounts(m.resources(*c), crowd.desc(), &st);
+  if (s.isOk() && st.gpu_ms >= 0.0) path.readCounts(m.resources(*c), crowd.desc(), &st);
   if (s.isOk()) s = m.check("drawCrowdGpuCulled");
   if (stats != nullptr) *stats = st;
   return s;
@@ -388,7 +388,9 @@ Status Renderer::readGpuSelection(CharacterId id, std::vector<glm::uvec2>* selec
   Status s = impl_->find(id, "readGpuSelection", &c);
   if (s.isOk()) s = impl_->esRefuses("readGpuSelection", "compute shaders (GPU-driven culling)");
   if (s.isOk()) detail::takeHostErrors("readGpuSelection");
-  if (s.isOk()) s = c->gpu_culled_path.readSelection(selection);
+  if (s.isOk() && c->gpu_culled.last() == nullptr) selection->clear();  // Nothing drawn yet.
+  if (s.isOk() && c->gpu_culled.last() != nullptr)
+    s = c->gpu_culled.last()->readSelection(selection);
   return s.isOk() ? checkGlErrors("readGpuSelection") : s;
 }
 

@@ -296,6 +296,8 @@ TEST_P(EsRenderTest, RefusesWhatEs30LacksByName) {
   refused(r.drawTraditional(crowd, lodCamera(), nullptr), "traditional program");
   refused(r.drawCpuSkinned(crowd, lodCamera(), nullptr), "storage buffers");
   refused(r.buildImpostor(CharacterId{0}, ImpostorDesc{}), "impostor programs");
+  GpuMemory memory;
+  refused(r.gpuMemory(&memory), "texture size queries");
   std::vector<glm::vec3> positions;
   refused(r.captureSkinnedPositions(crowd.records()[0], &positions), "capture programs");
   ImageLodErrorReport report;

@@ -2,6 +2,7 @@
 // Motion vectors on the GPU-driven path: the records it drew kept on the GPU per handle, the
 // fallback for another crowd, and draws without motion vectors leaving its frame alone.
 // MotionVectorTest's instantiation (motion_vectors_render_test.cpp) runs these too.
+#include "gl/paths/gpu_culled_crowds.h"
 #include "render/motion_vector_fixture.h"
 
 namespace si {
@@ -145,6 +146,83 @@ TEST_P(MotionVectorTest, AnotherCrowdStartsOverOnTheGpuDrivenPath) {
   r.shutdown();
 }
 
+// Several crowds of one character keep their own GPU-driven state: drawn in turn, an unchanged
+// crowd uploads nothing again, and each keeps what it drew (its motion equals the engine
+// program's, not the fallback's).
+TEST_P(MotionVectorTest, SeveralCrowdsOfOneCharacterKeepTheirOwnState) {
+  Renderer r;
+  makeMotionRenderer(&r);
+  CrowdManager other;
+  ASSERT_TRUE(other.init(crowd_.desc()).isOk());
+  for (int k = 0; k < 8; ++k) {
+    InstanceDesc d;
+    d.position = glm::dvec3(-2.0 + 0.6 * k, 0.0, -12.0);
+    d.clip = uint32_t(palette().findClip("walk"));
+    InstanceHandle h;
+    ASSERT_TRUE(other.add(d, &h).isOk());
+  }
+  DrawStats stats;
+  for (int frame = 1; frame <= 2; ++frame) {
+    if (frame == 2)
+      nextFrame();
+    else
+      ASSERT_TRUE(crowd_.update(1.0 / 30.0, camera(1)).isOk());
+    ASSERT_TRUE(other.update(1.0 / 30.0, camera(frame)).isOk());
+    ASSERT_TRUE(r.drawCrowdGpuCulled(other, camera(frame), &stats, DrawMode::kSkinned).isOk());
+    if (frame == 2) {
+      EXPECT_EQ(stats.state_bytes_uploaded, 0u) << "the other crowd uploaded again";
+    }
+    target_.clear(glm::vec4(0.0f));
+    ASSERT_TRUE(r.drawCrowdGpuCulled(crowd_, camera(frame), &stats, DrawMode::kSkinned).isOk());
+  }
+  const std::vector<glm::vec2> motion = motions();
+  const std::vector<float> depth = depths();
+  target_.clear(glm::vec4(0.0f));
+  drawEngine(false);
+  const std::vector<glm::vec2> expected = motions();
+  const std::vector<float> expected_depth = depths();
+  const std::vector<uint8_t> expected_color = colors();
+  expectMotion(motion, depth, expected, expected_depth, expected_color);
+  r.shutdown();
+}
+
+// Past GpuCulledCrowds::kMaxCrowds crowds of one character, the least recently drawn loses its
+// state (its next draw uploads it whole); the others keep theirs; and a crowd not drawn for
+// kIdleDraws draws of the character loses its own.
+TEST_P(MotionVectorTest, TheLeastRecentlyDrawnCrowdGoesPastTheCount) {
+  Renderer r;
+  makeMotionRenderer(&r);
+  std::vector<CrowdManager> crowds(detail::GpuCulledCrowds::kMaxCrowds + 1);
+  for (CrowdManager& c : crowds) {
+    ASSERT_TRUE(c.init(crowd_.desc()).isOk());
+    InstanceHandle h;
+    ASSERT_TRUE(c.add(InstanceDesc(), &h).isOk());
+    ASSERT_TRUE(c.advanceClock(0.0).isOk());
+  }
+  DrawStats stats;
+  const auto uploaded = [&](CrowdManager& c) {
+    EXPECT_TRUE(r.drawCrowdGpuCulled(c, camera(1), &stats, DrawMode::kSkinned).isOk());
+    return stats.state_bytes_uploaded;
+  };
+  for (CrowdManager& c : crowds) EXPECT_EQ(uploaded(c), sizeof(GpuInstanceState));
+  EXPECT_EQ(uploaded(crowds.back()), 0u);  // Kept.
+  EXPECT_EQ(uploaded(crowds[1]), 0u);      // Kept: crowds[0] went for the last one.
+  EXPECT_EQ(uploaded(crowds[0]), sizeof(GpuInstanceState));
+  // A crowd no longer drawn (destroyed, say) frees its state within kIdleDraws draws of the
+  // character, though no other crowd comes. 4097 draws: 23 s under the sanitizers, so on one
+  // back-end (the eviction is not the driver's).
+  if (GetParam() == HeadlessBackend::kOsMesa) {
+    r.shutdown();
+    return;
+  }
+  for (uint64_t k = 0; k <= detail::GpuCulledCrowds::kIdleDraws; ++k) (void)uploaded(crowds[0]);
+  GpuMemory m;
+  ASSERT_TRUE(r.gpuMemory(&m).isOk());
+  ASSERT_EQ(m.characters[0].crowds.size(), 1u);
+  EXPECT_EQ(m.characters[0].crowds[0].crowd, crowds[0].identity());
+  r.shutdown();
+}
+
 // A GPU-driven draw without motion vectors (a shadow view) at a frame's clock changes neither
 // that frame's camera nor what was drawn: the next frame's motion is the one without it.
 TEST_P(MotionVectorTest, ADrawWithoutMotionLeavesTheGpuDrivenFrameAlone) {
@@ -179,15 +257,7 @@ TEST_P(MotionVectorTest, ADrawWithoutMotionLeavesTheGpuDrivenFrameAlone) {
   const std::vector<uint8_t> expected_color = colors();  // Each instance's flat tint.
   for (int k = 0; k < 2; ++k) {
     SCOPED_TRACE(k == 0 ? "without the shadow view" : "with the shadow view");
-    size_t compared = 0, within = 0;
-    for (size_t p = 0; p < expected.size(); ++p) {
-      if (expected_depth[p] >= 1.0f || depth[k][p] >= 1.0f) continue;
-      ++compared;
-      within += glm::length(motion[k][p] - expected[p]) <= 1e-4f;
-    }
-    EXPECT_GT(compared, size_t(kSize) * kSize / 20);
-    EXPECT_GE(double(within), 0.995 * double(compared)) << offByInstance(expected_color, motion[k], expected,
-                                                                      depth[k], expected_depth);
+    expectMotion(motion[k], depth[k], expected, expected_depth, expected_color);
   }
   plain.shutdown();
   shadowed.shutdown();

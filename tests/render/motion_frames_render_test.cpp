@@ -57,15 +57,7 @@ TEST_P(MotionVectorTest, AFrameIsACrowdStepOnEveryPath) {
         draw(p);
         const std::vector<glm::vec2> motion = motions();
         const std::vector<float> depth = depths();
-        size_t compared = 0, within = 0;
-        for (size_t q = 0; q < expected.size(); ++q) {
-          if (expected_depth[q] >= 1.0f || depth[q] >= 1.0f) continue;
-          ++compared;
-          within += glm::length(motion[q] - expected[q]) <= 1e-4f;
-        }
-        EXPECT_GT(compared, size_t(kSize) * kSize / 20);
-        EXPECT_GE(double(within), 0.995 * double(compared))
-            << offByInstance(expected_color, motion, expected, depth, expected_depth);
+        expectMotion(motion, depth, expected, expected_depth, expected_color);
         if (d == 0) first = motion;
         else EXPECT_TRUE(motion == first) << "a second draw in one step drew other motion";
       }

@@ -233,6 +233,24 @@ class MotionVectorTest : public RenderTest {
     return out;
   }
 
+  // Expects `motion` (drawn with `depth`) within 1e-4 of the expected motion on 99.5 % of the
+  // pixels both images drew, and those a twentieth of the image; a failure names the instances
+  // off (by their tint in `expected_color`).
+  void expectMotion(const std::vector<glm::vec2>& motion, const std::vector<float>& depth,
+                    const std::vector<glm::vec2>& expected,
+                    const std::vector<float>& expected_depth,
+                    const std::vector<uint8_t>& expected_color) const {
+    size_t compared = 0, close = 0;
+    for (size_t p = 0; p < expected.size(); ++p) {
+      if (expected_depth[p] >= 1.0f || depth[p] >= 1.0f) continue;
+      ++compared;
+      close += glm::length(motion[p] - expected[p]) <= 1e-4f;
+    }
+    EXPECT_GT(compared, size_t(kSize) * kSize / 20);
+    EXPECT_GE(double(close), 0.995 * double(compared))
+        << offByInstance(expected_color, motion, expected, depth, expected_depth);
+  }
+
   MotionTarget target_;
 
   std::vector<uint8_t> colors() {

@@ -153,5 +153,41 @@ TEST_P(RenderTest, ChangedStateUploadsDrawWhatWholeUploadsDraw) {
   }
 }
 
+// A spawn wave (instances added every frame) re-creates the GPU-driven buffers and uploads the
+// whole state only when the crowd outgrows room made half as large again, not every frame: the
+// other frames upload the instances added. The report's capacity shows the room.
+TEST_P(RenderTest, ASpawnWaveUploadsWhatItAdds) {
+  Renderer r;
+  makeRenderer(&r);
+  CrowdManager crowd;
+  makeCrowd(&crowd);
+  const auto spawn = [&](uint32_t count) {
+    std::vector<glm::dvec3> positions(count);
+    for (uint32_t i = 0; i < count; ++i) positions[i] = {double(i % 50), 0.0, 20.0 + i / 50};
+    RandomCrowdDesc rc;
+    rc.positions = positions;
+    ASSERT_TRUE(crowd.addRandom(rc, nullptr).isOk());
+  };
+  spawn(1000);
+  uint32_t whole = 0;
+  for (int frame = 0; frame < 20; ++frame) {
+    if (frame > 0) spawn(10);
+    ASSERT_TRUE(crowd.advanceClock(1.0 / 60.0).isOk());
+    DrawStats stats;
+    ASSERT_TRUE(r.drawCrowdGpuCulled(crowd, closeCamera(), &stats).isOk());
+    whole += stats.state_bytes_uploaded == uint64_t(crowd.size()) * sizeof(GpuInstanceState);
+    if (frame > 1) {
+      EXPECT_EQ(stats.state_bytes_uploaded, 10 * sizeof(GpuInstanceState)) << frame;
+    }
+  }
+  // The first frame's (room for its 1000) and the second's (room for 1500: 1190 at the end).
+  EXPECT_EQ(whole, 2u);
+  GpuMemory m;
+  ASSERT_TRUE(r.gpuMemory(&m).isOk());
+  ASSERT_EQ(m.characters[0].crowds.size(), 1u);
+  EXPECT_EQ(m.characters[0].crowds[0].capacity, 1500u);
+  r.shutdown();
+}
+
 }  // namespace
 }  // namespace si

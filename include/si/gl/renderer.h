@@ -52,6 +52,7 @@
 #include "si/crowd/crowd_manager.h"
 #include "si/crowd/instance_batcher.h"
 #include "si/gl/gl_context.h"
+#include "si/gl/gpu_memory.h"
 #include "si/gl/impostor.h"
 #include "si/gl/material.h"
 
@@ -466,6 +467,11 @@ class Renderer {
     return readGpuSelection(CharacterId{}, selection);
   }
   Status readGpuSelection(CharacterId character, std::vector<glm::uvec2>* selection);
+
+  /// The renderer's GPU memory by what holds it (si/gl/gpu_memory.h): shared rings, each
+  /// character, each GPU-driven crowd. Context current. kInvalidArgument before init() or for
+  /// a null output; kUnsupported on the OpenGL ES profile (no texture size queries there).
+  Status gpuMemory(GpuMemory* out) const;
 
   /// Skins every vertex of the mesh (in mesh order) for one instance `record` on the GPU and
   /// returns the skinned model-space positions (before the world transform): the GPU side of

@@ -25,7 +25,8 @@ Status GpuCulledPath::uploadFrame(const DrawResources& r, const PathFrame& f) {
                    " LODs do not fit the uploaded character (", r.character->sub_meshes.size(),
                    " sub-meshes) or 256 buckets")};
   const uint32_t n = crowd.size();
-  staging_.prepare(r.programs[ProgramId::kUploadScatter].id, *r.info);
+  staging_ = &r.scratch->uploads;
+  staging_->prepare(r.programs[ProgramId::kUploadScatter].id, *r.info);
   DispatchGrid grid;
   if (!dispatchGrid((uint64_t(n) + 63) / 64, r.info->max_compute_groups_x,
                     r.info->max_compute_groups_y, &grid))
@@ -353,16 +354,21 @@ Status GpuCulledPath::readSelection(std::vector<glm::uvec2>* selection) const {
   return Status::ok();
 }
 
+void GpuCulledPath::memory(CrowdGpuMemory* out) const {
+  *out = CrowdGpuMemory();
+  out->crowd = crowd_identity_;
+  out->capacity = capacity_;
+  out->views = uint32_t(views_.size());
+  for (GLuint b : buffers()) out->state_bytes += bufferBytes(b);
+  out->view_bytes = views_.gpuBytes();
+}
+
 void GpuCulledPath::release() {
-  const GLuint buffers[] = {state_,    clips_,    times_,       counters_,  records_,
-                            visible_,  entries_,  identity_,    commands_,  ranges_,
-                            bucket_info_, entry_data_, first_phase_counters_,
-                            overlays_,  layers_out_, previous_out_, previous_layers_out_};
-  glDeleteBuffers(GLsizei(sizeof(buffers) / sizeof(buffers[0])), buffers);
+  const std::array<GLuint, 17> all = buffers();
+  glDeleteBuffers(GLsizei(all.size()), all.data());
   const GLuint arrays[] = {vao_, preskin_vao_};
   glDeleteVertexArrays(2, arrays);
   views_.clear();
-  staging_.release();
   *this = GpuCulledPath();
 }
 

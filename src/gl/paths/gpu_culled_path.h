@@ -9,15 +9,17 @@
 // instance's layer record, which the layered skinning programs read by visible index. With motion
 // vectors it also writes each visible instance's previous record: what it drew of the same
 // instance (by handle) at the previous frame, kept on the GPU, or else InstanceBatcher::
-// buildPrevious's fallback. A frame is a crowd clock: draws at the same clock are one frame. The
+// buildPrevious's fallback. A frame is a crowd step: draws between two steps are one frame. The
 // crowd's state is the path's, uploaded once for every view; what a view keeps between frames
 // (LODs, visibility history, drawn records) is its own (gpu_view_slots.h). The CPU's work per
 // frame does not depend on the crowd's size.
 
+#include <array>
 #include <vector>
 
 #include "gl/paths/draw_path.h"
 #include "gl/paths/gpu_view_slots.h"
+#include "si/gl/gpu_memory.h"
 
 namespace si::detail {
 
@@ -30,6 +32,8 @@ class GpuCulledPath final : public DrawPath {
   Status uploadFrame(const DrawResources& r, const PathFrame& frame) override;
   Status draw(const DrawResources& r, const PathFrame& frame, DrawStats* stats) override;
   void release() override;
+  /// Its buffers' and its views' bytes (Renderer::gpuMemory).
+  void memory(CrowdGpuMemory* out) const;
 
   /// After the timer read: visible instances, triangles, pre-skinned vertices and the
   /// instances skinned in the vertex shader, from the GPU's counters (both phases' with
@@ -56,6 +60,26 @@ class GpuCulledPath final : public DrawPath {
   Status prepareMotion(const DrawResources& r, const PathFrame& f);
   // Cull, commands, scatter and the draws, with the cull pass in occlusion `phase` (0 off).
   void runPasses(const DrawResources& r, const PathFrame& f, uint32_t phase, DrawStats* st);
+  // Every buffer of the path's own (not its views').
+  std::array<GLuint, 17> buffers() const {
+    return {state_,
+            clips_,
+            times_,
+            counters_,
+            records_,
+            visible_,
+            entries_,
+            identity_,
+            commands_,
+            ranges_,
+            bucket_info_,
+            entry_data_,
+            first_phase_counters_,
+            overlays_,
+            layers_out_,
+            previous_out_,
+            previous_layers_out_};
+  }
 
   GLuint vao_ = kNoObject, preskin_vao_ = kNoObject;
   GLuint state_ = kNoObject, clips_ = kNoObject, times_ = kNoObject, counters_ = kNoObject;
@@ -89,7 +113,9 @@ class GpuCulledPath final : public DrawPath {
   GpuViewSlots views_;
   GpuViewSlot* view_ = nullptr;
   uint64_t uploads_ = 0;
-  UploadRing staging_;       // Every upload into the buffers the passes read (upload_ring.h).
+  // Every upload into the buffers the passes read: the renderer's ring (ScratchBuffers::uploads),
+  // set by uploadFrame.
+  UploadRing* staging_ = nullptr;
   bool two_phases_ = false;  // The last frame drew in two phases.
   uint32_t capacity_ = 0, instances_ = 0, buckets_ = 0, sub_meshes_ = 0;
   uint64_t version_ = 0, uploaded_identity_ = 0;
@@ -102,6 +128,7 @@ class GpuCulledPath final : public DrawPath {
   std::vector<GpuInstanceState> changed_state_;
   std::vector<InstanceHandle> changed_handles_;
   std::vector<GpuOverlayState> changed_overlays_, changed_extras_;
+  std::vector<uint32_t> seed_lods_;  // prepareView's, kept between frames.
   const CrowdManager* crowd_ = nullptr;
   GLuint vertex_source_ = kNoObject;  // The vertex buffer the VAOs were made for.
 };

@@ -57,8 +57,6 @@ Status GpuCulledPath::uploadState(const DrawResources& r, const CrowdManager& cr
   // Every buffer the passes bind whole (the overlays: uploadOverlays; a view's: ensureDrawn).
   const uint64_t slots = std::max(n, 1u);
   const StorageNeed needs[] = {{"crowd state", slots * sizeof(GpuInstanceState)},
-                               {"crowd state staged (with its 16-byte table)",
-                                UploadRing::stagedBytes(1, slots * sizeof(GpuInstanceState))},
                                {"records", slots * kInstanceRecordSize},
                                {"visible list", slots * 16},
                                {"bucket entries", uint64_t(entries) * 4},
@@ -68,10 +66,19 @@ Status GpuCulledPath::uploadState(const DrawResources& r, const CrowdManager& cr
   Status s = storageFits(*r.info, n, needs);
   if (!s.isOk()) return s;
   if (n > capacity_ || sub_meshes_ != cd.sub_mesh_count || records_ == kNoObject) {
+    // Room to grow (half as much again), so that a spawn wave re-creates the buffers and
+    // uploads the whole state a few times, not every frame: within the handle slots and the
+    // storage-block limit (the state's 144 bytes an instance, or the entry data's 8 per
+    // sub-mesh, whichever is more).
+    const uint64_t fit = r.info->max_shader_storage_block_size_bytes /
+                         std::max<uint64_t>(sizeof(GpuInstanceState), 8 * cd.sub_mesh_count);
+    const uint64_t grown =
+        std::min<uint64_t>({uint64_t(capacity_) + capacity_ / 2, HandlePool::kMaxSlots, fit});
+    const uint32_t capacity = uint32_t(std::max<uint64_t>({n, 1u, grown}));
     capacity_ = 0;  // Until every buffer below exists.
-    const uint32_t capacity = std::max(n, 1u);
-    std::vector<uint32_t> identity(entries);
-    for (uint32_t k = 0; k < entries; ++k) identity[k] = k;
+    const uint32_t entry_capacity = capacity * cd.sub_mesh_count;
+    std::vector<uint32_t> identity(entry_capacity);
+    for (uint32_t k = 0; k < entry_capacity; ++k) identity[k] = k;
     s = recreate(&state_, size_t(capacity) * sizeof(GpuInstanceState), nullptr,
                  "GPU culling: the crowd state");
     if (s.isOk())
@@ -80,18 +87,20 @@ Status GpuCulledPath::uploadState(const DrawResources& r, const CrowdManager& cr
     if (s.isOk())
       s = recreate(&visible_, size_t(capacity) * 16, nullptr, "GPU culling: the visible list");
     if (s.isOk())
-      s = recreate(&entries_, size_t(entries) * 4, nullptr, "GPU culling: the bucket entries");
+      s = recreate(&entries_, size_t(entry_capacity) * 4, nullptr,
+                   "GPU culling: the bucket entries");
     if (s.isOk())
       s = recreate(&identity_, identity.size() * 4, identity.data(),
                    "GPU culling: the entry indices");
     if (s.isOk())
-      s = recreate(&entry_data_, size_t(entries) * 8, nullptr, "GPU culling: the entry data");
+      s = recreate(&entry_data_, size_t(entry_capacity) * 8, nullptr,
+                   "GPU culling: the entry data");
     if (!s.isOk()) return s;
     capacity_ = capacity;
     sub_meshes_ = cd.sub_mesh_count;
   }
   if (n > 0) {
-    Status up = staging_.upload(state_, state.size() * sizeof(state[0]), state.data());
+    Status up = staging_->upload(state_, state.size() * sizeof(state[0]), state.data());
     if (!up.isOk()) return up;
   }
   uploaded_bytes_ += state.size() * sizeof(state[0]);
@@ -163,8 +172,6 @@ Status GpuCulledPath::uploadOverlays(const GlInfo& info, const CrowdManager& cro
   const uint64_t layered = overlays.size();
   const StorageNeed needs[] = {
       {"overlays (and 2D blends' extra layers)", layered * copies * sizeof(GpuOverlayState)},
-      {"overlays staged (with their table)",
-       UploadRing::stagedBytes(extras_ ? 2 : 1, layered * copies * sizeof(GpuOverlayState))},
       {"layer records", layered * copies * kLayerRecordSize}};
   s = storageFits(info, uint32_t(layered), needs);
   if (!s.isOk()) return s;
@@ -186,7 +193,7 @@ Status GpuCulledPath::uploadOverlays(const GlInfo& info, const CrowdManager& cro
     pieces.push_back({size_t(layer_capacity_) * sizeof(GpuOverlayState),
                       extras.size() * sizeof(GpuOverlayState), extras.data()});
   }
-  s = staging_.upload(overlays_, pieces);
+  s = staging_->upload(overlays_, pieces);
   if (s.isOk()) uploaded_bytes_ += (overlays.size() + extras.size()) * sizeof(GpuOverlayState);
   return s;
 }
@@ -209,7 +216,7 @@ Status GpuCulledPath::uploadChanges(const GlInfo& info, const CrowdManager& crow
   // Motion vectors key what was drawn by handle slot: room for the largest (never less).
   for (const InstanceHandle& h : changed_handles_)
     slots_needed_ = std::max(slots_needed_, (h.id & (HandlePool::kMaxSlots - 1)) + 1);
-  Status up = staging_.upload(state_, pieces);
+  Status up = staging_->upload(state_, pieces);
   if (!up.isOk()) return up;
   uploaded_bytes_ += total * sizeof(GpuInstanceState);
 
@@ -238,7 +245,7 @@ Status GpuCulledPath::uploadChanges(const GlInfo& info, const CrowdManager& crow
       }
       at += c.count;
     }
-    up = staging_.upload(overlays_, pieces);
+    up = staging_->upload(overlays_, pieces);
     if (!up.isOk()) return up;
     uploaded_bytes_ += total * (extras_ ? 1 + kExtraLayerRecords : 1) * sizeof(GpuOverlayState);
   }
@@ -258,12 +265,23 @@ Status GpuCulledPath::prepareView(const PathFrame& f) {
   Status s = v.ensureInstances(capacity_);
   if (!s.isOk()) return s;
   if (v.seeded_upload != uploads_) {  // The view's LODs as its CPU selection left them:
-    std::vector<uint32_t> lods;
-    f.view->exportGpuLods(&lods);
-    if (v.seeded_upload + 1 == uploads_ && placed_upload_ == uploads_)
-      s = v.seed(staging_, lods, placed_, uploads_);     // where other instances sit since its last
-    else                                                 // upload,
-      s = v.seed(staging_, lods, instances_, uploads_);  // or everywhere.
+    std::vector<uint32_t>& lods = seed_lods_;
+    if (v.seeded_upload + 1 == uploads_ && placed_upload_ == uploads_) {
+      // Where other instances sit since its last upload (those LODs alone: churn costs what
+      // changed, not the crowd's size),
+      size_t total = 0;
+      for (const DenseRange& d : placed_) total += d.count;
+      lods.assign(total, 0u);
+      size_t at = 0;
+      for (const DenseRange& d : placed_) {
+        f.view->exportGpuLods(d, lods.data() + at);
+        at += d.count;
+      }
+      s = v.seed(*staging_, lods, placed_, uploads_);
+    } else {  // or everywhere.
+      f.view->exportGpuLods(&lods);
+      s = v.seed(*staging_, lods, instances_, uploads_);
+    }
     if (!s.isOk()) return s;
   }
   return Status::ok();

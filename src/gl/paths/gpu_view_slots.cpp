@@ -43,9 +43,7 @@ Status GpuViewSlot::seed(UploadRing& uploads, const std::vector<uint32_t>& lods,
 Status GpuViewSlot::seed(UploadRing& uploads, const std::vector<uint32_t>& lods,
                          const std::vector<DenseRange>& ranges, uint64_t upload) {
   std::vector<glm::uvec2> rows;
-  for (const DenseRange& r : ranges)
-    for (uint32_t i = r.first; i < r.first + r.count; ++i)
-      rows.push_back(glm::uvec2(i < lods.size() ? lods[i] : 0u, 0u));
+  for (size_t k = 0; k < lods.size(); ++k) rows.push_back(glm::uvec2(lods[k], 0u));
   std::vector<BufferPiece> pieces;
   size_t at = 0;
   for (const DenseRange& r : ranges) {
@@ -112,6 +110,13 @@ GpuViewSlot* GpuViewSlots::find(uint64_t view, uint32_t frame) {
 void GpuViewSlots::clear() {
   for (std::unique_ptr<GpuViewSlot>& s : slots_) s->release();
   slots_.clear();
+}
+
+uint64_t GpuViewSlots::gpuBytes() const {
+  uint64_t total = 0;
+  for (const std::unique_ptr<GpuViewSlot>& s : slots_)
+    total += bufferBytes(s->instances) + bufferBytes(s->drawn) + s->pyramid.gpuBytes();
+  return total;
 }
 
 }  // namespace si::detail

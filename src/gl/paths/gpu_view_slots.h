@@ -48,7 +48,8 @@ struct GpuViewSlot {
   /// upload's status (the slot stays unseeded on failure).
   Status seed(UploadRing& uploads, const std::vector<uint32_t>& lods, uint32_t count,
               uint64_t upload);
-  /// The same for the instances of `ranges` only; the others keep what they have.
+  /// The same for the instances of `ranges` only, `lods` holding theirs one range after the
+  /// other (CrowdView::exportGpuLods of each range); the others keep what they have.
   Status seed(UploadRing& uploads, const std::vector<uint32_t>& lods,
               const std::vector<DenseRange>& ranges, uint64_t upload);
   /// Motion vectors: drawn records for at least `slots_needed` handle slots (room to grow: twice
@@ -68,6 +69,8 @@ class GpuViewSlots {
   /// The slot of `view`, made when new (evicting as above at path frame `frame`). Never null.
   GpuViewSlot* find(uint64_t view, uint32_t frame);
   size_t size() const { return slots_.size(); }
+  /// Every view's buffers and depth pyramid, in bytes.
+  uint64_t gpuBytes() const;
   /// Forgets every view (another crowd, or the path released).
   void clear();
 

@@ -72,4 +72,8 @@ void TraditionalPath::release() {
   block_.clear();
 }
 
+uint64_t TraditionalPath::gpuBytes() const {
+  return bufferBytes(block_buffer_);
+}
+
 }  // namespace si::detail

@@ -18,6 +18,7 @@ class TraditionalPath final : public DrawPath {
   /// kLimitExceeded when the palette stores more joints than the block holds.
   Status draw(const DrawResources& r, const PathFrame& frame, DrawStats* stats) override;
   void release() override;
+  uint64_t gpuBytes() const;  ///< Its joint block's buffer.
 
  private:
   GLuint block_buffer_ = kNoObject;

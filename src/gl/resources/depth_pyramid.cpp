@@ -133,4 +133,8 @@ void DepthPyramid::release() {
   *this = DepthPyramid();
 }
 
+uint64_t DepthPyramid::gpuBytes() const {
+  return textureBytes(depth_) + textureBytes(pyramid_);
+}
+
 }  // namespace si::detail

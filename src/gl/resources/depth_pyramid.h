@@ -25,6 +25,8 @@ class DepthPyramid {
   int width() const { return width_; }    ///< Of the viewport (level 0's texels from 0).
   int height() const { return height_; }
   int levels() const { return levels_; }
+  /// Its textures' bytes (the depth copy and the pyramid).
+  uint64_t gpuBytes() const;
   void release();
 
  private:

@@ -2,6 +2,7 @@
 // Buffer and texture storage with named errors.
 #include "gl/resources/gl_allocation.h"
 
+#include <algorithm>
 #include <limits>
 #include <string>
 
@@ -128,6 +129,37 @@ void TableBuffer::release() {
   if (buffer != kNoObject) glDeleteBuffers(1, &buffer);
   buffer = kNoObject;
   content.clear();
+}
+
+uint64_t bufferBytes(GLuint buffer) {
+  if (buffer == kNoObject) return 0;
+  GLint64 bytes = 0;
+  glGetNamedBufferParameteri64v(buffer, GL_BUFFER_SIZE, &bytes);
+  return bytes > 0 ? uint64_t(bytes) : 0;
+}
+
+uint64_t textureBytes(GLuint texture) {
+  if (texture == kNoObject) return 0;
+  GLint levels = 0;
+  glGetTextureParameteriv(texture, GL_TEXTURE_IMMUTABLE_LEVELS, &levels);
+  uint64_t total = 0;
+  for (GLint level = 0; level < std::max(levels, 1); ++level) {
+    GLint w = 0, h = 0, d = 0, samples = 0, bits = 0;
+    glGetTextureLevelParameteriv(texture, level, GL_TEXTURE_WIDTH, &w);
+    glGetTextureLevelParameteriv(texture, level, GL_TEXTURE_HEIGHT, &h);
+    glGetTextureLevelParameteriv(texture, level, GL_TEXTURE_DEPTH, &d);
+    glGetTextureLevelParameteriv(texture, level, GL_TEXTURE_SAMPLES, &samples);
+    for (GLenum component :
+         {GL_TEXTURE_RED_SIZE, GL_TEXTURE_GREEN_SIZE, GL_TEXTURE_BLUE_SIZE, GL_TEXTURE_ALPHA_SIZE,
+          GL_TEXTURE_DEPTH_SIZE, GL_TEXTURE_STENCIL_SIZE}) {
+      GLint b = 0;
+      glGetTextureLevelParameteriv(texture, level, component, &b);
+      bits += b;
+    }
+    total += uint64_t(std::max(w, 0)) * uint64_t(std::max(h, 1)) * uint64_t(std::max(d, 1)) *
+             uint64_t(std::max(samples, 1)) * uint64_t(bits) / 8;
+  }
+  return total;
 }
 
 }  // namespace si::detail

@@ -21,6 +21,12 @@ namespace si::detail {
 Status createBuffer(GLuint* buffer, uint64_t bytes, const void* data, GLbitfield flags,
                     const char* what);
 
+/// The bytes of buffer `buffer` as the driver reports them (GL_BUFFER_SIZE); 0 for kNoObject.
+uint64_t bufferBytes(GLuint buffer);
+/// The bytes of texture `texture`: every level's texels (width x height x depth or layers) at
+/// the bits of its components (GL_TEXTURE_*_SIZE), times its samples; 0 for kNoObject.
+uint64_t textureBytes(GLuint texture);
+
 /// createBuffer() for an index buffer (immutable, from `data`): on the ES profile it is bound
 /// only as indices (gl_profile.h, esMarkIndexBuffer), as WebGL 2 requires.
 Status createIndexBuffer(GLuint* buffer, uint64_t bytes, const void* data, const char* what);

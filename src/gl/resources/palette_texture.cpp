@@ -51,4 +51,8 @@ void PaletteTexture::release() {
   palette_ = nullptr;
 }
 
+uint64_t PaletteTexture::gpuBytes() const {
+  return textureBytes(texture_) + bufferBytes(info_buffer_);
+}
+
 }  // namespace si::detail

@@ -29,6 +29,7 @@ class PaletteTexture {
   void bind() const;
   const BakedPalette* palette() const { return palette_; }
   bool ready() const { return texture_ != kNoObject; }
+  uint64_t gpuBytes() const;  ///< The texture's and the info block's.
 
  private:
   GLuint texture_ = kNoObject, info_buffer_ = kNoObject;

@@ -28,6 +28,7 @@ Status ScratchBuffers::uploadMaskTable(const std::vector<int32_t>& table) {
 void ScratchBuffers::release() {
   mask_table.release();
   layer_compose.release();
+  uploads.release();
   compute_ring.release();
   compute_previous_ring.release();
   gpu_driven_ring.release();

@@ -11,6 +11,7 @@
 #include "gl/programs/program_set.h"
 #include "gl/resources/gl_allocation.h"
 #include "gl/resources/layer_compose_buffers.h"
+#include "gl/resources/upload_ring.h"
 #include "si/core/status.h"
 
 namespace si::detail {
@@ -48,6 +49,9 @@ struct ScratchBuffers {
   TableBuffer mask_table;
   /// Composed layers (drawCrowd's vertex-shader path): the compose table and rows.
   LayerComposeBuffers layer_compose;
+  /// The GPU-driven path's staged uploads (crowd state, overlays, view seeds), every crowd's
+  /// and character's: bounded whatever their sizes (upload_ring.h).
+  UploadRing uploads;
 
   /// Makes mask_table hold `table` (TableBuffer::upload) and binds it at storage binding 8
   /// (si_skinning.glsl's SI_MASK_BINDING).

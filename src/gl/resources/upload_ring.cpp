@@ -3,8 +3,8 @@
 // one compute dispatch (upload_ring.h).
 #include "gl/resources/upload_ring.h"
 
+#include <algorithm>
 #include <cstring>
-#include <limits>
 
 #include "core/str_cat.h"
 #include "gl/paths/dispatch_grid.h"
@@ -18,43 +18,78 @@ void UploadRing::prepare(GLuint scatter_program, const GlInfo& info) {
   max_storage_bytes_ = info.max_shader_storage_block_size_bytes;
   if (!configured_) {
     ring_.configure(16, 16, kRegions, info.storage_buffer_offset_alignment);
+    alignment_ = std::max<uint32_t>(16, info.storage_buffer_offset_alignment);
     configured_ = true;
   }
 }
 
 Status UploadRing::upload(GLuint buffer, const std::vector<BufferPiece>& pieces) {
-  uint64_t words = 0;
-  uint32_t count = 0;
-  for (const BufferPiece& p : pieces)
-    if (p.bytes > 0) {
-      words += p.bytes / 4;
-      ++count;
+  // The scatter binds a chunk whole: within the storage block limit too. At least one table
+  // entry and one word.
+  const uint64_t limit = std::min<uint64_t>(kChunkBytes, max_storage_bytes_) / 4 * 4;
+  if (limit < 20)
+    return {StatusCode::kLimitExceeded,
+            strCat("staged upload: GL_MAX_SHADER_STORAGE_BLOCK_SIZE (", max_storage_bytes_,
+                   ") holds no table entry and word")};
+  std::vector<BufferPiece> chunk;
+  uint64_t staged = 0;
+  for (BufferPiece p : pieces) {
+    while (p.bytes > 0) {
+      if (staged + 20 > limit) {  // No room for another entry and word: stage this chunk.
+        Status s = stage(buffer, chunk);
+        if (!s.isOk()) return s;
+        chunk.clear();
+        staged = 0;
+      }
+      const size_t take = size_t(std::min<uint64_t>(p.bytes, limit - staged - 16));
+      chunk.push_back({p.offset, take, p.data});
+      staged += 16 + take;
+      p.offset += take;
+      p.bytes -= take;
+      p.data = static_cast<const uint8_t*>(p.data) + take;
     }
-  if (count == 0) return Status::ok();
-  const uint64_t staged_words = stagedBytes(count, words * 4) / 4;
+  }
+  return chunk.empty() ? Status::ok() : stage(buffer, chunk);
+}
+
+Status UploadRing::stage(GLuint buffer, const std::vector<BufferPiece>& pieces) {
+  uint64_t words = 0;
+  const uint32_t count = uint32_t(pieces.size());
+  for (const BufferPiece& p : pieces) words += p.bytes / 4;
+  const uint64_t staged_words = uint64_t(count) * 4 + words;
   DispatchGrid grid;
-  if (staged_words > std::numeric_limits<uint32_t>::max() ||
-      !dispatchGrid((words + 63) / 64, max_groups_x_, max_groups_y_, &grid))
+  if (!dispatchGrid((words + 63) / 64, max_groups_x_, max_groups_y_, &grid))
     return {StatusCode::kLimitExceeded,
-            strCat("staged upload: ", words, " words exceed 2^32 or the compute grid")};
-  if (staged_words * 4 > max_storage_bytes_)  // The scatter binds the staged region whole.
-    return {StatusCode::kLimitExceeded,
-            strCat("staged upload: ", staged_words * 4,
-                   " bytes, past GL_MAX_SHADER_STORAGE_BLOCK_SIZE (", max_storage_bytes_, ")")};
-  Status s = ring_.reserve(size_t(staged_words) * 4);
-  size_t base = 0;
-  if (s.isOk()) s = ring_.acquire(&base);
-  if (!s.isOk()) return s;
+            strCat("staged upload: ", words, " words exceed the compute grid")};
+  // Packed into the open region after the uploads before it; a new region when it is full.
+  const size_t need = (size_t(staged_words) * 4 + alignment_ - 1) / alignment_ * alignment_;
+  if (open_ && cursor_ + need > ring_.writableBytes()) {
+    ring_.finishFrame();  // Fenced after every scatter that reads it.
+    open_ = false;
+  }
+  if (!open_) {
+    Status s = ring_.reserve(need);
+    if (s.isOk()) s = ring_.acquire(&region_);
+    if (!s.isOk()) return s;
+    cursor_ = 0;
+    open_ = true;
+  }
+  const size_t base = region_ + cursor_;
+  cursor_ += need;
+  // The table, then the bytes: two sequential streams into the write-combined mapping (one
+  // stream alternating between the two wrote partial lines: slow for many small pieces).
   uint32_t* staged = reinterpret_cast<uint32_t*>(ring_.mapped(base));
-  uint32_t at = count * 4, thread = 0, k = 0;
+  uint32_t at = count * 4, k = 0;
   for (const BufferPiece& p : pieces) {
-    if (p.bytes == 0) continue;
     const uint32_t n = uint32_t(p.bytes / 4);
-    const uint32_t entry[4] = {at, uint32_t(p.offset / 4), n, thread};
+    const uint32_t entry[4] = {at, uint32_t(p.offset / 4), n, at - count * 4};
     std::memcpy(staged + 4 * k++, entry, sizeof entry);
-    std::memcpy(staged + at, p.data, size_t(n) * 4);
     at += n;
-    thread += n;
+  }
+  at = count * 4;
+  for (const BufferPiece& p : pieces) {
+    std::memcpy(staged + at, p.data, p.bytes);
+    at += uint32_t(p.bytes / 4);
   }
   ring_.publish(base, size_t(staged_words) * 4);
   // Earlier passes' reads and writes of `buffer` before the scatter's writes.
@@ -67,13 +102,12 @@ Status UploadRing::upload(GLuint buffer, const std::vector<BufferPiece>& pieces)
   glProgramUniform1ui(program_, 1, uint32_t(words));
   glDispatchCompute(grid.x, grid.y, 1);
   glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT);  // The passes after read what it wrote.
-  ring_.finishFrame();
   return Status::ok();
 }
 
 void UploadRing::release() {
   ring_.release();
-  configured_ = false;
+  configured_ = open_ = false;
 }
 
 }  // namespace si::detail

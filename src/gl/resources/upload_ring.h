@@ -9,6 +9,12 @@
 // vectors (Blend2dRenderTest.MotionAndDepthFollowTheBlend), with immutable and mutable buffers
 // alike. A GPU copy per piece was ordered too but cost 3 ms a frame for 1000 scattered
 // instances; a staging buffer created per upload, 14 ms at 100k instances.
+//
+// The ring's memory is bounded whatever the crowd: an upload is staged in chunks of at most
+// kChunkBytes (or the storage block limit, if smaller), so each of its kRegions regions holds at
+// most twice that (RecordRing's geometric growth). One ring serves every GPU-driven crowd of a
+// renderer (ScratchBuffers::uploads). Before 2026-11-28 each character's path kept its own, of
+// twice its largest upload per region: 1.7 GB at 1M instances (the whole state, 144 MB).
 
 #include <glad/gl.h>
 
@@ -31,33 +37,40 @@ struct BufferPiece {
 
 class UploadRing {
  public:
-  /// Regions of the staging ring: an upload waits for the GPU to finish the scatter issued this
-  /// many uploads before (about two frames of the GPU-driven path's uploads).
+  /// Regions of the staging ring. Uploads are packed into a region one after the other (any
+  /// number a frame: every view's seed, the state, the overlays); a full region is fenced and
+  /// the next one is taken, so the CPU waits only for the scatters of kRegions - 1 regions
+  /// back: never for the frame it is building unless that frame alone stages that much.
   static constexpr uint32_t kRegions = 6;
+  /// The most one staged chunk holds (its table entries and bytes): a larger upload goes in
+  /// several, the CPU waiting for the GPU's scatter of the chunk kRegions back.
+  static constexpr uint64_t kChunkBytes = 4u << 20;
   /// The scatter program (ProgramId::kUploadScatter) and the context's limits; before upload().
   void prepare(GLuint scatter_program, const GlInfo& info);
   /// Writes each piece into `buffer` after the commands already issued (and issues a storage
-  /// barrier, so later passes read them). Uses storage bindings 0 and 1. kBackend when the
-  /// staging ring cannot be mapped or its region is not free within RecordRing's wait;
-  /// kLimitExceeded past 2^32 words, the compute grid or, staged with its table, the storage
-  /// block limit (GL_MAX_SHADER_STORAGE_BLOCK_SIZE).
+  /// barrier, so later passes read them), in chunks of at most kChunkBytes staged. Uses storage
+  /// bindings 0 and 1. kBackend when the staging ring cannot be mapped or its region is not
+  /// free within RecordRing's wait; kLimitExceeded when a chunk's scatter passes the compute
+  /// grid. Chunks written before a failure stay written.
   Status upload(GLuint buffer, const std::vector<BufferPiece>& pieces);
   Status upload(GLuint buffer, size_t bytes, const void* data) {
     return upload(buffer, std::vector<BufferPiece>{{0, bytes, data}});
   }
   void release();
-  /// What upload() stages for `pieces` non-empty pieces of `bytes` in all: each piece's 16-byte
-  /// table entry, then the bytes (the staged region the scatter binds whole).
-  static uint64_t stagedBytes(uint32_t pieces, uint64_t bytes) {
-    return uint64_t(pieces) * 16 + bytes;
-  }
+  /// The staging ring's bytes now (every region).
+  size_t bytes() const { return ring_.bytes(); }
 
  private:
+  // One chunk: each piece's 16-byte table entry, then the bytes, scattered by one dispatch.
+  Status stage(GLuint buffer, const std::vector<BufferPiece>& pieces);
   RecordRing ring_;
   GLuint program_ = 0;
   uint32_t max_groups_x_ = 0, max_groups_y_ = 0;  // GlInfo's compute grid.
   uint64_t max_storage_bytes_ = 0;                // GlInfo's storage block limit.
-  bool configured_ = false;
+  uint32_t alignment_ = 16;                       // Of each chunk: the storage offset alignment.
+  // The region chunks are packed into (open_), from ring byte region_, cursor_ bytes used.
+  size_t region_ = 0, cursor_ = 0;
+  bool configured_ = false, open_ = false;
 };
 
 }  // namespace si::detail
