@@ -52,8 +52,9 @@ Status runChurn(Setup& setup, Renderer& renderer, const BakedPalette& palette, u
     }
     const double churn_ms = msSince(t0);
     if (s.isOk()) s = crowd.advanceClock(1.0 / 60.0);
-    const std::vector<Camera> lights = si::examples::cascadeCameras(
-        cam, kViews - 1, glm::vec3(-0.4f, -1.0f, -0.3f), float(setup.height), 5.0, 400.0, -2.0, 6.0);
+    const std::vector<Camera> lights =
+        si::examples::cascadeCameras(cam, kViews - 1, glm::vec3(-0.4f, -1.0f, -0.3f),
+                                     float(setup.height), 5.0, 400.0, -2.0, 6.0);
     double frame_submit = 0, frame_gpu = 0, frame_mib = 0;
     for (uint32_t k = 0; k < kViews && s.isOk(); ++k) {
       renderer.clear(kClearColor);
@@ -84,9 +85,11 @@ Status churnTable(Setup& setup, const BakedPalette& palette, const RendererDesc&
   rd.skinning_path = SkinningPath::kCompute;
   Status s = initRenderer(setup, palette, rd, &renderer);
   if (!s.isOk()) return {s.code(), "churn: " + s.message()};
-  std::printf("\nChurn (field, gpu-driven, pre-skinned, %u views: the main one and %u cascades "
-              "depth-only): a share removed and as many added each frame, against none; "
-              "medians\n", kViews, kViews - 1);
+  std::printf(
+      "\nChurn (field, gpu-driven, pre-skinned, %u views: the main one and %u cascades "
+      "depth-only): a share removed and as many added each frame, against none; "
+      "medians\n",
+      kViews, kViews - 1);
   std::printf("%9s %7s %9s %10s %12s %10s %9s\n", "instances", "share", "churn ms", "submit ms",
               "CPU ms (all)", "MiB up", "GPU ms");
   for (uint32_t count : sizes)

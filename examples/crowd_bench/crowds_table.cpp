@@ -60,9 +60,10 @@ Status runCrowds(Setup& setup, Renderer& renderer, const BakedPalette& palette, 
 Status crowdsTable(Setup& setup, const BakedPalette& palette, const RendererDesc& desc,
                    const std::vector<uint32_t>& sizes, const std::vector<uint32_t>& crowd_counts,
                    std::FILE* csv) {
-  std::printf("\nSeveral crowds of one character (field, gpu-driven, pre-skinned): N crowds of "
-              "each size side by side, each stepped and drawn every frame; medians of the "
-              "frame's N draws; GPU memory after the last frame\n");
+  std::printf(
+      "\nSeveral crowds of one character (field, gpu-driven, pre-skinned): N crowds of "
+      "each size side by side, each stepped and drawn every frame; medians of the "
+      "frame's N draws; GPU memory after the last frame\n");
   std::printf("%9s %7s %10s %9s %10s %10s %12s %11s %10s\n", "instances", "crowds", "total",
               "visible", "submit ms", "GPU ms", "MiB/crowd", "MiB staging", "MiB all");
   for (uint32_t size : sizes)

@@ -27,7 +27,7 @@ TEST_P(MotionVectorTest, AFrameIsACrowdStepOnEveryPath) {
                        gpu_driven, mode, std::make_unique<Renderer>(), InstanceBatcher()});
       RendererDesc rd;
       rd.motion_vectors = true;
-      rd.gpu_driven_ring_bytes = 4u << 20;  // Plenty for 16 instances.
+      rd.gpu_driven_ring_bytes = 4u << 20;             // Plenty for 16 instances.
       rd.skinning_path = SkinningPath::kVertexShader;  // The draws name their mode: no timing.
       makeRenderer(paths.back().renderer.get(), 0, PaletteFormat::kMatrix3x4F32, &rd);
       ASSERT_TRUE(paths.back().batcher.init(paths.back().renderer->batchLimits()).isOk());
@@ -58,8 +58,10 @@ TEST_P(MotionVectorTest, AFrameIsACrowdStepOnEveryPath) {
         const std::vector<glm::vec2> motion = motions();
         const std::vector<float> depth = depths();
         expectMotion(motion, depth, expected, expected_depth, expected_color);
-        if (d == 0) first = motion;
-        else EXPECT_TRUE(motion == first) << "a second draw in one step drew other motion";
+        if (d == 0)
+          first = motion;
+        else
+          EXPECT_TRUE(motion == first) << "a second draw in one step drew other motion";
       }
     }
   };
@@ -77,8 +79,9 @@ TEST_P(MotionVectorTest, AFrameIsACrowdStepOnEveryPath) {
   // A teleport: the instance placed by setTransform gets the camera's motion only.
   InstanceDesc moved;
   ASSERT_TRUE(crowd_.get(handles_[5], &moved).isOk());
-  ASSERT_TRUE(crowd_.setTransform(handles_[5], moved.position + glm::dvec3(0.6, 0.0, -0.4),
-                                  moved.rotation, moved.scale)
+  ASSERT_TRUE(crowd_
+                  .setTransform(handles_[5], moved.position + glm::dvec3(0.6, 0.0, -0.4),
+                                moved.rotation, moved.scale)
                   .isOk());
   ASSERT_TRUE(crowd_.update(1.0 / 30.0, camera(5)).isOk());
   check("teleported", 1);

@@ -18,9 +18,9 @@ namespace si {
 
 /// One crowd's GPU-driven state (drawCrowdGpuCulled keeps one per crowd of a character).
 struct CrowdGpuMemory {
-  uint64_t crowd = 0;       ///< CrowdManager::identity().
-  uint32_t capacity = 0;    ///< Instances its buffers hold.
-  uint32_t views = 0;       ///< Views it keeps state for.
+  uint64_t crowd = 0;     ///< CrowdManager::identity().
+  uint32_t capacity = 0;  ///< Instances its buffers hold.
+  uint32_t views = 0;     ///< Views it keeps state for.
   /// The instance state, overlays, clips and the passes' outputs (records, visible list, bucket
   /// entries, commands, previous records).
   uint64_t state_bytes = 0;
@@ -36,14 +36,16 @@ struct CharacterGpuMemory {
 };
 
 struct GpuMemory {
-  uint64_t record_ring_bytes = 0;  ///< drawCrowd's instance-record ring (RendererDesc::ring_frames).
+  uint64_t record_ring_bytes =
+      0;  ///< drawCrowd's instance-record ring (RendererDesc::ring_frames).
   /// The pre-skinned vertex rings (RendererDesc::compute_ring_bytes, gpu_driven_ring_bytes, their
   /// previous-position and tangent twins) and the CPU-skinning stream.
   uint64_t vertex_ring_bytes = 0;
   /// The GPU-driven path's staging ring: bounded whatever the crowds (6 regions of at most
   /// twice a 4 MiB chunk).
   uint64_t staging_bytes = 0;
-  uint64_t other_shared_bytes = 0;  ///< Tables, composed layer rows, the traditional baseline's block.
+  uint64_t other_shared_bytes =
+      0;  ///< Tables, composed layer rows, the traditional baseline's block.
   std::vector<CharacterGpuMemory> characters;  ///< By CharacterId.
 
   /// Every byte above.

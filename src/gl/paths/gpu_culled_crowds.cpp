@@ -22,9 +22,9 @@ GpuCulledPath* GpuCulledCrowds::find(uint64_t identity) {
       return last_ = c.path.get();
     }
   if (crowds_.size() >= kMaxCrowds) {
-    auto oldest = std::min_element(crowds_.begin(), crowds_.end(), [](const Crowd& a, const Crowd& b) {
-      return a.last_draw < b.last_draw;
-    });
+    auto oldest =
+        std::min_element(crowds_.begin(), crowds_.end(),
+                         [](const Crowd& a, const Crowd& b) { return a.last_draw < b.last_draw; });
     oldest->path->release();
     crowds_.erase(oldest);
   }
