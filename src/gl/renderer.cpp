@@ -388,9 +388,11 @@ Status Renderer::readGpuSelection(CharacterId id, std::vector<glm::uvec2>* selec
   Status s = impl_->find(id, "readGpuSelection", &c);
   if (s.isOk()) s = impl_->esRefuses("readGpuSelection", "compute shaders (GPU-driven culling)");
   if (s.isOk()) detail::takeHostErrors("readGpuSelection");
-  if (s.isOk() && c->gpu_culled.last() == nullptr) selection->clear();  // Nothing drawn yet.
-  if (s.isOk() && c->gpu_culled.last() != nullptr)
-    s = c->gpu_culled.last()->readSelection(selection);
+  const detail::GpuCulledPath* last = s.isOk() ? c->gpu_culled.last() : nullptr;
+  if (last != nullptr)
+    s = last->readSelection(selection);
+  else if (s.isOk())
+    selection->clear();  // Nothing drawn yet.
   return s.isOk() ? checkGlErrors("readGpuSelection") : s;
 }
 

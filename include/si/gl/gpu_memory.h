@@ -36,16 +36,16 @@ struct CharacterGpuMemory {
 };
 
 struct GpuMemory {
-  uint64_t record_ring_bytes =
-      0;  ///< drawCrowd's instance-record ring (RendererDesc::ring_frames).
+  /// drawCrowd's instance-record ring (RendererDesc::ring_frames).
+  uint64_t record_ring_bytes = 0;
   /// The pre-skinned vertex rings (RendererDesc::compute_ring_bytes, gpu_driven_ring_bytes, their
   /// previous-position and tangent twins) and the CPU-skinning stream.
   uint64_t vertex_ring_bytes = 0;
   /// The GPU-driven path's staging ring: bounded whatever the crowds (6 regions of at most
   /// twice a 4 MiB chunk).
   uint64_t staging_bytes = 0;
-  uint64_t other_shared_bytes =
-      0;  ///< Tables, composed layer rows, the traditional baseline's block.
+  /// Tables, composed layer rows, the traditional baseline's block.
+  uint64_t other_shared_bytes = 0;
   std::vector<CharacterGpuMemory> characters;  ///< By CharacterId.
 
   /// Every byte above.

@@ -26,7 +26,6 @@ class GpuCulledCrowds {
   GpuCulledPath* find(uint64_t identity);
   /// The crowd state drawn last (readGpuSelection), or null before the first draw.
   const GpuCulledPath* last() const { return last_; }
-  size_t size() const { return crowds_.size(); }
   /// Each kept crowd's GPU memory, in the order the crowds were first drawn.
   void memory(std::vector<CrowdGpuMemory>* out) const;
   /// Every crowd's GL objects deleted (context current). Idempotent.

@@ -38,12 +38,9 @@ Status GpuCulledPath::uploadFrame(const DrawResources& r, const PathFrame& f) {
   // flags, its drawn records): GL orders buffer updates after incoherent shader writes only
   // past this barrier.
   glMemoryBarrier(GL_BUFFER_UPDATE_BARRIER_BIT);
-  if (crowd_identity_ != crowd.identity()) {  // Another crowd: nothing drawn is its last frame.
-    views_.clear();
-    frame_ += 2;
-    framed_ = false;
-    crowd_identity_ = crowd.identity();
-  }
+  // The one crowd this state is of: GpuCulledCrowds keys it by identity, so another crowd (or
+  // this one re-initialized) has a state of its own and never inherits what was drawn here.
+  crowd_identity_ = crowd.identity();
   // A new frame: the crowd stepped (CrowdManager::stepCount(), dt 0 included), as the CPU
   // paths' selections do. Draws between two steps are one frame.
   if (!framed_ || crowd.stepCount() != frame_steps_) {

@@ -106,7 +106,7 @@ class GpuCulledPath final : public DrawPath {
   GLuint previous_out_ = kNoObject, previous_layers_out_ = kNoObject;
   uint32_t previous_capacity_ = 0, slots_needed_ = 1, frame_ = 1;
   uint64_t frame_steps_ = 0;     // CrowdManager::stepCount() of the frame.
-  uint64_t crowd_identity_ = 0;  // CrowdManager::identity() of the crowd the frames are of.
+  uint64_t crowd_identity_ = 0;  // CrowdManager::identity() of its crowd (GpuCulledCrowds' key).
   bool motion_ = false, framed_ = false;
   // Per view: LODs, visibility history, drawn records, motion cameras, the depth pyramid; the
   // view of this draw (set by uploadFrame). uploads_ counts the crowd state's uploads.
