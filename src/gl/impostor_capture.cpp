@@ -13,6 +13,7 @@
 #include "core/str_cat.h"
 #include "gl/renderer_impl.h"
 #include "gl/resources/gl_allocation.h"
+#include "gl/resources/impostor_coverage.h"
 #include "gl/view_rotation.h"
 #include "si/crowd/crowd_manager.h"
 #include "si/crowd/handle_pool.h"
@@ -178,15 +179,14 @@ Status Renderer::buildImpostor(CharacterId id, const ImpostorDesc& desc, Imposto
     }
   const float cell_units = 2.0f * reach * 1.02f;
 
-  const auto guard = m.enter("buildImpostor", detail::uploadFootprint(), nullptr, true);
+  detail::GlFootprint footprint = detail::uploadFootprint();
+  footprint.pack = true;  // The coverage read back.
+  const auto guard = m.enter("buildImpostor", footprint, nullptr, true);
   detail::ImpostorAtlas atlas;
   const GLsizei w = GLsizei(width), h = GLsizei(height);
   Status s =
       detail::createTexture2DArray(&atlas.texture, levels, GL_RGBA8, w, h,
                                    detail::ImpostorAtlas::kLayers, "buildImpostor: the atlas");
-  if (s.isOk())
-    s = detail::createBuffer(&atlas.clips, clips.size() * sizeof(glm::uvec4), clips.data(), 0,
-                             "buildImpostor: the clip table");
   CaptureTarget target;
   if (s.isOk()) s = target.create(atlas.texture, w, h);
 
@@ -249,6 +249,17 @@ Status Renderer::buildImpostor(CharacterId id, const ImpostorDesc& desc, Imposto
     glTextureParameteri(atlas.texture, GL_TEXTURE_WRAP_T, GL_CLAMP_TO_EDGE);
     s = checkGlErrors("buildImpostor: the atlas's mip levels");
   }
+  // The clip table, then every cell's covered rectangle at every level (the quads' extent).
+  std::vector<uint32_t> rects;
+  if (s.isOk())
+    s = detail::measureCoveredRects(atlas.texture, columns, rows, cell, uint32_t(levels), &rects);
+  if (s.isOk()) {
+    std::vector<uint32_t> table(clips.size() * 4 + (rects.size() + 3) / 4 * 4, 0u);
+    std::copy_n(&clips[0].x, clips.size() * 4, table.begin());
+    std::copy(rects.begin(), rects.end(), table.begin() + ptrdiff_t(clips.size() * 4));
+    s = detail::createBuffer(&atlas.clips, table.size() * sizeof(uint32_t), table.data(), 0,
+                             "buildImpostor: the clip table");
+  }
   if (!s.isOk()) {
     atlas.release();
     return s;
@@ -261,6 +272,8 @@ Status Renderer::buildImpostor(CharacterId id, const ImpostorDesc& desc, Imposto
   for (size_t k = 0; k < elevations.size(); ++k)
     atlas.elevations_radians[k] = float(elevations[k] * kPi / 180.0);
   atlas.frame_stride_texels = palette.layout.frame_stride_texels;
+  atlas.cell_texels = cell;
+  atlas.levels = uint32_t(levels);
   atlas.centre = centre;
   atlas.cell_units = cell_units;
   c.impostor.release();

@@ -5,24 +5,13 @@
 // bad input refused with named statuses.
 #include <cmath>
 
-#include "render/render_fixture.h"
+#include "render/impostor_fixture.h"
 #include "si/gl/image_lod_error.h"
 
 namespace si {
 namespace {
 
 using namespace test;
-
-uint32_t impostorLevels() { return uint32_t(impostorCharacter().mesh.maxLodCount()); }
-
-ImpostorDesc smallImpostor() {
-  ImpostorDesc d;
-  d.azimuths = 8;
-  d.elevations_degrees = {0.0f, 30.0f};
-  d.frames_per_clip = 4;
-  d.cell_pixels = 32;
-  return d;
-}
 
 // Rows at 4, 30, 70 and 150 units in front of lodCamera(); lines (radius 1) put the last two
 // rows past the impostor's line unless `lines` says otherwise.
@@ -53,14 +42,6 @@ void impostorCrowd(std::vector<float> lines, uint32_t impostor_lod, CrowdManager
     }
   ASSERT_TRUE(crowd->advanceClock(0.4).isOk());
   ASSERT_TRUE(crowd->update(0.0, lodCamera()).isOk());
-}
-
-// Lines of `levels` levels: the impostor's at `impostor_line` radii, the others before it.
-std::vector<float> linesTo(float impostor_line) {
-  std::vector<float> lines;
-  for (uint32_t l = 1; l + 1 < impostorLevels(); ++l) lines.push_back(impostor_line * float(l) / 8.0f);
-  lines.push_back(impostor_line);
-  return lines;
 }
 
 uint32_t backgroundlessPixels(const std::vector<uint8_t>& rgba) {
@@ -111,36 +92,6 @@ TEST_P(RenderTest, ImpostorsDrawTheInstancedPathsImageOnTheGpuDrivenPath) {
                        crowd, lodCamera(), reference, reference_stats);
 }
 
-// A vertex-shader renderer of impostorCharacter() (character 0) with its atlas built from `id`.
-void impostorRenderer(const GlInfo& info, const ImpostorDesc& id, Renderer* r) {
-  RendererDesc rd;
-  rd.skinning_path = SkinningPath::kVertexShader;
-  ASSERT_TRUE(r->init(info, rd).isOk());
-  CharacterId cid;
-  ASSERT_TRUE(r->addCharacter(impostorCharacter(), palette(), &cid).isOk());
-  ASSERT_TRUE(r->buildImpostor(cid, id).isOk());
-}
-
-// A crowd of impostorCharacter() that draws every instance as an impostor (`impostors`) or at
-// LOD 0, whatever its distance.
-void initEveryOneAt(bool impostors, CrowdManager* crowd) {
-  CrowdDesc cd;
-  cd.palette = &palette();
-  cd.sub_mesh_count = 4;
-  cd.lod_count = impostorLevels();
-  cd.character_radius = 1.0f;
-  cd.lod_distances_radii = linesTo(impostors ? 1e-3f : 1e6f);
-  cd.max_distance_radii = -1.0f;
-  cd.impostor_lod = impostorLevels() - 1;
-  ASSERT_TRUE(crowd->init(cd).isOk());
-}
-
-// At the origin looking along -z, lodCamera()'s field of view.
-Camera flatCamera() {
-  return Camera::lookAt({0.0, 0.0, 0.0}, {0.0, 0.0, -1.0}, glm::vec3(0, 1, 0), 0.9f, 1.0f, 0.1f,
-                        500.0f);
-}
-
 TEST_P(RenderTest, AnImpostorAtItsHandOverHeightDiffersFromTheMeshByItsMeasuredError) {
   ImpostorDesc id = smallImpostor();
   ImageLodErrorDesc d;
@@ -174,17 +125,9 @@ TEST_P(RenderTest, AnImpostorAtItsHandOverHeightDiffersFromTheMeshByItsMeasuredE
     initEveryOneAt(impostors, crowd);
     // 16 px tall at distance z: height / (2 z tan(fov / 2)) * 256 = 16.
     const double z = double(height) * 256.0 / (16.0 * 2.0 * std::tan(0.45));
-    for (int k = 0; k < 6; ++k) {
-      InstanceDesc inst;
-      inst.position = glm::dvec3((k - 2.5) * 0.25 * z * 0.3, -0.5 * height, -z);
-      inst.rotation = glm::angleAxis(0.45f + 1.1f * float(k), glm::vec3(0, 1, 0));
-      inst.clip = uint32_t(k) % uint32_t(palette().clips.size());
-      inst.time_seconds = 0.21 + 0.17 * k;
-      inst.speed = 0.0f;
-      inst.variation_mask = 0xFFFFFFFFu;
-      InstanceHandle h;
-      ASSERT_TRUE(crowd->add(inst, &h).isOk());
-    }
+    for (int k = 0; k < 6; ++k)
+      addHeld(crowd, glm::dvec3((k - 2.5) * 0.25 * z * 0.3, -0.5 * height, -z),
+              0.45f + 1.1f * float(k), uint32_t(k), 0.21 + 0.17 * k);
     ASSERT_TRUE(crowd->update(0.0, flatCamera()).isOk());
   };
   CrowdManager as_impostors, as_meshes;

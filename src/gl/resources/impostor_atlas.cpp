@@ -17,6 +17,11 @@ void ImpostorAtlas::bind(const Program& program, const Camera& camera) const {
   const glm::mat4& v = camera.view_rotation;
   const bool ortho = camera.projection[3][3] == 1.0f && camera.projection[2][3] == 0.0f;
   glProgramUniform4f(p, 44, v[0][2], v[1][2], v[2][2], ortho ? 1.0f : 0.0f);
+  // Half the viewport in pixels (a clip-space unit's pixels), the cell's texels and levels.
+  GLint viewport[4] = {0, 0, 0, 0};
+  glGetIntegerv(GL_VIEWPORT, viewport);
+  glProgramUniform4f(p, 45, 0.5f * float(viewport[2]), 0.5f * float(viewport[3]),
+                     float(cell_texels), float(levels));
 }
 
 void ImpostorAtlas::release() {

@@ -21,7 +21,10 @@ struct ImpostorAtlas {
   static constexpr uint32_t kLayers = 3;
 
   GLuint texture = kNoObject;  ///< GL_TEXTURE_2D_ARRAY, RGBA8, kLayers layers, mipmapped.
-  GLuint clips = kNoObject;    ///< Storage: per clip (first texel, frames, first cell frame, frames).
+  /// Storage: per clip (first texel, frames, first cell frame, frames), then per cell and mip
+  /// level its covered rectangle (impostor_coverage.h), cell c's level l at word
+  /// clip_count * 4 + c * levels + l.
+  GLuint clips = kNoObject;
   uint32_t clip_count = 0;
   uint32_t columns = 0, rows = 0;  ///< Cells across and down.
   uint32_t azimuths = 0, elevations = 0;
@@ -29,10 +32,13 @@ struct ImpostorAtlas {
   uint32_t frame_stride_texels = 0;  ///< The palette's.
   glm::vec3 centre{0.0f};            ///< The cell's centre in model units.
   float cell_units = 0.0f;           ///< The cell's side in model units.
+  uint32_t cell_texels = 0;          ///< The cell's side in level-0 texels.
+  uint32_t levels = 0;               ///< The atlas's mip levels.
 
   bool ready() const { return texture != kNoObject; }
   /// Binds the atlas (texture unit 3, storage binding 9) and sets `program`'s impostor
-  /// uniforms for `camera`.
+  /// uniforms for `camera` and the current viewport (which the quads' mip level estimate
+  /// projects to).
   void bind(const Program& program, const Camera& camera) const;
   /// Deletes the texture and the clip table (context current). Idempotent.
   void release();

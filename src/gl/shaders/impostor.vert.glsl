@@ -20,7 +20,8 @@ layout(std430, binding = 6) readonly buffer SiVisible { uvec4 si_visible[]; };
 layout(std140, binding = 0) uniform SiInstances { SiInstance si_instances[SI_MAX_INSTANCES]; };
 #endif
 // Per clip, by increasing first texel: x its first palette texel, y its baked frames, z its
-// first atlas frame, w its atlas frames.
+// first atlas frame, w its atlas frames. Then, word by word, every cell's covered rectangle at
+// every mip level (cell c's level l at word clips * 4 + c * levels + l; impostor_coverage.h).
 layout(std430, binding = 9) readonly buffer SiImpostorClips { uvec4 si_impostor_clips[]; };
 layout(location = 1) uniform mat4 u_view_projection;
 layout(location = 40) uniform uvec4 u_impostor_grid;    // columns, rows, azimuths, elevations
@@ -28,6 +29,8 @@ layout(location = 41) uniform uvec4 u_impostor_counts;  // clips, palette frame 
 layout(location = 42) uniform vec4 u_impostor_elevations;  // radians, increasing
 layout(location = 43) uniform vec4 u_impostor_cell;     // centre (model units), cell side
 layout(location = 44) uniform vec4 u_viewer;  // the camera's back direction; w 1 orthographic
+// Half the viewport's width and height in pixels, the cell's side in texels, the atlas's levels.
+layout(location = 45) uniform vec4 u_impostor_texels;
 uniform uint u_lod;  // The crowd's impostor level (SiSurface.lod).
 out vec2 v_uv;
 #ifndef SI_DEPTH_ONLY
@@ -40,6 +43,43 @@ flat out vec3 v_up;
 flat out vec3 v_towards;
 #endif
 const float kPi = 3.14159265358979;
+// The quad's part where the coverage test can pass, as fractions of the cell (left, bottom,
+// right, top): the union of cell `cell`'s rectangles (impostor_coverage.h) at the mip levels its
+// fragments can sample. Trilinear filtering at level of detail lambda reads levels
+// floor(lambda) and floor(lambda) + 1 (magnified, lambda <= 0: level 0 alone). A pixel steps
+// between the cell's texels over the largest and the least singular value of the quad's edges on
+// screen (`right` and `up`, the cell's sides from `centre`), which bound lambda; a quarter of a
+// level more each way covers the driver's approximations and perspective over the quad. A quad
+// behind the eye or edge-on takes every level.
+vec4 coveredRect(uint cell, vec3 centre, vec3 right, vec3 up) {
+  uint levels = uint(u_impostor_texels.w);
+  uint lo = 0u, hi = levels - 1u;
+  vec4 c = u_view_projection * vec4(centre, 1.0);
+  vec4 r = u_view_projection * vec4(centre + right, 1.0);
+  vec4 u = u_view_projection * vec4(centre + up, 1.0);
+  if (c.w > 0.0 && r.w > 0.0 && u.w > 0.0) {
+    vec2 a = (r.xy / r.w - c.xy / c.w) * u_impostor_texels.xy;
+    vec2 b = (u.xy / u.w - c.xy / c.w) * u_impostor_texels.xy;
+    float f = dot(a, a) + dot(b, b), det = abs(a.x * b.y - a.y * b.x);
+    float root = sqrt(max(f * f - 4.0 * det * det, 0.0));
+    float least = sqrt(2.0 * det * det / (f + root)), most = sqrt(0.5 * (f + root));
+    if (least > 0.0) {
+      float lambda_lo = log2(u_impostor_texels.z / most) - 0.25;
+      float lambda_hi = log2(u_impostor_texels.z / least) + 0.25;
+      lo = lambda_lo > 0.0 ? uint(min(floor(lambda_lo), float(levels - 1u))) : 0u;
+      hi = lambda_hi > 0.0 ? uint(min(floor(lambda_hi) + 1.0, float(levels - 1u))) : 0u;
+    }
+  }
+  vec4 rect = vec4(1.0, 1.0, 0.0, 0.0);  // Empty.
+  for (uint level = lo; level <= hi; ++level) {
+    uint word = u_impostor_counts.x * 4u + cell * levels + level;
+    uint bits = si_impostor_clips[word / 4u][word % 4u];
+    if (bits == 0u) continue;  // Nothing at least half covered.
+    vec4 q = vec4((uvec4(bits) >> uvec4(0u, 8u, 16u, 24u)) & 0xFFu) / 255.0;
+    rect = vec4(min(rect.xy, q.xy), max(rect.zw, q.zw));
+  }
+  return rect;
+}
 void main() {
 #ifdef SI_GPU_DRIVEN
   SiInstance inst = si_records[si_entries[a_entry]];
@@ -97,11 +137,14 @@ void main() {
                ? min(uint(frame * float(clip.w - 1u) / float(clip.y - 1u) + 0.5), clip.w - 1u)
                : 0u;
   uint cell = (clip.z + k) * u_impostor_counts.z + view;
-  vec2 corner = vec2(float(gl_VertexID & 1), float(gl_VertexID >> 1));
+  // The quad: where the coverage test can pass (nowhere: a point, no fragment).
+  float side = u_impostor_cell.w * scale;
+  vec4 rect = coveredRect(cell, centre, right * side, up * side);
+  if (rect.x > rect.z) rect = vec4(0.5);
+  vec2 corner = mix(rect.xy, rect.zw, vec2(float(gl_VertexID & 1), float(gl_VertexID >> 1)));
   v_uv = (vec2(float(cell % u_impostor_grid.x), float(cell / u_impostor_grid.x)) + corner) /
          vec2(u_impostor_grid.xy);
-  vec3 world = centre + ((corner.x - 0.5) * right + (corner.y - 0.5) * up) *
-                            (u_impostor_cell.w * scale);
+  vec3 world = centre + ((corner.x - 0.5) * right + (corner.y - 0.5) * up) * side;
 #ifndef SI_DEPTH_ONLY
   v_position = world;
   v_color = inst.blend.w;
