@@ -1,7 +1,9 @@
 // SkinnedInstancing — SPDX-License-Identifier: MIT (see LICENSE)
 // Renderer::gpuMemory: the library's GPU memory by what holds it; the GPU-driven state per
-// crowd grows with the crowd, and the staging ring stays bounded whatever the crowd.
+// crowd grows with the crowd and shrinks after a peak, and the staging ring stays bounded
+// whatever the crowd.
 #include <algorithm>
+#include <cstdio>
 
 #include "gl/resources/upload_ring.h"
 #include "render/render_fixture.h"
@@ -59,6 +61,81 @@ TEST_P(RenderTest, GpuMemoryIsReportedByWhatHoldsIt) {
   EXPECT_LE(m.staging_bytes, uint64_t(detail::UploadRing::kRegions) * ((8u << 20) + 4096));
   EXPECT_TRUE(r.gpuMemory(nullptr).code() == StatusCode::kInvalidArgument);
   r.shutdown();
+}
+
+// After a peak the GPU-driven buffers shrink to the crowd (half as much again) once it falls to a
+// quarter of them, and the crowd then draws what a fresh renderer draws; growing back within
+// the new room re-creates nothing.
+TEST_P(RenderTest, TheGpuDrivenStateShrinksAfterAPeak) {
+  CrowdManager crowd;
+  makeCrowd(&crowd);
+  // 12 in view around the origin, 39,988 behind the camera (cheap to draw).
+  std::vector<glm::dvec3> positions;
+  for (int i = 0; i < 12; ++i)
+    positions.push_back({(i % 4 - 1.5) * 0.8, 0.0, -1.0 - (i / 4) * 1.5});
+  for (uint32_t i = 0; i < 39988; ++i) positions.push_back({double(i % 200), 0.0, 50.0 + i / 200});
+  RandomCrowdDesc rc;
+  rc.positions = positions;
+  std::vector<InstanceHandle> handles;
+  ASSERT_TRUE(crowd.addRandom(rc, &handles).isOk());
+  ASSERT_TRUE(crowd.advanceClock(0.3).isOk());
+  Renderer r;
+  makeRenderer(&r);
+  const auto drawn = [&](Renderer& renderer) {
+    renderer.clear(glm::vec4(0.2f, 0.25f, 0.3f, 1.0f));
+    EXPECT_TRUE(renderer.drawCrowdGpuCulled(crowd, closeCamera(), nullptr).isOk());
+    std::vector<uint8_t> rgba;
+    EXPECT_TRUE(context_->readPixels(&rgba).isOk());
+    return rgba;
+  };
+  const auto memory = [&]() {
+    GpuMemory m;
+    EXPECT_TRUE(r.gpuMemory(&m).isOk());
+    return m.characters.at(0).crowds.at(0);
+  };
+  (void)drawn(r);
+  const CrowdGpuMemory peak = memory();
+  EXPECT_EQ(peak.capacity, 40000u);
+
+  // Down to 10,012 (a quarter of 40,000 and more): kept.
+  for (uint32_t i = 12; i < 29988 + 12; ++i) ASSERT_TRUE(crowd.remove(handles[i]).isOk());
+  ASSERT_TRUE(crowd.advanceClock(0.0).isOk());
+  (void)drawn(r);
+  EXPECT_EQ(memory().capacity, 40000u);
+  // Down to 2,012: 3,018 instances' buffers, a view's too.
+  for (uint32_t i = 29988 + 12; i < 29988 + 12 + 8000; ++i)
+    ASSERT_TRUE(crowd.remove(handles[i]).isOk());
+  ASSERT_EQ(crowd.size(), 2012u);
+  ASSERT_TRUE(crowd.advanceClock(0.1).isOk());
+  const std::vector<uint8_t> shrunk = drawn(r);
+  const CrowdGpuMemory after = memory();
+  std::printf("[ memory ] 40,000 -> 2,012 instances: state %llu -> %llu bytes, view %llu -> %llu\n",
+              static_cast<unsigned long long>(peak.state_bytes),
+              static_cast<unsigned long long>(after.state_bytes),
+              static_cast<unsigned long long>(peak.view_bytes),
+              static_cast<unsigned long long>(after.view_bytes));
+  EXPECT_EQ(after.capacity, 3018u);
+  EXPECT_LT(after.state_bytes * 4, peak.state_bytes)
+      << after.state_bytes << " of " << peak.state_bytes;
+  EXPECT_LT(after.view_bytes * 4, peak.view_bytes);
+  Renderer fresh;
+  makeRenderer(&fresh);
+  const std::vector<uint8_t> reference = drawn(fresh);
+  const Diff d = compare(shrunk, reference, nullptr);
+  EXPECT_EQ(d.share, 0.0);
+  EXPECT_GT(compare(reference, std::vector<uint8_t>(reference.size(), 0), nullptr).share, 0.0);
+
+  // Back up to 3,012: within the room, nothing re-created.
+  std::vector<glm::dvec3> more(1000, glm::dvec3(0.0, 0.0, 80.0));
+  rc.positions = more;
+  ASSERT_TRUE(crowd.addRandom(rc, nullptr).isOk());
+  ASSERT_TRUE(crowd.advanceClock(0.0).isOk());
+  DrawStats stats;
+  ASSERT_TRUE(r.drawCrowdGpuCulled(crowd, closeCamera(), &stats).isOk());
+  EXPECT_EQ(memory().capacity, 3018u);
+  EXPECT_LT(stats.state_bytes_uploaded, 2000u * sizeof(GpuInstanceState));  // Not the whole.
+  r.shutdown();
+  fresh.shutdown();
 }
 
 }  // namespace

@@ -51,8 +51,9 @@ Status GpuCulledPath::uploadFrame(const DrawResources& r, const PathFrame& f) {
   // The whole state when the crowd, its shape or the character changed (or as asked); else
   // what changed since the last upload.
   const bool reshaped = crowd_ != &crowd || uploaded_identity_ != crowd.identity() ||
-                        n > capacity_ || sub_meshes_ != cd.sub_mesh_count || buckets_ != buckets ||
-                        vertex_source_ != r.character->vertex_buffer || vao_ == kNoObject;
+                        n > capacity_ || shrinks(n) || sub_meshes_ != cd.sub_mesh_count ||
+                        buckets_ != buckets || vertex_source_ != r.character->vertex_buffer ||
+                        vao_ == kNoObject;
   const bool changed = version_ != crowd.stateVersion() || instances_ != n;
   if (reshaped || (changed && r.desc->gpu_state_upload == GpuStateUpload::kWhole)) {
     Status s = uploadState(r, crowd, buckets);
@@ -143,7 +144,7 @@ Status GpuCulledPath::prepareMotion(const DrawResources& r, const PathFrame& f) 
   }
   Status s = v.ensureDrawn(slots_needed_, r.info->max_shader_storage_block_size_bytes);
   if (!s.isOk()) return s;
-  if (capacity_ > previous_capacity_) {
+  if (capacity_ != previous_capacity_) {  // Grown or shrunk with the state.
     previous_capacity_ = 0;
     s = recreate(&previous_out_, size_t(capacity_) * kInstanceRecordSize, nullptr,
                  "motion vectors: the previous records");

@@ -117,6 +117,14 @@ class GpuCulledPath final : public DrawPath {
   // set by uploadFrame.
   UploadRing* staging_ = nullptr;
   bool two_phases_ = false;  // The last frame drew in two phases.
+  // The instances every per-instance buffer holds (the state's, the overlays', each view's and
+  // the previous records'): half as much again as the crowd when it outgrows them or, after a
+  // peak, falls to a kShrinkFactor-th of them (from kShrinkFrom instances: below, the memory is
+  // small), so a spawn wave or a wave of removals re-creates them a few times, not every frame.
+  static constexpr uint32_t kShrinkFactor = 4, kShrinkFrom = 4096;
+  bool shrinks(uint32_t n) const {
+    return capacity_ >= kShrinkFrom && uint64_t(n) * kShrinkFactor <= capacity_;
+  }
   uint32_t capacity_ = 0, instances_ = 0, buckets_ = 0, sub_meshes_ = 0;
   uint64_t version_ = 0, uploaded_identity_ = 0;
   // The dense ranges holding other instances after upload placed_upload_ (a partial one; 0

@@ -65,15 +65,16 @@ Status GpuCulledPath::uploadState(const DrawResources& r, const CrowdManager& cr
                                {"frame times", uint64_t(times.size()) * sizeof(double)}};
   Status s = storageFits(*r.info, n, needs);
   if (!s.isOk()) return s;
-  if (n > capacity_ || sub_meshes_ != cd.sub_mesh_count || records_ == kNoObject) {
-    // Room to grow (half as much again), so that a spawn wave re-creates the buffers and
-    // uploads the whole state a few times, not every frame: within the handle slots and the
-    // storage-block limit (the state's 144 bytes an instance, or the entry data's 8 per
-    // sub-mesh, whichever is more).
+  const bool shrink = shrinks(n);
+  if (n > capacity_ || shrink || sub_meshes_ != cd.sub_mesh_count || records_ == kNoObject) {
+    // Room to grow (half as much again, of the buffers when outgrown, of the crowd when shrunk
+    // after a peak), so that a spawn wave re-creates the buffers and uploads the whole state a
+    // few times, not every frame: within the handle slots and the storage-block limit (the
+    // state's 144 bytes an instance, or the entry data's 8 per sub-mesh, whichever is more).
     const uint64_t fit = r.info->max_shader_storage_block_size_bytes /
                          std::max<uint64_t>(sizeof(GpuInstanceState), 8 * cd.sub_mesh_count);
-    const uint64_t grown =
-        std::min<uint64_t>({uint64_t(capacity_) + capacity_ / 2, HandlePool::kMaxSlots, fit});
+    const uint64_t from = shrink ? n : capacity_;
+    const uint64_t grown = std::min<uint64_t>({from + from / 2, HandlePool::kMaxSlots, fit});
     const uint32_t capacity = uint32_t(std::max<uint64_t>({n, 1u, grown}));
     capacity_ = 0;  // Until every buffer below exists.
     const uint32_t entry_capacity = capacity * cd.sub_mesh_count;
@@ -169,22 +170,27 @@ Status GpuCulledPath::uploadOverlays(const GlInfo& info, const CrowdManager& cro
   if (!layers_) return Status::ok();
   Status s = Status::ok();
   const uint32_t copies = extras_ ? 1 + kExtraLayerRecords : 1;
-  const uint64_t layered = overlays.size();
+  // As many as the state holds (capacity_, set by uploadState first), so they grow and shrink
+  // together, where the storage-block limit has room (else the crowd's own count, refused below
+  // past the limit).
+  const uint64_t fit = info.max_shader_storage_block_size_bytes /
+                       (copies * std::max<uint64_t>(sizeof(GpuOverlayState), kLayerRecordSize));
+  const uint64_t layered = std::max<uint64_t>(std::min<uint64_t>(capacity_, fit), overlays.size());
   const StorageNeed needs[] = {
       {"overlays (and 2D blends' extra layers)", layered * copies * sizeof(GpuOverlayState)},
       {"layer records", layered * copies * kLayerRecordSize}};
   s = storageFits(info, uint32_t(layered), needs);
   if (!s.isOk()) return s;
-  if (overlays.size() > layer_capacity_ || overlays_ == kNoObject || copies > layer_copies_) {
+  if (layered != layer_capacity_ || overlays_ == kNoObject || copies > layer_copies_) {
     layer_capacity_ = 0;
-    const size_t capacity = overlays.size() * copies;
+    const size_t capacity = size_t(layered) * copies;
     s = createBuffer(&overlays_, capacity * sizeof(GpuOverlayState), nullptr,
                      GL_DYNAMIC_STORAGE_BIT, "GPU culling: the overlays");
     if (s.isOk())
       s = createBuffer(&layers_out_, capacity * kLayerRecordSize, nullptr,
                        GL_DYNAMIC_STORAGE_BIT, "GPU culling: the layer records");
     if (!s.isOk()) return s;
-    layer_capacity_ = uint32_t(overlays.size());
+    layer_capacity_ = uint32_t(layered);
     layer_copies_ = copies;
   }
   std::vector<BufferPiece> pieces{{0, overlays.size() * sizeof(GpuOverlayState), overlays.data()}};

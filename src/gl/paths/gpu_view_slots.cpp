@@ -19,7 +19,7 @@ void GpuViewSlot::release() {
 }
 
 Status GpuViewSlot::ensureInstances(uint32_t count) {
-  if (capacity >= count && instances != kNoObject) return Status::ok();
+  if (capacity == count && instances != kNoObject) return Status::ok();
   glDeleteBuffers(1, &instances);
   instances = kNoObject;
   capacity = 0;
