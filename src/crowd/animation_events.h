@@ -13,7 +13,7 @@
 
 #include "crowd/instance_store.h"
 #include "crowd/playback.h"
-#include "si/crowd/crowd_manager.h"
+#include "si/crowd/animation_event.h"
 
 namespace si::detail {
 

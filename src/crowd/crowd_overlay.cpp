@@ -4,6 +4,7 @@
 
 #include "core/str_cat.h"
 #include "crowd/crowd_state.h"
+#include "si/crowd/crowd_manager.h"
 
 namespace si {
 

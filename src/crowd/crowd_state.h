@@ -12,11 +12,16 @@
 #include "crowd/animation_events.h"
 #include "crowd/frame_builder.h"
 #include "crowd/instance_store.h"
-#include "si/crowd/crowd_manager.h"
+#include "si/core/layer_mask.h"
+#include "si/crowd/crowd_view.h"
 
 namespace si {
 
+class CrowdManager;
+
 namespace detail {
+
+struct CrowdState;
 
 /// A view's private state: which crowd and lane, its rules and its last selection.
 struct ViewState {

@@ -172,8 +172,7 @@ SI_CPU_CLONES void selectChunk(const FrameInputs& in, InstanceStore& st, uint32_
   if (in.previous_records) {  // Last selection's slots become the previous ones; none yet now.
     std::copy(view.record_slot.begin() + begin, view.record_slot.begin() + end,
               view.previous_slot.begin() + begin);
-    std::fill(view.record_slot.begin() + begin, view.record_slot.begin() + end,
-              CrowdManager::kNoPreviousRecord);
+    std::fill(view.record_slot.begin() + begin, view.record_slot.begin() + end, kNoPreviousRecord);
   }
   // The selection uses only +, -, * and comparisons in a fixed order (cull_math.h, and
   // cull_lanes.h lane by lane), so the GPU-driven culling pass, which does the same arithmetic,

@@ -17,7 +17,9 @@
 
 #include "crowd/animation_events.h"
 #include "crowd/instance_store.h"
-#include "si/crowd/crowd_manager.h"
+#include "si/crowd/animation_event.h"
+#include "si/crowd/crowd_desc.h"
+#include "si/crowd/crowd_view.h"
 #include "si/crowd/parallel_for.h"
 
 namespace si::detail {

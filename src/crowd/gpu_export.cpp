@@ -2,6 +2,7 @@
 // The crowd's state for GPU-driven culling: instances, clips and the frame's parameters, as
 // the shaders read them (si/crowd/gpu_crowd_state.h).
 #include "crowd/crowd_state.h"
+#include "si/crowd/crowd_manager.h"
 
 #include <algorithm>
 #include <cmath>

@@ -236,7 +236,7 @@ Status InstanceBatcher::buildPreviousIndices(const CrowdView& crowd, Span<uint8_
                                 d.layer_byte_offset / kLayerRecordSize + slot;
                 for (uint32_t k = 0; k < count; ++k) {
                   const uint32_t p = index[first + k];
-                  dst[k] = p < previous ? previous_places[p] : CrowdManager::kNoPreviousRecord;
+                  dst[k] = p < previous ? previous_places[p] : kNoPreviousRecord;
                 }
               });
   return Status::ok();

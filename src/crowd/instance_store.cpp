@@ -45,8 +45,8 @@ uint32_t InstanceStore::addView() {
   ViewLanes& v = views[lane];
   v.used = true;
   v.lods.assign(size(), 0);
-  v.record_slot.assign(size(), CrowdManager::kNoPreviousRecord);
-  v.previous_slot.assign(size(), CrowdManager::kNoPreviousRecord);
+  v.record_slot.assign(size(), kNoPreviousRecord);
+  v.previous_slot.assign(size(), kNoPreviousRecord);
   return lane;
 }
 
@@ -117,8 +117,8 @@ void InstanceStore::push(const InstanceDesc& d, InstanceHandle h, double clock) 
   for (ViewLanes& v : views) {
     if (!v.used) continue;
     v.lods.push_back(0);
-    v.record_slot.push_back(CrowdManager::kNoPreviousRecord);
-    v.previous_slot.push_back(CrowdManager::kNoPreviousRecord);
+    v.record_slot.push_back(kNoPreviousRecord);
+    v.previous_slot.push_back(kNoPreviousRecord);
   }
   overlays.push_back(OverlayState());
   dense_handles.push_back(h);
@@ -202,7 +202,7 @@ Status InstanceStore::setTransform(InstanceHandle h, const glm::dvec3& position,
   motion_clock[i] = clock;
   ++placements[i];
   for (ViewLanes& v : views)  // A teleport: no motion vector in any view.
-    if (v.used) v.record_slot[i] = CrowdManager::kNoPreviousRecord;
+    if (v.used) v.record_slot[i] = kNoPreviousRecord;
   changed(i);
   return Status::ok();
 }

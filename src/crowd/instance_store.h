@@ -13,9 +13,11 @@
 #include "crowd/instance_columns.h"
 #include "crowd/instance_overlay.h"
 #include "crowd/playback.h"
+#include "si/core/baked_palette.h"
 #include "si/crowd/blend_space.h"
-#include "si/crowd/crowd_manager.h"
 #include "si/crowd/handle_pool.h"
+#include "si/crowd/instance_desc.h"
+#include "si/crowd/instance_record.h"
 
 namespace si::detail {
 
@@ -138,7 +140,7 @@ struct InstanceStore {
   // take a record drawn at another placement as the previous one.
   std::vector<uint32_t> placements;
   // Per view (lane 0: CrowdManager::update()'s): LODs and, for motion vectors, record indices
-  // (CrowdManager::kNoPreviousRecord for none; setTransform() clears them in every lane).
+  // (kNoPreviousRecord for none; setTransform() clears them in every lane).
   std::vector<ViewLanes> views;
   // Layered animation (instance_overlay.h): each instance's overlay, and how many ever played
   // one (0: update() writes no layer records).

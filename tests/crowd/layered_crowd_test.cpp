@@ -235,11 +235,11 @@ TEST(LayeredCrowd, KeepsThePreviousLayerRecords) {
       ASSERT_LT(i, l.crowd.records().size());
       const uint32_t p = l.crowd.previousRecordIndices()[i];
       const uint8_t* slot = previous.data() + d.layer_byte_offset + k * kLayerRecordSize;
-      const void* expected = p == CrowdManager::kNoPreviousRecord
+      const void* expected = p == kNoPreviousRecord
                                  ? static_cast<const void*>(&l.crowd.layerRecords()[i])
                                  : static_cast<const void*>(&l.crowd.previousLayerRecords()[p]);
       EXPECT_EQ(std::memcmp(slot, expected, kLayerRecordSize), 0) << i;
-      (p == CrowdManager::kNoPreviousRecord ? fallbacks : kept) += 1;
+      (p == kNoPreviousRecord ? fallbacks : kept) += 1;
     }
   EXPECT_GT(kept, 0u);
   EXPECT_GT(fallbacks, 0u);  // The instance added between the updates.

@@ -44,9 +44,8 @@ void expectPrevious(const CrowdManager& crowd, const Frame& before,
     const uint32_t id = crowd.visibleHandles()[r].id;
     const auto it = before.index_of.find(id);
     const bool teleported = std::find(no_motion.begin(), no_motion.end(), id) != no_motion.end();
-    const uint32_t expected = it == before.index_of.end() || teleported
-                                  ? CrowdManager::kNoPreviousRecord
-                                  : uint32_t(it->second);
+    const uint32_t expected =
+        it == before.index_of.end() || teleported ? kNoPreviousRecord : uint32_t(it->second);
     ASSERT_EQ(crowd.previousRecordIndices()[r], expected) << "record " << r << " id " << id;
   }
 }
@@ -76,7 +75,7 @@ TEST(PreviousRecords, EachRecordNamesWhatItsInstanceDrewLastUpdate) {
     ASSERT_TRUE(crowd.update(1.0 / 60.0, camera).isOk());
     EXPECT_TRUE(crowd.previousRecords().empty());  // Nothing was drawn before.
     for (uint32_t k = 0; k < crowd.records().size(); ++k)
-      ASSERT_EQ(crowd.previousRecordIndices()[k], CrowdManager::kNoPreviousRecord);
+      ASSERT_EQ(crowd.previousRecordIndices()[k], kNoPreviousRecord);
     size_t with = 0, without = 0;  // Over the frames: something of each kind happened.
     for (int frame = 0; frame < 6; ++frame) {
       const Frame before = capture(crowd);
@@ -112,7 +111,7 @@ TEST(PreviousRecords, EachRecordNamesWhatItsInstanceDrewLastUpdate) {
         teleported_drawn += std::count(teleported.begin(), teleported.end(), h.id);
       EXPECT_EQ(teleported_drawn, teleported.size());  // Checked where they are drawn.
       for (uint32_t p : crowd.previousRecordIndices())
-        (p == CrowdManager::kNoPreviousRecord ? without : with) += 1;
+        (p == kNoPreviousRecord ? without : with) += 1;
     }
     EXPECT_GT(with, 100u);
     EXPECT_GT(without, 0u);
@@ -257,7 +256,7 @@ TEST(PreviousRecords, TheBatcherWritesThemInBuildsSlots) {
         std::memcpy(&then, previous.data() + d.byte_offset + k * kInstanceRecordSize, sizeof then);
         ASSERT_TRUE(sameRecord(now, crowd.records()[rec]));
         InstanceRecord expected = crowd.records()[rec];
-        if (p != CrowdManager::kNoPreviousRecord) {
+        if (p != kNoPreviousRecord) {
           expected = crowd.previousRecords()[p];
           ++with;
         } else {
@@ -315,7 +314,7 @@ TEST(PreviousRecords, TheLastFramesBufferHoldsThePreviousRecords) {
           InstanceRecord then;
           std::memcpy(&then, previous.data() + d.byte_offset + k * kInstanceRecordSize,
                       sizeof then);
-          if (word == CrowdManager::kNoPreviousRecord) {
+          if (word == kNoPreviousRecord) {
             ++without;  // buildPrevious' fallback: the current record moved.
             continue;
           }

@@ -24,7 +24,7 @@ inline void checkPreviousRecords(const CrowdManager& crowd, const InstanceBatche
   if (crowd.previousRecordIndices().size() != crowd.records().size())
     fail("the previous indices do not match the records");
   for (uint32_t p : crowd.previousRecordIndices())
-    if (p != CrowdManager::kNoPreviousRecord && p >= crowd.previousRecords().size())
+    if (p != kNoPreviousRecord && p >= crowd.previousRecords().size())
       fail("a previous index is past the previous records");
   std::vector<uint8_t> now(batcher.recordBufferBound(crowd)), then(now.size());
   std::vector<DrawBatch> draws;
@@ -43,7 +43,7 @@ inline void checkPreviousRecords(const CrowdManager& crowd, const InstanceBatche
           if (!std::isfinite(v)) fail("a previous record's world rows are not finite");
       uint32_t p;
       std::memcpy(&p, indices.data() + (d.layer_byte_offset / kLayerRecordSize + k) * 4, 4);
-      if (p != CrowdManager::kNoPreviousRecord && p >= crowd.previousRecords().size())
+      if (p != kNoPreviousRecord && p >= crowd.previousRecords().size())
         fail("a slot's previous index is past the previous records");
     }
   // Through a table (drawCrowd reading the last frame's region): each index looked up.
@@ -58,7 +58,7 @@ inline void checkPreviousRecords(const CrowdManager& crowd, const InstanceBatche
       uint32_t p, q;
       std::memcpy(&p, indices.data() + at, 4);
       std::memcpy(&q, looked_up.data() + at, 4);
-      if (q != (p < table.size() ? table[p] : CrowdManager::kNoPreviousRecord))
+      if (q != (p < table.size() ? table[p] : kNoPreviousRecord))
         fail("a slot's index through the table is not the table's entry");
     }
 }

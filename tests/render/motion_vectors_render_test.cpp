@@ -44,7 +44,7 @@ TEST_P(MotionVectorTest, TheRendererWritesTheIncludesMotion) {
   }
   nextFrame();
   EXPECT_EQ(std::count(crowd_.previousRecordIndices().begin(), crowd_.previousRecordIndices().end(),
-                       CrowdManager::kNoPreviousRecord),
+                       kNoPreviousRecord),
             2);
   target_.clear(glm::vec4(0.0f));
   drawEngine(false);

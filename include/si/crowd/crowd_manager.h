@@ -200,8 +200,6 @@ class CrowdManager {
   Span<const InstanceHandle> visibleHandles() const;
 
   // ---- Motion vectors (CrowdDesc::previous_records) ----
-  /// What previousRecordIndices() holds for an instance with no previous record.
-  static constexpr uint32_t kNoPreviousRecord = 0xFFFFFFFFu;
   /// The records of the update before the last one, exactly as records() gave them then
   /// (empty unless CrowdDesc::previous_records).
   Span<const InstanceRecord> previousRecords() const;

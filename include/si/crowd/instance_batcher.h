@@ -123,7 +123,7 @@ class InstanceBatcher {
     return previousIndexBufferBound(crowd.view());
   }
   /// Writes, for each slot of build()'s draws, the index of its instance's previous record in
-  /// previousRecords() (CrowdView::previousRecordIndices(); CrowdManager::kNoPreviousRecord
+  /// previousRecords() (CrowdView::previousRecordIndices(); kNoPreviousRecord
   /// where it has none, for which a shader takes buildPrevious()'s fallback: the current record
   /// moved by the cameras' shift) as a 32-bit word at (layer_byte_offset / 16 + slot) * 4. With
   /// previousRecords() uploaded once beside it, a shader reads each previous record through

@@ -46,6 +46,10 @@ inline constexpr uint32_t packAppearance(uint8_t r, uint8_t g, uint8_t b, uint8_
 /// Size of InstanceRecord in bytes (its std140 array stride).
 inline constexpr uint32_t kInstanceRecordSize = sizeof(InstanceRecord);
 
+/// Motion vectors: what a previous-record index (CrowdManager::previousRecordIndices(),
+/// CrowdView::previousRecordIndices()) holds for an instance with no previous record.
+inline constexpr uint32_t kNoPreviousRecord = 0xFFFFFFFFu;
+
 /// Layered animation (CrowdManager::playOverlay): the overlay clip an instance plays on a
 /// joint mask, as a second record parallel to its InstanceRecord (16 bytes, a uvec4 in std140
 /// and std430). Weight 0: no overlay (the shader skips it).

@@ -13,7 +13,7 @@ layout(std430, binding = 25) readonly buffer SiPreviousBlocks { uvec4 si_previou
 // In 16-byte words of SiPreviousBlocks: the indices' first word, the records' base word, and
 // the words one index step moves (5: an index numbers records; 1: it is a word).
 layout(location = 8) uniform uvec3 u_previous;
-// Where an instance has no previous record (CrowdManager::kNoPreviousRecord), its current one
+// Where an instance has no previous record (si::kNoPreviousRecord), its current one
 // moved by the cameras' shift (buildPrevious's fallback, the same float addition).
 layout(location = 9) uniform vec3 u_previous_shift;
 
