@@ -108,6 +108,20 @@ vec4 siSourceTangent(uint source) {
   return siUnpackSigned1010102(si_source[source * words + words - 1u - siTrailingWords()]);
 }
 
+// The blended joint matrix rows of `inst` for `joints` and `weights`: with SI_LAYERS its overlay
+// `layer` composed on its mask; with SI_COMPOSED_LAYERS read from composed record `record`'s
+// rows (its previous rows with `previous`).
+void siPreSkinMatrix(SiInstance inst, uvec4 layer, uint record, bool previous, uvec4 joints,
+                     vec4 weights, out vec4 m0, out vec4 m1, out vec4 m2) {
+#if defined(SI_COMPOSED_LAYERS)
+  siSkinComposed(inst, layer, record, previous, joints, weights, m0, m1, m2);
+#elif defined(SI_LAYERS)
+  siSkinLayered(inst, layer, joints, weights, m0, m1, m2);
+#else
+  siSkin(inst, joints, weights, m0, m1, m2);
+#endif
+}
+
 // Source vertex `source` skinned for `inst` (with SI_LAYERS, its overlay `layer` composed on its
 // mask; with SI_COMPOSED_LAYERS read from composed record `record`'s rows): camera-relative
 // world position, and the normal octahedral-encoded in the w component's bits; `tangent` the
@@ -119,13 +133,7 @@ vec4 siPreSkin(uint source, SiInstance inst, uvec4 layer, uint record, out uint 
   vec4 weights;
   siSourceVertex(source, p, n, joints, weights);
   vec4 m0, m1, m2;
-#if defined(SI_COMPOSED_LAYERS)
-  siSkinComposed(inst, layer, record, false, joints, weights, m0, m1, m2);
-#elif defined(SI_LAYERS)
-  siSkinLayered(inst, layer, joints, weights, m0, m1, m2);
-#else
-  siSkin(inst, joints, weights, m0, m1, m2);
-#endif
+  siPreSkinMatrix(inst, layer, record, false, joints, weights, m0, m1, m2);
   vec4 w0 = inst.world_rows[0], w1 = inst.world_rows[1], w2 = inst.world_rows[2];
   vec3 world = siTransformPoint(w0, w1, w2, siTransformPoint(m0, m1, m2, p));
   vec3 normal = siTransformNormal(w0, w1, w2, siTransformNormal(m0, m1, m2, n));
@@ -149,13 +157,7 @@ vec3 siPreSkinPrevious(uint source, SiInstance prev, uvec4 prev_layer, uint reco
   vec4 weights;
   siSourceVertex(source, p, n, joints, weights);
   vec4 m0, m1, m2;
-#if defined(SI_COMPOSED_LAYERS)
-  siSkinComposed(prev, prev_layer, record, true, joints, weights, m0, m1, m2);
-#elif defined(SI_LAYERS)
-  siSkinLayered(prev, prev_layer, joints, weights, m0, m1, m2);
-#else
-  siSkin(prev, joints, weights, m0, m1, m2);
-#endif
+  siPreSkinMatrix(prev, prev_layer, record, true, joints, weights, m0, m1, m2);
   return siTransformPoint(prev.world_rows[0], prev.world_rows[1], prev.world_rows[2],
                           siTransformPoint(m0, m1, m2, p));
 }
