@@ -60,7 +60,7 @@ Status layersTable(Setup& setup, Renderer& renderer, const BakedPalette& palette
                                              [](int32_t a) { return a != LayerMask::kNotInMask; }));
   std::printf(
       "The right arm's mask: %zu of %zu palette slots (composed rows: %zu bytes per "
-      "drawn record)\n",
+      "drawn instance)\n",
       masked, arm.slot_anchor.size(), masked * 48);
   printSideBySideHeader("layer");
   std::printf("\n");

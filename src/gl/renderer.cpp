@@ -255,8 +255,8 @@ Status Renderer::drawCrowd(CharacterId id, const CrowdView& view, const Instance
   // pass reads the region as a storage buffer).
   uint32_t compose_stride = 0;
   if (s.isOk() && layers && plan.end <= storage_limit)
-    s = detail::prepareComposedRows(m.resources(*c), crowd.layerMasks(), plan.layer_slots,
-                                    batcher.capacityPerDraw(), motion, &compose_stride);
+    s = detail::prepareComposedRows(m.resources(*c), crowd.layerMasks(), view.records().size(),
+                                    motion, &compose_stride);
   if (s.isOk()) s = detail::extrasNeedComposing("drawCrowd", plan.extras, compose_stride);
   if (!s.isOk()) return s;
   detail::PathFrame frame;
@@ -285,11 +285,12 @@ Status Renderer::drawCrowd(CharacterId id, const CrowdView& view, const Instance
   frame.extra_layer_base = base + plan.extra_layers;
   frame.previous_extra_base = base + plan.previous_extras;
   frame.compose_stride = compose_stride;
-  frame.compose_table_base = base + plan.compose_table;
+  frame.compose_entries_base = base + plan.compose_entries;
+  frame.compose_slots_base = base + plan.compose_slots;
+  frame.compose_slot_bytes = plan.layer_slots * 4;
   if (frame.composed)
-    frame.compose_batches = detail::writeComposeBatches(m.resources(*c), frame,
-                                                        m.ring.mapped(frame.compose_table_base));
-  m.ring.publish(base, frame.composed ? plan.compose_table + frame.compose_batches * 16 : plan.end);
+    detail::writeComposePlaces(m.resources(*c), batcher, view, m.ring.mapped(base), &frame);
+  m.ring.publish(base, plan.end);
   frame.impostor_lod = mode == DrawMode::kRigid ? 0 : crowd.desc().impostor_lod;
   frame.handles = plan.handles;
   frame.handle_base = base + plan.handle_words;

@@ -7,6 +7,7 @@
 // overlay; two crowds with other masks draw in one frame, each with its own mask.
 #include <functional>
 
+#include "gl/resources/layer_compose_table.h"
 #include "render/render_fixture.h"
 #include "si/gl/motion_target.h"
 
@@ -89,27 +90,28 @@ TEST_P(LayeredRenderTest, BothSkinningPathsDrawTheEmulatedOverlay) {
 }
 
 // Composed layers (RendererDesc::compose_layers, the default): the vertex-shader path's compose
-// pass composes each drawn record's masked slots once and the draws read them; the image is
-// the one the per-vertex chain walk draws (composing off), in batches of 64 KiB and of 5
-// records (each bucket split, so batches hold other instances at other offsets), with the
-// batches' rows of groups in pieces of 2 (a context whose GL_MAX_COMPUTE_WORK_GROUP_COUNT's y
-// is 2), and where a batch's row would not fit its x (1 group) the draws walk the chains.
-// The depth-only draw and the compute path's pre-skinning compose too.
+// pass composes each drawn instance's masked slots once, however many sub-meshes it wears, and
+// every slot drawing it reads them; the image is the one the per-vertex chain walk draws
+// (composing off), in batches of 64 KiB and of 5 records (each bucket split, so batches hold
+// other instances at other offsets), and under storage blocks that hold the instances' rows
+// but not a row per drawn slot. The depth-only draw and the compute path's pre-skinning compose
+// too.
 TEST_P(LayeredRenderTest, ComposedRowsDrawWhatTheChainWalkDraws) {
   Renderer r;
   CrowdManager crowd;
   InstanceBatcher unused;
   vertexShaderSetUp(&r, &crowd, &unused);
-  GlInfo narrow_y = info_, narrow_x = info_;
-  narrow_y.max_compute_groups_y = 2;
-  narrow_x.max_compute_groups_x = 1;
+  // Storage blocks that hold the rows of 12 instances (the arm's masked slots) and the frame's
+  // record ring, but not the rows of their 48 drawn slots.
+  const uint32_t stride = uint32_t(detail::layerComposeTable(crowd.layerMasks())[1]);
+  GlInfo small_blocks = info_;
+  small_blocks.max_shader_storage_block_size_bytes = 8192;
   RendererDesc rd;
   rd.skinning_path = SkinningPath::kVertexShader;
-  Renderer pieces, walking;
-  makeRenderer(&pieces, 0, PaletteFormat::kMatrix3x4F32, &rd, InterpolationChoice::kLinear,
-               &narrow_y);
-  makeRenderer(&walking, 0, PaletteFormat::kMatrix3x4F32, &rd, InterpolationChoice::kLinear,
-               &narrow_x);
+  rd.compute_ring_bytes = 8192;
+  Renderer small;
+  makeRenderer(&small, 0, PaletteFormat::kMatrix3x4F32, &rd, InterpolationChoice::kLinear,
+               &small_blocks);
   for (uint32_t per_draw : {0u, 5u}) {
     SCOPED_TRACE(per_draw);
     BatchLimits limits = r.batchLimits();
@@ -125,23 +127,24 @@ TEST_P(LayeredRenderTest, ComposedRowsDrawWhatTheChainWalkDraws) {
       EXPECT_TRUE(context_->readPixels(&rgba).isOk());
       return rgba;
     };
-    DrawStats composed_stats, walk_stats, pieces_stats, walking_stats;
+    DrawStats composed_stats, walk_stats, small_stats;
     const std::vector<uint8_t> composed = drawn(r, true, &composed_stats);
     const std::vector<uint8_t> walk = drawn(r, false, &walk_stats);
-    const std::vector<uint8_t> in_pieces = drawn(pieces, true, &pieces_stats);
-    const std::vector<uint8_t> narrow = drawn(walking, true, &walking_stats);
+    const std::vector<uint8_t> in_small = drawn(small, true, &small_stats);
+    EXPECT_EQ(small_stats.compose_dispatches, 1u);
+    EXPECT_LE(detail::composedRowBytes(composed_stats.composed_records, stride),
+              small_blocks.max_shader_storage_block_size_bytes);
+    EXPECT_GT(detail::composedRowBytes(composed_stats.instances, stride),
+              small_blocks.max_shader_storage_block_size_bytes);
+    EXPECT_EQ(compare(in_small, composed, nullptr).max_channel, 0);
     EXPECT_EQ(composed_stats.compose_dispatches, 1u);
-    EXPECT_EQ(composed_stats.composed_records, composed_stats.instances);
+    // 12 instances, each composed once, drawn in 4 sub-meshes' batches.
+    EXPECT_EQ(composed_stats.composed_records, crowd.records().size());
+    EXPECT_EQ(composed_stats.instances, 4 * crowd.records().size());
     EXPECT_EQ(walk_stats.compose_dispatches, 0u);
-    // One group holds a batch of 5 records' masked slots (the arm's at most 12), not of 819.
-    EXPECT_EQ(walking_stats.compose_dispatches, per_draw == 0 ? 0u : 1u);
-    // 4 sub-meshes' batches of 12 records: 4 batches, or 12 of at most 5 (2 rows a dispatch).
-    EXPECT_EQ(pieces_stats.compose_dispatches, per_draw == 0 ? 2u : 6u);
     const Diff d = compare(composed, walk, nullptr);
     EXPECT_LE(d.share, 0.0005) << "max channel difference " << d.max_channel;
     EXPECT_LE(d.max_channel, 8);
-    EXPECT_EQ(compare(in_pieces, composed, nullptr).max_channel, 0);
-    EXPECT_EQ(compare(narrow, per_draw == 0 ? walk : composed, nullptr).max_channel, 0);
     // Pre-skinning reads the rows too: the compute path's image is its walk's.
     DrawStats compute_stats, compute_walk_stats;
     const std::vector<uint8_t> compute = drawn(r, true, &compute_stats, DrawMode::kComputeSkinned);
@@ -152,8 +155,7 @@ TEST_P(LayeredRenderTest, ComposedRowsDrawWhatTheChainWalkDraws) {
     const Diff dc = compare(compute, compute_walk, nullptr);
     EXPECT_LE(dc.share, 0.0005) << "compute: max channel difference " << dc.max_channel;
   }
-  pieces.shutdown();
-  walking.shutdown();
+  small.shutdown();
   r.setComposeLayers(true);
   DrawStats depth_stats;
   ASSERT_TRUE(r.drawCrowd(crowd, unused, closeView(), &depth_stats, DrawMode::kDepthOnly).isOk());

@@ -86,8 +86,8 @@ struct DrawStats {
   /// same frame uploaded it).
   uint64_t state_bytes_uploaded = 0;
   /// Draws of overlays (RendererDesc::compose_layers): the compose pass's
-  /// dispatches (0 when the draws walked the chains), and the records drawCrowd's composed (an
-  /// instance counts once per sub-mesh; the GPU-driven pass's count stays on the GPU).
+  /// dispatches (0 when the draws walked the chains), and the instances drawCrowd's composed
+  /// (each once, whatever sub-meshes it wears; the GPU-driven pass's count stays on the GPU).
   uint32_t compose_dispatches = 0;
   uint64_t composed_records = 0;
   /// drawCrowd with motion vectors: previous records copied into the ring this draw (80 bytes

@@ -85,10 +85,12 @@ struct PathFrame {
   /// Both: the previous layer records (InstanceBatcher::buildPreviousLayers) at uniform binding
   /// 3 from `previous_layer_base`.
   size_t previous_layer_base = 0;
-  /// Composed layers (the vertex-shader path, layer_compose_pass.h): the compose pass runs
-  /// first and the program reads its rows, `compose_stride` masked slots a record; its batch
-  /// table (writeComposeBatches) is at `compose_table_base` of the ring, `compose_batches`
-  /// entries.
+  /// Composed layers (both skinning paths, layer_compose_pass.h): the compose pass runs first
+  /// and the program reads its rows, `compose_stride` masked slots per record of the view
+  /// (`compose_records` of them, `composed_records` drawn); where each record is drawn and
+  /// each slot's record (crowd/composed_places.h) at `compose_entries_base` and
+  /// `compose_slots_base` of the ring, the slots' `compose_slot_bytes` bound at storage
+  /// binding 30 for the draws.
   bool composed = false;
   /// 2D blends: the extra layer records (and with motion the previous ones) at these bases of
   /// the ring, read by the compose pass only (2D blends are drawn composed).
@@ -96,8 +98,9 @@ struct PathFrame {
   size_t extra_layer_base = 0;
   size_t previous_extra_base = 0;
   uint32_t compose_stride = 0;
-  size_t compose_table_base = 0;
-  uint32_t compose_batches = 0;
+  uint32_t compose_records = 0, composed_records = 0;
+  size_t compose_entries_base = 0;
+  size_t compose_slots_base = 0, compose_slot_bytes = 0;
   /// The crowd's impostor level (CrowdDesc::impostor_lod; 0 none): its instances are drawn as
   /// impostor quads (impostor_draw.h), not as meshes.
   uint32_t impostor_lod = 0;

@@ -74,7 +74,7 @@ Status GpuCulledPath::uploadFrame(const DrawResources& r, const PathFrame& f) {
   if (layers_) {  // Every frame: drawCrowd of another crowd may have replaced the tables.
     Status s = r.scratch->uploadMaskTable(layerMaskTable(crowd.layerMasks()));
     // Both skinnings read composed rows (layer_compose_pass.h), by visible index.
-    if (s.isOk()) s = prepareComposedRows(r, crowd.layerMasks(), n, 0, motion_, &compose_stride_);
+    if (s.isOk()) s = prepareComposedRows(r, crowd.layerMasks(), n, motion_, &compose_stride_);
     if (s.isOk()) s = extrasNeedComposing("drawCrowdGpuCulled", extras_, compose_stride_);
     if (!s.isOk()) return s;
   }

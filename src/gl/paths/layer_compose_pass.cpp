@@ -3,16 +3,16 @@
 #include "gl/paths/layer_compose_pass.h"
 
 #include <algorithm>
-#include <cstring>
 #include <string>
 
+#include "crowd/composed_places.h"
 #include "gl/paths/dispatch_grid.h"
 #include "gl/resources/layer_compose_table.h"
 
 namespace si::detail {
 
 Status prepareComposedRows(const DrawResources& r, Span<const LayerMask> masks, uint64_t records,
-                           uint32_t batch_records, bool previous, uint32_t* stride) {
+                           bool previous, uint32_t* stride) {
   *stride = 0;
   if (!r.desc->compose_layers) return Status::ok();
   const std::vector<int32_t> table = layerComposeTable(masks);
@@ -20,10 +20,8 @@ Status prepareComposedRows(const DrawResources& r, Span<const LayerMask> masks, 
   const uint32_t masked = uint32_t(table[1]);
   DispatchGrid grid;
   const bool dispatch_fits =
-      batch_records > 0
-          ? (uint64_t(batch_records) * masked + 63) / 64 <= groupLimit(r.info->max_compute_groups_x)
-          : dispatchGrid((records * masked + 63) / 64, r.info->max_compute_groups_x,
-                         r.info->max_compute_groups_y, &grid);
+      dispatchGrid((records * masked + 63) / 64, r.info->max_compute_groups_x,
+                   r.info->max_compute_groups_y, &grid);
   if (!composedRowsFit(limit, records, masked) || !dispatch_fits) return Status::ok();
   LayerComposeBuffers& buffers = r.scratch->layer_compose;
   Status s = buffers.uploadTable(table);
@@ -33,41 +31,28 @@ Status prepareComposedRows(const DrawResources& r, Span<const LayerMask> masks, 
   return s;
 }
 
-namespace {
-
-// Whether the skinning paths draw batch `d` (vertex_shader_path.cpp, compute_path.cpp): the
-// others need no rows.
-bool drawn(const DrawResources& r, const DrawBatch& d) {
-  return d.sub_mesh < r.character->sub_meshes.size() &&
-         r.character->lodRange(d.sub_mesh, d.lod).index_count > 0;
-}
-
-}  // namespace
-
-uint32_t writeComposeBatches(const DrawResources& r, const PathFrame& f, uint8_t* out) {
-  uint32_t n = 0;
-  for (const DrawBatch& d : *f.batches) {
-    if (!drawn(r, d)) continue;
-    // Words from the region's start.
-    const uint32_t entry[4] = {uint32_t(d.byte_offset / 16),
-                               uint32_t((f.layer_base - f.ring_base + d.layer_byte_offset) / 16),
-                               d.instance_count, d.layer_byte_offset / kLayerRecordSize};
-    std::memcpy(out + size_t(n++) * sizeof entry, entry, sizeof entry);
+void writeComposePlaces(const DrawResources& r, const InstanceBatcher& batcher,
+                        const CrowdView& view, uint8_t* region, PathFrame* f) {
+  // The batches the skinning paths draw (vertex_shader_path.cpp, compute_path.cpp): the others
+  // need no rows.
+  const uint32_t sub_meshes = view.subMeshCount();
+  const uint32_t buckets = uint32_t(view.bucketOffsets().size()) - 1;
+  std::vector<uint8_t> drawn(buckets, 0);
+  for (uint32_t b = 0; b < buckets; ++b) {
+    const uint32_t sub_mesh = b % sub_meshes, lod = b / sub_meshes;
+    drawn[b] = sub_mesh < r.character->sub_meshes.size() &&
+               r.character->lodRange(sub_mesh, lod).index_count > 0;
   }
-  return n;
+  f->compose_records = uint32_t(view.records().size());
+  const size_t entries = f->compose_entries_base - f->ring_base;
+  const size_t slots = f->compose_slots_base - f->ring_base;
+  f->composed_records = writeComposedPlaces(
+      batcher, view, drawn,
+      Span<uint32_t>(reinterpret_cast<uint32_t*>(region + entries), size_t(f->compose_records) * 2),
+      Span<uint32_t>(reinterpret_cast<uint32_t*>(region + slots), f->compose_slot_bytes / 4));
 }
 
 void composeLayers(const DrawResources& r, const PathFrame& f, DrawStats* st) {
-  const uint32_t stride = f.compose_stride;
-  uint32_t most = 0;  // The largest batch: the groups of every row.
-  uint64_t records = 0;
-  for (const DrawBatch& d : *f.batches)
-    if (drawn(r, d)) {
-      most = std::max(most, d.instance_count);
-      records += d.instance_count;
-    }
-  const uint64_t groups_x = (uint64_t(most) * stride + 63) / 64;  // Fits: prepareComposedRows.
-  const uint32_t max_y = groupLimit(r.info->max_compute_groups_y);
   const Program& compose =
       r.programs[f.motion ? ProgramId::kLayerComposeMotion : ProgramId::kLayerCompose];
   glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT);  // Earlier draws are done reading the rows.
@@ -75,6 +60,7 @@ void composeLayers(const DrawResources& r, const PathFrame& f, DrawStats* st) {
   r.palette->bind();
   r.scratch->layer_compose.bind(f.motion);
   r.ring->bindRegion(f.ring_base, f.ring_bytes, 24);
+  if (f.compose_slot_bytes > 0) r.ring->bindRegion(f.compose_slots_base, f.compose_slot_bytes, 30);
   if (f.motion) {  // The previous records through their indices; the previous layer records
                    // in the same slots at their block's offset.
     bindPreviousRecords(r, compose, f);
@@ -86,14 +72,14 @@ void composeLayers(const DrawResources& r, const PathFrame& f, DrawStats* st) {
   if (f.motion)
     glProgramUniform1ui(compose.id, 10,
                         f.extras ? uint32_t((f.previous_extra_base - f.ring_base) / 16) : 0u);
-  const uint32_t table = uint32_t((f.compose_table_base - f.ring_base) / 16);
-  for (uint32_t first = 0; first < f.compose_batches; first += max_y) {
-    const uint32_t rows = std::min(f.compose_batches - first, max_y);
-    glProgramUniform1ui(compose.id, 5, table + first);
-    glDispatchCompute(GLuint(groups_x), rows, 1);
-    ++st->compose_dispatches;
-  }
-  st->composed_records += records;
+  glProgramUniform1ui(compose.id, 5, uint32_t((f.compose_entries_base - f.ring_base) / 16));
+  glProgramUniform1ui(compose.id, 11, f.compose_records);
+  glProgramUniform1ui(compose.id, 12, uint32_t((f.layer_base - f.ring_base) / 16));
+  const uint64_t invocations = uint64_t(f.compose_records) * f.compose_stride;
+  // prepareComposedRows checked that the grid holds them: dispatchGroups cannot refuse.
+  (void)dispatchGroups(*r.info, (invocations + 63) / 64, "composed layers");
+  ++st->compose_dispatches;
+  st->composed_records += f.composed_records;
   glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT);  // The rows before the draws read them.
 }
 

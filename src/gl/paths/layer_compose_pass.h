@@ -8,33 +8,33 @@
 // chain per vertex and influence. RendererDesc::compose_layers turns it off.
 
 #include "gl/paths/draw_path.h"
+#include "si/crowd/instance_batcher.h"
 
 namespace si::detail {
 
 /// When RendererDesc::compose_layers is on, the rows of `records` composed records of `masks`'
-/// row stride fit GL_MAX_SHADER_STORAGE_BLOCK_SIZE (layer_compose_table.h) and the pass fits
-/// GL_MAX_COMPUTE_WORK_GROUP_COUNT (dispatch_grid.h): drawCrowd's a row of groups per batch of
-/// at most `batch_records` records (its x), the GPU-driven one (`batch_records` 0) a flat pass
-/// over them all laid out in rows: uploads
-/// the compose table (storage binding 23), makes the rows buffers hold them (storage bindings
-/// 26, and 27 with `previous`: motion vectors) and sets `*stride` to the row stride. Otherwise
-/// `*stride` is 0: the draws walk the chain per vertex (the layered programs). kLimitExceeded
-/// when the driver has no memory for the rows.
+/// row stride fit GL_MAX_SHADER_STORAGE_BLOCK_SIZE (layer_compose_table.h) and the pass, flat
+/// over them all laid out in rows, fits GL_MAX_COMPUTE_WORK_GROUP_COUNT (dispatch_grid.h):
+/// uploads the compose table (storage binding 23), makes the rows buffers hold them (storage
+/// bindings 26, and 27 with `previous`: motion vectors) and sets `*stride` to the row stride.
+/// Otherwise `*stride` is 0: the draws walk the chain per vertex (the layered programs).
+/// kLimitExceeded when the driver has no memory for the rows.
 Status prepareComposedRows(const DrawResources& r, Span<const LayerMask> masks, uint64_t records,
-                           uint32_t batch_records, bool previous, uint32_t* stride);
+                           bool previous, uint32_t* stride);
 
-/// drawCrowd's compose pass table: for each batch of `frame` that the draws draw, 16 bytes at
-/// `out` (the ring, at frame.compose_table_base): its records' and layer records' first 16-byte
-/// word in the ring, its record count and its first composed record (its layer records' index
-/// in the layer block). Returns the entries written.
-uint32_t writeComposeBatches(const DrawResources& r, const PathFrame& frame, uint8_t* out);
+/// drawCrowd's compose places (crowd/composed_places.h), for the batches the skinning paths
+/// draw, written into `region` (the ring region mapped at frame->ring_base) at the frame's
+/// compose blocks; sets frame->compose_records and frame->composed_records.
+void writeComposePlaces(const DrawResources& r, const InstanceBatcher& batcher,
+                        const CrowdView& view, uint8_t* region, PathFrame* frame);
 
-/// drawCrowd's compose pass: one dispatch (a row of groups per batch of the table, in pieces of
-/// GL_MAX_COMPUTE_WORK_GROUP_COUNT's y) reading the records and layer records (the previous
-/// ones too with frame.motion) from the ring bound whole as a storage buffer (binding 24),
-/// between two storage barriers: the last draws' reads before, the rows after. The mask table
-/// (binding 8) is bound; prepareComposedRows' buffers are bound again (it checked that a
-/// batch's groups fit). Counts the dispatches and the composed records in `stats`.
+/// drawCrowd's compose pass: one flat dispatch over the view's records (composed record = the
+/// view's record: an instance once, whatever it wears), each read at its first drawn slot (the
+/// previous record and layer records too with frame.motion) from the ring bound whole as a
+/// storage buffer (binding 24), between two storage barriers: the last draws' reads before,
+/// the rows after. Binds each slot's composed record at storage binding 30 for the draws. The
+/// mask table (binding 8) is bound; prepareComposedRows' buffers are bound again (it checked
+/// that the grid fits). Counts the dispatch and the composed records in `stats`.
 void composeLayers(const DrawResources& r, const PathFrame& frame, DrawStats* stats);
 
 /// kUnsupported, naming `who`, when a frame draws a 2D blend's extra layer records (`extras`)

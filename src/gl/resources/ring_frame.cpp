@@ -45,9 +45,9 @@ RingFrame planRingFrame(const InstanceBatcher& batcher, const CrowdView& view, u
         end = f.previous_extras + extra_bound;
       }
     }
-    // A batch takes at least 80 bytes of records: at most bound / 64 + 1 batches.
-    f.compose_table = align(end);
-    end = f.compose_table + (record_bound / 64 + 1) * 16;
+    f.compose_entries = align(end);
+    f.compose_slots = align(f.compose_entries + view.records().size() * 8);
+    end = f.compose_slots + layer_bound / kLayerRecordSize * 4;
   }
   f.handles = contents.handles;
   if (f.handles) {

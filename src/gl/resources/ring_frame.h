@@ -4,8 +4,9 @@
 // with motion vectors each slot's previous-record index and, unless the previous frame's region
 // still holds them (resources/drawn_regions.h), the previous records once each;
 // with overlays the layer records (and previous layer records), a 2D blend's extra layer
-// records (and previous ones) and the compose pass's batch table; for a material that reads the
-// instance handle, each slot's handle. Offsets are from the region's start, each block at the
+// records (and previous ones) and the compose pass's places (crowd/composed_places.h: per
+// record its first drawn slot, per slot its record); for a material that reads the instance
+// handle, each slot's handle. Offsets are from the region's start, each block at the
 // next multiple of the alignment.
 
 #include <cstddef>
@@ -36,7 +37,8 @@ struct RingFrame {
   bool extras = false;          ///< 2D blends: the extra layer records too.
   size_t extra_layers = 0;      ///< buildExtraLayers.
   size_t previous_extras = 0;   ///< buildPreviousExtraLayers.
-  size_t compose_table = 0;     ///< The compose pass's batch table (16 bytes a batch).
+  size_t compose_entries = 0;   ///< writeComposedPlaces' entries (8 bytes a record),
+  size_t compose_slots = 0;     ///< and its slots' records (4 bytes a slot).
   bool handles = false;
   size_t handle_words = 0;  ///< buildHandles (4 bytes a slot).
   size_t handles_end = 0;
@@ -50,7 +52,7 @@ struct RingFrame {
 RingFrame planRingFrame(const InstanceBatcher& batcher, const CrowdView& view, uint32_t alignment,
                         const RingContents& contents, bool copy_previous);
 
-/// Writes the planned blocks (all but the compose table) at `region` (`bytes` writable) and
+/// Writes the planned blocks (all but the compose pass's places) at `region` (`bytes` writable) and
 /// replaces `batches` with the draws. With motion and records not copied, each slot's index is
 /// its previous record's word in `previous_places` (InstanceBatcher::buildRecordPlaces of the
 /// previous selection's draw). The batcher's status on failure.

@@ -13,6 +13,7 @@
 #include "si_skinning.glsl"
 #ifdef SI_COMPOSED_LAYERS
 #define SI_COMPOSED_READ
+#define SI_COMPOSED_BY_SLOT  // Each slot's composed record.
 #include "layer_compose.glsl"
 #endif
 #include "pre_skin_common.glsl"
@@ -21,7 +22,7 @@
 #include "previous_index.glsl"
 #endif
 #if defined(SI_MOTION_VECTORS) || defined(SI_COMPOSED_LAYERS)
-layout(location = 7) uniform uint u_batch_slot;  // Its composed records and previous indices.
+layout(location = 7) uniform uint u_batch_slot;  // Its slots' composed records, previous indices.
 #else
 const uint u_batch_slot = 0u;
 #endif
@@ -44,8 +45,13 @@ void main() {
 #endif
   SiInstance inst = si_instances[u_chunk.w + i];
   uint slot = u_batch_slot + u_chunk.w + i;
+#ifdef SI_COMPOSED_LAYERS
+  uint composed = siComposedRecord(slot);
+#else
+  uint composed = slot;  // Unused.
+#endif
   uint tangent;
-  si_skinned_out[u_chunk.x + g] = siPreSkin(source, inst, layer, slot, tangent);
+  si_skinned_out[u_chunk.x + g] = siPreSkin(source, inst, layer, composed, tangent);
   if (siHasTangents()) si_tangents_out[u_chunk.x + g] = tangent;
 #ifdef SI_MOTION_VECTORS
 #ifdef SI_LAYERS
@@ -54,6 +60,7 @@ void main() {
   uvec4 previous_layer = uvec4(0u);
 #endif
   SiInstance prev = siPreviousRecord(slot, inst);
-  si_previous_out[u_chunk.x + g] = vec4(siPreSkinPrevious(source, prev, previous_layer, slot), 1.0);
+  si_previous_out[u_chunk.x + g] =
+      vec4(siPreSkinPrevious(source, prev, previous_layer, composed), 1.0);
 #endif
 }

@@ -4,10 +4,11 @@
 // chain walk the vertex shaders would otherwise repeat per vertex and influence) into the rows
 // buffer (layer_compose.glsl). Records at weight 0, and indices past their mask's count, write
 // nothing: the vertex shaders never read them. SI_MOTION_VECTORS: the previous records' too.
-// drawCrowd's: one row of groups per batch of the compose table the renderer wrote into the
-// ring (layer_compose_pass.h, writeComposeBatches), the records read from the ring. With
-// SI_GPU_DRIVEN: the cull pass's records (and previous records) by visible index, as many as it
-// counted visible, composed record = visible index.
+// drawCrowd's: one flat pass over the view's records (an instance each, whatever sub-meshes it
+// wears), each found at its first drawn slot through the entries the renderer wrote into the
+// ring (crowd/composed_places.h), composed record = the view's record. With SI_GPU_DRIVEN: the
+// cull pass's records (and previous records) by visible index, as many as it counted visible,
+// composed record = visible index.
 #ifdef SI_MOTION_VECTORS
 #define SI_PREVIOUS_RECORDS
 #endif
@@ -53,36 +54,42 @@ uvec4 siExtraLayer(uint record, uint k, bool previous) {
 #ifdef SI_MOTION_VECTORS
 #include "previous_index.glsl"
 #endif
-layout(location = 5) uniform uint u_table;  // The first batch entry of this dispatch.
+// The entries' first word (2 words a record: its record's word and its first drawn slot;
+// 0xFFFFFFFF drawn nowhere), the record count, the layer records' first word (a slot's layer
+// record at its slot from there).
+layout(location = 5) uniform uint u_entries;
+layout(location = 11) uniform uint u_records;
+layout(location = 12) uniform uint u_layer_word;
 // The previous layer records' words after the current ones'.
 layout(location = 6) uniform uint u_previous_layer_shift;
-// 2D blends: the first word of the extra layer records (2 per composed record; 0: none), and of
-// the previous ones.
+// 2D blends: the first word of the extra layer records (2 per slot; 0: none), and of the
+// previous ones.
 layout(location = 7) uniform uint u_extra_word;
 #ifdef SI_MOTION_VECTORS
 layout(location = 10) uniform uint u_previous_extra_word;
 #endif
-// Extra layer record `k` of composed record `record` (the previous ones: `previous`).
-uvec4 siExtraLayer(uint record, uint k, bool previous) {
+// Extra layer record `k` of slot `slot` (the previous ones: `previous`).
+uvec4 siExtraLayer(uint slot, uint k, bool previous) {
 #ifdef SI_MOTION_VECTORS
-  if (previous) return si_ring[u_previous_extra_word + 2u * record + k];
+  if (previous) return si_ring[u_previous_extra_word + 2u * slot + k];
 #endif
-  return si_ring[u_extra_word + 2u * record + k];
+  return si_ring[u_extra_word + 2u * slot + k];
 }
 #endif
 
-// Composes record `inst`'s overlay `layer` (and with kLayerExtrasBit composed record
-// `record`'s extra layers; `previous`: the previous ones) on masked index `k` into `rows` at
-// vec4 `at`.
+// Composes record `inst`'s overlay `layer` (and with kLayerExtrasBit the extra layers at
+// `record`: its visible index, or drawCrowd's slot; `previous`: the previous ones) on masked
+// index `k` into `rows` at vec4 `at`. The arguments are evaluated inside the block, after its
+// `palette_slot`: pass names, not expressions of other locals.
 #define SI_COMPOSE(inst, layer, record, previous, k, rows, at)                       \
   {                                                                                  \
-    int slot = siComposedSlot(layer, k);                                             \
-    if (slot >= 0) {                                                                 \
+    int palette_slot = siComposedSlot(layer, k);                                     \
+    if (palette_slot >= 0) {                                                         \
       vec4 r0, r1, r2;                                                               \
       bool extras = (layer.w & 0x80000000u) != 0u;                                   \
       uvec4 e1 = extras ? siExtraLayer(record, 0u, previous) : uvec4(0u);            \
       uvec4 e2 = extras ? siExtraLayer(record, 1u, previous) : uvec4(0u);            \
-      siLayeredChainRows(inst, layer, e1, e2, uint(slot), r0, r1, r2);               \
+      siLayeredChainRows(inst, layer, e1, e2, uint(palette_slot), r0, r1, r2);       \
       rows[at] = r0;                                                                 \
       rows[at + 1u] = r1;                                                            \
       rows[at + 2u] = r2;                                                            \
@@ -104,20 +111,22 @@ void main() {
              si_composed_previous_out, at);
 #endif
 #else
-  // A row of groups per batch: its records' word, its layer records' word, its record count,
-  // its first composed record.
-  uvec4 batch = si_ring[u_table + gl_WorkGroupID.y];
-  uint g = gl_WorkGroupID.x * 64u + gl_LocalInvocationIndex;
-  uint i = g / stride;
-  if (i >= batch.z) return;
-  uint k = g - i * stride;
-  uint at = ((batch.w + i) * stride + k) * 3u;
-  uint record = batch.x + 5u * i, layer = batch.y + i;
-  SiInstance inst = siRingRecord(record);
-  SI_COMPOSE(inst, si_ring[layer], batch.w + i, false, k, si_composed_out, at);
+  // One flat pass over the view's records: composed record = the view's record.
+  uint g = siFlatInvocation();
+  uint r = g / stride;
+  if (r >= u_records) return;
+  uint k = g - r * stride;
+  uvec4 words = si_ring[u_entries + (r >> 1u)];
+  uvec2 entry = (r & 1u) == 0u ? words.xy : words.zw;
+  if (entry.x == 0xFFFFFFFFu) return;  // Drawn in no batch.
+  // Its first drawn slot: its layer records, previous index and extra layers there.
+  uint at = g * 3u, drawn_slot = entry.y, layer = u_layer_word + drawn_slot;
+  SiInstance inst = siRingRecord(entry.x);
+  SI_COMPOSE(inst, si_ring[layer], drawn_slot, false, k, si_composed_out, at);
 #ifdef SI_MOTION_VECTORS
-  SI_COMPOSE(siPreviousRecord(batch.w + i, inst), si_ring[layer + u_previous_layer_shift],
-             batch.w + i, true, k, si_composed_previous_out, at);
+  SiInstance prev = siPreviousRecord(drawn_slot, inst);
+  SI_COMPOSE(prev, si_ring[layer + u_previous_layer_shift], drawn_slot, true, k,
+             si_composed_previous_out, at);
 #endif
 #endif
 }

@@ -8,7 +8,10 @@
 // each slot's index among the mask's masked slots (-1 outside it); then per mask its masked
 // slots in order (-1 past its count).
 // The rows (storage binding 26; the previous records' at 27): 3 vec4 per (record, masked
-// index), composed record r's index k at (r * stride + k) * 3.
+// index), composed record r's index k at (r * stride + k) * 3. A composed record is an instance:
+// the GPU-driven cull pass's visible index, or drawCrowd's record of the view, which each drawn
+// slot names (SI_COMPOSED_BY_SLOT: storage binding 30), so an instance is composed once however
+// many sub-meshes it wears.
 #ifndef SI_LAYER_COMPOSE_GLSL
 #define SI_LAYER_COMPOSE_GLSL
 layout(std430, binding = 23) readonly buffer SiComposeTable { int si_compose_table[]; };
@@ -39,6 +42,11 @@ layout(std430, binding = 26) readonly buffer SiComposedRows { vec4 si_composed[]
 layout(std430, binding = 27) readonly buffer SiComposedPreviousRows {
   vec4 si_composed_previous[];
 };
+#endif
+#ifdef SI_COMPOSED_BY_SLOT
+layout(std430, binding = 30) readonly buffer SiComposedSlots { uint si_composed_slots[]; };
+// drawCrowd: the composed record of slot `slot` (the batch's first slot plus the place).
+uint siComposedRecord(uint slot) { return si_composed_slots[slot]; }
 #endif
 vec4 siComposedRow(bool previous, uint at) {
 #ifdef SI_PREVIOUS_RECORDS

@@ -38,6 +38,9 @@ layout(std140 SI_WITH_BINDING(1)) uniform SiCharacter {
 #include "si_skinning.glsl"
 #ifdef SI_COMPOSED_LAYERS
 #define SI_COMPOSED_READ
+#ifndef SI_GPU_DRIVEN
+#define SI_COMPOSED_BY_SLOT  // drawCrowd: each slot's composed record.
+#endif
 #include "layer_compose.glsl"
 #endif
 #if defined(SI_MOTION_VECTORS) && !defined(SI_GPU_DRIVEN)
@@ -111,9 +114,13 @@ void main() {
 #if defined(SI_RIGID)
   vec4 m0 = vec4(1, 0, 0, 0), m1 = vec4(0, 1, 0, 0), m2 = vec4(0, 0, 1, 0);
 #elif defined(SI_COMPOSED_LAYERS)
+#ifdef SI_GPU_DRIVEN
+  uint composed = slot;  // The visible index.
+#else
+  uint composed = siComposedRecord(u_batch_slot + slot);
+#endif
   vec4 m0, m1, m2;
-  siSkinComposed(inst, si_layers[slot], u_batch_slot + slot, false, a_joints, a_weights, m0,
-                 m1, m2);
+  siSkinComposed(inst, si_layers[slot], composed, false, a_joints, a_weights, m0, m1, m2);
 #elif defined(SI_LAYERS)
   vec4 m0, m1, m2;
   siSkinLayered(inst, si_layers[slot], a_joints, a_weights, m0, m1, m2);
@@ -160,8 +167,8 @@ void main() {
 #endif
   vec4 p0, p1, p2;
 #if defined(SI_COMPOSED_LAYERS)
-  siSkinComposed(prev, si_previous_layers[slot], u_batch_slot + slot, true, a_joints, a_weights,
-                 p0, p1, p2);
+  siSkinComposed(prev, si_previous_layers[slot], composed, true, a_joints, a_weights, p0, p1,
+                 p2);
 #elif defined(SI_LAYERS)
   siSkinLayered(prev, si_previous_layers[slot], a_joints, a_weights, p0, p1, p2);
 #else
