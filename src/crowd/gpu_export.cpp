@@ -111,27 +111,6 @@ void exportExtraLayer(const detail::OverlayState& o, uint32_t k, GpuOverlayState
   out->weight_to = e.weight_to;
 }
 
-// The runs of adjacent indices below `n` stamped after `since` (chunks first). Until
-// 2026-11-28 runs closer than 64 indices were merged (an upload call cost more then): a churn
-// of 1 % of a million, 10,000 scattered indices, uploaded 142,000 instances a frame.
-constexpr uint32_t kMergeGap = 1;
-void stampedRuns(const std::vector<uint64_t>& stamps, const std::vector<uint64_t>& chunk_stamps,
-                 uint64_t since, uint32_t n, std::vector<DenseRange>* out) {
-  out->clear();
-  const auto add = [&](uint32_t i) {
-    if (!out->empty() && i < out->back().first + out->back().count + kMergeGap)
-      out->back().count = i + 1 - out->back().first;
-    else
-      out->push_back(DenseRange{i, 1});
-  };
-  for (uint32_t c = 0; c < chunk_stamps.size() && c * detail::kStampChunk < n; ++c) {
-    if (chunk_stamps[c] <= since) continue;
-    const uint32_t end = std::min(n, (c + 1) * detail::kStampChunk);
-    for (uint32_t i = c * detail::kStampChunk; i < end; ++i)
-      if (stamps[i] > since) add(i);
-  }
-}
-
 }  // namespace
 
 void CrowdManager::exportGpuState(std::vector<GpuInstanceState>* out,
@@ -165,8 +144,14 @@ void CrowdManager::changedSince(uint64_t since, std::vector<DenseRange>* changed
   if (placed != nullptr) placed->clear();
   if (n == 0) return;
   const detail::InstanceStore& st = state_->store;
-  if (changed != nullptr) stampedRuns(st.changed_at, st.chunk_changed_at, since, n, changed);
-  if (placed != nullptr) stampedRuns(st.placed_at, st.chunk_placed_at, since, n, placed);
+  if (st.change_log.answers(since, n)) {  // A few changes since: not every stamp read.
+    std::vector<DenseRange> unused;
+    st.change_log.since(since, n, st.changed_at, st.placed_at,
+                        changed != nullptr ? changed : &unused, placed);
+    return;
+  }
+  if (changed != nullptr) detail::scanStamps(st.changed_at, st.chunk_changed_at, since, n, changed);
+  if (placed != nullptr) detail::scanStamps(st.placed_at, st.chunk_placed_at, since, n, placed);
 }
 
 bool CrowdManager::playsOverlays() const { return state_ && state_->store.overlay_count > 0; }

@@ -36,6 +36,7 @@ void InstanceStore::reset(const BakedPalette* p) {
   views[0].used = true;
   version = nextStateVersion();
   identity = version;
+  change_log.restart(version);
 }
 
 uint32_t InstanceStore::addView() {
@@ -53,6 +54,8 @@ uint32_t InstanceStore::addView() {
 void InstanceStore::changed(uint32_t i, bool placed) {
   version = nextStateVersion();
   stamp(i, placed);
+  // Up to an eighth of the instances: past that a consumer scans the stamps about as fast.
+  change_log.add(version, i, placed, std::max<size_t>(4096, size() / 8));
 }
 
 void InstanceStore::stamp(uint32_t i, bool placed) {

@@ -10,6 +10,7 @@
 #include <glm/glm.hpp>
 #include <glm/gtc/quaternion.hpp>
 
+#include "crowd/change_log.h"
 #include "crowd/instance_columns.h"
 #include "crowd/instance_overlay.h"
 #include "crowd/playback.h"
@@ -103,7 +104,8 @@ struct InstanceStore {
   /// Stamps dense index `i` with the current version: its exported state changed
   /// (CrowdManager::changedSince). `placed`: a different instance is there now.
   void stamp(uint32_t i, bool placed = false);
-  /// A new version, and index `i` stamped with it: what every change of one instance ends with.
+  /// A new version, and index `i` stamped with it and logged: what every change of one
+  /// instance ends with.
   void changed(uint32_t i, bool placed = false);
   /// A lane for a new view (every instance at LOD 0, no previous record); its index.
   uint32_t addView();
@@ -153,6 +155,8 @@ struct InstanceStore {
   // there, or moved there by a removal); per chunk of kStampChunk indices the largest of each.
   std::vector<uint64_t> changed_at, placed_at;
   std::vector<uint64_t> chunk_changed_at, chunk_placed_at;
+  // And the recent changes (changed() logs each; root motion restarts it).
+  ChangeLog change_log;
 };
 
 /// An instance's appearance word from its desc (si::packAppearance).

@@ -6,6 +6,8 @@
 // (more threads than cores only measures oversubscription).
 #include <benchmark/benchmark.h>
 
+#include <algorithm>
+#include <chrono>
 #include <cmath>
 #include <cstdlib>
 #include <memory>
@@ -222,6 +224,96 @@ BENCHMARK(moveBlends)
     ->Arg(10000)
     ->Arg(100000)
     ->ArgName("instances")
+    ->Unit(benchmark::kMillisecond)
+    ->UseRealTime();
+
+// The GPU-driven path's CPU share of churn, what drawCrowdGpuCulled does before its GL calls
+// (src/gl/paths/gpu_state_upload.cpp; docs/performance.md, "Several crowds of one character,
+// churn and GPU memory"): each iteration removes `per_mille` / 1000 of a field of `instances`
+// at random and adds as many (the application's calls, not timed), advances the clock, then
+// finds what changed since the last iteration (changedSince), exports the changed runs' state
+// and handles (exportGpuState) and, for each of `views` views, their LODs where other instances
+// sit now (exportGpuLods of the placed runs). ns_per_change: per instance changed; find_ms,
+// export_ms and lods_ms: each part's wall time per iteration.
+void churnExport(benchmark::State& state) {
+  const int64_t count = state.range(0);
+  const int64_t churn = count * state.range(1) / 1000;
+  const int64_t view_count = state.range(2);
+  auto crowd = field(count, -1.0f, 1, 0, false);
+  std::vector<std::unique_ptr<si::CrowdView>> views;
+  for (int64_t v = 0; v < view_count; ++v) {
+    views.push_back(std::make_unique<si::CrowdView>());
+    if (!views.back()->init(*crowd).isOk()) std::abort();
+  }
+  std::vector<si::InstanceHandle> handles;
+  std::vector<si::GpuInstanceState> all;
+  crowd->exportGpuState(&all, &handles);
+  uint64_t version = crowd->stateVersion(), seed = 12345;
+  const auto next = [&seed] {
+    seed = seed * 6364136223846793005ull + 1442695040888963407ull;
+    return seed >> 33;
+  };
+  std::vector<si::DenseRange> changed, placed;
+  std::vector<si::GpuInstanceState> states;
+  std::vector<si::InstanceHandle> changed_handles;
+  std::vector<uint32_t> lods;
+  uint64_t changes = 0;
+  double parts[3] = {0.0, 0.0, 0.0};  // Find, export, LODs: ms summed over the iterations.
+  for (auto _ : state) {
+    state.PauseTiming();
+    for (int64_t k = 0; k < churn; ++k) {
+      const size_t at = size_t(next() % handles.size());
+      si::InstanceDesc d;
+      if (!crowd->get(handles[at], &d).isOk() || !crowd->remove(handles[at]).isOk()) std::abort();
+      if (!crowd->add(d, &handles[at]).isOk()) std::abort();
+    }
+    if (!crowd->advanceClock(1.0 / 60.0).isOk()) std::abort();
+    state.ResumeTiming();
+    const auto t0 = std::chrono::steady_clock::now();
+    crowd->changedSince(version, &changed, &placed);
+    const auto t1 = std::chrono::steady_clock::now();
+    size_t total = 0;
+    for (const si::DenseRange& c : changed) total += c.count;
+    states.resize(total);
+    changed_handles.resize(total);
+    size_t done = 0;
+    for (const si::DenseRange& c : changed) {
+      crowd->exportGpuState(c, states.data() + done, changed_handles.data() + done);
+      done += c.count;
+    }
+    const auto t2 = std::chrono::steady_clock::now();
+    for (const auto& v : views) {
+      size_t placed_total = 0;
+      for (const si::DenseRange& c : placed) placed_total += c.count;
+      lods.assign(placed_total, 0u);
+      size_t at = 0;
+      for (const si::DenseRange& c : placed) {
+        v->exportGpuLods(c, lods.data() + at);
+        at += c.count;
+      }
+    }
+    benchmark::DoNotOptimize(states.data());
+    benchmark::DoNotOptimize(lods.data());
+    const auto t3 = std::chrono::steady_clock::now();
+    parts[0] += std::chrono::duration<double, std::milli>(t1 - t0).count();
+    parts[1] += std::chrono::duration<double, std::milli>(t2 - t1).count();
+    parts[2] += std::chrono::duration<double, std::milli>(t3 - t2).count();
+    version = crowd->stateVersion();
+    changes += total;
+  }
+  const double iterations = double(std::max<int64_t>(1, int64_t(state.iterations())));
+  state.counters["find_ms"] = parts[0] / iterations;
+  state.counters["export_ms"] = parts[1] / iterations;
+  state.counters["lods_ms"] = parts[2] / iterations;
+  state.counters["changed_per_iteration"] =
+      double(changes) / double(std::max<int64_t>(1, int64_t(state.iterations())));
+  state.counters["ns_per_change"] = benchmark::Counter(
+      double(changes) / double(state.iterations()),
+      benchmark::Counter::kIsIterationInvariantRate | benchmark::Counter::kInvert);
+}
+BENCHMARK(churnExport)
+    ->ArgsProduct({{1000000}, {10, 1}, {0, 4}})
+    ->ArgNames({"instances", "per_mille", "views"})
     ->Unit(benchmark::kMillisecond)
     ->UseRealTime();
 

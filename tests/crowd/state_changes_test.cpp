@@ -8,7 +8,9 @@
 #include <cstring>
 #include <random>
 
+#include "crowd/change_log.h"
 #include "crowd/crowd_test_helpers.h"
+#include "crowd/instance_store.h"
 
 namespace si {
 namespace {
@@ -191,6 +193,92 @@ GpuInstanceState onGpu(GpuInstanceState g, double clock) {
     g.from_speed = 0.0f;
   }
   return g;
+}
+
+// The change log (crowd/change_log.h) answers what scanning the stamps answers: a model of the
+// store's stamps (changes, adds and removes as InstanceStore makes them, and unlogged stamps as
+// root motion makes them, the log starting over after them) with a small log that drops its
+// older half several times; for every version since which the log holds, its runs of changed
+// and of re-occupied indices equal the scan's, and it holds for the recent ones; it answers
+// (changedSince reads it) only for those, and not where the changes are many.
+TEST(StateChanges, TheLogNamesWhatTheStampsName) {
+  std::vector<uint64_t> changed_at, placed_at, chunk_changed, chunk_placed;
+  detail::ChangeLog log;
+  uint64_t version = 1;
+  log.restart(version);
+  const size_t limit = 64;
+  const auto stamp = [&](uint32_t i, bool placed, bool logged) {
+    changed_at[i] = version;
+    chunk_changed[i / detail::kStampChunk] = version;
+    if (placed) {
+      placed_at[i] = version;
+      chunk_placed[i / detail::kStampChunk] = version;
+    }
+    if (logged) log.add(version, i, placed, limit);
+  };
+  const auto push = [&] {
+    changed_at.push_back(0);
+    placed_at.push_back(0);
+    const size_t chunks = (changed_at.size() + detail::kStampChunk - 1) / detail::kStampChunk;
+    chunk_changed.resize(std::max(chunk_changed.size(), chunks), 0);
+    chunk_placed.resize(std::max(chunk_placed.size(), chunks), 0);
+    ++version;
+    stamp(uint32_t(changed_at.size() - 1), true, true);
+  };
+  for (int i = 0; i < 3000; ++i) push();
+  std::mt19937 rng(20261129);
+  size_t compared = 0, scanned = 0, answered = 0;
+  uint64_t drops_seen = 0;
+  for (int step = 0; step < 2000; ++step) {
+    const uint32_t n = uint32_t(changed_at.size());
+    const uint32_t kind = uint32_t(rng() % 10);
+    const size_t before = log.size();
+    if (kind < 5) {  // A setter.
+      ++version;
+      stamp(uint32_t(rng() % n), false, true);
+    } else if (kind < 7) {  // An add.
+      push();
+    } else if (kind < 9) {  // A remove: the last moves into the hole.
+      const uint32_t i = uint32_t(rng() % n), last = n - 1;
+      changed_at[i] = changed_at[last];
+      placed_at[i] = placed_at[last];
+      changed_at.pop_back();
+      placed_at.pop_back();
+      ++version;
+      if (i != last) stamp(i, true, true);
+    } else if (rng() % 20 == 0) {  // Root motion: many stamps of one version, unlogged.
+      ++version;
+      log.restart(version);
+      for (int k = 0; k < 50; ++k) stamp(uint32_t(rng() % n), false, false);
+    }
+    drops_seen += log.size() < before ? 1 : 0;
+    for (int q = 0; q < 4; ++q) {
+      const uint64_t since = version - std::min<uint64_t>(version, rng() % 200);
+      const uint32_t now = uint32_t(changed_at.size());
+      std::vector<DenseRange> want_changed, want_placed, got_changed, got_placed;
+      detail::scanStamps(changed_at, chunk_changed, since, now, &want_changed);
+      detail::scanStamps(placed_at, chunk_placed, since, now, &want_placed);
+      answered += log.answers(since, now) ? 1 : 0;  // Held, and under a 64th of the indices.
+      if (!log.holds(since)) {
+        ++scanned;
+        EXPECT_FALSE(log.answers(since, now));
+        continue;
+      }
+      log.since(since, now, changed_at, placed_at, &got_changed, &got_placed);
+      ASSERT_EQ(indices(got_changed), indices(want_changed))
+          << "step " << step << " since " << since;
+      ASSERT_EQ(indices(got_placed), indices(want_placed)) << "step " << step << " since " << since;
+      ASSERT_EQ(got_changed.size(), want_changed.size());  // The same runs, not just indices.
+      ++compared;
+    }
+    ASSERT_TRUE(log.holds(version));  // The latest version always: nothing changed since.
+  }
+  EXPECT_GT(compared, 1000u);
+  EXPECT_GT(scanned, 10u);     // Older than the log: the stamps answer.
+  EXPECT_GT(drops_seen, 10u);  // The log dropped its older half.
+  // changedSince reads the log for the few changes and scans for the many.
+  EXPECT_GT(answered, 100u);
+  EXPECT_LT(answered, compared);
 }
 
 // Random sequences of every kind of change, walkers moving by root motion between them: after
