@@ -9,7 +9,7 @@ void ImpostorAtlas::bind(const Program& program, const Camera& camera) const {
   glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 9, clips);
   const GLuint p = program.id;
   glProgramUniform4ui(p, 40, columns, rows, azimuths, elevations);
-  glProgramUniform4ui(p, 41, clip_count, frame_stride_texels, azimuths * elevations, 0u);
+  glProgramUniform4ui(p, 41, clip_count, frame_stride_texels, azimuths * elevations, levels);
   glProgramUniform4fv(p, 42, 1, elevations_radians);
   glProgramUniform4f(p, 43, centre.x, centre.y, centre.z, cell_units);
   // The camera's back direction (row 2 of the view rotation) and whether it is orthographic
@@ -17,11 +17,11 @@ void ImpostorAtlas::bind(const Program& program, const Camera& camera) const {
   const glm::mat4& v = camera.view_rotation;
   const bool ortho = camera.projection[3][3] == 1.0f && camera.projection[2][3] == 0.0f;
   glProgramUniform4f(p, 44, v[0][2], v[1][2], v[2][2], ortho ? 1.0f : 0.0f);
-  // Half the viewport in pixels (a clip-space unit's pixels), the cell's texels and levels.
+  // Half the viewport in pixels (a clip-space unit's pixels) and the cell's texels.
   GLint viewport[4] = {0, 0, 0, 0};
   glGetIntegerv(GL_VIEWPORT, viewport);
-  glProgramUniform4f(p, 45, 0.5f * float(viewport[2]), 0.5f * float(viewport[3]),
-                     float(cell_texels), float(levels));
+  glProgramUniform3f(p, 45, 0.5f * float(viewport[2]), 0.5f * float(viewport[3]),
+                     float(cell_texels));
 }
 
 void ImpostorAtlas::release() {

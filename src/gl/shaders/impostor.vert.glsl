@@ -25,12 +25,13 @@ layout(std140, binding = 0) uniform SiInstances { SiInstance si_instances[SI_MAX
 layout(std430, binding = 9) readonly buffer SiImpostorClips { uvec4 si_impostor_clips[]; };
 layout(location = 1) uniform mat4 u_view_projection;
 layout(location = 40) uniform uvec4 u_impostor_grid;    // columns, rows, azimuths, elevations
-layout(location = 41) uniform uvec4 u_impostor_counts;  // clips, palette frame stride, views
+// Clips, palette frame stride, views, the atlas's mip levels.
+layout(location = 41) uniform uvec4 u_impostor_counts;
 layout(location = 42) uniform vec4 u_impostor_elevations;  // radians, increasing
 layout(location = 43) uniform vec4 u_impostor_cell;     // centre (model units), cell side
 layout(location = 44) uniform vec4 u_viewer;  // the camera's back direction; w 1 orthographic
-// Half the viewport's width and height in pixels, the cell's side in texels, the atlas's levels.
-layout(location = 45) uniform vec4 u_impostor_texels;
+// Half the viewport's width and height in pixels, the cell's side in texels.
+layout(location = 45) uniform vec3 u_impostor_texels;
 uniform uint u_lod;  // The crowd's impostor level (SiSurface.lod).
 out vec2 v_uv;
 #ifndef SI_DEPTH_ONLY
@@ -52,7 +53,7 @@ const float kPi = 3.14159265358979;
 // level more each way covers the driver's approximations and perspective over the quad. A quad
 // behind the eye or edge-on takes every level.
 vec4 coveredRect(uint cell, vec3 centre, vec3 right, vec3 up) {
-  uint levels = uint(u_impostor_texels.w);
+  uint levels = u_impostor_counts.w;
   uint lo = 0u, hi = levels - 1u;
   vec4 c = u_view_projection * vec4(centre, 1.0);
   vec4 r = u_view_projection * vec4(centre + right, 1.0);
