@@ -61,10 +61,10 @@ void ChangeLog::since(uint64_t since, uint32_t n, const std::vector<uint64_t>& c
   std::vector<uint32_t> now, occupied;
   for (auto e = first; e != entries_.end(); ++e) {
     if (e->index >= n) continue;  // Removed since.
-    if (changed_at[e->index] == e->version) now.push_back(e->index);
+    if (changed != nullptr && changed_at[e->index] == e->version) now.push_back(e->index);
     if (e->placed != 0 && placed_at[e->index] == e->version) occupied.push_back(e->index);
   }
-  runsOf(&now, changed);
+  if (changed != nullptr) runsOf(&now, changed);
   if (placed != nullptr) runsOf(&occupied, placed);
 }
 

@@ -33,7 +33,7 @@ class ChangeLog {
   bool answers(uint64_t since, uint32_t n) const;
   /// With holds(since): the indices below `n` whose stamp in `changed_at` is later than
   /// `since`, as ascending runs of adjacent indices into `changed`, and those whose stamp in
-  /// `placed_at` is into `placed` (may be null): what scanStamps finds, from the log.
+  /// `placed_at` is into `placed` (either may be null): what scanStamps finds, from the log.
   void since(uint64_t since, uint32_t n, const std::vector<uint64_t>& changed_at,
              const std::vector<uint64_t>& placed_at, std::vector<DenseRange>* changed,
              std::vector<DenseRange>* placed) const;

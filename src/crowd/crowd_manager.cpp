@@ -297,17 +297,6 @@ Status CrowdManager::update(double dt, const Camera& camera) {
   return update(dt, camera, detail::crowdParallelFor(*state_));
 }
 
-namespace {
-
-// The version root motion stamps the instances it moves with, from parallel tasks: not logged,
-// so the change log starts after it (changedSince scans the stamps for versions before).
-void rootMotionVersion(detail::InstanceStore& store) {
-  store.version = detail::nextStateVersion();
-  store.change_log.restart(store.version);
-}
-
-}  // namespace
-
 Status CrowdManager::update(double dt, const Camera& camera, const ParallelFor& parallel_for) {
   Status advanced = advanceClock(dt);  // Checks init() and dt.
   if (!advanced.isOk()) return advanced;
@@ -315,7 +304,7 @@ Status CrowdManager::update(double dt, const Camera& camera, const ParallelFor& 
       detail::frameInputs(*state_, *state_->own_view.state_, camera, parallel_for, true);
   // Instances moved by their root motion: the exported state changes, each moved one stamped
   // with this version (from parallel tasks, without the change log).
-  if (in.root_motion && dt > 0.0) rootMotionVersion(state_->store);
+  if (in.root_motion && dt > 0.0) state_->store.unloggedVersion();
   detail::selectView(in, camera, state_->own_view.state_.get());
   detail::gatherEvents(state_.get());
   return Status::ok();
@@ -331,7 +320,7 @@ Status CrowdManager::advance(double dt, const ParallelFor& parallel_for) {
   if (!advanced.isOk()) return advanced;
   detail::FrameInputs in =
       detail::frameInputs(*state_, *state_->own_view.state_, Camera(), parallel_for, true);
-  if (in.root_motion && dt > 0.0) rootMotionVersion(state_->store);
+  if (in.root_motion && dt > 0.0) state_->store.unloggedVersion();
   detail::simulateFrame(in, state_->store);
   detail::gatherEvents(state_.get());
   return Status::ok();

@@ -145,9 +145,7 @@ void CrowdManager::changedSince(uint64_t since, std::vector<DenseRange>* changed
   if (n == 0) return;
   const detail::InstanceStore& st = state_->store;
   if (st.change_log.answers(since, n)) {  // A few changes since: not every stamp read.
-    std::vector<DenseRange> unused;
-    st.change_log.since(since, n, st.changed_at, st.placed_at,
-                        changed != nullptr ? changed : &unused, placed);
+    st.change_log.since(since, n, st.changed_at, st.placed_at, changed, placed);
     return;
   }
   if (changed != nullptr) detail::scanStamps(st.changed_at, st.chunk_changed_at, since, n, changed);

@@ -58,6 +58,11 @@ void InstanceStore::changed(uint32_t i, bool placed) {
   change_log.add(version, i, placed, std::max<size_t>(4096, size() / 8));
 }
 
+void InstanceStore::unloggedVersion() {
+  version = nextStateVersion();
+  change_log.restart(version);
+}
+
 void InstanceStore::stamp(uint32_t i, bool placed) {
   const uint32_t chunk = i / kStampChunk;
   changed_at[i] = version;

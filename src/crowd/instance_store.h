@@ -107,6 +107,9 @@ struct InstanceStore {
   /// A new version, and index `i` stamped with it and logged: what every change of one
   /// instance ends with.
   void changed(uint32_t i, bool placed = false);
+  /// A new version for stamps written from parallel tasks (root motion), which the change log
+  /// does not hold: it starts after it (changedSince scans the stamps for versions before).
+  void unloggedVersion();
   /// A lane for a new view (every instance at LOD 0, no previous record); its index.
   uint32_t addView();
   /// Frees a lane (lane 0, the crowd's own, is never released).

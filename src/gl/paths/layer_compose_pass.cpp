@@ -33,16 +33,13 @@ Status prepareComposedRows(const DrawResources& r, Span<const LayerMask> masks, 
 
 void writeComposePlaces(const DrawResources& r, const InstanceBatcher& batcher,
                         const CrowdView& view, uint8_t* region, PathFrame* f) {
-  // The batches the skinning paths draw (vertex_shader_path.cpp, compute_path.cpp): the others
-  // need no rows.
+  // The batches the skinning paths draw (CharacterBuffers::drawnRange): the others need no
+  // rows.
   const uint32_t sub_meshes = view.subMeshCount();
   const uint32_t buckets = uint32_t(view.bucketOffsets().size()) - 1;
   std::vector<uint8_t> drawn(buckets, 0);
-  for (uint32_t b = 0; b < buckets; ++b) {
-    const uint32_t sub_mesh = b % sub_meshes, lod = b / sub_meshes;
-    drawn[b] = sub_mesh < r.character->sub_meshes.size() &&
-               r.character->lodRange(sub_mesh, lod).index_count > 0;
-  }
+  for (uint32_t b = 0; b < buckets; ++b)
+    drawn[b] = r.character->drawnRange(b % sub_meshes, b / sub_meshes).index_count > 0;
   f->compose_records = uint32_t(view.records().size());
   const size_t entries = f->compose_entries_base - f->ring_base;
   const size_t slots = f->compose_slots_base - f->ring_base;

@@ -19,9 +19,8 @@ Status VertexShaderPath::draw(const DrawResources& r, const PathFrame& f, DrawSt
   bindSlotHandles(r, f);
   if (depth_only) glColorMask(GL_FALSE, GL_FALSE, GL_FALSE, GL_FALSE);
   for (const DrawBatch& d : *f.batches) {
-    if (d.sub_mesh >= r.character->sub_meshes.size()) continue;
-    const IndexRange range = r.character->lodRange(d.sub_mesh, d.lod);
-    if (range.index_count == 0) continue;  // The part is dropped at this LOD (buildPartLods).
+    const IndexRange range = r.character->drawnRange(d.sub_mesh, d.lod);
+    if (range.index_count == 0) continue;
     r.ring->bindBatch(f.ring_base, d);
     if (f.layers) r.ring->bindLayers(f.layer_base, d);
     if (f.layers && f.motion) r.ring->bindLayers(f.previous_layer_base, d, 3);

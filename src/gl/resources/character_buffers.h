@@ -37,6 +37,12 @@ struct CharacterBuffers {
     const std::vector<IndexRange>& lods = sub_meshes[sub_mesh].lods;
     return lods[std::min<size_t>(lod, lods.size() - 1)];
   }
+  /// What a batch of (`sub_mesh`, `lod`) draws: lodRange(), or nothing for a sub-mesh past the
+  /// character's (a crowd made for more). Empty too where the part is dropped at that LOD
+  /// (buildPartLods).
+  IndexRange drawnRange(uint32_t sub_mesh, uint32_t lod) const {
+    return sub_mesh < sub_meshes.size() ? lodRange(sub_mesh, lod) : IndexRange{};
+  }
 
   GLuint vao = kNoObject, vertex_buffer = kNoObject, index_buffer = kNoObject;
   GLuint base_texture = kNoObject;  ///< GL_TEXTURE_2D_ARRAY (sRGB): the colour layers.
