@@ -6,6 +6,7 @@
 #include <cmath>
 #include <cstdio>
 
+#include "si/crowd/crowd_manager.h"
 #include "si/crowd/instance_batcher.h"
 
 namespace si::bench {
@@ -124,16 +125,16 @@ Status drawKind(Renderer& renderer, CharacterId id, const CrowdManager& crowd,
     renderer.setGpuOcclusionCulling(occlusion);
     const DrawMode mode = path.compare(0, 10, "gpu-driven") == 0 ? DrawMode::kComputeSkinned
                                                                  : DrawMode::kSkinned;
-    const Status s = renderer.drawCrowdGpuCulled(id, crowd, camera, stats, mode);
+    const Status s = renderer.drawCrowdGpuCulled(id, crowd.view(), camera, stats, mode);
     renderer.setGpuOcclusionCulling(false);
     return s;
   }
-  if (path == "traditional") return renderer.drawTraditional(id, crowd, camera, stats);
-  if (path == "cpu") return renderer.drawCpuSkinned(id, crowd, camera, stats);
+  if (path == "traditional") return renderer.drawTraditional(id, crowd.view(), camera, stats);
+  if (path == "cpu") return renderer.drawCpuSkinned(id, crowd.view(), camera, stats);
   const DrawMode mode = path == "compute" ? DrawMode::kComputeSkinned
                         : path == "rigid" ? DrawMode::kRigid
                                           : DrawMode::kSkinned;
-  return renderer.drawCrowd(id, crowd, batcher, camera, stats, mode);
+  return renderer.drawCrowd(id, crowd.view(), batcher, camera, stats, mode);
 }
 
 Status runPath(Setup& setup, Renderer& renderer, const BakedPalette& palette,
@@ -165,7 +166,7 @@ Status timeCrowd(Setup& setup, Renderer& renderer, CrowdManager& crowd, const st
       [&](const Camera& cam) { return stepCrowd(crowd, path, cam, 1.0 / 60.0); },
       [&](const Camera& cam, DrawStats* st, uint32_t* visible) {
         const Status drawn = drawPath(renderer, crowd, batcher, path, cam, st);
-        *visible = isGpuSelected(path) ? st->gpu_visible : crowd.stats().visible;
+        *visible = isGpuSelected(path) ? st->gpu_visible : crowd.view().stats().visible;
         return drawn;
       },
       row);
@@ -221,7 +222,7 @@ Status timePaired(Setup& setup, Renderer& renderer, const BakedPalette& palette,
       if (f < warmup) continue;
       submit[k].push_back(st.cpu_submit_ms);
       gpu[k].push_back(st.gpu_ms);
-      rows[k].visible = isGpuSelected(path) ? st.gpu_visible : crowd.stats().visible;
+      rows[k].visible = isGpuSelected(path) ? st.gpu_visible : crowd.view().stats().visible;
       rows[k].draws = st.draw_calls;
       rows[k].triangles = double(st.triangles);
     }

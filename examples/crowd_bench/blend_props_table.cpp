@@ -6,6 +6,7 @@
 #include "si/bake/lod_chain.h"
 #include "si/core/layer_mask.h"
 #include "si/core/prop.h"
+#include "si/crowd/crowd_manager.h"
 #include "si/gltf/gltf_prop.h"
 
 namespace si::bench {

@@ -7,6 +7,7 @@
 #include <random>
 
 #include "common/cascades.h"
+#include "si/crowd/crowd_manager.h"
 #include "si/crowd/crowd_view.h"
 
 namespace si::bench {

@@ -41,7 +41,8 @@ Status runCrowds(Setup& setup, Renderer& renderer, const BakedPalette& palette, 
         *visible = 0;
         for (auto& c : crowds) {
           DrawStats one;
-          if (drawn.isOk()) drawn = renderer.drawCrowdGpuCulled(*c, cam, &one);
+          if (drawn.isOk())
+            drawn = renderer.drawCrowdGpuCulled(si::CharacterId{}, c->view(), cam, &one);
           st->cpu_submit_ms += one.cpu_submit_ms;
           st->gpu_ms = one.gpu_ms >= 0.0 && st->gpu_ms >= 0.0 ? st->gpu_ms + one.gpu_ms : -1.0;
           st->draw_calls += one.draw_calls;

@@ -5,6 +5,7 @@
 
 #include "si/bake/layer_error.h"
 #include "si/core/layer_mask.h"
+#include "si/crowd/crowd_manager.h"
 
 namespace si::bench {
 

@@ -196,7 +196,8 @@ int main(int argc, char** argv) {
   if (s.isOk() && b.o.impostor) s = si::bench::buildImpostor(b.setup, renderer, id);
   if (!s.isOk()) return fail("setup", s);
   std::printf("Automatic skinning path choice: %s (%s)\n",
-              si::skinningPathName(renderer.skinningPath()), renderer.skinningPathReason().c_str());
+              si::skinningPathName(renderer.skinningPath(si::CharacterId{})),
+              renderer.skinningPathReason(si::CharacterId{}).c_str());
 
   std::FILE* csv = std::fopen(b.o.csv.c_str(), "w");
   if (csv == nullptr) {

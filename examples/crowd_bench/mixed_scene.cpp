@@ -84,7 +84,7 @@ Status runMixed(Setup& setup, const std::vector<MixedKind>& kinds, const Rendere
           DrawStats st;
           drawn = drawKind(r, ids[k], *crowds[k], batcher, path, cam, &st);
           examples::accumulate(st, sum);
-          *visible += isGpuSelected(path) ? st.gpu_visible : crowds[k]->stats().visible;
+          *visible += isGpuSelected(path) ? st.gpu_visible : crowds[k]->view().stats().visible;
         }
         return drawn;
       },

@@ -1,6 +1,7 @@
 // SkinnedInstancing — SPDX-License-Identifier: MIT (see LICENSE)
 #include "crowd_bench/motion_vectors_table.h"
 
+#include "si/crowd/crowd_manager.h"
 #include "si/gl/motion_target.h"
 
 namespace si::bench {
@@ -44,7 +45,7 @@ Status runMotion(Setup& setup, const BakedPalette& palette, const RendererDesc& 
       [&](const Camera& cam, DrawStats* st, uint32_t* visible) {
         target.clear(kClearColor);
         const Status drawn = drawKind(renderer, CharacterId{}, crowd, batcher, path, cam, st);
-        *visible = isGpuSelected(path) ? st->gpu_visible : crowd.stats().visible;
+        *visible = isGpuSelected(path) ? st->gpu_visible : crowd.view().stats().visible;
         return drawn;
       },
       row);

@@ -3,6 +3,7 @@
 
 #include "si/bake/animation_baker.h"
 #include "si/core/default_character.h"
+#include "si/crowd/crowd_manager.h"
 
 namespace si::bench {
 
@@ -40,7 +41,7 @@ Status runRootMotion(Setup& setup, Renderer& renderer, CharacterId id, const Bak
       [&](const Camera& cam, DrawStats* st, uint32_t* visible) {
         renderer.clear(kClearColor);
         const Status drawn = drawKind(renderer, id, crowd, batcher, path, cam, st);
-        *visible = isGpuSelected(path) ? st->gpu_visible : crowd.stats().visible;
+        *visible = isGpuSelected(path) ? st->gpu_visible : crowd.view().stats().visible;
         return drawn;
       },
       row);

@@ -10,6 +10,7 @@
 #include <vector>
 
 #include "crowd_bench/bench_scene.h"
+#include "si/crowd/crowd_manager.h"
 #include "si/gl/renderer.h"
 
 namespace si::bench {

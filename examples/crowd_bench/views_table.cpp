@@ -9,6 +9,7 @@
 #include <glm/gtc/matrix_transform.hpp>
 
 #include "common/cascades.h"
+#include "si/crowd/crowd_manager.h"
 #include "si/crowd/crowd_view.h"
 
 namespace si::bench {
@@ -77,10 +78,11 @@ Status runViews(Setup& setup, Renderer& renderer, const BakedPalette& palette, u
           renderer.clear(kClearColor);
           DrawStats one;
           const Status drawn =
-              gpu                   ? renderer.drawCrowdGpuCulled(CharacterId{}, view, at, &one, mode)
+              gpu ? renderer.drawCrowdGpuCulled(CharacterId{}, view, at, &one, mode)
               : path == "traditional" ? renderer.drawTraditional(CharacterId{}, view, at, &one)
-              : path == "cpu"       ? renderer.drawCpuSkinned(CharacterId{}, view, at, &one)
-                                    : renderer.drawCrowd(view, batcher, at, &one, mode);
+              : path == "cpu"
+                  ? renderer.drawCpuSkinned(CharacterId{}, view, at, &one)
+                  : renderer.drawCrowd(si::CharacterId{}, view, batcher, at, &one, mode);
           st->gpu_visible += one.gpu_visible;
           st->cpu_submit_ms += one.cpu_submit_ms;
           // No GPU time (--no-gpu-time) reads -1 for the frame, not a sum of them.

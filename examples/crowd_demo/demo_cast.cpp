@@ -72,9 +72,9 @@ si::Status DemoCast::draw(si::Renderer& renderer, const si::InstanceBatcher& bat
   for (auto& k : kinds_) {
     si::DrawStats st;
     const si::Status s =
-        traditional ? renderer.drawTraditional(k->id, k->crowd, camera, &st)
-        : cpu       ? renderer.drawCpuSkinned(k->id, k->crowd, camera, &st)
-                    : renderer.drawCrowd(k->id, k->crowd, batcher, camera, &st, mode);
+        traditional ? renderer.drawTraditional(k->id, k->crowd.view(), camera, &st)
+        : cpu       ? renderer.drawCpuSkinned(k->id, k->crowd.view(), camera, &st)
+                    : renderer.drawCrowd(k->id, k->crowd.view(), batcher, camera, &st, mode);
     if (!s.isOk()) return {s.code(), k->name + ": " + s.message()};
     si::examples::accumulate(st, stats);
   }
@@ -83,7 +83,7 @@ si::Status DemoCast::draw(si::Renderer& renderer, const si::InstanceBatcher& bat
 
 uint32_t DemoCast::visible() const {
   uint32_t n = 0;
-  for (const auto& k : kinds_) n += k->crowd.stats().visible;
+  for (const auto& k : kinds_) n += k->crowd.view().stats().visible;
   return n;
 }
 

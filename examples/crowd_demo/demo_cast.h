@@ -9,6 +9,7 @@
 #include <vector>
 
 #include "si/core/core.h"
+#include "si/crowd/crowd_manager.h"
 #include "si/crowd/instance_batcher.h"
 #include "si/gl/renderer.h"
 

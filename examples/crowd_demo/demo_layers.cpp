@@ -6,6 +6,7 @@
 
 #include "demo_scene.h"
 #include "si/core/layer_mask.h"
+#include "si/crowd/crowd_manager.h"
 
 namespace demo {
 

@@ -7,6 +7,7 @@
 #include <glm/gtc/matrix_transform.hpp>
 
 #include "demo_scene.h"
+#include "si/crowd/crowd_manager.h"
 #include "si/gltf/gltf_prop.h"
 
 namespace demo {

@@ -10,6 +10,7 @@
 #include "si/bake/palette_file.h"
 #include "si/core/impostor_level.h"
 #include "si/core/lod_error.h"
+#include "si/crowd/crowd_manager.h"
 #include "si/gltf/gltf_import.h"
 
 namespace demo {
@@ -154,8 +155,9 @@ si::Status DemoScene::initGl(const si::GlInfo& info) {
   if (s.isOk() && mixed_) s = cast_.upload(renderer_);
   if (s.isOk()) s = shadows_.initGl();
   if (!s.isOk()) return s;
-  std::printf("Skinning path: %s (%s)\n", si::skinningPathName(renderer_.skinningPath()),
-              renderer_.skinningPathReason().c_str());
+  std::printf("Skinning path: %s (%s)\n",
+              si::skinningPathName(renderer_.skinningPath(si::CharacterId{})),
+              renderer_.skinningPathReason(si::CharacterId{}).c_str());
   gl_ready_ = true;
   return buildCrowd();
 }
@@ -278,7 +280,7 @@ si::Status DemoScene::measureMotion(const si::Camera& camera) {
   motion_target_.clear(glm::vec4(0.0f));
   renderer_.setMotionVectors(true);  // For this draw only: the baselines draw none.
   si::DrawStats motion_stats;
-  s = renderer_.drawCrowd(crowd_, batcher_, camera, &motion_stats, mode);
+  s = renderer_.drawCrowd(si::CharacterId{}, crowd_.view(), batcher_, camera, &motion_stats, mode);
   renderer_.setMotionVectors(false);
   motion_target_.restore();
   return s.isOk() ? motion_target_.summarize(&motion_summary_) : s;
@@ -307,18 +309,27 @@ si::Status DemoScene::frame(double dt, const si::Camera& camera, si::DrawStats* 
     s = shadows_.drawGround(camera, fieldCenter(), ground_radius, CascadedShadows::sunDirection());
   if (!s.isOk()) return s;
   switch (path_) {
-    case DrawPath::kInstanced: s = renderer_.drawCrowd(crowd_, batcher_, camera, stats); break;
+    case DrawPath::kInstanced:
+      s = renderer_.drawCrowd(si::CharacterId{}, crowd_.view(), batcher_, camera, stats);
+      break;
     case DrawPath::kVertexShader:
-      s = renderer_.drawCrowd(crowd_, batcher_, camera, stats, si::DrawMode::kSkinned);
+      s = renderer_.drawCrowd(si::CharacterId{}, crowd_.view(), batcher_, camera, stats,
+                              si::DrawMode::kSkinned);
       break;
     case DrawPath::kCompute:
-      s = renderer_.drawCrowd(crowd_, batcher_, camera, stats, si::DrawMode::kComputeSkinned);
+      s = renderer_.drawCrowd(si::CharacterId{}, crowd_.view(), batcher_, camera, stats,
+                              si::DrawMode::kComputeSkinned);
       break;
     case DrawPath::kRigid:
-      s = renderer_.drawCrowd(crowd_, batcher_, camera, stats, si::DrawMode::kRigid);
+      s = renderer_.drawCrowd(si::CharacterId{}, crowd_.view(), batcher_, camera, stats,
+                              si::DrawMode::kRigid);
       break;
-    case DrawPath::kTraditional: s = renderer_.drawTraditional(crowd_, camera, stats); break;
-    case DrawPath::kCpuSkinned: s = renderer_.drawCpuSkinned(crowd_, camera, stats); break;
+    case DrawPath::kTraditional:
+      s = renderer_.drawTraditional(si::CharacterId{}, crowd_.view(), camera, stats);
+      break;
+    case DrawPath::kCpuSkinned:
+      s = renderer_.drawCpuSkinned(si::CharacterId{}, crowd_.view(), camera, stats);
+      break;
     case DrawPath::kCount: break;
   }
   if (s.isOk() && mixed_) {
@@ -339,7 +350,7 @@ si::Status DemoScene::frame(double dt, const si::Camera& camera, si::DrawStats* 
   if (lod_tint_ || restore_colors_) {
     for (size_t i = 0; i < handles_.size(); ++i) {
       uint32_t lod = 0;
-      if (lod_tint_ && !crowd_.lodOf(handles_[i], &lod).isOk()) continue;
+      if (lod_tint_ && !crowd_.view().lodOf(handles_[i], &lod).isOk()) continue;
       s = crowd_.setColor(handles_[i], lod_tint_ ? kLodColors[lod % 8] : colors_[i]);
       if (!s.isOk()) return s;
     }

@@ -12,6 +12,7 @@
 #include "demo_shadows.h"
 #include "si/bake/animation_baker.h"
 #include "si/core/core.h"
+#include "si/crowd/crowd_manager.h"
 #include "si/crowd/instance_batcher.h"
 #include "si/gl/motion_target.h"
 #include "si/gl/renderer.h"

@@ -154,7 +154,8 @@ si::Status CascadedShadows::render(si::Renderer& renderer, const si::InstanceBat
     const float far_depth = 1.0f;
     glClearNamedFramebufferfv(framebuffers_[c], GL_DEPTH, 0, &far_depth);
     si::DrawStats stats;
-    s = renderer.drawCrowd(views_[c], batcher, lights_[c], &stats, si::DrawMode::kDepthOnly);
+    s = renderer.drawCrowd(si::CharacterId{}, views_[c], batcher, lights_[c], &stats,
+                           si::DrawMode::kDepthOnly);
     drawn_ += views_[c].stats().visible;
   }
   glBindFramebuffer(GL_DRAW_FRAMEBUFFER, GLuint(framebuffer));

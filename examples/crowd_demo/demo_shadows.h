@@ -9,6 +9,7 @@
 #include <cstdint>
 #include <vector>
 
+#include "si/crowd/crowd_manager.h"
 #include "si/crowd/crowd_view.h"
 #include "si/crowd/instance_batcher.h"
 #include "si/gl/renderer.h"

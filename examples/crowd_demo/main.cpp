@@ -167,7 +167,7 @@ int fail(const char* what, const si::Status& s) {
 
 void printStats(const demo::DemoScene& scene, const si::DrawStats& stats, double update_ms,
                 double submit_ms, double gpu_ms, uint32_t frames) {
-  const si::CrowdFrameStats& cs = scene.crowd().stats();
+  const si::CrowdFrameStats& cs = scene.crowd().view().stats();
   std::printf("%-28s %12s\n", "statistic (last frame)", "value");
   std::printf("%-28s %12u\n", "instances", cs.instances);
   std::printf("%-28s %12u\n", "visible", cs.visible);
@@ -191,7 +191,7 @@ void printStats(const demo::DemoScene& scene, const si::DrawStats& stats, double
   if (scene.blend()) std::printf("%-28s %12u\n", "blend: characters blending", scene.blending());
   if (scene.shadows())
     std::printf("%-28s %12u (3 cascades, %u drawn by the main view)\n", "shadows: casters drawn",
-                scene.shadowCasters(), scene.crowd().stats().visible);
+                scene.shadowCasters(), scene.crowd().view().stats().visible);
   if (scene.otherKinds() > 0)
     std::printf("%-28s %12u (%zu character kinds in one renderer)\n", "other kinds visible",
                 scene.otherKindsVisible(), scene.otherKinds() + 1);

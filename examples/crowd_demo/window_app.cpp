@@ -308,7 +308,7 @@ WindowResult runWindow(const WindowOptions& o, DemoScene* scene, std::string* wh
       gpu_ms_sum += std::max(0.0, stats.gpu_ms);
       ++frames_since_title;
       if (std::chrono::duration<double>(now - last_title).count() > 0.5) {
-        const si::CrowdFrameStats& cs = scene->crowd().stats();
+        const si::CrowdFrameStats& cs = scene->crowd().view().stats();
         char title[256];
         std::snprintf(title, sizeof title,
                       "crowd_demo | %u characters, %u visible, %u draws, %s, %s, LOD x%.2f | "
@@ -340,7 +340,7 @@ WindowResult runWindow(const WindowOptions& o, DemoScene* scene, std::string* wh
         std::vector<uint8_t> rgba;
         const size_t drawn = readBackBuffer(read_pixels, w, h, &rgba);
         if (!o.out.empty()) s = si::writePng(o.out, uint32_t(w), uint32_t(h), rgba);
-        const si::CrowdFrameStats& cs = scene->crowd().stats();
+        const si::CrowdFrameStats& cs = scene->crowd().view().stats();
         std::printf("Window: %u frames, last with %u characters, %u visible, %u draw calls, "
                     "%llu triangles (%s, %s); %zu pixels drawn\n",
                     o.frames, cs.instances, cs.visible, stats.draw_calls,

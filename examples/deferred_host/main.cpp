@@ -181,7 +181,8 @@ int main(int argc, char** argv) {
   if (s.isOk()) {
     gbuffer.bindAndClear();
     gbuffer.drawGround(camera, half_side);
-    s = renderer.drawCrowd(crowd, batcher, camera, &stats);  // Into the host's G-buffer.
+    s = renderer.drawCrowd(si::CharacterId{}, crowd.view(), batcher, camera,
+                           &stats);  // Into the host's G-buffer.
   }
   if (s.isOk()) {
     glBindFramebuffer(GL_FRAMEBUFFER, context->framebuffer());
@@ -208,8 +209,8 @@ int main(int argc, char** argv) {
       ++pixels[k];
       lit[k] += (0.2126 * p[0] + 0.7152 * p[1] + 0.0722 * p[2]) / 255.0;
     }
-  const uint32_t impostors = crowd.stats().per_lod[levels - 1];
-  const uint32_t meshes = crowd.stats().visible - impostors;
+  const uint32_t impostors = crowd.view().stats().per_lod[levels - 1];
+  const uint32_t meshes = crowd.view().stats().visible - impostors;
   std::printf(
       "deferred: %u meshes, %u impostors, %zu lights; mesh pixels %zu lit %.3f, impostor "
       "pixels %zu lit %.3f\n",

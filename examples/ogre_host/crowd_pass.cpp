@@ -6,6 +6,7 @@
 #include <Ogre.h>
 
 #include "si/core/default_character.h"
+#include "si/crowd/crowd_manager.h"
 #include "si/gl/gl_context.h"
 #include "si/gl/material.h"
 
@@ -114,7 +115,7 @@ void CrowdPass::renderQueueEnded(uint8_t queue_group, const std::string& invocat
   GLint previous = 0;
   glGetIntegeri_v(GL_UNIFORM_BUFFER_BINDING, 7, &previous);
   glBindBufferBase(GL_UNIFORM_BUFFER, 7, light_block_);
-  if (s.isOk()) s = renderer_.drawCrowd(crowd_, batcher_, c, &stats_);
+  if (s.isOk()) s = renderer_.drawCrowd(si::CharacterId{}, crowd_.view(), batcher_, c, &stats_);
   glBindBufferBase(GL_UNIFORM_BUFFER, 7, GLuint(previous));
   if (!s.isOk()) error_ = s;
 }
@@ -135,7 +136,8 @@ Status CrowdPass::coverage(uint32_t width, uint32_t height, std::vector<uint8_t>
   glViewport(0, 0, GLsizei(width), GLsizei(height));
   renderer_.clear(glm::vec4(0.0f));
   glBindBufferBase(GL_UNIFORM_BUFFER, 7, light_block_);
-  const Status s = renderer_.drawCrowd(crowd_, batcher_, camera(), nullptr);
+  const Status s =
+      renderer_.drawCrowd(si::CharacterId{}, crowd_.view(), batcher_, camera(), nullptr);
   std::vector<uint8_t> rgba(size_t(width) * height * 4);
   glReadPixels(0, 0, GLsizei(width), GLsizei(height), GL_RGBA, GL_UNSIGNED_BYTE, rgba.data());
   glBindFramebuffer(GL_FRAMEBUFFER, GLuint(framebuffer));

@@ -76,13 +76,14 @@ Status Scene::frame(double dt, float aspect, DrawStats* stats) {
   Status s = crowd_.update(dt, cam);
   renderer_.clear(glm::vec4(0.55f, 0.62f, 0.7f, 1.0f));
   last_draw_ = {};
-  if (s.isOk()) s = renderer_.drawCrowd(crowd_, batcher_, cam, &last_draw_);
+  if (s.isOk())
+    s = renderer_.drawCrowd(si::CharacterId{}, crowd_.view(), batcher_, cam, &last_draw_);
   if (stats != nullptr) *stats = last_draw_;
   return s;
 }
 
 std::string Scene::statsLine() const {
-  const CrowdFrameStats& cs = crowd_.stats();
+  const CrowdFrameStats& cs = crowd_.view().stats();
   char text[256];
   std::snprintf(text, sizeof(text),
                 "%u characters, %u visible (LOD 0-3: %u %u %u %u) | %u draw calls, %.2f M "

@@ -280,10 +280,6 @@ Status CrowdManager::get(InstanceHandle h, InstanceDesc* out) const {
   return Status::ok();
 }
 
-Status CrowdManager::lodOf(InstanceHandle h, uint32_t* lod) const {
-  return state_ ? view().lodOf(h, lod) : noCrowd();
-}
-
 FrameSample CrowdManager::frameSample(uint32_t clip, double local_time_seconds) const {
   const detail::ClipTiming& c = state_->clips[clip];
   return detail::fastSample(c, desc_.palette->clips[clip],
@@ -348,35 +344,9 @@ Status CrowdManager::advanceClock(double dt) {
   return Status::ok();
 }
 
-const CrowdFrameStats& CrowdManager::stats() const { return view().stats(); }
-double CrowdManager::clockSeconds() const { return state_ ? state_->clock : 0.0; }
-uint32_t CrowdManager::bucketCount() const { return view().bucketCount(); }
-const std::vector<uint32_t>& CrowdManager::bucketOffsets() const { return view().bucketOffsets(); }
-const std::vector<uint32_t>& CrowdManager::bucketEntries() const { return view().bucketEntries(); }
-const std::vector<uint32_t>& CrowdManager::bucketRunOffsets() const {
-  return view().bucketRunOffsets();
+double CrowdManager::clockSeconds() const {
+  return state_ ? state_->clock : 0.0;
 }
-const std::vector<RecordRun>& CrowdManager::bucketRuns() const { return view().bucketRuns(); }
-Span<const InstanceRecord> CrowdManager::records() const { return view().records(); }
-Span<const InstanceRecord> CrowdManager::previousRecords() const {
-  return view().previousRecords();
-}
-const Camera& CrowdManager::updateCamera() const { return view().camera(); }
-const Camera& CrowdManager::previousUpdateCamera() const { return view().previousCamera(); }
-Span<const LayerRecord> CrowdManager::layerRecords() const { return view().layerRecords(); }
-Span<const LayerRecord> CrowdManager::extraLayerRecords() const {
-  return view().extraLayerRecords();
-}
-Span<const LayerRecord> CrowdManager::previousExtraLayerRecords() const {
-  return view().previousExtraLayerRecords();
-}
-Span<const LayerRecord> CrowdManager::previousLayerRecords() const {
-  return view().previousLayerRecords();
-}
-Span<const uint32_t> CrowdManager::previousRecordIndices() const {
-  return view().previousRecordIndices();
-}
-Span<const InstanceHandle> CrowdManager::visibleHandles() const { return view().visibleHandles(); }
 Status CrowdManager::addClipMarker(uint32_t clip, double time_seconds, const std::string& name,
                                    uint32_t* index) {
   if (!state_) return {StatusCode::kInvalidArgument, "CrowdManager: init() first"};

@@ -235,7 +235,8 @@ Status measureImageLodErrors(const GlInfo& info, const Character& character,
       if (!s.isOk()) break;
       renderer.clear(glm::vec4(0.2f, 0.25f, 0.3f, 1.0f));
       DrawStats stats;
-      s = renderer.drawCrowd(crowd, batcher, camera, &stats, DrawMode::kSkinned);
+      s = renderer.drawCrowd(CharacterId{}, crowd.view(), batcher, camera, &stats,
+                             DrawMode::kSkinned);
       if (!s.isOk()) break;
       raw.resize(size_t(w) * size_t(hgt) * 4);
       glReadPixels(0, 0, w, hgt, GL_RGBA, GL_UNSIGNED_BYTE, raw.data());

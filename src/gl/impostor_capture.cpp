@@ -237,7 +237,7 @@ Status Renderer::buildImpostor(CharacterId id, const ImpostorDesc& desc, Imposto
     const bool motion = m.desc.motion_vectors;
     m.desc.motion_vectors = false;
     m.program_override = detail::ProgramId::kImpostorCapture;
-    s = drawCrowd(id, crowd, batcher, camera, nullptr, DrawMode::kSkinned);
+    s = drawCrowd(id, crowd.view(), batcher, camera, nullptr, DrawMode::kSkinned);
     m.program_override = detail::ProgramId::kCount;
     m.desc.motion_vectors = motion;
   }

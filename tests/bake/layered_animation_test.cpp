@@ -14,6 +14,7 @@
 #include "si/bake/layer_error.h"
 #include "si/core/default_character.h"
 #include "si/core/layer_mask.h"
+#include "si/crowd/crowd_manager.h"
 
 #include <glm/gtc/matrix_transform.hpp>
 

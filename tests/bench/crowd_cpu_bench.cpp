@@ -15,6 +15,7 @@
 #include "si/bake/animation_baker.h"
 #include "si/core/default_character.h"
 #include "si/core/layer_mask.h"
+#include "si/crowd/crowd_manager.h"
 #include "si/crowd/instance_batcher.h"
 
 namespace {
@@ -144,27 +145,27 @@ void crowdFrame(benchmark::State& state) {
   const auto frame = [&] {
     if (!crowd->update(1.0 / 60.0, camera).isOk()) std::abort();
     if (spans) {
-      if (!batcher.buildSpans(*crowd, &span_draws).isOk()) std::abort();
+      if (!batcher.buildSpans(crowd->view(), &span_draws).isOk()) std::abort();
       benchmark::DoNotOptimize(span_draws.data());
       return;
     }
-    const size_t need = batcher.recordBufferBound(*crowd);
+    const size_t need = batcher.recordBufferBound(crowd->view());
     if (buffer.size() < need) buffer.resize(need);
-    if (!batcher.build(*crowd, buffer, &draws).isOk()) std::abort();
+    if (!batcher.build(crowd->view(), buffer, &draws).isOk()) std::abort();
     benchmark::DoNotOptimize(buffer.data());
     if (!overlays) return;
-    const size_t layer_need = batcher.layerBufferBound(*crowd);
+    const size_t layer_need = batcher.layerBufferBound(crowd->view());
     if (layers.size() < layer_need) layers.resize(layer_need);
-    if (!batcher.buildLayers(*crowd, layers).isOk()) std::abort();
+    if (!batcher.buildLayers(crowd->view(), layers).isOk()) std::abort();
     benchmark::DoNotOptimize(layers.data());
   };
   frame();
   frame();  // Two: previous_records swaps two record buffers, both then at their size.
   for (auto _ : state) frame();
   state.SetItemsProcessed(state.iterations() * count);
-  state.counters["visible"] = crowd->stats().visible;
+  state.counters["visible"] = crowd->view().stats().visible;
   state.counters["events"] = double(crowd->events().size());
-  state.counters["layer_records"] = double(crowd->layerRecords().size());
+  state.counters["layer_records"] = double(crowd->view().layerRecords().size());
   state.counters["draws"] = double(spans ? span_draws.size() : draws.size());
   state.counters["ns_per_instance"] =
       benchmark::Counter(double(count), benchmark::Counter::kIsIterationInvariantRate |

@@ -8,6 +8,7 @@
 #include <vector>
 
 #include "crowd/crowd_test_helpers.h"
+#include "si/crowd/crowd_manager.h"
 #include "si/crowd/parallel_for.h"
 
 namespace si {

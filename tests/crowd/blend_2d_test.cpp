@@ -13,6 +13,7 @@
 
 #include "crowd/crowd_test_helpers.h"
 #include "si/crowd/blend_space.h"
+#include "si/crowd/crowd_manager.h"
 #include "si/crowd/instance_batcher.h"
 #include "si/crowd/record_emulation.h"
 
@@ -151,14 +152,14 @@ TEST(Blend2d, AllFourClipsStayInPhase) {
     double period = 0.0;
     for (uint32_t c = 0; c < 4; ++c) period += double(bp.shares[c]) * b.seconds(bp.clips[c]);
     ASSERT_TRUE(b.crowd.update(0.13, b.camera()).isOk());
-    ASSERT_EQ(b.crowd.records().size(), 1u);
-    ASSERT_EQ(b.crowd.extraLayerRecords().size(), 2u);
+    ASSERT_EQ(b.crowd.view().records().size(), 1u);
+    ASSERT_EQ(b.crowd.view().extraLayerRecords().size(), 2u);
     ASSERT_TRUE(b.crowd.blendState2D(b.h, &space, &parameter, &phase).isOk());
     EXPECT_NEAR(std::fmod(phase - after + 1.0, 1.0), 0.13 / period, 1e-9);
     // Each clip at the blend's phase; each layer at its chain weight.
-    const InstanceRecord& r = b.crowd.records()[0];
-    const LayerRecord& l = b.crowd.layerRecords()[0];
-    const LayerRecord* e = b.crowd.extraLayerRecords().data();
+    const InstanceRecord& r = b.crowd.view().records()[0];
+    const LayerRecord& l = b.crowd.view().layerRecords()[0];
+    const LayerRecord* e = b.crowd.view().extraLayerRecords().data();
     const LayerRecord* layer[3] = {&l, e, e + 1};
     EXPECT_NEAR(b.drawnPhase(b.grid.clips[bp.clips[0]], r.frames[0], r.blend[0]), phase, 1e-5);
     for (int j = 0; j < 3; ++j) {
@@ -192,7 +193,7 @@ TEST(Blend2d, ThePhaseStaysInItsCycleAtTheLargestClock) {
   ASSERT_TRUE(b.crowd.blendState2D(b.h, &space, &parameter, &phase).isOk());
   EXPECT_TRUE(phase >= 0.0 && phase < 1.0) << phase;
   ASSERT_TRUE(b.crowd.update(0.0, b.camera()).isOk());
-  ASSERT_EQ(b.crowd.layerRecords().size(), 1u);
+  ASSERT_EQ(b.crowd.view().layerRecords().size(), 1u);
 }
 
 // Item 2 of the issue for 2D: the drawn pose, emulated from the records as the shader composes
@@ -210,7 +211,7 @@ TEST(Blend2d, TheDrawnPoseIsTheLocalSpaceChain) {
     Blending2d b;
     ASSERT_TRUE(b.crowd.playBlend(b.h, b.space, at, 0.0, 0.37).isOk());
     ASSERT_TRUE(b.crowd.update(0.071, b.camera()).isOk());  // Off the 30 Hz grid.
-    ASSERT_EQ(b.crowd.records().size(), 1u);
+    ASSERT_EQ(b.crowd.view().records().size(), 1u);
     uint32_t space = 0;
     glm::vec2 parameter;
     double phase = 0.0;
@@ -219,8 +220,9 @@ TEST(Blend2d, TheDrawnPoseIsTheLocalSpaceChain) {
     std::vector<glm::mat4> m(p.skeleton_to_palette.size(), glm::mat4(1.0f));
     for (size_t j = 0; j < m.size(); ++j)
       if (p.skeleton_to_palette[j] >= 0)
-        m[j] = emulateLayeredRecordMatrix(p, b.crowd.records()[0], b.crowd.layerRecords()[0],
-                                          b.crowd.extraLayerRecords(), b.crowd.layerMasks(),
+        m[j] = emulateLayeredRecordMatrix(p, b.crowd.view().records()[0],
+                                          b.crowd.view().layerRecords()[0],
+                                          b.crowd.view().extraLayerRecords(), b.crowd.layerMasks(),
                                           uint32_t(p.skeleton_to_palette[j]));
     std::vector<glm::vec3> drawn(mesh.positions.size());
     ASSERT_TRUE(emulateSkinning(mesh, m, drawn, {}).isOk());
@@ -257,17 +259,18 @@ TEST(Blend2d, CrossfadesIntoAndOutOfA2dBlend) {
   ASSERT_TRUE(b.crowd.playBlend(b.h, b.space, glm::vec2(0.5f, 1.0f), 0.4).isOk());
   ASSERT_TRUE(b.crowd.update(0.2, b.camera()).isOk());  // Half-way.
   const BlendPoint bp = blendPoint(b.grid, 0.5f, 1.0f);
-  EXPECT_NEAR(layerWeight(b.crowd.layerRecords()[0]), 0.5f * bp.chain[1], 1e-4);
-  EXPECT_NEAR(layerWeight(b.crowd.extraLayerRecords()[0]), 0.5f * bp.chain[2], 1e-4);
-  EXPECT_NEAR(layerWeight(b.crowd.extraLayerRecords()[1]), 0.5f * bp.chain[3], 1e-4);
+  EXPECT_NEAR(layerWeight(b.crowd.view().layerRecords()[0]), 0.5f * bp.chain[1], 1e-4);
+  EXPECT_NEAR(layerWeight(b.crowd.view().extraLayerRecords()[0]), 0.5f * bp.chain[2], 1e-4);
+  EXPECT_NEAR(layerWeight(b.crowd.view().extraLayerRecords()[1]), 0.5f * bp.chain[3], 1e-4);
   // jointMatrix: the emulated records' matrix placed in the world.
   const BakedPalette& p = *b.palette;
   const uint32_t hand = uint32_t(defaultCharacter().skeleton.findJoint("r_hand"));
   glm::dmat4 joint;
   ASSERT_TRUE(b.crowd.jointMatrix(b.h, hand, &joint).isOk());
-  const glm::mat4 drawn = emulateLayeredRecordMatrix(
-      p, b.crowd.records()[0], b.crowd.layerRecords()[0], b.crowd.extraLayerRecords(),
-      b.crowd.layerMasks(), uint32_t(p.skeleton_to_palette[hand]));
+  const glm::mat4 drawn =
+      emulateLayeredRecordMatrix(p, b.crowd.view().records()[0], b.crowd.view().layerRecords()[0],
+                                 b.crowd.view().extraLayerRecords(), b.crowd.layerMasks(),
+                                 uint32_t(p.skeleton_to_palette[hand]));
   InstanceDesc d;
   ASSERT_TRUE(b.crowd.get(b.h, &d).isOk());
   const glm::dmat4 world = glm::translate(glm::dmat4(1.0), d.position) * glm::dmat4(drawn);
@@ -277,25 +280,25 @@ TEST(Blend2d, CrossfadesIntoAndOutOfA2dBlend) {
   ASSERT_TRUE(b.crowd.update(0.2, b.camera()).isOk());
   ASSERT_TRUE(b.crowd.stopOverlay(b.h, 0.5).isOk());
   ASSERT_TRUE(b.crowd.update(0.25, b.camera()).isOk());
-  EXPECT_NEAR(layerWeight(b.crowd.extraLayerRecords()[1]), 0.5f * bp.chain[3], 1e-4);
+  EXPECT_NEAR(layerWeight(b.crowd.view().extraLayerRecords()[1]), 0.5f * bp.chain[3], 1e-4);
   ASSERT_TRUE(b.crowd.update(0.3, b.camera()).isOk());
-  for (const LayerRecord& e : b.crowd.extraLayerRecords()) EXPECT_EQ(layerWeight(e), 0.0f);
-  EXPECT_FALSE(layerHasExtras(b.crowd.layerRecords()[0]));
+  for (const LayerRecord& e : b.crowd.view().extraLayerRecords()) EXPECT_EQ(layerWeight(e), 0.0f);
+  EXPECT_FALSE(layerHasExtras(b.crowd.view().layerRecords()[0]));
   // A plain overlay replaces a 2D blend: the extra layers fade out over its span.
   ASSERT_TRUE(b.crowd.playBlend(b.h, b.space, glm::vec2(0.5f, 1.0f), 0.0).isOk());
   ASSERT_TRUE(b.crowd.playOverlay(b.h, b.grid.clips[3], 0, 1.0f, 0.5).isOk());
   ASSERT_TRUE(b.crowd.update(0.25, b.camera()).isOk());
-  EXPECT_NEAR(layerWeight(b.crowd.extraLayerRecords()[1]), 0.5f * bp.chain[3], 1e-4);
+  EXPECT_NEAR(layerWeight(b.crowd.view().extraLayerRecords()[1]), 0.5f * bp.chain[3], 1e-4);
   ASSERT_TRUE(b.crowd.update(0.3, b.camera()).isOk());
-  EXPECT_EQ(layerWeight(b.crowd.extraLayerRecords()[1]), 0.0f);
+  EXPECT_EQ(layerWeight(b.crowd.view().extraLayerRecords()[1]), 0.0f);
   // A 1D space's blend draws no extra layers.
   BlendSpace line{"line", {b.grid.clips[0], b.grid.clips[1]}, {0.0f, 1.0f}, 0};
   uint32_t line_id = 0;
   ASSERT_TRUE(b.crowd.addBlendSpace(line, &line_id).isOk());
   ASSERT_TRUE(b.crowd.playBlend(b.h, line_id, 0.5f, 0.0).isOk());
   ASSERT_TRUE(b.crowd.update(0.1, b.camera()).isOk());
-  EXPECT_FALSE(layerHasExtras(b.crowd.layerRecords()[0]));
-  EXPECT_NEAR(layerWeight(b.crowd.layerRecords()[0]), 0.5f, 1e-4);
+  EXPECT_FALSE(layerHasExtras(b.crowd.view().layerRecords()[0]));
+  EXPECT_NEAR(layerWeight(b.crowd.view().layerRecords()[0]), 0.5f, 1e-4);
 }
 
 // Root motion of a 2D blend travels as the clips blend: at a grid point as that clip alone.
@@ -354,7 +357,7 @@ TEST(Blend2d, TheBatcherLaysOutTheExtraLayers) {
   BatchLimits limits;
   limits.max_uniform_block_size_bytes = 16384;
   ASSERT_TRUE(batcher.init(limits).isOk());
-  std::vector<uint8_t> records(batcher.recordBufferBound(b.crowd));
+  std::vector<uint8_t> records(batcher.recordBufferBound(b.crowd.view()));
   std::vector<DrawBatch> draws;
   ASSERT_TRUE(batcher.build(b.crowd.view(), records, &draws).isOk());
   std::vector<uint8_t> extras(batcher.extraLayerBufferBound(b.crowd.view()));
@@ -372,22 +375,22 @@ TEST(Blend2d, TheBatcherLaysOutTheExtraLayers) {
     for (uint32_t k = 0; k < batch.instance_count; ++k) {
       InstanceRecord r;
       std::memcpy(&r, records.data() + batch.byte_offset + k * kInstanceRecordSize, sizeof r);
-      for (size_t i = 0; i < b.crowd.records().size(); ++i)
-        if (std::memcmp(&r, &b.crowd.records()[i], sizeof r) == 0) {
+      for (size_t i = 0; i < b.crowd.view().records().size(); ++i)
+        if (std::memcmp(&r, &b.crowd.view().records()[i], sizeof r) == 0) {
           LayerRecord got[2];
           extrasOf(extras, batch, k, got);
-          EXPECT_EQ(std::memcmp(got, &b.crowd.extraLayerRecords()[i * 2], 32), 0);
+          EXPECT_EQ(std::memcmp(got, &b.crowd.view().extraLayerRecords()[i * 2], 32), 0);
           ++checked;
         }
     }
   EXPECT_GE(checked, 2u);
   // Previous: after moving the point, each slot holds the previous update's extra records.
-  const std::vector<LayerRecord> before(b.crowd.extraLayerRecords().begin(),
-                                        b.crowd.extraLayerRecords().end());
+  const std::vector<LayerRecord> before(b.crowd.view().extraLayerRecords().begin(),
+                                        b.crowd.view().extraLayerRecords().end());
   ASSERT_TRUE(b.crowd.setBlendParameter(b.h, glm::vec2(0.9f, 1.8f)).isOk());
   ASSERT_TRUE(b.crowd.update(0.1, b.camera()).isOk());
-  ASSERT_EQ(b.crowd.previousExtraLayerRecords().size(), before.size());
-  EXPECT_EQ(std::memcmp(b.crowd.previousExtraLayerRecords().data(), before.data(),
+  ASSERT_EQ(b.crowd.view().previousExtraLayerRecords().size(), before.size());
+  EXPECT_EQ(std::memcmp(b.crowd.view().previousExtraLayerRecords().data(), before.data(),
                         before.size() * sizeof(LayerRecord)),
             0);
   ASSERT_TRUE(b.crowd.update(0.0, b.camera()).isOk());
@@ -401,7 +404,7 @@ TEST(Blend2d, TheBatcherLaysOutTheExtraLayers) {
   CrowdManager plain;
   ASSERT_TRUE(plain.init(test::defaultCrowdDesc()).isOk());
   ASSERT_TRUE(plain.update(0.0, b.camera()).isOk());
-  EXPECT_TRUE(plain.extraLayerRecords().empty());
+  EXPECT_TRUE(plain.view().extraLayerRecords().empty());
   EXPECT_EQ(batcher.buildExtraLayers(plain.view(), extras).code(), StatusCode::kInvalidArgument);
   EXPECT_EQ(batcher.buildPreviousExtraLayers(plain.view(), extras).code(),
             StatusCode::kInvalidArgument);

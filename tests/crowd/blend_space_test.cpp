@@ -12,6 +12,7 @@
 #include <cstring>
 
 #include "crowd/crowd_test_helpers.h"
+#include "si/crowd/crowd_manager.h"
 #include "si/crowd/record_emulation.h"
 
 namespace si {
@@ -134,10 +135,10 @@ TEST(BlendSpace, BothClipsStayInPhase) {
     const float w = std::clamp((parameters[k] - 1.0f) / 3.0f, 0.0f, 1.0f);
     const double period = walk_s + (run_s - walk_s) * w;
     ASSERT_TRUE(b.crowd.update(0.13, b.camera()).isOk());
-    ASSERT_EQ(b.crowd.records().size(), 1u);
-    ASSERT_EQ(b.crowd.layerRecords().size(), 1u);
-    const InstanceRecord& r = b.crowd.records()[0];
-    const LayerRecord& l = b.crowd.layerRecords()[0];
+    ASSERT_EQ(b.crowd.view().records().size(), 1u);
+    ASSERT_EQ(b.crowd.view().layerRecords().size(), 1u);
+    const InstanceRecord& r = b.crowd.view().records()[0];
+    const LayerRecord& l = b.crowd.view().layerRecords()[0];
     EXPECT_NEAR(layerWeight(l), w, 1e-4);
     double phase = 0.0;
     ASSERT_TRUE(b.crowd.blendState(b.h, &space, &parameter, &phase).isOk());
@@ -169,7 +170,7 @@ TEST(BlendSpace, TheDrawnPoseIsTheLocalSpaceBlend) {
     Blending b;
     ASSERT_TRUE(b.crowd.playBlend(b.h, b.space, 1.0f + 3.0f * w, 0.0, 0.37).isOk());
     ASSERT_TRUE(b.crowd.update(0.071, b.camera()).isOk());  // Off the 30 Hz grid.
-    ASSERT_EQ(b.crowd.records().size(), 1u);
+    ASSERT_EQ(b.crowd.view().records().size(), 1u);
     uint32_t space = 0;
     float parameter = 0.0f;
     double phase = 0.0;
@@ -178,8 +179,9 @@ TEST(BlendSpace, TheDrawnPoseIsTheLocalSpaceBlend) {
     std::vector<glm::mat4> m(p.skeleton_to_palette.size(), glm::mat4(1.0f));
     for (size_t j = 0; j < m.size(); ++j)
       if (p.skeleton_to_palette[j] >= 0)
-        m[j] = emulateLayeredRecordMatrix(p, b.crowd.records()[0], b.crowd.layerRecords()[0],
-                                          b.crowd.layerMasks(), uint32_t(p.skeleton_to_palette[j]));
+        m[j] = emulateLayeredRecordMatrix(p, b.crowd.view().records()[0],
+                                          b.crowd.view().layerRecords()[0], b.crowd.layerMasks(),
+                                          uint32_t(p.skeleton_to_palette[j]));
     std::vector<glm::vec3> drawn(mesh.positions.size());
     ASSERT_TRUE(emulateSkinning(mesh, m, drawn, {}).isOk());
     ReferencePose pose;
@@ -208,18 +210,18 @@ TEST(BlendSpace, CrossfadesIntoAndOutOfABlend) {
   ASSERT_TRUE(b.crowd.update(0.1, b.camera()).isOk());
   ASSERT_TRUE(b.crowd.playBlend(b.h, b.space, 2.5f, 0.4).isOk());  // Weight 0.5 over 0.4 s.
   ASSERT_TRUE(b.crowd.update(0.2, b.camera()).isOk());
-  const InstanceRecord& mid = b.crowd.records()[0];
+  const InstanceRecord& mid = b.crowd.view().records()[0];
   float fade = 0.0f;
   std::memcpy(&fade, &mid.blend[2], 4);
   EXPECT_NEAR(fade, 0.5f, 1e-4);  // The crossfade half-way (to the walk).
-  EXPECT_NEAR(layerWeight(b.crowd.layerRecords()[0]), 0.25f, 1e-4);
+  EXPECT_NEAR(layerWeight(b.crowd.view().layerRecords()[0]), 0.25f, 1e-4);
   // Mid-fade to weight 1: the weight goes on from 0.25 towards 1 over the 0.2 s left.
   ASSERT_TRUE(b.crowd.setBlendParameter(b.h, 4.0f).isOk());
   ASSERT_TRUE(b.crowd.update(0.1, b.camera()).isOk());
-  EXPECT_NEAR(layerWeight(b.crowd.layerRecords()[0]), 0.625f, 1e-4);
+  EXPECT_NEAR(layerWeight(b.crowd.view().layerRecords()[0]), 0.625f, 1e-4);
   ASSERT_TRUE(b.crowd.update(0.2, b.camera()).isOk());
-  EXPECT_EQ(b.crowd.records()[0].blend[2], 0u);  // The crossfade is over.
-  EXPECT_NEAR(layerWeight(b.crowd.layerRecords()[0]), 1.0f, 1e-4);
+  EXPECT_EQ(b.crowd.view().records()[0].blend[2], 0u);  // The crossfade is over.
+  EXPECT_NEAR(layerWeight(b.crowd.view().layerRecords()[0]), 1.0f, 1e-4);
   // Out: to the idle over 0.5 s.
   ASSERT_TRUE(b.crowd.crossfade(b.h, b.idle, 0.5).isOk());
   uint32_t space = 0;
@@ -229,9 +231,9 @@ TEST(BlendSpace, CrossfadesIntoAndOutOfABlend) {
             StatusCode::kInvalidArgument);
   EXPECT_EQ(b.crowd.setBlendParameter(b.h, 2.0f).code(), StatusCode::kInvalidArgument);
   ASSERT_TRUE(b.crowd.update(0.25, b.camera()).isOk());
-  EXPECT_NEAR(layerWeight(b.crowd.layerRecords()[0]), 0.5f, 1e-4);
+  EXPECT_NEAR(layerWeight(b.crowd.view().layerRecords()[0]), 0.5f, 1e-4);
   ASSERT_TRUE(b.crowd.update(0.3, b.camera()).isOk());
-  EXPECT_EQ(layerWeight(b.crowd.layerRecords()[0]), 0.0f);
+  EXPECT_EQ(layerWeight(b.crowd.view().layerRecords()[0]), 0.0f);
   InstanceDesc d;
   ASSERT_TRUE(b.crowd.get(b.h, &d).isOk());
   EXPECT_EQ(d.clip, b.idle);
@@ -239,7 +241,7 @@ TEST(BlendSpace, CrossfadesIntoAndOutOfABlend) {
   ASSERT_TRUE(b.crowd.playBlend(b.h, b.space, 3.0f, 0.0).isOk());
   ASSERT_TRUE(b.crowd.play(b.h, b.idle, 0.0, 1.0f).isOk());
   ASSERT_TRUE(b.crowd.update(0.01, b.camera()).isOk());
-  EXPECT_EQ(layerWeight(b.crowd.layerRecords()[0]), 0.0f);
+  EXPECT_EQ(layerWeight(b.crowd.view().layerRecords()[0]), 0.0f);
 }
 
 // Root motion travels as the clips blend: at either end of the space the instance travels as
@@ -277,7 +279,7 @@ TEST(BlendSpace, HugeSpeedsStayFinite) {
   ASSERT_TRUE(b.crowd.get(b.h, &d).isOk());
   EXPECT_TRUE(std::isfinite(d.speed));
   ASSERT_TRUE(b.crowd.update(0.01, b.camera()).isOk());
-  for (const auto& row : b.crowd.records()[0].world_rows)
+  for (const auto& row : b.crowd.view().records()[0].world_rows)
     for (float v : row) EXPECT_TRUE(std::isfinite(v));
 }
 

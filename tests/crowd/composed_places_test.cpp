@@ -9,6 +9,7 @@
 
 #include "crowd/composed_places.h"
 #include "crowd/crowd_test_helpers.h"
+#include "si/crowd/crowd_manager.h"
 #include "si/crowd/instance_batcher.h"
 
 namespace si {

@@ -20,8 +20,8 @@ using test::testCamera;
 uint32_t lodSeenFrom(CrowdManager* crowd, InstanceHandle h, double distance) {
   EXPECT_TRUE(crowd->update(0.0, testCamera({0, 0, distance}, {0, 0, 0})).isOk());
   uint32_t lod = 99;
-  EXPECT_TRUE(crowd->lodOf(h, &lod).isOk());
-  return crowd->stats().visible == 1 ? lod : 99u;
+  EXPECT_TRUE(crowd->view().lodOf(h, &lod).isOk());
+  return crowd->view().stats().visible == 1 ? lod : 99u;
 }
 
 TEST(CrowdManager, LodByDistanceInRadiiWithHysteresis) {
@@ -42,10 +42,10 @@ TEST(CrowdManager, LodByDistanceInRadiiWithHysteresis) {
   EXPECT_EQ(lodAt(17.5), 0u);
   EXPECT_EQ(lodAt(80), 2u);   // Jumps two levels at once.
   EXPECT_EQ(lodAt(10), 0u);
-  EXPECT_EQ(crowd.stats().per_lod[0], 1u);
+  EXPECT_EQ(crowd.view().stats().per_lod[0], 1u);
   EXPECT_EQ(lodAt(150), 99u);  // Beyond 100 radii: culled by distance.
-  EXPECT_EQ(crowd.stats().visible, 0u);
-  EXPECT_EQ(crowd.stats().culled_distance, 1u);
+  EXPECT_EQ(crowd.view().stats().visible, 0u);
+  EXPECT_EQ(crowd.view().stats().culled_distance, 1u);
   // The radius scales with the instance.
   ASSERT_TRUE(crowd.setTransform(h, glm::dvec3(0), glm::quat(1, 0, 0, 0), 2.0f).isOk());
   EXPECT_EQ(lodAt(150), 2u);  // 75 radii of a twice larger character.
@@ -111,7 +111,7 @@ TEST(CrowdManager, CullingMatchesABruteForceReference) {
     const Camera cam = testCamera(eye, glm::dvec3(pos(rng), 0.0, pos(rng)));
     ASSERT_TRUE(crowd.update(0.1, cam).isOk());
     std::vector<bool> marked(hs.size(), false);
-    for (InstanceHandle h : crowd.visibleHandles())
+    for (InstanceHandle h : crowd.view().visibleHandles())
       for (size_t i = 0; i < hs.size(); ++i)
         if (hs[i] == h) marked[i] = true;
     const glm::dmat4 vp(cam.viewProjection());
@@ -168,9 +168,9 @@ TEST(CrowdManager, ABlockBeyondTheFarLineButForOneLaneSelectsThatLane) {
     if (near) want.push_back(h);
   }
   ASSERT_TRUE(crowd.update(0.0, testCamera({0, 1, 10}, {0, 0, -100})).isOk());
-  EXPECT_EQ(crowd.stats().culled_distance, 135u);
-  const std::vector<InstanceHandle> seen(crowd.visibleHandles().begin(),
-                                         crowd.visibleHandles().end());
+  EXPECT_EQ(crowd.view().stats().culled_distance, 135u);
+  const std::vector<InstanceHandle> seen(crowd.view().visibleHandles().begin(),
+                                         crowd.view().visibleHandles().end());
   EXPECT_EQ(seen, want);
 }
 
@@ -209,8 +209,8 @@ TEST(CrowdManager, ImpostorLevelBucketsEachInstanceOnceInSubMeshZero) {
       ASSERT_TRUE(crowd.add(d, &h).isOk());
     }
   ASSERT_TRUE(crowd.update(0.0, testCamera({0, 1, 10}, {0, 0, -100})).isOk());
-  ASSERT_EQ(crowd.stats().per_lod[0], 4u);
-  ASSERT_EQ(crowd.stats().per_lod[2], 4u);
+  ASSERT_EQ(crowd.view().stats().per_lod[0], 4u);
+  ASSERT_EQ(crowd.view().stats().per_lod[2], 4u);
   const std::vector<uint32_t>& offsets = crowd.view().bucketOffsets();
   const auto entries = [&](uint32_t lod, uint32_t sub) {
     const uint32_t b = lod * subs + sub;
@@ -221,7 +221,7 @@ TEST(CrowdManager, ImpostorLevelBucketsEachInstanceOnceInSubMeshZero) {
   EXPECT_EQ(entries(0, 0), 2u);  // Nearer: per worn part.
   EXPECT_EQ(entries(0, 1), 2u);
   EXPECT_EQ(entries(0, 2), 3u);
-  EXPECT_EQ(crowd.stats().bucket_entries, 4u + 7u);
+  EXPECT_EQ(crowd.view().stats().bucket_entries, 4u + 7u);
 }
 
 }  // namespace

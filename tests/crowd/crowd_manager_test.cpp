@@ -248,8 +248,8 @@ TEST(CrowdManager, RecordsAreCameraRelativeAndPreciseFarFromTheOrigin) {
   ASSERT_TRUE(crowd.add(d, &h).isOk());
   const glm::dvec3 eye = far + glm::dvec3(3.1, 1.5, 4.2);
   ASSERT_TRUE(crowd.update(0.0, testCamera(eye, far)).isOk());
-  ASSERT_EQ(crowd.stats().visible, 1u);
-  const InstanceRecord& r = crowd.records()[0];
+  ASSERT_EQ(crowd.view().stats().visible, 1u);
+  const InstanceRecord& r = crowd.view().records()[0];
   const glm::dvec3 rel = far - eye;
   for (int row = 0; row < 3; ++row) EXPECT_NEAR(r.world_rows[row][3], rel[row], 1e-6);
   // Without camera-relative doubles, float positions 100 km out are off by millimetres.
@@ -274,9 +274,9 @@ TEST(CrowdManager, RecordBytesMatchTheStd140Layout) {
   InstanceHandle h;
   ASSERT_TRUE(crowd.add(d, &h).isOk());
   ASSERT_TRUE(crowd.update(0.0, testCamera({0, 1, 0}, {1, 1, 5})).isOk());
-  ASSERT_EQ(crowd.records().size(), 1u);
+  ASSERT_EQ(crowd.view().records().size(), 1u);
   uint8_t bytes[80];
-  std::memcpy(bytes, &crowd.records()[0], 80);
+  std::memcpy(bytes, &crowd.view().records()[0], 80);
   const auto f32 = [&](size_t o) { float v; std::memcpy(&v, bytes + o, 4); return v; };
   const auto u32 = [&](size_t o) { uint32_t v; std::memcpy(&v, bytes + o, 4); return v; };
   // vec4 world_rows[3] at 0, 16, 32: identity rotation, translation (1, -1, 5) in w.
@@ -316,7 +316,7 @@ TEST(CrowdManager, TintAndCustomLayerShareTheAppearanceWord) {
   const Camera camera = testCamera({0, 1, 0}, {0, 1, 5});
   const auto word = [&] {
     EXPECT_TRUE(crowd.update(0.0, camera).isOk());
-    return crowd.records().empty() ? 0u : crowd.records()[0].blend[3];
+    return crowd.view().records().empty() ? 0u : crowd.view().records()[0].blend[3];
   };
   EXPECT_EQ(word(), packAppearance(1, 2, 3, 7));
   EXPECT_EQ(crowd.setColor(h, glm::u8vec4(9, 8, 7, 0)).code(), StatusCode::kInvalidArgument);
@@ -347,7 +347,7 @@ TEST(CrowdManager, CrossfadeWeightsAndEndOfBlend) {
   ASSERT_TRUE(crowd.crossfade(h, run, 0.5).isOk());
   const auto weight = [&] {
     float w;
-    std::memcpy(&w, &crowd.records()[0].blend[2], 4);
+    std::memcpy(&w, &crowd.view().records()[0].blend[2], 4);
     return w;
   };
   ASSERT_TRUE(crowd.update(0.125, camera).isOk());
@@ -355,15 +355,15 @@ TEST(CrowdManager, CrossfadeWeightsAndEndOfBlend) {
   // A carries the old clip (walk), B the new one (run).
   const uint32_t walk_first = p.clips[size_t(p.findClip("walk"))].first_texel;
   const uint32_t run_first = p.clips[run].first_texel;
-  EXPECT_GE(crowd.records()[0].frames[0], walk_first);
-  EXPECT_LT(crowd.records()[0].frames[0], run_first > walk_first ? run_first : UINT32_MAX);
-  EXPECT_GE(crowd.records()[0].frames[2], run_first);
+  EXPECT_GE(crowd.view().records()[0].frames[0], walk_first);
+  EXPECT_LT(crowd.view().records()[0].frames[0], run_first > walk_first ? run_first : UINT32_MAX);
+  EXPECT_GE(crowd.view().records()[0].frames[2], run_first);
   ASSERT_TRUE(crowd.update(0.25, camera).isOk());
   EXPECT_NEAR(weight(), 0.75f, 1e-6f);
   ASSERT_TRUE(crowd.update(0.125, camera).isOk());  // Exactly the end of the blend.
   EXPECT_EQ(weight(), 0.0f);                         // Over: only the new clip remains...
-  EXPECT_GE(crowd.records()[0].frames[0], run_first);  // ...and it is in A.
-  EXPECT_EQ(crowd.records()[0].frames[0], crowd.records()[0].frames[2]);
+  EXPECT_GE(crowd.view().records()[0].frames[0], run_first);  // ...and it is in A.
+  EXPECT_EQ(crowd.view().records()[0].frames[0], crowd.view().records()[0].frames[2]);
   InstanceDesc got;
   ASSERT_TRUE(crowd.get(h, &got).isOk());
   EXPECT_EQ(got.clip, run);

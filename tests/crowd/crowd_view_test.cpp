@@ -16,6 +16,7 @@
 
 #include "crowd/crowd_test_helpers.h"
 #include "si/core/layer_mask.h"
+#include "si/crowd/crowd_manager.h"
 #include "si/crowd/crowd_view.h"
 #include "si/crowd/parallel_for.h"
 
@@ -41,8 +42,7 @@ std::vector<uint8_t> bytesOf(Span<const T> s) {
 }
 
 // `v` is a CrowdManager (its own view) or a CrowdView.
-template <typename V>
-Selection selectionOf(const V& v) {
+Selection selectionOf(const CrowdView& v) {
   Selection s;
   s.records = bytesOf(v.records());
   s.layers = bytesOf(v.layerRecords());
@@ -178,8 +178,8 @@ TEST(CrowdView, EachViewSelectsWhatASingleViewCrowdAtItsCameraSelects) {
       ASSERT_TRUE(main_only.crowd.update(dt, mainCamera(frame)).isOk());
       ASSERT_TRUE(top_only.crowd.update(dt, topCamera(frame)).isOk());
       const std::string at = "frame " + std::to_string(frame);
-      expectSame(selectionOf(main_only.crowd), selectionOf(main_view), "main view, " + at);
-      expectSame(selectionOf(top_only.crowd), selectionOf(top_view), "top view, " + at);
+      expectSame(selectionOf(main_only.crowd.view()), selectionOf(main_view), "main view, " + at);
+      expectSame(selectionOf(top_only.crowd.view()), selectionOf(top_view), "top view, " + at);
       // Events once per frame, not per view.
       EXPECT_EQ(eventsOf(main_only.crowd), eventsOf(both.crowd)) << at;
       events += both.crowd.events().size();
@@ -187,7 +187,7 @@ TEST(CrowdView, EachViewSelectsWhatASingleViewCrowdAtItsCameraSelects) {
       for (InstanceHandle h : {both.handles[0], both.handles[1]}) {
         uint32_t a = 9, b = 9;
         ASSERT_TRUE(main_view.lodOf(h, &a).isOk());
-        ASSERT_TRUE(main_only.crowd.lodOf(h, &b).isOk());
+        ASSERT_TRUE(main_only.crowd.view().lodOf(h, &b).isOk());
         EXPECT_EQ(a, b) << at;
       }
       editWorld(&both, frame);
@@ -255,7 +255,8 @@ TEST(CrowdView, AViewAddedOrRemovedMidRunChangesNothingForTheOthers) {
     if (frame == 4) extra.reset();  // Its lane freed mid-run.
     ASSERT_TRUE(main_view.select(mainCamera(frame)).isOk());
     ASSERT_TRUE(alone.crowd.update(0.2, mainCamera(frame)).isOk());
-    expectSame(selectionOf(alone.crowd), selectionOf(main_view), "frame " + std::to_string(frame));
+    expectSame(selectionOf(alone.crowd.view()), selectionOf(main_view),
+               "frame " + std::to_string(frame));
     editWorld(&both, frame);
     editWorld(&alone, frame);
   }
@@ -287,7 +288,7 @@ TEST(CrowdView, TheViewsOwnLodRules) {
     ASSERT_TRUE(w.crowd.advance(0.1).isOk());
     for (CrowdView* v : {&plain, &biased, &near_lods, &no_far}) ASSERT_TRUE(v->select(cam).isOk());
     ASSERT_TRUE(scaled.crowd.update(0.1, cam).isOk());
-    expectSame(selectionOf(scaled.crowd), selectionOf(near_lods), "distance scale 0.5");
+    expectSame(selectionOf(scaled.crowd.view()), selectionOf(near_lods), "distance scale 0.5");
     EXPECT_EQ(plain.stats().visible, biased.stats().visible);
     uint32_t moved = 0;
     for (InstanceHandle h : plain.visibleHandles()) {

@@ -89,9 +89,9 @@ TEST(IntervalModeRecords, EveryRecordCarriesItsFramesMode) {
         t.join();
       };
     ASSERT_TRUE(crowd.update(1.0 / 60.0, camera, pf).isOk());
-    ASSERT_GT(crowd.records().size(), 400u);
+    ASSERT_GT(crowd.view().records().size(), 400u);
     uint32_t counts[4] = {};
-    for (const InstanceRecord& r : crowd.records()) {
+    for (const InstanceRecord& r : crowd.view().records()) {
       expectMode(p, r.frames[0], r.blend[0], counts);
       expectMode(p, r.frames[2], r.blend[1], counts);
     }

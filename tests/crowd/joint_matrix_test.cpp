@@ -61,14 +61,14 @@ TEST(CrowdManager, JointMatrixFollowsTheAnimationLodStepping) {
   const Camera camera = testCamera({0, 1.6, 0}, {0, 1, -70});
   ASSERT_TRUE(crowd.update(0.12, camera).isOk());
   uint32_t lod = 0;
-  ASSERT_TRUE(crowd.lodOf(h, &lod).isOk());
+  ASSERT_TRUE(crowd.view().lodOf(h, &lod).isOk());
   ASSERT_GE(lod, 1u);
-  ASSERT_EQ(crowd.records().size(), 1u);
+  ASSERT_EQ(crowd.view().records().size(), 1u);
   const uint32_t hand = uint32_t(ch.skeleton.findJoint("r_hand"));
   glm::dmat4 m;
   ASSERT_TRUE(crowd.jointMatrix(h, hand, &m).isOk());
   const glm::mat4 drawn =
-      emulateRecordMatrix(p, crowd.records()[0], uint32_t(p.skeleton_to_palette[hand]));
+      emulateRecordMatrix(p, crowd.view().records()[0], uint32_t(p.skeleton_to_palette[hand]));
   const glm::dvec4 bind_hand(glm::dvec3(glm::inverse(ch.skeleton.inverse_bind_matrices[hand])[3]),
                              1.0);
   const glm::dvec3 expected = glm::dvec3(glm::dmat4(drawn) * bind_hand) + d.position;
@@ -98,13 +98,13 @@ TEST(CrowdManager, SocketTransformIsWhereThePropIsDrawn) {
   ASSERT_TRUE(crowd.add(d, &h).isOk());
   ASSERT_TRUE(crowd.crossfade(h, uint32_t(p.findClip("run")), 0.5).isOk());
   ASSERT_TRUE(crowd.update(0.2, testCamera({0, 1.6, 0}, {3, 1, -6})).isOk());
-  ASSERT_EQ(crowd.records().size(), 1u);
+  ASSERT_EQ(crowd.view().records().size(), 1u);
   glm::dmat4 socket;
   ASSERT_TRUE(crowd.socketTransform(h, grip, &socket).isOk());
   const uint32_t slot = uint32_t(p.skeleton_to_palette[grip.joint]);
-  const glm::mat4 skin = emulateRecordMatrix(p, crowd.records()[0], slot);
-  const InstanceRecord& r = crowd.records()[0];
-  const Camera& cam = crowd.updateCamera();
+  const glm::mat4 skin = emulateRecordMatrix(p, crowd.view().records()[0], slot);
+  const InstanceRecord& r = crowd.view().records()[0];
+  const Camera& cam = crowd.view().camera();
   double worst = 0.0;
   for (size_t v = 0; v < prop.positions.size(); ++v) {
     const glm::vec4 posed = skin * glm::vec4(ch.mesh.positions[first + v], 1.0f);

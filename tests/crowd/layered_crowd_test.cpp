@@ -8,6 +8,7 @@
 #include <cstring>
 
 #include "crowd/crowd_test_helpers.h"
+#include "si/crowd/crowd_manager.h"
 #include "si/crowd/instance_batcher.h"
 #include "si/crowd/record_emulation.h"
 
@@ -55,8 +56,9 @@ std::vector<glm::vec3> emulatedPositions(const CrowdManager& crowd, size_t recor
   std::vector<glm::mat4> m(p.skeleton_to_palette.size(), glm::mat4(1.0f));
   for (size_t j = 0; j < m.size(); ++j)
     if (p.skeleton_to_palette[j] >= 0)
-      m[j] = emulateLayeredRecordMatrix(p, crowd.records()[record], crowd.layerRecords()[record],
-                                        crowd.layerMasks(), uint32_t(p.skeleton_to_palette[j]));
+      m[j] = emulateLayeredRecordMatrix(p, crowd.view().records()[record],
+                                        crowd.view().layerRecords()[record], crowd.layerMasks(),
+                                        uint32_t(p.skeleton_to_palette[j]));
   std::vector<glm::vec3> out(mesh.positions.size());
   EXPECT_TRUE(emulateSkinning(mesh, m, out, {}).isOk());
   return out;
@@ -80,16 +82,16 @@ TEST(LayeredCrowd, RecordsSkinTheReferenceLayeredPose) {
   double worst_full = 0.0, worst_fading = 0.0;
   for (int frame = 0; frame < 5; ++frame) {
     ASSERT_TRUE(l.crowd.update(0.07, viewOf(6)).isOk());  // Off the 30 Hz frame grid.
-    ASSERT_EQ(l.crowd.layerRecords().size(), l.crowd.records().size());
-    ASSERT_EQ(l.crowd.records().size(), 6u);
+    ASSERT_EQ(l.crowd.view().layerRecords().size(), l.crowd.view().records().size());
+    ASSERT_EQ(l.crowd.view().records().size(), 6u);
     const double clock = l.crowd.clockSeconds();
-    for (size_t r = 0; r < l.crowd.records().size(); ++r) {
+    for (size_t r = 0; r < l.crowd.view().records().size(); ++r) {
       uint32_t index = 99;
       for (uint32_t i = 0; i < 6; ++i)
-        if (l.crowd.visibleHandles()[r] == l.handles[i]) index = i;
+        if (l.crowd.view().visibleHandles()[r] == l.handles[i]) index = i;
       ASSERT_LT(index, 6u);
       const double weight = index % 2 ? std::min(1.0, clock / 0.5) : 1.0;  // 5 x 0.07 s < 0.5 s.
-      EXPECT_NEAR(layerWeight(l.crowd.layerRecords()[r]), weight, 1e-4);
+      EXPECT_NEAR(layerWeight(l.crowd.view().layerRecords()[r]), weight, 1e-4);
       ReferencePose pose;
       ASSERT_TRUE(evaluateLayeredPose(c.skeleton, walk, 0.1 * index + clock, wave,
                                       0.2 * index + clock, l.arm, weight, &pose).isOk());
@@ -116,23 +118,23 @@ TEST(LayeredCrowd, TheWeightFadesInAndOut) {
   makeLayered(&l, 1);
   const InstanceHandle h = l.handles[0];
   ASSERT_TRUE(l.crowd.update(0.1, viewOf(1)).isOk());
-  EXPECT_TRUE(l.crowd.layerRecords().empty());  // No overlay yet: no stream.
+  EXPECT_TRUE(l.crowd.view().layerRecords().empty());  // No overlay yet: no stream.
   ASSERT_TRUE(l.crowd.playOverlay(h, l.wave, l.mask, 0.8f, 0.4).isOk());
   ASSERT_TRUE(l.crowd.update(0.1, viewOf(1)).isOk());
-  EXPECT_NEAR(layerWeight(l.crowd.layerRecords()[0]), 0.2f, 1e-4);
-  EXPECT_EQ(layerMask(l.crowd.layerRecords()[0]), l.mask);
+  EXPECT_NEAR(layerWeight(l.crowd.view().layerRecords()[0]), 0.2f, 1e-4);
+  EXPECT_EQ(layerMask(l.crowd.view().layerRecords()[0]), l.mask);
   ASSERT_TRUE(l.crowd.update(0.4, viewOf(1)).isOk());
-  EXPECT_NEAR(layerWeight(l.crowd.layerRecords()[0]), 0.8f, 1e-4);
+  EXPECT_NEAR(layerWeight(l.crowd.view().layerRecords()[0]), 0.8f, 1e-4);
   ASSERT_TRUE(l.crowd.stopOverlay(h, 0.2).isOk());
   ASSERT_TRUE(l.crowd.update(0.1, viewOf(1)).isOk());
-  EXPECT_NEAR(layerWeight(l.crowd.layerRecords()[0]), 0.4f, 1e-4);
+  EXPECT_NEAR(layerWeight(l.crowd.view().layerRecords()[0]), 0.4f, 1e-4);
   // A new overlay continues from the weight it finds.
   ASSERT_TRUE(l.crowd.playOverlay(h, l.walk, l.mask, 1.0f, 0.6).isOk());
   ASSERT_TRUE(l.crowd.update(0.3, viewOf(1)).isOk());
-  EXPECT_NEAR(layerWeight(l.crowd.layerRecords()[0]), 0.7f, 1e-4);
+  EXPECT_NEAR(layerWeight(l.crowd.view().layerRecords()[0]), 0.7f, 1e-4);
   ASSERT_TRUE(l.crowd.stopOverlay(h, 0.0).isOk());
   ASSERT_TRUE(l.crowd.update(0.1, viewOf(1)).isOk());
-  EXPECT_EQ(layerWeight(l.crowd.layerRecords()[0]), 0.0f);
+  EXPECT_EQ(layerWeight(l.crowd.view().layerRecords()[0]), 0.0f);
   // jointMatrix follows the overlay: the hand of a waving instance is where the record puts it.
   ASSERT_TRUE(l.crowd.playOverlay(h, l.wave, l.mask, 1.0f, 0.0, 0.3).isOk());
   ASSERT_TRUE(l.crowd.update(0.05, viewOf(1)).isOk());
@@ -140,8 +142,8 @@ TEST(LayeredCrowd, TheWeightFadesInAndOut) {
   glm::dmat4 world_hand;
   ASSERT_TRUE(l.crowd.jointMatrix(h, hand, &world_hand).isOk());
   const glm::mat4 drawn = emulateLayeredRecordMatrix(
-      defaultPalette(), l.crowd.records()[0], l.crowd.layerRecords()[0], l.crowd.layerMasks(),
-      uint32_t(defaultPalette().skeleton_to_palette[hand]));
+      defaultPalette(), l.crowd.view().records()[0], l.crowd.view().layerRecords()[0],
+      l.crowd.layerMasks(), uint32_t(defaultPalette().skeleton_to_palette[hand]));
   const glm::dvec4 p(0.27, 0.91, 0.02, 1.0);  // The hand's bind position.
   EXPECT_LT(glm::length(glm::dvec3(world_hand * p) - glm::dvec3(glm::dmat4(drawn) * p)), 1e-4);
 }
@@ -206,22 +208,25 @@ TEST(LayeredCrowd, KeepsThePreviousLayerRecords) {
   for (uint32_t k = 0; k < 5; ++k) addOne(k);
   const Camera camera = viewOf(6);
   ASSERT_TRUE(l.crowd.update(0.0, camera).isOk());
-  EXPECT_TRUE(l.crowd.previousLayerRecords().empty());  // The first update had no previous one.
-  const std::vector<LayerRecord> first(l.crowd.layerRecords().begin(), l.crowd.layerRecords().end());
+  EXPECT_TRUE(
+      l.crowd.view().previousLayerRecords().empty());  // The first update had no previous one.
+  const std::vector<LayerRecord> first(l.crowd.view().layerRecords().begin(),
+                                       l.crowd.view().layerRecords().end());
   ASSERT_EQ(first.size(), 5u);
   addOne(5);
   ASSERT_TRUE(l.crowd.update(0.1, camera).isOk());
-  ASSERT_EQ(l.crowd.previousLayerRecords().size(), first.size());
+  ASSERT_EQ(l.crowd.view().previousLayerRecords().size(), first.size());
   for (size_t i = 0; i < first.size(); ++i)
-    EXPECT_EQ(std::memcmp(&l.crowd.previousLayerRecords()[i], &first[i], sizeof(LayerRecord)), 0);
+    EXPECT_EQ(
+        std::memcmp(&l.crowd.view().previousLayerRecords()[i], &first[i], sizeof(LayerRecord)), 0);
   InstanceBatcher batcher;
   ASSERT_TRUE(batcher.init({16384, 256, 0}).isOk());
-  std::vector<uint8_t> records(batcher.recordBufferBound(l.crowd));
-  std::vector<uint8_t> previous(batcher.layerBufferBound(l.crowd)), current(previous.size());
+  std::vector<uint8_t> records(batcher.recordBufferBound(l.crowd.view()));
+  std::vector<uint8_t> previous(batcher.layerBufferBound(l.crowd.view())), current(previous.size());
   std::vector<DrawBatch> draws;
-  ASSERT_TRUE(batcher.build(l.crowd, records, &draws).isOk());
-  ASSERT_TRUE(batcher.buildLayers(l.crowd, current).isOk());
-  ASSERT_TRUE(batcher.buildPreviousLayers(l.crowd, previous).isOk());
+  ASSERT_TRUE(batcher.build(l.crowd.view(), records, &draws).isOk());
+  ASSERT_TRUE(batcher.buildLayers(l.crowd.view(), current).isOk());
+  ASSERT_TRUE(batcher.buildPreviousLayers(l.crowd.view(), previous).isOk());
   size_t kept = 0, fallbacks = 0;
   for (const DrawBatch& d : draws)
     for (uint32_t k = 0; k < d.instance_count; ++k) {
@@ -229,15 +234,16 @@ TEST(LayeredCrowd, KeepsThePreviousLayerRecords) {
       std::memcpy(&rec, records.data() + d.byte_offset + k * kInstanceRecordSize, sizeof rec);
       // The slot's record is records()[i] for the i whose record it is.
       size_t i = 0;
-      while (i < l.crowd.records().size() &&
-             std::memcmp(&l.crowd.records()[i], &rec, sizeof rec) != 0)
+      while (i < l.crowd.view().records().size() &&
+             std::memcmp(&l.crowd.view().records()[i], &rec, sizeof rec) != 0)
         ++i;
-      ASSERT_LT(i, l.crowd.records().size());
-      const uint32_t p = l.crowd.previousRecordIndices()[i];
+      ASSERT_LT(i, l.crowd.view().records().size());
+      const uint32_t p = l.crowd.view().previousRecordIndices()[i];
       const uint8_t* slot = previous.data() + d.layer_byte_offset + k * kLayerRecordSize;
-      const void* expected = p == kNoPreviousRecord
-                                 ? static_cast<const void*>(&l.crowd.layerRecords()[i])
-                                 : static_cast<const void*>(&l.crowd.previousLayerRecords()[p]);
+      const void* expected =
+          p == kNoPreviousRecord
+              ? static_cast<const void*>(&l.crowd.view().layerRecords()[i])
+              : static_cast<const void*>(&l.crowd.view().previousLayerRecords()[p]);
       EXPECT_EQ(std::memcmp(slot, expected, kLayerRecordSize), 0) << i;
       (p == kNoPreviousRecord ? fallbacks : kept) += 1;
     }
@@ -248,8 +254,9 @@ TEST(LayeredCrowd, KeepsThePreviousLayerRecords) {
   makeLayered(&plain, 2);
   ASSERT_TRUE(plain.crowd.playOverlay(plain.handles[0], plain.wave, plain.mask, 1.0f, 0.0).isOk());
   ASSERT_TRUE(plain.crowd.update(0.0, viewOf(2)).isOk());
-  std::vector<uint8_t> out(batcher.layerBufferBound(plain.crowd));
-  EXPECT_EQ(batcher.buildPreviousLayers(plain.crowd, out).code(), StatusCode::kInvalidArgument);
+  std::vector<uint8_t> out(batcher.layerBufferBound(plain.crowd.view()));
+  EXPECT_EQ(batcher.buildPreviousLayers(plain.crowd.view(), out).code(),
+            StatusCode::kInvalidArgument);
 }
 
 TEST(LayeredCrowd, RefusesBadMasksAndArguments) {
@@ -272,7 +279,7 @@ TEST(LayeredCrowd, RefusesBadMasksAndArguments) {
   EXPECT_EQ(l.crowd.stopOverlay(h, std::nan("")).code(), StatusCode::kInvalidArgument);
   EXPECT_TRUE(l.crowd.stopOverlay(h, 0.1).isOk());  // None plays: nothing to do.
   ASSERT_TRUE(l.crowd.update(0.1, viewOf(1)).isOk());
-  EXPECT_TRUE(l.crowd.layerRecords().empty());  // Refused calls started nothing.
+  EXPECT_TRUE(l.crowd.view().layerRecords().empty());  // Refused calls started nothing.
   // A removed instance's overlay goes with it.
   ASSERT_TRUE(l.crowd.playOverlay(h, l.wave, 0, 1.0f, 0.0).isOk());
   ASSERT_TRUE(l.crowd.remove(h).isOk());
@@ -281,7 +288,7 @@ TEST(LayeredCrowd, RefusesBadMasksAndArguments) {
   InstanceHandle other;
   ASSERT_TRUE(l.crowd.add(d, &other).isOk());
   ASSERT_TRUE(l.crowd.update(0.1, viewOf(1)).isOk());
-  EXPECT_TRUE(l.crowd.layerRecords().empty());
+  EXPECT_TRUE(l.crowd.view().layerRecords().empty());
 }
 
 }  // namespace

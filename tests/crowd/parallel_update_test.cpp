@@ -17,6 +17,7 @@
 #include "crowd/cull_lanes.h"
 #include "crowd/playback.h"
 #include "crowd/record_lanes.h"
+#include "si/crowd/crowd_manager.h"
 #include "si/crowd/parallel_for.h"
 
 namespace si {
@@ -68,14 +69,15 @@ struct FrameCopy {
 
 FrameCopy copyFrame(const CrowdManager& c) {
   FrameCopy f;
-  f.records.resize(c.records().size_bytes());
-  if (!f.records.empty()) std::memcpy(f.records.data(), c.records().data(), f.records.size());
-  f.handles.assign(c.visibleHandles().begin(), c.visibleHandles().end());
-  f.offsets = c.bucketOffsets();
-  f.entries = c.bucketEntries();
-  f.run_offsets = c.bucketRunOffsets();
-  for (const RecordRun& r : c.bucketRuns()) f.runs.insert(f.runs.end(), {r.first, r.count});
-  f.stats = c.stats();
+  f.records.resize(c.view().records().size_bytes());
+  if (!f.records.empty())
+    std::memcpy(f.records.data(), c.view().records().data(), f.records.size());
+  f.handles.assign(c.view().visibleHandles().begin(), c.view().visibleHandles().end());
+  f.offsets = c.view().bucketOffsets();
+  f.entries = c.view().bucketEntries();
+  f.run_offsets = c.view().bucketRunOffsets();
+  for (const RecordRun& r : c.view().bucketRuns()) f.runs.insert(f.runs.end(), {r.first, r.count});
+  f.stats = c.view().stats();
   return f;
 }
 
@@ -146,11 +148,11 @@ TEST(ParallelUpdate, RecordsAreSortedByLodThenWornMaskAndRunsAreTheBuckets) {
     std::unique_ptr<CrowdManager> c = randomCrowd(20000, sub_meshes, 9, 2);
     ASSERT_NE(c, nullptr);
     ASSERT_TRUE(c->update(0.1, testCamera({0, 30, -40}, {0, 0, 80})).isOk());
-    const Span<const InstanceHandle> handles = c->visibleHandles();
-    ASSERT_EQ(handles.size(), c->records().size());
+    const Span<const InstanceHandle> handles = c->view().visibleHandles();
+    ASSERT_EQ(handles.size(), c->view().records().size());
     std::vector<uint32_t> lod(handles.size()), worn(handles.size());
     for (size_t v = 0; v < handles.size(); ++v) {
-      ASSERT_TRUE(c->lodOf(handles[v], &lod[v]).isOk());
+      ASSERT_TRUE(c->view().lodOf(handles[v], &lod[v]).isOk());
       worn[v] = wornOf(*c, handles[v]);
     }
     const bool grouped = sub_meshes == 4;  // 15 masks: grouped; 32 random bits: the fallback.
@@ -164,27 +166,31 @@ TEST(ParallelUpdate, RecordsAreSortedByLodThenWornMaskAndRunsAreTheBuckets) {
     // and its runs hold the same entries.
     const uint32_t s_count = c->desc().sub_mesh_count;
     size_t runs_total = 0;
-    for (uint32_t b = 0; b < c->bucketCount(); ++b) {
+    for (uint32_t b = 0; b < c->view().bucketCount(); ++b) {
       std::vector<uint32_t> expected, from_runs;
       for (uint32_t v = 0; v < handles.size(); ++v)
         if (lod[v] == b / s_count && ((worn[v] >> (b % s_count)) & 1u)) expected.push_back(v);
-      const std::vector<uint32_t> entries(c->bucketEntries().begin() + c->bucketOffsets()[b],
-                                          c->bucketEntries().begin() + c->bucketOffsets()[b + 1]);
+      const std::vector<uint32_t> entries(
+          c->view().bucketEntries().begin() + c->view().bucketOffsets()[b],
+          c->view().bucketEntries().begin() + c->view().bucketOffsets()[b + 1]);
       EXPECT_EQ(entries, expected) << "bucket " << b;
-      for (uint32_t r = c->bucketRunOffsets()[b]; r < c->bucketRunOffsets()[b + 1]; ++r) {
-        const RecordRun run = c->bucketRuns()[r];
+      for (uint32_t r = c->view().bucketRunOffsets()[b]; r < c->view().bucketRunOffsets()[b + 1];
+           ++r) {
+        const RecordRun run = c->view().bucketRuns()[r];
         EXPECT_GT(run.count, 0u);
         for (uint32_t k = 0; k < run.count; ++k) from_runs.push_back(run.first + k);
       }
       EXPECT_EQ(from_runs, expected) << "bucket " << b;
-      runs_total += c->bucketRunOffsets()[b + 1] - c->bucketRunOffsets()[b];
+      runs_total += c->view().bucketRunOffsets()[b + 1] - c->view().bucketRunOffsets()[b];
     }
     // Grouped: the body (bit 0, worn by all) is one run per LOD, any sub-mesh at most 8 runs
     // (one per mask with its bit, joined where consecutive).
     if (grouped) {
       for (uint32_t l = 0; l < c->desc().lod_count; ++l)
-        EXPECT_LE(c->bucketRunOffsets()[l * s_count + 1] - c->bucketRunOffsets()[l * s_count], 1u);
-      EXPECT_LE(runs_total, size_t(c->bucketCount()) * 8);
+        EXPECT_LE(c->view().bucketRunOffsets()[l * s_count + 1] -
+                      c->view().bucketRunOffsets()[l * s_count],
+                  1u);
+      EXPECT_LE(runs_total, size_t(c->view().bucketCount()) * 8);
     }
   }
 }
@@ -262,9 +268,9 @@ TEST(ParallelUpdate, PositionsPastAFloatAreCulledByDistanceWithoutAFarLine) {
     ASSERT_TRUE(crowd.add(d, &h).isOk());
   }
   ASSERT_TRUE(crowd.update(0.0, camera).isOk());
-  EXPECT_EQ(crowd.stats().visible, 1u);
-  EXPECT_EQ(crowd.stats().culled_distance, 3u);
-  for (const InstanceRecord& r : crowd.records())
+  EXPECT_EQ(crowd.view().stats().visible, 1u);
+  EXPECT_EQ(crowd.view().stats().culled_distance, 3u);
+  for (const InstanceRecord& r : crowd.view().records())
     for (const auto& row : r.world_rows)
       for (float v : row) EXPECT_TRUE(std::isfinite(v));
   const CullParams p = crowd.cullParams(camera);

@@ -9,6 +9,7 @@
 #include <map>
 
 #include "crowd/crowd_test_helpers.h"
+#include "si/crowd/crowd_manager.h"
 #include "si/crowd/instance_batcher.h"
 
 namespace si {
@@ -25,9 +26,9 @@ struct Frame {
 
 Frame capture(const CrowdManager& crowd) {
   Frame f;
-  f.records.assign(crowd.records().begin(), crowd.records().end());
-  for (size_t r = 0; r < crowd.visibleHandles().size(); ++r)
-    f.index_of[crowd.visibleHandles()[r].id] = r;
+  f.records.assign(crowd.view().records().begin(), crowd.view().records().end());
+  for (size_t r = 0; r < crowd.view().visibleHandles().size(); ++r)
+    f.index_of[crowd.view().visibleHandles()[r].id] = r;
   return f;
 }
 
@@ -36,17 +37,17 @@ Frame capture(const CrowdManager& crowd) {
 // then have none.
 void expectPrevious(const CrowdManager& crowd, const Frame& before,
                     const std::vector<uint32_t>& no_motion = {}) {
-  ASSERT_EQ(crowd.previousRecords().size(), before.records.size());
+  ASSERT_EQ(crowd.view().previousRecords().size(), before.records.size());
   for (size_t r = 0; r < before.records.size(); ++r)
-    ASSERT_TRUE(sameRecord(crowd.previousRecords()[r], before.records[r])) << r;
-  ASSERT_EQ(crowd.previousRecordIndices().size(), crowd.records().size());
-  for (size_t r = 0; r < crowd.records().size(); ++r) {
-    const uint32_t id = crowd.visibleHandles()[r].id;
+    ASSERT_TRUE(sameRecord(crowd.view().previousRecords()[r], before.records[r])) << r;
+  ASSERT_EQ(crowd.view().previousRecordIndices().size(), crowd.view().records().size());
+  for (size_t r = 0; r < crowd.view().records().size(); ++r) {
+    const uint32_t id = crowd.view().visibleHandles()[r].id;
     const auto it = before.index_of.find(id);
     const bool teleported = std::find(no_motion.begin(), no_motion.end(), id) != no_motion.end();
     const uint32_t expected =
         it == before.index_of.end() || teleported ? kNoPreviousRecord : uint32_t(it->second);
-    ASSERT_EQ(crowd.previousRecordIndices()[r], expected) << "record " << r << " id " << id;
+    ASSERT_EQ(crowd.view().previousRecordIndices()[r], expected) << "record " << r << " id " << id;
   }
 }
 
@@ -73,9 +74,9 @@ TEST(PreviousRecords, EachRecordNamesWhatItsInstanceDrewLastUpdate) {
     ASSERT_TRUE(crowd.addRandom(r, &handles).isOk());
     Camera camera = test::testCamera({70, 10, -20}, {70, 0, 60});
     ASSERT_TRUE(crowd.update(1.0 / 60.0, camera).isOk());
-    EXPECT_TRUE(crowd.previousRecords().empty());  // Nothing was drawn before.
-    for (uint32_t k = 0; k < crowd.records().size(); ++k)
-      ASSERT_EQ(crowd.previousRecordIndices()[k], kNoPreviousRecord);
+    EXPECT_TRUE(crowd.view().previousRecords().empty());  // Nothing was drawn before.
+    for (uint32_t k = 0; k < crowd.view().records().size(); ++k)
+      ASSERT_EQ(crowd.view().previousRecordIndices()[k], kNoPreviousRecord);
     size_t with = 0, without = 0;  // Over the frames: something of each kind happened.
     for (int frame = 0; frame < 6; ++frame) {
       const Frame before = capture(crowd);
@@ -107,10 +108,10 @@ TEST(PreviousRecords, EachRecordNamesWhatItsInstanceDrewLastUpdate) {
       ASSERT_TRUE(crowd.update(frame == 3 ? 0.0 : 0.1, camera).isOk());
       expectPrevious(crowd, before, teleported);
       size_t teleported_drawn = 0;
-      for (InstanceHandle h : crowd.visibleHandles())
+      for (InstanceHandle h : crowd.view().visibleHandles())
         teleported_drawn += std::count(teleported.begin(), teleported.end(), h.id);
       EXPECT_EQ(teleported_drawn, teleported.size());  // Checked where they are drawn.
-      for (uint32_t p : crowd.previousRecordIndices())
+      for (uint32_t p : crowd.view().previousRecordIndices())
         (p == kNoPreviousRecord ? without : with) += 1;
     }
     EXPECT_GT(with, 100u);
@@ -131,7 +132,8 @@ TEST(PreviousRecords, TheSameForAnyThreadCount) {
     std::vector<uint32_t> all;
     for (int frame = 0; frame < 3; ++frame) {
       ASSERT_TRUE(crowd.update(0.1, test::testCamera({75, 12, -10.0 + 8 * frame}, {75, 0, 80})).isOk());
-      all.insert(all.end(), crowd.previousRecordIndices().begin(), crowd.previousRecordIndices().end());
+      all.insert(all.end(), crowd.view().previousRecordIndices().begin(),
+                 crowd.view().previousRecordIndices().end());
     }
     runs.push_back(all);
   }
@@ -145,21 +147,21 @@ TEST(PreviousRecords, OffByDefault) {
   InstanceHandle h;
   ASSERT_TRUE(crowd.add(d, &h).isOk());
   for (int i = 0; i < 2; ++i) ASSERT_TRUE(crowd.update(0.1, test::testCamera({0, 2, -6}, {0, 1, 0})).isOk());
-  EXPECT_EQ(crowd.records().size(), 1u);
-  EXPECT_TRUE(crowd.previousRecords().empty());
-  EXPECT_TRUE(crowd.previousRecordIndices().empty());
+  EXPECT_EQ(crowd.view().records().size(), 1u);
+  EXPECT_TRUE(crowd.view().previousRecords().empty());
+  EXPECT_TRUE(crowd.view().previousRecordIndices().empty());
 }
 
 TEST(PreviousRecords, TheCamerasOfTheLastTwoUpdates) {
   CrowdManager crowd = makeCrowd(1);
   const Camera a = test::testCamera({0, 2, -6}, {0, 1, 0}), b = test::testCamera({1, 2, -6}, {0, 1, 0});
   ASSERT_TRUE(crowd.update(0.1, a).isOk());
-  EXPECT_EQ(crowd.updateCamera().position, a.position);
-  EXPECT_EQ(crowd.previousUpdateCamera().position, a.position);  // No update before: the same.
+  EXPECT_EQ(crowd.view().camera().position, a.position);
+  EXPECT_EQ(crowd.view().previousCamera().position, a.position);  // No update before: the same.
   ASSERT_TRUE(crowd.update(0.1, b).isOk());
-  EXPECT_EQ(crowd.updateCamera().position, b.position);
-  EXPECT_EQ(crowd.previousUpdateCamera().position, a.position);
-  EXPECT_EQ(crowd.previousUpdateCamera().viewProjection(), a.viewProjection());
+  EXPECT_EQ(crowd.view().camera().position, b.position);
+  EXPECT_EQ(crowd.view().previousCamera().position, a.position);
+  EXPECT_EQ(crowd.view().previousCamera().viewProjection(), a.viewProjection());
 }
 
 // A frame is a step of the crowd: every update(), advance() and advanceClock() counts one, dt 0
@@ -238,26 +240,26 @@ TEST(PreviousRecords, TheBatcherWritesThemInBuildsSlots) {
   size_t with = 0, without = 0;
   for (int frame = 0; frame < 4; ++frame) {
     ASSERT_NO_FATAL_FAILURE(batcherSceneFrame(frame, handles, &crowd));
-    std::vector<uint8_t> current(batcher.recordBufferBound(crowd)), previous(current.size());
-    std::vector<uint8_t> indices(batcher.previousIndexBufferBound(crowd));
-    EXPECT_EQ(indices.size(), batcher.layerBufferBound(crowd) / 4);
+    std::vector<uint8_t> current(batcher.recordBufferBound(crowd.view())), previous(current.size());
+    std::vector<uint8_t> indices(batcher.previousIndexBufferBound(crowd.view()));
+    EXPECT_EQ(indices.size(), batcher.layerBufferBound(crowd.view()) / 4);
     std::vector<DrawBatch> draws;
-    ASSERT_TRUE(batcher.build(crowd, current, &draws).isOk());
-    ASSERT_TRUE(batcher.buildPrevious(crowd, previous).isOk());
-    ASSERT_TRUE(batcher.buildPreviousIndices(crowd, indices).isOk());
-    const glm::vec3 shift(crowd.updateCamera().position - crowd.previousUpdateCamera().position);
-    const std::vector<uint32_t>& entries = crowd.bucketEntries();
+    ASSERT_TRUE(batcher.build(crowd.view(), current, &draws).isOk());
+    ASSERT_TRUE(batcher.buildPrevious(crowd.view(), previous).isOk());
+    ASSERT_TRUE(batcher.buildPreviousIndices(crowd.view(), indices).isOk());
+    const glm::vec3 shift(crowd.view().camera().position - crowd.view().previousCamera().position);
+    const std::vector<uint32_t>& entries = crowd.view().bucketEntries();
     size_t e = 0;
     for (const DrawBatch& d : draws)
       for (uint32_t k = 0; k < d.instance_count; ++k, ++e) {
-        const uint32_t rec = entries[e], p = crowd.previousRecordIndices()[rec];
+        const uint32_t rec = entries[e], p = crowd.view().previousRecordIndices()[rec];
         InstanceRecord now, then;
         std::memcpy(&now, current.data() + d.byte_offset + k * kInstanceRecordSize, sizeof now);
         std::memcpy(&then, previous.data() + d.byte_offset + k * kInstanceRecordSize, sizeof then);
-        ASSERT_TRUE(sameRecord(now, crowd.records()[rec]));
-        InstanceRecord expected = crowd.records()[rec];
+        ASSERT_TRUE(sameRecord(now, crowd.view().records()[rec]));
+        InstanceRecord expected = crowd.view().records()[rec];
         if (p != kNoPreviousRecord) {
-          expected = crowd.previousRecords()[p];
+          expected = crowd.view().previousRecords()[p];
           ++with;
         } else {
           for (int row = 0; row < 3; ++row) expected.world_rows[row][3] += shift[row];
@@ -272,15 +274,16 @@ TEST(PreviousRecords, TheBatcherWritesThemInBuildsSlots) {
   }
   EXPECT_GT(with, 1000u);
   EXPECT_GT(without, 1000u);  // The first frame, instances entering the view, the teleported.
-  std::vector<uint8_t> small(batcher.recordBufferBound(crowd) - 1);
-  EXPECT_EQ(batcher.buildPrevious(crowd, small).code(), StatusCode::kCountMismatch);
+  std::vector<uint8_t> small(batcher.recordBufferBound(crowd.view()) - 1);
+  EXPECT_EQ(batcher.buildPrevious(crowd.view(), small).code(), StatusCode::kCountMismatch);
   CrowdManager plain = makeCrowd(1, false);
-  EXPECT_EQ(batcher.buildPrevious(plain, small).code(), StatusCode::kInvalidArgument);
-  EXPECT_EQ(InstanceBatcher().buildPrevious(crowd, small).code(), StatusCode::kInvalidArgument);
-  std::vector<uint8_t> few(batcher.previousIndexBufferBound(crowd) - 1);
-  EXPECT_EQ(batcher.buildPreviousIndices(crowd, few).code(), StatusCode::kCountMismatch);
-  EXPECT_EQ(batcher.buildPreviousIndices(plain, few).code(), StatusCode::kInvalidArgument);
-  EXPECT_EQ(InstanceBatcher().buildPreviousIndices(crowd, few).code(),
+  EXPECT_EQ(batcher.buildPrevious(plain.view(), small).code(), StatusCode::kInvalidArgument);
+  EXPECT_EQ(InstanceBatcher().buildPrevious(crowd.view(), small).code(),
+            StatusCode::kInvalidArgument);
+  std::vector<uint8_t> few(batcher.previousIndexBufferBound(crowd.view()) - 1);
+  EXPECT_EQ(batcher.buildPreviousIndices(crowd.view(), few).code(), StatusCode::kCountMismatch);
+  EXPECT_EQ(batcher.buildPreviousIndices(plain.view(), few).code(), StatusCode::kInvalidArgument);
+  EXPECT_EQ(InstanceBatcher().buildPreviousIndices(crowd.view(), few).code(),
             StatusCode::kInvalidArgument);
 }
 
@@ -300,11 +303,11 @@ TEST(PreviousRecords, TheLastFramesBufferHoldsThePreviousRecords) {
   for (int frame = 0; frame < 4; ++frame) {
     ASSERT_NO_FATAL_FAILURE(batcherSceneFrame(frame, handles, &crowd));
     EXPECT_EQ(crowd.view().selectionCount(), selections + uint64_t(frame) + 1);
-    std::vector<uint8_t> current(batcher.recordBufferBound(crowd)), previous(current.size());
-    std::vector<uint8_t> indices(batcher.previousIndexBufferBound(crowd));
+    std::vector<uint8_t> current(batcher.recordBufferBound(crowd.view())), previous(current.size());
+    std::vector<uint8_t> indices(batcher.previousIndexBufferBound(crowd.view()));
     std::vector<DrawBatch> draws;
-    ASSERT_TRUE(batcher.build(crowd, current, &draws).isOk());
-    ASSERT_TRUE(batcher.buildPrevious(crowd, previous).isOk());
+    ASSERT_TRUE(batcher.build(crowd.view(), current, &draws).isOk());
+    ASSERT_TRUE(batcher.buildPrevious(crowd.view(), previous).isOk());
     if (frame > 0) {
       ASSERT_TRUE(batcher.buildPreviousIndices(crowd.view(), indices, last_places).isOk());
       for (const DrawBatch& d : draws)
@@ -325,25 +328,27 @@ TEST(PreviousRecords, TheLastFramesBufferHoldsThePreviousRecords) {
           ++through;
         }
     }
-    std::vector<uint32_t> places(crowd.records().size() + 1, 7u);
+    std::vector<uint32_t> places(crowd.view().records().size() + 1, 7u);
     ASSERT_TRUE(batcher.buildRecordPlaces(crowd.view(), places).isOk());
     EXPECT_EQ(places.back(), 7u);  // Past records(): untouched.
-    for (size_t i = 0; i < crowd.records().size(); ++i) {
+    for (size_t i = 0; i < crowd.view().records().size(); ++i) {
       ASSERT_NE(places[i], InstanceBatcher::kNoRecordPlace);
       InstanceRecord there;
       std::memcpy(&there, current.data() + size_t(places[i]) * 16, sizeof there);
-      ASSERT_TRUE(sameRecord(there, crowd.records()[i])) << "frame " << frame << " record " << i;
+      ASSERT_TRUE(sameRecord(there, crowd.view().records()[i]))
+          << "frame " << frame << " record " << i;
     }
     last_buffer = current;
     last_places.assign(places.begin(), places.end() - 1);
   }
   EXPECT_GT(through, 1000u);
   EXPECT_GT(without, 100u);  // Instances entering the view, the teleported.
-  std::vector<uint8_t> indices(batcher.previousIndexBufferBound(crowd));
-  const Span<const uint32_t> short_table(last_places.data(), crowd.previousRecords().size() - 1);
+  std::vector<uint8_t> indices(batcher.previousIndexBufferBound(crowd.view()));
+  const Span<const uint32_t> short_table(last_places.data(),
+                                         crowd.view().previousRecords().size() - 1);
   EXPECT_EQ(batcher.buildPreviousIndices(crowd.view(), indices, short_table).code(),
             StatusCode::kCountMismatch);
-  std::vector<uint32_t> few(crowd.records().size() - 1);
+  std::vector<uint32_t> few(crowd.view().records().size() - 1);
   EXPECT_EQ(batcher.buildRecordPlaces(crowd.view(), few).code(), StatusCode::kCountMismatch);
   EXPECT_EQ(InstanceBatcher().buildRecordPlaces(crowd.view(), few).code(),
             StatusCode::kInvalidArgument);
@@ -358,14 +363,14 @@ TEST(PreviousRecords, ACameraCutPastAFloatKeepsFiniteRecords) {
   ASSERT_TRUE(crowd.add(d, &h).isOk());
   ASSERT_TRUE(crowd.update(0.1, test::testCamera({1e39, 2, -6}, {1e39, 1, 0})).isOk());
   ASSERT_TRUE(crowd.update(0.1, test::testCamera({0, 2, -6}, {0, 1, 0})).isOk());
-  ASSERT_EQ(crowd.records().size(), 1u);
+  ASSERT_EQ(crowd.view().records().size(), 1u);
   InstanceBatcher batcher;
   ASSERT_TRUE(batcher.init({16384, 256, 0}).isOk());
-  std::vector<uint8_t> previous(batcher.recordBufferBound(crowd));
-  ASSERT_TRUE(batcher.buildPrevious(crowd, previous).isOk());
+  std::vector<uint8_t> previous(batcher.recordBufferBound(crowd.view()));
+  ASSERT_TRUE(batcher.buildPrevious(crowd.view(), previous).isOk());
   InstanceRecord r;
   std::memcpy(&r, previous.data(), sizeof r);
-  EXPECT_TRUE(sameRecord(r, crowd.records()[0]));
+  EXPECT_TRUE(sameRecord(r, crowd.view().records()[0]));
 }
 
 }  // namespace

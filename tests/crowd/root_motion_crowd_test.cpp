@@ -11,6 +11,7 @@
 #include "crowd/crowd_test_helpers.h"
 #include "si/core/reference_evaluator.h"
 #include "si/core/root_motion.h"
+#include "si/crowd/crowd_manager.h"
 
 namespace si {
 namespace {

@@ -65,7 +65,7 @@ void expectLods(float budget, const Camera& cam) {
   uint32_t seen[4] = {0, 0, 0, 0};
   for (const auto& [h, lod] : expected) {
     uint32_t got = 0;
-    ASSERT_TRUE(crowd.lodOf(h, &got).isOk());
+    ASSERT_TRUE(crowd.view().lodOf(h, &got).isOk());
     EXPECT_EQ(got, lod);
     ++seen[got];
   }
@@ -109,7 +109,7 @@ TEST(ScreenErrorLod, FlippedAndOrthographicProjectionsProjectTheError) {
     ASSERT_TRUE(crowd.update(0.0, ortho).isOk());
     for (InstanceHandle h : handles) {
       uint32_t got = 9;
-      ASSERT_TRUE(crowd.lodOf(h, &got).isOk());
+      ASSERT_TRUE(crowd.view().lodOf(h, &got).isOk());
       EXPECT_EQ(got, lod);
     }
   }
@@ -142,12 +142,12 @@ TEST(ScreenErrorLod, ACameraWithoutAUsableViewportDrawsLodZero) {
                          std::numeric_limits<float>::infinity()}) {
     ASSERT_TRUE(crowd.update(0.0, camera(viewport)).isOk());
     uint32_t lod = 9;
-    ASSERT_TRUE(crowd.lodOf(h, &lod).isOk());
+    ASSERT_TRUE(crowd.view().lodOf(h, &lod).isOk());
     EXPECT_EQ(lod, 0u) << "viewport " << viewport;
   }
   ASSERT_TRUE(crowd.update(0.0, camera()).isOk());
   uint32_t lod = 0;
-  ASSERT_TRUE(crowd.lodOf(h, &lod).isOk());
+  ASSERT_TRUE(crowd.view().lodOf(h, &lod).isOk());
   EXPECT_EQ(lod, 3u);  // Far away with a usable camera: the coarsest.
 }
 

@@ -197,44 +197,45 @@ void checkChanges(const si::CrowdManager& crowd, const Snapshot& before) {
 }
 
 void checkFrame(const si::CrowdManager& crowd) {
-  const si::CrowdFrameStats& st = crowd.stats();
+  const si::CrowdFrameStats& st = crowd.view().stats();
   if (st.visible + st.culled_frustum + st.culled_distance != st.instances) fail("stats do not add up");
   uint32_t per_lod = 0;
   for (uint32_t n : st.per_lod) per_lod += n;
   if (per_lod != st.visible) fail("per-LOD counts do not add up");
-  if (crowd.records().size() != st.visible || crowd.visibleHandles().size() != st.visible)
+  if (crowd.view().records().size() != st.visible ||
+      crowd.view().visibleHandles().size() != st.visible)
     fail("records or visible handles do not match the visible count");
-  const std::vector<uint32_t>& offsets = crowd.bucketOffsets();
-  if (offsets.size() != crowd.bucketCount() + 1 || offsets.back() != st.bucket_entries ||
-      crowd.bucketEntries().size() != st.bucket_entries)
+  const std::vector<uint32_t>& offsets = crowd.view().bucketOffsets();
+  if (offsets.size() != crowd.view().bucketCount() + 1 || offsets.back() != st.bucket_entries ||
+      crowd.view().bucketEntries().size() != st.bucket_entries)
     fail("bucket offsets do not match the entries");
   for (size_t b = 0; b + 1 < offsets.size(); ++b)
     if (offsets[b] > offsets[b + 1]) fail("bucket offsets decrease");
-  for (uint32_t e : crowd.bucketEntries())
-    if (e >= crowd.records().size()) fail("a bucket entry is past the records");
+  for (uint32_t e : crowd.view().bucketEntries())
+    if (e >= crowd.view().records().size()) fail("a bucket entry is past the records");
   // The runs and the zero-copy spans hold exactly the entries, bucket by bucket.
-  const std::vector<uint32_t>& run_offsets = crowd.bucketRunOffsets();
+  const std::vector<uint32_t>& run_offsets = crowd.view().bucketRunOffsets();
   if (run_offsets.size() != offsets.size()) fail("run offsets do not match the buckets");
   std::vector<uint32_t> from_runs;
   for (size_t b = 0; b + 1 < run_offsets.size(); ++b)
     for (uint32_t r = run_offsets[b]; r < run_offsets[b + 1]; ++r)
-      for (uint32_t k = 0; k < crowd.bucketRuns()[r].count; ++k)
-        from_runs.push_back(crowd.bucketRuns()[r].first + k);
-  if (from_runs != crowd.bucketEntries()) fail("the runs are not the bucket entries");
+      for (uint32_t k = 0; k < crowd.view().bucketRuns()[r].count; ++k)
+        from_runs.push_back(crowd.view().bucketRuns()[r].first + k);
+  if (from_runs != crowd.view().bucketEntries()) fail("the runs are not the bucket entries");
   si::InstanceBatcher batcher;
   std::vector<si::RecordSpanDraw> spans;
-  if (!batcher.init({16384, 256, 0}).isOk() || !batcher.buildSpans(crowd, &spans).isOk())
+  if (!batcher.init({16384, 256, 0}).isOk() || !batcher.buildSpans(crowd.view(), &spans).isOk())
     fail("buildSpans failed on a valid frame");
   std::vector<uint32_t> from_spans;
   for (const si::RecordSpanDraw& d : spans)
     for (uint32_t k = 0; k < d.instance_count; ++k) from_spans.push_back(d.first_record + k);
-  if (from_spans != crowd.bucketEntries()) fail("the spans are not the bucket entries");
+  if (from_spans != crowd.view().bucketEntries()) fail("the spans are not the bucket entries");
   si::fuzz::checkPreviousRecords(crowd, batcher, fail);
   si::fuzz::checkRecordPlaces(crowd, batcher, fail);
   si::fuzz::checkSlotHandles(crowd, batcher, fail);
   const uint64_t texels = palette().layout.textureTexelCount();
   si::fuzz::checkLayerRecords(crowd, batcher, palette(), fail);
-  for (const si::InstanceRecord& r : crowd.records()) {
+  for (const si::InstanceRecord& r : crowd.view().records()) {
     for (const auto& row : r.world_rows)
       for (float v : row)
         if (!std::isfinite(v)) fail("a record's world rows are not finite");
@@ -401,7 +402,7 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
         uint32_t lod = 0;
         glm::dmat4 m;
         (void)crowd.get(h, &d);
-        (void)crowd.lodOf(h, &lod);
+        (void)crowd.view().lodOf(h, &lod);
         if (crowd.jointMatrix(h, in.u8() % 4, &m).isOk())  // The overlay composed too.
           for (int c = 0; c < 4; ++c)
             for (int r = 0; r < 4; ++r)

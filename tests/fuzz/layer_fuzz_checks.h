@@ -28,13 +28,14 @@ inline void checkLayerRecords(const CrowdManager& crowd, const InstanceBatcher& 
       if (uint64_t(f) + palette.layout.frame_stride_texels > texels)
         fail("an overlay frame is outside the palette");
   };
-  const auto layers = crowd.layerRecords();
-  const auto extras = crowd.extraLayerRecords();
+  const auto layers = crowd.view().layerRecords();
+  const auto extras = crowd.view().extraLayerRecords();
   if (layers.empty()) {
     if (!extras.empty()) fail("extra layer records without layer records");
     return;
   }
-  if (layers.size() != crowd.records().size()) fail("the layer records do not match the records");
+  if (layers.size() != crowd.view().records().size())
+    fail("the layer records do not match the records");
   const bool grid = crowd.writesExtraLayers();
   if (extras.size() != (grid ? layers.size() * kExtraLayerRecords : 0))
     fail("the extra layer records do not match the records");
@@ -48,20 +49,21 @@ inline void checkLayerRecords(const CrowdManager& crowd, const InstanceBatcher& 
     }
     if (layerHasExtras(layers[i]) != drawn) fail("a layer record's extras flag is wrong");
   }
-  std::vector<uint8_t> layer_bytes(batcher.layerBufferBound(crowd));
-  if (!batcher.buildLayers(crowd, layer_bytes).isOk()) fail("buildLayers failed on a valid frame");
+  std::vector<uint8_t> layer_bytes(batcher.layerBufferBound(crowd.view()));
+  if (!batcher.buildLayers(crowd.view(), layer_bytes).isOk())
+    fail("buildLayers failed on a valid frame");
   std::vector<uint8_t> extra_bytes(batcher.extraLayerBufferBound(crowd.view()));
   if (grid && !batcher.buildExtraLayers(crowd.view(), extra_bytes).isOk())
     fail("buildExtraLayers failed on a valid frame");
   if (crowd.desc().previous_records) {
-    const auto previous = crowd.previousLayerRecords();
-    if (!previous.empty() && previous.size() != crowd.previousRecords().size())
+    const auto previous = crowd.view().previousLayerRecords();
+    if (!previous.empty() && previous.size() != crowd.view().previousRecords().size())
       fail("the previous layer records do not match the previous records");
-    const auto previous_extras = crowd.previousExtraLayerRecords();
+    const auto previous_extras = crowd.view().previousExtraLayerRecords();
     if (!previous_extras.empty() &&
-        previous_extras.size() != crowd.previousRecords().size() * kExtraLayerRecords)
+        previous_extras.size() != crowd.view().previousRecords().size() * kExtraLayerRecords)
       fail("the previous extra layer records do not match the previous records");
-    if (!batcher.buildPreviousLayers(crowd, layer_bytes).isOk())
+    if (!batcher.buildPreviousLayers(crowd.view(), layer_bytes).isOk())
       fail("buildPreviousLayers failed on a valid frame");
     if (grid && !batcher.buildPreviousExtraLayers(crowd.view(), extra_bytes).isOk())
       fail("buildPreviousExtraLayers failed on a valid frame");

@@ -36,7 +36,7 @@ void play(const si::BakedPalette& palette) {
   const si::Camera camera;
   for (double dt : {0.0, 1.0 / 60.0, 0.1, 3.7, 1e6}) {
     if (!crowd.update(dt, camera).isOk()) std::abort();
-    for (const si::InstanceRecord& r : crowd.records()) {
+    for (const si::InstanceRecord& r : crowd.view().records()) {
       for (const auto& row : r.world_rows)
         for (float v : row)
           if (!std::isfinite(v)) std::abort();

@@ -21,18 +21,19 @@ namespace si::fuzz {
 inline void checkPreviousRecords(const CrowdManager& crowd, const InstanceBatcher& batcher,
                                  void (*fail)(const char*)) {
   if (!crowd.desc().previous_records) return;
-  if (crowd.previousRecordIndices().size() != crowd.records().size())
+  if (crowd.view().previousRecordIndices().size() != crowd.view().records().size())
     fail("the previous indices do not match the records");
-  for (uint32_t p : crowd.previousRecordIndices())
-    if (p != kNoPreviousRecord && p >= crowd.previousRecords().size())
+  for (uint32_t p : crowd.view().previousRecordIndices())
+    if (p != kNoPreviousRecord && p >= crowd.view().previousRecords().size())
       fail("a previous index is past the previous records");
-  std::vector<uint8_t> now(batcher.recordBufferBound(crowd)), then(now.size());
+  std::vector<uint8_t> now(batcher.recordBufferBound(crowd.view())), then(now.size());
   std::vector<DrawBatch> draws;
-  if (!batcher.build(crowd, now, &draws).isOk() || !batcher.buildPrevious(crowd, then).isOk())
+  if (!batcher.build(crowd.view(), now, &draws).isOk() ||
+      !batcher.buildPrevious(crowd.view(), then).isOk())
     fail("build or buildPrevious failed on a valid frame");
   // drawCrowd's form: each slot's index, none or a kept previous record.
-  std::vector<uint8_t> indices(batcher.previousIndexBufferBound(crowd));
-  if (!batcher.buildPreviousIndices(crowd, indices).isOk())
+  std::vector<uint8_t> indices(batcher.previousIndexBufferBound(crowd.view()));
+  if (!batcher.buildPreviousIndices(crowd.view(), indices).isOk())
     fail("buildPreviousIndices failed on a valid frame");
   for (const DrawBatch& d : draws)
     for (uint32_t k = 0; k < d.instance_count; ++k) {
@@ -43,11 +44,11 @@ inline void checkPreviousRecords(const CrowdManager& crowd, const InstanceBatche
           if (!std::isfinite(v)) fail("a previous record's world rows are not finite");
       uint32_t p;
       std::memcpy(&p, indices.data() + (d.layer_byte_offset / kLayerRecordSize + k) * 4, 4);
-      if (p != kNoPreviousRecord && p >= crowd.previousRecords().size())
+      if (p != kNoPreviousRecord && p >= crowd.view().previousRecords().size())
         fail("a slot's previous index is past the previous records");
     }
   // Through a table (drawCrowd reading the last frame's region): each index looked up.
-  std::vector<uint32_t> table(crowd.previousRecords().size());
+  std::vector<uint32_t> table(crowd.view().previousRecords().size());
   for (size_t p = 0; p < table.size(); ++p) table[p] = uint32_t(p * 5 + 3);
   std::vector<uint8_t> looked_up(indices.size());
   if (!batcher.buildPreviousIndices(crowd.view(), looked_up, table).isOk())
@@ -66,17 +67,17 @@ inline void checkPreviousRecords(const CrowdManager& crowd, const InstanceBatche
 // Where build() put each record (buildRecordPlaces): none, or a copy of it.
 inline void checkRecordPlaces(const CrowdManager& crowd, const InstanceBatcher& batcher,
                               void (*fail)(const char*)) {
-  std::vector<uint8_t> now(batcher.recordBufferBound(crowd));
+  std::vector<uint8_t> now(batcher.recordBufferBound(crowd.view()));
   std::vector<DrawBatch> draws;
-  std::vector<uint32_t> places(crowd.records().size());
-  if (!batcher.build(crowd, now, &draws).isOk() ||
+  std::vector<uint32_t> places(crowd.view().records().size());
+  if (!batcher.build(crowd.view(), now, &draws).isOk() ||
       !batcher.buildRecordPlaces(crowd.view(), places).isOk())
     fail("build or buildRecordPlaces failed on a valid frame");
   for (size_t i = 0; i < places.size(); ++i) {
     if (places[i] == InstanceBatcher::kNoRecordPlace) continue;
     if (size_t(places[i]) * 16 + kInstanceRecordSize > now.size())
       fail("a record's place is past build()'s buffer");
-    else if (std::memcmp(now.data() + size_t(places[i]) * 16, &crowd.records()[i],
+    else if (std::memcmp(now.data() + size_t(places[i]) * 16, &crowd.view().records()[i],
                          kInstanceRecordSize) != 0)
       fail("a record's place does not hold the record");
   }
@@ -86,13 +87,13 @@ inline void checkRecordPlaces(const CrowdManager& crowd, const InstanceBatcher& 
 // is the slot's.
 inline void checkSlotHandles(const CrowdManager& crowd, const InstanceBatcher& batcher,
                              void (*fail)(const char*)) {
-  std::vector<uint8_t> now(batcher.recordBufferBound(crowd)),
+  std::vector<uint8_t> now(batcher.recordBufferBound(crowd.view())),
       handles(batcher.handleBufferBound(crowd.view()));
   std::vector<DrawBatch> draws;
-  if (!batcher.build(crowd, now, &draws).isOk() ||
+  if (!batcher.build(crowd.view(), now, &draws).isOk() ||
       !batcher.buildHandles(crowd.view(), handles).isOk())
     fail("build or buildHandles failed on a valid frame");
-  const Span<const InstanceHandle> visible = crowd.visibleHandles();
+  const Span<const InstanceHandle> visible = crowd.view().visibleHandles();
   for (const DrawBatch& d : draws)
     for (uint32_t k = 0; k < d.instance_count; ++k) {
       InstanceHandle h;
@@ -104,7 +105,8 @@ inline void checkSlotHandles(const CrowdManager& crowd, const InstanceBatcher& b
         continue;
       }
       if (std::memcmp(now.data() + d.byte_offset + k * kInstanceRecordSize,
-                      &crowd.records()[size_t(at - visible.begin())], kInstanceRecordSize) != 0)
+                      &crowd.view().records()[size_t(at - visible.begin())],
+                      kInstanceRecordSize) != 0)
         fail("a slot's handle is not its record's instance's");
     }
 }

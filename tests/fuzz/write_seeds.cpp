@@ -14,6 +14,7 @@
 
 #include "si/bake/palette_file.h"
 #include "si/core/default_character.h"
+#include "si/crowd/crowd_manager.h"
 
 namespace {
 

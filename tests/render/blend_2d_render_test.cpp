@@ -8,6 +8,7 @@
 #include <utility>
 
 #include "render/render_fixture.h"
+#include "si/crowd/crowd_manager.h"
 #include "si/gl/motion_target.h"
 
 namespace si {
@@ -86,9 +87,10 @@ TEST_P(Blend2dRenderTest, EveryPathDrawsTheEmulatedBlend) {
   makeRenderer(&pre, 0, PaletteFormat::kMatrix3x4F32, &compute);
   CrowdManager crowd;
   populate(&crowd);
-  ASSERT_EQ(crowd.extraLayerRecords().size(), crowd.records().size() * kExtraLayerRecords);
+  ASSERT_EQ(crowd.view().extraLayerRecords().size(),
+            crowd.view().records().size() * kExtraLayerRecords);
   size_t with_extras = 0;
-  for (const LayerRecord& l : crowd.layerRecords()) with_extras += layerHasExtras(l);
+  for (const LayerRecord& l : crowd.view().layerRecords()) with_extras += layerHasExtras(l);
   ASSERT_GT(with_extras, 4u);
   DrawStats cpu_stats;
   const std::vector<uint8_t> cpu = draw(r, crowd, view(), 0, false, &cpu_stats, Path::kCpuSkinned);
@@ -125,8 +127,8 @@ TEST_P(Blend2dRenderTest, UncomposedDrawsRefuseTheExtraLayers) {
   populate(&crowd);
   InstanceBatcher batcher;
   ASSERT_TRUE(batcher.init(r.batchLimits()).isOk());
-  for (const Status& s : {r.drawCrowd(crowd, batcher, view(), nullptr),
-                          r.drawCrowdGpuCulled(crowd, view(), nullptr)}) {
+  for (const Status& s : {r.drawCrowd(CharacterId{}, crowd.view(), batcher, view(), nullptr),
+                          r.drawCrowdGpuCulled(CharacterId{}, crowd.view(), view(), nullptr)}) {
     EXPECT_EQ(s.code(), StatusCode::kUnsupported) << s.toString();
     EXPECT_NE(s.message().find("2D blends"), std::string::npos) << s.message();
   }
@@ -158,7 +160,7 @@ TEST_P(Blend2dRenderTest, MotionAndDepthFollowTheBlend) {
     ASSERT_TRUE(crowd.playBlend(h, 0, glm::vec2(0.2f, 0.3f), 0.0, 0.3).isOk());
     ASSERT_TRUE(crowd.update(0.0, camera).isOk());
     if (gpu_driven) {
-      ASSERT_TRUE(r.drawCrowdGpuCulled(crowd, camera, nullptr, mode).isOk());
+      ASSERT_TRUE(r.drawCrowdGpuCulled(CharacterId{}, crowd.view(), camera, nullptr, mode).isOk());
     }
     ASSERT_TRUE(crowd.setBlendParameter(h, to).isOk());
     if (gpu_driven) {
@@ -167,8 +169,9 @@ TEST_P(Blend2dRenderTest, MotionAndDepthFollowTheBlend) {
       ASSERT_TRUE(crowd.update(0.05, camera).isOk());
     }
     target.clear(glm::vec4(0.0f));
-    const Status s = gpu_driven ? r.drawCrowdGpuCulled(crowd, camera, nullptr, mode)
-                                : r.drawCrowd(crowd, batcher, camera, nullptr, mode);
+    const Status s = gpu_driven
+                         ? r.drawCrowdGpuCulled(CharacterId{}, crowd.view(), camera, nullptr, mode)
+                         : r.drawCrowd(CharacterId{}, crowd.view(), batcher, camera, nullptr, mode);
     ASSERT_TRUE(s.isOk()) << s.toString();
     ASSERT_TRUE(target.readMotion(motion).isOk());
   };
@@ -193,8 +196,9 @@ TEST_P(Blend2dRenderTest, MotionAndDepthFollowTheBlend) {
   populate(&crowd, true);
   const auto depthOf = [&](DrawMode mode, bool gpu_driven = false) {
     target.clear(glm::vec4(0.0f));
-    const Status s = gpu_driven ? r.drawCrowdGpuCulled(crowd, view(), nullptr, mode)
-                                : r.drawCrowd(crowd, batcher, view(), nullptr, mode);
+    const Status s = gpu_driven
+                         ? r.drawCrowdGpuCulled(CharacterId{}, crowd.view(), view(), nullptr, mode)
+                         : r.drawCrowd(CharacterId{}, crowd.view(), batcher, view(), nullptr, mode);
     EXPECT_TRUE(s.isOk()) << s.toString();
     std::vector<float> depth;
     EXPECT_TRUE(target.readDepth(&depth).isOk());

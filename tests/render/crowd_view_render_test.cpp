@@ -10,6 +10,7 @@
 
 #include "render/render_fixture.h"
 #include "render/view_scenes.h"
+#include "si/crowd/crowd_manager.h"
 #include "si/crowd/crowd_view.h"
 #include "si/gl/motion_target.h"
 
@@ -45,9 +46,10 @@ Status drawView(Renderer& r, const InstanceBatcher& batcher, const CrowdView& vi
                 const Camera& camera, ViewPath path, DrawMode mode) {
   DrawStats stats;
   switch (path) {
-    case ViewPath::kInstanced: return r.drawCrowd(view, batcher, camera, &stats, mode);
+    case ViewPath::kInstanced:
+      return r.drawCrowd(CharacterId{}, view, batcher, camera, &stats, mode);
     case ViewPath::kCompute:
-      return r.drawCrowd(view, batcher, camera, &stats,
+      return r.drawCrowd(CharacterId{}, view, batcher, camera, &stats,
                          mode == DrawMode::kDepthOnly ? mode : DrawMode::kComputeSkinned);
     case ViewPath::kTraditional: return r.drawTraditional(CharacterId{}, view, camera, &stats);
     case ViewPath::kCpuSkinned: return r.drawCpuSkinned(CharacterId{}, view, camera, &stats);
@@ -172,13 +174,17 @@ TEST_P(RenderTest, EachViewDrawsItsOwnMotionVectors) {
     for (DrawMode mode : {DrawMode::kSkinned, DrawMode::kComputeSkinned}) {
       DrawStats stats;
       target.clear(glm::vec4(0.0f));
-      ASSERT_TRUE(r.drawCrowd(second_alone, batcher, second_camera(f), &stats, mode).isOk());
+      ASSERT_TRUE(
+          r.drawCrowd(si::CharacterId{}, second_alone, batcher, second_camera(f), &stats, mode)
+              .isOk());
       std::vector<glm::vec2> expected, drawn;
       ASSERT_TRUE(target.readMotion(&expected).isOk());
       target.clear(glm::vec4(0.0f));
-      ASSERT_TRUE(r.drawCrowd(main_view, batcher, main_camera(f), &stats, mode).isOk());
+      ASSERT_TRUE(
+          r.drawCrowd(CharacterId{}, main_view, batcher, main_camera(f), &stats, mode).isOk());
       target.clear(glm::vec4(0.0f));
-      ASSERT_TRUE(r.drawCrowd(second, batcher, second_camera(f), &stats, mode).isOk());
+      ASSERT_TRUE(
+          r.drawCrowd(si::CharacterId{}, second, batcher, second_camera(f), &stats, mode).isOk());
       ASSERT_TRUE(target.readMotion(&drawn).isOk());
       ASSERT_EQ(drawn.size(), expected.size());
       size_t differ = 0;
@@ -202,7 +208,7 @@ TEST_P(RenderTest, ADetachedViewIsRefused) {
   ASSERT_TRUE(batcher.init(r.batchLimits()).isOk());
   CrowdView view;
   DrawStats stats;
-  const Status s = r.drawCrowd(view, batcher, closeCamera(), &stats);
+  const Status s = r.drawCrowd(CharacterId{}, view, batcher, closeCamera(), &stats);
   EXPECT_EQ(s.code(), StatusCode::kInvalidArgument);
   EXPECT_NE(s.message().find("not attached"), std::string::npos) << s.message();
   EXPECT_EQ(r.drawTraditional(CharacterId{}, view, closeCamera(), &stats).code(),

@@ -77,7 +77,7 @@ class CustomTextureScenes : public RenderTest {
 
   std::vector<uint8_t> drawGpuCulled(Renderer& r, const CrowdManager& crowd, DrawMode mode) {
     r.clear(glm::vec4(0.2f, 0.25f, 0.3f, 1.0f));
-    const Status s = r.drawCrowdGpuCulled(crowd, rowCamera(), nullptr, mode);
+    const Status s = r.drawCrowdGpuCulled(CharacterId{}, crowd.view(), rowCamera(), nullptr, mode);
     EXPECT_TRUE(s.isOk()) << s.toString();
     std::vector<uint8_t> rgba;
     EXPECT_TRUE(context_->readPixels(&rgba).isOk());
@@ -93,7 +93,7 @@ class CustomTextureScenes : public RenderTest {
     makeCrowd(&crowd);
     populateRow(&crowd);
     ASSERT_TRUE(crowd.update(0.0, rowCamera()).isOk());
-    ASSERT_EQ(crowd.stats().visible, 6u);
+    ASSERT_EQ(crowd.view().stats().visible, 6u);
     const std::vector<uint8_t> image = draw(r, crowd, rowCamera(), 0);
     expectGolden("custom_layers", image);
     if (kEs) {  // The ES profile's one path.

@@ -107,7 +107,7 @@ TEST_P(DepthConventionTest, EveryPathDrawsTheStandardImageAndDepthUnderEveryConv
     populateLodCrowd(&seen);
     addFadingCharacter(&seen);
     ASSERT_TRUE(seen.update(0.3, camera).isOk());
-    EXPECT_EQ(seen.stats().visible, crowd.stats().visible);
+    EXPECT_EQ(seen.view().stats().visible, crowd.view().stats().visible);
     const DepthState state(convention);
     for (PathKind kind : kEveryPath) {
       SCOPED_TRACE(pathKindName(kind));
@@ -184,14 +184,19 @@ TEST_P(DepthConventionTest, ACameraOfAnotherConventionThanTheClipControlIsRefuse
               std::string::npos)
         << s.message();
   };
-  refused(r.drawCrowd(crowd, batcher, reversed, nullptr), "GL_NEGATIVE_ONE_TO_ONE");
-  refused(r.drawCrowdGpuCulled(crowd, reversed, nullptr), "GL_NEGATIVE_ONE_TO_ONE");
-  refused(r.drawTraditional(crowd, reversed, nullptr), "GL_NEGATIVE_ONE_TO_ONE");
-  refused(r.drawCpuSkinned(crowd, reversed, nullptr), "GL_NEGATIVE_ONE_TO_ONE");
+  refused(r.drawCrowd(CharacterId{}, crowd.view(), batcher, reversed, nullptr),
+          "GL_NEGATIVE_ONE_TO_ONE");
+  refused(r.drawCrowdGpuCulled(CharacterId{}, crowd.view(), reversed, nullptr),
+          "GL_NEGATIVE_ONE_TO_ONE");
+  refused(r.drawTraditional(CharacterId{}, crowd.view(), reversed, nullptr),
+          "GL_NEGATIVE_ONE_TO_ONE");
+  refused(r.drawCpuSkinned(CharacterId{}, crowd.view(), reversed, nullptr),
+          "GL_NEGATIVE_ONE_TO_ONE");
   {
     const DepthState state(DepthConvention::kZeroToOne);
-    refused(r.drawCrowd(crowd, batcher, lodCamera(), nullptr), "GL_ZERO_TO_ONE");
-    EXPECT_TRUE(r.drawCrowd(crowd, batcher, reversed, nullptr).isOk());
+    refused(r.drawCrowd(CharacterId{}, crowd.view(), batcher, lodCamera(), nullptr),
+            "GL_ZERO_TO_ONE");
+    EXPECT_TRUE(r.drawCrowd(CharacterId{}, crowd.view(), batcher, reversed, nullptr).isOk());
   }
   EXPECT_EQ(glGetError(), GLenum(GL_NO_ERROR));
 }

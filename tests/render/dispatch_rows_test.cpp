@@ -42,18 +42,19 @@ class DispatchRowsTest : public RenderTest {
     out->compute = draw(r, crowd, lodCamera(), 0, false, nullptr, Path::kCompute);
     for (DrawMode mode : {DrawMode::kSkinned, DrawMode::kComputeSkinned}) {
       r.clear(glm::vec4(0.2f, 0.25f, 0.3f, 1.0f));
-      const Status s = r.drawCrowdGpuCulled(crowd, lodCamera(), nullptr, mode);
+      const Status s =
+          r.drawCrowdGpuCulled(CharacterId{}, crowd.view(), lodCamera(), nullptr, mode);
       ASSERT_TRUE(s.isOk()) << s.toString();
       ASSERT_TRUE(context_->readPixels(mode == DrawMode::kSkinned ? &out->gpu_driven
                                                                   : &out->gpu_driven_preskinned)
                       .isOk());
     }
-    ASSERT_TRUE(r.readGpuSelection(&out->selection).isOk());
+    ASSERT_TRUE(r.readGpuSelection(si::CharacterId{}, &out->selection).isOk());
     std::sort(out->selection.begin(), out->selection.end(),
               [](const glm::uvec2& a, const glm::uvec2& b) {
                 return a.x != b.x ? a.x < b.x : a.y < b.y;
               });
-    ASSERT_TRUE(r.captureSkinnedPositions(crowd.records()[0], &out->captured,
+    ASSERT_TRUE(r.captureSkinnedPositions(CharacterId{}, crowd.view().records()[0], &out->captured,
                                           SkinningPath::kCompute)
                     .isOk());
   }
@@ -62,14 +63,14 @@ class DispatchRowsTest : public RenderTest {
 TEST_P(DispatchRowsTest, EveryComputePassGivesTheSameResultInRowsOfOneGroup) {
   CrowdManager crowd;
   makeScene(&crowd);
-  ASSERT_GT(crowd.records().size(), 64u);  // The cull and scatter passes need 2+ groups.
+  ASSERT_GT(crowd.view().records().size(), 64u);  // The cull and scatter passes need 2+ groups.
   Output one_row, rows;
   drawAll(info_, crowd, &one_row);
   GlInfo narrow = info_;
   narrow.max_compute_groups_x = 1;
   drawAll(narrow, crowd, &rows);
   EXPECT_EQ(rows.selection, one_row.selection);
-  EXPECT_EQ(rows.selection.size(), crowd.records().size());
+  EXPECT_EQ(rows.selection.size(), crowd.view().records().size());
   EXPECT_EQ(rows.captured, one_row.captured);
   EXPECT_EQ(compare(rows.compute, one_row.compute, nullptr).share, 0.0);
   EXPECT_EQ(compare(rows.gpu_driven, one_row.gpu_driven, nullptr).share, 0.0);
@@ -89,12 +90,13 @@ TEST_P(DispatchRowsTest, APassPastBothLimitsIsRefusedByName) {
   tiny.max_compute_groups_y = 1;  // At most 64 instances per cull pass.
   Renderer r;
   makeRenderer(&r, tiny);
-  const Status s = r.drawCrowdGpuCulled(crowd, lodCamera(), nullptr);
+  const Status s = r.drawCrowdGpuCulled(CharacterId{}, crowd.view(), lodCamera(), nullptr);
   EXPECT_EQ(s.code(), StatusCode::kLimitExceeded);
   EXPECT_NE(s.message().find("GL_MAX_COMPUTE_WORK_GROUP_COUNT"), std::string::npos)
       << s.message();
   std::vector<glm::vec3> positions;  // The character's vertices need many groups: 1 x 1 is too few.
-  EXPECT_EQ(r.captureSkinnedPositions(crowd.records()[0], &positions, SkinningPath::kCompute)
+  EXPECT_EQ(r.captureSkinnedPositions(CharacterId{}, crowd.view().records()[0], &positions,
+                                      SkinningPath::kCompute)
                 .code(),
             StatusCode::kLimitExceeded);
   EXPECT_TRUE(checkGlErrors("refused passes").isOk());  // Refused before any GL call.

@@ -12,6 +12,7 @@
 #include "gl/profile/gl_profile.h"
 #include "gl/resources/record_ring.h"
 #include "render/render_fixture.h"
+#include "si/crowd/crowd_manager.h"
 #include "si/gl/image_lod_error.h"
 
 namespace si {
@@ -137,11 +138,15 @@ TEST_P(EsRenderTest, DepthOnlyAndRigidDraws) {
   std::vector<uint8_t> cleared, depth_then_colour;
   ASSERT_TRUE(context_->readPixels(&cleared).isOk());
   DrawStats depth, colour, rigid;
-  ASSERT_TRUE(r.drawCrowd(crowd, batcher, lodCamera(), &depth, DrawMode::kDepthOnly).isOk());
+  ASSERT_TRUE(
+      r.drawCrowd(CharacterId{}, crowd.view(), batcher, lodCamera(), &depth, DrawMode::kDepthOnly)
+          .isOk());
   std::vector<uint8_t> after_depth;
   ASSERT_TRUE(context_->readPixels(&after_depth).isOk());
   EXPECT_EQ(compare(cleared, after_depth, nullptr).max_channel, 0) << "depth-only wrote colour";
-  ASSERT_TRUE(r.drawCrowd(crowd, batcher, lodCamera(), nullptr, DrawMode::kSkinned).isOk());
+  ASSERT_TRUE(
+      r.drawCrowd(CharacterId{}, crowd.view(), batcher, lodCamera(), nullptr, DrawMode::kSkinned)
+          .isOk());
   ASSERT_TRUE(context_->readPixels(&depth_then_colour).isOk());
   EXPECT_LE(compare(cleared, depth_then_colour, nullptr).share, 0.005)
       << "the shaded draw passed the depth-only pass's depth";
@@ -149,7 +154,9 @@ TEST_P(EsRenderTest, DepthOnlyAndRigidDraws) {
   EXPECT_GT(compare(cleared, skinned, nullptr).share, 0.02);
   EXPECT_EQ(depth.triangles, colour.triangles);
   r.clear(background);
-  ASSERT_TRUE(r.drawCrowd(crowd, batcher, lodCamera(), &rigid, DrawMode::kRigid).isOk());
+  ASSERT_TRUE(
+      r.drawCrowd(CharacterId{}, crowd.view(), batcher, lodCamera(), &rigid, DrawMode::kRigid)
+          .isOk());
   std::vector<uint8_t> bind_pose;
   ASSERT_TRUE(context_->readPixels(&bind_pose).isOk());
   EXPECT_EQ(rigid.triangles, colour.triangles);
@@ -195,7 +202,7 @@ TEST_P(EsRenderTest, TheHostsBindingsStayAsTheyWere) {
     CrowdManager crowd;
     InstanceBatcher batcher;
     lodScene(&r, &crowd, &batcher);
-    ASSERT_TRUE(r.drawCrowd(crowd, batcher, lodCamera(), nullptr).isOk());
+    ASSERT_TRUE(r.drawCrowd(CharacterId{}, crowd.view(), batcher, lodCamera(), nullptr).isOk());
     EXPECT_EQ(bindings(), before);
   }
   EXPECT_EQ(glGetError(), GLenum(GL_NO_ERROR));
@@ -243,7 +250,7 @@ TEST_P(EsRenderTest, UnderWebGlTheRoundTripValuesAreLeftAtDefaultsUnlessAsked) {
       InstanceBatcher batcher;
       lodScene(&r, &crowd, &batcher, &rd);
       glDepthMask(GL_FALSE);
-      ASSERT_TRUE(r.drawCrowd(crowd, batcher, lodCamera(), nullptr).isOk());
+      ASSERT_TRUE(r.drawCrowd(CharacterId{}, crowd.view(), batcher, lodCamera(), nullptr).isOk());
       EXPECT_EQ(raster(), webgl && !ask ? defaults : host);
       glDepthMask(GL_TRUE);
     }
@@ -290,16 +297,20 @@ TEST_P(EsRenderTest, RefusesWhatEs30LacksByName) {
   ASSERT_TRUE(crowd.update(0.0, lodCamera()).isOk());
   InstanceBatcher batcher;
   ASSERT_TRUE(batcher.init(r.batchLimits()).isOk());
-  refused(r.drawCrowd(crowd, batcher, lodCamera(), nullptr, DrawMode::kComputeSkinned),
+  refused(r.drawCrowd(CharacterId{}, crowd.view(), batcher, lodCamera(), nullptr,
+                      DrawMode::kComputeSkinned),
           "compute shaders");
-  refused(r.drawCrowdGpuCulled(crowd, lodCamera(), nullptr), "compute shaders");
-  refused(r.drawTraditional(crowd, lodCamera(), nullptr), "traditional program");
-  refused(r.drawCpuSkinned(crowd, lodCamera(), nullptr), "storage buffers");
+  refused(r.drawCrowdGpuCulled(CharacterId{}, crowd.view(), lodCamera(), nullptr),
+          "compute shaders");
+  refused(r.drawTraditional(CharacterId{}, crowd.view(), lodCamera(), nullptr),
+          "traditional program");
+  refused(r.drawCpuSkinned(CharacterId{}, crowd.view(), lodCamera(), nullptr), "storage buffers");
   refused(r.buildImpostor(CharacterId{0}, ImpostorDesc{}), "impostor programs");
   GpuMemory memory;
   refused(r.gpuMemory(&memory), "texture size queries");
   std::vector<glm::vec3> positions;
-  refused(r.captureSkinnedPositions(crowd.records()[0], &positions), "capture programs");
+  refused(r.captureSkinnedPositions(CharacterId{}, crowd.view().records()[0], &positions),
+          "capture programs");
   ImageLodErrorReport report;
   refused(measureImageLodErrors(info_, character(), palette(), ImageLodErrorDesc{}, &report),
           "compute or impostor programs");
@@ -310,7 +321,7 @@ TEST_P(EsRenderTest, RefusesWhatEs30LacksByName) {
   refused(r.addMaterial(material, &material_id), "host materials");
   EXPECT_EQ(glGetError(), GLenum(GL_NO_ERROR));
   // A refused draw left the renderer whole: the vertex-shader path still draws.
-  EXPECT_TRUE(r.drawCrowd(crowd, batcher, lodCamera(), nullptr).isOk());
+  EXPECT_TRUE(r.drawCrowd(CharacterId{}, crowd.view(), batcher, lodCamera(), nullptr).isOk());
 }
 
 // The ES profile's record ring: consecutive frames upload into buffers of their regions' own,

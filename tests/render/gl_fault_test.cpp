@@ -94,9 +94,10 @@ TEST_P(RenderTest, TheApplicationsPendingErrorsAreGivenBackOrLeftPending) {
     }
     InstanceBatcher batcher;
     ASSERT_TRUE(batcher.init(r.batchLimits()).isOk());
-    ASSERT_TRUE(r.drawCrowd(crowd, batcher, closeCamera(), nullptr).isOk());  // Sizes its buffers.
+    ASSERT_TRUE(r.drawCrowd(CharacterId{}, crowd.view(), batcher, closeCamera(), nullptr)
+                    .isOk());  // Sizes its buffers.
     raise();
-    s = r.drawCrowd(crowd, batcher, closeCamera(), nullptr);
+    s = r.drawCrowd(CharacterId{}, crowd.view(), batcher, closeCamera(), nullptr);
     EXPECT_TRUE(s.isOk()) << s.toString();
     takeHostGlErrors(&taken);
     if (checks == 1) {
@@ -109,9 +110,9 @@ TEST_P(RenderTest, TheApplicationsPendingErrorsAreGivenBackOrLeftPending) {
     }
     // A call that always checks its errors takes it whatever the checks.
     std::vector<glm::uvec2> selection;
-    ASSERT_TRUE(r.drawCrowdGpuCulled(crowd, closeCamera(), nullptr).isOk());
+    ASSERT_TRUE(r.drawCrowdGpuCulled(CharacterId{}, crowd.view(), closeCamera(), nullptr).isOk());
     raise();
-    s = r.readGpuSelection(&selection);
+    s = r.readGpuSelection(CharacterId{}, &selection);
     EXPECT_TRUE(s.isOk()) << s.toString();
     takeHostGlErrors(&taken);
     ASSERT_EQ(taken.size(), 1u);
@@ -158,7 +159,7 @@ TEST_P(RenderTest, StoragePastTheBlockLimitIsRefusedByName) {
   ASSERT_TRUE(crowd.addRandom(rc, &handles).isOk());
   ASSERT_TRUE(crowd.advanceClock(0.0).isOk());
   DrawStats stats;
-  EXPECT_TRUE(r.drawCrowdGpuCulled(crowd, closeCamera(), &stats).isOk());
+  EXPECT_TRUE(r.drawCrowdGpuCulled(CharacterId{}, crowd.view(), closeCamera(), &stats).isOk());
   // 2D blends: 192 bytes of overlays an instance (the overlay and two extra layers).
   LayerMask body;
   ASSERT_TRUE(buildFullBodyMask(character().skeleton, palette(), "body", &body).isOk());
@@ -174,16 +175,16 @@ TEST_P(RenderTest, StoragePastTheBlockLimitIsRefusedByName) {
   ASSERT_TRUE(crowd.addBlendSpace(grid, &space).isOk());
   ASSERT_TRUE(crowd.playBlend(handles[0], space, glm::vec2(0.3f, 0.6f), 0.0).isOk());
   ASSERT_TRUE(crowd.advanceClock(0.0).isOk());
-  s = r.drawCrowdGpuCulled(crowd, closeCamera(), &stats);
+  s = r.drawCrowdGpuCulled(CharacterId{}, crowd.view(), closeCamera(), &stats);
   EXPECT_EQ(s.code(), StatusCode::kLimitExceeded);
   EXPECT_NE(s.message().find("100 instances need 19200 bytes of overlays"), std::string::npos)
       << s.message();
   ASSERT_TRUE(crowd.remove(handles[0]).isOk());  // The only overlay gone: 64 bytes, then none.
   ASSERT_TRUE(crowd.advanceClock(0.0).isOk());
-  s = r.drawCrowdGpuCulled(crowd, closeCamera(), &stats);
+  s = r.drawCrowdGpuCulled(CharacterId{}, crowd.view(), closeCamera(), &stats);
   EXPECT_TRUE(s.isOk()) << s.toString();
   ASSERT_TRUE(crowd.addRandom(rc, nullptr).isOk());  // 199: past the limit.
-  s = r.drawCrowdGpuCulled(crowd, closeCamera(), &stats);
+  s = r.drawCrowdGpuCulled(CharacterId{}, crowd.view(), closeCamera(), &stats);
   EXPECT_EQ(s.code(), StatusCode::kLimitExceeded);
   EXPECT_NE(s.message().find("199 instances need 28656 bytes of crowd state"), std::string::npos)
       << s.message();
@@ -193,15 +194,15 @@ TEST_P(RenderTest, StoragePastTheBlockLimitIsRefusedByName) {
   small.max_shader_storage_block_size_bytes = 144 * 199;
   ASSERT_TRUE(r.init(small, rd).isOk());
   ASSERT_TRUE(r.addCharacter(character(), palette(), &id).isOk());
-  s = r.drawCrowdGpuCulled(crowd, closeCamera(), &stats);
+  s = r.drawCrowdGpuCulled(CharacterId{}, crowd.view(), closeCamera(), &stats);
   EXPECT_TRUE(s.isOk()) << s.toString();
   std::vector<glm::uvec2> chunked, whole;
-  ASSERT_TRUE(r.readGpuSelection(&chunked).isOk());
+  ASSERT_TRUE(r.readGpuSelection(CharacterId{}, &chunked).isOk());
   r.shutdown();
   ASSERT_TRUE(r.init(info_, rd).isOk());
   ASSERT_TRUE(r.addCharacter(character(), palette(), &id).isOk());
-  ASSERT_TRUE(r.drawCrowdGpuCulled(crowd, closeCamera(), &stats).isOk());
-  ASSERT_TRUE(r.readGpuSelection(&whole).isOk());
+  ASSERT_TRUE(r.drawCrowdGpuCulled(CharacterId{}, crowd.view(), closeCamera(), &stats).isOk());
+  ASSERT_TRUE(r.readGpuSelection(CharacterId{}, &whole).isOk());
   const auto order = [](std::vector<glm::uvec2>* v) {
     std::sort(v->begin(), v->end(),
               [](glm::uvec2 a, glm::uvec2 b) { return a.x < b.x || (a.x == b.x && a.y < b.y); });

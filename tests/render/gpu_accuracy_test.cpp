@@ -46,8 +46,12 @@ TEST_P(RenderTest, GpuEqualsCpu) {
         rec.world_rows[0][3] = 5.0f;
         rec.world_rows[1][1] = 2.0f;
         std::vector<glm::vec3> gpu_paths[2];
-        ASSERT_TRUE(r.captureSkinnedPositions(rec, &gpu_paths[0], SkinningPath::kVertexShader).isOk());
-        ASSERT_TRUE(r.captureSkinnedPositions(rec, &gpu_paths[1], SkinningPath::kCompute).isOk());
+        ASSERT_TRUE(r.captureSkinnedPositions(CharacterId{}, rec, &gpu_paths[0],
+                                              SkinningPath::kVertexShader)
+                        .isOk());
+        ASSERT_TRUE(
+            r.captureSkinnedPositions(CharacterId{}, rec, &gpu_paths[1], SkinningPath::kCompute)
+                .isOk());
         std::vector<glm::mat4> mats(character().skeleton.jointCount());
         ASSERT_TRUE(emulateSkinningMatrices(p, c, s, mats).isOk());
         std::vector<glm::vec3> cpu(mesh.vertexCount());

@@ -8,6 +8,7 @@
 
 #include "render/render_fixture.h"
 #include "si/core/lod_error.h"
+#include "si/crowd/crowd_manager.h"
 
 namespace si {
 namespace {
@@ -77,9 +78,9 @@ TEST_P(RenderTest, GpuCullingSelectsWhatTheCpuSelects) {
       ASSERT_TRUE(crowd.advanceClock(0.11).isOk());
       DrawStats stats;
       r.clear(glm::vec4(0.0f));
-      ASSERT_TRUE(r.drawCrowdGpuCulled(crowd, camera, &stats).isOk());
+      ASSERT_TRUE(r.drawCrowdGpuCulled(CharacterId{}, crowd.view(), camera, &stats).isOk());
       std::vector<glm::uvec2> gpu;
-      ASSERT_TRUE(r.readGpuSelection(&gpu).isOk());
+      ASSERT_TRUE(r.readGpuSelection(CharacterId{}, &gpu).isOk());
       ASSERT_TRUE(crowd.update(0.0, camera).isOk());
       std::vector<glm::uvec2> cpu = cpuSelection(crowd);
       const auto order = [](const glm::uvec2& a, const glm::uvec2& b) {
@@ -95,7 +96,7 @@ TEST_P(RenderTest, GpuCullingSelectsWhatTheCpuSelects) {
       for (const glm::uvec2& v : cpu) coarse += v.y > 0;
       std::printf("[ gpu cull ] scene %d frame %d: %zu visible, %zu mismatches\n", scene, frame,
                   cpu.size(), mismatches);
-      EXPECT_EQ(crowd.stats().visible, cpu.size());
+      EXPECT_EQ(crowd.view().stats().visible, cpu.size());
     }
     EXPECT_GT(compared, 500u);  // The scenes do show instances,
     EXPECT_GT(coarse, 100u);    // at more than one LOD.
@@ -153,9 +154,9 @@ TEST_P(RenderTest, GpuCullingAgreesOnTheBoundaries) {
   size_t straddling = 0;
   for (int frame = 0; frame < 2; ++frame) {
     ASSERT_TRUE(crowd.advanceClock(0.0).isOk());
-    ASSERT_TRUE(r.drawCrowdGpuCulled(crowd, camera, nullptr).isOk());
+    ASSERT_TRUE(r.drawCrowdGpuCulled(CharacterId{}, crowd.view(), camera, nullptr).isOk());
     std::vector<glm::uvec2> gpu;
-    ASSERT_TRUE(r.readGpuSelection(&gpu).isOk());
+    ASSERT_TRUE(r.readGpuSelection(CharacterId{}, &gpu).isOk());
     ASSERT_TRUE(crowd.update(0.0, camera).isOk());
     const size_t n = crowd.size();
     std::vector<int> gpu_lod(n, -1), cpu_lod(n, -1);
@@ -198,7 +199,8 @@ TEST_P(RenderTest, GpuCulledDrawEqualsTheCpuPath) {
     addFadingCharacter(&crowd);
     ASSERT_TRUE(crowd.advanceClock(0.3).isOk());
     renderer.clear(glm::vec4(0.2f, 0.25f, 0.3f, 1.0f));
-    ASSERT_TRUE(renderer.drawCrowdGpuCulled(crowd, lodCamera(), &gpu_stats).isOk());
+    ASSERT_TRUE(
+        renderer.drawCrowdGpuCulled(CharacterId{}, crowd.view(), lodCamera(), &gpu_stats).isOk());
     std::vector<uint8_t> gpu_image;
     ASSERT_TRUE(context_->readPixels(&gpu_image).isOk());
     ASSERT_TRUE(crowd.update(0.0, lodCamera()).isOk());
@@ -209,7 +211,7 @@ TEST_P(RenderTest, GpuCulledDrawEqualsTheCpuPath) {
     EXPECT_EQ(gpu_stats.draw_calls, 1u);  // One multi-draw.
     EXPECT_EQ(gpu_stats.vertex_shader_instances, gpu_stats.instances);  // No pre-skinning.
     EXPECT_EQ(gpu_stats.skinned_vertices, 0u);
-    EXPECT_EQ(gpu_stats.gpu_visible, crowd.stats().visible);
+    EXPECT_EQ(gpu_stats.gpu_visible, crowd.view().stats().visible);
     EXPECT_EQ(gpu_stats.triangles, cpu_stats.triangles);
     EXPECT_EQ(gpu_stats.instances, cpu_stats.instances);
   }
@@ -230,9 +232,10 @@ TEST_P(RenderTest, GpuCulledDrawEqualsTheCpuPath) {
       InstanceHandle h;
       ASSERT_TRUE(reused->add(one, &h).isOk());
     }
-    ASSERT_TRUE(r.drawCrowdGpuCulled(*reused, lodCamera(), &gpu_stats).isOk());
+    ASSERT_TRUE(
+        r.drawCrowdGpuCulled(si::CharacterId{}, reused->view(), lodCamera(), &gpu_stats).isOk());
     ASSERT_TRUE(reused->update(0.0, lodCamera()).isOk());
-    EXPECT_EQ(gpu_stats.gpu_visible, reused->stats().visible) << k;
+    EXPECT_EQ(gpu_stats.gpu_visible, reused->view().stats().visible) << k;
   }
   EXPECT_EQ(gpu_stats.gpu_visible, 0u);
   // A crowd with another palette is refused.
@@ -242,7 +245,7 @@ TEST_P(RenderTest, GpuCulledDrawEqualsTheCpuPath) {
   od.sub_mesh_count = 4;
   od.lod_count = 3;
   ASSERT_TRUE(other.init(od).isOk());
-  EXPECT_EQ(r.drawCrowdGpuCulled(other, lodCamera(), &gpu_stats).code(),
+  EXPECT_EQ(r.drawCrowdGpuCulled(si::CharacterId{}, other.view(), lodCamera(), &gpu_stats).code(),
             StatusCode::kInvalidArgument);
 }
 
@@ -278,13 +281,14 @@ TEST_P(RenderTest, GpuDrivenComputePathEqualsTheCpuComputePath) {
     makeRenderer(&r, 0, PaletteFormat::kMatrix3x4F32, &rd);
     r.clear(glm::vec4(0.2f, 0.25f, 0.3f, 1.0f));
     DrawStats gpu_stats;
-    const Status s = r.drawCrowdGpuCulled(crowd, lodCamera(), &gpu_stats);  // kDefault: kCompute.
+    const Status s = r.drawCrowdGpuCulled(CharacterId{}, crowd.view(), lodCamera(),
+                                          &gpu_stats);  // kDefault: kCompute.
     ASSERT_TRUE(s.isOk()) << s.toString();
     std::vector<uint8_t> gpu_image;
     ASSERT_TRUE(context_->readPixels(&gpu_image).isOk());
     const Diff diff = compare(gpu_image, cpu_image, nullptr);
     EXPECT_LE(diff.share, 0.001) << "max channel difference " << diff.max_channel;
-    EXPECT_EQ(gpu_stats.gpu_visible, crowd.stats().visible);
+    EXPECT_EQ(gpu_stats.gpu_visible, crowd.view().stats().visible);
     EXPECT_EQ(gpu_stats.triangles, cpu_stats.triangles);
     EXPECT_EQ(gpu_stats.instances, cpu_stats.instances);
     if (ring_bytes == 0) {
@@ -298,7 +302,9 @@ TEST_P(RenderTest, GpuDrivenComputePathEqualsTheCpuComputePath) {
     }
     // Forcing vertex-shader skinning on the same renderer draws the same image.
     r.clear(glm::vec4(0.2f, 0.25f, 0.3f, 1.0f));
-    ASSERT_TRUE(r.drawCrowdGpuCulled(crowd, lodCamera(), &gpu_stats, DrawMode::kSkinned).isOk());
+    ASSERT_TRUE(r.drawCrowdGpuCulled(CharacterId{}, crowd.view(), lodCamera(), &gpu_stats,
+                                     DrawMode::kSkinned)
+                    .isOk());
     std::vector<uint8_t> vs_image;
     ASSERT_TRUE(context_->readPixels(&vs_image).isOk());
     EXPECT_LE(compare(vs_image, cpu_image, nullptr).share, 0.001);
@@ -308,8 +314,10 @@ TEST_P(RenderTest, GpuDrivenComputePathEqualsTheCpuComputePath) {
   // kRigid is refused (kDepthOnly draws: gpu_views_render_test.cpp).
   Renderer r;
   makeRenderer(&r);
-  EXPECT_EQ(r.drawCrowdGpuCulled(crowd, lodCamera(), nullptr, DrawMode::kRigid).code(),
-            StatusCode::kInvalidArgument);
+  EXPECT_EQ(
+      r.drawCrowdGpuCulled(CharacterId{}, crowd.view(), lodCamera(), nullptr, DrawMode::kRigid)
+          .code(),
+      StatusCode::kInvalidArgument);
 }
 
 // Two-phase occlusion culling: a dense wall of characters in front of a crowd. Every frame's
@@ -336,11 +344,11 @@ TEST_P(RenderTest, GpuOcclusionCullingDrawsTheSameImageWithFewerTriangles) {
       ASSERT_TRUE(crowd.advanceClock(frame == 0 ? 0.0 : 1.0 / 30.0).isOk());
       DrawStats all, culled;
       plain.clear(glm::vec4(0.2f, 0.25f, 0.3f, 1.0f));
-      ASSERT_TRUE(plain.drawCrowdGpuCulled(crowd, camera, &all).isOk());
+      ASSERT_TRUE(plain.drawCrowdGpuCulled(CharacterId{}, crowd.view(), camera, &all).isOk());
       std::vector<uint8_t> expected, actual;
       ASSERT_TRUE(context_->readPixels(&expected).isOk());
       occluding.clear(glm::vec4(0.2f, 0.25f, 0.3f, 1.0f));
-      const Status s = occluding.drawCrowdGpuCulled(crowd, camera, &culled);
+      const Status s = occluding.drawCrowdGpuCulled(CharacterId{}, crowd.view(), camera, &culled);
       ASSERT_TRUE(s.isOk()) << s.toString();
       ASSERT_TRUE(context_->readPixels(&actual).isOk());
       const Diff diff = compare(actual, expected, nullptr);
@@ -398,7 +406,7 @@ TEST_P(RenderTest, GpuOcclusionCullingOnAMultisampledTarget) {
     makeRenderer(&r, 0, PaletteFormat::kMatrix3x4F32, &rd);
     for (int frame = 0; frame < 3; ++frame) {
       r.clear(glm::vec4(0.2f, 0.25f, 0.3f, 1.0f));
-      const Status s = r.drawCrowdGpuCulled(crowd, wallCamera(), st);
+      const Status s = r.drawCrowdGpuCulled(CharacterId{}, crowd.view(), wallCamera(), st);
       EXPECT_TRUE(s.isOk()) << s.toString();
     }
     glBlitNamedFramebuffer(fbo[0], fbo[1], 0, 0, GLsizei(kSize), GLsizei(kSize), 0, 0,

@@ -41,7 +41,8 @@ TEST_P(MotionVectorTest, TheGpuDrivenPathKeepsWhatItDrew) {
   const auto draw = [&](Variant& v, int frame) {
     Camera c = camera(frame);
     if (v.jitter == Jitter::kNone) {
-      ASSERT_TRUE(v.renderer->drawCrowdGpuCulled(crowd_, c, nullptr, v.mode).isOk());
+      ASSERT_TRUE(
+          v.renderer->drawCrowdGpuCulled(CharacterId{}, crowd_.view(), c, nullptr, v.mode).isOk());
       return;
     }
     const glm::mat4 unjittered = c.projection;
@@ -51,7 +52,8 @@ TEST_P(MotionVectorTest, TheGpuDrivenPathKeepsWhatItDrew) {
     c.projection = glm::translate(glm::mat4(1.0f), shift) * c.projection;
     v.renderer->setGpuMotionProjection(v.jitter == Jitter::kUnjitteredMotion ? &unjittered
                                                                              : nullptr);
-    ASSERT_TRUE(v.renderer->drawCrowdGpuCulled(crowd_, c, nullptr, v.mode).isOk());
+    ASSERT_TRUE(
+        v.renderer->drawCrowdGpuCulled(CharacterId{}, crowd_.view(), c, nullptr, v.mode).isOk());
   };
   // Frame N, drawn at its clock with its camera by every variant; then frame N+1.
   ASSERT_TRUE(crowd_.update(1.0 / 30.0, camera(1)).isOk());
@@ -126,13 +128,17 @@ TEST_P(MotionVectorTest, AnotherCrowdStartsOverOnTheGpuDrivenPath) {
     }
   };
   populate(0.0);
-  ASSERT_TRUE(r.drawCrowdGpuCulled(crowd_, camera(1), nullptr, DrawMode::kSkinned).isOk());
+  ASSERT_TRUE(
+      r.drawCrowdGpuCulled(CharacterId{}, crowd_.view(), camera(1), nullptr, DrawMode::kSkinned)
+          .isOk());
   const uint64_t first = crowd_.identity();
   populate(0.4);  // Same handles, other places and clock 0 again: then the next clock.
   ASSERT_NE(crowd_.identity(), first);
   ASSERT_TRUE(crowd_.advanceClock(1.0 / 30.0).isOk());
   target_.clear(glm::vec4(0.0f));
-  ASSERT_TRUE(r.drawCrowdGpuCulled(crowd_, camera(1), nullptr, DrawMode::kSkinned).isOk());
+  ASSERT_TRUE(
+      r.drawCrowdGpuCulled(CharacterId{}, crowd_.view(), camera(1), nullptr, DrawMode::kSkinned)
+          .isOk());
   MotionSummary summary;
   ASSERT_TRUE(target_.summarize(&summary).isOk());
   EXPECT_GT(summary.drawn_pixels, size_t(kSize) * kSize / 20);
@@ -140,7 +146,9 @@ TEST_P(MotionVectorTest, AnotherCrowdStartsOverOnTheGpuDrivenPath) {
   // The same crowd's next frame moves (the clips play).
   ASSERT_TRUE(crowd_.advanceClock(1.0 / 30.0).isOk());
   target_.clear(glm::vec4(0.0f));
-  ASSERT_TRUE(r.drawCrowdGpuCulled(crowd_, camera(1), nullptr, DrawMode::kSkinned).isOk());
+  ASSERT_TRUE(
+      r.drawCrowdGpuCulled(CharacterId{}, crowd_.view(), camera(1), nullptr, DrawMode::kSkinned)
+          .isOk());
   ASSERT_TRUE(target_.summarize(&summary).isOk());
   EXPECT_GT(summary.max_pixels, 0.5);
   r.shutdown();
@@ -168,12 +176,16 @@ TEST_P(MotionVectorTest, SeveralCrowdsOfOneCharacterKeepTheirOwnState) {
     else
       ASSERT_TRUE(crowd_.update(1.0 / 30.0, camera(1)).isOk());
     ASSERT_TRUE(other.update(1.0 / 30.0, camera(frame)).isOk());
-    ASSERT_TRUE(r.drawCrowdGpuCulled(other, camera(frame), &stats, DrawMode::kSkinned).isOk());
+    ASSERT_TRUE(r.drawCrowdGpuCulled(si::CharacterId{}, other.view(), camera(frame), &stats,
+                                     DrawMode::kSkinned)
+                    .isOk());
     if (frame == 2) {
       EXPECT_EQ(stats.state_bytes_uploaded, 0u) << "the other crowd uploaded again";
     }
     target_.clear(glm::vec4(0.0f));
-    ASSERT_TRUE(r.drawCrowdGpuCulled(crowd_, camera(frame), &stats, DrawMode::kSkinned).isOk());
+    ASSERT_TRUE(r.drawCrowdGpuCulled(CharacterId{}, crowd_.view(), camera(frame), &stats,
+                                     DrawMode::kSkinned)
+                    .isOk());
   }
   const std::vector<glm::vec2> motion = motions();
   const std::vector<float> depth = depths();
@@ -201,7 +213,9 @@ TEST_P(MotionVectorTest, TheLeastRecentlyDrawnCrowdGoesPastTheCount) {
   }
   DrawStats stats;
   const auto uploaded = [&](CrowdManager& c) {
-    EXPECT_TRUE(r.drawCrowdGpuCulled(c, camera(1), &stats, DrawMode::kSkinned).isOk());
+    EXPECT_TRUE(
+        r.drawCrowdGpuCulled(si::CharacterId{}, c.view(), camera(1), &stats, DrawMode::kSkinned)
+            .isOk());
     return stats.state_bytes_uploaded;
   };
   for (CrowdManager& c : crowds) EXPECT_EQ(uploaded(c), sizeof(GpuInstanceState));
@@ -239,11 +253,15 @@ TEST_P(MotionVectorTest, ADrawWithoutMotionLeavesTheGpuDrivenFrameAlone) {
     for (int k = 0; k < 2; ++k) {
       Renderer& r = k == 0 ? plain : shadowed;
       target_.clear(glm::vec4(0.0f));
-      ASSERT_TRUE(r.drawCrowdGpuCulled(crowd_, camera(frame), nullptr, DrawMode::kSkinned).isOk());
+      ASSERT_TRUE(r.drawCrowdGpuCulled(CharacterId{}, crowd_.view(), camera(frame), nullptr,
+                                       DrawMode::kSkinned)
+                      .isOk());
       if (frame == 2) motion[k] = motions(), depth[k] = depths();
       if (k == 1) {  // The shadow view, after the frame's motion draw.
         r.setMotionVectors(false);
-        ASSERT_TRUE(r.drawCrowdGpuCulled(crowd_, shadow, nullptr, DrawMode::kSkinned).isOk());
+        ASSERT_TRUE(
+            r.drawCrowdGpuCulled(CharacterId{}, crowd_.view(), shadow, nullptr, DrawMode::kSkinned)
+                .isOk());
         r.setMotionVectors(true);
       }
     }

@@ -37,7 +37,8 @@ TEST_P(RenderTest, GpuMemoryIsReportedByWhatHoldsIt) {
     rc.positions = positions;
     ASSERT_TRUE(crowds[k].addRandom(rc, nullptr).isOk());
     ASSERT_TRUE(crowds[k].advanceClock(0.0).isOk());
-    ASSERT_TRUE(r.drawCrowdGpuCulled(crowds[k], closeCamera(), nullptr).isOk());
+    ASSERT_TRUE(
+        r.drawCrowdGpuCulled(CharacterId{}, crowds[k].view(), closeCamera(), nullptr).isOk());
   }
   ASSERT_TRUE(r.gpuMemory(&m).isOk());
   ASSERT_EQ(m.characters[0].crowds.size(), 2u);
@@ -83,7 +84,8 @@ TEST_P(RenderTest, TheGpuDrivenStateShrinksAfterAPeak) {
   makeRenderer(&r);
   const auto drawn = [&](Renderer& renderer) {
     renderer.clear(glm::vec4(0.2f, 0.25f, 0.3f, 1.0f));
-    EXPECT_TRUE(renderer.drawCrowdGpuCulled(crowd, closeCamera(), nullptr).isOk());
+    EXPECT_TRUE(
+        renderer.drawCrowdGpuCulled(CharacterId{}, crowd.view(), closeCamera(), nullptr).isOk());
     std::vector<uint8_t> rgba;
     EXPECT_TRUE(context_->readPixels(&rgba).isOk());
     return rgba;
@@ -131,7 +133,7 @@ TEST_P(RenderTest, TheGpuDrivenStateShrinksAfterAPeak) {
   ASSERT_TRUE(crowd.addRandom(rc, nullptr).isOk());
   ASSERT_TRUE(crowd.advanceClock(0.0).isOk());
   DrawStats stats;
-  ASSERT_TRUE(r.drawCrowdGpuCulled(crowd, closeCamera(), &stats).isOk());
+  ASSERT_TRUE(r.drawCrowdGpuCulled(CharacterId{}, crowd.view(), closeCamera(), &stats).isOk());
   EXPECT_EQ(memory().capacity, 3018u);
   EXPECT_LT(stats.state_bytes_uploaded, 2000u * sizeof(GpuInstanceState));  // Not the whole.
   r.shutdown();

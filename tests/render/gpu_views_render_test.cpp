@@ -12,6 +12,7 @@
 
 #include "render/render_fixture.h"
 #include "render/view_scenes.h"
+#include "si/crowd/crowd_manager.h"
 #include "si/crowd/crowd_view.h"
 #include "si/gl/motion_target.h"
 
@@ -260,7 +261,7 @@ TEST_P(GpuViews, TheLeastRecentlyDrawnViewPast32StartsOver) {
     DrawStats stats;
     EXPECT_TRUE(r.drawCrowdGpuCulled(CharacterId{}, view, at(distance), &stats).isOk());
     std::vector<glm::uvec2> selection;
-    EXPECT_TRUE(r.readGpuSelection(&selection).isOk());
+    EXPECT_TRUE(r.readGpuSelection(CharacterId{}, &selection).isOk());
     return selection.size() == 1 ? selection[0].y : 99u;
   };
   for (const uint32_t others : {31u, 32u}) {
@@ -289,8 +290,10 @@ TEST_P(GpuViews, ADetachedViewAndRigidAreRefused) {
   EXPECT_NE(s.message().find("not attached"), std::string::npos) << s.message();
   CrowdManager crowd;
   makeCrowd(&crowd);
-  EXPECT_EQ(r.drawCrowdGpuCulled(crowd, closeCamera(), &stats, DrawMode::kRigid).code(),
-            StatusCode::kInvalidArgument);
+  EXPECT_EQ(
+      r.drawCrowdGpuCulled(CharacterId{}, crowd.view(), closeCamera(), &stats, DrawMode::kRigid)
+          .code(),
+      StatusCode::kInvalidArgument);
 }
 
 INSTANTIATE_TEST_SUITE_P(Backends, GpuViews, test::allBackends(), test::backendTestName);

@@ -11,6 +11,7 @@
 #include "guest_calls.h"
 #include "host_state.h"
 #include "render/render_fixture.h"
+#include "si/crowd/crowd_manager.h"
 #include "si/gl/image_lod_error.h"
 
 namespace si {
@@ -133,9 +134,10 @@ TEST_P(GuestStateTest, DrawsWriteDepthAndBlendNothingWhateverTheHostLeft) {
     glDepthMask(GL_FALSE);
     glEnable(GL_BLEND);
     glBlendFunc(GL_ONE, GL_ONE);
-    const Status s = gpu_driven
-                         ? r.drawCrowdGpuCulled(crowd, lodCamera(), nullptr, DrawMode::kSkinned)
-                         : r.drawCrowd(crowd, batcher, lodCamera(), nullptr, DrawMode::kSkinned);
+    const Status s = gpu_driven ? r.drawCrowdGpuCulled(CharacterId{}, crowd.view(), lodCamera(),
+                                                       nullptr, DrawMode::kSkinned)
+                                : r.drawCrowd(CharacterId{}, crowd.view(), batcher, lodCamera(),
+                                              nullptr, DrawMode::kSkinned);
     ASSERT_TRUE(s.isOk()) << s.toString();
     GLboolean mask = GL_TRUE;
     glGetBooleanv(GL_DEPTH_WRITEMASK, &mask);

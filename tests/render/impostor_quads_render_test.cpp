@@ -170,7 +170,7 @@ TEST_P(RenderTest, ImpostorQuadsShadeWhatTheirCellsCoverAndDrawTheWholeCellsImag
     for (int k = 0; k < 12; ++k)
       add(40.0 * std::pow(20.0, -row / 23.0), (k - 5.5) * 0.06 + 0.004 * row);
   ASSERT_TRUE(crowd.update(0.0, camera).isOk());
-  ASSERT_EQ(crowd.stats().per_lod[impostorLevels() - 1], uint32_t(n));
+  ASSERT_EQ(crowd.view().stats().per_lod[impostorLevels() - 1], uint32_t(n));
 
   const bool count = hasPipelineStatistics();
   GLuint query = 0;

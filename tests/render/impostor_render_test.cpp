@@ -6,6 +6,7 @@
 #include <cmath>
 
 #include "render/impostor_fixture.h"
+#include "si/crowd/crowd_manager.h"
 #include "si/gl/image_lod_error.h"
 
 namespace si {
@@ -54,7 +55,7 @@ uint32_t backgroundlessPixels(const std::vector<uint8_t>& rgba) {
 TEST_P(RenderTest, ImpostorsDrawTheInstancedPathsImageOnTheGpuDrivenPath) {
   CrowdManager crowd;
   impostorCrowd(linesTo(60.0f), impostorLevels() - 1, &crowd);
-  ASSERT_EQ(crowd.stats().per_lod[impostorLevels() - 1], 16u);
+  ASSERT_EQ(crowd.view().stats().per_lod[impostorLevels() - 1], 16u);
   const auto renderer = [&](Renderer* r, SkinningPath path) {
     RendererDesc rd;
     rd.skinning_path = path;
@@ -133,8 +134,8 @@ TEST_P(RenderTest, AnImpostorAtItsHandOverHeightDiffersFromTheMeshByItsMeasuredE
   CrowdManager as_impostors, as_meshes;
   crowdAt(true, &as_impostors);
   crowdAt(false, &as_meshes);
-  ASSERT_EQ(as_impostors.stats().per_lod[impostorLevels() - 1], 6u);
-  ASSERT_EQ(as_meshes.stats().per_lod[0], 6u);
+  ASSERT_EQ(as_impostors.view().stats().per_lod[impostorLevels() - 1], 6u);
+  ASSERT_EQ(as_meshes.view().stats().per_lod[0], 6u);
   const std::vector<uint8_t> a = draw(r, as_impostors, flatCamera(), 0);
   const std::vector<uint8_t> b = draw(r, as_meshes, flatCamera(), 0);
   const Diff diff = compare(a, b, nullptr);
@@ -186,7 +187,7 @@ TEST_P(RenderTest, ATopDownImpostorIsTurnedAsTheMesh) {
     CrowdManager as_impostor, as_mesh;
     crowdAt(true, &as_impostor);
     crowdAt(false, &as_mesh);
-    ASSERT_EQ(as_impostor.stats().per_lod[impostorLevels() - 1], 1u);
+    ASSERT_EQ(as_impostor.view().stats().per_lod[impostorLevels() - 1], 1u);
     const std::vector<uint8_t> a = draw(r, as_impostor, above, 0);
     const std::vector<uint8_t> b = draw(r, as_mesh, above, 0);
     // Coverage (pixels off the background, the corner's colour), which the turn decides.
@@ -276,15 +277,20 @@ TEST_P(RenderTest, ImpostorsRefuseWhatTheyCannotDraw) {
   DrawStats stats;
   ASSERT_TRUE(r.replaceCharacter(cid, impostorCharacter(), palette()).isOk());  // Drops it.
   // No atlas yet.
-  EXPECT_EQ(r.drawCrowd(crowd, batcher, lodCamera(), &stats).code(), StatusCode::kInvalidArgument);
-  EXPECT_EQ(r.drawCrowdGpuCulled(crowd, lodCamera(), &stats).code(), StatusCode::kInvalidArgument);
+  EXPECT_EQ(r.drawCrowd(CharacterId{}, crowd.view(), batcher, lodCamera(), &stats).code(),
+            StatusCode::kInvalidArgument);
+  EXPECT_EQ(r.drawCrowdGpuCulled(CharacterId{}, crowd.view(), lodCamera(), &stats).code(),
+            StatusCode::kInvalidArgument);
   ASSERT_TRUE(r.buildImpostor(cid, smallImpostor()).isOk());
-  EXPECT_TRUE(r.drawCrowd(crowd, batcher, lodCamera(), &stats).isOk());
+  EXPECT_TRUE(r.drawCrowd(CharacterId{}, crowd.view(), batcher, lodCamera(), &stats).isOk());
   // The baselines draw meshes only; impostors draw no motion vectors.
-  EXPECT_EQ(r.drawTraditional(crowd, lodCamera(), &stats).code(), StatusCode::kUnsupported);
-  EXPECT_EQ(r.drawCpuSkinned(crowd, lodCamera(), &stats).code(), StatusCode::kUnsupported);
+  EXPECT_EQ(r.drawTraditional(CharacterId{}, crowd.view(), lodCamera(), &stats).code(),
+            StatusCode::kUnsupported);
+  EXPECT_EQ(r.drawCpuSkinned(CharacterId{}, crowd.view(), lodCamera(), &stats).code(),
+            StatusCode::kUnsupported);
   r.setMotionVectors(true);
-  EXPECT_EQ(r.drawCrowdGpuCulled(crowd, lodCamera(), &stats).code(), StatusCode::kUnsupported);
+  EXPECT_EQ(r.drawCrowdGpuCulled(CharacterId{}, crowd.view(), lodCamera(), &stats).code(),
+            StatusCode::kUnsupported);
 }
 
 }  // namespace

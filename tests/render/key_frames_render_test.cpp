@@ -59,12 +59,12 @@ TEST_P(RenderTest, GpuDrivenDrawsFramesAtKeysAsTheCpuPathDoes) {
     const std::vector<uint8_t> cpu = draw(r, crowd, camera, 0);
     r.clear(glm::vec4(0.2f, 0.25f, 0.3f, 1.0f));
     DrawStats stats;
-    ASSERT_TRUE(r.drawCrowdGpuCulled(crowd, camera, &stats).isOk());
+    ASSERT_TRUE(r.drawCrowdGpuCulled(CharacterId{}, crowd.view(), camera, &stats).isOk());
     std::vector<uint8_t> gpu;
     ASSERT_TRUE(context_->readPixels(&gpu).isOk());
     const Diff diff = compare(gpu, cpu, nullptr);
     EXPECT_LE(diff.share, 0.001) << "max channel difference " << diff.max_channel;
-    EXPECT_EQ(stats.gpu_visible, crowd.stats().visible);
+    EXPECT_EQ(stats.gpu_visible, crowd.view().stats().visible);
   }
 }
 

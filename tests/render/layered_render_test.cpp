@@ -9,6 +9,7 @@
 
 #include "gl/resources/layer_compose_table.h"
 #include "render/render_fixture.h"
+#include "si/crowd/crowd_manager.h"
 #include "si/gl/motion_target.h"
 
 namespace si {
@@ -66,7 +67,7 @@ TEST_P(LayeredRenderTest, BothSkinningPathsDrawTheEmulatedOverlay) {
   CrowdManager crowd;
   makeCrowd(&crowd);
   populate(&crowd);
-  ASSERT_EQ(crowd.layerRecords().size(), crowd.records().size());
+  ASSERT_EQ(crowd.view().layerRecords().size(), crowd.view().records().size());
   const std::vector<uint8_t> cpu = draw(r, crowd, closeView(), 0, false, nullptr, Path::kCpuSkinned);
   const std::vector<uint8_t> vertex = draw(r, crowd, closeView(), 0);
   const std::vector<uint8_t> compute = draw(r, crowd, closeView(), 0, false, nullptr, Path::kCompute);
@@ -122,7 +123,8 @@ TEST_P(LayeredRenderTest, ComposedRowsDrawWhatTheChainWalkDraws) {
                            DrawMode mode = DrawMode::kDefault) {
       renderer.setComposeLayers(compose);
       renderer.clear(glm::vec4(0.2f, 0.25f, 0.3f, 1.0f));
-      EXPECT_TRUE(renderer.drawCrowd(crowd, batcher, closeView(), stats, mode).isOk());
+      EXPECT_TRUE(renderer.drawCrowd(CharacterId{}, crowd.view(), batcher, closeView(), stats, mode)
+                      .isOk());
       std::vector<uint8_t> rgba;
       EXPECT_TRUE(context_->readPixels(&rgba).isOk());
       return rgba;
@@ -139,8 +141,8 @@ TEST_P(LayeredRenderTest, ComposedRowsDrawWhatTheChainWalkDraws) {
     EXPECT_EQ(compare(in_small, composed, nullptr).max_channel, 0);
     EXPECT_EQ(composed_stats.compose_dispatches, 1u);
     // 12 instances, each composed once, drawn in 4 sub-meshes' batches.
-    EXPECT_EQ(composed_stats.composed_records, crowd.records().size());
-    EXPECT_EQ(composed_stats.instances, 4 * crowd.records().size());
+    EXPECT_EQ(composed_stats.composed_records, crowd.view().records().size());
+    EXPECT_EQ(composed_stats.instances, 4 * crowd.view().records().size());
     EXPECT_EQ(walk_stats.compose_dispatches, 0u);
     const Diff d = compare(composed, walk, nullptr);
     EXPECT_LE(d.share, 0.0005) << "max channel difference " << d.max_channel;
@@ -158,7 +160,9 @@ TEST_P(LayeredRenderTest, ComposedRowsDrawWhatTheChainWalkDraws) {
   small.shutdown();
   r.setComposeLayers(true);
   DrawStats depth_stats;
-  ASSERT_TRUE(r.drawCrowd(crowd, unused, closeView(), &depth_stats, DrawMode::kDepthOnly).isOk());
+  ASSERT_TRUE(r.drawCrowd(CharacterId{}, crowd.view(), unused, closeView(), &depth_stats,
+                          DrawMode::kDepthOnly)
+                  .isOk());
   EXPECT_EQ(depth_stats.compose_dispatches, 1u);
   r.shutdown();
 }
@@ -184,12 +188,15 @@ TEST_P(LayeredRenderTest, TwoCrowdsWithOtherMasksDrawInOneFrame) {
     EXPECT_TRUE(context_->readPixels(&rgba).isOk());
     return rgba;
   };
-  const std::vector<uint8_t> cpu =
-      drawBoth([&](const CrowdManager& c) { return r.drawCpuSkinned(c, closeView(), nullptr); });
-  const std::vector<uint8_t> vertex =
-      drawBoth([&](const CrowdManager& c) { return r.drawCrowd(c, batcher, closeView(), nullptr); });
+  const std::vector<uint8_t> cpu = drawBoth([&](const CrowdManager& c) {
+    return r.drawCpuSkinned(CharacterId{}, c.view(), closeView(), nullptr);
+  });
+  const std::vector<uint8_t> vertex = drawBoth([&](const CrowdManager& c) {
+    return r.drawCrowd(CharacterId{}, c.view(), batcher, closeView(), nullptr);
+  });
   const std::vector<uint8_t> compute = drawBoth([&](const CrowdManager& c) {
-    return r.drawCrowd(c, batcher, closeView(), nullptr, DrawMode::kComputeSkinned);
+    return r.drawCrowd(CharacterId{}, c.view(), batcher, closeView(), nullptr,
+                       DrawMode::kComputeSkinned);
   });
   const Diff dv = compare(vertex, cpu, nullptr), dc = compare(compute, cpu, nullptr);
   EXPECT_LE(dv.share, 0.001) << "vertex shader: max channel difference " << dv.max_channel;
@@ -206,8 +213,8 @@ TEST_P(LayeredRenderTest, TwoCrowdsWithOtherMasksDrawInOneFrame) {
   handles_.clear();
   populate(&both_right, "r_clavicle", glm::dvec3(0.6, 0.0, -0.75));
   r.clear(glm::vec4(0.2f, 0.25f, 0.3f, 1.0f));
-  ASSERT_TRUE(r.drawCrowd(right, batcher, closeView(), nullptr).isOk());
-  ASSERT_TRUE(r.drawCrowd(both_right, batcher, closeView(), nullptr).isOk());
+  ASSERT_TRUE(r.drawCrowd(CharacterId{}, right.view(), batcher, closeView(), nullptr).isOk());
+  ASSERT_TRUE(r.drawCrowd(CharacterId{}, both_right.view(), batcher, closeView(), nullptr).isOk());
   std::vector<uint8_t> wrong_mask;
   ASSERT_TRUE(context_->readPixels(&wrong_mask).isOk());
   EXPECT_GT(compare(wrong_mask, vertex, nullptr).share, 0.005);
@@ -226,7 +233,8 @@ TEST_P(LayeredRenderTest, DepthOnlyDrawsTheOverlaidPose) {
   ASSERT_TRUE(target.create(kSize, kSize).isOk());
   const auto depthOf = [&](DrawMode mode) {
     target.clear(glm::vec4(0.0f));
-    EXPECT_TRUE(r.drawCrowd(crowd, batcher, closeView(), nullptr, mode).isOk());
+    EXPECT_TRUE(
+        r.drawCrowd(CharacterId{}, crowd.view(), batcher, closeView(), nullptr, mode).isOk());
     std::vector<float> depth;
     EXPECT_TRUE(target.readDepth(&depth).isOk());
     return depth;
@@ -238,7 +246,9 @@ TEST_P(LayeredRenderTest, DepthOnlyDrawsTheOverlaidPose) {
   // The GPU-driven depth-only draw (vertex-shader skinning: composed rows) writes it too.
   target.clear(glm::vec4(0.0f));
   DrawStats gpu_stats;
-  ASSERT_TRUE(r.drawCrowdGpuCulled(crowd, closeView(), &gpu_stats, DrawMode::kDepthOnly).isOk());
+  ASSERT_TRUE(r.drawCrowdGpuCulled(CharacterId{}, crowd.view(), closeView(), &gpu_stats,
+                                   DrawMode::kDepthOnly)
+                  .isOk());
   EXPECT_EQ(gpu_stats.compose_dispatches, 1u);
   std::vector<float> gpu_depth;
   ASSERT_TRUE(target.readDepth(&gpu_depth).isOk());
@@ -267,9 +277,9 @@ TEST_P(LayeredRenderTest, TheGpuDrivenPathDrawsTheOverlays) {
   for (DrawMode mode : {DrawMode::kSkinned, DrawMode::kComputeSkinned}) {
     r.clear(glm::vec4(0.2f, 0.25f, 0.3f, 1.0f));
     DrawStats stats;
-    const Status s = r.drawCrowdGpuCulled(crowd, closeView(), &stats, mode);
+    const Status s = r.drawCrowdGpuCulled(CharacterId{}, crowd.view(), closeView(), &stats, mode);
     ASSERT_TRUE(s.isOk()) << s.toString();
-    EXPECT_EQ(stats.gpu_visible, crowd.stats().visible);
+    EXPECT_EQ(stats.gpu_visible, crowd.view().stats().visible);
     // Both skinnings read composed rows: one compose pass.
     EXPECT_EQ(stats.compose_dispatches, 1u);
     std::vector<uint8_t> gpu;
@@ -282,7 +292,9 @@ TEST_P(LayeredRenderTest, TheGpuDrivenPathDrawsTheOverlays) {
   // which the overlaid image is not.
   for (InstanceHandle h : handles_) ASSERT_TRUE(crowd.stopOverlay(h, 0.0).isOk());
   r.clear(glm::vec4(0.2f, 0.25f, 0.3f, 1.0f));
-  ASSERT_TRUE(r.drawCrowdGpuCulled(crowd, closeView(), nullptr, DrawMode::kSkinned).isOk());
+  ASSERT_TRUE(
+      r.drawCrowdGpuCulled(CharacterId{}, crowd.view(), closeView(), nullptr, DrawMode::kSkinned)
+          .isOk());
   std::vector<uint8_t> plain;
   ASSERT_TRUE(context_->readPixels(&plain).isOk());
   EXPECT_GT(compare(plain, reference, nullptr).share, 0.01);
@@ -332,18 +344,20 @@ TEST_P(LayeredRenderTest, MotionVectorsFollowTheOverlay) {
     }
     ASSERT_TRUE(crowd.update(0.0, closeView()).isOk());
     if (gpu_driven) {
-      ASSERT_TRUE(r.drawCrowdGpuCulled(crowd, closeView(), nullptr, mode).isOk());
+      ASSERT_TRUE(
+          r.drawCrowdGpuCulled(CharacterId{}, crowd.view(), closeView(), nullptr, mode).isOk());
       ASSERT_TRUE(crowd.advanceClock(0.05).isOk());
       target.clear(glm::vec4(0.0f));
-      const Status s = r.drawCrowdGpuCulled(crowd, closeView(), nullptr, mode);
+      const Status s =
+          r.drawCrowdGpuCulled(CharacterId{}, crowd.view(), closeView(), nullptr, mode);
       ASSERT_TRUE(s.isOk()) << s.toString();
       ASSERT_TRUE(target.readMotion(motion).isOk());
       return;
     }
     ASSERT_TRUE(crowd.update(0.05, closeView()).isOk());
-    ASSERT_EQ(crowd.previousLayerRecords().size(), crowd.previousRecords().size());
+    ASSERT_EQ(crowd.view().previousLayerRecords().size(), crowd.view().previousRecords().size());
     target.clear(glm::vec4(0.0f));
-    const Status s = r.drawCrowd(crowd, batcher, closeView(), nullptr, mode);
+    const Status s = r.drawCrowd(CharacterId{}, crowd.view(), batcher, closeView(), nullptr, mode);
     ASSERT_TRUE(s.isOk()) << s.toString();
     ASSERT_TRUE(target.readMotion(motion).isOk());
   };
@@ -390,7 +404,9 @@ TEST_P(LayeredRenderTest, RigidDrawsIgnoreTheOverlays) {
   CrowdManager crowd;
   InstanceBatcher batcher;
   vertexShaderSetUp(&r, &crowd, &batcher);
-  EXPECT_TRUE(r.drawCrowd(crowd, batcher, closeView(), nullptr, DrawMode::kRigid).isOk());
+  EXPECT_TRUE(
+      r.drawCrowd(CharacterId{}, crowd.view(), batcher, closeView(), nullptr, DrawMode::kRigid)
+          .isOk());
   r.shutdown();
 }
 

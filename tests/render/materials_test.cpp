@@ -8,6 +8,7 @@
 
 #include "gltf/parts_asset.h"
 #include "render/render_fixture.h"
+#include "si/crowd/crowd_manager.h"
 #include "si/gltf/gltf_import.h"
 #include "test_assets.h"
 
@@ -71,10 +72,13 @@ class MaterialScenes : public RenderTest {
     EXPECT_TRUE(batcher.init(r.batchLimits()).isOk());
     if (clear) r.clear(glm::vec4(0.2f, 0.25f, 0.3f, 1.0f));
     DrawStats stats;
-    const Status s = path == Path::kCpuSkinned ? r.drawCpuSkinned(crowd, partsCamera(), &stats)
+    const Status s = path == Path::kCpuSkinned
+                         ? r.drawCpuSkinned(CharacterId{}, crowd.view(), partsCamera(), &stats)
                      : path == Path::kCompute
-                         ? r.drawCrowd(crowd, batcher, partsCamera(), &stats, DrawMode::kComputeSkinned)
-                         : r.drawCrowd(crowd, batcher, partsCamera(), &stats, DrawMode::kSkinned);
+                         ? r.drawCrowd(CharacterId{}, crowd.view(), batcher, partsCamera(), &stats,
+                                       DrawMode::kComputeSkinned)
+                         : r.drawCrowd(CharacterId{}, crowd.view(), batcher, partsCamera(), &stats,
+                                       DrawMode::kSkinned);
     EXPECT_TRUE(s.isOk()) << s.toString();
     std::vector<uint8_t> rgba;
     EXPECT_TRUE(context_->readPixels(&rgba).isOk());
@@ -213,10 +217,11 @@ TEST_P(MaterialsTest, SampleAssetsDrawOnTheGpuAsSkinnedOnTheCpu) {
       std::vector<uint8_t> gpu, cpu;
       r.clear(glm::vec4(0.2f, 0.25f, 0.3f, 1.0f));
       DrawStats stats;
-      ASSERT_TRUE(r.drawCrowd(crowd, batcher, cam, &stats, DrawMode::kSkinned).isOk());
+      ASSERT_TRUE(r.drawCrowd(CharacterId{}, crowd.view(), batcher, cam, &stats, DrawMode::kSkinned)
+                      .isOk());
       ASSERT_TRUE(context_->readPixels(&gpu).isOk());
       r.clear(glm::vec4(0.2f, 0.25f, 0.3f, 1.0f));
-      ASSERT_TRUE(r.drawCpuSkinned(crowd, cam, &stats).isOk());
+      ASSERT_TRUE(r.drawCpuSkinned(CharacterId{}, crowd.view(), cam, &stats).isOk());
       ASSERT_TRUE(context_->readPixels(&cpu).isOk());
       size_t covered = 0;
       for (size_t i = 0; i < gpu.size(); i += 4)

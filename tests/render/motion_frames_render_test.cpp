@@ -36,9 +36,11 @@ TEST_P(MotionVectorTest, AFrameIsACrowdStepOnEveryPath) {
   // with the engine program's (its previous records, its previous update camera).
   const auto draw = [&](Drawer& p) {
     target_.clear(glm::vec4(0.0f));
-    const Camera& c = crowd_.updateCamera();
-    const Status s = p.gpu_driven ? p.renderer->drawCrowdGpuCulled(crowd_, c, nullptr, p.mode)
-                                  : p.renderer->drawCrowd(crowd_, p.batcher, c, nullptr, p.mode);
+    const Camera& c = crowd_.view().camera();
+    const Status s =
+        p.gpu_driven
+            ? p.renderer->drawCrowdGpuCulled(CharacterId{}, crowd_.view(), c, nullptr, p.mode)
+            : p.renderer->drawCrowd(CharacterId{}, crowd_.view(), p.batcher, c, nullptr, p.mode);
     ASSERT_TRUE(s.isOk()) << p.name << ": " << s.toString();
   };
   const auto check = [&](const char* step, int draws) {

@@ -17,6 +17,7 @@
 #include "gl/resources/palette_texture.h"
 #include "render/render_fixture.h"
 #include "si/core/shader_inputs.h"
+#include "si/crowd/crowd_manager.h"
 #include "si/gl/motion_target.h"
 #include "si/gl/skinning_glsl.h"
 
@@ -144,10 +145,11 @@ class MotionVectorTest : public RenderTest {
     ASSERT_TRUE(linked);
 
     const size_t slack = size_t(capacity) * kInstanceRecordSize;
-    std::vector<uint8_t> current(batcher.recordBufferBound(crowd_) + slack), prior(current.size());
+    std::vector<uint8_t> current(batcher.recordBufferBound(crowd_.view()) + slack),
+        prior(current.size());
     std::vector<DrawBatch> draws;
-    ASSERT_TRUE(batcher.build(crowd_, current, &draws).isOk());
-    ASSERT_TRUE(batcher.buildPrevious(crowd_, prior).isOk());
+    ASSERT_TRUE(batcher.build(crowd_.view(), current, &draws).isOk());
+    ASSERT_TRUE(batcher.buildPrevious(crowd_.view(), prior).isOk());
     VertexStream stream;
     ASSERT_TRUE(buildVertexStream(character().mesh, palette(), &stream).isOk());
     GLuint buffers[4];
@@ -175,8 +177,8 @@ class MotionVectorTest : public RenderTest {
     glUseProgram(program);
     glBindVertexArray(vao);
     texture.bind();  // The palette at unit 0, its info block at uniform binding 4.
-    const glm::mat4 now = crowd_.updateCamera().viewProjection();
-    const glm::mat4 then = crowd_.previousUpdateCamera().viewProjection();
+    const glm::mat4 now = crowd_.view().camera().viewProjection();
+    const glm::mat4 then = crowd_.view().previousCamera().viewProjection();
     glUniformMatrix4fv(glGetUniformLocation(program, "u_current"), 1, GL_FALSE, &now[0][0]);
     glUniformMatrix4fv(glGetUniformLocation(program, "u_previous"), 1, GL_FALSE, &then[0][0]);
     glUniform1i(glGetUniformLocation(program, "u_draw_previous"), previous ? 1 : 0);

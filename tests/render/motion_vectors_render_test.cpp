@@ -17,7 +17,7 @@ TEST_P(MotionVectorTest, PreviousPositionsDrawTheLastFrame) {
   drawEngine(false);
   const std::vector<uint8_t> frame_n = colors();
   nextFrame();
-  ASSERT_EQ(crowd_.records().size(), handles_.size());  // Every instance in view in both.
+  ASSERT_EQ(crowd_.view().records().size(), handles_.size());  // Every instance in view in both.
   target_.clear(glm::vec4(0.0f));
   drawEngine(true);
   const std::vector<uint8_t> previous = colors();
@@ -43,8 +43,8 @@ TEST_P(MotionVectorTest, TheRendererWritesTheIncludesMotion) {
     ASSERT_TRUE(crowd_.setTransform(handles_[k], d.position, d.rotation, d.scale).isOk());
   }
   nextFrame();
-  EXPECT_EQ(std::count(crowd_.previousRecordIndices().begin(), crowd_.previousRecordIndices().end(),
-                       kNoPreviousRecord),
+  EXPECT_EQ(std::count(crowd_.view().previousRecordIndices().begin(),
+                       crowd_.view().previousRecordIndices().end(), kNoPreviousRecord),
             2);
   target_.clear(glm::vec4(0.0f));
   drawEngine(false);
@@ -60,7 +60,8 @@ TEST_P(MotionVectorTest, TheRendererWritesTheIncludesMotion) {
     InstanceBatcher batcher;
     ASSERT_TRUE(batcher.init(r.batchLimits()).isOk());
     target_.clear(glm::vec4(0.0f));
-    const Status s = r.drawCrowd(crowd_, batcher, crowd_.updateCamera(), nullptr);
+    const Status s =
+        r.drawCrowd(CharacterId{}, crowd_.view(), batcher, crowd_.view().camera(), nullptr);
     ASSERT_TRUE(s.isOk()) << s.toString();
     const std::vector<glm::vec2> motion = motions();
     const std::vector<float> depth = depths();
@@ -84,13 +85,16 @@ TEST_P(MotionVectorTest, TheRendererWritesTheIncludesMotion) {
     EXPECT_NEAR(summary.max_pixels, double(largest) * kSize, 0.5);
     EXPECT_GT(summary.mean_pixels, 0.5);
     // Motion vectors only from drawCrowd and drawCrowdGpuCulled.
-    EXPECT_EQ(r.drawTraditional(crowd_, crowd_.updateCamera(), nullptr).code(),
-              StatusCode::kUnsupported);
-    EXPECT_EQ(r.drawCpuSkinned(crowd_, crowd_.updateCamera(), nullptr).code(),
-              StatusCode::kUnsupported);
+    EXPECT_EQ(
+        r.drawTraditional(CharacterId{}, crowd_.view(), crowd_.view().camera(), nullptr).code(),
+        StatusCode::kUnsupported);
+    EXPECT_EQ(
+        r.drawCpuSkinned(CharacterId{}, crowd_.view(), crowd_.view().camera(), nullptr).code(),
+        StatusCode::kUnsupported);
     r.setMotionVectors(false);
     EXPECT_FALSE(r.motionVectors());
-    EXPECT_TRUE(r.drawCpuSkinned(crowd_, crowd_.updateCamera(), nullptr).isOk());
+    EXPECT_TRUE(
+        r.drawCpuSkinned(CharacterId{}, crowd_.view(), crowd_.view().camera(), nullptr).isOk());
     r.shutdown();
   }
 }
@@ -103,7 +107,7 @@ TEST_P(MotionVectorTest, NeedsTheCrowdsPreviousRecords) {
   makeOneInstanceCrowd(&plain);
   InstanceBatcher batcher;
   ASSERT_TRUE(batcher.init(r.batchLimits()).isOk());
-  const Status s = r.drawCrowd(plain, batcher, closeCamera(), nullptr);
+  const Status s = r.drawCrowd(si::CharacterId{}, plain.view(), batcher, closeCamera(), nullptr);
   EXPECT_EQ(s.code(), StatusCode::kInvalidArgument);
   MotionTarget unmade;
   EXPECT_EQ(unmade.create(0, 16).code(), StatusCode::kInvalidArgument);
@@ -111,7 +115,9 @@ TEST_P(MotionVectorTest, NeedsTheCrowdsPreviousRecords) {
   EXPECT_EQ(unmade.readMotion(&motion).code(), StatusCode::kInvalidArgument);
   EXPECT_NE(s.message().find("previous_records"), std::string::npos) << s.message();
   // Depth-only draws write no motion and need none.
-  EXPECT_TRUE(r.drawCrowd(plain, batcher, closeCamera(), nullptr, DrawMode::kDepthOnly).isOk());
+  EXPECT_TRUE(r.drawCrowd(si::CharacterId{}, plain.view(), batcher, closeCamera(), nullptr,
+                          DrawMode::kDepthOnly)
+                  .isOk());
   r.shutdown();
 }
 
@@ -126,20 +132,21 @@ TEST_P(MotionVectorTest, AnEmptyFrameDrawsWithMotionVectors) {
     InstanceBatcher batcher;
     ASSERT_TRUE(batcher.init(r.batchLimits()).isOk());
     ASSERT_TRUE(crowd_.update(0.05, camera(1)).isOk());
-    ASSERT_TRUE(r.drawCrowd(crowd_, batcher, crowd_.updateCamera(), nullptr).isOk());
+    ASSERT_TRUE(
+        r.drawCrowd(CharacterId{}, crowd_.view(), batcher, crowd_.view().camera(), nullptr).isOk());
     const Camera away = Camera::lookAt({0.0, 1.6, 2.5}, {0.0, 1.6, 10.0}, glm::vec3(0, 1, 0), 0.9f,
                                        1.0f, 0.1f, 100.0f);
     ASSERT_TRUE(crowd_.update(0.05, away).isOk());
-    ASSERT_TRUE(crowd_.records().empty());
+    ASSERT_TRUE(crowd_.view().records().empty());
     for (int frame = 0; frame < 2; ++frame) {  // Then no previous records either.
       DrawStats stats;
-      const Status s = r.drawCrowd(crowd_, batcher, away, &stats);
+      const Status s = r.drawCrowd(CharacterId{}, crowd_.view(), batcher, away, &stats);
       EXPECT_TRUE(s.isOk()) << s.toString();
       EXPECT_EQ(stats.instances, 0u);
       EXPECT_TRUE(checkGlErrors("an empty frame with motion vectors").isOk());
       ASSERT_TRUE(crowd_.update(0.05, away).isOk());
     }
-    EXPECT_TRUE(crowd_.previousRecords().empty());
+    EXPECT_TRUE(crowd_.view().previousRecords().empty());
     r.shutdown();
   }
 }
@@ -176,7 +183,8 @@ TEST_P(MotionVectorTest, TheLastDrawsRegionServesAsThePreviousRecords) {
     const auto draw = [&](Renderer& r, DrawMode mode, std::vector<glm::vec2>* motion) {
       target_.clear(glm::vec4(0.0f));
       DrawStats stats;
-      const Status s = r.drawCrowd(crowd_, batcher, crowd_.updateCamera(), &stats, mode);
+      const Status s =
+          r.drawCrowd(CharacterId{}, crowd_.view(), batcher, crowd_.view().camera(), &stats, mode);
       EXPECT_TRUE(s.isOk()) << s.toString();
       if (motion != nullptr) *motion = motions();
       return stats.previous_records_copied;
@@ -190,13 +198,13 @@ TEST_P(MotionVectorTest, TheLastDrawsRegionServesAsThePreviousRecords) {
       ASSERT_TRUE(crowd_.setTransform(handles_[k], d.position, d.rotation, d.scale).isOk());
     }
     nextFrame();
-    const size_t previous = crowd_.previousRecords().size();
+    const size_t previous = crowd_.view().previousRecords().size();
     ASSERT_GT(previous, 10u);
     std::vector<glm::vec2> read, copied;
     EXPECT_EQ(draw(reuse, DrawMode::kDepthOnly, nullptr), 0u);
     EXPECT_EQ(draw(reuse, DrawMode::kDefault, &read), 0u);
     EXPECT_EQ(draw(copy, DrawMode::kDefault, &copied), previous);
-    EXPECT_FALSE(crowd_.previousLayerRecords().empty());
+    EXPECT_FALSE(crowd_.view().previousLayerRecords().empty());
     float largest = 0.0f;
     for (const glm::vec2& m : copied) largest = std::max(largest, glm::length(m));
     EXPECT_GT(largest, 0.02f);
@@ -205,8 +213,8 @@ TEST_P(MotionVectorTest, TheLastDrawsRegionServesAsThePreviousRecords) {
     // written again right after the next draw, which would wait for this one: copied.
     nextFrame();
     for (int k = 0; k < 2; ++k) draw(reuse, DrawMode::kDepthOnly, nullptr);
-    EXPECT_EQ(draw(reuse, DrawMode::kDefault, &read), crowd_.previousRecords().size());
-    EXPECT_EQ(draw(copy, DrawMode::kDefault, &copied), crowd_.previousRecords().size());
+    EXPECT_EQ(draw(reuse, DrawMode::kDefault, &read), crowd_.view().previousRecords().size());
+    EXPECT_EQ(draw(copy, DrawMode::kDefault, &copied), crowd_.view().previousRecords().size());
     EXPECT_TRUE(read == copied);
     reuse.shutdown();
     copy.shutdown();
@@ -243,18 +251,19 @@ TEST_P(MotionVectorTest, AFailedDrawLeavesNoPreviousRecordsBehind) {
   ASSERT_TRUE(crowd_.update(1.0 / 30.0, camera(1)).isOk());
   // The other crowd's draw, this crowd's refused one, the other's again (the same selection:
   // its note moves to the region the refused draw had planned).
-  ASSERT_TRUE(r.drawCrowd(other, batcher, camera(1), nullptr).isOk());
-  const Status refused =
-      r.drawCrowd(crowd_, batcher, camera(1), nullptr, DrawMode::kComputeSkinned);
+  ASSERT_TRUE(r.drawCrowd(si::CharacterId{}, other.view(), batcher, camera(1), nullptr).isOk());
+  const Status refused = r.drawCrowd(CharacterId{}, crowd_.view(), batcher, camera(1), nullptr,
+                                     DrawMode::kComputeSkinned);
   EXPECT_EQ(refused.code(), StatusCode::kLimitExceeded) << refused.toString();
-  ASSERT_TRUE(r.drawCrowd(other, batcher, camera(1), nullptr).isOk());
+  ASSERT_TRUE(r.drawCrowd(si::CharacterId{}, other.view(), batcher, camera(1), nullptr).isOk());
   nextFrame();
-  const size_t previous = crowd_.previousRecords().size();
+  const size_t previous = crowd_.view().previousRecords().size();
   ASSERT_GT(previous, 10u);
   const auto motionOf = [&](Renderer& renderer, std::vector<glm::vec2>* motion) {
     target_.clear(glm::vec4(0.0f));
     DrawStats stats;
-    const Status s = renderer.drawCrowd(crowd_, batcher, crowd_.updateCamera(), &stats);
+    const Status s =
+        renderer.drawCrowd(CharacterId{}, crowd_.view(), batcher, crowd_.view().camera(), &stats);
     EXPECT_TRUE(s.isOk()) << s.toString();
     *motion = motions();
     return stats.previous_records_copied;

@@ -9,6 +9,7 @@
 #include <cstdlib>
 
 #include "render/render_fixture.h"
+#include "si/crowd/crowd_manager.h"
 #include "si/gltf/gltf_import.h"
 #include "test_assets.h"
 
@@ -97,14 +98,18 @@ Status drawWith(DrawWith w, Renderer& r, CharacterId id, const CrowdManager& cro
                 const InstanceBatcher& batcher) {
   const Camera cam = sceneCamera();
   switch (w) {
-    case DrawWith::kVertexShader: return r.drawCrowd(id, crowd, batcher, cam, nullptr, DrawMode::kSkinned);
+    case DrawWith::kVertexShader:
+      return r.drawCrowd(id, crowd.view(), batcher, cam, nullptr, DrawMode::kSkinned);
     case DrawWith::kCompute:
-      return r.drawCrowd(id, crowd, batcher, cam, nullptr, DrawMode::kComputeSkinned);
-    case DrawWith::kGpuDriven: return r.drawCrowdGpuCulled(id, crowd, cam, nullptr, DrawMode::kSkinned);
+      return r.drawCrowd(id, crowd.view(), batcher, cam, nullptr, DrawMode::kComputeSkinned);
+    case DrawWith::kGpuDriven:
+      return r.drawCrowdGpuCulled(id, crowd.view(), cam, nullptr, DrawMode::kSkinned);
     case DrawWith::kGpuDrivenCompute:
-      return r.drawCrowdGpuCulled(id, crowd, cam, nullptr, DrawMode::kComputeSkinned);
-    case DrawWith::kTraditional: return r.drawTraditional(id, crowd, cam, nullptr);
-    case DrawWith::kCpu: return r.drawCpuSkinned(id, crowd, cam, nullptr);
+      return r.drawCrowdGpuCulled(id, crowd.view(), cam, nullptr, DrawMode::kComputeSkinned);
+    case DrawWith::kTraditional:
+      return r.drawTraditional(id, crowd.view(), cam, nullptr);
+    case DrawWith::kCpu:
+      return r.drawCpuSkinned(id, crowd.view(), cam, nullptr);
   }
   return Status::ok();
 }
@@ -217,9 +222,10 @@ TEST_P(MultiCharacterTest, IdsAndPalettesAreChecked) {
   CrowdManager crowd1;
   populate(*kinds[1], 1, 2, &crowd1);
   ASSERT_TRUE(crowd1.update(0.0, sceneCamera()).isOk());
-  ASSERT_FALSE(crowd1.records().empty());
+  ASSERT_FALSE(crowd1.view().records().empty());
   std::vector<glm::vec3> positions;
-  EXPECT_TRUE(r.captureSkinnedPositions(CharacterId{1}, crowd1.records()[0], &positions).isOk());
+  EXPECT_TRUE(
+      r.captureSkinnedPositions(CharacterId{1}, crowd1.view().records()[0], &positions).isOk());
   EXPECT_EQ(positions.size(), kinds[1]->character.mesh.vertexCount());
 
   // Replacing character 0 with character 1's kind keeps the id: crowds of the old palette are
@@ -228,14 +234,14 @@ TEST_P(MultiCharacterTest, IdsAndPalettesAreChecked) {
             StatusCode::kInvalidArgument);
   ASSERT_TRUE(r.replaceCharacter(CharacterId{0}, kinds[1]->character, kinds[1]->palette).isOk());
   EXPECT_EQ(r.characterCount(), 2u);
-  EXPECT_EQ(r.drawCrowd(CharacterId{0}, crowd, batcher, sceneCamera(), nullptr).code(),
+  EXPECT_EQ(r.drawCrowd(CharacterId{0}, crowd.view(), batcher, sceneCamera(), nullptr).code(),
             StatusCode::kInvalidArgument);
-  EXPECT_TRUE(r.drawCrowd(CharacterId{0}, crowd1, batcher, sceneCamera(), nullptr).isOk());
+  EXPECT_TRUE(r.drawCrowd(CharacterId{0}, crowd1.view(), batcher, sceneCamera(), nullptr).isOk());
   EXPECT_EQ(r.triangleCount(CharacterId{0}, 0, 0), r.triangleCount(CharacterId{1}, 0, 0));
   const Status failed = r.replaceCharacter(CharacterId{0}, kinds[0]->character, wrong_palette);
   EXPECT_EQ(failed.code(), StatusCode::kInvalidArgument);
   EXPECT_NE(failed.message().find("replaceCharacter"), std::string::npos) << failed.message();
-  EXPECT_TRUE(r.drawCrowd(CharacterId{0}, crowd1, batcher, sceneCamera(), nullptr).isOk());
+  EXPECT_TRUE(r.drawCrowd(CharacterId{0}, crowd1.view(), batcher, sceneCamera(), nullptr).isOk());
   EXPECT_EQ(glGetError(), GLenum(GL_NO_ERROR));
 }
 

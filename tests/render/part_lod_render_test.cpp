@@ -5,6 +5,7 @@
 // count of the CPU-skinning emulation; and fewer triangles than the same crowd without it.
 #include "render/render_fixture.h"
 #include "si/core/part_lod.h"
+#include "si/crowd/crowd_manager.h"
 
 namespace si {
 namespace {
@@ -57,7 +58,7 @@ TEST_P(RenderTest, PartLodsDrawTheCpuEmulationsImageOnEveryPath) {
   ASSERT_GT(dropped, 0u);
   CrowdManager crowd;
   partLodCrowd(lods, &crowd);
-  for (uint32_t l = 0; l < lods; ++l) ASSERT_GT(crowd.stats().per_lod[l], 0u) << l;
+  for (uint32_t l = 0; l < lods; ++l) ASSERT_GT(crowd.view().stats().per_lod[l], 0u) << l;
 
   const auto renderer = [&](Renderer* r, SkinningPath path, const Character& c) {
     RendererDesc rd;

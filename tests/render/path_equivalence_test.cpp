@@ -3,6 +3,7 @@
 // pre-skinning, 16 KiB batches; depth-only and rigid programs; the automatic path choice.
 #include "render/render_fixture.h"
 #include "si/core/log.h"
+#include "si/crowd/crowd_manager.h"
 
 namespace si {
 namespace {
@@ -156,14 +157,18 @@ TEST_P(RenderTest, DepthOnlyAndRigidProgramsDraw) {
   ASSERT_TRUE(batcher.init(r.batchLimits()).isOk());
   DrawStats stats;
   r.clear(glm::vec4(0.0f));
-  ASSERT_TRUE(r.drawCrowd(crowd, batcher, closeCamera(), &stats, DrawMode::kDepthOnly).isOk());
+  ASSERT_TRUE(
+      r.drawCrowd(CharacterId{}, crowd.view(), batcher, closeCamera(), &stats, DrawMode::kDepthOnly)
+          .isOk());
   std::vector<uint8_t> depth_only;
   ASSERT_TRUE(context_->readPixels(&depth_only).isOk());
   EXPECT_EQ(compare(depth_only, std::vector<uint8_t>(depth_only.size(), 0), nullptr).max_channel, 0)
       << "depth-only must not write colour";
   const std::vector<uint8_t> skinned = draw(r, crowd, closeCamera(), 0);
   r.clear(glm::vec4(0.2f, 0.25f, 0.3f, 1.0f));
-  ASSERT_TRUE(r.drawCrowd(crowd, batcher, closeCamera(), &stats, DrawMode::kRigid).isOk());
+  ASSERT_TRUE(
+      r.drawCrowd(CharacterId{}, crowd.view(), batcher, closeCamera(), &stats, DrawMode::kRigid)
+          .isOk());
   std::vector<uint8_t> rigid;
   ASSERT_TRUE(context_->readPixels(&rigid).isOk());
   EXPECT_GT(compare(skinned, rigid, nullptr).share, 0.01);  // The raised arm moves pixels.
@@ -243,15 +248,16 @@ TEST_P(RenderTest, AutomaticSkinningPathIsMeasuredAndLogged) {
   std::vector<uint8_t> after;
   ASSERT_TRUE(context_->readPixels(&after).isOk());
   EXPECT_EQ(compare(before, after, nullptr).max_channel, 0);
-  EXPECT_NE(r.skinningPath(), SkinningPath::kAutomatic);
-  std::printf("[ path     ] %s: %s\n", skinningPathName(r.skinningPath()),
-              r.skinningPathReason().c_str());
-  EXPECT_NE(r.skinningPathReason().find("vertex shader"), std::string::npos) << r.skinningPathReason();
-  EXPECT_NE(r.skinningPathReason().find("compute"), std::string::npos);
+  EXPECT_NE(r.skinningPath(CharacterId{}), SkinningPath::kAutomatic);
+  std::printf("[ path     ] %s: %s\n", skinningPathName(r.skinningPath(CharacterId{})),
+              r.skinningPathReason(CharacterId{}).c_str());
+  EXPECT_NE(r.skinningPathReason(CharacterId{}).find("vertex shader"), std::string::npos)
+      << r.skinningPathReason(CharacterId{});
+  EXPECT_NE(r.skinningPathReason(CharacterId{}).find("compute"), std::string::npos);
   bool logged = false;
   for (const std::string& m : log)
-    logged |= m.find(std::string("skinning path ") + skinningPathName(r.skinningPath())) !=
-              std::string::npos;
+    logged |= m.find(std::string("skinning path ") +
+                     skinningPathName(r.skinningPath(CharacterId{}))) != std::string::npos;
   EXPECT_TRUE(logged);
   // Whichever it chose draws what the vertex shader draws.
   CrowdManager crowd;
@@ -268,8 +274,8 @@ TEST_P(RenderTest, AutomaticSkinningPathIsMeasuredAndLogged) {
   RendererDesc cd;
   cd.skinning_path = SkinningPath::kCompute;
   makeRenderer(&explicit_compute, 0, PaletteFormat::kMatrix3x4F32, &cd);
-  EXPECT_EQ(explicit_compute.skinningPath(), SkinningPath::kCompute);
-  EXPECT_EQ(explicit_compute.skinningPathReason(), "explicit setting");
+  EXPECT_EQ(explicit_compute.skinningPath(CharacterId{}), SkinningPath::kCompute);
+  EXPECT_EQ(explicit_compute.skinningPathReason(CharacterId{}), "explicit setting");
 }
 
 // GPU-driven culling selects exactly the instances and LODs CrowdManager::update() selects, on
@@ -301,24 +307,25 @@ TEST_P(RenderTest, DrawsRefuseABatcherTheRendererCannotBind) {
   ASSERT_TRUE(crowd.update(0.0, lodCamera()).isOk());
   InstanceBatcher batcher;
   ASSERT_TRUE(batcher.init({65536, 256, 0}).isOk());  // 819 per draw.
-  const Status capacity = r.drawCrowd(crowd, batcher, lodCamera(), nullptr);
+  const Status capacity = r.drawCrowd(CharacterId{}, crowd.view(), batcher, lodCamera(), nullptr);
   EXPECT_EQ(capacity.code(), StatusCode::kInvalidArgument);
   EXPECT_NE(capacity.message().find("per draw"), std::string::npos) << capacity.message();
   Renderer strict;
   makeRenderer(&strict, aligned);
   for (uint32_t alignment : {16u, 64u, 128u}) {
     ASSERT_TRUE(batcher.init({16384, alignment, 0}).isOk());
-    const Status s = strict.drawCrowd(crowd, batcher, lodCamera(), nullptr);
+    const Status s = strict.drawCrowd(CharacterId{}, crowd.view(), batcher, lodCamera(), nullptr);
     EXPECT_EQ(s.code(), StatusCode::kInvalidArgument) << alignment;
     EXPECT_NE(s.message().find("GL_UNIFORM_BUFFER_OFFSET_ALIGNMENT"), std::string::npos)
         << s.message();
   }
   for (uint32_t alignment : {256u, 512u}) {  // Multiples of the context's: drawn.
     ASSERT_TRUE(batcher.init({16384, alignment, 0}).isOk());
-    EXPECT_TRUE(strict.drawCrowd(crowd, batcher, lodCamera(), nullptr).isOk()) << alignment;
+    EXPECT_TRUE(strict.drawCrowd(CharacterId{}, crowd.view(), batcher, lodCamera(), nullptr).isOk())
+        << alignment;
   }
   ASSERT_TRUE(batcher.init(strict.batchLimits()).isOk());
-  EXPECT_TRUE(strict.drawCrowd(crowd, batcher, lodCamera(), nullptr).isOk());
+  EXPECT_TRUE(strict.drawCrowd(CharacterId{}, crowd.view(), batcher, lodCamera(), nullptr).isOk());
 }
 
 }  // namespace

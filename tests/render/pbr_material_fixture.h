@@ -16,6 +16,7 @@
 #include "render/two_targets.h"
 #include "si/core/impostor_level.h"
 #include "si/core/reference_evaluator.h"
+#include "si/crowd/crowd_manager.h"
 #include "si/gltf/gltf_import.h"
 
 namespace si::test {
@@ -85,7 +86,8 @@ class PbrMaterialTest : public RenderTest {
     ASSERT_TRUE(crowd_.update(0.0, view).isOk());
     DrawStats stats;
     const Status s = depth_only && kind == PathKind::kGpuDrivenCompute
-                         ? r->drawCrowdGpuCulled(crowd_, view, &stats, DrawMode::kDepthOnly)
+                         ? r->drawCrowdGpuCulled(si::CharacterId{}, crowd_.view(), view, &stats,
+                                                 DrawMode::kDepthOnly)
                          : drawOnPath(*r, kind, crowd_, view, &stats, depth_only);
     ASSERT_TRUE(s.isOk()) << s.toString();
   }
@@ -208,7 +210,7 @@ class PbrMaterialTest : public RenderTest {
     InstanceHandle h;
     ASSERT_TRUE(crowd.add(inst, &h).isOk());
     ASSERT_TRUE(crowd.update(0.0, camera()).isOk());
-    ASSERT_EQ(crowd.stats().per_lod[as_impostor ? cd.impostor_lod : 0], 1u);
+    ASSERT_EQ(crowd.view().stats().per_lod[as_impostor ? cd.impostor_lod : 0], 1u);
     DrawStats stats;
     ASSERT_TRUE(drawOnPath(r, PathKind::kInstanced, crowd, camera(), &stats).isOk());
   }

@@ -9,6 +9,7 @@
 
 #include "core/prop_fixture.h"
 #include "render/render_fixture.h"
+#include "si/crowd/crowd_manager.h"
 #include "si/gl/motion_target.h"
 
 namespace si {
@@ -218,7 +219,7 @@ TEST_P(PropsRenderTest, PropsOfBlendingCharactersMoveAsTheirSocketsSay) {
     glm::dmat4 before, after;
     ASSERT_TRUE(crowd.socketTransform(h, grip_, &before).isOk());
     if (gpu_driven) {
-      ASSERT_TRUE(r.drawCrowdGpuCulled(crowd, camera, nullptr, mode).isOk());
+      ASSERT_TRUE(r.drawCrowdGpuCulled(CharacterId{}, crowd.view(), camera, nullptr, mode).isOk());
     }
     ASSERT_TRUE(crowd.setBlendParameter(h, 0.35f).isOk());
     if (gpu_driven) {
@@ -228,8 +229,9 @@ TEST_P(PropsRenderTest, PropsOfBlendingCharactersMoveAsTheirSocketsSay) {
     }
     ASSERT_TRUE(crowd.socketTransform(h, grip_, &after).isOk());
     target.clear(glm::vec4(0.0f));
-    const Status s = gpu_driven ? r.drawCrowdGpuCulled(crowd, camera, nullptr, mode)
-                                : r.drawCrowd(crowd, batcher, camera, nullptr, mode);
+    const Status s = gpu_driven
+                         ? r.drawCrowdGpuCulled(CharacterId{}, crowd.view(), camera, nullptr, mode)
+                         : r.drawCrowd(CharacterId{}, crowd.view(), batcher, camera, nullptr, mode);
     ASSERT_TRUE(s.isOk()) << s.toString();
     ASSERT_TRUE(target.readMotion(motion).isOk());
     ASSERT_TRUE(target.readColor(color).isOk());
@@ -285,8 +287,9 @@ TEST_P(PropsRenderTest, DepthOnlyDrawsTheBlendedPropHolders) {
   ASSERT_TRUE(target.create(kSize, kSize).isOk());
   const auto depthOf = [&](DrawMode mode, bool gpu_driven) {
     target.clear(glm::vec4(0.0f));
-    const Status s = gpu_driven ? r.drawCrowdGpuCulled(crowd, view(), nullptr, mode)
-                                : r.drawCrowd(crowd, batcher, view(), nullptr, mode);
+    const Status s = gpu_driven
+                         ? r.drawCrowdGpuCulled(CharacterId{}, crowd.view(), view(), nullptr, mode)
+                         : r.drawCrowd(CharacterId{}, crowd.view(), batcher, view(), nullptr, mode);
     EXPECT_TRUE(s.isOk()) << s.toString();
     std::vector<float> depth;
     EXPECT_TRUE(target.readDepth(&depth).isOk());

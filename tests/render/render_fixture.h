@@ -25,6 +25,7 @@
 #include "si/bake/animation_baker.h"
 #include "si/core/default_character.h"
 #include "si/core/impostor_level.h"
+#include "si/crowd/crowd_manager.h"
 #include "si/gl/renderer.h"
 #include "si/headless/headless_context.h"
 
@@ -145,14 +146,20 @@ inline Status drawOnPath(Renderer& r, PathKind kind, const CrowdManager& crowd,
   if (!s.isOk()) return s;
   const DrawMode skinned = depth_only ? DrawMode::kDepthOnly : DrawMode::kSkinned;
   switch (kind) {
-    case PathKind::kInstanced: return r.drawCrowd(crowd, batcher, camera, stats, skinned);
+    case PathKind::kInstanced:
+      return r.drawCrowd(si::CharacterId{}, crowd.view(), batcher, camera, stats, skinned);
     case PathKind::kCompute:
-      return r.drawCrowd(crowd, batcher, camera, stats, DrawMode::kComputeSkinned);
-    case PathKind::kGpuDriven: return r.drawCrowdGpuCulled(crowd, camera, stats, skinned);
+      return r.drawCrowd(si::CharacterId{}, crowd.view(), batcher, camera, stats,
+                         DrawMode::kComputeSkinned);
+    case PathKind::kGpuDriven:
+      return r.drawCrowdGpuCulled(si::CharacterId{}, crowd.view(), camera, stats, skinned);
     case PathKind::kGpuDrivenCompute:
-      return r.drawCrowdGpuCulled(crowd, camera, stats, DrawMode::kComputeSkinned);
-    case PathKind::kTraditional: return r.drawTraditional(crowd, camera, stats);
-    case PathKind::kCpu: return r.drawCpuSkinned(crowd, camera, stats);
+      return r.drawCrowdGpuCulled(si::CharacterId{}, crowd.view(), camera, stats,
+                                  DrawMode::kComputeSkinned);
+    case PathKind::kTraditional:
+      return r.drawTraditional(si::CharacterId{}, crowd.view(), camera, stats);
+    case PathKind::kCpu:
+      return r.drawCpuSkinned(si::CharacterId{}, crowd.view(), camera, stats);
   }
   return Status::ok();
 }
@@ -257,11 +264,14 @@ class RenderTest : public ::testing::TestWithParam<HeadlessBackend> {
     r.clear(glm::vec4(0.2f, 0.25f, 0.3f, 1.0f));
     DrawStats stats;
     if (traditional) path = Path::kTraditional;
-    const Status s =
-        path == Path::kTraditional  ? r.drawTraditional(crowd, camera, &stats)
-        : path == Path::kCpuSkinned ? r.drawCpuSkinned(crowd, camera, &stats)
-        : path == Path::kCompute ? r.drawCrowd(crowd, batcher, camera, &stats, DrawMode::kComputeSkinned)
-                                 : r.drawCrowd(crowd, batcher, camera, &stats);
+    const Status s = path == Path::kTraditional
+                         ? r.drawTraditional(si::CharacterId{}, crowd.view(), camera, &stats)
+                     : path == Path::kCpuSkinned
+                         ? r.drawCpuSkinned(si::CharacterId{}, crowd.view(), camera, &stats)
+                     : path == Path::kCompute
+                         ? r.drawCrowd(si::CharacterId{}, crowd.view(), batcher, camera, &stats,
+                                       DrawMode::kComputeSkinned)
+                         : r.drawCrowd(si::CharacterId{}, crowd.view(), batcher, camera, &stats);
     EXPECT_TRUE(s.isOk()) << s.toString();
     if (out) *out = stats;
     std::vector<uint8_t> rgba;
@@ -289,7 +299,8 @@ class RenderTest : public ::testing::TestWithParam<HeadlessBackend> {
       std::vector<uint8_t> image;
       if (k.gpu_driven) {
         k.r->clear(glm::vec4(0.2f, 0.25f, 0.3f, 1.0f));
-        const Status s = k.r->drawCrowdGpuCulled(crowd, camera, &stats, k.mode);
+        const Status s =
+            k.r->drawCrowdGpuCulled(si::CharacterId{}, crowd.view(), camera, &stats, k.mode);
         ASSERT_TRUE(s.isOk()) << s.toString();
         ASSERT_TRUE(context_->readPixels(&image).isOk());
       } else {
@@ -353,7 +364,7 @@ class RenderTest : public ::testing::TestWithParam<HeadlessBackend> {
     makeCrowd(&crowd);
     populateLodCrowd(&crowd);
     ASSERT_TRUE(crowd.update(0.0, lodCamera()).isOk());
-    for (int l = 0; l < 3; ++l) EXPECT_GT(crowd.stats().per_lod[l], 0u) << "LOD " << l;
+    for (int l = 0; l < 3; ++l) EXPECT_GT(crowd.view().stats().per_lod[l], 0u) << "LOD " << l;
     expectGolden("crowd_lods", draw(r, crowd, lodCamera(), 0));
   }
 
@@ -370,7 +381,7 @@ class RenderTest : public ::testing::TestWithParam<HeadlessBackend> {
     ASSERT_TRUE(crowd.crossfade(h, uint32_t(palette().findClip("wave")), 1.0, 0.5).isOk());
     ASSERT_TRUE(crowd.update(0.5, closeCamera()).isOk());  // Half way through the blend.
     float weight;
-    std::memcpy(&weight, &crowd.records()[0].blend[2], 4);
+    std::memcpy(&weight, &crowd.view().records()[0].blend[2], 4);
     ASSERT_NEAR(weight, 0.5f, 1e-6f);
     expectGolden("crossfade_mid", draw(r, crowd, closeCamera(), 0));
   }
@@ -466,7 +477,7 @@ inline void impostorRowsCrowd(double spacing, double z, double row_step, CrowdMa
     ASSERT_TRUE(crowd->add(d, &h).isOk());
   }
   ASSERT_TRUE(crowd->update(0.2, lodCamera()).isOk());
-  ASSERT_EQ(crowd->stats().per_lod[levels - 1], 16u);
+  ASSERT_EQ(crowd->view().stats().per_lod[levels - 1], 16u);
 }
 
 // The CPU's selection of the last update(): (dense index as exportGpuState orders it, LOD) per
@@ -478,9 +489,9 @@ inline std::vector<glm::uvec2> cpuSelection(const CrowdManager& crowd) {
   std::map<uint32_t, uint32_t> dense_of;  // handle id -> dense index
   for (uint32_t i = 0; i < dense.size(); ++i) dense_of[dense[i].id] = i;
   std::vector<glm::uvec2> out;
-  for (InstanceHandle h : crowd.visibleHandles()) {
+  for (InstanceHandle h : crowd.view().visibleHandles()) {
     uint32_t lod = 0;
-    EXPECT_TRUE(crowd.lodOf(h, &lod).isOk());
+    EXPECT_TRUE(crowd.view().lodOf(h, &lod).isOk());
     out.push_back(glm::uvec2(dense_of[h.id], lod));
   }
   return out;

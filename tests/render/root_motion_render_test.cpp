@@ -6,6 +6,7 @@
 #include "render/render_fixture.h"
 #include "si/core/reference_evaluator.h"
 #include "si/core/root_motion.h"
+#include "si/crowd/crowd_manager.h"
 
 #include <utility>
 
@@ -87,9 +88,9 @@ TEST_P(RootMotionRenderTest, BothSkinningPathsDrawTheReferencePath) {
   const int frames = 41;  // 1.37 s: past a loop boundary of both 1 s clips.
   for (int f = 0; f < frames; ++f) ASSERT_TRUE(crowd.update(1.0 / 30.0, camera).isOk());
   const double t = frames / 30.0;
-  ASSERT_EQ(crowd.records().size(), 2u);
-  for (size_t v = 0; v < crowd.visibleHandles().size(); ++v) {
-    const size_t k = crowd.visibleHandles()[v].id == handles[0].id ? 0 : 1;
+  ASSERT_EQ(crowd.view().records().size(), 2u);
+  for (size_t v = 0; v < crowd.view().visibleHandles().size(); ++v) {
+    const size_t k = crowd.view().visibleHandles()[v].id == handles[0].id ? 0 : 1;
     const Start& s = starts[k];
     SCOPED_TRACE(m.palette.clips[s.clip].name);
     // The reference: the clip with its motion in the poses, whole cycles before this one.
@@ -105,12 +106,12 @@ TEST_P(RootMotionRenderTest, BothSkinningPathsDrawTheReferencePath) {
     const glm::dmat4 place =
         start * groundMotionMatrix(repeatGroundMotion(
                     summarizeRootMotion(m.palette.clips[s.clip]).whole_clip, uint64_t(t)));
-    const InstanceRecord& rec = crowd.records()[v];
+    const InstanceRecord& rec = crowd.view().records()[v];
     const ClipErrorReport& e = m.report.clips[s.clip];
     const double bound = (e.max_error_units + e.root_motion_max_error_units) * s.scale + 2e-4;
     for (SkinningPath path : {SkinningPath::kVertexShader, SkinningPath::kCompute}) {
       std::vector<glm::vec3> gpu;  // Model space, in place.
-      ASSERT_TRUE(r.captureSkinnedPositions(rec, &gpu, path).isOk());
+      ASSERT_TRUE(r.captureSkinnedPositions(CharacterId{}, rec, &gpu, path).isOk());
       ASSERT_EQ(gpu.size(), reference.size());
       double worst = 0.0;
       for (size_t i = 0; i < gpu.size(); ++i) {
@@ -151,7 +152,9 @@ TEST_P(RootMotionRenderTest, EveryPathDrawsTheMovingCrowd) {
     const std::vector<uint8_t> compute = draw(r, crowd, camera, 0, false, nullptr, Path::kCompute);
     const std::vector<uint8_t> cpu = draw(r, crowd, camera, 0, false, nullptr, Path::kCpuSkinned);
     r.clear(glm::vec4(0.2f, 0.25f, 0.3f, 1.0f));
-    ASSERT_TRUE(r.drawCrowdGpuCulled(crowd, camera, nullptr, DrawMode::kComputeSkinned).isOk());
+    ASSERT_TRUE(r.drawCrowdGpuCulled(CharacterId{}, crowd.view(), camera, nullptr,
+                                     DrawMode::kComputeSkinned)
+                    .isOk());
     std::vector<uint8_t> gpu_driven;
     ASSERT_TRUE(context_->readPixels(&gpu_driven).isOk());
     for (const std::vector<uint8_t>* other : {&compute, &cpu, &std::as_const(gpu_driven)})

@@ -113,12 +113,14 @@ TEST_P(RenderTest, ChangedStateUploadsDrawWhatWholeUploadsDraw) {
     std::vector<DrawStats> stats(3);
     for (int d = 0; d < 3; ++d) {
       drawers[d].renderer.clear(glm::vec4(0.2f, 0.25f, 0.3f, 1.0f));
-      const Status s = drawers[d].renderer.drawCrowdGpuCulled(crowd, camera, &stats[size_t(d)]);
+      const Status s = drawers[d].renderer.drawCrowdGpuCulled(CharacterId{}, crowd.view(), camera,
+                                                              &stats[size_t(d)]);
       ASSERT_TRUE(s.isOk()) << s.toString();
       images.emplace_back();
       ASSERT_TRUE(context_->readPixels(&images.back()).isOk());
       selections.emplace_back();
-      ASSERT_TRUE(drawers[d].renderer.readGpuSelection(&selections.back()).isOk());
+      ASSERT_TRUE(
+          drawers[d].renderer.readGpuSelection(si::CharacterId{}, &selections.back()).isOk());
       std::sort(selections.back().begin(), selections.back().end(),
                 [](const glm::uvec2& a, const glm::uvec2& b) {
                   return a.x != b.x ? a.x < b.x : a.y < b.y;
@@ -174,7 +176,7 @@ TEST_P(RenderTest, ASpawnWaveUploadsWhatItAdds) {
     if (frame > 0) spawn(10);
     ASSERT_TRUE(crowd.advanceClock(1.0 / 60.0).isOk());
     DrawStats stats;
-    ASSERT_TRUE(r.drawCrowdGpuCulled(crowd, closeCamera(), &stats).isOk());
+    ASSERT_TRUE(r.drawCrowdGpuCulled(CharacterId{}, crowd.view(), closeCamera(), &stats).isOk());
     whole += stats.state_bytes_uploaded == uint64_t(crowd.size()) * sizeof(GpuInstanceState);
     if (frame > 1) {
       EXPECT_EQ(stats.state_bytes_uploaded, 10 * sizeof(GpuInstanceState)) << frame;

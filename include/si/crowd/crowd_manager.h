@@ -60,7 +60,7 @@ struct CrowdState;
 /// not copyable.
 ///
 /// A crowd simulates once per frame and selects for any number of cameras: update(dt, camera)
-/// does both for the crowd's own view (view(); the selection accessors below read it); frames
+/// does both for the crowd's own view (view(), where the selection is read); frames
 /// drawn from several cameras (shadow cascades, split screen) call advance(dt) once, then
 /// CrowdView::select for each view (crowd_view.h).
 class CrowdManager {
@@ -147,12 +147,10 @@ class CrowdManager {
   Status advance(double dt_seconds);
   /// The same, with the tasks run by `parallel_for`.
   Status advance(double dt_seconds, const ParallelFor& parallel_for);
-  /// The crowd's own view: what update() selects, and what the accessors below read. Draws of
-  /// a CrowdManager draw it.
+  /// The crowd's own view: what update() selects. Its selection (records, buckets, LODs,
+  /// statistics, motion-vector records, layer records) is read there, and drawn from there
+  /// (InstanceBatcher::build(crowd.view(), ...), Renderer::drawCrowd(id, crowd.view(), ...)).
   const CrowdView& view() const;
-
-  /// Statistics of the last update() (of view()).
-  const CrowdFrameStats& stats() const;
 
   // ---- Animation events ----
   /// Adds a marker at clip-local `time_seconds` of `clip`; from the next update() on, every
@@ -177,47 +175,6 @@ class CrowdManager {
   /// Seconds on the crowd clock (compensated sum of every dt).
   double clockSeconds() const;
 
-  /// Buckets of the last update(): bucket b = lod * sub_mesh_count + sub_mesh holds
-  /// bucketEntries()[bucketOffsets()[b] .. bucketOffsets()[b + 1]), indices into records()
-  /// in increasing order.
-  uint32_t bucketCount() const;
-  const std::vector<uint32_t>& bucketOffsets() const;
-  /// Expanded from the runs on the first call after an update() (so a caller that reads the
-  /// runs pays nothing for it).
-  const std::vector<uint32_t>& bucketEntries() const;
-  /// The same buckets as runs of consecutive records: bucket b is
-  /// bucketRuns()[bucketRunOffsets()[b] .. bucketRunOffsets()[b + 1]), runs in increasing
-  /// order. The records lie sorted by (LOD, worn variation mask, dense order), so while a frame
-  /// has at most 64 distinct worn masks a bucket has at most one run per mask, and a sub-mesh
-  /// every instance wears is one run per LOD. Past 64 masks the records of a LOD are in dense
-  /// order and the runs are whatever consecutive instances wear the sub-mesh.
-  const std::vector<uint32_t>& bucketRunOffsets() const;
-  const std::vector<RecordRun>& bucketRuns() const;
-  /// One record per visible instance of the last update(), sorted by (LOD, worn variation
-  /// mask, dense order); each is written once, whatever sub-meshes the instance wears.
-  Span<const InstanceRecord> records() const;
-  /// Handle of each visible instance of the last update(), parallel to records().
-  Span<const InstanceHandle> visibleHandles() const;
-
-  // ---- Motion vectors (CrowdDesc::previous_records) ----
-  /// The records of the update before the last one, exactly as records() gave them then
-  /// (empty unless CrowdDesc::previous_records).
-  Span<const InstanceRecord> previousRecords() const;
-  /// Parallel to records(): the index in previousRecords() of the same instance's record, or
-  /// kNoPreviousRecord where there is none: the instance was not drawn by the previous update
-  /// (culled, or added since) or was placed by setTransform() since (a teleport: no motion).
-  /// A renderer skins the vertex with the previous record too, for its previous position; a
-  /// LOD change needs no fallback (the previous record skins the current LOD's vertex), nor
-  /// does a crossfade or a new clip (the record holds what was drawn). Empty unless
-  /// CrowdDesc::previous_records.
-  Span<const uint32_t> previousRecordIndices() const;
-  /// The camera the last update() was given: records() are relative to its position.
-  const Camera& updateCamera() const;
-  /// The camera of the update() before the last one (previousRecords() are relative to its
-  /// position); after the first update, the last one's. Renderers project previous positions
-  /// with it (Renderer motion vectors, InstanceBatcher::buildPrevious).
-  const Camera& previousUpdateCamera() const;
-
   // ---- Layered animation (si/core/layer_mask.h) ----
   /// Masks a crowd may hold.
   static constexpr uint32_t kMaxLayerMasks = 16;
@@ -240,22 +197,6 @@ class CrowdManager {
   /// it plays none. kNotFound for a stale handle, kInvalidArgument for a negative or
   /// non-finite blend.
   Status stopOverlay(InstanceHandle h, double blend_seconds);
-  /// Parallel to records(): each drawn instance's overlay at the last update() (a zero record,
-  /// weight 0, where it plays none). Empty when no instance had played one then: crowds without
-  /// layered animation write nothing and pay nothing.
-  Span<const LayerRecord> layerRecords() const;
-  /// Once a 2D blend space is added (addBlendSpace), kExtraLayerRecords per record of
-  /// records(): a 2D blend's third and fourth clips, composed after the overlay on its mask
-  /// (zero records, weight 0, where an instance draws none; its layer record's kLayerExtrasBit
-  /// says it draws them). Empty before, and when layerRecords() is.
-  Span<const LayerRecord> extraLayerRecords() const;
-  /// With CrowdDesc::previous_records: parallel to previousRecords(), the previous update's
-  /// layer records (empty when that update wrote none). Motion vectors of overlays.
-  Span<const LayerRecord> previousLayerRecords() const;
-  /// The same of extraLayerRecords(), parallel to previousLayerRecords() (empty when the
-  /// previous update wrote none).
-  Span<const LayerRecord> previousExtraLayerRecords() const;
-
   // ---- Blend spaces (si/crowd/blend_space.h) ----
   /// Blend spaces a crowd may hold.
   static constexpr uint32_t kMaxBlendSpaces = 16;
@@ -294,9 +235,6 @@ class CrowdManager {
   Status blendState(InstanceHandle h, uint32_t* space, float* parameter, double* phase) const;
   /// The same with both parameters (y 0 on a 1D space).
   Status blendState2D(InstanceHandle h, uint32_t* space, glm::vec2* parameter, double* phase) const;
-
-  /// The LOD an instance was given by the last update() (kNotFound for stale handles).
-  Status lodOf(InstanceHandle h, uint32_t* lod) const;
 
   /// The frame sample of clip-local `time` of `clip` for an instance, as update() computes it
   /// (time mapping per loop mode, then si::sampleFrames). Exposed for tests and tools.

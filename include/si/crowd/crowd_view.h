@@ -78,11 +78,11 @@ struct CrowdViewDesc {
   bool previous_records = false;
 };
 
-/// One camera's culling, LODs and buckets of a CrowdManager's instances, with the same accessors
-/// as the crowd's own view. Movable, not copyable. A view follows its crowd through moves; when
-/// the crowd is destroyed or init() again, the view is detached: select() fails until the view
-/// is init() again, and its accessors give what it last selected. One call at a time on a crowd
-/// and its views.
+/// One camera's culling, LODs and buckets of a CrowdManager's instances; the crowd's own view
+/// (CrowdManager::view()) is one too. Every selection is read here. Movable, not copyable. A view
+/// follows its crowd through moves; when the crowd is destroyed or init() again, the view is
+/// detached: select() fails until the view is init() again, and its accessors give what it last
+/// selected. One call at a time on a crowd and its views.
 class CrowdView {
  public:
   CrowdView();
@@ -123,29 +123,58 @@ class CrowdView {
   /// The same, with the tasks run by `parallel_for` (parallel_for.h).
   Status select(const Camera& camera, const ParallelFor& parallel_for);
 
-  // ---- The last selection (as CrowdManager's accessors of the same names describe) ----
+  // ---- The last selection ----
+  /// Its statistics.
   const CrowdFrameStats& stats() const;
+  /// Buckets: bucket b = lod * subMeshCount() + sub_mesh holds
+  /// bucketEntries()[bucketOffsets()[b] .. bucketOffsets()[b + 1]), indices into records()
+  /// in increasing order.
   uint32_t bucketCount() const;
   const std::vector<uint32_t>& bucketOffsets() const;
+  /// Expanded from the runs on the first call after a selection (so a caller that reads the
+  /// runs pays nothing for it).
   const std::vector<uint32_t>& bucketEntries() const;
+  /// The same buckets as runs of consecutive records: bucket b is
+  /// bucketRuns()[bucketRunOffsets()[b] .. bucketRunOffsets()[b + 1]), runs in increasing
+  /// order. The records lie sorted by (LOD, worn variation mask, dense order), so while a frame
+  /// has at most 64 distinct worn masks a bucket has at most one run per mask, and a sub-mesh
+  /// every instance wears is one run per LOD. Past 64 masks the records of a LOD are in dense
+  /// order and the runs are whatever consecutive instances wear the sub-mesh.
   const std::vector<uint32_t>& bucketRunOffsets() const;
   const std::vector<RecordRun>& bucketRuns() const;
+  /// One record per visible instance, sorted by (LOD, worn variation mask, dense order); each
+  /// is written once, whatever sub-meshes the instance wears. Relative to camera()'s position.
   Span<const InstanceRecord> records() const;
+  /// Handle of each visible instance, parallel to records().
   Span<const InstanceHandle> visibleHandles() const;
-  /// Each drawn instance's overlay (empty when no instance of the crowd played one).
+  /// Parallel to records(): each drawn instance's overlay (a zero record, weight 0, where it
+  /// plays none). Empty when no instance of the crowd had played one then: crowds without
+  /// layered animation write nothing and pay nothing.
   Span<const LayerRecord> layerRecords() const;
-  /// A 2D blend's extra layers, kExtraLayerRecords per record (CrowdManager::extraLayerRecords).
+  /// Once the crowd holds a 2D blend space (CrowdManager::addBlendSpace), kExtraLayerRecords
+  /// per record of records(): a 2D blend's third and fourth clips, composed after the overlay
+  /// on its mask (zero records, weight 0, where an instance draws none; its layer record's
+  /// kLayerExtrasBit says it draws them). Empty before, and when layerRecords() is.
   Span<const LayerRecord> extraLayerRecords() const;
-  /// Motion vectors (CrowdViewDesc::previous_records): the previous selection's records, and
-  /// per record the index of the same instance's record in them (CrowdManager::
-  /// kNoPreviousRecord where there is none: not drawn by this view then, added since, or placed
-  /// by setTransform since).
+  /// Motion vectors (CrowdViewDesc::previous_records; CrowdDesc::previous_records for the
+  /// crowd's own view), else empty: the previous selection's records, exactly as records()
+  /// gave them then, relative to previousCamera()'s position.
   Span<const InstanceRecord> previousRecords() const;
+  /// Parallel to records(): the index in previousRecords() of the same instance's record, or
+  /// kNoPreviousRecord where there is none: the instance was not drawn by this view's previous
+  /// selection (culled, or added since) or was placed by setTransform() since (a teleport: no
+  /// motion). A renderer skins the vertex with the previous record too, for its previous
+  /// position; a LOD change needs no fallback (the previous record skins the current LOD's
+  /// vertex), nor does a crossfade or a new clip (the record holds what was drawn).
   Span<const uint32_t> previousRecordIndices() const;
+  /// The previous selection's layer records, parallel to previousRecords() (empty when that
+  /// selection wrote none): motion vectors of overlays.
   Span<const LayerRecord> previousLayerRecords() const;
+  /// The same of extraLayerRecords(), parallel to previousLayerRecords().
   Span<const LayerRecord> previousExtraLayerRecords() const;
   /// The camera of the last selection (records are relative to its position) and of the one
-  /// before it (after the first, the last one's).
+  /// before it (after the first, the last one's). Renderers project previous positions with
+  /// previousCamera() (Renderer motion vectors, InstanceBatcher::buildPrevious).
   const Camera& camera() const;
   const Camera& previousCamera() const;
   // ---- For GPU-driven culling (Renderer::drawCrowdGpuCulled of a view) ----

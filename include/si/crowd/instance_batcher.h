@@ -2,7 +2,8 @@
 #pragma once
 
 /// \file
-/// InstanceBatcher: splits each (LOD, sub-mesh) bucket of a CrowdManager frame into batches that
+/// InstanceBatcher: splits each (LOD, sub-mesh) bucket of a view's selection (si::CrowdView: a
+/// CrowdManager's own view(), or a camera of its own) into batches that
 /// fit the GPU's uniform block, and writes their std140 records into a caller-provided buffer.
 /// The GPU limits arrive as plain numbers (queried once by si::gl), so batching is tested
 /// without a GPU.
@@ -14,9 +15,10 @@
 ///   limits.uniform_buffer_offset_alignment = info.uniform_buffer_offset_alignment;
 ///   si::InstanceBatcher batcher;
 ///   si::Status s = batcher.init(limits);
-///   std::vector<uint8_t> records(batcher.recordBufferBound(crowd));
+///   const si::CrowdView& view = crowd.view();     // after crowd.update(dt, camera)
+///   std::vector<uint8_t> records(batcher.recordBufferBound(view));
 ///   std::vector<si::DrawBatch> draws;
-///   s = batcher.build(crowd, records, &draws);
+///   s = batcher.build(view, records, &draws);
 ///   // One glBindBufferRange + glDrawElementsInstanced per draw.
 /// \endcode
 
@@ -27,7 +29,7 @@
 
 #include "si/core/span.h"
 #include "si/core/status.h"
-#include "si/crowd/crowd_manager.h"
+#include "si/crowd/crowd_view.h"
 
 namespace si {
 
@@ -73,7 +75,7 @@ struct RecordSpanDraw {
 /// float. A shader reading previous records through buildPreviousIndices() adds it the same way.
 glm::vec3 previousRecordShift(const CrowdView& view);
 
-/// Stateless apart from its limits: build() is deterministic for the same crowd frame.
+/// Stateless apart from its limits: build() is deterministic for the same selection.
 class InstanceBatcher {
  public:
   /// Adopts the limits. kInvalidArgument when the block is smaller than 16384 bytes, the
@@ -86,22 +88,18 @@ class InstanceBatcher {
   /// The alignment in use.
   uint32_t alignment() const { return alignment_; }
 
-  /// Bytes build() needs for `crowd`'s last frame: each batch padded to the alignment.
+  /// Bytes build() needs for `view`'s last selection: each batch padded to the alignment.
   size_t recordBufferBound(const CrowdView& view) const;
-  size_t recordBufferBound(const CrowdManager& crowd) const { return recordBufferBound(crowd.view()); }
 
-  /// Splits every bucket of `crowd`'s last update() into batches of at most capacityPerDraw()
+  /// Splits every bucket of `view`'s last selection into batches of at most capacityPerDraw()
   /// instances (buckets in order: LOD-major, then sub-mesh), copies their records into `out`
   /// and replaces `draws` with the draw list. kInvalidArgument if not initialized or `draws` is
-  /// null; kCountMismatch when `out` is smaller than recordBufferBound(crowd) (nothing written).
+  /// null; kCountMismatch when `out` is smaller than recordBufferBound(view) (nothing written).
   /// Does not allocate once `draws` has reached the needed capacity.
   Status build(const CrowdView& view, Span<uint8_t> out, std::vector<DrawBatch>* draws) const;
-  Status build(const CrowdManager& crowd, Span<uint8_t> out, std::vector<DrawBatch>* draws) const {
-    return build(crowd.view(), out, draws);
-  }
 
   /// Motion vectors: writes, in build()'s layout (the same draws, byte offsets and slots), each
-  /// instance's record of the previous update (CrowdManager::previousRecords()), relative to
+  /// instance's record of the previous update (CrowdView::previousRecords()), relative to
   /// the previous update's camera. Where an instance has none (kNoPreviousRecord: not drawn
   /// then, added or teleported since), its slot holds its current record moved to the previous
   /// camera's origin: it has not moved, only the camera has (kept where the cameras are 1e30
@@ -109,19 +107,13 @@ class InstanceBatcher {
   /// (si_skinning.glsl's SiPreviousInstances, SI_PREVIOUS_RECORDS) and project with the
   /// previous camera. kInvalidArgument if not initialized or the crowd does not keep previous
   /// records (CrowdDesc::previous_records); kCountMismatch when `out` is smaller than
-  /// recordBufferBound(crowd) (nothing written).
+  /// recordBufferBound(view) (nothing written).
   Status buildPrevious(const CrowdView& view, Span<uint8_t> out) const;
-  Status buildPrevious(const CrowdManager& crowd, Span<uint8_t> out) const {
-    return buildPrevious(crowd.view(), out);
-  }
 
   /// Motion vectors without a copy of each previous record per slot: bytes
   /// buildPreviousIndices() needs (4 per slot, in buildLayers()' slot numbering:
   /// layerBufferBound() / 4).
   size_t previousIndexBufferBound(const CrowdView& view) const;
-  size_t previousIndexBufferBound(const CrowdManager& crowd) const {
-    return previousIndexBufferBound(crowd.view());
-  }
   /// Writes, for each slot of build()'s draws, the index of its instance's previous record in
   /// previousRecords() (CrowdView::previousRecordIndices(); kNoPreviousRecord
   /// where it has none, for which a shader takes buildPrevious()'s fallback: the current record
@@ -131,9 +123,6 @@ class InstanceBatcher {
   /// kInvalidArgument if not initialized or the crowd keeps no previous records; kCountMismatch
   /// when `out` is smaller than previousIndexBufferBound() (nothing written).
   Status buildPreviousIndices(const CrowdView& view, Span<uint8_t> out) const;
-  Status buildPreviousIndices(const CrowdManager& crowd, Span<uint8_t> out) const {
-    return buildPreviousIndices(crowd.view(), out);
-  }
   /// The same through a table: writes `previous_places[p]` instead of each index p (what
   /// buildRecordPlaces() gave for the previous selection: the 16-byte word of each previous
   /// record in the buffer the previous frame's build() wrote), so a shader reads the previous
@@ -164,28 +153,21 @@ class InstanceBatcher {
   /// Layered animation: bytes buildLayers() needs (each batch's layer records padded to the
   /// alignment).
   size_t layerBufferBound(const CrowdView& view) const;
-  size_t layerBufferBound(const CrowdManager& crowd) const { return layerBufferBound(crowd.view()); }
-  /// Writes each batch's layer records (CrowdManager::layerRecords(), 16 bytes a slot) at its
+  /// Writes each batch's layer records (CrowdView::layerRecords(), 16 bytes a slot) at its
   /// layer_byte_offset, in the slots build() gives its records: bind a batch's at
   /// si_skinning.glsl's SiLayers (SI_LAYERS) beside its records. kInvalidArgument if not
   /// initialized or the crowd's last update wrote no layer records; kCountMismatch when `out`
-  /// is smaller than layerBufferBound(crowd) (nothing written).
+  /// is smaller than layerBufferBound(view) (nothing written).
   Status buildLayers(const CrowdView& view, Span<uint8_t> out) const;
-  Status buildLayers(const CrowdManager& crowd, Span<uint8_t> out) const {
-    return buildLayers(crowd.view(), out);
-  }
   /// Motion vectors of overlays: buildLayers()'s layout holding each slot's previous layer
-  /// record (CrowdManager::previousLayerRecords() through previousRecordIndices()); where the
+  /// record (CrowdView::previousLayerRecords() through previousRecordIndices()); where the
   /// instance has no previous record, its current layer record (buildPrevious()'s fallback);
   /// where the previous update wrote no layer records, a zero record (no overlay then).
   /// kInvalidArgument as buildLayers(), or when the crowd keeps no previous records;
-  /// kCountMismatch when `out` is smaller than layerBufferBound(crowd).
+  /// kCountMismatch when `out` is smaller than layerBufferBound(view).
   Status buildPreviousLayers(const CrowdView& view, Span<uint8_t> out) const;
-  Status buildPreviousLayers(const CrowdManager& crowd, Span<uint8_t> out) const {
-    return buildPreviousLayers(crowd.view(), out);
-  }
 
-  /// 2D blends (CrowdManager::extraLayerRecords): bytes buildExtraLayers() needs, two records
+  /// 2D blends (CrowdView::extraLayerRecords): bytes buildExtraLayers() needs, two records
   /// a slot of buildLayers()' slot numbering (layerBufferBound() * 2).
   size_t extraLayerBufferBound(const CrowdView& view) const;
   /// Writes each slot's kExtraLayerRecords extra layer records at
@@ -196,13 +178,13 @@ class InstanceBatcher {
   /// extraLayerBufferBound() (nothing written).
   Status buildExtraLayers(const CrowdView& view, Span<uint8_t> out) const;
   /// Motion vectors of 2D blends: buildExtraLayers()'s layout holding each slot's previous
-  /// extra layer records (CrowdManager::previousExtraLayerRecords() through
+  /// extra layer records (CrowdView::previousExtraLayerRecords() through
   /// previousRecordIndices()), with buildPreviousLayers()' fallbacks. kInvalidArgument as
   /// buildExtraLayers(), or when the crowd keeps no previous records; kCountMismatch as
   /// buildExtraLayers().
   Status buildPreviousExtraLayers(const CrowdView& view, Span<uint8_t> out) const;
 
-  /// The same draws without copying a record: each bucket's runs (CrowdManager::bucketRuns)
+  /// The same draws without copying a record: each bucket's runs (CrowdView::bucketRuns)
   /// cut where a block would exceed capacityPerDraw(). An application uploads records() once
   /// (80 bytes per visible instance, instead of 80 per worn sub-mesh) and binds each draw's
   /// block as RecordSpanDraw says. More draws than build() when instances differ in worn
@@ -211,9 +193,6 @@ class InstanceBatcher {
   /// capacityPerDraw() records before a run; not with GL's usual alignments of 256 or less).
   /// Does not allocate once `draws` has reached the needed capacity.
   Status buildSpans(const CrowdView& view, std::vector<RecordSpanDraw>* draws) const;
-  Status buildSpans(const CrowdManager& crowd, std::vector<RecordSpanDraw>* draws) const {
-    return buildSpans(crowd.view(), draws);
-  }
 
  private:
   // buildPrevious' and buildPreviousIndices' checks: initialized, previous records kept, `out`

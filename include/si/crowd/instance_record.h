@@ -46,7 +46,7 @@ inline constexpr uint32_t packAppearance(uint8_t r, uint8_t g, uint8_t b, uint8_
 /// Size of InstanceRecord in bytes (its std140 array stride).
 inline constexpr uint32_t kInstanceRecordSize = sizeof(InstanceRecord);
 
-/// Motion vectors: what a previous-record index (CrowdManager::previousRecordIndices(),
+/// Motion vectors: what a previous-record index (CrowdView::previousRecordIndices(),
 /// CrowdView::previousRecordIndices()) holds for an instance with no previous record.
 inline constexpr uint32_t kNoPreviousRecord = 0xFFFFFFFFu;
 
@@ -62,7 +62,7 @@ inline constexpr uint32_t kNoPreviousRecord = 0xFFFFFFFFu;
 /// the instance draws extra layers (kLayerExtrasBit) |
 ///
 /// A 2D blend's third and fourth clips are two more layer records of the same form
-/// (CrowdManager::extraLayerRecords), composed after this one on its mask, each at its own
+/// (CrowdView::extraLayerRecords), composed after this one on its mask, each at its own
 /// weight; bit 31 of this record's last word says they are there.
 struct LayerRecord {
   uint32_t frames[2] = {0, 0};
@@ -80,7 +80,7 @@ inline uint32_t packLayerWeight(float weight, uint32_t mask) {
 /// Bit of a layer record's last word set when its instance's extra layer records (a 2D blend's
 /// third and fourth clips) hold a weight above 0.
 inline constexpr uint32_t kLayerExtrasBit = 1u << 31;
-/// Extra layer records per drawn instance (CrowdManager::extraLayerRecords).
+/// Extra layer records per drawn instance (CrowdView::extraLayerRecords).
 inline constexpr uint32_t kExtraLayerRecords = 2;
 
 /// Its weight, as the shader reads it.

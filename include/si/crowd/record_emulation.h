@@ -32,7 +32,7 @@ glm::mat4 emulateLayeredRecordMatrix(const BakedPalette& palette, const Instance
                                      uint32_t slot);
 
 /// The same with a 2D blend's extra layers: where `layer` has kLayerExtrasBit and `extras`
-/// holds the instance's kExtraLayerRecords (CrowdManager::extraLayerRecords), the overlay and
+/// holds the instance's kExtraLayerRecords (CrowdView::extraLayerRecords), the overlay and
 /// then each extra layer composed on `layer`'s mask (emulateLayeredChain); otherwise as above.
 glm::mat4 emulateLayeredRecordMatrix(const BakedPalette& palette, const InstanceRecord& record,
                                      const LayerRecord& layer, Span<const LayerRecord> extras,

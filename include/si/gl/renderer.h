@@ -20,19 +20,18 @@
 ///   s = batcher.init(renderer.batchLimits());
 ///   // each frame, after crowd.update(dt, camera):
 ///   si::DrawStats stats;
-///   s = renderer.drawCrowd(crowd, batcher, camera, &stats);
+///   s = renderer.drawCrowd(id, crowd.view(), batcher, camera, &stats);
 /// \endcode
 ///
 /// Several character kinds (soldiers, animals, ...) share one renderer: addCharacter() uploads
 /// each with its palette and returns its id; each crowd (made for that character's palette) is
-/// drawn with the overload that takes the id (the overloads without one draw character 0). The
-/// programs, the record ring and the scratch buffers are shared.
+/// drawn with that id. The programs, the record ring and the scratch buffers are shared.
 /// \code
 ///   si::CharacterId soldiers, foxes;
 ///   renderer.addCharacter(soldier, soldier_palette, &soldiers);
 ///   renderer.addCharacter(fox, fox_palette, &foxes);
-///   renderer.drawCrowd(soldiers, soldier_crowd, batcher, camera, &stats);
-///   renderer.drawCrowd(foxes, fox_crowd, batcher, camera, &stats);
+///   renderer.drawCrowd(soldiers, soldier_crowd.view(), batcher, camera, &stats);
+///   renderer.drawCrowd(foxes, fox_crowd.view(), batcher, camera, &stats);
 /// \endcode
 ///
 /// Vertex format (36 or 32 bytes): position 3 x f32 (12), normal 10:10:10:2 snorm (4),
@@ -49,7 +48,7 @@
 #include "si/core/baked_palette.h"
 #include "si/core/character.h"
 #include "si/crowd/camera.h"
-#include "si/crowd/crowd_manager.h"
+#include "si/crowd/crowd_view.h"
 #include "si/crowd/instance_batcher.h"
 #include "si/gl/gl_context.h"
 #include "si/gl/gpu_memory.h"
@@ -59,8 +58,8 @@
 
 namespace si {
 
-/// A character uploaded into a Renderer: its index in upload order (addCharacter gives it).
-/// Character 0, the first added, is the one the draw functions without an id draw.
+/// A character uploaded into a Renderer: its index in upload order (addCharacter gives it; the
+/// first added is CharacterId{}, index 0).
 struct CharacterId {
   uint32_t index = 0;
   bool operator==(const CharacterId& o) const { return index == o.index; }
@@ -165,11 +164,9 @@ class Renderer {
   /// Whether character `id` has an impostor atlas.
   bool hasImpostor(CharacterId id) const;
 
-  /// The path DrawMode::kDefault uses for character 0 (or `id`), and why (measured times, or
+  /// The path DrawMode::kDefault uses for character `id`, and why (measured times, or
   /// "explicit setting").
-  SkinningPath skinningPath() const { return skinningPath(CharacterId{}); }
   SkinningPath skinningPath(CharacterId id) const;
-  const std::string& skinningPathReason() const { return skinningPathReason(CharacterId{}); }
   const std::string& skinningPathReason(CharacterId id) const;
   /// Bytes allocated for the compute path's vertex ring, shared by every character (0 until it
   /// is first used).
@@ -229,57 +226,29 @@ class Renderer {
   /// are; the scissor test and the write masks apply.
   void clear(const glm::vec4& color, float depth = 1.0f);
 
-  /// Builds the batches of the crowd's own view (CrowdManager::update()'s selection) with
+  /// Builds the batches of `view`'s last selection (si::CrowdView: a crowd's own view(), after
+  /// CrowdManager::update(), or a view of its own: a shadow cascade, a second camera) with
   /// `batcher` straight into the mapped record ring and draws each with one
-  /// glDrawElementsInstanced. `mode` picks the program. The draws use the bound framebuffer and
-  /// the host's depth function; every draw function returns kInvalidArgument when `camera.depth`
+  /// glDrawElementsInstanced, for character `character` (whose palette the view's crowd must
+  /// play: kInvalidArgument otherwise, for an unknown id or a view that is not attached).
+  /// `camera` must sit where the view's last select() camera sat (the records are relative to
+  /// it); motion vectors use the view's previous records (CrowdViewDesc::previous_records) and
+  /// cameras. `mode` picks the program. The draws use the bound framebuffer and the host's depth
+  /// function; every draw function returns kInvalidArgument when `camera.depth`
   /// (si::DepthConvention, e.g. reverse-Z) does not match the context's clip control depth mode.
-  Status drawCrowd(const CrowdManager& crowd, const InstanceBatcher& batcher, const Camera& camera,
-                   DrawStats* stats, DrawMode mode = DrawMode::kDefault) {
-    return drawCrowd(CharacterId{}, crowd.view(), batcher, camera, stats, mode);
-  }
-  /// The same for character `character`, whose palette `crowd` must play (kInvalidArgument
-  /// otherwise, or for an unknown id). Every draw function has this overload.
-  Status drawCrowd(CharacterId character, const CrowdManager& crowd,
-                   const InstanceBatcher& batcher, const Camera& camera, DrawStats* stats,
-                   DrawMode mode = DrawMode::kDefault) {
-    return drawCrowd(character, crowd.view(), batcher, camera, stats, mode);
-  }
-  /// The same for a view's selection (si::CrowdView: a shadow cascade, a second camera), drawn
-  /// with `camera`, which must sit where the view's last select() camera sat (the records are
-  /// relative to it). Motion vectors use the view's previous records (CrowdViewDesc::
-  /// previous_records) and cameras. kInvalidArgument for a view that is not attached.
-  Status drawCrowd(const CrowdView& view, const InstanceBatcher& batcher, const Camera& camera,
-                   DrawStats* stats, DrawMode mode = DrawMode::kDefault) {
-    return drawCrowd(CharacterId{}, view, batcher, camera, stats, mode);
-  }
   Status drawCrowd(CharacterId character, const CrowdView& view, const InstanceBatcher& batcher,
                    const Camera& camera, DrawStats* stats, DrawMode mode = DrawMode::kDefault);
-  /// The traditional path: for each visible instance, computes its joint matrices on the CPU
-  /// from the palette, uploads them into a uniform block and issues one glDrawElements per worn
-  /// sub-mesh. Of the crowd's own view, or of a CrowdView.
-  Status drawTraditional(const CrowdManager& crowd, const Camera& camera, DrawStats* stats) {
-    return drawTraditional(CharacterId{}, crowd.view(), camera, stats);
-  }
-  Status drawTraditional(CharacterId character, const CrowdManager& crowd, const Camera& camera,
-                         DrawStats* stats) {
-    return drawTraditional(character, crowd.view(), camera, stats);
-  }
+  /// The traditional path: for each visible instance of the view, computes its joint matrices
+  /// on the CPU from the palette, uploads them into a uniform block and issues one
+  /// glDrawElements per worn sub-mesh.
   Status drawTraditional(CharacterId character, const CrowdView& view, const Camera& camera,
                          DrawStats* stats);
 
-  /// The CPU-skinning baseline: for each visible instance, computes its joint matrices from the
-  /// palette, skins the vertices of its worn sub-meshes at its LOD on the CPU (si::emulateSkinning
-  /// arithmetic), streams them to the GPU (camera-relative world space) and draws them without
-  /// any skinning in the shader, one glDrawElementsBaseVertex per sub-mesh. Of the crowd's own
-  /// view, or of a CrowdView.
-  Status drawCpuSkinned(const CrowdManager& crowd, const Camera& camera, DrawStats* stats) {
-    return drawCpuSkinned(CharacterId{}, crowd.view(), camera, stats);
-  }
-  Status drawCpuSkinned(CharacterId character, const CrowdManager& crowd, const Camera& camera,
-                        DrawStats* stats) {
-    return drawCpuSkinned(character, crowd.view(), camera, stats);
-  }
+  /// The CPU-skinning baseline: for each visible instance of the view, computes its joint
+  /// matrices from the palette, skins the vertices of its worn sub-meshes at its LOD on the CPU
+  /// (si::emulateSkinning arithmetic), streams them to the GPU (camera-relative world space)
+  /// and draws them without any skinning in the shader, one glDrawElementsBaseVertex per
+  /// sub-mesh.
   Status drawCpuSkinned(CharacterId character, const CrowdView& view, const Camera& camera,
                         DrawStats* stats);
 
@@ -301,7 +270,7 @@ class Renderer {
   /// kInvalidArgument for kRigid or a detached view. Each character keeps the
   /// GPU state of the last crowd it drew: draw one crowd per character (another re-uploads).
   ///
-  /// Views: each view (CrowdView::identity(); the crowd overloads draw the crowd's own view)
+  /// Views: each view (CrowdView::identity(); a crowd's own view() is a view like any other)
   /// keeps its own GPU state between frames: its LOD per instance (seeded from CrowdView::
   /// exportGpuLods at each upload), its visibility history for two-phase occlusion culling and
   /// its drawn records for motion vectors. Views drawn in any order give the same images. A
@@ -317,23 +286,11 @@ class Renderer {
   /// setGpuMotionProjection()'s projection (an unjittered one) in their place. A character's
   /// frames follow one crowd: drawing another crowd (CrowdManager::identity()) starts every
   /// view over with the fallback.
-  Status drawCrowdGpuCulled(const CrowdManager& crowd, const Camera& camera, DrawStats* stats,
-                            DrawMode mode = DrawMode::kDefault) {
-    return drawCrowdGpuCulled(CharacterId{}, crowd.view(), camera, stats, mode);
-  }
-  Status drawCrowdGpuCulled(CharacterId character, const CrowdManager& crowd,
-                            const Camera& camera, DrawStats* stats,
-                            DrawMode mode = DrawMode::kDefault) {
-    return drawCrowdGpuCulled(character, crowd.view(), camera, stats, mode);
-  }
   Status drawCrowdGpuCulled(CharacterId character, const CrowdView& view, const Camera& camera,
                             DrawStats* stats, DrawMode mode = DrawMode::kDefault);
-  /// The last drawCrowdGpuCulled() frame's selection (of character 0, or `character`), read
+  /// The last drawCrowdGpuCulled() frame's selection of character `character`, read
   /// back: (dense index, LOD) per visible instance in no particular order (dense index i is
   /// exportGpuState's instance i).
-  Status readGpuSelection(std::vector<glm::uvec2>* selection) {
-    return readGpuSelection(CharacterId{}, selection);
-  }
   Status readGpuSelection(CharacterId character, std::vector<glm::uvec2>* selection);
 
   /// The renderer's GPU memory by what holds it (si/gl/gpu_memory.h): shared rings, each
@@ -341,25 +298,18 @@ class Renderer {
   /// a null output; kUnsupported on the OpenGL ES profile (no texture size queries there).
   Status gpuMemory(GpuMemory* out) const;
 
-  /// Skins every vertex of the mesh (in mesh order) for one instance `record` on the GPU and
-  /// returns the skinned model-space positions (before the world transform): the GPU side of
-  /// the GPU-equals-CPU tests. kVertexShader runs the skinning vertex shader and reads its
-  /// output through transform feedback; kCompute runs the compute pre-skinning pass (with the
-  /// record's world transform replaced by the identity) and reads its buffer; kAutomatic uses
-  /// the renderer's path (skinningPath()).
-  Status captureSkinnedPositions(const InstanceRecord& record, std::vector<glm::vec3>* out,
-                                 SkinningPath path = SkinningPath::kVertexShader) {
-    return captureSkinnedPositions(CharacterId{}, record, out, path);
-  }
+  /// Skins every vertex of character `character`'s mesh (in mesh order) for one instance
+  /// `record` on the GPU and returns the skinned model-space positions (before the world
+  /// transform): the GPU side of the GPU-equals-CPU tests. kVertexShader runs the skinning vertex
+  /// shader and reads its output through transform feedback; kCompute runs the compute pre-skinning
+  /// pass (with the record's world transform replaced by the identity) and reads its buffer;
+  /// kAutomatic uses the renderer's path (skinningPath()).
   Status captureSkinnedPositions(CharacterId character, const InstanceRecord& record,
                                  std::vector<glm::vec3>* out,
                                  SkinningPath path = SkinningPath::kVertexShader);
 
-  /// Triangles of sub-mesh `sub_mesh` at `lod` as uploaded (of character 0, or `character`; 0
-  /// for an unknown one).
-  uint32_t triangleCount(uint32_t sub_mesh, uint32_t lod) const {
-    return triangleCount(CharacterId{}, sub_mesh, lod);
-  }
+  /// Triangles of sub-mesh `sub_mesh` at `lod` of `character` as uploaded (0 for an unknown
+  /// one).
   uint32_t triangleCount(CharacterId character, uint32_t sub_mesh, uint32_t lod) const;
 
  private:

@@ -118,18 +118,17 @@ struct RendererDesc {
   /// with a second colour attachment, e.g. GL_RG16F, and both draw buffers): this frame's
   /// position minus the previous one, in texture coordinate units (the viewport spans 1 in x
   /// and y; a pixel p came from p - motion). The previous position skins each vertex with the
-  /// instance's previous record (CrowdDesc::previous_records, required: kInvalidArgument
-  /// otherwise) and projects it with the camera of the crowd's previous update(); the current
-  /// one uses the camera of its last update (CrowdManager::previousUpdateCamera(),
-  /// updateCamera()), so a jittered projection given to the draw does not enter the motion. An
-  /// instance without a previous record (not drawn then, added or teleported since) gets the
-  /// camera's motion only (InstanceBatcher::buildPrevious's fallback; drawCrowd reads the
-  /// previous records through InstanceBatcher::buildPreviousIndices, docs/rendering.md). A
-  /// frame whose previous records and indices exceed GL_MAX_SHADER_STORAGE_BLOCK_SIZE is
-  /// refused (kLimitExceeded). drawCrowdGpuCulled writes them too,
-  /// from what it drew itself (see there; no previous records needed). kDepthOnly and kRigid
-  /// draws write no motion; drawTraditional and drawCpuSkinned return kUnsupported while it is
-  /// on. Switchable with setMotionVectors().
+  /// instance's previous record (CrowdDesc::previous_records or CrowdViewDesc::
+  /// previous_records, required: kInvalidArgument otherwise) and projects it with the camera of
+  /// the view's previous selection; the current one uses the camera of its last selection
+  /// (CrowdView::previousCamera(), camera()), so a jittered projection given to the draw does not
+  /// enter the motion. An instance without a previous record (not drawn then, added or teleported
+  /// since) gets the camera's motion only (InstanceBatcher::buildPrevious's fallback; drawCrowd
+  /// reads the previous records through InstanceBatcher::buildPreviousIndices, docs/rendering.md).
+  /// A frame whose previous records and indices exceed GL_MAX_SHADER_STORAGE_BLOCK_SIZE is refused
+  /// (kLimitExceeded). drawCrowdGpuCulled writes them too, from what it drew itself (see there; no
+  /// previous records needed). kDepthOnly and kRigid draws write no motion; drawTraditional and
+  /// drawCpuSkinned return kUnsupported while it is on. Switchable with setMotionVectors().
   bool motion_vectors = false;
   /// Layered animation on every skinning draw (drawCrowd's and drawCrowdGpuCulled's, both
   /// skinning paths, depth-only included). On (the default), a compute pass first composes each

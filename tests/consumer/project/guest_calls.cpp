@@ -195,30 +195,30 @@ GuestReport checkEveryCall(void* (*get_proc)(void* user, const char* name), void
     const std::string overlays = crowd == &layered ? ", overlays" : "";
     for (const auto& [mode, name] : modes)
       checker.check(std::string("Renderer::drawCrowd(") + name + overlays + ")", [&, mode = mode] {
-        return renderer->drawCrowd(id, *crowd, batcher, camera, nullptr, mode);
+        return renderer->drawCrowd(id, crowd->view(), batcher, camera, nullptr, mode);
       });
     renderer->setMotionVectors(true);
     for (si::DrawMode mode : {si::DrawMode::kSkinned, si::DrawMode::kComputeSkinned})
-      checker.check(std::string("Renderer::drawCrowd(") +
-                        (mode == si::DrawMode::kSkinned ? "kSkinned" : "kComputeSkinned") +
-                        ", motion vectors" + overlays + ")", [&] {
-        return renderer->drawCrowd(id, *crowd, batcher, camera, nullptr, mode);
-      });
+      checker.check(
+          std::string("Renderer::drawCrowd(") +
+              (mode == si::DrawMode::kSkinned ? "kSkinned" : "kComputeSkinned") +
+              ", motion vectors" + overlays + ")",
+          [&] { return renderer->drawCrowd(id, crowd->view(), batcher, camera, nullptr, mode); });
     for (bool occlusion : {false, true}) {
       renderer->setGpuOcclusionCulling(occlusion);
       for (si::DrawMode mode : {si::DrawMode::kSkinned, si::DrawMode::kComputeSkinned})
-        checker.check(std::string("Renderer::drawCrowdGpuCulled(") +
-                          (mode == si::DrawMode::kSkinned ? "kSkinned" : "kComputeSkinned") +
-                          (occlusion ? ", occlusion culling" : "") + ", motion vectors" +
-                          overlays + ")",
-                      [&] { return renderer->drawCrowdGpuCulled(id, *crowd, camera, nullptr, mode); });
+        checker.check(
+            std::string("Renderer::drawCrowdGpuCulled(") +
+                (mode == si::DrawMode::kSkinned ? "kSkinned" : "kComputeSkinned") +
+                (occlusion ? ", occlusion culling" : "") + ", motion vectors" + overlays + ")",
+            [&] { return renderer->drawCrowdGpuCulled(id, crowd->view(), camera, nullptr, mode); });
     }
     renderer->setGpuOcclusionCulling(false);
     renderer->setMotionVectors(false);
     checker.check("Renderer::drawTraditional" + overlays,
-                  [&] { return renderer->drawTraditional(id, *crowd, camera, nullptr); });
+                  [&] { return renderer->drawTraditional(id, crowd->view(), camera, nullptr); });
     checker.check("Renderer::drawCpuSkinned" + overlays,
-                  [&] { return renderer->drawCpuSkinned(id, *crowd, camera, nullptr); });
+                  [&] { return renderer->drawCpuSkinned(id, crowd->view(), camera, nullptr); });
   }
   // Impostors: a second character with an impostor level, its atlas drawn on the GPU, and a
   // crowd drawn as impostors on the instanced and GPU-driven paths, colour and depth only.
@@ -236,12 +236,12 @@ GuestReport checkEveryCall(void* (*get_proc)(void* user, const char* name), void
   checker.check("Renderer::buildImpostor", [&] { return renderer->buildImpostor(far_id, small); });
   for (const auto& [mode, name] : {modes[0], modes[3]}) {
     checker.check(std::string("Renderer::drawCrowd(") + name + ", impostors)", [&, mode = mode] {
-      return renderer->drawCrowd(far_id, far_crowd, batcher, camera, nullptr, mode);
+      return renderer->drawCrowd(far_id, far_crowd.view(), batcher, camera, nullptr, mode);
     });
-    checker.check(std::string("Renderer::drawCrowdGpuCulled(") + name + ", impostors)",
-                  [&, mode = mode] {
-                    return renderer->drawCrowdGpuCulled(far_id, far_crowd, camera, nullptr, mode);
-                  });
+    checker.check(
+        std::string("Renderer::drawCrowdGpuCulled(") + name + ", impostors)", [&, mode = mode] {
+          return renderer->drawCrowdGpuCulled(far_id, far_crowd.view(), camera, nullptr, mode);
+        });
   }
   // A material of the engine's, reading a uniform block of its own (at binding 7, which the
   // engine's state binds) and the instance handle (its block at storage binding 29, which the
@@ -263,10 +263,10 @@ GuestReport checkEveryCall(void* (*get_proc)(void* user, const char* name), void
     if (!set.isOk()) return fail("Renderer::setMaterial", set);
     const si::CrowdManager& crowd = kind == id ? plain : far_crowd;
     checker.check("Renderer::drawCrowd (a host material)", [&] {
-      return renderer->drawCrowd(kind, crowd, batcher, camera, nullptr);
+      return renderer->drawCrowd(kind, crowd.view(), batcher, camera, nullptr);
     });
     checker.check("Renderer::drawCrowdGpuCulled (a host material)", [&] {
-      return renderer->drawCrowdGpuCulled(kind, crowd, camera, nullptr);
+      return renderer->drawCrowdGpuCulled(kind, crowd.view(), camera, nullptr);
     });
   }
   std::vector<glm::uvec2> selection;
@@ -274,11 +274,10 @@ GuestReport checkEveryCall(void* (*get_proc)(void* user, const char* name), void
                 [&] { return renderer->readGpuSelection(id, &selection); });
   std::vector<glm::vec3> positions;
   for (si::SkinningPath path : {si::SkinningPath::kVertexShader, si::SkinningPath::kCompute})
-    checker.check(std::string("Renderer::captureSkinnedPositions(") + si::skinningPathName(path) + ")",
-                  [&] {
-                    return renderer->captureSkinnedPositions(id, plain.records()[0], &positions,
-                                                             path);
-                  });
+    checker.check(
+        std::string("Renderer::captureSkinnedPositions(") + si::skinningPathName(path) + ")", [&] {
+          return renderer->captureSkinnedPositions(id, plain.view().records()[0], &positions, path);
+        });
   checker.check("Renderer::clear", [&] {
     renderer->clear(glm::vec4(0.2f, 0.3f, 0.4f, 1.0f));
     return si::Status::ok();
@@ -318,12 +317,14 @@ GuestReport checkEveryCall(void* (*get_proc)(void* user, const char* name), void
                 [&] { return renderer->addCharacter(character, palette, &id); },
                 "GL_DEBUG_CALLBACK");
   si::DrawStats stats;
-  checker.check("Renderer::drawCrowd (debug_messages, measure_gpu_time, the engine's query running)",
-                [&] { return renderer->drawCrowd(id, layered, batcher, camera, &stats); },
-                "GL_DEBUG_CALLBACK", true);
-  checker.check("Renderer::drawCrowdGpuCulled (measure_gpu_time, the engine's query running)",
-                [&] { return renderer->drawCrowdGpuCulled(id, plain, camera, &stats); },
-                "GL_DEBUG_CALLBACK", true);
+  checker.check(
+      "Renderer::drawCrowd (debug_messages, measure_gpu_time, the engine's query running)",
+      [&] { return renderer->drawCrowd(id, layered.view(), batcher, camera, &stats); },
+      "GL_DEBUG_CALLBACK", true);
+  checker.check(
+      "Renderer::drawCrowdGpuCulled (measure_gpu_time, the engine's query running)",
+      [&] { return renderer->drawCrowdGpuCulled(id, plain.view(), camera, &stats); },
+      "GL_DEBUG_CALLBACK", true);
   checker.check("Renderer::shutdown (debug_messages)", [&] {
     renderer->shutdown();
     return si::Status::ok();

@@ -24,6 +24,7 @@
 #include "si/bake/bake_desc.h"
 #include "si/bake/palette_file.h"
 #include "si/core/core.h"
+#include "si/crowd/crowd_manager.h"
 #include "si/crowd/handle_pool.h"
 #include "si/gl/gl_context.h"
 #include "si/gl/renderer.h"
@@ -104,7 +105,7 @@ int main(int argc, char** argv) {
     if (s.isOk()) s = batcher.init(renderer.batchLimits());
     renderer.clear(glm::vec4(kClear[0], kClear[1], kClear[2], 1.0f));
     si::DrawStats stats;
-    if (s.isOk()) s = renderer.drawCrowd(id, crowd, batcher, camera, &stats);
+    if (s.isOk()) s = renderer.drawCrowd(id, crowd.view(), batcher, camera, &stats);
     if (s.isOk()) s = context->readPixels(&library_image);
     if (!s.isOk()) return fail("library renderer: " + s.toString());
   }

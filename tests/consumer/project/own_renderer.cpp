@@ -9,6 +9,7 @@
 #include <sstream>
 
 #include "si/core/shader_inputs.h"
+#include "si/crowd/crowd_manager.h"
 
 namespace consumer {
 
@@ -224,9 +225,9 @@ std::string drawWithOwnRenderer(const std::string& glsl_dir,
   glClearDepth(1.0);
   glClear(GL_COLOR_BUFFER_BIT | GL_DEPTH_BUFFER_BIT);
   const GLsizeiptr block_bytes = GLsizeiptr(capacity) * GLsizeiptr(si::kInstanceRecordSize);
-  std::vector<uint8_t> records(batcher.recordBufferBound(crowd) + size_t(block_bytes));
+  std::vector<uint8_t> records(batcher.recordBufferBound(crowd.view()) + size_t(block_bytes));
   std::vector<si::DrawBatch> draws;
-  s = batcher.build(crowd, records, &draws);
+  s = batcher.build(crowd.view(), records, &draws);
   if (!s.isOk()) return s.toString();
   glNamedBufferStorage(buffers[2], GLsizeiptr(records.size()), records.data(), 0);
   glUseProgram(program);

@@ -20,6 +20,7 @@
 #include "scene.h"
 #include "si/core/default_character.h"
 #include "si/core/palette_file.h"
+#include "si/crowd/crowd_manager.h"
 #include "si/gl/gl_context.h"
 #include "si/gl/renderer.h"
 
@@ -113,7 +114,7 @@ int main(int argc, char** argv) {
   si::InstanceBatcher batcher;
   if (s.isOk()) s = batcher.init(renderer.batchLimits());
   renderer.clear(glm::vec4(consumer::kClear[0], consumer::kClear[1], consumer::kClear[2], 1.0f));
-  if (s.isOk()) s = renderer.drawCrowd(id, crowd, batcher, camera, nullptr);
+  if (s.isOk()) s = renderer.drawCrowd(id, crowd.view(), batcher, camera, nullptr);
   if (!s.isOk()) return fail(s.toString());
 
   // The consumer's image is top row first (HeadlessContext::readPixels).
