@@ -9,6 +9,7 @@
 #include <glm/gtc/matrix_transform.hpp>
 
 #include "common/cascades.h"
+#include "si/crowd/crowd_export.h"
 #include "si/crowd/crowd_manager.h"
 #include "si/crowd/crowd_view.h"
 
@@ -45,7 +46,7 @@ Status runViews(Setup& setup, Renderer& renderer, const BakedPalette& palette, u
   for (const glm::dvec3& p : places) scene_radius = std::max(scene_radius, glm::length(p - centre) + 2.0);
   // The cascades fit the height range the characters stand in (their positions, up to two
   // bounding radii above).
-  const double radius = double(crowd.cullParams(Camera()).radius);
+  const double radius = double(si::CrowdExport::cullParams(crowd.view(), Camera()).radius);
   double low = 1e30, high = -1e30;
   for (const glm::dvec3& p : places) low = std::min(low, p.y), high = std::max(high, p.y);
   row->path = path;

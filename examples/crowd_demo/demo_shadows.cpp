@@ -1,3 +1,4 @@
+#include "si/crowd/crowd_export.h"
 // SkinnedInstancing — SPDX-License-Identifier: MIT (see LICENSE)
 #include "demo_shadows.h"
 
@@ -137,7 +138,7 @@ si::Status CascadedShadows::render(si::Renderer& renderer, const si::InstanceBat
   const double near_m = std::max(0.5, depth - radius), far_m = std::max(near_m * 2.0, depth + radius);
   // The cascades fit the height range the crowd stands in: the ground (at the crowd's centre
   // height) up to two character radii above it.
-  const double character = double(views_[0].cullParams(camera).radius);
+  const double character = double(si::CrowdExport::cullParams(views_[0], camera).radius);
   lights_ = si::examples::cascadeCameras(camera, kCascades, sunDirection(), float(kResolution),
                                          near_m, far_m, centre.y - character,
                                          centre.y + 2.0 * character);

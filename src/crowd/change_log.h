@@ -1,6 +1,6 @@
 // SkinnedInstancing — SPDX-License-Identifier: MIT (see LICENSE)
 #pragma once
-// Which dense indices changed since a version (CrowdManager::changedSince, what the GPU-driven
+// Which dense indices changed since a version (CrowdExport::changedSince, what the GPU-driven
 // path uploads): the store stamps each index with the version its exported state last changed
 // at (and the one its occupant did), and logs its recent changes, so that a consumer asking
 // every frame reads the few that changed rather than every stamp (a churn of 1 % of a million:

@@ -373,7 +373,6 @@ Span<const AnimationEvent> CrowdManager::events() const {
   return (state_ ? *state_ : emptyState()).events;
 }
 
-uint64_t CrowdManager::stateVersion() const { return state_ ? state_->store.version : 0; }
 uint64_t CrowdManager::identity() const { return state_ ? state_->store.identity : 0; }
 uint64_t CrowdManager::stepCount() const {
   return state_ ? state_->steps : 0;

@@ -67,8 +67,11 @@ struct CrowdState {
 
 /// Empties a view's selection for a crowd of `desc` (no records, empty buckets).
 void resetSelection(const CrowdDesc& desc, ViewState* view);
-/// The crowd's cull parameters for `camera` with the view's rules (CrowdViewDesc) applied.
-CullParams viewCullParams(const CrowdManager& crowd, const ViewState& view, const Camera& camera);
+/// The crowd's cull parameters for `camera`: its LOD lines (distances, or the screen-error
+/// lines for this camera), far line, hysteresis and animation LOD (src/crowd/gpu_export.cpp).
+CullParams crowdCullParams(const CrowdState& crowd, const Camera& camera);
+/// The same with the view's rules (CrowdViewDesc) applied.
+CullParams viewCullParams(const CrowdState& crowd, const ViewState& view, const Camera& camera);
 /// What runs the crowd's tasks: its own workers (CrowdDesc::worker_threads, started when first
 /// needed), or nothing (the calling thread) for one thread or a crowd of one chunk. Safe from
 /// several threads at once (views selecting in parallel): WorkerPool::run lets one section use

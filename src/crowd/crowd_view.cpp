@@ -50,8 +50,8 @@ ParallelFor crowdParallelFor(CrowdState& st) {
   return [pool](uint32_t count, const ParallelTask& task) { pool->run(count, task); };
 }
 
-CullParams viewCullParams(const CrowdManager& crowd, const ViewState& view, const Camera& camera) {
-  CullParams p = crowd.cullParams(camera);
+CullParams viewCullParams(const CrowdState& crowd, const ViewState& view, const Camera& camera) {
+  CullParams p = crowdCullParams(crowd, camera);
   // The view's own rules over the crowd's lines.
   const float scale = view.desc.lod_distance_scale == 0.0f ? 1.0f : view.desc.lod_distance_scale;
   if (scale != 1.0f)
@@ -70,7 +70,7 @@ FrameInputs frameInputs(CrowdState& st, const ViewState& view, const Camera& cam
   FrameInputs in;
   in.palette = desc.palette;
   in.clips = &st.clips;
-  in.params = viewCullParams(crowd, view, camera);
+  in.params = viewCullParams(st, view, camera);
   in.camera_position = camera.position;
   in.clock = st.clock;
   in.sub_mesh_count = desc.sub_mesh_count;
@@ -240,28 +240,6 @@ Span<const LayerRecord> CrowdView::previousExtraLayerRecords() const {
 uint64_t CrowdView::identity() const { return view().identity; }
 uint64_t CrowdView::selectionCount() const {
   return view().selections;
-}
-
-CullParams CrowdView::cullParams(const Camera& camera) const {
-  const ViewState& v = view();
-  if (v.crowd == nullptr) return CullParams();
-  return detail::viewCullParams(*v.crowd->owner, v, camera);
-}
-
-void CrowdView::exportGpuLods(std::vector<uint32_t>* out) const {
-  const ViewState& v = view();
-  out->clear();
-  if (v.crowd == nullptr) return;
-  const std::vector<uint8_t>& lods = v.crowd->store.views[v.lane].lods;
-  out->assign(lods.begin(), lods.end());
-}
-
-void CrowdView::exportGpuLods(DenseRange range, uint32_t* out) const {
-  const ViewState& v = view();
-  if (v.crowd == nullptr) return;
-  const std::vector<uint8_t>& lods = v.crowd->store.views[v.lane].lods;
-  if (uint64_t(range.first) + range.count > lods.size()) return;
-  std::copy(lods.begin() + range.first, lods.begin() + range.first + range.count, out);
 }
 
 const Camera& CrowdView::camera() const { return view().camera; }

@@ -87,7 +87,7 @@ struct CrowdFrame {
 struct FrameInputs {
   const BakedPalette* palette = nullptr;
   const std::vector<ClipTiming>* clips = nullptr;  // Per palette clip.
-  CullParams params;                               // CrowdManager::cullParams(camera).
+  CullParams params;                               // CrowdExport::cullParams(view, camera).
   glm::dvec3 camera_position{0.0};
   double clock = 0.0;  // The crowd clock, already advanced.
   uint32_t sub_mesh_count = 1;

@@ -1,8 +1,12 @@
 // SkinnedInstancing — SPDX-License-Identifier: MIT (see LICENSE)
-// The crowd's state for GPU-driven culling: instances, clips and the frame's parameters, as
-// the shaders read them (si/crowd/gpu_crowd_state.h).
+// si::CrowdExport: the crowd's state for GPU-driven culling (instances, overlays, clips, what
+// changed, and per view the frame's parameters and LODs), as the shaders read them
+// (si/crowd/gpu_crowd_state.h).
+#include "si/crowd/crowd_export.h"
+
 #include "crowd/crowd_state.h"
 #include "si/crowd/crowd_manager.h"
+#include "si/crowd/crowd_view.h"
 
 #include <algorithm>
 #include <cmath>
@@ -10,15 +14,17 @@
 
 namespace si {
 
-CullParams CrowdManager::cullParams(const Camera& camera) const {
+namespace detail {
+
+CullParams crowdCullParams(const CrowdState& st, const Camera& camera) {
+  const CrowdDesc& desc = st.owner->desc();
   CullParams p;
   p.planes = camera.frustumPlanes();
-  if (!state_) return p;
-  p.radius = state_->radius;
-  p.max_distance_radii = desc_.max_distance_radii;
-  p.hysteresis = desc_.lod_hysteresis_ratio;
-  p.lod_count = desc_.lod_count;
-  if (desc_.lod_mode == LodMode::kScreenError) {
+  p.radius = st.radius;
+  p.max_distance_radii = desc.max_distance_radii;
+  p.hysteresis = desc.lod_hysteresis_ratio;
+  p.lod_count = desc.lod_count;
+  if (desc.lod_mode == LodMode::kScreenError) {
     // Projected error of LOD l + 1 at distance d: error x scale x K / d pixels, with K = half
     // the viewport's height x projection[1][1] (1 / tan(fov_y / 2)). It is within the budget
     // from d = error x scale x K / budget on: in radii (radius x scale), a line that does not
@@ -32,21 +38,22 @@ CullParams CrowdManager::cullParams(const Camera& camera) const {
         0.5 * double(camera.viewport_height_pixels) * std::fabs(double(camera.projection[1][1]));
     const bool orthographic = camera.projection[3][3] == 1.0f && camera.projection[2][3] == 0.0f;
     const double most = double(std::numeric_limits<float>::max());
-    for (uint32_t l = 0; l + 1 < desc_.lod_count && l < 7; ++l) {
-      const double error = double(desc_.lod_errors_units[l + 1]);
-      const double budget = double(desc_.pixel_error_budget);
+    for (uint32_t l = 0; l + 1 < desc.lod_count && l < 7; ++l) {
+      const double error = double(desc.lod_errors_units[l + 1]);
+      const double budget = double(desc.pixel_error_budget);
       const double line = orthographic ? (error * k <= budget ? 0.0 : most)
-                                       : error * k / (budget * double(state_->radius));
+                                       : error * k / (budget * double(st.radius));
       p.lod_lines[l] = k > 0.0 && line >= 0.0 && line < most ? float(line) : float(most);
     }
   } else {
-    for (size_t l = 0; l < state_->lod_lines.size() && l < 7; ++l)
-      p.lod_lines[l] = state_->lod_lines[l];
+    for (size_t l = 0; l < st.lod_lines.size() && l < 7; ++l) p.lod_lines[l] = st.lod_lines[l];
   }
-  p.animation_lod_start = detail::animationLodStart(desc_);
-  p.animation_step_seconds = detail::animationStepSeconds(desc_);
+  p.animation_lod_start = detail::animationLodStart(desc);
+  p.animation_step_seconds = detail::animationStepSeconds(desc);
   return p;
 }
+
+}  // namespace detail
 
 namespace {
 
@@ -113,37 +120,41 @@ void exportExtraLayer(const detail::OverlayState& o, uint32_t k, GpuOverlayState
 
 }  // namespace
 
-void CrowdManager::exportGpuState(std::vector<GpuInstanceState>* out,
-                                  std::vector<InstanceHandle>* handles) const {
-  const uint32_t n = size();
+uint64_t CrowdExport::stateVersion() const {
+  return crowd_->state_ ? crowd_->state_->store.version : 0;
+}
+
+void CrowdExport::state(std::vector<GpuInstanceState>* out,
+                        std::vector<InstanceHandle>* handles) const {
+  const uint32_t n = crowd_->size();
   out->resize(n);
   if (n == 0) {
     if (handles != nullptr) handles->clear();
     return;
   }
-  const detail::InstanceStore& st = state_->store;
+  const detail::InstanceStore& st = crowd_->state_->store;
   for (uint32_t i = 0; i < n; ++i) exportInstance(st, i, &(*out)[i]);
   if (handles != nullptr) *handles = st.dense_handles;
 }
 
-void CrowdManager::exportGpuState(DenseRange range, GpuInstanceState* out,
-                                  InstanceHandle* handles) const {
-  if (!state_ || out == nullptr || range.first > size() || range.count > size() - range.first)
+void CrowdExport::state(DenseRange range, GpuInstanceState* out, InstanceHandle* handles) const {
+  const uint32_t size = crowd_->size();
+  if (!crowd_->state_ || out == nullptr || range.first > size || range.count > size - range.first)
     return;
-  const detail::InstanceStore& st = state_->store;
+  const detail::InstanceStore& st = crowd_->state_->store;
   for (uint32_t k = 0; k < range.count; ++k) {
     exportInstance(st, range.first + k, out + k);
     if (handles != nullptr) handles[k] = st.dense_handles[range.first + k];
   }
 }
 
-void CrowdManager::changedSince(uint64_t since, std::vector<DenseRange>* changed,
-                                std::vector<DenseRange>* placed) const {
-  const uint32_t n = size();
+void CrowdExport::changedSince(uint64_t since, std::vector<DenseRange>* changed,
+                               std::vector<DenseRange>* placed) const {
+  const uint32_t n = crowd_->size();
   if (changed != nullptr) changed->clear();
   if (placed != nullptr) placed->clear();
   if (n == 0) return;
-  const detail::InstanceStore& st = state_->store;
+  const detail::InstanceStore& st = crowd_->state_->store;
   if (st.change_log.answers(since, n)) {  // A few changes since: not every stamp read.
     st.change_log.since(since, n, st.changed_at, st.placed_at, changed, placed);
     return;
@@ -152,51 +163,58 @@ void CrowdManager::changedSince(uint64_t since, std::vector<DenseRange>* changed
   if (placed != nullptr) detail::scanStamps(st.placed_at, st.chunk_placed_at, since, n, placed);
 }
 
-bool CrowdManager::playsOverlays() const { return state_ && state_->store.overlay_count > 0; }
-
-void CrowdManager::exportGpuOverlays(std::vector<GpuOverlayState>* out) const {
-  out->clear();
-  if (!playsOverlays()) return;
-  const detail::InstanceStore& st = state_->store;
-  out->resize(size());
-  for (uint32_t i = 0; i < size(); ++i) exportOverlay(st.overlays[i], &(*out)[i]);
+bool CrowdExport::playsOverlays() const {
+  return crowd_->state_ && crowd_->state_->store.overlay_count > 0;
 }
 
-void CrowdManager::exportGpuOverlays(DenseRange range, GpuOverlayState* out) const {
-  if (!state_ || out == nullptr || range.first > size() || range.count > size() - range.first)
+void CrowdExport::overlays(std::vector<GpuOverlayState>* out) const {
+  const uint32_t size = crowd_->size();
+  out->clear();
+  if (!playsOverlays()) return;
+  const detail::InstanceStore& st = crowd_->state_->store;
+  out->resize(size);
+  for (uint32_t i = 0; i < size; ++i) exportOverlay(st.overlays[i], &(*out)[i]);
+}
+
+void CrowdExport::overlays(DenseRange range, GpuOverlayState* out) const {
+  const uint32_t size = crowd_->size();
+  if (!crowd_->state_ || out == nullptr || range.first > size || range.count > size - range.first)
     return;
-  const detail::InstanceStore& st = state_->store;
+  const detail::InstanceStore& st = crowd_->state_->store;
   for (uint32_t k = 0; k < range.count; ++k) exportOverlay(st.overlays[range.first + k], out + k);
 }
 
-bool CrowdManager::writesExtraLayers() const {
-  return playsOverlays() && state_->extra_layers;
+bool CrowdExport::writesExtraLayers() const {
+  return playsOverlays() && crowd_->state_->extra_layers;
 }
 
-void CrowdManager::exportGpuExtraLayers(std::vector<GpuOverlayState>* out) const {
+void CrowdExport::extraLayers(std::vector<GpuOverlayState>* out) const {
+  const uint32_t size = crowd_->size();
   out->clear();
   if (!writesExtraLayers()) return;
-  out->resize(size_t(size()) * kExtraLayerRecords);
-  exportGpuExtraLayers(DenseRange{0, size()}, out->data());
+  out->resize(size_t(size) * kExtraLayerRecords);
+  extraLayers(DenseRange{0, size}, out->data());
 }
 
-void CrowdManager::exportGpuExtraLayers(DenseRange range, GpuOverlayState* out) const {
-  if (!state_ || out == nullptr || range.first > size() || range.count > size() - range.first)
+void CrowdExport::extraLayers(DenseRange range, GpuOverlayState* out) const {
+  const uint32_t size = crowd_->size();
+  if (!crowd_->state_ || out == nullptr || range.first > size || range.count > size - range.first)
     return;
-  const detail::InstanceStore& st = state_->store;
+  const detail::InstanceStore& st = crowd_->state_->store;
   for (uint32_t i = 0; i < range.count; ++i)
     for (uint32_t k = 0; k < kExtraLayerRecords; ++k)
       exportExtraLayer(st.overlays[range.first + i], k, out + size_t(i) * kExtraLayerRecords + k);
 }
 
-void CrowdManager::exportGpuClips(std::vector<GpuClipInfo>* clips,
-                                  std::vector<double>* frame_times) const {
+void CrowdExport::clips(std::vector<GpuClipInfo>* clips, std::vector<double>* frame_times) const {
+  const detail::CrowdState* state = crowd_->state_.get();
+  const CrowdDesc& desc = crowd_->desc_;
   clips->clear();
   frame_times->clear();
-  if (!state_) return;
-  for (size_t c = 0; c < state_->clips.size(); ++c) {
-    const detail::ClipTiming& ci = state_->clips[c];
-    const BakedClip& bc = desc_.palette->clips[c];
+  if (!state) return;
+  for (size_t c = 0; c < state->clips.size(); ++c) {
+    const detail::ClipTiming& ci = state->clips[c];
+    const BakedClip& bc = desc.palette->clips[c];
     GpuClipInfo g{};
     g.duration = ci.duration;
     g.inv_duration = ci.inv_duration;
@@ -219,6 +237,28 @@ void CrowdManager::exportGpuClips(std::vector<GpuClipInfo>* clips,
     }
     clips->push_back(g);
   }
+}
+
+CullParams CrowdExport::cullParams(const CrowdView& view, const Camera& camera) {
+  const detail::ViewState& v = view.view();
+  if (v.crowd == nullptr) return CullParams();
+  return detail::viewCullParams(*v.crowd, v, camera);
+}
+
+void CrowdExport::lods(const CrowdView& view, std::vector<uint32_t>* out) {
+  const detail::ViewState& v = view.view();
+  out->clear();
+  if (v.crowd == nullptr) return;
+  const std::vector<uint8_t>& lods = v.crowd->store.views[v.lane].lods;
+  out->assign(lods.begin(), lods.end());
+}
+
+void CrowdExport::lods(const CrowdView& view, DenseRange range, uint32_t* out) {
+  const detail::ViewState& v = view.view();
+  if (v.crowd == nullptr) return;
+  const std::vector<uint8_t>& lods = v.crowd->store.views[v.lane].lods;
+  if (uint64_t(range.first) + range.count > lods.size()) return;
+  std::copy(lods.begin() + range.first, lods.begin() + range.first + range.count, out);
 }
 
 }  // namespace si

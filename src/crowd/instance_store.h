@@ -102,7 +102,7 @@ struct InstanceStore {
   /// Every instance's events counted as reported up to `clock` (when markers first appear).
   void markEventsReported(double clock);
   /// Stamps dense index `i` with the current version: its exported state changed
-  /// (CrowdManager::changedSince). `placed`: a different instance is there now.
+  /// (CrowdExport::changedSince). `placed`: a different instance is there now.
   void stamp(uint32_t i, bool placed = false);
   /// A new version, and index `i` stamped with it and logged: what every change of one
   /// instance ends with.

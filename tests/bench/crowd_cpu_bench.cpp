@@ -15,6 +15,7 @@
 #include "si/bake/animation_baker.h"
 #include "si/core/default_character.h"
 #include "si/core/layer_mask.h"
+#include "si/crowd/crowd_export.h"
 #include "si/crowd/crowd_manager.h"
 #include "si/crowd/instance_batcher.h"
 
@@ -130,7 +131,7 @@ void crowdFrame(benchmark::State& state) {
     uint32_t mask = 0;
     std::vector<si::InstanceHandle> handles;
     std::vector<si::GpuInstanceState> states;
-    crowd->exportGpuState(&states, &handles);
+    si::CrowdExport(*crowd).state(&states, &handles);
     const uint32_t wave = uint32_t(crowd->desc().palette->findClip("wave"));
     if (!crowd->addLayerMask(armMask(), &mask).isOk()) std::abort();
     for (size_t i = 0; i < handles.size(); ++i)
@@ -208,7 +209,7 @@ void moveBlends(benchmark::State& state) {
     std::abort();
   std::vector<si::InstanceHandle> handles;
   std::vector<si::GpuInstanceState> states;
-  crowd->exportGpuState(&states, &handles);
+  si::CrowdExport(*crowd).state(&states, &handles);
   for (size_t i = 0; i < handles.size(); ++i)
     if (!crowd->playBlend(handles[i], space, float(i % 11) / 10.0f, 0.0).isOk()) std::abort();
   float shift = 0.0f;
@@ -233,8 +234,8 @@ BENCHMARK(moveBlends)
 // churn and GPU memory"): each iteration removes `per_mille` / 1000 of a field of `instances`
 // at random and adds as many (the application's calls, not timed), advances the clock, then
 // finds what changed since the last iteration (changedSince), exports the changed runs' state
-// and handles (exportGpuState) and, for each of `views` views, their LODs where other instances
-// sit now (exportGpuLods of the placed runs). ns_per_change: per instance changed; find_ms,
+// and handles (CrowdExport::state) and, for each of `views` views, their LODs where other instances
+// sit now (CrowdExport::lods of the placed runs). ns_per_change: per instance changed; find_ms,
 // export_ms and lods_ms: each part's wall time per iteration.
 void churnExport(benchmark::State& state) {
   const int64_t count = state.range(0);
@@ -248,8 +249,8 @@ void churnExport(benchmark::State& state) {
   }
   std::vector<si::InstanceHandle> handles;
   std::vector<si::GpuInstanceState> all;
-  crowd->exportGpuState(&all, &handles);
-  uint64_t version = crowd->stateVersion(), seed = 12345;
+  si::CrowdExport(*crowd).state(&all, &handles);
+  uint64_t version = si::CrowdExport(*crowd).stateVersion(), seed = 12345;
   const auto next = [&seed] {
     seed = seed * 6364136223846793005ull + 1442695040888963407ull;
     return seed >> 33;
@@ -271,7 +272,7 @@ void churnExport(benchmark::State& state) {
     if (!crowd->advanceClock(1.0 / 60.0).isOk()) std::abort();
     state.ResumeTiming();
     const auto t0 = std::chrono::steady_clock::now();
-    crowd->changedSince(version, &changed, &placed);
+    si::CrowdExport(*crowd).changedSince(version, &changed, &placed);
     const auto t1 = std::chrono::steady_clock::now();
     size_t total = 0;
     for (const si::DenseRange& c : changed) total += c.count;
@@ -279,7 +280,7 @@ void churnExport(benchmark::State& state) {
     changed_handles.resize(total);
     size_t done = 0;
     for (const si::DenseRange& c : changed) {
-      crowd->exportGpuState(c, states.data() + done, changed_handles.data() + done);
+      si::CrowdExport(*crowd).state(c, states.data() + done, changed_handles.data() + done);
       done += c.count;
     }
     const auto t2 = std::chrono::steady_clock::now();
@@ -289,7 +290,7 @@ void churnExport(benchmark::State& state) {
       lods.assign(placed_total, 0u);
       size_t at = 0;
       for (const si::DenseRange& c : placed) {
-        v->exportGpuLods(c, lods.data() + at);
+        si::CrowdExport::lods(*v, c, lods.data() + at);
         at += c.count;
       }
     }
@@ -299,7 +300,7 @@ void churnExport(benchmark::State& state) {
     parts[0] += std::chrono::duration<double, std::milli>(t1 - t0).count();
     parts[1] += std::chrono::duration<double, std::milli>(t2 - t1).count();
     parts[2] += std::chrono::duration<double, std::milli>(t3 - t2).count();
-    version = crowd->stateVersion();
+    version = si::CrowdExport(*crowd).stateVersion();
     changes += total;
   }
   const double iterations = double(std::max<int64_t>(1, int64_t(state.iterations())));

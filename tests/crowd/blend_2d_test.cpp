@@ -13,6 +13,7 @@
 
 #include "crowd/crowd_test_helpers.h"
 #include "si/crowd/blend_space.h"
+#include "si/crowd/crowd_export.h"
 #include "si/crowd/crowd_manager.h"
 #include "si/crowd/instance_batcher.h"
 #include "si/crowd/record_emulation.h"
@@ -409,9 +410,9 @@ TEST(Blend2d, TheBatcherLaysOutTheExtraLayers) {
   EXPECT_EQ(batcher.buildPreviousExtraLayers(plain.view(), extras).code(),
             StatusCode::kInvalidArgument);
   std::vector<GpuOverlayState> exported;
-  plain.exportGpuExtraLayers(&exported);
+  CrowdExport(plain).extraLayers(&exported);
   EXPECT_TRUE(exported.empty());
-  b.crowd.exportGpuExtraLayers(&exported);
+  CrowdExport(b.crowd).extraLayers(&exported);
   ASSERT_EQ(exported.size(), size_t(b.crowd.size()) * kExtraLayerRecords);
 }
 

@@ -6,6 +6,7 @@
 #include <random>
 
 #include "crowd/crowd_test_helpers.h"
+#include "si/crowd/crowd_export.h"
 #include "si/crowd/crowd_manager.h"
 
 namespace si {
@@ -127,7 +128,7 @@ TEST(CrowdManager, IdentityNamesOneInitOfOneCrowd) {
   EXPECT_EQ(a.identity(), first);
   std::vector<GpuInstanceState> state;
   std::vector<InstanceHandle> handles;
-  a.exportGpuState(&state, &handles);
+  CrowdExport(a).state(&state, &handles);
   ASSERT_EQ(state.size(), 1u);
   EXPECT_EQ(state[0].handle, g.id);
   ASSERT_TRUE(a.init(defaultCrowdDesc()).isOk());

@@ -16,6 +16,7 @@
 
 #include "crowd/crowd_test_helpers.h"
 #include "si/core/layer_mask.h"
+#include "si/crowd/crowd_export.h"
 #include "si/crowd/crowd_manager.h"
 #include "si/crowd/crowd_view.h"
 #include "si/crowd/parallel_for.h"
@@ -309,7 +310,7 @@ TEST(CrowdView, TheViewsOwnLodRules) {
 
 // What GPU-driven culling reads of a view: its identity (new at every init, unique across views
 // and crowds), its cull parameters (the crowd's with its rules applied, as select() uses them)
-// and its LODs before the bias (what select() left), in exportGpuState's dense order.
+// and its LODs before the bias (what select() left), in CrowdExport::state()'s dense order.
 TEST(CrowdView, WhatTheGpuReadsOfAView) {
   World w, other;
   makeWorld(&w, 2000, 1);
@@ -325,8 +326,9 @@ TEST(CrowdView, WhatTheGpuReadsOfAView) {
     for (size_t b = a + 1; b < 4; ++b) EXPECT_NE(ids[a], ids[b]) << a << " " << b;
   }
   const Camera cam = mainCamera(1);
-  const CullParams crowd_params = w.crowd.cullParams(cam), own = plain.cullParams(cam),
-                   rules = shadow.cullParams(cam);
+  const CullParams crowd_params = CrowdExport::cullParams(w.crowd.view(), cam),
+                   own = CrowdExport::cullParams(plain, cam),
+                   rules = CrowdExport::cullParams(shadow, cam);
   EXPECT_EQ(own.lod_bias, 0u);
   EXPECT_EQ(own.max_distance_radii, crowd_params.max_distance_radii);
   EXPECT_EQ(rules.lod_bias, 2u);
@@ -340,9 +342,9 @@ TEST(CrowdView, WhatTheGpuReadsOfAView) {
   ASSERT_TRUE(shadow.select(cam).isOk());
   std::vector<GpuInstanceState> state;
   std::vector<InstanceHandle> dense;
-  w.crowd.exportGpuState(&state, &dense);
+  CrowdExport(w.crowd).state(&state, &dense);
   std::vector<uint32_t> lods;
-  shadow.exportGpuLods(&lods);
+  CrowdExport::lods(shadow, &lods);
   ASSERT_EQ(lods.size(), dense.size());
   uint32_t checked = 0, biased = 0;
   for (InstanceHandle h : shadow.visibleHandles()) {
@@ -358,24 +360,24 @@ TEST(CrowdView, WhatTheGpuReadsOfAView) {
   EXPECT_GT(biased, 0u) << "some LODs are below the drawn ones";
   // A range exports its slice of the whole; past the crowd, nothing.
   std::vector<uint32_t> slice(40, 99u);
-  shadow.exportGpuLods(DenseRange{uint32_t(lods.size()) - 40, 40}, slice.data());
+  CrowdExport::lods(shadow, DenseRange{uint32_t(lods.size()) - 40, 40}, slice.data());
   EXPECT_TRUE(std::equal(slice.begin(), slice.end(), lods.end() - 40));
   std::fill(slice.begin(), slice.end(), 99u);
-  shadow.exportGpuLods(DenseRange{uint32_t(lods.size()) - 39, 40}, slice.data());
+  CrowdExport::lods(shadow, DenseRange{uint32_t(lods.size()) - 39, 40}, slice.data());
   EXPECT_EQ(std::count(slice.begin(), slice.end(), 99u), 40);
-  // The crowd's own view exports the LODs exportGpuState carries.
-  w.crowd.view().exportGpuLods(&lods);
+  // The crowd's own view exports the LODs CrowdExport::state() carries.
+  CrowdExport::lods(w.crowd.view(), &lods);
   for (size_t i = 0; i < state.size(); ++i) EXPECT_EQ(lods[i], state[i].lod);
   // Re-init: a new identity, LODs back to 0; detached: nothing.
   const uint64_t before = shadow.identity();
   ASSERT_TRUE(shadow.init(w.crowd).isOk());
   EXPECT_NE(shadow.identity(), before);
-  shadow.exportGpuLods(&lods);
+  CrowdExport::lods(shadow, &lods);
   EXPECT_EQ(std::count(lods.begin(), lods.end(), 0u), std::ptrdiff_t(lods.size()));
   CrowdView detached;
-  detached.exportGpuLods(&lods);
+  CrowdExport::lods(detached, &lods);
   EXPECT_TRUE(lods.empty());
-  EXPECT_EQ(detached.cullParams(cam).lod_bias, 0u);
+  EXPECT_EQ(CrowdExport::cullParams(detached, cam).lod_bias, 0u);
 }
 
 TEST(CrowdView, AttachmentFollowsTheCrowd) {

@@ -8,6 +8,7 @@
 #include <cstring>
 
 #include "crowd/crowd_test_helpers.h"
+#include "si/crowd/crowd_export.h"
 #include "si/crowd/crowd_manager.h"
 #include "si/crowd/instance_batcher.h"
 #include "si/crowd/record_emulation.h"
@@ -154,13 +155,13 @@ TEST(LayeredCrowd, ExportsTheOverlaysForTheGpu) {
   Layered l;
   makeLayered(&l, 3);
   std::vector<GpuOverlayState> out(5);
-  l.crowd.exportGpuOverlays(&out);
+  CrowdExport(l.crowd).overlays(&out);
   EXPECT_TRUE(out.empty());
-  const uint64_t before = l.crowd.stateVersion();
+  const uint64_t before = CrowdExport(l.crowd).stateVersion();
   ASSERT_TRUE(l.crowd.advanceClock(0.25).isOk());
   ASSERT_TRUE(l.crowd.playOverlay(l.handles[1], l.wave, l.mask, 0.75f, 0.5, 0.2, 1.5f).isOk());
-  EXPECT_NE(l.crowd.stateVersion(), before);
-  l.crowd.exportGpuOverlays(&out);
+  EXPECT_NE(CrowdExport(l.crowd).stateVersion(), before);
+  CrowdExport(l.crowd).overlays(&out);
   ASSERT_EQ(out.size(), 3u);
   EXPECT_EQ(out[0].active, 0u);
   EXPECT_EQ(out[2].active, 0u);
@@ -176,10 +177,10 @@ TEST(LayeredCrowd, ExportsTheOverlaysForTheGpu) {
   EXPECT_DOUBLE_EQ(o.fade_start, 0.25);
   EXPECT_DOUBLE_EQ(o.fade_duration, 0.5);
   EXPECT_EQ(o.loop, uint32_t(defaultPalette().clips[l.wave].loop_mode));
-  const uint64_t playing = l.crowd.stateVersion();
+  const uint64_t playing = CrowdExport(l.crowd).stateVersion();
   ASSERT_TRUE(l.crowd.stopOverlay(l.handles[1], 0.0).isOk());
-  EXPECT_NE(l.crowd.stateVersion(), playing);
-  l.crowd.exportGpuOverlays(&out);
+  EXPECT_NE(CrowdExport(l.crowd).stateVersion(), playing);
+  CrowdExport(l.crowd).overlays(&out);
   ASSERT_EQ(out.size(), 3u);  // Stopped overlays stay, at weight 0.
   EXPECT_FLOAT_EQ(out[1].weight_to, 0.0f);
 }

@@ -17,6 +17,7 @@
 #include "crowd/cull_lanes.h"
 #include "crowd/playback.h"
 #include "crowd/record_lanes.h"
+#include "si/crowd/crowd_export.h"
 #include "si/crowd/crowd_manager.h"
 #include "si/crowd/parallel_for.h"
 
@@ -273,7 +274,7 @@ TEST(ParallelUpdate, PositionsPastAFloatAreCulledByDistanceWithoutAFarLine) {
   for (const InstanceRecord& r : crowd.view().records())
     for (const auto& row : r.world_rows)
       for (float v : row) EXPECT_TRUE(std::isfinite(v));
-  const CullParams p = crowd.cullParams(camera);
+  const CullParams p = CrowdExport::cullParams(crowd.view(), camera);
   cull::Selection sel;
   const glm::vec3 c(0.0f, 1.0f, 0.0f);
   EXPECT_FALSE(cull::select(glm::vec3(0.0f, 0.0f, -std::numeric_limits<float>::infinity()),

@@ -9,6 +9,7 @@
 #include <map>
 
 #include "crowd/crowd_test_helpers.h"
+#include "si/crowd/crowd_export.h"
 #include "si/crowd/crowd_manager.h"
 #include "si/crowd/instance_batcher.h"
 
@@ -189,12 +190,12 @@ TEST(PreviousRecords, StepsAndPlacementsAreCounted) {
   EXPECT_EQ(crowd.setTransform(b, {2, 0, 0}, glm::quat(0, 0, 0, 0), 1.0f).code(),
             StatusCode::kInvalidArgument);  // Refused: no placement.
   std::vector<GpuInstanceState> state;
-  crowd.exportGpuState(&state, nullptr);
+  CrowdExport(crowd).state(&state, nullptr);
   ASSERT_EQ(state.size(), 2u);
   EXPECT_EQ(state[0].placement, 0u);
   EXPECT_EQ(state[1].placement, 2u);
   ASSERT_TRUE(crowd.remove(a).isOk());  // b moves to dense index 0 with its count.
-  crowd.exportGpuState(&state, nullptr);
+  CrowdExport(crowd).state(&state, nullptr);
   ASSERT_EQ(state.size(), 1u);
   EXPECT_EQ(state[0].placement, 2u);
 

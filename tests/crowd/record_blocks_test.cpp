@@ -1,3 +1,4 @@
+#include "si/crowd/crowd_export.h"
 // SkinnedInstancing — SPDX-License-Identifier: MIT (see LICENSE)
 // The frame builder's block path (positions and rotations loaded from the store's columns,
 // rows, times and frames 8 lanes at a time, records transposed and stored 8 at a time) against
@@ -39,7 +40,7 @@ detail::FrameInputs frameInputs(const Scene& s, const Camera& camera, double clo
   detail::FrameInputs in;
   in.palette = &test::defaultPalette();
   in.clips = &s.clips;
-  in.params = s.crowd.cullParams(camera);
+  in.params = CrowdExport::cullParams(s.crowd.view(), camera);
   in.camera_position = camera.position;
   in.clock = clock;
   in.sub_mesh_count = s.crowd.desc().sub_mesh_count;

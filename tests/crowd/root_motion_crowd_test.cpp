@@ -11,6 +11,7 @@
 #include "crowd/crowd_test_helpers.h"
 #include "si/core/reference_evaluator.h"
 #include "si/core/root_motion.h"
+#include "si/crowd/crowd_export.h"
 #include "si/crowd/crowd_manager.h"
 
 namespace si {
@@ -160,14 +161,14 @@ TEST(RootMotionCrowd, OnlyMovingInstancesChangeTheState) {
   MovingCrowd m;
   const InstanceHandle h = m.add(m.walk, false);
   m.run(0.1, 1);
-  const uint64_t v = m.crowd.stateVersion();
+  const uint64_t v = CrowdExport(m.crowd).stateVersion();
   m.run(0.1, 1);
-  EXPECT_EQ(m.crowd.stateVersion(), v);
+  EXPECT_EQ(CrowdExport(m.crowd).stateVersion(), v);
   ASSERT_TRUE(m.crowd.setRootMotion(h, true).isOk());
-  const uint64_t w = m.crowd.stateVersion();
+  const uint64_t w = CrowdExport(m.crowd).stateVersion();
   EXPECT_NE(w, v);
   m.run(0.1, 1);
-  EXPECT_NE(m.crowd.stateVersion(), w);
+  EXPECT_NE(CrowdExport(m.crowd).stateVersion(), w);
   // addRandom opts every instance in when asked.
   const glm::dvec3 spots[] = {{3, 0, 3}, {6, 0, 6}};
   RandomCrowdDesc r;
@@ -226,16 +227,16 @@ TEST(RootMotionCrowd, ATurnThatOnlyFlipsAZerosSignIsAChange) {
   ASSERT_TRUE(m.crowd.update(1.0 / 60.0, m.camera).isOk());
   ASSERT_TRUE(m.crowd.setTransform(h, far, glm::quat(1.0f, 0.0f, -0.0f, 0.0f), 1.0f).isOk());
   std::vector<GpuInstanceState> before, after;
-  m.crowd.exportGpuState(&before, nullptr);
-  const uint64_t version = m.crowd.stateVersion();
+  CrowdExport(m.crowd).state(&before, nullptr);
+  const uint64_t version = CrowdExport(m.crowd).stateVersion();
   ASSERT_TRUE(m.crowd.update(1.0 / 60.0, m.camera).isOk());
-  m.crowd.exportGpuState(&after, nullptr);
+  CrowdExport(m.crowd).state(&after, nullptr);
   ASSERT_EQ(std::memcmp(after[0].position, before[0].position, 24),
             0);  // The step is below its precision.
   ASSERT_TRUE(std::signbit(before[0].rotation[1]));
   ASSERT_NE(std::memcmp(&before[0], &after[0], sizeof(GpuInstanceState)), 0);
   std::vector<DenseRange> changed;
-  m.crowd.changedSince(version, &changed, nullptr);
+  CrowdExport(m.crowd).changedSince(version, &changed, nullptr);
   ASSERT_EQ(changed.size(), 1u);
   EXPECT_EQ(changed[0].first, 0u);
 }

@@ -1,3 +1,4 @@
+#include "si/crowd/crowd_export.h"
 // SkinnedInstancing — SPDX-License-Identifier: MIT (see LICENSE)
 // Screen-space-error LOD: each instance gets the coarsest LOD whose error, projected at its
 // distance, stays within the pixel budget, whatever its scale; the budget, the viewport and the
@@ -119,16 +120,17 @@ TEST(ScreenErrorLod, ABudgetTwiceAsLargeHalvesTheDistances) {
   CrowdManager crowd;
   ASSERT_TRUE(crowd.init(screenErrorDesc(1.0f)).isOk());
   const Camera cam = camera();
-  const CullParams one = crowd.cullParams(cam);
+  const CullParams one = CrowdExport::cullParams(crowd.view(), cam);
   ASSERT_TRUE(crowd.setLodMode(LodMode::kScreenError, 2.0f).isOk());
-  const CullParams two = crowd.cullParams(cam);
+  const CullParams two = CrowdExport::cullParams(crowd.view(), cam);
   for (int l = 0; l < 3; ++l) {
     EXPECT_GT(one.lod_lines[l], 0.0f);
     EXPECT_NEAR(two.lod_lines[l], 0.5f * one.lod_lines[l], 1e-5f * one.lod_lines[l]);
   }
   // Back to the technique's lines.
   ASSERT_TRUE(crowd.setLodMode(LodMode::kDistance, 0.0f).isOk());
-  EXPECT_EQ(crowd.cullParams(cam).lod_lines[0], crowd.desc().lod_distances_radii[0]);
+  EXPECT_EQ(CrowdExport::cullParams(crowd.view(), cam).lod_lines[0],
+            crowd.desc().lod_distances_radii[0]);
 }
 
 TEST(ScreenErrorLod, ACameraWithoutAUsableViewportDrawsLodZero) {
@@ -175,12 +177,12 @@ TEST(ScreenErrorLod, ValidityMatrix) {
   distance.lod_mode = LodMode::kDistance;
   distance.lod_errors_units.clear();
   ASSERT_TRUE(crowd.init(distance).isOk());
-  const uint64_t version = crowd.stateVersion();
+  const uint64_t version = CrowdExport(crowd).stateVersion();
   EXPECT_EQ(crowd.setLodMode(LodMode::kScreenError, 1.0f).code(), StatusCode::kInvalidArgument);
   EXPECT_EQ(crowd.setLodMode(LodMode::kDistance, std::nanf("")).code(),
             StatusCode::kInvalidArgument);
   EXPECT_EQ(crowd.desc().lod_mode, LodMode::kDistance);
-  EXPECT_EQ(crowd.stateVersion(), version);
+  EXPECT_EQ(CrowdExport(crowd).stateVersion(), version);
   EXPECT_STREQ(lodModeName(LodMode::kScreenError), "screen-error");
 }
 

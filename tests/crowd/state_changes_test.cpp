@@ -1,5 +1,6 @@
+#include "si/crowd/crowd_export.h"
 // SkinnedInstancing — SPDX-License-Identifier: MIT (see LICENSE)
-// What GPU-driven draws upload: CrowdManager::changedSince names exactly the dense indices whose
+// What GPU-driven draws upload: CrowdExport::changedSince names exactly the dense indices whose
 // exported state changed since a version (setters, play, root motion, add, remove), and those
 // holding another instance; the range exports equal the whole exports there.
 #include <gtest/gtest.h>
@@ -27,7 +28,7 @@ std::vector<uint32_t> indices(const std::vector<DenseRange>& ranges) {
 uint32_t denseOf(const CrowdManager& crowd, InstanceHandle h) {
   std::vector<GpuInstanceState> state;
   std::vector<InstanceHandle> dense;
-  crowd.exportGpuState(&state, &dense);
+  CrowdExport(crowd).state(&state, &dense);
   for (uint32_t i = 0; i < dense.size(); ++i)
     if (dense[i] == h) return i;
   ADD_FAILURE() << "handle not found";
@@ -49,14 +50,14 @@ TEST(StateChanges, EachChangeNamesItsIndexAndNothingElse) {
   ASSERT_TRUE(crowd.init(test::defaultCrowdDesc()).isOk());
   const std::vector<InstanceHandle> h = populate(&crowd, 5000);  // Five stamp chunks.
   std::vector<DenseRange> changed, placed;
-  crowd.changedSince(0, &changed, &placed);
+  CrowdExport(crowd).changedSince(0, &changed, &placed);
   ASSERT_EQ(changed.size(), 1u);
   EXPECT_EQ(changed[0].first, 0u);
   EXPECT_EQ(changed[0].count, 5000u);
   EXPECT_EQ(indices(placed), indices(changed));
 
-  uint64_t since = crowd.stateVersion();
-  crowd.changedSince(since, &changed, &placed);
+  uint64_t since = CrowdExport(crowd).stateVersion();
+  CrowdExport(crowd).changedSince(since, &changed, &placed);
   EXPECT_TRUE(changed.empty());
   EXPECT_TRUE(placed.empty());
 
@@ -64,22 +65,22 @@ TEST(StateChanges, EachChangeNamesItsIndexAndNothingElse) {
   ASSERT_TRUE(crowd.setColor(h[10], glm::u8vec4(1, 2, 3, 255)).isOk());
   ASSERT_TRUE(crowd.setVariationMask(h[2100], 0x3).isOk());
   ASSERT_TRUE(crowd.play(h[4999], 1, 0.5, 1.0f).isOk());
-  crowd.changedSince(since, &changed, &placed);
+  CrowdExport(crowd).changedSince(since, &changed, &placed);
   EXPECT_EQ(indices(changed), (std::vector<uint32_t>{10, 2100, 4999}));
   EXPECT_TRUE(placed.empty());
   // Only what changed after a later version.
-  const uint64_t later = crowd.stateVersion();
+  const uint64_t later = CrowdExport(crowd).stateVersion();
   ASSERT_TRUE(crowd.setTransform(h[3000], glm::dvec3(1.0), glm::quat(1, 0, 0, 0), 2.0f).isOk());
-  crowd.changedSince(later, &changed, nullptr);
+  CrowdExport(crowd).changedSince(later, &changed, nullptr);
   EXPECT_EQ(indices(changed), (std::vector<uint32_t>{3000}));
 
   // Adjacent indices form one run; a gap of one unchanged index parts two (nothing unchanged is
   // exported again).
-  since = crowd.stateVersion();
+  since = CrowdExport(crowd).stateVersion();
   ASSERT_TRUE(crowd.crossfade(h[100], 2, 0.3).isOk());
   ASSERT_TRUE(crowd.setCustomLayer(h[101], 3).isOk());
   ASSERT_TRUE(crowd.setCustomLayer(h[103], 3).isOk());
-  crowd.changedSince(since, &changed, nullptr);
+  CrowdExport(crowd).changedSince(since, &changed, nullptr);
   ASSERT_EQ(changed.size(), 2u);
   EXPECT_EQ(changed[0].first, 100u);
   EXPECT_EQ(changed[0].count, 2u);
@@ -87,31 +88,31 @@ TEST(StateChanges, EachChangeNamesItsIndexAndNothingElse) {
   EXPECT_EQ(changed[1].count, 1u);
 
   // A removal moves the last instance into the hole: changed and placed there; the count falls.
-  since = crowd.stateVersion();
+  since = CrowdExport(crowd).stateVersion();
   const uint32_t hole = denseOf(crowd, h[7]);
   ASSERT_TRUE(crowd.remove(h[7]).isOk());
-  crowd.changedSince(since, &changed, &placed);
+  CrowdExport(crowd).changedSince(since, &changed, &placed);
   EXPECT_EQ(indices(changed), (std::vector<uint32_t>{hole}));
   EXPECT_EQ(indices(placed), (std::vector<uint32_t>{hole}));
   EXPECT_EQ(denseOf(crowd, h[4999]), hole);
   // An add is changed and placed at the end.
-  since = crowd.stateVersion();
+  since = CrowdExport(crowd).stateVersion();
   InstanceHandle added;
   ASSERT_TRUE(crowd.add(InstanceDesc(), &added).isOk());
-  crowd.changedSince(since, &changed, &placed);
+  CrowdExport(crowd).changedSince(since, &changed, &placed);
   EXPECT_EQ(indices(changed), (std::vector<uint32_t>{4999}));
   EXPECT_EQ(indices(placed), (std::vector<uint32_t>{4999}));
   // Removing the last instance changes nothing that remains.
-  since = crowd.stateVersion();
+  since = CrowdExport(crowd).stateVersion();
   ASSERT_TRUE(crowd.remove(added).isOk());
-  crowd.changedSince(since, &changed, &placed);
+  CrowdExport(crowd).changedSince(since, &changed, &placed);
   EXPECT_TRUE(changed.empty());
   EXPECT_TRUE(placed.empty());
   // Neither an update (LODs, crossfade ends) nor the clock changes exported state.
-  since = crowd.stateVersion();
+  since = CrowdExport(crowd).stateVersion();
   ASSERT_TRUE(crowd.update(0.5, test::testCamera({0, 2, -10}, {0, 0, 50})).isOk());
   ASSERT_TRUE(crowd.advanceClock(0.5).isOk());
-  crowd.changedSince(since, &changed, &placed);
+  CrowdExport(crowd).changedSince(since, &changed, &placed);
   EXPECT_TRUE(changed.empty());
 }
 
@@ -131,27 +132,27 @@ TEST(StateChanges, RootMotionStampsWhatMovedAndRangeExportsEqualTheWhole) {
     d.root_motion = i % 1000 == 5;  // Three walkers, in three chunks.
     ASSERT_TRUE(crowd.add(d, &h[i]).isOk());
   }
-  uint64_t since = crowd.stateVersion();
+  uint64_t since = CrowdExport(crowd).stateVersion();
   for (int frame = 0; frame < 3; ++frame) {
     ASSERT_TRUE(crowd.advance(0.1).isOk());
     std::vector<DenseRange> changed, placed;
-    crowd.changedSince(since, &changed, &placed);
+    CrowdExport(crowd).changedSince(since, &changed, &placed);
     EXPECT_EQ(indices(changed), (std::vector<uint32_t>{5, 1005, 2005})) << frame;
     EXPECT_TRUE(placed.empty());
-    since = crowd.stateVersion();
+    since = CrowdExport(crowd).stateVersion();
   }
   ASSERT_TRUE(crowd.advance(0.0).isOk());  // No time, no motion.
   std::vector<DenseRange> changed;
-  crowd.changedSince(since, &changed, nullptr);
+  CrowdExport(crowd).changedSince(since, &changed, nullptr);
   EXPECT_TRUE(changed.empty());
 
   std::vector<GpuInstanceState> whole;
   std::vector<InstanceHandle> dense;
-  crowd.exportGpuState(&whole, &dense);
+  CrowdExport(crowd).state(&whole, &dense);
   const DenseRange range{995, 20};
   std::vector<GpuInstanceState> part(range.count);
   std::vector<InstanceHandle> part_handles(range.count);
-  crowd.exportGpuState(range, part.data(), part_handles.data());
+  CrowdExport(crowd).state(range, part.data(), part_handles.data());
   for (uint32_t k = 0; k < range.count; ++k) {
     EXPECT_EQ(std::memcmp(&part[k], &whole[range.first + k], sizeof(GpuInstanceState)), 0) << k;
     EXPECT_EQ(part_handles[k], dense[range.first + k]);
@@ -162,15 +163,15 @@ TEST(StateChanges, RootMotionStampsWhatMovedAndRangeExportsEqualTheWhole) {
                              {"r_clavicle"}, &arm).isOk());
   uint32_t mask = 0;
   ASSERT_TRUE(crowd.addLayerMask(arm, &mask).isOk());
-  EXPECT_FALSE(crowd.playsOverlays());
-  since = crowd.stateVersion();
+  EXPECT_FALSE(CrowdExport(crowd).playsOverlays());
+  since = CrowdExport(crowd).stateVersion();
   ASSERT_TRUE(crowd.playOverlay(h[1000], walk, mask, 0.7f, 0.2).isOk());
-  EXPECT_TRUE(crowd.playsOverlays());
-  crowd.changedSince(since, &changed, nullptr);
+  EXPECT_TRUE(CrowdExport(crowd).playsOverlays());
+  CrowdExport(crowd).changedSince(since, &changed, nullptr);
   EXPECT_EQ(indices(changed), (std::vector<uint32_t>{1000}));
   std::vector<GpuOverlayState> overlays, part_overlays(range.count);
-  crowd.exportGpuOverlays(&overlays);
-  crowd.exportGpuOverlays(range, part_overlays.data());
+  CrowdExport(crowd).overlays(&overlays);
+  CrowdExport(crowd).overlays(range, part_overlays.data());
   for (uint32_t k = 0; k < range.count; ++k)
     EXPECT_EQ(std::memcmp(&part_overlays[k], &overlays[range.first + k], sizeof(GpuOverlayState)),
               0) << k;
@@ -178,7 +179,7 @@ TEST(StateChanges, RootMotionStampsWhatMovedAndRangeExportsEqualTheWhole) {
   // A range past the end writes nothing.
   GpuInstanceState sentinel{};
   sentinel.scale = 7.0f;
-  crowd.exportGpuState(DenseRange{2990, 11}, &sentinel, nullptr);
+  CrowdExport(crowd).state(DenseRange{2990, 11}, &sentinel, nullptr);
   EXPECT_EQ(sentinel.scale, 7.0f);
 }
 
@@ -302,8 +303,8 @@ TEST(StateChanges, RandomSequencesNameEveryChange) {
   std::vector<GpuInstanceState> was, is;
   std::vector<InstanceHandle> was_handles, is_handles;
   std::vector<GpuOverlayState> was_overlays, is_overlays;
-  uint64_t since = crowd.stateVersion();
-  crowd.exportGpuState(&was, &was_handles);
+  uint64_t since = CrowdExport(crowd).stateVersion();
+  CrowdExport(crowd).state(&was, &was_handles);
   uint32_t checked = 0;
   for (int step = 0; step < 600; ++step) {
     const uint32_t pick = uint32_t(rng() % 12);  // 0, 10 and 11: add.
@@ -340,10 +341,10 @@ TEST(StateChanges, RandomSequencesNameEveryChange) {
         else ASSERT_TRUE(crowd.update(u(rng) * 0.2, test::testCamera({0, 2, -10}, {50, 0, 50})).isOk());
         break;
     }
-    crowd.exportGpuState(&is, &is_handles);
-    crowd.exportGpuOverlays(&is_overlays);
+    CrowdExport(crowd).state(&is, &is_handles);
+    CrowdExport(crowd).overlays(&is_overlays);
     std::vector<DenseRange> changed, placed;
-    crowd.changedSince(since, &changed, &placed);
+    CrowdExport(crowd).changedSince(since, &changed, &placed);
     std::vector<uint8_t> covered(is.size(), 0), moved(is.size(), 0);
     for (const DenseRange& r : changed) std::fill(covered.begin() + r.first, covered.begin() + r.first + r.count, 1);
     for (const DenseRange& r : placed) std::fill(moved.begin() + r.first, moved.begin() + r.first + r.count, 1);
@@ -364,7 +365,7 @@ TEST(StateChanges, RandomSequencesNameEveryChange) {
         ++checked;
       }
     }
-    since = crowd.stateVersion();
+    since = CrowdExport(crowd).stateVersion();
     was.swap(is);
     was_handles.swap(is_handles);
     was_overlays.swap(is_overlays);

@@ -20,6 +20,7 @@
 
 #include "si/bake/animation_baker.h"
 #include "si/core/layer_mask.h"
+#include "si/crowd/crowd_export.h"
 #include "si/crowd/crowd_manager.h"
 #include "si/crowd/instance_batcher.h"
 
@@ -124,12 +125,13 @@ struct Snapshot {
 
 Snapshot snapshot(const si::CrowdManager& crowd) {
   Snapshot s;
-  crowd.exportGpuState(&s.state, &s.handles);
-  if (s.handles.size() != s.state.size()) fail("exportGpuState: a handle per instance");
+  si::CrowdExport(crowd).state(&s.state, &s.handles);
+  if (s.handles.size() != s.state.size()) fail("CrowdExport::state: a handle per instance");
   for (size_t i = 0; i < s.state.size(); ++i)
-    if (s.state[i].handle != s.handles[i].id) fail("exportGpuState: the state names another handle");
-  s.version = crowd.stateVersion();
-  crowd.exportGpuOverlays(&s.overlays);
+    if (s.state[i].handle != s.handles[i].id)
+      fail("CrowdExport::state: the state names another handle");
+  s.version = si::CrowdExport(crowd).stateVersion();
+  si::CrowdExport(crowd).overlays(&s.overlays);
   s.lines = crowd.desc().lod_distances_radii;
   s.far_line = crowd.desc().max_distance_radii;
   s.clock = crowd.clockSeconds();
@@ -158,7 +160,7 @@ si::GpuInstanceState onGpu(si::GpuInstanceState g, double clock) {
 void checkChanges(const si::CrowdManager& crowd, const Snapshot& before) {
   const Snapshot after = snapshot(crowd);
   std::vector<si::DenseRange> changed, placed;
-  crowd.changedSince(before.version, &changed, &placed);
+  si::CrowdExport(crowd).changedSince(before.version, &changed, &placed);
   const size_t n = after.state.size();
   std::vector<uint8_t> covered(n, 0), moved(n, 0);
   for (int list = 0; list < 2; ++list) {
@@ -173,7 +175,7 @@ void checkChanges(const si::CrowdManager& crowd, const Snapshot& before) {
   }
   for (const si::DenseRange& r : changed) {
     std::vector<si::GpuInstanceState> part(r.count);
-    crowd.exportGpuState(r, part.data(), nullptr);
+    si::CrowdExport(crowd).state(r, part.data(), nullptr);
     if (std::memcmp(part.data(), &after.state[r.first], r.count * sizeof(part[0])) != 0)
       fail("a range export differs from the whole export");
   }

@@ -7,6 +7,7 @@
 #include <vector>
 
 #include "si/core/baked_palette.h"
+#include "si/crowd/crowd_export.h"
 #include "si/crowd/crowd_manager.h"
 #include "si/crowd/instance_batcher.h"
 
@@ -36,7 +37,7 @@ inline void checkLayerRecords(const CrowdManager& crowd, const InstanceBatcher& 
   }
   if (layers.size() != crowd.view().records().size())
     fail("the layer records do not match the records");
-  const bool grid = crowd.writesExtraLayers();
+  const bool grid = si::CrowdExport(crowd).writesExtraLayers();
   if (extras.size() != (grid ? layers.size() * kExtraLayerRecords : 0))
     fail("the extra layer records do not match the records");
   for (size_t i = 0; i < layers.size(); ++i) {

@@ -8,6 +8,7 @@
 
 #include "render/render_fixture.h"
 #include "si/core/lod_error.h"
+#include "si/crowd/crowd_export.h"
 #include "si/crowd/crowd_manager.h"
 
 namespace si {
@@ -119,7 +120,7 @@ TEST_P(RenderTest, GpuCullingAgreesOnTheBoundaries) {
   ASSERT_TRUE(crowd.init(cd).isOk());
   const Camera camera = Camera::lookAt({0.5, 1.5, 0.25}, {0.5, 1.0, -50.0}, glm::vec3(0, 1, 0),
                                        1.1f, 1.3f, 0.1f, 2000.0f);
-  const CullParams p = crowd.cullParams(camera);
+  const CullParams p = CrowdExport::cullParams(crowd.view(), camera);
   const BakedClip& clip = palette().clips[0];
   const glm::dvec3 sphere_center(clip.bounding_sphere.center);
   std::vector<double> distances = {p.max_distance_radii * p.radius};

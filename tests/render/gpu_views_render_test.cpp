@@ -12,6 +12,7 @@
 
 #include "render/render_fixture.h"
 #include "render/view_scenes.h"
+#include "si/crowd/crowd_export.h"
 #include "si/crowd/crowd_manager.h"
 #include "si/crowd/crowd_view.h"
 #include "si/gl/motion_target.h"
@@ -251,7 +252,7 @@ TEST_P(GpuViews, TheLeastRecentlyDrawnViewPast32StartsOver) {
   InstanceDesc one;
   InstanceHandle h;
   ASSERT_TRUE(crowd.add(one, &h).isOk());
-  const CullParams p = crowd.cullParams(closeCamera());
+  const CullParams p = CrowdExport::cullParams(crowd.view(), closeCamera());
   const double line = double(p.lod_lines[0]) * double(p.radius);
   const auto at = [](double distance) {  // Looking at the instance from `distance` away.
     return Camera::lookAt({0.0, 0.0, distance}, {0.0, 0.0, 0.0}, glm::vec3(0, 1, 0), 0.9f, 1.0f,

@@ -25,6 +25,7 @@
 #include "si/bake/animation_baker.h"
 #include "si/core/default_character.h"
 #include "si/core/impostor_level.h"
+#include "si/crowd/crowd_export.h"
 #include "si/crowd/crowd_manager.h"
 #include "si/gl/renderer.h"
 #include "si/headless/headless_context.h"
@@ -480,12 +481,12 @@ inline void impostorRowsCrowd(double spacing, double z, double row_step, CrowdMa
   ASSERT_EQ(crowd->view().stats().per_lod[levels - 1], 16u);
 }
 
-// The CPU's selection of the last update(): (dense index as exportGpuState orders it, LOD) per
+// The CPU's selection of the last update(): (dense index as CrowdExport::state orders it, LOD) per
 // visible instance.
 inline std::vector<glm::uvec2> cpuSelection(const CrowdManager& crowd) {
   std::vector<GpuInstanceState> state;
   std::vector<InstanceHandle> dense;
-  crowd.exportGpuState(&state, &dense);
+  si::CrowdExport(crowd).state(&state, &dense);
   std::map<uint32_t, uint32_t> dense_of;  // handle id -> dense index
   for (uint32_t i = 0; i < dense.size(); ++i) dense_of[dense[i].id] = i;
   std::vector<glm::uvec2> out;

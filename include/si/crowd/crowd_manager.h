@@ -110,8 +110,8 @@ class CrowdManager {
   /// once stops moving it at its end). During a crossfade the two clips' motions over the step
   /// are blended by the new clip's weight at the step's middle. play() and crossfade() first
   /// apply the motion of the playback they replace. Frames that only advanceClock() move
-  /// nothing; the next update() catches up. Moving changes stateVersion() (GPU-driven
-  /// selection re-exports the state).
+  /// nothing; the next update() catches up. Moving changes CrowdExport::stateVersion()
+  /// (GPU-driven selection re-exports the state).
   Status setRootMotion(InstanceHandle h, bool enabled);
   /// The tint (alpha 255, as InstanceDesc::color); keeps the custom layer.
   Status setColor(InstanceHandle h, glm::u8vec4 color);
@@ -271,7 +271,7 @@ class CrowdManager {
 
   const CrowdDesc& desc() const { return desc_; }
 
-  // ---- For GPU-driven culling (si::gl) ----
+  // ---- Frames selected on the GPU (si::gl; what they read: si::CrowdExport) ----
   /// Advances the crowd clock only (what update() does first), for frames whose selection runs
   /// on the GPU: O(1). kInvalidArgument for a dt that is negative, not finite, or would take
   /// the clock past the largest double (the clock is unchanged then).
@@ -281,62 +281,14 @@ class CrowdManager {
   /// GPU-driven path counts its frames by it): step once per rendered frame, with dt 0 while
   /// the clock is held (pause, photo mode, rendering faster than simulating).
   uint64_t stepCount() const;
-  /// Changes whenever exported state changes (init, add, remove, setters, play, crossfade,
-  /// setLodDistances); not when update() moves LODs or ends crossfades (the GPU does the same).
-  /// Unique across all crowds of the process: a new crowd never repeats an old one's version.
-  uint64_t stateVersion() const;
   /// This crowd since its last init(): unique across all crowds and init() calls of the process
   /// (0 before init). What GPU-driven draws kept of a crowd (motion vectors' previous frame)
   /// belongs to this identity, so a new crowd at a reused address never inherits it.
   uint64_t identity() const;
-  /// Every instance's state in dense order (`handles`, may be null, receives the handles in the
-  /// same order): index i of the GPU's selection is dense index i.
-  void exportGpuState(std::vector<GpuInstanceState>* out,
-                      std::vector<InstanceHandle>* handles) const;
-  /// The instances of dense indices [range.first, range.first + range.count) as exportGpuState()
-  /// exports them, into `out` (range.count entries) and, when not null, their handles into
-  /// `handles`; the range must lie within size() (nothing is written otherwise).
-  void exportGpuState(DenseRange range, GpuInstanceState* out, InstanceHandle* handles) const;
-  /// Which dense indices changed since this crowd's stateVersion() was `since` (a version it
-  /// returned earlier, under the same identity()): into `changed`, the indices whose exported
-  /// state (exportGpuState, exportGpuOverlays) changed after it, by a setter, play, crossfade,
-  /// overlay, add, remove or root motion; into `placed` (may be null), those holding another
-  /// instance than then (added, or moved there by a removal: what is kept per index must
-  /// start over there). Both sorted, within size(), as runs of adjacent indices (a run costs a
-  /// GPU-driven upload a 16-byte table entry, less than one unchanged instance uploaded again).
-  /// A `since` of 0 gives everything. O(size() / 1024) plus the changed chunks: what GPU-driven
-  /// draws upload.
-  void changedSince(uint64_t since, std::vector<DenseRange>* changed,
-                    std::vector<DenseRange>* placed) const;
-  /// The palette's clips as the GPU reads them, and the frame times of non-uniform clips (then
-  /// the interval modes of cubic clips, as small whole numbers: GpuClipInfo::modes_offset).
-  void exportGpuClips(std::vector<GpuClipInfo>* clips, std::vector<double>* frame_times) const;
-  /// Every instance's overlay in dense order (as exportGpuState), or nothing (`out` emptied)
-  /// while no instance plays one: what GPU-driven culling needs to write the layer records.
-  /// Playing or stopping an overlay changes stateVersion().
-  void exportGpuOverlays(std::vector<GpuOverlayState>* out) const;
-  /// The overlays of dense indices [range.first, range.first + range.count) into `out`
-  /// (range.count entries; a zero entry where none plays), within size().
-  void exportGpuOverlays(DenseRange range, GpuOverlayState* out) const;
-  /// Whether exportGpuOverlays() exports anything: some instance holds an overlay (playing or
-  /// faded out).
-  bool playsOverlays() const;
-  /// 2D blends: kExtraLayerRecords entries per instance in dense order, each extra layer as
-  /// its own overlay state (on the overlay's mask, fading over the overlay's span), from which
-  /// the GPU writes extraLayerRecords() as update() does; nothing (`out` emptied) unless
-  /// writesExtraLayers(). Changes mark the instance as exportGpuOverlays()' do.
-  void exportGpuExtraLayers(std::vector<GpuOverlayState>* out) const;
-  /// The extra layers of dense indices [range.first, range.first + range.count) into `out`
-  /// (kExtraLayerRecords * range.count entries), within size().
-  void exportGpuExtraLayers(DenseRange range, GpuOverlayState* out) const;
-  /// Whether updates write extra layer records: the crowd holds a 2D blend space and some
-  /// instance holds an overlay.
-  bool writesExtraLayers() const;
-  /// This frame's selection parameters for `camera` (what update() uses).
-  CullParams cullParams(const Camera& camera) const;
 
  private:
   friend class CrowdView;
+  friend class CrowdExport;
   static const detail::CrowdState& emptyState();
   static Status noCrowd();
   // Instance store, clip timings, the clock, the views (src/crowd/crowd_state.h).

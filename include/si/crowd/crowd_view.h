@@ -177,7 +177,7 @@ class CrowdView {
   /// previousCamera() (Renderer motion vectors, InstanceBatcher::buildPrevious).
   const Camera& camera() const;
   const Camera& previousCamera() const;
-  // ---- For GPU-driven culling (Renderer::drawCrowdGpuCulled of a view) ----
+  // ---- For GPU-driven culling (Renderer::drawCrowdGpuCulled of a view; CrowdExport) ----
   /// This view since its last init() (the crowd's own view: since the crowd's init()): unique
   /// across all views, crowds and init() calls of the process; 0 for a view never init().
   /// What a GPU-driven renderer keeps per view (LODs, visibility history, drawn records) belongs
@@ -187,17 +187,6 @@ class CrowdView {
   /// names the records: selection n's records() are selection n + 1's previousRecords(), byte
   /// for byte, so a renderer that kept where it uploaded them can read them there again.
   uint64_t selectionCount() const;
-  /// The crowd's cull parameters for `camera` with this view's rules applied (its LOD lines,
-  /// far line and lod_bias): what select() uses. Default parameters when detached.
-  CullParams cullParams(const Camera& camera) const;
-  /// The view's LOD per instance in dense order (CrowdManager::exportGpuState's), before the
-  /// lod_bias: the hysteresis state select() left, which GPU-driven culling starts from. Empty
-  /// when detached.
-  void exportGpuLods(std::vector<uint32_t>* out) const;
-  /// The same for dense indices [range.first, range.first + range.count) only, into `out`
-  /// (range.count entries): what a GPU-driven draw re-seeds where instances were added or
-  /// moved. Nothing is written when the range passes the crowd's size or the view is detached.
-  void exportGpuLods(DenseRange range, uint32_t* out) const;
 
   /// The LOD the instance was drawn at by the last selection, lod_bias included (kNotFound for
   /// a stale handle, kInvalidArgument when detached).
@@ -205,6 +194,7 @@ class CrowdView {
 
  private:
   friend class CrowdManager;
+  friend class CrowdExport;
   static const detail::ViewState& emptyView();
   const detail::ViewState& view() const;
   std::unique_ptr<detail::ViewState> state_;

@@ -5,7 +5,7 @@
 /// The crowd's state as GPU-driven culling (si::gl, Renderer::drawCrowdGpuCulled) reads it:
 /// std430 structs (their GLSL twins are in src/gl/shaders/gpu_crowd_state.glsl; the render
 /// tests compare the layouts by GL introspection), and the per-frame selection parameters.
-/// Plain data, no GL: CrowdManager exports it (exportGpuState, exportGpuClips, cullParams).
+/// Plain data, no GL: si::CrowdExport (crowd_export.h) exports it.
 
 #include <array>
 #include <cstdint>
@@ -14,7 +14,7 @@
 
 namespace si {
 
-/// A run of dense instance indices [first, first + count) (CrowdManager::changedSince).
+/// A run of dense instance indices [first, first + count) (CrowdExport::changedSince).
 struct DenseRange {
   uint32_t first = 0;
   uint32_t count = 0;

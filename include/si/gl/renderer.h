@@ -253,9 +253,9 @@ class Renderer {
                         DrawStats* stats);
 
   /// GPU-driven culling and LOD of a view: the crowd's state lives in shader storage buffers
-  /// (uploaded again only when crowd.stateVersion() changes, once for all its views); a compute
-  /// pass culls every instance against the frustum and the view's far line, picks its LOD with
-  /// hysteresis (the same arithmetic and rules as CrowdView::select(), so the same instances
+  /// (uploaded again only when CrowdExport::stateVersion() changes, once for all its views); a
+  /// compute pass culls every instance against the frustum and the view's far line, picks its LOD
+  /// with hysteresis (the same arithmetic and rules as CrowdView::select(), so the same instances
   /// and LODs, lod_bias included), computes its record at the crowd's clock, and buckets it per
   /// (LOD, sub-mesh). Then, with pre-skinning (`mode` kComputeSkinned, or kDefault when the
   /// renderer's path is kCompute), an indirect compute dispatch skins every bucket's vertices
@@ -271,8 +271,8 @@ class Renderer {
   /// GPU state of the last crowd it drew: draw one crowd per character (another re-uploads).
   ///
   /// Views: each view (CrowdView::identity(); a crowd's own view() is a view like any other)
-  /// keeps its own GPU state between frames: its LOD per instance (seeded from CrowdView::
-  /// exportGpuLods at each upload), its visibility history for two-phase occlusion culling and
+  /// keeps its own GPU state between frames: its LOD per instance (seeded from
+  /// CrowdExport::lods at each upload), its visibility history for two-phase occlusion culling and
   /// its drawn records for motion vectors. Views drawn in any order give the same images. A
   /// view not drawn for 16 frames (crowd clocks), or the least recently drawn past 32 views,
   /// loses that state and starts again as a new view.
@@ -290,7 +290,7 @@ class Renderer {
                             DrawStats* stats, DrawMode mode = DrawMode::kDefault);
   /// The last drawCrowdGpuCulled() frame's selection of character `character`, read
   /// back: (dense index, LOD) per visible instance in no particular order (dense index i is
-  /// exportGpuState's instance i).
+  /// CrowdExport::state()'s instance i).
   Status readGpuSelection(CharacterId character, std::vector<glm::uvec2>* selection);
 
   /// The renderer's GPU memory by what holds it (si/gl/gpu_memory.h): shared rings, each

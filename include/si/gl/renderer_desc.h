@@ -107,7 +107,7 @@ struct RendererDesc {
   bool gpu_occlusion_culling = false;
   /// drawCrowdGpuCulled(): how a crowd's changes reach the GPU. kChanged (the default) exports
   /// and uploads only the instances that changed since the last upload
-  /// (CrowdManager::changedSince: a setter, root motion, an add or a removal), and restarts each
+  /// (CrowdExport::changedSince: a setter, root motion, an add or a removal), and restarts each
   /// view's per-instance history (LOD hysteresis, visible last frame) only where another
   /// instance now sits. kWhole exports and uploads every instance at any change and restarts
   /// every view's history (the library before 2026-11-26; for comparison).

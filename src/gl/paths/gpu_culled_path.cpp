@@ -12,6 +12,7 @@
 #include "gl/paths/layer_compose_pass.h"
 #include "gl/resources/gl_allocation.h"
 #include "si/core/layer_mask.h"
+#include "si/crowd/crowd_export.h"
 
 namespace si::detail {
 
@@ -54,7 +55,7 @@ Status GpuCulledPath::uploadFrame(const DrawResources& r, const PathFrame& f) {
                         n > capacity_ || shrinks(n) || sub_meshes_ != cd.sub_mesh_count ||
                         buckets_ != buckets || vertex_source_ != r.character->vertex_buffer ||
                         vao_ == kNoObject;
-  const bool changed = version_ != crowd.stateVersion() || instances_ != n;
+  const bool changed = version_ != CrowdExport(crowd).stateVersion() || instances_ != n;
   if (reshaped || (changed && r.desc->gpu_state_upload == GpuStateUpload::kWhole)) {
     Status s = uploadState(r, crowd, buckets);
     if (!s.isOk()) return s;
@@ -80,7 +81,7 @@ Status GpuCulledPath::uploadFrame(const DrawResources& r, const PathFrame& f) {
   }
 
   // Per-frame parameters: the same CullParams CrowdView::select() uses.
-  const CullParams p = f.view->cullParams(f.camera);
+  const CullParams p = CrowdExport::cullParams(*f.view, f.camera);
   const GLuint cull = r.programs[ProgramId::kCull].id;
   const GLuint commands = r.programs[ProgramId::kCullCommands].id;
   const GLuint scatter = r.programs[ProgramId::kCullScatter].id;

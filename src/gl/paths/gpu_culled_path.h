@@ -53,7 +53,7 @@ class GpuCulledPath final : public DrawPath {
   Status uploadChanges(const GlInfo& info, const CrowdManager& crowd);
   Status ensureRing(const DrawResources& r, bool motion);
   // The view's slot: found or made, sized for the crowd and seeded after each upload (its LODs
-  // from CrowdView::exportGpuLods, nothing visible last frame).
+  // from CrowdExport::lods, nothing visible last frame).
   Status prepareView(const PathFrame& f);
   // Motion vectors: moves the view's cameras on at a new frame, creates its drawn records and
   // the previous outputs, sets the cull pass's uniforms.

@@ -1,7 +1,7 @@
 // SkinnedInstancing — SPDX-License-Identifier: MIT (see LICENSE)
 // The GPU-driven path's uploads: the whole crowd state, its buffers (re)created, when the
 // crowd's layout or address changes (uploadState); then in proportion to change: only the
-// instances the crowd changed since the last upload (CrowdManager::changedSince) are exported
+// instances the crowd changed since the last upload (CrowdExport::changedSince) are exported
 // and written, and only where other instances sit now do the views start their history over.
 // And the overlays, whole. Every write goes through the staging ring (resources/upload_ring.h):
 // the last frame's passes may still be reading these buffers. Each view's LODs and flags are
@@ -12,6 +12,7 @@
 #include "gl/paths/gpu_culled_layout.h"
 #include "gl/paths/gpu_culled_path.h"
 #include "gl/resources/gl_allocation.h"
+#include "si/crowd/crowd_export.h"
 #include "si/crowd/handle_pool.h"
 
 namespace si::detail {
@@ -41,18 +42,19 @@ Status storageFits(const GlInfo& info, uint32_t n, const StorageNeed (&needs)[N]
 
 Status GpuCulledPath::uploadState(const DrawResources& r, const CrowdManager& crowd,
                                   uint32_t buckets) {
+  const CrowdExport exported(crowd);
   const CrowdDesc& cd = crowd.desc();
   const uint32_t n = crowd.size();
   std::vector<GpuInstanceState> state;
   std::vector<InstanceHandle> handles;
-  crowd.exportGpuState(&state, &handles);
+  exported.state(&state, &handles);
   // Motion vectors key what was drawn by handle slot: as many as the largest slot.
   slots_needed_ = 1;
   for (const InstanceHandle& h : handles)
     slots_needed_ = std::max(slots_needed_, (h.id & (HandlePool::kMaxSlots - 1)) + 1);
   std::vector<GpuClipInfo> clips;
   std::vector<double> times;
-  crowd.exportGpuClips(&clips, &times);
+  exported.clips(&clips, &times);
   const uint32_t entries = std::max(1u, n) * cd.sub_mesh_count;
   // Every buffer the passes bind whole (the overlays: uploadOverlays; a view's: ensureDrawn).
   const uint64_t slots = std::max(n, 1u);
@@ -155,7 +157,7 @@ Status GpuCulledPath::uploadState(const DrawResources& r, const CrowdManager& cr
   uploaded_identity_ = crowd.identity();
   ++uploads_;  // Every view's LODs and flags are seeded again (indices may name others now).
   placed_upload_ = 0;
-  version_ = crowd.stateVersion();
+  version_ = exported.stateVersion();
   instances_ = n;
   buckets_ = buckets;
   vertex_source_ = r.character->vertex_buffer;
@@ -163,10 +165,11 @@ Status GpuCulledPath::uploadState(const DrawResources& r, const CrowdManager& cr
 }
 
 Status GpuCulledPath::uploadOverlays(const GlInfo& info, const CrowdManager& crowd) {
+  const CrowdExport exported(crowd);
   std::vector<GpuOverlayState> overlays, extras;
-  crowd.exportGpuOverlays(&overlays);
+  exported.overlays(&overlays);
   layers_ = !overlays.empty();
-  extras_ = layers_ && crowd.writesExtraLayers();
+  extras_ = layers_ && exported.writesExtraLayers();
   if (!layers_) return Status::ok();
   Status s = Status::ok();
   const uint32_t copies = extras_ ? 1 + kExtraLayerRecords : 1;
@@ -195,7 +198,7 @@ Status GpuCulledPath::uploadOverlays(const GlInfo& info, const CrowdManager& cro
   }
   std::vector<BufferPiece> pieces{{0, overlays.size() * sizeof(GpuOverlayState), overlays.data()}};
   if (extras_) {  // After the overlays' capacity (cull.comp.glsl's u_extras).
-    crowd.exportGpuExtraLayers(&extras);
+    exported.extraLayers(&extras);
     pieces.push_back({size_t(layer_capacity_) * sizeof(GpuOverlayState),
                       extras.size() * sizeof(GpuOverlayState), extras.data()});
   }
@@ -205,8 +208,9 @@ Status GpuCulledPath::uploadOverlays(const GlInfo& info, const CrowdManager& cro
 }
 
 Status GpuCulledPath::uploadChanges(const GlInfo& info, const CrowdManager& crowd) {
+  const CrowdExport exported(crowd);
   std::vector<DenseRange> changed, placed;
-  crowd.changedSince(version_, &changed, &placed);
+  exported.changedSince(version_, &changed, &placed);
   size_t total = 0;
   for (const DenseRange& c : changed) total += c.count;
   changed_state_.resize(total);
@@ -214,7 +218,7 @@ Status GpuCulledPath::uploadChanges(const GlInfo& info, const CrowdManager& crow
   std::vector<BufferPiece> pieces;
   size_t at = 0;
   for (const DenseRange& c : changed) {
-    crowd.exportGpuState(c, changed_state_.data() + at, changed_handles_.data() + at);
+    exported.state(c, changed_state_.data() + at, changed_handles_.data() + at);
     pieces.push_back({size_t(c.first) * sizeof(GpuInstanceState),
                       size_t(c.count) * sizeof(GpuInstanceState), changed_state_.data() + at});
     at += c.count;
@@ -229,8 +233,8 @@ Status GpuCulledPath::uploadChanges(const GlInfo& info, const CrowdManager& crow
   // Overlays: all of them when the crowd starts or stops holding any or outgrows the buffer,
   // else the changed instances'.
   const uint32_t n = crowd.size();
-  if (crowd.playsOverlays() != layers_ ||
-      (layers_ && (n > layer_capacity_ || crowd.writesExtraLayers() != extras_))) {
+  if (exported.playsOverlays() != layers_ ||
+      (layers_ && (n > layer_capacity_ || exported.writesExtraLayers() != extras_))) {
     Status s = uploadOverlays(info, crowd);
     if (!s.isOk()) return s;
   } else if (layers_) {
@@ -239,12 +243,12 @@ Status GpuCulledPath::uploadChanges(const GlInfo& info, const CrowdManager& crow
     pieces.clear();
     at = 0;
     for (const DenseRange& c : changed) {
-      crowd.exportGpuOverlays(c, changed_overlays_.data() + at);
+      exported.overlays(c, changed_overlays_.data() + at);
       pieces.push_back({size_t(c.first) * sizeof(GpuOverlayState),
                         size_t(c.count) * sizeof(GpuOverlayState), changed_overlays_.data() + at});
       if (extras_) {  // Its extra layers, after the overlays' capacity.
         GpuOverlayState* out = changed_extras_.data() + at * kExtraLayerRecords;
-        crowd.exportGpuExtraLayers(c, out);
+        exported.extraLayers(c, out);
         pieces.push_back({(size_t(layer_capacity_) + size_t(c.first) * kExtraLayerRecords) *
                               sizeof(GpuOverlayState),
                           size_t(c.count) * kExtraLayerRecords * sizeof(GpuOverlayState), out});
@@ -259,7 +263,7 @@ Status GpuCulledPath::uploadChanges(const GlInfo& info, const CrowdManager& crow
     placed_ = std::move(placed);
     placed_upload_ = ++uploads_;
   }
-  version_ = crowd.stateVersion();
+  version_ = exported.stateVersion();
   instances_ = n;
   return Status::ok();
 }
@@ -280,12 +284,12 @@ Status GpuCulledPath::prepareView(const PathFrame& f) {
       lods.assign(total, 0u);
       size_t at = 0;
       for (const DenseRange& d : placed_) {
-        f.view->exportGpuLods(d, lods.data() + at);
+        CrowdExport::lods(*f.view, d, lods.data() + at);
         at += d.count;
       }
       s = v.seed(*staging_, lods, placed_, uploads_);
     } else {  // or everywhere.
-      f.view->exportGpuLods(&lods);
+      CrowdExport::lods(*f.view, &lods);
       s = v.seed(*staging_, lods, instances_, uploads_);
     }
     if (!s.isOk()) return s;

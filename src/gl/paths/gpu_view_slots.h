@@ -49,7 +49,7 @@ struct GpuViewSlot {
   Status seed(UploadRing& uploads, const std::vector<uint32_t>& lods, uint32_t count,
               uint64_t upload);
   /// The same for the instances of `ranges` only, `lods` holding theirs one range after the
-  /// other (CrowdView::exportGpuLods of each range); the others keep what they have.
+  /// other (CrowdExport::lods of each range); the others keep what they have.
   Status seed(UploadRing& uploads, const std::vector<uint32_t>& lods,
               const std::vector<DenseRange>& ranges, uint64_t upload);
   /// Motion vectors: drawn records for at least `slots_needed` handle slots (room to grow: twice
@@ -62,7 +62,7 @@ struct GpuViewSlot {
 class GpuViewSlots {
  public:
   /// Views not drawn for more frames than this lose what they kept (their next draw starts as
-  /// a new view's: LODs from CrowdView::exportGpuLods, nothing visible last frame, the motion
+  /// a new view's: LODs from CrowdExport::lods, nothing visible last frame, the motion
   /// fallback). At most kMaxViews are kept; past that the least recently drawn goes.
   static constexpr uint32_t kIdleFrames = 16, kMaxViews = 32;
 

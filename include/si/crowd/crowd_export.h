@@ -1,0 +1,106 @@
+// SkinnedInstancing — SPDX-License-Identifier: MIT (see LICENSE)
+#pragma once
+
+/// \file
+/// si::CrowdExport: what GPU-driven selection (si::gl, Renderer::drawCrowdGpuCulled) reads of a
+/// crowd and its views, as the plain std430 structs of gpu_crowd_state.h: every instance's
+/// state, overlays and 2D blend layers, the clips, which instances changed since a version,
+/// and per view its LOD lines (CullParams) and the LODs its hysteresis starts from. A renderer
+/// of the engine's own that culls on the GPU reads the same; an application that draws
+/// through CrowdView's selection never needs it. No GPU and no allocation of its own.
+///
+/// Usage (what the GL back-end does each frame):
+/// \code
+///   si::CrowdExport out(crowd);
+///   if (out.stateVersion() != uploaded_version) {
+///     out.changedSince(uploaded_version, &changed, &placed);   // runs of dense indices
+///     for (si::DenseRange r : changed) out.state(r, staging + r.first, nullptr);
+///     uploaded_version = out.stateVersion();
+///   }
+///   si::CullParams params = si::CrowdExport::cullParams(view, camera);
+/// \endcode
+
+#include <cstdint>
+#include <vector>
+
+#include "si/crowd/camera.h"
+#include "si/crowd/gpu_crowd_state.h"
+#include "si/crowd/handle_pool.h"
+
+namespace si {
+
+class CrowdManager;
+class CrowdView;
+
+/// A read-only window on one crowd's GPU-facing state. Cheap to make (one pointer); valid
+/// while the crowd lives. Dense index i is the i-th live instance in the crowd's storage order
+/// (the order of state()); it changes when instances are removed (the last moves into the gap).
+class CrowdExport {
+ public:
+  explicit CrowdExport(const CrowdManager& crowd) : crowd_(&crowd) {}
+
+  /// Changes whenever exported state changes (init, add, remove, setters, play, crossfade,
+  /// overlays, blends, setLodDistances, root motion moving an instance); not when a selection
+  /// moves LODs or ends crossfades (the GPU does the same). Unique across all crowds of the
+  /// process: a new crowd never repeats an old one's version.
+  uint64_t stateVersion() const;
+  /// Every instance's state in dense order (`handles`, may be null, receives the handles in the
+  /// same order): index i of the GPU's selection is dense index i.
+  void state(std::vector<GpuInstanceState>* out, std::vector<InstanceHandle>* handles) const;
+  /// The instances of dense indices [range.first, range.first + range.count) as state() exports
+  /// them, into `out` (range.count entries) and, when not null, their handles into `handles`;
+  /// the range must lie within the crowd's size() (nothing is written otherwise).
+  void state(DenseRange range, GpuInstanceState* out, InstanceHandle* handles) const;
+  /// Which dense indices changed since the crowd's stateVersion() was `since` (a version it
+  /// returned earlier, under the same CrowdManager::identity()): into `changed`, the indices
+  /// whose exported state (state(), overlays(), extraLayers()) changed after it; into `placed`
+  /// (may be null), those holding another instance than then (added, or moved there by a
+  /// removal: what is kept per index must start over there). Both sorted, within size(), as
+  /// runs of adjacent indices (a run costs a GPU-driven upload a 16-byte table entry, less than
+  /// one unchanged instance uploaded again). A `since` of 0 gives everything. Reads a log of
+  /// the recent changes while under a 64th of the indices changed, else O(size() / 1024) plus
+  /// the changed chunks.
+  void changedSince(uint64_t since, std::vector<DenseRange>* changed,
+                    std::vector<DenseRange>* placed) const;
+  /// The palette's clips as the GPU reads them, and the frame times of non-uniform clips (then
+  /// the interval modes of cubic clips, as small whole numbers: GpuClipInfo::modes_offset).
+  void clips(std::vector<GpuClipInfo>* clips, std::vector<double>* frame_times) const;
+
+  /// Whether overlays() exports anything: some instance holds an overlay (playing or faded
+  /// out).
+  bool playsOverlays() const;
+  /// Every instance's overlay in dense order, or nothing (`out` emptied) while no instance
+  /// plays one: what GPU-driven culling needs to write the layer records.
+  void overlays(std::vector<GpuOverlayState>* out) const;
+  /// The overlays of dense indices [range.first, range.first + range.count) into `out`
+  /// (range.count entries; a zero entry where none plays), within size().
+  void overlays(DenseRange range, GpuOverlayState* out) const;
+  /// Whether selections write extra layer records: the crowd holds a 2D blend space and some
+  /// instance holds an overlay.
+  bool writesExtraLayers() const;
+  /// 2D blends: kExtraLayerRecords entries per instance in dense order, each extra layer as
+  /// its own overlay state (on the overlay's mask, fading over the overlay's span), from which
+  /// the GPU writes CrowdView::extraLayerRecords() as a selection does; nothing (`out`
+  /// emptied) unless writesExtraLayers().
+  void extraLayers(std::vector<GpuOverlayState>* out) const;
+  /// The extra layers of dense indices [range.first, range.first + range.count) into `out`
+  /// (kExtraLayerRecords * range.count entries), within size().
+  void extraLayers(DenseRange range, GpuOverlayState* out) const;
+
+  /// The selection parameters of `view` for `camera`: the crowd's LOD lines and far line with
+  /// the view's rules applied (CrowdViewDesc), what CrowdView::select() uses. Default
+  /// parameters for a detached view.
+  static CullParams cullParams(const CrowdView& view, const Camera& camera);
+  /// The view's LOD per instance in dense order, before its lod_bias: the hysteresis state its
+  /// last selection left, which GPU-driven culling starts from. Empty when detached.
+  static void lods(const CrowdView& view, std::vector<uint32_t>* out);
+  /// The same for dense indices [range.first, range.first + range.count) only, into `out`
+  /// (range.count entries): what a GPU-driven draw re-seeds where instances were added or
+  /// moved. Nothing is written when the range passes the crowd's size or the view is detached.
+  static void lods(const CrowdView& view, DenseRange range, uint32_t* out);
+
+ private:
+  const CrowdManager* crowd_;
+};
+
+}  // namespace si
