@@ -108,7 +108,7 @@ Status makeCrowd(const Setup& setup, const BakedPalette& palette,
 bool isGpuSelected(const std::string& path) { return path.compare(0, 4, "gpu-") == 0; }
 
 Status stepCrowd(CrowdManager& crowd, const std::string& path, const Camera& camera, double dt) {
-  return isGpuSelected(path) ? crowd.advanceClock(dt) : crowd.update(dt, camera);
+  return isGpuSelected(path) ? crowd.advance(dt) : crowd.update(dt, camera);
 }
 
 Status drawPath(Renderer& renderer, const CrowdManager& crowd, InstanceBatcher& batcher,

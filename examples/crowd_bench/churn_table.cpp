@@ -52,7 +52,7 @@ Status runChurn(Setup& setup, Renderer& renderer, const BakedPalette& palette, u
       if (s.isOk()) s = crowd.add(d, &handles[i]);
     }
     const double churn_ms = msSince(t0);
-    if (s.isOk()) s = crowd.advanceClock(1.0 / 60.0);
+    if (s.isOk()) s = crowd.advance(1.0 / 60.0);
     const std::vector<Camera> lights =
         si::examples::cascadeCameras(cam, kViews - 1, glm::vec3(-0.4f, -1.0f, -0.3f),
                                      float(setup.height), 5.0, 400.0, -2.0, 6.0);

@@ -31,7 +31,7 @@ Status runCrowds(Setup& setup, Renderer& renderer, const BakedPalette& palette, 
       [&](const Camera&) {
         Status st = Status::ok();
         for (auto& c : crowds)
-          if (st.isOk()) st = c->advanceClock(1.0 / 60.0);
+          if (st.isOk()) st = c->advance(1.0 / 60.0);
         return st;
       },
       [&](const Camera& cam, DrawStats* st, uint32_t* visible) {

@@ -39,7 +39,7 @@ Status runShare(Setup& setup, Renderer* renderers, const BakedPalette& palette, 
                                  d.scale);
       }
     const double move = msSince(t0);
-    if (s.isOk()) s = crowd.advanceClock(1.0 / 60.0);
+    if (s.isOk()) s = crowd.advance(1.0 / 60.0);
     for (int side = 0; side < 2 && s.isOk(); ++side) {
       DrawStats st;
       s = drawPath(renderers[side], crowd, batcher, "gpu-driven", cam, &st);

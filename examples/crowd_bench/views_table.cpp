@@ -60,7 +60,7 @@ Status runViews(Setup& setup, Renderer& renderer, const BakedPalette& palette, u
       [&](const Camera& cam) {
         // The crowd's simulation once, then each view's selection (on the GPU-driven paths the
         // clock only: the draws select).
-        Status st = gpu ? crowd.advanceClock(1.0 / 60.0) : crowd.advance(1.0 / 60.0);
+        Status st = gpu ? crowd.advance(1.0 / 60.0) : crowd.advance(1.0 / 60.0);
         if (st.isOk() && !gpu) st = main_view.select(cam);
         const glm::mat4& v = cam.view_rotation;
         const glm::dvec3 forward = -glm::dvec3(v[0][2], v[1][2], v[2][2]);

@@ -16,7 +16,7 @@ si::Status DemoScene::applyBlend(double blend_seconds) {
   if (!options_.blend) {
     for (size_t i = 1; i < handles_.size(); i += 2) {
       uint32_t space = 0;
-      float parameter = 0.0f;
+      glm::vec2 parameter(0.0f);
       double phase = 0.0;
       if (!crowd_.blendState(handles_[i], &space, &parameter, &phase).isOk()) continue;
       const si::Status s = crowd_.crossfade(handles_[i], uint32_t(walk), blend_seconds);

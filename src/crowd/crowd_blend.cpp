@@ -29,14 +29,10 @@ Span<const BlendSpace> CrowdManager::blendSpaces() const {
   return Span<const BlendSpace>(st.blend_spaces.data(), st.blend_spaces.size());
 }
 
-Status CrowdManager::playBlend(InstanceHandle h, uint32_t space, float parameter,
-                               double blend_seconds, double phase, float speed) {
-  return playBlend(h, space, glm::vec2(parameter, 0.0f), blend_seconds, phase, speed);
-}
-
-Status CrowdManager::playBlend(InstanceHandle h, uint32_t space, glm::vec2 parameter,
+Status CrowdManager::playBlend(InstanceHandle h, uint32_t space, BlendParameter point,
                                double blend_seconds, double phase, float speed) {
   if (!state_) return noCrowd();
+  const glm::vec2 parameter = point.value;
   if (space >= state_->blend_spaces.size())
     return {StatusCode::kInvalidArgument,
             strCat("playBlend: space ", space, " is past the crowd's ", state_->blend_spaces.size(),
@@ -50,33 +46,22 @@ Status CrowdManager::playBlend(InstanceHandle h, uint32_t space, glm::vec2 param
                                  phase, speed, state_->clock);
 }
 
-Status CrowdManager::setBlendParameter(InstanceHandle h, float parameter) {
+Status CrowdManager::setBlendParameter(InstanceHandle h, BlendParameter point) {
   if (!state_) return noCrowd();
-  if (!std::isfinite(parameter))
-    return {StatusCode::kInvalidArgument, "setBlendParameter: the parameter is not finite"};
-  uint32_t i = 0;
-  const Status s = state_->store.denseIndex(h, &i);
-  if (!s.isOk()) return s;
-  return setBlendParameter(h, glm::vec2(parameter, state_->store.overlays[i].parameter_y));
-}
-
-Status CrowdManager::setBlendParameter(InstanceHandle h, glm::vec2 parameter) {
-  if (!state_) return noCrowd();
+  glm::vec2 parameter = point.value;
   if (!std::isfinite(parameter.x) || !std::isfinite(parameter.y))
     return {StatusCode::kInvalidArgument, "setBlendParameter: the parameter is not finite"};
+  if (!point.has_y) {  // x alone: a 2D blend keeps its y.
+    uint32_t i = 0;
+    const Status s = state_->store.denseIndex(h, &i);
+    if (!s.isOk()) return s;
+    parameter.y = state_->store.overlays[i].parameter_y;
+  }
   return state_->store.setBlendParameter(h, state_->blend_spaces, parameter, state_->clock);
 }
 
-Status CrowdManager::blendState(InstanceHandle h, uint32_t* space, float* parameter,
+Status CrowdManager::blendState(InstanceHandle h, uint32_t* space, glm::vec2* parameter,
                                 double* phase) const {
-  glm::vec2 both(0.0f);
-  const Status s = blendState2D(h, space, parameter != nullptr ? &both : nullptr, phase);
-  if (s.isOk()) *parameter = both.x;
-  return s;
-}
-
-Status CrowdManager::blendState2D(InstanceHandle h, uint32_t* space, glm::vec2* parameter,
-                                  double* phase) const {
   if (!state_) return noCrowd();
   const detail::InstanceStore& st = state_->store;
   uint32_t i = 0;

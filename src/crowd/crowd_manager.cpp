@@ -280,24 +280,14 @@ Status CrowdManager::get(InstanceHandle h, InstanceDesc* out) const {
   return Status::ok();
 }
 
-FrameSample CrowdManager::frameSample(uint32_t clip, double local_time_seconds) const {
-  const detail::ClipTiming& c = state_->clips[clip];
-  return detail::fastSample(c, desc_.palette->clips[clip],
-                            std::min(std::max(local_time_seconds, 0.0), c.duration));
-}
-
 // ---- The frame ------------------------------------------------------------------------------
-
-Status CrowdManager::update(double dt, const Camera& camera) {
-  if (!state_) return advanceClock(dt);  // The init() error.
-  return update(dt, camera, detail::crowdParallelFor(*state_));
-}
 
 Status CrowdManager::update(double dt, const Camera& camera, const ParallelFor& parallel_for) {
   Status advanced = advanceClock(dt);  // Checks init() and dt.
   if (!advanced.isOk()) return advanced;
-  detail::FrameInputs in =
-      detail::frameInputs(*state_, *state_->own_view.state_, camera, parallel_for, true);
+  const ParallelFor own = parallel_for ? ParallelFor() : detail::crowdParallelFor(*state_);
+  detail::FrameInputs in = detail::frameInputs(*state_, *state_->own_view.state_, camera,
+                                               parallel_for ? parallel_for : own, true);
   // Instances moved by their root motion: the exported state changes, each moved one stamped
   // with this version (from parallel tasks, without the change log).
   if (in.root_motion && dt > 0.0) state_->store.unloggedVersion();
@@ -306,16 +296,18 @@ Status CrowdManager::update(double dt, const Camera& camera, const ParallelFor& 
   return Status::ok();
 }
 
-Status CrowdManager::advance(double dt) {
-  if (!state_) return advanceClock(dt);  // The init() error.
-  return advance(dt, detail::crowdParallelFor(*state_));
-}
-
 Status CrowdManager::advance(double dt, const ParallelFor& parallel_for) {
   Status advanced = advanceClock(dt);  // Checks init() and dt.
   if (!advanced.isOk()) return advanced;
-  detail::FrameInputs in =
-      detail::frameInputs(*state_, *state_->own_view.state_, Camera(), parallel_for, true);
+  // Nothing to simulate per instance: no root motion, no markers (a crossfade's end is read
+  // from the clock where it matters, not written here).
+  if (state_->store.root_motion_count == 0 && state_->markers.empty()) {
+    state_->events.clear();
+    return Status::ok();
+  }
+  const ParallelFor own = parallel_for ? ParallelFor() : detail::crowdParallelFor(*state_);
+  detail::FrameInputs in = detail::frameInputs(*state_, *state_->own_view.state_, Camera(),
+                                               parallel_for ? parallel_for : own, true);
   if (in.root_motion && dt > 0.0) state_->store.unloggedVersion();
   detail::simulateFrame(in, state_->store);
   detail::gatherEvents(state_.get());
@@ -327,7 +319,7 @@ const CrowdView& CrowdManager::view() const {
   return state_ ? state_->own_view : empty;
 }
 
-Status CrowdManager::advanceClock(double dt) {
+Status CrowdManager::advanceClock(double dt) {  // The step both update() and advance() take.
   if (!state_) return {StatusCode::kInvalidArgument, "CrowdManager: init() first"};
   if (!std::isfinite(dt) || dt < 0.0)
     return {StatusCode::kInvalidArgument, "dt_seconds must be finite and >= 0"};
@@ -425,7 +417,7 @@ Status CrowdManager::jointMatrix(InstanceHandle h, uint32_t joint, glm::dmat4* o
   };
   const auto base = [&](uint32_t at) {
     glm::mat4 m = matrix(st.playback[i], at, stepped);
-    if (st.fade_duration[i] > 0.0) {
+    if (st.fading(i, clock)) {
       const float w = float(std::clamp((clock - st.fade_start[i]) / st.fade_duration[i], 0.0, 1.0));
       m = matrix(st.fade_from[i], at, stepped) * (1.0f - w) + m * w;  // The shader blends them so.
     }

@@ -169,18 +169,14 @@ const CrowdViewDesc& CrowdView::desc() const { return view().desc; }
 uint32_t CrowdView::subMeshCount() const { return view().sub_mesh_count; }
 uint32_t CrowdView::lodCount() const { return view().lod_count; }
 
-Status CrowdView::select(const Camera& camera) {
-  if (!attached()) return select(camera, ParallelFor());  // The detached error.
-  return select(camera, detail::crowdParallelFor(*state_->crowd));
-}
-
 Status CrowdView::select(const Camera& camera, const ParallelFor& parallel_for) {
   if (!attached())
     return {StatusCode::kInvalidArgument,
             "CrowdView::select: the view is not attached to a crowd (init() it; a crowd destroyed "
             "or init() again detaches its views)"};
-  const detail::FrameInputs in =
-      detail::frameInputs(*state_->crowd, *state_, camera, parallel_for, false);
+  const ParallelFor own = parallel_for ? ParallelFor() : detail::crowdParallelFor(*state_->crowd);
+  const detail::FrameInputs in = detail::frameInputs(*state_->crowd, *state_, camera,
+                                                     parallel_for ? parallel_for : own, false);
   detail::selectView(in, camera, state_.get());
   return Status::ok();
 }

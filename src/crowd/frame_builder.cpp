@@ -62,25 +62,17 @@ uint32_t localGroup(ChunkWork& w, uint32_t worn) {
 #define SI_CPU_CLONES
 #endif
 
-// A crossfade is over once the clock passes its end (compared without a division).
-inline void endFinishedFade(InstanceStore& st, uint32_t i, double clock) {
-  if (st.fade_duration[i] > 0.0 && !(clock - st.fade_start[i] < st.fade_duration[i]))
-    st.fade_duration[i] = 0.0;
-}
-
-// Simulate chunk `chunk`, instances [begin, end): its events, root motion and, with
-// `end_fades`, crossfade ends (the fused update() ends them in its culling loop instead).
+// Simulate chunk `chunk`, instances [begin, end): its events and root motion.
 void simulateChunk(const FrameInputs& in, InstanceStore& st, uint32_t chunk, uint32_t begin,
-                   uint32_t end, bool end_fades) {
+                   uint32_t end) {
   const std::vector<ClipTiming>& clips = *in.clips;
   const double clock = in.clock;
   std::vector<AnimationEvent>& events = (*in.chunk_events)[chunk];
   events.clear();
   if (in.markers != nullptr && !in.markers->empty())
     collectEvents(*in.markers, clips, clock, st, begin, end, &events);
-  if (in.root_motion) applyRootMotion(*in.palette, clips, clock, st, begin, end);  // Before culling.
-  if (!end_fades) return;
-  for (uint32_t i = begin; i < end; ++i) endFinishedFade(st, i, clock);
+  if (in.root_motion)
+    applyRootMotion(*in.palette, clips, clock, st, begin, end);  // Before culling.
 }
 
 // Calls body(k, i, at, n) for each piece of instances first..first+count that lies in one
@@ -168,7 +160,7 @@ SI_CPU_CLONES void selectChunk(const FrameInputs& in, InstanceStore& st, uint32_
   std::memset(w.slot_of, 0xFF, sizeof w.slot_of);
   std::memset(w.counts, 0, sizeof w.counts);
   w.stats = CrowdFrameStats();
-  if (in.simulate) simulateChunk(in, st, chunk, begin, end, false);
+  if (in.simulate) simulateChunk(in, st, chunk, begin, end);
   if (in.previous_records) {  // Last selection's slots become the previous ones; none yet now.
     std::copy(view.record_slot.begin() + begin, view.record_slot.begin() + end,
               view.previous_slot.begin() + begin);
@@ -189,15 +181,13 @@ SI_CPU_CLONES void selectChunk(const FrameInputs& in, InstanceStore& st, uint32_
     bool any_near = false;
     for (uint32_t base = 0; base < padded; base += cull::kLanes)
       any_near |= cull::anyNearLane(cull_params, lanes, base);
-    if (in.simulate)
-      for (uint32_t k = 0; k < count; ++k) endFinishedFade(st, i0 + k, in.clock);
     uint32_t fading_groups = 0;  // Bit g: a lane of group g (8 lanes) crossfades.
     if (any_near) {
       loadRotations(st, i0, nullptr, count, padded, lanes);
       for (uint32_t k = 0; k < padded; ++k) {
         const uint32_t i = i0 + (k < count ? k : 0);  // Past the end: lane 0's instance again.
         const ClipTiming& ca = clips[st.playback[i].clip];
-        const bool fading = st.fade_duration[i] > 0.0;
+        const bool fading = st.fading(i, in.clock);
         fading_groups |= uint32_t(fading) << (k / cull::kLanes);
         const ClipTiming& cb = fading ? clips[st.fade_from[i].clip] : ca;
         lanes.ax[k] = ca.sphere_center.x, lanes.ay[k] = ca.sphere_center.y;
@@ -324,7 +314,7 @@ SI_CPU_CLONES void writeChunk(const FrameInputs& in, InstanceStore& st, bool fal
       const Playback& pb = st.playback[i];
       const ClipTiming& c = clips[pb.clip];
       const bool step = lod >= anim_lod;
-      const bool fading = st.fade_duration[i] > 0.0;
+      const bool fading = st.fading(i, in.clock);
       if (c.plain && !step && !fading && lanes.scalar[k] == 0) {  // The lanes' frame.
         const uint32_t a0 = c.first_texel + uint32_t(lanes.frame[k]) * stride;
         setOneClip(a0, a0 + stride, lanes.fraction[k], IntervalMode::kLinear, st.colors[i], &rec);
@@ -390,7 +380,7 @@ void scalarRecord(const FrameInputs& in, const InstanceStore& st, uint32_t i, ui
   double ta = localTime(pb, ca, clock);
   if (step_anim) ta = steppedTime(ta, anim_step);
   const FrameSample fa = fastSample(ca, palette.clips[pb.clip], ta);
-  if (st.fade_duration[i] > 0.0) {  // From the old playback to this one.
+  if (st.fading(i, clock)) {  // From the old playback to this one.
     const Playback& old = st.fade_from[i];
     const ClipTiming& cb = clips[old.clip];
     double tb = localTime(old, cb, clock);
@@ -445,7 +435,7 @@ void buildFrame(const FrameInputs& in, InstanceStore& st, CrowdFrame* frame) {
 void simulateFrame(const FrameInputs& in, InstanceStore& st) {
   const uint32_t n = st.size();
   forEachChunk(in, chunkCount(n), [&](uint32_t c) {
-    simulateChunk(in, st, c, c * kChunkInstances, std::min(n, (c + 1) * kChunkInstances), true);
+    simulateChunk(in, st, c, c * kChunkInstances, std::min(n, (c + 1) * kChunkInstances));
   });
 }
 

@@ -89,8 +89,8 @@ void applyRootMotion(const BakedPalette& palette, const std::vector<ClipTiming>&
   st.motion_clock[i] = clock;
   if (!(clock > since)) return;
   GroundMotion m = playbackMotion(palette, clips, st.playback[i], since, clock);
-  if (st.fade_duration[i] > 0.0) {
-    const double fade_end = st.fade_start[i] + st.fade_duration[i];
+  const double fade_end = st.fade_start[i] + st.fade_duration[i];
+  if (st.fade_duration[i] > 0.0 && since < fade_end) {  // The fade ran during the step.
     const GroundMotion old =
         playbackMotion(palette, clips, st.fade_from[i], since, std::min(clock, fade_end));
     const double middle = 0.5 * (since + clock);

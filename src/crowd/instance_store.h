@@ -114,6 +114,11 @@ struct InstanceStore {
   uint32_t addView();
   /// Frees a lane (lane 0, the crowd's own, is never released).
   void releaseView(uint32_t lane);
+  /// Whether dense index `i` crossfades at `clock`: a fade set and not yet over (the GPU's
+  /// culling pass reads it so). A fade that is over stays in the columns until the next play.
+  bool fading(uint32_t i, double clock) const {
+    return fade_duration[i] > 0.0 && clock - fade_start[i] < fade_duration[i];
+  }
 
   const BakedPalette* palette = nullptr;
   const std::vector<ClipTiming>* clip_timings = nullptr;  // The palette's (the crowd's State).
@@ -129,9 +134,9 @@ struct InstanceStore {
   std::vector<uint32_t> colors;  // The record's appearance word (si::packAppearance).
   std::vector<uint32_t> masks;
   std::vector<Playback> playback;
-  std::vector<Playback> fade_from;      // Valid while fade_duration > 0.
+  std::vector<Playback> fade_from;  // Valid while fading(i, clock).
   std::vector<double> fade_start;
-  std::vector<double> fade_duration;    // 0 when no crossfade runs.
+  std::vector<double> fade_duration;  // 0 when no crossfade was set.
   // Animation events (animation_events.h): the crowd clock each instance last reported at, and
   // whether its playback started since then (reported from its start, inclusive).
   std::vector<double> events_clock;

@@ -131,4 +131,11 @@ inline FrameSample fastSample(const ClipTiming& c, const BakedClip& clip, double
   return s;
 }
 
+/// The frame sample a crowd takes of clip-local `t` (clamped to the clip) of `clip`: its
+/// timing made as a crowd makes it, then fastSample. For tests and tools.
+inline FrameSample clipFrameSample(const BakedClip& clip, double t) {
+  const ClipTiming c = makeClipTiming(clip);
+  return fastSample(c, clip, std::min(std::max(t, 0.0), c.duration));
+}
+
 }  // namespace si::detail

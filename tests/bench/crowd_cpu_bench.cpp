@@ -269,7 +269,7 @@ void churnExport(benchmark::State& state) {
       if (!crowd->get(handles[at], &d).isOk() || !crowd->remove(handles[at]).isOk()) std::abort();
       if (!crowd->add(d, &handles[at]).isOk()) std::abort();
     }
-    if (!crowd->advanceClock(1.0 / 60.0).isOk()) std::abort();
+    if (!crowd->advance(1.0 / 60.0).isOk()) std::abort();
     state.ResumeTiming();
     const auto t0 = std::chrono::steady_clock::now();
     si::CrowdExport(*crowd).changedSince(version, &changed, &placed);

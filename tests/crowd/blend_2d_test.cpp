@@ -144,9 +144,9 @@ TEST(Blend2d, AllFourClipsStayInPhase) {
     uint32_t space = 9;
     glm::vec2 parameter;
     double before = 0.0, after = 0.0, phase = 0.0;
-    ASSERT_TRUE(b.crowd.blendState2D(b.h, &space, &parameter, &before).isOk());
+    ASSERT_TRUE(b.crowd.blendState(b.h, &space, &parameter, &before).isOk());
     ASSERT_TRUE(b.crowd.setBlendParameter(b.h, points[k]).isOk());
-    ASSERT_TRUE(b.crowd.blendState2D(b.h, &space, &parameter, &after).isOk());
+    ASSERT_TRUE(b.crowd.blendState(b.h, &space, &parameter, &after).isOk());
     EXPECT_NEAR(after, before, 1e-9);  // A move keeps the phase.
     EXPECT_EQ(parameter, glm::clamp(points[k], glm::vec2(0.0f), glm::vec2(1.0f, 2.0f)));
     const BlendPoint bp = blendPoint(b.grid, parameter.x, parameter.y);
@@ -155,7 +155,7 @@ TEST(Blend2d, AllFourClipsStayInPhase) {
     ASSERT_TRUE(b.crowd.update(0.13, b.camera()).isOk());
     ASSERT_EQ(b.crowd.view().records().size(), 1u);
     ASSERT_EQ(b.crowd.view().extraLayerRecords().size(), 2u);
-    ASSERT_TRUE(b.crowd.blendState2D(b.h, &space, &parameter, &phase).isOk());
+    ASSERT_TRUE(b.crowd.blendState(b.h, &space, &parameter, &phase).isOk());
     EXPECT_NEAR(std::fmod(phase - after + 1.0, 1.0), 0.13 / period, 1e-9);
     // Each clip at the blend's phase; each layer at its chain weight.
     const InstanceRecord& r = b.crowd.view().records()[0];
@@ -183,15 +183,15 @@ TEST(Blend2d, ThePhaseStaysInItsCycleAtTheLargestClock) {
   Blending2d b;
   // A billion times the clips' speed: the cycles at the largest clock pass a double.
   ASSERT_TRUE(b.crowd.playBlend(b.h, b.space, glm::vec2(0.5f, 0.5f), 0.0, 0.1, 1e9f).isOk());
-  ASSERT_TRUE(b.crowd.advanceClock(std::numeric_limits<double>::max()).isOk());
+  ASSERT_TRUE(b.crowd.advance(std::numeric_limits<double>::max()).isOk());
   uint32_t space = 9;
   glm::vec2 parameter;
   double phase = -1.0;
-  ASSERT_TRUE(b.crowd.blendState2D(b.h, &space, &parameter, &phase).isOk());
+  ASSERT_TRUE(b.crowd.blendState(b.h, &space, &parameter, &phase).isOk());
   EXPECT_TRUE(phase >= 0.0 && phase < 1.0) << phase;
   ASSERT_TRUE(b.crowd.setBlendParameter(b.h, glm::vec2(1.0f, 1.0f)).isOk());
   phase = -1.0;
-  ASSERT_TRUE(b.crowd.blendState2D(b.h, &space, &parameter, &phase).isOk());
+  ASSERT_TRUE(b.crowd.blendState(b.h, &space, &parameter, &phase).isOk());
   EXPECT_TRUE(phase >= 0.0 && phase < 1.0) << phase;
   ASSERT_TRUE(b.crowd.update(0.0, b.camera()).isOk());
   ASSERT_EQ(b.crowd.view().layerRecords().size(), 1u);
@@ -216,7 +216,7 @@ TEST(Blend2d, TheDrawnPoseIsTheLocalSpaceChain) {
     uint32_t space = 0;
     glm::vec2 parameter;
     double phase = 0.0;
-    ASSERT_TRUE(b.crowd.blendState2D(b.h, &space, &parameter, &phase).isOk());
+    ASSERT_TRUE(b.crowd.blendState(b.h, &space, &parameter, &phase).isOk());
     const BakedPalette& p = *b.palette;
     std::vector<glm::mat4> m(p.skeleton_to_palette.size(), glm::mat4(1.0f));
     for (size_t j = 0; j < m.size(); ++j)
@@ -427,13 +427,12 @@ TEST(Blend2d, RefusalsNameWhatIsWrong) {
             StatusCode::kInvalidArgument);
   uint32_t space = 0;
   double phase = 0.0;
-  EXPECT_EQ(b.crowd.blendState2D(b.h, &space, nullptr, &phase).code(),
-            StatusCode::kInvalidArgument);
+  EXPECT_EQ(b.crowd.blendState(b.h, &space, nullptr, &phase).code(), StatusCode::kInvalidArgument);
   // setBlendParameter(h, x) keeps the instance's y.
   ASSERT_TRUE(b.crowd.setBlendParameter(b.h, glm::vec2(0.2f, 1.5f)).isOk());
   ASSERT_TRUE(b.crowd.setBlendParameter(b.h, 0.7f).isOk());
   glm::vec2 parameter;
-  ASSERT_TRUE(b.crowd.blendState2D(b.h, &space, &parameter, &phase).isOk());
+  ASSERT_TRUE(b.crowd.blendState(b.h, &space, &parameter, &phase).isOk());
   EXPECT_EQ(parameter, glm::vec2(0.7f, 1.5f));
   ASSERT_TRUE(b.crowd.remove(b.h).isOk());
   EXPECT_EQ(b.crowd.setBlendParameter(b.h, glm::vec2(0.5f)).code(), StatusCode::kNotFound);

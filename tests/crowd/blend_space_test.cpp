@@ -124,14 +124,14 @@ TEST(BlendSpace, BothClipsStayInPhase) {
   double last_phase = 0.1;
   for (int k = 0; k < 7; ++k) {
     uint32_t space = 9;
-    float parameter = 0.0f;
+    glm::vec2 parameter(0.0f);
     double before = 0.0, after = 0.0;
     ASSERT_TRUE(b.crowd.blendState(b.h, &space, &parameter, &before).isOk());
     ASSERT_TRUE(b.crowd.setBlendParameter(b.h, parameters[k]).isOk());
     ASSERT_TRUE(b.crowd.blendState(b.h, &space, &parameter, &after).isOk());
     EXPECT_EQ(space, b.space);
     EXPECT_NEAR(after, before, 1e-9) << k;  // A change keeps the phase.
-    EXPECT_FLOAT_EQ(parameter, std::clamp(parameters[k], 1.0f, 4.0f));
+    EXPECT_FLOAT_EQ(parameter.x, std::clamp(parameters[k], 1.0f, 4.0f));
     const float w = std::clamp((parameters[k] - 1.0f) / 3.0f, 0.0f, 1.0f);
     const double period = walk_s + (run_s - walk_s) * w;
     ASSERT_TRUE(b.crowd.update(0.13, b.camera()).isOk());
@@ -172,7 +172,7 @@ TEST(BlendSpace, TheDrawnPoseIsTheLocalSpaceBlend) {
     ASSERT_TRUE(b.crowd.update(0.071, b.camera()).isOk());  // Off the 30 Hz grid.
     ASSERT_EQ(b.crowd.view().records().size(), 1u);
     uint32_t space = 0;
-    float parameter = 0.0f;
+    glm::vec2 parameter(0.0f);
     double phase = 0.0;
     ASSERT_TRUE(b.crowd.blendState(b.h, &space, &parameter, &phase).isOk());
     const BakedPalette& p = *b.palette;
@@ -225,7 +225,7 @@ TEST(BlendSpace, CrossfadesIntoAndOutOfABlend) {
   // Out: to the idle over 0.5 s.
   ASSERT_TRUE(b.crowd.crossfade(b.h, b.idle, 0.5).isOk());
   uint32_t space = 0;
-  float parameter = 0.0f;
+  glm::vec2 parameter(0.0f);
   double phase = 0.0;
   EXPECT_EQ(b.crowd.blendState(b.h, &space, &parameter, &phase).code(),
             StatusCode::kInvalidArgument);

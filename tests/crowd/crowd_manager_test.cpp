@@ -6,6 +6,7 @@
 #include <random>
 
 #include "crowd/crowd_test_helpers.h"
+#include "crowd/playback.h"
 #include "si/crowd/crowd_export.h"
 #include "si/crowd/crowd_manager.h"
 
@@ -192,13 +193,14 @@ TEST(CrowdManager, AWeekAt60HzStillChoosesTheExactFrame) {
   const Camera camera = testCamera({0, 1.5, -5}, {0, 1, 0});
   const uint64_t frames = 7ull * 24 * 3600 * 60;
   float naive = 0.0f;  // What a float clock would do.
-  // update() advances the clock through advanceClock(), the one accumulator: every frame steps
-  // it, one frame a simulated minute runs the whole update (36M updates took 80 s under ASan).
+  // update() and advance() step the one accumulator: every frame steps it, advance() (O(1)
+  // here) most frames, one frame a simulated minute the whole update (36M updates took 80 s
+  // under ASan).
   for (uint64_t f = 0; f < frames; ++f) {
     if (f % 3600 == 0) {
       ASSERT_TRUE(crowd.update(1.0 / 60.0, camera).isOk());
     } else {
-      ASSERT_TRUE(crowd.advanceClock(1.0 / 60.0).isOk());
+      ASSERT_TRUE(crowd.advance(1.0 / 60.0).isOk());
     }
     naive += 1.0f / 60.0f;
   }
@@ -207,8 +209,9 @@ TEST(CrowdManager, AWeekAt60HzStillChoosesTheExactFrame) {
   InstanceDesc got;
   ASSERT_TRUE(crowd.get(h, &got).isOk());
   EXPECT_NEAR(got.time_seconds, 0.0123, 1e-6);
-  const FrameSample s = crowd.frameSample(walk, got.time_seconds);
-  const FrameSample expected = crowd.frameSample(walk, 0.0123);
+  const BakedClip& clip = defaultPalette().clips[walk];
+  const FrameSample s = detail::clipFrameSample(clip, got.time_seconds);
+  const FrameSample expected = detail::clipFrameSample(clip, 0.0123);
   EXPECT_EQ(s.frame, expected.frame);
   EXPECT_NEAR(s.fraction, expected.fraction, 1e-4f);
   // A float clock stalls once its step exceeds twice 1/60 s: days behind by now.
@@ -232,7 +235,7 @@ TEST(CrowdManager, OnceClipsHoldTheirLastFrameAndLoopsWrap) {
   EXPECT_EQ(got.time_seconds, 2.5);
   ASSERT_TRUE(crowd.get(loop, &got).isOk());
   EXPECT_NEAR(got.time_seconds, 0.25, 1e-12);
-  const FrameSample s = crowd.frameSample(uint32_t(p.findClip("wave")), 2.5);
+  const FrameSample s = detail::clipFrameSample(p.clips[size_t(p.findClip("wave"))], 2.5);
   EXPECT_EQ(s.next_frame, p.clips[size_t(p.findClip("wave"))].frame_count - 1);
   EXPECT_EQ(s.fraction, 1.0f);
 }
@@ -369,6 +372,40 @@ TEST(CrowdManager, CrossfadeWeightsAndEndOfBlend) {
   ASSERT_TRUE(crowd.get(h, &got).isOk());
   EXPECT_EQ(got.clip, run);
   EXPECT_NEAR(got.time_seconds, 0.5, 1e-12);  // The new clip played during the blend.
+}
+
+// A crossfade ends by the clock, not by a pass over the crowd: after advance() steps past its
+// end, a view selects the new clip alone, exactly as update() at the same clock does (the GPU's
+// culling pass reads the end the same way).
+TEST(CrowdManager, ACrossfadeEndsByTheClockWhateverSteppedIt) {
+  const BakedPalette& p = defaultPalette();
+  const Camera camera = testCamera({0, 1, 0}, {0, 1, 5});
+  const uint32_t run = uint32_t(p.findClip("run"));
+  InstanceRecord drawn[2];
+  for (int by_advance = 0; by_advance < 2; ++by_advance) {
+    CrowdManager crowd;
+    ASSERT_TRUE(crowd.init(defaultCrowdDesc()).isOk());
+    InstanceDesc d;
+    d.position = glm::dvec3(0, 0, 5);
+    d.clip = uint32_t(p.findClip("walk"));
+    InstanceHandle h;
+    ASSERT_TRUE(crowd.add(d, &h).isOk());
+    ASSERT_TRUE(crowd.crossfade(h, run, 0.5).isOk());
+    CrowdView view;
+    ASSERT_TRUE(view.init(crowd).isOk());
+    if (by_advance) {
+      ASSERT_TRUE(crowd.advance(0.625).isOk());
+    } else {
+      ASSERT_TRUE(crowd.update(0.625, camera).isOk());
+    }
+    ASSERT_TRUE(view.select(camera).isOk());
+    ASSERT_EQ(view.records().size(), 1u);
+    drawn[by_advance] = view.records()[0];
+    EXPECT_EQ(drawn[by_advance].blend[2], 0u) << by_advance;  // Weight 0: no clip B.
+    EXPECT_EQ(drawn[by_advance].frames[0], drawn[by_advance].frames[2]) << by_advance;
+    EXPECT_GE(drawn[by_advance].frames[0], p.clips[run].first_texel) << by_advance;
+  }
+  EXPECT_EQ(std::memcmp(&drawn[0], &drawn[1], sizeof(InstanceRecord)), 0);
 }
 
 // Updates the crowd with the camera on +Z at `distance` looking at the origin (where the one

@@ -82,7 +82,7 @@ TEST(CrowdSoak, TimeStaysExactAndMemoryDoesNotGrow) {
     ticks += step;
     ++steps;
     if (ticks < next_update) {  // Between full updates only the clock moves (as with GPU culling).
-      ASSERT_TRUE(crowd.advanceClock(step * kTick).isOk());
+      ASSERT_TRUE(crowd.advance(step * kTick).isOk());
       continue;
     }
     next_update = ticks + 7200;  // A full update every simulated second.

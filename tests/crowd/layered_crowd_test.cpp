@@ -158,7 +158,7 @@ TEST(LayeredCrowd, ExportsTheOverlaysForTheGpu) {
   CrowdExport(l.crowd).overlays(&out);
   EXPECT_TRUE(out.empty());
   const uint64_t before = CrowdExport(l.crowd).stateVersion();
-  ASSERT_TRUE(l.crowd.advanceClock(0.25).isOk());
+  ASSERT_TRUE(l.crowd.advance(0.25).isOk());
   ASSERT_TRUE(l.crowd.playOverlay(l.handles[1], l.wave, l.mask, 0.75f, 0.5, 0.2, 1.5f).isOk());
   EXPECT_NE(CrowdExport(l.crowd).stateVersion(), before);
   CrowdExport(l.crowd).overlays(&out);

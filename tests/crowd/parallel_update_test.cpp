@@ -243,7 +243,7 @@ TEST(ParallelUpdate, StepClipLookupMatchesSampleFramesEverywhere) {
       times.push_back(std::uniform_real_distribution<double>(0.0, bc.duration_seconds)(rng));
     for (double t : times) {
       if (!(t >= 0.0 && t <= bc.duration_seconds)) continue;
-      const FrameSample got = c.frameSample(clip, t), want = sampleFrames(bc, t);
+      const FrameSample got = detail::clipFrameSample(bc, t), want = sampleFrames(bc, t);
       ASSERT_EQ(got.frame, want.frame) << bc.name << " t " << t;
       ASSERT_EQ(got.next_frame, want.next_frame) << bc.name << " t " << t;
       ASSERT_EQ(got.fraction, want.fraction) << bc.name << " t " << t;

@@ -165,7 +165,7 @@ TEST(PreviousRecords, TheCamerasOfTheLastTwoUpdates) {
   EXPECT_EQ(crowd.view().previousCamera().viewProjection(), a.viewProjection());
 }
 
-// A frame is a step of the crowd: every update(), advance() and advanceClock() counts one, dt 0
+// A frame is a step of the crowd: every update() and advance() counts one, dt 0
 // included, a refused one none; init() starts over. Each setTransform() of an instance counts a
 // placement in its exported state (the GPU-driven path's teleport mark), which moves with the
 // instance when a removal moves it.
@@ -176,8 +176,8 @@ TEST(PreviousRecords, StepsAndPlacementsAreCounted) {
   ASSERT_TRUE(crowd.update(0.1, c).isOk());
   ASSERT_TRUE(crowd.update(0.0, c).isOk());
   ASSERT_TRUE(crowd.advance(0.0).isOk());
-  ASSERT_TRUE(crowd.advanceClock(0.0).isOk());
-  EXPECT_EQ(crowd.advanceClock(-1.0).code(), StatusCode::kInvalidArgument);
+  ASSERT_TRUE(crowd.advance(0.0).isOk());
+  EXPECT_EQ(crowd.advance(-1.0).code(), StatusCode::kInvalidArgument);
   EXPECT_EQ(crowd.stepCount(), 4u);
   EXPECT_EQ(crowd.clockSeconds(), 0.1);
 

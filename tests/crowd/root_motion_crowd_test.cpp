@@ -111,24 +111,25 @@ TEST(RootMotionCrowd, AnyTimeStepGivesTheSamePath) {
                                                   1.0f)), 1e-6);
 }
 
-// play() and crossfade() apply the motion of what they replace first; setTransform() drops what
-// was not applied; opting out applies it; advanceClock() frames move nothing until update().
+// advance() frames (selected on the GPU or by views) move instances as update() frames do;
+// play() keeps the path; setTransform() places the instance as of now; opting out stops it.
 TEST(RootMotionCrowd, ChangesOfPlaybackKeepThePath) {
   MovingCrowd m;
   const InstanceHandle h = m.add(m.walk, true);
-  ASSERT_TRUE(m.crowd.advanceClock(1.0).isOk());  // A GPU-driven frame: nothing moves yet.
-  EXPECT_EQ(m.get(h).position, glm::dvec3(0.0));
-  ASSERT_TRUE(m.crowd.play(h, m.walk, 0.0, 2.0f).isOk());  // Applies the 1.3 units first.
+  ASSERT_TRUE(m.crowd.advance(1.0).isOk());  // A GPU-driven frame walks 1.3 units.
+  EXPECT_NEAR(m.get(h).position.z, 1.3, 1e-5);
+  ASSERT_TRUE(m.crowd.play(h, m.walk, 0.0, 2.0f).isOk());  // Nothing is left to apply.
   EXPECT_NEAR(m.get(h).position.z, 1.3, 1e-5);
   m.run(0.5, 30);  // Twice the speed: another 1.3.
   EXPECT_NEAR(m.get(h).position.z, 2.6, 1e-5);
-  ASSERT_TRUE(m.crowd.advanceClock(0.25).isOk());
+  ASSERT_TRUE(m.crowd.advance(0.25).isOk());
+  EXPECT_NEAR(m.get(h).position.z, 3.25, 1e-5);
   ASSERT_TRUE(m.crowd.setTransform(h, {10, 0, 0}, glm::quat(1, 0, 0, 0), 1.0f).isOk());
   m.run(0.25, 1);  // Only what follows the setTransform.
   EXPECT_NEAR(m.get(h).position.z, 0.65, 1e-5);
   EXPECT_NEAR(m.get(h).position.x, 10.0, 1e-9);
-  ASSERT_TRUE(m.crowd.advanceClock(0.25).isOk());
-  ASSERT_TRUE(m.crowd.setRootMotion(h, false).isOk());  // Applies the last 0.25 s at speed 2.
+  ASSERT_TRUE(m.crowd.advance(0.25).isOk());
+  ASSERT_TRUE(m.crowd.setRootMotion(h, false).isOk());
   EXPECT_NEAR(m.get(h).position.z, 1.3, 1e-5);
   m.run(1.0, 10);
   EXPECT_NEAR(m.get(h).position.z, 1.3, 1e-5);

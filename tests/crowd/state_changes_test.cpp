@@ -111,7 +111,7 @@ TEST(StateChanges, EachChangeNamesItsIndexAndNothingElse) {
   // Neither an update (LODs, crossfade ends) nor the clock changes exported state.
   since = CrowdExport(crowd).stateVersion();
   ASSERT_TRUE(crowd.update(0.5, test::testCamera({0, 2, -10}, {0, 0, 50})).isOk());
-  ASSERT_TRUE(crowd.advanceClock(0.5).isOk());
+  ASSERT_TRUE(crowd.advance(0.5).isOk());
   CrowdExport(crowd).changedSince(since, &changed, &placed);
   EXPECT_TRUE(changed.empty());
 }

@@ -389,7 +389,7 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
         uint32_t space = 0;
         glm::vec2 parameter(0.0f);
         double phase = 0.0;
-        if (crowd.blendState2D(h, &space, &parameter, &phase).isOk() &&
+        if (crowd.blendState(h, &space, &parameter, &phase).isOk() &&
             (space >= spaces || !(parameter.x >= 0.0f && parameter.x <= 1.0f) ||
              !(parameter.y >= 0.0f && parameter.y <= (space == 1 ? 1.0f : 0.0f)) ||
              !(phase >= 0.0 && phase < 1.0)))

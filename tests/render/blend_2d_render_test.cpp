@@ -106,7 +106,7 @@ TEST_P(Blend2dRenderTest, EveryPathDrawsTheEmulatedBlend) {
     uint32_t space = 0;
     glm::vec2 p;
     double phase = 0.0;
-    if (crowd.blendState2D(h, &space, &p, &phase).isOk()) {
+    if (crowd.blendState(h, &space, &p, &phase).isOk()) {
       ASSERT_TRUE(crowd.setBlendParameter(h, glm::vec2(p.x, 0.0f)).isOk());
     }
   }
@@ -164,7 +164,7 @@ TEST_P(Blend2dRenderTest, MotionAndDepthFollowTheBlend) {
     }
     ASSERT_TRUE(crowd.setBlendParameter(h, to).isOk());
     if (gpu_driven) {
-      ASSERT_TRUE(crowd.advanceClock(0.05).isOk());
+      ASSERT_TRUE(crowd.advance(0.05).isOk());
     } else {
       ASSERT_TRUE(crowd.update(0.05, camera).isOk());
     }

@@ -157,7 +157,7 @@ TEST_P(RenderTest, StoragePastTheBlockLimitIsRefusedByName) {
   rc.positions = positions;
   std::vector<InstanceHandle> handles;
   ASSERT_TRUE(crowd.addRandom(rc, &handles).isOk());
-  ASSERT_TRUE(crowd.advanceClock(0.0).isOk());
+  ASSERT_TRUE(crowd.advance(0.0).isOk());
   DrawStats stats;
   EXPECT_TRUE(r.drawCrowdGpuCulled(CharacterId{}, crowd.view(), closeCamera(), &stats).isOk());
   // 2D blends: 192 bytes of overlays an instance (the overlay and two extra layers).
@@ -174,13 +174,13 @@ TEST_P(RenderTest, StoragePastTheBlockLimitIsRefusedByName) {
   grid.mask = mask;
   ASSERT_TRUE(crowd.addBlendSpace(grid, &space).isOk());
   ASSERT_TRUE(crowd.playBlend(handles[0], space, glm::vec2(0.3f, 0.6f), 0.0).isOk());
-  ASSERT_TRUE(crowd.advanceClock(0.0).isOk());
+  ASSERT_TRUE(crowd.advance(0.0).isOk());
   s = r.drawCrowdGpuCulled(CharacterId{}, crowd.view(), closeCamera(), &stats);
   EXPECT_EQ(s.code(), StatusCode::kLimitExceeded);
   EXPECT_NE(s.message().find("100 instances need 19200 bytes of overlays"), std::string::npos)
       << s.message();
   ASSERT_TRUE(crowd.remove(handles[0]).isOk());  // The only overlay gone: 64 bytes, then none.
-  ASSERT_TRUE(crowd.advanceClock(0.0).isOk());
+  ASSERT_TRUE(crowd.advance(0.0).isOk());
   s = r.drawCrowdGpuCulled(CharacterId{}, crowd.view(), closeCamera(), &stats);
   EXPECT_TRUE(s.isOk()) << s.toString();
   ASSERT_TRUE(crowd.addRandom(rc, nullptr).isOk());  // 199: past the limit.

@@ -76,7 +76,7 @@ TEST_P(RenderTest, GpuCullingSelectsWhatTheCpuSelects) {
       camera.viewport_height_pixels = float(200.0 + u(rng) * 2000.0);
       // The clock moves first; the GPU selects from the LODs of the previous frame, then the
       // CPU does the same at the same clock.
-      ASSERT_TRUE(crowd.advanceClock(0.11).isOk());
+      ASSERT_TRUE(crowd.advance(0.11).isOk());
       DrawStats stats;
       r.clear(glm::vec4(0.0f));
       ASSERT_TRUE(r.drawCrowdGpuCulled(CharacterId{}, crowd.view(), camera, &stats).isOk());
@@ -154,7 +154,7 @@ TEST_P(RenderTest, GpuCullingAgreesOnTheBoundaries) {
   }
   size_t straddling = 0;
   for (int frame = 0; frame < 2; ++frame) {
-    ASSERT_TRUE(crowd.advanceClock(0.0).isOk());
+    ASSERT_TRUE(crowd.advance(0.0).isOk());
     ASSERT_TRUE(r.drawCrowdGpuCulled(CharacterId{}, crowd.view(), camera, nullptr).isOk());
     std::vector<glm::uvec2> gpu;
     ASSERT_TRUE(r.readGpuSelection(CharacterId{}, &gpu).isOk());
@@ -198,7 +198,7 @@ TEST_P(RenderTest, GpuCulledDrawEqualsTheCpuPath) {
     makeCrowd(&crowd, PaletteFormat::kMatrix3x4F32, interpolations[k]);
     populateLodCrowd(&crowd);
     addFadingCharacter(&crowd);
-    ASSERT_TRUE(crowd.advanceClock(0.3).isOk());
+    ASSERT_TRUE(crowd.advance(0.3).isOk());
     renderer.clear(glm::vec4(0.2f, 0.25f, 0.3f, 1.0f));
     ASSERT_TRUE(
         renderer.drawCrowdGpuCulled(CharacterId{}, crowd.view(), lodCamera(), &gpu_stats).isOk());
@@ -259,7 +259,7 @@ TEST_P(RenderTest, GpuDrivenComputePathEqualsTheCpuComputePath) {
   makeCrowd(&crowd);
   populateLodCrowd(&crowd);
   addFadingCharacter(&crowd);
-  ASSERT_TRUE(crowd.advanceClock(0.3).isOk());
+  ASSERT_TRUE(crowd.advance(0.3).isOk());
   ASSERT_TRUE(crowd.update(0.0, lodCamera()).isOk());
   std::vector<uint8_t> cpu_image;
   DrawStats cpu_stats;
@@ -342,7 +342,7 @@ TEST_P(RenderTest, GpuOcclusionCullingDrawsTheSameImageWithFewerTriangles) {
     makeRenderer(&occluding, 0, PaletteFormat::kMatrix3x4F32, &rd);
     for (int frame = 0; frame < 4; ++frame) {
       SCOPED_TRACE(frame);
-      ASSERT_TRUE(crowd.advanceClock(frame == 0 ? 0.0 : 1.0 / 30.0).isOk());
+      ASSERT_TRUE(crowd.advance(frame == 0 ? 0.0 : 1.0 / 30.0).isOk());
       DrawStats all, culled;
       plain.clear(glm::vec4(0.2f, 0.25f, 0.3f, 1.0f));
       ASSERT_TRUE(plain.drawCrowdGpuCulled(CharacterId{}, crowd.view(), camera, &all).isOk());

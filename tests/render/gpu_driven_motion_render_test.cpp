@@ -134,7 +134,7 @@ TEST_P(MotionVectorTest, AnotherCrowdStartsOverOnTheGpuDrivenPath) {
   const uint64_t first = crowd_.identity();
   populate(0.4);  // Same handles, other places and clock 0 again: then the next clock.
   ASSERT_NE(crowd_.identity(), first);
-  ASSERT_TRUE(crowd_.advanceClock(1.0 / 30.0).isOk());
+  ASSERT_TRUE(crowd_.advance(1.0 / 30.0).isOk());
   target_.clear(glm::vec4(0.0f));
   ASSERT_TRUE(
       r.drawCrowdGpuCulled(CharacterId{}, crowd_.view(), camera(1), nullptr, DrawMode::kSkinned)
@@ -144,7 +144,7 @@ TEST_P(MotionVectorTest, AnotherCrowdStartsOverOnTheGpuDrivenPath) {
   EXPECT_GT(summary.drawn_pixels, size_t(kSize) * kSize / 20);
   EXPECT_LT(summary.max_pixels, 1e-3);
   // The same crowd's next frame moves (the clips play).
-  ASSERT_TRUE(crowd_.advanceClock(1.0 / 30.0).isOk());
+  ASSERT_TRUE(crowd_.advance(1.0 / 30.0).isOk());
   target_.clear(glm::vec4(0.0f));
   ASSERT_TRUE(
       r.drawCrowdGpuCulled(CharacterId{}, crowd_.view(), camera(1), nullptr, DrawMode::kSkinned)
@@ -209,7 +209,7 @@ TEST_P(MotionVectorTest, TheLeastRecentlyDrawnCrowdGoesPastTheCount) {
     ASSERT_TRUE(c.init(crowd_.desc()).isOk());
     InstanceHandle h;
     ASSERT_TRUE(c.add(InstanceDesc(), &h).isOk());
-    ASSERT_TRUE(c.advanceClock(0.0).isOk());
+    ASSERT_TRUE(c.advance(0.0).isOk());
   }
   DrawStats stats;
   const auto uploaded = [&](CrowdManager& c) {

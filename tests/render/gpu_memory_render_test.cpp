@@ -36,7 +36,7 @@ TEST_P(RenderTest, GpuMemoryIsReportedByWhatHoldsIt) {
     RandomCrowdDesc rc;
     rc.positions = positions;
     ASSERT_TRUE(crowds[k].addRandom(rc, nullptr).isOk());
-    ASSERT_TRUE(crowds[k].advanceClock(0.0).isOk());
+    ASSERT_TRUE(crowds[k].advance(0.0).isOk());
     ASSERT_TRUE(
         r.drawCrowdGpuCulled(CharacterId{}, crowds[k].view(), closeCamera(), nullptr).isOk());
   }
@@ -79,7 +79,7 @@ TEST_P(RenderTest, TheGpuDrivenStateShrinksAfterAPeak) {
   rc.positions = positions;
   std::vector<InstanceHandle> handles;
   ASSERT_TRUE(crowd.addRandom(rc, &handles).isOk());
-  ASSERT_TRUE(crowd.advanceClock(0.3).isOk());
+  ASSERT_TRUE(crowd.advance(0.3).isOk());
   Renderer r;
   makeRenderer(&r);
   const auto drawn = [&](Renderer& renderer) {
@@ -101,14 +101,14 @@ TEST_P(RenderTest, TheGpuDrivenStateShrinksAfterAPeak) {
 
   // Down to 10,012 (a quarter of 40,000 and more): kept.
   for (uint32_t i = 12; i < 29988 + 12; ++i) ASSERT_TRUE(crowd.remove(handles[i]).isOk());
-  ASSERT_TRUE(crowd.advanceClock(0.0).isOk());
+  ASSERT_TRUE(crowd.advance(0.0).isOk());
   (void)drawn(r);
   EXPECT_EQ(memory().capacity, 40000u);
   // Down to 2,012: 3,018 instances' buffers, a view's too.
   for (uint32_t i = 29988 + 12; i < 29988 + 12 + 8000; ++i)
     ASSERT_TRUE(crowd.remove(handles[i]).isOk());
   ASSERT_EQ(crowd.size(), 2012u);
-  ASSERT_TRUE(crowd.advanceClock(0.1).isOk());
+  ASSERT_TRUE(crowd.advance(0.1).isOk());
   const std::vector<uint8_t> shrunk = drawn(r);
   const CrowdGpuMemory after = memory();
   std::printf("[ memory ] 40,000 -> 2,012 instances: state %llu -> %llu bytes, view %llu -> %llu\n",
@@ -131,7 +131,7 @@ TEST_P(RenderTest, TheGpuDrivenStateShrinksAfterAPeak) {
   std::vector<glm::dvec3> more(1000, glm::dvec3(0.0, 0.0, 80.0));
   rc.positions = more;
   ASSERT_TRUE(crowd.addRandom(rc, nullptr).isOk());
-  ASSERT_TRUE(crowd.advanceClock(0.0).isOk());
+  ASSERT_TRUE(crowd.advance(0.0).isOk());
   DrawStats stats;
   ASSERT_TRUE(r.drawCrowdGpuCulled(CharacterId{}, crowd.view(), closeCamera(), &stats).isOk());
   EXPECT_EQ(memory().capacity, 3018u);

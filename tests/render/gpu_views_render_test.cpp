@@ -107,8 +107,7 @@ TEST_P(GpuViews, EachViewDrawsWhatACrowdWithOnlyThatViewDraws) {
     const Camera light = lightCamera();
     for (int frame = 0; frame < 4; ++frame) {
       SCOPED_TRACE(frame);
-      for (CrowdManager* c : {&both, &main_only, &light_only})
-        ASSERT_TRUE(c->advanceClock(0.2).isOk());
+      for (CrowdManager* c : {&both, &main_only, &light_only}) ASSERT_TRUE(c->advance(0.2).isOk());
       const Camera main_camera = mainCamera(frame);
       const ViewDraw light_reference =
           drawView(r, ids[2], light_alone, light, DrawMode::kDepthOnly);
@@ -211,7 +210,7 @@ TEST_P(GpuViews, EachViewDrawsItsOwnMotionVectors) {
         ASSERT_TRUE(crowds[c].crossfade(first[c], 1, 0.3).isOk());
         ASSERT_TRUE(crowds[c].play(second_handle[c], 0, 0.2, 2.5f).isOk());
       }
-      ASSERT_TRUE(crowds[c].advanceClock(1.0 / 30.0).isOk());
+      ASSERT_TRUE(crowds[c].advance(1.0 / 30.0).isOk());
     }
     for (DrawMode mode : {DrawMode::kSkinned, DrawMode::kComputeSkinned}) {
       SCOPED_TRACE(testing::Message() << "frame " << f
@@ -271,9 +270,9 @@ TEST_P(GpuViews, TheLeastRecentlyDrawnViewPast32StartsOver) {
     std::vector<CrowdView> rest(others);
     ASSERT_TRUE(view.init(crowd).isOk());
     for (CrowdView& v : rest) ASSERT_TRUE(v.init(crowd).isOk());
-    ASSERT_TRUE(crowd.advanceClock(0.1).isOk());
+    ASSERT_TRUE(crowd.advance(0.1).isOk());
     EXPECT_EQ(lod(view, line * 1.2), 1u);  // Past the line and its band.
-    ASSERT_TRUE(crowd.advanceClock(0.1).isOk());
+    ASSERT_TRUE(crowd.advance(0.1).isOk());
     EXPECT_EQ(lod(view, line), 1u);  // Inside the band: held.
     for (CrowdView& v : rest) lod(v, line);
     EXPECT_EQ(lod(view, line), others < 32 ? 1u : 0u);

@@ -41,7 +41,7 @@ void impostorCrowd(std::vector<float> lines, uint32_t impostor_lod, CrowdManager
       InstanceHandle h;
       ASSERT_TRUE(crowd->add(d, &h).isOk());
     }
-  ASSERT_TRUE(crowd->advanceClock(0.4).isOk());
+  ASSERT_TRUE(crowd->advance(0.4).isOk());
   ASSERT_TRUE(crowd->update(0.0, lodCamera()).isOk());
 }
 

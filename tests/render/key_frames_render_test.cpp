@@ -54,7 +54,7 @@ TEST_P(RenderTest, GpuDrivenDrawsFramesAtKeysAsTheCpuPathDoes) {
                                        1.0f, 1.0f, 0.1f, 100.0f);
   for (double step : {0.0, 0.31, 0.77}) {
     SCOPED_TRACE(step);
-    ASSERT_TRUE(crowd.advanceClock(step).isOk());
+    ASSERT_TRUE(crowd.advance(step).isOk());
     ASSERT_TRUE(crowd.update(0.0, camera).isOk());
     const std::vector<uint8_t> cpu = draw(r, crowd, camera, 0);
     r.clear(glm::vec4(0.2f, 0.25f, 0.3f, 1.0f));

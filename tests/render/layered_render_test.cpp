@@ -346,7 +346,7 @@ TEST_P(LayeredRenderTest, MotionVectorsFollowTheOverlay) {
     if (gpu_driven) {
       ASSERT_TRUE(
           r.drawCrowdGpuCulled(CharacterId{}, crowd.view(), closeView(), nullptr, mode).isOk());
-      ASSERT_TRUE(crowd.advanceClock(0.05).isOk());
+      ASSERT_TRUE(crowd.advance(0.05).isOk());
       target.clear(glm::vec4(0.0f));
       const Status s =
           r.drawCrowdGpuCulled(CharacterId{}, crowd.view(), closeView(), nullptr, mode);

@@ -1,6 +1,6 @@
 // SkinnedInstancing — SPDX-License-Identifier: MIT (see LICENSE)
-// What a frame is for motion vectors, the same on every path: one crowd step (update, advance
-// or advanceClock, dt 0 included). A held clock, two draws in one step and a teleport, drawn by
+// What a frame is for motion vectors, the same on every path: one crowd step (update or advance,
+// dt 0 included). A held clock, two draws in one step and a teleport, drawn by
 // drawCrowd and by the GPU-driven path, each against the engine program's motion from the
 // crowd's previous records. MotionVectorTest's instantiation (motion_vectors_render_test.cpp)
 // runs it.

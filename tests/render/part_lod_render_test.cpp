@@ -37,7 +37,7 @@ void partLodCrowd(uint32_t lods, CrowdManager* crowd) {
       InstanceHandle h;
       ASSERT_TRUE(crowd->add(d, &h).isOk());
     }
-  ASSERT_TRUE(crowd->advanceClock(0.4).isOk());
+  ASSERT_TRUE(crowd->advance(0.4).isOk());
   ASSERT_TRUE(crowd->update(0.0, lodCamera()).isOk());
 }
 

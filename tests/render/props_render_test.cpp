@@ -223,7 +223,7 @@ TEST_P(PropsRenderTest, PropsOfBlendingCharactersMoveAsTheirSocketsSay) {
     }
     ASSERT_TRUE(crowd.setBlendParameter(h, 0.35f).isOk());
     if (gpu_driven) {
-      ASSERT_TRUE(crowd.advanceClock(0.05).isOk());
+      ASSERT_TRUE(crowd.advance(0.05).isOk());
     } else {
       ASSERT_TRUE(crowd.update(0.05, camera).isOk());
     }

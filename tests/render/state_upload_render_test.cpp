@@ -107,7 +107,7 @@ TEST_P(RenderTest, ChangedStateUploadsDrawWhatWholeUploadsDraw) {
     } else if (frame == 6) {  // One more: only its instance.
       ASSERT_TRUE(crowd.playOverlay(handles[150], 1, mask, 0.6f, 0.0).isOk());
     }
-    ASSERT_TRUE(crowd.advanceClock(0.1).isOk());
+    ASSERT_TRUE(crowd.advance(0.1).isOk());
     std::vector<std::vector<uint8_t>> images;
     std::vector<std::vector<glm::uvec2>> selections;
     std::vector<DrawStats> stats(3);
@@ -174,7 +174,7 @@ TEST_P(RenderTest, ASpawnWaveUploadsWhatItAdds) {
   uint32_t whole = 0;
   for (int frame = 0; frame < 20; ++frame) {
     if (frame > 0) spawn(10);
-    ASSERT_TRUE(crowd.advanceClock(1.0 / 60.0).isOk());
+    ASSERT_TRUE(crowd.advance(1.0 / 60.0).isOk());
     DrawStats stats;
     ASSERT_TRUE(r.drawCrowdGpuCulled(CharacterId{}, crowd.view(), closeCamera(), &stats).isOk());
     whole += stats.state_bytes_uploaded == uint64_t(crowd.size()) * sizeof(GpuInstanceState);

@@ -32,6 +32,8 @@
 #include <string>
 #include <vector>
 
+#include <glm/vec2.hpp>
+
 #include "si/core/baked_palette.h"
 #include "si/core/status.h"
 
@@ -39,6 +41,17 @@ namespace si {
 
 /// Clips of one blend space, at most.
 inline constexpr uint32_t kMaxBlendClips = 16;
+
+/// Where an instance plays in a blend space (CrowdManager::playBlend, setBlendParameter): a
+/// number (x alone: a 1D space's parameter; setBlendParameter keeps a 2D blend's y) or a
+/// glm::vec2 (x, y on a 2D space's grid). Converts implicitly from either, so a call reads
+/// `crowd.playBlend(h, space, 2.0f, 0.3)` or `crowd.playBlend(h, space, glm::vec2(1, 3), 0.3)`.
+struct BlendParameter {
+  BlendParameter(float x) : value(x, 0.0f), has_y(false) {}  // NOLINT: a parameter reads so.
+  BlendParameter(glm::vec2 xy) : value(xy), has_y(true) {}   // NOLINT: as above.
+  glm::vec2 value;
+  bool has_y;  ///< false: made from x alone.
+};
 
 /// Clips along a parameter (1D), or on a grid of two (2D: sideways and forward speed, a strafe
 /// blend), and the crowd layer mask their blend composes on.

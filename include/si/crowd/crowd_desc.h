@@ -68,7 +68,8 @@ struct CrowdDesc {
   bool previous_records = false;
   /// Threads update(dt, camera) uses (it runs the work on a WorkerPool of its own, started at
   /// the first update with more than one task): 0 means std::thread::hardware_concurrency(),
-  /// at most 16; 1 means the calling thread only. update(dt, camera, parallel_for) ignores it.
+  /// at most 16; 1 means the calling thread only. A `parallel_for` given to update() or
+  /// advance() runs the tasks instead.
   uint32_t worker_threads = 0;
 };
 

@@ -109,9 +109,8 @@ class CrowdManager {
   /// whole cycle per loop boundary crossed, so any time step gives the same path; a clip played
   /// once stops moving it at its end). During a crossfade the two clips' motions over the step
   /// are blended by the new clip's weight at the step's middle. play() and crossfade() first
-  /// apply the motion of the playback they replace. Frames that only advanceClock() move
-  /// nothing; the next update() catches up. Moving changes CrowdExport::stateVersion()
-  /// (GPU-driven selection re-exports the state).
+  /// apply the motion of the playback they replace. update() and advance() both move them.
+  /// Moving changes CrowdExport::stateVersion() (GPU-driven selection re-exports the state).
   Status setRootMotion(InstanceHandle h, bool enabled);
   /// The tint (alpha 255, as InstanceDesc::color); keeps the custom layer.
   Status setColor(InstanceHandle h, glm::u8vec4 color);
@@ -126,27 +125,30 @@ class CrowdManager {
   /// The instance's current state (as an InstanceDesc) and clip-local time.
   Status get(InstanceHandle h, InstanceDesc* out) const;
 
-  /// Advances the crowd clock by `dt_seconds` (>= 0, finite; see advanceClock()), then for
+  /// Advances the crowd clock by `dt_seconds` (>= 0, finite), then, as advance(dt) does, the
+  /// crowd's simulation (root motion, events) and, for
   /// every instance: picks its LOD, culls it against `camera` and the far distance, and buckets
-  /// the visible ones per (LOD, sub-mesh) with their records. Culled instances cost no time advance of their own:
-  /// playback time is derived from the crowd clock. Returns kInvalidArgument for a bad dt.
-  /// Allocates only while the crowd grows past its previous high-water mark. The work runs on
-  /// CrowdDesc::worker_threads threads; the output does not depend on their number.
-  Status update(double dt_seconds, const Camera& camera);
-  /// The same, with the work cut into tasks of 4096 instances that `parallel_for` runs (on an
-  /// engine's job system, say; parallel_for.h). The records, buckets and statistics are the
-  /// same as update(dt, camera) gives, whatever runs the tasks. An empty `parallel_for` runs
-  /// every task on the calling thread.
-  Status update(double dt_seconds, const Camera& camera, const ParallelFor& parallel_for);
+  /// the visible ones per (LOD, sub-mesh) with their records. Culled instances cost no time advance
+  /// of their own: playback time is derived from the crowd clock. Returns kInvalidArgument for a
+  /// bad dt. Allocates only while the crowd grows past its previous high-water mark. The work runs
+  /// on CrowdDesc::worker_threads threads; the output does not depend on their number. Given a
+  /// `parallel_for`, the work is cut into tasks of 4096 instances that it runs instead (on an
+  /// engine's job system, say; parallel_for.h), with the same records, buckets and statistics.
+  ///
+  /// How to step a frame: update(dt, camera) when the CPU selects for the crowd's own view;
+  /// advance(dt) when the selection is made elsewhere (CrowdView::select for several cameras,
+  /// or the GPU: Renderer::drawCrowdGpuCulled).
+  Status update(double dt_seconds, const Camera& camera, const ParallelFor& parallel_for = {});
 
-  /// The frame's simulation without a selection, for frames that select with CrowdViews:
-  /// advances the clock (as advanceClock()), applies root motion, ends crossfades that are over
-  /// and reports the animation events passed (events()), each once per frame whatever the
-  /// number of views. update(dt, camera) is advance(dt) then view().select(camera), in one pass.
-  /// kInvalidArgument as update() for a bad dt. Runs on CrowdDesc::worker_threads threads.
-  Status advance(double dt_seconds);
-  /// The same, with the tasks run by `parallel_for`.
-  Status advance(double dt_seconds, const ParallelFor& parallel_for);
+  /// The frame's simulation without a selection, for frames that select with CrowdViews or on
+  /// the GPU: advances the crowd clock (a compensated sum: within a few ulps of the exact one
+  /// after a week of 60 Hz frames), applies root motion and reports the animation events
+  /// passed (events()), each once per frame whatever the number of views. O(1) for a crowd
+  /// with no root motion and no clip markers. update(dt, camera) is advance(dt) then
+  /// view().select(camera), in one pass. kInvalidArgument for a dt that is negative, not
+  /// finite, or would take the clock past the largest double (the crowd is unchanged then).
+  /// Its tasks run on CrowdDesc::worker_threads threads, or on `parallel_for` when given.
+  Status advance(double dt_seconds, const ParallelFor& parallel_for = {});
   /// The crowd's own view: what update() selects. Its selection (records, buckets, LODs,
   /// statistics, motion-vector records, layer records) is read there, and drawn from there
   /// (InstanceBatcher::build(crowd.view(), ...), Renderer::drawCrowd(id, crowd.view(), ...)).
@@ -169,8 +171,7 @@ class CrowdManager {
   /// addClipMarker().
   const std::vector<ClipMarker>& clipMarkers() const;
   /// The events of the last update() or advance(), by instance in dense order (the same for
-  /// any thread count). Frames that only advanceClock() report nothing; the next update() reports what
-  /// they passed.
+  /// any thread count).
   Span<const AnimationEvent> events() const;
   /// Seconds on the crowd clock (compensated sum of every dt).
   double clockSeconds() const;
@@ -215,30 +216,20 @@ class CrowdManager {
   /// motion travels as the clips blend. kNotFound for a stale handle; kInvalidArgument for a
   /// space out of range, a parameter, phase or speed not finite, a negative speed, a negative
   /// or non-finite blend.
-  Status playBlend(InstanceHandle h, uint32_t space, float parameter, double blend_seconds,
-                   double phase = 0.0, float speed = 1.0f);
-  /// The same at a 2D space's point `parameter` (x, y), each clamped to the grid; its y is
-  /// unused by a 1D space.
-  Status playBlend(InstanceHandle h, uint32_t space, glm::vec2 parameter, double blend_seconds,
+  /// A 2D space's point (x, y) is clamped to its grid; a 1D space reads x alone.
+  Status playBlend(InstanceHandle h, uint32_t space, BlendParameter parameter, double blend_seconds,
                    double phase = 0.0, float speed = 1.0f);
   /// Moves a blending instance to `parameter` (clamped), keeping its phase: the clips around the
   /// new value continue from the fraction of the cycle reached, at the new blended period.
   /// kNotFound for a stale handle; kInvalidArgument for a non-finite parameter or an instance
   /// that plays no blend.
-  Status setBlendParameter(InstanceHandle h, float parameter);
-  /// The same at a 2D space's point (x, y); a 1D space reads x. setBlendParameter(h, x) on a 2D
-  /// space keeps the instance's y.
-  Status setBlendParameter(InstanceHandle h, glm::vec2 parameter);
-  /// A blending instance's space, parameter and phase (cycles, in [0, 1) for looping clips) at
-  /// the crowd clock. kNotFound for a stale handle, kInvalidArgument for an instance that plays
-  /// no blend or a null output.
-  Status blendState(InstanceHandle h, uint32_t* space, float* parameter, double* phase) const;
-  /// The same with both parameters (y 0 on a 1D space).
-  Status blendState2D(InstanceHandle h, uint32_t* space, glm::vec2* parameter, double* phase) const;
-
-  /// The frame sample of clip-local `time` of `clip` for an instance, as update() computes it
-  /// (time mapping per loop mode, then si::sampleFrames). Exposed for tests and tools.
-  FrameSample frameSample(uint32_t clip, double local_time_seconds) const;
+  /// A 2D space reads (x, y); setBlendParameter(h, x) keeps the instance's y, and a 1D space
+  /// reads x alone.
+  Status setBlendParameter(InstanceHandle h, BlendParameter parameter);
+  /// A blending instance's space, parameter (x, y; y 0 on a 1D space) and phase (cycles, in
+  /// [0, 1) for looping clips) at the crowd clock. kNotFound for a stale handle,
+  /// kInvalidArgument for an instance that plays no blend or a null output.
+  Status blendState(InstanceHandle h, uint32_t* space, glm::vec2* parameter, double* phase) const;
 
   /// The instance's skinning matrix of skeleton joint `joint` at the crowd clock's current
   /// time, in world space (instance world * palette skinning matrix, crossfade blended, the
@@ -271,12 +262,8 @@ class CrowdManager {
 
   const CrowdDesc& desc() const { return desc_; }
 
-  // ---- Frames selected on the GPU (si::gl; what they read: si::CrowdExport) ----
-  /// Advances the crowd clock only (what update() does first), for frames whose selection runs
-  /// on the GPU: O(1). kInvalidArgument for a dt that is negative, not finite, or would take
-  /// the clock past the largest double (the clock is unchanged then).
-  Status advanceClock(double dt_seconds);
-  /// The clock steps taken since init(): every update(), advance() and advanceClock() that
+  // ---- Frames (what the GPU-driven paths read: si::CrowdExport) ----
+  /// The clock steps taken since init(): every update() and advance() that
   /// succeeded, dt 0 included. A step is a frame for motion vectors on every path (the
   /// GPU-driven path counts its frames by it): step once per rendered frame, with dt 0 while
   /// the clock is held (pause, photo mode, rendering faster than simulating).
@@ -288,6 +275,8 @@ class CrowdManager {
 
  private:
   friend class CrowdView;
+  // The step update() and advance() begin with: checks init() and dt, advances the clock.
+  Status advanceClock(double dt_seconds);
   friend class CrowdExport;
   static const detail::CrowdState& emptyState();
   static Status noCrowd();

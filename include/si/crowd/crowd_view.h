@@ -118,10 +118,9 @@ class CrowdView {
   /// Threads: different views of one crowd may select on several threads at once (shadow
   /// cascades in parallel), while nothing changes the crowd (its setters, update(), advance(),
   /// views attached or detached): each writes only its own selection. One section at a time
-  /// uses the crowd's workers; the other views' selections run on their own threads.
-  Status select(const Camera& camera);
-  /// The same, with the tasks run by `parallel_for` (parallel_for.h).
-  Status select(const Camera& camera, const ParallelFor& parallel_for);
+  /// uses the crowd's workers; the other views' selections run on their own threads. Given a
+  /// `parallel_for` (parallel_for.h), its tasks run there instead.
+  Status select(const Camera& camera, const ParallelFor& parallel_for = {});
 
   // ---- The last selection ----
   /// Its statistics.

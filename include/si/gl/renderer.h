@@ -218,10 +218,10 @@ class Renderer {
   /// into a ring and one glMultiDrawElementsIndirect draws them by vertex pulling (instances
   /// past the ring: vertex-shader skinning, a second multi-draw); without (kSkinned, or
   /// kDefault on the vertex-shader path), one multi-draw with vertex-shader skinning. The CPU
-  /// cost per frame does not grow with the crowd: advance the clock with CrowdManager::
-  /// advanceClock() instead of update() (the view needs no select()). With RendererDesc::
-  /// measure_gpu_time, `stats` also gets the visible instances, triangles and pre-skinned
-  /// vertices (read back after the timer); otherwise only draw_calls and the CPU time.
+  /// cost per frame does not grow with the crowd: step it with CrowdManager::advance() (O(1)
+  /// without root motion or clip markers) instead of update(); the view needs no select(). With
+  /// RendererDesc:: measure_gpu_time, `stats` also gets the visible instances, triangles and
+  /// pre-skinned vertices (read back after the timer); otherwise only draw_calls and the CPU time.
   /// kDepthOnly draws depth only (a shadow view) on the renderer's path, with no motion vectors.
   /// kInvalidArgument for kRigid or a detached view. Each character keeps the
   /// GPU state of the last crowd it drew: draw one crowd per character (another re-uploads).
