@@ -3,8 +3,9 @@
 
 /// \file
 /// The crowd's state as GPU-driven culling (si::gl, Renderer::drawCrowdGpuCulled) reads it:
-/// std430 structs (their GLSL twins are in src/gl/shaders/gpu_crowd_state.glsl; the render
-/// tests compare the layouts by GL introspection), and the per-frame selection parameters.
+/// std430 structs (their GLSL twins are in src/gl/shaders/gpu_crowd_state.glsl; the build
+/// checks the layouts against them, src/gl/shader_layouts.cpp, and the render tests by GL
+/// introspection), and the per-frame selection parameters.
 /// Plain data, no GL: si::CrowdExport (crowd_export.h) exports it.
 
 #include <array>

@@ -1,7 +1,7 @@
 // SkinnedInstancing - SPDX-License-Identifier: MIT (see LICENSE)
 // The crowd's state as GPU-driven culling reads it (std430). C++ twins: si::GpuInstanceState,
-// si::GpuOverlayState and si::GpuClipInfo (include/si/crowd/gpu_crowd_state.h); the render tests compare the layouts by
-// GL introspection.
+// si::GpuOverlayState and si::GpuClipInfo (include/si/crowd/gpu_crowd_state.h); the build
+// checks the layouts (src/gl/shader_layouts.cpp), the render tests by GL introspection.
 #ifndef SI_GPU_CROWD_STATE_GLSL
 #define SI_GPU_CROWD_STATE_GLSL
 struct SiGpuInstance {

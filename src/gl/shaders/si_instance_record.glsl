@@ -1,7 +1,7 @@
 // SkinnedInstancing - SPDX-License-Identifier: MIT (see LICENSE)
 // The per-instance record (80 bytes; the same offsets in std140 and std430). Its C++ twin is
-// si::InstanceRecord (include/si/crowd/instance_record.h); the render tests compare the two
-// layouts by GL introspection.
+// si::InstanceRecord (include/si/crowd/instance_record.h); the build checks the two layouts
+// (src/gl/shader_layouts.cpp), the render tests each program's by GL introspection.
 //   world_rows: rows of the 3x4 camera-relative world matrix (rotation * scale, translation)
 //   frames:     x, y: palette texel of clip A's frame and next frame; z, w: the same for clip B
 //   blend:      x: fraction A, y: fraction B (float bits; bits 30-31: the interval mode),
