@@ -137,10 +137,5 @@ namespace si::detail::glsl_layout {
 
 ${body}}  // namespace si::detail::glsl_layout
 ")
-if(EXISTS "${OUTPUT}")
-  file(READ "${OUTPUT}" old)
-  if(old STREQUAL content)
-    return()
-  endif()
-endif()
-file(WRITE "${OUTPUT}" "${content}")
+# Written only when the text changed (the header's includers rebuild only then).
+file(CONFIGURE OUTPUT "${OUTPUT}" CONTENT "${content}" @ONLY)

@@ -57,6 +57,17 @@ CullParams crowdCullParams(const CrowdState& st, const Camera& camera) {
 
 namespace {
 
+// A playback as the GPU reads it, into the five fields of a state struct: its start on the
+// crowd clock and in the clip, the clip, the loop mode and the speed.
+void exportPlayback(const detail::Playback& p, double* start_clock, double* start_time,
+                    uint32_t* clip, uint32_t* loop, float* speed) {
+  *start_clock = p.start_clock;
+  *start_time = p.start_time;
+  *clip = p.clip;
+  *loop = uint32_t(p.loop);
+  *speed = p.speed;
+}
+
 void exportInstance(const detail::InstanceStore& st, uint32_t i, GpuInstanceState* out) {
   GpuInstanceState& g = *out;
   g = GpuInstanceState{};
@@ -68,21 +79,12 @@ void exportInstance(const detail::InstanceStore& st, uint32_t i, GpuInstanceStat
   g.color = st.colors[i];
   g.variation_mask = st.masks[i];
   g.lod = st.views[0].lods[i];
-  const detail::Playback& a = st.playback[i];
-  g.start_clock = a.start_clock;
-  g.start_time = a.start_time;
-  g.clip = a.clip;
-  g.loop = uint32_t(a.loop);
-  g.speed = a.speed;
+  exportPlayback(st.playback[i], &g.start_clock, &g.start_time, &g.clip, &g.loop, &g.speed);
   g.fading = st.fade_duration[i] > 0.0 ? 1u : 0u;
   g.fade_start = st.fade_start[i];
   g.fade_duration = st.fade_duration[i];
-  const detail::Playback& b = st.fade_from[i];
-  g.from_start_clock = b.start_clock;
-  g.from_start_time = b.start_time;
-  g.from_clip = b.clip;
-  g.from_loop = uint32_t(b.loop);
-  g.from_speed = b.speed;
+  exportPlayback(st.fade_from[i], &g.from_start_clock, &g.from_start_time, &g.from_clip,
+                 &g.from_loop, &g.from_speed);
   g.handle = st.dense_handles[i].id;
   g.placement = st.placements[i];
 }
@@ -91,13 +93,9 @@ void exportOverlay(const detail::OverlayState& o, GpuOverlayState* out) {
   GpuOverlayState& g = *out;
   g = GpuOverlayState{};
   if (!o.active) return;
-  g.start_clock = o.playback.start_clock;
-  g.start_time = o.playback.start_time;
+  exportPlayback(o.playback, &g.start_clock, &g.start_time, &g.clip, &g.loop, &g.speed);
   g.fade_start = o.fade_start;
   g.fade_duration = o.fade_duration;
-  g.clip = o.playback.clip;
-  g.loop = uint32_t(o.playback.loop);
-  g.speed = o.playback.speed;
   g.mask = o.mask;
   g.weight_from = o.weight_from;
   g.weight_to = o.weight_to;
@@ -109,16 +107,21 @@ void exportExtraLayer(const detail::OverlayState& o, uint32_t k, GpuOverlayState
   exportOverlay(o, out);
   if (!o.active) return;
   const detail::ExtraLayer& e = o.extra[k];
-  out->start_clock = e.playback.start_clock;
-  out->start_time = e.playback.start_time;
-  out->clip = e.playback.clip;
-  out->loop = uint32_t(e.playback.loop);
-  out->speed = e.playback.speed;
+  exportPlayback(e.playback, &out->start_clock, &out->start_time, &out->clip, &out->loop,
+                 &out->speed);
   out->weight_from = e.weight_from;
   out->weight_to = e.weight_to;
 }
 
 }  // namespace
+
+// Whether the crowd holds dense range `range` and there is somewhere to write it: what every
+// ranged export checks (it writes nothing otherwise).
+bool CrowdExport::holds(DenseRange range, const void* out) const {
+  const uint32_t size = crowd_->size();
+  return crowd_->state_ && out != nullptr && range.first <= size &&
+         range.count <= size - range.first;
+}
 
 uint64_t CrowdExport::stateVersion() const {
   return crowd_->state_ ? crowd_->state_->store.version : 0;
@@ -138,9 +141,7 @@ void CrowdExport::state(std::vector<GpuInstanceState>* out,
 }
 
 void CrowdExport::state(DenseRange range, GpuInstanceState* out, InstanceHandle* handles) const {
-  const uint32_t size = crowd_->size();
-  if (!crowd_->state_ || out == nullptr || range.first > size || range.count > size - range.first)
-    return;
+  if (!holds(range, out)) return;
   const detail::InstanceStore& st = crowd_->state_->store;
   for (uint32_t k = 0; k < range.count; ++k) {
     exportInstance(st, range.first + k, out + k);
@@ -177,9 +178,7 @@ void CrowdExport::overlays(std::vector<GpuOverlayState>* out) const {
 }
 
 void CrowdExport::overlays(DenseRange range, GpuOverlayState* out) const {
-  const uint32_t size = crowd_->size();
-  if (!crowd_->state_ || out == nullptr || range.first > size || range.count > size - range.first)
-    return;
+  if (!holds(range, out)) return;
   const detail::InstanceStore& st = crowd_->state_->store;
   for (uint32_t k = 0; k < range.count; ++k) exportOverlay(st.overlays[range.first + k], out + k);
 }
@@ -197,9 +196,7 @@ void CrowdExport::extraLayers(std::vector<GpuOverlayState>* out) const {
 }
 
 void CrowdExport::extraLayers(DenseRange range, GpuOverlayState* out) const {
-  const uint32_t size = crowd_->size();
-  if (!crowd_->state_ || out == nullptr || range.first > size || range.count > size - range.first)
-    return;
+  if (!holds(range, out)) return;
   const detail::InstanceStore& st = crowd_->state_->store;
   for (uint32_t i = 0; i < range.count; ++i)
     for (uint32_t k = 0; k < kExtraLayerRecords; ++k)

@@ -259,44 +259,21 @@ Status Renderer::drawCrowd(CharacterId id, const CrowdView& view, const Instance
                                     motion, &compose_stride);
   if (s.isOk()) s = detail::extrasNeedComposing("drawCrowd", plan.extras, compose_stride);
   if (!s.isOk()) return s;
-  detail::PathFrame frame;
-  frame.crowd = &crowd;
-  frame.view = &view;
-  frame.camera = camera;
-  frame.light = light_direction_;
+  detail::PathFrame frame = detail::viewFrame(view, camera, light_direction_);
+  detail::placeRingFrame(plan, base, previous, &frame);
   frame.program = mode == DrawMode::kRigid
                       ? detail::ProgramId::kRigid
                       : detail::skinningProgram(false, mode == DrawMode::kDepthOnly, motion, layers,
                                                 compose_stride > 0);
   if (m.program_override != detail::ProgramId::kCount) frame.program = m.program_override;
   frame.batches = &m.batches;
-  frame.ring_base = base;
-  frame.ring_bytes = plan.end;
-  frame.motion = motion;
-  frame.previous_base = previous.base;
-  frame.previous_bytes = previous.bytes;
-  frame.previous_words = previous.words;
   frame.previous_shift = previousRecordShift(view);
-  frame.layers = layers;
-  frame.layer_base = base + plan.layer_records;
-  frame.previous_layer_base = base + plan.previous_layers;
   frame.composed = compose_stride > 0;
-  frame.extras = plan.extras;
-  frame.extra_layer_base = base + plan.extra_layers;
-  frame.previous_extra_base = base + plan.previous_extras;
   frame.compose_stride = compose_stride;
-  frame.compose_entries_base = base + plan.compose_entries;
-  frame.compose_slots_base = base + plan.compose_slots;
-  frame.compose_slot_bytes = plan.layer_slots * 4;
   if (frame.composed)
     detail::writeComposePlaces(m.resources(*c), batcher, view, m.ring.mapped(base), &frame);
   m.ring.publish(base, plan.end);
-  frame.impostor_lod = mode == DrawMode::kRigid ? 0 : crowd.desc().impostor_lod;
-  frame.handles = plan.handles;
-  frame.handle_base = base + plan.handle_words;
-  frame.handle_bytes = plan.handles_end - plan.handle_words;
-  frame.motion_view_projection = view.camera().viewProjection();
-  frame.previous_view_projection = view.previousCamera().viewProjection();
+  if (mode == DrawMode::kRigid) frame.impostor_lod = 0;  // Rigid draws are meshes only.
   detail::DrawPath& path = mode == DrawMode::kComputeSkinned
                                ? static_cast<detail::DrawPath&>(c->compute_path)
                                : m.vertex_path;
@@ -356,20 +333,16 @@ Status Renderer::drawCrowdGpuCulled(CharacterId id, const CrowdView& view, const
             "kDepthOnly)"};
   const auto t0 = std::chrono::steady_clock::now();
   Impl::Guard guard = m.enter("drawCrowdGpuCulled", detail::gpuDrivenFootprint(), &camera);
-  detail::PathFrame frame;
-  frame.crowd = &crowd;
-  frame.view = &view;
-  frame.camera = camera;
-  frame.light = light_direction_;
+  detail::PathFrame frame = detail::viewFrame(view, camera, light_direction_);
   frame.preskin = mode == DrawMode::kComputeSkinned ||
                   ((mode == DrawMode::kDefault || mode == DrawMode::kDepthOnly) &&
                    c->path == SkinningPath::kCompute);
   frame.depth_only = mode == DrawMode::kDepthOnly;
   // The path keeps what it drew: no previous records. Depth-only draws write no motion.
   frame.motion = m.desc.motion_vectors && !frame.depth_only;
+  // Its motion's view-projection is this camera's (the path keeps the previous frame's).
   frame.motion_view_projection =
       (m.has_motion_projection ? m.motion_projection : camera.projection) * camera.view_rotation;
-  frame.impostor_lod = crowd.desc().impostor_lod;
   s = m.impostorsDrawable(*c, crowd, "drawCrowdGpuCulled", frame.motion);
   if (!s.isOk()) return s;
   DrawStats st;

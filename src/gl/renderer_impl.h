@@ -202,11 +202,7 @@ struct Renderer::Impl {
                        DrawStats* stats) {
     const auto t0 = std::chrono::steady_clock::now();
     Guard guard = enter(what, detail::drawFootprint(), &camera);
-    detail::PathFrame frame;
-    frame.crowd = view.crowd();
-    frame.view = &view;
-    frame.camera = camera;
-    frame.light = light;
+    const detail::PathFrame frame = detail::viewFrame(view, camera, light);
     DrawStats st;
     Status s = runPath(c, p, frame, t0, stats != nullptr, &st, guard);
     if (s.isOk()) s = check(what);

@@ -1,12 +1,12 @@
 // SkinnedInstancing — SPDX-License-Identifier: MIT (see LICENSE)
 #pragma once
 // The render tests' fixture, run on each headless back-end: the embedded character and its
-// palettes, a renderer and a crowd, drawing through every path, image comparison with golden
-// PNGs, and the scenes several tests share. Skips with a printed reason when a back-end has no
-// context; SI_REQUIRE_GL (a list of back-end names) turns that into a failure.
-// SI_UPDATE_GOLDEN=1 rewrites the golden images (from llvmpipe) instead of comparing;
-// SI_GOLDEN_DIR overrides where they are read. On llvmpipe the egl_device variants skip (the
-// same driver as egl_surfaceless) unless SI_ALL_BACKENDS=1.
+// palettes, a renderer and a crowd, drawing through every path and comparing with golden PNGs
+// (the comparison: image_compare.h; the scenes several tests share: render_scenes.h). Skips with a
+// printed reason when a back-end has no context; SI_REQUIRE_GL (a list of back-end names) turns
+// that into a failure. SI_UPDATE_GOLDEN=1 rewrites the golden images (from llvmpipe) instead of
+// comparing; SI_GOLDEN_DIR overrides where they are read. On llvmpipe the egl_device variants skip
+// (the same driver as egl_surfaceless) unless SI_ALL_BACKENDS=1.
 #include <gtest/gtest.h>
 
 #include <algorithm>
@@ -21,6 +21,7 @@
 #include <string>
 #include <vector>
 
+#include "render/image_compare.h"
 #include "render/render_test_helpers.h"
 #include "si/bake/animation_baker.h"
 #include "si/core/default_character.h"
@@ -35,14 +36,6 @@
 #endif
 
 namespace si::test {
-
-
-inline constexpr uint32_t kSize = 256;
-// Image comparison: a pixel differs when a channel is off by more than kPixelTolerance; an image
-// matches when at most kMaxDifferingShare of its pixels differ.
-inline constexpr int kPixelTolerance = 8;
-inline constexpr double kMaxDifferingShare = 0.005;
-
 
 inline const Character& character() {
   static const Character c = [] {
@@ -76,48 +69,6 @@ inline const BakedPalette& palette(PaletteFormat format = PaletteFormat::kMatrix
     if (!bakePalette(character(), d, &p, nullptr).isOk()) std::abort();
   }
   return p;
-}
-
-struct Diff {
-  double share = 0.0;
-  int max_channel = 0;
-};
-
-inline Diff compare(const std::vector<uint8_t>& a, const std::vector<uint8_t>& b,
-             std::vector<uint8_t>* diff_image) {
-  Diff d;
-  if (a.size() != b.size()) return {1.0, 255};
-  size_t differing = 0;
-  if (diff_image) diff_image->assign(a.size(), 255);
-  for (size_t p = 0; p < a.size(); p += 4) {
-    int m = 0;
-    for (int c = 0; c < 3; ++c) m = std::max(m, std::abs(int(a[p + c]) - int(b[p + c])));
-    d.max_channel = std::max(d.max_channel, m);
-    if (m > kPixelTolerance) {
-      ++differing;
-      if (diff_image) (*diff_image)[p] = 255, (*diff_image)[p + 1] = 0, (*diff_image)[p + 2] = 0;
-    } else if (diff_image) {
-      for (int c = 0; c < 3; ++c) (*diff_image)[p + c] = uint8_t(a[p + c] / 3);
-    }
-  }
-  d.share = double(differing) / double(a.size() / 4);
-  return d;
-}
-
-// Texels of two depth images more than 1e-6 apart.
-inline size_t differingDepths(const std::vector<float>& a, const std::vector<float>& b) {
-  size_t n = 0;
-  for (size_t i = 0; i < a.size() && i < b.size(); ++i) n += std::abs(a[i] - b[i]) > 1e-6f;
-  return n;
-}
-
-// Two motion images (MotionTarget::readMotion) of one size agree: at least 99.5 % of their
-// texels within 1e-4 texture units.
-inline void expectMotionAgrees(const std::vector<glm::vec2>& a, const std::vector<glm::vec2>& b) {
-  ASSERT_EQ(a.size(), b.size());
-  size_t agree = 0;
-  for (size_t i = 0; i < a.size(); ++i) agree += glm::length(a[i] - b[i]) < 1e-4f;
-  EXPECT_GE(double(agree), 0.995 * double(a.size()));
 }
 
 // Every drawing path by one name, for the tests that draw one scene on each: the instanced
@@ -165,22 +116,13 @@ inline Status drawOnPath(Renderer& r, PathKind kind, const CrowdManager& crowd,
   return Status::ok();
 }
 
-// `image` (RGBA8, kSize x kSize) upside down.
-inline std::vector<uint8_t> flipped(const std::vector<uint8_t>& image) {
-  std::vector<uint8_t> out(image.size());
-  const size_t row = size_t(kSize) * 4;
-  for (uint32_t y = 0; y < kSize; ++y)
-    std::memcpy(&out[size_t(kSize - 1 - y) * row], &image[size_t(y) * row], row);
-  return out;
-}
-
 // `c` drawing into a y-flipped target (a render texture as OGRE and others draw them).
 inline Camera yFlipped(Camera c) {
   c.projection[1][1] = -c.projection[1][1];
   return c;
 }
 
-// Scenes defined below the fixture.
+// Scenes (render_scenes.h, included at the end).
 inline Camera closeCamera();
 inline Camera lodCamera();
 inline void populateLodCrowd(CrowdManager* crowd);
@@ -391,116 +333,6 @@ class RenderTest : public ::testing::TestWithParam<HeadlessBackend> {
   GlInfo info_;
 };
 
-inline Camera closeCamera() {
-  return Camera::lookAt({0.0, 1.2, 3.2}, {0.0, 1.0, 0.0}, glm::vec3(0, 1, 0), 0.75f, 1.0f, 0.1f,
-                        200.0f);
-}
-
-// Every LOD, every variation and several tints: 3 rows at LOD distances, 8 masks each.
-inline void populateLodCrowd(CrowdManager* crowd) {
-  const uint32_t clips = uint32_t(palette().clips.size());
-  for (int row = 0; row < 3; ++row)
-    for (int k = 0; k < 8; ++k) {
-      InstanceDesc d;
-      const double z = row == 0 ? -4.0 : row == 1 ? -40.0 : -110.0;
-      const double spacing = row == 0 ? 1.2 : row == 1 ? 6.0 : 16.0;
-      d.position = glm::dvec3((k - 3.5) * spacing, 0.0, z);
-      d.variation_mask = 1u | (uint32_t(k) << 1);
-      d.clip = uint32_t(k) % clips;
-      d.time_seconds = 0.1 * k;
-      d.speed = 0.0f;
-      d.color = glm::u8vec4(uint8_t(40 + 30 * k), uint8_t(200 - 20 * k), uint8_t(60 + 60 * row), 255);
-      InstanceHandle h;
-      ASSERT_TRUE(crowd->add(d, &h).isOk());
-    }
-}
-
-// Occlusion culling's scene: a dense wall of 3 staggered rows of 40 characters, shoulder to
-// shoulder 2 units in front of wallCamera(), and a crowd of 600 behind it (seeded).
-inline void populateWallCrowd(CrowdManager* crowd) {
-  std::mt19937 rng(7);
-  std::uniform_real_distribution<double> u(0.0, 1.0);
-  for (int row = 0; row < 3; ++row)
-    for (int k = 0; k < 40; ++k) {
-      InstanceDesc d;
-      d.position = glm::dvec3(-6.0 + 0.3 * k + 0.15 * row, 0.0, -2.0 - 0.4 * row);
-      d.clip = uint32_t(k % 2);
-      d.time_seconds = u(rng);
-      InstanceHandle h;
-      ASSERT_TRUE(crowd->add(d, &h).isOk());
-    }
-  for (int k = 0; k < 600; ++k) {
-    InstanceDesc d;
-    d.position = glm::dvec3(-8.0 + 16.0 * u(rng), 0.0, -8.0 - 30.0 * u(rng));
-    d.clip = uint32_t(k % 3);
-    d.time_seconds = u(rng);
-    InstanceHandle h;
-    ASSERT_TRUE(crowd->add(d, &h).isOk());
-  }
-}
-// At eye height in front of the wall, looking along -z.
-inline Camera wallCamera() {
-  return Camera::lookAt({0.0, 1.0, 2.0}, {0.0, 1.0, -40.0}, glm::vec3(0, 1, 0), 0.9f, 1.0f, 0.1f,
-                        500.0f);
-}
-
-// One more character, close to the camera, crossfading from clip 0 to run over 1 s from the
-// crowd clock's current time (the tests then advance it 0.3 s).
-inline void addFadingCharacter(CrowdManager* crowd, PaletteFormat format = PaletteFormat::kMatrix3x4F32) {
-  InstanceHandle fading;
-  InstanceDesc d;
-  d.position = glm::dvec3(0.5, 0.0, -2.0);
-  ASSERT_TRUE(crowd->add(d, &fading).isOk());
-  ASSERT_TRUE(crowd->crossfade(fading, uint32_t(palette(format).findClip("run")), 1.0).isOk());
-}
-
-// Sixteen characters of impostorCharacter() in two rows of 8, `spacing` apart, the first row at
-// z = -`z` (in front of lodCamera()) and the second `row_step` further, every one at the
-// impostor level (each mesh level's line 2 radii after the last), updated 0.2 s.
-inline void impostorRowsCrowd(double spacing, double z, double row_step, CrowdManager* crowd) {
-  const uint32_t levels = uint32_t(impostorCharacter().mesh.maxLodCount());
-  CrowdDesc cd;
-  cd.palette = &palette();
-  cd.sub_mesh_count = 4;
-  cd.lod_count = levels;
-  cd.character_radius = 1.0f;
-  for (uint32_t l = 1; l < levels; ++l) cd.lod_distances_radii.push_back(2.0f * float(l));
-  cd.max_distance_radii = -1.0f;
-  cd.impostor_lod = levels - 1;
-  ASSERT_TRUE(crowd->init(cd).isOk());
-  for (int k = 0; k < 16; ++k) {
-    InstanceDesc d;
-    d.position = glm::dvec3((k % 8 - 3.5) * spacing, 0.0, -z - row_step * (k / 8));
-    d.rotation = glm::angleAxis(0.7f * float(k), glm::vec3(0, 1, 0));
-    d.clip = uint32_t(k) % uint32_t(palette().clips.size());
-    d.color = glm::u8vec4(uint8_t(40 + 12 * k), 200, 90, 255);
-    InstanceHandle h;
-    ASSERT_TRUE(crowd->add(d, &h).isOk());
-  }
-  ASSERT_TRUE(crowd->update(0.2, lodCamera()).isOk());
-  ASSERT_EQ(crowd->view().stats().per_lod[levels - 1], 16u);
-}
-
-// The CPU's selection of the last update(): (dense index as CrowdExport::state orders it, LOD) per
-// visible instance.
-inline std::vector<glm::uvec2> cpuSelection(const CrowdManager& crowd) {
-  std::vector<GpuInstanceState> state;
-  std::vector<InstanceHandle> dense;
-  si::CrowdExport(crowd).state(&state, &dense);
-  std::map<uint32_t, uint32_t> dense_of;  // handle id -> dense index
-  for (uint32_t i = 0; i < dense.size(); ++i) dense_of[dense[i].id] = i;
-  std::vector<glm::uvec2> out;
-  for (InstanceHandle h : crowd.view().visibleHandles()) {
-    uint32_t lod = 0;
-    EXPECT_TRUE(crowd.view().lodOf(h, &lod).isOk());
-    out.push_back(glm::uvec2(dense_of[h.id], lod));
-  }
-  return out;
-}
-
-inline Camera lodCamera() {
-  return Camera::lookAt({0.0, 3.0, 6.0}, {0.0, 0.0, -40.0}, glm::vec3(0, 1, 0), 0.9f, 1.0f, 0.1f,
-                        500.0f);
-}
-
 }  // namespace si::test
+
+#include "render/render_scenes.h"  // The scenes the fixture draws are defined after it.

@@ -100,6 +100,7 @@ class CrowdExport {
   static void lods(const CrowdView& view, DenseRange range, uint32_t* out);
 
  private:
+  bool holds(DenseRange range, const void* out) const;
   const CrowdManager* crowd_;
 };
 

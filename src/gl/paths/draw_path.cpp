@@ -83,4 +83,38 @@ glm::mat4 recordJointMatrix(const BakedPalette& palette, const CrowdView& view, 
       view.crowd()->layerMasks(), slot);
 }
 
+PathFrame viewFrame(const CrowdView& view, const Camera& camera, const glm::vec3& light) {
+  PathFrame f;
+  f.crowd = view.crowd();
+  f.view = &view;
+  f.camera = camera;
+  f.light = light;
+  f.impostor_lod = f.crowd != nullptr ? f.crowd->desc().impostor_lod : 0;
+  f.motion_view_projection = view.camera().viewProjection();
+  f.previous_view_projection = view.previousCamera().viewProjection();
+  return f;
+}
+
+void placeRingFrame(const RingFrame& plan, size_t base, const PreviousBinding& previous,
+                    PathFrame* f) {
+  f->ring_base = base;
+  f->ring_bytes = plan.end;
+  f->motion = plan.motion;
+  f->previous_base = previous.base;
+  f->previous_bytes = previous.bytes;
+  f->previous_words = previous.words;
+  f->layers = plan.layers;
+  f->layer_base = base + plan.layer_records;
+  f->previous_layer_base = base + plan.previous_layers;
+  f->extras = plan.extras;
+  f->extra_layer_base = base + plan.extra_layers;
+  f->previous_extra_base = base + plan.previous_extras;
+  f->compose_entries_base = base + plan.compose_entries;
+  f->compose_slots_base = base + plan.compose_slots;
+  f->compose_slot_bytes = plan.layer_slots * 4;
+  f->handles = plan.handles;
+  f->handle_base = base + plan.handle_words;
+  f->handle_bytes = plan.handles_end - plan.handle_words;
+}
+
 }  // namespace si::detail

@@ -11,10 +11,12 @@
 
 #include "gl/programs/program_set.h"
 #include "gl/resources/character_buffers.h"
+#include "gl/resources/drawn_regions.h"
 #include "gl/resources/impostor_atlas.h"
 #include "gl/resources/palette_texture.h"
 #include "gl/resources/preskin_lists.h"
 #include "gl/resources/record_ring.h"
+#include "gl/resources/ring_frame.h"
 #include "gl/resources/scratch_buffers.h"
 #include "si/crowd/camera.h"
 #include "si/crowd/crowd_manager.h"
@@ -111,6 +113,19 @@ struct PathFrame {
   size_t handle_base = 0;
   size_t handle_bytes = 0;
 };
+
+/// The frame of `view` from `camera` under `light` that every draw starts from: the crowd, the
+/// view, the camera and light, the crowd's impostor level and the view's motion
+/// view-projections (its last and previous select cameras'). Each draw adds what its path needs.
+PathFrame viewFrame(const CrowdView& view, const Camera& camera, const glm::vec3& light);
+
+/// Points `f` at the blocks of ring frame `plan` written at ring byte `base`, with the previous
+/// records where `previous` says: the one place where the region's layout (ring_frame.h) meets
+/// the paths' frame. Sets the records' extent, the previous records and indices, the layer and
+/// extra layer records, the composed places and the slot handles, and which of them the frame
+/// has (motion, layers, extras, handles).
+void placeRingFrame(const RingFrame& plan, size_t base, const PreviousBinding& previous,
+                    PathFrame* f);
 
 class DrawPath {
  public:
