@@ -285,9 +285,10 @@ Status CrowdManager::get(InstanceHandle h, InstanceDesc* out) const {
 Status CrowdManager::update(double dt, const Camera& camera, const ParallelFor& parallel_for) {
   Status advanced = advanceClock(dt);  // Checks init() and dt.
   if (!advanced.isOk()) return advanced;
-  const ParallelFor own = parallel_for ? ParallelFor() : detail::crowdParallelFor(*state_);
-  detail::FrameInputs in = detail::frameInputs(*state_, *state_->own_view.state_, camera,
-                                               parallel_for ? parallel_for : own, true);
+  ParallelFor own;
+  detail::FrameInputs in =
+      detail::frameInputs(*state_, *state_->own_view.state_, camera,
+                          detail::taskRunner(*state_, parallel_for, &own), true);
   // Instances moved by their root motion: the exported state changes, each moved one stamped
   // with this version (from parallel tasks, without the change log).
   if (in.root_motion && dt > 0.0) state_->store.unloggedVersion();
@@ -305,9 +306,10 @@ Status CrowdManager::advance(double dt, const ParallelFor& parallel_for) {
     state_->events.clear();
     return Status::ok();
   }
-  const ParallelFor own = parallel_for ? ParallelFor() : detail::crowdParallelFor(*state_);
-  detail::FrameInputs in = detail::frameInputs(*state_, *state_->own_view.state_, Camera(),
-                                               parallel_for ? parallel_for : own, true);
+  ParallelFor own;
+  detail::FrameInputs in =
+      detail::frameInputs(*state_, *state_->own_view.state_, Camera(),
+                          detail::taskRunner(*state_, parallel_for, &own), true);
   if (in.root_motion && dt > 0.0) state_->store.unloggedVersion();
   detail::simulateFrame(in, state_->store);
   detail::gatherEvents(state_.get());

@@ -77,6 +77,10 @@ CullParams viewCullParams(const CrowdState& crowd, const ViewState& view, const 
 /// several threads at once (views selecting in parallel): WorkerPool::run lets one section use
 /// the workers and runs the others' tasks on their own threads.
 ParallelFor crowdParallelFor(CrowdState& crowd);
+/// What runs a call's tasks: `given` when the caller passed one (update(), advance() and
+/// CrowdView::select take it), else the crowd's own (crowdParallelFor), made into `own`, which
+/// must outlive the tasks.
+const ParallelFor& taskRunner(CrowdState& crowd, const ParallelFor& given, ParallelFor* own);
 /// The inputs of a frame of `view` at `camera` (its cull parameters and rules, the crowd's
 /// state), its tasks run by `parallel_for` (which must outlive them). With `simulate` (update()
 /// and advance(), which the crowd's owner calls on one thread) the frame simulates and collects

@@ -50,6 +50,12 @@ ParallelFor crowdParallelFor(CrowdState& st) {
   return [pool](uint32_t count, const ParallelTask& task) { pool->run(count, task); };
 }
 
+const ParallelFor& taskRunner(CrowdState& crowd, const ParallelFor& given, ParallelFor* own) {
+  if (given) return given;
+  *own = crowdParallelFor(crowd);
+  return *own;
+}
+
 CullParams viewCullParams(const CrowdState& crowd, const ViewState& view, const Camera& camera) {
   CullParams p = crowdCullParams(crowd, camera);
   // The view's own rules over the crowd's lines.
@@ -174,9 +180,10 @@ Status CrowdView::select(const Camera& camera, const ParallelFor& parallel_for) 
     return {StatusCode::kInvalidArgument,
             "CrowdView::select: the view is not attached to a crowd (init() it; a crowd destroyed "
             "or init() again detaches its views)"};
-  const ParallelFor own = parallel_for ? ParallelFor() : detail::crowdParallelFor(*state_->crowd);
-  const detail::FrameInputs in = detail::frameInputs(*state_->crowd, *state_, camera,
-                                                     parallel_for ? parallel_for : own, false);
+  ParallelFor own;
+  const detail::FrameInputs in =
+      detail::frameInputs(*state_->crowd, *state_, camera,
+                          detail::taskRunner(*state_->crowd, parallel_for, &own), false);
   detail::selectView(in, camera, state_.get());
   return Status::ok();
 }

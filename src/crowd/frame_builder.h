@@ -1,7 +1,7 @@
 // SkinnedInstancing — SPDX-License-Identifier: MIT (see LICENSE)
 #pragma once
-// The crowd's per-frame work after the clock advanced: the simulation (events, root motion,
-// crossfade ends; once per frame) and a view's selection (CrowdManager::update does both in one
+// The crowd's per-frame work after the clock advanced: the simulation (events, root motion;
+// once per frame) and a view's selection (CrowdManager::update does both in one
 // pass, CrowdManager::advance the first, CrowdView::select the second), in three phases over
 // fixed chunks of instances, the first and last run as parallel tasks:
 //   select (per chunk)  [the simulation,] far-line and frustum culling, LOD with hysteresis;
@@ -108,10 +108,10 @@ struct FrameInputs {
 };
 
 /// Builds `frame` from `store` for the view of lane in.lane, updating that lane's LODs and,
-/// with in.simulate, simulating first (neither the LODs nor crossfade ends change the state
-/// version: the GPU-driven pass does the same).
+/// with in.simulate, simulating first (the LODs do not change the state version: the
+/// GPU-driven pass does the same). A crossfade runs while InstanceStore::fading says so.
 void buildFrame(const FrameInputs& in, InstanceStore& store, CrowdFrame* frame);
-/// The simulation alone (CrowdManager::advance): root motion, crossfade ends, events into
+/// The simulation alone (CrowdManager::advance): root motion and events into
 /// in.chunk_events (in.palette, clips, clock, markers, root_motion and parallel_for are read).
 void simulateFrame(const FrameInputs& in, InstanceStore& store);
 /// The record of visible instance `i` (dense index) at LOD `lod`, one instance at a time in

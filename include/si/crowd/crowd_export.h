@@ -41,8 +41,8 @@ class CrowdExport {
 
   /// Changes whenever exported state changes (init, add, remove, setters, play, crossfade,
   /// overlays, blends, setLodDistances, root motion moving an instance); not when a selection
-  /// moves LODs or ends crossfades (the GPU does the same). Unique across all crowds of the
-  /// process: a new crowd never repeats an old one's version.
+  /// moves LODs (the GPU does the same) or a crossfade runs out (its end is read from the clock).
+  /// Unique across all crowds of the process: a new crowd never repeats an old one's version.
   uint64_t stateVersion() const;
   /// Every instance's state in dense order (`handles`, may be null, receives the handles in the
   /// same order): index i of the GPU's selection is dense index i.

@@ -10,12 +10,9 @@
 ///
 /// | bytes | GLSL | content |
 /// | --- | --- | --- |
-/// | 0-47 | `vec4 world_rows[3]` | rows of the 3x4 camera-relative world matrix (rotation * scale,
-/// translation) | | 48-63 | `uvec4 frames` | x, y: texel of clip A's frame and next frame (clip
-/// first texel + frame * frame stride); z, w: the same for clip B | | 64-79 | `uvec4 blend` | x:
-/// fraction A, y: fraction B (floats in [0, 1] as bits, with the si::IntervalMode in bits 30-31:
-/// si::packFraction), z: weight of B (float bits, in [0, 1]); w: appearance: tint RGB8 (R in the
-/// low byte) and, in the high byte, the custom texture layer select (0: none; k: layer k - 1) |
+/// | 0-47 | `vec4 world_rows[3]` | rows of the 3x4 camera-relative world matrix (rotation * scale, translation) |
+/// | 48-63 | `uvec4 frames` | x, y: texel of clip A's frame and next frame (clip first texel + frame * frame stride); z, w: the same for clip B |
+/// | 64-79 | `uvec4 blend` | x: fraction A, y: fraction B (floats in [0, 1] as bits, with the si::IntervalMode in bits 30-31: si::packFraction), z: weight of B (float bits, in [0, 1]); w: appearance: tint RGB8 (R in the low byte) and, in the high byte, the custom texture layer select (0: none; k: layer k - 1) |
 ///
 /// Without a crossfade, B repeats A and the weight is 0. The classic layout (a vec4 color and
 /// one clip) is also 80 bytes; packing the color into 32 bits is what makes room for clip B, so
