@@ -29,57 +29,71 @@ struct ClipDef {
   int step_joint = -1;  // A joint whose rotation track uses STEP keys.
 };
 
+// A clip's header: its name, length, loop mode and key count, keys interpolated `interpolation`.
+ClipDef clipHeader(const char* name, double duration, LoopMode loop, int key_count,
+                   Interpolation interpolation = Interpolation::kLinear) {
+  ClipDef def;
+  def.name = name;
+  def.duration = duration;
+  def.loop = loop;
+  def.key_count = key_count;
+  def.interpolation = interpolation;
+  return def;
+}
+
+// Central differences of samples a (at t - h) and b (at t + h), a CUBICSPLINE key's tangent.
+glm::dquat centralDifference(const glm::dquat& a, const glm::dquat& b, double h) {
+  return (b - a) * (1.0 / (2 * h));
+}
+glm::dvec3 centralDifference(const glm::dvec3& a, const glm::dvec3& b, double h) {
+  return (b - a) / (2 * h);
+}
+glm::quat toFloat(const glm::dquat& q) {
+  return glm::quat(float(q.w), float(q.x), float(q.y), float(q.z));
+}
+glm::vec3 toFloat(const glm::dvec3& v) {
+  return glm::vec3(v);
+}
+
+// Fills `track` with `def`'s evenly spaced keys of joint `j` from `sample(j, t, &value)` (a
+// CUBICSPLINE track: in-tangent, value, out-tangent a key).
+template <class Track, class Value, class Sample>
+void sampleKeys(const ClipDef& def, int j, const Sample& sample, Track* track) {
+  const double h = 1e-5;
+  const bool cubic = track->interpolation == Interpolation::kCubicSpline;
+  for (int k = 0; k < def.key_count; ++k) {
+    const double t = def.duration * k / (def.key_count - 1);
+    track->times_seconds.push_back(static_cast<float>(t));
+    Value v{}, before{}, after{};
+    sample(j, t, &v);
+    if (cubic) {
+      sample(j, t - h, &before);
+      sample(j, t + h, &after);
+      const auto tangent = toFloat(centralDifference(before, after, h));
+      track->values.insert(track->values.end(), {tangent, toFloat(v), tangent});
+    } else {
+      track->values.push_back(toFloat(v));
+    }
+  }
+}
+
 Clip buildClip(const ClipDef& def) {
   Clip clip;
   clip.name = def.name;
   clip.duration_seconds = static_cast<float>(def.duration);
   clip.loop_mode = def.loop;
   clip.joint_tracks.resize(kJointCount);
-  const bool cubic = def.interpolation == Interpolation::kCubicSpline;
-  const double h = 1e-5;
   for (int j = 0; j < kJointCount; ++j) {
     glm::dquat q;
     glm::dvec3 tr;
     JointTracks& jt = clip.joint_tracks[size_t(j)];
     if (def.rotation && def.rotation(j, 0.0, &q)) {
-      QuatTrack& track = jt.rotation;
-      track.interpolation = j == def.step_joint ? Interpolation::kStep : def.interpolation;
-      const bool track_cubic = track.interpolation == Interpolation::kCubicSpline;
-      for (int k = 0; k < def.key_count; ++k) {
-        const double t = def.duration * k / (def.key_count - 1);
-        track.times_seconds.push_back(static_cast<float>(t));
-        def.rotation(j, t, &q);
-        if (track_cubic) {
-          glm::dquat q0, q1;
-          def.rotation(j, t - h, &q0);
-          def.rotation(j, t + h, &q1);
-          const glm::dquat d = (q1 - q0) * (1.0 / (2 * h));
-          const glm::quat tangent(float(d.w), float(d.x), float(d.y), float(d.z));
-          track.values.push_back(tangent);
-          track.values.push_back(glm::quat(float(q.w), float(q.x), float(q.y), float(q.z)));
-          track.values.push_back(tangent);
-        } else {
-          track.values.push_back(glm::quat(float(q.w), float(q.x), float(q.y), float(q.z)));
-        }
-      }
+      jt.rotation.interpolation = j == def.step_joint ? Interpolation::kStep : def.interpolation;
+      sampleKeys<QuatTrack, glm::dquat>(def, j, def.rotation, &jt.rotation);
     }
     if (def.translation && def.translation(j, 0.0, &tr)) {
-      Vec3Track& track = jt.translation;
-      track.interpolation = def.interpolation;
-      for (int k = 0; k < def.key_count; ++k) {
-        const double t = def.duration * k / (def.key_count - 1);
-        track.times_seconds.push_back(static_cast<float>(t));
-        def.translation(j, t, &tr);
-        if (cubic) {
-          glm::dvec3 a, b;
-          def.translation(j, t - h, &a);
-          def.translation(j, t + h, &b);
-          const glm::vec3 tangent((b - a) / (2 * h));
-          track.values.insert(track.values.end(), {tangent, glm::vec3(tr), tangent});
-        } else {
-          track.values.push_back(glm::vec3(tr));
-        }
-      }
+      jt.translation.interpolation = def.interpolation;
+      sampleKeys<Vec3Track, glm::dvec3>(def, j, def.translation, &jt.translation);
     }
   }
   return clip;
@@ -92,12 +106,7 @@ struct Gait {
 };
 
 ClipDef gaitClip(const char* name, const Gait& g, int keys, Interpolation interpolation) {
-  ClipDef def;
-  def.name = name;
-  def.duration = g.period;
-  def.loop = LoopMode::kLoop;
-  def.key_count = keys;
-  def.interpolation = interpolation;
+  ClipDef def = clipHeader(name, g.period, LoopMode::kLoop, keys, interpolation);
   def.rotation = [g](int j, double t, glm::dquat* q) {
     const double p = 2 * kPi * t / g.period, s = std::sin(p), c = std::cos(p);
     switch (j) {
@@ -151,12 +160,7 @@ ClipDef travelingClip(const char* name, ClipDef gait, double speed, double yaw_r
 }
 
 ClipDef idleClip() {
-  ClipDef def;
-  def.name = "idle";
-  def.duration = 3.0;
-  def.loop = LoopMode::kLoop;
-  def.key_count = 31;
-  def.interpolation = Interpolation::kLinear;
+  ClipDef def = clipHeader("idle", 3.0, LoopMode::kLoop, 31);
   def.rotation = [](int j, double t, glm::dquat* q) {
     const double p = 2 * kPi * t / 3.0, s = std::sin(p);
     switch (j) {
@@ -179,12 +183,7 @@ ClipDef idleClip() {
 }
 
 ClipDef waveClip() {
-  ClipDef def;
-  def.name = "wave";
-  def.duration = 2.5;
-  def.loop = LoopMode::kOnce;
-  def.key_count = 26;
-  def.interpolation = Interpolation::kLinear;
+  ClipDef def = clipHeader("wave", 2.5, LoopMode::kOnce, 26);
   def.step_joint = kRHand;
   def.rotation = [](int j, double t, glm::dquat* q) {
     // Raise in the first 0.8 s, wave, lower in the last 0.7 s; ends at the rest pose.

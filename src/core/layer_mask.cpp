@@ -75,11 +75,18 @@ Status checkInputs(const Skeleton& skeleton, const BakedPalette& palette, const 
   return Status::ok();
 }
 
-Status findJoint(const Skeleton& skeleton, const std::string& joint, const std::string& name,
-                 int32_t* out) {
-  *out = skeleton.findJoint(joint);
-  if (*out < 0)
-    return {StatusCode::kNotFound, strCat("layer mask '", name, "': no joint named '", joint, "'")};
+// Mask `name`'s joints named `joints`, flagged in `in_mask` (one flag per skeleton joint);
+// kNotFound for a name the skeleton does not hold.
+Status markJoints(const Skeleton& skeleton, const std::vector<std::string>& joints,
+                  const std::string& name, std::vector<uint8_t>* in_mask) {
+  in_mask->assign(skeleton.jointCount(), 0);
+  for (const std::string& joint : joints) {
+    const int32_t j = skeleton.findJoint(joint);
+    if (j < 0)
+      return {StatusCode::kNotFound,
+              strCat("layer mask '", name, "': no joint named '", joint, "'")};
+    (*in_mask)[size_t(j)] = 1;
+  }
   return Status::ok();
 }
 
@@ -141,21 +148,36 @@ Status LayerMask::validate(const BakedPalette& palette) const {
   return Status::ok();
 }
 
+namespace {
+// buildLayerMask (`branches`: each named joint's whole branch) and buildLayerMaskFromJoints
+// (the named joints alone, which must hold whole branches).
+Status buildFromNames(const Skeleton& skeleton, const BakedPalette& palette,
+                      const std::string& name, const std::vector<std::string>& names, bool branches,
+                      LayerMask* out) {
+  std::vector<uint8_t> in_mask;
+  Status s = checkInputs(skeleton, palette, out, names.size());
+  if (s.isOk()) s = markJoints(skeleton, names, name, &in_mask);
+  if (!s.isOk()) return s;
+  for (size_t j = 0; j < skeleton.jointCount(); ++j) {  // Parents precede children.
+    const int32_t p = skeleton.parents[j];
+    if (p < 0 || !in_mask[size_t(p)] || in_mask[j]) continue;
+    if (branches) {
+      in_mask[j] = 1;
+      continue;
+    }
+    return {StatusCode::kInvalidArgument,
+            strCat("layer mask '", name, "': '", skeleton.joint_names[size_t(p)],
+                   "' is listed but its child '", skeleton.joint_names[j],
+                   "' is not (a mask holds whole branches)")};
+  }
+  return finishMask(skeleton, palette, name, in_mask, out);
+}
+}  // namespace
+
 Status buildLayerMask(const Skeleton& skeleton, const BakedPalette& palette,
                       const std::string& name, const std::vector<std::string>& branch_roots,
                       LayerMask* out) {
-  Status s = checkInputs(skeleton, palette, out, branch_roots.size());
-  if (!s.isOk()) return s;
-  std::vector<uint8_t> in_mask(skeleton.jointCount(), 0);
-  for (const std::string& root : branch_roots) {
-    int32_t j = -1;
-    s = findJoint(skeleton, root, name, &j);
-    if (!s.isOk()) return s;
-    in_mask[size_t(j)] = 1;
-  }
-  for (size_t j = 0; j < skeleton.jointCount(); ++j)  // Parents precede children.
-    if (skeleton.parents[j] >= 0 && in_mask[size_t(skeleton.parents[j])]) in_mask[j] = 1;
-  return finishMask(skeleton, palette, name, in_mask, out);
+  return buildFromNames(skeleton, palette, name, branch_roots, true, out);
 }
 
 Status buildFullBodyMask(const Skeleton& skeleton, const BakedPalette& palette,
@@ -168,24 +190,7 @@ Status buildFullBodyMask(const Skeleton& skeleton, const BakedPalette& palette,
 Status buildLayerMaskFromJoints(const Skeleton& skeleton, const BakedPalette& palette,
                                 const std::string& name, const std::vector<std::string>& joints,
                                 LayerMask* out) {
-  Status s = checkInputs(skeleton, palette, out, joints.size());
-  if (!s.isOk()) return s;
-  std::vector<uint8_t> in_mask(skeleton.jointCount(), 0);
-  for (const std::string& joint : joints) {
-    int32_t j = -1;
-    s = findJoint(skeleton, joint, name, &j);
-    if (!s.isOk()) return s;
-    in_mask[size_t(j)] = 1;
-  }
-  for (size_t j = 0; j < skeleton.jointCount(); ++j) {
-    const int32_t p = skeleton.parents[j];
-    if (p >= 0 && in_mask[size_t(p)] && !in_mask[j])
-      return {StatusCode::kInvalidArgument,
-              strCat("layer mask '", name, "': '", skeleton.joint_names[size_t(p)],
-                     "' is listed but its child '", skeleton.joint_names[j],
-                     "' is not (a mask holds whole branches)")};
-  }
-  return finishMask(skeleton, palette, name, in_mask, out);
+  return buildFromNames(skeleton, palette, name, joints, false, out);
 }
 
 std::vector<uint32_t> layerChain(const LayerMask& mask, uint32_t slot) {

@@ -15,6 +15,18 @@ namespace si {
 using detail::kMaxLods;
 using detail::strCat;
 
+namespace {
+// Live handle `h`'s dense index `i`, for reading call `what` into `out`: h's status, or
+// kInvalidArgument for a null `out`.
+Status denseIndexFor(const detail::InstanceStore& st, InstanceHandle h, const void* out,
+                     const char* what, uint32_t* i) {
+  const Status s = st.denseIndex(h, i);
+  if (s.isOk() && out == nullptr)
+    return {StatusCode::kInvalidArgument, strCat(what, ": out is null")};
+  return s;
+}
+}  // namespace
+
 // What an uninitialized (or moved-from) crowd reports.
 const detail::CrowdState& CrowdManager::emptyState() {
   static const detail::CrowdState empty;
@@ -258,12 +270,10 @@ Status CrowdManager::crossfade(InstanceHandle h, uint32_t clip, double blend_sec
 }
 
 Status CrowdManager::get(InstanceHandle h, InstanceDesc* out) const {
-  if (!state_) return noCrowd();
-  const detail::InstanceStore& st = state_->store;
   uint32_t i = 0;
-  Status s = st.denseIndex(h, &i);
+  const Status s = state_ ? denseIndexFor(state_->store, h, out, "get", &i) : noCrowd();
   if (!s.isOk()) return s;
-  if (out == nullptr) return {StatusCode::kInvalidArgument, "get: out is null"};
+  const detail::InstanceStore& st = state_->store;
   InstanceDesc d;
   d.position = st.positions.get(i);
   d.rotation = st.rotations.get(i);
@@ -396,12 +406,10 @@ Status CrowdManager::setLodDistances(Span<const float> lines, float max_distance
 }
 
 Status CrowdManager::jointMatrix(InstanceHandle h, uint32_t joint, glm::dmat4* out) const {
-  if (!state_) return noCrowd();
-  const detail::InstanceStore& st = state_->store;
   uint32_t i = 0;
-  Status s = st.denseIndex(h, &i);
+  const Status s = state_ ? denseIndexFor(state_->store, h, out, "jointMatrix", &i) : noCrowd();
   if (!s.isOk()) return s;
-  if (out == nullptr) return {StatusCode::kInvalidArgument, "jointMatrix: out is null"};
+  const detail::InstanceStore& st = state_->store;
   const BakedPalette& p = *desc_.palette;
   if (joint >= p.skeleton_to_palette.size() || p.skeleton_to_palette[joint] < 0)
     return {StatusCode::kOutOfRange, strCat("jointMatrix: joint ", joint, " is not in the palette")};

@@ -242,23 +242,28 @@ size_t InstanceBatcher::layerBufferBound(const CrowdView& crowd) const {
   return bytes;
 }
 
-Status InstanceBatcher::checkLayerBuffer(const char* what, const CrowdView& crowd,
-                                         size_t out_bytes) const {
+Status InstanceBatcher::checkLayerBuffer(const char* what, const CrowdView& crowd, size_t out_bytes,
+                                         bool extra, bool previous) const {
   if (capacity_ == 0) return {StatusCode::kInvalidArgument, "InstanceBatcher: init() first"};
-  if (crowd.layerRecords().empty())
+  if (previous && !crowd.desc().previous_records)
     return {StatusCode::kInvalidArgument,
-            strCat("InstanceBatcher::", what, ": the crowd's last update wrote no layer records ",
-                   "(no instance plays an overlay)")};
-  const size_t needed = layerBufferBound(crowd);
+            strCat("InstanceBatcher::", what, ": the crowd keeps no previous records ",
+                   "(CrowdDesc::previous_records, CrowdViewDesc::previous_records)")};
+  if ((extra ? crowd.extraLayerRecords() : crowd.layerRecords()).empty())
+    return {StatusCode::kInvalidArgument,
+            strCat("InstanceBatcher::", what, ": the crowd's last update wrote no ",
+                   extra ? "extra layer records (no 2D blend space)"
+                         : "layer records (no instance plays an overlay)")};
+  const size_t needed = extra ? extraLayerBufferBound(crowd) : layerBufferBound(crowd);
   if (out_bytes < needed)
     return {StatusCode::kCountMismatch,
-            strCat("InstanceBatcher::", what, ": the layer buffer holds ", out_bytes,
-                   " bytes, the frame needs ", needed)};
+            strCat("InstanceBatcher::", what, ": the ", extra ? "extra " : "",
+                   "layer buffer holds ", out_bytes, " bytes, the frame needs ", needed)};
   return Status::ok();
 }
 
 Status InstanceBatcher::buildLayers(const CrowdView& crowd, Span<uint8_t> out) const {
-  const Status s = checkLayerBuffer("buildLayers", crowd, out.size());
+  const Status s = checkLayerBuffer("buildLayers", crowd, out.size(), false, false);
   if (!s.isOk()) return s;
   const Span<const LayerRecord> layers = crowd.layerRecords();
   uint8_t* base = out.data();
@@ -271,11 +276,7 @@ Status InstanceBatcher::buildLayers(const CrowdView& crowd, Span<uint8_t> out) c
 }
 
 Status InstanceBatcher::buildPreviousLayers(const CrowdView& crowd, Span<uint8_t> out) const {
-  if (capacity_ != 0 && !crowd.desc().previous_records)
-    return {StatusCode::kInvalidArgument,
-            "InstanceBatcher::buildPreviousLayers: the crowd keeps no previous records "
-            "(CrowdDesc::previous_records, CrowdViewDesc::previous_records)"};
-  const Status s = checkLayerBuffer("buildPreviousLayers", crowd, out.size());
+  const Status s = checkLayerBuffer("buildPreviousLayers", crowd, out.size(), false, true);
   if (!s.isOk()) return s;
   writePreviousLayers(crowd, capacity_, alignment_, crowd.layerRecords(),
                       crowd.previousLayerRecords(), 1, out.data());
@@ -286,23 +287,8 @@ size_t InstanceBatcher::extraLayerBufferBound(const CrowdView& crowd) const {
   return layerBufferBound(crowd) * kExtraLayerRecords;
 }
 
-Status InstanceBatcher::checkExtraLayerBuffer(const char* what, const CrowdView& crowd,
-                                              size_t out_bytes) const {
-  if (capacity_ == 0) return {StatusCode::kInvalidArgument, "InstanceBatcher: init() first"};
-  if (crowd.extraLayerRecords().empty())
-    return {StatusCode::kInvalidArgument,
-            strCat("InstanceBatcher::", what, ": the crowd's last update wrote no extra layer ",
-                   "records (no 2D blend space)")};
-  const size_t needed = extraLayerBufferBound(crowd);
-  if (out_bytes < needed)
-    return {StatusCode::kCountMismatch,
-            strCat("InstanceBatcher::", what, ": the extra layer buffer holds ", out_bytes,
-                   " bytes, the frame needs ", needed)};
-  return Status::ok();
-}
-
 Status InstanceBatcher::buildExtraLayers(const CrowdView& crowd, Span<uint8_t> out) const {
-  const Status s = checkExtraLayerBuffer("buildExtraLayers", crowd, out.size());
+  const Status s = checkLayerBuffer("buildExtraLayers", crowd, out.size(), true, false);
   if (!s.isOk()) return s;
   const Span<const LayerRecord> extras = crowd.extraLayerRecords();
   constexpr size_t kSlotBytes = kExtraLayerRecords * kLayerRecordSize;
@@ -317,11 +303,7 @@ Status InstanceBatcher::buildExtraLayers(const CrowdView& crowd, Span<uint8_t> o
 }
 
 Status InstanceBatcher::buildPreviousExtraLayers(const CrowdView& crowd, Span<uint8_t> out) const {
-  if (capacity_ != 0 && !crowd.desc().previous_records)
-    return {StatusCode::kInvalidArgument,
-            "InstanceBatcher::buildPreviousExtraLayers: the crowd keeps no previous records "
-            "(CrowdDesc::previous_records, CrowdViewDesc::previous_records)"};
-  const Status s = checkExtraLayerBuffer("buildPreviousExtraLayers", crowd, out.size());
+  const Status s = checkLayerBuffer("buildPreviousExtraLayers", crowd, out.size(), true, true);
   if (!s.isOk()) return s;
   writePreviousLayers(crowd, capacity_, alignment_, crowd.extraLayerRecords(),
                       crowd.previousExtraLayerRecords(), kExtraLayerRecords, out.data());

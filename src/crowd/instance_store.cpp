@@ -233,31 +233,23 @@ Status InstanceStore::setRootMotion(InstanceHandle h, bool enabled, double clock
 
 Status InstanceStore::setColor(InstanceHandle h, glm::u8vec4 color) {
   uint32_t i = 0;
-  Status s = denseIndex(h, &i);
+  const Status s = denseIndex(h, &i);  // The handle's status first, then the colour's.
   if (!s.isOk()) return s;
-  s = validateColor(color);
-  if (!s.isOk()) return {s.code(), "setColor: " + s.message()};
+  const Status valid = validateColor(color);
+  if (!valid.isOk()) return {valid.code(), "setColor: " + valid.message()};
   colors[i] = (colors[i] & 0xFF000000u) | si::packAppearance(color.r, color.g, color.b, 0);
   changed(i);
-  return s;
+  return valid;
 }
 
 Status InstanceStore::setCustomLayer(InstanceHandle h, uint8_t custom_layer) {
-  uint32_t i = 0;
-  Status s = denseIndex(h, &i);
-  if (!s.isOk()) return s;
-  colors[i] = (colors[i] & 0x00FFFFFFu) | (uint32_t(custom_layer) << 24);
-  changed(i);
-  return s;
+  return change(h, [&](uint32_t i) {
+    colors[i] = (colors[i] & 0x00FFFFFFu) | (uint32_t(custom_layer) << 24);
+  });
 }
 
 Status InstanceStore::setVariationMask(InstanceHandle h, uint32_t mask) {
-  uint32_t i = 0;
-  Status s = denseIndex(h, &i);
-  if (!s.isOk()) return s;
-  masks[i] = mask;
-  changed(i);
-  return s;
+  return change(h, [&](uint32_t i) { masks[i] = mask; });
 }
 
 Status InstanceStore::play(InstanceHandle h, uint32_t clip, double time_seconds, float speed,

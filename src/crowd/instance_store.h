@@ -107,6 +107,17 @@ struct InstanceStore {
   /// A new version, and index `i` stamped with it and logged: what every change of one
   /// instance ends with.
   void changed(uint32_t i, bool placed = false);
+  /// Runs `set(i)` on live handle `h`'s dense index and marks it changed; else h's status.
+  template <class Set>
+  Status change(InstanceHandle h, Set&& set) {
+    uint32_t i = 0;
+    const Status s = denseIndex(h, &i);
+    if (s.isOk()) {
+      set(i);
+      changed(i);
+    }
+    return s;
+  }
   /// A new version for stamps written from parallel tasks (root motion), which the change log
   /// does not hold: it starts after it (changedSince scans the stamps for versions before).
   void unloggedVersion();

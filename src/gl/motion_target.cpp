@@ -71,36 +71,36 @@ void MotionTarget::clear(const glm::vec4& color) {
   glClearNamedFramebufferfv(framebuffer_, GL_DEPTH, 0, &far_depth);
 }
 
-Status MotionTarget::readMotion(std::vector<glm::vec2>* out) const {
-  detail::takeHostErrors("MotionTarget::readMotion");
-  if (framebuffer_ == 0 || out == nullptr)
-    return {StatusCode::kInvalidArgument, "MotionTarget::readMotion: create() first, non-null out"};
+namespace {
+// Reads level 0 of `texture` (`width` x `height`, `per_pixel` elements of T a pixel, as
+// `format` and `type`) into `out`, for the read call `what` of a target created or not
+// (`created`).
+template <class T>
+Status readImage(const char* what, bool created, GLuint texture, uint32_t width, uint32_t height,
+                 size_t per_pixel, GLenum format, GLenum type, std::vector<T>* out) {
+  detail::takeHostErrors(what);
+  if (!created || out == nullptr)
+    return {StatusCode::kInvalidArgument, detail::strCat(what, ": create() first, non-null out")};
   const detail::GlStateGuard guard(detail::readbackFootprint(), true);
-  out->resize(size_t(width_) * height_);
-  glGetTextureImage(motion_, 0, GL_RG, GL_FLOAT, GLsizei(out->size() * sizeof(glm::vec2)),
-                    out->data());
-  return checkGlErrors("MotionTarget::readMotion");
+  out->resize(size_t(width) * height * per_pixel);
+  glGetTextureImage(texture, 0, format, type, GLsizei(out->size() * sizeof(T)), out->data());
+  return checkGlErrors(what);
+}
+}  // namespace
+
+Status MotionTarget::readMotion(std::vector<glm::vec2>* out) const {
+  return readImage("MotionTarget::readMotion", framebuffer_ != 0, motion_, width_, height_, 1,
+                   GL_RG, GL_FLOAT, out);
 }
 
 Status MotionTarget::readColor(std::vector<uint8_t>* rgba) const {
-  detail::takeHostErrors("MotionTarget::readColor");
-  if (framebuffer_ == 0 || rgba == nullptr)
-    return {StatusCode::kInvalidArgument, "MotionTarget::readColor: create() first, non-null out"};
-  const detail::GlStateGuard guard(detail::readbackFootprint(), true);
-  rgba->resize(size_t(width_) * height_ * 4);
-  glGetTextureImage(color_, 0, GL_RGBA, GL_UNSIGNED_BYTE, GLsizei(rgba->size()), rgba->data());
-  return checkGlErrors("MotionTarget::readColor");
+  return readImage("MotionTarget::readColor", framebuffer_ != 0, color_, width_, height_, 4,
+                   GL_RGBA, GL_UNSIGNED_BYTE, rgba);
 }
 
 Status MotionTarget::readDepth(std::vector<float>* out) const {
-  detail::takeHostErrors("MotionTarget::readDepth");
-  if (framebuffer_ == 0 || out == nullptr)
-    return {StatusCode::kInvalidArgument, "MotionTarget::readDepth: create() first, non-null out"};
-  const detail::GlStateGuard guard(detail::readbackFootprint(), true);
-  out->resize(size_t(width_) * height_);
-  glGetTextureImage(depth_, 0, GL_DEPTH_COMPONENT, GL_FLOAT, GLsizei(out->size() * 4),
-                    out->data());
-  return checkGlErrors("MotionTarget::readDepth");
+  return readImage("MotionTarget::readDepth", framebuffer_ != 0, depth_, width_, height_, 1,
+                   GL_DEPTH_COMPONENT, GL_FLOAT, out);
 }
 
 Status MotionTarget::summarize(MotionSummary* out) const {

@@ -293,28 +293,14 @@ Status Renderer::drawCrowd(CharacterId id, const CrowdView& view, const Instance
 // The crowd-only paths: the baselines and GPU-driven culling.
 Status Renderer::drawTraditional(CharacterId id, const CrowdView& view, const Camera& camera,
                                  DrawStats* stats) {
-  detail::CharacterSlot* c = nullptr;
-  Status s = impl_ ? impl_->find(id, "drawTraditional", &c, view) : noRenderer("drawTraditional");
-  if (s.isOk()) s = impl_->depthMatches(camera, "drawTraditional");
-  if (s.isOk()) s = impl_->esRefuses("drawTraditional", "traditional program (a desktop baseline)");
-  if (s.isOk()) s = impl_->noMotion("drawTraditional");
-  if (s.isOk()) s = impl_->noImpostors(*view.crowd(), "drawTraditional");
-  return s.isOk() ? impl_->drawCrowdOnly(*c, impl_->traditional_path, "drawTraditional", view,
-                                         camera, light_direction_, stats)
-                  : s;
+  return impl_ ? impl_->drawBaseline(id, false, view, camera, light_direction_, stats)
+               : noRenderer("drawTraditional");
 }
 
 Status Renderer::drawCpuSkinned(CharacterId id, const CrowdView& view, const Camera& camera,
                                 DrawStats* stats) {
-  detail::CharacterSlot* c = nullptr;
-  Status s = impl_ ? impl_->find(id, "drawCpuSkinned", &c, view) : noRenderer("drawCpuSkinned");
-  if (s.isOk()) s = impl_->depthMatches(camera, "drawCpuSkinned");
-  if (s.isOk()) s = impl_->esRefuses("drawCpuSkinned", "storage buffers (a baseline)");
-  if (s.isOk()) s = impl_->noMotion("drawCpuSkinned");
-  if (s.isOk()) s = impl_->noImpostors(*view.crowd(), "drawCpuSkinned");
-  return s.isOk() ? impl_->drawCrowdOnly(*c, c->cpu_path, "drawCpuSkinned", view, camera,
-                                         light_direction_, stats)
-                  : s;
+  return impl_ ? impl_->drawBaseline(id, true, view, camera, light_direction_, stats)
+               : noRenderer("drawCpuSkinned");
 }
 
 Status Renderer::drawCrowdGpuCulled(CharacterId id, const CrowdView& view, const Camera& camera,

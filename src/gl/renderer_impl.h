@@ -195,16 +195,28 @@ struct Renderer::Impl {
     return r;
   }
 
-  /// A crowd-only path (no batcher, no mode) of character `c` for `view` seen by `camera`:
-  /// runPath(), the error check named `what`, and the stats (when non-null).
-  Status drawCrowdOnly(detail::CharacterSlot& c, detail::DrawPath& p, const char* what,
-                       const CrowdView& view, const Camera& camera, const glm::vec3& light,
-                       DrawStats* stats) {
+  /// The crowd-only baselines (no batcher, no mode): drawTraditional, or with `cpu`
+  /// drawCpuSkinned, of character `id` for `view` seen by `camera`, refused where they cannot
+  /// draw (the ES profile, motion vectors, impostors); runPath(), the error check and the stats
+  /// (when non-null).
+  Status drawBaseline(CharacterId id, bool cpu, const CrowdView& view, const Camera& camera,
+                      const glm::vec3& light, DrawStats* stats) {
+    const char* what = cpu ? "drawCpuSkinned" : "drawTraditional";
+    detail::CharacterSlot* c = nullptr;
+    Status s = find(id, what, &c, view);
+    if (s.isOk()) s = depthMatches(camera, what);
+    if (s.isOk())
+      s = esRefuses(
+          what, cpu ? "storage buffers (a baseline)" : "traditional program (a desktop baseline)");
+    if (s.isOk()) s = noMotion(what);
+    if (s.isOk()) s = noImpostors(*view.crowd(), what);
+    if (!s.isOk()) return s;
+    detail::DrawPath& p = cpu ? static_cast<detail::DrawPath&>(c->cpu_path) : traditional_path;
     const auto t0 = std::chrono::steady_clock::now();
     Guard guard = enter(what, detail::drawFootprint(), &camera);
     const detail::PathFrame frame = detail::viewFrame(view, camera, light);
     DrawStats st;
-    Status s = runPath(c, p, frame, t0, stats != nullptr, &st, guard);
+    s = runPath(*c, p, frame, t0, stats != nullptr, &st, guard);
     if (s.isOk()) s = check(what);
     if (stats != nullptr) *stats = st;
     return s;

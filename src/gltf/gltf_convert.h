@@ -33,8 +33,24 @@ void installCallbacks(tinygltf::TinyGLTF* loader, FsContext* fs, ImageContext* i
 /// (kLimitExceeded past 2 GiB, kCorrupt when tinygltf cannot parse it); its warnings are added.
 Status parseGltf(Span<const uint8_t> bytes, const std::string& base_dir, bool load_images,
                  std::vector<std::string>* warnings, tinygltf::Model* model);
+/// Resets `report` (a local one where null), parses `bytes` (parseGltf, its warnings into the
+/// report) and hands the model to `convert(model, report)`.
+template <class Convert>
+Status parseAndConvert(Span<const uint8_t> bytes, const std::string& base_dir, bool load_images,
+                       GltfImportReport* report, Convert&& convert) {
+  GltfImportReport local;
+  GltfImportReport& r = report ? *report : local;
+  r = GltfImportReport();
+  tinygltf::Model model;
+  const Status s = parseGltf(bytes, base_dir, load_images, &r.warnings, &model);
+  return s.isOk() ? convert(model, &r) : s;
+}
 /// Reads the file at `path` whole (kIo when it cannot, or past 2 GiB) and gives its folder.
-Status readGltfFile(const std::string& path, std::vector<uint8_t>* bytes, std::string* dir);
+struct GltfFile {
+  std::vector<uint8_t> bytes;
+  std::string dir;  // Where its relative URIs point: the file's folder.
+};
+Status readGltfFile(const std::string& path, GltfFile* out);
 
 // ---- gltf_accessors.cpp: typed, range-checked accessor reads.
 extern const std::vector<int> kFloat;              ///< FLOAT components.

@@ -83,13 +83,10 @@ Status convert(const tinygltf::Model& m, const GltfImportDesc& desc, Character* 
 Status importImpl(Span<const uint8_t> bytes, const std::string& base_dir, const GltfImportDesc& desc,
                   Character* out, GltfImportReport* report) {
   if (out == nullptr) return {StatusCode::kInvalidArgument, "importGltf: out is null"};
-  GltfImportReport local;
-  GltfImportReport& r = report ? *report : local;
-  r = GltfImportReport();
-  tinygltf::Model model;
-  const Status s = detail::parseGltf(bytes, base_dir, desc.load_images, &r.warnings, &model);
-  if (!s.isOk()) return s;
-  return convert(model, desc, out, &r);
+  return detail::parseAndConvert(bytes, base_dir, desc.load_images, report,
+                                 [&](const tinygltf::Model& model, GltfImportReport* r) {
+                                   return convert(model, desc, out, r);
+                                 });
 }
 
 
@@ -102,11 +99,9 @@ Status importGltfMemory(Span<const uint8_t> bytes, const std::string& base_dir,
 
 Status importGltfFile(const std::string& path, const GltfImportDesc& desc, Character* out,
                       GltfImportReport* report) {
-  std::vector<uint8_t> bytes;
-  std::string dir;
-  const Status s = detail::readGltfFile(path, &bytes, &dir);
-  if (!s.isOk()) return s;
-  return importImpl(bytes, dir, desc, out, report);
+  detail::GltfFile file;
+  const Status s = detail::readGltfFile(path, &file);
+  return s.isOk() ? importImpl(file.bytes, file.dir, desc, out, report) : s;
 }
 
 }  // namespace si

@@ -93,7 +93,8 @@ Status parseGltf(Span<const uint8_t> bytes, const std::string& base_dir, bool lo
   return Status::ok();
 }
 
-Status readGltfFile(const std::string& path, std::vector<uint8_t>* bytes, std::string* dir) {
+Status readGltfFile(const std::string& path, GltfFile* out) {
+  std::vector<uint8_t>* bytes = &out->bytes;
   std::ifstream f(path, std::ios::binary | std::ios::ate);
   if (!f) return {StatusCode::kIo, strCat("glTF: cannot open '", path, "'")};
   const std::streamoff size = f.tellg();
@@ -104,7 +105,7 @@ Status readGltfFile(const std::string& path, std::vector<uint8_t>* bytes, std::s
   f.read(reinterpret_cast<char*>(bytes->data()), size);
   if (!f) return {StatusCode::kIo, strCat("glTF: cannot read '", path, "'")};
   const size_t slash = path.find_last_of('/');
-  *dir = slash == std::string::npos ? "." : path.substr(0, slash);
+  out->dir = slash == std::string::npos ? "." : path.substr(0, slash);
   return Status::ok();
 }
 

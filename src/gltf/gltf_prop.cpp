@@ -168,23 +168,18 @@ Status importGltfPropMemory(Span<const uint8_t> bytes, const std::string& base_d
   if (!std::isfinite(desc.scale) || desc.scale <= 0.0f)
     return {StatusCode::kInvalidArgument,
             strCat("importGltfProp: scale ", desc.scale, " is not finite and positive")};
-  GltfImportReport local;
-  GltfImportReport& r = report ? *report : local;
-  r = GltfImportReport();
-  tinygltf::Model model;
-  const Status s = detail::parseGltf(bytes, base_dir, desc.load_images, &r.warnings, &model);
-  if (!s.isOk()) return s;
-  return convertProp(model, desc, out, &r);
+  return detail::parseAndConvert(bytes, base_dir, desc.load_images, report,
+                                 [&](const tinygltf::Model& model, GltfImportReport* r) {
+                                   return convertProp(model, desc, out, r);
+                                 });
 }
 
 Status importGltfPropFile(const std::string& path, const GltfPropDesc& desc, PropMesh* out,
                           GltfImportReport* report) {
   if (out == nullptr) return {StatusCode::kInvalidArgument, "importGltfProp: out is null"};
-  std::vector<uint8_t> bytes;
-  std::string dir;
-  const Status s = detail::readGltfFile(path, &bytes, &dir);
-  if (!s.isOk()) return s;
-  return importGltfPropMemory(bytes, dir, desc, out, report);
+  detail::GltfFile file;
+  const Status s = detail::readGltfFile(path, &file);
+  return s.isOk() ? importGltfPropMemory(file.bytes, file.dir, desc, out, report) : s;
 }
 
 }  // namespace si

@@ -199,11 +199,11 @@ class InstanceBatcher {
   // (the `buffer` buffer) holding `needed` bytes (named `what`).
   Status checkPreviousBuffer(const char* what, const char* buffer, const CrowdView& view,
                              size_t out_bytes, size_t needed) const;
-  // buildLayers' and buildPreviousLayers' checks: initialized, layer records written, `out`
-  // large enough (named `what`).
-  Status checkLayerBuffer(const char* what, const CrowdView& view, size_t out_bytes) const;
-  // The extra layers' checks (buildExtraLayers, buildPreviousExtraLayers).
-  Status checkExtraLayerBuffer(const char* what, const CrowdView& view, size_t out_bytes) const;
+  // buildLayers' checks (`extra`: buildExtraLayers'; `previous`: the buildPrevious ones'):
+  // initialized, previous records kept, those records written, `out` large enough (named
+  // `what`).
+  Status checkLayerBuffer(const char* what, const CrowdView& view, size_t out_bytes, bool extra,
+                          bool previous) const;
   uint32_t capacity_ = 0;
   uint32_t alignment_ = 0;
 };

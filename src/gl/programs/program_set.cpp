@@ -26,15 +26,23 @@ ShaderStage stageOf(GLenum type) {
                                      : ShaderStage::kFragment;
 }
 
+// The driver's log of shader or program `object` (glGetShaderiv / glGetProgramiv and their
+// InfoLog functions).
+template <class GetIv, class GetLog>
+std::string infoLog(GLuint object, GetIv get_iv, GetLog get_log) {
+  GLint length = 0;
+  get_iv(object, GL_INFO_LOG_LENGTH, &length);
+  std::string log(size_t(std::max(length, 1)), '\0');
+  get_log(object, length, nullptr, log.data());
+  return log;
+}
+
 // Checks a linked program: kBackend with the driver's log (and the program deleted) on failure.
 Status finishLink(GLuint program, const char* name, GLuint* out) {
   GLint ok = 0;
   glGetProgramiv(program, GL_LINK_STATUS, &ok);
   if (!ok) {
-    GLint length = 0;
-    glGetProgramiv(program, GL_INFO_LOG_LENGTH, &length);
-    std::string log(size_t(std::max(length, 1)), '\0');
-    glGetProgramInfoLog(program, length, nullptr, log.data());
+    const std::string log = infoLog(program, glGetProgramiv, glGetProgramInfoLog);
     glDeleteProgram(program);
     return {StatusCode::kBackend, strCat("linking the ", name, " program failed: ", log.c_str())};
   }
@@ -109,10 +117,7 @@ Status compileShader(GLenum type, const std::string& source, const char* name, G
   GLint ok = 0;
   glGetShaderiv(shader, GL_COMPILE_STATUS, &ok);
   if (!ok) {
-    GLint length = 0;
-    glGetShaderiv(shader, GL_INFO_LOG_LENGTH, &length);
-    std::string log(size_t(std::max(length, 1)), '\0');
-    glGetShaderInfoLog(shader, length, nullptr, log.data());
+    const std::string log = infoLog(shader, glGetShaderiv, glGetShaderInfoLog);
     glDeleteShader(shader);
     return {StatusCode::kBackend, strCat("compiling the ", name, " ",
                                          shaderStageName(stageOf(type)),

@@ -66,6 +66,8 @@ Status CharacterBuffers::upload(const Character& character, const BakedPalette& 
             "the palette was baked for another skeleton"};
   VertexStream stream;
   s = buildVertexStream(m, palette, &stream);
+  MaterialTable table;
+  if (s.isOk()) s = buildMaterialTable(character, max_texture_size, &table);
   if (!s.isOk()) return s;
   release();
   s = createBuffer(&vertex_buffer, stream.bytes.size(), stream.bytes.data(), 0,
@@ -73,6 +75,7 @@ Status CharacterBuffers::upload(const Character& character, const BakedPalette& 
   if (s.isOk())
     s = createIndexBuffer(&index_buffer, m.indices.size() * 4, m.indices.data(),
                           "the character's index buffer");
+  if (s.isOk()) s = uploadMaterials(&table, stream);
   if (!s.isOk()) {
     release();
     return s;
@@ -82,24 +85,31 @@ Status CharacterBuffers::upload(const Character& character, const BakedPalette& 
   sub_meshes = m.sub_meshes;
   vertex_count = uint32_t(m.vertexCount());
   mesh = m;
+  tangent_offset = stream.tangent_offset;
+  texcoord1_offset = stream.texcoord1_offset;
+  color_offset = stream.color_offset;
+  glCreateVertexArrays(1, &vao);
+  describeVertexFormat(vao);
+  return Status::ok();
+}
 
-  // Materials: the table, each vertex's index (16 bits, two a word), the texture array.
-  MaterialTable table;
-  s = buildMaterialTable(character, max_texture_size, &table);
-  std::vector<uint32_t> words((table.vertex_materials.size() + 1) / 2, 0);
-  for (size_t v = 0; v < table.vertex_materials.size(); ++v)
-    words[v / 2] |= uint32_t(table.vertex_materials[v]) << ((v % 2) * 16);
+Status CharacterBuffers::uploadMaterials(MaterialTable* table, const VertexStream& stream) {
+  // Each vertex's material index (16 bits, two a word), the table, the texture arrays.
+  std::vector<uint32_t> words((table->vertex_materials.size() + 1) / 2, 0);
+  for (size_t v = 0; v < table->vertex_materials.size(); ++v)
+    words[v / 2] |= uint32_t(table->vertex_materials[v]) << ((v % 2) * 16);
   std::vector<GpuMaterial> entries;
-  bool both_faces = false, masked = false;
+  double_sided = alpha_masked = false;
   const uint32_t vertex_words =
       (stream.texcoord1_offset != 0 ? 1u : 0u) | (stream.color_offset != 0 ? 2u : 0u);
-  for (const MaterialEntry& e : table.materials) {
+  for (const MaterialEntry& e : table->materials) {
     entries.push_back(gpuMaterial(e));
     entries.back().layer.w = vertex_words;
-    both_faces = both_faces || e.double_sided;
-    masked = masked || e.alpha_cutoff >= 0.0f;
+    double_sided = double_sided || e.double_sided;
+    alpha_masked = alpha_masked || e.alpha_cutoff >= 0.0f;
   }
-  if (s.isOk() && esProfile()) {
+  Status s;
+  if (esProfile()) {
     // A uniform block of kEsMaxMaterials entries there; the bound buffer holds it whole (WebGL 2
     // refuses a draw whose uniform buffer is smaller than its block).
     if (entries.size() > kEsMaxMaterials)
@@ -116,37 +126,26 @@ Status CharacterBuffers::upload(const Character& character, const BakedPalette& 
                      "the character's material table");
   GLint max_layers = 0;
   glGetIntegerv(GL_MAX_ARRAY_TEXTURE_LAYERS, &max_layers);
-  for (const size_t layers : {table.layers.size(), table.data_layers.size()})
+  for (const size_t layers : {table->layers.size(), table->data_layers.size()})
     if (s.isOk() && layers > size_t(max_layers))
       s = {StatusCode::kLimitExceeded,
            strCat(layers, " material texture layers in one array (this context ",
                   "holds at most ", max_layers, " in a texture array)")};
   // Colour layers decode sRGB as they are sampled; data layers are linear. A character without
   // data images gets one 1 x 1 data layer, so the unit always holds a complete texture.
-  if (table.data_layers.empty()) {
+  if (table->data_layers.empty()) {
     Image flat;
     flat.width = flat.height = 1;
     flat.rgba8 = {128, 128, 255, 255};
-    table.data_layers.push_back(flat);
+    table->data_layers.push_back(flat);
   }
   if (s.isOk())
-    s = uploadLayers(&base_texture, GL_SRGB8_ALPHA8, table.layers, table.width, table.height,
+    s = uploadLayers(&base_texture, GL_SRGB8_ALPHA8, table->layers, table->width, table->height,
                      "the character's colour texture array");
   if (s.isOk())
-    s = uploadLayers(&data_texture, GL_RGBA8, table.data_layers, table.data_width,
-                     table.data_height, "the character's data texture array");
-  if (!s.isOk()) {
-    release();
-    return s;
-  }
-  tangent_offset = stream.tangent_offset;
-  texcoord1_offset = stream.texcoord1_offset;
-  color_offset = stream.color_offset;
-  double_sided = both_faces;
-  alpha_masked = masked;
-  glCreateVertexArrays(1, &vao);
-  describeVertexFormat(vao);
-  return Status::ok();
+    s = uploadLayers(&data_texture, GL_RGBA8, table->data_layers, table->data_width,
+                     table->data_height, "the character's data texture array");
+  return s;
 }
 
 void CharacterBuffers::bindMaterials() const {

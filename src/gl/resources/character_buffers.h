@@ -13,6 +13,11 @@
 #include "si/core/baked_palette.h"
 #include "si/core/character.h"
 
+namespace si {
+struct MaterialTable;
+struct VertexStream;
+}  // namespace si
+
 namespace si::detail {
 
 struct CharacterBuffers {
@@ -24,6 +29,10 @@ struct CharacterBuffers {
                 uint32_t max_texture_size);
   void release();
   bool ready() const { return vao != kNoObject; }
+  /// upload()'s materials: the per-vertex material indices and the table of `table` (its data
+  /// layers given one flat layer when it has none), the colour and data texture arrays, and
+  /// the faces and alpha flags; `stream` says which vertex words the materials read.
+  Status uploadMaterials(MaterialTable* table, const VertexStream& stream);
 
   /// Sets the vertex format (attributes 0-4 and 7-9 from binding 0) and the index buffer on
   /// `vao`.

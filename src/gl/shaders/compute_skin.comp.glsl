@@ -38,11 +38,7 @@ void main() {
   if (i >= u_layout.x) return;
   uint k = g - i * u_chunk.y;
   uint source = si_lod_vertices[u_chunk.z + k];
-#ifdef SI_LAYERS
-  uvec4 layer = si_layers[u_chunk.w + i];
-#else
-  uvec4 layer = uvec4(0u);
-#endif
+  uvec4 layer = siLayer(u_chunk.w + i);
   SiInstance inst = si_instances[u_chunk.w + i];
   uint slot = u_batch_slot + u_chunk.w + i;
 #ifdef SI_COMPOSED_LAYERS
@@ -54,13 +50,8 @@ void main() {
   si_skinned_out[u_chunk.x + g] = siPreSkin(source, inst, layer, composed, tangent);
   if (siHasTangents()) si_tangents_out[u_chunk.x + g] = tangent;
 #ifdef SI_MOTION_VECTORS
-#ifdef SI_LAYERS
-  uvec4 previous_layer = si_previous_layers[u_chunk.w + i];
-#else
-  uvec4 previous_layer = uvec4(0u);
-#endif
   SiInstance prev = siPreviousRecord(slot, inst);
   si_previous_out[u_chunk.x + g] =
-      vec4(siPreSkinPrevious(source, prev, previous_layer, composed), 1.0);
+      vec4(siPreSkinPrevious(source, prev, siPreviousLayer(u_chunk.w + i), composed), 1.0);
 #endif
 }

@@ -49,22 +49,12 @@ void main() {
   uint i = local / info.x;
   uint k = local - i * info.x;
   uint v = si_entries[si_bucket_offset[lo] + i];
-#ifdef SI_LAYERS
-  uvec4 layer = si_layers[v];
-#else
-  uvec4 layer = uvec4(0u);
-#endif
   uint source = si_lod_vertices[info.y + k];
   uint tangent;
-  si_skinned_out[g] = siPreSkin(source, si_records[v], layer, v, tangent);
+  si_skinned_out[g] = siPreSkin(source, si_records[v], siLayer(v), v, tangent);
   if (siHasTangents()) si_tangents_out[g] = tangent;
 #ifdef SI_MOTION_VECTORS
-#ifdef SI_LAYERS
-  uvec4 previous_layer = si_previous_layers[v];
-#else
-  uvec4 previous_layer = uvec4(0u);
-#endif
   si_previous_out[g] =
-      vec4(siPreSkinPrevious(source, si_previous_instances[v], previous_layer, v), 1.0);
+      vec4(siPreSkinPrevious(source, si_previous_instances[v], siPreviousLayer(v), v), 1.0);
 #endif
 }

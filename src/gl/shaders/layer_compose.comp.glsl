@@ -27,12 +27,6 @@
 #include "layer_compose.glsl"
 #include "dispatch_index.glsl"
 layout(local_size_x = 64) in;
-layout(std430, binding = 26) writeonly buffer SiComposedOut { vec4 si_composed_out[]; };
-#ifdef SI_MOTION_VECTORS
-layout(std430, binding = 27) writeonly buffer SiComposedPreviousOut {
-  vec4 si_composed_previous_out[];
-};
-#endif
 #ifdef SI_GPU_DRIVEN
 layout(location = 5) uniform uint u_instances;  // Bounds the visible count.
 // 2D blends: the cull pass's extra layer records, 2 per visible index, from this index of its
@@ -105,10 +99,10 @@ void main() {
   if (i >= min(si_visible_count, u_instances)) return;
   uint k = g - i * stride;
   uint at = g * 3u;
-  SI_COMPOSE(si_instances[i], si_layers[i], i, false, k, si_composed_out, at);
+  SI_COMPOSE(si_instances[i], si_layers[i], i, false, k, si_composed, at);
 #ifdef SI_MOTION_VECTORS
   SI_COMPOSE(si_previous_instances[i], si_previous_layers[i], i, true, k,
-             si_composed_previous_out, at);
+             si_composed_previous, at);
 #endif
 #else
   // One flat pass over the view's records: composed record = the view's record.
@@ -122,11 +116,11 @@ void main() {
   // Its first drawn slot: its layer records, previous index and extra layers there.
   uint at = g * 3u, drawn_slot = entry.y, layer = u_layer_word + drawn_slot;
   SiInstance inst = siRingRecord(entry.x);
-  SI_COMPOSE(inst, si_ring[layer], drawn_slot, false, k, si_composed_out, at);
+  SI_COMPOSE(inst, si_ring[layer], drawn_slot, false, k, si_composed, at);
 #ifdef SI_MOTION_VECTORS
   SiInstance prev = siPreviousRecord(drawn_slot, inst);
   SI_COMPOSE(prev, si_ring[layer + u_previous_layer_shift], drawn_slot, true, k,
-             si_composed_previous_out, at);
+             si_composed_previous, at);
 #endif
 #endif
 }

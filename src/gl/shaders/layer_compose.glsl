@@ -36,13 +36,21 @@ int siComposedSlot(uvec4 layer, uint k) {
   return si_compose_table[3u + masks * slots + siLayerMask(layer) * siComposeStride() + k];
 }
 
+// The rows and the previous ones: the compose pass writes them, the skinning reads them
+// (SI_COMPOSED_READ).
 #ifdef SI_COMPOSED_READ
-layout(std430, binding = 26) readonly buffer SiComposedRows { vec4 si_composed[]; };
+#define SI_COMPOSED_ACCESS readonly
+#else
+#define SI_COMPOSED_ACCESS writeonly
+#endif
+layout(std430, binding = 26) SI_COMPOSED_ACCESS buffer SiComposedRows { vec4 si_composed[]; };
 #ifdef SI_PREVIOUS_RECORDS
-layout(std430, binding = 27) readonly buffer SiComposedPreviousRows {
+layout(std430, binding = 27) SI_COMPOSED_ACCESS buffer SiComposedPreviousRows {
   vec4 si_composed_previous[];
 };
 #endif
+
+#ifdef SI_COMPOSED_READ
 #ifdef SI_COMPOSED_BY_SLOT
 layout(std430, binding = 30) readonly buffer SiComposedSlots { uint si_composed_slots[]; };
 // drawCrowd: the composed record of slot `slot` (the batch's first slot plus the place).
@@ -55,30 +63,26 @@ vec4 siComposedRow(bool previous, uint at) {
   return si_composed[at];
 }
 
+// The rows of palette slot `joint` from composed record `record` (its previous rows with
+// `previous`) where the overlay's mask holds it; elsewhere siInstanceJointRows.
+void siComposedJointRows(SiInstance inst, uvec4 layer, uint record, bool previous, uint joint,
+                         out vec4 r0, out vec4 r1, out vec4 r2) {
+  int c = siComposedIndex(layer, joint);
+  if (c < 0) {
+    siInstanceJointRows(inst, joint, r0, r1, r2);
+    return;
+  }
+  uint at = (record * siComposeStride() + uint(c)) * 3u;
+  r0 = siComposedRow(previous, at);
+  r1 = siComposedRow(previous, at + 1u);
+  r2 = siComposedRow(previous, at + 2u);
+}
+
 // siSkinLayered with composed record `record`'s rows (the previous records' when `previous`):
 // masked influences read three rows, the others fetch and interpolate the palette as siSkin.
 void siSkinComposed(SiInstance inst, uvec4 layer, uint record, bool previous, uvec4 joints,
                     vec4 weights, out vec4 m0, out vec4 m1, out vec4 m2) {
-  m0 = vec4(0.0);
-  m1 = vec4(0.0);
-  m2 = vec4(0.0);
-  for (int k = 0; k < 4; ++k) {
-    float w = weights[k];
-    if (w == 0.0) continue;
-    vec4 r0, r1, r2;
-    int c = siComposedIndex(layer, joints[k]);
-    if (c < 0) {
-      siInstanceJointRows(inst, joints[k], r0, r1, r2);
-    } else {
-      uint at = (record * siComposeStride() + uint(c)) * 3u;
-      r0 = siComposedRow(previous, at);
-      r1 = siComposedRow(previous, at + 1u);
-      r2 = siComposedRow(previous, at + 2u);
-    }
-    m0 += w * r0;
-    m1 += w * r1;
-    m2 += w * r2;
-  }
+  SI_SKIN_SUM(joints, weights, siComposedJointRows(inst, layer, record, previous, joint, r0, r1, r2))
 }
 #endif
 #endif

@@ -108,6 +108,17 @@ vec4 siSourceTangent(uint source) {
   return siUnpackSigned1010102(si_source[source * words + words - 1u - siTrailingWords()]);
 }
 
+// Layer record `i` of the frame (siPreviousLayer: of the previous frame); none without SI_LAYERS.
+#ifdef SI_LAYERS
+uvec4 siLayer(uint i) { return si_layers[i]; }
+#ifdef SI_PREVIOUS_RECORDS
+uvec4 siPreviousLayer(uint i) { return si_previous_layers[i]; }
+#endif
+#else
+uvec4 siLayer(uint i) { return uvec4(0u); }
+uvec4 siPreviousLayer(uint i) { return uvec4(0u); }
+#endif
+
 // The blended joint matrix rows of `inst` for `joints` and `weights`: with SI_LAYERS its overlay
 // `layer` composed on its mask; with SI_COMPOSED_LAYERS read from composed record `record`'s
 // rows (its previous rows with `previous`).
@@ -122,6 +133,16 @@ void siPreSkinMatrix(SiInstance inst, uvec4 layer, uint record, bool previous, u
 #endif
 }
 
+// Source vertex `source`'s bind-pose position `p` and normal `n`, and its blended joint matrix
+// rows for `inst` (siPreSkinMatrix).
+void siPreSkinSource(uint source, SiInstance inst, uvec4 layer, uint record, bool previous,
+                     out vec3 p, out vec3 n, out vec4 m0, out vec4 m1, out vec4 m2) {
+  uvec4 joints;
+  vec4 weights;
+  siSourceVertex(source, p, n, joints, weights);
+  siPreSkinMatrix(inst, layer, record, previous, joints, weights, m0, m1, m2);
+}
+
 // Source vertex `source` skinned for `inst` (with SI_LAYERS, its overlay `layer` composed on its
 // mask; with SI_COMPOSED_LAYERS read from composed record `record`'s rows): camera-relative
 // world position, and the normal octahedral-encoded in the w component's bits; `tangent` the
@@ -129,11 +150,8 @@ void siPreSkinMatrix(SiInstance inst, uvec4 layer, uint record, bool previous, u
 // or the packed "no tangent" without siHasTangents().
 vec4 siPreSkin(uint source, SiInstance inst, uvec4 layer, uint record, out uint tangent) {
   vec3 p, n;
-  uvec4 joints;
-  vec4 weights;
-  siSourceVertex(source, p, n, joints, weights);
   vec4 m0, m1, m2;
-  siPreSkinMatrix(inst, layer, record, false, joints, weights, m0, m1, m2);
+  siPreSkinSource(source, inst, layer, record, false, p, n, m0, m1, m2);
   vec4 w0 = inst.world_rows[0], w1 = inst.world_rows[1], w2 = inst.world_rows[2];
   vec3 world = siTransformPoint(w0, w1, w2, siTransformPoint(m0, m1, m2, p));
   vec3 normal = siTransformNormal(w0, w1, w2, siTransformNormal(m0, m1, m2, n));
@@ -153,13 +171,9 @@ vec4 siPreSkin(uint source, SiInstance inst, uvec4 layer, uint record, out uint 
 // rows), as siSkinPrevious: world position relative to the previous camera.
 vec3 siPreSkinPrevious(uint source, SiInstance prev, uvec4 prev_layer, uint record) {
   vec3 p, n;
-  uvec4 joints;
-  vec4 weights;
-  siSourceVertex(source, p, n, joints, weights);
   vec4 m0, m1, m2;
-  siPreSkinMatrix(prev, prev_layer, record, true, joints, weights, m0, m1, m2);
-  return siTransformPoint(prev.world_rows[0], prev.world_rows[1], prev.world_rows[2],
-                          siTransformPoint(m0, m1, m2, p));
+  siPreSkinSource(source, prev, prev_layer, record, true, p, n, m0, m1, m2);
+  return siPlacePoint(prev, m0, m1, m2, p);
 }
 #endif
 #endif

@@ -18,6 +18,13 @@ void siAffineInverse(vec4 r0, vec4 r1, vec4 r2, out vec4 i0, out vec4 i1, out ve
 vec4 siMulRow(vec4 a, vec4 b0, vec4 b1, vec4 b2) {
   return a.x * b0 + a.y * b1 + a.z * b2 + vec4(0.0, 0.0, 0.0, a.w);
 }
+// Rows C = A * B for affine rows (C may be A or B: GLSL copies arguments in and out).
+void siMulRows(vec4 a0, vec4 a1, vec4 a2, vec4 b0, vec4 b1, vec4 b2, out vec4 c0, out vec4 c1,
+               out vec4 c2) {
+  c0 = siMulRow(a0, b0, b1, b2);
+  c1 = siMulRow(a1, b0, b1, b2);
+  c2 = siMulRow(a2, b0, b1, b2);
+}
 
 // Quaternions are (x, y, z, w).
 // The unit quaternion of the rotation in rows (r0, r1, r2) (Shepperd's method).
@@ -94,10 +101,22 @@ void siLinkRows(SiInstance inst, uvec4 layer, int slot, out vec4 b0, out vec4 b1
 void siRelativeRows(vec4 p0, vec4 p1, vec4 p2, inout vec4 c0, inout vec4 c1, inout vec4 c2) {
   vec4 i0, i1, i2;
   siAffineInverse(p0, p1, p2, i0, i1, i2);
-  vec4 d0 = siMulRow(i0, c0, c1, c2), d1 = siMulRow(i1, c0, c1, c2);
-  c2 = siMulRow(i2, c0, c1, c2);
-  c0 = d0;
-  c1 = d1;
+  siMulRows(i0, i1, i2, c0, c1, c2, c0, c1, c2);
+}
+// One link up a chain walk: the rows composed so far, x, placed under the link's rows l
+// (x = l * x), and the walk's lower rows r moved to the link's upper end p.
+void siChainClimb(vec4 l0, vec4 l1, vec4 l2, vec4 p0, vec4 p1, vec4 p2, inout vec4 x0,
+                  inout vec4 x1, inout vec4 x2, out vec4 r0, out vec4 r1, out vec4 r2) {
+  siMulRows(l0, l1, l2, x0, x1, x2, x0, x1, x2);
+  r0 = p0;
+  r1 = p1;
+  r2 = p2;
+}
+// The bind origin of masked slot `link` in the mask table from `table` (the pivot its local
+// blend turns about).
+vec3 siLinkPivot(uint table, uint slots, uint link) {
+  uint at = table + 2u * slots + 3u * link;
+  return intBitsToFloat(ivec3(si_mask_anchor[at], si_mask_anchor[at + 1u], si_mask_anchor[at + 2u]));
 }
 
 // A layer record's mask index (bit 31 of its last word flags a 2D blend's extra layers).
@@ -121,9 +140,7 @@ void siLayeredJointRows(SiInstance inst, uvec4 layer, uint joint, out vec4 r0, o
   if (w >= 1.0) {  // Base anchor * inverse(overlay anchor) * overlay.
     siLinkRows(inst, layer, anchor, p0, p1, p2, q0, q1, q2);
     siRelativeRows(q0, q1, q2, o0, o1, o2);
-    r0 = siMulRow(p0, o0, o1, o2);
-    r1 = siMulRow(p1, o0, o1, o2);
-    r2 = siMulRow(p2, o0, o1, o2);
+    siMulRows(p0, p1, p2, o0, o1, o2, r0, r1, r2);
     return;
   }
   // Between: each link from the joint up to the anchor (its masked parent slots) blended in
@@ -136,17 +153,9 @@ void siLayeredJointRows(SiInstance inst, uvec4 layer, uint joint, out vec4 r0, o
     siLinkRows(inst, layer, parent >= 0 ? parent : anchor, p0, p1, p2, q0, q1, q2);
     siRelativeRows(p0, p1, p2, r0, r1, r2);
     siRelativeRows(q0, q1, q2, o0, o1, o2);
-    uint at = table + 2u * slots + 3u * link;
-    vec3 pivot = intBitsToFloat(ivec3(si_mask_anchor[at], si_mask_anchor[at + 1u], si_mask_anchor[at + 2u]));
     vec4 l0, l1, l2;
-    siLocalBlend(r0, r1, r2, o0, o1, o2, pivot, w, l0, l1, l2);
-    vec4 n0 = siMulRow(l0, x0, x1, x2), n1 = siMulRow(l1, x0, x1, x2);
-    x2 = siMulRow(l2, x0, x1, x2);
-    x0 = n0;
-    x1 = n1;
-    r0 = p0;
-    r1 = p1;
-    r2 = p2;
+    siLocalBlend(r0, r1, r2, o0, o1, o2, siLinkPivot(table, slots, link), w, l0, l1, l2);
+    siChainClimb(l0, l1, l2, p0, p1, p2, x0, x1, x2, r0, r1, r2);
     o0 = q0;
     o1 = q1;
     o2 = q2;
@@ -154,10 +163,7 @@ void siLayeredJointRows(SiInstance inst, uvec4 layer, uint joint, out vec4 r0, o
     link = uint(parent);
   }
   // The chain's last link hangs from the anchor, whose base rows r now holds.
-  vec4 a0 = r0, a1 = r1, a2 = r2;
-  r0 = siMulRow(a0, x0, x1, x2);
-  r1 = siMulRow(a1, x0, x1, x2);
-  r2 = siMulRow(a2, x0, x1, x2);
+  siMulRows(r0, r1, r2, x0, x1, x2, r0, r1, r2);
 }
 
 // Layer record `layer`'s rows of palette slot `slot`; the identity for -1 (the model anchor).
@@ -208,9 +214,7 @@ void siLayeredChainRows(SiInstance inst, uvec4 layer, uvec4 e1, uvec4 e2, uint j
     siLayerSlotRows(l[last], anchor, q0, q1, q2);
     siLayerSlotRows(l[last], int(joint), o0, o1, o2);
     siRelativeRows(q0, q1, q2, o0, o1, o2);
-    r0 = siMulRow(a0, o0, o1, o2);
-    r1 = siMulRow(a1, o0, o1, o2);
-    r2 = siMulRow(a2, o0, o1, o2);
+    siMulRows(a0, a1, a2, o0, o1, o2, r0, r1, r2);
     return;
   }
   bool from_layer = w[first] >= 1.0;
@@ -226,8 +230,7 @@ void siLayeredChainRows(SiInstance inst, uvec4 layer, uvec4 e1, uvec4 e2, uint j
     vec4 p0, p1, p2;
     siBaseSlotRows(inst, up, p0, p1, p2);
     siRelativeRows(p0, p1, p2, r0, r1, r2);
-    uint at = table + 2u * slots + 3u * link;
-    vec3 pivot = intBitsToFloat(ivec3(si_mask_anchor[at], si_mask_anchor[at + 1u], si_mask_anchor[at + 2u]));
+    vec3 pivot = siLinkPivot(table, slots, link);
     for (int k = first; k < 3; ++k) {
       if (!(w[k] > 0.0)) continue;
       vec4 q0, q1, q2;
@@ -248,38 +251,18 @@ void siLayeredChainRows(SiInstance inst, uvec4 layer, uvec4 e1, uvec4 e2, uint j
       c[3 * k + 1] = q1;
       c[3 * k + 2] = q2;
     }
-    vec4 n0 = siMulRow(r0, x0, x1, x2), n1 = siMulRow(r1, x0, x1, x2);
-    x2 = siMulRow(r2, x0, x1, x2);
-    x0 = n0;
-    x1 = n1;
-    r0 = p0;
-    r1 = p1;
-    r2 = p2;
+    siChainClimb(r0, r1, r2, p0, p1, p2, x0, x1, x2, r0, r1, r2);
     if (parent < 0) break;
     link = uint(parent);
   }
   // The chain's last link hangs from the anchor, whose base rows r now holds.
-  vec4 b0 = r0, b1 = r1, b2 = r2;
-  r0 = siMulRow(b0, x0, x1, x2);
-  r1 = siMulRow(b1, x0, x1, x2);
-  r2 = siMulRow(b2, x0, x1, x2);
+  siMulRows(r0, r1, r2, x0, x1, x2, r0, r1, r2);
 }
 
 // siSkin with the instance's overlay (its layer record) on its mask.
 void siSkinLayered(SiInstance inst, uvec4 layer, uvec4 joints, vec4 weights, out vec4 m0,
                    out vec4 m1, out vec4 m2) {
-  m0 = vec4(0.0);
-  m1 = vec4(0.0);
-  m2 = vec4(0.0);
-  for (int k = 0; k < 4; ++k) {
-    float w = weights[k];
-    if (w == 0.0) continue;
-    vec4 r0, r1, r2;
-    siLayeredJointRows(inst, layer, joints[k], r0, r1, r2);
-    m0 += w * r0;
-    m1 += w * r1;
-    m2 += w * r2;
-  }
+  SI_SKIN_SUM(joints, weights, siLayeredJointRows(inst, layer, joint, r0, r1, r2))
 }
 #ifdef SI_PREVIOUS_RECORDS
 // siSkinPrevious with the slot's previous layer record (InstanceBatcher::buildPreviousLayers):
@@ -288,8 +271,7 @@ vec3 siSkinPreviousLayered(uint instance, uvec4 joints, vec4 weights, vec3 posit
   SiInstance prev = si_previous_instances[instance];
   vec4 m0, m1, m2;
   siSkinLayered(prev, si_previous_layers[instance], joints, weights, m0, m1, m2);
-  return siTransformPoint(prev.world_rows[0], prev.world_rows[1], prev.world_rows[2],
-                          siTransformPoint(m0, m1, m2, position));
+  return siPlacePoint(prev, m0, m1, m2, position);
 }
 #endif
 #endif

@@ -206,20 +206,34 @@ void siInstanceJointRows(SiInstance inst, uint joint, out vec4 r0, out vec4 r1, 
   }
 }
 
+// The skinning matrix rows m0, m1, m2: the rows of up to 4 influences blended by `weights`,
+// branching past zero weights. READ_ROWS is the statement that reads influence joint `joint`'s
+// rows into r0, r1, r2 (siSkin, siSkinLayered, siSkinComposed each read them their own way).
+#define SI_SKIN_SUM(joints, weights, READ_ROWS) \
+  m0 = vec4(0.0);                               \
+  m1 = vec4(0.0);                               \
+  m2 = vec4(0.0);                               \
+  for (int si_k = 0; si_k < 4; ++si_k) {        \
+    float si_w = weights[si_k];                 \
+    if (si_w == 0.0) continue;                  \
+    uint joint = joints[si_k];                  \
+    vec4 r0, r1, r2;                            \
+    READ_ROWS;                                  \
+    m0 += si_w * r0;                            \
+    m1 += si_w * r1;                            \
+    m2 += si_w * r2;                            \
+  }
+
 // Blends the matrices of up to 4 influences by weight, branching past zero weights.
 void siSkin(SiInstance inst, uvec4 joints, vec4 weights, out vec4 m0, out vec4 m1, out vec4 m2) {
-  m0 = vec4(0.0);
-  m1 = vec4(0.0);
-  m2 = vec4(0.0);
-  for (int k = 0; k < 4; ++k) {
-    float w = weights[k];
-    if (w == 0.0) continue;
-    vec4 r0, r1, r2;
-    siInstanceJointRows(inst, joints[k], r0, r1, r2);
-    m0 += w * r0;
-    m1 += w * r1;
-    m2 += w * r2;
-  }
+  SI_SKIN_SUM(joints, weights, siInstanceJointRows(inst, joint, r0, r1, r2))
+}
+
+// Where bind-pose `position`, skinned by rows m0, m1, m2, stands placed by record `inst`: its
+// camera-relative world position.
+vec3 siPlacePoint(SiInstance inst, vec4 m0, vec4 m1, vec4 m2, vec3 position) {
+  return siTransformPoint(inst.world_rows[0], inst.world_rows[1], inst.world_rows[2],
+                          siTransformPoint(m0, m1, m2, position));
 }
 
 #ifdef SI_PREVIOUS_RECORDS
@@ -230,8 +244,7 @@ vec3 siSkinPrevious(uint instance, uvec4 joints, vec4 weights, vec3 position) {
   SiInstance prev = si_previous_instances[instance];
   vec4 m0, m1, m2;
   siSkin(prev, joints, weights, m0, m1, m2);
-  return siTransformPoint(prev.world_rows[0], prev.world_rows[1], prev.world_rows[2],
-                          siTransformPoint(m0, m1, m2, position));
+  return siPlacePoint(prev, m0, m1, m2, position);
 }
 #endif
 

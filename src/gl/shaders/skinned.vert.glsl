@@ -174,8 +174,7 @@ void main() {
 #else
   siSkin(prev, a_joints, a_weights, p0, p1, p2);
 #endif
-  vec3 previous = siTransformPoint(prev.world_rows[0], prev.world_rows[1], prev.world_rows[2],
-                                   siTransformPoint(p0, p1, p2, a_position));
+  vec3 previous = siPlacePoint(prev, p0, p1, p2, a_position);
   v_motion_previous = u_previous_view_projection * vec4(previous, 1.0);
 #endif
 }
