@@ -89,17 +89,10 @@ SI_LANES_INLINE void selectLanes(const Params& p, const LodLines& lines, Lanes& 
                                  bool fades = true) {
   using f8 = LaneFloats;
   using i8 = LaneMasks;
-#define SI_LOAD(dst, src) std::memcpy(&(dst), (src) + base, sizeof(dst))
 #define SI_BLEND(m, a, b) (((m) & (a)) | (~(m) & (b)))
   f8 rx, ry, rz, qx, qy, qz, qw, s;
-  SI_LOAD(rx, l.rx);
-  SI_LOAD(ry, l.ry);
-  SI_LOAD(rz, l.rz);
-  SI_LOAD(qx, l.qx);
-  SI_LOAD(qy, l.qy);
-  SI_LOAD(qz, l.qz);
-  SI_LOAD(qw, l.qw);
-  SI_LOAD(s, l.s);
+  lanes::loadLanes(base, rx, l.rx, ry, l.ry, rz, l.rz, qx, l.qx, qy, l.qy, qz, l.qz, qw, l.qw, s,
+                   l.s);
   const f8 radius = p.radius * s;
   f8 d2;
   i8 by_distance;
@@ -108,9 +101,7 @@ SI_LANES_INLINE void selectLanes(const Params& p, const LodLines& lines, Lanes& 
   const auto center = [&](const float* cx, const float* cy, const float* cz, f8* ox, f8* oy,
                           f8* oz) {
     f8 vx, vy, vz;
-    SI_LOAD(vx, cx);
-    SI_LOAD(vy, cy);
-    SI_LOAD(vz, cz);
+    lanes::loadLanes(base, vx, cx, vy, cy, vz, cz);
     vx = vx * s;
     vy = vy * s;
     vz = vz * s;
@@ -122,7 +113,7 @@ SI_LANES_INLINE void selectLanes(const Params& p, const LodLines& lines, Lanes& 
   };
   f8 cax, cay, caz, ar;
   center(l.ax, l.ay, l.az, &cax, &cay, &caz);
-  SI_LOAD(ar, l.ar);
+  lanes::loadLanes(base, ar, l.ar);
   const f8 ra = ar * s;
   i8 inside = ~i8{};
   if (!fades) {  // Clip B's sphere is clip A's in every lane: one test a plane.
@@ -131,7 +122,7 @@ SI_LANES_INLINE void selectLanes(const Params& p, const LodLines& lines, Lanes& 
   } else {
     f8 cbx, cby, cbz, br;
     center(l.bx, l.by, l.bz, &cbx, &cby, &cbz);
-    SI_LOAD(br, l.br);
+    lanes::loadLanes(base, br, l.br);
     const f8 rb = br * s;
     for (const glm::vec4& plane : p.planes) {
       const i8 a_in = ((plane.x * cax + plane.y * cay) + plane.z * caz) + plane.w >= -ra;
@@ -141,7 +132,7 @@ SI_LANES_INLINE void selectLanes(const Params& p, const LodLines& lines, Lanes& 
   }
   // LOD with hysteresis: up while past the next line, then down while inside the previous one.
   i8 lod;
-  SI_LOAD(lod, l.lod);
+  lanes::loadLanes(base, lod, l.lod);
   const int32_t top = int32_t(p.lod_count) - 1;
   lod = SI_BLEND(lod < (i8{} + top), lod, i8{} + top);
   i8 moving = ~i8{};
@@ -171,7 +162,6 @@ SI_LANES_INLINE void selectLanes(const Params& p, const LodLines& lines, Lanes& 
   std::memcpy(l.lod + base, &lod, sizeof lod);
   std::memcpy(l.result + base, &result, sizeof result);
 #undef SI_BLEND
-#undef SI_LOAD
 }
 
 }  // namespace SI_LANES_NAMESPACE

@@ -8,6 +8,7 @@
 // What the lane code uses, in both:
 // - LaneVector<T, N>: N lanes of T with + - * (also with a scalar), the comparisons (a mask:
 //   every bit set where true, the integer type of T's width), & | ~ on integer lanes, += -=;
+// - loadLanes(at, a, pa, b, pb, ...): each vector loaded from its array;
 // - SI_LANES_CAST(Type, v): the same bits as another lane type of the same width;
 // - SI_LANES_CONVERT(v, Type): each lane converted (as static_cast, truncating toward zero);
 // - SI_LANES_INLINE: always inlined (the vector types never cross a call);
@@ -70,17 +71,25 @@ struct LaneVector {
   T& operator[](int k) { return v[k]; }
   const T& operator[](int k) const { return v[k]; }
 
-#define SI_LANES_BINARY(op)                                                 \
-  friend LaneVector operator op(const LaneVector& a, const LaneVector& b) { \
-    LaneVector r;                                                           \
-    for (int k = 0; k < N; ++k) r.v[k] = T(a.v[k] op b.v[k]);               \
-    return r;                                                               \
-  }                                                                         \
-  friend LaneVector operator op(const LaneVector& a, T b) {                 \
-    return a op splat(b);                                                   \
-  }                                                                         \
-  friend LaneVector operator op(T a, const LaneVector& b) {                 \
-    return splat(a) op b;                                                   \
+  // Lane by lane: each lane of `a op b` converted by `lane` into a lane of Result (T itself,
+  // or a mask lane), with a scalar on either side too.
+  static typename MaskLane<sizeof(T)>::type maskLane(bool x) { return x ? -1 : 0; }
+#define SI_LANES_OP(op, Result, lane)                                   \
+  friend Result operator op(const LaneVector& a, const LaneVector& b) { \
+    Result r;                                                           \
+    for (int k = 0; k < N; ++k) r.v[k] = lane(a.v[k] op b.v[k]);        \
+    return r;                                                           \
+  }                                                                     \
+  friend Result operator op(const LaneVector& a, T b) {                 \
+    return a op splat(b);                                               \
+  }                                                                     \
+  friend Result operator op(T a, const LaneVector& b) {                 \
+    return splat(a) op b;                                               \
+  }
+#define SI_LANES_BINARY(op)                         \
+  SI_LANES_OP(op, LaneVector, T)                    \
+  LaneVector& operator op##=(const LaneVector& b) { \
+    return *this = *this op b;                      \
   }
   SI_LANES_BINARY(+)
   SI_LANES_BINARY(-)
@@ -88,47 +97,23 @@ struct LaneVector {
   SI_LANES_BINARY(&)
   SI_LANES_BINARY(|)
 #undef SI_LANES_BINARY
-  LaneVector& operator+=(const LaneVector& b) {
-    return *this = *this + b;
+#define SI_LANES_UNARY(op)                             \
+  friend LaneVector operator op(const LaneVector& a) { \
+    LaneVector r;                                      \
+    for (int k = 0; k < N; ++k) r.v[k] = T(op a.v[k]); \
+    return r;                                          \
   }
-  LaneVector& operator-=(const LaneVector& b) {
-    return *this = *this - b;
-  }
-  LaneVector& operator&=(const LaneVector& b) {
-    return *this = *this & b;
-  }
-  LaneVector& operator|=(const LaneVector& b) {
-    return *this = *this | b;
-  }
-  friend LaneVector operator~(const LaneVector& a) {
-    LaneVector r;
-    for (int k = 0; k < N; ++k) r.v[k] = T(~a.v[k]);
-    return r;
-  }
-  friend LaneVector operator-(const LaneVector& a) {
-    LaneVector r;
-    for (int k = 0; k < N; ++k) r.v[k] = T(-a.v[k]);
-    return r;
-  }
-
-#define SI_LANES_COMPARE(op)                                          \
-  friend Mask operator op(const LaneVector& a, const LaneVector& b) { \
-    Mask r;                                                           \
-    for (int k = 0; k < N; ++k) r.v[k] = a.v[k] op b.v[k] ? -1 : 0;   \
-    return r;                                                         \
-  }                                                                   \
-  friend Mask operator op(const LaneVector& a, T b) {                 \
-    return a op splat(b);                                             \
-  }                                                                   \
-  friend Mask operator op(T a, const LaneVector& b) {                 \
-    return splat(a) op b;                                             \
-  }
+  SI_LANES_UNARY(~)
+  SI_LANES_UNARY(-)
+#undef SI_LANES_UNARY
+#define SI_LANES_COMPARE(op) SI_LANES_OP(op, Mask, maskLane)
   SI_LANES_COMPARE(<)
   SI_LANES_COMPARE(<=)
   SI_LANES_COMPARE(>)
   SI_LANES_COMPARE(>=)
   SI_LANES_COMPARE(==)
 #undef SI_LANES_COMPARE
+#undef SI_LANES_OP
 
   static LaneVector splat(T x) {
     LaneVector r;
@@ -157,6 +142,14 @@ To laneConvert(const From& from) {
 #define SI_LANES_CONVERT(v, Type) (::si::lanes::laneConvert<Type>(v))
 
 #endif
+
+/// Loads each lane vector from its array, from element `at` on: loadLanes(at, a, pa, b, pb, ...)
+/// copies pa[at...] into a, pb[at...] into b, and so on.
+template <typename V, typename E, typename... Rest>
+SI_LANES_INLINE void loadLanes(uint32_t at, V& dst, const E* src, Rest&&... rest) {
+  std::memcpy(&dst, src + at, sizeof dst);
+  if constexpr (sizeof...(Rest) > 0) loadLanes(at, static_cast<Rest&&>(rest)...);
+}
 
 }  // namespace SI_LANES_NAMESPACE
 }  // namespace si::lanes

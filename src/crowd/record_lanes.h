@@ -42,15 +42,10 @@ inline namespace SI_LANES_NAMESPACE {  // lane_vectors.h: one set of symbols per
 /// inlined: the vector types never cross a call.
 SI_LANES_INLINE void computeRecordLanes(double clock, RecordLanes& l, uint32_t base) {
   using f8 = lanes::LaneVector<float, 8>;
-#define SI_LOAD(dst, src) std::memcpy(&(dst), (src) + base, sizeof(dst))
 #define SI_BLEND(m, a, b) (((m) & (a)) | (~(m) & (b)))
   // World rows: glm::mat3_cast(q) * s, transposed into rows.
   f8 qx, qy, qz, qw, s;
-  SI_LOAD(qx, l.qx);
-  SI_LOAD(qy, l.qy);
-  SI_LOAD(qz, l.qz);
-  SI_LOAD(qw, l.qw);
-  SI_LOAD(s, l.s);
+  lanes::loadLanes(base, qx, l.qx, qy, l.qy, qz, l.qz, qw, l.qw, s, l.s);
   const f8 qxx = qx * qx, qyy = qy * qy, qzz = qz * qz, qxz = qx * qz, qxy = qx * qy;
   const f8 qyz = qy * qz, qwx = qw * qx, qwy = qw * qy, qwz = qw * qz;
   const f8 m[3][3] = {
@@ -67,20 +62,14 @@ SI_LANES_INLINE void computeRecordLanes(double clock, RecordLanes& l, uint32_t b
   using i4 = lanes::LaneVector<int32_t, 4>;
   using f4 = lanes::LaneVector<float, 4>;
   for (uint32_t half = base; half < base + 8; half += 4) {
-#define SI_LOAD4(dst, src) std::memcpy(&(dst), (src) + half, sizeof(dst))
 #define SI_DBLEND(m, a, b) \
   SI_LANES_CAST(d4, SI_BLEND((m), SI_LANES_CAST(l4, a), SI_LANES_CAST(l4, b)))
     d4 start_time, start_clock, speed, duration, inv_duration, inv_interval, last;
-    SI_LOAD4(start_time, l.start_time);
-    SI_LOAD4(start_clock, l.start_clock);
-    SI_LOAD4(speed, l.speed);
-    SI_LOAD4(duration, l.duration);
-    SI_LOAD4(inv_duration, l.inv_duration);
-    SI_LOAD4(inv_interval, l.inv_interval);
-    SI_LOAD4(last, l.last_interval);
+    lanes::loadLanes(half, start_time, l.start_time, start_clock, l.start_clock, speed, l.speed,
+                     duration, l.duration, inv_duration, l.inv_duration, inv_interval,
+                     l.inv_interval, last, l.last_interval);
     i4 scalar_in, loop_in;
-    SI_LOAD4(scalar_in, l.scalar);
-    SI_LOAD4(loop_in, l.loop);
+    lanes::loadLanes(half, scalar_in, l.scalar, loop_in, l.loop);
     const d4 zero = {}, one = zero + 1.0;
     const d4 t = start_time + (clock - start_clock) * speed;
     l4 scalar = SI_LANES_CONVERT(scalar_in, l4);
@@ -112,11 +101,9 @@ SI_LANES_INLINE void computeRecordLanes(double clock, RecordLanes& l, uint32_t b
     std::memcpy(l.frame + half, &frame, sizeof frame);
     std::memcpy(l.fraction + half, &fraction, sizeof fraction);
     std::memcpy(l.scalar + half, &scalar_out, sizeof scalar_out);
-#undef SI_LOAD4
   }
 #undef SI_DBLEND
 #undef SI_BLEND
-#undef SI_LOAD
 }
 
 }  // namespace SI_LANES_NAMESPACE

@@ -223,7 +223,12 @@ layout(location = 3) in uvec4 a_joints;
 layout(location = 4) in vec4 a_weights;
 layout(location = 1) uniform mat4 u_view_projection;
 out vec3 v_tint;
+out vec3 v_own;
 flat out int v_custom_layer;
+// A host's own rows through the include's 4-influence sum.
+void ownSkin(SiInstance inst, uvec4 joints, vec4 weights, out vec4 m0, out vec4 m1, out vec4 m2) {
+  SI_SKIN_SUM(joints, weights, siInstanceJointRows(inst, joint, r0, r1, r2); r0 = -r0)
+}
 void main() {
   SiInstance inst = si_instances[gl_InstanceID];
   v_tint = siInstanceTint(inst);
@@ -233,6 +238,8 @@ void main() {
   vec3 model = siTransformPoint(m0, m1, m2, a_position);
   vec3 world = siTransformPoint(inst.world_rows[0], inst.world_rows[1], inst.world_rows[2], model);
   gl_Position = u_view_projection * vec4(world, 1.0);
+  ownSkin(inst, a_joints, a_weights, m0, m1, m2);
+  v_own = siPlacePoint(inst, m0, m1, m2, a_position);
 }
 )";
 }
@@ -251,7 +258,7 @@ TEST(GlslCheck, UserShaderOnThePublicIncludeCompiles) {
                                  "vert", "user_previous_layers"),
               "");
   // The interface version is part of the include.
-  EXPECT_NE(std::string(skinningGlsl()).find("#define SI_GLSL_INTERFACE_VERSION 9"),
+  EXPECT_NE(std::string(skinningGlsl()).find("#define SI_GLSL_INTERFACE_VERSION 10"),
             std::string::npos);
 }
 

@@ -58,20 +58,16 @@ void composeLayers(const DrawResources& r, const PathFrame& f, DrawStats* st) {
   r.scratch->layer_compose.bind(f.motion);
   r.ring->bindRegion(f.ring_base, f.ring_bytes, 24);
   if (f.compose_slot_bytes > 0) r.ring->bindRegion(f.compose_slots_base, f.compose_slot_bytes, 30);
-  if (f.motion) {  // The previous records through their indices; the previous layer records
-                   // in the same slots at their block's offset.
-    bindPreviousRecords(r, compose, f);
-    glProgramUniform1ui(compose.id, 6, uint32_t((f.previous_layer_base - f.layer_base) / 16));
-  }
+  // The previous records through their indices; the previous layer records in the same slots
+  // at their block's offset.
+  if (f.motion) bindPreviousRecords(r, compose, f);
+  const auto word = [&](uint64_t base) { return uint32_t((base - f.ring_base) / 16); };
+  glProgramUniform4ui(compose.id, 5, word(f.compose_entries_base), f.compose_records,
+                      word(f.layer_base),
+                      f.motion ? uint32_t((f.previous_layer_base - f.layer_base) / 16) : 0u);
   // 2D blends' extra layer records, by word from the region's start (0: none).
-  glProgramUniform1ui(compose.id, 7,
-                      f.extras ? uint32_t((f.extra_layer_base - f.ring_base) / 16) : 0u);
-  if (f.motion)
-    glProgramUniform1ui(compose.id, 10,
-                        f.extras ? uint32_t((f.previous_extra_base - f.ring_base) / 16) : 0u);
-  glProgramUniform1ui(compose.id, 5, uint32_t((f.compose_entries_base - f.ring_base) / 16));
-  glProgramUniform1ui(compose.id, 11, f.compose_records);
-  glProgramUniform1ui(compose.id, 12, uint32_t((f.layer_base - f.ring_base) / 16));
+  glProgramUniform2ui(compose.id, 6, f.extras ? word(f.extra_layer_base) : 0u,
+                      f.extras && f.motion ? word(f.previous_extra_base) : 0u);
   const uint64_t invocations = uint64_t(f.compose_records) * f.compose_stride;
   // prepareComposedRows checked that the grid holds them: dispatchGroups cannot refuse.
   (void)dispatchGroups(*r.info, (invocations + 63) / 64, "composed layers");
@@ -97,9 +93,7 @@ void composeGpuLayers(const DrawResources& r, bool motion, uint32_t stride, uint
   glUseProgram(compose.id);
   r.palette->bind();
   r.scratch->layer_compose.bind(motion);
-  glProgramUniform1ui(compose.id, 5, instances);
-  glProgramUniform1ui(compose.id, 6, extras);
-  if (motion) glProgramUniform1ui(compose.id, 7, previous_extras);
+  glProgramUniform3ui(compose.id, 5, instances, extras, motion ? previous_extras : 0u);
   const uint64_t invocations = uint64_t(instances) * stride;
   // prepareComposedRows checked that the grid holds them: dispatchGroups cannot refuse.
   (void)dispatchGroups(*r.info, (invocations + 63) / 64, "composed layers");

@@ -139,15 +139,6 @@ const char* embeddedShader(const char* name) {
   return nullptr;
 }
 
-const char* shaderStageName(ShaderStage stage) {
-  switch (stage) {
-    case ShaderStage::kVertex: return "vertex";
-    case ShaderStage::kFragment: return "fragment";
-    case ShaderStage::kCompute: return "compute";
-  }
-  return "unknown";
-}
-
 const ProgramSpec& programSpec(ProgramId id) { return kSpecs[size_t(id) % kProgramCount]; }
 
 ProgramId pullingProgram(bool gpu_driven, bool motion, bool tangents) {

@@ -76,7 +76,11 @@ enum class ProgramId : uint8_t {
 inline constexpr size_t kProgramCount = size_t(ProgramId::kCount);
 
 enum class ShaderStage : uint8_t { kVertex = 0, kFragment, kCompute };
-const char* shaderStageName(ShaderStage stage);
+inline const char* shaderStageName(ShaderStage stage) {
+  return stage == ShaderStage::kVertex     ? "vertex"
+         : stage == ShaderStage::kFragment ? "fragment"
+                                           : "compute";
+}
 
 /// How one program is made: each stage's file (null when the program has no such stage), the
 /// defines before it, and the varying transform feedback captures (or null).

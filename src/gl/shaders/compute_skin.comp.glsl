@@ -16,6 +16,8 @@
 #define SI_COMPOSED_BY_SLOT  // Each slot's composed record.
 #include "layer_compose.glsl"
 #endif
+#define SI_SKINNED_OUT_BINDING 1
+#define SI_SKINNED_PREVIOUS_OUT_BINDING 4
 #include "pre_skin_common.glsl"
 #include "dispatch_index.glsl"
 #ifdef SI_MOTION_VECTORS
@@ -27,11 +29,6 @@ layout(location = 7) uniform uint u_batch_slot;  // Its slots' composed records,
 const uint u_batch_slot = 0u;
 #endif
 layout(local_size_x = 64) in;
-layout(std430, binding = 1) writeonly buffer SiSkinnedOut { vec4 si_skinned_out[]; };
-layout(std430, binding = 28) writeonly buffer SiTangentsOut { uint si_tangents_out[]; };
-#ifdef SI_MOTION_VECTORS
-layout(std430, binding = 4) writeonly buffer SiSkinnedPreviousOut { vec4 si_previous_out[]; };
-#endif
 void main() {
   uint g = siFlatInvocation();
   uint i = g / u_chunk.y;
@@ -46,9 +43,7 @@ void main() {
 #else
   uint composed = slot;  // Unused.
 #endif
-  uint tangent;
-  si_skinned_out[u_chunk.x + g] = siPreSkin(source, inst, layer, composed, tangent);
-  if (siHasTangents()) si_tangents_out[u_chunk.x + g] = tangent;
+  siWritePreSkinned(u_chunk.x + g, source, inst, layer, composed);
 #ifdef SI_MOTION_VECTORS
   SiInstance prev = siPreviousRecord(slot, inst);
   si_previous_out[u_chunk.x + g] =

@@ -21,6 +21,8 @@
 #define SI_COMPOSED_READ
 #include "layer_compose.glsl"
 #endif
+#define SI_SKINNED_OUT_BINDING 13
+#define SI_SKINNED_PREVIOUS_OUT_BINDING 22
 #include "pre_skin_common.glsl"
 #include "cull_counters.glsl"
 #include "dispatch_index.glsl"
@@ -29,11 +31,6 @@ layout(location = 16) uniform uvec4 u_counts;  // instances, lod count, sub-mesh
 layout(std430, binding = 4) readonly buffer SiRecords { SiInstance si_records[]; };
 layout(std430, binding = 5) readonly buffer SiEntries { uint si_entries[]; };
 layout(std430, binding = 9) readonly buffer SiBucketInfo { uvec4 si_bucket_info[]; };
-layout(std430, binding = 13) writeonly buffer SiSkinnedOut { vec4 si_skinned_out[]; };
-layout(std430, binding = 28) writeonly buffer SiTangentsOut { uint si_tangents_out[]; };
-#ifdef SI_MOTION_VECTORS
-layout(std430, binding = 22) writeonly buffer SiSkinnedPreviousOut { vec4 si_previous_out[]; };
-#endif
 void main() {
   uint g = siFlatInvocation();
   uint buckets = u_counts.y * u_counts.z;
@@ -50,9 +47,7 @@ void main() {
   uint k = local - i * info.x;
   uint v = si_entries[si_bucket_offset[lo] + i];
   uint source = si_lod_vertices[info.y + k];
-  uint tangent;
-  si_skinned_out[g] = siPreSkin(source, si_records[v], siLayer(v), v, tangent);
-  if (siHasTangents()) si_tangents_out[g] = tangent;
+  siWritePreSkinned(g, source, si_records[v], siLayer(v), v);
 #ifdef SI_MOTION_VECTORS
   si_previous_out[g] =
       vec4(siPreSkinPrevious(source, si_previous_instances[v], siPreviousLayer(v), v), 1.0);

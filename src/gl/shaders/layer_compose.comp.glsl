@@ -28,18 +28,14 @@
 #include "dispatch_index.glsl"
 layout(local_size_x = 64) in;
 #ifdef SI_GPU_DRIVEN
-layout(location = 5) uniform uint u_instances;  // Bounds the visible count.
-// 2D blends: the cull pass's extra layer records, 2 per visible index, from this index of its
-// layer records (and of its previous ones).
-layout(location = 6) uniform uint u_extras;
-#ifdef SI_MOTION_VECTORS
-layout(location = 7) uniform uint u_previous_extras;
-#endif
+// x: the instances (bounds the visible count); 2D blends: the cull pass's extra layer records,
+// 2 per visible index, from index y of its layer records (z: of its previous ones).
+layout(location = 5) uniform uvec3 u_compose;
 uvec4 siExtraLayer(uint record, uint k, bool previous) {
 #ifdef SI_MOTION_VECTORS
-  if (previous) return si_previous_layers[u_previous_extras + 2u * record + k];
+  if (previous) return si_previous_layers[u_compose.z + 2u * record + k];
 #endif
-  return si_layers[u_extras + 2u * record + k];
+  return si_layers[u_compose.y + 2u * record + k];
 }
 #else
 // The frame's region of the ring (ring_words.glsl): the batch table, the records, the layer
@@ -48,26 +44,17 @@ uvec4 siExtraLayer(uint record, uint k, bool previous) {
 #ifdef SI_MOTION_VECTORS
 #include "previous_index.glsl"
 #endif
-// The entries' first word (2 words a record: its record's word and its first drawn slot;
-// 0xFFFFFFFF drawn nowhere), the record count, the layer records' first word (a slot's layer
-// record at its slot from there).
-layout(location = 5) uniform uint u_entries;
-layout(location = 11) uniform uint u_records;
-layout(location = 12) uniform uint u_layer_word;
-// The previous layer records' words after the current ones'.
-layout(location = 6) uniform uint u_previous_layer_shift;
+// x: the entries' first word (2 words a record: its record's word and its first drawn slot;
+// 0xFFFFFFFF drawn nowhere); y: the record count; z: the layer records' first word (a slot's
+// layer record at its slot from there); w: the previous layer records' words after the
+// current ones'.
+layout(location = 5) uniform uvec4 u_compose;
 // 2D blends: the first word of the extra layer records (2 per slot; 0: none), and of the
 // previous ones.
-layout(location = 7) uniform uint u_extra_word;
-#ifdef SI_MOTION_VECTORS
-layout(location = 10) uniform uint u_previous_extra_word;
-#endif
+layout(location = 6) uniform uvec2 u_extra_words;
 // Extra layer record `k` of slot `slot` (the previous ones: `previous`).
 uvec4 siExtraLayer(uint slot, uint k, bool previous) {
-#ifdef SI_MOTION_VECTORS
-  if (previous) return si_ring[u_previous_extra_word + 2u * slot + k];
-#endif
-  return si_ring[u_extra_word + 2u * slot + k];
+  return si_ring[(previous ? u_extra_words.y : u_extra_words.x) + 2u * slot + k];
 }
 #endif
 
@@ -96,7 +83,7 @@ void main() {
   // One flat pass over the visible records: composed record = visible index.
   uint g = siFlatInvocation();
   uint i = g / stride;
-  if (i >= min(si_visible_count, u_instances)) return;
+  if (i >= min(si_visible_count, u_compose.x)) return;
   uint k = g - i * stride;
   uint at = g * 3u;
   SI_COMPOSE(si_instances[i], si_layers[i], i, false, k, si_composed, at);
@@ -108,18 +95,18 @@ void main() {
   // One flat pass over the view's records: composed record = the view's record.
   uint g = siFlatInvocation();
   uint r = g / stride;
-  if (r >= u_records) return;
+  if (r >= u_compose.y) return;
   uint k = g - r * stride;
-  uvec4 words = si_ring[u_entries + (r >> 1u)];
+  uvec4 words = si_ring[u_compose.x + (r >> 1u)];
   uvec2 entry = (r & 1u) == 0u ? words.xy : words.zw;
   if (entry.x == 0xFFFFFFFFu) return;  // Drawn in no batch.
   // Its first drawn slot: its layer records, previous index and extra layers there.
-  uint at = g * 3u, drawn_slot = entry.y, layer = u_layer_word + drawn_slot;
+  uint at = g * 3u, drawn_slot = entry.y, layer = u_compose.z + drawn_slot;
   SiInstance inst = siRingRecord(entry.x);
   SI_COMPOSE(inst, si_ring[layer], drawn_slot, false, k, si_composed, at);
 #ifdef SI_MOTION_VECTORS
   SiInstance prev = siPreviousRecord(drawn_slot, inst);
-  SI_COMPOSE(prev, si_ring[layer + u_previous_layer_shift], drawn_slot, true, k,
+  SI_COMPOSE(prev, si_ring[layer + u_compose.w], drawn_slot, true, k,
              si_composed_previous, at);
 #endif
 #endif

@@ -176,5 +176,25 @@ vec3 siPreSkinPrevious(uint source, SiInstance prev, uvec4 prev_layer, uint reco
   return siPlacePoint(prev, m0, m1, m2, p);
 }
 #endif
+
+#ifdef SI_SKINNED_OUT_BINDING
+// The pre-skinning passes' outputs: vertices (SI_SKINNED_OUT_BINDING), tangents (28) and with
+// SI_MOTION_VECTORS the previous positions (SI_SKINNED_PREVIOUS_OUT_BINDING).
+layout(std430, binding = SI_SKINNED_OUT_BINDING) writeonly buffer SiSkinnedOut {
+  vec4 si_skinned_out[];
+};
+layout(std430, binding = 28) writeonly buffer SiTangentsOut { uint si_tangents_out[]; };
+#ifdef SI_MOTION_VECTORS
+layout(std430, binding = SI_SKINNED_PREVIOUS_OUT_BINDING) writeonly buffer SiSkinnedPreviousOut {
+  vec4 si_previous_out[];
+};
+#endif
+// Writes source vertex `source` skinned (siPreSkin) as output vertex `at`, its tangent beside.
+void siWritePreSkinned(uint at, uint source, SiInstance inst, uvec4 layer, uint record) {
+  uint tangent;
+  si_skinned_out[at] = siPreSkin(source, inst, layer, record, tangent);
+  if (siHasTangents()) si_tangents_out[at] = tangent;
+}
+#endif
 #endif
 #endif

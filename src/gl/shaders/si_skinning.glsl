@@ -2,7 +2,7 @@
 // The skinning include for your own vertex (or compute) shaders: the instance record, the
 // instance block, the palette and functions that fetch, interpolate, crossfade and blend the
 // bone matrices exactly as si::emulateSkinningMatrix() and si::emulateSkinning() do on the CPU.
-// Interface version 7 (2: the fraction words carry the interval mode, cubic clips; 3: the
+// Interface version 10 (2: the fraction words carry the interval mode, cubic clips; 3: the
 // record's fourth blend word is the appearance: tint RGB8 and the custom texture layer; 4: the
 // previous frame's records and siSkinPrevious, for motion vectors; 5: layered animation, the
 // layer records, the mask table and siSkinLayered; 6: the mask table holds each slot's bind-pose
@@ -11,7 +11,7 @@
 // (OpenGL ES 3.0, WebGL 2) through si_profile.glsl: there the application binds the blocks and
 // the palette sampler after linking; 9: bit 31 of a layer record's last word flags a 2D blend's
 // extra layer records, siLayerMask and siLayerWeight read the word, siLayeredChainRows composes
-// the chain);
+// the chain; 10: SI_SKIN_SUM and siPlacePoint, what the skinning functions are made of);
 // docs/glsl-interface.md documents every name, binding and define.
 //
 // Before including, define SI_MAX_INSTANCES (records per draw: InstanceBatcher::
@@ -41,7 +41,7 @@
 // (InstanceBatcher::buildPreviousLayers) and siSkinPreviousLayered().
 #ifndef SI_SKINNING_GLSL
 #define SI_SKINNING_GLSL
-#define SI_GLSL_INTERFACE_VERSION 9
+#define SI_GLSL_INTERFACE_VERSION 10
 #include "si_profile.glsl"
 #include "si_instance_record.glsl"
 #include "si_transform.glsl"
