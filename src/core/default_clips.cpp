@@ -32,13 +32,7 @@ struct ClipDef {
 // A clip's header: its name, length, loop mode and key count, keys interpolated `interpolation`.
 ClipDef clipHeader(const char* name, double duration, LoopMode loop, int key_count,
                    Interpolation interpolation = Interpolation::kLinear) {
-  ClipDef def;
-  def.name = name;
-  def.duration = duration;
-  def.loop = loop;
-  def.key_count = key_count;
-  def.interpolation = interpolation;
-  return def;
+  return ClipDef{name, duration, loop, key_count, interpolation, {}, {}};
 }
 
 // Central differences of samples a (at t - h) and b (at t + h), a CUBICSPLINE key's tangent.

@@ -67,15 +67,17 @@ vec4 siComposedRow(bool previous, uint at) {
 // `previous`) where the overlay's mask holds it; elsewhere siInstanceJointRows.
 void siComposedJointRows(SiInstance inst, uvec4 layer, uint record, bool previous, uint joint,
                          out vec4 r0, out vec4 r1, out vec4 r2) {
+  // One if-else, no early return: NVIDIA's compiler made the vertex shaders 5-10 % slower with
+  // one (docs/performance.md, "Duplicates merged").
   int c = siComposedIndex(layer, joint);
   if (c < 0) {
     siInstanceJointRows(inst, joint, r0, r1, r2);
-    return;
+  } else {
+    uint at = (record * siComposeStride() + uint(c)) * 3u;
+    r0 = siComposedRow(previous, at);
+    r1 = siComposedRow(previous, at + 1u);
+    r2 = siComposedRow(previous, at + 2u);
   }
-  uint at = (record * siComposeStride() + uint(c)) * 3u;
-  r0 = siComposedRow(previous, at);
-  r1 = siComposedRow(previous, at + 1u);
-  r2 = siComposedRow(previous, at + 2u);
 }
 
 // siSkinLayered with composed record `record`'s rows (the previous records' when `previous`):
