@@ -20,10 +20,22 @@ void appendRun(uint32_t i, std::vector<DenseRange>* out) {
     out->push_back(DenseRange{i, 1});
 }
 
-void runsOf(std::vector<uint32_t>* indices, std::vector<DenseRange>* out) {
-  std::sort(indices->begin(), indices->end());
+int lowestBit(uint64_t word) {
+#if defined(__GNUC__) || defined(__clang__)
+  return __builtin_ctzll(word);
+#else
+  int bit = 0;
+  for (; (word & 1u) == 0; word >>= 1) ++bit;
+  return bit;
+#endif
+}
+
+// The set bits of `bits` (bit i of word i / 64: index i) as ascending runs of adjacent indices.
+void runsOf(const std::vector<uint64_t>& bits, std::vector<DenseRange>* out) {
   out->clear();
-  for (uint32_t i : *indices) appendRun(i, out);
+  for (size_t w = 0; w < bits.size(); ++w)
+    for (uint64_t word = bits[w]; word != 0; word &= word - 1)
+      appendRun(uint32_t(w * 64 + size_t(lowestBit(word))), out);
 }
 
 }  // namespace
@@ -50,22 +62,25 @@ std::vector<ChangeLog::Entry>::const_iterator ChangeLog::firstAfter(uint64_t sin
 bool ChangeLog::answers(uint64_t since, uint32_t n) const {
   if (!holds(since)) return false;
   const auto first = firstAfter(since);
-  return uint64_t(entries_.end() - first) * 64 < n;
+  return uint64_t(entries_.end() - first) * kEntriesPerIndex < n;
 }
 
-void ChangeLog::since(uint64_t since, uint32_t n, const std::vector<uint64_t>& changed_at,
-                      const std::vector<uint64_t>& placed_at, std::vector<DenseRange>* changed,
+void ChangeLog::since(uint64_t since, uint32_t n, std::vector<DenseRange>* changed,
                       std::vector<DenseRange>* placed) const {
-  const auto first = firstAfter(since);
-  // An index's latest change is the entry its stamp names (versions are unique): each once.
-  std::vector<uint32_t> now, occupied;
-  for (auto e = first; e != entries_.end(); ++e) {
-    if (e->index >= n) continue;  // Removed since.
-    if (changed != nullptr && changed_at[e->index] == e->version) now.push_back(e->index);
-    if (e->placed != 0 && placed_at[e->index] == e->version) occupied.push_back(e->index);
+  // The log holds every change after `since`: an index below n was stamped after it exactly
+  // when an entry after it names the index (an index past n was removed since). One bit an
+  // index, set in any order: no stamp read at a random index, no sort.
+  const size_t words = (size_t(n) + 63) / 64;
+  std::vector<uint64_t> now(changed != nullptr ? words : 0),
+      occupied(placed != nullptr ? words : 0);
+  for (auto e = firstAfter(since); e != entries_.end(); ++e) {
+    if (e->index >= n) continue;
+    const uint64_t bit = uint64_t(1) << (e->index % 64);
+    if (changed != nullptr) now[e->index / 64] |= bit;
+    if (placed != nullptr && e->placed != 0) occupied[e->index / 64] |= bit;
   }
-  if (changed != nullptr) runsOf(&now, changed);
-  if (placed != nullptr) runsOf(&occupied, placed);
+  if (changed != nullptr) runsOf(now, changed);
+  if (placed != nullptr) runsOf(occupied, placed);
 }
 
 void scanStamps(const std::vector<uint64_t>& stamps, const std::vector<uint64_t>& chunk_stamps,

@@ -26,16 +26,15 @@ class ChangeLog {
   /// Whether every change after `since` is logged.
   bool holds(uint64_t since) const { return since >= floor_; }
   /// Whether since() is the faster way to find the changes after `since` among `n` indices:
-  /// it holds them and they number under n / 64 (each costs a sort and two reads at a random
-  /// index, where scanStamps reads two stamps an index in order; measured in
-  /// si_crowd_cpu_bench's churnExport: at a million, 2,000 entries take 0.08 ms against the
-  /// scan's 0.9, 20,000 entries 1.3 ms).
+  /// it holds them and they number under n / kEntriesPerIndex (each entry sets a bit, and the
+  /// bits of n indices are cleared and read in order, where scanStamps reads two stamps an
+  /// index in order; si_crowd_cpu_bench's churnExport measures both).
   bool answers(uint64_t since, uint32_t n) const;
-  /// With holds(since): the indices below `n` whose stamp in `changed_at` is later than
-  /// `since`, as ascending runs of adjacent indices into `changed`, and those whose stamp in
-  /// `placed_at` is into `placed` (either may be null): what scanStamps finds, from the log.
-  void since(uint64_t since, uint32_t n, const std::vector<uint64_t>& changed_at,
-             const std::vector<uint64_t>& placed_at, std::vector<DenseRange>* changed,
+  static constexpr uint64_t kEntriesPerIndex = 8;
+  /// With holds(since): the indices below `n` stamped after `since` (the store's changed_at),
+  /// as ascending runs of adjacent indices into `changed`, and those re-occupied after it (its
+  /// placed_at) into `placed` (either may be null): what scanStamps finds, from the log alone.
+  void since(uint64_t since, uint32_t n, std::vector<DenseRange>* changed,
              std::vector<DenseRange>* placed) const;
   size_t size() const { return entries_.size(); }
 

@@ -157,7 +157,7 @@ void CrowdExport::changedSince(uint64_t since, std::vector<DenseRange>* changed,
   if (n == 0) return;
   const detail::InstanceStore& st = crowd_->state_->store;
   if (st.change_log.answers(since, n)) {  // A few changes since: not every stamp read.
-    st.change_log.since(since, n, st.changed_at, st.placed_at, changed, placed);
+    st.change_log.since(since, n, changed, placed);
     return;
   }
   if (changed != nullptr) detail::scanStamps(st.changed_at, st.chunk_changed_at, since, n, changed);
