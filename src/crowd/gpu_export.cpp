@@ -5,6 +5,7 @@
 #include "si/crowd/crowd_export.h"
 
 #include "crowd/crowd_state.h"
+#include "crowd/dense_runs.h"
 #include "si/crowd/crowd_manager.h"
 #include "si/crowd/crowd_view.h"
 
@@ -115,12 +116,50 @@ void exportExtraLayer(const detail::OverlayState& o, uint32_t k, GpuOverlayState
 
 }  // namespace
 
-// Whether the crowd holds dense range `range` and there is somewhere to write it: what every
-// ranged export checks (it writes nothing otherwise).
-bool CrowdExport::holds(DenseRange range, const void* out) const {
+namespace {
+
+// Asks for the lines state() reads of instance `i`: a dozen arrays at one index.
+void prefetchInstance(const detail::InstanceStore& st, uint32_t i) {
+  const uint32_t k = i % detail::kColumnBlock;
+  const detail::DVec3Block& p = st.positions.blockOf(i);
+  detail::prefetchLine(&p.x[k]), detail::prefetchLine(&p.y[k]), detail::prefetchLine(&p.z[k]);
+  const detail::QuatBlock& q = st.rotations.blockOf(i);
+  detail::prefetchLine(&q.w[k]), detail::prefetchLine(&q.y[k]);
+  detail::prefetchLine(&st.scales[i]), detail::prefetchLine(&st.colors[i]);
+  detail::prefetchLine(&st.masks[i]), detail::prefetchLine(&st.views[0].lods[i]);
+  detail::prefetchLine(&st.playback[i]), detail::prefetchLine(&st.fade_from[i]);
+  detail::prefetchLine(&st.fade_start[i]), detail::prefetchLine(&st.fade_duration[i]);
+  detail::prefetchLine(&st.dense_handles[i]), detail::prefetchLine(&st.placements[i]);
+}
+
+// `body(overlay, position)` for the overlays of `runs` (`total` indices), prefetched, on the
+// crowd's workers.
+template <class Body>
+void walkOverlays(detail::CrowdState& crowd, Span<const DenseRange> runs, size_t total,
+                  const Body& body) {
+  const detail::InstanceStore& st = crowd.store;
+  detail::walkRuns(
+      runs, total, detail::crowdParallelFor(crowd),
+      [&st](uint32_t i) {
+        detail::prefetchLine(&st.overlays[i]);
+        detail::prefetchLine(&st.overlays[i].extra);
+      },
+      [&st, &body](uint32_t i, size_t p) { body(st.overlays[i], p); });
+}
+
+}  // namespace
+
+// The number of indices in `runs` when the crowd holds every one and there is somewhere to
+// write them, else 0: what every ranged export checks (it writes nothing otherwise).
+size_t CrowdExport::indicesIn(Span<const DenseRange> runs, const void* out) const {
   const uint32_t size = crowd_->size();
-  return crowd_->state_ && out != nullptr && range.first <= size &&
-         range.count <= size - range.first;
+  if (!crowd_->state_ || out == nullptr) return 0;
+  size_t total = 0;
+  for (const DenseRange& r : runs) {
+    if (r.first > size || r.count > size - r.first) return 0;
+    total += r.count;
+  }
+  return total;
 }
 
 uint64_t CrowdExport::stateVersion() const {
@@ -135,18 +174,23 @@ void CrowdExport::state(std::vector<GpuInstanceState>* out,
     if (handles != nullptr) handles->clear();
     return;
   }
-  const detail::InstanceStore& st = crowd_->state_->store;
-  for (uint32_t i = 0; i < n; ++i) exportInstance(st, i, &(*out)[i]);
-  if (handles != nullptr) *handles = st.dense_handles;
+  const DenseRange all{0, n};
+  state(Span<const DenseRange>(&all, 1), out->data(), nullptr);
+  if (handles != nullptr) *handles = crowd_->state_->store.dense_handles;
 }
 
-void CrowdExport::state(DenseRange range, GpuInstanceState* out, InstanceHandle* handles) const {
-  if (!holds(range, out)) return;
-  const detail::InstanceStore& st = crowd_->state_->store;
-  for (uint32_t k = 0; k < range.count; ++k) {
-    exportInstance(st, range.first + k, out + k);
-    if (handles != nullptr) handles[k] = st.dense_handles[range.first + k];
-  }
+void CrowdExport::state(Span<const DenseRange> runs, GpuInstanceState* out,
+                        InstanceHandle* handles) const {
+  const size_t total = indicesIn(runs, out);
+  if (total == 0) return;
+  detail::CrowdState& crowd = *crowd_->state_;
+  const detail::InstanceStore& st = crowd.store;
+  detail::walkRuns(
+      runs, total, detail::crowdParallelFor(crowd), [&st](uint32_t i) { prefetchInstance(st, i); },
+      [&st, out, handles](uint32_t i, size_t p) {
+        exportInstance(st, i, out + p);
+        if (handles != nullptr) handles[p] = st.dense_handles[i];
+      });
 }
 
 void CrowdExport::changedSince(uint64_t since, std::vector<DenseRange>* changed,
@@ -172,15 +216,16 @@ void CrowdExport::overlays(std::vector<GpuOverlayState>* out) const {
   const uint32_t size = crowd_->size();
   out->clear();
   if (!playsOverlays()) return;
-  const detail::InstanceStore& st = crowd_->state_->store;
   out->resize(size);
-  for (uint32_t i = 0; i < size; ++i) exportOverlay(st.overlays[i], &(*out)[i]);
+  const DenseRange all{0, size};
+  overlays(Span<const DenseRange>(&all, 1), out->data());
 }
 
-void CrowdExport::overlays(DenseRange range, GpuOverlayState* out) const {
-  if (!holds(range, out)) return;
-  const detail::InstanceStore& st = crowd_->state_->store;
-  for (uint32_t k = 0; k < range.count; ++k) exportOverlay(st.overlays[range.first + k], out + k);
+void CrowdExport::overlays(Span<const DenseRange> runs, GpuOverlayState* out) const {
+  const size_t total = indicesIn(runs, out);
+  if (total > 0)
+    walkOverlays(*crowd_->state_, runs, total,
+                 [out](const detail::OverlayState& o, size_t p) { exportOverlay(o, out + p); });
 }
 
 bool CrowdExport::writesExtraLayers() const {
@@ -192,15 +237,17 @@ void CrowdExport::extraLayers(std::vector<GpuOverlayState>* out) const {
   out->clear();
   if (!writesExtraLayers()) return;
   out->resize(size_t(size) * kExtraLayerRecords);
-  extraLayers(DenseRange{0, size}, out->data());
+  const DenseRange all{0, size};
+  extraLayers(Span<const DenseRange>(&all, 1), out->data());
 }
 
-void CrowdExport::extraLayers(DenseRange range, GpuOverlayState* out) const {
-  if (!holds(range, out)) return;
-  const detail::InstanceStore& st = crowd_->state_->store;
-  for (uint32_t i = 0; i < range.count; ++i)
-    for (uint32_t k = 0; k < kExtraLayerRecords; ++k)
-      exportExtraLayer(st.overlays[range.first + i], k, out + size_t(i) * kExtraLayerRecords + k);
+void CrowdExport::extraLayers(Span<const DenseRange> runs, GpuOverlayState* out) const {
+  const size_t total = indicesIn(runs, out);
+  if (total > 0)
+    walkOverlays(*crowd_->state_, runs, total, [out](const detail::OverlayState& o, size_t p) {
+      for (uint32_t k = 0; k < kExtraLayerRecords; ++k)
+        exportExtraLayer(o, k, out + p * kExtraLayerRecords + k);
+    });
 }
 
 void CrowdExport::clips(std::vector<GpuClipInfo>* clips, std::vector<double>* frame_times) const {
@@ -250,12 +297,16 @@ void CrowdExport::lods(const CrowdView& view, std::vector<uint32_t>* out) {
   out->assign(lods.begin(), lods.end());
 }
 
-void CrowdExport::lods(const CrowdView& view, DenseRange range, uint32_t* out) {
+void CrowdExport::lods(const CrowdView& view, Span<const DenseRange> runs, uint32_t* out) {
   const detail::ViewState& v = view.view();
-  if (v.crowd == nullptr) return;
-  const std::vector<uint8_t>& lods = v.crowd->store.views[v.lane].lods;
-  if (uint64_t(range.first) + range.count > lods.size()) return;
-  std::copy(lods.begin() + range.first, lods.begin() + range.first + range.count, out);
+  if (v.crowd == nullptr || v.crowd->owner == nullptr) return;
+  const size_t total = CrowdExport(*v.crowd->owner).indicesIn(runs, out);
+  if (total == 0) return;
+  // A byte an index: the calling thread alone (workers cost more than they save at 1M x 1 %).
+  const uint8_t* lods = v.crowd->store.views[v.lane].lods.data();
+  detail::walkRuns(
+      runs, total, ParallelFor(), [lods](uint32_t i) { detail::prefetchLine(lods + i); },
+      [lods, out](uint32_t i, size_t p) { out[p] = lods[i]; });
 }
 
 }  // namespace si

@@ -235,13 +235,15 @@ BENCHMARK(moveBlends)
 // at random and adds as many (the application's calls, not timed), advances the clock, then
 // finds what changed since the last iteration (changedSince), exports the changed runs' state
 // and handles (CrowdExport::state) and, for each of `views` views, their LODs where other instances
-// sit now (CrowdExport::lods of the placed runs). ns_per_change: per instance changed; find_ms,
-// export_ms and lods_ms: each part's wall time per iteration.
+// sit now (CrowdExport::lods of the placed runs), on a crowd of `threads` worker threads (0:
+// the default, the hardware's threads up to 16).
+// ns_per_change: per instance changed; find_ms, export_ms and lods_ms: each part's wall time per
+// iteration.
 void churnExport(benchmark::State& state) {
   const int64_t count = state.range(0);
   const int64_t churn = count * state.range(1) / 1000;
   const int64_t view_count = state.range(2);
-  auto crowd = field(count, -1.0f, 1, 0, false);
+  auto crowd = field(count, -1.0f, uint32_t(state.range(3)), 0, false);
   std::vector<std::unique_ptr<si::CrowdView>> views;
   for (int64_t v = 0; v < view_count; ++v) {
     views.push_back(std::make_unique<si::CrowdView>());
@@ -260,15 +262,18 @@ void churnExport(benchmark::State& state) {
   std::vector<si::InstanceHandle> changed_handles;
   std::vector<uint32_t> lods;
   uint64_t changes = 0;
-  double parts[3] = {0.0, 0.0, 0.0};  // Find, export, LODs: ms summed over the iterations.
+  double parts[4] = {0.0, 0.0, 0.0, 0.0};  // Find, export, LODs, churn: ms summed.
   for (auto _ : state) {
     state.PauseTiming();
+    const auto c0 = std::chrono::steady_clock::now();
     for (int64_t k = 0; k < churn; ++k) {
       const size_t at = size_t(next() % handles.size());
       si::InstanceDesc d;
       if (!crowd->get(handles[at], &d).isOk() || !crowd->remove(handles[at]).isOk()) std::abort();
       if (!crowd->add(d, &handles[at]).isOk()) std::abort();
     }
+    parts[3] +=
+        std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - c0).count();
     if (!crowd->advance(1.0 / 60.0).isOk()) std::abort();
     state.ResumeTiming();
     const auto t0 = std::chrono::steady_clock::now();
@@ -278,21 +283,13 @@ void churnExport(benchmark::State& state) {
     for (const si::DenseRange& c : changed) total += c.count;
     states.resize(total);
     changed_handles.resize(total);
-    size_t done = 0;
-    for (const si::DenseRange& c : changed) {
-      si::CrowdExport(*crowd).state(c, states.data() + done, changed_handles.data() + done);
-      done += c.count;
-    }
+    si::CrowdExport(*crowd).state(changed, states.data(), changed_handles.data());
     const auto t2 = std::chrono::steady_clock::now();
     for (const auto& v : views) {
       size_t placed_total = 0;
       for (const si::DenseRange& c : placed) placed_total += c.count;
       lods.assign(placed_total, 0u);
-      size_t at = 0;
-      for (const si::DenseRange& c : placed) {
-        si::CrowdExport::lods(*v, c, lods.data() + at);
-        at += c.count;
-      }
+      si::CrowdExport::lods(*v, placed, lods.data());
     }
     benchmark::DoNotOptimize(states.data());
     benchmark::DoNotOptimize(lods.data());
@@ -307,6 +304,7 @@ void churnExport(benchmark::State& state) {
   state.counters["find_ms"] = parts[0] / iterations;
   state.counters["export_ms"] = parts[1] / iterations;
   state.counters["lods_ms"] = parts[2] / iterations;
+  state.counters["churn_ms"] = parts[3] / iterations;
   state.counters["changed_per_iteration"] =
       double(changes) / double(std::max<int64_t>(1, int64_t(state.iterations())));
   state.counters["ns_per_change"] = benchmark::Counter(
@@ -314,8 +312,8 @@ void churnExport(benchmark::State& state) {
       benchmark::Counter::kIsIterationInvariantRate | benchmark::Counter::kInvert);
 }
 BENCHMARK(churnExport)
-    ->ArgsProduct({{1000000}, {10, 1}, {0, 4}})
-    ->ArgNames({"instances", "per_mille", "views"})
+    ->ArgsProduct({{1000000}, {10, 1}, {0, 4}, {1, 0}})
+    ->ArgNames({"instances", "per_mille", "views", "threads"})
     ->Unit(benchmark::kMillisecond)
     ->UseRealTime();
 

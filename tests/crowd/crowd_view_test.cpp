@@ -360,10 +360,11 @@ TEST(CrowdView, WhatTheGpuReadsOfAView) {
   EXPECT_GT(biased, 0u) << "some LODs are below the drawn ones";
   // A range exports its slice of the whole; past the crowd, nothing.
   std::vector<uint32_t> slice(40, 99u);
-  CrowdExport::lods(shadow, DenseRange{uint32_t(lods.size()) - 40, 40}, slice.data());
+  const DenseRange last{uint32_t(lods.size()) - 40, 40}, past{uint32_t(lods.size()) - 39, 40};
+  CrowdExport::lods(shadow, Span<const DenseRange>(&last, 1), slice.data());
   EXPECT_TRUE(std::equal(slice.begin(), slice.end(), lods.end() - 40));
   std::fill(slice.begin(), slice.end(), 99u);
-  CrowdExport::lods(shadow, DenseRange{uint32_t(lods.size()) - 39, 40}, slice.data());
+  CrowdExport::lods(shadow, Span<const DenseRange>(&past, 1), slice.data());
   EXPECT_EQ(std::count(slice.begin(), slice.end(), 99u), 40);
   // The crowd's own view exports the LODs CrowdExport::state() carries.
   CrowdExport::lods(w.crowd.view(), &lods);

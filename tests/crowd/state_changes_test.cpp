@@ -11,6 +11,7 @@
 
 #include "crowd/change_log.h"
 #include "crowd/crowd_test_helpers.h"
+#include "crowd/dense_runs.h"
 #include "crowd/instance_store.h"
 
 namespace si {
@@ -150,9 +151,10 @@ TEST(StateChanges, RootMotionStampsWhatMovedAndRangeExportsEqualTheWhole) {
   std::vector<InstanceHandle> dense;
   CrowdExport(crowd).state(&whole, &dense);
   const DenseRange range{995, 20};
+  const Span<const DenseRange> one(&range, 1);
   std::vector<GpuInstanceState> part(range.count);
   std::vector<InstanceHandle> part_handles(range.count);
-  CrowdExport(crowd).state(range, part.data(), part_handles.data());
+  CrowdExport(crowd).state(one, part.data(), part_handles.data());
   for (uint32_t k = 0; k < range.count; ++k) {
     EXPECT_EQ(std::memcmp(&part[k], &whole[range.first + k], sizeof(GpuInstanceState)), 0) << k;
     EXPECT_EQ(part_handles[k], dense[range.first + k]);
@@ -171,16 +173,85 @@ TEST(StateChanges, RootMotionStampsWhatMovedAndRangeExportsEqualTheWhole) {
   EXPECT_EQ(indices(changed), (std::vector<uint32_t>{1000}));
   std::vector<GpuOverlayState> overlays, part_overlays(range.count);
   CrowdExport(crowd).overlays(&overlays);
-  CrowdExport(crowd).overlays(range, part_overlays.data());
+  CrowdExport(crowd).overlays(one, part_overlays.data());
   for (uint32_t k = 0; k < range.count; ++k)
     EXPECT_EQ(std::memcmp(&part_overlays[k], &overlays[range.first + k], sizeof(GpuOverlayState)),
               0) << k;
   EXPECT_EQ(part_overlays[1000 - range.first].active, 1u);
-  // A range past the end writes nothing.
-  GpuInstanceState sentinel{};
-  sentinel.scale = 7.0f;
-  CrowdExport(crowd).state(DenseRange{2990, 11}, &sentinel, nullptr);
-  EXPECT_EQ(sentinel.scale, 7.0f);
+  // A run past the end writes nothing, not even the runs before it.
+  GpuInstanceState sentinel[2]{};
+  sentinel[0].scale = sentinel[1].scale = 7.0f;
+  const DenseRange past[2] = {{0, 1}, {2990, 11}};
+  CrowdExport(crowd).state(past, sentinel, nullptr);
+  EXPECT_EQ(sentinel[0].scale, 7.0f);
+  EXPECT_EQ(sentinel[1].scale, 7.0f);
+}
+
+// The ranged exports walk their runs in tasks on the crowd's workers past 512 indices, each
+// task starting within some run: whatever the threads, every entry is the whole export's.
+TEST(StateChanges, RunExportsEqualTheWholeOnAnyNumberOfThreads) {
+  for (uint32_t threads : {1u, 3u, 0u}) {
+    SCOPED_TRACE(threads);
+    CrowdManager crowd;
+    CrowdDesc cd = test::defaultCrowdDesc();
+    cd.palette = &test::movingPalette();
+    cd.worker_threads = threads;
+    ASSERT_TRUE(crowd.init(cd).isOk());
+    // Past kRunTasks x kRunTaskIndices: the whole run is cut into the most tasks there are.
+    const std::vector<InstanceHandle> h = populate(&crowd, 40000);
+    LayerMask arm;
+    ASSERT_TRUE(buildLayerMask(test::movingCharacter().skeleton, test::movingPalette(), "arm",
+                               {"r_clavicle"}, &arm)
+                    .isOk());
+    uint32_t mask = 0;
+    ASSERT_TRUE(crowd.addLayerMask(arm, &mask).isOk());
+    for (uint32_t i = 0; i < h.size(); i += 7)
+      ASSERT_TRUE(crowd.playOverlay(h[i], 0, mask, 0.25f + float(i % 3) * 0.25f, 0.2).isOk());
+    for (uint32_t i = 0; i < h.size(); i += 5)
+      ASSERT_TRUE(crowd.setColor(h[i], glm::u8vec4(uint8_t(i), 9, 9, 255)).isOk());
+    // LODs by distance from a camera over the field.
+    ASSERT_TRUE(crowd.update(0.1, test::testCamera({50, 10, -20}, {50, 0, 100})).isOk());
+
+    // Runs scattered as churn leaves them (some empty), then one run of the whole crowd.
+    std::mt19937 rng(threads + 1);
+    std::vector<DenseRange> runs;
+    for (uint32_t at = 0;;) {
+      const DenseRange r{at + uint32_t(rng() % 20), uint32_t(rng() % 7)};
+      if (r.first + r.count > h.size()) break;
+      runs.push_back(r);
+      at = r.first + r.count;
+    }
+    std::vector<DenseRange> whole_run{{0, uint32_t(h.size())}};
+    std::vector<GpuInstanceState> whole;
+    std::vector<InstanceHandle> dense;
+    std::vector<GpuOverlayState> overlays;
+    std::vector<uint32_t> lods;
+    CrowdExport(crowd).state(&whole, &dense);
+    CrowdExport(crowd).overlays(&overlays);
+    CrowdExport::lods(crowd.view(), &lods);
+    ASSERT_EQ(lods.size(), h.size());
+    ASSERT_NE(*std::min_element(lods.begin(), lods.end()),
+              *std::max_element(lods.begin(), lods.end()));
+    for (std::vector<DenseRange>* list : {&runs, &whole_run}) {
+      const size_t total = indices(*list).size();
+      ASSERT_GT(total, 2 * detail::kRunTaskIndices);
+      std::vector<GpuInstanceState> part(total);
+      std::vector<InstanceHandle> part_handles(total);
+      std::vector<GpuOverlayState> part_overlays(total);
+      std::vector<uint32_t> part_lods(total, 99u);
+      CrowdExport(crowd).state(*list, part.data(), part_handles.data());
+      CrowdExport(crowd).overlays(*list, part_overlays.data());
+      CrowdExport::lods(crowd.view(), *list, part_lods.data());
+      size_t p = 0;
+      for (uint32_t i : indices(*list)) {
+        ASSERT_EQ(std::memcmp(&part[p], &whole[i], sizeof(GpuInstanceState)), 0) << i;
+        ASSERT_EQ(part_handles[p], dense[i]) << i;
+        ASSERT_EQ(std::memcmp(&part_overlays[p], &overlays[i], sizeof(GpuOverlayState)), 0) << i;
+        ASSERT_EQ(part_lods[p], lods[i]) << i;
+        ++p;
+      }
+    }
+  }
 }
 
 // An instance's state as the GPU-driven pass reads it at crowd clock `clock`: update()'s LOD

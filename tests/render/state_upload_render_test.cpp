@@ -191,5 +191,91 @@ TEST_P(RenderTest, ASpawnWaveUploadsWhatItAdds) {
   r.shutdown();
 }
 
+// Churn with several views: each view starts its LODs over where other instances sit, from
+// its CPU LODs. Views that never selected on the CPU hold LOD 0 there, so the first of them
+// stages the seed and the others scatter the same bytes (DrawStats::view_seed_bytes 0); a view
+// that selects on the CPU stages its own. Every view selects what uploading whole selects.
+TEST_P(RenderTest, ViewsThatNeverSelectedShareOneSeed) {
+  Renderer changed_renderer, whole_renderer;
+  RendererDesc rd;
+  rd.skinning_path = SkinningPath::kVertexShader;
+  rd.measure_gpu_time = true;
+  makeRenderer(&changed_renderer, 0, PaletteFormat::kMatrix3x4F32, &rd);
+  rd.gpu_state_upload = GpuStateUpload::kWhole;
+  makeRenderer(&whole_renderer, 0, PaletteFormat::kMatrix3x4F32, &rd);
+  CrowdManager crowd;
+  makeCrowd(&crowd);
+  std::vector<InstanceHandle> handles;
+  for (int i = 0; i < 400; ++i) {
+    InstanceDesc d;
+    d.position = glm::dvec3(double(i % 20) * 2.0 - 19.0, 0.0, -4.0 - double(i / 20) * 4.0);
+    InstanceHandle h;
+    ASSERT_TRUE(crowd.add(d, &h).isOk());
+    handles.push_back(h);
+  }
+  CrowdView first, second, selecting;
+  ASSERT_TRUE(first.init(crowd).isOk());
+  ASSERT_TRUE(second.init(crowd).isOk());
+  ASSERT_TRUE(selecting.init(crowd).isOk());
+  const Camera cameras[4] = {
+      Camera::lookAt({0, 4, 4}, {0, 0, -30}, glm::vec3(0, 1, 0), 1.0f, 1.0f, 0.1f, 300.0f),
+      Camera::lookAt({-10, 6, 0}, {0, 0, -40}, glm::vec3(0, 1, 0), 1.0f, 1.0f, 0.1f, 300.0f),
+      Camera::lookAt({10, 6, -90}, {0, 0, -40}, glm::vec3(0, 1, 0), 1.0f, 1.0f, 0.1f, 300.0f),
+      Camera::lookAt({0, 8, -100}, {0, 0, -20}, glm::vec3(0, 1, 0), 1.0f, 1.0f, 0.1f, 300.0f)};
+  const CrowdView* views[4] = {&crowd.view(), &first, &second, &selecting};
+  const auto sorted = [](std::vector<glm::uvec2> v) {
+    std::sort(v.begin(), v.end(), [](const glm::uvec2& a, const glm::uvec2& b) {
+      return a.x != b.x ? a.x < b.x : a.y < b.y;
+    });
+    return v;
+  };
+  for (int frame = 0; frame < 3; ++frame) {
+    SCOPED_TRACE(frame);
+    if (frame > 0) {  // Removals scattered over the crowd (the last instances move there), then
+                      // as many added at the near end.
+      for (int k = 0; k < 12; ++k) {
+        ASSERT_TRUE(crowd.remove(handles[size_t(k * 29 + frame)]).isOk());
+        handles[size_t(k * 29 + frame)] = handles.back();
+        handles.pop_back();
+      }
+      for (int k = 0; k < 12; ++k) {
+        InstanceDesc d;
+        d.position = glm::dvec3(double(k) * 2.0 - 11.0, 0.0, -2.0 - double(frame));
+        InstanceHandle h;
+        ASSERT_TRUE(crowd.add(d, &h).isOk());
+        handles.push_back(h);
+      }
+    }
+    ASSERT_TRUE(crowd.advance(0.1).isOk());
+    ASSERT_TRUE(selecting.select(cameras[3]).isOk());
+    for (int v = 0; v < 4; ++v) {
+      SCOPED_TRACE(v);
+      DrawStats changed, whole;
+      std::vector<glm::uvec2> changed_selection, whole_selection;
+      ASSERT_TRUE(
+          changed_renderer.drawCrowdGpuCulled(CharacterId{}, *views[v], cameras[v], &changed)
+              .isOk());
+      ASSERT_TRUE(changed_renderer.readGpuSelection(CharacterId{}, &changed_selection).isOk());
+      ASSERT_TRUE(
+          whole_renderer.drawCrowdGpuCulled(CharacterId{}, *views[v], cameras[v], &whole).isOk());
+      ASSERT_TRUE(whole_renderer.readGpuSelection(CharacterId{}, &whole_selection).isOk());
+      EXPECT_FALSE(changed_selection.empty());
+      EXPECT_EQ(sorted(changed_selection), sorted(whole_selection));
+      if (frame == 0) continue;
+      // Churn: 24 indices hold other instances, 8 bytes of seed each (the uploads before were
+      // whole: the first frame's).
+      const uint64_t seed = 24 * sizeof(glm::uvec2);
+      if (v == 1 || v == 2) {
+        EXPECT_EQ(changed.view_seed_bytes, 0u) << "shared with the first view that never selected";
+      } else {
+        EXPECT_EQ(changed.view_seed_bytes, seed);
+      }
+      EXPECT_EQ(whole.view_seed_bytes, uint64_t(crowd.size()) * sizeof(glm::uvec2));
+    }
+  }
+  changed_renderer.shutdown();
+  whole_renderer.shutdown();
+}
+
 }  // namespace
 }  // namespace si

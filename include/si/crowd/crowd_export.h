@@ -14,7 +14,8 @@
 ///   si::CrowdExport out(crowd);
 ///   if (out.stateVersion() != uploaded_version) {
 ///     out.changedSince(uploaded_version, &changed, &placed);   // runs of dense indices
-///     for (si::DenseRange r : changed) out.state(r, staging + r.first, nullptr);
+///     states.resize(count of changed);                         // the runs, one after another
+///     out.state(changed, states.data(), nullptr);
 ///     uploaded_version = out.stateVersion();
 ///   }
 ///   si::CullParams params = si::CrowdExport::cullParams(view, camera);
@@ -23,6 +24,7 @@
 #include <cstdint>
 #include <vector>
 
+#include "si/core/span.h"
 #include "si/crowd/camera.h"
 #include "si/crowd/gpu_crowd_state.h"
 #include "si/crowd/handle_pool.h"
@@ -47,10 +49,14 @@ class CrowdExport {
   /// Every instance's state in dense order (`handles`, may be null, receives the handles in the
   /// same order): index i of the GPU's selection is dense index i.
   void state(std::vector<GpuInstanceState>* out, std::vector<InstanceHandle>* handles) const;
-  /// The instances of dense indices [range.first, range.first + range.count) as state() exports
-  /// them, into `out` (range.count entries) and, when not null, their handles into `handles`;
-  /// the range must lie within the crowd's size() (nothing is written otherwise).
-  void state(DenseRange range, GpuInstanceState* out, InstanceHandle* handles) const;
+  /// The instances of the dense index runs `runs` (changedSince()'s, say) as state() exports
+  /// them, one run after another into `out` (as many entries as the runs' counts add up to)
+  /// and, when not null, their handles into `handles`. Every run must lie within the crowd's
+  /// size() (nothing is written otherwise). Churn scatters the runs over the crowd: the reads
+  /// are prefetched ahead, and past 512 indices the work runs on CrowdDesc::worker_threads
+  /// threads (the output does not depend on their number). overlays() and extraLayers() do the
+  /// same. A single run: `state(si::Span<const si::DenseRange>(&run, 1), ...)`.
+  void state(Span<const DenseRange> runs, GpuInstanceState* out, InstanceHandle* handles) const;
   /// Which dense indices changed since the crowd's stateVersion() was `since` (a version it
   /// returned earlier, under the same CrowdManager::identity()): into `changed`, the indices
   /// whose exported state (state(), overlays(), extraLayers()) changed after it; into `placed`
@@ -72,9 +78,9 @@ class CrowdExport {
   /// Every instance's overlay in dense order, or nothing (`out` emptied) while no instance
   /// plays one: what GPU-driven culling needs to write the layer records.
   void overlays(std::vector<GpuOverlayState>* out) const;
-  /// The overlays of dense indices [range.first, range.first + range.count) into `out`
-  /// (range.count entries; a zero entry where none plays), within size().
-  void overlays(DenseRange range, GpuOverlayState* out) const;
+  /// The overlays of the dense index runs `runs`, one run after another into `out` (a zero
+  /// entry where none plays), every run within size().
+  void overlays(Span<const DenseRange> runs, GpuOverlayState* out) const;
   /// Whether selections write extra layer records: the crowd holds a 2D blend space and some
   /// instance holds an overlay.
   bool writesExtraLayers() const;
@@ -83,9 +89,9 @@ class CrowdExport {
   /// the GPU writes CrowdView::extraLayerRecords() as a selection does; nothing (`out`
   /// emptied) unless writesExtraLayers().
   void extraLayers(std::vector<GpuOverlayState>* out) const;
-  /// The extra layers of dense indices [range.first, range.first + range.count) into `out`
-  /// (kExtraLayerRecords * range.count entries), within size().
-  void extraLayers(DenseRange range, GpuOverlayState* out) const;
+  /// The extra layers of the dense index runs `runs` into `out` (kExtraLayerRecords entries
+  /// per index, the runs one after another), every run within size().
+  void extraLayers(Span<const DenseRange> runs, GpuOverlayState* out) const;
 
   /// The selection parameters of `view` for `camera`: the crowd's LOD lines and far line with
   /// the view's rules applied (CrowdViewDesc), what CrowdView::select() uses. Default
@@ -94,13 +100,13 @@ class CrowdExport {
   /// The view's LOD per instance in dense order, before its lod_bias: the hysteresis state its
   /// last selection left, which GPU-driven culling starts from. Empty when detached.
   static void lods(const CrowdView& view, std::vector<uint32_t>* out);
-  /// The same for dense indices [range.first, range.first + range.count) only, into `out`
-  /// (range.count entries): what a GPU-driven draw re-seeds where instances were added or
-  /// moved. Nothing is written when the range passes the crowd's size or the view is detached.
-  static void lods(const CrowdView& view, DenseRange range, uint32_t* out);
+  /// The same for the dense index runs `runs` only, one run after another into `out`: what a
+  /// GPU-driven draw re-seeds where instances were added or moved. Nothing is written when a
+  /// run passes the crowd's size or the view is detached.
+  static void lods(const CrowdView& view, Span<const DenseRange> runs, uint32_t* out);
 
  private:
-  bool holds(DenseRange range, const void* out) const;
+  size_t indicesIn(Span<const DenseRange> runs, const void* out) const;
   const CrowdManager* crowd_;
 };
 

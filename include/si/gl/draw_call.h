@@ -44,6 +44,10 @@ struct DrawStats {
   /// (RendererDesc::gpu_state_upload; 0 when nothing changed or another view's draw of the
   /// same frame uploaded it).
   uint64_t state_bytes_uploaded = 0;
+  /// drawCrowdGpuCulled: bytes this draw staged to start its view's LODs over where other
+  /// instances sit since the last upload (churn). Views that never selected on the CPU hold
+  /// LOD 0 there and share one seed a frame: 0 for all but the first of them.
+  uint64_t view_seed_bytes = 0;
   /// Draws of overlays (RendererDesc::compose_layers): the compose pass's
   /// dispatches (0 when the draws walked the chains), and the instances drawCrowd's composed
   /// (each once, whatever sub-meshes it wears; the GPU-driven pass's count stays on the GPU).

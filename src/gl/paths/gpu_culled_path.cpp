@@ -190,7 +190,8 @@ Status GpuCulledPath::ensureRing(const DrawResources& r, bool motion) {
 Status GpuCulledPath::draw(const DrawResources& r, const PathFrame& f, DrawStats* st) {
   st->draw_calls = 0;
   st->state_bytes_uploaded = uploaded_bytes_;
-  uploaded_bytes_ = 0;
+  st->view_seed_bytes = seed_bytes_;
+  uploaded_bytes_ = seed_bytes_ = 0;
   two_phases_ = r.desc->gpu_occlusion_culling;
   if (!two_phases_) {
     runPasses(r, f, 0, st);

@@ -131,12 +131,17 @@ class GpuCulledPath final : public DrawPath {
   // after a whole one): a view seeded at the upload before reseeds only these.
   std::vector<DenseRange> placed_;
   uint64_t placed_upload_ = 0;
-  uint64_t uploaded_bytes_ = 0;  // Since the last draw (DrawStats::state_bytes_uploaded).
+  uint64_t uploaded_bytes_ = 0;  // Since the last draw (DrawStats::state_bytes_uploaded),
+  uint64_t seed_bytes_ = 0;      // and of the view's seed (DrawStats::view_seed_bytes).
   // uploadChanges' exports, kept between frames.
   std::vector<GpuInstanceState> changed_state_;
   std::vector<InstanceHandle> changed_handles_;
   std::vector<GpuOverlayState> changed_overlays_, changed_extras_;
   std::vector<uint32_t> seed_lods_;  // prepareView's, kept between frames.
+  // The placed seed of views that never selected on the CPU (their LODs all 0, so one seed
+  // serves them all), staged for upload zero_seed_upload_.
+  UploadRing::Staged zero_seed_;
+  uint64_t zero_seed_upload_ = 0;
   const CrowdManager* crowd_ = nullptr;
   GLuint vertex_source_ = kNoObject;  // The vertex buffer the VAOs were made for.
 };

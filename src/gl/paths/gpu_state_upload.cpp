@@ -215,10 +215,11 @@ Status GpuCulledPath::uploadChanges(const GlInfo& info, const CrowdManager& crow
   for (const DenseRange& c : changed) total += c.count;
   changed_state_.resize(total);
   changed_handles_.resize(total);
+  exported.state(changed, changed_state_.data(), changed_handles_.data());
   std::vector<BufferPiece> pieces;
+  pieces.reserve(changed.size() * (extras_ ? 2 : 1));
   size_t at = 0;
   for (const DenseRange& c : changed) {
-    exported.state(c, changed_state_.data() + at, changed_handles_.data() + at);
     pieces.push_back({size_t(c.first) * sizeof(GpuInstanceState),
                       size_t(c.count) * sizeof(GpuInstanceState), changed_state_.data() + at});
     at += c.count;
@@ -239,20 +240,27 @@ Status GpuCulledPath::uploadChanges(const GlInfo& info, const CrowdManager& crow
     if (!s.isOk()) return s;
   } else if (layers_) {
     changed_overlays_.resize(total);
-    if (extras_) changed_extras_.resize(total * kExtraLayerRecords);
+    exported.overlays(changed, changed_overlays_.data());
+    if (extras_) {
+      changed_extras_.resize(total * kExtraLayerRecords);
+      exported.extraLayers(changed, changed_extras_.data());
+    }
+    // The overlays, then their extra layers (after the overlays' capacity): each list's data
+    // one stretch, staged with one copy.
     pieces.clear();
     at = 0;
     for (const DenseRange& c : changed) {
-      exported.overlays(c, changed_overlays_.data() + at);
       pieces.push_back({size_t(c.first) * sizeof(GpuOverlayState),
                         size_t(c.count) * sizeof(GpuOverlayState), changed_overlays_.data() + at});
-      if (extras_) {  // Its extra layers, after the overlays' capacity.
-        GpuOverlayState* out = changed_extras_.data() + at * kExtraLayerRecords;
-        exported.extraLayers(c, out);
-        pieces.push_back({(size_t(layer_capacity_) + size_t(c.first) * kExtraLayerRecords) *
-                              sizeof(GpuOverlayState),
-                          size_t(c.count) * kExtraLayerRecords * sizeof(GpuOverlayState), out});
-      }
+      at += c.count;
+    }
+    at = 0;
+    for (size_t k = 0; extras_ && k < changed.size(); ++k) {
+      const DenseRange& c = changed[k];
+      pieces.push_back({(size_t(layer_capacity_) + size_t(c.first) * kExtraLayerRecords) *
+                            sizeof(GpuOverlayState),
+                        size_t(c.count) * kExtraLayerRecords * sizeof(GpuOverlayState),
+                        changed_extras_.data() + at * kExtraLayerRecords});
       at += c.count;
     }
     up = staging_->upload(overlays_, pieces);
@@ -278,18 +286,25 @@ Status GpuCulledPath::prepareView(const PathFrame& f) {
     std::vector<uint32_t>& lods = seed_lods_;
     if (v.seeded_upload + 1 == uploads_ && placed_upload_ == uploads_) {
       // Where other instances sit since its last upload (those LODs alone: churn costs what
-      // changed, not the crowd's size),
+      // changed, not the crowd's size). A view that never selected on the CPU holds LOD 0
+      // everywhere: the views of that kind share one staged seed (the main view and shadow
+      // cascades, say: one copy on the CPU for them all).
+      const bool zeros = f.view->selectionCount() == 0;
+      if (zeros && zero_seed_upload_ == uploads_ &&
+          staging_->scatterAgain(zero_seed_, v.instances)) {
+        v.seeded_upload = uploads_;
+        return Status::ok();
+      }
       size_t total = 0;
       for (const DenseRange& d : placed_) total += d.count;
       lods.assign(total, 0u);
-      size_t at = 0;
-      for (const DenseRange& d : placed_) {
-        CrowdExport::lods(*f.view, d, lods.data() + at);
-        at += d.count;
-      }
-      s = v.seed(*staging_, lods, placed_, uploads_);
+      if (!zeros) CrowdExport::lods(*f.view, placed_, lods.data());
+      s = v.seed(*staging_, lods, placed_, uploads_, zeros ? &zero_seed_ : nullptr);
+      if (zeros) zero_seed_upload_ = s.isOk() ? uploads_ : 0;
+      seed_bytes_ = total * sizeof(glm::uvec2);
     } else {  // or everywhere.
       CrowdExport::lods(*f.view, &lods);
+      seed_bytes_ = uint64_t(instances_) * sizeof(glm::uvec2);
       s = v.seed(*staging_, lods, instances_, uploads_);
     }
     if (!s.isOk()) return s;

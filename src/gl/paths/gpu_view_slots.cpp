@@ -41,10 +41,12 @@ Status GpuViewSlot::seed(UploadRing& uploads, const std::vector<uint32_t>& lods,
 }
 
 Status GpuViewSlot::seed(UploadRing& uploads, const std::vector<uint32_t>& lods,
-                         const std::vector<DenseRange>& ranges, uint64_t upload) {
-  std::vector<glm::uvec2> rows;
-  for (size_t k = 0; k < lods.size(); ++k) rows.push_back(glm::uvec2(lods[k], 0u));
+                         const std::vector<DenseRange>& ranges, uint64_t upload,
+                         UploadRing::Staged* staged) {
+  std::vector<glm::uvec2> rows(lods.size());
+  for (size_t k = 0; k < lods.size(); ++k) rows[k] = glm::uvec2(lods[k], 0u);
   std::vector<BufferPiece> pieces;
+  pieces.reserve(ranges.size());
   size_t at = 0;
   for (const DenseRange& r : ranges) {
     if (r.first + r.count > capacity) break;  // Never past the buffer (the caller sized it).
@@ -52,7 +54,7 @@ Status GpuViewSlot::seed(UploadRing& uploads, const std::vector<uint32_t>& lods,
                       rows.data() + at});
     at += r.count;
   }
-  const Status s = uploads.upload(instances, pieces);
+  const Status s = uploads.upload(instances, pieces, staged);
   if (s.isOk()) seeded_upload = upload;
   return s;
 }

@@ -49,9 +49,11 @@ struct GpuViewSlot {
   Status seed(UploadRing& uploads, const std::vector<uint32_t>& lods, uint32_t count,
               uint64_t upload);
   /// The same for the instances of `ranges` only, `lods` holding theirs one range after the
-  /// other (CrowdExport::lods of each range); the others keep what they have.
+  /// other (CrowdExport::lods of the ranges); the others keep what they have. With `staged`,
+  /// where the seed lies in the ring (UploadRing::scatterAgain writes it into another view).
   Status seed(UploadRing& uploads, const std::vector<uint32_t>& lods,
-              const std::vector<DenseRange>& ranges, uint64_t upload);
+              const std::vector<DenseRange>& ranges, uint64_t upload,
+              UploadRing::Staged* staged = nullptr);
   /// Motion vectors: drawn records for at least `slots_needed` handle slots (room to grow: twice
   /// the last), all with the fallback. kLimitExceeded past `max_block_bytes`
   /// (GL_MAX_SHADER_STORAGE_BLOCK_SIZE).

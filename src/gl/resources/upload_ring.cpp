@@ -23,7 +23,8 @@ void UploadRing::prepare(GLuint scatter_program, const GlInfo& info) {
   }
 }
 
-Status UploadRing::upload(GLuint buffer, const std::vector<BufferPiece>& pieces) {
+Status UploadRing::upload(GLuint buffer, const std::vector<BufferPiece>& pieces, Staged* where) {
+  if (where != nullptr) *where = Staged{};
   // The scatter binds a chunk whole: within the storage block limit too. At least one table
   // entry and one word.
   const uint64_t limit = std::min<uint64_t>(kChunkBytes, max_storage_bytes_) / 4 * 4;
@@ -31,12 +32,18 @@ Status UploadRing::upload(GLuint buffer, const std::vector<BufferPiece>& pieces)
     return {StatusCode::kLimitExceeded,
             strCat("staged upload: GL_MAX_SHADER_STORAGE_BLOCK_SIZE (", max_storage_bytes_,
                    ") holds no table entry and word")};
+  // In one chunk as given when it fits and no piece is empty (the loop below drops those).
+  uint64_t all = 0;
+  bool empty_piece = false;
+  for (const BufferPiece& p : pieces) all += 16 + p.bytes, empty_piece |= p.bytes == 0;
+  if (all <= limit && !empty_piece)
+    return pieces.empty() ? Status::ok() : stage(buffer, pieces, where);
   std::vector<BufferPiece> chunk;
   uint64_t staged = 0;
   for (BufferPiece p : pieces) {
     while (p.bytes > 0) {
       if (staged + 20 > limit) {  // No room for another entry and word: stage this chunk.
-        Status s = stage(buffer, chunk);
+        Status s = stage(buffer, chunk, nullptr);
         if (!s.isOk()) return s;
         chunk.clear();
         staged = 0;
@@ -49,10 +56,29 @@ Status UploadRing::upload(GLuint buffer, const std::vector<BufferPiece>& pieces)
       p.data = static_cast<const uint8_t*>(p.data) + take;
     }
   }
-  return chunk.empty() ? Status::ok() : stage(buffer, chunk);
+  return chunk.empty() ? Status::ok() : stage(buffer, chunk, nullptr);
 }
 
-Status UploadRing::stage(GLuint buffer, const std::vector<BufferPiece>& pieces) {
+bool UploadRing::scatterAgain(const Staged& staged, GLuint buffer) {
+  if (!open_ || staged.count == 0 || staged.region_serial != region_serial_) return false;
+  scatter(staged, buffer);
+  return true;
+}
+
+void UploadRing::scatter(const Staged& staged, GLuint buffer) {
+  // Earlier passes' reads and writes of `buffer` before the scatter's writes.
+  glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT);
+  glUseProgram(program_);
+  glBindBufferRange(GL_SHADER_STORAGE_BUFFER, 0, ring_.buffer(), GLintptr(staged.base),
+                    GLsizeiptr(staged.staged_words * 4));
+  glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 1, buffer);
+  glProgramUniform1ui(program_, 0, staged.count);
+  glProgramUniform1ui(program_, 1, uint32_t(staged.words));
+  glDispatchCompute(staged.grid_x, staged.grid_y, 1);
+  glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT);  // The passes after read what it wrote.
+}
+
+Status UploadRing::stage(GLuint buffer, const std::vector<BufferPiece>& pieces, Staged* out) {
   uint64_t words = 0;
   const uint32_t count = uint32_t(pieces.size());
   for (const BufferPiece& p : pieces) words += p.bytes / 4;
@@ -66,6 +92,7 @@ Status UploadRing::stage(GLuint buffer, const std::vector<BufferPiece>& pieces) 
   if (open_ && cursor_ + need > ring_.writableBytes()) {
     ring_.finishFrame();  // Fenced after every scatter that reads it.
     open_ = false;
+    ++region_serial_;
   }
   if (!open_) {
     Status s = ring_.reserve(need);
@@ -86,28 +113,27 @@ Status UploadRing::stage(GLuint buffer, const std::vector<BufferPiece>& pieces) 
     std::memcpy(staged + 4 * k++, entry, sizeof entry);
     at += n;
   }
+  // The bytes: one copy for each stretch of pieces whose data follow each other in memory
+  // (a packed export's runs: one copy in all).
   at = count * 4;
-  for (const BufferPiece& p : pieces) {
-    std::memcpy(staged + at, p.data, p.bytes);
-    at += uint32_t(p.bytes / 4);
+  for (size_t p = 0; p < pieces.size();) {
+    const uint8_t* from = static_cast<const uint8_t*>(pieces[p].data);
+    size_t bytes = pieces[p].bytes;
+    for (++p; p < pieces.size() && pieces[p].data == from + bytes; ++p) bytes += pieces[p].bytes;
+    std::memcpy(staged + at, from, bytes);
+    at += uint32_t(bytes / 4);
   }
   ring_.publish(base, size_t(staged_words) * 4);
-  // Earlier passes' reads and writes of `buffer` before the scatter's writes.
-  glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT);
-  glUseProgram(program_);
-  glBindBufferRange(GL_SHADER_STORAGE_BUFFER, 0, ring_.buffer(), GLintptr(base),
-                    GLsizeiptr(staged_words * 4));
-  glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 1, buffer);
-  glProgramUniform1ui(program_, 0, count);
-  glProgramUniform1ui(program_, 1, uint32_t(words));
-  glDispatchCompute(grid.x, grid.y, 1);
-  glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT);  // The passes after read what it wrote.
+  const Staged chunk{base, staged_words, words, count, grid.x, grid.y, region_serial_};
+  scatter(chunk, buffer);
+  if (out != nullptr) *out = chunk;
   return Status::ok();
 }
 
 void UploadRing::release() {
   ring_.release();
   configured_ = open_ = false;
+  ++region_serial_;
 }
 
 }  // namespace si::detail

@@ -47,22 +47,39 @@ class UploadRing {
   static constexpr uint64_t kChunkBytes = 4u << 20;
   /// The scatter program (ProgramId::kUploadScatter) and the context's limits; before upload().
   void prepare(GLuint scatter_program, const GlInfo& info);
+  /// Where an upload staged in one chunk lies in the ring (count 0: nowhere), for
+  /// scatterAgain().
+  struct Staged {
+    size_t base = 0;
+    uint64_t staged_words = 0, words = 0;
+    uint32_t count = 0, grid_x = 0, grid_y = 0;
+    uint64_t region_serial = 0;
+  };
   /// Writes each piece into `buffer` after the commands already issued (and issues a storage
   /// barrier, so later passes read them), in chunks of at most kChunkBytes staged. Uses storage
   /// bindings 0 and 1. kBackend when the staging ring cannot be mapped or its region is not
   /// free within RecordRing's wait; kLimitExceeded when a chunk's scatter passes the compute
-  /// grid. Chunks written before a failure stay written.
-  Status upload(GLuint buffer, const std::vector<BufferPiece>& pieces);
+  /// grid. Chunks written before a failure stay written. With `staged`, where the upload lies
+  /// when it took one chunk (else count 0). The pieces' data are copied in stretches: pieces
+  /// whose data follow each other in memory cost one copy.
+  Status upload(GLuint buffer, const std::vector<BufferPiece>& pieces, Staged* staged = nullptr);
   Status upload(GLuint buffer, size_t bytes, const void* data) {
     return upload(buffer, std::vector<BufferPiece>{{0, bytes, data}});
   }
+  /// Writes what `staged` holds into `buffer` as well (the same pieces, as upload() placed
+  /// them), with no copy on the CPU: what several views' equal seeds share. False, with
+  /// nothing issued, once its region was closed since (the bytes may be overwritten): upload
+  /// again then.
+  bool scatterAgain(const Staged& staged, GLuint buffer);
   void release();
   /// The staging ring's bytes now (every region).
   size_t bytes() const { return ring_.bytes(); }
 
  private:
   // One chunk: each piece's 16-byte table entry, then the bytes, scattered by one dispatch.
-  Status stage(GLuint buffer, const std::vector<BufferPiece>& pieces);
+  Status stage(GLuint buffer, const std::vector<BufferPiece>& pieces, Staged* out);
+  // The scatter dispatch of a staged chunk into `buffer`, between storage barriers.
+  void scatter(const Staged& staged, GLuint buffer);
   RecordRing ring_;
   GLuint program_ = 0;
   uint32_t max_groups_x_ = 0, max_groups_y_ = 0;  // GlInfo's compute grid.
@@ -71,6 +88,7 @@ class UploadRing {
   // The region chunks are packed into (open_), from ring byte region_, cursor_ bytes used.
   size_t region_ = 0, cursor_ = 0;
   bool configured_ = false, open_ = false;
+  uint64_t region_serial_ = 1;  // Counts closed regions: a Staged of an older one is stale.
 };
 
 }  // namespace si::detail
