@@ -2,7 +2,7 @@
 # Builds the libFuzzer targets with clang (ASan + UBSan + libFuzzer) and runs them all at once,
 # spread over the machine's cores, then prints one row per target: executions, coverage (edges
 # libFuzzer counted), corpus size and crashes (the inputs it saved under build/fuzz/crashes/).
-# Seeds: generated palettes and call sequences, assets/, tests/regressions/inputs/.
+# Seeds: generated palettes, call sequences and hostile glTFs, assets/, tests/regressions/inputs/.
 #
 # Usage: scripts/fuzz.sh [-t SECONDS] [-w WORKERS] [--build-only] [--run-only] [TARGET...]
 #   -t SECONDS   fuzzing time of each target (default 60)
@@ -46,6 +46,7 @@ if [ "$build" = 1 ]; then
   mkdir -p "$out/seeds/palette" "$out/seeds/crowd-api" "$out/seeds/gltf"
   "$out/tests/fuzz/si_write_fuzz_seeds" palette "$out/seeds/palette"
   "$out/tests/fuzz/si_write_fuzz_seeds" crowd-api "$out/seeds/crowd-api"
+  "$out/tests/fuzz/si_write_fuzz_seeds" gltf "$out/seeds/gltf"  # Hostile files of our own.
   for f in "$assets"/*/glTF-Binary/*.glb "$assets"/*/glTF-Embedded/*.gltf; do
     [ -f "$f" ] && cp "$f" "$out/seeds/gltf/"
   done

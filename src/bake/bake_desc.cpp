@@ -94,6 +94,10 @@ void stepKeyTimes(const Track<T>& track, double duration, std::vector<double>* o
 }  // namespace
 
 namespace {
+// The most frames a clip is baked in (planPalette refuses more by name). A plan past it keeps
+// its count alone: its frames are never listed (a key at 1e38 s would list billions).
+constexpr uint32_t kMaxPlannedFrames = 1u << 20;
+
 FramePlan planStepFrames(const Clip& clip, double rate_hz) {
   FramePlan plan = planFrames(clip.duration_seconds, rate_hz);
   std::vector<double> steps;
@@ -102,7 +106,7 @@ FramePlan planStepFrames(const Clip& clip, double rate_hz) {
     stepKeyTimes(jt.rotation, clip.duration_seconds, &steps);
     stepKeyTimes(jt.scale, clip.duration_seconds, &steps);
   }
-  if (steps.empty() || plan.frame_count < 2) return plan;
+  if (steps.empty() || plan.frame_count < 2 || plan.frame_count > kMaxPlannedFrames) return plan;
   std::sort(steps.begin(), steps.end());
   steps.erase(std::unique(steps.begin(), steps.end()), steps.end());
   const double dt = plan.frame_interval_seconds, eps = 1e-6 * dt;
@@ -222,7 +226,7 @@ FramePlan planClipFrames(const Clip& clip, double rate_hz, bool breaks_at_corner
     for (size_t f = 0; f + 1 < plan.before_step.size(); ++f)
       if (plan.before_step[f]) plan.breaks[f] = plan.breaks[f + 1] = 1;
   }
-  if (breaks_at_corners) addCornerBreaks(clip, &plan);
+  if (breaks_at_corners && plan.frame_count <= kMaxPlannedFrames) addCornerBreaks(clip, &plan);
   return plan;
 }
 
@@ -304,7 +308,7 @@ Status planPaletteImpl(const Character& character, const BakeDesc& in_desc, Pale
     const FramePlan f =
         given != nullptr ? (*given)[i]
                          : planClipFrames(clip, rate, plan.interpolations[i] == FrameInterpolation::kCubic);
-    if (f.frame_count > (1u << 20))
+    if (f.frame_count > kMaxPlannedFrames)
       return {StatusCode::kLimitExceeded, strCat("bake: clip '", clip.name, "' would need ",
                                                  f.frame_count, " frames (at most 2^20)")};
     plan.frames.push_back(f);

@@ -337,6 +337,32 @@ TEST(HardCases, TenMinuteClipAt60Fps) {
   EXPECT_EQ(s.fraction, 0.0f);
 }
 
+// A key at 3e38 s (a hostile file's) asks for some 10^40 frames: refused by name from the
+// frame count, for cubic frames (corner breaks) and STEP keys alike, without listing the
+// frames first (which ran for minutes and gigabytes before 2026-11-29: the hostile glTF seed
+// hostile_times_huge.gltf).
+TEST(HardCases, AClipPastTheFrameLimitIsRefusedWithoutListingItsFrames) {
+  for (bool step : {false, true}) {
+    SCOPED_TRACE(step);
+    Character c = chainCharacter(2);
+    Clip clip = blankClip(c, "forever", 3e38f);
+    QuatTrack& r = clip.joint_tracks[1].rotation;
+    r.interpolation = step ? Interpolation::kStep : Interpolation::kLinear;
+    r.times_seconds = {0.0f, 0.5f, 3e38f};
+    r.values = {axisAngleF(0.0, {1, 0, 0}), axisAngleF(0.4, {1, 0, 0}), axisAngleF(0.8, {1, 0, 0})};
+    c.clips.push_back(clip);
+    BakeDesc d = fixedRate(30);
+    d.interpolation = InterpolationChoice::kCubic;  // Corner breaks for LINEAR keys.
+    BakedPalette p;
+    const Status s = bakePalette(c, d, &p, nullptr);
+    EXPECT_EQ(s.code(), StatusCode::kLimitExceeded) << s.toString();
+    EXPECT_NE(s.message().find("at most 2^20"), std::string::npos) << s.toString();
+    const FramePlan plan = planClipFrames(c.clips[0], 30.0, true);
+    EXPECT_GT(plan.frame_count, 1u << 20);
+    EXPECT_TRUE(plan.frame_times_seconds.empty());
+  }
+}
+
 TEST(HardCases, ErrorGrowsAsTheRateDropsAt720DegreesPerSecond) {
   Character c = chainCharacter(3);
   Clip clip = blankClip(c, "spin", 1.0f, LoopMode::kLoop);

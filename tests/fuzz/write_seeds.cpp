@@ -5,6 +5,8 @@
 //   crowd-api: byte strings for the CrowdManager call-sequence fuzzer (a fixed generator: the
 //              same seeds every time), each a few hundred calls; random ones, and ones whose
 //              bytes make valid instances
+//   gltf:      hostile glTF files, each breaking one rule of a small skinned file
+//              (hostile_gltf.h)
 #include <cstdint>
 #include <cstdio>
 #include <fstream>
@@ -12,6 +14,7 @@
 #include <string>
 #include <vector>
 
+#include "hostile_gltf.h"
 #include "si/bake/palette_file.h"
 #include "si/core/default_character.h"
 #include "si/crowd/crowd_manager.h"
@@ -86,6 +89,7 @@ int main(int argc, char** argv) {
   const std::string kind = argc == 3 ? argv[1] : "";
   if (kind == "palette") return writePalettes(argv[2]);
   if (kind == "crowd-api") return writeCrowdApi(argv[2]);
-  std::fprintf(stderr, "usage: si_write_fuzz_seeds palette|crowd-api DIR\n");
+  if (kind == "gltf") return si::fuzz::writeHostileGltfs(argv[2]);
+  std::fprintf(stderr, "usage: si_write_fuzz_seeds palette|crowd-api|gltf DIR\n");
   return 2;
 }

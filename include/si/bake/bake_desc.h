@@ -133,7 +133,8 @@ FramePlan planFrames(double duration_seconds, double rate_hz);
 /// planFrames() plus the STEP key frames of `clip` (see FramePlan::frame_times_seconds). With
 /// `breaks_at_corners` (cubic clips), also every cornerKeyTimes() time: a frame within 1e-3
 /// intervals of it is marked as a break, otherwise a frame is added at it and marked. A cubic
-/// interval never reads across a break (si::cubicIntervalModes()).
+/// interval never reads across a break (si::cubicIntervalModes()). A plan of more than 2^20
+/// frames (what planPalette refuses) holds its count alone: no frame times, no breaks.
 FramePlan planClipFrames(const Clip& clip, double rate_hz, bool breaks_at_corners = false);
 
 /// Times inside the clip (0 < t < duration) where its curve may have a corner: the keys of
