@@ -218,12 +218,7 @@ Status GpuCulledPath::uploadChanges(const GlInfo& info, const CrowdManager& crow
   exported.state(changed, changed_state_.data(), changed_handles_.data());
   std::vector<BufferPiece> pieces;
   pieces.reserve(changed.size() * (extras_ ? 2 : 1));
-  size_t at = 0;
-  for (const DenseRange& c : changed) {
-    pieces.push_back({size_t(c.first) * sizeof(GpuInstanceState),
-                      size_t(c.count) * sizeof(GpuInstanceState), changed_state_.data() + at});
-    at += c.count;
-  }
+  appendRunPieces(changed, 0, sizeof(GpuInstanceState), changed_state_.data(), &pieces);
   // Motion vectors key what was drawn by handle slot: room for the largest (never less).
   for (const InstanceHandle& h : changed_handles_)
     slots_needed_ = std::max(slots_needed_, (h.id & (HandlePool::kMaxSlots - 1)) + 1);
@@ -248,21 +243,11 @@ Status GpuCulledPath::uploadChanges(const GlInfo& info, const CrowdManager& crow
     // The overlays, then their extra layers (after the overlays' capacity): each list's data
     // one stretch, staged with one copy.
     pieces.clear();
-    at = 0;
-    for (const DenseRange& c : changed) {
-      pieces.push_back({size_t(c.first) * sizeof(GpuOverlayState),
-                        size_t(c.count) * sizeof(GpuOverlayState), changed_overlays_.data() + at});
-      at += c.count;
-    }
-    at = 0;
-    for (size_t k = 0; extras_ && k < changed.size(); ++k) {
-      const DenseRange& c = changed[k];
-      pieces.push_back({(size_t(layer_capacity_) + size_t(c.first) * kExtraLayerRecords) *
-                            sizeof(GpuOverlayState),
-                        size_t(c.count) * kExtraLayerRecords * sizeof(GpuOverlayState),
-                        changed_extras_.data() + at * kExtraLayerRecords});
-      at += c.count;
-    }
+    appendRunPieces(changed, 0, sizeof(GpuOverlayState), changed_overlays_.data(), &pieces);
+    if (extras_)
+      appendRunPieces(changed, size_t(layer_capacity_) * sizeof(GpuOverlayState),
+                      kExtraLayerRecords * sizeof(GpuOverlayState), changed_extras_.data(),
+                      &pieces);
     up = staging_->upload(overlays_, pieces);
     if (!up.isOk()) return up;
     uploaded_bytes_ += total * (extras_ ? 1 + kExtraLayerRecords : 1) * sizeof(GpuOverlayState);

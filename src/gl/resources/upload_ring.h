@@ -24,6 +24,7 @@
 
 #include "gl/resources/record_ring.h"
 #include "si/core/status.h"
+#include "si/crowd/gpu_crowd_state.h"
 #include "si/gl/gl_context.h"
 
 namespace si::detail {
@@ -34,6 +35,19 @@ struct BufferPiece {
   size_t offset = 0, bytes = 0;
   const void* data = nullptr;
 };
+
+/// Appends one piece per run of `runs`: elements of `element_bytes` each, dense index i at byte
+/// `base` + i x element_bytes of the buffer, their data packed one run after another from
+/// `packed` (what CrowdExport's ranged exports write; the stretch is staged with one copy).
+inline void appendRunPieces(const std::vector<DenseRange>& runs, size_t base, size_t element_bytes,
+                            const void* packed, std::vector<BufferPiece>* pieces) {
+  const uint8_t* data = static_cast<const uint8_t*>(packed);
+  for (const DenseRange& r : runs) {
+    const size_t bytes = size_t(r.count) * element_bytes;
+    pieces->push_back({base + size_t(r.first) * element_bytes, bytes, data});
+    data += bytes;
+  }
+}
 
 class UploadRing {
  public:
