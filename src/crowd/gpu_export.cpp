@@ -69,9 +69,9 @@ void exportPlayback(const detail::Playback& p, double* start_clock, double* star
   *speed = p.speed;
 }
 
+// Built on the stack and stored once: `out` may be write-combined memory (never read).
 void exportInstance(const detail::InstanceStore& st, uint32_t i, GpuInstanceState* out) {
-  GpuInstanceState& g = *out;
-  g = GpuInstanceState{};
+  GpuInstanceState g{};
   const glm::dvec3 p = st.positions.get(i);
   for (int k = 0; k < 3; ++k) g.position[k] = p[k];
   const glm::quat q = st.rotations.get(i);
@@ -88,12 +88,12 @@ void exportInstance(const detail::InstanceStore& st, uint32_t i, GpuInstanceStat
                  &g.from_loop, &g.from_speed);
   g.handle = st.dense_handles[i].id;
   g.placement = st.placements[i];
+  *out = g;
 }
 
-void exportOverlay(const detail::OverlayState& o, GpuOverlayState* out) {
-  GpuOverlayState& g = *out;
-  g = GpuOverlayState{};
-  if (!o.active) return;
+GpuOverlayState exportedOverlay(const detail::OverlayState& o) {
+  GpuOverlayState g{};
+  if (!o.active) return g;
   exportPlayback(o.playback, &g.start_clock, &g.start_time, &g.clip, &g.loop, &g.speed);
   g.fade_start = o.fade_start;
   g.fade_duration = o.fade_duration;
@@ -101,17 +101,18 @@ void exportOverlay(const detail::OverlayState& o, GpuOverlayState* out) {
   g.weight_from = o.weight_from;
   g.weight_to = o.weight_to;
   g.active = 1u;
+  return g;
 }
 
 // Extra layer `k` of `o` as an overlay state of its own.
-void exportExtraLayer(const detail::OverlayState& o, uint32_t k, GpuOverlayState* out) {
-  exportOverlay(o, out);
-  if (!o.active) return;
+GpuOverlayState exportedExtraLayer(const detail::OverlayState& o, uint32_t k) {
+  GpuOverlayState g = exportedOverlay(o);
+  if (!o.active) return g;
   const detail::ExtraLayer& e = o.extra[k];
-  exportPlayback(e.playback, &out->start_clock, &out->start_time, &out->clip, &out->loop,
-                 &out->speed);
-  out->weight_from = e.weight_from;
-  out->weight_to = e.weight_to;
+  exportPlayback(e.playback, &g.start_clock, &g.start_time, &g.clip, &g.loop, &g.speed);
+  g.weight_from = e.weight_from;
+  g.weight_to = e.weight_to;
+  return g;
 }
 
 }  // namespace
@@ -225,7 +226,7 @@ void CrowdExport::overlays(Span<const DenseRange> runs, GpuOverlayState* out) co
   const size_t total = indicesIn(runs, out);
   if (total > 0)
     walkOverlays(*crowd_->state_, runs, total,
-                 [out](const detail::OverlayState& o, size_t p) { exportOverlay(o, out + p); });
+                 [out](const detail::OverlayState& o, size_t p) { out[p] = exportedOverlay(o); });
 }
 
 bool CrowdExport::writesExtraLayers() const {
@@ -246,7 +247,7 @@ void CrowdExport::extraLayers(Span<const DenseRange> runs, GpuOverlayState* out)
   if (total > 0)
     walkOverlays(*crowd_->state_, runs, total, [out](const detail::OverlayState& o, size_t p) {
       for (uint32_t k = 0; k < kExtraLayerRecords; ++k)
-        exportExtraLayer(o, k, out + p * kExtraLayerRecords + k);
+        out[p * kExtraLayerRecords + k] = exportedExtraLayer(o, k);
     });
 }
 

@@ -191,6 +191,60 @@ TEST_P(RenderTest, ASpawnWaveUploadsWhatItAdds) {
   r.shutdown();
 }
 
+// Changes past one staged chunk (4 MiB: some 29,000 instances' state) go through a copy of the
+// export; fewer are exported straight into the staging ring. Both draw what uploading whole
+// draws: 40,000 instances (12 in view) recoloured and moved, all of them, then 200 of them.
+TEST_P(RenderTest, ChangesInOneChunkOrPastItDrawWhatWholeUploadsDraw) {
+  Renderer changed_renderer, whole_renderer;
+  RendererDesc rd;
+  rd.skinning_path = SkinningPath::kVertexShader;
+  makeRenderer(&changed_renderer, 0, PaletteFormat::kMatrix3x4F32, &rd);
+  rd.gpu_state_upload = GpuStateUpload::kWhole;
+  makeRenderer(&whole_renderer, 0, PaletteFormat::kMatrix3x4F32, &rd);
+  CrowdManager crowd;
+  makeCrowd(&crowd);
+  std::vector<glm::dvec3> positions;
+  for (int i = 0; i < 12; ++i)
+    positions.push_back({(i % 4 - 1.5) * 0.8, 0.0, -1.0 - (i / 4) * 1.5});
+  for (uint32_t i = 0; i < 39988; ++i) positions.push_back({double(i % 200), 0.0, 50.0 + i / 200});
+  RandomCrowdDesc rc;
+  rc.positions = positions;
+  std::vector<InstanceHandle> handles;
+  ASSERT_TRUE(crowd.addRandom(rc, &handles).isOk());
+  const auto drawn = [&](Renderer& r, DrawStats* stats) {
+    r.clear(glm::vec4(0.2f, 0.25f, 0.3f, 1.0f));
+    EXPECT_TRUE(r.drawCrowdGpuCulled(CharacterId{}, crowd.view(), closeCamera(), stats).isOk());
+    std::vector<uint8_t> rgba;
+    EXPECT_TRUE(context_->readPixels(&rgba).isOk());
+    return rgba;
+  };
+  std::vector<uint8_t> before;
+  for (int step = 0; step < 3; ++step) {
+    SCOPED_TRACE(step);
+    // Step 1 changes every instance (past one chunk), step 2 every 200th (in one).
+    const uint32_t every = step == 1 ? 1 : 200;
+    if (step > 0)
+      for (uint32_t i = 0; i < handles.size(); i += every) {
+        const glm::dvec3 p = positions[i] + glm::dvec3(0.15 * step, 0.0, 0.0);
+        ASSERT_TRUE(crowd.setTransform(handles[i], p, glm::quat(1, 0, 0, 0), 1.0f).isOk());
+        ASSERT_TRUE(crowd.setColor(handles[i], glm::u8vec4(60 * step, 200, 90, 255)).isOk());
+      }
+    ASSERT_TRUE(crowd.advance(0.1).isOk());
+    DrawStats changed;
+    const std::vector<uint8_t> image = drawn(changed_renderer, &changed);
+    const std::vector<uint8_t> reference = drawn(whole_renderer, nullptr);
+    EXPECT_EQ(compare(image, reference, nullptr).share, 0.0);
+    if (step > 0) {
+      EXPECT_GT(compare(image, before, nullptr).share, 0.0) << "the change is seen";
+      EXPECT_EQ(changed.state_bytes_uploaded,
+                uint64_t(step == 1 ? 40000 : 200) * sizeof(GpuInstanceState));
+    }
+    before = image;
+  }
+  changed_renderer.shutdown();
+  whole_renderer.shutdown();
+}
+
 // Churn with several views: each view starts its LODs over where other instances sit, from
 // its CPU LODs. Views that never selected on the CPU hold LOD 0 there, so the first of them
 // stages the seed and the others scatter the same bytes (DrawStats::view_seed_bytes 0); a view

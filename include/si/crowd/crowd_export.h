@@ -55,7 +55,9 @@ class CrowdExport {
   /// size() (nothing is written otherwise). Churn scatters the runs over the crowd: the reads
   /// are prefetched ahead, and past 512 indices the work runs on CrowdDesc::worker_threads
   /// threads (the output does not depend on their number). overlays() and extraLayers() do the
-  /// same. A single run: `state(si::Span<const si::DenseRange>(&run, 1), ...)`.
+  /// same. Each entry of `out` is written once and never read, so `out` may be a
+  /// write-combined mapping (a staging buffer): the GPU-driven path exports into its staging
+  /// ring so. A single run: `state(si::Span<const si::DenseRange>(&run, 1), ...)`.
   void state(Span<const DenseRange> runs, GpuInstanceState* out, InstanceHandle* handles) const;
   /// Which dense indices changed since the crowd's stateVersion() was `since` (a version it
   /// returned earlier, under the same CrowdManager::identity()): into `changed`, the indices

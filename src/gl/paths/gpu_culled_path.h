@@ -133,10 +133,12 @@ class GpuCulledPath final : public DrawPath {
   uint64_t placed_upload_ = 0;
   uint64_t uploaded_bytes_ = 0;  // Since the last draw (DrawStats::state_bytes_uploaded),
   uint64_t seed_bytes_ = 0;      // and of the view's seed (DrawStats::view_seed_bytes).
-  // uploadChanges' exports, kept between frames.
-  std::vector<GpuInstanceState> changed_state_;
+  // uploadChanges' lists and exports, kept between frames (their memory reused).
+  std::vector<DenseRange> changed_runs_;
+  std::vector<BufferPiece> pieces_;
   std::vector<InstanceHandle> changed_handles_;
-  std::vector<GpuOverlayState> changed_overlays_, changed_extras_;
+  std::vector<uint8_t> changed_bytes_;   // Exports past one staged chunk.
+  std::vector<DenseRange> placed_runs_;  // Where instances were placed (swapped into placed_).
   std::vector<uint32_t> seed_lods_;  // prepareView's, kept between frames.
   // The placed seed of views that never selected on the CPU (their LODs all 0, so one seed
   // serves them all), staged for upload zero_seed_upload_.

@@ -209,21 +209,26 @@ Status GpuCulledPath::uploadOverlays(const GlInfo& info, const CrowdManager& cro
 
 Status GpuCulledPath::uploadChanges(const GlInfo& info, const CrowdManager& crowd) {
   const CrowdExport exported(crowd);
-  std::vector<DenseRange> changed, placed;
+  std::vector<DenseRange>& changed = changed_runs_;
+  std::vector<DenseRange>& placed = placed_runs_;
   exported.changedSince(version_, &changed, &placed);
   size_t total = 0;
   for (const DenseRange& c : changed) total += c.count;
-  changed_state_.resize(total);
   changed_handles_.resize(total);
-  exported.state(changed, changed_state_.data(), changed_handles_.data());
-  std::vector<BufferPiece> pieces;
-  pieces.reserve(changed.size() * (extras_ ? 2 : 1));
-  appendRunPieces(changed, 0, sizeof(GpuInstanceState), changed_state_.data(), &pieces);
+  // The changed instances' state, exported by the crowd's workers straight into the staging
+  // ring (one chunk: some 29,000 instances) or through changed_bytes_ (more).
+  std::vector<BufferPiece>& pieces = pieces_;
+  pieces.clear();
+  appendRunPieces(changed, 0, sizeof(GpuInstanceState), nullptr, &pieces);
+  Status up = uploadWritten(*staging_, state_, &pieces, total * sizeof(GpuInstanceState),
+                            &changed_bytes_, [&](uint8_t* out) {
+                              exported.state(changed, reinterpret_cast<GpuInstanceState*>(out),
+                                             changed_handles_.data());
+                            });
+  if (!up.isOk()) return up;
   // Motion vectors key what was drawn by handle slot: room for the largest (never less).
   for (const InstanceHandle& h : changed_handles_)
     slots_needed_ = std::max(slots_needed_, (h.id & (HandlePool::kMaxSlots - 1)) + 1);
-  Status up = staging_->upload(state_, pieces);
-  if (!up.isOk()) return up;
   uploaded_bytes_ += total * sizeof(GpuInstanceState);
 
   // Overlays: all of them when the crowd starts or stops holding any or outgrows the buffer,
@@ -234,26 +239,24 @@ Status GpuCulledPath::uploadChanges(const GlInfo& info, const CrowdManager& crow
     Status s = uploadOverlays(info, crowd);
     if (!s.isOk()) return s;
   } else if (layers_) {
-    changed_overlays_.resize(total);
-    exported.overlays(changed, changed_overlays_.data());
-    if (extras_) {
-      changed_extras_.resize(total * kExtraLayerRecords);
-      exported.extraLayers(changed, changed_extras_.data());
-    }
-    // The overlays, then their extra layers (after the overlays' capacity): each list's data
-    // one stretch, staged with one copy.
+    // The overlays, then their extra layers (after the overlays' capacity).
     pieces.clear();
-    appendRunPieces(changed, 0, sizeof(GpuOverlayState), changed_overlays_.data(), &pieces);
+    appendRunPieces(changed, 0, sizeof(GpuOverlayState), nullptr, &pieces);
     if (extras_)
       appendRunPieces(changed, size_t(layer_capacity_) * sizeof(GpuOverlayState),
-                      kExtraLayerRecords * sizeof(GpuOverlayState), changed_extras_.data(),
-                      &pieces);
-    up = staging_->upload(overlays_, pieces);
+                      kExtraLayerRecords * sizeof(GpuOverlayState), nullptr, &pieces);
+    const size_t records = total * (extras_ ? 1 + kExtraLayerRecords : 1);
+    up = uploadWritten(*staging_, overlays_, &pieces, records * sizeof(GpuOverlayState),
+                       &changed_bytes_, [&](uint8_t* out) {
+                         GpuOverlayState* overlays = reinterpret_cast<GpuOverlayState*>(out);
+                         exported.overlays(changed, overlays);
+                         if (extras_) exported.extraLayers(changed, overlays + total);
+                       });
     if (!up.isOk()) return up;
-    uploaded_bytes_ += total * (extras_ ? 1 + kExtraLayerRecords : 1) * sizeof(GpuOverlayState);
+    uploaded_bytes_ += records * sizeof(GpuOverlayState);
   }
   if (!placed.empty()) {  // Views seeded at the last upload start over there only.
-    placed_ = std::move(placed);
+    placed_.swap(placed);  // The last frame's list's memory reused next frame.
     placed_upload_ = ++uploads_;
   }
   version_ = exported.stateVersion();

@@ -23,27 +23,45 @@ void UploadRing::prepare(GLuint scatter_program, const GlInfo& info) {
   }
 }
 
-Status UploadRing::upload(GLuint buffer, const std::vector<BufferPiece>& pieces, Staged* where) {
-  if (where != nullptr) *where = Staged{};
+Status UploadRing::chunkLimit(uint64_t* limit) const {
   // The scatter binds a chunk whole: within the storage block limit too. At least one table
   // entry and one word.
-  const uint64_t limit = std::min<uint64_t>(kChunkBytes, max_storage_bytes_) / 4 * 4;
-  if (limit < 20)
+  *limit = std::min<uint64_t>(kChunkBytes, max_storage_bytes_) / 4 * 4;
+  if (*limit < 20)
     return {StatusCode::kLimitExceeded,
             strCat("staged upload: GL_MAX_SHADER_STORAGE_BLOCK_SIZE (", max_storage_bytes_,
                    ") holds no table entry and word")};
-  // In one chunk as given when it fits and no piece is empty (the loop below drops those).
+  return Status::ok();
+}
+
+namespace {
+
+// Whether `pieces` fit one chunk of `limit` bytes as given (tables and bytes) with no piece
+// empty.
+bool oneChunk(const std::vector<BufferPiece>& pieces, uint64_t limit) {
   uint64_t all = 0;
-  bool empty_piece = false;
-  for (const BufferPiece& p : pieces) all += 16 + p.bytes, empty_piece |= p.bytes == 0;
-  if (all <= limit && !empty_piece)
-    return pieces.empty() ? Status::ok() : stage(buffer, pieces, where);
+  for (const BufferPiece& p : pieces) {
+    if (p.bytes == 0) return false;
+    all += 16 + p.bytes;
+  }
+  return all <= limit;
+}
+
+}  // namespace
+
+Status UploadRing::upload(GLuint buffer, const std::vector<BufferPiece>& pieces, Staged* where) {
+  if (where != nullptr) *where = Staged{};
+  uint64_t limit = 0;
+  Status s = chunkLimit(&limit);
+  if (!s.isOk()) return s;
+  // In one chunk as given when it fits and no piece is empty (the loop below drops those).
+  if (oneChunk(pieces, limit)) return pieces.empty() ? Status::ok() : stage(buffer, pieces, where);
   std::vector<BufferPiece> chunk;
   uint64_t staged = 0;
   for (BufferPiece p : pieces) {
     while (p.bytes > 0) {
       if (staged + 20 > limit) {  // No room for another entry and word: stage this chunk.
-        Status s = stage(buffer, chunk, nullptr);
+        s = stage(buffer, chunk, nullptr);
         if (!s.isOk()) return s;
         chunk.clear();
         staged = 0;
@@ -78,7 +96,22 @@ void UploadRing::scatter(const Staged& staged, GLuint buffer) {
   glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT);  // The passes after read what it wrote.
 }
 
-Status UploadRing::stage(GLuint buffer, const std::vector<BufferPiece>& pieces, Staged* out) {
+Status UploadRing::reserve(const std::vector<BufferPiece>& pieces, uint8_t** bytes,
+                           Staged* staged) {
+  *bytes = nullptr;
+  *staged = Staged{};
+  uint64_t limit = 0;
+  Status s = chunkLimit(&limit);
+  if (!s.isOk() || pieces.empty() || !oneChunk(pieces, limit)) return s;
+  return open(pieces, bytes, staged);
+}
+
+void UploadRing::finish(const Staged& staged, GLuint buffer) {
+  ring_.publish(staged.base, size_t(staged.staged_words) * 4);
+  scatter(staged, buffer);
+}
+
+Status UploadRing::open(const std::vector<BufferPiece>& pieces, uint8_t** bytes, Staged* out) {
   uint64_t words = 0;
   const uint32_t count = uint32_t(pieces.size());
   for (const BufferPiece& p : pieces) words += p.bytes / 4;
@@ -113,19 +146,26 @@ Status UploadRing::stage(GLuint buffer, const std::vector<BufferPiece>& pieces, 
     std::memcpy(staged + 4 * k++, entry, sizeof entry);
     at += n;
   }
+  *bytes = reinterpret_cast<uint8_t*>(staged + count * 4);
+  *out = Staged{base, staged_words, words, count, grid.x, grid.y, region_serial_};
+  return Status::ok();
+}
+
+Status UploadRing::stage(GLuint buffer, const std::vector<BufferPiece>& pieces, Staged* out) {
+  uint8_t* bytes = nullptr;
+  Staged chunk;
+  Status s = open(pieces, &bytes, &chunk);
+  if (!s.isOk()) return s;
   // The bytes: one copy for each stretch of pieces whose data follow each other in memory
   // (a packed export's runs: one copy in all).
-  at = count * 4;
   for (size_t p = 0; p < pieces.size();) {
     const uint8_t* from = static_cast<const uint8_t*>(pieces[p].data);
-    size_t bytes = pieces[p].bytes;
-    for (++p; p < pieces.size() && pieces[p].data == from + bytes; ++p) bytes += pieces[p].bytes;
-    std::memcpy(staged + at, from, bytes);
-    at += uint32_t(bytes / 4);
+    size_t n = pieces[p].bytes;
+    for (++p; p < pieces.size() && pieces[p].data == from + n; ++p) n += pieces[p].bytes;
+    std::memcpy(bytes, from, n);
+    bytes += n;
   }
-  ring_.publish(base, size_t(staged_words) * 4);
-  const Staged chunk{base, staged_words, words, count, grid.x, grid.y, region_serial_};
-  scatter(chunk, buffer);
+  finish(chunk, buffer);
   if (out != nullptr) *out = chunk;
   return Status::ok();
 }

@@ -38,16 +38,26 @@ struct BufferPiece {
 
 /// Appends one piece per run of `runs`: elements of `element_bytes` each, dense index i at byte
 /// `base` + i x element_bytes of the buffer, their data packed one run after another from
-/// `packed` (what CrowdExport's ranged exports write; the stretch is staged with one copy).
+/// `packed` (what CrowdExport's ranged exports write; the stretch is staged with one copy), or
+/// none (nullptr: written later, uploadWritten).
 inline void appendRunPieces(const std::vector<DenseRange>& runs, size_t base, size_t element_bytes,
                             const void* packed, std::vector<BufferPiece>* pieces) {
   const uint8_t* data = static_cast<const uint8_t*>(packed);
   for (const DenseRange& r : runs) {
     const size_t bytes = size_t(r.count) * element_bytes;
     pieces->push_back({base + size_t(r.first) * element_bytes, bytes, data});
-    data += bytes;
+    if (data != nullptr) data += bytes;
   }
 }
+
+class UploadRing;
+
+/// Stages `pieces` (`bytes` in all, their data ignored) into `buffer` with their bytes written
+/// by `write(uint8_t* out)`, packed one piece after another: straight into the staging ring
+/// when they fit one chunk (UploadRing::reserve), else into `scratch`, then staged from it.
+template <class Write>
+Status uploadWritten(UploadRing& ring, GLuint buffer, std::vector<BufferPiece>* pieces,
+                     size_t bytes, std::vector<uint8_t>* scratch, const Write& write);
 
 class UploadRing {
  public:
@@ -85,6 +95,15 @@ class UploadRing {
   /// nothing issued, once its region was closed since (the bytes may be overwritten): upload
   /// again then.
   bool scatterAgain(const Staged& staged, GLuint buffer);
+  /// Stages `pieces` (their data ignored) in one chunk for the caller to write: their bytes go
+  /// to `*bytes`, packed one piece after another, and finish() then scatters them into
+  /// `buffer`. So an export writes straight into the ring, with no copy of its own (the
+  /// crowd's workers writing in parallel). nullptr in `*bytes`, with nothing staged, when they
+  /// do not fit one chunk or hold an empty piece: upload() them then. No other call on the
+  /// ring until finish(). kBackend and kLimitExceeded as upload().
+  Status reserve(const std::vector<BufferPiece>& pieces, uint8_t** bytes, Staged* staged);
+  /// Scatters what reserve() staged, its bytes written, into `buffer`.
+  void finish(const Staged& staged, GLuint buffer);
   void release();
   /// The staging ring's bytes now (every region).
   size_t bytes() const { return ring_.bytes(); }
@@ -92,6 +111,10 @@ class UploadRing {
  private:
   // One chunk: each piece's 16-byte table entry, then the bytes, scattered by one dispatch.
   Status stage(GLuint buffer, const std::vector<BufferPiece>& pieces, Staged* out);
+  // The table of a chunk written into the open region, and where its bytes go.
+  Status open(const std::vector<BufferPiece>& pieces, uint8_t** bytes, Staged* out);
+  // The staging ring's limit of one chunk (a multiple of 4), or kLimitExceeded.
+  Status chunkLimit(uint64_t* limit) const;
   // The scatter dispatch of a staged chunk into `buffer`, between storage barriers.
   void scatter(const Staged& staged, GLuint buffer);
   RecordRing ring_;
@@ -104,5 +127,24 @@ class UploadRing {
   bool configured_ = false, open_ = false;
   uint64_t region_serial_ = 1;  // Counts closed regions: a Staged of an older one is stale.
 };
+
+template <class Write>
+Status uploadWritten(UploadRing& ring, GLuint buffer, std::vector<BufferPiece>* pieces,
+                     size_t bytes, std::vector<uint8_t>* scratch, const Write& write) {
+  uint8_t* direct = nullptr;
+  UploadRing::Staged staged;
+  Status s = ring.reserve(*pieces, &direct, &staged);
+  if (!s.isOk()) return s;
+  if (direct != nullptr) {
+    write(direct);
+    ring.finish(staged, buffer);
+    return Status::ok();
+  }
+  scratch->resize(bytes);
+  write(scratch->data());
+  const uint8_t* data = scratch->data();
+  for (BufferPiece& p : *pieces) p.data = data, data += p.bytes;
+  return ring.upload(buffer, *pieces);
+}
 
 }  // namespace si::detail
