@@ -94,12 +94,22 @@ struct PrimitiveSurface {
 /// vertices reads as empty.
 Status readPrimitiveSurface(const tinygltf::Model& m, const tinygltf::Primitive& prim,
                             const std::string& where, PrimitiveSurface* out);
+
+// ---- gltf_nodes.cpp: node matrices and surfaces placed by them.
+/// The node's local matrix: its matrix, or T * R * S (the rotation normalized).
+glm::dmat4 nodeMatrix(const tinygltf::Node& n);
+/// Moves `s` by `m`: positions, normals by its inverse transpose and tangents by its linear
+/// part (renormalized; zero ones become +Y and +X), and a mirroring `m` (negative determinant)
+/// winds the triangles back and flips the tangents' bitangent sign, so fronts stay outside.
+void placeSurface(const glm::dmat4& m, PrimitiveSurface* s);
+
 struct ImportedPrimitive {
   std::string mesh_name;  ///< Mesh name (node name or "mesh<n>" without one), "_LOD<n>" removed.
   std::string node_name;
   uint32_t primitive = 0;  ///< Index in its mesh.
   uint32_t lod = 0;        ///< From the mesh name's "_LOD<n>" suffix.
   uint32_t material = 0;   ///< Character material (0: the default).
+  bool rigid = false;      ///< Moved by its node, not a skin (each node's use a part).
   std::vector<uint32_t> indices;  ///< Into the character's vertex arrays.
 };
 /// Appends every skinned triangle primitive's vertices to c->mesh and fills `out`.

@@ -1,8 +1,9 @@
 // SkinnedInstancing — SPDX-License-Identifier: MIT (see LICENSE)
 // Meshes (glTF 2.0 specification, "Meshes"): every triangle primitive of every node skinned by
-// the skin, with up to 8 influences reduced to 4, appended to the vertex arrays; its mesh name
-// without the "_LOD<n>" suffix and its level (grouping into sub-meshes: gltf_variations.cpp;
-// generated LODs and every LOD's error: gltf_import.cpp, after the weights are normalized).
+// the skin or moved by its node alone (a rigid part, bound wholly to its node's joint), with up to
+// 8 influences reduced to 4, appended to the vertex arrays; its mesh name without the "_LOD<n>"
+// suffix and its level (grouping into sub-meshes: gltf_variations.cpp; generated LODs and every
+// LOD's error: gltf_import.cpp, after the weights are normalized).
 #include <algorithm>
 #include <cmath>
 
@@ -133,10 +134,10 @@ Status convertMeshes(const tinygltf::Model& m, const SkinBinding& binding, GltfI
                      Character* c, std::vector<ImportedPrimitive>* out) {
   std::vector<std::string>& warnings = report->warnings;
   const int skin_index = binding.skin_index;
-  const tinygltf::Skin& skin = *binding.skin;
   const std::vector<int32_t>& node_to_joint = binding.node_to_joint;
   const size_t node_count = m.nodes.size();
-  // ---- Meshes: every triangle primitive of every node skinned by this skin.
+  // ---- Meshes: every triangle primitive of every node skinned by this skin, and of every node
+  // no skin moves (a rigid part, bound wholly to its node's joint).
   std::vector<ImportedPrimitive>& primitives = *out;
   primitives.clear();
   bool all_tangents = true;
@@ -145,10 +146,16 @@ Status convertMeshes(const tinygltf::Model& m, const SkinBinding& binding, GltfI
   for (size_t n = 0; n < node_count; ++n) {
     const tinygltf::Node& node = m.nodes[n];
     if (node.mesh < 0) continue;
-    if (node.skin != skin_index) {
-      if (node.skin >= 0) warnings.push_back(strCat("node '", node.name, "' uses another skin: skipped"));
+    if (node.skin >= 0 && node.skin != skin_index) {
+      warnings.push_back(strCat("node '", node.name, "' uses another skin: skipped"));
       continue;
     }
+    // Its joint when rigid; where it rests then: the inverse of the joint's inverse bind.
+    const int32_t rigid_joint = node.skin < 0 ? node_to_joint[n] : -1;
+    const glm::dmat4 rest =
+        rigid_joint >= 0
+            ? glm::inverse(glm::dmat4(c->skeleton.inverse_bind_matrices[size_t(rigid_joint)]))
+            : glm::dmat4(1.0);
     if (size_t(node.mesh) >= m.meshes.size())
       return corrupt(strCat("node ", n, " names mesh ", node.mesh, ", which does not exist"));
     const tinygltf::Mesh& mesh = m.meshes[size_t(node.mesh)];
@@ -166,10 +173,11 @@ Status convertMeshes(const tinygltf::Model& m, const SkinBinding& binding, GltfI
         return it == prim.attributes.end() ? -1 : it->second;
       };
       if (attr("POSITION") < 0) return corrupt(where + ": has no POSITION");
-      if (attr("JOINTS_0") < 0 || attr("WEIGHTS_0") < 0)
+      if (rigid_joint < 0 && (attr("JOINTS_0") < 0 || attr("WEIGHTS_0") < 0))
         return corrupt(where + ": is skinned but has no JOINTS_0/WEIGHTS_0");
       PrimitiveSurface surface;
       Status s = readPrimitiveSurface(m, prim, where, &surface);
+      if (s.isOk() && rigid_joint >= 0) placeSurface(rest, &surface);
       const size_t nv = surface.positions.size();
       const auto same_count = [&](const std::vector<double>& v, size_t comps, const char* what) {
         return v.size() == nv * comps ? Status::ok()
@@ -182,11 +190,16 @@ Status convertMeshes(const tinygltf::Model& m, const SkinBinding& binding, GltfI
       const std::vector<int> weight_types = {TINYGLTF_COMPONENT_TYPE_FLOAT,
                                              TINYGLTF_COMPONENT_TYPE_UNSIGNED_BYTE,
                                              TINYGLTF_COMPONENT_TYPE_UNSIGNED_SHORT};
-      if (s.isOk()) s = readAccessor(m, attr("JOINTS_0"), {TINYGLTF_TYPE_VEC4}, joint_types, where + " JOINTS_0", &j0);
-      if (s.isOk()) s = same_count(j0, 4, "JOINTS_0");
-      if (s.isOk()) s = readAccessor(m, attr("WEIGHTS_0"), {TINYGLTF_TYPE_VEC4}, weight_types, where + " WEIGHTS_0", &w0);
-      if (s.isOk()) s = same_count(w0, 4, "WEIGHTS_0");
-      const bool second = attr("JOINTS_1") >= 0 && attr("WEIGHTS_1") >= 0;
+      const bool skinned = rigid_joint < 0;  // A rigid part's JOINTS and WEIGHTS are unused.
+      if (s.isOk() && skinned)
+        s = readAccessor(m, attr("JOINTS_0"), {TINYGLTF_TYPE_VEC4}, joint_types,
+                         where + " JOINTS_0", &j0);
+      if (s.isOk() && skinned) s = same_count(j0, 4, "JOINTS_0");
+      if (s.isOk() && skinned)
+        s = readAccessor(m, attr("WEIGHTS_0"), {TINYGLTF_TYPE_VEC4}, weight_types,
+                         where + " WEIGHTS_0", &w0);
+      if (s.isOk() && skinned) s = same_count(w0, 4, "WEIGHTS_0");
+      const bool second = skinned && attr("JOINTS_1") >= 0 && attr("WEIGHTS_1") >= 0;
       if (s.isOk() && second) {
         s = readAccessor(m, attr("JOINTS_1"), {TINYGLTF_TYPE_VEC4}, joint_types, where + " JOINTS_1", &j1);
         if (s.isOk()) s = same_count(j1, 4, "JOINTS_1");
@@ -205,6 +218,7 @@ Status convertMeshes(const tinygltf::Model& m, const SkinBinding& binding, GltfI
       out_prim.node_name = lodName(node.name).first;
       out_prim.primitive = uint32_t(p);
       out_prim.lod = mesh_lod;
+      out_prim.rigid = !skinned;
       out_prim.material = prim.material >= 0 ? uint32_t(prim.material) + 1 : 0;  // 0: default.
       if (prim.material >= 0 && size_t(prim.material) >= m.materials.size())
         return corrupt(strCat(where, ": material ", prim.material, " does not exist"));
@@ -223,7 +237,11 @@ Status convertMeshes(const tinygltf::Model& m, const SkinBinding& binding, GltfI
       if (surface.clamped_colors != 0)
         warnings.push_back(
             strCat(where, ": ", surface.clamped_colors, " COLOR_0 values outside [0, 1] clamped"));
-      for (size_t v = 0; v < nv; ++v) {
+      for (size_t v = 0; v < nv && !skinned; ++v) {  // Wholly its node's.
+        c->mesh.joints.push_back(glm::u16vec4(uint16_t(rigid_joint), 0, 0, 0));
+        c->mesh.weights.push_back(glm::vec4(1, 0, 0, 0));
+      }
+      for (size_t v = 0; v < nv && skinned; ++v) {
         Influence infl[8];
         size_t k = 0;
         for (int i = 0; i < 4; ++i) infl[k++] = {uint32_t(j0[v * 4 + size_t(i)]), float(w0[v * 4 + size_t(i)])};
@@ -234,10 +252,11 @@ Status convertMeshes(const tinygltf::Model& m, const SkinBinding& binding, GltfI
             infl[i].joint = 0;
             continue;
           }
-          if (infl[i].joint >= skin.joints.size())
+          const std::vector<int>& joints = binding.skin->joints;  // Skinned: the skin's node.
+          if (infl[i].joint >= joints.size())
             return corrupt(strCat(where, ": vertex ", v, " uses joint ", infl[i].joint, " of ",
-                                  skin.joints.size()));
-          infl[i].joint = uint32_t(node_to_joint[size_t(skin.joints[infl[i].joint])]);
+                                  joints.size()));
+          infl[i].joint = uint32_t(node_to_joint[size_t(joints[infl[i].joint])]);
         }
         glm::u16vec4 joints;
         glm::vec4 weights;
@@ -259,12 +278,14 @@ Status convertMeshes(const tinygltf::Model& m, const SkinBinding& binding, GltfI
       for (uint32_t i : surface.indices) out_prim.indices.push_back(first + i);
       if (surface.generated_normals)
         warnings.push_back(where + ": no NORMAL: generated smooth normals");
-      ++report->skinned_primitives;
+      ++(skinned ? report->skinned_primitives : report->rigid_primitives);
       primitives.push_back(std::move(out_prim));
     }
   }
   if (primitives.empty())
-    return {StatusCode::kUnsupported, strCat("glTF: no triangle mesh uses skin ", skin_index)};
+    return {StatusCode::kUnsupported, skin_index >= 0 ? strCat("glTF: no triangle mesh uses skin ",
+                                                               skin_index, " or moves with a node")
+                                                      : std::string("glTF: no triangle mesh")};
   if (!any_texcoords1) c->mesh.texcoords1.clear();
   if (!any_colors) c->mesh.colors.clear();
   if (all_tangents)

@@ -14,25 +14,6 @@ using detail::strCat;
 
 namespace {
 
-glm::dmat4 nodeMatrix(const tinygltf::Node& n) {
-  glm::dmat4 m(1.0);
-  if (n.matrix.size() == 16) {
-    for (int c = 0; c < 4; ++c)
-      for (int r = 0; r < 4; ++r) m[c][r] = n.matrix[size_t(c * 4 + r)];
-    return m;
-  }
-  if (n.translation.size() == 3)
-    m[3] = glm::dvec4(n.translation[0], n.translation[1], n.translation[2], 1.0);
-  if (n.rotation.size() == 4) {
-    const glm::dquat q(n.rotation[3], n.rotation[0], n.rotation[1], n.rotation[2]);
-    const glm::dmat3 r = glm::mat3_cast(glm::normalize(q));
-    for (int c = 0; c < 3; ++c) m[c] = glm::dvec4(r[c], 0.0);
-  }
-  if (n.scale.size() == 3)
-    for (int c = 0; c < 3; ++c) m[c] *= n.scale[size_t(c)];
-  return m;
-}
-
 // Which optional attributes some primitive of the prop has (the others get 0 and white).
 struct OptionalAttributes {
   bool texcoords1 = false;
@@ -71,24 +52,14 @@ Status addPrimitive(const tinygltf::Model& m, const tinygltf::Node& node, size_t
   out->texcoords1.insert(out->texcoords1.end(), surface.texcoords1.begin(),
                          surface.texcoords1.end());
   out->colors.insert(out->colors.end(), surface.colors.begin(), surface.colors.end());
-  const glm::dmat3 linear(world);
-  const glm::dmat3 normal_matrix = glm::transpose(glm::inverse(linear));
-  const bool mirrored = glm::determinant(linear) < 0.0;
+  detail::placeSurface(world, &surface);
   const uint32_t first = uint32_t(out->positions.size());
-  for (size_t v = 0; v < surface.positions.size(); ++v) {
-    out->positions.push_back(glm::vec3(world * glm::dvec4(glm::dvec3(surface.positions[v]), 1.0)));
-    const glm::dvec3 n = normal_matrix * glm::dvec3(surface.normals[v]);
-    const double len = glm::length(n);
-    out->normals.push_back(len > 0.0 && std::isfinite(len) ? glm::vec3(n / len)
-                                                           : glm::vec3(0, 1, 0));
-    out->texcoords.push_back(surface.texcoords[v]);
-    out->vertex_materials.push_back(uint16_t(prim.material >= 0 ? prim.material + 1 : 0));
-  }
-  for (size_t i = 0; i < surface.indices.size(); i += 3) {
-    const uint32_t a = surface.indices[i], b = surface.indices[i + 1], c = surface.indices[i + 2];
-    out->indices.insert(out->indices.end(),
-                        {first + a, first + (mirrored ? c : b), first + (mirrored ? b : c)});
-  }
+  out->positions.insert(out->positions.end(), surface.positions.begin(), surface.positions.end());
+  out->normals.insert(out->normals.end(), surface.normals.begin(), surface.normals.end());
+  out->texcoords.insert(out->texcoords.end(), surface.texcoords.begin(), surface.texcoords.end());
+  out->vertex_materials.insert(out->vertex_materials.end(), surface.positions.size(),
+                               uint16_t(prim.material >= 0 ? prim.material + 1 : 0));
+  for (uint32_t i : surface.indices) out->indices.push_back(first + i);
   return Status::ok();
 }
 
@@ -126,7 +97,7 @@ Status convertProp(const tinygltf::Model& m, const GltfPropDesc& desc, PropMesh*
       return corrupt(strCat("node ", index, " is reached twice: the node hierarchy is not a tree"));
     seen[size_t(index)] = true;
     const tinygltf::Node& node = m.nodes[size_t(index)];
-    const glm::dmat4 world = parent * nodeMatrix(node);
+    const glm::dmat4 world = parent * detail::nodeMatrix(node);
     if (node.mesh >= 0) {
       if (size_t(node.mesh) >= m.meshes.size())
         return corrupt(strCat("node ", index, " names mesh ", node.mesh, ", which does not exist"));

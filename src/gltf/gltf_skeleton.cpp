@@ -1,6 +1,8 @@
 // SkinnedInstancing — SPDX-License-Identifier: MIT (see LICENSE)
-// The skin's skeleton (glTF 2.0 specification, "Skins"): the skin's joints and every ancestor
-// of them, parents first, with rest poses and inverse bind matrices.
+// The character's skeleton (glTF 2.0 specification, "Skins", "Transformations"): the chosen
+// skin's joints, the nodes whose meshes no skin moves (rigid parts: a file animated by its
+// nodes, a prop held by a joint) and every ancestor of them, parents first, with rest poses and
+// inverse bind matrices.
 #include <algorithm>
 #include <cmath>
 #include <set>
@@ -45,11 +47,18 @@ Transform nodeTransform(const tinygltf::Node& n, std::vector<std::string>* warni
 
 }  // namespace
 
-Status convertSkeleton(const tinygltf::Model& m, const GltfImportDesc& desc,
-                       GltfImportReport* report, Character* c, SkinBinding* out) {
-  std::vector<std::string>& warnings = report->warnings;
-  // ---- The skin.
-  if (m.skins.empty()) return {StatusCode::kUnsupported, "glTF: the asset has no skin"};
+namespace {
+
+// A rest transform as a matrix, T * R * S, in double.
+glm::dmat4 restMatrix(const Transform& t) {
+  glm::dmat4 m = glm::mat4_cast(glm::dquat(t.rotation));
+  for (int c = 0; c < 3; ++c) m[c] *= double(t.scale[c]);
+  m[3] = glm::dvec4(glm::dvec3(t.translation), 1.0);
+  return m;
+}
+
+// The chosen skin (GltfImportDesc), or -1 when the file has none and none was asked for.
+Status chooseSkin(const tinygltf::Model& m, const GltfImportDesc& desc, int* out) {
   int skin_index = desc.skin_index;
   if (skin_index >= 0 && size_t(skin_index) >= m.skins.size())
     return {StatusCode::kNotFound, strCat("glTF: skin ", skin_index, " does not exist (",
@@ -62,14 +71,28 @@ Status convertSkeleton(const tinygltf::Model& m, const GltfImportDesc& desc,
         return {StatusCode::kNotFound, strCat("glTF: no skin named '", desc.skin_name, "'")};
     } else if (m.skins.size() == 1) {
       skin_index = 0;
-    } else {
+    } else if (m.skins.size() > 1) {
       return {StatusCode::kAmbiguous, strCat("glTF: the asset has ", m.skins.size(),
                                              " skins; choose one by index or name")};
     }
   }
-  const tinygltf::Skin& skin = m.skins[size_t(skin_index)];
-  if (skin.joints.empty()) return corrupt(strCat("skin ", skin_index, " has no joints"));
-  report->skin_joints = uint32_t(skin.joints.size());
+  *out = skin_index;
+  return Status::ok();
+}
+
+}  // namespace
+
+Status convertSkeleton(const tinygltf::Model& m, const GltfImportDesc& desc,
+                       GltfImportReport* report, Character* c, SkinBinding* out) {
+  std::vector<std::string>& warnings = report->warnings;
+  // ---- The skin, when the file has one.
+  int skin_index = -1;
+  Status chosen = chooseSkin(m, desc, &skin_index);
+  if (!chosen.isOk()) return chosen;
+  const tinygltf::Skin* skin = skin_index >= 0 ? &m.skins[size_t(skin_index)] : nullptr;
+  if (skin != nullptr && skin->joints.empty())
+    return corrupt(strCat("skin ", skin_index, " has no joints"));
+  report->skin_joints = skin != nullptr ? uint32_t(skin->joints.size()) : 0;
   const size_t node_count = m.nodes.size();
   std::vector<int> parent(node_count, -1);
   for (size_t n = 0; n < node_count; ++n)
@@ -80,17 +103,36 @@ Status convertSkeleton(const tinygltf::Model& m, const GltfImportDesc& desc,
         return corrupt(strCat("node ", child, " has two parents"));
       parent[size_t(child)] = int(n);
     }
-  // The skeleton: the skin's joints and every ancestor of them, parents first.
+  // The skeleton: the skin's joints, the nodes whose meshes no skin moves (rigid parts, moved by
+  // their node: a file animated by its nodes, or a prop held by a joint), and every ancestor of
+  // them, parents first.
   std::set<int> members;
-  for (int j : skin.joints) {
-    if (j < 0 || size_t(j) >= node_count)
-      return corrupt(strCat("skin ", skin_index, " names joint node ", j, ", which does not exist"));
+  const auto withAncestors = [&](int j) {
     size_t steps = 0;
     for (int n = j; n >= 0; n = parent[size_t(n)]) {
-      if (++steps > node_count) return corrupt(strCat("the node hierarchy has a cycle at node ", j));
+      if (++steps > node_count)
+        return corrupt(strCat("the node hierarchy has a cycle at node ", j));
       members.insert(n);
     }
-  }
+    return Status::ok();
+  };
+  if (skin != nullptr)
+    for (int j : skin->joints) {
+      if (j < 0 || size_t(j) >= node_count)
+        return corrupt(
+            strCat("skin ", skin_index, " names joint node ", j, ", which does not exist"));
+      Status s = withAncestors(j);
+      if (!s.isOk()) return s;
+    }
+  std::vector<int> rigid;
+  for (size_t n = 0; n < node_count; ++n)
+    if (m.nodes[n].mesh >= 0 && m.nodes[n].skin < 0) {
+      rigid.push_back(int(n));
+      Status s = withAncestors(int(n));
+      if (!s.isOk()) return s;
+    }
+  if (members.empty())
+    return {StatusCode::kUnsupported, "glTF: the asset has no skin and no node with a mesh"};
   std::vector<std::pair<size_t, int>> by_depth;
   for (int n : members) {
     size_t depth = 0;
@@ -99,32 +141,52 @@ Status convertSkeleton(const tinygltf::Model& m, const GltfImportDesc& desc,
   }
   std::sort(by_depth.begin(), by_depth.end());
   std::vector<int32_t> node_to_joint(node_count, -1);
+  std::vector<glm::dmat4> world;  // Each joint's rest matrix in the scene, parents first.
   for (const auto& [depth, n] : by_depth) {
     (void)depth;
     node_to_joint[size_t(n)] = int32_t(c->skeleton.parents.size());
     const tinygltf::Node& node = m.nodes[size_t(n)];
+    const int32_t p = parent[size_t(n)] >= 0 ? node_to_joint[size_t(parent[size_t(n)])] : -1;
     c->skeleton.joint_names.push_back(node.name.empty() ? strCat("node", n) : node.name);
-    c->skeleton.parents.push_back(parent[size_t(n)] >= 0 ? node_to_joint[size_t(parent[size_t(n)])] : -1);
+    c->skeleton.parents.push_back(p);
     c->skeleton.rest_pose.push_back(nodeTransform(node, &warnings));
     c->skeleton.inverse_bind_matrices.push_back(glm::mat4(1.0f));
+    const glm::dmat4 local = restMatrix(c->skeleton.rest_pose.back());
+    world.push_back(p >= 0 ? world[size_t(p)] * local : local);
   }
-  if (skin.inverseBindMatrices >= 0) {
+  // A rigid part's joint binds it where it rests: its inverse bind matrix undoes the node's
+  // rest matrix (a skin's joint keeps the skin's, below). A node that rests at zero scale (a
+  // part that pops in by scaling up) has no inverse: its part stays bound in its own space.
+  for (int n : rigid) {
+    const size_t j = size_t(node_to_joint[size_t(n)]);
+    const glm::mat4 inverse(glm::inverse(world[j]));
+    if (std::fabs(glm::determinant(glm::dmat3(world[j]))) > 1e-18 && isFinite(inverse)) {
+      c->skeleton.inverse_bind_matrices[j] = inverse;
+    } else {
+      warnings.push_back(strCat("node '", c->skeleton.joint_names[j],
+                                "' rests at zero scale: its mesh is bound in its own space"));
+    }
+  }
+  if (skin != nullptr && skin->inverseBindMatrices >= 0) {
     std::vector<double> ibm;
-    Status s = readAccessor(m, skin.inverseBindMatrices, {TINYGLTF_TYPE_MAT4}, kFloat,
+    Status s = readAccessor(m, skin->inverseBindMatrices, {TINYGLTF_TYPE_MAT4}, kFloat,
                             strCat("skin ", skin_index, " inverse bind matrices"), &ibm);
     if (!s.isOk()) return s;
-    if (ibm.size() != skin.joints.size() * 16)
-      return corrupt(strCat("skin ", skin_index, ": ", ibm.size() / 16, " inverse bind matrices for ",
-                            skin.joints.size(), " joints"));
-    for (size_t k = 0; k < skin.joints.size(); ++k) {
+    if (ibm.size() != skin->joints.size() * 16)
+      return corrupt(strCat("skin ", skin_index, ": ", ibm.size() / 16,
+                            " inverse bind matrices for ", skin->joints.size(), " joints"));
+    for (size_t k = 0; k < skin->joints.size(); ++k) {
       glm::mat4 mat;
       for (int col = 0; col < 4; ++col)
         for (int row = 0; row < 4; ++row) mat[col][row] = float(ibm[k * 16 + size_t(col * 4 + row)]);
-      c->skeleton.inverse_bind_matrices[size_t(node_to_joint[size_t(skin.joints[k])])] = mat;
+      c->skeleton.inverse_bind_matrices[size_t(node_to_joint[size_t(skin->joints[k])])] = mat;
     }
+  } else if (skin != nullptr) {  // Without them, the identity (the specification's default).
+    for (int j : skin->joints)
+      c->skeleton.inverse_bind_matrices[size_t(node_to_joint[size_t(j)])] = glm::mat4(1.0f);
   }
   out->skin_index = skin_index;
-  out->skin = &skin;
+  out->skin = skin;
   out->node_to_joint = std::move(node_to_joint);
   return Status::ok();
 }

@@ -7,6 +7,7 @@
 #include <cctype>
 #include <map>
 #include <set>
+#include <tuple>
 
 #include "gltf/gltf_convert.h"
 
@@ -61,7 +62,10 @@ Status groupVariations(const std::vector<ImportedPrimitive>& primitives,
   // The group of each primitive, and the parts (mesh, primitive index) with their levels.
   std::vector<GroupBuild> groups;
   std::map<std::string, uint32_t> group_index;
-  std::map<std::pair<std::string, uint32_t>, Part> parts;
+  // Keyed by mesh, primitive and use: a mesh several nodes move rigidly (instanced wheels) is a
+  // part for each node's use (the n-th use of a level joins the n-th use of the others).
+  std::map<std::tuple<std::string, uint32_t, uint32_t>, Part> parts;
+  std::map<std::tuple<std::string, uint32_t, uint32_t>, uint32_t> rigid_uses;
   std::vector<const Part*> part_order;
   for (const ImportedPrimitive& p : primitives) {
     std::string name, source;
@@ -79,7 +83,8 @@ Status groupVariations(const std::vector<ImportedPrimitive>& primitives,
     }
     auto [it, added] = group_index.emplace(name, uint32_t(groups.size()));
     if (added) groups.push_back({name, source, {}});
-    Part& part = parts[{p.mesh_name, p.primitive}];
+    const uint32_t use = p.rigid ? rigid_uses[{p.mesh_name, p.primitive, p.lod}]++ : 0;
+    Part& part = parts[{p.mesh_name, p.primitive, use}];
     if (part.lods.empty()) {
       part.group = it->second;
       part_order.push_back(&part);

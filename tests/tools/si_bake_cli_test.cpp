@@ -337,8 +337,10 @@ TEST(SiBake, ReportsPartsAndVariationGroups) {
   }
   ToolRun r = runTool("'" + in + "' --rate 15 --no-progress -o '" + out + "'");
   ASSERT_EQ(r.exit_code, 0) << r.output;
-  EXPECT_NE(r.output.find("import: 200 primitives as 200 parts in 2 variation groups; 101 materials"),
-            std::string::npos) << r.output;
+  EXPECT_NE(r.output.find("import: 200 primitives (200 skinned, 0 moved by their nodes) as 200 "
+                          "parts in 2 variation groups; 101 materials"),
+            std::string::npos)
+      << r.output;
   EXPECT_NE(r.output.find("sub-mesh 0 'base' (always worn): 190 parts, 100 materials"),
             std::string::npos) << r.output;
   EXPECT_NE(r.output.find("sub-mesh 1 'Helmet' (convention): 10 parts"), std::string::npos)

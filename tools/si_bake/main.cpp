@@ -114,10 +114,11 @@ void usage(std::FILE* f) {
 
 // The import report: parts, variation groups and materials.
 void printImport(const si::GltfImportReport& r) {
-  std::printf("import: %u primitives as %u parts in %zu variation group%s; %u materials, %u "
-              "images\n",
-              r.skinned_primitives, r.parts, r.groups.size(), r.groups.size() == 1 ? "" : "s",
-              r.materials, r.images);
+  std::printf(
+      "import: %u primitives (%u skinned, %u moved by their nodes) as %u parts in %zu "
+      "variation group%s; %u materials, %u images\n",
+      r.skinned_primitives + r.rigid_primitives, r.skinned_primitives, r.rigid_primitives, r.parts,
+      r.groups.size(), r.groups.size() == 1 ? "" : "s", r.materials, r.images);
   for (size_t g = 0; g < r.groups.size(); ++g)
     std::printf("  sub-mesh %zu '%s' (%s): %u parts, %u materials, one draw\n", g,
                 r.groups[g].name.c_str(), r.groups[g].source.c_str(), r.groups[g].parts,

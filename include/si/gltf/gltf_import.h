@@ -74,6 +74,9 @@ struct GltfImportReport {
   uint32_t skin_joints = 0;             ///< Joints of the chosen skin (the skeleton also holds
                                         ///< their ancestors, so it may have more).
   uint32_t skinned_primitives = 0;
+  /// Primitives of nodes no skin moves (a file animated by its nodes, or a mesh a joint
+  /// holds): each bound wholly to its node's joint, placed where the node rests.
+  uint32_t rigid_primitives = 0;
   uint32_t vertices_renormalized = 0;   ///< Vertices whose weights did not sum to 1.
   float max_weight_correction = 0.0f;
   float max_dropped_weight = 0.0f;      ///< From JOINTS_1/WEIGHTS_1 beyond the 4 largest.
@@ -99,7 +102,12 @@ struct GltfImportReport {
 /// leave it; no path expansion happens. Fails (with `out` untouched) with kIo for a file that
 /// cannot be read, kCorrupt naming the accessor, buffer view, animation or node for malformed
 /// or out-of-range data, kNotFound/kAmbiguous for the skin choice, kUnsupported for an asset
-/// without a skinned triangle mesh, and the codes of Character::validate().
+/// without a triangle mesh, and the codes of Character::validate().
+///
+/// A mesh moved by its node rather than a skin (a file animated by its nodes: machines, props,
+/// birds; or a mesh a skinned file hangs on a joint) is a rigid part: its node, and every
+/// ancestor, are joints of the skeleton, the node's channels its clips' tracks, and each vertex
+/// is bound wholly to the node's joint where the node rests. Every path then draws it.
 Status importGltfFile(const std::string& path, const GltfImportDesc& desc, Character* out,
                       GltfImportReport* report);
 
