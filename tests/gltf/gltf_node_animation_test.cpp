@@ -101,12 +101,8 @@ TEST(GltfNodeAnimation, AMeshOnAJointOfASkinnedFileFollowsIt) {
       "{\"name\":\"body\",\"mesh\":0,\"skin\":0},"
       "{\"name\":\"sword\",\"mesh\":1,\"translation\":[0,0.5,0]}";
   w.skins = "{\"name\":\"main\",\"joints\":[0,1]}";
-  const int times = w.accessor(std::vector<float>{0.0f, 1.0f}, kGltfFloat, "SCALAR", 2);
   const float r = float(std::sqrt(0.5));
-  const int turns = w.accessor(std::vector<float>{0, 0, 0, 1, 0, 0, r, r}, kGltfFloat, "VEC4", 2);
-  w.animations = "{\"name\":\"swing\",\"samplers\":[{\"input\":" + std::to_string(times) +
-                 ",\"output\":" + std::to_string(turns) +
-                 "}],\"channels\":[{\"sampler\":0,\"target\":{\"node\":1,\"path\":\"rotation\"}}]}";
+  w.animations = oneChannelAnimation(&w, "swing", 1, "rotation", {0, 0, 0, 1, 0, 0, r, r});
   Character c;
   GltfImportReport report;
   const Status s = importString(w.json(), &c, &report);
@@ -141,11 +137,7 @@ TEST(GltfNodeAnimation, APartRestingAtZeroScaleIsBoundInItsOwnSpace) {
   GltfWriter w;
   w.meshes = triangleMesh(&w, "plate", kPlate, {0, 1, 0, 0, 1, 0, 0, 1, 0});
   w.nodes = "{\"name\":\"pop\",\"mesh\":0,\"translation\":[1,0,0],\"scale\":[0,0,0]}";
-  const int times = w.accessor(std::vector<float>{0.0f, 1.0f}, kGltfFloat, "SCALAR", 2);
-  const int scales = w.accessor(std::vector<float>{0, 0, 0, 2, 2, 2}, kGltfFloat, "VEC3", 2);
-  w.animations = "{\"name\":\"grow\",\"samplers\":[{\"input\":" + std::to_string(times) +
-                 ",\"output\":" + std::to_string(scales) +
-                 "}],\"channels\":[{\"sampler\":0,\"target\":{\"node\":0,\"path\":\"scale\"}}]}";
+  w.animations = oneChannelAnimation(&w, "grow", 0, "scale", {0, 0, 0, 2, 2, 2});
   Character c;
   GltfImportReport r;
   const Status s = importString(w.json(), &c, &r);

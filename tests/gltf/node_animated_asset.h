@@ -32,6 +32,21 @@ inline std::string triangleMesh(GltfWriter* w, const char* name, const std::vect
          ",\"NORMAL\":" + std::to_string(n) + "}}]}";
 }
 
+// An animation `name` of one channel: node `node`'s `path` ("rotation", "translation",
+// "scale") from the first to the second value of `values` (VEC4 for a rotation, else VEC3)
+// over keys at 0 and 1 s, LINEAR.
+inline std::string oneChannelAnimation(GltfWriter* w, const char* name, int node, const char* path,
+                                       const std::vector<float>& values) {
+  const int times = w->accessor(std::vector<float>{0.0f, 1.0f}, kGltfFloat, "SCALAR", 2);
+  const bool rotation = std::string(path) == "rotation";
+  const int out = w->accessor(values, kGltfFloat, rotation ? "VEC4" : "VEC3", 2);
+  return std::string("{\"name\":\"") + name +
+         "\",\"samplers\":[{\"input\":" + std::to_string(times) +
+         ",\"output\":" + std::to_string(out) +
+         "}],\"channels\":[{\"sampler\":0,\"target\":{\"node\":" + std::to_string(node) +
+         ",\"path\":\"" + path + "\"}}]}";
+}
+
 // The plate (facing +Y) and the stick (facing +Z), in their nodes' spaces.
 inline const std::vector<float> kPlate = {0, 0, 0, 0, 0, 1, 1, 0, 0};
 inline const std::vector<float> kStick = {0, 0, 0, 0.5f, 0, 0, 0, 0.5f, 0};

@@ -6,6 +6,7 @@
 #include <cstdio>
 
 #include "gl/resources/upload_ring.h"
+#include "render/far_crowd.h"
 #include "render/render_fixture.h"
 
 namespace si {
@@ -71,10 +72,7 @@ TEST_P(RenderTest, TheGpuDrivenStateShrinksAfterAPeak) {
   CrowdManager crowd;
   makeCrowd(&crowd);
   // 12 in view around the origin, 39,988 behind the camera (cheap to draw).
-  std::vector<glm::dvec3> positions;
-  for (int i = 0; i < 12; ++i)
-    positions.push_back({(i % 4 - 1.5) * 0.8, 0.0, -1.0 - (i / 4) * 1.5});
-  for (uint32_t i = 0; i < 39988; ++i) positions.push_back({double(i % 200), 0.0, 50.0 + i / 200});
+  const std::vector<glm::dvec3> positions = twelveInViewOfForty();
   RandomCrowdDesc rc;
   rc.positions = positions;
   std::vector<InstanceHandle> handles;
