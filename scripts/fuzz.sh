@@ -4,8 +4,12 @@
 # libFuzzer counted), corpus size and crashes (the inputs it saved under build/fuzz/crashes/).
 # Seeds: generated palettes, call sequences and hostile glTFs, assets/, tests/regressions/inputs/.
 #
-# Usage: scripts/fuzz.sh [-t SECONDS] [-w WORKERS] [--build-only] [--run-only] [TARGET...]
+# Usage: scripts/fuzz.sh [-t SECONDS] [-w WORKERS] [-u SECONDS] [--build-only] [--run-only]
+#                        [TARGET...]
 #   -t SECONDS   fuzzing time of each target (default 60)
+#   -u SECONDS   wall time one input may take before it is saved as a timeout (default 60;
+#                raise it when the fuzzers share the machine at a low priority: the largest
+#                seeds take some 10 s of CPU each in this build)
 #   -w WORKERS   processes per target (libFuzzer -jobs/-workers; default: cores / targets, >= 1)
 #   --build-only build the targets and seeds, do not fuzz (for carrying them to another machine)
 #   --run-only   fuzz with what build/fuzz holds (built here or carried)
@@ -13,14 +17,15 @@
 # Exit status: 0 when no target crashed, 1 otherwise.
 set -euo pipefail
 cd "$(dirname "$0")/.."
-seconds=60 workers=0 build=1 run=1 targets=()
+seconds=60 workers=0 unit=60 build=1 run=1 targets=()
 while [ $# -gt 0 ]; do
   case "$1" in
     -t) seconds="$2"; shift 2 ;;
     -w) workers="$2"; shift 2 ;;
+    -u) unit="$2"; shift 2 ;;
     --build-only) run=0; shift ;;
     --run-only) build=0; shift ;;
-    -h|--help) sed -n '2,14p' "$0"; exit 0 ;;
+    -h|--help) sed -n '2,18p' "$0"; exit 0 ;;
     *) targets+=("$1"); shift ;;
   esac
 done
@@ -72,7 +77,7 @@ for t in "${targets[@]}"; do
   cp "$out/seeds/$(seed_of "$t")"/* "$dir/corpus/" 2>/dev/null || true
   # Each of the `workers` jobs fuzzes for `seconds`, sharing the corpus; logs in $dir.
   (cd "$dir" && exec "../../tests/fuzz/si_${t}_fuzz" corpus -jobs="$workers" -workers="$workers" \
-     -max_total_time="$seconds" -max_len=1048576 -rss_limit_mb=3072 -timeout=60 \
+     -max_total_time="$seconds" -max_len=1048576 -rss_limit_mb=3072 -timeout="$unit" \
      -print_final_stats=1 -artifact_prefix="../../crashes/$t/" >/dev/null 2>&1) &
 done
 wait || true
