@@ -241,6 +241,8 @@ Status convertMeshes(const tinygltf::Model& m, const SkinBinding& binding, GltfI
         c->mesh.joints.push_back(glm::u16vec4(uint16_t(rigid_joint), 0, 0, 0));
         c->mesh.weights.push_back(glm::vec4(1, 0, 0, 0));
       }
+      // The skin's joint nodes (a skinned node names the chosen skin).
+      const std::vector<int>* skin_joints = skinned ? &binding.skin->joints : nullptr;
       for (size_t v = 0; v < nv && skinned; ++v) {
         Influence infl[8];
         size_t k = 0;
@@ -252,11 +254,10 @@ Status convertMeshes(const tinygltf::Model& m, const SkinBinding& binding, GltfI
             infl[i].joint = 0;
             continue;
           }
-          const std::vector<int>& joints = binding.skin->joints;  // Skinned: the skin's node.
-          if (infl[i].joint >= joints.size())
+          if (infl[i].joint >= skin_joints->size())
             return corrupt(strCat(where, ": vertex ", v, " uses joint ", infl[i].joint, " of ",
-                                  joints.size()));
-          infl[i].joint = uint32_t(node_to_joint[size_t(joints[infl[i].joint])]);
+                                  skin_joints->size()));
+          infl[i].joint = uint32_t(node_to_joint[size_t((*skin_joints)[infl[i].joint])]);
         }
         glm::u16vec4 joints;
         glm::vec4 weights;

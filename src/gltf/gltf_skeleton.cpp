@@ -44,19 +44,6 @@ Transform nodeTransform(const tinygltf::Node& n, std::vector<std::string>* warni
   return t;
 }
 
-
-}  // namespace
-
-namespace {
-
-// A rest transform as a matrix, T * R * S, in double.
-glm::dmat4 restMatrix(const Transform& t) {
-  glm::dmat4 m = glm::mat4_cast(glm::dquat(t.rotation));
-  for (int c = 0; c < 3; ++c) m[c] *= double(t.scale[c]);
-  m[3] = glm::dvec4(glm::dvec3(t.translation), 1.0);
-  return m;
-}
-
 // The chosen skin (GltfImportDesc), or -1 when the file has none and none was asked for.
 Status chooseSkin(const tinygltf::Model& m, const GltfImportDesc& desc, int* out) {
   int skin_index = desc.skin_index;
@@ -116,18 +103,20 @@ Status convertSkeleton(const tinygltf::Model& m, const GltfImportDesc& desc,
     }
     return Status::ok();
   };
+  std::vector<bool> skin_joint(node_count, false);
   if (skin != nullptr)
     for (int j : skin->joints) {
       if (j < 0 || size_t(j) >= node_count)
         return corrupt(
             strCat("skin ", skin_index, " names joint node ", j, ", which does not exist"));
+      skin_joint[size_t(j)] = true;
       Status s = withAncestors(j);
       if (!s.isOk()) return s;
     }
-  std::vector<int> rigid;
+  std::vector<int> rigid;  // Those that are not a skin's joints too (they keep the skin's bind).
   for (size_t n = 0; n < node_count; ++n)
     if (m.nodes[n].mesh >= 0 && m.nodes[n].skin < 0) {
-      rigid.push_back(int(n));
+      if (!skin_joint[n]) rigid.push_back(int(n));
       Status s = withAncestors(int(n));
       if (!s.isOk()) return s;
     }
@@ -150,13 +139,16 @@ Status convertSkeleton(const tinygltf::Model& m, const GltfImportDesc& desc,
     c->skeleton.joint_names.push_back(node.name.empty() ? strCat("node", n) : node.name);
     c->skeleton.parents.push_back(p);
     c->skeleton.rest_pose.push_back(nodeTransform(node, &warnings));
+    // The identity unless a rigid part's or the skin's (without them, the specification's
+    // default), below.
     c->skeleton.inverse_bind_matrices.push_back(glm::mat4(1.0f));
-    const glm::dmat4 local = restMatrix(c->skeleton.rest_pose.back());
+    const glm::dmat4 local = TransformD::fromFloat(c->skeleton.rest_pose.back()).toMatrix();
     world.push_back(p >= 0 ? world[size_t(p)] * local : local);
   }
   // A rigid part's joint binds it where it rests: its inverse bind matrix undoes the node's
-  // rest matrix (a skin's joint keeps the skin's, below). A node that rests at zero scale (a
-  // part that pops in by scaling up) has no inverse: its part stays bound in its own space.
+  // rest matrix (as the reference evaluator composes it; a skin's joint keeps the skin's). A node
+  // that rests at zero scale (a part that pops in by scaling up) has no inverse: its part stays
+  // bound in its own space.
   for (int n : rigid) {
     const size_t j = size_t(node_to_joint[size_t(n)]);
     const glm::mat4 inverse(glm::inverse(world[j]));
@@ -181,9 +173,6 @@ Status convertSkeleton(const tinygltf::Model& m, const GltfImportDesc& desc,
         for (int row = 0; row < 4; ++row) mat[col][row] = float(ibm[k * 16 + size_t(col * 4 + row)]);
       c->skeleton.inverse_bind_matrices[size_t(node_to_joint[size_t(skin->joints[k])])] = mat;
     }
-  } else if (skin != nullptr) {  // Without them, the identity (the specification's default).
-    for (int j : skin->joints)
-      c->skeleton.inverse_bind_matrices[size_t(node_to_joint[size_t(j)])] = glm::mat4(1.0f);
   }
   out->skin_index = skin_index;
   out->skin = skin;
