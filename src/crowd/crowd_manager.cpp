@@ -338,13 +338,16 @@ Status CrowdManager::advanceClock(double dt) {  // The step both update() and ad
   detail::CrowdState& s = *state_;
   if (!std::isfinite(s.clock + dt))
     return {StatusCode::kInvalidArgument, "dt_seconds would take the crowd clock past a double"};
+  ++s.steps;
+  // A held clock stays bitwise where it is: the compensation alone (up to half an ulp) could
+  // round it one ulp on, and nothing would be stamped for what that moved.
+  if (dt == 0.0) return Status::ok();
   // Compensated (Kahan) sum: after a week of 60 Hz frames the clock is still within a few
   // ulps of the exact sum.
   const double y = dt - s.clock_compensation;
   const double t = s.clock + y;
   s.clock_compensation = (t - s.clock) - y;
   s.clock = t;
-  ++s.steps;
   return Status::ok();
 }
 

@@ -187,6 +187,40 @@ TEST(StateChanges, RootMotionStampsWhatMovedAndRangeExportsEqualTheWhole) {
   EXPECT_EQ(sentinel[1].scale, 7.0f);
 }
 
+// A held clock (dt 0) is held exactly, even where the clock's compensated sum carries half an
+// ulp: the steps below leave 1.019 with a compensation of -2^-53, which a dt of 0 added through
+// the sum would round one ulp up (so walkers moved with no version to name it: the clang fuzz
+// build's crowd-api-changed-since-clang-1.bin).
+TEST(StateChanges, AHeldClockStaysBitwiseAndMovesNothing) {
+  CrowdManager crowd;
+  CrowdDesc cd = test::defaultCrowdDesc();
+  cd.palette = &test::movingPalette();
+  ASSERT_TRUE(crowd.init(cd).isOk());
+  InstanceDesc d;
+  d.clip = uint32_t(test::movingPalette().findClip("walk_forward"));
+  d.root_motion = true;
+  InstanceHandle walker;
+  ASSERT_TRUE(crowd.add(d, &walker).isOk());
+  for (double dt : {0.028, 0.23, 0.177, 0.584}) ASSERT_TRUE(crowd.advance(dt).isOk());
+  for (int held = 0; held < 2; ++held) {  // advance(0), then update(0).
+    const double clock = crowd.clockSeconds();
+    const uint64_t since = CrowdExport(crowd).stateVersion();
+    InstanceDesc was, is;
+    ASSERT_TRUE(crowd.get(walker, &was).isOk());
+    ASSERT_TRUE((held == 0 ? crowd.advance(0.0)
+                           : crowd.update(0.0, test::testCamera({0, 2, -10}, {0, 0, 50})))
+                    .isOk());
+    const double now = crowd.clockSeconds();
+    EXPECT_EQ(std::memcmp(&now, &clock, sizeof(now)), 0) << held << ": " << now - clock;
+    ASSERT_TRUE(crowd.get(walker, &is).isOk());
+    EXPECT_EQ(is.position, was.position) << held;
+    std::vector<DenseRange> changed;
+    CrowdExport(crowd).changedSince(since, &changed, nullptr);
+    EXPECT_TRUE(changed.empty()) << held;
+  }
+  EXPECT_EQ(crowd.stepCount(), 6u);  // A held step is still a step.
+}
+
 // The ranged exports walk their runs in tasks on the crowd's workers past 512 indices, each
 // task starting within some run: whatever the threads, every entry is the whole export's.
 TEST(StateChanges, RunExportsEqualTheWholeOnAnyNumberOfThreads) {

@@ -173,7 +173,7 @@ class CrowdManager {
   /// The events of the last update() or advance(), by instance in dense order (the same for
   /// any thread count).
   Span<const AnimationEvent> events() const;
-  /// Seconds on the crowd clock (compensated sum of every dt).
+  /// Seconds on the crowd clock (compensated sum of every dt; a dt of 0 leaves it bitwise).
   double clockSeconds() const;
 
   // ---- Layered animation (si/core/layer_mask.h) ----
