@@ -112,9 +112,33 @@ struct ImportedPrimitive {
   bool rigid = false;      ///< Moved by its node, not a skin (each node's use a part).
   std::vector<uint32_t> indices;  ///< Into the character's vertex arrays.
 };
-/// Appends every skinned triangle primitive's vertices to c->mesh and fills `out`.
+/// A vertex with more influences than a vertex holds (JOINTS_1/WEIGHTS_1): all of them, the
+/// joints the skeleton's and the weights summing to 1, before the fold to the largest 4.
+struct WideVertex {
+  uint32_t vertex = 0;  // In c->mesh.
+  uint32_t count = 0;
+  float dropped_weight = 0.0f;  // reduceInfluences'.
+  Influence influences[8];
+};
+/// Appends every skinned triangle primitive's vertices to c->mesh and fills `out`; the vertices
+/// whose fold to 4 influences dropped some weight into `wide`.
 Status convertMeshes(const tinygltf::Model& m, const SkinBinding& skin, GltfImportReport* report,
-                     Character* c, std::vector<ImportedPrimitive>* out);
+                     Character* c, std::vector<ImportedPrimitive>* out,
+                     std::vector<WideVertex>* wide);
+
+// ---- gltf_influence_fold.cpp: what folding a vertex's influences to 4 costs.
+/// Measures, for each of `wide`, how far its 4 influences (c.mesh) put it from where all of
+/// them do (both in double), the largest over the rest pose and every clip sampled at
+/// kFoldSampleHz and at its end (all clips evenly slower past kFoldMaxPoses poses or
+/// kFoldMaxVertexPoses vertices times poses: report->fold_sample_hz), into
+/// report->folded_vertices and the largest into report->max_fold_error_units and
+/// max_fold_error_height, with a warning naming them. c's skeleton and clips must validate
+/// (kCorrupt otherwise).
+inline constexpr double kFoldSampleHz = 30.0;
+inline constexpr double kFoldMaxPoses = 4096.0;
+inline constexpr double kFoldMaxVertexPoses = 2e7;
+Status measureInfluenceFold(const Character& c, const std::vector<WideVertex>& wide,
+                            GltfImportReport* report);
 
 // ---- gltf_variations.cpp: parts into variation groups (sub-meshes), their LODs merged.
 /// Builds c->mesh.sub_meshes, indices and vertex_materials from `primitives`

@@ -39,7 +39,8 @@ Status convert(const tinygltf::Model& m, const GltfImportDesc& desc, Character* 
   detail::SkinBinding skin;
   Status s = detail::convertSkeleton(m, desc, report, &c, &skin);
   std::vector<detail::ImportedPrimitive> primitives;
-  if (s.isOk()) s = detail::convertMeshes(m, skin, report, &c, &primitives);
+  std::vector<detail::WideVertex> wide;
+  if (s.isOk()) s = detail::convertMeshes(m, skin, report, &c, &primitives, &wide);
   if (s.isOk()) s = detail::groupVariations(primitives, desc, report, &c);
   if (!s.isOk()) return s;
   detail::convertMaterials(m, report, &c);
@@ -58,6 +59,8 @@ Status convert(const tinygltf::Model& m, const GltfImportDesc& desc, Character* 
   WeightNormalizationReport wr;
   s = normalizeWeights(c.mesh, &wr);
   if (!s.isOk()) return corrupt(s.message());
+  s = detail::measureInfluenceFold(c, wide, report);
+  if (!s.isOk()) return s;
   // LODs: generated when asked for and the file has none, then every level's error measured.
   const bool has_lods = std::any_of(c.mesh.sub_meshes.begin(), c.mesh.sub_meshes.end(),
                                     [](const SubMesh& sm) { return sm.lods.size() > 1; });

@@ -131,7 +131,8 @@ Status readPrimitiveSurface(const tinygltf::Model& m, const tinygltf::Primitive&
 }
 
 Status convertMeshes(const tinygltf::Model& m, const SkinBinding& binding, GltfImportReport* report,
-                     Character* c, std::vector<ImportedPrimitive>* out) {
+                     Character* c, std::vector<ImportedPrimitive>* out,
+                     std::vector<WideVertex>* wide) {
   std::vector<std::string>& warnings = report->warnings;
   const int skin_index = binding.skin_index;
   const std::vector<int32_t>& node_to_joint = binding.node_to_joint;
@@ -267,6 +268,15 @@ Status convertMeshes(const tinygltf::Model& m, const SkinBinding& binding, GltfI
         report->max_dropped_weight = std::max(report->max_dropped_weight, dropped);
         double raw_sum = 0.0;
         for (size_t i = 0; i < k; ++i) raw_sum += infl[i].weight;
+        if (dropped > 0.0f) {  // reduceInfluences refused a zero or non-finite sum.
+          WideVertex w;
+          w.vertex = uint32_t(c->mesh.joints.size());
+          w.dropped_weight = dropped;
+          for (size_t i = 0; i < k; ++i)
+            if (infl[i].weight > 0.0f)
+              w.influences[w.count++] = {infl[i].joint, float(infl[i].weight / raw_sum)};
+          wide->push_back(w);
+        }
         if (std::fabs(raw_sum - 1.0) > kWeightSumTolerance) {
           ++report->vertices_renormalized;
           report->max_weight_correction = std::max(report->max_weight_correction, float(std::fabs(1.0 - raw_sum)));

@@ -80,6 +80,21 @@ struct GltfImportReport {
   uint32_t vertices_renormalized = 0;   ///< Vertices whose weights did not sum to 1.
   float max_weight_correction = 0.0f;
   float max_dropped_weight = 0.0f;      ///< From JOINTS_1/WEIGHTS_1 beyond the 4 largest.
+  /// A vertex with more than 4 influences (JOINTS_1/WEIGHTS_1) keeps its 4 largest,
+  /// renormalized. What that costs it: the largest distance between where its 4 influences and
+  /// where all of them put it (both in double precision), over the rest pose and every clip
+  /// sampled at fold_sample_hz and at its end.
+  struct FoldedVertex {
+    uint32_t vertex = 0;          ///< Index in Character::mesh.
+    float dropped_weight = 0.0f;  ///< The share of its weight the fold dropped.
+    double error_units = 0.0;     ///< Model units.
+  };
+  std::vector<FoldedVertex> folded_vertices;  ///< In vertex order; empty without JOINTS_1.
+  double max_fold_error_units = 0.0;          ///< The largest of folded_vertices' errors,
+  double max_fold_error_height = 0.0;         ///< and as a fraction of Character::height().
+  /// 30, or evenly less where the clips would take more than 4096 poses or the folded vertices
+  /// times the poses would pass 2e7 (the import's time stays bounded); 0 without folds.
+  double fold_sample_hz = 0.0;
   uint32_t generated_lods = 0;
   bool added_rest_pose_clip = false;    ///< See GltfImportDesc::rest_pose_clip_when_none.
   uint32_t parts = 0;                   ///< Distinct parts (a primitive with its LOD levels).
