@@ -34,8 +34,7 @@ Status bakePalette(const Character& character, const BakeDesc& in_desc, BakedPal
   const double shell = d.shell_distance_ratio * height;
   const std::vector<uint32_t> vertices = drawnVertices(character.mesh);
   // Measure what the GPU draws: the vertex format stores weights as unorm16 (si::gl).
-  SkinnedMesh gpu_mesh = character.mesh;
-  for (glm::vec4& w : gpu_mesh.weights) w = dequantizeWeights(quantizeWeights(w));
+  const SkinnedMesh gpu_mesh = detail::storedWeightsMesh(character.mesh);
 
   const uint32_t clip_count = static_cast<uint32_t>(plan.clip_indices.size());
   // Automatic rates: the search takes about 60 % of the time, the final measurement the rest.

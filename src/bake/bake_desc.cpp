@@ -74,8 +74,10 @@ std::vector<uint32_t> usedJoints(const Character& character) {
   const SkinnedMesh& mesh = character.mesh;
   std::vector<uint8_t> used(character.skeleton.jointCount(), 0);
   for (uint32_t v : drawnVertices(mesh)) {
-    for (int k = 0; k < 4; ++k)
-      if (mesh.weights[v][k] > 0.0f && mesh.joints[v][k] < used.size()) used[mesh.joints[v][k]] = 1;
+    for (size_t k = 0; k < mesh.influenceCount(); ++k) {
+      const Influence in = mesh.influence(v, k);
+      if (in.weight > 0.0f && in.joint < used.size()) used[in.joint] = 1;
+    }
   }
   std::vector<uint32_t> joints;
   for (size_t j = 0; j < used.size(); ++j)

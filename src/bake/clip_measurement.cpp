@@ -62,10 +62,10 @@ std::vector<uint32_t> searchVertices(const Character& character, const SkinnedMe
     joint_pos[j] = glm::vec3(glm::inverse(character.skeleton.inverse_bind_matrices[j])[3]);
   std::vector<std::vector<std::pair<float, uint32_t>>> per_joint(nj);
   for (uint32_t v : drawn)
-    for (int k = 0; k < 4; ++k) {
-      if (mesh.weights[v][k] <= 0.0f) continue;
-      const uint16_t j = mesh.joints[v][k];
-      per_joint[j].push_back({glm::length(mesh.positions[v] - joint_pos[j]), v});
+    for (size_t k = 0; k < mesh.influenceCount(); ++k) {
+      const Influence in = mesh.influence(v, k);
+      if (in.weight <= 0.0f) continue;
+      per_joint[in.joint].push_back({glm::length(mesh.positions[v] - joint_pos[in.joint]), v});
     }
   std::vector<uint32_t> out;
   for (auto& list : per_joint) {
@@ -86,8 +86,27 @@ SkinnedMesh subsetMesh(const SkinnedMesh& mesh, const std::vector<uint32_t>& ver
     subset.normals.push_back(mesh.normals[v]);
     subset.joints.push_back(mesh.joints[v]);
     subset.weights.push_back(mesh.weights[v]);
+    if (mesh.joints1.empty()) continue;
+    subset.joints1.push_back(mesh.joints1[v]);
+    subset.weights1.push_back(mesh.weights1[v]);
   }
   return subset;
+}
+
+SkinnedMesh storedWeightsMesh(const SkinnedMesh& mesh) {
+  SkinnedMesh stored = mesh;
+  for (size_t v = 0; v < stored.weights.size(); ++v) {
+    glm::vec4& w = stored.weights[v];
+    if (stored.weights1.empty()) {
+      w = dequantizeWeights(quantizeWeights(w));
+      continue;
+    }
+    glm::u16vec4 q, q1;
+    quantizeWeights(w, stored.weights1[v], &q, &q1);
+    w = dequantizeWeights(q);
+    stored.weights1[v] = dequantizeWeights(q1);
+  }
+  return stored;
 }
 
 // `mesh` is the character's mesh or a subset of its vertices, `gpu_mesh` the same with the
@@ -173,10 +192,10 @@ Status measureClip(const Character& character, const SkinnedMesh& mesh,
       r.max_error_units = time_max;
       r.max_error_time_seconds = t;
       r.max_error_vertex = v;
-      int best = 0;
-      for (int k = 1; k < 4; ++k)
-        if (mesh.weights[v][k] > mesh.weights[v][best]) best = k;
-      r.max_error_joint = mesh.joints[v][best];
+      size_t best = 0;
+      for (size_t k = 1; k < mesh.influenceCount(); ++k)
+        if (mesh.influence(v, k).weight > mesh.influence(v, best).weight) best = k;
+      r.max_error_joint = mesh.influence(v, best).joint;
     }
     if (interval_errors != nullptr && !interval_errors->empty()) {
       double& slot = (*interval_errors)[std::min<size_t>(sample.frame, interval_errors->size() - 1)];
@@ -222,8 +241,8 @@ Status clipBounds(const BakedPalette& p, uint32_t clip_index, const SkinnedMesh&
   std::vector<glm::vec3> ring[4];
   const auto at = [&](int64_t f) -> const std::vector<glm::vec3>& { return ring[(f + 4) % 4]; };
   for (uint32_t v : vertices)
-    for (int k = 0; k < 4; ++k)
-      if (gpu_mesh.weights[v][k] != 0.0f && gpu_mesh.joints[v][k] >= nj)
+    for (size_t k = 0; k < gpu_mesh.influenceCount(); ++k)
+      if (gpu_mesh.influence(v, k).weight != 0.0f && gpu_mesh.influence(v, k).joint >= nj)
         return {StatusCode::kOutOfRange, "clipBounds: a vertex's joint is out of range"};
   const InfluenceGroups groups(gpu_mesh, gpu_mesh, vertices);
   std::vector<glm::mat4> matrices(nj);

@@ -41,7 +41,11 @@ Status clipBounds(const BakedPalette& p, uint32_t clip_index, const SkinnedMesh&
 /// 0) is measured at the same vertices.
 std::vector<uint32_t> searchVertices(const Character& character, const SkinnedMesh& mesh,
                                      const std::vector<uint32_t>& drawn);
-/// The `vertices` of `mesh` as a mesh of their own (positions, normals, joints, weights).
+/// The `vertices` of `mesh` as a mesh of their own (positions, normals, joints, weights,
+/// joints1, weights1).
 SkinnedMesh subsetMesh(const SkinnedMesh& mesh, const std::vector<uint32_t>& vertices);
+/// `mesh` with the weights the vertex format stores (si::quantizeWeights, both sets together):
+/// what the shaders skin with.
+SkinnedMesh storedWeightsMesh(const SkinnedMesh& mesh);
 
 }  // namespace si::detail

@@ -18,7 +18,7 @@ struct Rows {
 
 bool lessInfluences(const uint16_t* ja, const float* wa, const float* qa, const uint16_t* jb,
                     const float* wb, const float* qb) {
-  for (int k = 0; k < 4; ++k) {
+  for (size_t k = 0; k < kMaxVertexInfluences; ++k) {
     if (ja[k] != jb[k]) return ja[k] < jb[k];
     if (wa[k] != wb[k]) return wa[k] < wb[k];
     if (qa[k] != qb[k]) return qa[k] < qb[k];
@@ -39,10 +39,10 @@ InfluenceGroups::InfluenceGroups(const SkinnedMesh& mesh, const SkinnedMesh& gpu
   std::map<Key, std::vector<uint32_t>> by_influences;
   for (uint32_t v : vertices) {
     Key key{};
-    for (int k = 0; k < 4; ++k) {
-      const float w = mesh.weights[v][k], wq = gpu_mesh.weights[v][k];
+    for (size_t k = 0; k < mesh.influenceCount(); ++k) {
+      const float w = mesh.influence(v, k).weight, wq = gpu_mesh.influence(v, k).weight;
       const bool used = w != 0.0f || wq != 0.0f;
-      key.in.joint[k] = used ? mesh.joints[v][k] : 0;
+      key.in.joint[k] = used ? uint16_t(mesh.influence(v, k).joint) : 0;
       key.in.w[k] = used ? w : 0.0f;
       key.in.wq[k] = used ? wq : 0.0f;
     }
@@ -70,7 +70,7 @@ void InfluenceGroups::errors(Span<const glm::mat4> emulated, Span<const glm::dma
     // sum over influences of wq E - w R, in double before it is rounded to float: the small
     // difference keeps its precision.
     double a[12] = {};
-    for (int k = 0; k < 4; ++k) {
+    for (size_t k = 0; k < kMaxVertexInfluences; ++k) {
       if (in.wq[k] == 0.0f && in.w[k] == 0.0f) continue;
       const glm::mat4& em = emulated[in.joint[k]];
       const glm::dmat4& rm = reference[in.joint[k]];
@@ -96,7 +96,7 @@ void InfluenceGroups::positions(Span<const glm::mat4> emulated, std::vector<glm:
     const Influences& in = groups_[g];
     // As the shader: blend the influences' matrices (zero weights skipped), then transform.
     glm::mat4 m(0.0f);
-    for (int k = 0; k < 4; ++k)
+    for (size_t k = 0; k < kMaxVertexInfluences; ++k)
       if (in.wq[k] != 0.0f) m += emulated[in.joint[k]] * in.wq[k];
     for (uint32_t s = group_start_[g]; s < group_start_[g + 1]; ++s)
       (*out)[s] = glm::vec3(m * glm::vec4(x_[s], y_[s], z_[s], 1.0f));

@@ -37,9 +37,9 @@ class InfluenceGroups {
 
  private:
   struct Influences {
-    uint16_t joint[4];
-    float wq[4];  // The vertex format's weight (0 where both are 0).
-    float w[4];   // The source's.
+    uint16_t joint[kMaxVertexInfluences];
+    float wq[kMaxVertexInfluences];  // The vertex format's weight (0 where both are 0).
+    float w[kMaxVertexInfluences];   // The source's.
   };
   std::vector<Influences> groups_;
   std::vector<uint32_t> group_start_;  // groupCount() + 1 slot offsets.

@@ -5,6 +5,7 @@
 
 #include <algorithm>
 
+#include "bake/clip_measurement.h"
 #include "core/str_cat.h"
 #include "si/core/reference_evaluator.h"
 
@@ -66,8 +67,7 @@ Status measureLayeredError(const Character& character, const BakedPalette& palet
   const Clip& base = character.clips[size_t(cb)];
   const Clip& overlay = character.clips[size_t(co)];
   // The shader reads the vertex format's quantized weights.
-  SkinnedMesh mesh = character.mesh;
-  for (glm::vec4& w : mesh.weights) w = dequantizeWeights(quantizeWeights(w));
+  const SkinnedMesh mesh = detail::storedWeightsMesh(character.mesh);
   const size_t n = mesh.positions.size();
   std::vector<glm::vec3> emulated(n);
   std::vector<glm::dvec3> reference(n);

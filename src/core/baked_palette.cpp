@@ -319,15 +319,18 @@ Status emulateSkinning(const SkinnedMesh& mesh, Span<const glm::mat4> matrices,
                        Span<glm::vec3> out_positions, Span<glm::vec3> out_normals) {
   const size_t n = mesh.vertexCount();
   if (out_positions.size() != n || (!out_normals.empty() && out_normals.size() != n) ||
-      mesh.joints.size() != n || mesh.weights.size() != n || mesh.normals.size() != n)
+      mesh.joints.size() != n || mesh.weights.size() != n || mesh.normals.size() != n ||
+      (!mesh.joints1.empty() && (mesh.joints1.size() != n || mesh.weights1.size() != n)))
     return {StatusCode::kCountMismatch, "emulateSkinning: spans do not match the vertex count"};
+  const size_t influences = mesh.influenceCount();
   for (size_t v = 0; v < n; ++v) {
     // As the shader: blend the influences' matrices (zero weights skipped), then transform.
     glm::mat4 m(0.0f);
-    for (int i = 0; i < 4; ++i) {
-      const float w = mesh.weights[v][i];
+    for (size_t i = 0; i < influences; ++i) {
+      const Influence in = mesh.influence(v, i);
+      const float w = in.weight;
       if (w == 0.0f) continue;
-      const uint16_t j = mesh.joints[v][i];
+      const uint32_t j = in.joint;
       if (j >= matrices.size())
         return {StatusCode::kOutOfRange, strCat("emulateSkinning: vertex ", v, " joint ", j)};
       m += matrices[j] * w;

@@ -196,6 +196,10 @@ Status attachProp(const Socket& socket, const PropMesh& prop, Character* charact
     if (colors) m.colors.push_back(prop.colors.empty() ? glm::vec4(1.0f) : prop.colors[v]);
     m.joints.push_back(glm::u16vec4(uint16_t(socket.joint), 0, 0, 0));
     m.weights.push_back(glm::vec4(1, 0, 0, 0));
+    if (!m.joints1.empty()) {  // A character with 8 influences: the prop has no more than 1.
+      m.joints1.push_back(glm::u16vec4(0));
+      m.weights1.push_back(glm::vec4(0.0f));
+    }
     m.vertex_materials.push_back(
         uint16_t(first_material + (prop.vertex_materials.empty() ? 0 : prop.vertex_materials[v])));
   }

@@ -289,22 +289,27 @@ Status skinVertices(const SkinnedMesh& mesh, Span<const glm::dmat4> skinning,
   if (out_positions.size() != n || (!out_normals.empty() && out_normals.size() != n) ||
       (!out_tangents.empty() && out_tangents.size() != n) ||
       (!out_tangents.empty() && mesh.tangents.size() != n) || mesh.joints.size() != n ||
-      mesh.weights.size() != n || (!out_normals.empty() && mesh.normals.size() != n))
+      mesh.weights.size() != n || (!out_normals.empty() && mesh.normals.size() != n) ||
+      (!mesh.joints1.empty() && (mesh.joints1.size() != n || mesh.weights1.size() != n)))
     return {StatusCode::kCountMismatch,
             strCat("skinVertices: output spans or mesh attributes do not match the ", n,
                    " vertices")};
+  const size_t influences = mesh.influenceCount();
   for (size_t v = 0; v < n; ++v)
-    for (int i = 0; i < 4; ++i)
-      if (mesh.weights[v][i] != 0.0f && mesh.joints[v][i] >= skinning.size())
+    for (size_t i = 0; i < influences; ++i) {
+      const Influence in = mesh.influence(v, i);
+      if (in.weight != 0.0f && in.joint >= skinning.size())
         return {StatusCode::kOutOfRange, strCat("skinVertices: vertex ", v, " uses joint ",
-                                                mesh.joints[v][i], " of ", skinning.size())};
+                                                in.joint, " of ", skinning.size())};
+    }
   for (size_t v = 0; v < n; ++v) {
     const glm::dvec4 p(glm::dvec3(mesh.positions[v]), 1.0);
     glm::dvec3 pos(0.0), nrm(0.0), tan(0.0);
-    for (int i = 0; i < 4; ++i) {
-      const double w = mesh.weights[v][i];
+    for (size_t i = 0; i < influences; ++i) {
+      const Influence in = mesh.influence(v, i);
+      const double w = in.weight;
       if (w == 0.0) continue;  // Zero weights are skipped, as the shader does.
-      const glm::dmat4& m = skinning[mesh.joints[v][i]];
+      const glm::dmat4& m = skinning[in.joint];
       pos += w * glm::dvec3(m * p);
       if (!out_normals.empty()) nrm += w * (normalMatrix(m) * glm::dvec3(mesh.normals[v]));
       if (!out_tangents.empty()) tan += w * (glm::dmat3(m) * glm::dvec3(mesh.tangents[v]));

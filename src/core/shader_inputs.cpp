@@ -36,6 +36,11 @@ Status buildVertexStream(const SkinnedMesh& mesh, const BakedPalette& palette, V
   VertexStream stream;
   stream.wide_joints = palette.palette_joints.size() > 256;
   stream.stride_bytes = stream.wide_joints ? 36 : 32;
+  if (!mesh.joints1.empty()) {  // Right after the fixed words: the pre-skinning reads them so.
+    stream.joints1_offset = stream.stride_bytes;
+    stream.weights1_offset = stream.joints1_offset + (stream.wide_joints ? 8 : 4);
+    stream.stride_bytes = stream.weights1_offset + 8;
+  }
   const bool tangents = !mesh.tangents.empty();
   if (tangents) stream.tangent_offset = stream.stride_bytes;
   if (tangents) stream.stride_bytes += 4;
@@ -58,24 +63,35 @@ Status buildVertexStream(const SkinnedMesh& mesh, const BakedPalette& palette, V
     const glm::vec2 uv = mesh.texcoords.empty() ? glm::vec2(0.0f) : mesh.texcoords[v];
     const uint16_t h[2] = {floatToHalf(uv.x), floatToHalf(uv.y)};
     std::memcpy(dst + VertexStream::kTexcoordOffset, h, 4);
-    uint16_t slots[4] = {0, 0, 0, 0};
-    for (int k = 0; k < 4; ++k) {
-      if (mesh.weights[v][k] == 0.0f) continue;
-      const int32_t slot = palette.skeleton_to_palette[mesh.joints[v][k]];
+    uint16_t slots[8] = {};
+    for (size_t k = 0; k < mesh.influenceCount(); ++k) {
+      const Influence in = mesh.influence(v, k);
+      if (in.weight == 0.0f) continue;
+      const int32_t slot = palette.skeleton_to_palette[in.joint];
       if (slot < 0)
         return {StatusCode::kInvalidArgument,
-                strCat("buildVertexStream: vertex ", v, " is weighted to joint ",
-                       mesh.joints[v][k], ", which the palette does not store")};
+                strCat("buildVertexStream: vertex ", v, " is weighted to joint ", in.joint,
+                       ", which the palette does not store")};
       slots[k] = uint16_t(slot);
     }
-    if (stream.wide_joints) {
-      std::memcpy(dst + VertexStream::kJointsOffset, slots, 8);
+    const auto putJoints = [&](uint32_t offset, const uint16_t* four) {
+      if (stream.wide_joints) {
+        std::memcpy(dst + offset, four, 8);
+        return;
+      }
+      const uint8_t narrow[4] = {uint8_t(four[0]), uint8_t(four[1]), uint8_t(four[2]),
+                                 uint8_t(four[3])};
+      std::memcpy(dst + offset, narrow, 4);
+    };
+    putJoints(VertexStream::kJointsOffset, slots);
+    glm::u16vec4 w, w1;
+    if (stream.joints1_offset == 0) {
+      w = quantizeWeights(mesh.weights[v]);
     } else {
-      const uint8_t narrow[4] = {uint8_t(slots[0]), uint8_t(slots[1]), uint8_t(slots[2]),
-                                 uint8_t(slots[3])};
-      std::memcpy(dst + VertexStream::kJointsOffset, narrow, 4);
+      quantizeWeights(mesh.weights[v], mesh.weights1[v], &w, &w1);
+      putJoints(stream.joints1_offset, slots + 4);
+      std::memcpy(dst + stream.weights1_offset, &w1, 8);
     }
-    const glm::u16vec4 w = quantizeWeights(mesh.weights[v]);
     std::memcpy(dst + stream.weights_offset, &w, 8);
     if (tangents) {
       const uint32_t t = packTangent10(mesh.tangents[v]);

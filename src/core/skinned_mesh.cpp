@@ -35,9 +35,15 @@ Status SkinnedMesh::validate(size_t joint_count) const {
        {count("normals", normals.size(), false), count("joints", joints.size(), false),
         count("weights", weights.size(), false), count("tangents", tangents.size(), true),
         count("texcoords", texcoords.size(), true), count("texcoords1", texcoords1.size(), true),
-        count("colors", colors.size(), true),
+        count("colors", colors.size(), true), count("joints1", joints1.size(), true),
+        count("weights1", weights1.size(), true),
         count("vertex_materials", vertex_materials.size(), true)})
     if (!s.isOk()) return s;
+  if (joints1.empty() != weights1.empty())
+    return {StatusCode::kCountMismatch,
+            strCat("mesh: joints1 has ", joints1.size(), " elements and weights1 ", weights1.size(),
+                   ": both or neither")};
+  const size_t influences = influenceCount();
 
   for (size_t v = 0; v < n; ++v) {
     if (!isFinite(positions[v]))
@@ -54,15 +60,18 @@ Status SkinnedMesh::validate(size_t joint_count) const {
       return {StatusCode::kNotFinite, strCat("mesh: color ", v, " is not finite")};
     if (!colors.empty() && !detail::inUnitRange(colors[v]))
       return {StatusCode::kOutOfRange, strCat("mesh: color ", v, " is outside [0, 1]")};
-    const glm::vec4& w = weights[v];
-    if (!isFinite(w)) return {StatusCode::kNotFinite, strCat("mesh: weights ", v, " not finite")};
+    if (!isFinite(weights[v]))
+      return {StatusCode::kNotFinite, strCat("mesh: weights ", v, " not finite")};
+    if (!weights1.empty() && !isFinite(weights1[v]))
+      return {StatusCode::kNotFinite, strCat("mesh: weights1 ", v, " not finite")};
     float sum = 0.0f;
-    for (int i = 0; i < 4; ++i) {
-      if (w[i] < 0.0f)
+    for (size_t i = 0; i < influences; ++i) {
+      const Influence in = influence(v, i);
+      if (in.weight < 0.0f)
         return {StatusCode::kOutOfRange, strCat("mesh: vertex ", v, " weight ", i, " is negative")};
-      sum += w[i];
-      if (joints[v][i] >= joint_count)
-        return {StatusCode::kOutOfRange, strCat("mesh: vertex ", v, " joint index ", joints[v][i],
+      sum += in.weight;
+      if (in.joint >= joint_count)
+        return {StatusCode::kOutOfRange, strCat("mesh: vertex ", v, " joint index ", in.joint,
                                                 " is not below the joint count ", joint_count)};
     }
     if (std::fabs(sum - 1.0f) > kWeightSumTolerance)
@@ -113,23 +122,34 @@ Status SkinnedMesh::validate(size_t joint_count) const {
 }
 
 Status normalizeWeights(SkinnedMesh& mesh, WeightNormalizationReport* report) {
+  const bool second = !mesh.weights1.empty() && mesh.weights1.size() == mesh.weights.size();
+  const auto negative = [](const glm::vec4& w) { return w.x < 0 || w.y < 0 || w.z < 0 || w.w < 0; };
+  const auto sumOf = [&](size_t v) {
+    double sum =
+        double(mesh.weights[v].x) + mesh.weights[v].y + mesh.weights[v].z + mesh.weights[v].w;
+    if (second)
+      sum +=
+          double(mesh.weights1[v].x) + mesh.weights1[v].y + mesh.weights1[v].z + mesh.weights1[v].w;
+    return sum;
+  };
   // Check every vertex first so that a failure leaves the mesh untouched.
   for (size_t v = 0; v < mesh.weights.size(); ++v) {
     const glm::vec4& w = mesh.weights[v];
-    if (!isFinite(w) || w.x < 0 || w.y < 0 || w.z < 0 || w.w < 0)
+    if (!isFinite(w) || negative(w) ||
+        (second && (!isFinite(mesh.weights1[v]) || negative(mesh.weights1[v]))))
       return {StatusCode::kInvalidArgument,
               strCat("mesh: vertex ", v, " has negative or non-finite weights")};
-    if (!(w.x + w.y + w.z + w.w > 1e-6f))
+    if (!(sumOf(v) > 1e-6))
       return {StatusCode::kInvalidArgument,
               strCat("mesh: vertex ", v, " weights sum to zero; it is bound to no joint")};
   }
   WeightNormalizationReport r;
   for (size_t v = 0; v < mesh.weights.size(); ++v) {
-    glm::vec4& w = mesh.weights[v];
-    const double sum = double(w.x) + w.y + w.z + w.w;
+    const double sum = sumOf(v);
     const float correction = static_cast<float>(std::fabs(1.0 - sum));
     if (correction == 0.0f) continue;
-    w = glm::vec4(glm::dvec4(w) / sum);
+    mesh.weights[v] = glm::vec4(glm::dvec4(mesh.weights[v]) / sum);
+    if (second) mesh.weights1[v] = glm::vec4(glm::dvec4(mesh.weights1[v]) / sum);
     ++r.vertices_changed;
     if (correction > r.max_correction) {
       r.max_correction = correction;
@@ -140,16 +160,35 @@ Status normalizeWeights(SkinnedMesh& mesh, WeightNormalizationReport* report) {
   return Status::ok();
 }
 
-glm::u16vec4 quantizeWeights(const glm::vec4& w) {
-  glm::u16vec4 q(0);
+namespace {
+// n weights as unorm16 summing to exactly 65535: each rounded, then the largest (the first of
+// equals) absorbs the difference.
+void quantize(const float* w, uint16_t* q, int n) {
   int sum = 0, largest = 0;
-  for (int i = 0; i < 4; ++i) {
+  for (int i = 0; i < n; ++i) {
     q[i] = static_cast<uint16_t>(std::lround(std::clamp(w[i], 0.0f, 1.0f) * 65535.0f));
     sum += q[i];
     if (w[i] > w[largest]) largest = i;
   }
   q[largest] = static_cast<uint16_t>(std::clamp(int(q[largest]) + 65535 - sum, 0, 65535));
-  return q;
+}
+}  // namespace
+
+glm::u16vec4 quantizeWeights(const glm::vec4& w) {
+  const float in[4] = {w.x, w.y, w.z, w.w};
+  uint16_t q[4];
+  quantize(in, q, 4);
+  return glm::u16vec4(q[0], q[1], q[2], q[3]);
+}
+
+void quantizeWeights(const glm::vec4& weights, const glm::vec4& weights1, glm::u16vec4* out,
+                     glm::u16vec4* out1) {
+  const float in[8] = {weights.x,  weights.y,  weights.z,  weights.w,
+                       weights1.x, weights1.y, weights1.z, weights1.w};
+  uint16_t q[8];
+  quantize(in, q, 8);
+  *out = glm::u16vec4(q[0], q[1], q[2], q[3]);
+  *out1 = glm::u16vec4(q[4], q[5], q[6], q[7]);
 }
 
 glm::vec4 dequantizeWeights(const glm::u16vec4& q) { return glm::vec4(q) / 65535.0f; }

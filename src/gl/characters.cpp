@@ -24,9 +24,12 @@ Status Renderer::Impl::uploadCharacter(const char* what, const Character& charac
   if (s.isOk()) s = c.character.upload(character, palette, m.desc.max_texture_size);
   if (s.isOk() && !m.info.es) s = c.preskin.build(c.character);
   // Depth-only draws of an alpha-masked character discard by its mask (built once).
-  if (s.isOk() && c.character.alpha_masked) s = m.programs.buildMaskedDepth();
-  // A mesh with texture coordinates 1 or colours draws with the variants that carry them.
-  if (s.isOk() && c.character.vertexWords()) s = m.programs.buildVertexWords(c.material);
+  const uint32_t features = c.character.meshFeatures();
+  if (s.isOk() && c.character.alpha_masked)
+    s = m.programs.buildMaskedDepth((features & detail::kMeshEightInfluences) != 0);
+  // A mesh with texture coordinates 1 or colours, or with 8 influences, draws with the
+  // variants that carry them.
+  if (s.isOk()) s = m.programs.buildMeshVariants(c.material, features);
   if (!s.isOk()) return named(s);
   const detail::DrawResources r = m.resources(c);
   for (detail::DrawPath* p : std::initializer_list<detail::DrawPath*>{

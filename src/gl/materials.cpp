@@ -57,8 +57,8 @@ Status Renderer::setMaterial(CharacterId character, MaterialId material) {
     return {StatusCode::kInvalidArgument,
             strCat("setMaterial: no material ", material.index, " (", m.programs.materialCount(),
                    " with the built-in one; addMaterial gives the ids)")};
-  if (c->character.vertexWords()) {  // Its variants of the material's programs, built once.
-    const Status s = m.programs.buildVertexWords(material.index);
+  {  // Its variants of the material's programs for its mesh's features, built once.
+    const Status s = m.programs.buildMeshVariants(material.index, c->character.meshFeatures());
     if (!s.isOk()) return {s.code(), strCat("setMaterial: ", s.message())};
   }
   c->material = material.index;

@@ -180,7 +180,7 @@ struct Renderer::Impl {
     r.info = &info;
     r.desc = &desc;
     r.programs = detail::ProgramTable{&programs, c.material, c.character.alpha_masked,
-                                      c.character.vertexWords()};
+                                      c.character.meshFeatures()};
     r.palette = &c.palette;
     r.character = &c.character;
     r.preskin = &c.preskin;

@@ -139,6 +139,11 @@ inline constexpr double kFoldMaxPoses = 4096.0;
 inline constexpr double kFoldMaxVertexPoses = 2e7;
 Status measureInfluenceFold(const Character& c, const std::vector<WideVertex>& wide,
                             GltfImportReport* report);
+/// When report->max_fold_error_height passes `tolerance`: each of `wide` takes all its
+/// influences, the largest 4 in c->mesh.joints/weights and the rest in joints1/weights1 (every
+/// other vertex none there), and report->kept_eight_influences says so.
+void keepWideInfluences(const std::vector<WideVertex>& wide, float tolerance,
+                        GltfImportReport* report, Character* c);
 
 // ---- gltf_variations.cpp: parts into variation groups (sub-meshes), their LODs merged.
 /// Builds c->mesh.sub_meshes, indices and vertex_materials from `primitives`

@@ -35,6 +35,9 @@ Status tangentsForNormalMaps(GltfImportReport* report, Character* c) {
 
 Status convert(const tinygltf::Model& m, const GltfImportDesc& desc, Character* out,
                GltfImportReport* report) {
+  if (!(desc.fold_tolerance_height >= 0.0f))
+    return {StatusCode::kInvalidArgument,
+            "GltfImportDesc::fold_tolerance_height must be >= 0 (infinity: always fold)"};
   Character c;
   detail::SkinBinding skin;
   Status s = detail::convertSkeleton(m, desc, report, &c, &skin);
@@ -61,6 +64,7 @@ Status convert(const tinygltf::Model& m, const GltfImportDesc& desc, Character* 
   if (!s.isOk()) return corrupt(s.message());
   s = detail::measureInfluenceFold(c, wide, report);
   if (!s.isOk()) return s;
+  detail::keepWideInfluences(wide, desc.fold_tolerance_height, report, &c);
   // LODs: generated when asked for and the file has none, then every level's error measured.
   const bool has_lods = std::any_of(c.mesh.sub_meshes.begin(), c.mesh.sub_meshes.end(),
                                     [](const SubMesh& sm) { return sm.lods.size() > 1; });

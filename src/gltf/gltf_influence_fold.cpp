@@ -76,4 +76,33 @@ Status measureInfluenceFold(const Character& c, const std::vector<WideVertex>& w
   return Status::ok();
 }
 
+void keepWideInfluences(const std::vector<WideVertex>& wide, float tolerance,
+                        GltfImportReport* report, Character* c) {
+  if (wide.empty() || !(report->max_fold_error_height > double(tolerance))) return;
+  SkinnedMesh& mesh = c->mesh;
+  mesh.joints1.assign(mesh.vertexCount(), glm::u16vec4(0));
+  mesh.weights1.assign(mesh.vertexCount(), glm::vec4(0.0f));
+  for (const WideVertex& w : wide) {
+    Influence sorted[8];
+    std::copy(w.influences, w.influences + w.count, sorted);
+    std::stable_sort(sorted, sorted + w.count,
+                     [](const Influence& a, const Influence& b) { return a.weight > b.weight; });
+    glm::u16vec4 joints[2] = {glm::u16vec4(0), glm::u16vec4(0)};
+    glm::vec4 weights[2] = {glm::vec4(0.0f), glm::vec4(0.0f)};
+    for (uint32_t k = 0; k < w.count; ++k) {
+      joints[k / 4][int(k % 4)] = uint16_t(sorted[k].joint);
+      weights[k / 4][int(k % 4)] = sorted[k].weight;
+    }
+    mesh.joints[w.vertex] = joints[0];
+    mesh.weights[w.vertex] = weights[0];
+    mesh.joints1[w.vertex] = joints[1];
+    mesh.weights1[w.vertex] = weights[1];
+  }
+  report->kept_eight_influences = true;
+  report->warnings.push_back(strCat("kept all 8 influences of the ", wide.size(),
+                                    " vertices that have them: folding them to 4 would pass "
+                                    "the tolerance of ",
+                                    tolerance, " of the height"));
+}
+
 }  // namespace si::detail

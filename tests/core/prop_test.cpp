@@ -52,6 +52,21 @@ TEST(Socket, IsTheJointsBindFrameTimesTheOffset) {
   EXPECT_EQ(s.name, kept.name);
 }
 
+// A character with 8 influences takes a prop too: the prop's vertices get an empty second set,
+// and the character stays valid.
+TEST(Prop, ACharacterWithEightInfluencesTakesAProp) {
+  Character c = embeddedCharacter();
+  c.mesh.joints1.assign(c.mesh.vertexCount(), glm::u16vec4(0));
+  c.mesh.weights1.assign(c.mesh.vertexCount(), glm::vec4(0.0f));
+  ASSERT_TRUE(c.validate().isOk());
+  Socket s;
+  ASSERT_TRUE(makeSocket(c.skeleton, "grip", "r_hand", gripOffset(), &s).isOk());
+  ASSERT_TRUE(attachProp(s, boxProp({0.02f, 0.03f, 0.3f}), &c, nullptr).isOk());
+  EXPECT_EQ(c.mesh.joints1.size(), c.mesh.vertexCount());
+  EXPECT_EQ(c.mesh.weights1.size(), c.mesh.vertexCount());
+  EXPECT_TRUE(c.validate().isOk()) << c.validate().toString();
+}
+
 // Skinned by the reference at any time, every prop vertex sits at the socket's posed frame:
 // model(joint) * offset * vertex.
 TEST(Prop, AttachedVerticesFollowTheSocketsPosedFrame) {

@@ -127,6 +127,31 @@ TEST(GlslCheck, TheVertexWordsVariantsCompileWithGlslang) {
   EXPECT_EQ(programs, 24);
 }
 
+// The variants for meshes with 8 influences (SI_EIGHT_INFLUENCES): every program that skins a
+// mesh's vertices, every stage it has, with the vertex words too (a mesh may have both).
+TEST(GlslCheck, TheEightInfluenceVariantsCompileWithGlslang) {
+  skipWithoutGlslang();
+  detail::ShaderConfig config = checkConfig(819);
+  config.eight_influences = true;
+  config.vertex_words = true;
+  int programs = 0;
+  for (size_t p = 0; p < detail::kProgramCount; ++p) {
+    const ProgramId id = ProgramId(p);
+    if (!detail::skinsVertices(id)) continue;
+    ++programs;
+    const bool compute = detail::programSpec(id).compute != nullptr;
+    for (ShaderStage stage :
+         compute ? std::vector<ShaderStage>{ShaderStage::kCompute}
+                 : std::vector<ShaderStage>{ShaderStage::kVertex, ShaderStage::kFragment}) {
+      std::string source;
+      ASSERT_TRUE(detail::assembleStage(id, stage, config, &source).isOk());
+      EXPECT_NE(source.find("#define SI_EIGHT_INFLUENCES\n"), std::string::npos);
+      EXPECT_EQ(compileWithGlslang(source, stageExtension(stage), fileName(id, "", "_eight")), "");
+    }
+  }
+  EXPECT_GT(programs, 20);
+}
+
 // A G-buffer material like docs/rendering.md's ("Materials"): two targets, a uniform block of
 // its own, a discard (so the depth-only programs take it too).
 constexpr const char* kGbufferMaterial = R"(

@@ -4,6 +4,7 @@
 // joints, so every skinning path takes them (issue "Any animated glTF becomes a crowd").
 #include "gltf/node_animated_asset.h"
 #include "render/render_fixture.h"
+#include "render/skinning_paths.h"
 #include "si/crowd/crowd_manager.h"
 #include "si/gltf/gltf_import.h"
 
@@ -56,31 +57,7 @@ TEST_P(NodeAnimatedRenderTest, EveryPathDrawsWhatTheCpuEmulationDraws) {
     ASSERT_TRUE(r.drawCpuSkinned(id, crowd.view(), camera, nullptr).isOk());
     ASSERT_TRUE(context_->readPixels(&emulated).isOk());
     EXPECT_GT(compare(emulated, empty, nullptr).share, 0.01) << "the parts are in view";
-    const struct {
-      const char* name;
-      std::function<Status()> draw;
-    } paths[] = {
-        {"vertex shader",
-         [&] {
-           return r.drawCrowd(id, crowd.view(), batcher, camera, nullptr, DrawMode::kSkinned);
-         }},
-        {"compute",
-         [&] {
-           return r.drawCrowd(id, crowd.view(), batcher, camera, nullptr,
-                              DrawMode::kComputeSkinned);
-         }},
-        {"GPU-driven",
-         [&] {
-           return r.drawCrowdGpuCulled(id, crowd.view(), camera, nullptr, DrawMode::kSkinned);
-         }},
-        {"GPU-driven compute",
-         [&] {
-           return r.drawCrowdGpuCulled(id, crowd.view(), camera, nullptr,
-                                       DrawMode::kComputeSkinned);
-         }},
-        {"traditional", [&] { return r.drawTraditional(id, crowd.view(), camera, nullptr); }},
-    };
-    for (const auto& path : paths) {
+    for (const PathDraw& path : everySkinningPath(r, id, crowd.view(), batcher, camera)) {
       SCOPED_TRACE(testing::Message() << path.name << ", frame " << frame);
       r.clear(background);
       const Status s = path.draw();

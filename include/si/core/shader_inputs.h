@@ -27,8 +27,9 @@
 
 namespace si {
 
-/// One vertex buffer of interleaved vertices, 32 bytes each (36 with wide joints; 4 more each
-/// with tangents, a second texture coordinate set and vertex colours, in that order):
+/// One vertex buffer of interleaved vertices, 32 bytes each (36 with wide joints; 12 more, 16
+/// with wide joints, with a second set of influences; then 4 more each with tangents, a second
+/// texture coordinate set and vertex colours, in that order):
 ///
 /// | offset | attribute (location) | format |
 /// | --- | --- | --- |
@@ -37,7 +38,9 @@ namespace si {
 /// | 16 | texcoord (2) | 2 x float16 (0 when the mesh has none) |
 /// | 20 | joints (3) | 4 x uint8 palette slots; 4 x uint16 when wide_joints |
 /// | 24 (28) | weights (4) | 4 x unorm16 summing to exactly 65535 (si::quantizeWeights) |
-/// | 32 (36) | tangent (7) | 10:10:10:2 signed normalized: xyz the unit tangent, w +-1; only when
+/// | 32 (36) | joints 5-8 (10) | as joints; only when the mesh has `joints1` |
+/// | next | weights 5-8 (11) | 4 x unorm16; the 8 weights together sum to exactly 65535 |
+/// | next | tangent (7) | 10:10:10:2 signed normalized: xyz the unit tangent, w +-1; only when
 /// the mesh has tangents | | next | texcoord 1 (8) | 2 x float16; only when the mesh has
 /// `texcoords1` | | next | colour (9) | 4 x unorm8, linear RGBA; only when the mesh has `colors` |
 ///
@@ -54,13 +57,16 @@ struct VertexStream {
   uint32_t stride_bytes = 0;    ///< 32, or 36 with wide joints; 4 more for each optional word.
   bool wide_joints = false;     ///< Joints as 4 x uint16.
   uint32_t weights_offset = 0;  ///< 24, or 28 with wide joints.
-  /// 32 or 36 when the mesh has tangents; 0 without. Without tangents the renderer feeds
-  /// attribute 7 the normal's word, whose w is 0: "no tangent frame".
+  /// After the fixed words and the second set when the mesh has tangents; 0 without. Without
+  /// tangents the renderer feeds attribute 7 the normal's word, whose w is 0: "no tangent frame".
   uint32_t tangent_offset = 0;
   /// The second texture coordinate set's word when the mesh has `texcoords1`; 0 without.
   uint32_t texcoord1_offset = 0;
   /// The colour's word when the mesh has `colors`; 0 without.
   uint32_t color_offset = 0;
+  /// Influences 5 to 8 (joints, then weights) when the mesh has `joints1`; 0 without.
+  uint32_t joints1_offset = 0;
+  uint32_t weights1_offset = 0;
 };
 
 /// Builds the vertex stream of `mesh` for `palette` (the palette baked for the mesh's

@@ -19,8 +19,17 @@ namespace si {
 
 /// Largest |sum of weights - 1| that validate() accepts for a vertex.
 inline constexpr float kWeightSumTolerance = 1e-3f;
-/// Most influences per vertex the runtime skins with.
+/// Influences in one set (SkinnedMesh::joints/weights, and joints1/weights1): what
+/// reduceInfluences() keeps.
 inline constexpr size_t kMaxInfluences = 4;
+/// Most influences a vertex may have: both sets.
+inline constexpr size_t kMaxVertexInfluences = 8;
+
+/// One (joint, weight) influence on a vertex.
+struct Influence {
+  uint32_t joint = 0;
+  float weight = 0.0f;
+};
 
 /// A range of `SkinnedMesh::indices`: `index_count` indices (a multiple of 3) from `first_index`.
 struct IndexRange {
@@ -45,8 +54,8 @@ struct SubMesh {
 
 /// Vertices shared by all sub-meshes and LODs, plus the index ranges that select them.
 /// Per-vertex arrays: `positions` defines the vertex count; `normals`, `joints` and `weights`
-/// must match it; `tangents`, `texcoords`, `texcoords1`, `colors` and `vertex_materials` are
-/// empty or match it.
+/// must match it; `tangents`, `texcoords`, `texcoords1`, `colors`, `joints1`, `weights1` and
+/// `vertex_materials` are empty or match it.
 ///
 /// Parts and variations: a sub-mesh is what an instance can switch (its bit in the variation
 /// mask); what it draws may be many parts with different materials, merged into its index
@@ -68,6 +77,12 @@ struct SkinnedMesh {
   std::vector<glm::vec4> colors;
   std::vector<glm::u16vec4> joints;    ///< Up to 4 joint indices per vertex.
   std::vector<glm::vec4> weights;      ///< Matching weights, >= 0, summing to 1.
+  /// Optional: influences 5 to 8 of each vertex (glTF JOINTS_1/WEIGHTS_1), for a character
+  /// whose vertices 4 influences do not place closely enough (GltfImportReport's fold error).
+  /// With them, `weights` and `weights1` together sum to 1, and every path skins all 8 (an
+  /// 8-influence vertex stream: a little dearer to skin).
+  std::vector<glm::u16vec4> joints1;
+  std::vector<glm::vec4> weights1;
   /// Optional: each vertex's material (index into the owning Character's materials). Empty:
   /// every vertex takes its sub-mesh's `material` (resolvedVertexMaterials()).
   std::vector<uint16_t> vertex_materials;
@@ -75,6 +90,14 @@ struct SkinnedMesh {
   std::vector<SubMesh> sub_meshes;
 
   size_t vertexCount() const { return positions.size(); }
+  /// Influences each vertex has: 8 with joints1/weights1, else 4.
+  size_t influenceCount() const { return joints1.empty() ? kMaxInfluences : kMaxVertexInfluences; }
+  /// Influence k (below influenceCount()) of vertex v: k < 4 from joints/weights, else from
+  /// joints1/weights1.
+  Influence influence(size_t v, size_t k) const {
+    return k < kMaxInfluences ? Influence{joints[v][int(k)], weights[v][int(k)]}
+                              : Influence{joints1[v][int(k - 4)], weights1[v][int(k - 4)]};
+  }
   /// The largest number of LOD levels of any sub-mesh.
   size_t maxLodCount() const;
   /// Triangles drawn for `sub_mesh` at `lod` (the last LOD if `lod` is past it), 0 if invalid.
@@ -83,11 +106,12 @@ struct SkinnedMesh {
   /// Checks against a skeleton of `joint_count` joints; reports the first rule broken, naming
   /// the array and element:
   /// - at least one vertex (kInvalidArgument); normals, joints, weights match the vertex count
-  ///   and tangents, texcoords, texcoords1, colors, vertex_materials are empty or match it
-  ///   (kCountMismatch);
+  ///   and tangents, texcoords, texcoords1, colors, joints1, weights1, vertex_materials are
+  ///   empty or match it, joints1 and weights1 both (kCountMismatch);
   /// - every attribute finite (kNotFinite); weights not negative, colours in [0, 1]
   ///   (kOutOfRange); each vertex's
-  ///   weights sum to 1 within kWeightSumTolerance (kInvalidArgument; see normalizeWeights());
+  ///   weights (both sets) sum to 1 within kWeightSumTolerance (kInvalidArgument; see
+  ///   normalizeWeights());
   /// - joint indices below `joint_count` (kOutOfRange);
   /// - indices: count a multiple of 3 (kInvalidArgument), each below the vertex count
   ///   (kOutOfRange);
@@ -110,7 +134,7 @@ struct WeightNormalizationReport {
   size_t max_correction_vertex = 0;
 };
 
-/// Rescales each vertex's weights to sum to 1 and reports the correction. Fails with
+/// Rescales each vertex's weights (both sets) to sum to 1 and reports the correction. Fails with
 /// kInvalidArgument naming the vertex, leaving `mesh` untouched, when a vertex has weights that
 /// are negative, not finite, or sum to (nearly) zero: such a vertex has no meaningful binding.
 Status normalizeWeights(SkinnedMesh& mesh, WeightNormalizationReport* report);
@@ -119,14 +143,11 @@ Status normalizeWeights(SkinnedMesh& mesh, WeightNormalizationReport* report);
 /// exactly 65535 (rounded, then the largest absorbs the difference), so the shader's blend of
 /// matrices stays affine. The weights must be valid (validate()).
 glm::u16vec4 quantizeWeights(const glm::vec4& weights);
+/// Both sets of an 8-influence vertex quantized together: the 8 sum to exactly 65535.
+void quantizeWeights(const glm::vec4& weights, const glm::vec4& weights1, glm::u16vec4* out,
+                     glm::u16vec4* out1);
 /// The float weights the shader reads back from quantizeWeights().
 glm::vec4 dequantizeWeights(const glm::u16vec4& quantized);
-
-/// One (joint, weight) influence on a vertex.
-struct Influence {
-  uint32_t joint = 0;
-  float weight = 0.0f;
-};
 
 /// Keeps the kMaxInfluences largest of `influences` (ties: lower joint index first), renormalized
 /// to sum to 1, writing them to `out_joints`/`out_weights` (unused slots: joint 0, weight 0).

@@ -66,6 +66,13 @@ struct GltfImportDesc {
   /// Explicit groups; they win over `variations` for the meshes they name. A name no skinned
   /// primitive has is kNotFound; an empty or repeated group name kInvalidArgument.
   std::vector<VariationGroupDesc> variation_groups;
+  /// Vertices with more than 4 influences (JOINTS_1/WEIGHTS_1) keep their 4 largest, unless
+  /// that would move one by more than this fraction of the character's height
+  /// (GltfImportReport::max_fold_error_height): then the character keeps all 8
+  /// (SkinnedMesh::joints1/weights1: an 8-influence stream, a little dearer to skin). 0 keeps
+  /// them wherever a vertex has more than 4; infinity always folds. The default is the bake's
+  /// default tolerance.
+  float fold_tolerance_height = 1e-4f;
 };
 
 /// What the import did besides the result.
@@ -95,6 +102,9 @@ struct GltfImportReport {
   /// 30, or evenly less where the clips would take more than 4096 poses or the folded vertices
   /// times the poses would pass 2e7 (the import's time stays bounded); 0 without folds.
   double fold_sample_hz = 0.0;
+  /// The fold was past GltfImportDesc::fold_tolerance_height: the character kept all 8
+  /// influences (folded_vertices then says what folding would have cost).
+  bool kept_eight_influences = false;
   uint32_t generated_lods = 0;
   bool added_rest_pose_clip = false;    ///< See GltfImportDesc::rest_pose_clip_when_none.
   uint32_t parts = 0;                   ///< Distinct parts (a primitive with its LOD levels).

@@ -137,9 +137,9 @@ Status CpuSkinningPath::draw(const DrawResources& r, const PathFrame& f, DrawSta
       for (uint32_t k = 0; k < vr.y; ++k, out += vertex_bytes_ / 4) {
         const uint32_t vi = vr.x + k;
         glm::mat4 blended(0.0f);
-        for (int i = 0; i < 4; ++i) {
-          const float w = mesh.weights[vi][i];
-          if (w != 0.0f) blended += joint[mesh.joints[vi][i]] * w;
+        for (size_t i = 0; i < mesh.influenceCount(); ++i) {
+          const Influence in = mesh.influence(vi, i);
+          if (in.weight != 0.0f) blended += joint[in.joint] * in.weight;
         }
         const glm::vec3 p(blended * glm::vec4(mesh.positions[vi], 1.0f));
         // The normal as the shaders (and si::emulateSkinning) skin it: a blend of rotations is

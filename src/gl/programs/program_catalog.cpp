@@ -203,6 +203,15 @@ bool readsVertexWords(ProgramId id) {
          std::strcmp(spec.fragment, "surface.frag.glsl") == 0;
 }
 
+bool skinsVertices(ProgramId id) {
+  const ProgramSpec& spec = programSpec(id);
+  if (spec.vertex != nullptr)
+    return std::strcmp(spec.vertex, "skinned.vert.glsl") == 0 &&
+           std::strstr(spec.defines, "SI_RIGID") == nullptr;
+  return spec.compute != nullptr && (std::strcmp(spec.compute, "compute_skin.comp.glsl") == 0 ||
+                                     std::strcmp(spec.compute, "gpu_skin.comp.glsl") == 0);
+}
+
 bool takesMaterial(ProgramId id, const MaterialSource& material) {
   const MaterialUse use = materialUse(id);
   return use == MaterialUse::kShaded || (use == MaterialUse::kDepth && material.depth_discard);
@@ -277,7 +286,8 @@ Status assembleStage(ProgramId id, ShaderStage stage, const ShaderConfig& config
   *out = strCat(version, "#define SI_MAX_INSTANCES ", config.max_instances,
                 "\n#define SI_MAX_JOINTS ", config.max_joints, "\n",
                 config.es ? strCat("#define SI_MAX_MATERIALS ", kEsMaxMaterials, "\n") : "",
-                config.vertex_words ? "#define SI_VERTEX_WORDS\n" : "", spec.defines,
+                config.vertex_words ? "#define SI_VERTEX_WORDS\n" : "",
+                config.eight_influences ? "#define SI_EIGHT_INFLUENCES\n" : "", spec.defines,
                 material_defines, text);
   // The material's lines are numbered from 1 as source string 1 in the compiler's log.
   if (material != nullptr || material_file != nullptr)

@@ -150,12 +150,20 @@ struct ShaderConfig {
   /// the surface. Only the variants drawn for characters whose meshes have them
   /// (readsVertexWords()): without the define the vertex stages write no output for them.
   bool vertex_words = false;
+  /// SI_EIGHT_INFLUENCES: the mesh's second set of influences (SkinnedMesh::joints1/weights1,
+  /// attributes 10 and 11, or the pre-skinning source's words after the fixed ones) is
+  /// skinned too. Only the variants drawn for such characters (skinsVertices()).
+  bool eight_influences = false;
 };
 
 /// Whether program `id` comes in a variant for meshes with optional vertex words
 /// (ShaderConfig::vertex_words): it hands a mesh's surface to a material
 /// (surface.frag.glsl, shaded or the impostor capture).
 bool readsVertexWords(ProgramId id);
+/// Whether program `id` comes in a variant for meshes with 8 influences
+/// (ShaderConfig::eight_influences): it skins the mesh's vertices (skinned.vert.glsl but the
+/// rigid floor, and the pre-skinning passes).
+bool skinsVertices(ProgramId id);
 
 /// Entries of the material table's uniform block on the ES profile (material_common.glsl):
 /// 32 bytes each, 8 KiB. A character with more materials is refused there (kLimitExceeded).

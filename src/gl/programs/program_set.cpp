@@ -182,40 +182,54 @@ Status ProgramSet::addMaterial(const MaterialSource& material, uint32_t* index) 
   return Status::ok();
 }
 
-Status ProgramSet::buildMaskedDepth() {
+Status ProgramSet::buildMaskedDepth(bool eight_influences) {
   MaterialSource mask_only;
   mask_only.name = "alpha mask (depth only)";
   mask_only.text = "void siMaterial(SiSurface surface) {}\n";
   mask_only.depth_discard = true;
+  ShaderConfig config = config_;
+  config.eight_influences = eight_influences;
+  std::array<Program, kProgramCount>& masked = masked_depth_[eight_influences ? 1 : 0];
   for (size_t i = 0; i < kProgramCount; ++i) {
     const ProgramId id = ProgramId(i);
-    if (programs_[i].id == kNoObject || masked_depth_[i].id != kNoObject ||
+    if (programs_[i].id == kNoObject || masked[i].id != kNoObject ||
         materialUse(id) != MaterialUse::kDepth)
       continue;
     GLuint program = kNoObject;
-    const Status s = buildProgram(id, config_, &mask_only, &program);
+    const Status s = buildProgram(id, config, &mask_only, &program);
     if (!s.isOk()) return s;
     if (config_.es) bindEsResources(program);
-    masked_depth_[i] = describe(program);
+    masked[i] = describe(program);
   }
   return Status::ok();
 }
 
-Status ProgramSet::buildVertexWords(uint32_t material) {
+namespace {
+// Whether mesh `features` change program `id`.
+bool changedBy(ProgramId id, uint32_t features) {
+  return ((features & kMeshVertexWords) != 0 && readsVertexWords(id)) ||
+         ((features & kMeshEightInfluences) != 0 && skinsVertices(id));
+}
+}  // namespace
+
+Status ProgramSet::buildMeshVariants(uint32_t material, uint32_t features) {
   if (material >= materialCount())
     return {StatusCode::kInvalidArgument, strCat("no material ", material)};
+  if (features == 0 || features >= variants_.size()) return Status::ok();
   if (material != 0) {
-    const Status s = buildVertexWords(0);  // The programs the material leaves as they are.
+    const Status s = buildMeshVariants(0, features);  // The programs the material leaves.
     if (!s.isOk()) return s;
   }
-  if (vertex_words_.size() <= material) vertex_words_.resize(material + 1);
+  std::vector<std::array<Program, kProgramCount>>& by_material = variants_[features];
+  if (by_material.size() <= material) by_material.resize(material + 1);
   const MaterialSource* source = material == 0 ? nullptr : &materials_[material - 1]->source;
   ShaderConfig config = config_;
-  config.vertex_words = true;
+  config.vertex_words = (features & kMeshVertexWords) != 0;
+  config.eight_influences = (features & kMeshEightInfluences) != 0;
   for (size_t i = 0; i < kProgramCount; ++i) {
     const ProgramId id = ProgramId(i);
-    Program& variant = vertex_words_[material][i];
-    if (programs_[i].id == kNoObject || variant.id != kNoObject || !readsVertexWords(id) ||
+    Program& variant = by_material[material][i];
+    if (programs_[i].id == kNoObject || variant.id != kNoObject || !changedBy(id, features) ||
         (source != nullptr && !takesMaterial(id, *source)))
       continue;
     GLuint program = kNoObject;
@@ -228,20 +242,23 @@ Status ProgramSet::buildVertexWords(uint32_t material) {
 }
 
 const Program& ProgramSet::get(ProgramId id, uint32_t material, bool alpha_masked,
-                               bool vertex_words) const {
-  if (vertex_words) {  // The material's variant where it changes the program, else the built-in's.
-    const bool own = material != 0 && material <= materials_.size() &&
-                     materials_[material - 1]->programs[size_t(id)].id != kNoObject;
+                               uint32_t features) const {
+  const bool own = material != 0 && material <= materials_.size() &&
+                   materials_[material - 1]->programs[size_t(id)].id != kNoObject;
+  const bool eight = (features & kMeshEightInfluences) != 0;
+  const Program& masked = masked_depth_[eight ? 1 : 0][size_t(id)];
+  // An alpha-masked character's depth-only programs discard by its mask, unless its
+  // material's own do.
+  if (alpha_masked && !own && masked.id != kNoObject) return masked;
+  if (features != 0 && features < variants_.size()) {
+    // The material's variant where it changes the program, else the built-in's.
+    const std::vector<std::array<Program, kProgramCount>>& by_material = variants_[features];
     const uint32_t m = own ? material : 0;
-    if (m < vertex_words_.size() && vertex_words_[m][size_t(id)].id != kNoObject)
-      return vertex_words_[m][size_t(id)];
+    if (m < by_material.size() && by_material[m][size_t(id)].id != kNoObject)
+      return by_material[m][size_t(id)];
   }
-  if (material != 0 && material <= materials_.size()) {
-    const Program& p = materials_[material - 1]->programs[size_t(id)];
-    if (p.id != kNoObject) return p;  // Unset: the material changes nothing.
-  }
-  const Program& masked = masked_depth_[size_t(id)];
-  return alpha_masked && masked.id != kNoObject ? masked : programs_[size_t(id)];
+  if (own) return materials_[material - 1]->programs[size_t(id)];
+  return programs_[size_t(id)];
 }
 
 void ProgramSet::release() {
@@ -253,11 +270,13 @@ void ProgramSet::release() {
     }
   };
   drop(programs_);
-  drop(masked_depth_);
+  for (auto& masked : masked_depth_) drop(masked);
   for (const auto& m : materials_) drop(m->programs);
   materials_.clear();
-  for (auto& variants : vertex_words_) drop(variants);
-  vertex_words_.clear();
+  for (auto& by_material : variants_) {
+    for (auto& variants : by_material) drop(variants);
+    by_material.clear();
+  }
 }
 
 }  // namespace si::detail

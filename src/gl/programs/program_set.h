@@ -38,6 +38,11 @@ struct Program {
 /// Compiles one shader: kBackend with the driver's log on failure.
 Status compileShader(GLenum type, const std::string& source, const char* name, GLuint* out);
 
+/// Mesh features that change the programs drawing a character (bits of
+/// ProgramTable::features): texture coordinates 1 or colours; a second set of influences.
+inline constexpr uint32_t kMeshVertexWords = 1;
+inline constexpr uint32_t kMeshEightInfluences = 2;
+
 /// The catalog's programs, compiled and linked.
 class ProgramSet {
  public:
@@ -57,14 +62,18 @@ class ProgramSet {
   Status addMaterial(const MaterialSource& material, uint32_t* index);
   /// Builds, once, the depth-only programs of alpha-masked characters: surface.frag.glsl with
   /// SI_DEPTH_ONLY and a material that writes nothing, so the surface's alpha-mask discard
-  /// (glTF MASK) alone cuts the depth. kBackend with the driver's log when one fails.
-  Status buildMaskedDepth();
+  /// (glTF MASK) alone cuts the depth; with `eight_influences`, those of meshes with 8.
+  /// kBackend with the driver's log when one fails.
+  Status buildMaskedDepth(bool eight_influences = false);
   /// Builds, once for `material` (0: the built-in one; a host material also needs the built-in
-  /// variants of the programs it does not change), the variants of the programs that
-  /// readsVertexWords() with ShaderConfig::vertex_words, drawn for characters whose meshes
-  /// have texture coordinates 1 or colours (the others write no output for them). kBackend
-  /// with the driver's log when one fails; kInvalidArgument for an unknown material.
-  Status buildVertexWords(uint32_t material);
+  /// variants of the programs it does not change) and mesh `features` (kMeshVertexWords,
+  /// kMeshEightInfluences or both), the variants of the programs a feature changes, drawn for
+  /// characters whose meshes have those features: those that readsVertexWords() with
+  /// ShaderConfig::vertex_words (texture coordinates 1 or colours; the others write no output
+  /// for them) and those that skinsVertices() with ShaderConfig::eight_influences (and, for
+  /// the latter, the depth-only programs of alpha-masked characters: buildMaskedDepth()).
+  /// kBackend with the driver's log when one fails; kInvalidArgument for an unknown material.
+  Status buildMeshVariants(uint32_t material, uint32_t features);
   /// Deletes every program (context current). Idempotent.
   void release();
 
@@ -74,10 +83,10 @@ class ProgramSet {
   /// the material does not change it, or for an unknown material) for a character with
   /// alpha-masked materials or without: the depth-only programs of a masked character
   /// discard by its mask (buildMaskedDepth), unless the material's own do (depth_discard);
-  /// for a character whose mesh has optional vertex words (`vertex_words`), their variant
-  /// where buildVertexWords() built one.
+  /// for a character whose mesh has `features` (kMeshVertexWords, kMeshEightInfluences), their
+  /// variant where buildMeshVariants() built one.
   const Program& get(ProgramId id, uint32_t material, bool alpha_masked,
-                     bool vertex_words = false) const;
+                     uint32_t features = 0) const;
   /// Materials, the built-in one included.
   uint32_t materialCount() const { return uint32_t(materials_.size()) + 1; }
   /// Whether `material`'s programs read the drawn instance's handle
@@ -95,10 +104,11 @@ class ProgramSet {
   ShaderConfig config_;
   LibraryBindings bindings_;  // Of every built-in program (desktop GL): what materials avoid.
   std::array<Program, kProgramCount> programs_{};
-  std::array<Program, kProgramCount> masked_depth_{};  // buildMaskedDepth's (kDepth ids only).
-  // buildVertexWords's, by material (0: the built-in one; a host material's hold only the
-  // programs it changes).
-  std::vector<std::array<Program, kProgramCount>> vertex_words_;
+  // buildMaskedDepth's (kDepth ids only), without and with 8 influences.
+  std::array<std::array<Program, kProgramCount>, 2> masked_depth_{};
+  // buildMeshVariants's, by mesh features (index 0 unused) and material (0: the built-in one;
+  // a host material's hold only the programs it changes).
+  std::array<std::vector<std::array<Program, kProgramCount>>, 4> variants_;
   std::vector<std::unique_ptr<MaterialPrograms>> materials_;  // Material index - 1.
 };
 
@@ -107,9 +117,9 @@ struct ProgramTable {
   const ProgramSet* set = nullptr;
   uint32_t material = 0;
   bool alpha_masked = false;  ///< The character has alpha-masked materials.
-  bool vertex_words = false;  ///< The character's mesh has texture coordinates 1 or colours.
+  uint32_t features = 0;      ///< The character's mesh features (kMeshVertexWords, ...).
   const Program& operator[](ProgramId id) const {
-    return set->get(id, material, alpha_masked, vertex_words);
+    return set->get(id, material, alpha_masked, features);
   }
 };
 

@@ -88,6 +88,8 @@ Status CharacterBuffers::upload(const Character& character, const BakedPalette& 
   tangent_offset = stream.tangent_offset;
   texcoord1_offset = stream.texcoord1_offset;
   color_offset = stream.color_offset;
+  joints1_offset = stream.joints1_offset;
+  weights1_offset = stream.weights1_offset;
   glCreateVertexArrays(1, &vao);
   describeVertexFormat(vao);
   return Status::ok();
@@ -189,6 +191,15 @@ void CharacterBuffers::describeVertexFormat(GLuint v) const {
       texcoord1_offset != 0 ? texcoord1_offset : VertexStream::kTexcoordOffset);
   glVertexArrayAttribFormat(v, 9, 4, GL_UNSIGNED_BYTE, GL_TRUE,
                             color_offset != 0 ? color_offset : VertexStream::kNormalOffset);
+  if (joints1_offset != 0) {  // Influences 5 to 8 (attributes 10 and 11): SI_EIGHT_INFLUENCES.
+    for (GLuint loc : {10u, 11u}) {
+      glEnableVertexArrayAttrib(v, loc);
+      glVertexArrayAttribBinding(v, loc, 0);
+    }
+    glVertexArrayAttribIFormat(v, 10, 4, wide_joints ? GL_UNSIGNED_SHORT : GL_UNSIGNED_BYTE,
+                               joints1_offset);
+    glVertexArrayAttribFormat(v, 11, 4, GL_UNSIGNED_SHORT, GL_TRUE, weights1_offset);
+  }
   if (esProfile()) {  // GLSL ES 3.00 reads each vertex's material index as attribute 6.
     glVertexArrayVertexBuffer(v, 1, vertex_materials, 0, 2);
     glEnableVertexArrayAttrib(v, 6);

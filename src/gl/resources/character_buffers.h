@@ -64,9 +64,14 @@ struct CharacterBuffers {
   uint32_t tangent_offset = 0;  ///< VertexStream::tangent_offset (0: no tangents).
   uint32_t texcoord1_offset = 0;  ///< VertexStream::texcoord1_offset (0: none).
   uint32_t color_offset = 0;      ///< VertexStream::color_offset (0: no colours).
-  /// The mesh has texture coordinates 1 or colours: its draws take the programs' variants
-  /// that carry them (ProgramSet::buildVertexWords).
-  bool vertexWords() const { return texcoord1_offset != 0 || color_offset != 0; }
+  uint32_t joints1_offset = 0;    ///< VertexStream::joints1_offset (0: 4 influences).
+  uint32_t weights1_offset = 0;   ///< VertexStream::weights1_offset.
+  /// The mesh features its draws' programs are variants for (ProgramSet::buildMeshVariants):
+  /// kMeshVertexWords with texture coordinates 1 or colours, kMeshEightInfluences with a
+  /// second set of influences.
+  uint32_t meshFeatures() const {
+    return (texcoord1_offset != 0 || color_offset != 0 ? 1u : 0u) | (joints1_offset != 0 ? 2u : 0u);
+  }
   /// A material draws both faces (glTF doubleSided): the character's draws cull no faces.
   bool double_sided = false;
   /// A material is alpha-masked (glTF MASK): the character's depth-only draws discard by it

@@ -11,7 +11,8 @@
 // in that order at the end) | 0x100 with wide joints | 0x200 when the source has tangents and
 // the skinning passes write the tangent ring (storage binding 28; the pulling draws read it
 // when compiled with SI_TANGENTS) | 0x400 when the source has texture coordinates 1 | 0x800
-// when it has colours.
+// when it has colours | 0x1000 when it has a second set of influences (its joints and weights
+// words right after the fixed ones; read with SI_EIGHT_INFLUENCES).
 // The bindings can be moved (the GPU-driven passes use 2 and 3 for other buffers).
 #ifndef SI_PRE_SKIN_COMMON_GLSL
 #define SI_PRE_SKIN_COMMON_GLSL
@@ -85,21 +86,36 @@ vec4 siUnpackSigned1010102(uint word) {
 }
 
 #ifdef SI_SKINNING_GLSL
+// The 4 influences whose words start at source word `at`: palette slots (one word of 4 x uint8,
+// or two of 2 x uint16 with wide joints), then the weights (two words of 2 x unorm16).
+void siSourceInfluences(uint at, out uvec4 joints, out vec4 weights) {
+  if ((u_layout.y & 0x100u) == 0u) {
+    joints = uvec4(unpackUnorm4x8(si_source[at]) * 255.0 + 0.5);
+  } else {
+    uint j01 = si_source[at], j23 = si_source[at + 1u];
+    joints = uvec4(j01 & 0xFFFFu, j01 >> 16, j23 & 0xFFFFu, j23 >> 16);
+    ++at;
+  }
+  weights = vec4(unpackUnorm2x16(si_source[at + 1u]), unpackUnorm2x16(si_source[at + 2u]));
+}
+
 // Source vertex `source`: bind-pose position and normal, palette slots and weights.
 void siSourceVertex(uint source, out vec3 p, out vec3 n, out uvec4 joints, out vec4 weights) {
   uint base = source * (u_layout.y & 0xFFu);
   p = vec3(uintBitsToFloat(si_source[base]), uintBitsToFloat(si_source[base + 1u]),
            uintBitsToFloat(si_source[base + 2u]));
   n = siUnpackSigned1010102(si_source[base + 3u]).xyz;
-  if ((u_layout.y & 0x100u) == 0u) {
-    joints = uvec4(unpackUnorm4x8(si_source[base + 5u]) * 255.0 + 0.5);
-    weights = vec4(unpackUnorm2x16(si_source[base + 6u]), unpackUnorm2x16(si_source[base + 7u]));
-  } else {
-    uint j01 = si_source[base + 5u], j23 = si_source[base + 6u];
-    joints = uvec4(j01 & 0xFFFFu, j01 >> 16, j23 & 0xFFFFu, j23 >> 16);
-    weights = vec4(unpackUnorm2x16(si_source[base + 7u]), unpackUnorm2x16(si_source[base + 8u]));
-  }
+  siSourceInfluences(base + 5u, joints, weights);
 }
+
+#ifdef SI_EIGHT_INFLUENCES
+// Source vertex `source`'s influences 5 to 8: right after the fixed words (8, or 9 with wide
+// joints).
+void siSourceSecondSet(uint source, out uvec4 joints, out vec4 weights) {
+  uint words = (u_layout.y & 0x100u) == 0u ? 8u : 9u;
+  siSourceInfluences(source * (u_layout.y & 0xFFu) + words, joints, weights);
+}
+#endif
 
 // The bind-pose tangent of source vertex `source` (the word before the trailing ones;
 // siHasTangents()).
@@ -141,6 +157,15 @@ void siPreSkinSource(uint source, SiInstance inst, uvec4 layer, uint record, boo
   vec4 weights;
   siSourceVertex(source, p, n, joints, weights);
   siPreSkinMatrix(inst, layer, record, previous, joints, weights, m0, m1, m2);
+#ifdef SI_EIGHT_INFLUENCES
+  // The skinning sum is linear in the weights: the second set's is added.
+  vec4 e0, e1, e2;
+  siSourceSecondSet(source, joints, weights);
+  siPreSkinMatrix(inst, layer, record, previous, joints, weights, e0, e1, e2);
+  m0 += e0;
+  m1 += e1;
+  m2 += e2;
+#endif
 }
 
 // Source vertex `source` skinned for `inst` (with SI_LAYERS, its overlay `layer` composed on its

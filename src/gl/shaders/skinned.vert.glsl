@@ -11,7 +11,9 @@
 // SI_LAYERS (each instance's overlay composed on its mask: siSkinLayered; with SI_COMPOSED_LAYERS
 // its masked slots' rows read from the compose pass, siSkinComposed, layer_compose.glsl),
 // SI_VERTEX_WORDS (also texture coordinates 1 and the colour: meshes that have them),
-// SI_INSTANCE_HANDLE (also the instance's handle: instance_handle.glsl).
+// SI_INSTANCE_HANDLE (also the instance's handle: instance_handle.glsl), SI_EIGHT_INFLUENCES
+// (influences 5 to 8 too, attributes 10 and 11: the skinning sum is linear in the weights, so
+// each set's sum is added).
 #define SI_VERTEX_MATERIALS
 #if defined(SI_GPU_DRIVEN) && defined(SI_LAYERS)
 #define SI_LAYERS_IN_STORAGE  // The cull pass's layer records, by visible index.
@@ -59,6 +61,22 @@ layout(location = 3) in uvec4 a_joints;
 layout(location = 4) in vec4 a_weights;
 // The tangent (xyz, w the bitangent's sign); w 0 where the mesh has none (the normal's bits).
 layout(location = 7) in vec4 a_tangent;
+#ifdef SI_EIGHT_INFLUENCES
+layout(location = 10) in uvec4 a_joints1;
+layout(location = 11) in vec4 a_weights1;
+// Adds the second set's rows to m0, m1, m2: CALL is the first set's skinning call with
+// a_joints1 and a_weights1, writing si_e0, si_e1, si_e2.
+#define SI_SECOND_SET(CALL, m0, m1, m2) \
+  {                                     \
+    vec4 si_e0, si_e1, si_e2;           \
+    CALL;                               \
+    m0 += si_e0;                        \
+    m1 += si_e1;                        \
+    m2 += si_e2;                        \
+  }
+#else
+#define SI_SECOND_SET(CALL, m0, m1, m2)
+#endif
 #include "vertex_words.glsl"
 SI_LOCATION_LAYOUT(1) uniform mat4 u_view_projection;
 out vec3 v_position;  // Camera-relative world position (SiSurface.position).
@@ -93,10 +111,17 @@ layout(std430, binding = 6) readonly buffer SiVisible { uvec4 si_visible[]; };
 void main() {
 #if defined(SI_TRADITIONAL)
   vec4 m0 = vec4(0.0), m1 = vec4(0.0), m2 = vec4(0.0);
+#ifdef SI_EIGHT_INFLUENCES
+  for (int k = 0; k < 8; ++k) {
+    float w = k < 4 ? a_weights[k] : a_weights1[k - 4];
+    if (w == 0.0) continue;
+    uint j = (k < 4 ? a_joints[k] : a_joints1[k - 4]) * 3u;
+#else
   for (int k = 0; k < 4; ++k) {
     float w = a_weights[k];
     if (w == 0.0) continue;
     uint j = a_joints[k] * 3u;
+#endif
     m0 += w * si_joint_rows[j];
     m1 += w * si_joint_rows[j + 1u];
     m2 += w * si_joint_rows[j + 2u];
@@ -121,12 +146,18 @@ void main() {
 #endif
   vec4 m0, m1, m2;
   siSkinComposed(inst, si_layers[slot], composed, false, a_joints, a_weights, m0, m1, m2);
+  SI_SECOND_SET(siSkinComposed(inst, si_layers[slot], composed, false, a_joints1, a_weights1,
+                               si_e0, si_e1, si_e2),
+                m0, m1, m2)
 #elif defined(SI_LAYERS)
   vec4 m0, m1, m2;
   siSkinLayered(inst, si_layers[slot], a_joints, a_weights, m0, m1, m2);
+  SI_SECOND_SET(siSkinLayered(inst, si_layers[slot], a_joints1, a_weights1, si_e0, si_e1, si_e2),
+                m0, m1, m2)
 #else
   vec4 m0, m1, m2;
   siSkin(inst, a_joints, a_weights, m0, m1, m2);
+  SI_SECOND_SET(siSkin(inst, a_joints1, a_weights1, si_e0, si_e1, si_e2), m0, m1, m2)
 #endif
   vec4 w0 = inst.world_rows[0], w1 = inst.world_rows[1], w2 = inst.world_rows[2];
   uint color = inst.blend.w;
@@ -169,10 +200,17 @@ void main() {
 #if defined(SI_COMPOSED_LAYERS)
   siSkinComposed(prev, si_previous_layers[slot], composed, true, a_joints, a_weights, p0, p1,
                  p2);
+  SI_SECOND_SET(siSkinComposed(prev, si_previous_layers[slot], composed, true, a_joints1,
+                               a_weights1, si_e0, si_e1, si_e2),
+                p0, p1, p2)
 #elif defined(SI_LAYERS)
   siSkinLayered(prev, si_previous_layers[slot], a_joints, a_weights, p0, p1, p2);
+  SI_SECOND_SET(siSkinLayered(prev, si_previous_layers[slot], a_joints1, a_weights1, si_e0,
+                              si_e1, si_e2),
+                p0, p1, p2)
 #else
   siSkin(prev, a_joints, a_weights, p0, p1, p2);
+  SI_SECOND_SET(siSkin(prev, a_joints1, a_weights1, si_e0, si_e1, si_e2), p0, p1, p2)
 #endif
   vec3 previous = siPlacePoint(prev, p0, p1, p2, a_position);
   v_motion_previous = u_previous_view_projection * vec4(previous, 1.0);

@@ -1,0 +1,96 @@
+// SkinnedInstancing — SPDX-License-Identifier: MIT (see LICENSE)
+// A character that keeps 8 influences a vertex (tests/gltf/eight_influence_asset.h, imported
+// past its fold tolerance) draws on every path what the CPU emulation draws with all 8, over
+// frames of its clip, and visibly not what the same character folded to 4 draws (issue "Any
+// animated glTF becomes a crowd", part 3).
+#include <limits>
+
+#include "gltf/eight_influence_asset.h"
+#include "render/render_fixture.h"
+#include "render/skinning_paths.h"
+#include "si/crowd/crowd_manager.h"
+#include "si/gltf/gltf_import.h"
+
+namespace si {
+namespace {
+
+using namespace test;
+
+class EightInfluenceRenderTest : public RenderTest {};
+
+Status importFan(float fold_tolerance_height, Character* c) {
+  const std::string json = EightInfluenceFan().file();
+  GltfImportDesc d;
+  d.fold_tolerance_height = fold_tolerance_height;
+  return importGltfMemory(
+      Span<const uint8_t>(reinterpret_cast<const uint8_t*>(json.data()), json.size()), "", d, c,
+      nullptr);
+}
+
+TEST_P(EightInfluenceRenderTest, EveryPathDrawsAllEight) {
+  Character eight, four;
+  ASSERT_TRUE(importFan(1e-4f, &eight).isOk());
+  ASSERT_TRUE(importFan(std::numeric_limits<float>::infinity(), &four).isOk());
+  ASSERT_FALSE(eight.mesh.joints1.empty());
+  ASSERT_TRUE(four.mesh.joints1.empty());
+  BakedPalette palette, folded_palette;
+  ASSERT_TRUE(bakePalette(eight, BakeDesc(), &palette, nullptr).isOk());
+  ASSERT_TRUE(bakePalette(four, BakeDesc(), &folded_palette, nullptr).isOk());
+  Renderer r;
+  RendererDesc rd;
+  rd.skinning_path = SkinningPath::kVertexShader;
+  ASSERT_TRUE(r.init(info_, rd).isOk());
+  CharacterId id, folded;
+  ASSERT_TRUE(r.addCharacter(eight, palette, &id).isOk());
+  ASSERT_TRUE(r.addCharacter(four, folded_palette, &folded).isOk());
+  // The same three instances, at different times of the clip, in a crowd of each palette.
+  CrowdManager crowd, folded_crowd;
+  for (CrowdManager* c : {&crowd, &folded_crowd}) {
+    CrowdDesc cd;
+    cd.palette = c == &crowd ? &palette : &folded_palette;
+    cd.sub_mesh_count = 1;
+    cd.lod_count = 1;
+    ASSERT_TRUE(c->init(cd).isOk());
+    for (int k = 0; k < 3; ++k) {
+      InstanceDesc d;
+      d.position = glm::dvec3(-1.6 + 1.6 * k, 0.0, 0.0);
+      d.time_seconds = 0.3 + 0.3 * k;
+      d.color = glm::u8vec4(uint8_t(120 + 60 * k), 200, 160, 255);
+      InstanceHandle h;
+      ASSERT_TRUE(c->add(d, &h).isOk());
+    }
+  }
+  const Camera camera = Camera::lookAt({0.0, 1.2, 2.4}, {0.0, 1.1, 0.0}, glm::vec3(0, 1, 0), 1.0f,
+                                       1.0f, 0.1f, 100.0f);
+  InstanceBatcher batcher;
+  ASSERT_TRUE(batcher.init(r.batchLimits()).isOk());
+  const glm::vec4 background(0.2f, 0.25f, 0.3f, 1.0f);
+  for (int frame = 0; frame < 3; ++frame) {
+    ASSERT_TRUE(crowd.update(frame == 0 ? 0.0 : 0.15, camera).isOk());
+    ASSERT_TRUE(folded_crowd.update(frame == 0 ? 0.0 : 0.15, camera).isOk());
+    std::vector<uint8_t> emulated, folded_image;
+    r.clear(background);
+    ASSERT_TRUE(r.drawCpuSkinned(folded, folded_crowd.view(), camera, nullptr).isOk());
+    ASSERT_TRUE(context_->readPixels(&folded_image).isOk());
+    r.clear(background);
+    ASSERT_TRUE(r.drawCpuSkinned(id, crowd.view(), camera, nullptr).isOk());
+    ASSERT_TRUE(context_->readPixels(&emulated).isOk());
+    EXPECT_GT(compare(emulated, folded_image, nullptr).share, 3 * kMaxDifferingShare)
+        << "influences 5 to 8 show in this view";
+    for (const PathDraw& path : everySkinningPath(r, id, crowd.view(), batcher, camera)) {
+      SCOPED_TRACE(testing::Message() << path.name << ", frame " << frame);
+      r.clear(background);
+      const Status s = path.draw();
+      ASSERT_TRUE(s.isOk()) << s.toString();
+      std::vector<uint8_t> image;
+      ASSERT_TRUE(context_->readPixels(&image).isOk());
+      EXPECT_LE(compare(image, emulated, nullptr).share, kMaxDifferingShare);
+    }
+  }
+  r.shutdown();
+}
+
+INSTANTIATE_TEST_SUITE_P(Backends, EightInfluenceRenderTest, allBackends(), backendTestName);
+
+}  // namespace
+}  // namespace si
