@@ -25,6 +25,14 @@ struct EightInfluenceFan {
   static constexpr float kFanWeights[8] = {0.3f, 0.2f, 0.15f, 0.11f, 0.09f, 0.07f, 0.05f, 0.03f};
   std::vector<float> positions = {0.5f, 1.5f, 0.0f, -0.4f, 2.0f, 0.3f, 0.2f, 0.8f, -0.5f, 0, 0, 0};
   std::vector<float> key_rotations;  // Bone k's last key (x, y, z, w), as the file stores it.
+
+  EightInfluenceFan() {
+    for (int k = 1; k < kJoints; ++k) {
+      const double half = 0.5 * k * 12.0 * 3.14159265358979323846 / 180.0;
+      key_rotations.insert(key_rotations.end(),
+                           {0.0f, 0.0f, float(std::sin(half)), float(std::cos(half))});
+    }
+  }
   float duration = 1.0f;
   bool second_set_zero = false;  // WEIGHTS_1 all zero (the first four then renormalized).
 
@@ -32,7 +40,7 @@ struct EightInfluenceFan {
   static int joint(int v, int i) { return v == 3 ? 0 : (i + 3 * v) % kJoints; }
   static float weight(int v, int i) { return v == 3 ? float(i == 0) : kFanWeights[i]; }
 
-  std::string file() {
+  std::string file() const {
     GltfWriter w;
     std::vector<uint8_t> j0, j1;
     std::vector<float> w0, w1;
@@ -68,12 +76,9 @@ struct EightInfluenceFan {
     const int times = w.accessor(std::vector<float>{0.0f, duration}, 5126, "SCALAR", 2,
                                  ",\"min\":[0],\"max\":[" + std::to_string(duration) + "]");
     std::string samplers, channels;
-    key_rotations.clear();
     for (int k = 1; k < kJoints; ++k) {
-      const double half = 0.5 * k * 12.0 * 3.14159265358979323846 / 180.0;
-      const std::vector<float> keys = {
-          0, 0, 0, 1, 0, 0, float(std::sin(half)), float(std::cos(half))};
-      key_rotations.insert(key_rotations.end(), keys.begin() + 4, keys.end());
+      const float* q = &key_rotations[size_t(k - 1) * 4];
+      const std::vector<float> keys = {0, 0, 0, 1, q[0], q[1], q[2], q[3]};
       const int out = w.accessor(keys, 5126, "VEC4", 2);
       samplers += std::string(k > 1 ? "," : "") + "{\"input\":" + std::to_string(times) +
                   ",\"output\":" + std::to_string(out) + "}";

@@ -8,6 +8,7 @@
 #include "gltf/eight_influence_asset.h"
 #include "render/render_fixture.h"
 #include "render/skinning_paths.h"
+#include "si/core/reference_evaluator.h"
 #include "si/crowd/crowd_manager.h"
 #include "si/gltf/gltf_import.h"
 
@@ -85,6 +86,49 @@ TEST_P(EightInfluenceRenderTest, EveryPathDrawsAllEight) {
       std::vector<uint8_t> image;
       ASSERT_TRUE(context_->readPixels(&image).isOk());
       EXPECT_LE(compare(image, emulated, nullptr).share, kMaxDifferingShare);
+    }
+  }
+  r.shutdown();
+}
+
+// The captures (the vertex shader's through transform feedback, the compute pre-skinning
+// pass's buffer) skin all 8 too: the fan's 8-influence vertices where the reference with all 8
+// puts them, within the bake's error, and far from where their 4 largest would.
+TEST_P(EightInfluenceRenderTest, TheCapturesSkinAllEight) {
+  Character eight;
+  ASSERT_TRUE(importFan(1e-4f, &eight).isOk());
+  BakedPalette palette;
+  BakeReport report;
+  ASSERT_TRUE(bakePalette(eight, BakeDesc(), &palette, &report).isOk());
+  Renderer r;
+  ASSERT_TRUE(r.init(info_, RendererDesc()).isOk());
+  CharacterId id;
+  ASSERT_TRUE(r.addCharacter(eight, palette, &id).isOk());
+  const BakedClip& clip = palette.clips[0];
+  const EightInfluenceFan fan;
+  for (double t : {0.5, 0.9}) {
+    const FrameSample s = sampleFrames(clip, t);
+    InstanceRecord rec{};
+    rec.frames[0] = rec.frames[2] = clip.first_texel + s.frame * palette.layout.frame_stride_texels;
+    rec.frames[1] = rec.frames[3] =
+        clip.first_texel + s.next_frame * palette.layout.frame_stride_texels;
+    rec.blend[0] = rec.blend[1] = packFraction(s.fraction, s.mode);
+    ReferencePose pose;
+    ASSERT_TRUE(evaluateLocalPose(eight.skeleton, eight.clips[0], t, &pose).isOk());
+    std::vector<glm::dvec3> reference(eight.mesh.vertexCount());
+    ASSERT_TRUE(skinVertices(eight.mesh, pose.skinning, reference, {}, {}).isOk());
+    for (SkinningPath path : {SkinningPath::kVertexShader, SkinningPath::kCompute}) {
+      SCOPED_TRACE(testing::Message()
+                   << (path == SkinningPath::kCompute ? "compute" : "vertex") << " t=" << t);
+      std::vector<glm::vec3> gpu;
+      ASSERT_TRUE(r.captureSkinnedPositions(id, rec, &gpu, path).isOk());
+      ASSERT_EQ(gpu.size(), reference.size());
+      for (int v = 0; v < 3; ++v) {  // The vertices with 8 influences.
+        const double error = glm::length(glm::dvec3(gpu[size_t(v)]) - reference[size_t(v)]);
+        EXPECT_LE(error, report.max_error_units + 2e-5) << v;
+        EXPECT_GT(glm::length(fan.skinned(v, t, true) - reference[size_t(v)]), 10.0 * error + 1e-3)
+            << v << ": the 4 largest would put it elsewhere";
+      }
     }
   }
   r.shutdown();
