@@ -25,6 +25,16 @@ Status makeCharacter(const CharacterChoice& choice, Setup* setup) {
     }
     std::printf("Vertex colours and texture coordinates 1 on every vertex (--vertex-colors)\n");
   }
+  if (s.isOk() && choice.eight_influences) {
+    SkinnedMesh& mesh = setup->character.mesh;
+    mesh.joints1 = mesh.joints;
+    mesh.weights1.resize(mesh.weights.size());
+    for (size_t v = 0; v < mesh.weights.size(); ++v) {
+      mesh.weights1[v] = 0.25f * mesh.weights[v];
+      mesh.weights[v] *= 0.75f;
+    }
+    std::printf("Each vertex's influences split over two sets of 4 (--eight-influences)\n");
+  }
   LodChainDesc chain;
   chain.min_triangles = choice.lod_min_triangles;
   if (s.isOk() && choice.lod_chain == "deep")

@@ -21,6 +21,9 @@ struct CharacterChoice {
   /// --vertex-colors: every vertex a colour (white to mid grey by height) and texture
   /// coordinates 1, which the built-in material multiplies into the base colour.
   bool vertex_colors = false;
+  /// --eight-influences: each vertex's weights split 3:1 over the same joints in two sets
+  /// (SkinnedMesh::joints1/weights1): the same skinning, drawn through 8 influences.
+  bool eight_influences = false;
 };
 
 /// The embedded character with its LOD chain (deep: 6 levels down to a few dozen triangles),

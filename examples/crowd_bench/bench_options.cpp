@@ -37,6 +37,8 @@ void printUsage(std::FILE* f) {
       "                   error, parts dropped where that is within it: si::buildPartLods)\n"
       "                   [--vertex-colors] (the character's mesh gets vertex colours and\n"
       "                   texture coordinates 1: what the optional vertex words cost)\n"
+      "                   [--eight-influences] (each vertex's influences split over two sets,\n"
+      "                   the same skinning through 8: what the second set costs)\n"
       "                   [--impostor] (an animated impostor past the last mesh level, chosen by\n"
       "                   its image error; not with the baselines, --mix, --root-motion or\n"
       "                   --motion-vectors) [--impostor-atlas full|small] (small: 8 azimuths,\n"
@@ -104,6 +106,8 @@ bool parseOptions(int argc, char** argv, Options* o) {
     else if (a == "--part-lod") o->part_lod = true;
     else if (a == "--vertex-colors")
       o->vertex_colors = true;
+    else if (a == "--eight-influences")
+      o->eight_influences = true;
     else if (a == "--impostor") o->impostor = true;
     else if (a == "--impostor-atlas" && has) o->impostor_atlas = argv[++i];
     else if (a == "--lod-errors" && has) o->lod_errors = argv[++i];

@@ -154,6 +154,7 @@ int main(int argc, char** argv) {
   choice.impostor = b.o.impostor;
   choice.small_atlas = b.o.impostor_atlas == "small";
   choice.vertex_colors = b.o.vertex_colors;
+  choice.eight_influences = b.o.eight_influences;
   si::Status s = si::bench::makeCharacter(choice, &b.setup);
   if (!s.isOk()) return fail("character", s);
   si::HeadlessDesc hd;
