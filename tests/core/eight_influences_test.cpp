@@ -133,6 +133,24 @@ TEST(EightInfluences, TheStreamCarriesTheSecondSetLast) {
       EXPECT_EQ(vertex[s.joints1_offset + k], 7 - m.joints1[v][k]) << v;
     }
   }
+  // Past 256 stored joints both sets are wide (4 x uint16), the second right after the fixed
+  // 36 bytes, where the pre-skinning source reads it (9 words in).
+  BakedPalette wide;
+  for (uint16_t j = 0; j < 300; ++j) {
+    wide.palette_joints.push_back(j);
+    wide.skeleton_to_palette.push_back(int32_t(299 - j));
+  }
+  VertexStream w;
+  ASSERT_TRUE(buildVertexStream(m, wide, &w).isOk());
+  EXPECT_TRUE(w.wide_joints);
+  EXPECT_EQ(w.joints1_offset, 36u);
+  EXPECT_EQ(w.weights1_offset, 44u);
+  EXPECT_EQ(w.stride_bytes, 52u);
+  for (uint32_t v = 0; v < 3; ++v) {
+    glm::u16vec4 joints1;
+    std::memcpy(&joints1, w.bytes.data() + size_t(v) * w.stride_bytes + w.joints1_offset, 8);
+    for (int k = 0; k < 4; ++k) EXPECT_EQ(joints1[k], 299 - m.joints1[v][k]) << v;
+  }
   // A palette that leaves out a joint of the second set refuses the mesh by the joint.
   p.skeleton_to_palette[m.joints1[0][3]] = -1;
   const Status refused = buildVertexStream(m, p, &s);

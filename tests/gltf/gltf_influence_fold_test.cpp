@@ -8,6 +8,7 @@
 #include <limits>
 
 #include "gltf/eight_influence_asset.h"
+#include "gltf/import_json.h"
 #include "si/bake/animation_baker.h"
 #include "si/core/reference_evaluator.h"
 #include "si/gltf/gltf_import.h"
@@ -15,11 +16,7 @@
 namespace si {
 namespace {
 
-Status importJson(const std::string& json, Character* c, GltfImportReport* r,
-                  const GltfImportDesc& d = {}) {
-  return importGltfMemory(
-      Span<const uint8_t>(reinterpret_cast<const uint8_t*>(json.data()), json.size()), "", d, c, r);
-}
+using test::importJson;
 
 GltfImportDesc alwaysFold() {
   GltfImportDesc d;

@@ -4,6 +4,7 @@
 // with a warning each; other extras are left alone.
 #include <gtest/gtest.h>
 
+#include "gltf/import_json.h"
 #include "gltf/parts_asset.h"
 #include "si/bake/animation_baker.h"
 #include "si/gltf/gltf_import.h"
@@ -20,11 +21,7 @@ std::string withExtras(const std::string& extras) {
   return json.insert(at + key.size(), "\"extras\":" + extras + ",");
 }
 
-Status importJson(const std::string& json, Character* c, GltfImportReport* r) {
-  return importGltfMemory(
-      Span<const uint8_t>(reinterpret_cast<const uint8_t*>(json.data()), json.size()), "", {}, c,
-      r);
-}
+using test::importJson;
 
 size_t warningsMentioning(const GltfImportReport& r, const std::string& text) {
   size_t n = 0;

@@ -9,17 +9,14 @@
 #include <string>
 #include <vector>
 
+#include "gltf/import_json.h"
 #include "gltf/pbr_asset.h"
 #include "si/gltf/gltf_import.h"
 
 namespace si {
 namespace {
 
-Status importJson(const std::string& json, Character* c, GltfImportReport* r,
-                  const GltfImportDesc& d = {}) {
-  return importGltfMemory(
-      Span<const uint8_t>(reinterpret_cast<const uint8_t*>(json.data()), json.size()), "", d, c, r);
-}
+using test::importJson;
 
 TEST(GltfMaterials, TheWholeMetallicRoughnessMaterialIsImported) {
   test::PbrAssetDesc d;

@@ -6,6 +6,7 @@
 #include <limits>
 
 #include "gltf/eight_influence_asset.h"
+#include "gltf/import_json.h"
 #include "render/render_fixture.h"
 #include "render/skinning_paths.h"
 #include "si/core/reference_evaluator.h"
@@ -20,12 +21,9 @@ using namespace test;
 class EightInfluenceRenderTest : public RenderTest {};
 
 Status importFan(float fold_tolerance_height, Character* c) {
-  const std::string json = EightInfluenceFan().file();
   GltfImportDesc d;
   d.fold_tolerance_height = fold_tolerance_height;
-  return importGltfMemory(
-      Span<const uint8_t>(reinterpret_cast<const uint8_t*>(json.data()), json.size()), "", d, c,
-      nullptr);
+  return importJson(EightInfluenceFan().file(), c, nullptr, d);
 }
 
 TEST_P(EightInfluenceRenderTest, EveryPathDrawsAllEight) {
@@ -78,15 +76,8 @@ TEST_P(EightInfluenceRenderTest, EveryPathDrawsAllEight) {
     ASSERT_TRUE(context_->readPixels(&emulated).isOk());
     EXPECT_GT(compare(emulated, folded_image, nullptr).share, 3 * kMaxDifferingShare)
         << "influences 5 to 8 show in this view";
-    for (const PathDraw& path : everySkinningPath(r, id, crowd.view(), batcher, camera)) {
-      SCOPED_TRACE(testing::Message() << path.name << ", frame " << frame);
-      r.clear(background);
-      const Status s = path.draw();
-      ASSERT_TRUE(s.isOk()) << s.toString();
-      std::vector<uint8_t> image;
-      ASSERT_TRUE(context_->readPixels(&image).isOk());
-      EXPECT_LE(compare(image, emulated, nullptr).share, kMaxDifferingShare);
-    }
+    SCOPED_TRACE(testing::Message() << "frame " << frame);
+    expectEveryPathDraws(r, id, crowd.view(), batcher, camera, background, *context_, emulated);
   }
   r.shutdown();
 }
@@ -135,6 +126,70 @@ TEST_P(EightInfluenceRenderTest, TheCapturesSkinAllEight) {
 }
 
 INSTANTIATE_TEST_SUITE_P(Backends, EightInfluenceRenderTest, allBackends(), backendTestName);
+
+// The OpenGL ES profile (GLSL ES 3.00, the vertex-shader path only) draws the fan with all 8
+// as a desktop context's CPU emulation does.
+class EightInfluenceEsTest : public RenderTest {
+ protected:
+  bool es() const override { return true; }
+  // The fan, its three instances as above, drawn by `draw` on the current context.
+  std::vector<uint8_t> drawFan(bool cpu) {
+    Character eight;
+    EXPECT_TRUE(importFan(1e-4f, &eight).isOk());
+    BakedPalette palette;
+    EXPECT_TRUE(bakePalette(eight, BakeDesc(), &palette, nullptr).isOk());
+    Renderer r;
+    EXPECT_TRUE(r.init(info_, RendererDesc()).isOk());
+    CharacterId id;
+    EXPECT_TRUE(r.addCharacter(eight, palette, &id).isOk());
+    CrowdManager crowd;
+    CrowdDesc cd;
+    cd.palette = &palette;
+    cd.sub_mesh_count = 1;
+    cd.lod_count = 1;
+    EXPECT_TRUE(crowd.init(cd).isOk());
+    for (int k = 0; k < 3; ++k) {
+      InstanceDesc d;
+      d.position = glm::dvec3(-1.6 + 1.6 * k, 0.0, 0.0);
+      d.time_seconds = 0.3 + 0.3 * k;
+      InstanceHandle h;
+      EXPECT_TRUE(crowd.add(d, &h).isOk());
+    }
+    const Camera camera = Camera::lookAt({0.0, 1.2, 2.4}, {0.0, 1.1, 0.0}, glm::vec3(0, 1, 0), 1.0f,
+                                         1.0f, 0.1f, 100.0f);
+    EXPECT_TRUE(crowd.update(0.0, camera).isOk());
+    InstanceBatcher batcher;
+    EXPECT_TRUE(batcher.init(r.batchLimits()).isOk());
+    r.clear(glm::vec4(0.2f, 0.25f, 0.3f, 1.0f));
+    const Status s = cpu ? r.drawCpuSkinned(id, crowd.view(), camera, nullptr)
+                         : r.drawCrowd(id, crowd.view(), batcher, camera, nullptr);
+    EXPECT_TRUE(s.isOk()) << s.toString();
+    std::vector<uint8_t> image;
+    EXPECT_TRUE(context_->readPixels(&image).isOk());
+    r.shutdown();
+    return image;
+  }
+};
+
+TEST_P(EightInfluenceEsTest, TheEsProfileDrawsAllEight) {
+  ASSERT_TRUE(info_.es);
+  const std::vector<uint8_t> es_image = drawFan(false);
+  HeadlessDesc d;
+  d.width = d.height = kSize;
+  d.backend = GetParam();
+  std::unique_ptr<HeadlessContext> desktop;
+  ASSERT_TRUE(HeadlessContext::create(d, &desktop).isOk());
+  std::swap(desktop, context_);
+  ASSERT_TRUE(loadGl(&HeadlessContext::getProcAddress, context_.get(), &info_).isOk());
+  const std::vector<uint8_t> emulated = drawFan(true);
+  std::swap(desktop, context_);
+  desktop.reset();
+  ASSERT_TRUE(context_->makeCurrent().isOk());
+  ASSERT_TRUE(loadGl(&HeadlessContext::getProcAddress, context_.get(), &info_).isOk());
+  EXPECT_LE(compare(es_image, emulated, nullptr).share, kMaxDifferingShare);
+}
+
+INSTANTIATE_TEST_SUITE_P(Backends, EightInfluenceEsTest, esBackends(), backendTestName);
 
 }  // namespace
 }  // namespace si

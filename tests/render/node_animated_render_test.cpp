@@ -57,15 +57,8 @@ TEST_P(NodeAnimatedRenderTest, EveryPathDrawsWhatTheCpuEmulationDraws) {
     ASSERT_TRUE(r.drawCpuSkinned(id, crowd.view(), camera, nullptr).isOk());
     ASSERT_TRUE(context_->readPixels(&emulated).isOk());
     EXPECT_GT(compare(emulated, empty, nullptr).share, 0.01) << "the parts are in view";
-    for (const PathDraw& path : everySkinningPath(r, id, crowd.view(), batcher, camera)) {
-      SCOPED_TRACE(testing::Message() << path.name << ", frame " << frame);
-      r.clear(background);
-      const Status s = path.draw();
-      ASSERT_TRUE(s.isOk()) << s.toString();
-      std::vector<uint8_t> image;
-      ASSERT_TRUE(context_->readPixels(&image).isOk());
-      EXPECT_LE(compare(image, emulated, nullptr).share, kMaxDifferingShare);
-    }
+    SCOPED_TRACE(testing::Message() << "frame " << frame);
+    expectEveryPathDraws(r, id, crowd.view(), batcher, camera, background, *context_, emulated);
   }
   r.shutdown();
 }

@@ -6,8 +6,10 @@
 #include <functional>
 #include <vector>
 
+#include "render/image_compare.h"
 #include "si/crowd/instance_batcher.h"
 #include "si/gl/renderer.h"
+#include "si/headless/headless_context.h"
 
 namespace si::test {
 
@@ -41,6 +43,23 @@ inline std::vector<PathDraw> everySkinningPath(Renderer& r, CharacterId id, cons
       {"traditional",
        [&r, id, &view, camera] { return r.drawTraditional(id, view, camera, nullptr); }},
   };
+}
+
+/// Draws every skinning path of character `id` over `background` and expects each image
+/// (read from `context`) within kMaxDifferingShare of `expected`.
+inline void expectEveryPathDraws(Renderer& r, CharacterId id, const CrowdView& view,
+                                 const InstanceBatcher& batcher, const Camera& camera,
+                                 const glm::vec4& background, HeadlessContext& context,
+                                 const std::vector<uint8_t>& expected) {
+  for (const PathDraw& path : everySkinningPath(r, id, view, batcher, camera)) {
+    SCOPED_TRACE(path.name);
+    r.clear(background);
+    const Status s = path.draw();
+    ASSERT_TRUE(s.isOk()) << s.toString();
+    std::vector<uint8_t> image;
+    ASSERT_TRUE(context.readPixels(&image).isOk());
+    EXPECT_LE(compare(image, expected, nullptr).share, kMaxDifferingShare);
+  }
 }
 
 }  // namespace si::test
