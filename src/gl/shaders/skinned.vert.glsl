@@ -1,6 +1,7 @@
 // SkinnedInstancing - SPDX-License-Identifier: MIT (see LICENSE)
 // The vertex-shader skinning path (B. Dudash, "Skinned Instancing", NVIDIA 2007): the instance's
-// record through gl_InstanceID, up to 4 influences, the world transform.
+// record through gl_InstanceID, up to 4 influences (8 with SI_EIGHT_INFLUENCES), the world
+// transform.
 // Variants: SI_RIGID (no skinning: the rigid-instancing floor), SI_CAPTURE (also outputs the
 // model-space position for transform feedback), SI_GPU_DRIVEN (the record through a bucket
 // entry, from storage buffers), SI_TRADITIONAL (one character per draw, its joint matrices in
