@@ -12,10 +12,10 @@ namespace si::detail {
 namespace {
 
 // Where `influences` put bind-pose point `p` under `skinning`.
-glm::dvec3 skinned(const glm::dvec3& p, const Influence* influences, uint32_t count,
+glm::dvec3 skinned(const glm::dvec3& p, const Influence* influences, size_t count,
                    const std::vector<glm::dmat4>& skinning) {
   glm::dvec3 out(0.0);
-  for (uint32_t k = 0; k < count; ++k)
+  for (size_t k = 0; k < count; ++k)
     out += double(influences[k].weight) *
            glm::dvec3(skinning[influences[k].joint] * glm::dvec4(p, 1.0));
   return out;
@@ -32,10 +32,9 @@ Status measureInfluenceFold(const Character& c, const std::vector<WideVertex>& w
     for (size_t k = 0; k < wide.size(); ++k) {
       const WideVertex& w = wide[k];
       const glm::dvec3 p(c.mesh.positions[w.vertex]);
-      Influence kept[4];
-      for (int i = 0; i < 4; ++i)
-        kept[i] = {c.mesh.joints[w.vertex][i], c.mesh.weights[w.vertex][i]};
-      const double error = glm::length(skinned(p, kept, 4, pose.skinning) -
+      Influence kept[kMaxInfluences];
+      for (size_t i = 0; i < kMaxInfluences; ++i) kept[i] = c.mesh.influence(w.vertex, i);
+      const double error = glm::length(skinned(p, kept, kMaxInfluences, pose.skinning) -
                                        skinned(p, w.influences, w.count, pose.skinning));
       folded[k].error_units = std::max(folded[k].error_units, error);
     }

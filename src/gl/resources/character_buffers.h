@@ -70,7 +70,8 @@ struct CharacterBuffers {
   /// kMeshVertexWords with texture coordinates 1 or colours, kMeshEightInfluences with a
   /// second set of influences.
   uint32_t meshFeatures() const {
-    return (texcoord1_offset != 0 || color_offset != 0 ? 1u : 0u) | (joints1_offset != 0 ? 2u : 0u);
+    return (texcoord1_offset != 0 || color_offset != 0 ? kMeshVertexWords : 0u) |
+           (joints1_offset != 0 ? kMeshEightInfluences : 0u);
   }
   /// A material draws both faces (glTF doubleSided): the character's draws cull no faces.
   bool double_sided = false;
