@@ -36,6 +36,13 @@ uint32_t denseOf(const CrowdManager& crowd, InstanceHandle h) {
   return 0;
 }
 
+// A crowd of the moving character (its walk carries root motion).
+Status initMovingCrowd(CrowdManager* crowd) {
+  CrowdDesc cd = test::defaultCrowdDesc();
+  cd.palette = &test::movingPalette();
+  return crowd->init(cd);
+}
+
 std::vector<InstanceHandle> populate(CrowdManager* crowd, uint32_t n) {
   std::vector<InstanceHandle> handles(n);
   for (uint32_t i = 0; i < n; ++i) {
@@ -121,9 +128,7 @@ TEST(StateChanges, EachChangeNamesItsIndexAndNothingElse) {
 // export on every index, and overlays likewise.
 TEST(StateChanges, RootMotionStampsWhatMovedAndRangeExportsEqualTheWhole) {
   CrowdManager crowd;
-  CrowdDesc cd = test::defaultCrowdDesc();
-  cd.palette = &test::movingPalette();
-  ASSERT_TRUE(crowd.init(cd).isOk());
+  ASSERT_TRUE(initMovingCrowd(&crowd).isOk());
   const uint32_t walk = uint32_t(test::movingPalette().findClip("walk_forward"));
   std::vector<InstanceHandle> h(3000);
   for (uint32_t i = 0; i < h.size(); ++i) {
@@ -193,9 +198,7 @@ TEST(StateChanges, RootMotionStampsWhatMovedAndRangeExportsEqualTheWhole) {
 // build's crowd-api-changed-since-clang-1.bin).
 TEST(StateChanges, AHeldClockStaysBitwiseAndMovesNothing) {
   CrowdManager crowd;
-  CrowdDesc cd = test::defaultCrowdDesc();
-  cd.palette = &test::movingPalette();
-  ASSERT_TRUE(crowd.init(cd).isOk());
+  ASSERT_TRUE(initMovingCrowd(&crowd).isOk());
   InstanceDesc d;
   d.clip = uint32_t(test::movingPalette().findClip("walk_forward"));
   d.root_motion = true;
@@ -401,9 +404,7 @@ TEST(StateChanges, TheLogNamesWhatTheStampsName) {
 // placed ranges.
 TEST(StateChanges, RandomSequencesNameEveryChange) {
   CrowdManager crowd;
-  CrowdDesc cd = test::defaultCrowdDesc();
-  cd.palette = &test::movingPalette();
-  ASSERT_TRUE(crowd.init(cd).isOk());
+  ASSERT_TRUE(initMovingCrowd(&crowd).isOk());
   LayerMask arm;
   ASSERT_TRUE(buildLayerMask(test::movingCharacter().skeleton, test::movingPalette(), "arm",
                              {"r_clavicle"}, &arm).isOk());

@@ -26,6 +26,31 @@ Status importFan(float fold_tolerance_height, Character* c) {
   return importJson(EightInfluenceFan().file(), c, nullptr, d);
 }
 
+// The fan's three instances, at different times of its clip and tinted apart, in a crowd of
+// `palette`.
+Status fanCrowd(const BakedPalette& palette, CrowdManager* crowd) {
+  CrowdDesc cd;
+  cd.palette = &palette;
+  cd.sub_mesh_count = 1;
+  cd.lod_count = 1;
+  Status s = crowd->init(cd);
+  for (int k = 0; k < 3 && s.isOk(); ++k) {
+    InstanceDesc d;
+    d.position = glm::dvec3(-1.6 + 1.6 * k, 0.0, 0.0);
+    d.time_seconds = 0.3 + 0.3 * k;
+    d.color = glm::u8vec4(uint8_t(120 + 60 * k), 200, 160, 255);
+    InstanceHandle h;
+    s = crowd->add(d, &h);
+  }
+  return s;
+}
+
+// Close enough to the fans that where influences 5 to 8 put their vertices shows.
+Camera fanCamera() {
+  return Camera::lookAt({0.0, 1.2, 2.4}, {0.0, 1.1, 0.0}, glm::vec3(0, 1, 0), 1.0f, 1.0f, 0.1f,
+                        100.0f);
+}
+
 TEST_P(EightInfluenceRenderTest, EveryPathDrawsAllEight) {
   Character eight, four;
   ASSERT_TRUE(importFan(1e-4f, &eight).isOk());
@@ -42,25 +67,11 @@ TEST_P(EightInfluenceRenderTest, EveryPathDrawsAllEight) {
   CharacterId id, folded;
   ASSERT_TRUE(r.addCharacter(eight, palette, &id).isOk());
   ASSERT_TRUE(r.addCharacter(four, folded_palette, &folded).isOk());
-  // The same three instances, at different times of the clip, in a crowd of each palette.
+  // The same three instances in a crowd of each palette.
   CrowdManager crowd, folded_crowd;
-  for (CrowdManager* c : {&crowd, &folded_crowd}) {
-    CrowdDesc cd;
-    cd.palette = c == &crowd ? &palette : &folded_palette;
-    cd.sub_mesh_count = 1;
-    cd.lod_count = 1;
-    ASSERT_TRUE(c->init(cd).isOk());
-    for (int k = 0; k < 3; ++k) {
-      InstanceDesc d;
-      d.position = glm::dvec3(-1.6 + 1.6 * k, 0.0, 0.0);
-      d.time_seconds = 0.3 + 0.3 * k;
-      d.color = glm::u8vec4(uint8_t(120 + 60 * k), 200, 160, 255);
-      InstanceHandle h;
-      ASSERT_TRUE(c->add(d, &h).isOk());
-    }
-  }
-  const Camera camera = Camera::lookAt({0.0, 1.2, 2.4}, {0.0, 1.1, 0.0}, glm::vec3(0, 1, 0), 1.0f,
-                                       1.0f, 0.1f, 100.0f);
+  ASSERT_TRUE(fanCrowd(palette, &crowd).isOk());
+  ASSERT_TRUE(fanCrowd(folded_palette, &folded_crowd).isOk());
+  const Camera camera = fanCamera();
   InstanceBatcher batcher;
   ASSERT_TRUE(batcher.init(r.batchLimits()).isOk());
   const glm::vec4 background(0.2f, 0.25f, 0.3f, 1.0f);
@@ -132,7 +143,8 @@ INSTANTIATE_TEST_SUITE_P(Backends, EightInfluenceRenderTest, allBackends(), back
 class EightInfluenceEsTest : public RenderTest {
  protected:
   bool es() const override { return true; }
-  // The fan, its three instances as above, drawn by `draw` on the current context.
+  // The fan's crowd (fanCrowd) drawn on the current context, by the CPU emulation with `cpu`,
+  // else by the vertex-shader path.
   std::vector<uint8_t> drawFan(bool cpu) {
     Character eight;
     EXPECT_TRUE(importFan(1e-4f, &eight).isOk());
@@ -143,20 +155,8 @@ class EightInfluenceEsTest : public RenderTest {
     CharacterId id;
     EXPECT_TRUE(r.addCharacter(eight, palette, &id).isOk());
     CrowdManager crowd;
-    CrowdDesc cd;
-    cd.palette = &palette;
-    cd.sub_mesh_count = 1;
-    cd.lod_count = 1;
-    EXPECT_TRUE(crowd.init(cd).isOk());
-    for (int k = 0; k < 3; ++k) {
-      InstanceDesc d;
-      d.position = glm::dvec3(-1.6 + 1.6 * k, 0.0, 0.0);
-      d.time_seconds = 0.3 + 0.3 * k;
-      InstanceHandle h;
-      EXPECT_TRUE(crowd.add(d, &h).isOk());
-    }
-    const Camera camera = Camera::lookAt({0.0, 1.2, 2.4}, {0.0, 1.1, 0.0}, glm::vec3(0, 1, 0), 1.0f,
-                                         1.0f, 0.1f, 100.0f);
+    EXPECT_TRUE(fanCrowd(palette, &crowd).isOk());
+    const Camera camera = fanCamera();
     EXPECT_TRUE(crowd.update(0.0, camera).isOk());
     InstanceBatcher batcher;
     EXPECT_TRUE(batcher.init(r.batchLimits()).isOk());
