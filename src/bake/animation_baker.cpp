@@ -26,6 +26,11 @@ Status bakePalette(const Character& character, const BakeDesc& in_desc, BakedPal
   if (palette == nullptr) return {StatusCode::kInvalidArgument, "bakePalette: palette is null"};
   Status s = character.validate();
   if (!s.isOk()) return s;
+  if (!character.mesh.morph_targets.empty())
+    return {StatusCode::kUnsupported,
+            strCat("bakePalette: the mesh has ", character.mesh.morph_targets.size(),
+                   " morph targets, which the palette does not hold yet (drop them: "
+                   "GltfImportDesc::keep_morph_targets)")};
   const BakeDesc d = resolveDefaults(in_desc);
   PalettePlan plan;
   s = planPalette(character, d, &plan);

@@ -59,7 +59,7 @@ Status Character::validate() const {
   s = mesh.validate(skeleton.jointCount());
   if (!s.isOk()) return s;
   for (const Clip& c : clips) {
-    s = c.validate(skeleton.jointCount());
+    s = c.validate(skeleton.jointCount(), mesh.morph_targets.size());
     uint32_t root_joint = 0;
     if (s.isOk() && c.root_motion.extract) s = rootMotionJoint(skeleton, c, &root_joint);
     if (!s.isOk()) return s;

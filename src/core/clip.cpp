@@ -37,32 +37,42 @@ bool finiteValue(const glm::quat& q) { return isFinite(q); }
 bool zeroLength(const glm::vec3&) { return false; }
 bool zeroLength(const glm::quat& q) { return glm::dot(q, q) == 0.0f; }
 
-template <typename T>
-Status validateTrack(const Track<T>& track, const std::string& where, float duration) {
-  const Interpolation interp = track.interpolation;
+// Interpolation, key times and value count of a track with `values_per_key` values per key
+// (three times that for CUBICSPLINE).
+Status validateKeys(Interpolation interp, const std::vector<float>& times, size_t value_count,
+                    size_t values_per_key, const std::string& where, float duration) {
   if (interp != Interpolation::kDefault && interp != Interpolation::kLinear &&
       interp != Interpolation::kStep && interp != Interpolation::kCubicSpline)
     return {StatusCode::kInvalidArgument,
             strCat(where, ": unknown interpolation ", static_cast<int>(interp))};
-  const size_t keys = track.times_seconds.size();
-  const size_t per_key = interp == Interpolation::kCubicSpline ? 3 : 1;
-  if (track.values.size() != keys * per_key)
-    return {StatusCode::kCountMismatch,
-            strCat(where, ": ", track.values.size(), " values for ", keys, " keys (",
-                   interpolationName(resolveInterpolation(interp)), " needs ", per_key,
-                   " per key)")};
+  const size_t keys = times.size();
+  const size_t per_key = (interp == Interpolation::kCubicSpline ? 3 : 1) * values_per_key;
+  if (value_count != keys * per_key)
+    return {
+        StatusCode::kCountMismatch,
+        strCat(where, ": ", value_count, " values for ", keys, " keys (",
+               interpolationName(resolveInterpolation(interp)), " needs ", per_key, " per key)")};
   for (size_t k = 0; k < keys; ++k) {
-    const float t = track.times_seconds[k];
+    const float t = times[k];
     if (!std::isfinite(t))
       return {StatusCode::kNotFinite, strCat(where, ": key time ", k, " is not finite")};
     if (t < 0.0f)
       return {StatusCode::kOutOfRange, strCat(where, ": key time ", k, " is negative (", t, ")")};
-    if (k > 0 && !(t > track.times_seconds[k - 1]))
+    if (k > 0 && !(t > times[k - 1]))
       return {StatusCode::kNotSorted, strCat(where, ": key times not increasing at key ", k)};
     if (t > duration)
       return {StatusCode::kOutOfRange, strCat(where, ": key time ", k, " (", t,
                                               " s) is after the clip duration (", duration, " s)")};
   }
+  return Status::ok();
+}
+
+template <typename T>
+Status validateTrack(const Track<T>& track, const std::string& where, float duration) {
+  const Status s = validateKeys(track.interpolation, track.times_seconds, track.values.size(), 1,
+                                where, duration);
+  if (!s.isOk()) return s;
+  const size_t per_key = track.interpolation == Interpolation::kCubicSpline ? 3 : 1;
   for (size_t v = 0; v < track.values.size(); ++v) {
     if (!finiteValue(track.values[v]))
       return {StatusCode::kNotFinite, strCat(where, ": value ", v, " is not finite")};
@@ -74,16 +84,46 @@ Status validateTrack(const Track<T>& track, const std::string& where, float dura
   return Status::ok();
 }
 
+Status validateMorphTracks(const std::vector<MorphWeightTrack>& tracks, size_t target_count,
+                           const std::string& clip, float duration) {
+  std::vector<uint8_t> covered(std::min(target_count, kMaxMorphTargets), 0);
+  for (size_t i = 0; i < tracks.size(); ++i) {
+    const MorphWeightTrack& t = tracks[i];
+    const std::string where = strCat(clip, ": morph track ", i);
+    if (t.target_count == 0)
+      return {StatusCode::kInvalidArgument, where + ": animates no target (target_count 0)"};
+    if (uint64_t(t.first_target) + t.target_count > covered.size())
+      return {StatusCode::kOutOfRange, strCat(where, ": targets ", t.first_target, " to ",
+                                              uint64_t(t.first_target) + t.target_count - 1,
+                                              " pass the ", covered.size(), " targets")};
+    for (uint32_t k = t.first_target; k < t.first_target + t.target_count; ++k) {
+      if (covered[k])
+        return {StatusCode::kInvalidArgument,
+                strCat(where, ": target ", k, " is animated by an earlier track too")};
+      covered[k] = 1;
+    }
+    const Status s = validateKeys(t.interpolation, t.times_seconds, t.values.size(), t.target_count,
+                                  where, duration);
+    if (!s.isOk()) return s;
+    for (size_t v = 0; v < t.values.size(); ++v)
+      if (!std::isfinite(t.values[v]))
+        return {StatusCode::kNotFinite, strCat(where, ": value ", v, " is not finite")};
+  }
+  return Status::ok();
+}
+
 }  // namespace
 
 float Clip::lastKeyTime() const {
   float t = 0.0f;
   for (const JointTracks& j : joint_tracks)
     t = std::max({t, lastTime(j.translation), lastTime(j.rotation), lastTime(j.scale)});
+  for (const MorphWeightTrack& m : morph_tracks)
+    if (!m.times_seconds.empty()) t = std::max(t, m.times_seconds.back());
   return t;
 }
 
-Status Clip::validate(size_t joint_count) const {
+Status Clip::validate(size_t joint_count, size_t morph_target_count) const {
   const std::string clip = strCat("clip '", name, "'");
   if (joint_tracks.size() != joint_count)
     return {StatusCode::kCountMismatch, strCat(clip, ": ", joint_tracks.size(),
@@ -105,6 +145,8 @@ Status Clip::validate(size_t joint_count) const {
     if (s.isOk()) s = validateTrack(jt.scale, joint + " scale", duration_seconds);
     if (!s.isOk()) return s;
   }
+  const Status s = validateMorphTracks(morph_tracks, morph_target_count, clip, duration_seconds);
+  if (!s.isOk()) return s;
   return validateMarkers(markers, duration_seconds, clip + ": ");
 }
 

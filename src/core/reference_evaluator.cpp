@@ -96,24 +96,53 @@ auto segment(const Track<T>& track, size_t a, size_t b, double ta, double tb, do
   }
 }
 
-template <typename T>
-auto sampleImpl(const Track<T>& track, double t, double wrap_to) {
-  const auto& times = track.times_seconds;
+// Where clip-local time t falls on a track's key times: between keys a and b (at ta < tb; t
+// moved by the wrap where it wraps), or on key a held (a == b).
+struct KeySpan {
+  size_t a = 0, b = 0;
+  double ta = 0.0, tb = 0.0, t = 0.0;
+};
+KeySpan locateKeys(const std::vector<float>& times, double t, double wrap_to) {
   const size_t n = times.size();
   const double first = times.front(), last = times.back();
   if (wrap_to >= 0.0 && n > 1) {
     const double wrap_end = wrap_to + first;
-    if (t > last && wrap_end > last) return segment(track, n - 1, 0, last, wrap_end, t);
-    if (t < first && wrap_end > last)
-      return segment(track, n - 1, 0, last, wrap_end, t + wrap_to);
+    if (t > last && wrap_end > last) return {n - 1, 0, last, wrap_end, t};
+    if (t < first && wrap_end > last) return {n - 1, 0, last, wrap_end, t + wrap_to};
   }
-  if (n == 1 || t <= first) return finish(keyValue(track, 0));
-  if (t >= last) return finish(keyValue(track, n - 1));
+  if (n == 1 || t <= first) return {0, 0, first, first, t};
+  if (t >= last) return {n - 1, n - 1, last, last, t};
   // First key strictly after t; t is inside (first, last) so 1 <= hi <= n - 1.
   const size_t hi = static_cast<size_t>(
       std::upper_bound(times.begin(), times.end(), t,
                        [](double x, float key) { return x < double(key); }) - times.begin());
-  return segment(track, hi - 1, hi, times[hi - 1], times[hi], t);
+  return {hi - 1, hi, times[hi - 1], times[hi], t};
+}
+
+template <typename T>
+auto sampleImpl(const Track<T>& track, double t, double wrap_to) {
+  const KeySpan k = locateKeys(track.times_seconds, t, wrap_to);
+  if (k.a == k.b) return finish(keyValue(track, k.a));
+  return segment(track, k.a, k.b, k.ta, k.tb, k.t);
+}
+
+// Target i's weight of a morph track at k (a glTF weights channel: per key target_count values,
+// or for CUBICSPLINE three runs of them, in-tangents, values, out-tangents).
+double morphWeightAt(const MorphWeightTrack& track, const KeySpan& k, size_t i) {
+  const size_t n = track.target_count;
+  const Interpolation interp = resolveInterpolation(track.interpolation);
+  const auto& v = track.values;
+  if (interp == Interpolation::kCubicSpline) {
+    const double p0 = v[k.a * 3 * n + n + i];
+    if (k.a == k.b) return p0;
+    const double dt = k.tb - k.ta, u = std::clamp((k.t - k.ta) / dt, 0.0, 1.0);
+    return hermite(p0, v[k.a * 3 * n + 2 * n + i] * dt, double(v[k.b * 3 * n + n + i]),
+                   v[k.b * 3 * n + i] * dt, u);
+  }
+  const double p0 = v[k.a * n + i];
+  if (k.a == k.b || interp == Interpolation::kStep) return p0;
+  const double u = std::clamp((k.t - k.ta) / (k.tb - k.ta), 0.0, 1.0);
+  return p0 + (double(v[k.b * n + i]) - p0) * u;
 }
 
 }  // namespace
@@ -242,6 +271,19 @@ Status evaluateRootMotion(const Skeleton& skeleton, const Clip& clip, double loc
 }
 
 namespace detail {
+void evaluateValidatedMorphWeights(const SkinnedMesh& mesh, const Clip& clip,
+                                   double local_time_seconds, Span<double> out) {
+  for (size_t i = 0; i < out.size(); ++i) out[i] = double(mesh.morph_targets[i].default_weight);
+  const double t = std::clamp(local_time_seconds, 0.0, double(clip.duration_seconds));
+  const double wrap_to = wrapTarget(clip, resolveLoopMode(clip.loop_mode) == LoopMode::kLoop);
+  for (const MorphWeightTrack& track : clip.morph_tracks) {
+    if (track.times_seconds.empty()) continue;
+    const KeySpan k = locateKeys(track.times_seconds, t, wrap_to);
+    for (size_t i = 0; i < track.target_count; ++i)
+      out[track.first_target + i] = morphWeightAt(track, k, i);
+  }
+}
+
 Status evaluateValidatedLocalPose(const Skeleton& skeleton, const Clip& clip,
                                   double local_time_seconds, ReferencePose* pose) {
   return evaluateAt(skeleton, clip, local_time_seconds,
@@ -268,6 +310,20 @@ Status evaluateLocalPose(const Skeleton& skeleton, const Clip& clip, double loca
                     resolveLoopMode(clip.loop_mode) == LoopMode::kLoop, pose);
 }
 
+Status evaluateMorphWeights(const SkinnedMesh& mesh, const Clip& clip, double local_time_seconds,
+                            Span<double> out) {
+  if (out.size() != mesh.morph_targets.size())
+    return {StatusCode::kCountMismatch,
+            strCat("evaluateMorphWeights: ", out.size(), " weights for ", mesh.morph_targets.size(),
+                   " morph targets")};
+  if (!std::isfinite(local_time_seconds))
+    return {StatusCode::kNotFinite, "evaluateMorphWeights: time is not finite"};
+  const Status s = clip.validate(clip.joint_tracks.size(), mesh.morph_targets.size());
+  if (!s.isOk()) return s;
+  detail::evaluateValidatedMorphWeights(mesh, clip, local_time_seconds, out);
+  return Status::ok();
+}
+
 namespace {
 // sign(det) * cofactor matrix of the upper 3x3: equals |det| times the inverse transpose, so
 // normals keep their direction under mirroring and stay finite for singular matrices.
@@ -284,7 +340,7 @@ glm::dmat3 normalMatrix(const glm::dmat4& m) {
 
 Status skinVertices(const SkinnedMesh& mesh, Span<const glm::dmat4> skinning,
                     Span<glm::dvec3> out_positions, Span<glm::dvec3> out_normals,
-                    Span<glm::dvec4> out_tangents) {
+                    Span<glm::dvec4> out_tangents, Span<const double> morph_weights) {
   const size_t n = mesh.vertexCount();
   if (out_positions.size() != n || (!out_normals.empty() && out_normals.size() != n) ||
       (!out_tangents.empty() && out_tangents.size() != n) ||
@@ -302,8 +358,26 @@ Status skinVertices(const SkinnedMesh& mesh, Span<const glm::dmat4> skinning,
         return {StatusCode::kOutOfRange, strCat("skinVertices: vertex ", v, " uses joint ",
                                                 in.joint, " of ", skinning.size())};
     }
+  // The bind pose with the morph targets added (the mesh's own attributes without them).
+  std::vector<glm::dvec3> positions(mesh.positions.begin(), mesh.positions.end());
+  std::vector<glm::dvec3> normals;
+  std::vector<glm::dvec4> tangents;
+  if (!out_normals.empty()) normals.assign(mesh.normals.begin(), mesh.normals.end());
+  if (!out_tangents.empty()) tangents.assign(mesh.tangents.begin(), mesh.tangents.end());
+  if (!mesh.morph_targets.empty()) {
+    Status s = validateMorphTargets(mesh.morph_targets, n, !mesh.tangents.empty());
+    const std::vector<double> defaults = defaultMorphWeights(mesh.morph_targets);
+    if (s.isOk())
+      s = applyMorphTargets(mesh.morph_targets,
+                            morph_weights.empty() ? Span<const double>(defaults) : morph_weights,
+                            positions, normals, tangents);
+    if (!s.isOk()) return s;
+  } else if (!morph_weights.empty()) {
+    return {StatusCode::kCountMismatch, strCat("skinVertices: ", morph_weights.size(),
+                                               " morph weights for a mesh without targets")};
+  }
   for (size_t v = 0; v < n; ++v) {
-    const glm::dvec4 p(glm::dvec3(mesh.positions[v]), 1.0);
+    const glm::dvec4 p(positions[v], 1.0);
     glm::dvec3 pos(0.0), nrm(0.0), tan(0.0);
     for (size_t i = 0; i < influences; ++i) {
       const Influence in = mesh.influence(v, i);
@@ -311,19 +385,18 @@ Status skinVertices(const SkinnedMesh& mesh, Span<const glm::dmat4> skinning,
       if (w == 0.0) continue;  // Zero weights are skipped, as the shader does.
       const glm::dmat4& m = skinning[in.joint];
       pos += w * glm::dvec3(m * p);
-      if (!out_normals.empty()) nrm += w * (normalMatrix(m) * glm::dvec3(mesh.normals[v]));
-      if (!out_tangents.empty()) tan += w * (glm::dmat3(m) * glm::dvec3(mesh.tangents[v]));
+      if (!out_normals.empty()) nrm += w * (normalMatrix(m) * normals[v]);
+      if (!out_tangents.empty()) tan += w * (glm::dmat3(m) * glm::dvec3(tangents[v]));
     }
     out_positions[v] = pos;
     if (!out_normals.empty()) {
       const double len = glm::length(nrm);
-      out_normals[v] = len > 1e-300 && std::isfinite(len) ? nrm / len
-                                                          : glm::dvec3(mesh.normals[v]);
+      out_normals[v] = len > 1e-300 && std::isfinite(len) ? nrm / len : normals[v];
     }
     if (!out_tangents.empty()) {
       const double len = glm::length(tan);
-      const glm::dvec3 t3 = len > 1e-300 && std::isfinite(len)
-                                ? tan / len : glm::dvec3(glm::vec3(mesh.tangents[v]));
+      const glm::dvec3 t3 =
+          len > 1e-300 && std::isfinite(len) ? tan / len : glm::dvec3(tangents[v]);
       out_tangents[v] = glm::dvec4(t3, double(mesh.tangents[v].w));
     }
   }

@@ -118,7 +118,7 @@ Status SkinnedMesh::validate(size_t joint_count) const {
         return {StatusCode::kOutOfRange, strCat("mesh: sub-mesh ", s, " '", sm.name, "' LOD ", l,
                                                 " error must be finite and >= 0")};
   }
-  return Status::ok();
+  return validateMorphTargets(morph_targets, n, !tangents.empty());
 }
 
 Status normalizeWeights(SkinnedMesh& mesh, WeightNormalizationReport* report) {

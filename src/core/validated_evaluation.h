@@ -12,6 +12,10 @@ namespace si::detail {
 /// Clip::validate(): the same result, without checking them again.
 Status evaluateValidatedLocalPose(const Skeleton& skeleton, const Clip& clip,
                                   double local_time_seconds, ReferencePose* pose);
+/// evaluateMorphWeights() likewise, for a clip that passed Clip::validate() against the mesh's
+/// morph target count.
+void evaluateValidatedMorphWeights(const SkinnedMesh& mesh, const Clip& clip,
+                                   double local_time_seconds, Span<double> out);
 /// evaluateRootMotion() likewise.
 Status evaluateValidatedRootMotion(const Skeleton& skeleton, const Clip& clip,
                                    double local_time_seconds, GroundMotion* out);

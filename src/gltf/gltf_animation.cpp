@@ -1,7 +1,8 @@
 // SkinnedInstancing — SPDX-License-Identifier: MIT (see LICENSE)
 // Animations (glTF 2.0 specification, "Animations"): translation, rotation and scale channels
-// of the skeleton's joints, LINEAR, STEP or CUBICSPLINE; morph weights and other targets are
-// skipped with a warning each. Animation markers come from the animation's extras (below).
+// of the skeleton's joints and weights channels of the morph targets kept, LINEAR, STEP or
+// CUBICSPLINE; other targets are skipped with a warning each. Animation markers come from the
+// animation's extras (below).
 #include <algorithm>
 #include <cmath>
 
@@ -45,7 +46,8 @@ void readMarkers(const tinygltf::Value& extras, const std::string& where,
 }  // namespace
 
 Status convertClips(const tinygltf::Model& m, const GltfImportDesc& desc,
-                    const SkinBinding& binding, GltfImportReport* report, Character* c) {
+                    const SkinBinding& binding, const std::vector<NodeMorphTargets>& node_targets,
+                    GltfImportReport* report, Character* c) {
   std::vector<std::string>& warnings = report->warnings;
   const std::vector<int32_t>& node_to_joint = binding.node_to_joint;
   const size_t node_count = m.nodes.size();
@@ -61,16 +63,26 @@ Status convertClips(const tinygltf::Model& m, const GltfImportDesc& desc,
     for (size_t ch = 0; ch < anim.channels.size(); ++ch) {
       const tinygltf::AnimationChannel& channel = anim.channels[ch];
       const std::string cw = strCat(where, " channel ", ch);
-      if (channel.target_path == "weights") {
-        warnings.push_back(cw + ": morph target weights are not supported: skipped");
-        continue;
-      }
       if (channel.target_node < 0 || size_t(channel.target_node) >= node_count)
         return corrupt(strCat(cw, ": target node ", channel.target_node, " does not exist"));
+      const tinygltf::Node& target = m.nodes[size_t(channel.target_node)];
+      const bool weights = channel.target_path == "weights";
       const int32_t joint = node_to_joint[size_t(channel.target_node)];
-      if (joint < 0) {
-        warnings.push_back(strCat(cw, ": targets node '", m.nodes[size_t(channel.target_node)].name,
-                                  "' outside the skeleton: skipped"));
+      if (weights && node_targets[size_t(channel.target_node)].count == 0) {
+        warnings.push_back(strCat(cw, ": weights of node '", target.name,
+                                  "', which has no morph targets (or they were dropped): skipped"));
+        continue;
+      }
+      if (!weights && joint < 0) {
+        warnings.push_back(
+            strCat(cw, ": targets node '", target.name, "' outside the skeleton: skipped"));
+        continue;
+      }
+      const bool rotation = channel.target_path == "rotation";
+      if (!weights && !rotation && channel.target_path != "translation" &&
+          channel.target_path != "scale") {
+        warnings.push_back(
+            strCat(cw, ": unknown target path '", channel.target_path, "': skipped"));
         continue;
       }
       if (channel.sampler < 0 || size_t(channel.sampler) >= anim.samplers.size())
@@ -84,23 +96,44 @@ Status convertClips(const tinygltf::Model& m, const GltfImportDesc& desc,
       std::vector<double> times, values;
       Status s = readAccessor(m, sampler.input, {TINYGLTF_TYPE_SCALAR}, kFloat, cw + " input", &times);
       if (!s.isOk()) return s;
-      const bool rotation = channel.target_path == "rotation";
-      if (!rotation && channel.target_path != "translation" && channel.target_path != "scale") {
-        warnings.push_back(strCat(cw, ": unknown target path '", channel.target_path, "': skipped"));
+      for (size_t k = 0; k < times.size(); ++k)
+        if (times[k] < 0.0 || (k > 0 && !(times[k] > times[k - 1])))
+          return corrupt(strCat(cw, ": key times not increasing (or negative) at key ", k));
+      const size_t per_key = interp == Interpolation::kCubicSpline ? 3 : 1;
+      if (weights) {
+        const NodeMorphTargets range = node_targets[size_t(channel.target_node)];
+        s = readAccessor(m, sampler.output, {TINYGLTF_TYPE_SCALAR}, kFloatOrNormalized,
+                         cw + " output", &values);
+        if (!s.isOk()) return s;
+        if (values.size() != times.size() * per_key * range.count)
+          return corrupt(strCat(cw, ": ", values.size(), " output weights for ", times.size(),
+                                " key times of ", range.count, " morph targets"));
+        if (std::any_of(clip.morph_tracks.begin(), clip.morph_tracks.end(),
+                        [&](const MorphWeightTrack& t) { return t.first_target == range.first; })) {
+          warnings.push_back(cw + ": a second weights channel for the same node: skipped");
+          continue;
+        }
+        MorphWeightTrack track;
+        track.first_target = range.first;
+        track.target_count = range.count;
+        track.interpolation = interp;
+        for (double t : times) track.times_seconds.push_back(float(t));
+        for (double v : values) track.values.push_back(float(v));
+        if (!times.empty()) {
+          clip.duration_seconds = std::max(clip.duration_seconds, float(times.back()));
+          clip.morph_tracks.push_back(std::move(track));
+        }
         continue;
       }
       s = readAccessor(m, sampler.output, {rotation ? TINYGLTF_TYPE_VEC4 : TINYGLTF_TYPE_VEC3},
                        rotation ? kFloatOrNormalized : kFloat, cw + " output", &values);
       if (!s.isOk()) return s;
-      const size_t comps = rotation ? 4 : 3, per_key = interp == Interpolation::kCubicSpline ? 3 : 1;
+      const size_t comps = rotation ? 4 : 3;
       if (values.size() != times.size() * comps * per_key)
         return corrupt(strCat(cw, ": ", values.size() / comps, " output values for ", times.size(),
                               " key times"));
-      for (size_t k = 0; k < times.size(); ++k) {
-        if (times[k] < 0.0 || (k > 0 && !(times[k] > times[k - 1])))
-          return corrupt(strCat(cw, ": key times not increasing (or negative) at key ", k));
-        clip.duration_seconds = std::max(clip.duration_seconds, float(times[k]));
-      }
+      if (!times.empty())
+        clip.duration_seconds = std::max(clip.duration_seconds, float(times.back()));
       JointTracks& jt = clip.joint_tracks[size_t(joint)];
       const auto fill = [&](auto& track) {
         if (!track.empty()) {

@@ -120,11 +120,47 @@ struct WideVertex {
   float dropped_weight = 0.0f;  // reduceInfluences'.
   Influence influences[8];
 };
+/// The character's morph targets of each node: its mesh's `count` targets from `first`.
+struct NodeMorphTargets {
+  uint32_t first = 0;
+  uint32_t count = 0;
+};
 /// Appends every skinned triangle primitive's vertices to c->mesh and fills `out`; the vertices
-/// whose fold to 4 influences dropped some weight into `wide`.
-Status convertMeshes(const tinygltf::Model& m, const SkinBinding& skin, GltfImportReport* report,
-                     Character* c, std::vector<ImportedPrimitive>* out,
-                     std::vector<WideVertex>* wide);
+/// whose fold to 4 influences dropped some weight into `wide`. With `keep_morph_targets`, each
+/// node's mesh targets join c->mesh.morph_targets (`node_targets`, one per node, says where);
+/// without, they are counted and dropped with a warning per mesh.
+Status convertMeshes(const tinygltf::Model& m, const SkinBinding& skin, bool keep_morph_targets,
+                     GltfImportReport* report, Character* c, std::vector<ImportedPrimitive>* out,
+                     std::vector<WideVertex>* wide, std::vector<NodeMorphTargets>* node_targets);
+
+// ---- gltf_morph_targets.cpp: the meshes' morph targets, sparse.
+/// One primitive's deltas of one target, one per vertex of the primitive (empty: the target has
+/// no such attribute).
+struct PrimitiveMorphDeltas {
+  std::vector<glm::vec3> positions, normals, tangents;
+};
+/// Adds the targets of node `node`'s mesh to c->mesh.morph_targets (names from the mesh's
+/// extras.targetNames, else "<where> target <k>"; default weights from the node's weights, else
+/// the mesh's, else 0) and says where in `out`. kCorrupt naming `where` for primitives with
+/// different target counts or a weight count that is not the target count; kLimitExceeded past
+/// kMaxMorphTargets.
+Status beginNodeMorphTargets(const tinygltf::Model& m, size_t node, const std::string& where,
+                             Character* c, NodeMorphTargets* out);
+/// Reads `prim`'s targets (POSITION, NORMAL, TANGENT; each VEC3, float or normalized), each
+/// accessor holding `vertex_count` elements (kCorrupt otherwise).
+Status readPrimitiveMorphDeltas(const tinygltf::Model& m, const tinygltf::Primitive& prim,
+                                const std::string& where, size_t vertex_count,
+                                std::vector<PrimitiveMorphDeltas>* out);
+/// Moves a rigid part's deltas by `rest` as placeSurface() moves its surface (`unplaced`: the
+/// surface before), so the morphed, renormalized normals and tangents stay exact.
+void placeMorphDeltas(const glm::dmat4& rest, const PrimitiveSurface& unplaced,
+                      std::vector<PrimitiveMorphDeltas>* deltas);
+/// Appends the entries that move something (vertices from `first_vertex`) to the node's targets.
+void appendMorphDeltas(const std::vector<PrimitiveMorphDeltas>& deltas, uint32_t first_vertex,
+                       const NodeMorphTargets& range, Character* c);
+/// After the meshes: drops normal or tangent deltas that are all zero, and tangent deltas of a
+/// mesh without tangents (a warning each); counts targets and entries into the report.
+void finishMorphTargets(GltfImportReport* report, Character* c);
 
 // ---- gltf_influence_fold.cpp: what folding a vertex's influences to 4 costs.
 /// Measures, for each of `wide`, how far its 4 influences (c.mesh) put it from where all of
@@ -154,8 +190,11 @@ Status groupVariations(const std::vector<ImportedPrimitive>& primitives,
 // ---- gltf_material.cpp: materials (index 0 a default white) and base colour images.
 void convertMaterials(const tinygltf::Model& m, GltfImportReport* report, Character* c);
 
-// ---- gltf_animation.cpp: clips of the skeleton's joints.
-Status convertClips(const tinygltf::Model& m, const GltfImportDesc& desc,
-                    const SkinBinding& skin, GltfImportReport* report, Character* c);
+// ---- gltf_animation.cpp: clips of the skeleton's joints and of the morph targets' weights.
+/// Weights channels of nodes with morph targets (`node_targets`) become Clip::morph_tracks;
+/// others are skipped with a warning.
+Status convertClips(const tinygltf::Model& m, const GltfImportDesc& desc, const SkinBinding& skin,
+                    const std::vector<NodeMorphTargets>& node_targets, GltfImportReport* report,
+                    Character* c);
 
 }  // namespace si::detail

@@ -43,7 +43,10 @@ Status convert(const tinygltf::Model& m, const GltfImportDesc& desc, Character* 
   Status s = detail::convertSkeleton(m, desc, report, &c, &skin);
   std::vector<detail::ImportedPrimitive> primitives;
   std::vector<detail::WideVertex> wide;
-  if (s.isOk()) s = detail::convertMeshes(m, skin, report, &c, &primitives, &wide);
+  std::vector<detail::NodeMorphTargets> node_targets;
+  if (s.isOk())
+    s = detail::convertMeshes(m, skin, desc.keep_morph_targets, report, &c, &primitives, &wide,
+                              &node_targets);
   if (s.isOk()) s = detail::groupVariations(primitives, desc, report, &c);
   if (!s.isOk()) return s;
   detail::convertMaterials(m, report, &c);
@@ -51,7 +54,7 @@ Status convert(const tinygltf::Model& m, const GltfImportDesc& desc, Character* 
   report->images = uint32_t(c.images.size());
   s = tangentsForNormalMaps(report, &c);
   if (!s.isOk()) return s;
-  s = detail::convertClips(m, desc, skin, report, &c);
+  s = detail::convertClips(m, desc, skin, node_targets, report, &c);
   if (!s.isOk()) return s;
   if (c.clips.empty() && desc.rest_pose_clip_when_none) {
     c.clips.push_back(makeRestPoseClip(c.skeleton.jointCount()));

@@ -130,9 +130,9 @@ Status readPrimitiveSurface(const tinygltf::Model& m, const tinygltf::Primitive&
   return Status::ok();
 }
 
-Status convertMeshes(const tinygltf::Model& m, const SkinBinding& binding, GltfImportReport* report,
-                     Character* c, std::vector<ImportedPrimitive>* out,
-                     std::vector<WideVertex>* wide) {
+Status convertMeshes(const tinygltf::Model& m, const SkinBinding& binding, bool keep_morph_targets,
+                     GltfImportReport* report, Character* c, std::vector<ImportedPrimitive>* out,
+                     std::vector<WideVertex>* wide, std::vector<NodeMorphTargets>* node_targets) {
   std::vector<std::string>& warnings = report->warnings;
   const int skin_index = binding.skin_index;
   const std::vector<int32_t>& node_to_joint = binding.node_to_joint;
@@ -144,6 +144,7 @@ Status convertMeshes(const tinygltf::Model& m, const SkinBinding& binding, GltfI
   bool all_tangents = true;
   bool any_texcoords1 = false, any_colors = false;
   std::vector<std::vector<glm::vec4>> tangent_parts;
+  node_targets->assign(node_count, NodeMorphTargets());
   for (size_t n = 0; n < node_count; ++n) {
     const tinygltf::Node& node = m.nodes[n];
     if (node.mesh < 0) continue;
@@ -162,6 +163,16 @@ Status convertMeshes(const tinygltf::Model& m, const SkinBinding& binding, GltfI
     const tinygltf::Mesh& mesh = m.meshes[size_t(node.mesh)];
     const std::string base = !mesh.name.empty() ? mesh.name : !node.name.empty() ? node.name
                                                                                  : strCat("mesh", node.mesh);
+    NodeMorphTargets& targets = (*node_targets)[n];
+    if (keep_morph_targets) {
+      const Status ts = beginNodeMorphTargets(m, n, strCat("mesh '", base, "'"), c, &targets);
+      if (!ts.isOk()) return ts;
+    } else if (!mesh.primitives.empty() && !mesh.primitives.front().targets.empty()) {
+      const size_t count = mesh.primitives.front().targets.size();
+      report->dropped_morph_targets += uint32_t(count);
+      warnings.push_back(strCat("mesh '", base, "': ", count,
+                                " morph targets dropped (GltfImportDesc::keep_morph_targets)"));
+    }
     for (size_t p = 0; p < mesh.primitives.size(); ++p) {
       const tinygltf::Primitive& prim = mesh.primitives[p];
       const std::string where = strCat("mesh '", base, "' primitive ", p);
@@ -178,7 +189,13 @@ Status convertMeshes(const tinygltf::Model& m, const SkinBinding& binding, GltfI
         return corrupt(where + ": is skinned but has no JOINTS_0/WEIGHTS_0");
       PrimitiveSurface surface;
       Status s = readPrimitiveSurface(m, prim, where, &surface);
-      if (s.isOk() && rigid_joint >= 0) placeSurface(rest, &surface);
+      std::vector<PrimitiveMorphDeltas> deltas;
+      if (s.isOk() && targets.count > 0)
+        s = readPrimitiveMorphDeltas(m, prim, where, surface.positions.size(), &deltas);
+      if (s.isOk() && rigid_joint >= 0) {
+        placeMorphDeltas(rest, surface, &deltas);
+        placeSurface(rest, &surface);
+      }
       const size_t nv = surface.positions.size();
       const auto same_count = [&](const std::vector<double>& v, size_t comps, const char* what) {
         return v.size() == nv * comps ? Status::ok()
@@ -224,6 +241,7 @@ Status convertMeshes(const tinygltf::Model& m, const SkinBinding& binding, GltfI
       if (prim.material >= 0 && size_t(prim.material) >= m.materials.size())
         return corrupt(strCat(where, ": material ", prim.material, " does not exist"));
       const uint32_t first = uint32_t(c->mesh.positions.size());
+      appendMorphDeltas(deltas, first, targets, c);
       c->mesh.positions.insert(c->mesh.positions.end(), surface.positions.begin(),
                                surface.positions.end());
       c->mesh.normals.insert(c->mesh.normals.end(), surface.normals.begin(), surface.normals.end());
@@ -306,7 +324,7 @@ Status convertMeshes(const tinygltf::Model& m, const SkinBinding& binding, GltfI
     warnings.push_back(
         "some primitives have TANGENT and others not: tangents dropped (generated where a normal "
         "map needs them)");
-
+  finishMorphTargets(report, c);
   return Status::ok();
 }
 

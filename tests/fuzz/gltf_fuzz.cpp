@@ -1,6 +1,7 @@
 // SkinnedInstancing — SPDX-License-Identifier: MIT (see LICENSE)
 // libFuzzer target for the glTF importer (from memory, no folder: external URIs refused):
-// any bytes give an error or a character that validates, and as a prop (importGltfPropMemory)
+// any bytes give an error or a character that validates (with its morph targets kept, and
+// then without), whose clips give morph weights; and as a prop (importGltfPropMemory)
 // an error or a mesh that validates and attaches; never a crash or sanitizer report.
 // Run with scripts/fuzz.sh, seeded with assets.
 #include <cstdint>
@@ -10,6 +11,7 @@
 #include "si/core/impostor_level.h"
 #include "si/core/material_table.h"
 #include "si/core/part_lod.h"
+#include "si/core/reference_evaluator.h"
 #include "si/gltf/gltf_import.h"
 #include "si/gltf/gltf_prop.h"
 
@@ -17,8 +19,14 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
   si::Character c;
   si::GltfImportDesc d;
   d.load_images = false;  // stb_image is fuzzed by its own project; keep the focus here.
+  d.keep_morph_targets = true;
   const si::Status s = si::importGltfMemory(si::Span<const uint8_t>(data, size), "", d, &c, nullptr);
   if (s.isOk() && !c.validate().isOk()) std::abort();
+  std::vector<double> weights(c.mesh.morph_targets.size());
+  for (size_t k = 0; s.isOk() && k < c.clips.size(); ++k)
+    if (!si::evaluateMorphWeights(c.mesh, c.clips[k], 0.5 * c.clips[k].duration_seconds, weights)
+             .isOk())
+      std::abort();
   // Per-part LOD on what imports: a character that still validates, whose error per level
   // lodErrorsByLevel gives, and a second call succeeds on it.
   if (s.isOk() && si::measureLodErrors(&c.mesh, false).isOk()) {
@@ -37,6 +45,7 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
   }
   // Every variation source; each valid result gives a material table with one entry per
   // material and every vertex's material in it.
+  d.keep_morph_targets = false;
   d.variations = size % 2 ? si::VariationSource::kEachMesh : si::VariationSource::kConvention;
   if (si::importGltfMemory(si::Span<const uint8_t>(data, size), "", d, &c, nullptr).isOk()) {
     si::MaterialTable t;

@@ -3,6 +3,8 @@
 // variants of it that each break one rule the importer and the bake must refuse or survive.
 #include "hostile_gltf.h"
 
+#include "gltf/morph_asset.h"
+
 #include <cstdint>
 #include <cstdio>
 #include <cstring>
@@ -235,6 +237,12 @@ int writeHostileGltfs(const std::string& dir) {
       !write(dir + "/hostile_deep_chain.gltf", deep))
     return 1;
   ++written;
+  // Well-formed morph targets and weights channels (tests/gltf/morph_asset.h), one file per
+  // interpolation: the fuzzer's way into the morph import.
+  for (const char* interp : {"LINEAR", "STEP", "CUBICSPLINE"}) {
+    if (!write(dir + "/morph_" + interp + ".gltf", si::test::morphFile(interp))) return 1;
+    ++written;
+  }
   std::printf("si_write_fuzz_seeds: %d glTF files in %s\n", written, dir.c_str());
   return 0;
 }

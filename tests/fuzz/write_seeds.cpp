@@ -6,7 +6,7 @@
 //              same seeds every time), each a few hundred calls; random ones, and ones whose
 //              bytes make valid instances
 //   gltf:      hostile glTF files, each breaking one rule of a small skinned file
-//              (hostile_gltf.h)
+//              (hostile_gltf.h), and well-formed morph target files (gltf/morph_asset.h)
 #include <cstdint>
 #include <cstdio>
 #include <fstream>

@@ -81,8 +81,9 @@ struct Character {
   std::vector<Material> materials;
   std::vector<Image> images;
 
-  /// Validates the skeleton, the mesh against it, every clip against it (and the root motion
-  /// joint of each that extracts it: kNotFound), every image; checks
+  /// Validates the skeleton, the mesh against it, every clip against both (its morph tracks
+  /// within the mesh's morph targets; the root motion joint of each that extracts it:
+  /// kNotFound), every image; checks
   /// that sub-mesh material indices are below materials.size() (when there are materials) and
   /// image indices below images.size() (kOutOfRange). Reports the first failure.
   Status validate() const;

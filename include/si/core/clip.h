@@ -10,6 +10,7 @@
 #include <string>
 #include <vector>
 
+#include "si/core/morph_target.h"
 #include "si/core/root_motion.h"
 #include "si/core/status.h"
 #include "si/core/transform.h"
@@ -65,6 +66,21 @@ struct JointTracks {
   Vec3Track scale;
 };
 
+/// The animated weights of `target_count` consecutive morph targets from `first_target` (a glTF
+/// `weights` channel; SkinnedMesh::morph_targets). Each key holds target_count weights in target
+/// order; for kCubicSpline three runs of target_count per key, as glTF lays them out:
+/// in-tangents, weights, out-tangents. Sampled as joint tracks are (before the first key the
+/// first holds, after the last the last, or towards the first with Clip::wrap_interpolates).
+struct MorphWeightTrack {
+  uint32_t first_target = 0;
+  uint32_t target_count = 0;
+  Interpolation interpolation = Interpolation::kDefault;
+  std::vector<float> times_seconds;  ///< Strictly increasing, finite, not negative.
+  std::vector<float> values;
+
+  size_t keyCount() const { return times_seconds.size(); }
+};
+
 /// A named instant of a clip (a footstep, a hit): what animation events report when a
 /// playback passes it (CrowdManager adds a palette's markers at init()).
 struct AnimationMarker {
@@ -92,6 +108,9 @@ struct Clip {
   /// cycle repeats its first key at the end) values after the last key hold it.
   bool wrap_interpolates = false;
   std::vector<JointTracks> joint_tracks;
+  /// Morph target weights, at most one track per target; a target no track covers keeps its
+  /// MorphTarget::default_weight.
+  std::vector<MorphWeightTrack> morph_tracks;
   /// Named instants (animation events), in any order; the baker copies them to the BakedClip.
   std::vector<AnimationMarker> markers;
   /// Root motion (si/core/root_motion.h): when `extract` is set, the reference evaluator and so
@@ -99,11 +118,12 @@ struct Clip {
   /// (BakedClip::root_motion). Off by default.
   RootMotionSettings root_motion;
 
-  /// The largest key time of all tracks (0 for a clip without keys).
+  /// The largest key time of all tracks, morph tracks included (0 for a clip without keys).
   float lastKeyTime() const;
 
-  /// Checks against a skeleton of `joint_count` joints and reports the first rule broken; the
-  /// message names the clip, joint and property:
+  /// Checks against a skeleton of `joint_count` joints and a mesh of `morph_target_count` morph
+  /// targets (by default any count up to kMaxMorphTargets) and reports the first rule broken;
+  /// the message names the clip, joint or morph track and property:
   /// - joint_tracks.size() == joint_count (kCountMismatch);
   /// - duration_seconds finite and not negative (kNotFinite / kOutOfRange);
   /// - interpolation and loop mode are known enumerators (kInvalidArgument);
@@ -111,8 +131,11 @@ struct Clip {
   ///   (kNotSorted), not after duration_seconds (kOutOfRange); values count equals the key count,
   ///   or three times it for kCubicSpline (kCountMismatch); values finite (kNotFinite); rotation
   ///   key values (not tangents) of non-zero length (kInvalidArgument);
+  /// - morph tracks: at least one target each, none overlapping another (kInvalidArgument),
+  ///   all below morph_target_count (kOutOfRange); keys as above, target_count values per key
+  ///   (three runs of them for kCubicSpline);
   /// - markers as validateMarkers() says.
-  Status validate(size_t joint_count) const;
+  Status validate(size_t joint_count, size_t morph_target_count = kMaxMorphTargets) const;
 };
 
 /// A clip that holds the skeleton's rest pose: no keys (every joint keeps its rest transform),

@@ -68,6 +68,15 @@ Status evaluatePose(const Skeleton& skeleton, const Clip& clip, double time_seco
 Status evaluateLocalPose(const Skeleton& skeleton, const Clip& clip, double local_time_seconds,
                          ReferencePose* pose);
 
+/// The weight of each of `mesh`'s morph targets in `clip` at clip-local time `local_time_seconds`
+/// (mapped and clamped as evaluateLocalPose() does; use clipLocalTime() for a playback time):
+/// the clip's morph track where one covers the target (LINEAR, STEP, CUBICSPLINE as glTF says),
+/// otherwise the target's default_weight. `out` holds one weight per target. Fails
+/// (kCountMismatch, out untouched) for a wrong size, kNotFinite for a time that is not finite,
+/// and as Clip::validate(joints, morph target count) for a clip that does not validate.
+Status evaluateMorphWeights(const SkinnedMesh& mesh, const Clip& clip, double local_time_seconds,
+                            Span<double> out);
+
 /// Fills `pose` with the skeleton's rest pose.
 Status evaluateRestPose(const Skeleton& skeleton, ReferencePose* pose);
 
@@ -77,16 +86,18 @@ Status evaluateRestPose(const Skeleton& skeleton, ReferencePose* pose);
 Status composePose(const Skeleton& skeleton, Span<const TransformD> local,
                    Span<glm::dmat4> out_model, Span<glm::dmat4> out_skinning);
 
-/// Skins the mesh's vertices with `skinning` (one matrix per joint), in double:
-/// position = sum w_i * M_i * p; normal = normalize(sum w_i * N_i * n) with N_i the inverse
-/// transpose of M_i's upper 3x3 (computed as sign(det) * cofactor, so it stays finite for zero
-/// scale; a normal that degenerates to zero length is output as the bind-pose normal); tangent
-/// xyz = normalize(sum w_i * M_i3x3 * t), w kept. Zero weights are skipped.
+/// Skins the mesh's vertices with `skinning` (one matrix per joint), in double, after adding its
+/// morph targets (si::applyMorphTargets) at `morph_weights`, one per target (empty: each
+/// target's default weight): position = sum w_i * M_i * p; normal = normalize(sum w_i * N_i * n)
+/// with N_i the inverse transpose of M_i's upper 3x3 (computed as sign(det) * cofactor, so it stays
+/// finite for zero scale; a normal that degenerates to zero length is output as the bind-pose
+/// normal); tangent xyz = normalize(sum w_i * M_i3x3 * t), w kept. Zero weights are skipped.
 /// `out_positions` must hold vertexCount() elements; `out_normals` and `out_tangents` the same or
 /// be empty to skip them (out_tangents requires the mesh to have tangents). Fails with
-/// kCountMismatch for wrong sizes and kOutOfRange for a joint index past `skinning`.
+/// kCountMismatch for wrong sizes, kOutOfRange for a joint index past `skinning`, and as
+/// si::validateMorphTargets() for targets that do not validate.
 Status skinVertices(const SkinnedMesh& mesh, Span<const glm::dmat4> skinning,
                     Span<glm::dvec3> out_positions, Span<glm::dvec3> out_normals,
-                    Span<glm::dvec4> out_tangents);
+                    Span<glm::dvec4> out_tangents, Span<const double> morph_weights = {});
 
 }  // namespace si

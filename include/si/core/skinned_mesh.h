@@ -12,6 +12,7 @@
 
 #include <glm/gtc/type_precision.hpp>
 
+#include "si/core/morph_target.h"
 #include "si/core/span.h"
 #include "si/core/status.h"
 
@@ -88,6 +89,9 @@ struct SkinnedMesh {
   std::vector<uint16_t> vertex_materials;
   std::vector<uint32_t> indices;       ///< Triangle list.
   std::vector<SubMesh> sub_meshes;
+  /// Optional: blend shapes added to the bind pose before skinning, each weighted by the clip
+  /// (Clip::morph_tracks) or its default weight (si/core/morph_target.h).
+  std::vector<MorphTarget> morph_targets;
 
   size_t vertexCount() const { return positions.size(); }
   /// Influences each vertex has: 8 with joints1/weights1, else 4.
@@ -119,7 +123,8 @@ struct SkinnedMesh {
   ///   non-empty, every range triangle aligned and inside `indices` (kOutOfRange); a level past
   ///   LOD 0 may be empty: the sub-mesh is not drawn at that level (si::buildPartLods);
   /// - lod_error_units empty or one per LOD (kCountMismatch), each finite and >= 0
-  ///   (kOutOfRange).
+  ///   (kOutOfRange);
+  /// - morph_targets as si::validateMorphTargets() says.
   Status validate(size_t joint_count) const;
 };
 

@@ -73,6 +73,11 @@ struct GltfImportDesc {
   /// them wherever a vertex has more than 4; infinity always folds. The default is the bake's
   /// default tolerance.
   float fold_tolerance_height = 1e-4f;
+  /// Keep the meshes' morph targets (SkinnedMesh::morph_targets; each node's mesh its own) and
+  /// the weights channels that animate them (Clip::morph_tracks). Off for now: the bake refuses
+  /// a character with morph targets (kUnsupported) until it and the draw paths apply them, so
+  /// they are dropped with a warning per mesh (GltfImportReport::dropped_morph_targets).
+  bool keep_morph_targets = false;
 };
 
 /// What the import did besides the result.
@@ -106,6 +111,11 @@ struct GltfImportReport {
   /// influences (folded_vertices then says what folding would have cost).
   bool kept_eight_influences = false;
   uint32_t generated_lods = 0;
+  /// Morph targets kept (GltfImportDesc::keep_morph_targets) and their entries (a vertex a
+  /// target moves), or dropped.
+  uint32_t morph_targets = 0;
+  uint64_t morph_target_entries = 0;
+  uint32_t dropped_morph_targets = 0;
   bool added_rest_pose_clip = false;    ///< See GltfImportDesc::rest_pose_clip_when_none.
   uint32_t parts = 0;                   ///< Distinct parts (a primitive with its LOD levels).
   /// Per variation group (sub-mesh, in order): its name, parts, materials and how it was formed.
