@@ -26,11 +26,6 @@ Status bakePalette(const Character& character, const BakeDesc& in_desc, BakedPal
   if (palette == nullptr) return {StatusCode::kInvalidArgument, "bakePalette: palette is null"};
   Status s = character.validate();
   if (!s.isOk()) return s;
-  if (!character.mesh.morph_targets.empty())
-    return {StatusCode::kUnsupported,
-            strCat("bakePalette: the mesh has ", character.mesh.morph_targets.size(),
-                   " morph targets, which the palette does not hold yet (drop them: "
-                   "GltfImportDesc::keep_morph_targets)")};
   const BakeDesc d = resolveDefaults(in_desc);
   PalettePlan plan;
   s = planPalette(character, d, &plan);
@@ -220,6 +215,7 @@ Status bakePalette(const Character& character, const BakeDesc& in_desc, BakedPal
     full.clip_frame_counts = all_frames;
     full.texels_per_joint = baked.layout.texels_per_joint;
     full.joint_stride_texels = baked.layout.joint_stride_texels;
+    full.morph_target_count = baked.layout.morph_target_count;
     full.max_texture_size = 1u << 30;  // Hypothetical: only its size matters.
     PaletteLayout full_layout;
     if (computePaletteLayout(full, &full_layout).isOk()) {

@@ -86,12 +86,11 @@ std::vector<uint32_t> usedJoints(const Character& character) {
 }
 
 namespace {
-template <typename T>
-void stepKeyTimes(const Track<T>& track, double duration, std::vector<double>* out) {
-  if (resolveInterpolation(track.interpolation) != Interpolation::kStep) return;
-  for (size_t k = 1; k < track.times_seconds.size(); ++k)
-    if (track.times_seconds[k] > 0.0f && track.times_seconds[k] <= duration)
-      out->push_back(track.times_seconds[k]);
+void stepKeyTimes(Interpolation interpolation, const std::vector<float>& times, double duration,
+                  std::vector<double>* out) {
+  if (resolveInterpolation(interpolation) != Interpolation::kStep) return;
+  for (size_t k = 1; k < times.size(); ++k)
+    if (times[k] > 0.0f && times[k] <= duration) out->push_back(times[k]);
 }
 }  // namespace
 
@@ -104,10 +103,14 @@ FramePlan planStepFrames(const Clip& clip, double rate_hz) {
   FramePlan plan = planFrames(clip.duration_seconds, rate_hz);
   std::vector<double> steps;
   for (const JointTracks& jt : clip.joint_tracks) {
-    stepKeyTimes(jt.translation, clip.duration_seconds, &steps);
-    stepKeyTimes(jt.rotation, clip.duration_seconds, &steps);
-    stepKeyTimes(jt.scale, clip.duration_seconds, &steps);
+    stepKeyTimes(jt.translation.interpolation, jt.translation.times_seconds, clip.duration_seconds,
+                 &steps);
+    stepKeyTimes(jt.rotation.interpolation, jt.rotation.times_seconds, clip.duration_seconds,
+                 &steps);
+    stepKeyTimes(jt.scale.interpolation, jt.scale.times_seconds, clip.duration_seconds, &steps);
   }
+  for (const MorphWeightTrack& m : clip.morph_tracks)
+    stepKeyTimes(m.interpolation, m.times_seconds, clip.duration_seconds, &steps);
   if (steps.empty() || plan.frame_count < 2 || plan.frame_count > kMaxPlannedFrames) return plan;
   std::sort(steps.begin(), steps.end());
   steps.erase(std::unique(steps.begin(), steps.end()), steps.end());
@@ -132,8 +135,9 @@ FramePlan planStepFrames(const Clip& clip, double rate_hz) {
   return plan;
 }
 
-template <typename T>
-void linearKeyTimes(const Track<T>& track, double duration, std::vector<double>* out) {
+// Any track (a joint's Track or a MorphWeightTrack): its keys inside the clip when LINEAR.
+template <typename AnyTrack>
+void linearKeyTimes(const AnyTrack& track, double duration, std::vector<double>* out) {
   if (track.times_seconds.size() < 2 ||
       resolveInterpolation(track.interpolation) != Interpolation::kLinear)
     return;
@@ -198,6 +202,8 @@ std::vector<double> cornerKeyTimes(const Clip& clip) {
     linearKeyTimes(jt.rotation, clip.duration_seconds, &keys);
     linearKeyTimes(jt.scale, clip.duration_seconds, &keys);
   }
+  for (const MorphWeightTrack& m : clip.morph_tracks)
+    linearKeyTimes(m, clip.duration_seconds, &keys);
   std::sort(keys.begin(), keys.end());
   keys.erase(std::unique(keys.begin(), keys.end()), keys.end());
   return keys;
@@ -326,6 +332,7 @@ Status planPaletteImpl(const Character& character, const BakeDesc& in_desc, Pale
   ld.joint_stride_texels = d.joint_stride_texels;
   ld.max_texture_size = d.max_texture_size;
   ld.border_frames = any_cubic ? 1 : 0;
+  ld.morph_target_count = uint32_t(character.mesh.morph_targets.size());
   Status s = computePaletteLayout(ld, &plan.layout);
   if (!s.isOk()) return s;
   plan.texture_bytes = plan.layout.textureTexelCount() * bytesPerTexel(d.format);

@@ -29,6 +29,17 @@ bool wrapsSeamlessly(const BakedPalette& p, uint32_t clip) {
         difference = std::max(difference, std::fabs(a[col][row] - b[col][row]));
       }
   }
+  if (l.morph_target_count > 0) {  // The weights close the loop too.
+    std::vector<float> first(l.morph_target_count), last(l.morph_target_count);
+    const uint32_t a = l.frameTexel(clip, 0), b = l.frameTexel(clip, c.frame_count - 1);
+    if (!emulateMorphWeights(p, a, a, 0.0f, IntervalMode::kLinear, first).isOk() ||
+        !emulateMorphWeights(p, b, b, 0.0f, IntervalMode::kLinear, last).isOk())
+      return false;
+    for (size_t k = 0; k < first.size(); ++k) {
+      largest = std::max(largest, std::fabs(first[k]));
+      difference = std::max(difference, std::fabs(first[k] - last[k]));
+    }
+  }
   return difference <= 1e-6f * std::max(largest, 1.0f);
 }
 

@@ -11,8 +11,9 @@
 namespace si::detail {
 
 /// Whether clip `clip` of `p` (already holding its frames) loops seamlessly on a uniform grid:
-/// loop mode kLoop, at least 3 frames, and the last frame's texels equal the first's within
-/// 1e-6 of the largest magnitude. Then its border frames continue the loop.
+/// loop mode kLoop, at least 3 frames, and the last frame's texels (joints and morph weights)
+/// equal the first's within 1e-6 of the largest magnitude. Then its border frames continue the
+/// loop.
 bool wrapsSeamlessly(const BakedPalette& p, uint32_t clip);
 
 /// Writes clip `clip`'s border frames (the layout must have them): frames n - 2 and 1 of a

@@ -2,6 +2,7 @@
 // The baker's measurements: the error report (the shell metric follows N. Frechette's Animation
 // Compression Library, docs/error_metrics.md) and the culling boxes.
 #include "bake/clip_measurement.h"
+#include "bake/morph_measurement.h"
 
 #include <algorithm>
 #include <cmath>
@@ -52,8 +53,9 @@ std::vector<MeasureTime> measurementTimes(const BakedClip& clip, bool midpoints_
 }  // namespace
 
 // Per stored joint, the 8 drawn vertices weighted to it that lie farthest from its bind
-// position. Interpolation error grows with the lever arm, so these bound the search's error
-// cheaply; the final report still measures every drawn vertex.
+// position, and per morph target the 8 it moves farthest. Interpolation error grows with the
+// lever arm and the delta, so these bound the search's error cheaply; the final report still
+// measures every drawn vertex.
 std::vector<uint32_t> searchVertices(const Character& character, const SkinnedMesh& mesh,
                                      const std::vector<uint32_t>& drawn) {
   const size_t nj = character.skeleton.jointCount();
@@ -74,6 +76,21 @@ std::vector<uint32_t> searchVertices(const Character& character, const SkinnedMe
                       [](const auto& a, const auto& b) { return a.first > b.first; });
     for (size_t i = 0; i < keep; ++i) out.push_back(list[i].second);
   }
+  // Per morph target, the 8 drawn vertices it moves farthest: a weight's interpolation error
+  // grows with the delta.
+  std::vector<uint8_t> is_drawn(mesh.morph_targets.empty() ? 0 : mesh.vertexCount(), 0);
+  for (uint32_t v : drawn)
+    if (!is_drawn.empty()) is_drawn[v] = 1;
+  for (const MorphTarget& t : mesh.morph_targets) {
+    std::vector<std::pair<float, uint32_t>> list;
+    for (size_t e = 0; e < t.vertices.size(); ++e)
+      if (is_drawn[t.vertices[e]])
+        list.push_back({glm::length(t.position_deltas[e]), t.vertices[e]});
+    const size_t keep = std::min<size_t>(8, list.size());
+    std::partial_sort(list.begin(), list.begin() + std::ptrdiff_t(keep), list.end(),
+                      [](const auto& a, const auto& b) { return a.first > b.first; });
+    for (size_t i = 0; i < keep; ++i) out.push_back(list[i].second);
+  }
   std::sort(out.begin(), out.end());
   out.erase(std::unique(out.begin(), out.end()), out.end());
   return out;
@@ -81,6 +98,24 @@ std::vector<uint32_t> searchVertices(const Character& character, const SkinnedMe
 
 SkinnedMesh subsetMesh(const SkinnedMesh& mesh, const std::vector<uint32_t>& vertices) {
   SkinnedMesh subset;
+  // The morph targets keep the entries of the subset's vertices, renumbered.
+  std::vector<int64_t> index(mesh.morph_targets.empty() ? 0 : mesh.vertexCount(), -1);
+  for (size_t i = 0; i < vertices.size() && !index.empty(); ++i) index[vertices[i]] = int64_t(i);
+  for (const MorphTarget& t : mesh.morph_targets) {
+    MorphTarget kept;
+    kept.name = t.name;
+    kept.default_weight = t.default_weight;
+    std::vector<std::pair<uint32_t, size_t>> entries;  // (new vertex, entry).
+    for (size_t e = 0; e < t.vertices.size(); ++e)
+      if (index[t.vertices[e]] >= 0) entries.push_back({uint32_t(index[t.vertices[e]]), e});
+    std::sort(entries.begin(), entries.end());
+    for (const auto& [v, e] : entries) {
+      kept.vertices.push_back(v);
+      kept.position_deltas.push_back(t.position_deltas[e]);
+      if (!t.normal_deltas.empty()) kept.normal_deltas.push_back(t.normal_deltas[e]);
+    }
+    subset.morph_targets.push_back(std::move(kept));
+  }
   for (uint32_t v : vertices) {
     subset.positions.push_back(mesh.positions[v]);
     subset.normals.push_back(mesh.normals[v]);
@@ -152,6 +187,10 @@ Status measureClip(const Character& character, const SkinnedMesh& mesh,
   LargestK largest(keep);
   const InfluenceGroups all(mesh, gpu_mesh, vertices);
   const InfluenceGroups few(mesh, gpu_mesh, short_list != nullptr ? *short_list : std::vector<uint32_t>{});
+  const MorphedSlots all_morphed(mesh, gpu_mesh, all), few_morphed(mesh, gpu_mesh, few);
+  const size_t targets = mesh.morph_targets.size();
+  std::vector<float> emulated_weights(targets);
+  std::vector<double> reference_weights(targets);
   std::vector<float> errors;
   uint64_t samples = 0;
   if (interval_errors != nullptr)
@@ -162,8 +201,19 @@ Status measureClip(const Character& character, const SkinnedMesh& mesh,
     Status s = emulateSkinningMatrices(p, clip_index, sample, emulated);
     if (s.isOk()) s = evaluateValidatedLocalPose(character.skeleton, clip, t, &pose);
     if (!s.isOk()) return s;
-    const InfluenceGroups& measured = mt.all_vertices || short_list == nullptr ? all : few;
+    const bool everyone = mt.all_vertices || short_list == nullptr;
+    const InfluenceGroups& measured = everyone ? all : few;
     measured.errors(emulated, pose.skinning, &errors);
+    if (targets > 0) {  // The morphed vertices again, with their targets at both weights.
+      const PaletteLayout& l = p.layout;
+      s = emulateMorphWeights(p, l.frameTexel(clip_index, sample.frame),
+                              l.frameTexel(clip_index, sample.next_frame), sample.fraction,
+                              sample.mode, emulated_weights);
+      if (!s.isOk()) return s;
+      evaluateValidatedMorphWeights(mesh, clip, t, reference_weights);
+      (everyone ? all_morphed : few_morphed)
+          .patchErrors(emulated, emulated_weights, pose.skinning, reference_weights, &errors);
+    }
     // Sum and max in four lanes (the loop's latency, not its arithmetic, bounds it), then the
     // P99's candidates.
     double lane_sum[4] = {0.0, 0.0, 0.0, 0.0};
@@ -245,6 +295,11 @@ Status clipBounds(const BakedPalette& p, uint32_t clip_index, const SkinnedMesh&
       if (gpu_mesh.influence(v, k).weight != 0.0f && gpu_mesh.influence(v, k).joint >= nj)
         return {StatusCode::kOutOfRange, "clipBounds: a vertex's joint is out of range"};
   const InfluenceGroups groups(gpu_mesh, gpu_mesh, vertices);
+  const MorphedSlots morphed(gpu_mesh, gpu_mesh, groups);
+  std::vector<float> weights(l.morph_target_count);
+  if (gpu_mesh.morph_targets.size() != l.morph_target_count)
+    return {StatusCode::kCountMismatch,
+            "clipBounds: the mesh's morph targets are not the palette's"};
   std::vector<glm::mat4> matrices(nj);
   Aabb box;
   for (int64_t f = -border; f < n + border; ++f) {
@@ -256,6 +311,11 @@ Status clipBounds(const BakedPalette& p, uint32_t clip_index, const SkinnedMesh&
     }
     std::vector<glm::vec3>& positions = ring[(f + 4) % 4];
     groups.positions(matrices, &positions);  // Per slot, as emulateSkinning().
+    if (!morphed.empty()) {
+      const Status s = emulateMorphWeights(p, texel, texel, 0.0f, IntervalMode::kLinear, weights);
+      if (!s.isOk()) return s;
+      morphed.patchPositions(matrices, weights, &positions);
+    }
     if (f >= 0 && f < n)
       for (const glm::vec3& q : positions) box.extend(q);
     // Interval i = f - 2 reads at most frames i - 1 to i + 2 = f, all in the ring now.

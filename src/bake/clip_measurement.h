@@ -36,13 +36,14 @@ Status clipBounds(const BakedPalette& p, uint32_t clip_index, const SkinnedMesh&
                   const std::vector<uint32_t>& vertices, Aabb* out);
 
 /// For the automatic rate search: per stored joint, the 8 drawn vertices of `mesh` weighted to
-/// it that lie farthest from its bind position (indices into `mesh`, sorted, once each). Chosen
+/// it that lie farthest from its bind position, and per morph target the 8 drawn vertices it
+/// moves farthest (indices into `mesh`, sorted, once each). Chosen
 /// once, on the reference mesh: the stored mesh (quantized weights, where a tiny weight may read
 /// 0) is measured at the same vertices.
 std::vector<uint32_t> searchVertices(const Character& character, const SkinnedMesh& mesh,
                                      const std::vector<uint32_t>& drawn);
 /// The `vertices` of `mesh` as a mesh of their own (positions, normals, joints, weights,
-/// joints1, weights1).
+/// joints1, weights1, and the morph targets' entries of those vertices, renumbered).
 SkinnedMesh subsetMesh(const SkinnedMesh& mesh, const std::vector<uint32_t>& vertices);
 /// `mesh` with the weights the vertex format stores (si::quantizeWeights, both sets together):
 /// what the shaders skin with.

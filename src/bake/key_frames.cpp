@@ -8,16 +8,27 @@ namespace si::detail {
 
 namespace {
 
-template <typename T>
-void addKeyTimes(const Track<T>& track, double duration, std::vector<double>* keys,
-                 std::vector<double>* steps) {
-  const bool step = resolveInterpolation(track.interpolation) == Interpolation::kStep;
-  for (size_t k = 0; k < track.times_seconds.size(); ++k) {
-    const double t = track.times_seconds[k];
+void addKeyTimes(Interpolation interpolation, const std::vector<float>& times, double duration,
+                 std::vector<double>* keys, std::vector<double>* steps) {
+  const bool step = resolveInterpolation(interpolation) == Interpolation::kStep;
+  for (size_t k = 0; k < times.size(); ++k) {
+    const double t = times[k];
     if (!(t > 0.0) || t > duration) continue;
     if (t < duration) keys->push_back(t);
     if (step && k > 0) steps->push_back(t);  // A STEP track's first key holds from 0.
   }
+}
+
+// Every track's keys, joint and morph weight tracks alike.
+void addClipKeyTimes(const Clip& clip, double duration, std::vector<double>* keys,
+                     std::vector<double>* steps) {
+  for (const JointTracks& jt : clip.joint_tracks) {
+    addKeyTimes(jt.translation.interpolation, jt.translation.times_seconds, duration, keys, steps);
+    addKeyTimes(jt.rotation.interpolation, jt.rotation.times_seconds, duration, keys, steps);
+    addKeyTimes(jt.scale.interpolation, jt.scale.times_seconds, duration, keys, steps);
+  }
+  for (const MorphWeightTrack& m : clip.morph_tracks)
+    addKeyTimes(m.interpolation, m.times_seconds, duration, keys, steps);
 }
 
 void sortMerged(std::vector<double>* times) {
@@ -30,11 +41,7 @@ void sortMerged(std::vector<double>* times) {
 
 std::vector<double> stepTimes(const Clip& clip) {
   std::vector<double> keys, steps;
-  for (const JointTracks& jt : clip.joint_tracks) {
-    addKeyTimes(jt.translation, clip.duration_seconds, &keys, &steps);
-    addKeyTimes(jt.rotation, clip.duration_seconds, &keys, &steps);
-    addKeyTimes(jt.scale, clip.duration_seconds, &keys, &steps);
-  }
+  addClipKeyTimes(clip, clip.duration_seconds, &keys, &steps);
   sortMerged(&steps);
   return steps;
 }
@@ -45,11 +52,7 @@ std::vector<double> keyBreakpoints(const Clip& clip) {
   const double duration = clip.duration_seconds;
   if (!(duration > 0.0)) return {0.0};
   std::vector<double> keys, steps;
-  for (const JointTracks& jt : clip.joint_tracks) {
-    addKeyTimes(jt.translation, duration, &keys, &steps);
-    addKeyTimes(jt.rotation, duration, &keys, &steps);
-    addKeyTimes(jt.scale, duration, &keys, &steps);
-  }
+  addClipKeyTimes(clip, duration, &keys, &steps);
   keys.push_back(0.0);
   sortMerged(&keys);
   if (duration - keys.back() < 1e-6 && keys.size() > 1) keys.pop_back();

@@ -60,6 +60,7 @@ Status savePalette(const BakedPalette& p, std::vector<uint8_t>* bytes) {
   w.u32(l.texels_per_joint);
   w.u32(l.joint_stride_texels);
   w.u32(l.border_frames);
+  w.u32(l.morph_target_count);
   w.u32(static_cast<uint32_t>(p.skeleton_to_palette.size()));
   w.u32(static_cast<uint32_t>(p.clips.size()));
   w.f32(p.character_height);

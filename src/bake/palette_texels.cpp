@@ -93,6 +93,8 @@ Status bakeTexels(const Character& character, const BakeDesc& d, const PalettePl
 
   ReferencePose pose;
   GroundMotion motion;
+  const uint32_t targets = p.layout.morph_target_count;
+  std::vector<double> weights(targets);
   for (size_t c = 0; c < plan.clip_indices.size(); ++c) {
     const Clip& clip = character.clips[plan.clip_indices[c]];
     BakedClip bc;
@@ -153,6 +155,20 @@ Status bakeTexels(const Character& character, const BakeDesc& d, const PalettePl
             storeTexel(&p, p.layout.texelIndex(uint32_t(c), f, slot, row),
                        glm::dvec4(m[0][row], m[1][row], m[2][row], m[3][row]));
         }
+      }
+      // The morph targets' weights at the frame's time, four to a texel after the joints.
+      if (targets == 0) continue;
+      evaluateValidatedMorphWeights(character.mesh, clip, t, weights);
+      for (uint32_t k = 0; k < targets; ++k)
+        if (!(std::fabs(weights[k]) <= formatRange(d.format)))
+          return {StatusCode::kOutOfRange,
+                  strCat("bake: clip '", clip.name, "' frame ", f, " (t=", t, " s): morph target ",
+                         k, " has weight ", weights[k], ", past what ", paletteFormatName(d.format),
+                         " stores (", formatRange(d.format), ")")};
+      for (uint32_t k = 0; k < targets; k += 4) {
+        glm::dvec4 w4(0.0);
+        for (uint32_t i = 0; i < 4 && k + i < targets; ++i) w4[int(i)] = weights[k + i];
+        storeTexel(&p, p.layout.morphTexel(uint32_t(c), f, k), w4);
       }
     }
     p.clips.push_back(std::move(bc));

@@ -292,6 +292,30 @@ glm::mat4 emulateFrameMatrix(const BakedPalette& p, uint32_t frame_texel, uint32
   return fromRows(rows[0], rows[1], rows[2]);
 }
 
+Status emulateMorphWeights(const BakedPalette& p, uint32_t frame_texel, uint32_t next_texel,
+                           float u, IntervalMode mode, Span<float> out) {
+  const PaletteLayout& l = p.layout;
+  if (out.size() != l.morph_target_count)
+    return {StatusCode::kCountMismatch, strCat("emulateMorphWeights: ", out.size(), " weights for ",
+                                               l.morph_target_count, " stored morph targets")};
+  const uint32_t step = next_texel - frame_texel;
+  for (uint32_t t = 0; t < l.morph_target_count; t += 4) {
+    const uint32_t at = l.morph_first_texel + t / 4u;
+    glm::vec4 w4;
+    if (mode != IntervalMode::kLinear) {
+      const uint32_t f[4] = {frame_texel - step + at, frame_texel + at, next_texel + at,
+                             next_texel + step + at};
+      const glm::vec4 c = cubicWeights(u, mode);
+      w4 = glm::vec4(0.0f);
+      for (int k = 0; k < 4; ++k) w4 += c[k] * readTexel(p, f[k]);
+    } else {
+      w4 = glm::mix(readTexel(p, frame_texel + at), readTexel(p, next_texel + at), u);
+    }
+    for (uint32_t k = 0; k < 4 && t + k < l.morph_target_count; ++k) out[t + k] = w4[int(k)];
+  }
+  return Status::ok();
+}
+
 glm::mat4 emulateSkinningMatrix(const BakedPalette& p, uint32_t clip, const FrameSample& s,
                                 uint32_t slot) {
   const PaletteLayout& l = p.layout;
@@ -316,12 +340,39 @@ Status emulateSkinningMatrices(const BakedPalette& p, uint32_t clip, const Frame
 }
 
 Status emulateSkinning(const SkinnedMesh& mesh, Span<const glm::mat4> matrices,
-                       Span<glm::vec3> out_positions, Span<glm::vec3> out_normals) {
+                       Span<glm::vec3> out_positions, Span<glm::vec3> out_normals,
+                       Span<const float> morph_weights) {
   const size_t n = mesh.vertexCount();
   if (out_positions.size() != n || (!out_normals.empty() && out_normals.size() != n) ||
       mesh.joints.size() != n || mesh.weights.size() != n || mesh.normals.size() != n ||
-      (!mesh.joints1.empty() && (mesh.joints1.size() != n || mesh.weights1.size() != n)))
+      (!mesh.joints1.empty() && (mesh.joints1.size() != n || mesh.weights1.size() != n)) ||
+      (!morph_weights.empty() && morph_weights.size() != mesh.morph_targets.size()))
     return {StatusCode::kCountMismatch, "emulateSkinning: spans do not match the vertex count"};
+  // The bind pose with the morph targets added, in float as the shader adds them.
+  std::vector<glm::vec3> positions, normals;
+  if (!mesh.morph_targets.empty()) {
+    const Status s = validateMorphTargets(mesh.morph_targets, n, !mesh.tangents.empty());
+    if (!s.isOk()) return s;
+    positions = mesh.positions;
+    normals = mesh.normals;
+    for (size_t t = 0; t < mesh.morph_targets.size(); ++t) {
+      const MorphTarget& target = mesh.morph_targets[t];
+      const float w = morph_weights.empty() ? target.default_weight : morph_weights[t];
+      if (w == 0.0f) continue;
+      for (size_t i = 0; i < target.vertices.size(); ++i) {
+        positions[target.vertices[i]] += w * target.position_deltas[i];
+        if (!target.normal_deltas.empty())
+          normals[target.vertices[i]] += w * target.normal_deltas[i];
+      }
+    }
+    for (size_t t = 0; t < mesh.morph_targets.size(); ++t)
+      for (uint32_t v : mesh.morph_targets[t].vertices) {
+        const float len = glm::length(normals[v]);
+        normals[v] = len > 0.0f && std::isfinite(len) ? normals[v] / len : mesh.normals[v];
+      }
+  }
+  const std::vector<glm::vec3>& pos = positions.empty() ? mesh.positions : positions;
+  const std::vector<glm::vec3>& nrm = normals.empty() ? mesh.normals : normals;
   const size_t influences = mesh.influenceCount();
   for (size_t v = 0; v < n; ++v) {
     // As the shader: blend the influences' matrices (zero weights skipped), then transform.
@@ -335,8 +386,8 @@ Status emulateSkinning(const SkinnedMesh& mesh, Span<const glm::mat4> matrices,
         return {StatusCode::kOutOfRange, strCat("emulateSkinning: vertex ", v, " joint ", j)};
       m += matrices[j] * w;
     }
-    out_positions[v] = glm::vec3(m * glm::vec4(mesh.positions[v], 1.0f));
-    if (!out_normals.empty()) out_normals[v] = detail::skinNormal(glm::mat3(m), mesh.normals[v]);
+    out_positions[v] = glm::vec3(m * glm::vec4(pos[v], 1.0f));
+    if (!out_normals.empty()) out_normals[v] = detail::skinNormal(glm::mat3(m), nrm[v]);
   }
   return Status::ok();
 }

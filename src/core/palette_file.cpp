@@ -71,7 +71,7 @@ Status loadPalette(Span<const uint8_t> bytes, BakedPalette* palette) {
   if (!r.raw(magic, 8) || std::memcmp(magic, detail::kPaletteMagic, 8) != 0)
     return corrupt("not a palette file (bad magic)");
   uint32_t version, format, width, height, joint_count, texels_per_joint, stride,
-      border_frames = 0, skeleton_joints, clip_count;
+      border_frames = 0, morph_targets = 0, skeleton_joints, clip_count;
   float height_units;
   if (!r.u32(&version)) return corrupt("truncated header");
   if (version < 1 || version > kPaletteFileVersion)
@@ -79,11 +79,13 @@ Status loadPalette(Span<const uint8_t> bytes, BakedPalette* palette) {
                                              " (this library reads versions 1 to ",
                                              kPaletteFileVersion, ")")};
   if (!r.u32(&format) || !r.u32(&width) || !r.u32(&height) || !r.u32(&joint_count) ||
-      !r.u32(&texels_per_joint) || !r.u32(&stride) ||
-      (version >= 2 && !r.u32(&border_frames)) || !r.u32(&skeleton_joints) ||
-      !r.u32(&clip_count) || !r.f32(&height_units))
+      !r.u32(&texels_per_joint) || !r.u32(&stride) || (version >= 2 && !r.u32(&border_frames)) ||
+      (version >= 5 && !r.u32(&morph_targets)) || !r.u32(&skeleton_joints) || !r.u32(&clip_count) ||
+      !r.f32(&height_units))
     return corrupt("truncated header");
   if (border_frames > 1) return corrupt(strCat("border frames ", border_frames, " (0 or 1)"));
+  if (morph_targets > kMaxMorphTargets)
+    return corrupt(strCat("morph targets ", morph_targets, " (at most ", kMaxMorphTargets, ")"));
   // Compare the whole 32-bit value before narrowing it to the 8-bit enum.
   if (format != uint32_t(PaletteFormat::kMatrix3x4F32) &&
       format != uint32_t(PaletteFormat::kMatrix3x4F16) &&
@@ -190,6 +192,7 @@ Status loadPalette(Span<const uint8_t> bytes, BakedPalette* palette) {
   ld.joint_stride_texels = stride;
   ld.max_texture_size = detail::kMaxPaletteTextureSize;
   ld.border_frames = border_frames;
+  ld.morph_target_count = morph_targets;
   if (!computePaletteLayout(ld, &p.layout).isOk() || p.layout.width != width ||
       p.layout.height != height)
     return corrupt(strCat("texture size ", width, "x", height,

@@ -5,6 +5,7 @@
 #include <cassert>
 
 #include "core/str_cat.h"
+#include "si/core/morph_target.h"
 
 namespace si {
 using detail::strCat;
@@ -56,13 +57,24 @@ Status computePaletteLayout(const PaletteLayoutDesc& in_desc, PaletteLayout* out
   if (!isPowerOfTwo(d.max_texture_size))
     return {StatusCode::kInvalidArgument,
             "PaletteLayoutDesc.max_texture_size must be a power of two"};
+  if (d.morph_target_count > kMaxMorphTargets)
+    return {StatusCode::kInvalidArgument,
+            strCat("PaletteLayoutDesc.morph_target_count must be at most ", kMaxMorphTargets)};
 
   PaletteLayout layout;
   layout.joint_count = d.joint_count;
   layout.texels_per_joint = d.texels_per_joint;
   layout.joint_stride_texels = d.joint_stride_texels;
   layout.border_frames = d.border_frames;
-  const uint64_t frame_stride = uint64_t(d.joint_count) * d.joint_stride_texels;
+  layout.morph_target_count = d.morph_target_count;
+  const uint64_t joints = uint64_t(d.joint_count) * d.joint_stride_texels;
+  const uint64_t morph_texels = (d.morph_target_count + 3u) / 4u;
+  const uint64_t frame_stride = joints + (morph_texels + d.joint_stride_texels - 1) /
+                                             d.joint_stride_texels * d.joint_stride_texels;
+  if (joints > 0xFFFFFFFFull)
+    return {StatusCode::kLimitExceeded,
+            strCat("palette: needs more than 2^32 texels (", d.joint_count, " joints)")};
+  layout.morph_first_texel = uint32_t(joints);
   uint64_t total = 0;
   for (size_t c = 0; c < d.clip_frame_counts.size(); ++c) {
     const uint32_t frames = d.clip_frame_counts[c];

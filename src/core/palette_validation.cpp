@@ -142,26 +142,39 @@ Status checkRootMotion(const BakedClip& c, const std::string& where) {
   return Status::ok();
 }
 
-// Every texel value of every stored joint finite; quaternions unit, scales positive.
+// The four values of linear texel `texel`.
+glm::vec4 texelValues(const BakedPalette& p, uint32_t texel) {
+  glm::vec4 v;
+  if (p.format == PaletteFormat::kMatrix3x4F16) {
+    uint16_t h[4];
+    std::memcpy(h, p.texel_bytes.data() + size_t(texel) * 8, 8);
+    for (int k = 0; k < 4; ++k) v[k] = halfToFloat(h[k]);
+  } else {
+    std::memcpy(&v[0], p.texel_bytes.data() + size_t(texel) * 16, 16);
+  }
+  return v;
+}
+
+// Every texel value of every stored joint and morph weight finite; quaternions unit, scales
+// positive.
 Status checkTexels(const BakedPalette& p) {
   const PaletteLayout& l = p.layout;
-  const bool half = p.format == PaletteFormat::kMatrix3x4F16;
   const bool quat = p.format == PaletteFormat::kQuatTranslationF32;
   // Border frames are read too (cubic interpolation): frames -border to count - 1 + border.
   const int64_t border = l.border_frames;
   for (uint32_t c = 0; c < p.clips.size(); ++c)
-    for (int64_t f = -border; f < int64_t(p.clips[c].frame_count) + border; ++f)
+    for (int64_t f = -border; f < int64_t(p.clips[c].frame_count) + border; ++f) {
+      for (uint32_t t = 0; t < l.morph_target_count; t += 4)
+        if (!isFinite(texelValues(p, l.morphTexel(c, f, t))))
+          return {StatusCode::kNotFinite,
+                  strCat("palette: clip ", c, " '", p.clips[c].name, "' frame ", f,
+                         ": the weights of morph targets ", t, " to ",
+                         std::min(t + 4, l.morph_target_count) - 1, " are not finite")};
       for (uint32_t j = 0; j < l.joint_count; ++j) {
         glm::vec4 rows[4] = {};
         for (uint32_t r = 0; r < l.texels_per_joint; ++r) {
           const uint32_t texel = l.frameTexel(c, f) + j * l.joint_stride_texels + r;
-          if (half) {
-            uint16_t h[4];
-            std::memcpy(h, p.texel_bytes.data() + size_t(texel) * 8, 8);
-            for (int k = 0; k < 4; ++k) rows[r][k] = halfToFloat(h[k]);
-          } else {
-            std::memcpy(&rows[r][0], p.texel_bytes.data() + size_t(texel) * 16, 16);
-          }
+          rows[r] = texelValues(p, texel);
           if (!isFinite(rows[r]))
             return {StatusCode::kNotFinite,
                     strCat("palette: clip ", c, " '", p.clips[c].name, "' frame ", f, " joint ", j,
@@ -172,6 +185,7 @@ Status checkTexels(const BakedPalette& p) {
                   strCat("palette: clip ", c, " '", p.clips[c].name, "' frame ", f, " joint ", j,
                          ": rotation not unit length or scale not positive")};
       }
+    }
   return Status::ok();
 }
 
@@ -228,14 +242,17 @@ Status BakedPalette::validate() const {
   ld.joint_stride_texels = layout.joint_stride_texels;
   ld.max_texture_size = 32768;
   ld.border_frames = layout.border_frames;
+  ld.morph_target_count = layout.morph_target_count;
   PaletteLayout derived;
   Status s = computePaletteLayout(ld, &derived);
   if (!s.isOk()) return {StatusCode::kInvalidArgument, "palette: " + s.message()};
   if (derived.width != layout.width || derived.width_log2 != layout.width_log2 ||
-      derived.height != layout.height || derived.frame_stride_texels != layout.frame_stride_texels ||
+      derived.height != layout.height ||
+      derived.frame_stride_texels != layout.frame_stride_texels ||
       derived.clip_first_texel != layout.clip_first_texel ||
       derived.border_frames != layout.border_frames ||
-      derived.clip_frame_count != layout.clip_frame_count)
+      derived.clip_frame_count != layout.clip_frame_count ||
+      derived.morph_first_texel != layout.morph_first_texel)
     return {StatusCode::kInvalidArgument,
             strCat("palette: the layout (", layout.width, "x", layout.height,
                    ") is not the one its clips need (", derived.width, "x", derived.height, ")")};

@@ -10,6 +10,10 @@
 namespace si {
 namespace {
 
+// The version 5 header: magic, then 12 u32 fields (the last the character's height), before the
+// joint table.
+constexpr size_t kHeaderBytes = 56;
+
 using test::smallPalette;
 
 void fixChecksum(std::vector<uint8_t>* bytes) {
@@ -89,7 +93,7 @@ TEST(PaletteFile, TrailingBytesAndOtherVersionsAreRejected) {
   std::vector<uint8_t> longer = bytes;
   longer.push_back(0);
   EXPECT_EQ(loadPalette(longer, &q).code(), StatusCode::kCorrupt);
-  for (uint8_t version : {0, 5}) {
+  for (uint8_t version : {0, 6}) {
     std::vector<uint8_t> other = bytes;
     other[8] = version;
     fixChecksum(&other);
@@ -97,20 +101,23 @@ TEST(PaletteFile, TrailingBytesAndOtherVersionsAreRejected) {
   }
 }
 
-// Older versions still load: version 3 (before root motion) without it; version 2 (before
-// animation markers: no marker fields in the clip records) with the same clips and no markers; version 1 (before cubic interpolation: no
-// border-frame field in the header, no interpolation fields either) as linear palettes.
-TEST(PaletteFile, VersionOneToThreeFilesStillLoad) {
+// Older versions still load: version 4 (before morph targets: no morph target count in the
+// header) without them; version 3 (before root motion) without it; version 2 (before animation
+// markers: no marker fields in the clip records) with the same clips and no markers; version 1
+// (before cubic interpolation: no border-frame field in the header, no interpolation fields
+// either) as linear palettes.
+TEST(PaletteFile, VersionOneToFourFilesStillLoad) {
   const BakedPalette p = smallPalette();
   std::vector<uint8_t> bytes;
   ASSERT_TRUE(savePalette(p, &bytes).isOk());
-  for (uint8_t version : {1, 2, 3}) {
+  for (uint8_t version : {1, 2, 3, 4}) {
     SCOPED_TRACE(int(version));
-    const bool v1 = version == 1, v3 = version == 3;
+    const bool v1 = version == 1, markers_kept = version >= 3, root_motion_kept = version == 4;
     std::vector<uint8_t> old(bytes.begin(), bytes.begin() + 36);  // Up to the stride.
     old[8] = version;
-    size_t at = v1 ? 40 : 36;                                     // v1: past the border frames.
-    const size_t joints_end = 52 + 4 * p.palette_joints.size();
+    if (!v1) old.insert(old.end(), bytes.begin() + 36, bytes.begin() + 40);  // Border frames.
+    size_t at = 44;  // Past the morph target count.
+    const size_t joints_end = kHeaderBytes + 4 * p.palette_joints.size();
     old.insert(old.end(), bytes.begin() + std::ptrdiff_t(at), bytes.begin() + std::ptrdiff_t(joints_end));
     at = joints_end;
     for (const BakedClip& c : p.clips) {
@@ -118,11 +125,15 @@ TEST(PaletteFile, VersionOneToThreeFilesStillLoad) {
       if (!v1) kept += 8 + c.interval_modes.size();            // v2 has the interpolation,
       size_t markers = 4;
       for (const AnimationMarker& m : c.markers) markers += 12 + m.name.size();
-      if (v3) kept += markers;                                 // v3 the markers.
+      if (markers_kept) kept += markers;  // v3 the markers.
       old.insert(old.end(), bytes.begin() + std::ptrdiff_t(at), bytes.begin() + std::ptrdiff_t(at + kept));
       // Skip what the version lacks.
-      at += kept + (v1 ? 8 + c.interval_modes.size() : 0) + (v3 ? 0 : markers);
-      at += 4 + 12 * c.root_motion.size();
+      at += kept + (v1 ? 8 + c.interval_modes.size() : 0) + (markers_kept ? 0 : markers);
+      const size_t root_motion = 4 + 12 * c.root_motion.size();  // v4 the root motion.
+      if (root_motion_kept)
+        old.insert(old.end(), bytes.begin() + std::ptrdiff_t(at),
+                   bytes.begin() + std::ptrdiff_t(at + root_motion));
+      at += root_motion;
       old.insert(old.end(), bytes.begin() + std::ptrdiff_t(at), bytes.begin() + std::ptrdiff_t(at + 40));
       at += 40;
     }
@@ -133,12 +144,14 @@ TEST(PaletteFile, VersionOneToThreeFilesStillLoad) {
     ASSERT_TRUE(s.isOk()) << s.toString();
     EXPECT_EQ(q.texel_bytes, p.texel_bytes);
     EXPECT_EQ(q.layout.border_frames, 0u);
-    for (const BakedClip& c : q.clips) {
-      EXPECT_EQ(c.interpolation, FrameInterpolation::kLinear);
-      EXPECT_TRUE(c.root_motion.empty());
+    EXPECT_EQ(q.layout.morph_target_count, 0u);
+    for (size_t c = 0; c < q.clips.size(); ++c) {
+      EXPECT_EQ(q.clips[c].interpolation, FrameInterpolation::kLinear);
+      EXPECT_EQ(q.clips[c].root_motion,
+                root_motion_kept ? p.clips[c].root_motion : std::vector<glm::vec3>());
+      EXPECT_EQ(q.clips[c].markers,
+                markers_kept ? p.clips[c].markers : std::vector<AnimationMarker>());
     }
-    for (size_t c = 0; c < q.clips.size(); ++c)
-      EXPECT_EQ(q.clips[c].markers, v3 ? p.clips[c].markers : std::vector<AnimationMarker>());
   }
 }
 
@@ -168,7 +181,7 @@ TEST(PaletteFile, InconsistentFilesWithValidChecksumsAreRejected) {
     return loadPalette(b, &q).code();
   };
   // Header fields: magic(8) version(4) format(4) width(4) height(4) joints(4) tpj(4) stride(4)
-  // border frames(4) skeleton joints(4) clips(4) height(4).
+  // border frames(4) morph targets(4) skeleton joints(4) clips(4) height(4).
   EXPECT_EQ(patched(16, p.layout.width * 2), StatusCode::kCorrupt);   // Width vs. layout.
   EXPECT_EQ(patched(16, 3), StatusCode::kCorrupt);                    // Not a power of two.
   EXPECT_EQ(patched(20, 1u << 30), StatusCode::kCorrupt);             // Oversized height.
@@ -177,13 +190,15 @@ TEST(PaletteFile, InconsistentFilesWithValidChecksumsAreRejected) {
   EXPECT_EQ(patched(24, 200), StatusCode::kCorrupt);                  // Joints > skeleton.
   EXPECT_EQ(patched(36, 2), StatusCode::kCorrupt);                    // Border frames > 1.
   EXPECT_EQ(patched(36, 1), StatusCode::kCorrupt);                    // Border frames vs. size.
-  EXPECT_EQ(patched(40, 0xFFFFFFFFu), StatusCode::kCorrupt);          // Absurd skeleton.
-  EXPECT_EQ(patched(44, 0xFFFFFFFFu), StatusCode::kCorrupt);          // Absurd clip count.
-  EXPECT_EQ(patched(44, 1), StatusCode::kCorrupt);                    // Clip table vs. size.
-  EXPECT_EQ(patched(48, 0xFFFFFFFFu), StatusCode::kCorrupt);          // NaN height.
-  EXPECT_EQ(patched(52, 7), StatusCode::kCorrupt);                    // Joint table out of range.
+  EXPECT_EQ(patched(40, 257), StatusCode::kCorrupt);                  // Morph targets > 256.
+  EXPECT_EQ(patched(40, 4), StatusCode::kCorrupt);                    // Morph targets vs. size.
+  EXPECT_EQ(patched(44, 0xFFFFFFFFu), StatusCode::kCorrupt);          // Absurd skeleton.
+  EXPECT_EQ(patched(48, 0xFFFFFFFFu), StatusCode::kCorrupt);          // Absurd clip count.
+  EXPECT_EQ(patched(48, 1), StatusCode::kCorrupt);                    // Clip table vs. size.
+  EXPECT_EQ(patched(52, 0xFFFFFFFFu), StatusCode::kCorrupt);          // NaN height.
+  EXPECT_EQ(patched(56, 7), StatusCode::kCorrupt);                    // Joint table out of range.
   // The first clip's frame count (after its name) claims more frames than the data holds.
-  const size_t clip0 = 52 + 4 * p.palette_joints.size();
+  const size_t clip0 = kHeaderBytes + 4 * p.palette_joints.size();
   const size_t frames_at = clip0 + 4 + p.clips[0].name.size() + 4 + 4 + 8;
   EXPECT_EQ(patched(frames_at, 1u << 20), StatusCode::kCorrupt);
   EXPECT_EQ(patched(frames_at, 0), StatusCode::kCorrupt);
@@ -215,7 +230,7 @@ TEST(PaletteFile, ClipTimingThatDisagreesWithItsFramesIsRejected) {
   const BakedPalette p = smallPalette();
   ASSERT_TRUE(savePalette(p, &bytes).isOk());
   // Clip 1 ("swing", uniform grid): name length, name, loop, duration (f32), interval (f64).
-  size_t clip1 = 52 + 4 * p.palette_joints.size();
+  size_t clip1 = kHeaderBytes + 4 * p.palette_joints.size();
   // Its marker count and root motion count, 4 bytes each, before its bounds.
   ASSERT_TRUE(p.clips[0].markers.empty() && p.clips[0].root_motion.empty());
   clip1 += 4 + p.clips[0].name.size() + 4 + 4 + 8 + 4 + 4 + 8 * p.clips[0].frame_times_seconds.size() + 8 + 4 + 4 + 40;
@@ -245,8 +260,8 @@ TEST(PaletteFile, ClipTimingThatDisagreesWithItsFramesIsRejected) {
     EXPECT_EQ(s.code(), StatusCode::kCorrupt) << "duration " << bad << ": " << s.toString();
   }
   // Clip 0 ("step"): frame times out of order, or three times the same.
-  const size_t times_at = 52 + 4 * p.palette_joints.size() + 4 + p.clips[0].name.size() + 4 + 4 +
-                          8 + 4 + 4;
+  const size_t times_at =
+      kHeaderBytes + 4 * p.palette_joints.size() + 4 + p.clips[0].name.size() + 4 + 4 + 8 + 4 + 4;
   const std::vector<double>& times = p.clips[0].frame_times_seconds;
   ASSERT_GE(times.size(), 4u);
   const double reordered[2] = {times[2], times[1]};

@@ -146,14 +146,23 @@ TEST(GltfMorphTargets, DroppedUnlessAskedForWithAWarningEach) {
   };
   EXPECT_TRUE(warned("3 morph targets dropped"));
   EXPECT_TRUE(warned("which has no morph targets (or they were dropped): skipped"));
-  // The bake takes the character without them; with them it refuses by name, for now.
-  BakedPalette p;
-  EXPECT_TRUE(bakePalette(c, BakeDesc(), &p, nullptr).isOk());
-  Character kept;
-  ASSERT_TRUE(importJson(morphFile("LINEAR"), &kept, nullptr, keepTargets()).isOk());
-  const Status refused = bakePalette(kept, BakeDesc(), &p, nullptr);
-  EXPECT_EQ(refused.code(), StatusCode::kUnsupported);
-  EXPECT_NE(refused.message().find("3 morph targets"), std::string::npos) << refused.toString();
+}
+
+TEST(GltfMorphTargets, EachInterpolationBakesWithinTheTolerance) {
+  for (const char* interp : {"LINEAR", "STEP", "CUBICSPLINE"}) {
+    SCOPED_TRACE(interp);
+    Character c;
+    ASSERT_TRUE(importJson(morphFile(interp), &c, nullptr, keepTargets()).isOk());
+    BakedPalette p;
+    BakeReport r;
+    const Status s = bakePalette(c, BakeDesc(), &p, &r);
+    ASSERT_TRUE(s.isOk()) << s.toString();
+    EXPECT_EQ(p.layout.morph_target_count, 3u);
+    for (const ClipErrorReport& clip : r.clips) {
+      EXPECT_TRUE(clip.tolerance_met) << clip.name;
+      EXPECT_LE(clip.max_error_ratio, 1e-4) << clip.name;
+    }
+  }
 }
 
 TEST(GltfMorphTargets, MalformedTargetsAreRefusedByName) {

@@ -90,10 +90,13 @@ struct BakeReport {
 /// skip the measurement, except that automatic rates always measure). Validates the character
 /// and the desc first (the codes of Character::validate() and planPalette()); fails with
 /// kUnsupported naming the clip, joint and time when kQuatTranslationF32 meets a joint with
-/// non-uniform or negative scale; kLimitExceeded when the palette does not fit in the texture;
-/// kUnsupported for a mesh with morph targets (SkinnedMesh::morph_targets): the palette does
-/// not hold their weights yet, nor do the draw paths apply them. Outputs are untouched on
-/// failure.
+/// non-uniform or negative scale; kLimitExceeded when the palette does not fit in the texture.
+/// Outputs are untouched on failure.
+///
+/// A mesh with morph targets (SkinnedMesh::morph_targets) gets their weights in every frame
+/// (palette-format.md, "Morph target weights"), sampled at the frame's time like the joints;
+/// the measured error is the vertices' with the targets, so frame placement and the automatic
+/// rate account for them.
 Status bakePalette(const Character& character, const BakeDesc& desc, BakedPalette* palette,
                    BakeReport* report);
 

@@ -117,8 +117,9 @@ struct BakedPalette {
   ///   the clips' frame counts, the format's texels per joint and the stored joint stride (at
   ///   most 64), and each clip's first_texel is the layout's (kInvalidArgument);
   /// - texel_bytes holds exactly width x height texels of the format (kCountMismatch); every
-  ///   texel value of a stored joint is finite (kNotFinite); in the quaternion format each
-  ///   rotation is unit length within 1e-3 and each scale positive (kOutOfRange);
+  ///   texel value of a stored joint and of the morph target weights is finite (kNotFinite); in the
+  ///   quaternion format each rotation is unit length within 1e-3 and each scale positive
+  ///   (kOutOfRange);
   /// - each clip: loop mode kOnce or kLoop; duration finite, in [0, kMaxClipSeconds]; 1 to 2^21
   ///   frames; a single frame has interval 0, several have a positive interval that divides
   ///   the duration into a whole number of intervals (relative 1e-6) no greater than the frames
@@ -225,18 +226,30 @@ glm::mat4 emulateFrameMatrix(const BakedPalette& palette, uint32_t frame_texel,
                              uint32_t next_frame_texel, float fraction, IntervalMode mode,
                              uint32_t slot);
 
+/// The morph target weights the shader computes for a frame pair given by texel offsets (as
+/// emulateFrameMatrix() takes them): each target's stored weight lerped by `fraction`, or for
+/// the cubic modes blended with the Catmull-Rom weights over the four frames. `out` holds one
+/// weight per stored target (layout.morph_target_count; kCountMismatch otherwise); the offsets
+/// must lie inside the palette.
+Status emulateMorphWeights(const BakedPalette& palette, uint32_t frame_texel,
+                           uint32_t next_frame_texel, float fraction, IntervalMode mode,
+                           Span<float> out);
+
 /// Skinning matrices of every skeleton joint (identity for joints not stored) for `sample`.
 /// `out` must hold skeleton_to_palette.size() matrices (kCountMismatch otherwise).
 Status emulateSkinningMatrices(const BakedPalette& palette, uint32_t clip,
                                const FrameSample& sample, Span<glm::mat4> out);
 
 /// Skins `mesh` (bound to the skeleton the palette was baked from) with `matrices` from
-/// emulateSkinningMatrices() in float, as the vertex shader does: the matrices of up to 4
-/// influences blended by weight (zero weights skipped), then the position transformed by the
-/// blend and the normal by sign(det) * cofactor of its 3x3, normalized. `out_normals` may be
-/// empty. kCountMismatch for wrong sizes.
+/// emulateSkinningMatrices() in float, as the vertex shader does: its morph targets added at
+/// `morph_weights` (emulateMorphWeights(); empty: each target's default weight), the normal
+/// renormalized; then the matrices of its influences blended by weight (zero weights skipped),
+/// the position transformed by the blend and the normal by sign(det) * cofactor of its 3x3,
+/// normalized. `out_normals` may be empty. kCountMismatch for wrong sizes, and as
+/// si::validateMorphTargets() for targets that do not validate.
 Status emulateSkinning(const SkinnedMesh& mesh, Span<const glm::mat4> matrices,
-                       Span<glm::vec3> out_positions, Span<glm::vec3> out_normals);
+                       Span<glm::vec3> out_positions, Span<glm::vec3> out_normals,
+                       Span<const float> morph_weights = {});
 
 /// Converts a float to IEEE half (round to nearest even; overflow to infinity) and back.
 uint16_t floatToHalf(float value);

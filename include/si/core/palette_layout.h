@@ -37,6 +37,10 @@ struct PaletteLayoutDesc {
   /// 0, or 1 to store a border frame before and after every clip (cubic interpolation reads
   /// them): clip c's frames then start one frame stride after its region starts.
   uint32_t border_frames = 0;
+  /// Morph target weights stored per frame (SkinnedMesh::morph_targets), 0 to
+  /// kMaxMorphTargets: four to a texel after the joints, the frame padded to whole joint
+  /// strides.
+  uint32_t morph_target_count = 0;
 };
 
 /// Returns the desc with zeros replaced by their documented defaults.
@@ -50,7 +54,13 @@ struct PaletteLayout {
   uint32_t joint_count = 0;
   uint32_t texels_per_joint = 0;
   uint32_t joint_stride_texels = 0;
-  uint32_t frame_stride_texels = 0;         ///< joint_count * joint_stride_texels.
+  /// joint_count * joint_stride_texels, plus the morph weights' texels rounded up to whole
+  /// joint strides.
+  uint32_t frame_stride_texels = 0;
+  uint32_t morph_target_count = 0;
+  /// Where a frame's morph weights start, from the frame's first texel:
+  /// joint_count * joint_stride_texels.
+  uint32_t morph_first_texel = 0;
   uint32_t border_frames = 0;               ///< Per clip end (0 or 1).
   std::vector<uint32_t> clip_first_texel;   ///< One per clip.
   std::vector<uint32_t> clip_frame_count;   ///< One per clip.
@@ -62,6 +72,11 @@ struct PaletteLayout {
   /// Linear texel index of clip `clip`, frame `frame`, joint `joint`, data texel `row`.
   /// Arguments must be in range (asserted in debug builds).
   uint32_t texelIndex(uint32_t clip, uint32_t frame, uint32_t joint, uint32_t row) const;
+  /// Linear texel index of the weights of morph targets 4 * (target / 4) to 4 * (target / 4) + 3
+  /// in clip `clip`, frame `frame` (which may name a border frame, as for frameTexel()).
+  uint32_t morphTexel(uint32_t clip, int64_t frame, uint32_t target) const {
+    return frameTexel(clip, frame) + morph_first_texel + target / 4u;
+  }
   /// Texture coordinate (x, y) of linear texel `index`.
   glm::uvec2 texelCoord(uint32_t index) const {
     return glm::uvec2(index & (width - 1u), index >> width_log2);
@@ -75,9 +90,9 @@ struct PaletteLayout {
 /// close to square as a power-of-two width allows, so both sizes stay small. Fails, leaving
 /// `out` untouched, with kInvalidArgument for a null `out`, zero joints, no clips, a clip with
 /// no frames, border_frames above 1, texels_per_joint outside 1..4 or a stride below it, a
-/// max_texture_size that is not
-/// a power of two; kLimitExceeded (naming the sizes) when the palette does not fit in a
-/// max_texture_size square texture or needs more than 2^32 texels.
+/// max_texture_size that is not a power of two, more than kMaxMorphTargets morph targets;
+/// kLimitExceeded (naming the sizes) when the palette does not fit in a max_texture_size square
+/// texture or needs more than 2^32 texels.
 Status computePaletteLayout(const PaletteLayoutDesc& desc, PaletteLayout* out);
 
 }  // namespace si

@@ -74,9 +74,10 @@ struct GltfImportDesc {
   /// default tolerance.
   float fold_tolerance_height = 1e-4f;
   /// Keep the meshes' morph targets (SkinnedMesh::morph_targets; each node's mesh its own) and
-  /// the weights channels that animate them (Clip::morph_tracks). Off for now: the bake refuses
-  /// a character with morph targets (kUnsupported) until it and the draw paths apply them, so
-  /// they are dropped with a warning per mesh (GltfImportReport::dropped_morph_targets).
+  /// the weights channels that animate them (Clip::morph_tracks); the bake stores their weights
+  /// per frame. Off for now: si::Renderer refuses a character with morph targets
+  /// (kUnsupported) until its draw paths apply them, so they are dropped with a warning per
+  /// mesh (GltfImportReport::dropped_morph_targets).
   bool keep_morph_targets = false;
 };
 

@@ -64,6 +64,11 @@ Status CharacterBuffers::upload(const Character& character, const BakedPalette& 
   if (palette.skeleton_to_palette.size() != character.skeleton.jointCount())
     return {StatusCode::kInvalidArgument,
             "the palette was baked for another skeleton"};
+  if (!m.morph_targets.empty())
+    return {StatusCode::kUnsupported,
+            strCat("the mesh has ", m.morph_targets.size(),
+                   " morph targets, which the draw paths do not apply yet (drop them: "
+                   "GltfImportDesc::keep_morph_targets)")};
   VertexStream stream;
   s = buildVertexStream(m, palette, &stream);
   MaterialTable table;
