@@ -5,6 +5,7 @@
 #include <cstdio>
 #include <vector>
 
+#include "common/face_targets.h"
 #include "si/bake/lod_chain.h"
 #include "si/core/default_character.h"
 #include "si/core/impostor_level.h"
@@ -34,6 +35,15 @@ Status makeCharacter(const CharacterChoice& choice, Setup* setup) {
       mesh.weights[v] *= 0.75f;
     }
     std::printf("Each vertex's influences split over two sets of 4 (--eight-influences)\n");
+  }
+  if (s.isOk() && choice.morph_targets > 0) {
+    examples::addFaceTargets(&setup->character, choice.morph_targets);
+    size_t entries = 0;
+    for (const MorphTarget& t : setup->character.mesh.morph_targets) entries += t.vertices.size();
+    std::printf(
+        "%u face-like morph targets on the head (--morph-targets): %zu entries, %.1f "
+        "vertices moved per target\n",
+        choice.morph_targets, entries, double(entries) / choice.morph_targets);
   }
   LodChainDesc chain;
   chain.min_triangles = choice.lod_min_triangles;

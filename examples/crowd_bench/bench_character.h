@@ -24,6 +24,9 @@ struct CharacterChoice {
   /// --eight-influences: each vertex's weights split 3:1 over the same joints in two sets
   /// (SkinnedMesh::joints1/weights1): the same skinning, drawn through 8 influences.
   bool eight_influences = false;
+  /// --morph-targets N: N face-like morph targets on the head, every clip animating their
+  /// weights (examples/common/face_targets.h).
+  uint32_t morph_targets = 0;
 };
 
 /// The embedded character with its LOD chain (deep: 6 levels down to a few dozen triangles),

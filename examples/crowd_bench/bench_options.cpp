@@ -39,6 +39,8 @@ void printUsage(std::FILE* f) {
       "                   texture coordinates 1: what the optional vertex words cost)\n"
       "                   [--eight-influences] (each vertex's influences split over two sets,\n"
       "                   the same skinning through 8: what the second set costs)\n"
+      "                   [--morph-targets N] (N face-like morph targets on the head, every\n"
+      "                   clip animating their weights: what morph targets cost)\n"
       "                   [--impostor] (an animated impostor past the last mesh level, chosen by\n"
       "                   its image error; not with the baselines, --mix, --root-motion or\n"
       "                   --motion-vectors) [--impostor-atlas full|small] (small: 8 azimuths,\n"
@@ -108,6 +110,8 @@ bool parseOptions(int argc, char** argv, Options* o) {
       o->vertex_colors = true;
     else if (a == "--eight-influences")
       o->eight_influences = true;
+    else if (a == "--morph-targets" && has)
+      o->morph_targets = uint32_t(std::stoul(argv[++i]));
     else if (a == "--impostor") o->impostor = true;
     else if (a == "--impostor-atlas" && has) o->impostor_atlas = argv[++i];
     else if (a == "--lod-errors" && has) o->lod_errors = argv[++i];

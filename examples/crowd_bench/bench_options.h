@@ -21,6 +21,7 @@ struct Options {
   uint32_t lod_min_triangles = 0;  // LodChainDesc::min_triangles; 0: the library's default.  // deep: buildLodChain's 6 levels; technique: the 3 embedded.
   bool vertex_colors = false;      // --vertex-colors: the character gets colours and uv1 too.
   bool eight_influences = false;   // --eight-influences: the same skinning through 8 influences.
+  uint32_t morph_targets = 0;      // --morph-targets N: N face-like targets on the head.
   bool part_lod = false;  // --part-lod: si::buildPartLods (each part its own level, parts dropped).
   bool impostor = false;  // --impostor: an impostor level past the meshes (Renderer::buildImpostor).
   std::string impostor_atlas = "full";  // --impostor-atlas: full (ImpostorDesc's defaults) or small.

@@ -30,6 +30,7 @@
 #include "crowd_bench/uploads_table.h"
 #include "crowd_bench/views_table.h"
 #include "si/bake/animation_baker.h"
+#include "si/core/shader_inputs.h"
 
 namespace {
 
@@ -155,6 +156,7 @@ int main(int argc, char** argv) {
   choice.small_atlas = b.o.impostor_atlas == "small";
   choice.vertex_colors = b.o.vertex_colors;
   choice.eight_influences = b.o.eight_influences;
+  choice.morph_targets = b.o.morph_targets;
   si::Status s = si::bench::makeCharacter(choice, &b.setup);
   if (!s.isOk()) return fail("character", s);
   si::HeadlessDesc hd;
@@ -196,6 +198,23 @@ int main(int argc, char** argv) {
   if (s.isOk()) s = renderer.addCharacter(character, palette, &id);
   if (s.isOk() && b.o.impostor) s = si::bench::buildImpostor(b.setup, renderer, id);
   if (!s.isOk()) return fail("setup", s);
+  if (!character.mesh.morph_targets.empty()) {  // What the targets take, per target.
+    si::MorphStream morphs;
+    if (!si::buildMorphStream(character.mesh, palette, 0, &morphs).isOk()) return 1;
+    const si::PaletteLayout& l = palette.layout;
+    uint64_t frames = 0;
+    for (uint32_t f : l.clip_frame_count) frames += f + 2 * l.border_frames;
+    const double targets = double(l.morph_target_count);
+    const double weight_bytes = double(frames) * (l.frame_stride_texels - l.morph_first_texel) *
+                                si::bytesPerTexel(palette.format);
+    const double delta_bytes =
+        double(morphs.entry_count) * morphs.texels_per_entry * 16.0;  // RGBA32UI texels.
+    std::printf(
+        "Morph targets: %.0f; palette weights %.0f bytes (%.0f per target, %llu frames), "
+        "deltas %.0f bytes (%.0f per target, %u entries of %u texels)\n",
+        targets, weight_bytes, weight_bytes / targets, static_cast<unsigned long long>(frames),
+        delta_bytes, delta_bytes / targets, morphs.entry_count, morphs.texels_per_entry);
+  }
   std::printf("Automatic skinning path choice: %s (%s)\n",
               si::skinningPathName(renderer.skinningPath(si::CharacterId{})),
               renderer.skinningPathReason(si::CharacterId{}).c_str());

@@ -11,6 +11,33 @@
 namespace si {
 using detail::strCat;
 
+namespace {
+// Each vertex's entries (target, index in the target), by vertex, then target.
+std::vector<std::vector<std::pair<uint32_t, uint32_t>>> morphEntries(const SkinnedMesh& mesh) {
+  std::vector<std::vector<std::pair<uint32_t, uint32_t>>> per_vertex(mesh.vertexCount());
+  for (size_t t = 0; t < mesh.morph_targets.size(); ++t)
+    for (size_t i = 0; i < mesh.morph_targets[t].vertices.size(); ++i)
+      per_vertex[mesh.morph_targets[t].vertices[i]].push_back({uint32_t(t), uint32_t(i)});
+  return per_vertex;
+}
+
+Status morphWords(const SkinnedMesh& mesh, std::vector<uint32_t>* words) {
+  uint64_t first = 0;
+  words->assign(mesh.vertexCount(), 0u);
+  const auto per_vertex = morphEntries(mesh);
+  for (size_t v = 0; v < per_vertex.size(); ++v) {
+    if (per_vertex[v].empty()) continue;
+    if (first + per_vertex[v].size() > kMaxMorphEntries)
+      return {StatusCode::kLimitExceeded,
+              strCat("the mesh's morph targets move vertices ", first + per_vertex[v].size(),
+                     " times or more; the morph word holds at most ", kMaxMorphEntries)};
+    (*words)[v] = uint32_t(first) << 9 | uint32_t(per_vertex[v].size());
+    first += per_vertex[v].size();
+  }
+  return Status::ok();
+}
+}  // namespace
+
 uint32_t packNormal10(const glm::vec3& n) {
   const auto c = [](float v) {
     return uint32_t(int32_t(std::lround(std::clamp(v, -1.0f, 1.0f) * 511.0f)) & 0x3FF);
@@ -51,6 +78,13 @@ Status buildVertexStream(const SkinnedMesh& mesh, const BakedPalette& palette, V
   if (!mesh.colors.empty()) {
     stream.color_offset = stream.stride_bytes;
     stream.stride_bytes += 4;
+  }
+  std::vector<uint32_t> morph_words;
+  if (!mesh.morph_targets.empty()) {
+    stream.morph_offset = stream.stride_bytes;
+    stream.stride_bytes += 4;
+    s = morphWords(mesh, &morph_words);
+    if (!s.isOk()) return s;
   }
   stream.weights_offset = stream.wide_joints ? 28 : 24;
   stream.vertex_count = uint32_t(mesh.vertexCount());
@@ -105,9 +139,71 @@ Status buildVertexStream(const SkinnedMesh& mesh, const BakedPalette& palette, V
       const uint32_t rgba = packColor8(mesh.colors[v]);
       std::memcpy(dst + stream.color_offset, &rgba, 4);
     }
+    if (stream.morph_offset != 0) std::memcpy(dst + stream.morph_offset, &morph_words[v], 4);
   }
   *out = std::move(stream);
   return Status::ok();
+}
+
+Status buildMorphStream(const SkinnedMesh& mesh, const BakedPalette& palette,
+                        uint32_t max_texture_size, MorphStream* out) {
+  if (out == nullptr) return {StatusCode::kInvalidArgument, "buildMorphStream: out is null"};
+  if (mesh.morph_targets.empty())
+    return {StatusCode::kInvalidArgument, "buildMorphStream: the mesh has no morph targets"};
+  Status s = mesh.validate(palette.skeleton_to_palette.size());
+  if (!s.isOk()) return s;
+  if (palette.layout.morph_target_count != mesh.morph_targets.size())
+    return {StatusCode::kInvalidArgument,
+            strCat("buildMorphStream: the palette holds the weights of ",
+                   palette.layout.morph_target_count, " morph targets, the mesh has ",
+                   mesh.morph_targets.size(), " (bake it with them)")};
+  std::vector<uint32_t> words;
+  s = morphWords(mesh, &words);
+  if (!s.isOk()) return s;
+  MorphStream stream;
+  const bool normals = std::any_of(mesh.morph_targets.begin(), mesh.morph_targets.end(),
+                                   [](const MorphTarget& t) { return !t.normal_deltas.empty(); });
+  const bool tangents = std::any_of(mesh.morph_targets.begin(), mesh.morph_targets.end(),
+                                    [](const MorphTarget& t) { return !t.tangent_deltas.empty(); });
+  stream.texels_per_entry = tangents ? 3 : normals ? 2 : 1;
+  const auto per_vertex = morphEntries(mesh);
+  for (const auto& entries : per_vertex) stream.entry_count += uint32_t(entries.size());
+  const uint64_t texels = uint64_t(std::max(stream.entry_count, 1u)) * stream.texels_per_entry;
+  const uint64_t max = max_texture_size == 0 ? 16384 : max_texture_size;
+  stream.width_log2 = 0;
+  while ((uint64_t(1) << stream.width_log2) * (uint64_t(1) << stream.width_log2) < texels)
+    ++stream.width_log2;
+  stream.width = 1u << stream.width_log2;
+  stream.height = uint32_t((texels + stream.width - 1) / stream.width);
+  if (stream.width > max || stream.height > max)
+    return {StatusCode::kLimitExceeded,
+            strCat("buildMorphStream: ", texels, " texels of morph entries do not fit in a ", max,
+                   "x", max, " texture")};
+  stream.texels.assign(size_t(stream.width) * stream.height * 4, 0u);
+  uint32_t e = 0;
+  const auto put = [&](uint32_t texel, uint32_t w0, const glm::vec3& v) {
+    uint32_t* dst = stream.texels.data() + size_t(texel) * 4;
+    dst[0] = w0;
+    std::memcpy(dst + 1, &v, 12);
+  };
+  for (const auto& entries : per_vertex)
+    for (const auto& [target, i] : entries) {
+      const MorphTarget& t = mesh.morph_targets[target];
+      const uint32_t at = e * stream.texels_per_entry;
+      put(at, target, t.position_deltas[i]);
+      if (stream.texels_per_entry > 1)
+        put(at + 1, 0u, t.normal_deltas.empty() ? glm::vec3(0.0f) : t.normal_deltas[i]);
+      if (stream.texels_per_entry > 2)
+        put(at + 2, 0u, t.tangent_deltas.empty() ? glm::vec3(0.0f) : t.tangent_deltas[i]);
+      ++e;
+    }
+  *out = std::move(stream);
+  return Status::ok();
+}
+
+glm::uvec4 morphShaderInfo(const BakedPalette& palette, const MorphStream& stream) {
+  return glm::uvec4(stream.width_log2, stream.texels_per_entry, palette.layout.morph_first_texel,
+                    palette.layout.morph_target_count);
 }
 
 glm::uvec4 paletteShaderInfo(const BakedPalette& palette) {

@@ -3,6 +3,7 @@
 #include "si/crowd/record_emulation.h"
 
 #include <cstring>
+#include <vector>
 
 namespace si {
 
@@ -17,6 +18,20 @@ glm::mat4 emulateRecordMatrix(const BakedPalette& palette, const InstanceRecord&
     mat = mat * (1.0f - wb) +
           emulateFrameMatrix(palette, rec.frames[2], rec.frames[3], fb, mb, slot) * wb;
   return mat;
+}
+
+Status emulateRecordMorphWeights(const BakedPalette& palette, const InstanceRecord& rec,
+                                 Span<float> out) {
+  IntervalMode ma, mb;
+  const float fa = unpackFraction(rec.blend[0], &ma), fb = unpackFraction(rec.blend[1], &mb);
+  float wb;
+  std::memcpy(&wb, &rec.blend[2], 4);
+  Status s = emulateMorphWeights(palette, rec.frames[0], rec.frames[1], fa, ma, out);
+  if (!s.isOk() || !(wb > 0.0f)) return s;
+  std::vector<float> b(out.size());
+  s = emulateMorphWeights(palette, rec.frames[2], rec.frames[3], fb, mb, b);
+  for (size_t k = 0; k < out.size() && s.isOk(); ++k) out[k] = out[k] * (1.0f - wb) + b[k] * wb;
+  return s;
 }
 
 glm::mat4 emulateLayeredRecordMatrix(const BakedPalette& palette, const InstanceRecord& rec,

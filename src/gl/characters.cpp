@@ -20,13 +20,14 @@ Status Renderer::Impl::uploadCharacter(const char* what, const Character& charac
   const auto named = [what](const Status& s) {
     return s.isOk() ? s : Status(s.code(), strCat(what, ": ", s.message()));
   };
-  Status s = c.palette.upload(palette, m.info);
-  if (s.isOk()) s = c.character.upload(character, palette, m.desc.max_texture_size);
+  Status s = c.character.upload(character, palette, m.desc.max_texture_size);
+  if (s.isOk())
+    s = c.palette.upload(palette, m.info, c.character.morph_info, c.character.morph_texture);
   if (s.isOk() && !m.info.es) s = c.preskin.build(c.character);
   // Depth-only draws of an alpha-masked character discard by its mask (built once).
   const uint32_t features = c.character.meshFeatures();
   if (s.isOk() && c.character.alpha_masked)
-    s = m.programs.buildMaskedDepth((features & detail::kMeshEightInfluences) != 0);
+    s = m.programs.buildMaskedDepth(features & detail::kMeshSkinFeatures);
   // A mesh with texture coordinates 1 or colours, or with 8 influences, draws with the
   // variants that carry them.
   if (s.isOk()) s = m.programs.buildMeshVariants(c.material, features);

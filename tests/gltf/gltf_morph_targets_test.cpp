@@ -15,16 +15,10 @@ namespace {
 
 using namespace test;
 
-GltfImportDesc keepTargets() {
-  GltfImportDesc d;
-  d.keep_morph_targets = true;
-  return d;
-}
-
 TEST(GltfMorphTargets, TargetsImportSparselyPlacedByTheirNode) {
   Character c;
   GltfImportReport r;
-  const Status s = importJson(morphFile("LINEAR"), &c, &r, keepTargets());
+  const Status s = importJson(morphFile("LINEAR"), &c, &r);
   ASSERT_TRUE(s.isOk()) << s.toString();
   ASSERT_EQ(c.mesh.morph_targets.size(), 3u);
   EXPECT_EQ(r.morph_targets, 3u);
@@ -63,7 +57,7 @@ TEST(GltfMorphTargets, TargetsImportSparselyPlacedByTheirNode) {
 void expectReferenceMatches(const std::string& interpolation) {
   SCOPED_TRACE(interpolation);
   Character c;
-  const Status s = importJson(morphFile(interpolation), &c, nullptr, keepTargets());
+  const Status s = importJson(morphFile(interpolation), &c);
   ASSERT_TRUE(s.isOk()) << s.toString();
   const double height = c.height();
   ASSERT_GT(height, 1.0);
@@ -103,7 +97,7 @@ TEST(GltfMorphTargets, TheReferencePosesCubicSplineWeightsAsTheFileSays) {
 
 TEST(GltfMorphTargets, AClipWithoutAWeightsChannelTakesTheDefaultWeights) {
   Character c;
-  ASSERT_TRUE(importJson(morphFile("LINEAR"), &c, nullptr, keepTargets()).isOk());
+  ASSERT_TRUE(importJson(morphFile("LINEAR"), &c).isOk());
   std::vector<double> w(3);
   ASSERT_TRUE(evaluateMorphWeights(c.mesh, c.clips[1], 0.5, w).isOk());
   EXPECT_EQ(w, (std::vector<double>{0.0, 0.0, 0.75}));
@@ -125,16 +119,21 @@ TEST(GltfMorphTargets, NodeWeightsWinOverTheMeshs) {
   ASSERT_NE(at, std::string::npos);
   json.insert(at + node.size(), "\"weights\":[0.5,0.25,0],");
   Character c;
-  ASSERT_TRUE(importJson(json, &c, nullptr, keepTargets()).isOk());
+  ASSERT_TRUE(importJson(json, &c).isOk());
   EXPECT_FLOAT_EQ(c.mesh.morph_targets[0].default_weight, 0.5f);
   EXPECT_FLOAT_EQ(c.mesh.morph_targets[1].default_weight, 0.25f);
   EXPECT_FLOAT_EQ(c.mesh.morph_targets[2].default_weight, 0.0f);
 }
 
-TEST(GltfMorphTargets, DroppedUnlessAskedForWithAWarningEach) {
+TEST(GltfMorphTargets, KeptByDefaultOrDroppedWithAWarningEach) {
+  Character kept;
+  ASSERT_TRUE(importJson(morphFile("LINEAR"), &kept).isOk());
+  EXPECT_EQ(kept.mesh.morph_targets.size(), 3u);
   Character c;
   GltfImportReport r;
-  ASSERT_TRUE(importJson(morphFile("LINEAR"), &c, &r).isOk());
+  GltfImportDesc drop;
+  drop.keep_morph_targets = false;
+  ASSERT_TRUE(importJson(morphFile("LINEAR"), &c, &r, drop).isOk());
   EXPECT_TRUE(c.mesh.morph_targets.empty());
   EXPECT_TRUE(c.clips[0].morph_tracks.empty());
   EXPECT_EQ(r.dropped_morph_targets, 3u);
@@ -152,7 +151,7 @@ TEST(GltfMorphTargets, EachInterpolationBakesWithinTheTolerance) {
   for (const char* interp : {"LINEAR", "STEP", "CUBICSPLINE"}) {
     SCOPED_TRACE(interp);
     Character c;
-    ASSERT_TRUE(importJson(morphFile(interp), &c, nullptr, keepTargets()).isOk());
+    ASSERT_TRUE(importJson(morphFile(interp), &c).isOk());
     BakedPalette p;
     BakeReport r;
     const Status s = bakePalette(c, BakeDesc(), &p, &r);
@@ -169,7 +168,7 @@ TEST(GltfMorphTargets, MalformedTargetsAreRefusedByName) {
   Character c;
   GltfImportReport r;
   // Two default weights for three targets.
-  Status s = importJson(morphFile("LINEAR", "[0,0.5]"), &c, &r, keepTargets());
+  Status s = importJson(morphFile("LINEAR", "[0,0.5]"), &c, &r);
   EXPECT_EQ(s.code(), StatusCode::kCorrupt);
   EXPECT_NE(s.message().find("2 default weights for 3 morph targets"), std::string::npos)
       << s.toString();
@@ -177,7 +176,7 @@ TEST(GltfMorphTargets, MalformedTargetsAreRefusedByName) {
   std::string json = morphFile("LINEAR");
   const std::string linear = "\"interpolation\":\"LINEAR\"";
   json.replace(json.find(linear), linear.size(), "\"interpolation\":\"CUBICSPLINE\"");
-  s = importJson(json, &c, &r, keepTargets());
+  s = importJson(json, &c, &r);
   EXPECT_EQ(s.code(), StatusCode::kCorrupt);
   EXPECT_NE(s.message().find("9 output weights for 3 key times of 3 morph targets"),
             std::string::npos)

@@ -197,15 +197,17 @@ TEST_P(MultiCharacterTest, IdsAndPalettesAreChecked) {
   const Status wrong = r.addCharacter(kinds[0]->character, wrong_palette, &id);
   EXPECT_FALSE(wrong.isOk());
   EXPECT_EQ(r.characterCount(), 1u);
-  // A mesh with morph targets: refused by name until the paths apply them, nothing added.
+  // A mesh with morph targets and a palette baked without them: refused by name, nothing added.
   Character morphed = kinds[0]->character;
   MorphTarget target;
   target.vertices = {0};
   target.position_deltas = {{0, 0.1f, 0}};
   morphed.mesh.morph_targets = {target};
   const Status morph = r.addCharacter(morphed, kinds[0]->palette, &id);
-  EXPECT_EQ(morph.code(), StatusCode::kUnsupported);
-  EXPECT_NE(morph.message().find("1 morph targets"), std::string::npos) << morph.toString();
+  EXPECT_EQ(morph.code(), StatusCode::kInvalidArgument);
+  EXPECT_NE(morph.message().find("the weights of 0 morph targets, the mesh has 1"),
+            std::string::npos)
+      << morph.toString();
   EXPECT_EQ(r.characterCount(), 1u);
   ASSERT_TRUE(r.addCharacter(kinds[1]->character, kinds[1]->palette, &id).isOk());
   EXPECT_EQ(id.index, 1u);

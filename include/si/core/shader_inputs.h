@@ -29,7 +29,7 @@ namespace si {
 
 /// One vertex buffer of interleaved vertices, 32 bytes each (36 with wide joints; 12 more, 16
 /// with wide joints, with a second set of influences; then 4 more each with tangents, a second
-/// texture coordinate set and vertex colours, in that order):
+/// texture coordinate set, vertex colours and morph targets, in that order):
 ///
 /// | offset | attribute (location) | format |
 /// | --- | --- | --- |
@@ -43,6 +43,8 @@ namespace si {
 /// | next | tangent (7) | 10:10:10:2 signed normalized: xyz the unit tangent, w +-1; only when
 /// the mesh has tangents | | next | texcoord 1 (8) | 2 x float16; only when the mesh has
 /// `texcoords1` | | next | colour (9) | 4 x unorm8, linear RGBA; only when the mesh has `colors` |
+/// | next | morph (12) | uint32: the vertex's run of MorphStream entries, first entry << 9 |
+/// count (0 to 256); only when the mesh has morph targets |
 ///
 /// Joints are palette slots (BakedPalette::skeleton_to_palette applied), not skeleton joints;
 /// a zero weight's joint is 0. Wide joints are used when the palette stores more than 256.
@@ -67,7 +69,41 @@ struct VertexStream {
   /// Influences 5 to 8 (joints, then weights) when the mesh has `joints1`; 0 without.
   uint32_t joints1_offset = 0;
   uint32_t weights1_offset = 0;
+  /// The morph word (the vertex's run of MorphStream entries) when the mesh has morph targets;
+  /// 0 without.
+  uint32_t morph_offset = 0;
 };
+
+/// Most MorphStream entries a mesh may have: the morph word's 23 bits of first entry.
+inline constexpr uint32_t kMaxMorphEntries = (1u << 23) - 1u;
+
+/// A mesh's morph targets as the shaders read them (SI_MORPH_TARGETS, docs/glsl-interface.md):
+/// a 2D RGBA32UI texture of entries, grouped by vertex (the vertex stream's morph word names a
+/// vertex's run) and by target within a vertex. Entry e starts at texel e * texels_per_entry:
+/// (target, position delta x, y, z as float bits), then with normal deltas (x, y, z, 0), then
+/// with tangent deltas (x, y, z, 0). Texels are numbered row by row, as the palette's.
+struct MorphStream {
+  std::vector<uint32_t> texels;  ///< width * height texels of 4 words.
+  uint32_t width = 0;            ///< A power of two.
+  uint32_t width_log2 = 0;
+  uint32_t height = 0;
+  uint32_t texels_per_entry = 0;  ///< 1 (positions), 2 (and normals) or 3 (and tangents).
+  uint32_t entry_count = 0;
+};
+
+/// Builds the morph stream of `mesh` (which has morph targets) for `palette` (baked with them:
+/// layout.morph_target_count equal to the mesh's count, kInvalidArgument otherwise), its texture
+/// at most `max_texture_size` texels a side (0: 16384). Fails, leaving `out` untouched, with
+/// kInvalidArgument for a null `out` or a mesh without targets, the codes of
+/// SkinnedMesh::validate(), and kLimitExceeded past kMaxMorphEntries entries or the texture
+/// size.
+Status buildMorphStream(const SkinnedMesh& mesh, const BakedPalette& palette,
+                        uint32_t max_texture_size, MorphStream* out);
+
+/// The value of the include's `si_morph_info` (SiPaletteInfo's second member with
+/// SI_MORPH_TARGETS): x log2 of the morph texture's width, y texels per entry, z where a frame's
+/// morph weights start in the palette (PaletteLayout::morph_first_texel), w the target count.
+glm::uvec4 morphShaderInfo(const BakedPalette& palette, const MorphStream& stream);
 
 /// Builds the vertex stream of `mesh` for `palette` (the palette baked for the mesh's
 /// skeleton). Fails, leaving `out` untouched, with kInvalidArgument when `out` is null, when

@@ -23,6 +23,13 @@ namespace si {
 glm::mat4 emulateRecordMatrix(const BakedPalette& palette, const InstanceRecord& record,
                               uint32_t slot);
 
+/// The morph target weights the shader computes for `record` (si_morph.glsl's siMorphWeight):
+/// clip A's interpolated (si::emulateMorphWeights), crossfaded towards clip B's by the record's
+/// weight. `out` holds palette.layout.morph_target_count weights (kCountMismatch otherwise).
+/// An overlay's weights are not applied: the base record's clips alone.
+Status emulateRecordMorphWeights(const BakedPalette& palette, const InstanceRecord& record,
+                                 Span<float> out);
+
 /// The same with the instance's overlay: where `layer`'s weight is above 0 and its mask (an
 /// index into `masks`, CrowdManager::layerMasks()) holds the slot, emulateLayeredMatrix() of
 /// the record's matrices and the overlay's (its frames interpolated) at the slot and its

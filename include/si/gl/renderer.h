@@ -93,8 +93,9 @@ class Renderer {
   /// when it fails: kInvalidArgument for a null `id`, a palette that fails
   /// BakedPalette::validate(), one baked for another skeleton or a mesh that fails
   /// SkinnedMesh::validate(); kLimitExceeded for a palette larger than GL_MAX_TEXTURE_SIZE or
-  /// more base colour layers than a texture array holds; kUnsupported for a mesh with morph
-  /// targets (the draw paths do not apply them yet); the allocation errors of init().
+  /// more base colour layers than a texture array holds or morph entries than a texture of
+  /// RendererDesc::max_texture_size holds (si::buildMorphStream); kInvalidArgument for a mesh
+  /// with morph targets and a palette baked without them; the allocation errors of init().
   Status addCharacter(const Character& character, const BakedPalette& palette, CharacterId* id);
   /// Replaces character `id` with `character` and its `palette` (a re-bake, another format,
   /// content reloaded), uploaded and measured as addCharacter() does; the id stays, and crowds

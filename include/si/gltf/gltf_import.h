@@ -75,10 +75,9 @@ struct GltfImportDesc {
   float fold_tolerance_height = 1e-4f;
   /// Keep the meshes' morph targets (SkinnedMesh::morph_targets; each node's mesh its own) and
   /// the weights channels that animate them (Clip::morph_tracks); the bake stores their weights
-  /// per frame. Off for now: si::Renderer refuses a character with morph targets
-  /// (kUnsupported) until its draw paths apply them, so they are dropped with a warning per
-  /// mesh (GltfImportReport::dropped_morph_targets).
-  bool keep_morph_targets = false;
+  /// per frame and the draw paths add them before skinning. False drops them, a warning per
+  /// mesh (GltfImportReport::dropped_morph_targets): a crowd seen from afar needs no faces.
+  bool keep_morph_targets = true;
 };
 
 /// What the import did besides the result.

@@ -8,6 +8,7 @@
 #include "core/skinned_normal.h"
 #include "gl/resources/gl_allocation.h"
 #include "si/core/shader_inputs.h"
+#include "si/crowd/record_emulation.h"
 
 namespace si::detail {
 
@@ -39,6 +40,25 @@ Status CpuSkinningPath::prepare(const DrawResources& r) {
   vertex_bytes_ += mesh.texcoords1.empty() ? 0 : 8;
   color_offset_ = mesh.colors.empty() ? 0 : vertex_bytes_;
   vertex_bytes_ += mesh.colors.empty() ? 0 : 4;
+  // Each vertex's morph entries, as the shaders' morph stream groups them.
+  morph_first_.clear();
+  morph_entries_.clear();
+  if (!mesh.morph_targets.empty()) {
+    std::vector<std::vector<MorphEntry>> per_vertex(mesh.vertexCount());
+    for (size_t t = 0; t < mesh.morph_targets.size(); ++t) {
+      const MorphTarget& target = mesh.morph_targets[t];
+      for (size_t i = 0; i < target.vertices.size(); ++i)
+        per_vertex[target.vertices[i]].push_back(
+            {uint32_t(t), target.position_deltas[i],
+             target.normal_deltas.empty() ? glm::vec3(0.0f) : target.normal_deltas[i],
+             target.tangent_deltas.empty() ? glm::vec3(0.0f) : target.tangent_deltas[i]});
+    }
+    for (const std::vector<MorphEntry>& entries : per_vertex) {
+      morph_first_.push_back(uint32_t(morph_entries_.size()));
+      morph_entries_.insert(morph_entries_.end(), entries.begin(), entries.end());
+    }
+    morph_first_.push_back(uint32_t(morph_entries_.size()));
+  }
   chunk_bytes_ = kChunkBytes;
   for (const glm::uvec2& range : ranges_)
     chunk_bytes_ = std::max(chunk_bytes_, size_t(range.y) * vertex_bytes_);
@@ -125,6 +145,12 @@ Status CpuSkinningPath::draw(const DrawResources& r, const PathFrame& f, DrawSta
       if (slot < 0) continue;
       joint[j] = world * recordJointMatrix(palette, view, v, uint32_t(slot));
     }
+    const bool morphs = !morph_first_.empty();
+    if (morphs) {
+      morph_weights_.resize(palette.layout.morph_target_count);
+      const Status s = emulateRecordMorphWeights(palette, rec, morph_weights_);
+      if (!s.isOk()) return s;
+    }
     for (uint32_t sm = 0; sm < worn_sub_meshes; ++sm) {
       if (!((desc.variation_mask >> sm) & 1u)) continue;
       const size_t lod_index = std::min<size_t>(lod, sub_meshes[sm].lods.size() - 1);
@@ -141,11 +167,27 @@ Status CpuSkinningPath::draw(const DrawResources& r, const PathFrame& f, DrawSta
           const Influence in = mesh.influence(vi, i);
           if (in.weight != 0.0f) blended += joint[in.joint] * in.weight;
         }
-        const glm::vec3 p(blended * glm::vec4(mesh.positions[vi], 1.0f));
+        // The bind pose, with the vertex's morph targets at the instance's weights.
+        glm::vec3 position = mesh.positions[vi], normal = mesh.normals[vi];
+        glm::vec3 direction = tangents ? glm::vec3(mesh.tangents[vi]) : glm::vec3(0.0f);
+        if (morphs && morph_first_[vi + 1] > morph_first_[vi]) {
+          glm::vec3 n = normal, t = direction;
+          for (uint32_t e = morph_first_[vi]; e < morph_first_[vi + 1]; ++e) {
+            const MorphEntry& entry = morph_entries_[e];
+            const float w = morph_weights_[entry.target];
+            if (w == 0.0f) continue;
+            position += w * entry.position;
+            n += w * entry.normal;
+            t += w * entry.tangent;
+          }
+          if (glm::length(n) > 0.0f) normal = glm::normalize(n);
+          if (glm::length(t) > 0.0f && glm::length(direction) > 0.0f) direction = glm::normalize(t);
+        }
+        const glm::vec3 p(blended * glm::vec4(position, 1.0f));
         // The normal as the shaders (and si::emulateSkinning) skin it: a blend of rotations is
         // no rotation, so through the blend's cofactor, not the blend itself.
         const glm::mat3 m(blended);
-        const glm::vec3 n = detail::skinNormal(m, mesh.normals[vi]);
+        const glm::vec3 n = detail::skinNormal(m, normal);
         const glm::vec2 uv = mesh.texcoords.empty() ? glm::vec2(0.0f) : mesh.texcoords[vi];
         const float values[8] = {p.x, p.y, p.z, n.x, n.y, n.z, uv.x, uv.y};
         std::memcpy(out, values, sizeof(values));
@@ -159,7 +201,7 @@ Status CpuSkinningPath::draw(const DrawResources& r, const PathFrame& f, DrawSta
         if (!tangents) continue;
         // Skinned as the vertex shader skins it: the blended matrix, normalized, w kept.
         const glm::vec4& t = mesh.tangents[vi];
-        const glm::vec3 turned = m * glm::vec3(t);
+        const glm::vec3 turned = m * direction;
         const float length = glm::length(turned);
         const glm::vec4 skinned = length > 0.0f ? glm::vec4(turned / length, t.w) : glm::vec4(0.0f);
         std::memcpy(bytes + tangent_offset_, &skinned[0], sizeof(skinned));

@@ -1,8 +1,9 @@
 // SkinnedInstancing — SPDX-License-Identifier: MIT (see LICENSE)
 #pragma once
-// The CPU-skinning baseline: per visible instance, its joint matrices from the palette, the
-// vertices of its worn sub-meshes at its LOD skinned on the CPU (si::emulateSkinning's
-// arithmetic), streamed to the GPU in camera-relative world space and drawn unskinned.
+// The CPU-skinning baseline: per visible instance, its joint matrices and morph target weights
+// from the palette, the vertices of its worn sub-meshes at its LOD morphed and skinned on the
+// CPU (si::emulateSkinning's arithmetic), streamed to the GPU in camera-relative world space
+// and drawn unskinned.
 
 #include <vector>
 
@@ -35,6 +36,15 @@ class CpuSkinningPath final : public DrawPath {
   size_t tangent_offset_ = 0;    // 4 floats; 0 when the mesh has no tangents.
   size_t texcoord1_offset_ = 0;  // 2 floats; 0 when the mesh has no texture coordinates 1.
   size_t color_offset_ = 0;      // 4 x unorm8; 0 when the mesh has no colours.
+  // The mesh's morph targets by vertex (empty without): vertex v's entries are
+  // morph_entries_[morph_first_[v] .. morph_first_[v + 1]).
+  struct MorphEntry {
+    uint32_t target;
+    glm::vec3 position, normal, tangent;
+  };
+  std::vector<uint32_t> morph_first_;
+  std::vector<MorphEntry> morph_entries_;
+  std::vector<float> morph_weights_;  // The drawn instance's.
 };
 
 }  // namespace si::detail

@@ -225,9 +225,9 @@ const EsBinding* esBindings(size_t* count) {
   // The desktop shaders' layout qualifiers: si_skinning.glsl's defaults, surface.frag.glsl's and
   // surface_common.glsl's samplers, material_common.glsl's table (a uniform block on ES).
   static const EsBinding kBindings[] = {
-      {"SiInstances", false, 0}, {"SiPaletteInfo", false, 4}, {"SiMaterials", false, 11},
-      {"si_palette", true, 0},   {"u_base_color", true, 1},   {"u_custom", true, 2},
-      {"u_material_data", true, 4},
+      {"SiInstances", false, 0},    {"SiPaletteInfo", false, 4}, {"SiMaterials", false, 11},
+      {"si_palette", true, 0},      {"u_base_color", true, 1},   {"u_custom", true, 2},
+      {"u_material_data", true, 4}, {"si_morphs", true, 5},
   };
   *count = sizeof(kBindings) / sizeof(kBindings[0]);
   return kBindings;
@@ -287,7 +287,8 @@ Status assembleStage(ProgramId id, ShaderStage stage, const ShaderConfig& config
                 "\n#define SI_MAX_JOINTS ", config.max_joints, "\n",
                 config.es ? strCat("#define SI_MAX_MATERIALS ", kEsMaxMaterials, "\n") : "",
                 config.vertex_words ? "#define SI_VERTEX_WORDS\n" : "",
-                config.eight_influences ? "#define SI_EIGHT_INFLUENCES\n" : "", spec.defines,
+                config.eight_influences ? "#define SI_EIGHT_INFLUENCES\n" : "",
+                config.morph_targets ? "#define SI_MORPH_TARGETS\n" : "", spec.defines,
                 material_defines, text);
   // The material's lines are numbered from 1 as source string 1 in the compiler's log.
   if (material != nullptr || material_file != nullptr)

@@ -154,6 +154,10 @@ struct ShaderConfig {
   /// attributes 10 and 11, or the pre-skinning source's words after the fixed ones) is
   /// skinned too. Only the variants drawn for such characters (skinsVertices()).
   bool eight_influences = false;
+  /// SI_MORPH_TARGETS: the mesh's morph targets (its morph word, attribute 12 or the
+  /// pre-skinning source's last word; the morph texture; si_morph.glsl) are added before
+  /// skinning. Only the variants drawn for such characters (skinsVertices()).
+  bool morph_targets = false;
 };
 
 /// Whether program `id` comes in a variant for meshes with optional vertex words

@@ -182,14 +182,15 @@ Status ProgramSet::addMaterial(const MaterialSource& material, uint32_t* index) 
   return Status::ok();
 }
 
-Status ProgramSet::buildMaskedDepth(bool eight_influences) {
+Status ProgramSet::buildMaskedDepth(uint32_t features) {
   MaterialSource mask_only;
   mask_only.name = "alpha mask (depth only)";
   mask_only.text = "void siMaterial(SiSurface surface) {}\n";
   mask_only.depth_discard = true;
   ShaderConfig config = config_;
-  config.eight_influences = eight_influences;
-  std::array<Program, kProgramCount>& masked = masked_depth_[eight_influences ? 1 : 0];
+  config.eight_influences = (features & kMeshEightInfluences) != 0;
+  config.morph_targets = (features & kMeshMorphTargets) != 0;
+  std::array<Program, kProgramCount>& masked = masked_depth_[features & kMeshSkinFeatures];
   for (size_t i = 0; i < kProgramCount; ++i) {
     const ProgramId id = ProgramId(i);
     if (programs_[i].id == kNoObject || masked[i].id != kNoObject ||
@@ -208,7 +209,7 @@ namespace {
 // Whether mesh `features` change program `id`.
 bool changedBy(ProgramId id, uint32_t features) {
   return ((features & kMeshVertexWords) != 0 && readsVertexWords(id)) ||
-         ((features & kMeshEightInfluences) != 0 && skinsVertices(id));
+         ((features & kMeshSkinFeatures) != 0 && skinsVertices(id));
 }
 }  // namespace
 
@@ -226,6 +227,7 @@ Status ProgramSet::buildMeshVariants(uint32_t material, uint32_t features) {
   ShaderConfig config = config_;
   config.vertex_words = (features & kMeshVertexWords) != 0;
   config.eight_influences = (features & kMeshEightInfluences) != 0;
+  config.morph_targets = (features & kMeshMorphTargets) != 0;
   for (size_t i = 0; i < kProgramCount; ++i) {
     const ProgramId id = ProgramId(i);
     Program& variant = by_material[material][i];
@@ -245,8 +247,7 @@ const Program& ProgramSet::get(ProgramId id, uint32_t material, bool alpha_maske
                                uint32_t features) const {
   const bool own = material != 0 && material <= materials_.size() &&
                    materials_[material - 1]->programs[size_t(id)].id != kNoObject;
-  const bool eight = (features & kMeshEightInfluences) != 0;
-  const Program& masked = masked_depth_[eight ? 1 : 0][size_t(id)];
+  const Program& masked = masked_depth_[features & kMeshSkinFeatures][size_t(id)];
   // An alpha-masked character's depth-only programs discard by its mask, unless its
   // material's own do.
   if (alpha_masked && !own && masked.id != kNoObject) return masked;

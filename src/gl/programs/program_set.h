@@ -39,9 +39,13 @@ struct Program {
 Status compileShader(GLenum type, const std::string& source, const char* name, GLuint* out);
 
 /// Mesh features that change the programs drawing a character (bits of
-/// ProgramTable::features): texture coordinates 1 or colours; a second set of influences.
+/// ProgramTable::features): texture coordinates 1 or colours; a second set of influences;
+/// morph targets.
 inline constexpr uint32_t kMeshVertexWords = 1;
 inline constexpr uint32_t kMeshEightInfluences = 2;
+inline constexpr uint32_t kMeshMorphTargets = 4;
+/// The features that change how vertices are skinned (skinsVertices() programs).
+inline constexpr uint32_t kMeshSkinFeatures = kMeshEightInfluences | kMeshMorphTargets;
 
 /// The catalog's programs, compiled and linked.
 class ProgramSet {
@@ -62,16 +66,17 @@ class ProgramSet {
   Status addMaterial(const MaterialSource& material, uint32_t* index);
   /// Builds, once, the depth-only programs of alpha-masked characters: surface.frag.glsl with
   /// SI_DEPTH_ONLY and a material that writes nothing, so the surface's alpha-mask discard
-  /// (glTF MASK) alone cuts the depth; with `eight_influences`, those of meshes with 8.
-  /// kBackend with the driver's log when one fails.
-  Status buildMaskedDepth(bool eight_influences = false);
+  /// (glTF MASK) alone cuts the depth; for meshes with `features` (their kMeshSkinFeatures:
+  /// 8 influences, morph targets). kBackend with the driver's log when one fails.
+  Status buildMaskedDepth(uint32_t features = 0);
   /// Builds, once for `material` (0: the built-in one; a host material also needs the built-in
   /// variants of the programs it does not change) and mesh `features` (kMeshVertexWords,
   /// kMeshEightInfluences or both), the variants of the programs a feature changes, drawn for
   /// characters whose meshes have those features: those that readsVertexWords() with
   /// ShaderConfig::vertex_words (texture coordinates 1 or colours; the others write no output
-  /// for them) and those that skinsVertices() with ShaderConfig::eight_influences (and, for
-  /// the latter, the depth-only programs of alpha-masked characters: buildMaskedDepth()).
+  /// for them) and those that skinsVertices() with ShaderConfig::eight_influences and
+  /// morph_targets (and, for the latter, the depth-only programs of alpha-masked characters:
+  /// buildMaskedDepth()).
   /// kBackend with the driver's log when one fails; kInvalidArgument for an unknown material.
   Status buildMeshVariants(uint32_t material, uint32_t features);
   /// Deletes every program (context current). Idempotent.
@@ -104,11 +109,11 @@ class ProgramSet {
   ShaderConfig config_;
   LibraryBindings bindings_;  // Of every built-in program (desktop GL): what materials avoid.
   std::array<Program, kProgramCount> programs_{};
-  // buildMaskedDepth's (kDepth ids only), without and with 8 influences.
-  std::array<std::array<Program, kProgramCount>, 2> masked_depth_{};
+  // buildMaskedDepth's (kDepth ids only), by skin features (kMeshSkinFeatures bits).
+  std::array<std::array<Program, kProgramCount>, 8> masked_depth_{};
   // buildMeshVariants's, by mesh features (index 0 unused) and material (0: the built-in one;
   // a host material's hold only the programs it changes).
-  std::array<std::vector<std::array<Program, kProgramCount>>, 4> variants_;
+  std::array<std::vector<std::array<Program, kProgramCount>>, 8> variants_;
   std::vector<std::unique_ptr<MaterialPrograms>> materials_;  // Material index - 1.
 };
 

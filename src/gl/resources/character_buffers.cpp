@@ -62,15 +62,12 @@ Status CharacterBuffers::upload(const Character& character, const BakedPalette& 
   Status s = m.validate(character.skeleton.jointCount());
   if (!s.isOk()) return s;
   if (palette.skeleton_to_palette.size() != character.skeleton.jointCount())
-    return {StatusCode::kInvalidArgument,
-            "the palette was baked for another skeleton"};
-  if (!m.morph_targets.empty())
-    return {StatusCode::kUnsupported,
-            strCat("the mesh has ", m.morph_targets.size(),
-                   " morph targets, which the draw paths do not apply yet (drop them: "
-                   "GltfImportDesc::keep_morph_targets)")};
+    return {StatusCode::kInvalidArgument, "the palette was baked for another skeleton"};
   VertexStream stream;
   s = buildVertexStream(m, palette, &stream);
+  MorphStream morphs;
+  if (s.isOk() && !m.morph_targets.empty())
+    s = buildMorphStream(m, palette, max_texture_size == 0 ? 16384 : max_texture_size, &morphs);
   MaterialTable table;
   if (s.isOk()) s = buildMaterialTable(character, max_texture_size, &table);
   if (!s.isOk()) return s;
@@ -81,10 +78,23 @@ Status CharacterBuffers::upload(const Character& character, const BakedPalette& 
     s = createIndexBuffer(&index_buffer, m.indices.size() * 4, m.indices.data(),
                           "the character's index buffer");
   if (s.isOk()) s = uploadMaterials(&table, stream);
+  if (s.isOk() && !morphs.texels.empty()) {
+    s = createTexture2D(&morph_texture, 1, GL_RGBA32UI, GLsizei(morphs.width),
+                        GLsizei(morphs.height), "the character's morph targets");
+    if (s.isOk()) {
+      glPixelStorei(GL_UNPACK_ALIGNMENT, 4);
+      glTextureSubImage2D(morph_texture, 0, 0, 0, GLsizei(morphs.width), GLsizei(morphs.height),
+                          GL_RGBA_INTEGER, GL_UNSIGNED_INT, morphs.texels.data());
+      glTextureParameteri(morph_texture, GL_TEXTURE_MIN_FILTER, GL_NEAREST);
+      glTextureParameteri(morph_texture, GL_TEXTURE_MAG_FILTER, GL_NEAREST);
+    }
+  }
   if (!s.isOk()) {
     release();
     return s;
   }
+  morph_offset = stream.morph_offset;
+  morph_info = morphs.texels.empty() ? glm::uvec4(0u) : morphShaderInfo(palette, morphs);
   wide_joints = stream.wide_joints;
   stride_bytes = stream.stride_bytes;
   sub_meshes = m.sub_meshes;
@@ -205,6 +215,11 @@ void CharacterBuffers::describeVertexFormat(GLuint v) const {
                                joints1_offset);
     glVertexArrayAttribFormat(v, 11, 4, GL_UNSIGNED_SHORT, GL_TRUE, weights1_offset);
   }
+  if (morph_offset != 0) {  // The morph word (attribute 12): SI_MORPH_TARGETS.
+    glEnableVertexArrayAttrib(v, 12);
+    glVertexArrayAttribBinding(v, 12, 0);
+    glVertexArrayAttribIFormat(v, 12, 1, GL_UNSIGNED_INT, morph_offset);
+  }
   if (esProfile()) {  // GLSL ES 3.00 reads each vertex's material index as attribute 6.
     glVertexArrayVertexBuffer(v, 1, vertex_materials, 0, 2);
     glEnableVertexArrayAttrib(v, 6);
@@ -217,10 +232,10 @@ void CharacterBuffers::release() {
   if (vao != kNoObject) glDeleteVertexArrays(1, &vao);
   const GLuint buffers[] = {vertex_buffer, index_buffer, vertex_materials, material_table};
   glDeleteBuffers(4, buffers);
-  const GLuint textures[] = {base_texture, data_texture};
-  glDeleteTextures(2, textures);
+  const GLuint textures[] = {base_texture, data_texture, morph_texture};
+  glDeleteTextures(3, textures);
   vao = vertex_buffer = index_buffer = base_texture = data_texture = vertex_materials =
-      material_table = kNoObject;
+      material_table = morph_texture = kNoObject;
 }
 
 }  // namespace si::detail

@@ -39,7 +39,7 @@ struct CharacterBuffers {
   void describeVertexFormat(GLuint vao) const;
   /// Binds the materials where the shading reads them (material_common.glsl): the colour array
   /// at texture unit 1, the data array at unit 4, the per-vertex materials and the table at
-  /// storage bindings 10, 11.
+  /// storage bindings 10, 11 (the morph texture is bound with the palette: PaletteTexture).
   void bindMaterials() const;
   /// The index range of `sub_mesh` at `lod` (its last LOD when `lod` is past it).
   IndexRange lodRange(uint32_t sub_mesh, uint32_t lod) const {
@@ -57,6 +57,8 @@ struct CharacterBuffers {
   GLuint base_texture = kNoObject;  ///< GL_TEXTURE_2D_ARRAY (sRGB): the colour layers.
   GLuint data_texture = kNoObject;  ///< GL_TEXTURE_2D_ARRAY (linear): the data layers.
   GLuint vertex_materials = kNoObject, material_table = kNoObject;
+  /// GL_TEXTURE_2D (RGBA32UI): the mesh's si::MorphStream, when it has morph targets.
+  GLuint morph_texture = kNoObject;
   std::vector<SubMesh> sub_meshes;
   uint32_t vertex_count = 0;
   uint32_t stride_bytes = 32;
@@ -66,12 +68,17 @@ struct CharacterBuffers {
   uint32_t color_offset = 0;      ///< VertexStream::color_offset (0: no colours).
   uint32_t joints1_offset = 0;    ///< VertexStream::joints1_offset (0: 4 influences).
   uint32_t weights1_offset = 0;   ///< VertexStream::weights1_offset.
+  uint32_t morph_offset = 0;      ///< VertexStream::morph_offset (0: no morph targets).
+  /// si::morphShaderInfo() of the mesh's morph stream (0 without targets): the palette info
+  /// block's second member.
+  glm::uvec4 morph_info{0u};
   /// The mesh features its draws' programs are variants for (ProgramSet::buildMeshVariants):
   /// kMeshVertexWords with texture coordinates 1 or colours, kMeshEightInfluences with a
-  /// second set of influences.
+  /// second set of influences, kMeshMorphTargets with morph targets.
   uint32_t meshFeatures() const {
     return (texcoord1_offset != 0 || color_offset != 0 ? kMeshVertexWords : 0u) |
-           (joints1_offset != 0 ? kMeshEightInfluences : 0u);
+           (joints1_offset != 0 ? kMeshEightInfluences : 0u) |
+           (morph_offset != 0 ? kMeshMorphTargets : 0u);
   }
   /// A material draws both faces (glTF doubleSided): the character's draws cull no faces.
   bool double_sided = false;

@@ -8,7 +8,8 @@
 
 namespace si::detail {
 
-Status PaletteTexture::upload(const BakedPalette& palette, const GlInfo& info) {
+Status PaletteTexture::upload(const BakedPalette& palette, const GlInfo& info,
+                              const glm::uvec4& morph_info, GLuint morph_texture) {
   const PaletteLayout& l = palette.layout;
   const Status valid = palette.validate();  // Never draws from an inconsistent palette.
   if (!valid.isOk()) return {StatusCode::kInvalidArgument, "the palette: " + valid.message()};
@@ -28,26 +29,28 @@ Status PaletteTexture::upload(const BakedPalette& palette, const GlInfo& info) {
   glTextureParameteri(texture_, GL_TEXTURE_MIN_FILTER, GL_NEAREST);
   glTextureParameteri(texture_, GL_TEXTURE_MAG_FILTER, GL_NEAREST);
   const glm::uvec4 info_value = paletteShaderInfo(palette);
-  s = createBuffer(&info_buffer_, sizeof(info_value), &info_value[0], 0,
-                   "the palette's info block");
+  const glm::uvec4 block[2] = {info_value, morph_info};
+  s = createBuffer(&info_buffer_, sizeof(block), &block[0][0], 0, "the palette's info block");
   if (!s.isOk()) {
     release();
     return s;
   }
   shader_info_ = info_value;
   palette_ = &palette;
+  morph_texture_ = morph_texture;
   return Status::ok();
 }
 
 void PaletteTexture::bind() const {
   glBindTextureUnit(0, texture_);
   glBindBufferBase(GL_UNIFORM_BUFFER, 4, info_buffer_);
+  if (morph_texture_ != kNoObject) glBindTextureUnit(5, morph_texture_);
 }
 
 void PaletteTexture::release() {
   if (texture_ != kNoObject) glDeleteTextures(1, &texture_);
   if (info_buffer_ != kNoObject) glDeleteBuffers(1, &info_buffer_);
-  texture_ = info_buffer_ = kNoObject;
+  texture_ = info_buffer_ = morph_texture_ = kNoObject;
   palette_ = nullptr;
 }
 

@@ -1,7 +1,8 @@
 // SkinnedInstancing — SPDX-License-Identifier: MIT (see LICENSE)
 #pragma once
 // The palette on the GPU: one RGBA32F (or RGBA16F) texture read with texelFetch, and the
-// include's si_palette_info value in a 16-byte uniform buffer (block SiPaletteInfo).
+// include's si_palette_info and si_morph_info values in a 32-byte uniform buffer (block
+// SiPaletteInfo; the second member only with SI_MORPH_TARGETS).
 
 #include <glad/gl.h>
 
@@ -15,17 +16,22 @@ namespace si::detail {
 
 class PaletteTexture {
  public:
-  /// Uploads `palette` (borrowed: it must outlive the upload's use). kInvalidArgument for a
-  /// palette that fails BakedPalette::validate(); kLimitExceeded past GL_MAX_TEXTURE_SIZE.
-  Status upload(const BakedPalette& palette, const GlInfo& info);
+  /// Uploads `palette` (borrowed: it must outlive the upload's use) with what the skinning
+  /// reads beside it for a mesh with morph targets: `morph_info` (si::morphShaderInfo() of its
+  /// morph stream, 0 without) and `morph_texture` (the stream's texture, borrowed; kNoObject
+  /// without). kInvalidArgument for a palette that fails BakedPalette::validate();
+  /// kLimitExceeded past GL_MAX_TEXTURE_SIZE.
+  Status upload(const BakedPalette& palette, const GlInfo& info,
+                const glm::uvec4& morph_info = glm::uvec4(0u), GLuint morph_texture = kNoObject);
   void release();
 
   GLuint texture() const { return texture_; }
   const glm::uvec4& shaderInfo() const { return shader_info_; }
   /// The uniform buffer holding shaderInfo(), for block SiPaletteInfo.
   GLuint infoBuffer() const { return info_buffer_; }
-  /// Binds the texture at unit 0 and the info block at uniform binding 4 (the include's
-  /// SI_PALETTE_BINDING and SI_PALETTE_INFO_BINDING defaults, which the library's programs use).
+  /// Binds the texture at unit 0, the info block at uniform binding 4 and the morph texture,
+  /// when there is one, at unit 5 (the include's SI_PALETTE_BINDING, SI_PALETTE_INFO_BINDING
+  /// and SI_MORPH_BINDING defaults, which the library's programs use).
   void bind() const;
   const BakedPalette* palette() const { return palette_; }
   bool ready() const { return texture_ != kNoObject; }
@@ -33,6 +39,7 @@ class PaletteTexture {
 
  private:
   GLuint texture_ = kNoObject, info_buffer_ = kNoObject;
+  GLuint morph_texture_ = kNoObject;  // Borrowed (CharacterBuffers').
   glm::uvec4 shader_info_{0};
   const BakedPalette* palette_ = nullptr;
 };

@@ -44,7 +44,8 @@ Status PreSkinLists::build(const CharacterBuffers& character) {
   source_words = character.stride_bytes / 4 | (character.wide_joints ? 0x100u : 0u) |
                  (character.texcoord1_offset != 0 ? 0x400u : 0u) |
                  (character.color_offset != 0 ? 0x800u : 0u) |
-                 (character.joints1_offset != 0 ? 0x1000u : 0u);
+                 (character.joints1_offset != 0 ? 0x1000u : 0u) |
+                 (character.morph_offset != 0 ? 0x2000u : 0u);
   tangents = character.tangent_offset != 0;
   return Status::ok();
 }

@@ -34,7 +34,8 @@ struct PreSkinLists {
   GLuint lod_vertex_list = kNoObject;  ///< Source vertex of each local vertex.
   uint32_t max_lod_vertices = 0;       ///< The largest list.
   /// 32-bit words per source vertex (stride / 4), | 0x100 with wide joints, | 0x400 with
-  /// texture coordinates 1, | 0x800 with colours: pre_skin_common.glsl's u_layout.y for a pass
+  /// texture coordinates 1, | 0x800 with colours, | 0x1000 with 8 influences, | 0x2000 with
+  /// morph targets: pre_skin_common.glsl's u_layout.y for a pass
   /// that writes no tangents (captureSkinnedPositions).
   uint32_t source_words = 8;
   /// The source vertices have a tangent word (CharacterBuffers::tangent_offset).

@@ -12,7 +12,8 @@
 // the skinning passes write the tangent ring (storage binding 28; the pulling draws read it
 // when compiled with SI_TANGENTS) | 0x400 when the source has texture coordinates 1 | 0x800
 // when it has colours | 0x1000 when it has a second set of influences (its joints and weights
-// words right after the fixed ones; read with SI_EIGHT_INFLUENCES).
+// words right after the fixed ones; read with SI_EIGHT_INFLUENCES) | 0x2000 when it has morph
+// targets (its morph word last; read with SI_MORPH_TARGETS).
 // The bindings can be moved (the GPU-driven passes use 2 and 3 for other buffers).
 #ifndef SI_PRE_SKIN_COMMON_GLSL
 #define SI_PRE_SKIN_COMMON_GLSL
@@ -55,9 +56,13 @@ vec4 siUnpackTangent(uint word) {
   return vec4(siOctDecode(unpackSnorm2x16(word & ~1u)), (word & 1u) != 0u ? -1.0 : 1.0);
 }
 
-// The words after a source vertex's tangent: its texture coordinates 1 and colour, each when
-// the source has them (0x400, 0x800).
-uint siTrailingWords() { return ((u_layout.y >> 10) & 1u) + ((u_layout.y >> 11) & 1u); }
+// The words after a source vertex's colour: its morph word when the source has one (0x2000).
+uint siMorphWords() { return (u_layout.y >> 13) & 1u; }
+// The words after a source vertex's tangent: its texture coordinates 1, colour and morph word,
+// each when the source has them (0x400, 0x800, 0x2000).
+uint siTrailingWords() {
+  return ((u_layout.y >> 10) & 1u) + ((u_layout.y >> 11) & 1u) + siMorphWords();
+}
 
 // The texture coordinates of local vertex k of the list starting at `list_offset`.
 vec2 siSourceTexcoord(uint list_offset, uint k) {
@@ -68,12 +73,19 @@ vec2 siSourceTexcoord(uint list_offset, uint k) {
 vec2 siSourceTexcoord1(uint source) {
   if ((u_layout.y & 0x400u) == 0u) return vec2(0.0);
   uint words = u_layout.y & 0xFFu;
-  return unpackHalf2x16(si_source[source * words + words - 1u - ((u_layout.y >> 11) & 1u)]);
+  return unpackHalf2x16(
+      si_source[source * words + words - 1u - ((u_layout.y >> 11) & 1u) - siMorphWords()]);
 }
 vec4 siSourceColor(uint source) {
   if ((u_layout.y & 0x800u) == 0u) return vec4(1.0);
   uint words = u_layout.y & 0xFFu;
-  return unpackUnorm4x8(si_source[source * words + words - 1u]);
+  return unpackUnorm4x8(si_source[source * words + words - 1u - siMorphWords()]);
+}
+// Source vertex `source`'s morph word (0, no targets, when the source has none).
+uint siSourceMorphWord(uint source) {
+  if (siMorphWords() == 0u) return 0u;
+  uint words = u_layout.y & 0xFFu;
+  return si_source[source * words + words - 1u];
 }
 
 // A GL_INT_2_10_10_10_REV word, normalized: what the vertex-shader path's attribute fetch
@@ -149,13 +161,21 @@ void siPreSkinMatrix(SiInstance inst, uvec4 layer, uint record, bool previous, u
 #endif
 }
 
-// Source vertex `source`'s bind-pose position `p` and normal `n`, and its blended joint matrix
-// rows for `inst` (siPreSkinMatrix).
+// Source vertex `source`'s bind-pose position `p`, normal `n` and tangent `t` (vec4(0) without
+// siHasTangents()), with SI_MORPH_TARGETS its morph targets added at `inst`'s weights, and its
+// blended joint matrix rows for `inst` (siPreSkinMatrix).
 void siPreSkinSource(uint source, SiInstance inst, uvec4 layer, uint record, bool previous,
-                     out vec3 p, out vec3 n, out vec4 m0, out vec4 m1, out vec4 m2) {
+                     out vec3 p, out vec3 n, out vec4 t, out vec4 m0, out vec4 m1,
+                     out vec4 m2) {
   uvec4 joints;
   vec4 weights;
   siSourceVertex(source, p, n, joints, weights);
+  t = siHasTangents() ? siSourceTangent(source) : vec4(0.0);
+#ifdef SI_MORPH_TARGETS
+  vec3 direction = t.xyz;
+  siMorph(inst, siSourceMorphWord(source), p, n, direction);
+  t.xyz = direction;
+#endif
   siPreSkinMatrix(inst, layer, record, previous, joints, weights, m0, m1, m2);
 #ifdef SI_EIGHT_INFLUENCES
   // The skinning sum is linear in the weights: the second set's is added.
@@ -175,14 +195,13 @@ void siPreSkinSource(uint source, SiInstance inst, uvec4 layer, uint record, boo
 // or the packed "no tangent" without siHasTangents().
 vec4 siPreSkin(uint source, SiInstance inst, uvec4 layer, uint record, out uint tangent) {
   vec3 p, n;
-  vec4 m0, m1, m2;
-  siPreSkinSource(source, inst, layer, record, false, p, n, m0, m1, m2);
+  vec4 t, m0, m1, m2;
+  siPreSkinSource(source, inst, layer, record, false, p, n, t, m0, m1, m2);
   vec4 w0 = inst.world_rows[0], w1 = inst.world_rows[1], w2 = inst.world_rows[2];
   vec3 world = siTransformPoint(w0, w1, w2, siTransformPoint(m0, m1, m2, p));
   vec3 normal = siTransformNormal(w0, w1, w2, siTransformNormal(m0, m1, m2, n));
   tangent = siPackTangent(vec4(0.0));
   if (siHasTangents()) {  // Uniform: a character without tangents does none of this work.
-    vec4 t = siSourceTangent(source);
     vec3 skinned_t = siTransformVector(w0, w1, w2, siTransformVector(m0, m1, m2, t.xyz));
     float t_length = length(skinned_t);
     if (t_length > 0.0) tangent = siPackTangent(vec4(skinned_t / t_length, t.w));
@@ -196,8 +215,8 @@ vec4 siPreSkin(uint source, SiInstance inst, uvec4 layer, uint record, out uint 
 // rows), as siSkinPrevious: world position relative to the previous camera.
 vec3 siPreSkinPrevious(uint source, SiInstance prev, uvec4 prev_layer, uint record) {
   vec3 p, n;
-  vec4 m0, m1, m2;
-  siPreSkinSource(source, prev, prev_layer, record, true, p, n, m0, m1, m2);
+  vec4 t, m0, m1, m2;
+  siPreSkinSource(source, prev, prev_layer, record, true, p, n, t, m0, m1, m2);
   return siPlacePoint(prev, m0, m1, m2, p);
 }
 #endif

@@ -2,7 +2,7 @@
 // The skinning include for your own vertex (or compute) shaders: the instance record, the
 // instance block, the palette and functions that fetch, interpolate, crossfade and blend the
 // bone matrices exactly as si::emulateSkinningMatrix() and si::emulateSkinning() do on the CPU.
-// Interface version 10 (2: the fraction words carry the interval mode, cubic clips; 3: the
+// Interface version 11 (2: the fraction words carry the interval mode, cubic clips; 3: the
 // record's fourth blend word is the appearance: tint RGB8 and the custom texture layer; 4: the
 // previous frame's records and siSkinPrevious, for motion vectors; 5: layered animation, the
 // layer records, the mask table and siSkinLayered; 6: the mask table holds each slot's bind-pose
@@ -11,7 +11,8 @@
 // (OpenGL ES 3.0, WebGL 2) through si_profile.glsl: there the application binds the blocks and
 // the palette sampler after linking; 9: bit 31 of a layer record's last word flags a 2D blend's
 // extra layer records, siLayerMask and siLayerWeight read the word, siLayeredChainRows composes
-// the chain; 10: SI_SKIN_SUM and siPlacePoint, what the skinning functions are made of);
+// the chain; 10: SI_SKIN_SUM and siPlacePoint, what the skinning functions are made of; 11:
+// SI_MORPH_TARGETS, si_morph.glsl: morph targets, si_morph_info in SiPaletteInfo);
 // docs/glsl-interface.md documents every name, binding and define.
 //
 // Before including, define SI_MAX_INSTANCES (records per draw: InstanceBatcher::
@@ -39,9 +40,11 @@
 // storage binding SI_MASK_BINDING (si::layerMaskTable) and siSkinLayered(); with
 // SI_PREVIOUS_RECORDS too, the previous layer records at binding SI_PREVIOUS_LAYER_BINDING
 // (InstanceBatcher::buildPreviousLayers) and siSkinPreviousLayered().
+// Morph targets: define SI_MORPH_TARGETS for si_morph.glsl (the morph texture at texture unit
+// SI_MORPH_BINDING [5], si_morph_info as SiPaletteInfo's second member, siMorph()).
 #ifndef SI_SKINNING_GLSL
 #define SI_SKINNING_GLSL
-#define SI_GLSL_INTERFACE_VERSION 10
+#define SI_GLSL_INTERFACE_VERSION 11
 #include "si_profile.glsl"
 #include "si_instance_record.glsl"
 #include "si_transform.glsl"
@@ -117,6 +120,9 @@ SI_BINDING_LAYOUT(SI_PALETTE_BINDING) uniform sampler2D si_palette;
 // x: log2 of the palette's width, y: joint stride in texels, z: 0 matrices, 1 quaternions.
 layout(std140 SI_WITH_BINDING(SI_PALETTE_INFO_BINDING)) uniform SiPaletteInfo {
   uvec4 si_palette_info;
+#ifdef SI_MORPH_TARGETS
+  uvec4 si_morph_info;  // si::morphShaderInfo(): si_morph.glsl.
+#endif
 };
 
 ivec2 siTexel(uint i) {
@@ -250,5 +256,8 @@ vec3 siSkinPrevious(uint instance, uvec4 joints, vec4 weights, vec3 position) {
 
 #ifdef SI_LAYERS
 #include "si_layered.glsl"
+#endif
+#ifdef SI_MORPH_TARGETS
+#include "si_morph.glsl"
 #endif
 #endif

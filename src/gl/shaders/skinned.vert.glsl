@@ -14,7 +14,8 @@
 // SI_VERTEX_WORDS (also texture coordinates 1 and the colour: meshes that have them),
 // SI_INSTANCE_HANDLE (also the instance's handle: instance_handle.glsl), SI_EIGHT_INFLUENCES
 // (influences 5 to 8 too, attributes 10 and 11: the skinning sum is linear in the weights, so
-// each set's sum is added).
+// each set's sum is added), SI_MORPH_TARGETS (the vertex's morph targets added before skinning,
+// its morph word attribute 12: si_morph.glsl; not with SI_TRADITIONAL).
 #define SI_VERTEX_MATERIALS
 #if defined(SI_GPU_DRIVEN) && defined(SI_LAYERS)
 #define SI_LAYERS_IN_STORAGE  // The cull pass's layer records, by visible index.
@@ -77,6 +78,12 @@ layout(location = 11) in vec4 a_weights1;
   }
 #else
 #define SI_SECOND_SET(CALL, m0, m1, m2)
+#endif
+#if defined(SI_MORPH_TARGETS) && !defined(SI_TRADITIONAL)
+layout(location = 12) in uint a_morph;
+#define SI_MORPH_VERTEX(inst, p, n, t) siMorph(inst, a_morph, p, n, t)
+#else
+#define SI_MORPH_VERTEX(inst, p, n, t)
 #endif
 #include "vertex_words.glsl"
 SI_LOCATION_LAYOUT(1) uniform mat4 u_view_projection;
@@ -163,7 +170,10 @@ void main() {
   vec4 w0 = inst.world_rows[0], w1 = inst.world_rows[1], w2 = inst.world_rows[2];
   uint color = inst.blend.w;
 #endif
-  vec3 model = siTransformPoint(m0, m1, m2, a_position);
+  // The bind pose, with the vertex's morph targets at the instance's weights.
+  vec3 position = a_position, normal = a_normal.xyz, tangent_direction = a_tangent.xyz;
+  SI_MORPH_VERTEX(inst, position, normal, tangent_direction);
+  vec3 model = siTransformPoint(m0, m1, m2, position);
 #ifdef SI_CAPTURE
   tf_position = model;
 #endif
@@ -174,8 +184,9 @@ void main() {
 #else
   v_lod = u_lod;
 #endif
-  v_normal = siTransformNormal(w0, w1, w2, siTransformNormal(m0, m1, m2, a_normal.xyz));
-  vec3 tangent = siTransformVector(w0, w1, w2, siTransformVector(m0, m1, m2, a_tangent.xyz));
+  v_normal = siTransformNormal(w0, w1, w2, siTransformNormal(m0, m1, m2, normal));
+  vec3 tangent =
+      siTransformVector(w0, w1, w2, siTransformVector(m0, m1, m2, tangent_direction));
   float tangent_length = length(tangent);
   v_tangent = vec4(tangent_length > 0.0 ? tangent / tangent_length : tangent, a_tangent.w);
   v_texcoord = a_texcoord;
@@ -213,7 +224,10 @@ void main() {
   siSkin(prev, a_joints, a_weights, p0, p1, p2);
   SI_SECOND_SET(siSkin(prev, a_joints1, a_weights1, si_e0, si_e1, si_e2), p0, p1, p2)
 #endif
-  vec3 previous = siPlacePoint(prev, p0, p1, p2, a_position);
+  vec3 previous_position = a_position, previous_normal = a_normal.xyz,
+       previous_tangent = a_tangent.xyz;
+  SI_MORPH_VERTEX(prev, previous_position, previous_normal, previous_tangent);
+  vec3 previous = siPlacePoint(prev, p0, p1, p2, previous_position);
   v_motion_previous = u_previous_view_projection * vec4(previous, 1.0);
 #endif
 }

@@ -1,0 +1,74 @@
+// SkinnedInstancing - SPDX-License-Identifier: MIT (see LICENSE)
+// Morph targets (with SI_MORPH_TARGETS; included by si_skinning.glsl): each vertex's run of
+// entries in the morph texture (si::MorphStream) and each target's weight in the palette,
+// stored per frame after the joints and interpolated exactly as the joints' rows are (then
+// crossfaded towards clip B), added to the bind pose before skinning as si::emulateSkinning
+// adds them. The vertex's morph word (si::VertexStream::morph_offset) names its run.
+//   SI_MORPH_BINDING [5]  the morph texture (RGBA32UI; the texture unit under OpenGL)
+//   si_morph_info         SiPaletteInfo's second member (si::morphShaderInfo()): x log2 of the
+//                         morph texture's width, y texels per entry, z where a frame's weights
+//                         start, w the target count
+#ifndef SI_MORPH_GLSL
+#define SI_MORPH_GLSL
+#ifndef SI_MORPH_BINDING
+#define SI_MORPH_BINDING 5
+#endif
+SI_BINDING_LAYOUT(SI_MORPH_BINDING) uniform highp usampler2D si_morphs;
+
+// Texel `at` past a frame's first texel of the frame pair `frame`, `next`, interpolated as
+// siInterpolatedRows interpolates a matrix row (the fraction word carries the interval mode).
+vec4 siMorphWeightTexel(uint frame, uint next, uint fraction, uint at) {
+  float t = uintBitsToFloat(fraction & 0x3FFFFFFFu);
+  uint mode = fraction >> 30;
+  uint a = frame + at, b = next + at;
+  if (mode == 0u) return mix(siFetch(a), siFetch(b), t);
+  uint step = next - frame;
+  vec4 w = siCubicWeights(t, mode);
+  vec4 sum = w.y * siFetch(a) + w.z * siFetch(b);
+  if (mode != 2u) sum += w.x * siFetch(a - step);
+  if (mode != 3u) sum += w.w * siFetch(b + step);
+  return sum;
+}
+
+// Morph target `target`'s weight for `inst`: clip A's, crossfaded towards clip B's by the
+// record's weight.
+float siMorphWeight(SiInstance inst, uint target) {
+  uint at = si_morph_info.z + (target >> 2u);
+  int c = int(target & 3u);
+  float w = siMorphWeightTexel(inst.frames.x, inst.frames.y, inst.blend.x, at)[c];
+  float wb = uintBitsToFloat(inst.blend.z);
+  if (wb > 0.0)
+    w = mix(w, siMorphWeightTexel(inst.frames.z, inst.frames.w, inst.blend.y, at)[c], wb);
+  return w;
+}
+
+uvec4 siMorphEntry(uint i) {
+  return texelFetch(si_morphs,
+                    ivec2(int(i & ((1u << si_morph_info.x) - 1u)), int(i >> si_morph_info.x)), 0);
+}
+
+// Adds the morph targets of the vertex whose morph word is `word`, at `inst`'s weights, to its
+// bind-pose position, normal and tangent direction, then renormalizes the normal and a
+// non-zero tangent (the seed "Efficient Animation" renormalizes its blended frame so).
+void siMorph(SiInstance inst, uint word, inout vec3 position, inout vec3 normal,
+             inout vec3 tangent) {
+  uint count = word & 511u;
+  if (count == 0u) return;
+  uint stride = si_morph_info.y;
+  uint first = (word >> 9) * stride;
+  vec3 n = normal, t = tangent;
+  for (uint i = 0u; i < count; ++i) {
+    uint at = first + i * stride;
+    uvec4 e = siMorphEntry(at);
+    float w = siMorphWeight(inst, e.x);
+    if (w == 0.0) continue;
+    position += w * uintBitsToFloat(e.yzw);
+    if (stride > 1u) n += w * uintBitsToFloat(siMorphEntry(at + 1u).yzw);
+    if (stride > 2u) t += w * uintBitsToFloat(siMorphEntry(at + 2u).yzw);
+  }
+  float n_length = length(n);
+  if (n_length > 0.0) normal = n / n_length;
+  float t_length = length(t);
+  if (t_length > 0.0 && dot(tangent, tangent) > 0.0) tangent = t / t_length;
+}
+#endif

@@ -1,0 +1,218 @@
+// SkinnedInstancing — SPDX-License-Identifier: MIT (see LICENSE)
+// Morph targets drawn (issue "Any animated glTF becomes a crowd", part 1): a character with
+// face-like targets (examples/common/face_targets.h) draws on every path what the CPU emulation
+// draws with the targets at the palette's weights, over frames of its clip and through a
+// crossfade, and visibly not what the character without them draws; the captures put the
+// morphed vertices where the reference does; the OpenGL ES profile draws them too.
+#include "common/face_targets.h"
+#include "render/render_fixture.h"
+#include "render/skinning_paths.h"
+#include "si/core/reference_evaluator.h"
+#include "si/crowd/crowd_manager.h"
+
+namespace si {
+namespace {
+
+using namespace test;
+
+class MorphRenderTest : public RenderTest {};
+
+// The embedded character with `targets` face-like targets.
+Character morphCharacter(size_t targets) {
+  Character c = character();
+  examples::addFaceTargets(&c, targets);
+  return c;
+}
+
+// Three heads, at different times of the clip and tinted apart; the middle one crossfading
+// into another clip.
+Status headCrowd(const Character& c, const BakedPalette& palette, CrowdManager* crowd) {
+  CrowdDesc cd;
+  cd.palette = &palette;
+  cd.sub_mesh_count = uint32_t(c.mesh.sub_meshes.size());
+  cd.lod_count = uint32_t(c.mesh.maxLodCount());
+  Status s = crowd->init(cd);
+  for (int k = 0; k < 3 && s.isOk(); ++k) {
+    InstanceDesc d;
+    d.position = glm::dvec3(-0.5 + 0.5 * k, 0.0, -0.4 * std::abs(k - 1));
+    d.time_seconds = 0.2 + 0.35 * k;
+    d.color = glm::u8vec4(uint8_t(120 + 60 * k), 200, 160, 255);
+    InstanceHandle h;
+    s = crowd->add(d, &h);
+    if (s.isOk() && k == 1) s = crowd->crossfade(h, 1, 0.5);
+  }
+  return s;
+}
+
+// Close to the heads, where the targets move them.
+Camera headCamera(const Character& c) {
+  const Aabb box = c.bindPoseBounds();
+  const double y = box.min.y + 0.9 * (box.max.y - box.min.y);
+  return Camera::lookAt({0.0, y + 0.1, 1.3}, {0.0, y, 0.0}, glm::vec3(0, 1, 0), 1.0f, 1.0f, 0.1f,
+                        100.0f);
+}
+
+// The bakes at a fixed 30 Hz: what a render test compares is the draw, not the bake's choice.
+BakedPalette bakeAt30(const Character& c) {
+  BakedPalette p;
+  BakeDesc d;
+  d.rate_mode = RateMode::kFixed;
+  d.sample_rate_hz = 30.0f;
+  if (!bakePalette(c, d, &p, nullptr).isOk()) std::abort();
+  return p;
+}
+
+TEST_P(MorphRenderTest, EveryPathDrawsTheMorphs) {
+  const Character morphed = morphCharacter(6);
+  Character plain = morphed;
+  plain.mesh.morph_targets.clear();
+  for (Clip& clip : plain.clips) clip.morph_tracks.clear();
+  const BakedPalette palette = bakeAt30(morphed), plain_palette = bakeAt30(plain);
+  Renderer r;
+  RendererDesc rd;
+  rd.skinning_path = SkinningPath::kVertexShader;
+  ASSERT_TRUE(r.init(info_, rd).isOk());
+  CharacterId id, without;
+  const Status added = r.addCharacter(morphed, palette, &id);
+  ASSERT_TRUE(added.isOk()) << added.toString();
+  ASSERT_TRUE(r.addCharacter(plain, plain_palette, &without).isOk());
+  CrowdManager crowd, plain_crowd;
+  const Status made = headCrowd(morphed, palette, &crowd);
+  ASSERT_TRUE(made.isOk()) << made.toString();
+  ASSERT_TRUE(headCrowd(plain, plain_palette, &plain_crowd).isOk());
+  const Camera camera = headCamera(morphed);
+  InstanceBatcher batcher;
+  ASSERT_TRUE(batcher.init(r.batchLimits()).isOk());
+  const glm::vec4 background(0.2f, 0.25f, 0.3f, 1.0f);
+  for (int frame = 0; frame < 3; ++frame) {
+    SCOPED_TRACE(testing::Message() << "frame " << frame);
+    ASSERT_TRUE(crowd.update(frame == 0 ? 0.0 : 0.2, camera).isOk());
+    ASSERT_TRUE(plain_crowd.update(frame == 0 ? 0.0 : 0.2, camera).isOk());
+    std::vector<uint8_t> emulated, plain_image;
+    r.clear(background);
+    ASSERT_TRUE(r.drawCpuSkinned(without, plain_crowd.view(), camera, nullptr).isOk());
+    ASSERT_TRUE(context_->readPixels(&plain_image).isOk());
+    r.clear(background);
+    ASSERT_TRUE(r.drawCpuSkinned(id, crowd.view(), camera, nullptr).isOk());
+    ASSERT_TRUE(context_->readPixels(&emulated).isOk());
+    EXPECT_GT(compare(emulated, plain_image, nullptr).share, 3 * kMaxDifferingShare)
+        << "the targets show in this view";
+    for (const PathDraw& path : everySkinningPath(r, id, crowd.view(), batcher, camera)) {
+      SCOPED_TRACE(path.name);
+      r.clear(background);
+      const Status s = path.draw();
+      if (std::string(path.name) == "traditional") {  // The baseline refuses them by name.
+        EXPECT_EQ(s.code(), StatusCode::kUnsupported) << s.toString();
+        continue;
+      }
+      ASSERT_TRUE(s.isOk()) << s.toString();
+      std::vector<uint8_t> image;
+      ASSERT_TRUE(context_->readPixels(&image).isOk());
+      EXPECT_LE(compare(image, emulated, nullptr).share, kMaxDifferingShare);
+    }
+  }
+  r.shutdown();
+}
+
+// The captures (the vertex shader's through transform feedback, the compute pre-skinning
+// pass's buffer) put the morphed vertices where the reference does, within the bake's error.
+TEST_P(MorphRenderTest, TheCapturesApplyTheMorphs) {
+  const Character c = morphCharacter(6);
+  BakedPalette palette;
+  BakeReport report;
+  BakeDesc d;
+  d.rate_mode = RateMode::kFixed;
+  d.sample_rate_hz = 30.0f;
+  ASSERT_TRUE(bakePalette(c, d, &palette, &report).isOk());
+  Renderer r;
+  ASSERT_TRUE(r.init(info_, RendererDesc()).isOk());
+  CharacterId id;
+  ASSERT_TRUE(r.addCharacter(c, palette, &id).isOk());
+  const BakedClip& clip = palette.clips[0];
+  std::vector<double> weights(c.mesh.morph_targets.size());
+  for (double t : {0.3 * clip.duration_seconds, 0.8 * clip.duration_seconds}) {
+    const FrameSample s = sampleFrames(clip, t);
+    InstanceRecord rec{};
+    rec.frames[0] = rec.frames[2] = palette.layout.frameTexel(0, s.frame);
+    rec.frames[1] = rec.frames[3] = palette.layout.frameTexel(0, s.next_frame);
+    rec.blend[0] = rec.blend[1] = packFraction(s.fraction, s.mode);
+    ReferencePose pose;
+    ASSERT_TRUE(evaluateLocalPose(c.skeleton, c.clips[0], t, &pose).isOk());
+    ASSERT_TRUE(evaluateMorphWeights(c.mesh, c.clips[0], t, weights).isOk());
+    std::vector<glm::dvec3> reference(c.mesh.vertexCount()), unmorphed(c.mesh.vertexCount());
+    ASSERT_TRUE(skinVertices(c.mesh, pose.skinning, reference, {}, {}, weights).isOk());
+    ASSERT_TRUE(skinVertices(c.mesh, pose.skinning, unmorphed, {}, {},
+                             std::vector<double>(weights.size(), 0.0))
+                    .isOk());
+    for (SkinningPath path : {SkinningPath::kVertexShader, SkinningPath::kCompute}) {
+      SCOPED_TRACE(testing::Message()
+                   << (path == SkinningPath::kCompute ? "compute" : "vertex") << " t=" << t);
+      std::vector<glm::vec3> gpu;
+      ASSERT_TRUE(r.captureSkinnedPositions(id, rec, &gpu, path).isOk());
+      ASSERT_EQ(gpu.size(), reference.size());
+      double worst = 0.0, moved = 0.0;
+      for (size_t v = 0; v < gpu.size(); ++v) {
+        worst = std::max(worst, glm::length(glm::dvec3(gpu[v]) - reference[v]));
+        moved = std::max(moved, glm::length(unmorphed[v] - reference[v]));
+      }
+      EXPECT_LE(worst, report.max_error_units + 2e-5);
+      EXPECT_GT(moved, 10.0 * worst + 1e-3) << "the targets move the head";
+    }
+  }
+  r.shutdown();
+}
+
+INSTANTIATE_TEST_SUITE_P(Backends, MorphRenderTest, allBackends(), backendTestName);
+
+// The OpenGL ES profile (GLSL ES 3.00, the vertex-shader path only) draws the morphs as a
+// desktop context's CPU emulation does.
+class MorphEsTest : public RenderTest {
+ protected:
+  bool es() const override { return true; }
+  std::vector<uint8_t> drawHeads(bool cpu) {
+    const Character c = morphCharacter(6);
+    const BakedPalette palette = bakeAt30(c);
+    Renderer r;
+    EXPECT_TRUE(r.init(info_, RendererDesc()).isOk());
+    CharacterId id;
+    const Status added = r.addCharacter(c, palette, &id);
+    EXPECT_TRUE(added.isOk()) << added.toString();
+    CrowdManager crowd;
+    EXPECT_TRUE(headCrowd(c, palette, &crowd).isOk());
+    const Camera camera = headCamera(c);
+    EXPECT_TRUE(crowd.update(0.0, camera).isOk());
+    InstanceBatcher batcher;
+    EXPECT_TRUE(batcher.init(r.batchLimits()).isOk());
+    r.clear(glm::vec4(0.2f, 0.25f, 0.3f, 1.0f));
+    const Status s = cpu ? r.drawCpuSkinned(id, crowd.view(), camera, nullptr)
+                         : r.drawCrowd(id, crowd.view(), batcher, camera, nullptr);
+    EXPECT_TRUE(s.isOk()) << s.toString();
+    std::vector<uint8_t> image;
+    EXPECT_TRUE(context_->readPixels(&image).isOk());
+    r.shutdown();
+    return image;
+  }
+};
+
+TEST_P(MorphEsTest, TheEsProfileDrawsTheMorphs) {
+  ASSERT_TRUE(info_.es);
+  const std::vector<uint8_t> es_image = drawHeads(false);
+  HeadlessDesc d;
+  d.width = d.height = kSize;
+  d.backend = GetParam();
+  std::unique_ptr<HeadlessContext> desktop;
+  ASSERT_TRUE(HeadlessContext::create(d, &desktop).isOk());
+  std::swap(desktop, context_);
+  ASSERT_TRUE(loadGl(&HeadlessContext::getProcAddress, context_.get(), &info_).isOk());
+  const std::vector<uint8_t> emulated = drawHeads(true);
+  std::swap(desktop, context_);
+  desktop.reset();
+  ASSERT_TRUE(context_->makeCurrent().isOk());
+  ASSERT_TRUE(loadGl(&HeadlessContext::getProcAddress, context_.get(), &info_).isOk());
+  EXPECT_LE(compare(es_image, emulated, nullptr).share, kMaxDifferingShare);
+}
+
+INSTANTIATE_TEST_SUITE_P(Backends, MorphEsTest, esBackends(), backendTestName);
+
+}  // namespace
+}  // namespace si
