@@ -7,6 +7,7 @@
 #include <cstring>
 
 #include "core/frame_times_sample.h"
+#include "core/palette_texel.h"
 #include "core/skinned_normal.h"
 #include "core/str_cat.h"
 #include "si/core/baked_palette.h"
@@ -190,15 +191,7 @@ std::vector<uint8_t> cubicIntervalModes(const BakedClip& clip, bool wraps,
 namespace {
 
 glm::vec4 readTexel(const BakedPalette& p, uint32_t index) {
-  glm::vec4 v;
-  if (p.format == PaletteFormat::kMatrix3x4F16) {
-    uint16_t h[4];
-    std::memcpy(h, p.texel_bytes.data() + size_t(index) * 8, 8);
-    for (int c = 0; c < 4; ++c) v[c] = halfToFloat(h[c]);
-  } else {
-    std::memcpy(&v[0], p.texel_bytes.data() + size_t(index) * 16, 16);
-  }
-  return v;
+  return detail::paletteTexel(p, index);
 }
 
 glm::mat4 fromRows(const glm::vec4& r0, const glm::vec4& r1, const glm::vec4& r2) {

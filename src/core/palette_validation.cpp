@@ -4,6 +4,7 @@
 #include <cmath>
 #include <cstring>
 
+#include "core/palette_texel.h"
 #include "core/str_cat.h"
 #include "si/core/baked_palette.h"
 #include "si/core/palette_layout.h"
@@ -142,19 +143,6 @@ Status checkRootMotion(const BakedClip& c, const std::string& where) {
   return Status::ok();
 }
 
-// The four values of linear texel `texel`.
-glm::vec4 texelValues(const BakedPalette& p, uint32_t texel) {
-  glm::vec4 v;
-  if (p.format == PaletteFormat::kMatrix3x4F16) {
-    uint16_t h[4];
-    std::memcpy(h, p.texel_bytes.data() + size_t(texel) * 8, 8);
-    for (int k = 0; k < 4; ++k) v[k] = halfToFloat(h[k]);
-  } else {
-    std::memcpy(&v[0], p.texel_bytes.data() + size_t(texel) * 16, 16);
-  }
-  return v;
-}
-
 // Every texel value of every stored joint and morph weight finite; quaternions unit, scales
 // positive.
 Status checkTexels(const BakedPalette& p) {
@@ -165,7 +153,7 @@ Status checkTexels(const BakedPalette& p) {
   for (uint32_t c = 0; c < p.clips.size(); ++c)
     for (int64_t f = -border; f < int64_t(p.clips[c].frame_count) + border; ++f) {
       for (uint32_t t = 0; t < l.morph_target_count; t += 4)
-        if (!isFinite(texelValues(p, l.morphTexel(c, f, t))))
+        if (!isFinite(detail::paletteTexel(p, l.morphTexel(c, f, t))))
           return {StatusCode::kNotFinite,
                   strCat("palette: clip ", c, " '", p.clips[c].name, "' frame ", f,
                          ": the weights of morph targets ", t, " to ",
@@ -174,7 +162,7 @@ Status checkTexels(const BakedPalette& p) {
         glm::vec4 rows[4] = {};
         for (uint32_t r = 0; r < l.texels_per_joint; ++r) {
           const uint32_t texel = l.frameTexel(c, f) + j * l.joint_stride_texels + r;
-          rows[r] = texelValues(p, texel);
+          rows[r] = detail::paletteTexel(p, texel);
           if (!isFinite(rows[r]))
             return {StatusCode::kNotFinite,
                     strCat("palette: clip ", c, " '", p.clips[c].name, "' frame ", f, " joint ", j,

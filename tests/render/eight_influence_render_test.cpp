@@ -172,21 +172,7 @@ class EightInfluenceEsTest : public RenderTest {
 };
 
 TEST_P(EightInfluenceEsTest, TheEsProfileDrawsAllEight) {
-  ASSERT_TRUE(info_.es);
-  const std::vector<uint8_t> es_image = drawFan(false);
-  HeadlessDesc d;
-  d.width = d.height = kSize;
-  d.backend = GetParam();
-  std::unique_ptr<HeadlessContext> desktop;
-  ASSERT_TRUE(HeadlessContext::create(d, &desktop).isOk());
-  std::swap(desktop, context_);
-  ASSERT_TRUE(loadGl(&HeadlessContext::getProcAddress, context_.get(), &info_).isOk());
-  const std::vector<uint8_t> emulated = drawFan(true);
-  std::swap(desktop, context_);
-  desktop.reset();
-  ASSERT_TRUE(context_->makeCurrent().isOk());
-  ASSERT_TRUE(loadGl(&HeadlessContext::getProcAddress, context_.get(), &info_).isOk());
-  EXPECT_LE(compare(es_image, emulated, nullptr).share, kMaxDifferingShare);
+  expectEsDrawsAsDesktopCpu([this](bool cpu) { return drawFan(cpu); });
 }
 
 INSTANTIATE_TEST_SUITE_P(Backends, EightInfluenceEsTest, esBackends(), backendTestName);

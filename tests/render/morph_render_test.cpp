@@ -53,12 +53,12 @@ Camera headCamera(const Character& c) {
 }
 
 // The bakes at a fixed 30 Hz: what a render test compares is the draw, not the bake's choice.
-BakedPalette bakeAt30(const Character& c) {
+BakedPalette bakeAt30(const Character& c, BakeReport* report = nullptr) {
   BakedPalette p;
   BakeDesc d;
   d.rate_mode = RateMode::kFixed;
   d.sample_rate_hz = 30.0f;
-  if (!bakePalette(c, d, &p, nullptr).isOk()) std::abort();
+  if (!bakePalette(c, d, &p, report).isOk()) std::abort();
   return p;
 }
 
@@ -118,12 +118,8 @@ TEST_P(MorphRenderTest, EveryPathDrawsTheMorphs) {
 // pass's buffer) put the morphed vertices where the reference does, within the bake's error.
 TEST_P(MorphRenderTest, TheCapturesApplyTheMorphs) {
   const Character c = morphCharacter(6);
-  BakedPalette palette;
   BakeReport report;
-  BakeDesc d;
-  d.rate_mode = RateMode::kFixed;
-  d.sample_rate_hz = 30.0f;
-  ASSERT_TRUE(bakePalette(c, d, &palette, &report).isOk());
+  const BakedPalette palette = bakeAt30(c, &report);
   Renderer r;
   ASSERT_TRUE(r.init(info_, RendererDesc()).isOk());
   CharacterId id;
@@ -195,21 +191,7 @@ class MorphEsTest : public RenderTest {
 };
 
 TEST_P(MorphEsTest, TheEsProfileDrawsTheMorphs) {
-  ASSERT_TRUE(info_.es);
-  const std::vector<uint8_t> es_image = drawHeads(false);
-  HeadlessDesc d;
-  d.width = d.height = kSize;
-  d.backend = GetParam();
-  std::unique_ptr<HeadlessContext> desktop;
-  ASSERT_TRUE(HeadlessContext::create(d, &desktop).isOk());
-  std::swap(desktop, context_);
-  ASSERT_TRUE(loadGl(&HeadlessContext::getProcAddress, context_.get(), &info_).isOk());
-  const std::vector<uint8_t> emulated = drawHeads(true);
-  std::swap(desktop, context_);
-  desktop.reset();
-  ASSERT_TRUE(context_->makeCurrent().isOk());
-  ASSERT_TRUE(loadGl(&HeadlessContext::getProcAddress, context_.get(), &info_).isOk());
-  EXPECT_LE(compare(es_image, emulated, nullptr).share, kMaxDifferingShare);
+  expectEsDrawsAsDesktopCpu([this](bool cpu) { return drawHeads(cpu); });
 }
 
 INSTANTIATE_TEST_SUITE_P(Backends, MorphEsTest, esBackends(), backendTestName);

@@ -14,6 +14,7 @@
 #include <cstdio>
 #include <cstdlib>
 #include <cstring>
+#include <functional>
 #include <initializer_list>
 #include <map>
 #include <memory>
@@ -155,6 +156,27 @@ class RenderTest : public ::testing::TestWithParam<HeadlessBackend> {
         info_.renderer.find("llvmpipe") != std::string::npos && !(all != nullptr && all[0] == '1'))
       GTEST_SKIP() << "egl_device reached " << info_.renderer
                    << ", which egl_surfaceless tests already (SI_ALL_BACKENDS=1 runs it)";
+  }
+
+  // On an ES fixture: expects what `draw(false)` draws on this context (the ES profile's
+  // vertex-shader path) within kMaxDifferingShare of what `draw(true)` draws on a desktop
+  // context of the same back-end (the CPU emulation). This context is current again after.
+  void expectEsDrawsAsDesktopCpu(const std::function<std::vector<uint8_t>(bool cpu)>& draw) {
+    ASSERT_TRUE(info_.es);
+    const std::vector<uint8_t> es_image = draw(false);
+    HeadlessDesc d;
+    d.width = d.height = kSize;
+    d.backend = GetParam();
+    std::unique_ptr<HeadlessContext> desktop;
+    ASSERT_TRUE(HeadlessContext::create(d, &desktop).isOk());
+    std::swap(desktop, context_);
+    ASSERT_TRUE(loadGl(&HeadlessContext::getProcAddress, context_.get(), &info_).isOk());
+    const std::vector<uint8_t> emulated = draw(true);
+    std::swap(desktop, context_);
+    desktop.reset();
+    ASSERT_TRUE(context_->makeCurrent().isOk());
+    ASSERT_TRUE(loadGl(&HeadlessContext::getProcAddress, context_.get(), &info_).isOk());
+    EXPECT_LE(compare(es_image, emulated, nullptr).share, kMaxDifferingShare);
   }
 
   // A renderer with the default character uploaded (block size 0: the context's limit).
