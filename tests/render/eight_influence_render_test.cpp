@@ -150,24 +150,9 @@ class EightInfluenceEsTest : public RenderTest {
     EXPECT_TRUE(importFan(1e-4f, &eight).isOk());
     BakedPalette palette;
     EXPECT_TRUE(bakePalette(eight, BakeDesc(), &palette, nullptr).isOk());
-    Renderer r;
-    EXPECT_TRUE(r.init(info_, RendererDesc()).isOk());
-    CharacterId id;
-    EXPECT_TRUE(r.addCharacter(eight, palette, &id).isOk());
     CrowdManager crowd;
     EXPECT_TRUE(fanCrowd(palette, &crowd).isOk());
-    const Camera camera = fanCamera();
-    EXPECT_TRUE(crowd.update(0.0, camera).isOk());
-    InstanceBatcher batcher;
-    EXPECT_TRUE(batcher.init(r.batchLimits()).isOk());
-    r.clear(glm::vec4(0.2f, 0.25f, 0.3f, 1.0f));
-    const Status s = cpu ? r.drawCpuSkinned(id, crowd.view(), camera, nullptr)
-                         : r.drawCrowd(id, crowd.view(), batcher, camera, nullptr);
-    EXPECT_TRUE(s.isOk()) << s.toString();
-    std::vector<uint8_t> image;
-    EXPECT_TRUE(context_->readPixels(&image).isOk());
-    r.shutdown();
-    return image;
+    return drawCrowdImage(eight, palette, crowd, fanCamera(), cpu);
   }
 };
 

@@ -168,25 +168,9 @@ class MorphEsTest : public RenderTest {
   std::vector<uint8_t> drawHeads(bool cpu) {
     const Character c = morphCharacter(6);
     const BakedPalette palette = bakeAt30(c);
-    Renderer r;
-    EXPECT_TRUE(r.init(info_, RendererDesc()).isOk());
-    CharacterId id;
-    const Status added = r.addCharacter(c, palette, &id);
-    EXPECT_TRUE(added.isOk()) << added.toString();
     CrowdManager crowd;
     EXPECT_TRUE(headCrowd(c, palette, &crowd).isOk());
-    const Camera camera = headCamera(c);
-    EXPECT_TRUE(crowd.update(0.0, camera).isOk());
-    InstanceBatcher batcher;
-    EXPECT_TRUE(batcher.init(r.batchLimits()).isOk());
-    r.clear(glm::vec4(0.2f, 0.25f, 0.3f, 1.0f));
-    const Status s = cpu ? r.drawCpuSkinned(id, crowd.view(), camera, nullptr)
-                         : r.drawCrowd(id, crowd.view(), batcher, camera, nullptr);
-    EXPECT_TRUE(s.isOk()) << s.toString();
-    std::vector<uint8_t> image;
-    EXPECT_TRUE(context_->readPixels(&image).isOk());
-    r.shutdown();
-    return image;
+    return drawCrowdImage(c, palette, crowd, headCamera(c), cpu);
   }
 };
 

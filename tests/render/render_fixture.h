@@ -158,6 +158,29 @@ class RenderTest : public ::testing::TestWithParam<HeadlessBackend> {
                    << ", which egl_surfaceless tests already (SI_ALL_BACKENDS=1 runs it)";
   }
 
+  // `crowd` (of character `c`, baked as `palette`) updated once for `camera` and drawn by a
+  // fresh renderer on this context, by the CPU emulation with `cpu`, else by drawCrowd (the
+  // vertex-shader path): the image, over a blue-grey background.
+  std::vector<uint8_t> drawCrowdImage(const Character& c, const BakedPalette& palette,
+                                      CrowdManager& crowd, const Camera& camera, bool cpu) {
+    Renderer r;
+    EXPECT_TRUE(r.init(info_, RendererDesc()).isOk());
+    CharacterId id;
+    const Status added = r.addCharacter(c, palette, &id);
+    EXPECT_TRUE(added.isOk()) << added.toString();
+    EXPECT_TRUE(crowd.update(0.0, camera).isOk());
+    InstanceBatcher batcher;
+    EXPECT_TRUE(batcher.init(r.batchLimits()).isOk());
+    r.clear(glm::vec4(0.2f, 0.25f, 0.3f, 1.0f));
+    const Status s = cpu ? r.drawCpuSkinned(id, crowd.view(), camera, nullptr)
+                         : r.drawCrowd(id, crowd.view(), batcher, camera, nullptr);
+    EXPECT_TRUE(s.isOk()) << s.toString();
+    std::vector<uint8_t> image;
+    EXPECT_TRUE(context_->readPixels(&image).isOk());
+    r.shutdown();
+    return image;
+  }
+
   // On an ES fixture: expects what `draw(false)` draws on this context (the ES profile's
   // vertex-shader path) within kMaxDifferingShare of what `draw(true)` draws on a desktop
   // context of the same back-end (the CPU emulation). This context is current again after.
