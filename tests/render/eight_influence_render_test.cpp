@@ -78,13 +78,10 @@ TEST_P(EightInfluenceRenderTest, EveryPathDrawsAllEight) {
   for (int frame = 0; frame < 3; ++frame) {
     ASSERT_TRUE(crowd.update(frame == 0 ? 0.0 : 0.15, camera).isOk());
     ASSERT_TRUE(folded_crowd.update(frame == 0 ? 0.0 : 0.15, camera).isOk());
-    std::vector<uint8_t> emulated, folded_image;
-    r.clear(background);
-    ASSERT_TRUE(r.drawCpuSkinned(folded, folded_crowd.view(), camera, nullptr).isOk());
-    ASSERT_TRUE(context_->readPixels(&folded_image).isOk());
-    r.clear(background);
-    ASSERT_TRUE(r.drawCpuSkinned(id, crowd.view(), camera, nullptr).isOk());
-    ASSERT_TRUE(context_->readPixels(&emulated).isOk());
+    const std::vector<uint8_t> folded_image =
+        cpuSkinnedImage(r, folded, folded_crowd.view(), camera, background, *context_);
+    const std::vector<uint8_t> emulated =
+        cpuSkinnedImage(r, id, crowd.view(), camera, background, *context_);
     EXPECT_GT(compare(emulated, folded_image, nullptr).share, 3 * kMaxDifferingShare)
         << "influences 5 to 8 show in this view";
     SCOPED_TRACE(testing::Message() << "frame " << frame);
@@ -106,15 +103,9 @@ TEST_P(EightInfluenceRenderTest, TheCapturesSkinAllEight) {
   ASSERT_TRUE(r.init(info_, RendererDesc()).isOk());
   CharacterId id;
   ASSERT_TRUE(r.addCharacter(eight, palette, &id).isOk());
-  const BakedClip& clip = palette.clips[0];
   const EightInfluenceFan fan;
   for (double t : {0.5, 0.9}) {
-    const FrameSample s = sampleFrames(clip, t);
-    InstanceRecord rec{};
-    rec.frames[0] = rec.frames[2] = clip.first_texel + s.frame * palette.layout.frame_stride_texels;
-    rec.frames[1] = rec.frames[3] =
-        clip.first_texel + s.next_frame * palette.layout.frame_stride_texels;
-    rec.blend[0] = rec.blend[1] = packFraction(s.fraction, s.mode);
+    const InstanceRecord rec = clipRecord(palette, 0, t);
     ReferencePose pose;
     ASSERT_TRUE(evaluateLocalPose(eight.skeleton, eight.clips[0], t, &pose).isOk());
     std::vector<glm::dvec3> reference(eight.mesh.vertexCount());

@@ -88,28 +88,15 @@ TEST_P(MorphRenderTest, EveryPathDrawsTheMorphs) {
     SCOPED_TRACE(testing::Message() << "frame " << frame);
     ASSERT_TRUE(crowd.update(frame == 0 ? 0.0 : 0.2, camera).isOk());
     ASSERT_TRUE(plain_crowd.update(frame == 0 ? 0.0 : 0.2, camera).isOk());
-    std::vector<uint8_t> emulated, plain_image;
-    r.clear(background);
-    ASSERT_TRUE(r.drawCpuSkinned(without, plain_crowd.view(), camera, nullptr).isOk());
-    ASSERT_TRUE(context_->readPixels(&plain_image).isOk());
-    r.clear(background);
-    ASSERT_TRUE(r.drawCpuSkinned(id, crowd.view(), camera, nullptr).isOk());
-    ASSERT_TRUE(context_->readPixels(&emulated).isOk());
+    const std::vector<uint8_t> plain_image =
+        cpuSkinnedImage(r, without, plain_crowd.view(), camera, background, *context_);
+    const std::vector<uint8_t> emulated =
+        cpuSkinnedImage(r, id, crowd.view(), camera, background, *context_);
     EXPECT_GT(compare(emulated, plain_image, nullptr).share, 3 * kMaxDifferingShare)
         << "the targets show in this view";
-    for (const PathDraw& path : everySkinningPath(r, id, crowd.view(), batcher, camera)) {
-      SCOPED_TRACE(path.name);
-      r.clear(background);
-      const Status s = path.draw();
-      if (std::string(path.name) == "traditional") {  // The baseline refuses them by name.
-        EXPECT_EQ(s.code(), StatusCode::kUnsupported) << s.toString();
-        continue;
-      }
-      ASSERT_TRUE(s.isOk()) << s.toString();
-      std::vector<uint8_t> image;
-      ASSERT_TRUE(context_->readPixels(&image).isOk());
-      EXPECT_LE(compare(image, emulated, nullptr).share, kMaxDifferingShare);
-    }
+    // The traditional baseline refuses them by name.
+    expectEveryPathDraws(r, id, crowd.view(), batcher, camera, background, *context_, emulated,
+                         {"traditional"});
   }
   r.shutdown();
 }
@@ -127,11 +114,7 @@ TEST_P(MorphRenderTest, TheCapturesApplyTheMorphs) {
   const BakedClip& clip = palette.clips[0];
   std::vector<double> weights(c.mesh.morph_targets.size());
   for (double t : {0.3 * clip.duration_seconds, 0.8 * clip.duration_seconds}) {
-    const FrameSample s = sampleFrames(clip, t);
-    InstanceRecord rec{};
-    rec.frames[0] = rec.frames[2] = palette.layout.frameTexel(0, s.frame);
-    rec.frames[1] = rec.frames[3] = palette.layout.frameTexel(0, s.next_frame);
-    rec.blend[0] = rec.blend[1] = packFraction(s.fraction, s.mode);
+    const InstanceRecord rec = clipRecord(palette, 0, t);
     ReferencePose pose;
     ASSERT_TRUE(evaluateLocalPose(c.skeleton, c.clips[0], t, &pose).isOk());
     ASSERT_TRUE(evaluateMorphWeights(c.mesh, c.clips[0], t, weights).isOk());
