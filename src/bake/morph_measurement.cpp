@@ -1,25 +1,25 @@
 // SkinnedInstancing — SPDX-License-Identifier: MIT (see LICENSE)
 #include "bake/morph_measurement.h"
 
+#include "core/morph_entries.h"
+
 namespace si::detail {
 
 MorphedSlots::MorphedSlots(const SkinnedMesh& mesh, const SkinnedMesh& gpu_mesh,
                            const InfluenceGroups& groups)
     : mesh_(mesh), gpu_mesh_(gpu_mesh) {
   if (mesh.morph_targets.empty()) return;
-  // Each vertex's entries, gathered target by target.
-  std::vector<std::vector<Entry>> per_vertex(mesh.vertexCount());
-  for (size_t t = 0; t < mesh.morph_targets.size(); ++t) {
-    const MorphTarget& target = mesh.morph_targets[t];
-    for (size_t i = 0; i < target.vertices.size(); ++i)
-      per_vertex[target.vertices[i]].push_back({uint32_t(t), target.position_deltas[i]});
-  }
+  const MorphEntriesByVertex by_vertex = morphEntriesByVertex(mesh);
   for (size_t slot = 0; slot < groups.size(); ++slot) {
     const uint32_t v = groups.vertex(slot);
-    if (per_vertex[v].empty()) continue;
-    vertices_.push_back(
-        {uint32_t(slot), v, uint32_t(entries_.size()), uint32_t(per_vertex[v].size())});
-    entries_.insert(entries_.end(), per_vertex[v].begin(), per_vertex[v].end());
+    const uint32_t begin = by_vertex.first[v], end = by_vertex.first[v + 1];
+    if (begin == end) continue;
+    vertices_.push_back({uint32_t(slot), v, uint32_t(entries_.size()), end - begin});
+    for (uint32_t e = begin; e < end; ++e) {
+      const MorphEntriesByVertex::Entry& entry = by_vertex.entries[e];
+      entries_.push_back(
+          {entry.target, mesh.morph_targets[entry.target].position_deltas[entry.index]});
+    }
   }
 }
 

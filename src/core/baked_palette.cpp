@@ -358,11 +358,15 @@ Status emulateSkinning(const SkinnedMesh& mesh, Span<const glm::mat4> matrices,
           normals[target.vertices[i]] += w * target.normal_deltas[i];
       }
     }
-    for (size_t t = 0; t < mesh.morph_targets.size(); ++t)
-      for (uint32_t v : mesh.morph_targets[t].vertices) {
-        const float len = glm::length(normals[v]);
-        normals[v] = len > 0.0f && std::isfinite(len) ? normals[v] / len : mesh.normals[v];
-      }
+    // Each moved vertex's normal renormalized once, as the shader does.
+    std::vector<uint8_t> moved(n, 0);
+    for (const MorphTarget& target : mesh.morph_targets)
+      for (uint32_t v : target.vertices) moved[v] = 1;
+    for (size_t v = 0; v < n; ++v) {
+      if (!moved[v]) continue;
+      const float len = glm::length(normals[v]);
+      normals[v] = len > 0.0f && std::isfinite(len) ? normals[v] / len : mesh.normals[v];
+    }
   }
   const std::vector<glm::vec3>& pos = positions.empty() ? mesh.positions : positions;
   const std::vector<glm::vec3>& nrm = normals.empty() ? mesh.normals : normals;

@@ -6,33 +6,23 @@
 #include <cmath>
 #include <cstring>
 
+#include "core/morph_entries.h"
 #include "core/str_cat.h"
 
 namespace si {
 using detail::strCat;
 
 namespace {
-// Each vertex's entries (target, index in the target), by vertex, then target.
-std::vector<std::vector<std::pair<uint32_t, uint32_t>>> morphEntries(const SkinnedMesh& mesh) {
-  std::vector<std::vector<std::pair<uint32_t, uint32_t>>> per_vertex(mesh.vertexCount());
-  for (size_t t = 0; t < mesh.morph_targets.size(); ++t)
-    for (size_t i = 0; i < mesh.morph_targets[t].vertices.size(); ++i)
-      per_vertex[mesh.morph_targets[t].vertices[i]].push_back({uint32_t(t), uint32_t(i)});
-  return per_vertex;
-}
-
-Status morphWords(const SkinnedMesh& mesh, std::vector<uint32_t>* words) {
-  uint64_t first = 0;
-  words->assign(mesh.vertexCount(), 0u);
-  const auto per_vertex = morphEntries(mesh);
-  for (size_t v = 0; v < per_vertex.size(); ++v) {
-    if (per_vertex[v].empty()) continue;
-    if (first + per_vertex[v].size() > kMaxMorphEntries)
-      return {StatusCode::kLimitExceeded,
-              strCat("the mesh's morph targets move vertices ", first + per_vertex[v].size(),
-                     " times or more; the morph word holds at most ", kMaxMorphEntries)};
-    (*words)[v] = uint32_t(first) << 9 | uint32_t(per_vertex[v].size());
-    first += per_vertex[v].size();
+// Each vertex's morph word (first entry << 9 | count) for the entries `by_vertex`.
+Status morphWords(const detail::MorphEntriesByVertex& by_vertex, std::vector<uint32_t>* words) {
+  if (by_vertex.entries.size() > kMaxMorphEntries)
+    return {StatusCode::kLimitExceeded,
+            strCat("the mesh's morph targets move vertices ", by_vertex.entries.size(),
+                   " times; the morph word holds at most ", kMaxMorphEntries)};
+  words->assign(by_vertex.first.size() - 1, 0u);
+  for (size_t v = 0; v + 1 < by_vertex.first.size(); ++v) {
+    const uint32_t count = by_vertex.first[v + 1] - by_vertex.first[v];
+    if (count > 0) (*words)[v] = by_vertex.first[v] << 9 | count;
   }
   return Status::ok();
 }
@@ -83,7 +73,7 @@ Status buildVertexStream(const SkinnedMesh& mesh, const BakedPalette& palette, V
   if (!mesh.morph_targets.empty()) {
     stream.morph_offset = stream.stride_bytes;
     stream.stride_bytes += 4;
-    s = morphWords(mesh, &morph_words);
+    s = morphWords(detail::morphEntriesByVertex(mesh), &morph_words);
     if (!s.isOk()) return s;
   }
   stream.weights_offset = stream.wide_joints ? 28 : 24;
@@ -157,8 +147,9 @@ Status buildMorphStream(const SkinnedMesh& mesh, const BakedPalette& palette,
             strCat("buildMorphStream: the palette holds the weights of ",
                    palette.layout.morph_target_count, " morph targets, the mesh has ",
                    mesh.morph_targets.size(), " (bake it with them)")};
+  const detail::MorphEntriesByVertex by_vertex = detail::morphEntriesByVertex(mesh);
   std::vector<uint32_t> words;
-  s = morphWords(mesh, &words);
+  s = morphWords(by_vertex, &words);
   if (!s.isOk()) return s;
   MorphStream stream;
   const bool normals = std::any_of(mesh.morph_targets.begin(), mesh.morph_targets.end(),
@@ -166,8 +157,7 @@ Status buildMorphStream(const SkinnedMesh& mesh, const BakedPalette& palette,
   const bool tangents = std::any_of(mesh.morph_targets.begin(), mesh.morph_targets.end(),
                                     [](const MorphTarget& t) { return !t.tangent_deltas.empty(); });
   stream.texels_per_entry = tangents ? 3 : normals ? 2 : 1;
-  const auto per_vertex = morphEntries(mesh);
-  for (const auto& entries : per_vertex) stream.entry_count += uint32_t(entries.size());
+  stream.entry_count = uint32_t(by_vertex.entries.size());
   const uint64_t texels = uint64_t(std::max(stream.entry_count, 1u)) * stream.texels_per_entry;
   const uint64_t max = max_texture_size == 0 ? 16384 : max_texture_size;
   stream.width_log2 = 0;
@@ -186,17 +176,17 @@ Status buildMorphStream(const SkinnedMesh& mesh, const BakedPalette& palette,
     dst[0] = w0;
     std::memcpy(dst + 1, &v, 12);
   };
-  for (const auto& entries : per_vertex)
-    for (const auto& [target, i] : entries) {
-      const MorphTarget& t = mesh.morph_targets[target];
-      const uint32_t at = e * stream.texels_per_entry;
-      put(at, target, t.position_deltas[i]);
-      if (stream.texels_per_entry > 1)
-        put(at + 1, 0u, t.normal_deltas.empty() ? glm::vec3(0.0f) : t.normal_deltas[i]);
-      if (stream.texels_per_entry > 2)
-        put(at + 2, 0u, t.tangent_deltas.empty() ? glm::vec3(0.0f) : t.tangent_deltas[i]);
-      ++e;
-    }
+  for (const detail::MorphEntriesByVertex::Entry& entry : by_vertex.entries) {
+    const uint32_t target = entry.target, i = entry.index;
+    const MorphTarget& t = mesh.morph_targets[target];
+    const uint32_t at = e * stream.texels_per_entry;
+    put(at, target, t.position_deltas[i]);
+    if (stream.texels_per_entry > 1)
+      put(at + 1, 0u, t.normal_deltas.empty() ? glm::vec3(0.0f) : t.normal_deltas[i]);
+    if (stream.texels_per_entry > 2)
+      put(at + 2, 0u, t.tangent_deltas.empty() ? glm::vec3(0.0f) : t.tangent_deltas[i]);
+    ++e;
+  }
   *out = std::move(stream);
   return Status::ok();
 }

@@ -5,6 +5,7 @@
 #include <algorithm>
 #include <cstring>
 
+#include "core/morph_entries.h"
 #include "core/skinned_normal.h"
 #include "gl/resources/gl_allocation.h"
 #include "si/core/shader_inputs.h"
@@ -44,20 +45,15 @@ Status CpuSkinningPath::prepare(const DrawResources& r) {
   morph_first_.clear();
   morph_entries_.clear();
   if (!mesh.morph_targets.empty()) {
-    std::vector<std::vector<MorphEntry>> per_vertex(mesh.vertexCount());
-    for (size_t t = 0; t < mesh.morph_targets.size(); ++t) {
-      const MorphTarget& target = mesh.morph_targets[t];
-      for (size_t i = 0; i < target.vertices.size(); ++i)
-        per_vertex[target.vertices[i]].push_back(
-            {uint32_t(t), target.position_deltas[i],
-             target.normal_deltas.empty() ? glm::vec3(0.0f) : target.normal_deltas[i],
-             target.tangent_deltas.empty() ? glm::vec3(0.0f) : target.tangent_deltas[i]});
+    const MorphEntriesByVertex by_vertex = morphEntriesByVertex(mesh);
+    morph_first_ = by_vertex.first;
+    for (const MorphEntriesByVertex::Entry& e : by_vertex.entries) {
+      const MorphTarget& t = mesh.morph_targets[e.target];
+      morph_entries_.push_back(
+          {e.target, t.position_deltas[e.index],
+           t.normal_deltas.empty() ? glm::vec3(0.0f) : t.normal_deltas[e.index],
+           t.tangent_deltas.empty() ? glm::vec3(0.0f) : t.tangent_deltas[e.index]});
     }
-    for (const std::vector<MorphEntry>& entries : per_vertex) {
-      morph_first_.push_back(uint32_t(morph_entries_.size()));
-      morph_entries_.insert(morph_entries_.end(), entries.begin(), entries.end());
-    }
-    morph_first_.push_back(uint32_t(morph_entries_.size()));
   }
   chunk_bytes_ = kChunkBytes;
   for (const glm::uvec2& range : ranges_)
