@@ -17,8 +17,9 @@
 namespace si::examples {
 
 /// Adds `targets` face-like targets (at most kMaxMorphTargets) to `c`'s mesh and a weights
-/// track over all of them to each of its clips (replacing the clips' morph tracks).
+/// track over all of them to each of its clips (replacing the clips' morph tracks); none for 0.
 inline void addFaceTargets(Character* character, size_t targets) {
+  if (targets == 0) return;
   Character& c = *character;
   const size_t first = c.mesh.morph_targets.size();
   const float height = c.height();

@@ -198,7 +198,8 @@ Status FrameSearch::choose(const Clip& clip, FrameInterpolation interpolation,
               &keys_floor, nullptr).isOk())
       floor_error = std::min(floor_error, keys_floor);
   }
-  const double target = std::max(tolerance_, 1.1 * floor_error);
+  // Only a floor above the tolerance moves the target: one just below it is within reach.
+  const double target = floor_error > tolerance_ ? 1.1 * floor_error : tolerance_;
   FrameChoice grid, keys;
   const bool timed = clip.duration_seconds > 0.0f;
   if (!timed || desc_.placement != FramePlacement::kKeys) {
