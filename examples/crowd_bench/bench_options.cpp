@@ -41,6 +41,8 @@ void printUsage(std::FILE* f) {
       "                   the same skinning through 8: what the second set costs)\n"
       "                   [--morph-targets N] (N face-like morph targets on the head, every\n"
       "                   clip animating their weights: what morph targets cost)\n"
+      "                   [--morph-lod-share S] (RendererDesc::morph_lod_share: each coarse LOD\n"
+      "                   leaves out the targets moving a vertex within S of its error; 0.5)\n"
       "                   [--impostor] (an animated impostor past the last mesh level, chosen by\n"
       "                   its image error; not with the baselines, --mix, --root-motion or\n"
       "                   --motion-vectors) [--impostor-atlas full|small] (small: 8 azimuths,\n"
@@ -112,6 +114,8 @@ bool parseOptions(int argc, char** argv, Options* o) {
       o->eight_influences = true;
     else if (a == "--morph-targets" && has)
       o->morph_targets = uint32_t(std::stoul(argv[++i]));
+    else if (a == "--morph-lod-share" && has)
+      o->morph_lod_share = std::stof(argv[++i]);
     else if (a == "--impostor") o->impostor = true;
     else if (a == "--impostor-atlas" && has) o->impostor_atlas = argv[++i];
     else if (a == "--lod-errors" && has) o->lod_errors = argv[++i];

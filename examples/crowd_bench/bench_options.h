@@ -22,6 +22,7 @@ struct Options {
   bool vertex_colors = false;      // --vertex-colors: the character gets colours and uv1 too.
   bool eight_influences = false;   // --eight-influences: the same skinning through 8 influences.
   uint32_t morph_targets = 0;      // --morph-targets N: N face-like targets on the head.
+  float morph_lod_share = 0.5f;    // --morph-lod-share S: RendererDesc::morph_lod_share.
   bool part_lod = false;  // --part-lod: si::buildPartLods (each part its own level, parts dropped).
   bool impostor = false;  // --impostor: an impostor level past the meshes (Renderer::buildImpostor).
   std::string impostor_atlas = "full";  // --impostor-atlas: full (ImpostorDesc's defaults) or small.

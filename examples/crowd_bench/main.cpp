@@ -193,6 +193,7 @@ int main(int argc, char** argv) {
   si::RendererDesc rd;
   rd.measure_gpu_time = b.o.gpu_timer;
   rd.debug_checks = 2;
+  rd.morph_lod_share = b.o.morph_lod_share;
   if (s.isOk()) s = renderer.init(b.setup.info, rd);
   si::CharacterId id;
   if (s.isOk()) s = renderer.addCharacter(character, palette, &id);

@@ -8,6 +8,7 @@
 
 #include "core/morph_entries.h"
 #include "core/str_cat.h"
+#include "si/core/lod_error.h"
 
 namespace si {
 using detail::strCat;
@@ -147,9 +148,11 @@ Status buildMorphStream(const SkinnedMesh& mesh, const BakedPalette& palette,
             strCat("buildMorphStream: the palette holds the weights of ",
                    palette.layout.morph_target_count, " morph targets, the mesh has ",
                    mesh.morph_targets.size(), " (bake it with them)")};
-  const detail::MorphEntriesByVertex by_vertex = detail::morphEntriesByVertex(mesh);
+  detail::MorphEntriesByVertex by_vertex = detail::morphEntriesByVertex(mesh);
   std::vector<uint32_t> words;
   s = morphWords(by_vertex, &words);
+  const std::vector<float> tails =
+      detail::orderMorphEntriesByEffect(mesh, detail::morphWeightBounds(palette), &by_vertex);
   if (!s.isOk()) return s;
   MorphStream stream;
   const bool normals = std::any_of(mesh.morph_targets.begin(), mesh.morph_targets.end(),
@@ -180,7 +183,7 @@ Status buildMorphStream(const SkinnedMesh& mesh, const BakedPalette& palette,
     const uint32_t target = entry.target, i = entry.index;
     const MorphTarget& t = mesh.morph_targets[target];
     const uint32_t at = e * stream.texels_per_entry;
-    put(at, target, t.position_deltas[i]);
+    put(at, target | detail::morphTailBits(tails[e]), t.position_deltas[i]);
     if (stream.texels_per_entry > 1)
       put(at + 1, 0u, t.normal_deltas.empty() ? glm::vec3(0.0f) : t.normal_deltas[i]);
     if (stream.texels_per_entry > 2)
@@ -194,6 +197,26 @@ Status buildMorphStream(const SkinnedMesh& mesh, const BakedPalette& palette,
 glm::uvec4 morphShaderInfo(const BakedPalette& palette, const MorphStream& stream) {
   return glm::uvec4(stream.width_log2, stream.texels_per_entry, palette.layout.morph_first_texel,
                     palette.layout.morph_target_count);
+}
+
+Status morphLodCuts(const SkinnedMesh& mesh, float share, std::array<float, kMorphLodCuts>* out) {
+  if (out == nullptr) return {StatusCode::kInvalidArgument, "morphLodCuts: out is null"};
+  if (!(share >= 0.0f && share <= 1.0f))
+    return {StatusCode::kInvalidArgument,
+            strCat("morphLodCuts: the share ", share, " is not within 0 and 1")};
+  // Levels without measured errors cut nothing: every target kept, exactly.
+  const bool measured = std::all_of(mesh.sub_meshes.begin(), mesh.sub_meshes.end(),
+                                    [](const SubMesh& m) { return !m.lod_error_units.empty(); });
+  std::vector<float> levels;
+  if (measured) {
+    const Status s = lodErrorsByLevel(mesh, &levels);
+    if (!s.isOk()) return s;
+  }
+  std::array<float, kMorphLodCuts> cuts{};
+  for (size_t k = 0; k < cuts.size(); ++k)
+    cuts[k] = share * (k < levels.size() ? levels[k] : levels.empty() ? 0.0f : levels.back());
+  *out = cuts;
+  return Status::ok();
 }
 
 glm::uvec4 paletteShaderInfo(const BakedPalette& palette) {

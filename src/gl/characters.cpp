@@ -20,9 +20,12 @@ Status Renderer::Impl::uploadCharacter(const char* what, const Character& charac
   const auto named = [what](const Status& s) {
     return s.isOk() ? s : Status(s.code(), strCat(what, ": ", s.message()));
   };
-  Status s = c.character.upload(character, palette, m.desc.max_texture_size);
+  Status s =
+      c.character.upload(character, palette, m.desc.max_texture_size, m.desc.morph_lod_share);
   if (s.isOk())
-    s = c.palette.upload(palette, m.info, c.character.morph_info, c.character.morph_texture);
+    s = c.palette.upload(
+        palette, m.info,
+        {c.character.morph_info, c.character.morph_cuts, c.character.morph_texture});
   if (s.isOk() && !m.info.es) s = c.preskin.build(c.character);
   // Depth-only draws of an alpha-masked character discard by its mask (built once).
   const uint32_t features = c.character.meshFeatures();

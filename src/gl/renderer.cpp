@@ -69,6 +69,9 @@ Status Renderer::init(const GlInfo& info, const RendererDesc& desc) {
             strCat("RendererDesc.compute_ring_bytes ", ring_bytes,
                    " exceeds GL_MAX_SHADER_STORAGE_BLOCK_SIZE ",
                    info.max_shader_storage_block_size_bytes)};
+  if (!(desc.morph_lod_share >= 0.0f && desc.morph_lod_share <= 1.0f))
+    return {StatusCode::kInvalidArgument, strCat("RendererDesc.morph_lod_share ",
+                                                 desc.morph_lod_share, " is not within 0 and 1")};
   auto impl = std::make_unique<Impl>();
   impl->info = info;
   impl->desc = desc;

@@ -6,6 +6,8 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <cmath>
+#include <cstring>
 
 #include "core/test_helpers.h"
 #include "si/bake/animation_baker.h"
@@ -13,6 +15,7 @@
 #include "si/core/baked_palette.h"
 #include "si/core/palette_file.h"
 #include "si/core/reference_evaluator.h"
+#include "si/core/shader_inputs.h"
 
 namespace si {
 namespace {
@@ -156,6 +159,105 @@ TEST(MorphBake, TheWeightsTravelInThePaletteFile) {
   EXPECT_EQ(loaded.layout.morph_target_count, 5u);
   EXPECT_EQ(loaded.texel_bytes, p.texel_bytes);
   EXPECT_EQ(loaded.layout.frame_stride_texels, p.layout.frame_stride_texels);
+}
+
+// The morph stream's run of vertex `v` (si::VertexStream's morph word): each entry's word.
+std::vector<uint32_t> runWords(const VertexStream& vs, const MorphStream& ms, uint32_t v) {
+  uint32_t word;
+  std::memcpy(&word, vs.bytes.data() + size_t(v) * vs.stride_bytes + vs.morph_offset, 4);
+  std::vector<uint32_t> out;
+  for (uint32_t i = 0; i < (word & 511u); ++i)
+    out.push_back(ms.texels[size_t((word >> 9) + i) * ms.texels_per_entry * 4]);
+  return out;
+}
+float tailOf(uint32_t word) {
+  const uint32_t bits = word & 0xFFFF0000u;
+  float f;
+  std::memcpy(&f, &bits, 4);
+  return f;
+}
+
+// Each vertex's run lists its targets by effect (|delta| x the largest |weight| the palette
+// gives the target), largest first; each entry's tail bounds what it and the rest of the run
+// move the vertex, rounded up by less than 1 % (a LOD level stops where the tail is within its
+// cut, si::morphLodCuts).
+TEST(MorphBake, TheStreamOrdersEachRunByEffectWithItsTail) {
+  const Character c = morphCharacter(Interpolation::kLinear);
+  BakedPalette p;
+  BakeDesc d;
+  d.rate_mode = RateMode::kFixed;
+  d.sample_rate_hz = 10.0f;
+  ASSERT_TRUE(bakePalette(c, d, &p, nullptr).isOk());
+  VertexStream vs;
+  MorphStream ms;
+  ASSERT_TRUE(buildVertexStream(c.mesh, p, &vs).isOk());
+  ASSERT_TRUE(buildMorphStream(c.mesh, p, 0, &ms).isOk());
+  // The largest |weight| of each target over the palette's frames, read as the shader reads.
+  std::vector<double> bound(5, 0.0);
+  std::vector<float> w(5);
+  const BakedClip& bc = p.clips[0];
+  for (uint32_t f = 0; f < bc.frame_count; ++f) {
+    const uint32_t texel = p.layout.frameTexel(0, f);
+    ASSERT_TRUE(emulateMorphWeights(p, texel, texel, 0.0f, IntervalMode::kLinear, w).isOk());
+    for (size_t k = 0; k < 5; ++k) bound[k] = std::max(bound[k], double(std::fabs(w[k])));
+  }
+  for (uint32_t v = 0; v < 3; ++v) {
+    SCOPED_TRACE(testing::Message() << "vertex " << v);
+    struct Expected {
+      uint32_t target;
+      double effect;
+    };
+    std::vector<Expected> expected;
+    for (uint32_t t = 0; t < 5; ++t) {
+      const MorphTarget& target = c.mesh.morph_targets[t];
+      for (size_t i = 0; i < target.vertices.size(); ++i)
+        if (target.vertices[i] == v)
+          expected.push_back({t, glm::length(glm::dvec3(target.position_deltas[i])) * bound[t]});
+    }
+    std::stable_sort(expected.begin(), expected.end(),
+                     [](const Expected& a, const Expected& b) { return a.effect > b.effect; });
+    const std::vector<uint32_t> words = runWords(vs, ms, v);
+    ASSERT_EQ(words.size(), expected.size());
+    for (size_t i = 0; i < words.size(); ++i) {
+      EXPECT_EQ(words[i] & 0xFFFFu, expected[i].target) << "entry " << i;
+      double rest = 0.0;
+      for (size_t j = i; j < expected.size(); ++j) rest += expected[j].effect;
+      EXPECT_GE(tailOf(words[i]), rest) << "entry " << i;
+      EXPECT_LE(tailOf(words[i]), rest * (1.0 + 1.0 / 128.0)) << "entry " << i;
+    }
+  }
+  // The slides' effects differ (0.025 t^2): the run is not left in target order.
+  EXPECT_EQ(runWords(vs, ms, 0)[0] & 0xFFFFu, 4u);
+}
+
+// A cubic palette overshoots its frames between them: the tail bounds what the interpolated
+// weight gives, at every time (Catmull-Rom's weights sum to at most 1.25 in absolute value).
+TEST(MorphBake, TheTailBoundsCubicWeightsBetweenFrames) {
+  const Character c = morphCharacter(Interpolation::kCubicSpline);
+  BakedPalette p;
+  BakeDesc d;
+  d.rate_mode = RateMode::kFixed;
+  d.sample_rate_hz = 2.0f;
+  d.interpolation = InterpolationChoice::kCubic;
+  ASSERT_TRUE(bakePalette(c, d, &p, nullptr).isOk());
+  VertexStream vs;
+  MorphStream ms;
+  ASSERT_TRUE(buildVertexStream(c.mesh, p, &vs).isOk());
+  ASSERT_TRUE(buildMorphStream(c.mesh, p, 0, &ms).isOk());
+  const std::vector<uint32_t> lift = runWords(vs, ms, 2);  // Only "lift", delta 0.5, moves it.
+  ASSERT_EQ(lift.size(), 1u);
+  const BakedClip& bc = p.clips[0];
+  std::vector<float> w(5);
+  double largest = 0.0;
+  for (int i = 0; i <= 2000; ++i) {
+    const FrameSample s = sampleFrames(bc, c.clips[0].duration_seconds * i / 2000.0);
+    ASSERT_TRUE(emulateMorphWeights(p, p.layout.frameTexel(0, s.frame),
+                                    p.layout.frameTexel(0, s.next_frame), s.fraction, s.mode, w)
+                    .isOk());
+    largest = std::max(largest, 0.5 * std::fabs(double(w[0])));
+  }
+  EXPECT_GE(tailOf(lift[0]), largest);
+  EXPECT_LE(tailOf(lift[0]), 1.3 * largest);  // A bound, not far above what is reached.
 }
 
 TEST(MorphBake, AWeightThatIsNotFiniteIsRefusedByName) {

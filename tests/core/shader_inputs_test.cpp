@@ -4,10 +4,13 @@
 // the mesh has it, and hold what the mesh says.
 #include <gtest/gtest.h>
 
+#include <array>
 #include <cstring>
 #include <limits>
 
 #include "core/test_helpers.h"
+#include "si/core/default_character.h"
+#include "si/core/lod_error.h"
 #include "si/core/shader_inputs.h"
 
 namespace si {
@@ -89,6 +92,33 @@ TEST(VertexStream, TheMeshRefusesColoursOutsideTheUnitRangeAndMismatchedCounts) 
   m.texcoords1.push_back({std::numeric_limits<float>::infinity(), 0});
   EXPECT_EQ(m.validate(2).code(), StatusCode::kNotFinite);
   EXPECT_EQ(s.stride_bytes, 0u) << "a refused stream is left untouched";
+}
+
+// Each LOD level's morph cut is the share of its error (levels past the mesh's take its
+// coarsest); unmeasured levels cut nothing; a share outside [0, 1] is refused by name.
+TEST(MorphLodCuts, EachLevelCutsItsShareOfItsError) {
+  Character c;
+  ASSERT_TRUE(makeDefaultCharacter({}, &c).isOk());
+  std::vector<float> levels;
+  ASSERT_TRUE(lodErrorsByLevel(c.mesh, &levels).isOk());
+  ASSERT_GE(levels.size(), 2u);
+  ASSERT_GT(levels.back(), 0.0f);
+  std::array<float, kMorphLodCuts> cuts{};
+  ASSERT_TRUE(morphLodCuts(c.mesh, 0.5f, &cuts).isOk());
+  for (size_t k = 0; k < cuts.size(); ++k)
+    EXPECT_FLOAT_EQ(cuts[k], 0.5f * levels[std::min(k, levels.size() - 1)]) << "level " << k;
+  EXPECT_EQ(cuts[0], 0.0f);  // LOD 0 keeps every target.
+  for (float bad : {-0.1f, 1.5f, std::numeric_limits<float>::quiet_NaN()}) {
+    const std::array<float, kMorphLodCuts> before = cuts;
+    const Status s = morphLodCuts(c.mesh, bad, &cuts);
+    EXPECT_EQ(s.code(), StatusCode::kInvalidArgument) << bad;
+    EXPECT_NE(s.message().find("share"), std::string::npos) << s.toString();
+    EXPECT_EQ(cuts, before) << "nothing written";
+  }
+  EXPECT_EQ(morphLodCuts(c.mesh, 0.5f, nullptr).code(), StatusCode::kInvalidArgument);
+  for (SubMesh& m : c.mesh.sub_meshes) m.lod_error_units.clear();
+  ASSERT_TRUE(morphLodCuts(c.mesh, 0.5f, &cuts).isOk());
+  for (float cut : cuts) EXPECT_EQ(cut, 0.0f);
 }
 
 }  // namespace

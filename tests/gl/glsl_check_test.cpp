@@ -283,7 +283,7 @@ TEST(GlslCheck, UserShaderOnThePublicIncludeCompiles) {
                                  "vert", "user_previous_layers"),
               "");
   // The interface version is part of the include.
-  EXPECT_NE(std::string(skinningGlsl()).find("#define SI_GLSL_INTERFACE_VERSION 11"),
+  EXPECT_NE(std::string(skinningGlsl()).find("#define SI_GLSL_INTERFACE_VERSION 12"),
             std::string::npos);
 }
 

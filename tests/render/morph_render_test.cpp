@@ -25,12 +25,14 @@ Character morphCharacter(size_t targets) {
 }
 
 // Three heads, at different times of the clip and tinted apart; the middle one crossfading
-// into another clip.
-Status headCrowd(const Character& c, const BakedPalette& palette, CrowdManager* crowd) {
+// into another clip. `lod_distances` as CrowdDesc::lod_distances_radii (empty: the defaults).
+Status headCrowd(const Character& c, const BakedPalette& palette, CrowdManager* crowd,
+                 std::vector<float> lod_distances = {}) {
   CrowdDesc cd;
   cd.palette = &palette;
   cd.sub_mesh_count = uint32_t(c.mesh.sub_meshes.size());
   cd.lod_count = uint32_t(c.mesh.maxLodCount());
+  cd.lod_distances_radii = std::move(lod_distances);
   Status s = crowd->init(cd);
   for (int k = 0; k < 3 && s.isOk(); ++k) {
     InstanceDesc d;
@@ -99,6 +101,59 @@ TEST_P(MorphRenderTest, EveryPathDrawsTheMorphs) {
                          {"traditional"});
   }
   r.shutdown();
+}
+
+// At a coarse LOD level each vertex leaves out the targets that together move it no farther
+// than the level's cut (RendererDesc::morph_lod_share of its error): every path leaves out what
+// the CPU emulation leaves out, and the image visibly differs from keeping them all; a share
+// outside [0, 1] is refused by name.
+TEST_P(MorphRenderTest, CoarseLevelsLeaveOutWhatMovesLessThanTheirCut) {
+  const Character c = morphCharacter(6);
+  const BakedPalette palette = bakeAt30(c);
+  ASSERT_GE(c.mesh.maxLodCount(), 2u);
+  CrowdManager crowd;
+  ASSERT_TRUE(headCrowd(c, palette, &crowd, {0.1f, 100.0f}).isOk());  // All at LOD 1.
+  const Camera camera = headCamera(c);
+  ASSERT_TRUE(crowd.update(0.0, camera).isOk());
+  for (InstanceHandle h : crowd.view().visibleHandles()) {
+    uint32_t lod = 0;
+    ASSERT_TRUE(crowd.view().lodOf(h, &lod).isOk());
+    ASSERT_EQ(lod, 1u);
+  }
+  const glm::vec4 background(0.2f, 0.25f, 0.3f, 1.0f);
+  // Every target kept: the CPU emulation with a share of 0.
+  std::vector<uint8_t> kept;
+  {
+    Renderer r;
+    RendererDesc rd;
+    rd.morph_lod_share = 0.0f;
+    ASSERT_TRUE(r.init(info_, rd).isOk());
+    CharacterId id;
+    ASSERT_TRUE(r.addCharacter(c, palette, &id).isOk());
+    kept = cpuSkinnedImage(r, id, crowd.view(), camera, background, *context_);
+    r.shutdown();
+  }
+  Renderer r;
+  RendererDesc rd;
+  rd.morph_lod_share = 1.0f;
+  ASSERT_TRUE(r.init(info_, rd).isOk());
+  CharacterId id;
+  ASSERT_TRUE(r.addCharacter(c, palette, &id).isOk());
+  const std::vector<uint8_t> cut =
+      cpuSkinnedImage(r, id, crowd.view(), camera, background, *context_);
+  EXPECT_GT(compare(cut, kept, nullptr).share, kMaxDifferingShare) << "the cut leaves targets out";
+  InstanceBatcher batcher;
+  ASSERT_TRUE(batcher.init(r.batchLimits()).isOk());
+  expectEveryPathDraws(r, id, crowd.view(), batcher, camera, background, *context_, cut,
+                       {"traditional"});
+  r.shutdown();
+  for (float bad : {-0.5f, 1.5f}) {
+    Renderer refused;
+    rd.morph_lod_share = bad;
+    const Status s = refused.init(info_, rd);
+    EXPECT_EQ(s.code(), StatusCode::kInvalidArgument) << bad;
+    EXPECT_NE(s.message().find("morph_lod_share"), std::string::npos) << s.toString();
+  }
 }
 
 // The captures (the vertex shader's through transform feedback, the compute pre-skinning

@@ -16,6 +16,7 @@
 ///   const glm::uvec4 info = si::paletteShaderInfo(palette);  // -> si_palette_info
 /// \endcode
 
+#include <array>
 #include <cstdint>
 #include <vector>
 
@@ -79,9 +80,14 @@ inline constexpr uint32_t kMaxMorphEntries = (1u << 23) - 1u;
 
 /// A mesh's morph targets as the shaders read them (SI_MORPH_TARGETS, docs/glsl-interface.md):
 /// a 2D RGBA32UI texture of entries, grouped by vertex (the vertex stream's morph word names a
-/// vertex's run) and by target within a vertex. Entry e starts at texel e * texels_per_entry:
-/// (target, position delta x, y, z as float bits), then with normal deltas (x, y, z, 0), then
-/// with tangent deltas (x, y, z, 0). Texels are numbered row by row, as the palette's.
+/// vertex's run), each run ordered by effect, largest first. Entry e starts at texel
+/// e * texels_per_entry: (word, position delta x, y, z as float bits), then with normal deltas
+/// (x, y, z, 0), then with tangent deltas (x, y, z, 0). The word holds the target in bits 0 to
+/// 15 and, in bits 16 to 31 as a float's upper bits (rounded up), the entry's tail: how far the
+/// entries from it to the end of the run can move the vertex at most, in model units (each
+/// entry's |position delta| times the largest |weight| the palette gives its target, summed).
+/// A LOD level stops its run at the first entry whose tail is within the level's cut
+/// (morphLodCuts()). Texels are numbered row by row, as the palette's.
 struct MorphStream {
   std::vector<uint32_t> texels;  ///< width * height texels of 4 words.
   uint32_t width = 0;            ///< A power of two.
@@ -99,6 +105,19 @@ struct MorphStream {
 /// size.
 Status buildMorphStream(const SkinnedMesh& mesh, const BakedPalette& palette,
                         uint32_t max_texture_size, MorphStream* out);
+
+/// LOD levels a character may have (CrowdDesc::lod_count), each with its morph cut.
+inline constexpr size_t kMorphLodCuts = 8;
+
+/// The include's `si_morph_cuts` (SiPaletteInfo's last two members with SI_MORPH_TARGETS, the
+/// levels in order): per LOD level, how far the morph targets it leaves out may move a vertex,
+/// in model units: `share` times the level's geometric error (lodErrorsByLevel(); levels past
+/// the mesh's take its coarsest; all 0, every target kept, where a sub-mesh's errors are not
+/// measured). LOD 0's error is 0, so it keeps every target; at a coarser
+/// level the error on screen grows by at most `share` of the level's (si::RendererDesc::
+/// morph_lod_share). kInvalidArgument for a null `out` or a share outside [0, 1]; fails as
+/// lodErrorsByLevel() does. Nothing is written on failure.
+Status morphLodCuts(const SkinnedMesh& mesh, float share, std::array<float, kMorphLodCuts>* out);
 
 /// The value of the include's `si_morph_info` (SiPaletteInfo's second member with
 /// SI_MORPH_TARGETS): x log2 of the morph texture's width, y texels per entry, z where a frame's

@@ -141,6 +141,13 @@ struct RendererDesc {
   /// GL_MAX_COMPUTE_WORK_GROUP_COUNT, each vertex walks the chain (DrawStats::compose_dispatches
   /// tells which). Switchable with setComposeLayers().
   bool compose_layers = true;
+  /// Morph targets at coarse LOD levels: each vertex leaves out the targets (its smallest
+  /// first) that together move it at most this share of the level's geometric error
+  /// (si::morphLodCuts; LOD 0 keeps every target). The level's error on screen then grows by
+  /// at most this share: 0.5 keeps a 1-pixel budget within 1.5 pixels. 0 keeps every target at
+  /// every level; values outside [0, 1] are refused by init (kInvalidArgument). Read when a
+  /// character is added.
+  float morph_lod_share = 0.5f;
   /// Largest side of the base colour texture array's layers (si::buildMaterialTable: every
   /// material image resized to one size, so all materials share a draw); 0 means 2048.
   uint32_t max_texture_size = 0;

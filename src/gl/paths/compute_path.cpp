@@ -116,7 +116,8 @@ Status ComputePath::draw(const DrawResources& r, const PathFrame& f, DrawStats* 
       if (f.layers) r.ring->bindLayers(f.layer_base, d);
       if (f.layers && f.motion) r.ring->bindLayers(f.previous_layer_base, d, 3);
       glProgramUniform4ui(skin.id, 5, uint32_t(cursor), l.vertex_count, l.vertex_offset, first);
-      glProgramUniform2ui(skin.id, 6, count, lists.drawLayout());
+      glProgramUniform2ui(skin.id, 6, count,
+                          lists.drawLayout() | (d.lod << 16));  // LOD: morph cut.
       const uint64_t threads = uint64_t(count) * l.vertex_count;
       s = dispatchGroups(*r.info, (threads + 63) / 64, "compute pre-skinning");
       if (!s.isOk()) return s;

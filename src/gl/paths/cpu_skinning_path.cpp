@@ -41,16 +41,21 @@ Status CpuSkinningPath::prepare(const DrawResources& r) {
   vertex_bytes_ += mesh.texcoords1.empty() ? 0 : 8;
   color_offset_ = mesh.colors.empty() ? 0 : vertex_bytes_;
   vertex_bytes_ += mesh.colors.empty() ? 0 : 4;
-  // Each vertex's morph entries, as the shaders' morph stream groups them.
+  // Each vertex's morph entries, as the shaders' morph stream orders them (by effect, with
+  // their tails), and each LOD level's cut.
   morph_first_.clear();
   morph_entries_.clear();
+  morph_cuts_ = r.character->morph_cuts;
   if (!mesh.morph_targets.empty()) {
-    const MorphEntriesByVertex by_vertex = morphEntriesByVertex(mesh);
+    MorphEntriesByVertex by_vertex = morphEntriesByVertex(mesh);
+    const std::vector<float> tails =
+        orderMorphEntriesByEffect(mesh, morphWeightBounds(*r.palette->palette()), &by_vertex);
     morph_first_ = by_vertex.first;
-    for (const MorphEntriesByVertex::Entry& e : by_vertex.entries) {
+    for (size_t i = 0; i < by_vertex.entries.size(); ++i) {
+      const MorphEntriesByVertex::Entry& e = by_vertex.entries[i];
       const MorphTarget& t = mesh.morph_targets[e.target];
       morph_entries_.push_back(
-          {e.target, t.position_deltas[e.index],
+          {e.target, tails[i], t.position_deltas[e.index],
            t.normal_deltas.empty() ? glm::vec3(0.0f) : t.normal_deltas[e.index],
            t.tangent_deltas.empty() ? glm::vec3(0.0f) : t.tangent_deltas[e.index]});
     }
@@ -168,8 +173,10 @@ Status CpuSkinningPath::draw(const DrawResources& r, const PathFrame& f, DrawSta
         glm::vec3 direction = tangents ? glm::vec3(mesh.tangents[vi]) : glm::vec3(0.0f);
         if (morphs && morph_first_[vi + 1] > morph_first_[vi]) {
           glm::vec3 n = normal, t = direction;
+          const float cut = morph_cuts_[std::min<size_t>(lod, morph_cuts_.size() - 1)];
           for (uint32_t e = morph_first_[vi]; e < morph_first_[vi + 1]; ++e) {
             const MorphEntry& entry = morph_entries_[e];
+            if (entry.tail <= cut) break;  // The rest moves it no farther than the LOD's cut.
             const float w = morph_weights_[entry.target];
             if (w == 0.0f) continue;
             position += w * entry.position;

@@ -5,6 +5,7 @@
 // CPU (si::emulateSkinning's arithmetic), streamed to the GPU in camera-relative world space
 // and drawn unskinned.
 
+#include <array>
 #include <vector>
 
 #include "gl/paths/draw_path.h"
@@ -40,8 +41,10 @@ class CpuSkinningPath final : public DrawPath {
   // morph_entries_[morph_first_[v] .. morph_first_[v + 1]).
   struct MorphEntry {
     uint32_t target;
+    float tail;  // How far it and the rest of its run can move the vertex (model units).
     glm::vec3 position, normal, tangent;
   };
+  std::array<float, kMorphLodCuts> morph_cuts_{};  // Per LOD level (si::morphLodCuts).
   std::vector<uint32_t> morph_first_;
   std::vector<MorphEntry> morph_entries_;
   std::vector<float> morph_weights_;  // The drawn instance's.

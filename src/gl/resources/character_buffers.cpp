@@ -57,7 +57,7 @@ Status uploadLayers(GLuint* texture, GLenum format, const std::vector<Image>& la
 }  // namespace
 
 Status CharacterBuffers::upload(const Character& character, const BakedPalette& palette,
-                                uint32_t max_texture_size) {
+                                uint32_t max_texture_size, float morph_lod_share) {
   const SkinnedMesh& m = character.mesh;
   Status s = m.validate(character.skeleton.jointCount());
   if (!s.isOk()) return s;
@@ -66,8 +66,10 @@ Status CharacterBuffers::upload(const Character& character, const BakedPalette& 
   VertexStream stream;
   s = buildVertexStream(m, palette, &stream);
   MorphStream morphs;
+  std::array<float, kMorphLodCuts> cuts{};
   if (s.isOk() && !m.morph_targets.empty())
     s = buildMorphStream(m, palette, max_texture_size == 0 ? 16384 : max_texture_size, &morphs);
+  if (s.isOk() && !m.morph_targets.empty()) s = morphLodCuts(m, morph_lod_share, &cuts);
   MaterialTable table;
   if (s.isOk()) s = buildMaterialTable(character, max_texture_size, &table);
   if (!s.isOk()) return s;
@@ -95,6 +97,7 @@ Status CharacterBuffers::upload(const Character& character, const BakedPalette& 
   }
   morph_offset = stream.morph_offset;
   morph_info = morphs.texels.empty() ? glm::uvec4(0u) : morphShaderInfo(palette, morphs);
+  morph_cuts = cuts;
   wide_joints = stream.wide_joints;
   stride_bytes = stream.stride_bytes;
   sub_meshes = m.sub_meshes;

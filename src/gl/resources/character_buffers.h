@@ -4,6 +4,8 @@
 // vertex array that describes them, every sub-mesh's LOD ranges, and its materials (the
 // si::MaterialTable: per-vertex material indices, the table, the base colour texture array).
 
+#include <array>
+
 #include <glad/gl.h>
 
 #include <glm/glm.hpp>
@@ -12,6 +14,7 @@
 #include "gl/programs/program_set.h"
 #include "si/core/baked_palette.h"
 #include "si/core/character.h"
+#include "si/core/shader_inputs.h"
 
 namespace si {
 struct MaterialTable;
@@ -24,9 +27,10 @@ struct CharacterBuffers {
   /// Uploads `character` for `palette` (the palette baked for it). Fails, keeping what was
   /// uploaded before, with kInvalidArgument for an invalid mesh, a palette of another skeleton
   /// or a vertex weighted to a joint the palette does not store.
-  /// Base colour layers are at most `max_texture_size` texels a side (0: 2048).
-  Status upload(const Character& character, const BakedPalette& palette,
-                uint32_t max_texture_size);
+  /// Base colour layers are at most `max_texture_size` texels a side (0: 2048); the morph
+  /// targets' LOD cuts are `morph_lod_share` of each level's error (si::morphLodCuts).
+  Status upload(const Character& character, const BakedPalette& palette, uint32_t max_texture_size,
+                float morph_lod_share = 0.0f);
   void release();
   bool ready() const { return vao != kNoObject; }
   /// upload()'s materials: the per-vertex material indices and the table of `table` (its data
@@ -72,6 +76,8 @@ struct CharacterBuffers {
   /// si::morphShaderInfo() of the mesh's morph stream (0 without targets): the palette info
   /// block's second member.
   glm::uvec4 morph_info{0u};
+  /// si::morphLodCuts() of the mesh (0 without targets): the block's last two members.
+  std::array<float, kMorphLodCuts> morph_cuts{};
   /// The mesh features its draws' programs are variants for (ProgramSet::buildMeshVariants):
   /// kMeshVertexWords with texture coordinates 1 or colours, kMeshEightInfluences with a
   /// second set of influences, kMeshMorphTargets with morph targets.

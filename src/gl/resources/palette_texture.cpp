@@ -2,6 +2,8 @@
 // Uploading the palette texture.
 #include "gl/resources/palette_texture.h"
 
+#include <cstring>
+
 #include "core/str_cat.h"
 #include "gl/resources/gl_allocation.h"
 #include "si/core/shader_inputs.h"
@@ -9,7 +11,7 @@
 namespace si::detail {
 
 Status PaletteTexture::upload(const BakedPalette& palette, const GlInfo& info,
-                              const glm::uvec4& morph_info, GLuint morph_texture) {
+                              const PaletteMorphs& morphs) {
   const PaletteLayout& l = palette.layout;
   const Status valid = palette.validate();  // Never draws from an inconsistent palette.
   if (!valid.isOk()) return {StatusCode::kInvalidArgument, "the palette: " + valid.message()};
@@ -29,7 +31,10 @@ Status PaletteTexture::upload(const BakedPalette& palette, const GlInfo& info,
   glTextureParameteri(texture_, GL_TEXTURE_MIN_FILTER, GL_NEAREST);
   glTextureParameteri(texture_, GL_TEXTURE_MAG_FILTER, GL_NEAREST);
   const glm::uvec4 info_value = paletteShaderInfo(palette);
-  const glm::uvec4 block[2] = {info_value, morph_info};
+  // SiPaletteInfo: si_palette_info, si_morph_info, si_morph_cuts[2] (std140: 4 x 16 bytes).
+  glm::uvec4 block[4] = {info_value, morphs.info, glm::uvec4(0u), glm::uvec4(0u)};
+  static_assert(sizeof(morphs.cuts) == 2 * sizeof(glm::uvec4), "two vec4 of cuts");
+  std::memcpy(&block[2], morphs.cuts.data(), sizeof(morphs.cuts));
   s = createBuffer(&info_buffer_, sizeof(block), &block[0][0], 0, "the palette's info block");
   if (!s.isOk()) {
     release();
@@ -37,7 +42,7 @@ Status PaletteTexture::upload(const BakedPalette& palette, const GlInfo& info,
   }
   shader_info_ = info_value;
   palette_ = &palette;
-  morph_texture_ = morph_texture;
+  morph_texture_ = morphs.texture;
   return Status::ok();
 }
 

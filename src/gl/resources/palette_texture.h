@@ -1,28 +1,36 @@
 // SkinnedInstancing — SPDX-License-Identifier: MIT (see LICENSE)
 #pragma once
 // The palette on the GPU: one RGBA32F (or RGBA16F) texture read with texelFetch, and the
-// include's si_palette_info and si_morph_info values in a 32-byte uniform buffer (block
-// SiPaletteInfo; the second member only with SI_MORPH_TARGETS).
+// include's si_palette_info, si_morph_info and si_morph_cuts values in a 64-byte uniform buffer
+// (block SiPaletteInfo; the last three members only with SI_MORPH_TARGETS).
 
 #include <glad/gl.h>
+
+#include <array>
 
 #include <glm/glm.hpp>
 
 #include "gl/programs/program_set.h"
 #include "si/core/baked_palette.h"
+#include "si/core/shader_inputs.h"
 #include "si/gl/gl_context.h"
 
 namespace si::detail {
 
+/// What the skinning reads beside the palette for a mesh with morph targets.
+struct PaletteMorphs {
+  glm::uvec4 info{0u};                      ///< si::morphShaderInfo() (0 without targets).
+  std::array<float, kMorphLodCuts> cuts{};  ///< si::morphLodCuts().
+  GLuint texture = kNoObject;  ///< The morph stream's texture (borrowed; kNoObject without).
+};
+
 class PaletteTexture {
  public:
   /// Uploads `palette` (borrowed: it must outlive the upload's use) with what the skinning
-  /// reads beside it for a mesh with morph targets: `morph_info` (si::morphShaderInfo() of its
-  /// morph stream, 0 without) and `morph_texture` (the stream's texture, borrowed; kNoObject
-  /// without). kInvalidArgument for a palette that fails BakedPalette::validate();
-  /// kLimitExceeded past GL_MAX_TEXTURE_SIZE.
+  /// reads beside it for a mesh with morph targets (`morphs`). kInvalidArgument for a palette
+  /// that fails BakedPalette::validate(); kLimitExceeded past GL_MAX_TEXTURE_SIZE.
   Status upload(const BakedPalette& palette, const GlInfo& info,
-                const glm::uvec4& morph_info = glm::uvec4(0u), GLuint morph_texture = kNoObject);
+                const PaletteMorphs& morphs = PaletteMorphs());
   void release();
 
   GLuint texture() const { return texture_; }

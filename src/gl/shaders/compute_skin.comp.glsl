@@ -35,6 +35,7 @@ void main() {
   if (i >= u_layout.x) return;
   uint k = g - i * u_chunk.y;
   uint source = si_lod_vertices[u_chunk.z + k];
+  si_pre_skin_lod = (u_layout.y >> 16) & 7u;
   uvec4 layer = siLayer(u_chunk.w + i);
   SiInstance inst = si_instances[u_chunk.w + i];
   uint slot = u_batch_slot + u_chunk.w + i;

@@ -47,6 +47,7 @@ void main() {
   uint k = local - i * info.x;
   uint v = si_entries[si_bucket_offset[lo] + i];
   uint source = si_lod_vertices[info.y + k];
+  si_pre_skin_lod = lo / u_counts.z;  // Buckets are LOD-major: lod * sub-meshes + sub-mesh.
   siWritePreSkinned(g, source, si_records[v], siLayer(v), v);
 #ifdef SI_MOTION_VECTORS
   si_previous_out[g] =

@@ -13,7 +13,8 @@
 // when compiled with SI_TANGENTS) | 0x400 when the source has texture coordinates 1 | 0x800
 // when it has colours | 0x1000 when it has a second set of influences (its joints and weights
 // words right after the fixed ones; read with SI_EIGHT_INFLUENCES) | 0x2000 when it has morph
-// targets (its morph word last; read with SI_MORPH_TARGETS).
+// targets (its morph word last; read with SI_MORPH_TARGETS); bits 16-18: the compute pass's
+// LOD level (si_pre_skin_lod).
 // The bindings can be moved (the GPU-driven passes use 2 and 3 for other buffers).
 #ifndef SI_PRE_SKIN_COMMON_GLSL
 #define SI_PRE_SKIN_COMMON_GLSL
@@ -147,6 +148,10 @@ uvec4 siLayer(uint i) { return uvec4(0u); }
 uvec4 siPreviousLayer(uint i) { return uvec4(0u); }
 #endif
 
+// The LOD level of the vertices being pre-skinned (its morph cut, si_morph.glsl): each pass's
+// main sets it.
+uint si_pre_skin_lod = 0u;
+
 // The blended joint matrix rows of `inst` for `joints` and `weights`: with SI_LAYERS its overlay
 // `layer` composed on its mask; with SI_COMPOSED_LAYERS read from composed record `record`'s
 // rows (its previous rows with `previous`).
@@ -173,7 +178,7 @@ void siPreSkinSource(uint source, SiInstance inst, uvec4 layer, uint record, boo
   t = siHasTangents() ? siSourceTangent(source) : vec4(0.0);
 #ifdef SI_MORPH_TARGETS
   vec3 direction = t.xyz;
-  siMorph(inst, siSourceMorphWord(source), p, n, direction);
+  siMorph(inst, siSourceMorphWord(source), si_pre_skin_lod, p, n, direction);
   t.xyz = direction;
 #endif
   siPreSkinMatrix(inst, layer, record, previous, joints, weights, m0, m1, m2);

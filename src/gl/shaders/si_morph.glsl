@@ -3,11 +3,14 @@
 // entries in the morph texture (si::MorphStream) and each target's weight in the palette,
 // stored per frame after the joints and interpolated exactly as the joints' rows are (then
 // crossfaded towards clip B), added to the bind pose before skinning as si::emulateSkinning
-// adds them. The vertex's morph word (si::VertexStream::morph_offset) names its run.
+// adds them. The vertex's morph word (si::VertexStream::morph_offset) names its run, ordered by
+// effect, largest first; each entry carries its tail (how far it and those after it can move
+// the vertex), and a LOD level stops at the first entry whose tail is within its cut.
 //   SI_MORPH_BINDING [5]  the morph texture (RGBA32UI; the texture unit under OpenGL)
 //   si_morph_info         SiPaletteInfo's second member (si::morphShaderInfo()): x log2 of the
 //                         morph texture's width, y texels per entry, z where a frame's weights
 //                         start, w the target count
+//   si_morph_cuts         its last two (si::morphLodCuts()): each LOD level's cut, model units
 #ifndef SI_MORPH_GLSL
 #define SI_MORPH_GLSL
 #ifndef SI_MORPH_BINDING
@@ -47,24 +50,42 @@ uvec4 siMorphEntry(uint i) {
                     ivec2(int(i & ((1u << si_morph_info.x) - 1u)), int(i >> si_morph_info.x)), 0);
 }
 
+// An entry word's target (bits 0-15) and tail (bits 16-31, a float's upper bits).
+uint siMorphTarget(uint word) { return word & 0xFFFFu; }
+float siMorphTail(uint word) { return uintBitsToFloat(word & 0xFFFF0000u); }
+// LOD level `lod`'s cut (model units): its entries whose tail is within it are left out.
+float siMorphCut(uint lod) { return si_morph_cuts[min(lod, 7u) >> 2][int(lod & 3u)]; }
+
 // Adds the morph targets of the vertex whose morph word is `word`, at `inst`'s weights, to its
 // bind-pose position, normal and tangent direction, then renormalizes the normal and a
-// non-zero tangent (the seed "Efficient Animation" renormalizes its blended frame so).
-void siMorph(SiInstance inst, uint word, inout vec3 position, inout vec3 normal,
+// non-zero tangent (the seed "Efficient Animation" renormalizes its blended frame so); at LOD
+// level `lod` it stops where the rest of the run moves the vertex no farther than the level's
+// cut. Two entries an iteration, without a branch on their weights, so their fetches overlap.
+void siMorph(SiInstance inst, uint word, uint lod, inout vec3 position, inout vec3 normal,
              inout vec3 tangent) {
   uint count = word & 511u;
   if (count == 0u) return;
   uint stride = si_morph_info.y;
   uint first = (word >> 9) * stride;
+  float cut = siMorphCut(lod);
   vec3 n = normal, t = tangent;
-  for (uint i = 0u; i < count; ++i) {
-    uint at = first + i * stride;
-    uvec4 e = siMorphEntry(at);
-    float w = siMorphWeight(inst, e.x);
-    if (w == 0.0) continue;
-    position += w * uintBitsToFloat(e.yzw);
-    if (stride > 1u) n += w * uintBitsToFloat(siMorphEntry(at + 1u).yzw);
-    if (stride > 2u) t += w * uintBitsToFloat(siMorphEntry(at + 2u).yzw);
+  for (uint i = 0u; i < count; i += 2u) {
+    uint at0 = first + i * stride;
+    bool pair = i + 1u < count;
+    uint at1 = pair ? at0 + stride : at0;
+    uvec4 e0 = siMorphEntry(at0), e1 = siMorphEntry(at1);
+    if (siMorphTail(e0.x) <= cut) break;
+    float second = pair && siMorphTail(e1.x) > cut ? 1.0 : 0.0;
+    float w0 = siMorphWeight(inst, siMorphTarget(e0.x));
+    float w1 = second * siMorphWeight(inst, siMorphTarget(e1.x));
+    position += w0 * uintBitsToFloat(e0.yzw) + w1 * uintBitsToFloat(e1.yzw);
+    if (stride > 1u)
+      n += w0 * uintBitsToFloat(siMorphEntry(at0 + 1u).yzw) +
+           w1 * uintBitsToFloat(siMorphEntry(at1 + 1u).yzw);
+    if (stride > 2u)
+      t += w0 * uintBitsToFloat(siMorphEntry(at0 + 2u).yzw) +
+           w1 * uintBitsToFloat(siMorphEntry(at1 + 2u).yzw);
+    if (second == 0.0) break;
   }
   float n_length = length(n);
   if (n_length > 0.0) normal = n / n_length;

@@ -2,7 +2,7 @@
 // The skinning include for your own vertex (or compute) shaders: the instance record, the
 // instance block, the palette and functions that fetch, interpolate, crossfade and blend the
 // bone matrices exactly as si::emulateSkinningMatrix() and si::emulateSkinning() do on the CPU.
-// Interface version 11 (2: the fraction words carry the interval mode, cubic clips; 3: the
+// Interface version 12 (2: the fraction words carry the interval mode, cubic clips; 3: the
 // record's fourth blend word is the appearance: tint RGB8 and the custom texture layer; 4: the
 // previous frame's records and siSkinPrevious, for motion vectors; 5: layered animation, the
 // layer records, the mask table and siSkinLayered; 6: the mask table holds each slot's bind-pose
@@ -12,7 +12,9 @@
 // the palette sampler after linking; 9: bit 31 of a layer record's last word flags a 2D blend's
 // extra layer records, siLayerMask and siLayerWeight read the word, siLayeredChainRows composes
 // the chain; 10: SI_SKIN_SUM and siPlacePoint, what the skinning functions are made of; 11:
-// SI_MORPH_TARGETS, si_morph.glsl: morph targets, si_morph_info in SiPaletteInfo);
+// SI_MORPH_TARGETS, si_morph.glsl: morph targets, si_morph_info in SiPaletteInfo; 12: each
+// vertex's morph entries ordered by effect with their tails, si_morph_cuts in SiPaletteInfo and
+// siMorph's LOD argument: a coarse level leaves out what moves a vertex less than its cut);
 // docs/glsl-interface.md documents every name, binding and define.
 //
 // Before including, define SI_MAX_INSTANCES (records per draw: InstanceBatcher::
@@ -41,10 +43,11 @@
 // SI_PREVIOUS_RECORDS too, the previous layer records at binding SI_PREVIOUS_LAYER_BINDING
 // (InstanceBatcher::buildPreviousLayers) and siSkinPreviousLayered().
 // Morph targets: define SI_MORPH_TARGETS for si_morph.glsl (the morph texture at texture unit
-// SI_MORPH_BINDING [5], si_morph_info as SiPaletteInfo's second member, siMorph()).
+// SI_MORPH_BINDING [5], si_morph_info and si_morph_cuts as SiPaletteInfo's members after
+// si_palette_info, siMorph()).
 #ifndef SI_SKINNING_GLSL
 #define SI_SKINNING_GLSL
-#define SI_GLSL_INTERFACE_VERSION 11
+#define SI_GLSL_INTERFACE_VERSION 12
 #include "si_profile.glsl"
 #include "si_instance_record.glsl"
 #include "si_transform.glsl"
@@ -121,7 +124,8 @@ SI_BINDING_LAYOUT(SI_PALETTE_BINDING) uniform sampler2D si_palette;
 layout(std140 SI_WITH_BINDING(SI_PALETTE_INFO_BINDING)) uniform SiPaletteInfo {
   uvec4 si_palette_info;
 #ifdef SI_MORPH_TARGETS
-  uvec4 si_morph_info;  // si::morphShaderInfo(): si_morph.glsl.
+  uvec4 si_morph_info;     // si::morphShaderInfo(): si_morph.glsl.
+  vec4 si_morph_cuts[2];  // si::morphLodCuts(): per LOD level, levels 0-3 then 4-7.
 #endif
 };
 

@@ -81,9 +81,9 @@ layout(location = 11) in vec4 a_weights1;
 #endif
 #if defined(SI_MORPH_TARGETS) && !defined(SI_TRADITIONAL)
 layout(location = 12) in uint a_morph;
-#define SI_MORPH_VERTEX(inst, p, n, t) siMorph(inst, a_morph, p, n, t)
+#define SI_MORPH_VERTEX(inst, lod, p, n, t) siMorph(inst, a_morph, lod, p, n, t)
 #else
-#define SI_MORPH_VERTEX(inst, p, n, t)
+#define SI_MORPH_VERTEX(inst, lod, p, n, t)
 #endif
 #include "vertex_words.glsl"
 SI_LOCATION_LAYOUT(1) uniform mat4 u_view_projection;
@@ -170,20 +170,22 @@ void main() {
   vec4 w0 = inst.world_rows[0], w1 = inst.world_rows[1], w2 = inst.world_rows[2];
   uint color = inst.blend.w;
 #endif
-  // The bind pose, with the vertex's morph targets at the instance's weights.
+#if defined(SI_GPU_DRIVEN)
+  uint lod = si_visible[slot].y;
+#else
+  uint lod = u_lod;
+#endif
+  // The bind pose, with the vertex's morph targets at the instance's weights (those the LOD
+  // keeps).
   vec3 position = a_position, normal = a_normal.xyz, tangent_direction = a_tangent.xyz;
-  SI_MORPH_VERTEX(inst, position, normal, tangent_direction);
+  SI_MORPH_VERTEX(inst, lod, position, normal, tangent_direction);
   vec3 model = siTransformPoint(m0, m1, m2, position);
 #ifdef SI_CAPTURE
   tf_position = model;
 #endif
   vec3 world = siTransformPoint(w0, w1, w2, model);
   v_position = world;
-#if defined(SI_GPU_DRIVEN)
-  v_lod = si_visible[slot].y;
-#else
-  v_lod = u_lod;
-#endif
+  v_lod = lod;
   v_normal = siTransformNormal(w0, w1, w2, siTransformNormal(m0, m1, m2, normal));
   vec3 tangent =
       siTransformVector(w0, w1, w2, siTransformVector(m0, m1, m2, tangent_direction));
@@ -226,7 +228,7 @@ void main() {
 #endif
   vec3 previous_position = a_position, previous_normal = a_normal.xyz,
        previous_tangent = a_tangent.xyz;
-  SI_MORPH_VERTEX(prev, previous_position, previous_normal, previous_tangent);
+  SI_MORPH_VERTEX(prev, lod, previous_position, previous_normal, previous_tangent);
   vec3 previous = siPlacePoint(prev, p0, p1, p2, previous_position);
   v_motion_previous = u_previous_view_projection * vec4(previous, 1.0);
 #endif
