@@ -107,7 +107,14 @@ Status LayerMask::validate(const BakedPalette& palette) const {
       return {StatusCode::kInvalidArgument,
               strCat("slot ", s, "'s anchor ", a, " is not a palette slot outside the mask")};
   }
-  if (masked == 0) return {StatusCode::kInvalidArgument, "no palette slot is in the mask"};
+  if (masked == 0 && morph_targets.empty())
+    return {StatusCode::kInvalidArgument, "no palette slot and no morph target is in the mask"};
+  for (size_t i = 0; i < morph_targets.size(); ++i)
+    if (morph_targets[i] >= palette.layout.morph_target_count ||
+        (i > 0 && morph_targets[i] <= morph_targets[i - 1]))
+      return {StatusCode::kInvalidArgument,
+              strCat("the mask's morph targets are not increasing targets below the palette's ",
+                     palette.layout.morph_target_count)};
   if (slot_parent.size() != slots)
     return {StatusCode::kInvalidArgument,
             strCat("the mask has ", slot_parent.size(), " parent slots, the palette ", slots)};
@@ -187,6 +194,41 @@ Status buildFullBodyMask(const Skeleton& skeleton, const BakedPalette& palette,
   return finishMask(skeleton, palette, name, std::vector<uint8_t>(skeleton.jointCount(), 1), out);
 }
 
+Status buildMorphTargetMask(const SkinnedMesh& mesh, const BakedPalette& palette,
+                            const std::string& name, const std::vector<std::string>& target_names,
+                            LayerMask* out) {
+  if (out == nullptr) return {StatusCode::kInvalidArgument, "morph target mask: null output"};
+  if (target_names.empty())
+    return {StatusCode::kInvalidArgument,
+            strCat("morph target mask '", name, "': no targets named")};
+  if (palette.layout.morph_target_count != mesh.morph_targets.size())
+    return {StatusCode::kInvalidArgument,
+            strCat("morph target mask '", name, "': the palette holds the weights of ",
+                   palette.layout.morph_target_count, " targets, the mesh has ",
+                   mesh.morph_targets.size(), " (bake it with them)")};
+  LayerMask m;
+  m.name = name;
+  const size_t slots = palette.palette_joints.size();
+  m.slot_anchor.assign(slots, LayerMask::kNotInMask);
+  m.slot_parent.assign(slots, LayerMask::kNoParentSlot);
+  m.slot_bind_origin.assign(slots, glm::vec3(0.0f));
+  for (const std::string& target : target_names) {
+    const auto it = std::find_if(mesh.morph_targets.begin(), mesh.morph_targets.end(),
+                                 [&](const MorphTarget& t) { return t.name == target; });
+    if (it == mesh.morph_targets.end())
+      return {StatusCode::kNotFound,
+              strCat("morph target mask '", name, "': no morph target named '", target, "'")};
+    m.morph_targets.push_back(uint32_t(it - mesh.morph_targets.begin()));
+  }
+  std::sort(m.morph_targets.begin(), m.morph_targets.end());
+  m.morph_targets.erase(std::unique(m.morph_targets.begin(), m.morph_targets.end()),
+                        m.morph_targets.end());
+  const Status s = m.validate(palette);
+  if (!s.isOk()) return {s.code(), strCat("morph target mask '", name, "': ", s.message())};
+  *out = std::move(m);
+  return Status::ok();
+}
+
 Status buildLayerMaskFromJoints(const Skeleton& skeleton, const BakedPalette& palette,
                                 const std::string& name, const std::vector<std::string>& joints,
                                 LayerMask* out) {
@@ -204,7 +246,11 @@ std::vector<uint32_t> layerChain(const LayerMask& mask, uint32_t slot) {
 }
 
 std::vector<int32_t> layerMaskTable(Span<const LayerMask> masks) {
-  std::vector<int32_t> table{masks.empty() ? 0 : int32_t(masks[0].slot_anchor.size())};
+  uint32_t words = 0;
+  for (const LayerMask& m : masks)
+    if (!m.morph_targets.empty()) words = std::max(words, m.morph_targets.back() / 32u + 1u);
+  std::vector<int32_t> table{masks.empty() ? 0 : int32_t(masks[0].slot_anchor.size()),
+                             int32_t(words)};
   for (const LayerMask& m : masks) {
     table.insert(table.end(), m.slot_anchor.begin(), m.slot_anchor.end());
     table.insert(table.end(), m.slot_parent.begin(), m.slot_parent.end());
@@ -214,6 +260,9 @@ std::vector<int32_t> layerMaskTable(Span<const LayerMask> masks) {
         std::memcpy(&bits, &o[k], sizeof bits);  // The shader reads it with intBitsToFloat.
         table.push_back(bits);
       }
+    std::vector<uint32_t> bits(words, 0u);
+    for (uint32_t t : m.morph_targets) bits[t / 32u] |= 1u << (t % 32u);
+    for (uint32_t b : bits) table.push_back(int32_t(b));
   }
   return table;
 }

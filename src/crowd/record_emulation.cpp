@@ -34,6 +34,22 @@ Status emulateRecordMorphWeights(const BakedPalette& palette, const InstanceReco
   return s;
 }
 
+Status emulateLayeredMorphWeights(const BakedPalette& palette, const InstanceRecord& rec,
+                                  const LayerRecord& layer, Span<const LayerMask> masks,
+                                  Span<float> out) {
+  Status s = emulateRecordMorphWeights(palette, rec, out);
+  const uint32_t m = layerMask(layer);
+  const float w = layerWeight(layer);
+  if (!s.isOk() || m >= masks.size() || !(w > 0.0f) || masks[m].morph_targets.empty()) return s;
+  IntervalMode mode;
+  const float fraction = unpackFraction(layer.fraction, &mode);
+  std::vector<float> overlay(out.size());
+  s = emulateMorphWeights(palette, layer.frames[0], layer.frames[1], fraction, mode, overlay);
+  for (uint32_t t : masks[m].morph_targets)
+    if (s.isOk() && t < out.size()) out[t] = out[t] * (1.0f - w) + overlay[t] * w;
+  return s;
+}
+
 glm::mat4 emulateLayeredRecordMatrix(const BakedPalette& palette, const InstanceRecord& rec,
                                      const LayerRecord& layer, Span<const LayerMask> masks,
                                      uint32_t slot) {

@@ -326,14 +326,17 @@ TEST(LayeredAnimation, ChainsFollowTheMasksParentSlots) {
   EXPECT_EQ(hand, expected);
   EXPECT_TRUE(layerChain(arm, uint32_t(slotOf("r_clavicle"))).empty());  // The branch root.
   EXPECT_EQ(arm.slot_parent[size_t(slotOf("head"))], LayerMask::kNoParentSlot);
-  // The table holds each mask's anchors, then its parents, then its bind origins' bits.
+  // The table holds the slot count and the morph words per mask (none here: no mask moves a
+  // target), then each mask's anchors, its parents and its bind origins' bits.
   const size_t slots = arm.slot_anchor.size(), hand_slot = size_t(slotOf("r_hand"));
   const std::vector<int32_t> table = layerMaskTable(Span<const LayerMask>(&arm, 1));
-  ASSERT_EQ(table.size(), 1 + 5 * slots);
-  EXPECT_EQ(table[1 + slots + hand_slot], slotOf("r_forearm"));
+  ASSERT_EQ(table.size(), 2 + 5 * slots);
+  EXPECT_EQ(table[0], int32_t(slots));
+  EXPECT_EQ(table[1], 0);
+  EXPECT_EQ(table[2 + slots + hand_slot], slotOf("r_forearm"));
   for (int k = 0; k < 3; ++k) {
     float f;
-    std::memcpy(&f, &table[1 + 2 * slots + 3 * hand_slot + size_t(k)], sizeof f);
+    std::memcpy(&f, &table[2 + 2 * slots + 3 * hand_slot + size_t(k)], sizeof f);
     EXPECT_EQ(f, arm.slot_bind_origin[hand_slot][k]);
   }
   // A cycle of parent slots is refused: the shader follows them.

@@ -156,6 +156,66 @@ TEST_P(MorphRenderTest, CoarseLevelsLeaveOutWhatMovesLessThanTheirCut) {
   }
 }
 
+// An overlay on a mask of targets (an expression over whatever the clip plays) moves those
+// targets by its clip's weights, mixed by its weight: every path draws what the CPU emulation
+// draws, with the layers composed once per instance and walked per vertex, and the heads differ
+// visibly from the same crowd without the overlay.
+TEST_P(MorphRenderTest, AnOverlayMovesTheTargetsOfItsMask) {
+  // The expression: a clip holding targets 0 to 3 at 1 (the face clips keep them near 0.5).
+  Character c = morphCharacter(6);
+  Clip smile = c.clips[0];
+  smile.name = "smile";
+  MorphWeightTrack& held = smile.morph_tracks[0];
+  for (size_t key = 0; key < held.times_seconds.size(); ++key)
+    for (size_t k = 0; k < 6; ++k) held.values[key * 6 + k] = k < 4 ? 1.0f : 0.0f;
+  c.clips.push_back(smile);
+  const BakedPalette palette = bakeAt30(c);
+  LayerMask face;
+  ASSERT_TRUE(
+      buildMorphTargetMask(c.mesh, palette, "face", {"face0", "face1", "face2", "face3"}, &face)
+          .isOk());
+  CrowdManager crowd, plain;
+  ASSERT_TRUE(headCrowd(c, palette, &crowd).isOk());
+  ASSERT_TRUE(headCrowd(c, palette, &plain).isOk());
+  uint32_t mask = 0;
+  ASSERT_TRUE(crowd.addLayerMask(face, &mask).isOk());
+  const Camera camera = headCamera(c);
+  ASSERT_TRUE(crowd.update(0.0, camera).isOk());
+  ASSERT_TRUE(plain.update(0.0, camera).isOk());
+  const std::vector<InstanceHandle> handles(crowd.view().visibleHandles().begin(),
+                                            crowd.view().visibleHandles().end());
+  ASSERT_EQ(handles.size(), 3u);
+  const uint32_t expression = uint32_t(palette.findClip("smile"));
+  ASSERT_TRUE(crowd.playOverlay(handles[0], expression, mask, 1.0f, 0.0, 0.4).isOk());
+  ASSERT_TRUE(crowd.playOverlay(handles[2], expression, mask, 1.0f, 1.0, 0.1).isOk());  // Fading.
+  Renderer r;
+  ASSERT_TRUE(r.init(info_, RendererDesc()).isOk());
+  CharacterId id;
+  ASSERT_TRUE(r.addCharacter(c, palette, &id).isOk());
+  InstanceBatcher batcher;
+  ASSERT_TRUE(batcher.init(r.batchLimits()).isOk());
+  const glm::vec4 background(0.2f, 0.25f, 0.3f, 1.0f);
+  for (int frame = 0; frame < 2; ++frame) {
+    SCOPED_TRACE(testing::Message() << "frame " << frame);
+    ASSERT_TRUE(crowd.update(0.3, camera).isOk());
+    ASSERT_TRUE(plain.update(0.3, camera).isOk());
+    ASSERT_FALSE(crowd.view().layerRecords().empty());
+    const std::vector<uint8_t> emulated =
+        cpuSkinnedImage(r, id, crowd.view(), camera, background, *context_);
+    const std::vector<uint8_t> without =
+        cpuSkinnedImage(r, id, plain.view(), camera, background, *context_);
+    EXPECT_GT(compare(emulated, without, nullptr).share, 3 * kMaxDifferingShare)
+        << "the overlay moves the faces";
+    for (bool composed : {true, false}) {
+      SCOPED_TRACE(composed ? "layers composed" : "layers walked per vertex");
+      r.setComposeLayers(composed);
+      expectEveryPathDraws(r, id, crowd.view(), batcher, camera, background, *context_, emulated,
+                           {"traditional"});
+    }
+  }
+  r.shutdown();
+}
+
 // The captures (the vertex shader's through transform feedback, the compute pre-skinning
 // pass's buffer) put the morphed vertices where the reference does, within the bake's error.
 TEST_P(MorphRenderTest, TheCapturesApplyTheMorphs) {

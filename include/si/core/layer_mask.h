@@ -30,6 +30,7 @@
 ///   crowd.addLayerMask(arm, &mask_id);  // si::CrowdManager (a handful per crowd)
 /// \endcode
 
+#include <algorithm>
 #include <cstdint>
 #include <functional>
 #include <string>
@@ -41,13 +42,14 @@
 #include "si/core/clip.h"
 #include "si/core/reference_evaluator.h"
 #include "si/core/skeleton.h"
+#include "si/core/skinned_mesh.h"
 #include "si/core/span.h"
 #include "si/core/status.h"
 
 namespace si {
 
-/// A joint mask of one character (one palette): whole branches, each a joint and all its
-/// descendants.
+/// A mask of one character (one palette): whole branches of joints, each a joint and all its
+/// descendants, and morph targets.
 struct LayerMask {
   /// slot_anchor value of a palette slot outside the mask.
   static constexpr int32_t kNotInMask = -2;
@@ -73,13 +75,24 @@ struct LayerMask {
   /// inverse of its inverse bind matrix), the pivot si::localBlend blends about. Only masked
   /// slots' values are read.
   std::vector<glm::vec3> slot_bind_origin;
+  /// The morph targets (indices into SkinnedMesh::morph_targets) the overlay moves, increasing:
+  /// there its clip's weights replace the base's, blended by the overlay's weight; the other
+  /// targets keep the base's weights. Empty by default; a mask may hold targets alone
+  /// (buildMorphTargetMask: an expression, a viseme or a blink over whatever the body plays).
+  std::vector<uint32_t> morph_targets;
 
   /// Whether palette slot `slot` is in the mask.
   bool contains(uint32_t slot) const {
     return slot < slot_anchor.size() && slot_anchor[slot] != kNotInMask;
   }
+  /// Whether the overlay moves morph target `target`.
+  bool movesTarget(uint32_t target) const {
+    return std::binary_search(morph_targets.begin(), morph_targets.end(), target);
+  }
   /// Checks it against `palette`: one entry per palette slot, each kNotInMask, kModelAnchor or
-  /// a slot outside the mask, at least one slot in it (kInvalidArgument); parent slots masked
+  /// a slot outside the mask, at least one slot or morph target in it (kInvalidArgument);
+  /// morph targets increasing and below the palette's morph_target_count (kInvalidArgument);
+  /// parent slots masked
   /// and without cycles (kInvalidArgument); one bind origin per slot (kInvalidArgument), the
   /// masked slots' finite (kNotFinite); joints increasing,
   /// below the palette's skeleton size, and exactly the skeleton joints of the masked slots
@@ -109,10 +122,21 @@ Status buildLayerMaskFromJoints(const Skeleton& skeleton, const BakedPalette& pa
 Status buildFullBodyMask(const Skeleton& skeleton, const BakedPalette& palette,
                          const std::string& name, LayerMask* out);
 
+/// The mask of the morph targets named `target_names` (MorphTarget::name in `mesh`) alone, no
+/// joint: an overlay on it moves those targets by its clip's weights (an expression, a viseme,
+/// a blink) and leaves every joint to the base clip. kInvalidArgument for a null `out`, no
+/// names, or a palette not baked with the mesh's targets (layout.morph_target_count);
+/// kNotFound naming a target the mesh does not hold. Nothing is written on failure.
+Status buildMorphTargetMask(const SkinnedMesh& mesh, const BakedPalette& palette,
+                            const std::string& name, const std::vector<std::string>& target_names,
+                            LayerMask* out);
+
 /// The mask table si_skinning.glsl reads (SI_LAYERS, storage binding SI_MASK_BINDING): the
-/// palette slot count, then for each mask in order its slot_anchor, its slot_parent and its
-/// slot_bind_origin (x, y, z per slot, each float's bits) (`masks` all of one palette, as a
-/// crowd's are). {0} for no masks.
+/// palette slot count, the morph words per mask (w: enough 32-bit words for the highest target
+/// any mask moves; 0 when none does), then for each mask in order its slot_anchor, its
+/// slot_parent, its slot_bind_origin (x, y, z per slot, each float's bits) and w words of
+/// morph target bits (target t: bit t % 32 of word t / 32) (`masks` all of one palette, as a
+/// crowd's are). {0, 0} for no masks.
 std::vector<int32_t> layerMaskTable(Span<const LayerMask> masks);
 
 /// A pose's skinning matrix by palette slot (affine: last row 0 0 0 1), as emulateLayeredMatrix

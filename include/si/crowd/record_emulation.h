@@ -26,9 +26,18 @@ glm::mat4 emulateRecordMatrix(const BakedPalette& palette, const InstanceRecord&
 /// The morph target weights the shader computes for `record` (si_morph.glsl's siMorphWeight):
 /// clip A's interpolated (si::emulateMorphWeights), crossfaded towards clip B's by the record's
 /// weight. `out` holds palette.layout.morph_target_count weights (kCountMismatch otherwise).
-/// An overlay's weights are not applied: the base record's clips alone.
+/// The base record's clips alone: emulateLayeredMorphWeights() adds the overlay.
 Status emulateRecordMorphWeights(const BakedPalette& palette, const InstanceRecord& record,
                                  Span<float> out);
+
+/// The same with the instance's overlay (si_morph.glsl's siMorphLayerWeight): where `layer`'s
+/// weight is above 0 and its mask (an index into `masks`, CrowdManager::layerMasks()) moves a
+/// target, the record's weight mixed towards the overlay clip's (its frames interpolated) by
+/// the overlay's weight. A 2D blend's extra layer records do not move targets; a mask index
+/// past `masks` reads as no overlay.
+Status emulateLayeredMorphWeights(const BakedPalette& palette, const InstanceRecord& record,
+                                  const LayerRecord& layer, Span<const LayerMask> masks,
+                                  Span<float> out);
 
 /// The same with the instance's overlay: where `layer`'s weight is above 0 and its mask (an
 /// index into `masks`, CrowdManager::layerMasks()) holds the slot, emulateLayeredMatrix() of

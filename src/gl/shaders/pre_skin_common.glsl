@@ -167,7 +167,8 @@ void siPreSkinMatrix(SiInstance inst, uvec4 layer, uint record, bool previous, u
 }
 
 // Source vertex `source`'s bind-pose position `p`, normal `n` and tangent `t` (vec4(0) without
-// siHasTangents()), with SI_MORPH_TARGETS its morph targets added at `inst`'s weights, and its
+// siHasTangents()), with SI_MORPH_TARGETS its morph targets added at `inst`'s weights (and its
+// overlay `layer`'s on the mask's targets: uvec4(0) without SI_LAYERS), and its
 // blended joint matrix rows for `inst` (siPreSkinMatrix).
 void siPreSkinSource(uint source, SiInstance inst, uvec4 layer, uint record, bool previous,
                      out vec3 p, out vec3 n, out vec4 t, out vec4 m0, out vec4 m1,
@@ -178,7 +179,7 @@ void siPreSkinSource(uint source, SiInstance inst, uvec4 layer, uint record, boo
   t = siHasTangents() ? siSourceTangent(source) : vec4(0.0);
 #ifdef SI_MORPH_TARGETS
   vec3 direction = t.xyz;
-  siMorph(inst, siSourceMorphWord(source), si_pre_skin_lod, p, n, direction);
+  siMorphLayered(inst, layer, siSourceMorphWord(source), si_pre_skin_lod, p, n, direction);
   t.xyz = direction;
 #endif
   siPreSkinMatrix(inst, layer, record, previous, joints, weights, m0, m1, m2);

@@ -119,6 +119,13 @@ vec3 siLinkPivot(uint table, uint slots, uint link) {
   return intBitsToFloat(ivec3(si_mask_anchor[at], si_mask_anchor[at + 1u], si_mask_anchor[at + 2u]));
 }
 
+// The mask table's entries of mask `mask` (si::layerMaskTable: [0] the palette slots, [1] the
+// morph words per mask, then per mask its anchors, parents, bind origins and morph bits).
+uint siMaskTable(uint mask) {
+  uint slots = uint(si_mask_anchor[0]);
+  return 2u + mask * (5u * slots + uint(si_mask_anchor[1]));
+}
+
 // A layer record's mask index (bit 31 of its last word flags a 2D blend's extra layers).
 uint siLayerMask(uvec4 layer) { return (layer.w >> 16) & 0x7FFFu; }
 float siLayerWeight(uvec4 layer) { return float(layer.w & 0xFFFFu) / 65535.0; }
@@ -130,9 +137,8 @@ void siLayeredJointRows(SiInstance inst, uvec4 layer, uint joint, out vec4 r0, o
   siInstanceJointRows(inst, joint, r0, r1, r2);
   float w = float(layer.w & 0xFFFFu) / 65535.0;
   if (w == 0.0) return;
-  // The table: the slot count, then per mask its anchors, parents and bind origins (x, y, z).
   uint slots = uint(si_mask_anchor[0]);
-  uint table = 1u + siLayerMask(layer) * 5u * slots;
+  uint table = siMaskTable(siLayerMask(layer));
   int anchor = si_mask_anchor[table + joint];
   if (anchor == -2) return;
   vec4 o0, o1, o2, p0, p1, p2, q0, q1, q2;
@@ -192,7 +198,7 @@ void siLayeredChainRows(SiInstance inst, uvec4 layer, uvec4 e1, uvec4 e2, uint j
   }
   siInstanceJointRows(inst, joint, r0, r1, r2);
   uint slots = uint(si_mask_anchor[0]);
-  uint table = 1u + siLayerMask(layer) * 5u * slots;
+  uint table = siMaskTable(siLayerMask(layer));
   int anchor = si_mask_anchor[table + joint];
   if (anchor == -2) return;
   uvec4 l[3] = uvec4[3](layer, e1, e2);

@@ -45,6 +45,32 @@ float siMorphWeight(SiInstance inst, uint target) {
   return w;
 }
 
+#ifdef SI_LAYERS
+// Whether mask `mask` of the mask table moves morph target `target` (its morph bits).
+bool siMaskMovesTarget(uint mask, uint target) {
+  uint words = uint(si_mask_anchor[1]);
+  if ((target >> 5u) >= words) return false;
+  uint at = siMaskTable(mask) + 5u * uint(si_mask_anchor[0]) + (target >> 5u);
+  return ((uint(si_mask_anchor[at]) >> (target & 31u)) & 1u) != 0u;
+}
+#endif
+
+// Target `target`'s weight for `inst` with its overlay, the layer record `layer` (uvec4(0):
+// none): where the overlay's weight is above 0 and its mask moves the target, the base's
+// weight mixed towards the overlay clip's by it (si::emulateLayeredMorphWeights; a 2D blend's
+// extra layer records do not move targets). Without SI_LAYERS, siMorphWeight.
+float siMorphLayerWeight(SiInstance inst, uvec4 layer, uint target) {
+  float w = siMorphWeight(inst, target);
+#ifdef SI_LAYERS
+  float overlay = siLayerWeight(layer);
+  if (overlay > 0.0 && siMaskMovesTarget(siLayerMask(layer), target)) {
+    uint at = si_morph_info.z + (target >> 2u);
+    w = mix(w, siMorphWeightTexel(layer.x, layer.y, layer.z, at)[int(target & 3u)], overlay);
+  }
+#endif
+  return w;
+}
+
 uvec4 siMorphEntry(uint i) {
   return texelFetch(si_morphs,
                     ivec2(int(i & ((1u << si_morph_info.x) - 1u)), int(i >> si_morph_info.x)), 0);
@@ -56,13 +82,14 @@ float siMorphTail(uint word) { return uintBitsToFloat(word & 0xFFFF0000u); }
 // LOD level `lod`'s cut (model units): its entries whose tail is within it are left out.
 float siMorphCut(uint lod) { return si_morph_cuts[min(lod, 7u) >> 2][int(lod & 3u)]; }
 
-// Adds the morph targets of the vertex whose morph word is `word`, at `inst`'s weights, to its
-// bind-pose position, normal and tangent direction, then renormalizes the normal and a
-// non-zero tangent (the seed "Efficient Animation" renormalizes its blended frame so); at LOD
-// level `lod` it stops where the rest of the run moves the vertex no farther than the level's
-// cut. Two entries an iteration, without a branch on their weights, so their fetches overlap.
-void siMorph(SiInstance inst, uint word, uint lod, inout vec3 position, inout vec3 normal,
-             inout vec3 tangent) {
+// Adds the morph targets of the vertex whose morph word is `word`, at `inst`'s weights (with
+// its overlay `layer`: siMorphLayerWeight), to its bind-pose position, normal and tangent
+// direction, then renormalizes the normal and a non-zero tangent (the seed "Efficient
+// Animation" renormalizes its blended frame so); at LOD level `lod` it stops where the rest of
+// the run moves the vertex no farther than the level's cut. Two entries an iteration, without a
+// branch on their weights, so their fetches overlap.
+void siMorphLayered(SiInstance inst, uvec4 layer, uint word, uint lod, inout vec3 position,
+                    inout vec3 normal, inout vec3 tangent) {
   uint count = word & 511u;
   if (count == 0u) return;
   uint stride = si_morph_info.y;
@@ -76,8 +103,8 @@ void siMorph(SiInstance inst, uint word, uint lod, inout vec3 position, inout ve
     uvec4 e0 = siMorphEntry(at0), e1 = siMorphEntry(at1);
     if (siMorphTail(e0.x) <= cut) break;
     float second = pair && siMorphTail(e1.x) > cut ? 1.0 : 0.0;
-    float w0 = siMorphWeight(inst, siMorphTarget(e0.x));
-    float w1 = second * siMorphWeight(inst, siMorphTarget(e1.x));
+    float w0 = siMorphLayerWeight(inst, layer, siMorphTarget(e0.x));
+    float w1 = second * siMorphLayerWeight(inst, layer, siMorphTarget(e1.x));
     position += w0 * uintBitsToFloat(e0.yzw) + w1 * uintBitsToFloat(e1.yzw);
     if (stride > 1u)
       n += w0 * uintBitsToFloat(siMorphEntry(at0 + 1u).yzw) +
@@ -91,5 +118,10 @@ void siMorph(SiInstance inst, uint word, uint lod, inout vec3 position, inout ve
   if (n_length > 0.0) normal = n / n_length;
   float t_length = length(t);
   if (t_length > 0.0 && dot(tangent, tangent) > 0.0) tangent = t / t_length;
+}
+// siMorphLayered without an overlay: the record's clips alone.
+void siMorph(SiInstance inst, uint word, uint lod, inout vec3 position, inout vec3 normal,
+             inout vec3 tangent) {
+  siMorphLayered(inst, uvec4(0u), word, lod, position, normal, tangent);
 }
 #endif

@@ -15,7 +15,8 @@
 // SI_INSTANCE_HANDLE (also the instance's handle: instance_handle.glsl), SI_EIGHT_INFLUENCES
 // (influences 5 to 8 too, attributes 10 and 11: the skinning sum is linear in the weights, so
 // each set's sum is added), SI_MORPH_TARGETS (the vertex's morph targets added before skinning,
-// its morph word attribute 12: si_morph.glsl; not with SI_TRADITIONAL).
+// its morph word attribute 12: si_morph.glsl, with SI_LAYERS the overlay's on its mask's
+// targets; not with SI_TRADITIONAL).
 #define SI_VERTEX_MATERIALS
 #if defined(SI_GPU_DRIVEN) && defined(SI_LAYERS)
 #define SI_LAYERS_IN_STORAGE  // The cull pass's layer records, by visible index.
@@ -81,9 +82,16 @@ layout(location = 11) in vec4 a_weights1;
 #endif
 #if defined(SI_MORPH_TARGETS) && !defined(SI_TRADITIONAL)
 layout(location = 12) in uint a_morph;
-#define SI_MORPH_VERTEX(inst, lod, p, n, t) siMorph(inst, a_morph, lod, p, n, t)
+#define SI_MORPH_VERTEX(inst, layer, lod, p, n, t) siMorphLayered(inst, layer, a_morph, lod, p, n, t)
 #else
-#define SI_MORPH_VERTEX(inst, lod, p, n, t)
+#define SI_MORPH_VERTEX(inst, layer, lod, p, n, t)
+#endif
+#ifdef SI_LAYERS  // The overlay moves the targets its mask holds.
+#define SI_MORPH_LAYER(slot) si_layers[slot]
+#define SI_MORPH_PREVIOUS_LAYER(slot) si_previous_layers[slot]
+#else
+#define SI_MORPH_LAYER(slot) uvec4(0u)
+#define SI_MORPH_PREVIOUS_LAYER(slot) uvec4(0u)
 #endif
 #include "vertex_words.glsl"
 SI_LOCATION_LAYOUT(1) uniform mat4 u_view_projection;
@@ -178,7 +186,7 @@ void main() {
   // The bind pose, with the vertex's morph targets at the instance's weights (those the LOD
   // keeps).
   vec3 position = a_position, normal = a_normal.xyz, tangent_direction = a_tangent.xyz;
-  SI_MORPH_VERTEX(inst, lod, position, normal, tangent_direction);
+  SI_MORPH_VERTEX(inst, SI_MORPH_LAYER(slot), lod, position, normal, tangent_direction);
   vec3 model = siTransformPoint(m0, m1, m2, position);
 #ifdef SI_CAPTURE
   tf_position = model;
@@ -228,7 +236,8 @@ void main() {
 #endif
   vec3 previous_position = a_position, previous_normal = a_normal.xyz,
        previous_tangent = a_tangent.xyz;
-  SI_MORPH_VERTEX(prev, lod, previous_position, previous_normal, previous_tangent);
+  SI_MORPH_VERTEX(prev, SI_MORPH_PREVIOUS_LAYER(slot), lod, previous_position, previous_normal,
+                  previous_tangent);
   vec3 previous = siPlacePoint(prev, p0, p1, p2, previous_position);
   v_motion_previous = u_previous_view_projection * vec4(previous, 1.0);
 #endif
