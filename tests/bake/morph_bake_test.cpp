@@ -161,6 +161,18 @@ TEST(MorphBake, TheWeightsTravelInThePaletteFile) {
   EXPECT_EQ(loaded.layout.frame_stride_texels, p.layout.frame_stride_texels);
 }
 
+// `c` baked at a fixed `hz` (cubic or linear) and its vertex and morph streams.
+void bakeWithStreams(const Character& c, float hz, bool cubic, BakedPalette* p, VertexStream* vs,
+                     MorphStream* ms) {
+  BakeDesc d;
+  d.rate_mode = RateMode::kFixed;
+  d.sample_rate_hz = hz;
+  d.interpolation = cubic ? InterpolationChoice::kCubic : InterpolationChoice::kLinear;
+  ASSERT_TRUE(bakePalette(c, d, p, nullptr).isOk());
+  ASSERT_TRUE(buildVertexStream(c.mesh, *p, vs).isOk());
+  ASSERT_TRUE(buildMorphStream(c.mesh, *p, 0, ms).isOk());
+}
+
 // The morph stream's run of vertex `v` (si::VertexStream's morph word): each entry's word.
 std::vector<uint32_t> runWords(const VertexStream& vs, const MorphStream& ms, uint32_t v) {
   uint32_t word;
@@ -184,14 +196,9 @@ float tailOf(uint32_t word) {
 TEST(MorphBake, TheStreamOrdersEachRunByEffectWithItsTail) {
   const Character c = morphCharacter(Interpolation::kLinear);
   BakedPalette p;
-  BakeDesc d;
-  d.rate_mode = RateMode::kFixed;
-  d.sample_rate_hz = 10.0f;
-  ASSERT_TRUE(bakePalette(c, d, &p, nullptr).isOk());
   VertexStream vs;
   MorphStream ms;
-  ASSERT_TRUE(buildVertexStream(c.mesh, p, &vs).isOk());
-  ASSERT_TRUE(buildMorphStream(c.mesh, p, 0, &ms).isOk());
+  bakeWithStreams(c, 10.0f, false, &p, &vs, &ms);
   // The largest |weight| of each target over the palette's frames, read as the shader reads.
   std::vector<double> bound(5, 0.0);
   std::vector<float> w(5);
@@ -235,15 +242,9 @@ TEST(MorphBake, TheStreamOrdersEachRunByEffectWithItsTail) {
 TEST(MorphBake, TheTailBoundsCubicWeightsBetweenFrames) {
   const Character c = morphCharacter(Interpolation::kCubicSpline);
   BakedPalette p;
-  BakeDesc d;
-  d.rate_mode = RateMode::kFixed;
-  d.sample_rate_hz = 2.0f;
-  d.interpolation = InterpolationChoice::kCubic;
-  ASSERT_TRUE(bakePalette(c, d, &p, nullptr).isOk());
   VertexStream vs;
   MorphStream ms;
-  ASSERT_TRUE(buildVertexStream(c.mesh, p, &vs).isOk());
-  ASSERT_TRUE(buildMorphStream(c.mesh, p, 0, &ms).isOk());
+  bakeWithStreams(c, 2.0f, true, &p, &vs, &ms);
   const std::vector<uint32_t> lift = runWords(vs, ms, 2);  // Only "lift", delta 0.5, moves it.
   ASSERT_EQ(lift.size(), 1u);
   const BakedClip& bc = p.clips[0];

@@ -121,24 +121,20 @@ TEST_P(MorphRenderTest, CoarseLevelsLeaveOutWhatMovesLessThanTheirCut) {
     ASSERT_EQ(lod, 1u);
   }
   const glm::vec4 background(0.2f, 0.25f, 0.3f, 1.0f);
-  // Every target kept: the CPU emulation with a share of 0.
-  std::vector<uint8_t> kept;
-  {
-    Renderer r;
+  // A renderer cutting `share` of each level's error, with the character added.
+  const auto addAt = [&](float share, Renderer* r, CharacterId* id) {
     RendererDesc rd;
-    rd.morph_lod_share = 0.0f;
-    ASSERT_TRUE(r.init(info_, rd).isOk());
-    CharacterId id;
-    ASSERT_TRUE(r.addCharacter(c, palette, &id).isOk());
-    kept = cpuSkinnedImage(r, id, crowd.view(), camera, background, *context_);
-    r.shutdown();
-  }
-  Renderer r;
-  RendererDesc rd;
-  rd.morph_lod_share = 1.0f;
-  ASSERT_TRUE(r.init(info_, rd).isOk());
-  CharacterId id;
-  ASSERT_TRUE(r.addCharacter(c, palette, &id).isOk());
+    rd.morph_lod_share = share;
+    const Status s = r->init(info_, rd);
+    return s.isOk() ? r->addCharacter(c, palette, id) : s;
+  };
+  Renderer all, r;  // Every target kept; cutting a whole level's error.
+  CharacterId all_id, id;
+  ASSERT_TRUE(addAt(0.0f, &all, &all_id).isOk());
+  ASSERT_TRUE(addAt(1.0f, &r, &id).isOk());
+  const std::vector<uint8_t> kept =
+      cpuSkinnedImage(all, all_id, crowd.view(), camera, background, *context_);
+  all.shutdown();
   const std::vector<uint8_t> cut =
       cpuSkinnedImage(r, id, crowd.view(), camera, background, *context_);
   EXPECT_GT(compare(cut, kept, nullptr).share, kMaxDifferingShare) << "the cut leaves targets out";
@@ -149,6 +145,7 @@ TEST_P(MorphRenderTest, CoarseLevelsLeaveOutWhatMovesLessThanTheirCut) {
   r.shutdown();
   for (float bad : {-0.5f, 1.5f}) {
     Renderer refused;
+    RendererDesc rd;
     rd.morph_lod_share = bad;
     const Status s = refused.init(info_, rd);
     EXPECT_EQ(s.code(), StatusCode::kInvalidArgument) << bad;
