@@ -23,6 +23,7 @@
 #include "si/crowd/crowd_export.h"
 #include "si/crowd/crowd_manager.h"
 #include "si/crowd/instance_batcher.h"
+#include "si/crowd/record_emulation.h"
 
 #include "fuzz_input.h"
 #include "layer_fuzz_checks.h"
@@ -81,6 +82,18 @@ const si::Character& character() {
     swing.joint_tracks[0].rotation.values = {glm::quat(1, 0, 0, 0), glm::quat(0.9f, 0, 0.43f, 0)};
     step.joint_tracks[0].translation.times_seconds = {0.0f, 0.6f};
     step.joint_tracks[0].translation.values = {{0, 0, 0}, {0, 0, -0.7f}};
+    // Two morph targets: the loop animates both (LINEAR), the STEP clip the second (STEP); a
+    // mask of the second lets overlays move it.
+    for (int t = 0; t < 2; ++t) {
+      si::MorphTarget target;
+      target.name = "m" + std::to_string(t);
+      target.vertices = t == 0 ? std::vector<uint32_t>{2} : std::vector<uint32_t>{0, 1};
+      for (size_t v = 0; v < target.vertices.size(); ++v)
+        target.position_deltas.push_back(glm::vec3(0.1f, 0.0f, 0.2f * float(t + 1)));
+      c.mesh.morph_targets.push_back(target);
+    }
+    swing.morph_tracks.push_back({0, 2, si::Interpolation::kLinear, {0.0f, 1.0f}, {0, 1, 1, 0}});
+    step.morph_tracks.push_back({1, 1, si::Interpolation::kStep, {0.0f, 0.3f}, {0.2f, 0.9f}});
     c.clips = {swing, step, clip("pose", 0.0f, si::LoopMode::kOnce)};
     return c;
   }();
@@ -241,6 +254,18 @@ void checkFrame(const si::CrowdManager& crowd) {
   si::fuzz::checkSlotHandles(crowd, batcher, fail);
   const uint64_t texels = palette().layout.textureTexelCount();
   si::fuzz::checkLayerRecords(crowd, batcher, palette(), fail);
+  // The drawn morph weights, overlays mixed in, stay within the clips' (every key in [0, 1]).
+  const si::Span<const si::LayerRecord> layers = crowd.view().layerRecords();
+  std::vector<float> weights(palette().layout.morph_target_count);
+  for (size_t i = 0; i < crowd.view().records().size(); ++i) {
+    const si::InstanceRecord& r = crowd.view().records()[i];
+    const si::Status w = layers.empty() ? si::emulateRecordMorphWeights(palette(), r, weights)
+                                        : si::emulateLayeredMorphWeights(
+                                              palette(), r, layers[i], crowd.layerMasks(), weights);
+    if (!w.isOk()) fail("the morph weights of a drawn record cannot be emulated");
+    for (float v : weights)
+      if (!(v >= -1e-6f && v <= 1.0f + 1e-6f)) fail("a drawn morph weight is outside its clips'");
+  }
   for (const si::InstanceRecord& r : crowd.view().records()) {
     for (const auto& row : r.world_rows)
       for (float v : row)
@@ -271,13 +296,18 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
   cd.impostor_lod = (lods & 0x20) != 0 && cd.lod_count > 1 ? cd.lod_count - 1 : 0;
   si::CrowdManager crowd;
   if (!crowd.init(cd).isOk()) fail("init refused a valid desc");
-  // Two masks: the branch of j1 (anchored on j0) and the whole chain (the model anchor).
+  // Three masks: the branch of j1 (anchored on j0), the whole chain (the model anchor) and
+  // morph target m1 alone.
   for (const char* root : {"j1", "j0"}) {
     si::LayerMask mask;
     if (!si::buildLayerMask(character().skeleton, palette(), root, {root}, &mask).isOk() ||
         !crowd.addLayerMask(mask, nullptr).isOk())
       fail("cannot add a valid layer mask");
   }
+  si::LayerMask face;
+  if (!si::buildMorphTargetMask(character().mesh, palette(), "face", {"m1"}, &face).isOk() ||
+      !crowd.addLayerMask(face, nullptr).isOk())
+    fail("cannot add a valid mask of morph targets");
   const uint32_t masks = uint32_t(crowd.layerMasks().size());
   // A blend space of the loop and the STEP clip on the whole chain; with bit 6 of the LOD byte,
   // a 2D one of both on the branch too (updates then write extra layer records).
