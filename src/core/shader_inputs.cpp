@@ -14,12 +14,18 @@ namespace si {
 using detail::strCat;
 
 namespace {
+// kLimitExceeded past the entries a morph word can name.
+Status checkMorphEntryCount(const detail::MorphEntriesByVertex& by_vertex) {
+  if (by_vertex.entries.size() <= kMaxMorphEntries) return Status::ok();
+  return {StatusCode::kLimitExceeded,
+          strCat("the mesh's morph targets move vertices ", by_vertex.entries.size(),
+                 " times; the morph word holds at most ", kMaxMorphEntries)};
+}
+
 // Each vertex's morph word (first entry << 9 | count) for the entries `by_vertex`.
 Status morphWords(const detail::MorphEntriesByVertex& by_vertex, std::vector<uint32_t>* words) {
-  if (by_vertex.entries.size() > kMaxMorphEntries)
-    return {StatusCode::kLimitExceeded,
-            strCat("the mesh's morph targets move vertices ", by_vertex.entries.size(),
-                   " times; the morph word holds at most ", kMaxMorphEntries)};
+  const Status s = checkMorphEntryCount(by_vertex);
+  if (!s.isOk()) return s;
   words->assign(by_vertex.first.size() - 1, 0u);
   for (size_t v = 0; v + 1 < by_vertex.first.size(); ++v) {
     const uint32_t count = by_vertex.first[v + 1] - by_vertex.first[v];
@@ -149,11 +155,10 @@ Status buildMorphStream(const SkinnedMesh& mesh, const BakedPalette& palette,
                    palette.layout.morph_target_count, " morph targets, the mesh has ",
                    mesh.morph_targets.size(), " (bake it with them)")};
   detail::MorphEntriesByVertex by_vertex = detail::morphEntriesByVertex(mesh);
-  std::vector<uint32_t> words;
-  s = morphWords(by_vertex, &words);
+  s = checkMorphEntryCount(by_vertex);  // The vertex stream's words name these runs.
+  if (!s.isOk()) return s;
   const std::vector<float> tails =
       detail::orderMorphEntriesByEffect(mesh, detail::morphWeightBounds(palette), &by_vertex);
-  if (!s.isOk()) return s;
   MorphStream stream;
   const bool normals = std::any_of(mesh.morph_targets.begin(), mesh.morph_targets.end(),
                                    [](const MorphTarget& t) { return !t.normal_deltas.empty(); });

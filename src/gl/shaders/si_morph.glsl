@@ -80,7 +80,10 @@ uvec4 siMorphEntry(uint i) {
 uint siMorphTarget(uint word) { return word & 0xFFFFu; }
 float siMorphTail(uint word) { return uintBitsToFloat(word & 0xFFFF0000u); }
 // LOD level `lod`'s cut (model units): its entries whose tail is within it are left out.
-float siMorphCut(uint lod) { return si_morph_cuts[min(lod, 7u) >> 2][int(lod & 3u)]; }
+float siMorphCut(uint lod) {
+  uint level = min(lod, 7u);  // Past the last level its cut, as the CPU path reads it.
+  return si_morph_cuts[level >> 2][int(level & 3u)];
+}
 
 // Adds the morph targets of the vertex whose morph word is `word`, at `inst`'s weights (with
 // its overlay `layer`: siMorphLayerWeight), to its bind-pose position, normal and tangent
