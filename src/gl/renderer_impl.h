@@ -197,8 +197,7 @@ struct Renderer::Impl {
 
   /// The crowd-only baselines (no batcher, no mode): drawTraditional, or with `cpu`
   /// drawCpuSkinned, of character `id` for `view` seen by `camera`, refused where they cannot
-  /// draw (the ES profile, motion vectors, impostors; the traditional baseline morph targets);
-  /// runPath(), the error check and the stats
+  /// draw (the ES profile, motion vectors, impostors); runPath(), the error check and the stats
   /// (when non-null).
   Status drawBaseline(CharacterId id, bool cpu, const CrowdView& view, const Camera& camera,
                       const glm::vec3& light, DrawStats* stats) {
@@ -211,10 +210,6 @@ struct Renderer::Impl {
           what, cpu ? "storage buffers (a baseline)" : "traditional program (a desktop baseline)");
     if (s.isOk()) s = noMotion(what);
     if (s.isOk()) s = noImpostors(*view.crowd(), what);
-    if (s.isOk() && !cpu && c->character.morph_offset != 0)
-      s = {StatusCode::kUnsupported,
-           "drawTraditional: the traditional baseline does not apply morph targets (every "
-           "other path does)"};
     if (!s.isOk()) return s;
     detail::DrawPath& p = cpu ? static_cast<detail::DrawPath&>(c->cpu_path) : traditional_path;
     const auto t0 = std::chrono::steady_clock::now();

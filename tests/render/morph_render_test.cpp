@@ -3,10 +3,12 @@
 // face-like targets (examples/common/face_targets.h) draws on every path what the CPU emulation
 // draws with the targets at the palette's weights, over frames of its clip and through a
 // crossfade, and visibly not what the character without them draws; the captures put the
-// morphed vertices where the reference does; the OpenGL ES profile draws them too.
+// morphed vertices where the reference does, and the impostor atlas holds the morphed poses;
+// the OpenGL ES profile draws them too.
 #include "common/face_targets.h"
 #include "render/render_fixture.h"
 #include "render/skinning_paths.h"
+#include "si/core/impostor_level.h"
 #include "si/core/reference_evaluator.h"
 #include "si/crowd/crowd_manager.h"
 
@@ -96,9 +98,7 @@ TEST_P(MorphRenderTest, EveryPathDrawsTheMorphs) {
         cpuSkinnedImage(r, id, crowd.view(), camera, background, *context_);
     EXPECT_GT(compare(emulated, plain_image, nullptr).share, 3 * kMaxDifferingShare)
         << "the targets show in this view";
-    // The traditional baseline refuses them by name.
-    expectEveryPathDraws(r, id, crowd.view(), batcher, camera, background, *context_, emulated,
-                         {"traditional"});
+    expectEveryPathDraws(r, id, crowd.view(), batcher, camera, background, *context_, emulated);
   }
   r.shutdown();
 }
@@ -140,8 +140,7 @@ TEST_P(MorphRenderTest, CoarseLevelsLeaveOutWhatMovesLessThanTheirCut) {
   EXPECT_GT(compare(cut, kept, nullptr).share, kMaxDifferingShare) << "the cut leaves targets out";
   InstanceBatcher batcher;
   ASSERT_TRUE(batcher.init(r.batchLimits()).isOk());
-  expectEveryPathDraws(r, id, crowd.view(), batcher, camera, background, *context_, cut,
-                       {"traditional"});
+  expectEveryPathDraws(r, id, crowd.view(), batcher, camera, background, *context_, cut);
   r.shutdown();
   for (float bad : {-0.5f, 1.5f}) {
     Renderer refused;
@@ -206,8 +205,7 @@ TEST_P(MorphRenderTest, AnOverlayMovesTheTargetsOfItsMask) {
     for (bool composed : {true, false}) {
       SCOPED_TRACE(composed ? "layers composed" : "layers walked per vertex");
       r.setComposeLayers(composed);
-      expectEveryPathDraws(r, id, crowd.view(), batcher, camera, background, *context_, emulated,
-                           {"traditional"});
+      expectEveryPathDraws(r, id, crowd.view(), batcher, camera, background, *context_, emulated);
     }
   }
   r.shutdown();
@@ -250,6 +248,116 @@ TEST_P(MorphRenderTest, TheCapturesApplyTheMorphs) {
       EXPECT_GT(moved, 10.0 * worst + 1e-3) << "the targets move the head";
     }
   }
+  r.shutdown();
+}
+
+// Three characters held at times of their clip, side by side facing flatCamera()-like views,
+// every one drawn at its impostor level (`impostors`) or at LOD 0.
+Status standingCrowd(const Character& c, const BakedPalette& palette, bool impostors,
+                     CrowdManager* crowd) {
+  CrowdDesc cd;
+  cd.palette = &palette;
+  cd.sub_mesh_count = uint32_t(c.mesh.sub_meshes.size());
+  cd.lod_count = uint32_t(c.mesh.maxLodCount());
+  cd.character_radius = 1.0f;
+  for (uint32_t l = 1; l < cd.lod_count; ++l)
+    cd.lod_distances_radii.push_back((impostors ? 1e-3f : 1e6f) * float(l));
+  cd.max_distance_radii = -1.0f;
+  cd.impostor_lod = cd.lod_count - 1;
+  Status s = crowd->init(cd);
+  const double height = c.height();
+  // At the frames the atlas captures (ImpostorDesc::frames_per_clip 4: 1, 2 and 3 of 0 to 3
+  // spread over the clip's baked frames), unturned (its first azimuth).
+  const BakedClip& clip = palette.clips[0];
+  for (uint32_t k = 0; k < 3 && s.isOk(); ++k) {
+    const uint32_t frame = ((k + 1) * (clip.frame_count - 1) + 1) / 3;
+    InstanceDesc d;
+    d.position = glm::dvec3((double(k) - 1.0) * 0.45 * height, 0.0, 0.0);
+    d.time_seconds = double(frame) * clip.frame_interval_seconds;
+    d.speed = 0.0f;
+    InstanceHandle h;
+    s = crowd->add(d, &h);
+  }
+  return s;
+}
+
+// The impostor capture applies the morph targets at each captured frame's weights: the crowd
+// drawn as impostors differs from impostors of the same character with its weights held at 0
+// at least half as much as the meshes do, and the impostors are as close to their meshes as
+// those with the weights at 0 are to theirs.
+TEST_P(MorphRenderTest, TheImpostorCapturesTheMorphs) {
+  Character morphed = morphCharacter(6);
+  ASSERT_TRUE(appendImpostorLevel(&morphed.mesh).isOk());
+  // The same targets held at 0, with the clips' bounds (which frame the atlas's cells) of the
+  // weights: the images differ where the weights move the vertices.
+  Character plain = morphed;
+  for (MorphTarget& t : plain.mesh.morph_targets) t.default_weight = 0.0f;
+  for (Clip& clip : plain.clips)
+    for (MorphWeightTrack& track : clip.morph_tracks)
+      std::fill(track.values.begin(), track.values.end(), 0.0f);
+  const BakedPalette palette = bakeAt30(morphed);
+  BakedPalette plain_palette = bakeAt30(plain);
+  for (size_t k = 0; k < palette.clips.size(); ++k)
+    plain_palette.clips[k].bounds = palette.clips[k].bounds,
+    plain_palette.clips[k].bounding_sphere = palette.clips[k].bounding_sphere;
+  ImpostorDesc atlas;
+  atlas.azimuths = 8;
+  atlas.elevations_degrees = {0.0f};
+  atlas.frames_per_clip = 4;
+  atlas.cell_pixels = 128;
+  Renderer r;
+  RendererDesc rd;
+  rd.skinning_path = SkinningPath::kVertexShader;
+  ASSERT_TRUE(r.init(info_, rd).isOk());
+  CharacterId id, without;
+  ASSERT_TRUE(r.addCharacter(morphed, palette, &id).isOk());
+  const Status added = r.addCharacter(plain, plain_palette, &without);
+  ASSERT_TRUE(added.isOk()) << added.toString();
+  for (CharacterId k : {id, without}) {
+    const Status s = r.buildImpostor(k, atlas);
+    ASSERT_TRUE(s.isOk()) << s.toString();
+  }
+  // The three fill the view, seen level from the front.
+  const double height = morphed.height();
+  const double z = 0.5 * height / 0.8 / std::tan(0.45);
+  const Camera camera = Camera::lookAt({0.0, 0.5 * height, z}, {0.0, 0.5 * height, 0.0},
+                                       glm::vec3(0, 1, 0), 0.9f, 1.0f, 0.1f, 100.0f);
+  InstanceBatcher batcher;
+  ASSERT_TRUE(batcher.init(r.batchLimits()).isOk());
+  const auto image = [&](CharacterId k, const BakedPalette& p, const Character& c, bool impostors) {
+    CrowdManager crowd;
+    EXPECT_TRUE(standingCrowd(c, p, impostors, &crowd).isOk());
+    EXPECT_TRUE(crowd.update(0.0, camera).isOk());
+    EXPECT_EQ(crowd.view().stats().per_lod[impostors ? c.mesh.maxLodCount() - 1 : 0], 3u);
+    r.clear(glm::vec4(0.2f, 0.25f, 0.3f, 1.0f));
+    const Status s = r.drawCrowd(k, crowd.view(), batcher, camera, nullptr);
+    EXPECT_TRUE(s.isOk()) << s.toString();
+    std::vector<uint8_t> rgba;
+    EXPECT_TRUE(context_->readPixels(&rgba).isOk());
+    return rgba;
+  };
+  // The mean absolute difference of two images' channels (0 to 255).
+  const auto distance = [](const std::vector<uint8_t>& a, const std::vector<uint8_t>& b) {
+    double sum = 0.0;
+    for (size_t k = 0; k < a.size() && a.size() == b.size(); ++k)
+      if (k % 4 != 3) sum += std::abs(int(a[k]) - int(b[k]));
+    return a.size() == b.size() && !a.empty() ? sum / double(a.size() / 4 * 3) : 255.0;
+  };
+  const std::vector<uint8_t> meshes = image(id, palette, morphed, false);
+  const std::vector<uint8_t> plain_meshes = image(without, plain_palette, plain, false);
+  const std::vector<uint8_t> impostors = image(id, palette, morphed, true);
+  const std::vector<uint8_t> plain_impostors = image(without, plain_palette, plain, true);
+  const double morphs = distance(meshes, plain_meshes);
+  const double captured = distance(impostors, plain_impostors);
+  const double error = distance(impostors, meshes),
+               plain_error = distance(plain_impostors, plain_meshes);
+  std::printf(
+      "[ morph impostor ] mean channel difference: the targets move the meshes by %.3f "
+      "and the impostors by %.3f; impostors to meshes %.3f (targets at 0: %.3f)\n",
+      morphs, captured, error, plain_error);
+  EXPECT_GT(morphs, 0.1) << "the targets show in this view";
+  EXPECT_GT(captured, 0.5 * morphs) << "the capture moves the faces";
+  EXPECT_LT(error, 1.1 * plain_error) << "the impostors of the faces are as close as without";
   r.shutdown();
 }
 

@@ -12,7 +12,8 @@
 /// colour as the mesh would be.
 ///
 /// What the atlas keeps and loses:
-/// - kept: the pose (nearest of the reduced frames, crossfades show the heavier clip), the
+/// - kept: the pose (nearest of the reduced frames, crossfades show the heavier clip; morph
+///   targets at that frame's weights), the
 ///   view direction (nearest of azimuths x elevations), the base colour and material factors,
 ///   metallic, roughness, occlusion and material index (what a material reads: it lights an
 ///   impostor as it lights the mesh), the tint and its mask, the lighting (from the captured

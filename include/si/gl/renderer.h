@@ -197,8 +197,8 @@ class Renderer {
   Status drawCrowd(CharacterId character, const CrowdView& view, const InstanceBatcher& batcher,
                    const Camera& camera, DrawStats* stats, DrawMode mode = DrawMode::kDefault);
   /// The traditional path: for each visible instance of the view, computes its joint matrices
-  /// on the CPU from the palette, uploads them into a uniform block and issues one
-  /// glDrawElements per worn sub-mesh.
+  /// (and its morph target weights) on the CPU from the palette, uploads them into a uniform
+  /// block and issues one glDrawElements per worn sub-mesh.
   Status drawTraditional(CharacterId character, const CrowdView& view, const Camera& camera,
                          DrawStats* stats);
 

@@ -149,11 +149,7 @@ Status CpuSkinningPath::draw(const DrawResources& r, const PathFrame& f, DrawSta
     const bool morphs = !morph_first_.empty();
     if (morphs) {
       morph_weights_.resize(palette.layout.morph_target_count);
-      const Span<const LayerRecord> layers = view.layerRecords();
-      const Status s = layers.empty()
-                           ? emulateRecordMorphWeights(palette, rec, morph_weights_)
-                           : emulateLayeredMorphWeights(palette, rec, layers[v], crowd.layerMasks(),
-                                                        morph_weights_);
+      const Status s = recordMorphWeights(palette, view, v, morph_weights_);
       if (!s.isOk()) return s;
     }
     for (uint32_t sm = 0; sm < worn_sub_meshes; ++sm) {

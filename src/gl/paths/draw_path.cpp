@@ -83,6 +83,14 @@ glm::mat4 recordJointMatrix(const BakedPalette& palette, const CrowdView& view, 
       view.crowd()->layerMasks(), slot);
 }
 
+Status recordMorphWeights(const BakedPalette& palette, const CrowdView& view, size_t record,
+                          Span<float> out) {
+  const Span<const LayerRecord> layers = view.layerRecords();
+  if (layers.empty()) return emulateRecordMorphWeights(palette, view.records()[record], out);
+  return emulateLayeredMorphWeights(palette, view.records()[record], layers[record],
+                                    view.crowd()->layerMasks(), out);
+}
+
 PathFrame viewFrame(const CrowdView& view, const Camera& camera, const glm::vec3& light) {
   PathFrame f;
   f.crowd = view.crowd();

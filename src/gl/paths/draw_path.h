@@ -181,4 +181,11 @@ Status dispatchGroups(const GlInfo& info, uint64_t groups, const char* what);
 glm::mat4 recordJointMatrix(const BakedPalette& palette, const CrowdView& view, size_t record,
                             uint32_t slot);
 
+/// What the instanced shader computes for the morph target weights of the crowd's record
+/// `record` (si_morph.glsl's siMorphLayerWeight), into `out`, which holds
+/// palette.layout.morph_target_count weights: clip A's, crossfaded towards clip B's, and the
+/// overlay on its mask when the crowd plays any (the two CPU baselines use it).
+Status recordMorphWeights(const BakedPalette& palette, const CrowdView& view, size_t record,
+                          Span<float> out);
+
 }  // namespace si::detail

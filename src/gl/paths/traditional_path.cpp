@@ -3,6 +3,7 @@
 // is measured against.
 #include "gl/paths/traditional_path.h"
 
+#include <algorithm>
 #include <cstring>
 
 #include "gl/resources/gl_allocation.h"
@@ -11,8 +12,10 @@ namespace si::detail {
 
 Status TraditionalPath::prepare(const DrawResources&) {
   if (block_buffer_ != kNoObject) return Status::ok();
-  // std140: 3 vec4 world rows, a uint padded to 16, then the joint rows.
-  block_.assign(48 + 16 + size_t(kMaxTraditionalJoints) * 48, 0);
+  // std140: 3 vec4 world rows, a uint padded to 16, the morph target weights (a character
+  // that has targets), then the joint rows.
+  block_.assign(48 + 16 + size_t(kTraditionalMorphTargets) * 4 + size_t(kMaxTraditionalJoints) * 48,
+                0);
   return createBuffer(&block_buffer_, block_.size(), nullptr, GL_DYNAMIC_STORAGE_BIT,
                       "the traditional path's joint block");
 }
@@ -22,6 +25,11 @@ Status TraditionalPath::draw(const DrawResources& r, const PathFrame& f, DrawSta
   const uint32_t slots = palette.layout.joint_count;
   if (slots > kMaxTraditionalJoints)
     return {StatusCode::kLimitExceeded, "drawTraditional: more joints than the uniform block holds"};
+  // The weights' rows (vec4s) before the joint rows, where the character has targets (at most
+  // kMaxMorphTargets: PaletteLayout refuses more).
+  const uint32_t targets = std::min(palette.layout.morph_target_count, kTraditionalMorphTargets);
+  const size_t joints_at = 64 + (targets > 0 ? size_t(kTraditionalMorphTargets) * 4 : 0);
+  morph_weights_.resize(targets);
   const CrowdManager& crowd = *f.crowd;
   const CrowdView& view = *f.view;
   const Program& program = r.programs[ProgramId::kTraditional];
@@ -29,7 +37,7 @@ Status TraditionalPath::draw(const DrawResources& r, const PathFrame& f, DrawSta
   glBindBufferBase(GL_UNIFORM_BUFFER, 1, block_buffer_);
   const Span<const InstanceRecord> records = view.records();
   const uint32_t sub_meshes = view.subMeshCount();
-  const size_t block_bytes = 64 + size_t(slots) * 48;
+  const size_t block_bytes = joints_at + size_t(slots) * 48;
   for (size_t v = 0; v < records.size(); ++v) {
     const InstanceRecord& rec = records[v];
     uint8_t* block = block_.data();
@@ -41,7 +49,12 @@ Status TraditionalPath::draw(const DrawResources& r, const PathFrame& f, DrawSta
       float rows[12];
       for (int row = 0; row < 3; ++row)
         for (int col = 0; col < 4; ++col) rows[row * 4 + col] = mat[col][row];
-      std::memcpy(block + 64 + size_t(slot) * 48, rows, 48);
+      std::memcpy(block + joints_at + size_t(slot) * 48, rows, 48);
+    }
+    if (targets > 0) {
+      const Status s = recordMorphWeights(palette, view, v, morph_weights_);
+      if (!s.isOk()) return s;
+      std::memcpy(block + 64, morph_weights_.data(), size_t(targets) * 4);
     }
     glNamedBufferSubData(block_buffer_, 0, GLsizeiptr(block_bytes), block);
     // This instance's worn sub-meshes at the view's LOD.

@@ -1,16 +1,21 @@
 // SkinnedInstancing — SPDX-License-Identifier: MIT (see LICENSE)
 #pragma once
-// The traditional baseline: per visible instance, its joint matrices computed on the CPU from
-// the palette, uploaded into a uniform block, and one glDrawElements per worn sub-mesh.
+// The traditional baseline: per visible instance, its joint matrices (and morph target
+// weights) computed on the CPU from the palette, uploaded into a uniform block, and one
+// glDrawElements per worn sub-mesh.
 
 #include <vector>
 
 #include "gl/paths/draw_path.h"
+#include "si/core/morph_target.h"
 
 namespace si::detail {
 
-/// Joints the traditional path's uniform block holds: 48 KiB of rows, within any 64 KiB block.
+/// Joints the traditional path's uniform block holds: 48 KiB of rows.
 inline constexpr uint32_t kMaxTraditionalJoints = 1024;
+/// Morph target weights it holds, before the joint rows of a character that has targets
+/// (skinned.vert.glsl's SI_TRADITIONAL_MORPH_TARGETS): every target a palette may have, 1 KiB.
+inline constexpr uint32_t kTraditionalMorphTargets = uint32_t(kMaxMorphTargets);
 
 class TraditionalPath final : public DrawPath {
  public:
@@ -23,6 +28,7 @@ class TraditionalPath final : public DrawPath {
  private:
   GLuint block_buffer_ = kNoObject;
   std::vector<uint8_t> block_;
+  std::vector<float> morph_weights_;
 };
 
 }  // namespace si::detail

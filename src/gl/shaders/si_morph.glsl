@@ -11,12 +11,25 @@
 //                         morph texture's width, y texels per entry, z where a frame's weights
 //                         start, w the target count
 //   si_morph_cuts         its last two (si::morphLodCuts()): each LOD level's cut, model units
+// (The library's traditional baseline defines SI_MORPH_WEIGHTS_IN_BLOCK: its weights come
+// computed from the CPU.)
 #ifndef SI_MORPH_GLSL
 #define SI_MORPH_GLSL
 #ifndef SI_MORPH_BINDING
 #define SI_MORPH_BINDING 5
 #endif
 SI_BINDING_LAYOUT(SI_MORPH_BINDING) uniform highp usampler2D si_morphs;
+
+#ifdef SI_MORPH_WEIGHTS_IN_BLOCK
+// The traditional baseline (skinned.vert.glsl): each target's weight computed on the CPU
+// (si::emulateLayeredMorphWeights), in the character's block; `inst` and `layer` are unused.
+float siMorphLayerWeight(SiInstance inst, uvec4 layer, uint target) {
+  return si_morph_weights[target >> 2u][int(target & 3u)];
+}
+SiInstance siNoInstance() {
+  return SiInstance(vec4[3](vec4(0.0), vec4(0.0), vec4(0.0)), uvec4(0u), uvec4(0u));
+}
+#else
 
 // Texel `at` past a frame's first texel of the frame pair `frame`, `next`, interpolated as
 // siInterpolatedRows interpolates a matrix row (the fraction word carries the interval mode).
@@ -70,6 +83,8 @@ float siMorphLayerWeight(SiInstance inst, uvec4 layer, uint target) {
 #endif
   return w;
 }
+
+#endif  // SI_MORPH_WEIGHTS_IN_BLOCK
 
 uvec4 siMorphEntry(uint i) {
   return texelFetch(si_morphs,

@@ -16,7 +16,7 @@
 // (influences 5 to 8 too, attributes 10 and 11: the skinning sum is linear in the weights, so
 // each set's sum is added), SI_MORPH_TARGETS (the vertex's morph targets added before skinning,
 // its morph word attribute 12: si_morph.glsl, with SI_LAYERS the overlay's on its mask's
-// targets; not with SI_TRADITIONAL).
+// targets; with SI_TRADITIONAL the weights the CPU computed, in the character's block).
 #define SI_VERTEX_MATERIALS
 #if defined(SI_GPU_DRIVEN) && defined(SI_LAYERS)
 #define SI_LAYERS_IN_STORAGE  // The cull pass's layer records, by visible index.
@@ -34,11 +34,27 @@
 #ifdef SI_TRADITIONAL
 #define SI_INSTANCE_HANDLE_UNIFORM
 #include "si_transform.glsl"
+#ifdef SI_MORPH_TARGETS
+#define SI_TRADITIONAL_MORPH_TARGETS 256  // si::detail::kTraditionalMorphTargets
+#endif
 layout(std140 SI_WITH_BINDING(1)) uniform SiCharacter {
   vec4 si_world_rows[3];
   uint si_color;
+#ifdef SI_MORPH_TARGETS
+  vec4 si_morph_weights[SI_TRADITIONAL_MORPH_TARGETS / 4];  // Computed on the CPU.
+#endif
   vec4 si_joint_rows[3 * SI_MAX_JOINTS];
 };
+#ifdef SI_MORPH_TARGETS
+#include "si_instance_record.glsl"
+layout(std140 SI_WITH_BINDING(4)) uniform SiPaletteInfo {
+  uvec4 si_palette_info;
+  uvec4 si_morph_info;
+  vec4 si_morph_cuts[2];
+};
+#define SI_MORPH_WEIGHTS_IN_BLOCK  // si_morph.glsl reads the block's weights.
+#include "si_morph.glsl"
+#endif
 #else
 #include "si_skinning.glsl"
 #ifdef SI_COMPOSED_LAYERS
@@ -80,7 +96,11 @@ layout(location = 11) in vec4 a_weights1;
 #else
 #define SI_SECOND_SET(CALL, m0, m1, m2)
 #endif
-#if defined(SI_MORPH_TARGETS) && !defined(SI_TRADITIONAL)
+#if defined(SI_MORPH_TARGETS) && defined(SI_TRADITIONAL)
+layout(location = 12) in uint a_morph;
+// The block's weights: no record, no layer.
+#define SI_MORPH_VERTEX(inst, layer, lod, p, n, t) siMorphLayered(siNoInstance(), uvec4(0u), a_morph, lod, p, n, t)
+#elif defined(SI_MORPH_TARGETS)
 layout(location = 12) in uint a_morph;
 #define SI_MORPH_VERTEX(inst, layer, lod, p, n, t) siMorphLayered(inst, layer, a_morph, lod, p, n, t)
 #else
