@@ -100,8 +100,8 @@ TEST(GlslCheck, EveryProgramCompilesWithGlslang) {
       ++compiled;
     });
   }
-  // The catalog's 59 programs: 36 with a vertex and a fragment stage, 23 compute: 95 stages.
-  EXPECT_EQ(compiled, 2 * 95);
+  // The catalog's 61 programs: 36 with a vertex and a fragment stage, 25 compute: 97 stages.
+  EXPECT_EQ(compiled, 2 * 97);
 }
 
 // The variants for meshes with texture coordinates 1 or colours (SI_VERTEX_WORDS): every
@@ -147,6 +147,33 @@ TEST(GlslCheck, TheEightInfluenceVariantsCompileWithGlslang) {
       ASSERT_TRUE(detail::assembleStage(id, stage, config, &source).isOk());
       EXPECT_NE(source.find("#define SI_EIGHT_INFLUENCES\n"), std::string::npos);
       EXPECT_EQ(compileWithGlslang(source, stageExtension(stage), fileName(id, "", "_eight")), "");
+    }
+  }
+  EXPECT_GT(programs, 20);
+}
+
+// The variants for meshes with morph targets (SI_MORPH_TARGETS): every program that skins a
+// mesh's vertices (the GPU-driven morph weights pass among them), every stage it has, with 8
+// influences and the vertex words too (a mesh may have all three).
+TEST(GlslCheck, TheMorphTargetVariantsCompileWithGlslang) {
+  skipWithoutGlslang();
+  detail::ShaderConfig config = checkConfig(819);
+  config.morph_targets = true;
+  config.eight_influences = true;
+  config.vertex_words = true;
+  int programs = 0;
+  for (size_t p = 0; p < detail::kProgramCount; ++p) {
+    const ProgramId id = ProgramId(p);
+    if (!detail::skinsVertices(id)) continue;
+    ++programs;
+    const bool compute = detail::programSpec(id).compute != nullptr;
+    for (ShaderStage stage :
+         compute ? std::vector<ShaderStage>{ShaderStage::kCompute}
+                 : std::vector<ShaderStage>{ShaderStage::kVertex, ShaderStage::kFragment}) {
+      std::string source;
+      ASSERT_TRUE(detail::assembleStage(id, stage, config, &source).isOk());
+      EXPECT_NE(source.find("#define SI_MORPH_TARGETS\n"), std::string::npos);
+      EXPECT_EQ(compileWithGlslang(source, stageExtension(stage), fileName(id, "", "_morph")), "");
     }
   }
   EXPECT_GT(programs, 20);

@@ -35,6 +35,29 @@ void GLAD_API_PTR engineCallback(GLenum source, GLenum, GLuint id, GLenum, GLsiz
     ++static_cast<DebugLog*>(const_cast<void*>(user))->markers;
 }
 
+// `c` with a morph target that swells its head (the vertices above 85 % of its height), its
+// weight going 0, 1, 0 over each clip.
+void addHeadTarget(si::Character* c) {
+  si::MorphTarget t;
+  t.name = "swell";
+  const si::Aabb box = c->bindPoseBounds();
+  const float floor = box.min.y + 0.85f * (box.max.y - box.min.y);
+  for (uint32_t v = 0; v < uint32_t(c->mesh.vertexCount()); ++v)
+    if (c->mesh.positions[v].y > floor) {
+      t.vertices.push_back(v);
+      t.position_deltas.push_back(c->mesh.normals[v] * (0.03f * c->height()));
+    }
+  c->mesh.morph_targets.push_back(std::move(t));
+  for (si::Clip& clip : c->clips) {
+    si::MorphWeightTrack w;
+    w.target_count = 1;
+    w.interpolation = si::Interpolation::kLinear;
+    w.times_seconds = {0.0f, 0.5f * clip.duration_seconds, clip.duration_seconds};
+    w.values = {0.0f, 1.0f, 0.0f};
+    clip.morph_tracks = {w};
+  }
+}
+
 // A crowd of 12 of the embedded character close to the camera: clips, times, tints, armour;
 // with `overlays`, every third waves its right arm over what it plays.
 si::Status makeCrowd(const si::Character& c, const si::BakedPalette& palette, bool overlays,
@@ -243,6 +266,30 @@ GuestReport checkEveryCall(void* (*get_proc)(void* user, const char* name), void
           return renderer->drawCrowdGpuCulled(far_id, far_crowd.view(), camera, nullptr, mode);
         });
   }
+  // Morph targets: a third character whose clips swell its head; its draws bind the morph
+  // texture (and, GPU-driven, each visible instance's weights).
+  si::Character faced = character;
+  addHeadTarget(&faced);
+  si::BakedPalette faced_palette;
+  s = si::bakePalette(faced, bd, &faced_palette, nullptr);
+  si::CharacterId faced_id;
+  if (s.isOk()) s = renderer->addCharacter(faced, faced_palette, &faced_id);
+  si::CrowdManager faced_crowd;
+  if (s.isOk()) s = makeCrowd(faced, faced_palette, false, &faced_crowd, &camera);
+  if (!s.isOk()) return fail("setting up the morph targets' crowd", s);
+  for (const auto& [mode, name] : {modes[1], modes[2], modes[3]}) {
+    checker.check(
+        std::string("Renderer::drawCrowd(") + name + ", morph targets)", [&, mode = mode] {
+          return renderer->drawCrowd(faced_id, faced_crowd.view(), batcher, camera, nullptr, mode);
+        });
+    checker.check(
+        std::string("Renderer::drawCrowdGpuCulled(") + name + ", morph targets)", [&, mode = mode] {
+          return renderer->drawCrowdGpuCulled(faced_id, faced_crowd.view(), camera, nullptr, mode);
+        });
+  }
+  checker.check("Renderer::drawTraditional, morph targets", [&] {
+    return renderer->drawTraditional(faced_id, faced_crowd.view(), camera, nullptr);
+  });
   // A material of the engine's, reading a uniform block of its own (at binding 7, which the
   // engine's state binds) and the instance handle (its block at storage binding 29, which the
   // engine's state binds too), on meshes and impostors.
