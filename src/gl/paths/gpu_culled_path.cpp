@@ -71,8 +71,6 @@ Status GpuCulledPath::uploadFrame(const DrawResources& r, const PathFrame& f) {
   if (!view.isOk()) return view;
   Status motion = prepareMotion(r, f);
   if (!motion.isOk()) return motion;
-  Status morph = prepareMorphWeights(r);
-  if (!morph.isOk()) return morph;
   compose_stride_ = 0;
   if (layers_) {  // Every frame: drawCrowd of another crowd may have replaced the tables.
     Status s = r.scratch->uploadMaskTable(layerMaskTable(crowd.layerMasks()));
@@ -166,24 +164,6 @@ Status GpuCulledPath::prepareMotion(const DrawResources& r, const PathFrame& f) 
   const glm::vec3 shift = representable ? glm::vec3(delta) : glm::vec3(0.0f);
   glProgramUniform3fv(cull, 26, 1, &shift[0]);
   return Status::ok();
-}
-
-Status GpuCulledPath::prepareMorphWeights(const DrawResources& r) {
-  const uint32_t targets = r.palette->palette()->layout.morph_target_count;
-  morph_rows_ = (targets + 3) / 4;
-  if (morph_rows_ == 0) return Status::ok();
-  const uint64_t bytes = uint64_t(capacity_) * morph_rows_ * 16;
-  if (bytes > r.info->max_shader_storage_block_size_bytes)
-    return {StatusCode::kLimitExceeded,
-            strCat("drawCrowdGpuCulled: the morph weights of ", capacity_, " instances x ", targets,
-                   " targets (", bytes, " bytes) pass GL_MAX_SHADER_STORAGE_BLOCK_SIZE (",
-                   r.info->max_shader_storage_block_size_bytes, ")")};
-  if (bytes == morph_bytes_ && morph_weights_ != kNoObject) return Status::ok();
-  morph_bytes_ = 0;
-  const Status s = recreate(&morph_weights_, size_t(bytes), nullptr,
-                            "morph targets: each visible instance's weights");
-  if (s.isOk()) morph_bytes_ = bytes;
-  return s;
 }
 
 Status GpuCulledPath::ensureRing(const DrawResources& r, bool motion) {
@@ -304,16 +284,6 @@ void GpuCulledPath::runPasses(const DrawResources& r, const PathFrame& f, uint32
   glBindBuffer(GL_DRAW_INDIRECT_BUFFER, commands_);
   // The skinning passes read the mask table where the command pass read the ranges.
   if (layers_) glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 8, r.scratch->mask_table.buffer);
-  if (morph_rows_ > 0) {
-    // Each visible instance's morph weights, which the vertex-shader draws read.
-    const Program& weights =
-        r.programs[layers_ ? ProgramId::kGpuMorphWeightsLayers : ProgramId::kGpuMorphWeights];
-    glUseProgram(weights.id);
-    r.palette->bind();
-    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 31, morph_weights_);
-    (void)dispatchGroups(*r.info, (uint64_t(n) + 63) / 64, "drawCrowdGpuCulled: morph weights");
-    glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT);
-  }
   const bool composed = compose_stride_ > 0;
   if (composed)
     composeGpuLayers(r, motion_, compose_stride_, n, extraBase(), previousExtraBase(), st);
@@ -394,7 +364,7 @@ void GpuCulledPath::memory(CrowdGpuMemory* out) const {
 }
 
 void GpuCulledPath::release() {
-  const std::array<GLuint, 18> all = buffers();
+  const std::array<GLuint, 17> all = buffers();
   glDeleteBuffers(GLsizei(all.size()), all.data());
   const GLuint arrays[] = {vao_, preskin_vao_};
   glDeleteVertexArrays(2, arrays);

@@ -58,14 +58,10 @@ class GpuCulledPath final : public DrawPath {
   // Motion vectors: moves the view's cameras on at a new frame, creates its drawn records and
   // the previous outputs, sets the cull pass's uniforms.
   Status prepareMotion(const DrawResources& r, const PathFrame& f);
-  // Morph targets: the morph weights pass's buffer, capacity_ x morph_rows_ rows of 4 weights
-  // (sets morph_rows_; 0 for a character without targets); kLimitExceeded past the
-  // storage-block limit.
-  Status prepareMorphWeights(const DrawResources& r);
   // Cull, commands, scatter and the draws, with the cull pass in occlusion `phase` (0 off).
   void runPasses(const DrawResources& r, const PathFrame& f, uint32_t phase, DrawStats* st);
   // Every buffer of the path's own (not its views').
-  std::array<GLuint, 18> buffers() const {
+  std::array<GLuint, 17> buffers() const {
     return {state_,
             clips_,
             times_,
@@ -82,8 +78,7 @@ class GpuCulledPath final : public DrawPath {
             overlays_,
             layers_out_,
             previous_out_,
-            previous_layers_out_,
-            morph_weights_};
+            previous_layers_out_};
   }
 
   GLuint vao_ = kNoObject, preskin_vao_ = kNoObject;
@@ -109,11 +104,6 @@ class GpuCulledPath final : public DrawPath {
   // passes' output; what each view drew is its slot's; 2D blends' previous extra layers after
   // previous_capacity_ layer records). frame_ counts the crowd steps drawn.
   GLuint previous_out_ = kNoObject, previous_layers_out_ = kNoObject;
-  // Morph targets: each visible instance's weights (morph_weights.comp.glsl), which the
-  // vertex-shader draw reads instead of interpolating the palette per vertex and entry.
-  GLuint morph_weights_ = kNoObject;
-  uint32_t morph_rows_ = 0;
-  uint64_t morph_bytes_ = 0;
   uint32_t previous_capacity_ = 0, slots_needed_ = 1, frame_ = 1;
   uint64_t frame_steps_ = 0;     // CrowdManager::stepCount() of the frame.
   uint64_t crowd_identity_ = 0;  // CrowdManager::identity() of its crowd (GpuCulledCrowds' key).

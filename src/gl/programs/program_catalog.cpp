@@ -129,9 +129,6 @@ const ProgramSpec kSpecs[kProgramCount] = {
     {"GPU-driven pulling with motion vectors and tangents",
      "#define SI_GPU_DRIVEN\n#define SI_MOTION_VECTORS\n#define SI_TANGENTS\n", "pulled.vert.glsl",
      "surface.frag.glsl", nullptr, nullptr},
-    {"GPU-driven morph weights", "", nullptr, nullptr, "morph_weights.comp.glsl", nullptr},
-    {"GPU-driven morph weights with layers", "#define SI_LAYERS\n", nullptr, nullptr,
-     "morph_weights.comp.glsl", nullptr},
 };
 
 }  // namespace
@@ -212,8 +209,7 @@ bool skinsVertices(ProgramId id) {
     return std::strcmp(spec.vertex, "skinned.vert.glsl") == 0 &&
            std::strstr(spec.defines, "SI_RIGID") == nullptr;
   return spec.compute != nullptr && (std::strcmp(spec.compute, "compute_skin.comp.glsl") == 0 ||
-                                     std::strcmp(spec.compute, "gpu_skin.comp.glsl") == 0 ||
-                                     std::strcmp(spec.compute, "morph_weights.comp.glsl") == 0);
+                                     std::strcmp(spec.compute, "gpu_skin.comp.glsl") == 0);
 }
 
 bool takesMaterial(ProgramId id, const MaterialSource& material) {

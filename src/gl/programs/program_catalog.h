@@ -71,8 +71,6 @@ enum class ProgramId : uint8_t {
   kPulledMotionTangents,            ///< kPulledMotion with the tangent ring.
   kGpuPulledTangents,               ///< kGpuPulled with the tangent ring.
   kGpuPulledMotionTangents,         ///< kGpuPulledMotion with the tangent ring.
-  kGpuMorphWeights,                 ///< Each visible instance's morph target weights.
-  kGpuMorphWeightsLayers,           ///< kGpuMorphWeights with layered animation.
   kCount
 };
 inline constexpr size_t kProgramCount = size_t(ProgramId::kCount);

@@ -144,11 +144,10 @@ Status ProgramSet::build(const ShaderConfig& config) {
   }
   // The instance handles' block and the baselines' uniform (shaders/instance_handle.glsl) are
   // in no built-in program: only the programs of materials that ask for the handle declare them.
-  // Nor are the morph targets' texture and weights: only the variants of characters with targets
-  // (buildMeshVariants) declare them.
+  // Nor is the morph targets' texture: only the variants of characters with targets
+  // (buildMeshVariants) declare it.
   if (!config.es) {
     bindings_.units[5].insert("si_morphs");
-    bindings_.storage_blocks[31].insert("SiMorphWeights");
     bindings_.storage_blocks[29].insert("SiSlotHandles");
     bindings_.uniform_names.insert("u_instance_handle");
   }

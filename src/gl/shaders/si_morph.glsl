@@ -12,8 +12,7 @@
 //                         start, w the target count
 //   si_morph_cuts         its last two (si::morphLodCuts()): each LOD level's cut, model units
 // (The library's traditional baseline defines SI_MORPH_WEIGHTS_IN_BLOCK: its weights come
-// computed from the CPU; its GPU-driven vertex shader SI_MORPH_WEIGHTS_IN_STORAGE: from the
-// morph weights pass, morph_weights.comp.glsl.)
+// computed from the CPU.)
 #ifndef SI_MORPH_GLSL
 #define SI_MORPH_GLSL
 #ifndef SI_MORPH_BINDING
@@ -29,18 +28,6 @@ float siMorphLayerWeight(SiInstance inst, uvec4 layer, uint target) {
 }
 SiInstance siNoInstance() {
   return SiInstance(vec4[3](vec4(0.0), vec4(0.0), vec4(0.0)), uvec4(0u), uvec4(0u));
-}
-#elif defined(SI_MORPH_WEIGHTS_IN_STORAGE)
-// The GPU-driven vertex shader (skinned.vert.glsl without motion vectors): each visible
-// instance's weights as the morph weights pass computed them (siMorphLayerWeightRow: rows of 4
-// targets), from row si_morph_weights_first, which the caller sets before the walk; `inst` and
-// `layer` are unused.
-layout(std430 SI_WITH_BINDING(SI_MORPH_WEIGHTS_BINDING)) readonly buffer SiMorphWeights {
-  vec4 si_morph_weights[];
-};
-uint si_morph_weights_first = 0u;
-float siMorphLayerWeight(SiInstance inst, uvec4 layer, uint target) {
-  return si_morph_weights[si_morph_weights_first + (target >> 2u)][int(target & 3u)];
 }
 #else
 
@@ -59,18 +46,16 @@ vec4 siMorphWeightTexel(uint frame, uint next, uint fraction, uint at) {
   return sum;
 }
 
-// The weights of morph targets 4 * row to 4 * row + 3 for `inst`: clip A's, crossfaded
-// towards clip B's by the record's weight.
-vec4 siMorphWeightRow(SiInstance inst, uint row) {
-  uint at = si_morph_info.z + row;
-  vec4 w = siMorphWeightTexel(inst.frames.x, inst.frames.y, inst.blend.x, at);
-  float wb = uintBitsToFloat(inst.blend.z);
-  if (wb > 0.0) w = mix(w, siMorphWeightTexel(inst.frames.z, inst.frames.w, inst.blend.y, at), wb);
-  return w;
-}
-// Morph target `target`'s weight for `inst` (siMorphWeightRow's component).
+// Morph target `target`'s weight for `inst`: clip A's, crossfaded towards clip B's by the
+// record's weight.
 float siMorphWeight(SiInstance inst, uint target) {
-  return siMorphWeightRow(inst, target >> 2u)[int(target & 3u)];
+  uint at = si_morph_info.z + (target >> 2u);
+  int c = int(target & 3u);
+  float w = siMorphWeightTexel(inst.frames.x, inst.frames.y, inst.blend.x, at)[c];
+  float wb = uintBitsToFloat(inst.blend.z);
+  if (wb > 0.0)
+    w = mix(w, siMorphWeightTexel(inst.frames.z, inst.frames.w, inst.blend.y, at)[c], wb);
+  return w;
 }
 
 #ifdef SI_LAYERS
@@ -98,21 +83,8 @@ float siMorphLayerWeight(SiInstance inst, uvec4 layer, uint target) {
 #endif
   return w;
 }
-// siMorphLayerWeight of targets 4 * row to 4 * row + 3 (the GPU-driven morph weights pass).
-vec4 siMorphLayerWeightRow(SiInstance inst, uvec4 layer, uint row) {
-  vec4 w = siMorphWeightRow(inst, row);
-#ifdef SI_LAYERS
-  float overlay = siLayerWeight(layer);
-  if (overlay > 0.0) {
-    vec4 o = siMorphWeightTexel(layer.x, layer.y, layer.z, si_morph_info.z + row);
-    for (int c = 0; c < 4; ++c)
-      if (siMaskMovesTarget(siLayerMask(layer), 4u * row + uint(c))) w[c] = mix(w[c], o[c], overlay);
-  }
-#endif
-  return w;
-}
 
-#endif  // SI_MORPH_WEIGHTS_IN_BLOCK, SI_MORPH_WEIGHTS_IN_STORAGE
+#endif  // SI_MORPH_WEIGHTS_IN_BLOCK
 
 uvec4 siMorphEntry(uint i) {
   return texelFetch(si_morphs,

@@ -22,12 +22,6 @@
 #define SI_LAYERS_IN_STORAGE  // The cull pass's layer records, by visible index.
 #define SI_LAYER_BINDING 18
 #endif
-#if defined(SI_GPU_DRIVEN) && defined(SI_MORPH_TARGETS) && !defined(SI_MOTION_VECTORS)
-// The morph weights pass's weights of each visible instance (si_morph.glsl); with motion
-// vectors the previous records' are interpolated from the palette, and so are the current.
-#define SI_MORPH_WEIGHTS_IN_STORAGE
-#define SI_MORPH_WEIGHTS_BINDING 31
-#endif
 #ifdef SI_MOTION_VECTORS
 #define SI_PREVIOUS_RECORDS
 #ifdef SI_GPU_DRIVEN
@@ -212,9 +206,6 @@ void main() {
   // The bind pose, with the vertex's morph targets at the instance's weights (those the LOD
   // keeps).
   vec3 position = a_position, normal = a_normal.xyz, tangent_direction = a_tangent.xyz;
-#ifdef SI_MORPH_WEIGHTS_IN_STORAGE
-  si_morph_weights_first = slot * ((si_morph_info.w + 3u) / 4u);  // The visible index's rows.
-#endif
   SI_MORPH_VERTEX(inst, SI_MORPH_LAYER(slot), lod, position, normal, tangent_direction);
   vec3 model = siTransformPoint(m0, m1, m2, position);
 #ifdef SI_CAPTURE

@@ -26,13 +26,13 @@ constexpr uint32_t bits(std::initializer_list<int> indices) {
 //     record ring, drawCrowd's previous records, the composed rows (current and previous);
 //     28: the pre-skinned tangent ring (compute and GPU-driven pre-skinning); 29: the slots'
 //     instance handles; 30: the slots' composed records (drawCrowd); the GPU-driven passes use
-//     0-23, 26-28 and 31 (each visible instance's morph weights);
+//     0-23, 26-28;
 //   texture units 0-4: palette (or the depth copy), colour array (or the depth pyramid),
 //     custom array, impostor atlas, material data array; 5: the morph targets' entries; image
 //     units 0-1: the depth pyramid's levels.
 constexpr uint32_t kUniforms = bits({0, 1, 2, 3, 4});
 constexpr uint32_t kDrawStorage = bits({1, 2, 3, 4, 8, 9, 10, 11, 23, 24, 25, 26, 27, 28, 29, 30});
-constexpr uint32_t kAllStorage = kDrawStorage | ((1u << 24) - 1u) | bits({31});
+constexpr uint32_t kAllStorage = kDrawStorage | ((1u << 24) - 1u);
 constexpr uint32_t kUnits = bits({0, 1, 2, 3, 4, 5});
 
 constexpr GLenum kUnpack[8] = {GL_UNPACK_SWAP_BYTES,  GL_UNPACK_LSB_FIRST,  GL_UNPACK_ROW_LENGTH,

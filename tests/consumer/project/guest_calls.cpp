@@ -267,7 +267,7 @@ GuestReport checkEveryCall(void* (*get_proc)(void* user, const char* name), void
         });
   }
   // Morph targets: a third character whose clips swell its head; its draws bind the morph
-  // texture (and, GPU-driven, each visible instance's weights).
+  // texture.
   si::Character faced = character;
   addHeadTarget(&faced);
   si::BakedPalette faced_palette;
