@@ -105,7 +105,7 @@ float siMorphCut(uint lod) {
 // direction, then renormalizes the normal and a non-zero tangent (the seed "Efficient
 // Animation" renormalizes its blended frame so); at LOD level `lod` it stops where the rest of
 // the run moves the vertex no farther than the level's cut. Two entries an iteration, without a
-// branch on their weights, so their fetches overlap.
+// branch on their weights, so their fetches overlap, and the next two fetched ahead.
 void siMorphLayered(SiInstance inst, uvec4 layer, uint word, uint lod, inout vec3 position,
                     inout vec3 normal, inout vec3 tangent) {
   uint count = word & 511u;
@@ -114,11 +114,16 @@ void siMorphLayered(SiInstance inst, uvec4 layer, uint word, uint lod, inout vec
   uint first = (word >> 9) * stride;
   float cut = siMorphCut(lod);
   vec3 n = normal, t = tangent;
+  // Each pair's entries are fetched an iteration ahead, with the pair before's weights, so their
+  // waits overlap (the last entry stands in past the run).
+  uint last = first + (count - 1u) * stride;
+  uvec4 e0 = siMorphEntry(first), e1 = siMorphEntry(min(first + stride, last));
   for (uint i = 0u; i < count; i += 2u) {
     uint at0 = first + i * stride;
     bool pair = i + 1u < count;
     uint at1 = pair ? at0 + stride : at0;
-    uvec4 e0 = siMorphEntry(at0), e1 = siMorphEntry(at1);
+    uvec4 next0 = siMorphEntry(min(at0 + 2u * stride, last)),
+          next1 = siMorphEntry(min(at0 + 3u * stride, last));
     if (siMorphTail(e0.x) <= cut) break;
     float second = pair && siMorphTail(e1.x) > cut ? 1.0 : 0.0;
     float w0 = siMorphLayerWeight(inst, layer, siMorphTarget(e0.x));
@@ -131,6 +136,8 @@ void siMorphLayered(SiInstance inst, uvec4 layer, uint word, uint lod, inout vec
       t += w0 * uintBitsToFloat(siMorphEntry(at0 + 2u).yzw) +
            w1 * uintBitsToFloat(siMorphEntry(at1 + 2u).yzw);
     if (second == 0.0) break;
+    e0 = next0;
+    e1 = next1;
   }
   float n_length = length(n);
   if (n_length > 0.0) normal = n / n_length;
