@@ -6,6 +6,7 @@
 #include <cmath>
 #include <cstdio>
 
+#include "common/face_targets.h"
 #include "si/bake/lod_chain.h"
 #include "si/bake/palette_file.h"
 #include "si/core/impostor_level.h"
@@ -45,6 +46,8 @@ si::Status DemoScene::loadCharacter(const SceneOptions& options) {
     si::DefaultCharacterDesc embedded;
     embedded.moving_clips = options.root_motion;  // Else added when key R first asks.
     s = si::makeDefaultCharacter(embedded, &character_);
+    // The faces before the staff, whose head would otherwise be the top the targets swell.
+    if (s.isOk() && options.faces > 0) si::examples::addFaceTargets(&character_, options.faces);
     if (s.isOk() && options.palette.empty()) s = attachStaff();  // Before the LODs and the bake.
   } else {
     si::GltfImportReport gr;
@@ -53,6 +56,8 @@ si::Status DemoScene::loadCharacter(const SceneOptions& options) {
     if (s.isOk() && character_.clips.empty())
       s = si::Status(si::StatusCode::kUnsupported, "the model has no animation clips");
   }
+  if (s.isOk() && options.faces > 0 && !options.model.empty())
+    si::examples::addFaceTargets(&character_, options.faces);
   if (s.isOk() && options.lod_pixels > 0.0f) {  // Chains deep enough for a few pixels.
     s = si::buildLodChain(&character_.mesh, {}, nullptr);
     if (s.isOk()) s = si::measureAnimatedLodErrors(&character_, {}, nullptr);
@@ -252,6 +257,15 @@ double DemoScene::fieldHalfExtent() const {
 
 glm::dvec3 DemoScene::fieldCenter() const {
   return glm::dvec3(fieldHalfExtent(), 0.0, fieldHalfExtent());
+}
+
+si::Camera DemoScene::closeUpCamera(float aspect) const {
+  const double extent = 2.0 * fieldHalfExtent() / unit_;
+  // Among the rows (1.6 units apart, each character turned at random), looking back at the
+  // first three.
+  return si::Camera::lookAt(glm::dvec3(extent * 0.5, 2.2, 5.4) * unit_,
+                            glm::dvec3(extent * 0.5, 1.5, 0.0) * unit_, glm::vec3(0, 1, 0), 0.9f,
+                            aspect, float(0.05 * unit_), float(2000.0 * unit_));
 }
 
 si::Camera DemoScene::overviewCamera(float aspect) const {

@@ -46,6 +46,10 @@ struct SceneOptions {
   bool props = false;   // Every other character holds a staff (key O; the embedded character).
   bool blend = false;   // Every other character walks and runs by a drifting speed (key B).
   bool shadows = false;  // Cascaded shadows on a ground plane (key H).
+  // > 0: this many face-like morph targets on the character's head (examples/common/
+  // face_targets.h), their weights animated by every clip, each on its own phase.
+  uint32_t faces = 0;
+  bool close_up = false;                  // The headless camera among the first rows' faces.
   std::string layer_root = "r_clavicle";  // The overlay's branch root joint.
   std::string layer_clip = "wave";        // The overlay clip.
 };
@@ -163,6 +167,8 @@ class DemoScene {
   double updateMs() const { return update_ms_; }
   /// The camera's default view of the field (at the edge, 9 m up, looking in).
   si::Camera overviewCamera(float aspect) const;
+  /// At head height within the field's first rows, facing their faces (SceneOptions::close_up).
+  si::Camera closeUpCamera(float aspect) const;
   /// The field's centre and half extent in model units.
   glm::dvec3 fieldCenter() const;
   double fieldHalfExtent() const;

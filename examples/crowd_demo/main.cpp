@@ -13,6 +13,7 @@
 
 #include "common/example_options.h"
 #include "demo_scene.h"
+#include "si/core/morph_target.h"
 #include "si/headless/headless_context.h"
 #include "window_app.h"
 
@@ -42,7 +43,7 @@ void usage(std::FILE* f) {
       "                  [--events] [--root-motion] [--motion-vectors] [--layers] [--props] "
       "[--blend] "
       "[--shadows]\n"
-      "                  [--impostors] [--impostor-atlas full|small]\n"
+      "                  [--impostors] [--impostor-atlas full|small] [--faces N] [--close-up]\n"
       "Renders a crowd of the embedded character (default 4000 characters, 1280x720).\n"
       "With a display it opens a window (F1 lists the keys; ESC quits); without one, or with\n"
       "--headless, it renders --frames frames (default 3, 1/60 s apart) offscreen, writes the\n"
@@ -77,7 +78,11 @@ void usage(std::FILE* f) {
       "takes over from the levels whose measured image error exceeds its own (budget:\n"
       "--lod-pixels, 1 if not given); not with --motion-vectors (key X is then off), and the\n"
       "baseline paths draw none. --impostor-atlas small: 8 azimuths, 2 elevations, 4 frames per\n"
-      "clip (full: si::ImpostorDesc's defaults).\n");
+      "clip (full: si::ImpostorDesc's defaults).\n"
+      "--faces N gives the character N face-like morph targets (1 to 256; not with --palette):\n"
+      "bumps over sectors of whatever rises above 85 %% of its height (the head, and the spear's\n"
+      "tip), animated by every clip, each on its own phase. --close-up puts\n"
+      "the headless camera at head height among the first rows, facing them.\n");
 }
 
 bool parse(int argc, char** argv, Options* o) {
@@ -124,6 +129,12 @@ bool parse(int argc, char** argv, Options* o) {
       o->scene.blend = true;
     } else if (a == "--shadows") {
       o->scene.shadows = true;
+    } else if (a == "--faces" && has) {
+      const long n = std::strtol(argv[++i], nullptr, 10);
+      if (n < 1 || n > long(si::kMaxMorphTargets)) return false;
+      o->scene.faces = uint32_t(n);
+    } else if (a == "--close-up") {
+      o->scene.close_up = true;
     } else if (a == "--mix" && has) {
       o->scene.mix = si::examples::splitList(argv[++i]);
       if (std::string(argv[i]) == "samples") o->scene.mix = demo::defaultMix();
@@ -152,6 +163,7 @@ bool parse(int argc, char** argv, Options* o) {
       return false;
     }
   }
+  if (o->scene.faces > 0 && !o->scene.palette.empty()) return false;  // Baked without them.
   if (o->scene.impostors) {
     if (o->scene.motion_vectors) return false;  // Impostors draw no motion vectors.
     if (o->scene.lod_pixels == 0.0f) o->scene.lod_pixels = 1.0f;
@@ -189,6 +201,9 @@ void printStats(const demo::DemoScene& scene, const si::DrawStats& stats, double
     std::printf("%-28s %12u\n", "layers: overlays playing", scene.overlays());
   if (scene.props()) std::printf("%-28s %12u\n", "props: staffs held", scene.propsHeld());
   if (scene.blend()) std::printf("%-28s %12u\n", "blend: characters blending", scene.blending());
+  if (scene.palette().layout.morph_target_count > 0)
+    std::printf("%-28s %12u\n", "faces: morph targets baked",
+                scene.palette().layout.morph_target_count);
   if (scene.shadows())
     std::printf("%-28s %12u (3 cascades, %u drawn by the main view)\n", "shadows: casters drawn",
                 scene.shadowCasters(), scene.crowd().view().stats().visible);
@@ -221,7 +236,9 @@ int runHeadless(const Options& o, demo::DemoScene* scene) {
     return fail("renderer", s);
   }
   scene->setViewportSize(o.width, o.height);
-  si::Camera camera = scene->overviewCamera(float(o.width) / float(o.height));
+  const float aspect = float(o.width) / float(o.height);
+  si::Camera camera =
+      o.scene.close_up ? scene->closeUpCamera(aspect) : scene->overviewCamera(aspect);
   camera.viewport_height_pixels = float(o.height);  // For --lod-pixels.
   double update_ms = 0.0, submit_ms = 0.0, gpu_ms = 0.0;
   si::DrawStats stats;

@@ -127,13 +127,10 @@ TEST(GlslCheck, TheVertexWordsVariantsCompileWithGlslang) {
   EXPECT_EQ(programs, 24);
 }
 
-// The variants for meshes with 8 influences (SI_EIGHT_INFLUENCES): every program that skins a
-// mesh's vertices, every stage it has, with the vertex words too (a mesh may have both).
-TEST(GlslCheck, TheEightInfluenceVariantsCompileWithGlslang) {
-  skipWithoutGlslang();
-  detail::ShaderConfig config = checkConfig(819);
-  config.eight_influences = true;
-  config.vertex_words = true;
+// Every program that skins a mesh's vertices, every stage it has, assembled with `config`:
+// each holds `define` and compiles (files named with `suffix`); more than 20 programs.
+void expectSkinningVariantsCompile(const detail::ShaderConfig& config, const std::string& define,
+                                   const std::string& suffix) {
   int programs = 0;
   for (size_t p = 0; p < detail::kProgramCount; ++p) {
     const ProgramId id = ProgramId(p);
@@ -145,38 +142,32 @@ TEST(GlslCheck, TheEightInfluenceVariantsCompileWithGlslang) {
                  : std::vector<ShaderStage>{ShaderStage::kVertex, ShaderStage::kFragment}) {
       std::string source;
       ASSERT_TRUE(detail::assembleStage(id, stage, config, &source).isOk());
-      EXPECT_NE(source.find("#define SI_EIGHT_INFLUENCES\n"), std::string::npos);
-      EXPECT_EQ(compileWithGlslang(source, stageExtension(stage), fileName(id, "", "_eight")), "");
+      EXPECT_NE(source.find("#define " + define + "\n"), std::string::npos);
+      EXPECT_EQ(compileWithGlslang(source, stageExtension(stage), fileName(id, "", suffix)), "");
     }
   }
   EXPECT_GT(programs, 20);
 }
 
-// The variants for meshes with morph targets (SI_MORPH_TARGETS): every program that skins a
-// mesh's vertices, every stage it has, with 8
-// influences and the vertex words too (a mesh may have all three).
+// The variants for meshes with 8 influences (SI_EIGHT_INFLUENCES), with the vertex words too
+// (a mesh may have both).
+TEST(GlslCheck, TheEightInfluenceVariantsCompileWithGlslang) {
+  skipWithoutGlslang();
+  detail::ShaderConfig config = checkConfig(819);
+  config.eight_influences = true;
+  config.vertex_words = true;
+  expectSkinningVariantsCompile(config, "SI_EIGHT_INFLUENCES", "_eight");
+}
+
+// The variants for meshes with morph targets (SI_MORPH_TARGETS), with 8 influences and the
+// vertex words too (a mesh may have all three).
 TEST(GlslCheck, TheMorphTargetVariantsCompileWithGlslang) {
   skipWithoutGlslang();
   detail::ShaderConfig config = checkConfig(819);
   config.morph_targets = true;
   config.eight_influences = true;
   config.vertex_words = true;
-  int programs = 0;
-  for (size_t p = 0; p < detail::kProgramCount; ++p) {
-    const ProgramId id = ProgramId(p);
-    if (!detail::skinsVertices(id)) continue;
-    ++programs;
-    const bool compute = detail::programSpec(id).compute != nullptr;
-    for (ShaderStage stage :
-         compute ? std::vector<ShaderStage>{ShaderStage::kCompute}
-                 : std::vector<ShaderStage>{ShaderStage::kVertex, ShaderStage::kFragment}) {
-      std::string source;
-      ASSERT_TRUE(detail::assembleStage(id, stage, config, &source).isOk());
-      EXPECT_NE(source.find("#define SI_MORPH_TARGETS\n"), std::string::npos);
-      EXPECT_EQ(compileWithGlslang(source, stageExtension(stage), fileName(id, "", "_morph")), "");
-    }
-  }
-  EXPECT_GT(programs, 20);
+  expectSkinningVariantsCompile(config, "SI_MORPH_TARGETS", "_morph");
 }
 
 // A G-buffer material like docs/rendering.md's ("Materials"): two targets, a uniform block of
