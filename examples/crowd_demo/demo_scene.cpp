@@ -55,9 +55,8 @@ si::Status DemoScene::loadCharacter(const SceneOptions& options) {
     for (const std::string& w : gr.warnings) std::printf("warning: %s\n", w.c_str());
     if (s.isOk() && character_.clips.empty())
       s = si::Status(si::StatusCode::kUnsupported, "the model has no animation clips");
+    if (s.isOk() && options.faces > 0) si::examples::addFaceTargets(&character_, options.faces);
   }
-  if (s.isOk() && options.faces > 0 && !options.model.empty())
-    si::examples::addFaceTargets(&character_, options.faces);
   if (s.isOk() && options.lod_pixels > 0.0f) {  // Chains deep enough for a few pixels.
     s = si::buildLodChain(&character_.mesh, {}, nullptr);
     if (s.isOk()) s = si::measureAnimatedLodErrors(&character_, {}, nullptr);

@@ -297,9 +297,10 @@ TEST_P(MorphRenderTest, TheImpostorCapturesTheMorphs) {
       std::fill(track.values.begin(), track.values.end(), 0.0f);
   const BakedPalette palette = bakeAt30(morphed);
   BakedPalette plain_palette = bakeAt30(plain);
-  for (size_t k = 0; k < palette.clips.size(); ++k)
-    plain_palette.clips[k].bounds = palette.clips[k].bounds,
+  for (size_t k = 0; k < palette.clips.size(); ++k) {
+    plain_palette.clips[k].bounds = palette.clips[k].bounds;
     plain_palette.clips[k].bounding_sphere = palette.clips[k].bounding_sphere;
+  }
   ImpostorDesc atlas;
   atlas.azimuths = 8;
   atlas.elevations_degrees = {0.0f};
