@@ -8,6 +8,7 @@
 
 #include <glm/gtc/quaternion.hpp>
 
+#include "core/polar_rotation.h"
 #include "core/root_motion_frame.h"
 #include "core/str_cat.h"
 #include "core/validated_evaluation.h"
@@ -166,6 +167,40 @@ Status composePose(const Skeleton& skeleton, Span<const TransformD> local,
     const int32_t p = skeleton.parents[j];
     out_model[j] = p == Skeleton::kNoParent ? m : out_model[size_t(p)] * m;
     out_skinning[j] = out_model[j] * glm::dmat4(skeleton.inverse_bind_matrices[j]);
+  }
+  return Status::ok();
+}
+
+Status decomposePose(const Skeleton& skeleton, Span<const glm::dmat4> model,
+                     Span<TransformD> out_local) {
+  const size_t n = skeleton.jointCount();
+  if (model.size() != n || out_local.size() != n)
+    return {StatusCode::kCountMismatch,
+            strCat("decomposePose: spans hold ", model.size(), "/", out_local.size(),
+                   " elements, the skeleton has ", n, " joints")};
+  // Each joint relative to its parent as composed again from the transforms found, not as
+  // given: what a parent's decomposition drops (shear) is then not passed down its branch, and
+  // every joint's origin comes back where `model` puts it.
+  std::vector<glm::dmat4> composed(n);
+  for (size_t j = 0; j < n; ++j) {
+    const int32_t p = skeleton.parents[j];
+    glm::dmat4 local = model[j];
+    if (p != Skeleton::kNoParent) {
+      const glm::dmat4& parent = composed[size_t(p)];
+      const double det = glm::determinant(glm::dmat3(parent));
+      if (!std::isfinite(det) || det == 0.0)
+        return {StatusCode::kNotFinite,
+                strCat("decomposePose: joint ", p, "'s matrix is singular or not finite")};
+      local = glm::inverse(parent) * model[j];
+    }
+    TransformD t;
+    t.translation = glm::dvec3(local[3]);
+    if (!std::isfinite(t.translation.x + t.translation.y + t.translation.z) ||
+        !detail::polarRotationScale(glm::dmat3(local), &t.rotation, &t.scale))
+      return {StatusCode::kNotFinite,
+              strCat("decomposePose: joint ", j, "'s matrix is singular or not finite")};
+    out_local[j] = t;
+    composed[j] = p == Skeleton::kNoParent ? t.toMatrix() : composed[size_t(p)] * t.toMatrix();
   }
   return Status::ok();
 }

@@ -2,7 +2,7 @@
 // libFuzzer target: random sequences of CrowdManager calls (add, remove, play, crossfade,
 // setTransform, setColor, setCustomLayer, setVariationMask, setRootMotion, setLodDistances,
 // playOverlay, stopOverlay, playBlend, setBlendParameter, update, queries including
-// socketTransform; makeSocket and
+// socketTransform, localPose and a hostile applyLookAt on it; makeSocket and
 // attachProp on a copy of the character) with hostile values (NaN, infinities, negative and huge
 // times, speeds, scales, stale and forged handles) against a shadow list of the live handles. After
 // every call: every live handle resolves, released ones do not, the size matches; after an update
@@ -20,6 +20,7 @@
 
 #include "si/bake/animation_baker.h"
 #include "si/core/layer_mask.h"
+#include "si/core/look_at.h"
 #include "si/crowd/crowd_export.h"
 #include "si/crowd/crowd_manager.h"
 #include "si/crowd/instance_batcher.h"
@@ -98,6 +99,47 @@ const si::Character& character() {
     return c;
   }();
   return character;
+}
+
+bool finitePose(const std::vector<si::TransformD>& pose) {
+  for (const si::TransformD& t : pose)
+    if (!std::isfinite(t.translation.x + t.translation.y + t.translation.z + t.rotation.w +
+                       t.rotation.x + t.rotation.y + t.rotation.z + t.scale.x + t.scale.y +
+                       t.scale.z))
+      return false;
+  return true;
+}
+
+// localPose of `h`, then a hostile look-at on it: a pose given is finite, a refusal is named
+// and leaves the pose as it was.
+void fuzzLocalPose(const si::CrowdManager& crowd, si::InstanceHandle h, si::fuzz::Input& in) {
+  const si::Skeleton& sk = character().skeleton;
+  std::vector<si::TransformD> pose(sk.jointCount());
+  const si::Status s = crowd.localPose(h, sk, pose);
+  if (!s.isOk()) {
+    if (s.message().empty()) fail("a refused localPose has no message");
+    return;
+  }
+  if (!finitePose(pose)) fail("a local pose is not finite");
+  si::LookAt look;
+  const uint32_t links = 1 + in.u8() % 3;
+  for (uint32_t k = 0; k < links; ++k)
+    look.chain.push_back({uint32_t(in.u8() % 4), in.u8() < 32 ? in.f64() : 0.5 + 0.5 * k,
+                          in.u8() < 32 ? in.f64() : 1.0});
+  if (in.u8() < 32) look.forward = glm::dvec3(in.f64(), in.f64(), in.f64());
+  if (in.u8() < 32) look.weight = in.f64();
+  const glm::dvec3 target(in.f32(), in.f32(), in.f32());
+  const std::vector<si::TransformD> kept = pose;
+  const si::Status st = si::applyLookAt(sk, look, target, pose);
+  if (!st.isOk()) {
+    if (st.message().empty()) fail("a refused applyLookAt has no message");
+    for (size_t j = 0; j < pose.size(); ++j)
+      if (!(pose[j].translation == kept[j].translation && pose[j].rotation == kept[j].rotation &&
+            pose[j].scale == kept[j].scale))
+        fail("a refused applyLookAt changed the pose");
+  } else if (!finitePose(pose)) {
+    fail("a looked-at pose is not finite");
+  }
 }
 
 const si::BakedPalette& palette() {
@@ -459,6 +501,7 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
           for (int c = 0; c < 4; ++c)
             for (int r = 0; r < 4; ++r)
               if (!std::isfinite(m[c][r])) fail("a socket transform is not finite");
+        fuzzLocalPose(crowd, h, in);
         if (!(snapshot(crowd) == before)) fail("a query changed the crowd");
         break;
       }

@@ -86,6 +86,17 @@ Status evaluateRestPose(const Skeleton& skeleton, ReferencePose* pose);
 Status composePose(const Skeleton& skeleton, Span<const TransformD> local,
                    Span<glm::dmat4> out_model, Span<glm::dmat4> out_skinning);
 
+/// The inverse of composePose(): the local transforms whose composition gives `model` (one
+/// model-space joint matrix per joint): each joint's matrix relative to its parent's as
+/// composed again from the transforms found, decomposed as T * R * S with R the rotation of its
+/// 3x3's polar decomposition and S the scale along R's axes (negative along x for a mirroring
+/// matrix). A pose of rotations and scales without shear comes back exactly (to rounding);
+/// from blended matrices (rows lerped between frames or crossfaded) what is lost is each
+/// joint's own shear, never its origin: every joint's origin composes back where `model` puts
+/// it. kCountMismatch for spans of the wrong size; kNotFinite for a matrix that is not finite
+/// or whose 3x3 (or its parent's) is singular.
+Status decomposePose(const Skeleton& skeleton, Span<const glm::dmat4> model,
+                     Span<TransformD> out_local);
 /// Skins the mesh's vertices with `skinning` (one matrix per joint), in double, after adding its
 /// morph targets (si::applyMorphTargets) at `morph_weights`, one per target (empty: each
 /// target's default weight): position = sum w_i * M_i * p; normal = normalize(sum w_i * N_i * n)

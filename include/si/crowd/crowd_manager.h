@@ -38,6 +38,8 @@
 #include "si/core/baked_palette.h"
 #include "si/core/layer_mask.h"
 #include "si/core/prop.h"
+#include "si/core/skeleton.h"
+#include "si/core/transform.h"
 #include "si/crowd/animation_event.h"
 #include "si/crowd/blend_space.h"
 #include "si/crowd/camera.h"
@@ -247,6 +249,16 @@ class CrowdManager {
   /// after attaching the prop, or any part weighted to the joint), kInvalidArgument for a
   /// null `out`.
   Status socketTransform(InstanceHandle h, const Socket& socket, glm::dmat4* out) const;
+  /// The instance's pose as drawn now (as jointMatrix() computes it: crossfade, overlay and
+  /// animation-LOD steps included), as local joint transforms of `skeleton` (the one the
+  /// palette was baked from) in the instance's model space: what an engine's IK, look-at
+  /// (si::applyLookAt, si/core/look_at.h) or animation runtime starts from; si::composePose
+  /// gives its matrices back. Stored joints are read from the palette (a blended matrix's shear
+  /// dropped: si::decomposePose); joints the palette leaves out (no vertex weighted to them)
+  /// hold their rest transform. kNotFound for a stale handle; kInvalidArgument for a skeleton
+  /// of another joint count or one that does not validate; kCountMismatch for `out` not of
+  /// its joint count.
+  Status localPose(InstanceHandle h, const Skeleton& skeleton, Span<TransformD> out) const;
 
   /// Switches how LODs are chosen (and the pixel budget of kScreenError; 0 means 1) from the
   /// next update() on; instances keep their LOD until hysteresis lets them move. Fails with

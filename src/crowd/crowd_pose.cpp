@@ -1,0 +1,127 @@
+// SkinnedInstancing — SPDX-License-Identifier: MIT (see LICENSE)
+// CrowdManager's answers about an instance's pose as drawn: a joint's matrix, a socket's frame,
+// the whole pose as local transforms (for the engine's IK or animation runtime).
+#include <algorithm>
+#include <vector>
+
+#include "core/str_cat.h"
+#include "crowd/crowd_state.h"
+#include "crowd/instance_overlay.h"
+#include "si/core/reference_evaluator.h"
+#include "si/crowd/crowd_manager.h"
+
+namespace si {
+using detail::strCat;
+
+namespace {
+// The model-space skinning matrices of palette slots `slots` of dense instance `i` as its
+// record draws them (instance world excluded), into `out`.
+void drawnSkinning(const detail::CrowdState& state, const CrowdDesc& desc, uint32_t i,
+                   Span<const uint32_t> slots, Span<glm::mat4> out) {
+  const detail::InstanceStore& st = state.store;
+  const BakedPalette& p = *desc.palette;
+  const double clock = state.clock;
+  // The instance's clips at the times its record draws them: held on the animation-LOD grid at
+  // and past CrowdDesc::animation_lod_start (its LOD of the last update), as the records do
+  // (detail::scalarRecord).
+  const bool stepped = st.views[0].lods[i] >= detail::animationLodStart(desc);
+  const double step_seconds = detail::animationStepSeconds(desc);
+  const auto matrix = [&](const detail::Playback& pb, uint32_t at, bool step) {
+    double t = detail::localTime(pb, state.clips[pb.clip], clock);
+    if (step) t = detail::steppedTime(t, step_seconds);
+    return emulateSkinningMatrix(p, pb.clip, sampleFrames(p.clips[pb.clip], t), at);
+  };
+  const auto base = [&](uint32_t at) {
+    glm::mat4 m = matrix(st.playback[i], at, stepped);
+    if (st.fading(i, clock)) {
+      const float w = float(std::clamp((clock - st.fade_start[i]) / st.fade_duration[i], 0.0, 1.0));
+      m = matrix(st.fade_from[i], at, stepped) * (1.0f - w) + m * w;  // The shader blends them so.
+    }
+    return m;
+  };
+  // Layered animation: the overlay on its mask and a 2D blend's extra layers after it, at the
+  // weights their records carry, as the shader composes them.
+  const detail::OverlayState& o = st.overlays[i];
+  LayerRecord extras[kExtraLayerRecords];
+  const LayerRecord layer =
+      o.active ? detail::layerRecordsOf(o, state.clips, p, clock, extras) : LayerRecord{};
+  LayerPose layers[1 + kExtraLayerRecords];
+  layers[0] = {[&](uint32_t at) { return matrix(o.playback, at, false); }, layerWeight(layer)};
+  for (uint32_t k = 0; k < kExtraLayerRecords; ++k)
+    layers[1 + k] = {[&, k](uint32_t at) { return matrix(o.extra[k].playback, at, false); },
+                     layerWeight(extras[k])};
+  for (size_t k = 0; k < slots.size(); ++k)
+    out[k] = o.active ? emulateLayeredChain(state.layer_masks[o.mask], slots[k], base,
+                                            Span<const LayerPose>(layers, 1 + kExtraLayerRecords))
+                      : base(slots[k]);
+}
+}  // namespace
+
+Status CrowdManager::jointMatrix(InstanceHandle h, uint32_t joint, glm::dmat4* out) const {
+  uint32_t i = 0;
+  const Status s = state_ ? state_->store.denseIndex(h, &i) : noCrowd();
+  if (!s.isOk()) return s;
+  if (out == nullptr) return {StatusCode::kInvalidArgument, "jointMatrix: out is null"};
+  const detail::InstanceStore& st = state_->store;
+  const BakedPalette& p = *desc_.palette;
+  if (joint >= p.skeleton_to_palette.size() || p.skeleton_to_palette[joint] < 0)
+    return {StatusCode::kOutOfRange,
+            strCat("jointMatrix: joint ", joint, " is not in the palette")};
+  const uint32_t slot = uint32_t(p.skeleton_to_palette[joint]);
+  glm::mat4 m;
+  drawnSkinning(*state_, desc_, i, Span<const uint32_t>(&slot, 1), Span<glm::mat4>(&m, 1));
+  glm::dmat4 world(glm::mat3_cast(glm::dquat(st.rotations.get(i))) * double(st.scales[i]));
+  world[3] = glm::dvec4(st.positions.get(i), 1.0);
+  *out = world * glm::dmat4(m);
+  return Status::ok();
+}
+
+Status CrowdManager::socketTransform(InstanceHandle h, const Socket& socket,
+                                     glm::dmat4* out) const {
+  if (out == nullptr) return {StatusCode::kInvalidArgument, "socketTransform: out is null"};
+  glm::dmat4 joint;
+  const Status s = jointMatrix(h, socket.joint, &joint);
+  if (!s.isOk()) return {s.code(), strCat("socketTransform '", socket.name, "': ", s.message())};
+  *out = joint * glm::dmat4(socket.bind_frame);
+  return Status::ok();
+}
+
+Status CrowdManager::localPose(InstanceHandle h, const Skeleton& skeleton,
+                               Span<TransformD> out) const {
+  uint32_t i = 0;
+  Status s = state_ ? state_->store.denseIndex(h, &i) : noCrowd();
+  if (!s.isOk()) return s;
+  const BakedPalette& p = *desc_.palette;
+  const size_t n = skeleton.jointCount();
+  if (n != p.skeleton_to_palette.size())
+    return {StatusCode::kInvalidArgument,
+            strCat("localPose: the skeleton has ", n, " joints, the palette was baked from one of ",
+                   p.skeleton_to_palette.size())};
+  if (out.size() != n)
+    return {StatusCode::kCountMismatch, strCat("localPose: out holds ", out.size(),
+                                               " transforms, the skeleton has ", n, " joints")};
+  s = skeleton.validate();
+  if (!s.isOk()) return {s.code(), strCat("localPose: ", s.message())};
+  std::vector<glm::mat4> skinning(p.palette_joints.size());
+  std::vector<uint32_t> slots(skinning.size());
+  for (uint32_t k = 0; k < slots.size(); ++k) slots[k] = k;
+  drawnSkinning(*state_, desc_, i, slots, skinning);
+  // Stored joints: their skinning matrix times their bind matrix; the others their rest
+  // transform under their parent as now.
+  std::vector<glm::dmat4> model(n);
+  for (size_t j = 0; j < n; ++j) {
+    const int32_t slot = p.skeleton_to_palette[j];
+    const int32_t parent = skeleton.parents[j];
+    if (slot >= 0)
+      model[j] = glm::dmat4(skinning[size_t(slot)]) *
+                 glm::inverse(glm::dmat4(skeleton.inverse_bind_matrices[j]));
+    else
+      model[j] = (parent == Skeleton::kNoParent ? glm::dmat4(1.0) : model[size_t(parent)]) *
+                 TransformD::fromFloat(skeleton.rest_pose[j]).toMatrix();
+  }
+  s = decomposePose(skeleton, model, out);
+  if (!s.isOk()) return {s.code(), strCat("localPose: ", s.message())};
+  return Status::ok();
+}
+
+}  // namespace si
