@@ -2,12 +2,14 @@
 #pragma once
 // Face-like morph targets for the examples and the tests (issue "Any animated glTF becomes a
 // crowd"; crowd_bench --morph-targets, tests/render/morph_render_test.cpp): the character's
-// head (the vertices above 85 % of its height) gets `targets` targets, each a bump around a
+// head (the vertices above 85 % of its height, or those weighted most to a named head joint or
+// a joint under it) gets `targets` targets, each a bump around a
 // sector of the head pushing its vertices out along their normals and tipping the normals up,
 // like expressions and visemes; every clip animates every weight (LINEAR keys at its start,
 // middle and end, each target on its own phase), and target 0 has a default weight of 0.5.
 
 #include <algorithm>
+#include <cctype>
 #include <cmath>
 #include <string>
 #include <vector>
@@ -16,19 +18,54 @@
 
 namespace si::examples {
 
+/// The name of `skeleton`'s first joint whose name ends in "head" in any case ("head",
+/// "mixamorig:Head"), or nullptr: the head_joint to give addFaceTargets.
+inline const char* findHeadJoint(const Skeleton& skeleton) {
+  for (const std::string& name : skeleton.joint_names) {
+    if (name.size() < 4) continue;
+    std::string tail = name.substr(name.size() - 4);
+    for (char& ch : tail) ch = char(std::tolower(static_cast<unsigned char>(ch)));
+    if (tail == "head") return name.c_str();
+  }
+  return nullptr;
+}
+
+// Whether vertex `v` of `c` is weighted most to joint `head` or a joint under it.
+inline bool weightedToBranch(const Character& c, size_t v, int32_t head) {
+  const glm::vec4 w = c.mesh.weights[v];
+  int largest = 0;
+  for (int k = 1; k < 4; ++k)
+    if (w[k] > w[largest]) largest = k;
+  int32_t j = int32_t(c.mesh.joints[v][largest]);
+  while (j != Skeleton::kNoParent && j != head) j = c.skeleton.parents[size_t(j)];
+  return j == head;
+}
+
 /// Adds `targets` face-like targets (at most kMaxMorphTargets) to `c`'s mesh and a weights
 /// track over all of them to each of its clips (replacing the clips' morph tracks); none for 0.
-inline void addFaceTargets(Character* character, size_t targets) {
+/// With `head_joint` naming a joint of the skeleton, the head is what is weighted most to it or
+/// a joint under it (a held spear's tip left out); otherwise what rises above 85 % of the height.
+inline void addFaceTargets(Character* character, size_t targets, const char* head_joint = nullptr) {
   if (targets == 0) return;
   Character& c = *character;
   const size_t first = c.mesh.morph_targets.size();
   const float height = c.height();
   const Aabb box = c.bindPoseBounds();
-  const float top = box.max.y, head_floor = box.min.y + 0.85f * (box.max.y - box.min.y);
+  const int32_t head_index = head_joint != nullptr ? c.skeleton.findJoint(head_joint) : -1;
+  float top = box.max.y, head_floor = box.min.y + 0.85f * (box.max.y - box.min.y);
+  std::vector<uint8_t> in_head(c.mesh.vertexCount());
+  for (size_t v = 0; v < in_head.size(); ++v)
+    in_head[v] =
+        head_index >= 0 ? weightedToBranch(c, v, head_index) : c.mesh.positions[v].y > head_floor;
   glm::vec3 centre(0.0f);
   size_t head = 0;
-  for (const glm::vec3& p : c.mesh.positions)
-    if (p.y > head_floor) centre += p, ++head;
+  if (head_index >= 0) top = box.min.y, head_floor = box.max.y;
+  for (size_t v = 0; v < in_head.size(); ++v) {
+    if (!in_head[v]) continue;
+    const glm::vec3 p = c.mesh.positions[v];
+    centre += p, ++head;
+    if (head_index >= 0) top = std::max(top, p.y), head_floor = std::min(head_floor, p.y);
+  }
   centre /= float(std::max<size_t>(head, 1));
   const float pi = 3.14159265f;
   for (size_t k = 0; k < targets; ++k) {
@@ -38,14 +75,14 @@ inline void addFaceTargets(Character* character, size_t targets) {
     const float sector = 2.0f * pi * float(k) / float(targets);
     for (size_t v = 0; v < c.mesh.vertexCount(); ++v) {
       const glm::vec3 p = c.mesh.positions[v];
-      if (p.y <= head_floor) continue;
+      if (!in_head[v]) continue;
       const float angle = std::atan2(p.z - centre.z, p.x - centre.x);
       float d = std::fabs(angle - sector);
       d = std::min(d, 2.0f * pi - d);
       const float reach = std::max(pi / float(targets) * 2.0f, 0.6f);
       if (d >= reach) continue;
       const float bump = 0.5f + 0.5f * std::cos(pi * d / reach);  // 1 at the sector, 0 at reach.
-      const float rise = (p.y - head_floor) / (top - head_floor);
+      const float rise = top > head_floor ? (p.y - head_floor) / (top - head_floor) : 1.0f;
       t.vertices.push_back(uint32_t(v));
       t.position_deltas.push_back(c.mesh.normals[v] * (0.04f * height * bump * rise));
       t.normal_deltas.push_back(glm::vec3(0.0f, 0.4f * bump, 0.0f));

@@ -46,8 +46,10 @@ si::Status DemoScene::loadCharacter(const SceneOptions& options) {
     si::DefaultCharacterDesc embedded;
     embedded.moving_clips = options.root_motion;  // Else added when key R first asks.
     s = si::makeDefaultCharacter(embedded, &character_);
-    // The faces before the staff, whose head would otherwise be the top the targets swell.
-    if (s.isOk() && options.faces > 0) si::examples::addFaceTargets(&character_, options.faces);
+    // On what the head joint carries (the spear's tip left out), before the staff is attached.
+    if (s.isOk() && options.faces > 0)
+      si::examples::addFaceTargets(&character_, options.faces,
+                                   si::examples::findHeadJoint(character_.skeleton));
     if (s.isOk() && options.palette.empty()) s = attachStaff();  // Before the LODs and the bake.
   } else {
     si::GltfImportReport gr;
@@ -55,7 +57,9 @@ si::Status DemoScene::loadCharacter(const SceneOptions& options) {
     for (const std::string& w : gr.warnings) std::printf("warning: %s\n", w.c_str());
     if (s.isOk() && character_.clips.empty())
       s = si::Status(si::StatusCode::kUnsupported, "the model has no animation clips");
-    if (s.isOk() && options.faces > 0) si::examples::addFaceTargets(&character_, options.faces);
+    if (s.isOk() && options.faces > 0)
+      si::examples::addFaceTargets(&character_, options.faces,
+                                   si::examples::findHeadJoint(character_.skeleton));
   }
   if (s.isOk() && options.lod_pixels > 0.0f) {  // Chains deep enough for a few pixels.
     s = si::buildLodChain(&character_.mesh, {}, nullptr);

@@ -80,8 +80,9 @@ void usage(std::FILE* f) {
       "baseline paths draw none. --impostor-atlas small: 8 azimuths, 2 elevations, 4 frames per\n"
       "clip (full: si::ImpostorDesc's defaults).\n"
       "--faces N gives the character N face-like morph targets (1 to 256; not with --palette):\n"
-      "bumps over sectors of whatever rises above 85 %% of its height (the head, and the spear's\n"
-      "tip), animated by every clip, each on its own phase. --close-up puts\n"
+      "bumps over sectors of the head (what is weighted to the first joint whose name ends in\n"
+      "\"head\", else what rises above 85 %% of the height), animated by every clip, each on its\n"
+      "own phase. --close-up puts\n"
       "the headless camera at head height among the first rows, facing them.\n");
 }
 
