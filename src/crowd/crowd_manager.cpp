@@ -143,8 +143,14 @@ Status CrowdManager::init(const CrowdDesc& in_desc) {
   if (!s.isOk()) return s;
   if (d.worker_threads > 256)
     return {StatusCode::kInvalidArgument, "CrowdDesc.worker_threads must be at most 256"};
+  if (d.live_pose_capacity > CrowdDesc::kMaxLivePoses)
+    return {StatusCode::kInvalidArgument,
+            strCat("CrowdDesc.live_pose_capacity must be at most ", CrowdDesc::kMaxLivePoses,
+                   " (it is ", d.live_pose_capacity, ")")};
   auto state = std::make_unique<detail::CrowdState>();
   state->store.reset(d.palette);
+  s = state->store.live.reset(d.palette, d.live_pose_capacity);
+  if (!s.isOk()) return s;
   state->radius = d.character_radius;
   state->lod_lines = d.lod_distances_radii;
   for (const BakedClip& c : d.palette->clips) state->clips.push_back(detail::makeClipTiming(c));

@@ -1,7 +1,10 @@
 // SkinnedInstancing — SPDX-License-Identifier: MIT (see LICENSE)
-// CrowdManager's answers about an instance's pose as drawn: a joint's matrix, a socket's frame,
-// the whole pose as local transforms (for the engine's IK or animation runtime).
+// CrowdManager's answers about an instance's pose as drawn (a joint's matrix, a socket's frame,
+// the whole pose as local transforms for the engine's IK or animation runtime), and the live
+// poses the engine gives it.
 #include <algorithm>
+#include <cmath>
+#include <limits>
 #include <vector>
 
 #include "core/str_cat.h"
@@ -31,7 +34,9 @@ void drawnSkinning(const detail::CrowdState& state, const CrowdDesc& desc, uint3
     if (step) t = detail::steppedTime(t, step_seconds);
     return emulateSkinningMatrix(p, pb.clip, sampleFrames(p.clips[pb.clip], t), at);
   };
+  const uint32_t live = st.live_slot[i];
   const auto base = [&](uint32_t at) {
+    if (live != detail::kNoLivePose) return st.live.matrix(live, at);
     glm::mat4 m = matrix(st.playback[i], at, stepped);
     if (st.fading(i, clock)) {
       const float w = float(std::clamp((clock - st.fade_start[i]) / st.fade_duration[i], 0.0, 1.0));
@@ -83,6 +88,61 @@ Status CrowdManager::socketTransform(InstanceHandle h, const Socket& socket,
   const Status s = jointMatrix(h, socket.joint, &joint);
   if (!s.isOk()) return {s.code(), strCat("socketTransform '", socket.name, "': ", s.message())};
   *out = joint * glm::dmat4(socket.bind_frame);
+  return Status::ok();
+}
+
+Status CrowdManager::setLivePose(InstanceHandle h, Span<const glm::mat4> skinning) {
+  uint32_t i = 0;
+  Status s = state_ ? state_->store.denseIndex(h, &i) : noCrowd();
+  if (!s.isOk()) return s;
+  detail::InstanceStore& st = state_->store;
+  const BakedPalette& p = *desc_.palette;
+  if (st.live.capacity() == 0)
+    return {StatusCode::kInvalidArgument,
+            "setLivePose: the crowd holds no live poses (CrowdDesc::live_pose_capacity is 0)"};
+  if (skinning.size() != p.palette_joints.size())
+    return {StatusCode::kCountMismatch,
+            strCat("setLivePose: ", skinning.size(), " matrices, the palette stores ",
+                   p.palette_joints.size(), " joints (BakedPalette::palette_joints)")};
+  const float range =
+      p.format == PaletteFormat::kMatrix3x4F16 ? 65504.0f : std::numeric_limits<float>::max();
+  for (size_t k = 0; k < skinning.size(); ++k) {
+    const glm::mat4& m = skinning[k];
+    for (int c = 0; c < 4; ++c)
+      for (int r = 0; r < 3; ++r)
+        if (!(std::fabs(m[c][r]) <= range))
+          return {StatusCode::kNotFinite,
+                  strCat("setLivePose: matrix ", k, " holds ", m[c][r], ", which the palette's ",
+                         paletteFormatName(p.format), " texels do not")};
+    if (m[0][3] != 0.0f || m[1][3] != 0.0f || m[2][3] != 0.0f || m[3][3] != 1.0f)
+      return {StatusCode::kInvalidArgument,
+              strCat("setLivePose: matrix ", k, "'s last row is not 0 0 0 1")};
+  }
+  uint32_t slot = st.live_slot[i];
+  if (slot == detail::kNoLivePose) {
+    s = st.live.take(&slot);
+    if (!s.isOk()) return s;
+    st.live_slot[i] = slot;
+  }
+  // The morph weights of the clip's frame at the crowd clock (the clip plays on underneath).
+  const detail::Playback& pb = st.playback[i];
+  const BakedClip& clip = p.clips[pb.clip];
+  const FrameSample f =
+      sampleFrames(clip, detail::localTime(pb, state_->clips[pb.clip], state_->clock));
+  st.live.write(slot, skinning, clip.first_texel + f.frame * p.layout.frame_stride_texels);
+  st.changed(i);
+  return Status::ok();
+}
+
+Status CrowdManager::clearLivePose(InstanceHandle h) {
+  uint32_t i = 0;
+  const Status s = state_ ? state_->store.denseIndex(h, &i) : noCrowd();
+  if (!s.isOk()) return s;
+  detail::InstanceStore& st = state_->store;
+  if (st.live_slot[i] == detail::kNoLivePose) return Status::ok();
+  st.live.release(st.live_slot[i]);
+  st.live_slot[i] = detail::kNoLivePose;
+  st.changed(i);
   return Status::ok();
 }
 

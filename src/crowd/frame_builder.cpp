@@ -278,6 +278,7 @@ SI_CPU_CLONES void writeChunk(const FrameInputs& in, InstanceStore& st, bool fal
   const std::vector<ClipTiming>& clips = *in.clips;
   const uint32_t stride = in.palette->layout.frame_stride_texels;
   const uint32_t anim_lod = in.params.animation_lod_start;
+  const bool live_poses = st.live.count() > 0;
   RecordLanes lanes = {};
   const size_t n = w.visible_count;
   for (size_t j0 = 0; j0 < n; j0 += kRecordBlock) {
@@ -330,6 +331,10 @@ SI_CPU_CLONES void writeChunk(const FrameInputs& in, InstanceStore& st, bool fal
           setOneClip(c.first_texel + a.frame * stride, c.first_texel + a.next_frame * stride,
                      a.fraction, a.mode, st.colors[i], &rec);
         }
+      }
+      if (live_poses && st.live_slot[i] != kNoLivePose) {  // The engine's pose, not the clip.
+        const uint32_t live = st.live.frameTexel(st.live_slot[i]);
+        setOneClip(live, live, 0.0f, IntervalMode::kLinear, st.colors[i], &rec);
       }
       f.visible_handles[slot] = st.dense_handles[i];
       if (fallback) f.record_masks[slot] = wornMask(st.masks[i], in.sub_mesh_count);
@@ -390,6 +395,10 @@ void scalarRecord(const FrameInputs& in, const InstanceStore& st, uint32_t i, ui
   } else {
     setOneClip(ca.first_texel + fa.frame * stride, ca.first_texel + fa.next_frame * stride,
                fa.fraction, fa.mode, st.colors[i], &rec);
+  }
+  if (st.live_slot[i] != kNoLivePose) {  // The engine's pose, not the clip.
+    const uint32_t live = st.live.frameTexel(st.live_slot[i]);
+    setOneClip(live, live, 0.0f, IntervalMode::kLinear, st.colors[i], &rec);
   }
   *out = rec;
 }

@@ -209,6 +209,16 @@ void CrowdExport::changedSince(uint64_t since, std::vector<DenseRange>* changed,
   if (placed != nullptr) detail::scanStamps(st.placed_at, st.chunk_placed_at, since, n, placed);
 }
 
+Span<const uint8_t> CrowdExport::livePoseTexels() const {
+  return crowd_->state_ ? crowd_->state_->store.live.texels() : Span<const uint8_t>();
+}
+uint32_t CrowdExport::livePoseFirstTexel() const {
+  return crowd_->state_ ? crowd_->state_->store.live.firstTexel() : 0;
+}
+uint64_t CrowdExport::livePoseVersion() const {
+  return crowd_->state_ ? crowd_->state_->store.live.version() : 0;
+}
+
 bool CrowdExport::playsOverlays() const {
   return crowd_->state_ && crowd_->state_->store.overlay_count > 0;
 }

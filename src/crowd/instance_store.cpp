@@ -121,6 +121,7 @@ void InstanceStore::push(const InstanceDesc& d, InstanceHandle h, double clock) 
   root_motion.push_back(d.root_motion ? 1 : 0);
   motion_clock.push_back(clock);
   placements.push_back(0);
+  live_slot.push_back(kNoLivePose);
   root_motion_count += d.root_motion ? 1u : 0u;
   for (ViewLanes& v : views) {
     if (!v.used) continue;
@@ -158,6 +159,7 @@ Status InstanceStore::remove(InstanceHandle h) {
     v.pop_back();
   };
   root_motion_count -= root_motion[i];
+  if (live_slot[i] != kNoLivePose) live.release(live_slot[i]);
   overlay_count -= overlays[i].active ? 1u : 0u;
   if (i != last) {
     uint32_t moved_slot = 0;
@@ -178,6 +180,7 @@ Status InstanceStore::remove(InstanceHandle h) {
   move_last(root_motion);
   move_last(motion_clock);
   move_last(placements);
+  move_last(live_slot);
   for (ViewLanes& v : views) {
     if (!v.used) continue;
     move_last(v.lods);

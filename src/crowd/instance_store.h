@@ -13,6 +13,7 @@
 #include "crowd/change_log.h"
 #include "crowd/instance_columns.h"
 #include "crowd/instance_overlay.h"
+#include "crowd/live_poses.h"
 #include "crowd/playback.h"
 #include "si/core/baked_palette.h"
 #include "si/crowd/blend_space.h"
@@ -167,6 +168,10 @@ struct InstanceStore {
   // one (0: update() writes no layer records).
   std::vector<OverlayState> overlays;
   uint32_t overlay_count = 0;
+  // Live poses (CrowdManager::setLivePose): each instance's slot (kNoLivePose without one) and
+  // the slots' frames.
+  std::vector<uint32_t> live_slot;
+  LivePoses live;
   std::vector<InstanceHandle> dense_handles;
   std::vector<uint32_t> slot_to_dense;
   // Change stamps (GPU-driven uploads in proportion to change): per dense index the version at

@@ -151,6 +151,10 @@ struct Renderer::Impl {
               detail::strCat(what, ": the crowd plays another palette than the character's ",
                              "(draw each crowd with the CharacterId of the character uploaded ",
                              "with its palette)")};
+    if (crowd != nullptr && crowd->desc().live_pose_capacity > 0)
+      return {StatusCode::kUnsupported,
+              detail::strCat(what, ": crowds with live poses (CrowdDesc::live_pose_capacity) ",
+                             "are not drawn yet")};
     *out = characters[id.index].get();
     return Status::ok();
   }

@@ -1,6 +1,7 @@
 // SkinnedInstancing — SPDX-License-Identifier: MIT (see LICENSE)
 // libFuzzer target: random sequences of CrowdManager calls (add, remove, play, crossfade,
-// setTransform, setColor, setCustomLayer, setVariationMask, setRootMotion, setLodDistances,
+// setTransform, setColor, setCustomLayer, setVariationMask, setRootMotion, setLivePose,
+// clearLivePose, setLodDistances,
 // playOverlay, stopOverlay, playBlend, setBlendParameter, update, queries including
 // socketTransform, localPose and a hostile applyLookAt on it; makeSocket and
 // attachProp on a copy of the character) with hostile values (NaN, infinities, negative and huge
@@ -301,6 +302,7 @@ void checkFrame(const si::CrowdManager& crowd) {
   std::vector<float> weights(palette().layout.morph_target_count);
   for (size_t i = 0; i < crowd.view().records().size(); ++i) {
     const si::InstanceRecord& r = crowd.view().records()[i];
+    if (r.frames[0] >= texels) continue;  // A live pose: its weights are a baked frame's.
     const si::Status w = layers.empty() ? si::emulateRecordMorphWeights(palette(), r, weights)
                                         : si::emulateLayeredMorphWeights(
                                               palette(), r, layers[i], crowd.layerMasks(), weights);
@@ -312,8 +314,13 @@ void checkFrame(const si::CrowdManager& crowd) {
     for (const auto& row : r.world_rows)
       for (float v : row)
         if (!std::isfinite(v)) fail("a record's world rows are not finite");
+    // Inside the palette, or a live pose's frame after it (the four frames that one).
+    const uint32_t stride = palette().layout.frame_stride_texels;
+    const uint64_t live_end = texels + uint64_t(crowd.desc().live_pose_capacity) * stride;
     for (uint32_t f : r.frames)
-      if (uint64_t(f) + palette().layout.frame_stride_texels > texels) fail("a frame is outside the palette");
+      if (uint64_t(f) + stride > live_end ||
+          (f >= texels && ((f - texels) % stride != 0 || f != r.frames[0])))
+        fail("a frame is outside the palette and its live poses");
     for (int k = 0; k < 3; ++k) {
       si::IntervalMode mode;
       float v = si::unpackFraction(r.blend[k], &mode);
@@ -336,6 +343,7 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
   cd.lod_count = 1 + lods % 3;
   cd.previous_records = (lods & 0x80) != 0;
   cd.impostor_lod = (lods & 0x20) != 0 && cd.lod_count > 1 ? cd.lod_count - 1 : 0;
+  cd.live_pose_capacity = (lods & 0x10) != 0 ? 2 : 0;  // Bit 4: room for two live poses.
   si::CrowdManager crowd;
   if (!crowd.init(cd).isOk()) fail("init refused a valid desc");
   // Three masks: the branch of j1 (anchored on j0), the whole chain (the model anchor) and
@@ -417,9 +425,23 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
           fail("setColor or setCustomLayer changed the other");
         break;
       }
-      case 7:
-        s = in.u8() & 1 ? crowd.setVariationMask(h, in.u32()) : crowd.setRootMotion(h, in.u8() & 1);
+      case 7: {  // Variation, root motion, and live poses (hostile matrices, counts).
+        const uint8_t call = in.u8() % 4;
+        if (call == 0) {
+          s = crowd.setVariationMask(h, in.u32());
+        } else if (call == 1) {
+          s = crowd.setRootMotion(h, in.u8() & 1);
+        } else if (call == 2) {
+          std::vector<glm::mat4> pose(palette().palette_joints.size() + in.u8() % 3 - 1,
+                                      glm::mat4(1.0f));
+          for (glm::mat4& m : pose)
+            if (in.u8() < 64) m[in.u8() % 4][in.u8() % 4] = in.f32();
+          s = crowd.setLivePose(h, pose);
+        } else {
+          s = crowd.clearLivePose(h);
+        }
         break;
+      }
       case 8: {
         std::vector<float> lines(in.u8() % 4);
         for (float& l : lines) l = in.f32();

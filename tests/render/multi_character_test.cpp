@@ -231,6 +231,21 @@ TEST_P(MultiCharacterTest, IdsAndPalettesAreChecked) {
     EXPECT_EQ(unknown.code(), StatusCode::kInvalidArgument);
     EXPECT_NE(unknown.message().find("no character 7"), std::string::npos) << unknown.message();
   }
+  // A crowd with live poses: not drawn yet, refused by name on every path.
+  CrowdDesc live_desc = crowd.desc();
+  live_desc.live_pose_capacity = 1;
+  CrowdManager live;
+  ASSERT_TRUE(live.init(live_desc).isOk());
+  InstanceHandle posed;
+  ASSERT_TRUE(live.add(InstanceDesc{}, &posed).isOk());
+  ASSERT_TRUE(live.update(0.0, sceneCamera()).isOk());
+  for (DrawWith w : {DrawWith::kVertexShader, DrawWith::kCompute, DrawWith::kGpuDriven,
+                     DrawWith::kTraditional, DrawWith::kCpu}) {
+    SCOPED_TRACE(name(w));
+    const Status refused = drawWith(w, r, CharacterId{0}, live, batcher);
+    EXPECT_EQ(refused.code(), StatusCode::kUnsupported);
+    EXPECT_NE(refused.message().find("live poses"), std::string::npos) << refused.message();
+  }
   CrowdManager crowd1;
   populate(*kinds[1], 1, 2, &crowd1);
   ASSERT_TRUE(crowd1.update(0.0, sceneCamera()).isOk());

@@ -71,6 +71,11 @@ struct CrowdDesc {
   /// at most 16; 1 means the calling thread only. A `parallel_for` given to update() or
   /// advance() runs the tasks instead.
   uint32_t worker_threads = 0;
+  /// Live poses (CrowdManager::setLivePose): how many instances the engine may pose itself at
+  /// once, each taking one frame of palette texels (CrowdExport::livePoseTexels) that its
+  /// record points at. 0 (the default): none. At most kMaxLivePoses.
+  uint32_t live_pose_capacity = 0;
+  static constexpr uint32_t kMaxLivePoses = 65536;
 };
 
 /// Returns the desc with zeros replaced by their documented defaults.

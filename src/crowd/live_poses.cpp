@@ -1,0 +1,101 @@
+// SkinnedInstancing — SPDX-License-Identifier: MIT (see LICENSE)
+#include "crowd/live_poses.h"
+
+#include <cstring>
+
+#include "core/str_cat.h"
+
+namespace si::detail {
+
+Status LivePoses::reset(const BakedPalette* palette, uint32_t capacity) {
+  palette_ = palette;
+  capacity_ = 0;
+  free_.clear();
+  texels_.clear();
+  ++version_;
+  if (capacity == 0) return Status::ok();
+  if (palette->format == PaletteFormat::kQuatTranslationF32)
+    return {StatusCode::kUnsupported,
+            strCat("CrowdDesc.live_pose_capacity: live poses need a matrix palette, not ",
+                   paletteFormatName(palette->format))};
+  const PaletteLayout& l = palette->layout;
+  const uint64_t first = l.textureTexelCount();
+  const uint64_t texels = uint64_t(capacity) * l.frame_stride_texels;
+  if (first + texels > 0xFFFFFFFFull)
+    return {StatusCode::kLimitExceeded,
+            strCat("CrowdDesc.live_pose_capacity: ", capacity, " poses of ", l.frame_stride_texels,
+                   " texels after the palette's ", first, " pass 2^32 texels")};
+  palette_ = palette;
+  capacity_ = capacity;
+  first_texel_ = uint32_t(first);
+  stride_ = l.frame_stride_texels;
+  free_.resize(capacity);
+  for (uint32_t k = 0; k < capacity; ++k) free_[k] = capacity - 1 - k;  // Slot 0 first.
+  texels_.assign(size_t(texels) * bytesPerTexel(palette->format), 0);
+  return Status::ok();
+}
+
+Status LivePoses::take(uint32_t* slot) {
+  if (free_.empty())
+    return {StatusCode::kLimitExceeded,
+            strCat("setLivePose: all ", capacity_,
+                   " live poses are taken (CrowdDesc::live_pose_capacity)")};
+  *slot = free_.back();
+  free_.pop_back();
+  return Status::ok();
+}
+
+void LivePoses::release(uint32_t slot) {
+  free_.push_back(slot);
+  ++version_;
+}
+
+void LivePoses::write(uint32_t slot, Span<const glm::mat4> skinning, uint32_t weights_frame_texel) {
+  const PaletteLayout& l = palette_->layout;
+  const size_t bytes = bytesPerTexel(palette_->format);
+  const bool half = palette_->format == PaletteFormat::kMatrix3x4F16;
+  uint8_t* frame = texels_.data() + size_t(slot) * stride_ * bytes;
+  for (uint32_t j = 0; j < skinning.size(); ++j)
+    for (uint32_t row = 0; row < 3; ++row) {
+      const glm::mat4& m = skinning[j];
+      const float v[4] = {m[0][row], m[1][row], m[2][row], m[3][row]};
+      uint8_t* at = frame + (size_t(j) * l.joint_stride_texels + row) * bytes;
+      if (half) {
+        uint16_t h[4];
+        for (int c = 0; c < 4; ++c) h[c] = floatToHalf(v[c]);
+        std::memcpy(at, h, sizeof(h));
+      } else {
+        std::memcpy(at, v, sizeof(v));
+      }
+    }
+  if (l.morph_target_count > 0) {  // The weights' texels as the baked frame holds them.
+    const uint32_t texels = (l.morph_target_count + 3) / 4;
+    std::memcpy(
+        frame + size_t(l.morph_first_texel) * bytes,
+        palette_->texel_bytes.data() + (size_t(weights_frame_texel) + l.morph_first_texel) * bytes,
+        size_t(texels) * bytes);
+  }
+  ++version_;
+}
+
+glm::mat4 LivePoses::matrix(uint32_t slot, uint32_t joint) const {
+  const PaletteLayout& l = palette_->layout;
+  const size_t bytes = bytesPerTexel(palette_->format);
+  const uint8_t* at =
+      texels_.data() + (size_t(slot) * stride_ + size_t(joint) * l.joint_stride_texels) * bytes;
+  glm::mat4 m(1.0f);
+  for (uint32_t row = 0; row < 3; ++row) {
+    float v[4];
+    if (palette_->format == PaletteFormat::kMatrix3x4F16) {
+      uint16_t h[4];
+      std::memcpy(h, at + row * bytes, sizeof(h));
+      for (int c = 0; c < 4; ++c) v[c] = halfToFloat(h[c]);
+    } else {
+      std::memcpy(v, at + row * bytes, sizeof(v));
+    }
+    for (int c = 0; c < 4; ++c) m[c][row] = v[c];
+  }
+  return m;
+}
+
+}  // namespace si::detail

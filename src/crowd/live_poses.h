@@ -1,0 +1,55 @@
+// SkinnedInstancing — SPDX-License-Identifier: MIT (see LICENSE)
+#pragma once
+// Live poses (CrowdManager::setLivePose): the frames of palette texels, one per posed
+// instance, that the engine writes and the instances' records point at. They follow the
+// palette's texels (their first texel is the palette texture's texel count) in its format, so
+// every path reads them as it reads a baked frame. No GL.
+
+#include <cstdint>
+#include <vector>
+
+#include <glm/glm.hpp>
+
+#include "si/core/baked_palette.h"
+#include "si/core/span.h"
+#include "si/core/status.h"
+
+namespace si::detail {
+
+/// An instance's slot when it has no live pose.
+inline constexpr uint32_t kNoLivePose = 0xFFFFFFFFu;
+
+class LivePoses {
+ public:
+  /// Room for `capacity` poses of `palette`'s frames (none for 0). kUnsupported for a
+  /// quaternion palette, kLimitExceeded when the texels would pass 2^32.
+  Status reset(const BakedPalette* palette, uint32_t capacity);
+  uint32_t capacity() const { return capacity_; }
+  /// Poses held.
+  uint32_t count() const { return capacity_ - uint32_t(free_.size()); }
+  /// A free slot into `slot`; kLimitExceeded when all are taken.
+  Status take(uint32_t* slot);
+  void release(uint32_t slot);
+  /// Writes slot `slot`'s frame: `skinning` (one model-space matrix per palette joint) in the
+  /// palette's format, then the morph weights of baked frame `weights_frame_texel`.
+  void write(uint32_t slot, Span<const glm::mat4> skinning, uint32_t weights_frame_texel);
+  /// The first texel of slot `slot`'s frame, as a record's frames name it.
+  uint32_t frameTexel(uint32_t slot) const { return first_texel_ + slot * stride_; }
+  /// Palette joint `joint`'s matrix of slot `slot` as the shader reads it (half floats widened).
+  glm::mat4 matrix(uint32_t slot, uint32_t joint) const;
+  uint32_t firstTexel() const { return first_texel_; }
+  Span<const uint8_t> texels() const { return texels_; }
+  /// Changes with every write (a consumer uploads again when it has moved).
+  uint64_t version() const { return version_; }
+
+ private:
+  const BakedPalette* palette_ = nullptr;
+  uint32_t capacity_ = 0;
+  uint32_t first_texel_ = 0;
+  uint32_t stride_ = 0;  // Texels per frame (the palette's frame stride).
+  std::vector<uint32_t> free_;
+  std::vector<uint8_t> texels_;
+  uint64_t version_ = 0;
+};
+
+}  // namespace si::detail

@@ -1,0 +1,263 @@
+// SkinnedInstancing — SPDX-License-Identifier: MIT (see LICENSE)
+// CrowdManager::setLivePose: an instance draws the engine's pose. The crowd writes it in the
+// palette's format into a frame after the palette's texels, the instance's record points
+// there, and jointMatrix and localPose answer with it; clearLivePose goes back to the clip.
+#include <gtest/gtest.h>
+
+#include <cstring>
+#include <vector>
+
+#include <glm/gtc/quaternion.hpp>
+
+#include "bake/bake_test_helpers.h"
+#include "crowd/crowd_test_helpers.h"
+#include "crowd/morph_face_fixture.h"
+#include "si/core/reference_evaluator.h"
+#include "si/crowd/crowd_export.h"
+#include "si/crowd/crowd_manager.h"
+
+namespace si {
+namespace {
+
+using test::defaultCharacter;
+using test::defaultPalette;
+
+// A pose unlike any clip's: each stored joint's bind-pose skinning matrix turned about its
+// joint and moved, by amounts that differ per joint.
+std::vector<glm::mat4> enginePose(const Skeleton& sk, const BakedPalette& p) {
+  std::vector<glm::mat4> out;
+  for (uint32_t slot = 0; slot < p.palette_joints.size(); ++slot) {
+    const glm::mat4 bind = glm::inverse(sk.inverse_bind_matrices[p.palette_joints[slot]]);
+    const glm::vec3 at(bind[3]);
+    glm::mat4 m = glm::translate(glm::mat4(1.0f), at + glm::vec3(0.01f * float(slot), 0.2f, 0.0f)) *
+                  glm::mat4_cast(glm::angleAxis(0.1f * float(slot + 1), glm::vec3(0, 1, 0))) *
+                  glm::translate(glm::mat4(1.0f), -at);
+    out.push_back(m);
+  }
+  return out;
+}
+
+// Palette joint `joint`'s matrix of the live frame at texel `frame` as the shader reads it.
+glm::mat4 liveMatrix(const CrowdExport& e, const BakedPalette& p, uint32_t frame, uint32_t joint) {
+  const size_t bytes = bytesPerTexel(p.format);
+  const size_t at = size_t(frame - e.livePoseFirstTexel() + joint * p.layout.joint_stride_texels);
+  glm::mat4 m(1.0f);
+  for (uint32_t row = 0; row < 3; ++row) {
+    float v[4];
+    if (p.format == PaletteFormat::kMatrix3x4F16) {
+      uint16_t h[4];
+      std::memcpy(h, e.livePoseTexels().data() + (at + row) * bytes, sizeof(h));
+      for (int c = 0; c < 4; ++c) v[c] = halfToFloat(h[c]);
+    } else {
+      std::memcpy(v, e.livePoseTexels().data() + (at + row) * bytes, sizeof(v));
+    }
+    for (int c = 0; c < 4; ++c) m[c][row] = v[c];
+  }
+  return m;
+}
+
+// The record of `h` in the crowd's own view.
+const InstanceRecord* recordOf(const CrowdManager& crowd, InstanceHandle h) {
+  const CrowdView& v = crowd.view();
+  for (size_t k = 0; k < v.records().size(); ++k)
+    if (v.visibleHandles()[k] == h) return &v.records()[k];
+  return nullptr;
+}
+
+CrowdDesc liveDesc(uint32_t capacity) {
+  CrowdDesc d = test::defaultCrowdDesc();
+  d.live_pose_capacity = capacity;
+  return d;
+}
+
+TEST(LivePose, TheRecordDrawsTheEnginesPoseAndTheCrowdAnswersWithIt) {
+  const Skeleton& sk = defaultCharacter().skeleton;
+  const BakedPalette& p = defaultPalette();
+  CrowdManager crowd;
+  ASSERT_TRUE(crowd.init(liveDesc(2)).isOk());
+  InstanceDesc d;
+  d.position = glm::dvec3(2, 0, -4);
+  d.rotation = glm::angleAxis(0.5f, glm::vec3(0, 1, 0));
+  d.clip = uint32_t(p.findClip("walk"));
+  d.time_seconds = 0.3;
+  InstanceHandle posed, playing;
+  ASSERT_TRUE(crowd.add(d, &posed).isOk());
+  ASSERT_TRUE(crowd.add(d, &playing).isOk());
+  const std::vector<glm::mat4> pose = enginePose(sk, p);
+  const CrowdExport e(crowd);
+  const uint64_t version = e.livePoseVersion();
+  ASSERT_TRUE(crowd.setLivePose(posed, pose).isOk());
+  EXPECT_NE(e.livePoseVersion(), version);
+  ASSERT_EQ(e.livePoseFirstTexel(), uint32_t(p.layout.textureTexelCount()));
+  ASSERT_EQ(e.livePoseTexels().size(), 2u * p.layout.frame_stride_texels * bytesPerTexel(p.format));
+  const Camera camera = test::testCamera({0, 1.6, 6}, {2, 1, -4});
+  ASSERT_TRUE(crowd.update(0.1, camera).isOk());
+  const InstanceRecord* live = recordOf(crowd, posed);
+  const InstanceRecord* clip = recordOf(crowd, playing);
+  ASSERT_TRUE(live != nullptr && clip != nullptr);
+  // The record names one live frame, without interpolation or crossfade.
+  const uint32_t frame = live->frames[0];
+  ASSERT_GE(frame, e.livePoseFirstTexel());
+  EXPECT_EQ((frame - e.livePoseFirstTexel()) % p.layout.frame_stride_texels, 0u);
+  for (int k = 1; k < 4; ++k) EXPECT_EQ(live->frames[k], frame);
+  EXPECT_EQ(live->blend[2], 0u);
+  EXPECT_EQ(live->blend[3], clip->blend[3]);
+  EXPECT_LT(clip->frames[0], e.livePoseFirstTexel());  // The other plays its clip.
+  for (uint32_t j = 0; j < pose.size(); ++j)
+    for (int c = 0; c < 4; ++c) EXPECT_EQ(liveMatrix(e, p, frame, j)[c], pose[j][c]) << j;
+  // jointMatrix and localPose answer with the pose.
+  glm::dmat4 world = glm::mat4_cast(glm::dquat(d.rotation));
+  world[3] = glm::dvec4(d.position, 1.0);
+  std::vector<TransformD> local(sk.jointCount());
+  ASSERT_TRUE(crowd.localPose(posed, sk, local).isOk());
+  std::vector<glm::dmat4> model(local.size()), skinning(local.size());
+  ASSERT_TRUE(composePose(sk, local, model, skinning).isOk());
+  for (uint32_t slot = 0; slot < pose.size(); ++slot) {
+    const uint32_t j = p.palette_joints[slot];
+    glm::dmat4 m;
+    ASSERT_TRUE(crowd.jointMatrix(posed, j, &m).isOk());
+    for (int c = 0; c < 4; ++c) {
+      EXPECT_LT(glm::length(m[c] - (world * glm::dmat4(pose[slot]))[c]), 1e-6) << j;
+      EXPECT_LT(glm::length(skinning[j][c] - glm::dvec4(pose[slot][c])), 1e-6) << j;
+    }
+  }
+  // Back to the clip: the record is the playing twin's again.
+  ASSERT_TRUE(crowd.clearLivePose(posed).isOk());
+  ASSERT_TRUE(crowd.clearLivePose(posed).isOk());  // Nothing to clear: fine.
+  ASSERT_TRUE(crowd.update(0.1, camera).isOk());
+  live = recordOf(crowd, posed);
+  clip = recordOf(crowd, playing);
+  ASSERT_TRUE(live != nullptr && clip != nullptr);
+  EXPECT_EQ(std::memcmp(live, clip, sizeof(InstanceRecord)), 0);
+}
+
+TEST(LivePose, FramesAreTakenAndFreed) {
+  const BakedPalette& p = defaultPalette();
+  const std::vector<glm::mat4> pose = enginePose(defaultCharacter().skeleton, p);
+  CrowdManager crowd;
+  ASSERT_TRUE(crowd.init(liveDesc(1)).isOk());
+  InstanceDesc d;
+  InstanceHandle a, b;
+  ASSERT_TRUE(crowd.add(d, &a).isOk());
+  ASSERT_TRUE(crowd.add(d, &b).isOk());
+  ASSERT_TRUE(crowd.setLivePose(a, pose).isOk());
+  ASSERT_TRUE(crowd.setLivePose(a, pose).isOk());  // Its own frame again.
+  Status s = crowd.setLivePose(b, pose);
+  EXPECT_EQ(s.code(), StatusCode::kLimitExceeded) << s.message();
+  EXPECT_NE(s.message().find("all 1 live poses are taken"), std::string::npos) << s.message();
+  ASSERT_TRUE(crowd.remove(a).isOk());  // Frees its frame.
+  ASSERT_TRUE(crowd.setLivePose(b, pose).isOk());
+  ASSERT_TRUE(crowd.clearLivePose(b).isOk());
+  InstanceHandle c;
+  ASSERT_TRUE(crowd.add(d, &c).isOk());
+  ASSERT_TRUE(crowd.setLivePose(c, pose).isOk());
+  // The records of the posed instance after the removal moved it to another dense index.
+  ASSERT_TRUE(crowd.update(0.0, test::testCamera({0, 1.6, 6}, {0, 1, 0})).isOk());
+  const InstanceRecord* rec = recordOf(crowd, c);
+  ASSERT_NE(rec, nullptr);
+  EXPECT_EQ(rec->frames[0], CrowdExport(crowd).livePoseFirstTexel());
+  EXPECT_LT(recordOf(crowd, b)->frames[0], CrowdExport(crowd).livePoseFirstTexel());
+}
+
+TEST(LivePose, BadPosesAndCapacitiesAreRefusedByName) {
+  const BakedPalette& p = defaultPalette();
+  std::vector<glm::mat4> pose = enginePose(defaultCharacter().skeleton, p);
+  CrowdManager none;
+  ASSERT_TRUE(none.init(test::defaultCrowdDesc()).isOk());
+  InstanceDesc d;
+  InstanceHandle h;
+  ASSERT_TRUE(none.add(d, &h).isOk());
+  Status s = none.setLivePose(h, pose);
+  EXPECT_EQ(s.code(), StatusCode::kInvalidArgument);
+  EXPECT_NE(s.message().find("live_pose_capacity is 0"), std::string::npos) << s.message();
+  EXPECT_TRUE(CrowdExport(none).livePoseTexels().empty());
+
+  CrowdManager crowd;
+  ASSERT_TRUE(crowd.init(liveDesc(1)).isOk());
+  ASSERT_TRUE(crowd.add(d, &h).isOk());
+  EXPECT_EQ(crowd.setLivePose(h, Span<const glm::mat4>(pose.data(), pose.size() - 1)).code(),
+            StatusCode::kCountMismatch);
+  std::vector<glm::mat4> bad = pose;
+  bad[3][1][2] = std::nanf("");
+  EXPECT_EQ(crowd.setLivePose(h, bad).code(), StatusCode::kNotFinite);
+  bad = pose;
+  bad[2][0][3] = 0.5f;  // A projective last row the palette cannot hold.
+  s = crowd.setLivePose(h, bad);
+  EXPECT_EQ(s.code(), StatusCode::kInvalidArgument);
+  EXPECT_NE(s.message().find("matrix 2's last row"), std::string::npos) << s.message();
+  ASSERT_TRUE(crowd.remove(h).isOk());
+  EXPECT_EQ(crowd.setLivePose(h, pose).code(), StatusCode::kNotFound);
+  EXPECT_EQ(crowd.clearLivePose(h).code(), StatusCode::kNotFound);
+
+  CrowdManager big;
+  s = big.init(liveDesc(CrowdDesc::kMaxLivePoses + 1));
+  EXPECT_EQ(s.code(), StatusCode::kInvalidArgument);
+  EXPECT_NE(s.message().find("live_pose_capacity"), std::string::npos) << s.message();
+  // A quaternion palette holds rigid joints only: refused.
+  const BakedPalette quat = test::smallPalette(PaletteFormat::kQuatTranslationF32);
+  CrowdDesc qd;
+  qd.palette = &quat;
+  qd.sub_mesh_count = 1;
+  qd.live_pose_capacity = 1;
+  CrowdManager q;
+  s = q.init(qd);
+  EXPECT_EQ(s.code(), StatusCode::kUnsupported);
+  EXPECT_NE(s.message().find("quat_translation_f32"), std::string::npos) << s.message();
+}
+
+TEST(LivePose, AHalfPaletteHoldsThePoseInHalves) {
+  const BakedPalette half = test::smallPalette(PaletteFormat::kMatrix3x4F16);
+  CrowdDesc cd;
+  cd.palette = &half;
+  cd.sub_mesh_count = 1;
+  cd.live_pose_capacity = 1;
+  CrowdManager crowd;
+  const Status init = crowd.init(cd);
+  ASSERT_TRUE(init.isOk()) << init.message();
+  InstanceDesc d;
+  InstanceHandle h;
+  ASSERT_TRUE(crowd.add(d, &h).isOk());
+  std::vector<glm::mat4> pose(half.palette_joints.size(), glm::mat4(1.0f));
+  pose[0][3] = glm::vec4(0.1f, 1.0f / 3.0f, -2.7f, 1.0f);
+  ASSERT_TRUE(crowd.setLivePose(h, pose).isOk());
+  const CrowdExport e(crowd);
+  const glm::mat4 m = liveMatrix(e, half, e.livePoseFirstTexel(), 0);
+  EXPECT_EQ(m[3][1], halfToFloat(floatToHalf(1.0f / 3.0f)));
+  EXPECT_NE(m[3][1], 1.0f / 3.0f);
+  pose[0][3][0] = 70000.0f;  // Past the largest half.
+  const Status s = crowd.setLivePose(h, pose);
+  EXPECT_EQ(s.code(), StatusCode::kNotFinite);
+  EXPECT_NE(s.message().find("matrix3x4_f16"), std::string::npos) << s.message();
+}
+
+// The live frame holds the morph weights of the clip's frame when the pose was set (the clip
+// plays on underneath): a posed face keeps its expression.
+TEST(LivePose, TheFrameKeepsTheClipsMorphWeights) {
+  const test::Face& f = test::face();
+  const BakedPalette& p = f.palette;
+  CrowdDesc cd;
+  cd.palette = &p;
+  cd.sub_mesh_count = uint32_t(f.character.mesh.sub_meshes.size());
+  cd.live_pose_capacity = 1;
+  CrowdManager crowd;
+  ASSERT_TRUE(crowd.init(cd).isOk());
+  InstanceDesc d;
+  d.clip = f.walk;
+  d.time_seconds = 0.5;
+  InstanceHandle h;
+  ASSERT_TRUE(crowd.add(d, &h).isOk());
+  ASSERT_TRUE(crowd.setLivePose(h, enginePose(f.character.skeleton, p)).isOk());
+  const CrowdExport e(crowd);
+  const size_t bytes = bytesPerTexel(p.format);
+  const FrameSample s = sampleFrames(p.clips[f.walk], 0.5);
+  const uint8_t* baked =
+      p.texel_bytes.data() + (size_t(p.layout.morphTexel(f.walk, s.frame, 0))) * bytes;
+  const uint8_t* live = e.livePoseTexels().data() + size_t(p.layout.morph_first_texel) * bytes;
+  EXPECT_EQ(std::memcmp(live, baked, bytes), 0);  // Three targets: one texel.
+  float w[4];
+  std::memcpy(w, live, sizeof(w));
+  EXPECT_GT(w[1], 0.0f);  // A weight the clip gives, not an empty texel.
+}
+
+}  // namespace
+}  // namespace si
