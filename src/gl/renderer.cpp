@@ -13,6 +13,7 @@
 #include "gl/paths/layer_compose_pass.h"
 #include "gl/renderer_impl.h"
 #include "gl/resources/ring_frame.h"
+#include "si/crowd/crowd_export.h"
 
 namespace si {
 using detail::strCat;
@@ -230,7 +231,18 @@ Status Renderer::drawCrowd(CharacterId id, const CrowdView& view, const Instance
   // Layered animation: the view's last selection wrote layer records.
   const bool layers = !view.layerRecords().empty() && mode != DrawMode::kRigid;
   const auto t0 = std::chrono::steady_clock::now();
-  Impl::Guard guard = m.enter("drawCrowd", detail::drawFootprint(), &camera);
+  // Live poses (CrowdManager::setLivePose): their frames after the palette's, uploaded when
+  // they changed (the unpack state then in the footprint).
+  const CrowdExport live(crowd);
+  detail::GlFootprint footprint = detail::drawFootprint();
+  const bool live_poses = !live.livePoseTexels().empty();
+  footprint.unpack = live_poses;
+  Impl::Guard guard = m.enter("drawCrowd", footprint, &camera);
+  if (live_poses) {
+    s = c->palette.uploadLive(live.livePoseTexels(), crowd.identity(), live.livePoseVersion(),
+                              m.info);
+    if (!s.isOk()) return {s.code(), strCat("drawCrowd: ", s.message())};
+  }
   m.sizeRing();  // setMotionVectors may have changed the default region count.
   // The ring region (resources/ring_frame.h); its blocks start where storage buffers may too.
   // Motion vectors read the previous records where the previous selection's draw left them
@@ -316,6 +328,8 @@ Status Renderer::drawCrowdGpuCulled(CharacterId id, const CrowdView& view, const
   if (s.isOk()) s = m.depthMatches(camera, "drawCrowdGpuCulled");
   if (!s.isOk()) return s;
   const CrowdManager& crowd = *view.crowd();
+  s = Impl::noLivePoses(crowd, "drawCrowdGpuCulled");
+  if (!s.isOk()) return s;
   if (mode == DrawMode::kRigid)
     return {StatusCode::kInvalidArgument,
             "drawCrowdGpuCulled: the GPU-driven path skins (kDefault, kSkinned, kComputeSkinned, "

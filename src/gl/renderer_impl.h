@@ -151,12 +151,16 @@ struct Renderer::Impl {
               detail::strCat(what, ": the crowd plays another palette than the character's ",
                              "(draw each crowd with the CharacterId of the character uploaded ",
                              "with its palette)")};
-    if (crowd != nullptr && crowd->desc().live_pose_capacity > 0)
-      return {StatusCode::kUnsupported,
-              detail::strCat(what, ": crowds with live poses (CrowdDesc::live_pose_capacity) ",
-                             "are not drawn yet")};
     *out = characters[id.index].get();
     return Status::ok();
+  }
+  /// kUnsupported for a crowd with live poses (CrowdDesc::live_pose_capacity) on a path that
+  /// does not draw them yet.
+  static Status noLivePoses(const CrowdManager& crowd, const char* what) {
+    if (crowd.desc().live_pose_capacity == 0) return Status::ok();
+    return {StatusCode::kUnsupported,
+            detail::strCat(what, ": crowds with live poses (CrowdDesc::live_pose_capacity) are ",
+                           "drawn by drawCrowd only, not yet by this path")};
   }
   /// The same for a view: kInvalidArgument when it is not attached to a crowd.
   Status find(CharacterId id, const char* what, detail::CharacterSlot** out, const CrowdView& view) {
@@ -214,6 +218,7 @@ struct Renderer::Impl {
           what, cpu ? "storage buffers (a baseline)" : "traditional program (a desktop baseline)");
     if (s.isOk()) s = noMotion(what);
     if (s.isOk()) s = noImpostors(*view.crowd(), what);
+    if (s.isOk()) s = noLivePoses(*view.crowd(), what);
     if (!s.isOk()) return s;
     detail::DrawPath& p = cpu ? static_cast<detail::DrawPath&>(c->cpu_path) : traditional_path;
     const auto t0 = std::chrono::steady_clock::now();

@@ -258,8 +258,11 @@ class CrowdManager {
   /// pose on its mask. Call again to change the pose; it holds until then. The crowd writes the
   /// pose in the palette's format into one of its CrowdDesc::live_pose_capacity frames
   /// (CrowdExport::livePoseTexels) and the record points there; jointMatrix(), socketTransform()
-  /// and localPose() answer with it. Not yet drawn by the renderer (si::Renderer refuses a
-  /// crowd with live poses by name). kNotFound for a stale handle; kInvalidArgument for a crowd
+  /// and localPose() answer with it. si::Renderer::drawCrowd draws it (vertex-shader and
+  /// compute paths, uploading the frames after the palette's when they changed); the GPU-driven
+  /// path and the baselines refuse a crowd with live poses by name, and a posed instance's own
+  /// motion is not in its motion vectors yet (its previous record names the same frame).
+  /// kNotFound for a stale handle; kInvalidArgument for a crowd
   /// without live pose capacity, or a matrix whose last row is not 0 0 0 1; kCountMismatch for
   /// a count other than the palette's joints; kNotFinite for a matrix that is not finite or
   /// past what the palette's format holds; kLimitExceeded when every live pose is taken.

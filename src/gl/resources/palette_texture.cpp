@@ -42,7 +42,51 @@ Status PaletteTexture::upload(const BakedPalette& palette, const GlInfo& info,
   }
   shader_info_ = info_value;
   palette_ = &palette;
+  height_ = l.height;
+  live_identity_ = live_version_ = 0;
   morph_texture_ = morphs.texture;
+  return Status::ok();
+}
+
+Status PaletteTexture::uploadLive(Span<const uint8_t> texels, uint64_t crowd_identity,
+                                  uint64_t version, const GlInfo& info) {
+  if (texels.empty() || palette_ == nullptr) return Status::ok();
+  const PaletteLayout& l = palette_->layout;
+  const bool half = palette_->format == PaletteFormat::kMatrix3x4F16;
+  const GLenum type = half ? GL_HALF_FLOAT : GL_FLOAT;
+  const size_t bytes = bytesPerTexel(palette_->format);
+  const uint64_t count = texels.size() / bytes;
+  const uint64_t height = l.height + (count + l.width - 1) / l.width;
+  if (height > info.max_texture_size)
+    return {StatusCode::kLimitExceeded,
+            strCat("the palette with its live poses is ", l.width, "x", height,
+                   ", GL_MAX_TEXTURE_SIZE is ", info.max_texture_size,
+                   " (fewer CrowdDesc::live_pose_capacity)")};
+  glPixelStorei(GL_UNPACK_ALIGNMENT, 1);
+  if (height > height_) {  // Grown once: the palette's rows copied, the live rows after them.
+    GLuint grown = kNoObject;
+    const Status s = createTexture2D(&grown, 1, half ? GL_RGBA16F : GL_RGBA32F, GLsizei(l.width),
+                                     GLsizei(height), "the palette texture with live poses");
+    if (!s.isOk()) return s;
+    glTextureSubImage2D(grown, 0, 0, 0, GLsizei(l.width), GLsizei(l.height), GL_RGBA, type,
+                        palette_->texel_bytes.data());
+    glTextureParameteri(grown, GL_TEXTURE_MIN_FILTER, GL_NEAREST);
+    glTextureParameteri(grown, GL_TEXTURE_MAG_FILTER, GL_NEAREST);
+    glDeleteTextures(1, &texture_);
+    texture_ = grown;
+    height_ = uint32_t(height);
+    live_identity_ = live_version_ = 0;
+  }
+  if (crowd_identity == live_identity_ && version == live_version_) return Status::ok();
+  const uint64_t rows = count / l.width, rest = count % l.width;
+  if (rows > 0)
+    glTextureSubImage2D(texture_, 0, 0, GLint(l.height), GLsizei(l.width), GLsizei(rows), GL_RGBA,
+                        type, texels.data());
+  if (rest > 0)
+    glTextureSubImage2D(texture_, 0, 0, GLint(l.height + rows), GLsizei(rest), 1, GL_RGBA, type,
+                        texels.data() + rows * l.width * bytes);
+  live_identity_ = crowd_identity;
+  live_version_ = version;
   return Status::ok();
 }
 

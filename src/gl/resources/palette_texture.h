@@ -13,6 +13,7 @@
 #include "gl/programs/program_set.h"
 #include "si/core/baked_palette.h"
 #include "si/core/shader_inputs.h"
+#include "si/core/span.h"
 #include "si/gl/gl_context.h"
 
 namespace si::detail {
@@ -32,6 +33,12 @@ class PaletteTexture {
   Status upload(const BakedPalette& palette, const GlInfo& info,
                 const PaletteMorphs& morphs = PaletteMorphs());
   void release();
+  /// Places a crowd's live poses (CrowdExport::livePoseTexels, in the palette's format) after
+  /// the palette's texels: the texture grows by the rows they need, once (kLimitExceeded past
+  /// GL_MAX_TEXTURE_SIZE), and they are uploaded unless they are what was uploaded last (the
+  /// crowd's identity and live version). Nothing for none. Writes the unpack state.
+  Status uploadLive(Span<const uint8_t> texels, uint64_t crowd_identity, uint64_t version,
+                    const GlInfo& info);
 
   GLuint texture() const { return texture_; }
   const glm::uvec4& shaderInfo() const { return shader_info_; }
@@ -50,6 +57,8 @@ class PaletteTexture {
   GLuint morph_texture_ = kNoObject;  // Borrowed (CharacterBuffers').
   glm::uvec4 shader_info_{0};
   const BakedPalette* palette_ = nullptr;
+  uint32_t height_ = 0;  // The texture's rows: the palette's and the live poses'.
+  uint64_t live_identity_ = 0, live_version_ = 0;  // What the live rows hold.
 };
 
 }  // namespace si::detail

@@ -7,6 +7,7 @@
 
 #include <functional>
 #include <memory>
+#include <vector>
 
 #include "host_state.h"
 #include "si/bake/animation_baker.h"
@@ -61,8 +62,9 @@ void addHeadTarget(si::Character* c) {
 // A crowd of 12 of the embedded character close to the camera: clips, times, tints, armour;
 // with `overlays`, every third waves its right arm over what it plays.
 si::Status makeCrowd(const si::Character& c, const si::BakedPalette& palette, bool overlays,
-                     si::CrowdManager* crowd, si::Camera* camera) {
+                     si::CrowdManager* crowd, si::Camera* camera, uint32_t live_poses = 0) {
   si::CrowdDesc cd;
+  cd.live_pose_capacity = live_poses;
   cd.palette = &palette;
   cd.sub_mesh_count = uint32_t(c.mesh.sub_meshes.size());
   cd.lod_count = uint32_t(c.mesh.sub_meshes[0].lods.size());
@@ -86,6 +88,12 @@ si::Status makeCrowd(const si::Character& c, const si::BakedPalette& palette, bo
     s = crowd->add(d, &h);
     if (s.isOk() && overlays && k % 3 == 0)
       s = crowd->playOverlay(h, uint32_t(palette.findClip("wave")), mask, 1.0f, 0.0);
+    if (s.isOk() && uint32_t(k) < live_poses) {  // The engine poses it: clip 0's first frame.
+      std::vector<glm::mat4> pose(palette.palette_joints.size());
+      for (uint32_t slot = 0; slot < pose.size(); ++slot)
+        pose[slot] = si::decodeJoint(palette, 0, 0, slot);
+      s = crowd->setLivePose(h, pose);
+    }
   }
   *camera = si::Camera::lookAt({0.0, 1.6, 4.0}, {0.0, 0.9, -1.5}, glm::vec3(0, 1, 0), 0.9f, 1.0f,
                                0.1f, 100.0f);
@@ -290,6 +298,15 @@ GuestReport checkEveryCall(void* (*get_proc)(void* user, const char* name), void
   checker.check("Renderer::drawTraditional, morph targets", [&] {
     return renderer->drawTraditional(faced_id, faced_crowd.view(), camera, nullptr);
   });
+  // Live poses: two instances the engine poses; drawCrowd uploads their frames after the
+  // palette's (the unpack state).
+  si::CrowdManager live_crowd;
+  s = makeCrowd(character, palette, false, &live_crowd, &camera, 2);
+  if (!s.isOk()) return fail("setting up the live poses' crowd", s);
+  for (const auto& [mode, name] : {modes[1], modes[2]})
+    checker.check(std::string("Renderer::drawCrowd(") + name + ", live poses)", [&, mode = mode] {
+      return renderer->drawCrowd(id, live_crowd.view(), batcher, camera, nullptr, mode);
+    });
   // A material of the engine's, reading a uniform block of its own (at binding 7, which the
   // engine's state binds) and the instance handle (its block at storage binding 29, which the
   // engine's state binds too), on meshes and impostors.
