@@ -70,6 +70,15 @@ CrowdDesc liveDesc(uint32_t capacity) {
   return d;
 }
 
+// One sub-mesh of `palette` (test::smallPalette's chain) with room for one live pose.
+CrowdDesc oneLivePose(const BakedPalette& palette) {
+  CrowdDesc d;
+  d.palette = &palette;
+  d.sub_mesh_count = 1;
+  d.live_pose_capacity = 1;
+  return d;
+}
+
 TEST(LivePose, TheRecordDrawsTheEnginesPoseAndTheCrowdAnswersWithIt) {
   const Skeleton& sk = defaultCharacter().skeleton;
   const BakedPalette& p = defaultPalette();
@@ -195,24 +204,16 @@ TEST(LivePose, BadPosesAndCapacitiesAreRefusedByName) {
   EXPECT_NE(s.message().find("live_pose_capacity"), std::string::npos) << s.message();
   // A quaternion palette holds rigid joints only: refused.
   const BakedPalette quat = test::smallPalette(PaletteFormat::kQuatTranslationF32);
-  CrowdDesc qd;
-  qd.palette = &quat;
-  qd.sub_mesh_count = 1;
-  qd.live_pose_capacity = 1;
   CrowdManager q;
-  s = q.init(qd);
+  s = q.init(oneLivePose(quat));
   EXPECT_EQ(s.code(), StatusCode::kUnsupported);
   EXPECT_NE(s.message().find("quat_translation_f32"), std::string::npos) << s.message();
 }
 
 TEST(LivePose, AHalfPaletteHoldsThePoseInHalves) {
   const BakedPalette half = test::smallPalette(PaletteFormat::kMatrix3x4F16);
-  CrowdDesc cd;
-  cd.palette = &half;
-  cd.sub_mesh_count = 1;
-  cd.live_pose_capacity = 1;
   CrowdManager crowd;
-  const Status init = crowd.init(cd);
+  const Status init = crowd.init(oneLivePose(half));
   ASSERT_TRUE(init.isOk()) << init.message();
   InstanceDesc d;
   InstanceHandle h;
