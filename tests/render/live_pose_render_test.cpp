@@ -1,7 +1,7 @@
 // SkinnedInstancing — SPDX-License-Identifier: MIT (see LICENSE)
 // Live poses drawn (CrowdManager::setLivePose): an instance posed with the matrices of a baked
 // frame draws exactly what an instance playing that frame draws, on the vertex-shader and
-// compute paths; the paths that do not draw live poses yet refuse by name.
+// compute paths and the ES profile; the paths that do not draw live poses yet refuse by name.
 #include <gtest/gtest.h>
 
 #include <vector>
@@ -44,41 +44,45 @@ class LivePoseRenderTest : public RenderTest {
     }
     ASSERT_TRUE(crowd->update(0.1, rowCamera()).isOk());
   }
+  // On `path`: the posed crowd draws its twin's image exactly and the clip's image not, and
+  // another posed crowd of the character, drawn before and between, never shows.
+  void expectPosesDraw(Renderer& r, Path path) {
+    CrowdManager posed, other, twin, playing;
+    makeRow(&posed, true, false);
+    makeRow(&other, true, false, 15);  // Another pose in another crowd of the character.
+    makeRow(&twin, false, true);
+    makeRow(&playing, false, false);
+    for (int round = 0; round < 2; ++round) {
+      const std::vector<uint8_t> another = draw(r, other, rowCamera(), 0, false, nullptr, path);
+      const std::vector<uint8_t> live = draw(r, posed, rowCamera(), 0, false, nullptr, path);
+      const std::vector<uint8_t> frame = draw(r, twin, rowCamera(), 0, false, nullptr, path);
+      const std::vector<uint8_t> clip = draw(r, playing, rowCamera(), 0, false, nullptr, path);
+      EXPECT_GT(differingPixels(live, another), 200u);
+      EXPECT_EQ(differingPixels(live, frame), 0u);
+      EXPECT_GT(differingPixels(live, clip), 200u);  // The pose moved the middle one.
+    }
+  }
+  static size_t differingPixels(const std::vector<uint8_t>& a, const std::vector<uint8_t>& b) {
+    size_t n = 0;
+    for (size_t i = 0; i + 3 < a.size() && i + 3 < b.size(); i += 4)
+      n += a[i] != b[i] || a[i + 1] != b[i + 1] || a[i + 2] != b[i + 2];
+    return n;
+  }
   static Camera rowCamera() {
     return Camera::lookAt({0.0, 1.2, 4.5}, {0.0, 1.0, 0.0}, glm::vec3(0, 1, 0), 0.9f, 1.0f, 0.1f,
                           100.0f);
   }
 };
 
-size_t differingPixels(const std::vector<uint8_t>& a, const std::vector<uint8_t>& b) {
-  size_t n = 0;
-  for (size_t i = 0; i + 3 < a.size() && i + 3 < b.size(); i += 4)
-    n += a[i] != b[i] || a[i + 1] != b[i + 1] || a[i + 2] != b[i + 2];
-  return n;
-}
-
 TEST_P(LivePoseRenderTest, APoseDrawsAsTheFrameItHolds) {
   Renderer r;
   makeRenderer(&r);
-  CrowdManager posed, other, twin, playing;
-  makeRow(&posed, true, false);
-  makeRow(&other, true, false, 15);  // Another pose in another crowd of the character.
-  makeRow(&twin, false, true);
-  makeRow(&playing, false, false);
   for (Path path : {Path::kInstanced, Path::kCompute}) {
     SCOPED_TRACE(path == Path::kCompute ? "compute" : "vertex shader");
-    // Each crowd's live frames are its own: another crowd's, drawn before and between, must
-    // not show.
-    for (int round = 0; round < 2; ++round) {
-      const std::vector<uint8_t> another = draw(r, other, rowCamera(), 0, false, nullptr, path);
-      const std::vector<uint8_t> live = draw(r, posed, rowCamera(), 0, false, nullptr, path);
-      EXPECT_GT(differingPixels(live, another), 200u);
-      const std::vector<uint8_t> frame = draw(r, twin, rowCamera(), 0, false, nullptr, path);
-      const std::vector<uint8_t> clip = draw(r, playing, rowCamera(), 0, false, nullptr, path);
-      EXPECT_EQ(differingPixels(live, frame), 0u);
-      EXPECT_GT(differingPixels(live, clip), 200u);  // The pose moved the middle one.
-    }
+    expectPosesDraw(r, path);
   }
+  CrowdManager posed;
+  makeRow(&posed, true, false);
   // The paths that do not draw live poses yet refuse by name.
   for (PathKind kind : {PathKind::kGpuDriven, PathKind::kTraditional, PathKind::kCpu}) {
     SCOPED_TRACE(pathKindName(kind));
@@ -89,6 +93,21 @@ TEST_P(LivePoseRenderTest, APoseDrawsAsTheFrameItHolds) {
 }
 
 INSTANTIATE_TEST_SUITE_P(Backends, LivePoseRenderTest, allBackends(), backendTestName);
+
+// The OpenGL ES profile (GLSL ES 3.00, the vertex-shader path; its texture calls through the
+// profile's emulation of direct state access) draws them alike.
+class LivePoseEsTest : public LivePoseRenderTest {
+ protected:
+  bool es() const override { return true; }
+};
+
+TEST_P(LivePoseEsTest, APoseDrawsAsTheFrameItHoldsOnEs) {
+  Renderer r;
+  makeRenderer(&r);
+  expectPosesDraw(r, Path::kInstanced);
+}
+
+INSTANTIATE_TEST_SUITE_P(Backends, LivePoseEsTest, esBackends(), backendTestName);
 
 }  // namespace
 }  // namespace si
