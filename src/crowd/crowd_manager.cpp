@@ -15,18 +15,6 @@ namespace si {
 using detail::kMaxLods;
 using detail::strCat;
 
-namespace {
-// Live handle `h`'s dense index `i`, for reading call `what` into `out`: h's status, or
-// kInvalidArgument for a null `out`.
-Status denseIndexFor(const detail::InstanceStore& st, InstanceHandle h, const void* out,
-                     const char* what, uint32_t* i) {
-  const Status s = st.denseIndex(h, i);
-  if (s.isOk() && out == nullptr)
-    return {StatusCode::kInvalidArgument, strCat(what, ": out is null")};
-  return s;
-}
-}  // namespace
-
 // What an uninitialized (or moved-from) crowd reports.
 const detail::CrowdState& CrowdManager::emptyState() {
   static const detail::CrowdState empty;
@@ -277,7 +265,7 @@ Status CrowdManager::crossfade(InstanceHandle h, uint32_t clip, double blend_sec
 
 Status CrowdManager::get(InstanceHandle h, InstanceDesc* out) const {
   uint32_t i = 0;
-  const Status s = state_ ? denseIndexFor(state_->store, h, out, "get", &i) : noCrowd();
+  const Status s = state_ ? state_->store.denseIndexFor(h, out, "get", &i) : noCrowd();
   if (!s.isOk()) return s;
   const detail::InstanceStore& st = state_->store;
   InstanceDesc d;

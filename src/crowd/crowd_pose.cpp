@@ -64,9 +64,8 @@ void drawnSkinning(const detail::CrowdState& state, const CrowdDesc& desc, uint3
 
 Status CrowdManager::jointMatrix(InstanceHandle h, uint32_t joint, glm::dmat4* out) const {
   uint32_t i = 0;
-  const Status s = state_ ? state_->store.denseIndex(h, &i) : noCrowd();
+  const Status s = state_ ? state_->store.denseIndexFor(h, out, "jointMatrix", &i) : noCrowd();
   if (!s.isOk()) return s;
-  if (out == nullptr) return {StatusCode::kInvalidArgument, "jointMatrix: out is null"};
   const detail::InstanceStore& st = state_->store;
   const BakedPalette& p = *desc_.palette;
   if (joint >= p.skeleton_to_palette.size() || p.skeleton_to_palette[joint] < 0)
@@ -129,7 +128,7 @@ Status CrowdManager::setLivePose(InstanceHandle h, Span<const glm::mat4> skinnin
   const BakedClip& clip = p.clips[pb.clip];
   const FrameSample f =
       sampleFrames(clip, detail::localTime(pb, state_->clips[pb.clip], state_->clock));
-  st.live.write(slot, skinning, clip.first_texel + f.frame * p.layout.frame_stride_texels);
+  st.live.write(slot, skinning, p.layout.frameTexel(pb.clip, f.frame));
   st.changed(i);
   return Status::ok();
 }

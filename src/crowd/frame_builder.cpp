@@ -240,6 +240,14 @@ void setOneClip(uint32_t frame, uint32_t next_frame, float fraction, IntervalMod
   rec->blend[3] = color;
 }
 
+// Where instance i holds a live pose (CrowdManager::setLivePose): its record names the live
+// frame alone, the engine's pose drawn instead of the clip's.
+inline void setLiveFrame(const InstanceStore& st, uint32_t i, InstanceRecord* rec) {
+  if (st.live_slot[i] == kNoLivePose) return;
+  const uint32_t live = st.live.frameTexel(st.live_slot[i]);
+  setOneClip(live, live, 0.0f, IntervalMode::kLinear, st.colors[i], rec);
+}
+
 // The frames and blend of instance i's record while it crossfades at `clock`: the playback it
 // fades from (`from` sampled as `fs`) as the record's clip A, the one it fades to (`to`, `ts`)
 // as clip B, weighted by how far the fade has gone.
@@ -332,10 +340,7 @@ SI_CPU_CLONES void writeChunk(const FrameInputs& in, InstanceStore& st, bool fal
                      a.fraction, a.mode, st.colors[i], &rec);
         }
       }
-      if (live_poses && st.live_slot[i] != kNoLivePose) {  // The engine's pose, not the clip.
-        const uint32_t live = st.live.frameTexel(st.live_slot[i]);
-        setOneClip(live, live, 0.0f, IntervalMode::kLinear, st.colors[i], &rec);
-      }
+      if (live_poses) setLiveFrame(st, i, &rec);
       f.visible_handles[slot] = st.dense_handles[i];
       if (fallback) f.record_masks[slot] = wornMask(st.masks[i], in.sub_mesh_count);
       if (in.layers)
@@ -396,10 +401,7 @@ void scalarRecord(const FrameInputs& in, const InstanceStore& st, uint32_t i, ui
     setOneClip(ca.first_texel + fa.frame * stride, ca.first_texel + fa.next_frame * stride,
                fa.fraction, fa.mode, st.colors[i], &rec);
   }
-  if (st.live_slot[i] != kNoLivePose) {  // The engine's pose, not the clip.
-    const uint32_t live = st.live.frameTexel(st.live_slot[i]);
-    setOneClip(live, live, 0.0f, IntervalMode::kLinear, st.colors[i], &rec);
-  }
+  setLiveFrame(st, i, &rec);
   *out = rec;
 }
 

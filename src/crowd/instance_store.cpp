@@ -149,6 +149,14 @@ Status InstanceStore::denseIndex(InstanceHandle h, uint32_t* dense) const {
   return Status::ok();
 }
 
+Status InstanceStore::denseIndexFor(InstanceHandle h, const void* out, const char* what,
+                                    uint32_t* dense) const {
+  const Status s = denseIndex(h, dense);
+  if (s.isOk() && out == nullptr)
+    return {StatusCode::kInvalidArgument, strCat(what, ": out is null")};
+  return s;
+}
+
 Status InstanceStore::remove(InstanceHandle h) {
   uint32_t i = 0;
   Status s = denseIndex(h, &i);

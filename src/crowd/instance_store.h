@@ -52,6 +52,9 @@ struct InstanceStore {
   void push(const InstanceDesc& d, InstanceHandle h, double clock);
   /// The dense index of a live handle; kNotFound otherwise.
   Status denseIndex(InstanceHandle h, uint32_t* dense) const;
+  /// The same for a query `what` writing into `out`: h's status, or kInvalidArgument for a
+  /// null `out`.
+  Status denseIndexFor(InstanceHandle h, const void* out, const char* what, uint32_t* dense) const;
   /// Removes in O(1) (the last instance moves into the hole).
   Status remove(InstanceHandle h);
 

@@ -25,7 +25,6 @@ Status LivePoses::reset(const BakedPalette* palette, uint32_t capacity) {
     return {StatusCode::kLimitExceeded,
             strCat("CrowdDesc.live_pose_capacity: ", capacity, " poses of ", l.frame_stride_texels,
                    " texels after the palette's ", first, " pass 2^32 texels")};
-  palette_ = palette;
   capacity_ = capacity;
   first_texel_ = uint32_t(first);
   stride_ = l.frame_stride_texels;
