@@ -4,10 +4,10 @@
 #include "bake/palette_texels.h"
 
 #include <cmath>
-#include <cstring>
 #include <limits>
 
 #include "bake/border_frames.h"
+#include "core/palette_texel.h"
 #include "core/str_cat.h"
 #include "core/validated_evaluation.h"
 #include "si/core/reference_evaluator.h"
@@ -52,14 +52,7 @@ bool decomposeRigid(const glm::dmat4& m, Rigid* out) {
 }
 
 void storeTexel(BakedPalette* p, uint32_t index, const glm::dvec4& v) {
-  if (p->format == PaletteFormat::kMatrix3x4F16) {
-    uint16_t h[4];
-    for (int c = 0; c < 4; ++c) h[c] = floatToHalf(static_cast<float>(v[c]));
-    std::memcpy(p->texel_bytes.data() + size_t(index) * 8, h, 8);
-  } else {
-    const float f[4] = {float(v.x), float(v.y), float(v.z), float(v.w)};
-    std::memcpy(p->texel_bytes.data() + size_t(index) * 16, f, 16);
-  }
+  detail::storeFormatTexel(p->format, p->texel_bytes.data(), index, glm::vec4(v));
 }
 
 // The largest magnitude `format` stores as a finite number.

@@ -3,6 +3,9 @@
 
 #include <cstring>
 
+#include <glm/gtc/matrix_access.hpp>
+
+#include "core/palette_texel.h"
 #include "core/str_cat.h"
 
 namespace si::detail {
@@ -52,21 +55,11 @@ void LivePoses::release(uint32_t slot) {
 void LivePoses::write(uint32_t slot, Span<const glm::mat4> skinning, uint32_t weights_frame_texel) {
   const PaletteLayout& l = palette_->layout;
   const size_t bytes = bytesPerTexel(palette_->format);
-  const bool half = palette_->format == PaletteFormat::kMatrix3x4F16;
   uint8_t* frame = texels_.data() + size_t(slot) * stride_ * bytes;
   for (uint32_t j = 0; j < skinning.size(); ++j)
-    for (uint32_t row = 0; row < 3; ++row) {
-      const glm::mat4& m = skinning[j];
-      const float v[4] = {m[0][row], m[1][row], m[2][row], m[3][row]};
-      uint8_t* at = frame + (size_t(j) * l.joint_stride_texels + row) * bytes;
-      if (half) {
-        uint16_t h[4];
-        for (int c = 0; c < 4; ++c) h[c] = floatToHalf(v[c]);
-        std::memcpy(at, h, sizeof(h));
-      } else {
-        std::memcpy(at, v, sizeof(v));
-      }
-    }
+    for (uint32_t row = 0; row < 3; ++row)
+      storeFormatTexel(palette_->format, frame, size_t(j) * l.joint_stride_texels + row,
+                       glm::row(skinning[j], int(row)));
   if (l.morph_target_count > 0) {  // The weights' texels as the baked frame holds them.
     const uint32_t texels = (l.morph_target_count + 3) / 4;
     std::memcpy(
@@ -78,22 +71,11 @@ void LivePoses::write(uint32_t slot, Span<const glm::mat4> skinning, uint32_t we
 }
 
 glm::mat4 LivePoses::matrix(uint32_t slot, uint32_t joint) const {
-  const PaletteLayout& l = palette_->layout;
-  const size_t bytes = bytesPerTexel(palette_->format);
-  const uint8_t* at =
-      texels_.data() + (size_t(slot) * stride_ + size_t(joint) * l.joint_stride_texels) * bytes;
+  const size_t first =
+      size_t(slot) * stride_ + size_t(joint) * palette_->layout.joint_stride_texels;
   glm::mat4 m(1.0f);
-  for (uint32_t row = 0; row < 3; ++row) {
-    float v[4];
-    if (palette_->format == PaletteFormat::kMatrix3x4F16) {
-      uint16_t h[4];
-      std::memcpy(h, at + row * bytes, sizeof(h));
-      for (int c = 0; c < 4; ++c) v[c] = halfToFloat(h[c]);
-    } else {
-      std::memcpy(v, at + row * bytes, sizeof(v));
-    }
-    for (int c = 0; c < 4; ++c) m[c][row] = v[c];
-  }
+  for (uint32_t row = 0; row < 3; ++row)
+    m = glm::row(m, int(row), formatTexel(palette_->format, texels_.data(), first + row));
   return m;
 }
 
