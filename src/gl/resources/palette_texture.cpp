@@ -10,6 +10,26 @@
 
 namespace si::detail {
 
+namespace {
+// A texture `rows` rows tall (at least the palette's) holding `palette`'s texels in its first
+// rows, read with texelFetch (nearest filters); `what` names it in errors. Writes the unpack
+// alignment.
+Status createPaletteTexture(const BakedPalette& palette, uint32_t rows, const char* what,
+                            GLuint* out) {
+  const PaletteLayout& l = palette.layout;
+  const bool half = palette.format == PaletteFormat::kMatrix3x4F16;
+  const Status s = createTexture2D(out, 1, half ? GL_RGBA16F : GL_RGBA32F, GLsizei(l.width),
+                                   GLsizei(rows), what);
+  if (!s.isOk()) return s;
+  glPixelStorei(GL_UNPACK_ALIGNMENT, 1);
+  glTextureSubImage2D(*out, 0, 0, 0, GLsizei(l.width), GLsizei(l.height), GL_RGBA,
+                      half ? GL_HALF_FLOAT : GL_FLOAT, palette.texel_bytes.data());
+  glTextureParameteri(*out, GL_TEXTURE_MIN_FILTER, GL_NEAREST);
+  glTextureParameteri(*out, GL_TEXTURE_MAG_FILTER, GL_NEAREST);
+  return Status::ok();
+}
+}  // namespace
+
 Status PaletteTexture::upload(const BakedPalette& palette, const GlInfo& info,
                               const PaletteMorphs& morphs) {
   const PaletteLayout& l = palette.layout;
@@ -21,15 +41,8 @@ Status PaletteTexture::upload(const BakedPalette& palette, const GlInfo& info,
                    ", GL_MAX_TEXTURE_SIZE is ", info.max_texture_size,
                    " (bake with BakeDesc::max_texture_size)")};
   release();
-  const bool half = palette.format == PaletteFormat::kMatrix3x4F16;
-  Status s = createTexture2D(&texture_, 1, half ? GL_RGBA16F : GL_RGBA32F, GLsizei(l.width),
-                             GLsizei(l.height), "the palette texture");
+  Status s = createPaletteTexture(palette, l.height, "the palette texture", &texture_);
   if (!s.isOk()) return s;
-  glPixelStorei(GL_UNPACK_ALIGNMENT, 1);
-  glTextureSubImage2D(texture_, 0, 0, 0, GLsizei(l.width), GLsizei(l.height), GL_RGBA,
-                      half ? GL_HALF_FLOAT : GL_FLOAT, palette.texel_bytes.data());
-  glTextureParameteri(texture_, GL_TEXTURE_MIN_FILTER, GL_NEAREST);
-  glTextureParameteri(texture_, GL_TEXTURE_MAG_FILTER, GL_NEAREST);
   const glm::uvec4 info_value = paletteShaderInfo(palette);
   // SiPaletteInfo: si_palette_info, si_morph_info, si_morph_cuts[2] (std140: 4 x 16 bytes).
   glm::uvec4 block[4] = {info_value, morphs.info, glm::uvec4(0u), glm::uvec4(0u)};
@@ -62,22 +75,18 @@ Status PaletteTexture::uploadLive(Span<const uint8_t> texels, uint64_t crowd_ide
             strCat("the palette with its live poses is ", l.width, "x", height,
                    ", GL_MAX_TEXTURE_SIZE is ", info.max_texture_size,
                    " (fewer CrowdDesc::live_pose_capacity)")};
-  glPixelStorei(GL_UNPACK_ALIGNMENT, 1);
   if (height > height_) {  // Grown once: the palette's rows copied, the live rows after them.
     GLuint grown = kNoObject;
-    const Status s = createTexture2D(&grown, 1, half ? GL_RGBA16F : GL_RGBA32F, GLsizei(l.width),
-                                     GLsizei(height), "the palette texture with live poses");
+    const Status s = createPaletteTexture(*palette_, uint32_t(height),
+                                          "the palette texture with live poses", &grown);
     if (!s.isOk()) return s;
-    glTextureSubImage2D(grown, 0, 0, 0, GLsizei(l.width), GLsizei(l.height), GL_RGBA, type,
-                        palette_->texel_bytes.data());
-    glTextureParameteri(grown, GL_TEXTURE_MIN_FILTER, GL_NEAREST);
-    glTextureParameteri(grown, GL_TEXTURE_MAG_FILTER, GL_NEAREST);
     glDeleteTextures(1, &texture_);
     texture_ = grown;
     height_ = uint32_t(height);
     live_identity_ = live_version_ = 0;
   }
   if (crowd_identity == live_identity_ && version == live_version_) return Status::ok();
+  glPixelStorei(GL_UNPACK_ALIGNMENT, 1);
   const uint64_t rows = count / l.width, rest = count % l.width;
   if (rows > 0)
     glTextureSubImage2D(texture_, 0, 0, GLint(l.height), GLsizei(l.width), GLsizei(rows), GL_RGBA,
