@@ -21,16 +21,16 @@
 
 #include "si/bake/animation_baker.h"
 #include "si/core/layer_mask.h"
-#include "si/core/look_at.h"
 #include "si/crowd/crowd_export.h"
 #include "si/crowd/crowd_manager.h"
 #include "si/crowd/instance_batcher.h"
-#include "si/crowd/record_emulation.h"
 
 #include "fuzz_input.h"
 #include "layer_fuzz_checks.h"
+#include "pose_fuzz_step.h"
 #include "previous_fuzz_checks.h"
 #include "prop_fuzz_step.h"
+#include "record_fuzz_checks.h"
 
 namespace {
 
@@ -100,47 +100,6 @@ const si::Character& character() {
     return c;
   }();
   return character;
-}
-
-bool finitePose(const std::vector<si::TransformD>& pose) {
-  for (const si::TransformD& t : pose)
-    if (!std::isfinite(t.translation.x + t.translation.y + t.translation.z + t.rotation.w +
-                       t.rotation.x + t.rotation.y + t.rotation.z + t.scale.x + t.scale.y +
-                       t.scale.z))
-      return false;
-  return true;
-}
-
-// localPose of `h`, then a hostile look-at on it: a pose given is finite, a refusal is named
-// and leaves the pose as it was.
-void fuzzLocalPose(const si::CrowdManager& crowd, si::InstanceHandle h, si::fuzz::Input& in) {
-  const si::Skeleton& sk = character().skeleton;
-  std::vector<si::TransformD> pose(sk.jointCount());
-  const si::Status s = crowd.localPose(h, sk, pose);
-  if (!s.isOk()) {
-    if (s.message().empty()) fail("a refused localPose has no message");
-    return;
-  }
-  if (!finitePose(pose)) fail("a local pose is not finite");
-  si::LookAt look;
-  const uint32_t links = 1 + in.u8() % 3;
-  for (uint32_t k = 0; k < links; ++k)
-    look.chain.push_back({uint32_t(in.u8() % 4), in.u8() < 32 ? in.f64() : 0.5 + 0.5 * k,
-                          in.u8() < 32 ? in.f64() : 1.0});
-  if (in.u8() < 32) look.forward = glm::dvec3(in.f64(), in.f64(), in.f64());
-  if (in.u8() < 32) look.weight = in.f64();
-  const glm::dvec3 target(in.f32(), in.f32(), in.f32());
-  const std::vector<si::TransformD> kept = pose;
-  const si::Status st = si::applyLookAt(sk, look, target, pose);
-  if (!st.isOk()) {
-    if (st.message().empty()) fail("a refused applyLookAt has no message");
-    for (size_t j = 0; j < pose.size(); ++j)
-      if (!(pose[j].translation == kept[j].translation && pose[j].rotation == kept[j].rotation &&
-            pose[j].scale == kept[j].scale))
-        fail("a refused applyLookAt changed the pose");
-  } else if (!finitePose(pose)) {
-    fail("a looked-at pose is not finite");
-  }
 }
 
 const si::BakedPalette& palette() {
@@ -295,39 +254,8 @@ void checkFrame(const si::CrowdManager& crowd) {
   si::fuzz::checkPreviousRecords(crowd, batcher, fail);
   si::fuzz::checkRecordPlaces(crowd, batcher, fail);
   si::fuzz::checkSlotHandles(crowd, batcher, fail);
-  const uint64_t texels = palette().layout.textureTexelCount();
   si::fuzz::checkLayerRecords(crowd, batcher, palette(), fail);
-  // The drawn morph weights, overlays mixed in, stay within the clips' (every key in [0, 1]).
-  const si::Span<const si::LayerRecord> layers = crowd.view().layerRecords();
-  std::vector<float> weights(palette().layout.morph_target_count);
-  for (size_t i = 0; i < crowd.view().records().size(); ++i) {
-    const si::InstanceRecord& r = crowd.view().records()[i];
-    if (r.frames[0] >= texels) continue;  // A live pose: its weights are a baked frame's.
-    const si::Status w = layers.empty() ? si::emulateRecordMorphWeights(palette(), r, weights)
-                                        : si::emulateLayeredMorphWeights(
-                                              palette(), r, layers[i], crowd.layerMasks(), weights);
-    if (!w.isOk()) fail("the morph weights of a drawn record cannot be emulated");
-    for (float v : weights)
-      if (!(v >= -1e-6f && v <= 1.0f + 1e-6f)) fail("a drawn morph weight is outside its clips'");
-  }
-  for (const si::InstanceRecord& r : crowd.view().records()) {
-    for (const auto& row : r.world_rows)
-      for (float v : row)
-        if (!std::isfinite(v)) fail("a record's world rows are not finite");
-    // Inside the palette, or a live pose's frame after it (the four frames that one).
-    const uint32_t stride = palette().layout.frame_stride_texels;
-    const uint64_t live_end = texels + uint64_t(crowd.desc().live_pose_capacity) * stride;
-    for (uint32_t f : r.frames)
-      if (uint64_t(f) + stride > live_end ||
-          (f >= texels && ((f - texels) % stride != 0 || f != r.frames[0])))
-        fail("a frame is outside the palette and its live poses");
-    for (int k = 0; k < 3; ++k) {
-      si::IntervalMode mode;
-      float v = si::unpackFraction(r.blend[k], &mode);
-      if (k == 2) std::memcpy(&v, &r.blend[k], 4);  // The weight carries no mode.
-      if (!(v >= 0.0f && v <= 1.0f)) fail("a record's fraction or weight is outside [0, 1]");
-    }
-  }
+  si::fuzz::checkRecords(crowd, palette(), fail);
 }
 
 }  // namespace
@@ -432,11 +360,7 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
         } else if (call == 1) {
           s = crowd.setRootMotion(h, in.u8() & 1);
         } else if (call == 2) {
-          std::vector<glm::mat4> pose(palette().palette_joints.size() + in.u8() % 3 - 1,
-                                      glm::mat4(1.0f));
-          for (glm::mat4& m : pose)
-            if (in.u8() < 64) m[in.u8() % 4][in.u8() % 4] = in.f32();
-          s = crowd.setLivePose(h, pose);
+          s = si::fuzz::setFuzzedLivePose(crowd, h, palette(), in);
         } else {
           s = crowd.clearLivePose(h);
         }
@@ -523,7 +447,7 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
           for (int c = 0; c < 4; ++c)
             for (int r = 0; r < 4; ++r)
               if (!std::isfinite(m[c][r])) fail("a socket transform is not finite");
-        fuzzLocalPose(crowd, h, in);
+        si::fuzz::fuzzLocalPose(crowd, h, character().skeleton, in, fail);
         if (!(snapshot(crowd) == before)) fail("a query changed the crowd");
         break;
       }
