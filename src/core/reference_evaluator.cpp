@@ -171,6 +171,25 @@ Status composePose(const Skeleton& skeleton, Span<const TransformD> local,
   return Status::ok();
 }
 
+Status paletteSkinning(const BakedPalette& palette, Span<const glm::dmat4> skinning,
+                       Span<glm::mat4> out) {
+  const size_t joints = palette.skeleton_to_palette.size();
+  if (skinning.size() != joints || out.size() != palette.palette_joints.size())
+    return {StatusCode::kCountMismatch,
+            strCat("paletteSkinning: ", skinning.size(), " skinning matrices and ", out.size(),
+                   " out, the palette was baked from ", joints, " joints and stores ",
+                   palette.palette_joints.size())};
+  for (size_t k = 0; k < out.size(); ++k) {
+    const uint32_t joint = palette.palette_joints[k];
+    if (joint >= joints)
+      return {StatusCode::kOutOfRange,
+              strCat("paletteSkinning: palette joint ", k, " is skeleton joint ", joint,
+                     ", past the ", joints, " it was baked from")};
+    out[k] = glm::mat4(skinning[joint]);
+  }
+  return Status::ok();
+}
+
 Status decomposePose(const Skeleton& skeleton, Span<const glm::dmat4> model,
                      Span<TransformD> out_local) {
   const size_t n = skeleton.jointCount();

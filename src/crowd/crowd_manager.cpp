@@ -342,6 +342,7 @@ Status CrowdManager::advanceClock(double dt) {  // The step both update() and ad
   const double t = s.clock + y;
   s.clock_compensation = (t - s.clock) - y;
   s.clock = t;
+  s.store.releaseFadedLivePoses(t);  // Hand-overs back to the clip that are over.
   return Status::ok();
 }
 

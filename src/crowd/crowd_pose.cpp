@@ -34,9 +34,15 @@ void drawnSkinning(const detail::CrowdState& state, const CrowdDesc& desc, uint3
     if (step) t = detail::steppedTime(t, step_seconds);
     return emulateSkinningMatrix(p, pb.clip, sampleFrames(p.clips[pb.clip], t), at);
   };
+  // A live pose alone, or handing over with the clip (frame_builder.cpp's setLiveFrame): the
+  // live frame as the record's clip A, the clip's playback as its clip B, the clip's weight.
   const uint32_t live = st.live_slot[i];
+  const float clip_weight = live != detail::kNoLivePose ? st.live.clipWeight(live, clock) : 1.0f;
   const auto base = [&](uint32_t at) {
-    if (live != detail::kNoLivePose) return st.live.matrix(live, at);
+    if (clip_weight <= 0.0f) return st.live.matrix(live, at);
+    if (clip_weight < 1.0f)
+      return st.live.matrix(live, at) * (1.0f - clip_weight) +
+             matrix(st.playback[i], at, stepped) * clip_weight;
     glm::mat4 m = matrix(st.playback[i], at, stepped);
     if (st.fading(i, clock)) {
       const float w = float(std::clamp((clock - st.fade_start[i]) / st.fade_duration[i], 0.0, 1.0));
@@ -90,7 +96,8 @@ Status CrowdManager::socketTransform(InstanceHandle h, const Socket& socket,
   return Status::ok();
 }
 
-Status CrowdManager::setLivePose(InstanceHandle h, Span<const glm::mat4> skinning) {
+Status CrowdManager::setLivePose(InstanceHandle h, Span<const glm::mat4> skinning,
+                                 double blend_seconds) {
   uint32_t i = 0;
   Status s = state_ ? state_->store.denseIndex(h, &i) : noCrowd();
   if (!s.isOk()) return s;
@@ -99,6 +106,8 @@ Status CrowdManager::setLivePose(InstanceHandle h, Span<const glm::mat4> skinnin
   if (st.live.capacity() == 0)
     return {StatusCode::kInvalidArgument,
             "setLivePose: the crowd holds no live poses (CrowdDesc::live_pose_capacity is 0)"};
+  if (!std::isfinite(blend_seconds) || blend_seconds < 0.0)
+    return {StatusCode::kInvalidArgument, "setLivePose: blend_seconds must be finite and >= 0"};
   if (skinning.size() != p.palette_joints.size())
     return {StatusCode::kCountMismatch,
             strCat("setLivePose: ", skinning.size(), " matrices, the palette stores ",
@@ -117,30 +126,41 @@ Status CrowdManager::setLivePose(InstanceHandle h, Span<const glm::mat4> skinnin
       return {StatusCode::kInvalidArgument,
               strCat("setLivePose: matrix ", k, "'s last row is not 0 0 0 1")};
   }
+  const double clock = state_->clock;
   uint32_t slot = st.live_slot[i];
-  if (slot == detail::kNoLivePose) {
-    s = st.live.take(&slot);
+  if (slot == detail::kNoLivePose) {  // From the clip: the live weight fades in from 0.
+    s = st.live.take(h, &slot);
     if (!s.isOk()) return s;
     st.live_slot[i] = slot;
+    st.live.fade(slot, 0.0f, 1.0f, blend_seconds, clock);
+  } else if (st.live.fadingOut(slot)) {  // Handing back: it fades in again from where it is.
+    st.live.fade(slot, st.live.liveWeight(slot, clock), 1.0f, blend_seconds, clock);
   }
   // The morph weights of the clip's frame at the crowd clock (the clip plays on underneath).
   const detail::Playback& pb = st.playback[i];
   const BakedClip& clip = p.clips[pb.clip];
-  const FrameSample f =
-      sampleFrames(clip, detail::localTime(pb, state_->clips[pb.clip], state_->clock));
+  const FrameSample f = sampleFrames(clip, detail::localTime(pb, state_->clips[pb.clip], clock));
   st.live.write(slot, skinning, p.layout.frameTexel(pb.clip, f.frame));
   st.changed(i);
   return Status::ok();
 }
 
-Status CrowdManager::clearLivePose(InstanceHandle h) {
+Status CrowdManager::clearLivePose(InstanceHandle h, double blend_seconds) {
   uint32_t i = 0;
   const Status s = state_ ? state_->store.denseIndex(h, &i) : noCrowd();
   if (!s.isOk()) return s;
+  if (!std::isfinite(blend_seconds) || blend_seconds < 0.0)
+    return {StatusCode::kInvalidArgument, "clearLivePose: blend_seconds must be finite and >= 0"};
   detail::InstanceStore& st = state_->store;
-  if (st.live_slot[i] == detail::kNoLivePose) return Status::ok();
-  st.live.release(st.live_slot[i]);
-  st.live_slot[i] = detail::kNoLivePose;
+  const uint32_t slot = st.live_slot[i];
+  if (slot == detail::kNoLivePose) return Status::ok();
+  if (blend_seconds == 0.0) {
+    st.releaseLivePose(i);
+    return Status::ok();
+  }
+  // The last pose held while the clip fades in over it; released when the fade is over.
+  const double clock = state_->clock;
+  st.live.fade(slot, st.live.liveWeight(slot, clock), 0.0f, blend_seconds, clock);
   st.changed(i);
   return Status::ok();
 }

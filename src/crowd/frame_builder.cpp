@@ -241,11 +241,22 @@ void setOneClip(uint32_t frame, uint32_t next_frame, float fraction, IntervalMod
 }
 
 // Where instance i holds a live pose (CrowdManager::setLivePose): its record names the live
-// frame alone, the engine's pose drawn instead of the clip's.
-inline void setLiveFrame(const InstanceStore& st, uint32_t i, InstanceRecord* rec) {
-  if (st.live_slot[i] == kNoLivePose) return;
-  const uint32_t live = st.live.frameTexel(st.live_slot[i]);
-  setOneClip(live, live, 0.0f, IntervalMode::kLinear, st.colors[i], rec);
+// frame alone, the engine's pose drawn instead of the clip's; while it hands over (to or from
+// the clip), the live frame is clip A and the clip's playback (the record's clip B: a clip
+// crossfade under the hand-over shows its target) clip B, at the clip's weight.
+inline void setLiveFrame(const InstanceStore& st, uint32_t i, double clock, InstanceRecord* rec) {
+  const uint32_t slot = st.live_slot[i];
+  if (slot == kNoLivePose) return;
+  const float clip_weight = st.live.clipWeight(slot, clock);
+  if (clip_weight >= 1.0f) return;
+  const uint32_t live = st.live.frameTexel(slot);
+  if (clip_weight <= 0.0f) {
+    setOneClip(live, live, 0.0f, IntervalMode::kLinear, st.colors[i], rec);
+    return;
+  }
+  rec->frames[0] = rec->frames[1] = live;
+  rec->blend[0] = packFraction(0.0f, IntervalMode::kLinear);
+  rec->blend[2] = floatBits(clip_weight);
 }
 
 // The frames and blend of instance i's record while it crossfades at `clock`: the playback it
@@ -340,7 +351,7 @@ SI_CPU_CLONES void writeChunk(const FrameInputs& in, InstanceStore& st, bool fal
                      a.fraction, a.mode, st.colors[i], &rec);
         }
       }
-      if (live_poses) setLiveFrame(st, i, &rec);
+      if (live_poses) setLiveFrame(st, i, in.clock, &rec);
       f.visible_handles[slot] = st.dense_handles[i];
       if (fallback) f.record_masks[slot] = wornMask(st.masks[i], in.sub_mesh_count);
       if (in.layers)
@@ -401,7 +412,7 @@ void scalarRecord(const FrameInputs& in, const InstanceStore& st, uint32_t i, ui
     setOneClip(ca.first_texel + fa.frame * stride, ca.first_texel + fa.next_frame * stride,
                fa.fraction, fa.mode, st.colors[i], &rec);
   }
-  setLiveFrame(st, i, &rec);
+  setLiveFrame(st, i, clock, &rec);
   *out = rec;
 }
 

@@ -157,6 +157,23 @@ Status InstanceStore::denseIndexFor(InstanceHandle h, const void* out, const cha
   return s;
 }
 
+void InstanceStore::releaseLivePose(uint32_t i) {
+  if (live_slot[i] == kNoLivePose) return;
+  live.release(live_slot[i]);
+  live_slot[i] = kNoLivePose;
+  changed(i);
+}
+
+void InstanceStore::releaseFadedLivePoses(double clock) {
+  if (live.fadingOutCount() == 0) return;
+  std::vector<InstanceHandle> owners;
+  live.fadedOut(clock, &owners);
+  for (InstanceHandle h : owners) {
+    uint32_t i = 0;
+    if (denseIndex(h, &i).isOk()) releaseLivePose(i);
+  }
+}
+
 Status InstanceStore::remove(InstanceHandle h) {
   uint32_t i = 0;
   Status s = denseIndex(h, &i);

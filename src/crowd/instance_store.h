@@ -129,6 +129,10 @@ struct InstanceStore {
   uint32_t addView();
   /// Frees a lane (lane 0, the crowd's own, is never released).
   void releaseView(uint32_t lane);
+  /// Dense index `i`'s live pose released, if it has one (the instance back to its clip).
+  void releaseLivePose(uint32_t i);
+  /// Releases the live poses whose hand-over back to the clip is over at `clock`.
+  void releaseFadedLivePoses(double clock);
   /// Whether dense index `i` crossfades at `clock`: a fade set and not yet over (the GPU's
   /// culling pass reads it so). A fade that is over stays in the columns until the next play.
   bool fading(uint32_t i, double clock) const {

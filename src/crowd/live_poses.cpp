@@ -1,6 +1,7 @@
 // SkinnedInstancing — SPDX-License-Identifier: MIT (see LICENSE)
 #include "crowd/live_poses.h"
 
+#include <algorithm>
 #include <cstring>
 
 #include <glm/gtc/matrix_access.hpp>
@@ -14,6 +15,9 @@ Status LivePoses::reset(const BakedPalette* palette, uint32_t capacity) {
   palette_ = palette;
   capacity_ = 0;
   free_.clear();
+  fades_.clear();
+  owners_.clear();
+  fading_out_ = 0;
   texels_.clear();
   ++version_;
   if (capacity == 0) return Status::ok();
@@ -33,23 +37,48 @@ Status LivePoses::reset(const BakedPalette* palette, uint32_t capacity) {
   stride_ = l.frame_stride_texels;
   free_.resize(capacity);
   for (uint32_t k = 0; k < capacity; ++k) free_[k] = capacity - 1 - k;  // Slot 0 first.
+  fades_.resize(capacity);
+  owners_.resize(capacity);
   texels_.assign(size_t(texels) * bytesPerTexel(palette->format), 0);
   return Status::ok();
 }
 
-Status LivePoses::take(uint32_t* slot) {
+Status LivePoses::take(InstanceHandle owner, uint32_t* slot) {
   if (free_.empty())
     return {StatusCode::kLimitExceeded,
             strCat("setLivePose: all ", capacity_,
                    " live poses are taken (CrowdDesc::live_pose_capacity)")};
   *slot = free_.back();
   free_.pop_back();
+  fades_[*slot] = Fade();
+  owners_[*slot] = owner;
   return Status::ok();
 }
 
 void LivePoses::release(uint32_t slot) {
+  if (fadingOut(slot)) --fading_out_;
+  fades_[slot] = Fade();
   free_.push_back(slot);
   ++version_;
+}
+
+void LivePoses::fade(uint32_t slot, float from, float to, double seconds, double clock) {
+  fading_out_ += uint32_t(to == 0.0f) - uint32_t(fadingOut(slot));
+  fades_[slot] = Fade{from, to, clock, seconds};
+}
+
+float LivePoses::liveWeight(uint32_t slot, double clock) const {
+  const Fade& f = fades_[slot];
+  if (!(clock - f.start < f.duration)) return f.to;  // Over (or none: duration 0).
+  return float(double(f.from) +
+               (double(f.to) - double(f.from)) * std::max(0.0, (clock - f.start) / f.duration));
+}
+
+void LivePoses::fadedOut(double clock, std::vector<InstanceHandle>* owners) const {
+  owners->clear();
+  if (fading_out_ == 0) return;
+  for (uint32_t slot = 0; slot < capacity_; ++slot)
+    if (fadingOut(slot) && clipWeight(slot, clock) == 1.0f) owners->push_back(owners_[slot]);
 }
 
 void LivePoses::write(uint32_t slot, Span<const glm::mat4> skinning, uint32_t weights_frame_texel) {

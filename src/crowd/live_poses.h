@@ -13,6 +13,7 @@
 #include "si/core/baked_palette.h"
 #include "si/core/span.h"
 #include "si/core/status.h"
+#include "si/crowd/handle_pool.h"
 
 namespace si::detail {
 
@@ -27,9 +28,26 @@ class LivePoses {
   uint32_t capacity() const { return capacity_; }
   /// Poses held.
   uint32_t count() const { return capacity_ - uint32_t(free_.size()); }
-  /// A free slot into `slot`; kLimitExceeded when all are taken.
-  Status take(uint32_t* slot);
+  /// A free slot for instance `owner` into `slot`, drawn wholly live (weight 1); kLimitExceeded
+  /// when all are taken.
+  Status take(InstanceHandle owner, uint32_t* slot);
   void release(uint32_t slot);
+
+  // The hand-over (CrowdManager::setLivePose and clearLivePose with a blend): each slot's live
+  // weight fades linearly from `from` to `to` over a span of the crowd clock; 1 draws the live
+  // pose alone, 0 the clip alone.
+  /// Slot `slot`'s live weight fades from `from` to `to` over `seconds` from `clock` (0: at once).
+  void fade(uint32_t slot, float from, float to, double seconds, double clock);
+  /// Slot `slot`'s live weight at `clock`.
+  float liveWeight(uint32_t slot, double clock) const;
+  /// The weight of the record's clip (1 - the live weight) at `clock`, as the record carries it.
+  float clipWeight(uint32_t slot, double clock) const { return 1.0f - liveWeight(slot, clock); }
+  /// Whether slot `slot` fades towards 0 (released when it gets there).
+  bool fadingOut(uint32_t slot) const { return fades_[slot].to == 0.0f; }
+  /// The owners of the slots that have faded out by `clock` (each to be released by its owner).
+  void fadedOut(double clock, std::vector<InstanceHandle>* owners) const;
+  /// Slots fading out now.
+  uint32_t fadingOutCount() const { return fading_out_; }
   /// Writes slot `slot`'s frame: `skinning` (one model-space matrix per palette joint) in the
   /// palette's format, then the morph weights of baked frame `weights_frame_texel`.
   void write(uint32_t slot, Span<const glm::mat4> skinning, uint32_t weights_frame_texel);
@@ -47,7 +65,14 @@ class LivePoses {
   uint32_t capacity_ = 0;
   uint32_t first_texel_ = 0;
   uint32_t stride_ = 0;  // Texels per frame (the palette's frame stride).
+  struct Fade {
+    float from = 1.0f, to = 1.0f;
+    double start = 0.0, duration = 0.0;
+  };
   std::vector<uint32_t> free_;
+  std::vector<Fade> fades_;             // Per slot.
+  std::vector<InstanceHandle> owners_;  // Per slot.
+  uint32_t fading_out_ = 0;
   std::vector<uint8_t> texels_;
   uint64_t version_ = 0;
 };

@@ -11,6 +11,7 @@
 
 #include "bake/bake_test_helpers.h"
 #include "crowd/crowd_test_helpers.h"
+#include "crowd/live_pose_helpers.h"
 #include "crowd/morph_face_fixture.h"
 #include "si/core/reference_evaluator.h"
 #include "si/crowd/crowd_export.h"
@@ -21,21 +22,9 @@ namespace {
 
 using test::defaultCharacter;
 using test::defaultPalette;
-
-// A pose unlike any clip's: each stored joint's bind-pose skinning matrix turned about its
-// joint and moved, by amounts that differ per joint.
-std::vector<glm::mat4> enginePose(const Skeleton& sk, const BakedPalette& p) {
-  std::vector<glm::mat4> out;
-  for (uint32_t slot = 0; slot < p.palette_joints.size(); ++slot) {
-    const glm::mat4 bind = glm::inverse(sk.inverse_bind_matrices[p.palette_joints[slot]]);
-    const glm::vec3 at(bind[3]);
-    glm::mat4 m = glm::translate(glm::mat4(1.0f), at + glm::vec3(0.01f * float(slot), 0.2f, 0.0f)) *
-                  glm::mat4_cast(glm::angleAxis(0.1f * float(slot + 1), glm::vec3(0, 1, 0))) *
-                  glm::translate(glm::mat4(1.0f), -at);
-    out.push_back(m);
-  }
-  return out;
-}
+using test::enginePose;
+using test::liveDesc;
+using test::recordOf;
 
 // Palette joint `joint`'s matrix of the live frame at texel `frame` as the shader reads it.
 glm::mat4 liveMatrix(const CrowdExport& e, const BakedPalette& p, uint32_t frame, uint32_t joint) {
@@ -54,20 +43,6 @@ glm::mat4 liveMatrix(const CrowdExport& e, const BakedPalette& p, uint32_t frame
     for (int c = 0; c < 4; ++c) m[c][row] = v[c];
   }
   return m;
-}
-
-// The record of `h` in the crowd's own view.
-const InstanceRecord* recordOf(const CrowdManager& crowd, InstanceHandle h) {
-  const CrowdView& v = crowd.view();
-  for (size_t k = 0; k < v.records().size(); ++k)
-    if (v.visibleHandles()[k] == h) return &v.records()[k];
-  return nullptr;
-}
-
-CrowdDesc liveDesc(uint32_t capacity) {
-  CrowdDesc d = test::defaultCrowdDesc();
-  d.live_pose_capacity = capacity;
-  return d;
 }
 
 // One sub-mesh of `palette` (test::smallPalette's chain) with room for one live pose.

@@ -362,7 +362,7 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
         } else if (call == 2) {
           s = si::fuzz::setFuzzedLivePose(crowd, h, palette(), in);
         } else {
-          s = crowd.clearLivePose(h);
+          s = crowd.clearLivePose(h, in.u8() < 128 ? 0.0 : in.f64());
         }
         break;
       }

@@ -54,13 +54,14 @@ inline void fuzzLocalPose(const CrowdManager& crowd, InstanceHandle h, const Ske
 }
 
 // setLivePose with a pose of the palette's joint count give or take one, its matrices sometimes
-// holding a hostile value anywhere (the last row included).
+// holding a hostile value anywhere (the last row included), handed over from the clip at once or
+// over a hostile blend.
 inline Status setFuzzedLivePose(CrowdManager& crowd, InstanceHandle h, const BakedPalette& palette,
                                 Input& in) {
   std::vector<glm::mat4> pose(palette.palette_joints.size() + in.u8() % 3 - 1, glm::mat4(1.0f));
   for (glm::mat4& m : pose)
     if (in.u8() < 64) m[in.u8() % 4][in.u8() % 4] = in.f32();
-  return crowd.setLivePose(h, pose);
+  return crowd.setLivePose(h, pose, in.u8() < 128 ? 0.0 : in.f64());
 }
 
 }  // namespace si::fuzz

@@ -1,9 +1,11 @@
 // SkinnedInstancing — SPDX-License-Identifier: MIT (see LICENSE)
 // Live poses drawn (CrowdManager::setLivePose): an instance posed with the matrices of a baked
 // frame draws exactly what an instance playing that frame draws, on the vertex-shader and
-// compute paths and the ES profile; the paths that do not draw live poses yet refuse by name.
+// compute paths and the ES profile; a hand-over from the clip half-way draws as a crossfade
+// half-way to that frame; the paths that do not draw live poses yet refuse by name.
 #include <gtest/gtest.h>
 
+#include <cstdio>
 #include <vector>
 
 #include "render/render_fixture.h"
@@ -44,6 +46,56 @@ class LivePoseRenderTest : public RenderTest {
     }
     ASSERT_TRUE(crowd->update(0.1, rowCamera()).isOk());
   }
+  // The row with its middle instance holding "walk" (speed 0) half-way through a 0.2 s blend
+  // towards "wave"'s frame 0: as a live pose handed over to (`twin` false), or as a crossfade
+  // to the clip held at that frame (`twin` true).
+  void makeHalfway(CrowdManager* crowd, bool twin) {
+    const BakedPalette& p = palette();
+    CrowdDesc cd;
+    cd.palette = &p;
+    cd.sub_mesh_count = 4;
+    cd.lod_count = 3;
+    cd.live_pose_capacity = 1;
+    ASSERT_TRUE(crowd->init(cd).isOk());
+    const uint32_t walk = uint32_t(p.findClip("walk")), wave = uint32_t(p.findClip("wave"));
+    for (int k = 0; k < 3; ++k) {
+      InstanceDesc d;
+      d.position = glm::dvec3(1.2 * (k - 1), 0.0, 0.0);
+      d.clip = walk;
+      d.time_seconds = 0.2 * k;
+      d.speed = 0.0f;
+      InstanceHandle h;
+      ASSERT_TRUE(crowd->add(d, &h).isOk());
+      if (k != 1) continue;
+      if (twin) {
+        ASSERT_TRUE(crowd->crossfade(h, wave, 0.2, 0.0).isOk());
+        continue;
+      }
+      std::vector<glm::mat4> pose(p.palette_joints.size());
+      for (uint32_t slot = 0; slot < pose.size(); ++slot)
+        pose[slot] = decodeJoint(p, wave, 0, slot);
+      ASSERT_TRUE(crowd->setLivePose(h, pose, 0.2).isOk());
+    }
+    ASSERT_TRUE(crowd->update(0.1, rowCamera()).isOk());
+  }
+  // On `path`: a hand-over half-way draws as the crossfade half-way (to the rounding of the
+  // blend's two orders), unlike the pose alone and the clip alone.
+  void expectHandOverDraws(Renderer& r, Path path) {
+    CrowdManager halfway, crossfade, posed, playing;
+    makeHalfway(&halfway, false);
+    makeHalfway(&crossfade, true);
+    makeRow(&posed, true, false);
+    makeRow(&playing, false, false);
+    const std::vector<uint8_t> handed = draw(r, halfway, rowCamera(), 0, false, nullptr, path);
+    const std::vector<uint8_t> faded = draw(r, crossfade, rowCamera(), 0, false, nullptr, path);
+    const std::vector<uint8_t> live = draw(r, posed, rowCamera(), 0, false, nullptr, path);
+    const std::vector<uint8_t> clip = draw(r, playing, rowCamera(), 0, false, nullptr, path);
+    const size_t off = differingPixels(handed, faded);
+    std::printf("hand-over vs crossfade: %zu pixels differ\n", off);
+    EXPECT_LE(off, 8u);
+    EXPECT_GT(differingPixels(handed, live), 200u);
+    EXPECT_GT(differingPixels(handed, clip), 200u);
+  }
   // On `path`: the posed crowd draws its twin's image exactly and the clip's image not, and
   // another posed crowd of the character, drawn before and between, never shows.
   void expectPosesDraw(Renderer& r, Path path) {
@@ -80,6 +132,10 @@ TEST_P(LivePoseRenderTest, APoseDrawsAsTheFrameItHolds) {
   for (Path path : {Path::kInstanced, Path::kCompute}) {
     SCOPED_TRACE(path == Path::kCompute ? "compute" : "vertex shader");
     expectPosesDraw(r, path);
+  }
+  for (Path path : {Path::kInstanced, Path::kCompute}) {
+    SCOPED_TRACE(path == Path::kCompute ? "compute, hand-over" : "vertex shader, hand-over");
+    expectHandOverDraws(r, path);
   }
   CrowdManager posed;
   makeRow(&posed, true, false);

@@ -17,6 +17,7 @@
 
 #include <vector>
 
+#include "si/core/baked_palette.h"
 #include "si/core/clip.h"
 #include "si/core/skeleton.h"
 #include "si/core/skinned_mesh.h"
@@ -85,6 +86,13 @@ Status evaluateRestPose(const Skeleton& skeleton, ReferencePose* pose);
 /// (kCountMismatch otherwise). The skeleton is assumed valid.
 Status composePose(const Skeleton& skeleton, Span<const TransformD> local,
                    Span<glm::dmat4> out_model, Span<glm::dmat4> out_skinning);
+/// The skinning matrices `palette` stores, from one per skeleton joint (composePose's): the
+/// palette's joints (BakedPalette::palette_joints, in that order) in float, as
+/// CrowdManager::setLivePose takes them. kCountMismatch when `skinning` does not hold one
+/// matrix per joint the palette was baked from, or `out` one per palette joint; kOutOfRange
+/// for a palette joint past them (a palette that fails its validate()).
+Status paletteSkinning(const BakedPalette& palette, Span<const glm::dmat4> skinning,
+                       Span<glm::mat4> out);
 
 /// The inverse of composePose(): the local transforms whose composition gives `model` (one
 /// model-space joint matrix per joint): each joint's matrix relative to its parent's as

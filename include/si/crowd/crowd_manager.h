@@ -252,24 +252,29 @@ class CrowdManager {
   // ---- Live poses: the engine poses the instance (IK, ragdoll, procedural, its own runtime) ----
   /// From the next selection on, the instance draws `skinning` (one model-space skinning
   /// matrix per palette joint, in BakedPalette::palette_joints order: joint model matrix times
-  /// inverse bind, as the palette stores them; si::composePose gives them from local
+  /// inverse bind, as the palette stores them; si::paletteSkinning gives them from local
   /// transforms) instead of its clip, which keeps playing underneath (its morph weights, events
   /// and root motion go on; clearLivePose() returns to it). An overlay still composes over the
-  /// pose on its mask. Call again to change the pose; it holds until then. The crowd writes the
-  /// pose in the palette's format into one of its CrowdDesc::live_pose_capacity frames
-  /// (CrowdExport::livePoseTexels) and the record points there; jointMatrix(), socketTransform()
-  /// and localPose() answer with it. si::Renderer::drawCrowd draws it (vertex-shader and
-  /// compute paths, uploading the frames after the palette's when they changed); the GPU-driven
-  /// path and the baselines refuse a crowd with live poses by name, and a posed instance's own
-  /// motion is not in its motion vectors yet (its previous record names the same frame).
-  /// kNotFound for a stale handle; kInvalidArgument for a crowd
-  /// without live pose capacity, or a matrix whose last row is not 0 0 0 1; kCountMismatch for
-  /// a count other than the palette's joints; kNotFinite for a matrix that is not finite or
+  /// pose on its mask. Call again to change the pose; it holds until then. From the clip, the
+  /// pose fades in over `blend_seconds` (0: at once), blended per joint with the clip as a
+  /// crossfade is; while it fades out (clearLivePose), it fades in again from where it is; a
+  /// pose already in is just changed. The crowd writes the pose in the palette's format into
+  /// one of its CrowdDesc::live_pose_capacity frames (CrowdExport::livePoseTexels) and the
+  /// record points there; jointMatrix(), socketTransform() and localPose() answer with it.
+  /// si::Renderer::drawCrowd draws it (vertex-shader and compute paths, uploading the frames
+  /// after the palette's when they changed); the GPU-driven path and the baselines refuse a
+  /// crowd with live poses by name, and a posed instance's own motion is not in its motion
+  /// vectors yet (its previous record names the same frame).
+  /// kNotFound for a stale handle; kInvalidArgument for a crowd without live pose capacity, a
+  /// negative or non-finite blend, or a matrix whose last row is not 0 0 0 1; kCountMismatch
+  /// for a count other than the palette's joints; kNotFinite for a matrix that is not finite or
   /// past what the palette's format holds; kLimitExceeded when every live pose is taken.
-  Status setLivePose(InstanceHandle h, Span<const glm::mat4> skinning);
-  /// Back to the clip (nothing for an instance without a live pose); its frame is freed.
-  /// kNotFound for a stale handle. Removing an instance frees it too.
-  Status clearLivePose(InstanceHandle h);
+  Status setLivePose(InstanceHandle h, Span<const glm::mat4> skinning, double blend_seconds = 0.0);
+  /// Back to the clip (nothing for an instance without a live pose): the clip fades in over
+  /// the last pose set in `blend_seconds` (0: at once), and the pose's frame is freed when it
+  /// is in (at the first update() or advance() past the blend). kNotFound for a stale handle,
+  /// kInvalidArgument for a negative or non-finite blend. Removing an instance frees it too.
+  Status clearLivePose(InstanceHandle h, double blend_seconds = 0.0);
   /// The instance's pose as drawn now (as jointMatrix() computes it: crossfade, overlay and
   /// animation-LOD steps included), as local joint transforms of `skeleton` (the one the
   /// palette was baked from) in the instance's model space: what an engine's IK, look-at
