@@ -176,6 +176,7 @@ si::Status DemoScene::buildCrowd() {
   cd.sub_mesh_count = uint32_t(character_.mesh.sub_meshes.size());
   cd.lod_count = uint32_t(character_.mesh.maxLodCount());
   cd.previous_records = true;  // Motion vectors (key X) may be turned on at any frame.
+  cd.live_pose_capacity = kLookers + 8;  // Key G: the lookers and the fallers.
   si::Status s;
   if (options_.lod_pixels > 0.0f) {
     cd.lod_mode = si::LodMode::kScreenError;
@@ -238,6 +239,9 @@ si::Status DemoScene::buildCrowd() {
   rc.required_mask = options_.model.empty() ? 1u : all;
   rc.optional_mask = options_.model.empty() ? 0xEu : 0u;
   handles_.clear();
+  looking_.clear();  // The new crowd holds no live poses.
+  falling_.clear();
+  falls_.clear();
   s = crowd_.addRandom(rc, &handles_);
   if (!s.isOk()) return s;
   starts_ = positions;
@@ -250,6 +254,7 @@ si::Status DemoScene::buildCrowd() {
   }
   s = applyProps();
   if (s.isOk() && options_.blend) s = applyBlend(0.0);
+  if (s.isOk() && options_.live) s = applyLive();
   if (!s.isOk()) return s;
   return options_.layers ? applyLayers(0.0) : s;
 }
@@ -306,10 +311,25 @@ si::Status DemoScene::measureMotion(const si::Camera& camera) {
 si::Status DemoScene::frame(double dt, const si::Camera& camera, si::DrawStats* stats) {
   const auto start = std::chrono::steady_clock::now();
   si::Status s = moveBlends();
-  if (s.isOk()) s = crowd_.update(dt, camera);
-  if (s.isOk() && mixed_) s = cast_.update(dt, camera);
+  if (s.isOk() && options_.live &&
+      (path_ == DrawPath::kTraditional || path_ == DrawPath::kCpuSkinned)) {
+    std::printf("live poses off: the %s baseline does not draw them\n", drawPathName(path_));
+    s = toggleLive();
+  }
   last_events_ = 0;
-  for (const si::AnimationEvent& e : crowd_.events()) last_events_ += e.count;
+  const auto count_events = [&] {
+    for (const si::AnimationEvent& e : crowd_.events()) last_events_ += e.count;
+  };
+  if (s.isOk() && options_.live) {  // Advance, write the live poses, select.
+    s = crowd_.advance(dt);
+    if (s.isOk()) count_events();
+    if (s.isOk()) s = poseLive(camera);
+    if (s.isOk()) s = crowd_.update(0.0, camera);
+  } else if (s.isOk()) {
+    s = crowd_.update(dt, camera);
+    if (s.isOk()) count_events();
+  }
+  if (s.isOk() && mixed_) s = cast_.update(dt, camera);
   events_since_on_ += last_events_;
   update_ms_ =
       std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();

@@ -12,6 +12,7 @@
 #include "demo_shadows.h"
 #include "si/bake/animation_baker.h"
 #include "si/core/core.h"
+#include "si/core/look_at.h"
 #include "si/crowd/crowd_manager.h"
 #include "si/crowd/instance_batcher.h"
 #include "si/gl/motion_target.h"
@@ -50,6 +51,9 @@ struct SceneOptions {
   // face_targets.h), their weights animated by every clip, each on its own phase.
   uint32_t faces = 0;
   bool close_up = false;                  // The headless camera among the first rows' faces.
+  // Live poses (key G): the nearest characters turn their heads to the camera, and one falls
+  // and gets up every two seconds (demo_live.cpp).
+  bool live = false;
   std::string layer_root = "r_clavicle";  // The overlay's branch root joint.
   std::string layer_clip = "wave";        // The overlay clip.
 };
@@ -124,6 +128,15 @@ class DemoScene {
   /// Blend space on/off: every other character walks and runs by a speed drifting over time
   /// (demo_blend.cpp); off, they crossfade back to the walk.
   si::Status toggleBlend();
+  /// Live poses on/off: the characters nearest the camera (up to kLookers, within 12 m) turn
+  /// their heads to it, and every two seconds one of them falls flat and gets back up, all
+  /// drawn in the crowd's batches (demo_live.cpp); off, they hand back to their clips. The
+  /// baseline paths (traditional, cpu-skinned) draw no live poses: turned off there.
+  si::Status toggleLive();
+  bool live() const { return options_.live; }
+  /// Characters looking at the camera, and falling, in the last frame.
+  uint32_t looking() const { return options_.live ? looking_count_ : 0; }
+  uint32_t falling() const { return options_.live ? uint32_t(falls_.size()) : 0; }
   /// The size of the framebuffer frames are drawn to (the motion target's).
   void setViewportSize(uint32_t width, uint32_t height) {
     viewport_width_ = width;
@@ -216,6 +229,23 @@ class DemoScene {
   float blendParameter(size_t i) const;
   uint32_t blending_ = 0;
   uint32_t overlays_ = 0;
+  /// Starts (live on) or ends (off) the live poses; sets them each frame between the crowd's
+  /// advance and its selection (demo_live.cpp).
+  si::Status applyLive();
+  si::Status poseLive(const si::Camera& camera);
+  si::Status setLive(size_t i, const std::vector<glm::dmat4>& skinning);
+  static constexpr uint32_t kLookers = 24;
+  struct Fall {
+    size_t index;                  // Into handles_.
+    double start;                  // Crowd clock of the trip.
+    std::vector<glm::dmat4> pose;  // Its skinning matrices at the trip.
+  };
+  si::LookAt look_;
+  std::vector<uint8_t> looking_, falling_;  // Per handles_ entry.
+  std::vector<Fall> falls_;
+  std::vector<glm::mat4> live_slots_;
+  double next_fall_ = 0.0;
+  uint32_t falls_started_ = 0, looking_count_ = 0;
   /// The embedded character's travelling clips, added and baked (then re-uploaded).
   si::Status addTravellingClips();
 

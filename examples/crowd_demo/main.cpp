@@ -79,6 +79,9 @@ void usage(std::FILE* f) {
       "--lod-pixels, 1 if not given); not with --motion-vectors (key X is then off), and the\n"
       "baseline paths draw none. --impostor-atlas small: 8 azimuths, 2 elevations, 4 frames per\n"
       "clip (full: si::ImpostorDesc's defaults).\n"
+      "--live poses the characters nearest the camera live (setLivePose): they turn their\n"
+      "heads to it (a look-at on their baked pose), and every two seconds one falls flat and\n"
+      "gets back up into its clip, each handed over from its clip and back (key G).\n"
       "--faces N gives the character N face-like morph targets (1 to 256; not with --palette):\n"
       "bumps over sectors of the head (what is weighted to the first joint whose name ends in\n"
       "\"head\", else what rises above 85 %% of the height), animated by every clip, each on its\n"
@@ -136,6 +139,8 @@ bool parse(int argc, char** argv, Options* o) {
       o->scene.faces = uint32_t(n);
     } else if (a == "--close-up") {
       o->scene.close_up = true;
+    } else if (a == "--live") {
+      o->scene.live = true;
     } else if (a == "--mix" && has) {
       o->scene.mix = si::examples::splitList(argv[++i]);
       if (std::string(argv[i]) == "samples") o->scene.mix = demo::defaultMix();
@@ -202,6 +207,9 @@ void printStats(const demo::DemoScene& scene, const si::DrawStats& stats, double
     std::printf("%-28s %12u\n", "layers: overlays playing", scene.overlays());
   if (scene.props()) std::printf("%-28s %12u\n", "props: staffs held", scene.propsHeld());
   if (scene.blend()) std::printf("%-28s %12u\n", "blend: characters blending", scene.blending());
+  if (scene.live())
+    std::printf("%-28s %12u looking, %u falling\n", "live poses:", scene.looking(),
+                scene.falling());
   if (scene.palette().layout.morph_target_count > 0)
     std::printf("%-28s %12u\n", "faces: morph targets baked",
                 scene.palette().layout.morph_target_count);

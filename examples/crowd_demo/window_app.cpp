@@ -43,6 +43,8 @@ constexpr char kHelp[] =
     "              what it plays (an overlay on the arm's joints, fading in and out)\n"
     "  B           blend space on/off: every other character walks and runs by a speed that\n"
     "              drifts over time (the walk and the run blended in local space, in step)\n"
+    "  G           live poses on/off: the nearest characters turn their heads to the camera\n"
+    "              and one falls and gets up every two seconds, drawn in the crowd's batches\n"
     "  O           props on/off: every other character holds a staff in its left hand (a\n"
     "              prop from a glTF file at a socket; the embedded character)\n"
     "  H           shadows on/off: three cascades, each a view of the crowd culled for its\n"
@@ -140,6 +142,10 @@ class App {
       case GLFW_KEY_B:
         s = scene_->toggleBlend();
         std::printf("blend space %s\n", scene_->blend() ? "on" : "off");
+        break;
+      case GLFW_KEY_G:
+        s = scene_->toggleLive();
+        std::printf("live poses %s\n", scene_->live() ? "on" : "off");
         break;
       case GLFW_KEY_O:
         s = scene_->toggleProps();

@@ -1,7 +1,7 @@
 // SkinnedInstancing — SPDX-License-Identifier: MIT (see LICENSE)
-// CrowdManager's answers about an instance's pose as drawn (a joint's matrix, a socket's frame,
-// the whole pose as local transforms for the engine's IK or animation runtime), and the live
-// poses the engine gives it.
+// CrowdManager's answers about an instance's pose (a joint's matrix and a socket's frame as
+// drawn, the baked pose as local transforms for the engine's IK or animation runtime), and the
+// live poses the engine gives it.
 #include <algorithm>
 #include <cmath>
 #include <limits>
@@ -18,9 +18,10 @@ using detail::strCat;
 
 namespace {
 // The model-space skinning matrices of palette slots `slots` of dense instance `i` as its
-// record draws them (instance world excluded), into `out`.
+// record draws them (instance world excluded), into `out`; with `live_pose` false, its clips' alone
+// (a live pose left out).
 void drawnSkinning(const detail::CrowdState& state, const CrowdDesc& desc, uint32_t i,
-                   Span<const uint32_t> slots, Span<glm::mat4> out) {
+                   Span<const uint32_t> slots, bool live_pose, Span<glm::mat4> out) {
   const detail::InstanceStore& st = state.store;
   const BakedPalette& p = *desc.palette;
   const double clock = state.clock;
@@ -36,7 +37,7 @@ void drawnSkinning(const detail::CrowdState& state, const CrowdDesc& desc, uint3
   };
   // A live pose alone, or handing over with the clip (frame_builder.cpp's setLiveFrame): the
   // live frame as the record's clip A, the clip's playback as its clip B, the clip's weight.
-  const uint32_t live = st.live_slot[i];
+  const uint32_t live = live_pose ? st.live_slot[i] : detail::kNoLivePose;
   const float clip_weight = live != detail::kNoLivePose ? st.live.clipWeight(live, clock) : 1.0f;
   const auto base = [&](uint32_t at) {
     if (clip_weight <= 0.0f) return st.live.matrix(live, at);
@@ -79,7 +80,7 @@ Status CrowdManager::jointMatrix(InstanceHandle h, uint32_t joint, glm::dmat4* o
             strCat("jointMatrix: joint ", joint, " is not in the palette")};
   const uint32_t slot = uint32_t(p.skeleton_to_palette[joint]);
   glm::mat4 m;
-  drawnSkinning(*state_, desc_, i, Span<const uint32_t>(&slot, 1), Span<glm::mat4>(&m, 1));
+  drawnSkinning(*state_, desc_, i, Span<const uint32_t>(&slot, 1), true, Span<glm::mat4>(&m, 1));
   glm::dmat4 world(glm::mat3_cast(glm::dquat(st.rotations.get(i))) * double(st.scales[i]));
   world[3] = glm::dvec4(st.positions.get(i), 1.0);
   *out = world * glm::dmat4(m);
@@ -184,7 +185,7 @@ Status CrowdManager::localPose(InstanceHandle h, const Skeleton& skeleton,
   std::vector<glm::mat4> skinning(p.palette_joints.size());
   std::vector<uint32_t> slots(skinning.size());
   for (uint32_t k = 0; k < slots.size(); ++k) slots[k] = k;
-  drawnSkinning(*state_, desc_, i, slots, skinning);
+  drawnSkinning(*state_, desc_, i, slots, false, skinning);
   // Stored joints: their skinning matrix times their bind matrix; the others their rest
   // transform under their parent as now.
   std::vector<glm::dmat4> model(n);

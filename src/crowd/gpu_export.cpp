@@ -218,6 +218,9 @@ uint32_t CrowdExport::livePoseFirstTexel() const {
 uint64_t CrowdExport::livePoseVersion() const {
   return crowd_->state_ ? crowd_->state_->store.live.version() : 0;
 }
+uint32_t CrowdExport::livePoseCount() const {
+  return crowd_->state_ ? crowd_->state_->store.live.count() : 0;
+}
 
 bool CrowdExport::playsOverlays() const {
   return crowd_->state_ && crowd_->state_->store.overlay_count > 0;

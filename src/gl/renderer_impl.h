@@ -24,6 +24,7 @@
 #include "gl/resources/scratch_buffers.h"
 #include "gl/state/debug_chain.h"
 #include "gl/state/gl_state_guard.h"
+#include "si/crowd/crowd_export.h"
 #include "si/gl/renderer.h"
 
 namespace si {
@@ -154,13 +155,14 @@ struct Renderer::Impl {
     *out = characters[id.index].get();
     return Status::ok();
   }
-  /// kUnsupported for a crowd with live poses (CrowdDesc::live_pose_capacity) on a path that
+  /// kUnsupported for a crowd holding live poses (CrowdManager::setLivePose) on a path that
   /// does not draw them yet.
   static Status noLivePoses(const CrowdManager& crowd, const char* what) {
-    if (crowd.desc().live_pose_capacity == 0) return Status::ok();
+    const uint32_t held = CrowdExport(crowd).livePoseCount();
+    if (held == 0) return Status::ok();
     return {StatusCode::kUnsupported,
-            detail::strCat(what, ": crowds with live poses (CrowdDesc::live_pose_capacity) are ",
-                           "drawn by drawCrowd only, not yet by this path")};
+            detail::strCat(what, ": the crowd holds ", held, " live poses (setLivePose), which ",
+                           "drawCrowd draws and this path does not yet")};
   }
   /// The same for a view: kInvalidArgument when it is not attached to a crowd.
   Status find(CharacterId id, const char* what, detail::CharacterSlot** out, const CrowdView& view) {

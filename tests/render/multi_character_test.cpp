@@ -231,21 +231,36 @@ TEST_P(MultiCharacterTest, IdsAndPalettesAreChecked) {
     EXPECT_EQ(unknown.code(), StatusCode::kInvalidArgument);
     EXPECT_NE(unknown.message().find("no character 7"), std::string::npos) << unknown.message();
   }
-  // A crowd with live poses: drawn by drawCrowd, refused by name on the other paths.
+  // A crowd holding live poses: drawn by drawCrowd, refused by name on the other paths, which
+  // draw it again once none is held.
   CrowdDesc live_desc = crowd.desc();
   live_desc.live_pose_capacity = 1;
   CrowdManager live;
   ASSERT_TRUE(live.init(live_desc).isOk());
   InstanceHandle posed;
   ASSERT_TRUE(live.add(InstanceDesc{}, &posed).isOk());
-  ASSERT_TRUE(live.update(0.0, sceneCamera()).isOk());
-  for (DrawWith w : {DrawWith::kVertexShader, DrawWith::kCompute})
-    EXPECT_TRUE(drawWith(w, r, CharacterId{0}, live, batcher).isOk()) << name(w);
-  for (DrawWith w : {DrawWith::kGpuDriven, DrawWith::kTraditional, DrawWith::kCpu}) {
-    SCOPED_TRACE(name(w));
-    const Status refused = drawWith(w, r, CharacterId{0}, live, batcher);
-    EXPECT_EQ(refused.code(), StatusCode::kUnsupported);
-    EXPECT_NE(refused.message().find("live poses"), std::string::npos) << refused.message();
+  const BakedPalette& lp = *live_desc.palette;
+  std::vector<glm::mat4> pose(lp.palette_joints.size());
+  for (uint32_t slot = 0; slot < pose.size(); ++slot) pose[slot] = decodeJoint(lp, 0, 0, slot);
+  for (const bool held : {true, false}) {
+    SCOPED_TRACE(held ? "a live pose held" : "none held");
+    if (held)
+      ASSERT_TRUE(live.setLivePose(posed, pose).isOk());
+    else
+      ASSERT_TRUE(live.clearLivePose(posed).isOk());
+    ASSERT_TRUE(live.update(0.0, sceneCamera()).isOk());
+    for (DrawWith w : {DrawWith::kVertexShader, DrawWith::kCompute})
+      EXPECT_TRUE(drawWith(w, r, CharacterId{0}, live, batcher).isOk()) << name(w);
+    for (DrawWith w : {DrawWith::kGpuDriven, DrawWith::kTraditional, DrawWith::kCpu}) {
+      SCOPED_TRACE(name(w));
+      const Status drawn = drawWith(w, r, CharacterId{0}, live, batcher);
+      if (!held) {
+        EXPECT_TRUE(drawn.isOk()) << drawn.message();
+        continue;
+      }
+      EXPECT_EQ(drawn.code(), StatusCode::kUnsupported);
+      EXPECT_NE(drawn.message().find("holds 1 live poses"), std::string::npos) << drawn.message();
+    }
   }
   CrowdManager crowd1;
   populate(*kinds[1], 1, 2, &crowd1);

@@ -103,6 +103,8 @@ class CrowdExport {
   uint32_t livePoseFirstTexel() const;
   /// Changes whenever the live texels do (a renderer uploads them again when it has moved).
   uint64_t livePoseVersion() const;
+  /// Live poses held now (those handing back to their clips included).
+  uint32_t livePoseCount() const;
 
   /// The selection parameters of `view` for `camera`: the crowd's LOD lines and far line with
   /// the view's rules applied (CrowdViewDesc), what CrowdView::select() uses. Default

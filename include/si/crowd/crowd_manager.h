@@ -260,7 +260,7 @@ class CrowdManager {
   /// crossfade is; while it fades out (clearLivePose), it fades in again from where it is; a
   /// pose already in is just changed. The crowd writes the pose in the palette's format into
   /// one of its CrowdDesc::live_pose_capacity frames (CrowdExport::livePoseTexels) and the
-  /// record points there; jointMatrix(), socketTransform() and localPose() answer with it.
+  /// record points there; jointMatrix() and socketTransform() answer with it.
   /// si::Renderer::drawCrowd draws it (vertex-shader and compute paths, uploading the frames
   /// after the palette's when they changed); the GPU-driven path and the baselines refuse a
   /// crowd with live poses by name, and a posed instance's own motion is not in its motion
@@ -275,14 +275,15 @@ class CrowdManager {
   /// is in (at the first update() or advance() past the blend). kNotFound for a stale handle,
   /// kInvalidArgument for a negative or non-finite blend. Removing an instance frees it too.
   Status clearLivePose(InstanceHandle h, double blend_seconds = 0.0);
-  /// The instance's pose as drawn now (as jointMatrix() computes it: crossfade, overlay and
-  /// animation-LOD steps included), as local joint transforms of `skeleton` (the one the
-  /// palette was baked from) in the instance's model space: what an engine's IK, look-at
-  /// (si::applyLookAt, si/core/look_at.h) or animation runtime starts from; si::composePose
-  /// gives its matrices back. Stored joints are read from the palette (a blended matrix's shear
-  /// dropped: si::decomposePose); joints the palette leaves out (no vertex weighted to them)
-  /// hold their rest transform. kNotFound for a stale handle; kInvalidArgument for a skeleton
-  /// of another joint count or one that does not validate; kCountMismatch for `out` not of
+  /// The instance's baked pose now (its clips as jointMatrix() computes them: crossfade,
+  /// overlay and animation-LOD steps included; a live pose left out, so that what an engine
+  /// sets from it each frame does not feed back), as local joint transforms of `skeleton` (the
+  /// one the palette was baked from) in the instance's model space: what an engine's IK,
+  /// look-at (si::applyLookAt, si/core/look_at.h) or animation runtime starts from;
+  /// si::composePose gives its matrices back. Stored joints are read from the palette (a blended
+  /// matrix's shear dropped: si::decomposePose); joints the palette leaves out (no vertex weighted
+  /// to them) hold their rest transform. kNotFound for a stale handle; kInvalidArgument for a
+  /// skeleton of another joint count or one that does not validate; kCountMismatch for `out` not of
   /// its joint count.
   Status localPose(InstanceHandle h, const Skeleton& skeleton, Span<TransformD> out) const;
 
