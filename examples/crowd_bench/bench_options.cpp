@@ -7,6 +7,7 @@
 #include <string>
 
 #include "common/example_options.h"
+#include "si/crowd/crowd_desc.h"
 
 namespace si::bench {
 
@@ -86,6 +87,8 @@ void printUsage(std::FILE* f) {
       "                   [--views-lod-bias B] (its cascades' LOD bias, 0 to 7; default 1)\n"
       "                   [--crowds N,M,...] (the several-crowds table: N crowds of each size\n"
       "                   of one character, GPU-driven, frame time and GPU memory)\n"
+      "                   [--live N,M,...] (the live poses table: N instances posed every\n"
+      "                   frame by setLivePose, against none, instanced and compute paths)\n"
       "                   [--churn F,F,...] (the churn table: a share F removed and added each\n"
       "                   frame, GPU-driven in 4 views, against none)\n"
       "                   [--no-gpu-time] (no blocking timer queries: CPU columns only;\n"
@@ -178,6 +181,13 @@ bool parseOptions(int argc, char** argv, Options* o) {
         const unsigned long n = std::stoul(v);
         if (n < 1 || n > 16) return false;  // GpuCulledCrowds keeps 16 per character.
         o->crowds.push_back(uint32_t(n));
+      }
+    } else if (a == "--live" && has) {
+      o->live.clear();
+      for (const std::string& v : si::examples::splitList(argv[++i])) {
+        const unsigned long n = std::stoul(v);
+        if (n < 1 || n > si::CrowdDesc::kMaxLivePoses) return false;
+        o->live.push_back(uint32_t(n));
       }
     } else if (a == "--views-lod-bias" && has) {
       const unsigned long n = std::stoul(argv[++i]);

@@ -58,6 +58,7 @@ struct Options {
   std::vector<uint32_t> views;   // The views table's view counts; empty: no views table.
   uint32_t views_lod_bias = 1;   // Its cascades' CrowdViewDesc::lod_bias.
   std::vector<uint32_t> crowds;  // The several-crowds table's crowd counts; empty: no table.
+  std::vector<uint32_t> live;    // The live poses table's posed counts; empty: no table.
   std::vector<double> churn;     // The churn table's shares; empty: no table.
 };
 

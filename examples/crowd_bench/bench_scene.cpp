@@ -81,9 +81,10 @@ Camera cameraAt(const Setup& setup, const std::string& scene,
 
 Status makeCrowd(const Setup& setup, const BakedPalette& palette,
                  const std::vector<glm::dvec3>& positions, const LodChoice& lod,
-                 CrowdManager* crowd, std::vector<InstanceHandle>* handles,
-                 uint32_t sub_mesh_count) {
+                 CrowdManager* crowd, std::vector<InstanceHandle>* handles, uint32_t sub_mesh_count,
+                 uint32_t live_poses) {
   CrowdDesc cd;
+  cd.live_pose_capacity = live_poses;
   cd.palette = &palette;
   cd.sub_mesh_count =
       sub_mesh_count > 0 ? sub_mesh_count : uint32_t(setup.character.mesh.sub_meshes.size());

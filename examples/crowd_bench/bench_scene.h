@@ -58,11 +58,11 @@ Camera cameraAt(const Setup& setup, const std::string& scene,
 
 /// A crowd of random instances at `positions` (scenePositions()), LODs chosen by `lod`; their
 /// handles in `handles` when it is not null. `sub_mesh_count` 0: the character's (more for a
-/// character with props attached).
+/// character with props attached); room for `live_poses` live poses.
 Status makeCrowd(const Setup& setup, const BakedPalette& palette,
                  const std::vector<glm::dvec3>& positions, const LodChoice& lod,
                  CrowdManager* crowd, std::vector<InstanceHandle>* handles = nullptr,
-                 uint32_t sub_mesh_count = 0);
+                 uint32_t sub_mesh_count = 0, uint32_t live_poses = 0);
 
 /// Paths whose culling and LOD selection run on the GPU (gpu-culled, gpu-driven, and both with
 /// two-phase occlusion culling: gpu-culled-occlusion, gpu-driven-occlusion).

@@ -21,6 +21,7 @@
 #include "crowd_bench/churn_table.h"
 #include "crowd_bench/crowds_table.h"
 #include "crowd_bench/layers_table.h"
+#include "crowd_bench/live_poses_table.h"
 #include "crowd_bench/lod_quality.h"
 #include "crowd_bench/materials_table.h"
 #include "crowd_bench/mixed_scene.h"
@@ -287,6 +288,10 @@ int main(int argc, char** argv) {
   if (b.o.blend) {
     s = si::bench::blendPropsTable(b.setup, palette, rd, b.o.sizes, b.o.paths, csv);
     if (!s.isOk()) return fail("blend", s);
+  }
+  if (!b.o.live.empty()) {
+    s = si::bench::livePosesTable(b.setup, palette, rd, b.o.sizes, b.o.live, b.o.paths, csv);
+    if (!s.isOk()) return fail("live", s);
   }
 
   // Speed against error: each bake configuration, on the field, drawn by --error-path (none

@@ -115,17 +115,22 @@ Status CrowdManager::setLivePose(InstanceHandle h, Span<const glm::mat4> skinnin
                    p.palette_joints.size(), " joints (BakedPalette::palette_joints)")};
   const float range =
       p.format == PaletteFormat::kMatrix3x4F16 ? 65504.0f : std::numeric_limits<float>::max();
+  // Checked without a branch per value (the poses of a thousand instances a frame pass here);
+  // the first bad matrix is then looked at again to name what is wrong with it.
   for (size_t k = 0; k < skinning.size(); ++k) {
     const glm::mat4& m = skinning[k];
+    bool bad = m[0][3] != 0.0f || m[1][3] != 0.0f || m[2][3] != 0.0f || m[3][3] != 1.0f;
+    for (int c = 0; c < 4; ++c)
+      for (int r = 0; r < 3; ++r) bad |= !(std::fabs(m[c][r]) <= range);
+    if (!bad) continue;
     for (int c = 0; c < 4; ++c)
       for (int r = 0; r < 3; ++r)
         if (!(std::fabs(m[c][r]) <= range))
           return {StatusCode::kNotFinite,
                   strCat("setLivePose: matrix ", k, " holds ", m[c][r], ", which the palette's ",
                          paletteFormatName(p.format), " texels do not")};
-    if (m[0][3] != 0.0f || m[1][3] != 0.0f || m[2][3] != 0.0f || m[3][3] != 1.0f)
-      return {StatusCode::kInvalidArgument,
-              strCat("setLivePose: matrix ", k, "'s last row is not 0 0 0 1")};
+    return {StatusCode::kInvalidArgument,
+            strCat("setLivePose: matrix ", k, "'s last row is not 0 0 0 1")};
   }
   const double clock = state_->clock;
   uint32_t slot = st.live_slot[i];
@@ -139,9 +144,11 @@ Status CrowdManager::setLivePose(InstanceHandle h, Span<const glm::mat4> skinnin
   }
   // The morph weights of the clip's frame at the crowd clock (the clip plays on underneath).
   const detail::Playback& pb = st.playback[i];
-  const BakedClip& clip = p.clips[pb.clip];
-  const FrameSample f = sampleFrames(clip, detail::localTime(pb, state_->clips[pb.clip], clock));
-  st.live.write(slot, skinning, p.layout.frameTexel(pb.clip, f.frame));
+  uint32_t weights_frame = 0;
+  if (p.layout.morph_target_count > 0)
+    weights_frame =
+        sampleFrames(p.clips[pb.clip], detail::localTime(pb, state_->clips[pb.clip], clock)).frame;
+  st.live.write(slot, skinning, p.layout.frameTexel(pb.clip, weights_frame));
   st.changed(i);
   return Status::ok();
 }

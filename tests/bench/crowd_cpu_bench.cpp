@@ -1,6 +1,7 @@
 // SkinnedInstancing — SPDX-License-Identifier: MIT (see LICENSE)
 // The full per-frame CPU path of the crowd: update (time, LOD, cull, bucket, records) plus
-// batching (records copied into uniform-block batches, or zero-copy spans), on 1 to 16 threads.
+// batching (records copied into uniform-block batches, or zero-copy spans), on 1 to 16 threads;
+// moving blend parameters, live poses set, the GPU-driven path's share of churn.
 // Items are instances: items_per_second^-1 is the wall time per instance. Not part of ctest.
 // Run: build/release/tests/bench/si_crowd_cpu_bench --benchmark_filter='threads:(1|2)/'
 // (more threads than cores only measures oversubscription).
@@ -62,7 +63,8 @@ const si::LayerMask& armMask() {
 // every instance crossfading into another clip (a 1000 s fade: it never ends while timed); 5 as
 // 0 with animation-LOD stepping from LOD 1 (CrowdDesc::animation_lod_start).
 std::unique_ptr<si::CrowdManager> field(int64_t count, float max_distance_radii, uint32_t threads,
-                                        int64_t motion, bool previous_records) {
+                                        int64_t motion, bool previous_records,
+                                        uint32_t live_poses = 0) {
   auto crowd = std::make_unique<si::CrowdManager>();
   si::CrowdDesc d;
   d.palette = &palette(motion == 1 || motion == 2, motion == 3);
@@ -71,6 +73,7 @@ std::unique_ptr<si::CrowdManager> field(int64_t count, float max_distance_radii,
   d.max_distance_radii = max_distance_radii;
   d.worker_threads = threads;
   d.previous_records = previous_records;
+  d.live_pose_capacity = live_poses;
   if (motion == 5) d.animation_lod_start = 1;
   if (!crowd->init(d).isOk()) std::abort();
   const int64_t side = int64_t(std::ceil(std::sqrt(double(count))));
@@ -226,6 +229,56 @@ BENCHMARK(moveBlends)
     ->Arg(10000)
     ->Arg(100000)
     ->ArgName("instances")
+    ->Unit(benchmark::kMillisecond)
+    ->UseRealTime();
+
+// Live poses (CrowdManager::setLivePose; docs/crowd.md, "Live poses"): each iteration advances
+// the clock, gives `live` instances of a field of 100,000 (every tenth) a new pose of the
+// embedded character's 21 palette joints (a baked frame's matrices, another one each time:
+// every live frame written), then selects at the new clock (update(0)), the frame order an
+// engine follows. set_ms: the poses' share per iteration; select_ms: the selection's;
+// ns_per_pose: one setLivePose call. Compare select_ms with live 0 for what posed instances
+// add to the selection.
+void livePoses(benchmark::State& state) {
+  const int64_t count = 100000, live = state.range(0);
+  auto crowd = field(count, -1.0f, 1, 0, false, uint32_t(std::max<int64_t>(live, 1)));
+  std::vector<si::InstanceHandle> handles;
+  std::vector<si::GpuInstanceState> states;
+  si::CrowdExport(*crowd).state(&states, &handles);
+  const si::BakedPalette& p = palette();
+  std::vector<std::vector<glm::mat4>> poses(16, std::vector<glm::mat4>(p.palette_joints.size()));
+  for (uint32_t k = 0; k < poses.size(); ++k)
+    for (uint32_t j = 0; j < p.palette_joints.size(); ++j)
+      poses[k][j] = si::decodeJoint(p, 0, k % p.clips[0].frame_count, j);
+  const si::Camera camera =
+      si::Camera::lookAt({237.0, 9.0, -7.0}, {237.0, 0.0, 45.0}, glm::vec3(0, 1, 0), 0.9f,
+                         16.0f / 9.0f, 0.2f, 2000.0f);
+  double set_ms = 0.0, select_ms = 0.0;
+  uint32_t frame = 0;
+  for (auto _ : state) {
+    if (!crowd->advance(1.0 / 60.0).isOk()) std::abort();
+    ++frame;
+    const auto t0 = std::chrono::steady_clock::now();
+    for (int64_t k = 0; k < live; ++k)
+      if (!crowd->setLivePose(handles[size_t(k) * 10], poses[(size_t(k) + frame) % poses.size()])
+               .isOk())
+        std::abort();
+    const auto t1 = std::chrono::steady_clock::now();
+    if (!crowd->update(0.0, camera).isOk()) std::abort();
+    const auto t2 = std::chrono::steady_clock::now();
+    set_ms += std::chrono::duration<double, std::milli>(t1 - t0).count();
+    select_ms += std::chrono::duration<double, std::milli>(t2 - t1).count();
+  }
+  const double n = double(state.iterations());
+  state.counters["set_ms"] = set_ms / n;
+  state.counters["select_ms"] = select_ms / n;
+  state.counters["ns_per_pose"] = live > 0 ? set_ms * 1e6 / (n * double(live)) : 0.0;
+}
+BENCHMARK(livePoses)
+    ->Arg(0)
+    ->Arg(1000)
+    ->Arg(10000)
+    ->ArgName("live")
     ->Unit(benchmark::kMillisecond)
     ->UseRealTime();
 
