@@ -148,7 +148,7 @@ Status CrowdManager::setLivePose(InstanceHandle h, Span<const glm::mat4> skinnin
   if (p.layout.morph_target_count > 0)
     weights_frame =
         sampleFrames(p.clips[pb.clip], detail::localTime(pb, state_->clips[pb.clip], clock)).frame;
-  st.live.write(slot, skinning, p.layout.frameTexel(pb.clip, weights_frame));
+  st.live.write(slot, skinning, p.layout.frameTexel(pb.clip, weights_frame), state_->steps);
   st.changed(i);
   return Status::ok();
 }

@@ -17,6 +17,8 @@ Status LivePoses::reset(const BakedPalette* palette, uint32_t capacity) {
   free_.clear();
   fades_.clear();
   owners_.clear();
+  sides_.clear();
+  written_.clear();
   fading_out_ = 0;
   texels_.clear();
   ++version_;
@@ -27,11 +29,12 @@ Status LivePoses::reset(const BakedPalette* palette, uint32_t capacity) {
                    paletteFormatName(palette->format))};
   const PaletteLayout& l = palette->layout;
   const uint64_t first = l.textureTexelCount();
-  const uint64_t texels = uint64_t(capacity) * l.frame_stride_texels;
+  const uint64_t texels = 2 * uint64_t(capacity) * l.frame_stride_texels;  // Two frames each.
   if (first + texels > 0xFFFFFFFFull)
-    return {StatusCode::kLimitExceeded,
-            strCat("CrowdDesc.live_pose_capacity: ", capacity, " poses of ", l.frame_stride_texels,
-                   " texels after the palette's ", first, " pass 2^32 texels")};
+    return {
+        StatusCode::kLimitExceeded,
+        strCat("CrowdDesc.live_pose_capacity: ", capacity, " poses of 2 x ", l.frame_stride_texels,
+               " texels after the palette's ", first, " pass 2^32 texels")};
   capacity_ = capacity;
   first_texel_ = uint32_t(first);
   stride_ = l.frame_stride_texels;
@@ -39,6 +42,8 @@ Status LivePoses::reset(const BakedPalette* palette, uint32_t capacity) {
   for (uint32_t k = 0; k < capacity; ++k) free_[k] = capacity - 1 - k;  // Slot 0 first.
   fades_.resize(capacity);
   owners_.resize(capacity);
+  sides_.assign(capacity, 0);
+  written_.assign(capacity, kNever);
   texels_.assign(size_t(texels) * bytesPerTexel(palette->format), 0);
   return Status::ok();
 }
@@ -52,6 +57,7 @@ Status LivePoses::take(InstanceHandle owner, uint32_t* slot) {
   free_.pop_back();
   fades_[*slot] = Fade();
   owners_[*slot] = owner;
+  written_[*slot] = kNever;  // Its first write stays on the current frame: nothing named it.
   return Status::ok();
 }
 
@@ -81,10 +87,13 @@ void LivePoses::fadedOut(double clock, std::vector<InstanceHandle>* owners) cons
     if (fadingOut(slot) && clipWeight(slot, clock) == 1.0f) owners->push_back(owners_[slot]);
 }
 
-void LivePoses::write(uint32_t slot, Span<const glm::mat4> skinning, uint32_t weights_frame_texel) {
+void LivePoses::write(uint32_t slot, Span<const glm::mat4> skinning, uint32_t weights_frame_texel,
+                      uint64_t step) {
   const PaletteLayout& l = palette_->layout;
   const size_t bytes = bytesPerTexel(palette_->format);
-  uint8_t* frame = texels_.data() + size_t(slot) * stride_ * bytes;
+  if (written_[slot] != kNever && written_[slot] != step) sides_[slot] ^= 1u;
+  written_[slot] = step;
+  uint8_t* frame = texels_.data() + size_t(frameTexel(slot) - first_texel_) * bytes;
   for (uint32_t j = 0; j < skinning.size(); ++j)
     for (uint32_t row = 0; row < 3; ++row)
       storeFormatTexel(palette_->format, frame, size_t(j) * l.joint_stride_texels + row,
@@ -100,8 +109,8 @@ void LivePoses::write(uint32_t slot, Span<const glm::mat4> skinning, uint32_t we
 }
 
 glm::mat4 LivePoses::matrix(uint32_t slot, uint32_t joint) const {
-  const size_t first =
-      size_t(slot) * stride_ + size_t(joint) * palette_->layout.joint_stride_texels;
+  const size_t first = size_t(frameTexel(slot) - first_texel_) +
+                       size_t(joint) * palette_->layout.joint_stride_texels;
   glm::mat4 m(1.0f);
   for (uint32_t row = 0; row < 3; ++row)
     m = glm::row(m, int(row), formatTexel(palette_->format, texels_.data(), first + row));

@@ -1,9 +1,11 @@
 // SkinnedInstancing — SPDX-License-Identifier: MIT (see LICENSE)
 #pragma once
-// Live poses (CrowdManager::setLivePose): the frames of palette texels, one per posed
+// Live poses (CrowdManager::setLivePose): the frames of palette texels, two per posed
 // instance, that the engine writes and the instances' records point at. They follow the
 // palette's texels (their first texel is the palette texture's texel count) in its format, so
-// every path reads them as it reads a baked frame. No GL.
+// every path reads them as it reads a baked frame. A slot's two frames take turns: the first
+// write of a crowd step goes to the frame the last step's records did not name, so the
+// previous records (motion vectors) still read the previous pose. No GL.
 
 #include <cstdint>
 #include <vector>
@@ -48,12 +50,18 @@ class LivePoses {
   void fadedOut(double clock, std::vector<InstanceHandle>* owners) const;
   /// Slots fading out now.
   uint32_t fadingOutCount() const { return fading_out_; }
-  /// Writes slot `slot`'s frame: `skinning` (one model-space matrix per palette joint) in the
-  /// palette's format, then the morph weights of baked frame `weights_frame_texel`.
-  void write(uint32_t slot, Span<const glm::mat4> skinning, uint32_t weights_frame_texel);
-  /// The first texel of slot `slot`'s frame, as a record's frames name it.
-  uint32_t frameTexel(uint32_t slot) const { return first_texel_ + slot * stride_; }
-  /// Palette joint `joint`'s matrix of slot `slot` as the shader reads it (half floats widened).
+  /// Writes slot `slot`'s frame in crowd step `step` (CrowdState::steps): `skinning` (one
+  /// model-space matrix per palette joint) in the palette's format, then the morph weights of
+  /// baked frame `weights_frame_texel`; into its other frame when the last write was in another
+  /// step, else over the same one.
+  void write(uint32_t slot, Span<const glm::mat4> skinning, uint32_t weights_frame_texel,
+             uint64_t step);
+  /// The first texel of slot `slot`'s current frame, as a record's frames name it.
+  uint32_t frameTexel(uint32_t slot) const {
+    return first_texel_ + (2 * slot + sides_[slot]) * stride_;
+  }
+  /// Palette joint `joint`'s matrix of slot `slot`'s current frame as the shader reads it (half
+  /// floats widened).
   glm::mat4 matrix(uint32_t slot, uint32_t joint) const;
   uint32_t firstTexel() const { return first_texel_; }
   Span<const uint8_t> texels() const { return texels_; }
@@ -72,6 +80,9 @@ class LivePoses {
   std::vector<uint32_t> free_;
   std::vector<Fade> fades_;             // Per slot.
   std::vector<InstanceHandle> owners_;  // Per slot.
+  std::vector<uint8_t> sides_;          // Per slot: which of its two frames is current.
+  std::vector<uint64_t> written_;       // Per slot: the step of its last write (kNever: none).
+  static constexpr uint64_t kNever = ~uint64_t(0);
   uint32_t fading_out_ = 0;
   std::vector<uint8_t> texels_;
   uint64_t version_ = 0;

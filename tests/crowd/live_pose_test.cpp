@@ -73,7 +73,8 @@ TEST(LivePose, TheRecordDrawsTheEnginesPoseAndTheCrowdAnswersWithIt) {
   ASSERT_TRUE(crowd.setLivePose(posed, pose).isOk());
   EXPECT_NE(e.livePoseVersion(), version);
   ASSERT_EQ(e.livePoseFirstTexel(), uint32_t(p.layout.textureTexelCount()));
-  ASSERT_EQ(e.livePoseTexels().size(), 2u * p.layout.frame_stride_texels * bytesPerTexel(p.format));
+  // Two frames for each of the 2 poses.
+  ASSERT_EQ(e.livePoseTexels().size(), 4u * p.layout.frame_stride_texels * bytesPerTexel(p.format));
   const Camera camera = test::testCamera({0, 1.6, 6}, {2, 1, -4});
   ASSERT_TRUE(crowd.update(0.1, camera).isOk());
   const InstanceRecord* live = recordOf(crowd, posed);
@@ -114,6 +115,51 @@ TEST(LivePose, TheRecordDrawsTheEnginesPoseAndTheCrowdAnswersWithIt) {
   clip = recordOf(crowd, playing);
   ASSERT_TRUE(live != nullptr && clip != nullptr);
   EXPECT_EQ(std::memcmp(live, clip, sizeof(InstanceRecord)), 0);
+}
+
+// Motion vectors: a pose set in a new step goes to the slot's other frame, so the previous
+// record still names the frame holding the previous pose; one set again in the same step, or
+// none set, keeps the frame (a held pose does not move).
+TEST(LivePose, ThePreviousRecordReadsThePreviousPose) {
+  const Skeleton& sk = defaultCharacter().skeleton;
+  const BakedPalette& p = defaultPalette();
+  CrowdDesc cd = liveDesc(1);
+  cd.previous_records = true;
+  CrowdManager crowd;
+  ASSERT_TRUE(crowd.init(cd).isOk());
+  InstanceDesc d;
+  InstanceHandle h;
+  ASSERT_TRUE(crowd.add(d, &h).isOk());
+  const Camera camera = test::testCamera({0, 1.6, 6}, {0, 1, 0});
+  const CrowdExport e(crowd);
+  std::vector<glm::mat4> a = enginePose(sk, p), b = a;
+  for (glm::mat4& m : b) m[3][1] += 0.25f;  // Lifted.
+  // The frame `rec` names holds `pose` (its first joint's translation).
+  const auto holds = [&](const InstanceRecord& rec, const std::vector<glm::mat4>& pose) {
+    return liveMatrix(e, p, rec.frames[0], 0)[3] == pose[0][3];
+  };
+  ASSERT_TRUE(crowd.setLivePose(h, a).isOk());
+  ASSERT_TRUE(crowd.update(0.1, camera).isOk());
+  ASSERT_TRUE(crowd.setLivePose(h, b).isOk());
+  ASSERT_TRUE(crowd.update(0.1, camera).isOk());
+  const CrowdView& v = crowd.view();
+  ASSERT_EQ(v.records().size(), 1u);
+  ASSERT_NE(v.previousRecordIndices()[0], kNoPreviousRecord);
+  const InstanceRecord now = v.records()[0];
+  const InstanceRecord then = v.previousRecords()[v.previousRecordIndices()[0]];
+  EXPECT_NE(now.frames[0], then.frames[0]);
+  EXPECT_TRUE(holds(now, b));
+  EXPECT_TRUE(holds(then, a));
+  // Set twice in one step: the second write replaces the first in the same frame.
+  ASSERT_TRUE(crowd.advance(0.1).isOk());
+  ASSERT_TRUE(crowd.setLivePose(h, a).isOk());
+  ASSERT_TRUE(crowd.setLivePose(h, a).isOk());
+  ASSERT_TRUE(crowd.update(0.0, camera).isOk());
+  EXPECT_TRUE(holds(v.records()[0], a));
+  EXPECT_TRUE(holds(v.previousRecords()[v.previousRecordIndices()[0]], b));
+  // Held: no new pose, both records name the same frame.
+  ASSERT_TRUE(crowd.update(0.1, camera).isOk());
+  EXPECT_EQ(v.records()[0].frames[0], v.previousRecords()[v.previousRecordIndices()[0]].frames[0]);
 }
 
 TEST(LivePose, FramesAreTakenAndFreed) {

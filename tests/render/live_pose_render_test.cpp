@@ -18,31 +18,43 @@ using namespace test;
 
 class LivePoseRenderTest : public RenderTest {
  protected:
+  // The crowd of the row, with room for `live_poses` live poses.
+  void initRow(CrowdManager* crowd, uint32_t live_poses) {
+    CrowdDesc cd;
+    cd.palette = &palette();
+    cd.sub_mesh_count = 4;
+    cd.lod_count = 3;
+    cd.live_pose_capacity = live_poses;
+    ASSERT_TRUE(crowd->init(cd).isOk());
+  }
+  // Instance k of the row: playing "walk", each from its own time.
+  InstanceDesc rowInstance(int k) {
+    InstanceDesc d;
+    d.position = glm::dvec3(1.2 * (k - 1), 0.0, 0.0);
+    d.clip = uint32_t(palette().findClip("walk"));
+    d.time_seconds = 0.2 * k;
+    return d;
+  }
+  // The stored matrices of "wave"'s frame `frame`.
+  std::vector<glm::mat4> waveFrame(uint32_t frame) {
+    const BakedPalette& p = palette();
+    std::vector<glm::mat4> pose(p.palette_joints.size());
+    for (uint32_t slot = 0; slot < pose.size(); ++slot)
+      pose[slot] = decodeJoint(p, uint32_t(p.findClip("wave")), frame, slot);
+    return pose;
+  }
   // Three instances in a row; the middle one plays "walk" and, when `posed`, is posed with
   // the stored matrices of "wave"'s frame `frame`; when `twin`, it plays "wave" held at frame 0
   // instead (speed 0) and is not posed.
   void makeRow(CrowdManager* crowd, bool posed, bool twin, uint32_t frame = 0) {
-    const BakedPalette& p = palette();
-    CrowdDesc cd;
-    cd.palette = &p;
-    cd.sub_mesh_count = 4;
-    cd.lod_count = 3;
-    cd.live_pose_capacity = 2;
-    ASSERT_TRUE(crowd->init(cd).isOk());
-    const uint32_t walk = uint32_t(p.findClip("walk")), wave = uint32_t(p.findClip("wave"));
+    initRow(crowd, 2);
     for (int k = 0; k < 3; ++k) {
-      InstanceDesc d;
-      d.position = glm::dvec3(1.2 * (k - 1), 0.0, 0.0);
-      d.clip = walk;
-      d.time_seconds = 0.2 * k;
-      if (k == 1 && twin) d.clip = wave, d.time_seconds = 0.0, d.speed = 0.0f;
+      InstanceDesc d = rowInstance(k);
+      if (k == 1 && twin)
+        d.clip = uint32_t(palette().findClip("wave")), d.time_seconds = 0.0, d.speed = 0.0f;
       InstanceHandle h;
       ASSERT_TRUE(crowd->add(d, &h).isOk());
-      if (k != 1 || !posed) continue;
-      std::vector<glm::mat4> pose(p.palette_joints.size());
-      for (uint32_t slot = 0; slot < pose.size(); ++slot)
-        pose[slot] = decodeJoint(p, wave, frame, slot);
-      ASSERT_TRUE(crowd->setLivePose(h, pose).isOk());
+      if (k == 1 && posed) ASSERT_TRUE(crowd->setLivePose(h, waveFrame(frame)).isOk());
     }
     ASSERT_TRUE(crowd->update(0.1, rowCamera()).isOk());
   }
@@ -50,31 +62,17 @@ class LivePoseRenderTest : public RenderTest {
   // towards "wave"'s frame 0: as a live pose handed over to (`twin` false), or as a crossfade
   // to the clip held at that frame (`twin` true).
   void makeHalfway(CrowdManager* crowd, bool twin) {
-    const BakedPalette& p = palette();
-    CrowdDesc cd;
-    cd.palette = &p;
-    cd.sub_mesh_count = 4;
-    cd.lod_count = 3;
-    cd.live_pose_capacity = 1;
-    ASSERT_TRUE(crowd->init(cd).isOk());
-    const uint32_t walk = uint32_t(p.findClip("walk")), wave = uint32_t(p.findClip("wave"));
+    initRow(crowd, 1);
     for (int k = 0; k < 3; ++k) {
-      InstanceDesc d;
-      d.position = glm::dvec3(1.2 * (k - 1), 0.0, 0.0);
-      d.clip = walk;
-      d.time_seconds = 0.2 * k;
+      InstanceDesc d = rowInstance(k);
       d.speed = 0.0f;
       InstanceHandle h;
       ASSERT_TRUE(crowd->add(d, &h).isOk());
       if (k != 1) continue;
-      if (twin) {
-        ASSERT_TRUE(crowd->crossfade(h, wave, 0.2, 0.0).isOk());
-        continue;
-      }
-      std::vector<glm::mat4> pose(p.palette_joints.size());
-      for (uint32_t slot = 0; slot < pose.size(); ++slot)
-        pose[slot] = decodeJoint(p, wave, 0, slot);
-      ASSERT_TRUE(crowd->setLivePose(h, pose, 0.2).isOk());
+      if (twin)
+        ASSERT_TRUE(crowd->crossfade(h, uint32_t(palette().findClip("wave")), 0.2, 0.0).isOk());
+      else
+        ASSERT_TRUE(crowd->setLivePose(h, waveFrame(0), 0.2).isOk());
     }
     ASSERT_TRUE(crowd->update(0.1, rowCamera()).isOk());
   }

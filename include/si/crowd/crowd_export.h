@@ -95,10 +95,11 @@ class CrowdExport {
   /// per index, the runs one after another), every run within size().
   void extraLayers(Span<const DenseRange> runs, GpuOverlayState* out) const;
 
-  /// Live poses (CrowdManager::setLivePose): the texels of CrowdDesc::live_pose_capacity
-  /// frames in the palette's format, which a renderer places after the palette's texels (at
-  /// livePoseFirstTexel(), the palette texture's texel count) so that records of posed
-  /// instances read them as they read a baked frame. Empty without live poses.
+  /// Live poses (CrowdManager::setLivePose): the texels of 2 x CrowdDesc::live_pose_capacity
+  /// frames (each pose's current and previous) in the palette's format, which a renderer places
+  /// after the palette's texels (at livePoseFirstTexel(), the palette texture's texel count) so
+  /// that records of posed instances read them as they read a baked frame. Empty without live
+  /// poses.
   Span<const uint8_t> livePoseTexels() const;
   uint32_t livePoseFirstTexel() const;
   /// Changes whenever the live texels do (a renderer uploads them again when it has moved).

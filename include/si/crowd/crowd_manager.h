@@ -259,12 +259,13 @@ class CrowdManager {
   /// pose fades in over `blend_seconds` (0: at once), blended per joint with the clip as a
   /// crossfade is; while it fades out (clearLivePose), it fades in again from where it is; a
   /// pose already in is just changed. The crowd writes the pose in the palette's format into
-  /// one of its CrowdDesc::live_pose_capacity frames (CrowdExport::livePoseTexels) and the
-  /// record points there; jointMatrix() and socketTransform() answer with it.
-  /// si::Renderer::drawCrowd draws it (vertex-shader and compute paths, uploading the frames
-  /// after the palette's when they changed); the GPU-driven path and the baselines refuse a
-  /// crowd with live poses by name, and a posed instance's own motion is not in its motion
-  /// vectors yet (its previous record names the same frame).
+  /// one of the two frames each of its CrowdDesc::live_pose_capacity poses has
+  /// (CrowdExport::livePoseTexels: the first pose set in a crowd step goes to the frame the
+  /// last selection did not name, so motion vectors read the previous pose; set poses before
+  /// selecting) and the record points there; jointMatrix() and socketTransform() answer with
+  /// it. si::Renderer::drawCrowd draws it (vertex-shader and compute paths, uploading the
+  /// frames after the palette's when they changed); the GPU-driven path and the baselines
+  /// refuse a crowd holding live poses by name.
   /// kNotFound for a stale handle; kInvalidArgument for a crowd without live pose capacity, a
   /// negative or non-finite blend, or a matrix whose last row is not 0 0 0 1; kCountMismatch
   /// for a count other than the palette's joints; kNotFinite for a matrix that is not finite or
