@@ -77,20 +77,27 @@ si::Status DemoScene::poseLive(const si::Camera& camera) {
   const size_t n = sk.jointCount();
   std::vector<si::TransformD> local(n);
   std::vector<glm::dmat4> model(n), skinning(n);
-  // The nearest characters in front of the camera, within 12 m: the lookers.
+  // The nearest characters in front of the camera, within 12 m: the lookers (each read once).
   const glm::dvec3 forward = -glm::dvec3(glm::transpose(camera.view_rotation)[2]);
-  std::vector<std::pair<double, size_t>> near;
+  struct Near {
+    double distance;
+    size_t index;  // Into handles_.
+    si::InstanceDesc desc;
+  };
+  std::vector<Near> near;
   for (size_t i = 0; i < handles_.size(); ++i) {
     si::InstanceDesc d;
     if (!crowd_.get(handles_[i], &d).isOk()) continue;
     const glm::dvec3 to = d.position - camera.position;
     const double distance = glm::length(to);
-    if (distance < 12.0 * unit_ && glm::dot(to, forward) > 0.0) near.push_back({distance, i});
+    if (distance < 12.0 * unit_ && glm::dot(to, forward) > 0.0) near.push_back({distance, i, d});
   }
-  std::sort(near.begin(), near.end());
+  std::sort(near.begin(), near.end(), [](const Near& a, const Near& b) {
+    return a.distance < b.distance || (a.distance == b.distance && a.index < b.index);
+  });
   near.resize(std::min<size_t>(near.size(), kLookers));
   std::vector<uint8_t> wanted(handles_.size(), 0);
-  for (const auto& [distance, i] : near) wanted[i] = 1;
+  for (const Near& c : near) wanted[c.index] = 1;
   // One of them trips every two seconds.
   const double clock = crowd_.clockSeconds();
   if (clock >= next_fall_ && !near.empty()) {
@@ -98,10 +105,8 @@ si::Status DemoScene::poseLive(const si::Camera& camera) {
     // Of the twelve nearest, one of the three nearest the middle of the view, in turn.
     std::vector<std::pair<double, size_t>> central;
     for (size_t k = 0; k < std::min<size_t>(near.size(), 12); ++k) {
-      si::InstanceDesc d;
-      if (!crowd_.get(handles_[near[k].second], &d).isOk()) continue;
-      const glm::dvec3 to = glm::normalize(d.position - camera.position);
-      central.push_back({-glm::dot(to, forward), near[k].second});
+      const glm::dvec3 to = glm::normalize(near[k].desc.position - camera.position);
+      central.push_back({-glm::dot(to, forward), near[k].index});
     }
     std::sort(central.begin(), central.end());
     const size_t i = central[falls_started_++ % std::min<size_t>(central.size(), 3)].second;
@@ -131,28 +136,26 @@ si::Status DemoScene::poseLive(const si::Camera& camera) {
     }
     if (!s.isOk()) return s;
   }
-  // Heads to the camera: the look-at on the baked pose, in the instance's model space.
-  looking_count_ = 0;
+  // Heads to the camera: those no longer near hand back to their clips; the near ones take the
+  // look-at on their baked pose, in the instance's model space.
   for (size_t i = 0; i < handles_.size(); ++i) {
-    if (falling_[i]) continue;
-    if (!wanted[i]) {
-      if (looking_[i]) {
-        looking_[i] = 0;
-        const si::Status s = crowd_.clearLivePose(handles_[i], kHandOverSeconds);
-        if (!s.isOk()) return s;
-      }
-      continue;
-    }
-    si::InstanceDesc d;
-    si::Status s = crowd_.get(handles_[i], &d);
+    if (!looking_[i] || wanted[i] || falling_[i]) continue;
+    looking_[i] = 0;
+    const si::Status s = crowd_.clearLivePose(handles_[i], kHandOverSeconds);
+    if (!s.isOk()) return s;
+  }
+  looking_count_ = 0;
+  for (const Near& c : near) {
+    if (falling_[c.index]) continue;
+    const si::InstanceDesc& d = c.desc;
     const glm::dvec3 target =
         glm::inverse(glm::dquat(d.rotation)) * (camera.position - d.position) / double(d.scale);
-    if (s.isOk()) s = crowd_.localPose(handles_[i], sk, local);
+    si::Status s = crowd_.localPose(handles_[c.index], sk, local);
     if (s.isOk()) s = si::applyLookAt(sk, look_, target, local);
     if (s.isOk()) s = si::composePose(sk, local, model, skinning);
-    if (s.isOk()) s = setLive(i, skinning);
+    if (s.isOk()) s = setLive(c.index, skinning);
     if (!s.isOk()) return s;
-    looking_[i] = 1;
+    looking_[c.index] = 1;
     ++looking_count_;
   }
   return si::Status::ok();
