@@ -156,15 +156,17 @@ Status runPath(Setup& setup, Renderer& renderer, const BakedPalette& palette,
 }
 
 Status timeCrowd(Setup& setup, Renderer& renderer, CrowdManager& crowd, const std::string& scene,
-                 const std::vector<glm::dvec3>& places, const std::string& path, Row* row) {
+                 const std::vector<glm::dvec3>& places, const std::string& path, Row* row,
+                 const StepFrame& step) {
   InstanceBatcher batcher;
   const Status s = batcher.init(renderer.batchLimits());
   if (!s.isOk()) return s;
   row->path = path;
   row->instances = uint32_t(places.size());
   return timeFrames(
-      setup, scene, places,
-      [&](const Camera& cam) { return stepCrowd(crowd, path, cam, 1.0 / 60.0); },
+      setup, scene, places, step ? step : StepFrame([&](const Camera& cam) {
+        return stepCrowd(crowd, path, cam, 1.0 / 60.0);
+      }),
       [&](const Camera& cam, DrawStats* st, uint32_t* visible) {
         const Status drawn = drawPath(renderer, crowd, batcher, path, cam, st);
         *visible = isGpuSelected(path) ? st->gpu_visible : crowd.view().stats().visible;

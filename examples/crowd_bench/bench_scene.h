@@ -108,10 +108,12 @@ void printSideBySideRow(const Row& r, const Row& off, const char* table, std::FI
 void printSideBySideHeader(const char* feature);
 
 /// Times `path` drawing `crowd` (standing at `places` of `scene`) by `renderer`: a batcher for
-/// the renderer's limits, the crowd stepped 1/60 s a frame (stepCrowd), each frame cleared and
-/// drawn (drawPath); fills the row's path and instance count and its timings (timeFrames).
+/// the renderer's limits, the crowd stepped 1/60 s a frame (stepCrowd, or `step` when given),
+/// each frame cleared and drawn (drawPath); fills the row's path and instance count and its
+/// timings (timeFrames).
 Status timeCrowd(Setup& setup, Renderer& renderer, CrowdManager& crowd, const std::string& scene,
-                 const std::vector<glm::dvec3>& places, const std::string& path, Row* row);
+                 const std::vector<glm::dvec3>& places, const std::string& path, Row* row,
+                 const StepFrame& step = {});
 
 /// Two variants of `path` on the field of `count` characters, drawn on every frame by the same
 /// renderer one after the other (`set(k)` switches to variant k before its draw), so both see

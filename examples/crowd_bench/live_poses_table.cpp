@@ -4,7 +4,6 @@
 #include <algorithm>
 
 #include "si/crowd/crowd_manager.h"
-#include "si/crowd/instance_batcher.h"
 
 namespace si::bench {
 
@@ -20,31 +19,20 @@ Status runLive(Setup& setup, Renderer& renderer, const BakedPalette& palette,
   const std::vector<glm::dvec3> places = scenePositions("field", count);
   CrowdManager crowd;
   std::vector<InstanceHandle> handles;
-  Status s = makeCrowd(setup, palette, places, LodChoice(), &crowd, &handles, 0, live);
-  InstanceBatcher batcher;
-  if (s.isOk()) s = batcher.init(renderer.batchLimits());
+  const Status s = makeCrowd(setup, palette, places, LodChoice(), &crowd, &handles, 0, live);
   if (!s.isOk()) return s;
-  row->path = path;
-  row->instances = count;
   row->lod = live == 0 ? "off" : std::to_string(live) + " live";
   uint32_t frame = 0;
-  return timeFrames(
-      setup, "field", places,
-      [&](const Camera& cam) {  // Advance, write the live poses, select.
-        Status st = crowd.advance(1.0 / 60.0);
-        ++frame;
-        // Every tenth instance, so the posed ones spread over the field as characters would.
-        for (uint32_t k = 0; st.isOk() && k < live; ++k)
-          st = crowd.setLivePose(handles[(size_t(k) * 10 + k / (count / 10 + 1)) % count],
-                                 poses[(k + frame) % kPoses]);
-        return st.isOk() ? crowd.update(0.0, cam) : st;
-      },
-      [&](const Camera& cam, DrawStats* st, uint32_t* visible) {
-        const Status drawn = drawPath(renderer, crowd, batcher, path, cam, st);
-        *visible = crowd.view().stats().visible;
-        return drawn;
-      },
-      row);
+  return timeCrowd(setup, renderer, crowd, "field", places, path, row, [&](const Camera& cam) {
+    // Advance, write the live poses, select.
+    Status st = crowd.advance(1.0 / 60.0);
+    ++frame;
+    // Every tenth instance, so the posed ones spread over the field as characters would.
+    for (uint32_t k = 0; st.isOk() && k < live; ++k)
+      st = crowd.setLivePose(handles[(size_t(k) * 10 + k / (count / 10 + 1)) % count],
+                             poses[(k + frame) % kPoses]);
+    return st.isOk() ? crowd.update(0.0, cam) : st;
+  });
 }
 
 }  // namespace
