@@ -130,8 +130,12 @@ TEST(LiveHandOver, NoStepJumps) {
     std::vector<glm::dmat4> last_clip = drawnJoints(crowd, pair.playing);
     double worst_excess = -1e9, worst_step = 0.0, worst_clip_step = 0.0;
     for (int step = 0; step < 80; ++step) {
-      if (step == 0) ASSERT_TRUE(crowd.setLivePose(pair.posed, pose, blend).isOk());
-      if (step == 40) ASSERT_TRUE(crowd.clearLivePose(pair.posed, blend).isOk());
+      if (step == 0) {
+        ASSERT_TRUE(crowd.setLivePose(pair.posed, pose, blend).isOk());
+      }
+      if (step == 40) {
+        ASSERT_TRUE(crowd.clearLivePose(pair.posed, blend).isOk());
+      }
       ASSERT_TRUE(crowd.update(dt, camera()).isOk());
       const std::vector<glm::dmat4> now = drawnJoints(crowd, pair.posed);
       const std::vector<glm::dmat4> clip = drawnJoints(crowd, pair.playing);

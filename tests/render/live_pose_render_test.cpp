@@ -54,7 +54,9 @@ class LivePoseRenderTest : public RenderTest {
         d.clip = uint32_t(palette().findClip("wave")), d.time_seconds = 0.0, d.speed = 0.0f;
       InstanceHandle h;
       ASSERT_TRUE(crowd->add(d, &h).isOk());
-      if (k == 1 && posed) ASSERT_TRUE(crowd->setLivePose(h, waveFrame(frame)).isOk());
+      if (k == 1 && posed) {
+        ASSERT_TRUE(crowd->setLivePose(h, waveFrame(frame)).isOk());
+      }
     }
     ASSERT_TRUE(crowd->update(0.1, rowCamera()).isOk());
   }
