@@ -88,6 +88,7 @@ void exportInstance(const detail::InstanceStore& st, uint32_t i, GpuInstanceStat
                  &g.from_loop, &g.from_speed);
   g.handle = st.dense_handles[i].id;
   g.placement = st.placements[i];
+  g.live_pose = st.live_slot[i];  // detail::kNoLivePose is kGpuNoLivePose.
   *out = g;
 }
 
@@ -131,6 +132,7 @@ void prefetchInstance(const detail::InstanceStore& st, uint32_t i) {
   detail::prefetchLine(&st.playback[i]), detail::prefetchLine(&st.fade_from[i]);
   detail::prefetchLine(&st.fade_start[i]), detail::prefetchLine(&st.fade_duration[i]);
   detail::prefetchLine(&st.dense_handles[i]), detail::prefetchLine(&st.placements[i]);
+  detail::prefetchLine(&st.live_slot[i]);
 }
 
 // `body(overlay, position)` for the overlays of `runs` (`total` indices), prefetched, on the
@@ -220,6 +222,22 @@ uint64_t CrowdExport::livePoseVersion() const {
 }
 uint32_t CrowdExport::livePoseCount() const {
   return crowd_->state_ ? crowd_->state_->store.live.count() : 0;
+}
+void CrowdExport::livePoses(std::vector<GpuLivePose>* out) const {
+  out->clear();
+  if (!crowd_->state_) return;
+  const detail::LivePoses& live = crowd_->state_->store.live;
+  out->resize(live.capacity());
+  for (uint32_t slot = 0; slot < live.capacity(); ++slot) {
+    const detail::LivePoses::Fade& f = live.fadeOf(slot);
+    GpuLivePose& g = (*out)[slot];
+    g.fade_start = f.start;
+    g.fade_duration = f.duration;
+    g.weight_from = f.from;
+    g.weight_to = f.to;
+    g.first_texel = live.frameTexel(slot);
+    g.pad = 0;
+  }
 }
 
 bool CrowdExport::playsOverlays() const {

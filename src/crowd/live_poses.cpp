@@ -71,6 +71,7 @@ void LivePoses::release(uint32_t slot) {
 void LivePoses::fade(uint32_t slot, float from, float to, double seconds, double clock) {
   fading_out_ += uint32_t(to == 0.0f) - uint32_t(fadingOut(slot));
   fades_[slot] = Fade{from, to, clock, seconds};
+  ++version_;
 }
 
 float LivePoses::liveWeight(uint32_t slot, double clock) const {

@@ -38,6 +38,12 @@ class LivePoses {
   // The hand-over (CrowdManager::setLivePose and clearLivePose with a blend): each slot's live
   // weight fades linearly from `from` to `to` over a span of the crowd clock; 1 draws the live
   // pose alone, 0 the clip alone.
+  struct Fade {
+    float from = 1.0f, to = 1.0f;
+    double start = 0.0, duration = 0.0;
+  };
+  /// Slot `slot`'s fade (CrowdExport::livePoses exports it for GPU-driven culling).
+  const Fade& fadeOf(uint32_t slot) const { return fades_[slot]; }
   /// Slot `slot`'s live weight fades from `from` to `to` over `seconds` from `clock` (0: at once).
   void fade(uint32_t slot, float from, float to, double seconds, double clock);
   /// Slot `slot`'s live weight at `clock`.
@@ -65,7 +71,7 @@ class LivePoses {
   glm::mat4 matrix(uint32_t slot, uint32_t joint) const;
   uint32_t firstTexel() const { return first_texel_; }
   Span<const uint8_t> texels() const { return texels_; }
-  /// Changes with every write (a consumer uploads again when it has moved).
+  /// Changes with every write, fade and release (a consumer uploads again when it has moved).
   uint64_t version() const { return version_; }
 
  private:
@@ -73,10 +79,6 @@ class LivePoses {
   uint32_t capacity_ = 0;
   uint32_t first_texel_ = 0;
   uint32_t stride_ = 0;  // Texels per frame (the palette's frame stride).
-  struct Fade {
-    float from = 1.0f, to = 1.0f;
-    double start = 0.0, duration = 0.0;
-  };
   std::vector<uint32_t> free_;
   std::vector<Fade> fades_;             // Per slot.
   std::vector<InstanceHandle> owners_;  // Per slot.

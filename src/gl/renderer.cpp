@@ -233,16 +233,11 @@ Status Renderer::drawCrowd(CharacterId id, const CrowdView& view, const Instance
   const auto t0 = std::chrono::steady_clock::now();
   // Live poses (CrowdManager::setLivePose): their frames after the palette's, uploaded when
   // they changed (the unpack state then in the footprint).
-  const CrowdExport live(crowd);
   detail::GlFootprint footprint = detail::drawFootprint();
-  const bool live_poses = !live.livePoseTexels().empty();
-  footprint.unpack = live_poses;
+  footprint.unpack = Impl::holdsLivePoses(crowd);
   Impl::Guard guard = m.enter("drawCrowd", footprint, &camera);
-  if (live_poses) {
-    s = c->palette.uploadLive(live.livePoseTexels(), crowd.identity(), live.livePoseVersion(),
-                              m.info);
-    if (!s.isOk()) return {s.code(), strCat("drawCrowd: ", s.message())};
-  }
+  s = m.uploadLivePoses(*c, crowd, "drawCrowd");
+  if (!s.isOk()) return s;
   m.sizeRing();  // setMotionVectors may have changed the default region count.
   // The ring region (resources/ring_frame.h); its blocks start where storage buffers may too.
   // Motion vectors read the previous records where the previous selection's draw left them
@@ -328,14 +323,16 @@ Status Renderer::drawCrowdGpuCulled(CharacterId id, const CrowdView& view, const
   if (s.isOk()) s = m.depthMatches(camera, "drawCrowdGpuCulled");
   if (!s.isOk()) return s;
   const CrowdManager& crowd = *view.crowd();
-  s = Impl::noLivePoses(crowd, "drawCrowdGpuCulled");
-  if (!s.isOk()) return s;
   if (mode == DrawMode::kRigid)
     return {StatusCode::kInvalidArgument,
             "drawCrowdGpuCulled: the GPU-driven path skins (kDefault, kSkinned, kComputeSkinned, "
             "kDepthOnly)"};
   const auto t0 = std::chrono::steady_clock::now();
-  Impl::Guard guard = m.enter("drawCrowdGpuCulled", detail::gpuDrivenFootprint(), &camera);
+  detail::GlFootprint footprint = detail::gpuDrivenFootprint();
+  footprint.unpack = Impl::holdsLivePoses(crowd);
+  Impl::Guard guard = m.enter("drawCrowdGpuCulled", footprint, &camera);
+  s = m.uploadLivePoses(*c, crowd, "drawCrowdGpuCulled");
+  if (!s.isOk()) return s;
   detail::PathFrame frame = detail::viewFrame(view, camera, light_direction_);
   frame.preskin = mode == DrawMode::kComputeSkinned ||
                   ((mode == DrawMode::kDefault || mode == DrawMode::kDepthOnly) &&

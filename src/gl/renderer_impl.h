@@ -155,6 +155,20 @@ struct Renderer::Impl {
     *out = characters[id.index].get();
     return Status::ok();
   }
+  /// Whether `crowd` has room for live poses (CrowdDesc::live_pose_capacity): their frames are
+  /// then uploaded after the palette's (the unpack state in the draw's footprint).
+  static bool holdsLivePoses(const CrowdManager& crowd) {
+    return !CrowdExport(crowd).livePoseTexels().empty();
+  }
+  /// Places `crowd`'s live poses after character `c`'s palette when they changed (or another
+  /// crowd's are there); nothing without room for them.
+  Status uploadLivePoses(detail::CharacterSlot& c, const CrowdManager& crowd, const char* what) {
+    const CrowdExport live(crowd);
+    if (live.livePoseTexels().empty()) return Status::ok();
+    const Status s =
+        c.palette.uploadLive(live.livePoseTexels(), crowd.identity(), live.livePoseVersion(), info);
+    return s.isOk() ? s : Status(s.code(), detail::strCat(what, ": ", s.message()));
+  }
   /// kUnsupported for a crowd holding live poses (CrowdManager::setLivePose) on a path that
   /// does not draw them yet.
   static Status noLivePoses(const CrowdManager& crowd, const char* what) {

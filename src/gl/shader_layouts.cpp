@@ -36,6 +36,7 @@ static_assert(glsl::SiGpuInstance::py == glsl::SiGpuInstance::px + sizeof(double
                   glsl::SiGpuInstance::pz == glsl::SiGpuInstance::py + sizeof(double),
               "SiGpuInstance's px, py, pz are GpuInstanceState::position[3]");
 SI_SAME_OFFSET(GpuInstanceState, placement, SiGpuInstance, placement);
+SI_SAME_OFFSET(GpuInstanceState, live_pose, SiGpuInstance, live_pose);
 SI_SAME_OFFSET(GpuInstanceState, rotation, SiGpuInstance, rotation);
 SI_SAME_OFFSET(GpuInstanceState, scale, SiGpuInstance, scale);
 SI_SAME_OFFSET(GpuInstanceState, color, SiGpuInstance, color);
@@ -68,6 +69,13 @@ SI_SAME_OFFSET(GpuOverlayState, mask, SiGpuOverlay, mask);
 SI_SAME_OFFSET(GpuOverlayState, weight_from, SiGpuOverlay, weight_from);
 SI_SAME_OFFSET(GpuOverlayState, weight_to, SiGpuOverlay, weight_to);
 SI_SAME_OFFSET(GpuOverlayState, active, SiGpuOverlay, playing);
+
+SI_SAME_SIZE(GpuLivePose, SiGpuLivePose);
+SI_SAME_OFFSET(GpuLivePose, fade_start, SiGpuLivePose, fade_start);
+SI_SAME_OFFSET(GpuLivePose, fade_duration, SiGpuLivePose, fade_duration);
+SI_SAME_OFFSET(GpuLivePose, weight_from, SiGpuLivePose, weight_from);
+SI_SAME_OFFSET(GpuLivePose, weight_to, SiGpuLivePose, weight_to);
+SI_SAME_OFFSET(GpuLivePose, first_texel, SiGpuLivePose, first_texel);
 
 SI_SAME_SIZE(GpuClipInfo, SiGpuClip);
 SI_SAME_OFFSET(GpuClipInfo, duration, SiGpuClip, duration);

@@ -1,8 +1,9 @@
 // SkinnedInstancing — SPDX-License-Identifier: MIT (see LICENSE)
 // Live poses drawn (CrowdManager::setLivePose): an instance posed with the matrices of a baked
 // frame draws exactly what an instance playing that frame draws, on the vertex-shader and
-// compute paths and the ES profile; a hand-over from the clip half-way draws as a crossfade
-// half-way to that frame; the paths that do not draw live poses yet refuse by name.
+// compute paths of drawCrowd and of GPU-driven culling, and the ES profile; a hand-over from
+// the clip half-way draws as a crossfade half-way to that frame; the paths that do not draw
+// live poses yet (the baselines) refuse by name.
 #include <gtest/gtest.h>
 
 #include <cstdio>
@@ -15,6 +16,10 @@ namespace si {
 namespace {
 
 using namespace test;
+
+// The paths that draw live poses: drawCrowd's two skinnings, GPU-driven culling's two.
+constexpr PathKind kLivePaths[] = {PathKind::kInstanced, PathKind::kCompute, PathKind::kGpuDriven,
+                                   PathKind::kGpuDrivenCompute};
 
 class LivePoseRenderTest : public RenderTest {
  protected:
@@ -78,18 +83,27 @@ class LivePoseRenderTest : public RenderTest {
     }
     ASSERT_TRUE(crowd->update(0.1, rowCamera()).isOk());
   }
+  // `crowd` drawn on `kind` (cleared first).
+  std::vector<uint8_t> image(Renderer& r, const CrowdManager& crowd, PathKind kind) {
+    r.clear(glm::vec4(0.2f, 0.25f, 0.3f, 1.0f));
+    const Status s = drawOnPath(r, kind, crowd, rowCamera(), nullptr);
+    EXPECT_TRUE(s.isOk()) << s.toString();
+    std::vector<uint8_t> rgba;
+    EXPECT_TRUE(context_->readPixels(&rgba).isOk());
+    return rgba;
+  }
   // On `path`: a hand-over half-way draws as the crossfade half-way (to the rounding of the
   // blend's two orders), unlike the pose alone and the clip alone.
-  void expectHandOverDraws(Renderer& r, Path path) {
+  void expectHandOverDraws(Renderer& r, PathKind path) {
     CrowdManager halfway, crossfade, posed, playing;
     makeHalfway(&halfway, false);
     makeHalfway(&crossfade, true);
     makeRow(&posed, true, false);
     makeRow(&playing, false, false);
-    const std::vector<uint8_t> handed = draw(r, halfway, rowCamera(), 0, false, nullptr, path);
-    const std::vector<uint8_t> faded = draw(r, crossfade, rowCamera(), 0, false, nullptr, path);
-    const std::vector<uint8_t> live = draw(r, posed, rowCamera(), 0, false, nullptr, path);
-    const std::vector<uint8_t> clip = draw(r, playing, rowCamera(), 0, false, nullptr, path);
+    const std::vector<uint8_t> handed = image(r, halfway, path);
+    const std::vector<uint8_t> faded = image(r, crossfade, path);
+    const std::vector<uint8_t> live = image(r, posed, path);
+    const std::vector<uint8_t> clip = image(r, playing, path);
     const size_t off = differingPixels(handed, faded);
     std::printf("hand-over vs crossfade: %zu pixels differ\n", off);
     EXPECT_LE(off, 8u);
@@ -98,17 +112,17 @@ class LivePoseRenderTest : public RenderTest {
   }
   // On `path`: the posed crowd draws its twin's image exactly and the clip's image not, and
   // another posed crowd of the character, drawn before and between, never shows.
-  void expectPosesDraw(Renderer& r, Path path) {
+  void expectPosesDraw(Renderer& r, PathKind path) {
     CrowdManager posed, other, twin, playing;
     makeRow(&posed, true, false);
     makeRow(&other, true, false, 15);  // Another pose in another crowd of the character.
     makeRow(&twin, false, true);
     makeRow(&playing, false, false);
     for (int round = 0; round < 2; ++round) {
-      const std::vector<uint8_t> another = draw(r, other, rowCamera(), 0, false, nullptr, path);
-      const std::vector<uint8_t> live = draw(r, posed, rowCamera(), 0, false, nullptr, path);
-      const std::vector<uint8_t> frame = draw(r, twin, rowCamera(), 0, false, nullptr, path);
-      const std::vector<uint8_t> clip = draw(r, playing, rowCamera(), 0, false, nullptr, path);
+      const std::vector<uint8_t> another = image(r, other, path);
+      const std::vector<uint8_t> live = image(r, posed, path);
+      const std::vector<uint8_t> frame = image(r, twin, path);
+      const std::vector<uint8_t> clip = image(r, playing, path);
       EXPECT_GT(differingPixels(live, another), 200u);
       EXPECT_EQ(differingPixels(live, frame), 0u);
       EXPECT_GT(differingPixels(live, clip), 200u);  // The pose moved the middle one.
@@ -129,18 +143,15 @@ class LivePoseRenderTest : public RenderTest {
 TEST_P(LivePoseRenderTest, APoseDrawsAsTheFrameItHolds) {
   Renderer r;
   makeRenderer(&r);
-  for (Path path : {Path::kInstanced, Path::kCompute}) {
-    SCOPED_TRACE(path == Path::kCompute ? "compute" : "vertex shader");
+  for (PathKind path : kLivePaths) {
+    SCOPED_TRACE(pathKindName(path));
     expectPosesDraw(r, path);
-  }
-  for (Path path : {Path::kInstanced, Path::kCompute}) {
-    SCOPED_TRACE(path == Path::kCompute ? "compute, hand-over" : "vertex shader, hand-over");
     expectHandOverDraws(r, path);
   }
   CrowdManager posed;
   makeRow(&posed, true, false);
   // The paths that do not draw live poses yet refuse by name.
-  for (PathKind kind : {PathKind::kGpuDriven, PathKind::kTraditional, PathKind::kCpu}) {
+  for (PathKind kind : {PathKind::kTraditional, PathKind::kCpu}) {
     SCOPED_TRACE(pathKindName(kind));
     const Status s = drawOnPath(r, kind, posed, rowCamera(), nullptr);
     EXPECT_EQ(s.code(), StatusCode::kUnsupported);
@@ -160,7 +171,7 @@ class LivePoseEsTest : public LivePoseRenderTest {
 TEST_P(LivePoseEsTest, APoseDrawsAsTheFrameItHoldsOnEs) {
   Renderer r;
   makeRenderer(&r);
-  expectPosesDraw(r, Path::kInstanced);
+  expectPosesDraw(r, PathKind::kInstanced);
 }
 
 INSTANTIATE_TEST_SUITE_P(Backends, LivePoseEsTest, esBackends(), backendTestName);

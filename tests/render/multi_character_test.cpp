@@ -231,8 +231,8 @@ TEST_P(MultiCharacterTest, IdsAndPalettesAreChecked) {
     EXPECT_EQ(unknown.code(), StatusCode::kInvalidArgument);
     EXPECT_NE(unknown.message().find("no character 7"), std::string::npos) << unknown.message();
   }
-  // A crowd holding live poses: drawn by drawCrowd, refused by name on the other paths, which
-  // draw it again once none is held.
+  // A crowd holding live poses: drawn by drawCrowd and the GPU-driven path, refused by name by
+  // the baselines, which draw it again once none is held.
   CrowdDesc live_desc = crowd.desc();
   live_desc.live_pose_capacity = 1;
   CrowdManager live;
@@ -249,9 +249,10 @@ TEST_P(MultiCharacterTest, IdsAndPalettesAreChecked) {
     else
       ASSERT_TRUE(live.clearLivePose(posed).isOk());
     ASSERT_TRUE(live.update(0.0, sceneCamera()).isOk());
-    for (DrawWith w : {DrawWith::kVertexShader, DrawWith::kCompute})
+    for (DrawWith w : {DrawWith::kVertexShader, DrawWith::kCompute, DrawWith::kGpuDriven,
+                       DrawWith::kGpuDrivenCompute})
       EXPECT_TRUE(drawWith(w, r, CharacterId{0}, live, batcher).isOk()) << name(w);
-    for (DrawWith w : {DrawWith::kGpuDriven, DrawWith::kTraditional, DrawWith::kCpu}) {
+    for (DrawWith w : {DrawWith::kTraditional, DrawWith::kCpu}) {
       SCOPED_TRACE(name(w));
       const Status drawn = drawWith(w, r, CharacterId{0}, live, batcher);
       if (!held) {

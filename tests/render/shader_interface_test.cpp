@@ -84,6 +84,7 @@ TEST_P(ShaderInterface, GpuCrowdStateMatchesTheCppStructs) {
   const Field instance_fields[] = {
       {"si_state[0].px", offsetof(GpuInstanceState, position)},
       {"si_state[0].placement", offsetof(GpuInstanceState, placement)},
+      {"si_state[0].live_pose", offsetof(GpuInstanceState, live_pose)},
       {"si_state[0].rotation", offsetof(GpuInstanceState, rotation)},
       {"si_state[0].scale", offsetof(GpuInstanceState, scale)},
       {"si_state[0].color", offsetof(GpuInstanceState, color)},
@@ -140,6 +141,16 @@ TEST_P(ShaderInterface, GpuCrowdStateMatchesTheCppStructs) {
   for (const Field& f : overlay_fields)
     EXPECT_EQ(offsetOf(cull, GL_BUFFER_VARIABLE, f.glsl), GLint(f.offset)) << f.glsl;
   EXPECT_EQ(topLevelStride(cull, "si_overlays[0].start_clock"), GLint(sizeof(GpuOverlayState)));
+  const Field live_fields[] = {
+      {"si_live_poses[0].fade_start", offsetof(GpuLivePose, fade_start)},
+      {"si_live_poses[0].fade_duration", offsetof(GpuLivePose, fade_duration)},
+      {"si_live_poses[0].weight_from", offsetof(GpuLivePose, weight_from)},
+      {"si_live_poses[0].weight_to", offsetof(GpuLivePose, weight_to)},
+      {"si_live_poses[0].first_texel", offsetof(GpuLivePose, first_texel)},
+  };
+  for (const Field& f : live_fields)
+    EXPECT_EQ(offsetOf(cull, GL_BUFFER_VARIABLE, f.glsl), GLint(f.offset)) << f.glsl;
+  EXPECT_EQ(topLevelStride(cull, "si_live_poses[0].fade_start"), GLint(sizeof(GpuLivePose)));
 }
 
 INSTANTIATE_TEST_SUITE_P(Backends, ShaderInterface, test::allBackends(), test::backendTestName);

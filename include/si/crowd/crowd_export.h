@@ -4,9 +4,9 @@
 /// \file
 /// si::CrowdExport: what GPU-driven selection (si::gl, Renderer::drawCrowdGpuCulled) reads of a
 /// crowd and its views, as the plain std430 structs of gpu_crowd_state.h: every instance's
-/// state, overlays and 2D blend layers, the clips, which instances changed since a version,
-/// and per view its LOD lines (CullParams) and the LODs its hysteresis starts from. A renderer
-/// of the engine's own that culls on the GPU reads the same; an application that draws
+/// state, overlays and 2D blend layers, live poses, the clips, which instances changed since a
+/// version, and per view its LOD lines (CullParams) and the LODs its hysteresis starts from. A
+/// renderer of the engine's own that culls on the GPU reads the same; an application that draws
 /// through CrowdView's selection never needs it. No GPU and no allocation of its own.
 ///
 /// Usage (what the GL back-end does each frame):
@@ -106,6 +106,11 @@ class CrowdExport {
   uint64_t livePoseVersion() const;
   /// Live poses held now (those handing back to their clips included).
   uint32_t livePoseCount() const;
+  /// Every live pose slot (CrowdDesc::live_pose_capacity of them, held or not), in slot order:
+  /// its current frame and its hand-over, which GpuInstanceState::live_pose names. GPU-driven
+  /// culling writes a posed instance's record from it as update() does; it changes with
+  /// livePoseVersion().
+  void livePoses(std::vector<GpuLivePose>* out) const;
 
   /// The selection parameters of `view` for `camera`: the crowd's LOD lines and far line with
   /// the view's rules applied (CrowdViewDesc), what CrowdView::select() uses. Default

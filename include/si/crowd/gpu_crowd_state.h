@@ -27,7 +27,11 @@ struct GpuInstanceState {
   /// Teleports: CrowdManager::setTransform() calls so far. The GPU-driven path draws no object
   /// motion for an instance whose placement differs from the one drawn in the previous frame.
   uint32_t placement;
-  uint32_t pad0;
+  /// Live poses (CrowdManager::setLivePose): the slot of CrowdExport::livePoses() whose pose
+  /// the instance draws, or kGpuNoLivePose. While the slot's live weight is 1 its record names
+  /// the slot's frame alone; between 0 and 1 the frame as clip A and the playback below as
+  /// clip B at the weight 1 - live weight; at 0 the playback alone.
+  uint32_t live_pose;
   float rotation[4];          ///< Quaternion x, y, z, w.
   float scale;
   uint32_t color;             ///< The appearance word (si::packAppearance).
@@ -46,6 +50,23 @@ struct GpuInstanceState {
   uint32_t handle;
 };
 static_assert(sizeof(GpuInstanceState) == 144, "std430 layout");
+
+/// GpuInstanceState::live_pose of an instance without a live pose.
+inline constexpr uint32_t kGpuNoLivePose = 0xFFFFFFFFu;
+
+/// One live pose slot (std430, 32 bytes; CrowdExport::livePoses): where its current frame is
+/// and its hand-over. The live weight fades linearly from `weight_from` to `weight_to` over
+/// [fade_start, fade_start + fade_duration) of the crowd clock and is `weight_to` from then
+/// on (at once for a duration of 0), as CrowdManager::setLivePose and clearLivePose set it.
+struct GpuLivePose {
+  double fade_start, fade_duration;
+  float weight_from, weight_to;
+  /// The first texel of the slot's current frame, in the palette texture after the palette's
+  /// own texels (CrowdExport::livePoseFirstTexel): what a record names as a frame.
+  uint32_t first_texel;
+  uint32_t pad;
+};
+static_assert(sizeof(GpuLivePose) == 32, "std430 layout");
 
 /// One instance's overlay (layered animation; std430, 64 bytes): CrowdManager's overlay state,
 /// from which the GPU writes the layer record at the crowd's clock as update() does.

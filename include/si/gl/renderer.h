@@ -225,6 +225,8 @@ class Renderer {
   /// RendererDesc:: measure_gpu_time, `stats` also gets the visible instances, triangles and
   /// pre-skinned vertices (read back after the timer); otherwise only draw_calls and the CPU time.
   /// kDepthOnly draws depth only (a shadow view) on the renderer's path, with no motion vectors.
+  /// Live poses (CrowdManager::setLivePose) draw as drawCrowd draws them: their frames upload
+  /// after the palette's, their slots (CrowdExport::livePoses) with the state.
   /// kInvalidArgument for kRigid or a detached view. Each character keeps the
   /// GPU state of the last crowd it drew: draw one crowd per character (another re-uploads).
   ///

@@ -63,6 +63,8 @@ Status GpuCulledPath::uploadFrame(const DrawResources& r, const PathFrame& f) {
     Status s = uploadChanges(*r.info, crowd);
     if (!s.isOk()) return s;
   }
+  Status live = uploadLivePoses(crowd);
+  if (!live.isOk()) return live;
   if (f.preskin) {
     Status s = ensureRing(r, f.motion);
     if (!s.isOk()) return s;
@@ -119,6 +121,29 @@ Status GpuCulledPath::uploadFrame(const DrawResources& r, const PathFrame& f) {
                       r.info->max_compute_groups_x == 0 ? 65535u : r.info->max_compute_groups_x);
   const glm::mat4 vp = f.camera.viewProjection();
   glProgramUniformMatrix4fv(cull, 21, 1, GL_FALSE, &vp[0][0]);
+  return Status::ok();
+}
+
+Status GpuCulledPath::uploadLivePoses(const CrowdManager& crowd) {
+  const CrowdExport exported(crowd);
+  if (live_poses_ != kNoObject && live_identity_ == crowd.identity() &&
+      live_version_ == exported.livePoseVersion())
+    return Status::ok();
+  exported.livePoses(&live_export_);
+  const uint32_t slots = std::max<uint32_t>(1, uint32_t(live_export_.size()));
+  if (live_poses_ == kNoObject || slots > live_capacity_) {
+    Status s = recreate(&live_poses_, size_t(slots) * sizeof(GpuLivePose), nullptr,
+                        "drawCrowdGpuCulled: the live poses");
+    if (!s.isOk()) return s;
+    live_capacity_ = slots;
+  }
+  // 32 bytes a slot (32 KiB for a thousand): written in place, after the last passes' reads
+  // (GL orders the update after them).
+  if (!live_export_.empty())
+    glNamedBufferSubData(live_poses_, 0, GLsizeiptr(live_export_.size() * sizeof(GpuLivePose)),
+                         live_export_.data());
+  live_identity_ = crowd.identity();
+  live_version_ = exported.livePoseVersion();
   return Status::ok();
 }
 
@@ -233,6 +258,7 @@ void GpuCulledPath::runPasses(const DrawResources& r, const PathFrame& f, uint32
                          commands_, ranges_, bucket_info_};
   glBindBuffersBase(GL_SHADER_STORAGE_BUFFER, 0, 10, ssbo);
   glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 16, view_->instances);
+  glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 25, live_poses_);
   glProgramUniform1ui(cull, 20, phase);
   const GLuint preskin_ssbo[] = {entry_data_, r.scratch->gpu_driven_ring.buffer,
                                  r.character->vertex_buffer,
@@ -364,7 +390,7 @@ void GpuCulledPath::memory(CrowdGpuMemory* out) const {
 }
 
 void GpuCulledPath::release() {
-  const std::array<GLuint, 17> all = buffers();
+  const std::array<GLuint, 18> all = buffers();
   glDeleteBuffers(GLsizei(all.size()), all.data());
   const GLuint arrays[] = {vao_, preskin_vao_};
   glDeleteVertexArrays(2, arrays);

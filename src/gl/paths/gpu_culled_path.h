@@ -48,6 +48,9 @@ class GpuCulledPath final : public DrawPath {
   Status uploadState(const DrawResources& r, const CrowdManager& crowd, uint32_t buckets);
   // The crowd's overlays, when it plays any (sets layers_).
   Status uploadOverlays(const GlInfo& info, const CrowdManager& crowd);
+  // The crowd's live pose slots (CrowdExport::livePoses) when they changed: where each slot's
+  // frame is and its hand-over, which the cull pass reads for posed instances.
+  Status uploadLivePoses(const CrowdManager& crowd);
   // What changed since the upload of version_ (gpu_state_upload.cpp): the changed instances'
   // state and overlays; where other instances sit now, the views start over (placed_).
   Status uploadChanges(const GlInfo& info, const CrowdManager& crowd);
@@ -61,7 +64,7 @@ class GpuCulledPath final : public DrawPath {
   // Cull, commands, scatter and the draws, with the cull pass in occlusion `phase` (0 off).
   void runPasses(const DrawResources& r, const PathFrame& f, uint32_t phase, DrawStats* st);
   // Every buffer of the path's own (not its views').
-  std::array<GLuint, 17> buffers() const {
+  std::array<GLuint, 18> buffers() const {
     return {state_,
             clips_,
             times_,
@@ -78,7 +81,8 @@ class GpuCulledPath final : public DrawPath {
             overlays_,
             layers_out_,
             previous_out_,
-            previous_layers_out_};
+            previous_layers_out_,
+            live_poses_};
   }
 
   GLuint vao_ = kNoObject, preskin_vao_ = kNoObject;
@@ -93,6 +97,12 @@ class GpuCulledPath final : public DrawPath {
   // 2D blends (extras_, CrowdManager::writesExtraLayers): both hold the extra layers after
   // layer_capacity_ entries, 2 per instance (layer_copies_ 3; 1 without).
   GLuint overlays_ = kNoObject, layers_out_ = kNoObject;
+  // Live poses: the crowd's slots (si::GpuLivePose), always bound (at least one entry), and
+  // the crowd and version they were uploaded for.
+  GLuint live_poses_ = kNoObject;
+  uint32_t live_capacity_ = 0;
+  uint64_t live_identity_ = 0, live_version_ = 0;
+  std::vector<GpuLivePose> live_export_;
   uint32_t layer_capacity_ = 0, layer_copies_ = 1;
   bool layers_ = false, extras_ = false;
   uint32_t compose_stride_ = 0;  // Composed layers' row stride this frame; 0: none.

@@ -58,6 +58,10 @@ layout(std430, binding = 21) writeonly buffer SiPreviousLayersOut {
   uvec4 si_previous_layers_out[];
 };
 
+// Live poses (CrowdManager::setLivePose): every slot's current frame and hand-over
+// (si::GpuLivePose), named by SiGpuInstance::live_pose (0xFFFFFFFF: none).
+layout(std430, binding = 25) readonly buffer SiLivePoses { SiGpuLivePose si_live_poses[]; };
+
 // cull_math.h's dot3, cross3 and rotate, in the same order and unfused.
 float siDot3(vec3 a, vec3 b) {
   precise float r = (a.x * b.x + a.y * b.y) + a.z * b.z;
@@ -111,6 +115,28 @@ uvec3 siSample(SiGpuClip c, double t) {  // frame, next frame, fraction word
   double t0 = si_times[c.times_offset + i], span = si_times[c.times_offset + i + 1u] - t0;
   float f = span > 0.0lf ? float(clamp((tt - t0) / span, 0.0lf, 1.0lf)) : 1.0;
   return uvec3(i, i + 1u, siPackFraction(c, i, f));
+}
+
+// A posed instance's record (frame_builder.cpp's setLiveFrame, LivePoses::clipWeight, in the
+// same order and unfused): the live frame alone, or as clip A with the clip's playback as
+// clip B at the clip's weight, or the clip's record as it is once the clip is wholly back.
+void siLiveRecord(SiGpuLivePose l, uint color, inout SiInstance rec) {
+  float live = l.weight_to;
+  if (u_clock - l.fade_start < l.fade_duration) {
+    precise double u = max(0.0lf, (u_clock - l.fade_start) / l.fade_duration);
+    precise double w = double(l.weight_from) + (double(l.weight_to) - double(l.weight_from)) * u;
+    live = float(w);
+  }
+  precise float clip_weight = 1.0 - live;
+  if (clip_weight >= 1.0) return;
+  if (clip_weight <= 0.0) {
+    rec.frames = uvec4(l.first_texel);
+    rec.blend = uvec4(0u, 0u, floatBitsToUint(0.0), color);
+    return;
+  }
+  rec.frames.xy = uvec2(l.first_texel);
+  rec.blend.x = 0u;  // si::packFraction(0, kLinear)
+  rec.blend.z = floatBitsToUint(clip_weight);
 }
 
 // The overlay's layer record at the crowd's clock (overlayWeight, packLayerWeight).
@@ -207,6 +233,7 @@ void main() {
     rec.frames = uvec4(frames_a.xy, frames_a.xy);
     rec.blend = uvec4(fa.z, fa.z, floatBitsToUint(0.0), st.color);
   }
+  if (st.live_pose != 0xFFFFFFFFu) siLiveRecord(si_live_poses[st.live_pose], st.color, rec);
   uint v = atomicAdd(si_visible_count, 1u);
   si_records[v] = rec;
   uvec4 layer = u_layers != 0u ? siLayerRecord(si_overlays[i], stride) : uvec4(0u);

@@ -1,12 +1,12 @@
 // SkinnedInstancing - SPDX-License-Identifier: MIT (see LICENSE)
 // The crowd's state as GPU-driven culling reads it (std430). C++ twins: si::GpuInstanceState,
-// si::GpuOverlayState and si::GpuClipInfo (include/si/crowd/gpu_crowd_state.h); the build
+// si::GpuOverlayState, si::GpuLivePose and si::GpuClipInfo (include/si/crowd/gpu_crowd_state.h); the build
 // checks the layouts (src/gl/shader_layouts.cpp), the render tests by GL introspection.
 #ifndef SI_GPU_CROWD_STATE_GLSL
 #define SI_GPU_CROWD_STATE_GLSL
 struct SiGpuInstance {
   double px, py, pz;
-  uint placement, pad0;
+  uint placement, live_pose;
   vec4 rotation;
   float scale; uint color; uint mask; uint lod;
   double start_clock, start_time;
@@ -19,6 +19,11 @@ struct SiGpuOverlay {
   double start_clock, start_time, fade_start, fade_duration;
   uint clip, loop; float speed; uint mask;
   float weight_from, weight_to; uint playing, pad;
+};
+struct SiGpuLivePose {
+  double fade_start, fade_duration;
+  float weight_from, weight_to;
+  uint first_texel, pad;
 };
 struct SiGpuClip {
   double duration, inv_duration, interval, inv_interval;

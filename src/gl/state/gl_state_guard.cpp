@@ -26,7 +26,7 @@ constexpr uint32_t bits(std::initializer_list<int> indices) {
 //     record ring, drawCrowd's previous records, the composed rows (current and previous);
 //     28: the pre-skinned tangent ring (compute and GPU-driven pre-skinning); 29: the slots'
 //     instance handles; 30: the slots' composed records (drawCrowd); the GPU-driven passes use
-//     0-23, 26-28;
+//     0-23, 25-28 (25: the live pose slots);
 //   texture units 0-4: palette (or the depth copy), colour array (or the depth pyramid),
 //     custom array, impostor atlas, material data array; 5: the morph targets' entries; image
 //     units 0-1: the depth pyramid's levels.

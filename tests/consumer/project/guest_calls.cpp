@@ -298,15 +298,20 @@ GuestReport checkEveryCall(void* (*get_proc)(void* user, const char* name), void
   checker.check("Renderer::drawTraditional, morph targets", [&] {
     return renderer->drawTraditional(faced_id, faced_crowd.view(), camera, nullptr);
   });
-  // Live poses: two instances the engine poses; drawCrowd uploads their frames after the
-  // palette's (the unpack state).
+  // Live poses: two instances the engine poses; drawCrowd and the GPU-driven path upload their
+  // frames after the palette's (the unpack state), the GPU-driven path their slots too.
   si::CrowdManager live_crowd;
   s = makeCrowd(character, palette, false, &live_crowd, &camera, 2);
   if (!s.isOk()) return fail("setting up the live poses' crowd", s);
-  for (const auto& [mode, name] : {modes[1], modes[2]})
+  for (const auto& [mode, name] : {modes[1], modes[2]}) {
     checker.check(std::string("Renderer::drawCrowd(") + name + ", live poses)", [&, mode = mode] {
       return renderer->drawCrowd(id, live_crowd.view(), batcher, camera, nullptr, mode);
     });
+    checker.check(
+        std::string("Renderer::drawCrowdGpuCulled(") + name + ", live poses)", [&, mode = mode] {
+          return renderer->drawCrowdGpuCulled(id, live_crowd.view(), camera, nullptr, mode);
+        });
+  }
   // A material of the engine's, reading a uniform block of its own (at binding 7, which the
   // engine's state binds) and the instance handle (its block at storage binding 29, which the
   // engine's state binds too), on meshes and impostors.

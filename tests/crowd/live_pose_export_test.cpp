@@ -1,0 +1,122 @@
+// SkinnedInstancing — SPDX-License-Identifier: MIT (see LICENSE)
+// Live poses as GPU-driven culling reads them (CrowdExport): each posed instance's state names
+// its slot, each slot its current frame (the one its record names) and its hand-over, and
+// every change of either is a change the renderer uploads.
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <vector>
+
+#include "crowd/live_pose_helpers.h"
+#include "si/crowd/crowd_export.h"
+#include "si/crowd/crowd_manager.h"
+
+namespace si {
+namespace {
+
+using test::defaultCharacter;
+using test::defaultPalette;
+using test::enginePose;
+using test::liveDesc;
+using test::recordOf;
+
+// Instance `h`'s exported state.
+GpuInstanceState stateOf(const CrowdManager& crowd, InstanceHandle h) {
+  std::vector<GpuInstanceState> states;
+  std::vector<InstanceHandle> handles;
+  CrowdExport(crowd).state(&states, &handles);
+  for (size_t i = 0; i < handles.size(); ++i)
+    if (handles[i] == h) return states[i];
+  ADD_FAILURE() << "no such instance";
+  return GpuInstanceState();
+}
+
+// Whether `h`'s dense index is among the indices changed since `version`.
+bool changedSince(const CrowdManager& crowd, InstanceHandle h, uint64_t version) {
+  std::vector<InstanceHandle> handles;
+  std::vector<GpuInstanceState> states;
+  CrowdExport(crowd).state(&states, &handles);
+  const uint32_t i = uint32_t(std::find(handles.begin(), handles.end(), h) - handles.begin());
+  std::vector<DenseRange> changed;
+  CrowdExport(crowd).changedSince(version, &changed, nullptr);
+  for (const DenseRange& r : changed)
+    if (i >= r.first && i - r.first < r.count) return true;
+  return false;
+}
+
+TEST(LivePoseExport, StatesNameTheirSlotsAndSlotsTheirFramesAndHandOvers) {
+  const BakedPalette& p = defaultPalette();
+  const std::vector<glm::mat4> pose = enginePose(defaultCharacter().skeleton, p);
+  const Camera camera = test::testCamera({0, 1.6, 6}, {0, 1, 0});
+  CrowdManager crowd;
+  ASSERT_TRUE(crowd.init(liveDesc(3)).isOk());
+  InstanceDesc d;
+  d.clip = uint32_t(p.findClip("walk"));
+  InstanceHandle posed, playing;
+  ASSERT_TRUE(crowd.add(d, &posed).isOk());
+  ASSERT_TRUE(crowd.add(d, &playing).isOk());
+  ASSERT_TRUE(crowd.update(0.25, camera).isOk());
+  const CrowdExport e(crowd);
+  std::vector<GpuLivePose> slots;
+  e.livePoses(&slots);
+  ASSERT_EQ(slots.size(), 3u);  // Every slot, held or not.
+  EXPECT_EQ(stateOf(crowd, posed).live_pose, kGpuNoLivePose);
+
+  // Fading in over 0.5 s from the crowd clock: slot, frame and fade exported, and a change.
+  uint64_t version = e.stateVersion(), live_version = e.livePoseVersion();
+  ASSERT_TRUE(crowd.setLivePose(posed, pose, 0.5).isOk());
+  EXPECT_TRUE(changedSince(crowd, posed, version));
+  EXPECT_FALSE(changedSince(crowd, playing, version));
+  EXPECT_NE(e.livePoseVersion(), live_version);
+  const uint32_t slot = stateOf(crowd, posed).live_pose;
+  ASSERT_LT(slot, 3u);
+  EXPECT_EQ(stateOf(crowd, playing).live_pose, kGpuNoLivePose);
+  ASSERT_TRUE(crowd.update(0.1, camera).isOk());
+  e.livePoses(&slots);
+  EXPECT_EQ(slots[slot].first_texel, recordOf(crowd, posed)->frames[0]);
+  EXPECT_GE(slots[slot].first_texel, e.livePoseFirstTexel());
+  EXPECT_EQ(slots[slot].weight_from, 0.0f);
+  EXPECT_EQ(slots[slot].weight_to, 1.0f);
+  EXPECT_DOUBLE_EQ(slots[slot].fade_start, 0.25);
+  EXPECT_DOUBLE_EQ(slots[slot].fade_duration, 0.5);
+
+  // A pose set in a new step goes to the other frame: the slot names it.
+  const uint32_t before = slots[slot].first_texel;
+  version = e.stateVersion();
+  ASSERT_TRUE(crowd.setLivePose(posed, pose).isOk());
+  e.livePoses(&slots);
+  EXPECT_NE(slots[slot].first_texel, before);
+  EXPECT_TRUE(changedSince(crowd, posed, version));
+
+  // Handing back over 0.2 s: from the weight it has (0.2 of the 0.5 s blend gone) to 0,
+  // without a write (the fade alone changes the slot and the version).
+  live_version = e.livePoseVersion();
+  ASSERT_TRUE(crowd.clearLivePose(posed, 0.2).isOk());
+  EXPECT_NE(e.livePoseVersion(), live_version);
+  e.livePoses(&slots);
+  EXPECT_NEAR(slots[slot].weight_from, 0.2f, 1e-6f);
+  EXPECT_EQ(slots[slot].weight_to, 0.0f);
+  EXPECT_DOUBLE_EQ(slots[slot].fade_start, 0.35);
+  EXPECT_DOUBLE_EQ(slots[slot].fade_duration, 0.2);
+
+  // Freed once the clip is back: the state names no slot again, a change to upload.
+  version = e.stateVersion();
+  ASSERT_TRUE(crowd.update(0.25, camera).isOk());
+  EXPECT_EQ(stateOf(crowd, posed).live_pose, kGpuNoLivePose);
+  EXPECT_TRUE(changedSince(crowd, posed, version));
+}
+
+TEST(LivePoseExport, ACrowdWithoutRoomExportsNoSlots) {
+  CrowdManager crowd;
+  ASSERT_TRUE(crowd.init(liveDesc(0)).isOk());
+  std::vector<GpuLivePose> slots(2);
+  CrowdExport(crowd).livePoses(&slots);
+  EXPECT_TRUE(slots.empty());
+  CrowdManager none;  // Not initialised.
+  slots.resize(2);
+  CrowdExport(none).livePoses(&slots);
+  EXPECT_TRUE(slots.empty());
+}
+
+}  // namespace
+}  // namespace si
