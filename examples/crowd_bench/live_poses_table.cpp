@@ -24,14 +24,14 @@ Status runLive(Setup& setup, Renderer& renderer, const BakedPalette& palette,
   row->lod = live == 0 ? "off" : std::to_string(live) + " live";
   uint32_t frame = 0;
   return timeCrowd(setup, renderer, crowd, "field", places, path, row, [&](const Camera& cam) {
-    // Advance, write the live poses, select.
+    // Advance, write the live poses, select (the GPU selects on the GPU-selected paths).
     Status st = crowd.advance(1.0 / 60.0);
     ++frame;
     // Every tenth instance, so the posed ones spread over the field as characters would.
     for (uint32_t k = 0; st.isOk() && k < live; ++k)
       st = crowd.setLivePose(handles[(size_t(k) * 10 + k / (count / 10 + 1)) % count],
                              poses[(k + frame) % kPoses]);
-    return st.isOk() ? crowd.update(0.0, cam) : st;
+    return st.isOk() && !isGpuSelected(path) ? crowd.update(0.0, cam) : st;
   });
 }
 
@@ -59,13 +59,14 @@ Status livePosesTable(Setup& setup, const BakedPalette& palette, const RendererD
   std::printf(
       "\nLive poses (field): instances posed by the engine every frame (setLivePose, %zu joints "
       "each, a new pose every frame), beside none, side by side in one run; update = advance, "
-      "poses set, select; submit includes the live frames' upload\n",
+      "poses set, select (GPU-selected paths: no select); submit includes the live frames' "
+      "upload (and on the GPU-selected paths the posed instances' state)\n",
       palette.palette_joints.size());
   printSideBySideHeader("live");
   std::printf("\n");
   for (uint32_t count : sizes)
     for (const std::string& path : paths) {
-      if (path != "instanced" && path != "compute") continue;
+      if (path == "traditional" || path == "cpu" || path == "rigid") continue;  // No poses.
       Row off;
       s = runLive(setup, renderer, palette, poses, count, 0, path, &off);
       if (!s.isOk()) return {s.code(), "live, " + path + ": " + s.message()};

@@ -217,6 +217,11 @@ Span<const uint8_t> CrowdExport::livePoseTexels() const {
 uint32_t CrowdExport::livePoseFirstTexel() const {
   return crowd_->state_ ? crowd_->state_->store.live.firstTexel() : 0;
 }
+void CrowdExport::livePoseTexelsChangedSince(uint64_t since, uint32_t* first,
+                                             uint32_t* count) const {
+  *first = *count = 0;
+  if (crowd_->state_) crowd_->state_->store.live.changedTexels(since, first, count);
+}
 uint64_t CrowdExport::livePoseVersion() const {
   return crowd_->state_ ? crowd_->state_->store.live.version() : 0;
 }

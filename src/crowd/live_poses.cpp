@@ -18,6 +18,7 @@ Status LivePoses::reset(const BakedPalette* palette, uint32_t capacity) {
   fades_.clear();
   owners_.clear();
   sides_.clear();
+  frame_versions_.clear();
   written_.clear();
   fading_out_ = 0;
   texels_.clear();
@@ -43,6 +44,7 @@ Status LivePoses::reset(const BakedPalette* palette, uint32_t capacity) {
   fades_.resize(capacity);
   owners_.resize(capacity);
   sides_.assign(capacity, 0);
+  frame_versions_.assign(size_t(2) * capacity, 0);
   written_.assign(capacity, kNever);
   texels_.assign(size_t(texels) * bytesPerTexel(palette->format), 0);
   return Status::ok();
@@ -94,6 +96,8 @@ void LivePoses::write(uint32_t slot, Span<const glm::mat4> skinning, uint32_t we
   const size_t bytes = bytesPerTexel(palette_->format);
   if (written_[slot] != kNever && written_[slot] != step) sides_[slot] ^= 1u;
   written_[slot] = step;
+  ++version_;
+  frame_versions_[frameOf(slot)] = version_;
   uint8_t* frame = texels_.data() + size_t(frameTexel(slot) - first_texel_) * bytes;
   for (uint32_t j = 0; j < skinning.size(); ++j)
     for (uint32_t row = 0; row < 3; ++row)
@@ -106,7 +110,19 @@ void LivePoses::write(uint32_t slot, Span<const glm::mat4> skinning, uint32_t we
         palette_->texel_bytes.data() + (size_t(weights_frame_texel) + l.morph_first_texel) * bytes,
         size_t(texels) * bytes);
   }
-  ++version_;
+}
+
+void LivePoses::changedTexels(uint64_t since, uint32_t* first, uint32_t* count) const {
+  if (since == 0) {  // Every texel, written or not.
+    *first = 0;
+    *count = uint32_t(frame_versions_.size()) * stride_;
+    return;
+  }
+  uint32_t lo = uint32_t(frame_versions_.size()), hi = 0;
+  for (uint32_t f = 0; f < frame_versions_.size(); ++f)
+    if (frame_versions_[f] > since) lo = std::min(lo, f), hi = f + 1;
+  *first = lo < hi ? lo * stride_ : 0;
+  *count = lo < hi ? (hi - lo) * stride_ : 0;
 }
 
 glm::mat4 LivePoses::matrix(uint32_t slot, uint32_t joint) const {

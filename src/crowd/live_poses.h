@@ -3,7 +3,8 @@
 // Live poses (CrowdManager::setLivePose): the frames of palette texels, two per posed
 // instance, that the engine writes and the instances' records point at. They follow the
 // palette's texels (their first texel is the palette texture's texel count) in its format, so
-// every path reads them as it reads a baked frame. A slot's two frames take turns: the first
+// every path reads them as it reads a baked frame (each slot's first frames, then each slot's
+// second, so that the poses of a step lie together). A slot's two frames take turns: the first
 // write of a crowd step goes to the frame the last step's records did not name, so the
 // previous records (motion vectors) still read the previous pose. No GL.
 
@@ -63,14 +64,16 @@ class LivePoses {
   void write(uint32_t slot, Span<const glm::mat4> skinning, uint32_t weights_frame_texel,
              uint64_t step);
   /// The first texel of slot `slot`'s current frame, as a record's frames name it.
-  uint32_t frameTexel(uint32_t slot) const {
-    return first_texel_ + (2 * slot + sides_[slot]) * stride_;
-  }
+  uint32_t frameTexel(uint32_t slot) const { return first_texel_ + frameOf(slot) * stride_; }
   /// Palette joint `joint`'s matrix of slot `slot`'s current frame as the shader reads it (half
   /// floats widened).
   glm::mat4 matrix(uint32_t slot, uint32_t joint) const;
   uint32_t firstTexel() const { return first_texel_; }
   Span<const uint8_t> texels() const { return texels_; }
+  /// The texels written after version `since` (a version() seen before; 0: every texel), as
+  /// one span of texels() in texels: [*first, *first + *count). The frames of one side lie
+  /// together (side 0's, then side 1's), so poses set in one step take one side's span.
+  void changedTexels(uint64_t since, uint32_t* first, uint32_t* count) const;
   /// Changes with every write, fade and release (a consumer uploads again when it has moved).
   uint64_t version() const { return version_; }
 
@@ -83,6 +86,9 @@ class LivePoses {
   std::vector<Fade> fades_;             // Per slot.
   std::vector<InstanceHandle> owners_;  // Per slot.
   std::vector<uint8_t> sides_;          // Per slot: which of its two frames is current.
+  std::vector<uint64_t> frame_versions_;  // Per frame: the version of its last write (0: none).
+  // Slot `slot`'s current frame: side 0's frames first (one per slot), then side 1's.
+  uint32_t frameOf(uint32_t slot) const { return sides_[slot] * capacity_ + slot; }
   std::vector<uint64_t> written_;       // Per slot: the step of its last write (kNever: none).
   static constexpr uint64_t kNever = ~uint64_t(0);
   uint32_t fading_out_ = 0;

@@ -165,8 +165,7 @@ struct Renderer::Impl {
   Status uploadLivePoses(detail::CharacterSlot& c, const CrowdManager& crowd, const char* what) {
     const CrowdExport live(crowd);
     if (live.livePoseTexels().empty()) return Status::ok();
-    const Status s =
-        c.palette.uploadLive(live.livePoseTexels(), crowd.identity(), live.livePoseVersion(), info);
+    const Status s = c.palette.uploadLive(live, crowd.identity(), info);
     return s.isOk() ? s : Status(s.code(), detail::strCat(what, ": ", s.message()));
   }
   /// kUnsupported for a crowd holding live poses (CrowdManager::setLivePose) on a path that

@@ -106,6 +106,50 @@ TEST(LivePoseExport, StatesNameTheirSlotsAndSlotsTheirFramesAndHandOvers) {
   EXPECT_TRUE(changedSince(crowd, posed, version));
 }
 
+// What a renderer uploads again: the frames written since the version it holds, the poses of
+// one step together.
+TEST(LivePoseExport, TheTexelsChangedSinceAVersionAreTheFramesWrittenSince) {
+  const BakedPalette& p = defaultPalette();
+  const uint32_t stride = p.layout.frame_stride_texels;
+  const std::vector<glm::mat4> pose = enginePose(defaultCharacter().skeleton, p);
+  const Camera camera = test::testCamera({0, 1.6, 6}, {0, 1, 0});
+  CrowdManager crowd;
+  ASSERT_TRUE(crowd.init(liveDesc(8)).isOk());
+  std::vector<InstanceHandle> h(8);
+  for (InstanceHandle& handle : h) ASSERT_TRUE(crowd.add(InstanceDesc(), &handle).isOk());
+  const CrowdExport e(crowd);
+  uint32_t first = 1, count = 1;
+  e.livePoseTexelsChangedSince(0, &first, &count);  // Everything.
+  EXPECT_EQ(first, 0u);
+  EXPECT_EQ(size_t(count) * bytesPerTexel(p.format), e.livePoseTexels().size());
+  e.livePoseTexelsChangedSince(e.livePoseVersion(), &first, &count);
+  EXPECT_EQ(count, 0u);
+  // Slots 0-3 taken in one step: frames 0-3 of side 0.
+  uint64_t since = e.livePoseVersion();
+  for (int k = 0; k < 4; ++k) ASSERT_TRUE(crowd.setLivePose(h[size_t(k)], pose).isOk());
+  e.livePoseTexelsChangedSince(since, &first, &count);
+  EXPECT_EQ(first, 0u);
+  EXPECT_EQ(count, 4 * stride);
+  // The next step writes slots 1 and 2 again: their side-1 frames (after the 8 of side 0),
+  // and the slots' current frames are there.
+  ASSERT_TRUE(crowd.update(0.1, camera).isOk());
+  since = e.livePoseVersion();
+  ASSERT_TRUE(crowd.setLivePose(h[1], pose).isOk());
+  ASSERT_TRUE(crowd.setLivePose(h[2], pose).isOk());
+  e.livePoseTexelsChangedSince(since, &first, &count);
+  EXPECT_EQ(first, (8 + 1) * stride);
+  EXPECT_EQ(count, 2 * stride);
+  std::vector<GpuLivePose> slots;
+  e.livePoses(&slots);
+  EXPECT_EQ(slots[stateOf(crowd, h[1]).live_pose].first_texel, e.livePoseFirstTexel() + first);
+  // A hand-back changes the version, not the texels.
+  since = e.livePoseVersion();
+  ASSERT_TRUE(crowd.clearLivePose(h[3], 0.5).isOk());
+  EXPECT_NE(e.livePoseVersion(), since);
+  e.livePoseTexelsChangedSince(since, &first, &count);
+  EXPECT_EQ(count, 0u);
+}
+
 TEST(LivePoseExport, ACrowdWithoutRoomExportsNoSlots) {
   CrowdManager crowd;
   ASSERT_TRUE(crowd.init(liveDesc(0)).isOk());
@@ -116,6 +160,9 @@ TEST(LivePoseExport, ACrowdWithoutRoomExportsNoSlots) {
   slots.resize(2);
   CrowdExport(none).livePoses(&slots);
   EXPECT_TRUE(slots.empty());
+  uint32_t first = 1, count = 1;
+  CrowdExport(none).livePoseTexelsChangedSince(0, &first, &count);
+  EXPECT_EQ(first + count, 0u);
 }
 
 }  // namespace

@@ -6,7 +6,9 @@
 // live poses yet (the baselines) refuse by name.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cstdio>
+#include <string>
 #include <vector>
 
 #include "render/render_fixture.h"
@@ -156,6 +158,58 @@ TEST_P(LivePoseRenderTest, APoseDrawsAsTheFrameItHolds) {
     const Status s = drawOnPath(r, kind, posed, rowCamera(), nullptr);
     EXPECT_EQ(s.code(), StatusCode::kUnsupported);
     EXPECT_NE(s.message().find("live poses"), std::string::npos) << s.message();
+  }
+}
+
+// Poses set step after step, some instances at a time: the renderer uploads only the frames
+// written since its last upload of the crowd, and every step draws the twin that plays the
+// frames the poses hold, on the vertex-shader and GPU-driven paths.
+TEST_P(LivePoseRenderTest, PosesSetStepAfterStepDrawTheirFrames) {
+  Renderer r;
+  makeRenderer(&r);
+  const BakedPalette& p = palette();
+  const uint32_t wave = uint32_t(p.findClip("wave"));
+  const BakedClip& clip = p.clips[wave];
+  const auto timeOf = [&](uint32_t f) {
+    return clip.frame_times_seconds.empty() ? double(f) * clip.frame_interval_seconds
+                                            : clip.frame_times_seconds[f];
+  };
+  for (PathKind path : {PathKind::kInstanced, PathKind::kGpuDriven}) {
+    SCOPED_TRACE(pathKindName(path));
+    CrowdManager posed, twin;
+    initRow(&posed, 4);
+    initRow(&twin, 0);  // No live rows of its own: the posed crowd's stay in the texture.
+    std::vector<InstanceHandle> hp(3), ht(3);
+    for (int k = 0; k < 3; ++k) {
+      InstanceDesc d = rowInstance(k);
+      d.clip = wave, d.time_seconds = 0.0, d.speed = 0.0f;
+      ASSERT_TRUE(posed.add(d, &hp[size_t(k)]).isOk());
+      ASSERT_TRUE(twin.add(d, &ht[size_t(k)]).isOk());
+    }
+    // Step s poses the instances of bit mask kWho[s] with the (3 s + k)-th of the frames its
+    // time samples exactly (fraction 0: the twin draws the stored matrices alone); the others
+    // hold theirs.
+    std::vector<uint32_t> exact;
+    for (uint32_t f = 0; f < clip.frame_count; ++f) {
+      const FrameSample at = sampleFrames(clip, timeOf(f));
+      if (at.frame == f && at.fraction == 0.0f) exact.push_back(f);
+    }
+    ASSERT_GE(exact.size(), 4u);
+    constexpr uint32_t kWho[] = {0x7, 0x2, 0x5, 0x4, 0x3};
+    for (uint32_t step = 0; step < 5; ++step) {
+      SCOPED_TRACE("step " + std::to_string(step));
+      for (uint32_t k = 0; k < 3; ++k) {
+        if (!(kWho[step] >> k & 1u)) continue;
+        const uint32_t frame = exact[(3 * step + k) % exact.size()];
+        ASSERT_TRUE(posed.setLivePose(hp[k], waveFrame(frame)).isOk());
+        ASSERT_TRUE(twin.play(ht[k], wave, timeOf(frame), 0.0f).isOk());
+      }
+      ASSERT_TRUE(posed.update(0.1, rowCamera()).isOk());
+      ASSERT_TRUE(twin.update(0.1, rowCamera()).isOk());
+      const std::vector<uint8_t> live = image(r, posed, path);
+      const std::vector<uint8_t> frames = image(r, twin, path);
+      EXPECT_EQ(differingPixels(live, frames), 0u);
+    }
   }
 }
 

@@ -102,6 +102,11 @@ class CrowdExport {
   /// poses.
   Span<const uint8_t> livePoseTexels() const;
   uint32_t livePoseFirstTexel() const;
+  /// The live texels written after livePoseVersion() was `since` (0: all of them), as one span
+  /// of livePoseTexels() counted in texels: [*first, *first + *count), count 0 for none. What a
+  /// renderer that uploaded the texels at `since` uploads again; poses set in one crowd step lie
+  /// together (about half the texels when every pose changes).
+  void livePoseTexelsChangedSince(uint64_t since, uint32_t* first, uint32_t* count) const;
   /// Changes whenever the live texels do (a renderer uploads them again when it has moved).
   uint64_t livePoseVersion() const;
   /// Live poses held now (those handing back to their clips included).

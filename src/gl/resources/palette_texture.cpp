@@ -2,11 +2,14 @@
 // Uploading the palette texture.
 #include "gl/resources/palette_texture.h"
 
+#include <algorithm>
+
 #include <cstring>
 
 #include "core/str_cat.h"
 #include "gl/resources/gl_allocation.h"
 #include "si/core/shader_inputs.h"
+#include "si/crowd/crowd_export.h"
 
 namespace si::detail {
 
@@ -61,8 +64,9 @@ Status PaletteTexture::upload(const BakedPalette& palette, const GlInfo& info,
   return Status::ok();
 }
 
-Status PaletteTexture::uploadLive(Span<const uint8_t> texels, uint64_t crowd_identity,
-                                  uint64_t version, const GlInfo& info) {
+Status PaletteTexture::uploadLive(const CrowdExport& live, uint64_t crowd_identity,
+                                  const GlInfo& info) {
+  const Span<const uint8_t> texels = live.livePoseTexels();
   if (texels.empty() || palette_ == nullptr) return Status::ok();
   const PaletteLayout& l = palette_->layout;
   const bool half = palette_->format == PaletteFormat::kMatrix3x4F16;
@@ -85,15 +89,26 @@ Status PaletteTexture::uploadLive(Span<const uint8_t> texels, uint64_t crowd_ide
     height_ = uint32_t(height);
     live_identity_ = live_version_ = 0;
   }
+  const uint64_t version = live.livePoseVersion();
   if (crowd_identity == live_identity_ && version == live_version_) return Status::ok();
+  // What changed since the version these rows hold: all of it for another crowd.
+  uint32_t first = 0, changed = 0;
+  live.livePoseTexelsChangedSince(crowd_identity == live_identity_ ? live_version_ : 0, &first,
+                                  &changed);
   glPixelStorei(GL_UNPACK_ALIGNMENT, 1);
-  const uint64_t rows = count / l.width, rest = count % l.width;
-  if (rows > 0)
-    glTextureSubImage2D(texture_, 0, 0, GLint(l.height), GLsizei(l.width), GLsizei(rows), GL_RGBA,
-                        type, texels.data());
-  if (rest > 0)
-    glTextureSubImage2D(texture_, 0, 0, GLint(l.height + rows), GLsizei(rest), 1, GL_RGBA, type,
-                        texels.data() + rows * l.width * bytes);
+  // The span [first, first + changed) of the rows after the palette's: a part row, whole rows,
+  // a part row.
+  uint64_t at = first;
+  const uint64_t end = uint64_t(first) + changed;
+  while (at < end) {
+    const uint64_t x = at % l.width, y = l.height + at / l.width;
+    const uint64_t rows = x == 0 ? (end - at) / l.width : 0;
+    const uint64_t width = rows > 0 ? l.width : std::min<uint64_t>(l.width - x, end - at);
+    glTextureSubImage2D(texture_, 0, GLint(x), GLint(y), GLsizei(width),
+                        GLsizei(std::max<uint64_t>(rows, 1)), GL_RGBA, type,
+                        texels.data() + at * bytes);
+    at += width * std::max<uint64_t>(rows, 1);
+  }
   live_identity_ = crowd_identity;
   live_version_ = version;
   return Status::ok();

@@ -14,6 +14,7 @@
 #include "si/core/baked_palette.h"
 #include "si/core/shader_inputs.h"
 #include "si/core/span.h"
+#include "si/crowd/crowd_export.h"
 #include "si/gl/gl_context.h"
 
 namespace si::detail {
@@ -35,10 +36,10 @@ class PaletteTexture {
   void release();
   /// Places a crowd's live poses (CrowdExport::livePoseTexels, in the palette's format) after
   /// the palette's texels: the texture grows by the rows they need, once (kLimitExceeded past
-  /// GL_MAX_TEXTURE_SIZE), and they are uploaded unless they are what was uploaded last (the
-  /// crowd's identity and live version). Nothing for none. Writes the unpack state.
-  Status uploadLive(Span<const uint8_t> texels, uint64_t crowd_identity, uint64_t version,
-                    const GlInfo& info);
+  /// GL_MAX_TEXTURE_SIZE); all of them are uploaded for another crowd than last time (its
+  /// identity), for the same crowd those written since the version uploaded
+  /// (livePoseTexelsChangedSince). Nothing for none. Writes the unpack state.
+  Status uploadLive(const CrowdExport& live, uint64_t crowd_identity, const GlInfo& info);
 
   GLuint texture() const { return texture_; }
   const glm::uvec4& shaderInfo() const { return shader_info_; }
