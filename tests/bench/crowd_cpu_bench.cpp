@@ -10,8 +10,13 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <cstdio>
 #include <cstdlib>
+#include <map>
 #include <memory>
+#include <string>
+
+#include <glm/gtc/quaternion.hpp>
 
 #include "si/bake/animation_baker.h"
 #include "si/core/default_character.h"
@@ -281,6 +286,91 @@ BENCHMARK(livePoses)
     ->ArgName("live")
     ->Unit(benchmark::kMillisecond)
     ->UseRealTime();
+
+// The palette of a chain of `joints` joints, one vertex per joint, one clip bending it: a
+// character of any joint count (the repository's assets stop at 21 palette joints).
+const si::BakedPalette& chainPalette(uint32_t joints) {
+  static std::map<uint32_t, si::BakedPalette> baked;
+  auto it = baked.find(joints);
+  if (it != baked.end()) return it->second;
+  si::Character c;
+  c.name = "chain";
+  si::Clip bend;
+  bend.name = "bend";
+  bend.duration_seconds = 1.0f;
+  for (uint32_t i = 0; i < joints; ++i) {
+    c.skeleton.joint_names.push_back("joint" + std::to_string(i));
+    c.skeleton.parents.push_back(i == 0 ? si::Skeleton::kNoParent : int32_t(i - 1));
+    si::Transform t;
+    t.translation = i == 0 ? glm::vec3(0.0f) : glm::vec3(0, 0.05f, 0);
+    c.skeleton.rest_pose.push_back(t);
+    glm::mat4 ibm(1.0f);
+    ibm[3] = glm::vec4(0, -0.05f * float(i), 0, 1);
+    c.skeleton.inverse_bind_matrices.push_back(ibm);
+    c.mesh.positions.push_back(glm::vec3(0.1f, 0.05f * float(i), 0.0f));
+    c.mesh.normals.push_back(glm::vec3(1, 0, 0));
+    c.mesh.joints.push_back(glm::u16vec4(uint16_t(i), 0, 0, 0));
+    c.mesh.weights.push_back(glm::vec4(1, 0, 0, 0));
+    si::JointTracks tracks;
+    tracks.rotation.times_seconds = {0.0f, 1.0f};
+    tracks.rotation.values = {glm::quat(1, 0, 0, 0), glm::angleAxis(0.05f, glm::vec3(1, 0, 0))};
+    bend.joint_tracks.push_back(tracks);
+  }
+  for (uint32_t i = 0; i + 2 < joints; ++i)
+    c.mesh.indices.insert(c.mesh.indices.end(), {i, i + 1, i + 2});
+  c.mesh.sub_meshes.push_back(
+      si::SubMesh{"body", {si::IndexRange{0, uint32_t(c.mesh.indices.size())}}, 0, {}});
+  c.clips.push_back(bend);
+  si::BakeDesc d;
+  d.rate_mode = si::RateMode::kFixed;
+  si::BakedPalette out;
+  const si::Status s = si::bakePalette(c, d, &out, nullptr);
+  if (!s.isOk()) {
+    std::fprintf(stderr, "chainPalette: %s\n", s.toString().c_str());
+    std::abort();
+  }
+  return baked.emplace(joints, std::move(out)).first->second;
+}
+
+// setLivePose's cost against the joints a pose has: 1,000 instances of a chain of
+// state.range(0) joints (chainPalette) posed each iteration with another baked frame.
+// ns_per_pose: one call; ns_per_joint: that over the palette's joints.
+void livePoseJoints(benchmark::State& state) {
+  const si::BakedPalette& p = chainPalette(uint32_t(state.range(0)));
+  constexpr uint32_t kLive = 1000;
+  si::CrowdDesc cd;
+  cd.palette = &p;
+  cd.sub_mesh_count = 1;
+  cd.live_pose_capacity = kLive;
+  si::CrowdManager crowd;
+  if (!crowd.init(cd).isOk()) std::abort();
+  std::vector<si::InstanceHandle> handles(kLive);
+  for (uint32_t k = 0; k < kLive; ++k) {
+    si::InstanceDesc d;
+    d.position = glm::dvec3(double(k % 40), 0.0, double(k / 40));
+    if (!crowd.add(d, &handles[k]).isOk()) std::abort();
+  }
+  std::vector<std::vector<glm::mat4>> poses(16, std::vector<glm::mat4>(p.palette_joints.size()));
+  for (uint32_t k = 0; k < poses.size(); ++k)
+    for (uint32_t j = 0; j < p.palette_joints.size(); ++j)
+      poses[k][j] = si::decodeJoint(p, 0, k % p.clips[0].frame_count, j);
+  double set_ms = 0.0;
+  uint32_t frame = 0;
+  for (auto _ : state) {
+    if (!crowd.advance(1.0 / 60.0).isOk()) std::abort();
+    ++frame;
+    const auto t0 = std::chrono::steady_clock::now();
+    for (uint32_t k = 0; k < kLive; ++k)
+      if (!crowd.setLivePose(handles[k], poses[(k + frame) % poses.size()]).isOk()) std::abort();
+    set_ms +=
+        std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
+  }
+  const double n = double(state.iterations());
+  state.counters["set_ms"] = set_ms / n;
+  state.counters["ns_per_pose"] = set_ms * 1e6 / (n * kLive);
+  state.counters["ns_per_joint"] = set_ms * 1e6 / (n * kLive * double(p.palette_joints.size()));
+}
+BENCHMARK(livePoseJoints)->Arg(20)->Arg(60)->Unit(benchmark::kMillisecond);
 
 // The GPU-driven path's CPU share of churn, what drawCrowdGpuCulled does before its GL calls
 // (src/gl/paths/gpu_state_upload.cpp; docs/performance.md, "Several crowds of one character,
