@@ -168,15 +168,6 @@ struct Renderer::Impl {
     const Status s = c.palette.uploadLive(live, crowd.identity(), info);
     return s.isOk() ? s : Status(s.code(), detail::strCat(what, ": ", s.message()));
   }
-  /// kUnsupported for a crowd holding live poses (CrowdManager::setLivePose) on a path that
-  /// does not draw them yet.
-  static Status noLivePoses(const CrowdManager& crowd, const char* what) {
-    const uint32_t held = CrowdExport(crowd).livePoseCount();
-    if (held == 0) return Status::ok();
-    return {StatusCode::kUnsupported,
-            detail::strCat(what, ": the crowd holds ", held, " live poses (setLivePose), which ",
-                           "drawCrowd draws and this path does not yet")};
-  }
   /// The same for a view: kInvalidArgument when it is not attached to a crowd.
   Status find(CharacterId id, const char* what, detail::CharacterSlot** out, const CrowdView& view) {
     if (view.crowd() == nullptr)
@@ -233,7 +224,6 @@ struct Renderer::Impl {
           what, cpu ? "storage buffers (a baseline)" : "traditional program (a desktop baseline)");
     if (s.isOk()) s = noMotion(what);
     if (s.isOk()) s = noImpostors(*view.crowd(), what);
-    if (s.isOk()) s = noLivePoses(*view.crowd(), what);
     if (!s.isOk()) return s;
     detail::DrawPath& p = cpu ? static_cast<detail::DrawPath&>(c->cpu_path) : traditional_path;
     const auto t0 = std::chrono::steady_clock::now();

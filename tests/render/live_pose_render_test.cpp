@@ -1,9 +1,8 @@
 // SkinnedInstancing — SPDX-License-Identifier: MIT (see LICENSE)
 // Live poses drawn (CrowdManager::setLivePose): an instance posed with the matrices of a baked
 // frame draws exactly what an instance playing that frame draws, on the vertex-shader and
-// compute paths of drawCrowd and of GPU-driven culling, and the ES profile; a hand-over from
-// the clip half-way draws as a crossfade half-way to that frame; the paths that do not draw
-// live poses yet (the baselines) refuse by name.
+// compute paths of drawCrowd and of GPU-driven culling, the baselines, and the ES profile; a
+// hand-over from the clip half-way draws as a crossfade half-way to that frame.
 #include <gtest/gtest.h>
 
 #include <algorithm>
@@ -19,9 +18,10 @@ namespace {
 
 using namespace test;
 
-// The paths that draw live poses: drawCrowd's two skinnings, GPU-driven culling's two.
-constexpr PathKind kLivePaths[] = {PathKind::kInstanced, PathKind::kCompute, PathKind::kGpuDriven,
-                                   PathKind::kGpuDrivenCompute};
+// Every path: drawCrowd's two skinnings, GPU-driven culling's two, the baselines.
+constexpr PathKind kLivePaths[] = {PathKind::kInstanced,   PathKind::kCompute,
+                                   PathKind::kGpuDriven,   PathKind::kGpuDrivenCompute,
+                                   PathKind::kTraditional, PathKind::kCpu};
 
 class LivePoseRenderTest : public RenderTest {
  protected:
@@ -150,20 +150,12 @@ TEST_P(LivePoseRenderTest, APoseDrawsAsTheFrameItHolds) {
     expectPosesDraw(r, path);
     expectHandOverDraws(r, path);
   }
-  CrowdManager posed;
-  makeRow(&posed, true, false);
-  // The paths that do not draw live poses yet refuse by name.
-  for (PathKind kind : {PathKind::kTraditional, PathKind::kCpu}) {
-    SCOPED_TRACE(pathKindName(kind));
-    const Status s = drawOnPath(r, kind, posed, rowCamera(), nullptr);
-    EXPECT_EQ(s.code(), StatusCode::kUnsupported);
-    EXPECT_NE(s.message().find("live poses"), std::string::npos) << s.message();
-  }
 }
 
 // Poses set step after step, some instances at a time: the renderer uploads only the frames
 // written since its last upload of the crowd, and every step draws the twin that plays the
-// frames the poses hold, on the vertex-shader and GPU-driven paths.
+// frames the poses hold, on the vertex-shader, GPU-driven and CPU-skinning paths (the last
+// reads the frames from its copy of the palette, rewritten alike).
 TEST_P(LivePoseRenderTest, PosesSetStepAfterStepDrawTheirFrames) {
   Renderer r;
   makeRenderer(&r);
@@ -174,7 +166,7 @@ TEST_P(LivePoseRenderTest, PosesSetStepAfterStepDrawTheirFrames) {
     return clip.frame_times_seconds.empty() ? double(f) * clip.frame_interval_seconds
                                             : clip.frame_times_seconds[f];
   };
-  for (PathKind path : {PathKind::kInstanced, PathKind::kGpuDriven}) {
+  for (PathKind path : {PathKind::kInstanced, PathKind::kGpuDriven, PathKind::kCpu}) {
     SCOPED_TRACE(pathKindName(path));
     CrowdManager posed, twin;
     initRow(&posed, 4);

@@ -263,8 +263,8 @@ class CrowdManager {
   /// (CrowdExport::livePoseTexels: the first pose set in a crowd step goes to the frame the
   /// last selection did not name, so motion vectors read the previous pose; set poses before
   /// selecting) and the record points there; jointMatrix() and socketTransform() answer with
-  /// it. si::Renderer::drawCrowd and drawCrowdGpuCulled draw it (uploading the frames after
-  /// the palette's when they changed); the baselines refuse a crowd holding live poses by name.
+  /// it. Every path of si::Renderer draws it (the frames uploaded after the palette's when
+  /// they changed).
   /// kNotFound for a stale handle; kInvalidArgument for a crowd without live pose capacity, a
   /// negative or non-finite blend, or a matrix whose last row is not 0 0 0 1; kCountMismatch
   /// for a count other than the palette's joints; kNotFinite for a matrix that is not finite or

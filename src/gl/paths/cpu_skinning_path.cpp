@@ -99,7 +99,8 @@ Status CpuSkinningPath::draw(const DrawResources& r, const PathFrame& f, DrawSta
   setCameraUniforms(program, f.camera, f.light);
   const bool tangents = tangent_offset_ != 0;
   glProgramUniform1ui(program.id, 6, tangents ? 1u : 0u);
-  const BakedPalette& palette = *r.palette->palette();
+  // Records of posed instances name live frames after the palette's texels.
+  const BakedPalette& palette = live_palette_.of(*r.palette->palette(), *f.crowd);
   const SkinnedMesh& mesh = r.character->mesh;
   const std::vector<SubMesh>& sub_meshes = r.character->sub_meshes;
   // The crowd's sub-meshes (CrowdDesc::sub_mesh_count), as every other path draws them.

@@ -9,6 +9,7 @@
 #include <vector>
 
 #include "gl/paths/draw_path.h"
+#include "gl/paths/live_palette.h"
 
 namespace si::detail {
 
@@ -48,6 +49,7 @@ class CpuSkinningPath final : public DrawPath {
   std::vector<uint32_t> morph_first_;
   std::vector<MorphEntry> morph_entries_;
   std::vector<float> morph_weights_;  // The drawn instance's.
+  LivePalette live_palette_;          // The palette with the crowd's live poses, when it has room.
 };
 
 }  // namespace si::detail

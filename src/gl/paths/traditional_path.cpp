@@ -21,7 +21,8 @@ Status TraditionalPath::prepare(const DrawResources&) {
 }
 
 Status TraditionalPath::draw(const DrawResources& r, const PathFrame& f, DrawStats* st) {
-  const BakedPalette& palette = *r.palette->palette();
+  // Records of posed instances name live frames after the palette's texels.
+  const BakedPalette& palette = live_palette_.of(*r.palette->palette(), *f.crowd);
   const uint32_t slots = palette.layout.joint_count;
   if (slots > kMaxTraditionalJoints)
     return {StatusCode::kLimitExceeded, "drawTraditional: more joints than the uniform block holds"};

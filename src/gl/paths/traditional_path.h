@@ -7,6 +7,7 @@
 #include <vector>
 
 #include "gl/paths/draw_path.h"
+#include "gl/paths/live_palette.h"
 #include "si/core/morph_target.h"
 
 namespace si::detail {
@@ -29,6 +30,7 @@ class TraditionalPath final : public DrawPath {
   GLuint block_buffer_ = kNoObject;
   std::vector<uint8_t> block_;
   std::vector<float> morph_weights_;
+  LivePalette live_palette_;  // The palette with the crowd's live poses, when it has room.
 };
 
 }  // namespace si::detail
