@@ -126,15 +126,17 @@ Status GpuCulledPath::uploadFrame(const DrawResources& r, const PathFrame& f) {
 
 Status GpuCulledPath::uploadLivePoses(const CrowdManager& crowd) {
   const CrowdExport exported(crowd);
-  if (live_poses_ != kNoObject && live_identity_ == crowd.identity() &&
-      live_version_ == exported.livePoseVersion())
-    return Status::ok();
+  if (live_poses_ != kNoObject && !live_held_.update(exported, crowd.identity()))
+    return Status::ok();  // The slots go whole: no span of changed texels.
   exported.livePoses(&live_export_);
   const uint32_t slots = std::max<uint32_t>(1, uint32_t(live_export_.size()));
   if (live_poses_ == kNoObject || slots > live_capacity_) {
     Status s = recreate(&live_poses_, size_t(slots) * sizeof(GpuLivePose), nullptr,
                         "drawCrowdGpuCulled: the live poses");
-    if (!s.isOk()) return s;
+    if (!s.isOk()) {
+      live_held_.forget();
+      return s;
+    }
     live_capacity_ = slots;
   }
   // 32 bytes a slot (32 KiB for a thousand): written in place, after the last passes' reads
@@ -142,8 +144,6 @@ Status GpuCulledPath::uploadLivePoses(const CrowdManager& crowd) {
   if (!live_export_.empty())
     glNamedBufferSubData(live_poses_, 0, GLsizeiptr(live_export_.size() * sizeof(GpuLivePose)),
                          live_export_.data());
-  live_identity_ = crowd.identity();
-  live_version_ = exported.livePoseVersion();
   return Status::ok();
 }
 

@@ -19,6 +19,7 @@
 
 #include "gl/paths/draw_path.h"
 #include "gl/paths/gpu_view_slots.h"
+#include "gl/resources/live_texels_held.h"
 #include "si/gl/gpu_memory.h"
 
 namespace si::detail {
@@ -101,7 +102,7 @@ class GpuCulledPath final : public DrawPath {
   // the crowd and version they were uploaded for.
   GLuint live_poses_ = kNoObject;
   uint32_t live_capacity_ = 0;
-  uint64_t live_identity_ = 0, live_version_ = 0;
+  LiveTexelsHeld live_held_;
   std::vector<GpuLivePose> live_export_;
   uint32_t layer_capacity_ = 0, layer_copies_ = 1;
   bool layers_ = false, extras_ = false;

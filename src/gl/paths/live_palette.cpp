@@ -19,16 +19,12 @@ const BakedPalette& LivePalette::of(const BakedPalette& palette, const CrowdMana
     copy_.texel_bytes.resize(at + texels.size());
     source_ = &palette;
     palette_bytes_ = at;
-    identity_ = version_ = 0;
+    held_.forget();
   }
-  if (identity_ == crowd.identity() && version_ == live.livePoseVersion()) return copy_;
   uint32_t first = 0, count = 0;
-  live.livePoseTexelsChangedSince(identity_ == crowd.identity() ? version_ : 0, &first, &count);
-  if (count > 0)
+  if (held_.update(live, crowd.identity(), &first, &count) && count > 0)
     std::memcpy(copy_.texel_bytes.data() + at + size_t(first) * texel_bytes,
                 texels.data() + size_t(first) * texel_bytes, size_t(count) * texel_bytes);
-  identity_ = crowd.identity();
-  version_ = live.livePoseVersion();
   return copy_;
 }
 

@@ -8,6 +8,7 @@
 
 #include <cstdint>
 
+#include "gl/resources/live_texels_held.h"
 #include "si/core/baked_palette.h"
 #include "si/crowd/crowd_manager.h"
 
@@ -23,7 +24,7 @@ class LivePalette {
   BakedPalette copy_;
   const BakedPalette* source_ = nullptr;
   size_t palette_bytes_ = 0;  // The palette's own texel bytes (the live tail after them).
-  uint64_t identity_ = 0, version_ = 0;  // The crowd and live version the tail holds.
+  LiveTexelsHeld held_;       // The crowd and live version the tail holds.
 };
 
 }  // namespace si::detail

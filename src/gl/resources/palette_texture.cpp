@@ -59,7 +59,7 @@ Status PaletteTexture::upload(const BakedPalette& palette, const GlInfo& info,
   shader_info_ = info_value;
   palette_ = &palette;
   height_ = l.height;
-  live_identity_ = live_version_ = 0;
+  live_held_.forget();
   morph_texture_ = morphs.texture;
   return Status::ok();
 }
@@ -87,14 +87,11 @@ Status PaletteTexture::uploadLive(const CrowdExport& live, uint64_t crowd_identi
     glDeleteTextures(1, &texture_);
     texture_ = grown;
     height_ = uint32_t(height);
-    live_identity_ = live_version_ = 0;
+    live_held_.forget();
   }
-  const uint64_t version = live.livePoseVersion();
-  if (crowd_identity == live_identity_ && version == live_version_) return Status::ok();
   // What changed since the version these rows hold: all of it for another crowd.
   uint32_t first = 0, changed = 0;
-  live.livePoseTexelsChangedSince(crowd_identity == live_identity_ ? live_version_ : 0, &first,
-                                  &changed);
+  if (!live_held_.update(live, crowd_identity, &first, &changed)) return Status::ok();
   glPixelStorei(GL_UNPACK_ALIGNMENT, 1);
   // The span [first, first + changed) of the rows after the palette's: a part row, whole rows,
   // a part row.
@@ -109,8 +106,6 @@ Status PaletteTexture::uploadLive(const CrowdExport& live, uint64_t crowd_identi
                         texels.data() + at * bytes);
     at += width * std::max<uint64_t>(rows, 1);
   }
-  live_identity_ = crowd_identity;
-  live_version_ = version;
   return Status::ok();
 }
 

@@ -11,6 +11,7 @@
 #include <glm/glm.hpp>
 
 #include "gl/programs/program_set.h"
+#include "gl/resources/live_texels_held.h"
 #include "si/core/baked_palette.h"
 #include "si/core/shader_inputs.h"
 #include "si/core/span.h"
@@ -59,7 +60,7 @@ class PaletteTexture {
   glm::uvec4 shader_info_{0};
   const BakedPalette* palette_ = nullptr;
   uint32_t height_ = 0;  // The texture's rows: the palette's and the live poses'.
-  uint64_t live_identity_ = 0, live_version_ = 0;  // What the live rows hold.
+  LiveTexelsHeld live_held_;  // What the live rows hold.
 };
 
 }  // namespace si::detail
