@@ -237,6 +237,16 @@ BENCHMARK(moveBlends)
     ->Unit(benchmark::kMillisecond)
     ->UseRealTime();
 
+// Poses for setLivePose: the stored matrices of clip 0's first 16 frames (repeated when it has
+// fewer), one per palette joint each.
+std::vector<std::vector<glm::mat4>> clipPoses(const si::BakedPalette& p) {
+  std::vector<std::vector<glm::mat4>> poses(16, std::vector<glm::mat4>(p.palette_joints.size()));
+  for (uint32_t k = 0; k < poses.size(); ++k)
+    for (uint32_t j = 0; j < p.palette_joints.size(); ++j)
+      poses[k][j] = si::decodeJoint(p, 0, k % p.clips[0].frame_count, j);
+  return poses;
+}
+
 // Live poses (CrowdManager::setLivePose; docs/crowd.md, "Live poses"): each iteration advances
 // the clock, gives `live` instances of a field of 100,000 (every tenth) a new pose of the
 // embedded character's 21 palette joints (a baked frame's matrices, another one each time:
@@ -251,10 +261,7 @@ void livePoses(benchmark::State& state) {
   std::vector<si::GpuInstanceState> states;
   si::CrowdExport(*crowd).state(&states, &handles);
   const si::BakedPalette& p = palette();
-  std::vector<std::vector<glm::mat4>> poses(16, std::vector<glm::mat4>(p.palette_joints.size()));
-  for (uint32_t k = 0; k < poses.size(); ++k)
-    for (uint32_t j = 0; j < p.palette_joints.size(); ++j)
-      poses[k][j] = si::decodeJoint(p, 0, k % p.clips[0].frame_count, j);
+  const std::vector<std::vector<glm::mat4>> poses = clipPoses(p);
   const si::Camera camera =
       si::Camera::lookAt({237.0, 9.0, -7.0}, {237.0, 0.0, 45.0}, glm::vec3(0, 1, 0), 0.9f,
                          16.0f / 9.0f, 0.2f, 2000.0f);
@@ -350,10 +357,7 @@ void livePoseJoints(benchmark::State& state) {
     d.position = glm::dvec3(double(k % 40), 0.0, double(k / 40));
     if (!crowd.add(d, &handles[k]).isOk()) std::abort();
   }
-  std::vector<std::vector<glm::mat4>> poses(16, std::vector<glm::mat4>(p.palette_joints.size()));
-  for (uint32_t k = 0; k < poses.size(); ++k)
-    for (uint32_t j = 0; j < p.palette_joints.size(); ++j)
-      poses[k][j] = si::decodeJoint(p, 0, k % p.clips[0].frame_count, j);
+  const std::vector<std::vector<glm::mat4>> poses = clipPoses(p);
   double set_ms = 0.0;
   uint32_t frame = 0;
   for (auto _ : state) {
