@@ -8,6 +8,7 @@
 
 #include "core/palette_texel.h"
 #include "core/str_cat.h"
+#include "crowd/live_pose_rows.h"
 
 namespace si::detail {
 
@@ -99,10 +100,7 @@ void LivePoses::write(uint32_t slot, Span<const glm::mat4> skinning, uint32_t we
   ++version_;
   frame_versions_[frameOf(slot)] = version_;
   uint8_t* frame = texels_.data() + size_t(frameTexel(slot) - first_texel_) * bytes;
-  for (uint32_t j = 0; j < skinning.size(); ++j)
-    for (uint32_t row = 0; row < 3; ++row)
-      storeFormatTexel(palette_->format, frame, size_t(j) * l.joint_stride_texels + row,
-                       glm::row(skinning[j], int(row)));
+  storeJointRows(palette_->format, skinning, l.joint_stride_texels, frame);
   if (l.morph_target_count > 0) {  // The weights' texels as the baked frame holds them.
     const uint32_t texels = (l.morph_target_count + 3) / 4;
     std::memcpy(

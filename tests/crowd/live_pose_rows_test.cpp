@@ -1,0 +1,105 @@
+// SkinnedInstancing — SPDX-License-Identifier: MIT (see LICENSE)
+// The live poses' row writer and check (crowd/live_pose_rows.h), four values at a time, against
+// their one-value-at-a-time references, on the values where a half float's rounding is hard.
+#include "crowd/live_pose_rows.h"
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <cstring>
+#include <limits>
+#include <vector>
+
+namespace si::detail {
+namespace {
+
+float fromBits(uint32_t u) {
+  float f;
+  std::memcpy(&f, &u, 4);
+  return f;
+}
+
+// Identity-last-row matrices whose first three rows hold `values` (12 a matrix; the last one
+// padded with 1).
+std::vector<glm::mat4> matricesOf(const std::vector<float>& values) {
+  std::vector<glm::mat4> out((values.size() + 11) / 12, glm::mat4(1.0f));
+  for (size_t k = 0; k < values.size(); ++k) out[k / 12][int(k % 12 / 3)][int(k % 3)] = values[k];
+  return out;
+}
+
+// Every magnitude a half float holds or rounds to (0 to 65504) at a prime stride of float bit
+// patterns, with the hard ones exactly: rounding ties between halves (normal and subnormal),
+// where subnormals round up to the smallest normal, float subnormals, the largest half; each
+// with both signs.
+std::vector<float> hardValues() {
+  std::vector<float> v;
+  for (uint32_t u = 0; u <= 0x477FE000u; u += 4099u) v.push_back(fromBits(u));
+  const float tie = std::ldexp(1.0f, -11);  // Half of a half's step at 1.
+  for (float x :
+       {1.0f + tie, 1.0f + 3.0f * tie, 2.0f - tie, 65504.0f, 65503.0f, 1024.5f,
+        std::ldexp(1.0f, -25), std::ldexp(3.0f, -25), std::ldexp(5.0f, -25),
+        std::ldexp(1.0f, -14) - std::ldexp(1.0f, -25),
+        std::ldexp(1.0f, -14) - std::ldexp(1.0f, -26), std::ldexp(1.0f, -14), std::ldexp(1.0f, -24),
+        std::ldexp(1.0f, -26), std::ldexp(1.0f, -149), std::ldexp(1.0f, -126), 0.0f})
+    v.push_back(x);
+  for (uint32_t m = 0; m < 4096; ++m)  // Ties and their neighbours around 1.
+    v.push_back(fromBits(0x3F800000u + m * 0x1000u + (m % 3) - 1u));
+  const size_t n = v.size();
+  for (size_t k = 0; k < n; ++k) v.push_back(-v[k]);
+  return v;
+}
+
+TEST(LivePoseRows, RowsAreStoredAsTheReferenceStoresThem) {
+  const std::vector<glm::mat4> poses = matricesOf(hardValues());
+  ASSERT_EQ(firstBadJoint(poses, 65504.0f), poses.size());
+  for (PaletteFormat format : {PaletteFormat::kMatrix3x4F16, PaletteFormat::kMatrix3x4F32})
+    for (uint32_t stride : {3u, 4u}) {  // A fourth texel per joint is left as it was.
+      const size_t bytes = poses.size() * stride * bytesPerTexel(format);
+      std::vector<uint8_t> fast(bytes, 0xA5), reference(bytes, 0xA5);
+      storeJointRows(format, poses, stride, fast.data());
+      storeJointRowsReference(format, poses, stride, reference.data());
+      size_t first_difference = bytes;
+      for (size_t b = 0; b < bytes && first_difference == bytes; ++b)
+        if (fast[b] != reference[b]) first_difference = b;
+      EXPECT_EQ(first_difference, bytes)
+          << paletteFormatName(format) << ", stride " << stride << ": byte " << first_difference
+          << " of joint " << first_difference / (stride * bytesPerTexel(format));
+    }
+}
+
+TEST(LivePoseRows, TheFirstBadMatrixIsTheReferencesOne) {
+  const float nan = std::numeric_limits<float>::quiet_NaN();
+  const float inf = std::numeric_limits<float>::infinity();
+  glm::mat4 good(1.0f);
+  good[3] = glm::vec4(-65504.0f, 3.0f, 65504.0f, 1.0f);
+  good[0][3] = -0.0f;  // Equal to 0.
+  // Each bad matrix: one value changed. Rows 0 to 2 past the range or not finite; row 3 not
+  // the identity's.
+  std::vector<glm::mat4> bad;
+  for (int c = 0; c < 4; ++c)
+    for (int r = 0; r < 4; ++r)
+      for (float x : r < 3 ? std::vector<float>{nan, inf, -inf, 65505.0f, -65504.01f}
+                           : std::vector<float>{nan, 1e-30f, c == 3 ? 0.0f : 1.0f, -1.0f}) {
+        glm::mat4 m = good;
+        m[c][r] = x;
+        bad.push_back(m);
+      }
+  for (float range : {65504.0f, std::numeric_limits<float>::max()})
+    for (size_t k = 0; k < bad.size(); ++k)
+      for (size_t at : {size_t(0), size_t(5), size_t(60)}) {
+        std::vector<glm::mat4> poses(61, good);
+        poses[at] = bad[k];
+        poses[60 - at / 2] = bad[k];  // A second one after it.
+        const size_t want = firstBadJointReference(poses, range);
+        if (range == 65504.0f) {  // Each is bad.
+          EXPECT_LE(want, at) << "bad matrix " << k;
+        }
+        EXPECT_EQ(firstBadJoint(poses, range), want) << "bad matrix " << k << " at " << at;
+      }
+  const std::vector<glm::mat4> fine(61, good);
+  EXPECT_EQ(firstBadJoint(fine, 65504.0f), fine.size());
+  EXPECT_EQ(firstBadJoint(fine, 65503.0f), 0u);
+}
+
+}  // namespace
+}  // namespace si::detail
