@@ -12,6 +12,7 @@
 
 #include "gl/programs/program_set.h"
 #include "gl/resources/live_texels_held.h"
+#include "gl/resources/record_ring.h"
 #include "si/core/baked_palette.h"
 #include "si/core/shader_inputs.h"
 #include "si/core/span.h"
@@ -39,8 +40,15 @@ class PaletteTexture {
   /// the palette's texels: the texture grows by the rows they need, once (kLimitExceeded past
   /// GL_MAX_TEXTURE_SIZE); all of them are uploaded for another crowd than last time (its
   /// identity), for the same crowd those written since the version uploaded
-  /// (livePoseTexelsChangedSince). Nothing for none. Writes the unpack state.
+  /// (livePoseTexelsChangedSince). Nothing for none. On desktop GL the texels go through a
+  /// fenced, persistently mapped staging ring of kLiveRegions regions (one copy on the CPU, the
+  /// texture written by the GPU from it; kBackend when it cannot be mapped or its region is not
+  /// free in time), on the ES profile from memory. Writes the unpack state (its buffer left 0).
   Status uploadLive(const CrowdExport& live, uint64_t crowd_identity, const GlInfo& info);
+
+  /// Staging regions of the live uploads: an upload waits for the GPU's copy of the one
+  /// kLiveRegions uploads back.
+  static constexpr uint32_t kLiveRegions = 3;
 
   GLuint texture() const { return texture_; }
   const glm::uvec4& shaderInfo() const { return shader_info_; }
@@ -52,7 +60,7 @@ class PaletteTexture {
   void bind() const;
   const BakedPalette* palette() const { return palette_; }
   bool ready() const { return texture_ != kNoObject; }
-  uint64_t gpuBytes() const;  ///< The texture's and the info block's.
+  uint64_t gpuBytes() const;  ///< The texture's, the info block's and the live staging's.
 
  private:
   GLuint texture_ = kNoObject, info_buffer_ = kNoObject;
@@ -61,6 +69,7 @@ class PaletteTexture {
   const BakedPalette* palette_ = nullptr;
   uint32_t height_ = 0;  // The texture's rows: the palette's and the live poses'.
   LiveTexelsHeld live_held_;  // What the live rows hold.
+  RecordRing live_staging_;   // The live uploads' staging (desktop GL).
 };
 
 }  // namespace si::detail
