@@ -12,6 +12,7 @@
 
 #include "bake/clip_measurement.h"
 #include "bake/frame_search.h"
+#include "bake/joint_bounds.h"
 #include "bake/key_frames.h"
 #include "bake/palette_texels.h"
 #include "core/str_cat.h"
@@ -194,6 +195,7 @@ Status bakePalette(const Character& character, const BakeDesc& in_desc, BakedPal
                      ". BakeDesc::accept_tolerance_miss keeps this bake")};
     }
   }
+  baked.joint_bounds = detail::jointBounds(baked, gpu_mesh, vertices);
   if (report != nullptr) {
     rep.palette_bytes = baked.layout.textureTexelCount() * bytesPerTexel(d.format);
     for (size_t j = 0; j < character.skeleton.jointCount(); ++j)

@@ -65,6 +65,10 @@ Status savePalette(const BakedPalette& p, std::vector<uint8_t>* bytes) {
   w.u32(static_cast<uint32_t>(p.clips.size()));
   w.f32(p.character_height);
   for (uint32_t j : p.palette_joints) w.u32(j);
+  w.u32(static_cast<uint32_t>(p.joint_bounds.size()));  // Version 6: 0 or one per joint.
+  for (const Aabb& b : p.joint_bounds)
+    for (const glm::vec3& corner : {b.min, b.max})
+      for (int i = 0; i < 3; ++i) w.f32(corner[i]);
   for (const BakedClip& c : p.clips) {
     w.u32(static_cast<uint32_t>(c.name.size()));
     w.bytes(c.name.data(), c.name.size());

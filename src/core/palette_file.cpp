@@ -116,6 +116,17 @@ Status loadPalette(Span<const uint8_t> bytes, BakedPalette* palette) {
     p.palette_joints[s] = j;
     p.skeleton_to_palette[j] = static_cast<int32_t>(s);
   }
+  if (version >= 6) {  // The joints' bounds: none, or one box (6 floats) per palette joint.
+    uint32_t bounds = 0;
+    if (!r.u32(&bounds) || (bounds != 0 && bounds != joint_count) ||
+        uint64_t(bounds) * 24 > r.left())
+      return corrupt(
+          strCat("joint bounds: ", bounds, " for ", joint_count, " joints, or truncated"));
+    p.joint_bounds.resize(bounds);
+    for (Aabb& b : p.joint_bounds)
+      for (glm::vec3* corner : {&b.min, &b.max})
+        for (int i = 0; i < 3; ++i) r.f32(&(*corner)[i]);  // Size checked above.
+  }
   std::vector<uint32_t> frame_counts;
   for (uint32_t c = 0; c < clip_count; ++c) {
     BakedClip clip;

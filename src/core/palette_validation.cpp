@@ -255,6 +255,19 @@ Status BakedPalette::validate() const {
                    layout.textureTexelCount() * bytesPerTexel(format))};
   if (!std::isfinite(character_height) || character_height < 0.0f)
     return {StatusCode::kOutOfRange, "palette: character height is not finite and >= 0"};
+  if (!joint_bounds.empty() && joint_bounds.size() != palette_joints.size())
+    return {StatusCode::kCountMismatch,
+            strCat("palette: ", joint_bounds.size(), " joint bounds for ", palette_joints.size(),
+                   " palette joints")};
+  for (size_t j = 0; j < joint_bounds.size(); ++j) {
+    const Aabb& b = joint_bounds[j];
+    const bool none = b.min == Aabb().min && b.max == Aabb().max;  // No drawn vertex.
+    if (!isFinite(glm::vec4(b.min, 0.0f)) || !isFinite(glm::vec4(b.max, 0.0f)) ||
+        (b.empty() && !none))
+      return {StatusCode::kOutOfRange,
+              strCat("palette: the bounds of palette joint ", j,
+                     " are not finite, or inverted on an axis (min > max)")};
+  }
   return checkTexels(*this);
 }
 

@@ -10,9 +10,14 @@
 namespace si {
 namespace {
 
-// The version 5 header: magic, then 12 u32 fields (the last the character's height), before the
-// joint table.
+// The version 5 and 6 header: magic, then 12 u32 fields (the last the character's height),
+// before the joint table.
 constexpr size_t kHeaderBytes = 56;
+
+// Where the clip records start: after the joint table and (version 6) the joint bounds.
+size_t clipsStart(const BakedPalette& p) {
+  return kHeaderBytes + 4 * p.palette_joints.size() + 4 + 24 * p.joint_bounds.size();
+}
 
 using test::smallPalette;
 
@@ -36,6 +41,11 @@ TEST(PaletteFile, RoundTripsBitExactly) {
     EXPECT_EQ(q.texel_bytes, p.texel_bytes);
     EXPECT_EQ(q.palette_joints, p.palette_joints);
     EXPECT_EQ(q.skeleton_to_palette, p.skeleton_to_palette);
+    ASSERT_EQ(q.joint_bounds.size(), p.palette_joints.size());
+    for (size_t j = 0; j < p.joint_bounds.size(); ++j) {
+      EXPECT_EQ(q.joint_bounds[j].min, p.joint_bounds[j].min);
+      EXPECT_EQ(q.joint_bounds[j].max, p.joint_bounds[j].max);
+    }
     ASSERT_EQ(q.clips.size(), p.clips.size());
     for (size_t c = 0; c < p.clips.size(); ++c) {
       EXPECT_EQ(q.clips[c].name, p.clips[c].name);
@@ -93,7 +103,7 @@ TEST(PaletteFile, TrailingBytesAndOtherVersionsAreRejected) {
   std::vector<uint8_t> longer = bytes;
   longer.push_back(0);
   EXPECT_EQ(loadPalette(longer, &q).code(), StatusCode::kCorrupt);
-  for (uint8_t version : {0, 6}) {
+  for (uint8_t version : {0, 7}) {
     std::vector<uint8_t> other = bytes;
     other[8] = version;
     fixChecksum(&other);
@@ -101,25 +111,27 @@ TEST(PaletteFile, TrailingBytesAndOtherVersionsAreRejected) {
   }
 }
 
-// Older versions still load: version 4 (before morph targets: no morph target count in the
-// header) without them; version 3 (before root motion) without it; version 2 (before animation
-// markers: no marker fields in the clip records) with the same clips and no markers; version 1
-// (before cubic interpolation: no border-frame field in the header, no interpolation fields
-// either) as linear palettes.
-TEST(PaletteFile, VersionOneToFourFilesStillLoad) {
+// Older versions still load: version 5 (before joint bounds) without them; version 4 (before
+// morph targets: no morph target count in the header) without them; version 3 (before root motion)
+// without it; version 2 (before animation markers: no marker fields in the clip records) with the
+// same clips and no markers; version 1 (before cubic interpolation: no border-frame field in the
+// header, no interpolation fields either) as linear palettes.
+TEST(PaletteFile, VersionOneToFiveFilesStillLoad) {
   const BakedPalette p = smallPalette();
   std::vector<uint8_t> bytes;
   ASSERT_TRUE(savePalette(p, &bytes).isOk());
-  for (uint8_t version : {1, 2, 3, 4}) {
+  ASSERT_FALSE(p.joint_bounds.empty());
+  for (uint8_t version : {1, 2, 3, 4, 5}) {
     SCOPED_TRACE(int(version));
-    const bool v1 = version == 1, markers_kept = version >= 3, root_motion_kept = version == 4;
+    const bool v1 = version == 1, markers_kept = version >= 3, root_motion_kept = version >= 4;
     std::vector<uint8_t> old(bytes.begin(), bytes.begin() + 36);  // Up to the stride.
     old[8] = version;
     if (!v1) old.insert(old.end(), bytes.begin() + 36, bytes.begin() + 40);  // Border frames.
+    if (version == 5) old.insert(old.end(), bytes.begin() + 40, bytes.begin() + 44);  // Morphs.
     size_t at = 44;  // Past the morph target count.
     const size_t joints_end = kHeaderBytes + 4 * p.palette_joints.size();
     old.insert(old.end(), bytes.begin() + std::ptrdiff_t(at), bytes.begin() + std::ptrdiff_t(joints_end));
-    at = joints_end;
+    at = clipsStart(p);  // The joint bounds skipped.
     for (const BakedClip& c : p.clips) {
       size_t kept = 4 + c.name.size() + 4 + 4 + 8 + 4 + 4 + 8 * c.frame_times_seconds.size();
       if (!v1) kept += 8 + c.interval_modes.size();            // v2 has the interpolation,
@@ -145,6 +157,7 @@ TEST(PaletteFile, VersionOneToFourFilesStillLoad) {
     EXPECT_EQ(q.texel_bytes, p.texel_bytes);
     EXPECT_EQ(q.layout.border_frames, 0u);
     EXPECT_EQ(q.layout.morph_target_count, 0u);
+    EXPECT_TRUE(q.joint_bounds.empty());
     for (size_t c = 0; c < q.clips.size(); ++c) {
       EXPECT_EQ(q.clips[c].interpolation, FrameInterpolation::kLinear);
       EXPECT_EQ(q.clips[c].root_motion,
@@ -197,8 +210,15 @@ TEST(PaletteFile, InconsistentFilesWithValidChecksumsAreRejected) {
   EXPECT_EQ(patched(48, 1), StatusCode::kCorrupt);                    // Clip table vs. size.
   EXPECT_EQ(patched(52, 0xFFFFFFFFu), StatusCode::kCorrupt);          // NaN height.
   EXPECT_EQ(patched(56, 7), StatusCode::kCorrupt);                    // Joint table out of range.
+  // The joint bounds: a count other than 0 or the joints', a NaN, a box inverted on x.
+  const size_t bounds_at = kHeaderBytes + 4 * p.palette_joints.size();
+  ASSERT_EQ(p.joint_bounds.size(), p.palette_joints.size());
+  EXPECT_EQ(patched(bounds_at, 1), StatusCode::kCorrupt);
+  EXPECT_EQ(patched(bounds_at, 0xFFFFFFFFu), StatusCode::kCorrupt);
+  EXPECT_EQ(patched(bounds_at + 4, 0x7FC00000u), StatusCode::kCorrupt);  // min.x NaN.
+  EXPECT_EQ(patched(bounds_at + 4, 0x49742400u), StatusCode::kCorrupt);  // min.x 1e6 > max.x.
   // The first clip's frame count (after its name) claims more frames than the data holds.
-  const size_t clip0 = kHeaderBytes + 4 * p.palette_joints.size();
+  const size_t clip0 = clipsStart(p);
   const size_t frames_at = clip0 + 4 + p.clips[0].name.size() + 4 + 4 + 8;
   EXPECT_EQ(patched(frames_at, 1u << 20), StatusCode::kCorrupt);
   EXPECT_EQ(patched(frames_at, 0), StatusCode::kCorrupt);
@@ -230,7 +250,7 @@ TEST(PaletteFile, ClipTimingThatDisagreesWithItsFramesIsRejected) {
   const BakedPalette p = smallPalette();
   ASSERT_TRUE(savePalette(p, &bytes).isOk());
   // Clip 1 ("swing", uniform grid): name length, name, loop, duration (f32), interval (f64).
-  size_t clip1 = kHeaderBytes + 4 * p.palette_joints.size();
+  size_t clip1 = clipsStart(p);
   // Its marker count and root motion count, 4 bytes each, before its bounds.
   ASSERT_TRUE(p.clips[0].markers.empty() && p.clips[0].root_motion.empty());
   clip1 += 4 + p.clips[0].name.size() + 4 + 4 + 8 + 4 + 4 + 8 * p.clips[0].frame_times_seconds.size() + 8 + 4 + 4 + 40;
@@ -260,8 +280,7 @@ TEST(PaletteFile, ClipTimingThatDisagreesWithItsFramesIsRejected) {
     EXPECT_EQ(s.code(), StatusCode::kCorrupt) << "duration " << bad << ": " << s.toString();
   }
   // Clip 0 ("step"): frame times out of order, or three times the same.
-  const size_t times_at =
-      kHeaderBytes + 4 * p.palette_joints.size() + 4 + p.clips[0].name.size() + 4 + 4 + 8 + 4 + 4;
+  const size_t times_at = clipsStart(p) + 4 + p.clips[0].name.size() + 4 + 4 + 8 + 4 + 4;
   const std::vector<double>& times = p.clips[0].frame_times_seconds;
   ASSERT_GE(times.size(), 4u);
   const double reordered[2] = {times[2], times[1]};

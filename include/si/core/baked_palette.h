@@ -103,6 +103,12 @@ struct BakedPalette {
   /// width * height texels of bytesPerTexel(format) bytes, row by row: RGBA32F or RGBA16F.
   std::vector<uint8_t> texel_bytes;
   float character_height = 0.0f;  ///< The unit of the relative error figures.
+  /// Per palette joint, a box in the bind pose holding every vertex weighted to it, each
+  /// widened by the farthest its morph targets move it at the weights the palette's frames
+  /// reach: what bounds a pose the engine gives (CrowdManager::setLivePose) for culling. Empty
+  /// when unknown (a palette file before version 6): such poses are culled by their clip's
+  /// sphere.
+  std::vector<Aabb> joint_bounds;
 
   /// Index of the clip named `name`, or -1.
   int32_t findClip(const std::string& name) const;
@@ -133,7 +139,9 @@ struct BakedPalette {
   /// - markers as si::validateMarkers() says (times within [0, duration], names not empty);
   /// - root motion empty or one sample per frame, finite, the first (0, 0, 0), consecutive
   ///   yaws less than pi apart (kCountMismatch, kNotFinite, kOutOfRange);
-  /// - character_height finite and >= 0 (kOutOfRange).
+  /// - character_height finite and >= 0 (kOutOfRange);
+  /// - joint_bounds empty or one per palette joint (kCountMismatch), each finite, and either
+  ///   empty (the Aabb default) or min <= max on every axis (kOutOfRange).
   Status validate() const;
 };
 

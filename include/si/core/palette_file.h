@@ -23,11 +23,11 @@
 
 namespace si {
 
-/// The version si::savePalette() writes (5: the header counts the morph targets whose weights
-/// each frame stores). loadPalette() reads it, version 4 (no morph targets), version 3 (no root
-/// motion), version 2 (no markers) and version 1 (linear clips, no border frames: the files
-/// written before cubic interpolation).
-inline constexpr uint32_t kPaletteFileVersion = 5;
+/// The version si::savePalette() writes (6: each palette joint's bounds follow the joint table).
+/// loadPalette() reads it, version 5 (no joint bounds), version 4 (no morph targets), version 3
+/// (no root motion), version 2 (no markers) and version 1 (linear clips, no border frames: the
+/// files written before cubic interpolation).
+inline constexpr uint32_t kPaletteFileVersion = 6;
 /// Largest palette file loadPalette() accepts (1 GiB).
 inline constexpr uint64_t kMaxPaletteFileSize = uint64_t(1) << 30;
 
@@ -36,7 +36,7 @@ inline constexpr uint64_t kMaxPaletteFileSize = uint64_t(1) << 30;
 /// kCorrupt for a bad magic, truncation, trailing bytes, a checksum mismatch, a value outside
 /// its range, a clip table or layout inconsistent with the header, or a palette that fails
 /// BakedPalette::validate() (whose message follows "palette file: "): a loaded palette is as
-/// consistent as a fresh bake. kUnsupported for a version other than 1 to 5 or a big-endian
+/// consistent as a fresh bake. kUnsupported for a version other than 1 to 6 or a big-endian
 /// host; kLimitExceeded for more than kMaxPaletteFileSize bytes; kInvalidArgument for a null
 /// `palette`.
 Status loadPalette(Span<const uint8_t> bytes, BakedPalette* palette);
