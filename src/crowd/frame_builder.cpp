@@ -62,6 +62,18 @@ uint32_t localGroup(ChunkWork& w, uint32_t worn) {
 #define SI_CPU_CLONES
 #endif
 
+// Where instance i holds a live pose whose bounds are known (LivePoses::Bounds): its sphere
+// into lane k's sphere B, and true.
+inline bool setLiveSphere(const InstanceStore& st, uint32_t i, uint32_t k, cull::Lanes& lanes) {
+  const uint32_t slot = st.live_slot[i];
+  if (slot == kNoLivePose) return false;
+  const LivePoses::Bounds& b = st.live.boundsOf(slot);
+  if (!b.known) return false;
+  lanes.bx[k] = b.sphere.center.x, lanes.by[k] = b.sphere.center.y;
+  lanes.bz[k] = b.sphere.center.z, lanes.br[k] = b.sphere.radius;
+  return true;
+}
+
 // Simulate chunk `chunk`, instances [begin, end): its events and root motion.
 void simulateChunk(const FrameInputs& in, InstanceStore& st, uint32_t chunk, uint32_t begin,
                    uint32_t end) {
@@ -149,6 +161,7 @@ SI_CPU_CLONES void selectChunk(const FrameInputs& in, InstanceStore& st, uint32_
   ViewLanes& view = st.views[in.lane];
   const uint32_t coarsest = in.params.lod_count - 1;
   const uint32_t worn_bits = wornMask(~0u, in.sub_mesh_count);
+  const bool live_poses = st.live.count() > 0;
   // Sized for a whole chunk once (never shrunk: no fill per frame); visible_count of them used.
   if (w.visible.size() < end - begin) {
     w.visible.resize(kChunkInstances);
@@ -188,12 +201,15 @@ SI_CPU_CLONES void selectChunk(const FrameInputs& in, InstanceStore& st, uint32_
         const uint32_t i = i0 + (k < count ? k : 0);  // Past the end: lane 0's instance again.
         const ClipTiming& ca = clips[st.playback[i].clip];
         const bool fading = st.fading(i, in.clock);
-        fading_groups |= uint32_t(fading) << (k / cull::kLanes);
         const ClipTiming& cb = fading ? clips[st.fade_from[i].clip] : ca;
         lanes.ax[k] = ca.sphere_center.x, lanes.ay[k] = ca.sphere_center.y;
         lanes.az[k] = ca.sphere_center.z, lanes.ar[k] = ca.sphere_radius;
         lanes.bx[k] = cb.sphere_center.x, lanes.by[k] = cb.sphere_center.y;
         lanes.bz[k] = cb.sphere_center.z, lanes.br[k] = cb.sphere_radius;
+        // A live pose draws over its clip (and with it while they hand over; a crossfade
+        // under it shows its target, clip A): its own sphere is B.
+        const bool posed = live_poses && setLiveSphere(st, i, k, lanes);
+        fading_groups |= uint32_t(fading || posed) << (k / cull::kLanes);
         lanes.lod[k] = view.lods[i];
       }
     }

@@ -34,6 +34,34 @@ void storeJointRowsReference(PaletteFormat format, Span<const glm::mat4> skinnin
                        glm::row(skinning[j], int(row)));
 }
 
+std::vector<JointBox> jointBoxes(Span<const Aabb> joint_bounds) {
+  std::vector<JointBox> out(joint_bounds.size());
+  for (size_t j = 0; j < joint_bounds.size(); ++j) {
+    const Aabb& b = joint_bounds[j];
+    if (b.empty()) continue;
+    out[j].center = glm::vec4(0.5f * (b.min + b.max), 0.0f);
+    out[j].half = glm::vec4(0.5f * (b.max - b.min), 0.0f);
+  }
+  return out;
+}
+
+Aabb poseBoxReference(Span<const glm::mat4> skinning, Span<const JointBox> joints) {
+  Aabb box;
+  for (size_t j = 0; j < skinning.size(); ++j) {
+    const JointBox& b = joints[j];
+    if (b.half.x < 0.0f) continue;
+    const glm::mat4& m = skinning[j];
+    const glm::vec3 center = glm::vec3(m[0]) * b.center.x + glm::vec3(m[1]) * b.center.y +
+                             glm::vec3(m[2]) * b.center.z + glm::vec3(m[3]);
+    const glm::vec3 half = glm::abs(glm::vec3(m[0])) * b.half.x +
+                           glm::abs(glm::vec3(m[1])) * b.half.y +
+                           glm::abs(glm::vec3(m[2])) * b.half.z;
+    box.extend(center - half);
+    box.extend(center + half);
+  }
+  return box;
+}
+
 #if SI_LIVE_ROWS_SSE2
 
 namespace {
@@ -79,6 +107,36 @@ inline __m128i packHalves(__m128i a, __m128i b) {
                          _mm_srai_epi32(_mm_slli_epi32(b, 16), 16));
 }
 
+// The union of joint boxes carried by their matrices (poseBoxReference's arithmetic, in its
+// order, four lanes at a time: the fourth carries the matrices' last row and is dropped).
+struct BoxLanes {
+  __m128 lo = _mm_set1_ps(1e30f), hi = _mm_set1_ps(-1e30f);
+  void add(__m128 c0, __m128 c1, __m128 c2, __m128 c3, const JointBox& b) {
+    const __m128 magnitude = _mm_castsi128_ps(_mm_set1_epi32(0x7FFFFFFF));
+    const __m128 c = _mm_loadu_ps(&b.center[0]), h = _mm_loadu_ps(&b.half[0]);
+    const __m128 center =
+        _mm_add_ps(_mm_add_ps(_mm_add_ps(_mm_mul_ps(c0, _mm_shuffle_ps(c, c, 0x00)),
+                                         _mm_mul_ps(c1, _mm_shuffle_ps(c, c, 0x55))),
+                              _mm_mul_ps(c2, _mm_shuffle_ps(c, c, 0xAA))),
+                   c3);
+    const __m128 half =
+        _mm_add_ps(_mm_add_ps(_mm_mul_ps(_mm_and_ps(c0, magnitude), _mm_shuffle_ps(h, h, 0x00)),
+                              _mm_mul_ps(_mm_and_ps(c1, magnitude), _mm_shuffle_ps(h, h, 0x55))),
+                   _mm_mul_ps(_mm_and_ps(c2, magnitude), _mm_shuffle_ps(h, h, 0xAA)));
+    lo = _mm_min_ps(lo, _mm_sub_ps(center, half));
+    hi = _mm_max_ps(hi, _mm_add_ps(center, half));
+  }
+  Aabb box() const {
+    float l[4], u[4];
+    _mm_storeu_ps(l, lo);
+    _mm_storeu_ps(u, hi);
+    Aabb out;
+    out.min = glm::vec3(l[0], l[1], l[2]);
+    out.max = glm::vec3(u[0], u[1], u[2]);
+    return out;
+  }
+};
+
 }  // namespace
 
 size_t firstBadJoint(Span<const glm::mat4> skinning, float range) {
@@ -102,26 +160,31 @@ size_t firstBadJoint(Span<const glm::mat4> skinning, float range) {
   return skinning.size();
 }
 
-void storeJointRows(PaletteFormat format, Span<const glm::mat4> skinning,
-                    uint32_t joint_stride_texels, uint8_t* frame) {
-  if (format == PaletteFormat::kMatrix3x4F16) {
-    for (size_t j = 0; j < skinning.size(); ++j) {
-      const Rows r = rowsOf(skinning[j]);
-      uint8_t* out = frame + j * joint_stride_texels * 8;
-      const __m128i rows01 = packHalves(halvesOf(r.r0), halvesOf(r.r1));
-      const __m128i row2 = halvesOf(r.r2);
-      _mm_storeu_si128(reinterpret_cast<__m128i*>(out), rows01);
-      _mm_storel_epi64(reinterpret_cast<__m128i*>(out + 16), packHalves(row2, row2));
-    }
-    return;
-  }
+Aabb storePose(PaletteFormat format, Span<const glm::mat4> skinning, uint32_t joint_stride_texels,
+               Span<const JointBox> joints, uint8_t* frame) {
+  BoxLanes box;
+  const bool bounded = !joints.empty();
+  const bool half = format == PaletteFormat::kMatrix3x4F16;
+  const size_t texel_bytes = half ? 8 : 16;
   for (size_t j = 0; j < skinning.size(); ++j) {
-    const Rows r = rowsOf(skinning[j]);
-    float* out = reinterpret_cast<float*>(frame + j * joint_stride_texels * 16);
-    _mm_storeu_ps(out, r.r0);
-    _mm_storeu_ps(out + 4, r.r1);
-    _mm_storeu_ps(out + 8, r.r2);
+    const glm::mat4& m = skinning[j];
+    Rows r{_mm_loadu_ps(&m[0][0]), _mm_loadu_ps(&m[1][0]), _mm_loadu_ps(&m[2][0]),
+           _mm_loadu_ps(&m[3][0])};
+    if (bounded && joints[j].half.x >= 0.0f) box.add(r.r0, r.r1, r.r2, r.r3, joints[j]);
+    _MM_TRANSPOSE4_PS(r.r0, r.r1, r.r2, r.r3);
+    uint8_t* out = frame + j * joint_stride_texels * texel_bytes;
+    if (half) {
+      const __m128i row2 = halvesOf(r.r2);
+      _mm_storeu_si128(reinterpret_cast<__m128i*>(out), packHalves(halvesOf(r.r0), halvesOf(r.r1)));
+      _mm_storel_epi64(reinterpret_cast<__m128i*>(out + 16), packHalves(row2, row2));
+    } else {
+      float* rows = reinterpret_cast<float*>(out);
+      _mm_storeu_ps(rows, r.r0);
+      _mm_storeu_ps(rows + 4, r.r1);
+      _mm_storeu_ps(rows + 8, r.r2);
+    }
   }
+  return bounded ? box.box() : Aabb();
 }
 
 #else  // No SSE2: one value at a time.
@@ -130,9 +193,10 @@ size_t firstBadJoint(Span<const glm::mat4> skinning, float range) {
   return firstBadJointReference(skinning, range);
 }
 
-void storeJointRows(PaletteFormat format, Span<const glm::mat4> skinning,
-                    uint32_t joint_stride_texels, uint8_t* frame) {
+Aabb storePose(PaletteFormat format, Span<const glm::mat4> skinning, uint32_t joint_stride_texels,
+               Span<const JointBox> joints, uint8_t* frame) {
   storeJointRowsReference(format, skinning, joint_stride_texels, frame);
+  return joints.empty() ? Aabb() : poseBoxReference(skinning, joints);
 }
 
 #endif

@@ -1,18 +1,21 @@
 // SkinnedInstancing — SPDX-License-Identifier: MIT (see LICENSE)
 #pragma once
-// The engine's joint matrices of a live pose (CrowdManager::setLivePose) checked and stored as
-// palette rows: the three rows of each 3x4 skinning matrix, one texel each, in the palette's
-// format. The poses of a thousand instances of 60 joints pass here every frame, so both run
-// four floats at a time where the CPU has SSE2 (every x86-64), with no branch per value; the
-// Reference versions do the same one value at a time (the tests hold the two equal, and
+// The engine's joint matrices of a live pose (CrowdManager::setLivePose) checked, stored as
+// palette rows (the three rows of each 3x4 skinning matrix, one texel each, in the palette's
+// format) and bounded (the box its vertices lie in, from the palette's joint bounds). The poses
+// of a thousand instances of 60 joints pass here every frame, so firstBadJoint and storePose
+// run four floats at a time where the CPU has SSE2 (every x86-64), with no branch per value;
+// the Reference versions do the same one value at a time (the tests hold them equal, and
 // builds without SSE2 use them). No GL.
 
 #include <cstddef>
 #include <cstdint>
+#include <vector>
 
 #include <glm/glm.hpp>
 
 #include "si/core/baked_palette.h"
+#include "si/core/bounds.h"
 #include "si/core/span.h"
 
 namespace si::detail {
@@ -25,9 +28,27 @@ size_t firstBadJointReference(Span<const glm::mat4> skinning, float range);
 /// Stores each of `skinning`'s first three rows as texels `j * joint_stride_texels + row` of
 /// `frame` in `format` (kMatrix3x4F32, or kMatrix3x4F16 rounded to nearest even as
 /// floatToHalf does). Every value must pass firstBadJoint's check with the format's range.
-void storeJointRows(PaletteFormat format, Span<const glm::mat4> skinning,
-                    uint32_t joint_stride_texels, uint8_t* frame);
 void storeJointRowsReference(PaletteFormat format, Span<const glm::mat4> skinning,
                              uint32_t joint_stride_texels, uint8_t* frame);
+
+/// A palette joint's bind-pose box (BakedPalette::joint_bounds) as poseBox reads it: its centre
+/// and half extents (xyz; w 0). An empty box (nothing drawn follows the joint) has half
+/// extents of -1 and adds nothing.
+struct JointBox {
+  glm::vec4 center{0.0f}, half{-1.0f, -1.0f, -1.0f, 0.0f};
+};
+std::vector<JointBox> jointBoxes(Span<const Aabb> joint_bounds);
+
+/// The box holding every vertex skinned by `skinning` (model-space matrices, one per palette
+/// joint) whose joints' bind-pose boxes `joints` hold it: the union of each joint's box carried
+/// by its matrix (centre moved, half extents through the matrix's absolute values), so any
+/// convex blend of the joints' transforms of a vertex lies inside. Empty when every joint's box
+/// is. Unpadded.
+Aabb poseBoxReference(Span<const glm::mat4> skinning, Span<const JointBox> joints);
+
+/// A live pose written in one pass over its matrices: storeJointRowsReference's texels into
+/// `frame`, and poseBoxReference's box returned (empty for no `joints`), both exactly.
+Aabb storePose(PaletteFormat format, Span<const glm::mat4> skinning, uint32_t joint_stride_texels,
+               Span<const JointBox> joints, uint8_t* frame);
 
 }  // namespace si::detail

@@ -2,6 +2,7 @@
 #include "crowd/live_poses.h"
 
 #include <algorithm>
+#include <cmath>
 #include <cstring>
 
 #include <glm/gtc/matrix_access.hpp>
@@ -17,6 +18,8 @@ Status LivePoses::reset(const BakedPalette* palette, uint32_t capacity) {
   capacity_ = 0;
   free_.clear();
   fades_.clear();
+  bounds_.clear();
+  joint_boxes_.clear();
   owners_.clear();
   sides_.clear();
   frame_versions_.clear();
@@ -43,6 +46,8 @@ Status LivePoses::reset(const BakedPalette* palette, uint32_t capacity) {
   free_.resize(capacity);
   for (uint32_t k = 0; k < capacity; ++k) free_[k] = capacity - 1 - k;  // Slot 0 first.
   fades_.resize(capacity);
+  bounds_.assign(capacity, Bounds());
+  joint_boxes_ = jointBoxes(palette->joint_bounds);
   owners_.resize(capacity);
   sides_.assign(capacity, 0);
   frame_versions_.assign(size_t(2) * capacity, 0);
@@ -59,6 +64,7 @@ Status LivePoses::take(InstanceHandle owner, uint32_t* slot) {
   *slot = free_.back();
   free_.pop_back();
   fades_[*slot] = Fade();
+  bounds_[*slot] = Bounds();
   owners_[*slot] = owner;
   written_[*slot] = kNever;  // Its first write stays on the current frame: nothing named it.
   return Status::ok();
@@ -100,7 +106,8 @@ void LivePoses::write(uint32_t slot, Span<const glm::mat4> skinning, uint32_t we
   ++version_;
   frame_versions_[frameOf(slot)] = version_;
   uint8_t* frame = texels_.data() + size_t(frameTexel(slot) - first_texel_) * bytes;
-  storeJointRows(palette_->format, skinning, l.joint_stride_texels, frame);
+  bounds_[slot] =
+      poseBounds(storePose(palette_->format, skinning, l.joint_stride_texels, joint_boxes_, frame));
   if (l.morph_target_count > 0) {  // The weights' texels as the baked frame holds them.
     const uint32_t texels = (l.morph_target_count + 3) / 4;
     std::memcpy(
@@ -108,6 +115,31 @@ void LivePoses::write(uint32_t slot, Span<const glm::mat4> skinning, uint32_t we
         palette_->texel_bytes.data() + (size_t(weights_frame_texel) + l.morph_first_texel) * bytes,
         size_t(texels) * bytes);
   }
+}
+
+LivePoses::Bounds LivePoses::poseBounds(const Aabb& box) const {
+  Bounds out;
+  out.box = box;
+  if (out.box.empty()) return out;
+  // The drawn matrices are the stored ones: half floats round each value by up to 2^-11 of
+  // it, moving a vertex by up to that of its coordinates; the shader's float arithmetic by
+  // far less (the 1e-5 a baked clip's box is padded by).
+  const float rounding = palette_->format == PaletteFormat::kMatrix3x4F16 ? 1.0f / 1024.0f : 1e-5f;
+  const glm::vec3 pad = rounding * glm::max(glm::abs(out.box.min), glm::abs(out.box.max)) +
+                        1e-5f * (out.box.max - out.box.min);
+  out.box.min -= pad;
+  out.box.max += pad;
+  // The box's circumsphere, in double, as the bake places a clip's.
+  const glm::dvec3 lo(out.box.min), hi(out.box.max);
+  out.sphere.center = glm::clamp(glm::vec3(0.5 * lo + 0.5 * hi), out.box.min, out.box.max);
+  const double radius = 0.5 * glm::length(hi - lo) * (1.0 + 1e-6);
+  out.sphere.radius = float(radius);
+  // A pose spanning past what float bounds hold keeps its clip's sphere.
+  const auto finite = [](const glm::vec3& v) {
+    return std::isfinite(v.x) && std::isfinite(v.y) && std::isfinite(v.z);
+  };
+  out.known = radius < 3.0e38 && finite(out.box.min) && finite(out.box.max);
+  return out;
 }
 
 void LivePoses::changedTexels(uint64_t since, uint32_t* first, uint32_t* count) const {

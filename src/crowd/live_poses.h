@@ -13,7 +13,9 @@
 
 #include <glm/glm.hpp>
 
+#include "crowd/live_pose_rows.h"
 #include "si/core/baked_palette.h"
+#include "si/core/bounds.h"
 #include "si/core/span.h"
 #include "si/core/status.h"
 #include "si/crowd/handle_pool.h"
@@ -63,6 +65,16 @@ class LivePoses {
   /// step, else over the same one.
   void write(uint32_t slot, Span<const glm::mat4> skinning, uint32_t weights_frame_texel,
              uint64_t step);
+  /// What bounds slot `slot`'s current pose, in the instance's model space (poseBox of the
+  /// palette's joint bounds, padded for the format's rounding; the sphere around the box as a
+  /// baked clip's). `known` is false for a palette without joint bounds (the clip's sphere
+  /// culls it then).
+  struct Bounds {
+    Aabb box;
+    Sphere sphere;
+    bool known = false;
+  };
+  const Bounds& boundsOf(uint32_t slot) const { return bounds_[slot]; }
   /// The first texel of slot `slot`'s current frame, as a record's frames name it.
   uint32_t frameTexel(uint32_t slot) const { return first_texel_ + frameOf(slot) * stride_; }
   /// Palette joint `joint`'s matrix of slot `slot`'s current frame as the shader reads it (half
@@ -84,9 +96,13 @@ class LivePoses {
   uint32_t stride_ = 0;  // Texels per frame (the palette's frame stride).
   std::vector<uint32_t> free_;
   std::vector<Fade> fades_;             // Per slot.
+  std::vector<Bounds> bounds_;          // Per slot: of its current frame.
+  std::vector<JointBox> joint_boxes_;   // The palette's joint bounds (none: empty).
   std::vector<InstanceHandle> owners_;  // Per slot.
   std::vector<uint8_t> sides_;          // Per slot: which of its two frames is current.
   std::vector<uint64_t> frame_versions_;  // Per frame: the version of its last write (0: none).
+  // The Bounds of a pose's unpadded box (storePose's; empty: none known).
+  Bounds poseBounds(const Aabb& box) const;
   // Slot `slot`'s current frame: side 0's frames first (one per slot), then side 1's.
   uint32_t frameOf(uint32_t slot) const { return sides_[slot] * capacity_ + slot; }
   std::vector<uint64_t> written_;       // Per slot: the step of its last write (kNever: none).

@@ -76,6 +76,10 @@ SI_SAME_OFFSET(GpuLivePose, fade_duration, SiGpuLivePose, fade_duration);
 SI_SAME_OFFSET(GpuLivePose, weight_from, SiGpuLivePose, weight_from);
 SI_SAME_OFFSET(GpuLivePose, weight_to, SiGpuLivePose, weight_to);
 SI_SAME_OFFSET(GpuLivePose, first_texel, SiGpuLivePose, first_texel);
+SI_SAME_OFFSET(GpuLivePose, bounded, SiGpuLivePose, bounded);
+SI_SAME_OFFSET(GpuLivePose, sphere, SiGpuLivePose, sphere);
+SI_SAME_OFFSET(GpuLivePose, box_min, SiGpuLivePose, box_min);
+SI_SAME_OFFSET(GpuLivePose, box_max, SiGpuLivePose, box_max);
 
 SI_SAME_SIZE(GpuClipInfo, SiGpuClip);
 SI_SAME_OFFSET(GpuClipInfo, duration, SiGpuClip, duration);

@@ -56,7 +56,7 @@ TEST(LivePoseRows, RowsAreStoredAsTheReferenceStoresThem) {
     for (uint32_t stride : {3u, 4u}) {  // A fourth texel per joint is left as it was.
       const size_t bytes = poses.size() * stride * bytesPerTexel(format);
       std::vector<uint8_t> fast(bytes, 0xA5), reference(bytes, 0xA5);
-      storeJointRows(format, poses, stride, fast.data());
+      EXPECT_TRUE(storePose(format, poses, stride, {}, fast.data()).empty());  // No joint boxes.
       storeJointRowsReference(format, poses, stride, reference.data());
       size_t first_difference = bytes;
       for (size_t b = 0; b < bytes && first_difference == bytes; ++b)
@@ -99,6 +99,40 @@ TEST(LivePoseRows, TheFirstBadMatrixIsTheReferencesOne) {
   const std::vector<glm::mat4> fine(61, good);
   EXPECT_EQ(firstBadJoint(fine, 65504.0f), fine.size());
   EXPECT_EQ(firstBadJoint(fine, 65503.0f), 0u);
+}
+
+// The pose's box four values at a time equals the reference's, joints with an empty box
+// (nothing drawn follows them) adding nothing; the rows stored with it are the reference's.
+TEST(LivePoseRows, ThePosesBoxIsTheReferences) {
+  std::vector<glm::mat4> poses;
+  std::vector<Aabb> boxes;
+  const std::vector<float> v = hardValues();
+  for (size_t k = 0; k + 20 < v.size() && poses.size() < 500; k += 21) {
+    glm::mat4 m(1.0f);
+    for (int c = 0; c < 4; ++c)
+      for (int r = 0; r < 3; ++r) m[c][r] = v[k + size_t(4 * c + r)] * 1e-3f;
+    poses.push_back(m);
+    Aabb b;
+    if (poses.size() % 7 != 0) {  // Every seventh empty.
+      b.extend(glm::vec3(v[k + 12], v[k + 13], v[k + 14]) * 1e-4f);
+      b.extend(glm::vec3(v[k + 15], v[k + 16], v[k + 17]) * 1e-4f);
+    }
+    boxes.push_back(b);
+  }
+  const std::vector<JointBox> joints = jointBoxes(boxes);
+  for (PaletteFormat format : {PaletteFormat::kMatrix3x4F16, PaletteFormat::kMatrix3x4F32}) {
+    const size_t bytes = poses.size() * 3 * bytesPerTexel(format);
+    std::vector<uint8_t> fast(bytes), reference(bytes);
+    const Aabb box = storePose(format, poses, 3, joints, fast.data());
+    storeJointRowsReference(format, poses, 3, reference.data());
+    const Aabb want = poseBoxReference(poses, joints);
+    ASSERT_FALSE(want.empty());
+    EXPECT_EQ(box.min, want.min);
+    EXPECT_EQ(box.max, want.max);
+    EXPECT_EQ(fast, reference);
+    const std::vector<JointBox> none = jointBoxes(std::vector<Aabb>(poses.size()));
+    EXPECT_TRUE(storePose(format, poses, 3, none, fast.data()).empty());
+  }
 }
 
 }  // namespace

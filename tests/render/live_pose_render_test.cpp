@@ -205,6 +205,39 @@ TEST_P(LivePoseRenderTest, PosesSetStepAfterStepDrawTheirFrames) {
   }
 }
 
+// A pose drawn 30 m from its instance (an engine's ragdoll thrown away), in view while its
+// clip's sphere is out of it, is drawn on every path: culled by its own bounds
+// (BakedPalette::joint_bounds), on the CPU and in GPU-driven culling alike. It draws what an
+// instance playing the frame where the pose is drawn draws (to the rounding of the move).
+TEST_P(LivePoseRenderTest, APoseAwayFromItsClipIsDrawnWhereItIs) {
+  Renderer r;
+  makeRenderer(&r);
+  CrowdManager posed, twin;
+  initRow(&posed, 1);
+  initRow(&twin, 0);
+  InstanceDesc d = rowInstance(1);
+  d.clip = uint32_t(palette().findClip("wave")), d.time_seconds = 0.0, d.speed = 0.0f;
+  InstanceHandle h;
+  ASSERT_TRUE(twin.add(d, &h).isOk());
+  d.position.x += 30.0;
+  ASSERT_TRUE(posed.add(d, &h).isOk());
+  std::vector<glm::mat4> pose = waveFrame(0);
+  for (glm::mat4& m : pose) m[3].x -= 30.0f;
+  ASSERT_TRUE(posed.setLivePose(h, pose).isOk());
+  ASSERT_TRUE(posed.update(0.1, rowCamera()).isOk());
+  ASSERT_TRUE(twin.update(0.1, rowCamera()).isOk());
+  r.clear(glm::vec4(0.2f, 0.25f, 0.3f, 1.0f));  // What image() clears to.
+  std::vector<uint8_t> empty;
+  ASSERT_TRUE(context_->readPixels(&empty).isOk());
+  for (PathKind path : kLivePaths) {
+    SCOPED_TRACE(pathKindName(path));
+    const std::vector<uint8_t> live = image(r, posed, path);
+    const std::vector<uint8_t> frame = image(r, twin, path);
+    EXPECT_GT(differingPixels(frame, empty), 500u);  // The character is in view,
+    EXPECT_LE(differingPixels(live, frame), 16u);    // and the pose draws it.
+  }
+}
+
 INSTANTIATE_TEST_SUITE_P(Backends, LivePoseRenderTest, allBackends(), backendTestName);
 
 // The OpenGL ES profile (GLSL ES 3.00, the vertex-shader path; its texture calls through the

@@ -147,6 +147,10 @@ TEST_P(ShaderInterface, GpuCrowdStateMatchesTheCppStructs) {
       {"si_live_poses[0].weight_from", offsetof(GpuLivePose, weight_from)},
       {"si_live_poses[0].weight_to", offsetof(GpuLivePose, weight_to)},
       {"si_live_poses[0].first_texel", offsetof(GpuLivePose, first_texel)},
+      {"si_live_poses[0].bounded", offsetof(GpuLivePose, bounded)},
+      {"si_live_poses[0].sphere", offsetof(GpuLivePose, sphere)},
+      {"si_live_poses[0].box_min", offsetof(GpuLivePose, box_min)},
+      {"si_live_poses[0].box_max", offsetof(GpuLivePose, box_max)},
   };
   for (const Field& f : live_fields)
     EXPECT_EQ(offsetOf(cull, GL_BUFFER_VARIABLE, f.glsl), GLint(f.offset)) << f.glsl;

@@ -54,19 +54,26 @@ static_assert(sizeof(GpuInstanceState) == 144, "std430 layout");
 /// GpuInstanceState::live_pose of an instance without a live pose.
 inline constexpr uint32_t kGpuNoLivePose = 0xFFFFFFFFu;
 
-/// One live pose slot (std430, 32 bytes; CrowdExport::livePoses): where its current frame is
-/// and its hand-over. The live weight fades linearly from `weight_from` to `weight_to` over
-/// [fade_start, fade_start + fade_duration) of the crowd clock and is `weight_to` from then
-/// on (at once for a duration of 0), as CrowdManager::setLivePose and clearLivePose set it.
+/// One live pose slot (std430, 80 bytes; CrowdExport::livePoses): where its current frame is,
+/// its hand-over and what bounds its pose. The live weight fades linearly from `weight_from` to
+/// `weight_to` over [fade_start, fade_start + fade_duration) of the crowd clock and is
+/// `weight_to` from then on (at once for a duration of 0), as CrowdManager::setLivePose and
+/// clearLivePose set it.
 struct GpuLivePose {
   double fade_start, fade_duration;
   float weight_from, weight_to;
   /// The first texel of the slot's current frame, in the palette texture after the palette's
   /// own texels (CrowdExport::livePoseFirstTexel): what a record names as a frame.
   uint32_t first_texel;
-  uint32_t pad;
+  /// 1 when `sphere` and the box bound the current pose (the palette has joint bounds,
+  /// BakedPalette::joint_bounds), else 0: the instance's clip bounds it alone.
+  uint32_t bounded;
+  /// The pose's bounds in the instance's model space, culled as a second clip's (a clip faded
+  /// from): the sphere (centre xyz, radius in w) and the box (xyz; w 0).
+  float sphere[4];
+  float box_min[4], box_max[4];
 };
-static_assert(sizeof(GpuLivePose) == 32, "std430 layout");
+static_assert(sizeof(GpuLivePose) == 80, "std430 layout");
 
 /// One instance's overlay (layered animation; std430, 64 bytes): CrowdManager's overlay state,
 /// from which the GPU writes the layer record at the crowd's clock as update() does.

@@ -139,7 +139,7 @@ Status GpuCulledPath::uploadLivePoses(const CrowdManager& crowd) {
     }
     live_capacity_ = slots;
   }
-  // 32 bytes a slot (32 KiB for a thousand): written in place, after the last passes' reads
+  // 80 bytes a slot (80 KB for a thousand): written in place, after the last passes' reads
   // (GL orders the update after them).
   if (!live_export_.empty())
     glNamedBufferSubData(live_poses_, 0, GLsizeiptr(live_export_.size() * sizeof(GpuLivePose)),

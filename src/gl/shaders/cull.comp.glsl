@@ -173,10 +173,22 @@ void main() {
     precise float far_line = u_params.y * radius;
     if (d2 > far_line * far_line) return;
   }
+  // Bounds B: the clip faded from, or a live pose's own (it draws over its clip, and with it
+  // while they hand over), as CrowdManager::update() culls them.
+  vec4 sphere_b = cb.sphere;
+  vec3 box_b_min = cb.box_min.xyz, box_b_max = cb.box_max.xyz;
+  bool two_bounds = fading;
+  if (st.live_pose != 0xFFFFFFFFu && si_live_poses[st.live_pose].bounded != 0u) {
+    SiGpuLivePose lp = si_live_poses[st.live_pose];
+    sphere_b = lp.sphere;
+    box_b_min = lp.box_min.xyz;
+    box_b_max = lp.box_max.xyz;
+    two_bounds = true;
+  }
   precise vec3 center_a = rel + siRotate(st.rotation, ca.sphere.xyz * s);
-  precise vec3 center_b = rel + siRotate(st.rotation, cb.sphere.xyz * s);
+  precise vec3 center_b = rel + siRotate(st.rotation, sphere_b.xyz * s);
   precise float ra = ca.sphere.w * s;
-  precise float rb = cb.sphere.w * s;
+  precise float rb = sphere_b.w * s;
   for (int k = 0; k < 6; ++k) {
     vec4 p = u_planes[k];
     precise float da = siDot3(p.xyz, center_a) + p.w;
@@ -199,7 +211,7 @@ void main() {
   if (u_occlusion_phase == 1u && si_view[i].y == 0u) return;
   if (u_occlusion_phase == 2u) {
     bool occluded = siOccluded(rel, st.rotation, s, ca.box_min.xyz, ca.box_max.xyz) &&
-                    (!fading || siOccluded(rel, st.rotation, s, cb.box_min.xyz, cb.box_max.xyz));
+                    (!two_bounds || siOccluded(rel, st.rotation, s, box_b_min, box_b_max));
     uint drawn = si_view[i].y;
     si_view[i].y = occluded ? 0u : 1u;
     if (occluded || drawn != 0u) return;

@@ -23,7 +23,8 @@ struct SiGpuOverlay {
 struct SiGpuLivePose {
   double fade_start, fade_duration;
   float weight_from, weight_to;
-  uint first_texel, pad;
+  uint first_texel, bounded;
+  vec4 sphere, box_min, box_max;
 };
 struct SiGpuClip {
   double duration, inv_duration, interval, inv_interval;
