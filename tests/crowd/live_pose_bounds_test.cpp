@@ -12,6 +12,7 @@
 #include <glm/gtc/matrix_transform.hpp>
 
 #include "crowd/crowd_test_helpers.h"
+#include "crowd/live_pose_helpers.h"
 #include "crowd/morph_face_fixture.h"
 #include "si/crowd/crowd_export.h"
 
@@ -95,12 +96,8 @@ TEST(LivePoseBounds, EveryDrawnVertexLiesInsideThePosesBounds) {
     BakedPalette p;
     ASSERT_TRUE(bakePalette(f.character, bd, &p, nullptr).isOk());
     ASSERT_EQ(p.joint_bounds.size(), p.palette_joints.size());
-    CrowdDesc cd;
-    cd.palette = &p;
-    cd.sub_mesh_count = uint32_t(f.character.mesh.sub_meshes.size());
-    cd.live_pose_capacity = 1;
     CrowdManager crowd;
-    ASSERT_TRUE(crowd.init(cd).isOk());
+    ASSERT_TRUE(crowd.init(test::liveDesc(p, f.character, 1)).isOk());
     const BakedClip& walk = p.clips[f.walk];
     InstanceDesc d;
     d.clip = f.walk;
@@ -188,9 +185,8 @@ TEST(LivePoseBounds, APoseIsSelectedWhereItIsDrawn) {
        {&test::defaultPalette(), static_cast<const BakedPalette*>(&without)}) {
     const bool bounded = !p->joint_bounds.empty();
     SCOPED_TRACE(bounded ? "with joint bounds" : "without");
-    CrowdDesc cd = test::defaultCrowdDesc();
+    CrowdDesc cd = test::liveDesc(2);
     cd.palette = p;
-    cd.live_pose_capacity = 2;
     CrowdManager crowd;
     ASSERT_TRUE(crowd.init(cd).isOk());
     InstanceDesc away, here;

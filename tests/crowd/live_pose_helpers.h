@@ -44,4 +44,14 @@ inline CrowdDesc liveDesc(uint32_t capacity) {
   return d;
 }
 
+// A crowd of `character` baked into `palette` (one LOD), with room for `capacity` live poses.
+inline CrowdDesc liveDesc(const BakedPalette& palette, const Character& character,
+                          uint32_t capacity) {
+  CrowdDesc d;
+  d.palette = &palette;
+  d.sub_mesh_count = uint32_t(character.mesh.sub_meshes.size());
+  d.live_pose_capacity = capacity;
+  return d;
+}
+
 }  // namespace si::test

@@ -258,12 +258,8 @@ TEST(LivePose, AHalfPaletteHoldsThePoseInHalves) {
 TEST(LivePose, TheFrameKeepsTheClipsMorphWeights) {
   const test::Face& f = test::face();
   const BakedPalette& p = f.palette;
-  CrowdDesc cd;
-  cd.palette = &p;
-  cd.sub_mesh_count = uint32_t(f.character.mesh.sub_meshes.size());
-  cd.live_pose_capacity = 1;
   CrowdManager crowd;
-  ASSERT_TRUE(crowd.init(cd).isOk());
+  ASSERT_TRUE(crowd.init(test::liveDesc(p, f.character, 1)).isOk());
   InstanceDesc d;
   d.clip = f.walk;
   d.time_seconds = 0.5;
