@@ -228,7 +228,11 @@ SI_CPU_CLONES void selectChunk(const FrameInputs& in, InstanceStore& st, uint32_
         continue;
       }
       view.lods[i] = static_cast<uint8_t>(lanes.lod[k]);  // Hysteresis goes on from it.
-      const uint32_t lod = std::min(uint32_t(lanes.lod[k]) + in.lod_bias, coarsest);
+      uint32_t lod = std::min(uint32_t(lanes.lod[k]) + in.lod_bias, coarsest);
+      // An impostor shows its clip's frames: a live pose stays a mesh, at the last mesh level.
+      if (live_poses && in.impostor_lod != 0 && lod >= in.impostor_lod &&
+          st.live_slot[i] != kNoLivePose)
+        lod = in.impostor_lod - 1;
       const uint32_t worn = in.impostor_lod != 0 && lod >= in.impostor_lod
                                 ? 1u  // One impostor per instance, in sub-mesh 0's bucket.
                                 : st.masks[i] & worn_bits;

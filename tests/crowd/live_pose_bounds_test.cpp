@@ -1,7 +1,8 @@
 // SkinnedInstancing — SPDX-License-Identifier: MIT (see LICENSE)
-// A live pose is culled by its own bounds (BakedPalette::joint_bounds carried by the pose's
-// matrices), not by its clip's sphere: every vertex the shader draws lies inside them, and a
-// pose drawn far from where its clip would be is selected where it is.
+// How a live pose is selected: culled by its own bounds (BakedPalette::joint_bounds carried by
+// the pose's matrices), not by its clip's sphere (every vertex the shader draws lies inside
+// them, and a pose drawn far from where its clip would be is selected where it is), and never
+// drawn as its clip's impostor.
 #include <gtest/gtest.h>
 
 #include <algorithm>
@@ -206,6 +207,34 @@ TEST(LivePoseBounds, APoseIsSelectedWhereItIsDrawn) {
     EXPECT_EQ(std::count(seen.begin(), seen.end(), ha), bounded ? 1 : 0);
     EXPECT_EQ(std::count(seen.begin(), seen.end(), hh), 1);
   }
+}
+
+// An impostor shows its clip's frames: an instance holding a live pose takes the last mesh
+// level where it would take the impostor's, and the impostor again once its pose is cleared.
+TEST(LivePoseBounds, APoseStaysAMeshWhereItsClipWouldBeAnImpostor) {
+  CrowdDesc cd = test::liveDesc(1);
+  ASSERT_GE(cd.lod_count, 3u);
+  cd.impostor_lod = cd.lod_count - 1;
+  cd.max_distance_radii = -1.0f;  // No far line.
+  CrowdManager crowd;
+  ASSERT_TRUE(crowd.init(cd).isOk());
+  InstanceDesc d;
+  d.position = glm::dvec3(0.0, 0.0, -400.0);  // Past every LOD line.
+  InstanceHandle h;
+  ASSERT_TRUE(crowd.add(d, &h).isOk());
+  const Camera camera = test::testCamera({0.0, 1.5, 6.0}, {0.0, 1.0, -400.0});
+  const auto levelDrawn = [&]() {
+    EXPECT_TRUE(crowd.update(0.0, camera).isOk());
+    const CrowdFrameStats& s = crowd.view().stats();
+    for (uint32_t lod = 0; lod < cd.lod_count; ++lod)
+      if (s.per_lod[lod] == 1u) return lod;
+    return cd.lod_count;
+  };
+  EXPECT_EQ(levelDrawn(), cd.impostor_lod);
+  ASSERT_TRUE(crowd.setLivePose(h, clipFrame(*cd.palette, 0, 3)).isOk());
+  EXPECT_EQ(levelDrawn(), cd.impostor_lod - 1);
+  ASSERT_TRUE(crowd.clearLivePose(h).isOk());
+  EXPECT_EQ(levelDrawn(), cd.impostor_lod);
 }
 
 }  // namespace

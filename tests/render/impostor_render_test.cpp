@@ -15,9 +15,12 @@ namespace {
 using namespace test;
 
 // Rows at 4, 30, 70 and 150 units in front of lodCamera(); lines (radius 1) put the last two
-// rows past the impostor's line unless `lines` says otherwise.
-void impostorCrowd(std::vector<float> lines, uint32_t impostor_lod, CrowdManager* crowd) {
+// rows past the impostor's line unless `lines` says otherwise. With `live_poses`, every third
+// instance holds a live pose: the matrices of another clip's frame.
+void impostorCrowd(std::vector<float> lines, uint32_t impostor_lod, CrowdManager* crowd,
+                   bool live_poses = false) {
   CrowdDesc cd;
+  cd.live_pose_capacity = live_poses ? 32 : 0;
   cd.palette = &palette();
   cd.sub_mesh_count = 4;
   cd.lod_count = impostorLevels();
@@ -40,6 +43,12 @@ void impostorCrowd(std::vector<float> lines, uint32_t impostor_lod, CrowdManager
       d.color = glm::u8vec4(uint8_t(40 + 30 * k), uint8_t(200 - 20 * k), uint8_t(60 + 50 * row), 255);
       InstanceHandle h;
       ASSERT_TRUE(crowd->add(d, &h).isOk());
+      if (!live_poses || k % 3 != 1) continue;
+      const uint32_t other = (uint32_t(k) + 1) % clips;
+      std::vector<glm::mat4> pose(palette().palette_joints.size());
+      for (uint32_t slot = 0; slot < pose.size(); ++slot)
+        pose[slot] = decodeJoint(palette(), other, uint32_t(row), slot);
+      ASSERT_TRUE(crowd->setLivePose(h, pose).isOk());
     }
   ASSERT_TRUE(crowd->advance(0.4).isOk());
   ASSERT_TRUE(crowd->update(0.0, lodCamera()).isOk());
@@ -91,6 +100,33 @@ TEST_P(RenderTest, ImpostorsDrawTheInstancedPathsImageOnTheGpuDrivenPath) {
                         {"gpu-driven compute", &cs, Path::kInstanced, true,
                          DrawMode::kComputeSkinned}},
                        crowd, lodCamera(), reference, reference_stats);
+}
+
+// An impostor shows its clip's frames, so an instance holding a live pose is drawn as a mesh
+// at the last mesh level where it would be an impostor, on the CPU's selection and in GPU-driven
+// culling alike: the GPU-driven path draws the instanced path's image of a crowd whose far
+// rows hold live poses.
+TEST_P(RenderTest, LivePosesStayMeshesWhereTheirClipsWouldBeImpostors) {
+  CrowdManager crowd, unposed;
+  impostorCrowd(linesTo(60.0f), impostorLevels() - 1, &crowd, true);
+  impostorCrowd(linesTo(60.0f), impostorLevels() - 1, &unposed);
+  // The last two rows' 16 are past the line; 6 of them hold live poses (k = 1, 4, 7).
+  const uint32_t* posed = crowd.view().stats().per_lod;
+  const uint32_t* clips = unposed.view().stats().per_lod;
+  ASSERT_EQ(clips[impostorLevels() - 1], 16u);
+  EXPECT_EQ(posed[impostorLevels() - 1], 16u - 6u);
+  EXPECT_EQ(posed[impostorLevels() - 2], clips[impostorLevels() - 2] + 6u);
+  RendererDesc rd;
+  rd.measure_gpu_time = true;  // The GPU-driven path reads back its counts.
+  Renderer r;
+  ASSERT_TRUE(r.init(info_, rd).isOk());
+  CharacterId id;
+  ASSERT_TRUE(r.addCharacter(impostorCharacter(), palette(), &id).isOk());
+  ASSERT_TRUE(r.buildImpostor(id, smallImpostor(), nullptr).isOk());
+  DrawStats reference_stats;
+  const std::vector<uint8_t> reference = draw(r, crowd, lodCamera(), 0, false, &reference_stats);
+  expectEveryCaseDraws({{"gpu-driven", &r, Path::kInstanced, true, DrawMode::kSkinned}}, crowd,
+                       lodCamera(), reference, reference_stats);
 }
 
 TEST_P(RenderTest, AnImpostorAtItsHandOverHeightDiffersFromTheMeshByItsMeasuredError) {

@@ -217,6 +217,8 @@ void main() {
     if (occluded || drawn != 0u) return;
   }
   lod = min(lod + u_lod_bias, lods - 1u);  // The drawn LOD (CrowdViewDesc::lod_bias).
+  // An impostor shows its clip's frames: a live pose stays a mesh, at the last mesh level.
+  if (st.live_pose != 0xFFFFFFFFu && u_impostor_lod != 0u) lod = min(lod, u_impostor_lod - 1u);
 
   // The record (CrowdManager::update()'s).
   SiInstance rec;
