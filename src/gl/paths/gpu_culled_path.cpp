@@ -139,11 +139,16 @@ Status GpuCulledPath::uploadLivePoses(const CrowdManager& crowd) {
     }
     live_capacity_ = slots;
   }
-  // 80 bytes a slot (80 KB for a thousand): written in place, after the last passes' reads
-  // (GL orders the update after them).
-  if (!live_export_.empty())
-    glNamedBufferSubData(live_poses_, 0, GLsizeiptr(live_export_.size() * sizeof(GpuLivePose)),
-                         live_export_.data());
+  // 80 bytes a slot (80 KB for a thousand), through the staging ring as the state is: the
+  // last frame's passes may still read the slots (glNamedBufferSubData alone was not ordered
+  // after them on the H100's driver: upload_ring.h).
+  if (live_export_.empty()) return Status::ok();
+  const Status s =
+      staging_->upload(live_poses_, live_export_.size() * sizeof(GpuLivePose), live_export_.data());
+  if (!s.isOk()) {
+    live_held_.forget();  // All of them again next time.
+    return {s.code(), "drawCrowdGpuCulled: the live poses: " + s.message()};
+  }
   return Status::ok();
 }
 
