@@ -15,6 +15,7 @@
 #include "bake/joint_bounds.h"
 #include "bake/key_frames.h"
 #include "bake/palette_texels.h"
+#include "core/box_sphere.h"
 #include "core/str_cat.h"
 #include "si/core/reference_evaluator.h"
 #include "si/core/root_motion.h"
@@ -140,9 +141,9 @@ Status bakePalette(const Character& character, const BakeDesc& in_desc, BakedPal
     BakedClip& bc = baked.clips[c];
     // The box's circumsphere contains the mesh; in double, so a mesh spanning most of the float
     // range is refused by name instead of leaving an infinite sphere in the palette.
+    double radius = 0.0;
+    const Sphere sphere = detail::boxSphere(bounds, &radius);
     const glm::dvec3 lo(bounds.min), hi(bounds.max);
-    const glm::dvec3 center = 0.5 * lo + 0.5 * hi;
-    const double radius = 0.5 * glm::length(hi - lo) * (1.0 + 1e-6);
     const double float_max = 3.0e38;
     if (!(std::isfinite(radius) && radius < float_max && glm::all(glm::lessThan(glm::abs(lo),
           glm::dvec3(float_max))) && glm::all(glm::lessThan(glm::abs(hi), glm::dvec3(float_max)))))
@@ -151,8 +152,7 @@ Status bakePalette(const Character& character, const BakeDesc& in_desc, BakedPal
                      "': the skinned mesh spans past what float bounds hold (box from ",
                      lo.x, ", ", lo.y, ", ", lo.z, " to ", hi.x, ", ", hi.y, ", ", hi.z, ")")};
     bc.bounds = bounds;
-    bc.bounding_sphere.center = glm::clamp(glm::vec3(center), bounds.min, bounds.max);
-    bc.bounding_sphere.radius = float(radius);
+    bc.bounding_sphere = sphere;
     if (measure) {
       m.interpolation = bc.interpolation;
       m.palette_bytes = (uint64_t(bc.frame_count) + 2 * baked.layout.border_frames) *

@@ -2,14 +2,15 @@
 #include "crowd/live_poses.h"
 
 #include <algorithm>
-#include <cmath>
 #include <cstring>
 
 #include <glm/gtc/matrix_access.hpp>
 
+#include "core/box_sphere.h"
 #include "core/palette_texel.h"
 #include "core/str_cat.h"
 #include "crowd/live_pose_rows.h"
+#include "si/core/transform.h"
 
 namespace si::detail {
 
@@ -129,16 +130,11 @@ LivePoses::Bounds LivePoses::poseBounds(const Aabb& box) const {
                         1e-5f * (out.box.max - out.box.min);
   out.box.min -= pad;
   out.box.max += pad;
-  // The box's circumsphere, in double, as the bake places a clip's.
-  const glm::dvec3 lo(out.box.min), hi(out.box.max);
-  out.sphere.center = glm::clamp(glm::vec3(0.5 * lo + 0.5 * hi), out.box.min, out.box.max);
-  const double radius = 0.5 * glm::length(hi - lo) * (1.0 + 1e-6);
-  out.sphere.radius = float(radius);
-  // A pose spanning past what float bounds hold keeps its clip's sphere.
-  const auto finite = [](const glm::vec3& v) {
-    return std::isfinite(v.x) && std::isfinite(v.y) && std::isfinite(v.z);
-  };
-  out.known = radius < 3.0e38 && finite(out.box.min) && finite(out.box.max);
+  // The sphere a baked clip's box gets; a pose spanning past what float bounds hold keeps its
+  // clip's sphere.
+  double radius = 0.0;
+  out.sphere = boxSphere(out.box, &radius);
+  out.known = radius < 3.0e38 && isFinite(out.box.min) && isFinite(out.box.max);
   return out;
 }
 
