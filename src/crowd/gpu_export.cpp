@@ -243,13 +243,13 @@ void CrowdExport::livePoses(std::vector<GpuLivePose>* out) const {
     g.first_texel = live.frameTexel(slot);
     const detail::LivePoses::Bounds& b = live.boundsOf(slot);
     g.bounded = b.known ? 1u : 0u;
+    if (!b.known) continue;  // Its bounds stay zero, as resize() made them.
     for (int k = 0; k < 3; ++k) {
-      g.sphere[k] = b.known ? b.sphere.center[k] : 0.0f;
-      g.box_min[k] = b.known ? b.box.min[k] : 0.0f;
-      g.box_max[k] = b.known ? b.box.max[k] : 0.0f;
+      g.sphere[k] = b.sphere.center[k];
+      g.box_min[k] = b.box.min[k];
+      g.box_max[k] = b.box.max[k];
     }
-    g.sphere[3] = b.known ? b.sphere.radius : 0.0f;
-    g.box_min[3] = g.box_max[3] = 0.0f;
+    g.sphere[3] = b.sphere.radius;
   }
 }
 

@@ -66,17 +66,6 @@ Aabb poseBoxReference(Span<const glm::mat4> skinning, Span<const JointBox> joint
 
 namespace {
 
-// Joint matrix `m`'s four rows (the transpose of its columns).
-struct Rows {
-  __m128 r0, r1, r2, r3;
-};
-inline Rows rowsOf(const glm::mat4& m) {
-  Rows r{_mm_loadu_ps(&m[0][0]), _mm_loadu_ps(&m[1][0]), _mm_loadu_ps(&m[2][0]),
-         _mm_loadu_ps(&m[3][0])};
-  _MM_TRANSPOSE4_PS(r.r0, r.r1, r.r2, r.r3);
-  return r;
-}
-
 // Four floats, finite and of magnitude at most 65504, as half floats rounded to nearest even
 // (what floatToHalf gives them), each in its lane's low 16 bits.
 inline __m128i halvesOf(__m128 v) {
@@ -167,21 +156,22 @@ Aabb storePose(PaletteFormat format, Span<const glm::mat4> skinning, uint32_t jo
   const bool half = format == PaletteFormat::kMatrix3x4F16;
   const size_t texel_bytes = half ? 8 : 16;
   for (size_t j = 0; j < skinning.size(); ++j) {
+    // The matrix's columns, bounded, then transposed in place into its rows.
     const glm::mat4& m = skinning[j];
-    Rows r{_mm_loadu_ps(&m[0][0]), _mm_loadu_ps(&m[1][0]), _mm_loadu_ps(&m[2][0]),
-           _mm_loadu_ps(&m[3][0])};
-    if (bounded && joints[j].half.x >= 0.0f) box.add(r.r0, r.r1, r.r2, r.r3, joints[j]);
-    _MM_TRANSPOSE4_PS(r.r0, r.r1, r.r2, r.r3);
+    __m128 r0 = _mm_loadu_ps(&m[0][0]), r1 = _mm_loadu_ps(&m[1][0]);
+    __m128 r2 = _mm_loadu_ps(&m[2][0]), r3 = _mm_loadu_ps(&m[3][0]);
+    if (bounded && joints[j].half.x >= 0.0f) box.add(r0, r1, r2, r3, joints[j]);
+    _MM_TRANSPOSE4_PS(r0, r1, r2, r3);
     uint8_t* out = frame + j * joint_stride_texels * texel_bytes;
     if (half) {
-      const __m128i row2 = halvesOf(r.r2);
-      _mm_storeu_si128(reinterpret_cast<__m128i*>(out), packHalves(halvesOf(r.r0), halvesOf(r.r1)));
+      const __m128i row2 = halvesOf(r2);
+      _mm_storeu_si128(reinterpret_cast<__m128i*>(out), packHalves(halvesOf(r0), halvesOf(r1)));
       _mm_storel_epi64(reinterpret_cast<__m128i*>(out + 16), packHalves(row2, row2));
     } else {
       float* rows = reinterpret_cast<float*>(out);
-      _mm_storeu_ps(rows, r.r0);
-      _mm_storeu_ps(rows + 4, r.r1);
-      _mm_storeu_ps(rows + 8, r.r2);
+      _mm_storeu_ps(rows, r0);
+      _mm_storeu_ps(rows + 4, r1);
+      _mm_storeu_ps(rows + 8, r2);
     }
   }
   return bounded ? box.box() : Aabb();

@@ -31,7 +31,7 @@ size_t firstBadJointReference(Span<const glm::mat4> skinning, float range);
 void storeJointRowsReference(PaletteFormat format, Span<const glm::mat4> skinning,
                              uint32_t joint_stride_texels, uint8_t* frame);
 
-/// A palette joint's bind-pose box (BakedPalette::joint_bounds) as poseBox reads it: its centre
+/// A palette joint's bind-pose box (BakedPalette::joint_bounds) as storePose reads it: its centre
 /// and half extents (xyz; w 0). An empty box (nothing drawn follows the joint) has half
 /// extents of -1 and adds nothing.
 struct JointBox {

@@ -65,8 +65,8 @@ class LivePoses {
   /// step, else over the same one.
   void write(uint32_t slot, Span<const glm::mat4> skinning, uint32_t weights_frame_texel,
              uint64_t step);
-  /// What bounds slot `slot`'s current pose, in the instance's model space (poseBox of the
-  /// palette's joint bounds, padded for the format's rounding; the sphere around the box as a
+  /// What bounds slot `slot`'s current pose, in the instance's model space (storePose's box of
+  /// the palette's joint bounds, padded for the format's rounding; the sphere around the box as a
   /// baked clip's). `known` is false for a palette without joint bounds (the clip's sphere
   /// culls it then).
   struct Bounds {

@@ -163,9 +163,7 @@ struct Renderer::Impl {
   /// Places `crowd`'s live poses after character `c`'s palette when they changed (or another
   /// crowd's are there); nothing without room for them.
   Status uploadLivePoses(detail::CharacterSlot& c, const CrowdManager& crowd, const char* what) {
-    const CrowdExport live(crowd);
-    if (live.livePoseTexels().empty()) return Status::ok();
-    const Status s = c.palette.uploadLive(live, crowd.identity(), info);
+    const Status s = c.palette.uploadLive(CrowdExport(crowd), crowd.identity(), info);
     return s.isOk() ? s : Status(s.code(), detail::strCat(what, ": ", s.message()));
   }
   /// The same for a view: kInvalidArgument when it is not attached to a crowd.

@@ -61,6 +61,7 @@ Status PaletteTexture::upload(const BakedPalette& palette, const GlInfo& info,
   palette_ = &palette;
   height_ = l.height;
   live_held_.forget();
+  live_staging_.configure(16, 256, kLiveRegions);  // Its buffer made by the first live upload.
   morph_texture_ = morphs.texture;
   return Status::ok();
 }
@@ -100,7 +101,6 @@ Status PaletteTexture::uploadLive(const CrowdExport& live, uint64_t crowd_identi
   const size_t span_bytes = size_t(changed) * bytes;
   size_t base = 0;
   if (!esProfile()) {
-    live_staging_.configure(16, 256, kLiveRegions);
     Status s = live_staging_.reserve(span_bytes);
     if (s.isOk()) s = live_staging_.acquire(&base);
     if (!s.isOk()) {
