@@ -68,6 +68,21 @@ void drawnSkinning(const detail::CrowdState& state, const CrowdDesc& desc, uint3
                                             Span<const LayerPose>(layers, 1 + kExtraLayerRecords))
                       : base(slots[k]);
 }
+// Why setLivePose refuses matrix `k` of `skinning` (LivePoses::write's first bad one).
+Status badLiveMatrix(PaletteFormat format, Span<const glm::mat4> skinning, size_t k) {
+  const float range =
+      format == PaletteFormat::kMatrix3x4F16 ? 65504.0f : std::numeric_limits<float>::max();
+  const glm::mat4& m = skinning[k];
+  for (int c = 0; c < 4; ++c)
+    for (int r = 0; r < 3; ++r)
+      if (!(std::fabs(m[c][r]) <= range))
+        return {StatusCode::kNotFinite,
+                strCat("setLivePose: matrix ", k, " holds ", m[c][r], ", which the palette's ",
+                       paletteFormatName(format), " texels do not")};
+  return {StatusCode::kInvalidArgument,
+          strCat("setLivePose: matrix ", k, "'s last row is not 0 0 0 1")};
+}
+
 }  // namespace
 
 Status CrowdManager::jointMatrix(InstanceHandle h, uint32_t joint, glm::dmat4* out) const {
@@ -114,31 +129,14 @@ Status CrowdManager::setLivePose(InstanceHandle h, Span<const glm::mat4> skinnin
     return {StatusCode::kCountMismatch,
             strCat("setLivePose: ", skinning.size(), " matrices, the palette stores ",
                    p.palette_joints.size(), " joints (BakedPalette::palette_joints)")};
-  const float range =
-      p.format == PaletteFormat::kMatrix3x4F16 ? 65504.0f : std::numeric_limits<float>::max();
-  // Checked four values at a time (the poses of a thousand instances a frame pass here); the
-  // bad matrix is then looked at again to name what is wrong with it.
-  const size_t k = detail::firstBadJoint(skinning, range);
-  if (k < skinning.size()) {
-    const glm::mat4& m = skinning[k];
-    for (int c = 0; c < 4; ++c)
-      for (int r = 0; r < 3; ++r)
-        if (!(std::fabs(m[c][r]) <= range))
-          return {StatusCode::kNotFinite,
-                  strCat("setLivePose: matrix ", k, " holds ", m[c][r], ", which the palette's ",
-                         paletteFormatName(p.format), " texels do not")};
-    return {StatusCode::kInvalidArgument,
-            strCat("setLivePose: matrix ", k, "'s last row is not 0 0 0 1")};
-  }
+  // Checked as it is stored, four values at a time (the poses of a thousand instances a frame
+  // pass here); a refused matrix is then looked at again to name what is wrong with it.
   const double clock = state_->clock;
   uint32_t slot = st.live_slot[i];
-  if (slot == detail::kNoLivePose) {  // From the clip: the live weight fades in from 0.
+  const bool from_clip = slot == detail::kNoLivePose;
+  if (from_clip) {
     s = st.live.take(h, &slot);
     if (!s.isOk()) return s;
-    st.live_slot[i] = slot;
-    st.live.fade(slot, 0.0f, 1.0f, blend_seconds, clock);
-  } else if (st.live.fadingOut(slot)) {  // Handing back: it fades in again from where it is.
-    st.live.fade(slot, st.live.liveWeight(slot, clock), 1.0f, blend_seconds, clock);
   }
   // The morph weights of the clip's frame at the crowd clock (the clip plays on underneath).
   const detail::Playback& pb = st.playback[i];
@@ -146,7 +144,18 @@ Status CrowdManager::setLivePose(InstanceHandle h, Span<const glm::mat4> skinnin
   if (p.layout.morph_target_count > 0)
     weights_frame =
         sampleFrames(p.clips[pb.clip], detail::localTime(pb, state_->clips[pb.clip], clock)).frame;
-  st.live.write(slot, skinning, p.layout.frameTexel(pb.clip, weights_frame), state_->steps);
+  const size_t k =
+      st.live.write(slot, skinning, p.layout.frameTexel(pb.clip, weights_frame), state_->steps);
+  if (k < skinning.size()) {
+    if (from_clip) st.live.release(slot);
+    return badLiveMatrix(p.format, skinning, k);
+  }
+  if (from_clip) {  // The live weight fades in from 0.
+    st.live_slot[i] = slot;
+    st.live.fade(slot, 0.0f, 1.0f, blend_seconds, clock);
+  } else if (st.live.fadingOut(slot)) {  // Handing back: it fades in again from where it is.
+    st.live.fade(slot, st.live.liveWeight(slot, clock), 1.0f, blend_seconds, clock);
+  }
   st.changed(i);
   return Status::ok();
 }

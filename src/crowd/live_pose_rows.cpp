@@ -12,6 +12,10 @@
 #include <emmintrin.h>
 #define SI_LIVE_ROWS_SSE2 1
 #endif
+#if defined(__SSE2__) && defined(__x86_64__) && defined(__GNUC__)
+#include <immintrin.h>  // F16C, for functions built for it alone (target attribute).
+#define SI_LIVE_ROWS_F16C 1
+#endif
 
 namespace si::detail {
 
@@ -62,9 +66,19 @@ Aabb poseBoxReference(Span<const glm::mat4> skinning, Span<const JointBox> joint
   return box;
 }
 
-#if SI_LIVE_ROWS_SSE2
-
 namespace {
+
+size_t storePoseReference(PaletteFormat format, Span<const glm::mat4> skinning,
+                          uint32_t joint_stride_texels, Span<const JointBox> joints, float range,
+                          uint8_t* frame, Aabb* box) {
+  const size_t bad = firstBadJointReference(skinning, range);
+  if (bad < skinning.size()) return bad;
+  storeJointRowsReference(format, skinning, joint_stride_texels, frame);
+  *box = joints.empty() ? Aabb() : poseBoxReference(skinning, joints);
+  return skinning.size();
+}
+
+#if SI_LIVE_ROWS_SSE2
 
 // Four floats, finite and of magnitude at most 65504, as half floats rounded to nearest even
 // (what floatToHalf gives them), each in its lane's low 16 bits.
@@ -126,69 +140,162 @@ struct BoxLanes {
   }
 };
 
-}  // namespace
-
-size_t firstBadJoint(Span<const glm::mat4> skinning, float range) {
-  // Column by column, no transpose: rows 0 to 2 of each at most `range` in magnitude (not <=:
-  // past it, or not a number, the comparison then unordered), row 3 equal to the identity's.
-  const float inf = std::numeric_limits<float>::infinity();
-  const __m128 limit = _mm_setr_ps(range, range, range, inf);
+// Whether any of a matrix's columns breaks firstBadJointReference's rule: rows 0 to 2 at most
+// `limit` in magnitude (not <=: past it, or not a number, the comparison then unordered), row 3
+// equal to the identity's.
+inline bool badColumns(__m128 c0, __m128 c1, __m128 c2, __m128 c3, __m128 limit) {
   const __m128 magnitude = _mm_castsi128_ps(_mm_set1_epi32(0x7FFFFFFF));
   const __m128 last = _mm_castsi128_ps(_mm_setr_epi32(0, 0, 0, -1));
   const __m128 zero = _mm_setzero_ps(), one = _mm_setr_ps(0.0f, 0.0f, 0.0f, 1.0f);
-  for (size_t k = 0; k < skinning.size(); ++k) {
-    const glm::mat4& m = skinning[k];
-    __m128 bad = zero;
-    for (int c = 0; c < 4; ++c) {
-      const __m128 col = _mm_loadu_ps(&m[c][0]);
-      bad = _mm_or_ps(bad, _mm_cmpnle_ps(_mm_and_ps(col, magnitude), limit));
-      bad = _mm_or_ps(bad, _mm_and_ps(last, _mm_cmpneq_ps(col, c == 3 ? one : zero)));
-    }
-    if (_mm_movemask_ps(bad) != 0) return k;
+  __m128 bad = _mm_or_ps(_mm_cmpnle_ps(_mm_and_ps(c0, magnitude), limit),
+                         _mm_cmpnle_ps(_mm_and_ps(c1, magnitude), limit));
+  bad = _mm_or_ps(bad, _mm_cmpnle_ps(_mm_and_ps(c2, magnitude), limit));
+  bad = _mm_or_ps(bad, _mm_cmpnle_ps(_mm_and_ps(c3, magnitude), limit));
+  __m128 row3 = _mm_or_ps(_mm_cmpneq_ps(c0, zero), _mm_cmpneq_ps(c1, zero));
+  row3 = _mm_or_ps(row3, _mm_or_ps(_mm_cmpneq_ps(c2, zero), _mm_cmpneq_ps(c3, one)));
+  return _mm_movemask_ps(_mm_or_ps(bad, _mm_and_ps(last, row3))) != 0;
+}
+
+// A joint's three rows stored from its four columns: as floats, or as half floats through
+// halvesOf.
+struct FloatRows {
+  void operator()(__m128 c0, __m128 c1, __m128 c2, __m128 c3, uint8_t* out) const {
+    _MM_TRANSPOSE4_PS(c0, c1, c2, c3);
+    float* rows = reinterpret_cast<float*>(out);
+    _mm_storeu_ps(rows, c0);
+    _mm_storeu_ps(rows + 4, c1);
+    _mm_storeu_ps(rows + 8, c2);
   }
+};
+struct Sse2HalfRows {
+  void operator()(__m128 c0, __m128 c1, __m128 c2, __m128 c3, uint8_t* out) const {
+    _MM_TRANSPOSE4_PS(c0, c1, c2, c3);
+    const __m128i row2 = halvesOf(c2);
+    _mm_storeu_si128(reinterpret_cast<__m128i*>(out), packHalves(halvesOf(c0), halvesOf(c1)));
+    _mm_storel_epi64(reinterpret_cast<__m128i*>(out + 16), packHalves(row2, row2));
+  }
+};
+
+// The one pass: each matrix's columns loaded once, checked, carried into the box and stored
+// by `rows` (inlined into its caller, so that F16C's caller builds it for F16C).
+template <class Rows>
+__attribute__((always_inline)) inline size_t storeLanes(Span<const glm::mat4> skinning,
+                                                        size_t joint_bytes,
+                                                        Span<const JointBox> joints, float range,
+                                                        uint8_t* frame, Aabb* box, Rows rows) {
+  const __m128 limit = _mm_setr_ps(range, range, range, std::numeric_limits<float>::infinity());
+  BoxLanes lanes;
+  const bool bounded = !joints.empty();
+  for (size_t j = 0; j < skinning.size(); ++j) {
+    const glm::mat4& m = skinning[j];
+    const __m128 c0 = _mm_loadu_ps(&m[0][0]), c1 = _mm_loadu_ps(&m[1][0]);
+    const __m128 c2 = _mm_loadu_ps(&m[2][0]), c3 = _mm_loadu_ps(&m[3][0]);
+    if (badColumns(c0, c1, c2, c3, limit)) return j;
+    if (bounded && joints[j].half.x >= 0.0f) lanes.add(c0, c1, c2, c3, joints[j]);
+    rows(c0, c1, c2, c3, frame + j * joint_bytes);
+  }
+  *box = bounded ? lanes.box() : Aabb();
   return skinning.size();
 }
 
-Aabb storePose(PaletteFormat format, Span<const glm::mat4> skinning, uint32_t joint_stride_texels,
-               Span<const JointBox> joints, uint8_t* frame) {
-  BoxLanes box;
-  const bool bounded = !joints.empty();
-  const bool half = format == PaletteFormat::kMatrix3x4F16;
-  const size_t texel_bytes = half ? 8 : 16;
-  for (size_t j = 0; j < skinning.size(); ++j) {
-    // The matrix's columns, bounded, then transposed in place into its rows.
-    const glm::mat4& m = skinning[j];
-    __m128 r0 = _mm_loadu_ps(&m[0][0]), r1 = _mm_loadu_ps(&m[1][0]);
-    __m128 r2 = _mm_loadu_ps(&m[2][0]), r3 = _mm_loadu_ps(&m[3][0]);
-    if (bounded && joints[j].half.x >= 0.0f) box.add(r0, r1, r2, r3, joints[j]);
-    _MM_TRANSPOSE4_PS(r0, r1, r2, r3);
-    uint8_t* out = frame + j * joint_stride_texels * texel_bytes;
-    if (half) {
-      const __m128i row2 = halvesOf(r2);
-      _mm_storeu_si128(reinterpret_cast<__m128i*>(out), packHalves(halvesOf(r0), halvesOf(r1)));
-      _mm_storel_epi64(reinterpret_cast<__m128i*>(out + 16), packHalves(row2, row2));
-    } else {
-      float* rows = reinterpret_cast<float*>(out);
-      _mm_storeu_ps(rows, r0);
-      _mm_storeu_ps(rows + 4, r1);
-      _mm_storeu_ps(rows + 8, r2);
-    }
+size_t storePoseSse2(PaletteFormat format, Span<const glm::mat4> skinning,
+                     uint32_t joint_stride_texels, Span<const JointBox> joints, float range,
+                     uint8_t* frame, Aabb* box) {
+  const size_t joint_bytes = size_t(joint_stride_texels) * bytesPerTexel(format);
+  if (format == PaletteFormat::kMatrix3x4F16)
+    return storeLanes(skinning, joint_bytes, joints, range, frame, box, Sse2HalfRows());
+  return storeLanes(skinning, joint_bytes, joints, range, frame, box, FloatRows());
+}
+
+#endif  // SI_LIVE_ROWS_SSE2
+
+#if SI_LIVE_ROWS_F16C
+
+// Half-float rows through F16C: each column converted (to nearest even, as floatToHalf
+// rounds; every value is within the half's range, checked first), then the four columns of
+// four halves interleaved into rows.
+struct F16cHalfRows {
+  __attribute__((target("avx,f16c"))) void operator()(__m128 c0, __m128 c1, __m128 c2, __m128 c3,
+                                                      uint8_t* out) const {
+    const __m128i h0 = _mm_cvtps_ph(c0, _MM_FROUND_TO_NEAREST_INT);
+    const __m128i h1 = _mm_cvtps_ph(c1, _MM_FROUND_TO_NEAREST_INT);
+    const __m128i h2 = _mm_cvtps_ph(c2, _MM_FROUND_TO_NEAREST_INT);
+    const __m128i h3 = _mm_cvtps_ph(c3, _MM_FROUND_TO_NEAREST_INT);
+    const __m128i c01 = _mm_unpacklo_epi16(h0, h1);  // Rows 0 to 3 of columns 0 and 1.
+    const __m128i c23 = _mm_unpacklo_epi16(h2, h3);
+    _mm_storeu_si128(reinterpret_cast<__m128i*>(out), _mm_unpacklo_epi32(c01, c23));
+    _mm_storel_epi64(reinterpret_cast<__m128i*>(out + 16), _mm_unpackhi_epi32(c01, c23));
   }
-  return bounded ? box.box() : Aabb();
+};
+
+__attribute__((target("avx,f16c"))) size_t storePoseF16c(PaletteFormat format,
+                                                         Span<const glm::mat4> skinning,
+                                                         uint32_t joint_stride_texels,
+                                                         Span<const JointBox> joints, float range,
+                                                         uint8_t* frame, Aabb* box) {
+  const size_t joint_bytes = size_t(joint_stride_texels) * bytesPerTexel(format);
+  if (format == PaletteFormat::kMatrix3x4F16)
+    return storeLanes(skinning, joint_bytes, joints, range, frame, box, F16cHalfRows());
+  return storeLanes(skinning, joint_bytes, joints, range, frame, box, FloatRows());
 }
 
-#else  // No SSE2: one value at a time.
-
-size_t firstBadJoint(Span<const glm::mat4> skinning, float range) {
-  return firstBadJointReference(skinning, range);
+bool cpuRunsF16c() {
+  // GCC's and Clang's runtimes report AVX (and so F16C's VEX encoding) only where the OS
+  // saves its state.
+  __builtin_cpu_init();
+  return __builtin_cpu_supports("avx") && __builtin_cpu_supports("f16c");
 }
 
-Aabb storePose(PaletteFormat format, Span<const glm::mat4> skinning, uint32_t joint_stride_texels,
-               Span<const JointBox> joints, uint8_t* frame) {
-  storeJointRowsReference(format, skinning, joint_stride_texels, frame);
-  return joints.empty() ? Aabb() : poseBoxReference(skinning, joints);
+#endif  // SI_LIVE_ROWS_F16C
+
+PoseRowsIsa bestIsa() {
+  static const PoseRowsIsa best = runs(PoseRowsIsa::kF16c)   ? PoseRowsIsa::kF16c
+                                  : runs(PoseRowsIsa::kSse2) ? PoseRowsIsa::kSse2
+                                                             : PoseRowsIsa::kReference;
+  return best;
 }
 
+}  // namespace
+
+bool runs(PoseRowsIsa isa) {
+  switch (isa) {
+    case PoseRowsIsa::kSse2:
+#if SI_LIVE_ROWS_SSE2
+      return true;
+#else
+      return false;
 #endif
+    case PoseRowsIsa::kF16c: {
+#if SI_LIVE_ROWS_F16C
+      static const bool f16c = cpuRunsF16c();
+      return f16c;
+#else
+      return false;
+#endif
+    }
+    case PoseRowsIsa::kReference:
+    case PoseRowsIsa::kBest:
+      return true;
+  }
+  return false;
+}
+
+size_t storePose(PaletteFormat format, Span<const glm::mat4> skinning, uint32_t joint_stride_texels,
+                 Span<const JointBox> joints, float range, uint8_t* frame, Aabb* box,
+                 PoseRowsIsa isa) {
+  if (isa == PoseRowsIsa::kBest) isa = bestIsa();
+  switch (isa) {
+#if SI_LIVE_ROWS_F16C
+    case PoseRowsIsa::kF16c:
+      return storePoseF16c(format, skinning, joint_stride_texels, joints, range, frame, box);
+#endif
+#if SI_LIVE_ROWS_SSE2
+    case PoseRowsIsa::kSse2:
+      return storePoseSse2(format, skinning, joint_stride_texels, joints, range, frame, box);
+#endif
+    default:
+      return storePoseReference(format, skinning, joint_stride_texels, joints, range, frame, box);
+  }
+}
 
 }  // namespace si::detail

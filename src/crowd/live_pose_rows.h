@@ -3,9 +3,10 @@
 // The engine's joint matrices of a live pose (CrowdManager::setLivePose) checked, stored as
 // palette rows (the three rows of each 3x4 skinning matrix, one texel each, in the palette's
 // format) and bounded (the box its vertices lie in, from the palette's joint bounds). The poses
-// of a thousand instances of 60 joints pass here every frame, so firstBadJoint and storePose
-// run four floats at a time where the CPU has SSE2 (every x86-64), with no branch per value;
-// the Reference versions do the same one value at a time (the tests hold them equal, and
+// of a thousand instances of 60 joints pass here every frame, so storePose checks, stores and
+// bounds them in one pass, four floats at a time where the CPU has SSE2 (every x86-64), with no
+// branch per value, and converts to half floats with F16C where the CPU has it; the Reference
+// versions do the same one value at a time (the tests hold every variant equal to them, and
 // builds without SSE2 use them). No GL.
 
 #include <cstddef>
@@ -22,7 +23,6 @@ namespace si::detail {
 
 /// The first of `skinning` whose last row is not 0 0 0 1 or which holds a value whose
 /// magnitude passes `range` (or is not finite), or skinning.size() when there is none.
-size_t firstBadJoint(Span<const glm::mat4> skinning, float range);
 size_t firstBadJointReference(Span<const glm::mat4> skinning, float range);
 
 /// Stores each of `skinning`'s first three rows as texels `j * joint_stride_texels + row` of
@@ -46,9 +46,20 @@ std::vector<JointBox> jointBoxes(Span<const Aabb> joint_bounds);
 /// is. Unpadded.
 Aabb poseBoxReference(Span<const glm::mat4> skinning, Span<const JointBox> joints);
 
-/// A live pose written in one pass over its matrices: storeJointRowsReference's texels into
-/// `frame`, and poseBoxReference's box returned (empty for no `joints`), both exactly.
-Aabb storePose(PaletteFormat format, Span<const glm::mat4> skinning, uint32_t joint_stride_texels,
-               Span<const JointBox> joints, uint8_t* frame);
+/// How storePose runs: one value at a time (the references), four at a time with SSE2 (every
+/// x86-64), or with F16C's half-float conversion (x86-64 CPUs since 2012, where the OS keeps
+/// AVX state). kBest: the fastest this build and CPU run.
+enum class PoseRowsIsa { kReference, kSse2, kF16c, kBest };
+/// Whether this build and CPU run `isa` (kReference and kBest always).
+bool runs(PoseRowsIsa isa);
+
+/// A live pose checked, stored and bounded in one pass over its matrices: returns
+/// firstBadJointReference(skinning, range) (`range`: the format's, 65504 for half floats), and
+/// when that is skinning.size() (every matrix good) has stored storeJointRowsReference's texels
+/// into `frame` and set *box to poseBoxReference's box (empty for no `joints`), both exactly.
+/// Past a bad matrix, what `frame` and *box hold is unspecified. `isa` must run (runs()).
+size_t storePose(PaletteFormat format, Span<const glm::mat4> skinning, uint32_t joint_stride_texels,
+                 Span<const JointBox> joints, float range, uint8_t* frame, Aabb* box,
+                 PoseRowsIsa isa = PoseRowsIsa::kBest);
 
 }  // namespace si::detail

@@ -3,6 +3,7 @@
 
 #include <algorithm>
 #include <cstring>
+#include <limits>
 
 #include <glm/gtc/matrix_access.hpp>
 
@@ -98,17 +99,31 @@ void LivePoses::fadedOut(double clock, std::vector<InstanceHandle>* owners) cons
     if (fadingOut(slot) && clipWeight(slot, clock) == 1.0f) owners->push_back(owners_[slot]);
 }
 
-void LivePoses::write(uint32_t slot, Span<const glm::mat4> skinning, uint32_t weights_frame_texel,
-                      uint64_t step) {
+size_t LivePoses::write(uint32_t slot, Span<const glm::mat4> skinning, uint32_t weights_frame_texel,
+                        uint64_t step) {
   const PaletteLayout& l = palette_->layout;
   const size_t bytes = bytesPerTexel(palette_->format);
-  if (written_[slot] != kNever && written_[slot] != step) sides_[slot] ^= 1u;
+  const float range = palette_->format == PaletteFormat::kMatrix3x4F16
+                          ? 65504.0f
+                          : std::numeric_limits<float>::max();
+  // A new step's pose goes straight into the slot's other frame, which nothing names (the
+  // last step's records name the current one); a pose written over the current frame goes
+  // through scratch first, so that a refused one leaves it as it was.
+  const bool other = written_[slot] != kNever && written_[slot] != step;
+  const uint32_t frame_index = other ? (sides_[slot] ^ 1u) * capacity_ + slot : frameOf(slot);
+  uint8_t* frame = texels_.data() + size_t(frame_index) * stride_ * bytes;
+  const size_t joint_bytes = skinning.size() * l.joint_stride_texels * bytes;
+  if (!other && scratch_.size() < joint_bytes) scratch_.resize(joint_bytes);
+  Aabb box;
+  const size_t bad = storePose(palette_->format, skinning, l.joint_stride_texels, joint_boxes_,
+                               range, other ? frame : scratch_.data(), &box);
+  if (bad < skinning.size()) return bad;
+  if (!other) std::memcpy(frame, scratch_.data(), joint_bytes);
+  sides_[slot] ^= uint8_t(other);
   written_[slot] = step;
   ++version_;
-  frame_versions_[frameOf(slot)] = version_;
-  uint8_t* frame = texels_.data() + size_t(frameTexel(slot) - first_texel_) * bytes;
-  bounds_[slot] =
-      poseBounds(storePose(palette_->format, skinning, l.joint_stride_texels, joint_boxes_, frame));
+  frame_versions_[frame_index] = version_;
+  bounds_[slot] = poseBounds(box);
   if (l.morph_target_count > 0) {  // The weights' texels as the baked frame holds them.
     const uint32_t texels = (l.morph_target_count + 3) / 4;
     std::memcpy(
@@ -116,6 +131,7 @@ void LivePoses::write(uint32_t slot, Span<const glm::mat4> skinning, uint32_t we
         palette_->texel_bytes.data() + (size_t(weights_frame_texel) + l.morph_first_texel) * bytes,
         size_t(texels) * bytes);
   }
+  return skinning.size();
 }
 
 LivePoses::Bounds LivePoses::poseBounds(const Aabb& box) const {

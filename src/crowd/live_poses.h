@@ -62,9 +62,11 @@ class LivePoses {
   /// Writes slot `slot`'s frame in crowd step `step` (CrowdState::steps): `skinning` (one
   /// model-space matrix per palette joint) in the palette's format, then the morph weights of
   /// baked frame `weights_frame_texel`; into its other frame when the last write was in another
-  /// step, else over the same one.
-  void write(uint32_t slot, Span<const glm::mat4> skinning, uint32_t weights_frame_texel,
-             uint64_t step);
+  /// step, else over the same one. Checked as it is stored: returns the first matrix the
+  /// palette cannot hold (firstBadJointReference's, with the format's range), leaving the slot
+  /// as it was, or skinning.size() when written.
+  size_t write(uint32_t slot, Span<const glm::mat4> skinning, uint32_t weights_frame_texel,
+               uint64_t step);
   /// What bounds slot `slot`'s current pose, in the instance's model space (storePose's box of
   /// the palette's joint bounds, padded for the format's rounding; the sphere around the box as a
   /// baked clip's). `known` is false for a palette without joint bounds (the clip's sphere
@@ -109,6 +111,7 @@ class LivePoses {
   static constexpr uint64_t kNever = ~uint64_t(0);
   uint32_t fading_out_ = 0;
   std::vector<uint8_t> texels_;
+  std::vector<uint8_t> scratch_;  // A pose written over a current frame, until checked.
   uint64_t version_ = 0;
 };
 

@@ -15,6 +15,7 @@
 #include <map>
 #include <memory>
 #include <string>
+#include <utility>
 
 #include <glm/gtc/quaternion.hpp>
 
@@ -296,9 +297,10 @@ BENCHMARK(livePoses)
 
 // The palette of a chain of `joints` joints, one vertex per joint, one clip bending it: a
 // character of any joint count (the repository's assets stop at 21 palette joints).
-const si::BakedPalette& chainPalette(uint32_t joints) {
-  static std::map<uint32_t, si::BakedPalette> baked;
-  auto it = baked.find(joints);
+const si::BakedPalette& chainPalette(uint32_t joints,
+                                     si::PaletteFormat format = si::PaletteFormat::kDefault) {
+  static std::map<std::pair<uint32_t, si::PaletteFormat>, si::BakedPalette> baked;
+  auto it = baked.find({joints, format});
   if (it != baked.end()) return it->second;
   si::Character c;
   c.name = "chain";
@@ -330,20 +332,24 @@ const si::BakedPalette& chainPalette(uint32_t joints) {
   c.clips.push_back(bend);
   si::BakeDesc d;
   d.rate_mode = si::RateMode::kFixed;
+  d.format = format;
   si::BakedPalette out;
   const si::Status s = si::bakePalette(c, d, &out, nullptr);
   if (!s.isOk()) {
     std::fprintf(stderr, "chainPalette: %s\n", s.toString().c_str());
     std::abort();
   }
-  return baked.emplace(joints, std::move(out)).first->second;
+  return baked.emplace(std::make_pair(joints, format), std::move(out)).first->second;
 }
 
 // setLivePose's cost against the joints a pose has: 1,000 instances of a chain of
-// state.range(0) joints (chainPalette) posed each iteration with another baked frame.
+// state.range(0) joints (chainPalette) posed each iteration with another baked frame, in a
+// palette of float texels (state.range(1) 0, the default) or half floats (1).
 // ns_per_pose: one call; ns_per_joint: that over the palette's joints.
 void livePoseJoints(benchmark::State& state) {
-  const si::BakedPalette& p = chainPalette(uint32_t(state.range(0)));
+  const si::BakedPalette& p =
+      chainPalette(uint32_t(state.range(0)), state.range(1) != 0 ? si::PaletteFormat::kMatrix3x4F16
+                                                                 : si::PaletteFormat::kDefault);
   constexpr uint32_t kLive = 1000;
   si::CrowdDesc cd;
   cd.palette = &p;
@@ -374,7 +380,10 @@ void livePoseJoints(benchmark::State& state) {
   state.counters["ns_per_pose"] = set_ms * 1e6 / (n * kLive);
   state.counters["ns_per_joint"] = set_ms * 1e6 / (n * kLive * double(p.palette_joints.size()));
 }
-BENCHMARK(livePoseJoints)->Arg(20)->Arg(60)->Unit(benchmark::kMillisecond);
+BENCHMARK(livePoseJoints)
+    ->ArgNames({"joints", "half"})
+    ->ArgsProduct({{20, 60}, {0, 1}})
+    ->Unit(benchmark::kMillisecond);
 
 // The GPU-driven path's CPU share of churn, what drawCrowdGpuCulled does before its GL calls
 // (src/gl/paths/gpu_state_upload.cpp; docs/performance.md, "Several crowds of one character,

@@ -1,6 +1,7 @@
 // SkinnedInstancing — SPDX-License-Identifier: MIT (see LICENSE)
-// The live poses' row writer and check (crowd/live_pose_rows.h), four values at a time, against
-// their one-value-at-a-time references, on the values where a half float's rounding is hard.
+// The live poses' one pass (crowd/live_pose_rows.h: check, rows and box), in every variant this
+// CPU runs (SSE2, F16C), against the one-value-at-a-time references, on the values where a half
+// float's rounding is hard.
 #include "crowd/live_pose_rows.h"
 
 #include <gtest/gtest.h>
@@ -8,6 +9,7 @@
 #include <cmath>
 #include <cstring>
 #include <limits>
+#include <utility>
 #include <vector>
 
 namespace si::detail {
@@ -49,22 +51,54 @@ std::vector<float> hardValues() {
   return v;
 }
 
+// The variants this build and CPU run, each named.
+std::vector<std::pair<PoseRowsIsa, const char*>> variants() {
+  std::vector<std::pair<PoseRowsIsa, const char*>> out;
+  for (auto v :
+       {std::make_pair(PoseRowsIsa::kReference, "reference"),
+        std::make_pair(PoseRowsIsa::kSse2, "SSE2"), std::make_pair(PoseRowsIsa::kF16c, "F16C"),
+        std::make_pair(PoseRowsIsa::kBest, "best")})
+    if (runs(v.first)) out.push_back(v);
+  return out;
+}
+
+// x86-64 builds hold the four-at-a-time variant, and F16C runs on every CPU of the machines
+// the tests run on (the VM and CI's); elsewhere the tests say so.
+TEST(LivePoseRows, TheFastVariantsRunHere) {
+#if defined(__x86_64__)
+  EXPECT_TRUE(runs(PoseRowsIsa::kSse2));
+#endif
+#if defined(__x86_64__) && defined(__GNUC__)
+  __builtin_cpu_init();
+  EXPECT_EQ(runs(PoseRowsIsa::kF16c),
+            __builtin_cpu_supports("avx") != 0 && __builtin_cpu_supports("f16c") != 0);
+  if (!runs(PoseRowsIsa::kF16c)) GTEST_SKIP() << "this CPU has no F16C: only SSE2 is tested";
+#endif
+}
+
 TEST(LivePoseRows, RowsAreStoredAsTheReferenceStoresThem) {
   const std::vector<glm::mat4> poses = matricesOf(hardValues());
-  ASSERT_EQ(firstBadJoint(poses, 65504.0f), poses.size());
-  for (PaletteFormat format : {PaletteFormat::kMatrix3x4F16, PaletteFormat::kMatrix3x4F32})
-    for (uint32_t stride : {3u, 4u}) {  // A fourth texel per joint is left as it was.
-      const size_t bytes = poses.size() * stride * bytesPerTexel(format);
-      std::vector<uint8_t> fast(bytes, 0xA5), reference(bytes, 0xA5);
-      EXPECT_TRUE(storePose(format, poses, stride, {}, fast.data()).empty());  // No joint boxes.
-      storeJointRowsReference(format, poses, stride, reference.data());
-      size_t first_difference = bytes;
-      for (size_t b = 0; b < bytes && first_difference == bytes; ++b)
-        if (fast[b] != reference[b]) first_difference = b;
-      EXPECT_EQ(first_difference, bytes)
-          << paletteFormatName(format) << ", stride " << stride << ": byte " << first_difference
-          << " of joint " << first_difference / (stride * bytesPerTexel(format));
-    }
+  ASSERT_EQ(firstBadJointReference(poses, 65504.0f), poses.size());
+  for (const auto& [isa, name] : variants())
+    for (PaletteFormat format : {PaletteFormat::kMatrix3x4F16, PaletteFormat::kMatrix3x4F32})
+      for (uint32_t stride : {3u, 4u}) {  // A fourth texel per joint is left as it was.
+        const size_t bytes = poses.size() * stride * bytesPerTexel(format);
+        std::vector<uint8_t> fast(bytes, 0xA5), reference(bytes, 0xA5);
+        Aabb box;
+        box.extend(glm::vec3(1.0f));
+        EXPECT_EQ(storePose(format, poses, stride, {}, 65504.0f, fast.data(), &box, isa),
+                  poses.size())
+            << name;
+        EXPECT_TRUE(box.empty()) << name;  // No joint boxes.
+        storeJointRowsReference(format, poses, stride, reference.data());
+        size_t first_difference = bytes;
+        for (size_t b = 0; b < bytes && first_difference == bytes; ++b)
+          if (fast[b] != reference[b]) first_difference = b;
+        EXPECT_EQ(first_difference, bytes)
+            << name << ", " << paletteFormatName(format) << ", stride " << stride << ": byte "
+            << first_difference << " of joint "
+            << first_difference / (stride * bytesPerTexel(format));
+      }
 }
 
 TEST(LivePoseRows, TheFirstBadMatrixIsTheReferencesOne) {
@@ -84,21 +118,28 @@ TEST(LivePoseRows, TheFirstBadMatrixIsTheReferencesOne) {
         m[c][r] = x;
         bad.push_back(m);
       }
-  for (float range : {65504.0f, std::numeric_limits<float>::max()})
-    for (size_t k = 0; k < bad.size(); ++k)
-      for (size_t at : {size_t(0), size_t(5), size_t(60)}) {
-        std::vector<glm::mat4> poses(61, good);
-        poses[at] = bad[k];
-        poses[60 - at / 2] = bad[k];  // A second one after it.
-        const size_t want = firstBadJointReference(poses, range);
-        if (range == 65504.0f) {  // Each is bad.
-          EXPECT_LE(want, at) << "bad matrix " << k;
+  std::vector<uint8_t> frame(61 * 3 * 16);
+  Aabb box;
+  for (const auto& [isa, name] : variants()) {
+    const auto firstBad = [&, isa = isa](Span<const glm::mat4> poses, float range) {
+      return storePose(PaletteFormat::kMatrix3x4F16, poses, 3, {}, range, frame.data(), &box, isa);
+    };
+    for (float range : {65504.0f, std::numeric_limits<float>::max()})
+      for (size_t k = 0; k < bad.size(); ++k)
+        for (size_t at : {size_t(0), size_t(5), size_t(60)}) {
+          std::vector<glm::mat4> poses(61, good);
+          poses[at] = bad[k];
+          poses[60 - at / 2] = bad[k];  // A second one after it.
+          const size_t want = firstBadJointReference(poses, range);
+          if (range == 65504.0f) {  // Each is bad.
+            EXPECT_LE(want, at) << "bad matrix " << k;
+          }
+          EXPECT_EQ(firstBad(poses, range), want) << name << ": bad matrix " << k << " at " << at;
         }
-        EXPECT_EQ(firstBadJoint(poses, range), want) << "bad matrix " << k << " at " << at;
-      }
-  const std::vector<glm::mat4> fine(61, good);
-  EXPECT_EQ(firstBadJoint(fine, 65504.0f), fine.size());
-  EXPECT_EQ(firstBadJoint(fine, 65503.0f), 0u);
+    const std::vector<glm::mat4> fine(61, good);
+    EXPECT_EQ(firstBad(fine, 65504.0f), fine.size()) << name;
+    EXPECT_EQ(firstBad(fine, 65503.0f), 0u) << name;
+  }
 }
 
 // The pose's box four values at a time equals the reference's, joints with an empty box
@@ -120,19 +161,23 @@ TEST(LivePoseRows, ThePosesBoxIsTheReferences) {
     boxes.push_back(b);
   }
   const std::vector<JointBox> joints = jointBoxes(boxes);
-  for (PaletteFormat format : {PaletteFormat::kMatrix3x4F16, PaletteFormat::kMatrix3x4F32}) {
-    const size_t bytes = poses.size() * 3 * bytesPerTexel(format);
-    std::vector<uint8_t> fast(bytes), reference(bytes);
-    const Aabb box = storePose(format, poses, 3, joints, fast.data());
-    storeJointRowsReference(format, poses, 3, reference.data());
-    const Aabb want = poseBoxReference(poses, joints);
-    ASSERT_FALSE(want.empty());
-    EXPECT_EQ(box.min, want.min);
-    EXPECT_EQ(box.max, want.max);
-    EXPECT_EQ(fast, reference);
-    const std::vector<JointBox> none = jointBoxes(std::vector<Aabb>(poses.size()));
-    EXPECT_TRUE(storePose(format, poses, 3, none, fast.data()).empty());
-  }
+  const std::vector<JointBox> none = jointBoxes(std::vector<Aabb>(poses.size()));
+  for (const auto& [isa, name] : variants())
+    for (PaletteFormat format : {PaletteFormat::kMatrix3x4F16, PaletteFormat::kMatrix3x4F32}) {
+      const size_t bytes = poses.size() * 3 * bytesPerTexel(format);
+      std::vector<uint8_t> fast(bytes), reference(bytes);
+      Aabb box;
+      ASSERT_EQ(storePose(format, poses, 3, joints, 65504.0f, fast.data(), &box, isa),
+                poses.size());
+      storeJointRowsReference(format, poses, 3, reference.data());
+      const Aabb want = poseBoxReference(poses, joints);
+      ASSERT_FALSE(want.empty());
+      EXPECT_EQ(box.min, want.min) << name;
+      EXPECT_EQ(box.max, want.max) << name;
+      EXPECT_EQ(fast, reference) << name;
+      ASSERT_EQ(storePose(format, poses, 3, none, 65504.0f, fast.data(), &box, isa), poses.size());
+      EXPECT_TRUE(box.empty()) << name;
+    }
 }
 
 }  // namespace

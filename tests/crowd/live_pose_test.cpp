@@ -232,6 +232,60 @@ TEST(LivePose, BadPosesAndCapacitiesAreRefusedByName) {
   EXPECT_NE(s.message().find("quat_translation_f32"), std::string::npos) << s.message();
 }
 
+// A refused pose changes nothing, though it is checked as it is stored: not a pose set
+// earlier in the same step (written over the frame the records will name), not the last
+// step's (the next pose goes to its other frame), and an instance on its clip takes no slot.
+TEST(LivePose, ARefusedPoseLeavesWhatWasHeld) {
+  const BakedPalette& p = defaultPalette();
+  const std::vector<glm::mat4> pose = enginePose(defaultCharacter().skeleton, p);
+  CrowdManager crowd;
+  ASSERT_TRUE(crowd.init(liveDesc(2)).isOk());
+  InstanceDesc d;
+  InstanceHandle a, b;
+  ASSERT_TRUE(crowd.add(d, &a).isOk());
+  ASSERT_TRUE(crowd.add(d, &b).isOk());
+  std::vector<glm::mat4> bad = pose;
+  bad.back()[3][0] = std::nanf("");  // The last matrix: all the others stored first.
+  const auto joints = [&] {
+    std::vector<glm::dmat4> out(p.skeleton_to_palette.size());
+    for (uint32_t j = 0; j < out.size(); ++j)
+      if (!crowd.jointMatrix(a, j, &out[j]).isOk()) out[j] = glm::dmat4(0.0);
+    return out;
+  };
+  const CrowdExport e(crowd);
+  const auto texels = [&] {
+    return std::vector<uint8_t>(e.livePoseTexels().begin(), e.livePoseTexels().end());
+  };
+  ASSERT_TRUE(crowd.setLivePose(a, pose).isOk());
+  const std::vector<glm::dmat4> held = joints();
+  std::vector<uint8_t> held_texels = texels();
+  uint64_t version = e.livePoseVersion();
+  EXPECT_EQ(crowd.setLivePose(a, bad).code(), StatusCode::kNotFinite);  // The same step.
+  EXPECT_EQ(texels(), held_texels);
+  EXPECT_EQ(e.livePoseVersion(), version);
+  ASSERT_TRUE(crowd.update(0.0, test::testCamera({0, 1.6, 6}, {0, 1, 0})).isOk());
+  const uint32_t named = recordOf(crowd, a)->frames[0];
+  ASSERT_TRUE(crowd.advance(1.0 / 60.0).isOk());
+  EXPECT_EQ(crowd.setLivePose(a, bad).code(), StatusCode::kNotFinite);  // A new step.
+  EXPECT_EQ(joints(), held);
+  EXPECT_EQ(e.livePoseVersion(), version);
+  ASSERT_TRUE(crowd.update(0.0, test::testCamera({0, 1.6, 6}, {0, 1, 0})).isOk());
+  EXPECT_EQ(recordOf(crowd, a)->frames[0], named);
+  std::vector<glm::mat4> moved = pose;
+  moved[0][3][1] += 0.25f;
+  ASSERT_TRUE(crowd.setLivePose(a, moved).isOk());  // Then a good one goes to the other frame.
+  EXPECT_NE(joints(), held);
+  ASSERT_TRUE(crowd.update(0.0, test::testCamera({0, 1.6, 6}, {0, 1, 0})).isOk());
+  EXPECT_NE(recordOf(crowd, a)->frames[0], named);
+
+  EXPECT_EQ(crowd.setLivePose(b, bad).code(), StatusCode::kNotFinite);  // From its clip.
+  EXPECT_EQ(e.livePoseCount(), 1u);
+  ASSERT_TRUE(crowd.update(0.0, test::testCamera({0, 1.6, 6}, {0, 1, 0})).isOk());
+  EXPECT_LT(recordOf(crowd, b)->frames[0], e.livePoseFirstTexel());
+  EXPECT_TRUE(crowd.setLivePose(b, pose).isOk());  // Its slot was given back.
+  EXPECT_EQ(e.livePoseCount(), 2u);
+}
+
 TEST(LivePose, AHalfPaletteHoldsThePoseInHalves) {
   const BakedPalette half = test::smallPalette(PaletteFormat::kMatrix3x4F16);
   CrowdManager crowd;
