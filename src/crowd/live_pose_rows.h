@@ -43,12 +43,14 @@ std::vector<JointBox> jointBoxes(Span<const Aabb> joint_bounds);
 /// joint) whose joints' bind-pose boxes `joints` hold it: the union of each joint's box carried
 /// by its matrix (centre moved, half extents through the matrix's absolute values), so any
 /// convex blend of the joints' transforms of a vertex lies inside. Empty when every joint's box
-/// is. Unpadded.
+/// is; not a number when a carried centre is not (matrices so large that their products
+/// overflow to infinities of both signs). Unpadded.
 Aabb poseBoxReference(Span<const glm::mat4> skinning, Span<const JointBox> joints);
 
-/// How storePose runs: one value at a time (the references), four at a time with SSE2 (every
-/// x86-64), or with F16C's half-float conversion (x86-64 CPUs since 2012, where the OS keeps
-/// AVX state). kBest: the fastest this build and CPU run.
+/// How storePose runs: one value at a time (the references), one joint at a time in SSE2's
+/// four lanes (every x86-64), or two at a time in AVX's eight with F16C's half-float conversion
+/// (x86-64 CPUs since 2012, where the OS keeps AVX state). kBest: the fastest this build and CPU
+/// run.
 enum class PoseRowsIsa { kReference, kSse2, kF16c, kBest };
 /// Whether this build and CPU run `isa` (kReference and kBest always).
 bool runs(PoseRowsIsa isa);

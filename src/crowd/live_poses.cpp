@@ -123,7 +123,7 @@ size_t LivePoses::write(uint32_t slot, Span<const glm::mat4> skinning, uint32_t 
   written_[slot] = step;
   ++version_;
   frame_versions_[frame_index] = version_;
-  bounds_[slot] = poseBounds(box);
+  poseBounds(box, &bounds_[slot]);
   if (l.morph_target_count > 0) {  // The weights' texels as the baked frame holds them.
     const uint32_t texels = (l.morph_target_count + 3) / 4;
     std::memcpy(
@@ -134,10 +134,13 @@ size_t LivePoses::write(uint32_t slot, Span<const glm::mat4> skinning, uint32_t 
   return skinning.size();
 }
 
-LivePoses::Bounds LivePoses::poseBounds(const Aabb& box) const {
-  Bounds out;
+void LivePoses::poseBounds(const Aabb& box, Bounds* bounds) const {
+  // Written in place: a Bounds returned by value was copied through the stack with loads the
+  // stores before them could not forward (a stall that cost as much as the box).
+  Bounds& out = *bounds;
   out.box = box;
-  if (out.box.empty()) return out;
+  out.known = false;
+  if (out.box.empty()) return;
   // The drawn matrices are the stored ones: half floats round each value by up to 2^-11 of
   // it, moving a vertex by up to that of its coordinates; the shader's float arithmetic by
   // far less (the 1e-5 a baked clip's box is padded by).
@@ -151,7 +154,6 @@ LivePoses::Bounds LivePoses::poseBounds(const Aabb& box) const {
   double radius = 0.0;
   out.sphere = boxSphere(out.box, &radius);
   out.known = radius < 3.0e38 && isFinite(out.box.min) && isFinite(out.box.max);
-  return out;
 }
 
 void LivePoses::changedTexels(uint64_t since, uint32_t* first, uint32_t* count) const {

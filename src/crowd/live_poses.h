@@ -103,8 +103,8 @@ class LivePoses {
   std::vector<InstanceHandle> owners_;  // Per slot.
   std::vector<uint8_t> sides_;          // Per slot: which of its two frames is current.
   std::vector<uint64_t> frame_versions_;  // Per frame: the version of its last write (0: none).
-  // The Bounds of a pose's unpadded box (storePose's; empty: none known).
-  Bounds poseBounds(const Aabb& box) const;
+  // *bounds set for a pose's unpadded box (storePose's; empty: none known).
+  void poseBounds(const Aabb& box, Bounds* bounds) const;
   // Slot `slot`'s current frame: side 0's frames first (one per slot), then side 1's.
   uint32_t frameOf(uint32_t slot) const { return sides_[slot] * capacity_ + slot; }
   std::vector<uint64_t> written_;       // Per slot: the step of its last write (kNever: none).

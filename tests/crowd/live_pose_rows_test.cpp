@@ -152,9 +152,10 @@ TEST(LivePoseRows, ThePosesBoxIsTheReferences) {
     glm::mat4 m(1.0f);
     for (int c = 0; c < 4; ++c)
       for (int r = 0; r < 3; ++r) m[c][r] = v[k + size_t(4 * c + r)] * 1e-3f;
+    if ((poses.size() + 1) % 7 == 0) m[3] = glm::vec4(4000.0f, -4000.0f, 4000.0f, 1.0f);
     poses.push_back(m);
     Aabb b;
-    if (poses.size() % 7 != 0) {  // Every seventh empty.
+    if (poses.size() % 7 != 0) {  // Every seventh empty, and far from the others.
       b.extend(glm::vec3(v[k + 12], v[k + 13], v[k + 14]) * 1e-4f);
       b.extend(glm::vec3(v[k + 15], v[k + 16], v[k + 17]) * 1e-4f);
     }
@@ -163,21 +164,53 @@ TEST(LivePoseRows, ThePosesBoxIsTheReferences) {
   const std::vector<JointBox> joints = jointBoxes(boxes);
   const std::vector<JointBox> none = jointBoxes(std::vector<Aabb>(poses.size()));
   for (const auto& [isa, name] : variants())
-    for (PaletteFormat format : {PaletteFormat::kMatrix3x4F16, PaletteFormat::kMatrix3x4F32}) {
-      const size_t bytes = poses.size() * 3 * bytesPerTexel(format);
-      std::vector<uint8_t> fast(bytes), reference(bytes);
+    for (PaletteFormat format : {PaletteFormat::kMatrix3x4F16, PaletteFormat::kMatrix3x4F32})
+      for (size_t count : {poses.size(), poses.size() - 1}) {  // Even and odd (two at a time).
+        const Span<const glm::mat4> some(poses.data(), count);
+        const Span<const JointBox> boxed(joints.data(), count);
+        const size_t bytes = count * 3 * bytesPerTexel(format);
+        std::vector<uint8_t> fast(bytes), reference(bytes);
+        Aabb box;
+        ASSERT_EQ(storePose(format, some, 3, boxed, 65504.0f, fast.data(), &box, isa), count);
+        storeJointRowsReference(format, some, 3, reference.data());
+        const Aabb want = poseBoxReference(some, boxed);
+        ASSERT_FALSE(want.empty());
+        EXPECT_EQ(box.min, want.min) << name << ", " << count << " joints";
+        EXPECT_EQ(box.max, want.max) << name << ", " << count << " joints";
+        EXPECT_EQ(fast, reference) << name << ", " << count << " joints";
+        ASSERT_EQ(storePose(format, some, 3, Span<const JointBox>(none.data(), count), 65504.0f,
+                            fast.data(), &box, isa),
+                  count);
+        EXPECT_TRUE(box.empty()) << name;
+      }
+}
+
+// Matrices whose products overflow to infinities of both signs carry a centre that is not a
+// number: the box is then not a number either (the pose's bounds unknown, its clip's sphere
+// culling it), in every variant, at every place among the joints, not a box that left the
+// joint out.
+TEST(LivePoseRows, AnOverflowingPoseHasNoBox) {
+  Aabb unit;
+  unit.extend(glm::vec3(1.0f));
+  unit.extend(glm::vec3(2.0f));
+  const std::vector<JointBox> joints = jointBoxes(std::vector<Aabb>(5, unit));
+  glm::mat4 huge(1.0f);
+  huge[0][0] = 3e38f;  // x: 3e38 * 1.5 + -3e38 * 1.5 = inf - inf.
+  huge[1][0] = -3e38f;
+  for (size_t at = 0; at < 5; ++at) {
+    std::vector<glm::mat4> poses(5, glm::mat4(1.0f));
+    poses[at] = huge;
+    const Aabb want = poseBoxReference(poses, joints);
+    EXPECT_TRUE(std::isnan(want.min.x) && std::isnan(want.max.x)) << "at " << at;
+    for (const auto& [isa, name] : variants()) {
+      std::vector<uint8_t> frame(5 * 3 * 16);
       Aabb box;
-      ASSERT_EQ(storePose(format, poses, 3, joints, 65504.0f, fast.data(), &box, isa),
+      ASSERT_EQ(storePose(PaletteFormat::kMatrix3x4F32, poses, 3, joints,
+                          std::numeric_limits<float>::max(), frame.data(), &box, isa),
                 poses.size());
-      storeJointRowsReference(format, poses, 3, reference.data());
-      const Aabb want = poseBoxReference(poses, joints);
-      ASSERT_FALSE(want.empty());
-      EXPECT_EQ(box.min, want.min) << name;
-      EXPECT_EQ(box.max, want.max) << name;
-      EXPECT_EQ(fast, reference) << name;
-      ASSERT_EQ(storePose(format, poses, 3, none, 65504.0f, fast.data(), &box, isa), poses.size());
-      EXPECT_TRUE(box.empty()) << name;
+      EXPECT_TRUE(std::isnan(box.min.x) && std::isnan(box.max.x)) << name << " at " << at;
     }
+  }
 }
 
 }  // namespace
