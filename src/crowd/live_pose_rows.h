@@ -4,10 +4,11 @@
 // palette rows (the three rows of each 3x4 skinning matrix, one texel each, in the palette's
 // format) and bounded (the box its vertices lie in, from the palette's joint bounds). The poses
 // of a thousand instances of 60 joints pass here every frame, so storePose checks, stores and
-// bounds them in one pass, four floats at a time where the CPU has SSE2 (every x86-64), with no
-// branch per value, and converts to half floats with F16C where the CPU has it; the Reference
-// versions do the same one value at a time (the tests hold every variant equal to them, and
-// builds without SSE2 use them). No GL.
+// bounds them in one pass, with no branch per value: one joint at a time in SSE2's four lanes
+// (every x86-64; live_pose_rows_sse2.cpp), two at a time in AVX's eight with F16C's half-float
+// conversion where the CPU has them (live_pose_rows_avx.cpp). The Reference versions here do
+// the same one value at a time: the tests hold every variant equal to them, and builds without
+// SSE2 use them. No GL.
 
 #include <cstddef>
 #include <cstdint>
