@@ -284,6 +284,9 @@ TEST(LivePose, ARefusedPoseLeavesWhatWasHeld) {
   EXPECT_LT(recordOf(crowd, b)->frames[0], e.livePoseFirstTexel());
   EXPECT_TRUE(crowd.setLivePose(b, pose).isOk());  // Its slot was given back.
   EXPECT_EQ(e.livePoseCount(), 2u);
+  InstanceHandle c;  // Every frame taken: named first, the matrices unread.
+  ASSERT_TRUE(crowd.add(d, &c).isOk());
+  EXPECT_EQ(crowd.setLivePose(c, bad).code(), StatusCode::kLimitExceeded);
 }
 
 TEST(LivePose, AHalfPaletteHoldsThePoseInHalves) {

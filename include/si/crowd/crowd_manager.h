@@ -268,7 +268,8 @@ class CrowdManager {
   /// kNotFound for a stale handle; kInvalidArgument for a crowd without live pose capacity, a
   /// negative or non-finite blend, or a matrix whose last row is not 0 0 0 1; kCountMismatch
   /// for a count other than the palette's joints; kNotFinite for a matrix that is not finite or
-  /// past what the palette's format holds; kLimitExceeded when every live pose is taken.
+  /// past what the palette's format holds; kLimitExceeded when every live pose is taken (for an
+  /// instance without one, before its matrices are read). A refused pose changes nothing.
   Status setLivePose(InstanceHandle h, Span<const glm::mat4> skinning, double blend_seconds = 0.0);
   /// Back to the clip (nothing for an instance without a live pose): the clip fades in over
   /// the last pose set in `blend_seconds` (0: at once), and the pose's frame is freed when it
