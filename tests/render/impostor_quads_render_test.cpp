@@ -213,31 +213,44 @@ TEST_P(RenderTest, ImpostorQuadsShadeWhatTheirCellsCoverAndDrawTheWholeCellsImag
   if (count) glDeleteQueries(1, &query);
   ASSERT_EQ(glGetError(), GLenum(GL_NO_ERROR));
 
-  // The same pixels drawn; their colours within 2 of 255 (the texture coordinate is
-  // interpolated across another quad, which rounds otherwise).
+  // The same pixels drawn, their colours within 2 of 255: the texture coordinate is
+  // interpolated across another quad, which rounds otherwise. llvmpipe rounds so little that
+  // this holds exactly; GL leaves the interpolation's precision to the implementation, and on
+  // NVIDIA's a few pixels at the coverage threshold flip either way and a few on a texel's
+  // edge change colour (7 of 8,026 on the H200: 3 drawn only by the cut quads, 2 only by the
+  // whole cells, 2 by 24 and 70). Elsewhere at most 1 pixel in 500 may: a rectangle two 255ths
+  // of a cell too small makes 30 of 8,030 on llvmpipe.
   const auto background = [](const std::vector<uint8_t>& image, size_t p) {
     return image[p] == image[0] && image[p + 1] == image[1] && image[p + 2] == image[2];
   };
-  uint32_t drawn = 0, coverage_differs = 0, colour_differs = 0;
+  uint32_t drawn = 0, only_whole = 0, only_cut = 0, colour_differs = 0, past_rounding = 0;
   int most = 0;
   for (size_t p = 0; p < reference.size(); p += 4) {
     drawn += !background(reference, p);
-    coverage_differs += background(reference, p) != background(covered, p);
+    only_whole += !background(reference, p) && background(covered, p);
+    only_cut += background(reference, p) && !background(covered, p);
     int d = 0;
     for (size_t c = 0; c < 3; ++c)
       d = std::max(d, std::abs(int(covered[p + c]) - int(reference[p + c])));
     colour_differs += d > 0;
+    past_rounding += d > 2 && background(reference, p) == background(covered, p);
     most = std::max(most, d);
   }
+  const std::string renderer = reinterpret_cast<const char*>(glGetString(GL_RENDERER));
   std::printf(
-      "[ impostor ] %u pixels drawn: %u covered differently, %u coloured differently (by "
-      "%d at most); fragments shaded %llu against %llu for whole cells\n",
-      drawn, coverage_differs, colour_differs, most,
+      "[ impostor ] %s: %u pixels drawn: %u only by the whole cells, %u only by the cut quads, "
+      "%u coloured differently (%u by more than 2, by %d at most); fragments shaded %llu "
+      "against %llu for whole cells\n",
+      renderer.c_str(), drawn, only_whole, only_cut, colour_differs, past_rounding, most,
       static_cast<unsigned long long>(covered_fragments),
       static_cast<unsigned long long>(whole_fragments));
   EXPECT_GT(drawn, 2000u);
-  EXPECT_EQ(coverage_differs, 0u);
-  EXPECT_LE(most, 2);
+  if (renderer.find("llvmpipe") != std::string::npos) {
+    EXPECT_EQ(only_whole + only_cut, 0u);
+    EXPECT_LE(most, 2);
+  } else {
+    EXPECT_LE(only_whole + only_cut + past_rounding, drawn / 500);
+  }
   if (count) {
     EXPECT_LT(double(covered_fragments), 0.7 * double(whole_fragments));
   }
