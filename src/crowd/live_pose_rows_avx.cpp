@@ -8,6 +8,7 @@
 #include "si/core/baked_palette.h"
 
 #if SI_LIVE_ROWS_F16C
+#include <cpuid.h>
 #include <immintrin.h>
 
 namespace si::detail {
@@ -146,10 +147,16 @@ __attribute__((target("avx,f16c"))) size_t storePoseF16c(PaletteFormat format,
 }
 
 bool cpuRunsF16c() {
-  // GCC's and Clang's runtimes report AVX (and so F16C's VEX encoding) only where the OS
-  // saves its state.
-  __builtin_cpu_init();
-  return __builtin_cpu_supports("avx") && __builtin_cpu_supports("f16c");
+  // CPUID leaf 1 names AVX and F16C; their VEX encoding runs only where the OS saves the YMM
+  // state (OSXSAVE, then XCR0's SSE and AVX bits). Asked directly: Clang's
+  // __builtin_cpu_supports knows no "f16c".
+  unsigned eax = 0, ebx = 0, ecx = 0, edx = 0;
+  if (__get_cpuid(1, &eax, &ebx, &ecx, &edx) == 0) return false;
+  const unsigned needed = bit_AVX | bit_F16C | bit_OSXSAVE;
+  if ((ecx & needed) != needed) return false;
+  unsigned xcr0 = 0, high = 0;
+  __asm__("xgetbv" : "=a"(xcr0), "=d"(high) : "c"(0));
+  return (xcr0 & 6u) == 6u;
 }
 
 }  // namespace si::detail
