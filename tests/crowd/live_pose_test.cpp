@@ -162,15 +162,19 @@ TEST(LivePose, ThePreviousRecordReadsThePreviousPose) {
   EXPECT_EQ(v.records()[0].frames[0], v.previousRecords()[v.previousRecordIndices()[0]].frames[0]);
 }
 
+// `crowd` initialized with room for `capacity` live poses, holding two default instances.
+void initTwo(uint32_t capacity, CrowdManager* crowd, InstanceHandle* a, InstanceHandle* b) {
+  ASSERT_TRUE(crowd->init(liveDesc(capacity)).isOk());
+  ASSERT_TRUE(crowd->add(InstanceDesc(), a).isOk());
+  ASSERT_TRUE(crowd->add(InstanceDesc(), b).isOk());
+}
+
 TEST(LivePose, FramesAreTakenAndFreed) {
   const BakedPalette& p = defaultPalette();
   const std::vector<glm::mat4> pose = enginePose(defaultCharacter().skeleton, p);
   CrowdManager crowd;
-  ASSERT_TRUE(crowd.init(liveDesc(1)).isOk());
-  InstanceDesc d;
   InstanceHandle a, b;
-  ASSERT_TRUE(crowd.add(d, &a).isOk());
-  ASSERT_TRUE(crowd.add(d, &b).isOk());
+  ASSERT_NO_FATAL_FAILURE(initTwo(1, &crowd, &a, &b));
   ASSERT_TRUE(crowd.setLivePose(a, pose).isOk());
   ASSERT_TRUE(crowd.setLivePose(a, pose).isOk());  // Its own frame again.
   Status s = crowd.setLivePose(b, pose);
@@ -180,7 +184,7 @@ TEST(LivePose, FramesAreTakenAndFreed) {
   ASSERT_TRUE(crowd.setLivePose(b, pose).isOk());
   ASSERT_TRUE(crowd.clearLivePose(b).isOk());
   InstanceHandle c;
-  ASSERT_TRUE(crowd.add(d, &c).isOk());
+  ASSERT_TRUE(crowd.add(InstanceDesc(), &c).isOk());
   ASSERT_TRUE(crowd.setLivePose(c, pose).isOk());
   // The records of the posed instance after the removal moved it to another dense index.
   ASSERT_TRUE(crowd.update(0.0, test::testCamera({0, 1.6, 6}, {0, 1, 0})).isOk());
@@ -239,11 +243,8 @@ TEST(LivePose, ARefusedPoseLeavesWhatWasHeld) {
   const BakedPalette& p = defaultPalette();
   const std::vector<glm::mat4> pose = enginePose(defaultCharacter().skeleton, p);
   CrowdManager crowd;
-  ASSERT_TRUE(crowd.init(liveDesc(2)).isOk());
-  InstanceDesc d;
   InstanceHandle a, b;
-  ASSERT_TRUE(crowd.add(d, &a).isOk());
-  ASSERT_TRUE(crowd.add(d, &b).isOk());
+  ASSERT_NO_FATAL_FAILURE(initTwo(2, &crowd, &a, &b));
   std::vector<glm::mat4> bad = pose;
   bad.back()[3][0] = std::nanf("");  // The last matrix: all the others stored first.
   const auto joints = [&] {
@@ -285,7 +286,7 @@ TEST(LivePose, ARefusedPoseLeavesWhatWasHeld) {
   EXPECT_TRUE(crowd.setLivePose(b, pose).isOk());  // Its slot was given back.
   EXPECT_EQ(e.livePoseCount(), 2u);
   InstanceHandle c;  // Every frame taken: named first, the matrices unread.
-  ASSERT_TRUE(crowd.add(d, &c).isOk());
+  ASSERT_TRUE(crowd.add(InstanceDesc(), &c).isOk());
   EXPECT_EQ(crowd.setLivePose(c, bad).code(), StatusCode::kLimitExceeded);
 }
 
