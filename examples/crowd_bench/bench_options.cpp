@@ -88,7 +88,7 @@ void printUsage(std::FILE* f) {
       "                   [--crowds N,M,...] (the several-crowds table: N crowds of each size\n"
       "                   of one character, GPU-driven, frame time and GPU memory)\n"
       "                   [--live N,M,...] (the live poses table: N instances posed every\n"
-      "                   frame by setLivePose, against none, on the --paths that skin)\n"
+      "                   frame by setLivePoses, against none, on the --paths that skin)\n"
       "                   [--churn F,F,...] (the churn table: a share F removed and added each\n"
       "                   frame, GPU-driven in 4 views, against none)\n"
       "                   [--no-gpu-time] (no blocking timer queries: CPU columns only;\n"

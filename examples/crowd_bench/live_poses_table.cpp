@@ -22,15 +22,24 @@ Status runLive(Setup& setup, Renderer& renderer, const BakedPalette& palette,
   const Status s = makeCrowd(setup, palette, places, LodChoice(), &crowd, &handles, 0, live);
   if (!s.isOk()) return s;
   row->lod = live == 0 ? "off" : std::to_string(live) + " live";
+  // Every tenth instance, so the posed ones spread over the field as characters would, their
+  // poses in one array as an engine's animation writes them: two sets taking turns, so that
+  // every frame writes poses other than the last frame's.
+  std::vector<InstanceHandle> posed(live);
+  for (uint32_t k = 0; k < live; ++k)
+    posed[k] = handles[(size_t(k) * 10 + k / (count / 10 + 1)) % count];
+  std::vector<glm::mat4> batches[2];
+  for (uint32_t b = 0; b < 2; ++b)
+    for (uint32_t k = 0; k < live; ++k)
+      batches[b].insert(batches[b].end(), poses[(k + b) % kPoses].begin(),
+                        poses[(k + b) % kPoses].end());
   uint32_t frame = 0;
   return timeCrowd(setup, renderer, crowd, "field", places, path, row, [&](const Camera& cam) {
-    // Advance, write the live poses, select (the GPU selects on the GPU-selected paths).
+    // Advance, write the live poses (one setLivePoses on the crowd's workers), select (the GPU
+    // selects on the GPU-selected paths).
     Status st = crowd.advance(1.0 / 60.0);
     ++frame;
-    // Every tenth instance, so the posed ones spread over the field as characters would.
-    for (uint32_t k = 0; st.isOk() && k < live; ++k)
-      st = crowd.setLivePose(handles[(size_t(k) * 10 + k / (count / 10 + 1)) % count],
-                             poses[(k + frame) % kPoses]);
+    if (st.isOk() && live > 0) st = crowd.setLivePoses(posed, batches[frame % 2]);
     return st.isOk() && !isGpuSelected(path) ? crowd.update(0.0, cam) : st;
   });
 }
@@ -57,7 +66,8 @@ Status livePosesTable(Setup& setup, const BakedPalette& palette, const RendererD
   if (s.isOk()) s = renderer.addCharacter(setup.character, palette, &id);
   if (!s.isOk()) return {s.code(), "live: " + s.message()};
   std::printf(
-      "\nLive poses (field): instances posed by the engine every frame (setLivePose, %zu joints "
+      "\nLive poses (field): instances posed by the engine every frame (setLivePoses, one batch, "
+      "%zu joints "
       "each, a new pose every frame), beside none, side by side in one run; update = advance, "
       "poses set, select (GPU-selected paths: no select); submit includes the live frames' "
       "upload (and on the GPU-selected paths the posed instances' state)\n",

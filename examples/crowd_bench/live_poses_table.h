@@ -1,11 +1,11 @@
 // SkinnedInstancing — SPDX-License-Identifier: MIT (see LICENSE)
 #pragma once
 // crowd_bench's live poses table (--live N,...): the field drawn with N of its instances posed
-// live each frame (CrowdManager::setLivePose: every posed instance gets a new pose every frame,
-// the worst case for the upload), beside the same field without live poses, side by side in
-// one run, on drawCrowd's two skinning paths. The update column holds the crowd's advance, the
-// poses set and the selection (the frame order of docs/crowd.md); the submit column the
-// draw's CPU time, the live frames' upload included.
+// live each frame (CrowdManager::setLivePoses, one batch a frame on the crowd's workers: every
+// posed instance gets a new pose every frame, the worst case for the upload), beside the same
+// field without live poses, side by side in one run, on drawCrowd's two skinning paths. The update
+// column holds the crowd's advance, the poses set and the selection (the frame order of
+// docs/crowd.md); the submit column the draw's CPU time, the live frames' upload included.
 #include <cstdio>
 #include <string>
 #include <vector>

@@ -83,6 +83,17 @@ Status badLiveMatrix(PaletteFormat format, Span<const glm::mat4> skinning, size_
           strCat("setLivePose: matrix ", k, "'s last row is not 0 0 0 1")};
 }
 
+// The texel of the morph weights a live pose of instance `i` carries: its clip's frame at the
+// crowd clock (the clip plays on underneath).
+uint32_t liveWeightsTexel(const detail::CrowdState& state, const BakedPalette& p, uint32_t i) {
+  const detail::Playback& pb = state.store.playback[i];
+  uint32_t frame = 0;
+  if (p.layout.morph_target_count > 0)
+    frame = sampleFrames(p.clips[pb.clip], detail::localTime(pb, state.clips[pb.clip], state.clock))
+                .frame;
+  return p.layout.frameTexel(pb.clip, frame);
+}
+
 }  // namespace
 
 Status CrowdManager::jointMatrix(InstanceHandle h, uint32_t joint, glm::dmat4* out) const {
@@ -138,14 +149,7 @@ Status CrowdManager::setLivePose(InstanceHandle h, Span<const glm::mat4> skinnin
     s = st.live.take(h, &slot);
     if (!s.isOk()) return s;
   }
-  // The morph weights of the clip's frame at the crowd clock (the clip plays on underneath).
-  const detail::Playback& pb = st.playback[i];
-  uint32_t weights_frame = 0;
-  if (p.layout.morph_target_count > 0)
-    weights_frame =
-        sampleFrames(p.clips[pb.clip], detail::localTime(pb, state_->clips[pb.clip], clock)).frame;
-  const size_t k =
-      st.live.write(slot, skinning, p.layout.frameTexel(pb.clip, weights_frame), state_->steps);
+  const size_t k = st.live.write(slot, skinning, liveWeightsTexel(*state_, p, i), state_->steps);
   if (k < skinning.size()) {
     if (from_clip) st.live.release(slot);
     return badLiveMatrix(p.format, skinning, k);
@@ -158,6 +162,91 @@ Status CrowdManager::setLivePose(InstanceHandle h, Span<const glm::mat4> skinnin
   }
   st.changed(i);
   return Status::ok();
+}
+
+Status CrowdManager::setLivePoses(Span<const InstanceHandle> handles,
+                                  Span<const glm::mat4> skinning, double blend_seconds,
+                                  const ParallelFor& parallel_for) {
+  if (!state_) return noCrowd();
+  detail::CrowdState& cs = *state_;
+  detail::InstanceStore& st = cs.store;
+  const BakedPalette& p = *desc_.palette;
+  const size_t joints = p.palette_joints.size();
+  if (st.live.capacity() == 0)
+    return {StatusCode::kInvalidArgument,
+            "setLivePoses: the crowd holds no live poses (CrowdDesc::live_pose_capacity is 0)"};
+  if (!std::isfinite(blend_seconds) || blend_seconds < 0.0)
+    return {StatusCode::kInvalidArgument, "setLivePoses: blend_seconds must be finite and >= 0"};
+  if (skinning.size() != handles.size() * joints)
+    return {StatusCode::kCountMismatch,
+            strCat("setLivePoses: ", skinning.size(), " matrices for ", handles.size(),
+                   " handles of ", joints, " joints each (BakedPalette::palette_joints)")};
+  const auto poseOf = [&](size_t k) {
+    return Span<const glm::mat4>(skinning.data() + k * joints, joints);
+  };
+  // In order: the poses that go straight into their slot's other frame (held since an earlier
+  // step, named first in the batch), stored on the workers; the others one at a time below.
+  std::vector<detail::CrowdState::BatchPose>& batch = cs.live_batch;
+  batch.assign(handles.size(), detail::CrowdState::BatchPose());
+  cs.live_batch_seen.assign(st.live.capacity(), 0);
+  size_t direct = 0;
+  for (size_t k = 0; k < handles.size(); ++k) {
+    detail::CrowdState::BatchPose& b = batch[k];
+    if (!st.denseIndex(handles[k], &b.index).isOk()) {
+      b.refused = true;
+      continue;
+    }
+    const uint32_t slot = st.live_slot[b.index];
+    if (slot == detail::kNoLivePose || cs.live_batch_seen[slot] != 0) continue;
+    cs.live_batch_seen[slot] = 1;
+    b.slot = slot;
+    b.frame = st.live.directFrame(slot, cs.steps);
+    if (b.frame == nullptr) continue;
+    b.weights_texel = liveWeightsTexel(cs, p, b.index);
+    ++direct;
+  }
+  constexpr size_t kPosesPerTask = 32;
+  const uint32_t tasks = uint32_t((handles.size() + kPosesPerTask - 1) / kPosesPerTask);
+  const ParallelTask store = [&](uint32_t t) {
+    const size_t end = std::min(handles.size(), size_t(t + 1) * kPosesPerTask);
+    for (size_t k = size_t(t) * kPosesPerTask; k < end; ++k)
+      if (batch[k].frame != nullptr) {
+        Aabb box;
+        batch[k].bad = st.live.store(poseOf(k), batch[k].frame, &box);
+        if (batch[k].bad == joints) st.live.poseBounds(box, &batch[k].bounds);
+      }
+  };
+  ParallelFor own;
+  const ParallelFor& run = parallel_for ? parallel_for : (own = detail::crowdWorkers(cs));
+  if (direct > 0 && run && tasks > 1) {
+    run(tasks, store);
+  } else if (direct > 0) {
+    for (uint32_t t = 0; t < tasks; ++t) store(t);
+  }
+  // In order again: each pose committed, refused or set one at a time.
+  Status first = Status::ok();
+  const auto refuse = [&](size_t k, const Status& s) {
+    if (first.isOk()) first = {s.code(), strCat("setLivePoses: pose ", k, ": ", s.message())};
+  };
+  const double clock = cs.clock;
+  for (size_t k = 0; k < handles.size(); ++k) {
+    const detail::CrowdState::BatchPose& b = batch[k];
+    if (b.refused) {
+      uint32_t i = 0;
+      refuse(k, st.denseIndex(handles[k], &i));
+    } else if (b.frame == nullptr) {
+      const Status s = setLivePose(handles[k], poseOf(k), blend_seconds);
+      if (!s.isOk()) refuse(k, s);
+    } else if (b.bad < joints) {
+      refuse(k, badLiveMatrix(p.format, poseOf(k), b.bad));
+    } else {
+      st.live.commit(b.slot, true, b.bounds, b.weights_texel, cs.steps);
+      if (st.live.fadingOut(b.slot))  // Handing back: it fades in again from where it is.
+        st.live.fade(b.slot, st.live.liveWeight(b.slot, clock), 1.0f, blend_seconds, clock);
+      st.changed(b.index);
+    }
+  }
+  return first;
 }
 
 Status CrowdManager::clearLivePose(InstanceHandle h, double blend_seconds) {

@@ -12,6 +12,7 @@
 #include "crowd/animation_events.h"
 #include "crowd/frame_builder.h"
 #include "crowd/instance_store.h"
+#include "si/core/bounds.h"
 #include "si/core/layer_mask.h"
 #include "si/crowd/crowd_view.h"
 
@@ -63,6 +64,16 @@ struct CrowdState {
   // pool_mutex: views may select on several threads at once, each asking for them).
   std::mutex pool_mutex;
   std::unique_ptr<WorkerPool> pool;
+  // setLivePoses' scratch, kept between calls: per pose of the batch, and a mark per live slot.
+  struct BatchPose {
+    uint32_t index = 0, slot = 0, weights_texel = 0;
+    uint8_t* frame = nullptr;  // Stored straight here on the workers; null: one at a time.
+    size_t bad = 0;            // store()'s answer.
+    LivePoses::Bounds bounds;  // Of the pose stored whole.
+    bool refused = false;      // Its handle is stale (the status is found again in order).
+  };
+  std::vector<BatchPose> live_batch;
+  std::vector<uint8_t> live_batch_seen;
 };
 
 /// Empties a view's selection for a crowd of `desc` (no records, empty buckets).
@@ -77,6 +88,9 @@ CullParams viewCullParams(const CrowdState& crowd, const ViewState& view, const 
 /// several threads at once (views selecting in parallel): WorkerPool::run lets one section use
 /// the workers and runs the others' tasks on their own threads.
 ParallelFor crowdParallelFor(CrowdState& crowd);
+/// The crowd's own workers whatever its size (nothing for one thread): for calls whose work is
+/// not the instances' (setLivePoses).
+ParallelFor crowdWorkers(CrowdState& crowd);
 /// What runs a call's tasks: `given` when the caller passed one (update(), advance() and
 /// CrowdView::select take it), else the crowd's own (crowdParallelFor), made into `own`, which
 /// must outlive the tasks.

@@ -35,8 +35,13 @@ void resetSelection(const CrowdDesc& desc, ViewState* v) {
 }
 
 ParallelFor crowdParallelFor(CrowdState& st) {
+  if (st.store.size() <= kChunkInstances) return ParallelFor();
+  return crowdWorkers(st);
+}
+
+ParallelFor crowdWorkers(CrowdState& st) {
   const CrowdDesc& desc = st.owner->desc();
-  if (desc.worker_threads == 1 || st.store.size() <= kChunkInstances) return ParallelFor();
+  if (desc.worker_threads == 1) return ParallelFor();
   WorkerPool* pool = nullptr;  // One pointer: the std::function does not allocate.
   {
     std::lock_guard<std::mutex> lock(st.pool_mutex);

@@ -99,38 +99,69 @@ void LivePoses::fadedOut(double clock, std::vector<InstanceHandle>* owners) cons
     if (fadingOut(slot) && clipWeight(slot, clock) == 1.0f) owners->push_back(owners_[slot]);
 }
 
-size_t LivePoses::write(uint32_t slot, Span<const glm::mat4> skinning, uint32_t weights_frame_texel,
-                        uint64_t step) {
-  const PaletteLayout& l = palette_->layout;
-  const size_t bytes = bytesPerTexel(palette_->format);
+uint8_t* LivePoses::frameBytes(uint32_t frame_index) {
+  return texels_.data() + size_t(frame_index) * stride_ * bytesPerTexel(palette_->format);
+}
+
+uint8_t* LivePoses::directFrame(uint32_t slot, uint64_t step) {
+  // A new step's pose goes to the slot's other frame, which nothing names (the last step's
+  // records name the current one).
+  if (written_[slot] == kNever || written_[slot] == step) return nullptr;
+  return frameBytes((sides_[slot] ^ 1u) * capacity_ + slot);
+}
+
+size_t LivePoses::store(Span<const glm::mat4> skinning, uint8_t* frame, Aabb* box) const {
   const float range = palette_->format == PaletteFormat::kMatrix3x4F16
                           ? 65504.0f
                           : std::numeric_limits<float>::max();
-  // A new step's pose goes straight into the slot's other frame, which nothing names (the
-  // last step's records name the current one); a pose written over the current frame goes
-  // through scratch first, so that a refused one leaves it as it was.
-  const bool other = written_[slot] != kNever && written_[slot] != step;
-  const uint32_t frame_index = other ? (sides_[slot] ^ 1u) * capacity_ + slot : frameOf(slot);
-  uint8_t* frame = texels_.data() + size_t(frame_index) * stride_ * bytes;
-  const size_t joint_bytes = skinning.size() * l.joint_stride_texels * bytes;
-  if (!other && scratch_.size() < joint_bytes) scratch_.resize(joint_bytes);
-  Aabb box;
-  const size_t bad = storePose(palette_->format, skinning, l.joint_stride_texels, joint_boxes_,
-                               range, other ? frame : scratch_.data(), &box);
-  if (bad < skinning.size()) return bad;
-  if (!other) std::memcpy(frame, scratch_.data(), joint_bytes);
-  sides_[slot] ^= uint8_t(other);
+  return storePose(palette_->format, skinning, palette_->layout.joint_stride_texels, joint_boxes_,
+                   range, frame, box);
+}
+
+void LivePoses::commit(uint32_t slot, bool direct, const Aabb& box, uint32_t weights_frame_texel,
+                       uint64_t step) {
+  poseBounds(box, &bounds_[slot]);
+  settle(slot, direct, weights_frame_texel, step);
+}
+
+void LivePoses::commit(uint32_t slot, bool direct, const Bounds& bounds,
+                       uint32_t weights_frame_texel, uint64_t step) {
+  bounds_[slot] = bounds;
+  settle(slot, direct, weights_frame_texel, step);
+}
+
+void LivePoses::settle(uint32_t slot, bool direct, uint32_t weights_frame_texel, uint64_t step) {
+  sides_[slot] ^= uint8_t(direct);
   written_[slot] = step;
   ++version_;
-  frame_versions_[frame_index] = version_;
-  poseBounds(box, &bounds_[slot]);
+  frame_versions_[frameOf(slot)] = version_;
+  const PaletteLayout& l = palette_->layout;
   if (l.morph_target_count > 0) {  // The weights' texels as the baked frame holds them.
+    const size_t bytes = bytesPerTexel(palette_->format);
     const uint32_t texels = (l.morph_target_count + 3) / 4;
     std::memcpy(
-        frame + size_t(l.morph_first_texel) * bytes,
+        frameBytes(frameOf(slot)) + size_t(l.morph_first_texel) * bytes,
         palette_->texel_bytes.data() + (size_t(weights_frame_texel) + l.morph_first_texel) * bytes,
         size_t(texels) * bytes);
   }
+}
+
+size_t LivePoses::write(uint32_t slot, Span<const glm::mat4> skinning, uint32_t weights_frame_texel,
+                        uint64_t step) {
+  Aabb box;
+  if (uint8_t* frame = directFrame(slot, step)) {
+    const size_t bad = store(skinning, frame, &box);
+    if (bad == skinning.size()) commit(slot, true, box, weights_frame_texel, step);
+    return bad;
+  }
+  // Over the current frame: through scratch first, so that a refused pose leaves it as it was.
+  const size_t joint_bytes =
+      skinning.size() * palette_->layout.joint_stride_texels * bytesPerTexel(palette_->format);
+  if (scratch_.size() < joint_bytes) scratch_.resize(joint_bytes);
+  const size_t bad = store(skinning, scratch_.data(), &box);
+  if (bad < skinning.size()) return bad;
+  std::memcpy(frameBytes(frameOf(slot)), scratch_.data(), joint_bytes);
+  commit(slot, false, box, weights_frame_texel, step);
   return skinning.size();
 }
 

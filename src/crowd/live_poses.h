@@ -67,6 +67,17 @@ class LivePoses {
   /// as it was, or skinning.size() when written.
   size_t write(uint32_t slot, Span<const glm::mat4> skinning, uint32_t weights_frame_texel,
                uint64_t step);
+  // write() in three steps, so that the poses of a batch (CrowdManager::setLivePoses) are
+  // stored on several threads: where slot `slot`'s pose of step `step` can be stored straight
+  // (its other frame, which nothing names), or nullptr when it goes over its current frame
+  // (write() alone, through scratch); then store() (any thread, each pose its own frame:
+  // write()'s check and store, returning the first bad matrix) and, for a pose stored whole,
+  // poseBounds() of its box (any thread); then commit() with `direct` true and the box or its
+  // bounds.
+  uint8_t* directFrame(uint32_t slot, uint64_t step);
+  size_t store(Span<const glm::mat4> skinning, uint8_t* frame, Aabb* box) const;
+  void commit(uint32_t slot, bool direct, const Aabb& box, uint32_t weights_frame_texel,
+              uint64_t step);
   /// What bounds slot `slot`'s current pose, in the instance's model space (storePose's box of
   /// the palette's joint bounds, padded for the format's rounding; the sphere around the box as a
   /// baked clip's). `known` is false for a palette without joint bounds (the clip's sphere
@@ -77,6 +88,12 @@ class LivePoses {
     bool known = false;
   };
   const Bounds& boundsOf(uint32_t slot) const { return bounds_[slot]; }
+  /// *bounds set for a pose whose unpadded box (store()'s) is `box`: padded for the format's
+  /// rounding, its sphere the one a baked clip's box gets (empty box: none known).
+  void poseBounds(const Aabb& box, Bounds* bounds) const;
+  /// commit() with the pose's bounds found already (poseBounds()).
+  void commit(uint32_t slot, bool direct, const Bounds& bounds, uint32_t weights_frame_texel,
+              uint64_t step);
   /// The first texel of slot `slot`'s current frame, as a record's frames name it.
   uint32_t frameTexel(uint32_t slot) const { return first_texel_ + frameOf(slot) * stride_; }
   /// Palette joint `joint`'s matrix of slot `slot`'s current frame as the shader reads it (half
@@ -103,8 +120,10 @@ class LivePoses {
   std::vector<InstanceHandle> owners_;  // Per slot.
   std::vector<uint8_t> sides_;          // Per slot: which of its two frames is current.
   std::vector<uint64_t> frame_versions_;  // Per frame: the version of its last write (0: none).
-  // *bounds set for a pose's unpadded box (storePose's; empty: none known).
-  void poseBounds(const Aabb& box, Bounds* bounds) const;
+  // The bytes of frame `frame_index` (side 0's frames, then side 1's).
+  uint8_t* frameBytes(uint32_t frame_index);
+  // commit()'s rest: the frame made current, the version moved on, the morph weights copied.
+  void settle(uint32_t slot, bool direct, uint32_t weights_frame_texel, uint64_t step);
   // Slot `slot`'s current frame: side 0's frames first (one per slot), then side 1's.
   uint32_t frameOf(uint32_t slot) const { return sides_[slot] * capacity_ + slot; }
   std::vector<uint64_t> written_;       // Per slot: the step of its last write (kNever: none).

@@ -344,8 +344,10 @@ const si::BakedPalette& chainPalette(uint32_t joints,
 
 // setLivePose's cost against the joints a pose has: 1,000 instances of a chain of
 // state.range(0) joints (chainPalette) posed each iteration with another baked frame, in a
-// palette of float texels (state.range(1) 0, the default) or half floats (1).
-// ns_per_pose: one call; ns_per_joint: that over the palette's joints.
+// palette of float texels (state.range(1) 0, the default) or half floats (1); one call each
+// (state.range(2) 0) or all in one setLivePoses on the crowd's workers (1: the default
+// threads, the hardware's up to 16). ns_per_pose: one pose; ns_per_joint: that over the
+// palette's joints.
 void livePoseJoints(benchmark::State& state) {
   const si::BakedPalette& p =
       chainPalette(uint32_t(state.range(0)), state.range(1) != 0 ? si::PaletteFormat::kMatrix3x4F16
@@ -364,14 +366,27 @@ void livePoseJoints(benchmark::State& state) {
     if (!crowd.add(d, &handles[k]).isOk()) std::abort();
   }
   const std::vector<std::vector<glm::mat4>> poses = clipPoses(p);
+  const bool batch = state.range(2) != 0;
+  std::vector<glm::mat4> all;  // The batch's matrices, pose after pose.
   double set_ms = 0.0;
   uint32_t frame = 0;
   for (auto _ : state) {
     if (!crowd.advance(1.0 / 60.0).isOk()) std::abort();
     ++frame;
+    if (batch) {  // Gathered untimed: an engine's poses lie in one array.
+      all.clear();
+      for (uint32_t k = 0; k < kLive; ++k) {
+        const std::vector<glm::mat4>& pose = poses[(k + frame) % poses.size()];
+        all.insert(all.end(), pose.begin(), pose.end());
+      }
+    }
     const auto t0 = std::chrono::steady_clock::now();
-    for (uint32_t k = 0; k < kLive; ++k)
-      if (!crowd.setLivePose(handles[k], poses[(k + frame) % poses.size()]).isOk()) std::abort();
+    if (batch) {
+      if (!crowd.setLivePoses(handles, all).isOk()) std::abort();
+    } else {
+      for (uint32_t k = 0; k < kLive; ++k)
+        if (!crowd.setLivePose(handles[k], poses[(k + frame) % poses.size()]).isOk()) std::abort();
+    }
     set_ms +=
         std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
   }
@@ -381,8 +396,8 @@ void livePoseJoints(benchmark::State& state) {
   state.counters["ns_per_joint"] = set_ms * 1e6 / (n * kLive * double(p.palette_joints.size()));
 }
 BENCHMARK(livePoseJoints)
-    ->ArgNames({"joints", "half"})
-    ->ArgsProduct({{20, 60}, {0, 1}})
+    ->ArgNames({"joints", "half", "batch"})
+    ->ArgsProduct({{20, 60}, {0, 1}, {0, 1}})
     ->Unit(benchmark::kMillisecond);
 
 // The GPU-driven path's CPU share of churn, what drawCrowdGpuCulled does before its GL calls

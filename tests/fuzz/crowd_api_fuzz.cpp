@@ -1,7 +1,7 @@
 // SkinnedInstancing — SPDX-License-Identifier: MIT (see LICENSE)
 // libFuzzer target: random sequences of CrowdManager calls (add, remove, play, crossfade,
 // setTransform, setColor, setCustomLayer, setVariationMask, setRootMotion, setLivePose,
-// clearLivePose, setLodDistances,
+// setLivePoses, clearLivePose, setLodDistances,
 // playOverlay, stopOverlay, playBlend, setBlendParameter, update, queries including
 // socketTransform, localPose and a hostile applyLookAt on it; makeSocket and
 // attachProp on a copy of the character) with hostile values (NaN, infinities, negative and huge

@@ -53,15 +53,24 @@ inline void fuzzLocalPose(const CrowdManager& crowd, InstanceHandle h, const Ske
   }
 }
 
-// setLivePose with a pose of the palette's joint count give or take one, its matrices sometimes
-// holding a hostile value anywhere (the last row included), handed over from the clip at once or
-// over a hostile blend.
+// setLivePose (or setLivePoses) with a pose of the palette's joint count give or take one, its
+// matrices sometimes holding a hostile value anywhere (the last row included), handed over from
+// the clip at once or over a hostile blend.
 inline Status setFuzzedLivePose(CrowdManager& crowd, InstanceHandle h, const BakedPalette& palette,
                                 Input& in) {
   std::vector<glm::mat4> pose(palette.palette_joints.size() + in.u8() % 3 - 1, glm::mat4(1.0f));
   for (glm::mat4& m : pose)
     if (in.u8() < 64) m[in.u8() % 4][in.u8() % 4] = in.f32();
-  return crowd.setLivePose(h, pose, in.u8() < 128 ? 0.0 : in.f64());
+  const double blend = in.u8() < 128 ? 0.0 : in.f64();
+  if (in.u8() < 192) return crowd.setLivePose(h, pose, blend);
+  // setLivePoses: the same pose for `h` one to three times over (its last one holds; a refusal
+  // refuses each alike, so the crowd stays as it was), sometimes a matrix short.
+  const size_t times = 1 + in.u8() % 3;
+  std::vector<glm::mat4> all;
+  for (size_t k = 0; k < times; ++k) all.insert(all.end(), pose.begin(), pose.end());
+  if (!all.empty() && in.u8() < 32) all.pop_back();
+  const std::vector<InstanceHandle> handles(times, h);
+  return crowd.setLivePoses(handles, all, blend);
 }
 
 }  // namespace si::fuzz

@@ -271,6 +271,15 @@ class CrowdManager {
   /// past what the palette's format holds; kLimitExceeded when every live pose is taken (for an
   /// instance without one, before its matrices are read). A refused pose changes nothing.
   Status setLivePose(InstanceHandle h, Span<const glm::mat4> skinning, double blend_seconds = 0.0);
+  /// setLivePose() for each of `handles` in order, `skinning` holding their poses one after
+  /// another (handles.size() x the palette's joints), the poses stored on several threads:
+  /// `parallel_for` when given, else the crowd's workers (CrowdDesc::worker_threads). The
+  /// result is what the calls one by one give, a handle named twice included (its last pose
+  /// holds). Each pose is set or refused as setLivePose() would; the others are set whatever
+  /// one's fate, and the first refusal is returned, naming its pose ("setLivePoses: pose 7:
+  /// ..."). kCountMismatch (nothing set) when the matrices are not handles.size() poses.
+  Status setLivePoses(Span<const InstanceHandle> handles, Span<const glm::mat4> skinning,
+                      double blend_seconds = 0.0, const ParallelFor& parallel_for = {});
   /// Back to the clip (nothing for an instance without a live pose): the clip fades in over
   /// the last pose set in `blend_seconds` (0: at once), and the pose's frame is freed when it
   /// is in (at the first update() or advance() past the blend). kNotFound for a stale handle,
