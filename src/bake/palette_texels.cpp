@@ -4,7 +4,6 @@
 #include "bake/palette_texels.h"
 
 #include <cmath>
-#include <limits>
 
 #include "bake/border_frames.h"
 #include "core/palette_texel.h"
@@ -53,12 +52,6 @@ bool decomposeRigid(const glm::dmat4& m, Rigid* out) {
 
 void storeTexel(BakedPalette* p, uint32_t index, const glm::dvec4& v) {
   detail::storeFormatTexel(p->format, p->texel_bytes.data(), index, glm::vec4(v));
-}
-
-// The largest magnitude `format` stores as a finite number.
-double formatRange(PaletteFormat format) {
-  return format == PaletteFormat::kMatrix3x4F16 ? 65504.0
-                                                : double(std::numeric_limits<float>::max());
 }
 
 // The first entry of skinning matrix `m`'s stored rows that is not finite or past `range`

@@ -5,12 +5,18 @@
 // (baked_palette.cpp), the validation, the bake's texels and the live poses.
 #include <cstdint>
 #include <cstring>
+#include <limits>
 
 #include <glm/glm.hpp>
 
 #include "si/core/baked_palette.h"
 
 namespace si::detail {
+
+/// The largest magnitude `format`'s texels store as a finite number (65504 in half floats).
+inline float formatRange(PaletteFormat format) {
+  return format == PaletteFormat::kMatrix3x4F16 ? 65504.0f : std::numeric_limits<float>::max();
+}
 
 /// Texel `index` of `bytes`, texels of `format` (RGBA32F, or RGBA16F for kMatrix3x4F16), as the
 /// shader's texelFetch returns it.

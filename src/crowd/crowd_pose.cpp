@@ -4,9 +4,9 @@
 // live poses the engine gives it.
 #include <algorithm>
 #include <cmath>
-#include <limits>
 #include <vector>
 
+#include "core/palette_texel.h"
 #include "core/str_cat.h"
 #include "crowd/crowd_state.h"
 #include "crowd/instance_overlay.h"
@@ -68,10 +68,20 @@ void drawnSkinning(const detail::CrowdState& state, const CrowdDesc& desc, uint3
                                             Span<const LayerPose>(layers, 1 + kExtraLayerRecords))
                       : base(slots[k]);
 }
+// Why `call` (setLivePose or setLivePoses) is refused whatever its poses: a crowd without room
+// for live poses, or a blend that is negative or not finite; ok otherwise.
+Status liveCallRefusal(const char* call, const detail::LivePoses& live, double blend_seconds) {
+  if (live.capacity() == 0)
+    return {StatusCode::kInvalidArgument,
+            strCat(call, ": the crowd holds no live poses (CrowdDesc::live_pose_capacity is 0)")};
+  if (!std::isfinite(blend_seconds) || blend_seconds < 0.0)
+    return {StatusCode::kInvalidArgument, strCat(call, ": blend_seconds must be finite and >= 0")};
+  return Status::ok();
+}
+
 // Why setLivePose refuses matrix `k` of `skinning` (LivePoses::write's first bad one).
 Status badLiveMatrix(PaletteFormat format, Span<const glm::mat4> skinning, size_t k) {
-  const float range =
-      format == PaletteFormat::kMatrix3x4F16 ? 65504.0f : std::numeric_limits<float>::max();
+  const float range = detail::formatRange(format);
   const glm::mat4& m = skinning[k];
   for (int c = 0; c < 4; ++c)
     for (int r = 0; r < 3; ++r)
@@ -131,11 +141,8 @@ Status CrowdManager::setLivePose(InstanceHandle h, Span<const glm::mat4> skinnin
   if (!s.isOk()) return s;
   detail::InstanceStore& st = state_->store;
   const BakedPalette& p = *desc_.palette;
-  if (st.live.capacity() == 0)
-    return {StatusCode::kInvalidArgument,
-            "setLivePose: the crowd holds no live poses (CrowdDesc::live_pose_capacity is 0)"};
-  if (!std::isfinite(blend_seconds) || blend_seconds < 0.0)
-    return {StatusCode::kInvalidArgument, "setLivePose: blend_seconds must be finite and >= 0"};
+  s = liveCallRefusal("setLivePose", st.live, blend_seconds);
+  if (!s.isOk()) return s;
   if (skinning.size() != p.palette_joints.size())
     return {StatusCode::kCountMismatch,
             strCat("setLivePose: ", skinning.size(), " matrices, the palette stores ",
@@ -172,11 +179,8 @@ Status CrowdManager::setLivePoses(Span<const InstanceHandle> handles,
   detail::InstanceStore& st = cs.store;
   const BakedPalette& p = *desc_.palette;
   const size_t joints = p.palette_joints.size();
-  if (st.live.capacity() == 0)
-    return {StatusCode::kInvalidArgument,
-            "setLivePoses: the crowd holds no live poses (CrowdDesc::live_pose_capacity is 0)"};
-  if (!std::isfinite(blend_seconds) || blend_seconds < 0.0)
-    return {StatusCode::kInvalidArgument, "setLivePoses: blend_seconds must be finite and >= 0"};
+  const Status refused = liveCallRefusal("setLivePoses", st.live, blend_seconds);
+  if (!refused.isOk()) return refused;
   if (skinning.size() != handles.size() * joints)
     return {StatusCode::kCountMismatch,
             strCat("setLivePoses: ", skinning.size(), " matrices for ", handles.size(),

@@ -3,7 +3,6 @@
 
 #include <algorithm>
 #include <cstring>
-#include <limits>
 
 #include <glm/gtc/matrix_access.hpp>
 
@@ -111,17 +110,8 @@ uint8_t* LivePoses::directFrame(uint32_t slot, uint64_t step) {
 }
 
 size_t LivePoses::store(Span<const glm::mat4> skinning, uint8_t* frame, Aabb* box) const {
-  const float range = palette_->format == PaletteFormat::kMatrix3x4F16
-                          ? 65504.0f
-                          : std::numeric_limits<float>::max();
   return storePose(palette_->format, skinning, palette_->layout.joint_stride_texels, joint_boxes_,
-                   range, frame, box);
-}
-
-void LivePoses::commit(uint32_t slot, bool direct, const Aabb& box, uint32_t weights_frame_texel,
-                       uint64_t step) {
-  poseBounds(box, &bounds_[slot]);
-  settle(slot, direct, weights_frame_texel, step);
+                   formatRange(palette_->format), frame, box);
 }
 
 void LivePoses::commit(uint32_t slot, bool direct, const Bounds& bounds,
@@ -151,7 +141,9 @@ size_t LivePoses::write(uint32_t slot, Span<const glm::mat4> skinning, uint32_t 
   Aabb box;
   if (uint8_t* frame = directFrame(slot, step)) {
     const size_t bad = store(skinning, frame, &box);
-    if (bad == skinning.size()) commit(slot, true, box, weights_frame_texel, step);
+    if (bad < skinning.size()) return bad;
+    poseBounds(box, &bounds_[slot]);
+    settle(slot, true, weights_frame_texel, step);
     return bad;
   }
   // Over the current frame: through scratch first, so that a refused pose leaves it as it was.
@@ -161,7 +153,8 @@ size_t LivePoses::write(uint32_t slot, Span<const glm::mat4> skinning, uint32_t 
   const size_t bad = store(skinning, scratch_.data(), &box);
   if (bad < skinning.size()) return bad;
   std::memcpy(frameBytes(frameOf(slot)), scratch_.data(), joint_bytes);
-  commit(slot, false, box, weights_frame_texel, step);
+  poseBounds(box, &bounds_[slot]);
+  settle(slot, false, weights_frame_texel, step);
   return skinning.size();
 }
 
