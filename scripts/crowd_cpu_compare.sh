@@ -1,6 +1,6 @@
 #!/usr/bin/env bash
 # Side by side on one machine in one run: a baseline si_crowd_cpu_bench (another build: the
-# baseline commit's library, best with this tree's tests/bench/crowd_cpu_bench.cpp so both know
+# baseline commit's library, best with this tree's tests/bench sources so both know
 # the same configurations) and this tree's release build, alternately for ROUNDS rounds (default
 # 3), medians of 3 repetitions each, the same FILTER on both. Usage:
 #   scripts/crowd_cpu_compare.sh BASELINE_BENCH [ROUNDS] [FILTER]

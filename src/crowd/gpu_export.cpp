@@ -11,6 +11,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstring>
 #include <limits>
 
 namespace si {
@@ -221,6 +222,29 @@ void CrowdExport::livePoseTexelsChangedSince(uint64_t since, uint32_t* first,
                                              uint32_t* count) const {
   *first = *count = 0;
   if (crowd_->state_) crowd_->state_->store.live.changedTexels(since, first, count);
+}
+void CrowdExport::copyLivePoseTexels(uint32_t first, uint32_t count, uint8_t* out) const {
+  const Span<const uint8_t> texels = livePoseTexels();
+  if (texels.empty() || out == nullptr || count == 0) return;
+  const size_t bytes = bytesPerTexel(crowd_->desc().palette->format);
+  const size_t total = texels.size() / bytes;
+  if (first > total || count > total - first) return;
+  const uint8_t* from = texels.data() + size_t(first) * bytes;
+  const size_t size = size_t(count) * bytes;
+  // Tasks of at least 64 KiB (a thread's start costs microseconds), at most 64, each a whole
+  // number of cache lines.
+  constexpr size_t kTaskBytes = size_t(64) << 10, kMostTasks = 64, kLine = 64;
+  const size_t tasks = std::min(kMostTasks, size / kTaskBytes);
+  const ParallelFor run = tasks >= 4 ? detail::crowdWorkers(*crowd_->state_) : ParallelFor();
+  if (!run) {
+    std::memcpy(out, from, size);
+    return;
+  }
+  const size_t per = (size / tasks + kLine - 1) / kLine * kLine;
+  run(uint32_t(tasks), [from, out, size, per](uint32_t t) {
+    const size_t at = size_t(t) * per;
+    if (at < size) std::memcpy(out + at, from + at, std::min(per, size - at));
+  });
 }
 uint64_t CrowdExport::livePoseVersion() const {
   return crowd_->state_ ? crowd_->state_->store.live.version() : 0;

@@ -1,7 +1,8 @@
 // SkinnedInstancing — SPDX-License-Identifier: MIT (see LICENSE)
 // The full per-frame CPU path of the crowd: update (time, LOD, cull, bucket, records) plus
 // batching (records copied into uniform-block batches, or zero-copy spans), on 1 to 16 threads;
-// moving blend parameters, live poses set, the GPU-driven path's share of churn.
+// moving blend parameters, the GPU-driven path's share of churn (live poses:
+// live_pose_bench.cpp, in the same binary).
 // Items are instances: items_per_second^-1 is the wall time per instance. Not part of ctest.
 // Run: build/release/tests/bench/si_crowd_cpu_bench --benchmark_filter='threads:(1|2)/'
 // (more threads than cores only measures oversubscription).
@@ -19,6 +20,7 @@
 
 #include <glm/gtc/quaternion.hpp>
 
+#include "crowd_bench_fixtures.h"
 #include "si/bake/animation_baker.h"
 #include "si/core/default_character.h"
 #include "si/core/layer_mask.h"
@@ -28,25 +30,8 @@
 
 namespace {
 
-// The embedded character at 30 Hz; `moving`: with its travelling clips (root motion);
-// `automatic`: baked with the default desc instead (automatic rates, frames at the keys where
-// that takes fewer: non-uniform frame times, found by a search per instance).
-const si::BakedPalette& palette(bool moving = false, bool automatic = false) {
-  static const auto bake = [](bool with_moving_clips, bool default_desc) {
-    si::DefaultCharacterDesc cd;
-    cd.moving_clips = with_moving_clips;
-    si::Character c;
-    if (!si::makeDefaultCharacter(cd, &c).isOk()) std::abort();
-    si::BakeDesc d;
-    if (!default_desc) d.rate_mode = si::RateMode::kFixed;
-    si::BakedPalette out;
-    if (!si::bakePalette(c, d, &out, nullptr).isOk()) std::abort();
-    return out;
-  };
-  static const si::BakedPalette plain = bake(false, false), travelling = bake(true, false);
-  static const si::BakedPalette plain_default = bake(false, true);
-  return automatic ? plain_default : moving ? travelling : plain;
-}
+using si::bench::field;
+using si::bench::palette;
 
 // The right arm's mask of the plain palette (the overlay of the overlays argument).
 const si::LayerMask& armMask() {
@@ -59,49 +44,6 @@ const si::LayerMask& armMask() {
     return m;
   }();
   return mask;
-}
-
-// A square field of `count` characters 1.5 m apart, random armour, clips and times;
-// `max_distance_radii` as in CrowdDesc (0: the default far line, negative: none). `motion`: 0
-// any clip of the plain palette; 1 the travelling clips (walk_forward, walk_turn_left) played
-// in place; 2 the same with root motion applied to every instance; 3 any clip of the plain
-// character baked with the default desc (compare with 0: what non-uniform frames cost); 4 as 0,
-// every instance crossfading into another clip (a 1000 s fade: it never ends while timed); 5 as
-// 0 with animation-LOD stepping from LOD 1 (CrowdDesc::animation_lod_start).
-std::unique_ptr<si::CrowdManager> field(int64_t count, float max_distance_radii, uint32_t threads,
-                                        int64_t motion, bool previous_records,
-                                        uint32_t live_poses = 0) {
-  auto crowd = std::make_unique<si::CrowdManager>();
-  si::CrowdDesc d;
-  d.palette = &palette(motion == 1 || motion == 2, motion == 3);
-  d.sub_mesh_count = 4;
-  d.lod_count = 3;
-  d.max_distance_radii = max_distance_radii;
-  d.worker_threads = threads;
-  d.previous_records = previous_records;
-  d.live_pose_capacity = live_poses;
-  if (motion == 5) d.animation_lod_start = 1;
-  if (!crowd->init(d).isOk()) std::abort();
-  const int64_t side = int64_t(std::ceil(std::sqrt(double(count))));
-  std::vector<glm::dvec3> positions;
-  for (int64_t i = 0; i < count; ++i)
-    positions.push_back(glm::dvec3(double(i % side), 0.0, double(i / side)) * 1.5);
-  si::RandomCrowdDesc r;
-  r.positions = positions;
-  r.optional_mask = 0xE;
-  const uint32_t travelling[] = {uint32_t(palette(true).findClip("walk_forward")),
-                                 uint32_t(palette(true).findClip("walk_turn_left"))};
-  if (motion == 1 || motion == 2) r.clips = travelling;
-  r.root_motion = motion == 2;
-  std::vector<si::InstanceHandle> handles;
-  if (!crowd->addRandom(r, &handles).isOk()) std::abort();
-  if (motion == 4) {
-    const uint32_t clips = uint32_t(d.palette->clips.size());
-    for (size_t i = 0; i < handles.size(); ++i)
-      if (!crowd->crossfade(handles[i], uint32_t(i % clips), 1000.0, 0.1 * double(i % 13)).isOk())
-        std::abort();
-  }
-  return crowd;
 }
 
 // Arguments: instances; scene (0: a camera at the field's edge looking across it, the demo's
@@ -237,168 +179,6 @@ BENCHMARK(moveBlends)
     ->ArgName("instances")
     ->Unit(benchmark::kMillisecond)
     ->UseRealTime();
-
-// Poses for setLivePose: the stored matrices of clip 0's first 16 frames (repeated when it has
-// fewer), one per palette joint each.
-std::vector<std::vector<glm::mat4>> clipPoses(const si::BakedPalette& p) {
-  std::vector<std::vector<glm::mat4>> poses(16, std::vector<glm::mat4>(p.palette_joints.size()));
-  for (uint32_t k = 0; k < poses.size(); ++k)
-    for (uint32_t j = 0; j < p.palette_joints.size(); ++j)
-      poses[k][j] = si::decodeJoint(p, 0, k % p.clips[0].frame_count, j);
-  return poses;
-}
-
-// Live poses (CrowdManager::setLivePose; docs/crowd.md, "Live poses"): each iteration advances
-// the clock, gives `live` instances of a field of 100,000 (every tenth) a new pose of the
-// embedded character's 21 palette joints (a baked frame's matrices, another one each time:
-// every live frame written), then selects at the new clock (update(0)), the frame order an
-// engine follows. set_ms: the poses' share per iteration; select_ms: the selection's;
-// ns_per_pose: one setLivePose call. Compare select_ms with live 0 for what posed instances
-// add to the selection.
-void livePoses(benchmark::State& state) {
-  const int64_t count = 100000, live = state.range(0);
-  auto crowd = field(count, -1.0f, 1, 0, false, uint32_t(std::max<int64_t>(live, 1)));
-  std::vector<si::InstanceHandle> handles;
-  std::vector<si::GpuInstanceState> states;
-  si::CrowdExport(*crowd).state(&states, &handles);
-  const si::BakedPalette& p = palette();
-  const std::vector<std::vector<glm::mat4>> poses = clipPoses(p);
-  const si::Camera camera =
-      si::Camera::lookAt({237.0, 9.0, -7.0}, {237.0, 0.0, 45.0}, glm::vec3(0, 1, 0), 0.9f,
-                         16.0f / 9.0f, 0.2f, 2000.0f);
-  double set_ms = 0.0, select_ms = 0.0;
-  uint32_t frame = 0;
-  for (auto _ : state) {
-    if (!crowd->advance(1.0 / 60.0).isOk()) std::abort();
-    ++frame;
-    const auto t0 = std::chrono::steady_clock::now();
-    for (int64_t k = 0; k < live; ++k)
-      if (!crowd->setLivePose(handles[size_t(k) * 10], poses[(size_t(k) + frame) % poses.size()])
-               .isOk())
-        std::abort();
-    const auto t1 = std::chrono::steady_clock::now();
-    if (!crowd->update(0.0, camera).isOk()) std::abort();
-    const auto t2 = std::chrono::steady_clock::now();
-    set_ms += std::chrono::duration<double, std::milli>(t1 - t0).count();
-    select_ms += std::chrono::duration<double, std::milli>(t2 - t1).count();
-  }
-  const double n = double(state.iterations());
-  state.counters["set_ms"] = set_ms / n;
-  state.counters["select_ms"] = select_ms / n;
-  state.counters["ns_per_pose"] = live > 0 ? set_ms * 1e6 / (n * double(live)) : 0.0;
-}
-BENCHMARK(livePoses)
-    ->Arg(0)
-    ->Arg(1000)
-    ->Arg(10000)
-    ->ArgName("live")
-    ->Unit(benchmark::kMillisecond)
-    ->UseRealTime();
-
-// The palette of a chain of `joints` joints, one vertex per joint, one clip bending it: a
-// character of any joint count (the repository's assets stop at 21 palette joints).
-const si::BakedPalette& chainPalette(uint32_t joints,
-                                     si::PaletteFormat format = si::PaletteFormat::kDefault) {
-  static std::map<std::pair<uint32_t, si::PaletteFormat>, si::BakedPalette> baked;
-  auto it = baked.find({joints, format});
-  if (it != baked.end()) return it->second;
-  si::Character c;
-  c.name = "chain";
-  si::Clip bend;
-  bend.name = "bend";
-  bend.duration_seconds = 1.0f;
-  for (uint32_t i = 0; i < joints; ++i) {
-    c.skeleton.joint_names.push_back("joint" + std::to_string(i));
-    c.skeleton.parents.push_back(i == 0 ? si::Skeleton::kNoParent : int32_t(i - 1));
-    si::Transform t;
-    t.translation = i == 0 ? glm::vec3(0.0f) : glm::vec3(0, 0.05f, 0);
-    c.skeleton.rest_pose.push_back(t);
-    glm::mat4 ibm(1.0f);
-    ibm[3] = glm::vec4(0, -0.05f * float(i), 0, 1);
-    c.skeleton.inverse_bind_matrices.push_back(ibm);
-    c.mesh.positions.push_back(glm::vec3(0.1f, 0.05f * float(i), 0.0f));
-    c.mesh.normals.push_back(glm::vec3(1, 0, 0));
-    c.mesh.joints.push_back(glm::u16vec4(uint16_t(i), 0, 0, 0));
-    c.mesh.weights.push_back(glm::vec4(1, 0, 0, 0));
-    si::JointTracks tracks;
-    tracks.rotation.times_seconds = {0.0f, 1.0f};
-    tracks.rotation.values = {glm::quat(1, 0, 0, 0), glm::angleAxis(0.05f, glm::vec3(1, 0, 0))};
-    bend.joint_tracks.push_back(tracks);
-  }
-  for (uint32_t i = 0; i + 2 < joints; ++i)
-    c.mesh.indices.insert(c.mesh.indices.end(), {i, i + 1, i + 2});
-  c.mesh.sub_meshes.push_back(
-      si::SubMesh{"body", {si::IndexRange{0, uint32_t(c.mesh.indices.size())}}, 0, {}});
-  c.clips.push_back(bend);
-  si::BakeDesc d;
-  d.rate_mode = si::RateMode::kFixed;
-  d.format = format;
-  si::BakedPalette out;
-  const si::Status s = si::bakePalette(c, d, &out, nullptr);
-  if (!s.isOk()) {
-    std::fprintf(stderr, "chainPalette: %s\n", s.toString().c_str());
-    std::abort();
-  }
-  return baked.emplace(std::make_pair(joints, format), std::move(out)).first->second;
-}
-
-// setLivePose's cost against the joints a pose has: 1,000 instances of a chain of
-// state.range(0) joints (chainPalette) posed each iteration with another baked frame, in a
-// palette of float texels (state.range(1) 0, the default) or half floats (1); one call each
-// (state.range(2) 0) or all in one setLivePoses on the crowd's workers (1: the default
-// threads, the hardware's up to 16). ns_per_pose: one pose; ns_per_joint: that over the
-// palette's joints.
-void livePoseJoints(benchmark::State& state) {
-  const si::BakedPalette& p =
-      chainPalette(uint32_t(state.range(0)), state.range(1) != 0 ? si::PaletteFormat::kMatrix3x4F16
-                                                                 : si::PaletteFormat::kDefault);
-  constexpr uint32_t kLive = 1000;
-  si::CrowdDesc cd;
-  cd.palette = &p;
-  cd.sub_mesh_count = 1;
-  cd.live_pose_capacity = kLive;
-  si::CrowdManager crowd;
-  if (!crowd.init(cd).isOk()) std::abort();
-  std::vector<si::InstanceHandle> handles(kLive);
-  for (uint32_t k = 0; k < kLive; ++k) {
-    si::InstanceDesc d;
-    d.position = glm::dvec3(double(k % 40), 0.0, double(k / 40));
-    if (!crowd.add(d, &handles[k]).isOk()) std::abort();
-  }
-  const std::vector<std::vector<glm::mat4>> poses = clipPoses(p);
-  const bool batch = state.range(2) != 0;
-  std::vector<glm::mat4> all;  // The batch's matrices, pose after pose.
-  double set_ms = 0.0;
-  uint32_t frame = 0;
-  for (auto _ : state) {
-    if (!crowd.advance(1.0 / 60.0).isOk()) std::abort();
-    ++frame;
-    if (batch) {  // Gathered untimed: an engine's poses lie in one array.
-      all.clear();
-      for (uint32_t k = 0; k < kLive; ++k) {
-        const std::vector<glm::mat4>& pose = poses[(k + frame) % poses.size()];
-        all.insert(all.end(), pose.begin(), pose.end());
-      }
-    }
-    const auto t0 = std::chrono::steady_clock::now();
-    if (batch) {
-      if (!crowd.setLivePoses(handles, all).isOk()) std::abort();
-    } else {
-      for (uint32_t k = 0; k < kLive; ++k)
-        if (!crowd.setLivePose(handles[k], poses[(k + frame) % poses.size()]).isOk()) std::abort();
-    }
-    set_ms +=
-        std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
-  }
-  const double n = double(state.iterations());
-  state.counters["set_ms"] = set_ms / n;
-  state.counters["ns_per_pose"] = set_ms * 1e6 / (n * kLive);
-  state.counters["ns_per_joint"] = set_ms * 1e6 / (n * kLive * double(p.palette_joints.size()));
-}
-BENCHMARK(livePoseJoints)
-    ->ArgNames({"joints", "half", "batch"})
-    ->ArgsProduct({{20, 60}, {0, 1}, {0, 1}})
-    ->Unit(benchmark::kMillisecond);
 
 // The GPU-driven path's CPU share of churn, what drawCrowdGpuCulled does before its GL calls
 // (src/gl/paths/gpu_state_upload.cpp; docs/performance.md, "Several crowds of one character,

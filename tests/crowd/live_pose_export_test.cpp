@@ -5,6 +5,7 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <utility>
 #include <vector>
 
 #include "crowd/live_pose_helpers.h"
@@ -148,6 +149,56 @@ TEST(LivePoseExport, TheTexelsChangedSinceAVersionAreTheFramesWrittenSince) {
   EXPECT_NE(e.livePoseVersion(), since);
   e.livePoseTexelsChangedSince(since, &first, &count);
   EXPECT_EQ(count, 0u);
+}
+
+// What the renderer copies into its staging ring: the span's bytes exactly, on the crowd's
+// workers past 256 KiB (as on the calling thread), nothing outside the span, and nothing at all
+// for a span past the texels.
+TEST(LivePoseExport, CopiedTexelsAreTheSpansBytes) {
+  const BakedPalette& p = defaultPalette();
+  const std::vector<glm::mat4> pose = enginePose(defaultCharacter().skeleton, p);
+  constexpr uint32_t kPoses = 1500;  // 1.5 MB of float texels: 23 tasks.
+  for (const uint32_t threads : {1u, 4u}) {
+    SCOPED_TRACE(threads);
+    CrowdDesc desc = liveDesc(kPoses);
+    desc.worker_threads = threads;
+    CrowdManager crowd;
+    ASSERT_TRUE(crowd.init(desc).isOk());
+    std::vector<InstanceHandle> h(kPoses);
+    std::vector<glm::mat4> poses;  // Each pose moved by its own amount: no two alike.
+    for (uint32_t k = 0; k < kPoses; ++k) {
+      ASSERT_TRUE(crowd.add(InstanceDesc(), &h[k]).isOk());
+      for (glm::mat4 m : pose) {
+        m[3] += glm::vec4(0.001f * float(k), -0.002f * float(k % 97), 0.0f, 0.0f);
+        poses.push_back(m);
+      }
+    }
+    ASSERT_TRUE(crowd.setLivePoses(h, poses).isOk());
+    const CrowdExport e(crowd);
+    uint32_t first = 0, count = 0;
+    e.livePoseTexelsChangedSince(0, &first, &count);
+    const size_t texel = bytesPerTexel(p.format), guard = 64;
+    const Span<const uint8_t> texels = e.livePoseTexels();
+    // The whole, a span that starts and ends inside a frame, and one texel.
+    const std::pair<uint32_t, uint32_t> spans[] = {
+        {first, count}, {7, count / 2 - 11}, {count - 1, 1}};
+    for (const auto& [at, n] : spans) {
+      std::vector<uint8_t> out(size_t(n) * texel + 2 * guard, 0xCD);
+      e.copyLivePoseTexels(at, n, out.data() + guard);
+      EXPECT_TRUE(std::equal(texels.begin() + ptrdiff_t(size_t(at) * texel),
+                             texels.begin() + ptrdiff_t(size_t(at + n) * texel),
+                             out.begin() + ptrdiff_t(guard)))
+          << at << " + " << n;
+      EXPECT_TRUE(std::all_of(out.begin(), out.begin() + ptrdiff_t(guard),
+                              [](uint8_t b) { return b == 0xCD; }));
+      EXPECT_TRUE(std::all_of(out.end() - ptrdiff_t(guard), out.end(),
+                              [](uint8_t b) { return b == 0xCD; }));
+    }
+    std::vector<uint8_t> out(texel * 2, 0xCD);
+    e.copyLivePoseTexels(count - 1, 2, out.data());  // Past the texels: nothing.
+    e.copyLivePoseTexels(0xFFFFFFFFu, 2, out.data());
+    EXPECT_TRUE(std::all_of(out.begin(), out.end(), [](uint8_t b) { return b == 0xCD; }));
+  }
 }
 
 TEST(LivePoseExport, ACrowdWithoutRoomExportsNoSlots) {

@@ -52,9 +52,10 @@ class LivePoseRenderTest : public RenderTest {
   }
   // Three instances in a row; the middle one plays "walk" and, when `posed`, is posed with
   // the stored matrices of "wave"'s frame `frame`; when `twin`, it plays "wave" held at frame 0
-  // instead (speed 0) and is not posed.
-  void makeRow(CrowdManager* crowd, bool posed, bool twin, uint32_t frame = 0) {
-    initRow(crowd, 2);
+  // instead (speed 0) and is not posed. Room for `capacity` live poses.
+  void makeRow(CrowdManager* crowd, bool posed, bool twin, uint32_t frame = 0,
+               uint32_t capacity = 2) {
+    initRow(crowd, capacity);
     for (int k = 0; k < 3; ++k) {
       InstanceDesc d = rowInstance(k);
       if (k == 1 && twin)
@@ -116,7 +117,9 @@ class LivePoseRenderTest : public RenderTest {
   // another posed crowd of the character, drawn before and between, never shows.
   void expectPosesDraw(Renderer& r, PathKind path) {
     CrowdManager posed, other, twin, playing;
-    makeRow(&posed, true, false);
+    // Room for 256: its first upload (all 512 frames, 504 KiB) is copied on the crowd's workers
+    // (CrowdExport::copyLivePoseTexels).
+    makeRow(&posed, true, false, 0, 256);
     makeRow(&other, true, false, 15);  // Another pose in another crowd of the character.
     makeRow(&twin, false, true);
     makeRow(&playing, false, false);

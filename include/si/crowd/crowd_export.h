@@ -107,6 +107,13 @@ class CrowdExport {
   /// renderer that uploaded the texels at `since` uploads again; poses set in one crowd step lie
   /// together (about half the texels when every pose changes).
   void livePoseTexelsChangedSince(uint64_t since, uint32_t* first, uint32_t* count) const;
+  /// Copies the live texels [first, first + count) of livePoseTexels() (counted in texels: the
+  /// span livePoseTexelsChangedSince() gave, say) into `out`. Each byte of `out` is written
+  /// once and never read, so `out` may be a write-combined mapping (a staging buffer: the GL
+  /// renderer copies so). Past 256 KiB the copy is cut into tasks on
+  /// CrowdDesc::worker_threads threads (1,000 poses of 60 joints are 2.9 MB of float texels).
+  /// Nothing is written when the span passes livePoseTexels() or `out` is null.
+  void copyLivePoseTexels(uint32_t first, uint32_t count, uint8_t* out) const;
   /// Changes whenever the live texels do (a renderer uploads them again when it has moved).
   uint64_t livePoseVersion() const;
   /// Live poses held now (those handing back to their clips included).

@@ -94,7 +94,7 @@ Status PaletteTexture::uploadLive(const CrowdExport& live, uint64_t crowd_identi
   // What changed since the version these rows hold: all of it for another crowd.
   uint32_t first = 0, changed = 0;
   if (!live_held_.update(live, crowd_identity, &first, &changed)) return Status::ok();
-  // From the staging ring on desktop GL: one copy here, the texture written by the GPU. (From
+  // From the staging ring on desktop GL: one copy, the texture written by the GPU. (From
   // memory, 10,000 poses of 21 joints, 10 MB, added 5.1-5.4 ms to the H200's GPU-driven submit;
   // through the ring 2.2-2.6: docs/performance.md.)
   const uint8_t* source = texels.data() + size_t(first) * bytes;
@@ -107,7 +107,8 @@ Status PaletteTexture::uploadLive(const CrowdExport& live, uint64_t crowd_identi
       live_held_.forget();  // Nothing written: all of it next time.
       return {s.code(), "the live poses' staging: " + s.message()};
     }
-    std::memcpy(live_staging_.mapped(base), source, span_bytes);
+    // On the crowd's workers past 256 KiB (1,000 poses of 60 joints: 2.9 MB).
+    live.copyLivePoseTexels(first, changed, live_staging_.mapped(base));
     glBindBuffer(GL_PIXEL_UNPACK_BUFFER, live_staging_.buffer());
     source = reinterpret_cast<const uint8_t*>(uintptr_t(base));  // An offset in the buffer.
   }

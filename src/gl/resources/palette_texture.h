@@ -41,7 +41,8 @@ class PaletteTexture {
   /// GL_MAX_TEXTURE_SIZE); all of them are uploaded for another crowd than last time (its
   /// identity), for the same crowd those written since the version uploaded
   /// (livePoseTexelsChangedSince). Nothing for none. On desktop GL the texels go through a
-  /// fenced, persistently mapped staging ring of kLiveRegions regions (one copy on the CPU, the
+  /// fenced, persistently mapped staging ring of kLiveRegions regions (one copy on the CPU, on
+  /// the crowd's workers past 256 KiB: CrowdExport::copyLivePoseTexels; the
   /// texture written by the GPU from it; kBackend when it cannot be mapped or its region is not
   /// free in time), on the ES profile from memory. Writes the unpack state (its buffer left 0).
   Status uploadLive(const CrowdExport& live, uint64_t crowd_identity, const GlInfo& info);
