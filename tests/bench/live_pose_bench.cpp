@@ -33,12 +33,14 @@ using si::bench::palette;
 // the clock, gives `live` instances of a field of 100,000 (every tenth) a new pose of the
 // embedded character's 21 palette joints (a baked frame's matrices, another one each time:
 // every live frame written), then selects at the new clock (update(0)), the frame order an
-// engine follows. set_ms: the poses' share per iteration; select_ms: the selection's;
-// ns_per_pose: one setLivePose call. Compare select_ms with live 0 for what posed instances
-// add to the selection.
+// engine follows; one setLivePose call each on one thread (batch 0), or one setLivePoses
+// with the crowd on the default threads, the hardware's up to 16, the selection's too (batch
+// 1). set_ms: the poses' share per iteration; select_ms: the selection's; ns_per_pose: one
+// pose. Compare select_ms with live 0 for what posed instances add to the selection.
 void livePoses(benchmark::State& state) {
   const int64_t count = 100000, live = state.range(0);
-  auto crowd = field(count, -1.0f, 1, 0, false, uint32_t(std::max<int64_t>(live, 1)));
+  const bool batch = state.range(1) != 0;
+  auto crowd = field(count, -1.0f, batch ? 0 : 1, 0, false, uint32_t(std::max<int64_t>(live, 1)));
   std::vector<si::InstanceHandle> handles;
   std::vector<si::GpuInstanceState> states;
   si::CrowdExport(*crowd).state(&states, &handles);
@@ -47,16 +49,28 @@ void livePoses(benchmark::State& state) {
   const si::Camera camera =
       si::Camera::lookAt({237.0, 9.0, -7.0}, {237.0, 0.0, 45.0}, glm::vec3(0, 1, 0), 0.9f,
                          16.0f / 9.0f, 0.2f, 2000.0f);
+  std::vector<si::InstanceHandle> posed;  // Every tenth.
+  for (int64_t k = 0; k < live; ++k) posed.push_back(handles[size_t(k) * 10]);
+  std::vector<glm::mat4> all;  // The batch's matrices, pose after pose.
   double set_ms = 0.0, select_ms = 0.0;
   uint32_t frame = 0;
   for (auto _ : state) {
     if (!crowd->advance(1.0 / 60.0).isOk()) std::abort();
     ++frame;
+    if (batch) {  // Gathered untimed: an engine's poses lie in one array.
+      all.clear();
+      for (size_t k = 0; k < posed.size(); ++k) {
+        const std::vector<glm::mat4>& pose = poses[(k + frame) % poses.size()];
+        all.insert(all.end(), pose.begin(), pose.end());
+      }
+    }
     const auto t0 = std::chrono::steady_clock::now();
-    for (int64_t k = 0; k < live; ++k)
-      if (!crowd->setLivePose(handles[size_t(k) * 10], poses[(size_t(k) + frame) % poses.size()])
-               .isOk())
-        std::abort();
+    if (batch) {
+      if (!crowd->setLivePoses(posed, all).isOk()) std::abort();
+    } else {
+      for (size_t k = 0; k < posed.size(); ++k)
+        if (!crowd->setLivePose(posed[k], poses[(k + frame) % poses.size()]).isOk()) std::abort();
+    }
     const auto t1 = std::chrono::steady_clock::now();
     if (!crowd->update(0.0, camera).isOk()) std::abort();
     const auto t2 = std::chrono::steady_clock::now();
@@ -69,10 +83,8 @@ void livePoses(benchmark::State& state) {
   state.counters["ns_per_pose"] = live > 0 ? set_ms * 1e6 / (n * double(live)) : 0.0;
 }
 BENCHMARK(livePoses)
-    ->Arg(0)
-    ->Arg(1000)
-    ->Arg(10000)
-    ->ArgName("live")
+    ->ArgsProduct({{0, 1000, 10000}, {0, 1}})
+    ->ArgNames({"live", "batch"})
     ->Unit(benchmark::kMillisecond)
     ->UseRealTime();
 
