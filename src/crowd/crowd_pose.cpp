@@ -161,13 +161,15 @@ Status CrowdManager::setLivePose(InstanceHandle h, Span<const glm::mat4> skinnin
     if (from_clip) st.live.release(slot);
     return badLiveMatrix(p.format, skinning, k);
   }
-  if (from_clip) {  // The live weight fades in from 0.
+  if (from_clip) {  // The live weight fades in from 0; the instance's state names its slot.
     st.live_slot[i] = slot;
     st.live.fade(slot, 0.0f, 1.0f, blend_seconds, clock);
+    st.changed(i);
   } else if (st.live.fadingOut(slot)) {  // Handing back: it fades in again from where it is.
     st.live.fade(slot, st.live.liveWeight(slot, clock), 1.0f, blend_seconds, clock);
   }
-  st.changed(i);
+  // A pose set again changes its slot (frame, bounds, fade: livePoseVersion), not the
+  // instance's state, which the GPU-driven path would upload again for nothing.
   return Status::ok();
 }
 
@@ -247,7 +249,6 @@ Status CrowdManager::setLivePoses(Span<const InstanceHandle> handles,
       st.live.commit(b.slot, true, b.bounds, b.weights_texel, cs.steps);
       if (st.live.fadingOut(b.slot))  // Handing back: it fades in again from where it is.
         st.live.fade(b.slot, st.live.liveWeight(b.slot, clock), 1.0f, blend_seconds, clock);
-      st.changed(b.index);
     }
   }
   return first;

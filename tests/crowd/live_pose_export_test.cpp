@@ -5,6 +5,7 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <cstring>
 #include <utility>
 #include <vector>
 
@@ -81,13 +82,20 @@ TEST(LivePoseExport, StatesNameTheirSlotsAndSlotsTheirFramesAndHandOvers) {
   EXPECT_DOUBLE_EQ(slots[slot].fade_start, 0.25);
   EXPECT_DOUBLE_EQ(slots[slot].fade_duration, 0.5);
 
-  // A pose set in a new step goes to the other frame: the slot names it.
+  // A pose set in a new step goes to the other frame: the slot names it. The instance's
+  // state is as it was (it names the same slot): nothing for the GPU-driven path to upload
+  // again but the slots and texels, which livePoseVersion() names.
   const uint32_t before = slots[slot].first_texel;
   version = e.stateVersion();
+  live_version = e.livePoseVersion();
+  const GpuInstanceState held = stateOf(crowd, posed);
   ASSERT_TRUE(crowd.setLivePose(posed, pose).isOk());
   e.livePoses(&slots);
   EXPECT_NE(slots[slot].first_texel, before);
-  EXPECT_TRUE(changedSince(crowd, posed, version));
+  EXPECT_NE(e.livePoseVersion(), live_version);
+  EXPECT_FALSE(changedSince(crowd, posed, version));
+  const GpuInstanceState now = stateOf(crowd, posed);
+  EXPECT_EQ(std::memcmp(&held, &now, sizeof(held)), 0);
 
   // Handing back over 0.2 s: from the weight it has (0.2 of the 0.5 s blend gone) to 0,
   // without a write (the fade alone changes the slot and the version).

@@ -44,7 +44,9 @@ class CrowdExport {
   /// Changes whenever exported state changes (init, add, remove, setters, play, crossfade,
   /// overlays, blends, setLodDistances, root motion moving an instance); not when a selection
   /// moves LODs (the GPU does the same) or a crossfade runs out (its end is read from the clock).
-  /// Unique across all crowds of the process: a new crowd never repeats an old one's version.
+  /// A live pose changes it when the instance takes or frees its slot; a pose set again on a
+  /// held slot changes livePoseVersion() only. Unique across all crowds of the process: a new crowd
+  /// never repeats an old one's version.
   uint64_t stateVersion() const;
   /// Every instance's state in dense order (`handles`, may be null, receives the handles in the
   /// same order): index i of the GPU's selection is dense index i.
