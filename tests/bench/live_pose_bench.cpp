@@ -29,6 +29,17 @@ using si::bench::clipPoses;
 using si::bench::field;
 using si::bench::palette;
 
+// A batch's matrices as an engine holds them, pose after pose in one array: `count` poses of
+// `poses`, the k-th its (k + frame)-th.
+void gatherPoses(const std::vector<std::vector<glm::mat4>>& poses, size_t count, uint32_t frame,
+                 std::vector<glm::mat4>* all) {
+  all->clear();
+  for (size_t k = 0; k < count; ++k) {
+    const std::vector<glm::mat4>& pose = poses[(k + frame) % poses.size()];
+    all->insert(all->end(), pose.begin(), pose.end());
+  }
+}
+
 // Live poses (CrowdManager::setLivePose; docs/crowd.md, "Live poses"): each iteration advances
 // the clock, gives `live` instances of a field of 100,000 (every tenth) a new pose of the
 // embedded character's 21 palette joints (a baked frame's matrices, another one each time:
@@ -57,13 +68,7 @@ void livePoses(benchmark::State& state) {
   for (auto _ : state) {
     if (!crowd->advance(1.0 / 60.0).isOk()) std::abort();
     ++frame;
-    if (batch) {  // Gathered untimed: an engine's poses lie in one array.
-      all.clear();
-      for (size_t k = 0; k < posed.size(); ++k) {
-        const std::vector<glm::mat4>& pose = poses[(k + frame) % poses.size()];
-        all.insert(all.end(), pose.begin(), pose.end());
-      }
-    }
+    if (batch) gatherPoses(poses, posed.size(), frame, &all);  // Untimed.
     const auto t0 = std::chrono::steady_clock::now();
     if (batch) {
       if (!crowd->setLivePoses(posed, all).isOk()) std::abort();
@@ -180,13 +185,7 @@ void livePoseJoints(benchmark::State& state) {
   for (auto _ : state) {
     if (!crowd.advance(1.0 / 60.0).isOk()) std::abort();
     ++frame;
-    if (batch) {  // Gathered untimed: an engine's poses lie in one array.
-      all.clear();
-      for (uint32_t k = 0; k < kLive; ++k) {
-        const std::vector<glm::mat4>& pose = poses[(k + frame) % poses.size()];
-        all.insert(all.end(), pose.begin(), pose.end());
-      }
-    }
+    if (batch) gatherPoses(poses, kLive, frame, &all);  // Untimed.
     const auto t0 = std::chrono::steady_clock::now();
     if (batch) {
       if (!crowd.setLivePoses(handles, all).isOk()) std::abort();
