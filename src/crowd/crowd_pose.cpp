@@ -246,7 +246,7 @@ Status CrowdManager::setLivePoses(Span<const InstanceHandle> handles,
     } else if (b.bad < joints) {
       refuse(k, badLiveMatrix(p.format, poseOf(k), b.bad));
     } else {
-      st.live.commit(b.slot, true, b.bounds, b.weights_texel, cs.steps);
+      st.live.commit(b.slot, b.bounds, b.weights_texel, cs.steps);
       if (st.live.fadingOut(b.slot))  // Handing back: it fades in again from where it is.
         st.live.fade(b.slot, st.live.liveWeight(b.slot, clock), 1.0f, blend_seconds, clock);
     }

@@ -114,10 +114,10 @@ size_t LivePoses::store(Span<const glm::mat4> skinning, uint8_t* frame, Aabb* bo
                    formatRange(palette_->format), frame, box);
 }
 
-void LivePoses::commit(uint32_t slot, bool direct, const Bounds& bounds,
-                       uint32_t weights_frame_texel, uint64_t step) {
+void LivePoses::commit(uint32_t slot, const Bounds& bounds, uint32_t weights_frame_texel,
+                       uint64_t step) {
   bounds_[slot] = bounds;
-  settle(slot, direct, weights_frame_texel, step);
+  settle(slot, true, weights_frame_texel, step);
 }
 
 void LivePoses::settle(uint32_t slot, bool direct, uint32_t weights_frame_texel, uint64_t step) {

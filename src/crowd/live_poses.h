@@ -72,7 +72,7 @@ class LivePoses {
   // (its other frame, which nothing names), or nullptr when it goes over its current frame
   // (write() alone, through scratch); then store() (any thread, each pose its own frame:
   // write()'s check and store, returning the first bad matrix) and, for a pose stored whole,
-  // poseBounds() of its box (any thread); then commit() with `direct` true and its bounds.
+  // poseBounds() of its box (any thread); then commit() with its bounds.
   uint8_t* directFrame(uint32_t slot, uint64_t step);
   size_t store(Span<const glm::mat4> skinning, uint8_t* frame, Aabb* box) const;
   /// What bounds slot `slot`'s current pose, in the instance's model space (storePose's box of
@@ -88,9 +88,9 @@ class LivePoses {
   /// *bounds set for a pose whose unpadded box (store()'s) is `box`: padded for the format's
   /// rounding, its sphere the one a baked clip's box gets (empty box: none known).
   void poseBounds(const Aabb& box, Bounds* bounds) const;
-  /// Makes the pose stored whole (its bounds poseBounds()') slot `slot`'s current one.
-  void commit(uint32_t slot, bool direct, const Bounds& bounds, uint32_t weights_frame_texel,
-              uint64_t step);
+  /// Makes the pose stored whole into directFrame() (its bounds poseBounds()') slot `slot`'s
+  /// current one.
+  void commit(uint32_t slot, const Bounds& bounds, uint32_t weights_frame_texel, uint64_t step);
   /// The first texel of slot `slot`'s current frame, as a record's frames name it.
   uint32_t frameTexel(uint32_t slot) const { return first_texel_ + frameOf(slot) * stride_; }
   /// Palette joint `joint`'s matrix of slot `slot`'s current frame as the shader reads it (half
