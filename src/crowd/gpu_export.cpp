@@ -204,6 +204,9 @@ void CrowdExport::changedSince(uint64_t since, std::vector<DenseRange>* changed,
   if (placed != nullptr) placed->clear();
   if (n == 0) return;
   const detail::InstanceStore& st = crowd_->state_->store;
+  // The changes since the last caller's version, kept as they were made; else the log's or
+  // the stamps'.
+  if (st.pending.take(since, st.version, n, changed, placed)) return;
   if (st.change_log.answers(since, n)) {  // A few changes since: not every stamp read.
     st.change_log.since(since, n, changed, placed);
     return;

@@ -56,11 +56,13 @@ void InstanceStore::changed(uint32_t i, bool placed) {
   stamp(i, placed);
   // Up to an eighth of the instances: past that a consumer scans the stamps about as fast.
   change_log.add(version, i, placed, std::max<size_t>(4096, size() / 8));
+  pending.set(i, placed);
 }
 
 void InstanceStore::unloggedVersion() {
   version = nextStateVersion();
   change_log.restart(version);
+  pending.invalidate();
 }
 
 void InstanceStore::stamp(uint32_t i, bool placed) {
@@ -138,6 +140,7 @@ void InstanceStore::push(const InstanceDesc& d, InstanceHandle h, double clock) 
     chunk_changed_at.resize(chunks, 0);
     chunk_placed_at.resize(chunks, 0);
   }
+  pending.reserve(size());
   changed(size() - 1, true);
 }
 

@@ -11,6 +11,7 @@
 #include <glm/gtc/quaternion.hpp>
 
 #include "crowd/change_log.h"
+#include "crowd/changed_bits.h"
 #include "crowd/instance_columns.h"
 #include "crowd/instance_overlay.h"
 #include "crowd/live_poses.h"
@@ -186,8 +187,10 @@ struct InstanceStore {
   // there, or moved there by a removal); per chunk of kStampChunk indices the largest of each.
   std::vector<uint64_t> changed_at, placed_at;
   std::vector<uint64_t> chunk_changed_at, chunk_placed_at;
-  // And the recent changes (changed() logs each; root motion restarts it).
+  // And the recent changes (changed() logs each; root motion restarts it), and the changes
+  // since the last consumer took them (changed() sets each; root motion invalidates them).
   ChangeLog change_log;
+  mutable PendingChanges pending;
 };
 
 /// An instance's appearance word from its desc (si::packAppearance).

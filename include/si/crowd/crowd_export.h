@@ -67,9 +67,11 @@ class CrowdExport {
   /// (may be null), those holding another instance than then (added, or moved there by a
   /// removal: what is kept per index must start over there). Both sorted, within size(), as
   /// runs of adjacent indices (a run costs a GPU-driven upload a 16-byte table entry, less than
-  /// one unchanged instance uploaded again). A `since` of 0 gives everything. Reads a log of
-  /// the recent changes while under a 64th of the indices changed, else O(size() / 1024) plus
-  /// the changed chunks.
+  /// one unchanged instance uploaded again). A `since` of 0 gives everything. Cost: asked with
+  /// the version the last call was made at (one consumer asking every frame), the changes
+  /// since, kept as bits while they were made (O(changed words of 64 indices)); else a log of
+  /// the recent changes while under an eighth of the indices changed, else O(size() / 1024)
+  /// plus the changed chunks. Calls on several threads at once are safe (as every const call).
   void changedSince(uint64_t since, std::vector<DenseRange>* changed,
                     std::vector<DenseRange>* placed) const;
   /// The palette's clips as the GPU reads them, and the frame times of non-uniform clips (then
