@@ -34,6 +34,17 @@ bool sameRuns(const std::vector<DenseRange>& a, const std::vector<DenseRange>& b
          });
 }
 
+// Bits and, beside them, the sorted sets they should give.
+struct Marked {
+  detail::ChangedBits bits;
+  std::set<uint32_t> changed, placed;
+  void set(uint32_t i, bool p) {
+    bits.set(i, p);
+    changed.insert(i);
+    if (p) placed.insert(i);
+  }
+};
+
 // Random sets of scattered indices, whole 64-index words, runs across words and the last
 // index, some re-occupied, read off below a random bound: the sorted sets' runs, exactly.
 TEST(ChangedBits, TheRunsAreTheSortedIndicesRuns) {
@@ -44,12 +55,8 @@ TEST(ChangedBits, TheRunsAreTheSortedIndicesRuns) {
     const uint32_t size = 1 + uint32_t(rng() % 20000);
     room = std::max(room, size);
     bits.reserve(size);
-    std::set<uint32_t> changed, placed;
-    const auto set = [&](uint32_t i, bool p) {
-      bits.set(i, p);
-      changed.insert(i);
-      if (p) placed.insert(i);
-    };
+    Marked m{std::move(bits), {}, {}};
+    const auto set = [&m](uint32_t i, bool p) { m.set(i, p); };
     const int shapes = 1 + int(rng() % 40);
     for (int k = 0; k < shapes; ++k) {
       const uint32_t at = uint32_t(rng() % size);
@@ -71,11 +78,12 @@ TEST(ChangedBits, TheRunsAreTheSortedIndicesRuns) {
     }
     const uint32_t n = rng() % 4 == 0 ? uint32_t(rng() % (size + 1)) : size;
     std::vector<DenseRange> got_changed{{7, 7}}, got_placed;  // Cleared first.
-    bits.take(n, &got_changed, &got_placed);
-    ASSERT_TRUE(sameRuns(got_changed, runsOf(changed, n))) << "trial " << trial;
-    ASSERT_TRUE(sameRuns(got_placed, runsOf(placed, n))) << "trial " << trial;
-    bits.take(room, &got_changed, &got_placed);  // Taken: nothing left, past n neither.
+    m.bits.take(n, &got_changed, &got_placed);
+    ASSERT_TRUE(sameRuns(got_changed, runsOf(m.changed, n))) << "trial " << trial;
+    ASSERT_TRUE(sameRuns(got_placed, runsOf(m.placed, n))) << "trial " << trial;
+    m.bits.take(room, &got_changed, &got_placed);  // Taken: nothing left, past n neither.
     ASSERT_TRUE(got_changed.empty() && got_placed.empty()) << "trial " << trial;
+    bits = std::move(m.bits);  // The same bits again: reused, cleared by the take.
   }
 }
 
