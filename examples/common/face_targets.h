@@ -45,7 +45,11 @@ inline bool weightedToBranch(const Character& c, size_t v, int32_t head) {
 /// track over all of them to each of its clips (replacing the clips' morph tracks); none for 0.
 /// With `head_joint` naming a joint of the skeleton, the head is what is weighted most to it or
 /// a joint under it (a held spear's tip left out); otherwise what rises above 85 % of the height.
-inline void addFaceTargets(Character* character, size_t targets, const char* head_joint = nullptr) {
+/// Each target moves the head by up to 4 % of the height; with `bounded`, the targets that
+/// overlap a place (about 10 of 50) share that, so the head keeps its size whatever their
+/// number (the demo's faces; the benchmarks' targets are each at full size).
+inline void addFaceTargets(Character* character, size_t targets, const char* head_joint = nullptr,
+                           bool bounded = false) {
   if (targets == 0) return;
   Character& c = *character;
   const size_t first = c.mesh.morph_targets.size();
@@ -68,6 +72,10 @@ inline void addFaceTargets(Character* character, size_t targets, const char* hea
   }
   centre /= float(std::max<size_t>(head, 1));
   const float pi = 3.14159265f;
+  const float reach = std::max(pi / float(targets) * 2.0f, 0.6f);
+  // Targets reaching one place: a sector of 2 pi / targets each, reaching `reach` either side.
+  const float overlap = reach * float(targets) / pi;
+  const float size = 0.04f * height * (bounded ? std::min(1.0f, 2.0f / overlap) : 1.0f);
   for (size_t k = 0; k < targets; ++k) {
     MorphTarget t;
     t.name = "face" + std::to_string(k);
@@ -77,14 +85,16 @@ inline void addFaceTargets(Character* character, size_t targets, const char* hea
       const glm::vec3 p = c.mesh.positions[v];
       if (!in_head[v]) continue;
       const float angle = std::atan2(p.z - centre.z, p.x - centre.x);
-      float d = std::fabs(angle - sector);
+      // The angle between them, 0 to pi (atan2 gives -pi to pi, the sectors 0 to 2 pi: until
+      // 2026-12-03 a difference past 2 pi went negative here, and every target reached the
+      // vertices at negative angles: some 29 of 50 at one vertex instead of at most 10).
+      float d = std::fmod(std::fabs(angle - sector), 2.0f * pi);
       d = std::min(d, 2.0f * pi - d);
-      const float reach = std::max(pi / float(targets) * 2.0f, 0.6f);
       if (d >= reach) continue;
       const float bump = 0.5f + 0.5f * std::cos(pi * d / reach);  // 1 at the sector, 0 at reach.
       const float rise = top > head_floor ? (p.y - head_floor) / (top - head_floor) : 1.0f;
       t.vertices.push_back(uint32_t(v));
-      t.position_deltas.push_back(c.mesh.normals[v] * (0.04f * height * bump * rise));
+      t.position_deltas.push_back(c.mesh.normals[v] * (size * bump * rise));
       t.normal_deltas.push_back(glm::vec3(0.0f, 0.4f * bump, 0.0f));
     }
     c.mesh.morph_targets.push_back(std::move(t));

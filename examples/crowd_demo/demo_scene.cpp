@@ -49,7 +49,7 @@ si::Status DemoScene::loadCharacter(const SceneOptions& options) {
     // On what the head joint carries (the spear's tip left out), before the staff is attached.
     if (s.isOk() && options.faces > 0)
       si::examples::addFaceTargets(&character_, options.faces,
-                                   si::examples::findHeadJoint(character_.skeleton));
+                                   si::examples::findHeadJoint(character_.skeleton), true);
     if (s.isOk() && options.palette.empty()) s = attachStaff();  // Before the LODs and the bake.
   } else {
     si::GltfImportReport gr;
@@ -59,7 +59,7 @@ si::Status DemoScene::loadCharacter(const SceneOptions& options) {
       s = si::Status(si::StatusCode::kUnsupported, "the model has no animation clips");
     if (s.isOk() && options.faces > 0)
       si::examples::addFaceTargets(&character_, options.faces,
-                                   si::examples::findHeadJoint(character_.skeleton));
+                                   si::examples::findHeadJoint(character_.skeleton), true);
   }
   if (s.isOk() && options.lod_pixels > 0.0f) {  // Chains deep enough for a few pixels.
     s = si::buildLodChain(&character_.mesh, {}, nullptr);
