@@ -243,11 +243,11 @@ TEST_P(RenderTest, ChangesInOneChunkOrPastItDrawWhatWholeUploadsDraw) {
   whole_renderer.shutdown();
 }
 
-// Churn with several views: each view starts its LODs over where other instances sit, from
-// its CPU LODs. Views that never selected on the CPU hold LOD 0 there, so the first of them
-// stages the seed and the others scatter the same bytes (DrawStats::view_seed_bytes 0); a view
-// that selects on the CPU stages its own. Every view selects what uploading whole selects.
-TEST_P(RenderTest, ViewsThatNeverSelectedShareOneSeed) {
+// Churn with several views: each view starts its LODs over where other instances sit. A view
+// that selects on the CPU is seeded there from its CPU LODs; views that never selected on the
+// CPU start at LOD 0, which the culling pass does by itself (DrawStats::view_seed_bytes 0).
+// Every view selects what uploading whole (seeding every view everywhere) selects.
+TEST_P(RenderTest, ViewsThatNeverSelectedNeedNoSeed) {
   Renderer changed_renderer, whole_renderer;
   RendererDesc rd;
   rd.skinning_path = SkinningPath::kVertexShader;
@@ -314,19 +314,72 @@ TEST_P(RenderTest, ViewsThatNeverSelectedShareOneSeed) {
       EXPECT_FALSE(changed_selection.empty());
       EXPECT_EQ(sorted(changed_selection), sorted(whole_selection));
       if (frame == 0) continue;
-      // Churn: 24 indices hold other instances, 8 bytes of seed each (the uploads before were
-      // whole: the first frame's).
+      // Churn: 24 indices hold other instances, 8 bytes of seed each for the view that selects
+      // (the uploads before were whole: the first frame's).
       const uint64_t seed = 24 * sizeof(glm::uvec2);
-      if (v == 1 || v == 2) {
-        EXPECT_EQ(changed.view_seed_bytes, 0u) << "shared with the first view that never selected";
-      } else {
-        EXPECT_EQ(changed.view_seed_bytes, seed);
-      }
+      EXPECT_EQ(changed.view_seed_bytes, v == 3 ? seed : 0u);
       EXPECT_EQ(whole.view_seed_bytes, uint64_t(crowd.size()) * sizeof(glm::uvec2));
     }
   }
   changed_renderer.shutdown();
   whole_renderer.shutdown();
+}
+
+// A view that never selected on the CPU, unseeded: where a removal moves an instance at LOD 0
+// (inside the hysteresis band round the first line) into the place of one at LOD 1, the
+// culling pass starts the place over (LOD 0) as seeding it would; going on from the other's
+// LOD would keep LOD 1 inside the band.
+TEST_P(RenderTest, AnUnseededViewStartsOverWhereAnotherInstanceSits) {
+  {
+    RendererDesc rd;
+    rd.skinning_path = SkinningPath::kVertexShader;
+    Renderer renderer;
+    makeRenderer(&renderer, 0, PaletteFormat::kMatrix3x4F32, &rd);
+    CrowdManager crowd;
+    CrowdDesc cd;
+    cd.palette = &palette();
+    cd.sub_mesh_count = 4;
+    cd.lod_count = 3;
+    cd.character_radius = 1.0f;
+    cd.lod_distances_radii = {20.0f, 60.0f};  // Bands 16-24 and 48-72 units.
+    cd.lod_hysteresis_ratio = 0.2f;
+    cd.max_distance_radii = -1.0f;
+    ASSERT_TRUE(crowd.init(cd).isOk());
+    // Dense 0: 40 units away (LOD 1); 1: 6 units (LOD 0); 2: 20 units, in the band (LOD 0).
+    const Camera camera = Camera::lookAt({0.0, 0.0, 0.0}, {0.0, 0.0, -30.0}, glm::vec3(0, 1, 0),
+                                         1.2f, 1.0f, 0.1f, 300.0f);
+    InstanceHandle far_one, near_one, banded;
+    InstanceDesc d;
+    d.position = glm::dvec3(0.0, 0.0, -40.0);
+    ASSERT_TRUE(crowd.add(d, &far_one).isOk());
+    d.position = glm::dvec3(-2.0, 0.0, -6.0);
+    ASSERT_TRUE(crowd.add(d, &near_one).isOk());
+    d.position = glm::dvec3(3.0, 0.0, -std::sqrt(400.0 - 9.0));
+    ASSERT_TRUE(crowd.add(d, &banded).isOk());
+    CrowdView never;
+    ASSERT_TRUE(never.init(crowd).isOk());
+    const auto lodOf = [&](uint32_t dense) {
+      std::vector<glm::uvec2> selection;
+      EXPECT_TRUE(renderer.readGpuSelection(CharacterId{}, &selection).isOk());
+      for (const glm::uvec2& s : selection)
+        if (s.x == dense) return int(s.y);
+      return -1;
+    };
+    DrawStats st;
+    for (int frame = 0; frame < 2; ++frame) {
+      ASSERT_TRUE(crowd.advance(0.1).isOk());
+      ASSERT_TRUE(renderer.drawCrowdGpuCulled(CharacterId{}, never, camera, &st).isOk());
+    }
+    ASSERT_EQ(lodOf(0), 1);
+    ASSERT_EQ(lodOf(2), 0);
+    ASSERT_TRUE(crowd.remove(far_one).isOk());  // The banded instance moves to dense 0.
+    ASSERT_TRUE(crowd.advance(0.1).isOk());
+    ASSERT_TRUE(renderer.drawCrowdGpuCulled(CharacterId{}, never, camera, &st).isOk());
+    EXPECT_EQ(st.view_seed_bytes, 0u);
+    EXPECT_EQ(lodOf(0), 0) << "went on from the removed instance's LOD";
+    EXPECT_EQ(lodOf(1), 0);
+    renderer.shutdown();
+  }
 }
 
 }  // namespace

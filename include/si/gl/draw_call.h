@@ -45,8 +45,8 @@ struct DrawStats {
   /// same frame uploaded it).
   uint64_t state_bytes_uploaded = 0;
   /// drawCrowdGpuCulled: bytes this draw staged to start its view's LODs over where other
-  /// instances sit since the last upload (churn). Views that never selected on the CPU hold
-  /// LOD 0 there and share one seed a frame: 0 for all but the first of them.
+  /// instances sit since the last upload (churn). 0 for views that never selected on the CPU:
+  /// the culling pass starts those places over at LOD 0 by itself.
   uint64_t view_seed_bytes = 0;
   /// Draws of overlays (RendererDesc::compose_layers): the compose pass's
   /// dispatches (0 when the draws walked the chains), and the instances drawCrowd's composed

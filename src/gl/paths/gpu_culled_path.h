@@ -150,11 +150,7 @@ class GpuCulledPath final : public DrawPath {
   std::vector<InstanceHandle> changed_handles_;
   std::vector<uint8_t> changed_bytes_;   // Exports past one staged chunk.
   std::vector<DenseRange> placed_runs_;  // Where instances were placed (swapped into placed_).
-  std::vector<uint32_t> seed_lods_;  // prepareView's, kept between frames.
-  // The placed seed of views that never selected on the CPU (their LODs all 0, so one seed
-  // serves them all), staged for upload zero_seed_upload_.
-  UploadRing::Staged zero_seed_;
-  uint64_t zero_seed_upload_ = 0;
+  std::vector<uint32_t> seed_lods_;      // prepareView's, kept between frames.
   const CrowdManager* crowd_ = nullptr;
   GLuint vertex_source_ = kNoObject;  // The vertex buffer the VAOs were made for.
 };

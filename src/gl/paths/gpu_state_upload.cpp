@@ -275,20 +275,17 @@ Status GpuCulledPath::prepareView(const PathFrame& f) {
     if (v.seeded_upload + 1 == uploads_ && placed_upload_ == uploads_) {
       // Where other instances sit since its last upload (those LODs alone: churn costs what
       // changed, not the crowd's size). A view that never selected on the CPU holds LOD 0
-      // everywhere: the views of that kind share one staged seed (the main view and shadow
-      // cascades, say: one copy on the CPU for them all).
-      const bool zeros = f.view->selectionCount() == 0;
-      if (zeros && zero_seed_upload_ == uploads_ &&
-          staging_->scatterAgain(zero_seed_, v.instances)) {
+      // everywhere, where the culling pass starts a place over by itself (it keeps the handle
+      // of the instance it saw there): the main view and shadow cascades, say, need no seed.
+      if (f.view->selectionCount() == 0) {
         v.seeded_upload = uploads_;
         return Status::ok();
       }
       size_t total = 0;
       for (const DenseRange& d : placed_) total += d.count;
       lods.assign(total, 0u);
-      if (!zeros) CrowdExport::lods(*f.view, placed_, lods.data());
-      s = v.seed(*staging_, lods, placed_, uploads_, zeros ? &zero_seed_ : nullptr);
-      if (zeros) zero_seed_upload_ = s.isOk() ? uploads_ : 0;
+      CrowdExport::lods(*f.view, placed_, lods.data());
+      s = v.seed(*staging_, lods, placed_, uploads_);
       seed_bytes_ = total * sizeof(glm::uvec2);
     } else {  // or everywhere.
       CrowdExport::lods(*f.view, &lods);

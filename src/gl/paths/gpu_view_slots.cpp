@@ -33,18 +33,19 @@ Status GpuViewSlot::ensureInstances(uint32_t count) {
 
 Status GpuViewSlot::seed(UploadRing& uploads, const std::vector<uint32_t>& lods, uint32_t count,
                          uint64_t upload) {
+  // cull.comp.glsl's SiViewInstances: handle 0 (a seed: whichever instance sits there), the
+  // LOD, not visible.
   std::vector<glm::uvec2> rows(count, glm::uvec2(0u));
-  for (size_t i = 0; i < rows.size() && i < lods.size(); ++i) rows[i].x = lods[i];
+  for (size_t i = 0; i < rows.size() && i < lods.size(); ++i) rows[i].y = lods[i];
   const Status s = uploads.upload(instances, rows.size() * sizeof(rows[0]), rows.data());
   if (s.isOk()) seeded_upload = upload;
   return s;
 }
 
 Status GpuViewSlot::seed(UploadRing& uploads, const std::vector<uint32_t>& lods,
-                         const std::vector<DenseRange>& ranges, uint64_t upload,
-                         UploadRing::Staged* staged) {
+                         const std::vector<DenseRange>& ranges, uint64_t upload) {
   std::vector<glm::uvec2> rows(lods.size());
-  for (size_t k = 0; k < lods.size(); ++k) rows[k] = glm::uvec2(lods[k], 0u);
+  for (size_t k = 0; k < lods.size(); ++k) rows[k] = glm::uvec2(0u, lods[k]);  // As above.
   std::vector<BufferPiece> pieces;
   pieces.reserve(ranges.size());
   size_t at = 0;
@@ -54,7 +55,7 @@ Status GpuViewSlot::seed(UploadRing& uploads, const std::vector<uint32_t>& lods,
                       rows.data() + at});
     at += r.count;
   }
-  const Status s = uploads.upload(instances, pieces, staged);
+  const Status s = uploads.upload(instances, pieces);
   if (s.isOk()) seeded_upload = upload;
   return s;
 }

@@ -27,8 +27,9 @@ struct GpuViewSlot {
   uint64_t view = 0;          // CrowdView::identity().
   uint64_t seeded_upload = 0; // The crowd upload its LODs and flags were seeded for.
   uint32_t last_frame = 0;    // The path frame (crowd step) it was last drawn in.
-  // Per instance (8 bytes, cull_common.glsl's SiViewInstance): the LOD before the view's bias
-  // and the visible-last-frame flag. `capacity` instances.
+  // Per instance (8 bytes, cull.comp.glsl's SiViewInstances): the handle it was kept for (0:
+  // seeded), the LOD before the view's bias and the visible-last-frame flag; the culling pass
+  // starts a place over itself where another instance sits. `capacity` instances.
   GLuint instances = kNoObject;
   uint32_t capacity = 0;
   // Motion vectors: per handle slot and frame parity, what this view drew (SiDrawn), created at
@@ -49,11 +50,9 @@ struct GpuViewSlot {
   Status seed(UploadRing& uploads, const std::vector<uint32_t>& lods, uint32_t count,
               uint64_t upload);
   /// The same for the instances of `ranges` only, `lods` holding theirs one range after the
-  /// other (CrowdExport::lods of the ranges); the others keep what they have. With `staged`,
-  /// where the seed lies in the ring (UploadRing::scatterAgain writes it into another view).
+  /// other (CrowdExport::lods of the ranges); the others keep what they have.
   Status seed(UploadRing& uploads, const std::vector<uint32_t>& lods,
-              const std::vector<DenseRange>& ranges, uint64_t upload,
-              UploadRing::Staged* staged = nullptr);
+              const std::vector<DenseRange>& ranges, uint64_t upload);
   /// Motion vectors: drawn records for at least `slots_needed` handle slots (room to grow: twice
   /// the last), all with the fallback. kLimitExceeded past `max_block_bytes`
   /// (GL_MAX_SHADER_STORAGE_BLOCK_SIZE).

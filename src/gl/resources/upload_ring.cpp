@@ -49,19 +49,18 @@ bool oneChunk(const std::vector<BufferPiece>& pieces, uint64_t limit) {
 
 }  // namespace
 
-Status UploadRing::upload(GLuint buffer, const std::vector<BufferPiece>& pieces, Staged* where) {
-  if (where != nullptr) *where = Staged{};
+Status UploadRing::upload(GLuint buffer, const std::vector<BufferPiece>& pieces) {
   uint64_t limit = 0;
   Status s = chunkLimit(&limit);
   if (!s.isOk()) return s;
   // In one chunk as given when it fits and no piece is empty (the loop below drops those).
-  if (oneChunk(pieces, limit)) return pieces.empty() ? Status::ok() : stage(buffer, pieces, where);
+  if (oneChunk(pieces, limit)) return pieces.empty() ? Status::ok() : stage(buffer, pieces);
   std::vector<BufferPiece> chunk;
   uint64_t staged = 0;
   for (BufferPiece p : pieces) {
     while (p.bytes > 0) {
       if (staged + 20 > limit) {  // No room for another entry and word: stage this chunk.
-        s = stage(buffer, chunk, nullptr);
+        s = stage(buffer, chunk);
         if (!s.isOk()) return s;
         chunk.clear();
         staged = 0;
@@ -74,13 +73,7 @@ Status UploadRing::upload(GLuint buffer, const std::vector<BufferPiece>& pieces,
       p.data = static_cast<const uint8_t*>(p.data) + take;
     }
   }
-  return chunk.empty() ? Status::ok() : stage(buffer, chunk, nullptr);
-}
-
-bool UploadRing::scatterAgain(const Staged& staged, GLuint buffer) {
-  if (!open_ || staged.count == 0 || staged.region_serial != region_serial_) return false;
-  scatter(staged, buffer);
-  return true;
+  return chunk.empty() ? Status::ok() : stage(buffer, chunk);
 }
 
 void UploadRing::scatter(const Staged& staged, GLuint buffer) {
@@ -125,7 +118,6 @@ Status UploadRing::open(const std::vector<BufferPiece>& pieces, uint8_t** bytes,
   if (open_ && cursor_ + need > ring_.writableBytes()) {
     ring_.finishFrame();  // Fenced after every scatter that reads it.
     open_ = false;
-    ++region_serial_;
   }
   if (!open_) {
     Status s = ring_.reserve(need);
@@ -147,11 +139,11 @@ Status UploadRing::open(const std::vector<BufferPiece>& pieces, uint8_t** bytes,
     at += n;
   }
   *bytes = reinterpret_cast<uint8_t*>(staged + count * 4);
-  *out = Staged{base, staged_words, words, count, grid.x, grid.y, region_serial_};
+  *out = Staged{base, staged_words, words, count, grid.x, grid.y};
   return Status::ok();
 }
 
-Status UploadRing::stage(GLuint buffer, const std::vector<BufferPiece>& pieces, Staged* out) {
+Status UploadRing::stage(GLuint buffer, const std::vector<BufferPiece>& pieces) {
   uint8_t* bytes = nullptr;
   Staged chunk;
   Status s = open(pieces, &bytes, &chunk);
@@ -166,14 +158,12 @@ Status UploadRing::stage(GLuint buffer, const std::vector<BufferPiece>& pieces, 
     bytes += n;
   }
   finish(chunk, buffer);
-  if (out != nullptr) *out = chunk;
   return Status::ok();
 }
 
 void UploadRing::release() {
   ring_.release();
   configured_ = open_ = false;
-  ++region_serial_;
 }
 
 }  // namespace si::detail

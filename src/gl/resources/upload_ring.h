@@ -71,30 +71,22 @@ class UploadRing {
   static constexpr uint64_t kChunkBytes = 4u << 20;
   /// The scatter program (ProgramId::kUploadScatter) and the context's limits; before upload().
   void prepare(GLuint scatter_program, const GlInfo& info);
-  /// Where an upload staged in one chunk lies in the ring (count 0: nowhere), for
-  /// scatterAgain().
+  /// Where an upload staged in one chunk lies in the ring (count 0: nowhere).
   struct Staged {
     size_t base = 0;
     uint64_t staged_words = 0, words = 0;
     uint32_t count = 0, grid_x = 0, grid_y = 0;
-    uint64_t region_serial = 0;
   };
   /// Writes each piece into `buffer` after the commands already issued (and issues a storage
   /// barrier, so later passes read them), in chunks of at most kChunkBytes staged. Uses storage
   /// bindings 0 and 1. kBackend when the staging ring cannot be mapped or its region is not
   /// free within RecordRing's wait; kLimitExceeded when a chunk's scatter passes the compute
-  /// grid. Chunks written before a failure stay written. With `staged`, where the upload lies
-  /// when it took one chunk (else count 0). The pieces' data are copied in stretches: pieces
-  /// whose data follow each other in memory cost one copy.
-  Status upload(GLuint buffer, const std::vector<BufferPiece>& pieces, Staged* staged = nullptr);
+  /// grid. Chunks written before a failure stay written. The pieces' data are copied in
+  /// stretches: pieces whose data follow each other in memory cost one copy.
+  Status upload(GLuint buffer, const std::vector<BufferPiece>& pieces);
   Status upload(GLuint buffer, size_t bytes, const void* data) {
     return upload(buffer, std::vector<BufferPiece>{{0, bytes, data}});
   }
-  /// Writes what `staged` holds into `buffer` as well (the same pieces, as upload() placed
-  /// them), with no copy on the CPU: what several views' equal seeds share. False, with
-  /// nothing issued, once its region was closed since (the bytes may be overwritten): upload
-  /// again then.
-  bool scatterAgain(const Staged& staged, GLuint buffer);
   /// Stages `pieces` (their data ignored) in one chunk for the caller to write: their bytes go
   /// to `*bytes`, packed one piece after another, and finish() then scatters them into
   /// `buffer`. So an export writes straight into the ring, with no copy of its own (the
@@ -110,7 +102,7 @@ class UploadRing {
 
  private:
   // One chunk: each piece's 16-byte table entry, then the bytes, scattered by one dispatch.
-  Status stage(GLuint buffer, const std::vector<BufferPiece>& pieces, Staged* out);
+  Status stage(GLuint buffer, const std::vector<BufferPiece>& pieces);
   // The table of a chunk written into the open region, and where its bytes go.
   Status open(const std::vector<BufferPiece>& pieces, uint8_t** bytes, Staged* out);
   // The staging ring's limit of one chunk (a multiple of 4), or kLimitExceeded.
@@ -125,7 +117,6 @@ class UploadRing {
   // The region chunks are packed into (open_), from ring byte region_, cursor_ bytes used.
   size_t region_ = 0, cursor_ = 0;
   bool configured_ = false, open_ = false;
-  uint64_t region_serial_ = 1;  // Counts closed regions: a Staged of an older one is stale.
 };
 
 template <class Write>

@@ -19,8 +19,11 @@ layout(location = 28) uniform uint u_lod_bias;  // The view's: drawn LOD = min(l
 layout(location = 29) uniform uint u_drawn_parts[8];
 // CrowdDesc::impostor_lod (0: none): an instance there joins one bucket, sub-mesh 0's.
 layout(location = 37) uniform uint u_impostor_lod;
-// The view's own state per instance (src/gl/paths/gpu_view_slots.h): x its LOD before the
-// bias (hysteresis), y visible at the end of its last frame (occlusion culling), 0 or 1.
+// The view's own state per instance (src/gl/paths/gpu_view_slots.h): x the handle of the
+// instance it was kept for (0: a seed, whichever instance sits there), y its LOD before the bias
+// (hysteresis, bits 0-15) and whether it was visible at the end of its last frame (occlusion
+// culling, bit 16). Where another instance sits now (removed, added, moved by a removal) the
+// view starts over: LOD 0, not visible; so churn needs no seed for views at LOD 0.
 layout(std430, binding = 16) buffer SiViewInstances { uvec2 si_view[]; };
 // Occlusion culling: 0 off; 1 the first phase (instances visible last frame); 2 the second
 // (every instance in the frustum tested against the pyramid of what the first phase drew:
@@ -196,7 +199,9 @@ void main() {
     if (!(da >= -ra) && !(db >= -rb)) return;
   }
   uint lods = u_counts.y;
-  uint lod = min(si_view[i].x, lods - 1u);
+  uvec2 kept = si_view[i];
+  if (kept.x != 0u && kept.x != st.handle) kept.y = 0u;  // Another instance: start over.
+  uint lod = min(kept.y & 0xFFFFu, lods - 1u);
   while (lod + 1u < lods) {
     precise float line = u_lines[lod] * (1.0 + u_params.z) * radius;
     if (!(d2 > line * line)) break;
@@ -207,13 +212,14 @@ void main() {
     if (!(d2 < line * line)) break;
     --lod;
   }
-  si_view[i].x = lod;  // Applying the hysteresis again in the second phase changes nothing.
-  if (u_occlusion_phase == 1u && si_view[i].y == 0u) return;
+  // Applying the hysteresis again in the second phase changes nothing.
+  uint drawn = kept.y >> 16;
+  si_view[i] = uvec2(st.handle, lod | (drawn << 16));
+  if (u_occlusion_phase == 1u && drawn == 0u) return;
   if (u_occlusion_phase == 2u) {
     bool occluded = siOccluded(rel, st.rotation, s, ca.box_min.xyz, ca.box_max.xyz) &&
                     (!two_bounds || siOccluded(rel, st.rotation, s, box_b_min, box_b_max));
-    uint drawn = si_view[i].y;
-    si_view[i].y = occluded ? 0u : 1u;
+    si_view[i].y = lod | ((occluded ? 0u : 1u) << 16);
     if (occluded || drawn != 0u) return;
   }
   lod = min(lod + u_lod_bias, lods - 1u);  // The drawn LOD (CrowdViewDesc::lod_bias).
