@@ -14,6 +14,20 @@ namespace {
 
 using namespace test;
 
+// Lines at 20 and 60 units, wide hysteresis (16-24, 48-72 units): an instance's LOD there
+// depends on where it came from.
+CrowdDesc bandedCrowd(const BakedPalette& palette) {
+  CrowdDesc cd;
+  cd.palette = &palette;
+  cd.sub_mesh_count = 4;
+  cd.lod_count = 3;
+  cd.character_radius = 1.0f;
+  cd.lod_distances_radii = {20.0f, 60.0f};
+  cd.lod_hysteresis_ratio = 0.2f;
+  cd.max_distance_radii = -1.0f;
+  return cd;
+}
+
 TEST_P(RenderTest, ChangedStateUploadsDrawWhatWholeUploadsDraw) {
   struct Drawer {
     GpuStateUpload upload;
@@ -33,17 +47,8 @@ TEST_P(RenderTest, ChangedStateUploadsDrawWhatWholeUploadsDraw) {
     CharacterId id;
     ASSERT_TRUE(d.renderer.addCharacter(character(), palette(), &id).isOk());
   }
-  // Lines at 20 and 60 units, wide hysteresis (16-24, 48-72 units): an instance's LOD there
-  // depends on where it came from.
   CrowdManager crowd;
-  CrowdDesc cd;
-  cd.palette = &palette();
-  cd.sub_mesh_count = 4;
-  cd.lod_count = 3;
-  cd.character_radius = 1.0f;
-  cd.lod_distances_radii = {20.0f, 60.0f};
-  cd.lod_hysteresis_ratio = 0.2f;
-  cd.max_distance_radii = -1.0f;
+  const CrowdDesc cd = bandedCrowd(palette());
   ASSERT_TRUE(crowd.init(cd).isOk());
   const uint32_t clips = uint32_t(palette().clips.size());
   std::vector<InstanceHandle> handles;
@@ -336,14 +341,7 @@ TEST_P(RenderTest, AnUnseededViewStartsOverWhereAnotherInstanceSits) {
     Renderer renderer;
     makeRenderer(&renderer, 0, PaletteFormat::kMatrix3x4F32, &rd);
     CrowdManager crowd;
-    CrowdDesc cd;
-    cd.palette = &palette();
-    cd.sub_mesh_count = 4;
-    cd.lod_count = 3;
-    cd.character_radius = 1.0f;
-    cd.lod_distances_radii = {20.0f, 60.0f};  // Bands 16-24 and 48-72 units.
-    cd.lod_hysteresis_ratio = 0.2f;
-    cd.max_distance_radii = -1.0f;
+    const CrowdDesc cd = bandedCrowd(palette());
     ASSERT_TRUE(crowd.init(cd).isOk());
     // Dense 0: 40 units away (LOD 1); 1: 6 units (LOD 0); 2: 20 units, in the band (LOD 0).
     const Camera camera = Camera::lookAt({0.0, 0.0, 0.0}, {0.0, 0.0, -30.0}, glm::vec3(0, 1, 0),
