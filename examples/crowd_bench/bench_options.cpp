@@ -92,7 +92,9 @@ void printUsage(std::FILE* f) {
       "                   [--churn F,F,...] (the churn table: a share F removed and added each\n"
       "                   frame, GPU-driven in 4 views, against none)\n"
       "                   [--no-gpu-time] (no blocking timer queries: CPU columns only;\n"
-      "                   GPU ms and the GPU-culled path's visible count read -1 / 0)\n");
+      "                   GPU ms and the GPU-culled path's visible count read -1 / 0)\n"
+      "                   [--gpu-passes] (the paths table's GPU time per pass, read a frame\n"
+      "                   late, with the bytes moved; its CSV beside --csv as NAME_passes.csv)\n");
 }
 
 bool parseOptions(int argc, char** argv, Options* o) {
@@ -150,6 +152,8 @@ bool parseOptions(int argc, char** argv, Options* o) {
                   std::string(SI_BENCH_ASSETS) + "/CesiumMan/glTF-Binary/CesiumMan.glb"};
     }
     else if (a == "--no-gpu-time") o->gpu_timer = false;
+    else if (a == "--gpu-passes")
+      o->gpu_passes = true;
     else if (a == "--root-motion") o->root_motion = true;
     else if (a == "--motion-vectors") o->motion_vectors = true;
     else if (a == "--restore-state") o->restore_state = true;

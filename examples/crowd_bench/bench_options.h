@@ -46,6 +46,7 @@ struct Options {
   std::string plots;  // Folder for PNG plots (gnuplot), empty for none.
   bool quick = false;  // Fixed-rate bakes only (smoke tests under sanitizers).
   bool gpu_timer = true;  // Timer queries (they block each frame); off: CPU figures only.
+  bool gpu_passes = false;  // --gpu-passes: the paths table's GPU time per pass, a frame late.
   si::HeadlessBackend backend = si::HeadlessBackend::kAuto;
   std::vector<std::string> mix;  // glTF kinds of the mixed table; empty: no mixed table.
   bool root_motion = false;      // The root motion table.

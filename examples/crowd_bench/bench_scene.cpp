@@ -6,6 +6,7 @@
 #include <cmath>
 #include <cstdio>
 
+#include "crowd_bench/gpu_passes_table.h"
 #include "si/crowd/crowd_manager.h"
 #include "si/crowd/instance_batcher.h"
 
@@ -163,22 +164,32 @@ Status timeCrowd(Setup& setup, Renderer& renderer, CrowdManager& crowd, const st
   if (!s.isOk()) return s;
   row->path = path;
   row->instances = uint32_t(places.size());
-  return timeFrames(
+  PassCollector passes(renderer);
+  uint32_t frame = 0;
+  const Status timed = timeFrames(
       setup, scene, places, step ? step : StepFrame([&](const Camera& cam) {
         return stepCrowd(crowd, path, cam, 1.0 / 60.0);
       }),
       [&](const Camera& cam, DrawStats* st, uint32_t* visible) {
         const Status drawn = drawPath(renderer, crowd, batcher, path, cam, st);
         *visible = isGpuSelected(path) ? st->gpu_visible : crowd.view().stats().visible;
+        if (frame++ >= kWarmupFrames) {  // Measured frames only.
+          passes.add(st->gpu_pass_ticket);
+          row->last = *st;
+        }
         return drawn;
       },
       row);
+  passes.finish(&row->pass_ms, &row->pass_total_ms);
+  row->passes_read = passes.read();
+  row->passes_read_late = passes.readLate();
+  return timed;
 }
 
 Status timeFrames(const Setup& setup, const std::string& scene,
                   const std::vector<glm::dvec3>& places, const StepFrame& step,
                   const DrawFrame& draw, Row* row) {
-  const uint32_t warmup = 2, n = setup.frames;
+  const uint32_t warmup = kWarmupFrames, n = setup.frames;
   std::vector<double> update_ms_v, submit_ms_v, gpu_ms_v;
   Status s;
   for (uint32_t f = 0; f < warmup + n && s.isOk(); ++f) {
@@ -212,7 +223,7 @@ Status timePaired(Setup& setup, Renderer& renderer, const BakedPalette& palette,
   InstanceBatcher batcher;
   if (s.isOk()) s = batcher.init(renderer.batchLimits());
   std::vector<double> update, submit[2], gpu[2];
-  const uint32_t warmup = 2, n = setup.frames;
+  const uint32_t warmup = kWarmupFrames, n = setup.frames;
   for (uint32_t f = 0; f < warmup + n && s.isOk(); ++f) {
     const Camera cam = cameraAt(setup, "field", places, f < warmup ? 0 : f - warmup, n);
     const auto t0 = Clock::now();

@@ -35,6 +35,7 @@ struct Setup {
   uint32_t supersample = 1;  ///< The display is width/supersample x height/supersample: the
                              ///< pixels that LOD budgets are counted in.
   uint32_t frames = 0;              ///< Measured frames per configuration (after 2 warm-up).
+  bool gpu_passes = false;          ///< --gpu-passes: timeCrowd reads each pass's GPU time.
 };
 
 /// How LODs are chosen: the technique's distance lines, or a projected-error pixel budget.
@@ -87,6 +88,13 @@ struct Row {
   uint32_t instances = 0, visible = 0, draws = 0;
   double triangles = 0, update_ms = 0, submit_ms = 0, gpu_ms = 0;  // Medians over the frames.
   uint64_t covered_pixels = 0;  ///< Of the last frame: pixels not of the clear colour.
+  /// --gpu-passes (timeCrowd): medians of the GPU time by si::GpuPass and of its total; how
+  /// many draws were read and how many of them a frame late without waiting; the last
+  /// measured frame's statistics.
+  std::vector<double> pass_ms;
+  double pass_total_ms = 0;
+  uint32_t passes_read = 0, passes_read_late = 0;
+  DrawStats last;
 };
 
 /// The frame loop every timed table shares: 2 warm-up frames, then setup.frames measured ones
@@ -94,6 +102,7 @@ struct Row {
 /// timed as the update) then `draw(camera, &stats, &visible)` (clear and draw, summing its
 /// statistics into `stats`). `row` gets the medians of the update, submit and GPU times and
 /// the last frame's visible instances, draw calls and triangles. Stops at the first error.
+constexpr uint32_t kWarmupFrames = 2;
 using StepFrame = std::function<Status(const Camera&)>;
 using DrawFrame = std::function<Status(const Camera&, DrawStats*, uint32_t* visible)>;
 Status timeFrames(const Setup& setup, const std::string& scene,

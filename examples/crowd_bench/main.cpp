@@ -20,6 +20,7 @@
 #include "crowd_bench/blend_props_table.h"
 #include "crowd_bench/churn_table.h"
 #include "crowd_bench/crowds_table.h"
+#include "crowd_bench/gpu_passes_table.h"
 #include "crowd_bench/layers_table.h"
 #include "crowd_bench/live_poses_table.h"
 #include "crowd_bench/lod_quality.h"
@@ -57,6 +58,13 @@ LodChoice lodChoice(const std::string& name, float budget) {
 }
 
 // Writes the gnuplot script next to the plots and runs gnuplot on it; false when it cannot.
+// The pass table's CSV beside the main one: name.csv -> name_passes.csv.
+std::string passesCsvPath(const std::string& csv) {
+  const size_t dot = csv.rfind(".csv");
+  return (dot != std::string::npos && dot + 4 == csv.size() ? csv.substr(0, dot) : csv) +
+         "_passes.csv";
+}
+
 // The paths table: each scene, size, path and LOD mode; returns max(CPU, GPU) ms per frame of
 // the first scene's rows by "path/lod" and size for the plot.
 bool pathsTable(Bench& b, si::Renderer& renderer, const si::BakedPalette& palette, std::FILE* csv,
@@ -64,6 +72,7 @@ bool pathsTable(Bench& b, si::Renderer& renderer, const si::BakedPalette& palett
   std::printf("\n%-8s %-11s %-11s %9s %9s %6s %12s %7s %9s %9s %9s %8s %8s\n", "scene", "path",
               "lod", "instances", "visible", "draws", "triangles", "tri/px", "update", "submit",
               "GPU ms", "CPU x", "GPU x");
+  std::vector<Row> all;  // Every row, for the pass table.
   for (const std::string& scene : b.o.scenes) {
     for (uint32_t count : b.o.sizes) {
       std::vector<Row> rows;
@@ -96,8 +105,10 @@ bool pathsTable(Bench& b, si::Renderer& renderer, const si::BakedPalette& palett
         if (r.scene == b.o.scenes.front())
           (*frame_ms)[r.path + "/" + r.lod][r.instances] = std::max(cpu, r.gpu_ms);
       }
+      all.insert(all.end(), rows.begin(), rows.end());
     }
   }
+  if (b.o.gpu_passes) si::bench::printPassTable(all, passesCsvPath(b.o.csv).c_str());
   return true;
 }
 
@@ -193,6 +204,7 @@ int main(int argc, char** argv) {
   si::Renderer renderer;
   si::RendererDesc rd;
   rd.measure_gpu_time = b.o.gpu_timer;
+  rd.measure_gpu_passes = b.setup.gpu_passes = b.o.gpu_passes;
   rd.debug_checks = 2;
   rd.morph_lod_share = b.o.morph_lod_share;
   if (s.isOk()) s = renderer.init(b.setup.info, rd);

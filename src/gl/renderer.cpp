@@ -119,6 +119,7 @@ void Renderer::shutdown() {
   m.drawn.clear();
   m.scratch.release();
   m.timer.release();
+  m.pass_timer.release();
   m.programs.release();
   impl_.reset();
 }
@@ -353,6 +354,12 @@ Status Renderer::drawCrowdGpuCulled(CharacterId id, const CrowdView& view, const
   if (s.isOk()) s = m.check("drawCrowdGpuCulled");
   if (stats != nullptr) *stats = st;
   return s;
+}
+
+Status Renderer::readGpuPasses(uint64_t ticket, GpuPassTimes* out) const {
+  if (!impl_ || out == nullptr)
+    return {StatusCode::kInvalidArgument, "readGpuPasses: init() first, non-null output"};
+  return impl_->pass_timer.read(ticket, out);
 }
 
 Status Renderer::readGpuSelection(CharacterId id, std::vector<glm::uvec2>* selection) {

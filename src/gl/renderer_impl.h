@@ -20,6 +20,7 @@
 #include "gl/programs/program_set.h"
 #include "gl/resources/drawn_regions.h"
 #include "gl/resources/gpu_timer.h"
+#include "gl/resources/pass_timer.h"
 #include "gl/resources/record_ring.h"
 #include "gl/resources/scratch_buffers.h"
 #include "gl/state/debug_chain.h"
@@ -40,6 +41,7 @@ struct Renderer::Impl {
   detail::DrawnRegions drawn;  // drawCrowd's recent records, read as previous ones.
   detail::ScratchBuffers scratch;
   detail::GpuTimer timer;
+  detail::PassTimer pass_timer;  // RendererDesc::measure_gpu_passes.
   detail::VertexShaderPath vertex_path;
   detail::TraditionalPath traditional_path;
   std::vector<std::unique_ptr<detail::CharacterSlot>> characters;  // CharacterId::index order.
@@ -204,6 +206,7 @@ struct Renderer::Impl {
     r.custom_texture = custom_texture;
     r.custom_layers = custom_layers;
     r.impostor = &c.impostor;
+    r.passes = desc.measure_gpu_passes ? &pass_timer : nullptr;
     return r;
   }
 
@@ -241,14 +244,24 @@ struct Renderer::Impl {
   Status runPath(detail::CharacterSlot& c, detail::DrawPath& p, const detail::PathFrame& frame,
                  std::chrono::steady_clock::time_point t0, bool timed, DrawStats* st,
                  Guard& guard) {
-    const detail::DrawResources r = resources(c);
+    detail::DrawResources r = resources(c);
+    // Pass times (the uploads' included) for draws that return stats, ended whatever happens.
+    if (r.passes != nullptr && timed)
+      st->gpu_pass_ticket = pass_timer.begin(kGpuPassTickets);
+    else
+      r.passes = nullptr;
     Status s = p.uploadFrame(r, frame);
-    if (!s.isOk()) return s;
+    detail::markPass(r, GpuPass::kUpload);
+    if (!s.isOk()) {
+      pass_timer.end(GpuPass::kUpload);
+      return s;
+    }
     timer.begin(desc.measure_gpu_time && timed);
     // A double-sided material's back faces are drawn (the surface turns their normal).
     if (c.character.double_sided) glDisable(GL_CULL_FACE);
     s = p.draw(r, frame, st);
     if (c.character.double_sided) glEnable(GL_CULL_FACE);
+    pass_timer.end(GpuPass::kDraw);
     timer.stop();
     guard.reset();
     st->cpu_submit_ms = detail::msSince(t0);  // Before the (blocking) timer read.

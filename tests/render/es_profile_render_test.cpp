@@ -284,6 +284,9 @@ TEST_P(EsRenderTest, RefusesWhatEs30LacksByName) {
     rd = RendererDesc();
     rd.measure_gpu_time = true;
     refused(r.init(info_, rd), "timer queries");
+    rd = RendererDesc();
+    rd.measure_gpu_passes = true;
+    refused(r.init(info_, rd), "timer queries (RendererDesc::measure_gpu_passes)");
   }
   RendererDesc automatic;
   automatic.skinning_path = SkinningPath::kAutomatic;

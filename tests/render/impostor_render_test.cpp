@@ -69,6 +69,7 @@ TEST_P(RenderTest, ImpostorsDrawTheInstancedPathsImageOnTheGpuDrivenPath) {
     RendererDesc rd;
     rd.skinning_path = path;
     rd.measure_gpu_time = true;  // The GPU-driven path reads back its counts.
+    rd.measure_gpu_passes = true;
     ASSERT_TRUE(r->init(info_, rd).isOk());
     CharacterId id;
     ASSERT_TRUE(r->addCharacter(impostorCharacter(), palette(), &id).isOk());
@@ -100,6 +101,18 @@ TEST_P(RenderTest, ImpostorsDrawTheInstancedPathsImageOnTheGpuDrivenPath) {
                         {"gpu-driven compute", &cs, Path::kInstanced, true,
                          DrawMode::kComputeSkinned}},
                        crowd, lodCamera(), reference, reference_stats);
+  // Their GPU time is a pass of its own (RendererDesc::measure_gpu_passes) on both kinds of path.
+  DrawStats gpu_driven;
+  ASSERT_TRUE(vs.drawCrowdGpuCulled(CharacterId{}, crowd.view(), lodCamera(), &gpu_driven).isOk());
+  std::vector<uint8_t> image;
+  ASSERT_TRUE(context_->readPixels(&image).isOk());
+  for (const uint64_t ticket : {reference_stats.gpu_pass_ticket, gpu_driven.gpu_pass_ticket}) {
+    GpuPassTimes t;
+    ASSERT_TRUE(vs.readGpuPasses(ticket, &t).isOk());
+    EXPECT_TRUE(t.ready);
+    EXPECT_GT(t.at(GpuPass::kImpostors), 0.0);
+    EXPECT_GT(t.at(GpuPass::kDraw), 0.0);
+  }
 }
 
 // An impostor shows its clip's frames, so an instance holding a live pose is drawn as a mesh

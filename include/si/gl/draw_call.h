@@ -33,6 +33,9 @@ struct DrawStats {
   uint64_t instances = 0;           ///< Instance-draws (an instance counts once per sub-mesh).
   double cpu_submit_ms = 0.0;       ///< CPU time spent in the draw function (records and GL calls).
   double gpu_ms = -1.0;             ///< GPU time, when RendererDesc::measure_gpu_time, else -1.
+  /// With RendererDesc::measure_gpu_passes: what Renderer::readGpuPasses reads this draw's GPU
+  /// time per pass with, a frame or more later (si/gl/gpu_passes.h); 0 without.
+  uint64_t gpu_pass_ticket = 0;
   uint32_t compute_dispatches = 0;  ///< Compute path: skinning dispatches,
   uint32_t compute_chunks = 0;      ///< times the vertex ring was filled and drawn,
   uint64_t skinned_vertices = 0;    ///< vertices pre-skinned,

@@ -53,6 +53,7 @@
 #include "si/gl/draw_call.h"
 #include "si/gl/gl_context.h"
 #include "si/gl/gpu_memory.h"
+#include "si/gl/gpu_passes.h"
 #include "si/gl/impostor.h"
 #include "si/gl/material.h"
 #include "si/gl/renderer_desc.h"
@@ -252,6 +253,15 @@ class Renderer {
   /// back: (dense index, LOD) per visible instance in no particular order (dense index i is
   /// CrowdExport::state()'s instance i).
   Status readGpuSelection(CharacterId character, std::vector<glm::uvec2>* selection);
+
+  /// The GPU time per pass of the draw that gave `ticket` (DrawStats::gpu_pass_ticket, with
+  /// RendererDesc::measure_gpu_passes), without waiting: out->ready is false while the GPU has
+  /// not finished it (read again a frame later). The renderer keeps the last kGpuPassTickets
+  /// draws' stamps. kInvalidArgument before init(), for a null output or a ticket it never gave;
+  /// kNotFound for a ticket older than the last kGpuPassTickets draws (its stamps reused).
+  Status readGpuPasses(uint64_t ticket, GpuPassTimes* out) const;
+  /// The draws whose pass times readGpuPasses() keeps.
+  static constexpr uint32_t kGpuPassTickets = 64;
 
   /// The renderer's GPU memory by what holds it (si/gl/gpu_memory.h): shared rings, each
   /// character, each GPU-driven crowd. Context current. kInvalidArgument before init() or for

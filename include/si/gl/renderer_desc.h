@@ -81,6 +81,10 @@ struct RendererDesc {
   /// Measure GPU time of each draw call group with a timer query (blocks until the result is
   /// available: for benchmarks and tests).
   bool measure_gpu_time = false;
+  /// Stamp each pass of every draw that returns stats with GPU timestamps, read later without
+  /// waiting (si/gl/gpu_passes.h: DrawStats::gpu_pass_ticket, Renderer::readGpuPasses). Costs
+  /// a few timestamp queries a draw. Desktop GL only: init() refuses it on the ES profile.
+  bool measure_gpu_passes = false;
   /// The skinning path of DrawMode::kDefault. kAutomatic (the default) times both paths on a
   /// synthetic crowd of about 2^20 vertices of the uploaded character at addCharacter()
   /// (offscreen; milliseconds on a GPU, about 2 s on llvmpipe) and logs the choice with its

@@ -46,7 +46,11 @@ Status ComputePath::draw(const DrawResources& r, const PathFrame& f, DrawStats* 
   if (!s.isOk()) return s;
   const PreSkinLists& lists = *r.preskin;
   const Program& skin = r.programs[preSkinningProgram(false, f.motion, f.layers, f.composed)];
-  if (f.composed) composeLayers(r, f, st);  // Masked joints once a record (layer_compose_pass.h).
+  // Masked joints once a record (layer_compose_pass.h).
+  if (f.composed) {
+    composeLayers(r, f, st);
+    markPass(r, GpuPass::kCompose);
+  }
   const Program& pulled = r.programs[pullingProgram(false, f.motion, lists.tangents)];
   if (f.motion) {
     s = r.scratch->compute_previous_ring.ensure(r.scratch->compute_ring.vertices, true,
@@ -69,6 +73,7 @@ Status ComputePath::draw(const DrawResources& r, const PathFrame& f, DrawStats* 
   pending_.clear();
   const auto flush = [&] {
     if (pending_.empty()) return;
+    markPass(r, GpuPass::kSkin);
     glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT);  // Skinned vertices before the draws.
     glUseProgram(pulled.id);
     for (const PendingDraw& p : pending_) {
@@ -85,6 +90,7 @@ Status ComputePath::draw(const DrawResources& r, const PathFrame& f, DrawStats* 
       st->triangles += uint64_t(p.lod.index_count / 3) * p.instances;
       st->instances += p.instances;
     }
+    markPass(r, GpuPass::kDraw);
     st->ring_bytes_used = std::max<uint64_t>(st->ring_bytes_used, cursor * 16);
     ++st->compute_chunks;
     pending_.clear();

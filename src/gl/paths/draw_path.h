@@ -14,6 +14,7 @@
 #include "gl/resources/drawn_regions.h"
 #include "gl/resources/impostor_atlas.h"
 #include "gl/resources/palette_texture.h"
+#include "gl/resources/pass_timer.h"
 #include "gl/resources/preskin_lists.h"
 #include "gl/resources/record_ring.h"
 #include "gl/resources/ring_frame.h"
@@ -45,7 +46,15 @@ struct DrawResources {
   uint32_t custom_layers = 0;
   /// The character's impostor atlas (Renderer::buildImpostor; not ready when none was built).
   const ImpostorAtlas* impostor = nullptr;
+  /// The renderer's pass timer (RendererDesc::measure_gpu_passes; null when off): paths stamp
+  /// the end of each pass they tell apart (markPass).
+  PassTimer* passes = nullptr;
 };
+
+/// Ends GPU pass `pass` of the draw (resources/pass_timer.h) when passes are timed.
+inline void markPass(const DrawResources& r, GpuPass pass) {
+  if (r.passes != nullptr) r.passes->mark(pass);
+}
 
 /// One frame's inputs.
 struct PathFrame {

@@ -239,6 +239,7 @@ Status GpuCulledPath::draw(const DrawResources& r, const PathFrame& f, DrawStats
   const bool far_is_max = reversed == (range[1] < range[0]);
   DepthPyramid& pyramid = view_->pyramid;
   Status s = pyramid.build(*r.programs.set, far_is_max);
+  markPass(r, GpuPass::kDepthPyramid);
   if (!s.isOk()) return s;
   const GLuint cull = r.programs[ProgramId::kCull].id;
   glProgramUniform3i(cull, 22, pyramid.width(), pyramid.height(), pyramid.levels());
@@ -304,20 +305,25 @@ void GpuCulledPath::runPasses(const DrawResources& r, const PathFrame& f, uint32
   glUseProgram(cull);
   // uploadFrame() checked that the instances' groups fit (dispatchGroups cannot fail here).
   (void)dispatchGroups(*r.info, (uint64_t(n) + 63) / 64, "drawCrowdGpuCulled: the cull pass");
+  markPass(r, GpuPass::kCull);
   glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT);
   glUseProgram(commands);
   glDispatchCompute(1, 1, 1);
+  markPass(r, GpuPass::kCommands);
   glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT | GL_COMMAND_BARRIER_BIT);
   glUseProgram(scatter);
   glBindBuffer(GL_DISPATCH_INDIRECT_BUFFER, counters_);
   glDispatchComputeIndirect(GLintptr(kDispatchWord) * 4);
+  markPass(r, GpuPass::kScatter);
   glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT | GL_COMMAND_BARRIER_BIT);
   glBindBuffer(GL_DRAW_INDIRECT_BUFFER, commands_);
   // The skinning passes read the mask table where the command pass read the ranges.
   if (layers_) glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 8, r.scratch->mask_table.buffer);
   const bool composed = compose_stride_ > 0;
-  if (composed)
+  if (composed) {
     composeGpuLayers(r, motion_, compose_stride_, n, extraBase(), previousExtraBase(), st);
+    markPass(r, GpuPass::kCompose);
+  }
   if (f.preskin) {
     // Every pre-skinned entry's vertices into the ring, then one vertex-pulling multi-draw.
     const Program& skin = r.programs[preSkinningProgram(true, motion_, layers_, composed)];
@@ -325,6 +331,7 @@ void GpuCulledPath::runPasses(const DrawResources& r, const PathFrame& f, uint32
     r.palette->bind();
     glProgramUniform2ui(skin.id, 6, 0u, r.preskin->drawLayout());
     glDispatchComputeIndirect(GLintptr(kSkinDispatchWord) * 4);
+    markPass(r, GpuPass::kSkin);
     glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT);
     const Program& pulled =
         r.programs[f.depth_only ? ProgramId::kGpuPulledDepthOnly
@@ -346,6 +353,7 @@ void GpuCulledPath::runPasses(const DrawResources& r, const PathFrame& f, uint32
   glBindVertexArray(vao_);
   glMultiDrawElementsIndirect(GL_TRIANGLES, GL_UNSIGNED_INT, nullptr, GLsizei(buckets_), 0);
   ++st->draw_calls;
+  markPass(r, GpuPass::kDraw);
   drawImpostorsIndirect(r, f, vao_, kImpostorCommand, st);
 }
 

@@ -27,6 +27,7 @@ void drawImpostorBatches(const DrawResources& r, const PathFrame& f, bool depth_
   for (const DrawBatch& d : *f.batches) {
     if (d.lod != f.impostor_lod || d.sub_mesh != 0) continue;
     if (!bound) {
+      markPass(r, GpuPass::kDraw);  // The meshes drawn before.
       useImpostorProgram(r, f, id);
       if (depth_only) glColorMask(GL_FALSE, GL_FALSE, GL_FALSE, GL_FALSE);
       bindSlotHandles(r, f);
@@ -40,6 +41,7 @@ void drawImpostorBatches(const DrawResources& r, const PathFrame& f, bool depth_
     st->instances += d.instance_count;
   }
   if (bound && depth_only) glColorMask(GL_TRUE, GL_TRUE, GL_TRUE, GL_TRUE);
+  if (bound) markPass(r, GpuPass::kImpostors);
 }
 
 void drawImpostorsIndirect(const DrawResources& r, const PathFrame& f, GLuint vao,
@@ -52,6 +54,7 @@ void drawImpostorsIndirect(const DrawResources& r, const PathFrame& f, GLuint va
   glDrawArraysIndirect(GL_TRIANGLE_STRIP, reinterpret_cast<const void*>(command));
   if (f.depth_only) glColorMask(GL_TRUE, GL_TRUE, GL_TRUE, GL_TRUE);
   ++st->draw_calls;
+  markPass(r, GpuPass::kImpostors);
 }
 
 }  // namespace si::detail

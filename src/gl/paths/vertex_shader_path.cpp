@@ -11,7 +11,10 @@ Status VertexShaderPath::draw(const DrawResources& r, const PathFrame& f, DrawSt
   const bool depth_only = f.program == ProgramId::kDepthOnly ||
                           f.program == ProgramId::kDepthOnlyLayers ||
                           f.program == ProgramId::kDepthOnlyComposed;
-  if (f.composed) composeLayers(r, f, st);
+  if (f.composed) {
+    composeLayers(r, f, st);
+    markPass(r, GpuPass::kCompose);
+  }
   const Program& program = r.programs[f.program];
   bindShading(r, program, f.camera, f.light);
   setMotionUniforms(program, f);

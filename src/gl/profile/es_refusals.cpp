@@ -19,6 +19,8 @@ Status esRefusesDesc(const RendererDesc& desc) {
     return esUnsupported(what, "motion-vector programs (RendererDesc::motion_vectors)");
   if (desc.measure_gpu_time)
     return esUnsupported(what, "timer queries (RendererDesc::measure_gpu_time)");
+  if (desc.measure_gpu_passes)
+    return esUnsupported(what, "timer queries (RendererDesc::measure_gpu_passes)");
   return Status::ok();
 }
 

@@ -1,0 +1,41 @@
+// SkinnedInstancing — SPDX-License-Identifier: MIT (see LICENSE)
+#pragma once
+// crowd_bench --gpu-passes: each row's GPU time per pass (si/gl/gpu_passes.h), read a frame
+// late so that no frame waits for it, with an estimate of the bytes each per-instance pass moves
+// and the bandwidth that implies.
+#include <cstdint>
+#include <cstdio>
+#include <deque>
+#include <vector>
+
+#include "crowd_bench/bench_scene.h"
+#include "si/gl/renderer.h"
+
+namespace si::bench {
+
+/// A row's pass times: add() each measured draw's ticket after the draw (it reads the tickets
+/// the GPU is past, never waiting), finish() once the frames are done (it waits for the rest).
+class PassCollector {
+ public:
+  explicit PassCollector(const Renderer& renderer) : renderer_(renderer) {}
+  void add(uint64_t ticket);
+  /// The medians over the draws by pass (si::GpuPass order) and of their totals; empty when no
+  /// draw had a ticket.
+  void finish(std::vector<double>* pass_ms, double* total_ms);
+  /// Draws whose times were read.
+  uint32_t read() const { return uint32_t(done_.size()); }
+  /// Draws whose times were already there at the next draw (read a frame late, no wait).
+  uint32_t readLate() const { return read_late_; }
+
+ private:
+  bool readFront(bool wait);
+  const Renderer& renderer_;
+  std::deque<uint64_t> pending_;
+  std::vector<GpuPassTimes> done_;
+  uint32_t read_late_ = 0;
+};
+
+/// Prints the pass table of `rows` (those with pass times) and writes its CSV (`csv_path`).
+void printPassTable(const std::vector<Row>& rows, const char* csv_path);
+
+}  // namespace si::bench
