@@ -251,7 +251,8 @@ class Renderer {
                             DrawStats* stats, DrawMode mode = DrawMode::kDefault);
   /// The last drawCrowdGpuCulled() frame's selection of character `character`, read
   /// back: (dense index, LOD) per visible instance in no particular order (dense index i is
-  /// CrowdExport::state()'s instance i).
+  /// CrowdExport::state()'s instance i). For tests and tools: it waits for the GPU, and the
+  /// list it reads may make later frames' culling wait on some drivers.
   Status readGpuSelection(CharacterId character, std::vector<glm::uvec2>* selection);
 
   /// The GPU time per pass of the draw that gave `ticket` (DrawStats::gpu_pass_ticket, with

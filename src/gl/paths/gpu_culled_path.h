@@ -78,7 +78,7 @@ class GpuCulledPath final : public DrawPath {
             ranges_,
             bucket_info_,
             entry_data_,
-            first_phase_counters_,
+            counts_read_back_,
             overlays_,
             layers_out_,
             previous_out_,
@@ -91,8 +91,10 @@ class GpuCulledPath final : public DrawPath {
   GLuint records_ = kNoObject, visible_ = kNoObject, entries_ = kNoObject, identity_ = kNoObject;
   GLuint commands_ = kNoObject, ranges_ = kNoObject, bucket_info_ = kNoObject;
   GLuint entry_data_ = kNoObject;
-  // Occlusion culling: the first phase's counters (the second phase overwrites the counters).
-  GLuint first_phase_counters_ = kNoObject;
+  // The counters as readCounts() reads them, copied there (a buffer the passes never write):
+  // the last phase's, then with occlusion culling the first phase's (which the second phase
+  // overwrites in the counters).
+  GLuint counts_read_back_ = kNoObject;
   // Layered animation: the crowd's overlays (si::GpuOverlayState) and the cull pass's layer
   // record per visible instance; layers_ while the crowd plays overlays.
   // 2D blends (extras_, CrowdManager::writesExtraLayers): both hold the extra layers after

@@ -124,9 +124,9 @@ Status GpuCulledPath::uploadState(const DrawResources& r, const CrowdManager& cr
                  "GPU culling: the frame times");
   if (s.isOk() && counters_ == kNoObject)
     s = recreate(&counters_, size_t(kCounterWords) * 4, nullptr, "GPU culling: the counters");
-  if (s.isOk() && first_phase_counters_ == kNoObject)
-    s = recreate(&first_phase_counters_, size_t(kCounterWords) * 4, nullptr,
-                 "occlusion culling: the first phase's counters");
+  if (s.isOk() && counts_read_back_ == kNoObject)
+    s = recreate(&counts_read_back_, size_t(kCounterWords) * 4 * 2, nullptr,
+                 "GPU culling: the counters read back");
   if (s.isOk() && commands_ == kNoObject)
     s = recreate(&commands_, size_t(kImpostorCommand) + 16, nullptr, "GPU culling: the commands");
   if (s.isOk()) s = recreate(&ranges_, ranges.size() * 8, ranges.data(), "GPU culling: the ranges");
