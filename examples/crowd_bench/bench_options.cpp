@@ -93,8 +93,9 @@ void printUsage(std::FILE* f) {
       "                   frame, GPU-driven in 4 views, against none)\n"
       "                   [--no-gpu-time] (no blocking timer queries: CPU columns only;\n"
       "                   GPU ms and the GPU-culled path's visible count read -1 / 0)\n"
-      "                   [--gpu-passes] (the paths table's GPU time per pass, read a frame\n"
-      "                   late, with the bytes moved; its CSV beside --csv as NAME_passes.csv)\n");
+      "                   [--gpu-passes] (the paths and views tables' GPU time per pass, read a\n"
+      "                   frame late, with the bytes moved; CSVs beside --csv as NAME_passes.csv\n"
+      "                   and NAME_views_passes.csv)\n");
 }
 
 bool parseOptions(int argc, char** argv, Options* o) {

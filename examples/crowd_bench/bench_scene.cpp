@@ -173,10 +173,11 @@ Status timeCrowd(Setup& setup, Renderer& renderer, CrowdManager& crowd, const st
       [&](const Camera& cam, DrawStats* st, uint32_t* visible) {
         const Status drawn = drawPath(renderer, crowd, batcher, path, cam, st);
         *visible = isGpuSelected(path) ? st->gpu_visible : crowd.view().stats().visible;
-        if (frame++ >= kWarmupFrames) {  // Measured frames only.
-          passes.add(st->gpu_pass_ticket);
+        if (frame >= kWarmupFrames) {  // Measured frames only.
+          passes.add(st->gpu_pass_ticket, frame);
           row->last = *st;
         }
+        ++frame;
         return drawn;
       },
       row);

@@ -95,6 +95,7 @@ struct Row {
   double pass_total_ms = 0;
   uint32_t passes_read = 0, passes_read_late = 0;
   DrawStats last;
+  bool pass_bytes = true;  ///< Whether `last` is the frame's one draw (the byte estimates).
 };
 
 /// The frame loop every timed table shares: 2 warm-up frames, then setup.frames measured ones

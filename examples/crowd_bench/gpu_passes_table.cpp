@@ -36,21 +36,21 @@ double passBytes(GpuPass pass, uint32_t n, const DrawStats& st) {
 
 }  // namespace
 
-void PassCollector::add(uint64_t ticket) {
+void PassCollector::add(uint64_t ticket, uint32_t frame) {
   while (!pending_.empty() && readFront(false)) ++read_late_;
-  if (ticket != 0) pending_.push_back(ticket);
+  if (ticket != 0) pending_.emplace_back(ticket, frame);
 }
 
 bool PassCollector::readFront(bool wait) {
   GpuPassTimes t;
   do {
-    if (!renderer_.readGpuPasses(pending_.front(), &t).isOk()) {  // Reused: dropped.
+    if (!renderer_.readGpuPasses(pending_.front().first, &t).isOk()) {  // Reused: dropped.
       pending_.pop_front();
       return false;
     }
   } while (wait && !t.ready);
   if (!t.ready) return false;
-  done_.push_back(t);
+  done_.emplace_back(t, pending_.front().second);
   pending_.pop_front();
   return true;
 }
@@ -60,20 +60,27 @@ void PassCollector::finish(std::vector<double>* pass_ms, double* total_ms) {
   pass_ms->clear();
   *total_ms = 0.0;
   if (done_.empty()) return;
+  std::map<uint32_t, GpuPassTimes> frames;  // Each frame's draws summed.
+  for (const auto& [t, frame] : done_) {
+    GpuPassTimes& sum = frames[frame];
+    for (uint32_t p = 0; p < kGpuPassCount; ++p) sum.ms[p] += t.ms[p];
+    sum.total_ms += t.total_ms;
+  }
   for (uint32_t p = 0; p < kGpuPassCount; ++p) {
     std::vector<double> v;
-    for (const GpuPassTimes& t : done_) v.push_back(t.ms[p]);
+    for (const auto& frame : frames) v.push_back(frame.second.ms[p]);
     pass_ms->push_back(medianOf(v));
   }
   std::vector<double> totals;
-  for (const GpuPassTimes& t : done_) totals.push_back(t.total_ms);
+  for (const auto& frame : frames) totals.push_back(frame.second.total_ms);
   *total_ms = medianOf(totals);
 }
 
 void printPassTable(const std::vector<Row>& rows, const char* csv_path) {
   std::printf(
       "\nGPU time per pass (ms, medians; RendererDesc::measure_gpu_passes, read a frame "
-      "late: 'late' counts the draws whose times were there at the next draw). Estimated "
+      "late: 'late' counts the draws whose times were there at the next draw; a frame of several "
+      "views sums them). Estimated "
       "bytes each per-instance pass moves, as GB/s at its time, in brackets.\n");
   std::printf("%-8s %-22s %-11s %9s", "scene", "path", "lod", "instances");
   for (uint32_t p = 0; p < kGpuPassCount; ++p) std::printf(" %13s", gpuPassName(GpuPass(p)));
@@ -86,7 +93,7 @@ void printPassTable(const std::vector<Row>& rows, const char* csv_path) {
     if (r.pass_ms.size() != kGpuPassCount) continue;
     std::printf("%-8s %-22s %-11s %9u", r.scene.c_str(), r.path.c_str(), r.lod.c_str(),
                 r.instances);
-    const bool gpu_driven = r.path.compare(0, 4, "gpu-") == 0;
+    const bool gpu_driven = r.path.compare(0, 4, "gpu-") == 0 && r.pass_bytes;
     for (uint32_t p = 0; p < kGpuPassCount; ++p) {
       const double bytes = gpu_driven ? passBytes(GpuPass(p), r.instances, r.last) : 0.0;
       const double ms = r.pass_ms[p];

@@ -6,6 +6,8 @@
 #include <cstdint>
 #include <cstdio>
 #include <deque>
+#include <map>
+#include <utility>
 #include <vector>
 
 #include "crowd_bench/bench_scene.h"
@@ -13,14 +15,15 @@
 
 namespace si::bench {
 
-/// A row's pass times: add() each measured draw's ticket after the draw (it reads the tickets
-/// the GPU is past, never waiting), finish() once the frames are done (it waits for the rest).
+/// A row's pass times: add() each measured draw's ticket after the draw, with the frame it
+/// belongs to (it reads the tickets the GPU is past, never waiting), finish() once the frames
+/// are done (it waits for the rest).
 class PassCollector {
  public:
   explicit PassCollector(const Renderer& renderer) : renderer_(renderer) {}
-  void add(uint64_t ticket);
-  /// The medians over the draws by pass (si::GpuPass order) and of their totals; empty when no
-  /// draw had a ticket.
+  void add(uint64_t ticket, uint32_t frame);
+  /// The medians over the frames (each the sum of its draws) by pass (si::GpuPass order) and
+  /// of their totals; empty when no draw had a ticket.
   void finish(std::vector<double>* pass_ms, double* total_ms);
   /// Draws whose times were read.
   uint32_t read() const { return uint32_t(done_.size()); }
@@ -30,8 +33,8 @@ class PassCollector {
  private:
   bool readFront(bool wait);
   const Renderer& renderer_;
-  std::deque<uint64_t> pending_;
-  std::vector<GpuPassTimes> done_;
+  std::deque<std::pair<uint64_t, uint32_t>> pending_;  // Ticket, frame.
+  std::vector<std::pair<GpuPassTimes, uint32_t>> done_;
   uint32_t read_late_ = 0;
 };
 

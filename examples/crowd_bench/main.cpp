@@ -58,11 +58,10 @@ LodChoice lodChoice(const std::string& name, float budget) {
 }
 
 // Writes the gnuplot script next to the plots and runs gnuplot on it; false when it cannot.
-// The pass table's CSV beside the main one: name.csv -> name_passes.csv.
-std::string passesCsvPath(const std::string& csv) {
+// A pass table's CSV beside the main one: name.csv -> name + `suffix`.
+std::string passesCsvPath(const std::string& csv, const char* suffix = "_passes.csv") {
   const size_t dot = csv.rfind(".csv");
-  return (dot != std::string::npos && dot + 4 == csv.size() ? csv.substr(0, dot) : csv) +
-         "_passes.csv";
+  return (dot != std::string::npos && dot + 4 == csv.size() ? csv.substr(0, dot) : csv) + suffix;
 }
 
 // The paths table: each scene, size, path and LOD mode; returns max(CPU, GPU) ms per frame of
@@ -270,7 +269,8 @@ int main(int argc, char** argv) {
   }
   if (!b.o.views.empty()) {
     s = si::bench::viewsTable(b.setup, palette, rd, b.o.sizes, b.o.views, b.o.views_lod_bias,
-                              b.o.paths, b.o.max_baseline, csv);
+                              b.o.paths, b.o.max_baseline, csv,
+                              passesCsvPath(b.o.csv, "_views_passes.csv"));
     if (!s.isOk()) return fail("views", s);
   }
   if (!b.o.churn.empty()) {

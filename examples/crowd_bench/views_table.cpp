@@ -1,6 +1,7 @@
 // SkinnedInstancing — SPDX-License-Identifier: MIT (see LICENSE)
 #include "crowd_bench/views_table.h"
 #include "crowd_bench/bench_character.h"
+#include "crowd_bench/gpu_passes_table.h"
 
 #include <algorithm>
 #include <cmath>
@@ -49,12 +50,16 @@ Status runViews(Setup& setup, Renderer& renderer, const BakedPalette& palette, u
   const double radius = double(si::CrowdExport::cullParams(crowd.view(), Camera()).radius);
   double low = 1e30, high = -1e30;
   for (const glm::dvec3& p : places) low = std::min(low, p.y), high = std::max(high, p.y);
+  row->scene = "field";
   row->path = path;
   row->lod = std::to_string(views) + (views == 1 ? " view" : " views");
+  row->pass_bytes = false;  // Several draws a frame: no byte estimate.
   row->instances = count;
   const bool gpu = isGpuSelected(path);
   const bool occlusion = gpu && path.size() > 10 && path.compare(path.size() - 10, 10, "-occlusion") == 0;
   renderer.setGpuOcclusionCulling(occlusion);
+  PassCollector passes(renderer);  // --gpu-passes: each frame's views summed.
+  uint32_t frame = 0;
   const Status timed = timeFrames(
       setup, "field", places,
       [&](const Camera& cam) {
@@ -90,6 +95,7 @@ Status runViews(Setup& setup, Renderer& renderer, const BakedPalette& palette, u
           st->gpu_ms = one.gpu_ms >= 0.0 && st->gpu_ms >= 0.0 ? st->gpu_ms + one.gpu_ms : -1.0;
           st->draw_calls += one.draw_calls;
           st->triangles += one.triangles;
+          if (frame >= kWarmupFrames) passes.add(one.gpu_pass_ticket, frame);
           return drawn;
         };
         Status drawn = Status::ok();
@@ -100,6 +106,7 @@ Status runViews(Setup& setup, Renderer& renderer, const BakedPalette& palette, u
                               : path == "rigid" ? DrawMode::kRigid
                                                 : DrawMode::kDefault;
         if (drawn.isOk()) drawn = draw_view(main_view, cam, mode);
+        ++frame;
         if (gpu) {
           *visible = st->gpu_visible;
         } else {
@@ -110,6 +117,9 @@ Status runViews(Setup& setup, Renderer& renderer, const BakedPalette& palette, u
       },
       row);
   renderer.setGpuOcclusionCulling(false);
+  passes.finish(&row->pass_ms, &row->pass_total_ms);
+  row->passes_read = passes.read();
+  row->passes_read_late = passes.readLate();
   return timed;
 }
 
@@ -118,7 +128,7 @@ Status runViews(Setup& setup, Renderer& renderer, const BakedPalette& palette, u
 Status viewsTable(Setup& setup, const BakedPalette& palette, const RendererDesc& desc,
                   const std::vector<uint32_t>& sizes, const std::vector<uint32_t>& view_counts,
                   uint32_t cascade_lod_bias, const std::vector<std::string>& paths,
-                  uint32_t max_baseline, std::FILE* csv) {
+                  uint32_t max_baseline, std::FILE* csv, const std::string& passes_csv) {
   // The instanced paths and the baselines name their mode; the GPU-driven paths draw kDefault
   // and kDepthOnly on the renderer's skinning path: the vertex shader for gpu-culled*, compute
   // pre-skinning for gpu-driven*.
@@ -139,6 +149,7 @@ Status viewsTable(Setup& setup, const BakedPalette& palette, const RendererDesc&
               cascade_lod_bias, cascade_lod_bias == 1 ? "" : "s");
   printSideBySideHeader("views");
   std::printf("\n");
+  std::vector<Row> all;  // For the pass table (--gpu-passes).
   for (uint32_t count : sizes)
     for (const std::string& path : paths) {
       Renderer& renderer = renderers[path.compare(0, 10, "gpu-driven") == 0 ? 1 : 0];
@@ -153,7 +164,9 @@ Status viewsTable(Setup& setup, const BakedPalette& palette, const RendererDesc&
         printSideBySideRow(r, rows[0], "views", csv);
         std::printf("\n");
       }
+      all.insert(all.end(), rows.begin(), rows.end());
     }
+  if (desc.measure_gpu_passes) printPassTable(all, passes_csv.c_str());
   for (Renderer& r : renderers) r.shutdown();
   return Status::ok();
 }
