@@ -95,7 +95,8 @@ void printUsage(std::FILE* f) {
       "                   GPU ms and the GPU-culled path's visible count read -1 / 0)\n"
       "                   [--gpu-passes] (the paths and views tables' GPU time per pass, read a\n"
       "                   frame late, with the bytes moved; CSVs beside --csv as NAME_passes.csv\n"
-      "                   and NAME_views_passes.csv)\n");
+      "                   and NAME_views_passes.csv; with --no-gpu-time the paths table's GPU\n"
+      "                   ms is the passes' total: no frame waits for the GPU)\n");
 }
 
 bool parseOptions(int argc, char** argv, Options* o) {
