@@ -376,12 +376,14 @@ GuestReport checkEveryCall(void* (*get_proc)(void* user, const char* name), void
   si::RendererDesc chained;
   chained.debug_messages = true;
   chained.measure_gpu_time = true;
+  chained.measure_gpu_passes = true;
   chained.skinning_path = si::SkinningPath::kCompute;
   state.apply();
   const GlSnapshot start = snapshot(&report.failures);
   renderer = std::make_unique<si::Renderer>();
-  checker.check("Renderer::init (debug_messages, measure_gpu_time)",
-                [&] { return renderer->init(info, chained); }, "GL_DEBUG_CALLBACK");
+  checker.check(
+      "Renderer::init (debug_messages, measure_gpu_time, measure_gpu_passes)",
+      [&] { return renderer->init(info, chained); }, "GL_DEBUG_CALLBACK");
   checker.check("Renderer::addCharacter (debug_messages)",
                 [&] { return renderer->addCharacter(character, palette, &id); },
                 "GL_DEBUG_CALLBACK");
@@ -393,6 +395,14 @@ GuestReport checkEveryCall(void* (*get_proc)(void* user, const char* name), void
   checker.check(
       "Renderer::drawCrowdGpuCulled (measure_gpu_time, the engine's query running)",
       [&] { return renderer->drawCrowdGpuCulled(id, plain.view(), camera, &stats); },
+      "GL_DEBUG_CALLBACK", true);
+  // Its pass times read with the engine's query buffer bound (the results go to memory).
+  checker.check(
+      "Renderer::readGpuPasses (the engine's query running)",
+      [&] {
+        si::GpuPassTimes times;
+        return renderer->readGpuPasses(stats.gpu_pass_ticket, &times);
+      },
       "GL_DEBUG_CALLBACK", true);
   checker.check("Renderer::shutdown (debug_messages)", [&] {
     renderer->shutdown();
