@@ -34,8 +34,7 @@ struct Setup {
   uint32_t width = 0, height = 0;  ///< Of the context.
   uint32_t supersample = 1;  ///< The display is width/supersample x height/supersample: the
                              ///< pixels that LOD budgets are counted in.
-  uint32_t frames = 0;              ///< Measured frames per configuration (after 2 warm-up).
-  bool gpu_passes = false;          ///< --gpu-passes: timeCrowd reads each pass's GPU time.
+  uint32_t frames = 0;       ///< Measured frames per configuration (after 2 warm-up).
 };
 
 /// How LODs are chosen: the technique's distance lines, or a projected-error pixel budget.

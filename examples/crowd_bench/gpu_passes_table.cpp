@@ -1,7 +1,6 @@
 // SkinnedInstancing — SPDX-License-Identifier: MIT (see LICENSE)
 #include "crowd_bench/gpu_passes_table.h"
 
-#include <algorithm>
 #include <string>
 
 #include "si/crowd/gpu_crowd_state.h"
@@ -9,12 +8,6 @@
 namespace si::bench {
 
 namespace {
-
-double medianOf(std::vector<double> v) {
-  if (v.empty()) return 0.0;
-  std::nth_element(v.begin(), v.begin() + std::ptrdiff_t(v.size() / 2), v.end());
-  return v[v.size() / 2];
-}
 
 // What the GPU-driven path's per-instance passes read and write at least, from its layouts
 // (an estimate: caches, atomics and the palette's texels are not counted); 0 where none is
@@ -69,11 +62,11 @@ void PassCollector::finish(std::vector<double>* pass_ms, double* total_ms) {
   for (uint32_t p = 0; p < kGpuPassCount; ++p) {
     std::vector<double> v;
     for (const auto& frame : frames) v.push_back(frame.second.ms[p]);
-    pass_ms->push_back(medianOf(v));
+    pass_ms->push_back(median(v));
   }
   std::vector<double> totals;
   for (const auto& frame : frames) totals.push_back(frame.second.total_ms);
-  *total_ms = medianOf(totals);
+  *total_ms = median(totals);
 }
 
 void printPassTable(const std::vector<Row>& rows, const char* csv_path) {

@@ -203,7 +203,7 @@ int main(int argc, char** argv) {
   si::Renderer renderer;
   si::RendererDesc rd;
   rd.measure_gpu_time = b.o.gpu_timer;
-  rd.measure_gpu_passes = b.setup.gpu_passes = b.o.gpu_passes;
+  rd.measure_gpu_passes = b.o.gpu_passes;
   rd.debug_checks = 2;
   rd.morph_lod_share = b.o.morph_lod_share;
   if (s.isOk()) s = renderer.init(b.setup.info, rd);

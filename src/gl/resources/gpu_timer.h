@@ -15,6 +15,25 @@ inline double msSince(std::chrono::steady_clock::time_point t0) {
   return std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
 }
 
+/// While it lives, no buffer is bound to GL_QUERY_BUFFER, so query results read into memory (a
+/// host's query buffer would turn the result pointers into offsets); the host's is bound again
+/// at its end. Safe outside the state guard.
+class QueryResultsToMemory {
+ public:
+  QueryResultsToMemory() {
+    glGetIntegerv(GL_QUERY_BUFFER_BINDING, &host_);
+    if (host_ != 0) glBindBuffer(GL_QUERY_BUFFER, 0);
+  }
+  ~QueryResultsToMemory() {
+    if (host_ != 0) glBindBuffer(GL_QUERY_BUFFER, GLuint(host_));
+  }
+  QueryResultsToMemory(const QueryResultsToMemory&) = delete;
+  QueryResultsToMemory& operator=(const QueryResultsToMemory&) = delete;
+
+ private:
+  GLint host_ = 0;
+};
+
 class GpuTimer {
  public:
   void create() { glCreateQueries(GL_TIMESTAMP, 2, queries_); }
@@ -33,18 +52,14 @@ class GpuTimer {
     if (active_) glQueryCounter(queries_[1], GL_TIMESTAMP);
   }
   /// The GPU milliseconds between begin() and stop() (blocking), or -1 when it did not start.
-  /// Safe outside the state guard: a host's query buffer would turn the result pointer into an
-  /// offset, so it is unbound for the read and bound again.
+  /// Safe outside the state guard (QueryResultsToMemory).
   double read() {
     if (!active_) return -1.0;
     active_ = false;
-    GLint query_buffer = 0;
-    glGetIntegerv(GL_QUERY_BUFFER_BINDING, &query_buffer);
-    if (query_buffer != 0) glBindBuffer(GL_QUERY_BUFFER, 0);
+    const QueryResultsToMemory to_memory;
     GLuint64 start = 0, stop = 0;
     glGetQueryObjectui64v(queries_[0], GL_QUERY_RESULT, &start);
     glGetQueryObjectui64v(queries_[1], GL_QUERY_RESULT, &stop);
-    if (query_buffer != 0) glBindBuffer(GL_QUERY_BUFFER, GLuint(query_buffer));
     return stop > start ? double(stop - start) * 1e-6 : 0.0;
   }
   /// stop() and read().

@@ -57,21 +57,21 @@ uint64_t PassTimer::begin(uint32_t sets) {
   return ticket;
 }
 
-void PassTimer::mark(GpuPass pass) {
-  // The last stamp is end()'s.
-  if (active_ == nullptr || active_->stamps + 1 >= kStamps) return;
+void PassTimer::stamp(GpuPass pass) {
   const size_t index = size_t(active_ - sets_.data());
   active_->passes[active_->stamps] = pass;
   glQueryCounter(queries_[index * kStamps + active_->stamps], GL_TIMESTAMP);
   ++active_->stamps;
 }
 
+void PassTimer::mark(GpuPass pass) {
+  // The last stamp is end()'s.
+  if (active_ != nullptr && active_->stamps + 1 < kStamps) stamp(pass);
+}
+
 void PassTimer::end(GpuPass rest) {
   if (active_ == nullptr) return;
-  const size_t index = size_t(active_ - sets_.data());
-  active_->passes[active_->stamps] = rest;
-  glQueryCounter(queries_[index * kStamps + active_->stamps], GL_TIMESTAMP);
-  ++active_->stamps;
+  stamp(rest);
   active_ = nullptr;
 }
 
@@ -88,10 +88,7 @@ Status PassTimer::read(uint64_t ticket, GpuPassTimes* out) const {
                    " draws (their stamps were reused)")};
   *out = GpuPassTimes();
   if (&set == active_) return Status::ok();  // Read inside its own draw: not ready.
-  // A host's query buffer would turn the result pointers into offsets.
-  GLint query_buffer = 0;
-  glGetIntegerv(GL_QUERY_BUFFER_BINDING, &query_buffer);
-  if (query_buffer != 0) glBindBuffer(GL_QUERY_BUFFER, 0);
+  const QueryResultsToMemory to_memory;
   const GLuint* q = &queries_[index * kStamps];
   bool ready = true;
   for (uint32_t i = set.stamps; i-- > 0 && ready;) {  // The last stamp is usually the last done.
@@ -113,7 +110,6 @@ Status PassTimer::read(uint64_t ticket, GpuPassTimes* out) const {
     out->total_ms = double(previous - first) * 1e-6;
     out->ready = true;
   }
-  if (query_buffer != 0) glBindBuffer(GL_QUERY_BUFFER, GLuint(query_buffer));
   return Status::ok();
 }
 

@@ -10,6 +10,7 @@
 #include <cstdint>
 #include <vector>
 
+#include "gl/resources/gpu_timer.h"
 #include "si/core/status.h"
 #include "si/gl/gpu_passes.h"
 
@@ -35,6 +36,8 @@ class PassTimer {
   Status read(uint64_t ticket, GpuPassTimes* out) const;
 
  private:
+  // Stamps the active set's next query as the end of `pass`.
+  void stamp(GpuPass pass);
   struct Set {
     uint64_t ticket = 0;
     uint32_t stamps = 0;
