@@ -3,6 +3,9 @@
 // selection and impostor draw give the instanced path's image; an impostor at the height
 // where its measured image error is one pixel differs from the mesh there by about that much;
 // bad input refused with named statuses.
+#include <glad/gl.h>
+
+#include <algorithm>
 #include <cmath>
 
 #include "render/impostor_fixture.h"
@@ -113,6 +116,60 @@ TEST_P(RenderTest, ImpostorsDrawTheInstancedPathsImageOnTheGpuDrivenPath) {
     EXPECT_GT(t.at(GpuPass::kImpostors), 0.0);
     EXPECT_GT(t.at(GpuPass::kDraw), 0.0);
   }
+}
+
+// A shadow view's impostors: the GPU-driven path's depth-only draw (its quads computed by the
+// impostor quads pass) writes the instanced path's depth, and both write depth exactly where
+// the colour draw covers.
+TEST_P(RenderTest, ImpostorsInADepthOnlyViewWriteTheInstancedPathsDepth) {
+  CrowdManager crowd;
+  impostorCrowd(linesTo(60.0f), impostorLevels() - 1, &crowd);
+  ASSERT_EQ(crowd.view().stats().per_lod[impostorLevels() - 1], 16u);
+  Renderer r;
+  ASSERT_TRUE(r.init(info_, RendererDesc()).isOk());
+  CharacterId id;
+  ASSERT_TRUE(r.addCharacter(impostorCharacter(), palette(), &id).isOk());
+  ASSERT_TRUE(r.buildImpostor(id, smallImpostor()).isOk());
+  // Only the impostors: the two far rows (the near ones are meshes).
+  const Camera camera = lodCamera();
+  const std::vector<uint8_t> colour = draw(r, crowd, camera, 0);
+  r.clear(glm::vec4(0.2f, 0.25f, 0.3f, 1.0f));  // draw()'s background.
+  std::vector<uint8_t> background;
+  ASSERT_TRUE(context_->readPixels(&background).isOk());
+  const auto depth_of = [&](bool gpu_driven) {
+    InstanceBatcher batcher;
+    EXPECT_TRUE(batcher.init(r.batchLimits()).isOk());
+    r.clear(glm::vec4(0.2f, 0.25f, 0.3f, 1.0f));
+    DrawStats st;
+    const Status s =
+        gpu_driven ? r.drawCrowdGpuCulled(id, crowd.view(), camera, &st, DrawMode::kDepthOnly)
+                   : r.drawCrowd(id, crowd.view(), batcher, camera, &st, DrawMode::kDepthOnly);
+    EXPECT_TRUE(s.isOk()) << s.toString();
+    std::vector<float> depth(size_t(kSize) * kSize, -1.0f);
+    glReadPixels(0, 0, GLsizei(kSize), GLsizei(kSize), GL_DEPTH_COMPONENT, GL_FLOAT, depth.data());
+    return depth;
+  };
+  const std::vector<float> instanced = depth_of(false), gpu_driven = depth_of(true);
+  uint32_t written = 0, apart = 0, uncovered = 0;
+  double worst = 0.0;
+  for (size_t p = 0; p < instanced.size(); ++p) {
+    // readPixels' rows run top to bottom, glReadPixels' bottom to top.
+    const size_t c = 4 * ((kSize - 1 - p / kSize) * kSize + p % kSize);
+    const bool covered = colour[c] != background[c] || colour[c + 1] != background[c + 1] ||
+                         colour[c + 2] != background[c + 2];
+    const bool wrote = instanced[p] < 1.0f;
+    written += wrote ? 1u : 0u;
+    uncovered += covered != wrote ? 1u : 0u;
+    if (wrote != (gpu_driven[p] < 1.0f))
+      ++apart;
+    else if (wrote)
+      worst = std::max(worst, double(std::fabs(instanced[p] - gpu_driven[p])));
+  }
+  EXPECT_GT(written, 500u);
+  // Pixels whose coverage test rounds otherwise at the threshold, as between the colour paths.
+  EXPECT_LE(apart, written / 1000) << apart << " of " << written;
+  EXPECT_LE(uncovered, written / 200) << uncovered << " of " << written;
+  EXPECT_LT(worst, 1e-5);
 }
 
 // An impostor shows its clip's frames, so an instance holding a live pose is drawn as a mesh

@@ -355,7 +355,8 @@ void GpuCulledPath::runPasses(const DrawResources& r, const PathFrame& f, uint32
   glMultiDrawElementsIndirect(GL_TRIANGLES, GL_UNSIGNED_INT, nullptr, GLsizei(buckets_), 0);
   ++st->draw_calls;
   markPass(r, GpuPass::kDraw);
-  drawImpostorsIndirect(r, f, vao_, kImpostorCommand, st);
+  drawImpostorsIndirect(r, f, vao_, impostor_quads_, GLintptr(kImpostorDispatchWord) * 4,
+                        kImpostorCommand, st);
 }
 
 void GpuCulledPath::readCounts(const DrawResources& r, const CrowdDesc& cd, DrawStats* st) const {
@@ -409,7 +410,7 @@ void GpuCulledPath::memory(CrowdGpuMemory* out) const {
 }
 
 void GpuCulledPath::release() {
-  const std::array<GLuint, 18> all = buffers();
+  const std::array<GLuint, 19> all = buffers();
   glDeleteBuffers(GLsizei(all.size()), all.data());
   const GLuint arrays[] = {vao_, preskin_vao_};
   glDeleteVertexArrays(2, arrays);

@@ -65,7 +65,7 @@ class GpuCulledPath final : public DrawPath {
   // Cull, commands, scatter and the draws, with the cull pass in occlusion `phase` (0 off).
   void runPasses(const DrawResources& r, const PathFrame& f, uint32_t phase, DrawStats* st);
   // Every buffer of the path's own (not its views').
-  std::array<GLuint, 18> buffers() const {
+  std::array<GLuint, 19> buffers() const {
     return {state_,
             clips_,
             times_,
@@ -83,7 +83,8 @@ class GpuCulledPath final : public DrawPath {
             layers_out_,
             previous_out_,
             previous_layers_out_,
-            live_poses_};
+            live_poses_,
+            impostor_quads_};
   }
 
   GLuint vao_ = kNoObject, preskin_vao_ = kNoObject;
@@ -91,6 +92,8 @@ class GpuCulledPath final : public DrawPath {
   GLuint records_ = kNoObject, visible_ = kNoObject, entries_ = kNoObject, identity_ = kNoObject;
   GLuint commands_ = kNoObject, ranges_ = kNoObject, bucket_info_ = kNoObject;
   GLuint entry_data_ = kNoObject;
+  // A crowd with an impostor level: the impostor quads pass's quads (kImpostorQuadBytes each).
+  GLuint impostor_quads_ = kNoObject;
   // The counters as readCounts() reads them, copied there (a buffer the passes never write):
   // the last phase's, then with occlusion culling the first phase's (which the second phase
   // overwrites in the counters).

@@ -58,17 +58,21 @@ Status GpuCulledPath::uploadState(const DrawResources& r, const CrowdManager& cr
   const uint32_t entries = std::max(1u, n) * cd.sub_mesh_count;
   // Every buffer the passes bind whole (the overlays: uploadOverlays; a view's: ensureDrawn).
   const uint64_t slots = std::max(n, 1u);
-  const StorageNeed needs[] = {{"crowd state", slots * sizeof(GpuInstanceState)},
-                               {"records", slots * kInstanceRecordSize},
-                               {"visible list", slots * 16},
-                               {"bucket entries", uint64_t(entries) * 4},
-                               {"entry data", uint64_t(entries) * 8},
-                               {"clips", uint64_t(clips.size()) * sizeof(GpuClipInfo)},
-                               {"frame times", uint64_t(times.size()) * sizeof(double)}};
+  const StorageNeed needs[] = {
+      {"crowd state", slots * sizeof(GpuInstanceState)},
+      {"records", slots * kInstanceRecordSize},
+      {"visible list", slots * 16},
+      {"bucket entries", uint64_t(entries) * 4},
+      {"entry data", uint64_t(entries) * 8},
+      {"clips", uint64_t(clips.size()) * sizeof(GpuClipInfo)},
+      {"frame times", uint64_t(times.size()) * sizeof(double)},
+      {"impostor quads", cd.impostor_lod != 0 ? slots * kImpostorQuadBytes : 0}};
   Status s = storageFits(*r.info, n, needs);
   if (!s.isOk()) return s;
   const bool shrink = shrinks(n);
-  if (n > capacity_ || shrink || sub_meshes_ != cd.sub_mesh_count || records_ == kNoObject) {
+  const bool impostors = cd.impostor_lod != 0;
+  if (n > capacity_ || shrink || sub_meshes_ != cd.sub_mesh_count || records_ == kNoObject ||
+      impostors != (impostor_quads_ != kNoObject)) {
     // Room to grow (half as much again, of the buffers when outgrown, of the crowd when shrunk
     // after a peak), so that a spawn wave re-creates the buffers and uploads the whole state a
     // few times, not every frame: within the handle slots and the storage-block limit (the
@@ -98,6 +102,11 @@ Status GpuCulledPath::uploadState(const DrawResources& r, const CrowdManager& cr
     if (s.isOk())
       s = recreate(&entry_data_, size_t(entry_capacity) * 8, nullptr,
                    "GPU culling: the entry data");
+    glDeleteBuffers(1, &impostor_quads_);
+    impostor_quads_ = kNoObject;
+    if (s.isOk() && impostors)
+      s = recreate(&impostor_quads_, size_t(capacity) * kImpostorQuadBytes, nullptr,
+                   "GPU culling: the impostor quads");
     if (!s.isOk()) return s;
     capacity_ = capacity;
     sub_meshes_ = cd.sub_mesh_count;

@@ -7,13 +7,14 @@ namespace si::detail {
 namespace {
 
 // Binds program `id`, the camera and light uniforms and the atlas (the quad reads no palette,
-// vertex buffer or material).
-void useImpostorProgram(const DrawResources& r, const PathFrame& f, ProgramId id) {
+// vertex buffer or material; `quads_computed`: ImpostorAtlas::bind's).
+void useImpostorProgram(const DrawResources& r, const PathFrame& f, ProgramId id,
+                        bool quads_computed = false) {
   const Program& program = r.programs[id];
   glUseProgram(program.id);
   setCameraUniforms(program, f.camera, f.light);
   if (program.lod >= 0) glProgramUniform1ui(program.id, program.lod, f.impostor_lod);
-  r.impostor->bind(program, f.camera);
+  r.impostor->bind(program, f.camera, quads_computed);
 }
 
 }  // namespace
@@ -44,11 +45,20 @@ void drawImpostorBatches(const DrawResources& r, const PathFrame& f, bool depth_
   if (bound) markPass(r, GpuPass::kImpostors);
 }
 
-void drawImpostorsIndirect(const DrawResources& r, const PathFrame& f, GLuint vao,
-                           GLintptr command, DrawStats* st) {
+void drawImpostorsIndirect(const DrawResources& r, const PathFrame& f, GLuint vao, GLuint quads,
+                           GLintptr dispatch, GLintptr command, DrawStats* st) {
   if (f.impostor_lod == 0 || r.impostor == nullptr || !r.impostor->ready()) return;
-  useImpostorProgram(r, f, f.depth_only ? ProgramId::kGpuDrivenImpostorDepthOnly
-                                        : ProgramId::kGpuDrivenImpostor);
+  // Each quad once, on every compute unit: in the vertex shader its 4 vertices computed it 4
+  // times on the few units that run vertex shaders.
+  useImpostorProgram(r, f, ProgramId::kImpostorQuads);
+  glProgramUniform1ui(r.programs[ProgramId::kImpostorQuads].id, 37,
+                      f.impostor_lod * f.crowd->desc().sub_mesh_count);
+  glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 15, quads);
+  glDispatchComputeIndirect(dispatch);
+  glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT);
+  useImpostorProgram(
+      r, f, f.depth_only ? ProgramId::kGpuDrivenImpostorDepthOnly : ProgramId::kGpuDrivenImpostor,
+      true);
   glBindVertexArray(vao);
   if (f.depth_only) glColorMask(GL_FALSE, GL_FALSE, GL_FALSE, GL_FALSE);
   glDrawArraysIndirect(GL_TRIANGLE_STRIP, reinterpret_cast<const void*>(command));

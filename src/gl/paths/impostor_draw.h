@@ -14,10 +14,12 @@ namespace si::detail {
 void drawImpostorBatches(const DrawResources& r, const PathFrame& f, bool depth_only,
                          DrawStats* st);
 
-/// The GPU-driven path's impostors: glDrawArraysIndirect of the command at byte `command` of
-/// the bound GL_DRAW_INDIRECT_BUFFER, the records through entries (the path's vertex array
-/// `vao` supplies them).
-void drawImpostorsIndirect(const DrawResources& r, const PathFrame& f, GLuint vao,
-                           GLintptr command, DrawStats* st);
+/// The GPU-driven path's impostors: the impostor quads pass (each quad computed once into
+/// `quads`, dispatched by the words at byte `dispatch` of the bound GL_DISPATCH_INDIRECT_BUFFER,
+/// reading the records and entries at storage bindings 4 and 5 and the counters at 3), then
+/// glDrawArraysIndirect of the command at byte `command` of the bound GL_DRAW_INDIRECT_BUFFER
+/// (the path's vertex array `vao` supplies the entries).
+void drawImpostorsIndirect(const DrawResources& r, const PathFrame& f, GLuint vao, GLuint quads,
+                           GLintptr dispatch, GLintptr command, DrawStats* st);
 
 }  // namespace si::detail

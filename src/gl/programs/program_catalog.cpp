@@ -129,6 +129,7 @@ const ProgramSpec kSpecs[kProgramCount] = {
     {"GPU-driven pulling with motion vectors and tangents",
      "#define SI_GPU_DRIVEN\n#define SI_MOTION_VECTORS\n#define SI_TANGENTS\n", "pulled.vert.glsl",
      "surface.frag.glsl", nullptr, nullptr},
+    {"GPU-driven impostor quads", "", nullptr, nullptr, "impostor_quads.comp.glsl", nullptr},
 };
 
 }  // namespace

@@ -71,6 +71,7 @@ enum class ProgramId : uint8_t {
   kPulledMotionTangents,            ///< kPulledMotion with the tangent ring.
   kGpuPulledTangents,               ///< kGpuPulled with the tangent ring.
   kGpuPulledMotionTangents,         ///< kGpuPulledMotion with the tangent ring.
+  kImpostorQuads,                   ///< GPU-driven impostors: each quad once, before the draw.
   kCount
 };
 inline constexpr size_t kProgramCount = size_t(ProgramId::kCount);

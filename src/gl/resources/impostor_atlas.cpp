@@ -4,19 +4,20 @@
 
 namespace si::detail {
 
-void ImpostorAtlas::bind(const Program& program, const Camera& camera) const {
+void ImpostorAtlas::bind(const Program& program, const Camera& camera, bool quads_computed) const {
   glBindTextureUnit(3, texture);
-  glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 9, clips);
   const GLuint p = program.id;
   glProgramUniform4ui(p, 40, columns, rows, azimuths, elevations);
-  glProgramUniform4ui(p, 41, clip_count, frame_stride_texels, azimuths * elevations, levels);
-  glProgramUniform4fv(p, 42, 1, elevations_radians);
-  glProgramUniform4f(p, 43, centre.x, centre.y, centre.z, cell_units);
   // The camera's back direction (row 2 of the view rotation) and whether it is orthographic
   // (every view ray parallel: a projection whose last row is (0, 0, 0, 1)).
   const glm::mat4& v = camera.view_rotation;
   const bool ortho = camera.projection[3][3] == 1.0f && camera.projection[2][3] == 0.0f;
   glProgramUniform4f(p, 44, v[0][2], v[1][2], v[2][2], ortho ? 1.0f : 0.0f);
+  if (quads_computed) return;
+  glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 9, clips);
+  glProgramUniform4ui(p, 41, clip_count, frame_stride_texels, azimuths * elevations, levels);
+  glProgramUniform4fv(p, 42, 1, elevations_radians);
+  glProgramUniform4f(p, 43, centre.x, centre.y, centre.z, cell_units);
   // Half the viewport in pixels (a clip-space unit's pixels) and the cell's texels.
   GLint viewport[4] = {0, 0, 0, 0};
   glGetIntegerv(GL_VIEWPORT, viewport);

@@ -38,8 +38,9 @@ struct ImpostorAtlas {
   bool ready() const { return texture != kNoObject; }
   /// Binds the atlas (texture unit 3, storage binding 9) and sets `program`'s impostor
   /// uniforms for `camera` and the current viewport (which the quads' mip level estimate
-  /// projects to).
-  void bind(const Program& program, const Camera& camera) const;
+  /// projects to). A program that reads quads computed before (the GPU-driven impostor draw,
+  /// `quads_computed`) takes only the texture, the grid and the camera's back direction.
+  void bind(const Program& program, const Camera& camera, bool quads_computed = false) const;
   /// Deletes the texture and the clip table (context current). Idempotent.
   void release();
 };

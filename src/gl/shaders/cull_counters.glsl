@@ -15,5 +15,6 @@ layout(std430, binding = 3) coherent buffer SiCounters {
                                // entry after the last bucket is the total.
   uint si_fitted[256];         // Instances of each bucket pre-skinned; the rest are drawn with
                                // vertex-shader skinning (the ring is full, or no pre-skinning).
+  uint si_impostor_dispatch[4];  // The impostor quads pass's groups (x, y, z) and quads (w).
 };
 #endif
