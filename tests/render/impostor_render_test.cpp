@@ -9,6 +9,7 @@
 #include <cmath>
 
 #include "render/impostor_fixture.h"
+#include "render/two_targets.h"
 #include "si/crowd/crowd_manager.h"
 #include "si/gl/image_lod_error.h"
 
@@ -170,6 +171,52 @@ TEST_P(RenderTest, ImpostorsInADepthOnlyViewWriteTheInstancedPathsDepth) {
   EXPECT_LE(apart, written / 1000) << apart << " of " << written;
   EXPECT_LE(uncovered, written / 200) << uncovered << " of " << written;
   EXPECT_LT(worst, 1e-5);
+}
+
+// Impostors far enough to hold no pixel centre raster nothing: the GPU-driven path leaves their
+// quads out (DrawStats::impostors_left_out) and draws the instanced path's image, which draws
+// every quad; on a multisampled target, whose samples lie off the centres, none is left out.
+TEST_P(RenderTest, ImpostorsThatHoldNoPixelCentreAreLeftOutOfTheSameImage) {
+  CrowdManager crowd;
+  initEveryOneAt(true, &crowd);
+  // Rows from 20 to about 1,400 units along lodCamera()'s view: from a dozen pixels tall to a
+  // fraction of one.
+  uint32_t n = 0;
+  for (int row = 0; row < 24; ++row)
+    for (int k = 0; k < 12; ++k, ++n)
+      addHeld(&crowd, glm::dvec3((k - 5.5) * (1.0 + 0.5 * row), 0.0, -20.0 * std::pow(1.2, row)),
+              0.5f * float(k + row), n, 0.07 * n);
+  ASSERT_TRUE(crowd.update(0.0, lodCamera()).isOk());
+  RendererDesc rd;
+  rd.measure_gpu_time = true;  // The GPU-driven path reads back its counts.
+  Renderer r;
+  ASSERT_TRUE(r.init(info_, rd).isOk());
+  CharacterId id;
+  ASSERT_TRUE(r.addCharacter(impostorCharacter(), palette(), &id).isOk());
+  ASSERT_TRUE(r.buildImpostor(id, smallImpostor()).isOk());
+  DrawStats instanced;
+  const std::vector<uint8_t> reference = draw(r, crowd, lodCamera(), 0, false, &instanced);
+  r.clear(glm::vec4(0.2f, 0.25f, 0.3f, 1.0f));
+  DrawStats gpu;
+  ASSERT_TRUE(r.drawCrowdGpuCulled(id, crowd.view(), lodCamera(), &gpu).isOk());
+  std::vector<uint8_t> image;
+  ASSERT_TRUE(context_->readPixels(&image).isOk());
+  // The same pixels: the quads left out raster nothing (those of a pixel or two that do
+  // raster draw a handful of pixels: exactness is what can see them).
+  const Diff diff = compare(image, reference, nullptr);
+  EXPECT_EQ(diff.share, 0.0) << "max channel difference " << diff.max_channel;
+  EXPECT_GT(gpu.impostors_left_out, instanced.instances / 10) << instanced.instances;
+  EXPECT_LT(gpu.impostors_left_out, instanced.instances / 2) << instanced.instances;
+  EXPECT_EQ(gpu.instances + gpu.impostors_left_out, instanced.instances);
+  EXPECT_EQ(gpu.triangles + 2 * gpu.impostors_left_out, instanced.triangles);
+  EXPECT_EQ(instanced.impostors_left_out, 0u);
+  // 4 samples a pixel: every quad drawn.
+  TwoTargets multisampled(kSize, GL_RGBA8, 4);
+  multisampled.clear();
+  DrawStats samples;
+  ASSERT_TRUE(r.drawCrowdGpuCulled(id, crowd.view(), lodCamera(), &samples).isOk());
+  EXPECT_EQ(samples.impostors_left_out, 0u);
+  EXPECT_EQ(samples.instances, instanced.instances);
 }
 
 // An impostor shows its clip's frames, so an instance holding a live pose is drawn as a mesh

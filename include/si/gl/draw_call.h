@@ -41,6 +41,9 @@ struct DrawStats {
   uint64_t skinned_vertices = 0;    ///< vertices pre-skinned,
   uint64_t ring_bytes_used = 0;     ///< and the most ring bytes one chunk used.
   uint32_t gpu_visible = 0;         ///< drawCrowdGpuCulled: instances selected (read back),
+  /// and impostors selected but not drawn: their quads hold no pixel centre of the
+  /// single-sampled target, so they would raster nothing (not in `triangles` or `instances`),
+  uint64_t impostors_left_out = 0;
   uint64_t vertex_shader_instances = 0;  ///< and instance-draws skinned in the vertex shader
                                          ///< (all without pre-skinning; past the ring with),
   /// drawCrowdGpuCulled: bytes of the crowd's instance state and overlays this draw uploaded

@@ -22,9 +22,10 @@ inline constexpr uint32_t kSkinDispatchWord = kDispatchWord + 4;
 inline constexpr uint32_t kThreadBaseWord = kSkinDispatchWord + 4 + kMaxBuckets;
 inline constexpr uint32_t kFittedWord = kThreadBaseWord + kMaxBuckets + 1;
 inline constexpr uint32_t kImpostorDispatchWord = kFittedWord + kMaxBuckets;
-inline constexpr uint32_t kCounterWords = kImpostorDispatchWord + 4;
-// The impostor quads pass's output (shaders/impostor_quads.comp.glsl): 3 words of 16 bytes.
-inline constexpr uint32_t kImpostorQuadBytes = 48;
+inline constexpr uint32_t kImpostorsDrawnWord = kImpostorDispatchWord + 4;
+inline constexpr uint32_t kCounterWords = kImpostorsDrawnWord + 1;
+// The impostor quads pass's output (shaders/impostor_quads.comp.glsl): 4 words of 16 bytes.
+inline constexpr uint32_t kImpostorQuadBytes = 64;
 // SiCommands: vertex-shader draws at 0, pre-skinned draws from command 256 on (20 bytes each).
 inline constexpr GLintptr kPreskinnedCommands = GLintptr(kMaxBuckets) * 20;
 // The impostor bucket's glDrawArraysIndirect command (cull_commands.comp.glsl's word 2560).

@@ -362,6 +362,7 @@ void GpuCulledPath::runPasses(const DrawResources& r, const PathFrame& f, uint32
 void GpuCulledPath::readCounts(const DrawResources& r, const CrowdDesc& cd, DrawStats* st) const {
   st->gpu_visible = 0;
   st->skinned_vertices = 0;
+  st->impostors_left_out = 0;
   glMemoryBarrier(GL_BUFFER_UPDATE_BARRIER_BIT);  // Reads of what the passes wrote.
   // Through a buffer of their own: a buffer the CPU has read is kept where clearing it waits
   // for the GPU (the H200's driver: the next frame's second occlusion phase waited there for
@@ -377,8 +378,12 @@ void GpuCulledPath::readCounts(const DrawResources& r, const CrowdDesc& cd, Draw
       const uint32_t instances = counters[kBucketCountWord + b];
       const IndexRange range = r.character->lodRange(b % cd.sub_mesh_count, b / cd.sub_mesh_count);
       const bool impostors = cd.impostor_lod != 0 && b == cd.impostor_lod * cd.sub_mesh_count;
-      st->triangles += uint64_t(impostors ? 2 : range.index_count / 3) * instances;
-      st->instances += instances;
+      // Impostors: the quads the impostor quads pass kept (impostor_draw.h).
+      const uint32_t drawn =
+          impostors ? std::min(instances, counters[kImpostorsDrawnWord]) : instances;
+      st->impostors_left_out += instances - drawn;
+      st->triangles += uint64_t(impostors ? 2 : range.index_count / 3) * drawn;
+      st->instances += drawn;
       st->vertex_shader_instances += instances - counters[kFittedWord + b];
     }
     st->skinned_vertices += counters[kThreadBaseWord + buckets];

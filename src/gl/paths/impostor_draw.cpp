@@ -51,11 +51,15 @@ void drawImpostorsIndirect(const DrawResources& r, const PathFrame& f, GLuint va
   // Each quad once, on every compute unit: in the vertex shader its 4 vertices computed it 4
   // times on the few units that run vertex shaders.
   useImpostorProgram(r, f, ProgramId::kImpostorQuads);
-  glProgramUniform1ui(r.programs[ProgramId::kImpostorQuads].id, 37,
-                      f.impostor_lod * f.crowd->desc().sub_mesh_count);
+  const GLuint program = r.programs[ProgramId::kImpostorQuads].id;
+  glProgramUniform1ui(program, 37, f.impostor_lod * f.crowd->desc().sub_mesh_count);
+  // A quad holding no pixel centre rasters nothing on a single-sampled target: left out there.
+  GLint samples = 0;
+  glGetIntegerv(GL_SAMPLES, &samples);
+  glProgramUniform1ui(program, 38, samples > 1 ? 0u : 1u);
   glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 15, quads);
   glDispatchComputeIndirect(dispatch);
-  glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT);
+  glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT | GL_COMMAND_BARRIER_BIT);
   useImpostorProgram(
       r, f, f.depth_only ? ProgramId::kGpuDrivenImpostorDepthOnly : ProgramId::kGpuDrivenImpostor,
       true);

@@ -14,11 +14,12 @@ namespace si::detail {
 void drawImpostorBatches(const DrawResources& r, const PathFrame& f, bool depth_only,
                          DrawStats* st);
 
-/// The GPU-driven path's impostors: the impostor quads pass (each quad computed once into
-/// `quads`, dispatched by the words at byte `dispatch` of the bound GL_DISPATCH_INDIRECT_BUFFER,
-/// reading the records and entries at storage bindings 4 and 5 and the counters at 3), then
-/// glDrawArraysIndirect of the command at byte `command` of the bound GL_DRAW_INDIRECT_BUFFER
-/// (the path's vertex array `vao` supplies the entries).
+/// The GPU-driven path's impostors: the impostor quads pass (each quad computed once and, on
+/// a single-sampled target, appended into `quads` only where it holds a pixel centre; dispatched
+/// by the words at byte `dispatch` of the bound GL_DISPATCH_INDIRECT_BUFFER; reading the
+/// counters, records, entries and visible list at storage bindings 3 to 6 and counting into
+/// the commands at 7), then glDrawArraysIndirect of the command at byte `command` of the bound
+/// GL_DRAW_INDIRECT_BUFFER, with the path's vertex array `vao` bound.
 void drawImpostorsIndirect(const DrawResources& r, const PathFrame& f, GLuint vao, GLuint quads,
                            GLintptr dispatch, GLintptr command, DrawStats* st);
 

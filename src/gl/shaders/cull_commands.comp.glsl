@@ -5,7 +5,8 @@
 // (commands 256 and up, drawn by vertex pulling), the rest drawn with vertex-shader skinning
 // (commands 0 to 255). u_ring_vertices 0 pre-skins nothing. The impostor bucket's instances
 // (its range is empty) are also drawn as quads: a glDrawArraysIndirect command after the
-// others (word 2560), and the impostor quads pass's dispatch (impostor_quads.comp.glsl).
+// others (word 2560; its instance count the impostor quads pass's), and that pass's dispatch
+// (impostor_quads.comp.glsl).
 #include "cull_common.glsl"
 layout(local_size_x = 1) in;
 layout(std430, binding = 7) writeonly buffer SiCommands { uint si_commands[]; };
@@ -44,15 +45,16 @@ void main() {
   si_thread_base[buckets] = threads;
   bool impostors = u_impostor_bucket < buckets;
   si_commands[2560u] = 4u;
-  si_commands[2561u] = impostors ? si_bucket_count[u_impostor_bucket] : 0u;
+  si_commands[2561u] = 0u;  // The impostor quads pass counts the quads it keeps.
   si_commands[2562u] = 0u;
-  si_commands[2563u] = impostors ? si_bucket_offset[u_impostor_bucket] : 0u;
+  si_commands[2563u] = 0u;
   uint quads = impostors ? si_bucket_count[u_impostor_bucket] : 0u;
   uint quad_groups = max((quads + 63u) / 64u, 1u);
   si_impostor_dispatch[0] = min(quad_groups, u_max_groups_x);
   si_impostor_dispatch[1] = (quad_groups + u_max_groups_x - 1u) / u_max_groups_x;
   si_impostor_dispatch[2] = 1u;
   si_impostor_dispatch[3] = quads;
+  si_impostors_drawn = 0u;
   uint scatter_groups = max((si_visible_count + 63u) / 64u, 1u);
   si_dispatch[0] = min(scatter_groups, u_max_groups_x);
   si_dispatch[1] = (scatter_groups + u_max_groups_x - 1u) / u_max_groups_x;

@@ -16,5 +16,6 @@ layout(std430, binding = 3) coherent buffer SiCounters {
   uint si_fitted[256];         // Instances of each bucket pre-skinned; the rest are drawn with
                                // vertex-shader skinning (the ring is full, or no pre-skinning).
   uint si_impostor_dispatch[4];  // The impostor quads pass's groups (x, y, z) and quads (w).
+  uint si_impostors_drawn;       // The quads it kept (the others hold no pixel centre).
 };
 #endif

@@ -2,20 +2,16 @@
 // Animated impostors (Renderer::buildImpostor): one quad per instance at the crowd's impostor
 // level, a triangle strip of 4 vertices (impostor_quad.glsl: the cell and quad from the
 // instance's record; its clip and frame are the heavier clip's of a crossfade).
-// SI_GPU_DRIVEN: the quad the impostor quads pass computed (impostor_quads.comp.glsl), by
-// gl_InstanceID (the draw's base instance is the impostor bucket's offset).
+// SI_GPU_DRIVEN: the quad the impostor quads pass computed and kept (impostor_quads.comp.glsl),
+// by gl_InstanceID, with the instance's handle.
 // SI_DEPTH_ONLY: the atlas coordinate alone (the fragment stage tests coverage only).
 // SI_INSTANCE_HANDLE: also the instance's handle (instance_handle.glsl).
 #include "impostor_quad.glsl"
 #include "instance_handle.glsl"
 #ifdef SI_GPU_DRIVEN
-layout(location = 5) in uint a_entry;  // The bucket entry (the instance handle's).
-layout(std430, binding = 5) readonly buffer SiEntries { uint si_entries[]; };
-// The impostor quads pass's quads (impostor_quads.comp.glsl), 3 words each, by instance.
+// The impostor quads pass's quads (impostor_quads.comp.glsl), 4 words each (the last: the
+// instance's handle), by instance.
 layout(std430, binding = 15) readonly buffer SiImpostorQuads { uvec4 si_impostor_quads[]; };
-#ifdef SI_INSTANCE_HANDLE  // The cull pass's visible list: w the handle (cull_common.glsl).
-layout(std430, binding = 6) readonly buffer SiVisible { uvec4 si_visible[]; };
-#endif
 #else
 layout(std140, binding = 0) uniform SiInstances { SiInstance si_instances[SI_MAX_INSTANCES]; };
 #endif
@@ -32,11 +28,11 @@ flat out vec3 v_towards;
 #endif
 void main() {
 #ifdef SI_GPU_DRIVEN
-  uint i = 3u * uint(gl_InstanceID);  // The draw's base instance is the bucket's offset.
+  uint i = 4u * uint(gl_InstanceID);
   SiImpostorQuad q =
       siUnpackImpostorQuad(si_impostor_quads[i], si_impostor_quads[i + 1u], si_impostor_quads[i + 2u]);
 #ifdef SI_INSTANCE_HANDLE
-  v_instance_handle = si_visible[si_entries[a_entry]].w;
+  v_instance_handle = si_impostor_quads[i + 3u].x;
 #endif
 #else
   SiImpostorQuad q = siImpostorQuad(si_instances[gl_InstanceID]);
