@@ -20,10 +20,11 @@ namespace {
 
 // Times `path` on the field of `count` with 1 main view and views - 1 cascades.
 Status runViews(Setup& setup, Renderer& renderer, const BakedPalette& palette, uint32_t count,
-                const std::string& path, uint32_t views, uint32_t lod_bias, Row* row) {
+                const std::string& path, uint32_t views, uint32_t lod_bias, const LodChoice& lod,
+                Row* row) {
   const std::vector<glm::dvec3> places = scenePositions("field", count);
   CrowdManager crowd;
-  Status s = makeCrowd(setup, palette, places, LodChoice(), &crowd);
+  Status s = makeCrowd(setup, palette, places, lod, &crowd);
   CrowdView main_view;
   std::vector<std::unique_ptr<CrowdView>> cascades;
   if (s.isOk()) s = main_view.init(crowd);
@@ -127,7 +128,8 @@ Status runViews(Setup& setup, Renderer& renderer, const BakedPalette& palette, u
 
 Status viewsTable(Setup& setup, const BakedPalette& palette, const RendererDesc& desc,
                   const std::vector<uint32_t>& sizes, const std::vector<uint32_t>& view_counts,
-                  uint32_t cascade_lod_bias, const std::vector<std::string>& paths,
+                  uint32_t cascade_lod_bias, const LodChoice& lod,
+                  const std::vector<std::string>& paths,
                   uint32_t max_baseline, std::FILE* csv, const std::string& passes_csv) {
   // The instanced paths and the baselines name their mode; the GPU-driven paths draw kDefault
   // and kDepthOnly on the renderer's skinning path: the vertex shader for gpu-culled*, compute
@@ -142,11 +144,11 @@ Status viewsTable(Setup& setup, const BakedPalette& palette, const RendererDesc&
     if (!s.isOk()) return {s.code(), "views: " + s.message()};
   }
   Status s = Status::ok();
-  std::printf("\nViews (field): 1 main view and N - 1 shadow cascades per frame (CrowdManager::"
-              "advance once, CrowdView::select per view, or the clock and a GPU selection per "
-              "view on the GPU-driven paths; cascades depth-only, %u LOD%s coarser), side by side "
-              "with the main view alone; visible sums the views\n",
-              cascade_lod_bias, cascade_lod_bias == 1 ? "" : "s");
+  std::printf("\nViews (field, %s LODs): 1 main view and N - 1 shadow cascades per frame "
+              "(CrowdManager::advance once, CrowdView::select per view, or the clock and a GPU "
+              "selection per view on the GPU-driven paths; cascades depth-only, %u LOD%s "
+              "coarser), side by side with the main view alone; visible sums the views\n",
+              lod.name().c_str(), cascade_lod_bias, cascade_lod_bias == 1 ? "" : "s");
   printSideBySideHeader("views");
   std::printf("\n");
   std::vector<Row> all;  // For the pass table (--gpu-passes).
@@ -156,7 +158,7 @@ Status viewsTable(Setup& setup, const BakedPalette& palette, const RendererDesc&
       if ((path == "traditional" || path == "cpu") && count > max_baseline) continue;
       std::vector<Row> rows(view_counts.size());
       for (size_t k = 0; k < view_counts.size(); ++k) {
-        s = runViews(setup, renderer, palette, count, path, view_counts[k], cascade_lod_bias,
+        s = runViews(setup, renderer, palette, count, path, view_counts[k], cascade_lod_bias, lod,
                      &rows[k]);
         if (!s.isOk()) return {s.code(), "views, " + path + ": " + s.message()};
       }

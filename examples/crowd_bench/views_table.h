@@ -16,13 +16,15 @@
 
 namespace si::bench {
 
-/// Prints the table (and CSV rows "views") for every size, view count and path among `paths`.
+/// Prints the table (and CSV rows "views") for every size, view count and path among `paths`,
+/// the crowd selecting its levels by `lod` (the first --lods choice).
 /// `view_counts` holds 1 and more (1: main only); `cascade_lod_bias` is 0 to 7. With
 /// `desc.measure_gpu_passes`, also each row's GPU time per pass (a frame's views summed), its
 /// CSV at `passes_csv`.
 Status viewsTable(Setup& setup, const BakedPalette& palette, const RendererDesc& desc,
                   const std::vector<uint32_t>& sizes, const std::vector<uint32_t>& view_counts,
-                  uint32_t cascade_lod_bias, const std::vector<std::string>& paths,
+                  uint32_t cascade_lod_bias, const LodChoice& lod,
+                  const std::vector<std::string>& paths,
                   uint32_t max_baseline, std::FILE* csv, const std::string& passes_csv);
 
 }  // namespace si::bench
