@@ -58,6 +58,17 @@ void impostorCrowd(std::vector<float> lines, uint32_t impostor_lod, CrowdManager
   ASSERT_TRUE(crowd->update(0.0, lodCamera()).isOk());
 }
 
+// A renderer of impostorCharacter() with its small atlas; `counts`: RendererDesc::
+// measure_gpu_time, so that the GPU-driven path reads back its counts into the draw's stats.
+void initImpostorRenderer(const GlInfo& info, bool counts, Renderer* r, CharacterId* id) {
+  RendererDesc rd;
+  rd.measure_gpu_time = counts;
+  ASSERT_TRUE(r->init(info, rd).isOk());
+  ASSERT_TRUE(r->addCharacter(impostorCharacter(), palette(), id).isOk());
+  const Status s = r->buildImpostor(*id, smallImpostor());
+  ASSERT_TRUE(s.isOk()) << s.toString();
+}
+
 uint32_t backgroundlessPixels(const std::vector<uint8_t>& rgba) {
   uint32_t n = 0;
   for (size_t p = 0; p < rgba.size(); p += 4)
@@ -127,10 +138,8 @@ TEST_P(RenderTest, ImpostorsInADepthOnlyViewWriteTheInstancedPathsDepth) {
   impostorCrowd(linesTo(60.0f), impostorLevels() - 1, &crowd);
   ASSERT_EQ(crowd.view().stats().per_lod[impostorLevels() - 1], 16u);
   Renderer r;
-  ASSERT_TRUE(r.init(info_, RendererDesc()).isOk());
   CharacterId id;
-  ASSERT_TRUE(r.addCharacter(impostorCharacter(), palette(), &id).isOk());
-  ASSERT_TRUE(r.buildImpostor(id, smallImpostor()).isOk());
+  initImpostorRenderer(info_, false, &r, &id);
   // Only the impostors: the two far rows (the near ones are meshes).
   const Camera camera = lodCamera();
   const std::vector<uint8_t> colour = draw(r, crowd, camera, 0);
@@ -187,13 +196,9 @@ TEST_P(RenderTest, ImpostorsThatHoldNoPixelCentreAreLeftOutOfTheSameImage) {
       addHeld(&crowd, glm::dvec3((k - 5.5) * (1.0 + 0.5 * row), 0.0, -20.0 * std::pow(1.2, row)),
               0.5f * float(k + row), n, 0.07 * n);
   ASSERT_TRUE(crowd.update(0.0, lodCamera()).isOk());
-  RendererDesc rd;
-  rd.measure_gpu_time = true;  // The GPU-driven path reads back its counts.
   Renderer r;
-  ASSERT_TRUE(r.init(info_, rd).isOk());
   CharacterId id;
-  ASSERT_TRUE(r.addCharacter(impostorCharacter(), palette(), &id).isOk());
-  ASSERT_TRUE(r.buildImpostor(id, smallImpostor()).isOk());
+  initImpostorRenderer(info_, true, &r, &id);
   DrawStats instanced;
   const std::vector<uint8_t> reference = draw(r, crowd, lodCamera(), 0, false, &instanced);
   r.clear(glm::vec4(0.2f, 0.25f, 0.3f, 1.0f));
@@ -233,13 +238,9 @@ TEST_P(RenderTest, LivePosesStayMeshesWhereTheirClipsWouldBeImpostors) {
   ASSERT_EQ(clips[impostorLevels() - 1], 16u);
   EXPECT_EQ(posed[impostorLevels() - 1], 16u - 6u);
   EXPECT_EQ(posed[impostorLevels() - 2], clips[impostorLevels() - 2] + 6u);
-  RendererDesc rd;
-  rd.measure_gpu_time = true;  // The GPU-driven path reads back its counts.
   Renderer r;
-  ASSERT_TRUE(r.init(info_, rd).isOk());
   CharacterId id;
-  ASSERT_TRUE(r.addCharacter(impostorCharacter(), palette(), &id).isOk());
-  ASSERT_TRUE(r.buildImpostor(id, smallImpostor(), nullptr).isOk());
+  initImpostorRenderer(info_, true, &r, &id);
   DrawStats reference_stats;
   const std::vector<uint8_t> reference = draw(r, crowd, lodCamera(), 0, false, &reference_stats);
   expectEveryCaseDraws({{"gpu-driven", &r, Path::kInstanced, true, DrawMode::kSkinned}}, crowd,
