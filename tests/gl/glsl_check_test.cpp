@@ -45,15 +45,16 @@ std::string readFile(const std::string& path) {
   return s.str();
 }
 
-// Compiles `source` as `stage` ("vert", "frag", "comp") with glslang (OpenGL GLSL semantics);
-// returns "" on success, else glslang's output.
+// Compiles `source` as `stage` ("vert", "frag", "comp") with glslang (OpenGL GLSL semantics,
+// or glslang's `options`); returns "" on success, else glslang's output.
 std::string compileWithGlslang(const std::string& source, const std::string& stage,
-                               const std::string& name) {
+                               const std::string& name, const std::string& options = "") {
   const std::string dir = ::testing::TempDir();
   const std::string file = dir + "si_glsl_" + name + "." + stage;
   const std::string log = file + ".log";
   std::ofstream(file, std::ios::binary) << source;
-  const std::string command = "glslangValidator -S " + stage + " '" + file + "' >'" + log + "' 2>&1";
+  const std::string command =
+      "glslangValidator " + options + " -S " + stage + " '" + file + "' >'" + log + "' 2>&1";
   if (std::system(command.c_str()) == 0) return "";
   return "glslangValidator failed on " + file + ":\n" + readFile(log);
 }
@@ -102,6 +103,28 @@ TEST(GlslCheck, EveryProgramCompilesWithGlslang) {
   }
   // The catalog's 60 programs: 36 with a vertex and a fragment stage, 24 compute: 96 stages.
   EXPECT_EQ(compiled, 2 * 96);
+}
+
+// The same programs compile to SPIR-V for Vulkan under glslang's relaxed rules (-R: loose
+// uniforms in a default block, gl_VertexID and gl_InstanceID), their bindings and locations
+// mapped where they have none: the sources a Vulkan back-end would compile (issue "The crowd
+// in a Vulkan engine", "the same shaders"), kept from drifting away from it.
+TEST(GlslCheck, EveryProgramCompilesToSpirvForVulkan) {
+  skipWithoutGlslang();
+  const detail::ShaderConfig config = checkConfig(819);
+  int compiled = 0;
+  forEachStage([&](ProgramId id, ShaderStage stage) {
+    std::string source;
+    ASSERT_TRUE(detail::assembleStage(id, stage, config, &source).isOk());
+    const std::string spv =
+        ::testing::TempDir() +
+        fileName(id, "si_spirv_", std::string("_") + stageExtension(stage) + ".spv");
+    EXPECT_EQ(compileWithGlslang(source, stageExtension(stage), fileName(id, "vulkan_", ""),
+                                 "-V -R --auto-map-bindings --auto-map-locations -o '" + spv + "'"),
+              "");
+    ++compiled;
+  });
+  EXPECT_EQ(compiled, 96);
 }
 
 // The variants for meshes with texture coordinates 1 or colours (SI_VERTEX_WORDS): every
