@@ -22,7 +22,8 @@ struct CrowdGpuMemory {
   uint32_t capacity = 0;  ///< Instances its buffers hold.
   uint32_t views = 0;     ///< Views it keeps state for.
   /// The instance state, overlays, clips and the passes' outputs (records, visible list, bucket
-  /// entries, commands, previous records).
+  /// entries, commands, previous records, impostor quads: 64 bytes per instance of capacity
+  /// for a crowd with an impostor level).
   uint64_t state_bytes = 0;
   /// Every view's LODs and flags, drawn records (motion vectors) and depth pyramid.
   uint64_t view_bytes = 0;
