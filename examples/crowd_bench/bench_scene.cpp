@@ -181,9 +181,7 @@ Status timeCrowd(Setup& setup, Renderer& renderer, CrowdManager& crowd, const st
         return drawn;
       },
       row);
-  passes.finish(&row->pass_ms, &row->pass_total_ms);
-  row->passes_read = passes.read();
-  row->passes_read_late = passes.readLate();
+  passes.finish(row);
   // Without the blocking timer (--no-gpu-time), the GPU time is the pass stamps' (read late).
   if (row->gpu_ms < 0.0 && !row->pass_ms.empty()) row->gpu_ms = row->pass_total_ms;
   return timed;

@@ -48,10 +48,12 @@ bool PassCollector::readFront(bool wait) {
   return true;
 }
 
-void PassCollector::finish(std::vector<double>* pass_ms, double* total_ms) {
+void PassCollector::finish(Row* row) {
   while (!pending_.empty()) readFront(true);
-  pass_ms->clear();
-  *total_ms = 0.0;
+  row->passes_read = uint32_t(done_.size());
+  row->passes_read_late = read_late_;
+  row->pass_ms.clear();
+  row->pass_total_ms = 0.0;
   if (done_.empty()) return;
   std::map<uint32_t, GpuPassTimes> frames;  // Each frame's draws summed.
   for (const auto& [t, frame] : done_) {
@@ -62,11 +64,11 @@ void PassCollector::finish(std::vector<double>* pass_ms, double* total_ms) {
   for (uint32_t p = 0; p < kGpuPassCount; ++p) {
     std::vector<double> v;
     for (const auto& frame : frames) v.push_back(frame.second.ms[p]);
-    pass_ms->push_back(median(v));
+    row->pass_ms.push_back(median(v));
   }
   std::vector<double> totals;
   for (const auto& frame : frames) totals.push_back(frame.second.total_ms);
-  *total_ms = median(totals);
+  row->pass_total_ms = median(totals);
 }
 
 void printPassTable(const std::vector<Row>& rows, const char* csv_path) {

@@ -22,13 +22,10 @@ class PassCollector {
  public:
   explicit PassCollector(const Renderer& renderer) : renderer_(renderer) {}
   void add(uint64_t ticket, uint32_t frame);
-  /// The medians over the frames (each the sum of its draws) by pass (si::GpuPass order) and
-  /// of their totals; empty when no draw had a ticket.
-  void finish(std::vector<double>* pass_ms, double* total_ms);
-  /// Draws whose times were read.
-  uint32_t read() const { return uint32_t(done_.size()); }
-  /// Draws whose times were already there at the next draw (read a frame late, no wait).
-  uint32_t readLate() const { return read_late_; }
+  /// Into `row`: the medians over the frames (each the sum of its draws) by pass (si::GpuPass
+  /// order) and of their totals (empty when no draw had a ticket), the draws whose times were
+  /// read and those already there at the next draw (read a frame late, no wait).
+  void finish(Row* row);
 
  private:
   bool readFront(bool wait);

@@ -269,8 +269,8 @@ int main(int argc, char** argv) {
   }
   if (!b.o.views.empty()) {
     s = si::bench::viewsTable(b.setup, palette, rd, b.o.sizes, b.o.views, b.o.views_lod_bias,
-                              lodChoice(b.o.lods.front(), b.o.pixel_budget), b.o.paths, b.o.max_baseline, csv,
-                              passesCsvPath(b.o.csv, "_views_passes.csv"));
+                              lodChoice(b.o.lods.front(), b.o.pixel_budget), b.o.paths,
+                              b.o.max_baseline, csv, passesCsvPath(b.o.csv, "_views_passes.csv"));
     if (!s.isOk()) return fail("views", s);
   }
   if (!b.o.churn.empty()) {

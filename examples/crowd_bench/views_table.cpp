@@ -118,9 +118,7 @@ Status runViews(Setup& setup, Renderer& renderer, const BakedPalette& palette, u
       },
       row);
   renderer.setGpuOcclusionCulling(false);
-  passes.finish(&row->pass_ms, &row->pass_total_ms);
-  row->passes_read = passes.read();
-  row->passes_read_late = passes.readLate();
+  passes.finish(row);
   return timed;
 }
 
@@ -129,8 +127,8 @@ Status runViews(Setup& setup, Renderer& renderer, const BakedPalette& palette, u
 Status viewsTable(Setup& setup, const BakedPalette& palette, const RendererDesc& desc,
                   const std::vector<uint32_t>& sizes, const std::vector<uint32_t>& view_counts,
                   uint32_t cascade_lod_bias, const LodChoice& lod,
-                  const std::vector<std::string>& paths,
-                  uint32_t max_baseline, std::FILE* csv, const std::string& passes_csv) {
+                  const std::vector<std::string>& paths, uint32_t max_baseline, std::FILE* csv,
+                  const std::string& passes_csv) {
   // The instanced paths and the baselines name their mode; the GPU-driven paths draw kDefault
   // and kDepthOnly on the renderer's skinning path: the vertex shader for gpu-culled*, compute
   // pre-skinning for gpu-driven*.
@@ -144,11 +142,12 @@ Status viewsTable(Setup& setup, const BakedPalette& palette, const RendererDesc&
     if (!s.isOk()) return {s.code(), "views: " + s.message()};
   }
   Status s = Status::ok();
-  std::printf("\nViews (field, %s LODs): 1 main view and N - 1 shadow cascades per frame "
-              "(CrowdManager::advance once, CrowdView::select per view, or the clock and a GPU "
-              "selection per view on the GPU-driven paths; cascades depth-only, %u LOD%s "
-              "coarser), side by side with the main view alone; visible sums the views\n",
-              lod.name().c_str(), cascade_lod_bias, cascade_lod_bias == 1 ? "" : "s");
+  std::printf(
+      "\nViews (field, %s LODs): 1 main view and N - 1 shadow cascades per frame "
+      "(CrowdManager::advance once, CrowdView::select per view, or the clock and a GPU "
+      "selection per view on the GPU-driven paths; cascades depth-only, %u LOD%s "
+      "coarser), side by side with the main view alone; visible sums the views\n",
+      lod.name().c_str(), cascade_lod_bias, cascade_lod_bias == 1 ? "" : "s");
   printSideBySideHeader("views");
   std::printf("\n");
   std::vector<Row> all;  // For the pass table (--gpu-passes).

@@ -24,7 +24,7 @@ namespace si::bench {
 Status viewsTable(Setup& setup, const BakedPalette& palette, const RendererDesc& desc,
                   const std::vector<uint32_t>& sizes, const std::vector<uint32_t>& view_counts,
                   uint32_t cascade_lod_bias, const LodChoice& lod,
-                  const std::vector<std::string>& paths,
-                  uint32_t max_baseline, std::FILE* csv, const std::string& passes_csv);
+                  const std::vector<std::string>& paths, uint32_t max_baseline, std::FILE* csv,
+                  const std::string& passes_csv);
 
 }  // namespace si::bench

@@ -17,6 +17,12 @@ layout(location = 19) uniform uint u_ring_vertices;
 layout(location = 27) uniform uint u_max_groups_x;
 // The impostor level's bucket (CrowdDesc::impostor_lod x sub-meshes); past the buckets: none.
 layout(location = 37) uniform uint u_impostor_bucket;
+// A later pass's groups for `threads` threads of 64-wide groups, in rows of at most
+// u_max_groups_x (x, y, z).
+uvec3 siRowsOfGroups(uint threads) {
+  uint groups = max((threads + 63u) / 64u, 1u);
+  return uvec3(min(groups, u_max_groups_x), (groups + u_max_groups_x - 1u) / u_max_groups_x, 1u);
+}
 void main() {
   uint buckets = u_counts.y * u_counts.z, offset = 0u, threads = 0u;
   for (uint b = 0u; b < buckets; ++b) {
@@ -49,19 +55,13 @@ void main() {
   si_commands[2562u] = 0u;
   si_commands[2563u] = 0u;
   uint quads = impostors ? si_bucket_count[u_impostor_bucket] : 0u;
-  uint quad_groups = max((quads + 63u) / 64u, 1u);
-  si_impostor_dispatch[0] = min(quad_groups, u_max_groups_x);
-  si_impostor_dispatch[1] = (quad_groups + u_max_groups_x - 1u) / u_max_groups_x;
-  si_impostor_dispatch[2] = 1u;
-  si_impostor_dispatch[3] = quads;
+  uvec3 g = siRowsOfGroups(quads);
+  si_impostor_dispatch = uint[4](g.x, g.y, g.z, quads);
   si_impostors_drawn = 0u;
-  uint scatter_groups = max((si_visible_count + 63u) / 64u, 1u);
-  si_dispatch[0] = min(scatter_groups, u_max_groups_x);
-  si_dispatch[1] = (scatter_groups + u_max_groups_x - 1u) / u_max_groups_x;
-  si_dispatch[2] = 1u;
-  uint groups = max((threads + 63u) / 64u, 1u);
-  si_skin_dispatch[0] = min(groups, u_max_groups_x);
-  si_skin_dispatch[1] = (groups + u_max_groups_x - 1u) / u_max_groups_x;
-  si_skin_dispatch[2] = 1u;
-  si_skin_dispatch[3] = threads;
+  g = siRowsOfGroups(si_visible_count);
+  si_dispatch[0] = g.x;
+  si_dispatch[1] = g.y;
+  si_dispatch[2] = g.z;
+  g = siRowsOfGroups(threads);
+  si_skin_dispatch = uint[4](g.x, g.y, g.z, threads);
 }
