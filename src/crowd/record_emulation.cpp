@@ -37,16 +37,29 @@ Status emulateRecordMorphWeights(const BakedPalette& palette, const InstanceReco
 Status emulateLayeredMorphWeights(const BakedPalette& palette, const InstanceRecord& rec,
                                   const LayerRecord& layer, Span<const LayerMask> masks,
                                   Span<float> out) {
+  return emulateLayeredMorphWeights(palette, rec, layer, Span<const LayerRecord>(), masks, out);
+}
+
+Status emulateLayeredMorphWeights(const BakedPalette& palette, const InstanceRecord& rec,
+                                  const LayerRecord& layer, Span<const LayerRecord> extras,
+                                  Span<const LayerMask> masks, Span<float> out) {
   Status s = emulateRecordMorphWeights(palette, rec, out);
   const uint32_t m = layerMask(layer);
-  const float w = layerWeight(layer);
-  if (!s.isOk() || m >= masks.size() || !(w > 0.0f) || masks[m].morph_targets.empty()) return s;
-  IntervalMode mode;
-  const float fraction = unpackFraction(layer.fraction, &mode);
+  if (!s.isOk() || m >= masks.size() || masks[m].morph_targets.empty()) return s;
+  const bool chained = layerHasExtras(layer) && extras.size() >= kExtraLayerRecords;
+  const LayerRecord chain[1 + kExtraLayerRecords] = {layer, chained ? extras[0] : LayerRecord{},
+                                                     chained ? extras[1] : LayerRecord{}};
   std::vector<float> overlay(out.size());
-  s = emulateMorphWeights(palette, layer.frames[0], layer.frames[1], fraction, mode, overlay);
-  for (uint32_t t : masks[m].morph_targets)
-    if (s.isOk() && t < out.size()) out[t] = out[t] * (1.0f - w) + overlay[t] * w;
+  for (const LayerRecord& l : chain) {
+    const float w = layerWeight(l);
+    if (!(w > 0.0f)) continue;
+    IntervalMode mode;
+    const float fraction = unpackFraction(l.fraction, &mode);
+    s = emulateMorphWeights(palette, l.frames[0], l.frames[1], fraction, mode, overlay);
+    for (uint32_t t : masks[m].morph_targets)
+      if (s.isOk() && t < out.size()) out[t] = out[t] * (1.0f - w) + overlay[t] * w;
+    if (!s.isOk()) return s;
+  }
   return s;
 }
 

@@ -264,23 +264,23 @@ Status Renderer::drawCrowd(CharacterId id, const CrowdView& view, const Instance
   if (s.isOk() && layers) s = m.scratch.uploadMaskTable(layerMaskTable(crowd.layerMasks()));
   // Composed layers: the skinning passes' rows, where they fit (paths/layer_compose_pass.h; the
   // pass reads the region as a storage buffer).
-  uint32_t compose_stride = 0;
+  uint32_t compose_lanes = 0;
   if (s.isOk() && layers && plan.end <= storage_limit)
     s = detail::prepareComposedRows(m.resources(*c), crowd.layerMasks(), view.records().size(),
-                                    motion, &compose_stride);
-  if (s.isOk()) s = detail::extrasNeedComposing("drawCrowd", plan.extras, compose_stride);
+                                    motion, &compose_lanes);
+  if (s.isOk()) s = detail::extrasNeedComposing("drawCrowd", plan.extras, compose_lanes);
   if (!s.isOk()) return s;
   detail::PathFrame frame = detail::viewFrame(view, camera, light_direction_);
   detail::placeRingFrame(plan, base, previous, &frame);
   frame.program = mode == DrawMode::kRigid
                       ? detail::ProgramId::kRigid
                       : detail::skinningProgram(false, mode == DrawMode::kDepthOnly, motion, layers,
-                                                compose_stride > 0);
+                                                compose_lanes > 0);
   if (m.program_override != detail::ProgramId::kCount) frame.program = m.program_override;
   frame.batches = &m.batches;
   frame.previous_shift = previousRecordShift(view);
-  frame.composed = compose_stride > 0;
-  frame.compose_stride = compose_stride;
+  frame.composed = compose_lanes > 0;
+  frame.compose_lanes = compose_lanes;
   if (frame.composed)
     detail::writeComposePlaces(m.resources(*c), batcher, view, m.ring.mapped(base), &frame);
   m.ring.publish(base, plan.end);

@@ -12,6 +12,7 @@
 #include "crowd/crowd_test_helpers.h"
 #include "crowd/morph_face_fixture.h"
 #include "si/core/reference_evaluator.h"
+#include "si/crowd/blend_space.h"
 #include "si/crowd/crowd_manager.h"
 #include "si/crowd/record_emulation.h"
 
@@ -92,6 +93,80 @@ TEST(MorphOverlay, TheOverlayMovesOnlyTheTargetsOfItsMaskAsItFades) {
   const std::vector<double> base = reference(f.walk, 0.9);
   const std::vector<float> w = drawn(crowd);
   for (int k = 0; k < 3; ++k) EXPECT_NEAR(w[k], base[k], tolerance) << k;
+}
+
+// A 2D blend's four clips move the targets of its mask by their shares of the blend: the
+// weights emulated through the instance's layer record and extra layer records (the chain the
+// compose pass walks) equal each clip's weights at its frames summed by si::blendPoint's shares,
+// so the third and fourth clips count; off the mask the base clip's stay.
+TEST(MorphOverlay, ABlendsFourClipsMoveTheTargetsByTheirShares) {
+  const Face& f = face();
+  CrowdDesc cd;
+  cd.palette = &f.palette;
+  cd.sub_mesh_count = uint32_t(f.character.mesh.sub_meshes.size());
+  cd.lod_count = uint32_t(f.character.mesh.maxLodCount());
+  CrowdManager crowd;
+  ASSERT_TRUE(crowd.init(cd).isOk());
+  LayerMask mask;
+  ASSERT_TRUE(
+      buildMorphTargetMask(f.character.mesh, f.palette, "face", {"t0", "t1"}, &mask).isOk());
+  uint32_t mask_id = 0, space_id = 0;
+  ASSERT_TRUE(crowd.addLayerMask(mask, &mask_id).isOk());
+  BlendSpace grid;
+  grid.name = "grid";
+  // The third and fourth clips (wave) animate the targets unlike the first two.
+  grid.clips = {f.walk, uint32_t(f.palette.findClip("run")), f.wave, f.wave};
+  grid.positions = {0.0f, 1.0f};
+  grid.positions_y = {0.0f, 1.0f};
+  grid.mask = mask_id;
+  ASSERT_TRUE(crowd.addBlendSpace(grid, &space_id).isOk());
+  InstanceDesc d;
+  d.clip = f.walk;
+  InstanceHandle h;
+  ASSERT_TRUE(crowd.add(d, &h).isOk());
+  const Camera camera = test::testCamera({0.0, 1.0, -5.0}, {0.0, 1.0, 0.0});
+  for (const glm::vec2 point : {glm::vec2(0.3f, 0.6f), glm::vec2(0.8f, 0.35f)}) {
+    SCOPED_TRACE(testing::Message() << point.x << ", " << point.y);
+    ASSERT_TRUE(crowd.playBlend(h, space_id, point, 0.0, 0.25).isOk());
+    ASSERT_TRUE(crowd.update(0.1, camera).isOk());
+    const CrowdView& view = crowd.view();
+    ASSERT_EQ(view.records().size(), 1u);
+    ASSERT_EQ(view.layerRecords().size(), 1u);
+    ASSERT_EQ(view.extraLayerRecords().size(), size_t(kExtraLayerRecords));
+    const LayerRecord& layer = view.layerRecords()[0];
+    ASSERT_TRUE(layerHasExtras(layer));
+    std::vector<float> w(3), base(3), with_two(3);
+    ASSERT_TRUE(emulateLayeredMorphWeights(f.palette, view.records()[0], layer,
+                                           view.extraLayerRecords(), crowd.layerMasks(), w)
+                    .isOk());
+    ASSERT_TRUE(emulateRecordMorphWeights(f.palette, view.records()[0], base).isOk());
+    ASSERT_TRUE(emulateLayeredMorphWeights(f.palette, view.records()[0], layer, crowd.layerMasks(),
+                                           with_two)
+                    .isOk());
+    // Each clip's weights at its frames: the base record's clip, then each layer's.
+    const BlendPoint bp = blendPoint(grid, point.x, point.y);
+    ASSERT_EQ(bp.count, 4u);
+    const LayerRecord layers[3] = {layer, view.extraLayerRecords()[0], view.extraLayerRecords()[1]};
+    std::vector<double> expected(3, 0.0);
+    for (uint32_t k = 0; k < 4; ++k) {
+      std::vector<float> clip_w(3);
+      if (k == 0) {
+        clip_w = base;
+      } else {
+        IntervalMode mode;
+        const float fraction = unpackFraction(layers[k - 1].fraction, &mode);
+        ASSERT_TRUE(emulateMorphWeights(f.palette, layers[k - 1].frames[0], layers[k - 1].frames[1],
+                                        fraction, mode, clip_w)
+                        .isOk());
+      }
+      for (int t = 0; t < 2; ++t) expected[size_t(t)] += double(bp.shares[k]) * clip_w[size_t(t)];
+    }
+    // The chain's weights are unorm16: 1.5e-5 each.
+    for (int t = 0; t < 2; ++t) EXPECT_NEAR(w[size_t(t)], expected[size_t(t)], 1e-4) << t;
+    EXPECT_NEAR(w[2], base[2], 1e-6) << "outside the mask: the base clip's";
+    // The third and fourth clips count: without them the weights are visibly others.
+    EXPECT_GT(std::fabs(w[0] - with_two[0]), 0.05);
+  }
 }
 
 TEST(MorphOverlay, MasksOfTargetsAreBuiltAndCheckedByName) {

@@ -27,8 +27,14 @@ inline void checkRecords(const CrowdManager& crowd, const BakedPalette& palette,
   for (size_t i = 0; i < crowd.view().records().size(); ++i) {
     const InstanceRecord& r = crowd.view().records()[i];
     if (r.frames[0] >= texels) continue;  // A live pose: its weights are a baked frame's.
+    const Span<const LayerRecord> extras =
+        crowd.view().extraLayerRecords().empty()
+            ? Span<const LayerRecord>()
+            : Span<const LayerRecord>(
+                  crowd.view().extraLayerRecords().data() + i * kExtraLayerRecords,
+                  kExtraLayerRecords);
     const Status w = layers.empty() ? emulateRecordMorphWeights(palette, r, weights)
-                                    : emulateLayeredMorphWeights(palette, r, layers[i],
+                                    : emulateLayeredMorphWeights(palette, r, layers[i], extras,
                                                                  crowd.layerMasks(), weights);
     if (!w.isOk()) fail("the morph weights of a drawn record cannot be emulated");
     for (float v : weights)

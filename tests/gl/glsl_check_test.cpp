@@ -150,14 +150,15 @@ TEST(GlslCheck, TheVertexWordsVariantsCompileWithGlslang) {
   EXPECT_EQ(programs, 24);
 }
 
-// Every program that skins a mesh's vertices, every stage it has, assembled with `config`:
-// each holds `define` and compiles (files named with `suffix`); more than 20 programs.
+// Every program that skins a mesh's vertices (and with `composing` the layer compose passes),
+// every stage it has, assembled with `config`: each holds `define` and compiles (files named
+// with `suffix`); more than 20 programs.
 void expectSkinningVariantsCompile(const detail::ShaderConfig& config, const std::string& define,
-                                   const std::string& suffix) {
+                                   const std::string& suffix, bool composing = false) {
   int programs = 0;
   for (size_t p = 0; p < detail::kProgramCount; ++p) {
     const ProgramId id = ProgramId(p);
-    if (!detail::skinsVertices(id)) continue;
+    if (!detail::skinsVertices(id) && !(composing && detail::composesLayers(id))) continue;
     ++programs;
     const bool compute = detail::programSpec(id).compute != nullptr;
     for (ShaderStage stage :
@@ -183,14 +184,15 @@ TEST(GlslCheck, TheEightInfluenceVariantsCompileWithGlslang) {
 }
 
 // The variants for meshes with morph targets (SI_MORPH_TARGETS), with 8 influences and the
-// vertex words too (a mesh may have all three).
+// vertex words too (a mesh may have all three), and the layer compose passes' (they compose the
+// overlays' morph weights).
 TEST(GlslCheck, TheMorphTargetVariantsCompileWithGlslang) {
   skipWithoutGlslang();
   detail::ShaderConfig config = checkConfig(819);
   config.morph_targets = true;
   config.eight_influences = true;
   config.vertex_words = true;
-  expectSkinningVariantsCompile(config, "SI_MORPH_TARGETS", "_morph");
+  expectSkinningVariantsCompile(config, "SI_MORPH_TARGETS", "_morph", true);
 }
 
 // A G-buffer material like docs/rendering.md's ("Materials"): two targets, a uniform block of

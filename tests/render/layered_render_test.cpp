@@ -104,7 +104,8 @@ TEST_P(LayeredRenderTest, ComposedRowsDrawWhatTheChainWalkDraws) {
   vertexShaderSetUp(&r, &crowd, &unused);
   // Storage blocks that hold the rows of 12 instances (the arm's masked slots) and the frame's
   // record ring, but not the rows of their 48 drawn slots.
-  const uint32_t stride = uint32_t(detail::layerComposeTable(crowd.layerMasks())[1]);
+  const detail::ComposeShape shape =
+      detail::composeShape(detail::layerComposeTable(crowd.layerMasks()));
   GlInfo small_blocks = info_;
   small_blocks.max_shader_storage_block_size_bytes = 8192;
   RendererDesc rd;
@@ -134,9 +135,9 @@ TEST_P(LayeredRenderTest, ComposedRowsDrawWhatTheChainWalkDraws) {
     const std::vector<uint8_t> walk = drawn(r, false, &walk_stats);
     const std::vector<uint8_t> in_small = drawn(small, true, &small_stats);
     EXPECT_EQ(small_stats.compose_dispatches, 1u);
-    EXPECT_LE(detail::composedRowBytes(composed_stats.composed_records, stride),
+    EXPECT_LE(detail::composedRowBytes(composed_stats.composed_records, shape),
               small_blocks.max_shader_storage_block_size_bytes);
-    EXPECT_GT(detail::composedRowBytes(composed_stats.instances, stride),
+    EXPECT_GT(detail::composedRowBytes(composed_stats.instances, shape),
               small_blocks.max_shader_storage_block_size_bytes);
     EXPECT_EQ(compare(in_small, composed, nullptr).max_channel, 0);
     EXPECT_EQ(composed_stats.compose_dispatches, 1u);

@@ -10,6 +10,7 @@
 #include "render/skinning_paths.h"
 #include "si/core/impostor_level.h"
 #include "si/core/reference_evaluator.h"
+#include "si/crowd/blend_space.h"
 #include "si/crowd/crowd_manager.h"
 
 namespace si {
@@ -207,6 +208,75 @@ TEST_P(MorphRenderTest, AnOverlayMovesTheTargetsOfItsMask) {
       r.setComposeLayers(composed);
       expectEveryPathDraws(r, id, crowd.view(), batcher, camera, background, *context_, emulated);
     }
+  }
+  r.shutdown();
+}
+
+// A 2D blend moves the targets of its mask with all four clips (its third and fourth through
+// the compose pass's weights): on a mask of targets alone and on a full-body mask that holds
+// targets too, every path draws what the CPU emulation draws, and the heads differ visibly from
+// the same blend on the grid's lower line, where the third and fourth clips have no share.
+TEST_P(MorphRenderTest, ABlendsFourClipsMoveTheTargetsOnEveryPath) {
+  // Upper clips holding targets 0 to 3 at 1, lower ones at 0.
+  Character c = morphCharacter(6);
+  for (const char* name : {"smile", "still"}) {
+    Clip held = c.clips[0];
+    held.name = name;
+    MorphWeightTrack& track = held.morph_tracks[0];
+    for (size_t key = 0; key < track.times_seconds.size(); ++key)
+      for (size_t k = 0; k < 6; ++k)
+        track.values[key * 6 + k] = k < 4 && name[1] == 'm' ? 1.0f : 0.0f;
+    c.clips.push_back(held);
+  }
+  const BakedPalette palette = bakeAt30(c);
+  const uint32_t smile = uint32_t(palette.findClip("smile")),
+                 still = uint32_t(palette.findClip("still"));
+  const std::vector<std::string> targets = {"face0", "face1", "face2", "face3"};
+  LayerMask face, body;
+  ASSERT_TRUE(buildMorphTargetMask(c.mesh, palette, "face", targets, &face).isOk());
+  ASSERT_TRUE(buildFullBodyMask(c.skeleton, palette, "body", &body).isOk());
+  body.morph_targets = face.morph_targets;
+  Renderer r;
+  ASSERT_TRUE(r.init(info_, RendererDesc()).isOk());
+  CharacterId id;
+  ASSERT_TRUE(r.addCharacter(c, palette, &id).isOk());
+  InstanceBatcher batcher;
+  ASSERT_TRUE(batcher.init(r.batchLimits()).isOk());
+  const Camera camera = headCamera(c);
+  const glm::vec4 background(0.2f, 0.25f, 0.3f, 1.0f);
+  // The heads blending at `y` on the grid (the middle one left crossfading), drawn emulated.
+  const auto blended = [&](const LayerMask& mask, float y, CrowdManager* crowd) {
+    EXPECT_TRUE(headCrowd(c, palette, crowd).isOk());
+    uint32_t mask_id = 0, space = 0;
+    EXPECT_TRUE(crowd->addLayerMask(mask, &mask_id).isOk());
+    BlendSpace grid;
+    grid.name = "grid";
+    grid.clips = {still, still, smile, smile};
+    grid.positions = {0.0f, 1.0f};
+    grid.positions_y = {0.0f, 1.0f};
+    grid.mask = mask_id;
+    EXPECT_TRUE(crowd->addBlendSpace(grid, &space).isOk());
+    EXPECT_TRUE(crowd->update(0.0, camera).isOk());
+    const std::vector<InstanceHandle> heads(crowd->view().visibleHandles().begin(),
+                                            crowd->view().visibleHandles().end());
+    EXPECT_EQ(heads.size(), 3u);
+    for (size_t k = 0; k < heads.size(); k += 2)
+      EXPECT_TRUE(crowd
+                      ->playBlend(heads[k], space, glm::vec2(0.3f + 0.4f * float(k), y), 0.0,
+                                  0.2 * double(k))
+                      .isOk());
+    EXPECT_TRUE(crowd->update(0.2, camera).isOk());
+    return cpuSkinnedImage(r, id, crowd->view(), camera, background, *context_);
+  };
+  for (const LayerMask* mask : {&face, &body}) {
+    SCOPED_TRACE(mask->name);
+    CrowdManager crowd, lower_line;
+    const std::vector<uint8_t> emulated = blended(*mask, 0.7f, &crowd);
+    ASSERT_FALSE(crowd.view().extraLayerRecords().empty());
+    EXPECT_GT(compare(emulated, blended(*mask, 0.0f, &lower_line), nullptr).share,
+              3 * kMaxDifferingShare)
+        << "the third and fourth clips move the faces";
+    expectEveryPathDraws(r, id, crowd.view(), batcher, camera, background, *context_, emulated);
   }
   r.shutdown();
 }

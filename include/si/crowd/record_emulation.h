@@ -33,11 +33,20 @@ Status emulateRecordMorphWeights(const BakedPalette& palette, const InstanceReco
 /// The same with the instance's overlay (si_morph.glsl's siMorphLayerWeight): where `layer`'s
 /// weight is above 0 and its mask (an index into `masks`, CrowdManager::layerMasks()) moves a
 /// target, the record's weight mixed towards the overlay clip's (its frames interpolated) by
-/// the overlay's weight. A 2D blend's extra layer records do not move targets; a mask index
-/// past `masks` reads as no overlay.
+/// the overlay's weight. A mask index past `masks` reads as no overlay.
 Status emulateLayeredMorphWeights(const BakedPalette& palette, const InstanceRecord& record,
                                   const LayerRecord& layer, Span<const LayerMask> masks,
                                   Span<float> out);
+
+/// The same with a 2D blend's extra layers (the compose pass's weights, layer_compose.glsl):
+/// where `layer` has kLayerExtrasBit and `extras` holds the instance's kExtraLayerRecords
+/// (CrowdView::extraLayerRecords), each target of `layer`'s mask mixed towards the overlay
+/// clip's weight by the overlay's weight, then towards each extra layer's clip's by its weight,
+/// in turn: the chain of emulateLayeredChain, whose layer weights make each clip's share of a
+/// blend (si::BlendPoint::chain). Otherwise as above.
+Status emulateLayeredMorphWeights(const BakedPalette& palette, const InstanceRecord& record,
+                                  const LayerRecord& layer, Span<const LayerRecord> extras,
+                                  Span<const LayerMask> masks, Span<float> out);
 
 /// The same with the instance's overlay: where `layer`'s weight is above 0 and its mask (an
 /// index into `masks`, CrowdManager::layerMasks()) holds the slot, emulateLayeredMatrix() of

@@ -138,7 +138,8 @@ struct RendererDesc {
   /// skinning paths, depth-only included). On (the default), a compute pass first composes each
   /// overlaid record's masked joints once per frame (the overlay's matrices on the base's anchor,
   /// and between weights every masked link blended in local space) into a buffer of 48 bytes per
-  /// masked joint and record (the previous records' too with motion vectors), which the vertex
+  /// masked joint and record, and where masks hold morph targets each record's weights of them
+  /// (4 bytes per target; the previous records' too with motion vectors), which the vertex
   /// shader or the pre-skinning pass reads in place of walking each influence's chain per vertex;
   /// the image is the same. Off, or where those rows (or drawCrowd's record ring, which the pass
   /// reads) would exceed GL_MAX_SHADER_STORAGE_BLOCK_SIZE or the pass

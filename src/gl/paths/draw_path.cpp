@@ -70,17 +70,22 @@ Status dispatchGroups(const GlInfo& info, uint64_t groups, const char* what) {
   return Status::ok();
 }
 
+namespace {
+// The instance's kExtraLayerRecords extra layer records (a 2D blend's) in `view`, or none.
+Span<const LayerRecord> recordExtras(const CrowdView& view, size_t record) {
+  const Span<const LayerRecord> extras = view.extraLayerRecords();
+  return extras.empty() ? Span<const LayerRecord>()
+                        : Span<const LayerRecord>(extras.data() + record * kExtraLayerRecords,
+                                                  kExtraLayerRecords);
+}
+}  // namespace
+
 glm::mat4 recordJointMatrix(const BakedPalette& palette, const CrowdView& view, size_t record,
                             uint32_t slot) {
   const Span<const LayerRecord> layers = view.layerRecords();
   if (layers.empty()) return emulateRecordMatrix(palette, view.records()[record], slot);
-  const Span<const LayerRecord> extras = view.extraLayerRecords();
-  return emulateLayeredRecordMatrix(
-      palette, view.records()[record], layers[record],
-      extras.empty() ? Span<const LayerRecord>()
-                     : Span<const LayerRecord>(extras.data() + record * kExtraLayerRecords,
-                                               kExtraLayerRecords),
-      view.crowd()->layerMasks(), slot);
+  return emulateLayeredRecordMatrix(palette, view.records()[record], layers[record],
+                                    recordExtras(view, record), view.crowd()->layerMasks(), slot);
 }
 
 Status recordMorphWeights(const BakedPalette& palette, const CrowdView& view, size_t record,
@@ -88,7 +93,7 @@ Status recordMorphWeights(const BakedPalette& palette, const CrowdView& view, si
   const Span<const LayerRecord> layers = view.layerRecords();
   if (layers.empty()) return emulateRecordMorphWeights(palette, view.records()[record], out);
   return emulateLayeredMorphWeights(palette, view.records()[record], layers[record],
-                                    view.crowd()->layerMasks(), out);
+                                    recordExtras(view, record), view.crowd()->layerMasks(), out);
 }
 
 PathFrame viewFrame(const CrowdView& view, const Camera& camera, const glm::vec3& light) {

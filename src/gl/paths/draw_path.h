@@ -97,7 +97,7 @@ struct PathFrame {
   /// 3 from `previous_layer_base`.
   size_t previous_layer_base = 0;
   /// Composed layers (both skinning paths, layer_compose_pass.h): the compose pass runs first
-  /// and the program reads its rows, `compose_stride` masked slots per record of the view
+  /// and the program reads its rows, `compose_lanes` invocations per record of the view
   /// (`compose_records` of them, `composed_records` drawn); where each record is drawn and
   /// each slot's record (crowd/composed_places.h) at `compose_entries_base` and
   /// `compose_slots_base` of the ring, the slots' `compose_slot_bytes` bound at storage
@@ -108,7 +108,7 @@ struct PathFrame {
   bool extras = false;
   size_t extra_layer_base = 0;
   size_t previous_extra_base = 0;
-  uint32_t compose_stride = 0;
+  uint32_t compose_lanes = 0;
   uint32_t compose_records = 0, composed_records = 0;
   size_t compose_entries_base = 0;
   size_t compose_slots_base = 0, compose_slot_bytes = 0;

@@ -73,12 +73,12 @@ Status GpuCulledPath::uploadFrame(const DrawResources& r, const PathFrame& f) {
   if (!view.isOk()) return view;
   Status motion = prepareMotion(r, f);
   if (!motion.isOk()) return motion;
-  compose_stride_ = 0;
+  compose_lanes_ = 0;
   if (layers_) {  // Every frame: drawCrowd of another crowd may have replaced the tables.
     Status s = r.scratch->uploadMaskTable(layerMaskTable(crowd.layerMasks()));
     // Both skinnings read composed rows (layer_compose_pass.h), by visible index.
-    if (s.isOk()) s = prepareComposedRows(r, crowd.layerMasks(), n, motion_, &compose_stride_);
-    if (s.isOk()) s = extrasNeedComposing("drawCrowdGpuCulled", extras_, compose_stride_);
+    if (s.isOk()) s = prepareComposedRows(r, crowd.layerMasks(), n, motion_, &compose_lanes_);
+    if (s.isOk()) s = extrasNeedComposing("drawCrowdGpuCulled", extras_, compose_lanes_);
     if (!s.isOk()) return s;
   }
 
@@ -320,9 +320,9 @@ void GpuCulledPath::runPasses(const DrawResources& r, const PathFrame& f, uint32
   glBindBuffer(GL_DRAW_INDIRECT_BUFFER, commands_);
   // The skinning passes read the mask table where the command pass read the ranges.
   if (layers_) glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 8, r.scratch->mask_table.buffer);
-  const bool composed = compose_stride_ > 0;
+  const bool composed = compose_lanes_ > 0;
   if (composed) {
-    composeGpuLayers(r, motion_, compose_stride_, n, extraBase(), previousExtraBase(), st);
+    composeGpuLayers(r, motion_, compose_lanes_, n, extraBase(), previousExtraBase(), st);
     markPass(r, GpuPass::kCompose);
   }
   if (f.preskin) {

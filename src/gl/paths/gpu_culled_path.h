@@ -111,7 +111,7 @@ class GpuCulledPath final : public DrawPath {
   std::vector<GpuLivePose> live_export_;
   uint32_t layer_capacity_ = 0, layer_copies_ = 1;
   bool layers_ = false, extras_ = false;
-  uint32_t compose_stride_ = 0;  // Composed layers' row stride this frame; 0: none.
+  uint32_t compose_lanes_ = 0;  // Composed layers' invocations per record this frame; 0: none.
   // 2D blends: the extra layers' first index in overlays_ and layers_out_, and in
   // previous_layers_out_ (0: none; cull.comp.glsl's u_extras, u_previous_extras).
   uint32_t extraBase() const { return extras_ ? layer_capacity_ : 0u; }

@@ -12,22 +12,21 @@
 namespace si::detail {
 
 Status prepareComposedRows(const DrawResources& r, Span<const LayerMask> masks, uint64_t records,
-                           bool previous, uint32_t* stride) {
-  *stride = 0;
+                           bool previous, uint32_t* lanes) {
+  *lanes = 0;
   if (!r.desc->compose_layers) return Status::ok();
   const std::vector<int32_t> table = layerComposeTable(masks);
+  const ComposeShape shape = composeShape(table);
   const uint64_t limit = r.info->max_shader_storage_block_size_bytes;
-  const uint32_t masked = uint32_t(table[1]);
   DispatchGrid grid;
   const bool dispatch_fits =
-      dispatchGrid((records * masked + 63) / 64, r.info->max_compute_groups_x,
+      dispatchGrid((records * shape.lanes() + 63) / 64, r.info->max_compute_groups_x,
                    r.info->max_compute_groups_y, &grid);
-  if (!composedRowsFit(limit, records, masked) || !dispatch_fits) return Status::ok();
+  if (!composedRowsFit(limit, records, shape) || !dispatch_fits) return Status::ok();
   LayerComposeBuffers& buffers = r.scratch->layer_compose;
   Status s = buffers.uploadTable(table);
-  if (s.isOk())
-    s = buffers.ensureRows(composedRowBytes(records, uint32_t(table[1])), limit, previous);
-  if (s.isOk()) *stride = uint32_t(table[1]);
+  if (s.isOk()) s = buffers.ensureRows(composedRowBytes(records, shape), limit, previous);
+  if (s.isOk()) *lanes = shape.lanes();
   return s;
 }
 
@@ -68,7 +67,7 @@ void composeLayers(const DrawResources& r, const PathFrame& f, DrawStats* st) {
   // 2D blends' extra layer records, by word from the region's start (0: none).
   glProgramUniform2ui(compose.id, 6, f.extras ? word(f.extra_layer_base) : 0u,
                       f.extras && f.motion ? word(f.previous_extra_base) : 0u);
-  const uint64_t invocations = uint64_t(f.compose_records) * f.compose_stride;
+  const uint64_t invocations = uint64_t(f.compose_records) * f.compose_lanes;
   // prepareComposedRows checked that the grid holds them: dispatchGroups cannot refuse.
   (void)dispatchGroups(*r.info, (invocations + 63) / 64, "composed layers");
   ++st->compose_dispatches;
@@ -76,8 +75,8 @@ void composeLayers(const DrawResources& r, const PathFrame& f, DrawStats* st) {
   glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT);  // The rows before the draws read them.
 }
 
-Status extrasNeedComposing(const char* who, bool extras, uint32_t stride) {
-  if (!extras || stride > 0) return Status::ok();
+Status extrasNeedComposing(const char* who, bool extras, uint32_t lanes) {
+  if (!extras || lanes > 0) return Status::ok();
   return {StatusCode::kUnsupported,
           std::string(who) +
               ": 2D blends are drawn through composed layers, and these do not fit "
@@ -85,7 +84,7 @@ Status extrasNeedComposing(const char* who, bool extras, uint32_t stride) {
               "GL_MAX_SHADER_STORAGE_BLOCK_SIZE or the compute grid): draw fewer instances"};
 }
 
-void composeGpuLayers(const DrawResources& r, bool motion, uint32_t stride, uint32_t instances,
+void composeGpuLayers(const DrawResources& r, bool motion, uint32_t lanes, uint32_t instances,
                       uint32_t extras, uint32_t previous_extras, DrawStats* st) {
   const Program& compose =
       r.programs[motion ? ProgramId::kGpuLayerComposeMotion : ProgramId::kGpuLayerCompose];
@@ -94,7 +93,7 @@ void composeGpuLayers(const DrawResources& r, bool motion, uint32_t stride, uint
   r.palette->bind();
   r.scratch->layer_compose.bind(motion);
   glProgramUniform3ui(compose.id, 5, instances, extras, motion ? previous_extras : 0u);
-  const uint64_t invocations = uint64_t(instances) * stride;
+  const uint64_t invocations = uint64_t(instances) * lanes;
   // prepareComposedRows checked that the grid holds them: dispatchGroups cannot refuse.
   (void)dispatchGroups(*r.info, (invocations + 63) / 64, "composed layers");
   ++st->compose_dispatches;

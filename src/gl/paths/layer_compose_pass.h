@@ -12,15 +12,16 @@
 
 namespace si::detail {
 
-/// When RendererDesc::compose_layers is on, the rows of `records` composed records of `masks`'
-/// row stride fit GL_MAX_SHADER_STORAGE_BLOCK_SIZE (layer_compose_table.h) and the pass, flat
-/// over them all laid out in rows, fits GL_MAX_COMPUTE_WORK_GROUP_COUNT (dispatch_grid.h):
-/// uploads the compose table (storage binding 23), makes the rows buffers hold them (storage
-/// bindings 26, and 27 with `previous`: motion vectors) and sets `*stride` to the row stride.
-/// Otherwise `*stride` is 0: the draws walk the chain per vertex (the layered programs).
-/// kLimitExceeded when the driver has no memory for the rows.
+/// When RendererDesc::compose_layers is on, the rows (and composed morph weights) of `records`
+/// composed records of `masks`' shape (ComposeShape) fit GL_MAX_SHADER_STORAGE_BLOCK_SIZE
+/// (layer_compose_table.h) and the pass, flat over them all, fits
+/// GL_MAX_COMPUTE_WORK_GROUP_COUNT (dispatch_grid.h): uploads the compose table (storage
+/// binding 23), makes the rows buffers hold them (storage bindings 26, and 27 with `previous`:
+/// motion vectors) and sets `*lanes` to the pass's invocations per record
+/// (ComposeShape::lanes). Otherwise `*lanes` is 0: the draws walk the chain per vertex (the
+/// layered programs).
 Status prepareComposedRows(const DrawResources& r, Span<const LayerMask> masks, uint64_t records,
-                           bool previous, uint32_t* stride);
+                           bool previous, uint32_t* lanes);
 
 /// drawCrowd's compose places (crowd/composed_places.h), for the batches the skinning paths
 /// draw, written into `region` (the ring region mapped at frame->ring_base) at the frame's
@@ -38,8 +39,8 @@ void writeComposePlaces(const DrawResources& r, const InstanceBatcher& batcher,
 void composeLayers(const DrawResources& r, const PathFrame& frame, DrawStats* stats);
 
 /// kUnsupported, naming `who`, when a frame draws a 2D blend's extra layer records (`extras`)
-/// without composed rows (`stride` 0): the per-vertex chain walk composes one overlay only.
-Status extrasNeedComposing(const char* who, bool extras, uint32_t stride);
+/// without composed rows (`lanes` 0): the per-vertex chain walk composes one overlay only.
+Status extrasNeedComposing(const char* who, bool extras, uint32_t lanes);
 
 /// The GPU-driven path's compose pass, after its cull pass: the records and layer records by
 /// visible index at storage bindings 4 and 18 (previous ones at 20 and 21 with `motion`), the
@@ -47,7 +48,7 @@ Status extrasNeedComposing(const char* who, bool extras, uint32_t stride);
 /// grid), composed record = visible index; the same barriers. 2D blends: the extra layer
 /// records from index `extras` of the layer records (`previous_extras` of the previous ones),
 /// 2 per visible index; 0: none.
-void composeGpuLayers(const DrawResources& r, bool motion, uint32_t stride, uint32_t instances,
+void composeGpuLayers(const DrawResources& r, bool motion, uint32_t lanes, uint32_t instances,
                       uint32_t extras, uint32_t previous_extras, DrawStats* stats);
 
 }  // namespace si::detail

@@ -213,6 +213,11 @@ bool skinsVertices(ProgramId id) {
                                      std::strcmp(spec.compute, "gpu_skin.comp.glsl") == 0);
 }
 
+bool composesLayers(ProgramId id) {
+  const ProgramSpec& spec = programSpec(id);
+  return spec.compute != nullptr && std::strcmp(spec.compute, "layer_compose.comp.glsl") == 0;
+}
+
 bool takesMaterial(ProgramId id, const MaterialSource& material) {
   const MaterialUse use = materialUse(id);
   return use == MaterialUse::kShaded || (use == MaterialUse::kDepth && material.depth_discard);

@@ -157,7 +157,7 @@ struct ShaderConfig {
   bool eight_influences = false;
   /// SI_MORPH_TARGETS: the mesh's morph targets (its morph word, attribute 12 or the
   /// pre-skinning source's last word; the morph texture; si_morph.glsl) are added before
-  /// skinning. Only the variants drawn for such characters (skinsVertices()).
+  /// skinning. Only the variants drawn for such characters (skinsVertices(), composesLayers()).
   bool morph_targets = false;
 };
 
@@ -169,6 +169,10 @@ bool readsVertexWords(ProgramId id);
 /// (ShaderConfig::eight_influences): it skins the mesh's vertices (skinned.vert.glsl but the
 /// rigid floor, and the pre-skinning passes).
 bool skinsVertices(ProgramId id);
+/// Whether program `id` also comes in a variant for meshes with morph targets
+/// (ShaderConfig::morph_targets) without skinning vertices: the layer compose passes, which
+/// compose each overlaid record's morph weights (layer_compose.comp.glsl).
+bool composesLayers(ProgramId id);
 
 /// Entries of the material table's uniform block on the ES profile (material_common.glsl):
 /// 32 bytes each, 8 KiB. A character with more materials is refused there (kLimitExceeded).

@@ -212,7 +212,8 @@ namespace {
 // Whether mesh `features` change program `id`.
 bool changedBy(ProgramId id, uint32_t features) {
   return ((features & kMeshVertexWords) != 0 && readsVertexWords(id)) ||
-         ((features & kMeshSkinFeatures) != 0 && skinsVertices(id));
+         ((features & kMeshSkinFeatures) != 0 && skinsVertices(id)) ||
+         ((features & kMeshMorphTargets) != 0 && composesLayers(id));
 }
 }  // namespace
 

@@ -75,8 +75,8 @@ class ProgramSet {
   /// characters whose meshes have those features: those that readsVertexWords() with
   /// ShaderConfig::vertex_words (texture coordinates 1 or colours; the others write no output
   /// for them) and those that skinsVertices() with ShaderConfig::eight_influences and
-  /// morph_targets (and, for the latter, the depth-only programs of alpha-masked characters:
-  /// buildMaskedDepth()).
+  /// morph_targets (and, for the latter, the layer compose passes, composesLayers(), and the
+  /// depth-only programs of alpha-masked characters: buildMaskedDepth()).
   /// kBackend with the driver's log when one fails; kInvalidArgument for an unknown material.
   Status buildMeshVariants(uint32_t material, uint32_t features);
   /// Deletes every program (context current). Idempotent.

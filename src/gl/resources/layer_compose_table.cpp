@@ -13,8 +13,11 @@ std::vector<int32_t> layerComposeTable(Span<const LayerMask> masks) {
     stride = std::max<int32_t>(
         stride, int32_t(std::count_if(m.slot_anchor.begin(), m.slot_anchor.end(),
                                       [](int32_t a) { return a != LayerMask::kNotInMask; })));
-  std::vector<int32_t> table{int32_t(slots), stride, int32_t(masks.size())};
-  table.reserve(3 + masks.size() * (slots + size_t(stride)));
+  int32_t targets = 0;
+  for (const LayerMask& m : masks)
+    for (uint32_t t : m.morph_targets) targets = std::max(targets, int32_t(t) + 1);
+  std::vector<int32_t> table{int32_t(slots), stride, int32_t(masks.size()), targets};
+  table.reserve(4 + masks.size() * (slots + size_t(stride)));
   for (const LayerMask& m : masks) {
     int32_t next = 0;
     for (size_t slot = 0; slot < slots; ++slot)

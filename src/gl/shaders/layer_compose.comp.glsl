@@ -2,8 +2,11 @@
 // The layer compose pass: one invocation per (record of a batch, masked index of the row
 // stride) composes the record's overlay on that masked palette slot (siLayeredJointRows, the
 // chain walk the vertex shaders would otherwise repeat per vertex and influence) into the rows
-// buffer (layer_compose.glsl). Records at weight 0, and indices past their mask's count, write
-// nothing: the vertex shaders never read them. SI_MOTION_VECTORS: the previous records' too.
+// buffer (layer_compose.glsl), and with SI_MORPH_TARGETS every stride-th of the record's
+// composed morph weights after them (siMorphChainWeight: a 2D blend's extra layers move the
+// targets there, and only there). Records at weight 0, and indices past their mask's count,
+// write nothing: the vertex shaders never read them. SI_MOTION_VECTORS: the previous records'
+// too.
 // drawCrowd's: one flat pass over the view's records (an instance each, whatever sub-meshes it
 // wears), each found at its first drawn slot through the entries the renderer wrote into the
 // ring (crowd/composed_places.h), composed record = the view's record. With SI_GPU_DRIVEN: the
@@ -77,37 +80,62 @@ uvec4 siExtraLayer(uint slot, uint k, bool previous) {
     }                                                                                \
   }
 
+#ifdef SI_MORPH_TARGETS
+// Writes the weights of record `inst` with overlay `layer` (and its extra layers at `record`,
+// as SI_COMPOSE) of the composed targets lane `k` of `lanes` takes (k, k + lanes, ...) into
+// `rows` from vec4 `at`: siMorphChainWeight, si::emulateLayeredMorphWeights.
+#define SI_COMPOSE_WEIGHTS(inst, layer, record, previous, k, lanes, rows, at)               \
+  if (siLayerDrawn(layer)) {                                                              \
+    bool extras = (layer.w & 0x80000000u) != 0u;                                          \
+    uvec4 e1 = extras ? siExtraLayer(record, 0u, previous) : uvec4(0u);                   \
+    uvec4 e2 = extras ? siExtraLayer(record, 1u, previous) : uvec4(0u);                   \
+    for (uint target = k; target < siComposedMorphTargets(); target += lanes)             \
+      rows[at + (target >> 2u)][int(target & 3u)] = siMorphChainWeight(inst, layer, e1, e2, target); \
+  }
+#else
+#define SI_COMPOSE_WEIGHTS(inst, layer, record, previous, k, lanes, rows, at)
+#endif
+
 void main() {
-  uint stride = siComposeStride();
+  uint lanes = siComposeLanes(), size = siComposedRecordSize();
+  uint weights = 3u * siComposeStride();  // Where a record's weights start.
 #ifdef SI_GPU_DRIVEN
   // One flat pass over the visible records: composed record = visible index.
   uint g = siFlatInvocation();
-  uint i = g / stride;
+  uint i = g / lanes;
   if (i >= min(si_visible_count, u_compose.x)) return;
-  uint k = g - i * stride;
-  uint at = g * 3u;
+  uint k = g - i * lanes;
+  uint at = i * size + 3u * k;
   SI_COMPOSE(si_instances[i], si_layers[i], i, false, k, si_composed, at);
+  SI_COMPOSE_WEIGHTS(si_instances[i], si_layers[i], i, false, k, lanes, si_composed,
+                     i * size + weights);
 #ifdef SI_MOTION_VECTORS
   SI_COMPOSE(si_previous_instances[i], si_previous_layers[i], i, true, k,
              si_composed_previous, at);
+  SI_COMPOSE_WEIGHTS(si_previous_instances[i], si_previous_layers[i], i, true, k, lanes,
+                     si_composed_previous, i * size + weights);
 #endif
 #else
   // One flat pass over the view's records: composed record = the view's record.
   uint g = siFlatInvocation();
-  uint r = g / stride;
+  uint r = g / lanes;
   if (r >= u_compose.y) return;
-  uint k = g - r * stride;
+  uint k = g - r * lanes;
   uvec4 words = si_ring[u_compose.x + (r >> 1u)];
   uvec2 entry = (r & 1u) == 0u ? words.xy : words.zw;
   if (entry.x == 0xFFFFFFFFu) return;  // Drawn in no batch.
   // Its first drawn slot: its layer records, previous index and extra layers there.
-  uint at = g * 3u, drawn_slot = entry.y, layer = u_compose.z + drawn_slot;
+  uint at = r * size + 3u * k, drawn_slot = entry.y, layer = u_compose.z + drawn_slot;
   SiInstance inst = siRingRecord(entry.x);
   SI_COMPOSE(inst, si_ring[layer], drawn_slot, false, k, si_composed, at);
+  SI_COMPOSE_WEIGHTS(inst, si_ring[layer], drawn_slot, false, k, lanes, si_composed,
+                     r * size + weights);
 #ifdef SI_MOTION_VECTORS
   SiInstance prev = siPreviousRecord(drawn_slot, inst);
   SI_COMPOSE(prev, si_ring[layer + u_compose.w], drawn_slot, true, k,
              si_composed_previous, at);
+  SI_COMPOSE_WEIGHTS(prev, si_ring[layer + u_compose.w], drawn_slot, true, k, lanes,
+                     si_composed_previous, r * size + weights);
 #endif
 #endif
 }

@@ -179,7 +179,12 @@ void siPreSkinSource(uint source, SiInstance inst, uvec4 layer, uint record, boo
   t = siHasTangents() ? siSourceTangent(source) : vec4(0.0);
 #ifdef SI_MORPH_TARGETS
   vec3 direction = t.xyz;
+#ifdef SI_COMPOSED_LAYERS
+  siMorphComposed(inst, layer, record, previous, siSourceMorphWord(source), si_pre_skin_lod, p, n,
+                  direction);
+#else
   siMorphLayered(inst, layer, siSourceMorphWord(source), si_pre_skin_lod, p, n, direction);
+#endif
   t.xyz = direction;
 #endif
   siPreSkinMatrix(inst, layer, record, previous, joints, weights, m0, m1, m2);

@@ -68,23 +68,55 @@ bool siMaskMovesTarget(uint mask, uint target) {
 }
 #endif
 
+#ifdef SI_LAYERS
+// Target `target`'s weight for `inst` with its overlay `layer` and a 2D blend's extra layers
+// `e1`, `e2` (uvec4(0): none) on the overlay's mask: where the mask moves the target, the base's
+// weight mixed towards each layer's clip's by that layer's weight, in turn
+// (si::emulateLayeredMorphWeights; the compose pass's weights, layer_compose.comp.glsl).
+float siMorphChainWeight(SiInstance inst, uvec4 layer, uvec4 e1, uvec4 e2, uint target) {
+  float w = siMorphWeight(inst, target);
+  if (!siMaskMovesTarget(siLayerMask(layer), target)) return w;
+  uint at = si_morph_info.z + (target >> 2u);
+  uvec4 chain[3] = uvec4[3](layer, e1, e2);
+  for (int l = 0; l < 3; ++l) {
+    float weight = siLayerWeight(chain[l]);
+    if (weight > 0.0)
+      w = mix(w, siMorphWeightTexel(chain[l].x, chain[l].y, chain[l].z, at)[int(target & 3u)],
+              weight);
+  }
+  return w;
+}
+#endif
+
 // Target `target`'s weight for `inst` with its overlay, the layer record `layer` (uvec4(0):
 // none): where the overlay's weight is above 0 and its mask moves the target, the base's
-// weight mixed towards the overlay clip's by it (si::emulateLayeredMorphWeights; a 2D blend's
-// extra layer records do not move targets). Without SI_LAYERS, siMorphWeight.
+// weight mixed towards the overlay clip's by it (siMorphChainWeight without extra layers: a 2D
+// blend's third and fourth clips move targets through the compose pass's weights,
+// siMorphComposed). Without SI_LAYERS, siMorphWeight.
 float siMorphLayerWeight(SiInstance inst, uvec4 layer, uint target) {
-  float w = siMorphWeight(inst, target);
 #ifdef SI_LAYERS
-  float overlay = siLayerWeight(layer);
-  if (overlay > 0.0 && siMaskMovesTarget(siLayerMask(layer), target)) {
-    uint at = si_morph_info.z + (target >> 2u);
-    w = mix(w, siMorphWeightTexel(layer.x, layer.y, layer.z, at)[int(target & 3u)], overlay);
-  }
+  if (siLayerWeight(layer) > 0.0) return siMorphChainWeight(inst, layer, uvec4(0u), uvec4(0u), target);
 #endif
-  return w;
+  return siMorphWeight(inst, target);
 }
 
 #endif  // SI_MORPH_WEIGHTS_IN_BLOCK
+
+#if defined(SI_COMPOSED_LAYERS) && !defined(SI_MORPH_WEIGHTS_IN_BLOCK)
+// layer_compose.glsl: the compose pass's weight of a target, where it composed one.
+bool siComposedMorphWeight(uvec4 layer, uint record, bool previous, uint target, out float w);
+#endif
+// Target `target`'s weight for `inst` with overlay `layer`: with `composed`, the compose pass's
+// for composed record `record` (its previous one with `previous`) where it composed one;
+// siMorphLayerWeight otherwise.
+float siMorphTargetWeight(SiInstance inst, uvec4 layer, bool composed, uint record,
+                          bool previous, uint target) {
+#if defined(SI_COMPOSED_LAYERS) && !defined(SI_MORPH_WEIGHTS_IN_BLOCK)
+  float w;
+  if (composed && siComposedMorphWeight(layer, record, previous, target, w)) return w;
+#endif
+  return siMorphLayerWeight(inst, layer, target);
+}
 
 uvec4 siMorphEntry(uint i) {
   return texelFetch(si_morphs,
@@ -100,14 +132,12 @@ float siMorphCut(uint lod) {
   return si_morph_cuts[level >> 2][int(level & 3u)];
 }
 
-// Adds the morph targets of the vertex whose morph word is `word`, at `inst`'s weights (with
-// its overlay `layer`: siMorphLayerWeight), to its bind-pose position, normal and tangent
-// direction, then renormalizes the normal and a non-zero tangent (the seed "Efficient
-// Animation" renormalizes its blended frame so); at LOD level `lod` it stops where the rest of
-// the run moves the vertex no farther than the level's cut. Two entries an iteration, without a
-// branch on their weights, so their fetches overlap, and the next two fetched ahead.
-void siMorphLayered(SiInstance inst, uvec4 layer, uint word, uint lod, inout vec3 position,
-                    inout vec3 normal, inout vec3 tangent) {
+// siMorphLayered's work, each target's weight from siMorphTargetWeight. Two entries an
+// iteration, without a branch on their weights, so their fetches overlap, and the next two
+// fetched ahead.
+void siMorphWeighted(SiInstance inst, uvec4 layer, bool composed, uint record, bool previous,
+                     uint word, uint lod, inout vec3 position, inout vec3 normal,
+                     inout vec3 tangent) {
   uint count = word & 511u;
   if (count == 0u) return;
   uint stride = si_morph_info.y;
@@ -126,8 +156,9 @@ void siMorphLayered(SiInstance inst, uvec4 layer, uint word, uint lod, inout vec
           next1 = siMorphEntry(min(at0 + 3u * stride, last));
     if (siMorphTail(e0.x) <= cut) break;
     float second = pair && siMorphTail(e1.x) > cut ? 1.0 : 0.0;
-    float w0 = siMorphLayerWeight(inst, layer, siMorphTarget(e0.x));
-    float w1 = second * siMorphLayerWeight(inst, layer, siMorphTarget(e1.x));
+    float w0 = siMorphTargetWeight(inst, layer, composed, record, previous, siMorphTarget(e0.x));
+    float w1 =
+        second * siMorphTargetWeight(inst, layer, composed, record, previous, siMorphTarget(e1.x));
     position += w0 * uintBitsToFloat(e0.yzw) + w1 * uintBitsToFloat(e1.yzw);
     if (stride > 1u)
       n += w0 * uintBitsToFloat(siMorphEntry(at0 + 1u).yzw) +
@@ -144,6 +175,23 @@ void siMorphLayered(SiInstance inst, uvec4 layer, uint word, uint lod, inout vec
   float t_length = length(t);
   if (t_length > 0.0 && dot(tangent, tangent) > 0.0) tangent = t / t_length;
 }
+// Adds the morph targets of the vertex whose morph word is `word`, at `inst`'s weights (with
+// its overlay `layer`: siMorphLayerWeight), to its bind-pose position, normal and tangent
+// direction, then renormalizes the normal and a non-zero tangent (the seed "Efficient
+// Animation" renormalizes its blended frame so); at LOD level `lod` it stops where the rest of
+// the run moves the vertex no farther than the level's cut.
+void siMorphLayered(SiInstance inst, uvec4 layer, uint word, uint lod, inout vec3 position,
+                    inout vec3 normal, inout vec3 tangent) {
+  siMorphWeighted(inst, layer, false, 0u, false, word, lod, position, normal, tangent);
+}
+#if defined(SI_COMPOSED_LAYERS) && !defined(SI_MORPH_WEIGHTS_IN_BLOCK)
+// siMorphLayered with the weights the compose pass composed for record `record` (its previous
+// ones with `previous`), a 2D blend's extra layers included.
+void siMorphComposed(SiInstance inst, uvec4 layer, uint record, bool previous, uint word,
+                     uint lod, inout vec3 position, inout vec3 normal, inout vec3 tangent) {
+  siMorphWeighted(inst, layer, true, record, previous, word, lod, position, normal, tangent);
+}
+#endif
 // siMorphLayered without an overlay: the record's clips alone.
 void siMorph(SiInstance inst, uint word, uint lod, inout vec3 position, inout vec3 normal,
              inout vec3 tangent) {

@@ -99,12 +99,16 @@ layout(location = 11) in vec4 a_weights1;
 #if defined(SI_MORPH_TARGETS) && defined(SI_TRADITIONAL)
 layout(location = 12) in uint a_morph;
 // The block's weights: no record, no layer.
-#define SI_MORPH_VERTEX(inst, layer, lod, p, n, t) siMorphLayered(siNoInstance(), uvec4(0u), a_morph, lod, p, n, t)
+#define SI_MORPH_VERTEX(inst, layer, previous, lod, p, n, t) siMorphLayered(siNoInstance(), uvec4(0u), a_morph, lod, p, n, t)
+#elif defined(SI_MORPH_TARGETS) && defined(SI_COMPOSED_LAYERS)
+layout(location = 12) in uint a_morph;
+// The compose pass's weights for the instance's composed record (`composed`, in main).
+#define SI_MORPH_VERTEX(inst, layer, previous, lod, p, n, t) siMorphComposed(inst, layer, composed, previous, a_morph, lod, p, n, t)
 #elif defined(SI_MORPH_TARGETS)
 layout(location = 12) in uint a_morph;
-#define SI_MORPH_VERTEX(inst, layer, lod, p, n, t) siMorphLayered(inst, layer, a_morph, lod, p, n, t)
+#define SI_MORPH_VERTEX(inst, layer, previous, lod, p, n, t) siMorphLayered(inst, layer, a_morph, lod, p, n, t)
 #else
-#define SI_MORPH_VERTEX(inst, layer, lod, p, n, t)
+#define SI_MORPH_VERTEX(inst, layer, previous, lod, p, n, t)
 #endif
 #ifdef SI_LAYERS  // The overlay moves the targets its mask holds.
 #define SI_MORPH_LAYER(slot) si_layers[slot]
@@ -206,7 +210,7 @@ void main() {
   // The bind pose, with the vertex's morph targets at the instance's weights (those the LOD
   // keeps).
   vec3 position = a_position, normal = a_normal.xyz, tangent_direction = a_tangent.xyz;
-  SI_MORPH_VERTEX(inst, SI_MORPH_LAYER(slot), lod, position, normal, tangent_direction);
+  SI_MORPH_VERTEX(inst, SI_MORPH_LAYER(slot), false, lod, position, normal, tangent_direction);
   vec3 model = siTransformPoint(m0, m1, m2, position);
 #ifdef SI_CAPTURE
   tf_position = model;
@@ -256,7 +260,8 @@ void main() {
 #endif
   vec3 previous_position = a_position, previous_normal = a_normal.xyz,
        previous_tangent = a_tangent.xyz;
-  SI_MORPH_VERTEX(prev, SI_MORPH_PREVIOUS_LAYER(slot), lod, previous_position, previous_normal,
+  SI_MORPH_VERTEX(prev, SI_MORPH_PREVIOUS_LAYER(slot), true, lod, previous_position,
+                  previous_normal,
                   previous_tangent);
   vec3 previous = siPlacePoint(prev, p0, p1, p2, previous_position);
   v_motion_previous = u_previous_view_projection * vec4(previous, 1.0);
