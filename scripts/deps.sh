@@ -13,6 +13,9 @@ packages=(
   python3-glad
   # Tests and benchmarks; glslang compiles every shader offline (tests/gl)
   libgtest-dev libgmock-dev libbenchmark-dev glslang-tools spirv-tools
+  # The Vulkan back-end (src/vk): the Vulkan headers and loader; its SPIR-V is compiled by
+  # glslang-tools' glslangValidator at build time
+  libvulkan-dev
   # The demo's window test: a virtual X server (xvfb-run needs xauth)
   xvfb xauth
   # A real engine as host (examples/ogre_host): OGRE 1.12, its GL3Plus render system
