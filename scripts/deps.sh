@@ -13,9 +13,10 @@ packages=(
   python3-glad
   # Tests and benchmarks; glslang compiles every shader offline (tests/gl)
   libgtest-dev libgmock-dev libbenchmark-dev glslang-tools spirv-tools
-  # The Vulkan back-end (src/vk): the Vulkan headers and loader; its SPIR-V is compiled by
-  # glslang-tools' glslangValidator at build time
-  libvulkan-dev
+  # The Vulkan back-end (src/vk): the Vulkan headers and loader (its SPIR-V is compiled by
+  # glslang-tools' glslangValidator at build time); its render test's device without a GPU
+  # (lavapipe) and the validation layer it runs under
+  libvulkan-dev mesa-vulkan-drivers vulkan-validationlayers
   # The demo's window test: a virtual X server (xvfb-run needs xauth)
   xvfb xauth
   # A real engine as host (examples/ogre_host): OGRE 1.12, its GL3Plus render system

@@ -1,0 +1,137 @@
+// SkinnedInstancing — SPDX-License-Identifier: MIT (see LICENSE)
+#pragma once
+
+/// \file
+/// The Vulkan back-end (begun; issue "The crowd in a Vulkan engine"): a crowd drawn into the
+/// host's own frame by one instanced draw per batch, from the same shaders as si::Renderer's
+/// vertex-shader path, compiled to SPIR-V at build time. A guest on the host's VkDevice: it
+/// creates its pipelines, buffers and images there (with the host's allocation callbacks), and
+/// records into command buffers the host gives it; it never submits, waits or creates a queue.
+///
+/// Usage (one character, one view; the host owns instance, device, queue, targets and pacing):
+/// \code
+///   si::vk::Renderer crowd_renderer;
+///   si::vk::RendererDesc rd;
+///   rd.physical_device = gpu; rd.device = device;
+///   rd.color_format = VK_FORMAT_R8G8B8A8_UNORM; rd.depth_format = VK_FORMAT_D32_SFLOAT;
+///   crowd_renderer.init(rd);
+///   si::vk::CharacterId id;
+///   crowd_renderer.addCharacter(character, palette, &id);
+///   crowd_renderer.recordUploads(cmd);          // outside rendering; submit, then when done:
+///   crowd_renderer.uploadsComplete();           // its staging is freed
+///   si::InstanceBatcher batcher;
+///   batcher.init(crowd_renderer.batchLimits());
+///   // Each frame, frame slot k (the host has waited for the GPU to finish the frame that used
+///   // slot k last), inside vkCmdBeginRendering with the formats above:
+///   crowd_renderer.beginFrame(k);
+///   crowd_renderer.recordDraw(cmd, extent, id, crowd.view(), batcher, camera);
+/// \endcode
+///
+/// What is built: the vertex-shader path (shaded, the built-in material), palettes of 3x4
+/// float or half-float matrices. Everything else (the GPU-driven path, compute pre-skinning,
+/// depth-only views, motion vectors, layers, morph targets, 8 influences, vertex words, host
+/// materials, impostors) is refused by name (kUnsupported).
+/// What the host must do: record recordUploads() before the first draw of a character and
+/// submit it before (or with) that draw; give each frame in flight its own slot (beginFrame(),
+/// below RendererDesc::frames_in_flight) and wait for a slot's last frame before beginning it
+/// again. The draws read the host's depth attachment with VK_COMPARE_OP_LESS and write it, cull
+/// back faces (counter-clockwise front faces, as OpenGL draws them), and flip the viewport
+/// (negative height) so the image is the one OpenGL draws.
+
+#include <cstdint>
+#include <memory>
+
+#include <vulkan/vulkan.h>
+
+#include <glm/glm.hpp>
+
+#include "si/core/baked_palette.h"
+#include "si/core/character.h"
+#include "si/core/status.h"
+#include "si/crowd/camera.h"
+#include "si/crowd/crowd_view.h"
+#include "si/crowd/instance_batcher.h"
+
+namespace si::vk {
+
+/// What the renderer is given.
+struct RendererDesc {
+  VkPhysicalDevice physical_device = VK_NULL_HANDLE;  ///< Required.
+  VkDevice device = VK_NULL_HANDLE;                   ///< Required: a Vulkan 1.3 device.
+  const VkAllocationCallbacks* allocator = nullptr;   ///< Used for every object it creates.
+  VkFormat color_format = VK_FORMAT_R8G8B8A8_UNORM;   ///< The host's colour attachment.
+  VkFormat depth_format = VK_FORMAT_D32_SFLOAT;       ///< The host's depth attachment.
+  uint32_t frames_in_flight = 2;                      ///< Frame slots of the record ring (1 to 8).
+  /// Bytes of records, per frame slot: a frame's batches of every draw (InstanceBatcher's
+  /// recordBufferBound) must fit, or recordDraw() refuses the frame (kLimitExceeded).
+  uint64_t ring_bytes_per_frame = uint64_t(8) << 20;
+  /// The direction the light travels along, world space (si::Renderer's default).
+  glm::vec3 light_direction = glm::normalize(glm::vec3(-0.4f, -1.0f, -0.3f));
+};
+
+/// A character added to a Renderer.
+struct CharacterId {
+  uint32_t index = 0;
+};
+
+/// What recordDraw() recorded.
+struct DrawStats {
+  uint32_t draw_calls = 0;
+  uint64_t triangles = 0;
+  uint64_t instances = 0;
+};
+
+class Renderer {
+ public:
+  Renderer();
+  ~Renderer();
+  Renderer(const Renderer&) = delete;
+  Renderer& operator=(const Renderer&) = delete;
+
+  /// Creates the pipeline and the record ring on the host's device. kInvalidArgument for a
+  /// missing device or a slot count outside 1..8; kUnsupported for a device below Vulkan 1.3,
+  /// without dynamic rendering, or whose maxUniformBufferRange is below the 65,520 bytes of a
+  /// batch's records; kBackend naming the Vulkan call that failed.
+  Status init(const RendererDesc& desc);
+  /// Destroys everything it created (the host has waited for the device's work on it).
+  void shutdown();
+
+  /// The limits to give si::InstanceBatcher::init: batches of at most 819 records, at the
+  /// device's uniform buffer offset alignment.
+  BatchLimits batchLimits() const;
+
+  /// Creates `character`'s buffers and images (its vertex stream, indices, materials and
+  /// `palette`, which must stay alive while it is drawn), their contents staged for
+  /// recordUploads(). kUnsupported (named) for what is not built yet: morph targets, 8
+  /// influences, vertex words, palette formats other than 3x4 float or half-float matrices;
+  /// the codes of si::buildVertexStream and si::buildMaterialTable; kBackend on a failed call.
+  Status addCharacter(const Character& character, const BakedPalette& palette, CharacterId* out);
+  /// Records the copies of every character added since the last call into `cmd` (outside
+  /// rendering: transfers, mip chains, the barriers to the shaders' reads). Nothing to record
+  /// is not an error.
+  Status recordUploads(VkCommandBuffer cmd);
+  /// The host's submission of recordUploads() has completed: its staging buffers are freed.
+  void uploadsComplete();
+
+  /// Starts frame slot `frame` (below RendererDesc::frames_in_flight): the draws recorded until
+  /// the next beginFrame() write their records into its region of the ring from its start. The
+  /// host has waited for the GPU's last frame in that slot. kInvalidArgument past the slots.
+  Status beginFrame(uint32_t frame);
+  /// Records `view`'s last selection of character `id` with `camera` into `cmd` (inside the
+  /// host's dynamic rendering of RendererDesc's formats, over an area of `target`: the viewport
+  /// and scissor it sets): one instanced draw per batch of `batcher` (initialized with
+  /// batchLimits()), their records written after the frame's earlier draws' in the slot's
+  /// region. `camera` is in OpenGL's convention (si::Camera::lookAt: depth -1 to 1), mapped to
+  /// Vulkan's 0 to 1. kInvalidArgument for an unknown character, no beginFrame(), a batcher not
+  /// initialized, or a character whose uploads were not recorded; kLimitExceeded when the
+  /// frame's records pass the slot's region (nothing recorded then).
+  Status recordDraw(VkCommandBuffer cmd, VkExtent2D target, CharacterId id, const CrowdView& view,
+                    const InstanceBatcher& batcher, const Camera& camera,
+                    DrawStats* stats = nullptr);
+
+ private:
+  struct Impl;
+  std::unique_ptr<Impl> impl_;
+};
+
+}  // namespace si::vk

@@ -1,0 +1,127 @@
+// SkinnedInstancing — SPDX-License-Identifier: MIT (see LICENSE)
+// Buffers and images on the host's device.
+#include "vk/device_objects.h"
+
+#include "core/str_cat.h"
+
+namespace si::vk::detail {
+
+using si::detail::strCat;
+
+Status checkVk(VkResult result, const char* call) {
+  if (result == VK_SUCCESS) return Status::ok();
+  return {StatusCode::kBackend, strCat(call, " failed: VkResult ", int(result))};
+}
+
+void DeviceObjects::init(VkPhysicalDevice physical, VkDevice device,
+                         const VkAllocationCallbacks* allocator) {
+  physical_ = physical;
+  device_ = device;
+  allocator_ = allocator;
+  vkGetPhysicalDeviceMemoryProperties(physical, &memory_);
+}
+
+Status DeviceObjects::allocate(const VkMemoryRequirements& req, VkMemoryPropertyFlags flags,
+                               const char* what, VkDeviceMemory* out) {
+  for (uint32_t t = 0; t < memory_.memoryTypeCount; ++t) {
+    if ((req.memoryTypeBits & (1u << t)) == 0 ||
+        (memory_.memoryTypes[t].propertyFlags & flags) != flags)
+      continue;
+    auto info = vkStruct<VkMemoryAllocateInfo>(VK_STRUCTURE_TYPE_MEMORY_ALLOCATE_INFO);
+    info.allocationSize = req.size;
+    info.memoryTypeIndex = t;
+    return checkVk(vkAllocateMemory(device_, &info, allocator_, out),
+                   strCat("vkAllocateMemory (", what, ")").c_str());
+  }
+  return {StatusCode::kBackend, strCat(what, ": the device has no memory type for it")};
+}
+
+Status DeviceObjects::createBuffer(VkDeviceSize size, VkBufferUsageFlags usage, bool host_visible,
+                                   const char* what, GpuBuffer* out) {
+  GpuBuffer b;
+  b.size = size;
+  auto info = vkStruct<VkBufferCreateInfo>(VK_STRUCTURE_TYPE_BUFFER_CREATE_INFO);
+  info.size = size;
+  info.usage = usage;
+  info.sharingMode = VK_SHARING_MODE_EXCLUSIVE;
+  Status s = checkVk(vkCreateBuffer(device_, &info, allocator_, &b.buffer),
+                     strCat("vkCreateBuffer (", what, ")").c_str());
+  VkMemoryRequirements req{};
+  if (s.isOk()) {
+    vkGetBufferMemoryRequirements(device_, b.buffer, &req);
+    s = allocate(req,
+                 host_visible
+                     ? VK_MEMORY_PROPERTY_HOST_VISIBLE_BIT | VK_MEMORY_PROPERTY_HOST_COHERENT_BIT
+                     : VK_MEMORY_PROPERTY_DEVICE_LOCAL_BIT,
+                 what, &b.memory);
+  }
+  if (s.isOk())
+    s = checkVk(vkBindBufferMemory(device_, b.buffer, b.memory, 0), "vkBindBufferMemory");
+  if (s.isOk() && host_visible)
+    s = checkVk(vkMapMemory(device_, b.memory, 0, VK_WHOLE_SIZE, 0, &b.mapped), "vkMapMemory");
+  if (!s.isOk()) {
+    destroy(&b);
+    return s;
+  }
+  *out = b;
+  return s;
+}
+
+Status DeviceObjects::createImage(uint32_t width, uint32_t height, uint32_t layers, uint32_t levels,
+                                  VkFormat format, bool array, const char* what, GpuImage* out) {
+  GpuImage i;
+  i.format = format;
+  i.width = width;
+  i.height = height;
+  i.layers = layers;
+  i.levels = levels;
+  auto info = vkStruct<VkImageCreateInfo>(VK_STRUCTURE_TYPE_IMAGE_CREATE_INFO);
+  info.imageType = VK_IMAGE_TYPE_2D;
+  info.format = format;
+  info.extent = {width, height, 1};
+  info.mipLevels = levels;
+  info.arrayLayers = layers;
+  info.samples = VK_SAMPLE_COUNT_1_BIT;
+  info.tiling = VK_IMAGE_TILING_OPTIMAL;
+  info.usage = VK_IMAGE_USAGE_SAMPLED_BIT | VK_IMAGE_USAGE_TRANSFER_DST_BIT |
+               VK_IMAGE_USAGE_TRANSFER_SRC_BIT;
+  info.initialLayout = VK_IMAGE_LAYOUT_UNDEFINED;
+  Status s = checkVk(vkCreateImage(device_, &info, allocator_, &i.image),
+                     strCat("vkCreateImage (", what, ")").c_str());
+  if (s.isOk()) {
+    VkMemoryRequirements req{};
+    vkGetImageMemoryRequirements(device_, i.image, &req);
+    s = allocate(req, VK_MEMORY_PROPERTY_DEVICE_LOCAL_BIT, what, &i.memory);
+  }
+  if (s.isOk()) s = checkVk(vkBindImageMemory(device_, i.image, i.memory, 0), "vkBindImageMemory");
+  if (s.isOk()) {
+    auto v = vkStruct<VkImageViewCreateInfo>(VK_STRUCTURE_TYPE_IMAGE_VIEW_CREATE_INFO);
+    v.image = i.image;
+    v.viewType = array ? VK_IMAGE_VIEW_TYPE_2D_ARRAY : VK_IMAGE_VIEW_TYPE_2D;
+    v.format = format;
+    v.subresourceRange = {VK_IMAGE_ASPECT_COLOR_BIT, 0, levels, 0, layers};
+    s = checkVk(vkCreateImageView(device_, &v, allocator_, &i.view),
+                strCat("vkCreateImageView (", what, ")").c_str());
+  }
+  if (!s.isOk()) {
+    destroy(&i);
+    return s;
+  }
+  *out = i;
+  return s;
+}
+
+void DeviceObjects::destroy(GpuBuffer* b) {
+  if (b->buffer != VK_NULL_HANDLE) vkDestroyBuffer(device_, b->buffer, allocator_);
+  if (b->memory != VK_NULL_HANDLE) vkFreeMemory(device_, b->memory, allocator_);
+  *b = GpuBuffer{};
+}
+
+void DeviceObjects::destroy(GpuImage* i) {
+  if (i->view != VK_NULL_HANDLE) vkDestroyImageView(device_, i->view, allocator_);
+  if (i->image != VK_NULL_HANDLE) vkDestroyImage(device_, i->image, allocator_);
+  if (i->memory != VK_NULL_HANDLE) vkFreeMemory(device_, i->memory, allocator_);
+  *i = GpuImage{};
+}
+
+}  // namespace si::vk::detail

@@ -1,0 +1,70 @@
+// SkinnedInstancing — SPDX-License-Identifier: MIT (see LICENSE)
+#pragma once
+// The Vulkan objects the back-end creates on the host's device: buffers and images, each with
+// memory of its own (one allocation per object: a first back-end's allocator), through the
+// host's allocation callbacks; and Vulkan results as named Statuses.
+
+#include <vulkan/vulkan.h>
+
+#include <cstdint>
+
+#include "si/core/status.h"
+
+namespace si::vk::detail {
+
+/// A Vulkan structure of type `T`, zeroed, with its sType.
+template <typename T>
+T vkStruct(VkStructureType type) {
+  T v{};
+  v.sType = type;
+  return v;
+}
+
+/// Ok for VK_SUCCESS; kBackend naming `call` and the result otherwise.
+Status checkVk(VkResult result, const char* call);
+
+struct GpuBuffer {
+  VkBuffer buffer = VK_NULL_HANDLE;
+  VkDeviceMemory memory = VK_NULL_HANDLE;
+  VkDeviceSize size = 0;
+  void* mapped = nullptr;  ///< Host-visible buffers stay mapped.
+};
+
+struct GpuImage {
+  VkImage image = VK_NULL_HANDLE;
+  VkDeviceMemory memory = VK_NULL_HANDLE;
+  VkImageView view = VK_NULL_HANDLE;
+  VkFormat format = VK_FORMAT_UNDEFINED;
+  uint32_t width = 0, height = 0, layers = 1, levels = 1;
+};
+
+/// The host's device and what creating on it needs.
+class DeviceObjects {
+ public:
+  void init(VkPhysicalDevice physical, VkDevice device, const VkAllocationCallbacks* allocator);
+  VkDevice device() const { return device_; }
+  const VkAllocationCallbacks* allocator() const { return allocator_; }
+
+  /// A buffer of `size` bytes for `usage`: host-visible and coherent (mapped) with
+  /// `host_visible`, device-local otherwise. kBackend naming the failed call, or the memory
+  /// type missing; nothing kept then.
+  Status createBuffer(VkDeviceSize size, VkBufferUsageFlags usage, bool host_visible,
+                      const char* what, GpuBuffer* out);
+  /// A device-local 2D image of `layers` layers and `levels` levels, sampled and a transfer
+  /// source and destination, and its view (2D, or 2D array when `array`).
+  Status createImage(uint32_t width, uint32_t height, uint32_t layers, uint32_t levels,
+                     VkFormat format, bool array, const char* what, GpuImage* out);
+  void destroy(GpuBuffer* b);
+  void destroy(GpuImage* i);
+
+ private:
+  Status allocate(const VkMemoryRequirements& req, VkMemoryPropertyFlags flags, const char* what,
+                  VkDeviceMemory* out);
+
+  VkPhysicalDevice physical_ = VK_NULL_HANDLE;
+  VkDevice device_ = VK_NULL_HANDLE;
+  const VkAllocationCallbacks* allocator_ = nullptr;
+  VkPhysicalDeviceMemoryProperties memory_{};
+};
+
+}  // namespace si::vk::detail

@@ -1,0 +1,797 @@
+// SkinnedInstancing — SPDX-License-Identifier: MIT (see LICENSE)
+// The Vulkan back-end's vertex-shader path: si::gl's skinned program as SPIR-V, its descriptor
+// layout read from the modules, one instanced draw per batch.
+#include "si/vk/renderer.h"
+
+#include <algorithm>
+#include <array>
+#include <cmath>
+#include <cstring>
+#include <map>
+#include <vector>
+
+#include "core/str_cat.h"
+#include "si/core/material_table.h"
+#include "si/core/shader_inputs.h"
+#include "si_vk/vulkan_profile.h"
+#include "vk/device_objects.h"
+#include "vk/spirv_modules.h"
+#include "vk/spirv_reflect.h"
+#include "vk/vulkan_programs.h"
+
+namespace si::vk {
+
+using si::detail::strCat;
+using namespace si::vk::detail;
+
+namespace {
+
+// The records' uniform block: 819 records of 80 bytes.
+constexpr uint32_t kRecordsBinding = 0;
+constexpr VkDeviceSize kRecordsRange = VkDeviceSize(kVulkanMaxInstances) * 80;
+// The bindings si::gl's skinned program declares (its texture units and blocks, shifted by the
+// profile), which the renderer fills; a module declaring another is refused by name.
+constexpr uint32_t kPaletteInfoBinding = 4;
+constexpr uint32_t kVertexMaterialsBinding = 10 + kStorageBindingShift;
+constexpr uint32_t kMaterialTableBinding = 11 + kStorageBindingShift;
+constexpr uint32_t kPaletteBinding = 0 + kSamplerBindingShift;
+constexpr uint32_t kBaseColorBinding = 1 + kSamplerBindingShift;
+constexpr uint32_t kCustomBinding = 2 + kSamplerBindingShift;
+constexpr uint32_t kMaterialDataBinding = 4 + kSamplerBindingShift;
+
+// material_common.glsl's SiMaterial (the same 64 bytes si::gl uploads).
+struct GpuMaterial {
+  glm::vec4 factor, emissive, pbr;
+  glm::uvec4 layer;
+};
+
+GpuMaterial gpuMaterial(const MaterialEntry& e) {
+  return {e.base_color_factor, glm::vec4(e.emissive_factor, e.alpha_cutoff),
+          glm::vec4(e.metallic, e.roughness, e.normal_scale, e.occlusion_strength),
+          glm::uvec4(e.layer | (e.emissive_layer << 16),
+                     e.normal_layer | (e.metallic_roughness_layer << 16),
+                     e.occlusion_layer | (uint32_t(e.double_sided ? 1 : 0) << 16), 0u)};
+}
+
+uint32_t mipLevels(uint32_t w, uint32_t h) {
+  return uint32_t(std::floor(std::log2(double(std::max(w, h))))) + 1;
+}
+
+VkDeviceSize alignUp(VkDeviceSize v, VkDeviceSize a) {
+  return (v + a - 1) / a * a;
+}
+
+// An image's contents waiting in a staging buffer: `layers` layers of `layer_bytes` each, and
+// whether a mip chain is blitted from level 0.
+struct ImageUpload {
+  GpuImage* image;
+  VkDeviceSize offset;
+  bool mips;
+};
+struct BufferUpload {
+  GpuBuffer* buffer;
+  VkDeviceSize offset;
+};
+
+}  // namespace
+
+struct Renderer::Impl {
+  struct Character {
+    GpuBuffer vertices, indices, palette_info, vertex_materials, materials;
+    GpuImage palette, base_color, material_data;
+    std::vector<SubMesh> sub_meshes;
+    VkPipeline pipeline = VK_NULL_HANDLE;
+    VkDescriptorPool pool = VK_NULL_HANDLE;
+    VkDescriptorSet set = VK_NULL_HANDLE;
+    GpuBuffer staging;
+    std::vector<BufferUpload> buffer_uploads;
+    std::vector<ImageUpload> image_uploads;
+    bool uploads_recorded = false;
+    const BakedPalette* palette_data = nullptr;
+  };
+
+  RendererDesc desc;
+  DeviceObjects objects;
+  VkDeviceSize ubo_alignment = 256;
+  SpirvReflection vertex_reflection, fragment_reflection;
+  VkShaderModule vertex_module = VK_NULL_HANDLE, fragment_module = VK_NULL_HANDLE;
+  VkDescriptorSetLayout set_layout = VK_NULL_HANDLE;
+  VkPipelineLayout pipeline_layout = VK_NULL_HANDLE;
+  std::vector<VkDescriptorSetLayoutBinding> layout_bindings;
+  VkSampler nearest = VK_NULL_HANDLE, linear = VK_NULL_HANDLE;
+  GpuBuffer ring;
+  GpuImage custom;  // The custom texture array: one texel, never sampled (u_custom_layers 0).
+  GpuBuffer custom_staging;
+  bool custom_uploaded = false;
+  std::vector<std::unique_ptr<Character>> characters;
+  std::vector<GpuBuffer> finished_staging;  // Freed by uploadsComplete().
+  int32_t frame = -1;                       // The slot beginFrame() started; -1 none.
+  VkDeviceSize frame_used = 0;              // Bytes of its region written so far.
+
+  VkDevice device() const { return objects.device(); }
+  const VkAllocationCallbacks* allocator() const { return objects.allocator(); }
+
+  Status createLayout();
+  Status createPipeline(const VertexStream& stream, VkPipeline* out);
+  Status writeSet(Character* c);
+  void recordImageUpload(VkCommandBuffer cmd, const GpuBuffer& staging, const ImageUpload& u);
+  void destroyCharacter(Character* c);
+};
+
+Renderer::Renderer() = default;
+Renderer::~Renderer() {
+  shutdown();
+}
+
+Status Renderer::Impl::createLayout() {
+  // The union of both stages' descriptors: the records and default blocks dynamic (their
+  // offsets move per batch and frame), every other binding one the renderer fills.
+  std::map<uint32_t, VkDescriptorSetLayoutBinding> bindings;
+  for (const auto* r : {&vertex_reflection, &fragment_reflection}) {
+    const VkShaderStageFlags stage =
+        r == &vertex_reflection ? VK_SHADER_STAGE_VERTEX_BIT : VK_SHADER_STAGE_FRAGMENT_BIT;
+    for (const SpirvDescriptor& d : r->descriptors) {
+      const uint32_t b = d.binding;
+      VkDescriptorType type;
+      if (b == kRecordsBinding || b == kVertexDefaultsBinding || b == kFragmentDefaultsBinding)
+        type = VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER_DYNAMIC;
+      else if (b == kPaletteInfoBinding)
+        type = VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER;
+      else if (b == kVertexMaterialsBinding || b == kMaterialTableBinding)
+        type = VK_DESCRIPTOR_TYPE_STORAGE_BUFFER;
+      else if (b == kPaletteBinding || b == kBaseColorBinding || b == kCustomBinding ||
+               b == kMaterialDataBinding)
+        type = VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER;
+      else
+        return {StatusCode::kUnsupported,
+                strCat("the skinned program's ", descriptorKindName(d.kind), " '", d.name,
+                       "' at binding ", b, " is one the Vulkan renderer does not fill")};
+      auto [it, added] =
+          bindings.emplace(b, VkDescriptorSetLayoutBinding{b, type, 1, stage, nullptr});
+      if (!added) it->second.stageFlags |= stage;
+    }
+  }
+  layout_bindings.clear();
+  for (const auto& [b, binding] : bindings) layout_bindings.push_back(binding);
+  auto info = vkStruct<VkDescriptorSetLayoutCreateInfo>(
+      VK_STRUCTURE_TYPE_DESCRIPTOR_SET_LAYOUT_CREATE_INFO);
+  info.bindingCount = uint32_t(layout_bindings.size());
+  info.pBindings = layout_bindings.data();
+  Status s = checkVk(vkCreateDescriptorSetLayout(device(), &info, allocator(), &set_layout),
+                     "vkCreateDescriptorSetLayout");
+  if (!s.isOk()) return s;
+  auto pl = vkStruct<VkPipelineLayoutCreateInfo>(VK_STRUCTURE_TYPE_PIPELINE_LAYOUT_CREATE_INFO);
+  pl.setLayoutCount = 1;
+  pl.pSetLayouts = &set_layout;
+  return checkVk(vkCreatePipelineLayout(device(), &pl, allocator(), &pipeline_layout),
+                 "vkCreatePipelineLayout");
+}
+
+Status Renderer::Impl::createPipeline(const VertexStream& stream, VkPipeline* out) {
+  VkPipelineShaderStageCreateInfo stages[2] = {
+      vkStruct<VkPipelineShaderStageCreateInfo>(
+          VK_STRUCTURE_TYPE_PIPELINE_SHADER_STAGE_CREATE_INFO),
+      vkStruct<VkPipelineShaderStageCreateInfo>(
+          VK_STRUCTURE_TYPE_PIPELINE_SHADER_STAGE_CREATE_INFO)};
+  stages[0].stage = VK_SHADER_STAGE_VERTEX_BIT;
+  stages[0].module = vertex_module;
+  stages[0].pName = "main";
+  stages[1].stage = VK_SHADER_STAGE_FRAGMENT_BIT;
+  stages[1].module = fragment_module;
+  stages[1].pName = "main";
+  // The vertex stream as si::gl's CharacterBuffers describes it (shader_inputs.h).
+  const VkVertexInputBindingDescription binding{0, stream.stride_bytes,
+                                                VK_VERTEX_INPUT_RATE_VERTEX};
+  const VkVertexInputAttributeDescription attributes[] = {
+      {0, 0, VK_FORMAT_R32G32B32_SFLOAT, VertexStream::kPositionOffset},
+      {1, 0, VK_FORMAT_A2B10G10R10_SNORM_PACK32, VertexStream::kNormalOffset},
+      {2, 0, VK_FORMAT_R16G16_SFLOAT, VertexStream::kTexcoordOffset},
+      {3, 0, stream.wide_joints ? VK_FORMAT_R16G16B16A16_UINT : VK_FORMAT_R8G8B8A8_UINT,
+       VertexStream::kJointsOffset},
+      {4, 0, VK_FORMAT_R16G16B16A16_UNORM, stream.weights_offset},
+      {7, 0, VK_FORMAT_A2B10G10R10_SNORM_PACK32,
+       stream.tangent_offset != 0 ? stream.tangent_offset : VertexStream::kNormalOffset},
+  };
+  auto input = vkStruct<VkPipelineVertexInputStateCreateInfo>(
+      VK_STRUCTURE_TYPE_PIPELINE_VERTEX_INPUT_STATE_CREATE_INFO);
+  input.vertexBindingDescriptionCount = 1;
+  input.pVertexBindingDescriptions = &binding;
+  input.vertexAttributeDescriptionCount = uint32_t(std::size(attributes));
+  input.pVertexAttributeDescriptions = attributes;
+  auto assembly = vkStruct<VkPipelineInputAssemblyStateCreateInfo>(
+      VK_STRUCTURE_TYPE_PIPELINE_INPUT_ASSEMBLY_STATE_CREATE_INFO);
+  assembly.topology = VK_PRIMITIVE_TOPOLOGY_TRIANGLE_LIST;
+  auto viewport = vkStruct<VkPipelineViewportStateCreateInfo>(
+      VK_STRUCTURE_TYPE_PIPELINE_VIEWPORT_STATE_CREATE_INFO);
+  viewport.viewportCount = 1;
+  viewport.scissorCount = 1;
+  auto raster = vkStruct<VkPipelineRasterizationStateCreateInfo>(
+      VK_STRUCTURE_TYPE_PIPELINE_RASTERIZATION_STATE_CREATE_INFO);
+  raster.polygonMode = VK_POLYGON_MODE_FILL;
+  raster.cullMode = VK_CULL_MODE_BACK_BIT;
+  raster.frontFace = VK_FRONT_FACE_COUNTER_CLOCKWISE;  // With the flipped viewport: OpenGL's.
+  raster.lineWidth = 1.0f;
+  auto multisample = vkStruct<VkPipelineMultisampleStateCreateInfo>(
+      VK_STRUCTURE_TYPE_PIPELINE_MULTISAMPLE_STATE_CREATE_INFO);
+  multisample.rasterizationSamples = VK_SAMPLE_COUNT_1_BIT;
+  auto depth = vkStruct<VkPipelineDepthStencilStateCreateInfo>(
+      VK_STRUCTURE_TYPE_PIPELINE_DEPTH_STENCIL_STATE_CREATE_INFO);
+  depth.depthTestEnable = VK_TRUE;
+  depth.depthWriteEnable = VK_TRUE;
+  depth.depthCompareOp = VK_COMPARE_OP_LESS;
+  VkPipelineColorBlendAttachmentState attachment{};
+  attachment.colorWriteMask = VK_COLOR_COMPONENT_R_BIT | VK_COLOR_COMPONENT_G_BIT |
+                              VK_COLOR_COMPONENT_B_BIT | VK_COLOR_COMPONENT_A_BIT;
+  auto blend = vkStruct<VkPipelineColorBlendStateCreateInfo>(
+      VK_STRUCTURE_TYPE_PIPELINE_COLOR_BLEND_STATE_CREATE_INFO);
+  blend.attachmentCount = 1;
+  blend.pAttachments = &attachment;
+  const VkDynamicState dynamic_states[] = {VK_DYNAMIC_STATE_VIEWPORT, VK_DYNAMIC_STATE_SCISSOR};
+  auto dynamic = vkStruct<VkPipelineDynamicStateCreateInfo>(
+      VK_STRUCTURE_TYPE_PIPELINE_DYNAMIC_STATE_CREATE_INFO);
+  dynamic.dynamicStateCount = 2;
+  dynamic.pDynamicStates = dynamic_states;
+  auto rendering =
+      vkStruct<VkPipelineRenderingCreateInfo>(VK_STRUCTURE_TYPE_PIPELINE_RENDERING_CREATE_INFO);
+  rendering.colorAttachmentCount = 1;
+  rendering.pColorAttachmentFormats = &desc.color_format;
+  rendering.depthAttachmentFormat = desc.depth_format;
+  auto info =
+      vkStruct<VkGraphicsPipelineCreateInfo>(VK_STRUCTURE_TYPE_GRAPHICS_PIPELINE_CREATE_INFO);
+  info.pNext = &rendering;
+  info.stageCount = 2;
+  info.pStages = stages;
+  info.pVertexInputState = &input;
+  info.pInputAssemblyState = &assembly;
+  info.pViewportState = &viewport;
+  info.pRasterizationState = &raster;
+  info.pMultisampleState = &multisample;
+  info.pDepthStencilState = &depth;
+  info.pColorBlendState = &blend;
+  info.pDynamicState = &dynamic;
+  info.layout = pipeline_layout;
+  return checkVk(vkCreateGraphicsPipelines(device(), VK_NULL_HANDLE, 1, &info, allocator(), out),
+                 "vkCreateGraphicsPipelines");
+}
+
+Status Renderer::init(const RendererDesc& desc) {
+  shutdown();
+  if (desc.physical_device == VK_NULL_HANDLE || desc.device == VK_NULL_HANDLE)
+    return {StatusCode::kInvalidArgument, "vk::Renderer::init: no physical device or device"};
+  if (desc.frames_in_flight < 1 || desc.frames_in_flight > 8)
+    return {StatusCode::kInvalidArgument, strCat("vk::Renderer::init: frames_in_flight ",
+                                                 desc.frames_in_flight, " is outside 1 to 8")};
+  if (desc.ring_bytes_per_frame < kRecordsRange)
+    return {StatusCode::kInvalidArgument,
+            strCat("vk::Renderer::init: ring_bytes_per_frame ", desc.ring_bytes_per_frame,
+                   " holds less than one batch (", kRecordsRange, " bytes)")};
+  VkPhysicalDeviceProperties props{};
+  vkGetPhysicalDeviceProperties(desc.physical_device, &props);
+  if (props.apiVersion < VK_API_VERSION_1_3)
+    return {StatusCode::kUnsupported, "vk::Renderer::init: the device is below Vulkan 1.3"};
+  if (props.limits.maxUniformBufferRange < kRecordsRange)
+    return {StatusCode::kUnsupported,
+            strCat("vk::Renderer::init: maxUniformBufferRange ", props.limits.maxUniformBufferRange,
+                   " is below a batch's ", kRecordsRange, " bytes of records")};
+  auto f13 = vkStruct<VkPhysicalDeviceVulkan13Features>(
+      VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_VULKAN_1_3_FEATURES);
+  auto features = vkStruct<VkPhysicalDeviceFeatures2>(VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_FEATURES_2);
+  features.pNext = &f13;
+  vkGetPhysicalDeviceFeatures2(desc.physical_device, &features);
+  if (!f13.dynamicRendering)
+    return {StatusCode::kUnsupported, "vk::Renderer::init: the device has no dynamic rendering"};
+  VkFormatProperties normal{};
+  vkGetPhysicalDeviceFormatProperties(desc.physical_device, VK_FORMAT_A2B10G10R10_SNORM_PACK32,
+                                      &normal);
+  if ((normal.bufferFeatures & VK_FORMAT_FEATURE_VERTEX_BUFFER_BIT) == 0)
+    return {StatusCode::kUnsupported,
+            "vk::Renderer::init: the device reads no VK_FORMAT_A2B10G10R10_SNORM_PACK32 vertex "
+            "attribute (the vertex stream's normals)"};
+  auto impl = std::make_unique<Impl>();
+  impl->desc = desc;
+  impl->objects.init(desc.physical_device, desc.device, desc.allocator);
+  impl->ubo_alignment = std::max<VkDeviceSize>(props.limits.minUniformBufferOffsetAlignment, 16);
+  impl_ = std::move(impl);
+  Impl& m = *impl_;
+  // The modules and what they declare.
+  const SpirvModule* vert = findSpirvModule("skinned.vert");
+  const SpirvModule* frag = findSpirvModule("skinned.frag");
+  Status s = vert != nullptr && frag != nullptr
+                 ? Status::ok()
+                 : Status(StatusCode::kNotFound, "the skinned program's SPIR-V is not embedded");
+  if (s.isOk())
+    s = reflectSpirv(Span<const uint32_t>(vert->words, vert->word_count), kDefaultUniformBlock,
+                     &m.vertex_reflection);
+  if (s.isOk())
+    s = reflectSpirv(Span<const uint32_t>(frag->words, frag->word_count), kDefaultUniformBlock,
+                     &m.fragment_reflection);
+  for (const auto& [module, out] :
+       {std::pair{vert, &m.vertex_module}, std::pair{frag, &m.fragment_module}}) {
+    if (!s.isOk()) break;
+    auto info = vkStruct<VkShaderModuleCreateInfo>(VK_STRUCTURE_TYPE_SHADER_MODULE_CREATE_INFO);
+    info.codeSize = module->word_count * 4;
+    info.pCode = module->words;
+    s = checkVk(vkCreateShaderModule(m.device(), &info, m.allocator(), out),
+                "vkCreateShaderModule");
+  }
+  if (s.isOk()) s = m.createLayout();
+  for (const auto& [filter, out] :
+       {std::pair{VK_FILTER_NEAREST, &m.nearest}, std::pair{VK_FILTER_LINEAR, &m.linear}}) {
+    if (!s.isOk()) break;
+    auto info = vkStruct<VkSamplerCreateInfo>(VK_STRUCTURE_TYPE_SAMPLER_CREATE_INFO);
+    info.magFilter = info.minFilter = filter;
+    info.mipmapMode =
+        filter == VK_FILTER_LINEAR ? VK_SAMPLER_MIPMAP_MODE_LINEAR : VK_SAMPLER_MIPMAP_MODE_NEAREST;
+    // OpenGL's default wrap for the materials; the palette is read with texelFetch.
+    info.addressModeU = info.addressModeV = info.addressModeW = VK_SAMPLER_ADDRESS_MODE_REPEAT;
+    info.maxLod = VK_LOD_CLAMP_NONE;
+    s = checkVk(vkCreateSampler(m.device(), &info, m.allocator(), out), "vkCreateSampler");
+  }
+  if (s.isOk())
+    s = m.objects.createBuffer(
+        VkDeviceSize(desc.frames_in_flight) * desc.ring_bytes_per_frame + kRecordsRange,
+        VK_BUFFER_USAGE_UNIFORM_BUFFER_BIT, true, "the record ring", &m.ring);
+  if (s.isOk())
+    s = m.objects.createImage(1, 1, 1, 1, VK_FORMAT_R8G8B8A8_UNORM, true,
+                              "the custom texture's placeholder", &m.custom);
+  if (s.isOk())
+    s = m.objects.createBuffer(4, VK_BUFFER_USAGE_TRANSFER_SRC_BIT, true,
+                               "the placeholder's staging", &m.custom_staging);
+  if (s.isOk()) std::memset(m.custom_staging.mapped, 255, 4);
+  if (!s.isOk()) shutdown();
+  return s;
+}
+
+void Renderer::Impl::destroyCharacter(Character* c) {
+  for (GpuBuffer* b : {&c->vertices, &c->indices, &c->palette_info, &c->vertex_materials,
+                       &c->materials, &c->staging})
+    objects.destroy(b);
+  for (GpuImage* i : {&c->palette, &c->base_color, &c->material_data}) objects.destroy(i);
+  if (c->pipeline != VK_NULL_HANDLE) vkDestroyPipeline(device(), c->pipeline, allocator());
+  if (c->pool != VK_NULL_HANDLE) vkDestroyDescriptorPool(device(), c->pool, allocator());
+  c->pipeline = VK_NULL_HANDLE;
+  c->pool = VK_NULL_HANDLE;
+}
+
+void Renderer::shutdown() {
+  if (!impl_) return;
+  Impl& m = *impl_;
+  for (auto& c : m.characters) m.destroyCharacter(c.get());
+  for (GpuBuffer& b : m.finished_staging) m.objects.destroy(&b);
+  m.objects.destroy(&m.ring);
+  m.objects.destroy(&m.custom);
+  m.objects.destroy(&m.custom_staging);
+  for (VkSampler sampler : {m.nearest, m.linear})
+    if (sampler != VK_NULL_HANDLE) vkDestroySampler(m.device(), sampler, m.allocator());
+  if (m.pipeline_layout != VK_NULL_HANDLE)
+    vkDestroyPipelineLayout(m.device(), m.pipeline_layout, m.allocator());
+  if (m.set_layout != VK_NULL_HANDLE)
+    vkDestroyDescriptorSetLayout(m.device(), m.set_layout, m.allocator());
+  for (VkShaderModule module : {m.vertex_module, m.fragment_module})
+    if (module != VK_NULL_HANDLE) vkDestroyShaderModule(m.device(), module, m.allocator());
+  impl_.reset();
+}
+
+BatchLimits Renderer::batchLimits() const {
+  BatchLimits l;
+  l.max_uniform_block_size_bytes = uint32_t(kRecordsRange);
+  l.uniform_buffer_offset_alignment = impl_ ? uint32_t(impl_->ubo_alignment) : 256;
+  l.max_instances_per_draw = kVulkanMaxInstances;
+  return l;
+}
+
+namespace {
+
+// Bytes of each default uniform block's binding: the vertex stage's camera and LOD, the
+// fragment stage's light and custom layers.
+constexpr VkDeviceSize kDefaultsRange = 256;
+
+// The offset of default-block member `name` in `r` (-1 when the stage has none).
+int64_t defaultOffset(const SpirvReflection& r, const char* name) {
+  for (const SpirvMember& m : r.default_uniforms)
+    if (m.name == name) return int64_t(m.offset);
+  return -1;
+}
+
+// Writes `bytes` at `offset` of `base` when the member exists.
+void putMember(uint8_t* base, int64_t offset, const void* bytes, size_t size) {
+  if (offset >= 0) std::memcpy(base + offset, bytes, size);
+}
+
+// OpenGL's clip depth (-w to w) mapped to Vulkan's (0 to w).
+glm::mat4 vulkanClip(const glm::mat4& gl) {
+  glm::mat4 m(1.0f);
+  m[2][2] = 0.5f;
+  m[3][2] = 0.5f;
+  return m * gl;
+}
+
+}  // namespace
+
+Status Renderer::addCharacter(const Character& character, const BakedPalette& palette,
+                              CharacterId* out) {
+  if (!impl_) return {StatusCode::kInvalidArgument, "vk::Renderer::addCharacter: not initialized"};
+  if (out == nullptr) return {StatusCode::kInvalidArgument, "vk::Renderer::addCharacter: null id"};
+  Impl& m = *impl_;
+  const SkinnedMesh& mesh = character.mesh;
+  const char* missing = !mesh.morph_targets.empty() ? "morph targets"
+                        : !mesh.joints1.empty()     ? "8 influences"
+                        : !mesh.texcoords1.empty() || !mesh.colors.empty()
+                            ? "vertex words (texture coordinates 1, colours)"
+                            : nullptr;
+  if (missing != nullptr)
+    return {
+        StatusCode::kUnsupported,
+        strCat("vk::Renderer::addCharacter: the Vulkan back-end does not draw ", missing, " yet")};
+  Status s = palette.validate();
+  if (!s.isOk()) return {StatusCode::kInvalidArgument, "the palette: " + s.message()};
+  if (palette.skeleton_to_palette.size() != character.skeleton.jointCount())
+    return {StatusCode::kInvalidArgument, "the palette was baked for another skeleton"};
+  VertexStream stream;
+  s = buildVertexStream(mesh, palette, &stream);
+  MaterialTable table;
+  if (s.isOk()) s = buildMaterialTable(character, 0, &table);
+  if (!s.isOk()) return s;
+  if (table.data_layers.empty()) {  // A flat normal, as si::gl's: one layer to bind.
+    Image flat;
+    flat.width = flat.height = 1;
+    flat.rgba8 = {128, 128, 255, 255};
+    table.data_layers.push_back(flat);
+    table.data_width = table.data_height = 1;
+  }
+  std::vector<uint32_t> vertex_words((table.vertex_materials.size() + 1) / 2, 0);
+  for (size_t v = 0; v < table.vertex_materials.size(); ++v)
+    vertex_words[v / 2] |= uint32_t(table.vertex_materials[v]) << ((v % 2) * 16);
+  std::vector<GpuMaterial> entries;
+  for (const MaterialEntry& e : table.materials) entries.push_back(gpuMaterial(e));
+  glm::uvec4 info_block[4] = {paletteShaderInfo(palette), glm::uvec4(0u), glm::uvec4(0u),
+                              glm::uvec4(0u)};
+
+  auto c = std::make_unique<Impl::Character>();
+  c->palette_data = &palette;
+  c->sub_meshes = mesh.sub_meshes;
+  // The staging buffer: every content, each at a 16-byte offset.
+  struct Content {
+    const void* data;
+    size_t bytes;
+  };
+  std::vector<Content> contents;
+  const auto layerBytes = [](const std::vector<Image>& layers) {
+    size_t n = 0;
+    for (const Image& i : layers) n += i.rgba8.size();
+    return n;
+  };
+  const bool half = palette.format == PaletteFormat::kMatrix3x4F16;
+  const VkBufferUsageFlags dst = VK_BUFFER_USAGE_TRANSFER_DST_BIT;
+  const struct {
+    GpuBuffer* buffer;
+    VkBufferUsageFlags usage;
+    const void* data;
+    size_t bytes;
+    const char* what;
+  } buffers[] = {
+      {&c->vertices, VK_BUFFER_USAGE_VERTEX_BUFFER_BIT, stream.bytes.data(), stream.bytes.size(),
+       "the character's vertex buffer"},
+      {&c->indices, VK_BUFFER_USAGE_INDEX_BUFFER_BIT, mesh.indices.data(), mesh.indices.size() * 4,
+       "the character's index buffer"},
+      {&c->palette_info, VK_BUFFER_USAGE_UNIFORM_BUFFER_BIT, info_block, sizeof(info_block),
+       "the palette's info block"},
+      {&c->vertex_materials, VK_BUFFER_USAGE_STORAGE_BUFFER_BIT, vertex_words.data(),
+       vertex_words.size() * 4, "the character's per-vertex materials"},
+      {&c->materials, VK_BUFFER_USAGE_STORAGE_BUFFER_BIT, entries.data(),
+       entries.size() * sizeof(GpuMaterial), "the character's material table"},
+  };
+  for (const auto& b : buffers) {
+    if (!s.isOk()) break;
+    s = m.objects.createBuffer(std::max<size_t>(b.bytes, 4), b.usage | dst, false, b.what,
+                               b.buffer);
+    contents.push_back({b.data, b.bytes});
+  }
+  if (s.isOk())
+    s = m.objects.createImage(palette.layout.width, palette.layout.height, 1, 1,
+                              half ? VK_FORMAT_R16G16B16A16_SFLOAT : VK_FORMAT_R32G32B32A32_SFLOAT,
+                              false, "the palette texture", &c->palette);
+  if (s.isOk())
+    s = m.objects.createImage(table.width, table.height, uint32_t(table.layers.size()),
+                              mipLevels(table.width, table.height), VK_FORMAT_R8G8B8A8_SRGB, true,
+                              "the character's colour texture array", &c->base_color);
+  if (s.isOk())
+    s = m.objects.createImage(
+        table.data_width, table.data_height, uint32_t(table.data_layers.size()),
+        mipLevels(table.data_width, table.data_height), VK_FORMAT_R8G8B8A8_UNORM, true,
+        "the character's data texture array", &c->material_data);
+  VkDeviceSize staging_bytes = 0;
+  for (const Content& k : contents) staging_bytes = alignUp(staging_bytes + k.bytes, 16);
+  const VkDeviceSize palette_at = staging_bytes;
+  staging_bytes = alignUp(staging_bytes + palette.texel_bytes.size(), 16);
+  const VkDeviceSize colour_at = staging_bytes;
+  staging_bytes = alignUp(staging_bytes + layerBytes(table.layers), 16);
+  const VkDeviceSize data_at = staging_bytes;
+  staging_bytes += layerBytes(table.data_layers);
+  if (s.isOk())
+    s = m.objects.createBuffer(staging_bytes, VK_BUFFER_USAGE_TRANSFER_SRC_BIT, true,
+                               "the character's staging", &c->staging);
+  if (s.isOk()) {
+    uint8_t* to = static_cast<uint8_t*>(c->staging.mapped);
+    VkDeviceSize at = 0;
+    for (size_t k = 0; k < contents.size(); ++k) {
+      if (contents[k].bytes > 0) std::memcpy(to + at, contents[k].data, contents[k].bytes);
+      c->buffer_uploads.push_back({buffers[k].buffer, at});
+      at = alignUp(at + contents[k].bytes, 16);
+    }
+    std::memcpy(to + palette_at, palette.texel_bytes.data(), palette.texel_bytes.size());
+    VkDeviceSize layer_at = colour_at;
+    for (const Image& i : table.layers) {
+      std::memcpy(to + layer_at, i.rgba8.data(), i.rgba8.size());
+      layer_at += i.rgba8.size();
+    }
+    layer_at = data_at;
+    for (const Image& i : table.data_layers) {
+      std::memcpy(to + layer_at, i.rgba8.data(), i.rgba8.size());
+      layer_at += i.rgba8.size();
+    }
+    c->image_uploads = {{&c->palette, palette_at, false},
+                        {&c->base_color, colour_at, true},
+                        {&c->material_data, data_at, true}};
+  }
+  if (s.isOk()) s = m.createPipeline(stream, &c->pipeline);
+  if (s.isOk()) s = m.writeSet(c.get());
+  if (!s.isOk()) {
+    m.destroyCharacter(c.get());
+    return s;
+  }
+  out->index = uint32_t(m.characters.size());
+  m.characters.push_back(std::move(c));
+  return Status::ok();
+}
+
+Status Renderer::Impl::writeSet(Character* c) {
+  std::vector<VkDescriptorPoolSize> sizes;
+  for (const VkDescriptorSetLayoutBinding& b : layout_bindings)
+    sizes.push_back({b.descriptorType, 1});
+  auto pool_info =
+      vkStruct<VkDescriptorPoolCreateInfo>(VK_STRUCTURE_TYPE_DESCRIPTOR_POOL_CREATE_INFO);
+  pool_info.maxSets = 1;
+  pool_info.poolSizeCount = uint32_t(sizes.size());
+  pool_info.pPoolSizes = sizes.data();
+  Status s = checkVk(vkCreateDescriptorPool(device(), &pool_info, allocator(), &c->pool),
+                     "vkCreateDescriptorPool");
+  if (!s.isOk()) return s;
+  auto alloc =
+      vkStruct<VkDescriptorSetAllocateInfo>(VK_STRUCTURE_TYPE_DESCRIPTOR_SET_ALLOCATE_INFO);
+  alloc.descriptorPool = c->pool;
+  alloc.descriptorSetCount = 1;
+  alloc.pSetLayouts = &set_layout;
+  s = checkVk(vkAllocateDescriptorSets(device(), &alloc, &c->set), "vkAllocateDescriptorSets");
+  if (!s.isOk()) return s;
+  std::vector<VkDescriptorBufferInfo> buffer_infos(layout_bindings.size());
+  std::vector<VkDescriptorImageInfo> image_infos(layout_bindings.size());
+  std::vector<VkWriteDescriptorSet> writes;
+  for (size_t k = 0; k < layout_bindings.size(); ++k) {
+    const uint32_t b = layout_bindings[k].binding;
+    auto w = vkStruct<VkWriteDescriptorSet>(VK_STRUCTURE_TYPE_WRITE_DESCRIPTOR_SET);
+    w.dstSet = c->set;
+    w.dstBinding = b;
+    w.descriptorCount = 1;
+    w.descriptorType = layout_bindings[k].descriptorType;
+    const auto buffer = [&](const GpuBuffer& g, VkDeviceSize range) {
+      buffer_infos[k] = {g.buffer, 0, range};
+      w.pBufferInfo = &buffer_infos[k];
+    };
+    const auto image = [&](const GpuImage& g, VkSampler sampler) {
+      image_infos[k] = {sampler, g.view, VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL};
+      w.pImageInfo = &image_infos[k];
+    };
+    if (b == kRecordsBinding)
+      buffer(ring, kRecordsRange);
+    else if (b == kVertexDefaultsBinding || b == kFragmentDefaultsBinding)
+      buffer(ring, kDefaultsRange);
+    else if (b == kPaletteInfoBinding)
+      buffer(c->palette_info, VK_WHOLE_SIZE);
+    else if (b == kVertexMaterialsBinding)
+      buffer(c->vertex_materials, VK_WHOLE_SIZE);
+    else if (b == kMaterialTableBinding)
+      buffer(c->materials, VK_WHOLE_SIZE);
+    else if (b == kPaletteBinding)
+      image(c->palette, nearest);
+    else if (b == kBaseColorBinding)
+      image(c->base_color, linear);
+    else if (b == kCustomBinding)
+      image(custom, linear);
+    else if (b == kMaterialDataBinding)
+      image(c->material_data, linear);
+    writes.push_back(w);
+  }
+  vkUpdateDescriptorSets(device(), uint32_t(writes.size()), writes.data(), 0, nullptr);
+  return Status::ok();
+}
+
+void Renderer::Impl::recordImageUpload(VkCommandBuffer cmd, const GpuBuffer& staging,
+                                       const ImageUpload& u) {
+  const GpuImage& img = *u.image;
+  const auto barrier = [&](uint32_t level, uint32_t levels, VkImageLayout from, VkImageLayout to,
+                           VkAccessFlags src_access, VkAccessFlags dst_access,
+                           VkPipelineStageFlags src, VkPipelineStageFlags dst) {
+    auto b = vkStruct<VkImageMemoryBarrier>(VK_STRUCTURE_TYPE_IMAGE_MEMORY_BARRIER);
+    b.srcAccessMask = src_access;
+    b.dstAccessMask = dst_access;
+    b.oldLayout = from;
+    b.newLayout = to;
+    b.srcQueueFamilyIndex = b.dstQueueFamilyIndex = VK_QUEUE_FAMILY_IGNORED;
+    b.image = img.image;
+    b.subresourceRange = {VK_IMAGE_ASPECT_COLOR_BIT, level, levels, 0, img.layers};
+    vkCmdPipelineBarrier(cmd, src, dst, 0, 0, nullptr, 0, nullptr, 1, &b);
+  };
+  const VkPipelineStageFlags shaders =
+      VK_PIPELINE_STAGE_VERTEX_SHADER_BIT | VK_PIPELINE_STAGE_FRAGMENT_SHADER_BIT;
+  barrier(0, img.levels, VK_IMAGE_LAYOUT_UNDEFINED, VK_IMAGE_LAYOUT_TRANSFER_DST_OPTIMAL, 0,
+          VK_ACCESS_TRANSFER_WRITE_BIT, VK_PIPELINE_STAGE_TOP_OF_PIPE_BIT,
+          VK_PIPELINE_STAGE_TRANSFER_BIT);
+  VkBufferImageCopy copy{};
+  copy.bufferOffset = u.offset;
+  copy.imageSubresource = {VK_IMAGE_ASPECT_COLOR_BIT, 0, 0, img.layers};
+  copy.imageExtent = {img.width, img.height, 1};
+  vkCmdCopyBufferToImage(cmd, staging.buffer, img.image, VK_IMAGE_LAYOUT_TRANSFER_DST_OPTIMAL, 1,
+                         &copy);
+  // Each level from the one above, filtered (as glGenerateMipmap); every level then a source.
+  for (uint32_t level = 1; level < img.levels; ++level) {
+    barrier(level - 1, 1, VK_IMAGE_LAYOUT_TRANSFER_DST_OPTIMAL,
+            VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL, VK_ACCESS_TRANSFER_WRITE_BIT,
+            VK_ACCESS_TRANSFER_READ_BIT, VK_PIPELINE_STAGE_TRANSFER_BIT,
+            VK_PIPELINE_STAGE_TRANSFER_BIT);
+    VkImageBlit blit{};
+    blit.srcSubresource = {VK_IMAGE_ASPECT_COLOR_BIT, level - 1, 0, img.layers};
+    blit.srcOffsets[1] = {int32_t(std::max(1u, img.width >> (level - 1))),
+                          int32_t(std::max(1u, img.height >> (level - 1))), 1};
+    blit.dstSubresource = {VK_IMAGE_ASPECT_COLOR_BIT, level, 0, img.layers};
+    blit.dstOffsets[1] = {int32_t(std::max(1u, img.width >> level)),
+                          int32_t(std::max(1u, img.height >> level)), 1};
+    vkCmdBlitImage(cmd, img.image, VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL, img.image,
+                   VK_IMAGE_LAYOUT_TRANSFER_DST_OPTIMAL, 1, &blit, VK_FILTER_LINEAR);
+  }
+  if (img.levels > 1) {
+    barrier(img.levels - 1, 1, VK_IMAGE_LAYOUT_TRANSFER_DST_OPTIMAL,
+            VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL, VK_ACCESS_TRANSFER_WRITE_BIT,
+            VK_ACCESS_TRANSFER_READ_BIT, VK_PIPELINE_STAGE_TRANSFER_BIT,
+            VK_PIPELINE_STAGE_TRANSFER_BIT);
+    barrier(0, img.levels, VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL,
+            VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL, VK_ACCESS_TRANSFER_READ_BIT,
+            VK_ACCESS_SHADER_READ_BIT, VK_PIPELINE_STAGE_TRANSFER_BIT, shaders);
+  } else {
+    barrier(0, 1, VK_IMAGE_LAYOUT_TRANSFER_DST_OPTIMAL, VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL,
+            VK_ACCESS_TRANSFER_WRITE_BIT, VK_ACCESS_SHADER_READ_BIT, VK_PIPELINE_STAGE_TRANSFER_BIT,
+            shaders);
+  }
+}
+
+Status Renderer::recordUploads(VkCommandBuffer cmd) {
+  if (!impl_) return {StatusCode::kInvalidArgument, "vk::Renderer::recordUploads: not initialized"};
+  Impl& m = *impl_;
+  if (!m.custom_uploaded) {
+    m.recordImageUpload(cmd, m.custom_staging, {&m.custom, 0, false});
+    m.finished_staging.push_back(m.custom_staging);
+    m.custom_staging = GpuBuffer{};
+    m.custom_uploaded = true;
+  }
+  for (auto& c : m.characters) {
+    if (c->uploads_recorded) continue;
+    for (const BufferUpload& u : c->buffer_uploads) {
+      const VkBufferCopy copy{u.offset, 0, u.buffer->size};
+      vkCmdCopyBuffer(cmd, c->staging.buffer, u.buffer->buffer, 1, &copy);
+    }
+    for (const ImageUpload& u : c->image_uploads) m.recordImageUpload(cmd, c->staging, u);
+    m.finished_staging.push_back(c->staging);
+    c->staging = GpuBuffer{};
+    c->uploads_recorded = true;
+  }
+  auto b = vkStruct<VkMemoryBarrier>(VK_STRUCTURE_TYPE_MEMORY_BARRIER);
+  b.srcAccessMask = VK_ACCESS_TRANSFER_WRITE_BIT;
+  b.dstAccessMask = VK_ACCESS_VERTEX_ATTRIBUTE_READ_BIT | VK_ACCESS_INDEX_READ_BIT |
+                    VK_ACCESS_UNIFORM_READ_BIT | VK_ACCESS_SHADER_READ_BIT;
+  vkCmdPipelineBarrier(cmd, VK_PIPELINE_STAGE_TRANSFER_BIT,
+                       VK_PIPELINE_STAGE_VERTEX_INPUT_BIT | VK_PIPELINE_STAGE_VERTEX_SHADER_BIT |
+                           VK_PIPELINE_STAGE_FRAGMENT_SHADER_BIT,
+                       0, 1, &b, 0, nullptr, 0, nullptr);
+  return Status::ok();
+}
+
+void Renderer::uploadsComplete() {
+  if (!impl_) return;
+  for (GpuBuffer& b : impl_->finished_staging) impl_->objects.destroy(&b);
+  impl_->finished_staging.clear();
+}
+
+Status Renderer::beginFrame(uint32_t frame) {
+  if (!impl_) return {StatusCode::kInvalidArgument, "vk::Renderer::beginFrame: not initialized"};
+  if (frame >= impl_->desc.frames_in_flight)
+    return {StatusCode::kInvalidArgument,
+            strCat("vk::Renderer::beginFrame: slot ", frame, " past frames_in_flight ",
+                   impl_->desc.frames_in_flight)};
+  impl_->frame = int32_t(frame);
+  impl_->frame_used = 0;
+  return Status::ok();
+}
+
+Status Renderer::recordDraw(VkCommandBuffer cmd, VkExtent2D target, CharacterId id,
+                            const CrowdView& view, const InstanceBatcher& batcher,
+                            const Camera& camera, DrawStats* stats) {
+  if (!impl_) return {StatusCode::kInvalidArgument, "vk::Renderer::recordDraw: not initialized"};
+  Impl& m = *impl_;
+  if (id.index >= m.characters.size())
+    return {StatusCode::kInvalidArgument,
+            strCat("vk::Renderer::recordDraw: no character ", id.index)};
+  Impl::Character& c = *m.characters[id.index];
+  if (!c.uploads_recorded)
+    return {StatusCode::kInvalidArgument,
+            "vk::Renderer::recordDraw: the character's uploads were not recorded (recordUploads)"};
+  if (m.frame < 0)
+    return {StatusCode::kInvalidArgument, "vk::Renderer::recordDraw: no beginFrame()"};
+  if (batcher.capacityPerDraw() == 0 || batcher.capacityPerDraw() > kVulkanMaxInstances)
+    return {StatusCode::kInvalidArgument,
+            "vk::Renderer::recordDraw: the batcher was not initialized with batchLimits()"};
+  // The frame's region: this draw's records after the frame's earlier draws', then the default
+  // blocks (the fragment stage's once, the vertex stage's per batch).
+  const VkDeviceSize region = VkDeviceSize(m.frame) * m.desc.ring_bytes_per_frame;
+  const VkDeviceSize records_at = alignUp(m.frame_used, m.ubo_alignment);
+  const size_t bound = batcher.recordBufferBound(view);
+  std::vector<DrawBatch> draws;
+  const VkDeviceSize defaults_at = alignUp(records_at + bound, kDefaultsRange);
+  if (defaults_at + kDefaultsRange > m.desc.ring_bytes_per_frame)
+    return {
+        StatusCode::kLimitExceeded,
+        strCat("vk::Renderer::recordDraw: the frame's records need ", defaults_at + kDefaultsRange,
+               " bytes, RendererDesc::ring_bytes_per_frame is ", m.desc.ring_bytes_per_frame)};
+  uint8_t* ring = static_cast<uint8_t*>(m.ring.mapped) + region;
+  Status s = batcher.build(view, Span<uint8_t>(ring + records_at, bound), &draws);
+  if (!s.isOk()) return s;
+  const VkDeviceSize end = defaults_at + kDefaultsRange * (1 + draws.size());
+  if (end > m.desc.ring_bytes_per_frame)
+    return {StatusCode::kLimitExceeded,
+            strCat("vk::Renderer::recordDraw: the frame's records need ", end,
+                   " bytes, RendererDesc::ring_bytes_per_frame is ", m.desc.ring_bytes_per_frame)};
+  m.frame_used = end;
+  // The fragment stage's defaults, then each batch's camera and LOD.
+  const uint32_t no_custom_layers = 0;
+  putMember(ring + defaults_at, defaultOffset(m.fragment_reflection, "u_custom_layers"),
+            &no_custom_layers, 4);
+  putMember(ring + defaults_at, defaultOffset(m.fragment_reflection, "u_light_direction"),
+            &m.desc.light_direction, 12);
+  const glm::mat4 vp = vulkanClip(camera.viewProjection());
+  const int64_t vp_at = defaultOffset(m.vertex_reflection, "u_view_projection"),
+                lod_at = defaultOffset(m.vertex_reflection, "u_lod");
+  vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_GRAPHICS, c.pipeline);
+  // Flipped (negative height), so the image is OpenGL's.
+  const VkViewport viewport{
+      0.0f, float(target.height), float(target.width), -float(target.height), 0.0f, 1.0f};
+  const VkRect2D scissor{{0, 0}, target};
+  vkCmdSetViewport(cmd, 0, 1, &viewport);
+  vkCmdSetScissor(cmd, 0, 1, &scissor);
+  const VkDeviceSize zero = 0;
+  vkCmdBindVertexBuffers(cmd, 0, 1, &c.vertices.buffer, &zero);
+  vkCmdBindIndexBuffer(cmd, c.indices.buffer, 0, VK_INDEX_TYPE_UINT32);
+  DrawStats st;
+  for (size_t k = 0; k < draws.size(); ++k) {
+    const DrawBatch& d = draws[k];
+    if (d.sub_mesh >= c.sub_meshes.size()) continue;
+    const std::vector<IndexRange>& lods = c.sub_meshes[d.sub_mesh].lods;
+    const IndexRange range = lods[std::min<size_t>(d.lod, lods.size() - 1)];
+    if (range.index_count == 0) continue;
+    const VkDeviceSize vertex_at = defaults_at + kDefaultsRange * (1 + k);
+    putMember(ring + vertex_at, vp_at, &vp[0][0], 64);
+    const uint32_t lod = d.lod;
+    putMember(ring + vertex_at, lod_at, &lod, 4);
+    // Dynamic offsets in binding order: the records, the vertex and the fragment defaults.
+    const uint32_t offsets[3] = {uint32_t(region + records_at + d.byte_offset),
+                                 uint32_t(region + vertex_at), uint32_t(region + defaults_at)};
+    vkCmdBindDescriptorSets(cmd, VK_PIPELINE_BIND_POINT_GRAPHICS, m.pipeline_layout, 0, 1, &c.set,
+                            3, offsets);
+    vkCmdDrawIndexed(cmd, range.index_count, d.instance_count, range.first_index, 0, 0);
+    ++st.draw_calls;
+    st.triangles += uint64_t(range.index_count / 3) * d.instance_count;
+    st.instances += d.instance_count;
+  }
+  if (stats != nullptr) *stats = st;
+  return Status::ok();
+}
+
+}  // namespace si::vk

@@ -1,0 +1,293 @@
+// SkinnedInstancing — SPDX-License-Identifier: MIT (see LICENSE)
+// The tests' headless Vulkan host.
+#include "vk/vk_test_host.h"
+
+#include <dlfcn.h>
+
+#include <cstring>
+
+#include "vk/device_objects.h"
+
+namespace si::test {
+
+using vk::detail::checkVk;
+using vk::detail::vkStruct;
+
+namespace {
+
+VKAPI_ATTR VkBool32 VKAPI_CALL onMessage(VkDebugUtilsMessageSeverityFlagBitsEXT severity,
+                                         VkDebugUtilsMessageTypeFlagsEXT,
+                                         const VkDebugUtilsMessengerCallbackDataEXT* data,
+                                         void* host) {
+  if (severity >= VK_DEBUG_UTILS_MESSAGE_SEVERITY_WARNING_BIT_EXT)
+    static_cast<VkTestHost*>(host)->report(data->pMessage);
+  return VK_FALSE;
+}
+
+uint32_t memoryType(VkPhysicalDevice physical, uint32_t bits, VkMemoryPropertyFlags flags) {
+  VkPhysicalDeviceMemoryProperties p{};
+  vkGetPhysicalDeviceMemoryProperties(physical, &p);
+  for (uint32_t t = 0; t < p.memoryTypeCount; ++t)
+    if ((bits & (1u << t)) != 0 && (p.memoryTypes[t].propertyFlags & flags) == flags) return t;
+  return UINT32_MAX;
+}
+
+}  // namespace
+
+VkTestHost::~VkTestHost() {
+  if (device_ != VK_NULL_HANDLE) {
+    vkDeviceWaitIdle(device_);
+    vkDestroyBuffer(device_, readback_, nullptr);
+    vkFreeMemory(device_, readback_memory_, nullptr);
+    for (VkImageView v : {color_view_, depth_view_}) vkDestroyImageView(device_, v, nullptr);
+    for (VkImage i : {color_, depth_}) vkDestroyImage(device_, i, nullptr);
+    for (VkDeviceMemory m : {color_memory_, depth_memory_}) vkFreeMemory(device_, m, nullptr);
+    vkDestroyCommandPool(device_, pool_, nullptr);
+    vkDestroyDevice(device_, nullptr);
+  }
+  if (messenger_ != VK_NULL_HANDLE) {
+    auto destroy = reinterpret_cast<PFN_vkDestroyDebugUtilsMessengerEXT>(
+        vkGetInstanceProcAddr(instance_, "vkDestroyDebugUtilsMessengerEXT"));
+    if (destroy != nullptr) destroy(instance_, messenger_, nullptr);
+  }
+  if (instance_ != VK_NULL_HANDLE) vkDestroyInstance(instance_, nullptr);
+}
+
+Status VkTestHost::create(uint32_t width, uint32_t height) {
+  width_ = width;
+  height_ = height;
+  // The validation layer and its messenger, when installed.
+  uint32_t count = 0;
+  vkEnumerateInstanceLayerProperties(&count, nullptr);
+  std::vector<VkLayerProperties> layers(count);
+  vkEnumerateInstanceLayerProperties(&count, layers.data());
+  for (const VkLayerProperties& l : layers)
+    validation_ = validation_ || std::strcmp(l.layerName, "VK_LAYER_KHRONOS_validation") == 0;
+  const char* layer = "VK_LAYER_KHRONOS_validation";
+  const char* extension = VK_EXT_DEBUG_UTILS_EXTENSION_NAME;
+  auto app = vkStruct<VkApplicationInfo>(VK_STRUCTURE_TYPE_APPLICATION_INFO);
+  app.pApplicationName = "SkinnedInstancing tests";
+  app.apiVersion = VK_API_VERSION_1_3;
+  auto messenger = vkStruct<VkDebugUtilsMessengerCreateInfoEXT>(
+      VK_STRUCTURE_TYPE_DEBUG_UTILS_MESSENGER_CREATE_INFO_EXT);
+  messenger.messageSeverity = VK_DEBUG_UTILS_MESSAGE_SEVERITY_WARNING_BIT_EXT |
+                              VK_DEBUG_UTILS_MESSAGE_SEVERITY_ERROR_BIT_EXT;
+  messenger.messageType = VK_DEBUG_UTILS_MESSAGE_TYPE_GENERAL_BIT_EXT |
+                          VK_DEBUG_UTILS_MESSAGE_TYPE_VALIDATION_BIT_EXT |
+                          VK_DEBUG_UTILS_MESSAGE_TYPE_PERFORMANCE_BIT_EXT;
+  messenger.pfnUserCallback = &onMessage;
+  messenger.pUserData = this;
+  auto info = vkStruct<VkInstanceCreateInfo>(VK_STRUCTURE_TYPE_INSTANCE_CREATE_INFO);
+  info.pApplicationInfo = &app;
+  if (validation_) {
+    info.enabledLayerCount = 1;
+    info.ppEnabledLayerNames = &layer;
+    info.enabledExtensionCount = 1;
+    info.ppEnabledExtensionNames = &extension;
+    info.pNext = &messenger;
+  }
+  Status s = checkVk(vkCreateInstance(&info, nullptr, &instance_), "vkCreateInstance");
+  if (!s.isOk()) return {StatusCode::kUnsupported, "no Vulkan instance: " + s.message()};
+  // The driver and layer libraries the loader opened stay loaded after the instance is gone,
+  // so LeakSanitizer can name what they keep at exit (tests/lsan.supp lists them) rather than
+  // an unknown module.
+  for (const char* library : {"libvulkan_lvp.so", "libVkLayer_khronos_validation.so"})
+    dlopen(library, RTLD_NOW | RTLD_NOLOAD | RTLD_NODELETE);
+  if (validation_) {
+    auto create = reinterpret_cast<PFN_vkCreateDebugUtilsMessengerEXT>(
+        vkGetInstanceProcAddr(instance_, "vkCreateDebugUtilsMessengerEXT"));
+    if (create != nullptr) create(instance_, &messenger, nullptr, &messenger_);
+  }
+  // A Vulkan 1.3 device with a graphics queue and dynamic rendering.
+  vkEnumeratePhysicalDevices(instance_, &count, nullptr);
+  std::vector<VkPhysicalDevice> devices(count);
+  vkEnumeratePhysicalDevices(instance_, &count, devices.data());
+  for (VkPhysicalDevice d : devices) {
+    VkPhysicalDeviceProperties p{};
+    vkGetPhysicalDeviceProperties(d, &p);
+    if (p.apiVersion < VK_API_VERSION_1_3) continue;
+    uint32_t families = 0;
+    vkGetPhysicalDeviceQueueFamilyProperties(d, &families, nullptr);
+    std::vector<VkQueueFamilyProperties> f(families);
+    vkGetPhysicalDeviceQueueFamilyProperties(d, &families, f.data());
+    for (uint32_t k = 0; k < families && physical_ == VK_NULL_HANDLE; ++k)
+      if ((f[k].queueFlags & VK_QUEUE_GRAPHICS_BIT) != 0) {
+        physical_ = d;
+        queue_family_ = k;
+        device_name_ = p.deviceName;
+      }
+  }
+  if (physical_ == VK_NULL_HANDLE)
+    return {StatusCode::kUnsupported, "no Vulkan 1.3 device with a graphics queue"};
+  const float priority = 1.0f;
+  auto queue = vkStruct<VkDeviceQueueCreateInfo>(VK_STRUCTURE_TYPE_DEVICE_QUEUE_CREATE_INFO);
+  queue.queueFamilyIndex = queue_family_;
+  queue.queueCount = 1;
+  queue.pQueuePriorities = &priority;
+  auto f13 = vkStruct<VkPhysicalDeviceVulkan13Features>(
+      VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_VULKAN_1_3_FEATURES);
+  f13.dynamicRendering = VK_TRUE;
+  f13.synchronization2 = VK_TRUE;
+  auto device = vkStruct<VkDeviceCreateInfo>(VK_STRUCTURE_TYPE_DEVICE_CREATE_INFO);
+  device.pNext = &f13;
+  device.queueCreateInfoCount = 1;
+  device.pQueueCreateInfos = &queue;
+  s = checkVk(vkCreateDevice(physical_, &device, nullptr, &device_), "vkCreateDevice");
+  if (!s.isOk()) return s;
+  vkGetDeviceQueue(device_, queue_family_, 0, &queue_);
+  auto pool = vkStruct<VkCommandPoolCreateInfo>(VK_STRUCTURE_TYPE_COMMAND_POOL_CREATE_INFO);
+  pool.queueFamilyIndex = queue_family_;
+  pool.flags = VK_COMMAND_POOL_CREATE_RESET_COMMAND_BUFFER_BIT;
+  s = checkVk(vkCreateCommandPool(device_, &pool, nullptr, &pool_), "vkCreateCommandPool");
+  if (s.isOk())
+    s = createTarget(VK_FORMAT_R8G8B8A8_UNORM,
+                     VK_IMAGE_USAGE_COLOR_ATTACHMENT_BIT | VK_IMAGE_USAGE_TRANSFER_SRC_BIT,
+                     VK_IMAGE_ASPECT_COLOR_BIT, &color_, &color_memory_, &color_view_);
+  if (s.isOk())
+    s = createTarget(VK_FORMAT_D32_SFLOAT, VK_IMAGE_USAGE_DEPTH_STENCIL_ATTACHMENT_BIT,
+                     VK_IMAGE_ASPECT_DEPTH_BIT, &depth_, &depth_memory_, &depth_view_);
+  if (!s.isOk()) return s;
+  auto buffer = vkStruct<VkBufferCreateInfo>(VK_STRUCTURE_TYPE_BUFFER_CREATE_INFO);
+  buffer.size = VkDeviceSize(width) * height * 4;
+  buffer.usage = VK_BUFFER_USAGE_TRANSFER_DST_BIT;
+  s = checkVk(vkCreateBuffer(device_, &buffer, nullptr, &readback_), "vkCreateBuffer");
+  if (!s.isOk()) return s;
+  VkMemoryRequirements req{};
+  vkGetBufferMemoryRequirements(device_, readback_, &req);
+  auto alloc = vkStruct<VkMemoryAllocateInfo>(VK_STRUCTURE_TYPE_MEMORY_ALLOCATE_INFO);
+  alloc.allocationSize = req.size;
+  alloc.memoryTypeIndex =
+      memoryType(physical_, req.memoryTypeBits,
+                 VK_MEMORY_PROPERTY_HOST_VISIBLE_BIT | VK_MEMORY_PROPERTY_HOST_COHERENT_BIT);
+  s = checkVk(vkAllocateMemory(device_, &alloc, nullptr, &readback_memory_), "vkAllocateMemory");
+  if (s.isOk())
+    s = checkVk(vkBindBufferMemory(device_, readback_, readback_memory_, 0), "vkBindBufferMemory");
+  return s;
+}
+
+Status VkTestHost::createTarget(VkFormat format, VkImageUsageFlags usage, VkImageAspectFlags aspect,
+                                VkImage* image, VkDeviceMemory* memory, VkImageView* view) {
+  auto info = vkStruct<VkImageCreateInfo>(VK_STRUCTURE_TYPE_IMAGE_CREATE_INFO);
+  info.imageType = VK_IMAGE_TYPE_2D;
+  info.format = format;
+  info.extent = {width_, height_, 1};
+  info.mipLevels = 1;
+  info.arrayLayers = 1;
+  info.samples = VK_SAMPLE_COUNT_1_BIT;
+  info.tiling = VK_IMAGE_TILING_OPTIMAL;
+  info.usage = usage;
+  Status s = checkVk(vkCreateImage(device_, &info, nullptr, image), "vkCreateImage");
+  if (!s.isOk()) return s;
+  VkMemoryRequirements req{};
+  vkGetImageMemoryRequirements(device_, *image, &req);
+  auto alloc = vkStruct<VkMemoryAllocateInfo>(VK_STRUCTURE_TYPE_MEMORY_ALLOCATE_INFO);
+  alloc.allocationSize = req.size;
+  alloc.memoryTypeIndex =
+      memoryType(physical_, req.memoryTypeBits, VK_MEMORY_PROPERTY_DEVICE_LOCAL_BIT);
+  s = checkVk(vkAllocateMemory(device_, &alloc, nullptr, memory), "vkAllocateMemory");
+  if (s.isOk()) s = checkVk(vkBindImageMemory(device_, *image, *memory, 0), "vkBindImageMemory");
+  if (!s.isOk()) return s;
+  auto v = vkStruct<VkImageViewCreateInfo>(VK_STRUCTURE_TYPE_IMAGE_VIEW_CREATE_INFO);
+  v.image = *image;
+  v.viewType = VK_IMAGE_VIEW_TYPE_2D;
+  v.format = format;
+  v.subresourceRange = {aspect, 0, 1, 0, 1};
+  return checkVk(vkCreateImageView(device_, &v, nullptr, view), "vkCreateImageView");
+}
+
+Status VkTestHost::submit(const std::function<Status(VkCommandBuffer)>& work) {
+  auto alloc =
+      vkStruct<VkCommandBufferAllocateInfo>(VK_STRUCTURE_TYPE_COMMAND_BUFFER_ALLOCATE_INFO);
+  alloc.commandPool = pool_;
+  alloc.level = VK_COMMAND_BUFFER_LEVEL_PRIMARY;
+  alloc.commandBufferCount = 1;
+  VkCommandBuffer cmd = VK_NULL_HANDLE;
+  Status s = checkVk(vkAllocateCommandBuffers(device_, &alloc, &cmd), "vkAllocateCommandBuffers");
+  if (!s.isOk()) return s;
+  auto begin = vkStruct<VkCommandBufferBeginInfo>(VK_STRUCTURE_TYPE_COMMAND_BUFFER_BEGIN_INFO);
+  begin.flags = VK_COMMAND_BUFFER_USAGE_ONE_TIME_SUBMIT_BIT;
+  s = checkVk(vkBeginCommandBuffer(cmd, &begin), "vkBeginCommandBuffer");
+  if (s.isOk()) s = work(cmd);
+  const Status ended = checkVk(vkEndCommandBuffer(cmd), "vkEndCommandBuffer");
+  if (s.isOk()) s = ended;
+  if (s.isOk()) {
+    auto submit = vkStruct<VkSubmitInfo>(VK_STRUCTURE_TYPE_SUBMIT_INFO);
+    submit.commandBufferCount = 1;
+    submit.pCommandBuffers = &cmd;
+    s = checkVk(vkQueueSubmit(queue_, 1, &submit, VK_NULL_HANDLE), "vkQueueSubmit");
+    if (s.isOk()) s = checkVk(vkQueueWaitIdle(queue_), "vkQueueWaitIdle");
+  }
+  vkFreeCommandBuffers(device_, pool_, 1, &cmd);
+  return s;
+}
+
+Status VkTestHost::render(const glm::vec4& clear,
+                          const std::function<Status(VkCommandBuffer)>& draw,
+                          std::vector<uint8_t>* rgba) {
+  const Status s = submit([&](VkCommandBuffer cmd) {
+    const auto transition = [&](VkImage image, VkImageAspectFlags aspect, VkImageLayout from,
+                                VkImageLayout to, VkAccessFlags src_access,
+                                VkAccessFlags dst_access, VkPipelineStageFlags src,
+                                VkPipelineStageFlags dst) {
+      auto b = vkStruct<VkImageMemoryBarrier>(VK_STRUCTURE_TYPE_IMAGE_MEMORY_BARRIER);
+      b.srcAccessMask = src_access;
+      b.dstAccessMask = dst_access;
+      b.oldLayout = from;
+      b.newLayout = to;
+      b.srcQueueFamilyIndex = b.dstQueueFamilyIndex = VK_QUEUE_FAMILY_IGNORED;
+      b.image = image;
+      b.subresourceRange = {aspect, 0, 1, 0, 1};
+      vkCmdPipelineBarrier(cmd, src, dst, 0, 0, nullptr, 0, nullptr, 1, &b);
+    };
+    transition(color_, VK_IMAGE_ASPECT_COLOR_BIT, VK_IMAGE_LAYOUT_UNDEFINED,
+               VK_IMAGE_LAYOUT_COLOR_ATTACHMENT_OPTIMAL, 0, VK_ACCESS_COLOR_ATTACHMENT_WRITE_BIT,
+               VK_PIPELINE_STAGE_TOP_OF_PIPE_BIT, VK_PIPELINE_STAGE_COLOR_ATTACHMENT_OUTPUT_BIT);
+    transition(
+        depth_, VK_IMAGE_ASPECT_DEPTH_BIT, VK_IMAGE_LAYOUT_UNDEFINED,
+        VK_IMAGE_LAYOUT_DEPTH_ATTACHMENT_OPTIMAL, 0,
+        VK_ACCESS_DEPTH_STENCIL_ATTACHMENT_READ_BIT | VK_ACCESS_DEPTH_STENCIL_ATTACHMENT_WRITE_BIT,
+        VK_PIPELINE_STAGE_TOP_OF_PIPE_BIT,
+        VK_PIPELINE_STAGE_EARLY_FRAGMENT_TESTS_BIT | VK_PIPELINE_STAGE_LATE_FRAGMENT_TESTS_BIT);
+    auto color = vkStruct<VkRenderingAttachmentInfo>(VK_STRUCTURE_TYPE_RENDERING_ATTACHMENT_INFO);
+    color.imageView = color_view_;
+    color.imageLayout = VK_IMAGE_LAYOUT_COLOR_ATTACHMENT_OPTIMAL;
+    color.loadOp = VK_ATTACHMENT_LOAD_OP_CLEAR;
+    color.storeOp = VK_ATTACHMENT_STORE_OP_STORE;
+    color.clearValue.color = {{clear.r, clear.g, clear.b, clear.a}};
+    auto depth = vkStruct<VkRenderingAttachmentInfo>(VK_STRUCTURE_TYPE_RENDERING_ATTACHMENT_INFO);
+    depth.imageView = depth_view_;
+    depth.imageLayout = VK_IMAGE_LAYOUT_DEPTH_ATTACHMENT_OPTIMAL;
+    depth.loadOp = VK_ATTACHMENT_LOAD_OP_CLEAR;
+    depth.storeOp = VK_ATTACHMENT_STORE_OP_DONT_CARE;
+    depth.clearValue.depthStencil = {1.0f, 0};
+    auto rendering = vkStruct<VkRenderingInfo>(VK_STRUCTURE_TYPE_RENDERING_INFO);
+    rendering.renderArea = {{0, 0}, {width_, height_}};
+    rendering.layerCount = 1;
+    rendering.colorAttachmentCount = 1;
+    rendering.pColorAttachments = &color;
+    rendering.pDepthAttachment = &depth;
+    vkCmdBeginRendering(cmd, &rendering);
+    const Status drawn = draw(cmd);
+    vkCmdEndRendering(cmd);
+    transition(color_, VK_IMAGE_ASPECT_COLOR_BIT, VK_IMAGE_LAYOUT_COLOR_ATTACHMENT_OPTIMAL,
+               VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL, VK_ACCESS_COLOR_ATTACHMENT_WRITE_BIT,
+               VK_ACCESS_TRANSFER_READ_BIT, VK_PIPELINE_STAGE_COLOR_ATTACHMENT_OUTPUT_BIT,
+               VK_PIPELINE_STAGE_TRANSFER_BIT);
+    VkBufferImageCopy copy{};
+    copy.imageSubresource = {VK_IMAGE_ASPECT_COLOR_BIT, 0, 0, 1};
+    copy.imageExtent = {width_, height_, 1};
+    vkCmdCopyImageToBuffer(cmd, color_, VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL, readback_, 1, &copy);
+    return drawn;
+  });
+  if (!s.isOk()) return s;
+  void* mapped = nullptr;
+  const Status m =
+      checkVk(vkMapMemory(device_, readback_memory_, 0, VK_WHOLE_SIZE, 0, &mapped), "vkMapMemory");
+  if (!m.isOk()) return m;
+  const uint8_t* bytes = static_cast<const uint8_t*>(mapped);
+  rgba->assign(bytes, bytes + size_t(width_) * height_ * 4);
+  vkUnmapMemory(device_, readback_memory_);
+  return Status::ok();
+}
+
+}  // namespace si::test

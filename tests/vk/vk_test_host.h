@@ -1,0 +1,69 @@
+// SkinnedInstancing — SPDX-License-Identifier: MIT (see LICENSE)
+#pragma once
+// An engine-like Vulkan host for the tests (issue "The crowd in a Vulkan engine", item 4): its
+// own instance (the Khronos validation layer on when installed, every message it reports kept),
+// a Vulkan 1.3 device with dynamic rendering (lavapipe on machines without a GPU), a queue,
+// colour (RGBA8) and depth (D32) targets, and a frame that clears them, lets the crowd record
+// into its rendering and reads the colour back. No surface: headless.
+#include <vulkan/vulkan.h>
+
+#include <functional>
+#include <string>
+#include <vector>
+
+#include <glm/glm.hpp>
+
+#include "si/core/status.h"
+
+namespace si::test {
+
+class VkTestHost {
+ public:
+  VkTestHost() = default;
+  VkTestHost(const VkTestHost&) = delete;
+  VkTestHost& operator=(const VkTestHost&) = delete;
+  ~VkTestHost();
+
+  /// Creates everything for `width` x `height` targets. kUnsupported when the machine has no
+  /// Vulkan 1.3 device with dynamic rendering (install mesa-vulkan-drivers: lavapipe).
+  Status create(uint32_t width, uint32_t height);
+
+  VkPhysicalDevice physicalDevice() const { return physical_; }
+  VkDevice device() const { return device_; }
+  bool validation() const { return validation_; }  ///< The validation layer is on.
+  const std::vector<std::string>& messages() const { return messages_; }
+  std::string deviceName() const { return device_name_; }
+
+  /// Records `work` into a command buffer, submits it and waits for it.
+  Status submit(const std::function<Status(VkCommandBuffer)>& work);
+  /// One frame: the targets cleared (`clear`, depth 1), `draw` recording inside dynamic
+  /// rendering over them, then the colour read back into `rgba` (RGBA8, rows top to bottom).
+  Status render(const glm::vec4& clear, const std::function<Status(VkCommandBuffer)>& draw,
+                std::vector<uint8_t>* rgba);
+
+  /// The validation layer's callback.
+  void report(const char* message) { messages_.push_back(message); }
+
+ private:
+  Status createTarget(VkFormat format, VkImageUsageFlags usage, VkImageAspectFlags aspect,
+                      VkImage* image, VkDeviceMemory* memory, VkImageView* view);
+
+  uint32_t width_ = 0, height_ = 0;
+  VkInstance instance_ = VK_NULL_HANDLE;
+  VkDebugUtilsMessengerEXT messenger_ = VK_NULL_HANDLE;
+  VkPhysicalDevice physical_ = VK_NULL_HANDLE;
+  VkDevice device_ = VK_NULL_HANDLE;
+  VkQueue queue_ = VK_NULL_HANDLE;
+  uint32_t queue_family_ = 0;
+  VkCommandPool pool_ = VK_NULL_HANDLE;
+  VkImage color_ = VK_NULL_HANDLE, depth_ = VK_NULL_HANDLE;
+  VkDeviceMemory color_memory_ = VK_NULL_HANDLE, depth_memory_ = VK_NULL_HANDLE;
+  VkImageView color_view_ = VK_NULL_HANDLE, depth_view_ = VK_NULL_HANDLE;
+  VkBuffer readback_ = VK_NULL_HANDLE;
+  VkDeviceMemory readback_memory_ = VK_NULL_HANDLE;
+  bool validation_ = false;
+  std::string device_name_;
+  std::vector<std::string> messages_;
+};
+
+}  // namespace si::test
