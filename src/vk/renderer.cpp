@@ -10,6 +10,7 @@
 #include <map>
 #include <vector>
 
+#include "core/gpu_material.h"
 #include "core/str_cat.h"
 #include "si/core/material_table.h"
 #include "si/core/shader_inputs.h"
@@ -21,6 +22,8 @@
 
 namespace si::vk {
 
+using si::detail::GpuMaterial;
+using si::detail::gpuMaterial;
 using si::detail::strCat;
 using namespace si::vk::detail;
 
@@ -38,20 +41,6 @@ constexpr uint32_t kPaletteBinding = 0 + kSamplerBindingShift;
 constexpr uint32_t kBaseColorBinding = 1 + kSamplerBindingShift;
 constexpr uint32_t kCustomBinding = 2 + kSamplerBindingShift;
 constexpr uint32_t kMaterialDataBinding = 4 + kSamplerBindingShift;
-
-// material_common.glsl's SiMaterial (the same 64 bytes si::gl uploads).
-struct GpuMaterial {
-  glm::vec4 factor, emissive, pbr;
-  glm::uvec4 layer;
-};
-
-GpuMaterial gpuMaterial(const MaterialEntry& e) {
-  return {e.base_color_factor, glm::vec4(e.emissive_factor, e.alpha_cutoff),
-          glm::vec4(e.metallic, e.roughness, e.normal_scale, e.occlusion_strength),
-          glm::uvec4(e.layer | (e.emissive_layer << 16),
-                     e.normal_layer | (e.metallic_roughness_layer << 16),
-                     e.occlusion_layer | (uint32_t(e.double_sided ? 1 : 0) << 16), 0u)};
-}
 
 uint32_t mipLevels(uint32_t w, uint32_t h) {
   return uint32_t(std::floor(std::log2(double(std::max(w, h))))) + 1;
@@ -265,6 +254,11 @@ Status Renderer::init(const RendererDesc& desc) {
     return {StatusCode::kInvalidArgument,
             strCat("vk::Renderer::init: ring_bytes_per_frame ", desc.ring_bytes_per_frame,
                    " holds less than one batch (", kRecordsRange, " bytes)")};
+  // Dynamic offsets are 32-bit: every slot's region, and a batch past its end, below 4 GiB.
+  if (uint64_t(desc.frames_in_flight) * desc.ring_bytes_per_frame + kRecordsRange > UINT32_MAX)
+    return {StatusCode::kLimitExceeded,
+            strCat("vk::Renderer::init: a ring of ", desc.frames_in_flight, " x ",
+                   desc.ring_bytes_per_frame, " bytes passes the 4 GiB of a dynamic offset")};
   VkPhysicalDeviceProperties props{};
   vkGetPhysicalDeviceProperties(desc.physical_device, &props);
   if (props.apiVersion < VK_API_VERSION_1_3)

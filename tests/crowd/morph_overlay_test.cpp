@@ -44,14 +44,20 @@ std::vector<float> drawn(const CrowdManager& crowd) {
   return w;
 }
 
-TEST(MorphOverlay, TheOverlayMovesOnlyTheTargetsOfItsMaskAsItFades) {
+// An empty crowd of the face palette.
+void faceCrowd(CrowdManager* crowd) {
   const Face& f = face();
   CrowdDesc cd;
   cd.palette = &f.palette;
   cd.sub_mesh_count = uint32_t(f.character.mesh.sub_meshes.size());
   cd.lod_count = uint32_t(f.character.mesh.maxLodCount());
+  ASSERT_TRUE(crowd->init(cd).isOk());
+}
+
+TEST(MorphOverlay, TheOverlayMovesOnlyTheTargetsOfItsMaskAsItFades) {
+  const Face& f = face();
   CrowdManager crowd;
-  ASSERT_TRUE(crowd.init(cd).isOk());
+  faceCrowd(&crowd);
   LayerMask mask;
   ASSERT_TRUE(
       buildMorphTargetMask(f.character.mesh, f.palette, "face", {"t2", "t0"}, &mask).isOk());
@@ -101,12 +107,8 @@ TEST(MorphOverlay, TheOverlayMovesOnlyTheTargetsOfItsMaskAsItFades) {
 // so the third and fourth clips count; off the mask the base clip's stay.
 TEST(MorphOverlay, ABlendsFourClipsMoveTheTargetsByTheirShares) {
   const Face& f = face();
-  CrowdDesc cd;
-  cd.palette = &f.palette;
-  cd.sub_mesh_count = uint32_t(f.character.mesh.sub_meshes.size());
-  cd.lod_count = uint32_t(f.character.mesh.maxLodCount());
   CrowdManager crowd;
-  ASSERT_TRUE(crowd.init(cd).isOk());
+  faceCrowd(&crowd);
   LayerMask mask;
   ASSERT_TRUE(
       buildMorphTargetMask(f.character.mesh, f.palette, "face", {"t0", "t1"}, &mask).isOk());

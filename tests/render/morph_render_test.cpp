@@ -18,7 +18,16 @@ namespace {
 
 using namespace test;
 
-class MorphRenderTest : public RenderTest {};
+class MorphRenderTest : public RenderTest {
+ protected:
+  // A renderer with the default description, `c` added as `*id`, and a batcher for it.
+  void initRenderer(const Character& c, const BakedPalette& palette, Renderer* r, CharacterId* id,
+                    InstanceBatcher* batcher) {
+    ASSERT_TRUE(r->init(info_, RendererDesc()).isOk());
+    ASSERT_TRUE(r->addCharacter(c, palette, id).isOk());
+    ASSERT_TRUE(batcher->init(r->batchLimits()).isOk());
+  }
+};
 
 // The embedded character with `targets` face-like targets.
 Character morphCharacter(size_t targets) {
@@ -186,11 +195,9 @@ TEST_P(MorphRenderTest, AnOverlayMovesTheTargetsOfItsMask) {
   ASSERT_TRUE(crowd.playOverlay(handles[0], expression, mask, 1.0f, 0.0, 0.4).isOk());
   ASSERT_TRUE(crowd.playOverlay(handles[2], expression, mask, 1.0f, 1.0, 0.1).isOk());  // Fading.
   Renderer r;
-  ASSERT_TRUE(r.init(info_, RendererDesc()).isOk());
   CharacterId id;
-  ASSERT_TRUE(r.addCharacter(c, palette, &id).isOk());
   InstanceBatcher batcher;
-  ASSERT_TRUE(batcher.init(r.batchLimits()).isOk());
+  initRenderer(c, palette, &r, &id, &batcher);
   const glm::vec4 background(0.2f, 0.25f, 0.3f, 1.0f);
   for (int frame = 0; frame < 2; ++frame) {
     SCOPED_TRACE(testing::Message() << "frame " << frame);
@@ -237,11 +244,9 @@ TEST_P(MorphRenderTest, ABlendsFourClipsMoveTheTargetsOnEveryPath) {
   ASSERT_TRUE(buildFullBodyMask(c.skeleton, palette, "body", &body).isOk());
   body.morph_targets = face.morph_targets;
   Renderer r;
-  ASSERT_TRUE(r.init(info_, RendererDesc()).isOk());
   CharacterId id;
-  ASSERT_TRUE(r.addCharacter(c, palette, &id).isOk());
   InstanceBatcher batcher;
-  ASSERT_TRUE(batcher.init(r.batchLimits()).isOk());
+  initRenderer(c, palette, &r, &id, &batcher);
   const Camera camera = headCamera(c);
   const glm::vec4 background(0.2f, 0.25f, 0.3f, 1.0f);
   // The heads blending at `y` on the grid (the middle one left crossfading), drawn emulated.

@@ -17,6 +17,16 @@ using namespace test;
 
 class VulkanRenderTest : public RenderTest {};
 
+// The embedded character's crowd of the LOD rows (populateLodCrowd).
+void lodCrowd(CrowdManager* crowd) {
+  CrowdDesc cd;
+  cd.palette = &palette();
+  cd.sub_mesh_count = uint32_t(character().mesh.sub_meshes.size());
+  cd.lod_count = uint32_t(character().mesh.maxLodCount());
+  ASSERT_TRUE(crowd->init(cd).isOk());
+  populateLodCrowd(crowd);
+}
+
 std::string joined(const std::vector<std::string>& messages) {
   std::ostringstream out;
   for (const std::string& m : messages) out << m << "\n";
@@ -33,12 +43,7 @@ TEST_P(VulkanRenderTest, TheVertexShaderPathDrawsWhatOpenGlDraws) {
   std::printf("[ vulkan ] %s, validation %s\n", host.deviceName().c_str(),
               host.validation() ? "on" : "not installed");
   CrowdManager crowd;
-  CrowdDesc cd;
-  cd.palette = &palette();
-  cd.sub_mesh_count = uint32_t(character().mesh.sub_meshes.size());
-  cd.lod_count = uint32_t(character().mesh.maxLodCount());
-  ASSERT_TRUE(crowd.init(cd).isOk());
-  populateLodCrowd(&crowd);
+  lodCrowd(&crowd);
 
   vk::Renderer r;
   vk::RendererDesc rd;
@@ -113,22 +118,24 @@ TEST_P(VulkanRenderTest, RefusalsAreNamed) {
     EXPECT_EQ(s.code(), StatusCode::kInvalidArgument) << frames;
     EXPECT_NE(s.message().find("frames_in_flight"), std::string::npos) << s.toString();
   }
+  rd.frames_in_flight = 8;
+  rd.ring_bytes_per_frame = uint64_t(1) << 30;
+  Status s = r.init(rd);
+  EXPECT_EQ(s.code(), StatusCode::kLimitExceeded) << "past 32-bit dynamic offsets";
   rd.frames_in_flight = 2;
+  rd.ring_bytes_per_frame = 65519;
+  EXPECT_EQ(r.init(rd).code(), StatusCode::kInvalidArgument) << "less than one batch";
   rd.ring_bytes_per_frame = 65520;  // One batch of records: the defaults do not fit after it.
   ASSERT_TRUE(r.init(rd).isOk());
   Character morphed = character();
   morphed.mesh.morph_targets.emplace_back();
   vk::CharacterId id;
-  Status s = r.addCharacter(morphed, palette(), &id);
+  s = r.addCharacter(morphed, palette(), &id);
   EXPECT_EQ(s.code(), StatusCode::kUnsupported);
   EXPECT_NE(s.message().find("morph targets"), std::string::npos) << s.toString();
   ASSERT_TRUE(r.addCharacter(character(), palette(), &id).isOk());
   CrowdManager crowd;
-  CrowdDesc cd;
-  cd.palette = &palette();
-  cd.sub_mesh_count = uint32_t(character().mesh.sub_meshes.size());
-  cd.lod_count = uint32_t(character().mesh.maxLodCount());
-  ASSERT_TRUE(crowd.init(cd).isOk());
+  lodCrowd(&crowd);
   // 900 in view: their records pass one batch's bytes, so the ring's region cannot hold them.
   for (int k = 0; k < 900; ++k) {
     InstanceDesc d;

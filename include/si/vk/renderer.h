@@ -89,9 +89,10 @@ class Renderer {
   Renderer& operator=(const Renderer&) = delete;
 
   /// Creates the pipeline and the record ring on the host's device. kInvalidArgument for a
-  /// missing device or a slot count outside 1..8; kUnsupported for a device below Vulkan 1.3,
-  /// without dynamic rendering, or whose maxUniformBufferRange is below the 65,520 bytes of a
-  /// batch's records; kBackend naming the Vulkan call that failed.
+  /// missing device, a slot count outside 1..8 or a ring smaller than one batch's records;
+  /// kLimitExceeded for a ring past 4 GiB (dynamic offsets are 32-bit); kUnsupported for a device
+  /// below Vulkan 1.3, without dynamic rendering, or whose maxUniformBufferRange is below the
+  /// 65,520 bytes of a batch's records; kBackend naming the Vulkan call that failed.
   Status init(const RendererDesc& desc);
   /// Destroys everything it created (the host has waited for the device's work on it).
   void shutdown();

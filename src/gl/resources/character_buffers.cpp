@@ -5,6 +5,7 @@
 #include <algorithm>
 #include <cmath>
 
+#include "core/gpu_material.h"
 #include "core/str_cat.h"
 #include "gl/profile/gl_profile.h"
 #include "gl/programs/program_catalog.h"
@@ -16,28 +17,6 @@ namespace si::detail {
 
 namespace {
 
-// The shaders' SiMaterial (material_common.glsl): 64 bytes, so the OpenGL ES profile's block
-// of kEsMaxMaterials entries fits the 16 KiB every ES 3.0 context has.
-struct GpuMaterial {
-  glm::vec4 factor;    // Base colour factor.
-  glm::vec4 emissive;  // rgb emissive factor, w the alpha cutoff (negative: not masked).
-  glm::vec4 pbr;       // Metallic, roughness, normal scale, occlusion strength.
-  glm::uvec4 layer;    // x base colour | emissive << 16 (colour layers), y normal |
-                       // metallic-roughness << 16, z occlusion | flags << 16 (data layers;
-                       // flag 1: double-sided), w the mesh's optional vertex words (1
-                       // texture coordinates 1, 2 colours).
-};
-static_assert(sizeof(GpuMaterial) == 64, "material_common.glsl's SiMaterial");
-
-GpuMaterial gpuMaterial(const MaterialEntry& e) {
-  return {e.base_color_factor, glm::vec4(e.emissive_factor, e.alpha_cutoff),
-          glm::vec4(e.metallic, e.roughness, e.normal_scale, e.occlusion_strength),
-          glm::uvec4(e.layer | (e.emissive_layer << 16),
-                     e.normal_layer | (e.metallic_roughness_layer << 16),
-                     e.occlusion_layer | (uint32_t(e.double_sided ? 1 : 0) << 16), 0u)};
-}
-
-// A texture array of `layers` (each width x height) in `format`, mipmapped.
 Status uploadLayers(GLuint* texture, GLenum format, const std::vector<Image>& layers,
                     uint32_t width, uint32_t height, const char* what) {
   const GLsizei w = GLsizei(width), h = GLsizei(height);
