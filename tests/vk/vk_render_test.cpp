@@ -177,8 +177,12 @@ TEST_P(VulkanRenderTest, RefusalsAreNamed) {
   r.shutdown();
 }
 
+// The OpenGL image from EGL: surfaceless (llvmpipe without a GPU), or the device platform where
+// it reaches a GPU's driver (on llvmpipe the fixture skips it, as the other render tests).
 INSTANTIATE_TEST_SUITE_P(Backends, VulkanRenderTest,
-                         ::testing::Values(HeadlessBackend::kEglSurfaceless), backendTestName);
+                         ::testing::Values(HeadlessBackend::kEglSurfaceless,
+                                           HeadlessBackend::kEglDevice),
+                         backendTestName);
 
 }  // namespace
 }  // namespace si
