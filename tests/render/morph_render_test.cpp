@@ -12,6 +12,7 @@
 #include "si/core/reference_evaluator.h"
 #include "si/crowd/blend_space.h"
 #include "si/crowd/crowd_manager.h"
+#include "si/gl/motion_target.h"
 
 namespace si {
 namespace {
@@ -223,8 +224,9 @@ TEST_P(MorphRenderTest, AnOverlayMovesTheTargetsOfItsMask) {
 // the compose pass's weights): on a mask of targets alone and on a full-body mask that holds
 // targets too, every path draws what the CPU emulation draws, and the heads differ visibly from
 // the same blend on the grid's lower line, where the third and fourth clips have no share.
-TEST_P(MorphRenderTest, ABlendsFourClipsMoveTheTargetsOnEveryPath) {
-  // Upper clips holding targets 0 to 3 at 1, lower ones at 0.
+// The face character with two more clips of its first clip's joints: "smile" holding targets 0
+// to 3 at 1, "still" holding every target at 0.
+Character smileCharacter() {
   Character c = morphCharacter(6);
   for (const char* name : {"smile", "still"}) {
     Clip held = c.clips[0];
@@ -235,9 +237,25 @@ TEST_P(MorphRenderTest, ABlendsFourClipsMoveTheTargetsOnEveryPath) {
         track.values[key * 6 + k] = k < 4 && name[1] == 'm' ? 1.0f : 0.0f;
     c.clips.push_back(held);
   }
-  const BakedPalette palette = bakeAt30(c);
+  return c;
+}
+
+// The 2D grid the blends play: "still" on its lower line, "smile" on its upper one.
+BlendSpace smileGrid(const BakedPalette& palette, uint32_t mask) {
   const uint32_t smile = uint32_t(palette.findClip("smile")),
                  still = uint32_t(palette.findClip("still"));
+  BlendSpace grid;
+  grid.name = "grid";
+  grid.clips = {still, still, smile, smile};
+  grid.positions = {0.0f, 1.0f};
+  grid.positions_y = {0.0f, 1.0f};
+  grid.mask = mask;
+  return grid;
+}
+
+TEST_P(MorphRenderTest, ABlendsFourClipsMoveTheTargetsOnEveryPath) {
+  const Character c = smileCharacter();
+  const BakedPalette palette = bakeAt30(c);
   const std::vector<std::string> targets = {"face0", "face1", "face2", "face3"};
   LayerMask face, body;
   ASSERT_TRUE(buildMorphTargetMask(c.mesh, palette, "face", targets, &face).isOk());
@@ -254,13 +272,7 @@ TEST_P(MorphRenderTest, ABlendsFourClipsMoveTheTargetsOnEveryPath) {
     EXPECT_TRUE(headCrowd(c, palette, crowd).isOk());
     uint32_t mask_id = 0, space = 0;
     EXPECT_TRUE(crowd->addLayerMask(mask, &mask_id).isOk());
-    BlendSpace grid;
-    grid.name = "grid";
-    grid.clips = {still, still, smile, smile};
-    grid.positions = {0.0f, 1.0f};
-    grid.positions_y = {0.0f, 1.0f};
-    grid.mask = mask_id;
-    EXPECT_TRUE(crowd->addBlendSpace(grid, &space).isOk());
+    EXPECT_TRUE(crowd->addBlendSpace(smileGrid(palette, mask_id), &space).isOk());
     EXPECT_TRUE(crowd->update(0.0, camera).isOk());
     const std::vector<InstanceHandle> heads(crowd->view().visibleHandles().begin(),
                                             crowd->view().visibleHandles().end());
@@ -283,6 +295,103 @@ TEST_P(MorphRenderTest, ABlendsFourClipsMoveTheTargetsOnEveryPath) {
         << "the third and fourth clips move the faces";
     expectEveryPathDraws(r, id, crowd.view(), batcher, camera, background, *context_, emulated);
   }
+  r.shutdown();
+}
+
+// Motion vectors of a 2D blend's morph targets: with every joint held still and only the blend
+// point moving up the grid between two frames (the smile's share growing), the faces move by
+// the composed weights' change alone; both skinning paths and both GPU-driven draws agree (the
+// previous frame's composed weights are the previous records'), and held there, nothing moves.
+TEST_P(MorphRenderTest, ABlendsMorphTargetsMoveInTheMotionVectors) {
+  const Character c = smileCharacter();
+  const BakedPalette palette = bakeAt30(c);
+  LayerMask face;
+  ASSERT_TRUE(
+      buildMorphTargetMask(c.mesh, palette, "face", {"face0", "face1", "face2", "face3"}, &face)
+          .isOk());
+  RendererDesc rd;
+  rd.motion_vectors = true;
+  rd.gpu_driven_ring_bytes = 4u << 20;
+  rd.skinning_path = SkinningPath::kVertexShader;
+  Renderer r;
+  ASSERT_TRUE(r.init(info_, rd).isOk());
+  CharacterId id;
+  ASSERT_TRUE(r.addCharacter(c, palette, &id).isOk());
+  InstanceBatcher batcher;
+  ASSERT_TRUE(batcher.init(r.batchLimits()).isOk());
+  MotionTarget target;
+  ASSERT_TRUE(target.create(kSize, kSize).isOk());
+  const Camera camera = headCamera(c);
+  // The heads held still, blending at y `from` then, 0.05 s later, at `to`; drawn in `mode`.
+  const auto motionOf = [&](float from, float to, DrawMode mode, bool gpu_driven,
+                            std::vector<glm::vec2>* motion) {
+    CrowdManager crowd;
+    CrowdDesc cd;
+    cd.palette = &palette;
+    cd.sub_mesh_count = uint32_t(c.mesh.sub_meshes.size());
+    cd.lod_count = uint32_t(c.mesh.maxLodCount());
+    cd.previous_records = true;
+    ASSERT_TRUE(crowd.init(cd).isOk());
+    uint32_t mask = 0, space = 0;
+    ASSERT_TRUE(crowd.addLayerMask(face, &mask).isOk());
+    ASSERT_TRUE(crowd.addBlendSpace(smileGrid(palette, mask), &space).isOk());
+    std::vector<InstanceHandle> heads;
+    for (int k = 0; k < 3; ++k) {
+      InstanceDesc d;
+      d.position = glm::dvec3(-0.5 + 0.5 * k, 0.0, -0.4 * std::abs(k - 1));
+      d.speed = 0.0f;
+      InstanceHandle h;
+      ASSERT_TRUE(crowd.add(d, &h).isOk());
+      ASSERT_TRUE(crowd.playBlend(h, space, glm::vec2(0.3f + 0.2f * float(k), from), 0.0, 0.0, 0.0f)
+                      .isOk());
+      heads.push_back(h);
+    }
+    const auto moveUp = [&] {
+      for (size_t k = 0; k < heads.size(); ++k)
+        ASSERT_TRUE(
+            crowd.setBlendParameter(heads[k], glm::vec2(0.3f + 0.2f * float(k), to)).isOk());
+    };
+    ASSERT_TRUE(crowd.update(0.0, camera).isOk());
+    if (gpu_driven) {
+      ASSERT_TRUE(r.drawCrowdGpuCulled(id, crowd.view(), camera, nullptr, mode).isOk());
+      moveUp();
+      ASSERT_TRUE(crowd.advance(0.05).isOk());
+      target.clear(glm::vec4(0.0f));
+      const Status s = r.drawCrowdGpuCulled(id, crowd.view(), camera, nullptr, mode);
+      ASSERT_TRUE(s.isOk()) << s.toString();
+      ASSERT_TRUE(target.readMotion(motion).isOk());
+      return;
+    }
+    moveUp();
+    ASSERT_TRUE(crowd.update(0.05, camera).isOk());
+    target.clear(glm::vec4(0.0f));
+    const Status s = r.drawCrowd(id, crowd.view(), batcher, camera, nullptr, mode);
+    ASSERT_TRUE(s.isOk()) << s.toString();
+    ASSERT_TRUE(target.readMotion(motion).isOk());
+  };
+  const auto largest = [](const std::vector<glm::vec2>& m) {
+    float worst = 0.0f;
+    for (const glm::vec2& v : m) worst = std::max(worst, glm::length(v) * float(kSize));
+    return worst;
+  };
+  std::vector<glm::vec2> vs, cs, gpu_vs, gpu_cs, held, gpu_held;
+  motionOf(0.2f, 0.9f, DrawMode::kSkinned, false, &vs);
+  motionOf(0.2f, 0.9f, DrawMode::kComputeSkinned, false, &cs);
+  motionOf(0.2f, 0.9f, DrawMode::kSkinned, true, &gpu_vs);
+  motionOf(0.2f, 0.9f, DrawMode::kComputeSkinned, true, &gpu_cs);
+  motionOf(0.9f, 0.9f, DrawMode::kSkinned, false, &held);
+  motionOf(0.9f, 0.9f, DrawMode::kComputeSkinned, true, &gpu_held);
+  std::printf("[ morph motion ] largest motion: blend moving %.2f px, held %.4f px\n", largest(vs),
+              largest(held));
+  EXPECT_GT(largest(vs), 0.5f) << "the smile's weights move the faces";
+  EXPECT_LT(largest(held), 1e-3f);
+  EXPECT_LT(largest(gpu_held), 1e-3f);
+  for (const std::vector<glm::vec2>* other : {&cs, &gpu_vs, &gpu_cs}) {
+    SCOPED_TRACE(other - &vs);
+    expectMotionAgrees(vs, *other);
+  }
+  target.restore();
+  target.release();
   r.shutdown();
 }
 
