@@ -94,6 +94,8 @@ struct Renderer::Impl {
   bool custom_uploaded = false;
   std::vector<std::unique_ptr<Character>> characters;
   std::vector<GpuBuffer> finished_staging;  // Freed by uploadsComplete().
+  // Each slot's region: ring_bytes_per_frame rounded up to 256, so every region starts aligned.
+  VkDeviceSize slot_bytes = 0;
   int32_t frame = -1;                       // The slot beginFrame() started; -1 none.
   VkDeviceSize frame_used = 0;              // Bytes of its region written so far.
 
@@ -255,7 +257,8 @@ Status Renderer::init(const RendererDesc& desc) {
             strCat("vk::Renderer::init: ring_bytes_per_frame ", desc.ring_bytes_per_frame,
                    " holds less than one batch (", kRecordsRange, " bytes)")};
   // Dynamic offsets are 32-bit: every slot's region, and a batch past its end, below 4 GiB.
-  if (uint64_t(desc.frames_in_flight) * desc.ring_bytes_per_frame + kRecordsRange > UINT32_MAX)
+  const VkDeviceSize slot_bytes = alignUp(desc.ring_bytes_per_frame, 256);
+  if (uint64_t(desc.frames_in_flight) * slot_bytes + kRecordsRange > UINT32_MAX)
     return {StatusCode::kLimitExceeded,
             strCat("vk::Renderer::init: a ring of ", desc.frames_in_flight, " x ",
                    desc.ring_bytes_per_frame, " bytes passes the 4 GiB of a dynamic offset")};
@@ -285,6 +288,7 @@ Status Renderer::init(const RendererDesc& desc) {
   impl->desc = desc;
   impl->objects.init(desc.physical_device, desc.device, desc.allocator);
   impl->ubo_alignment = std::max<VkDeviceSize>(props.limits.minUniformBufferOffsetAlignment, 16);
+  impl->slot_bytes = slot_bytes;
   impl_ = std::move(impl);
   Impl& m = *impl_;
   // The modules and what they declare.
@@ -322,9 +326,9 @@ Status Renderer::init(const RendererDesc& desc) {
     s = checkVk(vkCreateSampler(m.device(), &info, m.allocator(), out), "vkCreateSampler");
   }
   if (s.isOk())
-    s = m.objects.createBuffer(
-        VkDeviceSize(desc.frames_in_flight) * desc.ring_bytes_per_frame + kRecordsRange,
-        VK_BUFFER_USAGE_UNIFORM_BUFFER_BIT, true, "the record ring", &m.ring);
+    s = m.objects.createBuffer(VkDeviceSize(desc.frames_in_flight) * m.slot_bytes + kRecordsRange,
+                               VK_BUFFER_USAGE_UNIFORM_BUFFER_BIT, true, "the record ring",
+                               &m.ring);
   if (s.isOk())
     s = m.objects.createImage(1, 1, 1, 1, VK_FORMAT_R8G8B8A8_UNORM, true,
                               "the custom texture's placeholder", &m.custom);
@@ -725,7 +729,7 @@ Status Renderer::recordDraw(VkCommandBuffer cmd, VkExtent2D target, CharacterId 
             "vk::Renderer::recordDraw: the batcher was not initialized with batchLimits()"};
   // The frame's region: this draw's records after the frame's earlier draws', then the default
   // blocks (the fragment stage's once, the vertex stage's per batch).
-  const VkDeviceSize region = VkDeviceSize(m.frame) * m.desc.ring_bytes_per_frame;
+  const VkDeviceSize region = VkDeviceSize(m.frame) * m.slot_bytes;
   const VkDeviceSize records_at = alignUp(m.frame_used, m.ubo_alignment);
   const size_t bound = batcher.recordBufferBound(view);
   std::vector<DrawBatch> draws;

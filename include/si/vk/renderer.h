@@ -62,8 +62,9 @@ struct RendererDesc {
   VkFormat color_format = VK_FORMAT_R8G8B8A8_UNORM;   ///< The host's colour attachment.
   VkFormat depth_format = VK_FORMAT_D32_SFLOAT;       ///< The host's depth attachment.
   uint32_t frames_in_flight = 2;                      ///< Frame slots of the record ring (1 to 8).
-  /// Bytes of records, per frame slot: a frame's batches of every draw (InstanceBatcher's
-  /// recordBufferBound) must fit, or recordDraw() refuses the frame (kLimitExceeded).
+  /// Bytes of records, per frame slot (rounded up to 256): a frame's batches of every draw
+  /// (InstanceBatcher's recordBufferBound) must fit, or recordDraw() refuses the frame
+  /// (kLimitExceeded).
   uint64_t ring_bytes_per_frame = uint64_t(8) << 20;
   /// The direction the light travels along, world space (si::Renderer's default).
   glm::vec3 light_direction = glm::normalize(glm::vec3(-0.4f, -1.0f, -0.3f));
