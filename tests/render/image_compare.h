@@ -64,6 +64,13 @@ inline void expectMotionAgrees(const std::vector<glm::vec2>& a, const std::vecto
   EXPECT_GE(double(agree), 0.995 * double(a.size()));
 }
 
+// The longest motion of a motion image (MotionTarget::readMotion, kSize x kSize), in pixels.
+inline float largestMotionPixels(const std::vector<glm::vec2>& motion) {
+  float worst = 0.0f;
+  for (const glm::vec2& v : motion) worst = std::max(worst, glm::length(v) * float(kSize));
+  return worst;
+}
+
 // `image` (RGBA8, kSize x kSize) upside down.
 inline std::vector<uint8_t> flipped(const std::vector<uint8_t>& image) {
   std::vector<uint8_t> out(image.size());

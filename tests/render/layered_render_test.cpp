@@ -362,11 +362,6 @@ TEST_P(LayeredRenderTest, MotionVectorsFollowTheOverlay) {
     ASSERT_TRUE(s.isOk()) << s.toString();
     ASSERT_TRUE(target.readMotion(motion).isOk());
   };
-  const auto largest = [](const std::vector<glm::vec2>& m) {
-    float worst = 0.0f;
-    for (const glm::vec2& v : m) worst = std::max(worst, glm::length(v) * float(kSize));
-    return worst;
-  };
   std::vector<glm::vec2> waving_vs, waving_cs, still, gpu_vs, gpu_cs, gpu_still;
   motionOf(1.0f, DrawMode::kSkinned, false, &waving_vs);
   motionOf(1.0f, DrawMode::kComputeSkinned, false, &waving_cs);
@@ -374,11 +369,11 @@ TEST_P(LayeredRenderTest, MotionVectorsFollowTheOverlay) {
   motionOf(1.0f, DrawMode::kSkinned, true, &gpu_vs);
   motionOf(1.0f, DrawMode::kComputeSkinned, true, &gpu_cs);
   motionOf(0.0f, DrawMode::kComputeSkinned, true, &gpu_still);
-  std::printf("[ layered  ] largest motion: waving %.2f px, held %.4f px\n", largest(waving_vs),
-              largest(still));
-  EXPECT_GT(largest(waving_vs), 0.5f);
-  EXPECT_LT(largest(still), 1e-3f);
-  EXPECT_LT(largest(gpu_still), 1e-3f);
+  std::printf("[ layered  ] largest motion: waving %.2f px, held %.4f px\n",
+              largestMotionPixels(waving_vs), largestMotionPixels(still));
+  EXPECT_GT(largestMotionPixels(waving_vs), 0.5f);
+  EXPECT_LT(largestMotionPixels(still), 1e-3f);
+  EXPECT_LT(largestMotionPixels(gpu_still), 1e-3f);
   // Both skinning paths and both GPU-driven draws agree.
   for (const std::vector<glm::vec2>* other : {&waving_cs, &gpu_vs, &gpu_cs}) {
     SCOPED_TRACE(other - &waving_vs);
