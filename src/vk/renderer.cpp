@@ -16,6 +16,8 @@
 #include "si/core/shader_inputs.h"
 #include "si_vk/vulkan_profile.h"
 #include "vk/device_objects.h"
+#include "vk/image_upload.h"
+#include "vk/skinned_pipeline.h"
 #include "vk/spirv_modules.h"
 #include "vk/spirv_reflect.h"
 #include "vk/vulkan_programs.h"
@@ -29,34 +31,10 @@ using namespace si::vk::detail;
 
 namespace {
 
-// The records' uniform block: 819 records of 80 bytes.
-constexpr uint32_t kRecordsBinding = 0;
-constexpr VkDeviceSize kRecordsRange = VkDeviceSize(kVulkanMaxInstances) * 80;
-// The bindings si::gl's skinned program declares (its texture units and blocks, shifted by the
-// profile), which the renderer fills; a module declaring another is refused by name.
-constexpr uint32_t kPaletteInfoBinding = 4;
-constexpr uint32_t kVertexMaterialsBinding = 10 + kStorageBindingShift;
-constexpr uint32_t kMaterialTableBinding = 11 + kStorageBindingShift;
-constexpr uint32_t kPaletteBinding = 0 + kSamplerBindingShift;
-constexpr uint32_t kBaseColorBinding = 1 + kSamplerBindingShift;
-constexpr uint32_t kCustomBinding = 2 + kSamplerBindingShift;
-constexpr uint32_t kMaterialDataBinding = 4 + kSamplerBindingShift;
-
-uint32_t mipLevels(uint32_t w, uint32_t h) {
-  return uint32_t(std::floor(std::log2(double(std::max(w, h))))) + 1;
-}
-
 VkDeviceSize alignUp(VkDeviceSize v, VkDeviceSize a) {
   return (v + a - 1) / a * a;
 }
 
-// An image's contents waiting in a staging buffer: `layers` layers of `layer_bytes` each, and
-// whether a mip chain is blitted from level 0.
-struct ImageUpload {
-  GpuImage* image;
-  VkDeviceSize offset;
-  bool mips;
-};
 struct BufferUpload {
   GpuBuffer* buffer;
   VkDeviceSize offset;
@@ -84,9 +62,7 @@ struct Renderer::Impl {
   VkDeviceSize ubo_alignment = 256;
   SpirvReflection vertex_reflection, fragment_reflection;
   VkShaderModule vertex_module = VK_NULL_HANDLE, fragment_module = VK_NULL_HANDLE;
-  VkDescriptorSetLayout set_layout = VK_NULL_HANDLE;
-  VkPipelineLayout pipeline_layout = VK_NULL_HANDLE;
-  std::vector<VkDescriptorSetLayoutBinding> layout_bindings;
+  SkinnedLayout layout;
   VkSampler nearest = VK_NULL_HANDLE, linear = VK_NULL_HANDLE;
   GpuBuffer ring;
   GpuImage custom;  // The custom texture array: one texel, never sampled (u_custom_layers 0).
@@ -102,147 +78,13 @@ struct Renderer::Impl {
   VkDevice device() const { return objects.device(); }
   const VkAllocationCallbacks* allocator() const { return objects.allocator(); }
 
-  Status createLayout();
-  Status createPipeline(const VertexStream& stream, VkPipeline* out);
   Status writeSet(Character* c);
-  void recordImageUpload(VkCommandBuffer cmd, const GpuBuffer& staging, const ImageUpload& u);
   void destroyCharacter(Character* c);
 };
 
 Renderer::Renderer() = default;
 Renderer::~Renderer() {
   shutdown();
-}
-
-Status Renderer::Impl::createLayout() {
-  // The union of both stages' descriptors: the records and default blocks dynamic (their
-  // offsets move per batch and frame), every other binding one the renderer fills.
-  std::map<uint32_t, VkDescriptorSetLayoutBinding> bindings;
-  for (const auto* r : {&vertex_reflection, &fragment_reflection}) {
-    const VkShaderStageFlags stage =
-        r == &vertex_reflection ? VK_SHADER_STAGE_VERTEX_BIT : VK_SHADER_STAGE_FRAGMENT_BIT;
-    for (const SpirvDescriptor& d : r->descriptors) {
-      const uint32_t b = d.binding;
-      VkDescriptorType type;
-      if (b == kRecordsBinding || b == kVertexDefaultsBinding || b == kFragmentDefaultsBinding)
-        type = VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER_DYNAMIC;
-      else if (b == kPaletteInfoBinding)
-        type = VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER;
-      else if (b == kVertexMaterialsBinding || b == kMaterialTableBinding)
-        type = VK_DESCRIPTOR_TYPE_STORAGE_BUFFER;
-      else if (b == kPaletteBinding || b == kBaseColorBinding || b == kCustomBinding ||
-               b == kMaterialDataBinding)
-        type = VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER;
-      else
-        return {StatusCode::kUnsupported,
-                strCat("the skinned program's ", descriptorKindName(d.kind), " '", d.name,
-                       "' at binding ", b, " is one the Vulkan renderer does not fill")};
-      auto [it, added] =
-          bindings.emplace(b, VkDescriptorSetLayoutBinding{b, type, 1, stage, nullptr});
-      if (!added) it->second.stageFlags |= stage;
-    }
-  }
-  layout_bindings.clear();
-  for (const auto& [b, binding] : bindings) layout_bindings.push_back(binding);
-  auto info = vkStruct<VkDescriptorSetLayoutCreateInfo>(
-      VK_STRUCTURE_TYPE_DESCRIPTOR_SET_LAYOUT_CREATE_INFO);
-  info.bindingCount = uint32_t(layout_bindings.size());
-  info.pBindings = layout_bindings.data();
-  Status s = checkVk(vkCreateDescriptorSetLayout(device(), &info, allocator(), &set_layout),
-                     "vkCreateDescriptorSetLayout");
-  if (!s.isOk()) return s;
-  auto pl = vkStruct<VkPipelineLayoutCreateInfo>(VK_STRUCTURE_TYPE_PIPELINE_LAYOUT_CREATE_INFO);
-  pl.setLayoutCount = 1;
-  pl.pSetLayouts = &set_layout;
-  return checkVk(vkCreatePipelineLayout(device(), &pl, allocator(), &pipeline_layout),
-                 "vkCreatePipelineLayout");
-}
-
-Status Renderer::Impl::createPipeline(const VertexStream& stream, VkPipeline* out) {
-  VkPipelineShaderStageCreateInfo stages[2] = {
-      vkStruct<VkPipelineShaderStageCreateInfo>(
-          VK_STRUCTURE_TYPE_PIPELINE_SHADER_STAGE_CREATE_INFO),
-      vkStruct<VkPipelineShaderStageCreateInfo>(
-          VK_STRUCTURE_TYPE_PIPELINE_SHADER_STAGE_CREATE_INFO)};
-  stages[0].stage = VK_SHADER_STAGE_VERTEX_BIT;
-  stages[0].module = vertex_module;
-  stages[0].pName = "main";
-  stages[1].stage = VK_SHADER_STAGE_FRAGMENT_BIT;
-  stages[1].module = fragment_module;
-  stages[1].pName = "main";
-  // The vertex stream as si::gl's CharacterBuffers describes it (shader_inputs.h).
-  const VkVertexInputBindingDescription binding{0, stream.stride_bytes,
-                                                VK_VERTEX_INPUT_RATE_VERTEX};
-  const VkVertexInputAttributeDescription attributes[] = {
-      {0, 0, VK_FORMAT_R32G32B32_SFLOAT, VertexStream::kPositionOffset},
-      {1, 0, VK_FORMAT_A2B10G10R10_SNORM_PACK32, VertexStream::kNormalOffset},
-      {2, 0, VK_FORMAT_R16G16_SFLOAT, VertexStream::kTexcoordOffset},
-      {3, 0, stream.wide_joints ? VK_FORMAT_R16G16B16A16_UINT : VK_FORMAT_R8G8B8A8_UINT,
-       VertexStream::kJointsOffset},
-      {4, 0, VK_FORMAT_R16G16B16A16_UNORM, stream.weights_offset},
-      {7, 0, VK_FORMAT_A2B10G10R10_SNORM_PACK32,
-       stream.tangent_offset != 0 ? stream.tangent_offset : VertexStream::kNormalOffset},
-  };
-  auto input = vkStruct<VkPipelineVertexInputStateCreateInfo>(
-      VK_STRUCTURE_TYPE_PIPELINE_VERTEX_INPUT_STATE_CREATE_INFO);
-  input.vertexBindingDescriptionCount = 1;
-  input.pVertexBindingDescriptions = &binding;
-  input.vertexAttributeDescriptionCount = uint32_t(std::size(attributes));
-  input.pVertexAttributeDescriptions = attributes;
-  auto assembly = vkStruct<VkPipelineInputAssemblyStateCreateInfo>(
-      VK_STRUCTURE_TYPE_PIPELINE_INPUT_ASSEMBLY_STATE_CREATE_INFO);
-  assembly.topology = VK_PRIMITIVE_TOPOLOGY_TRIANGLE_LIST;
-  auto viewport = vkStruct<VkPipelineViewportStateCreateInfo>(
-      VK_STRUCTURE_TYPE_PIPELINE_VIEWPORT_STATE_CREATE_INFO);
-  viewport.viewportCount = 1;
-  viewport.scissorCount = 1;
-  auto raster = vkStruct<VkPipelineRasterizationStateCreateInfo>(
-      VK_STRUCTURE_TYPE_PIPELINE_RASTERIZATION_STATE_CREATE_INFO);
-  raster.polygonMode = VK_POLYGON_MODE_FILL;
-  raster.cullMode = VK_CULL_MODE_BACK_BIT;
-  raster.frontFace = VK_FRONT_FACE_COUNTER_CLOCKWISE;  // With the flipped viewport: OpenGL's.
-  raster.lineWidth = 1.0f;
-  auto multisample = vkStruct<VkPipelineMultisampleStateCreateInfo>(
-      VK_STRUCTURE_TYPE_PIPELINE_MULTISAMPLE_STATE_CREATE_INFO);
-  multisample.rasterizationSamples = VK_SAMPLE_COUNT_1_BIT;
-  auto depth = vkStruct<VkPipelineDepthStencilStateCreateInfo>(
-      VK_STRUCTURE_TYPE_PIPELINE_DEPTH_STENCIL_STATE_CREATE_INFO);
-  depth.depthTestEnable = VK_TRUE;
-  depth.depthWriteEnable = VK_TRUE;
-  depth.depthCompareOp = VK_COMPARE_OP_LESS;
-  VkPipelineColorBlendAttachmentState attachment{};
-  attachment.colorWriteMask = VK_COLOR_COMPONENT_R_BIT | VK_COLOR_COMPONENT_G_BIT |
-                              VK_COLOR_COMPONENT_B_BIT | VK_COLOR_COMPONENT_A_BIT;
-  auto blend = vkStruct<VkPipelineColorBlendStateCreateInfo>(
-      VK_STRUCTURE_TYPE_PIPELINE_COLOR_BLEND_STATE_CREATE_INFO);
-  blend.attachmentCount = 1;
-  blend.pAttachments = &attachment;
-  const VkDynamicState dynamic_states[] = {VK_DYNAMIC_STATE_VIEWPORT, VK_DYNAMIC_STATE_SCISSOR};
-  auto dynamic = vkStruct<VkPipelineDynamicStateCreateInfo>(
-      VK_STRUCTURE_TYPE_PIPELINE_DYNAMIC_STATE_CREATE_INFO);
-  dynamic.dynamicStateCount = 2;
-  dynamic.pDynamicStates = dynamic_states;
-  auto rendering =
-      vkStruct<VkPipelineRenderingCreateInfo>(VK_STRUCTURE_TYPE_PIPELINE_RENDERING_CREATE_INFO);
-  rendering.colorAttachmentCount = 1;
-  rendering.pColorAttachmentFormats = &desc.color_format;
-  rendering.depthAttachmentFormat = desc.depth_format;
-  auto info =
-      vkStruct<VkGraphicsPipelineCreateInfo>(VK_STRUCTURE_TYPE_GRAPHICS_PIPELINE_CREATE_INFO);
-  info.pNext = &rendering;
-  info.stageCount = 2;
-  info.pStages = stages;
-  info.pVertexInputState = &input;
-  info.pInputAssemblyState = &assembly;
-  info.pViewportState = &viewport;
-  info.pRasterizationState = &raster;
-  info.pMultisampleState = &multisample;
-  info.pDepthStencilState = &depth;
-  info.pColorBlendState = &blend;
-  info.pDynamicState = &dynamic;
-  info.layout = pipeline_layout;
-  return checkVk(vkCreateGraphicsPipelines(device(), VK_NULL_HANDLE, 1, &info, allocator(), out),
-                 "vkCreateGraphicsPipelines");
 }
 
 Status Renderer::init(const RendererDesc& desc) {
@@ -312,7 +154,9 @@ Status Renderer::init(const RendererDesc& desc) {
     s = checkVk(vkCreateShaderModule(m.device(), &info, m.allocator(), out),
                 "vkCreateShaderModule");
   }
-  if (s.isOk()) s = m.createLayout();
+  if (s.isOk())
+    s = createSkinnedLayout(m.device(), m.allocator(), m.vertex_reflection, m.fragment_reflection,
+                            &m.layout);
   for (const auto& [filter, out] :
        {std::pair{VK_FILTER_NEAREST, &m.nearest}, std::pair{VK_FILTER_LINEAR, &m.linear}}) {
     if (!s.isOk()) break;
@@ -361,10 +205,10 @@ void Renderer::shutdown() {
   m.objects.destroy(&m.custom_staging);
   for (VkSampler sampler : {m.nearest, m.linear})
     if (sampler != VK_NULL_HANDLE) vkDestroySampler(m.device(), sampler, m.allocator());
-  if (m.pipeline_layout != VK_NULL_HANDLE)
-    vkDestroyPipelineLayout(m.device(), m.pipeline_layout, m.allocator());
-  if (m.set_layout != VK_NULL_HANDLE)
-    vkDestroyDescriptorSetLayout(m.device(), m.set_layout, m.allocator());
+  if (m.layout.pipeline_layout != VK_NULL_HANDLE)
+    vkDestroyPipelineLayout(m.device(), m.layout.pipeline_layout, m.allocator());
+  if (m.layout.set_layout != VK_NULL_HANDLE)
+    vkDestroyDescriptorSetLayout(m.device(), m.layout.set_layout, m.allocator());
   for (VkShaderModule module : {m.vertex_module, m.fragment_module})
     if (module != VK_NULL_HANDLE) vkDestroyShaderModule(m.device(), module, m.allocator());
   impl_.reset();
@@ -532,7 +376,10 @@ Status Renderer::addCharacter(const Character& character, const BakedPalette& pa
                         {&c->base_color, colour_at, true},
                         {&c->material_data, data_at, true}};
   }
-  if (s.isOk()) s = m.createPipeline(stream, &c->pipeline);
+  if (s.isOk())
+    s = createSkinnedPipeline(m.device(), m.allocator(), m.vertex_module, m.fragment_module,
+                              m.layout.pipeline_layout, m.desc.color_format, m.desc.depth_format,
+                              stream, &c->pipeline);
   if (s.isOk()) s = m.writeSet(c.get());
   if (!s.isOk()) {
     m.destroyCharacter(c.get());
@@ -545,7 +392,7 @@ Status Renderer::addCharacter(const Character& character, const BakedPalette& pa
 
 Status Renderer::Impl::writeSet(Character* c) {
   std::vector<VkDescriptorPoolSize> sizes;
-  for (const VkDescriptorSetLayoutBinding& b : layout_bindings)
+  for (const VkDescriptorSetLayoutBinding& b : layout.bindings)
     sizes.push_back({b.descriptorType, 1});
   auto pool_info =
       vkStruct<VkDescriptorPoolCreateInfo>(VK_STRUCTURE_TYPE_DESCRIPTOR_POOL_CREATE_INFO);
@@ -559,19 +406,19 @@ Status Renderer::Impl::writeSet(Character* c) {
       vkStruct<VkDescriptorSetAllocateInfo>(VK_STRUCTURE_TYPE_DESCRIPTOR_SET_ALLOCATE_INFO);
   alloc.descriptorPool = c->pool;
   alloc.descriptorSetCount = 1;
-  alloc.pSetLayouts = &set_layout;
+  alloc.pSetLayouts = &layout.set_layout;
   s = checkVk(vkAllocateDescriptorSets(device(), &alloc, &c->set), "vkAllocateDescriptorSets");
   if (!s.isOk()) return s;
-  std::vector<VkDescriptorBufferInfo> buffer_infos(layout_bindings.size());
-  std::vector<VkDescriptorImageInfo> image_infos(layout_bindings.size());
+  std::vector<VkDescriptorBufferInfo> buffer_infos(layout.bindings.size());
+  std::vector<VkDescriptorImageInfo> image_infos(layout.bindings.size());
   std::vector<VkWriteDescriptorSet> writes;
-  for (size_t k = 0; k < layout_bindings.size(); ++k) {
-    const uint32_t b = layout_bindings[k].binding;
+  for (size_t k = 0; k < layout.bindings.size(); ++k) {
+    const uint32_t b = layout.bindings[k].binding;
     auto w = vkStruct<VkWriteDescriptorSet>(VK_STRUCTURE_TYPE_WRITE_DESCRIPTOR_SET);
     w.dstSet = c->set;
     w.dstBinding = b;
     w.descriptorCount = 1;
-    w.descriptorType = layout_bindings[k].descriptorType;
+    w.descriptorType = layout.bindings[k].descriptorType;
     const auto buffer = [&](const GpuBuffer& g, VkDeviceSize range) {
       buffer_infos[k] = {g.buffer, 0, range};
       w.pBufferInfo = &buffer_infos[k];
@@ -604,69 +451,11 @@ Status Renderer::Impl::writeSet(Character* c) {
   return Status::ok();
 }
 
-void Renderer::Impl::recordImageUpload(VkCommandBuffer cmd, const GpuBuffer& staging,
-                                       const ImageUpload& u) {
-  const GpuImage& img = *u.image;
-  const auto barrier = [&](uint32_t level, uint32_t levels, VkImageLayout from, VkImageLayout to,
-                           VkAccessFlags src_access, VkAccessFlags dst_access,
-                           VkPipelineStageFlags src, VkPipelineStageFlags dst) {
-    auto b = vkStruct<VkImageMemoryBarrier>(VK_STRUCTURE_TYPE_IMAGE_MEMORY_BARRIER);
-    b.srcAccessMask = src_access;
-    b.dstAccessMask = dst_access;
-    b.oldLayout = from;
-    b.newLayout = to;
-    b.srcQueueFamilyIndex = b.dstQueueFamilyIndex = VK_QUEUE_FAMILY_IGNORED;
-    b.image = img.image;
-    b.subresourceRange = {VK_IMAGE_ASPECT_COLOR_BIT, level, levels, 0, img.layers};
-    vkCmdPipelineBarrier(cmd, src, dst, 0, 0, nullptr, 0, nullptr, 1, &b);
-  };
-  const VkPipelineStageFlags shaders =
-      VK_PIPELINE_STAGE_VERTEX_SHADER_BIT | VK_PIPELINE_STAGE_FRAGMENT_SHADER_BIT;
-  barrier(0, img.levels, VK_IMAGE_LAYOUT_UNDEFINED, VK_IMAGE_LAYOUT_TRANSFER_DST_OPTIMAL, 0,
-          VK_ACCESS_TRANSFER_WRITE_BIT, VK_PIPELINE_STAGE_TOP_OF_PIPE_BIT,
-          VK_PIPELINE_STAGE_TRANSFER_BIT);
-  VkBufferImageCopy copy{};
-  copy.bufferOffset = u.offset;
-  copy.imageSubresource = {VK_IMAGE_ASPECT_COLOR_BIT, 0, 0, img.layers};
-  copy.imageExtent = {img.width, img.height, 1};
-  vkCmdCopyBufferToImage(cmd, staging.buffer, img.image, VK_IMAGE_LAYOUT_TRANSFER_DST_OPTIMAL, 1,
-                         &copy);
-  // Each level from the one above, filtered (as glGenerateMipmap); every level then a source.
-  for (uint32_t level = 1; level < img.levels; ++level) {
-    barrier(level - 1, 1, VK_IMAGE_LAYOUT_TRANSFER_DST_OPTIMAL,
-            VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL, VK_ACCESS_TRANSFER_WRITE_BIT,
-            VK_ACCESS_TRANSFER_READ_BIT, VK_PIPELINE_STAGE_TRANSFER_BIT,
-            VK_PIPELINE_STAGE_TRANSFER_BIT);
-    VkImageBlit blit{};
-    blit.srcSubresource = {VK_IMAGE_ASPECT_COLOR_BIT, level - 1, 0, img.layers};
-    blit.srcOffsets[1] = {int32_t(std::max(1u, img.width >> (level - 1))),
-                          int32_t(std::max(1u, img.height >> (level - 1))), 1};
-    blit.dstSubresource = {VK_IMAGE_ASPECT_COLOR_BIT, level, 0, img.layers};
-    blit.dstOffsets[1] = {int32_t(std::max(1u, img.width >> level)),
-                          int32_t(std::max(1u, img.height >> level)), 1};
-    vkCmdBlitImage(cmd, img.image, VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL, img.image,
-                   VK_IMAGE_LAYOUT_TRANSFER_DST_OPTIMAL, 1, &blit, VK_FILTER_LINEAR);
-  }
-  if (img.levels > 1) {
-    barrier(img.levels - 1, 1, VK_IMAGE_LAYOUT_TRANSFER_DST_OPTIMAL,
-            VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL, VK_ACCESS_TRANSFER_WRITE_BIT,
-            VK_ACCESS_TRANSFER_READ_BIT, VK_PIPELINE_STAGE_TRANSFER_BIT,
-            VK_PIPELINE_STAGE_TRANSFER_BIT);
-    barrier(0, img.levels, VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL,
-            VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL, VK_ACCESS_TRANSFER_READ_BIT,
-            VK_ACCESS_SHADER_READ_BIT, VK_PIPELINE_STAGE_TRANSFER_BIT, shaders);
-  } else {
-    barrier(0, 1, VK_IMAGE_LAYOUT_TRANSFER_DST_OPTIMAL, VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL,
-            VK_ACCESS_TRANSFER_WRITE_BIT, VK_ACCESS_SHADER_READ_BIT, VK_PIPELINE_STAGE_TRANSFER_BIT,
-            shaders);
-  }
-}
-
 Status Renderer::recordUploads(VkCommandBuffer cmd) {
   if (!impl_) return {StatusCode::kInvalidArgument, "vk::Renderer::recordUploads: not initialized"};
   Impl& m = *impl_;
   if (!m.custom_uploaded) {
-    m.recordImageUpload(cmd, m.custom_staging, {&m.custom, 0, false});
+    recordImageUpload(cmd, m.custom_staging.buffer, {&m.custom, 0, false});
     m.finished_staging.push_back(m.custom_staging);
     m.custom_staging = GpuBuffer{};
     m.custom_uploaded = true;
@@ -677,7 +466,7 @@ Status Renderer::recordUploads(VkCommandBuffer cmd) {
       const VkBufferCopy copy{u.offset, 0, u.buffer->size};
       vkCmdCopyBuffer(cmd, c->staging.buffer, u.buffer->buffer, 1, &copy);
     }
-    for (const ImageUpload& u : c->image_uploads) m.recordImageUpload(cmd, c->staging, u);
+    for (const ImageUpload& u : c->image_uploads) recordImageUpload(cmd, c->staging.buffer, u);
     m.finished_staging.push_back(c->staging);
     c->staging = GpuBuffer{};
     c->uploads_recorded = true;
@@ -781,8 +570,8 @@ Status Renderer::recordDraw(VkCommandBuffer cmd, VkExtent2D target, CharacterId 
     // Dynamic offsets in binding order: the records, the vertex and the fragment defaults.
     const uint32_t offsets[3] = {uint32_t(region + records_at + d.byte_offset),
                                  uint32_t(region + vertex_at), uint32_t(region + defaults_at)};
-    vkCmdBindDescriptorSets(cmd, VK_PIPELINE_BIND_POINT_GRAPHICS, m.pipeline_layout, 0, 1, &c.set,
-                            3, offsets);
+    vkCmdBindDescriptorSets(cmd, VK_PIPELINE_BIND_POINT_GRAPHICS, m.layout.pipeline_layout, 0, 1,
+                            &c.set, 3, offsets);
     vkCmdDrawIndexed(cmd, range.index_count, d.instance_count, range.first_index, 0, 0);
     ++st.draw_calls;
     st.triangles += uint64_t(range.index_count / 3) * d.instance_count;

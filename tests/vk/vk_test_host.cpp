@@ -7,6 +7,7 @@
 #include <cstring>
 
 #include "vk/device_objects.h"
+#include "vk/image_upload.h"
 
 namespace si::test {
 
@@ -229,15 +230,8 @@ Status VkTestHost::render(const glm::vec4& clear,
                                 VkImageLayout to, VkAccessFlags src_access,
                                 VkAccessFlags dst_access, VkPipelineStageFlags src,
                                 VkPipelineStageFlags dst) {
-      auto b = vkStruct<VkImageMemoryBarrier>(VK_STRUCTURE_TYPE_IMAGE_MEMORY_BARRIER);
-      b.srcAccessMask = src_access;
-      b.dstAccessMask = dst_access;
-      b.oldLayout = from;
-      b.newLayout = to;
-      b.srcQueueFamilyIndex = b.dstQueueFamilyIndex = VK_QUEUE_FAMILY_IGNORED;
-      b.image = image;
-      b.subresourceRange = {aspect, 0, 1, 0, 1};
-      vkCmdPipelineBarrier(cmd, src, dst, 0, 0, nullptr, 0, nullptr, 1, &b);
+      vk::detail::recordImageBarrier(cmd, image, aspect, 0, 1, 1,
+                                     {from, to, src_access, dst_access, src, dst});
     };
     transition(color_, VK_IMAGE_ASPECT_COLOR_BIT, VK_IMAGE_LAYOUT_UNDEFINED,
                VK_IMAGE_LAYOUT_COLOR_ATTACHMENT_OPTIMAL, 0, VK_ACCESS_COLOR_ATTACHMENT_WRITE_BIT,

@@ -1,0 +1,151 @@
+// SkinnedInstancing — SPDX-License-Identifier: MIT (see LICENSE)
+// The skinned program's layouts and pipeline.
+#include "vk/skinned_pipeline.h"
+
+#include <iterator>
+#include <map>
+
+#include "core/str_cat.h"
+#include "vk/device_objects.h"
+
+namespace si::vk::detail {
+
+using si::detail::strCat;
+
+Status createSkinnedLayout(VkDevice device, const VkAllocationCallbacks* allocator,
+                           const SpirvReflection& vertex_reflection,
+                           const SpirvReflection& fragment_reflection, SkinnedLayout* out) {
+  // The union of both stages' descriptors: the records and default blocks dynamic (their
+  // offsets move per batch and frame), every other binding one the renderer fills.
+  std::map<uint32_t, VkDescriptorSetLayoutBinding> bindings;
+  for (const auto* r : {&vertex_reflection, &fragment_reflection}) {
+    const VkShaderStageFlags stage =
+        r == &vertex_reflection ? VK_SHADER_STAGE_VERTEX_BIT : VK_SHADER_STAGE_FRAGMENT_BIT;
+    for (const SpirvDescriptor& d : r->descriptors) {
+      const uint32_t b = d.binding;
+      VkDescriptorType type;
+      if (b == kRecordsBinding || b == kVertexDefaultsBinding || b == kFragmentDefaultsBinding)
+        type = VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER_DYNAMIC;
+      else if (b == kPaletteInfoBinding)
+        type = VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER;
+      else if (b == kVertexMaterialsBinding || b == kMaterialTableBinding)
+        type = VK_DESCRIPTOR_TYPE_STORAGE_BUFFER;
+      else if (b == kPaletteBinding || b == kBaseColorBinding || b == kCustomBinding ||
+               b == kMaterialDataBinding)
+        type = VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER;
+      else
+        return {StatusCode::kUnsupported,
+                strCat("the skinned program's ", descriptorKindName(d.kind), " '", d.name,
+                       "' at binding ", b, " is one the Vulkan renderer does not fill")};
+      auto [it, added] =
+          bindings.emplace(b, VkDescriptorSetLayoutBinding{b, type, 1, stage, nullptr});
+      if (!added) it->second.stageFlags |= stage;
+    }
+  }
+  out->bindings.clear();
+  for (const auto& [b, binding] : bindings) out->bindings.push_back(binding);
+  auto info = vkStruct<VkDescriptorSetLayoutCreateInfo>(
+      VK_STRUCTURE_TYPE_DESCRIPTOR_SET_LAYOUT_CREATE_INFO);
+  info.bindingCount = uint32_t(out->bindings.size());
+  info.pBindings = out->bindings.data();
+  Status s = checkVk(vkCreateDescriptorSetLayout(device, &info, allocator, &out->set_layout),
+                     "vkCreateDescriptorSetLayout");
+  if (!s.isOk()) return s;
+  auto pl = vkStruct<VkPipelineLayoutCreateInfo>(VK_STRUCTURE_TYPE_PIPELINE_LAYOUT_CREATE_INFO);
+  pl.setLayoutCount = 1;
+  pl.pSetLayouts = &out->set_layout;
+  return checkVk(vkCreatePipelineLayout(device, &pl, allocator, &out->pipeline_layout),
+                 "vkCreatePipelineLayout");
+}
+
+Status createSkinnedPipeline(VkDevice device, const VkAllocationCallbacks* allocator,
+                             VkShaderModule vertex_module, VkShaderModule fragment_module,
+                             VkPipelineLayout pipeline_layout, const VkFormat& color_format,
+                             VkFormat depth_format, const VertexStream& stream, VkPipeline* out) {
+  VkPipelineShaderStageCreateInfo stages[2] = {
+      vkStruct<VkPipelineShaderStageCreateInfo>(
+          VK_STRUCTURE_TYPE_PIPELINE_SHADER_STAGE_CREATE_INFO),
+      vkStruct<VkPipelineShaderStageCreateInfo>(
+          VK_STRUCTURE_TYPE_PIPELINE_SHADER_STAGE_CREATE_INFO)};
+  stages[0].stage = VK_SHADER_STAGE_VERTEX_BIT;
+  stages[0].module = vertex_module;
+  stages[0].pName = "main";
+  stages[1].stage = VK_SHADER_STAGE_FRAGMENT_BIT;
+  stages[1].module = fragment_module;
+  stages[1].pName = "main";
+  // The vertex stream as si::gl's CharacterBuffers describes it (shader_inputs.h).
+  const VkVertexInputBindingDescription binding{0, stream.stride_bytes,
+                                                VK_VERTEX_INPUT_RATE_VERTEX};
+  const VkVertexInputAttributeDescription attributes[] = {
+      {0, 0, VK_FORMAT_R32G32B32_SFLOAT, VertexStream::kPositionOffset},
+      {1, 0, VK_FORMAT_A2B10G10R10_SNORM_PACK32, VertexStream::kNormalOffset},
+      {2, 0, VK_FORMAT_R16G16_SFLOAT, VertexStream::kTexcoordOffset},
+      {3, 0, stream.wide_joints ? VK_FORMAT_R16G16B16A16_UINT : VK_FORMAT_R8G8B8A8_UINT,
+       VertexStream::kJointsOffset},
+      {4, 0, VK_FORMAT_R16G16B16A16_UNORM, stream.weights_offset},
+      {7, 0, VK_FORMAT_A2B10G10R10_SNORM_PACK32,
+       stream.tangent_offset != 0 ? stream.tangent_offset : VertexStream::kNormalOffset},
+  };
+  auto input = vkStruct<VkPipelineVertexInputStateCreateInfo>(
+      VK_STRUCTURE_TYPE_PIPELINE_VERTEX_INPUT_STATE_CREATE_INFO);
+  input.vertexBindingDescriptionCount = 1;
+  input.pVertexBindingDescriptions = &binding;
+  input.vertexAttributeDescriptionCount = uint32_t(std::size(attributes));
+  input.pVertexAttributeDescriptions = attributes;
+  auto assembly = vkStruct<VkPipelineInputAssemblyStateCreateInfo>(
+      VK_STRUCTURE_TYPE_PIPELINE_INPUT_ASSEMBLY_STATE_CREATE_INFO);
+  assembly.topology = VK_PRIMITIVE_TOPOLOGY_TRIANGLE_LIST;
+  auto viewport = vkStruct<VkPipelineViewportStateCreateInfo>(
+      VK_STRUCTURE_TYPE_PIPELINE_VIEWPORT_STATE_CREATE_INFO);
+  viewport.viewportCount = 1;
+  viewport.scissorCount = 1;
+  auto raster = vkStruct<VkPipelineRasterizationStateCreateInfo>(
+      VK_STRUCTURE_TYPE_PIPELINE_RASTERIZATION_STATE_CREATE_INFO);
+  raster.polygonMode = VK_POLYGON_MODE_FILL;
+  raster.cullMode = VK_CULL_MODE_BACK_BIT;
+  raster.frontFace = VK_FRONT_FACE_COUNTER_CLOCKWISE;  // With the flipped viewport: OpenGL's.
+  raster.lineWidth = 1.0f;
+  auto multisample = vkStruct<VkPipelineMultisampleStateCreateInfo>(
+      VK_STRUCTURE_TYPE_PIPELINE_MULTISAMPLE_STATE_CREATE_INFO);
+  multisample.rasterizationSamples = VK_SAMPLE_COUNT_1_BIT;
+  auto depth = vkStruct<VkPipelineDepthStencilStateCreateInfo>(
+      VK_STRUCTURE_TYPE_PIPELINE_DEPTH_STENCIL_STATE_CREATE_INFO);
+  depth.depthTestEnable = VK_TRUE;
+  depth.depthWriteEnable = VK_TRUE;
+  depth.depthCompareOp = VK_COMPARE_OP_LESS;
+  VkPipelineColorBlendAttachmentState attachment{};
+  attachment.colorWriteMask = VK_COLOR_COMPONENT_R_BIT | VK_COLOR_COMPONENT_G_BIT |
+                              VK_COLOR_COMPONENT_B_BIT | VK_COLOR_COMPONENT_A_BIT;
+  auto blend = vkStruct<VkPipelineColorBlendStateCreateInfo>(
+      VK_STRUCTURE_TYPE_PIPELINE_COLOR_BLEND_STATE_CREATE_INFO);
+  blend.attachmentCount = 1;
+  blend.pAttachments = &attachment;
+  const VkDynamicState dynamic_states[] = {VK_DYNAMIC_STATE_VIEWPORT, VK_DYNAMIC_STATE_SCISSOR};
+  auto dynamic = vkStruct<VkPipelineDynamicStateCreateInfo>(
+      VK_STRUCTURE_TYPE_PIPELINE_DYNAMIC_STATE_CREATE_INFO);
+  dynamic.dynamicStateCount = 2;
+  dynamic.pDynamicStates = dynamic_states;
+  auto rendering =
+      vkStruct<VkPipelineRenderingCreateInfo>(VK_STRUCTURE_TYPE_PIPELINE_RENDERING_CREATE_INFO);
+  rendering.colorAttachmentCount = 1;
+  rendering.pColorAttachmentFormats = &color_format;
+  rendering.depthAttachmentFormat = depth_format;
+  auto info =
+      vkStruct<VkGraphicsPipelineCreateInfo>(VK_STRUCTURE_TYPE_GRAPHICS_PIPELINE_CREATE_INFO);
+  info.pNext = &rendering;
+  info.stageCount = 2;
+  info.pStages = stages;
+  info.pVertexInputState = &input;
+  info.pInputAssemblyState = &assembly;
+  info.pViewportState = &viewport;
+  info.pRasterizationState = &raster;
+  info.pMultisampleState = &multisample;
+  info.pDepthStencilState = &depth;
+  info.pColorBlendState = &blend;
+  info.pDynamicState = &dynamic;
+  info.layout = pipeline_layout;
+  return checkVk(vkCreateGraphicsPipelines(device, VK_NULL_HANDLE, 1, &info, allocator, out),
+                 "vkCreateGraphicsPipelines");
+}
+
+}  // namespace si::vk::detail

@@ -1,0 +1,56 @@
+// SkinnedInstancing — SPDX-License-Identifier: MIT (see LICENSE)
+#pragma once
+// The Vulkan back-end's skinned program as a pipeline: the bindings si::gl's skinned program
+// declares (shifted by the Vulkan profile), which the renderer fills; the descriptor set layout
+// read from both stages' SPIR-V; and the graphics pipeline over a character's vertex stream.
+
+#include <vulkan/vulkan.h>
+
+#include <vector>
+
+#include "si/core/shader_inputs.h"
+#include "si/core/status.h"
+#include "si_vk/vulkan_profile.h"
+#include "vk/spirv_reflect.h"
+#include "vk/vulkan_programs.h"
+
+namespace si::vk::detail {
+
+// The records' uniform block: 819 records of 80 bytes.
+inline constexpr uint32_t kRecordsBinding = 0;
+inline constexpr VkDeviceSize kRecordsRange = VkDeviceSize(kVulkanMaxInstances) * 80;
+// The bindings si::gl's skinned program declares (its texture units and blocks, shifted by the
+// profile), which the renderer fills; a module declaring another is refused by name.
+inline constexpr uint32_t kPaletteInfoBinding = 4;
+inline constexpr uint32_t kVertexMaterialsBinding = 10 + kStorageBindingShift;
+inline constexpr uint32_t kMaterialTableBinding = 11 + kStorageBindingShift;
+inline constexpr uint32_t kPaletteBinding = 0 + kSamplerBindingShift;
+inline constexpr uint32_t kBaseColorBinding = 1 + kSamplerBindingShift;
+inline constexpr uint32_t kCustomBinding = 2 + kSamplerBindingShift;
+inline constexpr uint32_t kMaterialDataBinding = 4 + kSamplerBindingShift;
+
+/// The skinned program's descriptor set layout (binding order) and pipeline layout.
+struct SkinnedLayout {
+  VkDescriptorSetLayout set_layout = VK_NULL_HANDLE;
+  VkPipelineLayout pipeline_layout = VK_NULL_HANDLE;
+  std::vector<VkDescriptorSetLayoutBinding> bindings;
+};
+
+/// The union of both stages' descriptors (the records and the default blocks dynamic: their
+/// offsets move per batch and frame) as a set layout and a pipeline layout of that one set.
+/// kUnsupported naming a descriptor at a binding the renderer does not fill; kBackend on a
+/// failed call.
+Status createSkinnedLayout(VkDevice device, const VkAllocationCallbacks* allocator,
+                           const SpirvReflection& vertex_reflection,
+                           const SpirvReflection& fragment_reflection, SkinnedLayout* out);
+
+/// The skinned program's graphics pipeline for `stream`'s vertex format (as si::gl's
+/// CharacterBuffers describes it), for dynamic rendering into `color_format` and `depth_format`:
+/// back faces culled with counter-clockwise front faces (OpenGL's, under the flipped viewport),
+/// depth tested less and written, viewport and scissor dynamic.
+Status createSkinnedPipeline(VkDevice device, const VkAllocationCallbacks* allocator,
+                             VkShaderModule vertex_module, VkShaderModule fragment_module,
+                             VkPipelineLayout pipeline_layout, const VkFormat& color_format,
+                             VkFormat depth_format, const VertexStream& stream, VkPipeline* out);
+
+}  // namespace si::vk::detail
