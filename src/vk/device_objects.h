@@ -20,6 +20,11 @@ T vkStruct(VkStructureType type) {
   return v;
 }
 
+/// `v` rounded up to a multiple of `a`.
+inline VkDeviceSize alignUp(VkDeviceSize v, VkDeviceSize a) {
+  return (v + a - 1) / a * a;
+}
+
 /// Ok for VK_SUCCESS; kBackend naming `call` and the result otherwise.
 Status checkVk(VkResult result, const char* call);
 

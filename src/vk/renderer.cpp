@@ -4,17 +4,14 @@
 #include "si/vk/renderer.h"
 
 #include <algorithm>
-#include <array>
-#include <cmath>
 #include <cstring>
 #include <map>
 #include <vector>
 
-#include "core/gpu_material.h"
 #include "core/str_cat.h"
-#include "si/core/material_table.h"
 #include "si/core/shader_inputs.h"
 #include "si_vk/vulkan_profile.h"
+#include "vk/character_resources.h"
 #include "vk/device_objects.h"
 #include "vk/image_upload.h"
 #include "vk/skinned_pipeline.h"
@@ -24,38 +21,11 @@
 
 namespace si::vk {
 
-using si::detail::GpuMaterial;
-using si::detail::gpuMaterial;
 using si::detail::strCat;
 using namespace si::vk::detail;
 
-namespace {
-
-VkDeviceSize alignUp(VkDeviceSize v, VkDeviceSize a) {
-  return (v + a - 1) / a * a;
-}
-
-struct BufferUpload {
-  GpuBuffer* buffer;
-  VkDeviceSize offset;
-};
-
-}  // namespace
-
 struct Renderer::Impl {
-  struct Character {
-    GpuBuffer vertices, indices, palette_info, vertex_materials, materials;
-    GpuImage palette, base_color, material_data;
-    std::vector<SubMesh> sub_meshes;
-    VkPipeline pipeline = VK_NULL_HANDLE;
-    VkDescriptorPool pool = VK_NULL_HANDLE;
-    VkDescriptorSet set = VK_NULL_HANDLE;
-    GpuBuffer staging;
-    std::vector<BufferUpload> buffer_uploads;
-    std::vector<ImageUpload> image_uploads;
-    bool uploads_recorded = false;
-    const BakedPalette* palette_data = nullptr;
-  };
+  using Character = CharacterResources;
 
   RendererDesc desc;
   DeviceObjects objects;
@@ -79,7 +49,6 @@ struct Renderer::Impl {
   const VkAllocationCallbacks* allocator() const { return objects.allocator(); }
 
   Status writeSet(Character* c);
-  void destroyCharacter(Character* c);
 };
 
 Renderer::Renderer() = default;
@@ -184,21 +153,10 @@ Status Renderer::init(const RendererDesc& desc) {
   return s;
 }
 
-void Renderer::Impl::destroyCharacter(Character* c) {
-  for (GpuBuffer* b : {&c->vertices, &c->indices, &c->palette_info, &c->vertex_materials,
-                       &c->materials, &c->staging})
-    objects.destroy(b);
-  for (GpuImage* i : {&c->palette, &c->base_color, &c->material_data}) objects.destroy(i);
-  if (c->pipeline != VK_NULL_HANDLE) vkDestroyPipeline(device(), c->pipeline, allocator());
-  if (c->pool != VK_NULL_HANDLE) vkDestroyDescriptorPool(device(), c->pool, allocator());
-  c->pipeline = VK_NULL_HANDLE;
-  c->pool = VK_NULL_HANDLE;
-}
-
 void Renderer::shutdown() {
   if (!impl_) return;
   Impl& m = *impl_;
-  for (auto& c : m.characters) m.destroyCharacter(c.get());
+  for (auto& c : m.characters) destroyCharacter(&m.objects, c.get());
   for (GpuBuffer& b : m.finished_staging) m.objects.destroy(&b);
   m.objects.destroy(&m.ring);
   m.objects.destroy(&m.custom);
@@ -255,134 +213,16 @@ Status Renderer::addCharacter(const Character& character, const BakedPalette& pa
   if (!impl_) return {StatusCode::kInvalidArgument, "vk::Renderer::addCharacter: not initialized"};
   if (out == nullptr) return {StatusCode::kInvalidArgument, "vk::Renderer::addCharacter: null id"};
   Impl& m = *impl_;
-  const SkinnedMesh& mesh = character.mesh;
-  const char* missing = !mesh.morph_targets.empty() ? "morph targets"
-                        : !mesh.joints1.empty()     ? "8 influences"
-                        : !mesh.texcoords1.empty() || !mesh.colors.empty()
-                            ? "vertex words (texture coordinates 1, colours)"
-                            : nullptr;
-  if (missing != nullptr)
-    return {
-        StatusCode::kUnsupported,
-        strCat("vk::Renderer::addCharacter: the Vulkan back-end does not draw ", missing, " yet")};
-  Status s = palette.validate();
-  if (!s.isOk()) return {StatusCode::kInvalidArgument, "the palette: " + s.message()};
-  if (palette.skeleton_to_palette.size() != character.skeleton.jointCount())
-    return {StatusCode::kInvalidArgument, "the palette was baked for another skeleton"};
-  VertexStream stream;
-  s = buildVertexStream(mesh, palette, &stream);
-  MaterialTable table;
-  if (s.isOk()) s = buildMaterialTable(character, 0, &table);
-  if (!s.isOk()) return s;
-  if (table.data_layers.empty()) {  // A flat normal, as si::gl's: one layer to bind.
-    Image flat;
-    flat.width = flat.height = 1;
-    flat.rgba8 = {128, 128, 255, 255};
-    table.data_layers.push_back(flat);
-    table.data_width = table.data_height = 1;
-  }
-  std::vector<uint32_t> vertex_words((table.vertex_materials.size() + 1) / 2, 0);
-  for (size_t v = 0; v < table.vertex_materials.size(); ++v)
-    vertex_words[v / 2] |= uint32_t(table.vertex_materials[v]) << ((v % 2) * 16);
-  std::vector<GpuMaterial> entries;
-  for (const MaterialEntry& e : table.materials) entries.push_back(gpuMaterial(e));
-  glm::uvec4 info_block[4] = {paletteShaderInfo(palette), glm::uvec4(0u), glm::uvec4(0u),
-                              glm::uvec4(0u)};
-
   auto c = std::make_unique<Impl::Character>();
-  c->palette_data = &palette;
-  c->sub_meshes = mesh.sub_meshes;
-  // The staging buffer: every content, each at a 16-byte offset.
-  struct Content {
-    const void* data;
-    size_t bytes;
-  };
-  std::vector<Content> contents;
-  const auto layerBytes = [](const std::vector<Image>& layers) {
-    size_t n = 0;
-    for (const Image& i : layers) n += i.rgba8.size();
-    return n;
-  };
-  const bool half = palette.format == PaletteFormat::kMatrix3x4F16;
-  const VkBufferUsageFlags dst = VK_BUFFER_USAGE_TRANSFER_DST_BIT;
-  const struct {
-    GpuBuffer* buffer;
-    VkBufferUsageFlags usage;
-    const void* data;
-    size_t bytes;
-    const char* what;
-  } buffers[] = {
-      {&c->vertices, VK_BUFFER_USAGE_VERTEX_BUFFER_BIT, stream.bytes.data(), stream.bytes.size(),
-       "the character's vertex buffer"},
-      {&c->indices, VK_BUFFER_USAGE_INDEX_BUFFER_BIT, mesh.indices.data(), mesh.indices.size() * 4,
-       "the character's index buffer"},
-      {&c->palette_info, VK_BUFFER_USAGE_UNIFORM_BUFFER_BIT, info_block, sizeof(info_block),
-       "the palette's info block"},
-      {&c->vertex_materials, VK_BUFFER_USAGE_STORAGE_BUFFER_BIT, vertex_words.data(),
-       vertex_words.size() * 4, "the character's per-vertex materials"},
-      {&c->materials, VK_BUFFER_USAGE_STORAGE_BUFFER_BIT, entries.data(),
-       entries.size() * sizeof(GpuMaterial), "the character's material table"},
-  };
-  for (const auto& b : buffers) {
-    if (!s.isOk()) break;
-    s = m.objects.createBuffer(std::max<size_t>(b.bytes, 4), b.usage | dst, false, b.what,
-                               b.buffer);
-    contents.push_back({b.data, b.bytes});
-  }
-  if (s.isOk())
-    s = m.objects.createImage(palette.layout.width, palette.layout.height, 1, 1,
-                              half ? VK_FORMAT_R16G16B16A16_SFLOAT : VK_FORMAT_R32G32B32A32_SFLOAT,
-                              false, "the palette texture", &c->palette);
-  if (s.isOk())
-    s = m.objects.createImage(table.width, table.height, uint32_t(table.layers.size()),
-                              mipLevels(table.width, table.height), VK_FORMAT_R8G8B8A8_SRGB, true,
-                              "the character's colour texture array", &c->base_color);
-  if (s.isOk())
-    s = m.objects.createImage(
-        table.data_width, table.data_height, uint32_t(table.data_layers.size()),
-        mipLevels(table.data_width, table.data_height), VK_FORMAT_R8G8B8A8_UNORM, true,
-        "the character's data texture array", &c->material_data);
-  VkDeviceSize staging_bytes = 0;
-  for (const Content& k : contents) staging_bytes = alignUp(staging_bytes + k.bytes, 16);
-  const VkDeviceSize palette_at = staging_bytes;
-  staging_bytes = alignUp(staging_bytes + palette.texel_bytes.size(), 16);
-  const VkDeviceSize colour_at = staging_bytes;
-  staging_bytes = alignUp(staging_bytes + layerBytes(table.layers), 16);
-  const VkDeviceSize data_at = staging_bytes;
-  staging_bytes += layerBytes(table.data_layers);
-  if (s.isOk())
-    s = m.objects.createBuffer(staging_bytes, VK_BUFFER_USAGE_TRANSFER_SRC_BIT, true,
-                               "the character's staging", &c->staging);
-  if (s.isOk()) {
-    uint8_t* to = static_cast<uint8_t*>(c->staging.mapped);
-    VkDeviceSize at = 0;
-    for (size_t k = 0; k < contents.size(); ++k) {
-      if (contents[k].bytes > 0) std::memcpy(to + at, contents[k].data, contents[k].bytes);
-      c->buffer_uploads.push_back({buffers[k].buffer, at});
-      at = alignUp(at + contents[k].bytes, 16);
-    }
-    std::memcpy(to + palette_at, palette.texel_bytes.data(), palette.texel_bytes.size());
-    VkDeviceSize layer_at = colour_at;
-    for (const Image& i : table.layers) {
-      std::memcpy(to + layer_at, i.rgba8.data(), i.rgba8.size());
-      layer_at += i.rgba8.size();
-    }
-    layer_at = data_at;
-    for (const Image& i : table.data_layers) {
-      std::memcpy(to + layer_at, i.rgba8.data(), i.rgba8.size());
-      layer_at += i.rgba8.size();
-    }
-    c->image_uploads = {{&c->palette, palette_at, false},
-                        {&c->base_color, colour_at, true},
-                        {&c->material_data, data_at, true}};
-  }
+  VertexStream stream;
+  Status s = stageCharacter(&m.objects, character, palette, c.get(), &stream);
   if (s.isOk())
     s = createSkinnedPipeline(m.device(), m.allocator(), m.vertex_module, m.fragment_module,
                               m.layout.pipeline_layout, m.desc.color_format, m.desc.depth_format,
                               stream, &c->pipeline);
   if (s.isOk()) s = m.writeSet(c.get());
   if (!s.isOk()) {
-    m.destroyCharacter(c.get());
+    destroyCharacter(&m.objects, c.get());
     return s;
   }
   out->index = uint32_t(m.characters.size());

@@ -1,0 +1,51 @@
+// SkinnedInstancing — SPDX-License-Identifier: MIT (see LICENSE)
+#pragma once
+// One character on the host's device for the Vulkan back-end: its vertex stream and indices,
+// palette and palette info, material table and texture arrays (as si::gl's CharacterBuffers and
+// PaletteTexture upload them), the staging that fills them (recorded by Renderer::
+// recordUploads), and its pipeline and descriptor set (made by the renderer).
+
+#include <vulkan/vulkan.h>
+
+#include <vector>
+
+#include "si/core/baked_palette.h"
+#include "si/core/character.h"
+#include "si/core/shader_inputs.h"
+#include "vk/device_objects.h"
+#include "vk/image_upload.h"
+
+namespace si::vk::detail {
+
+/// A buffer's contents waiting in the staging buffer from `offset`.
+struct BufferUpload {
+  GpuBuffer* buffer;
+  VkDeviceSize offset;
+};
+
+struct CharacterResources {
+  GpuBuffer vertices, indices, palette_info, vertex_materials, materials;
+  GpuImage palette, base_color, material_data;
+  std::vector<SubMesh> sub_meshes;
+  VkPipeline pipeline = VK_NULL_HANDLE;
+  VkDescriptorPool pool = VK_NULL_HANDLE;
+  VkDescriptorSet set = VK_NULL_HANDLE;
+  GpuBuffer staging;  ///< Until recordUploads() hands it on.
+  std::vector<BufferUpload> buffer_uploads;
+  std::vector<ImageUpload> image_uploads;
+  bool uploads_recorded = false;
+};
+
+/// Creates `c`'s buffers and images for `character` and `palette` and fills its staging buffer
+/// with their contents (the upload lists say where), and sets `*stream` to the vertex stream
+/// (the pipeline's vertex format). kUnsupported naming what the back-end does not draw yet
+/// (morph targets, 8 influences, vertex words); kInvalidArgument for a palette that does not
+/// validate or was baked for another skeleton; the codes of si::buildVertexStream and
+/// si::buildMaterialTable; kBackend on a failed call. Nothing is kept on failure.
+Status stageCharacter(DeviceObjects* objects, const Character& character,
+                      const BakedPalette& palette, CharacterResources* c, VertexStream* stream);
+
+/// Destroys what `c` holds (its pipeline and descriptor pool too).
+void destroyCharacter(DeviceObjects* objects, CharacterResources* c);
+
+}  // namespace si::vk::detail
