@@ -145,11 +145,12 @@ void destroyCharacter(DeviceObjects* objects, CharacterResources* c) {
                        &c->materials, &c->staging})
     objects->destroy(b);
   for (GpuImage* i : {&c->palette, &c->base_color, &c->material_data}) objects->destroy(i);
-  if (c->pipeline != VK_NULL_HANDLE)
-    vkDestroyPipeline(objects->device(), c->pipeline, objects->allocator());
+  for (VkPipeline* p : {&c->pipeline, &c->depth_only_pipeline}) {
+    if (*p != VK_NULL_HANDLE) vkDestroyPipeline(objects->device(), *p, objects->allocator());
+    *p = VK_NULL_HANDLE;
+  }
   if (c->pool != VK_NULL_HANDLE)
     vkDestroyDescriptorPool(objects->device(), c->pool, objects->allocator());
-  c->pipeline = VK_NULL_HANDLE;
   c->pool = VK_NULL_HANDLE;
 }
 

@@ -27,7 +27,8 @@ struct CharacterResources {
   GpuBuffer vertices, indices, palette_info, vertex_materials, materials;
   GpuImage palette, base_color, material_data;
   std::vector<SubMesh> sub_meshes;
-  VkPipeline pipeline = VK_NULL_HANDLE;
+  VkPipeline pipeline = VK_NULL_HANDLE;             ///< Shaded (DrawMode::kShaded).
+  VkPipeline depth_only_pipeline = VK_NULL_HANDLE;  ///< DrawMode::kDepthOnly.
   VkDescriptorPool pool = VK_NULL_HANDLE;
   VkDescriptorSet set = VK_NULL_HANDLE;
   GpuBuffer staging;  ///< Until recordUploads() hands it on.
@@ -45,7 +46,7 @@ struct CharacterResources {
 Status stageCharacter(DeviceObjects* objects, const Character& character,
                       const BakedPalette& palette, CharacterResources* c, VertexStream* stream);
 
-/// Destroys what `c` holds (its pipeline and descriptor pool too).
+/// Destroys what `c` holds (its pipelines and descriptor pool too).
 void destroyCharacter(DeviceObjects* objects, CharacterResources* c);
 
 }  // namespace si::vk::detail

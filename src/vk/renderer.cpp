@@ -27,12 +27,17 @@ using namespace si::vk::detail;
 struct Renderer::Impl {
   using Character = CharacterResources;
 
+  // A program's two stages: their modules and what they declare.
+  struct Program {
+    SpirvReflection vertex_reflection, fragment_reflection;
+    VkShaderModule vertex_module = VK_NULL_HANDLE, fragment_module = VK_NULL_HANDLE;
+  };
+
   RendererDesc desc;
   DeviceObjects objects;
   VkDeviceSize ubo_alignment = 256;
-  SpirvReflection vertex_reflection, fragment_reflection;
-  VkShaderModule vertex_module = VK_NULL_HANDLE, fragment_module = VK_NULL_HANDLE;
-  SkinnedLayout layout;
+  Program shaded, depth_only;  // The skinned and depth-only programs (DrawMode).
+  SkinnedLayout layout;        // One set layout for both: the union of their declarations.
   VkSampler nearest = VK_NULL_HANDLE, linear = VK_NULL_HANDLE;
   GpuBuffer ring;
   GpuImage custom;  // The custom texture array: one texel, never sampled (u_custom_layers 0).
@@ -48,6 +53,7 @@ struct Renderer::Impl {
   VkDevice device() const { return objects.device(); }
   const VkAllocationCallbacks* allocator() const { return objects.allocator(); }
 
+  Status loadProgram(const char* name, Program* out);
   Status writeSet(Character* c);
 };
 
@@ -102,30 +108,17 @@ Status Renderer::init(const RendererDesc& desc) {
   impl->slot_bytes = slot_bytes;
   impl_ = std::move(impl);
   Impl& m = *impl_;
-  // The modules and what they declare.
-  const SpirvModule* vert = findSpirvModule("skinned.vert");
-  const SpirvModule* frag = findSpirvModule("skinned.frag");
-  Status s = vert != nullptr && frag != nullptr
-                 ? Status::ok()
-                 : Status(StatusCode::kNotFound, "the skinned program's SPIR-V is not embedded");
-  if (s.isOk())
-    s = reflectSpirv(Span<const uint32_t>(vert->words, vert->word_count), kDefaultUniformBlock,
-                     &m.vertex_reflection);
-  if (s.isOk())
-    s = reflectSpirv(Span<const uint32_t>(frag->words, frag->word_count), kDefaultUniformBlock,
-                     &m.fragment_reflection);
-  for (const auto& [module, out] :
-       {std::pair{vert, &m.vertex_module}, std::pair{frag, &m.fragment_module}}) {
-    if (!s.isOk()) break;
-    auto info = vkStruct<VkShaderModuleCreateInfo>(VK_STRUCTURE_TYPE_SHADER_MODULE_CREATE_INFO);
-    info.codeSize = module->word_count * 4;
-    info.pCode = module->words;
-    s = checkVk(vkCreateShaderModule(m.device(), &info, m.allocator(), out),
-                "vkCreateShaderModule");
-  }
-  if (s.isOk())
-    s = createSkinnedLayout(m.device(), m.allocator(), m.vertex_reflection, m.fragment_reflection,
+  Status s = m.loadProgram("skinned", &m.shaded);
+  if (s.isOk()) s = m.loadProgram("depth_only", &m.depth_only);
+  if (s.isOk()) {
+    const StageReflection stages[] = {
+        {VK_SHADER_STAGE_VERTEX_BIT, &m.shaded.vertex_reflection},
+        {VK_SHADER_STAGE_FRAGMENT_BIT, &m.shaded.fragment_reflection},
+        {VK_SHADER_STAGE_VERTEX_BIT, &m.depth_only.vertex_reflection},
+        {VK_SHADER_STAGE_FRAGMENT_BIT, &m.depth_only.fragment_reflection}};
+    s = createSkinnedLayout(m.device(), m.allocator(), Span<const StageReflection>(stages, 4),
                             &m.layout);
+  }
   for (const auto& [filter, out] :
        {std::pair{VK_FILTER_NEAREST, &m.nearest}, std::pair{VK_FILTER_LINEAR, &m.linear}}) {
     if (!s.isOk()) break;
@@ -167,7 +160,8 @@ void Renderer::shutdown() {
     vkDestroyPipelineLayout(m.device(), m.layout.pipeline_layout, m.allocator());
   if (m.layout.set_layout != VK_NULL_HANDLE)
     vkDestroyDescriptorSetLayout(m.device(), m.layout.set_layout, m.allocator());
-  for (VkShaderModule module : {m.vertex_module, m.fragment_module})
+  for (VkShaderModule module : {m.shaded.vertex_module, m.shaded.fragment_module,
+                                m.depth_only.vertex_module, m.depth_only.fragment_module})
     if (module != VK_NULL_HANDLE) vkDestroyShaderModule(m.device(), module, m.allocator());
   impl_.reset();
 }
@@ -198,15 +192,45 @@ void putMember(uint8_t* base, int64_t offset, const void* bytes, size_t size) {
   if (offset >= 0) std::memcpy(base + offset, bytes, size);
 }
 
-// OpenGL's clip depth (-w to w) mapped to Vulkan's (0 to w).
-glm::mat4 vulkanClip(const glm::mat4& gl) {
+// `camera`'s view-projection with Vulkan's clip depth (0 to w): OpenGL's -w to w mapped, a
+// zero-to-one or reverse-Z projection as it is.
+glm::mat4 vulkanViewProjection(const Camera& camera) {
+  if (camera.depth != DepthConvention::kNegativeOneToOne) return camera.viewProjection();
   glm::mat4 m(1.0f);
   m[2][2] = 0.5f;
   m[3][2] = 0.5f;
-  return m * gl;
+  return m * camera.viewProjection();
+}
+
+// The depth test a draw asks for: the given one, or the camera convention's.
+VkCompareOp depthCompare(const DrawTarget& target, const Camera& camera) {
+  if (target.depth_compare != VK_COMPARE_OP_MAX_ENUM) return target.depth_compare;
+  return camera.depth == DepthConvention::kReversedZeroToOne ? VK_COMPARE_OP_GREATER
+                                                             : VK_COMPARE_OP_LESS;
 }
 
 }  // namespace
+
+Status Renderer::Impl::loadProgram(const char* name, Program* out) {
+  const SpirvModule* vert = findSpirvModule(strCat(name, ".vert").c_str());
+  const SpirvModule* frag = findSpirvModule(strCat(name, ".frag").c_str());
+  if (vert == nullptr || frag == nullptr)
+    return {StatusCode::kNotFound, strCat("the ", name, " program's SPIR-V is not embedded")};
+  Status s = reflectSpirv(Span<const uint32_t>(vert->words, vert->word_count), kDefaultUniformBlock,
+                          &out->vertex_reflection);
+  if (s.isOk())
+    s = reflectSpirv(Span<const uint32_t>(frag->words, frag->word_count), kDefaultUniformBlock,
+                     &out->fragment_reflection);
+  for (const auto& [module, made] :
+       {std::pair{vert, &out->vertex_module}, std::pair{frag, &out->fragment_module}}) {
+    if (!s.isOk()) break;
+    auto info = vkStruct<VkShaderModuleCreateInfo>(VK_STRUCTURE_TYPE_SHADER_MODULE_CREATE_INFO);
+    info.codeSize = module->word_count * 4;
+    info.pCode = module->words;
+    s = checkVk(vkCreateShaderModule(device(), &info, allocator(), made), "vkCreateShaderModule");
+  }
+  return s;
+}
 
 Status Renderer::addCharacter(const Character& character, const BakedPalette& palette,
                               CharacterId* out) {
@@ -217,9 +241,17 @@ Status Renderer::addCharacter(const Character& character, const BakedPalette& pa
   VertexStream stream;
   Status s = stageCharacter(&m.objects, character, palette, c.get(), &stream);
   if (s.isOk())
-    s = createSkinnedPipeline(m.device(), m.allocator(), m.vertex_module, m.fragment_module,
-                              m.layout.pipeline_layout, m.desc.color_format, m.desc.depth_format,
-                              stream, &c->pipeline);
+    s = createSkinnedPipeline(m.device(), m.allocator(), m.shaded.vertex_module,
+                              m.shaded.fragment_module, m.layout.pipeline_layout,
+                              {m.desc.color_format, m.desc.depth_format}, stream, &c->pipeline);
+  const VkFormat depth_only_format = m.desc.depth_only_format != VK_FORMAT_UNDEFINED
+                                         ? m.desc.depth_only_format
+                                         : m.desc.depth_format;
+  if (s.isOk())
+    s = createSkinnedPipeline(m.device(), m.allocator(), m.depth_only.vertex_module,
+                              m.depth_only.fragment_module, m.layout.pipeline_layout,
+                              {VK_FORMAT_UNDEFINED, depth_only_format}, stream,
+                              &c->depth_only_pipeline);
   if (s.isOk()) s = m.writeSet(c.get());
   if (!s.isOk()) {
     destroyCharacter(&m.objects, c.get());
@@ -339,11 +371,19 @@ Status Renderer::beginFrame(uint32_t frame) {
   return Status::ok();
 }
 
-Status Renderer::recordDraw(VkCommandBuffer cmd, VkExtent2D target, CharacterId id,
+Status Renderer::recordDraw(VkCommandBuffer cmd, const DrawTarget& target, CharacterId id,
                             const CrowdView& view, const InstanceBatcher& batcher,
                             const Camera& camera, DrawStats* stats) {
   if (!impl_) return {StatusCode::kInvalidArgument, "vk::Renderer::recordDraw: not initialized"};
   Impl& m = *impl_;
+  if (target.mode != DrawMode::kShaded && target.mode != DrawMode::kDepthOnly)
+    return {StatusCode::kInvalidArgument,
+            strCat("vk::Renderer::recordDraw: no draw mode ", int(target.mode))};
+  if (target.extent.width == 0 || target.extent.height == 0)
+    return {StatusCode::kInvalidArgument, "vk::Renderer::recordDraw: an empty target extent"};
+  if (target.depth_compare > VK_COMPARE_OP_ALWAYS && target.depth_compare != VK_COMPARE_OP_MAX_ENUM)
+    return {StatusCode::kInvalidArgument, strCat("vk::Renderer::recordDraw: depth_compare ",
+                                                 int(target.depth_compare), " is no VkCompareOp")};
   if (id.index >= m.characters.size())
     return {StatusCode::kInvalidArgument,
             strCat("vk::Renderer::recordDraw: no character ", id.index)};
@@ -379,20 +419,32 @@ Status Renderer::recordDraw(VkCommandBuffer cmd, VkExtent2D target, CharacterId 
   m.frame_used = end;
   // The fragment stage's defaults, then each batch's camera and LOD.
   const uint32_t no_custom_layers = 0;
-  putMember(ring + defaults_at, defaultOffset(m.fragment_reflection, "u_custom_layers"),
+  putMember(ring + defaults_at, defaultOffset(m.shaded.fragment_reflection, "u_custom_layers"),
             &no_custom_layers, 4);
-  putMember(ring + defaults_at, defaultOffset(m.fragment_reflection, "u_light_direction"),
+  putMember(ring + defaults_at, defaultOffset(m.shaded.fragment_reflection, "u_light_direction"),
             &m.desc.light_direction, 12);
-  const glm::mat4 vp = vulkanClip(camera.viewProjection());
-  const int64_t vp_at = defaultOffset(m.vertex_reflection, "u_view_projection"),
-                lod_at = defaultOffset(m.vertex_reflection, "u_lod");
-  vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_GRAPHICS, c.pipeline);
+  const bool depth_only = target.mode == DrawMode::kDepthOnly;
+  const Impl::Program& program = depth_only ? m.depth_only : m.shaded;
+  const glm::mat4 vp = vulkanViewProjection(camera);
+  const int64_t vp_at = defaultOffset(program.vertex_reflection, "u_view_projection"),
+                lod_at = defaultOffset(program.vertex_reflection, "u_lod");
+  vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_GRAPHICS,
+                    depth_only ? c.depth_only_pipeline : c.pipeline);
   // Flipped (negative height), so the image is OpenGL's.
+  const VkExtent2D extent = target.extent;
   const VkViewport viewport{
-      0.0f, float(target.height), float(target.width), -float(target.height), 0.0f, 1.0f};
-  const VkRect2D scissor{{0, 0}, target};
+      0.0f, float(extent.height), float(extent.width), -float(extent.height), 0.0f, 1.0f};
+  const VkRect2D scissor{{0, 0}, extent};
   vkCmdSetViewport(cmd, 0, 1, &viewport);
   vkCmdSetScissor(cmd, 0, 1, &scissor);
+  vkCmdSetDepthCompareOp(cmd, depthCompare(target, camera));
+  // Counter-clockwise front faces under the flipped viewport are OpenGL's; a projection that
+  // mirrors the image turns them.
+  vkCmdSetFrontFace(
+      cmd, camera.flipsWinding() ? VK_FRONT_FACE_CLOCKWISE : VK_FRONT_FACE_COUNTER_CLOCKWISE);
+  const bool bias = target.depth_bias_constant != 0.0f || target.depth_bias_slope != 0.0f;
+  vkCmdSetDepthBiasEnable(cmd, bias ? VK_TRUE : VK_FALSE);
+  vkCmdSetDepthBias(cmd, target.depth_bias_constant, 0.0f, target.depth_bias_slope);
   const VkDeviceSize zero = 0;
   vkCmdBindVertexBuffers(cmd, 0, 1, &c.vertices.buffer, &zero);
   vkCmdBindIndexBuffer(cmd, c.indices.buffer, 0, VK_INDEX_TYPE_UINT32);

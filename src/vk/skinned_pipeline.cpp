@@ -13,15 +13,13 @@ namespace si::vk::detail {
 using si::detail::strCat;
 
 Status createSkinnedLayout(VkDevice device, const VkAllocationCallbacks* allocator,
-                           const SpirvReflection& vertex_reflection,
-                           const SpirvReflection& fragment_reflection, SkinnedLayout* out) {
-  // The union of both stages' descriptors: the records and default blocks dynamic (their
+                           Span<const StageReflection> stages, SkinnedLayout* out) {
+  // The union of the stages' descriptors: the records and default blocks dynamic (their
   // offsets move per batch and frame), every other binding one the renderer fills.
   std::map<uint32_t, VkDescriptorSetLayoutBinding> bindings;
-  for (const auto* r : {&vertex_reflection, &fragment_reflection}) {
-    const VkShaderStageFlags stage =
-        r == &vertex_reflection ? VK_SHADER_STAGE_VERTEX_BIT : VK_SHADER_STAGE_FRAGMENT_BIT;
-    for (const SpirvDescriptor& d : r->descriptors) {
+  for (const StageReflection& r : stages) {
+    const VkShaderStageFlags stage = r.stage;
+    for (const SpirvDescriptor& d : r.reflection->descriptors) {
       const uint32_t b = d.binding;
       VkDescriptorType type;
       if (b == kRecordsBinding || b == kVertexDefaultsBinding || b == kFragmentDefaultsBinding)
@@ -60,8 +58,9 @@ Status createSkinnedLayout(VkDevice device, const VkAllocationCallbacks* allocat
 
 Status createSkinnedPipeline(VkDevice device, const VkAllocationCallbacks* allocator,
                              VkShaderModule vertex_module, VkShaderModule fragment_module,
-                             VkPipelineLayout pipeline_layout, const VkFormat& color_format,
-                             VkFormat depth_format, const VertexStream& stream, VkPipeline* out) {
+                             VkPipelineLayout pipeline_layout, RenderingFormats formats,
+                             const VertexStream& stream, VkPipeline* out) {
+  const bool color = formats.color != VK_FORMAT_UNDEFINED;
   VkPipelineShaderStageCreateInfo stages[2] = {
       vkStruct<VkPipelineShaderStageCreateInfo>(
           VK_STRUCTURE_TYPE_PIPELINE_SHADER_STAGE_CREATE_INFO),
@@ -103,7 +102,7 @@ Status createSkinnedPipeline(VkDevice device, const VkAllocationCallbacks* alloc
       VK_STRUCTURE_TYPE_PIPELINE_RASTERIZATION_STATE_CREATE_INFO);
   raster.polygonMode = VK_POLYGON_MODE_FILL;
   raster.cullMode = VK_CULL_MODE_BACK_BIT;
-  raster.frontFace = VK_FRONT_FACE_COUNTER_CLOCKWISE;  // With the flipped viewport: OpenGL's.
+  raster.frontFace = VK_FRONT_FACE_COUNTER_CLOCKWISE;  // Dynamic: each draw sets it.
   raster.lineWidth = 1.0f;
   auto multisample = vkStruct<VkPipelineMultisampleStateCreateInfo>(
       VK_STRUCTURE_TYPE_PIPELINE_MULTISAMPLE_STATE_CREATE_INFO);
@@ -112,28 +111,32 @@ Status createSkinnedPipeline(VkDevice device, const VkAllocationCallbacks* alloc
       VK_STRUCTURE_TYPE_PIPELINE_DEPTH_STENCIL_STATE_CREATE_INFO);
   depth.depthTestEnable = VK_TRUE;
   depth.depthWriteEnable = VK_TRUE;
-  depth.depthCompareOp = VK_COMPARE_OP_LESS;
+  depth.depthCompareOp = VK_COMPARE_OP_LESS;  // Dynamic: each draw sets it.
   VkPipelineColorBlendAttachmentState attachment{};
   attachment.colorWriteMask = VK_COLOR_COMPONENT_R_BIT | VK_COLOR_COMPONENT_G_BIT |
                               VK_COLOR_COMPONENT_B_BIT | VK_COLOR_COMPONENT_A_BIT;
   auto blend = vkStruct<VkPipelineColorBlendStateCreateInfo>(
       VK_STRUCTURE_TYPE_PIPELINE_COLOR_BLEND_STATE_CREATE_INFO);
-  blend.attachmentCount = 1;
+  blend.attachmentCount = color ? 1 : 0;
   blend.pAttachments = &attachment;
-  const VkDynamicState dynamic_states[] = {VK_DYNAMIC_STATE_VIEWPORT, VK_DYNAMIC_STATE_SCISSOR};
+  // Core in Vulkan 1.3 (extended dynamic state 1 and 2).
+  const VkDynamicState dynamic_states[] = {
+      VK_DYNAMIC_STATE_VIEWPORT,   VK_DYNAMIC_STATE_SCISSOR,    VK_DYNAMIC_STATE_DEPTH_COMPARE_OP,
+      VK_DYNAMIC_STATE_FRONT_FACE, VK_DYNAMIC_STATE_DEPTH_BIAS, VK_DYNAMIC_STATE_DEPTH_BIAS_ENABLE};
   auto dynamic = vkStruct<VkPipelineDynamicStateCreateInfo>(
       VK_STRUCTURE_TYPE_PIPELINE_DYNAMIC_STATE_CREATE_INFO);
-  dynamic.dynamicStateCount = 2;
+  dynamic.dynamicStateCount = uint32_t(std::size(dynamic_states));
   dynamic.pDynamicStates = dynamic_states;
   auto rendering =
       vkStruct<VkPipelineRenderingCreateInfo>(VK_STRUCTURE_TYPE_PIPELINE_RENDERING_CREATE_INFO);
-  rendering.colorAttachmentCount = 1;
-  rendering.pColorAttachmentFormats = &color_format;
-  rendering.depthAttachmentFormat = depth_format;
+  rendering.colorAttachmentCount = color ? 1 : 0;
+  rendering.pColorAttachmentFormats = color ? &formats.color : nullptr;
+  rendering.depthAttachmentFormat = formats.depth;
   auto info =
       vkStruct<VkGraphicsPipelineCreateInfo>(VK_STRUCTURE_TYPE_GRAPHICS_PIPELINE_CREATE_INFO);
   info.pNext = &rendering;
-  info.stageCount = 2;
+  // Depth only: no fragment stage (the program's is empty), so nothing reads the varyings.
+  info.stageCount = color ? 2 : 1;
   info.pStages = stages;
   info.pVertexInputState = &input;
   info.pInputAssemblyState = &assembly;

@@ -9,6 +9,7 @@
 #include <vector>
 
 #include "si/core/shader_inputs.h"
+#include "si/core/span.h"
 #include "si/core/status.h"
 #include "si_vk/vulkan_profile.h"
 #include "vk/spirv_reflect.h"
@@ -36,21 +37,33 @@ struct SkinnedLayout {
   std::vector<VkDescriptorSetLayoutBinding> bindings;
 };
 
-/// The union of both stages' descriptors (the records and the default blocks dynamic: their
-/// offsets move per batch and frame) as a set layout and a pipeline layout of that one set.
-/// kUnsupported naming a descriptor at a binding the renderer does not fill; kBackend on a
-/// failed call.
-Status createSkinnedLayout(VkDevice device, const VkAllocationCallbacks* allocator,
-                           const SpirvReflection& vertex_reflection,
-                           const SpirvReflection& fragment_reflection, SkinnedLayout* out);
+/// One shader stage's declarations.
+struct StageReflection {
+  VkShaderStageFlags stage;
+  const SpirvReflection* reflection;
+};
 
-/// The skinned program's graphics pipeline for `stream`'s vertex format (as si::gl's
-/// CharacterBuffers describes it), for dynamic rendering into `color_format` and `depth_format`:
-/// back faces culled with counter-clockwise front faces (OpenGL's, under the flipped viewport),
-/// depth tested less and written, viewport and scissor dynamic.
+/// The union of `stages`' descriptors (the shaded and depth-only programs' stages; the records
+/// and the default blocks dynamic: their offsets move per batch and frame) as a set layout and a
+/// pipeline layout of that one set. kUnsupported naming a descriptor at a binding the renderer
+/// does not fill; kBackend on a failed call.
+Status createSkinnedLayout(VkDevice device, const VkAllocationCallbacks* allocator,
+                           Span<const StageReflection> stages, SkinnedLayout* out);
+
+/// The formats a pipeline renders into (VkPipelineRenderingCreateInfo's): no colour attachment
+/// when `color` is VK_FORMAT_UNDEFINED (depth only).
+struct RenderingFormats {
+  VkFormat color = VK_FORMAT_UNDEFINED;
+  VkFormat depth = VK_FORMAT_UNDEFINED;
+};
+
+/// A skinned program's graphics pipeline for `stream`'s vertex format (as si::gl's
+/// CharacterBuffers describes it), for dynamic rendering into `formats`: back faces culled,
+/// depth tested and written; the viewport, scissor, depth compare, front face and depth bias
+/// dynamic (set by each draw).
 Status createSkinnedPipeline(VkDevice device, const VkAllocationCallbacks* allocator,
                              VkShaderModule vertex_module, VkShaderModule fragment_module,
-                             VkPipelineLayout pipeline_layout, const VkFormat& color_format,
-                             VkFormat depth_format, const VertexStream& stream, VkPipeline* out);
+                             VkPipelineLayout pipeline_layout, RenderingFormats formats,
+                             const VertexStream& stream, VkPipeline* out);
 
 }  // namespace si::vk::detail

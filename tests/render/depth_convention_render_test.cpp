@@ -6,32 +6,13 @@
 // context's clip control is refused by name.
 #include <glad/gl.h>
 
-#include <glm/gtc/matrix_transform.hpp>
-
-#include <algorithm>
-
+#include "render/depth_distances.h"
 #include "render/render_fixture.h"
 
 namespace si {
 namespace {
 
 using namespace test;
-
-// `standard` (a lookAt camera) with `convention`'s projection: zero-to-one (glm's ZO
-// perspective, the same near and far), or reverse-Z with an infinite far plane.
-Camera withConvention(const Camera& standard, DepthConvention convention, float fov,
-                      float near_plane, float far_plane) {
-  Camera c = standard;
-  c.depth = convention;
-  if (convention == DepthConvention::kZeroToOne)
-    c.projection = glm::perspectiveRH_ZO(fov, 1.0f, near_plane, far_plane);
-  if (convention == DepthConvention::kReversedZeroToOne) {
-    const Camera reversed = Camera::lookAtReverseZ({0, 0, 0}, {0, 0, -1}, glm::vec3(0, 1, 0), fov,
-                                                   1.0f, near_plane);
-    c.projection = reversed.projection;
-  }
-  return c;
-}
 
 // The context's clip control, depth function and depth clear for `convention`.
 struct DepthState {
@@ -48,21 +29,6 @@ struct DepthState {
   float clearDepth() const { return reversed ? 0.0f : 1.0f; }
   bool reversed = false;
 };
-
-// Distance along the view axis of window depth `d` under `camera` (depth range 0-1; clip z =
-// A z + B, w = -z), or -1 for the cleared background.
-std::vector<float> viewDistances(const std::vector<float>& depth, const Camera& camera) {
-  const float a = camera.projection[2][2], b = camera.projection[3][2];
-  const bool reversed = camera.depth == DepthConvention::kReversedZeroToOne;
-  std::vector<float> out(depth.size(), -1.0f);
-  for (size_t i = 0; i < depth.size(); ++i) {
-    const float d = depth[i];
-    if (reversed ? d <= 0.0f : d >= 1.0f) continue;
-    const float ndc = camera.depth == DepthConvention::kNegativeOneToOne ? 2.0f * d - 1.0f : d;
-    out[i] = b / (ndc + a);  // -z
-  }
-  return out;
-}
 
 std::vector<float> readDepth() {
   std::vector<float> z(size_t(kSize) * kSize);
@@ -115,16 +81,9 @@ TEST_P(DepthConventionTest, EveryPathDrawsTheStandardImageAndDepthUnderEveryConv
       const std::vector<uint8_t> image = drawKind(r, kind, seen, camera, state.clearDepth(), &st);
       const Diff diff = compare(image, reference, nullptr);
       EXPECT_LE(diff.share, 0.001) << "max channel difference " << diff.max_channel;
-      const std::vector<float> distance = viewDistances(readDepth(), camera);
-      size_t covered = 0, apart = 0;
-      for (size_t i = 0; i < distance.size(); ++i) {
-        if (reference_distance[i] < 0.0f && distance[i] < 0.0f) continue;
-        ++covered;
-        // Within a thousandth of the distance (24-bit standard depth at 110 units is the
-        // coarser of the two), or one of them background at a silhouette.
-        apart += std::abs(distance[i] - reference_distance[i]) >
-                 1e-3f * std::max(1.0f, reference_distance[i]);
-      }
+      const DistanceDiff d =
+          compareDistances(viewDistances(readDepth(), camera), reference_distance);
+      const size_t covered = d.covered, apart = d.apart;
       EXPECT_GT(covered, 2000u);
       EXPECT_LE(apart, covered / 200) << apart << " of " << covered;
     }

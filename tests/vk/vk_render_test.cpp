@@ -3,63 +3,28 @@
 // engine"): on lavapipe (or any Vulkan 1.3 device), with the validation layer on and silent, the
 // vertex-shader path draws the scene si::Renderer's vertex-shader path draws on this machine's
 // OpenGL, within the golden tolerance. SI_REQUIRE_VULKAN=1 turns a missing device into a failure.
-#include <cstdlib>
-#include <sstream>
-
-#include "render/render_fixture.h"
-#include "si/vk/renderer.h"
-#include "vk/vk_test_host.h"
+#include "vk/vk_render_fixture.h"
 
 namespace si {
 namespace {
 
 using namespace test;
 
-class VulkanRenderTest : public RenderTest {};
-
-// The embedded character's crowd of the LOD rows (populateLodCrowd).
-void lodCrowd(CrowdManager* crowd) {
-  CrowdDesc cd;
-  cd.palette = &palette();
-  cd.sub_mesh_count = uint32_t(character().mesh.sub_meshes.size());
-  cd.lod_count = uint32_t(character().mesh.maxLodCount());
-  ASSERT_TRUE(crowd->init(cd).isOk());
-  populateLodCrowd(crowd);
-}
-
-std::string joined(const std::vector<std::string>& messages) {
-  std::ostringstream out;
-  for (const std::string& m : messages) out << m << "\n";
-  return out.str();
-}
+class VulkanRenderTest : public VulkanRenderFixture {};
 
 TEST_P(VulkanRenderTest, TheVertexShaderPathDrawsWhatOpenGlDraws) {
-  VkTestHost host;
-  const Status created = host.create(kSize, kSize);
-  if (!created.isOk()) {
-    if (std::getenv("SI_REQUIRE_VULKAN") != nullptr) FAIL() << created.toString();
-    GTEST_SKIP() << created.toString();
-  }
-  std::printf("[ vulkan ] %s, validation %s\n", host.deviceName().c_str(),
-              host.validation() ? "on" : "not installed");
+  SI_START_VULKAN_HOST();
+  VkTestHost& host = host_;
   CrowdManager crowd;
   lodCrowd(&crowd);
-
   vk::Renderer r;
   vk::RendererDesc rd;
-  rd.physical_device = host.physicalDevice();
-  rd.device = host.device();
   // Slots of an odd size: the second view's slot still starts where a dynamic offset may (the
   // validation layer reports a misaligned one).
   rd.ring_bytes_per_frame = (1u << 20) + 100;
-  Status s = r.init(rd);
-  ASSERT_TRUE(s.isOk()) << s.toString();
   vk::CharacterId id;
-  s = r.addCharacter(character(), palette(), &id);
-  ASSERT_TRUE(s.isOk()) << s.toString();
-  s = host.submit([&](VkCommandBuffer cmd) { return r.recordUploads(cmd); });
-  ASSERT_TRUE(s.isOk()) << s.toString();
-  r.uploadsComplete();
+  ASSERT_NO_FATAL_FAILURE(startRenderer(rd, &r, &id));
+  Status s;
   InstanceBatcher batcher;
   ASSERT_TRUE(batcher.init(r.batchLimits()).isOk());
   const glm::vec4 background(0.2f, 0.25f, 0.3f, 1.0f);
@@ -77,11 +42,12 @@ TEST_P(VulkanRenderTest, TheVertexShaderPathDrawsWhatOpenGlDraws) {
     std::vector<uint8_t> image;
     vk::DrawStats stats;
     s = host.render(
-        background,
+        {background},
         [&](VkCommandBuffer cmd) {
           const Status begun = r.beginFrame(slot);
           if (!begun.isOk()) return begun;
-          return r.recordDraw(cmd, {kSize, kSize}, id, crowd.view(), batcher, camera, &stats);
+          return r.recordDraw(cmd, vk::DrawTarget{{kSize, kSize}}, id, crowd.view(), batcher,
+                              camera, &stats);
         },
         &image);
     ASSERT_TRUE(s.isOk()) << s.toString();
@@ -100,7 +66,7 @@ TEST_P(VulkanRenderTest, TheVertexShaderPathDrawsWhatOpenGlDraws) {
           writePng(::testing::TempDir() + "si_vk_gl_image.png", kSize, kSize, gl_image).isOk());
     }
   }
-  EXPECT_TRUE(host.messages().empty()) << joined(host.messages());
+  EXPECT_TRUE(host.messages().empty()) << messages();
   r.shutdown();
 }
 
@@ -109,12 +75,8 @@ TEST_P(VulkanRenderTest, RefusalsAreNamed) {
   vk::Renderer r;
   vk::RendererDesc rd;
   EXPECT_EQ(r.init(rd).code(), StatusCode::kInvalidArgument) << "no device";
-  VkTestHost host;
-  const Status created = host.create(kSize, kSize);
-  if (!created.isOk()) {
-    if (std::getenv("SI_REQUIRE_VULKAN") != nullptr) FAIL() << created.toString();
-    GTEST_SKIP() << created.toString();
-  }
+  SI_START_VULKAN_HOST();
+  VkTestHost& host = host_;
   rd.physical_device = host.physicalDevice();
   rd.device = host.device();
   for (uint32_t frames : {0u, 9u}) {
@@ -155,9 +117,10 @@ TEST_P(VulkanRenderTest, RefusalsAreNamed) {
   std::vector<uint8_t> image;
   const auto frame = [&] {
     return host.render(
-        glm::vec4(0.0f),
+        {},
         [&](VkCommandBuffer cmd) {
-          return r.recordDraw(cmd, {kSize, kSize}, id, crowd.view(), batcher, lodCamera());
+          return r.recordDraw(cmd, vk::DrawTarget{{kSize, kSize}}, id, crowd.view(), batcher,
+                              lodCamera());
         },
         &image);
   };
@@ -174,11 +137,21 @@ TEST_P(VulkanRenderTest, RefusalsAreNamed) {
   s = frame();
   EXPECT_EQ(s.code(), StatusCode::kLimitExceeded);
   EXPECT_NE(s.message().find("ring_bytes_per_frame"), std::string::npos) << s.toString();
-  EXPECT_EQ(r.recordDraw(VK_NULL_HANDLE, {kSize, kSize}, vk::CharacterId{7}, crowd.view(), batcher,
-                         lodCamera())
+  // A target with no area, a mode or depth test that does not exist.
+  vk::DrawTarget empty, no_mode{{kSize, kSize}}, no_compare{{kSize, kSize}};
+  no_mode.mode = vk::DrawMode(7);
+  no_compare.depth_compare = VkCompareOp(8);
+  for (const auto& [target, word] : {std::pair{empty, "extent"}, std::pair{no_mode, "mode"},
+                                     std::pair{no_compare, "depth_compare"}}) {
+    s = r.recordDraw(VK_NULL_HANDLE, target, id, crowd.view(), batcher, lodCamera());
+    EXPECT_EQ(s.code(), StatusCode::kInvalidArgument) << word;
+    EXPECT_NE(s.message().find(word), std::string::npos) << s.toString();
+  }
+  EXPECT_EQ(r.recordDraw(VK_NULL_HANDLE, vk::DrawTarget{{kSize, kSize}}, vk::CharacterId{7},
+                         crowd.view(), batcher, lodCamera())
                 .code(),
             StatusCode::kInvalidArgument);
-  EXPECT_TRUE(host.messages().empty()) << joined(host.messages());
+  EXPECT_TRUE(host.messages().empty()) << messages();
   r.shutdown();
 }
 

@@ -145,11 +145,12 @@ Status VkTestHost::create(uint32_t width, uint32_t height) {
                      VK_IMAGE_USAGE_COLOR_ATTACHMENT_BIT | VK_IMAGE_USAGE_TRANSFER_SRC_BIT,
                      VK_IMAGE_ASPECT_COLOR_BIT, &color_, &color_memory_, &color_view_);
   if (s.isOk())
-    s = createTarget(VK_FORMAT_D32_SFLOAT, VK_IMAGE_USAGE_DEPTH_STENCIL_ATTACHMENT_BIT,
+    s = createTarget(VK_FORMAT_D32_SFLOAT,
+                     VK_IMAGE_USAGE_DEPTH_STENCIL_ATTACHMENT_BIT | VK_IMAGE_USAGE_TRANSFER_SRC_BIT,
                      VK_IMAGE_ASPECT_DEPTH_BIT, &depth_, &depth_memory_, &depth_view_);
   if (!s.isOk()) return s;
   auto buffer = vkStruct<VkBufferCreateInfo>(VK_STRUCTURE_TYPE_BUFFER_CREATE_INFO);
-  buffer.size = VkDeviceSize(width) * height * 4;
+  buffer.size = VkDeviceSize(width) * height * 8;  // The colour, then the depth.
   buffer.usage = VK_BUFFER_USAGE_TRANSFER_DST_BIT;
   s = checkVk(vkCreateBuffer(device_, &buffer, nullptr, &readback_), "vkCreateBuffer");
   if (!s.isOk()) return s;
@@ -222,9 +223,9 @@ Status VkTestHost::submit(const std::function<Status(VkCommandBuffer)>& work) {
   return s;
 }
 
-Status VkTestHost::render(const glm::vec4& clear,
-                          const std::function<Status(VkCommandBuffer)>& draw,
-                          std::vector<uint8_t>* rgba) {
+Status VkTestHost::render(const Frame& frame, const std::function<Status(VkCommandBuffer)>& draw,
+                          std::vector<uint8_t>* rgba, std::vector<float>* depth_out) {
+  const VkDeviceSize depth_at = VkDeviceSize(width_) * height_ * 4;
   const Status s = submit([&](VkCommandBuffer cmd) {
     const auto transition = [&](VkImage image, VkImageAspectFlags aspect, VkImageLayout from,
                                 VkImageLayout to, VkAccessFlags src_access,
@@ -233,44 +234,62 @@ Status VkTestHost::render(const glm::vec4& clear,
       vk::detail::recordImageBarrier(cmd, image, aspect, 0, 1, 1,
                                      {from, to, src_access, dst_access, src, dst});
     };
-    transition(color_, VK_IMAGE_ASPECT_COLOR_BIT, VK_IMAGE_LAYOUT_UNDEFINED,
-               VK_IMAGE_LAYOUT_COLOR_ATTACHMENT_OPTIMAL, 0, VK_ACCESS_COLOR_ATTACHMENT_WRITE_BIT,
-               VK_PIPELINE_STAGE_TOP_OF_PIPE_BIT, VK_PIPELINE_STAGE_COLOR_ATTACHMENT_OUTPUT_BIT);
-    transition(
-        depth_, VK_IMAGE_ASPECT_DEPTH_BIT, VK_IMAGE_LAYOUT_UNDEFINED,
-        VK_IMAGE_LAYOUT_DEPTH_ATTACHMENT_OPTIMAL, 0,
-        VK_ACCESS_DEPTH_STENCIL_ATTACHMENT_READ_BIT | VK_ACCESS_DEPTH_STENCIL_ATTACHMENT_WRITE_BIT,
-        VK_PIPELINE_STAGE_TOP_OF_PIPE_BIT,
-        VK_PIPELINE_STAGE_EARLY_FRAGMENT_TESTS_BIT | VK_PIPELINE_STAGE_LATE_FRAGMENT_TESTS_BIT);
+    constexpr VkAccessFlags kDepthAccess =
+        VK_ACCESS_DEPTH_STENCIL_ATTACHMENT_READ_BIT | VK_ACCESS_DEPTH_STENCIL_ATTACHMENT_WRITE_BIT;
+    constexpr VkPipelineStageFlags kDepthStages =
+        VK_PIPELINE_STAGE_EARLY_FRAGMENT_TESTS_BIT | VK_PIPELINE_STAGE_LATE_FRAGMENT_TESTS_BIT;
+    if (frame.color)
+      transition(color_, VK_IMAGE_ASPECT_COLOR_BIT, VK_IMAGE_LAYOUT_UNDEFINED,
+                 VK_IMAGE_LAYOUT_COLOR_ATTACHMENT_OPTIMAL, 0, VK_ACCESS_COLOR_ATTACHMENT_WRITE_BIT,
+                 VK_PIPELINE_STAGE_TOP_OF_PIPE_BIT, VK_PIPELINE_STAGE_COLOR_ATTACHMENT_OUTPUT_BIT);
+    transition(depth_, VK_IMAGE_ASPECT_DEPTH_BIT, VK_IMAGE_LAYOUT_UNDEFINED,
+               VK_IMAGE_LAYOUT_DEPTH_ATTACHMENT_OPTIMAL, 0, kDepthAccess,
+               VK_PIPELINE_STAGE_TOP_OF_PIPE_BIT, kDepthStages);
     auto color = vkStruct<VkRenderingAttachmentInfo>(VK_STRUCTURE_TYPE_RENDERING_ATTACHMENT_INFO);
     color.imageView = color_view_;
     color.imageLayout = VK_IMAGE_LAYOUT_COLOR_ATTACHMENT_OPTIMAL;
     color.loadOp = VK_ATTACHMENT_LOAD_OP_CLEAR;
     color.storeOp = VK_ATTACHMENT_STORE_OP_STORE;
-    color.clearValue.color = {{clear.r, clear.g, clear.b, clear.a}};
+    const glm::vec4& c = frame.clear_color;
+    color.clearValue.color = {{c.r, c.g, c.b, c.a}};
     auto depth = vkStruct<VkRenderingAttachmentInfo>(VK_STRUCTURE_TYPE_RENDERING_ATTACHMENT_INFO);
     depth.imageView = depth_view_;
     depth.imageLayout = VK_IMAGE_LAYOUT_DEPTH_ATTACHMENT_OPTIMAL;
     depth.loadOp = VK_ATTACHMENT_LOAD_OP_CLEAR;
-    depth.storeOp = VK_ATTACHMENT_STORE_OP_DONT_CARE;
-    depth.clearValue.depthStencil = {1.0f, 0};
+    depth.storeOp =
+        depth_out != nullptr ? VK_ATTACHMENT_STORE_OP_STORE : VK_ATTACHMENT_STORE_OP_DONT_CARE;
+    depth.clearValue.depthStencil = {frame.clear_depth, 0};
     auto rendering = vkStruct<VkRenderingInfo>(VK_STRUCTURE_TYPE_RENDERING_INFO);
     rendering.renderArea = {{0, 0}, {width_, height_}};
     rendering.layerCount = 1;
-    rendering.colorAttachmentCount = 1;
-    rendering.pColorAttachments = &color;
+    rendering.colorAttachmentCount = frame.color ? 1 : 0;
+    rendering.pColorAttachments = frame.color ? &color : nullptr;
     rendering.pDepthAttachment = &depth;
     vkCmdBeginRendering(cmd, &rendering);
     const Status drawn = draw(cmd);
     vkCmdEndRendering(cmd);
-    transition(color_, VK_IMAGE_ASPECT_COLOR_BIT, VK_IMAGE_LAYOUT_COLOR_ATTACHMENT_OPTIMAL,
-               VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL, VK_ACCESS_COLOR_ATTACHMENT_WRITE_BIT,
-               VK_ACCESS_TRANSFER_READ_BIT, VK_PIPELINE_STAGE_COLOR_ATTACHMENT_OUTPUT_BIT,
-               VK_PIPELINE_STAGE_TRANSFER_BIT);
-    VkBufferImageCopy copy{};
-    copy.imageSubresource = {VK_IMAGE_ASPECT_COLOR_BIT, 0, 0, 1};
-    copy.imageExtent = {width_, height_, 1};
-    vkCmdCopyImageToBuffer(cmd, color_, VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL, readback_, 1, &copy);
+    if (frame.color) {
+      transition(color_, VK_IMAGE_ASPECT_COLOR_BIT, VK_IMAGE_LAYOUT_COLOR_ATTACHMENT_OPTIMAL,
+                 VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL, VK_ACCESS_COLOR_ATTACHMENT_WRITE_BIT,
+                 VK_ACCESS_TRANSFER_READ_BIT, VK_PIPELINE_STAGE_COLOR_ATTACHMENT_OUTPUT_BIT,
+                 VK_PIPELINE_STAGE_TRANSFER_BIT);
+      VkBufferImageCopy copy{};
+      copy.imageSubresource = {VK_IMAGE_ASPECT_COLOR_BIT, 0, 0, 1};
+      copy.imageExtent = {width_, height_, 1};
+      vkCmdCopyImageToBuffer(cmd, color_, VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL, readback_, 1,
+                             &copy);
+    }
+    if (depth_out != nullptr) {
+      transition(depth_, VK_IMAGE_ASPECT_DEPTH_BIT, VK_IMAGE_LAYOUT_DEPTH_ATTACHMENT_OPTIMAL,
+                 VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL, VK_ACCESS_DEPTH_STENCIL_ATTACHMENT_WRITE_BIT,
+                 VK_ACCESS_TRANSFER_READ_BIT, kDepthStages, VK_PIPELINE_STAGE_TRANSFER_BIT);
+      VkBufferImageCopy copy{};
+      copy.bufferOffset = depth_at;
+      copy.imageSubresource = {VK_IMAGE_ASPECT_DEPTH_BIT, 0, 0, 1};
+      copy.imageExtent = {width_, height_, 1};
+      vkCmdCopyImageToBuffer(cmd, depth_, VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL, readback_, 1,
+                             &copy);
+    }
     return drawn;
   });
   if (!s.isOk()) return s;
@@ -279,7 +298,12 @@ Status VkTestHost::render(const glm::vec4& clear,
       checkVk(vkMapMemory(device_, readback_memory_, 0, VK_WHOLE_SIZE, 0, &mapped), "vkMapMemory");
   if (!m.isOk()) return m;
   const uint8_t* bytes = static_cast<const uint8_t*>(mapped);
-  rgba->assign(bytes, bytes + size_t(width_) * height_ * 4);
+  const size_t pixels = size_t(width_) * height_;
+  if (frame.color && rgba != nullptr) rgba->assign(bytes, bytes + pixels * 4);
+  if (depth_out != nullptr) {
+    depth_out->resize(pixels);
+    std::memcpy(depth_out->data(), bytes + depth_at, pixels * 4);
+  }
   vkUnmapMemory(device_, readback_memory_);
   return Status::ok();
 }

@@ -36,10 +36,17 @@ class VkTestHost {
 
   /// Records `work` into a command buffer, submits it and waits for it.
   Status submit(const std::function<Status(VkCommandBuffer)>& work);
-  /// One frame: the targets cleared (`clear`, depth 1), `draw` recording inside dynamic
-  /// rendering over them, then the colour read back into `rgba` (RGBA8, rows top to bottom).
-  Status render(const glm::vec4& clear, const std::function<Status(VkCommandBuffer)>& draw,
-                std::vector<uint8_t>* rgba);
+  /// How a frame's rendering begins.
+  struct Frame {
+    glm::vec4 clear_color = glm::vec4(0.0f);
+    float clear_depth = 1.0f;  ///< 0 under reverse-Z.
+    bool color = true;         ///< A colour attachment; false: depth only (a shadow map).
+  };
+  /// One frame: the targets cleared as `frame` says, `draw` recording inside dynamic rendering
+  /// over them, then the colour read back into `rgba` (RGBA8, rows top to bottom; not read
+  /// without a colour attachment) and the depth into `depth` when given (window depth, 0-1).
+  Status render(const Frame& frame, const std::function<Status(VkCommandBuffer)>& draw,
+                std::vector<uint8_t>* rgba, std::vector<float>* depth = nullptr);
 
   /// The validation layer's callback.
   void report(const char* message) { messages_.push_back(message); }

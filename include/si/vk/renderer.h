@@ -24,19 +24,29 @@
 ///   // Each frame, frame slot k (the host has waited for the GPU to finish the frame that used
 ///   // slot k last), inside vkCmdBeginRendering with the formats above:
 ///   crowd_renderer.beginFrame(k);
-///   crowd_renderer.recordDraw(cmd, extent, id, crowd.view(), batcher, camera);
+///   si::vk::DrawTarget target;                   // The rendering's extent, and what is drawn.
+///   target.extent = extent;
+///   crowd_renderer.recordDraw(cmd, target, id, crowd.view(), batcher, camera);
+///   // A shadow cascade, in a rendering of depth only:
+///   target.mode = si::vk::DrawMode::kDepthOnly;
+///   crowd_renderer.recordDraw(cmd, target, id, cascade_view, batcher, cascade_camera);
 /// \endcode
 ///
-/// What is built: the vertex-shader path (shaded, the built-in material), palettes of 3x4
-/// float or half-float matrices. Everything else (the GPU-driven path, compute pre-skinning,
-/// depth-only views, motion vectors, layers, morph targets, 8 influences, vertex words, host
-/// materials, impostors) is refused by name (kUnsupported).
+/// What is built: the vertex-shader path, shaded (the built-in material) or depth only (shadow
+/// views, depth pre-passes), under every si::DepthConvention (reverse-Z included) and with
+/// y-flipped projections; palettes of 3x4 float or half-float matrices. Everything else (the
+/// GPU-driven path, compute pre-skinning, motion vectors, layers, morph targets, 8 influences,
+/// vertex words, host materials, impostors) is refused by name (kUnsupported).
 /// What the host must do: record recordUploads() before the first draw of a character and
 /// submit it before (or with) that draw; give each frame in flight its own slot (beginFrame(),
 /// below RendererDesc::frames_in_flight) and wait for a slot's last frame before beginning it
-/// again. The draws read the host's depth attachment with VK_COMPARE_OP_LESS and write it, cull
-/// back faces (counter-clockwise front faces, as OpenGL draws them), and flip the viewport
-/// (negative height) so the image is the one OpenGL draws.
+/// again. The draws test the host's depth attachment (DrawTarget::depth_compare: by default
+/// VK_COMPARE_OP_LESS, VK_COMPARE_OP_GREATER for a reverse-Z camera) and write it, cull back
+/// faces (counter-clockwise front faces as OpenGL draws them, clockwise when the camera's
+/// projection flips the winding: Camera::flipsWinding), and flip the viewport (negative height)
+/// so the image is the one OpenGL draws. They set the dynamic state they use (viewport, scissor,
+/// depth compare, front face, depth bias) on each draw and leave it so; the host sets its own
+/// again after them.
 
 #include <cstdint>
 #include <memory>
@@ -61,6 +71,9 @@ struct RendererDesc {
   const VkAllocationCallbacks* allocator = nullptr;   ///< Used for every object it creates.
   VkFormat color_format = VK_FORMAT_R8G8B8A8_UNORM;   ///< The host's colour attachment.
   VkFormat depth_format = VK_FORMAT_D32_SFLOAT;       ///< The host's depth attachment.
+  /// The depth attachment of depth-only draws (DrawMode::kDepthOnly: shadow maps, depth
+  /// pre-passes); VK_FORMAT_UNDEFINED is depth_format.
+  VkFormat depth_only_format = VK_FORMAT_UNDEFINED;
   uint32_t frames_in_flight = 2;                      ///< Frame slots of the record ring (1 to 8).
   /// Bytes of records, per frame slot (rounded up to 256): a frame's batches of every draw
   /// (InstanceBatcher's recordBufferBound) must fit, or recordDraw() refuses the frame
@@ -73,6 +86,31 @@ struct RendererDesc {
 /// A character added to a Renderer.
 struct CharacterId {
   uint32_t index = 0;
+};
+
+/// What a draw writes.
+enum class DrawMode : uint8_t {
+  /// Colour (the built-in material) and depth, in a rendering of RendererDesc::color_format and
+  /// depth_format.
+  kShaded = 0,
+  /// Depth only (a shadow view, a depth pre-pass), in a rendering with no colour attachment and
+  /// a depth attachment of RendererDesc::depth_only_format.
+  kDepthOnly,
+};
+
+/// Where a draw lands in the host's rendering, and how it tests depth.
+struct DrawTarget {
+  /// The area drawn, from the rendering's origin: the viewport and scissor.
+  VkExtent2D extent{0, 0};
+  DrawMode mode = DrawMode::kShaded;
+  /// The depth test. VK_COMPARE_OP_MAX_ENUM (the default) is the camera's convention:
+  /// VK_COMPARE_OP_LESS, or VK_COMPARE_OP_GREATER for DepthConvention::kReversedZeroToOne (the
+  /// depth cleared to 0). Any other VkCompareOp is used as given (VK_COMPARE_OP_EQUAL after a
+  /// depth pre-pass, for one).
+  VkCompareOp depth_compare = VK_COMPARE_OP_MAX_ENUM;
+  /// Depth bias (shadow maps), as vkCmdSetDepthBias's constant and slope factors; both 0: none.
+  float depth_bias_constant = 0.0f;
+  float depth_bias_slope = 0.0f;
 };
 
 /// What recordDraw() recorded.
@@ -120,15 +158,17 @@ class Renderer {
   /// host has waited for the GPU's last frame in that slot. kInvalidArgument past the slots.
   Status beginFrame(uint32_t frame);
   /// Records `view`'s last selection of character `id` with `camera` into `cmd` (inside the
-  /// host's dynamic rendering of RendererDesc's formats, over an area of `target`: the viewport
-  /// and scissor it sets): one instanced draw per batch of `batcher` (initialized with
-  /// batchLimits()), their records written after the frame's earlier draws' in the slot's
-  /// region. `camera` is in OpenGL's convention (si::Camera::lookAt: depth -1 to 1), mapped to
-  /// Vulkan's 0 to 1. kInvalidArgument for an unknown character, no beginFrame(), a batcher not
-  /// initialized, or a character whose uploads were not recorded; kLimitExceeded when the
-  /// frame's records pass the slot's region (nothing recorded then).
-  Status recordDraw(VkCommandBuffer cmd, VkExtent2D target, CharacterId id, const CrowdView& view,
-                    const InstanceBatcher& batcher, const Camera& camera,
+  /// host's dynamic rendering of the formats `target.mode` names, over `target.extent`): one
+  /// instanced draw per batch of `batcher` (initialized with batchLimits()), their records
+  /// written after the frame's earlier draws' in the slot's region. `camera.depth` says how its
+  /// projection's depth is meant: OpenGL's -1 to 1 (si::Camera::lookAt's) is mapped to Vulkan's
+  /// 0 to 1; zero-to-one and reverse-Z projections (Camera::lookAtReverseZ, or the engine's own
+  /// through Camera::fromMatrices) are used as they are. kInvalidArgument for an unknown
+  /// character or mode, no beginFrame(), a batcher not initialized, an empty extent, or a
+  /// character whose uploads were not recorded; kLimitExceeded when the frame's records pass
+  /// the slot's region (nothing recorded then).
+  Status recordDraw(VkCommandBuffer cmd, const DrawTarget& target, CharacterId id,
+                    const CrowdView& view, const InstanceBatcher& batcher, const Camera& camera,
                     DrawStats* stats = nullptr);
 
  private:
