@@ -28,7 +28,7 @@ class VulkanDepthTest : public VulkanRenderFixture {
   // `target`'s mode, the depth cleared to `clear_depth`: its colour (shaded) and depth.
   void draw(const CrowdManager& crowd, const Camera& camera, const vk::DrawTarget& target,
             float clear_depth, std::vector<uint8_t>* image, std::vector<float>* depth) {
-    VkTestHost::Frame frame;
+    examples::HeadlessVulkan::Frame frame;
     frame.clear_color = kBackground;
     frame.clear_depth = clear_depth;
     frame.color = target.mode == vk::DrawMode::kShaded;

@@ -1,9 +1,9 @@
 // SkinnedInstancing — SPDX-License-Identifier: MIT (see LICENSE)
 #pragma once
 // What the Vulkan render tests share: the OpenGL fixture (for si::gl's reference images), the
-// engine-like Vulkan host (skipped, or failed with SI_REQUIRE_VULKAN=1, where the machine has no
-// Vulkan 1.3 device), a vk::Renderer with the embedded character uploaded, and the LOD rows'
-// crowd.
+// engine-like Vulkan host of the vulkan_host example (skipped, or failed with SI_REQUIRE_VULKAN=1,
+// where the machine has no Vulkan 1.3 device), a vk::Renderer with the embedded character uploaded,
+// and the LOD rows' crowd.
 #include <cstdlib>
 #include <sstream>
 #include <string>
@@ -11,7 +11,7 @@
 
 #include "render/render_fixture.h"
 #include "si/vk/renderer.h"
-#include "vk/vk_test_host.h"
+#include "vulkan_host/headless_vulkan.h"
 
 namespace si::test {
 
@@ -53,7 +53,7 @@ class VulkanRenderFixture : public RenderTest {
     return out.str();
   }
 
-  VkTestHost host_;
+  examples::HeadlessVulkan host_;
   std::string skip_reason_;  // Why startHost() returned false (empty when it failed).
 };
 

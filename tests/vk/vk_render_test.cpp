@@ -14,7 +14,7 @@ class VulkanRenderTest : public VulkanRenderFixture {};
 
 TEST_P(VulkanRenderTest, TheVertexShaderPathDrawsWhatOpenGlDraws) {
   SI_START_VULKAN_HOST();
-  VkTestHost& host = host_;
+  examples::HeadlessVulkan& host = host_;
   CrowdManager crowd;
   lodCrowd(&crowd);
   vk::Renderer r;
@@ -76,7 +76,7 @@ TEST_P(VulkanRenderTest, RefusalsAreNamed) {
   vk::RendererDesc rd;
   EXPECT_EQ(r.init(rd).code(), StatusCode::kInvalidArgument) << "no device";
   SI_START_VULKAN_HOST();
-  VkTestHost& host = host_;
+  examples::HeadlessVulkan& host = host_;
   rd.physical_device = host.physicalDevice();
   rd.device = host.device();
   for (uint32_t frames : {0u, 9u}) {

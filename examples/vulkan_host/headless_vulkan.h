@@ -1,10 +1,12 @@
 // SkinnedInstancing — SPDX-License-Identifier: MIT (see LICENSE)
 #pragma once
-// An engine-like Vulkan host for the tests (issue "The crowd in a Vulkan engine", item 4): its
-// own instance (the Khronos validation layer on when installed, every message it reports kept),
-// a Vulkan 1.3 device with dynamic rendering (lavapipe on machines without a GPU), a queue,
+// An engine-like Vulkan host (issue "The crowd in a Vulkan engine", item 4), as the vulkan_host
+// example, crowd_bench's Vulkan table and the Vulkan render tests use it: its own instance (the
+// Khronos validation layer on when installed, every warning and error it reports kept), a
+// Vulkan 1.3 device with dynamic rendering (lavapipe on machines without a GPU), a queue,
 // colour (RGBA8) and depth (D32) targets, and a frame that clears them, lets the crowd record
-// into its rendering and reads the colour back. No surface: headless.
+// into its rendering, reads colour and depth back and times the recording with timestamps. No
+// surface: headless. Raw Vulkan: what an engine owns, the library never creates.
 #include <vulkan/vulkan.h>
 
 #include <functional>
@@ -15,14 +17,14 @@
 
 #include "si/core/status.h"
 
-namespace si::test {
+namespace si::examples {
 
-class VkTestHost {
+class HeadlessVulkan {
  public:
-  VkTestHost() = default;
-  VkTestHost(const VkTestHost&) = delete;
-  VkTestHost& operator=(const VkTestHost&) = delete;
-  ~VkTestHost();
+  HeadlessVulkan() = default;
+  HeadlessVulkan(const HeadlessVulkan&) = delete;
+  HeadlessVulkan& operator=(const HeadlessVulkan&) = delete;
+  ~HeadlessVulkan();
 
   /// Creates everything for `width` x `height` targets. kUnsupported when the machine has no
   /// Vulkan 1.3 device with dynamic rendering (install mesa-vulkan-drivers: lavapipe).
@@ -43,10 +45,13 @@ class VkTestHost {
     bool color = true;         ///< A colour attachment; false: depth only (a shadow map).
   };
   /// One frame: the targets cleared as `frame` says, `draw` recording inside dynamic rendering
-  /// over them, then the colour read back into `rgba` (RGBA8, rows top to bottom; not read
-  /// without a colour attachment) and the depth into `depth` when given (window depth, 0-1).
+  /// over them, then the colour read back into `rgba` when given (RGBA8, rows top to bottom;
+  /// not read without a colour attachment), the depth into `depth` when given (window depth,
+  /// 0-1), and into `gpu_ms` the GPU time between timestamps before and after `draw`'s
+  /// commands (kUnsupported on a queue without timestamps). It waits for the frame.
   Status render(const Frame& frame, const std::function<Status(VkCommandBuffer)>& draw,
-                std::vector<uint8_t>* rgba, std::vector<float>* depth = nullptr);
+                std::vector<uint8_t>* rgba, std::vector<float>* depth = nullptr,
+                double* gpu_ms = nullptr);
 
   /// The validation layer's callback.
   void report(const char* message) { messages_.push_back(message); }
@@ -66,6 +71,9 @@ class VkTestHost {
   VkImage color_ = VK_NULL_HANDLE, depth_ = VK_NULL_HANDLE;
   VkDeviceMemory color_memory_ = VK_NULL_HANDLE, depth_memory_ = VK_NULL_HANDLE;
   VkImageView color_view_ = VK_NULL_HANDLE, depth_view_ = VK_NULL_HANDLE;
+  VkQueryPool timestamps_ = VK_NULL_HANDLE;  // Two: before and after a frame's draw.
+  bool timestamps_valid_ = false;
+  float timestamp_period_ns_ = 1.0f;
   VkBuffer readback_ = VK_NULL_HANDLE;
   VkDeviceMemory readback_memory_ = VK_NULL_HANDLE;
   bool validation_ = false;
@@ -73,4 +81,4 @@ class VkTestHost {
   std::vector<std::string> messages_;
 };
 
-}  // namespace si::test
+}  // namespace si::examples

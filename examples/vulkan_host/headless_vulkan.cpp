@@ -1,27 +1,52 @@
 // SkinnedInstancing — SPDX-License-Identifier: MIT (see LICENSE)
-// The tests' headless Vulkan host.
-#include "vk/vk_test_host.h"
+// The engine-like headless Vulkan host: raw Vulkan 1.3, nothing of the library's but its
+// public si::Status.
+#include "vulkan_host/headless_vulkan.h"
 
 #include <dlfcn.h>
 
 #include <cstring>
+#include <string>
 
-#include "vk/device_objects.h"
-#include "vk/image_upload.h"
-
-namespace si::test {
-
-using vk::detail::checkVk;
-using vk::detail::vkStruct;
+namespace si::examples {
 
 namespace {
+
+// A Vulkan structure of `type`, zeroed.
+template <typename T>
+T vkStruct(VkStructureType type) {
+  T v{};
+  v.sType = type;
+  return v;
+}
+
+Status checkVk(VkResult result, const char* call) {
+  if (result == VK_SUCCESS) return Status::ok();
+  return {StatusCode::kBackend,
+          std::string(call) + " failed: VkResult " + std::to_string(int(result))};
+}
+
+// One image layout transition, waiting for `src_access` in `src` before `dst_access` in `dst`.
+void transition(VkCommandBuffer cmd, VkImage image, VkImageAspectFlags aspect, VkImageLayout from,
+                VkImageLayout to, VkAccessFlags src_access, VkAccessFlags dst_access,
+                VkPipelineStageFlags src, VkPipelineStageFlags dst) {
+  auto b = vkStruct<VkImageMemoryBarrier>(VK_STRUCTURE_TYPE_IMAGE_MEMORY_BARRIER);
+  b.srcAccessMask = src_access;
+  b.dstAccessMask = dst_access;
+  b.oldLayout = from;
+  b.newLayout = to;
+  b.srcQueueFamilyIndex = b.dstQueueFamilyIndex = VK_QUEUE_FAMILY_IGNORED;
+  b.image = image;
+  b.subresourceRange = {aspect, 0, 1, 0, 1};
+  vkCmdPipelineBarrier(cmd, src, dst, 0, 0, nullptr, 0, nullptr, 1, &b);
+}
 
 VKAPI_ATTR VkBool32 VKAPI_CALL onMessage(VkDebugUtilsMessageSeverityFlagBitsEXT severity,
                                          VkDebugUtilsMessageTypeFlagsEXT,
                                          const VkDebugUtilsMessengerCallbackDataEXT* data,
                                          void* host) {
   if (severity >= VK_DEBUG_UTILS_MESSAGE_SEVERITY_WARNING_BIT_EXT)
-    static_cast<VkTestHost*>(host)->report(data->pMessage);
+    static_cast<HeadlessVulkan*>(host)->report(data->pMessage);
   return VK_FALSE;
 }
 
@@ -35,7 +60,7 @@ uint32_t memoryType(VkPhysicalDevice physical, uint32_t bits, VkMemoryPropertyFl
 
 }  // namespace
 
-VkTestHost::~VkTestHost() {
+HeadlessVulkan::~HeadlessVulkan() {
   if (device_ != VK_NULL_HANDLE) {
     vkDeviceWaitIdle(device_);
     vkDestroyBuffer(device_, readback_, nullptr);
@@ -43,6 +68,7 @@ VkTestHost::~VkTestHost() {
     for (VkImageView v : {color_view_, depth_view_}) vkDestroyImageView(device_, v, nullptr);
     for (VkImage i : {color_, depth_}) vkDestroyImage(device_, i, nullptr);
     for (VkDeviceMemory m : {color_memory_, depth_memory_}) vkFreeMemory(device_, m, nullptr);
+    if (timestamps_ != VK_NULL_HANDLE) vkDestroyQueryPool(device_, timestamps_, nullptr);
     vkDestroyCommandPool(device_, pool_, nullptr);
     vkDestroyDevice(device_, nullptr);
   }
@@ -54,7 +80,7 @@ VkTestHost::~VkTestHost() {
   if (instance_ != VK_NULL_HANDLE) vkDestroyInstance(instance_, nullptr);
 }
 
-Status VkTestHost::create(uint32_t width, uint32_t height) {
+Status HeadlessVulkan::create(uint32_t width, uint32_t height) {
   width_ = width;
   height_ = height;
   // The validation layer and its messenger, when installed.
@@ -67,7 +93,7 @@ Status VkTestHost::create(uint32_t width, uint32_t height) {
   const char* layer = "VK_LAYER_KHRONOS_validation";
   const char* extension = VK_EXT_DEBUG_UTILS_EXTENSION_NAME;
   auto app = vkStruct<VkApplicationInfo>(VK_STRUCTURE_TYPE_APPLICATION_INFO);
-  app.pApplicationName = "SkinnedInstancing tests";
+  app.pApplicationName = "SkinnedInstancing headless Vulkan host";
   app.apiVersion = VK_API_VERSION_1_3;
   auto messenger = vkStruct<VkDebugUtilsMessengerCreateInfoEXT>(
       VK_STRUCTURE_TYPE_DEBUG_UTILS_MESSENGER_CREATE_INFO_EXT);
@@ -90,8 +116,8 @@ Status VkTestHost::create(uint32_t width, uint32_t height) {
   Status s = checkVk(vkCreateInstance(&info, nullptr, &instance_), "vkCreateInstance");
   if (!s.isOk()) return {StatusCode::kUnsupported, "no Vulkan instance: " + s.message()};
   // The driver and layer libraries the loader opened stay loaded after the instance is gone,
-  // so LeakSanitizer can name what they keep at exit (tests/lsan.supp lists them) rather than
-  // an unknown module.
+  // so a leak checker (LeakSanitizer in the sanitized builds) can name what they keep at exit
+  // (tests/lsan.supp lists them) rather than an unknown module.
   for (const char* library : {"libvulkan_lvp.so", "libVkLayer_khronos_validation.so"})
     dlopen(library, RTLD_NOW | RTLD_NOLOAD | RTLD_NODELETE);
   if (validation_) {
@@ -116,6 +142,8 @@ Status VkTestHost::create(uint32_t width, uint32_t height) {
         physical_ = d;
         queue_family_ = k;
         device_name_ = p.deviceName;
+        timestamp_period_ns_ = p.limits.timestampPeriod;
+        timestamps_valid_ = f[k].timestampValidBits != 0;
       }
   }
   if (physical_ == VK_NULL_HANDLE)
@@ -140,6 +168,12 @@ Status VkTestHost::create(uint32_t width, uint32_t height) {
   pool.queueFamilyIndex = queue_family_;
   pool.flags = VK_COMMAND_POOL_CREATE_RESET_COMMAND_BUFFER_BIT;
   s = checkVk(vkCreateCommandPool(device_, &pool, nullptr, &pool_), "vkCreateCommandPool");
+  if (s.isOk() && timestamps_valid_) {
+    auto query = vkStruct<VkQueryPoolCreateInfo>(VK_STRUCTURE_TYPE_QUERY_POOL_CREATE_INFO);
+    query.queryType = VK_QUERY_TYPE_TIMESTAMP;
+    query.queryCount = 2;
+    s = checkVk(vkCreateQueryPool(device_, &query, nullptr, &timestamps_), "vkCreateQueryPool");
+  }
   if (s.isOk())
     s = createTarget(VK_FORMAT_R8G8B8A8_UNORM,
                      VK_IMAGE_USAGE_COLOR_ATTACHMENT_BIT | VK_IMAGE_USAGE_TRANSFER_SRC_BIT,
@@ -167,8 +201,9 @@ Status VkTestHost::create(uint32_t width, uint32_t height) {
   return s;
 }
 
-Status VkTestHost::createTarget(VkFormat format, VkImageUsageFlags usage, VkImageAspectFlags aspect,
-                                VkImage* image, VkDeviceMemory* memory, VkImageView* view) {
+Status HeadlessVulkan::createTarget(VkFormat format, VkImageUsageFlags usage,
+                                    VkImageAspectFlags aspect, VkImage* image,
+                                    VkDeviceMemory* memory, VkImageView* view) {
   auto info = vkStruct<VkImageCreateInfo>(VK_STRUCTURE_TYPE_IMAGE_CREATE_INFO);
   info.imageType = VK_IMAGE_TYPE_2D;
   info.format = format;
@@ -197,7 +232,7 @@ Status VkTestHost::createTarget(VkFormat format, VkImageUsageFlags usage, VkImag
   return checkVk(vkCreateImageView(device_, &v, nullptr, view), "vkCreateImageView");
 }
 
-Status VkTestHost::submit(const std::function<Status(VkCommandBuffer)>& work) {
+Status HeadlessVulkan::submit(const std::function<Status(VkCommandBuffer)>& work) {
   auto alloc =
       vkStruct<VkCommandBufferAllocateInfo>(VK_STRUCTURE_TYPE_COMMAND_BUFFER_ALLOCATE_INFO);
   alloc.commandPool = pool_;
@@ -223,26 +258,23 @@ Status VkTestHost::submit(const std::function<Status(VkCommandBuffer)>& work) {
   return s;
 }
 
-Status VkTestHost::render(const Frame& frame, const std::function<Status(VkCommandBuffer)>& draw,
-                          std::vector<uint8_t>* rgba, std::vector<float>* depth_out) {
+Status HeadlessVulkan::render(const Frame& frame,
+                              const std::function<Status(VkCommandBuffer)>& draw,
+                              std::vector<uint8_t>* rgba, std::vector<float>* depth_out,
+                              double* gpu_ms) {
+  if (gpu_ms != nullptr && timestamps_ == VK_NULL_HANDLE)
+    return {StatusCode::kUnsupported, "the queue writes no timestamps"};
   const VkDeviceSize depth_at = VkDeviceSize(width_) * height_ * 4;
   const Status s = submit([&](VkCommandBuffer cmd) {
-    const auto transition = [&](VkImage image, VkImageAspectFlags aspect, VkImageLayout from,
-                                VkImageLayout to, VkAccessFlags src_access,
-                                VkAccessFlags dst_access, VkPipelineStageFlags src,
-                                VkPipelineStageFlags dst) {
-      vk::detail::recordImageBarrier(cmd, image, aspect, 0, 1, 1,
-                                     {from, to, src_access, dst_access, src, dst});
-    };
     constexpr VkAccessFlags kDepthAccess =
         VK_ACCESS_DEPTH_STENCIL_ATTACHMENT_READ_BIT | VK_ACCESS_DEPTH_STENCIL_ATTACHMENT_WRITE_BIT;
     constexpr VkPipelineStageFlags kDepthStages =
         VK_PIPELINE_STAGE_EARLY_FRAGMENT_TESTS_BIT | VK_PIPELINE_STAGE_LATE_FRAGMENT_TESTS_BIT;
     if (frame.color)
-      transition(color_, VK_IMAGE_ASPECT_COLOR_BIT, VK_IMAGE_LAYOUT_UNDEFINED,
+      transition(cmd, color_, VK_IMAGE_ASPECT_COLOR_BIT, VK_IMAGE_LAYOUT_UNDEFINED,
                  VK_IMAGE_LAYOUT_COLOR_ATTACHMENT_OPTIMAL, 0, VK_ACCESS_COLOR_ATTACHMENT_WRITE_BIT,
                  VK_PIPELINE_STAGE_TOP_OF_PIPE_BIT, VK_PIPELINE_STAGE_COLOR_ATTACHMENT_OUTPUT_BIT);
-    transition(depth_, VK_IMAGE_ASPECT_DEPTH_BIT, VK_IMAGE_LAYOUT_UNDEFINED,
+    transition(cmd, depth_, VK_IMAGE_ASPECT_DEPTH_BIT, VK_IMAGE_LAYOUT_UNDEFINED,
                VK_IMAGE_LAYOUT_DEPTH_ATTACHMENT_OPTIMAL, 0, kDepthAccess,
                VK_PIPELINE_STAGE_TOP_OF_PIPE_BIT, kDepthStages);
     auto color = vkStruct<VkRenderingAttachmentInfo>(VK_STRUCTURE_TYPE_RENDERING_ATTACHMENT_INFO);
@@ -265,11 +297,16 @@ Status VkTestHost::render(const Frame& frame, const std::function<Status(VkComma
     rendering.colorAttachmentCount = frame.color ? 1 : 0;
     rendering.pColorAttachments = frame.color ? &color : nullptr;
     rendering.pDepthAttachment = &depth;
+    if (gpu_ms != nullptr) vkCmdResetQueryPool(cmd, timestamps_, 0, 2);
     vkCmdBeginRendering(cmd, &rendering);
+    if (gpu_ms != nullptr)
+      vkCmdWriteTimestamp(cmd, VK_PIPELINE_STAGE_TOP_OF_PIPE_BIT, timestamps_, 0);
     const Status drawn = draw(cmd);
+    if (gpu_ms != nullptr)
+      vkCmdWriteTimestamp(cmd, VK_PIPELINE_STAGE_BOTTOM_OF_PIPE_BIT, timestamps_, 1);
     vkCmdEndRendering(cmd);
     if (frame.color) {
-      transition(color_, VK_IMAGE_ASPECT_COLOR_BIT, VK_IMAGE_LAYOUT_COLOR_ATTACHMENT_OPTIMAL,
+      transition(cmd, color_, VK_IMAGE_ASPECT_COLOR_BIT, VK_IMAGE_LAYOUT_COLOR_ATTACHMENT_OPTIMAL,
                  VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL, VK_ACCESS_COLOR_ATTACHMENT_WRITE_BIT,
                  VK_ACCESS_TRANSFER_READ_BIT, VK_PIPELINE_STAGE_COLOR_ATTACHMENT_OUTPUT_BIT,
                  VK_PIPELINE_STAGE_TRANSFER_BIT);
@@ -280,7 +317,7 @@ Status VkTestHost::render(const Frame& frame, const std::function<Status(VkComma
                              &copy);
     }
     if (depth_out != nullptr) {
-      transition(depth_, VK_IMAGE_ASPECT_DEPTH_BIT, VK_IMAGE_LAYOUT_DEPTH_ATTACHMENT_OPTIMAL,
+      transition(cmd, depth_, VK_IMAGE_ASPECT_DEPTH_BIT, VK_IMAGE_LAYOUT_DEPTH_ATTACHMENT_OPTIMAL,
                  VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL, VK_ACCESS_DEPTH_STENCIL_ATTACHMENT_WRITE_BIT,
                  VK_ACCESS_TRANSFER_READ_BIT, kDepthStages, VK_PIPELINE_STAGE_TRANSFER_BIT);
       VkBufferImageCopy copy{};
@@ -305,7 +342,15 @@ Status VkTestHost::render(const Frame& frame, const std::function<Status(VkComma
     std::memcpy(depth_out->data(), bytes + depth_at, pixels * 4);
   }
   vkUnmapMemory(device_, readback_memory_);
+  if (gpu_ms != nullptr) {
+    uint64_t stamps[2] = {};
+    const Status read = checkVk(vkGetQueryPoolResults(device_, timestamps_, 0, 2, sizeof(stamps),
+                                                      stamps, 8, VK_QUERY_RESULT_64_BIT),
+                                "vkGetQueryPoolResults");
+    if (!read.isOk()) return read;
+    *gpu_ms = double(stamps[1] - stamps[0]) * timestamp_period_ns_ * 1e-6;
+  }
   return Status::ok();
 }
 
-}  // namespace si::test
+}  // namespace si::examples
