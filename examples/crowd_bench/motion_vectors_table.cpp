@@ -49,6 +49,7 @@ Status runMotion(Setup& setup, const BakedPalette& palette, const RendererDesc& 
         return drawn;
       },
       row);
+  target.restore();  // The bench's framebuffer again, for the tables after this one.
   if (s.isOk()) s = target.summarize(summary);
   renderer.shutdown();
   return s;

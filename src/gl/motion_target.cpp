@@ -50,9 +50,15 @@ Status MotionTarget::create(uint32_t width, uint32_t height) {
 }
 
 void MotionTarget::bind() {
-  glGetIntegerv(GL_DRAW_FRAMEBUFFER_BINDING, &saved_draw_);
-  glGetIntegerv(GL_READ_FRAMEBUFFER_BINDING, &saved_read_);
-  glGetIntegerv(GL_VIEWPORT, saved_viewport_);
+  GLint draw = 0, read = 0;
+  glGetIntegerv(GL_DRAW_FRAMEBUFFER_BINDING, &draw);
+  glGetIntegerv(GL_READ_FRAMEBUFFER_BINDING, &read);
+  // Bound already (clear() each frame): what was bound before the first bind() stays saved.
+  if (GLuint(draw) != framebuffer_ || GLuint(read) != framebuffer_) {
+    saved_draw_ = draw;
+    saved_read_ = read;
+    glGetIntegerv(GL_VIEWPORT, saved_viewport_);
+  }
   glBindFramebuffer(GL_FRAMEBUFFER, framebuffer_);
   glViewport(0, 0, GLsizei(width_), GLsizei(height_));
 }

@@ -121,6 +121,29 @@ TEST_P(MotionVectorTest, NeedsTheCrowdsPreviousRecords) {
   r.shutdown();
 }
 
+// restore() binds what was bound before the target, however many frames cleared it (each
+// clear() binds it again).
+TEST_P(MotionVectorTest, RestoreBindsWhatWasBoundBeforeTheFirstClear) {
+  MotionTarget target;
+  ASSERT_TRUE(target.create(32, 16).isOk());
+  GLint before = 0, viewport_before[4] = {};
+  glGetIntegerv(GL_DRAW_FRAMEBUFFER_BINDING, &before);
+  glGetIntegerv(GL_VIEWPORT, viewport_before);
+  for (int frame = 0; frame < 2; ++frame) target.clear(glm::vec4(0.0f));
+  GLint bound = 0;
+  glGetIntegerv(GL_DRAW_FRAMEBUFFER_BINDING, &bound);
+  ASSERT_NE(bound, before);
+  target.restore();
+  GLint draw = 0, read = 0, viewport[4] = {};
+  glGetIntegerv(GL_DRAW_FRAMEBUFFER_BINDING, &draw);
+  glGetIntegerv(GL_READ_FRAMEBUFFER_BINDING, &read);
+  glGetIntegerv(GL_VIEWPORT, viewport);
+  EXPECT_EQ(draw, before);
+  EXPECT_EQ(read, before);
+  for (int k = 0; k < 4; ++k) EXPECT_EQ(viewport[k], viewport_before[k]) << k;
+  EXPECT_EQ(glGetError(), GLenum(GL_NO_ERROR));
+}
+
 // Frames that draw nothing (every instance behind the camera) after one that drew: no records
 // and no previous indices, then no previous records either; both skinning paths draw them with
 // motion vectors, no GL error.

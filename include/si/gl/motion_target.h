@@ -49,11 +49,13 @@ class MotionTarget {
   /// occurred (named); nothing kept then.
   Status create(uint32_t width, uint32_t height);
   /// Binds it as the draw and read framebuffer (both draw buffers) and sets the viewport,
-  /// remembering the framebuffers and viewport bound before (restore()).
+  /// remembering the framebuffers and viewport bound before (restore()). Called while it is
+  /// bound (clear() every frame), it keeps what was bound before it.
   void bind();
   /// Clears colour to `color`, motion to 0 and depth to 1 (binds it).
   void clear(const glm::vec4& color);
-  /// Binds again the framebuffers and viewport that were bound when bind() was last called.
+  /// Binds again the framebuffers and viewport that were bound before bind() (or clear())
+  /// bound this target.
   void restore() const;
   /// The motion image, width * height texels from the bottom row up, in texture coordinate
   /// units (multiply by the size for pixels). kInvalidArgument before create() or for a null out.
