@@ -92,6 +92,8 @@ void printUsage(std::FILE* f) {
       "                   frame by setLivePoses, against none, on the --paths that skin)\n"
       "                   [--churn F,F,...] (the churn table: a share F removed and added each\n"
       "                   frame, GPU-driven in 4 views, against none)\n"
+      "                   [--vulkan] (the Vulkan table: the vertex-shader path by si::vk in a\n"
+      "                   headless Vulkan host against si::gl, each frame both, GPU times)\n"
       "                   [--no-gpu-time] (no blocking timer queries: CPU columns only;\n"
       "                   GPU ms and the GPU-culled path's visible count read -1 / 0)\n"
       "                   [--gpu-passes] (the paths and views tables' GPU time per pass, read a\n"
@@ -175,6 +177,8 @@ bool parseOptions(int argc, char** argv, Options* o) {
         if (n < 1 || n > 8) return false;  // 1 main view and up to 7 cascades.
         o->views.push_back(uint32_t(n));
       }
+    } else if (a == "--vulkan") {
+      o->vulkan = true;
     } else if (a == "--churn" && has) {
       o->churn = {0.0};  // The row without churn first.
       for (const std::string& v : si::examples::splitList(argv[++i])) {

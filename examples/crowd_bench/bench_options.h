@@ -61,6 +61,7 @@ struct Options {
   std::vector<uint32_t> crowds;  // The several-crowds table's crowd counts; empty: no table.
   std::vector<uint32_t> live;    // The live poses table's posed counts; empty: no table.
   std::vector<double> churn;     // The churn table's shares; empty: no table.
+  bool vulkan = false;           // The Vulkan table (si::vk against si::gl).
 };
 
 /// Prints the usage text to `f`.

@@ -31,6 +31,7 @@
 #include "crowd_bench/root_motion_table.h"
 #include "crowd_bench/uploads_table.h"
 #include "crowd_bench/views_table.h"
+#include "crowd_bench/vulkan_table.h"
 #include "si/bake/animation_baker.h"
 #include "si/core/shader_inputs.h"
 
@@ -276,6 +277,11 @@ int main(int argc, char** argv) {
   if (!b.o.churn.empty()) {
     s = si::bench::churnTable(b.setup, palette, rd, b.o.sizes, b.o.churn, csv);
     if (!s.isOk()) return fail("churn", s);
+  }
+  if (b.o.vulkan) {
+    s = si::bench::vulkanTable(b.setup, palette, rd, b.o.sizes,
+                               lodChoice(b.o.lods.front(), b.o.pixel_budget), csv);
+    if (!s.isOk()) return fail("vulkan", s);
   }
   if (!b.o.crowds.empty()) {
     s = si::bench::crowdsTable(b.setup, palette, rd, b.o.sizes, b.o.crowds, csv);

@@ -1,0 +1,157 @@
+// SkinnedInstancing — SPDX-License-Identifier: MIT (see LICENSE)
+#include "crowd_bench/vulkan_table.h"
+
+#include <algorithm>
+#include <cstdlib>
+
+#include "crowd_bench/bench_character.h"
+
+#if SI_BENCH_VULKAN
+#include "si/vk/renderer.h"
+#include "vulkan_host/headless_vulkan.h"
+#endif
+
+namespace si::bench {
+
+#if SI_BENCH_VULKAN
+namespace {
+
+// Share of pixels whose channels differ by more than 8 levels (the golden tolerance's).
+double differingShare(const std::vector<uint8_t>& a, const std::vector<uint8_t>& b) {
+  if (a.size() != b.size() || a.empty()) return 1.0;
+  size_t apart = 0;
+  for (size_t i = 0; i + 3 < a.size(); i += 4) {
+    int most = 0;
+    for (int c = 0; c < 3; ++c) most = std::max(most, std::abs(int(a[i + c]) - int(b[i + c])));
+    apart += most > 8;
+  }
+  return double(apart) / double(a.size() / 4);
+}
+
+// Both APIs draw `count` characters of the field for setup.frames frames: rows[0] GL's,
+// rows[1] Vulkan's; `apart` the share of the last frames' pixels that differ.
+Status runBoth(Setup& setup, Renderer& gl, examples::HeadlessVulkan& host,
+               const BakedPalette& palette, uint32_t count, const LodChoice& lod, Row rows[2],
+               double* apart) {
+  const std::vector<glm::dvec3> places = scenePositions("field", count);
+  CrowdManager crowd;
+  Status s = makeCrowd(setup, palette, places, lod, &crowd);
+  if (!s.isOk()) return s;
+  // A ring region that holds every record of the frame (each instance's worn parts).
+  vk::Renderer vkr;
+  vk::RendererDesc vd;
+  vd.physical_device = host.physicalDevice();
+  vd.device = host.device();
+  vd.frames_in_flight = 1;  // The host waits for each frame.
+  vd.ring_bytes_per_frame =
+      uint64_t(count) * crowd.desc().sub_mesh_count * 80 + (uint64_t(4) << 20);
+  s = vkr.init(vd);
+  vk::CharacterId id;
+  if (s.isOk()) s = vkr.addCharacter(setup.character, palette, &id);
+  if (s.isOk()) s = host.submit([&](VkCommandBuffer cmd) { return vkr.recordUploads(cmd); });
+  if (!s.isOk()) return {s.code(), "si::vk: " + s.message()};
+  vkr.uploadsComplete();
+  InstanceBatcher gl_batcher, vk_batcher;
+  s = gl_batcher.init(gl.batchLimits());
+  if (s.isOk()) s = vk_batcher.init(vkr.batchLimits());
+  std::vector<double> update, submit[2], gpu[2];
+  std::vector<uint8_t> images[2];
+  const uint32_t warmup = kWarmupFrames, n = setup.frames;
+  for (uint32_t f = 0; f < warmup + n && s.isOk(); ++f) {
+    const Camera cam = cameraAt(setup, "field", places, f < warmup ? 0 : f - warmup, n);
+    const auto t0 = Clock::now();
+    s = stepCrowd(crowd, "instanced", cam, 1.0 / 60.0);
+    const double update_ms = msSince(t0);
+    const bool last = f + 1 == warmup + n;
+    DrawStats gl_stats;
+    if (s.isOk()) s = drawPath(gl, crowd, gl_batcher, "instanced", cam, &gl_stats);
+    if (s.isOk() && last) s = setup.context->readPixels(&images[0]);
+    vk::DrawStats vk_stats;
+    double vk_ms = 0.0, vk_submit_ms = 0.0;
+    if (s.isOk()) {
+      examples::HeadlessVulkan::Frame frame;
+      frame.clear_color = kClearColor;
+      s = host.render(
+          frame,
+          [&](VkCommandBuffer cmd) {
+            const auto t1 = Clock::now();
+            Status drawn = vkr.beginFrame(0);
+            if (drawn.isOk())
+              drawn = vkr.recordDraw(cmd, vk::DrawTarget{{setup.width, setup.height}}, id,
+                                     crowd.view(), vk_batcher, cam, &vk_stats);
+            vk_submit_ms = msSince(t1);
+            return drawn;
+          },
+          last ? &images[1] : nullptr, nullptr, &vk_ms);
+    }
+    if (!s.isOk() || f < warmup) continue;
+    update.push_back(update_ms);
+    submit[0].push_back(gl_stats.cpu_submit_ms);
+    gpu[0].push_back(gl_stats.gpu_ms);
+    submit[1].push_back(vk_submit_ms);
+    gpu[1].push_back(vk_ms);
+    rows[0].draws = gl_stats.draw_calls;
+    rows[0].triangles = double(gl_stats.triangles);
+    rows[1].draws = vk_stats.draw_calls;
+    rows[1].triangles = double(vk_stats.triangles);
+  }
+  vkr.shutdown();
+  for (int k = 0; k < 2; ++k) {
+    rows[k].scene = "field";
+    rows[k].path = "instanced";
+    rows[k].lod = k == 0 ? "GL" : "Vulkan";
+    rows[k].instances = count;
+    rows[k].visible = crowd.view().stats().visible;
+    rows[k].update_ms = median(update);
+    rows[k].submit_ms = median(submit[k]);
+    rows[k].gpu_ms = median(gpu[k]);
+    rows[k].covered_pixels = coveredPixels(images[k]);
+  }
+  *apart = differingShare(images[0], images[1]);
+  return s;
+}
+
+}  // namespace
+#endif
+
+Status vulkanTable(Setup& setup, const BakedPalette& palette, const RendererDesc& desc,
+                   const std::vector<uint32_t>& sizes, const LodChoice& lod, std::FILE* csv) {
+#if SI_BENCH_VULKAN
+  examples::HeadlessVulkan host;
+  Status s = host.create(setup.width, setup.height);
+  if (!s.isOk()) return {StatusCode::kUnsupported, "no Vulkan device: " + s.message()};
+  Renderer gl;
+  RendererDesc rd = desc;
+  rd.skinning_path = SkinningPath::kVertexShader;
+  s = initRenderer(setup, palette, rd, &gl);
+  if (!s.isOk()) return s;
+  std::printf(
+      "\nVulkan (field, %s LODs, the vertex-shader path): si::gl's drawCrowd and si::vk's "
+      "recordDraw (%s, validation %s) drawing the same crowd, camera and selection each "
+      "frame; GPU x is Vulkan's GPU time over GL's\n",
+      lod.name().c_str(), host.deviceName().c_str(), host.validation() ? "on" : "not installed");
+  printSideBySideHeader("API");
+  std::printf(" %12s %12s\n", "covered px", "apart");
+  for (uint32_t count : sizes) {
+    Row rows[2];
+    double apart = 1.0;
+    s = runBoth(setup, gl, host, palette, count, lod, rows, &apart);
+    if (!s.isOk()) return s;
+    for (const Row& r : rows) {
+      printSideBySideRow(r, rows[0], "vulkan", csv);
+      std::printf(" %12llu %11.4f%%\n", static_cast<unsigned long long>(r.covered_pixels),
+                  &r == &rows[0] ? 0.0 : 100.0 * apart);
+    }
+  }
+  gl.shutdown();
+  for (const std::string& m : host.messages()) std::printf("  validation: %s\n", m.c_str());
+  if (!host.messages().empty())
+    return {StatusCode::kBackend, "the validation layer reported the messages above"};
+  return Status::ok();
+#else
+  (void)setup, (void)palette, (void)desc, (void)sizes, (void)lod, (void)csv;
+  return {StatusCode::kUnsupported, "crowd_bench was built without si::vk (SI_WITH_VULKAN=OFF)"};
+#endif
+}
+
+}  // namespace si::bench
