@@ -9,10 +9,10 @@
 #include <algorithm>
 
 #include "core/str_cat.h"
+#include "crowd/ring_frame.h"
 #include "gl/host_errors.h"
 #include "gl/paths/layer_compose_pass.h"
 #include "gl/renderer_impl.h"
-#include "gl/resources/ring_frame.h"
 #include "si/crowd/crowd_export.h"
 
 namespace si {

@@ -1,9 +1,10 @@
 // SkinnedInstancing — SPDX-License-Identifier: MIT (see LICENSE)
-// Reading a SPIR-V module's descriptors and default uniform block.
+// Reading a SPIR-V module's descriptors, default uniform block and located inputs and outputs.
 #include "vk/spirv_reflect.h"
 
 #include <algorithm>
 #include <map>
+#include <set>
 
 #include "core/str_cat.h"
 
@@ -14,12 +15,14 @@ using si::detail::strCat;
 
 // The SPIR-V specification's numbers (unified1/spirv.core.grammar.json).
 constexpr uint32_t kMagic = 0x07230203u;
-constexpr uint32_t kOpName = 5, kOpMemberName = 6, kOpTypeImage = 25, kOpTypeSampledImage = 27,
-                   kOpTypeArray = 28, kOpTypeStruct = 30, kOpTypePointer = 32, kOpConstant = 43,
-                   kOpVariable = 59, kOpDecorate = 71, kOpMemberDecorate = 72;
+constexpr uint32_t kOpName = 5, kOpMemberName = 6, kOpFunction = 54, kOpTypeImage = 25,
+                   kOpTypeSampledImage = 27, kOpTypeArray = 28, kOpTypeStruct = 30,
+                   kOpTypePointer = 32, kOpConstant = 43, kOpVariable = 59, kOpDecorate = 71,
+                   kOpMemberDecorate = 72;
 constexpr uint32_t kDecorationBlock = 2, kDecorationBufferBlock = 3, kDecorationBinding = 33,
-                   kDecorationDescriptorSet = 34, kDecorationOffset = 35;
-constexpr uint32_t kStorageUniformConstant = 0, kStorageUniform = 2, kStorageStorageBuffer = 12;
+                   kDecorationDescriptorSet = 34, kDecorationOffset = 35, kDecorationLocation = 30;
+constexpr uint32_t kStorageUniformConstant = 0, kStorageInput = 1, kStorageUniform = 2,
+                   kStorageOutput = 3, kStorageStorageBuffer = 12;
 constexpr uint32_t kDimBuffer = 5;
 
 // A literal string's operand words from `at` (nul-terminated, packed 4 bytes a word).
@@ -95,13 +98,19 @@ Status reflectSpirv(Span<const uint32_t> words, const char* defaults_block, Spir
   std::map<uint32_t, std::string> names;
   std::map<std::pair<uint32_t, uint32_t>, std::string> member_names;
   std::map<std::pair<uint32_t, uint32_t>, uint32_t> member_offsets;
-  std::map<uint32_t, uint32_t> bindings, sets, constants;
+  std::map<uint32_t, uint32_t> bindings, sets, constants, locations;
   std::map<uint32_t, uint32_t> block_kind;  // Struct id -> kDecorationBlock or BufferBlock.
   std::map<uint32_t, Type> types;
   struct Variable {
     uint32_t id, pointer, storage;
   };
   std::vector<Variable> variables;
+  // Every id an instruction of a function names: a descriptor no instruction uses (declared
+  // only: glslang keeps such blocks, and lists them among the entry point's interface) is not
+  // statically used, and needs no place in the pipeline layout. A literal operand that happens
+  // to equal a variable's id keeps that variable: a layout with one binding more, never less.
+  bool in_functions = false;
+  std::set<uint32_t> used;
   for (size_t at = 5; at < words.size();) {
     const uint32_t count = words[at] >> 16, opcode = words[at] & 0xFFFFu;
     if (count == 0 || at + count > words.size())
@@ -112,6 +121,8 @@ Status reflectSpirv(Span<const uint32_t> words, const char* defaults_block, Spir
       return {StatusCode::kInvalidArgument, strCat("reflectSpirv: the instruction at word ", at,
                                                    " is shorter than its operands")};
     const auto op = [&](uint32_t k) { return words[at + k]; };  // Operand k (from 1).
+    in_functions = in_functions || opcode == kOpFunction;
+    if (in_functions) used.insert(words.begin() + at + 1, words.begin() + end);
     switch (opcode) {
       case kOpName:
         names[op(1)] = literalString(words, at + 2, end);
@@ -122,6 +133,7 @@ Status reflectSpirv(Span<const uint32_t> words, const char* defaults_block, Spir
       case kOpDecorate:
         if (op(2) == kDecorationBinding && count >= 4) bindings[op(1)] = op(3);
         if (op(2) == kDecorationDescriptorSet && count >= 4) sets[op(1)] = op(3);
+        if (op(2) == kDecorationLocation && count >= 4) locations[op(1)] = op(3);
         if (op(2) == kDecorationBlock || op(2) == kDecorationBufferBlock) block_kind[op(1)] = op(2);
         break;
       case kOpMemberDecorate:
@@ -151,9 +163,14 @@ Status reflectSpirv(Span<const uint32_t> words, const char* defaults_block, Spir
   }
   SpirvReflection r;
   for (const Variable& v : variables) {
+    const auto location = locations.find(v.id);
+    if ((v.storage == kStorageInput || v.storage == kStorageOutput) && location != locations.end())
+      (v.storage == kStorageInput ? r.inputs : r.outputs)
+          .push_back({names[v.id], location->second});
     if (v.storage != kStorageUniformConstant && v.storage != kStorageUniform &&
         v.storage != kStorageStorageBuffer)
       continue;
+    if (used.count(v.id) == 0) continue;  // Declared, never used.
     const auto pointer = types.find(v.pointer);
     if (pointer == types.end() || pointer->second.operands.size() < 2) continue;
     uint32_t pointee = pointer->second.operands[1], elements = 1;
@@ -206,6 +223,9 @@ Status reflectSpirv(Span<const uint32_t> words, const char* defaults_block, Spir
             [](const SpirvDescriptor& a, const SpirvDescriptor& b) {
               return a.set != b.set ? a.set < b.set : a.binding < b.binding;
             });
+  for (auto* varyings : {&r.inputs, &r.outputs})
+    std::sort(varyings->begin(), varyings->end(),
+              [](const SpirvVarying& a, const SpirvVarying& b) { return a.location < b.location; });
   *out = std::move(r);
   return Status::ok();
 }

@@ -3,8 +3,9 @@
 // What a SPIR-V module declares that a Vulkan pipeline must be given: each descriptor (set,
 // binding, kind, name) and the members of its default uniform block (glslang's relaxed rules put
 // a shader's loose uniforms there; the back-end names the block and its binding at build time)
-// with their offsets. Read from the module's own decorations, so the pipeline layout follows
-// the shaders as they are compiled. No Vulkan here: plain data the back-end maps to Vulkan types.
+// with their offsets; the stage's inputs and outputs by location. Read from the module's own
+// decorations, so the pipeline layout follows the shaders as they are compiled. No Vulkan here:
+// plain data the back-end maps to Vulkan types.
 
 #include <cstdint>
 #include <string>
@@ -40,15 +41,25 @@ struct SpirvMember {
   uint32_t offset = 0;
 };
 
+/// One stage input or output with a location (built-ins have none): its variable's name.
+struct SpirvVarying {
+  std::string name;
+  uint32_t location = 0;
+};
+
 /// What reflectSpirv() reads.
 struct SpirvReflection {
   std::vector<SpirvDescriptor> descriptors;  ///< In binding order within each set.
   /// The members of the uniform block whose type is named as reflectSpirv()'s `defaults_block`
   /// (empty when the module has none); its descriptor is in `descriptors` too.
   std::vector<SpirvMember> default_uniforms;
+  /// The stage's inputs and outputs with a location, in location order: where two stages meet
+  /// (Vulkan matches them by location, not by name).
+  std::vector<SpirvVarying> inputs, outputs;
 };
 
-/// Reads the descriptors and the default block's members of SPIR-V module `words`.
+/// Reads the descriptors, the default block's members and the located inputs and outputs of
+/// SPIR-V module `words`.
 /// kInvalidArgument, naming the word, for a module that is not SPIR-V (magic number), an
 /// instruction that runs past the end or is shorter than its operands, or a descriptor without
 /// a binding; nothing is written to `out` then.

@@ -8,6 +8,7 @@ Span<const VulkanProgram> vulkanPrograms() {
   static const VulkanProgram kPrograms[] = {
       {si::detail::ProgramId::kSkinned, "skinned"},
       {si::detail::ProgramId::kDepthOnly, "depth_only"},
+      {si::detail::ProgramId::kSkinnedMotion, "skinned_motion"},
   };
   return Span<const VulkanProgram>(kPrograms, sizeof(kPrograms) / sizeof(kPrograms[0]));
 }

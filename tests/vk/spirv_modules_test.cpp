@@ -194,5 +194,35 @@ TEST(VulkanSpirv, TheStagesOfAProgramAgreeOnEveryBinding) {
   }
 }
 
+// Vulkan joins a program's stages by location, not by name: every input of the fragment stage
+// is an output of the vertex stage of the same name at the same location (si_profile.glsl's
+// SI_VARYING_LAYOUT). Without it, skinned_motion's fragment stage read its motion inputs at 0 and
+// 1, where the vertex stage wrote the position and normal.
+TEST(VulkanSpirv, TheStagesOfAProgramMeetAtTheSameLocations) {
+  for (const VulkanProgram& p : vulkanPrograms()) {
+    SCOPED_TRACE(p.name);
+    SpirvReflection stages[2];
+    for (int k = 0; k < 2; ++k) {
+      const SpirvModule* m =
+          findSpirvModule((std::string(p.name) + (k == 0 ? ".vert" : ".frag")).c_str());
+      ASSERT_NE(m, nullptr);
+      ASSERT_TRUE(reflectSpirv(Span<const uint32_t>(m->words, m->word_count), kDefaultUniformBlock,
+                               &stages[k])
+                      .isOk());
+    }
+    std::map<std::string, uint32_t> written;
+    for (const SpirvVarying& v : stages[0].outputs) written[v.name] = v.location;
+    for (const SpirvVarying& v : stages[1].inputs) {
+      SCOPED_TRACE(v.name);
+      const auto it = written.find(v.name);
+      ASSERT_NE(it, written.end()) << "the vertex stage does not write it";
+      EXPECT_EQ(it->second, v.location);
+    }
+    if (std::string(p.name) == "skinned") {
+      EXPECT_GE(stages[1].inputs.size(), 7u);
+    }
+  }
+}
+
 }  // namespace
 }  // namespace si::vk::detail

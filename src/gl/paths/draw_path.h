@@ -9,6 +9,7 @@
 #include <cstdint>
 #include <vector>
 
+#include "crowd/ring_frame.h"
 #include "gl/programs/program_set.h"
 #include "gl/resources/character_buffers.h"
 #include "gl/resources/drawn_regions.h"
@@ -17,7 +18,6 @@
 #include "gl/resources/pass_timer.h"
 #include "gl/resources/preskin_lists.h"
 #include "gl/resources/record_ring.h"
-#include "gl/resources/ring_frame.h"
 #include "gl/resources/scratch_buffers.h"
 #include "si/crowd/camera.h"
 #include "si/crowd/crowd_manager.h"

@@ -12,8 +12,8 @@
 
 #include <glm/glm.hpp>
 
+#include "crowd/ring_frame.h"
 #include "gl/resources/record_ring.h"
-#include "gl/resources/ring_frame.h"
 
 namespace si::detail {
 

@@ -9,7 +9,7 @@
 #ifndef SI_INSTANCE_HANDLE_GLSL
 #define SI_INSTANCE_HANDLE_GLSL
 #ifdef SI_INSTANCE_HANDLE
-flat out uint v_instance_handle;
+SI_VARYING_LAYOUT(11) flat out uint v_instance_handle;
 #if defined(SI_INSTANCE_HANDLE_UNIFORM)
 uniform uint u_instance_handle;
 #elif !defined(SI_GPU_DRIVEN)

@@ -16,13 +16,13 @@ layout(location = 4) uniform uint u_color;
 layout(location = 5) uniform int u_base_vertex;
 layout(location = 6) uniform uint u_tangents;  // 1: the stream carries tangents.
 uniform uint u_lod;  // The instance's LOD (SiSurface.lod).
-out vec3 v_position;  // Camera-relative world position (SiSurface.position).
-out vec3 v_normal;
-out vec4 v_tangent;  // vec4(0) without tangents: no tangent frame.
-out vec2 v_texcoord;
-flat out uint v_color;
-flat out uint v_material;
-flat out uint v_lod;
+SI_VARYING_LAYOUT(0) out vec3 v_position;  // Camera-relative world position (SiSurface.position).
+SI_VARYING_LAYOUT(1) out vec3 v_normal;
+SI_VARYING_LAYOUT(2) out vec4 v_tangent;  // vec4(0) without tangents: no tangent frame.
+SI_VARYING_LAYOUT(3) out vec2 v_texcoord;
+SI_VARYING_LAYOUT(4) flat out uint v_color;
+SI_VARYING_LAYOUT(5) flat out uint v_material;
+SI_VARYING_LAYOUT(6) flat out uint v_lod;
 void main() {
   v_material = siVertexMaterial(uint(gl_VertexID - u_base_vertex));
   v_normal = a_normal;

@@ -44,22 +44,22 @@ layout(std430, binding = SI_PREVIOUS_RING_BINDING) readonly buffer SiSkinnedPrev
 };
 uniform mat4 u_motion_view_projection;
 uniform mat4 u_previous_view_projection;
-out vec4 v_motion_current;
-out vec4 v_motion_previous;
+SI_VARYING_LAYOUT(7) out vec4 v_motion_current;
+SI_VARYING_LAYOUT(8) out vec4 v_motion_previous;
 #endif
 #include "instance_handle.glsl"
 layout(location = 1) uniform mat4 u_view_projection;
-out vec3 v_position;  // Camera-relative world position (SiSurface.position).
-out vec3 v_normal;
-out vec4 v_tangent;  // vec4(0) without tangents: no tangent frame.
-out vec2 v_texcoord;
+SI_VARYING_LAYOUT(0) out vec3 v_position;  // Camera-relative world position (SiSurface.position).
+SI_VARYING_LAYOUT(1) out vec3 v_normal;
+SI_VARYING_LAYOUT(2) out vec4 v_tangent;  // vec4(0) without tangents: no tangent frame.
+SI_VARYING_LAYOUT(3) out vec2 v_texcoord;
 #ifdef SI_VERTEX_WORDS
-out vec2 v_texcoord1;     // vec2(0) where the mesh has none.
-out vec4 v_vertex_color;  // vec4(1) where the mesh has none.
+SI_VARYING_LAYOUT(9) out vec2 v_texcoord1;     // vec2(0) where the mesh has none.
+SI_VARYING_LAYOUT(10) out vec4 v_vertex_color;  // vec4(1) where the mesh has none.
 #endif
-flat out uint v_color;
-flat out uint v_material;
-flat out uint v_lod;
+SI_VARYING_LAYOUT(4) flat out uint v_color;
+SI_VARYING_LAYOUT(5) flat out uint v_material;
+SI_VARYING_LAYOUT(6) flat out uint v_lod;
 void main() {
   uint k = uint(gl_VertexID);
 #ifdef SI_GPU_DRIVEN

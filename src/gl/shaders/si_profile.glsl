@@ -7,7 +7,11 @@
 //   SI_WITH_BINDING(b)     ", binding = b" after another layout qualifier: layout(std140 SI_WITH_BINDING(4))
 //   SI_BINDING_LAYOUT(b)   "layout(binding = b)" alone (samplers)
 //   SI_LOCATION_LAYOUT(l)  "layout(location = l)" of a default-block uniform
-// Both expand to nothing under GLSL ES 3.00. siUnpackUnorm4x8 is unpackUnorm4x8, which GLSL ES
+//   SI_VARYING_LAYOUT(l)   "layout(location = l)" of a vertex output or fragment input, under
+//                          Vulkan only (where the stages meet by location, not by name): the
+//                          mesh surface's interface numbers its varyings once (v_position 0
+//                          ... v_instance_handle 11) in every stage that declares them
+// The first three expand to nothing under GLSL ES 3.00. siUnpackUnorm4x8 is unpackUnorm4x8, which GLSL ES
 // gained only in 3.10. Under GLSL ES, declare the default precisions (highp float and int,
 // sampler2D, sampler2DArray) before including.
 #ifndef SI_PROFILE_GLSL
@@ -19,14 +23,17 @@
 #define SI_WITH_BINDING(b) , set = SI_DESCRIPTOR_SET, binding = b
 #define SI_BINDING_LAYOUT(b) layout(set = SI_DESCRIPTOR_SET, binding = b)
 #define SI_LOCATION_LAYOUT(l) layout(location = l)
+#define SI_VARYING_LAYOUT(l) layout(location = l)
 #elif defined(GL_ES) && __VERSION__ < 310
 #define SI_WITH_BINDING(b)
 #define SI_BINDING_LAYOUT(b)
 #define SI_LOCATION_LAYOUT(l)
+#define SI_VARYING_LAYOUT(l)
 #else
 #define SI_WITH_BINDING(b) , binding = b
 #define SI_BINDING_LAYOUT(b) layout(binding = b)
 #define SI_LOCATION_LAYOUT(l) layout(location = l)
+#define SI_VARYING_LAYOUT(l)
 #endif
 #if defined(GL_ES) && __VERSION__ < 310
 vec4 siUnpackUnorm4x8(uint v) {

@@ -119,14 +119,15 @@ layout(location = 12) in uint a_morph;
 #endif
 #include "vertex_words.glsl"
 SI_LOCATION_LAYOUT(1) uniform mat4 u_view_projection;
-out vec3 v_position;  // Camera-relative world position (SiSurface.position).
-out vec3 v_normal;
-out vec4 v_tangent;  // Skinned as the normal is (the seed's S), w kept; cross(N, T) in the
-                     // fragment stage gives the bitangent.
-out vec2 v_texcoord;
-flat out uint v_color;
-flat out uint v_material;
-flat out uint v_lod;
+SI_VARYING_LAYOUT(0) out vec3 v_position;  // Camera-relative world position (SiSurface.position).
+SI_VARYING_LAYOUT(1) out vec3 v_normal;
+// Skinned as the normal is (the seed's S), w kept; cross(N, T) in the fragment stage gives the
+// bitangent.
+SI_VARYING_LAYOUT(2) out vec4 v_tangent;
+SI_VARYING_LAYOUT(3) out vec2 v_texcoord;
+SI_VARYING_LAYOUT(4) flat out uint v_color;
+SI_VARYING_LAYOUT(5) flat out uint v_material;
+SI_VARYING_LAYOUT(6) flat out uint v_lod;
 #ifndef SI_GPU_DRIVEN
 uniform uint u_lod;  // The batch's LOD (SiSurface.lod).
 #endif
@@ -136,8 +137,8 @@ out vec3 tf_position;
 #ifdef SI_MOTION_VECTORS
 uniform mat4 u_motion_view_projection;    // The crowd's last update camera.
 uniform mat4 u_previous_view_projection;  // The update camera before it.
-out vec4 v_motion_current;
-out vec4 v_motion_previous;
+SI_VARYING_LAYOUT(7) out vec4 v_motion_current;
+SI_VARYING_LAYOUT(8) out vec4 v_motion_previous;
 #endif
 #ifdef SI_GPU_DRIVEN
 // GPU-driven culling: the record of this draw's instance, through its bucket entry; a_entry is

@@ -8,17 +8,18 @@
 #define SI_MATERIAL_TABLE
 #include "material_common.glsl"
 #include "surface_common.glsl"
-in vec3 v_position;
-in vec3 v_normal;
-in vec4 v_tangent;  // w 0: the mesh has no tangents (or the path does not carry them).
-in vec2 v_texcoord;
+SI_VARYING_LAYOUT(0) in vec3 v_position;
+SI_VARYING_LAYOUT(1) in vec3 v_normal;
+// w 0: the mesh has no tangents (or the path does not carry them).
+SI_VARYING_LAYOUT(2) in vec4 v_tangent;
+SI_VARYING_LAYOUT(3) in vec2 v_texcoord;
 #ifdef SI_VERTEX_WORDS  // The variant for meshes with texture coordinates 1 or colours.
-in vec2 v_texcoord1;     // Read where the mesh has it (material.layer.w & 1).
-in vec4 v_vertex_color;  // Read where the mesh has it (material.layer.w & 2).
+SI_VARYING_LAYOUT(9) in vec2 v_texcoord1;     // Read where the mesh has it (material.layer.w & 1).
+SI_VARYING_LAYOUT(10) in vec4 v_vertex_color;  // Read where the mesh has it (material.layer.w & 2).
 #endif
-flat in uint v_color;
-flat in uint v_material;
-flat in uint v_lod;
+SI_VARYING_LAYOUT(4) flat in uint v_color;
+SI_VARYING_LAYOUT(5) flat in uint v_material;
+SI_VARYING_LAYOUT(6) flat in uint v_lod;
 SI_BINDING_LAYOUT(1) uniform sampler2DArray u_base_color;     // Colour layers (sRGB).
 SI_BINDING_LAYOUT(4) uniform sampler2DArray u_material_data;  // Data layers (linear).
 void main() {

@@ -11,11 +11,11 @@ SI_BINDING_LAYOUT(2) uniform sampler2DArray u_custom;
 uniform uint u_custom_layers;
 SI_LOCATION_LAYOUT(3) uniform vec3 u_light_direction;
 #ifdef SI_MOTION_VECTORS
-in vec4 v_motion_current;
-in vec4 v_motion_previous;
+SI_VARYING_LAYOUT(7) in vec4 v_motion_current;
+SI_VARYING_LAYOUT(8) in vec4 v_motion_previous;
 #endif
 #ifdef SI_INSTANCE_HANDLE
-flat in uint v_instance_handle;  // The vertex stage's instance_handle.glsl.
+SI_VARYING_LAYOUT(11) flat in uint v_instance_handle;  // The vertex stage's instance_handle.glsl.
 #endif
 
 vec3 siLightDirection() { return u_light_direction; }

@@ -9,8 +9,8 @@
 #ifdef SI_VERTEX_WORDS
 layout(location = 8) in vec2 a_texcoord1;
 layout(location = 9) in vec4 a_vertex_color;
-out vec2 v_texcoord1;
-out vec4 v_vertex_color;
+SI_VARYING_LAYOUT(9) out vec2 v_texcoord1;
+SI_VARYING_LAYOUT(10) out vec4 v_vertex_color;
 void siPassVertexWords() {
   v_texcoord1 = a_texcoord1;
   v_vertex_color = a_vertex_color;

@@ -1,6 +1,6 @@
 // SkinnedInstancing — SPDX-License-Identifier: MIT (see LICENSE)
-// drawCrowd's frame in the record ring.
-#include "gl/resources/ring_frame.h"
+// A batched draw's frame in the record ring.
+#include "crowd/ring_frame.h"
 
 #include <cstring>
 

@@ -1,8 +1,10 @@
 // SkinnedInstancing — SPDX-License-Identifier: MIT (see LICENSE)
 #pragma once
-// What drawCrowd writes into its region of the record ring, and where: the batches' records;
+// What a draw of the batched paths (si::gl's drawCrowd, si::vk's recordDraw) writes into its
+// region of the record ring, and where: the batches' records;
 // with motion vectors each slot's previous-record index and, unless the previous frame's region
-// still holds them (resources/drawn_regions.h), the previous records once each;
+// still holds them (si::gl's resources/drawn_regions.h; si::vk always copies them), the
+// previous records once each;
 // with overlays the layer records (and previous layer records), a 2D blend's extra layer
 // records (and previous ones) and the compose pass's places (crowd/composed_places.h: per
 // record its first drawn slot, per slot its record); for a material that reads the instance
@@ -32,18 +34,18 @@ struct RingFrame {
   size_t previous_indices = 0;   ///< buildPreviousIndices (4 bytes a slot).
   size_t previous_records = 0;   ///< When copied: CrowdView::previousRecords(), 80 bytes each.
   size_t previous_end = 0;       ///< The end of the indices, or of the copied records.
-  size_t layer_records = 0;     ///< buildLayers.
-  size_t previous_layers = 0;   ///< buildPreviousLayers.
-  bool extras = false;          ///< 2D blends: the extra layer records too.
-  size_t extra_layers = 0;      ///< buildExtraLayers.
-  size_t previous_extras = 0;   ///< buildPreviousExtraLayers.
-  size_t compose_entries = 0;   ///< writeComposedPlaces' entries (8 bytes a record),
-  size_t compose_slots = 0;     ///< and its slots' records (4 bytes a slot).
+  size_t layer_records = 0;      ///< buildLayers.
+  size_t previous_layers = 0;    ///< buildPreviousLayers.
+  bool extras = false;           ///< 2D blends: the extra layer records too.
+  size_t extra_layers = 0;       ///< buildExtraLayers.
+  size_t previous_extras = 0;    ///< buildPreviousExtraLayers.
+  size_t compose_entries = 0;    ///< writeComposedPlaces' entries (8 bytes a record),
+  size_t compose_slots = 0;      ///< and its slots' records (4 bytes a slot).
   bool handles = false;
   size_t handle_words = 0;  ///< buildHandles (4 bytes a slot).
   size_t handles_end = 0;
-  uint64_t layer_slots = 0;     ///< Layer records the layer block holds (padding included).
-  size_t end = 0;               ///< Bytes of the region the frame may use.
+  uint64_t layer_slots = 0;  ///< Layer records the layer block holds (padding included).
+  size_t end = 0;            ///< Bytes of the region the frame may use.
 };
 
 /// Where each block of `view`'s frame goes for `batcher` (`alignment`: a power of two, the
