@@ -82,7 +82,7 @@ Status runBoth(Setup& setup, Renderer& gl, examples::HeadlessVulkan& host,
             vk_submit_ms = msSince(t1);
             return drawn;
           },
-          last ? &images[1] : nullptr, nullptr, &vk_ms);
+          {last ? &images[1] : nullptr, nullptr, nullptr, &vk_ms});
     }
     if (!s.isOk() || f < warmup) continue;
     update.push_back(update_ms);

@@ -8,6 +8,8 @@
 #include <cstring>
 #include <string>
 
+#include <glm/gtc/packing.hpp>
+
 namespace si::examples {
 
 namespace {
@@ -65,9 +67,11 @@ HeadlessVulkan::~HeadlessVulkan() {
     vkDeviceWaitIdle(device_);
     vkDestroyBuffer(device_, readback_, nullptr);
     vkFreeMemory(device_, readback_memory_, nullptr);
-    for (VkImageView v : {color_view_, depth_view_}) vkDestroyImageView(device_, v, nullptr);
-    for (VkImage i : {color_, depth_}) vkDestroyImage(device_, i, nullptr);
-    for (VkDeviceMemory m : {color_memory_, depth_memory_}) vkFreeMemory(device_, m, nullptr);
+    for (VkImageView v : {color_view_, depth_view_, motion_view_})
+      vkDestroyImageView(device_, v, nullptr);
+    for (VkImage i : {color_, depth_, motion_}) vkDestroyImage(device_, i, nullptr);
+    for (VkDeviceMemory m : {color_memory_, depth_memory_, motion_memory_})
+      vkFreeMemory(device_, m, nullptr);
     if (timestamps_ != VK_NULL_HANDLE) vkDestroyQueryPool(device_, timestamps_, nullptr);
     vkDestroyCommandPool(device_, pool_, nullptr);
     vkDestroyDevice(device_, nullptr);
@@ -179,12 +183,16 @@ Status HeadlessVulkan::create(uint32_t width, uint32_t height) {
                      VK_IMAGE_USAGE_COLOR_ATTACHMENT_BIT | VK_IMAGE_USAGE_TRANSFER_SRC_BIT,
                      VK_IMAGE_ASPECT_COLOR_BIT, &color_, &color_memory_, &color_view_);
   if (s.isOk())
+    s = createTarget(kMotionFormat,
+                     VK_IMAGE_USAGE_COLOR_ATTACHMENT_BIT | VK_IMAGE_USAGE_TRANSFER_SRC_BIT,
+                     VK_IMAGE_ASPECT_COLOR_BIT, &motion_, &motion_memory_, &motion_view_);
+  if (s.isOk())
     s = createTarget(VK_FORMAT_D32_SFLOAT,
                      VK_IMAGE_USAGE_DEPTH_STENCIL_ATTACHMENT_BIT | VK_IMAGE_USAGE_TRANSFER_SRC_BIT,
                      VK_IMAGE_ASPECT_DEPTH_BIT, &depth_, &depth_memory_, &depth_view_);
   if (!s.isOk()) return s;
   auto buffer = vkStruct<VkBufferCreateInfo>(VK_STRUCTURE_TYPE_BUFFER_CREATE_INFO);
-  buffer.size = VkDeviceSize(width) * height * 8;  // The colour, then the depth.
+  buffer.size = VkDeviceSize(width) * height * 12;  // The colour, the depth, the motion.
   buffer.usage = VK_BUFFER_USAGE_TRANSFER_DST_BIT;
   s = checkVk(vkCreateBuffer(device_, &buffer, nullptr, &readback_), "vkCreateBuffer");
   if (!s.isOk()) return s;
@@ -260,68 +268,89 @@ Status HeadlessVulkan::submit(const std::function<Status(VkCommandBuffer)>& work
 
 Status HeadlessVulkan::render(const Frame& frame,
                               const std::function<Status(VkCommandBuffer)>& draw,
-                              std::vector<uint8_t>* rgba, std::vector<float>* depth_out,
-                              double* gpu_ms) {
-  if (gpu_ms != nullptr && timestamps_ == VK_NULL_HANDLE)
+                              const Readback& out) {
+  if (out.gpu_ms != nullptr && timestamps_ == VK_NULL_HANDLE)
     return {StatusCode::kUnsupported, "the queue writes no timestamps"};
-  const VkDeviceSize depth_at = VkDeviceSize(width_) * height_ * 4;
+  if (frame.motion && !frame.color)
+    return {StatusCode::kInvalidArgument, "motion vectors without a colour attachment"};
+  // The readback buffer: the colour, the depth, the motion (4 bytes a pixel each).
+  const VkDeviceSize plane = VkDeviceSize(width_) * height_ * 4;
   const Status s = submit([&](VkCommandBuffer cmd) {
     constexpr VkAccessFlags kDepthAccess =
         VK_ACCESS_DEPTH_STENCIL_ATTACHMENT_READ_BIT | VK_ACCESS_DEPTH_STENCIL_ATTACHMENT_WRITE_BIT;
     constexpr VkPipelineStageFlags kDepthStages =
         VK_PIPELINE_STAGE_EARLY_FRAGMENT_TESTS_BIT | VK_PIPELINE_STAGE_LATE_FRAGMENT_TESTS_BIT;
+    // The colour attachments this frame has: the colour, and the motion when asked.
+    struct Attachment {
+      VkImage image;
+      VkImageView view;
+      glm::vec4 clear;
+      std::vector<uint8_t>* rgba;      // Read back as bytes (the colour) ...
+      std::vector<glm::vec2>* motion;  // ... or as two half floats (the motion).
+      VkDeviceSize at;
+    };
+    std::vector<Attachment> attachments;
     if (frame.color)
-      transition(cmd, color_, VK_IMAGE_ASPECT_COLOR_BIT, VK_IMAGE_LAYOUT_UNDEFINED,
+      attachments.push_back({color_, color_view_, frame.clear_color, out.rgba, nullptr, 0});
+    if (frame.motion)
+      attachments.push_back(
+          {motion_, motion_view_, glm::vec4(0.0f), nullptr, out.motion, 2 * plane});
+    std::vector<VkRenderingAttachmentInfo> colors;
+    for (const Attachment& a : attachments) {
+      transition(cmd, a.image, VK_IMAGE_ASPECT_COLOR_BIT, VK_IMAGE_LAYOUT_UNDEFINED,
                  VK_IMAGE_LAYOUT_COLOR_ATTACHMENT_OPTIMAL, 0, VK_ACCESS_COLOR_ATTACHMENT_WRITE_BIT,
                  VK_PIPELINE_STAGE_TOP_OF_PIPE_BIT, VK_PIPELINE_STAGE_COLOR_ATTACHMENT_OUTPUT_BIT);
+      auto info = vkStruct<VkRenderingAttachmentInfo>(VK_STRUCTURE_TYPE_RENDERING_ATTACHMENT_INFO);
+      info.imageView = a.view;
+      info.imageLayout = VK_IMAGE_LAYOUT_COLOR_ATTACHMENT_OPTIMAL;
+      info.loadOp = VK_ATTACHMENT_LOAD_OP_CLEAR;
+      info.storeOp = VK_ATTACHMENT_STORE_OP_STORE;
+      info.clearValue.color = {{a.clear.r, a.clear.g, a.clear.b, a.clear.a}};
+      colors.push_back(info);
+    }
     transition(cmd, depth_, VK_IMAGE_ASPECT_DEPTH_BIT, VK_IMAGE_LAYOUT_UNDEFINED,
                VK_IMAGE_LAYOUT_DEPTH_ATTACHMENT_OPTIMAL, 0, kDepthAccess,
                VK_PIPELINE_STAGE_TOP_OF_PIPE_BIT, kDepthStages);
-    auto color = vkStruct<VkRenderingAttachmentInfo>(VK_STRUCTURE_TYPE_RENDERING_ATTACHMENT_INFO);
-    color.imageView = color_view_;
-    color.imageLayout = VK_IMAGE_LAYOUT_COLOR_ATTACHMENT_OPTIMAL;
-    color.loadOp = VK_ATTACHMENT_LOAD_OP_CLEAR;
-    color.storeOp = VK_ATTACHMENT_STORE_OP_STORE;
-    const glm::vec4& c = frame.clear_color;
-    color.clearValue.color = {{c.r, c.g, c.b, c.a}};
     auto depth = vkStruct<VkRenderingAttachmentInfo>(VK_STRUCTURE_TYPE_RENDERING_ATTACHMENT_INFO);
     depth.imageView = depth_view_;
     depth.imageLayout = VK_IMAGE_LAYOUT_DEPTH_ATTACHMENT_OPTIMAL;
     depth.loadOp = VK_ATTACHMENT_LOAD_OP_CLEAR;
     depth.storeOp =
-        depth_out != nullptr ? VK_ATTACHMENT_STORE_OP_STORE : VK_ATTACHMENT_STORE_OP_DONT_CARE;
+        out.depth != nullptr ? VK_ATTACHMENT_STORE_OP_STORE : VK_ATTACHMENT_STORE_OP_DONT_CARE;
     depth.clearValue.depthStencil = {frame.clear_depth, 0};
     auto rendering = vkStruct<VkRenderingInfo>(VK_STRUCTURE_TYPE_RENDERING_INFO);
     rendering.renderArea = {{0, 0}, {width_, height_}};
     rendering.layerCount = 1;
-    rendering.colorAttachmentCount = frame.color ? 1 : 0;
-    rendering.pColorAttachments = frame.color ? &color : nullptr;
+    rendering.colorAttachmentCount = uint32_t(colors.size());
+    rendering.pColorAttachments = colors.empty() ? nullptr : colors.data();
     rendering.pDepthAttachment = &depth;
-    if (gpu_ms != nullptr) vkCmdResetQueryPool(cmd, timestamps_, 0, 2);
+    if (out.gpu_ms != nullptr) vkCmdResetQueryPool(cmd, timestamps_, 0, 2);
     vkCmdBeginRendering(cmd, &rendering);
-    if (gpu_ms != nullptr)
+    if (out.gpu_ms != nullptr)
       vkCmdWriteTimestamp(cmd, VK_PIPELINE_STAGE_TOP_OF_PIPE_BIT, timestamps_, 0);
     const Status drawn = draw(cmd);
-    if (gpu_ms != nullptr)
+    if (out.gpu_ms != nullptr)
       vkCmdWriteTimestamp(cmd, VK_PIPELINE_STAGE_BOTTOM_OF_PIPE_BIT, timestamps_, 1);
     vkCmdEndRendering(cmd);
-    if (frame.color) {
-      transition(cmd, color_, VK_IMAGE_ASPECT_COLOR_BIT, VK_IMAGE_LAYOUT_COLOR_ATTACHMENT_OPTIMAL,
+    for (const Attachment& a : attachments) {
+      if (a.rgba == nullptr && a.motion == nullptr) continue;
+      transition(cmd, a.image, VK_IMAGE_ASPECT_COLOR_BIT, VK_IMAGE_LAYOUT_COLOR_ATTACHMENT_OPTIMAL,
                  VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL, VK_ACCESS_COLOR_ATTACHMENT_WRITE_BIT,
                  VK_ACCESS_TRANSFER_READ_BIT, VK_PIPELINE_STAGE_COLOR_ATTACHMENT_OUTPUT_BIT,
                  VK_PIPELINE_STAGE_TRANSFER_BIT);
       VkBufferImageCopy copy{};
+      copy.bufferOffset = a.at;
       copy.imageSubresource = {VK_IMAGE_ASPECT_COLOR_BIT, 0, 0, 1};
       copy.imageExtent = {width_, height_, 1};
-      vkCmdCopyImageToBuffer(cmd, color_, VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL, readback_, 1,
+      vkCmdCopyImageToBuffer(cmd, a.image, VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL, readback_, 1,
                              &copy);
     }
-    if (depth_out != nullptr) {
+    if (out.depth != nullptr) {
       transition(cmd, depth_, VK_IMAGE_ASPECT_DEPTH_BIT, VK_IMAGE_LAYOUT_DEPTH_ATTACHMENT_OPTIMAL,
                  VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL, VK_ACCESS_DEPTH_STENCIL_ATTACHMENT_WRITE_BIT,
                  VK_ACCESS_TRANSFER_READ_BIT, kDepthStages, VK_PIPELINE_STAGE_TRANSFER_BIT);
       VkBufferImageCopy copy{};
-      copy.bufferOffset = depth_at;
+      copy.bufferOffset = plane;
       copy.imageSubresource = {VK_IMAGE_ASPECT_DEPTH_BIT, 0, 0, 1};
       copy.imageExtent = {width_, height_, 1};
       vkCmdCopyImageToBuffer(cmd, depth_, VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL, readback_, 1,
@@ -336,19 +365,27 @@ Status HeadlessVulkan::render(const Frame& frame,
   if (!m.isOk()) return m;
   const uint8_t* bytes = static_cast<const uint8_t*>(mapped);
   const size_t pixels = size_t(width_) * height_;
-  if (frame.color && rgba != nullptr) rgba->assign(bytes, bytes + pixels * 4);
-  if (depth_out != nullptr) {
-    depth_out->resize(pixels);
-    std::memcpy(depth_out->data(), bytes + depth_at, pixels * 4);
+  if (frame.color && out.rgba != nullptr) out.rgba->assign(bytes, bytes + pixels * 4);
+  if (out.depth != nullptr) {
+    out.depth->resize(pixels);
+    std::memcpy(out.depth->data(), bytes + plane, pixels * 4);
+  }
+  if (frame.motion && out.motion != nullptr) {
+    out.motion->resize(pixels);
+    for (size_t i = 0; i < pixels; ++i) {
+      uint32_t halves = 0;
+      std::memcpy(&halves, bytes + 2 * plane + i * 4, 4);
+      (*out.motion)[i] = glm::unpackHalf2x16(halves);
+    }
   }
   vkUnmapMemory(device_, readback_memory_);
-  if (gpu_ms != nullptr) {
+  if (out.gpu_ms != nullptr) {
     uint64_t stamps[2] = {};
     const Status read = checkVk(vkGetQueryPoolResults(device_, timestamps_, 0, 2, sizeof(stamps),
                                                       stamps, 8, VK_QUERY_RESULT_64_BIT),
                                 "vkGetQueryPoolResults");
     if (!read.isOk()) return read;
-    *gpu_ms = double(stamps[1] - stamps[0]) * timestamp_period_ns_ * 1e-6;
+    *out.gpu_ms = double(stamps[1] - stamps[0]) * timestamp_period_ns_ * 1e-6;
   }
   return Status::ok();
 }

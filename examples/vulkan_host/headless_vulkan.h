@@ -4,9 +4,9 @@
 // example, crowd_bench's Vulkan table and the Vulkan render tests use it: its own instance (the
 // Khronos validation layer on when installed, every warning and error it reports kept), a
 // Vulkan 1.3 device with dynamic rendering (lavapipe on machines without a GPU), a queue,
-// colour (RGBA8) and depth (D32) targets, and a frame that clears them, lets the crowd record
-// into its rendering, reads colour and depth back and times the recording with timestamps. No
-// surface: headless. Raw Vulkan: what an engine owns, the library never creates.
+// colour (RGBA8), motion (RG16F) and depth (D32) targets, and a frame that clears them, lets the
+// crowd record into its rendering, reads colour and depth back and times the recording with
+// timestamps. No surface: headless. Raw Vulkan: what an engine owns, the library never creates.
 #include <vulkan/vulkan.h>
 
 #include <functional>
@@ -38,20 +38,27 @@ class HeadlessVulkan {
 
   /// Records `work` into a command buffer, submits it and waits for it.
   Status submit(const std::function<Status(VkCommandBuffer)>& work);
+  /// The motion attachment's format (Frame::motion).
+  static constexpr VkFormat kMotionFormat = VK_FORMAT_R16G16_SFLOAT;
   /// How a frame's rendering begins.
   struct Frame {
     glm::vec4 clear_color = glm::vec4(0.0f);
     float clear_depth = 1.0f;  ///< 0 under reverse-Z.
     bool color = true;         ///< A colour attachment; false: depth only (a shadow map).
+    bool motion = false;       ///< Colour attachment 1, kMotionFormat, cleared to 0.
+  };
+  /// What a frame reads back once it is done (each when not null).
+  struct Readback {
+    std::vector<uint8_t>* rgba = nullptr;      ///< The colour: RGBA8, rows top to bottom.
+    std::vector<float>* depth = nullptr;       ///< Window depth, 0-1.
+    std::vector<glm::vec2>* motion = nullptr;  ///< The motion attachment (Frame::motion).
+    double* gpu_ms = nullptr;  ///< GPU time between timestamps before and after `draw`.
   };
   /// One frame: the targets cleared as `frame` says, `draw` recording inside dynamic rendering
-  /// over them, then the colour read back into `rgba` when given (RGBA8, rows top to bottom;
-  /// not read without a colour attachment), the depth into `depth` when given (window depth,
-  /// 0-1), and into `gpu_ms` the GPU time between timestamps before and after `draw`'s
-  /// commands (kUnsupported on a queue without timestamps). It waits for the frame.
+  /// over them, then what `out` asks read back. It waits for the frame. kUnsupported for GPU
+  /// time on a queue without timestamps; kInvalidArgument for motion without colour.
   Status render(const Frame& frame, const std::function<Status(VkCommandBuffer)>& draw,
-                std::vector<uint8_t>* rgba, std::vector<float>* depth = nullptr,
-                double* gpu_ms = nullptr);
+                const Readback& out);
 
   /// The validation layer's callback.
   void report(const char* message) { messages_.push_back(message); }
@@ -71,6 +78,9 @@ class HeadlessVulkan {
   VkImage color_ = VK_NULL_HANDLE, depth_ = VK_NULL_HANDLE;
   VkDeviceMemory color_memory_ = VK_NULL_HANDLE, depth_memory_ = VK_NULL_HANDLE;
   VkImageView color_view_ = VK_NULL_HANDLE, depth_view_ = VK_NULL_HANDLE;
+  VkImage motion_ = VK_NULL_HANDLE;
+  VkDeviceMemory motion_memory_ = VK_NULL_HANDLE;
+  VkImageView motion_view_ = VK_NULL_HANDLE;
   VkQueryPool timestamps_ = VK_NULL_HANDLE;  // Two: before and after a frame's draw.
   bool timestamps_valid_ = false;
   float timestamp_period_ns_ = 1.0f;

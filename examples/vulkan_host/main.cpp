@@ -180,14 +180,13 @@ int main(int argc, char** argv) {
     shadow_frame.color = false;
     std::vector<float> depth;
     double ms = 0.0;
-    s = host.render(
-        shadow_frame,
-        [&](VkCommandBuffer cmd) {
-          si::Status begun = renderer.beginFrame(slot);
-          if (!begun.isOk()) return begun;
-          return renderer.recordDraw(cmd, shadow_target, id, shadow_view, batcher, sun);
-        },
-        nullptr, f + 1 == o.frames ? &depth : nullptr, &ms);
+    s = host.render(shadow_frame,
+                    [&](VkCommandBuffer cmd) {
+                      si::Status begun = renderer.beginFrame(slot);
+                      if (!begun.isOk()) return begun;
+                      return renderer.recordDraw(cmd, shadow_target, id, shadow_view, batcher, sun);
+                    },
+                    {nullptr, f + 1 == o.frames ? &depth : nullptr, nullptr, &ms});
     if (!s.isOk()) return fail("the shadow view", s);
     shadow_ms.push_back(ms);
     shadow_texels = 0;
@@ -204,7 +203,7 @@ int main(int argc, char** argv) {
           return renderer.recordDraw(cmd, si::vk::DrawTarget{{o.width, o.height}}, id, crowd.view(),
                                      batcher, camera, &stats);
         },
-        f + 1 == o.frames ? &rgba : nullptr, nullptr, &ms);
+        {f + 1 == o.frames ? &rgba : nullptr, nullptr, nullptr, &ms});
     if (!s.isOk()) return fail("the main view", s);
     main_ms.push_back(ms);
     if (f + 1 == o.frames)

@@ -145,7 +145,7 @@ void destroyCharacter(DeviceObjects* objects, CharacterResources* c) {
                        &c->materials, &c->staging})
     objects->destroy(b);
   for (GpuImage* i : {&c->palette, &c->base_color, &c->material_data}) objects->destroy(i);
-  for (VkPipeline* p : {&c->pipeline, &c->depth_only_pipeline}) {
+  for (VkPipeline* p : {&c->pipeline, &c->depth_only_pipeline, &c->motion_pipeline}) {
     if (*p != VK_NULL_HANDLE) vkDestroyPipeline(objects->device(), *p, objects->allocator());
     *p = VK_NULL_HANDLE;
   }

@@ -29,6 +29,7 @@ struct CharacterResources {
   std::vector<SubMesh> sub_meshes;
   VkPipeline pipeline = VK_NULL_HANDLE;             ///< Shaded (DrawMode::kShaded).
   VkPipeline depth_only_pipeline = VK_NULL_HANDLE;  ///< DrawMode::kDepthOnly.
+  VkPipeline motion_pipeline = VK_NULL_HANDLE;      ///< Shaded with motion vectors (motion_format).
   VkDescriptorPool pool = VK_NULL_HANDLE;
   VkDescriptorSet set = VK_NULL_HANDLE;
   GpuBuffer staging;  ///< Until recordUploads() hands it on.

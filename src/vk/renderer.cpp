@@ -9,6 +9,7 @@
 #include <vector>
 
 #include "core/str_cat.h"
+#include "crowd/ring_frame.h"
 #include "si/core/shader_inputs.h"
 #include "si_vk/vulkan_profile.h"
 #include "vk/character_resources.h"
@@ -21,7 +22,11 @@
 
 namespace si::vk {
 
+using si::detail::planRingFrame;
+using si::detail::RingContents;
+using si::detail::RingFrame;
 using si::detail::strCat;
+using si::detail::writeRingFrame;
 using namespace si::vk::detail;
 
 struct Renderer::Impl {
@@ -36,8 +41,9 @@ struct Renderer::Impl {
   RendererDesc desc;
   DeviceObjects objects;
   VkDeviceSize ubo_alignment = 256;
-  Program shaded, depth_only;  // The skinned and depth-only programs (DrawMode).
-  SkinnedLayout layout;        // One set layout for both: the union of their declarations.
+  // The skinned and depth-only programs (DrawMode), and the skinned one with motion vectors.
+  Program shaded, depth_only, motion;
+  SkinnedLayout layout;  // One set layout for all three: the union of their declarations.
   VkSampler nearest = VK_NULL_HANDLE, linear = VK_NULL_HANDLE;
   GpuBuffer ring;
   GpuImage custom;  // The custom texture array: one texel, never sampled (u_custom_layers 0).
@@ -101,6 +107,21 @@ Status Renderer::init(const RendererDesc& desc) {
     return {StatusCode::kUnsupported,
             "vk::Renderer::init: the device reads no VK_FORMAT_A2B10G10R10_SNORM_PACK32 vertex "
             "attribute (the vertex stream's normals)"};
+  if (desc.motion_format != VK_FORMAT_UNDEFINED) {
+    VkFormatProperties motion{};
+    vkGetPhysicalDeviceFormatProperties(desc.physical_device, desc.motion_format, &motion);
+    if ((motion.optimalTilingFeatures & VK_FORMAT_FEATURE_COLOR_ATTACHMENT_BIT) == 0)
+      return {StatusCode::kUnsupported,
+              strCat("vk::Renderer::init: motion_format ", int(desc.motion_format),
+                     " is no colour attachment format of the device")};
+    // The motion program reads the previous records from the whole ring as a storage buffer.
+    const uint64_t ring = uint64_t(desc.frames_in_flight) * slot_bytes + kRecordsRange;
+    if (ring > props.limits.maxStorageBufferRange)
+      return {StatusCode::kLimitExceeded,
+              strCat("vk::Renderer::init: with motion vectors the record ring (", ring,
+                     " bytes) is read as one storage buffer, past maxStorageBufferRange ",
+                     props.limits.maxStorageBufferRange)};
+  }
   auto impl = std::make_unique<Impl>();
   impl->desc = desc;
   impl->objects.init(desc.physical_device, desc.device, desc.allocator);
@@ -110,13 +131,16 @@ Status Renderer::init(const RendererDesc& desc) {
   Impl& m = *impl_;
   Status s = m.loadProgram("skinned", &m.shaded);
   if (s.isOk()) s = m.loadProgram("depth_only", &m.depth_only);
+  if (s.isOk()) s = m.loadProgram("skinned_motion", &m.motion);
   if (s.isOk()) {
     const StageReflection stages[] = {
         {VK_SHADER_STAGE_VERTEX_BIT, &m.shaded.vertex_reflection},
         {VK_SHADER_STAGE_FRAGMENT_BIT, &m.shaded.fragment_reflection},
         {VK_SHADER_STAGE_VERTEX_BIT, &m.depth_only.vertex_reflection},
-        {VK_SHADER_STAGE_FRAGMENT_BIT, &m.depth_only.fragment_reflection}};
-    s = createSkinnedLayout(m.device(), m.allocator(), Span<const StageReflection>(stages, 4),
+        {VK_SHADER_STAGE_FRAGMENT_BIT, &m.depth_only.fragment_reflection},
+        {VK_SHADER_STAGE_VERTEX_BIT, &m.motion.vertex_reflection},
+        {VK_SHADER_STAGE_FRAGMENT_BIT, &m.motion.fragment_reflection}};
+    s = createSkinnedLayout(m.device(), m.allocator(), Span<const StageReflection>(stages, 6),
                             &m.layout);
   }
   for (const auto& [filter, out] :
@@ -132,9 +156,10 @@ Status Renderer::init(const RendererDesc& desc) {
     s = checkVk(vkCreateSampler(m.device(), &info, m.allocator(), out), "vkCreateSampler");
   }
   if (s.isOk())
-    s = m.objects.createBuffer(VkDeviceSize(desc.frames_in_flight) * m.slot_bytes + kRecordsRange,
-                               VK_BUFFER_USAGE_UNIFORM_BUFFER_BIT, true, "the record ring",
-                               &m.ring);
+    s = m.objects.createBuffer(
+        VkDeviceSize(desc.frames_in_flight) * m.slot_bytes + kRecordsRange,
+        VK_BUFFER_USAGE_UNIFORM_BUFFER_BIT | VK_BUFFER_USAGE_STORAGE_BUFFER_BIT, true,
+        "the record ring", &m.ring);
   if (s.isOk())
     s = m.objects.createImage(1, 1, 1, 1, VK_FORMAT_R8G8B8A8_UNORM, true,
                               "the custom texture's placeholder", &m.custom);
@@ -160,8 +185,9 @@ void Renderer::shutdown() {
     vkDestroyPipelineLayout(m.device(), m.layout.pipeline_layout, m.allocator());
   if (m.layout.set_layout != VK_NULL_HANDLE)
     vkDestroyDescriptorSetLayout(m.device(), m.layout.set_layout, m.allocator());
-  for (VkShaderModule module : {m.shaded.vertex_module, m.shaded.fragment_module,
-                                m.depth_only.vertex_module, m.depth_only.fragment_module})
+  for (VkShaderModule module :
+       {m.shaded.vertex_module, m.shaded.fragment_module, m.depth_only.vertex_module,
+        m.depth_only.fragment_module, m.motion.vertex_module, m.motion.fragment_module})
     if (module != VK_NULL_HANDLE) vkDestroyShaderModule(m.device(), module, m.allocator());
   impl_.reset();
 }
@@ -221,6 +247,13 @@ Status Renderer::Impl::loadProgram(const char* name, Program* out) {
   if (s.isOk())
     s = reflectSpirv(Span<const uint32_t>(frag->words, frag->word_count), kDefaultUniformBlock,
                      &out->fragment_reflection);
+  // Every default member within its block's range (the largest a 4x4 matrix).
+  for (const SpirvReflection* r : {&out->vertex_reflection, &out->fragment_reflection})
+    for (const SpirvMember& member : r->default_uniforms)
+      if (s.isOk() && member.offset + 64 > kDefaultsRange)
+        s = {StatusCode::kUnsupported,
+             strCat("the ", name, " program's default uniform '", member.name, "' at byte ",
+                    member.offset, " passes the ", kDefaultsRange, " bytes the renderer gives it")};
   for (const auto& [module, made] :
        {std::pair{vert, &out->vertex_module}, std::pair{frag, &out->fragment_module}}) {
     if (!s.isOk()) break;
@@ -247,6 +280,11 @@ Status Renderer::addCharacter(const Character& character, const BakedPalette& pa
   const VkFormat depth_only_format = m.desc.depth_only_format != VK_FORMAT_UNDEFINED
                                          ? m.desc.depth_only_format
                                          : m.desc.depth_format;
+  if (s.isOk() && m.desc.motion_format != VK_FORMAT_UNDEFINED)
+    s = createSkinnedPipeline(m.device(), m.allocator(), m.motion.vertex_module,
+                              m.motion.fragment_module, m.layout.pipeline_layout,
+                              {m.desc.color_format, m.desc.depth_format, m.desc.motion_format},
+                              stream, &c->motion_pipeline);
   if (s.isOk())
     s = createSkinnedPipeline(m.device(), m.allocator(), m.depth_only.vertex_module,
                               m.depth_only.fragment_module, m.layout.pipeline_layout,
@@ -309,6 +347,8 @@ Status Renderer::Impl::writeSet(Character* c) {
       buffer(c->vertex_materials, VK_WHOLE_SIZE);
     else if (b == kMaterialTableBinding)
       buffer(c->materials, VK_WHOLE_SIZE);
+    else if (b == kPreviousBinding)
+      buffer(ring, VK_WHOLE_SIZE);
     else if (b == kPaletteBinding)
       image(c->palette, nearest);
     else if (b == kBaseColorBinding)
@@ -396,20 +436,31 @@ Status Renderer::recordDraw(VkCommandBuffer cmd, const DrawTarget& target, Chara
   if (batcher.capacityPerDraw() == 0 || batcher.capacityPerDraw() > kVulkanMaxInstances)
     return {StatusCode::kInvalidArgument,
             "vk::Renderer::recordDraw: the batcher was not initialized with batchLimits()"};
-  // The frame's region: this draw's records after the frame's earlier draws', then the default
-  // blocks (the fragment stage's once, the vertex stage's per batch).
+  const bool depth_only = target.mode == DrawMode::kDepthOnly;
+  // Motion vectors: shaded draws of a renderer with a motion format (depth-only ones write none).
+  const bool motion = !depth_only && m.desc.motion_format != VK_FORMAT_UNDEFINED;
+  if (motion && !view.desc().previous_records)
+    return {StatusCode::kInvalidArgument,
+            "vk::Renderer::recordDraw: motion vectors (RendererDesc::motion_format) need a crowd "
+            "that keeps its previous records (CrowdDesc::previous_records; a view: "
+            "CrowdViewDesc::previous_records)"};
+  // The frame's region: this draw's records (with motion vectors each slot's previous-record
+  // index and the previous records, crowd/ring_frame.h) after the frame's earlier draws', then
+  // the default blocks (the fragment stage's once, the vertex stage's per batch).
   const VkDeviceSize region = VkDeviceSize(m.frame) * m.slot_bytes;
   const VkDeviceSize records_at = alignUp(m.frame_used, m.ubo_alignment);
-  const size_t bound = batcher.recordBufferBound(view);
+  RingContents contents;
+  contents.motion = motion;
+  const RingFrame plan = planRingFrame(batcher, view, uint32_t(m.ubo_alignment), contents, true);
   std::vector<DrawBatch> draws;
-  const VkDeviceSize defaults_at = alignUp(records_at + bound, kDefaultsRange);
+  const VkDeviceSize defaults_at = alignUp(records_at + plan.end, kDefaultsRange);
   if (defaults_at + kDefaultsRange > m.desc.ring_bytes_per_frame)
     return {
         StatusCode::kLimitExceeded,
         strCat("vk::Renderer::recordDraw: the frame's records need ", defaults_at + kDefaultsRange,
                " bytes, RendererDesc::ring_bytes_per_frame is ", m.desc.ring_bytes_per_frame)};
   uint8_t* ring = static_cast<uint8_t*>(m.ring.mapped) + region;
-  Status s = batcher.build(view, Span<uint8_t>(ring + records_at, bound), &draws);
+  Status s = writeRingFrame(batcher, view, plan, ring + records_at, size_t(plan.end), {}, &draws);
   if (!s.isOk()) return s;
   const VkDeviceSize end = defaults_at + kDefaultsRange * (1 + draws.size());
   if (end > m.desc.ring_bytes_per_frame)
@@ -418,18 +469,37 @@ Status Renderer::recordDraw(VkCommandBuffer cmd, const DrawTarget& target, Chara
                    " bytes, RendererDesc::ring_bytes_per_frame is ", m.desc.ring_bytes_per_frame)};
   m.frame_used = end;
   // The fragment stage's defaults, then each batch's camera and LOD.
+  const Impl::Program& program = depth_only ? m.depth_only : motion ? m.motion : m.shaded;
   const uint32_t no_custom_layers = 0;
-  putMember(ring + defaults_at, defaultOffset(m.shaded.fragment_reflection, "u_custom_layers"),
+  putMember(ring + defaults_at, defaultOffset(program.fragment_reflection, "u_custom_layers"),
             &no_custom_layers, 4);
-  putMember(ring + defaults_at, defaultOffset(m.shaded.fragment_reflection, "u_light_direction"),
+  putMember(ring + defaults_at, defaultOffset(program.fragment_reflection, "u_light_direction"),
             &m.desc.light_direction, 12);
-  const bool depth_only = target.mode == DrawMode::kDepthOnly;
-  const Impl::Program& program = depth_only ? m.depth_only : m.shaded;
   const glm::mat4 vp = vulkanViewProjection(camera);
-  const int64_t vp_at = defaultOffset(program.vertex_reflection, "u_view_projection"),
-                lod_at = defaultOffset(program.vertex_reflection, "u_lod");
+  const SpirvReflection& vertex = program.vertex_reflection;
+  const int64_t vp_at = defaultOffset(vertex, "u_view_projection"),
+                lod_at = defaultOffset(vertex, "u_lod"),
+                slot_at = defaultOffset(vertex, "u_batch_slot");
+  // Motion vectors: the view's update cameras (this one and the one before), where the
+  // previous indices and records are in the ring (16-byte words from its start; an index
+  // numbers records), and the fallback's shift for instances without a previous record.
+  struct MotionDefaults {
+    glm::mat4 now, then;
+    glm::uvec3 previous;
+    glm::vec3 shift;
+  } md{};
+  if (motion) {
+    md.now = vulkanViewProjection(view.camera());
+    md.then = vulkanViewProjection(view.previousCamera());
+    md.previous = glm::uvec3(uint32_t((region + records_at + plan.previous_indices) / 16),
+                             uint32_t((region + records_at + plan.previous_records) / 16),
+                             uint32_t(kInstanceRecordSize / 16));
+    md.shift = previousRecordShift(view);
+  }
   vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_GRAPHICS,
-                    depth_only ? c.depth_only_pipeline : c.pipeline);
+                    depth_only ? c.depth_only_pipeline
+                    : motion   ? c.motion_pipeline
+                               : c.pipeline);
   // Flipped (negative height), so the image is OpenGL's.
   const VkExtent2D extent = target.extent;
   const VkViewport viewport{
@@ -459,6 +529,16 @@ Status Renderer::recordDraw(VkCommandBuffer cmd, const DrawTarget& target, Chara
     putMember(ring + vertex_at, vp_at, &vp[0][0], 64);
     const uint32_t lod = d.lod;
     putMember(ring + vertex_at, lod_at, &lod, 4);
+    if (motion) {
+      // Slots are numbered as the layer records are (previous_index.glsl).
+      const uint32_t slot = d.layer_byte_offset / kLayerRecordSize;
+      putMember(ring + vertex_at, slot_at, &slot, 4);
+      putMember(ring + vertex_at, defaultOffset(vertex, "u_motion_view_projection"), &md.now, 64);
+      putMember(ring + vertex_at, defaultOffset(vertex, "u_previous_view_projection"), &md.then,
+                64);
+      putMember(ring + vertex_at, defaultOffset(vertex, "u_previous"), &md.previous, 12);
+      putMember(ring + vertex_at, defaultOffset(vertex, "u_previous_shift"), &md.shift, 12);
+    }
     // Dynamic offsets in binding order: the records, the vertex and the fragment defaults.
     const uint32_t offsets[3] = {uint32_t(region + records_at + d.byte_offset),
                                  uint32_t(region + vertex_at), uint32_t(region + defaults_at)};

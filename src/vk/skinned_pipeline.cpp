@@ -26,7 +26,7 @@ Status createSkinnedLayout(VkDevice device, const VkAllocationCallbacks* allocat
         type = VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER_DYNAMIC;
       else if (b == kPaletteInfoBinding)
         type = VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER;
-      else if (b == kVertexMaterialsBinding || b == kMaterialTableBinding)
+      else if (b == kVertexMaterialsBinding || b == kMaterialTableBinding || b == kPreviousBinding)
         type = VK_DESCRIPTOR_TYPE_STORAGE_BUFFER;
       else if (b == kPaletteBinding || b == kBaseColorBinding || b == kCustomBinding ||
                b == kMaterialDataBinding)
@@ -112,13 +112,18 @@ Status createSkinnedPipeline(VkDevice device, const VkAllocationCallbacks* alloc
   depth.depthTestEnable = VK_TRUE;
   depth.depthWriteEnable = VK_TRUE;
   depth.depthCompareOp = VK_COMPARE_OP_LESS;  // Dynamic: each draw sets it.
-  VkPipelineColorBlendAttachmentState attachment{};
-  attachment.colorWriteMask = VK_COLOR_COMPONENT_R_BIT | VK_COLOR_COMPONENT_G_BIT |
-                              VK_COLOR_COMPONENT_B_BIT | VK_COLOR_COMPONENT_A_BIT;
+  const bool motion = color && formats.motion != VK_FORMAT_UNDEFINED;
+  VkPipelineColorBlendAttachmentState attachments[2] = {};
+  attachments[0].colorWriteMask = VK_COLOR_COMPONENT_R_BIT | VK_COLOR_COMPONENT_G_BIT |
+                                  VK_COLOR_COMPONENT_B_BIT | VK_COLOR_COMPONENT_A_BIT;
+  // Identical (without the independentBlend feature); the motion format's missing channels
+  // are not written.
+  attachments[1] = attachments[0];
+  const uint32_t colors = color ? (motion ? 2 : 1) : 0;
   auto blend = vkStruct<VkPipelineColorBlendStateCreateInfo>(
       VK_STRUCTURE_TYPE_PIPELINE_COLOR_BLEND_STATE_CREATE_INFO);
-  blend.attachmentCount = color ? 1 : 0;
-  blend.pAttachments = &attachment;
+  blend.attachmentCount = colors;
+  blend.pAttachments = attachments;
   // Core in Vulkan 1.3 (extended dynamic state 1 and 2).
   const VkDynamicState dynamic_states[] = {
       VK_DYNAMIC_STATE_VIEWPORT,   VK_DYNAMIC_STATE_SCISSOR,    VK_DYNAMIC_STATE_DEPTH_COMPARE_OP,
@@ -129,8 +134,9 @@ Status createSkinnedPipeline(VkDevice device, const VkAllocationCallbacks* alloc
   dynamic.pDynamicStates = dynamic_states;
   auto rendering =
       vkStruct<VkPipelineRenderingCreateInfo>(VK_STRUCTURE_TYPE_PIPELINE_RENDERING_CREATE_INFO);
-  rendering.colorAttachmentCount = color ? 1 : 0;
-  rendering.pColorAttachmentFormats = color ? &formats.color : nullptr;
+  const VkFormat color_formats[2] = {formats.color, formats.motion};
+  rendering.colorAttachmentCount = colors;
+  rendering.pColorAttachmentFormats = colors > 0 ? color_formats : nullptr;
   rendering.depthAttachmentFormat = formats.depth;
   auto info =
       vkStruct<VkGraphicsPipelineCreateInfo>(VK_STRUCTURE_TYPE_GRAPHICS_PIPELINE_CREATE_INFO);

@@ -29,6 +29,9 @@ inline constexpr uint32_t kPaletteBinding = 0 + kSamplerBindingShift;
 inline constexpr uint32_t kBaseColorBinding = 1 + kSamplerBindingShift;
 inline constexpr uint32_t kCustomBinding = 2 + kSamplerBindingShift;
 inline constexpr uint32_t kMaterialDataBinding = 4 + kSamplerBindingShift;
+// The motion program's previous records and their indices (previous_index.glsl's storage
+// binding 25): the whole record ring, read by 16-byte word from its start.
+inline constexpr uint32_t kPreviousBinding = 25 + kStorageBindingShift;
 
 /// The skinned program's descriptor set layout (binding order) and pipeline layout.
 struct SkinnedLayout {
@@ -51,10 +54,12 @@ Status createSkinnedLayout(VkDevice device, const VkAllocationCallbacks* allocat
                            Span<const StageReflection> stages, SkinnedLayout* out);
 
 /// The formats a pipeline renders into (VkPipelineRenderingCreateInfo's): no colour attachment
-/// when `color` is VK_FORMAT_UNDEFINED (depth only).
+/// when `color` is VK_FORMAT_UNDEFINED (depth only); motion vectors as attachment 1 when
+/// `motion` is not.
 struct RenderingFormats {
   VkFormat color = VK_FORMAT_UNDEFINED;
   VkFormat depth = VK_FORMAT_UNDEFINED;
+  VkFormat motion = VK_FORMAT_UNDEFINED;
 };
 
 /// A skinned program's graphics pipeline for `stream`'s vertex format (as si::gl's

@@ -32,14 +32,14 @@ class VulkanDepthTest : public VulkanRenderFixture {
     frame.clear_color = kBackground;
     frame.clear_depth = clear_depth;
     frame.color = target.mode == vk::DrawMode::kShaded;
-    const Status s = host_.render(
-        frame,
-        [&](VkCommandBuffer cmd) {
-          const Status begun = renderer_.beginFrame(0);
-          if (!begun.isOk()) return begun;
-          return renderer_.recordDraw(cmd, target, id_, crowd.view(), batcher_, camera);
-        },
-        image, depth);
+    const Status s = host_.render(frame,
+                                  [&](VkCommandBuffer cmd) {
+                                    const Status begun = renderer_.beginFrame(0);
+                                    if (!begun.isOk()) return begun;
+                                    return renderer_.recordDraw(cmd, target, id_, crowd.view(),
+                                                                batcher_, camera);
+                                  },
+                                  {image, depth});
     ASSERT_TRUE(s.isOk()) << s.toString();
   }
 

@@ -49,7 +49,7 @@ TEST_P(VulkanRenderTest, TheVertexShaderPathDrawsWhatOpenGlDraws) {
           return r.recordDraw(cmd, vk::DrawTarget{{kSize, kSize}}, id, crowd.view(), batcher,
                               camera, &stats);
         },
-        &image);
+        {&image});
     ASSERT_TRUE(s.isOk()) << s.toString();
     ++slot;
     EXPECT_GT(stats.draw_calls, 0u);
@@ -122,7 +122,7 @@ TEST_P(VulkanRenderTest, RefusalsAreNamed) {
           return r.recordDraw(cmd, vk::DrawTarget{{kSize, kSize}}, id, crowd.view(), batcher,
                               lodCamera());
         },
-        &image);
+        {&image});
   };
   s = frame();
   EXPECT_EQ(s.code(), StatusCode::kInvalidArgument);

@@ -32,11 +32,11 @@
 ///   crowd_renderer.recordDraw(cmd, target, id, cascade_view, batcher, cascade_camera);
 /// \endcode
 ///
-/// What is built: the vertex-shader path, shaded (the built-in material) or depth only (shadow
-/// views, depth pre-passes), under every si::DepthConvention (reverse-Z included) and with
-/// y-flipped projections; palettes of 3x4 float or half-float matrices. Everything else (the
-/// GPU-driven path, compute pre-skinning, motion vectors, layers, morph targets, 8 influences,
-/// vertex words, host materials, impostors) is refused by name (kUnsupported).
+/// What is built: the vertex-shader path, shaded (the built-in material, with motion vectors
+/// when asked) or depth only (shadow views, depth pre-passes), under every si::DepthConvention
+/// (reverse-Z included) and with y-flipped projections; palettes of 3x4 float or half-float
+/// matrices. Everything else (the GPU-driven path, compute pre-skinning, layers, morph targets,
+/// 8 influences, vertex words, host materials, impostors) is refused by name (kUnsupported).
 /// What the host must do: record recordUploads() before the first draw of a character and
 /// submit it before (or with) that draw; give each frame in flight its own slot (beginFrame(),
 /// below RendererDesc::frames_in_flight) and wait for a slot's last frame before beginning it
@@ -74,6 +74,13 @@ struct RendererDesc {
   /// The depth attachment of depth-only draws (DrawMode::kDepthOnly: shadow maps, depth
   /// pre-passes); VK_FORMAT_UNDEFINED is depth_format.
   VkFormat depth_only_format = VK_FORMAT_UNDEFINED;
+  /// Motion vectors: VK_FORMAT_UNDEFINED (the default) draws none; a two-channel float format
+  /// (VK_FORMAT_R16G16_SFLOAT) makes every shaded draw also write each pixel's motion since the
+  /// crowd's previous update into colour attachment 1 of this format, as si::Renderer's
+  /// RendererDesc::motion_vectors does (texture coordinate units, now minus then; the crowd
+  /// keeps its previous records: CrowdDesc::previous_records). The record ring is then also
+  /// read as one storage buffer (kLimitExceeded past the device's maxStorageBufferRange).
+  VkFormat motion_format = VK_FORMAT_UNDEFINED;
   uint32_t frames_in_flight = 2;                      ///< Frame slots of the record ring (1 to 8).
   /// Bytes of records, per frame slot (rounded up to 256): a frame's batches of every draw
   /// (InstanceBatcher's recordBufferBound) must fit, or recordDraw() refuses the frame
@@ -91,7 +98,7 @@ struct CharacterId {
 /// What a draw writes.
 enum class DrawMode : uint8_t {
   /// Colour (the built-in material) and depth, in a rendering of RendererDesc::color_format and
-  /// depth_format.
+  /// depth_format (and motion_format as colour attachment 1, when set).
   kShaded = 0,
   /// Depth only (a shadow view, a depth pre-pass), in a rendering with no colour attachment and
   /// a depth attachment of RendererDesc::depth_only_format.
@@ -127,11 +134,13 @@ class Renderer {
   Renderer(const Renderer&) = delete;
   Renderer& operator=(const Renderer&) = delete;
 
-  /// Creates the pipeline and the record ring on the host's device. kInvalidArgument for a
+  /// Creates the pipeline layout and the record ring on the host's device. kInvalidArgument for a
   /// missing device, a slot count outside 1..8 or a ring smaller than one batch's records;
   /// kLimitExceeded for a ring past 4 GiB (dynamic offsets are 32-bit); kUnsupported for a device
-  /// below Vulkan 1.3, without dynamic rendering, or whose maxUniformBufferRange is below the
-  /// 65,520 bytes of a batch's records; kBackend naming the Vulkan call that failed.
+  /// below Vulkan 1.3, without dynamic rendering, whose maxUniformBufferRange is below the
+  /// 65,520 bytes of a batch's records, or that cannot render into motion_format; with motion
+  /// vectors kLimitExceeded for a ring past maxStorageBufferRange; kBackend naming the Vulkan
+  /// call that failed.
   Status init(const RendererDesc& desc);
   /// Destroys everything it created (the host has waited for the device's work on it).
   void shutdown();
@@ -164,9 +173,11 @@ class Renderer {
   /// projection's depth is meant: OpenGL's -1 to 1 (si::Camera::lookAt's) is mapped to Vulkan's
   /// 0 to 1; zero-to-one and reverse-Z projections (Camera::lookAtReverseZ, or the engine's own
   /// through Camera::fromMatrices) are used as they are. kInvalidArgument for an unknown
-  /// character or mode, no beginFrame(), a batcher not initialized, an empty extent, or a
-  /// character whose uploads were not recorded; kLimitExceeded when the frame's records pass
-  /// the slot's region (nothing recorded then).
+  /// character or mode, no beginFrame(), a batcher not initialized, an empty extent, a
+  /// character whose uploads were not recorded, or motion vectors of a view without previous
+  /// records; kLimitExceeded when the frame's records pass the slot's region (nothing recorded
+  /// then). With motion vectors the view's previous records are copied into the slot's region
+  /// after this draw's records.
   Status recordDraw(VkCommandBuffer cmd, const DrawTarget& target, CharacterId id,
                     const CrowdView& view, const InstanceBatcher& batcher, const Camera& camera,
                     DrawStats* stats = nullptr);
