@@ -19,15 +19,9 @@ Status stageCharacter(DeviceObjects* objects, const Character& character,
                       const BakedPalette& palette, CharacterResources* c,
                       VertexStream* stream_out) {
   const SkinnedMesh& mesh = character.mesh;
-  const char* missing = !mesh.morph_targets.empty() ? "morph targets"
-                        : !mesh.joints1.empty()     ? "8 influences"
-                        : !mesh.texcoords1.empty() || !mesh.colors.empty()
-                            ? "vertex words (texture coordinates 1, colours)"
-                            : nullptr;
-  if (missing != nullptr)
-    return {
-        StatusCode::kUnsupported,
-        strCat("vk::Renderer::addCharacter: the Vulkan back-end does not draw ", missing, " yet")};
+  if (!mesh.morph_targets.empty())
+    return {StatusCode::kUnsupported,
+            "vk::Renderer::addCharacter: the Vulkan back-end does not draw morph targets yet"};
   Status s = palette.validate();
   if (!s.isOk()) return {StatusCode::kInvalidArgument, "the palette: " + s.message()};
   if (palette.skeleton_to_palette.size() != character.skeleton.jointCount())
@@ -48,7 +42,8 @@ Status stageCharacter(DeviceObjects* objects, const Character& character,
   for (size_t v = 0; v < table.vertex_materials.size(); ++v)
     vertex_words[v / 2] |= uint32_t(table.vertex_materials[v]) << ((v % 2) * 16);
   std::vector<GpuMaterial> entries;
-  for (const MaterialEntry& e : table.materials) entries.push_back(gpuMaterial(e));
+  for (const MaterialEntry& e : table.materials)
+    entries.push_back(gpuMaterial(e, si::detail::vertexWordBits(stream)));
   glm::uvec4 info_block[4] = {paletteShaderInfo(palette), glm::uvec4(0u), glm::uvec4(0u),
                               glm::uvec4(0u)};
 
@@ -145,9 +140,9 @@ void destroyCharacter(DeviceObjects* objects, CharacterResources* c) {
                        &c->materials, &c->staging})
     objects->destroy(b);
   for (GpuImage* i : {&c->palette, &c->base_color, &c->material_data}) objects->destroy(i);
-  for (VkPipeline* p : {&c->pipeline, &c->depth_only_pipeline, &c->motion_pipeline}) {
-    if (*p != VK_NULL_HANDLE) vkDestroyPipeline(objects->device(), *p, objects->allocator());
-    *p = VK_NULL_HANDLE;
+  for (VkPipeline& p : c->pipelines) {
+    if (p != VK_NULL_HANDLE) vkDestroyPipeline(objects->device(), p, objects->allocator());
+    p = VK_NULL_HANDLE;
   }
   if (c->pool != VK_NULL_HANDLE)
     vkDestroyDescriptorPool(objects->device(), c->pool, objects->allocator());

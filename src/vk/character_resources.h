@@ -14,6 +14,7 @@
 #include "si/core/shader_inputs.h"
 #include "vk/device_objects.h"
 #include "vk/image_upload.h"
+#include "vk/vulkan_programs.h"
 
 namespace si::vk::detail {
 
@@ -27,9 +28,10 @@ struct CharacterResources {
   GpuBuffer vertices, indices, palette_info, vertex_materials, materials;
   GpuImage palette, base_color, material_data;
   std::vector<SubMesh> sub_meshes;
-  VkPipeline pipeline = VK_NULL_HANDLE;             ///< Shaded (DrawMode::kShaded).
-  VkPipeline depth_only_pipeline = VK_NULL_HANDLE;  ///< DrawMode::kDepthOnly.
-  VkPipeline motion_pipeline = VK_NULL_HANDLE;      ///< Shaded with motion vectors (motion_format).
+  /// By VulkanKind: the program (its index in vulkanPrograms(), the mesh's variant) and the
+  /// pipeline (the motion one only when the renderer draws motion vectors).
+  uint32_t programs[kVulkanKinds] = {};
+  VkPipeline pipelines[kVulkanKinds] = {};
   VkDescriptorPool pool = VK_NULL_HANDLE;
   VkDescriptorSet set = VK_NULL_HANDLE;
   GpuBuffer staging;  ///< Until recordUploads() hands it on.
@@ -41,7 +43,7 @@ struct CharacterResources {
 /// Creates `c`'s buffers and images for `character` and `palette` and fills its staging buffer
 /// with their contents (the upload lists say where), and sets `*stream` to the vertex stream
 /// (the pipeline's vertex format). kUnsupported naming what the back-end does not draw yet
-/// (morph targets, 8 influences, vertex words); kInvalidArgument for a palette that does not
+/// (morph targets); kInvalidArgument for a palette that does not
 /// validate or was baked for another skeleton; the codes of si::buildVertexStream and
 /// si::buildMaterialTable; kBackend on a failed call. Nothing is kept on failure.
 Status stageCharacter(DeviceObjects* objects, const Character& character,

@@ -32,18 +32,13 @@ using namespace si::vk::detail;
 struct Renderer::Impl {
   using Character = CharacterResources;
 
-  // A program's two stages: their modules and what they declare.
-  struct Program {
-    SpirvReflection vertex_reflection, fragment_reflection;
-    VkShaderModule vertex_module = VK_NULL_HANDLE, fragment_module = VK_NULL_HANDLE;
-  };
-
   RendererDesc desc;
   DeviceObjects objects;
   VkDeviceSize ubo_alignment = 256;
-  // The skinned and depth-only programs (DrawMode), and the skinned one with motion vectors.
-  Program shaded, depth_only, motion;
-  SkinnedLayout layout;  // One set layout for all three: the union of their declarations.
+  // vulkanPrograms(), in its order: shaded, depth only and with motion vectors, for each mesh
+  // variant (8 influences, vertex words).
+  std::vector<ProgramModules> programs;
+  SkinnedLayout layout;  // One set layout for all of them: the union of their declarations.
   VkSampler nearest = VK_NULL_HANDLE, linear = VK_NULL_HANDLE;
   GpuBuffer ring;
   GpuImage custom;  // The custom texture array: one texel, never sampled (u_custom_layers 0).
@@ -59,7 +54,7 @@ struct Renderer::Impl {
   VkDevice device() const { return objects.device(); }
   const VkAllocationCallbacks* allocator() const { return objects.allocator(); }
 
-  Status loadProgram(const char* name, Program* out);
+  Status loadProgram(const char* name, ProgramModules* out);
   Status writeSet(Character* c);
 };
 
@@ -129,19 +124,18 @@ Status Renderer::init(const RendererDesc& desc) {
   impl->slot_bytes = slot_bytes;
   impl_ = std::move(impl);
   Impl& m = *impl_;
-  Status s = m.loadProgram("skinned", &m.shaded);
-  if (s.isOk()) s = m.loadProgram("depth_only", &m.depth_only);
-  if (s.isOk()) s = m.loadProgram("skinned_motion", &m.motion);
+  Status s = Status::ok();
+  m.programs.resize(vulkanPrograms().size());
+  for (size_t k = 0; k < m.programs.size() && s.isOk(); ++k)
+    s = m.loadProgram(vulkanPrograms()[k].name, &m.programs[k]);
   if (s.isOk()) {
-    const StageReflection stages[] = {
-        {VK_SHADER_STAGE_VERTEX_BIT, &m.shaded.vertex_reflection},
-        {VK_SHADER_STAGE_FRAGMENT_BIT, &m.shaded.fragment_reflection},
-        {VK_SHADER_STAGE_VERTEX_BIT, &m.depth_only.vertex_reflection},
-        {VK_SHADER_STAGE_FRAGMENT_BIT, &m.depth_only.fragment_reflection},
-        {VK_SHADER_STAGE_VERTEX_BIT, &m.motion.vertex_reflection},
-        {VK_SHADER_STAGE_FRAGMENT_BIT, &m.motion.fragment_reflection}};
-    s = createSkinnedLayout(m.device(), m.allocator(), Span<const StageReflection>(stages, 6),
-                            &m.layout);
+    std::vector<StageReflection> stages;
+    for (const ProgramModules& p : m.programs) {
+      stages.push_back({VK_SHADER_STAGE_VERTEX_BIT, &p.vertex_reflection});
+      stages.push_back({VK_SHADER_STAGE_FRAGMENT_BIT, &p.fragment_reflection});
+    }
+    s = createSkinnedLayout(m.device(), m.allocator(),
+                            Span<const StageReflection>(stages.data(), stages.size()), &m.layout);
   }
   for (const auto& [filter, out] :
        {std::pair{VK_FILTER_NEAREST, &m.nearest}, std::pair{VK_FILTER_LINEAR, &m.linear}}) {
@@ -185,10 +179,9 @@ void Renderer::shutdown() {
     vkDestroyPipelineLayout(m.device(), m.layout.pipeline_layout, m.allocator());
   if (m.layout.set_layout != VK_NULL_HANDLE)
     vkDestroyDescriptorSetLayout(m.device(), m.layout.set_layout, m.allocator());
-  for (VkShaderModule module :
-       {m.shaded.vertex_module, m.shaded.fragment_module, m.depth_only.vertex_module,
-        m.depth_only.fragment_module, m.motion.vertex_module, m.motion.fragment_module})
-    if (module != VK_NULL_HANDLE) vkDestroyShaderModule(m.device(), module, m.allocator());
+  for (const ProgramModules& p : m.programs)
+    for (VkShaderModule module : {p.vertex_module, p.fragment_module})
+      if (module != VK_NULL_HANDLE) vkDestroyShaderModule(m.device(), module, m.allocator());
   impl_.reset();
 }
 
@@ -237,7 +230,7 @@ VkCompareOp depthCompare(const DrawTarget& target, const Camera& camera) {
 
 }  // namespace
 
-Status Renderer::Impl::loadProgram(const char* name, Program* out) {
+Status Renderer::Impl::loadProgram(const char* name, ProgramModules* out) {
   const SpirvModule* vert = findSpirvModule(strCat(name, ".vert").c_str());
   const SpirvModule* frag = findSpirvModule(strCat(name, ".frag").c_str());
   if (vert == nullptr || frag == nullptr)
@@ -273,23 +266,25 @@ Status Renderer::addCharacter(const Character& character, const BakedPalette& pa
   auto c = std::make_unique<Impl::Character>();
   VertexStream stream;
   Status s = stageCharacter(&m.objects, character, palette, c.get(), &stream);
-  if (s.isOk())
-    s = createSkinnedPipeline(m.device(), m.allocator(), m.shaded.vertex_module,
-                              m.shaded.fragment_module, m.layout.pipeline_layout,
-                              {m.desc.color_format, m.desc.depth_format}, stream, &c->pipeline);
+  // Each kind's program for the mesh (8 influences, vertex words) and its pipeline: shaded,
+  // depth only, and with motion vectors when the renderer draws them.
+  const SkinnedMesh& mesh = character.mesh;
+  const bool eight = !mesh.joints1.empty();
+  const bool words = !mesh.texcoords1.empty() || !mesh.colors.empty();
   const VkFormat depth_only_format = m.desc.depth_only_format != VK_FORMAT_UNDEFINED
                                          ? m.desc.depth_only_format
                                          : m.desc.depth_format;
-  if (s.isOk() && m.desc.motion_format != VK_FORMAT_UNDEFINED)
-    s = createSkinnedPipeline(m.device(), m.allocator(), m.motion.vertex_module,
-                              m.motion.fragment_module, m.layout.pipeline_layout,
-                              {m.desc.color_format, m.desc.depth_format, m.desc.motion_format},
-                              stream, &c->motion_pipeline);
-  if (s.isOk())
-    s = createSkinnedPipeline(m.device(), m.allocator(), m.depth_only.vertex_module,
-                              m.depth_only.fragment_module, m.layout.pipeline_layout,
-                              {VK_FORMAT_UNDEFINED, depth_only_format}, stream,
-                              &c->depth_only_pipeline);
+  const RenderingFormats formats[kVulkanKinds] = {
+      {m.desc.color_format, m.desc.depth_format},
+      {VK_FORMAT_UNDEFINED, depth_only_format},
+      {m.desc.color_format, m.desc.depth_format, m.desc.motion_format}};
+  for (size_t k = 0; k < kVulkanKinds && s.isOk(); ++k) {
+    const VulkanKind kind = VulkanKind(k);
+    c->programs[k] = uint32_t(vulkanProgramIndex(kind, eight, words));
+    if (kind == VulkanKind::kMotion && m.desc.motion_format == VK_FORMAT_UNDEFINED) continue;
+    s = createSkinnedPipeline(m.device(), m.allocator(), m.programs[c->programs[k]],
+                              m.layout.pipeline_layout, formats[k], stream, &c->pipelines[k]);
+  }
   if (s.isOk()) s = m.writeSet(c.get());
   if (!s.isOk()) {
     destroyCharacter(&m.objects, c.get());
@@ -469,7 +464,10 @@ Status Renderer::recordDraw(VkCommandBuffer cmd, const DrawTarget& target, Chara
                    " bytes, RendererDesc::ring_bytes_per_frame is ", m.desc.ring_bytes_per_frame)};
   m.frame_used = end;
   // The fragment stage's defaults, then each batch's camera and LOD.
-  const Impl::Program& program = depth_only ? m.depth_only : motion ? m.motion : m.shaded;
+  const VulkanKind kind = depth_only ? VulkanKind::kDepthOnly
+                          : motion   ? VulkanKind::kMotion
+                                     : VulkanKind::kShaded;
+  const ProgramModules& program = m.programs[c.programs[size_t(kind)]];
   const uint32_t no_custom_layers = 0;
   putMember(ring + defaults_at, defaultOffset(program.fragment_reflection, "u_custom_layers"),
             &no_custom_layers, 4);
@@ -496,10 +494,7 @@ Status Renderer::recordDraw(VkCommandBuffer cmd, const DrawTarget& target, Chara
                              uint32_t(kInstanceRecordSize / 16));
     md.shift = previousRecordShift(view);
   }
-  vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_GRAPHICS,
-                    depth_only ? c.depth_only_pipeline
-                    : motion   ? c.motion_pipeline
-                               : c.pipeline);
+  vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_GRAPHICS, c.pipelines[size_t(kind)]);
   // Flipped (negative height), so the image is OpenGL's.
   const VkExtent2D extent = target.extent;
   const VkViewport viewport{

@@ -4,6 +4,7 @@
 
 #include <iterator>
 #include <map>
+#include <vector>
 
 #include "core/str_cat.h"
 #include "vk/device_objects.h"
@@ -57,9 +58,9 @@ Status createSkinnedLayout(VkDevice device, const VkAllocationCallbacks* allocat
 }
 
 Status createSkinnedPipeline(VkDevice device, const VkAllocationCallbacks* allocator,
-                             VkShaderModule vertex_module, VkShaderModule fragment_module,
-                             VkPipelineLayout pipeline_layout, RenderingFormats formats,
-                             const VertexStream& stream, VkPipeline* out) {
+                             const ProgramModules& program, VkPipelineLayout pipeline_layout,
+                             RenderingFormats formats, const VertexStream& stream,
+                             VkPipeline* out) {
   const bool color = formats.color != VK_FORMAT_UNDEFINED;
   VkPipelineShaderStageCreateInfo stages[2] = {
       vkStruct<VkPipelineShaderStageCreateInfo>(
@@ -67,30 +68,53 @@ Status createSkinnedPipeline(VkDevice device, const VkAllocationCallbacks* alloc
       vkStruct<VkPipelineShaderStageCreateInfo>(
           VK_STRUCTURE_TYPE_PIPELINE_SHADER_STAGE_CREATE_INFO)};
   stages[0].stage = VK_SHADER_STAGE_VERTEX_BIT;
-  stages[0].module = vertex_module;
+  stages[0].module = program.vertex_module;
   stages[0].pName = "main";
   stages[1].stage = VK_SHADER_STAGE_FRAGMENT_BIT;
-  stages[1].module = fragment_module;
+  stages[1].module = program.fragment_module;
   stages[1].pName = "main";
-  // The vertex stream as si::gl's CharacterBuffers describes it (shader_inputs.h).
+  // The vertex stream as si::gl's CharacterBuffers describes it (shader_inputs.h): each input
+  // the vertex stage reads. Without tangents, attribute 7 reads the normal's word (w 0: no
+  // tangent frame); without texture coordinates 1 or colours, attributes 8 and 9 read other
+  // words, which the fragment stage does not use (SiMaterial.layer.w says what the mesh has).
   const VkVertexInputBindingDescription binding{0, stream.stride_bytes,
                                                 VK_VERTEX_INPUT_RATE_VERTEX};
-  const VkVertexInputAttributeDescription attributes[] = {
+  const VkFormat joints =
+      stream.wide_joints ? VK_FORMAT_R16G16B16A16_UINT : VK_FORMAT_R8G8B8A8_UINT;
+  const auto word = [](uint32_t offset, uint32_t otherwise) {
+    return offset != 0 ? offset : otherwise;
+  };
+  const VkVertexInputAttributeDescription known[] = {
       {0, 0, VK_FORMAT_R32G32B32_SFLOAT, VertexStream::kPositionOffset},
       {1, 0, VK_FORMAT_A2B10G10R10_SNORM_PACK32, VertexStream::kNormalOffset},
       {2, 0, VK_FORMAT_R16G16_SFLOAT, VertexStream::kTexcoordOffset},
-      {3, 0, stream.wide_joints ? VK_FORMAT_R16G16B16A16_UINT : VK_FORMAT_R8G8B8A8_UINT,
-       VertexStream::kJointsOffset},
+      {3, 0, joints, VertexStream::kJointsOffset},
       {4, 0, VK_FORMAT_R16G16B16A16_UNORM, stream.weights_offset},
       {7, 0, VK_FORMAT_A2B10G10R10_SNORM_PACK32,
-       stream.tangent_offset != 0 ? stream.tangent_offset : VertexStream::kNormalOffset},
+       word(stream.tangent_offset, VertexStream::kNormalOffset)},
+      {8, 0, VK_FORMAT_R16G16_SFLOAT, word(stream.texcoord1_offset, VertexStream::kTexcoordOffset)},
+      {9, 0, VK_FORMAT_R8G8B8A8_UNORM, word(stream.color_offset, VertexStream::kNormalOffset)},
+      {10, 0, joints, stream.joints1_offset},
+      {11, 0, VK_FORMAT_R16G16B16A16_UNORM, stream.weights1_offset},
   };
+  std::vector<VkVertexInputAttributeDescription> attributes;
+  for (const SpirvVarying& in : program.vertex_reflection.inputs) {
+    const VkVertexInputAttributeDescription* a = nullptr;
+    for (const VkVertexInputAttributeDescription& k : known)
+      if (k.location == in.location) a = &k;
+    // Influences 5 to 8 only where the mesh has them (the program is the mesh's variant).
+    if (a == nullptr || ((in.location == 10 || in.location == 11) && stream.joints1_offset == 0))
+      return {StatusCode::kUnsupported,
+              strCat("the vertex stage reads '", in.name, "' at location ", in.location,
+                     ", for which the character's vertex stream has no word")};
+    attributes.push_back(*a);
+  }
   auto input = vkStruct<VkPipelineVertexInputStateCreateInfo>(
       VK_STRUCTURE_TYPE_PIPELINE_VERTEX_INPUT_STATE_CREATE_INFO);
   input.vertexBindingDescriptionCount = 1;
   input.pVertexBindingDescriptions = &binding;
-  input.vertexAttributeDescriptionCount = uint32_t(std::size(attributes));
-  input.pVertexAttributeDescriptions = attributes;
+  input.vertexAttributeDescriptionCount = uint32_t(attributes.size());
+  input.pVertexAttributeDescriptions = attributes.data();
   auto assembly = vkStruct<VkPipelineInputAssemblyStateCreateInfo>(
       VK_STRUCTURE_TYPE_PIPELINE_INPUT_ASSEMBLY_STATE_CREATE_INFO);
   assembly.topology = VK_PRIMITIVE_TOPOLOGY_TRIANGLE_LIST;

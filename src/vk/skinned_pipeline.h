@@ -62,13 +62,19 @@ struct RenderingFormats {
   VkFormat motion = VK_FORMAT_UNDEFINED;
 };
 
+/// A program's two stages: their modules and what they declare.
+struct ProgramModules {
+  SpirvReflection vertex_reflection, fragment_reflection;
+  VkShaderModule vertex_module = VK_NULL_HANDLE, fragment_module = VK_NULL_HANDLE;
+};
+
 /// A skinned program's graphics pipeline for `stream`'s vertex format (as si::gl's
-/// CharacterBuffers describes it), for dynamic rendering into `formats`: back faces culled,
-/// depth tested and written; the viewport, scissor, depth compare, front face and depth bias
-/// dynamic (set by each draw).
+/// CharacterBuffers describes it: an attribute for each input the vertex stage reads), for
+/// dynamic rendering into `formats`: back faces culled, depth tested and written; the viewport,
+/// scissor, depth compare, front face and depth bias dynamic (set by each draw). kUnsupported
+/// naming a vertex input the stream has no word for; kBackend on a failed call.
 Status createSkinnedPipeline(VkDevice device, const VkAllocationCallbacks* allocator,
-                             VkShaderModule vertex_module, VkShaderModule fragment_module,
-                             VkPipelineLayout pipeline_layout, RenderingFormats formats,
-                             const VertexStream& stream, VkPipeline* out);
+                             const ProgramModules& program, VkPipelineLayout pipeline_layout,
+                             RenderingFormats formats, const VertexStream& stream, VkPipeline* out);
 
 }  // namespace si::vk::detail

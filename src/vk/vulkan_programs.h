@@ -1,30 +1,47 @@
 // SkinnedInstancing — SPDX-License-Identifier: MIT (see LICENSE)
 #pragma once
-// The Vulkan back-end's programs: which programs of si::gl's catalog it builds, and the shader
-// configuration they are assembled with (the same files, defines and catalog; glslang defines
+// The Vulkan back-end's programs: which programs of si::gl's catalog it builds, in which
+// variants for the character's mesh (8 influences, optional vertex words), and the shader
+// configuration each is assembled with (the same files, defines and catalog; glslang defines
 // VULKAN, which si_profile.glsl reads). Used at build time by the step that writes their GLSL
 // (tools/write_vulkan_glsl.cpp) and at run time to name the embedded SPIR-V. No Vulkan here.
+
+#include <cstddef>
 
 #include "gl/programs/program_catalog.h"
 #include "si/core/span.h"
 
 namespace si::vk::detail {
 
-/// One program of the back-end: the catalog's program and the name its SPIR-V files take.
+/// What a program draws (vk::DrawMode, and shaded with motion vectors).
+enum class VulkanKind : uint8_t { kShaded = 0, kDepthOnly, kMotion };
+inline constexpr size_t kVulkanKinds = 3;
+
+/// One program of the back-end: the catalog's program, the mesh variant it is assembled for
+/// (ShaderConfig::eight_influences, vertex_words) and the name its SPIR-V files take.
 struct VulkanProgram {
   si::detail::ProgramId id;
+  VulkanKind kind;
+  bool eight_influences;
+  bool vertex_words;
   const char* name;
 };
 
-/// The programs the Vulkan back-end builds so far: the vertex-shader path, shaded and depth only.
+/// The programs the Vulkan back-end builds so far: the vertex-shader path, shaded, depth only
+/// and shaded with motion vectors, each for meshes of 4 and of 8 influences, the shaded ones
+/// also for meshes with vertex words (the depth-only stage reads none).
 Span<const VulkanProgram> vulkanPrograms();
+
+/// The index in vulkanPrograms() of the program of `kind` for a mesh with 8 influences or not
+/// and vertex words or not (ignored for kDepthOnly).
+size_t vulkanProgramIndex(VulkanKind kind, bool eight_influences, bool vertex_words);
 
 /// Records in the instance uniform block: 819 of 80 bytes fill a 64 KiB block, the
 /// maxUniformBufferRange of NVIDIA's and lavapipe's drivers (the Vulkan minimum is 16 KiB: a
 /// device below 64 KiB is refused by name).
 inline constexpr uint32_t kVulkanMaxInstances = 819;
 
-/// The configuration the programs are assembled with.
-si::detail::ShaderConfig vulkanShaderConfig();
+/// The configuration `program` is assembled with.
+si::detail::ShaderConfig vulkanShaderConfig(const VulkanProgram& program);
 
 }  // namespace si::vk::detail

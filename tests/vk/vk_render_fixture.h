@@ -33,17 +33,49 @@ class VulkanRenderFixture : public RenderTest {
     return false;
   }
 
+  // The background of the render tests' images (drawCrowdImage's).
+  static constexpr glm::vec4 kBackground = glm::vec4(0.2f, 0.25f, 0.3f, 1.0f);
+
   // `desc` on host_'s device, the embedded character added and its uploads submitted.
-  void startRenderer(vk::RendererDesc desc, vk::Renderer* r, vk::CharacterId* id) {
+  void startRenderer(const vk::RendererDesc& desc, vk::Renderer* r, vk::CharacterId* id) {
+    startRenderer(desc, character(), palette(), r, id);
+  }
+  // The same with `c`, baked as `baked`.
+  void startRenderer(vk::RendererDesc desc, const Character& c, const BakedPalette& baked,
+                     vk::Renderer* r, vk::CharacterId* id) {
     desc.physical_device = host_.physicalDevice();
     desc.device = host_.device();
     Status s = r->init(desc);
     ASSERT_TRUE(s.isOk()) << s.toString();
-    s = r->addCharacter(character(), palette(), id);
+    s = r->addCharacter(c, baked, id);
     ASSERT_TRUE(s.isOk()) << s.toString();
     s = host_.submit([&](VkCommandBuffer cmd) { return r->recordUploads(cmd); });
     ASSERT_TRUE(s.isOk()) << s.toString();
     r->uploadsComplete();
+  }
+
+  // `crowd`'s last selection of `character` (baked as `palette`) drawn with `camera` over
+  // kBackground by a fresh vk::Renderer on host_ (the vertex-shader path, shaded): the image.
+  std::vector<uint8_t> vulkanImage(const Character& character, const BakedPalette& palette,
+                                   const CrowdManager& crowd, const Camera& camera) {
+    vk::Renderer r;
+    vk::CharacterId id;
+    startRenderer(vk::RendererDesc(), character, palette, &r, &id);
+    InstanceBatcher batcher;
+    EXPECT_TRUE(batcher.init(r.batchLimits()).isOk());
+    examples::HeadlessVulkan::Frame frame;
+    frame.clear_color = kBackground;
+    std::vector<uint8_t> image;
+    const Status s = host_.render(frame,
+                                  [&](VkCommandBuffer cmd) {
+                                    const Status begun = r.beginFrame(0);
+                                    if (!begun.isOk()) return begun;
+                                    return r.recordDraw(cmd, vk::DrawTarget{{kSize, kSize}}, id,
+                                                        crowd.view(), batcher, camera);
+                                  },
+                                  {&image});
+    EXPECT_TRUE(s.isOk()) << s.toString();
+    return image;
   }
 
   // The validation layer's messages, one a line.

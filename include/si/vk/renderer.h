@@ -34,9 +34,11 @@
 ///
 /// What is built: the vertex-shader path, shaded (the built-in material, with motion vectors
 /// when asked) or depth only (shadow views, depth pre-passes), under every si::DepthConvention
-/// (reverse-Z included) and with y-flipped projections; palettes of 3x4 float or half-float
-/// matrices. Everything else (the GPU-driven path, compute pre-skinning, layers, morph targets,
-/// 8 influences, vertex words, host materials, impostors) is refused by name (kUnsupported).
+/// (reverse-Z included) and with y-flipped projections; meshes of 4 or 8 influences a vertex,
+/// with or without vertex colours and a second texture coordinate set (each drawn by its
+/// program variant); palettes of 3x4 float or half-float matrices. Everything else (the
+/// GPU-driven path, compute pre-skinning, layers, morph targets, host materials, impostors) is
+/// refused by name (kUnsupported).
 /// What the host must do: record recordUploads() before the first draw of a character and
 /// submit it before (or with) that draw; give each frame in flight its own slot (beginFrame(),
 /// below RendererDesc::frames_in_flight) and wait for a slot's last frame before beginning it
@@ -151,8 +153,9 @@ class Renderer {
 
   /// Creates `character`'s buffers and images (its vertex stream, indices, materials and
   /// `palette`, which must stay alive while it is drawn), their contents staged for
-  /// recordUploads(). kUnsupported (named) for what is not built yet: morph targets, 8
-  /// influences, vertex words, palette formats other than 3x4 float or half-float matrices;
+  /// recordUploads(), and its pipelines (its mesh's program variant: 8 influences, vertex
+  /// words). kUnsupported (named) for what is not built yet: morph targets, palette formats
+  /// other than 3x4 float or half-float matrices;
   /// the codes of si::buildVertexStream and si::buildMaterialTable; kBackend on a failed call.
   Status addCharacter(const Character& character, const BakedPalette& palette, CharacterId* out);
   /// Records the copies of every character added since the last call into `cmd` (outside

@@ -99,11 +99,9 @@ Status CharacterBuffers::uploadMaterials(MaterialTable* table, const VertexStrea
     words[v / 2] |= uint32_t(table->vertex_materials[v]) << ((v % 2) * 16);
   std::vector<GpuMaterial> entries;
   double_sided = alpha_masked = false;
-  const uint32_t vertex_words =
-      (stream.texcoord1_offset != 0 ? 1u : 0u) | (stream.color_offset != 0 ? 2u : 0u);
+  const uint32_t vertex_words = vertexWordBits(stream);
   for (const MaterialEntry& e : table->materials) {
-    entries.push_back(gpuMaterial(e));
-    entries.back().layer.w = vertex_words;
+    entries.push_back(gpuMaterial(e, vertex_words));
     double_sided = double_sided || e.double_sided;
     alpha_masked = alpha_masked || e.alpha_cutoff >= 0.0f;
   }
@@ -115,7 +113,7 @@ Status CharacterBuffers::uploadMaterials(MaterialTable* table, const VertexStrea
       s = {StatusCode::kLimitExceeded,
            strCat(entries.size(), " materials (the OpenGL ES profile's material block holds ",
                   kEsMaxMaterials, ")")};
-    entries.resize(kEsMaxMaterials, gpuMaterial(MaterialEntry{}));
+    entries.resize(kEsMaxMaterials, gpuMaterial(MaterialEntry{}, 0u));
   }
   if (s.isOk())
     s = createBuffer(&vertex_materials, words.size() * 4, words.data(), 0,

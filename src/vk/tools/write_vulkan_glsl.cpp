@@ -31,7 +31,7 @@ int main(int argc, char** argv) {
          {si::detail::ShaderStage::kVertex, si::detail::ShaderStage::kFragment}) {
       std::string source;
       const si::Status s =
-          si::detail::assembleStage(p.id, stage, si::vk::detail::vulkanShaderConfig(), &source);
+          si::detail::assembleStage(p.id, stage, si::vk::detail::vulkanShaderConfig(p), &source);
       if (!s.isOk()) {
         std::fprintf(stderr, "%s: %s\n", p.name, s.toString().c_str());
         return 1;
