@@ -140,10 +140,11 @@ void destroyCharacter(DeviceObjects* objects, CharacterResources* c) {
                        &c->materials, &c->staging})
     objects->destroy(b);
   for (GpuImage* i : {&c->palette, &c->base_color, &c->material_data}) objects->destroy(i);
-  for (VkPipeline& p : c->pipelines) {
-    if (p != VK_NULL_HANDLE) vkDestroyPipeline(objects->device(), p, objects->allocator());
-    p = VK_NULL_HANDLE;
-  }
+  for (auto& by_kind : c->pipelines)
+    for (VkPipeline& p : by_kind) {
+      if (p != VK_NULL_HANDLE) vkDestroyPipeline(objects->device(), p, objects->allocator());
+      p = VK_NULL_HANDLE;
+    }
   if (c->pool != VK_NULL_HANDLE)
     vkDestroyDescriptorPool(objects->device(), c->pool, objects->allocator());
   c->pool = VK_NULL_HANDLE;

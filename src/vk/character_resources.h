@@ -28,10 +28,11 @@ struct CharacterResources {
   GpuBuffer vertices, indices, palette_info, vertex_materials, materials;
   GpuImage palette, base_color, material_data;
   std::vector<SubMesh> sub_meshes;
-  /// By VulkanKind: the program (its index in vulkanPrograms(), the mesh's variant) and the
-  /// pipeline (the motion one only when the renderer draws motion vectors).
-  uint32_t programs[kVulkanKinds] = {};
-  VkPipeline pipelines[kVulkanKinds] = {};
+  /// Without and with layers, by VulkanKind: the program (its index in vulkanPrograms(), the
+  /// mesh's variant) and the pipeline (the motion ones only when the renderer draws motion
+  /// vectors).
+  uint32_t programs[2][kVulkanKinds] = {};
+  VkPipeline pipelines[2][kVulkanKinds] = {};
   VkDescriptorPool pool = VK_NULL_HANDLE;
   VkDescriptorSet set = VK_NULL_HANDLE;
   GpuBuffer staging;  ///< Until recordUploads() hands it on.

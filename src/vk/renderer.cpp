@@ -10,7 +10,9 @@
 
 #include "core/str_cat.h"
 #include "crowd/ring_frame.h"
+#include "si/core/layer_mask.h"
 #include "si/core/shader_inputs.h"
+#include "si/crowd/crowd_manager.h"
 #include "si_vk/vulkan_profile.h"
 #include "vk/character_resources.h"
 #include "vk/device_objects.h"
@@ -29,12 +31,21 @@ using si::detail::strCat;
 using si::detail::writeRingFrame;
 using namespace si::vk::detail;
 
+namespace {
+// Bytes of each default uniform block's binding: the vertex stage's camera and LOD, the
+// fragment stage's light and custom layers.
+constexpr VkDeviceSize kDefaultsRange = 256;
+// Dynamic bindings of the set: records, layers, previous layers, masks, the two defaults.
+constexpr uint32_t kMaxDynamicBindings = 6;
+}  // namespace
+
 struct Renderer::Impl {
   using Character = CharacterResources;
 
   RendererDesc desc;
   DeviceObjects objects;
   VkDeviceSize ubo_alignment = 256;
+  VkDeviceSize storage_alignment = 256;  // minStorageBufferOffsetAlignment (16 at least).
   // vulkanPrograms(), in its order: shaded, depth only and with motion vectors, for each mesh
   // variant (8 influences, vertex words).
   std::vector<ProgramModules> programs;
@@ -121,13 +132,15 @@ Status Renderer::init(const RendererDesc& desc) {
   impl->desc = desc;
   impl->objects.init(desc.physical_device, desc.device, desc.allocator);
   impl->ubo_alignment = std::max<VkDeviceSize>(props.limits.minUniformBufferOffsetAlignment, 16);
+  impl->storage_alignment =
+      std::max<VkDeviceSize>(props.limits.minStorageBufferOffsetAlignment, 16);
   impl->slot_bytes = slot_bytes;
   impl_ = std::move(impl);
   Impl& m = *impl_;
   Status s = Status::ok();
   m.programs.resize(vulkanPrograms().size());
   for (size_t k = 0; k < m.programs.size() && s.isOk(); ++k)
-    s = m.loadProgram(vulkanPrograms()[k].name, &m.programs[k]);
+    s = m.loadProgram(vulkanPrograms()[k].name.c_str(), &m.programs[k]);
   if (s.isOk()) {
     std::vector<StageReflection> stages;
     for (const ProgramModules& p : m.programs) {
@@ -137,6 +150,14 @@ Status Renderer::init(const RendererDesc& desc) {
     s = createSkinnedLayout(m.device(), m.allocator(),
                             Span<const StageReflection>(stages.data(), stages.size()), &m.layout);
   }
+  size_t dynamic = 0;
+  for (const VkDescriptorSetLayoutBinding& b : m.layout.bindings)
+    dynamic += b.descriptorType == VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER_DYNAMIC ||
+               b.descriptorType == VK_DESCRIPTOR_TYPE_STORAGE_BUFFER_DYNAMIC;
+  if (s.isOk() && dynamic > kMaxDynamicBindings)
+    s = {StatusCode::kUnsupported,
+         strCat("vk::Renderer::init: the programs declare ", dynamic,
+                " dynamic buffers, more than the ", kMaxDynamicBindings, " the draws offset")};
   for (const auto& [filter, out] :
        {std::pair{VK_FILTER_NEAREST, &m.nearest}, std::pair{VK_FILTER_LINEAR, &m.linear}}) {
     if (!s.isOk()) break;
@@ -194,10 +215,6 @@ BatchLimits Renderer::batchLimits() const {
 }
 
 namespace {
-
-// Bytes of each default uniform block's binding: the vertex stage's camera and LOD, the
-// fragment stage's light and custom layers.
-constexpr VkDeviceSize kDefaultsRange = 256;
 
 // The offset of default-block member `name` in `r` (-1 when the stage has none).
 int64_t defaultOffset(const SpirvReflection& r, const char* name) {
@@ -278,13 +295,16 @@ Status Renderer::addCharacter(const Character& character, const BakedPalette& pa
       {m.desc.color_format, m.desc.depth_format},
       {VK_FORMAT_UNDEFINED, depth_only_format},
       {m.desc.color_format, m.desc.depth_format, m.desc.motion_format}};
-  for (size_t k = 0; k < kVulkanKinds && s.isOk(); ++k) {
-    const VulkanKind kind = VulkanKind(k);
-    c->programs[k] = uint32_t(vulkanProgramIndex(kind, eight, words));
-    if (kind == VulkanKind::kMotion && m.desc.motion_format == VK_FORMAT_UNDEFINED) continue;
-    s = createSkinnedPipeline(m.device(), m.allocator(), m.programs[c->programs[k]],
-                              m.layout.pipeline_layout, formats[k], stream, &c->pipelines[k]);
-  }
+  for (int layers = 0; layers < 2; ++layers)
+    for (size_t k = 0; k < kVulkanKinds && s.isOk(); ++k) {
+      const VulkanKind kind = VulkanKind(k);
+      uint32_t& program = c->programs[layers][k];
+      program = uint32_t(vulkanProgramIndex(kind, layers == 1, eight, words));
+      if (kind == VulkanKind::kMotion && m.desc.motion_format == VK_FORMAT_UNDEFINED) continue;
+      s = createSkinnedPipeline(m.device(), m.allocator(), m.programs[program],
+                                m.layout.pipeline_layout, formats[k], stream,
+                                &c->pipelines[layers][k]);
+    }
   if (s.isOk()) s = m.writeSet(c.get());
   if (!s.isOk()) {
     destroyCharacter(&m.objects, c.get());
@@ -344,6 +364,10 @@ Status Renderer::Impl::writeSet(Character* c) {
       buffer(c->materials, VK_WHOLE_SIZE);
     else if (b == kPreviousBinding)
       buffer(ring, VK_WHOLE_SIZE);
+    else if (b == kLayersBinding || b == kPreviousLayersBinding)
+      buffer(ring, kLayersRange);
+    else if (b == kMaskBinding)
+      buffer(ring, kMaskRange);
     else if (b == kPaletteBinding)
       image(c->palette, nearest);
     else if (b == kBaseColorBinding)
@@ -439,16 +463,32 @@ Status Renderer::recordDraw(VkCommandBuffer cmd, const DrawTarget& target, Chara
             "vk::Renderer::recordDraw: motion vectors (RendererDesc::motion_format) need a crowd "
             "that keeps its previous records (CrowdDesc::previous_records; a view: "
             "CrowdViewDesc::previous_records)"};
+  // Layered animation: the overlays composed on their masks in the vertex stage. A 2D blend's
+  // third and fourth clips need si::gl's layer compose pass.
+  const bool layers = !view.layerRecords().empty();
+  if (layers && !view.extraLayerRecords().empty())
+    return {StatusCode::kUnsupported,
+            "vk::Renderer::recordDraw: the Vulkan back-end does not draw 2D blends (their third "
+            "and fourth clips, CrowdView::extraLayerRecords) yet"};
+  const std::vector<int32_t> masks =
+      layers ? layerMaskTable(view.crowd()->layerMasks()) : std::vector<int32_t>();
+  if (masks.size() * 4 > kMaskRange)
+    return {StatusCode::kLimitExceeded,
+            strCat("vk::Renderer::recordDraw: the crowd's layer mask table (", masks.size() * 4,
+                   " bytes) passes the ", kMaskRange, " bytes its binding gives it")};
   // The frame's region: this draw's records (with motion vectors each slot's previous-record
-  // index and the previous records, crowd/ring_frame.h) after the frame's earlier draws', then
-  // the default blocks (the fragment stage's once, the vertex stage's per batch).
+  // index and the previous records; with layers the layer records, and previous ones:
+  // crowd/ring_frame.h) after the frame's earlier draws', the mask table, then the default
+  // blocks (the fragment stage's once, the vertex stage's per batch).
   const VkDeviceSize region = VkDeviceSize(m.frame) * m.slot_bytes;
   const VkDeviceSize records_at = alignUp(m.frame_used, m.ubo_alignment);
   RingContents contents;
   contents.motion = motion;
+  contents.layers = layers;
   const RingFrame plan = planRingFrame(batcher, view, uint32_t(m.ubo_alignment), contents, true);
   std::vector<DrawBatch> draws;
-  const VkDeviceSize defaults_at = alignUp(records_at + plan.end, kDefaultsRange);
+  const VkDeviceSize masks_at = alignUp(records_at + plan.end, m.storage_alignment);
+  const VkDeviceSize defaults_at = alignUp(masks_at + masks.size() * 4, kDefaultsRange);
   if (defaults_at + kDefaultsRange > m.desc.ring_bytes_per_frame)
     return {
         StatusCode::kLimitExceeded,
@@ -457,6 +497,7 @@ Status Renderer::recordDraw(VkCommandBuffer cmd, const DrawTarget& target, Chara
   uint8_t* ring = static_cast<uint8_t*>(m.ring.mapped) + region;
   Status s = writeRingFrame(batcher, view, plan, ring + records_at, size_t(plan.end), {}, &draws);
   if (!s.isOk()) return s;
+  if (!masks.empty()) std::memcpy(ring + masks_at, masks.data(), masks.size() * 4);
   const VkDeviceSize end = defaults_at + kDefaultsRange * (1 + draws.size());
   if (end > m.desc.ring_bytes_per_frame)
     return {StatusCode::kLimitExceeded,
@@ -467,7 +508,7 @@ Status Renderer::recordDraw(VkCommandBuffer cmd, const DrawTarget& target, Chara
   const VulkanKind kind = depth_only ? VulkanKind::kDepthOnly
                           : motion   ? VulkanKind::kMotion
                                      : VulkanKind::kShaded;
-  const ProgramModules& program = m.programs[c.programs[size_t(kind)]];
+  const ProgramModules& program = m.programs[c.programs[layers ? 1 : 0][size_t(kind)]];
   const uint32_t no_custom_layers = 0;
   putMember(ring + defaults_at, defaultOffset(program.fragment_reflection, "u_custom_layers"),
             &no_custom_layers, 4);
@@ -494,7 +535,8 @@ Status Renderer::recordDraw(VkCommandBuffer cmd, const DrawTarget& target, Chara
                              uint32_t(kInstanceRecordSize / 16));
     md.shift = previousRecordShift(view);
   }
-  vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_GRAPHICS, c.pipelines[size_t(kind)]);
+  vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_GRAPHICS,
+                    c.pipelines[layers ? 1 : 0][size_t(kind)]);
   // Flipped (negative height), so the image is OpenGL's.
   const VkExtent2D extent = target.extent;
   const VkViewport viewport{
@@ -534,11 +576,30 @@ Status Renderer::recordDraw(VkCommandBuffer cmd, const DrawTarget& target, Chara
       putMember(ring + vertex_at, defaultOffset(vertex, "u_previous"), &md.previous, 12);
       putMember(ring + vertex_at, defaultOffset(vertex, "u_previous_shift"), &md.shift, 12);
     }
-    // Dynamic offsets in binding order: the records, the vertex and the fragment defaults.
-    const uint32_t offsets[3] = {uint32_t(region + records_at + d.byte_offset),
-                                 uint32_t(region + vertex_at), uint32_t(region + defaults_at)};
+    // Dynamic offsets in binding order: the records, the layer records and previous ones
+    // (the region's start when the draw has none), the mask table, the vertex and the fragment
+    // defaults.
+    const VkDeviceSize layer_at =
+        layers ? records_at + plan.layer_records + d.layer_byte_offset : VkDeviceSize(0);
+    const VkDeviceSize previous_layer_at =
+        layers && motion ? records_at + plan.previous_layers + d.layer_byte_offset
+                         : VkDeviceSize(0);
+    uint32_t offsets[kMaxDynamicBindings] = {};
+    uint32_t count = 0;
+    for (const VkDescriptorSetLayoutBinding& b : m.layout.bindings) {
+      if (b.descriptorType != VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER_DYNAMIC &&
+          b.descriptorType != VK_DESCRIPTOR_TYPE_STORAGE_BUFFER_DYNAMIC)
+        continue;
+      const VkDeviceSize at = b.binding == kRecordsBinding          ? records_at + d.byte_offset
+                              : b.binding == kLayersBinding         ? layer_at
+                              : b.binding == kPreviousLayersBinding ? previous_layer_at
+                              : b.binding == kMaskBinding           ? masks_at
+                              : b.binding == kVertexDefaultsBinding ? vertex_at
+                                                                    : defaults_at;
+      offsets[count++] = uint32_t(region + at);
+    }
     vkCmdBindDescriptorSets(cmd, VK_PIPELINE_BIND_POINT_GRAPHICS, m.layout.pipeline_layout, 0, 1,
-                            &c.set, 3, offsets);
+                            &c.set, count, offsets);
     vkCmdDrawIndexed(cmd, range.index_count, d.instance_count, range.first_index, 0, 0);
     ++st.draw_calls;
     st.triangles += uint64_t(range.index_count / 3) * d.instance_count;

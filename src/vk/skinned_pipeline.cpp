@@ -23,8 +23,11 @@ Status createSkinnedLayout(VkDevice device, const VkAllocationCallbacks* allocat
     for (const SpirvDescriptor& d : r.reflection->descriptors) {
       const uint32_t b = d.binding;
       VkDescriptorType type;
-      if (b == kRecordsBinding || b == kVertexDefaultsBinding || b == kFragmentDefaultsBinding)
+      if (b == kRecordsBinding || b == kVertexDefaultsBinding || b == kFragmentDefaultsBinding ||
+          b == kLayersBinding || b == kPreviousLayersBinding)
         type = VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER_DYNAMIC;
+      else if (b == kMaskBinding)
+        type = VK_DESCRIPTOR_TYPE_STORAGE_BUFFER_DYNAMIC;
       else if (b == kPaletteInfoBinding)
         type = VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER;
       else if (b == kVertexMaterialsBinding || b == kMaterialTableBinding || b == kPreviousBinding)

@@ -32,6 +32,14 @@ inline constexpr uint32_t kMaterialDataBinding = 4 + kSamplerBindingShift;
 // The motion program's previous records and their indices (previous_index.glsl's storage
 // binding 25): the whole record ring, read by 16-byte word from its start.
 inline constexpr uint32_t kPreviousBinding = 25 + kStorageBindingShift;
+// Layered animation (si_skinning.glsl's SI_LAYERS): each batch's layer records and previous
+// layer records (uniform blocks of 819 uvec4), and the crowd's mask table (a storage block, at
+// most kMaskRange bytes), all in the frame's region of the ring.
+inline constexpr uint32_t kLayersBinding = 2;
+inline constexpr uint32_t kPreviousLayersBinding = 3;
+inline constexpr uint32_t kMaskBinding = 8 + kStorageBindingShift;
+inline constexpr VkDeviceSize kLayersRange = VkDeviceSize(kVulkanMaxInstances) * 16;
+inline constexpr VkDeviceSize kMaskRange = kRecordsRange;
 
 /// The skinned program's descriptor set layout (binding order) and pipeline layout.
 struct SkinnedLayout {

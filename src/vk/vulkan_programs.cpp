@@ -1,36 +1,66 @@
 // SkinnedInstancing — SPDX-License-Identifier: MIT (see LICENSE)
 #include "vk/vulkan_programs.h"
 
+#include <vector>
+
 namespace si::vk::detail {
 
 namespace {
+
 using si::detail::ProgramId;
-constexpr VulkanProgram kPrograms[] = {
-    {ProgramId::kSkinned, VulkanKind::kShaded, false, false, "skinned"},
-    {ProgramId::kDepthOnly, VulkanKind::kDepthOnly, false, false, "depth_only"},
-    {ProgramId::kSkinnedMotion, VulkanKind::kMotion, false, false, "skinned_motion"},
-    {ProgramId::kSkinned, VulkanKind::kShaded, true, false, "skinned_8"},
-    {ProgramId::kDepthOnly, VulkanKind::kDepthOnly, true, false, "depth_only_8"},
-    {ProgramId::kSkinnedMotion, VulkanKind::kMotion, true, false, "skinned_motion_8"},
-    {ProgramId::kSkinned, VulkanKind::kShaded, false, true, "skinned_words"},
-    {ProgramId::kSkinnedMotion, VulkanKind::kMotion, false, true, "skinned_motion_words"},
-    {ProgramId::kSkinned, VulkanKind::kShaded, true, true, "skinned_8_words"},
-    {ProgramId::kSkinnedMotion, VulkanKind::kMotion, true, true, "skinned_motion_8_words"},
-};
-constexpr size_t kProgramCount = sizeof(kPrograms) / sizeof(kPrograms[0]);
+
+constexpr VulkanKind kKinds[] = {VulkanKind::kShaded, VulkanKind::kDepthOnly, VulkanKind::kMotion};
+
+// The catalog's program of `kind`, with the overlays on their masks or not.
+ProgramId catalogProgram(VulkanKind kind, bool layers) {
+  switch (kind) {
+    case VulkanKind::kDepthOnly:
+      return layers ? ProgramId::kDepthOnlyLayers : ProgramId::kDepthOnly;
+    case VulkanKind::kMotion:
+      return layers ? ProgramId::kSkinnedMotionLayers : ProgramId::kSkinnedMotion;
+    case VulkanKind::kShaded:
+      break;
+  }
+  return layers ? ProgramId::kSkinnedLayers : ProgramId::kSkinned;
+}
+
+std::vector<VulkanProgram> makePrograms() {
+  std::vector<VulkanProgram> programs;
+  for (bool layers : {false, true})
+    for (bool eight : {false, true})
+      for (bool words : {false, true})
+        for (VulkanKind kind : kKinds) {
+          if (words && kind == VulkanKind::kDepthOnly) continue;  // It reads no vertex words.
+          std::string name = kind == VulkanKind::kShaded      ? "skinned"
+                             : kind == VulkanKind::kDepthOnly ? "depth_only"
+                                                              : "skinned_motion";
+          if (layers) name += "_layers";
+          if (eight) name += "_8";
+          if (words) name += "_words";
+          programs.push_back({catalogProgram(kind, layers), kind, layers, eight, words, name});
+        }
+  return programs;
+}
+
+const std::vector<VulkanProgram>& programList() {
+  static const std::vector<VulkanProgram> programs = makePrograms();
+  return programs;
+}
+
 }  // namespace
 
 Span<const VulkanProgram> vulkanPrograms() {
-  return Span<const VulkanProgram>(kPrograms, kProgramCount);
+  return Span<const VulkanProgram>(programList().data(), programList().size());
 }
 
-size_t vulkanProgramIndex(VulkanKind kind, bool eight_influences, bool vertex_words) {
+size_t vulkanProgramIndex(VulkanKind kind, bool layers, bool eight_influences, bool vertex_words) {
   const bool words = vertex_words && kind != VulkanKind::kDepthOnly;
-  for (size_t k = 0; k < kProgramCount; ++k)
-    if (kPrograms[k].kind == kind && kPrograms[k].eight_influences == eight_influences &&
-        kPrograms[k].vertex_words == words)
+  const std::vector<VulkanProgram>& programs = programList();
+  for (size_t k = 0; k < programs.size(); ++k)
+    if (programs[k].kind == kind && programs[k].layers == layers &&
+        programs[k].eight_influences == eight_influences && programs[k].vertex_words == words)
       return k;
-  return 0;  // Every combination is listed above.
+  return 0;  // makePrograms() lists every combination.
 }
 
 si::detail::ShaderConfig vulkanShaderConfig(const VulkanProgram& program) {

@@ -1,12 +1,14 @@
 // SkinnedInstancing — SPDX-License-Identifier: MIT (see LICENSE)
 #pragma once
 // The Vulkan back-end's programs: which programs of si::gl's catalog it builds, in which
-// variants for the character's mesh (8 influences, optional vertex words), and the shader
+// variants (the crowd's layers; the character's mesh: 8 influences, optional vertex words), and
+// the shader
 // configuration each is assembled with (the same files, defines and catalog; glslang defines
 // VULKAN, which si_profile.glsl reads). Used at build time by the step that writes their GLSL
 // (tools/write_vulkan_glsl.cpp) and at run time to name the embedded SPIR-V. No Vulkan here.
 
 #include <cstddef>
+#include <string>
 
 #include "gl/programs/program_catalog.h"
 #include "si/core/span.h"
@@ -17,24 +19,28 @@ namespace si::vk::detail {
 enum class VulkanKind : uint8_t { kShaded = 0, kDepthOnly, kMotion };
 inline constexpr size_t kVulkanKinds = 3;
 
-/// One program of the back-end: the catalog's program, the mesh variant it is assembled for
-/// (ShaderConfig::eight_influences, vertex_words) and the name its SPIR-V files take.
+/// One program of the back-end: the catalog's program, the variant it is assembled for (layered
+/// animation: the overlays on their masks; ShaderConfig::eight_influences, vertex_words) and
+/// the name its SPIR-V files take: "skinned", "depth_only" or "skinned_motion", then "_layers",
+/// "_8", "_words" for each variant it is (src/vk/CMakeLists.txt makes the same list).
 struct VulkanProgram {
   si::detail::ProgramId id;
   VulkanKind kind;
+  bool layers;
   bool eight_influences;
   bool vertex_words;
-  const char* name;
+  std::string name;
 };
 
 /// The programs the Vulkan back-end builds so far: the vertex-shader path, shaded, depth only
-/// and shaded with motion vectors, each for meshes of 4 and of 8 influences, the shaded ones
-/// also for meshes with vertex words (the depth-only stage reads none).
+/// and shaded with motion vectors, each without and with layers, for meshes of 4 and of 8
+/// influences, the shaded ones also for meshes with vertex words (the depth-only stage reads
+/// none). Ordered by layers, then 8 influences, then vertex words, then kind.
 Span<const VulkanProgram> vulkanPrograms();
 
-/// The index in vulkanPrograms() of the program of `kind` for a mesh with 8 influences or not
-/// and vertex words or not (ignored for kDepthOnly).
-size_t vulkanProgramIndex(VulkanKind kind, bool eight_influences, bool vertex_words);
+/// The index in vulkanPrograms() of the program of `kind`, with layers or not, for a mesh with
+/// 8 influences or not and vertex words or not (ignored for kDepthOnly).
+size_t vulkanProgramIndex(VulkanKind kind, bool layers, bool eight_influences, bool vertex_words);
 
 /// Records in the instance uniform block: 819 of 80 bytes fill a 64 KiB block, the
 /// maxUniformBufferRange of NVIDIA's and lavapipe's drivers (the Vulkan minimum is 16 KiB: a

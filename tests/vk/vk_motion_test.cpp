@@ -58,7 +58,6 @@ TEST_P(VulkanMotionTest, TheMotionIsWhatOpenGlWrites) {
   SI_START_VULKAN_HOST();
   CrowdManager crowd;
   ASSERT_NO_FATAL_FAILURE(twoUpdates(&crowd, true));
-  const glm::vec4 background(0.2f, 0.25f, 0.3f, 1.0f);
   // si::gl's motion: the vertex-shader path into a MotionTarget (rows bottom to top).
   std::vector<glm::vec2> gl_motion;
   std::vector<uint8_t> gl_image;
@@ -71,7 +70,7 @@ TEST_P(VulkanMotionTest, TheMotionIsWhatOpenGlWrites) {
     ASSERT_TRUE(gl.addCharacter(character(), palette(), &gl_id).isOk());
     MotionTarget target;
     ASSERT_TRUE(target.create(kSize, kSize).isOk());
-    target.clear(background);
+    target.clear(kBackground);
     InstanceBatcher batcher;
     ASSERT_TRUE(batcher.init(gl.batchLimits()).isOk());
     const Status drawn = gl.drawCrowd(gl_id, crowd.view(), batcher, camera(2), nullptr);
@@ -88,7 +87,7 @@ TEST_P(VulkanMotionTest, TheMotionIsWhatOpenGlWrites) {
   InstanceBatcher batcher;
   ASSERT_TRUE(batcher.init(r.batchLimits()).isOk());
   examples::HeadlessVulkan::Frame frame;
-  frame.clear_color = background;
+  frame.clear_color = kBackground;
   frame.motion = true;
   std::vector<uint8_t> image;
   std::vector<glm::vec2> motion;
@@ -101,31 +100,13 @@ TEST_P(VulkanMotionTest, TheMotionIsWhatOpenGlWrites) {
                                 },
                                 {&image, nullptr, &motion});
   ASSERT_TRUE(s.isOk()) << s.toString();
-  // The GL images' rows bottom to top; the host's top to bottom.
-  const auto row_flipped = [](size_t i) { return (kSize - 1 - i / kSize) * kSize + i % kSize; };
-  // A pixel of a character: more than 2 levels from the background in a channel (the two APIs
-  // may round the clear colour apart).
-  const glm::ivec3 clear(glm::round(glm::vec3(background) * 255.0f));
-  const auto character_at = [&](const std::vector<uint8_t>& rgba, size_t i) {
-    const glm::ivec3 c(rgba[4 * i], rgba[4 * i + 1], rgba[4 * i + 2]);
-    return glm::any(glm::greaterThan(glm::abs(c - clear), glm::ivec3(2)));
-  };
-  size_t covered = 0, apart = 0;
-  float largest = 0.0f;
-  for (size_t i = 0; i < motion.size(); ++i) {
-    const size_t g = row_flipped(i);
-    const bool vk_covered = character_at(image, i), gl_covered = character_at(gl_image, g);
-    if (!vk_covered || !gl_covered) continue;  // A silhouette pixel of one of them.
-    ++covered;
-    const glm::vec2 pixels = (motion[i] - gl_motion[g]) * float(kSize);
-    apart += std::max(std::abs(pixels.x), std::abs(pixels.y)) > 0.05f;
-    largest = std::max(largest, glm::length(gl_motion[g]) * float(kSize));
-  }
-  std::printf("[ motion ] %zu covered pixels, %zu apart, the largest motion %.2f px\n", covered,
-              apart, largest);
-  EXPECT_GT(covered, 2000u);
-  EXPECT_GT(largest, 2.0f) << "the characters move by pixels";
-  EXPECT_LE(apart, covered / 200) << apart << " of " << covered << " covered pixels apart";
+  const MotionApart apart = motionApart(image, motion, gl_image, gl_motion);
+  std::printf("[ motion ] %zu covered pixels, %zu apart, the largest motion %.2f px\n",
+              apart.covered, apart.apart, apart.largest_pixels);
+  EXPECT_GT(apart.covered, 2000u);
+  EXPECT_GT(apart.largest_pixels, 2.0f) << "the characters move by pixels";
+  EXPECT_LE(apart.apart, apart.covered / 200)
+      << apart.apart << " of " << apart.covered << " covered pixels apart";
   EXPECT_TRUE(host_.messages().empty()) << messages();
   r.shutdown();
 }

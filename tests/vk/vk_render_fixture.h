@@ -4,6 +4,8 @@
 // engine-like Vulkan host of the vulkan_host example (skipped, or failed with SI_REQUIRE_VULKAN=1,
 // where the machine has no Vulkan 1.3 device), a vk::Renderer with the embedded character uploaded,
 // and the LOD rows' crowd.
+#include <algorithm>
+#include <cmath>
 #include <cstdlib>
 #include <sstream>
 #include <string>
@@ -16,6 +18,10 @@
 namespace si::test {
 
 class VulkanRenderFixture : public RenderTest {
+ public:
+  // The background of the render tests' images (drawCrowdImage's).
+  static constexpr glm::vec4 kBackground = glm::vec4(0.2f, 0.25f, 0.3f, 1.0f);
+
  protected:
   // Creates host_; false (the test skipped, or failed under SI_REQUIRE_VULKAN) without a device.
   bool startHost() {
@@ -32,9 +38,6 @@ class VulkanRenderFixture : public RenderTest {
     }
     return false;
   }
-
-  // The background of the render tests' images (drawCrowdImage's).
-  static constexpr glm::vec4 kBackground = glm::vec4(0.2f, 0.25f, 0.3f, 1.0f);
 
   // `desc` on host_'s device, the embedded character added and its uploads submitted.
   void startRenderer(const vk::RendererDesc& desc, vk::Renderer* r, vk::CharacterId* id) {
@@ -88,6 +91,37 @@ class VulkanRenderFixture : public RenderTest {
   examples::HeadlessVulkan host_;
   std::string skip_reason_;  // Why startHost() returned false (empty when it failed).
 };
+
+// Pixels both images cover, and those whose motion is apart.
+struct MotionApart {
+  size_t covered = 0;           ///< Pixels both images cover.
+  size_t apart = 0;             ///< Of those, the ones whose motions differ by more than 0.05 px.
+  float largest_pixels = 0.0f;  ///< The longest of si::gl's motions there, in pixels.
+};
+// The host's image and motion (rows top to bottom, over VulkanRenderFixture::kBackground)
+// against si::gl's MotionTarget's (readColor, readMotion: rows bottom to top). A pixel is a
+// character's where a channel is more than 2 levels from the background (the two APIs may
+// round the clear colour apart).
+inline MotionApart motionApart(const std::vector<uint8_t>& image,
+                               const std::vector<glm::vec2>& motion,
+                               const std::vector<uint8_t>& gl_image,
+                               const std::vector<glm::vec2>& gl_motion) {
+  const glm::ivec3 clear(glm::round(glm::vec3(VulkanRenderFixture::kBackground) * 255.0f));
+  const auto character_at = [&](const std::vector<uint8_t>& rgba, size_t i) {
+    const glm::ivec3 c(rgba[4 * i], rgba[4 * i + 1], rgba[4 * i + 2]);
+    return glm::any(glm::greaterThan(glm::abs(c - clear), glm::ivec3(2)));
+  };
+  MotionApart a;
+  for (size_t i = 0; i < motion.size() && i < gl_motion.size(); ++i) {
+    const size_t g = (kSize - 1 - i / kSize) * kSize + i % kSize;  // The GL row's pixel.
+    if (!character_at(image, i) || !character_at(gl_image, g)) continue;
+    ++a.covered;
+    const glm::vec2 pixels = (motion[i] - gl_motion[g]) * float(kSize);
+    a.apart += std::max(std::abs(pixels.x), std::abs(pixels.y)) > 0.05f;
+    a.largest_pixels = std::max(a.largest_pixels, glm::length(gl_motion[g]) * float(kSize));
+  }
+  return a;
+}
 
 // The embedded character's crowd of the LOD rows (populateLodCrowd).
 inline void lodCrowd(CrowdManager* crowd) {

@@ -36,9 +36,9 @@
 /// when asked) or depth only (shadow views, depth pre-passes), under every si::DepthConvention
 /// (reverse-Z included) and with y-flipped projections; meshes of 4 or 8 influences a vertex,
 /// with or without vertex colours and a second texture coordinate set (each drawn by its
-/// program variant); palettes of 3x4 float or half-float matrices. Everything else (the
-/// GPU-driven path, compute pre-skinning, layers, morph targets, host materials, impostors) is
-/// refused by name (kUnsupported).
+/// program variant); layered animation (overlays on their masks, 1D blends); palettes of 3x4
+/// float or half-float matrices. Everything else (the GPU-driven path, compute pre-skinning, 2D
+/// blends, morph targets, host materials, impostors) is refused by name (kUnsupported).
 /// What the host must do: record recordUploads() before the first draw of a character and
 /// submit it before (or with) that draw; give each frame in flight its own slot (beginFrame(),
 /// below RendererDesc::frames_in_flight) and wait for a slot's last frame before beginning it
@@ -178,9 +178,11 @@ class Renderer {
   /// through Camera::fromMatrices) are used as they are. kInvalidArgument for an unknown
   /// character or mode, no beginFrame(), a batcher not initialized, an empty extent, a
   /// character whose uploads were not recorded, or motion vectors of a view without previous
-  /// records; kLimitExceeded when the frame's records pass the slot's region (nothing recorded
-  /// then). With motion vectors the view's previous records are copied into the slot's region
-  /// after this draw's records.
+  /// records; kUnsupported for a view of 2D blends (their third and fourth clips);
+  /// kLimitExceeded when the frame's records pass the slot's region (nothing recorded then).
+  /// With motion vectors the view's previous records are copied into the slot's region after
+  /// this draw's records; with layered animation its layer records (and previous ones) and the
+  /// crowd's mask table follow them.
   Status recordDraw(VkCommandBuffer cmd, const DrawTarget& target, CharacterId id,
                     const CrowdView& view, const InstanceBatcher& batcher, const Camera& camera,
                     DrawStats* stats = nullptr);

@@ -18,11 +18,10 @@ int main(int argc, char** argv) {
     return 2;
   }
   bool same = size_t(argc - 2) == programs.size();
-  for (size_t k = 0; same && k < programs.size(); ++k)
-    same = std::strcmp(argv[2 + k], programs[k].name) == 0;
+  for (size_t k = 0; same && k < programs.size(); ++k) same = programs[k].name == argv[2 + k];
   if (!same) {
     std::fprintf(stderr, "%s: the build names other programs than vulkanPrograms():", argv[0]);
-    for (const auto& p : programs) std::fprintf(stderr, " %s", p.name);
+    for (const auto& p : programs) std::fprintf(stderr, " %s", p.name.c_str());
     std::fprintf(stderr, "\n");
     return 1;
   }
@@ -33,7 +32,7 @@ int main(int argc, char** argv) {
       const si::Status s =
           si::detail::assembleStage(p.id, stage, si::vk::detail::vulkanShaderConfig(p), &source);
       if (!s.isOk()) {
-        std::fprintf(stderr, "%s: %s\n", p.name, s.toString().c_str());
+        std::fprintf(stderr, "%s: %s\n", p.name.c_str(), s.toString().c_str());
         return 1;
       }
       const std::string path = std::string(argv[1]) + "/" + p.name + "." +

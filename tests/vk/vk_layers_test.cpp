@@ -1,0 +1,218 @@
+// SkinnedInstancing — SPDX-License-Identifier: MIT (see LICENSE)
+// Layered animation on the Vulkan back-end (issue "The crowd in a Vulkan engine"): a crowd whose
+// walkers wave an arm (an overlay on the right arm's mask, fading in for some) draws what
+// si::Renderer's vertex-shader path draws, shaded and depth only; the overlay shows; its motion
+// vectors follow the overlay as si::gl's do; a 2D blend (whose third and fourth clips need the
+// layer compose pass) is refused by name.
+#include <glad/gl.h>
+
+#include "si/core/layer_mask.h"
+#include "si/gl/motion_target.h"
+#include "vk/vk_render_fixture.h"
+
+namespace si {
+namespace {
+
+using namespace test;
+
+class VulkanLayersTest : public VulkanRenderFixture {
+ protected:
+  static Camera closeView(int f = 0) {
+    return Camera::lookAt({0.1 * f, 1.6, 2.5}, {0.0, 1.0, -4.0}, glm::vec3(0, 1, 0), 0.9f, 1.0f,
+                          0.1f, 100.0f);
+  }
+  // 12 walkers; two thirds wave on the arm mask (at once, or fading in over 1 s), updated at
+  // 0.5 s; with `previous_records`, updated again 1/30 s later with the camera moved.
+  void populate(CrowdManager* crowd, bool previous_records) {
+    CrowdDesc cd;
+    cd.palette = &palette();
+    cd.sub_mesh_count = uint32_t(character().mesh.sub_meshes.size());
+    cd.lod_count = 1;
+    cd.previous_records = previous_records;
+    ASSERT_TRUE(crowd->init(cd).isOk());
+    LayerMask arm;
+    ASSERT_TRUE(
+        buildLayerMask(character().skeleton, palette(), "arm", {"r_clavicle"}, &arm).isOk());
+    uint32_t mask = 0;
+    ASSERT_TRUE(crowd->addLayerMask(arm, &mask).isOk());
+    const uint32_t walk = uint32_t(palette().findClip("walk"));
+    const uint32_t wave = uint32_t(palette().findClip("wave"));
+    for (int k = 0; k < 12; ++k) {
+      InstanceDesc d;
+      d.position = glm::dvec3((k % 4 - 1.5) * 1.2, 0.0, -2.5 - 1.5 * (k / 4));
+      d.rotation = glm::angleAxis(0.6f * float(k % 3 - 1), glm::vec3(0, 1, 0));
+      d.clip = walk;
+      d.time_seconds = 0.11 * k;
+      d.color = glm::u8vec4(uint8_t(60 + 15 * k), uint8_t(220 - 12 * k), 120, 255);
+      InstanceHandle h;
+      ASSERT_TRUE(crowd->add(d, &h).isOk());
+      handles_.push_back(h);
+      if (k % 3 != 2) {
+        ASSERT_TRUE(
+            crowd->playOverlay(h, wave, mask, 1.0f, k % 3 == 0 ? 0.0 : 1.0, 0.13 * k).isOk());
+      }
+    }
+    ASSERT_TRUE(crowd->update(0.5, closeView()).isOk());
+    if (previous_records) {
+      ASSERT_TRUE(crowd->update(1.0 / 30.0, closeView(1)).isOk());
+    }
+  }
+  // `crowd` drawn by a fresh vk::Renderer (`rd`), shaded or depth only: the image or depth.
+  void drawVulkan(const vk::RendererDesc& rd, const CrowdManager& crowd, const Camera& camera,
+                  vk::DrawMode mode, std::vector<uint8_t>* image, std::vector<float>* depth,
+                  std::vector<glm::vec2>* motion = nullptr) {
+    vk::Renderer r;
+    vk::CharacterId id;
+    ASSERT_NO_FATAL_FAILURE(startRenderer(rd, &r, &id));
+    InstanceBatcher batcher;
+    ASSERT_TRUE(batcher.init(r.batchLimits()).isOk());
+    vk::DrawTarget target{{kSize, kSize}};
+    target.mode = mode;
+    examples::HeadlessVulkan::Frame frame;
+    frame.clear_color = kBackground;
+    frame.color = mode == vk::DrawMode::kShaded;
+    frame.motion = motion != nullptr;
+    const Status s =
+        host_.render(frame,
+                     [&](VkCommandBuffer cmd) {
+                       const Status begun = r.beginFrame(0);
+                       if (!begun.isOk()) return begun;
+                       return r.recordDraw(cmd, target, id, crowd.view(), batcher, camera);
+                     },
+                     {image, depth, motion});
+    ASSERT_TRUE(s.isOk()) << s.toString();
+  }
+  std::vector<InstanceHandle> handles_;
+};
+
+TEST_P(VulkanLayersTest, OverlaysDrawWhatOpenGlDraws) {
+  SI_START_VULKAN_HOST();
+  CrowdManager crowd;
+  ASSERT_NO_FATAL_FAILURE(populate(&crowd, false));
+  ASSERT_EQ(crowd.view().layerRecords().size(), crowd.view().records().size());
+  // si::gl's image (its vertex-shader path composes the layers in a compute pass) and depth.
+  Renderer gl;
+  ASSERT_TRUE(gl.init(info_, RendererDesc()).isOk());
+  CharacterId gl_id;
+  ASSERT_TRUE(gl.addCharacter(character(), palette(), &gl_id).isOk());
+  InstanceBatcher gl_batcher;
+  ASSERT_TRUE(gl_batcher.init(gl.batchLimits()).isOk());
+  const auto gl_draw = [&](std::vector<uint8_t>* image) {
+    gl.clear(kBackground);
+    const Status drawn = gl.drawCrowd(gl_id, crowd.view(), gl_batcher, closeView(), nullptr);
+    ASSERT_TRUE(drawn.isOk()) << drawn.toString();
+    ASSERT_TRUE(context_->readPixels(image).isOk());
+  };
+  std::vector<uint8_t> gl_image, vk_image;
+  ASSERT_NO_FATAL_FAILURE(gl_draw(&gl_image));
+  std::vector<float> depth, depth_only;
+  ASSERT_NO_FATAL_FAILURE(
+      drawVulkan({}, crowd, closeView(), vk::DrawMode::kShaded, &vk_image, &depth));
+  ASSERT_NO_FATAL_FAILURE(
+      drawVulkan({}, crowd, closeView(), vk::DrawMode::kDepthOnly, nullptr, &depth_only));
+  const Diff diff = compare(vk_image, gl_image, nullptr);
+  EXPECT_LE(diff.share, kMaxDifferingShare) << "max channel difference " << diff.max_channel;
+  // The depth-only draw puts the overlaid arms where the shaded one does.
+  size_t covered = 0, apart = 0;
+  for (size_t i = 0; i < depth.size(); ++i) {
+    covered += depth[i] < 1.0f;
+    apart += std::abs(depth[i] - depth_only[i]) > 1e-6f;
+  }
+  EXPECT_GT(covered, 2000u);
+  EXPECT_LE(apart, covered / 200) << apart << " of " << covered;
+  // The overlay shows: stopped at once, the arms are elsewhere.
+  for (InstanceHandle h : handles_) ASSERT_TRUE(crowd.stopOverlay(h, 0.0).isOk());
+  ASSERT_TRUE(crowd.update(0.0, closeView()).isOk());
+  std::vector<uint8_t> gl_plain;
+  ASSERT_NO_FATAL_FAILURE(gl_draw(&gl_plain));
+  EXPECT_GT(compare(gl_plain, gl_image, nullptr).share, 0.01);
+  gl.shutdown();
+  EXPECT_TRUE(host_.messages().empty()) << messages();
+}
+
+// Motion vectors of overlays: the previous position is skinned with the previous layer record.
+TEST_P(VulkanLayersTest, MotionVectorsFollowTheOverlayAsOpenGlsDo) {
+  SI_START_VULKAN_HOST();
+  CrowdManager crowd;
+  ASSERT_NO_FATAL_FAILURE(populate(&crowd, true));
+  std::vector<glm::vec2> gl_motion;
+  std::vector<uint8_t> gl_image;
+  {
+    RendererDesc rd;
+    rd.motion_vectors = true;
+    Renderer gl;
+    ASSERT_TRUE(gl.init(info_, rd).isOk());
+    CharacterId gl_id;
+    ASSERT_TRUE(gl.addCharacter(character(), palette(), &gl_id).isOk());
+    MotionTarget target;
+    ASSERT_TRUE(target.create(kSize, kSize).isOk());
+    target.clear(kBackground);
+    InstanceBatcher batcher;
+    ASSERT_TRUE(batcher.init(gl.batchLimits()).isOk());
+    const Status drawn = gl.drawCrowd(gl_id, crowd.view(), batcher, closeView(1), nullptr);
+    ASSERT_TRUE(drawn.isOk()) << drawn.toString();
+    ASSERT_TRUE(target.readMotion(&gl_motion).isOk());
+    ASSERT_TRUE(target.readColor(&gl_image).isOk());
+    target.restore();
+  }
+  vk::RendererDesc rd;
+  rd.motion_format = examples::HeadlessVulkan::kMotionFormat;
+  std::vector<uint8_t> image;
+  std::vector<glm::vec2> motion;
+  ASSERT_NO_FATAL_FAILURE(
+      drawVulkan(rd, crowd, closeView(1), vk::DrawMode::kShaded, &image, nullptr, &motion));
+  const MotionApart apart = motionApart(image, motion, gl_image, gl_motion);
+  std::printf("[ motion ] %zu covered pixels, %zu apart, the largest motion %.2f px\n",
+              apart.covered, apart.apart, apart.largest_pixels);
+  EXPECT_GT(apart.covered, 2000u);
+  EXPECT_GT(apart.largest_pixels, 1.0f);
+  EXPECT_LE(apart.apart, apart.covered / 200);
+  EXPECT_TRUE(host_.messages().empty()) << messages();
+}
+
+TEST_P(VulkanLayersTest, ABlendsThirdAndFourthClipsAreRefusedByName) {
+  SI_START_VULKAN_HOST();
+  CrowdManager crowd;
+  CrowdDesc cd;
+  cd.palette = &palette();
+  cd.sub_mesh_count = uint32_t(character().mesh.sub_meshes.size());
+  cd.lod_count = 1;
+  ASSERT_TRUE(crowd.init(cd).isOk());
+  LayerMask body;
+  ASSERT_TRUE(buildFullBodyMask(character().skeleton, palette(), "body", &body).isOk());
+  uint32_t id = 0;
+  ASSERT_TRUE(crowd.addLayerMask(body, &id).isOk());
+  const auto clip = [&](const char* name) { return uint32_t(palette().findClip(name)); };
+  BlendSpace grid;
+  grid.name = "grid";
+  grid.clips = {clip("idle"), clip("walk"), clip("run"), clip("wave")};
+  grid.positions = {0.0f, 1.0f};
+  grid.positions_y = {0.0f, 1.0f};
+  grid.mask = 0;
+  ASSERT_TRUE(crowd.addBlendSpace(grid, &id).isOk());
+  InstanceDesc d;
+  d.position = glm::dvec3(0.0, 0.0, -3.0);
+  InstanceHandle h;
+  ASSERT_TRUE(crowd.add(d, &h).isOk());
+  ASSERT_TRUE(crowd.playBlend(h, 0, glm::vec2(0.3f, 0.6f), 0.0, 0.2).isOk());
+  ASSERT_TRUE(crowd.update(0.1, closeView()).isOk());
+  ASSERT_FALSE(crowd.view().extraLayerRecords().empty());
+  vk::Renderer r;
+  vk::CharacterId vk_id;
+  ASSERT_NO_FATAL_FAILURE(startRenderer({}, &r, &vk_id));
+  InstanceBatcher batcher;
+  ASSERT_TRUE(batcher.init(r.batchLimits()).isOk());
+  ASSERT_TRUE(r.beginFrame(0).isOk());
+  const Status s = r.recordDraw(VK_NULL_HANDLE, vk::DrawTarget{{kSize, kSize}}, vk_id, crowd.view(),
+                                batcher, closeView());
+  EXPECT_EQ(s.code(), StatusCode::kUnsupported);
+  EXPECT_NE(s.message().find("2D blends"), std::string::npos) << s.toString();
+}
+
+INSTANTIATE_TEST_SUITE_P(Backends, VulkanLayersTest,
+                         ::testing::Values(HeadlessBackend::kEglSurfaceless,
+                                           HeadlessBackend::kEglDevice),
+                         backendTestName);
+
+}  // namespace
+}  // namespace si
