@@ -120,7 +120,10 @@ int main(int argc, char** argv) {
   rd.device = host.device();
   rd.color_format = VK_FORMAT_R8G8B8A8_UNORM;
   rd.depth_format = VK_FORMAT_D32_SFLOAT;
-  rd.ring_bytes_per_frame = uint64_t(o.instances) * 80 * 4 + (uint64_t(1) << 20);
+  // A frame's records: both views' (80 bytes per worn sub-mesh of each instance drawn), with
+  // room for the batches' alignment and default blocks.
+  rd.ring_bytes_per_frame =
+      2 * uint64_t(o.instances) * character.mesh.sub_meshes.size() * 80 + (uint64_t(4) << 20);
   s = renderer.init(rd);
   si::vk::CharacterId id;
   if (s.isOk()) s = renderer.addCharacter(character, palette, &id);
