@@ -2,6 +2,8 @@
 // A character's buffers, images and staging for the Vulkan back-end.
 #include "vk/character_resources.h"
 
+#include <array>
+
 #include <algorithm>
 #include <cstring>
 
@@ -16,20 +18,24 @@ using si::detail::gpuMaterial;
 using si::detail::strCat;
 
 Status stageCharacter(DeviceObjects* objects, const Character& character,
-                      const BakedPalette& palette, CharacterResources* c,
-                      VertexStream* stream_out) {
+                      const BakedPalette& palette, const StagingLimits& limits,
+                      CharacterResources* c, VertexStream* stream_out) {
   const SkinnedMesh& mesh = character.mesh;
-  if (!mesh.morph_targets.empty())
-    return {StatusCode::kUnsupported,
-            "vk::Renderer::addCharacter: the Vulkan back-end does not draw morph targets yet"};
   Status s = palette.validate();
   if (!s.isOk()) return {StatusCode::kInvalidArgument, "the palette: " + s.message()};
   if (palette.skeleton_to_palette.size() != character.skeleton.jointCount())
     return {StatusCode::kInvalidArgument, "the palette was baked for another skeleton"};
   VertexStream& stream = *stream_out;
   s = buildVertexStream(mesh, palette, &stream);
+  // Morph targets: their entries in an RGBA32UI image, each LOD level's cut (si::gl's too).
+  MorphStream morphs;
+  std::array<float, kMorphLodCuts> cuts{};
+  if (s.isOk() && !mesh.morph_targets.empty())
+    s = buildMorphStream(mesh, palette, limits.max_image_size, &morphs);
+  if (s.isOk() && !mesh.morph_targets.empty())
+    s = morphLodCuts(mesh, limits.morph_lod_share, &cuts);
   MaterialTable table;
-  if (s.isOk()) s = buildMaterialTable(character, 0, &table);
+  if (s.isOk()) s = buildMaterialTable(character, limits.max_image_size, &table);
   if (!s.isOk()) return s;
   if (table.data_layers.empty()) {  // A flat normal, as si::gl's: one layer to bind.
     Image flat;
@@ -44,8 +50,13 @@ Status stageCharacter(DeviceObjects* objects, const Character& character,
   std::vector<GpuMaterial> entries;
   for (const MaterialEntry& e : table.materials)
     entries.push_back(gpuMaterial(e, si::detail::vertexWordBits(stream)));
-  glm::uvec4 info_block[4] = {paletteShaderInfo(palette), glm::uvec4(0u), glm::uvec4(0u),
-                              glm::uvec4(0u)};
+  // SiPaletteInfo: si_palette_info, si_morph_info, si_morph_cuts[2] (std140: 4 x 16 bytes).
+  glm::uvec4 info_block[4] = {
+      paletteShaderInfo(palette),
+      morphs.texels.empty() ? glm::uvec4(0u) : morphShaderInfo(palette, morphs), glm::uvec4(0u),
+      glm::uvec4(0u)};
+  static_assert(sizeof(cuts) == 2 * sizeof(glm::uvec4), "two vec4 of cuts");
+  std::memcpy(&info_block[2], cuts.data(), sizeof(cuts));
 
   c->sub_meshes = mesh.sub_meshes;
   // The staging buffer: every content, each at a 16-byte offset.
@@ -97,8 +108,13 @@ Status stageCharacter(DeviceObjects* objects, const Character& character,
         table.data_width, table.data_height, uint32_t(table.data_layers.size()),
         mipLevels(table.data_width, table.data_height), VK_FORMAT_R8G8B8A8_UNORM, true,
         "the character's data texture array", &c->material_data);
+  if (s.isOk() && !morphs.texels.empty())
+    s = objects->createImage(morphs.width, morphs.height, 1, 1, VK_FORMAT_R32G32B32A32_UINT, false,
+                             "the character's morph targets", &c->morphs);
   VkDeviceSize staging_bytes = 0;
   for (const Content& k : contents) staging_bytes = alignUp(staging_bytes + k.bytes, 16);
+  const VkDeviceSize morphs_at = staging_bytes;
+  staging_bytes = alignUp(staging_bytes + morphs.texels.size() * 4, 16);
   const VkDeviceSize palette_at = staging_bytes;
   staging_bytes = alignUp(staging_bytes + palette.texel_bytes.size(), 16);
   const VkDeviceSize colour_at = staging_bytes;
@@ -117,6 +133,8 @@ Status stageCharacter(DeviceObjects* objects, const Character& character,
       at = alignUp(at + contents[k].bytes, 16);
     }
     std::memcpy(to + palette_at, palette.texel_bytes.data(), palette.texel_bytes.size());
+    if (!morphs.texels.empty())
+      std::memcpy(to + morphs_at, morphs.texels.data(), morphs.texels.size() * 4);
     VkDeviceSize layer_at = colour_at;
     for (const Image& i : table.layers) {
       std::memcpy(to + layer_at, i.rgba8.data(), i.rgba8.size());
@@ -130,6 +148,7 @@ Status stageCharacter(DeviceObjects* objects, const Character& character,
     c->image_uploads = {{&c->palette, palette_at, false},
                         {&c->base_color, colour_at, true},
                         {&c->material_data, data_at, true}};
+    if (!morphs.texels.empty()) c->image_uploads.push_back({&c->morphs, morphs_at, false});
   }
   if (!s.isOk()) destroyCharacter(objects, c);
   return s;
@@ -139,7 +158,8 @@ void destroyCharacter(DeviceObjects* objects, CharacterResources* c) {
   for (GpuBuffer* b : {&c->vertices, &c->indices, &c->palette_info, &c->vertex_materials,
                        &c->materials, &c->staging})
     objects->destroy(b);
-  for (GpuImage* i : {&c->palette, &c->base_color, &c->material_data}) objects->destroy(i);
+  for (GpuImage* i : {&c->palette, &c->base_color, &c->material_data, &c->morphs})
+    objects->destroy(i);
   for (auto& by_kind : c->pipelines)
     for (VkPipeline& p : by_kind) {
       if (p != VK_NULL_HANDLE) vkDestroyPipeline(objects->device(), p, objects->allocator());

@@ -27,6 +27,7 @@ struct BufferUpload {
 struct CharacterResources {
   GpuBuffer vertices, indices, palette_info, vertex_materials, materials;
   GpuImage palette, base_color, material_data;
+  GpuImage morphs;  ///< Morph targets (MorphStream's texels); none without.
   std::vector<SubMesh> sub_meshes;
   /// Without and with layers, by VulkanKind: the program (its index in vulkanPrograms(), the
   /// mesh's variant) and the pipeline (the motion ones only when the renderer draws motion
@@ -41,14 +42,22 @@ struct CharacterResources {
   bool uploads_recorded = false;
 };
 
-/// Creates `c`'s buffers and images for `character` and `palette` and fills its staging buffer
-/// with their contents (the upload lists say where), and sets `*stream` to the vertex stream
-/// (the pipeline's vertex format). kUnsupported naming what the back-end does not draw yet
-/// (morph targets); kInvalidArgument for a palette that does not
-/// validate or was baked for another skeleton; the codes of si::buildVertexStream and
-/// si::buildMaterialTable; kBackend on a failed call. Nothing is kept on failure.
+/// What staging a character is bounded by: the device's largest 2D image side (the material
+/// arrays' and morph image's), and RendererDesc::morph_lod_share.
+struct StagingLimits {
+  uint32_t max_image_size = 0;
+  float morph_lod_share = 0.5f;
+};
+
+/// Creates `c`'s buffers and images for `character` and `palette` (its morph targets' image
+/// too) and fills its staging buffer with their contents (the upload lists say where), and sets
+/// `*stream` to the vertex stream (the pipeline's vertex format). kInvalidArgument for a
+/// palette that does not validate or was baked for another skeleton; the codes of
+/// si::buildVertexStream, si::buildMorphStream, si::morphLodCuts and si::buildMaterialTable;
+/// kBackend on a failed call. Nothing is kept on failure.
 Status stageCharacter(DeviceObjects* objects, const Character& character,
-                      const BakedPalette& palette, CharacterResources* c, VertexStream* stream);
+                      const BakedPalette& palette, const StagingLimits& limits,
+                      CharacterResources* c, VertexStream* stream);
 
 /// Destroys what `c` holds (its pipelines and descriptor pool too).
 void destroyCharacter(DeviceObjects* objects, CharacterResources* c);

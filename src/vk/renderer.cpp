@@ -46,15 +46,19 @@ struct Renderer::Impl {
   DeviceObjects objects;
   VkDeviceSize ubo_alignment = 256;
   VkDeviceSize storage_alignment = 256;  // minStorageBufferOffsetAlignment (16 at least).
+  uint32_t max_image_size = 0;           // maxImageDimension2D.
   // vulkanPrograms(), in its order: shaded, depth only and with motion vectors, for each mesh
   // variant (8 influences, vertex words).
   std::vector<ProgramModules> programs;
   SkinnedLayout layout;  // One set layout for all of them: the union of their declarations.
   VkSampler nearest = VK_NULL_HANDLE, linear = VK_NULL_HANDLE;
   GpuBuffer ring;
-  GpuImage custom;  // The custom texture array: one texel, never sampled (u_custom_layers 0).
-  GpuBuffer custom_staging;
-  bool custom_uploaded = false;
+  // Placeholders, one texel each, bound where a character has nothing of its own (every binding
+  // of the set is written): the custom texture array (never sampled: u_custom_layers 0) and the
+  // morph image of characters without targets (read only by the morph programs).
+  GpuImage custom, no_morphs;
+  GpuBuffer placeholder_staging;  // The custom texel (4 bytes), then the morph texel (16).
+  bool placeholders_uploaded = false;
   std::vector<std::unique_ptr<Character>> characters;
   std::vector<GpuBuffer> finished_staging;  // Freed by uploadsComplete().
   // Each slot's region: ring_bytes_per_frame rounded up to 256, so every region starts aligned.
@@ -78,6 +82,9 @@ Status Renderer::init(const RendererDesc& desc) {
   shutdown();
   if (desc.physical_device == VK_NULL_HANDLE || desc.device == VK_NULL_HANDLE)
     return {StatusCode::kInvalidArgument, "vk::Renderer::init: no physical device or device"};
+  if (!(desc.morph_lod_share >= 0.0f && desc.morph_lod_share <= 1.0f))
+    return {StatusCode::kInvalidArgument, strCat("vk::Renderer::init: morph_lod_share ",
+                                                 desc.morph_lod_share, " is outside 0 to 1")};
   if (desc.frames_in_flight < 1 || desc.frames_in_flight > 8)
     return {StatusCode::kInvalidArgument, strCat("vk::Renderer::init: frames_in_flight ",
                                                  desc.frames_in_flight, " is outside 1 to 8")};
@@ -134,6 +141,7 @@ Status Renderer::init(const RendererDesc& desc) {
   impl->ubo_alignment = std::max<VkDeviceSize>(props.limits.minUniformBufferOffsetAlignment, 16);
   impl->storage_alignment =
       std::max<VkDeviceSize>(props.limits.minStorageBufferOffsetAlignment, 16);
+  impl->max_image_size = props.limits.maxImageDimension2D;
   impl->slot_bytes = slot_bytes;
   impl_ = std::move(impl);
   Impl& m = *impl_;
@@ -179,9 +187,15 @@ Status Renderer::init(const RendererDesc& desc) {
     s = m.objects.createImage(1, 1, 1, 1, VK_FORMAT_R8G8B8A8_UNORM, true,
                               "the custom texture's placeholder", &m.custom);
   if (s.isOk())
-    s = m.objects.createBuffer(4, VK_BUFFER_USAGE_TRANSFER_SRC_BIT, true,
-                               "the placeholder's staging", &m.custom_staging);
-  if (s.isOk()) std::memset(m.custom_staging.mapped, 255, 4);
+    s = m.objects.createImage(1, 1, 1, 1, VK_FORMAT_R32G32B32A32_UINT, false,
+                              "the morph image's placeholder", &m.no_morphs);
+  if (s.isOk())
+    s = m.objects.createBuffer(32, VK_BUFFER_USAGE_TRANSFER_SRC_BIT, true,
+                               "the placeholders' staging", &m.placeholder_staging);
+  if (s.isOk()) {
+    std::memset(m.placeholder_staging.mapped, 0, 32);
+    std::memset(m.placeholder_staging.mapped, 255, 4);
+  }
   if (!s.isOk()) shutdown();
   return s;
 }
@@ -193,7 +207,8 @@ void Renderer::shutdown() {
   for (GpuBuffer& b : m.finished_staging) m.objects.destroy(&b);
   m.objects.destroy(&m.ring);
   m.objects.destroy(&m.custom);
-  m.objects.destroy(&m.custom_staging);
+  m.objects.destroy(&m.no_morphs);
+  m.objects.destroy(&m.placeholder_staging);
   for (VkSampler sampler : {m.nearest, m.linear})
     if (sampler != VK_NULL_HANDLE) vkDestroySampler(m.device(), sampler, m.allocator());
   if (m.layout.pipeline_layout != VK_NULL_HANDLE)
@@ -282,12 +297,17 @@ Status Renderer::addCharacter(const Character& character, const BakedPalette& pa
   Impl& m = *impl_;
   auto c = std::make_unique<Impl::Character>();
   VertexStream stream;
-  Status s = stageCharacter(&m.objects, character, palette, c.get(), &stream);
+  StagingLimits limits;
+  limits.max_image_size = m.max_image_size;
+  limits.morph_lod_share = m.desc.morph_lod_share;
+  Status s = stageCharacter(&m.objects, character, palette, limits, c.get(), &stream);
   // Each kind's program for the mesh (8 influences, vertex words) and its pipeline: shaded,
   // depth only, and with motion vectors when the renderer draws them.
   const SkinnedMesh& mesh = character.mesh;
-  const bool eight = !mesh.joints1.empty();
-  const bool words = !mesh.texcoords1.empty() || !mesh.colors.empty();
+  MeshVariant variant;
+  variant.morph_targets = !mesh.morph_targets.empty();
+  variant.eight_influences = !mesh.joints1.empty();
+  variant.vertex_words = !mesh.texcoords1.empty() || !mesh.colors.empty();
   const VkFormat depth_only_format = m.desc.depth_only_format != VK_FORMAT_UNDEFINED
                                          ? m.desc.depth_only_format
                                          : m.desc.depth_format;
@@ -299,7 +319,7 @@ Status Renderer::addCharacter(const Character& character, const BakedPalette& pa
     for (size_t k = 0; k < kVulkanKinds && s.isOk(); ++k) {
       const VulkanKind kind = VulkanKind(k);
       uint32_t& program = c->programs[layers][k];
-      program = uint32_t(vulkanProgramIndex(kind, layers == 1, eight, words));
+      program = uint32_t(vulkanProgramIndex(kind, layers == 1, variant));
       if (kind == VulkanKind::kMotion && m.desc.motion_format == VK_FORMAT_UNDEFINED) continue;
       s = createSkinnedPipeline(m.device(), m.allocator(), m.programs[program],
                                 m.layout.pipeline_layout, formats[k], stream,
@@ -376,6 +396,8 @@ Status Renderer::Impl::writeSet(Character* c) {
       image(custom, linear);
     else if (b == kMaterialDataBinding)
       image(c->material_data, linear);
+    else if (b == kMorphBinding)
+      image(c->morphs.image != VK_NULL_HANDLE ? c->morphs : no_morphs, nearest);
     writes.push_back(w);
   }
   vkUpdateDescriptorSets(device(), uint32_t(writes.size()), writes.data(), 0, nullptr);
@@ -385,11 +407,12 @@ Status Renderer::Impl::writeSet(Character* c) {
 Status Renderer::recordUploads(VkCommandBuffer cmd) {
   if (!impl_) return {StatusCode::kInvalidArgument, "vk::Renderer::recordUploads: not initialized"};
   Impl& m = *impl_;
-  if (!m.custom_uploaded) {
-    recordImageUpload(cmd, m.custom_staging.buffer, {&m.custom, 0, false});
-    m.finished_staging.push_back(m.custom_staging);
-    m.custom_staging = GpuBuffer{};
-    m.custom_uploaded = true;
+  if (!m.placeholders_uploaded) {
+    recordImageUpload(cmd, m.placeholder_staging.buffer, {&m.custom, 0, false});
+    recordImageUpload(cmd, m.placeholder_staging.buffer, {&m.no_morphs, 16, false});
+    m.finished_staging.push_back(m.placeholder_staging);
+    m.placeholder_staging = GpuBuffer{};
+    m.placeholders_uploaded = true;
   }
   for (auto& c : m.characters) {
     if (c->uploads_recorded) continue;

@@ -33,7 +33,7 @@ Status createSkinnedLayout(VkDevice device, const VkAllocationCallbacks* allocat
       else if (b == kVertexMaterialsBinding || b == kMaterialTableBinding || b == kPreviousBinding)
         type = VK_DESCRIPTOR_TYPE_STORAGE_BUFFER;
       else if (b == kPaletteBinding || b == kBaseColorBinding || b == kCustomBinding ||
-               b == kMaterialDataBinding)
+               b == kMaterialDataBinding || b == kMorphBinding)
         type = VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER;
       else
         return {StatusCode::kUnsupported,
@@ -99,14 +99,17 @@ Status createSkinnedPipeline(VkDevice device, const VkAllocationCallbacks* alloc
       {9, 0, VK_FORMAT_R8G8B8A8_UNORM, word(stream.color_offset, VertexStream::kNormalOffset)},
       {10, 0, joints, stream.joints1_offset},
       {11, 0, VK_FORMAT_R16G16B16A16_UNORM, stream.weights1_offset},
+      {12, 0, VK_FORMAT_R32_UINT, stream.morph_offset},  // The morph word.
   };
   std::vector<VkVertexInputAttributeDescription> attributes;
   for (const SpirvVarying& in : program.vertex_reflection.inputs) {
     const VkVertexInputAttributeDescription* a = nullptr;
     for (const VkVertexInputAttributeDescription& k : known)
       if (k.location == in.location) a = &k;
-    // Influences 5 to 8 only where the mesh has them (the program is the mesh's variant).
-    if (a == nullptr || ((in.location == 10 || in.location == 11) && stream.joints1_offset == 0))
+    // Influences 5 to 8 and the morph word only where the mesh has them (the program is the
+    // mesh's variant).
+    if (a == nullptr || ((in.location == 10 || in.location == 11) && stream.joints1_offset == 0) ||
+        (in.location == 12 && stream.morph_offset == 0))
       return {StatusCode::kUnsupported,
               strCat("the vertex stage reads '", in.name, "' at location ", in.location,
                      ", for which the character's vertex stream has no word")};

@@ -29,6 +29,7 @@ inline constexpr uint32_t kPaletteBinding = 0 + kSamplerBindingShift;
 inline constexpr uint32_t kBaseColorBinding = 1 + kSamplerBindingShift;
 inline constexpr uint32_t kCustomBinding = 2 + kSamplerBindingShift;
 inline constexpr uint32_t kMaterialDataBinding = 4 + kSamplerBindingShift;
+inline constexpr uint32_t kMorphBinding = 5 + kSamplerBindingShift;  // si_morph.glsl's si_morphs.
 // The motion program's previous records and their indices (previous_index.glsl's storage
 // binding 25): the whole record ring, read by 16-byte word from its start.
 inline constexpr uint32_t kPreviousBinding = 25 + kStorageBindingShift;

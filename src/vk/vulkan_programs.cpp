@@ -26,19 +26,22 @@ ProgramId catalogProgram(VulkanKind kind, bool layers) {
 
 std::vector<VulkanProgram> makePrograms() {
   std::vector<VulkanProgram> programs;
-  for (bool layers : {false, true})
-    for (bool eight : {false, true})
-      for (bool words : {false, true})
-        for (VulkanKind kind : kKinds) {
-          if (words && kind == VulkanKind::kDepthOnly) continue;  // It reads no vertex words.
-          std::string name = kind == VulkanKind::kShaded      ? "skinned"
-                             : kind == VulkanKind::kDepthOnly ? "depth_only"
-                                                              : "skinned_motion";
-          if (layers) name += "_layers";
-          if (eight) name += "_8";
-          if (words) name += "_words";
-          programs.push_back({catalogProgram(kind, layers), kind, layers, eight, words, name});
-        }
+  for (bool morph : {false, true})
+    for (bool layers : {false, true})
+      for (bool eight : {false, true})
+        for (bool words : {false, true})
+          for (VulkanKind kind : kKinds) {
+            if (words && kind == VulkanKind::kDepthOnly) continue;  // It reads no vertex words.
+            std::string name = kind == VulkanKind::kShaded      ? "skinned"
+                               : kind == VulkanKind::kDepthOnly ? "depth_only"
+                                                                : "skinned_motion";
+            if (layers) name += "_layers";
+            if (morph) name += "_morph";
+            if (eight) name += "_8";
+            if (words) name += "_words";
+            programs.push_back(
+                {catalogProgram(kind, layers), kind, layers, morph, eight, words, name});
+          }
   return programs;
 }
 
@@ -53,12 +56,13 @@ Span<const VulkanProgram> vulkanPrograms() {
   return Span<const VulkanProgram>(programList().data(), programList().size());
 }
 
-size_t vulkanProgramIndex(VulkanKind kind, bool layers, bool eight_influences, bool vertex_words) {
-  const bool words = vertex_words && kind != VulkanKind::kDepthOnly;
+size_t vulkanProgramIndex(VulkanKind kind, bool layers, const MeshVariant& mesh) {
+  const bool words = mesh.vertex_words && kind != VulkanKind::kDepthOnly;
   const std::vector<VulkanProgram>& programs = programList();
   for (size_t k = 0; k < programs.size(); ++k)
     if (programs[k].kind == kind && programs[k].layers == layers &&
-        programs[k].eight_influences == eight_influences && programs[k].vertex_words == words)
+        programs[k].morph_targets == mesh.morph_targets &&
+        programs[k].eight_influences == mesh.eight_influences && programs[k].vertex_words == words)
       return k;
   return 0;  // makePrograms() lists every combination.
 }
@@ -69,6 +73,7 @@ si::detail::ShaderConfig vulkanShaderConfig(const VulkanProgram& program) {
   config.max_joints = 256;
   config.eight_influences = program.eight_influences;
   config.vertex_words = program.vertex_words;
+  config.morph_targets = program.morph_targets;
   return config;
 }
 

@@ -1,7 +1,8 @@
 // SkinnedInstancing — SPDX-License-Identifier: MIT (see LICENSE)
 #pragma once
 // The Vulkan back-end's programs: which programs of si::gl's catalog it builds, in which
-// variants (the crowd's layers; the character's mesh: 8 influences, optional vertex words), and
+// variants (the crowd's layers; the character's mesh: morph targets, 8 influences, optional
+// vertex words), and
 // the shader
 // configuration each is assembled with (the same files, defines and catalog; glslang defines
 // VULKAN, which si_profile.glsl reads). Used at build time by the step that writes their GLSL
@@ -20,27 +21,37 @@ enum class VulkanKind : uint8_t { kShaded = 0, kDepthOnly, kMotion };
 inline constexpr size_t kVulkanKinds = 3;
 
 /// One program of the back-end: the catalog's program, the variant it is assembled for (layered
-/// animation: the overlays on their masks; ShaderConfig::eight_influences, vertex_words) and
-/// the name its SPIR-V files take: "skinned", "depth_only" or "skinned_motion", then "_layers",
-/// "_8", "_words" for each variant it is (src/vk/CMakeLists.txt makes the same list).
+/// animation: the overlays on their masks; ShaderConfig::morph_targets, eight_influences,
+/// vertex_words) and the name its SPIR-V files take: "skinned", "depth_only" or
+/// "skinned_motion", then "_layers", "_morph", "_8", "_words" for each variant it is
+/// (src/vk/CMakeLists.txt makes the same list).
 struct VulkanProgram {
   si::detail::ProgramId id;
   VulkanKind kind;
   bool layers;
+  bool morph_targets;
   bool eight_influences;
   bool vertex_words;
   std::string name;
 };
 
 /// The programs the Vulkan back-end builds so far: the vertex-shader path, shaded, depth only
-/// and shaded with motion vectors, each without and with layers, for meshes of 4 and of 8
-/// influences, the shaded ones also for meshes with vertex words (the depth-only stage reads
-/// none). Ordered by layers, then 8 influences, then vertex words, then kind.
+/// and shaded with motion vectors, each without and with layers, for meshes without and with
+/// morph targets, of 4 and of 8 influences, the shaded ones also for meshes with vertex words
+/// (the depth-only stage reads none). Ordered by morph targets, layers, 8 influences, vertex
+/// words, then kind.
 Span<const VulkanProgram> vulkanPrograms();
 
-/// The index in vulkanPrograms() of the program of `kind`, with layers or not, for a mesh with
-/// 8 influences or not and vertex words or not (ignored for kDepthOnly).
-size_t vulkanProgramIndex(VulkanKind kind, bool layers, bool eight_influences, bool vertex_words);
+/// What a character's mesh needs of its programs.
+struct MeshVariant {
+  bool morph_targets = false;
+  bool eight_influences = false;
+  bool vertex_words = false;
+};
+
+/// The index in vulkanPrograms() of the program of `kind`, with layers or not, for a mesh of
+/// `mesh` (its vertex words ignored for kDepthOnly).
+size_t vulkanProgramIndex(VulkanKind kind, bool layers, const MeshVariant& mesh);
 
 /// Records in the instance uniform block: 819 of 80 bytes fill a 64 KiB block, the
 /// maxUniformBufferRange of NVIDIA's and lavapipe's drivers (the Vulkan minimum is 16 KiB: a

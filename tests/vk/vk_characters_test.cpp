@@ -7,6 +7,7 @@
 #include "gltf/eight_influence_asset.h"
 #include "gltf/import_json.h"
 #include "gltf/pbr_asset.h"
+#include "render/morph_scenes.h"
 #include "si/gltf/gltf_import.h"
 #include "vk/vk_render_fixture.h"
 
@@ -42,12 +43,17 @@ class VulkanCharacterTest : public VulkanRenderFixture {
       ASSERT_TRUE(crowd.add(d, &h).isOk());
     }
     ASSERT_TRUE(crowd.update(0.0, camera).isOk());
-    // si::gl's vertex-shader path, one renderer for the test's characters (its programs are
-    // compiled once).
     if (!gl_started_) {
       ASSERT_TRUE(gl_.init(info_, RendererDesc()).isOk());
       gl_started_ = true;
     }
+    ASSERT_NO_FATAL_FAILURE(glImage(c, baked, crowd, camera, gl_image));
+    *vk_image = vulkanImage(c, baked, crowd, camera);
+  }
+  // `crowd`'s last selection of `c` drawn by si::gl's vertex-shader path (gl_, one renderer for
+  // the test's characters: its programs are compiled once) over kBackground: the image.
+  void glImage(const Character& c, const BakedPalette& baked, const CrowdManager& crowd,
+               const Camera& camera, std::vector<uint8_t>* image) {
     CharacterId id;
     ASSERT_TRUE(gl_.addCharacter(c, baked, &id).isOk());
     InstanceBatcher batcher;
@@ -55,8 +61,7 @@ class VulkanCharacterTest : public VulkanRenderFixture {
     gl_.clear(kBackground);
     const Status drawn = gl_.drawCrowd(id, crowd.view(), batcher, camera, nullptr);
     ASSERT_TRUE(drawn.isOk()) << drawn.toString();
-    ASSERT_TRUE(context_->readPixels(gl_image).isOk());
-    *vk_image = vulkanImage(c, baked, crowd, camera);
+    ASSERT_TRUE(context_->readPixels(image).isOk());
   }
   void TearDown() override {
     if (gl_started_) gl_.shutdown();
@@ -119,6 +124,64 @@ TEST_P(VulkanCharacterTest, VertexColoursAndSecondTexcoordsDrawWhatOpenGlDraws) 
   const Diff unpainted = compare(vk_plain, gl_plain, nullptr);
   EXPECT_LE(unpainted.share, kMaxDifferingShare)
       << "unpainted: max channel difference " << unpainted.max_channel;
+  EXPECT_TRUE(host_.messages().empty()) << messages();
+}
+
+// Morph targets (tests/render/morph_scenes.h's head of 6 face-like targets, over frames of its
+// clip): the morph image, the morph word and each level's cuts reach the vertex stage as si::gl's
+// do; the targets show in this view.
+TEST_P(VulkanCharacterTest, MorphTargetsDrawWhatOpenGlDraws) {
+  SI_START_VULKAN_HOST();
+  const Character morphed = morphCharacter(6);
+  Character plain = morphed;
+  plain.mesh.morph_targets.clear();
+  for (Clip& clip : plain.clips) clip.morph_tracks.clear();
+  const BakedPalette palette = bakeAt30(morphed), plain_palette = bakeAt30(plain);
+  CrowdManager crowd, plain_crowd;
+  ASSERT_TRUE(headCrowd(morphed, palette, &crowd).isOk());
+  ASSERT_TRUE(headCrowd(plain, plain_palette, &plain_crowd).isOk());
+  const Camera camera = headCamera(morphed);
+  ASSERT_TRUE(gl_.init(info_, RendererDesc()).isOk());
+  gl_started_ = true;
+  for (double at : {0.0, 0.4}) {
+    SCOPED_TRACE(testing::Message() << "at " << at << " s");
+    ASSERT_TRUE(crowd.update(at, camera).isOk());
+    ASSERT_TRUE(plain_crowd.update(at, camera).isOk());
+    std::vector<uint8_t> gl_image, gl_plain;
+    ASSERT_NO_FATAL_FAILURE(glImage(morphed, palette, crowd, camera, &gl_image));
+    ASSERT_NO_FATAL_FAILURE(glImage(plain, plain_palette, plain_crowd, camera, &gl_plain));
+    EXPECT_GT(compare(gl_image, gl_plain, nullptr).share, 3 * kMaxDifferingShare)
+        << "the targets show in this view";
+    const std::vector<uint8_t> vk_image = vulkanImage(morphed, palette, crowd, camera);
+    const Diff diff = compare(vk_image, gl_image, nullptr);
+    EXPECT_LE(diff.share, kMaxDifferingShare) << "max channel difference " << diff.max_channel;
+  }
+  EXPECT_TRUE(host_.messages().empty()) << messages();
+}
+
+// Every palette format (half-float matrices, rotation quaternions with translation) draws what
+// si::gl draws of it.
+TEST_P(VulkanCharacterTest, EveryPaletteFormatDrawsWhatOpenGlDraws) {
+  SI_START_VULKAN_HOST();
+  ASSERT_TRUE(gl_.init(info_, RendererDesc()).isOk());
+  gl_started_ = true;
+  for (PaletteFormat format : {PaletteFormat::kMatrix3x4F16, PaletteFormat::kQuatTranslationF32}) {
+    SCOPED_TRACE(int(format));
+    CrowdDesc cd;
+    cd.palette = &palette(format);
+    cd.sub_mesh_count = uint32_t(character().mesh.sub_meshes.size());
+    cd.lod_count = uint32_t(character().mesh.maxLodCount());
+    CrowdManager crowd;
+    ASSERT_TRUE(crowd.init(cd).isOk());
+    populateLodCrowd(&crowd);
+    ASSERT_TRUE(crowd.update(0.2, lodCamera()).isOk());
+    std::vector<uint8_t> gl_image;
+    ASSERT_NO_FATAL_FAILURE(glImage(character(), palette(format), crowd, lodCamera(), &gl_image));
+    const std::vector<uint8_t> vk_image =
+        vulkanImage(character(), palette(format), crowd, lodCamera());
+    const Diff diff = compare(vk_image, gl_image, nullptr);
+    EXPECT_LE(diff.share, kMaxDifferingShare) << "max channel difference " << diff.max_channel;
+  }
   EXPECT_TRUE(host_.messages().empty()) << messages();
 }
 

@@ -85,6 +85,13 @@ TEST_P(VulkanRenderTest, RefusalsAreNamed) {
     EXPECT_EQ(s.code(), StatusCode::kInvalidArgument) << frames;
     EXPECT_NE(s.message().find("frames_in_flight"), std::string::npos) << s.toString();
   }
+  for (float share : {-0.1f, 1.5f}) {
+    rd.morph_lod_share = share;
+    const Status s = r.init(rd);
+    EXPECT_EQ(s.code(), StatusCode::kInvalidArgument) << share;
+    EXPECT_NE(s.message().find("morph_lod_share"), std::string::npos) << s.toString();
+  }
+  rd.morph_lod_share = 0.5f;
   rd.frames_in_flight = 8;
   rd.ring_bytes_per_frame = uint64_t(1) << 30;
   Status s = r.init(rd);
@@ -94,12 +101,13 @@ TEST_P(VulkanRenderTest, RefusalsAreNamed) {
   EXPECT_EQ(r.init(rd).code(), StatusCode::kInvalidArgument) << "less than one batch";
   rd.ring_bytes_per_frame = 65520;  // One batch of records: the defaults do not fit after it.
   ASSERT_TRUE(r.init(rd).isOk());
-  Character morphed = character();
-  morphed.mesh.morph_targets.emplace_back();
+  // A palette baked for another skeleton (one joint fewer).
+  BakedPalette other = palette();
+  other.skeleton_to_palette.pop_back();
   vk::CharacterId id;
-  s = r.addCharacter(morphed, palette(), &id);
-  EXPECT_EQ(s.code(), StatusCode::kUnsupported);
-  EXPECT_NE(s.message().find("morph targets"), std::string::npos) << s.toString();
+  s = r.addCharacter(character(), other, &id);
+  EXPECT_EQ(s.code(), StatusCode::kInvalidArgument) << s.toString();
+  EXPECT_NE(s.message().find("palette"), std::string::npos) << s.toString();
   ASSERT_TRUE(r.addCharacter(character(), palette(), &id).isOk());
   CrowdManager crowd;
   lodCrowd(&crowd);

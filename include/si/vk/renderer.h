@@ -35,10 +35,10 @@
 /// What is built: the vertex-shader path, shaded (the built-in material, with motion vectors
 /// when asked) or depth only (shadow views, depth pre-passes), under every si::DepthConvention
 /// (reverse-Z included) and with y-flipped projections; meshes of 4 or 8 influences a vertex,
-/// with or without vertex colours and a second texture coordinate set (each drawn by its
-/// program variant); layered animation (overlays on their masks, 1D blends); palettes of 3x4
-/// float or half-float matrices. Everything else (the GPU-driven path, compute pre-skinning, 2D
-/// blends, morph targets, host materials, impostors) is refused by name (kUnsupported).
+/// with or without morph targets, vertex colours and a second texture coordinate set (each
+/// drawn by its program variant); layered animation (overlays on their masks, 1D blends);
+/// palettes of every si::PaletteFormat. Everything else (the GPU-driven path, compute
+/// pre-skinning, 2D blends, host materials, impostors) is refused by name (kUnsupported).
 /// What the host must do: record recordUploads() before the first draw of a character and
 /// submit it before (or with) that draw; give each frame in flight its own slot (beginFrame(),
 /// below RendererDesc::frames_in_flight) and wait for a slot's last frame before beginning it
@@ -88,6 +88,9 @@ struct RendererDesc {
   /// (InstanceBatcher's recordBufferBound) must fit, or recordDraw() refuses the frame
   /// (kLimitExceeded).
   uint64_t ring_bytes_per_frame = uint64_t(8) << 20;
+  /// Morph targets at coarse LOD levels: the share of a level's error its vertices may leave
+  /// out of their targets (si::Renderer's RendererDesc::morph_lod_share), 0 to 1.
+  float morph_lod_share = 0.5f;
   /// The direction the light travels along, world space (si::Renderer's default).
   glm::vec3 light_direction = glm::normalize(glm::vec3(-0.4f, -1.0f, -0.3f));
 };
@@ -137,7 +140,8 @@ class Renderer {
   Renderer& operator=(const Renderer&) = delete;
 
   /// Creates the pipeline layout and the record ring on the host's device. kInvalidArgument for a
-  /// missing device, a slot count outside 1..8 or a ring smaller than one batch's records;
+  /// missing device, a slot count outside 1..8, a morph_lod_share outside 0 to 1 or a ring
+  /// smaller than one batch's records;
   /// kLimitExceeded for a ring past 4 GiB (dynamic offsets are 32-bit); kUnsupported for a device
   /// below Vulkan 1.3, without dynamic rendering, whose maxUniformBufferRange is below the
   /// 65,520 bytes of a batch's records, or that cannot render into motion_format; with motion
@@ -153,10 +157,10 @@ class Renderer {
 
   /// Creates `character`'s buffers and images (its vertex stream, indices, materials and
   /// `palette`, which must stay alive while it is drawn), their contents staged for
-  /// recordUploads(), and its pipelines (its mesh's program variant: 8 influences, vertex
-  /// words). kUnsupported (named) for what is not built yet: morph targets, palette formats
-  /// other than 3x4 float or half-float matrices;
-  /// the codes of si::buildVertexStream and si::buildMaterialTable; kBackend on a failed call.
+  /// recordUploads(), and its pipelines (its mesh's program variant: morph targets, 8
+  /// influences, vertex words). kInvalidArgument for a palette that does not validate or was
+  /// baked for another skeleton; the codes of si::buildVertexStream, si::buildMorphStream and
+  /// si::buildMaterialTable; kBackend on a failed call.
   Status addCharacter(const Character& character, const BakedPalette& palette, CharacterId* out);
   /// Records the copies of every character added since the last call into `cmd` (outside
   /// rendering: transfers, mip chains, the barriers to the shaders' reads). Nothing to record
