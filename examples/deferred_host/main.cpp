@@ -17,6 +17,7 @@
 #include <vector>
 
 #include "common/example_options.h"
+#include "common/field_crowd.h"
 #include "deferred_host/gbuffer.h"
 #include "deferred_host/lighting.h"
 #include "si/bake/animation_baker.h"
@@ -63,27 +64,6 @@ bool parse(int argc, char** argv, Options* o) {
     }
   }
   return o->instances > 0;
-}
-
-// A square field of `n` characters, a spacing of 1.6 units, each its own clip, time and tint.
-si::Status populate(uint32_t n, const si::BakedPalette& palette, si::CrowdManager* crowd,
-                    float* half_side) {
-  const uint32_t side = uint32_t(std::ceil(std::sqrt(double(n))));
-  *half_side = 0.8f * float(side) + 4.0f;
-  for (uint32_t i = 0; i < n; ++i) {
-    si::InstanceDesc d;
-    d.position = glm::dvec3((double(i % side) - 0.5 * side) * 1.6, 0.0,
-                            (double(i / side) - 0.5 * side) * 1.6);
-    d.rotation = glm::angleAxis(0.37f * float(i), glm::vec3(0, 1, 0));
-    d.clip = i % uint32_t(palette.clips.size());
-    d.time_seconds = 0.173 * i;
-    d.color = glm::u8vec4(uint8_t(120 + (i * 37) % 120), uint8_t(120 + (i * 53) % 120),
-                          uint8_t(120 + (i * 71) % 120), 255);
-    si::InstanceHandle h;
-    const si::Status s = crowd->add(d, &h);
-    if (!s.isOk()) return s;
-  }
-  return si::Status::ok();
 }
 
 // `n` point lights over the field at head height, their hues round the colour wheel.
@@ -163,7 +143,7 @@ int main(int argc, char** argv) {
   cd.max_distance_radii = -1.0f;
   float half_side = 0.0f;
   s = crowd.init(cd);
-  if (s.isOk()) s = populate(o.instances, palette, &crowd, &half_side);
+  if (s.isOk()) s = si::examples::populateField(o.instances, palette, &crowd, &half_side);
   if (!s.isOk()) return fail("the crowd", s);
   const si::Camera camera =
       si::Camera::lookAt({0.0, 0.3 * half_side, 1.05 * half_side}, {0.0, 0.5, 0.3 * half_side},

@@ -18,6 +18,7 @@
 
 #include <glm/gtc/matrix_transform.hpp>
 
+#include "common/field_crowd.h"
 #include "si/bake/animation_baker.h"
 #include "si/core/default_character.h"
 #include "si/crowd/crowd_manager.h"
@@ -62,28 +63,6 @@ bool parse(int argc, char** argv, Options* o) {
     }
   }
   return o->instances > 0 && o->frames > 0;
-}
-
-// A square field of `n` characters 1.6 units apart, each its own clip, time and tint; half its
-// side in `half_side`.
-si::Status populate(uint32_t n, const si::BakedPalette& palette, si::CrowdManager* crowd,
-                    float* half_side) {
-  const uint32_t side = uint32_t(std::ceil(std::sqrt(double(n))));
-  *half_side = 0.8f * float(side) + 2.0f;
-  for (uint32_t i = 0; i < n; ++i) {
-    si::InstanceDesc d;
-    d.position = glm::dvec3((double(i % side) - 0.5 * side) * 1.6, 0.0,
-                            (double(i / side) - 0.5 * side) * 1.6);
-    d.rotation = glm::angleAxis(0.37f * float(i), glm::vec3(0, 1, 0));
-    d.clip = i % uint32_t(palette.clips.size());
-    d.time_seconds = 0.173 * i;
-    d.color = glm::u8vec4(uint8_t(120 + (i * 37) % 120), uint8_t(120 + (i * 53) % 120),
-                          uint8_t(120 + (i * 71) % 120), 255);
-    si::InstanceHandle h;
-    const si::Status s = crowd->add(d, &h);
-    if (!s.isOk()) return s;
-  }
-  return si::Status::ok();
 }
 
 double median(std::vector<double> v) {
@@ -139,7 +118,7 @@ int main(int argc, char** argv) {
   cd.lod_count = uint32_t(character.mesh.maxLodCount());
   float half_side = 0.0f;
   s = crowd.init(cd);
-  if (s.isOk()) s = populate(o.instances, palette, &crowd, &half_side);
+  if (s.isOk()) s = si::examples::populateField(o.instances, palette, &crowd, &half_side);
   // The shadow view: its own selection (two LODs coarser), from an orthographic sun camera.
   si::CrowdView shadow_view;
   si::CrowdViewDesc shadow_desc;

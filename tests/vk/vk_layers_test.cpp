@@ -7,7 +7,6 @@
 #include <glad/gl.h>
 
 #include "si/core/layer_mask.h"
-#include "si/gl/motion_target.h"
 #include "vk/vk_render_fixture.h"
 
 namespace si {
@@ -137,24 +136,7 @@ TEST_P(VulkanLayersTest, MotionVectorsFollowTheOverlayAsOpenGlsDo) {
   ASSERT_NO_FATAL_FAILURE(populate(&crowd, true));
   std::vector<glm::vec2> gl_motion;
   std::vector<uint8_t> gl_image;
-  {
-    RendererDesc rd;
-    rd.motion_vectors = true;
-    Renderer gl;
-    ASSERT_TRUE(gl.init(info_, rd).isOk());
-    CharacterId gl_id;
-    ASSERT_TRUE(gl.addCharacter(character(), palette(), &gl_id).isOk());
-    MotionTarget target;
-    ASSERT_TRUE(target.create(kSize, kSize).isOk());
-    target.clear(kBackground);
-    InstanceBatcher batcher;
-    ASSERT_TRUE(batcher.init(gl.batchLimits()).isOk());
-    const Status drawn = gl.drawCrowd(gl_id, crowd.view(), batcher, closeView(1), nullptr);
-    ASSERT_TRUE(drawn.isOk()) << drawn.toString();
-    ASSERT_TRUE(target.readMotion(&gl_motion).isOk());
-    ASSERT_TRUE(target.readColor(&gl_image).isOk());
-    target.restore();
-  }
+  ASSERT_NO_FATAL_FAILURE(glMotion(crowd, closeView(1), &gl_image, &gl_motion));
   vk::RendererDesc rd;
   rd.motion_format = examples::HeadlessVulkan::kMotionFormat;
   std::vector<uint8_t> image;

@@ -12,6 +12,7 @@
 #include <vector>
 
 #include "render/render_fixture.h"
+#include "si/gl/motion_target.h"
 #include "si/vk/renderer.h"
 #include "vulkan_host/headless_vulkan.h"
 
@@ -79,6 +80,29 @@ class VulkanRenderFixture : public RenderTest {
                                   {&image});
     EXPECT_TRUE(s.isOk()) << s.toString();
     return image;
+  }
+
+  // `crowd`'s last selection of the embedded character drawn with `camera` by si::gl's
+  // vertex-shader path with motion vectors into a MotionTarget over kBackground: its colour and
+  // motion (rows bottom to top, as MotionTarget reads them).
+  void glMotion(const CrowdManager& crowd, const Camera& camera, std::vector<uint8_t>* image,
+                std::vector<glm::vec2>* motion) {
+    RendererDesc rd;
+    rd.motion_vectors = true;
+    Renderer gl;
+    ASSERT_TRUE(gl.init(info_, rd).isOk());
+    CharacterId id;
+    ASSERT_TRUE(gl.addCharacter(character(), palette(), &id).isOk());
+    MotionTarget target;
+    ASSERT_TRUE(target.create(kSize, kSize).isOk());
+    target.clear(kBackground);
+    InstanceBatcher batcher;
+    ASSERT_TRUE(batcher.init(gl.batchLimits()).isOk());
+    const Status drawn = gl.drawCrowd(id, crowd.view(), batcher, camera, nullptr);
+    target.restore();
+    ASSERT_TRUE(drawn.isOk()) << drawn.toString();
+    ASSERT_TRUE(target.readMotion(motion).isOk());
+    ASSERT_TRUE(target.readColor(image).isOk());
   }
 
   // The validation layer's messages, one a line.
