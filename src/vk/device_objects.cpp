@@ -19,21 +19,7 @@ void DeviceObjects::init(VkPhysicalDevice physical, VkDevice device,
   device_ = device;
   allocator_ = allocator;
   vkGetPhysicalDeviceMemoryProperties(physical, &memory_);
-}
-
-Status DeviceObjects::allocate(const VkMemoryRequirements& req, VkMemoryPropertyFlags flags,
-                               const char* what, VkDeviceMemory* out) {
-  for (uint32_t t = 0; t < memory_.memoryTypeCount; ++t) {
-    if ((req.memoryTypeBits & (1u << t)) == 0 ||
-        (memory_.memoryTypes[t].propertyFlags & flags) != flags)
-      continue;
-    auto info = vkStruct<VkMemoryAllocateInfo>(VK_STRUCTURE_TYPE_MEMORY_ALLOCATE_INFO);
-    info.allocationSize = req.size;
-    info.memoryTypeIndex = t;
-    return checkVk(vkAllocateMemory(device_, &info, allocator_, out),
-                   strCat("vkAllocateMemory (", what, ")").c_str());
-  }
-  return {StatusCode::kBackend, strCat(what, ": the device has no memory type for it")};
+  blocks_.init(device, allocator, memory_, kBlockBytes);
 }
 
 Status DeviceObjects::createBuffer(VkDeviceSize size, VkBufferUsageFlags usage, bool host_visible,
@@ -49,16 +35,16 @@ Status DeviceObjects::createBuffer(VkDeviceSize size, VkBufferUsageFlags usage, 
   VkMemoryRequirements req{};
   if (s.isOk()) {
     vkGetBufferMemoryRequirements(device_, b.buffer, &req);
-    s = allocate(req,
-                 host_visible
-                     ? VK_MEMORY_PROPERTY_HOST_VISIBLE_BIT | VK_MEMORY_PROPERTY_HOST_COHERENT_BIT
+    s = blocks_.allocate(
+        req,
+        host_visible ? VK_MEMORY_PROPERTY_HOST_VISIBLE_BIT | VK_MEMORY_PROPERTY_HOST_COHERENT_BIT
                      : VK_MEMORY_PROPERTY_DEVICE_LOCAL_BIT,
-                 what, &b.memory);
+        true, what, &b.memory);
   }
   if (s.isOk())
-    s = checkVk(vkBindBufferMemory(device_, b.buffer, b.memory, 0), "vkBindBufferMemory");
-  if (s.isOk() && host_visible)
-    s = checkVk(vkMapMemory(device_, b.memory, 0, VK_WHOLE_SIZE, 0, &b.mapped), "vkMapMemory");
+    s = checkVk(vkBindBufferMemory(device_, b.buffer, b.memory.memory, b.memory.offset),
+                "vkBindBufferMemory");
+  if (s.isOk()) b.mapped = b.memory.mapped;
   if (!s.isOk()) {
     destroy(&b);
     return s;
@@ -91,9 +77,11 @@ Status DeviceObjects::createImage(uint32_t width, uint32_t height, uint32_t laye
   if (s.isOk()) {
     VkMemoryRequirements req{};
     vkGetImageMemoryRequirements(device_, i.image, &req);
-    s = allocate(req, VK_MEMORY_PROPERTY_DEVICE_LOCAL_BIT, what, &i.memory);
+    s = blocks_.allocate(req, VK_MEMORY_PROPERTY_DEVICE_LOCAL_BIT, false, what, &i.memory);
   }
-  if (s.isOk()) s = checkVk(vkBindImageMemory(device_, i.image, i.memory, 0), "vkBindImageMemory");
+  if (s.isOk())
+    s = checkVk(vkBindImageMemory(device_, i.image, i.memory.memory, i.memory.offset),
+                "vkBindImageMemory");
   if (s.isOk()) {
     auto v = vkStruct<VkImageViewCreateInfo>(VK_STRUCTURE_TYPE_IMAGE_VIEW_CREATE_INFO);
     v.image = i.image;
@@ -113,14 +101,14 @@ Status DeviceObjects::createImage(uint32_t width, uint32_t height, uint32_t laye
 
 void DeviceObjects::destroy(GpuBuffer* b) {
   if (b->buffer != VK_NULL_HANDLE) vkDestroyBuffer(device_, b->buffer, allocator_);
-  if (b->memory != VK_NULL_HANDLE) vkFreeMemory(device_, b->memory, allocator_);
+  blocks_.free(b->memory);
   *b = GpuBuffer{};
 }
 
 void DeviceObjects::destroy(GpuImage* i) {
   if (i->view != VK_NULL_HANDLE) vkDestroyImageView(device_, i->view, allocator_);
   if (i->image != VK_NULL_HANDLE) vkDestroyImage(device_, i->image, allocator_);
-  if (i->memory != VK_NULL_HANDLE) vkFreeMemory(device_, i->memory, allocator_);
+  blocks_.free(i->memory);
   *i = GpuImage{};
 }
 

@@ -9,6 +9,7 @@
 #include <cstdint>
 
 #include "si/core/status.h"
+#include "vk/memory_blocks.h"
 
 namespace si::vk::detail {
 
@@ -30,23 +31,30 @@ Status checkVk(VkResult result, const char* call);
 
 struct GpuBuffer {
   VkBuffer buffer = VK_NULL_HANDLE;
-  VkDeviceMemory memory = VK_NULL_HANDLE;
+  MemoryRange memory;  ///< Its range of a block (memory_blocks.h).
   VkDeviceSize size = 0;
   void* mapped = nullptr;  ///< Host-visible buffers stay mapped.
 };
 
 struct GpuImage {
   VkImage image = VK_NULL_HANDLE;
-  VkDeviceMemory memory = VK_NULL_HANDLE;
+  MemoryRange memory;
   VkImageView view = VK_NULL_HANDLE;
   VkFormat format = VK_FORMAT_UNDEFINED;
   uint32_t width = 0, height = 0, layers = 1, levels = 1;
 };
 
-/// The host's device and what creating on it needs.
+/// The host's device and what creating on it needs: buffers and images bound to ranges of the
+/// renderer's memory blocks (memory_blocks.h).
 class DeviceObjects {
  public:
+  /// Memory blocks of 64 MiB.
+  static constexpr VkDeviceSize kBlockBytes = VkDeviceSize(64) << 20;
+
   void init(VkPhysicalDevice physical, VkDevice device, const VkAllocationCallbacks* allocator);
+  /// Frees the memory blocks (every buffer and image destroyed first).
+  void release() { blocks_.release(); }
+  const MemoryBlocks& blocks() const { return blocks_; }
   VkDevice device() const { return device_; }
   const VkAllocationCallbacks* allocator() const { return allocator_; }
 
@@ -63,13 +71,11 @@ class DeviceObjects {
   void destroy(GpuImage* i);
 
  private:
-  Status allocate(const VkMemoryRequirements& req, VkMemoryPropertyFlags flags, const char* what,
-                  VkDeviceMemory* out);
-
   VkPhysicalDevice physical_ = VK_NULL_HANDLE;
   VkDevice device_ = VK_NULL_HANDLE;
   const VkAllocationCallbacks* allocator_ = nullptr;
   VkPhysicalDeviceMemoryProperties memory_{};
+  MemoryBlocks blocks_;
 };
 
 }  // namespace si::vk::detail

@@ -218,6 +218,7 @@ void Renderer::shutdown() {
   for (const ProgramModules& p : m.programs)
     for (VkShaderModule module : {p.vertex_module, p.fragment_module})
       if (module != VK_NULL_HANDLE) vkDestroyShaderModule(m.device(), module, m.allocator());
+  m.objects.release();  // The memory blocks, every buffer and image gone.
   impl_.reset();
 }
 
