@@ -15,10 +15,12 @@
 #include "si/crowd/crowd_manager.h"
 #include "si_vk/vulkan_profile.h"
 #include "vk/character_resources.h"
+#include "vk/character_set.h"
 #include "vk/device_objects.h"
+#include "vk/draw_state.h"
 #include "vk/image_upload.h"
+#include "vk/program_modules.h"
 #include "vk/skinned_pipeline.h"
-#include "vk/spirv_modules.h"
 #include "vk/spirv_reflect.h"
 #include "vk/vulkan_programs.h"
 
@@ -32,9 +34,6 @@ using si::detail::writeRingFrame;
 using namespace si::vk::detail;
 
 namespace {
-// Bytes of each default uniform block's binding: the vertex stage's camera and LOD, the
-// fragment stage's light and custom layers.
-constexpr VkDeviceSize kDefaultsRange = 256;
 // Dynamic bindings of the set: records, layers, previous layers, masks, the two defaults.
 constexpr uint32_t kMaxDynamicBindings = 6;
 }  // namespace
@@ -68,9 +67,6 @@ struct Renderer::Impl {
 
   VkDevice device() const { return objects.device(); }
   const VkAllocationCallbacks* allocator() const { return objects.allocator(); }
-
-  Status loadProgram(const char* name, ProgramModules* out);
-  Status writeSet(Character* c);
 };
 
 Renderer::Renderer() = default;
@@ -148,7 +144,8 @@ Status Renderer::init(const RendererDesc& desc) {
   Status s = Status::ok();
   m.programs.resize(vulkanPrograms().size());
   for (size_t k = 0; k < m.programs.size() && s.isOk(); ++k)
-    s = m.loadProgram(vulkanPrograms()[k].name.c_str(), &m.programs[k]);
+    s = loadProgramModules(m.device(), m.allocator(), vulkanPrograms()[k].name.c_str(),
+                           kDefaultsRange, &m.programs[k]);
   if (s.isOk()) {
     std::vector<StageReflection> stages;
     for (const ProgramModules& p : m.programs) {
@@ -158,13 +155,9 @@ Status Renderer::init(const RendererDesc& desc) {
     s = createSkinnedLayout(m.device(), m.allocator(),
                             Span<const StageReflection>(stages.data(), stages.size()), &m.layout);
   }
-  size_t dynamic = 0;
-  for (const VkDescriptorSetLayoutBinding& b : m.layout.bindings)
-    dynamic += b.descriptorType == VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER_DYNAMIC ||
-               b.descriptorType == VK_DESCRIPTOR_TYPE_STORAGE_BUFFER_DYNAMIC;
-  if (s.isOk() && dynamic > kMaxDynamicBindings)
+  if (s.isOk() && m.layout.dynamic_bindings.size() > kMaxDynamicBindings)
     s = {StatusCode::kUnsupported,
-         strCat("vk::Renderer::init: the programs declare ", dynamic,
+         strCat("vk::Renderer::init: the programs declare ", m.layout.dynamic_bindings.size(),
                 " dynamic buffers, more than the ", kMaxDynamicBindings, " the draws offset")};
   for (const auto& [filter, out] :
        {std::pair{VK_FILTER_NEAREST, &m.nearest}, std::pair{VK_FILTER_LINEAR, &m.linear}}) {
@@ -215,9 +208,7 @@ void Renderer::shutdown() {
     vkDestroyPipelineLayout(m.device(), m.layout.pipeline_layout, m.allocator());
   if (m.layout.set_layout != VK_NULL_HANDLE)
     vkDestroyDescriptorSetLayout(m.device(), m.layout.set_layout, m.allocator());
-  for (const ProgramModules& p : m.programs)
-    for (VkShaderModule module : {p.vertex_module, p.fragment_module})
-      if (module != VK_NULL_HANDLE) vkDestroyShaderModule(m.device(), module, m.allocator());
+  for (ProgramModules& p : m.programs) destroyProgramModules(m.device(), m.allocator(), &p);
   m.objects.release();  // The memory blocks, every buffer and image gone.
   impl_.reset();
 }
@@ -232,64 +223,12 @@ BatchLimits Renderer::batchLimits() const {
 
 namespace {
 
-// The offset of default-block member `name` in `r` (-1 when the stage has none).
-int64_t defaultOffset(const SpirvReflection& r, const char* name) {
-  for (const SpirvMember& m : r.default_uniforms)
-    if (m.name == name) return int64_t(m.offset);
-  return -1;
-}
-
 // Writes `bytes` at `offset` of `base` when the member exists.
 void putMember(uint8_t* base, int64_t offset, const void* bytes, size_t size) {
   if (offset >= 0) std::memcpy(base + offset, bytes, size);
 }
 
-// `camera`'s view-projection with Vulkan's clip depth (0 to w): OpenGL's -w to w mapped, a
-// zero-to-one or reverse-Z projection as it is.
-glm::mat4 vulkanViewProjection(const Camera& camera) {
-  if (camera.depth != DepthConvention::kNegativeOneToOne) return camera.viewProjection();
-  glm::mat4 m(1.0f);
-  m[2][2] = 0.5f;
-  m[3][2] = 0.5f;
-  return m * camera.viewProjection();
-}
-
-// The depth test a draw asks for: the given one, or the camera convention's.
-VkCompareOp depthCompare(const DrawTarget& target, const Camera& camera) {
-  if (target.depth_compare != VK_COMPARE_OP_MAX_ENUM) return target.depth_compare;
-  return camera.depth == DepthConvention::kReversedZeroToOne ? VK_COMPARE_OP_GREATER
-                                                             : VK_COMPARE_OP_LESS;
-}
-
 }  // namespace
-
-Status Renderer::Impl::loadProgram(const char* name, ProgramModules* out) {
-  const SpirvModule* vert = findSpirvModule(strCat(name, ".vert").c_str());
-  const SpirvModule* frag = findSpirvModule(strCat(name, ".frag").c_str());
-  if (vert == nullptr || frag == nullptr)
-    return {StatusCode::kNotFound, strCat("the ", name, " program's SPIR-V is not embedded")};
-  Status s = reflectSpirv(Span<const uint32_t>(vert->words, vert->word_count), kDefaultUniformBlock,
-                          &out->vertex_reflection);
-  if (s.isOk())
-    s = reflectSpirv(Span<const uint32_t>(frag->words, frag->word_count), kDefaultUniformBlock,
-                     &out->fragment_reflection);
-  // Every default member within its block's range (the largest a 4x4 matrix).
-  for (const SpirvReflection* r : {&out->vertex_reflection, &out->fragment_reflection})
-    for (const SpirvMember& member : r->default_uniforms)
-      if (s.isOk() && member.offset + 64 > kDefaultsRange)
-        s = {StatusCode::kUnsupported,
-             strCat("the ", name, " program's default uniform '", member.name, "' at byte ",
-                    member.offset, " passes the ", kDefaultsRange, " bytes the renderer gives it")};
-  for (const auto& [module, made] :
-       {std::pair{vert, &out->vertex_module}, std::pair{frag, &out->fragment_module}}) {
-    if (!s.isOk()) break;
-    auto info = vkStruct<VkShaderModuleCreateInfo>(VK_STRUCTURE_TYPE_SHADER_MODULE_CREATE_INFO);
-    info.codeSize = module->word_count * 4;
-    info.pCode = module->words;
-    s = checkVk(vkCreateShaderModule(device(), &info, allocator(), made), "vkCreateShaderModule");
-  }
-  return s;
-}
 
 Status Renderer::addCharacter(const Character& character, const BakedPalette& palette,
                               CharacterId* out) {
@@ -326,82 +265,15 @@ Status Renderer::addCharacter(const Character& character, const BakedPalette& pa
                                 m.layout.pipeline_layout, formats[k], stream,
                                 &c->pipelines[layers][k]);
     }
-  if (s.isOk()) s = m.writeSet(c.get());
+  if (s.isOk())
+    s = createCharacterSet(m.device(), m.allocator(), m.layout,
+                           {m.ring, m.nearest, m.linear, m.custom, m.no_morphs}, c.get());
   if (!s.isOk()) {
     destroyCharacter(&m.objects, c.get());
     return s;
   }
   out->index = uint32_t(m.characters.size());
   m.characters.push_back(std::move(c));
-  return Status::ok();
-}
-
-Status Renderer::Impl::writeSet(Character* c) {
-  std::vector<VkDescriptorPoolSize> sizes;
-  for (const VkDescriptorSetLayoutBinding& b : layout.bindings)
-    sizes.push_back({b.descriptorType, 1});
-  auto pool_info =
-      vkStruct<VkDescriptorPoolCreateInfo>(VK_STRUCTURE_TYPE_DESCRIPTOR_POOL_CREATE_INFO);
-  pool_info.maxSets = 1;
-  pool_info.poolSizeCount = uint32_t(sizes.size());
-  pool_info.pPoolSizes = sizes.data();
-  Status s = checkVk(vkCreateDescriptorPool(device(), &pool_info, allocator(), &c->pool),
-                     "vkCreateDescriptorPool");
-  if (!s.isOk()) return s;
-  auto alloc =
-      vkStruct<VkDescriptorSetAllocateInfo>(VK_STRUCTURE_TYPE_DESCRIPTOR_SET_ALLOCATE_INFO);
-  alloc.descriptorPool = c->pool;
-  alloc.descriptorSetCount = 1;
-  alloc.pSetLayouts = &layout.set_layout;
-  s = checkVk(vkAllocateDescriptorSets(device(), &alloc, &c->set), "vkAllocateDescriptorSets");
-  if (!s.isOk()) return s;
-  std::vector<VkDescriptorBufferInfo> buffer_infos(layout.bindings.size());
-  std::vector<VkDescriptorImageInfo> image_infos(layout.bindings.size());
-  std::vector<VkWriteDescriptorSet> writes;
-  for (size_t k = 0; k < layout.bindings.size(); ++k) {
-    const uint32_t b = layout.bindings[k].binding;
-    auto w = vkStruct<VkWriteDescriptorSet>(VK_STRUCTURE_TYPE_WRITE_DESCRIPTOR_SET);
-    w.dstSet = c->set;
-    w.dstBinding = b;
-    w.descriptorCount = 1;
-    w.descriptorType = layout.bindings[k].descriptorType;
-    const auto buffer = [&](const GpuBuffer& g, VkDeviceSize range) {
-      buffer_infos[k] = {g.buffer, 0, range};
-      w.pBufferInfo = &buffer_infos[k];
-    };
-    const auto image = [&](const GpuImage& g, VkSampler sampler) {
-      image_infos[k] = {sampler, g.view, VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL};
-      w.pImageInfo = &image_infos[k];
-    };
-    if (b == kRecordsBinding)
-      buffer(ring, kRecordsRange);
-    else if (b == kVertexDefaultsBinding || b == kFragmentDefaultsBinding)
-      buffer(ring, kDefaultsRange);
-    else if (b == kPaletteInfoBinding)
-      buffer(c->palette_info, VK_WHOLE_SIZE);
-    else if (b == kVertexMaterialsBinding)
-      buffer(c->vertex_materials, VK_WHOLE_SIZE);
-    else if (b == kMaterialTableBinding)
-      buffer(c->materials, VK_WHOLE_SIZE);
-    else if (b == kPreviousBinding)
-      buffer(ring, VK_WHOLE_SIZE);
-    else if (b == kLayersBinding || b == kPreviousLayersBinding)
-      buffer(ring, kLayersRange);
-    else if (b == kMaskBinding)
-      buffer(ring, kMaskRange);
-    else if (b == kPaletteBinding)
-      image(c->palette, nearest);
-    else if (b == kBaseColorBinding)
-      image(c->base_color, linear);
-    else if (b == kCustomBinding)
-      image(custom, linear);
-    else if (b == kMaterialDataBinding)
-      image(c->material_data, linear);
-    else if (b == kMorphBinding)
-      image(c->morphs.image != VK_NULL_HANDLE ? c->morphs : no_morphs, nearest);
-    writes.push_back(w);
-  }
-  vkUpdateDescriptorSets(device(), uint32_t(writes.size()), writes.data(), 0, nullptr);
   return Status::ok();
 }
 
@@ -513,20 +385,20 @@ Status Renderer::recordDraw(VkCommandBuffer cmd, const DrawTarget& target, Chara
   std::vector<DrawBatch> draws;
   const VkDeviceSize masks_at = alignUp(records_at + plan.end, m.storage_alignment);
   const VkDeviceSize defaults_at = alignUp(masks_at + masks.size() * 4, kDefaultsRange);
-  if (defaults_at + kDefaultsRange > m.desc.ring_bytes_per_frame)
-    return {
+  const auto past_region = [&](VkDeviceSize need) {
+    return Status(
         StatusCode::kLimitExceeded,
-        strCat("vk::Renderer::recordDraw: the frame's records need ", defaults_at + kDefaultsRange,
-               " bytes, RendererDesc::ring_bytes_per_frame is ", m.desc.ring_bytes_per_frame)};
+        strCat("vk::Renderer::recordDraw: the frame's records need ", need,
+               " bytes, RendererDesc::ring_bytes_per_frame is ", m.desc.ring_bytes_per_frame));
+  };
+  if (defaults_at + kDefaultsRange > m.desc.ring_bytes_per_frame)
+    return past_region(defaults_at + kDefaultsRange);
   uint8_t* ring = static_cast<uint8_t*>(m.ring.mapped) + region;
   Status s = writeRingFrame(batcher, view, plan, ring + records_at, size_t(plan.end), {}, &draws);
   if (!s.isOk()) return s;
   if (!masks.empty()) std::memcpy(ring + masks_at, masks.data(), masks.size() * 4);
   const VkDeviceSize end = defaults_at + kDefaultsRange * (1 + draws.size());
-  if (end > m.desc.ring_bytes_per_frame)
-    return {StatusCode::kLimitExceeded,
-            strCat("vk::Renderer::recordDraw: the frame's records need ", end,
-                   " bytes, RendererDesc::ring_bytes_per_frame is ", m.desc.ring_bytes_per_frame)};
+  if (end > m.desc.ring_bytes_per_frame) return past_region(end);
   m.frame_used = end;
   // The fragment stage's defaults, then each batch's camera and LOD.
   const VulkanKind kind = depth_only ? VulkanKind::kDepthOnly
@@ -561,21 +433,7 @@ Status Renderer::recordDraw(VkCommandBuffer cmd, const DrawTarget& target, Chara
   }
   vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_GRAPHICS,
                     c.pipelines[layers ? 1 : 0][size_t(kind)]);
-  // Flipped (negative height), so the image is OpenGL's.
-  const VkExtent2D extent = target.extent;
-  const VkViewport viewport{
-      0.0f, float(extent.height), float(extent.width), -float(extent.height), 0.0f, 1.0f};
-  const VkRect2D scissor{{0, 0}, extent};
-  vkCmdSetViewport(cmd, 0, 1, &viewport);
-  vkCmdSetScissor(cmd, 0, 1, &scissor);
-  vkCmdSetDepthCompareOp(cmd, depthCompare(target, camera));
-  // Counter-clockwise front faces under the flipped viewport are OpenGL's; a projection that
-  // mirrors the image turns them.
-  vkCmdSetFrontFace(
-      cmd, camera.flipsWinding() ? VK_FRONT_FACE_CLOCKWISE : VK_FRONT_FACE_COUNTER_CLOCKWISE);
-  const bool bias = target.depth_bias_constant != 0.0f || target.depth_bias_slope != 0.0f;
-  vkCmdSetDepthBiasEnable(cmd, bias ? VK_TRUE : VK_FALSE);
-  vkCmdSetDepthBias(cmd, target.depth_bias_constant, 0.0f, target.depth_bias_slope);
+  recordDrawState(cmd, target, camera);
   const VkDeviceSize zero = 0;
   vkCmdBindVertexBuffers(cmd, 0, 1, &c.vertices.buffer, &zero);
   vkCmdBindIndexBuffer(cmd, c.indices.buffer, 0, VK_INDEX_TYPE_UINT32);
@@ -610,16 +468,13 @@ Status Renderer::recordDraw(VkCommandBuffer cmd, const DrawTarget& target, Chara
                          : VkDeviceSize(0);
     uint32_t offsets[kMaxDynamicBindings] = {};
     uint32_t count = 0;
-    for (const VkDescriptorSetLayoutBinding& b : m.layout.bindings) {
-      if (b.descriptorType != VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER_DYNAMIC &&
-          b.descriptorType != VK_DESCRIPTOR_TYPE_STORAGE_BUFFER_DYNAMIC)
-        continue;
-      const VkDeviceSize at = b.binding == kRecordsBinding          ? records_at + d.byte_offset
-                              : b.binding == kLayersBinding         ? layer_at
-                              : b.binding == kPreviousLayersBinding ? previous_layer_at
-                              : b.binding == kMaskBinding           ? masks_at
-                              : b.binding == kVertexDefaultsBinding ? vertex_at
-                                                                    : defaults_at;
+    for (uint32_t b : m.layout.dynamic_bindings) {
+      const VkDeviceSize at = b == kRecordsBinding          ? records_at + d.byte_offset
+                              : b == kLayersBinding         ? layer_at
+                              : b == kPreviousLayersBinding ? previous_layer_at
+                              : b == kMaskBinding           ? masks_at
+                              : b == kVertexDefaultsBinding ? vertex_at
+                                                            : defaults_at;
       offsets[count++] = uint32_t(region + at);
     }
     vkCmdBindDescriptorSets(cmd, VK_PIPELINE_BIND_POINT_GRAPHICS, m.layout.pipeline_layout, 0, 1,

@@ -45,7 +45,13 @@ Status createSkinnedLayout(VkDevice device, const VkAllocationCallbacks* allocat
     }
   }
   out->bindings.clear();
-  for (const auto& [b, binding] : bindings) out->bindings.push_back(binding);
+  out->dynamic_bindings.clear();
+  for (const auto& [b, binding] : bindings) {
+    out->bindings.push_back(binding);
+    if (binding.descriptorType == VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER_DYNAMIC ||
+        binding.descriptorType == VK_DESCRIPTOR_TYPE_STORAGE_BUFFER_DYNAMIC)
+      out->dynamic_bindings.push_back(b);
+  }
   auto info = vkStruct<VkDescriptorSetLayoutCreateInfo>(
       VK_STRUCTURE_TYPE_DESCRIPTOR_SET_LAYOUT_CREATE_INFO);
   info.bindingCount = uint32_t(out->bindings.size());

@@ -12,6 +12,7 @@
 #include "si/core/span.h"
 #include "si/core/status.h"
 #include "si_vk/vulkan_profile.h"
+#include "vk/program_modules.h"
 #include "vk/spirv_reflect.h"
 #include "vk/vulkan_programs.h"
 
@@ -41,12 +42,17 @@ inline constexpr uint32_t kPreviousLayersBinding = 3;
 inline constexpr uint32_t kMaskBinding = 8 + kStorageBindingShift;
 inline constexpr VkDeviceSize kLayersRange = VkDeviceSize(kVulkanMaxInstances) * 16;
 inline constexpr VkDeviceSize kMaskRange = kRecordsRange;
+// Bytes of each default uniform block's binding: the vertex stage's camera, LOD and motion, the
+// fragment stage's light and custom layers.
+inline constexpr VkDeviceSize kDefaultsRange = 256;
 
 /// The skinned program's descriptor set layout (binding order) and pipeline layout.
 struct SkinnedLayout {
   VkDescriptorSetLayout set_layout = VK_NULL_HANDLE;
   VkPipelineLayout pipeline_layout = VK_NULL_HANDLE;
   std::vector<VkDescriptorSetLayoutBinding> bindings;
+  /// The dynamic buffers' bindings, in binding order: the order of a draw's dynamic offsets.
+  std::vector<uint32_t> dynamic_bindings;
 };
 
 /// One shader stage's declarations.
@@ -69,12 +75,6 @@ struct RenderingFormats {
   VkFormat color = VK_FORMAT_UNDEFINED;
   VkFormat depth = VK_FORMAT_UNDEFINED;
   VkFormat motion = VK_FORMAT_UNDEFINED;
-};
-
-/// A program's two stages: their modules and what they declare.
-struct ProgramModules {
-  SpirvReflection vertex_reflection, fragment_reflection;
-  VkShaderModule vertex_module = VK_NULL_HANDLE, fragment_module = VK_NULL_HANDLE;
 };
 
 /// A skinned program's graphics pipeline for `stream`'s vertex format (as si::gl's

@@ -91,6 +91,12 @@ const char* descriptorKindName(DescriptorKind kind) {
   return "unknown";
 }
 
+int64_t defaultOffset(const SpirvReflection& r, const char* name) {
+  for (const SpirvMember& m : r.default_uniforms)
+    if (m.name == name) return int64_t(m.offset);
+  return -1;
+}
+
 Status reflectSpirv(Span<const uint32_t> words, const char* defaults_block, SpirvReflection* out) {
   if (out == nullptr) return {StatusCode::kInvalidArgument, "reflectSpirv: null output"};
   if (words.size() < 5 || words[0] != kMagic)

@@ -58,6 +58,9 @@ struct SpirvReflection {
   std::vector<SpirvVarying> inputs, outputs;
 };
 
+/// The byte offset of default-block member `name` in `r`, or -1 when the stage has none.
+int64_t defaultOffset(const SpirvReflection& r, const char* name);
+
 /// Reads the descriptors, the default block's members and the located inputs and outputs of
 /// SPIR-V module `words`.
 /// kInvalidArgument, naming the word, for a module that is not SPIR-V (magic number), an

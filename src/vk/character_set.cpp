@@ -1,0 +1,80 @@
+// SkinnedInstancing — SPDX-License-Identifier: MIT (see LICENSE)
+// A character's descriptor set.
+#include "vk/character_set.h"
+
+#include <vector>
+
+namespace si::vk::detail {
+
+Status createCharacterSet(VkDevice device, const VkAllocationCallbacks* allocator,
+                          const SkinnedLayout& layout, const SharedResources& shared,
+                          CharacterResources* c) {
+  std::vector<VkDescriptorPoolSize> sizes;
+  for (const VkDescriptorSetLayoutBinding& b : layout.bindings)
+    sizes.push_back({b.descriptorType, 1});
+  auto pool_info =
+      vkStruct<VkDescriptorPoolCreateInfo>(VK_STRUCTURE_TYPE_DESCRIPTOR_POOL_CREATE_INFO);
+  pool_info.maxSets = 1;
+  pool_info.poolSizeCount = uint32_t(sizes.size());
+  pool_info.pPoolSizes = sizes.data();
+  Status s = checkVk(vkCreateDescriptorPool(device, &pool_info, allocator, &c->pool),
+                     "vkCreateDescriptorPool");
+  if (!s.isOk()) return s;
+  auto alloc =
+      vkStruct<VkDescriptorSetAllocateInfo>(VK_STRUCTURE_TYPE_DESCRIPTOR_SET_ALLOCATE_INFO);
+  alloc.descriptorPool = c->pool;
+  alloc.descriptorSetCount = 1;
+  alloc.pSetLayouts = &layout.set_layout;
+  s = checkVk(vkAllocateDescriptorSets(device, &alloc, &c->set), "vkAllocateDescriptorSets");
+  if (!s.isOk()) return s;
+  std::vector<VkDescriptorBufferInfo> buffer_infos(layout.bindings.size());
+  std::vector<VkDescriptorImageInfo> image_infos(layout.bindings.size());
+  std::vector<VkWriteDescriptorSet> writes;
+  for (size_t k = 0; k < layout.bindings.size(); ++k) {
+    const uint32_t b = layout.bindings[k].binding;
+    auto w = vkStruct<VkWriteDescriptorSet>(VK_STRUCTURE_TYPE_WRITE_DESCRIPTOR_SET);
+    w.dstSet = c->set;
+    w.dstBinding = b;
+    w.descriptorCount = 1;
+    w.descriptorType = layout.bindings[k].descriptorType;
+    const auto buffer = [&](const GpuBuffer& g, VkDeviceSize range) {
+      buffer_infos[k] = {g.buffer, 0, range};
+      w.pBufferInfo = &buffer_infos[k];
+    };
+    const auto image = [&](const GpuImage& g, VkSampler sampler) {
+      image_infos[k] = {sampler, g.view, VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL};
+      w.pImageInfo = &image_infos[k];
+    };
+    if (b == kRecordsBinding)
+      buffer(shared.ring, kRecordsRange);
+    else if (b == kVertexDefaultsBinding || b == kFragmentDefaultsBinding)
+      buffer(shared.ring, kDefaultsRange);
+    else if (b == kPaletteInfoBinding)
+      buffer(c->palette_info, VK_WHOLE_SIZE);
+    else if (b == kVertexMaterialsBinding)
+      buffer(c->vertex_materials, VK_WHOLE_SIZE);
+    else if (b == kMaterialTableBinding)
+      buffer(c->materials, VK_WHOLE_SIZE);
+    else if (b == kPreviousBinding)
+      buffer(shared.ring, VK_WHOLE_SIZE);
+    else if (b == kLayersBinding || b == kPreviousLayersBinding)
+      buffer(shared.ring, kLayersRange);
+    else if (b == kMaskBinding)
+      buffer(shared.ring, kMaskRange);
+    else if (b == kPaletteBinding)
+      image(c->palette, shared.nearest);
+    else if (b == kBaseColorBinding)
+      image(c->base_color, shared.linear);
+    else if (b == kCustomBinding)
+      image(shared.custom, shared.linear);
+    else if (b == kMaterialDataBinding)
+      image(c->material_data, shared.linear);
+    else if (b == kMorphBinding)
+      image(c->morphs.image != VK_NULL_HANDLE ? c->morphs : shared.no_morphs, shared.nearest);
+    writes.push_back(w);
+  }
+  vkUpdateDescriptorSets(device, uint32_t(writes.size()), writes.data(), 0, nullptr);
+  return Status::ok();
+}
+
+}  // namespace si::vk::detail

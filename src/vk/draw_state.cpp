@@ -1,0 +1,40 @@
+// SkinnedInstancing — SPDX-License-Identifier: MIT (see LICENSE)
+// What a draw sets of the host's rendering.
+#include "vk/draw_state.h"
+
+namespace si::vk::detail {
+
+namespace {
+// The depth test a draw asks for: the given one, or the camera convention's.
+VkCompareOp depthCompare(const DrawTarget& target, const Camera& camera) {
+  if (target.depth_compare != VK_COMPARE_OP_MAX_ENUM) return target.depth_compare;
+  return camera.depth == DepthConvention::kReversedZeroToOne ? VK_COMPARE_OP_GREATER
+                                                             : VK_COMPARE_OP_LESS;
+}
+
+}  // namespace
+
+glm::mat4 vulkanViewProjection(const Camera& camera) {
+  if (camera.depth != DepthConvention::kNegativeOneToOne) return camera.viewProjection();
+  glm::mat4 m(1.0f);
+  m[2][2] = 0.5f;
+  m[3][2] = 0.5f;
+  return m * camera.viewProjection();
+}
+
+void recordDrawState(VkCommandBuffer cmd, const DrawTarget& target, const Camera& camera) {
+  const VkExtent2D extent = target.extent;
+  const VkViewport viewport{
+      0.0f, float(extent.height), float(extent.width), -float(extent.height), 0.0f, 1.0f};
+  const VkRect2D scissor{{0, 0}, extent};
+  vkCmdSetViewport(cmd, 0, 1, &viewport);
+  vkCmdSetScissor(cmd, 0, 1, &scissor);
+  vkCmdSetDepthCompareOp(cmd, depthCompare(target, camera));
+  vkCmdSetFrontFace(
+      cmd, camera.flipsWinding() ? VK_FRONT_FACE_CLOCKWISE : VK_FRONT_FACE_COUNTER_CLOCKWISE);
+  const bool bias = target.depth_bias_constant != 0.0f || target.depth_bias_slope != 0.0f;
+  vkCmdSetDepthBiasEnable(cmd, bias ? VK_TRUE : VK_FALSE);
+  vkCmdSetDepthBias(cmd, target.depth_bias_constant, 0.0f, target.depth_bias_slope);
+}
+
+}  // namespace si::vk::detail

@@ -1,0 +1,26 @@
+// SkinnedInstancing — SPDX-License-Identifier: MIT (see LICENSE)
+#pragma once
+// What a draw sets of the host's rendering: the camera's projection in Vulkan's clip depth, and
+// the dynamic state (viewport, scissor, depth test, front face, depth bias) recorded per draw.
+
+#include <vulkan/vulkan.h>
+
+#include <glm/glm.hpp>
+
+#include "si/crowd/camera.h"
+#include "si/vk/renderer.h"
+
+namespace si::vk::detail {
+
+/// `camera`'s view-projection with Vulkan's clip depth (0 to w): OpenGL's -w to w mapped, a
+/// zero-to-one or reverse-Z projection as it is.
+glm::mat4 vulkanViewProjection(const Camera& camera);
+
+/// Records `target`'s dynamic state into `cmd`: the viewport flipped (negative height, so the
+/// image is OpenGL's) and the scissor over its extent; its depth test, or the camera
+/// convention's (LESS, GREATER under reverse-Z); counter-clockwise front faces (OpenGL's under
+/// the flipped viewport), clockwise when the camera's projection mirrors the image; its depth
+/// bias, enabled when not zero.
+void recordDrawState(VkCommandBuffer cmd, const DrawTarget& target, const Camera& camera);
+
+}  // namespace si::vk::detail
