@@ -8,6 +8,7 @@
 #include <functional>
 
 #include "gl/resources/layer_compose_table.h"
+#include "render/layered_scenes.h"
 #include "render/render_fixture.h"
 #include "si/crowd/crowd_manager.h"
 #include "si/gl/motion_target.h"
@@ -19,31 +20,10 @@ using namespace test;
 
 class LayeredRenderTest : public RenderTest {
  protected:
-  // 12 instances walking; two thirds play the wave on the mask rooted at `branch`, shifted by
-  // `offset`.
+  // The walkers (layered_scenes.h), updated 0.5 s with the close camera.
   void populate(CrowdManager* crowd, const char* branch = "r_clavicle",
                 const glm::dvec3& offset = glm::dvec3(0.0)) {
-    LayerMask arm;
-    ASSERT_TRUE(buildLayerMask(character().skeleton, palette(), branch, {branch}, &arm).isOk());
-    uint32_t mask = 0;
-    ASSERT_TRUE(crowd->addLayerMask(arm, &mask).isOk());
-    const uint32_t walk = uint32_t(palette().findClip("walk"));
-    const uint32_t wave = uint32_t(palette().findClip("wave"));
-    for (int k = 0; k < 12; ++k) {
-      InstanceDesc d;
-      d.position = offset + glm::dvec3((k % 4 - 1.5) * 1.2, 0.0, -2.5 - 1.5 * (k / 4));
-      d.rotation = glm::angleAxis(0.6f * float(k % 3 - 1), glm::vec3(0, 1, 0));
-      d.clip = walk;
-      d.time_seconds = 0.11 * k;
-      d.color = glm::u8vec4(uint8_t(60 + 15 * k), uint8_t(220 - 12 * k), 120, 255);
-      InstanceHandle h;
-      ASSERT_TRUE(crowd->add(d, &h).isOk());
-      handles_.push_back(h);
-      // Two thirds wave: at once, or fading in over 1 s (half-way at the update below).
-      if (k % 3 != 2) {
-        ASSERT_TRUE(crowd->playOverlay(h, wave, mask, 1.0f, k % 3 == 0 ? 0.0 : 1.0, 0.13 * k).isOk());
-      }
-    }
+    ASSERT_NO_FATAL_FAILURE(populateWavingCrowd(crowd, &handles_, branch, offset));
     ASSERT_TRUE(crowd->update(0.5, closeView()).isOk());
   }
   // A vertex-shader renderer, the populated crowd and a batcher for it.
@@ -55,9 +35,7 @@ class LayeredRenderTest : public RenderTest {
     populate(crowd);
     ASSERT_TRUE(batcher->init(r->batchLimits()).isOk());
   }
-  static Camera closeView() {
-    return Camera::lookAt({0.0, 1.6, 2.5}, {0.0, 1.0, -4.0}, glm::vec3(0, 1, 0), 0.9f, 1.0f, 0.1f, 100.0f);
-  }
+  static Camera closeView() { return wavingView(); }
   std::vector<InstanceHandle> handles_;
 };
 

@@ -147,6 +147,24 @@ inline MotionApart motionApart(const std::vector<uint8_t>& image,
   return a;
 }
 
+// Expects the host's motion (`image`, `motion`) to be si::gl's (`gl_image`, `gl_motion`,
+// glMotion()) where both images cover more than 2,000 pixels: at most 1 in 200 of them more than
+// 0.05 px apart, si::gl's longest motion there longer than `least_largest_pixels` (the scene
+// moves). Prints the counts.
+inline void expectMotionOfOpenGl(const std::vector<uint8_t>& image,
+                                 const std::vector<glm::vec2>& motion,
+                                 const std::vector<uint8_t>& gl_image,
+                                 const std::vector<glm::vec2>& gl_motion,
+                                 float least_largest_pixels) {
+  const MotionApart apart = motionApart(image, motion, gl_image, gl_motion);
+  std::printf("[ motion ] %zu covered pixels, %zu apart, the largest motion %.2f px\n",
+              apart.covered, apart.apart, apart.largest_pixels);
+  EXPECT_GT(apart.covered, 2000u);
+  EXPECT_GT(apart.largest_pixels, least_largest_pixels) << "the characters move by pixels";
+  EXPECT_LE(apart.apart, apart.covered / 200)
+      << apart.apart << " of " << apart.covered << " covered pixels apart";
+}
+
 // The embedded character's crowd of the LOD rows (populateLodCrowd).
 inline void lodCrowd(CrowdManager* crowd) {
   CrowdDesc cd;
