@@ -28,11 +28,15 @@ double differingShare(const std::vector<uint8_t>& a, const std::vector<uint8_t>&
   return double(apart) / double(a.size() / 4);
 }
 
-// Both APIs draw `count` characters of the field for setup.frames frames: rows[0] GL's,
-// rows[1] Vulkan's; `apart` the share of the last frames' pixels that differ.
+// Both APIs draw `count` characters of the field on `path` ("instanced": drawCrowd and
+// recordDraw of the CPU's selection; "gpu-culled": drawCrowdGpuCulled with vertex-shader
+// skinning and recordGpuDrivenPasses/recordGpuDrivenDraw, the selection the GPU's) for
+// setup.frames frames: rows[0] GL's, rows[1] Vulkan's; `apart` the share of the last frames'
+// pixels that differ.
 Status runBoth(Setup& setup, Renderer& gl, examples::HeadlessVulkan& host,
-               const BakedPalette& palette, uint32_t count, const LodChoice& lod, Row rows[2],
-               double* apart) {
+               const BakedPalette& palette, uint32_t count, const std::string& path,
+               const LodChoice& lod, Row rows[2], double* apart) {
+  const bool gpu_driven = path == "gpu-culled";
   const std::vector<glm::dvec3> places = scenePositions("field", count);
   CrowdManager crowd;
   Status s = makeCrowd(setup, palette, places, lod, &crowd);
@@ -43,6 +47,7 @@ Status runBoth(Setup& setup, Renderer& gl, examples::HeadlessVulkan& host,
   vd.physical_device = host.physicalDevice();
   vd.device = host.device();
   vd.frames_in_flight = 1;  // The host waits for each frame.
+  vd.gpu_driven = gpu_driven;
   vd.ring_bytes_per_frame =
       uint64_t(count) * crowd.desc().sub_mesh_count * 80 + (uint64_t(4) << 20);
   s = vkr.init(vd);
@@ -55,31 +60,41 @@ Status runBoth(Setup& setup, Renderer& gl, examples::HeadlessVulkan& host,
   s = gl_batcher.init(gl.batchLimits());
   if (s.isOk()) s = vk_batcher.init(vkr.batchLimits());
   std::vector<double> update, submit[2], gpu[2];
+  uint64_t visible = 0;
   std::vector<uint8_t> images[2];
   const uint32_t warmup = kWarmupFrames, n = setup.frames;
   for (uint32_t f = 0; f < warmup + n && s.isOk(); ++f) {
     const Camera cam = cameraAt(setup, "field", places, f < warmup ? 0 : f - warmup, n);
     const auto t0 = Clock::now();
-    s = stepCrowd(crowd, "instanced", cam, 1.0 / 60.0);
+    s = stepCrowd(crowd, path, cam, 1.0 / 60.0);
     const double update_ms = msSince(t0);
     const bool last = f + 1 == warmup + n;
     DrawStats gl_stats;
-    if (s.isOk()) s = drawPath(gl, crowd, gl_batcher, "instanced", cam, &gl_stats);
+    if (s.isOk()) s = drawPath(gl, crowd, gl_batcher, path, cam, &gl_stats);
     if (s.isOk() && last) s = setup.context->readPixels(&images[0]);
     vk::DrawStats vk_stats;
     double vk_ms = 0.0, vk_submit_ms = 0.0;
     if (s.isOk()) {
       examples::HeadlessVulkan::Frame frame;
       frame.clear_color = kClearColor;
+      frame.before = [&](VkCommandBuffer cmd) {
+        const auto t1 = Clock::now();
+        Status begun = vkr.beginFrame(0);
+        if (begun.isOk() && gpu_driven)
+          begun = vkr.recordGpuDrivenPasses(cmd, id, crowd.view(), cam);
+        vk_submit_ms = msSince(t1);
+        return begun;
+      };
+      const vk::DrawTarget target{{setup.width, setup.height}};
       s = host.render(
           frame,
           [&](VkCommandBuffer cmd) {
             const auto t1 = Clock::now();
-            Status drawn = vkr.beginFrame(0);
-            if (drawn.isOk())
-              drawn = vkr.recordDraw(cmd, vk::DrawTarget{{setup.width, setup.height}}, id,
-                                     crowd.view(), vk_batcher, cam, &vk_stats);
-            vk_submit_ms = msSince(t1);
+            const Status drawn =
+                gpu_driven
+                    ? vkr.recordGpuDrivenDraw(cmd, target, id, crowd.view(), &vk_stats)
+                    : vkr.recordDraw(cmd, target, id, crowd.view(), vk_batcher, cam, &vk_stats);
+            vk_submit_ms += msSince(t1);
             return drawn;
           },
           {last ? &images[1] : nullptr, nullptr, nullptr, &vk_ms});
@@ -91,17 +106,19 @@ Status runBoth(Setup& setup, Renderer& gl, examples::HeadlessVulkan& host,
     submit[1].push_back(vk_submit_ms);
     gpu[1].push_back(vk_ms);
     rows[0].draws = gl_stats.draw_calls;
+    visible = gl_stats.gpu_visible;
     rows[0].triangles = double(gl_stats.triangles);
     rows[1].draws = vk_stats.draw_calls;
-    rows[1].triangles = double(vk_stats.triangles);
+    // GPU-driven: the GPU counts what is drawn (the same selection as GL's, whose count it is).
+    rows[1].triangles = gpu_driven ? rows[0].triangles : double(vk_stats.triangles);
   }
   vkr.shutdown();
   for (int k = 0; k < 2; ++k) {
     rows[k].scene = "field";
-    rows[k].path = "instanced";
+    rows[k].path = path;
     rows[k].lod = k == 0 ? "GL" : "Vulkan";
     rows[k].instances = count;
-    rows[k].visible = crowd.view().stats().visible;
+    rows[k].visible = gpu_driven ? visible : crowd.view().stats().visible;
     rows[k].update_ms = median(update);
     rows[k].submit_ms = median(submit[k]);
     rows[k].gpu_ms = median(gpu[k]);
@@ -115,7 +132,8 @@ Status runBoth(Setup& setup, Renderer& gl, examples::HeadlessVulkan& host,
 #endif
 
 Status vulkanTable(Setup& setup, const BakedPalette& palette, const RendererDesc& desc,
-                   const std::vector<uint32_t>& sizes, const LodChoice& lod, std::FILE* csv) {
+                   const std::vector<uint32_t>& sizes, const std::vector<std::string>& paths,
+                   const LodChoice& lod, std::FILE* csv) {
 #if SI_BENCH_VULKAN
   examples::HeadlessVulkan host;
   Status s = host.create(setup.width, setup.height);
@@ -126,21 +144,29 @@ Status vulkanTable(Setup& setup, const BakedPalette& palette, const RendererDesc
   s = initRenderer(setup, palette, rd, &gl);
   if (!s.isOk()) return s;
   std::printf(
-      "\nVulkan (field, %s LODs, the vertex-shader path): si::gl's drawCrowd and si::vk's "
-      "recordDraw (%s, validation %s) drawing the same crowd, camera and selection each "
-      "frame; GPU x is Vulkan's GPU time over GL's\n",
+      "\nVulkan (field, %s LODs, vertex-shader skinning): si::gl and si::vk (%s, validation %s) "
+      "drawing the same crowd and camera each frame, on the instanced path (drawCrowd, "
+      "recordDraw) and the GPU-driven one (gpu-culled: drawCrowdGpuCulled, "
+      "recordGpuDrivenPasses and recordGpuDrivenDraw); GPU x is Vulkan's GPU time over GL's\n",
       lod.name().c_str(), host.deviceName().c_str(), host.validation() ? "on" : "not installed");
   printSideBySideHeader("API");
   std::printf(" %12s %12s\n", "covered px", "apart");
-  for (uint32_t count : sizes) {
-    Row rows[2];
-    double apart = 1.0;
-    s = runBoth(setup, gl, host, palette, count, lod, rows, &apart);
-    if (!s.isOk()) return s;
-    for (const Row& r : rows) {
-      printSideBySideRow(r, rows[0], "vulkan", csv);
-      std::printf(" %12llu %11.4f%%\n", static_cast<unsigned long long>(r.covered_pixels),
-                  &r == &rows[0] ? 0.0 : 100.0 * apart);
+  for (const std::string& path : paths) {
+    if (path != "instanced" && path != "gpu-culled") {
+      std::printf("  %s: not on the Vulkan back-end yet (instanced and gpu-culled are)\n",
+                  path.c_str());
+      continue;
+    }
+    for (uint32_t count : sizes) {
+      Row rows[2];
+      double apart = 1.0;
+      s = runBoth(setup, gl, host, palette, count, path, lod, rows, &apart);
+      if (!s.isOk()) return s;
+      for (const Row& r : rows) {
+        printSideBySideRow(r, rows[0], "vulkan", csv);
+        std::printf(" %12llu %11.4f%%\n", static_cast<unsigned long long>(r.covered_pixels),
+                    &r == &rows[0] ? 0.0 : 100.0 * apart);
+      }
     }
   }
   gl.shutdown();
@@ -149,7 +175,7 @@ Status vulkanTable(Setup& setup, const BakedPalette& palette, const RendererDesc
     return {StatusCode::kBackend, "the validation layer reported the messages above"};
   return Status::ok();
 #else
-  (void)setup, (void)palette, (void)desc, (void)sizes, (void)lod, (void)csv;
+  (void)setup, (void)palette, (void)desc, (void)sizes, (void)paths, (void)lod, (void)csv;
   return {StatusCode::kUnsupported, "crowd_bench was built without si::vk (SI_WITH_VULKAN=OFF)"};
 #endif
 }

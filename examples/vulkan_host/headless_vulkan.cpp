@@ -161,8 +161,16 @@ Status HeadlessVulkan::create(uint32_t width, uint32_t height) {
       VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_VULKAN_1_3_FEATURES);
   f13.dynamicRendering = VK_TRUE;
   f13.synchronization2 = VK_TRUE;
+  // What si::vk's GPU-driven path needs, where the device has it (RendererDesc::gpu_driven).
+  VkPhysicalDeviceFeatures supported{};
+  vkGetPhysicalDeviceFeatures(physical_, &supported);
+  auto features = vkStruct<VkPhysicalDeviceFeatures2>(VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_FEATURES_2);
+  features.pNext = &f13;
+  features.features.shaderFloat64 = supported.shaderFloat64;
+  features.features.multiDrawIndirect = supported.multiDrawIndirect;
+  features.features.drawIndirectFirstInstance = supported.drawIndirectFirstInstance;
   auto device = vkStruct<VkDeviceCreateInfo>(VK_STRUCTURE_TYPE_DEVICE_CREATE_INFO);
-  device.pNext = &f13;
+  device.pNext = &features;
   device.queueCreateInfoCount = 1;
   device.pQueueCreateInfos = &queue;
   s = checkVk(vkCreateDevice(physical_, &device, nullptr, &device_), "vkCreateDevice");
@@ -324,11 +332,13 @@ Status HeadlessVulkan::render(const Frame& frame,
     rendering.colorAttachmentCount = uint32_t(colors.size());
     rendering.pColorAttachments = colors.empty() ? nullptr : colors.data();
     rendering.pDepthAttachment = &depth;
-    if (out.gpu_ms != nullptr) vkCmdResetQueryPool(cmd, timestamps_, 0, 2);
-    vkCmdBeginRendering(cmd, &rendering);
-    if (out.gpu_ms != nullptr)
+    if (out.gpu_ms != nullptr) {
+      vkCmdResetQueryPool(cmd, timestamps_, 0, 2);
       vkCmdWriteTimestamp(cmd, VK_PIPELINE_STAGE_TOP_OF_PIPE_BIT, timestamps_, 0);
-    const Status drawn = draw(cmd);
+    }
+    const Status prepared = frame.before ? frame.before(cmd) : Status::ok();
+    vkCmdBeginRendering(cmd, &rendering);
+    const Status drawn = prepared.isOk() ? draw(cmd) : prepared;
     if (out.gpu_ms != nullptr)
       vkCmdWriteTimestamp(cmd, VK_PIPELINE_STAGE_BOTTOM_OF_PIPE_BIT, timestamps_, 1);
     vkCmdEndRendering(cmd);

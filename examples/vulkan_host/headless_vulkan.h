@@ -46,17 +46,20 @@ class HeadlessVulkan {
     float clear_depth = 1.0f;  ///< 0 under reverse-Z.
     bool color = true;         ///< A colour attachment; false: depth only (a shadow map).
     bool motion = false;       ///< Colour attachment 1, kMotionFormat, cleared to 0.
+    /// Recorded before the rendering begins (the crowd's compute passes), when set.
+    std::function<Status(VkCommandBuffer)> before;
   };
   /// What a frame reads back once it is done (each when not null).
   struct Readback {
     std::vector<uint8_t>* rgba = nullptr;      ///< The colour: RGBA8, rows top to bottom.
     std::vector<float>* depth = nullptr;       ///< Window depth, 0-1.
     std::vector<glm::vec2>* motion = nullptr;  ///< The motion attachment (Frame::motion).
-    double* gpu_ms = nullptr;  ///< GPU time between timestamps before and after `draw`.
+    double* gpu_ms = nullptr;  ///< GPU time from before Frame::before to after `draw`.
   };
-  /// One frame: the targets cleared as `frame` says, `draw` recording inside dynamic rendering
-  /// over them, then what `out` asks read back. It waits for the frame. kUnsupported for GPU
-  /// time on a queue without timestamps; kInvalidArgument for motion without colour.
+  /// One frame: Frame::before recorded, the targets cleared as `frame` says, `draw` recording
+  /// inside dynamic rendering over them, then what `out` asks read back. It waits for the frame.
+  /// kUnsupported for GPU time on a queue without timestamps; kInvalidArgument for motion without
+  /// colour.
   Status render(const Frame& frame, const std::function<Status(VkCommandBuffer)>& draw,
                 const Readback& out);
 

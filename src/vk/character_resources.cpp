@@ -59,6 +59,7 @@ Status stageCharacter(DeviceObjects* objects, const Character& character,
   std::memcpy(&info_block[2], cuts.data(), sizeof(cuts));
 
   c->sub_meshes = mesh.sub_meshes;
+  c->frame_stride_texels = palette.layout.frame_stride_texels;
   // The staging buffer: every content, each at a 16-byte offset.
   struct Content {
     const void* data;
@@ -160,11 +161,13 @@ void destroyCharacter(DeviceObjects* objects, CharacterResources* c) {
     objects->destroy(b);
   for (GpuImage* i : {&c->palette, &c->base_color, &c->material_data, &c->morphs})
     objects->destroy(i);
+  const auto destroy_pipeline = [&](VkPipeline& p) {
+    if (p != VK_NULL_HANDLE) vkDestroyPipeline(objects->device(), p, objects->allocator());
+    p = VK_NULL_HANDLE;
+  };
   for (auto& by_kind : c->pipelines)
-    for (VkPipeline& p : by_kind) {
-      if (p != VK_NULL_HANDLE) vkDestroyPipeline(objects->device(), p, objects->allocator());
-      p = VK_NULL_HANDLE;
-    }
+    for (VkPipeline& p : by_kind) destroy_pipeline(p);
+  for (VkPipeline& p : c->driven_pipelines) destroy_pipeline(p);
   if (c->pool != VK_NULL_HANDLE)
     vkDestroyDescriptorPool(objects->device(), c->pool, objects->allocator());
   c->pool = VK_NULL_HANDLE;

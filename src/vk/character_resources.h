@@ -29,11 +29,16 @@ struct CharacterResources {
   GpuImage palette, base_color, material_data;
   GpuImage morphs;  ///< Morph targets (MorphStream's texels); none without.
   std::vector<SubMesh> sub_meshes;
+  uint32_t frame_stride_texels = 0;  ///< The palette's (the GPU-driven cull pass's records).
   /// Without and with layers, by VulkanKind: the program (its index in vulkanPrograms(), the
   /// mesh's variant) and the pipeline (the motion ones only when the renderer draws motion
   /// vectors).
   uint32_t programs[2][kVulkanKinds] = {};
   VkPipeline pipelines[2][kVulkanKinds] = {};
+  /// The GPU-driven draw's programs and pipelines, shaded and depth only (VulkanKind 0 and 1;
+  /// made when the renderer draws the GPU-driven path).
+  uint32_t driven_programs[2] = {};
+  VkPipeline driven_pipelines[2] = {};
   VkDescriptorPool pool = VK_NULL_HANDLE;
   VkDescriptorSet set = VK_NULL_HANDLE;
   GpuBuffer staging;  ///< Until recordUploads() hands it on.

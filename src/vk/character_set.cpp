@@ -4,11 +4,15 @@
 
 #include <vector>
 
+#include "vk/gpu_driven_layout.h"
+
 namespace si::vk::detail {
 
 Status createCharacterSet(VkDevice device, const VkAllocationCallbacks* allocator,
                           const SkinnedLayout& layout, const SharedResources& shared,
-                          CharacterResources* c) {
+                          const CharacterResources& character, const DrivenOutputs* driven,
+                          VkDescriptorPool* pool, VkDescriptorSet* set) {
+  const CharacterResources* c = &character;
   std::vector<VkDescriptorPoolSize> sizes;
   for (const VkDescriptorSetLayoutBinding& b : layout.bindings)
     sizes.push_back({b.descriptorType, 1});
@@ -17,15 +21,15 @@ Status createCharacterSet(VkDevice device, const VkAllocationCallbacks* allocato
   pool_info.maxSets = 1;
   pool_info.poolSizeCount = uint32_t(sizes.size());
   pool_info.pPoolSizes = sizes.data();
-  Status s = checkVk(vkCreateDescriptorPool(device, &pool_info, allocator, &c->pool),
+  Status s = checkVk(vkCreateDescriptorPool(device, &pool_info, allocator, pool),
                      "vkCreateDescriptorPool");
   if (!s.isOk()) return s;
   auto alloc =
       vkStruct<VkDescriptorSetAllocateInfo>(VK_STRUCTURE_TYPE_DESCRIPTOR_SET_ALLOCATE_INFO);
-  alloc.descriptorPool = c->pool;
+  alloc.descriptorPool = *pool;
   alloc.descriptorSetCount = 1;
   alloc.pSetLayouts = &layout.set_layout;
-  s = checkVk(vkAllocateDescriptorSets(device, &alloc, &c->set), "vkAllocateDescriptorSets");
+  s = checkVk(vkAllocateDescriptorSets(device, &alloc, set), "vkAllocateDescriptorSets");
   if (!s.isOk()) return s;
   std::vector<VkDescriptorBufferInfo> buffer_infos(layout.bindings.size());
   std::vector<VkDescriptorImageInfo> image_infos(layout.bindings.size());
@@ -33,7 +37,7 @@ Status createCharacterSet(VkDevice device, const VkAllocationCallbacks* allocato
   for (size_t k = 0; k < layout.bindings.size(); ++k) {
     const uint32_t b = layout.bindings[k].binding;
     auto w = vkStruct<VkWriteDescriptorSet>(VK_STRUCTURE_TYPE_WRITE_DESCRIPTOR_SET);
-    w.dstSet = c->set;
+    w.dstSet = *set;
     w.dstBinding = b;
     w.descriptorCount = 1;
     w.descriptorType = layout.bindings[k].descriptorType;
@@ -71,6 +75,12 @@ Status createCharacterSet(VkDevice device, const VkAllocationCallbacks* allocato
       image(c->material_data, shared.linear);
     else if (b == kMorphBinding)
       image(c->morphs.image != VK_NULL_HANDLE ? c->morphs : shared.no_morphs, shared.nearest);
+    else if (driven != nullptr && b == kDrivenRecordsBinding)
+      buffer(driven->records, VK_WHOLE_SIZE);
+    else if (driven != nullptr && b == kDrivenEntriesBinding)
+      buffer(driven->entries, VK_WHOLE_SIZE);
+    else if (driven != nullptr && b == kDrivenVisibleBinding)
+      buffer(driven->visible, VK_WHOLE_SIZE);
     writes.push_back(w);
   }
   vkUpdateDescriptorSets(device, uint32_t(writes.size()), writes.data(), 0, nullptr);

@@ -21,10 +21,20 @@ struct SharedResources {
   const GpuImage& no_morphs;  ///< The morph image of characters without targets.
 };
 
-/// Creates `c`'s descriptor pool and set for `layout` and writes every binding. kBackend naming
-/// the failed call (what was made stays in `c`, for destroyCharacter).
+/// What a GPU-driven draw reads of its view's passes (gpu_driven_layout.h's bindings).
+struct DrivenOutputs {
+  const GpuBuffer& records;
+  const GpuBuffer& entries;
+  const GpuBuffer& visible;
+};
+
+/// Creates a descriptor pool and its one set for `layout` into `*pool` and `*set` and writes
+/// every binding with `c`'s resources, `shared`'s, and for the GPU-driven draw's layout
+/// `driven`'s (may be null for the others). kBackend naming the failed call (what was made stays
+/// in `*pool`, for the caller to destroy).
 Status createCharacterSet(VkDevice device, const VkAllocationCallbacks* allocator,
                           const SkinnedLayout& layout, const SharedResources& shared,
-                          CharacterResources* c);
+                          const CharacterResources& c, const DrivenOutputs* driven,
+                          VkDescriptorPool* pool, VkDescriptorSet* set);
 
 }  // namespace si::vk::detail

@@ -12,12 +12,15 @@
 #include "crowd/ring_frame.h"
 #include "si/core/layer_mask.h"
 #include "si/core/shader_inputs.h"
+#include "si/crowd/crowd_export.h"
 #include "si/crowd/crowd_manager.h"
 #include "si_vk/vulkan_profile.h"
 #include "vk/character_resources.h"
 #include "vk/character_set.h"
 #include "vk/device_objects.h"
 #include "vk/draw_state.h"
+#include "vk/gpu_driven_layout.h"
+#include "vk/gpu_driven_views.h"
 #include "vk/image_upload.h"
 #include "vk/program_modules.h"
 #include "vk/skinned_pipeline.h"
@@ -47,16 +50,26 @@ struct Renderer::Impl {
   VkDeviceSize storage_alignment = 256;  // minStorageBufferOffsetAlignment (16 at least).
   uint32_t max_image_size = 0;           // maxImageDimension2D.
   // vulkanPrograms(), in its order: shaded, depth only and with motion vectors, for each mesh
-  // variant (8 influences, vertex words).
+  // variant (8 influences, vertex words); with RendererDesc::gpu_driven also the GPU-driven
+  // draws and passes (left empty without).
   std::vector<ProgramModules> programs;
-  SkinnedLayout layout;  // One set layout for all of them: the union of their declarations.
+  SkinnedLayout layout;  // One set layout for drawCrowd's: the union of their declarations.
+  // The GPU-driven path: its draws' set layout, its passes' layout and pipelines (cull,
+  // commands, scatter), what their unbuilt bindings are given, and its views.
+  SkinnedLayout driven_layout;
+  ComputeLayout compute_layout;
+  VkPipeline passes[3] = {};
+  GpuBuffer unbuilt;
+  GpuImage no_pyramid;
+  GpuDrivenViews driven_views;
   VkSampler nearest = VK_NULL_HANDLE, linear = VK_NULL_HANDLE;
   GpuBuffer ring;
   // Placeholders, one texel each, bound where a character has nothing of its own (every binding
   // of the set is written): the custom texture array (never sampled: u_custom_layers 0) and the
   // morph image of characters without targets (read only by the morph programs).
   GpuImage custom, no_morphs;
-  GpuBuffer placeholder_staging;  // The custom texel (4 bytes), then the morph texel (16).
+  // The custom texel (4 bytes), the morph texel (at 16, 16 bytes), the pyramid's (at 32).
+  GpuBuffer placeholder_staging;
   bool placeholders_uploaded = false;
   std::vector<std::unique_ptr<Character>> characters;
   std::vector<GpuBuffer> finished_staging;  // Freed by uploadsComplete().
@@ -67,6 +80,13 @@ struct Renderer::Impl {
 
   VkDevice device() const { return objects.device(); }
   const VkAllocationCallbacks* allocator() const { return objects.allocator(); }
+  // The frame slot's region of the ring.
+  FrameRegion region() {
+    return {static_cast<uint8_t*>(ring.mapped), VkDeviceSize(frame) * slot_bytes,
+            desc.ring_bytes_per_frame, &frame_used, ubo_alignment};
+  }
+  // Creates the GPU-driven path's layouts, pipelines and placeholders (its programs loaded).
+  Status initGpuDriven(const VkPhysicalDeviceLimits& limits);
 };
 
 Renderer::Renderer() = default;
@@ -109,6 +129,20 @@ Status Renderer::init(const RendererDesc& desc) {
   vkGetPhysicalDeviceFeatures2(desc.physical_device, &features);
   if (!f13.dynamicRendering)
     return {StatusCode::kUnsupported, "vk::Renderer::init: the device has no dynamic rendering"};
+  if (desc.gpu_driven) {
+    const VkPhysicalDeviceFeatures& f = features.features;
+    for (const auto& [has, name] :
+         {std::pair{f.shaderFloat64, "shaderFloat64"},
+          std::pair{f.multiDrawIndirect, "multiDrawIndirect"},
+          std::pair{f.drawIndirectFirstInstance, "drawIndirectFirstInstance"}})
+      if (!has)
+        return {StatusCode::kUnsupported,
+                strCat("vk::Renderer::init: the GPU-driven path needs the device feature ", name)};
+    if (desc.motion_format != VK_FORMAT_UNDEFINED)
+      return {StatusCode::kUnsupported,
+              "vk::Renderer::init: the Vulkan back-end's GPU-driven path draws no motion vectors "
+              "yet (RendererDesc::gpu_driven with motion_format)"};
+  }
   VkFormatProperties normal{};
   vkGetPhysicalDeviceFormatProperties(desc.physical_device, VK_FORMAT_A2B10G10R10_SNORM_PACK32,
                                       &normal);
@@ -143,12 +177,17 @@ Status Renderer::init(const RendererDesc& desc) {
   Impl& m = *impl_;
   Status s = Status::ok();
   m.programs.resize(vulkanPrograms().size());
-  for (size_t k = 0; k < m.programs.size() && s.isOk(); ++k)
-    s = loadProgramModules(m.device(), m.allocator(), vulkanPrograms()[k].name.c_str(),
-                           kDefaultsRange, &m.programs[k]);
+  for (size_t k = 0; k < m.programs.size() && s.isOk(); ++k) {
+    const VulkanProgram& p = vulkanPrograms()[k];
+    if (p.gpu_driven && !desc.gpu_driven) continue;
+    s = loadProgramModules(m.device(), m.allocator(), p.name.c_str(), p.compute,
+                           p.compute ? kComputeDefaultsRange : kDefaultsRange, &m.programs[k]);
+  }
   if (s.isOk()) {
     std::vector<StageReflection> stages;
-    for (const ProgramModules& p : m.programs) {
+    for (size_t k = 0; k < m.programs.size(); ++k) {
+      if (vulkanPrograms()[k].gpu_driven) continue;
+      const ProgramModules& p = m.programs[k];
       stages.push_back({VK_SHADER_STAGE_VERTEX_BIT, &p.vertex_reflection});
       stages.push_back({VK_SHADER_STAGE_FRAGMENT_BIT, &p.fragment_reflection});
     }
@@ -183,19 +222,84 @@ Status Renderer::init(const RendererDesc& desc) {
     s = m.objects.createImage(1, 1, 1, 1, VK_FORMAT_R32G32B32A32_UINT, false,
                               "the morph image's placeholder", &m.no_morphs);
   if (s.isOk())
-    s = m.objects.createBuffer(32, VK_BUFFER_USAGE_TRANSFER_SRC_BIT, true,
+    s = m.objects.createBuffer(48, VK_BUFFER_USAGE_TRANSFER_SRC_BIT, true,
                                "the placeholders' staging", &m.placeholder_staging);
   if (s.isOk()) {
-    std::memset(m.placeholder_staging.mapped, 0, 32);
+    std::memset(m.placeholder_staging.mapped, 0, 48);
     std::memset(m.placeholder_staging.mapped, 255, 4);
   }
+  if (s.isOk() && desc.gpu_driven) s = m.initGpuDriven(props.limits);
   if (!s.isOk()) shutdown();
   return s;
+}
+
+Status Renderer::Impl::initGpuDriven(const VkPhysicalDeviceLimits& limits) {
+  std::vector<StageReflection> stages;
+  const ProgramModules* pass_modules[3] = {};
+  const si::detail::ProgramId pass_ids[3] = {si::detail::ProgramId::kCull,
+                                             si::detail::ProgramId::kCullCommands,
+                                             si::detail::ProgramId::kCullScatter};
+  for (int k = 0; k < 3; ++k) pass_modules[k] = &programs[vulkanComputeProgramIndex(pass_ids[k])];
+  for (size_t k = 0; k < programs.size(); ++k) {
+    const VulkanProgram& p = vulkanPrograms()[k];
+    if (!p.gpu_driven || p.compute) continue;
+    stages.push_back({VK_SHADER_STAGE_VERTEX_BIT, &programs[k].vertex_reflection});
+    stages.push_back({VK_SHADER_STAGE_FRAGMENT_BIT, &programs[k].fragment_reflection});
+  }
+  Status s = createSkinnedLayout(device(), allocator(),
+                                 Span<const StageReflection>(stages.data(), stages.size()),
+                                 &driven_layout);
+  if (s.isOk())
+    s = createComputeLayout(device(), allocator(),
+                            Span<const ProgramModules* const>(pass_modules, 3), &compute_layout);
+  for (int k = 0; k < 3 && s.isOk(); ++k)
+    s = createComputePipeline(device(), allocator(), *pass_modules[k],
+                              compute_layout.pipeline_layout, &passes[k]);
+  if (s.isOk())
+    s = objects.createBuffer(256, VK_BUFFER_USAGE_STORAGE_BUFFER_BIT, false,
+                             "the GPU-driven passes' unbuilt bindings", &unbuilt);
+  if (s.isOk())
+    s = objects.createImage(1, 1, 1, 1, VK_FORMAT_R32_SFLOAT, false,
+                            "the depth pyramid's placeholder", &no_pyramid);
+  if (!s.isOk()) return s;
+  DrivenShared shared;
+  shared.objects = &objects;
+  shared.compute_layout = &compute_layout;
+  for (int k = 0; k < 3; ++k) {
+    shared.passes[k] = passes[k];
+    shared.pass_modules[k] = pass_modules[k];
+  }
+  shared.draw_layout = &driven_layout;
+  shared.ring = &ring;
+  shared.nearest = nearest;
+  shared.linear = linear;
+  shared.custom = &custom;
+  shared.no_morphs = &no_morphs;
+  shared.unbuilt = &unbuilt;
+  shared.no_pyramid = &no_pyramid;
+  shared.max_groups_x = limits.maxComputeWorkGroupCount[0];
+  shared.max_groups_y = limits.maxComputeWorkGroupCount[1];
+  shared.max_storage_range = limits.maxStorageBufferRange;
+  shared.frames_in_flight = desc.frames_in_flight;
+  driven_views.init(shared);
+  return Status::ok();
 }
 
 void Renderer::shutdown() {
   if (!impl_) return;
   Impl& m = *impl_;
+  m.driven_views.release();
+  for (VkPipeline& p : m.passes)
+    if (p != VK_NULL_HANDLE) vkDestroyPipeline(m.device(), p, m.allocator());
+  destroyComputeLayout(m.device(), m.allocator(), &m.compute_layout);
+  for (SkinnedLayout* l : {&m.layout, &m.driven_layout}) {
+    if (l->pipeline_layout != VK_NULL_HANDLE)
+      vkDestroyPipelineLayout(m.device(), l->pipeline_layout, m.allocator());
+    if (l->set_layout != VK_NULL_HANDLE)
+      vkDestroyDescriptorSetLayout(m.device(), l->set_layout, m.allocator());
+  }
+  m.objects.destroy(&m.unbuilt);
+  m.objects.destroy(&m.no_pyramid);
   for (auto& c : m.characters) destroyCharacter(&m.objects, c.get());
   for (GpuBuffer& b : m.finished_staging) m.objects.destroy(&b);
   m.objects.destroy(&m.ring);
@@ -204,10 +308,6 @@ void Renderer::shutdown() {
   m.objects.destroy(&m.placeholder_staging);
   for (VkSampler sampler : {m.nearest, m.linear})
     if (sampler != VK_NULL_HANDLE) vkDestroySampler(m.device(), sampler, m.allocator());
-  if (m.layout.pipeline_layout != VK_NULL_HANDLE)
-    vkDestroyPipelineLayout(m.device(), m.layout.pipeline_layout, m.allocator());
-  if (m.layout.set_layout != VK_NULL_HANDLE)
-    vkDestroyDescriptorSetLayout(m.device(), m.layout.set_layout, m.allocator());
   for (ProgramModules& p : m.programs) destroyProgramModules(m.device(), m.allocator(), &p);
   m.objects.release();  // The memory blocks, every buffer and image gone.
   impl_.reset();
@@ -265,9 +365,17 @@ Status Renderer::addCharacter(const Character& character, const BakedPalette& pa
                                 m.layout.pipeline_layout, formats[k], stream,
                                 &c->pipelines[layers][k]);
     }
+  // The GPU-driven draws, shaded and depth only.
+  for (size_t k = 0; k < 2 && s.isOk() && m.desc.gpu_driven; ++k) {
+    c->driven_programs[k] = uint32_t(vulkanProgramIndex(VulkanKind(k), false, variant, true));
+    s = createSkinnedPipeline(m.device(), m.allocator(), m.programs[c->driven_programs[k]],
+                              m.driven_layout.pipeline_layout, formats[k], stream,
+                              &c->driven_pipelines[k]);
+  }
   if (s.isOk())
     s = createCharacterSet(m.device(), m.allocator(), m.layout,
-                           {m.ring, m.nearest, m.linear, m.custom, m.no_morphs}, c.get());
+                           {m.ring, m.nearest, m.linear, m.custom, m.no_morphs}, *c, nullptr,
+                           &c->pool, &c->set);
   if (!s.isOk()) {
     destroyCharacter(&m.objects, c.get());
     return s;
@@ -283,6 +391,8 @@ Status Renderer::recordUploads(VkCommandBuffer cmd) {
   if (!m.placeholders_uploaded) {
     recordImageUpload(cmd, m.placeholder_staging.buffer, {&m.custom, 0, false});
     recordImageUpload(cmd, m.placeholder_staging.buffer, {&m.no_morphs, 16, false});
+    if (m.no_pyramid.image != VK_NULL_HANDLE)
+      recordImageUpload(cmd, m.placeholder_staging.buffer, {&m.no_pyramid, 32, false});
     m.finished_staging.push_back(m.placeholder_staging);
     m.placeholder_staging = GpuBuffer{};
     m.placeholders_uploaded = true;
@@ -323,6 +433,7 @@ Status Renderer::beginFrame(uint32_t frame) {
                    impl_->desc.frames_in_flight)};
   impl_->frame = int32_t(frame);
   impl_->frame_used = 0;
+  impl_->driven_views.beginFrame(frame);
   return Status::ok();
 }
 
@@ -486,6 +597,72 @@ Status Renderer::recordDraw(VkCommandBuffer cmd, const DrawTarget& target, Chara
   }
   if (stats != nullptr) *stats = st;
   return Status::ok();
+}
+
+Status Renderer::recordGpuDrivenPasses(VkCommandBuffer cmd, CharacterId id, const CrowdView& view,
+                                       const Camera& camera) {
+  if (!impl_)
+    return {StatusCode::kInvalidArgument, "vk::Renderer::recordGpuDrivenPasses: not initialized"};
+  Impl& m = *impl_;
+  if (!m.desc.gpu_driven)
+    return {StatusCode::kUnsupported,
+            "vk::Renderer::recordGpuDrivenPasses: the renderer was not made for the GPU-driven "
+            "path (RendererDesc::gpu_driven)"};
+  if (m.frame < 0)
+    return {StatusCode::kInvalidArgument, "vk::Renderer::recordGpuDrivenPasses: no beginFrame()"};
+  if (id.index >= m.characters.size())
+    return {StatusCode::kInvalidArgument,
+            strCat("vk::Renderer::recordGpuDrivenPasses: no character ", id.index)};
+  const Impl::Character& c = *m.characters[id.index];
+  if (!c.uploads_recorded)
+    return {StatusCode::kInvalidArgument,
+            "vk::Renderer::recordGpuDrivenPasses: the character's uploads were not recorded "
+            "(recordUploads)"};
+  if (view.crowd() == nullptr)
+    return {StatusCode::kInvalidArgument,
+            "vk::Renderer::recordGpuDrivenPasses: the view is not attached to a crowd"};
+  const CrowdManager& crowd = *view.crowd();
+  const CrowdExport exported(crowd);
+  const char* unbuilt = exported.playsOverlays()         ? "overlays (layered animation)"
+                        : exported.livePoseCount() > 0   ? "live poses"
+                        : crowd.desc().impostor_lod != 0 ? "an impostor level"
+                                                         : nullptr;
+  if (unbuilt != nullptr)
+    return {StatusCode::kUnsupported,
+            strCat("vk::Renderer::recordGpuDrivenPasses: the Vulkan back-end's GPU-driven path "
+                   "does not draw a crowd with ",
+                   unbuilt, " yet")};
+  return m.driven_views.recordPasses(cmd, uint32_t(m.frame), m.region(), id.index, c, view, camera);
+}
+
+Status Renderer::recordGpuDrivenDraw(VkCommandBuffer cmd, const DrawTarget& target, CharacterId id,
+                                     const CrowdView& view, DrawStats* stats) {
+  if (!impl_)
+    return {StatusCode::kInvalidArgument, "vk::Renderer::recordGpuDrivenDraw: not initialized"};
+  Impl& m = *impl_;
+  if (!m.desc.gpu_driven)
+    return {StatusCode::kUnsupported,
+            "vk::Renderer::recordGpuDrivenDraw: the renderer was not made for the GPU-driven "
+            "path (RendererDesc::gpu_driven)"};
+  if (target.mode != DrawMode::kShaded && target.mode != DrawMode::kDepthOnly)
+    return {StatusCode::kInvalidArgument,
+            strCat("vk::Renderer::recordGpuDrivenDraw: no draw mode ", int(target.mode))};
+  if (target.extent.width == 0 || target.extent.height == 0)
+    return {StatusCode::kInvalidArgument, "vk::Renderer::recordGpuDrivenDraw: an empty extent"};
+  if (target.depth_compare > VK_COMPARE_OP_ALWAYS && target.depth_compare != VK_COMPARE_OP_MAX_ENUM)
+    return {StatusCode::kInvalidArgument,
+            strCat("vk::Renderer::recordGpuDrivenDraw: depth_compare ", int(target.depth_compare),
+                   " is no VkCompareOp")};
+  if (m.frame < 0)
+    return {StatusCode::kInvalidArgument, "vk::Renderer::recordGpuDrivenDraw: no beginFrame()"};
+  if (id.index >= m.characters.size())
+    return {StatusCode::kInvalidArgument,
+            strCat("vk::Renderer::recordGpuDrivenDraw: no character ", id.index)};
+  const Impl::Character& c = *m.characters[id.index];
+  const size_t k = target.mode == DrawMode::kDepthOnly ? 1 : 0;
+  return m.driven_views.recordDraw(cmd, m.region(), id.index, c, c.driven_pipelines[k],
+                                   m.programs[c.driven_programs[k]], view, target,
+                                   m.desc.light_direction, stats);
 }
 
 }  // namespace si::vk

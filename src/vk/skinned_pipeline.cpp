@@ -2,12 +2,14 @@
 // The skinned program's layouts and pipeline.
 #include "vk/skinned_pipeline.h"
 
+#include <algorithm>
 #include <iterator>
 #include <map>
 #include <vector>
 
 #include "core/str_cat.h"
 #include "vk/device_objects.h"
+#include "vk/gpu_driven_layout.h"
 
 namespace si::vk::detail {
 
@@ -30,7 +32,9 @@ Status createSkinnedLayout(VkDevice device, const VkAllocationCallbacks* allocat
         type = VK_DESCRIPTOR_TYPE_STORAGE_BUFFER_DYNAMIC;
       else if (b == kPaletteInfoBinding)
         type = VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER;
-      else if (b == kVertexMaterialsBinding || b == kMaterialTableBinding || b == kPreviousBinding)
+      else if (b == kVertexMaterialsBinding || b == kMaterialTableBinding ||
+               b == kPreviousBinding || b == kDrivenRecordsBinding || b == kDrivenEntriesBinding ||
+               b == kDrivenVisibleBinding)
         type = VK_DESCRIPTOR_TYPE_STORAGE_BUFFER;
       else if (b == kPaletteBinding || b == kBaseColorBinding || b == kCustomBinding ||
                b == kMaterialDataBinding || b == kMorphBinding)
@@ -86,8 +90,10 @@ Status createSkinnedPipeline(VkDevice device, const VkAllocationCallbacks* alloc
   // the vertex stage reads. Without tangents, attribute 7 reads the normal's word (w 0: no
   // tangent frame); without texture coordinates 1 or colours, attributes 8 and 9 read other
   // words, which the fragment stage does not use (SiMaterial.layer.w says what the mesh has).
-  const VkVertexInputBindingDescription binding{0, stream.stride_bytes,
-                                                VK_VERTEX_INPUT_RATE_VERTEX};
+  // The GPU-driven draw's entry index (a_entry, location 5): binding 1, per instance, from an
+  // identity buffer (firstInstance + instance: the bucket's entries).
+  const VkVertexInputBindingDescription bindings[2] = {
+      {0, stream.stride_bytes, VK_VERTEX_INPUT_RATE_VERTEX}, {1, 4, VK_VERTEX_INPUT_RATE_INSTANCE}};
   const VkFormat joints =
       stream.wide_joints ? VK_FORMAT_R16G16B16A16_UINT : VK_FORMAT_R8G8B8A8_UINT;
   const auto word = [](uint32_t offset, uint32_t otherwise) {
@@ -106,6 +112,7 @@ Status createSkinnedPipeline(VkDevice device, const VkAllocationCallbacks* alloc
       {10, 0, joints, stream.joints1_offset},
       {11, 0, VK_FORMAT_R16G16B16A16_UNORM, stream.weights1_offset},
       {12, 0, VK_FORMAT_R32_UINT, stream.morph_offset},  // The morph word.
+      {5, 1, VK_FORMAT_R32_UINT, 0},                     // The GPU-driven draw's entry.
   };
   std::vector<VkVertexInputAttributeDescription> attributes;
   for (const SpirvVarying& in : program.vertex_reflection.inputs) {
@@ -121,10 +128,13 @@ Status createSkinnedPipeline(VkDevice device, const VkAllocationCallbacks* alloc
                      ", for which the character's vertex stream has no word")};
     attributes.push_back(*a);
   }
+  const bool entries =
+      std::any_of(attributes.begin(), attributes.end(),
+                  [](const VkVertexInputAttributeDescription& a) { return a.binding == 1; });
   auto input = vkStruct<VkPipelineVertexInputStateCreateInfo>(
       VK_STRUCTURE_TYPE_PIPELINE_VERTEX_INPUT_STATE_CREATE_INFO);
-  input.vertexBindingDescriptionCount = 1;
-  input.pVertexBindingDescriptions = &binding;
+  input.vertexBindingDescriptionCount = entries ? 2 : 1;
+  input.pVertexBindingDescriptions = bindings;
   input.vertexAttributeDescriptionCount = uint32_t(attributes.size());
   input.pVertexAttributeDescriptions = attributes.data();
   auto assembly = vkStruct<VkPipelineInputAssemblyStateCreateInfo>(

@@ -78,7 +78,8 @@ struct RenderingFormats {
 };
 
 /// A skinned program's graphics pipeline for `stream`'s vertex format (as si::gl's
-/// CharacterBuffers describes it: an attribute for each input the vertex stage reads), for
+/// CharacterBuffers describes it: an attribute for each input the vertex stage reads; a
+/// GPU-driven draw's entry index from vertex binding 1, per instance), for
 /// dynamic rendering into `formats`: back faces culled, depth tested and written; the viewport,
 /// scissor, depth compare, front face and depth bias dynamic (set by each draw). kUnsupported
 /// naming a vertex input the stream has no word for; kBackend on a failed call.

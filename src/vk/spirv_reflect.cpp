@@ -19,8 +19,9 @@ constexpr uint32_t kOpName = 5, kOpMemberName = 6, kOpFunction = 54, kOpTypeImag
                    kOpTypeSampledImage = 27, kOpTypeArray = 28, kOpTypeStruct = 30,
                    kOpTypePointer = 32, kOpConstant = 43, kOpVariable = 59, kOpDecorate = 71,
                    kOpMemberDecorate = 72;
-constexpr uint32_t kDecorationBlock = 2, kDecorationBufferBlock = 3, kDecorationBinding = 33,
-                   kDecorationDescriptorSet = 34, kDecorationOffset = 35, kDecorationLocation = 30;
+constexpr uint32_t kDecorationBlock = 2, kDecorationBufferBlock = 3, kDecorationArrayStride = 6,
+                   kDecorationBinding = 33, kDecorationDescriptorSet = 34, kDecorationOffset = 35,
+                   kDecorationLocation = 30;
 constexpr uint32_t kStorageUniformConstant = 0, kStorageInput = 1, kStorageUniform = 2,
                    kStorageOutput = 3, kStorageStorageBuffer = 12;
 constexpr uint32_t kDimBuffer = 5;
@@ -91,10 +92,15 @@ const char* descriptorKindName(DescriptorKind kind) {
   return "unknown";
 }
 
-int64_t defaultOffset(const SpirvReflection& r, const char* name) {
+const SpirvMember* defaultMember(const SpirvReflection& r, const char* name) {
   for (const SpirvMember& m : r.default_uniforms)
-    if (m.name == name) return int64_t(m.offset);
-  return -1;
+    if (m.name == name) return &m;
+  return nullptr;
+}
+
+int64_t defaultOffset(const SpirvReflection& r, const char* name) {
+  const SpirvMember* m = defaultMember(r, name);
+  return m != nullptr ? int64_t(m->offset) : -1;
 }
 
 Status reflectSpirv(Span<const uint32_t> words, const char* defaults_block, SpirvReflection* out) {
@@ -104,7 +110,7 @@ Status reflectSpirv(Span<const uint32_t> words, const char* defaults_block, Spir
   std::map<uint32_t, std::string> names;
   std::map<std::pair<uint32_t, uint32_t>, std::string> member_names;
   std::map<std::pair<uint32_t, uint32_t>, uint32_t> member_offsets;
-  std::map<uint32_t, uint32_t> bindings, sets, constants, locations;
+  std::map<uint32_t, uint32_t> bindings, sets, constants, locations, array_strides;
   std::map<uint32_t, uint32_t> block_kind;  // Struct id -> kDecorationBlock or BufferBlock.
   std::map<uint32_t, Type> types;
   struct Variable {
@@ -140,6 +146,7 @@ Status reflectSpirv(Span<const uint32_t> words, const char* defaults_block, Spir
         if (op(2) == kDecorationBinding && count >= 4) bindings[op(1)] = op(3);
         if (op(2) == kDecorationDescriptorSet && count >= 4) sets[op(1)] = op(3);
         if (op(2) == kDecorationLocation && count >= 4) locations[op(1)] = op(3);
+        if (op(2) == kDecorationArrayStride && count >= 4) array_strides[op(1)] = op(3);
         if (op(2) == kDecorationBlock || op(2) == kDecorationBufferBlock) block_kind[op(1)] = op(2);
         break;
       case kOpMemberDecorate:
@@ -199,8 +206,14 @@ Status reflectSpirv(Span<const uint32_t> words, const char* defaults_block, Spir
                    : DescriptorKind::kUniformBuffer;
       d.name = names[pointee];
       if (defaults_block != nullptr && d.name == defaults_block)
-        for (uint32_t m = 0; member_names.count({pointee, m}) != 0; ++m)
-          r.default_uniforms.push_back({member_names[{pointee, m}], member_offsets[{pointee, m}]});
+        for (uint32_t m = 0; member_names.count({pointee, m}) != 0; ++m) {
+          // The member's type (the struct's operand m): an array's stride is decorated there.
+          const std::vector<uint32_t>& members = type->second.operands;
+          const auto stride =
+              m < members.size() ? array_strides.find(members[m]) : array_strides.end();
+          r.default_uniforms.push_back({member_names[{pointee, m}], member_offsets[{pointee, m}],
+                                        stride != array_strides.end() ? stride->second : 0u});
+        }
     } else {
       // A sampler: the sampled image's image (a buffer dimension: a texel buffer); an image.
       uint32_t image = pointee;

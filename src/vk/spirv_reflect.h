@@ -35,10 +35,13 @@ struct SpirvDescriptor {
   std::string name;    ///< The block's type name, or the sampler's or image's variable name.
 };
 
-/// One member of a uniform block: its name and byte offset.
+/// One member of a uniform block: its name and byte offset, and for an array the bytes from one
+/// element to the next (std140 rounds a scalar array's up to 16; 0 for a member that is no
+/// array).
 struct SpirvMember {
   std::string name;
   uint32_t offset = 0;
+  uint32_t array_stride = 0;
 };
 
 /// One stage input or output with a location (built-ins have none): its variable's name.
@@ -60,6 +63,8 @@ struct SpirvReflection {
 
 /// The byte offset of default-block member `name` in `r`, or -1 when the stage has none.
 int64_t defaultOffset(const SpirvReflection& r, const char* name);
+/// Default-block member `name` of `r`, or null when the stage has none.
+const SpirvMember* defaultMember(const SpirvReflection& r, const char* name);
 
 /// Reads the descriptors, the default block's members and the located inputs and outputs of
 /// SPIR-V module `words`.

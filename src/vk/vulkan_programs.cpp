@@ -11,8 +11,12 @@ using si::detail::ProgramId;
 
 constexpr VulkanKind kKinds[] = {VulkanKind::kShaded, VulkanKind::kDepthOnly, VulkanKind::kMotion};
 
-// The catalog's program of `kind`, with the overlays on their masks or not.
-ProgramId catalogProgram(VulkanKind kind, bool layers) {
+// The catalog's program of `kind`, with the overlays on their masks or not, of drawCrowd's
+// path or the GPU-driven one (no layers there yet).
+ProgramId catalogProgram(VulkanKind kind, bool layers, bool gpu_driven) {
+  if (gpu_driven)
+    return kind == VulkanKind::kDepthOnly ? ProgramId::kGpuDrivenDepthOnly
+                                          : ProgramId::kGpuDrivenSkinned;
   switch (kind) {
     case VulkanKind::kDepthOnly:
       return layers ? ProgramId::kDepthOnlyLayers : ProgramId::kDepthOnly;
@@ -26,22 +30,31 @@ ProgramId catalogProgram(VulkanKind kind, bool layers) {
 
 std::vector<VulkanProgram> makePrograms() {
   std::vector<VulkanProgram> programs;
-  for (bool morph : {false, true})
-    for (bool layers : {false, true})
-      for (bool eight : {false, true})
-        for (bool words : {false, true})
-          for (VulkanKind kind : kKinds) {
-            if (words && kind == VulkanKind::kDepthOnly) continue;  // It reads no vertex words.
-            std::string name = kind == VulkanKind::kShaded      ? "skinned"
-                               : kind == VulkanKind::kDepthOnly ? "depth_only"
-                                                                : "skinned_motion";
-            if (layers) name += "_layers";
-            if (morph) name += "_morph";
-            if (eight) name += "_8";
-            if (words) name += "_words";
-            programs.push_back(
-                {catalogProgram(kind, layers), kind, layers, morph, eight, words, name});
-          }
+  for (bool gpu_driven : {false, true})
+    for (bool morph : {false, true})
+      for (bool layers : {false, true})
+        for (bool eight : {false, true})
+          for (bool words : {false, true})
+            for (VulkanKind kind : kKinds) {
+              if (words && kind == VulkanKind::kDepthOnly) continue;  // It reads no vertex words.
+              // The GPU-driven draws: no layers or motion vectors yet.
+              if (gpu_driven && (layers || kind == VulkanKind::kMotion)) continue;
+              std::string name = kind == VulkanKind::kShaded      ? "skinned"
+                                 : kind == VulkanKind::kDepthOnly ? "depth_only"
+                                                                  : "skinned_motion";
+              if (gpu_driven) name = "gpu_" + name;
+              if (layers) name += "_layers";
+              if (morph) name += "_morph";
+              if (eight) name += "_8";
+              if (words) name += "_words";
+              programs.push_back({catalogProgram(kind, layers, gpu_driven), kind, gpu_driven, false,
+                                  layers, morph, eight, words, name});
+            }
+  for (const auto& [id, name] :
+       {std::pair{ProgramId::kCull, "cull"}, std::pair{ProgramId::kCullCommands, "cull_commands"},
+        std::pair{ProgramId::kCullScatter, "cull_scatter"}})
+    programs.push_back(
+        {id, VulkanKind::kShaded, true, true, false, false, false, false, std::string(name)});
   return programs;
 }
 
@@ -56,15 +69,22 @@ Span<const VulkanProgram> vulkanPrograms() {
   return Span<const VulkanProgram>(programList().data(), programList().size());
 }
 
-size_t vulkanProgramIndex(VulkanKind kind, bool layers, const MeshVariant& mesh) {
+size_t vulkanProgramIndex(VulkanKind kind, bool layers, const MeshVariant& mesh, bool gpu_driven) {
   const bool words = mesh.vertex_words && kind != VulkanKind::kDepthOnly;
   const std::vector<VulkanProgram>& programs = programList();
   for (size_t k = 0; k < programs.size(); ++k)
-    if (programs[k].kind == kind && programs[k].layers == layers &&
-        programs[k].morph_targets == mesh.morph_targets &&
+    if (!programs[k].compute && programs[k].gpu_driven == gpu_driven && programs[k].kind == kind &&
+        programs[k].layers == layers && programs[k].morph_targets == mesh.morph_targets &&
         programs[k].eight_influences == mesh.eight_influences && programs[k].vertex_words == words)
       return k;
   return 0;  // makePrograms() lists every combination.
+}
+
+size_t vulkanComputeProgramIndex(ProgramId id) {
+  const std::vector<VulkanProgram>& programs = programList();
+  for (size_t k = 0; k < programs.size(); ++k)
+    if (programs[k].compute && programs[k].id == id) return k;
+  return 0;  // makePrograms() lists the three passes.
 }
 
 si::detail::ShaderConfig vulkanShaderConfig(const VulkanProgram& program) {

@@ -28,6 +28,10 @@ inline constexpr size_t kVulkanKinds = 3;
 struct VulkanProgram {
   si::detail::ProgramId id;
   VulkanKind kind;
+  /// The GPU-driven path's draw (records through the cull pass's bucket entries: "gpu_" before
+  /// the name), or one of its compute passes (compute; kind kShaded, no variant).
+  bool gpu_driven;
+  bool compute;
   bool layers;
   bool morph_targets;
   bool eight_influences;
@@ -38,8 +42,10 @@ struct VulkanProgram {
 /// The programs the Vulkan back-end builds so far: the vertex-shader path, shaded, depth only
 /// and shaded with motion vectors, each without and with layers, for meshes without and with
 /// morph targets, of 4 and of 8 influences, the shaded ones also for meshes with vertex words
-/// (the depth-only stage reads none). Ordered by morph targets, layers, 8 influences, vertex
-/// words, then kind.
+/// (the depth-only stage reads none), ordered by morph targets, layers, 8 influences, vertex
+/// words, then kind; then the GPU-driven path's draws, shaded and depth only, without layers,
+/// for the same meshes in the same order; then its compute passes: "cull", "cull_commands",
+/// "cull_scatter".
 Span<const VulkanProgram> vulkanPrograms();
 
 /// What a character's mesh needs of its programs.
@@ -50,8 +56,13 @@ struct MeshVariant {
 };
 
 /// The index in vulkanPrograms() of the program of `kind`, with layers or not, for a mesh of
-/// `mesh` (its vertex words ignored for kDepthOnly).
-size_t vulkanProgramIndex(VulkanKind kind, bool layers, const MeshVariant& mesh);
+/// `mesh` (its vertex words ignored for kDepthOnly); the GPU-driven path's draw with
+/// `gpu_driven` (kShaded or kDepthOnly, no layers).
+size_t vulkanProgramIndex(VulkanKind kind, bool layers, const MeshVariant& mesh,
+                          bool gpu_driven = false);
+/// The index in vulkanPrograms() of the GPU-driven compute pass `id` (kCull, kCullCommands,
+/// kCullScatter).
+size_t vulkanComputeProgramIndex(si::detail::ProgramId id);
 
 /// Records in the instance uniform block: 819 of 80 bytes fill a 64 KiB block, the
 /// maxUniformBufferRange of NVIDIA's and lavapipe's drivers (the Vulkan minimum is 16 KiB: a

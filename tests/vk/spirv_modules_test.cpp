@@ -42,17 +42,33 @@ std::string readFile(const std::string& path) {
   return s.str();
 }
 
+// A program's stages: a vertex and a fragment stage, or a compute stage alone.
+std::vector<const char*> stagesOf(const VulkanProgram& p) {
+  if (p.compute) return {"comp"};
+  return {"vert", "frag"};
+}
+
 // Each module's name: "<program>.<stage>".
 std::vector<std::string> moduleNames() {
   std::vector<std::string> names;
   for (const VulkanProgram& p : vulkanPrograms())
-    for (const char* stage : {"vert", "frag"}) names.push_back(std::string(p.name) + "." + stage);
+    for (const char* stage : stagesOf(p)) names.push_back(std::string(p.name) + "." + stage);
   return names;
+}
+
+// The binding of a stage's default uniform block, by the module's name.
+uint32_t defaultsBindingOf(const std::string& module) {
+  return module.find(".vert") != std::string::npos   ? kVertexDefaultsBinding
+         : module.find(".comp") != std::string::npos ? kComputeDefaultsBinding
+                                                     : kFragmentDefaultsBinding;
 }
 
 TEST(VulkanSpirv, EveryProgramsStagesAreEmbeddedAndValidForVulkan13) {
   skipWithout("spirv-val", "spirv-tools");
-  ASSERT_EQ(kSpirvModuleCount, 2 * vulkanPrograms().size());
+  ASSERT_EQ(kSpirvModuleCount, moduleNames().size());
+  size_t compute = 0;
+  for (const VulkanProgram& p : vulkanPrograms()) compute += p.compute;
+  EXPECT_EQ(compute, 3u) << "the GPU-driven path's cull, commands and scatter passes";
   for (const std::string& name : moduleNames()) {
     SCOPED_TRACE(name);
     const SpirvModule* m = findSpirvModule(name.c_str());
@@ -69,10 +85,11 @@ TEST(VulkanSpirv, EveryProgramsStagesAreEmbeddedAndValidForVulkan13) {
 }
 
 // glslang's reflection (-q) of the GLSL the build compiled, with the build's options: each
-// block's and sampler's binding, and each default-block member's offset.
+// block's and sampler's binding, and each default-block member's offset and array stride.
 struct GlslangReflection {
   std::map<std::string, int> bindings;  // Block (type) names and sampler names.
   std::map<std::string, int> defaults;  // Default-block member -> offset.
+  std::map<std::string, int> strides;   // Default-block array member -> its array stride.
 };
 
 GlslangReflection glslangReflection(const std::string& name, uint32_t defaults_binding) {
@@ -87,6 +104,7 @@ GlslangReflection glslangReflection(const std::string& name, uint32_t defaults_b
   std::string line, section;
   std::map<int, std::string> block_of_index;
   std::vector<std::pair<std::string, std::pair<int, int>>> members;  // name, (index, offset).
+  std::map<std::string, int> member_strides;
   int block_index = 0;
   // "name: offset O, type T, size S, index I, binding B, ...".
   const auto field = [](const std::string& text, const char* key, int* value) {
@@ -115,10 +133,15 @@ GlslangReflection glslangReflection(const std::string& name, uint32_t defaults_b
         r.bindings[n] = binding;  // A sampler.
       else
         members.push_back({n, {index, offset}});
+      int stride = 0;
+      if (field(line, ", arrayStride ", &stride)) member_strides[n] = stride;
     }
   }
   for (const auto& [n, at] : members)
-    if (block_of_index[at.first] == kDefaultUniformBlock) r.defaults[n] = at.second;
+    if (block_of_index[at.first] == kDefaultUniformBlock) {
+      r.defaults[n] = at.second;
+      if (member_strides.count(n) != 0) r.strides[n] = member_strides[n];
+    }
   return r;
 }
 
@@ -134,8 +157,7 @@ TEST(VulkanSpirv, WhatTheReaderFindsIsWhatGlslangReports) {
     const Status s =
         reflectSpirv(Span<const uint32_t>(m->words, m->word_count), kDefaultUniformBlock, &mine);
     ASSERT_TRUE(s.isOk()) << s.toString();
-    const GlslangReflection theirs =
-        glslangReflection(name, vertex ? kVertexDefaultsBinding : kFragmentDefaultsBinding);
+    const GlslangReflection theirs = glslangReflection(name, defaultsBindingOf(name));
     with_descriptors += theirs.bindings.empty() ? 0 : 1;
     EXPECT_EQ(mine.descriptors.size(), theirs.bindings.size());
     for (const SpirvDescriptor& d : mine.descriptors) {
@@ -145,12 +167,18 @@ TEST(VulkanSpirv, WhatTheReaderFindsIsWhatGlslangReports) {
       ASSERT_NE(it, theirs.bindings.end()) << "glslang does not name it";
       EXPECT_EQ(int(d.binding), it->second);
     }
-    std::map<std::string, int> defaults;
-    for (const SpirvMember& member : mine.default_uniforms)
+    std::map<std::string, int> defaults, strides;
+    for (const SpirvMember& member : mine.default_uniforms) {
       defaults[member.name] = int(member.offset);
+      if (member.array_stride != 0) strides[member.name] = int(member.array_stride);
+    }
     EXPECT_EQ(defaults, theirs.defaults);
+    EXPECT_EQ(strides, theirs.strides);
     if (vertex) {
       EXPECT_EQ(defaults.count("u_view_projection"), 1u) << "a vertex stage's camera";
+    }
+    if (name == "cull.comp") {  // std140 arrays of scalars: 16 bytes an element.
+      EXPECT_EQ(strides["u_lines"], 16) << "the LOD lines";
     }
   }
   // Only the depth-only programs' fragment stages (empty) declare nothing.
@@ -167,7 +195,7 @@ TEST(VulkanSpirv, TheStagesOfAProgramAgreeOnEveryBinding) {
   for (const VulkanProgram& p : vulkanPrograms()) {
     SCOPED_TRACE(p.name);
     std::map<uint32_t, DescriptorKind> kinds;
-    for (const char* stage : {"vert", "frag"}) {
+    for (const char* stage : stagesOf(p)) {
       const SpirvModule* m = findSpirvModule((std::string(p.name) + "." + stage).c_str());
       ASSERT_NE(m, nullptr);
       SpirvReflection r;
@@ -181,8 +209,7 @@ TEST(VulkanSpirv, TheStagesOfAProgramAgreeOnEveryBinding) {
             << "binding " << d.binding << " is a " << descriptorKindName(it->second) << " and a "
             << descriptorKindName(d.kind);
         if (d.name == kDefaultUniformBlock) {
-          EXPECT_EQ(d.binding, std::string(stage) == "vert" ? kVertexDefaultsBinding
-                                                            : kFragmentDefaultsBinding);
+          EXPECT_EQ(d.binding, defaultsBindingOf(std::string(".") + stage));
         } else if (d.kind == DescriptorKind::kUniformBuffer) {
           EXPECT_LT(d.binding, kStorageBindingShift);
         } else if (d.kind == DescriptorKind::kStorageBuffer) {
@@ -204,6 +231,7 @@ TEST(VulkanSpirv, TheStagesOfAProgramAgreeOnEveryBinding) {
 TEST(VulkanSpirv, TheStagesOfAProgramMeetAtTheSameLocations) {
   for (const VulkanProgram& p : vulkanPrograms()) {
     SCOPED_TRACE(p.name);
+    if (p.compute) continue;  // One stage.
     SpirvReflection stages[2];
     for (int k = 0; k < 2; ++k) {
       const SpirvModule* m =

@@ -41,8 +41,10 @@ TEST_P(VulkanRenderTest, TheVertexShaderPathDrawsWhatOpenGlDraws) {
         drawCrowdImage(character(), palette(), crowd, camera, false);
     std::vector<uint8_t> image;
     vk::DrawStats stats;
+    examples::HeadlessVulkan::Frame frame;
+    frame.clear_color = background;
     s = host.render(
-        {background},
+        frame,
         [&](VkCommandBuffer cmd) {
           const Status begun = r.beginFrame(slot);
           if (!begun.isOk()) return begun;

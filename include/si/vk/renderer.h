@@ -37,8 +37,11 @@
 /// (reverse-Z included) and with y-flipped projections; meshes of 4 or 8 influences a vertex,
 /// with or without morph targets, vertex colours and a second texture coordinate set (each
 /// drawn by its program variant); layered animation (overlays on their masks, 1D blends);
-/// palettes of every si::PaletteFormat. Everything else (the GPU-driven path, compute
-/// pre-skinning, 2D blends, host materials, impostors) is refused by name (kUnsupported).
+/// palettes of every si::PaletteFormat; and the GPU-driven path's culling, LOD and indirect
+/// draw (recordGpuDrivenPasses, recordGpuDrivenDraw: shaded or depth only, every mesh variant,
+/// without layers, live poses, motion vectors, impostors or occlusion yet). Everything else
+/// (compute pre-skinning, 2D blends, host materials, impostors, occlusion) is refused by name
+/// (kUnsupported).
 /// What the host must do: record recordUploads() before the first draw of a character and
 /// submit it before (or with) that draw; give each frame in flight its own slot (beginFrame(),
 /// below RendererDesc::frames_in_flight) and wait for a slot's last frame before beginning it
@@ -93,6 +96,11 @@ struct RendererDesc {
   float morph_lod_share = 0.5f;
   /// The direction the light travels along, world space (si::Renderer's default).
   glm::vec3 light_direction = glm::normalize(glm::vec3(-0.4f, -1.0f, -0.3f));
+  /// The GPU-driven path (recordGpuDrivenPasses, recordGpuDrivenDraw). The host created its
+  /// device with the features shaderFloat64, multiDrawIndirect and drawIndirectFirstInstance
+  /// enabled (the cull pass keeps the crowd's clock and positions in doubles, as the CPU does):
+  /// init() refuses a physical device without them (kUnsupported). Not with motion vectors yet.
+  bool gpu_driven = false;
 };
 
 /// A character added to a Renderer.
@@ -190,6 +198,33 @@ class Renderer {
   Status recordDraw(VkCommandBuffer cmd, const DrawTarget& target, CharacterId id,
                     const CrowdView& view, const InstanceBatcher& batcher, const Camera& camera,
                     DrawStats* stats = nullptr);
+
+  /// The GPU-driven path (RendererDesc::gpu_driven), part 1 of 2: records into `cmd`, outside
+  /// rendering and before the rendering that draws it, `view`'s selection of character `id`
+  /// with `camera` computed on the GPU, as si::Renderer::drawCrowdGpuCulled computes it (the
+  /// same cull, commands and scatter passes: every instance of the view's crowd culled against
+  /// the frustum and given its LOD by the view's rules, its record written at the crowd's
+  /// clock, bucketed per (LOD, sub-mesh)). The crowd's state is copied in (from a staging
+  /// buffer of the frame slot) when it changed since the view's last passes; the CPU's work
+  /// does not depend on the crowd's size otherwise, and the view need not select on the CPU.
+  /// What a view keeps on the GPU (its LODs' hysteresis) is its own, per character. After
+  /// beginFrame(), once per view and frame. kInvalidArgument for no beginFrame(), an unknown
+  /// character, its uploads not recorded, a detached view, or a crowd of more buckets than
+  /// 256 or sub-meshes than the character's; kUnsupported without RendererDesc::gpu_driven, or
+  /// for a crowd that plays overlays, holds live poses or has an impostor level (not built on
+  /// Vulkan yet); kLimitExceeded when a buffer passes maxStorageBufferRange, the instances need
+  /// more compute groups than the device has, or the frame's uniforms pass the slot's region.
+  Status recordGpuDrivenPasses(VkCommandBuffer cmd, CharacterId id, const CrowdView& view,
+                               const Camera& camera);
+  /// Part 2: records the draw of `view`'s passes of this frame into `cmd` (inside the host's
+  /// rendering, as recordDraw: `target` says where and what), with the passes' camera: one
+  /// vkCmdDrawIndexedIndirect of every bucket, each instance's record read through its bucket
+  /// entry. Any number of draws (shaded, depth only) of one frame's passes. `stats` counts the
+  /// draw calls only: the instances and triangles are the GPU's. kInvalidArgument for an
+  /// unknown character or mode, an empty extent, or a view whose passes were not recorded in
+  /// this frame; kUnsupported without RendererDesc::gpu_driven.
+  Status recordGpuDrivenDraw(VkCommandBuffer cmd, const DrawTarget& target, CharacterId id,
+                             const CrowdView& view, DrawStats* stats = nullptr);
 
  private:
   struct Impl;

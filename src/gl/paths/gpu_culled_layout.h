@@ -10,22 +10,12 @@
 #include <cstdint>
 #include <cstring>
 
+#include "gl/programs/cull_layout.h"
 #include "gl/resources/gl_allocation.h"
 #include "si/core/status.h"
 
 namespace si::detail {
 
-// SiCounters (shaders/cull_counters.glsl), in 32-bit words.
-inline constexpr uint32_t kMaxBuckets = 256;
-inline constexpr uint32_t kBucketCountWord = 4, kDispatchWord = 4 + 2 * kMaxBuckets;
-inline constexpr uint32_t kSkinDispatchWord = kDispatchWord + 4;
-inline constexpr uint32_t kThreadBaseWord = kSkinDispatchWord + 4 + kMaxBuckets;
-inline constexpr uint32_t kFittedWord = kThreadBaseWord + kMaxBuckets + 1;
-inline constexpr uint32_t kImpostorDispatchWord = kFittedWord + kMaxBuckets;
-inline constexpr uint32_t kImpostorsDrawnWord = kImpostorDispatchWord + 4;
-inline constexpr uint32_t kCounterWords = kImpostorsDrawnWord + 1;
-// The impostor quads pass's output (shaders/impostor_quads.comp.glsl): 4 words of 16 bytes.
-inline constexpr uint32_t kImpostorQuadBytes = 64;
 // SiCommands: vertex-shader draws at 0, pre-skinned draws from command 256 on (20 bytes each).
 inline constexpr GLintptr kPreskinnedCommands = GLintptr(kMaxBuckets) * 20;
 // The impostor bucket's glDrawArraysIndirect command (cull_commands.comp.glsl's word 2560).

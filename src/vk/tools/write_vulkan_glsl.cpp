@@ -7,6 +7,7 @@
 #include <cstdio>
 #include <cstring>
 #include <fstream>
+#include <initializer_list>
 #include <string>
 
 #include "vk/vulkan_programs.h"
@@ -25,9 +26,12 @@ int main(int argc, char** argv) {
     std::fprintf(stderr, "\n");
     return 1;
   }
+  using si::detail::ShaderStage;
   for (const si::vk::detail::VulkanProgram& p : programs) {
-    for (si::detail::ShaderStage stage :
-         {si::detail::ShaderStage::kVertex, si::detail::ShaderStage::kFragment}) {
+    const std::initializer_list<ShaderStage> graphics = {ShaderStage::kVertex,
+                                                         ShaderStage::kFragment};
+    const std::initializer_list<ShaderStage> compute = {ShaderStage::kCompute};
+    for (ShaderStage stage : p.compute ? compute : graphics) {
       std::string source;
       const si::Status s =
           si::detail::assembleStage(p.id, stage, si::vk::detail::vulkanShaderConfig(p), &source);
@@ -36,7 +40,9 @@ int main(int argc, char** argv) {
         return 1;
       }
       const std::string path = std::string(argv[1]) + "/" + p.name + "." +
-                               (stage == si::detail::ShaderStage::kVertex ? "vert" : "frag");
+                               (stage == ShaderStage::kVertex     ? "vert"
+                                : stage == ShaderStage::kFragment ? "frag"
+                                                                  : "comp");
       std::ofstream out(path, std::ios::binary);
       out << source;
       if (!out) {

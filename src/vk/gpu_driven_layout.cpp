@@ -1,0 +1,78 @@
+// SkinnedInstancing — SPDX-License-Identifier: MIT (see LICENSE)
+// The GPU-driven compute passes' layouts and pipelines.
+#include "vk/gpu_driven_layout.h"
+
+#include <map>
+
+#include "core/str_cat.h"
+#include "vk/device_objects.h"
+
+namespace si::vk::detail {
+
+using si::detail::strCat;
+
+Status createComputeLayout(VkDevice device, const VkAllocationCallbacks* allocator,
+                           Span<const ProgramModules* const> passes, ComputeLayout* out) {
+  std::map<uint32_t, VkDescriptorSetLayoutBinding> bindings;
+  for (const ProgramModules* pass : passes)
+    for (const SpirvDescriptor& d : pass->compute_reflection.descriptors) {
+      const uint32_t b = d.binding;
+      const bool storage =
+          b == kStateBinding || b == kClipsBinding || b == kTimesBinding || b == kCountersBinding ||
+          b == kDrivenRecordsBinding || b == kDrivenEntriesBinding || b == kDrivenVisibleBinding ||
+          b == kCommandsBinding || b == kRangesBinding || b == kBucketInfoBinding ||
+          b == kEntryDataBinding || b == kViewLodsBinding ||
+          (b >= kFirstUnbuiltBinding && b <= kLastUnbuiltBinding) || b == kLivePosesBinding;
+      VkDescriptorType type;
+      if (storage && d.kind == DescriptorKind::kStorageBuffer)
+        type = VK_DESCRIPTOR_TYPE_STORAGE_BUFFER;
+      else if (b == kComputeDefaultsBinding && d.kind == DescriptorKind::kUniformBuffer)
+        type = VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER_DYNAMIC;
+      else if (b == kPyramidBinding && d.kind == DescriptorKind::kCombinedImageSampler)
+        type = VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER;
+      else
+        return {StatusCode::kUnsupported,
+                strCat("the GPU-driven passes' ", descriptorKindName(d.kind), " '", d.name,
+                       "' at binding ", b, " is one the Vulkan renderer does not fill")};
+      bindings.emplace(
+          b, VkDescriptorSetLayoutBinding{b, type, 1, VK_SHADER_STAGE_COMPUTE_BIT, nullptr});
+    }
+  out->bindings.clear();
+  for (const auto& [b, binding] : bindings) out->bindings.push_back(binding);
+  auto info = vkStruct<VkDescriptorSetLayoutCreateInfo>(
+      VK_STRUCTURE_TYPE_DESCRIPTOR_SET_LAYOUT_CREATE_INFO);
+  info.bindingCount = uint32_t(out->bindings.size());
+  info.pBindings = out->bindings.data();
+  Status s = checkVk(vkCreateDescriptorSetLayout(device, &info, allocator, &out->set_layout),
+                     "vkCreateDescriptorSetLayout");
+  if (!s.isOk()) return s;
+  auto pl = vkStruct<VkPipelineLayoutCreateInfo>(VK_STRUCTURE_TYPE_PIPELINE_LAYOUT_CREATE_INFO);
+  pl.setLayoutCount = 1;
+  pl.pSetLayouts = &out->set_layout;
+  return checkVk(vkCreatePipelineLayout(device, &pl, allocator, &out->pipeline_layout),
+                 "vkCreatePipelineLayout");
+}
+
+void destroyComputeLayout(VkDevice device, const VkAllocationCallbacks* allocator,
+                          ComputeLayout* layout) {
+  if (layout->pipeline_layout != VK_NULL_HANDLE)
+    vkDestroyPipelineLayout(device, layout->pipeline_layout, allocator);
+  if (layout->set_layout != VK_NULL_HANDLE)
+    vkDestroyDescriptorSetLayout(device, layout->set_layout, allocator);
+  *layout = ComputeLayout();
+}
+
+Status createComputePipeline(VkDevice device, const VkAllocationCallbacks* allocator,
+                             const ProgramModules& pass, VkPipelineLayout layout, VkPipeline* out) {
+  auto info = vkStruct<VkComputePipelineCreateInfo>(VK_STRUCTURE_TYPE_COMPUTE_PIPELINE_CREATE_INFO);
+  info.stage = vkStruct<VkPipelineShaderStageCreateInfo>(
+      VK_STRUCTURE_TYPE_PIPELINE_SHADER_STAGE_CREATE_INFO);
+  info.stage.stage = VK_SHADER_STAGE_COMPUTE_BIT;
+  info.stage.module = pass.compute_module;
+  info.stage.pName = "main";
+  info.layout = layout;
+  return checkVk(vkCreateComputePipelines(device, VK_NULL_HANDLE, 1, &info, allocator, out),
+                 "vkCreateComputePipelines");
+}
+
+}  // namespace si::vk::detail

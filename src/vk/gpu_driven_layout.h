@@ -1,0 +1,64 @@
+// SkinnedInstancing — SPDX-License-Identifier: MIT (see LICENSE)
+#pragma once
+// The GPU-driven path's compute passes as Vulkan objects: the bindings si::gl's cull, commands
+// and scatter passes declare (shaders/cull*.comp.glsl, shifted by the Vulkan profile), the one
+// set layout of the three read from their SPIR-V, and a pass's compute pipeline. What the draw
+// reads of the passes' output (records, entries, visible list) is at the bindings below in the
+// GPU-driven draw programs' set (skinned_pipeline.h).
+
+#include <vulkan/vulkan.h>
+
+#include <vector>
+
+#include "si/core/span.h"
+#include "si/core/status.h"
+#include "si_vk/vulkan_profile.h"
+#include "vk/program_modules.h"
+
+namespace si::vk::detail {
+
+// The passes' storage blocks (cull_common.glsl, cull.comp.glsl ...), by their OpenGL binding.
+inline constexpr uint32_t kStateBinding = 0 + kStorageBindingShift;
+inline constexpr uint32_t kClipsBinding = 1 + kStorageBindingShift;
+inline constexpr uint32_t kTimesBinding = 2 + kStorageBindingShift;
+inline constexpr uint32_t kCountersBinding = 3 + kStorageBindingShift;
+inline constexpr uint32_t kDrivenRecordsBinding = 4 + kStorageBindingShift;
+inline constexpr uint32_t kDrivenEntriesBinding = 5 + kStorageBindingShift;
+inline constexpr uint32_t kDrivenVisibleBinding = 6 + kStorageBindingShift;
+inline constexpr uint32_t kCommandsBinding = 7 + kStorageBindingShift;
+inline constexpr uint32_t kRangesBinding = 8 + kStorageBindingShift;
+inline constexpr uint32_t kBucketInfoBinding = 9 + kStorageBindingShift;
+inline constexpr uint32_t kEntryDataBinding = 12 + kStorageBindingShift;
+inline constexpr uint32_t kViewLodsBinding = 16 + kStorageBindingShift;
+// Layered animation and motion vectors (bindings 17 to 21) and live poses (25): declared by the
+// cull pass, not drawn by the Vulkan back-end yet (u_layers, u_motion 0; no posed instance):
+// bound to a placeholder the pass never reads or writes.
+inline constexpr uint32_t kFirstUnbuiltBinding = 17 + kStorageBindingShift;
+inline constexpr uint32_t kLastUnbuiltBinding = 21 + kStorageBindingShift;
+inline constexpr uint32_t kLivePosesBinding = 25 + kStorageBindingShift;
+// Occlusion culling's depth pyramid (cull_occlusion.glsl's u_hiz): a placeholder until built.
+inline constexpr uint32_t kPyramidBinding = 1 + kSamplerBindingShift;
+// Bytes of a pass's default uniform block (the cull pass's is 592).
+inline constexpr VkDeviceSize kComputeDefaultsRange = 1024;
+
+/// The three passes' set layout and pipeline layout.
+struct ComputeLayout {
+  VkDescriptorSetLayout set_layout = VK_NULL_HANDLE;
+  VkPipelineLayout pipeline_layout = VK_NULL_HANDLE;
+  std::vector<VkDescriptorSetLayoutBinding> bindings;
+};
+
+/// The union of `passes`' descriptors (their compute stages) as one set layout, the default
+/// block dynamic (each pass's at its own offset), and a pipeline layout of it. kUnsupported
+/// naming a descriptor at a binding the renderer does not fill; kBackend on a failed call.
+Status createComputeLayout(VkDevice device, const VkAllocationCallbacks* allocator,
+                           Span<const ProgramModules* const> passes, ComputeLayout* out);
+/// Destroys what createComputeLayout made.
+void destroyComputeLayout(VkDevice device, const VkAllocationCallbacks* allocator,
+                          ComputeLayout* layout);
+
+/// `pass`'s compute pipeline on `layout`. kBackend naming the failed call.
+Status createComputePipeline(VkDevice device, const VkAllocationCallbacks* allocator,
+                             const ProgramModules& pass, VkPipelineLayout layout, VkPipeline* out);
+
+}  // namespace si::vk::detail

@@ -1,0 +1,470 @@
+// SkinnedInstancing — SPDX-License-Identifier: MIT (see LICENSE)
+// The GPU-driven path's views: the crowd's state uploaded, the passes recorded, the draw.
+#include "vk/gpu_driven_views.h"
+
+#include <algorithm>
+#include <cstring>
+
+#include "core/str_cat.h"
+#include "gl/programs/cull_layout.h"
+#include "si/crowd/crowd_export.h"
+#include "si/crowd/crowd_manager.h"
+#include "si/crowd/instance_record.h"
+#include "si_vk/vulkan_profile.h"
+#include "vk/draw_state.h"
+
+namespace si::vk::detail {
+
+using si::detail::kBucketCountWord;
+using si::detail::kCommandWords;
+using si::detail::kCounterWords;
+using si::detail::kDispatchWord;
+using si::detail::kMaxBuckets;
+using si::detail::strCat;
+
+namespace {
+
+// Writes `count` values of `size` bytes from `values` to default-block member `name` of `r` in
+// `block` (at its array stride when an array); nothing when the stage has no such member.
+void putDefault(uint8_t* block, const SpirvReflection& r, const char* name, const void* values,
+                size_t size, uint32_t count = 1) {
+  const SpirvMember* m = defaultMember(r, name);
+  if (m == nullptr) return;
+  const size_t stride = m->array_stride != 0 ? m->array_stride : size;
+  for (uint32_t k = 0; k < count; ++k)
+    std::memcpy(block + m->offset + k * stride, static_cast<const uint8_t*>(values) + k * size,
+                size);
+}
+
+// A barrier of every memory access of `src` stages before `dst` stages' accesses.
+void recordBarrier(VkCommandBuffer cmd, VkPipelineStageFlags src, VkAccessFlags src_access,
+                   VkPipelineStageFlags dst, VkAccessFlags dst_access) {
+  auto b = vkStruct<VkMemoryBarrier>(VK_STRUCTURE_TYPE_MEMORY_BARRIER);
+  b.srcAccessMask = src_access;
+  b.dstAccessMask = dst_access;
+  vkCmdPipelineBarrier(cmd, src, dst, 0, 1, &b, 0, nullptr, 0, nullptr);
+}
+
+}  // namespace
+
+Status FrameRegion::take(VkDeviceSize size, VkDeviceSize* at) {
+  const VkDeviceSize from = alignUp(*used, alignment);
+  if (from + size > bytes)
+    return {StatusCode::kLimitExceeded,
+            strCat("vk::Renderer: the frame's records and uniforms need ", from + size,
+                   " bytes, RendererDesc::ring_bytes_per_frame is ", bytes)};
+  *used = from + size;
+  std::memset(mapped + start + from, 0, size_t(size));
+  *at = start + from;
+  return Status::ok();
+}
+
+void GpuDrivenViews::beginFrame(uint32_t slot) {
+  Retired& r = retired_[slot];
+  for (GpuBuffer& b : r.buffers) shared_.objects->destroy(&b);
+  for (VkDescriptorPool p : r.pools)
+    vkDestroyDescriptorPool(shared_.objects->device(), p, shared_.objects->allocator());
+  r = Retired();
+  for (auto& [key, v] : views_)
+    if (v.passes_slot == slot) v.passes_recorded = false;
+}
+
+void GpuDrivenViews::retire(uint32_t slot, View* v) {
+  Retired& r = retired_[slot];
+  for (GpuBuffer* b : {&v->state, &v->clips, &v->times, &v->ranges, &v->bucket_info, &v->identity,
+                       &v->lods, &v->counters, &v->records, &v->visible, &v->entries, &v->commands})
+    if (b->buffer != VK_NULL_HANDLE) {
+      r.buffers.push_back(*b);
+      *b = GpuBuffer();
+    }
+  for (VkDescriptorPool* pool : {&v->pass_pool, &v->draw_pool}) {
+    if (*pool != VK_NULL_HANDLE) r.pools.push_back(*pool);
+    *pool = VK_NULL_HANDLE;
+  }
+  v->pass_set = v->draw_set = VK_NULL_HANDLE;
+  v->capacity = 0;
+}
+
+Status GpuDrivenViews::reshape(View* v, uint32_t slot, const CharacterResources& c, uint32_t n,
+                               uint32_t sub_meshes, uint32_t buckets, uint32_t clips,
+                               uint32_t times) {
+  retire(slot, v);
+  // Room to grow by half, so a spawn wave re-creates the buffers a few times, not every frame.
+  const uint64_t capacity = std::max<uint64_t>(1, uint64_t(n) + n / 2);
+  const uint64_t entries = capacity * sub_meshes;
+  struct Need {
+    GpuBuffer* buffer;
+    uint64_t bytes;
+    VkBufferUsageFlags usage;
+    const char* what;
+  };
+  const VkBufferUsageFlags storage =
+      VK_BUFFER_USAGE_STORAGE_BUFFER_BIT | VK_BUFFER_USAGE_TRANSFER_DST_BIT;
+  const Need needs[] = {
+      {&v->state, capacity * sizeof(GpuInstanceState), storage, "the crowd state"},
+      {&v->clips, uint64_t(std::max(clips, 1u)) * sizeof(GpuClipInfo), storage, "the clips"},
+      {&v->times, uint64_t(std::max(times, 1u)) * sizeof(double), storage, "the frame times"},
+      {&v->ranges, uint64_t(buckets) * 8, storage, "the bucket ranges"},
+      {&v->bucket_info, uint64_t(buckets) * 16, storage, "the bucket info"},
+      {&v->identity, entries * 4, VK_BUFFER_USAGE_VERTEX_BUFFER_BIT | storage, "the entry indices"},
+      {&v->lods, capacity * 8, storage, "the view's LODs"},
+      {&v->counters, uint64_t(kCounterWords) * 4, storage | VK_BUFFER_USAGE_INDIRECT_BUFFER_BIT,
+       "the counters"},
+      {&v->records, capacity * kInstanceRecordSize, storage, "the records"},
+      {&v->visible, capacity * 16, storage, "the visible list"},
+      {&v->entries, entries * 4, storage, "the bucket entries"},
+      {&v->commands, uint64_t(kCommandWords) * 4, storage | VK_BUFFER_USAGE_INDIRECT_BUFFER_BIT,
+       "the indirect commands"}};
+  for (const Need& need : needs)
+    if (need.bytes > shared_.max_storage_range)
+      return {StatusCode::kLimitExceeded,
+              strCat("vk::Renderer::recordGpuDrivenPasses: ", n, " instances need ", need.bytes,
+                     " bytes of ", need.what, ", past maxStorageBufferRange (",
+                     shared_.max_storage_range, ")")};
+  for (const Need& need : needs) {
+    Status s = shared_.objects->createBuffer(need.bytes, need.usage, false, need.what, need.buffer);
+    if (!s.isOk()) {
+      retire(slot, v);
+      return s;
+    }
+  }
+  // The passes' set and the draw's, in one pool.
+  std::vector<VkDescriptorPoolSize> sizes;
+  for (const VkDescriptorSetLayoutBinding& b : shared_.compute_layout->bindings)
+    sizes.push_back({b.descriptorType, 1});
+  auto pool_info =
+      vkStruct<VkDescriptorPoolCreateInfo>(VK_STRUCTURE_TYPE_DESCRIPTOR_POOL_CREATE_INFO);
+  pool_info.maxSets = 1;
+  pool_info.poolSizeCount = uint32_t(sizes.size());
+  pool_info.pPoolSizes = sizes.data();
+  Status s = checkVk(vkCreateDescriptorPool(shared_.objects->device(), &pool_info,
+                                            shared_.objects->allocator(), &v->pass_pool),
+                     "vkCreateDescriptorPool");
+  auto alloc =
+      vkStruct<VkDescriptorSetAllocateInfo>(VK_STRUCTURE_TYPE_DESCRIPTOR_SET_ALLOCATE_INFO);
+  alloc.descriptorPool = v->pass_pool;
+  alloc.descriptorSetCount = 1;
+  alloc.pSetLayouts = &shared_.compute_layout->set_layout;
+  if (s.isOk())
+    s = checkVk(vkAllocateDescriptorSets(shared_.objects->device(), &alloc, &v->pass_set),
+                "vkAllocateDescriptorSets");
+  if (!s.isOk()) {
+    retire(slot, v);
+    return s;
+  }
+  const std::vector<VkDescriptorSetLayoutBinding>& bindings = shared_.compute_layout->bindings;
+  std::vector<VkDescriptorBufferInfo> buffer_infos(bindings.size());
+  VkDescriptorImageInfo pyramid{shared_.nearest, shared_.no_pyramid->view,
+                                VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL};
+  std::vector<VkWriteDescriptorSet> writes;
+  for (size_t k = 0; k < bindings.size(); ++k) {
+    const uint32_t b = bindings[k].binding;
+    auto w = vkStruct<VkWriteDescriptorSet>(VK_STRUCTURE_TYPE_WRITE_DESCRIPTOR_SET);
+    w.dstSet = v->pass_set;
+    w.dstBinding = b;
+    w.descriptorCount = 1;
+    w.descriptorType = bindings[k].descriptorType;
+    const GpuBuffer* buffer = b == kStateBinding             ? &v->state
+                              : b == kClipsBinding           ? &v->clips
+                              : b == kTimesBinding           ? &v->times
+                              : b == kCountersBinding        ? &v->counters
+                              : b == kDrivenRecordsBinding   ? &v->records
+                              : b == kDrivenEntriesBinding   ? &v->entries
+                              : b == kDrivenVisibleBinding   ? &v->visible
+                              : b == kCommandsBinding        ? &v->commands
+                              : b == kRangesBinding          ? &v->ranges
+                              : b == kBucketInfoBinding      ? &v->bucket_info
+                              : b == kViewLodsBinding        ? &v->lods
+                              : b == kComputeDefaultsBinding ? shared_.ring
+                                                             : shared_.unbuilt;
+    if (b == kPyramidBinding) {
+      w.pImageInfo = &pyramid;
+    } else {
+      buffer_infos[k] = {buffer->buffer, 0,
+                         b == kComputeDefaultsBinding ? kComputeDefaultsRange : VK_WHOLE_SIZE};
+      w.pBufferInfo = &buffer_infos[k];
+    }
+    writes.push_back(w);
+  }
+  vkUpdateDescriptorSets(shared_.objects->device(), uint32_t(writes.size()), writes.data(), 0,
+                         nullptr);
+  // The draw's set: the character's resources and the passes' output.
+  const DrivenOutputs outputs{v->records, v->entries, v->visible};
+  s = createCharacterSet(
+      shared_.objects->device(), shared_.objects->allocator(), *shared_.draw_layout,
+      {*shared_.ring, shared_.nearest, shared_.linear, *shared_.custom, *shared_.no_morphs}, c,
+      &outputs, &v->draw_pool, &v->draw_set);
+  if (!s.isOk()) {
+    retire(slot, v);
+    return s;
+  }
+  v->capacity = uint32_t(capacity);
+  v->sub_meshes = sub_meshes;
+  v->buckets = buckets;
+  v->clip_count = clips;
+  v->time_count = times;
+  return Status::ok();
+}
+
+Status GpuDrivenViews::recordPasses(VkCommandBuffer cmd, uint32_t slot, FrameRegion region,
+                                    uint32_t character, const CharacterResources& c,
+                                    const CrowdView& view, const Camera& camera) {
+  const CrowdManager& crowd = *view.crowd();
+  const CrowdDesc& cd = crowd.desc();
+  const uint32_t subs = cd.sub_mesh_count, lods = cd.lod_count, buckets = lods * subs;
+  if (buckets > kMaxBuckets || subs > c.sub_meshes.size())
+    return {StatusCode::kInvalidArgument,
+            strCat("vk::Renderer::recordGpuDrivenPasses: ", subs, " sub-meshes x ", lods,
+                   " LODs do not fit the character (", c.sub_meshes.size(),
+                   " sub-meshes) or 256 buckets")};
+  const uint32_t n = crowd.size();
+  // The cull pass's groups in rows of at most maxComputeWorkGroupCount[0] (dispatch_index.glsl).
+  const uint64_t groups = std::max<uint64_t>(1, (uint64_t(n) + 63) / 64);
+  const uint32_t gx = uint32_t(std::min<uint64_t>(groups, shared_.max_groups_x));
+  const uint64_t gy = (groups + gx - 1) / gx;
+  if (gy > shared_.max_groups_y)
+    return {StatusCode::kLimitExceeded,
+            strCat("vk::Renderer::recordGpuDrivenPasses: ", n,
+                   " instances need more compute "
+                   "groups than maxComputeWorkGroupCount (",
+                   shared_.max_groups_x, " x ", shared_.max_groups_y, ")")};
+  const CrowdExport exported(crowd);
+  std::vector<GpuClipInfo> clips;
+  std::vector<double> times;
+  exported.clips(&clips, &times);
+  View& v = views_[{character, view.identity()}];
+  const bool reshaped = v.crowd != crowd.identity() || n > v.capacity || v.sub_meshes != subs ||
+                        v.buckets != buckets || v.clip_count != clips.size() ||
+                        v.time_count != times.size() || v.state.buffer == VK_NULL_HANDLE;
+  const bool changed = reshaped || v.version != exported.stateVersion() || v.instances != n;
+  // The passes' uniforms first: a full region refuses the frame before anything is recorded.
+  VkDeviceSize defaults_at[3] = {};
+  for (VkDeviceSize& at : defaults_at) {
+    Status s = region.take(kComputeDefaultsRange, &at);
+    if (!s.isOk()) return s;
+  }
+  // Whatever the last frames' draws and passes read of the view's buffers is read before these
+  // passes and copies write them (the host submits frames in order on one queue).
+  recordBarrier(cmd,
+                VK_PIPELINE_STAGE_DRAW_INDIRECT_BIT | VK_PIPELINE_STAGE_VERTEX_INPUT_BIT |
+                    VK_PIPELINE_STAGE_VERTEX_SHADER_BIT | VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT,
+                0, VK_PIPELINE_STAGE_TRANSFER_BIT | VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT, 0);
+  if (reshaped) {
+    Status s =
+        reshape(&v, slot, c, n, subs, buckets, uint32_t(clips.size()), uint32_t(times.size()));
+    if (!s.isOk()) {
+      for (GpuBuffer& b : v.staging)
+        if (b.buffer != VK_NULL_HANDLE) retired_[slot].buffers.push_back(b);
+      views_.erase({character, view.identity()});
+      return s;
+    }
+  }
+  if (changed) {
+    // The staging of this slot (its last frame is done): the state, the clips and times; after
+    // a reshape the bucket ranges, the entry indices and the view's LODs seeded from the CPU
+    // view's (CrowdExport::lods).
+    const VkDeviceSize state_bytes = VkDeviceSize(n) * sizeof(GpuInstanceState);
+    const VkDeviceSize clip_bytes = clips.size() * sizeof(GpuClipInfo);
+    const VkDeviceSize time_bytes = times.size() * sizeof(double);
+    const VkDeviceSize range_bytes = reshaped ? VkDeviceSize(buckets) * 8 : 0;
+    const VkDeviceSize identity_bytes = reshaped ? VkDeviceSize(v.capacity) * subs * 4 : 0;
+    const VkDeviceSize lod_bytes = reshaped ? VkDeviceSize(n) * 8 : 0;
+    const VkDeviceSize total =
+        state_bytes + clip_bytes + time_bytes + range_bytes + identity_bytes + lod_bytes;
+    if (v.staging.size() < shared_.frames_in_flight) v.staging.resize(shared_.frames_in_flight);
+    GpuBuffer& staging = v.staging[slot];
+    if (staging.size < total) {
+      shared_.objects->destroy(&staging);
+      Status s = shared_.objects->createBuffer(std::max<VkDeviceSize>(total, 256),
+                                               VK_BUFFER_USAGE_TRANSFER_SRC_BIT, true,
+                                               "the GPU-driven state's staging", &staging);
+      if (!s.isOk()) return s;
+    }
+    uint8_t* out = static_cast<uint8_t*>(staging.mapped);
+    VkDeviceSize at = 0;
+    if (n > 0) {  // Exported straight into the staging (each byte written once).
+      const DenseRange all{0, n};
+      exported.state(Span<const DenseRange>(&all, 1), reinterpret_cast<GpuInstanceState*>(out),
+                     nullptr);
+    }
+    std::vector<std::pair<const GpuBuffer*, VkBufferCopy>> to;
+    const auto add = [&](const GpuBuffer& buffer, VkDeviceSize bytes) {
+      if (bytes > 0) to.push_back({&buffer, VkBufferCopy{at, 0, bytes}});
+      at += bytes;
+    };
+    add(v.state, state_bytes);
+    const VkDeviceSize clips_at = at;
+    add(v.clips, clip_bytes);
+    std::memcpy(out + clips_at, clips.data(), size_t(clip_bytes));
+    const VkDeviceSize times_at = at;
+    add(v.times, time_bytes);
+    if (time_bytes > 0) std::memcpy(out + times_at, times.data(), size_t(time_bytes));
+    if (reshaped) {
+      auto* ranges = reinterpret_cast<uint32_t*>(out + at);
+      for (uint32_t b = 0; b < buckets; ++b) {
+        const std::vector<IndexRange>& l = c.sub_meshes[b % subs].lods;
+        const IndexRange r = l[std::min<size_t>(b / subs, l.size() - 1)];
+        ranges[2 * b] = r.first_index;
+        ranges[2 * b + 1] = r.index_count;
+      }
+      add(v.ranges, range_bytes);
+      auto* identity = reinterpret_cast<uint32_t*>(out + at);
+      for (uint32_t k = 0; k < v.capacity * subs; ++k) identity[k] = k;
+      add(v.identity, identity_bytes);
+      std::vector<uint32_t> seed;
+      CrowdExport::lods(view, &seed);
+      auto* kept = reinterpret_cast<uint32_t*>(out + at);
+      for (uint32_t k = 0; k < n; ++k) {
+        kept[2 * k] = 0;  // A seed: whichever instance sits there.
+        kept[2 * k + 1] = k < seed.size() ? seed[k] : 0u;
+      }
+      add(v.lods, lod_bytes);
+      // No pre-skinning: every bucket's info 0 (nothing fits a ring).
+      vkCmdFillBuffer(cmd, v.bucket_info.buffer, 0, VK_WHOLE_SIZE, 0);
+    }
+    for (const auto& [buffer, copy] : to)
+      vkCmdCopyBuffer(cmd, staging.buffer, buffer->buffer, 1, &copy);
+    v.version = exported.stateVersion();
+    v.instances = n;
+    v.crowd = crowd.identity();
+  }
+  // Zero the visible count and the bucket counts.
+  vkCmdFillBuffer(cmd, v.counters.buffer, 0, VkDeviceSize(kBucketCountWord + kMaxBuckets) * 4, 0);
+  recordBarrier(cmd, VK_PIPELINE_STAGE_TRANSFER_BIT, VK_ACCESS_TRANSFER_WRITE_BIT,
+                VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT,
+                VK_ACCESS_SHADER_READ_BIT | VK_ACCESS_SHADER_WRITE_BIT);
+
+  // The passes' uniforms: the same CullParams CrowdView::select() uses.
+  const CullParams p = CrowdExport::cullParams(view, camera);
+  uint8_t* ring = region.mapped;
+  const uint32_t counts[4] = {n, lods, subs, c.frame_stride_texels};
+  for (int pass = 0; pass < 3; ++pass)
+    putDefault(ring + defaults_at[pass], shared_.pass_modules[pass]->compute_reflection, "u_counts",
+               counts, 16);
+  {
+    const SpirvReflection& r = shared_.pass_modules[0]->compute_reflection;
+    uint8_t* block = ring + defaults_at[0];
+    putDefault(block, r, "u_planes", p.planes.data(), 16, 6);
+    const double position[3] = {camera.position.x, camera.position.y, camera.position.z};
+    putDefault(block, r, "u_camera", position, 24);
+    const double clock = crowd.clockSeconds();
+    putDefault(block, r, "u_clock", &clock, 8);
+    const float params[4] = {p.radius, p.max_distance_radii, p.hysteresis, 0.0f};
+    putDefault(block, r, "u_params", params, 16);
+    putDefault(block, r, "u_lines", p.lod_lines, 4, 7);
+    putDefault(block, r, "u_anim_lod", &p.animation_lod_start, 4);
+    putDefault(block, r, "u_anim_step", &p.animation_step_seconds, 8);
+    putDefault(block, r, "u_lod_bias", &p.lod_bias, 4);
+    uint32_t drawn_parts[8] = {};
+    for (uint32_t lod = 0; lod < lods && lod < 8; ++lod)
+      for (uint32_t sm = 0; sm < subs; ++sm) {
+        const std::vector<IndexRange>& l = c.sub_meshes[sm].lods;
+        if (l[std::min<size_t>(lod, l.size() - 1)].index_count > 0) drawn_parts[lod] |= 1u << sm;
+      }
+    putDefault(block, r, "u_drawn_parts", drawn_parts, 4, 8);
+    // Occlusion, layers, motion vectors, impostors: off (zero) until built.
+  }
+  {
+    const SpirvReflection& r = shared_.pass_modules[1]->compute_reflection;
+    uint8_t* block = ring + defaults_at[1];
+    const uint32_t no_ring = 0, no_impostors = 0xFFFFFFFFu;
+    putDefault(block, r, "u_ring_vertices", &no_ring, 4);
+    putDefault(block, r, "u_max_groups_x", &shared_.max_groups_x, 4);
+    putDefault(block, r, "u_impostor_bucket", &no_impostors, 4);
+  }
+  VkPipelineLayout layout = shared_.compute_layout->pipeline_layout;
+  const auto bind = [&](int pass) {
+    vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, shared_.passes[pass]);
+    const uint32_t offset = uint32_t(defaults_at[pass]);
+    vkCmdBindDescriptorSets(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, layout, 0, 1, &v.pass_set, 1,
+                            &offset);
+  };
+  bind(0);
+  vkCmdDispatch(cmd, gx, uint32_t(gy), 1);
+  recordBarrier(cmd, VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT, VK_ACCESS_SHADER_WRITE_BIT,
+                VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT,
+                VK_ACCESS_SHADER_READ_BIT | VK_ACCESS_SHADER_WRITE_BIT);
+  bind(1);
+  vkCmdDispatch(cmd, 1, 1, 1);
+  recordBarrier(
+      cmd, VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT, VK_ACCESS_SHADER_WRITE_BIT,
+      VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT | VK_PIPELINE_STAGE_DRAW_INDIRECT_BIT,
+      VK_ACCESS_SHADER_READ_BIT | VK_ACCESS_SHADER_WRITE_BIT | VK_ACCESS_INDIRECT_COMMAND_READ_BIT);
+  bind(2);
+  vkCmdDispatchIndirect(cmd, v.counters.buffer, VkDeviceSize(kDispatchWord) * 4);
+  // The draw reads the commands, entry indices, entries, records and visible list.
+  recordBarrier(cmd, VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT | VK_PIPELINE_STAGE_TRANSFER_BIT,
+                VK_ACCESS_SHADER_WRITE_BIT | VK_ACCESS_TRANSFER_WRITE_BIT,
+                VK_PIPELINE_STAGE_DRAW_INDIRECT_BIT | VK_PIPELINE_STAGE_VERTEX_INPUT_BIT |
+                    VK_PIPELINE_STAGE_VERTEX_SHADER_BIT,
+                VK_ACCESS_INDIRECT_COMMAND_READ_BIT | VK_ACCESS_VERTEX_ATTRIBUTE_READ_BIT |
+                    VK_ACCESS_SHADER_READ_BIT);
+  v.camera = camera;
+  v.passes_recorded = true;
+  v.passes_slot = slot;
+  return Status::ok();
+}
+
+Status GpuDrivenViews::recordDraw(VkCommandBuffer cmd, FrameRegion region, uint32_t character,
+                                  const CharacterResources& c, VkPipeline pipeline,
+                                  const ProgramModules& program, const CrowdView& view,
+                                  const DrawTarget& target, const glm::vec3& light_direction,
+                                  DrawStats* stats) {
+  (void)c;
+  const auto found = views_.find({character, view.identity()});
+  if (found == views_.end() || !found->second.passes_recorded)
+    return {StatusCode::kInvalidArgument,
+            "vk::Renderer::recordGpuDrivenDraw: the view's passes were not recorded in this "
+            "frame (recordGpuDrivenPasses)"};
+  View& v = found->second;
+  VkDeviceSize vertex_at = 0, fragment_at = 0;
+  Status s = region.take(kDefaultsRange, &vertex_at);
+  if (s.isOk()) s = region.take(kDefaultsRange, &fragment_at);
+  if (!s.isOk()) return s;
+  const glm::mat4 vp = vulkanViewProjection(v.camera);
+  putDefault(region.mapped + vertex_at, program.vertex_reflection, "u_view_projection", &vp[0][0],
+             64);
+  putDefault(region.mapped + fragment_at, program.fragment_reflection, "u_light_direction",
+             &light_direction, 12);
+  vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_GRAPHICS, pipeline);
+  recordDrawState(cmd, target, v.camera);
+  const VkBuffer vertex_buffers[2] = {c.vertices.buffer, v.identity.buffer};
+  const VkDeviceSize zeros[2] = {0, 0};
+  vkCmdBindVertexBuffers(cmd, 0, 2, vertex_buffers, zeros);
+  vkCmdBindIndexBuffer(cmd, c.indices.buffer, 0, VK_INDEX_TYPE_UINT32);
+  // Dynamic offsets in binding order: the vertex, then the fragment defaults.
+  uint32_t offsets[2] = {};
+  uint32_t count = 0;
+  for (uint32_t b : shared_.draw_layout->dynamic_bindings)
+    offsets[count++] = uint32_t(b == kVertexDefaultsBinding ? vertex_at : fragment_at);
+  vkCmdBindDescriptorSets(cmd, VK_PIPELINE_BIND_POINT_GRAPHICS,
+                          shared_.draw_layout->pipeline_layout, 0, 1, &v.draw_set, count, offsets);
+  vkCmdDrawIndexedIndirect(cmd, v.commands.buffer, 0, v.buckets, 20);
+  if (stats != nullptr) {
+    *stats = DrawStats();
+    stats->draw_calls = 1;
+  }
+  return Status::ok();
+}
+
+uint64_t GpuDrivenViews::deviceBytes() const {
+  uint64_t bytes = 0;
+  for (const auto& [key, v] : views_)
+    for (const GpuBuffer* b :
+         {&v.state, &v.clips, &v.times, &v.ranges, &v.bucket_info, &v.identity, &v.lods,
+          &v.counters, &v.records, &v.visible, &v.entries, &v.commands})
+      bytes += b->size;
+  return bytes;
+}
+
+void GpuDrivenViews::release() {
+  for (uint32_t slot = 0; slot < retired_.size(); ++slot) beginFrame(slot);
+  for (auto& [key, v] : views_) {
+    retire(0, &v);
+    for (GpuBuffer& b : v.staging) shared_.objects->destroy(&b);
+  }
+  beginFrame(0);
+  views_.clear();
+}
+
+}  // namespace si::vk::detail

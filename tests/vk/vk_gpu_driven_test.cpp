@@ -1,0 +1,257 @@
+// SkinnedInstancing — SPDX-License-Identifier: MIT (see LICENSE)
+// The Vulkan back-end's GPU-driven path (issue "The crowd in a Vulkan engine", item 3): the
+// cull, commands and scatter passes recorded before the host's rendering select what si::gl's
+// drawCrowdGpuCulled selects, and the indirect draw inside it gives si::gl's image, within the
+// golden tolerance, on lavapipe with the validation layer on and silent; the views of one frame
+// keep their own selections; the crowd's changes reach the GPU; what is not built is refused.
+#include <glad/gl.h>
+
+#include "si/core/layer_mask.h"
+#include "si/crowd/crowd_export.h"
+#include "vk/vk_render_fixture.h"
+
+namespace si {
+namespace {
+
+using namespace test;
+
+class VulkanGpuDrivenTest : public VulkanRenderFixture {
+ protected:
+  void start() {
+    vk::RendererDesc rd;
+    rd.gpu_driven = true;
+    ASSERT_NO_FATAL_FAILURE(startRenderer(rd, &renderer_, &id_));
+  }
+
+  // si::gl's GPU-driven image of `crowd`'s own view with `camera`, over kBackground.
+  std::vector<uint8_t> glImage(const CrowdManager& crowd, const Camera& camera) {
+    Renderer gl;
+    EXPECT_TRUE(gl.init(info_, RendererDesc()).isOk());
+    CharacterId id;
+    EXPECT_TRUE(gl.addCharacter(character(), palette(), &id).isOk());
+    gl.clear(kBackground);
+    const Status s = drawOnPath(gl, PathKind::kGpuDriven, crowd, camera, nullptr);
+    EXPECT_TRUE(s.isOk()) << s.toString();
+    std::vector<uint8_t> image;
+    EXPECT_TRUE(context_->readPixels(&image).isOk());
+    gl.shutdown();
+    return image;
+  }
+
+  // One frame in slot `slot`: the passes of each of `passes` (a view and its camera) before the
+  // rendering, then the draws of `drawn` (views among them) in `mode`; the colour (shaded) and
+  // depth read back.
+  Status frame(uint32_t slot, const std::vector<std::pair<const CrowdView*, Camera>>& passes,
+               const std::vector<const CrowdView*>& drawn, vk::DrawMode mode,
+               std::vector<uint8_t>* image, std::vector<float>* depth = nullptr) {
+    examples::HeadlessVulkan::Frame f;
+    f.clear_color = kBackground;
+    f.color = mode == vk::DrawMode::kShaded;
+    f.before = [&](VkCommandBuffer cmd) {
+      Status s = renderer_.beginFrame(slot);
+      for (const auto& [view, camera] : passes)
+        if (s.isOk()) s = renderer_.recordGpuDrivenPasses(cmd, id_, *view, camera);
+      return s;
+    };
+    vk::DrawTarget target{{kSize, kSize}};
+    target.mode = mode;
+    return host_.render(f,
+                        [&](VkCommandBuffer cmd) {
+                          Status s = Status::ok();
+                          for (const CrowdView* view : drawn) {
+                            vk::DrawStats stats;
+                            if (s.isOk())
+                              s = renderer_.recordGpuDrivenDraw(cmd, target, id_, *view, &stats);
+                            if (s.isOk()) {
+                              EXPECT_EQ(stats.draw_calls, 1u) << "one indirect draw";
+                            }
+                          }
+                          return s;
+                        },
+                        {image, depth});
+  }
+
+  // Expects `image` within the golden tolerance of `gl_image`, and a crowd drawn.
+  static void expectSameImage(const std::vector<uint8_t>& image,
+                              const std::vector<uint8_t>& gl_image, const char* name) {
+    const Diff diff = compare(image, gl_image, nullptr);
+    EXPECT_LE(diff.share, kMaxDifferingShare) << "max channel difference " << diff.max_channel;
+    std::vector<uint8_t> blank(image.size());
+    for (size_t k = 0; k < blank.size(); k += 4)
+      for (int c = 0; c < 4; ++c) blank[k + c] = uint8_t(std::lround(kBackground[c] * 255.0f));
+    EXPECT_GT(compare(image, blank, nullptr).share, 0.02) << "the crowd is drawn";
+    if (diff.share > kMaxDifferingShare) {
+      const std::string base = ::testing::TempDir() + "si_vk_gpu_driven_" + name;
+      EXPECT_TRUE(writePng(base + ".png", kSize, kSize, image).isOk());
+      EXPECT_TRUE(writePng(base + "_gl.png", kSize, kSize, gl_image).isOk());
+    }
+  }
+
+  vk::Renderer renderer_;
+  vk::CharacterId id_;
+};
+
+// The LOD rows and a close view cutting the near plane: the Vulkan passes select and draw what
+// si::gl's GPU-driven path does; a depth-only draw of the same passes writes the shaded draw's
+// depth.
+TEST_P(VulkanGpuDrivenTest, ThePassesAndTheDrawGiveOpenGlsImage) {
+  SI_START_VULKAN_HOST();
+  ASSERT_NO_FATAL_FAILURE(start());
+  CrowdManager crowd;
+  lodCrowd(&crowd);
+  const Camera near_cut = Camera::lookAt({0.0, 1.2, -1.2}, {0.0, 1.0, -4.0}, glm::vec3(0, 1, 0),
+                                         0.75f, 1.0f, 2.5f, 200.0f);
+  const std::pair<const char*, Camera> views[] = {{"rows", lodCamera()}, {"near", near_cut}};
+  uint32_t slot = 0;
+  for (const auto& [name, camera] : views) {
+    SCOPED_TRACE(name);
+    const std::vector<uint8_t> gl_image = glImage(crowd, camera);
+    std::vector<uint8_t> image;
+    std::vector<float> depth, depth_only;
+    Status s = frame(slot, {{&crowd.view(), camera}}, {&crowd.view()}, vk::DrawMode::kShaded,
+                     &image, &depth);
+    ASSERT_TRUE(s.isOk()) << s.toString();
+    slot = (slot + 1) % 2;
+    expectSameImage(image, gl_image, name);
+    s = frame(slot, {{&crowd.view(), camera}}, {&crowd.view()}, vk::DrawMode::kDepthOnly, nullptr,
+              &depth_only);
+    ASSERT_TRUE(s.isOk()) << s.toString();
+    slot = (slot + 1) % 2;
+    size_t covered = 0, apart = 0;
+    for (size_t i = 0; i < depth.size() && i < depth_only.size(); ++i) {
+      covered += depth[i] < 1.0f;
+      apart += std::abs(depth[i] - depth_only[i]) > 1e-6f;
+    }
+    EXPECT_GT(covered, 2000u);
+    EXPECT_LE(apart, covered / 200) << apart << " of " << covered;
+  }
+  EXPECT_TRUE(host_.messages().empty()) << messages();
+}
+
+// Two views' passes recorded before one rendering (a main view and a shadow view, as an engine
+// records its compute before its passes): each draw shows its own view's selection, not the
+// last passes'.
+TEST_P(VulkanGpuDrivenTest, TheViewsOfOneFrameKeepTheirOwnSelections) {
+  SI_START_VULKAN_HOST();
+  ASSERT_NO_FATAL_FAILURE(start());
+  CrowdManager crowd;
+  lodCrowd(&crowd);
+  CrowdView other;
+  ASSERT_TRUE(other.init(crowd).isOk());
+  const Camera main = lodCamera();
+  const Camera elsewhere = Camera::lookAt({0.0, 1.2, -1.2}, {0.0, 1.0, -4.0}, glm::vec3(0, 1, 0),
+                                          0.75f, 1.0f, 2.5f, 200.0f);
+  const std::vector<uint8_t> gl_image = glImage(crowd, main);
+  std::vector<uint8_t> image;
+  const Status s = frame(0, {{&crowd.view(), main}, {&other, elsewhere}}, {&crowd.view()},
+                         vk::DrawMode::kShaded, &image);
+  ASSERT_TRUE(s.isOk()) << s.toString();
+  expectSameImage(image, gl_image, "two_views");
+  EXPECT_TRUE(host_.messages().empty()) << messages();
+}
+
+// The crowd's changes between frames (instances removed and added, the clock moved on) reach
+// the GPU: each frame draws what si::gl draws of the crowd as it is then.
+TEST_P(VulkanGpuDrivenTest, TheCrowdsChangesReachTheGpu) {
+  SI_START_VULKAN_HOST();
+  ASSERT_NO_FATAL_FAILURE(start());
+  CrowdManager crowd;
+  lodCrowd(&crowd);
+  const Camera camera = lodCamera();
+  std::vector<uint8_t> first;
+  ASSERT_TRUE(
+      frame(0, {{&crowd.view(), camera}}, {&crowd.view()}, vk::DrawMode::kShaded, &first).isOk());
+  // Half the instances gone, a new one near the camera, and time on.
+  std::vector<InstanceHandle> handles;
+  std::vector<GpuInstanceState> state;
+  CrowdExport(crowd).state(&state, &handles);
+  for (size_t k = 0; k < handles.size(); k += 2) ASSERT_TRUE(crowd.remove(handles[k]).isOk());
+  InstanceDesc d;
+  d.position = glm::dvec3(0.5, 0.0, -6.0);
+  InstanceHandle added;
+  ASSERT_TRUE(crowd.add(d, &added).isOk());
+  ASSERT_TRUE(crowd.update(0.37, camera).isOk());
+  const std::vector<uint8_t> gl_image = glImage(crowd, camera);
+  EXPECT_GT(compare(first, gl_image, nullptr).share, 0.01) << "the crowd changed";
+  std::vector<uint8_t> image;
+  for (uint32_t slot : {1u, 0u}) {  // Both slots' staging, the second without an upload.
+    SCOPED_TRACE(slot);
+    ASSERT_TRUE(
+        frame(slot, {{&crowd.view(), camera}}, {&crowd.view()}, vk::DrawMode::kShaded, &image)
+            .isOk());
+    expectSameImage(image, gl_image, "changed");
+  }
+  EXPECT_TRUE(host_.messages().empty()) << messages();
+}
+
+// What is not built on Vulkan yet, or asked wrongly, is refused by name, recording nothing.
+TEST_P(VulkanGpuDrivenTest, RefusalsAreNamed) {
+  SI_START_VULKAN_HOST();
+  CrowdManager crowd;
+  lodCrowd(&crowd);
+  {  // A renderer not made for the path.
+    vk::Renderer plain;
+    vk::CharacterId id;
+    ASSERT_NO_FATAL_FAILURE(startRenderer(vk::RendererDesc(), &plain, &id));
+    const Status s = host_.submit([&](VkCommandBuffer cmd) {
+      EXPECT_TRUE(plain.beginFrame(0).isOk());
+      return plain.recordGpuDrivenPasses(cmd, id, crowd.view(), lodCamera());
+    });
+    EXPECT_EQ(s.code(), StatusCode::kUnsupported) << s.toString();
+    EXPECT_NE(s.message().find("gpu_driven"), std::string::npos) << s.toString();
+  }
+  {  // With motion vectors: not built.
+    vk::Renderer r;
+    vk::RendererDesc rd;
+    rd.physical_device = host_.physicalDevice();
+    rd.device = host_.device();
+    rd.gpu_driven = true;
+    rd.motion_format = examples::HeadlessVulkan::kMotionFormat;
+    const Status s = r.init(rd);
+    EXPECT_EQ(s.code(), StatusCode::kUnsupported) << s.toString();
+    EXPECT_NE(s.message().find("motion"), std::string::npos) << s.toString();
+  }
+  ASSERT_NO_FATAL_FAILURE(start());
+  // A draw without this frame's passes.
+  std::vector<uint8_t> image;
+  Status s = frame(0, {}, {&crowd.view()}, vk::DrawMode::kShaded, &image);
+  EXPECT_EQ(s.code(), StatusCode::kInvalidArgument) << s.toString();
+  EXPECT_NE(s.message().find("recordGpuDrivenPasses"), std::string::npos) << s.toString();
+  // Passes of one frame do not serve the next frame in the same slot.
+  ASSERT_TRUE(
+      frame(0, {{&crowd.view(), lodCamera()}}, {&crowd.view()}, vk::DrawMode::kShaded, &image)
+          .isOk());
+  s = frame(0, {}, {&crowd.view()}, vk::DrawMode::kShaded, &image);
+  EXPECT_EQ(s.code(), StatusCode::kInvalidArgument) << s.toString();
+  // A crowd playing an overlay.
+  std::vector<InstanceHandle> handles;
+  std::vector<GpuInstanceState> state;
+  CrowdExport(crowd).state(&state, &handles);
+  ASSERT_FALSE(handles.empty());
+  LayerMask arm;
+  ASSERT_TRUE(
+      buildLayerMask(character().skeleton, palette(), "r_clavicle", {"r_clavicle"}, &arm).isOk());
+  uint32_t mask = 0;
+  ASSERT_TRUE(crowd.addLayerMask(arm, &mask).isOk());
+  const Status played = crowd.playOverlay(handles[0], 0, mask, 1.0f, 0.0);
+  ASSERT_TRUE(played.isOk()) << played.toString();
+  s = frame(1, {{&crowd.view(), lodCamera()}}, {}, vk::DrawMode::kShaded, &image);
+  EXPECT_EQ(s.code(), StatusCode::kUnsupported) << s.toString();
+  EXPECT_NE(s.message().find("overlays"), std::string::npos) << s.toString();
+  // A detached view.
+  CrowdView detached;
+  s = host_.submit([&](VkCommandBuffer cmd) {
+    EXPECT_TRUE(renderer_.beginFrame(0).isOk());
+    return renderer_.recordGpuDrivenPasses(cmd, id_, detached, lodCamera());
+  });
+  EXPECT_EQ(s.code(), StatusCode::kInvalidArgument) << s.toString();
+  EXPECT_TRUE(host_.messages().empty()) << messages();
+}
+
+INSTANTIATE_TEST_SUITE_P(Backends, VulkanGpuDrivenTest,
+                         ::testing::Values(HeadlessBackend::kEglSurfaceless,
+                                           HeadlessBackend::kEglDevice),
+                         backendTestName);
+
+}  // namespace
+}  // namespace si
