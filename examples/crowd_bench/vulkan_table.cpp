@@ -36,7 +36,8 @@ double differingShare(const std::vector<uint8_t>& a, const std::vector<uint8_t>&
 Status runBoth(Setup& setup, Renderer& gl, examples::HeadlessVulkan& host,
                const BakedPalette& palette, uint32_t count, const std::string& path,
                const LodChoice& lod, Row rows[2], double* apart) {
-  const bool gpu_driven = path == "gpu-culled";
+  // gpu-culled skins in the vertex stage; gpu-driven pre-skins into the ring first, on both.
+  const bool gpu_driven = path == "gpu-culled" || path == "gpu-driven";
   const std::vector<glm::dvec3> places = scenePositions("field", count);
   CrowdManager crowd;
   Status s = makeCrowd(setup, palette, places, lod, &crowd);
@@ -48,6 +49,7 @@ Status runBoth(Setup& setup, Renderer& gl, examples::HeadlessVulkan& host,
   vd.device = host.device();
   vd.frames_in_flight = 1;  // The host waits for each frame.
   vd.gpu_driven = gpu_driven;
+  if (path == "gpu-culled") vd.gpu_driven_ring_bytes = 0;
   vd.ring_bytes_per_frame =
       uint64_t(count) * crowd.desc().sub_mesh_count * 80 + (uint64_t(4) << 20);
   s = vkr.init(vd);
@@ -144,17 +146,20 @@ Status vulkanTable(Setup& setup, const BakedPalette& palette, const RendererDesc
   s = initRenderer(setup, palette, rd, &gl);
   if (!s.isOk()) return s;
   std::printf(
-      "\nVulkan (field, %s LODs, vertex-shader skinning): si::gl and si::vk (%s, validation %s) "
-      "drawing the same crowd and camera each frame, on the instanced path (drawCrowd, "
-      "recordDraw) and the GPU-driven one (gpu-culled: drawCrowdGpuCulled, "
-      "recordGpuDrivenPasses and recordGpuDrivenDraw); GPU x is Vulkan's GPU time over GL's\n",
+      "\nVulkan (field, %s LODs): si::gl and si::vk (%s, validation %s) drawing the same "
+      "crowd and camera each frame, on the instanced path (drawCrowd, recordDraw; vertex-shader "
+      "skinning) and the GPU-driven one (drawCrowdGpuCulled, recordGpuDrivenPasses and "
+      "recordGpuDrivenDraw; gpu-culled skinning in the vertex stage, gpu-driven pre-skinning "
+      "in compute); GPU x is Vulkan's GPU time over GL's\n",
       lod.name().c_str(), host.deviceName().c_str(), host.validation() ? "on" : "not installed");
   printSideBySideHeader("API");
   std::printf(" %12s %12s\n", "covered px", "apart");
   for (const std::string& path : paths) {
-    if (path != "instanced" && path != "gpu-culled") {
-      std::printf("  %s: not on the Vulkan back-end yet (instanced and gpu-culled are)\n",
-                  path.c_str());
+    if (path != "instanced" && path != "gpu-culled" && path != "gpu-driven") {
+      std::printf(
+          "  %s: not on the Vulkan back-end yet (instanced, gpu-culled and gpu-driven "
+          "are)\n",
+          path.c_str());
       continue;
     }
     for (uint32_t count : sizes) {

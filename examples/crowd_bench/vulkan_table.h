@@ -4,10 +4,10 @@
 // OpenGL context) and by si::vk (into the frame of the vulkan_host example's headless Vulkan
 // host, the same size), side by side in one run: each frame the same crowd and camera drawn by
 // both, one after the other, on the instanced path (drawCrowd, recordDraw: the CPU's selection)
-// and the GPU-driven one ("gpu-culled": drawCrowdGpuCulled, recordGpuDrivenPasses and
-// recordGpuDrivenDraw). GL's GPU time is its timer query (RendererDesc::measure_gpu_time),
-// Vulkan's the host's timestamps around the recorded passes and draws; the last frames' images
-// are compared.
+// and the GPU-driven one (drawCrowdGpuCulled, recordGpuDrivenPasses and recordGpuDrivenDraw:
+// "gpu-culled" skinning in the vertex stage, "gpu-driven" pre-skinning in compute first). GL's GPU
+// time is its timer query (RendererDesc::measure_gpu_time), Vulkan's the host's timestamps around
+// the recorded passes and draws; the last frames' images are compared.
 #include <cstdio>
 #include <string>
 #include <vector>
@@ -18,7 +18,7 @@
 namespace si::bench {
 
 /// Prints the table (and CSV rows "vulkan") for every size and each of `paths` the Vulkan
-/// back-end draws (instanced, gpu-culled; the others are named as not built), the crowd
+/// back-end draws (instanced, gpu-culled, gpu-driven; the others are named as not built), the crowd
 /// selecting its levels by `lod`. kUnsupported when crowd_bench was built without si::vk or the
 /// machine has no Vulkan 1.3 device.
 Status vulkanTable(Setup& setup, const BakedPalette& palette, const RendererDesc& desc,

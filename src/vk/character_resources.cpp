@@ -60,6 +60,11 @@ Status stageCharacter(DeviceObjects* objects, const Character& character,
 
   c->sub_meshes = mesh.sub_meshes;
   c->frame_stride_texels = palette.layout.frame_stride_texels;
+  // Pre-skinning's lists (the GPU-driven path's ring) and how its passes read the stream.
+  si::detail::buildPreSkinLists(mesh, &c->pre_skin);
+  c->source_words =
+      si::detail::preSkinSourceWords(stream) | (stream.tangent_offset != 0 ? 0x200u : 0u);
+  c->tangents = stream.tangent_offset != 0;
   // The staging buffer: every content, each at a 16-byte offset.
   struct Content {
     const void* data;
@@ -80,8 +85,9 @@ Status stageCharacter(DeviceObjects* objects, const Character& character,
     size_t bytes;
     const char* what;
   } buffers[] = {
-      {&c->vertices, VK_BUFFER_USAGE_VERTEX_BUFFER_BIT, stream.bytes.data(), stream.bytes.size(),
-       "the character's vertex buffer"},
+      // Also read as words by the GPU-driven pre-skinning pass and pre-skinned draw.
+      {&c->vertices, VK_BUFFER_USAGE_VERTEX_BUFFER_BIT | VK_BUFFER_USAGE_STORAGE_BUFFER_BIT,
+       stream.bytes.data(), stream.bytes.size(), "the character's vertex buffer"},
       {&c->indices, VK_BUFFER_USAGE_INDEX_BUFFER_BIT, mesh.indices.data(), mesh.indices.size() * 4,
        "the character's index buffer"},
       {&c->palette_info, VK_BUFFER_USAGE_UNIFORM_BUFFER_BIT, info_block, sizeof(info_block),
@@ -90,6 +96,10 @@ Status stageCharacter(DeviceObjects* objects, const Character& character,
        vertex_words.size() * 4, "the character's per-vertex materials"},
       {&c->materials, VK_BUFFER_USAGE_STORAGE_BUFFER_BIT, entries.data(),
        entries.size() * sizeof(GpuMaterial), "the character's material table"},
+      {&c->lod_vertices, VK_BUFFER_USAGE_STORAGE_BUFFER_BIT, c->pre_skin.lod_vertices.data(),
+       c->pre_skin.lod_vertices.size() * 4, "pre-skinning's vertex lists"},
+      {&c->local_indices, VK_BUFFER_USAGE_INDEX_BUFFER_BIT, c->pre_skin.local_indices.data(),
+       c->pre_skin.local_indices.size() * 4, "pre-skinning's re-indexed triangles"},
   };
   for (const auto& b : buffers) {
     if (!s.isOk()) break;
@@ -157,7 +167,7 @@ Status stageCharacter(DeviceObjects* objects, const Character& character,
 
 void destroyCharacter(DeviceObjects* objects, CharacterResources* c) {
   for (GpuBuffer* b : {&c->vertices, &c->indices, &c->palette_info, &c->vertex_materials,
-                       &c->materials, &c->staging})
+                       &c->materials, &c->lod_vertices, &c->local_indices, &c->staging})
     objects->destroy(b);
   for (GpuImage* i : {&c->palette, &c->base_color, &c->material_data, &c->morphs})
     objects->destroy(i);
@@ -168,6 +178,8 @@ void destroyCharacter(DeviceObjects* objects, CharacterResources* c) {
   for (auto& by_kind : c->pipelines)
     for (VkPipeline& p : by_kind) destroy_pipeline(p);
   for (VkPipeline& p : c->driven_pipelines) destroy_pipeline(p);
+  for (VkPipeline& p : c->pulled_pipelines) destroy_pipeline(p);
+  destroy_pipeline(c->skin_pipeline);
   if (c->pool != VK_NULL_HANDLE)
     vkDestroyDescriptorPool(objects->device(), c->pool, objects->allocator());
   c->pool = VK_NULL_HANDLE;

@@ -9,6 +9,7 @@
 
 #include <vector>
 
+#include "core/pre_skin_lists.h"
 #include "si/core/baked_palette.h"
 #include "si/core/character.h"
 #include "si/core/shader_inputs.h"
@@ -26,6 +27,14 @@ struct BufferUpload {
 
 struct CharacterResources {
   GpuBuffer vertices, indices, palette_info, vertex_materials, materials;
+  /// Pre-skinning's lists (the GPU-driven path): each local vertex's source vertex, and the
+  /// triangles re-indexed to their list (an index buffer); where each (sub-mesh, LOD)'s are, and
+  /// pre_skin_common.glsl's u_layout.y (| 0x200 when the stream has tangents: the tangent ring
+  /// is written and read).
+  GpuBuffer lod_vertices, local_indices;
+  si::detail::PreSkinListData pre_skin;
+  uint32_t source_words = 0;
+  bool tangents = false;
   GpuImage palette, base_color, material_data;
   GpuImage morphs;  ///< Morph targets (MorphStream's texels); none without.
   std::vector<SubMesh> sub_meshes;
@@ -39,6 +48,11 @@ struct CharacterResources {
   /// made when the renderer draws the GPU-driven path).
   uint32_t driven_programs[2] = {};
   VkPipeline driven_pipelines[2] = {};
+  /// Its pre-skinned draws (shaded, depth only) and its pre-skinning pass (compute).
+  uint32_t pulled_programs[2] = {};
+  VkPipeline pulled_pipelines[2] = {};
+  uint32_t skin_program = 0;
+  VkPipeline skin_pipeline = VK_NULL_HANDLE;
   VkDescriptorPool pool = VK_NULL_HANDLE;
   VkDescriptorSet set = VK_NULL_HANDLE;
   GpuBuffer staging;  ///< Until recordUploads() hands it on.

@@ -81,6 +81,16 @@ Status createCharacterSet(VkDevice device, const VkAllocationCallbacks* allocato
       buffer(driven->entries, VK_WHOLE_SIZE);
     else if (driven != nullptr && b == kDrivenVisibleBinding)
       buffer(driven->visible, VK_WHOLE_SIZE);
+    else if (driven != nullptr && b == kEntryDataBinding)
+      buffer(driven->entry_data, VK_WHOLE_SIZE);
+    else if (driven != nullptr && b == kRingBinding)
+      buffer(driven->ring, VK_WHOLE_SIZE);
+    else if (driven != nullptr && b == kTangentRingBinding)
+      buffer(driven->tangent_ring, VK_WHOLE_SIZE);
+    else if (b == kSourceBinding)
+      buffer(c->vertices, VK_WHOLE_SIZE);
+    else if (b == kLodVerticesBinding)
+      buffer(c->lod_vertices, VK_WHOLE_SIZE);
     writes.push_back(w);
   }
   vkUpdateDescriptorSets(device, uint32_t(writes.size()), writes.data(), 0, nullptr);

@@ -26,6 +26,9 @@ struct DrivenOutputs {
   const GpuBuffer& records;
   const GpuBuffer& entries;
   const GpuBuffer& visible;
+  const GpuBuffer& entry_data;    ///< Each pre-skinned entry's ring base and list.
+  const GpuBuffer& ring;          ///< The pre-skinned vertices.
+  const GpuBuffer& tangent_ring;  ///< Their tangents (the ring stands in without).
 };
 
 /// Creates a descriptor pool and its one set for `layout` into `*pool` and `*set` and writes

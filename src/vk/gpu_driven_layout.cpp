@@ -6,6 +6,7 @@
 
 #include "core/str_cat.h"
 #include "vk/device_objects.h"
+#include "vk/skinned_pipeline.h"
 
 namespace si::vk::detail {
 
@@ -22,13 +23,18 @@ Status createComputeLayout(VkDevice device, const VkAllocationCallbacks* allocat
           b == kDrivenRecordsBinding || b == kDrivenEntriesBinding || b == kDrivenVisibleBinding ||
           b == kCommandsBinding || b == kRangesBinding || b == kBucketInfoBinding ||
           b == kEntryDataBinding || b == kViewLodsBinding ||
-          (b >= kFirstUnbuiltBinding && b <= kLastUnbuiltBinding) || b == kLivePosesBinding;
+          (b >= kFirstUnbuiltBinding && b <= kLastUnbuiltBinding) || b == kLivePosesBinding ||
+          b == kRingBinding || b == kSourceBinding || b == kLodVerticesBinding ||
+          b == kTangentRingBinding;
       VkDescriptorType type;
       if (storage && d.kind == DescriptorKind::kStorageBuffer)
         type = VK_DESCRIPTOR_TYPE_STORAGE_BUFFER;
       else if (b == kComputeDefaultsBinding && d.kind == DescriptorKind::kUniformBuffer)
         type = VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER_DYNAMIC;
-      else if (b == kPyramidBinding && d.kind == DescriptorKind::kCombinedImageSampler)
+      else if (b == kPaletteInfoBinding && d.kind == DescriptorKind::kUniformBuffer)
+        type = VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER;
+      else if ((b == kPyramidBinding || b == kPaletteBinding || b == kMorphBinding) &&
+               d.kind == DescriptorKind::kCombinedImageSampler)
         type = VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER;
       else
         return {StatusCode::kUnsupported,

@@ -1,8 +1,9 @@
 // SkinnedInstancing — SPDX-License-Identifier: MIT (see LICENSE)
 #pragma once
-// The GPU-driven path's compute passes as Vulkan objects: the bindings si::gl's cull, commands
-// and scatter passes declare (shaders/cull*.comp.glsl, shifted by the Vulkan profile), the one
-// set layout of the three read from their SPIR-V, and a pass's compute pipeline. What the draw
+// The GPU-driven path's compute passes as Vulkan objects: the bindings si::gl's cull, commands,
+// scatter and pre-skinning passes declare (shaders/cull*.comp.glsl, gpu_skin.comp.glsl, shifted
+// by the Vulkan profile), the one set layout of them read from their SPIR-V, and a pass's
+// compute pipeline. What the draw
 // reads of the passes' output (records, entries, visible list) is at the bindings below in the
 // GPU-driven draw programs' set (skinned_pipeline.h).
 
@@ -30,6 +31,12 @@ inline constexpr uint32_t kRangesBinding = 8 + kStorageBindingShift;
 inline constexpr uint32_t kBucketInfoBinding = 9 + kStorageBindingShift;
 inline constexpr uint32_t kEntryDataBinding = 12 + kStorageBindingShift;
 inline constexpr uint32_t kViewLodsBinding = 16 + kStorageBindingShift;
+// Pre-skinning (gpu_skin.comp.glsl, pulled.vert.glsl): the ring of pre-skinned vertices, the
+// character's vertex stream read as words, its vertex lists, the tangent ring.
+inline constexpr uint32_t kRingBinding = 13 + kStorageBindingShift;
+inline constexpr uint32_t kSourceBinding = 14 + kStorageBindingShift;
+inline constexpr uint32_t kLodVerticesBinding = 15 + kStorageBindingShift;
+inline constexpr uint32_t kTangentRingBinding = 28 + kStorageBindingShift;
 // Layered animation and motion vectors (bindings 17 to 21) and live poses (25): declared by the
 // cull pass, not drawn by the Vulkan back-end yet (u_layers, u_motion 0; no posed instance):
 // bound to a placeholder the pass never reads or writes.
@@ -41,7 +48,7 @@ inline constexpr uint32_t kPyramidBinding = 1 + kSamplerBindingShift;
 // Bytes of a pass's default uniform block (the cull pass's is 592).
 inline constexpr VkDeviceSize kComputeDefaultsRange = 1024;
 
-/// The three passes' set layout and pipeline layout.
+/// The passes' set layout and pipeline layout.
 struct ComputeLayout {
   VkDescriptorSetLayout set_layout = VK_NULL_HANDLE;
   VkPipelineLayout pipeline_layout = VK_NULL_HANDLE;

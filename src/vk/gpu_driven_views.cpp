@@ -20,6 +20,7 @@ using si::detail::kCommandWords;
 using si::detail::kCounterWords;
 using si::detail::kDispatchWord;
 using si::detail::kMaxBuckets;
+using si::detail::kSkinDispatchWord;
 using si::detail::strCat;
 
 namespace {
@@ -72,7 +73,8 @@ void GpuDrivenViews::beginFrame(uint32_t slot) {
 void GpuDrivenViews::retire(uint32_t slot, View* v) {
   Retired& r = retired_[slot];
   for (GpuBuffer* b : {&v->state, &v->clips, &v->times, &v->ranges, &v->bucket_info, &v->identity,
-                       &v->lods, &v->counters, &v->records, &v->visible, &v->entries, &v->commands})
+                       &v->lods, &v->counters, &v->records, &v->visible, &v->entries, &v->commands,
+                       &v->entry_data, &v->ring, &v->tangent_ring})
     if (b->buffer != VK_NULL_HANDLE) {
       r.buffers.push_back(*b);
       *b = GpuBuffer();
@@ -92,6 +94,17 @@ Status GpuDrivenViews::reshape(View* v, uint32_t slot, const CharacterResources&
   // Room to grow by half, so a spawn wave re-creates the buffers a few times, not every frame.
   const uint64_t capacity = std::max<uint64_t>(1, uint64_t(n) + n / 2);
   const uint64_t entries = capacity * sub_meshes;
+  // The ring: as many vertices as its bytes hold (within a storage binding), at least one
+  // instance of the largest list; none asked: a one-vertex stand-in the passes never fill.
+  const uint64_t ring_vertices =
+      std::min<uint64_t>(shared_.ring_bytes, shared_.max_storage_range) / 16;
+  if (shared_.ring_bytes != 0 && ring_vertices < c.pre_skin.max_lod_vertices)
+    return {StatusCode::kLimitExceeded,
+            strCat("vk::Renderer::recordGpuDrivenPasses: a ring of ", shared_.ring_bytes,
+                   " bytes (RendererDesc::gpu_driven_ring_bytes) does not hold one instance of "
+                   "the largest LOD (",
+                   c.pre_skin.max_lod_vertices, " vertices)")};
+  const uint64_t ring_slots = std::max<uint64_t>(ring_vertices, 1);
   struct Need {
     GpuBuffer* buffer;
     uint64_t bytes;
@@ -114,7 +127,10 @@ Status GpuDrivenViews::reshape(View* v, uint32_t slot, const CharacterResources&
       {&v->visible, capacity * 16, storage, "the visible list"},
       {&v->entries, entries * 4, storage, "the bucket entries"},
       {&v->commands, uint64_t(kCommandWords) * 4, storage | VK_BUFFER_USAGE_INDIRECT_BUFFER_BIT,
-       "the indirect commands"}};
+       "the indirect commands"},
+      {&v->entry_data, entries * 8, storage, "the pre-skinned entries"},
+      {&v->ring, ring_slots * 16, storage, "the pre-skinned ring"},
+      {&v->tangent_ring, c.tangents ? ring_slots * 4 : 16, storage, "the tangent ring"}};
   for (const Need& need : needs)
     if (need.bytes > shared_.max_storage_range)
       return {StatusCode::kLimitExceeded,
@@ -156,6 +172,11 @@ Status GpuDrivenViews::reshape(View* v, uint32_t slot, const CharacterResources&
   std::vector<VkDescriptorBufferInfo> buffer_infos(bindings.size());
   VkDescriptorImageInfo pyramid{shared_.nearest, shared_.no_pyramid->view,
                                 VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL};
+  VkDescriptorImageInfo palette{shared_.nearest, c.palette.view,
+                                VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL};
+  VkDescriptorImageInfo morphs{
+      shared_.nearest, c.morphs.image != VK_NULL_HANDLE ? c.morphs.view : shared_.no_morphs->view,
+      VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL};
   std::vector<VkWriteDescriptorSet> writes;
   for (size_t k = 0; k < bindings.size(); ++k) {
     const uint32_t b = bindings[k].binding;
@@ -164,7 +185,14 @@ Status GpuDrivenViews::reshape(View* v, uint32_t slot, const CharacterResources&
     w.dstBinding = b;
     w.descriptorCount = 1;
     w.descriptorType = bindings[k].descriptorType;
+    const GpuBuffer* tangents = c.tangents ? &v->tangent_ring : &v->ring;
     const GpuBuffer* buffer = b == kStateBinding             ? &v->state
+                              : b == kEntryDataBinding       ? &v->entry_data
+                              : b == kRingBinding            ? &v->ring
+                              : b == kTangentRingBinding     ? tangents
+                              : b == kSourceBinding          ? &c.vertices
+                              : b == kLodVerticesBinding     ? &c.lod_vertices
+                              : b == kPaletteInfoBinding     ? &c.palette_info
                               : b == kClipsBinding           ? &v->clips
                               : b == kTimesBinding           ? &v->times
                               : b == kCountersBinding        ? &v->counters
@@ -177,8 +205,8 @@ Status GpuDrivenViews::reshape(View* v, uint32_t slot, const CharacterResources&
                               : b == kViewLodsBinding        ? &v->lods
                               : b == kComputeDefaultsBinding ? shared_.ring
                                                              : shared_.unbuilt;
-    if (b == kPyramidBinding) {
-      w.pImageInfo = &pyramid;
+    if (b == kPyramidBinding || b == kPaletteBinding || b == kMorphBinding) {
+      w.pImageInfo = b == kPyramidBinding ? &pyramid : b == kPaletteBinding ? &palette : &morphs;
     } else {
       buffer_infos[k] = {buffer->buffer, 0,
                          b == kComputeDefaultsBinding ? kComputeDefaultsRange : VK_WHOLE_SIZE};
@@ -189,7 +217,8 @@ Status GpuDrivenViews::reshape(View* v, uint32_t slot, const CharacterResources&
   vkUpdateDescriptorSets(shared_.objects->device(), uint32_t(writes.size()), writes.data(), 0,
                          nullptr);
   // The draw's set: the character's resources and the passes' output.
-  const DrivenOutputs outputs{v->records, v->entries, v->visible};
+  const DrivenOutputs outputs{v->records,    v->entries, v->visible,
+                              v->entry_data, v->ring,    c.tangents ? v->tangent_ring : v->ring};
   s = createCharacterSet(
       shared_.objects->device(), shared_.objects->allocator(), *shared_.draw_layout,
       {*shared_.ring, shared_.nearest, shared_.linear, *shared_.custom, *shared_.no_morphs}, c,
@@ -199,6 +228,7 @@ Status GpuDrivenViews::reshape(View* v, uint32_t slot, const CharacterResources&
     return s;
   }
   v->capacity = uint32_t(capacity);
+  v->ring_vertices = uint32_t(ring_vertices);
   v->sub_meshes = sub_meshes;
   v->buckets = buckets;
   v->clip_count = clips;
@@ -238,7 +268,8 @@ Status GpuDrivenViews::recordPasses(VkCommandBuffer cmd, uint32_t slot, FrameReg
                         v.time_count != times.size() || v.state.buffer == VK_NULL_HANDLE;
   const bool changed = reshaped || v.version != exported.stateVersion() || v.instances != n;
   // The passes' uniforms first: a full region refuses the frame before anything is recorded.
-  VkDeviceSize defaults_at[3] = {};
+  // The cull, commands, scatter and pre-skinning passes'.
+  VkDeviceSize defaults_at[4] = {};
   for (VkDeviceSize& at : defaults_at) {
     Status s = region.take(kComputeDefaultsRange, &at);
     if (!s.isOk()) return s;
@@ -269,8 +300,9 @@ Status GpuDrivenViews::recordPasses(VkCommandBuffer cmd, uint32_t slot, FrameReg
     const VkDeviceSize range_bytes = reshaped ? VkDeviceSize(buckets) * 8 : 0;
     const VkDeviceSize identity_bytes = reshaped ? VkDeviceSize(v.capacity) * subs * 4 : 0;
     const VkDeviceSize lod_bytes = reshaped ? VkDeviceSize(n) * 8 : 0;
-    const VkDeviceSize total =
-        state_bytes + clip_bytes + time_bytes + range_bytes + identity_bytes + lod_bytes;
+    const VkDeviceSize info_bytes = reshaped ? VkDeviceSize(buckets) * 16 : 0;
+    const VkDeviceSize total = state_bytes + clip_bytes + time_bytes + range_bytes +
+                               identity_bytes + lod_bytes + info_bytes;
     if (v.staging.size() < shared_.frames_in_flight) v.staging.resize(shared_.frames_in_flight);
     GpuBuffer& staging = v.staging[slot];
     if (staging.size < total) {
@@ -319,8 +351,18 @@ Status GpuDrivenViews::recordPasses(VkCommandBuffer cmd, uint32_t slot, FrameReg
         kept[2 * k + 1] = k < seed.size() ? seed[k] : 0u;
       }
       add(v.lods, lod_bytes);
-      // No pre-skinning: every bucket's info 0 (nothing fits a ring).
-      vkCmdFillBuffer(cmd, v.bucket_info.buffer, 0, VK_WHOLE_SIZE, 0);
+      // Per bucket its pre-skinning list: vertices, list offset, first local index, local
+      // indices (all 0 without a ring: nothing fits).
+      auto* info = reinterpret_cast<uint32_t*>(out + at);
+      for (uint32_t b = 0; b < buckets; ++b) {
+        const si::detail::PreSkinLod& l = c.pre_skin.lod(b % subs, b / subs);
+        const bool ring = v.ring_vertices != 0;
+        info[4 * b] = ring ? l.vertex_count : 0u;
+        info[4 * b + 1] = l.vertex_offset;
+        info[4 * b + 2] = l.first_index;
+        info[4 * b + 3] = l.index_count;
+      }
+      add(v.bucket_info, info_bytes);
     }
     for (const auto& [buffer, copy] : to)
       vkCmdCopyBuffer(cmd, staging.buffer, buffer->buffer, 1, &copy);
@@ -367,14 +409,19 @@ Status GpuDrivenViews::recordPasses(VkCommandBuffer cmd, uint32_t slot, FrameReg
   {
     const SpirvReflection& r = shared_.pass_modules[1]->compute_reflection;
     uint8_t* block = ring + defaults_at[1];
-    const uint32_t no_ring = 0, no_impostors = 0xFFFFFFFFu;
-    putDefault(block, r, "u_ring_vertices", &no_ring, 4);
+    const uint32_t no_impostors = 0xFFFFFFFFu;
+    putDefault(block, r, "u_ring_vertices", &v.ring_vertices, 4);
     putDefault(block, r, "u_max_groups_x", &shared_.max_groups_x, 4);
     putDefault(block, r, "u_impostor_bucket", &no_impostors, 4);
   }
+  const SpirvReflection& skin = (*shared_.programs)[c.skin_program].compute_reflection;
+  putDefault(ring + defaults_at[3], skin, "u_counts", counts, 16);
+  const uint32_t layout_words[2] = {0u, c.source_words};
+  putDefault(ring + defaults_at[3], skin, "u_layout", layout_words, 8);
   VkPipelineLayout layout = shared_.compute_layout->pipeline_layout;
   const auto bind = [&](int pass) {
-    vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, shared_.passes[pass]);
+    vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_COMPUTE,
+                      pass < 3 ? shared_.passes[pass] : c.skin_pipeline);
     const uint32_t offset = uint32_t(defaults_at[pass]);
     vkCmdBindDescriptorSets(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, layout, 0, 1, &v.pass_set, 1,
                             &offset);
@@ -392,7 +439,14 @@ Status GpuDrivenViews::recordPasses(VkCommandBuffer cmd, uint32_t slot, FrameReg
       VK_ACCESS_SHADER_READ_BIT | VK_ACCESS_SHADER_WRITE_BIT | VK_ACCESS_INDIRECT_COMMAND_READ_BIT);
   bind(2);
   vkCmdDispatchIndirect(cmd, v.counters.buffer, VkDeviceSize(kDispatchWord) * 4);
-  // The draw reads the commands, entry indices, entries, records and visible list.
+  if (v.ring_vertices != 0) {
+    // Every pre-skinned entry's vertices into the ring (the groups the commands pass counted).
+    recordBarrier(cmd, VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT, VK_ACCESS_SHADER_WRITE_BIT,
+                  VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT, VK_ACCESS_SHADER_READ_BIT);
+    bind(3);
+    vkCmdDispatchIndirect(cmd, v.counters.buffer, VkDeviceSize(kSkinDispatchWord) * 4);
+  }
+  // The draws read the commands, entry indices, entries, records, visible list and ring.
   recordBarrier(cmd, VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT | VK_PIPELINE_STAGE_TRANSFER_BIT,
                 VK_ACCESS_SHADER_WRITE_BIT | VK_ACCESS_TRANSFER_WRITE_BIT,
                 VK_PIPELINE_STAGE_DRAW_INDIRECT_BIT | VK_PIPELINE_STAGE_VERTEX_INPUT_BIT |
@@ -406,53 +460,67 @@ Status GpuDrivenViews::recordPasses(VkCommandBuffer cmd, uint32_t slot, FrameReg
 }
 
 Status GpuDrivenViews::recordDraw(VkCommandBuffer cmd, FrameRegion region, uint32_t character,
-                                  const CharacterResources& c, VkPipeline pipeline,
-                                  const ProgramModules& program, const CrowdView& view,
+                                  const CharacterResources& c, const CrowdView& view,
                                   const DrawTarget& target, const glm::vec3& light_direction,
                                   DrawStats* stats) {
-  (void)c;
   const auto found = views_.find({character, view.identity()});
   if (found == views_.end() || !found->second.passes_recorded)
     return {StatusCode::kInvalidArgument,
             "vk::Renderer::recordGpuDrivenDraw: the view's passes were not recorded in this "
             "frame (recordGpuDrivenPasses)"};
   View& v = found->second;
-  VkDeviceSize vertex_at = 0, fragment_at = 0;
-  Status s = region.take(kDefaultsRange, &vertex_at);
-  if (s.isOk()) s = region.take(kDefaultsRange, &fragment_at);
-  if (!s.isOk()) return s;
+  const size_t k = target.mode == DrawMode::kDepthOnly ? 1 : 0;
+  const bool pulled = v.ring_vertices != 0;
+  // Each draw's vertex and fragment defaults: the pre-skinned draw's, then the other's.
+  VkDeviceSize at[2][2] = {};
+  for (int d = pulled ? 0 : 1; d < 2; ++d)
+    for (VkDeviceSize& a : at[d]) {
+      Status s = region.take(kDefaultsRange, &a);
+      if (!s.isOk()) return s;
+    }
   const glm::mat4 vp = vulkanViewProjection(v.camera);
-  putDefault(region.mapped + vertex_at, program.vertex_reflection, "u_view_projection", &vp[0][0],
-             64);
-  putDefault(region.mapped + fragment_at, program.fragment_reflection, "u_light_direction",
-             &light_direction, 12);
-  vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_GRAPHICS, pipeline);
   recordDrawState(cmd, target, v.camera);
   const VkBuffer vertex_buffers[2] = {c.vertices.buffer, v.identity.buffer};
   const VkDeviceSize zeros[2] = {0, 0};
   vkCmdBindVertexBuffers(cmd, 0, 2, vertex_buffers, zeros);
-  vkCmdBindIndexBuffer(cmd, c.indices.buffer, 0, VK_INDEX_TYPE_UINT32);
-  // Dynamic offsets in binding order: the vertex, then the fragment defaults.
-  uint32_t offsets[2] = {};
-  uint32_t count = 0;
-  for (uint32_t b : shared_.draw_layout->dynamic_bindings)
-    offsets[count++] = uint32_t(b == kVertexDefaultsBinding ? vertex_at : fragment_at);
-  vkCmdBindDescriptorSets(cmd, VK_PIPELINE_BIND_POINT_GRAPHICS,
-                          shared_.draw_layout->pipeline_layout, 0, 1, &v.draw_set, count, offsets);
-  vkCmdDrawIndexedIndirect(cmd, v.commands.buffer, 0, v.buckets, 20);
-  if (stats != nullptr) {
-    *stats = DrawStats();
-    stats->draw_calls = 1;
+  DrawStats st;
+  for (int d = pulled ? 0 : 1; d < 2; ++d) {
+    const ProgramModules& program =
+        (*shared_.programs)[d == 0 ? c.pulled_programs[k] : c.driven_programs[k]];
+    uint8_t* vertex = region.mapped + at[d][0];
+    putDefault(vertex, program.vertex_reflection, "u_view_projection", &vp[0][0], 64);
+    const uint32_t layout_words[2] = {0u, c.source_words};
+    putDefault(vertex, program.vertex_reflection, "u_layout", layout_words, 8);
+    putDefault(region.mapped + at[d][1], program.fragment_reflection, "u_light_direction",
+               &light_direction, 12);
+    vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_GRAPHICS,
+                      d == 0 ? c.pulled_pipelines[k] : c.driven_pipelines[k]);
+    // The pre-skinned draw indexes each list's own vertices; the other the mesh's.
+    vkCmdBindIndexBuffer(cmd, d == 0 ? c.local_indices.buffer : c.indices.buffer, 0,
+                         VK_INDEX_TYPE_UINT32);
+    // Dynamic offsets in binding order: the vertex, then the fragment defaults.
+    uint32_t offsets[2] = {};
+    uint32_t count = 0;
+    for (uint32_t b : shared_.draw_layout->dynamic_bindings)
+      offsets[count++] = uint32_t(b == kVertexDefaultsBinding ? at[d][0] : at[d][1]);
+    vkCmdBindDescriptorSets(cmd, VK_PIPELINE_BIND_POINT_GRAPHICS,
+                            shared_.draw_layout->pipeline_layout, 0, 1, &v.draw_set, count,
+                            offsets);
+    // Commands 0 to 255 skin in the vertex stage, from 256 on the pre-skinned ones.
+    vkCmdDrawIndexedIndirect(cmd, v.commands.buffer, d == 0 ? VkDeviceSize(kMaxBuckets) * 20 : 0,
+                             v.buckets, 20);
+    ++st.draw_calls;
   }
+  if (stats != nullptr) *stats = st;
   return Status::ok();
 }
 
 uint64_t GpuDrivenViews::deviceBytes() const {
   uint64_t bytes = 0;
   for (const auto& [key, v] : views_)
-    for (const GpuBuffer* b :
-         {&v.state, &v.clips, &v.times, &v.ranges, &v.bucket_info, &v.identity, &v.lods,
-          &v.counters, &v.records, &v.visible, &v.entries, &v.commands})
+    for (const GpuBuffer* b : {&v.state, &v.clips, &v.times, &v.ranges, &v.bucket_info, &v.identity,
+                               &v.lods, &v.counters, &v.records, &v.visible, &v.entries,
+                               &v.commands, &v.entry_data, &v.ring, &v.tangent_ring})
       bytes += b->size;
   return bytes;
 }

@@ -58,6 +58,12 @@ struct DrivenShared {
   uint32_t max_groups_x = 65535, max_groups_y = 65535;
   VkDeviceSize max_storage_range = 0;  ///< maxStorageBufferRange.
   uint32_t frames_in_flight = 1;
+  /// Bytes of each view's ring of pre-skinned vertices (RendererDesc::gpu_driven_ring_bytes);
+  /// 0: every instance skinned in the vertex stage.
+  uint64_t ring_bytes = 0;
+  /// The renderer's programs (vulkanPrograms() order): the characters' draws' and pre-skinning
+  /// passes' default blocks.
+  const std::vector<ProgramModules>* programs = nullptr;
 };
 
 class GpuDrivenViews {
@@ -69,11 +75,11 @@ class GpuDrivenViews {
   /// rendering), in frame slot `slot`, the passes' uniforms in `region`.
   Status recordPasses(VkCommandBuffer cmd, uint32_t slot, FrameRegion region, uint32_t character,
                       const CharacterResources& c, const CrowdView& view, const Camera& camera);
-  /// Records the draw of `view`'s last passes (in frame `frame_number`) into `cmd` (inside
-  /// rendering) with `pipeline` of program `program`.
+  /// Records the draws of `view`'s passes of this frame into `cmd` (inside rendering), shaded or
+  /// depth only as `target` says: the pre-skinned entries pulled from the ring, then the others
+  /// skinned in the vertex stage.
   Status recordDraw(VkCommandBuffer cmd, FrameRegion region, uint32_t character,
-                    const CharacterResources& c, VkPipeline pipeline, const ProgramModules& program,
-                    const CrowdView& view, const DrawTarget& target,
+                    const CharacterResources& c, const CrowdView& view, const DrawTarget& target,
                     const glm::vec3& light_direction, DrawStats* stats);
   /// Device bytes of the views' buffers.
   uint64_t deviceBytes() const;
@@ -91,6 +97,10 @@ class GpuDrivenViews {
     // indirect commands.
     GpuBuffer state, clips, times, ranges, bucket_info, identity, lods;
     GpuBuffer counters, records, visible, entries, commands;
+    // Pre-skinning: each pre-skinned entry's ring base and list, the ring of pre-skinned
+    // vertices (16 bytes each) and of their tangents (4 bytes; the ring stands in without).
+    GpuBuffer entry_data, ring, tangent_ring;
+    uint32_t ring_vertices = 0;      // 0: no pre-skinning.
     std::vector<GpuBuffer> staging;  // One per frame slot.
     // The passes' set and the draw's, each in a pool of its own.
     VkDescriptorPool pass_pool = VK_NULL_HANDLE, draw_pool = VK_NULL_HANDLE;

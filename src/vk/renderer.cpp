@@ -240,6 +240,11 @@ Status Renderer::Impl::initGpuDriven(const VkPhysicalDeviceLimits& limits) {
                                              si::detail::ProgramId::kCullCommands,
                                              si::detail::ProgramId::kCullScatter};
   for (int k = 0; k < 3; ++k) pass_modules[k] = &programs[vulkanComputeProgramIndex(pass_ids[k])];
+  // The layout's passes: the three, and the pre-skinning pass of every mesh variant.
+  std::vector<const ProgramModules*> layout_passes(pass_modules, pass_modules + 3);
+  for (size_t k = 0; k < programs.size(); ++k)
+    if (vulkanPrograms()[k].compute && vulkanPrograms()[k].id == si::detail::ProgramId::kGpuSkin)
+      layout_passes.push_back(&programs[k]);
   for (size_t k = 0; k < programs.size(); ++k) {
     const VulkanProgram& p = vulkanPrograms()[k];
     if (!p.gpu_driven || p.compute) continue;
@@ -250,8 +255,10 @@ Status Renderer::Impl::initGpuDriven(const VkPhysicalDeviceLimits& limits) {
                                  Span<const StageReflection>(stages.data(), stages.size()),
                                  &driven_layout);
   if (s.isOk())
-    s = createComputeLayout(device(), allocator(),
-                            Span<const ProgramModules* const>(pass_modules, 3), &compute_layout);
+    s = createComputeLayout(
+        device(), allocator(),
+        Span<const ProgramModules* const>(layout_passes.data(), layout_passes.size()),
+        &compute_layout);
   for (int k = 0; k < 3 && s.isOk(); ++k)
     s = createComputePipeline(device(), allocator(), *pass_modules[k],
                               compute_layout.pipeline_layout, &passes[k]);
@@ -281,6 +288,8 @@ Status Renderer::Impl::initGpuDriven(const VkPhysicalDeviceLimits& limits) {
   shared.max_groups_y = limits.maxComputeWorkGroupCount[1];
   shared.max_storage_range = limits.maxStorageBufferRange;
   shared.frames_in_flight = desc.frames_in_flight;
+  shared.ring_bytes = desc.gpu_driven_ring_bytes;
+  shared.programs = &programs;
   driven_views.init(shared);
   return Status::ok();
 }
@@ -365,12 +374,24 @@ Status Renderer::addCharacter(const Character& character, const BakedPalette& pa
                                 m.layout.pipeline_layout, formats[k], stream,
                                 &c->pipelines[layers][k]);
     }
-  // The GPU-driven draws, shaded and depth only.
+  // The GPU-driven draws, shaded and depth only, skinned in the vertex stage and pre-skinned;
+  // the pre-skinning pass of the mesh's variant.
   for (size_t k = 0; k < 2 && s.isOk() && m.desc.gpu_driven; ++k) {
     c->driven_programs[k] = uint32_t(vulkanProgramIndex(VulkanKind(k), false, variant, true));
     s = createSkinnedPipeline(m.device(), m.allocator(), m.programs[c->driven_programs[k]],
                               m.driven_layout.pipeline_layout, formats[k], stream,
                               &c->driven_pipelines[k]);
+    c->pulled_programs[k] =
+        uint32_t(vulkanPulledProgramIndex(VulkanKind(k), stream.tangent_offset != 0, variant));
+    if (s.isOk())
+      s = createSkinnedPipeline(m.device(), m.allocator(), m.programs[c->pulled_programs[k]],
+                                m.driven_layout.pipeline_layout, formats[k], stream,
+                                &c->pulled_pipelines[k]);
+  }
+  if (s.isOk() && m.desc.gpu_driven) {
+    c->skin_program = uint32_t(vulkanComputeProgramIndex(si::detail::ProgramId::kGpuSkin, variant));
+    s = createComputePipeline(m.device(), m.allocator(), m.programs[c->skin_program],
+                              m.compute_layout.pipeline_layout, &c->skin_pipeline);
   }
   if (s.isOk())
     s = createCharacterSet(m.device(), m.allocator(), m.layout,
@@ -659,9 +680,7 @@ Status Renderer::recordGpuDrivenDraw(VkCommandBuffer cmd, const DrawTarget& targ
     return {StatusCode::kInvalidArgument,
             strCat("vk::Renderer::recordGpuDrivenDraw: no character ", id.index)};
   const Impl::Character& c = *m.characters[id.index];
-  const size_t k = target.mode == DrawMode::kDepthOnly ? 1 : 0;
-  return m.driven_views.recordDraw(cmd, m.region(), id.index, c, c.driven_pipelines[k],
-                                   m.programs[c.driven_programs[k]], view, target,
+  return m.driven_views.recordDraw(cmd, m.region(), id.index, c, view, target,
                                    m.desc.light_direction, stats);
 }
 

@@ -34,7 +34,8 @@ Status createSkinnedLayout(VkDevice device, const VkAllocationCallbacks* allocat
         type = VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER;
       else if (b == kVertexMaterialsBinding || b == kMaterialTableBinding ||
                b == kPreviousBinding || b == kDrivenRecordsBinding || b == kDrivenEntriesBinding ||
-               b == kDrivenVisibleBinding)
+               b == kDrivenVisibleBinding || b == kEntryDataBinding || b == kRingBinding ||
+               b == kSourceBinding || b == kLodVerticesBinding || b == kTangentRingBinding)
         type = VK_DESCRIPTOR_TYPE_STORAGE_BUFFER;
       else if (b == kPaletteBinding || b == kBaseColorBinding || b == kCustomBinding ||
                b == kMaterialDataBinding || b == kMorphBinding)

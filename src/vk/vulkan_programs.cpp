@@ -48,13 +48,26 @@ std::vector<VulkanProgram> makePrograms() {
               if (eight) name += "_8";
               if (words) name += "_words";
               programs.push_back({catalogProgram(kind, layers, gpu_driven), kind, gpu_driven, false,
-                                  layers, morph, eight, words, name});
+                                  false, false, layers, morph, eight, words, name});
             }
+  for (bool tangents : {false, true})
+    for (bool words : {false, true})
+      programs.push_back(
+          {tangents ? ProgramId::kGpuPulledTangents : ProgramId::kGpuPulled, VulkanKind::kShaded,
+           true, false, true, tangents, false, false, false, words,
+           std::string("gpu_pulled") + (tangents ? "_tangents" : "") + (words ? "_words" : "")});
+  programs.push_back({ProgramId::kGpuPulledDepthOnly, VulkanKind::kDepthOnly, true, false, true,
+                      false, false, false, false, false, "gpu_pulled_depth_only"});
   for (const auto& [id, name] :
        {std::pair{ProgramId::kCull, "cull"}, std::pair{ProgramId::kCullCommands, "cull_commands"},
         std::pair{ProgramId::kCullScatter, "cull_scatter"}})
-    programs.push_back(
-        {id, VulkanKind::kShaded, true, true, false, false, false, false, std::string(name)});
+    programs.push_back({id, VulkanKind::kShaded, true, true, false, false, false, false, false,
+                        false, std::string(name)});
+  for (bool morph : {false, true})
+    for (bool eight : {false, true})
+      programs.push_back({ProgramId::kGpuSkin, VulkanKind::kShaded, true, true, false, false, false,
+                          morph, eight, false,
+                          std::string("gpu_skin") + (morph ? "_morph" : "") + (eight ? "_8" : "")});
   return programs;
 }
 
@@ -73,18 +86,34 @@ size_t vulkanProgramIndex(VulkanKind kind, bool layers, const MeshVariant& mesh,
   const bool words = mesh.vertex_words && kind != VulkanKind::kDepthOnly;
   const std::vector<VulkanProgram>& programs = programList();
   for (size_t k = 0; k < programs.size(); ++k)
-    if (!programs[k].compute && programs[k].gpu_driven == gpu_driven && programs[k].kind == kind &&
-        programs[k].layers == layers && programs[k].morph_targets == mesh.morph_targets &&
+    if (!programs[k].compute && !programs[k].pulled && programs[k].gpu_driven == gpu_driven &&
+        programs[k].kind == kind && programs[k].layers == layers &&
+        programs[k].morph_targets == mesh.morph_targets &&
         programs[k].eight_influences == mesh.eight_influences && programs[k].vertex_words == words)
       return k;
   return 0;  // makePrograms() lists every combination.
 }
 
-size_t vulkanComputeProgramIndex(ProgramId id) {
+size_t vulkanComputeProgramIndex(ProgramId id, const MeshVariant& mesh) {
+  const bool skin = id == ProgramId::kGpuSkin;
   const std::vector<VulkanProgram>& programs = programList();
   for (size_t k = 0; k < programs.size(); ++k)
-    if (programs[k].compute && programs[k].id == id) return k;
-  return 0;  // makePrograms() lists the three passes.
+    if (programs[k].compute && programs[k].id == id &&
+        (!skin || (programs[k].morph_targets == mesh.morph_targets &&
+                   programs[k].eight_influences == mesh.eight_influences)))
+      return k;
+  return 0;  // makePrograms() lists every pass and variant.
+}
+
+size_t vulkanPulledProgramIndex(VulkanKind kind, bool tangents, const MeshVariant& mesh) {
+  const bool depth_only = kind == VulkanKind::kDepthOnly;
+  const std::vector<VulkanProgram>& programs = programList();
+  for (size_t k = 0; k < programs.size(); ++k)
+    if (programs[k].pulled && programs[k].kind == kind &&
+        (depth_only ||
+         (programs[k].tangents == tangents && programs[k].vertex_words == mesh.vertex_words)))
+      return k;
+  return 0;  // makePrograms() lists every combination.
 }
 
 si::detail::ShaderConfig vulkanShaderConfig(const VulkanProgram& program) {

@@ -32,6 +32,10 @@ struct VulkanProgram {
   /// the name), or one of its compute passes (compute; kind kShaded, no variant).
   bool gpu_driven;
   bool compute;
+  /// The GPU-driven path's pre-skinned draw (vertex pulling from the ring: "gpu_pulled"), with
+  /// the tangent ring read (`tangents`) for a character with tangents.
+  bool pulled;
+  bool tangents;
   bool layers;
   bool morph_targets;
   bool eight_influences;
@@ -44,8 +48,9 @@ struct VulkanProgram {
 /// morph targets, of 4 and of 8 influences, the shaded ones also for meshes with vertex words
 /// (the depth-only stage reads none), ordered by morph targets, layers, 8 influences, vertex
 /// words, then kind; then the GPU-driven path's draws, shaded and depth only, without layers,
-/// for the same meshes in the same order; then its compute passes: "cull", "cull_commands",
-/// "cull_scatter".
+/// for the same meshes in the same order; its pre-skinned draws ("gpu_pulled", "_tangents",
+/// "_words"; "gpu_pulled_depth_only"); then its compute passes: "cull", "cull_commands",
+/// "cull_scatter", and the pre-skinning pass for each mesh ("gpu_skin", "_morph", "_8").
 Span<const VulkanProgram> vulkanPrograms();
 
 /// What a character's mesh needs of its programs.
@@ -61,8 +66,11 @@ struct MeshVariant {
 size_t vulkanProgramIndex(VulkanKind kind, bool layers, const MeshVariant& mesh,
                           bool gpu_driven = false);
 /// The index in vulkanPrograms() of the GPU-driven compute pass `id` (kCull, kCullCommands,
-/// kCullScatter).
-size_t vulkanComputeProgramIndex(si::detail::ProgramId id);
+/// kCullScatter; kGpuSkin for a mesh of `mesh`).
+size_t vulkanComputeProgramIndex(si::detail::ProgramId id, const MeshVariant& mesh = {});
+/// The index in vulkanPrograms() of the GPU-driven pre-skinned draw of `kind` (kShaded or
+/// kDepthOnly) for a character with tangents or not and a mesh of `mesh` (its vertex words).
+size_t vulkanPulledProgramIndex(VulkanKind kind, bool tangents, const MeshVariant& mesh);
 
 /// Records in the instance uniform block: 819 of 80 bytes fill a 64 KiB block, the
 /// maxUniformBufferRange of NVIDIA's and lavapipe's drivers (the Vulkan minimum is 16 KiB: a

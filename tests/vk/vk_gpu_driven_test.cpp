@@ -6,6 +6,7 @@
 // keep their own selections; the crowd's changes reach the GPU; what is not built is refused.
 #include <glad/gl.h>
 
+#include "core/pre_skin_lists.h"
 #include "si/core/layer_mask.h"
 #include "si/crowd/crowd_export.h"
 #include "vk/vk_render_fixture.h"
@@ -17,9 +18,13 @@ using namespace test;
 
 class VulkanGpuDrivenTest : public VulkanRenderFixture {
  protected:
-  void start() {
+  // The renderer with a pre-skinning ring of `ring_bytes` (the default's: every instance
+  // pre-skinned; 0: none).
+  void start(uint64_t ring_bytes = vk::RendererDesc().gpu_driven_ring_bytes) {
     vk::RendererDesc rd;
     rd.gpu_driven = true;
+    rd.gpu_driven_ring_bytes = ring_bytes;
+    draws_ = ring_bytes != 0 ? 2 : 1;
     ASSERT_NO_FATAL_FAILURE(startRenderer(rd, &renderer_, &id_));
   }
 
@@ -63,7 +68,7 @@ class VulkanGpuDrivenTest : public VulkanRenderFixture {
                             if (s.isOk())
                               s = renderer_.recordGpuDrivenDraw(cmd, target, id_, *view, &stats);
                             if (s.isOk()) {
-                              EXPECT_EQ(stats.draw_calls, 1u) << "one indirect draw";
+                              EXPECT_EQ(stats.draw_calls, draws_) << "indirect draws";
                             }
                           }
                           return s;
@@ -89,42 +94,55 @@ class VulkanGpuDrivenTest : public VulkanRenderFixture {
 
   vk::Renderer renderer_;
   vk::CharacterId id_;
+  // Indirect draws a view's draw records: the pre-skinned entries' and the others'.
+  uint32_t draws_ = 2;
 };
 
 // The LOD rows and a close view cutting the near plane: the Vulkan passes select and draw what
-// si::gl's GPU-driven path does; a depth-only draw of the same passes writes the shaded draw's
-// depth.
+// si::gl's GPU-driven path does, every instance pre-skinned into the ring, none (no ring), or the
+// first few (a ring of 3 instances of the largest list: the others skinned in the vertex stage);
+// a depth-only draw of the same passes writes the shaded draw's depth.
 TEST_P(VulkanGpuDrivenTest, ThePassesAndTheDrawGiveOpenGlsImage) {
   SI_START_VULKAN_HOST();
-  ASSERT_NO_FATAL_FAILURE(start());
   CrowdManager crowd;
   lodCrowd(&crowd);
+  si::detail::PreSkinListData lists;
+  si::detail::buildPreSkinLists(character().mesh, &lists);
   const Camera near_cut = Camera::lookAt({0.0, 1.2, -1.2}, {0.0, 1.0, -4.0}, glm::vec3(0, 1, 0),
                                          0.75f, 1.0f, 2.5f, 200.0f);
   const std::pair<const char*, Camera> views[] = {{"rows", lodCamera()}, {"near", near_cut}};
+  const std::pair<const char*, uint64_t> rings[] = {
+      {"ring", vk::RendererDesc().gpu_driven_ring_bytes},
+      {"no ring", 0},
+      {"small ring", uint64_t(lists.max_lod_vertices) * 16 * 3}};
   uint32_t slot = 0;
-  for (const auto& [name, camera] : views) {
-    SCOPED_TRACE(name);
-    const std::vector<uint8_t> gl_image = glImage(crowd, camera);
-    std::vector<uint8_t> image;
-    std::vector<float> depth, depth_only;
-    Status s = frame(slot, {{&crowd.view(), camera}}, {&crowd.view()}, vk::DrawMode::kShaded,
-                     &image, &depth);
-    ASSERT_TRUE(s.isOk()) << s.toString();
-    slot = (slot + 1) % 2;
-    expectSameImage(image, gl_image, name);
-    s = frame(slot, {{&crowd.view(), camera}}, {&crowd.view()}, vk::DrawMode::kDepthOnly, nullptr,
-              &depth_only);
-    ASSERT_TRUE(s.isOk()) << s.toString();
-    slot = (slot + 1) % 2;
-    size_t covered = 0, apart = 0;
-    for (size_t i = 0; i < depth.size() && i < depth_only.size(); ++i) {
-      covered += depth[i] < 1.0f;
-      apart += std::abs(depth[i] - depth_only[i]) > 1e-6f;
+  for (const auto& [ring_name, ring_bytes] : rings)
+    for (const auto& [name, camera] : views) {
+      SCOPED_TRACE(name);
+      SCOPED_TRACE(ring_name);
+      if (&camera == &views[0].second) {
+        ASSERT_NO_FATAL_FAILURE(start(ring_bytes));
+      }
+      const std::vector<uint8_t> gl_image = glImage(crowd, camera);
+      std::vector<uint8_t> image;
+      std::vector<float> depth, depth_only;
+      Status s = frame(slot, {{&crowd.view(), camera}}, {&crowd.view()}, vk::DrawMode::kShaded,
+                       &image, &depth);
+      ASSERT_TRUE(s.isOk()) << s.toString();
+      slot = (slot + 1) % 2;
+      expectSameImage(image, gl_image, name);
+      s = frame(slot, {{&crowd.view(), camera}}, {&crowd.view()}, vk::DrawMode::kDepthOnly, nullptr,
+                &depth_only);
+      ASSERT_TRUE(s.isOk()) << s.toString();
+      slot = (slot + 1) % 2;
+      size_t covered = 0, apart = 0;
+      for (size_t i = 0; i < depth.size() && i < depth_only.size(); ++i) {
+        covered += depth[i] < 1.0f;
+        apart += std::abs(depth[i] - depth_only[i]) > 1e-6f;
+      }
+      EXPECT_GT(covered, 2000u);
+      EXPECT_LE(apart, covered / 200) << apart << " of " << covered;
     }
-    EXPECT_GT(covered, 2000u);
-    EXPECT_LE(apart, covered / 200) << apart << " of " << covered;
-  }
   EXPECT_TRUE(host_.messages().empty()) << messages();
 }
 
@@ -210,6 +228,13 @@ TEST_P(VulkanGpuDrivenTest, RefusalsAreNamed) {
     const Status s = r.init(rd);
     EXPECT_EQ(s.code(), StatusCode::kUnsupported) << s.toString();
     EXPECT_NE(s.message().find("motion"), std::string::npos) << s.toString();
+  }
+  {  // A ring that does not hold one instance of the largest list.
+    ASSERT_NO_FATAL_FAILURE(start(16));
+    std::vector<uint8_t> image;
+    const Status s = frame(0, {{&crowd.view(), lodCamera()}}, {}, vk::DrawMode::kShaded, &image);
+    EXPECT_EQ(s.code(), StatusCode::kLimitExceeded) << s.toString();
+    EXPECT_NE(s.message().find("gpu_driven_ring_bytes"), std::string::npos) << s.toString();
   }
   ASSERT_NO_FATAL_FAILURE(start());
   // A draw without this frame's passes.

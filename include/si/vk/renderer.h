@@ -101,6 +101,13 @@ struct RendererDesc {
   /// enabled (the cull pass keeps the crowd's clock and positions in doubles, as the CPU does):
   /// init() refuses a physical device without them (kUnsupported). Not with motion vectors yet.
   bool gpu_driven = false;
+  /// The GPU-driven path's pre-skinning: bytes of each view's ring of pre-skinned vertices (16
+  /// a vertex, and 4 more for a character with tangents), within maxStorageBufferRange. The
+  /// passes skin the visible instances' vertices into it in compute, bucket by bucket as far as
+  /// it holds them, and the draw pulls them; the rest are skinned in the vertex stage. 0: every
+  /// instance skinned in the vertex stage (no ring). The passes refuse a ring that does not
+  /// hold one instance of the largest LOD (kLimitExceeded).
+  uint64_t gpu_driven_ring_bytes = uint64_t(256) << 20;
 };
 
 /// A character added to a Renderer.
@@ -216,11 +223,13 @@ class Renderer {
   /// more compute groups than the device has, or the frame's uniforms pass the slot's region.
   Status recordGpuDrivenPasses(VkCommandBuffer cmd, CharacterId id, const CrowdView& view,
                                const Camera& camera);
-  /// Part 2: records the draw of `view`'s passes of this frame into `cmd` (inside the host's
-  /// rendering, as recordDraw: `target` says where and what), with the passes' camera: one
-  /// vkCmdDrawIndexedIndirect of every bucket, each instance's record read through its bucket
-  /// entry. Any number of draws (shaded, depth only) of one frame's passes. `stats` counts the
-  /// draw calls only: the instances and triangles are the GPU's. kInvalidArgument for an
+  /// Part 2: records the draws of `view`'s passes of this frame into `cmd` (inside the host's
+  /// rendering, as recordDraw: `target` says where and what), with the passes' camera: with a
+  /// ring (RendererDesc::gpu_driven_ring_bytes) one vkCmdDrawIndexedIndirect of every bucket's
+  /// pre-skinned entries, pulled from the ring, then one of every bucket's other entries,
+  /// skinned in the vertex stage, each instance's record read through its bucket entry. Any
+  /// number of draws (shaded, depth only) of one frame's passes. `stats` counts the draw calls
+  /// only: the instances and triangles are the GPU's. kInvalidArgument for an
   /// unknown character or mode, an empty extent, or a view whose passes were not recorded in
   /// this frame; kUnsupported without RendererDesc::gpu_driven.
   Status recordGpuDrivenDraw(VkCommandBuffer cmd, const DrawTarget& target, CharacterId id,

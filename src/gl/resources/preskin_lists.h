@@ -1,23 +1,23 @@
 // SkinnedInstancing — SPDX-License-Identifier: MIT (see LICENSE)
 #pragma once
-// What pre-skinning needs of the character: for each (sub-mesh, LOD), the compacted list of the
-// vertices its triangles use and its triangles re-indexed to that list, so a compute pass
-// skins exactly what is drawn. Shared by the compute path and the GPU-driven path.
+// What pre-skinning needs of the character (core/pre_skin_lists.h's lists, uploaded): for each
+// (sub-mesh, LOD), the compacted list of the vertices its triangles use and its triangles
+// re-indexed to that list, so a compute pass skins exactly what is drawn. Shared by the compute
+// path and the GPU-driven path.
 
 #include <glad/gl.h>
 
 #include <vector>
 
+#include "core/pre_skin_lists.h"
 #include "gl/programs/program_set.h"
 #include "gl/resources/character_buffers.h"
 
 namespace si::detail {
 
 struct PreSkinLists {
-  struct Lod {
-    uint32_t first_index = 0, index_count = 0;     ///< Into index_buffer (local indices).
-    uint32_t vertex_offset = 0, vertex_count = 0;  ///< Into lod_vertex_list.
-  };
+  /// Into index_buffer (local indices) and lod_vertex_list (core/pre_skin_lists.h).
+  using Lod = PreSkinLod;
 
   /// Builds the lists of `character` (after its upload).
   Status build(const CharacterBuffers& character);
