@@ -5,10 +5,14 @@
 // host's device and records into the host's command buffers: the character's uploads once, then
 // each frame a shadow view depth-only (in a rendering of depth alone, as a shadow map's) and the
 // main view shaded, both inside the host's dynamic rendering. The crowd advances and each view
-// selects on the CPU (si::CrowdManager, si::CrowdView). Prints the GPU time of each view (the
-// host's timestamps), writes the last frame as a PNG, and exits 1 when the validation layer (on
-// when installed) reported anything.
-// Usage: vulkan_host [--size WxH] [--instances N] [--frames N] [--reverse-z] [--out FILE.png]
+// selects on the CPU (si::CrowdManager, si::CrowdView); with --gpu-driven each view's selection
+// is computed on the GPU instead (recordGpuDrivenPasses, recorded before the host's renderings,
+// then recordGpuDrivenDraw inside them) and the crowd only advances its clock. Prints the GPU
+// time of each view (the host's timestamps; the passes counted with the shadow view), writes the
+// last frame as a PNG, and exits 1 when the validation layer (on when installed) reported
+// anything.
+// Usage: vulkan_host [--size WxH] [--instances N] [--frames N] [--reverse-z] [--gpu-driven]
+//                    [--out FILE.png]
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
@@ -33,6 +37,7 @@ namespace {
 struct Options {
   uint32_t width = 640, height = 360, instances = 2000, frames = 30;
   bool reverse_z = false;
+  bool gpu_driven = false;
   std::string out = "vulkan_host.png";
 };
 
@@ -56,6 +61,8 @@ bool parse(int argc, char** argv, Options* o) {
       o->frames = uint32_t(std::strtoul(argv[++i], nullptr, 10));
     } else if (a == "--reverse-z") {
       o->reverse_z = true;
+    } else if (a == "--gpu-driven") {
+      o->gpu_driven = true;
     } else if (a == "--out" && has) {
       o->out = argv[++i];
     } else {
@@ -77,7 +84,7 @@ int main(int argc, char** argv) {
   if (!parse(argc, argv, &o)) {
     std::fprintf(stderr,
                  "usage: vulkan_host [--size WxH] [--instances N] [--frames N] [--reverse-z] "
-                 "[--out FILE.png]\n");
+                 "[--gpu-driven] [--out FILE.png]\n");
     return 1;
   }
   // The host's own Vulkan: instance, device, queue and targets.
@@ -103,6 +110,11 @@ int main(int argc, char** argv) {
   // room for the batches' alignment and default blocks.
   rd.ring_bytes_per_frame =
       2 * uint64_t(o.instances) * character.mesh.sub_meshes.size() * 80 + (uint64_t(4) << 20);
+  // The GPU-driven path: the host's device has shaderFloat64, multiDrawIndirect and
+  // drawIndirectFirstInstance enabled (headless_vulkan.cpp). Each view keeps a ring of
+  // pre-skinned vertices: 64 MiB each here.
+  rd.gpu_driven = o.gpu_driven;
+  rd.gpu_driven_ring_bytes = uint64_t(64) << 20;
   s = renderer.init(rd);
   si::vk::CharacterId id;
   if (s.isOk()) s = renderer.addCharacter(character, palette, &id);
@@ -149,8 +161,12 @@ int main(int argc, char** argv) {
                                     : si::Camera::lookAt(eye, glm::dvec3(0.0), {0, 1, 0}, 0.8f,
                                                          aspect, 0.3f, 4.0f * half_side);
     camera.viewport_height_pixels = float(o.height);
-    s = crowd.update(1.0 / 60.0, camera);
-    if (s.isOk()) s = shadow_view.select(sun);
+    if (o.gpu_driven) {
+      s = crowd.advance(1.0 / 60.0);  // The views select on the GPU.
+    } else {
+      s = crowd.update(1.0 / 60.0, camera);
+      if (s.isOk()) s = shadow_view.select(sun);
+    }
     if (!s.isOk()) return fail("the crowd's frame", s);
     const uint32_t slot = f % rd.frames_in_flight;
     // The shadow map: a rendering of depth only.
@@ -160,13 +176,23 @@ int main(int argc, char** argv) {
     shadow_target.depth_bias_slope = 1.5f;
     si::examples::HeadlessVulkan::Frame shadow_frame;
     shadow_frame.color = false;
+    // Before the frame's renderings: the frame slot begins and, GPU-driven, both views' passes.
+    shadow_frame.before = [&](VkCommandBuffer cmd) {
+      si::Status begun = renderer.beginFrame(slot);
+      if (begun.isOk() && o.gpu_driven)
+        begun = renderer.recordGpuDrivenPasses(cmd, id, shadow_view, sun);
+      if (begun.isOk() && o.gpu_driven)
+        begun = renderer.recordGpuDrivenPasses(cmd, id, crowd.view(), camera);
+      return begun;
+    };
     std::vector<float> depth;
     double ms = 0.0;
     s = host.render(shadow_frame,
                     [&](VkCommandBuffer cmd) {
-                      si::Status begun = renderer.beginFrame(slot);
-                      if (!begun.isOk()) return begun;
-                      return renderer.recordDraw(cmd, shadow_target, id, shadow_view, batcher, sun);
+                      return o.gpu_driven
+                                 ? renderer.recordGpuDrivenDraw(cmd, shadow_target, id, shadow_view)
+                                 : renderer.recordDraw(cmd, shadow_target, id, shadow_view, batcher,
+                                                       sun);
                     },
                     {nullptr, f + 1 == o.frames ? &depth : nullptr, nullptr, &ms});
     if (!s.isOk()) return fail("the shadow view", s);
@@ -182,13 +208,17 @@ int main(int argc, char** argv) {
         main_frame,
         [&](VkCommandBuffer cmd) {
           // The shadow view's records stay in the slot's region: the main view's follow them.
-          return renderer.recordDraw(cmd, si::vk::DrawTarget{{o.width, o.height}}, id, crowd.view(),
-                                     batcher, camera, &stats);
+          const si::vk::DrawTarget target{{o.width, o.height}};
+          return o.gpu_driven
+                     ? renderer.recordGpuDrivenDraw(cmd, target, id, crowd.view(), &stats)
+                     : renderer.recordDraw(cmd, target, id, crowd.view(), batcher, camera, &stats);
         },
         {f + 1 == o.frames ? &rgba : nullptr, nullptr, nullptr, &ms});
     if (!s.isOk()) return fail("the main view", s);
     main_ms.push_back(ms);
-    if (f + 1 == o.frames)
+    if (f + 1 == o.frames && o.gpu_driven)
+      std::printf("vulkan_host: last frame GPU-driven, %u indirect draws\n", stats.draw_calls);
+    else if (f + 1 == o.frames)
       std::printf("vulkan_host: last frame %u visible, %u draws, %llu triangles\n",
                   crowd.view().stats().visible, stats.draw_calls,
                   static_cast<unsigned long long>(stats.triangles));
@@ -199,8 +229,11 @@ int main(int argc, char** argv) {
   std::printf(
       "vulkan_host: %u instances, %u frames at %ux%u%s: GPU median %.3f ms shadow view "
       "(depth only), %.3f ms main view; covered pixels %llu, shadow texels %llu\n",
-      o.instances, o.frames, o.width, o.height, o.reverse_z ? ", reverse-Z" : "", median(shadow_ms),
-      median(main_ms), static_cast<unsigned long long>(covered),
+      o.instances, o.frames, o.width, o.height,
+      o.gpu_driven  ? (o.reverse_z ? ", GPU-driven, reverse-Z" : ", GPU-driven")
+      : o.reverse_z ? ", reverse-Z"
+                    : "",
+      median(shadow_ms), median(main_ms), static_cast<unsigned long long>(covered),
       static_cast<unsigned long long>(shadow_texels));
   s = si::writePng(o.out, o.width, o.height, rgba);
   if (!s.isOk()) return fail("writing " + o.out, s);
