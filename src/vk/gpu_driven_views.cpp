@@ -60,40 +60,36 @@ Status FrameRegion::take(VkDeviceSize size, VkDeviceSize* at) {
   return Status::ok();
 }
 
+void GpuDrivenViews::init(const DrivenShared& shared) {
+  shared_ = shared;
+  retirement_.init(shared.objects);
+  crowds_.init(shared.objects, &retirement_, shared.max_storage_range, shared.frames_in_flight,
+               shared.ring_bytes != 0);
+}
+
 void GpuDrivenViews::beginFrame(uint32_t slot) {
-  Retired& r = retired_[slot];
-  for (GpuBuffer& b : r.buffers) shared_.objects->destroy(&b);
-  for (VkDescriptorPool p : r.pools)
-    vkDestroyDescriptorPool(shared_.objects->device(), p, shared_.objects->allocator());
-  r = Retired();
+  retirement_.release(slot);
   for (auto& [key, v] : views_)
     if (v.passes_slot == slot) v.passes_recorded = false;
 }
 
 void GpuDrivenViews::retire(uint32_t slot, View* v) {
-  Retired& r = retired_[slot];
-  for (GpuBuffer* b : {&v->state, &v->clips, &v->times, &v->ranges, &v->bucket_info, &v->identity,
-                       &v->lods, &v->counters, &v->records, &v->visible, &v->entries, &v->commands,
+  for (GpuBuffer* b : {&v->lods, &v->counters, &v->records, &v->visible, &v->entries, &v->commands,
                        &v->entry_data, &v->ring, &v->tangent_ring})
-    if (b->buffer != VK_NULL_HANDLE) {
-      r.buffers.push_back(*b);
-      *b = GpuBuffer();
-    }
-  for (VkDescriptorPool* pool : {&v->pass_pool, &v->draw_pool}) {
-    if (*pool != VK_NULL_HANDLE) r.pools.push_back(*pool);
-    *pool = VK_NULL_HANDLE;
-  }
+    retirement_.retire(slot, b);
+  retirement_.retire(slot, &v->pass_pool);
+  retirement_.retire(slot, &v->draw_pool);
   v->pass_set = v->draw_set = VK_NULL_HANDLE;
+  v->crowd = nullptr;
   v->capacity = 0;
 }
 
-Status GpuDrivenViews::reshape(View* v, uint32_t slot, const CharacterResources& c, uint32_t n,
-                               uint32_t sub_meshes, uint32_t buckets, uint32_t clips,
-                               uint32_t times) {
+Status GpuDrivenViews::reshape(VkCommandBuffer cmd, View* v, uint32_t slot,
+                               const CharacterResources& c, const DrivenCrowd& d,
+                               const CrowdView& view) {
   retire(slot, v);
-  // Room to grow by half, so a spawn wave re-creates the buffers a few times, not every frame.
-  const uint64_t capacity = std::max<uint64_t>(1, uint64_t(n) + n / 2);
-  const uint64_t entries = capacity * sub_meshes;
+  const uint64_t capacity = d.capacity;
+  const uint64_t entries = capacity * d.sub_meshes;
   // The ring: as many vertices as its bytes hold (within a storage binding), at least one
   // instance of the largest list; none asked: a one-vertex stand-in the passes never fill.
   const uint64_t ring_vertices =
@@ -105,46 +101,38 @@ Status GpuDrivenViews::reshape(View* v, uint32_t slot, const CharacterResources&
                    "the largest LOD (",
                    c.pre_skin.max_lod_vertices, " vertices)")};
   const uint64_t ring_slots = std::max<uint64_t>(ring_vertices, 1);
-  struct Need {
+  const VkBufferUsageFlags storage =
+      VK_BUFFER_USAGE_STORAGE_BUFFER_BIT | VK_BUFFER_USAGE_TRANSFER_DST_BIT;
+  const struct {
     GpuBuffer* buffer;
     uint64_t bytes;
     VkBufferUsageFlags usage;
     const char* what;
-  };
-  const VkBufferUsageFlags storage =
-      VK_BUFFER_USAGE_STORAGE_BUFFER_BIT | VK_BUFFER_USAGE_TRANSFER_DST_BIT;
-  const Need needs[] = {
-      {&v->state, capacity * sizeof(GpuInstanceState), storage, "the crowd state"},
-      {&v->clips, uint64_t(std::max(clips, 1u)) * sizeof(GpuClipInfo), storage, "the clips"},
-      {&v->times, uint64_t(std::max(times, 1u)) * sizeof(double), storage, "the frame times"},
-      {&v->ranges, uint64_t(buckets) * 8, storage, "the bucket ranges"},
-      {&v->bucket_info, uint64_t(buckets) * 16, storage, "the bucket info"},
-      {&v->identity, entries * 4, VK_BUFFER_USAGE_VERTEX_BUFFER_BIT | storage, "the entry indices"},
-      {&v->lods, capacity * 8, storage, "the view's LODs"},
-      {&v->counters, uint64_t(kCounterWords) * 4, storage | VK_BUFFER_USAGE_INDIRECT_BUFFER_BIT,
-       "the counters"},
-      {&v->records, capacity * kInstanceRecordSize, storage, "the records"},
-      {&v->visible, capacity * 16, storage, "the visible list"},
-      {&v->entries, entries * 4, storage, "the bucket entries"},
-      {&v->commands, uint64_t(kCommandWords) * 4, storage | VK_BUFFER_USAGE_INDIRECT_BUFFER_BIT,
-       "the indirect commands"},
-      {&v->entry_data, entries * 8, storage, "the pre-skinned entries"},
-      {&v->ring, ring_slots * 16, storage, "the pre-skinned ring"},
-      {&v->tangent_ring, c.tangents ? ring_slots * 4 : 16, storage, "the tangent ring"}};
-  for (const Need& need : needs)
+  } needs[] = {{&v->lods, capacity * 8, storage, "the view's LODs"},
+               {&v->counters, uint64_t(kCounterWords) * 4,
+                storage | VK_BUFFER_USAGE_INDIRECT_BUFFER_BIT, "the counters"},
+               {&v->records, capacity * kInstanceRecordSize, storage, "the records"},
+               {&v->visible, capacity * 16, storage, "the visible list"},
+               {&v->entries, entries * 4, storage, "the bucket entries"},
+               {&v->commands, uint64_t(kCommandWords) * 4,
+                storage | VK_BUFFER_USAGE_INDIRECT_BUFFER_BIT, "the indirect commands"},
+               {&v->entry_data, entries * 8, storage, "the pre-skinned entries"},
+               {&v->ring, ring_slots * 16, storage, "the pre-skinned ring"},
+               {&v->tangent_ring, c.tangents ? ring_slots * 4 : 16, storage, "the tangent ring"}};
+  for (const auto& need : needs)
     if (need.bytes > shared_.max_storage_range)
       return {StatusCode::kLimitExceeded,
-              strCat("vk::Renderer::recordGpuDrivenPasses: ", n, " instances need ", need.bytes,
-                     " bytes of ", need.what, ", past maxStorageBufferRange (",
+              strCat("vk::Renderer::recordGpuDrivenPasses: ", d.capacity, " instances need ",
+                     need.bytes, " bytes of ", need.what, ", past maxStorageBufferRange (",
                      shared_.max_storage_range, ")")};
-  for (const Need& need : needs) {
+  for (const auto& need : needs) {
     Status s = shared_.objects->createBuffer(need.bytes, need.usage, false, need.what, need.buffer);
     if (!s.isOk()) {
       retire(slot, v);
       return s;
     }
   }
-  // The passes' set and the draw's, in one pool.
+  // The passes' set and the draw's.
   std::vector<VkDescriptorPoolSize> sizes;
   for (const VkDescriptorSetLayoutBinding& b : shared_.compute_layout->bindings)
     sizes.push_back({b.descriptorType, 1});
@@ -186,22 +174,22 @@ Status GpuDrivenViews::reshape(View* v, uint32_t slot, const CharacterResources&
     w.descriptorCount = 1;
     w.descriptorType = bindings[k].descriptorType;
     const GpuBuffer* tangents = c.tangents ? &v->tangent_ring : &v->ring;
-    const GpuBuffer* buffer = b == kStateBinding             ? &v->state
+    const GpuBuffer* buffer = b == kStateBinding             ? &d.state
+                              : b == kClipsBinding           ? &d.clips
+                              : b == kTimesBinding           ? &d.times
+                              : b == kRangesBinding          ? &d.ranges
+                              : b == kBucketInfoBinding      ? &d.bucket_info
                               : b == kEntryDataBinding       ? &v->entry_data
                               : b == kRingBinding            ? &v->ring
                               : b == kTangentRingBinding     ? tangents
                               : b == kSourceBinding          ? &c.vertices
                               : b == kLodVerticesBinding     ? &c.lod_vertices
                               : b == kPaletteInfoBinding     ? &c.palette_info
-                              : b == kClipsBinding           ? &v->clips
-                              : b == kTimesBinding           ? &v->times
                               : b == kCountersBinding        ? &v->counters
                               : b == kDrivenRecordsBinding   ? &v->records
                               : b == kDrivenEntriesBinding   ? &v->entries
                               : b == kDrivenVisibleBinding   ? &v->visible
                               : b == kCommandsBinding        ? &v->commands
-                              : b == kRangesBinding          ? &v->ranges
-                              : b == kBucketInfoBinding      ? &v->bucket_info
                               : b == kViewLodsBinding        ? &v->lods
                               : b == kComputeDefaultsBinding ? shared_.ring
                                                              : shared_.unbuilt;
@@ -223,16 +211,37 @@ Status GpuDrivenViews::reshape(View* v, uint32_t slot, const CharacterResources&
       shared_.objects->device(), shared_.objects->allocator(), *shared_.draw_layout,
       {*shared_.ring, shared_.nearest, shared_.linear, *shared_.custom, *shared_.no_morphs}, c,
       &outputs, &v->draw_pool, &v->draw_set);
+  // The LODs' seed: each instance's from the CPU view's (a seed: handle 0, whichever instance
+  // sits there), through this slot's staging.
+  if (v->staging.size() < shared_.frames_in_flight) v->staging.resize(shared_.frames_in_flight);
+  GpuBuffer& staging = v->staging[slot];
+  const VkDeviceSize seed_bytes = std::max<VkDeviceSize>(VkDeviceSize(d.instances) * 8, 8);
+  if (s.isOk() && staging.size < seed_bytes) {
+    shared_.objects->destroy(&staging);
+    s = shared_.objects->createBuffer(seed_bytes, VK_BUFFER_USAGE_TRANSFER_SRC_BIT, true,
+                                      "the view's LOD seed", &staging);
+  }
   if (!s.isOk()) {
     retire(slot, v);
     return s;
   }
-  v->capacity = uint32_t(capacity);
+  std::vector<uint32_t> seed;
+  CrowdExport::lods(view, &seed);
+  auto* kept = static_cast<uint32_t*>(staging.mapped);
+  for (uint32_t k = 0; k < d.instances; ++k) {
+    kept[2 * k] = 0;
+    kept[2 * k + 1] = k < seed.size() ? seed[k] : 0u;
+  }
+  if (d.instances > 0) {
+    const VkBufferCopy region{0, 0, VkDeviceSize(d.instances) * 8};
+    vkCmdCopyBuffer(cmd, staging.buffer, v->lods.buffer, 1, &region);
+  }
+  v->crowd = &d;
+  v->generation = d.generation;
+  v->capacity = d.capacity;
+  v->sub_meshes = d.sub_meshes;
+  v->buckets = d.buckets;
   v->ring_vertices = uint32_t(ring_vertices);
-  v->sub_meshes = sub_meshes;
-  v->buckets = buckets;
-  v->clip_count = clips;
-  v->time_count = times;
   return Status::ok();
 }
 
@@ -258,15 +267,7 @@ Status GpuDrivenViews::recordPasses(VkCommandBuffer cmd, uint32_t slot, FrameReg
                    " instances need more compute "
                    "groups than maxComputeWorkGroupCount (",
                    shared_.max_groups_x, " x ", shared_.max_groups_y, ")")};
-  const CrowdExport exported(crowd);
-  std::vector<GpuClipInfo> clips;
-  std::vector<double> times;
-  exported.clips(&clips, &times);
   View& v = views_[{character, view.identity()}];
-  const bool reshaped = v.crowd != crowd.identity() || n > v.capacity || v.sub_meshes != subs ||
-                        v.buckets != buckets || v.clip_count != clips.size() ||
-                        v.time_count != times.size() || v.state.buffer == VK_NULL_HANDLE;
-  const bool changed = reshaped || v.version != exported.stateVersion() || v.instances != n;
   // The passes' uniforms first: a full region refuses the frame before anything is recorded.
   // The cull, commands, scatter and pre-skinning passes'.
   VkDeviceSize defaults_at[4] = {};
@@ -274,101 +275,23 @@ Status GpuDrivenViews::recordPasses(VkCommandBuffer cmd, uint32_t slot, FrameReg
     Status s = region.take(kComputeDefaultsRange, &at);
     if (!s.isOk()) return s;
   }
-  // Whatever the last frames' draws and passes read of the view's buffers is read before these
-  // passes and copies write them (the host submits frames in order on one queue).
+  // Whatever the last frames' draws and passes read of the crowd's and the view's buffers is
+  // read before these copies and passes write them (the host submits frames in order on one
+  // queue).
   recordBarrier(cmd,
                 VK_PIPELINE_STAGE_DRAW_INDIRECT_BIT | VK_PIPELINE_STAGE_VERTEX_INPUT_BIT |
                     VK_PIPELINE_STAGE_VERTEX_SHADER_BIT | VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT,
                 0, VK_PIPELINE_STAGE_TRANSFER_BIT | VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT, 0);
-  if (reshaped) {
-    Status s =
-        reshape(&v, slot, c, n, subs, buckets, uint32_t(clips.size()), uint32_t(times.size()));
-    if (!s.isOk()) {
-      for (GpuBuffer& b : v.staging)
-        if (b.buffer != VK_NULL_HANDLE) retired_[slot].buffers.push_back(b);
-      views_.erase({character, view.identity()});
-      return s;
-    }
-  }
-  if (changed) {
-    // The staging of this slot (its last frame is done): the state, the clips and times; after
-    // a reshape the bucket ranges, the entry indices and the view's LODs seeded from the CPU
-    // view's (CrowdExport::lods).
-    const VkDeviceSize state_bytes = VkDeviceSize(n) * sizeof(GpuInstanceState);
-    const VkDeviceSize clip_bytes = clips.size() * sizeof(GpuClipInfo);
-    const VkDeviceSize time_bytes = times.size() * sizeof(double);
-    const VkDeviceSize range_bytes = reshaped ? VkDeviceSize(buckets) * 8 : 0;
-    const VkDeviceSize identity_bytes = reshaped ? VkDeviceSize(v.capacity) * subs * 4 : 0;
-    const VkDeviceSize lod_bytes = reshaped ? VkDeviceSize(n) * 8 : 0;
-    const VkDeviceSize info_bytes = reshaped ? VkDeviceSize(buckets) * 16 : 0;
-    const VkDeviceSize total = state_bytes + clip_bytes + time_bytes + range_bytes +
-                               identity_bytes + lod_bytes + info_bytes;
-    if (v.staging.size() < shared_.frames_in_flight) v.staging.resize(shared_.frames_in_flight);
-    GpuBuffer& staging = v.staging[slot];
-    if (staging.size < total) {
-      shared_.objects->destroy(&staging);
-      Status s = shared_.objects->createBuffer(std::max<VkDeviceSize>(total, 256),
-                                               VK_BUFFER_USAGE_TRANSFER_SRC_BIT, true,
-                                               "the GPU-driven state's staging", &staging);
-      if (!s.isOk()) return s;
-    }
-    uint8_t* out = static_cast<uint8_t*>(staging.mapped);
-    VkDeviceSize at = 0;
-    if (n > 0) {  // Exported straight into the staging (each byte written once).
-      const DenseRange all{0, n};
-      exported.state(Span<const DenseRange>(&all, 1), reinterpret_cast<GpuInstanceState*>(out),
-                     nullptr);
-    }
-    std::vector<std::pair<const GpuBuffer*, VkBufferCopy>> to;
-    const auto add = [&](const GpuBuffer& buffer, VkDeviceSize bytes) {
-      if (bytes > 0) to.push_back({&buffer, VkBufferCopy{at, 0, bytes}});
-      at += bytes;
-    };
-    add(v.state, state_bytes);
-    const VkDeviceSize clips_at = at;
-    add(v.clips, clip_bytes);
-    std::memcpy(out + clips_at, clips.data(), size_t(clip_bytes));
-    const VkDeviceSize times_at = at;
-    add(v.times, time_bytes);
-    if (time_bytes > 0) std::memcpy(out + times_at, times.data(), size_t(time_bytes));
-    if (reshaped) {
-      auto* ranges = reinterpret_cast<uint32_t*>(out + at);
-      for (uint32_t b = 0; b < buckets; ++b) {
-        const std::vector<IndexRange>& l = c.sub_meshes[b % subs].lods;
-        const IndexRange r = l[std::min<size_t>(b / subs, l.size() - 1)];
-        ranges[2 * b] = r.first_index;
-        ranges[2 * b + 1] = r.index_count;
-      }
-      add(v.ranges, range_bytes);
-      auto* identity = reinterpret_cast<uint32_t*>(out + at);
-      for (uint32_t k = 0; k < v.capacity * subs; ++k) identity[k] = k;
-      add(v.identity, identity_bytes);
-      std::vector<uint32_t> seed;
-      CrowdExport::lods(view, &seed);
-      auto* kept = reinterpret_cast<uint32_t*>(out + at);
-      for (uint32_t k = 0; k < n; ++k) {
-        kept[2 * k] = 0;  // A seed: whichever instance sits there.
-        kept[2 * k + 1] = k < seed.size() ? seed[k] : 0u;
-      }
-      add(v.lods, lod_bytes);
-      // Per bucket its pre-skinning list: vertices, list offset, first local index, local
-      // indices (all 0 without a ring: nothing fits).
-      auto* info = reinterpret_cast<uint32_t*>(out + at);
-      for (uint32_t b = 0; b < buckets; ++b) {
-        const si::detail::PreSkinLod& l = c.pre_skin.lod(b % subs, b / subs);
-        const bool ring = v.ring_vertices != 0;
-        info[4 * b] = ring ? l.vertex_count : 0u;
-        info[4 * b + 1] = l.vertex_offset;
-        info[4 * b + 2] = l.first_index;
-        info[4 * b + 3] = l.index_count;
-      }
-      add(v.bucket_info, info_bytes);
-    }
-    for (const auto& [buffer, copy] : to)
-      vkCmdCopyBuffer(cmd, staging.buffer, buffer->buffer, 1, &copy);
-    v.version = exported.stateVersion();
-    v.instances = n;
-    v.crowd = crowd.identity();
+  // The crowd's state, shared by its views: what changed since its last upload.
+  DrivenCrowd* d = nullptr;
+  Status s = crowds_.update(cmd, slot, character, c, crowd, &d, &last_upload_);
+  if (s.isOk() && (v.crowd != d || v.generation != d->generation))
+    s = reshape(cmd, &v, slot, c, *d, view);
+  if (!s.isOk()) {
+    retire(slot, &v);
+    for (GpuBuffer& b : v.staging) retirement_.retire(slot, &b);
+    views_.erase({character, view.identity()});
+    return s;
   }
   // Zero the visible count and the bucket counts.
   vkCmdFillBuffer(cmd, v.counters.buffer, 0, VkDeviceSize(kBucketCountWord + kMaxBuckets) * 4, 0);
@@ -480,7 +403,7 @@ Status GpuDrivenViews::recordDraw(VkCommandBuffer cmd, FrameRegion region, uint3
     }
   const glm::mat4 vp = vulkanViewProjection(v.camera);
   recordDrawState(cmd, target, v.camera);
-  const VkBuffer vertex_buffers[2] = {c.vertices.buffer, v.identity.buffer};
+  const VkBuffer vertex_buffers[2] = {c.vertices.buffer, v.crowd->identity.buffer};
   const VkDeviceSize zeros[2] = {0, 0};
   vkCmdBindVertexBuffers(cmd, 0, 2, vertex_buffers, zeros);
   DrawStats st;
@@ -515,24 +438,26 @@ Status GpuDrivenViews::recordDraw(VkCommandBuffer cmd, FrameRegion region, uint3
   return Status::ok();
 }
 
-uint64_t GpuDrivenViews::deviceBytes() const {
-  uint64_t bytes = 0;
+GpuDrivenMemory GpuDrivenViews::memory() const {
+  GpuDrivenMemory m;
+  m.crowds = crowds_.size();
+  m.views = uint32_t(views_.size());
+  m.crowd_bytes = crowds_.deviceBytes();
   for (const auto& [key, v] : views_)
-    for (const GpuBuffer* b : {&v.state, &v.clips, &v.times, &v.ranges, &v.bucket_info, &v.identity,
-                               &v.lods, &v.counters, &v.records, &v.visible, &v.entries,
+    for (const GpuBuffer* b : {&v.lods, &v.counters, &v.records, &v.visible, &v.entries,
                                &v.commands, &v.entry_data, &v.ring, &v.tangent_ring})
-      bytes += b->size;
-  return bytes;
+      m.view_bytes += b->size;
+  return m;
 }
 
 void GpuDrivenViews::release() {
-  for (uint32_t slot = 0; slot < retired_.size(); ++slot) beginFrame(slot);
   for (auto& [key, v] : views_) {
     retire(0, &v);
     for (GpuBuffer& b : v.staging) shared_.objects->destroy(&b);
   }
-  beginFrame(0);
   views_.clear();
+  crowds_.release();
+  retirement_.releaseAll();
 }
 
 }  // namespace si::vk::detail

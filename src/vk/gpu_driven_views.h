@@ -1,12 +1,12 @@
 // SkinnedInstancing — SPDX-License-Identifier: MIT (see LICENSE)
 #pragma once
-// The Vulkan back-end's GPU-driven path: per (character, view), the crowd's state on the GPU and
-// the cull, commands and scatter passes' output, recorded as si::gl's GpuCulledPath runs them
-// (the same SPIR-V of the same shaders: the selection is cull_math.h's), then one indexed
-// indirect draw of every (LOD, sub-mesh) bucket. The state is copied in from a staging buffer of
-// the frame slot when the crowd changed; what a frame slot's earlier frame may still read is
-// destroyed only when the slot comes round again (beginFrame). What is not built yet (layers,
-// motion vectors, live poses, impostors, occlusion, pre-skinning) is refused by the renderer.
+// The Vulkan back-end's GPU-driven path: per (character, view), the cull, commands, scatter and
+// pre-skinning passes' output, recorded as si::gl's GpuCulledPath runs them (the same SPIR-V of
+// the same shaders: the selection is cull_math.h's) over the crowd's state (gpu_driven_crowds.h,
+// shared by the crowd's views), then the indexed indirect draws of every (LOD, sub-mesh) bucket.
+// What a frame slot's earlier frame may still read is destroyed only when the slot comes round
+// again (beginFrame). What is not built yet (layers, motion vectors, live poses, impostors,
+// occlusion) is refused by the renderer.
 
 #include <vulkan/vulkan.h>
 
@@ -22,6 +22,7 @@
 #include "vk/character_resources.h"
 #include "vk/character_set.h"
 #include "vk/device_objects.h"
+#include "vk/gpu_driven_crowds.h"
 #include "vk/gpu_driven_layout.h"
 #include "vk/program_modules.h"
 #include "vk/skinned_pipeline.h"
@@ -68,7 +69,7 @@ struct DrivenShared {
 
 class GpuDrivenViews {
  public:
-  void init(const DrivenShared& shared) { shared_ = shared; }
+  void init(const DrivenShared& shared);
   /// Frame slot `slot` begins: what it retired when it last ran is destroyed.
   void beginFrame(uint32_t slot);
   /// Records `view`'s passes for character `character` (`c`) with `camera` into `cmd` (outside
@@ -81,27 +82,24 @@ class GpuDrivenViews {
   Status recordDraw(VkCommandBuffer cmd, FrameRegion region, uint32_t character,
                     const CharacterResources& c, const CrowdView& view, const DrawTarget& target,
                     const glm::vec3& light_direction, DrawStats* stats);
-  /// Device bytes of the views' buffers.
-  uint64_t deviceBytes() const;
+  /// The crowds' and views' device memory.
+  GpuDrivenMemory memory() const;
+  /// What the last recordPasses() uploaded of its crowd's state.
+  const CrowdUpload& lastUpload() const { return last_upload_; }
   /// Destroys everything (the host has waited for the device).
   void release();
 
  private:
   struct View {
-    uint64_t crowd = 0;    // CrowdManager::identity() of the state.
-    uint64_t version = 0;  // CrowdExport::stateVersion() uploaded.
-    uint32_t instances = 0, capacity = 0, sub_meshes = 0, buckets = 0;
-    uint32_t clip_count = 0, time_count = 0;
-    // The crowd's state, clips, frame times, bucket ranges and info, the entry indices (vertex
-    // binding 1); the view's LODs; the passes' counters, records, visible list, entries and
-    // indirect commands.
-    GpuBuffer state, clips, times, ranges, bucket_info, identity, lods;
-    GpuBuffer counters, records, visible, entries, commands;
-    // Pre-skinning: each pre-skinned entry's ring base and list, the ring of pre-skinned
-    // vertices (16 bytes each) and of their tangents (4 bytes; the ring stands in without).
+    const DrivenCrowd* crowd = nullptr;  // The crowd state its sets were written for,
+    uint64_t generation = 0;             // at this generation of its buffers.
+    uint32_t capacity = 0, sub_meshes = 0, buckets = 0;
+    // The view's LODs; the passes' counters, records, visible list, entries and indirect
+    // commands; pre-skinning's entry data, ring and tangent ring (the ring stands in without).
+    GpuBuffer lods, counters, records, visible, entries, commands;
     GpuBuffer entry_data, ring, tangent_ring;
     uint32_t ring_vertices = 0;      // 0: no pre-skinning.
-    std::vector<GpuBuffer> staging;  // One per frame slot.
+    std::vector<GpuBuffer> staging;  // Per frame slot: the LODs' seed.
     // The passes' set and the draw's, each in a pool of its own.
     VkDescriptorPool pass_pool = VK_NULL_HANDLE, draw_pool = VK_NULL_HANDLE;
     VkDescriptorSet pass_set = VK_NULL_HANDLE, draw_set = VK_NULL_HANDLE;
@@ -109,20 +107,17 @@ class GpuDrivenViews {
     bool passes_recorded = false;  // In this frame slot's frame, since beginFrame.
     uint32_t passes_slot = 0;
   };
-  // Makes `v`'s buffers for `n` instances of `buckets` buckets and its sets (what it had is
-  // retired into slot `slot`).
-  Status reshape(View* v, uint32_t slot, const CharacterResources& c, uint32_t n,
-                 uint32_t sub_meshes, uint32_t buckets, uint32_t clips, uint32_t times);
+  // Makes `v`'s buffers for crowd state `d` and its sets (what it had is retired into slot
+  // `slot`), and records its LODs' seed (the CPU view's, CrowdExport::lods) into `cmd`.
+  Status reshape(VkCommandBuffer cmd, View* v, uint32_t slot, const CharacterResources& c,
+                 const DrivenCrowd& d, const CrowdView& view);
   void retire(uint32_t slot, View* v);
 
   DrivenShared shared_;
   std::map<std::pair<uint32_t, uint64_t>, View> views_;  // By (character, view identity).
-  // What each frame slot retired: destroyed when the slot begins again.
-  struct Retired {
-    std::vector<GpuBuffer> buffers;
-    std::vector<VkDescriptorPool> pools;
-  };
-  std::vector<Retired> retired_ = std::vector<Retired>(8);
+  FrameRetirement retirement_;
+  GpuDrivenCrowds crowds_;
+  CrowdUpload last_upload_;
 };
 
 }  // namespace si::vk::detail

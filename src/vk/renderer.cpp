@@ -621,7 +621,7 @@ Status Renderer::recordDraw(VkCommandBuffer cmd, const DrawTarget& target, Chara
 }
 
 Status Renderer::recordGpuDrivenPasses(VkCommandBuffer cmd, CharacterId id, const CrowdView& view,
-                                       const Camera& camera) {
+                                       const Camera& camera, PassStats* stats) {
   if (!impl_)
     return {StatusCode::kInvalidArgument, "vk::Renderer::recordGpuDrivenPasses: not initialized"};
   Impl& m = *impl_;
@@ -653,7 +653,19 @@ Status Renderer::recordGpuDrivenPasses(VkCommandBuffer cmd, CharacterId id, cons
             strCat("vk::Renderer::recordGpuDrivenPasses: the Vulkan back-end's GPU-driven path "
                    "does not draw a crowd with ",
                    unbuilt, " yet")};
-  return m.driven_views.recordPasses(cmd, uint32_t(m.frame), m.region(), id.index, c, view, camera);
+  const Status s =
+      m.driven_views.recordPasses(cmd, uint32_t(m.frame), m.region(), id.index, c, view, camera);
+  if (s.isOk() && stats != nullptr) {
+    const CrowdUpload& u = m.driven_views.lastUpload();
+    stats->state_bytes_uploaded = u.state_bytes;
+    stats->upload_regions = u.regions;
+    stats->whole_upload = u.whole;
+  }
+  return s;
+}
+
+GpuDrivenMemory Renderer::gpuDrivenMemory() const {
+  return impl_ ? impl_->driven_views.memory() : GpuDrivenMemory();
 }
 
 Status Renderer::recordGpuDrivenDraw(VkCommandBuffer cmd, const DrawTarget& target, CharacterId id,

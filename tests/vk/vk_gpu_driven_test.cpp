@@ -54,8 +54,12 @@ class VulkanGpuDrivenTest : public VulkanRenderFixture {
     f.color = mode == vk::DrawMode::kShaded;
     f.before = [&](VkCommandBuffer cmd) {
       Status s = renderer_.beginFrame(slot);
-      for (const auto& [view, camera] : passes)
-        if (s.isOk()) s = renderer_.recordGpuDrivenPasses(cmd, id_, *view, camera);
+      pass_stats_.clear();
+      for (const auto& [view, camera] : passes) {
+        vk::PassStats stats;
+        if (s.isOk()) s = renderer_.recordGpuDrivenPasses(cmd, id_, *view, camera, &stats);
+        pass_stats_.push_back(stats);
+      }
       return s;
     };
     vk::DrawTarget target{{kSize, kSize}};
@@ -96,6 +100,7 @@ class VulkanGpuDrivenTest : public VulkanRenderFixture {
   vk::CharacterId id_;
   // Indirect draws a view's draw records: the pre-skinned entries' and the others'.
   uint32_t draws_ = 2;
+  std::vector<vk::PassStats> pass_stats_;  // The last frame's passes', in order.
 };
 
 // The LOD rows and a close view cutting the near plane: the Vulkan passes select and draw what
@@ -165,11 +170,21 @@ TEST_P(VulkanGpuDrivenTest, TheViewsOfOneFrameKeepTheirOwnSelections) {
                          vk::DrawMode::kShaded, &image);
   ASSERT_TRUE(s.isOk()) << s.toString();
   expectSameImage(image, gl_image, "two_views");
+  // The crowd's state is the views': uploaded once, by the first view's passes, and kept once.
+  ASSERT_EQ(pass_stats_.size(), 2u);
+  EXPECT_EQ(pass_stats_[0].state_bytes_uploaded, uint64_t(crowd.size()) * sizeof(GpuInstanceState));
+  EXPECT_TRUE(pass_stats_[0].whole_upload);
+  EXPECT_EQ(pass_stats_[1].state_bytes_uploaded, 0u) << "the second view shares the state";
+  const vk::GpuDrivenMemory memory = renderer_.gpuDrivenMemory();
+  EXPECT_EQ(memory.crowds, 1u);
+  EXPECT_EQ(memory.views, 2u);
+  EXPECT_GE(memory.crowd_bytes, uint64_t(crowd.size()) * sizeof(GpuInstanceState));
   EXPECT_TRUE(host_.messages().empty()) << messages();
 }
 
-// The crowd's changes between frames (instances removed and added, the clock moved on) reach
-// the GPU: each frame draws what si::gl draws of the crowd as it is then.
+// The crowd's changes between frames (instances removed and added, the clock moved on; one
+// instance moved) reach the GPU: each frame draws what si::gl draws of the crowd as it is then,
+// having copied in the whole state, nothing, or only the instance that moved.
 TEST_P(VulkanGpuDrivenTest, TheCrowdsChangesReachTheGpu) {
   SI_START_VULKAN_HOST();
   ASSERT_NO_FATAL_FAILURE(start());
@@ -198,7 +213,23 @@ TEST_P(VulkanGpuDrivenTest, TheCrowdsChangesReachTheGpu) {
         frame(slot, {{&crowd.view(), camera}}, {&crowd.view()}, vk::DrawMode::kShaded, &image)
             .isOk());
     expectSameImage(image, gl_image, "changed");
+    ASSERT_EQ(pass_stats_.size(), 1u);
+    EXPECT_EQ(pass_stats_[0].state_bytes_uploaded,
+              slot == 1 ? uint64_t(crowd.size()) * sizeof(GpuInstanceState) : 0u);
   }
+  // One instance moved across the view and grown: only its state is copied in.
+  ASSERT_TRUE(
+      crowd.setTransform(handles[1], glm::dvec3(-1.2, 0.0, -4.5), glm::quat(1, 0, 0, 0), 1.5f)
+          .isOk());
+  const std::vector<uint8_t> moved_gl = glImage(crowd, camera);
+  EXPECT_GT(compare(moved_gl, gl_image, nullptr).share, 0.01) << "the instance moved";
+  ASSERT_TRUE(
+      frame(1, {{&crowd.view(), camera}}, {&crowd.view()}, vk::DrawMode::kShaded, &image).isOk());
+  expectSameImage(image, moved_gl, "moved");
+  ASSERT_EQ(pass_stats_.size(), 1u);
+  EXPECT_FALSE(pass_stats_[0].whole_upload);
+  EXPECT_EQ(pass_stats_[0].upload_regions, 1u);
+  EXPECT_EQ(pass_stats_[0].state_bytes_uploaded, sizeof(GpuInstanceState));
   EXPECT_TRUE(host_.messages().empty()) << messages();
 }
 

@@ -140,6 +140,23 @@ struct DrawTarget {
   float depth_bias_slope = 0.0f;
 };
 
+/// What recordGpuDrivenPasses() recorded of the crowd's state: the bytes of instance state it
+/// copied in (0 when nothing changed since the crowd's last passes, in any view), in how many
+/// copy regions (one per run of changed instances), and whether it copied the whole state (the
+/// crowd, its shape or its size outgrew the buffers, or past half its instances changed).
+struct PassStats {
+  uint64_t state_bytes_uploaded = 0;
+  uint32_t upload_regions = 0;
+  bool whole_upload = false;
+};
+
+/// The GPU-driven path's device memory: the crowds' state (shared by each crowd's views) and the
+/// views' own buffers (LODs, the passes' output, the pre-skinning ring).
+struct GpuDrivenMemory {
+  uint32_t crowds = 0, views = 0;
+  uint64_t crowd_bytes = 0, view_bytes = 0;
+};
+
 /// What recordDraw() recorded.
 struct DrawStats {
   uint32_t draw_calls = 0;
@@ -212,9 +229,12 @@ class Renderer {
   /// same cull, commands and scatter passes: every instance of the view's crowd culled against
   /// the frustum and given its LOD by the view's rules, its record written at the crowd's
   /// clock, bucketed per (LOD, sub-mesh)). The crowd's state is copied in (from a staging
-  /// buffer of the frame slot) when it changed since the view's last passes; the CPU's work
-  /// does not depend on the crowd's size otherwise, and the view need not select on the CPU.
-  /// What a view keeps on the GPU (its LODs' hysteresis) is its own, per character. After
+  /// buffer of the frame slot) when it changed: only the instances that changed
+  /// (CrowdExport::changedSince), one copy region per run, or the whole state when the buffers
+  /// are outgrown or past half the instances changed (`stats`). The state is the crowd's, per
+  /// character: its views (a shadow cascade and the main view) share it. The CPU's work does
+  /// not depend on the crowd's size otherwise, and the view need not select on the CPU. What a
+  /// view keeps on the GPU (its LODs' hysteresis, the passes' output, its ring) is its own. After
   /// beginFrame(), once per view and frame. kInvalidArgument for no beginFrame(), an unknown
   /// character, its uploads not recorded, a detached view, or a crowd of more buckets than
   /// 256 or sub-meshes than the character's; kUnsupported without RendererDesc::gpu_driven, or
@@ -222,7 +242,7 @@ class Renderer {
   /// Vulkan yet); kLimitExceeded when a buffer passes maxStorageBufferRange, the instances need
   /// more compute groups than the device has, or the frame's uniforms pass the slot's region.
   Status recordGpuDrivenPasses(VkCommandBuffer cmd, CharacterId id, const CrowdView& view,
-                               const Camera& camera);
+                               const Camera& camera, PassStats* stats = nullptr);
   /// Part 2: records the draws of `view`'s passes of this frame into `cmd` (inside the host's
   /// rendering, as recordDraw: `target` says where and what), with the passes' camera: with a
   /// ring (RendererDesc::gpu_driven_ring_bytes) one vkCmdDrawIndexedIndirect of every bucket's
@@ -234,6 +254,8 @@ class Renderer {
   /// this frame; kUnsupported without RendererDesc::gpu_driven.
   Status recordGpuDrivenDraw(VkCommandBuffer cmd, const DrawTarget& target, CharacterId id,
                              const CrowdView& view, DrawStats* stats = nullptr);
+  /// The GPU-driven path's device memory now (zero before init()).
+  GpuDrivenMemory gpuDrivenMemory() const;
 
  private:
   struct Impl;

@@ -1,0 +1,230 @@
+// SkinnedInstancing — SPDX-License-Identifier: MIT (see LICENSE)
+// The GPU-driven path's crowds: their state on the GPU, uploaded whole or in proportion to
+// change.
+#include "vk/gpu_driven_crowds.h"
+
+#include <algorithm>
+#include <cstring>
+
+#include "core/str_cat.h"
+#include "si/crowd/crowd_export.h"
+
+namespace si::vk::detail {
+
+using si::detail::strCat;
+
+void FrameRetirement::retire(uint32_t slot, GpuBuffer* b) {
+  if (b->buffer != VK_NULL_HANDLE) slots_[slot].buffers.push_back(*b);
+  *b = GpuBuffer();
+}
+
+void FrameRetirement::retire(uint32_t slot, VkDescriptorPool* pool) {
+  if (*pool != VK_NULL_HANDLE) slots_[slot].pools.push_back(*pool);
+  *pool = VK_NULL_HANDLE;
+}
+
+void FrameRetirement::release(uint32_t slot) {
+  Retired& r = slots_[slot];
+  for (GpuBuffer& b : r.buffers) objects_->destroy(&b);
+  for (VkDescriptorPool p : r.pools)
+    vkDestroyDescriptorPool(objects_->device(), p, objects_->allocator());
+  r = Retired();
+}
+
+void FrameRetirement::releaseAll() {
+  for (uint32_t slot = 0; slot < slots_.size(); ++slot) release(slot);
+}
+
+void GpuDrivenCrowds::init(DeviceObjects* objects, FrameRetirement* retirement,
+                           VkDeviceSize max_storage_range, uint32_t frames_in_flight,
+                           bool pre_skin) {
+  objects_ = objects;
+  retirement_ = retirement;
+  max_storage_range_ = max_storage_range;
+  frames_in_flight_ = frames_in_flight;
+  pre_skin_ = pre_skin;
+}
+
+void GpuDrivenCrowds::retire(uint32_t slot, DrivenCrowd* d) {
+  for (GpuBuffer* b : {&d->state, &d->clips, &d->times, &d->ranges, &d->bucket_info, &d->identity})
+    retirement_->retire(slot, b);
+  d->capacity = 0;
+}
+
+Status GpuDrivenCrowds::reshape(DrivenCrowd* d, uint32_t slot, uint32_t n, uint32_t sub_meshes,
+                                uint32_t buckets, uint32_t clips, uint32_t times) {
+  retire(slot, d);
+  // Room to grow by half, so a spawn wave re-creates the buffers a few times, not every frame.
+  const uint64_t capacity = std::max<uint64_t>(1, uint64_t(n) + n / 2);
+  const VkBufferUsageFlags storage =
+      VK_BUFFER_USAGE_STORAGE_BUFFER_BIT | VK_BUFFER_USAGE_TRANSFER_DST_BIT;
+  const struct {
+    GpuBuffer* buffer;
+    uint64_t bytes;
+    VkBufferUsageFlags usage;
+    const char* what;
+  } needs[] = {
+      {&d->state, capacity * sizeof(GpuInstanceState), storage, "the crowd state"},
+      {&d->clips, uint64_t(std::max(clips, 1u)) * sizeof(GpuClipInfo), storage, "the clips"},
+      {&d->times, uint64_t(std::max(times, 1u)) * sizeof(double), storage, "the frame times"},
+      {&d->ranges, uint64_t(buckets) * 8, storage, "the bucket ranges"},
+      {&d->bucket_info, uint64_t(buckets) * 16, storage, "the bucket info"},
+      {&d->identity, capacity * sub_meshes * 4, VK_BUFFER_USAGE_VERTEX_BUFFER_BIT | storage,
+       "the entry indices"}};
+  for (const auto& need : needs)
+    if (need.bytes > max_storage_range_)
+      return {StatusCode::kLimitExceeded,
+              strCat("vk::Renderer::recordGpuDrivenPasses: ", n, " instances need ", need.bytes,
+                     " bytes of ", need.what, ", past maxStorageBufferRange (", max_storage_range_,
+                     ")")};
+  for (const auto& need : needs) {
+    Status s = objects_->createBuffer(need.bytes, need.usage, false, need.what, need.buffer);
+    if (!s.isOk()) {
+      retire(slot, d);
+      return s;
+    }
+  }
+  d->capacity = uint32_t(capacity);
+  d->sub_meshes = sub_meshes;
+  d->buckets = buckets;
+  d->clip_count = clips;
+  d->time_count = times;
+  ++d->generation;
+  return Status::ok();
+}
+
+Status GpuDrivenCrowds::update(VkCommandBuffer cmd, uint32_t slot, uint32_t character,
+                               const CharacterResources& c, const CrowdManager& crowd,
+                               DrivenCrowd** out, CrowdUpload* upload) {
+  *upload = CrowdUpload();
+  const CrowdDesc& cd = crowd.desc();
+  const uint32_t subs = cd.sub_mesh_count, buckets = cd.lod_count * subs, n = crowd.size();
+  const CrowdExport exported(crowd);
+  std::vector<GpuClipInfo> clips;
+  std::vector<double> times;
+  exported.clips(&clips, &times);
+  const std::pair<uint32_t, uint64_t> key{character, crowd.identity()};
+  DrivenCrowd& d = crowds_[key];
+  *out = &d;
+  const bool reshaped = n > d.capacity || d.sub_meshes != subs || d.buckets != buckets ||
+                        d.clip_count != clips.size() || d.time_count != times.size() ||
+                        d.state.buffer == VK_NULL_HANDLE;
+  if (!reshaped && d.version == exported.stateVersion() && d.instances == n) return Status::ok();
+  if (reshaped) {
+    Status s = reshape(&d, slot, n, subs, buckets, uint32_t(clips.size()), uint32_t(times.size()));
+    if (!s.isOk()) {
+      for (GpuBuffer& b : d.staging) retirement_->retire(slot, &b);
+      crowds_.erase(key);
+      *out = nullptr;
+      return s;
+    }
+  }
+  // What changed since the last upload (everything after a reshape): runs of dense indices, a
+  // copy region each. Past half the instances the whole state is copied.
+  changed_.clear();
+  uint64_t changed_instances = n;
+  bool whole = reshaped;
+  if (!whole) {
+    exported.changedSince(d.version, &changed_, nullptr);
+    changed_instances = 0;
+    for (const DenseRange& r : changed_) changed_instances += r.count;
+    whole = changed_instances * 2 > n;
+  }
+  if (whole) {
+    changed_.assign(n > 0 ? 1 : 0, DenseRange{0, n});
+    changed_instances = n;
+  }
+  const VkDeviceSize state_bytes = changed_instances * sizeof(GpuInstanceState);
+  const VkDeviceSize clip_bytes = whole ? clips.size() * sizeof(GpuClipInfo) : 0;
+  const VkDeviceSize time_bytes = whole ? times.size() * sizeof(double) : 0;
+  const VkDeviceSize range_bytes = reshaped ? VkDeviceSize(buckets) * 8 : 0;
+  const VkDeviceSize info_bytes = reshaped ? VkDeviceSize(buckets) * 16 : 0;
+  const VkDeviceSize identity_bytes = reshaped ? VkDeviceSize(d.capacity) * subs * 4 : 0;
+  const VkDeviceSize total =
+      state_bytes + clip_bytes + time_bytes + range_bytes + info_bytes + identity_bytes;
+  // This slot's staging (its last frame is done).
+  if (d.staging.size() < frames_in_flight_) d.staging.resize(frames_in_flight_);
+  GpuBuffer& staging = d.staging[slot];
+  if (staging.size < total) {
+    objects_->destroy(&staging);
+    Status s =
+        objects_->createBuffer(std::max<VkDeviceSize>(total, 256), VK_BUFFER_USAGE_TRANSFER_SRC_BIT,
+                               true, "the GPU-driven state's staging", &staging);
+    if (!s.isOk()) return s;
+  }
+  uint8_t* to = static_cast<uint8_t*>(staging.mapped);
+  // The instances first, exported straight into the staging (each byte written once), one
+  // copy region per run.
+  if (!changed_.empty())
+    exported.state(Span<const DenseRange>(changed_.data(), changed_.size()),
+                   reinterpret_cast<GpuInstanceState*>(to), nullptr);
+  std::vector<VkBufferCopy> regions;
+  VkDeviceSize at = 0;
+  for (const DenseRange& r : changed_) {
+    const VkDeviceSize bytes = VkDeviceSize(r.count) * sizeof(GpuInstanceState);
+    regions.push_back({at, VkDeviceSize(r.first) * sizeof(GpuInstanceState), bytes});
+    at += bytes;
+  }
+  if (!regions.empty())
+    vkCmdCopyBuffer(cmd, staging.buffer, d.state.buffer, uint32_t(regions.size()), regions.data());
+  upload->state_bytes = state_bytes;
+  upload->regions = uint32_t(regions.size());
+  upload->whole = whole;
+  const auto copy = [&](const GpuBuffer& buffer, VkDeviceSize bytes) {
+    if (bytes == 0) return;
+    const VkBufferCopy region{at, 0, bytes};
+    vkCmdCopyBuffer(cmd, staging.buffer, buffer.buffer, 1, &region);
+    at += bytes;
+  };
+  if (whole) {
+    std::memcpy(to + at, clips.data(), size_t(clip_bytes));
+    copy(d.clips, clip_bytes);
+    if (time_bytes > 0) std::memcpy(to + at, times.data(), size_t(time_bytes));
+    copy(d.times, time_bytes);
+  }
+  if (reshaped) {
+    auto* ranges = reinterpret_cast<uint32_t*>(to + at);
+    for (uint32_t b = 0; b < buckets; ++b) {
+      const std::vector<IndexRange>& l = c.sub_meshes[b % subs].lods;
+      const IndexRange r = l[std::min<size_t>(b / subs, l.size() - 1)];
+      ranges[2 * b] = r.first_index;
+      ranges[2 * b + 1] = r.index_count;
+    }
+    copy(d.ranges, range_bytes);
+    auto* info = reinterpret_cast<uint32_t*>(to + at);
+    for (uint32_t b = 0; b < buckets; ++b) {
+      const si::detail::PreSkinLod& l = c.pre_skin.lod(b % subs, b / subs);
+      info[4 * b] = pre_skin_ ? l.vertex_count : 0u;  // 0: nothing fits a ring.
+      info[4 * b + 1] = l.vertex_offset;
+      info[4 * b + 2] = l.first_index;
+      info[4 * b + 3] = l.index_count;
+    }
+    copy(d.bucket_info, info_bytes);
+    auto* identity = reinterpret_cast<uint32_t*>(to + at);
+    for (uint32_t k = 0; k < d.capacity * subs; ++k) identity[k] = k;
+    copy(d.identity, identity_bytes);
+  }
+  d.version = exported.stateVersion();
+  d.instances = n;
+  return Status::ok();
+}
+
+uint64_t GpuDrivenCrowds::deviceBytes() const {
+  uint64_t bytes = 0;
+  for (const auto& [key, d] : crowds_)
+    for (const GpuBuffer* b :
+         {&d.state, &d.clips, &d.times, &d.ranges, &d.bucket_info, &d.identity})
+      bytes += b->size;
+  return bytes;
+}
+
+void GpuDrivenCrowds::release() {
+  for (auto& [key, d] : crowds_) {
+    for (GpuBuffer* b : {&d.state, &d.clips, &d.times, &d.ranges, &d.bucket_info, &d.identity})
+      objects_->destroy(b);
+    for (GpuBuffer& b : d.staging) objects_->destroy(&b);
+  }
+  crowds_.clear();
+}
+
+}  // namespace si::vk::detail

@@ -1,0 +1,100 @@
+// SkinnedInstancing — SPDX-License-Identifier: MIT (see LICENSE)
+#pragma once
+// The Vulkan GPU-driven path's crowds: per (character, crowd) the crowd's state as the cull
+// passes read it (its instances, clips, frame times, the character's bucket ranges and
+// pre-skinning lists, the entry indices the draws read), shared by every view of the crowd, and
+// kept up to date by copies from a staging buffer of the frame slot recorded before the passes:
+// the whole state when the crowd, its shape or its size outgrew the buffers, else only the
+// instances that changed since (CrowdExport::changedSince). And what a frame slot's earlier
+// frame may still read, destroyed only when the slot begins again.
+
+#include <vulkan/vulkan.h>
+
+#include <cstdint>
+#include <map>
+#include <utility>
+#include <vector>
+
+#include "si/core/status.h"
+#include "si/crowd/crowd_manager.h"
+#include "si/crowd/gpu_crowd_state.h"
+#include "vk/character_resources.h"
+#include "vk/device_objects.h"
+
+namespace si::vk::detail {
+
+/// Buffers and descriptor pools retired in a frame slot, destroyed when the slot begins again
+/// (the host has then waited for the frame that last used them).
+class FrameRetirement {
+ public:
+  void init(DeviceObjects* objects) { objects_ = objects; }
+  /// Moves `*b` (when it exists) into slot `slot`'s list and empties it.
+  void retire(uint32_t slot, GpuBuffer* b);
+  void retire(uint32_t slot, VkDescriptorPool* pool);
+  /// Destroys what slot `slot` retired.
+  void release(uint32_t slot);
+  /// Destroys everything retired (the host has waited for the device).
+  void releaseAll();
+
+ private:
+  struct Retired {
+    std::vector<GpuBuffer> buffers;
+    std::vector<VkDescriptorPool> pools;
+  };
+  DeviceObjects* objects_ = nullptr;
+  std::vector<Retired> slots_ = std::vector<Retired>(8);
+};
+
+/// One crowd's state on the GPU, for one character.
+struct DrivenCrowd {
+  uint64_t version = 0;     ///< CrowdExport::stateVersion() uploaded.
+  uint64_t generation = 0;  ///< Counts the buffers' re-creations (a view's sets follow it).
+  uint32_t instances = 0, capacity = 0, sub_meshes = 0, buckets = 0;
+  uint32_t clip_count = 0, time_count = 0;
+  /// The instances (si::GpuInstanceState), clips, frame times; per bucket its index range and
+  /// its pre-skinning list (vertices, list offset, first local index, local indices; 0 vertices
+  /// without a ring); the entry indices (vertex binding 1 of the draws: 0 to capacity x
+  /// sub-meshes).
+  GpuBuffer state, clips, times, ranges, bucket_info, identity;
+  std::vector<GpuBuffer> staging;  ///< One per frame slot.
+};
+
+/// What the last update uploaded: bytes of instance state, and copy regions.
+struct CrowdUpload {
+  uint64_t state_bytes = 0;
+  uint32_t regions = 0;
+  bool whole = false;
+};
+
+class GpuDrivenCrowds {
+ public:
+  /// `pre_skin`: the views have rings (the bucket info names each bucket's list).
+  void init(DeviceObjects* objects, FrameRetirement* retirement, VkDeviceSize max_storage_range,
+            uint32_t frames_in_flight, bool pre_skin);
+  /// Records into `cmd` (outside rendering, frame slot `slot`) the copies that bring
+  /// (`character`, `crowd`)'s state up to date, creating or re-creating its buffers as it
+  /// grows; `*out` is then the crowd's. kLimitExceeded when a buffer passes
+  /// maxStorageBufferRange; kBackend on a failed call.
+  Status update(VkCommandBuffer cmd, uint32_t slot, uint32_t character, const CharacterResources& c,
+                const CrowdManager& crowd, DrivenCrowd** out, CrowdUpload* upload);
+  /// Device bytes of the crowds' buffers.
+  uint64_t deviceBytes() const;
+  uint32_t size() const { return uint32_t(crowds_.size()); }
+  /// Destroys everything (the host has waited for the device).
+  void release();
+
+ private:
+  Status reshape(DrivenCrowd* d, uint32_t slot, uint32_t n, uint32_t sub_meshes, uint32_t buckets,
+                 uint32_t clips, uint32_t times);
+  void retire(uint32_t slot, DrivenCrowd* d);
+
+  DeviceObjects* objects_ = nullptr;
+  FrameRetirement* retirement_ = nullptr;
+  VkDeviceSize max_storage_range_ = 0;
+  uint32_t frames_in_flight_ = 1;
+  bool pre_skin_ = false;
+  std::map<std::pair<uint32_t, uint64_t>, DrivenCrowd> crowds_;  // (character, crowd identity)
+  std::vector<DenseRange> changed_;                              // update()'s, kept between frames.
+};
+
+}  // namespace si::vk::detail
