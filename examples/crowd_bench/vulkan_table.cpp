@@ -62,7 +62,7 @@ Status runBoth(Setup& setup, Renderer& gl, examples::HeadlessVulkan& host,
   s = gl_batcher.init(gl.batchLimits());
   if (s.isOk()) s = vk_batcher.init(vkr.batchLimits());
   std::vector<double> update, submit[2], gpu[2];
-  uint64_t visible = 0;
+  uint64_t visible[2] = {};  // GPU-driven: each API's count.
   std::vector<uint8_t> images[2];
   const uint32_t warmup = kWarmupFrames, n = setup.frames;
   for (uint32_t f = 0; f < warmup + n && s.isOk(); ++f) {
@@ -108,11 +108,16 @@ Status runBoth(Setup& setup, Renderer& gl, examples::HeadlessVulkan& host,
     submit[1].push_back(vk_submit_ms);
     gpu[1].push_back(vk_ms);
     rows[0].draws = gl_stats.draw_calls;
-    visible = gl_stats.gpu_visible;
+    visible[0] = gl_stats.gpu_visible;
     rows[0].triangles = double(gl_stats.triangles);
     rows[1].draws = vk_stats.draw_calls;
-    // GPU-driven: the GPU counts what is drawn (the same selection as GL's, whose count it is).
-    rows[1].triangles = gpu_driven ? rows[0].triangles : double(vk_stats.triangles);
+    rows[1].triangles = double(vk_stats.triangles);
+    if (gpu_driven) {  // The GPU counted what it drew (the host has waited for the frame).
+      vk::GpuDrivenCounts counts;
+      s = vkr.readGpuDrivenCounts(id, crowd.view(), &counts);
+      visible[1] = counts.visible;
+      rows[1].triangles = double(counts.triangles);
+    }
   }
   vkr.shutdown();
   for (int k = 0; k < 2; ++k) {
@@ -120,7 +125,7 @@ Status runBoth(Setup& setup, Renderer& gl, examples::HeadlessVulkan& host,
     rows[k].path = path;
     rows[k].lod = k == 0 ? "GL" : "Vulkan";
     rows[k].instances = count;
-    rows[k].visible = gpu_driven ? visible : crowd.view().stats().visible;
+    rows[k].visible = gpu_driven ? visible[k] : crowd.view().stats().visible;
     rows[k].update_ms = median(update);
     rows[k].submit_ms = median(submit[k]);
     rows[k].gpu_ms = median(gpu[k]);

@@ -19,8 +19,10 @@ using si::detail::kBucketCountWord;
 using si::detail::kCommandWords;
 using si::detail::kCounterWords;
 using si::detail::kDispatchWord;
+using si::detail::kFittedWord;
 using si::detail::kMaxBuckets;
 using si::detail::kSkinDispatchWord;
+using si::detail::kThreadBaseWord;
 using si::detail::strCat;
 
 namespace {
@@ -110,7 +112,8 @@ Status GpuDrivenViews::reshape(VkCommandBuffer cmd, View* v, uint32_t slot,
     const char* what;
   } needs[] = {{&v->lods, capacity * 8, storage, "the view's LODs"},
                {&v->counters, uint64_t(kCounterWords) * 4,
-                storage | VK_BUFFER_USAGE_INDIRECT_BUFFER_BIT, "the counters"},
+                storage | VK_BUFFER_USAGE_INDIRECT_BUFFER_BIT | VK_BUFFER_USAGE_TRANSFER_SRC_BIT,
+                "the counters"},
                {&v->records, capacity * kInstanceRecordSize, storage, "the records"},
                {&v->visible, capacity * 16, storage, "the visible list"},
                {&v->entries, entries * 4, storage, "the bucket entries"},
@@ -290,6 +293,7 @@ Status GpuDrivenViews::recordPasses(VkCommandBuffer cmd, uint32_t slot, FrameReg
   if (!s.isOk()) {
     retire(slot, &v);
     for (GpuBuffer& b : v.staging) retirement_.retire(slot, &b);
+    for (GpuBuffer& b : v.readback) retirement_.retire(slot, &b);
     views_.erase({character, view.identity()});
     return s;
   }
@@ -369,6 +373,21 @@ Status GpuDrivenViews::recordPasses(VkCommandBuffer cmd, uint32_t slot, FrameReg
     bind(3);
     vkCmdDispatchIndirect(cmd, v.counters.buffer, VkDeviceSize(kSkinDispatchWord) * 4);
   }
+  // The counters into this slot's readback (readCounts, after the host's wait).
+  if (v.readback.size() < shared_.frames_in_flight) v.readback.resize(shared_.frames_in_flight);
+  if (v.readback[slot].buffer == VK_NULL_HANDLE) {
+    Status made = shared_.objects->createBuffer(
+        VkDeviceSize(kCounterWords) * 4, VK_BUFFER_USAGE_TRANSFER_DST_BIT, true,
+        "the GPU-driven counters' readback", &v.readback[slot]);
+    if (!made.isOk()) return made;
+  }
+  recordBarrier(cmd, VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT, VK_ACCESS_SHADER_WRITE_BIT,
+                VK_PIPELINE_STAGE_TRANSFER_BIT, VK_ACCESS_TRANSFER_READ_BIT);
+  const VkBufferCopy counted{0, 0, VkDeviceSize(kCounterWords) * 4};
+  vkCmdCopyBuffer(cmd, v.counters.buffer, v.readback[slot].buffer, 1, &counted);
+  recordBarrier(cmd, VK_PIPELINE_STAGE_TRANSFER_BIT, VK_ACCESS_TRANSFER_WRITE_BIT,
+                VK_PIPELINE_STAGE_HOST_BIT, VK_ACCESS_HOST_READ_BIT);
+  v.counted = true;
   // The draws read the commands, entry indices, entries, records, visible list and ring.
   recordBarrier(cmd, VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT | VK_PIPELINE_STAGE_TRANSFER_BIT,
                 VK_ACCESS_SHADER_WRITE_BIT | VK_ACCESS_TRANSFER_WRITE_BIT,
@@ -438,6 +457,30 @@ Status GpuDrivenViews::recordDraw(VkCommandBuffer cmd, FrameRegion region, uint3
   return Status::ok();
 }
 
+Status GpuDrivenViews::readCounts(uint32_t character, const CharacterResources& c,
+                                  const CrowdView& view, GpuDrivenCounts* out) const {
+  const auto found = views_.find({character, view.identity()});
+  if (found == views_.end() || !found->second.counted)
+    return {StatusCode::kInvalidArgument,
+            "vk::Renderer::readGpuDrivenCounts: the view's passes were never recorded"};
+  const View& v = found->second;
+  const auto* counters = static_cast<const uint32_t*>(v.readback[v.passes_slot].mapped);
+  GpuDrivenCounts n;
+  n.visible = counters[0];
+  const uint32_t subs = v.sub_meshes;
+  for (uint32_t b = 0; b < v.buckets; ++b) {
+    const uint32_t instances = counters[kBucketCountWord + b];
+    const std::vector<IndexRange>& l = c.sub_meshes[b % subs].lods;
+    const IndexRange range = l[std::min<size_t>(b / subs, l.size() - 1)];
+    n.instances += instances;
+    n.triangles += uint64_t(range.index_count / 3) * instances;
+    n.vertex_shader_instances += instances - counters[kFittedWord + b];
+  }
+  n.pre_skinned_vertices = counters[kThreadBaseWord + v.buckets];
+  *out = n;
+  return Status::ok();
+}
+
 GpuDrivenMemory GpuDrivenViews::memory() const {
   GpuDrivenMemory m;
   m.crowds = crowds_.size();
@@ -454,6 +497,7 @@ void GpuDrivenViews::release() {
   for (auto& [key, v] : views_) {
     retire(0, &v);
     for (GpuBuffer& b : v.staging) shared_.objects->destroy(&b);
+    for (GpuBuffer& b : v.readback) shared_.objects->destroy(&b);
   }
   views_.clear();
   crowds_.release();

@@ -84,6 +84,10 @@ class GpuDrivenViews {
                     const glm::vec3& light_direction, DrawStats* stats);
   /// The crowds' and views' device memory.
   GpuDrivenMemory memory() const;
+  /// What `view`'s last passes of `character` (`c`) counted (from their slot's readback).
+  /// kInvalidArgument when it has none.
+  Status readCounts(uint32_t character, const CharacterResources& c, const CrowdView& view,
+                    GpuDrivenCounts* out) const;
   /// What the last recordPasses() uploaded of its crowd's state.
   const CrowdUpload& lastUpload() const { return last_upload_; }
   /// Destroys everything (the host has waited for the device).
@@ -100,6 +104,8 @@ class GpuDrivenViews {
     GpuBuffer entry_data, ring, tangent_ring;
     uint32_t ring_vertices = 0;      // 0: no pre-skinning.
     std::vector<GpuBuffer> staging;  // Per frame slot: the LODs' seed.
+    std::vector<GpuBuffer> readback;  // Per frame slot: the counters after its passes.
+    bool counted = false;             // Passes were recorded: readback[passes_slot] holds them.
     // The passes' set and the draw's, each in a pool of its own.
     VkDescriptorPool pass_pool = VK_NULL_HANDLE, draw_pool = VK_NULL_HANDLE;
     VkDescriptorSet pass_set = VK_NULL_HANDLE, draw_set = VK_NULL_HANDLE;

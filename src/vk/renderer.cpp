@@ -664,6 +664,17 @@ Status Renderer::recordGpuDrivenPasses(VkCommandBuffer cmd, CharacterId id, cons
   return s;
 }
 
+Status Renderer::readGpuDrivenCounts(CharacterId id, const CrowdView& view,
+                                     GpuDrivenCounts* out) const {
+  if (!impl_ || out == nullptr)
+    return {StatusCode::kInvalidArgument,
+            "vk::Renderer::readGpuDrivenCounts: not initialized, or a null output"};
+  if (id.index >= impl_->characters.size())
+    return {StatusCode::kInvalidArgument,
+            strCat("vk::Renderer::readGpuDrivenCounts: no character ", id.index)};
+  return impl_->driven_views.readCounts(id.index, *impl_->characters[id.index], view, out);
+}
+
 GpuDrivenMemory Renderer::gpuDrivenMemory() const {
   return impl_ ? impl_->driven_views.memory() : GpuDrivenMemory();
 }

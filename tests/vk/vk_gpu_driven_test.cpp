@@ -28,14 +28,18 @@ class VulkanGpuDrivenTest : public VulkanRenderFixture {
     ASSERT_NO_FATAL_FAILURE(startRenderer(rd, &renderer_, &id_));
   }
 
-  // si::gl's GPU-driven image of `crowd`'s own view with `camera`, over kBackground.
-  std::vector<uint8_t> glImage(const CrowdManager& crowd, const Camera& camera) {
+  // si::gl's GPU-driven image of `crowd`'s own view with `camera`, over kBackground (and its
+  // draw's statistics, when asked).
+  std::vector<uint8_t> glImage(const CrowdManager& crowd, const Camera& camera,
+                               DrawStats* stats = nullptr) {
     Renderer gl;
-    EXPECT_TRUE(gl.init(info_, RendererDesc()).isOk());
+    RendererDesc rd;
+    rd.measure_gpu_time = stats != nullptr;  // The counts read back after the timer.
+    EXPECT_TRUE(gl.init(info_, rd).isOk());
     CharacterId id;
     EXPECT_TRUE(gl.addCharacter(character(), palette(), &id).isOk());
     gl.clear(kBackground);
-    const Status s = drawOnPath(gl, PathKind::kGpuDriven, crowd, camera, nullptr);
+    const Status s = drawOnPath(gl, PathKind::kGpuDriven, crowd, camera, stats);
     EXPECT_TRUE(s.isOk()) << s.toString();
     std::vector<uint8_t> image;
     EXPECT_TRUE(context_->readPixels(&image).isOk());
@@ -128,7 +132,8 @@ TEST_P(VulkanGpuDrivenTest, ThePassesAndTheDrawGiveOpenGlsImage) {
       if (&camera == &views[0].second) {
         ASSERT_NO_FATAL_FAILURE(start(ring_bytes));
       }
-      const std::vector<uint8_t> gl_image = glImage(crowd, camera);
+      DrawStats gl_stats;
+      const std::vector<uint8_t> gl_image = glImage(crowd, camera, &gl_stats);
       std::vector<uint8_t> image;
       std::vector<float> depth, depth_only;
       Status s = frame(slot, {{&crowd.view(), camera}}, {&crowd.view()}, vk::DrawMode::kShaded,
@@ -136,6 +141,24 @@ TEST_P(VulkanGpuDrivenTest, ThePassesAndTheDrawGiveOpenGlsImage) {
       ASSERT_TRUE(s.isOk()) << s.toString();
       slot = (slot + 1) % 2;
       expectSameImage(image, gl_image, name);
+      // The GPU's counts (read after the host's wait) are si::gl's: the same selection.
+      vk::GpuDrivenCounts counts;
+      ASSERT_TRUE(renderer_.readGpuDrivenCounts(id_, crowd.view(), &counts).isOk());
+      EXPECT_EQ(counts.visible, gl_stats.gpu_visible);
+      EXPECT_EQ(counts.instances, gl_stats.instances);
+      EXPECT_EQ(counts.triangles, gl_stats.triangles);
+      EXPECT_GT(counts.visible, 0u);
+      if (ring_bytes == 0) {
+        EXPECT_EQ(counts.pre_skinned_vertices, 0u);
+        EXPECT_EQ(counts.vertex_shader_instances, counts.instances);
+      } else if (&ring_bytes == &rings[0].second) {
+        EXPECT_GT(counts.pre_skinned_vertices, 0u);
+        EXPECT_EQ(counts.vertex_shader_instances, 0u) << "the ring holds every instance";
+      } else {
+        EXPECT_GT(counts.pre_skinned_vertices, 0u);
+        EXPECT_LE(counts.pre_skinned_vertices, uint64_t(lists.max_lod_vertices) * 3);
+        EXPECT_GT(counts.vertex_shader_instances, 0u) << "the rest in the vertex stage";
+      }
       s = frame(slot, {{&crowd.view(), camera}}, {&crowd.view()}, vk::DrawMode::kDepthOnly, nullptr,
                 &depth_only);
       ASSERT_TRUE(s.isOk()) << s.toString();

@@ -157,6 +157,16 @@ struct GpuDrivenMemory {
   uint64_t crowd_bytes = 0, view_bytes = 0;
 };
 
+/// What the GPU-driven passes of a view counted (readGpuDrivenCounts), as si::Renderer's
+/// DrawStats counts them for drawCrowdGpuCulled.
+struct GpuDrivenCounts {
+  uint32_t visible = 0;                  ///< Instances selected (in the frustum and range).
+  uint64_t instances = 0;                ///< Instance-draws: one per worn sub-mesh drawn.
+  uint64_t triangles = 0;                ///< Triangles drawn.
+  uint64_t pre_skinned_vertices = 0;     ///< Vertices pre-skinned into the ring,
+  uint64_t vertex_shader_instances = 0;  ///< and instance-draws skinned in the vertex stage.
+};
+
 /// What recordDraw() recorded.
 struct DrawStats {
   uint32_t draw_calls = 0;
@@ -256,6 +266,12 @@ class Renderer {
                              const CrowdView& view, DrawStats* stats = nullptr);
   /// The GPU-driven path's device memory now (zero before init()).
   GpuDrivenMemory gpuDrivenMemory() const;
+  /// What `view`'s last passes of character `id` counted, copied by those passes into a
+  /// host-visible buffer of their frame slot: read after the host has waited for that frame
+  /// (and before the slot's next beginFrame()); the renderer cannot tell otherwise. For tests,
+  /// tools and statistics: nothing waits. kInvalidArgument before init(), for a null output, an
+  /// unknown character or a view whose passes were never recorded.
+  Status readGpuDrivenCounts(CharacterId id, const CrowdView& view, GpuDrivenCounts* out) const;
 
  private:
   struct Impl;
