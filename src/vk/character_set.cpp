@@ -13,23 +13,7 @@ Status createCharacterSet(VkDevice device, const VkAllocationCallbacks* allocato
                           const CharacterResources& character, const DrivenOutputs* driven,
                           VkDescriptorPool* pool, VkDescriptorSet* set) {
   const CharacterResources* c = &character;
-  std::vector<VkDescriptorPoolSize> sizes;
-  for (const VkDescriptorSetLayoutBinding& b : layout.bindings)
-    sizes.push_back({b.descriptorType, 1});
-  auto pool_info =
-      vkStruct<VkDescriptorPoolCreateInfo>(VK_STRUCTURE_TYPE_DESCRIPTOR_POOL_CREATE_INFO);
-  pool_info.maxSets = 1;
-  pool_info.poolSizeCount = uint32_t(sizes.size());
-  pool_info.pPoolSizes = sizes.data();
-  Status s = checkVk(vkCreateDescriptorPool(device, &pool_info, allocator, pool),
-                     "vkCreateDescriptorPool");
-  if (!s.isOk()) return s;
-  auto alloc =
-      vkStruct<VkDescriptorSetAllocateInfo>(VK_STRUCTURE_TYPE_DESCRIPTOR_SET_ALLOCATE_INFO);
-  alloc.descriptorPool = *pool;
-  alloc.descriptorSetCount = 1;
-  alloc.pSetLayouts = &layout.set_layout;
-  s = checkVk(vkAllocateDescriptorSets(device, &alloc, set), "vkAllocateDescriptorSets");
+  Status s = createDescriptorSet(device, allocator, layout.set_layout, layout.bindings, pool, set);
   if (!s.isOk()) return s;
   std::vector<VkDescriptorBufferInfo> buffer_infos(layout.bindings.size());
   std::vector<VkDescriptorImageInfo> image_infos(layout.bindings.size());

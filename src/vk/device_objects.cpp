@@ -13,6 +13,45 @@ Status checkVk(VkResult result, const char* call) {
   return {StatusCode::kBackend, strCat(call, " failed: VkResult ", int(result))};
 }
 
+Status createSetLayouts(VkDevice device, const VkAllocationCallbacks* allocator,
+                        const std::vector<VkDescriptorSetLayoutBinding>& bindings,
+                        VkDescriptorSetLayout* set_layout, VkPipelineLayout* pipeline_layout) {
+  auto info = vkStruct<VkDescriptorSetLayoutCreateInfo>(
+      VK_STRUCTURE_TYPE_DESCRIPTOR_SET_LAYOUT_CREATE_INFO);
+  info.bindingCount = uint32_t(bindings.size());
+  info.pBindings = bindings.data();
+  Status s = checkVk(vkCreateDescriptorSetLayout(device, &info, allocator, set_layout),
+                     "vkCreateDescriptorSetLayout");
+  if (!s.isOk()) return s;
+  auto pl = vkStruct<VkPipelineLayoutCreateInfo>(VK_STRUCTURE_TYPE_PIPELINE_LAYOUT_CREATE_INFO);
+  pl.setLayoutCount = 1;
+  pl.pSetLayouts = set_layout;
+  return checkVk(vkCreatePipelineLayout(device, &pl, allocator, pipeline_layout),
+                 "vkCreatePipelineLayout");
+}
+
+Status createDescriptorSet(VkDevice device, const VkAllocationCallbacks* allocator,
+                           VkDescriptorSetLayout layout,
+                           const std::vector<VkDescriptorSetLayoutBinding>& bindings,
+                           VkDescriptorPool* pool, VkDescriptorSet* set) {
+  std::vector<VkDescriptorPoolSize> sizes;
+  for (const VkDescriptorSetLayoutBinding& b : bindings) sizes.push_back({b.descriptorType, 1});
+  auto pool_info =
+      vkStruct<VkDescriptorPoolCreateInfo>(VK_STRUCTURE_TYPE_DESCRIPTOR_POOL_CREATE_INFO);
+  pool_info.maxSets = 1;
+  pool_info.poolSizeCount = uint32_t(sizes.size());
+  pool_info.pPoolSizes = sizes.data();
+  Status s = checkVk(vkCreateDescriptorPool(device, &pool_info, allocator, pool),
+                     "vkCreateDescriptorPool");
+  if (!s.isOk()) return s;
+  auto alloc =
+      vkStruct<VkDescriptorSetAllocateInfo>(VK_STRUCTURE_TYPE_DESCRIPTOR_SET_ALLOCATE_INFO);
+  alloc.descriptorPool = *pool;
+  alloc.descriptorSetCount = 1;
+  alloc.pSetLayouts = &layout;
+  return checkVk(vkAllocateDescriptorSets(device, &alloc, set), "vkAllocateDescriptorSets");
+}
+
 void DeviceObjects::init(VkPhysicalDevice physical, VkDevice device,
                          const VkAllocationCallbacks* allocator) {
   physical_ = physical;

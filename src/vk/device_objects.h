@@ -7,6 +7,7 @@
 #include <vulkan/vulkan.h>
 
 #include <cstdint>
+#include <vector>
 
 #include "si/core/status.h"
 #include "vk/memory_blocks.h"
@@ -28,6 +29,18 @@ inline VkDeviceSize alignUp(VkDeviceSize v, VkDeviceSize a) {
 
 /// Ok for VK_SUCCESS; kBackend naming `call` and the result otherwise.
 Status checkVk(VkResult result, const char* call);
+
+/// A descriptor set layout of `bindings` and a pipeline layout of that one set. kBackend naming
+/// the failed call (what was made is in the outputs either way).
+Status createSetLayouts(VkDevice device, const VkAllocationCallbacks* allocator,
+                        const std::vector<VkDescriptorSetLayoutBinding>& bindings,
+                        VkDescriptorSetLayout* set_layout, VkPipelineLayout* pipeline_layout);
+/// A descriptor pool for one set of `layout` (of `bindings`) and that set. kBackend naming the
+/// failed call (the pool made is in `*pool` either way).
+Status createDescriptorSet(VkDevice device, const VkAllocationCallbacks* allocator,
+                           VkDescriptorSetLayout layout,
+                           const std::vector<VkDescriptorSetLayoutBinding>& bindings,
+                           VkDescriptorPool* pool, VkDescriptorSet* set);
 
 struct GpuBuffer {
   VkBuffer buffer = VK_NULL_HANDLE;

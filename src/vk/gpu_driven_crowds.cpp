@@ -5,6 +5,7 @@
 
 #include <algorithm>
 #include <cstring>
+#include <iterator>
 
 #include "core/str_cat.h"
 #include "si/crowd/crowd_export.h"
@@ -35,6 +36,21 @@ void FrameRetirement::releaseAll() {
   for (uint32_t slot = 0; slot < slots_.size(); ++slot) release(slot);
 }
 
+Status createBuffers(DeviceObjects* objects, Span<const BufferNeed> needs, VkDeviceSize max_range,
+                     uint64_t instances) {
+  for (const BufferNeed& need : needs)
+    if (need.bytes > max_range)
+      return {
+          StatusCode::kLimitExceeded,
+          strCat("vk::Renderer::recordGpuDrivenPasses: ", instances, " instances need ", need.bytes,
+                 " bytes of ", need.what, ", past maxStorageBufferRange (", max_range, ")")};
+  for (const BufferNeed& need : needs) {
+    Status s = objects->createBuffer(need.bytes, need.usage, false, need.what, need.buffer);
+    if (!s.isOk()) return s;
+  }
+  return Status::ok();
+}
+
 void GpuDrivenCrowds::init(DeviceObjects* objects, FrameRetirement* retirement,
                            VkDeviceSize max_storage_range, uint32_t frames_in_flight,
                            bool pre_skin) {
@@ -58,12 +74,7 @@ Status GpuDrivenCrowds::reshape(DrivenCrowd* d, uint32_t slot, uint32_t n, uint3
   const uint64_t capacity = std::max<uint64_t>(1, uint64_t(n) + n / 2);
   const VkBufferUsageFlags storage =
       VK_BUFFER_USAGE_STORAGE_BUFFER_BIT | VK_BUFFER_USAGE_TRANSFER_DST_BIT;
-  const struct {
-    GpuBuffer* buffer;
-    uint64_t bytes;
-    VkBufferUsageFlags usage;
-    const char* what;
-  } needs[] = {
+  const BufferNeed needs[] = {
       {&d->state, capacity * sizeof(GpuInstanceState), storage, "the crowd state"},
       {&d->clips, uint64_t(std::max(clips, 1u)) * sizeof(GpuClipInfo), storage, "the clips"},
       {&d->times, uint64_t(std::max(times, 1u)) * sizeof(double), storage, "the frame times"},
@@ -71,18 +82,11 @@ Status GpuDrivenCrowds::reshape(DrivenCrowd* d, uint32_t slot, uint32_t n, uint3
       {&d->bucket_info, uint64_t(buckets) * 16, storage, "the bucket info"},
       {&d->identity, capacity * sub_meshes * 4, VK_BUFFER_USAGE_VERTEX_BUFFER_BIT | storage,
        "the entry indices"}};
-  for (const auto& need : needs)
-    if (need.bytes > max_storage_range_)
-      return {StatusCode::kLimitExceeded,
-              strCat("vk::Renderer::recordGpuDrivenPasses: ", n, " instances need ", need.bytes,
-                     " bytes of ", need.what, ", past maxStorageBufferRange (", max_storage_range_,
-                     ")")};
-  for (const auto& need : needs) {
-    Status s = objects_->createBuffer(need.bytes, need.usage, false, need.what, need.buffer);
-    if (!s.isOk()) {
-      retire(slot, d);
-      return s;
-    }
+  Status s = createBuffers(objects_, Span<const BufferNeed>(needs, std::size(needs)),
+                           max_storage_range_, n);
+  if (!s.isOk()) {
+    retire(slot, d);
+    return s;
   }
   d->capacity = uint32_t(capacity);
   d->sub_meshes = sub_meshes;

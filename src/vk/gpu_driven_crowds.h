@@ -45,6 +45,20 @@ class FrameRetirement {
   std::vector<Retired> slots_ = std::vector<Retired>(8);
 };
 
+/// One buffer to make: where it goes, its bytes and usage, and what it is (for errors).
+struct BufferNeed {
+  GpuBuffer* buffer;
+  uint64_t bytes;
+  VkBufferUsageFlags usage;
+  const char* what;
+};
+
+/// Makes each of `needs` (device-local) for `instances` instances. kLimitExceeded naming the
+/// first past `max_range` (maxStorageBufferRange; nothing made then); kBackend on a failed call
+/// (what was made stays in place, for the caller to retire).
+Status createBuffers(DeviceObjects* objects, Span<const BufferNeed> needs, VkDeviceSize max_range,
+                     uint64_t instances);
+
 /// One crowd's state on the GPU, for one character.
 struct DrivenCrowd {
   uint64_t version = 0;     ///< CrowdExport::stateVersion() uploaded.

@@ -45,18 +45,8 @@ Status createComputeLayout(VkDevice device, const VkAllocationCallbacks* allocat
     }
   out->bindings.clear();
   for (const auto& [b, binding] : bindings) out->bindings.push_back(binding);
-  auto info = vkStruct<VkDescriptorSetLayoutCreateInfo>(
-      VK_STRUCTURE_TYPE_DESCRIPTOR_SET_LAYOUT_CREATE_INFO);
-  info.bindingCount = uint32_t(out->bindings.size());
-  info.pBindings = out->bindings.data();
-  Status s = checkVk(vkCreateDescriptorSetLayout(device, &info, allocator, &out->set_layout),
-                     "vkCreateDescriptorSetLayout");
-  if (!s.isOk()) return s;
-  auto pl = vkStruct<VkPipelineLayoutCreateInfo>(VK_STRUCTURE_TYPE_PIPELINE_LAYOUT_CREATE_INFO);
-  pl.setLayoutCount = 1;
-  pl.pSetLayouts = &out->set_layout;
-  return checkVk(vkCreatePipelineLayout(device, &pl, allocator, &out->pipeline_layout),
-                 "vkCreatePipelineLayout");
+  return createSetLayouts(device, allocator, out->bindings, &out->set_layout,
+                          &out->pipeline_layout);
 }
 
 void destroyComputeLayout(VkDevice device, const VkAllocationCallbacks* allocator,

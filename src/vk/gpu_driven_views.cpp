@@ -4,6 +4,7 @@
 
 #include <algorithm>
 #include <cstring>
+#include <iterator>
 
 #include "core/str_cat.h"
 #include "gl/programs/cull_layout.h"
@@ -105,56 +106,29 @@ Status GpuDrivenViews::reshape(VkCommandBuffer cmd, View* v, uint32_t slot,
   const uint64_t ring_slots = std::max<uint64_t>(ring_vertices, 1);
   const VkBufferUsageFlags storage =
       VK_BUFFER_USAGE_STORAGE_BUFFER_BIT | VK_BUFFER_USAGE_TRANSFER_DST_BIT;
-  const struct {
-    GpuBuffer* buffer;
-    uint64_t bytes;
-    VkBufferUsageFlags usage;
-    const char* what;
-  } needs[] = {{&v->lods, capacity * 8, storage, "the view's LODs"},
-               {&v->counters, uint64_t(kCounterWords) * 4,
-                storage | VK_BUFFER_USAGE_INDIRECT_BUFFER_BIT | VK_BUFFER_USAGE_TRANSFER_SRC_BIT,
-                "the counters"},
-               {&v->records, capacity * kInstanceRecordSize, storage, "the records"},
-               {&v->visible, capacity * 16, storage, "the visible list"},
-               {&v->entries, entries * 4, storage, "the bucket entries"},
-               {&v->commands, uint64_t(kCommandWords) * 4,
-                storage | VK_BUFFER_USAGE_INDIRECT_BUFFER_BIT, "the indirect commands"},
-               {&v->entry_data, entries * 8, storage, "the pre-skinned entries"},
-               {&v->ring, ring_slots * 16, storage, "the pre-skinned ring"},
-               {&v->tangent_ring, c.tangents ? ring_slots * 4 : 16, storage, "the tangent ring"}};
-  for (const auto& need : needs)
-    if (need.bytes > shared_.max_storage_range)
-      return {StatusCode::kLimitExceeded,
-              strCat("vk::Renderer::recordGpuDrivenPasses: ", d.capacity, " instances need ",
-                     need.bytes, " bytes of ", need.what, ", past maxStorageBufferRange (",
-                     shared_.max_storage_range, ")")};
-  for (const auto& need : needs) {
-    Status s = shared_.objects->createBuffer(need.bytes, need.usage, false, need.what, need.buffer);
-    if (!s.isOk()) {
-      retire(slot, v);
-      return s;
-    }
+  const BufferNeed needs[] = {
+      {&v->lods, capacity * 8, storage, "the view's LODs"},
+      {&v->counters, uint64_t(kCounterWords) * 4,
+       storage | VK_BUFFER_USAGE_INDIRECT_BUFFER_BIT | VK_BUFFER_USAGE_TRANSFER_SRC_BIT,
+       "the counters"},
+      {&v->records, capacity * kInstanceRecordSize, storage, "the records"},
+      {&v->visible, capacity * 16, storage, "the visible list"},
+      {&v->entries, entries * 4, storage, "the bucket entries"},
+      {&v->commands, uint64_t(kCommandWords) * 4, storage | VK_BUFFER_USAGE_INDIRECT_BUFFER_BIT,
+       "the indirect commands"},
+      {&v->entry_data, entries * 8, storage, "the pre-skinned entries"},
+      {&v->ring, ring_slots * 16, storage, "the pre-skinned ring"},
+      {&v->tangent_ring, c.tangents ? ring_slots * 4 : 16, storage, "the tangent ring"}};
+  Status s = createBuffers(shared_.objects, Span<const BufferNeed>(needs, std::size(needs)),
+                           shared_.max_storage_range, d.capacity);
+  if (!s.isOk()) {
+    retire(slot, v);
+    return s;
   }
   // The passes' set and the draw's.
-  std::vector<VkDescriptorPoolSize> sizes;
-  for (const VkDescriptorSetLayoutBinding& b : shared_.compute_layout->bindings)
-    sizes.push_back({b.descriptorType, 1});
-  auto pool_info =
-      vkStruct<VkDescriptorPoolCreateInfo>(VK_STRUCTURE_TYPE_DESCRIPTOR_POOL_CREATE_INFO);
-  pool_info.maxSets = 1;
-  pool_info.poolSizeCount = uint32_t(sizes.size());
-  pool_info.pPoolSizes = sizes.data();
-  Status s = checkVk(vkCreateDescriptorPool(shared_.objects->device(), &pool_info,
-                                            shared_.objects->allocator(), &v->pass_pool),
-                     "vkCreateDescriptorPool");
-  auto alloc =
-      vkStruct<VkDescriptorSetAllocateInfo>(VK_STRUCTURE_TYPE_DESCRIPTOR_SET_ALLOCATE_INFO);
-  alloc.descriptorPool = v->pass_pool;
-  alloc.descriptorSetCount = 1;
-  alloc.pSetLayouts = &shared_.compute_layout->set_layout;
-  if (s.isOk())
-    s = checkVk(vkAllocateDescriptorSets(shared_.objects->device(), &alloc, &v->pass_set),
-                "vkAllocateDescriptorSets");
+  s = createDescriptorSet(shared_.objects->device(), shared_.objects->allocator(),
+                          shared_.compute_layout->set_layout, shared_.compute_layout->bindings,
+                          &v->pass_pool, &v->pass_set);
   if (!s.isOk()) {
     retire(slot, v);
     return s;
