@@ -213,6 +213,20 @@ Status GpuDrivenCrowds::update(VkCommandBuffer cmd, uint32_t slot, uint32_t char
   return Status::ok();
 }
 
+void GpuDrivenCrowds::evict(uint32_t slot, uint64_t before,
+                            const std::vector<const DrivenCrowd*>& kept) {
+  for (auto it = crowds_.begin(); it != crowds_.end();) {
+    DrivenCrowd& d = it->second;
+    if (d.used >= before || std::find(kept.begin(), kept.end(), &d) != kept.end()) {
+      ++it;
+      continue;
+    }
+    retire(slot, &d);
+    for (GpuBuffer& b : d.staging) retirement_->retire(slot, &b);
+    it = crowds_.erase(it);
+  }
+}
+
 uint64_t GpuDrivenCrowds::deviceBytes() const {
   uint64_t bytes = 0;
   for (const auto& [key, d] : crowds_)

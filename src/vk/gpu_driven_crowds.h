@@ -71,6 +71,7 @@ struct DrivenCrowd {
   /// sub-meshes).
   GpuBuffer state, clips, times, ranges, bucket_info, identity;
   std::vector<GpuBuffer> staging;  ///< One per frame slot.
+  uint64_t used = 0;               ///< The renderer's frame of its last update.
 };
 
 /// What the last update uploaded: bytes of instance state, and copy regions.
@@ -91,6 +92,11 @@ class GpuDrivenCrowds {
   /// maxStorageBufferRange; kBackend on a failed call.
   Status update(VkCommandBuffer cmd, uint32_t slot, uint32_t character, const CharacterResources& c,
                 const CrowdManager& crowd, DrivenCrowd** out, CrowdUpload* upload);
+  /// Retires (into slot `slot`) every crowd last updated before frame `before` that no view
+  /// keeps (`kept`: the crowds views hold).
+  void evict(uint32_t slot, uint64_t before, const std::vector<const DrivenCrowd*>& kept);
+  /// Marks `d` used at frame `frame`.
+  static void touch(DrivenCrowd* d, uint64_t frame) { d->used = frame; }
   /// Device bytes of the crowds' buffers.
   uint64_t deviceBytes() const;
   uint32_t size() const { return uint32_t(crowds_.size()); }

@@ -72,8 +72,28 @@ void GpuDrivenViews::init(const DrivenShared& shared) {
 
 void GpuDrivenViews::beginFrame(uint32_t slot) {
   retirement_.release(slot);
+  ++frame_;
   for (auto& [key, v] : views_)
     if (v.passes_slot == slot) v.passes_recorded = false;
+  if (shared_.idle_frames != 0 && frame_ > shared_.idle_frames) evictIdle(slot);
+}
+
+void GpuDrivenViews::evictIdle(uint32_t slot) {
+  const uint64_t before = frame_ - shared_.idle_frames;
+  std::vector<const DrivenCrowd*> kept;
+  for (auto it = views_.begin(); it != views_.end();) {
+    View& v = it->second;
+    if (v.used >= before) {
+      kept.push_back(v.crowd);
+      ++it;
+      continue;
+    }
+    retire(slot, &v);
+    for (GpuBuffer& b : v.staging) retirement_.retire(slot, &b);
+    for (GpuBuffer& b : v.readback) retirement_.retire(slot, &b);
+    it = views_.erase(it);
+  }
+  crowds_.evict(slot, before, kept);
 }
 
 void GpuDrivenViews::retire(uint32_t slot, View* v) {
@@ -372,6 +392,8 @@ Status GpuDrivenViews::recordPasses(VkCommandBuffer cmd, uint32_t slot, FrameReg
   v.camera = camera;
   v.passes_recorded = true;
   v.passes_slot = slot;
+  v.used = frame_;
+  GpuDrivenCrowds::touch(d, frame_);
   return Status::ok();
 }
 

@@ -62,6 +62,9 @@ struct DrivenShared {
   /// Bytes of each view's ring of pre-skinned vertices (RendererDesc::gpu_driven_ring_bytes);
   /// 0: every instance skinned in the vertex stage.
   uint64_t ring_bytes = 0;
+  /// beginFrame() calls a view (or a crowd no view keeps) stays unused before it is freed
+  /// (RendererDesc::gpu_driven_idle_frames); 0: never.
+  uint32_t idle_frames = 0;
   /// The renderer's programs (vulkanPrograms() order): the characters' draws' and pre-skinning
   /// passes' default blocks.
   const std::vector<ProgramModules>* programs = nullptr;
@@ -112,6 +115,7 @@ class GpuDrivenViews {
     Camera camera;                 // The last passes'.
     bool passes_recorded = false;  // In this frame slot's frame, since beginFrame.
     uint32_t passes_slot = 0;
+    uint64_t used = 0;  // frame_ of its last passes.
   };
   // Makes `v`'s buffers for crowd state `d` and its sets (what it had is retired into slot
   // `slot`), and records its LODs' seed (the CPU view's, CrowdExport::lods) into `cmd`.
@@ -121,6 +125,11 @@ class GpuDrivenViews {
 
   DrivenShared shared_;
   std::map<std::pair<uint32_t, uint64_t>, View> views_;  // By (character, view identity).
+  // Frees the views unused for shared_.idle_frames frames (into slot `slot`), then the crowds
+  // no view keeps that are as old.
+  void evictIdle(uint32_t slot);
+
+  uint64_t frame_ = 0;  // beginFrame() calls.
   FrameRetirement retirement_;
   GpuDrivenCrowds crowds_;
   CrowdUpload last_upload_;

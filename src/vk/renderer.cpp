@@ -289,6 +289,7 @@ Status Renderer::Impl::initGpuDriven(const VkPhysicalDeviceLimits& limits) {
   shared.max_storage_range = limits.maxStorageBufferRange;
   shared.frames_in_flight = desc.frames_in_flight;
   shared.ring_bytes = desc.gpu_driven_ring_bytes;
+  shared.idle_frames = desc.gpu_driven_idle_frames;
   shared.programs = &programs;
   driven_views.init(shared);
   return Status::ok();

@@ -20,10 +20,12 @@ class VulkanGpuDrivenTest : public VulkanRenderFixture {
  protected:
   // The renderer with a pre-skinning ring of `ring_bytes` (the default's: every instance
   // pre-skinned; 0: none).
-  void start(uint64_t ring_bytes = vk::RendererDesc().gpu_driven_ring_bytes) {
+  void start(uint64_t ring_bytes = vk::RendererDesc().gpu_driven_ring_bytes,
+             uint32_t idle_frames = vk::RendererDesc().gpu_driven_idle_frames) {
     vk::RendererDesc rd;
     rd.gpu_driven = true;
     rd.gpu_driven_ring_bytes = ring_bytes;
+    rd.gpu_driven_idle_frames = idle_frames;
     draws_ = ring_bytes != 0 ? 2 : 1;
     ASSERT_NO_FATAL_FAILURE(startRenderer(rd, &renderer_, &id_));
   }
@@ -202,6 +204,45 @@ TEST_P(VulkanGpuDrivenTest, TheViewsOfOneFrameKeepTheirOwnSelections) {
   EXPECT_EQ(memory.crowds, 1u);
   EXPECT_EQ(memory.views, 2u);
   EXPECT_GE(memory.crowd_bytes, uint64_t(crowd.size()) * sizeof(GpuInstanceState));
+  EXPECT_TRUE(host_.messages().empty()) << messages();
+}
+
+// A view whose passes stop is freed after RendererDesc::gpu_driven_idle_frames frames, and its
+// crowd's state once no view keeps it; a view that comes back starts over and draws as before.
+TEST_P(VulkanGpuDrivenTest, IdleViewsAndCrowdsAreFreed) {
+  SI_START_VULKAN_HOST();
+  ASSERT_NO_FATAL_FAILURE(start(vk::RendererDesc().gpu_driven_ring_bytes, 2));
+  CrowdManager crowd;
+  lodCrowd(&crowd);
+  CrowdView other;
+  ASSERT_TRUE(other.init(crowd).isOk());
+  const Camera camera = lodCamera();
+  const std::vector<uint8_t> gl_image = glImage(crowd, camera);
+  std::vector<uint8_t> image;
+  uint32_t slot = 0;
+  const auto next = [&](const std::vector<std::pair<const CrowdView*, Camera>>& passes) {
+    const std::vector<const CrowdView*> drawn =
+        passes.empty() ? std::vector<const CrowdView*>()
+                       : std::vector<const CrowdView*>{passes[0].first};
+    const Status s = frame(slot, passes, drawn, vk::DrawMode::kShaded, &image);
+    slot = (slot + 1) % 2;
+    return s;
+  };
+  ASSERT_TRUE(next({{&crowd.view(), camera}, {&other, camera}}).isOk());
+  EXPECT_EQ(renderer_.gpuDrivenMemory().views, 2u);
+  for (int f = 0; f < 3; ++f) ASSERT_TRUE(next({{&crowd.view(), camera}}).isOk());
+  vk::GpuDrivenMemory m = renderer_.gpuDrivenMemory();
+  EXPECT_EQ(m.views, 1u) << "the other view is freed";
+  EXPECT_EQ(m.crowds, 1u) << "the crowd's state is still kept";
+  for (int f = 0; f < 3; ++f) ASSERT_TRUE(next({}).isOk());
+  m = renderer_.gpuDrivenMemory();
+  EXPECT_EQ(m.views, 0u);
+  EXPECT_EQ(m.crowds, 0u);
+  EXPECT_EQ(m.crowd_bytes + m.view_bytes, 0u);
+  ASSERT_TRUE(next({{&crowd.view(), camera}}).isOk());
+  ASSERT_EQ(pass_stats_.size(), 1u);
+  EXPECT_TRUE(pass_stats_[0].whole_upload) << "the state copied in again";
+  expectSameImage(image, gl_image, "back");
   EXPECT_TRUE(host_.messages().empty()) << messages();
 }
 

@@ -108,6 +108,11 @@ struct RendererDesc {
   /// instance skinned in the vertex stage (no ring). The passes refuse a ring that does not
   /// hold one instance of the largest LOD (kLimitExceeded).
   uint64_t gpu_driven_ring_bytes = uint64_t(256) << 20;
+  /// The GPU-driven path keeps a view's buffers (and a crowd's state, while no view keeps it)
+  /// until this many beginFrame() calls pass without passes of it; then they are freed (a view
+  /// or crowd that is gone leaves nothing behind; one that comes back starts over: its state
+  /// copied in whole, its LODs seeded again). 0: kept until shutdown().
+  uint32_t gpu_driven_idle_frames = 240;
 };
 
 /// A character added to a Renderer.
