@@ -1,7 +1,10 @@
 // SkinnedInstancing — SPDX-License-Identifier: MIT (see LICENSE)
-// The Vulkan back-end's vertex-shader path: si::gl's skinned program as SPIR-V, its descriptor
-// layout read from the modules, one instanced draw per batch.
+// The Vulkan back-end: its init, characters, uploads and frames, and the instanced path (si::gl's
+// skinned program as SPIR-V, its descriptor layout read from the modules, one instanced draw per
+// batch). The GPU-driven path's entry points: renderer_gpu_driven.cpp.
 #include "si/vk/renderer.h"
+
+#include "vk/renderer_impl.h"
 
 #include <algorithm>
 #include <cstring>
@@ -40,54 +43,6 @@ namespace {
 // Dynamic bindings of the set: records, layers, previous layers, masks, the two defaults.
 constexpr uint32_t kMaxDynamicBindings = 6;
 }  // namespace
-
-struct Renderer::Impl {
-  using Character = CharacterResources;
-
-  RendererDesc desc;
-  DeviceObjects objects;
-  VkDeviceSize ubo_alignment = 256;
-  VkDeviceSize storage_alignment = 256;  // minStorageBufferOffsetAlignment (16 at least).
-  uint32_t max_image_size = 0;           // maxImageDimension2D.
-  // vulkanPrograms(), in its order: shaded, depth only and with motion vectors, for each mesh
-  // variant (8 influences, vertex words); with RendererDesc::gpu_driven also the GPU-driven
-  // draws and passes (left empty without).
-  std::vector<ProgramModules> programs;
-  SkinnedLayout layout;  // One set layout for drawCrowd's: the union of their declarations.
-  // The GPU-driven path: its draws' set layout, its passes' layout and pipelines (cull,
-  // commands, scatter), what their unbuilt bindings are given, and its views.
-  SkinnedLayout driven_layout;
-  ComputeLayout compute_layout;
-  VkPipeline passes[3] = {};
-  GpuBuffer unbuilt;
-  GpuImage no_pyramid;
-  GpuDrivenViews driven_views;
-  VkSampler nearest = VK_NULL_HANDLE, linear = VK_NULL_HANDLE;
-  GpuBuffer ring;
-  // Placeholders, one texel each, bound where a character has nothing of its own (every binding
-  // of the set is written): the custom texture array (never sampled: u_custom_layers 0) and the
-  // morph image of characters without targets (read only by the morph programs).
-  GpuImage custom, no_morphs;
-  // The custom texel (4 bytes), the morph texel (at 16, 16 bytes), the pyramid's (at 32).
-  GpuBuffer placeholder_staging;
-  bool placeholders_uploaded = false;
-  std::vector<std::unique_ptr<Character>> characters;
-  std::vector<GpuBuffer> finished_staging;  // Freed by uploadsComplete().
-  // Each slot's region: ring_bytes_per_frame rounded up to 256, so every region starts aligned.
-  VkDeviceSize slot_bytes = 0;
-  int32_t frame = -1;                       // The slot beginFrame() started; -1 none.
-  VkDeviceSize frame_used = 0;              // Bytes of its region written so far.
-
-  VkDevice device() const { return objects.device(); }
-  const VkAllocationCallbacks* allocator() const { return objects.allocator(); }
-  // The frame slot's region of the ring.
-  FrameRegion region() {
-    return {static_cast<uint8_t*>(ring.mapped), VkDeviceSize(frame) * slot_bytes,
-            desc.ring_bytes_per_frame, &frame_used, ubo_alignment};
-  }
-  // Creates the GPU-driven path's layouts, pipelines and placeholders (its programs loaded).
-  Status initGpuDriven(const VkPhysicalDeviceLimits& limits);
-};
 
 Renderer::Renderer() = default;
 Renderer::~Renderer() {
@@ -231,68 +186,6 @@ Status Renderer::init(const RendererDesc& desc) {
   if (s.isOk() && desc.gpu_driven) s = m.initGpuDriven(props.limits);
   if (!s.isOk()) shutdown();
   return s;
-}
-
-Status Renderer::Impl::initGpuDriven(const VkPhysicalDeviceLimits& limits) {
-  std::vector<StageReflection> stages;
-  const ProgramModules* pass_modules[3] = {};
-  const si::detail::ProgramId pass_ids[3] = {si::detail::ProgramId::kCull,
-                                             si::detail::ProgramId::kCullCommands,
-                                             si::detail::ProgramId::kCullScatter};
-  for (int k = 0; k < 3; ++k) pass_modules[k] = &programs[vulkanComputeProgramIndex(pass_ids[k])];
-  // The layout's passes: the three, and the pre-skinning pass of every mesh variant.
-  std::vector<const ProgramModules*> layout_passes(pass_modules, pass_modules + 3);
-  for (size_t k = 0; k < programs.size(); ++k)
-    if (vulkanPrograms()[k].compute && vulkanPrograms()[k].id == si::detail::ProgramId::kGpuSkin)
-      layout_passes.push_back(&programs[k]);
-  for (size_t k = 0; k < programs.size(); ++k) {
-    const VulkanProgram& p = vulkanPrograms()[k];
-    if (!p.gpu_driven || p.compute) continue;
-    stages.push_back({VK_SHADER_STAGE_VERTEX_BIT, &programs[k].vertex_reflection});
-    stages.push_back({VK_SHADER_STAGE_FRAGMENT_BIT, &programs[k].fragment_reflection});
-  }
-  Status s = createSkinnedLayout(device(), allocator(),
-                                 Span<const StageReflection>(stages.data(), stages.size()),
-                                 &driven_layout);
-  if (s.isOk())
-    s = createComputeLayout(
-        device(), allocator(),
-        Span<const ProgramModules* const>(layout_passes.data(), layout_passes.size()),
-        &compute_layout);
-  for (int k = 0; k < 3 && s.isOk(); ++k)
-    s = createComputePipeline(device(), allocator(), *pass_modules[k],
-                              compute_layout.pipeline_layout, &passes[k]);
-  if (s.isOk())
-    s = objects.createBuffer(256, VK_BUFFER_USAGE_STORAGE_BUFFER_BIT, false,
-                             "the GPU-driven passes' unbuilt bindings", &unbuilt);
-  if (s.isOk())
-    s = objects.createImage(1, 1, 1, 1, VK_FORMAT_R32_SFLOAT, false,
-                            "the depth pyramid's placeholder", &no_pyramid);
-  if (!s.isOk()) return s;
-  DrivenShared shared;
-  shared.objects = &objects;
-  shared.compute_layout = &compute_layout;
-  for (int k = 0; k < 3; ++k) {
-    shared.passes[k] = passes[k];
-    shared.pass_modules[k] = pass_modules[k];
-  }
-  shared.draw_layout = &driven_layout;
-  shared.ring = &ring;
-  shared.nearest = nearest;
-  shared.linear = linear;
-  shared.custom = &custom;
-  shared.no_morphs = &no_morphs;
-  shared.unbuilt = &unbuilt;
-  shared.no_pyramid = &no_pyramid;
-  shared.max_groups_x = limits.maxComputeWorkGroupCount[0];
-  shared.max_groups_y = limits.maxComputeWorkGroupCount[1];
-  shared.max_storage_range = limits.maxStorageBufferRange;
-  shared.frames_in_flight = desc.frames_in_flight;
-  shared.ring_bytes = desc.gpu_driven_ring_bytes;
-  shared.idle_frames = desc.gpu_driven_idle_frames;
-  shared.programs = &programs;
-  driven_views.init(shared);
-  return Status::ok();
 }
 
 void Renderer::shutdown() {
@@ -619,93 +512,6 @@ Status Renderer::recordDraw(VkCommandBuffer cmd, const DrawTarget& target, Chara
   }
   if (stats != nullptr) *stats = st;
   return Status::ok();
-}
-
-Status Renderer::recordGpuDrivenPasses(VkCommandBuffer cmd, CharacterId id, const CrowdView& view,
-                                       const Camera& camera, PassStats* stats) {
-  if (!impl_)
-    return {StatusCode::kInvalidArgument, "vk::Renderer::recordGpuDrivenPasses: not initialized"};
-  Impl& m = *impl_;
-  if (!m.desc.gpu_driven)
-    return {StatusCode::kUnsupported,
-            "vk::Renderer::recordGpuDrivenPasses: the renderer was not made for the GPU-driven "
-            "path (RendererDesc::gpu_driven)"};
-  if (m.frame < 0)
-    return {StatusCode::kInvalidArgument, "vk::Renderer::recordGpuDrivenPasses: no beginFrame()"};
-  if (id.index >= m.characters.size())
-    return {StatusCode::kInvalidArgument,
-            strCat("vk::Renderer::recordGpuDrivenPasses: no character ", id.index)};
-  const Impl::Character& c = *m.characters[id.index];
-  if (!c.uploads_recorded)
-    return {StatusCode::kInvalidArgument,
-            "vk::Renderer::recordGpuDrivenPasses: the character's uploads were not recorded "
-            "(recordUploads)"};
-  if (view.crowd() == nullptr)
-    return {StatusCode::kInvalidArgument,
-            "vk::Renderer::recordGpuDrivenPasses: the view is not attached to a crowd"};
-  const CrowdManager& crowd = *view.crowd();
-  const CrowdExport exported(crowd);
-  const char* unbuilt = exported.playsOverlays()         ? "overlays (layered animation)"
-                        : exported.livePoseCount() > 0   ? "live poses"
-                        : crowd.desc().impostor_lod != 0 ? "an impostor level"
-                                                         : nullptr;
-  if (unbuilt != nullptr)
-    return {StatusCode::kUnsupported,
-            strCat("vk::Renderer::recordGpuDrivenPasses: the Vulkan back-end's GPU-driven path "
-                   "does not draw a crowd with ",
-                   unbuilt, " yet")};
-  const Status s =
-      m.driven_views.recordPasses(cmd, uint32_t(m.frame), m.region(), id.index, c, view, camera);
-  if (s.isOk() && stats != nullptr) {
-    const CrowdUpload& u = m.driven_views.lastUpload();
-    stats->state_bytes_uploaded = u.state_bytes;
-    stats->upload_regions = u.regions;
-    stats->whole_upload = u.whole;
-  }
-  return s;
-}
-
-Status Renderer::readGpuDrivenCounts(CharacterId id, const CrowdView& view,
-                                     GpuDrivenCounts* out) const {
-  if (!impl_ || out == nullptr)
-    return {StatusCode::kInvalidArgument,
-            "vk::Renderer::readGpuDrivenCounts: not initialized, or a null output"};
-  if (id.index >= impl_->characters.size())
-    return {StatusCode::kInvalidArgument,
-            strCat("vk::Renderer::readGpuDrivenCounts: no character ", id.index)};
-  return impl_->driven_views.readCounts(id.index, *impl_->characters[id.index], view, out);
-}
-
-GpuDrivenMemory Renderer::gpuDrivenMemory() const {
-  return impl_ ? impl_->driven_views.memory() : GpuDrivenMemory();
-}
-
-Status Renderer::recordGpuDrivenDraw(VkCommandBuffer cmd, const DrawTarget& target, CharacterId id,
-                                     const CrowdView& view, DrawStats* stats) {
-  if (!impl_)
-    return {StatusCode::kInvalidArgument, "vk::Renderer::recordGpuDrivenDraw: not initialized"};
-  Impl& m = *impl_;
-  if (!m.desc.gpu_driven)
-    return {StatusCode::kUnsupported,
-            "vk::Renderer::recordGpuDrivenDraw: the renderer was not made for the GPU-driven "
-            "path (RendererDesc::gpu_driven)"};
-  if (target.mode != DrawMode::kShaded && target.mode != DrawMode::kDepthOnly)
-    return {StatusCode::kInvalidArgument,
-            strCat("vk::Renderer::recordGpuDrivenDraw: no draw mode ", int(target.mode))};
-  if (target.extent.width == 0 || target.extent.height == 0)
-    return {StatusCode::kInvalidArgument, "vk::Renderer::recordGpuDrivenDraw: an empty extent"};
-  if (target.depth_compare > VK_COMPARE_OP_ALWAYS && target.depth_compare != VK_COMPARE_OP_MAX_ENUM)
-    return {StatusCode::kInvalidArgument,
-            strCat("vk::Renderer::recordGpuDrivenDraw: depth_compare ", int(target.depth_compare),
-                   " is no VkCompareOp")};
-  if (m.frame < 0)
-    return {StatusCode::kInvalidArgument, "vk::Renderer::recordGpuDrivenDraw: no beginFrame()"};
-  if (id.index >= m.characters.size())
-    return {StatusCode::kInvalidArgument,
-            strCat("vk::Renderer::recordGpuDrivenDraw: no character ", id.index)};
-  const Impl::Character& c = *m.characters[id.index];
-  return m.driven_views.recordDraw(cmd, m.region(), id.index, c, view, target,
-                                   m.desc.light_direction, stats);
 }
 
 }  // namespace si::vk

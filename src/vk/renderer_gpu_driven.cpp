@@ -1,0 +1,168 @@
+// SkinnedInstancing — SPDX-License-Identifier: MIT (see LICENSE)
+// vk::Renderer's GPU-driven path: its layouts, pipelines and placeholders made at init, and its
+// entry points (the passes, the draws, what they counted, their memory), over
+// gpu_driven_views.h.
+#include <vector>
+
+#include "core/str_cat.h"
+#include "si/crowd/crowd_export.h"
+#include "si/crowd/crowd_manager.h"
+#include "si/vk/renderer.h"
+#include "vk/renderer_impl.h"
+#include "vk/vulkan_programs.h"
+
+namespace si::vk {
+
+using si::detail::strCat;
+using namespace si::vk::detail;
+
+Status Renderer::Impl::initGpuDriven(const VkPhysicalDeviceLimits& limits) {
+  std::vector<StageReflection> stages;
+  const ProgramModules* pass_modules[3] = {};
+  const si::detail::ProgramId pass_ids[3] = {si::detail::ProgramId::kCull,
+                                             si::detail::ProgramId::kCullCommands,
+                                             si::detail::ProgramId::kCullScatter};
+  for (int k = 0; k < 3; ++k) pass_modules[k] = &programs[vulkanComputeProgramIndex(pass_ids[k])];
+  // The layout's passes: the three, and the pre-skinning pass of every mesh variant.
+  std::vector<const ProgramModules*> layout_passes(pass_modules, pass_modules + 3);
+  for (size_t k = 0; k < programs.size(); ++k)
+    if (vulkanPrograms()[k].compute && vulkanPrograms()[k].id == si::detail::ProgramId::kGpuSkin)
+      layout_passes.push_back(&programs[k]);
+  for (size_t k = 0; k < programs.size(); ++k) {
+    const VulkanProgram& p = vulkanPrograms()[k];
+    if (!p.gpu_driven || p.compute) continue;
+    stages.push_back({VK_SHADER_STAGE_VERTEX_BIT, &programs[k].vertex_reflection});
+    stages.push_back({VK_SHADER_STAGE_FRAGMENT_BIT, &programs[k].fragment_reflection});
+  }
+  Status s = createSkinnedLayout(device(), allocator(),
+                                 Span<const StageReflection>(stages.data(), stages.size()),
+                                 &driven_layout);
+  if (s.isOk())
+    s = createComputeLayout(
+        device(), allocator(),
+        Span<const ProgramModules* const>(layout_passes.data(), layout_passes.size()),
+        &compute_layout);
+  for (int k = 0; k < 3 && s.isOk(); ++k)
+    s = createComputePipeline(device(), allocator(), *pass_modules[k],
+                              compute_layout.pipeline_layout, &passes[k]);
+  if (s.isOk())
+    s = objects.createBuffer(256, VK_BUFFER_USAGE_STORAGE_BUFFER_BIT, false,
+                             "the GPU-driven passes' unbuilt bindings", &unbuilt);
+  if (s.isOk())
+    s = objects.createImage(1, 1, 1, 1, VK_FORMAT_R32_SFLOAT, false,
+                            "the depth pyramid's placeholder", &no_pyramid);
+  if (!s.isOk()) return s;
+  DrivenShared shared;
+  shared.objects = &objects;
+  shared.compute_layout = &compute_layout;
+  for (int k = 0; k < 3; ++k) {
+    shared.passes[k] = passes[k];
+    shared.pass_modules[k] = pass_modules[k];
+  }
+  shared.draw_layout = &driven_layout;
+  shared.ring = &ring;
+  shared.nearest = nearest;
+  shared.linear = linear;
+  shared.custom = &custom;
+  shared.no_morphs = &no_morphs;
+  shared.unbuilt = &unbuilt;
+  shared.no_pyramid = &no_pyramid;
+  shared.max_groups_x = limits.maxComputeWorkGroupCount[0];
+  shared.max_groups_y = limits.maxComputeWorkGroupCount[1];
+  shared.max_storage_range = limits.maxStorageBufferRange;
+  shared.frames_in_flight = desc.frames_in_flight;
+  shared.ring_bytes = desc.gpu_driven_ring_bytes;
+  shared.idle_frames = desc.gpu_driven_idle_frames;
+  shared.programs = &programs;
+  driven_views.init(shared);
+  return Status::ok();
+}
+
+Status Renderer::recordGpuDrivenPasses(VkCommandBuffer cmd, CharacterId id, const CrowdView& view,
+                                       const Camera& camera, PassStats* stats) {
+  if (!impl_)
+    return {StatusCode::kInvalidArgument, "vk::Renderer::recordGpuDrivenPasses: not initialized"};
+  Impl& m = *impl_;
+  if (!m.desc.gpu_driven)
+    return {StatusCode::kUnsupported,
+            "vk::Renderer::recordGpuDrivenPasses: the renderer was not made for the GPU-driven "
+            "path (RendererDesc::gpu_driven)"};
+  if (m.frame < 0)
+    return {StatusCode::kInvalidArgument, "vk::Renderer::recordGpuDrivenPasses: no beginFrame()"};
+  if (id.index >= m.characters.size())
+    return {StatusCode::kInvalidArgument,
+            strCat("vk::Renderer::recordGpuDrivenPasses: no character ", id.index)};
+  const Impl::Character& c = *m.characters[id.index];
+  if (!c.uploads_recorded)
+    return {StatusCode::kInvalidArgument,
+            "vk::Renderer::recordGpuDrivenPasses: the character's uploads were not recorded "
+            "(recordUploads)"};
+  if (view.crowd() == nullptr)
+    return {StatusCode::kInvalidArgument,
+            "vk::Renderer::recordGpuDrivenPasses: the view is not attached to a crowd"};
+  const CrowdManager& crowd = *view.crowd();
+  const CrowdExport exported(crowd);
+  const char* unbuilt = exported.playsOverlays()         ? "overlays (layered animation)"
+                        : exported.livePoseCount() > 0   ? "live poses"
+                        : crowd.desc().impostor_lod != 0 ? "an impostor level"
+                                                         : nullptr;
+  if (unbuilt != nullptr)
+    return {StatusCode::kUnsupported,
+            strCat("vk::Renderer::recordGpuDrivenPasses: the Vulkan back-end's GPU-driven path "
+                   "does not draw a crowd with ",
+                   unbuilt, " yet")};
+  const Status s =
+      m.driven_views.recordPasses(cmd, uint32_t(m.frame), m.region(), id.index, c, view, camera);
+  if (s.isOk() && stats != nullptr) {
+    const CrowdUpload& u = m.driven_views.lastUpload();
+    stats->state_bytes_uploaded = u.state_bytes;
+    stats->upload_regions = u.regions;
+    stats->whole_upload = u.whole;
+  }
+  return s;
+}
+
+Status Renderer::readGpuDrivenCounts(CharacterId id, const CrowdView& view,
+                                     GpuDrivenCounts* out) const {
+  if (!impl_ || out == nullptr)
+    return {StatusCode::kInvalidArgument,
+            "vk::Renderer::readGpuDrivenCounts: not initialized, or a null output"};
+  if (id.index >= impl_->characters.size())
+    return {StatusCode::kInvalidArgument,
+            strCat("vk::Renderer::readGpuDrivenCounts: no character ", id.index)};
+  return impl_->driven_views.readCounts(id.index, *impl_->characters[id.index], view, out);
+}
+
+GpuDrivenMemory Renderer::gpuDrivenMemory() const {
+  return impl_ ? impl_->driven_views.memory() : GpuDrivenMemory();
+}
+
+Status Renderer::recordGpuDrivenDraw(VkCommandBuffer cmd, const DrawTarget& target, CharacterId id,
+                                     const CrowdView& view, DrawStats* stats) {
+  if (!impl_)
+    return {StatusCode::kInvalidArgument, "vk::Renderer::recordGpuDrivenDraw: not initialized"};
+  Impl& m = *impl_;
+  if (!m.desc.gpu_driven)
+    return {StatusCode::kUnsupported,
+            "vk::Renderer::recordGpuDrivenDraw: the renderer was not made for the GPU-driven "
+            "path (RendererDesc::gpu_driven)"};
+  if (target.mode != DrawMode::kShaded && target.mode != DrawMode::kDepthOnly)
+    return {StatusCode::kInvalidArgument,
+            strCat("vk::Renderer::recordGpuDrivenDraw: no draw mode ", int(target.mode))};
+  if (target.extent.width == 0 || target.extent.height == 0)
+    return {StatusCode::kInvalidArgument, "vk::Renderer::recordGpuDrivenDraw: an empty extent"};
+  if (target.depth_compare > VK_COMPARE_OP_ALWAYS && target.depth_compare != VK_COMPARE_OP_MAX_ENUM)
+    return {StatusCode::kInvalidArgument,
+            strCat("vk::Renderer::recordGpuDrivenDraw: depth_compare ", int(target.depth_compare),
+                   " is no VkCompareOp")};
+  if (m.frame < 0)
+    return {StatusCode::kInvalidArgument, "vk::Renderer::recordGpuDrivenDraw: no beginFrame()"};
+  if (id.index >= m.characters.size())
+    return {StatusCode::kInvalidArgument,
+            strCat("vk::Renderer::recordGpuDrivenDraw: no character ", id.index)};
+  const Impl::Character& c = *m.characters[id.index];
+  return m.driven_views.recordDraw(cmd, m.region(), id.index, c, view, target,
+                                   m.desc.light_direction, stats);
+}
+
+}  // namespace si::vk

@@ -1,0 +1,69 @@
+// SkinnedInstancing — SPDX-License-Identifier: MIT (see LICENSE)
+#pragma once
+// vk::Renderer's state, shared by its files: renderer.cpp (init, characters, uploads, frames and
+// the instanced path's recordDraw) and renderer_gpu_driven.cpp (the GPU-driven path's entry
+// points).
+
+#include <memory>
+#include <vector>
+
+#include "si/vk/renderer.h"
+#include "vk/character_resources.h"
+#include "vk/device_objects.h"
+#include "vk/gpu_driven_layout.h"
+#include "vk/gpu_driven_views.h"
+#include "vk/program_modules.h"
+#include "vk/skinned_pipeline.h"
+
+namespace si::vk {
+
+struct Renderer::Impl {
+  using FrameRegion = detail::FrameRegion;
+  using Character = detail::CharacterResources;
+
+  RendererDesc desc;
+  detail::DeviceObjects objects;
+  VkDeviceSize ubo_alignment = 256;
+  VkDeviceSize storage_alignment = 256;  // minStorageBufferOffsetAlignment (16 at least).
+  uint32_t max_image_size = 0;           // maxImageDimension2D.
+  // vulkanPrograms(), in its order: shaded, depth only and with motion vectors, for each mesh
+  // variant (8 influences, vertex words); with RendererDesc::gpu_driven also the GPU-driven
+  // draws and passes (left empty without).
+  std::vector<detail::ProgramModules> programs;
+  detail::SkinnedLayout layout;  // One set layout for drawCrowd's: the union of their declarations.
+  // The GPU-driven path: its draws' set layout, its passes' layout and pipelines (cull,
+  // commands, scatter), what their unbuilt bindings are given, and its views.
+  detail::SkinnedLayout driven_layout;
+  detail::ComputeLayout compute_layout;
+  VkPipeline passes[3] = {};
+  detail::GpuBuffer unbuilt;
+  detail::GpuImage no_pyramid;
+  detail::GpuDrivenViews driven_views;
+  VkSampler nearest = VK_NULL_HANDLE, linear = VK_NULL_HANDLE;
+  detail::GpuBuffer ring;
+  // Placeholders, one texel each, bound where a character has nothing of its own (every binding
+  // of the set is written): the custom texture array (never sampled: u_custom_layers 0) and the
+  // morph image of characters without targets (read only by the morph programs).
+  detail::GpuImage custom, no_morphs;
+  // The custom texel (4 bytes), the morph texel (at 16, 16 bytes), the pyramid's (at 32).
+  detail::GpuBuffer placeholder_staging;
+  bool placeholders_uploaded = false;
+  std::vector<std::unique_ptr<Character>> characters;
+  std::vector<detail::GpuBuffer> finished_staging;  // Freed by uploadsComplete().
+  // Each slot's region: ring_bytes_per_frame rounded up to 256, so every region starts aligned.
+  VkDeviceSize slot_bytes = 0;
+  int32_t frame = -1;           // The slot beginFrame() started; -1 none.
+  VkDeviceSize frame_used = 0;  // Bytes of its region written so far.
+
+  VkDevice device() const { return objects.device(); }
+  const VkAllocationCallbacks* allocator() const { return objects.allocator(); }
+  // The frame slot's region of the ring.
+  FrameRegion region() {
+    return {static_cast<uint8_t*>(ring.mapped), VkDeviceSize(frame) * slot_bytes,
+            desc.ring_bytes_per_frame, &frame_used, ubo_alignment};
+  }
+  // Creates the GPU-driven path's layouts, pipelines and placeholders (its programs loaded).
+  Status initGpuDriven(const VkPhysicalDeviceLimits& limits);
+};
+
+}  // namespace si::vk
