@@ -358,6 +358,21 @@ TEST_P(VulkanGpuDrivenTest, RefusalsAreNamed) {
   s = frame(1, {{&crowd.view(), lodCamera()}}, {}, vk::DrawMode::kShaded, &image);
   EXPECT_EQ(s.code(), StatusCode::kUnsupported) << s.toString();
   EXPECT_NE(s.message().find("overlays"), std::string::npos) << s.toString();
+  // A crowd of more sub-meshes than the character's.
+  {
+    CrowdManager wider;
+    CrowdDesc cd;
+    cd.palette = &palette();
+    cd.sub_mesh_count = uint32_t(character().mesh.sub_meshes.size()) + 1;
+    cd.lod_count = 1;
+    ASSERT_TRUE(wider.init(cd).isOk());
+    s = host_.submit([&](VkCommandBuffer cmd) {
+      EXPECT_TRUE(renderer_.beginFrame(0).isOk());
+      return renderer_.recordGpuDrivenPasses(cmd, id_, wider.view(), lodCamera());
+    });
+    EXPECT_EQ(s.code(), StatusCode::kInvalidArgument) << s.toString();
+    EXPECT_NE(s.message().find("sub-meshes"), std::string::npos) << s.toString();
+  }
   // A detached view.
   CrowdView detached;
   s = host_.submit([&](VkCommandBuffer cmd) {
