@@ -352,28 +352,36 @@ Status Renderer::beginFrame(uint32_t frame) {
   return Status::ok();
 }
 
+Status Renderer::Impl::checkFrame(const char* call, CharacterId id) const {
+  if (id.index >= characters.size())
+    return {StatusCode::kInvalidArgument, strCat(call, ": no character ", id.index)};
+  if (!characters[id.index]->uploads_recorded)
+    return {StatusCode::kInvalidArgument,
+            strCat(call, ": the character's uploads were not recorded (recordUploads)")};
+  if (frame < 0) return {StatusCode::kInvalidArgument, strCat(call, ": no beginFrame()")};
+  return Status::ok();
+}
+
+Status Renderer::Impl::checkTarget(const char* call, const DrawTarget& target) {
+  if (target.mode != DrawMode::kShaded && target.mode != DrawMode::kDepthOnly)
+    return {StatusCode::kInvalidArgument, strCat(call, ": no draw mode ", int(target.mode))};
+  if (target.extent.width == 0 || target.extent.height == 0)
+    return {StatusCode::kInvalidArgument, strCat(call, ": an empty target extent")};
+  if (target.depth_compare > VK_COMPARE_OP_ALWAYS && target.depth_compare != VK_COMPARE_OP_MAX_ENUM)
+    return {StatusCode::kInvalidArgument,
+            strCat(call, ": depth_compare ", int(target.depth_compare), " is no VkCompareOp")};
+  return Status::ok();
+}
+
 Status Renderer::recordDraw(VkCommandBuffer cmd, const DrawTarget& target, CharacterId id,
                             const CrowdView& view, const InstanceBatcher& batcher,
                             const Camera& camera, DrawStats* stats) {
   if (!impl_) return {StatusCode::kInvalidArgument, "vk::Renderer::recordDraw: not initialized"};
   Impl& m = *impl_;
-  if (target.mode != DrawMode::kShaded && target.mode != DrawMode::kDepthOnly)
-    return {StatusCode::kInvalidArgument,
-            strCat("vk::Renderer::recordDraw: no draw mode ", int(target.mode))};
-  if (target.extent.width == 0 || target.extent.height == 0)
-    return {StatusCode::kInvalidArgument, "vk::Renderer::recordDraw: an empty target extent"};
-  if (target.depth_compare > VK_COMPARE_OP_ALWAYS && target.depth_compare != VK_COMPARE_OP_MAX_ENUM)
-    return {StatusCode::kInvalidArgument, strCat("vk::Renderer::recordDraw: depth_compare ",
-                                                 int(target.depth_compare), " is no VkCompareOp")};
-  if (id.index >= m.characters.size())
-    return {StatusCode::kInvalidArgument,
-            strCat("vk::Renderer::recordDraw: no character ", id.index)};
+  Status checked = Impl::checkTarget("vk::Renderer::recordDraw", target);
+  if (checked.isOk()) checked = m.checkFrame("vk::Renderer::recordDraw", id);
+  if (!checked.isOk()) return checked;
   Impl::Character& c = *m.characters[id.index];
-  if (!c.uploads_recorded)
-    return {StatusCode::kInvalidArgument,
-            "vk::Renderer::recordDraw: the character's uploads were not recorded (recordUploads)"};
-  if (m.frame < 0)
-    return {StatusCode::kInvalidArgument, "vk::Renderer::recordDraw: no beginFrame()"};
   if (batcher.capacityPerDraw() == 0 || batcher.capacityPerDraw() > kVulkanMaxInstances)
     return {StatusCode::kInvalidArgument,
             "vk::Renderer::recordDraw: the batcher was not initialized with batchLimits()"};

@@ -87,16 +87,9 @@ Status Renderer::recordGpuDrivenPasses(VkCommandBuffer cmd, CharacterId id, cons
     return {StatusCode::kUnsupported,
             "vk::Renderer::recordGpuDrivenPasses: the renderer was not made for the GPU-driven "
             "path (RendererDesc::gpu_driven)"};
-  if (m.frame < 0)
-    return {StatusCode::kInvalidArgument, "vk::Renderer::recordGpuDrivenPasses: no beginFrame()"};
-  if (id.index >= m.characters.size())
-    return {StatusCode::kInvalidArgument,
-            strCat("vk::Renderer::recordGpuDrivenPasses: no character ", id.index)};
+  const Status checked = m.checkFrame("vk::Renderer::recordGpuDrivenPasses", id);
+  if (!checked.isOk()) return checked;
   const Impl::Character& c = *m.characters[id.index];
-  if (!c.uploads_recorded)
-    return {StatusCode::kInvalidArgument,
-            "vk::Renderer::recordGpuDrivenPasses: the character's uploads were not recorded "
-            "(recordUploads)"};
   if (view.crowd() == nullptr)
     return {StatusCode::kInvalidArgument,
             "vk::Renderer::recordGpuDrivenPasses: the view is not attached to a crowd"};
@@ -146,20 +139,9 @@ Status Renderer::recordGpuDrivenDraw(VkCommandBuffer cmd, const DrawTarget& targ
     return {StatusCode::kUnsupported,
             "vk::Renderer::recordGpuDrivenDraw: the renderer was not made for the GPU-driven "
             "path (RendererDesc::gpu_driven)"};
-  if (target.mode != DrawMode::kShaded && target.mode != DrawMode::kDepthOnly)
-    return {StatusCode::kInvalidArgument,
-            strCat("vk::Renderer::recordGpuDrivenDraw: no draw mode ", int(target.mode))};
-  if (target.extent.width == 0 || target.extent.height == 0)
-    return {StatusCode::kInvalidArgument, "vk::Renderer::recordGpuDrivenDraw: an empty extent"};
-  if (target.depth_compare > VK_COMPARE_OP_ALWAYS && target.depth_compare != VK_COMPARE_OP_MAX_ENUM)
-    return {StatusCode::kInvalidArgument,
-            strCat("vk::Renderer::recordGpuDrivenDraw: depth_compare ", int(target.depth_compare),
-                   " is no VkCompareOp")};
-  if (m.frame < 0)
-    return {StatusCode::kInvalidArgument, "vk::Renderer::recordGpuDrivenDraw: no beginFrame()"};
-  if (id.index >= m.characters.size())
-    return {StatusCode::kInvalidArgument,
-            strCat("vk::Renderer::recordGpuDrivenDraw: no character ", id.index)};
+  Status checked = Impl::checkTarget("vk::Renderer::recordGpuDrivenDraw", target);
+  if (checked.isOk()) checked = m.checkFrame("vk::Renderer::recordGpuDrivenDraw", id);
+  if (!checked.isOk()) return checked;
   const Impl::Character& c = *m.characters[id.index];
   return m.driven_views.recordDraw(cmd, m.region(), id.index, c, view, target,
                                    m.desc.light_direction, stats);

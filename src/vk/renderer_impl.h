@@ -62,6 +62,11 @@ struct Renderer::Impl {
     return {static_cast<uint8_t*>(ring.mapped), VkDeviceSize(frame) * slot_bytes,
             desc.ring_bytes_per_frame, &frame_used, ubo_alignment};
   }
+  // The checks every pass and draw makes (`call` names the entry point in errors): character
+  // `id` exists and its uploads were recorded, and a frame was begun.
+  Status checkFrame(const char* call, CharacterId id) const;
+  // A draw's target: its mode, extent and depth test.
+  static Status checkTarget(const char* call, const DrawTarget& target);
   // Creates the GPU-driven path's layouts, pipelines and placeholders (its programs loaded).
   Status initGpuDriven(const VkPhysicalDeviceLimits& limits);
 };
