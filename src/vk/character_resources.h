@@ -38,6 +38,12 @@ struct CharacterResources {
   GpuImage palette, base_color, material_data;
   GpuImage morphs;  ///< Morph targets (MorphStream's texels); none without.
   std::vector<SubMesh> sub_meshes;
+  /// The index range of `sub_mesh` at `lod` (its last LOD when `lod` is past it), as si::gl's
+  /// CharacterBuffers::lodRange.
+  IndexRange lodRange(uint32_t sub_mesh, uint32_t lod) const {
+    const std::vector<IndexRange>& lods = sub_meshes[sub_mesh].lods;
+    return lods[lod < lods.size() ? lod : lods.size() - 1];
+  }
   uint32_t frame_stride_texels = 0;  ///< The palette's (the GPU-driven cull pass's records).
   /// Without and with layers, by VulkanKind: the program (its index in vulkanPrograms(), the
   /// mesh's variant) and the pipeline (the motion ones only when the renderer draws motion

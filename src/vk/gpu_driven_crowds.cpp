@@ -189,8 +189,7 @@ Status GpuDrivenCrowds::update(VkCommandBuffer cmd, uint32_t slot, uint32_t char
   if (reshaped) {
     auto* ranges = reinterpret_cast<uint32_t*>(to + at);
     for (uint32_t b = 0; b < buckets; ++b) {
-      const std::vector<IndexRange>& l = c.sub_meshes[b % subs].lods;
-      const IndexRange r = l[std::min<size_t>(b / subs, l.size() - 1)];
+      const IndexRange r = c.lodRange(b % subs, b / subs);
       ranges[2 * b] = r.first_index;
       ranges[2 * b + 1] = r.index_count;
     }

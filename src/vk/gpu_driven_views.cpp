@@ -320,10 +320,8 @@ Status GpuDrivenViews::recordPasses(VkCommandBuffer cmd, uint32_t slot, FrameReg
     putDefault(block, r, "u_lod_bias", &p.lod_bias, 4);
     uint32_t drawn_parts[8] = {};
     for (uint32_t lod = 0; lod < lods && lod < 8; ++lod)
-      for (uint32_t sm = 0; sm < subs; ++sm) {
-        const std::vector<IndexRange>& l = c.sub_meshes[sm].lods;
-        if (l[std::min<size_t>(lod, l.size() - 1)].index_count > 0) drawn_parts[lod] |= 1u << sm;
-      }
+      for (uint32_t sm = 0; sm < subs; ++sm)
+        if (c.lodRange(sm, lod).index_count > 0) drawn_parts[lod] |= 1u << sm;
     putDefault(block, r, "u_drawn_parts", drawn_parts, 4, 8);
     // Occlusion, layers, motion vectors, impostors: off (zero) until built.
   }
@@ -466,8 +464,7 @@ Status GpuDrivenViews::readCounts(uint32_t character, const CharacterResources& 
   const uint32_t subs = v.sub_meshes;
   for (uint32_t b = 0; b < v.buckets; ++b) {
     const uint32_t instances = counters[kBucketCountWord + b];
-    const std::vector<IndexRange>& l = c.sub_meshes[b % subs].lods;
-    const IndexRange range = l[std::min<size_t>(b / subs, l.size() - 1)];
+    const IndexRange range = c.lodRange(b % subs, b / subs);
     n.instances += instances;
     n.triangles += uint64_t(range.index_count / 3) * instances;
     n.vertex_shader_instances += instances - counters[kFittedWord + b];

@@ -475,8 +475,7 @@ Status Renderer::recordDraw(VkCommandBuffer cmd, const DrawTarget& target, Chara
   for (size_t k = 0; k < draws.size(); ++k) {
     const DrawBatch& d = draws[k];
     if (d.sub_mesh >= c.sub_meshes.size()) continue;
-    const std::vector<IndexRange>& lods = c.sub_meshes[d.sub_mesh].lods;
-    const IndexRange range = lods[std::min<size_t>(d.lod, lods.size() - 1)];
+    const IndexRange range = c.lodRange(d.sub_mesh, d.lod);
     if (range.index_count == 0) continue;
     const VkDeviceSize vertex_at = defaults_at + kDefaultsRange * (1 + k);
     putMember(ring + vertex_at, vp_at, &vp[0][0], 64);
