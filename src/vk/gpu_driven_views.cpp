@@ -28,18 +28,6 @@ using si::detail::strCat;
 
 namespace {
 
-// Writes `count` values of `size` bytes from `values` to default-block member `name` of `r` in
-// `block` (at its array stride when an array); nothing when the stage has no such member.
-void putDefault(uint8_t* block, const SpirvReflection& r, const char* name, const void* values,
-                size_t size, uint32_t count = 1) {
-  const SpirvMember* m = defaultMember(r, name);
-  if (m == nullptr) return;
-  const size_t stride = m->array_stride != 0 ? m->array_stride : size;
-  for (uint32_t k = 0; k < count; ++k)
-    std::memcpy(block + m->offset + k * stride, static_cast<const uint8_t*>(values) + k * size,
-                size);
-}
-
 // A barrier of every memory access of `src` stages before `dst` stages' accesses.
 void recordBarrier(VkCommandBuffer cmd, VkPipelineStageFlags src, VkAccessFlags src_access,
                    VkPipelineStageFlags dst, VkAccessFlags dst_access) {
@@ -302,41 +290,41 @@ Status GpuDrivenViews::recordPasses(VkCommandBuffer cmd, uint32_t slot, FrameReg
   uint8_t* ring = region.mapped;
   const uint32_t counts[4] = {n, lods, subs, c.frame_stride_texels};
   for (int pass = 0; pass < 3; ++pass)
-    putDefault(ring + defaults_at[pass], shared_.pass_modules[pass]->compute_reflection, "u_counts",
-               counts, 16);
+    writeDefault(ring + defaults_at[pass], shared_.pass_modules[pass]->compute_reflection,
+                 "u_counts", counts, 16);
   {
     const SpirvReflection& r = shared_.pass_modules[0]->compute_reflection;
     uint8_t* block = ring + defaults_at[0];
-    putDefault(block, r, "u_planes", p.planes.data(), 16, 6);
+    writeDefault(block, r, "u_planes", p.planes.data(), 16, 6);
     const double position[3] = {camera.position.x, camera.position.y, camera.position.z};
-    putDefault(block, r, "u_camera", position, 24);
+    writeDefault(block, r, "u_camera", position, 24);
     const double clock = crowd.clockSeconds();
-    putDefault(block, r, "u_clock", &clock, 8);
+    writeDefault(block, r, "u_clock", &clock, 8);
     const float params[4] = {p.radius, p.max_distance_radii, p.hysteresis, 0.0f};
-    putDefault(block, r, "u_params", params, 16);
-    putDefault(block, r, "u_lines", p.lod_lines, 4, 7);
-    putDefault(block, r, "u_anim_lod", &p.animation_lod_start, 4);
-    putDefault(block, r, "u_anim_step", &p.animation_step_seconds, 8);
-    putDefault(block, r, "u_lod_bias", &p.lod_bias, 4);
+    writeDefault(block, r, "u_params", params, 16);
+    writeDefault(block, r, "u_lines", p.lod_lines, 4, 7);
+    writeDefault(block, r, "u_anim_lod", &p.animation_lod_start, 4);
+    writeDefault(block, r, "u_anim_step", &p.animation_step_seconds, 8);
+    writeDefault(block, r, "u_lod_bias", &p.lod_bias, 4);
     uint32_t drawn_parts[8] = {};
     for (uint32_t lod = 0; lod < lods && lod < 8; ++lod)
       for (uint32_t sm = 0; sm < subs; ++sm)
         if (c.lodRange(sm, lod).index_count > 0) drawn_parts[lod] |= 1u << sm;
-    putDefault(block, r, "u_drawn_parts", drawn_parts, 4, 8);
+    writeDefault(block, r, "u_drawn_parts", drawn_parts, 4, 8);
     // Occlusion, layers, motion vectors, impostors: off (zero) until built.
   }
   {
     const SpirvReflection& r = shared_.pass_modules[1]->compute_reflection;
     uint8_t* block = ring + defaults_at[1];
     const uint32_t no_impostors = 0xFFFFFFFFu;
-    putDefault(block, r, "u_ring_vertices", &v.ring_vertices, 4);
-    putDefault(block, r, "u_max_groups_x", &shared_.max_groups_x, 4);
-    putDefault(block, r, "u_impostor_bucket", &no_impostors, 4);
+    writeDefault(block, r, "u_ring_vertices", &v.ring_vertices, 4);
+    writeDefault(block, r, "u_max_groups_x", &shared_.max_groups_x, 4);
+    writeDefault(block, r, "u_impostor_bucket", &no_impostors, 4);
   }
   const SpirvReflection& skin = (*shared_.programs)[c.skin_program].compute_reflection;
-  putDefault(ring + defaults_at[3], skin, "u_counts", counts, 16);
+  writeDefault(ring + defaults_at[3], skin, "u_counts", counts, 16);
   const uint32_t layout_words[2] = {0u, c.source_words};
-  putDefault(ring + defaults_at[3], skin, "u_layout", layout_words, 8);
+  writeDefault(ring + defaults_at[3], skin, "u_layout", layout_words, 8);
   VkPipelineLayout layout = shared_.compute_layout->pipeline_layout;
   const auto bind = [&](int pass) {
     vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_COMPUTE,
@@ -424,11 +412,11 @@ Status GpuDrivenViews::recordDraw(VkCommandBuffer cmd, FrameRegion region, uint3
     const ProgramModules& program =
         (*shared_.programs)[d == 0 ? c.pulled_programs[k] : c.driven_programs[k]];
     uint8_t* vertex = region.mapped + at[d][0];
-    putDefault(vertex, program.vertex_reflection, "u_view_projection", &vp[0][0], 64);
+    writeDefault(vertex, program.vertex_reflection, "u_view_projection", &vp[0][0], 64);
     const uint32_t layout_words[2] = {0u, c.source_words};
-    putDefault(vertex, program.vertex_reflection, "u_layout", layout_words, 8);
-    putDefault(region.mapped + at[d][1], program.fragment_reflection, "u_light_direction",
-               &light_direction, 12);
+    writeDefault(vertex, program.vertex_reflection, "u_layout", layout_words, 8);
+    writeDefault(region.mapped + at[d][1], program.fragment_reflection, "u_light_direction",
+                 &light_direction, 12);
     vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_GRAPHICS,
                       d == 0 ? c.pulled_pipelines[k] : c.driven_pipelines[k]);
     // The pre-skinned draw indexes each list's own vertices; the other the mesh's.

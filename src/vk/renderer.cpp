@@ -224,15 +224,6 @@ BatchLimits Renderer::batchLimits() const {
   return l;
 }
 
-namespace {
-
-// Writes `bytes` at `offset` of `base` when the member exists.
-void putMember(uint8_t* base, int64_t offset, const void* bytes, size_t size) {
-  if (offset >= 0) std::memcpy(base + offset, bytes, size);
-}
-
-}  // namespace
-
 Status Renderer::addCharacter(const Character& character, const BakedPalette& palette,
                               CharacterId* out) {
   if (!impl_) return {StatusCode::kInvalidArgument, "vk::Renderer::addCharacter: not initialized"};
@@ -440,15 +431,20 @@ Status Renderer::recordDraw(VkCommandBuffer cmd, const DrawTarget& target, Chara
                                      : VulkanKind::kShaded;
   const ProgramModules& program = m.programs[c.programs[layers ? 1 : 0][size_t(kind)]];
   const uint32_t no_custom_layers = 0;
-  putMember(ring + defaults_at, defaultOffset(program.fragment_reflection, "u_custom_layers"),
-            &no_custom_layers, 4);
-  putMember(ring + defaults_at, defaultOffset(program.fragment_reflection, "u_light_direction"),
-            &m.desc.light_direction, 12);
+  writeDefault(ring + defaults_at, program.fragment_reflection, "u_custom_layers",
+               &no_custom_layers, 4);
+  writeDefault(ring + defaults_at, program.fragment_reflection, "u_light_direction",
+               &m.desc.light_direction, 12);
   const glm::mat4 vp = vulkanViewProjection(camera);
+  // The vertex stage's members, looked up once for every batch.
   const SpirvReflection& vertex = program.vertex_reflection;
-  const int64_t vp_at = defaultOffset(vertex, "u_view_projection"),
-                lod_at = defaultOffset(vertex, "u_lod"),
-                slot_at = defaultOffset(vertex, "u_batch_slot");
+  const SpirvMember *vp_member = defaultMember(vertex, "u_view_projection"),
+                    *lod_member = defaultMember(vertex, "u_lod"),
+                    *slot_member = defaultMember(vertex, "u_batch_slot"),
+                    *now_member = defaultMember(vertex, "u_motion_view_projection"),
+                    *then_member = defaultMember(vertex, "u_previous_view_projection"),
+                    *previous_member = defaultMember(vertex, "u_previous"),
+                    *shift_member = defaultMember(vertex, "u_previous_shift");
   // Motion vectors: the view's update cameras (this one and the one before), where the
   // previous indices and records are in the ring (16-byte words from its start; an index
   // numbers records), and the fallback's shift for instances without a previous record.
@@ -478,18 +474,17 @@ Status Renderer::recordDraw(VkCommandBuffer cmd, const DrawTarget& target, Chara
     const IndexRange range = c.lodRange(d.sub_mesh, d.lod);
     if (range.index_count == 0) continue;
     const VkDeviceSize vertex_at = defaults_at + kDefaultsRange * (1 + k);
-    putMember(ring + vertex_at, vp_at, &vp[0][0], 64);
+    writeDefault(ring + vertex_at, vp_member, &vp[0][0], 64);
     const uint32_t lod = d.lod;
-    putMember(ring + vertex_at, lod_at, &lod, 4);
+    writeDefault(ring + vertex_at, lod_member, &lod, 4);
     if (motion) {
       // Slots are numbered as the layer records are (previous_index.glsl).
       const uint32_t slot = d.layer_byte_offset / kLayerRecordSize;
-      putMember(ring + vertex_at, slot_at, &slot, 4);
-      putMember(ring + vertex_at, defaultOffset(vertex, "u_motion_view_projection"), &md.now, 64);
-      putMember(ring + vertex_at, defaultOffset(vertex, "u_previous_view_projection"), &md.then,
-                64);
-      putMember(ring + vertex_at, defaultOffset(vertex, "u_previous"), &md.previous, 12);
-      putMember(ring + vertex_at, defaultOffset(vertex, "u_previous_shift"), &md.shift, 12);
+      writeDefault(ring + vertex_at, slot_member, &slot, 4);
+      writeDefault(ring + vertex_at, now_member, &md.now, 64);
+      writeDefault(ring + vertex_at, then_member, &md.then, 64);
+      writeDefault(ring + vertex_at, previous_member, &md.previous, 12);
+      writeDefault(ring + vertex_at, shift_member, &md.shift, 12);
     }
     // Dynamic offsets in binding order: the records, the layer records and previous ones
     // (the region's start when the draw has none), the mask table, the vertex and the fragment

@@ -3,6 +3,7 @@
 #include "vk/spirv_reflect.h"
 
 #include <algorithm>
+#include <cstring>
 #include <map>
 #include <set>
 
@@ -98,9 +99,13 @@ const SpirvMember* defaultMember(const SpirvReflection& r, const char* name) {
   return nullptr;
 }
 
-int64_t defaultOffset(const SpirvReflection& r, const char* name) {
-  const SpirvMember* m = defaultMember(r, name);
-  return m != nullptr ? int64_t(m->offset) : -1;
+void writeDefault(uint8_t* block, const SpirvMember* member, const void* values, size_t size,
+                  uint32_t count) {
+  if (member == nullptr) return;
+  const size_t stride = member->array_stride != 0 ? member->array_stride : size;
+  for (uint32_t k = 0; k < count; ++k)
+    std::memcpy(block + member->offset + k * stride, static_cast<const uint8_t*>(values) + k * size,
+                size);
 }
 
 Status reflectSpirv(Span<const uint32_t> words, const char* defaults_block, SpirvReflection* out) {

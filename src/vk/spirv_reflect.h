@@ -61,10 +61,17 @@ struct SpirvReflection {
   std::vector<SpirvVarying> inputs, outputs;
 };
 
-/// The byte offset of default-block member `name` in `r`, or -1 when the stage has none.
-int64_t defaultOffset(const SpirvReflection& r, const char* name);
 /// Default-block member `name` of `r`, or null when the stage has none.
 const SpirvMember* defaultMember(const SpirvReflection& r, const char* name);
+/// Writes `count` values of `size` bytes from `values` into default block `block` at `member`
+/// (element k at its array stride); nothing when `member` is null (the stage has none).
+void writeDefault(uint8_t* block, const SpirvMember* member, const void* values, size_t size,
+                  uint32_t count = 1);
+/// The same for member `name` of `r`.
+inline void writeDefault(uint8_t* block, const SpirvReflection& r, const char* name,
+                         const void* values, size_t size, uint32_t count = 1) {
+  writeDefault(block, defaultMember(r, name), values, size, count);
+}
 
 /// Reads the descriptors, the default block's members and the located inputs and outputs of
 /// SPIR-V module `words`.
