@@ -62,8 +62,7 @@ void GpuDrivenCrowds::init(DeviceObjects* objects, FrameRetirement* retirement,
 }
 
 void GpuDrivenCrowds::retire(uint32_t slot, DrivenCrowd* d) {
-  for (GpuBuffer* b : {&d->state, &d->clips, &d->times, &d->ranges, &d->bucket_info, &d->identity})
-    retirement_->retire(slot, b);
+  for (GpuBuffer* b : d->buffers()) retirement_->retire(slot, b);
   d->capacity = 0;
 }
 
@@ -229,16 +228,13 @@ void GpuDrivenCrowds::evict(uint32_t slot, uint64_t before,
 uint64_t GpuDrivenCrowds::deviceBytes() const {
   uint64_t bytes = 0;
   for (const auto& [key, d] : crowds_)
-    for (const GpuBuffer* b :
-         {&d.state, &d.clips, &d.times, &d.ranges, &d.bucket_info, &d.identity})
-      bytes += b->size;
+    for (const GpuBuffer* b : d.buffers()) bytes += b->size;
   return bytes;
 }
 
 void GpuDrivenCrowds::release() {
   for (auto& [key, d] : crowds_) {
-    for (GpuBuffer* b : {&d.state, &d.clips, &d.times, &d.ranges, &d.bucket_info, &d.identity})
-      objects_->destroy(b);
+    for (GpuBuffer* b : d.buffers()) objects_->destroy(b);
     for (GpuBuffer& b : d.staging) objects_->destroy(&b);
   }
   crowds_.clear();

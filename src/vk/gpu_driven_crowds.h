@@ -10,6 +10,7 @@
 
 #include <vulkan/vulkan.h>
 
+#include <array>
 #include <cstdint>
 #include <map>
 #include <utility>
@@ -71,6 +72,13 @@ struct DrivenCrowd {
   /// sub-meshes).
   GpuBuffer state, clips, times, ranges, bucket_info, identity;
   std::vector<GpuBuffer> staging;  ///< One per frame slot.
+  /// Its device buffers (the staging aside).
+  std::array<GpuBuffer*, 6> buffers() {
+    return {&state, &clips, &times, &ranges, &bucket_info, &identity};
+  }
+  std::array<const GpuBuffer*, 6> buffers() const {
+    return {&state, &clips, &times, &ranges, &bucket_info, &identity};
+  }
   uint64_t used = 0;               ///< The renderer's frame of its last update.
 };
 

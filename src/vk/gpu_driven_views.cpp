@@ -13,6 +13,7 @@
 #include "si/crowd/instance_record.h"
 #include "si_vk/vulkan_profile.h"
 #include "vk/draw_state.h"
+#include "vk/image_upload.h"
 
 namespace si::vk::detail {
 
@@ -27,15 +28,6 @@ using si::detail::kThreadBaseWord;
 using si::detail::strCat;
 
 namespace {
-
-// A barrier of every memory access of `src` stages before `dst` stages' accesses.
-void recordBarrier(VkCommandBuffer cmd, VkPipelineStageFlags src, VkAccessFlags src_access,
-                   VkPipelineStageFlags dst, VkAccessFlags dst_access) {
-  auto b = vkStruct<VkMemoryBarrier>(VK_STRUCTURE_TYPE_MEMORY_BARRIER);
-  b.srcAccessMask = src_access;
-  b.dstAccessMask = dst_access;
-  vkCmdPipelineBarrier(cmd, src, dst, 0, 1, &b, 0, nullptr, 0, nullptr);
-}
 
 }  // namespace
 
@@ -76,18 +68,23 @@ void GpuDrivenViews::evictIdle(uint32_t slot) {
       ++it;
       continue;
     }
-    retire(slot, &v);
-    for (GpuBuffer& b : v.staging) retirement_.retire(slot, &b);
-    for (GpuBuffer& b : v.readback) retirement_.retire(slot, &b);
-    it = views_.erase(it);
+    const auto gone = it++;
+    forget(slot, gone);
   }
   crowds_.evict(slot, before, kept);
 }
 
+void GpuDrivenViews::forget(uint32_t slot,
+                            std::map<std::pair<uint32_t, uint64_t>, View>::iterator it) {
+  View& v = it->second;
+  retire(slot, &v);
+  for (GpuBuffer& b : v.staging) retirement_.retire(slot, &b);
+  for (GpuBuffer& b : v.readback) retirement_.retire(slot, &b);
+  views_.erase(it);
+}
+
 void GpuDrivenViews::retire(uint32_t slot, View* v) {
-  for (GpuBuffer* b : {&v->lods, &v->counters, &v->records, &v->visible, &v->entries, &v->commands,
-                       &v->entry_data, &v->ring, &v->tangent_ring})
-    retirement_.retire(slot, b);
+  for (GpuBuffer* b : v->buffers()) retirement_.retire(slot, b);
   retirement_.retire(slot, &v->pass_pool);
   retirement_.retire(slot, &v->draw_pool);
   v->pass_set = v->draw_set = VK_NULL_HANDLE;
@@ -141,6 +138,8 @@ Status GpuDrivenViews::reshape(VkCommandBuffer cmd, View* v, uint32_t slot,
     retire(slot, v);
     return s;
   }
+  // A character without tangents: the ring stands in for the tangent ring, never read.
+  const GpuBuffer* tangents = c.tangents ? &v->tangent_ring : &v->ring;
   const std::vector<VkDescriptorSetLayoutBinding>& bindings = shared_.compute_layout->bindings;
   std::vector<VkDescriptorBufferInfo> buffer_infos(bindings.size());
   VkDescriptorImageInfo pyramid{shared_.nearest, shared_.no_pyramid->view,
@@ -158,7 +157,6 @@ Status GpuDrivenViews::reshape(VkCommandBuffer cmd, View* v, uint32_t slot,
     w.dstBinding = b;
     w.descriptorCount = 1;
     w.descriptorType = bindings[k].descriptorType;
-    const GpuBuffer* tangents = c.tangents ? &v->tangent_ring : &v->ring;
     const GpuBuffer* buffer = b == kStateBinding             ? &d.state
                               : b == kClipsBinding           ? &d.clips
                               : b == kTimesBinding           ? &d.times
@@ -191,7 +189,7 @@ Status GpuDrivenViews::reshape(VkCommandBuffer cmd, View* v, uint32_t slot,
                          nullptr);
   // The draw's set: the character's resources and the passes' output.
   const DrivenOutputs outputs{v->records,    v->entries, v->visible,
-                              v->entry_data, v->ring,    c.tangents ? v->tangent_ring : v->ring};
+                              v->entry_data, v->ring,    *tangents};
   s = createCharacterSet(
       shared_.objects->device(), shared_.objects->allocator(), *shared_.draw_layout,
       {*shared_.ring, shared_.nearest, shared_.linear, *shared_.custom, *shared_.no_morphs}, c,
@@ -252,7 +250,6 @@ Status GpuDrivenViews::recordPasses(VkCommandBuffer cmd, uint32_t slot, FrameReg
                    " instances need more compute "
                    "groups than maxComputeWorkGroupCount (",
                    shared_.max_groups_x, " x ", shared_.max_groups_y, ")")};
-  View& v = views_[{character, view.identity()}];
   // The passes' uniforms first: a full region refuses the frame before anything is recorded.
   // The cull, commands, scatter and pre-skinning passes'.
   VkDeviceSize defaults_at[4] = {};
@@ -260,30 +257,30 @@ Status GpuDrivenViews::recordPasses(VkCommandBuffer cmd, uint32_t slot, FrameReg
     Status s = region.take(kComputeDefaultsRange, &at);
     if (!s.isOk()) return s;
   }
+  const auto key = std::make_pair(character, view.identity());
+  View& v = views_[key];
   // Whatever the last frames' draws and passes read of the crowd's and the view's buffers is
   // read before these copies and passes write them (the host submits frames in order on one
   // queue).
-  recordBarrier(cmd,
-                VK_PIPELINE_STAGE_DRAW_INDIRECT_BIT | VK_PIPELINE_STAGE_VERTEX_INPUT_BIT |
-                    VK_PIPELINE_STAGE_VERTEX_SHADER_BIT | VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT,
-                0, VK_PIPELINE_STAGE_TRANSFER_BIT | VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT, 0);
+  recordMemoryBarrier(cmd,
+                      VK_PIPELINE_STAGE_DRAW_INDIRECT_BIT | VK_PIPELINE_STAGE_VERTEX_INPUT_BIT |
+                          VK_PIPELINE_STAGE_VERTEX_SHADER_BIT |
+                          VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT,
+                      0, VK_PIPELINE_STAGE_TRANSFER_BIT | VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT, 0);
   // The crowd's state, shared by its views: what changed since its last upload.
   DrivenCrowd* d = nullptr;
   Status s = crowds_.update(cmd, slot, character, c, crowd, &d, &last_upload_);
   if (s.isOk() && (v.crowd != d || v.generation != d->generation))
     s = reshape(cmd, &v, slot, c, *d, view);
   if (!s.isOk()) {
-    retire(slot, &v);
-    for (GpuBuffer& b : v.staging) retirement_.retire(slot, &b);
-    for (GpuBuffer& b : v.readback) retirement_.retire(slot, &b);
-    views_.erase({character, view.identity()});
+    forget(slot, views_.find(key));
     return s;
   }
   // Zero the visible count and the bucket counts.
   vkCmdFillBuffer(cmd, v.counters.buffer, 0, VkDeviceSize(kBucketCountWord + kMaxBuckets) * 4, 0);
-  recordBarrier(cmd, VK_PIPELINE_STAGE_TRANSFER_BIT, VK_ACCESS_TRANSFER_WRITE_BIT,
-                VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT,
-                VK_ACCESS_SHADER_READ_BIT | VK_ACCESS_SHADER_WRITE_BIT);
+  recordMemoryBarrier(cmd, VK_PIPELINE_STAGE_TRANSFER_BIT, VK_ACCESS_TRANSFER_WRITE_BIT,
+                      VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT,
+                      VK_ACCESS_SHADER_READ_BIT | VK_ACCESS_SHADER_WRITE_BIT);
 
   // The passes' uniforms: the same CullParams CrowdView::select() uses.
   const CullParams p = CrowdExport::cullParams(view, camera);
@@ -335,12 +332,12 @@ Status GpuDrivenViews::recordPasses(VkCommandBuffer cmd, uint32_t slot, FrameReg
   };
   bind(0);
   vkCmdDispatch(cmd, gx, uint32_t(gy), 1);
-  recordBarrier(cmd, VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT, VK_ACCESS_SHADER_WRITE_BIT,
-                VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT,
-                VK_ACCESS_SHADER_READ_BIT | VK_ACCESS_SHADER_WRITE_BIT);
+  recordMemoryBarrier(cmd, VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT, VK_ACCESS_SHADER_WRITE_BIT,
+                      VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT,
+                      VK_ACCESS_SHADER_READ_BIT | VK_ACCESS_SHADER_WRITE_BIT);
   bind(1);
   vkCmdDispatch(cmd, 1, 1, 1);
-  recordBarrier(
+  recordMemoryBarrier(
       cmd, VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT, VK_ACCESS_SHADER_WRITE_BIT,
       VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT | VK_PIPELINE_STAGE_DRAW_INDIRECT_BIT,
       VK_ACCESS_SHADER_READ_BIT | VK_ACCESS_SHADER_WRITE_BIT | VK_ACCESS_INDIRECT_COMMAND_READ_BIT);
@@ -348,8 +345,8 @@ Status GpuDrivenViews::recordPasses(VkCommandBuffer cmd, uint32_t slot, FrameReg
   vkCmdDispatchIndirect(cmd, v.counters.buffer, VkDeviceSize(kDispatchWord) * 4);
   if (v.ring_vertices != 0) {
     // Every pre-skinned entry's vertices into the ring (the groups the commands pass counted).
-    recordBarrier(cmd, VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT, VK_ACCESS_SHADER_WRITE_BIT,
-                  VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT, VK_ACCESS_SHADER_READ_BIT);
+    recordMemoryBarrier(cmd, VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT, VK_ACCESS_SHADER_WRITE_BIT,
+                        VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT, VK_ACCESS_SHADER_READ_BIT);
     bind(3);
     vkCmdDispatchIndirect(cmd, v.counters.buffer, VkDeviceSize(kSkinDispatchWord) * 4);
   }
@@ -361,20 +358,20 @@ Status GpuDrivenViews::recordPasses(VkCommandBuffer cmd, uint32_t slot, FrameReg
         "the GPU-driven counters' readback", &v.readback[slot]);
     if (!made.isOk()) return made;
   }
-  recordBarrier(cmd, VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT, VK_ACCESS_SHADER_WRITE_BIT,
-                VK_PIPELINE_STAGE_TRANSFER_BIT, VK_ACCESS_TRANSFER_READ_BIT);
+  recordMemoryBarrier(cmd, VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT, VK_ACCESS_SHADER_WRITE_BIT,
+                      VK_PIPELINE_STAGE_TRANSFER_BIT, VK_ACCESS_TRANSFER_READ_BIT);
   const VkBufferCopy counted{0, 0, VkDeviceSize(kCounterWords) * 4};
   vkCmdCopyBuffer(cmd, v.counters.buffer, v.readback[slot].buffer, 1, &counted);
-  recordBarrier(cmd, VK_PIPELINE_STAGE_TRANSFER_BIT, VK_ACCESS_TRANSFER_WRITE_BIT,
-                VK_PIPELINE_STAGE_HOST_BIT, VK_ACCESS_HOST_READ_BIT);
+  recordMemoryBarrier(cmd, VK_PIPELINE_STAGE_TRANSFER_BIT, VK_ACCESS_TRANSFER_WRITE_BIT,
+                      VK_PIPELINE_STAGE_HOST_BIT, VK_ACCESS_HOST_READ_BIT);
   v.counted = true;
   // The draws read the commands, entry indices, entries, records, visible list and ring.
-  recordBarrier(cmd, VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT | VK_PIPELINE_STAGE_TRANSFER_BIT,
-                VK_ACCESS_SHADER_WRITE_BIT | VK_ACCESS_TRANSFER_WRITE_BIT,
-                VK_PIPELINE_STAGE_DRAW_INDIRECT_BIT | VK_PIPELINE_STAGE_VERTEX_INPUT_BIT |
-                    VK_PIPELINE_STAGE_VERTEX_SHADER_BIT,
-                VK_ACCESS_INDIRECT_COMMAND_READ_BIT | VK_ACCESS_VERTEX_ATTRIBUTE_READ_BIT |
-                    VK_ACCESS_SHADER_READ_BIT);
+  recordMemoryBarrier(cmd, VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT | VK_PIPELINE_STAGE_TRANSFER_BIT,
+                      VK_ACCESS_SHADER_WRITE_BIT | VK_ACCESS_TRANSFER_WRITE_BIT,
+                      VK_PIPELINE_STAGE_DRAW_INDIRECT_BIT | VK_PIPELINE_STAGE_VERTEX_INPUT_BIT |
+                          VK_PIPELINE_STAGE_VERTEX_SHADER_BIT,
+                      VK_ACCESS_INDIRECT_COMMAND_READ_BIT | VK_ACCESS_VERTEX_ATTRIBUTE_READ_BIT |
+                          VK_ACCESS_SHADER_READ_BIT);
   v.camera = camera;
   v.passes_recorded = true;
   v.passes_slot = slot;
@@ -468,19 +465,12 @@ GpuDrivenMemory GpuDrivenViews::memory() const {
   m.views = uint32_t(views_.size());
   m.crowd_bytes = crowds_.deviceBytes();
   for (const auto& [key, v] : views_)
-    for (const GpuBuffer* b : {&v.lods, &v.counters, &v.records, &v.visible, &v.entries,
-                               &v.commands, &v.entry_data, &v.ring, &v.tangent_ring})
-      m.view_bytes += b->size;
+    for (const GpuBuffer* b : v.buffers()) m.view_bytes += b->size;
   return m;
 }
 
 void GpuDrivenViews::release() {
-  for (auto& [key, v] : views_) {
-    retire(0, &v);
-    for (GpuBuffer& b : v.staging) shared_.objects->destroy(&b);
-    for (GpuBuffer& b : v.readback) shared_.objects->destroy(&b);
-  }
-  views_.clear();
+  while (!views_.empty()) forget(0, views_.begin());
   crowds_.release();
   retirement_.releaseAll();
 }

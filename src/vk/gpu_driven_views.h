@@ -10,6 +10,7 @@
 
 #include <vulkan/vulkan.h>
 
+#include <array>
 #include <cstdint>
 #include <map>
 #include <utility>
@@ -105,6 +106,15 @@ class GpuDrivenViews {
     // commands; pre-skinning's entry data, ring and tangent ring (the ring stands in without).
     GpuBuffer lods, counters, records, visible, entries, commands;
     GpuBuffer entry_data, ring, tangent_ring;
+    // Its device buffers (the staging and readback aside), and the tangent ring the sets bind.
+    std::array<GpuBuffer*, 9> buffers() {
+      return {&lods,     &counters,   &records, &visible,     &entries,
+              &commands, &entry_data, &ring,    &tangent_ring};
+    }
+    std::array<const GpuBuffer*, 9> buffers() const {
+      return {&lods,     &counters,   &records, &visible,     &entries,
+              &commands, &entry_data, &ring,    &tangent_ring};
+    }
     uint32_t ring_vertices = 0;      // 0: no pre-skinning.
     std::vector<GpuBuffer> staging;  // Per frame slot: the LODs' seed.
     std::vector<GpuBuffer> readback;  // Per frame slot: the counters after its passes.
@@ -122,6 +132,8 @@ class GpuDrivenViews {
   Status reshape(VkCommandBuffer cmd, View* v, uint32_t slot, const CharacterResources& c,
                  const DrivenCrowd& d, const CrowdView& view);
   void retire(uint32_t slot, View* v);
+  // Retires all of the view at `it` (its staging and readback too) and forgets it.
+  void forget(uint32_t slot, std::map<std::pair<uint32_t, uint64_t>, View>::iterator it);
 
   DrivenShared shared_;
   std::map<std::pair<uint32_t, uint64_t>, View> views_;  // By (character, view identity).

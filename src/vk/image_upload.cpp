@@ -25,6 +25,14 @@ void recordImageBarrier(VkCommandBuffer cmd, VkImage image, VkImageAspectFlags a
   vkCmdPipelineBarrier(cmd, change.src, change.dst, 0, 0, nullptr, 0, nullptr, 1, &b);
 }
 
+void recordMemoryBarrier(VkCommandBuffer cmd, VkPipelineStageFlags src, VkAccessFlags src_access,
+                         VkPipelineStageFlags dst, VkAccessFlags dst_access) {
+  auto b = vkStruct<VkMemoryBarrier>(VK_STRUCTURE_TYPE_MEMORY_BARRIER);
+  b.srcAccessMask = src_access;
+  b.dstAccessMask = dst_access;
+  vkCmdPipelineBarrier(cmd, src, dst, 0, 1, &b, 0, nullptr, 0, nullptr);
+}
+
 void recordImageUpload(VkCommandBuffer cmd, VkBuffer staging, const ImageUpload& u) {
   const GpuImage& img = *u.image;
   const auto barrier = [&](uint32_t level, uint32_t levels, VkImageLayout from, VkImageLayout to,

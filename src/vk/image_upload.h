@@ -2,8 +2,8 @@
 #pragma once
 // Images filled from a staging buffer, recorded into the host's command buffer: the copy, the
 // mip chain blitted level by level (as glGenerateMipmap filters it), the layout transitions to
-// the shaders' reads; and the image barrier every recording of the back-end (and the tests'
-// host) records.
+// the shaders' reads; and the image and memory barriers every recording of the back-end (and
+// the tests' host) records.
 
 #include <vulkan/vulkan.h>
 
@@ -22,6 +22,11 @@ struct LayoutChange {
   VkAccessFlags src_access, dst_access;
   VkPipelineStageFlags src, dst;
 };
+
+/// Records a global memory barrier: `src_access` of the `src` stages before `dst_access` of
+/// the `dst` stages (accesses 0: an execution dependency alone).
+void recordMemoryBarrier(VkCommandBuffer cmd, VkPipelineStageFlags src, VkAccessFlags src_access,
+                         VkPipelineStageFlags dst, VkAccessFlags dst_access);
 
 /// Records the barrier of `change` on levels [`level`, `level + levels`) and the first `layers`
 /// layers of `image`'s `aspect`.
