@@ -1,8 +1,8 @@
 // SkinnedInstancing — SPDX-License-Identifier: MIT (see LICENSE)
 #pragma once
-// vk::Renderer's state, shared by its files: renderer.cpp (init, characters, uploads, frames and
-// the instanced path's recordDraw) and renderer_gpu_driven.cpp (the GPU-driven path's entry
-// points).
+// vk::Renderer's state, shared by its files: renderer.cpp (init, characters, uploads, frames),
+// renderer_instanced.cpp (the instanced path's recordDraw) and renderer_gpu_driven.cpp (the
+// GPU-driven path's entry points).
 
 #include <memory>
 #include <vector>
@@ -18,6 +18,9 @@
 namespace si::vk {
 
 struct Renderer::Impl {
+  // Dynamic bindings of the instanced path's set: records, layers, previous layers, masks, the
+  // two defaults.
+  static constexpr uint32_t kMaxDynamicBindings = 6;
   using FrameRegion = detail::FrameRegion;
   using Character = detail::CharacterResources;
 

@@ -1,0 +1,96 @@
+// SkinnedInstancing — SPDX-License-Identifier: MIT (see LICENSE)
+// The GPU-driven path's views drawn (the pre-skinned entries pulled from the ring, the others
+// skinned in the vertex stage), and what their passes counted, read back.
+#include <algorithm>
+
+#include "gl/programs/cull_layout.h"
+#include "vk/draw_state.h"
+#include "vk/gpu_driven_views.h"
+
+namespace si::vk::detail {
+
+using si::detail::kBucketCountWord;
+using si::detail::kFittedWord;
+using si::detail::kMaxBuckets;
+using si::detail::kThreadBaseWord;
+
+Status GpuDrivenViews::recordDraw(VkCommandBuffer cmd, FrameRegion region, uint32_t character,
+                                  const CharacterResources& c, const CrowdView& view,
+                                  const DrawTarget& target, const glm::vec3& light_direction,
+                                  DrawStats* stats) {
+  const auto found = views_.find({character, view.identity()});
+  if (found == views_.end() || !found->second.passes_recorded)
+    return {StatusCode::kInvalidArgument,
+            "vk::Renderer::recordGpuDrivenDraw: the view's passes were not recorded in this "
+            "frame (recordGpuDrivenPasses)"};
+  View& v = found->second;
+  const size_t k = target.mode == DrawMode::kDepthOnly ? 1 : 0;
+  const bool pulled = v.ring_vertices != 0;
+  // Each draw's vertex and fragment defaults: the pre-skinned draw's, then the other's.
+  VkDeviceSize at[2][2] = {};
+  for (int d = pulled ? 0 : 1; d < 2; ++d)
+    for (VkDeviceSize& a : at[d]) {
+      Status s = region.take(kDefaultsRange, &a);
+      if (!s.isOk()) return s;
+    }
+  const glm::mat4 vp = vulkanViewProjection(v.camera);
+  recordDrawState(cmd, target, v.camera);
+  const VkBuffer vertex_buffers[2] = {c.vertices.buffer, v.crowd->identity.buffer};
+  const VkDeviceSize zeros[2] = {0, 0};
+  vkCmdBindVertexBuffers(cmd, 0, 2, vertex_buffers, zeros);
+  DrawStats st;
+  for (int d = pulled ? 0 : 1; d < 2; ++d) {
+    const ProgramModules& program =
+        (*shared_.programs)[d == 0 ? c.pulled_programs[k] : c.driven_programs[k]];
+    uint8_t* vertex = region.mapped + at[d][0];
+    writeDefault(vertex, program.vertex_reflection, "u_view_projection", &vp[0][0], 64);
+    const uint32_t layout_words[2] = {0u, c.source_words};
+    writeDefault(vertex, program.vertex_reflection, "u_layout", layout_words, 8);
+    writeDefault(region.mapped + at[d][1], program.fragment_reflection, "u_light_direction",
+                 &light_direction, 12);
+    vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_GRAPHICS,
+                      d == 0 ? c.pulled_pipelines[k] : c.driven_pipelines[k]);
+    // The pre-skinned draw indexes each list's own vertices; the other the mesh's.
+    vkCmdBindIndexBuffer(cmd, d == 0 ? c.local_indices.buffer : c.indices.buffer, 0,
+                         VK_INDEX_TYPE_UINT32);
+    // Dynamic offsets in binding order: the vertex, then the fragment defaults.
+    uint32_t offsets[2] = {};
+    uint32_t count = 0;
+    for (uint32_t b : shared_.draw_layout->dynamic_bindings)
+      offsets[count++] = uint32_t(b == kVertexDefaultsBinding ? at[d][0] : at[d][1]);
+    vkCmdBindDescriptorSets(cmd, VK_PIPELINE_BIND_POINT_GRAPHICS,
+                            shared_.draw_layout->pipeline_layout, 0, 1, &v.draw_set, count,
+                            offsets);
+    // Commands 0 to 255 skin in the vertex stage, from 256 on the pre-skinned ones.
+    vkCmdDrawIndexedIndirect(cmd, v.commands.buffer, d == 0 ? VkDeviceSize(kMaxBuckets) * 20 : 0,
+                             v.buckets, 20);
+    ++st.draw_calls;
+  }
+  if (stats != nullptr) *stats = st;
+  return Status::ok();
+}
+
+Status GpuDrivenViews::readCounts(uint32_t character, const CharacterResources& c,
+                                  const CrowdView& view, GpuDrivenCounts* out) const {
+  const auto found = views_.find({character, view.identity()});
+  if (found == views_.end() || !found->second.counted)
+    return {StatusCode::kInvalidArgument,
+            "vk::Renderer::readGpuDrivenCounts: the view's passes were never recorded"};
+  const View& v = found->second;
+  const auto* counters = static_cast<const uint32_t*>(v.readback[v.passes_slot].mapped);
+  GpuDrivenCounts n;
+  n.visible = counters[0];
+  const uint32_t subs = v.sub_meshes;
+  for (uint32_t b = 0; b < v.buckets; ++b) {
+    const uint32_t instances = counters[kBucketCountWord + b];
+    const IndexRange range = c.lodRange(b % subs, b / subs);
+    n.instances += instances;
+    n.triangles += uint64_t(range.index_count / 3) * instances;
+    n.vertex_shader_instances += instances - counters[kFittedWord + b];
+  }
+  n.pre_skinned_vertices = counters[kThreadBaseWord + v.buckets];
+  *out = n;
+  return Status::ok();
+}
+
+}  // namespace si::vk::detail
