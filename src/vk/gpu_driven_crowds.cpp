@@ -90,8 +90,6 @@ Status GpuDrivenCrowds::reshape(DrivenCrowd* d, uint32_t slot, uint32_t n, uint3
   d->capacity = uint32_t(capacity);
   d->sub_meshes = sub_meshes;
   d->buckets = buckets;
-  d->clip_count = clips;
-  d->time_count = times;
   ++d->generation;
   return Status::ok();
 }
@@ -103,17 +101,18 @@ Status GpuDrivenCrowds::update(VkCommandBuffer cmd, uint32_t slot, uint32_t char
   const CrowdDesc& cd = crowd.desc();
   const uint32_t subs = cd.sub_mesh_count, buckets = cd.lod_count * subs, n = crowd.size();
   const CrowdExport exported(crowd);
-  std::vector<GpuClipInfo> clips;
-  std::vector<double> times;
-  exported.clips(&clips, &times);
   const std::pair<uint32_t, uint64_t> key{character, crowd.identity()};
   DrivenCrowd& d = crowds_[key];
   *out = &d;
   const bool reshaped = n > d.capacity || d.sub_meshes != subs || d.buckets != buckets ||
-                        d.clip_count != clips.size() || d.time_count != times.size() ||
                         d.state.buffer == VK_NULL_HANDLE;
   if (!reshaped && d.version == exported.stateVersion() && d.instances == n) return Status::ok();
+  // The palette's clips and frame times: fixed for the crowd's identity (its palette is its
+  // init()'s), so copied in with the buffers they size, never again.
+  std::vector<GpuClipInfo> clips;
+  std::vector<double> times;
   if (reshaped) {
+    exported.clips(&clips, &times);
     Status s = reshape(&d, slot, n, subs, buckets, uint32_t(clips.size()), uint32_t(times.size()));
     if (!s.isOk()) {
       for (GpuBuffer& b : d.staging) retirement_->retire(slot, &b);
@@ -138,8 +137,8 @@ Status GpuDrivenCrowds::update(VkCommandBuffer cmd, uint32_t slot, uint32_t char
     changed_instances = n;
   }
   const VkDeviceSize state_bytes = changed_instances * sizeof(GpuInstanceState);
-  const VkDeviceSize clip_bytes = whole ? clips.size() * sizeof(GpuClipInfo) : 0;
-  const VkDeviceSize time_bytes = whole ? times.size() * sizeof(double) : 0;
+  const VkDeviceSize clip_bytes = clips.size() * sizeof(GpuClipInfo);
+  const VkDeviceSize time_bytes = times.size() * sizeof(double);
   const VkDeviceSize range_bytes = reshaped ? VkDeviceSize(buckets) * 8 : 0;
   const VkDeviceSize info_bytes = reshaped ? VkDeviceSize(buckets) * 16 : 0;
   const VkDeviceSize identity_bytes = reshaped ? VkDeviceSize(d.capacity) * subs * 4 : 0;
@@ -179,13 +178,11 @@ Status GpuDrivenCrowds::update(VkCommandBuffer cmd, uint32_t slot, uint32_t char
     vkCmdCopyBuffer(cmd, staging.buffer, buffer.buffer, 1, &region);
     at += bytes;
   };
-  if (whole) {
-    std::memcpy(to + at, clips.data(), size_t(clip_bytes));
+  if (reshaped) {
+    if (clip_bytes > 0) std::memcpy(to + at, clips.data(), size_t(clip_bytes));
     copy(d.clips, clip_bytes);
     if (time_bytes > 0) std::memcpy(to + at, times.data(), size_t(time_bytes));
     copy(d.times, time_bytes);
-  }
-  if (reshaped) {
     auto* ranges = reinterpret_cast<uint32_t*>(to + at);
     for (uint32_t b = 0; b < buckets; ++b) {
       const IndexRange r = c.lodRange(b % subs, b / subs);

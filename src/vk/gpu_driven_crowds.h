@@ -65,7 +65,6 @@ struct DrivenCrowd {
   uint64_t version = 0;     ///< CrowdExport::stateVersion() uploaded.
   uint64_t generation = 0;  ///< Counts the buffers' re-creations (a view's sets follow it).
   uint32_t instances = 0, capacity = 0, sub_meshes = 0, buckets = 0;
-  uint32_t clip_count = 0, time_count = 0;
   /// The instances (si::GpuInstanceState), clips, frame times; per bucket its index range and
   /// its pre-skinning list (vertices, list offset, first local index, local indices; 0 vertices
   /// without a ring); the entry indices (vertex binding 1 of the draws: 0 to capacity x
