@@ -279,7 +279,7 @@ int main(int argc, char** argv) {
     if (!s.isOk()) return fail("churn", s);
   }
   if (b.o.vulkan) {
-    s = si::bench::vulkanTable(b.setup, palette, rd, b.o.sizes, b.o.paths,
+    s = si::bench::vulkanTable(b.setup, palette, rd, b.o.scenes, b.o.sizes, b.o.paths,
                                lodChoice(b.o.lods.front(), b.o.pixel_budget), csv);
     if (!s.isOk()) return fail("vulkan", s);
   }

@@ -28,17 +28,20 @@ double differingShare(const std::vector<uint8_t>& a, const std::vector<uint8_t>&
   return double(apart) / double(a.size() / 4);
 }
 
-// Both APIs draw `count` characters of the field on `path` ("instanced": drawCrowd and
+// Both APIs draw `count` characters of `scene` on `path` ("instanced": drawCrowd and
 // recordDraw of the CPU's selection; "gpu-culled": drawCrowdGpuCulled with vertex-shader
-// skinning and recordGpuDrivenPasses/recordGpuDrivenDraw, the selection the GPU's) for
-// setup.frames frames: rows[0] GL's, rows[1] Vulkan's; `apart` the share of the last frames'
-// pixels that differ.
+// skinning and recordGpuDrivenPasses/recordGpuDrivenDraw, the selection the GPU's; with
+// "-occlusion" both phases of occlusion culling, Vulkan's second recorded between two
+// renderings) for setup.frames frames: rows[0] GL's, rows[1] Vulkan's; `apart` the share of the
+// last frames' pixels that differ.
 Status runBoth(Setup& setup, Renderer& gl, examples::HeadlessVulkan& host,
-               const BakedPalette& palette, uint32_t count, const std::string& path,
-               const LodChoice& lod, Row rows[2], double* apart) {
+               const BakedPalette& palette, const std::string& scene, uint32_t count,
+               const std::string& path, const LodChoice& lod, Row rows[2], double* apart) {
   // gpu-culled skins in the vertex stage; gpu-driven pre-skins into the ring first, on both.
-  const bool gpu_driven = path == "gpu-culled" || path == "gpu-driven";
-  const std::vector<glm::dvec3> places = scenePositions("field", count);
+  const bool occlusion = path.size() > 10 && path.compare(path.size() - 10, 10, "-occlusion") == 0;
+  const std::string base = occlusion ? path.substr(0, path.size() - 10) : path;
+  const bool gpu_driven = base == "gpu-culled" || base == "gpu-driven";
+  const std::vector<glm::dvec3> places = scenePositions(scene, count);
   CrowdManager crowd;
   Status s = makeCrowd(setup, palette, places, lod, &crowd);
   if (!s.isOk()) return s;
@@ -49,7 +52,7 @@ Status runBoth(Setup& setup, Renderer& gl, examples::HeadlessVulkan& host,
   vd.device = host.device();
   vd.frames_in_flight = 1;  // The host waits for each frame.
   vd.gpu_driven = gpu_driven;
-  if (path == "gpu-culled") vd.gpu_driven_ring_bytes = 0;
+  if (base == "gpu-culled") vd.gpu_driven_ring_bytes = 0;
   vd.ring_bytes_per_frame =
       uint64_t(count) * crowd.desc().sub_mesh_count * 80 + (uint64_t(4) << 20);
   s = vkr.init(vd);
@@ -66,7 +69,7 @@ Status runBoth(Setup& setup, Renderer& gl, examples::HeadlessVulkan& host,
   std::vector<uint8_t> images[2];
   const uint32_t warmup = kWarmupFrames, n = setup.frames;
   for (uint32_t f = 0; f < warmup + n && s.isOk(); ++f) {
-    const Camera cam = cameraAt(setup, "field", places, f < warmup ? 0 : f - warmup, n);
+    const Camera cam = cameraAt(setup, scene, places, f < warmup ? 0 : f - warmup, n);
     const auto t0 = Clock::now();
     s = stepCrowd(crowd, path, cam, 1.0 / 60.0);
     const double update_ms = msSince(t0);
@@ -83,23 +86,37 @@ Status runBoth(Setup& setup, Renderer& gl, examples::HeadlessVulkan& host,
         const auto t1 = Clock::now();
         Status begun = vkr.beginFrame(0);
         if (begun.isOk() && gpu_driven)
-          begun = vkr.recordGpuDrivenPasses(cmd, id, crowd.view(), cam);
+          begun = vkr.recordGpuDrivenPasses(
+              cmd, id, crowd.view(), cam, nullptr,
+              occlusion ? vk::GpuCulling::kOcclusion : vk::GpuCulling::kFrustum);
         vk_submit_ms = msSince(t1);
         return begun;
       };
       const vk::DrawTarget target{{setup.width, setup.height}};
-      s = host.render(
-          frame,
-          [&](VkCommandBuffer cmd) {
-            const auto t1 = Clock::now();
-            const Status drawn =
-                gpu_driven
-                    ? vkr.recordGpuDrivenDraw(cmd, target, id, crowd.view(), &vk_stats)
-                    : vkr.recordDraw(cmd, target, id, crowd.view(), vk_batcher, cam, &vk_stats);
-            vk_submit_ms += msSince(t1);
-            return drawn;
-          },
-          {last ? &images[1] : nullptr, nullptr, nullptr, &vk_ms});
+      uint32_t draw_calls = 0;
+      const auto draw = [&](VkCommandBuffer cmd) {
+        const auto t1 = Clock::now();
+        const Status drawn =
+            gpu_driven ? vkr.recordGpuDrivenDraw(cmd, target, id, crowd.view(), &vk_stats)
+                       : vkr.recordDraw(cmd, target, id, crowd.view(), vk_batcher, cam, &vk_stats);
+        draw_calls += vk_stats.draw_calls;
+        vk_submit_ms += msSince(t1);
+        return drawn;
+      };
+      if (occlusion) {  // The second phase between the first's rendering and its own.
+        frame.between = [&](VkCommandBuffer cmd, VkImageView depth) {
+          const auto t1 = Clock::now();
+          vk::DepthSource source;
+          source.view = depth;
+          source.extent = target.extent;
+          const Status second = vkr.recordGpuDrivenOcclusion(cmd, id, crowd.view(), source);
+          vk_submit_ms += msSince(t1);
+          return second;
+        };
+        frame.after = draw;
+      }
+      s = host.render(frame, draw, {last ? &images[1] : nullptr, nullptr, nullptr, &vk_ms});
+      vk_stats.draw_calls = draw_calls;
     }
     if (!s.isOk() || f < warmup) continue;
     update.push_back(update_ms);
@@ -121,7 +138,7 @@ Status runBoth(Setup& setup, Renderer& gl, examples::HeadlessVulkan& host,
   }
   vkr.shutdown();
   for (int k = 0; k < 2; ++k) {
-    rows[k].scene = "field";
+    rows[k].scene = scene;
     rows[k].path = path;
     rows[k].lod = k == 0 ? "GL" : "Vulkan";
     rows[k].instances = count;
@@ -139,8 +156,8 @@ Status runBoth(Setup& setup, Renderer& gl, examples::HeadlessVulkan& host,
 #endif
 
 Status vulkanTable(Setup& setup, const BakedPalette& palette, const RendererDesc& desc,
-                   const std::vector<uint32_t>& sizes, const std::vector<std::string>& paths,
-                   const LodChoice& lod, std::FILE* csv) {
+                   const std::vector<std::string>& scenes, const std::vector<uint32_t>& sizes,
+                   const std::vector<std::string>& paths, const LodChoice& lod, std::FILE* csv) {
 #if SI_BENCH_VULKAN
   examples::HeadlessVulkan host;
   Status s = host.create(setup.width, setup.height);
@@ -150,32 +167,37 @@ Status vulkanTable(Setup& setup, const BakedPalette& palette, const RendererDesc
   rd.skinning_path = SkinningPath::kVertexShader;
   s = initRenderer(setup, palette, rd, &gl);
   if (!s.isOk()) return s;
-  std::printf(
-      "\nVulkan (field, %s LODs): si::gl and si::vk (%s, validation %s) drawing the same "
-      "crowd and camera each frame, on the instanced path (drawCrowd, recordDraw; vertex-shader "
-      "skinning) and the GPU-driven one (drawCrowdGpuCulled, recordGpuDrivenPasses and "
-      "recordGpuDrivenDraw; gpu-culled skinning in the vertex stage, gpu-driven pre-skinning "
-      "in compute); GPU x is Vulkan's GPU time over GL's\n",
-      lod.name().c_str(), host.deviceName().c_str(), host.validation() ? "on" : "not installed");
-  printSideBySideHeader("API");
-  std::printf(" %12s %12s\n", "covered px", "apart");
-  for (const std::string& path : paths) {
-    if (path != "instanced" && path != "gpu-culled" && path != "gpu-driven") {
-      std::printf(
-          "  %s: not on the Vulkan back-end yet (instanced, gpu-culled and gpu-driven "
-          "are)\n",
-          path.c_str());
-      continue;
-    }
-    for (uint32_t count : sizes) {
-      Row rows[2];
-      double apart = 1.0;
-      s = runBoth(setup, gl, host, palette, count, path, lod, rows, &apart);
-      if (!s.isOk()) return s;
-      for (const Row& r : rows) {
-        printSideBySideRow(r, rows[0], "vulkan", csv);
-        std::printf(" %12llu %11.4f%%\n", static_cast<unsigned long long>(r.covered_pixels),
-                    &r == &rows[0] ? 0.0 : 100.0 * apart);
+  for (const std::string& scene : scenes) {
+    std::printf(
+        "\nVulkan (%s, %s LODs): si::gl and si::vk (%s, validation %s) drawing the same crowd "
+        "and camera each frame, on the instanced path (drawCrowd, recordDraw; vertex-shader "
+        "skinning) and the GPU-driven one (drawCrowdGpuCulled, recordGpuDrivenPasses and "
+        "recordGpuDrivenDraw; gpu-culled skinning in the vertex stage, gpu-driven pre-skinning "
+        "in compute; -occlusion: two-phase occlusion culling, recordGpuDrivenOcclusion between "
+        "two renderings); GPU x is Vulkan's GPU time over GL's\n",
+        scene.c_str(), lod.name().c_str(), host.deviceName().c_str(),
+        host.validation() ? "on" : "not installed");
+    printSideBySideHeader("API");
+    std::printf(" %12s %12s\n", "covered px", "apart");
+    for (const std::string& path : paths) {
+      if (path != "instanced" && path != "gpu-culled" && path != "gpu-driven" &&
+          path != "gpu-culled-occlusion" && path != "gpu-driven-occlusion") {
+        std::printf(
+            "  %s: not on the Vulkan back-end yet (instanced, gpu-culled and gpu-driven, with "
+            "and without occlusion, are)\n",
+            path.c_str());
+        continue;
+      }
+      for (uint32_t count : sizes) {
+        Row rows[2];
+        double apart = 1.0;
+        s = runBoth(setup, gl, host, palette, scene, count, path, lod, rows, &apart);
+        if (!s.isOk()) return s;
+        for (const Row& r : rows) {
+          printSideBySideRow(r, rows[0], "vulkan", csv);
+          std::printf(" %12llu %11.4f%%\n", static_cast<unsigned long long>(r.covered_pixels),
+                      &r == &rows[0] ? 0.0 : 100.0 * apart);
+        }
       }
     }
   }
@@ -185,7 +207,8 @@ Status vulkanTable(Setup& setup, const BakedPalette& palette, const RendererDesc
     return {StatusCode::kBackend, "the validation layer reported the messages above"};
   return Status::ok();
 #else
-  (void)setup, (void)palette, (void)desc, (void)sizes, (void)paths, (void)lod, (void)csv;
+  (void)setup, (void)palette, (void)desc, (void)scenes, (void)sizes, (void)paths, (void)lod,
+      (void)csv;
   return {StatusCode::kUnsupported, "crowd_bench was built without si::vk (SI_WITH_VULKAN=OFF)"};
 #endif
 }

@@ -17,12 +17,13 @@
 
 namespace si::bench {
 
-/// Prints the table (and CSV rows "vulkan") for every size and each of `paths` the Vulkan
-/// back-end draws (instanced, gpu-culled, gpu-driven; the others are named as not built), the crowd
-/// selecting its levels by `lod`. kUnsupported when crowd_bench was built without si::vk or the
-/// machine has no Vulkan 1.3 device.
+/// Prints a table per scene of `scenes` (and CSV rows "vulkan") for every size and each of
+/// `paths` the Vulkan back-end draws (instanced, gpu-culled, gpu-driven, the last two also with
+/// "-occlusion"; the others are named as not built), the crowd selecting its levels by `lod`.
+/// kUnsupported when crowd_bench was built without si::vk or the machine has no Vulkan 1.3
+/// device.
 Status vulkanTable(Setup& setup, const BakedPalette& palette, const RendererDesc& desc,
-                   const std::vector<uint32_t>& sizes, const std::vector<std::string>& paths,
-                   const LodChoice& lod, std::FILE* csv);
+                   const std::vector<std::string>& scenes, const std::vector<uint32_t>& sizes,
+                   const std::vector<std::string>& paths, const LodChoice& lod, std::FILE* csv);
 
 }  // namespace si::bench

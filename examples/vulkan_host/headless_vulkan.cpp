@@ -196,7 +196,8 @@ Status HeadlessVulkan::create(uint32_t width, uint32_t height) {
                      VK_IMAGE_ASPECT_COLOR_BIT, &motion_, &motion_memory_, &motion_view_);
   if (s.isOk())
     s = createTarget(VK_FORMAT_D32_SFLOAT,
-                     VK_IMAGE_USAGE_DEPTH_STENCIL_ATTACHMENT_BIT | VK_IMAGE_USAGE_TRANSFER_SRC_BIT,
+                     VK_IMAGE_USAGE_DEPTH_STENCIL_ATTACHMENT_BIT | VK_IMAGE_USAGE_TRANSFER_SRC_BIT |
+                         VK_IMAGE_USAGE_SAMPLED_BIT,  // Read by occlusion culling.
                      VK_IMAGE_ASPECT_DEPTH_BIT, &depth_, &depth_memory_, &depth_view_);
   if (!s.isOk()) return s;
   auto buffer = vkStruct<VkBufferCreateInfo>(VK_STRUCTURE_TYPE_BUFFER_CREATE_INFO);
@@ -338,7 +339,31 @@ Status HeadlessVulkan::render(const Frame& frame,
     }
     const Status prepared = frame.before ? frame.before(cmd) : Status::ok();
     vkCmdBeginRendering(cmd, &rendering);
-    const Status drawn = prepared.isOk() ? draw(cmd) : prepared;
+    Status drawn = prepared.isOk() ? draw(cmd) : prepared;
+    if (frame.between) {
+      // The second phase: the depth read by compute shaders, then a rendering that loads it.
+      vkCmdEndRendering(cmd);
+      transition(cmd, depth_, VK_IMAGE_ASPECT_DEPTH_BIT, VK_IMAGE_LAYOUT_DEPTH_ATTACHMENT_OPTIMAL,
+                 VK_IMAGE_LAYOUT_DEPTH_STENCIL_READ_ONLY_OPTIMAL,
+                 VK_ACCESS_DEPTH_STENCIL_ATTACHMENT_WRITE_BIT, VK_ACCESS_SHADER_READ_BIT,
+                 kDepthStages, VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT);
+      if (drawn.isOk()) drawn = frame.between(cmd, depth_view_);
+      transition(cmd, depth_, VK_IMAGE_ASPECT_DEPTH_BIT,
+                 VK_IMAGE_LAYOUT_DEPTH_STENCIL_READ_ONLY_OPTIMAL,
+                 VK_IMAGE_LAYOUT_DEPTH_ATTACHMENT_OPTIMAL, 0, kDepthAccess,
+                 VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT, kDepthStages);
+      for (const Attachment& a : attachments)  // The first rendering's colour, loaded.
+        transition(cmd, a.image, VK_IMAGE_ASPECT_COLOR_BIT,
+                   VK_IMAGE_LAYOUT_COLOR_ATTACHMENT_OPTIMAL,
+                   VK_IMAGE_LAYOUT_COLOR_ATTACHMENT_OPTIMAL, VK_ACCESS_COLOR_ATTACHMENT_WRITE_BIT,
+                   VK_ACCESS_COLOR_ATTACHMENT_READ_BIT | VK_ACCESS_COLOR_ATTACHMENT_WRITE_BIT,
+                   VK_PIPELINE_STAGE_COLOR_ATTACHMENT_OUTPUT_BIT,
+                   VK_PIPELINE_STAGE_COLOR_ATTACHMENT_OUTPUT_BIT);
+      for (VkRenderingAttachmentInfo& c : colors) c.loadOp = VK_ATTACHMENT_LOAD_OP_LOAD;
+      depth.loadOp = VK_ATTACHMENT_LOAD_OP_LOAD;
+      vkCmdBeginRendering(cmd, &rendering);
+      if (drawn.isOk() && frame.after) drawn = frame.after(cmd);
+    }
     if (out.gpu_ms != nullptr)
       vkCmdWriteTimestamp(cmd, VK_PIPELINE_STAGE_BOTTOM_OF_PIPE_BIT, timestamps_, 1);
     vkCmdEndRendering(cmd);

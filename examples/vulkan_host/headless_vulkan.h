@@ -48,13 +48,20 @@ class HeadlessVulkan {
     bool motion = false;       ///< Colour attachment 1, kMotionFormat, cleared to 0.
     /// Recorded before the rendering begins (the crowd's compute passes), when set.
     std::function<Status(VkCommandBuffer)> before;
+    /// Occlusion culling's second phase, when set: after `draw` the rendering ends, the depth
+    /// goes to VK_IMAGE_LAYOUT_DEPTH_STENCIL_READ_ONLY_OPTIMAL (its writes visible to compute
+    /// shaders), `between` is recorded with the depth's view, the depth goes back, and a second
+    /// rendering over the same targets (loading what the first left) records `after`.
+    std::function<Status(VkCommandBuffer, VkImageView depth)> between;
+    std::function<Status(VkCommandBuffer)> after;
   };
   /// What a frame reads back once it is done (each when not null).
   struct Readback {
     std::vector<uint8_t>* rgba = nullptr;      ///< The colour: RGBA8, rows top to bottom.
     std::vector<float>* depth = nullptr;       ///< Window depth, 0-1.
     std::vector<glm::vec2>* motion = nullptr;  ///< The motion attachment (Frame::motion).
-    double* gpu_ms = nullptr;  ///< GPU time from before Frame::before to after `draw`.
+    /// GPU time from before Frame::before to after `draw` (or Frame::after).
+    double* gpu_ms = nullptr;
   };
   /// One frame: Frame::before recorded, the targets cleared as `frame` says, `draw` recording
   /// inside dynamic rendering over them, then what `out` asks read back. It waits for the frame.

@@ -30,15 +30,15 @@ Status createSetLayouts(VkDevice device, const VkAllocationCallbacks* allocator,
                  "vkCreatePipelineLayout");
 }
 
-Status createDescriptorSet(VkDevice device, const VkAllocationCallbacks* allocator,
-                           VkDescriptorSetLayout layout,
-                           const std::vector<VkDescriptorSetLayoutBinding>& bindings,
-                           VkDescriptorPool* pool, VkDescriptorSet* set) {
+Status createDescriptorSets(VkDevice device, const VkAllocationCallbacks* allocator,
+                            VkDescriptorSetLayout layout,
+                            const std::vector<VkDescriptorSetLayoutBinding>& bindings,
+                            uint32_t count, VkDescriptorPool* pool, VkDescriptorSet* sets) {
   std::vector<VkDescriptorPoolSize> sizes;
-  for (const VkDescriptorSetLayoutBinding& b : bindings) sizes.push_back({b.descriptorType, 1});
+  for (const VkDescriptorSetLayoutBinding& b : bindings) sizes.push_back({b.descriptorType, count});
   auto pool_info =
       vkStruct<VkDescriptorPoolCreateInfo>(VK_STRUCTURE_TYPE_DESCRIPTOR_POOL_CREATE_INFO);
-  pool_info.maxSets = 1;
+  pool_info.maxSets = count;
   pool_info.poolSizeCount = uint32_t(sizes.size());
   pool_info.pPoolSizes = sizes.data();
   Status s = checkVk(vkCreateDescriptorPool(device, &pool_info, allocator, pool),
@@ -47,9 +47,10 @@ Status createDescriptorSet(VkDevice device, const VkAllocationCallbacks* allocat
   auto alloc =
       vkStruct<VkDescriptorSetAllocateInfo>(VK_STRUCTURE_TYPE_DESCRIPTOR_SET_ALLOCATE_INFO);
   alloc.descriptorPool = *pool;
-  alloc.descriptorSetCount = 1;
-  alloc.pSetLayouts = &layout;
-  return checkVk(vkAllocateDescriptorSets(device, &alloc, set), "vkAllocateDescriptorSets");
+  const std::vector<VkDescriptorSetLayout> layouts(count, layout);
+  alloc.descriptorSetCount = count;
+  alloc.pSetLayouts = layouts.data();
+  return checkVk(vkAllocateDescriptorSets(device, &alloc, sets), "vkAllocateDescriptorSets");
 }
 
 void DeviceObjects::init(VkPhysicalDevice physical, VkDevice device,
@@ -93,7 +94,8 @@ Status DeviceObjects::createBuffer(VkDeviceSize size, VkBufferUsageFlags usage, 
 }
 
 Status DeviceObjects::createImage(uint32_t width, uint32_t height, uint32_t layers, uint32_t levels,
-                                  VkFormat format, bool array, const char* what, GpuImage* out) {
+                                  VkFormat format, bool array, const char* what, GpuImage* out,
+                                  VkImageUsageFlags extra_usage) {
   GpuImage i;
   i.format = format;
   i.width = width;
@@ -109,7 +111,7 @@ Status DeviceObjects::createImage(uint32_t width, uint32_t height, uint32_t laye
   info.samples = VK_SAMPLE_COUNT_1_BIT;
   info.tiling = VK_IMAGE_TILING_OPTIMAL;
   info.usage = VK_IMAGE_USAGE_SAMPLED_BIT | VK_IMAGE_USAGE_TRANSFER_DST_BIT |
-               VK_IMAGE_USAGE_TRANSFER_SRC_BIT;
+               VK_IMAGE_USAGE_TRANSFER_SRC_BIT | extra_usage;
   info.initialLayout = VK_IMAGE_LAYOUT_UNDEFINED;
   Status s = checkVk(vkCreateImage(device_, &info, allocator_, &i.image),
                      strCat("vkCreateImage (", what, ")").c_str());

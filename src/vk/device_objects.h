@@ -35,12 +35,19 @@ Status checkVk(VkResult result, const char* call);
 Status createSetLayouts(VkDevice device, const VkAllocationCallbacks* allocator,
                         const std::vector<VkDescriptorSetLayoutBinding>& bindings,
                         VkDescriptorSetLayout* set_layout, VkPipelineLayout* pipeline_layout);
-/// A descriptor pool for one set of `layout` (of `bindings`) and that set. kBackend naming the
-/// failed call (the pool made is in `*pool` either way).
-Status createDescriptorSet(VkDevice device, const VkAllocationCallbacks* allocator,
-                           VkDescriptorSetLayout layout,
-                           const std::vector<VkDescriptorSetLayoutBinding>& bindings,
-                           VkDescriptorPool* pool, VkDescriptorSet* set);
+/// A descriptor pool for `count` sets of `layout` (of `bindings`) and those sets (into
+/// `sets[0..count)`). kBackend naming the failed call (the pool made is in `*pool` either way).
+Status createDescriptorSets(VkDevice device, const VkAllocationCallbacks* allocator,
+                            VkDescriptorSetLayout layout,
+                            const std::vector<VkDescriptorSetLayoutBinding>& bindings,
+                            uint32_t count, VkDescriptorPool* pool, VkDescriptorSet* sets);
+/// The same for one set.
+inline Status createDescriptorSet(VkDevice device, const VkAllocationCallbacks* allocator,
+                                  VkDescriptorSetLayout layout,
+                                  const std::vector<VkDescriptorSetLayoutBinding>& bindings,
+                                  VkDescriptorPool* pool, VkDescriptorSet* set) {
+  return createDescriptorSets(device, allocator, layout, bindings, 1, pool, set);
+}
 
 struct GpuBuffer {
   VkBuffer buffer = VK_NULL_HANDLE;
@@ -77,9 +84,11 @@ class DeviceObjects {
   Status createBuffer(VkDeviceSize size, VkBufferUsageFlags usage, bool host_visible,
                       const char* what, GpuBuffer* out);
   /// A device-local 2D image of `layers` layers and `levels` levels, sampled and a transfer
-  /// source and destination, and its view (2D, or 2D array when `array`).
+  /// source and destination (and `extra_usage`), and its view of every level (2D, or 2D array
+  /// when `array`).
   Status createImage(uint32_t width, uint32_t height, uint32_t layers, uint32_t levels,
-                     VkFormat format, bool array, const char* what, GpuImage* out);
+                     VkFormat format, bool array, const char* what, GpuImage* out,
+                     VkImageUsageFlags extra_usage = 0);
   void destroy(GpuBuffer* b);
   void destroy(GpuImage* i);
 

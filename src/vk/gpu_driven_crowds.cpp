@@ -14,28 +14,6 @@ namespace si::vk::detail {
 
 using si::detail::strCat;
 
-void FrameRetirement::retire(uint32_t slot, GpuBuffer* b) {
-  if (b->buffer != VK_NULL_HANDLE) slots_[slot].buffers.push_back(*b);
-  *b = GpuBuffer();
-}
-
-void FrameRetirement::retire(uint32_t slot, VkDescriptorPool* pool) {
-  if (*pool != VK_NULL_HANDLE) slots_[slot].pools.push_back(*pool);
-  *pool = VK_NULL_HANDLE;
-}
-
-void FrameRetirement::release(uint32_t slot) {
-  Retired& r = slots_[slot];
-  for (GpuBuffer& b : r.buffers) objects_->destroy(&b);
-  for (VkDescriptorPool p : r.pools)
-    vkDestroyDescriptorPool(objects_->device(), p, objects_->allocator());
-  r = Retired();
-}
-
-void FrameRetirement::releaseAll() {
-  for (uint32_t slot = 0; slot < slots_.size(); ++slot) release(slot);
-}
-
 Status createBuffers(DeviceObjects* objects, Span<const BufferNeed> needs, VkDeviceSize max_range,
                      uint64_t instances) {
   for (const BufferNeed& need : needs)

@@ -5,8 +5,7 @@
 // pre-skinning lists, the entry indices the draws read), shared by every view of the crowd, and
 // kept up to date by copies from a staging buffer of the frame slot recorded before the passes:
 // the whole state when the crowd, its shape or its size outgrew the buffers, else only the
-// instances that changed since (CrowdExport::changedSince). And what a frame slot's earlier
-// frame may still read, destroyed only when the slot begins again.
+// instances that changed since (CrowdExport::changedSince).
 
 #include <vulkan/vulkan.h>
 
@@ -21,30 +20,9 @@
 #include "si/crowd/gpu_crowd_state.h"
 #include "vk/character_resources.h"
 #include "vk/device_objects.h"
+#include "vk/frame_slots.h"
 
 namespace si::vk::detail {
-
-/// Buffers and descriptor pools retired in a frame slot, destroyed when the slot begins again
-/// (the host has then waited for the frame that last used them).
-class FrameRetirement {
- public:
-  void init(DeviceObjects* objects) { objects_ = objects; }
-  /// Moves `*b` (when it exists) into slot `slot`'s list and empties it.
-  void retire(uint32_t slot, GpuBuffer* b);
-  void retire(uint32_t slot, VkDescriptorPool* pool);
-  /// Destroys what slot `slot` retired.
-  void release(uint32_t slot);
-  /// Destroys everything retired (the host has waited for the device).
-  void releaseAll();
-
- private:
-  struct Retired {
-    std::vector<GpuBuffer> buffers;
-    std::vector<VkDescriptorPool> pools;
-  };
-  DeviceObjects* objects_ = nullptr;
-  std::vector<Retired> slots_ = std::vector<Retired>(8);
-};
 
 /// One buffer to make: where it goes, its bytes and usage, and what it is (for errors).
 struct BufferNeed {

@@ -10,6 +10,7 @@
 namespace si::vk::detail {
 
 using si::detail::kBucketCountWord;
+using si::detail::kCounterWords;
 using si::detail::kFittedWord;
 using si::detail::kMaxBuckets;
 using si::detail::kThreadBaseWord;
@@ -77,18 +78,22 @@ Status GpuDrivenViews::readCounts(uint32_t character, const CharacterResources& 
     return {StatusCode::kInvalidArgument,
             "vk::Renderer::readGpuDrivenCounts: the view's passes were never recorded"};
   const View& v = found->second;
-  const auto* counters = static_cast<const uint32_t*>(v.readback[v.passes_slot].mapped);
   GpuDrivenCounts n;
-  n.visible = counters[0];
   const uint32_t subs = v.sub_meshes;
-  for (uint32_t b = 0; b < v.buckets; ++b) {
-    const uint32_t instances = counters[kBucketCountWord + b];
-    const IndexRange range = c.lodRange(b % subs, b / subs);
-    n.instances += instances;
-    n.triangles += uint64_t(range.index_count / 3) * instances;
-    n.vertex_shader_instances += instances - counters[kFittedWord + b];
+  // Each phase's counters (occlusion culling's second after its first), summed.
+  for (uint32_t phase = 0; phase < v.phases; ++phase) {
+    const uint32_t* counters =
+        static_cast<const uint32_t*>(v.readback[v.passes_slot].mapped) + phase * kCounterWords;
+    n.visible += counters[0];
+    for (uint32_t b = 0; b < v.buckets; ++b) {
+      const uint32_t instances = counters[kBucketCountWord + b];
+      const IndexRange range = c.lodRange(b % subs, b / subs);
+      n.instances += instances;
+      n.triangles += uint64_t(range.index_count / 3) * instances;
+      n.vertex_shader_instances += instances - counters[kFittedWord + b];
+    }
+    n.pre_skinned_vertices += counters[kThreadBaseWord + v.buckets];
   }
-  n.pre_skinned_vertices = counters[kThreadBaseWord + v.buckets];
   *out = n;
   return Status::ok();
 }

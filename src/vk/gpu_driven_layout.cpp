@@ -12,36 +12,42 @@ namespace si::vk::detail {
 
 using si::detail::strCat;
 
+bool drivenPassBindingType(uint32_t b, DescriptorKind kind, VkDescriptorType* type) {
+  const bool storage = b == kStateBinding || b == kClipsBinding || b == kTimesBinding ||
+                       b == kCountersBinding || b == kDrivenRecordsBinding ||
+                       b == kDrivenEntriesBinding || b == kDrivenVisibleBinding ||
+                       b == kCommandsBinding || b == kRangesBinding || b == kBucketInfoBinding ||
+                       b == kEntryDataBinding || b == kViewLodsBinding ||
+                       (b >= kFirstUnbuiltBinding && b <= kLastUnbuiltBinding) ||
+                       b == kLivePosesBinding || b == kRingBinding || b == kSourceBinding ||
+                       b == kLodVerticesBinding || b == kTangentRingBinding;
+  if (storage && kind == DescriptorKind::kStorageBuffer)
+    *type = VK_DESCRIPTOR_TYPE_STORAGE_BUFFER;
+  else if (b == kComputeDefaultsBinding && kind == DescriptorKind::kUniformBuffer)
+    *type = VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER_DYNAMIC;
+  else if (b == kPaletteInfoBinding && kind == DescriptorKind::kUniformBuffer)
+    *type = VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER;
+  else if ((b == kPyramidBinding || b == kPaletteBinding || b == kMorphBinding) &&
+           kind == DescriptorKind::kCombinedImageSampler)
+    *type = VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER;
+  else
+    return false;
+  return true;
+}
+
 Status createComputeLayout(VkDevice device, const VkAllocationCallbacks* allocator,
-                           Span<const ProgramModules* const> passes, ComputeLayout* out) {
+                           Span<const ProgramModules* const> passes, ComputeBindingType type_of,
+                           const char* what, ComputeLayout* out) {
   std::map<uint32_t, VkDescriptorSetLayoutBinding> bindings;
   for (const ProgramModules* pass : passes)
     for (const SpirvDescriptor& d : pass->compute_reflection.descriptors) {
-      const uint32_t b = d.binding;
-      const bool storage =
-          b == kStateBinding || b == kClipsBinding || b == kTimesBinding || b == kCountersBinding ||
-          b == kDrivenRecordsBinding || b == kDrivenEntriesBinding || b == kDrivenVisibleBinding ||
-          b == kCommandsBinding || b == kRangesBinding || b == kBucketInfoBinding ||
-          b == kEntryDataBinding || b == kViewLodsBinding ||
-          (b >= kFirstUnbuiltBinding && b <= kLastUnbuiltBinding) || b == kLivePosesBinding ||
-          b == kRingBinding || b == kSourceBinding || b == kLodVerticesBinding ||
-          b == kTangentRingBinding;
       VkDescriptorType type;
-      if (storage && d.kind == DescriptorKind::kStorageBuffer)
-        type = VK_DESCRIPTOR_TYPE_STORAGE_BUFFER;
-      else if (b == kComputeDefaultsBinding && d.kind == DescriptorKind::kUniformBuffer)
-        type = VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER_DYNAMIC;
-      else if (b == kPaletteInfoBinding && d.kind == DescriptorKind::kUniformBuffer)
-        type = VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER;
-      else if ((b == kPyramidBinding || b == kPaletteBinding || b == kMorphBinding) &&
-               d.kind == DescriptorKind::kCombinedImageSampler)
-        type = VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER;
-      else
+      if (!type_of(d.binding, d.kind, &type))
         return {StatusCode::kUnsupported,
-                strCat("the GPU-driven passes' ", descriptorKindName(d.kind), " '", d.name,
-                       "' at binding ", b, " is one the Vulkan renderer does not fill")};
-      bindings.emplace(
-          b, VkDescriptorSetLayoutBinding{b, type, 1, VK_SHADER_STAGE_COMPUTE_BIT, nullptr});
+                strCat(what, "' ", descriptorKindName(d.kind), " '", d.name, "' at binding ",
+                       d.binding, " is one the Vulkan renderer does not fill")};
+      bindings.emplace(d.binding, VkDescriptorSetLayoutBinding{
+                                      d.binding, type, 1, VK_SHADER_STAGE_COMPUTE_BIT, nullptr});
     }
   out->bindings.clear();
   for (const auto& [b, binding] : bindings) out->bindings.push_back(binding);

@@ -15,6 +15,7 @@
 #include "si/core/status.h"
 #include "si_vk/vulkan_profile.h"
 #include "vk/program_modules.h"
+#include "vk/spirv_reflect.h"
 
 namespace si::vk::detail {
 
@@ -55,11 +56,20 @@ struct ComputeLayout {
   std::vector<VkDescriptorSetLayoutBinding> bindings;
 };
 
-/// The union of `passes`' descriptors (their compute stages) as one set layout, the default
-/// block dynamic (each pass's at its own offset), and a pipeline layout of it. kUnsupported
-/// naming a descriptor at a binding the renderer does not fill; kBackend on a failed call.
+/// The descriptor type the renderer gives a compute pass's descriptor of `kind` at `binding`;
+/// false for one it does not fill.
+using ComputeBindingType = bool (*)(uint32_t binding, DescriptorKind kind, VkDescriptorType* type);
+/// The GPU-driven passes' (cull, commands, scatter, pre-skinning): their storage blocks, the
+/// palette's information block, the pyramid, palette and morph samplers; the default block
+/// dynamic (each pass's at its own offset).
+bool drivenPassBindingType(uint32_t binding, DescriptorKind kind, VkDescriptorType* type);
+
+/// The union of `passes`' descriptors (their compute stages) as one set layout, each typed by
+/// `type_of`, and a pipeline layout of it. kUnsupported naming a descriptor `type_of` does not
+/// fill (`what`: whose passes); kBackend on a failed call.
 Status createComputeLayout(VkDevice device, const VkAllocationCallbacks* allocator,
-                           Span<const ProgramModules* const> passes, ComputeLayout* out);
+                           Span<const ProgramModules* const> passes, ComputeBindingType type_of,
+                           const char* what, ComputeLayout* out);
 /// Destroys what createComputeLayout made.
 void destroyComputeLayout(VkDevice device, const VkAllocationCallbacks* allocator,
                           ComputeLayout* layout);

@@ -25,22 +25,6 @@ using si::detail::kMaxBuckets;
 using si::detail::kSkinDispatchWord;
 using si::detail::strCat;
 
-namespace {
-
-}  // namespace
-
-Status FrameRegion::take(VkDeviceSize size, VkDeviceSize* at) {
-  const VkDeviceSize from = alignUp(*used, alignment);
-  if (from + size > bytes)
-    return {StatusCode::kLimitExceeded,
-            strCat("vk::Renderer: the frame's records and uniforms need ", from + size,
-                   " bytes, RendererDesc::ring_bytes_per_frame is ", bytes)};
-  *used = from + size;
-  std::memset(mapped + start + from, 0, size_t(size));
-  *at = start + from;
-  return Status::ok();
-}
-
 void GpuDrivenViews::init(const DrivenShared& shared) {
   shared_ = shared;
   retirement_.init(shared.objects);
@@ -76,6 +60,7 @@ void GpuDrivenViews::forget(uint32_t slot,
                             std::map<std::pair<uint32_t, uint64_t>, View>::iterator it) {
   View& v = it->second;
   retire(slot, &v);
+  v.pyramid.retire(slot, &retirement_);
   for (GpuBuffer& b : v.staging) retirement_.retire(slot, &b);
   for (GpuBuffer& b : v.readback) retirement_.retire(slot, &b);
   views_.erase(it);
@@ -85,9 +70,66 @@ void GpuDrivenViews::retire(uint32_t slot, View* v) {
   for (GpuBuffer* b : v->buffers()) retirement_.retire(slot, b);
   retirement_.retire(slot, &v->pass_pool);
   retirement_.retire(slot, &v->draw_pool);
+  retirement_.retire(slot, &v->occlusion_pool);
+  v->occlusion_sets.clear();
   v->pass_set = v->draw_set = VK_NULL_HANDLE;
   v->crowd = nullptr;
   v->capacity = 0;
+}
+
+void GpuDrivenViews::writePassSet(VkDescriptorSet set, View* v, const CharacterResources& c,
+                                  const DrivenCrowd& d, VkImageView pyramid,
+                                  VkImageLayout pyramid_layout) {
+  // A character without tangents: the ring stands in for the tangent ring, never read.
+  const GpuBuffer* tangents = c.tangents ? &v->tangent_ring : &v->ring;
+  const std::vector<VkDescriptorSetLayoutBinding>& bindings = shared_.compute_layout->bindings;
+  std::vector<VkDescriptorBufferInfo> buffer_infos(bindings.size());
+  VkDescriptorImageInfo pyramid_info{shared_.nearest, pyramid, pyramid_layout};
+  VkDescriptorImageInfo palette{shared_.nearest, c.palette.view,
+                                VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL};
+  VkDescriptorImageInfo morphs{
+      shared_.nearest, c.morphs.image != VK_NULL_HANDLE ? c.morphs.view : shared_.no_morphs->view,
+      VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL};
+  std::vector<VkWriteDescriptorSet> writes;
+  for (size_t k = 0; k < bindings.size(); ++k) {
+    const uint32_t b = bindings[k].binding;
+    auto w = vkStruct<VkWriteDescriptorSet>(VK_STRUCTURE_TYPE_WRITE_DESCRIPTOR_SET);
+    w.dstSet = set;
+    w.dstBinding = b;
+    w.descriptorCount = 1;
+    w.descriptorType = bindings[k].descriptorType;
+    const GpuBuffer* buffer = b == kStateBinding             ? &d.state
+                              : b == kClipsBinding           ? &d.clips
+                              : b == kTimesBinding           ? &d.times
+                              : b == kRangesBinding          ? &d.ranges
+                              : b == kBucketInfoBinding      ? &d.bucket_info
+                              : b == kEntryDataBinding       ? &v->entry_data
+                              : b == kRingBinding            ? &v->ring
+                              : b == kTangentRingBinding     ? tangents
+                              : b == kSourceBinding          ? &c.vertices
+                              : b == kLodVerticesBinding     ? &c.lod_vertices
+                              : b == kPaletteInfoBinding     ? &c.palette_info
+                              : b == kCountersBinding        ? &v->counters
+                              : b == kDrivenRecordsBinding   ? &v->records
+                              : b == kDrivenEntriesBinding   ? &v->entries
+                              : b == kDrivenVisibleBinding   ? &v->visible
+                              : b == kCommandsBinding        ? &v->commands
+                              : b == kViewLodsBinding        ? &v->lods
+                              : b == kComputeDefaultsBinding ? shared_.ring
+                                                             : shared_.unbuilt;
+    if (b == kPyramidBinding || b == kPaletteBinding || b == kMorphBinding) {
+      w.pImageInfo = b == kPyramidBinding   ? &pyramid_info
+                     : b == kPaletteBinding ? &palette
+                                            : &morphs;
+    } else {
+      buffer_infos[k] = {buffer->buffer, 0,
+                         b == kComputeDefaultsBinding ? kComputeDefaultsRange : VK_WHOLE_SIZE};
+      w.pBufferInfo = &buffer_infos[k];
+    }
+    writes.push_back(w);
+  }
+  vkUpdateDescriptorSets(shared_.objects->device(), uint32_t(writes.size()), writes.data(), 0,
+                         nullptr);
 }
 
 Status GpuDrivenViews::reshape(VkCommandBuffer cmd, View* v, uint32_t slot,
@@ -136,55 +178,10 @@ Status GpuDrivenViews::reshape(VkCommandBuffer cmd, View* v, uint32_t slot,
     retire(slot, v);
     return s;
   }
+  writePassSet(v->pass_set, v, c, d, shared_.no_pyramid->view,
+               VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL);
   // A character without tangents: the ring stands in for the tangent ring, never read.
   const GpuBuffer* tangents = c.tangents ? &v->tangent_ring : &v->ring;
-  const std::vector<VkDescriptorSetLayoutBinding>& bindings = shared_.compute_layout->bindings;
-  std::vector<VkDescriptorBufferInfo> buffer_infos(bindings.size());
-  VkDescriptorImageInfo pyramid{shared_.nearest, shared_.no_pyramid->view,
-                                VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL};
-  VkDescriptorImageInfo palette{shared_.nearest, c.palette.view,
-                                VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL};
-  VkDescriptorImageInfo morphs{
-      shared_.nearest, c.morphs.image != VK_NULL_HANDLE ? c.morphs.view : shared_.no_morphs->view,
-      VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL};
-  std::vector<VkWriteDescriptorSet> writes;
-  for (size_t k = 0; k < bindings.size(); ++k) {
-    const uint32_t b = bindings[k].binding;
-    auto w = vkStruct<VkWriteDescriptorSet>(VK_STRUCTURE_TYPE_WRITE_DESCRIPTOR_SET);
-    w.dstSet = v->pass_set;
-    w.dstBinding = b;
-    w.descriptorCount = 1;
-    w.descriptorType = bindings[k].descriptorType;
-    const GpuBuffer* buffer = b == kStateBinding             ? &d.state
-                              : b == kClipsBinding           ? &d.clips
-                              : b == kTimesBinding           ? &d.times
-                              : b == kRangesBinding          ? &d.ranges
-                              : b == kBucketInfoBinding      ? &d.bucket_info
-                              : b == kEntryDataBinding       ? &v->entry_data
-                              : b == kRingBinding            ? &v->ring
-                              : b == kTangentRingBinding     ? tangents
-                              : b == kSourceBinding          ? &c.vertices
-                              : b == kLodVerticesBinding     ? &c.lod_vertices
-                              : b == kPaletteInfoBinding     ? &c.palette_info
-                              : b == kCountersBinding        ? &v->counters
-                              : b == kDrivenRecordsBinding   ? &v->records
-                              : b == kDrivenEntriesBinding   ? &v->entries
-                              : b == kDrivenVisibleBinding   ? &v->visible
-                              : b == kCommandsBinding        ? &v->commands
-                              : b == kViewLodsBinding        ? &v->lods
-                              : b == kComputeDefaultsBinding ? shared_.ring
-                                                             : shared_.unbuilt;
-    if (b == kPyramidBinding || b == kPaletteBinding || b == kMorphBinding) {
-      w.pImageInfo = b == kPyramidBinding ? &pyramid : b == kPaletteBinding ? &palette : &morphs;
-    } else {
-      buffer_infos[k] = {buffer->buffer, 0,
-                         b == kComputeDefaultsBinding ? kComputeDefaultsRange : VK_WHOLE_SIZE};
-      w.pBufferInfo = &buffer_infos[k];
-    }
-    writes.push_back(w);
-  }
-  vkUpdateDescriptorSets(shared_.objects->device(), uint32_t(writes.size()), writes.data(), 0,
-                         nullptr);
   // The draw's set: the character's resources and the passes' output.
   const DrivenOutputs outputs{v->records,    v->entries, v->visible,
                               v->entry_data, v->ring,    *tangents};
@@ -228,7 +225,7 @@ Status GpuDrivenViews::reshape(VkCommandBuffer cmd, View* v, uint32_t slot,
 
 Status GpuDrivenViews::recordPasses(VkCommandBuffer cmd, uint32_t slot, FrameRegion region,
                                     uint32_t character, const CharacterResources& c,
-                                    const CrowdView& view, const Camera& camera) {
+                                    const CrowdView& view, const Camera& camera, bool occlusion) {
   const CrowdManager& crowd = *view.crowd();
   const CrowdDesc& cd = crowd.desc();
   const uint32_t subs = cd.sub_mesh_count, lods = cd.lod_count, buckets = lods * subs;
@@ -274,11 +271,6 @@ Status GpuDrivenViews::recordPasses(VkCommandBuffer cmd, uint32_t slot, FrameReg
     forget(slot, views_.find(key));
     return s;
   }
-  // Zero the visible count and the bucket counts.
-  vkCmdFillBuffer(cmd, v.counters.buffer, 0, VkDeviceSize(kBucketCountWord + kMaxBuckets) * 4, 0);
-  recordMemoryBarrier(cmd, VK_PIPELINE_STAGE_TRANSFER_BIT, VK_ACCESS_TRANSFER_WRITE_BIT,
-                      VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT,
-                      VK_ACCESS_SHADER_READ_BIT | VK_ACCESS_SHADER_WRITE_BIT);
 
   // The passes' uniforms: the same CullParams CrowdView::select() uses.
   const CullParams p = CrowdExport::cullParams(view, camera);
@@ -306,7 +298,10 @@ Status GpuDrivenViews::recordPasses(VkCommandBuffer cmd, uint32_t slot, FrameReg
       for (uint32_t sm = 0; sm < subs; ++sm)
         if (c.lodRange(sm, lod).index_count > 0) drawn_parts[lod] |= 1u << sm;
     writeDefault(block, r, "u_drawn_parts", drawn_parts, 4, 8);
-    // Occlusion, layers, motion vectors, impostors: off (zero) until built.
+    // Occlusion culling's first phase: the instances visible at the end of the last frame.
+    const uint32_t phase = occlusion ? 1u : 0u;
+    writeDefault(block, r, "u_occlusion_phase", &phase, 4);
+    // Layers, motion vectors, impostors: off (zero) until built.
   }
   {
     const SpirvReflection& r = shared_.pass_modules[1]->compute_reflection;
@@ -320,16 +315,104 @@ Status GpuDrivenViews::recordPasses(VkCommandBuffer cmd, uint32_t slot, FrameReg
   writeDefault(ring + defaults_at[3], skin, "u_counts", counts, 16);
   const uint32_t layout_words[2] = {0u, c.source_words};
   writeDefault(ring + defaults_at[3], skin, "u_layout", layout_words, 8);
+  std::copy(std::begin(defaults_at), std::end(defaults_at), std::begin(v.defaults_at));
+  v.groups_x = gx;
+  v.groups_y = uint32_t(gy);
+  v.phase = occlusion ? 1 : 0;
+  v.phases = 1;
+  s = recordCullPasses(cmd, &v, v.pass_set, slot, 0, c);
+  if (!s.isOk()) return s;
+  v.camera = camera;
+  v.passes_recorded = true;
+  v.passes_slot = slot;
+  v.used = frame_;
+  GpuDrivenCrowds::touch(d, frame_);
+  return Status::ok();
+}
+
+Status GpuDrivenViews::recordOcclusion(VkCommandBuffer cmd, uint32_t slot, FrameRegion region,
+                                       uint32_t character, const CharacterResources& c,
+                                       const CrowdView& view, const DepthSource& depth) {
+  const auto found = views_.find({character, view.identity()});
+  if (found == views_.end() || !found->second.passes_recorded || found->second.phase != 1)
+    return {StatusCode::kInvalidArgument,
+            "vk::Renderer::recordGpuDrivenOcclusion: the view's passes of this frame are no first "
+            "phase of occlusion culling (GpuCulling::kOcclusion), or have their second"};
+  View& v = found->second;
+  VkDeviceSize cull_at = 0;
+  Status s = region.take(kComputeDefaultsRange, &cull_at);
+  if (!s.isOk()) return s;
+  // The first phase's draws read the passes' output before the pyramid's and the second
+  // phase's passes write it again; the last frame's second phase read the pyramid.
+  recordMemoryBarrier(cmd,
+                      VK_PIPELINE_STAGE_DRAW_INDIRECT_BIT | VK_PIPELINE_STAGE_VERTEX_INPUT_BIT |
+                          VK_PIPELINE_STAGE_VERTEX_SHADER_BIT |
+                          VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT,
+                      0, VK_PIPELINE_STAGE_TRANSFER_BIT | VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT, 0);
+  // Window depth as the draws write it (their viewport's depth range is 0 to 1): the farthest
+  // is the largest, or the smallest under reverse-Z.
+  const bool far_is_max = v.camera.depth != DepthConvention::kReversedZeroToOne;
+  PyramidContext ctx;
+  ctx.passes = shared_.pyramid_passes;
+  ctx.objects = shared_.objects;
+  ctx.retirement = &retirement_;
+  ctx.ring = shared_.ring;
+  ctx.frames_in_flight = shared_.frames_in_flight;
+  ctx.max_size = shared_.max_image_size;
+  s = v.pyramid.record(cmd, slot, region, ctx, depth, far_is_max);
+  if (!s.isOk()) return s;
+  // This slot's passes' set with the pyramid bound (the slot's last frame is done with it).
+  if (v.occlusion_pool == VK_NULL_HANDLE) {
+    v.occlusion_sets.assign(shared_.frames_in_flight, VK_NULL_HANDLE);
+    s = createDescriptorSets(shared_.objects->device(), shared_.objects->allocator(),
+                             shared_.compute_layout->set_layout, shared_.compute_layout->bindings,
+                             shared_.frames_in_flight, &v.occlusion_pool, v.occlusion_sets.data());
+    if (!s.isOk()) {
+      retirement_.retire(slot, &v.occlusion_pool);
+      v.occlusion_sets.clear();
+      return s;
+    }
+  }
+  writePassSet(v.occlusion_sets[slot], &v, c, *v.crowd, v.pyramid.view(), VK_IMAGE_LAYOUT_GENERAL);
+  // The second phase's cull uniforms: the first's, with the phase and the pyramid.
+  uint8_t* block = region.mapped + cull_at;
+  std::memcpy(block, region.mapped + v.defaults_at[0], size_t(kComputeDefaultsRange));
+  const SpirvReflection& r = shared_.pass_modules[0]->compute_reflection;
+  const uint32_t phase = 2;
+  writeDefault(block, r, "u_occlusion_phase", &phase, 4);
+  const glm::mat4 view_projection = v.camera.viewProjection();
+  writeDefault(block, r, "u_view_proj", &view_projection[0][0], 64);
+  const int32_t hiz_size[3] = {int32_t(v.pyramid.width()), int32_t(v.pyramid.height()),
+                               int32_t(v.pyramid.levels())};
+  writeDefault(block, r, "u_hiz_size", hiz_size, 12);
+  const int32_t depth_mode[2] = {int32_t(v.camera.depth), far_is_max ? 1 : 0};
+  writeDefault(block, r, "u_depth_mode", depth_mode, 8);
+  const float depth_range[2] = {0.0f, 1.0f};
+  writeDefault(block, r, "u_depth_range", depth_range, 8);
+  v.defaults_at[0] = cull_at;
+  v.phase = 2;
+  v.phases = 2;
+  return recordCullPasses(cmd, &v, v.occlusion_sets[slot], slot, 1, c);
+}
+
+Status GpuDrivenViews::recordCullPasses(VkCommandBuffer cmd, View* view, VkDescriptorSet set,
+                                        uint32_t slot, uint32_t phase_index,
+                                        const CharacterResources& c) {
+  View& v = *view;
+  // Zero the visible count and the bucket counts.
+  vkCmdFillBuffer(cmd, v.counters.buffer, 0, VkDeviceSize(kBucketCountWord + kMaxBuckets) * 4, 0);
+  recordMemoryBarrier(cmd, VK_PIPELINE_STAGE_TRANSFER_BIT, VK_ACCESS_TRANSFER_WRITE_BIT,
+                      VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT,
+                      VK_ACCESS_SHADER_READ_BIT | VK_ACCESS_SHADER_WRITE_BIT);
   VkPipelineLayout layout = shared_.compute_layout->pipeline_layout;
   const auto bind = [&](int pass) {
     vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_COMPUTE,
                       pass < 3 ? shared_.passes[pass] : c.skin_pipeline);
-    const uint32_t offset = uint32_t(defaults_at[pass]);
-    vkCmdBindDescriptorSets(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, layout, 0, 1, &v.pass_set, 1,
-                            &offset);
+    const uint32_t offset = uint32_t(v.defaults_at[pass]);
+    vkCmdBindDescriptorSets(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, layout, 0, 1, &set, 1, &offset);
   };
   bind(0);
-  vkCmdDispatch(cmd, gx, uint32_t(gy), 1);
+  vkCmdDispatch(cmd, v.groups_x, v.groups_y, 1);
   recordMemoryBarrier(cmd, VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT, VK_ACCESS_SHADER_WRITE_BIT,
                       VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT,
                       VK_ACCESS_SHADER_READ_BIT | VK_ACCESS_SHADER_WRITE_BIT);
@@ -348,17 +431,19 @@ Status GpuDrivenViews::recordPasses(VkCommandBuffer cmd, uint32_t slot, FrameReg
     bind(3);
     vkCmdDispatchIndirect(cmd, v.counters.buffer, VkDeviceSize(kSkinDispatchWord) * 4);
   }
-  // The counters into this slot's readback (readCounts, after the host's wait).
+  // The counters into this slot's readback (readCounts, after the host's wait), each phase's
+  // after the one before.
   if (v.readback.size() < shared_.frames_in_flight) v.readback.resize(shared_.frames_in_flight);
+  const VkDeviceSize counter_bytes = VkDeviceSize(kCounterWords) * 4;
   if (v.readback[slot].buffer == VK_NULL_HANDLE) {
-    Status made = shared_.objects->createBuffer(
-        VkDeviceSize(kCounterWords) * 4, VK_BUFFER_USAGE_TRANSFER_DST_BIT, true,
-        "the GPU-driven counters' readback", &v.readback[slot]);
+    Status made =
+        shared_.objects->createBuffer(2 * counter_bytes, VK_BUFFER_USAGE_TRANSFER_DST_BIT, true,
+                                      "the GPU-driven counters' readback", &v.readback[slot]);
     if (!made.isOk()) return made;
   }
   recordMemoryBarrier(cmd, VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT, VK_ACCESS_SHADER_WRITE_BIT,
                       VK_PIPELINE_STAGE_TRANSFER_BIT, VK_ACCESS_TRANSFER_READ_BIT);
-  const VkBufferCopy counted{0, 0, VkDeviceSize(kCounterWords) * 4};
+  const VkBufferCopy counted{0, phase_index * counter_bytes, counter_bytes};
   vkCmdCopyBuffer(cmd, v.counters.buffer, v.readback[slot].buffer, 1, &counted);
   recordMemoryBarrier(cmd, VK_PIPELINE_STAGE_TRANSFER_BIT, VK_ACCESS_TRANSFER_WRITE_BIT,
                       VK_PIPELINE_STAGE_HOST_BIT, VK_ACCESS_HOST_READ_BIT);
@@ -370,11 +455,6 @@ Status GpuDrivenViews::recordPasses(VkCommandBuffer cmd, uint32_t slot, FrameReg
                           VK_PIPELINE_STAGE_VERTEX_SHADER_BIT,
                       VK_ACCESS_INDIRECT_COMMAND_READ_BIT | VK_ACCESS_VERTEX_ATTRIBUTE_READ_BIT |
                           VK_ACCESS_SHADER_READ_BIT);
-  v.camera = camera;
-  v.passes_recorded = true;
-  v.passes_slot = slot;
-  v.used = frame_;
-  GpuDrivenCrowds::touch(d, frame_);
   return Status::ok();
 }
 
@@ -383,8 +463,10 @@ GpuDrivenMemory GpuDrivenViews::memory() const {
   m.crowds = crowds_.size();
   m.views = uint32_t(views_.size());
   m.crowd_bytes = crowds_.deviceBytes();
-  for (const auto& [key, v] : views_)
+  for (const auto& [key, v] : views_) {
     for (const GpuBuffer* b : v.buffers()) m.view_bytes += b->size;
+    m.view_bytes += v.pyramid.bytes();
+  }
   return m;
 }
 

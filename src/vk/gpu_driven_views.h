@@ -5,8 +5,10 @@
 // the same shaders: the selection is cull_math.h's) over the crowd's state (gpu_driven_crowds.h,
 // shared by the crowd's views), then the indexed indirect draws of every (LOD, sub-mesh) bucket.
 // What a frame slot's earlier frame may still read is destroyed only when the slot comes round
-// again (beginFrame). What is not built yet (layers, motion vectors, live poses, impostors,
-// occlusion) is refused by the renderer.
+// again (beginFrame). With occlusion culling the passes run twice: the first phase before the
+// host's first rendering, the depth pyramid (depth_pyramid.h) and the second phase after it.
+// What is not built yet (layers, motion vectors, live poses, impostors) is refused by the
+// renderer.
 
 #include <vulkan/vulkan.h>
 
@@ -22,26 +24,15 @@
 #include "si/vk/renderer.h"
 #include "vk/character_resources.h"
 #include "vk/character_set.h"
+#include "vk/depth_pyramid.h"
 #include "vk/device_objects.h"
+#include "vk/frame_slots.h"
 #include "vk/gpu_driven_crowds.h"
 #include "vk/gpu_driven_layout.h"
 #include "vk/program_modules.h"
 #include "vk/skinned_pipeline.h"
 
 namespace si::vk::detail {
-
-/// A frame slot's region of the record ring, as the renderer's draws fill it.
-struct FrameRegion {
-  uint8_t* mapped = nullptr;     ///< The ring's mapped bytes.
-  VkDeviceSize start = 0;        ///< The slot's region in the ring.
-  VkDeviceSize bytes = 0;        ///< Its size (RendererDesc::ring_bytes_per_frame).
-  VkDeviceSize* used = nullptr;  ///< Its bytes filled so far this frame.
-  VkDeviceSize alignment = 256;  ///< Of a dynamic uniform offset.
-
-  /// `size` zeroed bytes after those used, aligned: their offset from the ring's start into
-  /// `*at`. kLimitExceeded when the region is full (nothing taken).
-  Status take(VkDeviceSize size, VkDeviceSize* at);
-};
 
 /// What the views share of the renderer's, set once.
 struct DrivenShared {
@@ -56,7 +47,9 @@ struct DrivenShared {
   const GpuImage* custom = nullptr;
   const GpuImage* no_morphs = nullptr;
   const GpuBuffer* unbuilt = nullptr;    ///< Bound where the passes read or write nothing.
-  const GpuImage* no_pyramid = nullptr;  ///< Bound as the depth pyramid.
+  const GpuImage* no_pyramid = nullptr;  ///< Bound as the depth pyramid without occlusion.
+  const PyramidPasses* pyramid_passes = nullptr;
+  uint32_t max_image_size = 4096;  ///< maxImageDimension2D.
   uint32_t max_groups_x = 65535, max_groups_y = 65535;
   VkDeviceSize max_storage_range = 0;  ///< maxStorageBufferRange.
   uint32_t frames_in_flight = 1;
@@ -77,9 +70,16 @@ class GpuDrivenViews {
   /// Frame slot `slot` begins: what it retired when it last ran is destroyed.
   void beginFrame(uint32_t slot);
   /// Records `view`'s passes for character `character` (`c`) with `camera` into `cmd` (outside
-  /// rendering), in frame slot `slot`, the passes' uniforms in `region`.
+  /// rendering), in frame slot `slot`, the passes' uniforms in `region`: occlusion culling's
+  /// first phase with `occlusion`.
   Status recordPasses(VkCommandBuffer cmd, uint32_t slot, FrameRegion region, uint32_t character,
-                      const CharacterResources& c, const CrowdView& view, const Camera& camera);
+                      const CharacterResources& c, const CrowdView& view, const Camera& camera,
+                      bool occlusion);
+  /// Records occlusion culling's second phase of `view`'s passes of this frame (a first phase):
+  /// `depth` into the view's pyramid, then the passes again, testing against it.
+  Status recordOcclusion(VkCommandBuffer cmd, uint32_t slot, FrameRegion region, uint32_t character,
+                         const CharacterResources& c, const CrowdView& view,
+                         const DepthSource& depth);
   /// Records the draws of `view`'s passes of this frame into `cmd` (inside rendering), shaded or
   /// depth only as `target` says: the pre-skinned entries pulled from the ring, then the others
   /// skinned in the vertex stage.
@@ -117,8 +117,21 @@ class GpuDrivenViews {
     }
     uint32_t ring_vertices = 0;      // 0: no pre-skinning.
     std::vector<GpuBuffer> staging;  // Per frame slot: the LODs' seed.
-    std::vector<GpuBuffer> readback;  // Per frame slot: the counters after its passes.
-    bool counted = false;             // Passes were recorded: readback[passes_slot] holds them.
+    // Per frame slot: the counters after its passes (each phase's, with occlusion culling).
+    std::vector<GpuBuffer> readback;
+    bool counted = false;  // Passes were recorded: readback[passes_slot] holds them,
+    uint32_t phases = 1;   // of this many phases.
+    // The last passes: their uniforms (the cull, commands, scatter and pre-skinning passes',
+    // in the frame's region), the cull pass's groups, and occlusion culling's phase (0: none;
+    // 1: the first, awaiting recordOcclusion; 2: the second).
+    VkDeviceSize defaults_at[4] = {};
+    uint32_t groups_x = 1, groups_y = 1;
+    uint32_t phase = 0;
+    // Occlusion culling: the depth pyramid, and the passes' set of each frame slot with it
+    // bound (written at each second phase: the pyramid is remade when the depth's size changes).
+    DepthPyramid pyramid;
+    VkDescriptorPool occlusion_pool = VK_NULL_HANDLE;
+    std::vector<VkDescriptorSet> occlusion_sets;
     // The passes' set and the draw's, each in a pool of its own.
     VkDescriptorPool pass_pool = VK_NULL_HANDLE, draw_pool = VK_NULL_HANDLE;
     VkDescriptorSet pass_set = VK_NULL_HANDLE, draw_set = VK_NULL_HANDLE;
@@ -132,6 +145,14 @@ class GpuDrivenViews {
   Status reshape(VkCommandBuffer cmd, View* v, uint32_t slot, const CharacterResources& c,
                  const DrivenCrowd& d, const CrowdView& view);
   void retire(uint32_t slot, View* v);
+  // Writes every binding of the passes' set `set` for `v`, character `c` and crowd state `d`,
+  // the depth pyramid `pyramid` (layout `pyramid_layout`).
+  void writePassSet(VkDescriptorSet set, View* v, const CharacterResources& c, const DrivenCrowd& d,
+                    VkImageView pyramid, VkImageLayout pyramid_layout);
+  // Records the passes of `v` with set `set` into `cmd` (the crowd's state and the view's LODs
+  // are up to date), their counters copied into slot `slot`'s readback at phase `phase_index`.
+  Status recordCullPasses(VkCommandBuffer cmd, View* v, VkDescriptorSet set, uint32_t slot,
+                          uint32_t phase_index, const CharacterResources& c);
   // Retires all of the view at `it` (its staging and readback too) and forgets it.
   void forget(uint32_t slot, std::map<std::pair<uint32_t, uint64_t>, View>::iterator it);
 

@@ -181,6 +181,7 @@ void Renderer::shutdown() {
   for (VkPipeline& p : m.passes)
     if (p != VK_NULL_HANDLE) vkDestroyPipeline(m.device(), p, m.allocator());
   destroyComputeLayout(m.device(), m.allocator(), &m.compute_layout);
+  destroyPyramidPasses(m.device(), m.allocator(), &m.pyramid_passes);
   for (SkinnedLayout* l : {&m.layout, &m.driven_layout}) {
     if (l->pipeline_layout != VK_NULL_HANDLE)
       vkDestroyPipelineLayout(m.device(), l->pipeline_layout, m.allocator());

@@ -41,10 +41,17 @@ Status Renderer::Impl::initGpuDriven(const VkPhysicalDeviceLimits& limits) {
     s = createComputeLayout(
         device(), allocator(),
         Span<const ProgramModules* const>(layout_passes.data(), layout_passes.size()),
-        &compute_layout);
+        drivenPassBindingType, "the GPU-driven passes", &compute_layout);
   for (int k = 0; k < 3 && s.isOk(); ++k)
     s = createComputePipeline(device(), allocator(), *pass_modules[k],
                               compute_layout.pipeline_layout, &passes[k]);
+  if (s.isOk()) {
+    using si::detail::ProgramId;
+    s = createPyramidPasses(
+        device(), allocator(), programs[vulkanComputeProgramIndex(ProgramId::kHizCopy)],
+        programs[vulkanComputeProgramIndex(ProgramId::kHizCopyMultisample)],
+        programs[vulkanComputeProgramIndex(ProgramId::kHizReduce)], nearest, &pyramid_passes);
+  }
   if (s.isOk())
     s = objects.createBuffer(256, VK_BUFFER_USAGE_STORAGE_BUFFER_BIT, false,
                              "the GPU-driven passes' unbuilt bindings", &unbuilt);
@@ -67,6 +74,8 @@ Status Renderer::Impl::initGpuDriven(const VkPhysicalDeviceLimits& limits) {
   shared.no_morphs = &no_morphs;
   shared.unbuilt = &unbuilt;
   shared.no_pyramid = &no_pyramid;
+  shared.pyramid_passes = &pyramid_passes;
+  shared.max_image_size = max_image_size;
   shared.max_groups_x = limits.maxComputeWorkGroupCount[0];
   shared.max_groups_y = limits.maxComputeWorkGroupCount[1];
   shared.max_storage_range = limits.maxStorageBufferRange;
@@ -79,7 +88,7 @@ Status Renderer::Impl::initGpuDriven(const VkPhysicalDeviceLimits& limits) {
 }
 
 Status Renderer::recordGpuDrivenPasses(VkCommandBuffer cmd, CharacterId id, const CrowdView& view,
-                                       const Camera& camera, PassStats* stats) {
+                                       const Camera& camera, PassStats* stats, GpuCulling culling) {
   if (!impl_)
     return {StatusCode::kInvalidArgument, "vk::Renderer::recordGpuDrivenPasses: not initialized"};
   Impl& m = *impl_;
@@ -104,8 +113,11 @@ Status Renderer::recordGpuDrivenPasses(VkCommandBuffer cmd, CharacterId id, cons
             strCat("vk::Renderer::recordGpuDrivenPasses: the Vulkan back-end's GPU-driven path "
                    "does not draw a crowd with ",
                    unbuilt, " yet")};
-  const Status s =
-      m.driven_views.recordPasses(cmd, uint32_t(m.frame), m.region(), id.index, c, view, camera);
+  if (culling != GpuCulling::kFrustum && culling != GpuCulling::kOcclusion)
+    return {StatusCode::kInvalidArgument,
+            strCat("vk::Renderer::recordGpuDrivenPasses: no GpuCulling ", int(culling))};
+  const Status s = m.driven_views.recordPasses(cmd, uint32_t(m.frame), m.region(), id.index, c,
+                                               view, camera, culling == GpuCulling::kOcclusion);
   if (s.isOk() && stats != nullptr) {
     const CrowdUpload& u = m.driven_views.lastUpload();
     stats->state_bytes_uploaded = u.state_bytes;
@@ -113,6 +125,34 @@ Status Renderer::recordGpuDrivenPasses(VkCommandBuffer cmd, CharacterId id, cons
     stats->whole_upload = u.whole;
   }
   return s;
+}
+
+Status Renderer::recordGpuDrivenOcclusion(VkCommandBuffer cmd, CharacterId id,
+                                          const CrowdView& view, const DepthSource& depth) {
+  static constexpr const char* kCall = "vk::Renderer::recordGpuDrivenOcclusion";
+  if (!impl_) return {StatusCode::kInvalidArgument, strCat(kCall, ": not initialized")};
+  Impl& m = *impl_;
+  if (!m.desc.gpu_driven)
+    return {StatusCode::kUnsupported, strCat(kCall,
+                                             ": the renderer was not made for the GPU-driven path "
+                                             "(RendererDesc::gpu_driven)")};
+  const Status checked = m.checkFrame(kCall, id);
+  if (!checked.isOk()) return checked;
+  const VkImageLayout l = depth.layout;
+  const bool readable =
+      l == VK_IMAGE_LAYOUT_DEPTH_STENCIL_READ_ONLY_OPTIMAL ||
+      l == VK_IMAGE_LAYOUT_DEPTH_READ_ONLY_OPTIMAL || l == VK_IMAGE_LAYOUT_READ_ONLY_OPTIMAL ||
+      l == VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL || l == VK_IMAGE_LAYOUT_GENERAL;
+  const uint32_t samples = uint32_t(depth.samples);
+  const bool sample_bit = samples != 0 && samples <= 64 && (samples & (samples - 1)) == 0;
+  if (depth.view == VK_NULL_HANDLE || !readable || depth.extent.width == 0 ||
+      depth.extent.height == 0 || !sample_bit)
+    return {StatusCode::kInvalidArgument,
+            strCat(kCall, ": the depth needs a view, a layout compute shaders read (VkImageLayout ",
+                   int(l), "), an extent (", depth.extent.width, " x ", depth.extent.height,
+                   ") and samples (", samples, ")")};
+  return m.driven_views.recordOcclusion(cmd, uint32_t(m.frame), m.region(), id.index,
+                                        *m.characters[id.index], view, depth);
 }
 
 Status Renderer::readGpuDrivenCounts(CharacterId id, const CrowdView& view,

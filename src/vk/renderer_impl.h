@@ -9,6 +9,7 @@
 
 #include "si/vk/renderer.h"
 #include "vk/character_resources.h"
+#include "vk/depth_pyramid.h"
 #include "vk/device_objects.h"
 #include "vk/gpu_driven_layout.h"
 #include "vk/gpu_driven_views.h"
@@ -35,12 +36,14 @@ struct Renderer::Impl {
   std::vector<detail::ProgramModules> programs;
   detail::SkinnedLayout layout;  // One set layout for drawCrowd's: the union of their declarations.
   // The GPU-driven path: its draws' set layout, its passes' layout and pipelines (cull,
-  // commands, scatter), what their unbuilt bindings are given, and its views.
+  // commands, scatter; the depth pyramid's), what their unbuilt bindings are given, and its
+  // views.
   detail::SkinnedLayout driven_layout;
   detail::ComputeLayout compute_layout;
   VkPipeline passes[3] = {};
   detail::GpuBuffer unbuilt;
   detail::GpuImage no_pyramid;
+  detail::PyramidPasses pyramid_passes;  // Occlusion culling's depth pyramid.
   detail::GpuDrivenViews driven_views;
   VkSampler nearest = VK_NULL_HANDLE, linear = VK_NULL_HANDLE;
   detail::GpuBuffer ring;

@@ -68,6 +68,11 @@ std::vector<VulkanProgram> makePrograms() {
       programs.push_back({ProgramId::kGpuSkin, VulkanKind::kShaded, true, true, false, false, false,
                           morph, eight, false,
                           std::string("gpu_skin") + (morph ? "_morph" : "") + (eight ? "_8" : "")});
+  for (const auto& [id, name] : {std::pair{ProgramId::kHizCopy, "hiz_copy"},
+                                 std::pair{ProgramId::kHizCopyMultisample, "hiz_copy_ms"},
+                                 std::pair{ProgramId::kHizReduce, "hiz_reduce"}})
+    programs.push_back({id, VulkanKind::kShaded, true, true, false, false, false, false, false,
+                        false, std::string(name)});
   return programs;
 }
 

@@ -50,7 +50,8 @@ struct VulkanProgram {
 /// words, then kind; then the GPU-driven path's draws, shaded and depth only, without layers,
 /// for the same meshes in the same order; its pre-skinned draws ("gpu_pulled", "_tangents",
 /// "_words"; "gpu_pulled_depth_only"); then its compute passes: "cull", "cull_commands",
-/// "cull_scatter", and the pre-skinning pass for each mesh ("gpu_skin", "_morph", "_8").
+/// "cull_scatter", the pre-skinning pass for each mesh ("gpu_skin", "_morph", "_8"), and
+/// occlusion culling's depth pyramid passes ("hiz_copy", "hiz_copy_ms", "hiz_reduce").
 Span<const VulkanProgram> vulkanPrograms();
 
 /// What a character's mesh needs of its programs.
@@ -66,7 +67,7 @@ struct MeshVariant {
 size_t vulkanProgramIndex(VulkanKind kind, bool layers, const MeshVariant& mesh,
                           bool gpu_driven = false);
 /// The index in vulkanPrograms() of the GPU-driven compute pass `id` (kCull, kCullCommands,
-/// kCullScatter; kGpuSkin for a mesh of `mesh`).
+/// kCullScatter, kHizCopy, kHizCopyMultisample, kHizReduce; kGpuSkin for a mesh of `mesh`).
 size_t vulkanComputeProgramIndex(si::detail::ProgramId id, const MeshVariant& mesh = {});
 /// The index in vulkanPrograms() of the GPU-driven pre-skinned draw of `kind` (kShaded or
 /// kDepthOnly) for a character with tangents or not and a mesh of `mesh` (its vertex words).

@@ -68,8 +68,8 @@ TEST(VulkanSpirv, EveryProgramsStagesAreEmbeddedAndValidForVulkan13) {
   ASSERT_EQ(kSpirvModuleCount, moduleNames().size());
   size_t compute = 0;
   for (const VulkanProgram& p : vulkanPrograms()) compute += p.compute;
-  EXPECT_EQ(compute, 7u)
-      << "the GPU-driven path's cull, commands and scatter passes, and 4 pre-skinning variants";
+  EXPECT_EQ(compute, 10u) << "the GPU-driven path's cull, commands and scatter passes, 4 "
+                             "pre-skinning variants and 3 depth pyramid passes";
   for (const std::string& name : moduleNames()) {
     SCOPED_TRACE(name);
     const SpirvModule* m = findSpirvModule(name.c_str());
@@ -199,7 +199,8 @@ TEST(VulkanSpirv, WhatTheReaderFindsIsWhatGlslangReports) {
 
 // The two stages of a program share one pipeline layout: a binding both declare is of one kind,
 // and each kind keeps to its range of the profile (uniform blocks below the storage shift,
-// storage blocks below the sampler shift, samplers below the default blocks).
+// storage blocks below the sampler shift, samplers below the image shift, images below the
+// default blocks).
 TEST(VulkanSpirv, TheStagesOfAProgramAgreeOnEveryBinding) {
   for (const VulkanProgram& p : vulkanPrograms()) {
     SCOPED_TRACE(p.name);
@@ -224,9 +225,12 @@ TEST(VulkanSpirv, TheStagesOfAProgramAgreeOnEveryBinding) {
         } else if (d.kind == DescriptorKind::kStorageBuffer) {
           EXPECT_GE(d.binding, kStorageBindingShift);
           EXPECT_LT(d.binding, kSamplerBindingShift);
+        } else if (d.kind == DescriptorKind::kStorageImage) {
+          EXPECT_GE(d.binding, kImageBindingShift);
+          EXPECT_LT(d.binding, kVertexDefaultsBinding);
         } else {
           EXPECT_GE(d.binding, kSamplerBindingShift);
-          EXPECT_LT(d.binding, kVertexDefaultsBinding);
+          EXPECT_LT(d.binding, kImageBindingShift);
         }
       }
     }

@@ -58,6 +58,7 @@ class VulkanGpuDrivenTest : public VulkanRenderFixture {
     examples::HeadlessVulkan::Frame f;
     f.clear_color = kBackground;
     f.color = mode == vk::DrawMode::kShaded;
+    if (!passes.empty()) f.clear_depth = clearDepth(passes[0].second);
     f.before = [&](VkCommandBuffer cmd) {
       Status s = renderer_.beginFrame(slot);
       pass_stats_.clear();
@@ -84,6 +85,40 @@ class VulkanGpuDrivenTest : public VulkanRenderFixture {
                           return s;
                         },
                         {image, depth});
+  }
+
+  // The depth cleared for `camera`: the far plane, 0 under reverse-Z.
+  static float clearDepth(const Camera& camera) {
+    return camera.depth == DepthConvention::kReversedZeroToOne ? 0.0f : 1.0f;
+  }
+
+  // One frame of two-phase occlusion culling of `view` with `camera` in slot `slot`: the first
+  // phase's passes and draw, then (the rendering ended) the depth pyramid and the second
+  // phase's passes, then its draw in a rendering that loads the first's targets.
+  Status occlusionFrame(uint32_t slot, const CrowdView& view, const Camera& camera,
+                        std::vector<uint8_t>* image) {
+    examples::HeadlessVulkan::Frame f;
+    f.clear_color = kBackground;
+    f.clear_depth = clearDepth(camera);
+    f.before = [&](VkCommandBuffer cmd) {
+      Status s = renderer_.beginFrame(slot);
+      if (s.isOk())
+        s = renderer_.recordGpuDrivenPasses(cmd, id_, view, camera, nullptr,
+                                            vk::GpuCulling::kOcclusion);
+      return s;
+    };
+    const vk::DrawTarget target{{kSize, kSize}};
+    const auto draw = [&](VkCommandBuffer cmd) {
+      return renderer_.recordGpuDrivenDraw(cmd, target, id_, view);
+    };
+    f.between = [&](VkCommandBuffer cmd, VkImageView depth) {
+      vk::DepthSource source;
+      source.view = depth;
+      source.extent = {kSize, kSize};
+      return renderer_.recordGpuDrivenOcclusion(cmd, id_, view, source);
+    };
+    f.after = draw;
+    return host_.render(f, draw, {image});
   }
 
   // Expects `image` within the golden tolerance of `gl_image`, and a crowd drawn.
@@ -173,6 +208,69 @@ TEST_P(VulkanGpuDrivenTest, ThePassesAndTheDrawGiveOpenGlsImage) {
       EXPECT_GT(covered, 2000u);
       EXPECT_LE(apart, covered / 200) << apart << " of " << covered;
     }
+  EXPECT_TRUE(host_.messages().empty()) << messages();
+}
+
+// Two-phase occlusion culling (GpuCulling::kOcclusion's passes and draw, then
+// recordGpuDrivenOcclusion between two renderings, then the draw again): a dense wall of
+// characters in front of a crowd, seen from below the wall's top, under OpenGL's depth and
+// reverse-Z. Each frame's image is the
+// one drawn without occlusion culling (si::vk's, and si::gl's); frame 0 has no history (the
+// first phase draws nothing, the second everything), frame 1's first phase draws it all and
+// its second learns what is hidden, and from frame 2 on most of the crowd behind the wall is
+// not drawn, as with si::gl's occlusion culling.
+TEST_P(VulkanGpuDrivenTest, OcclusionCullingDrawsTheSameImageWithFewerTriangles) {
+  SI_START_VULKAN_HOST();
+  ASSERT_NO_FATAL_FAILURE(start());
+  CrowdManager crowd;
+  makeCrowd(&crowd);
+  populateWallCrowd(&crowd);
+  // wallCamera() tilted up by about 10 degrees: the wall fills the lower part of the image, so
+  // a pyramid upside down (Vulkan's depth rows run from the top) would not hide the crowd.
+  const glm::dvec3 eye(0.0, 1.0, 2.0), target(0.0, 8.4, -40.0);
+  const Camera wall = Camera::lookAt(eye, target, glm::vec3(0, 1, 0), 0.9f, 1.0f, 0.1f, 500.0f);
+  const Camera reversed =
+      Camera::lookAtReverseZ(eye, target, glm::vec3(0, 1, 0), 0.9f, 1.0f, 0.1f, 500.0f);
+  uint32_t slot = 0;
+  for (const Camera& camera : {wall, reversed}) {
+    SCOPED_TRACE(camera.depth == DepthConvention::kReversedZeroToOne ? "reverse-Z" : "OpenGL's");
+    CrowdView occluding;  // Its own history (visible last frame), apart from the plain view's.
+    ASSERT_TRUE(occluding.init(crowd).isOk());
+    for (int f = 0; f < 4; ++f) {
+      SCOPED_TRACE(f);
+      ASSERT_TRUE(crowd.advance(f == 0 ? 0.0 : 1.0 / 30.0).isOk());
+      std::vector<uint8_t> expected, actual;
+      Status s =
+          frame(slot, {{&crowd.view(), camera}}, {&crowd.view()}, vk::DrawMode::kShaded, &expected);
+      ASSERT_TRUE(s.isOk()) << s.toString();
+      vk::GpuDrivenCounts all, culled;
+      ASSERT_TRUE(renderer_.readGpuDrivenCounts(id_, crowd.view(), &all).isOk());
+      slot = (slot + 1) % 2;
+      s = occlusionFrame(slot, occluding, camera, &actual);
+      ASSERT_TRUE(s.isOk()) << s.toString();
+      ASSERT_TRUE(renderer_.readGpuDrivenCounts(id_, occluding, &culled).isOk());
+      slot = (slot + 1) % 2;
+      const Diff diff = compare(actual, expected, nullptr);
+      EXPECT_LE(diff.share, 0.001) << "max channel difference " << diff.max_channel;
+      if (diff.share > 0.001) {
+        const std::string base = ::testing::TempDir() + "si_vk_occlusion_" + std::to_string(f);
+        EXPECT_TRUE(writePng(base + ".png", kSize, kSize, actual).isOk());
+        EXPECT_TRUE(writePng(base + "_expected.png", kSize, kSize, expected).isOk());
+      }
+      std::printf("[ occlusion] %s frame %d: %llu of %llu triangles, %u of %u instances\n",
+                  camera.depth == DepthConvention::kReversedZeroToOne ? "reverse-Z" : "OpenGL", f,
+                  static_cast<unsigned long long>(culled.triangles),
+                  static_cast<unsigned long long>(all.triangles), culled.visible, all.visible);
+      if (f < 2) {
+        EXPECT_EQ(culled.triangles, all.triangles);
+      } else {
+        EXPECT_LT(culled.triangles * 2, all.triangles);  // Most of the crowd is hidden.
+        EXPECT_GE(culled.visible, 40u);                  // The wall's front row is drawn.
+      }
+      if (f == 3 && camera.depth != DepthConvention::kReversedZeroToOne)
+        expectSameImage(actual, glImage(crowd, camera), "occlusion");
+    }
+  }
   EXPECT_TRUE(host_.messages().empty()) << messages();
 }
 
@@ -343,6 +441,38 @@ TEST_P(VulkanGpuDrivenTest, RefusalsAreNamed) {
           .isOk());
   s = frame(0, {}, {&crowd.view()}, vk::DrawMode::kShaded, &image);
   EXPECT_EQ(s.code(), StatusCode::kInvalidArgument) << s.toString();
+  // Occlusion culling's second phase: only after a first phase of this frame, once, with a
+  // depth compute shaders can read, its pyramid within maxImageDimension2D.
+  {
+    VkPhysicalDeviceProperties props{};
+    vkGetPhysicalDeviceProperties(host_.physicalDevice(), &props);
+    const VkImageView some_view = reinterpret_cast<VkImageView>(uintptr_t(1));  // Never read.
+    const auto second = [&](vk::GpuCulling culling, const vk::DepthSource& depth) {
+      return host_.submit([&](VkCommandBuffer cmd) {
+        EXPECT_TRUE(renderer_.beginFrame(0).isOk());
+        Status first =
+            renderer_.recordGpuDrivenPasses(cmd, id_, crowd.view(), lodCamera(), nullptr, culling);
+        return first.isOk() ? renderer_.recordGpuDrivenOcclusion(cmd, id_, crowd.view(), depth)
+                            : first;
+      });
+    };
+    vk::DepthSource depth;
+    depth.view = some_view;
+    depth.extent = {kSize, kSize};
+    s = second(vk::GpuCulling::kFrustum, depth);
+    EXPECT_EQ(s.code(), StatusCode::kInvalidArgument) << s.toString();
+    EXPECT_NE(s.message().find("first phase"), std::string::npos) << s.toString();
+    vk::DepthSource attachment = depth;
+    attachment.layout = VK_IMAGE_LAYOUT_DEPTH_ATTACHMENT_OPTIMAL;
+    s = second(vk::GpuCulling::kOcclusion, attachment);
+    EXPECT_EQ(s.code(), StatusCode::kInvalidArgument) << s.toString();
+    EXPECT_NE(s.message().find("layout"), std::string::npos) << s.toString();
+    vk::DepthSource huge = depth;
+    huge.extent = {props.limits.maxImageDimension2D + 1, 1};
+    s = second(vk::GpuCulling::kOcclusion, huge);
+    EXPECT_EQ(s.code(), StatusCode::kLimitExceeded) << s.toString();
+    EXPECT_NE(s.message().find("maxImageDimension2D"), std::string::npos) << s.toString();
+  }
   // A crowd playing an overlay.
   std::vector<InstanceHandle> handles;
   std::vector<GpuInstanceState> state;

@@ -43,6 +43,20 @@
 ///   crowd_renderer.recordGpuDrivenDraw(cmd, shadow_target, id, cascade_view);
 ///   // ... vkCmdBeginRendering (colour and depth) ...
 ///   crowd_renderer.recordGpuDrivenDraw(cmd, target, id, crowd.view());
+///
+///   // With occlusion culling (GpuCulling::kOcclusion): the first phase (what was visible last
+///   // frame) drawn, the host's depth reduced and the second phase recorded between two
+///   // renderings, then the second phase's draw (the rest of what is visible).
+///   crowd_renderer.recordGpuDrivenPasses(cmd, id, crowd.view(), camera, nullptr,
+///                                        si::vk::GpuCulling::kOcclusion);
+///   // ... vkCmdBeginRendering: the host's occluders, then ...
+///   crowd_renderer.recordGpuDrivenDraw(cmd, target, id, crowd.view());
+///   // ... vkCmdEndRendering; the depth to a read-only layout (a barrier to compute reads) ...
+///   si::vk::DepthSource depth;
+///   depth.view = depth_view; depth.extent = extent;
+///   crowd_renderer.recordGpuDrivenOcclusion(cmd, id, crowd.view(), depth);
+///   // ... the depth back to an attachment; vkCmdBeginRendering, loading colour and depth ...
+///   crowd_renderer.recordGpuDrivenDraw(cmd, target, id, crowd.view());
 /// \endcode
 ///
 /// What is built: the vertex-shader path, shaded (the built-in material, with motion vectors
@@ -50,11 +64,11 @@
 /// (reverse-Z included) and with y-flipped projections; meshes of 4 or 8 influences a vertex,
 /// with or without morph targets, vertex colours and a second texture coordinate set (each
 /// drawn by its program variant); layered animation (overlays on their masks, 1D blends);
-/// palettes of every si::PaletteFormat; and the GPU-driven path's culling, LOD and indirect
-/// draw (recordGpuDrivenPasses, recordGpuDrivenDraw: shaded or depth only, every mesh variant,
-/// without layers, live poses, motion vectors, impostors or occlusion yet). Everything else
-/// (compute pre-skinning, 2D blends, host materials, impostors, occlusion) is refused by name
-/// (kUnsupported).
+/// palettes of every si::PaletteFormat; and the GPU-driven path's culling, LOD, pre-skinning
+/// and indirect draw (recordGpuDrivenPasses, recordGpuDrivenDraw: shaded or depth only, every
+/// mesh variant, with two-phase occlusion culling or without; not yet with layers, live poses,
+/// motion vectors or impostors). Everything else (the instanced path's compute pre-skinning, 2D
+/// blends, host materials, impostors) is refused by name (kUnsupported).
 /// What the host must do: record recordUploads() before the first draw of a character and
 /// submit it before (or with) that draw; give each frame in flight its own slot (beginFrame(),
 /// below RendererDesc::frames_in_flight) and wait for a slot's last frame before beginning it
@@ -156,6 +170,41 @@ struct DrawTarget {
   /// Depth bias (shadow maps), as vkCmdSetDepthBias's constant and slope factors; both 0: none.
   float depth_bias_constant = 0.0f;
   float depth_bias_slope = 0.0f;
+};
+
+/// How recordGpuDrivenPasses() culls a view.
+enum class GpuCulling : uint8_t {
+  /// Against the frustum and the view's range: the draws that follow draw the view's selection.
+  kFrustum = 0,
+  /// Two-phase occlusion culling (si::Renderer's RendererDesc::gpu_occlusion_culling). These
+  /// passes are the first phase: the instances in the frustum that were visible at the end of
+  /// the view's last frame, which the draws that follow draw into the host's depth. Then,
+  /// outside rendering, recordGpuDrivenOcclusion() reduces that depth (with whatever the host
+  /// drew into it before, with the same camera) into a depth pyramid and records the second
+  /// phase: every instance in the frustum tested against it (its clip's bounding box); those
+  /// not occluded are visible next frame, and the draws after it draw those the first phase did
+  /// not. The image is the one drawn without occlusion culling. A view's first frame (or one
+  /// after its crowd was reshaped) has no history: the first phase draws nothing.
+  kOcclusion,
+};
+
+/// The host's depth as occlusion culling's second phase reads it (recordGpuDrivenOcclusion()).
+struct DepthSource {
+  /// A view of the depth aspect alone of the depth attachment the first phase drew into (an
+  /// image made with VK_IMAGE_USAGE_SAMPLED_BIT), single-sampled or multisampled (each pixel's
+  /// farthest sample is kept).
+  VkImageView view = VK_NULL_HANDLE;
+  /// The layout the host put it in for compute shaders to read:
+  /// VK_IMAGE_LAYOUT_DEPTH_STENCIL_READ_ONLY_OPTIMAL (the default),
+  /// VK_IMAGE_LAYOUT_DEPTH_READ_ONLY_OPTIMAL, VK_IMAGE_LAYOUT_READ_ONLY_OPTIMAL,
+  /// VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL or VK_IMAGE_LAYOUT_GENERAL; the host's barrier
+  /// made the rendering's depth writes visible to VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT's
+  /// VK_ACCESS_SHADER_READ_BIT.
+  VkImageLayout layout = VK_IMAGE_LAYOUT_DEPTH_STENCIL_READ_ONLY_OPTIMAL;
+  /// The area the first phase's draws covered (their DrawTarget::extent), from the origin.
+  VkExtent2D extent{0, 0};
+  /// The image's samples.
+  VkSampleCountFlagBits samples = VK_SAMPLE_COUNT_1_BIT;
 };
 
 /// What recordGpuDrivenPasses() recorded of the crowd's state: the bytes of instance state it
@@ -269,8 +318,26 @@ class Renderer {
   /// for a crowd that plays overlays, holds live poses or has an impostor level (not built on
   /// Vulkan yet); kLimitExceeded when a buffer passes maxStorageBufferRange, the instances need
   /// more compute groups than the device has, or the frame's uniforms pass the slot's region.
+  /// With GpuCulling::kOcclusion the passes are occlusion culling's first phase: draw them, end
+  /// the rendering, then record recordGpuDrivenOcclusion() in the same frame.
   Status recordGpuDrivenPasses(VkCommandBuffer cmd, CharacterId id, const CrowdView& view,
-                               const Camera& camera, PassStats* stats = nullptr);
+                               const Camera& camera, PassStats* stats = nullptr,
+                               GpuCulling culling = GpuCulling::kFrustum);
+  /// Occlusion culling's second phase: records into `cmd` (outside rendering, after the draws
+  /// of `view`'s first phase, passes of GpuCulling::kOcclusion in this frame) the reduction of
+  /// `depth` into the view's depth pyramid (R32F, power-of-two sides at least `depth.extent`'s,
+  /// a full mip chain: remade when the extent changes) and the passes of the second phase with
+  /// the first phase's camera. Then, in a rendering that loads the targets the first phase drew
+  /// into, recordGpuDrivenDraw() draws the instances the second phase found visible that the
+  /// first did not. The depth is read as the draws wrote it: window depth 0 to 1 of the
+  /// camera's convention (greater is farther, or nearer under reverse-Z), the viewport flipped
+  /// as the draws flip it. kInvalidArgument for no beginFrame(), an unknown character, a view
+  /// whose passes of this frame were not a first phase (or already have their second), a null
+  /// depth view, a layout not listed at DepthSource::layout, an empty extent or samples that
+  /// are no VkSampleCountFlagBits; kLimitExceeded for a pyramid past maxImageDimension2D or
+  /// uniforms past the slot's region; kBackend naming a failed call.
+  Status recordGpuDrivenOcclusion(VkCommandBuffer cmd, CharacterId id, const CrowdView& view,
+                                  const DepthSource& depth);
   /// Part 2: records the draws of `view`'s passes of this frame into `cmd` (inside the host's
   /// rendering, as recordDraw: `target` says where and what), with the passes' camera: with a
   /// ring (RendererDesc::gpu_driven_ring_bytes) one vkCmdDrawIndexedIndirect of every bucket's
@@ -284,11 +351,12 @@ class Renderer {
                              const CrowdView& view, DrawStats* stats = nullptr);
   /// The GPU-driven path's device memory now (zero before init()).
   GpuDrivenMemory gpuDrivenMemory() const;
-  /// What `view`'s last passes of character `id` counted, copied by those passes into a
-  /// host-visible buffer of their frame slot: read after the host has waited for that frame
-  /// (and before the slot's next beginFrame()); the renderer cannot tell otherwise. For tests,
-  /// tools and statistics: nothing waits. kInvalidArgument before init(), for a null output, an
-  /// unknown character or a view whose passes were never recorded.
+  /// What `view`'s last passes of character `id` counted (both phases, with occlusion culling),
+  /// copied by those passes into a host-visible buffer of their frame slot: read after the host
+  /// has waited for that frame (and before the slot's next beginFrame()); the renderer cannot
+  /// tell otherwise. For tests, tools and statistics: nothing waits. kInvalidArgument before
+  /// init(), for a null output, an unknown character or a view whose passes were never
+  /// recorded.
   Status readGpuDrivenCounts(CharacterId id, const CrowdView& view, GpuDrivenCounts* out) const;
 
  private:

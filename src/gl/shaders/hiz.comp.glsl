@@ -26,11 +26,19 @@ layout(binding = 0) uniform sampler2D u_depth;
 float siDepth(ivec2 p) { return texelFetch(u_depth, p, 0).r; }
 #endif
 layout(binding = 0, r32f) writeonly uniform image2D u_out;
+// Level 0's texel p holds the depth's pixel p, rows from the bottom as OpenGL's window. The
+// Vulkan back-end's draws flip the viewport (so the image is OpenGL's): its depth's rows run
+// from the top.
+#ifdef VULKAN
+ivec2 siSourcePixel(ivec2 p) { return ivec2(p.x, u_source_size.y - 1 - p.y); }
+#else
+ivec2 siSourcePixel(ivec2 p) { return p; }
+#endif
 void main() {
   ivec2 p = ivec2(gl_GlobalInvocationID.xy);
   if (any(greaterThanEqual(p, u_size))) return;
   bool inside = all(lessThan(p, u_source_size));
-  imageStore(u_out, p, vec4(inside ? siDepth(p) : float(u_far_is_max)));
+  imageStore(u_out, p, vec4(inside ? siDepth(siSourcePixel(p)) : float(u_far_is_max)));
 }
 #else
 layout(binding = 0, r32f) readonly uniform image2D u_in;
