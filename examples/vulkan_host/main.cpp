@@ -7,12 +7,14 @@
 // main view shaded, both inside the host's dynamic rendering. The crowd advances and each view
 // selects on the CPU (si::CrowdManager, si::CrowdView); with --gpu-driven each view's selection
 // is computed on the GPU instead (recordGpuDrivenPasses, recorded before the host's renderings,
-// then recordGpuDrivenDraw inside them) and the crowd only advances its clock. Prints the GPU
+// then recordGpuDrivenDraw inside them) and the crowd only advances its clock; with --occlusion
+// the main view is also culled against the host's depth in two phases (GpuCulling::kOcclusion,
+// then recordGpuDrivenOcclusion between two renderings of the main view). Prints the GPU
 // time of each view (the host's timestamps; the passes counted with the shadow view), writes the
 // last frame as a PNG, and exits 1 when the validation layer (on when installed) reported
 // anything.
 // Usage: vulkan_host [--size WxH] [--instances N] [--frames N] [--reverse-z] [--gpu-driven]
-//                    [--out FILE.png]
+//                    [--occlusion] [--out FILE.png]
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
@@ -38,6 +40,7 @@ struct Options {
   uint32_t width = 640, height = 360, instances = 2000, frames = 30;
   bool reverse_z = false;
   bool gpu_driven = false;
+  bool occlusion = false;  // The main view's occlusion culling (GPU-driven).
   std::string out = "vulkan_host.png";
 };
 
@@ -63,6 +66,8 @@ bool parse(int argc, char** argv, Options* o) {
       o->reverse_z = true;
     } else if (a == "--gpu-driven") {
       o->gpu_driven = true;
+    } else if (a == "--occlusion") {
+      o->gpu_driven = o->occlusion = true;
     } else if (a == "--out" && has) {
       o->out = argv[++i];
     } else {
@@ -84,7 +89,7 @@ int main(int argc, char** argv) {
   if (!parse(argc, argv, &o)) {
     std::fprintf(stderr,
                  "usage: vulkan_host [--size WxH] [--instances N] [--frames N] [--reverse-z] "
-                 "[--gpu-driven] [--out FILE.png]\n");
+                 "[--gpu-driven] [--occlusion] [--out FILE.png]\n");
     return 1;
   }
   // The host's own Vulkan: instance, device, queue and targets.
@@ -182,7 +187,9 @@ int main(int argc, char** argv) {
       if (begun.isOk() && o.gpu_driven)
         begun = renderer.recordGpuDrivenPasses(cmd, id, shadow_view, sun);
       if (begun.isOk() && o.gpu_driven)
-        begun = renderer.recordGpuDrivenPasses(cmd, id, crowd.view(), camera);
+        begun = renderer.recordGpuDrivenPasses(
+            cmd, id, crowd.view(), camera, nullptr,
+            o.occlusion ? si::vk::GpuCulling::kOcclusion : si::vk::GpuCulling::kFrustum);
       return begun;
     };
     std::vector<float> depth;
@@ -204,21 +211,43 @@ int main(int argc, char** argv) {
     main_frame.clear_color = glm::vec4(0.55f, 0.6f, 0.55f, 1.0f);
     main_frame.clear_depth = o.reverse_z ? 0.0f : 1.0f;
     si::vk::DrawStats stats;
-    s = host.render(
-        main_frame,
-        [&](VkCommandBuffer cmd) {
-          // The shadow view's records stay in the slot's region: the main view's follow them.
-          const si::vk::DrawTarget target{{o.width, o.height}};
-          return o.gpu_driven
-                     ? renderer.recordGpuDrivenDraw(cmd, target, id, crowd.view(), &stats)
-                     : renderer.recordDraw(cmd, target, id, crowd.view(), batcher, camera, &stats);
-        },
-        {f + 1 == o.frames ? &rgba : nullptr, nullptr, nullptr, &ms});
+    const si::vk::DrawTarget target{{o.width, o.height}};
+    const auto draw_main = [&](VkCommandBuffer cmd) {
+      // The shadow view's records stay in the slot's region: the main view's follow them.
+      si::vk::DrawStats drawn;
+      const si::Status d =
+          o.gpu_driven
+              ? renderer.recordGpuDrivenDraw(cmd, target, id, crowd.view(), &drawn)
+              : renderer.recordDraw(cmd, target, id, crowd.view(), batcher, camera, &drawn);
+      stats.draw_calls += drawn.draw_calls;
+      stats.triangles += drawn.triangles;
+      return d;
+    };
+    if (o.occlusion) {
+      // The first phase drawn, the rendering ends: the host's depth (read-only for compute
+      // shaders) reduced and the second phase recorded; its draw in a rendering that loads.
+      main_frame.between = [&](VkCommandBuffer cmd, VkImageView depth_view) {
+        si::vk::DepthSource source;
+        source.view = depth_view;
+        source.extent = target.extent;
+        return renderer.recordGpuDrivenOcclusion(cmd, id, crowd.view(), source);
+      };
+      main_frame.after = draw_main;
+    }
+    s = host.render(main_frame, draw_main,
+                    {f + 1 == o.frames ? &rgba : nullptr, nullptr, nullptr, &ms});
     if (!s.isOk()) return fail("the main view", s);
     main_ms.push_back(ms);
-    if (f + 1 == o.frames && o.gpu_driven)
-      std::printf("vulkan_host: last frame GPU-driven, %u indirect draws\n", stats.draw_calls);
-    else if (f + 1 == o.frames)
+    if (f + 1 == o.frames && o.gpu_driven) {
+      si::vk::GpuDrivenCounts counts;  // The host has waited for the frame.
+      s = renderer.readGpuDrivenCounts(id, crowd.view(), &counts);
+      if (!s.isOk()) return fail("the main view's counts", s);
+      std::printf(
+          "vulkan_host: last frame GPU-driven%s, %u indirect draws, %u visible, %llu "
+          "triangles\n",
+          o.occlusion ? " with occlusion culling" : "", stats.draw_calls, counts.visible,
+          static_cast<unsigned long long>(counts.triangles));
+    } else if (f + 1 == o.frames)
       std::printf("vulkan_host: last frame %u visible, %u draws, %llu triangles\n",
                   crowd.view().stats().visible, stats.draw_calls,
                   static_cast<unsigned long long>(stats.triangles));
@@ -230,9 +259,10 @@ int main(int argc, char** argv) {
       "vulkan_host: %u instances, %u frames at %ux%u%s: GPU median %.3f ms shadow view "
       "(depth only), %.3f ms main view; covered pixels %llu, shadow texels %llu\n",
       o.instances, o.frames, o.width, o.height,
-      o.gpu_driven  ? (o.reverse_z ? ", GPU-driven, reverse-Z" : ", GPU-driven")
-      : o.reverse_z ? ", reverse-Z"
-                    : "",
+      o.occlusion ? (o.reverse_z ? ", GPU-driven, occlusion, reverse-Z" : ", GPU-driven, occlusion")
+      : o.gpu_driven ? (o.reverse_z ? ", GPU-driven, reverse-Z" : ", GPU-driven")
+      : o.reverse_z  ? ", reverse-Z"
+                     : "",
       median(shadow_ms), median(main_ms), static_cast<unsigned long long>(covered),
       static_cast<unsigned long long>(shadow_texels));
   s = si::writePng(o.out, o.width, o.height, rgba);
