@@ -67,11 +67,9 @@ HeadlessVulkan::~HeadlessVulkan() {
     vkDeviceWaitIdle(device_);
     vkDestroyBuffer(device_, readback_, nullptr);
     vkFreeMemory(device_, readback_memory_, nullptr);
-    for (VkImageView v : {color_view_, depth_view_, motion_view_})
-      vkDestroyImageView(device_, v, nullptr);
-    for (VkImage i : {color_, depth_, motion_}) vkDestroyImage(device_, i, nullptr);
-    for (VkDeviceMemory m : {color_memory_, depth_memory_, motion_memory_})
-      vkFreeMemory(device_, m, nullptr);
+    for (Target* t :
+         {&color_, &depth_, &motion_, &color_resolved_, &depth_resolved_, &motion_resolved_})
+      destroy(t);
     if (timestamps_ != VK_NULL_HANDLE) vkDestroyQueryPool(device_, timestamps_, nullptr);
     vkDestroyCommandPool(device_, pool_, nullptr);
     vkDestroyDevice(device_, nullptr);
@@ -84,9 +82,10 @@ HeadlessVulkan::~HeadlessVulkan() {
   if (instance_ != VK_NULL_HANDLE) vkDestroyInstance(instance_, nullptr);
 }
 
-Status HeadlessVulkan::create(uint32_t width, uint32_t height) {
+Status HeadlessVulkan::create(uint32_t width, uint32_t height, VkSampleCountFlagBits samples) {
   width_ = width;
   height_ = height;
+  samples_ = samples;
   // The validation layer and its messenger, when installed.
   uint32_t count = 0;
   vkEnumerateInstanceLayerProperties(&count, nullptr);
@@ -186,19 +185,35 @@ Status HeadlessVulkan::create(uint32_t width, uint32_t height) {
     query.queryCount = 2;
     s = checkVk(vkCreateQueryPool(device_, &query, nullptr, &timestamps_), "vkCreateQueryPool");
   }
+  VkPhysicalDeviceProperties props{};
+  vkGetPhysicalDeviceProperties(physical_, &props);
+  if (s.isOk() && (props.limits.framebufferColorSampleCounts &
+                   props.limits.framebufferDepthSampleCounts & samples) == 0)
+    s = {StatusCode::kUnsupported,
+         "the device renders no " + std::to_string(int(samples)) + " samples"};
+  // The attachments (the depth also read by occlusion culling) and, multisampled, the
+  // single-sampled images they resolve into.
+  const bool multisampled = samples != VK_SAMPLE_COUNT_1_BIT;
+  const VkImageUsageFlags colour =
+      VK_IMAGE_USAGE_COLOR_ATTACHMENT_BIT | VK_IMAGE_USAGE_TRANSFER_SRC_BIT;
+  const VkImageUsageFlags depth =
+      VK_IMAGE_USAGE_DEPTH_STENCIL_ATTACHMENT_BIT | VK_IMAGE_USAGE_TRANSFER_SRC_BIT;
   if (s.isOk())
-    s = createTarget(VK_FORMAT_R8G8B8A8_UNORM,
-                     VK_IMAGE_USAGE_COLOR_ATTACHMENT_BIT | VK_IMAGE_USAGE_TRANSFER_SRC_BIT,
-                     VK_IMAGE_ASPECT_COLOR_BIT, &color_, &color_memory_, &color_view_);
+    s = createTarget(VK_FORMAT_R8G8B8A8_UNORM, colour, VK_IMAGE_ASPECT_COLOR_BIT, samples, &color_);
   if (s.isOk())
-    s = createTarget(kMotionFormat,
-                     VK_IMAGE_USAGE_COLOR_ATTACHMENT_BIT | VK_IMAGE_USAGE_TRANSFER_SRC_BIT,
-                     VK_IMAGE_ASPECT_COLOR_BIT, &motion_, &motion_memory_, &motion_view_);
+    s = createTarget(kMotionFormat, colour, VK_IMAGE_ASPECT_COLOR_BIT, samples, &motion_);
   if (s.isOk())
-    s = createTarget(VK_FORMAT_D32_SFLOAT,
-                     VK_IMAGE_USAGE_DEPTH_STENCIL_ATTACHMENT_BIT | VK_IMAGE_USAGE_TRANSFER_SRC_BIT |
-                         VK_IMAGE_USAGE_SAMPLED_BIT,  // Read by occlusion culling.
-                     VK_IMAGE_ASPECT_DEPTH_BIT, &depth_, &depth_memory_, &depth_view_);
+    s = createTarget(VK_FORMAT_D32_SFLOAT, depth | VK_IMAGE_USAGE_SAMPLED_BIT,
+                     VK_IMAGE_ASPECT_DEPTH_BIT, samples, &depth_);
+  if (s.isOk() && multisampled)
+    s = createTarget(VK_FORMAT_R8G8B8A8_UNORM, colour, VK_IMAGE_ASPECT_COLOR_BIT,
+                     VK_SAMPLE_COUNT_1_BIT, &color_resolved_);
+  if (s.isOk() && multisampled)
+    s = createTarget(kMotionFormat, colour, VK_IMAGE_ASPECT_COLOR_BIT, VK_SAMPLE_COUNT_1_BIT,
+                     &motion_resolved_);
+  if (s.isOk() && multisampled)
+    s = createTarget(VK_FORMAT_D32_SFLOAT, depth, VK_IMAGE_ASPECT_DEPTH_BIT, VK_SAMPLE_COUNT_1_BIT,
+                     &depth_resolved_);
   if (!s.isOk()) return s;
   auto buffer = vkStruct<VkBufferCreateInfo>(VK_STRUCTURE_TYPE_BUFFER_CREATE_INFO);
   buffer.size = VkDeviceSize(width) * height * 12;  // The colour, the depth, the motion.
@@ -218,16 +233,26 @@ Status HeadlessVulkan::create(uint32_t width, uint32_t height) {
   return s;
 }
 
+void HeadlessVulkan::destroy(Target* t) {
+  vkDestroyImageView(device_, t->view, nullptr);
+  vkDestroyImage(device_, t->image, nullptr);
+  vkFreeMemory(device_, t->memory, nullptr);
+  *t = Target();
+}
+
 Status HeadlessVulkan::createTarget(VkFormat format, VkImageUsageFlags usage,
-                                    VkImageAspectFlags aspect, VkImage* image,
-                                    VkDeviceMemory* memory, VkImageView* view) {
+                                    VkImageAspectFlags aspect, VkSampleCountFlagBits samples,
+                                    Target* out) {
+  VkImage* image = &out->image;
+  VkDeviceMemory* memory = &out->memory;
+  VkImageView* view = &out->view;
   auto info = vkStruct<VkImageCreateInfo>(VK_STRUCTURE_TYPE_IMAGE_CREATE_INFO);
   info.imageType = VK_IMAGE_TYPE_2D;
   info.format = format;
   info.extent = {width_, height_, 1};
   info.mipLevels = 1;
   info.arrayLayers = 1;
-  info.samples = VK_SAMPLE_COUNT_1_BIT;
+  info.samples = samples;
   info.tiling = VK_IMAGE_TILING_OPTIMAL;
   info.usage = usage;
   Status s = checkVk(vkCreateImage(device_, &info, nullptr, image), "vkCreateImage");
@@ -289,10 +314,17 @@ Status HeadlessVulkan::render(const Frame& frame,
         VK_ACCESS_DEPTH_STENCIL_ATTACHMENT_READ_BIT | VK_ACCESS_DEPTH_STENCIL_ATTACHMENT_WRITE_BIT;
     constexpr VkPipelineStageFlags kDepthStages =
         VK_PIPELINE_STAGE_EARLY_FRAGMENT_TESTS_BIT | VK_PIPELINE_STAGE_LATE_FRAGMENT_TESTS_BIT;
+    // Multisampled, each attachment resolves at the end of each rendering into its resolved
+    // image (written as a colour attachment is, depth included), which is read back.
+    const bool multisampled = samples_ != VK_SAMPLE_COUNT_1_BIT;
+    constexpr VkPipelineStageFlags kResolveStages =
+        VK_PIPELINE_STAGE_COLOR_ATTACHMENT_OUTPUT_BIT | kDepthStages;
+    constexpr VkAccessFlags kResolveAccess =
+        VK_ACCESS_COLOR_ATTACHMENT_WRITE_BIT | VK_ACCESS_DEPTH_STENCIL_ATTACHMENT_WRITE_BIT;
     // The colour attachments this frame has: the colour, and the motion when asked.
     struct Attachment {
-      VkImage image;
-      VkImageView view;
+      const Target* target;
+      const Target* read;  // The image read back: the target, or the one it resolves into.
       glm::vec4 clear;
       std::vector<uint8_t>* rgba;      // Read back as bytes (the colour) ...
       std::vector<glm::vec2>* motion;  // ... or as two half floats (the motion).
@@ -300,33 +332,51 @@ Status HeadlessVulkan::render(const Frame& frame,
     };
     std::vector<Attachment> attachments;
     if (frame.color)
-      attachments.push_back({color_, color_view_, frame.clear_color, out.rgba, nullptr, 0});
+      attachments.push_back({&color_, multisampled ? &color_resolved_ : &color_, frame.clear_color,
+                             out.rgba, nullptr, 0});
     if (frame.motion)
-      attachments.push_back(
-          {motion_, motion_view_, glm::vec4(0.0f), nullptr, out.motion, 2 * plane});
+      attachments.push_back({&motion_, multisampled ? &motion_resolved_ : &motion_, glm::vec4(0.0f),
+                             nullptr, out.motion, 2 * plane});
     std::vector<VkRenderingAttachmentInfo> colors;
     for (const Attachment& a : attachments) {
-      transition(cmd, a.image, VK_IMAGE_ASPECT_COLOR_BIT, VK_IMAGE_LAYOUT_UNDEFINED,
-                 VK_IMAGE_LAYOUT_COLOR_ATTACHMENT_OPTIMAL, 0, VK_ACCESS_COLOR_ATTACHMENT_WRITE_BIT,
-                 VK_PIPELINE_STAGE_TOP_OF_PIPE_BIT, VK_PIPELINE_STAGE_COLOR_ATTACHMENT_OUTPUT_BIT);
+      for (const Target* t : {a.target, a.read})
+        if (t == a.target || multisampled)  // The resolved image too, when there is one.
+          transition(cmd, t->image, VK_IMAGE_ASPECT_COLOR_BIT, VK_IMAGE_LAYOUT_UNDEFINED,
+                     VK_IMAGE_LAYOUT_COLOR_ATTACHMENT_OPTIMAL, 0,
+                     VK_ACCESS_COLOR_ATTACHMENT_WRITE_BIT, VK_PIPELINE_STAGE_TOP_OF_PIPE_BIT,
+                     VK_PIPELINE_STAGE_COLOR_ATTACHMENT_OUTPUT_BIT);
       auto info = vkStruct<VkRenderingAttachmentInfo>(VK_STRUCTURE_TYPE_RENDERING_ATTACHMENT_INFO);
-      info.imageView = a.view;
+      info.imageView = a.target->view;
       info.imageLayout = VK_IMAGE_LAYOUT_COLOR_ATTACHMENT_OPTIMAL;
       info.loadOp = VK_ATTACHMENT_LOAD_OP_CLEAR;
       info.storeOp = VK_ATTACHMENT_STORE_OP_STORE;
       info.clearValue.color = {{a.clear.r, a.clear.g, a.clear.b, a.clear.a}};
+      if (multisampled) {
+        info.resolveMode = VK_RESOLVE_MODE_AVERAGE_BIT;
+        info.resolveImageView = a.read->view;
+        info.resolveImageLayout = VK_IMAGE_LAYOUT_COLOR_ATTACHMENT_OPTIMAL;
+      }
       colors.push_back(info);
     }
-    transition(cmd, depth_, VK_IMAGE_ASPECT_DEPTH_BIT, VK_IMAGE_LAYOUT_UNDEFINED,
-               VK_IMAGE_LAYOUT_DEPTH_ATTACHMENT_OPTIMAL, 0, kDepthAccess,
-               VK_PIPELINE_STAGE_TOP_OF_PIPE_BIT, kDepthStages);
+    const Target& depth_read = multisampled ? depth_resolved_ : depth_;
+    for (const Target* t : {&depth_, &depth_resolved_})
+      if (t == &depth_ || multisampled)
+        transition(cmd, t->image, VK_IMAGE_ASPECT_DEPTH_BIT, VK_IMAGE_LAYOUT_UNDEFINED,
+                   VK_IMAGE_LAYOUT_DEPTH_ATTACHMENT_OPTIMAL, 0, kDepthAccess | kResolveAccess,
+                   VK_PIPELINE_STAGE_TOP_OF_PIPE_BIT, kResolveStages);
     auto depth = vkStruct<VkRenderingAttachmentInfo>(VK_STRUCTURE_TYPE_RENDERING_ATTACHMENT_INFO);
-    depth.imageView = depth_view_;
+    depth.imageView = depth_.view;
     depth.imageLayout = VK_IMAGE_LAYOUT_DEPTH_ATTACHMENT_OPTIMAL;
     depth.loadOp = VK_ATTACHMENT_LOAD_OP_CLEAR;
-    depth.storeOp =
-        out.depth != nullptr ? VK_ATTACHMENT_STORE_OP_STORE : VK_ATTACHMENT_STORE_OP_DONT_CARE;
+    // Kept for the read back, and for the second phase's compute read and load.
+    depth.storeOp = out.depth != nullptr || frame.between ? VK_ATTACHMENT_STORE_OP_STORE
+                                                          : VK_ATTACHMENT_STORE_OP_DONT_CARE;
     depth.clearValue.depthStencil = {frame.clear_depth, 0};
+    if (multisampled) {
+      depth.resolveMode = VK_RESOLVE_MODE_SAMPLE_ZERO_BIT;
+      depth.resolveImageView = depth_resolved_.view;
+      depth.resolveImageLayout = VK_IMAGE_LAYOUT_DEPTH_ATTACHMENT_OPTIMAL;
+    }
     auto rendering = vkStruct<VkRenderingInfo>(VK_STRUCTURE_TYPE_RENDERING_INFO);
     rendering.renderArea = {{0, 0}, {width_, height_}};
     rendering.layerCount = 1;
@@ -343,17 +393,18 @@ Status HeadlessVulkan::render(const Frame& frame,
     if (frame.between) {
       // The second phase: the depth read by compute shaders, then a rendering that loads it.
       vkCmdEndRendering(cmd);
-      transition(cmd, depth_, VK_IMAGE_ASPECT_DEPTH_BIT, VK_IMAGE_LAYOUT_DEPTH_ATTACHMENT_OPTIMAL,
+      transition(cmd, depth_.image, VK_IMAGE_ASPECT_DEPTH_BIT,
+                 VK_IMAGE_LAYOUT_DEPTH_ATTACHMENT_OPTIMAL,
                  VK_IMAGE_LAYOUT_DEPTH_STENCIL_READ_ONLY_OPTIMAL,
                  VK_ACCESS_DEPTH_STENCIL_ATTACHMENT_WRITE_BIT, VK_ACCESS_SHADER_READ_BIT,
                  kDepthStages, VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT);
-      if (drawn.isOk()) drawn = frame.between(cmd, depth_view_);
-      transition(cmd, depth_, VK_IMAGE_ASPECT_DEPTH_BIT,
+      if (drawn.isOk()) drawn = frame.between(cmd, depth_.view);
+      transition(cmd, depth_.image, VK_IMAGE_ASPECT_DEPTH_BIT,
                  VK_IMAGE_LAYOUT_DEPTH_STENCIL_READ_ONLY_OPTIMAL,
                  VK_IMAGE_LAYOUT_DEPTH_ATTACHMENT_OPTIMAL, 0, kDepthAccess,
                  VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT, kDepthStages);
       for (const Attachment& a : attachments)  // The first rendering's colour, loaded.
-        transition(cmd, a.image, VK_IMAGE_ASPECT_COLOR_BIT,
+        transition(cmd, a.target->image, VK_IMAGE_ASPECT_COLOR_BIT,
                    VK_IMAGE_LAYOUT_COLOR_ATTACHMENT_OPTIMAL,
                    VK_IMAGE_LAYOUT_COLOR_ATTACHMENT_OPTIMAL, VK_ACCESS_COLOR_ATTACHMENT_WRITE_BIT,
                    VK_ACCESS_COLOR_ATTACHMENT_READ_BIT | VK_ACCESS_COLOR_ATTACHMENT_WRITE_BIT,
@@ -369,27 +420,28 @@ Status HeadlessVulkan::render(const Frame& frame,
     vkCmdEndRendering(cmd);
     for (const Attachment& a : attachments) {
       if (a.rgba == nullptr && a.motion == nullptr) continue;
-      transition(cmd, a.image, VK_IMAGE_ASPECT_COLOR_BIT, VK_IMAGE_LAYOUT_COLOR_ATTACHMENT_OPTIMAL,
-                 VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL, VK_ACCESS_COLOR_ATTACHMENT_WRITE_BIT,
-                 VK_ACCESS_TRANSFER_READ_BIT, VK_PIPELINE_STAGE_COLOR_ATTACHMENT_OUTPUT_BIT,
-                 VK_PIPELINE_STAGE_TRANSFER_BIT);
+      transition(cmd, a.read->image, VK_IMAGE_ASPECT_COLOR_BIT,
+                 VK_IMAGE_LAYOUT_COLOR_ATTACHMENT_OPTIMAL, VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL,
+                 VK_ACCESS_COLOR_ATTACHMENT_WRITE_BIT, VK_ACCESS_TRANSFER_READ_BIT,
+                 VK_PIPELINE_STAGE_COLOR_ATTACHMENT_OUTPUT_BIT, VK_PIPELINE_STAGE_TRANSFER_BIT);
       VkBufferImageCopy copy{};
       copy.bufferOffset = a.at;
       copy.imageSubresource = {VK_IMAGE_ASPECT_COLOR_BIT, 0, 0, 1};
       copy.imageExtent = {width_, height_, 1};
-      vkCmdCopyImageToBuffer(cmd, a.image, VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL, readback_, 1,
+      vkCmdCopyImageToBuffer(cmd, a.read->image, VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL, readback_, 1,
                              &copy);
     }
     if (out.depth != nullptr) {
-      transition(cmd, depth_, VK_IMAGE_ASPECT_DEPTH_BIT, VK_IMAGE_LAYOUT_DEPTH_ATTACHMENT_OPTIMAL,
-                 VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL, VK_ACCESS_DEPTH_STENCIL_ATTACHMENT_WRITE_BIT,
-                 VK_ACCESS_TRANSFER_READ_BIT, kDepthStages, VK_PIPELINE_STAGE_TRANSFER_BIT);
+      transition(cmd, depth_read.image, VK_IMAGE_ASPECT_DEPTH_BIT,
+                 VK_IMAGE_LAYOUT_DEPTH_ATTACHMENT_OPTIMAL, VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL,
+                 VK_ACCESS_DEPTH_STENCIL_ATTACHMENT_WRITE_BIT | kResolveAccess,
+                 VK_ACCESS_TRANSFER_READ_BIT, kResolveStages, VK_PIPELINE_STAGE_TRANSFER_BIT);
       VkBufferImageCopy copy{};
       copy.bufferOffset = plane;
       copy.imageSubresource = {VK_IMAGE_ASPECT_DEPTH_BIT, 0, 0, 1};
       copy.imageExtent = {width_, height_, 1};
-      vkCmdCopyImageToBuffer(cmd, depth_, VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL, readback_, 1,
-                             &copy);
+      vkCmdCopyImageToBuffer(cmd, depth_read.image, VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL, readback_,
+                             1, &copy);
     }
     return drawn;
   });

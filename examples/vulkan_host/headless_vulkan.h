@@ -26,15 +26,20 @@ class HeadlessVulkan {
   HeadlessVulkan& operator=(const HeadlessVulkan&) = delete;
   ~HeadlessVulkan();
 
-  /// Creates everything for `width` x `height` targets. kUnsupported when the machine has no
-  /// Vulkan 1.3 device with dynamic rendering (install mesa-vulkan-drivers: lavapipe).
-  Status create(uint32_t width, uint32_t height);
+  /// Creates everything for `width` x `height` targets of `samples` samples (multisampled
+  /// targets are resolved at the end of each rendering into single-sampled ones, which are read
+  /// back: the colour and motion averaged, the depth of sample 0). kUnsupported when the
+  /// machine has no Vulkan 1.3 device with dynamic rendering (install mesa-vulkan-drivers:
+  /// lavapipe) or renders no such sample count.
+  Status create(uint32_t width, uint32_t height,
+                VkSampleCountFlagBits samples = VK_SAMPLE_COUNT_1_BIT);
 
   VkPhysicalDevice physicalDevice() const { return physical_; }
   VkDevice device() const { return device_; }
   bool validation() const { return validation_; }  ///< The validation layer is on.
   const std::vector<std::string>& messages() const { return messages_; }
   std::string deviceName() const { return device_name_; }
+  VkSampleCountFlagBits samples() const { return samples_; }  ///< Of the attachments.
 
   /// Records `work` into a command buffer, submits it and waits for it.
   Status submit(const std::function<Status(VkCommandBuffer)>& work);
@@ -74,8 +79,15 @@ class HeadlessVulkan {
   void report(const char* message) { messages_.push_back(message); }
 
  private:
+  // One image with its memory and view.
+  struct Target {
+    VkImage image = VK_NULL_HANDLE;
+    VkDeviceMemory memory = VK_NULL_HANDLE;
+    VkImageView view = VK_NULL_HANDLE;
+  };
   Status createTarget(VkFormat format, VkImageUsageFlags usage, VkImageAspectFlags aspect,
-                      VkImage* image, VkDeviceMemory* memory, VkImageView* view);
+                      VkSampleCountFlagBits samples, Target* out);
+  void destroy(Target* t);
 
   uint32_t width_ = 0, height_ = 0;
   VkInstance instance_ = VK_NULL_HANDLE;
@@ -85,12 +97,10 @@ class HeadlessVulkan {
   VkQueue queue_ = VK_NULL_HANDLE;
   uint32_t queue_family_ = 0;
   VkCommandPool pool_ = VK_NULL_HANDLE;
-  VkImage color_ = VK_NULL_HANDLE, depth_ = VK_NULL_HANDLE;
-  VkDeviceMemory color_memory_ = VK_NULL_HANDLE, depth_memory_ = VK_NULL_HANDLE;
-  VkImageView color_view_ = VK_NULL_HANDLE, depth_view_ = VK_NULL_HANDLE;
-  VkImage motion_ = VK_NULL_HANDLE;
-  VkDeviceMemory motion_memory_ = VK_NULL_HANDLE;
-  VkImageView motion_view_ = VK_NULL_HANDLE;
+  VkSampleCountFlagBits samples_ = VK_SAMPLE_COUNT_1_BIT;
+  // The attachments; multisampled, also their resolved images (read back).
+  Target color_, depth_, motion_;
+  Target color_resolved_, depth_resolved_, motion_resolved_;
   VkQueryPool timestamps_ = VK_NULL_HANDLE;  // Two: before and after a frame's draw.
   bool timestamps_valid_ = false;
   float timestamp_period_ns_ = 1.0f;

@@ -83,6 +83,20 @@ Status Renderer::init(const RendererDesc& desc) {
               "vk::Renderer::init: the Vulkan back-end's GPU-driven path draws no motion vectors "
               "yet (RendererDesc::gpu_driven with motion_format)"};
   }
+  const auto renderable = [](VkSampleCountFlagBits samples, VkSampleCountFlags counts) {
+    const uint32_t n = uint32_t(samples);
+    return n != 0 && n <= 64 && (n & (n - 1)) == 0 && (counts & n) != 0;
+  };
+  const VkPhysicalDeviceLimits& limits = props.limits;
+  if (!renderable(desc.samples,
+                  limits.framebufferColorSampleCounts & limits.framebufferDepthSampleCounts) ||
+      !renderable(desc.depth_only_samples, limits.framebufferDepthSampleCounts))
+    return {StatusCode::kUnsupported,
+            strCat("vk::Renderer::init: samples ", uint32_t(desc.samples),
+                   " (colour and depth) or ", uint32_t(desc.depth_only_samples),
+                   " (depth only) is no count the device renders (colour ",
+                   limits.framebufferColorSampleCounts, ", depth ",
+                   limits.framebufferDepthSampleCounts, ")")};
   VkFormatProperties normal{};
   vkGetPhysicalDeviceFormatProperties(desc.physical_device, VK_FORMAT_A2B10G10R10_SNORM_PACK32,
                                       &normal);
@@ -233,9 +247,9 @@ Status Renderer::addCharacter(const Character& character, const BakedPalette& pa
                                          ? m.desc.depth_only_format
                                          : m.desc.depth_format;
   const RenderingFormats formats[kVulkanKinds] = {
-      {m.desc.color_format, m.desc.depth_format},
-      {VK_FORMAT_UNDEFINED, depth_only_format},
-      {m.desc.color_format, m.desc.depth_format, m.desc.motion_format}};
+      {m.desc.color_format, m.desc.depth_format, VK_FORMAT_UNDEFINED, m.desc.samples},
+      {VK_FORMAT_UNDEFINED, depth_only_format, VK_FORMAT_UNDEFINED, m.desc.depth_only_samples},
+      {m.desc.color_format, m.desc.depth_format, m.desc.motion_format, m.desc.samples}};
   for (int layers = 0; layers < 2; ++layers)
     for (size_t k = 0; k < kVulkanKinds && s.isOk(); ++k) {
       const VulkanKind kind = VulkanKind(k);

@@ -143,7 +143,7 @@ Status createSkinnedPipeline(VkDevice device, const VkAllocationCallbacks* alloc
   raster.lineWidth = 1.0f;
   auto multisample = vkStruct<VkPipelineMultisampleStateCreateInfo>(
       VK_STRUCTURE_TYPE_PIPELINE_MULTISAMPLE_STATE_CREATE_INFO);
-  multisample.rasterizationSamples = VK_SAMPLE_COUNT_1_BIT;
+  multisample.rasterizationSamples = formats.samples;
   auto depth = vkStruct<VkPipelineDepthStencilStateCreateInfo>(
       VK_STRUCTURE_TYPE_PIPELINE_DEPTH_STENCIL_STATE_CREATE_INFO);
   depth.depthTestEnable = VK_TRUE;

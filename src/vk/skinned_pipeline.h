@@ -68,13 +68,14 @@ struct StageReflection {
 Status createSkinnedLayout(VkDevice device, const VkAllocationCallbacks* allocator,
                            Span<const StageReflection> stages, SkinnedLayout* out);
 
-/// The formats a pipeline renders into (VkPipelineRenderingCreateInfo's): no colour attachment
-/// when `color` is VK_FORMAT_UNDEFINED (depth only); motion vectors as attachment 1 when
-/// `motion` is not.
+/// The formats a pipeline renders into (VkPipelineRenderingCreateInfo's) and their samples: no
+/// colour attachment when `color` is VK_FORMAT_UNDEFINED (depth only); motion vectors as
+/// attachment 1 when `motion` is not.
 struct RenderingFormats {
   VkFormat color = VK_FORMAT_UNDEFINED;
   VkFormat depth = VK_FORMAT_UNDEFINED;
   VkFormat motion = VK_FORMAT_UNDEFINED;
+  VkSampleCountFlagBits samples = VK_SAMPLE_COUNT_1_BIT;  ///< Of every attachment.
 };
 
 /// A skinned program's graphics pipeline for `stream`'s vertex format (as si::gl's

@@ -30,6 +30,62 @@ class VulkanGpuDrivenTest : public VulkanRenderFixture {
     ASSERT_NO_FATAL_FAILURE(startRenderer(rd, &renderer_, &id_));
   }
 
+  // The host the frames render on: host_, or another (a multisampled one).
+  examples::HeadlessVulkan& host() { return other_host_ != nullptr ? *other_host_ : host_; }
+
+  // The occlusion scene's camera (wallCamera() tilted up by about 10 degrees: the wall fills
+  // the lower part of the image, so a pyramid upside down, Vulkan's depth rows running from
+  // the top, would not hide the crowd), with OpenGL's depth or reverse-Z.
+  static Camera tiltedWallCamera(bool reverse_z) {
+    const glm::dvec3 eye(0.0, 1.0, 2.0), target(0.0, 8.4, -40.0);
+    return reverse_z
+               ? Camera::lookAtReverseZ(eye, target, glm::vec3(0, 1, 0), 0.9f, 1.0f, 0.1f, 500.0f)
+               : Camera::lookAt(eye, target, glm::vec3(0, 1, 0), 0.9f, 1.0f, 0.1f, 500.0f);
+  }
+
+  // Four frames of the wall crowd, each drawn by `crowd`'s own view without occlusion culling
+  // and by `occluding` with it: the images within 0.1 % (written out when not), from the third
+  // frame most of the crowd hidden. The last frame's occluded image into `last`.
+  void expectOcclusionCulls(CrowdManager* crowd, const Camera& camera, const char* name,
+                            std::vector<uint8_t>* last = nullptr) {
+    CrowdView occluding;  // Its own history (visible last frame), apart from the plain view's.
+    ASSERT_TRUE(occluding.init(*crowd).isOk());
+    uint32_t slot = 0;
+    for (int f = 0; f < 4; ++f) {
+      SCOPED_TRACE(f);
+      ASSERT_TRUE(crowd->advance(f == 0 ? 0.0 : 1.0 / 30.0).isOk());
+      std::vector<uint8_t> expected, actual;
+      Status s = frame(slot, {{&crowd->view(), camera}}, {&crowd->view()}, vk::DrawMode::kShaded,
+                       &expected);
+      ASSERT_TRUE(s.isOk()) << s.toString();
+      vk::GpuDrivenCounts all, culled;
+      ASSERT_TRUE(renderer_.readGpuDrivenCounts(id_, crowd->view(), &all).isOk());
+      slot = (slot + 1) % 2;
+      s = occlusionFrame(slot, occluding, camera, &actual);
+      ASSERT_TRUE(s.isOk()) << s.toString();
+      ASSERT_TRUE(renderer_.readGpuDrivenCounts(id_, occluding, &culled).isOk());
+      slot = (slot + 1) % 2;
+      const Diff diff = compare(actual, expected, nullptr);
+      EXPECT_LE(diff.share, 0.001) << "max channel difference " << diff.max_channel;
+      if (diff.share > 0.001) {
+        const std::string base =
+            ::testing::TempDir() + "si_vk_occlusion_" + name + "_" + std::to_string(f);
+        EXPECT_TRUE(writePng(base + ".png", kSize, kSize, actual).isOk());
+        EXPECT_TRUE(writePng(base + "_expected.png", kSize, kSize, expected).isOk());
+      }
+      std::printf("[ occlusion] %s frame %d: %llu of %llu triangles, %u of %u instances\n", name, f,
+                  static_cast<unsigned long long>(culled.triangles),
+                  static_cast<unsigned long long>(all.triangles), culled.visible, all.visible);
+      if (f < 2) {
+        EXPECT_EQ(culled.triangles, all.triangles);
+      } else {
+        EXPECT_LT(culled.triangles * 2, all.triangles);  // Most of the crowd is hidden.
+        EXPECT_GE(culled.visible, 40u);                  // The wall's front row is drawn.
+      }
+      if (last != nullptr) *last = actual;
+    }
+  }
+
   // si::gl's GPU-driven image of `crowd`'s own view with `camera`, over kBackground (and its
   // draw's statistics, when asked).
   std::vector<uint8_t> glImage(const CrowdManager& crowd, const Camera& camera,
@@ -71,20 +127,20 @@ class VulkanGpuDrivenTest : public VulkanRenderFixture {
     };
     vk::DrawTarget target{{kSize, kSize}};
     target.mode = mode;
-    return host_.render(f,
-                        [&](VkCommandBuffer cmd) {
-                          Status s = Status::ok();
-                          for (const CrowdView* view : drawn) {
-                            vk::DrawStats stats;
-                            if (s.isOk())
-                              s = renderer_.recordGpuDrivenDraw(cmd, target, id_, *view, &stats);
-                            if (s.isOk()) {
-                              EXPECT_EQ(stats.draw_calls, draws_) << "indirect draws";
-                            }
-                          }
-                          return s;
-                        },
-                        {image, depth});
+    return host().render(f,
+                         [&](VkCommandBuffer cmd) {
+                           Status s = Status::ok();
+                           for (const CrowdView* view : drawn) {
+                             vk::DrawStats stats;
+                             if (s.isOk())
+                               s = renderer_.recordGpuDrivenDraw(cmd, target, id_, *view, &stats);
+                             if (s.isOk()) {
+                               EXPECT_EQ(stats.draw_calls, draws_) << "indirect draws";
+                             }
+                           }
+                           return s;
+                         },
+                         {image, depth});
   }
 
   // The depth cleared for `camera`: the far plane, 0 under reverse-Z.
@@ -115,10 +171,11 @@ class VulkanGpuDrivenTest : public VulkanRenderFixture {
       vk::DepthSource source;
       source.view = depth;
       source.extent = {kSize, kSize};
+      source.samples = host().samples();
       return renderer_.recordGpuDrivenOcclusion(cmd, id_, view, source);
     };
     f.after = draw;
-    return host_.render(f, draw, {image});
+    return host().render(f, draw, {image});
   }
 
   // Expects `image` within the golden tolerance of `gl_image`, and a crowd drawn.
@@ -142,6 +199,7 @@ class VulkanGpuDrivenTest : public VulkanRenderFixture {
   // Indirect draws a view's draw records: the pre-skinned entries' and the others'.
   uint32_t draws_ = 2;
   std::vector<vk::PassStats> pass_stats_;  // The last frame's passes', in order.
+  examples::HeadlessVulkan* other_host_ = nullptr;  // Rendered on instead of host_ when set.
 };
 
 // The LOD rows and a close view cutting the near plane: the Vulkan passes select and draw what
@@ -225,52 +283,52 @@ TEST_P(VulkanGpuDrivenTest, OcclusionCullingDrawsTheSameImageWithFewerTriangles)
   CrowdManager crowd;
   makeCrowd(&crowd);
   populateWallCrowd(&crowd);
-  // wallCamera() tilted up by about 10 degrees: the wall fills the lower part of the image, so
-  // a pyramid upside down (Vulkan's depth rows run from the top) would not hide the crowd.
-  const glm::dvec3 eye(0.0, 1.0, 2.0), target(0.0, 8.4, -40.0);
-  const Camera wall = Camera::lookAt(eye, target, glm::vec3(0, 1, 0), 0.9f, 1.0f, 0.1f, 500.0f);
-  const Camera reversed =
-      Camera::lookAtReverseZ(eye, target, glm::vec3(0, 1, 0), 0.9f, 1.0f, 0.1f, 500.0f);
-  uint32_t slot = 0;
-  for (const Camera& camera : {wall, reversed}) {
-    SCOPED_TRACE(camera.depth == DepthConvention::kReversedZeroToOne ? "reverse-Z" : "OpenGL's");
-    CrowdView occluding;  // Its own history (visible last frame), apart from the plain view's.
-    ASSERT_TRUE(occluding.init(crowd).isOk());
-    for (int f = 0; f < 4; ++f) {
-      SCOPED_TRACE(f);
-      ASSERT_TRUE(crowd.advance(f == 0 ? 0.0 : 1.0 / 30.0).isOk());
-      std::vector<uint8_t> expected, actual;
-      Status s =
-          frame(slot, {{&crowd.view(), camera}}, {&crowd.view()}, vk::DrawMode::kShaded, &expected);
-      ASSERT_TRUE(s.isOk()) << s.toString();
-      vk::GpuDrivenCounts all, culled;
-      ASSERT_TRUE(renderer_.readGpuDrivenCounts(id_, crowd.view(), &all).isOk());
-      slot = (slot + 1) % 2;
-      s = occlusionFrame(slot, occluding, camera, &actual);
-      ASSERT_TRUE(s.isOk()) << s.toString();
-      ASSERT_TRUE(renderer_.readGpuDrivenCounts(id_, occluding, &culled).isOk());
-      slot = (slot + 1) % 2;
-      const Diff diff = compare(actual, expected, nullptr);
-      EXPECT_LE(diff.share, 0.001) << "max channel difference " << diff.max_channel;
-      if (diff.share > 0.001) {
-        const std::string base = ::testing::TempDir() + "si_vk_occlusion_" + std::to_string(f);
-        EXPECT_TRUE(writePng(base + ".png", kSize, kSize, actual).isOk());
-        EXPECT_TRUE(writePng(base + "_expected.png", kSize, kSize, expected).isOk());
-      }
-      std::printf("[ occlusion] %s frame %d: %llu of %llu triangles, %u of %u instances\n",
-                  camera.depth == DepthConvention::kReversedZeroToOne ? "reverse-Z" : "OpenGL", f,
-                  static_cast<unsigned long long>(culled.triangles),
-                  static_cast<unsigned long long>(all.triangles), culled.visible, all.visible);
-      if (f < 2) {
-        EXPECT_EQ(culled.triangles, all.triangles);
-      } else {
-        EXPECT_LT(culled.triangles * 2, all.triangles);  // Most of the crowd is hidden.
-        EXPECT_GE(culled.visible, 40u);                  // The wall's front row is drawn.
-      }
-      if (f == 3 && camera.depth != DepthConvention::kReversedZeroToOne)
-        expectSameImage(actual, glImage(crowd, camera), "occlusion");
-    }
-  }
+  std::vector<uint8_t> last;
+  ASSERT_NO_FATAL_FAILURE(expectOcclusionCulls(&crowd, tiltedWallCamera(false), "OpenGL", &last));
+  expectSameImage(last, glImage(crowd, tiltedWallCamera(false)), "occlusion");
+  ASSERT_NO_FATAL_FAILURE(expectOcclusionCulls(&crowd, tiltedWallCamera(true), "reverse-Z"));
+  EXPECT_TRUE(host_.messages().empty()) << messages();
+}
+
+// A multisampled target (RendererDesc::samples 4, the host's attachments of 4 samples resolved
+// at the end of each rendering): occlusion culling reads the depth's samples (each pixel's
+// farthest: hiz_copy_ms) and the resolved image is the one drawn without occlusion culling,
+// with fewer triangles; it is antialiased (apart from the single-sampled image at the
+// silhouettes). A sample count the device cannot render is refused.
+TEST_P(VulkanGpuDrivenTest, OcclusionCullingReadsAMultisampledDepth) {
+  SI_START_VULKAN_HOST();
+  examples::HeadlessVulkan multisampled;
+  const Status made = multisampled.create(kSize, kSize, VK_SAMPLE_COUNT_4_BIT);
+  ASSERT_TRUE(made.isOk()) << made.toString();
+  CrowdManager crowd;
+  makeCrowd(&crowd);
+  populateWallCrowd(&crowd);
+  std::vector<uint8_t> single, resolved;
+  ASSERT_NO_FATAL_FAILURE(start());
+  ASSERT_NO_FATAL_FAILURE(expectOcclusionCulls(&crowd, tiltedWallCamera(false), "1x", &single));
+  renderer_.shutdown();
+  other_host_ = &multisampled;
+  vk::RendererDesc rd;
+  rd.gpu_driven = true;
+  rd.samples = VK_SAMPLE_COUNT_4_BIT;
+  ASSERT_NO_FATAL_FAILURE(
+      startRenderer(rd, character(), palette(), &renderer_, &id_, &multisampled));
+  ASSERT_NO_FATAL_FAILURE(expectOcclusionCulls(&crowd, tiltedWallCamera(false), "4x", &resolved));
+  const Diff antialiased = compare(resolved, single, nullptr);
+  EXPECT_GT(antialiased.share, 0.002) << "the silhouettes' pixels are resolved from 4 samples";
+  EXPECT_LT(antialiased.share, 0.3);
+  renderer_.shutdown();
+  other_host_ = nullptr;
+  // Three samples.
+  vk::Renderer three;
+  vk::RendererDesc bad = rd;
+  bad.physical_device = host_.physicalDevice();
+  bad.device = host_.device();
+  bad.samples = VkSampleCountFlagBits(3);
+  const Status s = three.init(bad);
+  EXPECT_EQ(s.code(), StatusCode::kUnsupported) << s.toString();
+  EXPECT_NE(s.message().find("samples"), std::string::npos) << s.toString();
+  EXPECT_TRUE(multisampled.messages().empty()) << multisampled.messages().front();
   EXPECT_TRUE(host_.messages().empty()) << messages();
 }
 

@@ -44,16 +44,18 @@ class VulkanRenderFixture : public RenderTest {
   void startRenderer(const vk::RendererDesc& desc, vk::Renderer* r, vk::CharacterId* id) {
     startRenderer(desc, character(), palette(), r, id);
   }
-  // The same with `c`, baked as `baked`.
+  // The same with `c`, baked as `baked`, on `host` (host_ when null).
   void startRenderer(vk::RendererDesc desc, const Character& c, const BakedPalette& baked,
-                     vk::Renderer* r, vk::CharacterId* id) {
-    desc.physical_device = host_.physicalDevice();
-    desc.device = host_.device();
+                     vk::Renderer* r, vk::CharacterId* id,
+                     examples::HeadlessVulkan* host = nullptr) {
+    examples::HeadlessVulkan& h = host != nullptr ? *host : host_;
+    desc.physical_device = h.physicalDevice();
+    desc.device = h.device();
     Status s = r->init(desc);
     ASSERT_TRUE(s.isOk()) << s.toString();
     s = r->addCharacter(c, baked, id);
     ASSERT_TRUE(s.isOk()) << s.toString();
-    s = host_.submit([&](VkCommandBuffer cmd) { return r->recordUploads(cmd); });
+    s = h.submit([&](VkCommandBuffer cmd) { return r->recordUploads(cmd); });
     ASSERT_TRUE(s.isOk()) << s.toString();
     r->uploadsComplete();
   }

@@ -60,7 +60,8 @@
 /// \endcode
 ///
 /// What is built: the vertex-shader path, shaded (the built-in material, with motion vectors
-/// when asked) or depth only (shadow views, depth pre-passes), under every si::DepthConvention
+/// when asked) or depth only (shadow views, depth pre-passes), single-sampled or multisampled
+/// (RendererDesc::samples), under every si::DepthConvention
 /// (reverse-Z included) and with y-flipped projections; meshes of 4 or 8 influences a vertex,
 /// with or without morph targets, vertex colours and a second texture coordinate set (each
 /// drawn by its program variant); layered animation (overlays on their masks, 1D blends);
@@ -106,6 +107,13 @@ struct RendererDesc {
   /// The depth attachment of depth-only draws (DrawMode::kDepthOnly: shadow maps, depth
   /// pre-passes); VK_FORMAT_UNDEFINED is depth_format.
   VkFormat depth_only_format = VK_FORMAT_UNDEFINED;
+  /// Multisampling: the samples of the host's colour, depth (and motion) attachments that shaded
+  /// draws render into (the host resolves them), and of the depth attachment of depth-only draws
+  /// (a depth pre-pass of a multisampled target takes `samples`, a shadow map usually 1). init()
+  /// refuses a count the device cannot render (framebufferColorSampleCounts,
+  /// framebufferDepthSampleCounts) or that is no VkSampleCountFlagBits (kUnsupported).
+  VkSampleCountFlagBits samples = VK_SAMPLE_COUNT_1_BIT;
+  VkSampleCountFlagBits depth_only_samples = VK_SAMPLE_COUNT_1_BIT;
   /// Motion vectors: VK_FORMAT_UNDEFINED (the default) draws none; a two-channel float format
   /// (VK_FORMAT_R16G16_SFLOAT) makes every shaded draw also write each pixel's motion since the
   /// crowd's previous update into colour attachment 1 of this format, as si::Renderer's
@@ -203,7 +211,7 @@ struct DepthSource {
   VkImageLayout layout = VK_IMAGE_LAYOUT_DEPTH_STENCIL_READ_ONLY_OPTIMAL;
   /// The area the first phase's draws covered (their DrawTarget::extent), from the origin.
   VkExtent2D extent{0, 0};
-  /// The image's samples.
+  /// The image's samples, as it was made (RendererDesc::samples for the main view's depth).
   VkSampleCountFlagBits samples = VK_SAMPLE_COUNT_1_BIT;
 };
 
