@@ -180,6 +180,7 @@ void destroyCharacter(DeviceObjects* objects, CharacterResources* c) {
   for (VkPipeline& p : c->driven_pipelines) destroy_pipeline(p);
   for (VkPipeline& p : c->pulled_pipelines) destroy_pipeline(p);
   destroy_pipeline(c->skin_pipeline);
+  destroy_pipeline(c->skin_motion_pipeline);
   if (c->pool != VK_NULL_HANDLE)
     vkDestroyDescriptorPool(objects->device(), c->pool, objects->allocator());
   c->pool = VK_NULL_HANDLE;

@@ -50,15 +50,17 @@ struct CharacterResources {
   /// vectors).
   uint32_t programs[2][kVulkanKinds] = {};
   VkPipeline pipelines[2][kVulkanKinds] = {};
-  /// The GPU-driven draw's programs and pipelines, shaded and depth only (VulkanKind 0 and 1;
-  /// made when the renderer draws the GPU-driven path).
-  uint32_t driven_programs[2] = {};
-  VkPipeline driven_pipelines[2] = {};
-  /// Its pre-skinned draws (shaded, depth only) and its pre-skinning pass (compute).
-  uint32_t pulled_programs[2] = {};
-  VkPipeline pulled_pipelines[2] = {};
-  uint32_t skin_program = 0;
-  VkPipeline skin_pipeline = VK_NULL_HANDLE;
+  /// The GPU-driven draw's programs and pipelines, shaded, depth only and with motion vectors
+  /// (by VulkanKind; made when the renderer draws the GPU-driven path, the last with motion
+  /// vectors).
+  uint32_t driven_programs[kVulkanKinds] = {};
+  VkPipeline driven_pipelines[kVulkanKinds] = {};
+  /// Its pre-skinned draws (the same kinds) and its pre-skinning pass (compute), and the one
+  /// that also skins the previous positions (motion vectors).
+  uint32_t pulled_programs[kVulkanKinds] = {};
+  VkPipeline pulled_pipelines[kVulkanKinds] = {};
+  uint32_t skin_program = 0, skin_motion_program = 0;
+  VkPipeline skin_pipeline = VK_NULL_HANDLE, skin_motion_pipeline = VK_NULL_HANDLE;
   VkDescriptorPool pool = VK_NULL_HANDLE;
   VkDescriptorSet set = VK_NULL_HANDLE;
   GpuBuffer staging;  ///< Until recordUploads() hands it on.

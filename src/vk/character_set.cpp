@@ -71,6 +71,10 @@ Status createCharacterSet(VkDevice device, const VkAllocationCallbacks* allocato
       buffer(driven->ring, VK_WHOLE_SIZE);
     else if (driven != nullptr && b == kTangentRingBinding)
       buffer(driven->tangent_ring, VK_WHOLE_SIZE);
+    else if (driven != nullptr && b == kPreviousOutBinding)
+      buffer(driven->previous, VK_WHOLE_SIZE);
+    else if (driven != nullptr && b == kPreviousRingBinding)
+      buffer(driven->previous_ring, VK_WHOLE_SIZE);
     else if (b == kSourceBinding)
       buffer(c->vertices, VK_WHOLE_SIZE);
     else if (b == kLodVerticesBinding)

@@ -29,6 +29,8 @@ struct DrivenOutputs {
   const GpuBuffer& entry_data;    ///< Each pre-skinned entry's ring base and list.
   const GpuBuffer& ring;          ///< The pre-skinned vertices.
   const GpuBuffer& tangent_ring;  ///< Their tangents (the ring stands in without).
+  const GpuBuffer& previous;      ///< Motion vectors: each visible instance's previous record,
+  const GpuBuffer& previous_ring;  ///< and the pre-skinned previous positions.
 };
 
 /// Creates a descriptor pool and its one set for `layout` into `*pool` and `*set` and writes

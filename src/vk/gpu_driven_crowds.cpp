@@ -82,6 +82,12 @@ Status GpuDrivenCrowds::update(VkCommandBuffer cmd, uint32_t slot, uint32_t char
   const std::pair<uint32_t, uint64_t> key{character, crowd.identity()};
   DrivenCrowd& d = crowds_[key];
   *out = &d;
+  // A new frame (motion vectors' parity): the crowd stepped (CrowdManager::stepCount(), dt 0
+  // included), as si::gl's GPU-driven path counts them; passes between two steps are one frame.
+  if (d.frame == 0 || crowd.stepCount() != d.frame_steps) {
+    ++d.frame;
+    d.frame_steps = crowd.stepCount();
+  }
   const bool reshaped = n > d.capacity || d.sub_meshes != subs || d.buckets != buckets ||
                         d.state.buffer == VK_NULL_HANDLE;
   if (!reshaped && d.version == exported.stateVersion() && d.instances == n) return Status::ok();
@@ -138,6 +144,12 @@ Status GpuDrivenCrowds::update(VkCommandBuffer cmd, uint32_t slot, uint32_t char
   if (!changed_.empty())
     exported.state(Span<const DenseRange>(changed_.data(), changed_.size()),
                    reinterpret_cast<GpuInstanceState*>(to), nullptr);
+  // The handle slots the views' drawn records must hold (motion vectors).
+  if (whole) d.slots_needed = 1;
+  for (uint64_t k = 0; k < changed_instances; ++k) {
+    const uint32_t handle = reinterpret_cast<const GpuInstanceState*>(to)[k].handle;
+    d.slots_needed = std::max(d.slots_needed, (handle & (HandlePool::kMaxSlots - 1)) + 1);
+  }
   std::vector<VkBufferCopy> regions;
   VkDeviceSize at = 0;
   for (const DenseRange& r : changed_) {

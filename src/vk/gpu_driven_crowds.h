@@ -18,6 +18,7 @@
 #include "si/core/status.h"
 #include "si/crowd/crowd_manager.h"
 #include "si/crowd/gpu_crowd_state.h"
+#include "si/crowd/handle_pool.h"
 #include "vk/character_resources.h"
 #include "vk/device_objects.h"
 #include "vk/frame_slots.h"
@@ -57,6 +58,10 @@ struct DrivenCrowd {
     return {&state, &clips, &times, &ranges, &bucket_info, &identity};
   }
   uint64_t used = 0;               ///< The renderer's frame of its last update.
+  /// Motion vectors: the crowd's frames (a step of its clock since the last passes starts one),
+  /// the step count they were counted at, and the handle slots its instances use.
+  uint64_t frame = 0, frame_steps = 0;
+  uint32_t slots_needed = 1;
 };
 
 /// What the last update uploaded: bytes of instance state, and copy regions.

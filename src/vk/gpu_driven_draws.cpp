@@ -25,7 +25,11 @@ Status GpuDrivenViews::recordDraw(VkCommandBuffer cmd, FrameRegion region, uint3
             "vk::Renderer::recordGpuDrivenDraw: the view's passes were not recorded in this "
             "frame (recordGpuDrivenPasses)"};
   View& v = found->second;
-  const size_t k = target.mode == DrawMode::kDepthOnly ? 1 : 0;
+  // Shaded, depth only, or shaded with motion vectors (colour attachment 1).
+  const VulkanKind kind = target.mode == DrawMode::kDepthOnly ? VulkanKind::kDepthOnly
+                          : shared_.motion                    ? VulkanKind::kMotion
+                                                              : VulkanKind::kShaded;
+  const size_t k = size_t(kind);
   const bool pulled = v.ring_vertices != 0;
   // Each draw's vertex and fragment defaults: the pre-skinned draw's, then the other's.
   VkDeviceSize at[2][2] = {};
@@ -47,6 +51,12 @@ Status GpuDrivenViews::recordDraw(VkCommandBuffer cmd, FrameRegion region, uint3
     writeDefault(vertex, program.vertex_reflection, "u_view_projection", &vp[0][0], 64);
     const uint32_t layout_words[2] = {0u, c.source_words};
     writeDefault(vertex, program.vertex_reflection, "u_layout", layout_words, 8);
+    if (kind == VulkanKind::kMotion) {  // This frame's camera of the view and the previous one.
+      writeDefault(vertex, program.vertex_reflection, "u_motion_view_projection",
+                   &v.view_projection[0][0], 64);
+      writeDefault(vertex, program.vertex_reflection, "u_previous_view_projection",
+                   &v.previous_view_projection[0][0], 64);
+    }
     writeDefault(region.mapped + at[d][1], program.fragment_reflection, "u_light_direction",
                  &light_direction, 12);
     vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_GRAPHICS,

@@ -13,14 +13,14 @@ namespace si::vk::detail {
 using si::detail::strCat;
 
 bool drivenPassBindingType(uint32_t b, DescriptorKind kind, VkDescriptorType* type) {
-  const bool storage = b == kStateBinding || b == kClipsBinding || b == kTimesBinding ||
-                       b == kCountersBinding || b == kDrivenRecordsBinding ||
-                       b == kDrivenEntriesBinding || b == kDrivenVisibleBinding ||
-                       b == kCommandsBinding || b == kRangesBinding || b == kBucketInfoBinding ||
-                       b == kEntryDataBinding || b == kViewLodsBinding ||
-                       (b >= kFirstUnbuiltBinding && b <= kLastUnbuiltBinding) ||
-                       b == kLivePosesBinding || b == kRingBinding || b == kSourceBinding ||
-                       b == kLodVerticesBinding || b == kTangentRingBinding;
+  const bool storage =
+      b == kStateBinding || b == kClipsBinding || b == kTimesBinding || b == kCountersBinding ||
+      b == kDrivenRecordsBinding || b == kDrivenEntriesBinding || b == kDrivenVisibleBinding ||
+      b == kCommandsBinding || b == kRangesBinding || b == kBucketInfoBinding ||
+      b == kEntryDataBinding || b == kViewLodsBinding ||
+      (b >= kFirstUnbuiltBinding && b <= kLastUnbuiltBinding) || b == kLivePosesBinding ||
+      b == kRingBinding || b == kSourceBinding || b == kLodVerticesBinding ||
+      b == kTangentRingBinding || b == kPreviousRingBinding;
   if (storage && kind == DescriptorKind::kStorageBuffer)
     *type = VK_DESCRIPTOR_TYPE_STORAGE_BUFFER;
   else if (b == kComputeDefaultsBinding && kind == DescriptorKind::kUniformBuffer)

@@ -13,6 +13,7 @@
 #include "si/crowd/crowd_manager.h"
 #include "si/crowd/instance_record.h"
 #include "si_vk/vulkan_profile.h"
+#include "vk/draw_state.h"
 #include "vk/image_upload.h"
 
 namespace si::vk::detail {
@@ -61,6 +62,7 @@ void GpuDrivenViews::forget(uint32_t slot,
   View& v = it->second;
   retire(slot, &v);
   v.pyramid.retire(slot, &retirement_);
+  retirement_.retire(slot, &v.drawn);
   for (GpuBuffer& b : v.staging) retirement_.retire(slot, &b);
   for (GpuBuffer& b : v.readback) retirement_.retire(slot, &b);
   views_.erase(it);
@@ -98,25 +100,28 @@ void GpuDrivenViews::writePassSet(VkDescriptorSet set, View* v, const CharacterR
     w.dstBinding = b;
     w.descriptorCount = 1;
     w.descriptorType = bindings[k].descriptorType;
-    const GpuBuffer* buffer = b == kStateBinding             ? &d.state
-                              : b == kClipsBinding           ? &d.clips
-                              : b == kTimesBinding           ? &d.times
-                              : b == kRangesBinding          ? &d.ranges
-                              : b == kBucketInfoBinding      ? &d.bucket_info
-                              : b == kEntryDataBinding       ? &v->entry_data
-                              : b == kRingBinding            ? &v->ring
-                              : b == kTangentRingBinding     ? tangents
-                              : b == kSourceBinding          ? &c.vertices
-                              : b == kLodVerticesBinding     ? &c.lod_vertices
-                              : b == kPaletteInfoBinding     ? &c.palette_info
-                              : b == kCountersBinding        ? &v->counters
-                              : b == kDrivenRecordsBinding   ? &v->records
-                              : b == kDrivenEntriesBinding   ? &v->entries
-                              : b == kDrivenVisibleBinding   ? &v->visible
-                              : b == kCommandsBinding        ? &v->commands
-                              : b == kViewLodsBinding        ? &v->lods
-                              : b == kComputeDefaultsBinding ? shared_.ring
-                                                             : shared_.unbuilt;
+    const GpuBuffer* buffer = b == kStateBinding                     ? &d.state
+                              : b == kClipsBinding                   ? &d.clips
+                              : b == kTimesBinding                   ? &d.times
+                              : b == kRangesBinding                  ? &d.ranges
+                              : b == kBucketInfoBinding              ? &d.bucket_info
+                              : b == kEntryDataBinding               ? &v->entry_data
+                              : b == kRingBinding                    ? &v->ring
+                              : b == kTangentRingBinding             ? tangents
+                              : b == kSourceBinding                  ? &c.vertices
+                              : b == kLodVerticesBinding             ? &c.lod_vertices
+                              : b == kPaletteInfoBinding             ? &c.palette_info
+                              : b == kCountersBinding                ? &v->counters
+                              : b == kDrivenRecordsBinding           ? &v->records
+                              : b == kDrivenEntriesBinding           ? &v->entries
+                              : b == kDrivenVisibleBinding           ? &v->visible
+                              : b == kCommandsBinding                ? &v->commands
+                              : b == kViewLodsBinding                ? &v->lods
+                              : b == kDrawnBinding && shared_.motion ? &v->drawn
+                              : b == kPreviousOutBinding             ? &v->previous
+                              : b == kPreviousRingBinding            ? &v->previous_ring
+                              : b == kComputeDefaultsBinding         ? shared_.ring
+                                                                     : shared_.unbuilt;
     if (b == kPyramidBinding || b == kPaletteBinding || b == kMorphBinding) {
       w.pImageInfo = b == kPyramidBinding   ? &pyramid_info
                      : b == kPaletteBinding ? &palette
@@ -163,7 +168,11 @@ Status GpuDrivenViews::reshape(VkCommandBuffer cmd, View* v, uint32_t slot,
        "the indirect commands"},
       {&v->entry_data, entries * 8, storage, "the pre-skinned entries"},
       {&v->ring, ring_slots * 16, storage, "the pre-skinned ring"},
-      {&v->tangent_ring, c.tangents ? ring_slots * 4 : 16, storage, "the tangent ring"}};
+      {&v->tangent_ring, c.tangents ? ring_slots * 4 : 16, storage, "the tangent ring"},
+      {&v->previous, shared_.motion ? capacity * kInstanceRecordSize : 16, storage,
+       "the previous records"},
+      {&v->previous_ring, shared_.motion ? ring_slots * 16 : 16, storage,
+       "the previous positions' ring"}};
   Status s = createBuffers(shared_.objects, Span<const BufferNeed>(needs, std::size(needs)),
                            shared_.max_storage_range, d.capacity);
   if (!s.isOk()) {
@@ -183,8 +192,8 @@ Status GpuDrivenViews::reshape(VkCommandBuffer cmd, View* v, uint32_t slot,
   // A character without tangents: the ring stands in for the tangent ring, never read.
   const GpuBuffer* tangents = c.tangents ? &v->tangent_ring : &v->ring;
   // The draw's set: the character's resources and the passes' output.
-  const DrivenOutputs outputs{v->records,    v->entries, v->visible,
-                              v->entry_data, v->ring,    *tangents};
+  const DrivenOutputs outputs{v->records, v->entries, v->visible,  v->entry_data,
+                              v->ring,    *tangents,  v->previous, v->previous_ring};
   s = createCharacterSet(
       shared_.objects->device(), shared_.objects->allocator(), *shared_.draw_layout,
       {*shared_.ring, shared_.nearest, shared_.linear, *shared_.custom, *shared_.no_morphs}, c,
@@ -265,7 +274,9 @@ Status GpuDrivenViews::recordPasses(VkCommandBuffer cmd, uint32_t slot, FrameReg
   // The crowd's state, shared by its views: what changed since its last upload.
   DrivenCrowd* d = nullptr;
   Status s = crowds_.update(cmd, slot, character, c, crowd, &d, &last_upload_);
-  if (s.isOk() && (v.crowd != d || v.generation != d->generation))
+  bool drawn_remade = false;  // The sets bind the drawn records: made again with them.
+  if (s.isOk() && shared_.motion) s = ensureDrawn(cmd, slot, &v, d->slots_needed, &drawn_remade);
+  if (s.isOk() && (v.crowd != d || v.generation != d->generation || drawn_remade))
     s = reshape(cmd, &v, slot, c, *d, view);
   if (!s.isOk()) {
     forget(slot, views_.find(key));
@@ -301,7 +312,21 @@ Status GpuDrivenViews::recordPasses(VkCommandBuffer cmd, uint32_t slot, FrameReg
     // Occlusion culling's first phase: the instances visible at the end of the last frame.
     const uint32_t phase = occlusion ? 1u : 0u;
     writeDefault(block, r, "u_occlusion_phase", &phase, 4);
-    // Layers, motion vectors, impostors: off (zero) until built.
+    if (shared_.motion) {
+      // Motion vectors: each visible instance's previous record, what the view drew of it at
+      // the crowd's previous frame (the drawn records' other parity), or its record moved by
+      // the cameras' shift (kept when they are too far apart for a float, as
+      // InstanceBatcher::buildPrevious does).
+      updateMotionCameras(&v, d->frame, camera);
+      const uint32_t on = 1, frame[2] = {uint32_t(d->frame), v.drawn_slots};
+      writeDefault(block, r, "u_motion", &on, 4);
+      writeDefault(block, r, "u_frame", frame, 8);
+      const glm::dvec3 delta = v.position - v.previous_position;
+      const bool representable = glm::all(glm::lessThan(glm::abs(delta), glm::dvec3(1e30)));
+      const glm::vec3 shift = representable ? glm::vec3(delta) : glm::vec3(0.0f);
+      writeDefault(block, r, "u_camera_shift", &shift[0], 12);
+    }
+    // Layers, impostors: off (zero) until built.
   }
   {
     const SpirvReflection& r = shared_.pass_modules[1]->compute_reflection;
@@ -311,7 +336,9 @@ Status GpuDrivenViews::recordPasses(VkCommandBuffer cmd, uint32_t slot, FrameReg
     writeDefault(block, r, "u_max_groups_x", &shared_.max_groups_x, 4);
     writeDefault(block, r, "u_impostor_bucket", &no_impostors, 4);
   }
-  const SpirvReflection& skin = (*shared_.programs)[c.skin_program].compute_reflection;
+  const SpirvReflection& skin =
+      (*shared_.programs)[shared_.motion ? c.skin_motion_program : c.skin_program]
+          .compute_reflection;
   writeDefault(ring + defaults_at[3], skin, "u_counts", counts, 16);
   const uint32_t layout_words[2] = {0u, c.source_words};
   writeDefault(ring + defaults_at[3], skin, "u_layout", layout_words, 8);
@@ -407,7 +434,9 @@ Status GpuDrivenViews::recordCullPasses(VkCommandBuffer cmd, View* view, VkDescr
   VkPipelineLayout layout = shared_.compute_layout->pipeline_layout;
   const auto bind = [&](int pass) {
     vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_COMPUTE,
-                      pass < 3 ? shared_.passes[pass] : c.skin_pipeline);
+                      pass < 3         ? shared_.passes[pass]
+                      : shared_.motion ? c.skin_motion_pipeline
+                                       : c.skin_pipeline);
     const uint32_t offset = uint32_t(v.defaults_at[pass]);
     vkCmdBindDescriptorSets(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, layout, 0, 1, &set, 1, &offset);
   };
@@ -458,6 +487,55 @@ Status GpuDrivenViews::recordCullPasses(VkCommandBuffer cmd, View* view, VkDescr
   return Status::ok();
 }
 
+Status GpuDrivenViews::ensureDrawn(VkCommandBuffer cmd, uint32_t slot, View* v, uint32_t slots,
+                                   bool* remade) {
+  *remade = false;
+  if (slots <= v->drawn_slots) return Status::ok();
+  // cull.comp.glsl's SiDrawn: a record, a layer record, a 2D blend's two extra layer records
+  // and a tag; two parities.
+  constexpr VkDeviceSize kDrawn = kInstanceRecordSize + 3 * 16 + 16;
+  const uint64_t fit = shared_.max_storage_range / (2 * kDrawn);
+  const uint32_t room =
+      uint32_t(std::min<uint64_t>({uint64_t(2) * v->drawn_slots, HandlePool::kMaxSlots, fit}));
+  const uint32_t grown = std::max(slots, room);
+  const VkDeviceSize bytes = VkDeviceSize(grown) * 2 * kDrawn;
+  if (bytes > shared_.max_storage_range)
+    return {StatusCode::kLimitExceeded,
+            strCat("vk::Renderer::recordGpuDrivenPasses: motion vectors keep ", bytes,
+                   " bytes of drawn records for ", grown,
+                   " handle slots, past maxStorageBufferRange (", shared_.max_storage_range, ")")};
+  retirement_.retire(slot, &v->drawn);
+  v->drawn_slots = 0;
+  Status s = shared_.objects->createBuffer(
+      bytes, VK_BUFFER_USAGE_STORAGE_BUFFER_BIT | VK_BUFFER_USAGE_TRANSFER_DST_BIT, false,
+      "motion vectors: a view's drawn records", &v->drawn);
+  if (!s.isOk()) return s;
+  // Zeroed: no tag names a frame's instance until the passes draw it.
+  vkCmdFillBuffer(cmd, v->drawn.buffer, 0, VK_WHOLE_SIZE, 0);
+  recordMemoryBarrier(cmd, VK_PIPELINE_STAGE_TRANSFER_BIT, VK_ACCESS_TRANSFER_WRITE_BIT,
+                      VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT,
+                      VK_ACCESS_SHADER_READ_BIT | VK_ACCESS_SHADER_WRITE_BIT);
+  v->drawn_slots = grown;
+  *remade = true;
+  return Status::ok();
+}
+
+void GpuDrivenViews::updateMotionCameras(View* v, uint64_t frame, const Camera& camera) {
+  if (v->motion_frame != frame) {  // The view's first passes of this crowd frame.
+    v->previous_known = v->camera_frame == frame - 1 && v->camera_frame != 0;
+    v->previous_position = v->position;
+    v->previous_view_projection = v->view_projection;
+    v->motion_frame = frame;
+  }
+  v->position = camera.position;
+  v->view_projection = vulkanViewProjection(camera);
+  v->camera_frame = frame;
+  if (!v->previous_known) {  // No previous frame: no camera motion either.
+    v->previous_position = v->position;
+    v->previous_view_projection = v->view_projection;
+  }
+}
+
 GpuDrivenMemory GpuDrivenViews::memory() const {
   GpuDrivenMemory m;
   m.crowds = crowds_.size();
@@ -465,7 +543,7 @@ GpuDrivenMemory GpuDrivenViews::memory() const {
   m.crowd_bytes = crowds_.deviceBytes();
   for (const auto& [key, v] : views_) {
     for (const GpuBuffer* b : v.buffers()) m.view_bytes += b->size;
-    m.view_bytes += v.pyramid.bytes();
+    m.view_bytes += v.pyramid.bytes() + v.drawn.size;
   }
   return m;
 }

@@ -59,6 +59,9 @@ struct DrivenShared {
   /// beginFrame() calls a view (or a crowd no view keeps) stays unused before it is freed
   /// (RendererDesc::gpu_driven_idle_frames); 0: never.
   uint32_t idle_frames = 0;
+  /// Motion vectors (RendererDesc::motion_format): every view's passes also write each visible
+  /// instance's previous record, and its shaded draws the motion.
+  bool motion = false;
   /// The renderer's programs (vulkanPrograms() order): the characters' draws' and pre-skinning
   /// passes' default blocks.
   const std::vector<ProgramModules>* programs = nullptr;
@@ -103,18 +106,28 @@ class GpuDrivenViews {
     uint64_t generation = 0;             // at this generation of its buffers.
     uint32_t capacity = 0, sub_meshes = 0, buckets = 0;
     // The view's LODs; the passes' counters, records, visible list, entries and indirect
-    // commands; pre-skinning's entry data, ring and tangent ring (the ring stands in without).
+    // commands; pre-skinning's entry data, ring and tangent ring (the ring stands in without);
+    // motion vectors' previous records and previous positions' ring (16 bytes without).
     GpuBuffer lods, counters, records, visible, entries, commands;
-    GpuBuffer entry_data, ring, tangent_ring;
-    // Its device buffers (the staging and readback aside), and the tangent ring the sets bind.
-    std::array<GpuBuffer*, 9> buffers() {
-      return {&lods,     &counters,   &records, &visible,     &entries,
-              &commands, &entry_data, &ring,    &tangent_ring};
+    GpuBuffer entry_data, ring, tangent_ring, previous, previous_ring;
+    // Its device buffers sized by the crowd (the staging, readback and drawn records aside).
+    std::array<GpuBuffer*, 11> buffers() {
+      return {&lods,       &counters, &records,      &visible,  &entries,      &commands,
+              &entry_data, &ring,     &tangent_ring, &previous, &previous_ring};
     }
-    std::array<const GpuBuffer*, 9> buffers() const {
-      return {&lods,     &counters,   &records, &visible,     &entries,
-              &commands, &entry_data, &ring,    &tangent_ring};
+    std::array<const GpuBuffer*, 11> buffers() const {
+      return {&lods,       &counters, &records,      &visible,  &entries,      &commands,
+              &entry_data, &ring,     &tangent_ring, &previous, &previous_ring};
     }
+    // Motion vectors: the records the passes drew per handle slot, two parities (the frame's,
+    // the previous one's), kept across reshapes; the crowd frame of the view's last passes and
+    // of its last camera, whether that camera was the previous frame's, and both cameras.
+    GpuBuffer drawn;
+    uint32_t drawn_slots = 0;
+    uint64_t motion_frame = 0, camera_frame = 0;
+    bool previous_known = false;
+    glm::dvec3 position{0.0}, previous_position{0.0};
+    glm::mat4 view_projection{1.0f}, previous_view_projection{1.0f};
     uint32_t ring_vertices = 0;      // 0: no pre-skinning.
     std::vector<GpuBuffer> staging;  // Per frame slot: the LODs' seed.
     // Per frame slot: the counters after its passes (each phase's, with occlusion culling).
@@ -145,6 +158,13 @@ class GpuDrivenViews {
   Status reshape(VkCommandBuffer cmd, View* v, uint32_t slot, const CharacterResources& c,
                  const DrivenCrowd& d, const CrowdView& view);
   void retire(uint32_t slot, View* v);
+  // Motion vectors: drawn records for `slots` handle slots (grown to twice the last within
+  // maxStorageBufferRange, zeroed in `cmd`; the old retired into `slot`; `*remade` when they
+  // were). kLimitExceeded past maxStorageBufferRange.
+  Status ensureDrawn(VkCommandBuffer cmd, uint32_t slot, View* v, uint32_t slots, bool* remade);
+  // Motion vectors: `v`'s cameras for passes with `camera` in crowd frame `frame` (the last
+  // frame's camera is the previous one when it was the frame before).
+  static void updateMotionCameras(View* v, uint64_t frame, const Camera& camera);
   // Writes every binding of the passes' set `set` for `v`, character `c` and crowd state `d`,
   // the depth pyramid `pyramid` (layout `pyramid_layout`).
   void writePassSet(VkDescriptorSet set, View* v, const CharacterResources& c, const DrivenCrowd& d,

@@ -78,10 +78,6 @@ Status Renderer::init(const RendererDesc& desc) {
       if (!has)
         return {StatusCode::kUnsupported,
                 strCat("vk::Renderer::init: the GPU-driven path needs the device feature ", name)};
-    if (desc.motion_format != VK_FORMAT_UNDEFINED)
-      return {StatusCode::kUnsupported,
-              "vk::Renderer::init: the Vulkan back-end's GPU-driven path draws no motion vectors "
-              "yet (RendererDesc::gpu_driven with motion_format)"};
   }
   const auto renderable = [](VkSampleCountFlagBits samples, VkSampleCountFlags counts) {
     const uint32_t n = uint32_t(samples);
@@ -262,7 +258,9 @@ Status Renderer::addCharacter(const Character& character, const BakedPalette& pa
     }
   // The GPU-driven draws, shaded and depth only, skinned in the vertex stage and pre-skinned;
   // the pre-skinning pass of the mesh's variant.
-  for (size_t k = 0; k < 2 && s.isOk() && m.desc.gpu_driven; ++k) {
+  for (size_t k = 0; k < kVulkanKinds && s.isOk() && m.desc.gpu_driven; ++k) {
+    if (VulkanKind(k) == VulkanKind::kMotion && m.desc.motion_format == VK_FORMAT_UNDEFINED)
+      continue;
     c->driven_programs[k] = uint32_t(vulkanProgramIndex(VulkanKind(k), false, variant, true));
     s = createSkinnedPipeline(m.device(), m.allocator(), m.programs[c->driven_programs[k]],
                               m.driven_layout.pipeline_layout, formats[k], stream,
@@ -278,6 +276,11 @@ Status Renderer::addCharacter(const Character& character, const BakedPalette& pa
     c->skin_program = uint32_t(vulkanComputeProgramIndex(si::detail::ProgramId::kGpuSkin, variant));
     s = createComputePipeline(m.device(), m.allocator(), m.programs[c->skin_program],
                               m.compute_layout.pipeline_layout, &c->skin_pipeline);
+    c->skin_motion_program =
+        uint32_t(vulkanComputeProgramIndex(si::detail::ProgramId::kGpuSkinMotion, variant));
+    if (s.isOk() && m.desc.motion_format != VK_FORMAT_UNDEFINED)
+      s = createComputePipeline(m.device(), m.allocator(), m.programs[c->skin_motion_program],
+                                m.compute_layout.pipeline_layout, &c->skin_motion_pipeline);
   }
   if (s.isOk())
     s = createCharacterSet(m.device(), m.allocator(), m.layout,

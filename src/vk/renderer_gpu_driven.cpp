@@ -26,7 +26,9 @@ Status Renderer::Impl::initGpuDriven(const VkPhysicalDeviceLimits& limits) {
   // The layout's passes: the three, and the pre-skinning pass of every mesh variant.
   std::vector<const ProgramModules*> layout_passes(pass_modules, pass_modules + 3);
   for (size_t k = 0; k < programs.size(); ++k)
-    if (vulkanPrograms()[k].compute && vulkanPrograms()[k].id == si::detail::ProgramId::kGpuSkin)
+    if (vulkanPrograms()[k].compute &&
+        (vulkanPrograms()[k].id == si::detail::ProgramId::kGpuSkin ||
+         vulkanPrograms()[k].id == si::detail::ProgramId::kGpuSkinMotion))
       layout_passes.push_back(&programs[k]);
   for (size_t k = 0; k < programs.size(); ++k) {
     const VulkanProgram& p = vulkanPrograms()[k];
@@ -82,6 +84,7 @@ Status Renderer::Impl::initGpuDriven(const VkPhysicalDeviceLimits& limits) {
   shared.frames_in_flight = desc.frames_in_flight;
   shared.ring_bytes = desc.gpu_driven_ring_bytes;
   shared.idle_frames = desc.gpu_driven_idle_frames;
+  shared.motion = desc.motion_format != VK_FORMAT_UNDEFINED;
   shared.programs = &programs;
   driven_views.init(shared);
   return Status::ok();

@@ -35,7 +35,8 @@ Status createSkinnedLayout(VkDevice device, const VkAllocationCallbacks* allocat
       else if (b == kVertexMaterialsBinding || b == kMaterialTableBinding ||
                b == kPreviousBinding || b == kDrivenRecordsBinding || b == kDrivenEntriesBinding ||
                b == kDrivenVisibleBinding || b == kEntryDataBinding || b == kRingBinding ||
-               b == kSourceBinding || b == kLodVerticesBinding || b == kTangentRingBinding)
+               b == kSourceBinding || b == kLodVerticesBinding || b == kTangentRingBinding ||
+               b == kPreviousOutBinding || b == kPreviousRingBinding)
         type = VK_DESCRIPTOR_TYPE_STORAGE_BUFFER;
       else if (b == kPaletteBinding || b == kBaseColorBinding || b == kCustomBinding ||
                b == kMaterialDataBinding || b == kMorphBinding)

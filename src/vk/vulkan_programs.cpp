@@ -16,6 +16,7 @@ constexpr VulkanKind kKinds[] = {VulkanKind::kShaded, VulkanKind::kDepthOnly, Vu
 ProgramId catalogProgram(VulkanKind kind, bool layers, bool gpu_driven) {
   if (gpu_driven)
     return kind == VulkanKind::kDepthOnly ? ProgramId::kGpuDrivenDepthOnly
+           : kind == VulkanKind::kMotion  ? ProgramId::kGpuDrivenSkinnedMotion
                                           : ProgramId::kGpuDrivenSkinned;
   switch (kind) {
     case VulkanKind::kDepthOnly:
@@ -37,8 +38,7 @@ std::vector<VulkanProgram> makePrograms() {
           for (bool words : {false, true})
             for (VulkanKind kind : kKinds) {
               if (words && kind == VulkanKind::kDepthOnly) continue;  // It reads no vertex words.
-              // The GPU-driven draws: no layers or motion vectors yet.
-              if (gpu_driven && (layers || kind == VulkanKind::kMotion)) continue;
+              if (gpu_driven && layers) continue;  // The GPU-driven draws: no layers yet.
               std::string name = kind == VulkanKind::kShaded      ? "skinned"
                                  : kind == VulkanKind::kDepthOnly ? "depth_only"
                                                                   : "skinned_motion";
@@ -58,16 +58,26 @@ std::vector<VulkanProgram> makePrograms() {
            std::string("gpu_pulled") + (tangents ? "_tangents" : "") + (words ? "_words" : "")});
   programs.push_back({ProgramId::kGpuPulledDepthOnly, VulkanKind::kDepthOnly, true, false, true,
                       false, false, false, false, false, "gpu_pulled_depth_only"});
+  for (bool tangents : {false, true})
+    for (bool words : {false, true})
+      programs.push_back(
+          {tangents ? ProgramId::kGpuPulledMotionTangents : ProgramId::kGpuPulledMotion,
+           VulkanKind::kMotion, true, false, true, tangents, false, false, false, words,
+           std::string("gpu_pulled_motion") + (tangents ? "_tangents" : "") +
+               (words ? "_words" : "")});
   for (const auto& [id, name] :
        {std::pair{ProgramId::kCull, "cull"}, std::pair{ProgramId::kCullCommands, "cull_commands"},
         std::pair{ProgramId::kCullScatter, "cull_scatter"}})
     programs.push_back({id, VulkanKind::kShaded, true, true, false, false, false, false, false,
                         false, std::string(name)});
-  for (bool morph : {false, true})
-    for (bool eight : {false, true})
-      programs.push_back({ProgramId::kGpuSkin, VulkanKind::kShaded, true, true, false, false, false,
-                          morph, eight, false,
-                          std::string("gpu_skin") + (morph ? "_morph" : "") + (eight ? "_8" : "")});
+  for (bool motion : {false, true})
+    for (bool morph : {false, true})
+      for (bool eight : {false, true})
+        programs.push_back({motion ? ProgramId::kGpuSkinMotion : ProgramId::kGpuSkin,
+                            motion ? VulkanKind::kMotion : VulkanKind::kShaded, true, true, false,
+                            false, false, morph, eight, false,
+                            std::string("gpu_skin") + (motion ? "_motion" : "") +
+                                (morph ? "_morph" : "") + (eight ? "_8" : "")});
   for (const auto& [id, name] : {std::pair{ProgramId::kHizCopy, "hiz_copy"},
                                  std::pair{ProgramId::kHizCopyMultisample, "hiz_copy_ms"},
                                  std::pair{ProgramId::kHizReduce, "hiz_reduce"}})
@@ -100,7 +110,7 @@ size_t vulkanProgramIndex(VulkanKind kind, bool layers, const MeshVariant& mesh,
 }
 
 size_t vulkanComputeProgramIndex(ProgramId id, const MeshVariant& mesh) {
-  const bool skin = id == ProgramId::kGpuSkin;
+  const bool skin = id == ProgramId::kGpuSkin || id == ProgramId::kGpuSkinMotion;
   const std::vector<VulkanProgram>& programs = programList();
   for (size_t k = 0; k < programs.size(); ++k)
     if (programs[k].compute && programs[k].id == id &&

@@ -47,11 +47,13 @@ struct VulkanProgram {
 /// and shaded with motion vectors, each without and with layers, for meshes without and with
 /// morph targets, of 4 and of 8 influences, the shaded ones also for meshes with vertex words
 /// (the depth-only stage reads none), ordered by morph targets, layers, 8 influences, vertex
-/// words, then kind; then the GPU-driven path's draws, shaded and depth only, without layers,
-/// for the same meshes in the same order; its pre-skinned draws ("gpu_pulled", "_tangents",
-/// "_words"; "gpu_pulled_depth_only"); then its compute passes: "cull", "cull_commands",
-/// "cull_scatter", the pre-skinning pass for each mesh ("gpu_skin", "_morph", "_8"), and
-/// occlusion culling's depth pyramid passes ("hiz_copy", "hiz_copy_ms", "hiz_reduce").
+/// words, then kind; then the GPU-driven path's draws, shaded, depth only and with motion
+/// vectors, without layers, for the same meshes in the same order; its pre-skinned draws
+/// ("gpu_pulled", "_tangents", "_words"; "gpu_pulled_depth_only"; "gpu_pulled_motion",
+/// "_tangents", "_words"); then its compute passes: "cull", "cull_commands", "cull_scatter",
+/// the pre-skinning pass for each mesh ("gpu_skin", "_morph", "_8"), with the previous
+/// positions ("gpu_skin_motion", ...), and occlusion culling's depth pyramid passes
+/// ("hiz_copy", "hiz_copy_ms", "hiz_reduce").
 Span<const VulkanProgram> vulkanPrograms();
 
 /// What a character's mesh needs of its programs.
@@ -63,13 +65,14 @@ struct MeshVariant {
 
 /// The index in vulkanPrograms() of the program of `kind`, with layers or not, for a mesh of
 /// `mesh` (its vertex words ignored for kDepthOnly); the GPU-driven path's draw with
-/// `gpu_driven` (kShaded or kDepthOnly, no layers).
+/// `gpu_driven` (no layers).
 size_t vulkanProgramIndex(VulkanKind kind, bool layers, const MeshVariant& mesh,
                           bool gpu_driven = false);
 /// The index in vulkanPrograms() of the GPU-driven compute pass `id` (kCull, kCullCommands,
-/// kCullScatter, kHizCopy, kHizCopyMultisample, kHizReduce; kGpuSkin for a mesh of `mesh`).
+/// kCullScatter, kHizCopy, kHizCopyMultisample, kHizReduce; kGpuSkin and kGpuSkinMotion for a
+/// mesh of `mesh`).
 size_t vulkanComputeProgramIndex(si::detail::ProgramId id, const MeshVariant& mesh = {});
-/// The index in vulkanPrograms() of the GPU-driven pre-skinned draw of `kind` (kShaded or
+/// The index in vulkanPrograms() of the GPU-driven pre-skinned draw of `kind` (kShaded, kMotion or
 /// kDepthOnly) for a character with tangents or not and a mesh of `mesh` (its vertex words).
 size_t vulkanPulledProgramIndex(VulkanKind kind, bool tangents, const MeshVariant& mesh);
 

@@ -68,8 +68,9 @@ TEST(VulkanSpirv, EveryProgramsStagesAreEmbeddedAndValidForVulkan13) {
   ASSERT_EQ(kSpirvModuleCount, moduleNames().size());
   size_t compute = 0;
   for (const VulkanProgram& p : vulkanPrograms()) compute += p.compute;
-  EXPECT_EQ(compute, 10u) << "the GPU-driven path's cull, commands and scatter passes, 4 "
-                             "pre-skinning variants and 3 depth pyramid passes";
+  EXPECT_EQ(compute, 14u) << "the GPU-driven path's cull, commands and scatter passes, 8 "
+                             "pre-skinning variants (with and without the previous positions) "
+                             "and 3 depth pyramid passes";
   for (const std::string& name : moduleNames()) {
     SCOPED_TRACE(name);
     const SpirvModule* m = findSpirvModule(name.c_str());

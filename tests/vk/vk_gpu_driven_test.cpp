@@ -469,17 +469,6 @@ TEST_P(VulkanGpuDrivenTest, RefusalsAreNamed) {
     EXPECT_EQ(s.code(), StatusCode::kUnsupported) << s.toString();
     EXPECT_NE(s.message().find("gpu_driven"), std::string::npos) << s.toString();
   }
-  {  // With motion vectors: not built.
-    vk::Renderer r;
-    vk::RendererDesc rd;
-    rd.physical_device = host_.physicalDevice();
-    rd.device = host_.device();
-    rd.gpu_driven = true;
-    rd.motion_format = examples::HeadlessVulkan::kMotionFormat;
-    const Status s = r.init(rd);
-    EXPECT_EQ(s.code(), StatusCode::kUnsupported) << s.toString();
-    EXPECT_NE(s.message().find("motion"), std::string::npos) << s.toString();
-  }
   {  // A ring that does not hold one instance of the largest list.
     ASSERT_NO_FATAL_FAILURE(start(16));
     std::vector<uint8_t> image;

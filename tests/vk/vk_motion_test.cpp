@@ -3,7 +3,8 @@
 // clips crossfade, cut and change speed while the camera moves draws, into colour attachment 1
 // (RendererDesc::motion_format), the motion si::Renderer's vertex-shader path writes into its
 // MotionTarget for the same two updates, pixel for pixel within a hundredth of a pixel's
-// half-float rounding; a view without previous records is refused by name.
+// half-float rounding; on the GPU-driven path what si::gl's drawCrowdGpuCulled writes; a view
+// without previous records is refused by name.
 #include <glad/gl.h>
 
 #include <algorithm>
@@ -85,6 +86,90 @@ TEST_P(VulkanMotionTest, TheMotionIsWhatOpenGlWrites) {
   expectMotionOfOpenGl(image, motion, gl_image, gl_motion, 2.0f);
   EXPECT_TRUE(host_.messages().empty()) << messages();
   r.shutdown();
+}
+
+// The GPU-driven path (RendererDesc::gpu_driven with motion_format): the same crowd's two frames
+// of passes and draws, the second after crossfades, a cut and a speed change with the camera
+// moved and turned, write the motion si::gl's drawCrowdGpuCulled writes for the same two frames
+// (each instance's previous record is what the view drew of it the frame before), pre-skinned in
+// compute (the previous positions' ring) and skinned in the vertex stage (no ring).
+TEST_P(VulkanMotionTest, TheGpuDrivenPathsMotionIsWhatOpenGlWrites) {
+  SI_START_VULKAN_HOST();
+  for (const bool pre_skinned : {true, false}) {
+    SCOPED_TRACE(pre_skinned ? "pre-skinned" : "skinned in the vertex stage");
+    CrowdManager crowd;
+    CrowdDesc cd;
+    cd.palette = &palette();
+    cd.sub_mesh_count = uint32_t(character().mesh.sub_meshes.size());
+    cd.lod_count = 1;
+    ASSERT_TRUE(crowd.init(cd).isOk());
+    const uint32_t clips = uint32_t(palette().clips.size());
+    std::vector<InstanceHandle> handles;
+    for (int k = 0; k < 16; ++k) {
+      InstanceDesc d;
+      d.position = glm::dvec3((k % 4 - 1.5) * 1.3, 0.0, -3.0 - 1.6 * (k / 4));
+      d.variation_mask = 1u | (uint32_t(k) << 1);
+      d.clip = uint32_t(k) % clips;
+      d.time_seconds = 0.13 * k;
+      d.speed = 1.0f + 0.1f * float(k % 3);
+      InstanceHandle h;
+      ASSERT_TRUE(crowd.add(d, &h).isOk());
+      handles.push_back(h);
+    }
+    // si::gl's GPU-driven path into a MotionTarget, and si::vk's, drawing each frame in turn.
+    RendererDesc gd;
+    gd.motion_vectors = true;
+    Renderer gl;
+    ASSERT_TRUE(gl.init(info_, gd).isOk());
+    CharacterId gl_id;
+    ASSERT_TRUE(gl.addCharacter(character(), palette(), &gl_id).isOk());
+    MotionTarget target;
+    ASSERT_TRUE(target.create(kSize, kSize).isOk());
+    vk::Renderer r;
+    vk::RendererDesc rd;
+    rd.motion_format = examples::HeadlessVulkan::kMotionFormat;
+    rd.gpu_driven = true;
+    if (!pre_skinned) rd.gpu_driven_ring_bytes = 0;
+    vk::CharacterId id;
+    ASSERT_NO_FATAL_FAILURE(startRenderer(rd, &r, &id));
+    std::vector<uint8_t> gl_image, image;
+    std::vector<glm::vec2> gl_motion, motion;
+    for (uint32_t f = 0; f < 2; ++f) {
+      if (f == 1) {  // Crossfades, a cut and a speed change before the second frame.
+        for (size_t k = 0; k < handles.size(); k += 3)
+          ASSERT_TRUE(crowd.crossfade(handles[k], (uint32_t(k) + 1) % clips, 0.4).isOk());
+        ASSERT_TRUE(crowd.play(handles[0], 0, 0.5, 1.0f).isOk());
+        ASSERT_TRUE(crowd.play(handles[2], 2 % clips, 0.2, 2.5f).isOk());
+      }
+      ASSERT_TRUE(crowd.advance(f == 0 ? 0.05 : 1.0 / 30.0).isOk());
+      const Camera cam = camera(2 * f);
+      target.clear(kBackground);
+      const Status drawn = gl.drawCrowdGpuCulled(
+          gl_id, crowd.view(), cam, nullptr, pre_skinned ? DrawMode::kDefault : DrawMode::kSkinned);
+      target.restore();
+      ASSERT_TRUE(drawn.isOk()) << drawn.toString();
+      ASSERT_TRUE(target.readMotion(&gl_motion).isOk());
+      ASSERT_TRUE(target.readColor(&gl_image).isOk());
+      examples::HeadlessVulkan::Frame frame;
+      frame.clear_color = kBackground;
+      frame.motion = true;
+      frame.before = [&](VkCommandBuffer cmd) {
+        const Status begun = r.beginFrame(f);
+        return begun.isOk() ? r.recordGpuDrivenPasses(cmd, id, crowd.view(), cam) : begun;
+      };
+      const Status s = host_.render(
+          frame,
+          [&](VkCommandBuffer cmd) {
+            return r.recordGpuDrivenDraw(cmd, vk::DrawTarget{{kSize, kSize}}, id, crowd.view());
+          },
+          {&image, nullptr, &motion});
+      ASSERT_TRUE(s.isOk()) << s.toString();
+    }
+    expectMotionOfOpenGl(image, motion, gl_image, gl_motion, 2.0f);
+    r.shutdown();
+    gl.shutdown();
+  }
+  EXPECT_TRUE(host_.messages().empty()) << messages();
 }
 
 TEST_P(VulkanMotionTest, AViewWithoutPreviousRecordsIsRefusedByName) {

@@ -67,8 +67,8 @@
 /// drawn by its program variant); layered animation (overlays on their masks, 1D blends);
 /// palettes of every si::PaletteFormat; and the GPU-driven path's culling, LOD, pre-skinning
 /// and indirect draw (recordGpuDrivenPasses, recordGpuDrivenDraw: shaded or depth only, every
-/// mesh variant, with two-phase occlusion culling or without; not yet with layers, live poses,
-/// motion vectors or impostors). Everything else (the instanced path's compute pre-skinning, 2D
+/// mesh variant, with motion vectors, with two-phase occlusion culling or without; not yet with
+/// layers, live poses or impostors). Everything else (the instanced path's compute pre-skinning, 2D
 /// blends, host materials, impostors) is refused by name (kUnsupported).
 /// What the host must do: record recordUploads() before the first draw of a character and
 /// submit it before (or with) that draw; give each frame in flight its own slot (beginFrame(),
@@ -119,7 +119,12 @@ struct RendererDesc {
   /// crowd's previous update into colour attachment 1 of this format, as si::Renderer's
   /// RendererDesc::motion_vectors does (texture coordinate units, now minus then; the crowd
   /// keeps its previous records: CrowdDesc::previous_records). The record ring is then also
-  /// read as one storage buffer (kLimitExceeded past the device's maxStorageBufferRange).
+  /// read as one storage buffer (kLimitExceeded past the device's maxStorageBufferRange). On
+  /// the GPU-driven path every view's passes also write each visible instance's previous record
+  /// (what the view drew of it at the crowd's previous step; else its record moved by the
+  /// cameras' shift) and the previous positions it pre-skins, as drawCrowdGpuCulled does; the
+  /// crowd needs no previous records there, and the motion is since the view's passes of the
+  /// crowd's previous step.
   VkFormat motion_format = VK_FORMAT_UNDEFINED;
   uint32_t frames_in_flight = 2;                      ///< Frame slots of the record ring (1 to 8).
   /// Bytes of records, per frame slot (rounded up to 256): a frame's batches of every draw
@@ -134,7 +139,7 @@ struct RendererDesc {
   /// The GPU-driven path (recordGpuDrivenPasses, recordGpuDrivenDraw). The host created its
   /// device with the features shaderFloat64, multiDrawIndirect and drawIndirectFirstInstance
   /// enabled (the cull pass keeps the crowd's clock and positions in doubles, as the CPU does):
-  /// init() refuses a physical device without them (kUnsupported). Not with motion vectors yet.
+  /// init() refuses a physical device without them (kUnsupported).
   bool gpu_driven = false;
   /// The GPU-driven path's pre-skinning: bytes of each view's ring of pre-skinned vertices (16
   /// a vertex, and 4 more for a character with tangents), within maxStorageBufferRange. The
