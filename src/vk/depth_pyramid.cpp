@@ -189,6 +189,8 @@ Status DepthPyramid::record(VkCommandBuffer cmd, uint32_t slot, FrameRegion regi
     writeDefault(block, copy_r, "u_source_size", source_size, 8);
     writeDefault(block, copy_r, "u_far_is_max", &far, 4);
     writeDefault(block, copy_r, "u_samples", &samples, 4);
+    const int32_t offset[2] = {depth.offset.x, depth.offset.y};
+    writeDefault(block, copy_r, "u_source_offset", offset, 8);
   }
   const VkPipelineLayout layout = passes.layout.pipeline_layout;
   const auto dispatch = [&](VkPipeline pipeline, VkDescriptorSet set, VkDeviceSize at, int32_t nw,

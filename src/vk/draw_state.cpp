@@ -24,9 +24,14 @@ glm::mat4 vulkanViewProjection(const Camera& camera) {
 
 void recordDrawState(VkCommandBuffer cmd, const DrawTarget& target, const Camera& camera) {
   const VkExtent2D extent = target.extent;
-  const VkViewport viewport{
-      0.0f, float(extent.height), float(extent.width), -float(extent.height), 0.0f, 1.0f};
-  const VkRect2D scissor{{0, 0}, extent};
+  const VkOffset2D at = target.offset;
+  const VkViewport viewport{float(at.x),
+                            float(at.y) + float(extent.height),
+                            float(extent.width),
+                            -float(extent.height),
+                            0.0f,
+                            1.0f};
+  const VkRect2D scissor{at, extent};
   vkCmdSetViewport(cmd, 0, 1, &viewport);
   vkCmdSetScissor(cmd, 0, 1, &scissor);
   vkCmdSetDepthCompareOp(cmd, depthCompare(target, camera));

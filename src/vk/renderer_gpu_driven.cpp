@@ -149,10 +149,11 @@ Status Renderer::recordGpuDrivenOcclusion(VkCommandBuffer cmd, CharacterId id,
   const uint32_t samples = uint32_t(depth.samples);
   const bool sample_bit = samples != 0 && samples <= 64 && (samples & (samples - 1)) == 0;
   if (depth.view == VK_NULL_HANDLE || !readable || depth.extent.width == 0 ||
-      depth.extent.height == 0 || !sample_bit)
+      depth.extent.height == 0 || !sample_bit || depth.offset.x < 0 || depth.offset.y < 0)
     return {StatusCode::kInvalidArgument,
             strCat(kCall, ": the depth needs a view, a layout compute shaders read (VkImageLayout ",
                    int(l), "), an extent (", depth.extent.width, " x ", depth.extent.height,
+                   ") at a non-negative offset (", depth.offset.x, ", ", depth.offset.y,
                    ") and samples (", samples, ")")};
   return m.driven_views.recordOcclusion(cmd, uint32_t(m.frame), m.region(), id.index,
                                         *m.characters[id.index], view, depth);

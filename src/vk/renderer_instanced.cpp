@@ -4,6 +4,7 @@
 // blocks written into the frame slot's region of the ring; and the checks every draw and pass
 // makes.
 #include <algorithm>
+#include <cstdint>
 #include <cstring>
 #include <vector>
 
@@ -41,6 +42,12 @@ Status Renderer::Impl::checkTarget(const char* call, const DrawTarget& target) {
     return {StatusCode::kInvalidArgument, strCat(call, ": no draw mode ", int(target.mode))};
   if (target.extent.width == 0 || target.extent.height == 0)
     return {StatusCode::kInvalidArgument, strCat(call, ": an empty target extent")};
+  if (target.offset.x < 0 || target.offset.y < 0 ||
+      int64_t(target.offset.x) + target.extent.width > INT32_MAX ||
+      int64_t(target.offset.y) + target.extent.height > INT32_MAX)
+    return {StatusCode::kInvalidArgument,
+            strCat(call, ": a target offset (", target.offset.x, ", ", target.offset.y,
+                   ") that is negative or passes 2^31 with the extent")};
   if (target.depth_compare > VK_COMPARE_OP_ALWAYS && target.depth_compare != VK_COMPARE_OP_MAX_ENUM)
     return {StatusCode::kInvalidArgument,
             strCat(call, ": depth_compare ", int(target.depth_compare), " is no VkCompareOp")};

@@ -6,6 +6,9 @@
 // keep their own selections; the crowd's changes reach the GPU; what is not built is refused.
 #include <glad/gl.h>
 
+#include <cmath>
+#include <cstring>
+
 #include "core/pre_skin_lists.h"
 #include "si/core/layer_mask.h"
 #include "si/crowd/crowd_export.h"
@@ -125,7 +128,7 @@ class VulkanGpuDrivenTest : public VulkanRenderFixture {
       }
       return s;
     };
-    vk::DrawTarget target{{kSize, kSize}};
+    vk::DrawTarget target{extent_, offset_};
     target.mode = mode;
     return host().render(f,
                          [&](VkCommandBuffer cmd) {
@@ -163,14 +166,15 @@ class VulkanGpuDrivenTest : public VulkanRenderFixture {
                                             vk::GpuCulling::kOcclusion);
       return s;
     };
-    const vk::DrawTarget target{{kSize, kSize}};
+    const vk::DrawTarget target{extent_, offset_};
     const auto draw = [&](VkCommandBuffer cmd) {
       return renderer_.recordGpuDrivenDraw(cmd, target, id_, view);
     };
     f.between = [&](VkCommandBuffer cmd, VkImageView depth) {
       vk::DepthSource source;
       source.view = depth;
-      source.extent = {kSize, kSize};
+      source.extent = extent_;
+      source.offset = offset_;
       source.samples = host().samples();
       return renderer_.recordGpuDrivenOcclusion(cmd, id_, view, source);
     };
@@ -200,6 +204,9 @@ class VulkanGpuDrivenTest : public VulkanRenderFixture {
   uint32_t draws_ = 2;
   std::vector<vk::PassStats> pass_stats_;  // The last frame's passes', in order.
   examples::HeadlessVulkan* other_host_ = nullptr;  // Rendered on instead of host_ when set.
+  // The area the frames draw (DrawTarget::extent and offset; the occlusion's depth the same).
+  VkExtent2D extent_{kSize, kSize};
+  VkOffset2D offset_{0, 0};
 };
 
 // The LOD rows and a close view cutting the near plane: the Vulkan passes select and draw what
@@ -329,6 +336,51 @@ TEST_P(VulkanGpuDrivenTest, OcclusionCullingReadsAMultisampledDepth) {
   EXPECT_EQ(s.code(), StatusCode::kUnsupported) << s.toString();
   EXPECT_NE(s.message().find("samples"), std::string::npos) << s.toString();
   EXPECT_TRUE(multisampled.messages().empty()) << multisampled.messages().front();
+  EXPECT_TRUE(host_.messages().empty()) << messages();
+}
+
+// DrawTarget::offset and DepthSource::offset (a shadow atlas's cascade, a split screen's half):
+// a view drawn into the quarter at (kSize / 2, kSize / 4) is the view drawn into the quarter at
+// the origin, moved there, over the background; occlusion culling in that quarter reads the
+// depth there (the same image, most of the crowd hidden).
+TEST_P(VulkanGpuDrivenTest, DrawsLandAtTheTargetsOffset) {
+  SI_START_VULKAN_HOST();
+  ASSERT_NO_FATAL_FAILURE(start());
+  CrowdManager crowd;
+  makeCrowd(&crowd);
+  populateWallCrowd(&crowd);
+  const Camera camera = tiltedWallCamera(false);
+  const uint32_t half = kSize / 2;
+  extent_ = {half, half};
+  std::vector<uint8_t> origin, moved;
+  Status s = frame(0, {{&crowd.view(), camera}}, {&crowd.view()}, vk::DrawMode::kShaded, &origin);
+  ASSERT_TRUE(s.isOk()) << s.toString();
+  offset_ = {int32_t(half), int32_t(half / 2)};
+  s = frame(1, {{&crowd.view(), camera}}, {&crowd.view()}, vk::DrawMode::kShaded, &moved);
+  ASSERT_TRUE(s.isOk()) << s.toString();
+  // The clear colour (within the unorm conversion's rounding).
+  const auto background = [](const uint8_t* p) {
+    for (int c = 0; c < 4; ++c)
+      if (std::abs(int(p[c]) - int(std::lround(kBackground[c] * 255.0f))) > 1) return false;
+    return true;
+  };
+  size_t apart = 0, drawn = 0, outside = 0;
+  for (uint32_t y = 0; y < kSize; ++y)
+    for (uint32_t x = 0; x < kSize; ++x) {
+      const uint8_t* m = &moved[(size_t(y) * kSize + x) * 4];
+      const bool in = x >= half && y >= half / 2 && y < half / 2 + half;
+      if (!in) {
+        outside += !background(m);
+        continue;
+      }
+      const uint8_t* o = &origin[(size_t(y - half / 2) * kSize + (x - half)) * 4];
+      apart += std::memcmp(m, o, 4) != 0;
+      drawn += !background(o);
+    }
+  EXPECT_GT(drawn, size_t(half) * half / 20) << "the crowd is drawn";
+  EXPECT_LE(apart, size_t(half) * half / 1000) << apart << " pixels of the quarter apart";
+  EXPECT_EQ(outside, 0u) << "pixels drawn outside the target's area";
+  ASSERT_NO_FATAL_FAILURE(expectOcclusionCulls(&crowd, camera, "offset"));
   EXPECT_TRUE(host_.messages().empty()) << messages();
 }
 
@@ -482,6 +534,13 @@ TEST_P(VulkanGpuDrivenTest, RefusalsAreNamed) {
   Status s = frame(0, {}, {&crowd.view()}, vk::DrawMode::kShaded, &image);
   EXPECT_EQ(s.code(), StatusCode::kInvalidArgument) << s.toString();
   EXPECT_NE(s.message().find("recordGpuDrivenPasses"), std::string::npos) << s.toString();
+  // A draw at a negative offset (no passes: a frame recorded and never submitted leaves the
+  // crowd's state on the GPU behind what the renderer copied).
+  offset_ = {-1, 0};
+  s = frame(0, {}, {&crowd.view()}, vk::DrawMode::kShaded, &image);
+  EXPECT_EQ(s.code(), StatusCode::kInvalidArgument) << s.toString();
+  EXPECT_NE(s.message().find("offset"), std::string::npos) << s.toString();
+  offset_ = {0, 0};
   // Passes of one frame do not serve the next frame in the same slot.
   ASSERT_TRUE(
       frame(0, {{&crowd.view(), lodCamera()}}, {&crowd.view()}, vk::DrawMode::kShaded, &image)
@@ -514,6 +573,11 @@ TEST_P(VulkanGpuDrivenTest, RefusalsAreNamed) {
     s = second(vk::GpuCulling::kOcclusion, attachment);
     EXPECT_EQ(s.code(), StatusCode::kInvalidArgument) << s.toString();
     EXPECT_NE(s.message().find("layout"), std::string::npos) << s.toString();
+    vk::DepthSource negative = depth;
+    negative.offset = {0, -1};
+    s = second(vk::GpuCulling::kOcclusion, negative);
+    EXPECT_EQ(s.code(), StatusCode::kInvalidArgument) << s.toString();
+    EXPECT_NE(s.message().find("offset"), std::string::npos) << s.toString();
     vk::DepthSource huge = depth;
     huge.extent = {props.limits.maxImageDimension2D + 1, 1};
     s = second(vk::GpuCulling::kOcclusion, huge);

@@ -23,9 +23,9 @@ class VulkanMotionTest : public VulkanRenderFixture {
     return Camera::lookAt({0.3 * f, 1.6, 2.5 - 0.2 * f}, {0.1 * f, 0.9, -5.0}, glm::vec3(0, 1, 0),
                           0.9f, 1.0f, 0.1f, 100.0f);
   }
-  // 16 characters of distinct clips, times and speeds, updated for frame 0; then crossfades, a
-  // cut and a speed change, and the update of frame 2 (the camera moved and turned).
-  static void twoUpdates(CrowdManager* crowd, bool previous_records) {
+  // 16 characters of distinct clips, times and speeds (their handles into `handles`).
+  static void sixteenCharacters(CrowdManager* crowd, bool previous_records,
+                                std::vector<InstanceHandle>* handles) {
     CrowdDesc cd;
     cd.palette = &palette();
     cd.sub_mesh_count = uint32_t(character().mesh.sub_meshes.size());
@@ -33,7 +33,6 @@ class VulkanMotionTest : public VulkanRenderFixture {
     cd.previous_records = previous_records;
     ASSERT_TRUE(crowd->init(cd).isOk());
     const uint32_t clips = uint32_t(palette().clips.size());
-    std::vector<InstanceHandle> handles;
     for (int k = 0; k < 16; ++k) {
       InstanceDesc d;
       d.position = glm::dvec3((k % 4 - 1.5) * 1.3, 0.0, -3.0 - 1.6 * (k / 4));
@@ -43,13 +42,24 @@ class VulkanMotionTest : public VulkanRenderFixture {
       d.speed = 1.0f + 0.1f * float(k % 3);
       InstanceHandle h;
       ASSERT_TRUE(crowd->add(d, &h).isOk());
-      handles.push_back(h);
+      handles->push_back(h);
     }
-    ASSERT_TRUE(crowd->update(0.05, camera(0)).isOk());
+  }
+  // Crossfades, a cut and a speed change.
+  static void changeClips(CrowdManager* crowd, const std::vector<InstanceHandle>& handles) {
+    const uint32_t clips = uint32_t(palette().clips.size());
     for (size_t k = 0; k < handles.size(); k += 3)
       ASSERT_TRUE(crowd->crossfade(handles[k], (uint32_t(k) + 1) % clips, 0.4).isOk());
     ASSERT_TRUE(crowd->play(handles[0], 0, 0.5, 1.0f).isOk());
     ASSERT_TRUE(crowd->play(handles[2], 2 % clips, 0.2, 2.5f).isOk());
+  }
+  // sixteenCharacters() updated for frame 0; then changeClips() and the update of frame 2 (the
+  // camera moved and turned).
+  static void twoUpdates(CrowdManager* crowd, bool previous_records) {
+    std::vector<InstanceHandle> handles;
+    ASSERT_NO_FATAL_FAILURE(sixteenCharacters(crowd, previous_records, &handles));
+    ASSERT_TRUE(crowd->update(0.05, camera(0)).isOk());
+    ASSERT_NO_FATAL_FAILURE(changeClips(crowd, handles));
     ASSERT_TRUE(crowd->update(1.0 / 30.0, camera(2)).isOk());
   }
 };
@@ -98,24 +108,8 @@ TEST_P(VulkanMotionTest, TheGpuDrivenPathsMotionIsWhatOpenGlWrites) {
   for (const bool pre_skinned : {true, false}) {
     SCOPED_TRACE(pre_skinned ? "pre-skinned" : "skinned in the vertex stage");
     CrowdManager crowd;
-    CrowdDesc cd;
-    cd.palette = &palette();
-    cd.sub_mesh_count = uint32_t(character().mesh.sub_meshes.size());
-    cd.lod_count = 1;
-    ASSERT_TRUE(crowd.init(cd).isOk());
-    const uint32_t clips = uint32_t(palette().clips.size());
     std::vector<InstanceHandle> handles;
-    for (int k = 0; k < 16; ++k) {
-      InstanceDesc d;
-      d.position = glm::dvec3((k % 4 - 1.5) * 1.3, 0.0, -3.0 - 1.6 * (k / 4));
-      d.variation_mask = 1u | (uint32_t(k) << 1);
-      d.clip = uint32_t(k) % clips;
-      d.time_seconds = 0.13 * k;
-      d.speed = 1.0f + 0.1f * float(k % 3);
-      InstanceHandle h;
-      ASSERT_TRUE(crowd.add(d, &h).isOk());
-      handles.push_back(h);
-    }
+    ASSERT_NO_FATAL_FAILURE(sixteenCharacters(&crowd, false, &handles));
     // si::gl's GPU-driven path into a MotionTarget, and si::vk's, drawing each frame in turn.
     RendererDesc gd;
     gd.motion_vectors = true;
@@ -135,11 +129,8 @@ TEST_P(VulkanMotionTest, TheGpuDrivenPathsMotionIsWhatOpenGlWrites) {
     std::vector<uint8_t> gl_image, image;
     std::vector<glm::vec2> gl_motion, motion;
     for (uint32_t f = 0; f < 2; ++f) {
-      if (f == 1) {  // Crossfades, a cut and a speed change before the second frame.
-        for (size_t k = 0; k < handles.size(); k += 3)
-          ASSERT_TRUE(crowd.crossfade(handles[k], (uint32_t(k) + 1) % clips, 0.4).isOk());
-        ASSERT_TRUE(crowd.play(handles[0], 0, 0.5, 1.0f).isOk());
-        ASSERT_TRUE(crowd.play(handles[2], 2 % clips, 0.2, 2.5f).isOk());
+      if (f == 1) {
+        ASSERT_NO_FATAL_FAILURE(changeClips(&crowd, handles));
       }
       ASSERT_TRUE(crowd.advance(f == 0 ? 0.05 : 1.0 / 30.0).isOk());
       const Camera cam = camera(2 * f);

@@ -73,13 +73,15 @@
 /// What the host must do: record recordUploads() before the first draw of a character and
 /// submit it before (or with) that draw; give each frame in flight its own slot (beginFrame(),
 /// below RendererDesc::frames_in_flight) and wait for a slot's last frame before beginning it
-/// again. The draws test the host's depth attachment (DrawTarget::depth_compare: by default
-/// VK_COMPARE_OP_LESS, VK_COMPARE_OP_GREATER for a reverse-Z camera) and write it, cull back
-/// faces (counter-clockwise front faces as OpenGL draws them, clockwise when the camera's
-/// projection flips the winding: Camera::flipsWinding), and flip the viewport (negative height)
-/// so the image is the one OpenGL draws. They set the dynamic state they use (viewport, scissor,
-/// depth compare, front face, depth bias) on each draw and leave it so; the host sets its own
-/// again after them.
+/// again; submit what it recorded (the GPU-driven passes count the crowd's changes as copied
+/// once recorded: a command buffer recorded and thrown away leaves the GPU's copy behind until
+/// the crowd's next reshape). The draws test the host's depth attachment
+/// (DrawTarget::depth_compare: by default VK_COMPARE_OP_LESS, VK_COMPARE_OP_GREATER for a reverse-Z
+/// camera) and write it, cull back faces (counter-clockwise front faces as OpenGL draws them,
+/// clockwise when the camera's projection flips the winding: Camera::flipsWinding), and flip the
+/// viewport (negative height) so the image is the one OpenGL draws. They set the dynamic state they
+/// use (viewport, scissor, depth compare, front face, depth bias) on each draw and leave it so; the
+/// host sets its own again after them.
 
 #include <cstdint>
 #include <memory>
@@ -172,8 +174,10 @@ enum class DrawMode : uint8_t {
 
 /// Where a draw lands in the host's rendering, and how it tests depth.
 struct DrawTarget {
-  /// The area drawn, from the rendering's origin: the viewport and scissor.
+  /// The area drawn: `extent` wide from `offset` (non-negative) in the rendering's
+  /// attachments, the viewport and scissor (a shadow atlas's cascade, a split screen's half).
   VkExtent2D extent{0, 0};
+  VkOffset2D offset{0, 0};
   DrawMode mode = DrawMode::kShaded;
   /// The depth test. VK_COMPARE_OP_MAX_ENUM (the default) is the camera's convention:
   /// VK_COMPARE_OP_LESS, or VK_COMPARE_OP_GREATER for DepthConvention::kReversedZeroToOne (the
@@ -214,8 +218,9 @@ struct DepthSource {
   /// made the rendering's depth writes visible to VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT's
   /// VK_ACCESS_SHADER_READ_BIT.
   VkImageLayout layout = VK_IMAGE_LAYOUT_DEPTH_STENCIL_READ_ONLY_OPTIMAL;
-  /// The area the first phase's draws covered (their DrawTarget::extent), from the origin.
+  /// The area the first phase's draws covered: their DrawTarget::extent and offset.
   VkExtent2D extent{0, 0};
+  VkOffset2D offset{0, 0};
   /// The image's samples, as it was made (RendererDesc::samples for the main view's depth).
   VkSampleCountFlagBits samples = VK_SAMPLE_COUNT_1_BIT;
 };
@@ -302,9 +307,9 @@ class Renderer {
   /// projection's depth is meant: OpenGL's -1 to 1 (si::Camera::lookAt's) is mapped to Vulkan's
   /// 0 to 1; zero-to-one and reverse-Z projections (Camera::lookAtReverseZ, or the engine's own
   /// through Camera::fromMatrices) are used as they are. kInvalidArgument for an unknown
-  /// character or mode, no beginFrame(), a batcher not initialized, an empty extent, a
-  /// character whose uploads were not recorded, or motion vectors of a view without previous
-  /// records; kUnsupported for a view of 2D blends (their third and fourth clips);
+  /// character or mode, no beginFrame(), a batcher not initialized, an empty extent or a
+  /// negative offset, a character whose uploads were not recorded, or motion vectors of a view
+  /// without previous records; kUnsupported for a view of 2D blends (their third and fourth clips);
   /// kLimitExceeded when the frame's records pass the slot's region (nothing recorded then).
   /// With motion vectors the view's previous records are copied into the slot's region after
   /// this draw's records; with layered animation its layer records (and previous ones) and the
@@ -346,9 +351,9 @@ class Renderer {
   /// camera's convention (greater is farther, or nearer under reverse-Z), the viewport flipped
   /// as the draws flip it. kInvalidArgument for no beginFrame(), an unknown character, a view
   /// whose passes of this frame were not a first phase (or already have their second), a null
-  /// depth view, a layout not listed at DepthSource::layout, an empty extent or samples that
-  /// are no VkSampleCountFlagBits; kLimitExceeded for a pyramid past maxImageDimension2D or
-  /// uniforms past the slot's region; kBackend naming a failed call.
+  /// depth view, a layout not listed at DepthSource::layout, an empty extent, a negative offset
+  /// or samples that are no VkSampleCountFlagBits; kLimitExceeded for a pyramid past
+  /// maxImageDimension2D or uniforms past the slot's region; kBackend naming a failed call.
   Status recordGpuDrivenOcclusion(VkCommandBuffer cmd, CharacterId id, const CrowdView& view,
                                   const DepthSource& depth);
   /// Part 2: records the draws of `view`'s passes of this frame into `cmd` (inside the host's
@@ -357,8 +362,8 @@ class Renderer {
   /// pre-skinned entries, pulled from the ring, then one of every bucket's other entries,
   /// skinned in the vertex stage, each instance's record read through its bucket entry. Any
   /// number of draws (shaded, depth only) of one frame's passes. `stats` counts the draw calls
-  /// only: the instances and triangles are the GPU's. kInvalidArgument for an
-  /// unknown character or mode, an empty extent, or a view whose passes were not recorded in
+  /// only: the instances and triangles are the GPU's. kInvalidArgument for an unknown character
+  /// or mode, an empty extent or a negative offset, or a view whose passes were not recorded in
   /// this frame; kUnsupported without RendererDesc::gpu_driven.
   Status recordGpuDrivenDraw(VkCommandBuffer cmd, const DrawTarget& target, CharacterId id,
                              const CrowdView& view, DrawStats* stats = nullptr);

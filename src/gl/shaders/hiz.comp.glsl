@@ -28,9 +28,12 @@ float siDepth(ivec2 p) { return texelFetch(u_depth, p, 0).r; }
 layout(binding = 0, r32f) writeonly uniform image2D u_out;
 // Level 0's texel p holds the depth's pixel p, rows from the bottom as OpenGL's window. The
 // Vulkan back-end's draws flip the viewport (so the image is OpenGL's): its depth's rows run
-// from the top.
+// from the top, and the area drawn starts at u_source_offset (vk::DrawTarget::offset).
 #ifdef VULKAN
-ivec2 siSourcePixel(ivec2 p) { return ivec2(p.x, u_source_size.y - 1 - p.y); }
+layout(location = 4) uniform ivec2 u_source_offset;
+ivec2 siSourcePixel(ivec2 p) {
+  return u_source_offset + ivec2(p.x, u_source_size.y - 1 - p.y);
+}
 #else
 ivec2 siSourcePixel(ivec2 p) { return p; }
 #endif
