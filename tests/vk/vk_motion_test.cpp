@@ -163,6 +163,77 @@ TEST_P(VulkanMotionTest, TheGpuDrivenPathsMotionIsWhatOpenGlWrites) {
   EXPECT_TRUE(host_.messages().empty()) << messages();
 }
 
+// Motion vectors with occlusion culling (GpuCulling::kOcclusion, both phases drawing into the
+// colour and motion attachments): the wall crowd seen by a camera that moves, then steps aside
+// past the wall's end, three frames, the last one's motion what si::gl's drawCrowdGpuCulled
+// writes with gpu_occlusion_culling (each phase's instances take their previous records as one
+// pass does; the characters that come into view are the second phase's).
+TEST_P(VulkanMotionTest, TheGpuDrivenMotionWithOcclusionCullingIsWhatOpenGlWrites) {
+  SI_START_VULKAN_HOST();
+  CrowdManager crowd;
+  makeCrowd(&crowd);
+  populateWallCrowd(&crowd);
+  // The last frame's camera steps aside past the wall's end: much of the crowd behind it comes
+  // into view at once, drawn by the second phase.
+  const auto cam = [](int f) {
+    const glm::dvec3 eye =
+        f < 2 ? glm::dvec3(0.1 * f, 1.0, 2.0 - 0.1 * f) : glm::dvec3(6.5, 1.0, 1.5);
+    return Camera::lookAt(eye, {0.2 * f, 1.0, -40.0}, glm::vec3(0, 1, 0), 0.9f, 1.0f, 0.1f, 500.0f);
+  };
+  RendererDesc gd;
+  gd.motion_vectors = true;
+  gd.gpu_occlusion_culling = true;
+  Renderer gl;
+  ASSERT_TRUE(gl.init(info_, gd).isOk());
+  CharacterId gl_id;
+  ASSERT_TRUE(gl.addCharacter(character(), palette(), &gl_id).isOk());
+  MotionTarget target;
+  ASSERT_TRUE(target.create(kSize, kSize).isOk());
+  vk::Renderer r;
+  vk::RendererDesc rd;
+  rd.motion_format = examples::HeadlessVulkan::kMotionFormat;
+  rd.gpu_driven = true;
+  vk::CharacterId id;
+  ASSERT_NO_FATAL_FAILURE(startRenderer(rd, &r, &id));
+  std::vector<uint8_t> gl_image, image;
+  std::vector<glm::vec2> gl_motion, motion;
+  const vk::DrawTarget area{{kSize, kSize}};
+  for (int f = 0; f < 3; ++f) {
+    ASSERT_TRUE(crowd.advance(f == 0 ? 0.0 : 1.0 / 30.0).isOk());
+    target.clear(kBackground);
+    const Status drawn = gl.drawCrowdGpuCulled(gl_id, crowd.view(), cam(f), nullptr);
+    target.restore();
+    ASSERT_TRUE(drawn.isOk()) << drawn.toString();
+    ASSERT_TRUE(target.readMotion(&gl_motion).isOk());
+    ASSERT_TRUE(target.readColor(&gl_image).isOk());
+    examples::HeadlessVulkan::Frame frame;
+    frame.clear_color = kBackground;
+    frame.motion = true;
+    frame.before = [&](VkCommandBuffer cmd) {
+      const Status begun = r.beginFrame(uint32_t(f) % 2);
+      return begun.isOk() ? r.recordGpuDrivenPasses(cmd, id, crowd.view(), cam(f), nullptr,
+                                                    vk::GpuCulling::kOcclusion)
+                          : begun;
+    };
+    const auto draw = [&](VkCommandBuffer cmd) {
+      return r.recordGpuDrivenDraw(cmd, area, id, crowd.view());
+    };
+    frame.between = [&](VkCommandBuffer cmd, VkImageView depth) {
+      vk::DepthSource source;
+      source.view = depth;
+      source.extent = area.extent;
+      return r.recordGpuDrivenOcclusion(cmd, id, crowd.view(), source);
+    };
+    frame.after = draw;
+    const Status s = host_.render(frame, draw, {&image, nullptr, &motion});
+    ASSERT_TRUE(s.isOk()) << s.toString();
+  }
+  expectMotionOfOpenGl(image, motion, gl_image, gl_motion, 0.5f);
+  r.shutdown();
+  gl.shutdown();
+  EXPECT_TRUE(host_.messages().empty()) << messages();
+}
+
 TEST_P(VulkanMotionTest, AViewWithoutPreviousRecordsIsRefusedByName) {
   SI_START_VULKAN_HOST();
   CrowdManager crowd;
