@@ -301,7 +301,8 @@ TEST_P(VulkanGpuDrivenTest, OcclusionCullingDrawsTheSameImageWithFewerTriangles)
 // at the end of each rendering): occlusion culling reads the depth's samples (each pixel's
 // farthest: hiz_copy_ms) and the resolved image is the one drawn without occlusion culling,
 // with fewer triangles; it is antialiased (apart from the single-sampled image at the
-// silhouettes). A sample count the device cannot render is refused.
+// silhouettes); a depth pre-pass of it (depth_only_samples) writes the shaded draw's depth. A
+// sample count the device cannot render is refused.
 TEST_P(VulkanGpuDrivenTest, OcclusionCullingReadsAMultisampledDepth) {
   SI_START_VULKAN_HOST();
   examples::HeadlessVulkan multisampled;
@@ -317,13 +318,31 @@ TEST_P(VulkanGpuDrivenTest, OcclusionCullingReadsAMultisampledDepth) {
   other_host_ = &multisampled;
   vk::RendererDesc rd;
   rd.gpu_driven = true;
-  rd.samples = VK_SAMPLE_COUNT_4_BIT;
+  rd.samples = rd.depth_only_samples = VK_SAMPLE_COUNT_4_BIT;
   ASSERT_NO_FATAL_FAILURE(
       startRenderer(rd, character(), palette(), &renderer_, &id_, &multisampled));
   ASSERT_NO_FATAL_FAILURE(expectOcclusionCulls(&crowd, tiltedWallCamera(false), "4x", &resolved));
   const Diff antialiased = compare(resolved, single, nullptr);
   EXPECT_GT(antialiased.share, 0.002) << "the silhouettes' pixels are resolved from 4 samples";
   EXPECT_LT(antialiased.share, 0.3);
+  // A depth pre-pass of the multisampled target (depth_only_samples): the shaded draw's depth
+  // (sample 0 of each pixel, as the host resolves it).
+  std::vector<uint8_t> unused;
+  std::vector<float> depth, depth_only;
+  const Camera camera = tiltedWallCamera(false);
+  Status s =
+      frame(0, {{&crowd.view(), camera}}, {&crowd.view()}, vk::DrawMode::kShaded, &unused, &depth);
+  ASSERT_TRUE(s.isOk()) << s.toString();
+  s = frame(1, {{&crowd.view(), camera}}, {&crowd.view()}, vk::DrawMode::kDepthOnly, nullptr,
+            &depth_only);
+  ASSERT_TRUE(s.isOk()) << s.toString();
+  size_t covered = 0, apart = 0;
+  for (size_t i = 0; i < depth.size() && i < depth_only.size(); ++i) {
+    covered += depth[i] < 1.0f;
+    apart += std::abs(depth[i] - depth_only[i]) > 1e-6f;
+  }
+  EXPECT_GT(covered, 2000u);
+  EXPECT_LE(apart, covered / 200) << apart << " of " << covered;
   renderer_.shutdown();
   other_host_ = nullptr;
   // Three samples.
@@ -332,7 +351,7 @@ TEST_P(VulkanGpuDrivenTest, OcclusionCullingReadsAMultisampledDepth) {
   bad.physical_device = host_.physicalDevice();
   bad.device = host_.device();
   bad.samples = VkSampleCountFlagBits(3);
-  const Status s = three.init(bad);
+  s = three.init(bad);
   EXPECT_EQ(s.code(), StatusCode::kUnsupported) << s.toString();
   EXPECT_NE(s.message().find("samples"), std::string::npos) << s.toString();
   EXPECT_TRUE(multisampled.messages().empty()) << multisampled.messages().front();
