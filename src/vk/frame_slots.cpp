@@ -41,8 +41,8 @@ void FrameRetirement::retire(uint32_t slot, VkImageView* view) {
   *view = VK_NULL_HANDLE;
 }
 
-void FrameRetirement::release(uint32_t slot) {
-  Retired& r = slots_[slot];
+void FrameRetirement::destroy(Retired* retired) {
+  Retired& r = *retired;
   for (GpuBuffer& b : r.buffers) objects_->destroy(&b);
   for (VkImageView v : r.views) vkDestroyImageView(objects_->device(), v, objects_->allocator());
   for (GpuImage& i : r.images) objects_->destroy(&i);
@@ -51,8 +51,31 @@ void FrameRetirement::release(uint32_t slot) {
   r = Retired();
 }
 
+void FrameRetirement::holdForCycle(uint32_t slot, uint32_t slots) {
+  Held h;
+  h.retired = std::move(slots_[slot]);
+  slots_[slot] = Retired();
+  h.waiting = slots >= 32 ? 0xFFFFFFFFu : (1u << slots) - 1u;
+  held_.push_back(std::move(h));
+}
+
+void FrameRetirement::release(uint32_t slot) {
+  destroy(&slots_[slot]);
+  for (auto it = held_.begin(); it != held_.end();) {
+    it->waiting &= ~(1u << slot);
+    if (it->waiting != 0) {
+      ++it;
+      continue;
+    }
+    destroy(&it->retired);
+    it = held_.erase(it);
+  }
+}
+
 void FrameRetirement::releaseAll() {
-  for (uint32_t slot = 0; slot < slots_.size(); ++slot) release(slot);
+  for (uint32_t slot = 0; slot < slots_.size(); ++slot) destroy(&slots_[slot]);
+  for (Held& h : held_) destroy(&h.retired);
+  held_.clear();
 }
 
 }  // namespace si::vk::detail

@@ -38,7 +38,12 @@ class FrameRetirement {
   void retire(uint32_t slot, VkDescriptorPool* pool);
   void retire(uint32_t slot, GpuImage* i);
   void retire(uint32_t slot, VkImageView* view);
-  /// Destroys what slot `slot` retired.
+  /// Moves what slot `slot` retired so far into a list destroyed only once each of the
+  /// `slots` slots has begun again (release()): a thrown-away frame's, which frames of other
+  /// slots still in flight may read.
+  void holdForCycle(uint32_t slot, uint32_t slots);
+  /// Slot `slot` begins: destroys what it retired, and what was held once every slot has begun
+  /// since.
   void release(uint32_t slot);
   /// Destroys everything retired (the host has waited for the device).
   void releaseAll();
@@ -50,8 +55,14 @@ class FrameRetirement {
     std::vector<GpuImage> images;
     std::vector<VkImageView> views;
   };
+  struct Held {
+    Retired retired;
+    uint32_t waiting = 0;  // A bit per slot not begun since.
+  };
+  void destroy(Retired* r);
   DeviceObjects* objects_ = nullptr;
   std::vector<Retired> slots_ = std::vector<Retired>(8);
+  std::vector<Held> held_;
 };
 
 }  // namespace si::vk::detail

@@ -212,6 +212,21 @@ void GpuDrivenCrowds::evict(uint32_t slot, uint64_t before,
   }
 }
 
+void GpuDrivenCrowds::forgetUpdatedAt(uint32_t slot, uint64_t frame,
+                                      std::vector<const DrivenCrowd*>* forgotten) {
+  for (auto it = crowds_.begin(); it != crowds_.end();) {
+    DrivenCrowd& d = it->second;
+    if (d.used != frame) {
+      ++it;
+      continue;
+    }
+    forgotten->push_back(&d);
+    retire(slot, &d);
+    for (GpuBuffer& b : d.staging) retirement_->retire(slot, &b);
+    it = crowds_.erase(it);
+  }
+}
+
 uint64_t GpuDrivenCrowds::deviceBytes() const {
   uint64_t bytes = 0;
   for (const auto& [key, d] : crowds_)

@@ -85,6 +85,9 @@ class GpuDrivenCrowds {
   /// Retires (into slot `slot`) every crowd last updated before frame `before` that no view
   /// keeps (`kept`: the crowds views hold).
   void evict(uint32_t slot, uint64_t before, const std::vector<const DrivenCrowd*>& kept);
+  /// Retires (into slot `slot`) every crowd updated at frame `frame` (a frame thrown away: its
+  /// copies never ran) and lists them in `*forgotten`.
+  void forgetUpdatedAt(uint32_t slot, uint64_t frame, std::vector<const DrivenCrowd*>* forgotten);
   /// Marks `d` used at frame `frame`.
   static void touch(DrivenCrowd* d, uint64_t frame) { d->used = frame; }
   /// Device bytes of the crowds' buffers.

@@ -536,6 +536,24 @@ void GpuDrivenViews::updateMotionCameras(View* v, uint64_t frame, const Camera& 
   }
 }
 
+void GpuDrivenViews::discardFrame(uint32_t slot) {
+  // A crowd updated in this frame (bit `used`) was copied in by the thrown-away command buffer.
+  std::vector<const DrivenCrowd*> forgotten;
+  crowds_.forgetUpdatedAt(slot, frame_, &forgotten);
+  for (auto it = views_.begin(); it != views_.end();) {
+    const View& v = it->second;
+    const bool recorded = v.passes_recorded && v.passes_slot == slot;
+    const bool orphaned = std::find(forgotten.begin(), forgotten.end(), v.crowd) != forgotten.end();
+    if (!recorded && !orphaned) {
+      ++it;
+      continue;
+    }
+    const auto gone = it++;
+    forget(slot, gone);
+  }
+  retirement_.holdForCycle(slot, shared_.frames_in_flight);
+}
+
 GpuDrivenMemory GpuDrivenViews::memory() const {
   GpuDrivenMemory m;
   m.crowds = crowds_.size();

@@ -89,6 +89,11 @@ class GpuDrivenViews {
   Status recordDraw(VkCommandBuffer cmd, FrameRegion region, uint32_t character,
                     const CharacterResources& c, const CrowdView& view, const DrawTarget& target,
                     const glm::vec3& light_direction, DrawStats* stats);
+  /// The host threw away what was recorded in frame slot `slot` since its beginFrame(): the views
+  /// whose passes it recorded, the crowds it updated and the views of those crowds are
+  /// forgotten (their next passes start over), what they had destroyed once every slot has
+  /// begun again.
+  void discardFrame(uint32_t slot);
   /// The crowds' and views' device memory.
   GpuDrivenMemory memory() const;
   /// What `view`'s last passes of `character` (`c`) counted (from their slot's readback).

@@ -344,4 +344,13 @@ Status Renderer::beginFrame(uint32_t frame) {
   return Status::ok();
 }
 
+Status Renderer::discardFrame() {
+  if (!impl_ || impl_->frame < 0)
+    return {StatusCode::kInvalidArgument, "vk::Renderer::discardFrame: no frame was begun"};
+  impl_->driven_views.discardFrame(uint32_t(impl_->frame));
+  impl_->frame = -1;
+  impl_->frame_used = 0;
+  return Status::ok();
+}
+
 }  // namespace si::vk

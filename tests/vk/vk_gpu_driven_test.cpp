@@ -403,6 +403,47 @@ TEST_P(VulkanGpuDrivenTest, DrawsLandAtTheTargetsOffset) {
   EXPECT_TRUE(host_.messages().empty()) << messages();
 }
 
+// A frame the host records and throws away (discardFrame(): its swapchain went out of date, an
+// error of its own): the passes it recorded are forgotten, so the next frame's passes copy the
+// crowd's state in again and count, and draw, what si::gl's do. (Without it, the state copied
+// in the thrown-away command buffer never reached the GPU.) Views of other crowds keep theirs.
+TEST_P(VulkanGpuDrivenTest, AFrameThrownAwayIsForgotten) {
+  SI_START_VULKAN_HOST();
+  ASSERT_NO_FATAL_FAILURE(start());
+  CrowdManager crowd, other;
+  lodCrowd(&crowd);
+  lodCrowd(&other);
+  DrawStats gl_stats;
+  const std::vector<uint8_t> gl_image = glImage(crowd, lodCamera(), &gl_stats);
+  std::vector<uint8_t> image;
+  // The other crowd's view, drawn and kept.
+  ASSERT_TRUE(frame(1, {{&other.view(), lodCamera()}}, {}, vk::DrawMode::kShaded, &image).isOk());
+  const uint32_t views_before = renderer_.gpuDrivenMemory().views;
+  // Recorded, never submitted.
+  Status s = host_.submit([&](VkCommandBuffer cmd) {
+    Status r = renderer_.beginFrame(0);
+    if (r.isOk()) r = renderer_.recordGpuDrivenPasses(cmd, id_, crowd.view(), lodCamera());
+    return r.isOk() ? Status(StatusCode::kBackend, "thrown away") : r;
+  });
+  ASSERT_EQ(s.code(), StatusCode::kBackend) << s.toString();
+  ASSERT_TRUE(renderer_.discardFrame().isOk());
+  EXPECT_EQ(renderer_.gpuDrivenMemory().views, views_before) << "the other crowd's view is kept";
+  EXPECT_EQ(renderer_.discardFrame().code(), StatusCode::kInvalidArgument) << "no frame begun";
+  // The next frame's passes alone (no draw of what they count), then a frame drawn.
+  s = frame(0, {{&crowd.view(), lodCamera()}}, {}, vk::DrawMode::kShaded, &image);
+  ASSERT_TRUE(s.isOk()) << s.toString();
+  vk::GpuDrivenCounts counts;
+  ASSERT_TRUE(renderer_.readGpuDrivenCounts(id_, crowd.view(), &counts).isOk());
+  EXPECT_EQ(counts.visible, gl_stats.gpu_visible);
+  EXPECT_EQ(counts.triangles, gl_stats.triangles);
+  if (counts.visible == gl_stats.gpu_visible && counts.triangles == gl_stats.triangles) {
+    s = frame(1, {{&crowd.view(), lodCamera()}}, {&crowd.view()}, vk::DrawMode::kShaded, &image);
+    ASSERT_TRUE(s.isOk()) << s.toString();
+    expectSameImage(image, gl_image, "thrown_away");
+  }
+  EXPECT_TRUE(host_.messages().empty()) << messages();
+}
+
 // Two views' passes recorded before one rendering (a main view and a shadow view, as an engine
 // records its compute before its passes): each draw shows its own view's selection, not the
 // last passes'.

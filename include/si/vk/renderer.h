@@ -73,9 +73,8 @@
 /// What the host must do: record recordUploads() before the first draw of a character and
 /// submit it before (or with) that draw; give each frame in flight its own slot (beginFrame(),
 /// below RendererDesc::frames_in_flight) and wait for a slot's last frame before beginning it
-/// again; submit what it recorded (the GPU-driven passes count the crowd's changes as copied
-/// once recorded: a command buffer recorded and thrown away leaves the GPU's copy behind until
-/// the crowd's next reshape). The draws test the host's depth attachment
+/// again; submit what it recorded, or call discardFrame() (the GPU-driven passes count the
+/// crowd's changes as copied once recorded). The draws test the host's depth attachment
 /// (DrawTarget::depth_compare: by default VK_COMPARE_OP_LESS, VK_COMPARE_OP_GREATER for a reverse-Z
 /// camera) and write it, cull back faces (counter-clockwise front faces as OpenGL draws them,
 /// clockwise when the camera's projection flips the winding: Camera::flipsWinding), and flip the
@@ -300,6 +299,13 @@ class Renderer {
   /// the next beginFrame() write their records into its region of the ring from its start. The
   /// host has waited for the GPU's last frame in that slot. kInvalidArgument past the slots.
   Status beginFrame(uint32_t frame);
+  /// The host throws away what it recorded since beginFrame() (a swapchain out of date, an error
+  /// of its own) and will not submit it: what the GPU-driven passes recorded in the frame is
+  /// forgotten, so their views (and every view of a crowd whose state they copied) start over
+  /// at their next passes (the state copied in whole, the LODs seeded, the visibility and motion
+  /// history lost); what they held is destroyed once every frame slot has begun again. Call
+  /// beginFrame() before recording again. kInvalidArgument without a begun frame.
+  Status discardFrame();
   /// Records `view`'s last selection of character `id` with `camera` into `cmd` (inside the
   /// host's dynamic rendering of the formats `target.mode` names, over `target.extent`): one
   /// instanced draw per batch of `batcher` (initialized with batchLimits()), their records
