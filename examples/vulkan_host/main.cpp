@@ -14,7 +14,7 @@
 // last frame as a PNG, and exits 1 when the validation layer (on when installed) reported
 // anything.
 // Usage: vulkan_host [--size WxH] [--instances N] [--frames N] [--reverse-z] [--gpu-driven]
-//                    [--occlusion] [--out FILE.png]
+//                    [--occlusion] [--samples 1|2|4|8] [--out FILE.png]
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
@@ -41,6 +41,7 @@ struct Options {
   bool reverse_z = false;
   bool gpu_driven = false;
   bool occlusion = false;  // The main view's occlusion culling (GPU-driven).
+  uint32_t samples = 1;    // Of the host's attachments (multisampling: 2, 4, 8).
   std::string out = "vulkan_host.png";
 };
 
@@ -68,6 +69,9 @@ bool parse(int argc, char** argv, Options* o) {
       o->gpu_driven = true;
     } else if (a == "--occlusion") {
       o->gpu_driven = o->occlusion = true;
+    } else if (a == "--samples" && has) {
+      o->samples = uint32_t(std::strtoul(argv[++i], nullptr, 10));
+      if (o->samples != 1 && o->samples != 2 && o->samples != 4 && o->samples != 8) return false;
     } else if (a == "--out" && has) {
       o->out = argv[++i];
     } else {
@@ -89,12 +93,12 @@ int main(int argc, char** argv) {
   if (!parse(argc, argv, &o)) {
     std::fprintf(stderr,
                  "usage: vulkan_host [--size WxH] [--instances N] [--frames N] [--reverse-z] "
-                 "[--gpu-driven] [--occlusion] [--out FILE.png]\n");
+                 "[--gpu-driven] [--occlusion] [--samples 1|2|4|8] [--out FILE.png]\n");
     return 1;
   }
   // The host's own Vulkan: instance, device, queue and targets.
   si::examples::HeadlessVulkan host;
-  si::Status s = host.create(o.width, o.height);
+  si::Status s = host.create(o.width, o.height, VkSampleCountFlagBits(o.samples));
   if (!s.isOk()) return fail("the host's Vulkan device", s);
   std::printf("vulkan_host: %s, validation %s\n", host.deviceName().c_str(),
               host.validation() ? "on" : "not installed");
@@ -120,6 +124,8 @@ int main(int argc, char** argv) {
   // pre-skinned vertices: 64 MiB each here.
   rd.gpu_driven = o.gpu_driven;
   rd.gpu_driven_ring_bytes = uint64_t(64) << 20;
+  // The host's attachments' samples: the main view's and the shadow view's (one host's targets).
+  rd.samples = rd.depth_only_samples = VkSampleCountFlagBits(o.samples);
   s = renderer.init(rd);
   si::vk::CharacterId id;
   if (s.isOk()) s = renderer.addCharacter(character, palette, &id);
@@ -230,6 +236,7 @@ int main(int argc, char** argv) {
         si::vk::DepthSource source;
         source.view = depth_view;
         source.extent = target.extent;
+        source.samples = host.samples();
         return renderer.recordGpuDrivenOcclusion(cmd, id, crowd.view(), source);
       };
       main_frame.after = draw_main;
@@ -256,9 +263,9 @@ int main(int argc, char** argv) {
   for (size_t i = 0; i + 3 < rgba.size(); i += 4)
     covered += rgba[i] != 140 || rgba[i + 1] != 153 || rgba[i + 2] != 140;
   std::printf(
-      "vulkan_host: %u instances, %u frames at %ux%u%s: GPU median %.3f ms shadow view "
-      "(depth only), %.3f ms main view; covered pixels %llu, shadow texels %llu\n",
-      o.instances, o.frames, o.width, o.height,
+      "vulkan_host: %u instances, %u frames at %ux%u, %u sample%s%s: GPU median %.3f ms shadow "
+      "view (depth only), %.3f ms main view; covered pixels %llu, shadow texels %llu\n",
+      o.instances, o.frames, o.width, o.height, o.samples, o.samples == 1 ? "" : "s",
       o.occlusion ? (o.reverse_z ? ", GPU-driven, occlusion, reverse-Z" : ", GPU-driven, occlusion")
       : o.gpu_driven ? (o.reverse_z ? ", GPU-driven, reverse-Z" : ", GPU-driven")
       : o.reverse_z  ? ", reverse-Z"
