@@ -113,9 +113,13 @@ Status InstanceBatcher::build(const CrowdView& crowd, Span<uint8_t> out,
 }
 
 glm::vec3 previousRecordShift(const CrowdView& view) {
+  return previousRecordShift(view.camera().position, view.previousCamera().position);
+}
+
+glm::vec3 previousRecordShift(const glm::dvec3& now, const glm::dvec3& then) {
   // A camera cut too far for a float (past 1e30) keeps the translation (no motion is
   // meaningful there).
-  const glm::dvec3 delta = view.camera().position - view.previousCamera().position;
+  const glm::dvec3 delta = now - then;
   const bool representable = glm::all(glm::lessThan(glm::abs(delta), glm::dvec3(1e30)));
   return representable ? glm::vec3(delta) : glm::vec3(0.0f);
 }

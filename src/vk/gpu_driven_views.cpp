@@ -11,6 +11,7 @@
 #include "gl/programs/cull_layout.h"
 #include "si/crowd/crowd_export.h"
 #include "si/crowd/crowd_manager.h"
+#include "si/crowd/instance_batcher.h"
 #include "si/crowd/instance_record.h"
 #include "si_vk/vulkan_profile.h"
 #include "vk/draw_state.h"
@@ -18,10 +19,26 @@
 
 namespace si::vk::detail {
 
+namespace {
+
+// What the draws and passes recorded before read of the passes' buffers (and the pyramid) is
+// read before the copies and passes that follow write them: an execution dependency.
+void recordReadsBeforeRewrites(VkCommandBuffer cmd) {
+  recordMemoryBarrier(cmd,
+                      VK_PIPELINE_STAGE_DRAW_INDIRECT_BIT | VK_PIPELINE_STAGE_VERTEX_INPUT_BIT |
+                          VK_PIPELINE_STAGE_VERTEX_SHADER_BIT |
+                          VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT,
+                      0, VK_PIPELINE_STAGE_TRANSFER_BIT | VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT, 0);
+}
+
+}  // namespace
+
+using si::detail::drawnSlotsToMake;
 using si::detail::kBucketCountWord;
 using si::detail::kCommandWords;
 using si::detail::kCounterWords;
 using si::detail::kDispatchWord;
+using si::detail::kDrawnBytes;
 using si::detail::kMaxBuckets;
 using si::detail::kSkinDispatchWord;
 using si::detail::strCat;
@@ -266,11 +283,7 @@ Status GpuDrivenViews::recordPasses(VkCommandBuffer cmd, uint32_t slot, FrameReg
   // Whatever the last frames' draws and passes read of the crowd's and the view's buffers is
   // read before these copies and passes write them (the host submits frames in order on one
   // queue).
-  recordMemoryBarrier(cmd,
-                      VK_PIPELINE_STAGE_DRAW_INDIRECT_BIT | VK_PIPELINE_STAGE_VERTEX_INPUT_BIT |
-                          VK_PIPELINE_STAGE_VERTEX_SHADER_BIT |
-                          VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT,
-                      0, VK_PIPELINE_STAGE_TRANSFER_BIT | VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT, 0);
+  recordReadsBeforeRewrites(cmd);
   // The crowd's state, shared by its views: what changed since its last upload.
   DrivenCrowd* d = nullptr;
   Status s = crowds_.update(cmd, slot, character, c, crowd, &d, &last_upload_);
@@ -315,15 +328,12 @@ Status GpuDrivenViews::recordPasses(VkCommandBuffer cmd, uint32_t slot, FrameReg
     if (shared_.motion) {
       // Motion vectors: each visible instance's previous record, what the view drew of it at
       // the crowd's previous frame (the drawn records' other parity), or its record moved by
-      // the cameras' shift (kept when they are too far apart for a float, as
-      // InstanceBatcher::buildPrevious does).
+      // the cameras' shift (si::previousRecordShift).
       updateMotionCameras(&v, d->frame, camera);
       const uint32_t on = 1, frame[2] = {uint32_t(d->frame), v.drawn_slots};
       writeDefault(block, r, "u_motion", &on, 4);
       writeDefault(block, r, "u_frame", frame, 8);
-      const glm::dvec3 delta = v.position - v.previous_position;
-      const bool representable = glm::all(glm::lessThan(glm::abs(delta), glm::dvec3(1e30)));
-      const glm::vec3 shift = representable ? glm::vec3(delta) : glm::vec3(0.0f);
+      const glm::vec3 shift = previousRecordShift(v.position, v.previous_position);
       writeDefault(block, r, "u_camera_shift", &shift[0], 12);
     }
     // Layers, impostors: off (zero) until built.
@@ -371,11 +381,7 @@ Status GpuDrivenViews::recordOcclusion(VkCommandBuffer cmd, uint32_t slot, Frame
   if (!s.isOk()) return s;
   // The first phase's draws read the passes' output before the pyramid's and the second
   // phase's passes write it again; the last frame's second phase read the pyramid.
-  recordMemoryBarrier(cmd,
-                      VK_PIPELINE_STAGE_DRAW_INDIRECT_BIT | VK_PIPELINE_STAGE_VERTEX_INPUT_BIT |
-                          VK_PIPELINE_STAGE_VERTEX_SHADER_BIT |
-                          VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT,
-                      0, VK_PIPELINE_STAGE_TRANSFER_BIT | VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT, 0);
+  recordReadsBeforeRewrites(cmd);
   // Window depth as the draws write it (their viewport's depth range is 0 to 1): the farthest
   // is the largest, or the smallest under reverse-Z.
   const bool far_is_max = v.camera.depth != DepthConvention::kReversedZeroToOne;
@@ -491,14 +497,8 @@ Status GpuDrivenViews::ensureDrawn(VkCommandBuffer cmd, uint32_t slot, View* v, 
                                    bool* remade) {
   *remade = false;
   if (slots <= v->drawn_slots) return Status::ok();
-  // cull.comp.glsl's SiDrawn: a record, a layer record, a 2D blend's two extra layer records
-  // and a tag; two parities.
-  constexpr VkDeviceSize kDrawn = kInstanceRecordSize + 3 * 16 + 16;
-  const uint64_t fit = shared_.max_storage_range / (2 * kDrawn);
-  const uint32_t room =
-      uint32_t(std::min<uint64_t>({uint64_t(2) * v->drawn_slots, HandlePool::kMaxSlots, fit}));
-  const uint32_t grown = std::max(slots, room);
-  const VkDeviceSize bytes = VkDeviceSize(grown) * 2 * kDrawn;
+  const uint32_t grown = drawnSlotsToMake(slots, v->drawn_slots, shared_.max_storage_range);
+  const VkDeviceSize bytes = VkDeviceSize(grown) * 2 * kDrawnBytes;
   if (bytes > shared_.max_storage_range)
     return {StatusCode::kLimitExceeded,
             strCat("vk::Renderer::recordGpuDrivenPasses: motion vectors keep ", bytes,

@@ -146,6 +146,19 @@ class VulkanGpuDrivenTest : public VulkanRenderFixture {
                          {image, depth});
   }
 
+  // Expects a depth-only draw's depth (`depth_only`) to be the shaded draw's (`depth`) over the
+  // covered pixels (more than 2000), all but half a percent within 1e-6.
+  static void expectSameDepth(const std::vector<float>& depth,
+                              const std::vector<float>& depth_only) {
+    size_t covered = 0, apart = 0;
+    for (size_t i = 0; i < depth.size() && i < depth_only.size(); ++i) {
+      covered += depth[i] < 1.0f;
+      apart += std::abs(depth[i] - depth_only[i]) > 1e-6f;
+    }
+    EXPECT_GT(covered, 2000u);
+    EXPECT_LE(apart, covered / 200) << apart << " of " << covered;
+  }
+
   // The depth cleared for `camera`: the far plane, 0 under reverse-Z.
   static float clearDepth(const Camera& camera) {
     return camera.depth == DepthConvention::kReversedZeroToOne ? 0.0f : 1.0f;
@@ -265,13 +278,7 @@ TEST_P(VulkanGpuDrivenTest, ThePassesAndTheDrawGiveOpenGlsImage) {
                 &depth_only);
       ASSERT_TRUE(s.isOk()) << s.toString();
       slot = (slot + 1) % 2;
-      size_t covered = 0, apart = 0;
-      for (size_t i = 0; i < depth.size() && i < depth_only.size(); ++i) {
-        covered += depth[i] < 1.0f;
-        apart += std::abs(depth[i] - depth_only[i]) > 1e-6f;
-      }
-      EXPECT_GT(covered, 2000u);
-      EXPECT_LE(apart, covered / 200) << apart << " of " << covered;
+      expectSameDepth(depth, depth_only);
     }
   EXPECT_TRUE(host_.messages().empty()) << messages();
 }
@@ -336,13 +343,7 @@ TEST_P(VulkanGpuDrivenTest, OcclusionCullingReadsAMultisampledDepth) {
   s = frame(1, {{&crowd.view(), camera}}, {&crowd.view()}, vk::DrawMode::kDepthOnly, nullptr,
             &depth_only);
   ASSERT_TRUE(s.isOk()) << s.toString();
-  size_t covered = 0, apart = 0;
-  for (size_t i = 0; i < depth.size() && i < depth_only.size(); ++i) {
-    covered += depth[i] < 1.0f;
-    apart += std::abs(depth[i] - depth_only[i]) > 1e-6f;
-  }
-  EXPECT_GT(covered, 2000u);
-  EXPECT_LE(apart, covered / 200) << apart << " of " << covered;
+  expectSameDepth(depth, depth_only);
   renderer_.shutdown();
   other_host_ = nullptr;
   // Three samples.

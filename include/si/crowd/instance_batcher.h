@@ -74,6 +74,9 @@ struct RecordSpanDraw {
 /// last camera's origin to the previous one's); 0 where they are 1e30 or more apart, past a
 /// float. A shader reading previous records through buildPreviousIndices() adds it the same way.
 glm::vec3 previousRecordShift(const CrowdView& view);
+/// The same from a camera's position now and its previous one (the GPU-driven paths' views,
+/// whose cameras the renderer keeps).
+glm::vec3 previousRecordShift(const glm::dvec3& now, const glm::dvec3& then);
 
 /// Stateless apart from its limits: build() is deterministic for the same selection.
 class InstanceBatcher {

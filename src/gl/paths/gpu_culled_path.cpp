@@ -187,11 +187,8 @@ Status GpuCulledPath::prepareMotion(const DrawResources& r, const PathFrame& f) 
     previous_capacity_ = capacity_;
   }
   glProgramUniform2ui(cull, 25, frame_, v.drawn_slots);
-  // The fallback moves the current record from this camera's origin to the previous one's
-  // (kept when they are too far apart for a float, as InstanceBatcher::buildPrevious does).
-  const glm::dvec3 delta = v.camera.position - v.previous_camera.position;
-  const bool representable = glm::all(glm::lessThan(glm::abs(delta), glm::dvec3(1e30)));
-  const glm::vec3 shift = representable ? glm::vec3(delta) : glm::vec3(0.0f);
+  // The fallback moves the current record from this camera's origin to the previous one's.
+  const glm::vec3 shift = previousRecordShift(v.camera.position, v.previous_camera.position);
   glProgramUniform3fv(cull, 26, 1, &shift[0]);
   return Status::ok();
 }

@@ -62,11 +62,7 @@ Status GpuViewSlot::seed(UploadRing& uploads, const std::vector<uint32_t>& lods,
 
 Status GpuViewSlot::ensureDrawn(uint32_t slots_needed, uint64_t max_block_bytes) {
   if (slots_needed <= drawn_slots) return Status::ok();
-  // Room to grow (twice the last), within the handle slots and the storage-block limit.
-  const uint64_t fit = max_block_bytes / (2 * kDrawnBytes);
-  const uint32_t room =
-      uint32_t(std::min<uint64_t>({uint64_t(2) * drawn_slots, HandlePool::kMaxSlots, fit}));
-  const uint32_t slots = std::max(slots_needed, room);
+  const uint32_t slots = drawnSlotsToMake(slots_needed, drawn_slots, max_block_bytes);
   const uint64_t bytes = uint64_t(slots) * 2 * kDrawnBytes;
   if (bytes > max_block_bytes)
     return {StatusCode::kLimitExceeded,

@@ -10,6 +10,7 @@
 #include <memory>
 #include <vector>
 
+#include "gl/programs/cull_layout.h"
 #include "gl/resources/depth_pyramid.h"
 #include "gl/resources/upload_ring.h"
 #include "si/core/status.h"
@@ -18,10 +19,6 @@
 #include "si/crowd/instance_record.h"
 
 namespace si::detail {
-
-// cull.comp.glsl's SiDrawn: a record, a layer record, a 2D blend's extra layer records and a tag.
-inline constexpr size_t kDrawnBytes =
-    kInstanceRecordSize + (1 + kExtraLayerRecords) * kLayerRecordSize + 16;
 
 struct GpuViewSlot {
   uint64_t view = 0;          // CrowdView::identity().

@@ -4,7 +4,12 @@
 // std430 binding 3), in 32-bit words: shared by si::gl's GPU-driven path and si::vk's, which
 // clear, read and dispatch from them. No GL here.
 
+#include <algorithm>
+#include <cstddef>
 #include <cstdint>
+
+#include "si/crowd/handle_pool.h"
+#include "si/crowd/instance_record.h"
 
 namespace si::detail {
 
@@ -21,5 +26,20 @@ inline constexpr uint32_t kCounterWords = kImpostorsDrawnWord + 1;
 inline constexpr uint32_t kCommandWords = 2 * kMaxBuckets * 5 + 4;
 // The impostor quads pass's output (shaders/impostor_quads.comp.glsl): 4 words of 16 bytes.
 inline constexpr uint32_t kImpostorQuadBytes = 64;
+
+// Motion vectors: cull.comp.glsl's SiDrawn, a view's drawn record per handle slot (two
+// parities): a record, a layer record, a 2D blend's extra layer records and a tag.
+inline constexpr size_t kDrawnBytes =
+    kInstanceRecordSize + (1 + kExtraLayerRecords) * kLayerRecordSize + 16;
+
+// The handle slots a view's drawn records are made for when `needed` pass the `current` ones:
+// room to grow (twice the last) within the handle slots and `max_bytes` of a buffer, at least
+// `needed` (the caller refuses what then passes `max_bytes`).
+inline uint32_t drawnSlotsToMake(uint32_t needed, uint32_t current, uint64_t max_bytes) {
+  const uint64_t fit = max_bytes / (2 * kDrawnBytes);
+  const uint32_t room =
+      uint32_t(std::min<uint64_t>({uint64_t(2) * current, HandlePool::kMaxSlots, fit}));
+  return std::max(needed, room);
+}
 
 }  // namespace si::detail
