@@ -1,6 +1,8 @@
 // SkinnedInstancing — SPDX-License-Identifier: MIT (see LICENSE)
 // The GPU-driven path's views: their buffers and sets, the crowd's state brought up to date, the
-// passes recorded. Their draws and counts: gpu_driven_draws.cpp.
+// passes recorded. Their draws and counts: gpu_driven_draws.cpp; occlusion culling's second
+// phase: gpu_driven_occlusion.cpp; motion vectors' drawn records and cameras:
+// gpu_driven_motion.cpp.
 #include "vk/gpu_driven_views.h"
 
 #include <algorithm>
@@ -19,20 +21,6 @@
 
 namespace si::vk::detail {
 
-namespace {
-
-// What the draws and passes recorded before read of the passes' buffers (and the pyramid) is
-// read before the copies and passes that follow write them: an execution dependency.
-void recordReadsBeforeRewrites(VkCommandBuffer cmd) {
-  recordMemoryBarrier(cmd,
-                      VK_PIPELINE_STAGE_DRAW_INDIRECT_BIT | VK_PIPELINE_STAGE_VERTEX_INPUT_BIT |
-                          VK_PIPELINE_STAGE_VERTEX_SHADER_BIT |
-                          VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT,
-                      0, VK_PIPELINE_STAGE_TRANSFER_BIT | VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT, 0);
-}
-
-}  // namespace
-
 using si::detail::drawnSlotsToMake;
 using si::detail::kBucketCountWord;
 using si::detail::kCommandWords;
@@ -42,6 +30,14 @@ using si::detail::kDrawnBytes;
 using si::detail::kMaxBuckets;
 using si::detail::kSkinDispatchWord;
 using si::detail::strCat;
+
+void GpuDrivenViews::recordReadsBeforeRewrites(VkCommandBuffer cmd) {
+  recordMemoryBarrier(cmd,
+                      VK_PIPELINE_STAGE_DRAW_INDIRECT_BIT | VK_PIPELINE_STAGE_VERTEX_INPUT_BIT |
+                          VK_PIPELINE_STAGE_VERTEX_SHADER_BIT |
+                          VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT,
+                      0, VK_PIPELINE_STAGE_TRANSFER_BIT | VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT, 0);
+}
 
 void GpuDrivenViews::init(const DrivenShared& shared) {
   shared_ = shared;
@@ -367,67 +363,6 @@ Status GpuDrivenViews::recordPasses(VkCommandBuffer cmd, uint32_t slot, FrameReg
   return Status::ok();
 }
 
-Status GpuDrivenViews::recordOcclusion(VkCommandBuffer cmd, uint32_t slot, FrameRegion region,
-                                       uint32_t character, const CharacterResources& c,
-                                       const CrowdView& view, const DepthSource& depth) {
-  const auto found = views_.find({character, view.identity()});
-  if (found == views_.end() || !found->second.passes_recorded || found->second.phase != 1)
-    return {StatusCode::kInvalidArgument,
-            "vk::Renderer::recordGpuDrivenOcclusion: the view's passes of this frame are no first "
-            "phase of occlusion culling (GpuCulling::kOcclusion), or have their second"};
-  View& v = found->second;
-  VkDeviceSize cull_at = 0;
-  Status s = region.take(kComputeDefaultsRange, &cull_at);
-  if (!s.isOk()) return s;
-  // The first phase's draws read the passes' output before the pyramid's and the second
-  // phase's passes write it again; the last frame's second phase read the pyramid.
-  recordReadsBeforeRewrites(cmd);
-  // Window depth as the draws write it (their viewport's depth range is 0 to 1): the farthest
-  // is the largest, or the smallest under reverse-Z.
-  const bool far_is_max = v.camera.depth != DepthConvention::kReversedZeroToOne;
-  PyramidContext ctx;
-  ctx.passes = shared_.pyramid_passes;
-  ctx.objects = shared_.objects;
-  ctx.retirement = &retirement_;
-  ctx.ring = shared_.ring;
-  ctx.frames_in_flight = shared_.frames_in_flight;
-  ctx.max_size = shared_.max_image_size;
-  s = v.pyramid.record(cmd, slot, region, ctx, depth, far_is_max);
-  if (!s.isOk()) return s;
-  // This slot's passes' set with the pyramid bound (the slot's last frame is done with it).
-  if (v.occlusion_pool == VK_NULL_HANDLE) {
-    v.occlusion_sets.assign(shared_.frames_in_flight, VK_NULL_HANDLE);
-    s = createDescriptorSets(shared_.objects->device(), shared_.objects->allocator(),
-                             shared_.compute_layout->set_layout, shared_.compute_layout->bindings,
-                             shared_.frames_in_flight, &v.occlusion_pool, v.occlusion_sets.data());
-    if (!s.isOk()) {
-      retirement_.retire(slot, &v.occlusion_pool);
-      v.occlusion_sets.clear();
-      return s;
-    }
-  }
-  writePassSet(v.occlusion_sets[slot], &v, c, *v.crowd, v.pyramid.view(), VK_IMAGE_LAYOUT_GENERAL);
-  // The second phase's cull uniforms: the first's, with the phase and the pyramid.
-  uint8_t* block = region.mapped + cull_at;
-  std::memcpy(block, region.mapped + v.defaults_at[0], size_t(kComputeDefaultsRange));
-  const SpirvReflection& r = shared_.pass_modules[0]->compute_reflection;
-  const uint32_t phase = 2;
-  writeDefault(block, r, "u_occlusion_phase", &phase, 4);
-  const glm::mat4 view_projection = v.camera.viewProjection();
-  writeDefault(block, r, "u_view_proj", &view_projection[0][0], 64);
-  const int32_t hiz_size[3] = {int32_t(v.pyramid.width()), int32_t(v.pyramid.height()),
-                               int32_t(v.pyramid.levels())};
-  writeDefault(block, r, "u_hiz_size", hiz_size, 12);
-  const int32_t depth_mode[2] = {int32_t(v.camera.depth), far_is_max ? 1 : 0};
-  writeDefault(block, r, "u_depth_mode", depth_mode, 8);
-  const float depth_range[2] = {0.0f, 1.0f};
-  writeDefault(block, r, "u_depth_range", depth_range, 8);
-  v.defaults_at[0] = cull_at;
-  v.phase = 2;
-  v.phases = 2;
-  return recordCullPasses(cmd, &v, v.occlusion_sets[slot], slot, 1, c);
-}
-
 Status GpuDrivenViews::recordCullPasses(VkCommandBuffer cmd, View* view, VkDescriptorSet set,
                                         uint32_t slot, uint32_t phase_index,
                                         const CharacterResources& c) {
@@ -491,49 +426,6 @@ Status GpuDrivenViews::recordCullPasses(VkCommandBuffer cmd, View* view, VkDescr
                       VK_ACCESS_INDIRECT_COMMAND_READ_BIT | VK_ACCESS_VERTEX_ATTRIBUTE_READ_BIT |
                           VK_ACCESS_SHADER_READ_BIT);
   return Status::ok();
-}
-
-Status GpuDrivenViews::ensureDrawn(VkCommandBuffer cmd, uint32_t slot, View* v, uint32_t slots,
-                                   bool* remade) {
-  *remade = false;
-  if (slots <= v->drawn_slots) return Status::ok();
-  const uint32_t grown = drawnSlotsToMake(slots, v->drawn_slots, shared_.max_storage_range);
-  const VkDeviceSize bytes = VkDeviceSize(grown) * 2 * kDrawnBytes;
-  if (bytes > shared_.max_storage_range)
-    return {StatusCode::kLimitExceeded,
-            strCat("vk::Renderer::recordGpuDrivenPasses: motion vectors keep ", bytes,
-                   " bytes of drawn records for ", grown,
-                   " handle slots, past maxStorageBufferRange (", shared_.max_storage_range, ")")};
-  retirement_.retire(slot, &v->drawn);
-  v->drawn_slots = 0;
-  Status s = shared_.objects->createBuffer(
-      bytes, VK_BUFFER_USAGE_STORAGE_BUFFER_BIT | VK_BUFFER_USAGE_TRANSFER_DST_BIT, false,
-      "motion vectors: a view's drawn records", &v->drawn);
-  if (!s.isOk()) return s;
-  // Zeroed: no tag names a frame's instance until the passes draw it.
-  vkCmdFillBuffer(cmd, v->drawn.buffer, 0, VK_WHOLE_SIZE, 0);
-  recordMemoryBarrier(cmd, VK_PIPELINE_STAGE_TRANSFER_BIT, VK_ACCESS_TRANSFER_WRITE_BIT,
-                      VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT,
-                      VK_ACCESS_SHADER_READ_BIT | VK_ACCESS_SHADER_WRITE_BIT);
-  v->drawn_slots = grown;
-  *remade = true;
-  return Status::ok();
-}
-
-void GpuDrivenViews::updateMotionCameras(View* v, uint64_t frame, const Camera& camera) {
-  if (v->motion_frame != frame) {  // The view's first passes of this crowd frame.
-    v->previous_known = v->camera_frame == frame - 1 && v->camera_frame != 0;
-    v->previous_position = v->position;
-    v->previous_view_projection = v->view_projection;
-    v->motion_frame = frame;
-  }
-  v->position = camera.position;
-  v->view_projection = vulkanViewProjection(camera);
-  v->camera_frame = frame;
-  if (!v->previous_known) {  // No previous frame: no camera motion either.
-    v->previous_position = v->position;
-    v->previous_view_projection = v->view_projection;
-  }
 }
 
 void GpuDrivenViews::discardFrame(uint32_t slot) {

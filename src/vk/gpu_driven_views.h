@@ -163,6 +163,9 @@ class GpuDrivenViews {
   Status reshape(VkCommandBuffer cmd, View* v, uint32_t slot, const CharacterResources& c,
                  const DrivenCrowd& d, const CrowdView& view);
   void retire(uint32_t slot, View* v);
+  // An execution dependency: what the draws and passes recorded before read of the passes'
+  // buffers (and the pyramid) is read before the copies and passes that follow write them.
+  static void recordReadsBeforeRewrites(VkCommandBuffer cmd);
   // Motion vectors: drawn records for `slots` handle slots (grown to twice the last within
   // maxStorageBufferRange, zeroed in `cmd`; the old retired into `slot`; `*remade` when they
   // were). kLimitExceeded past maxStorageBufferRange.
