@@ -13,10 +13,10 @@
 #include <glm/gtc/quaternion.hpp>
 
 #include "core/str_cat.h"
+#include "crowd/view_rotation.h"
 #include "gl/host_errors.h"
 #include "gl/profile/gl_profile.h"
 #include "gl/state/gl_state_guard.h"
-#include "gl/view_rotation.h"
 #include "si/core/lod_error.h"
 #include "si/crowd/crowd_manager.h"
 #include "si/crowd/instance_batcher.h"

@@ -6,15 +6,16 @@
 
 #include <algorithm>
 #include <cmath>
+#include <iterator>
 
 #include <glm/gtc/matrix_transform.hpp>
 #include <glm/gtc/quaternion.hpp>
 
 #include "core/str_cat.h"
+#include "crowd/impostor_plan.h"
 #include "gl/renderer_impl.h"
 #include "gl/resources/gl_allocation.h"
 #include "gl/resources/impostor_coverage.h"
-#include "gl/view_rotation.h"
 #include "si/crowd/crowd_manager.h"
 #include "si/crowd/handle_pool.h"
 #include "si/crowd/instance_batcher.h"
@@ -23,13 +24,6 @@ namespace si {
 using detail::strCat;
 
 namespace {
-
-constexpr double kPi = 3.14159265358979323846;
-
-// One captured frame: the clip and its baked frame.
-struct CapturedFrame {
-  uint32_t clip, frame;
-};
 
 // The capture framebuffer: the atlas's three layers and a depth buffer, deleted with it.
 struct CaptureTarget {
@@ -75,155 +69,34 @@ Status Renderer::buildImpostor(CharacterId id, const ImpostorDesc& desc, Imposto
   if (!es.isOk()) return es;
   detail::CharacterSlot& c = *slot;
   const BakedPalette& palette = *c.palette.palette();
-  const uint32_t azimuths = desc.azimuths ? desc.azimuths : 16u;
-  const std::vector<float> elevations =
-      desc.elevations_degrees.empty() ? std::vector<float>{0.0f, 30.0f, 60.0f}
-                                      : desc.elevations_degrees;
-  const uint32_t per_clip = desc.frames_per_clip ? desc.frames_per_clip : 8u;
-  const uint32_t cell = desc.cell_pixels ? desc.cell_pixels : 32u;
   const uint32_t sub_meshes = uint32_t(c.character.sub_meshes.size());
-  const uint32_t all = sub_meshes >= 32 ? 0xFFFFFFFFu : (1u << sub_meshes) - 1u;
-  const uint32_t mask = desc.variation_mask ? desc.variation_mask & all : all;
-  if (elevations.size() > 4)
-    return {StatusCode::kInvalidArgument,
-            strCat("buildImpostor: ", elevations.size(), " elevations; at most 4")};
-  for (size_t k = 0; k < elevations.size(); ++k)
-    if (!(elevations[k] >= -90.0f && elevations[k] <= 90.0f) ||
-        (k > 0 && !(elevations[k] > elevations[k - 1])))
-      return {StatusCode::kInvalidArgument,
-              "buildImpostor: elevations must increase, within [-90, 90] degrees"};
-  if (mask == 0)
-    return {StatusCode::kInvalidArgument,
-            strCat("buildImpostor: variation mask 0x", std::hex, desc.variation_mask,
-                   " wears none of the character's sub-meshes")};
-
-  // The captured frames: per clip, min(frames, baked frames) spread over its baked frames.
-  std::vector<CapturedFrame> frames;
-  std::vector<glm::uvec4> clips;
-  for (uint32_t k = 0; k < palette.clips.size(); ++k) {
-    const BakedClip& clip = palette.clips[k];
-    const uint32_t n = std::max<uint32_t>(clip.frame_count, 1);
-    const uint32_t f = std::min(per_clip, n);
-    clips.emplace_back(clip.first_texel, n, uint32_t(frames.size()), f);
-    for (uint32_t j = 0; j < f; ++j)
-      frames.push_back({k, f > 1 ? uint32_t((uint64_t(j) * (n - 1) + (f - 1) / 2) / (f - 1)) : 0u});
-  }
-  std::sort(clips.begin(), clips.end(),
-            [](const glm::uvec4& a, const glm::uvec4& b) { return a.x < b.x; });
-  const uint32_t views = azimuths * uint32_t(elevations.size());
-  const uint64_t cells = uint64_t(frames.size()) * views;
-  const uint32_t columns = uint32_t(std::ceil(std::sqrt(double(cells))));
-  const uint32_t rows = uint32_t((cells + columns - 1) / columns);
-  // The plan, reported (`info`) before anything is allocated, also when refused below.
-  const uint64_t width = uint64_t(columns) * cell, height = uint64_t(rows) * cell;
-  GLsizei levels = 1;
-  while ((cell >> levels) > 0) ++levels;  // Down to one texel a cell.
-  ImpostorInfo plan;
-  plan.views = views;
-  plan.frames = uint32_t(frames.size());
-  plan.cells = uint32_t(std::min<uint64_t>(cells, UINT32_MAX));
-  plan.width = uint32_t(std::min<uint64_t>(width, UINT32_MAX));
-  plan.height = uint32_t(std::min<uint64_t>(height, UINT32_MAX));
-  for (GLsizei l = 0; l < levels; ++l)
-    plan.bytes += std::max<uint64_t>(width >> l, 1) * std::max<uint64_t>(height >> l, 1) * 4 *
-                  detail::ImpostorAtlas::kLayers;
-  plan.capture_bytes = width * height * 4;  // GL_DEPTH_COMPONENT24, padded to 4 bytes.
-  if (info != nullptr) *info = plan;
-  // The atlas is a texture, the capture's depth a renderbuffer, drawn through one viewport: the
-  // smallest of their limits bounds each side (a viewport past its limit would be clamped
-  // silently, leaving cells empty).
-  const struct {
-    uint32_t limit;
-    const char* name;
-  } sides[] = {
+  // The atlas is a texture, the capture's depth a renderbuffer, drawn through one viewport.
+  const detail::ImpostorSide sides[] = {
       {m.info.max_texture_size, "GL_MAX_TEXTURE_SIZE"},
       {m.info.max_renderbuffer_size, "GL_MAX_RENDERBUFFER_SIZE"},
       {std::min(m.info.max_viewport_width, m.info.max_viewport_height), "GL_MAX_VIEWPORT_DIMS"}};
-  for (const auto& side : sides)
-    if (width > std::max<uint32_t>(side.limit, 1) || height > std::max<uint32_t>(side.limit, 1))
-      return {StatusCode::kLimitExceeded,
-              strCat("buildImpostor: ", cells, " cells (", frames.size(), " frames x ", views,
-                     " views) of ", cell, " texels need ", width, " x ", height, " texels, past ",
-                     side.name, " (", side.limit, "): fewer frames, views or texels per cell")};
-  // One capture instance per cell.
-  if (cells > HandlePool::kMaxSlots)
-    return {StatusCode::kLimitExceeded,
-            strCat("buildImpostor: ", cells, " cells (", frames.size(), " frames x ", views,
-                   " views), past the capture crowd's ", HandlePool::kMaxSlots,
-                   " instances: fewer frames or views")};
-  const uint64_t budget = desc.max_bytes ? desc.max_bytes : uint64_t(1) << 30;
-  if (plan.bytes + plan.capture_bytes > budget)
-    return {StatusCode::kLimitExceeded,
-            strCat("buildImpostor: the atlas takes ", plan.bytes, " bytes with its mip levels and ",
-                   "its capture ", plan.capture_bytes, " more, past the budget of ", budget,
-                   " (ImpostorDesc::max_bytes): fewer frames, views or texels per cell, or a "
-                   "larger budget")};
-
-  // The views, and the cell: every clip's bounds about their centre, as wide and tall as the
-  // widest view shows them.
-  std::vector<glm::quat> rotations;
-  for (uint32_t view = 0; view < views; ++view)
-    rotations.push_back(detail::viewRotation(elevations[view / azimuths],
-                                             2.0 * kPi * (view % azimuths) / azimuths));
-  Aabb box = palette.clips[0].bounds;
-  for (const BakedClip& clip : palette.clips) {
-    box.min = glm::min(box.min, clip.bounds.min);
-    box.max = glm::max(box.max, clip.bounds.max);
-  }
-  const glm::vec3 centre = 0.5f * (box.min + box.max), half = 0.5f * (box.max - box.min);
-  float reach = 1e-6f;
-  for (const glm::quat& q : rotations)
-    for (int k = 0; k < 8; ++k) {
-      const glm::vec3 corner = q * (half * glm::vec3(k & 1 ? 1 : -1, k & 2 ? 1 : -1, k & 4 ? 1 : -1));
-      reach = std::max({reach, std::abs(corner.x), std::abs(corner.y)});
-    }
-  const float cell_units = 2.0f * reach * 1.02f;
+  detail::ImpostorPlan plan;
+  const Status planned = detail::planImpostor(
+      palette, sub_meshes, desc, Span<const detail::ImpostorSide>(sides, std::size(sides)),
+      "buildImpostor", &plan);
+  if (info != nullptr) *info = plan.info;  // Reported before anything is allocated.
+  if (!planned.isOk()) return planned;
 
   detail::GlFootprint footprint = detail::uploadFootprint();
   footprint.pack = true;  // The coverage read back.
   const auto guard = m.enter("buildImpostor", footprint, nullptr, true);
   detail::ImpostorAtlas atlas;
-  const GLsizei w = GLsizei(width), h = GLsizei(height);
+  const GLsizei w = GLsizei(plan.info.width), h = GLsizei(plan.info.height);
   Status s =
-      detail::createTexture2DArray(&atlas.texture, levels, GL_RGBA8, w, h,
+      detail::createTexture2DArray(&atlas.texture, GLsizei(plan.levels), GL_RGBA8, w, h,
                                    detail::ImpostorAtlas::kLayers, "buildImpostor: the atlas");
   CaptureTarget target;
   if (s.isOk()) s = target.create(atlas.texture, w, h);
 
   // The crowd: one instance per cell, every cell's character at LOD 0.
   CrowdManager crowd;
-  CrowdDesc cd;
-  cd.palette = &palette;
-  cd.sub_mesh_count = sub_meshes;
-  cd.max_distance_radii = -1.0f;
-  cd.worker_threads = 1;
-  if (s.isOk()) s = crowd.init(cd);
-  for (uint64_t i = 0; i < cells && s.isOk(); ++i) {
-    const CapturedFrame& f = frames[i / views];
-    const uint32_t view = uint32_t(i % views);
-    const BakedClip& clip = palette.clips[f.clip];
-    InstanceDesc inst;
-    inst.clip = f.clip;
-    inst.time_seconds = clip.frame_times_seconds.empty()
-                            ? double(f.frame) * clip.frame_interval_seconds
-                            : clip.frame_times_seconds[f.frame];
-    inst.loop_mode = LoopMode::kOnce;  // The last frame held, not wrapped to the first.
-    inst.speed = 0.0f;
-    inst.rotation = rotations[view];
-    inst.variation_mask = mask;
-    // Texture row i / columns from the bottom (row 0 at y = -rows cells).
-    const glm::dvec3 cell_centre((double(i % columns) + 0.5) * cell_units,
-                                 (double(i / columns) + 0.5 - double(rows)) * cell_units, 0.0);
-    inst.position = cell_centre - glm::dvec3(inst.rotation * centre);
-    InstanceHandle handle;
-    s = crowd.add(inst, &handle);
-  }
   Camera camera;
-  camera.position = glm::dvec3(0.0, 0.0, 2.0 * cell_units);
-  camera.projection = glm::ortho(0.0f, float(columns * cell_units), -float(rows * cell_units), 0.0f,
-                                 0.0f, float(4.0 * cell_units));
-  camera.viewport_height_pixels = float(h);
-  if (s.isOk()) s = crowd.update(0.0, camera);
+  if (s.isOk()) s = detail::makeCaptureCrowd(plan, palette, sub_meshes, &crowd, &camera);
   InstanceBatcher batcher;
   if (s.isOk()) s = batcher.init(batchLimits());
   if (s.isOk()) {
@@ -252,11 +125,10 @@ Status Renderer::buildImpostor(CharacterId id, const ImpostorDesc& desc, Imposto
   // The clip table, then every cell's covered rectangle at every level (the quads' extent).
   std::vector<uint32_t> rects;
   if (s.isOk())
-    s = detail::measureCoveredRects(atlas.texture, columns, rows, cell, uint32_t(levels), &rects);
+    s = detail::measureCoveredRects(atlas.texture, plan.columns, plan.rows, plan.cell, plan.levels,
+                                    &rects);
   if (s.isOk()) {
-    std::vector<uint32_t> table(clips.size() * 4 + (rects.size() + 3) / 4 * 4, 0u);
-    std::copy_n(&clips[0].x, clips.size() * 4, table.begin());
-    std::copy(rects.begin(), rects.end(), table.begin() + ptrdiff_t(clips.size() * 4));
+    const std::vector<uint32_t> table = detail::impostorClipTable(plan, rects);
     s = detail::createBuffer(&atlas.clips, table.size() * sizeof(uint32_t), table.data(), 0,
                              "buildImpostor: the clip table");
   }
@@ -264,18 +136,18 @@ Status Renderer::buildImpostor(CharacterId id, const ImpostorDesc& desc, Imposto
     atlas.release();
     return s;
   }
-  atlas.clip_count = uint32_t(clips.size());
-  atlas.columns = columns;
-  atlas.rows = rows;
-  atlas.azimuths = azimuths;
-  atlas.elevations = uint32_t(elevations.size());
-  for (size_t k = 0; k < elevations.size(); ++k)
-    atlas.elevations_radians[k] = float(elevations[k] * kPi / 180.0);
+  atlas.clip_count = uint32_t(plan.clips.size());
+  atlas.columns = plan.columns;
+  atlas.rows = plan.rows;
+  atlas.azimuths = plan.azimuths;
+  atlas.elevations = uint32_t(plan.elevations_degrees.size());
+  std::copy(std::begin(plan.elevations_radians), std::end(plan.elevations_radians),
+            std::begin(atlas.elevations_radians));
   atlas.frame_stride_texels = palette.layout.frame_stride_texels;
-  atlas.cell_texels = cell;
-  atlas.levels = uint32_t(levels);
-  atlas.centre = centre;
-  atlas.cell_units = cell_units;
+  atlas.cell_texels = plan.cell;
+  atlas.levels = plan.levels;
+  atlas.centre = plan.centre;
+  atlas.cell_units = plan.cell_units;
   c.impostor.release();
   c.impostor = atlas;
   return m.check("buildImpostor");

@@ -33,40 +33,4 @@
 ///   crowd_desc.impostor_lod = uint32_t(character.mesh.maxLodCount()) - 1;
 /// \endcode
 
-#include <cstdint>
-#include <vector>
-
-namespace si {
-
-/// What the atlas captures. Zero or empty fields take the documented defaults.
-struct ImpostorDesc {
-  /// View directions around the character's vertical axis; 0 means 16.
-  uint32_t azimuths = 0;
-  /// View elevations in degrees (0: level, 90: from above), increasing, at most 4; empty means
-  /// 0, 30 and 60.
-  std::vector<float> elevations_degrees;
-  /// Frames per clip, spread evenly over its baked frames (first and last included; a clip of
-  /// fewer baked frames keeps them all); 0 means 8.
-  uint32_t frames_per_clip = 0;
-  /// Side of one cell in texels; 0 means 32. A cell spans 1.5 character heights, so a cell of
-  /// 32 texels serves an impostor up to about 20 pixels tall at one texel per pixel.
-  uint32_t cell_pixels = 0;
-  /// The parts every impostor shows (bit s: sub-mesh s); 0 means all.
-  uint32_t variation_mask = 0;
-  /// The most GPU memory the build may take: the atlas with its mip levels and the capture's
-  /// depth buffer, which lives during the build only (ImpostorInfo::bytes + capture_bytes);
-  /// 0 means 1 GiB. Past it, buildImpostor refuses before allocating (kLimitExceeded).
-  uint64_t max_bytes = 0;
-};
-
-/// What buildImpostor() made.
-struct ImpostorInfo {
-  uint32_t views = 0;        ///< azimuths x elevations.
-  uint32_t frames = 0;       ///< Captured frames, every clip's together.
-  uint32_t cells = 0;        ///< views x frames.
-  uint32_t width = 0, height = 0;  ///< Texels of each of the atlas's three layers.
-  uint64_t bytes = 0;        ///< GPU memory of the atlas with its mip levels.
-  uint64_t capture_bytes = 0;  ///< The capture's depth buffer, freed when the build returns.
-};
-
-}  // namespace si
+#include "si/crowd/impostor_desc.h"

@@ -1,7 +1,7 @@
 // SkinnedInstancing — SPDX-License-Identifier: MIT (see LICENSE)
 #pragma once
 // The character's rotation that shows it from one view direction to a camera looking along -z:
-// the convention of the impostor atlas's cells (impostor_capture.cpp), of the image error's
+// the convention of the impostor atlas's cells (impostor_plan.h), of the image error's
 // views (image_lod_error.cpp, which measures between the atlas's), and of the view direction
 // the impostor vertex shader recovers from a character's model space (shaders/
 // impostor.vert.glsl: elevation asin(d.y), azimuth atan(-d.x, d.z)).
