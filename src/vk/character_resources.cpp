@@ -184,6 +184,8 @@ void destroyCharacter(DeviceObjects* objects, CharacterResources* c) {
   if (c->pool != VK_NULL_HANDLE)
     vkDestroyDescriptorPool(objects->device(), c->pool, objects->allocator());
   c->pool = VK_NULL_HANDLE;
+  releaseImpostorCapture(objects, &c->capture);
+  releaseImpostorAtlas(objects, &c->impostor);
 }
 
 }  // namespace si::vk::detail

@@ -15,6 +15,7 @@
 #include "si/core/shader_inputs.h"
 #include "vk/device_objects.h"
 #include "vk/image_upload.h"
+#include "vk/impostor_atlas.h"
 #include "vk/vulkan_programs.h"
 
 namespace si::vk::detail {
@@ -63,6 +64,14 @@ struct CharacterResources {
   VkPipeline skin_pipeline = VK_NULL_HANDLE, skin_motion_pipeline = VK_NULL_HANDLE;
   VkDescriptorPool pool = VK_NULL_HANDLE;
   VkDescriptorSet set = VK_NULL_HANDLE;
+  /// The vertex stream's format and the mesh's program variant (the impostor capture's pipeline
+  /// is made with them).
+  VertexStream stream;
+  MeshVariant variant;
+  const BakedPalette* palette_source = nullptr;  ///< The host's, alive while it is drawn.
+  /// Its impostor atlas (Renderer::buildImpostor), and the capture recordUploads() records.
+  ImpostorAtlas impostor;
+  ImpostorCapture capture;
   GpuBuffer staging;  ///< Until recordUploads() hands it on.
   std::vector<BufferUpload> buffer_uploads;
   std::vector<ImageUpload> image_uploads;

@@ -31,14 +31,14 @@ Status createSetLayouts(VkDevice device, const VkAllocationCallbacks* allocator,
 }
 
 Status createDescriptorSets(VkDevice device, const VkAllocationCallbacks* allocator,
-                            VkDescriptorSetLayout layout,
+                            const std::vector<VkDescriptorSetLayout>& layouts,
                             const std::vector<VkDescriptorSetLayoutBinding>& bindings,
-                            uint32_t count, VkDescriptorPool* pool, VkDescriptorSet* sets) {
+                            VkDescriptorPool* pool, VkDescriptorSet* sets) {
   std::vector<VkDescriptorPoolSize> sizes;
-  for (const VkDescriptorSetLayoutBinding& b : bindings) sizes.push_back({b.descriptorType, count});
+  for (const VkDescriptorSetLayoutBinding& b : bindings) sizes.push_back({b.descriptorType, 1});
   auto pool_info =
       vkStruct<VkDescriptorPoolCreateInfo>(VK_STRUCTURE_TYPE_DESCRIPTOR_POOL_CREATE_INFO);
-  pool_info.maxSets = count;
+  pool_info.maxSets = uint32_t(layouts.size());
   pool_info.poolSizeCount = uint32_t(sizes.size());
   pool_info.pPoolSizes = sizes.data();
   Status s = checkVk(vkCreateDescriptorPool(device, &pool_info, allocator, pool),
@@ -47,10 +47,19 @@ Status createDescriptorSets(VkDevice device, const VkAllocationCallbacks* alloca
   auto alloc =
       vkStruct<VkDescriptorSetAllocateInfo>(VK_STRUCTURE_TYPE_DESCRIPTOR_SET_ALLOCATE_INFO);
   alloc.descriptorPool = *pool;
-  const std::vector<VkDescriptorSetLayout> layouts(count, layout);
-  alloc.descriptorSetCount = count;
+  alloc.descriptorSetCount = uint32_t(layouts.size());
   alloc.pSetLayouts = layouts.data();
   return checkVk(vkAllocateDescriptorSets(device, &alloc, sets), "vkAllocateDescriptorSets");
+}
+
+Status createDescriptorSets(VkDevice device, const VkAllocationCallbacks* allocator,
+                            VkDescriptorSetLayout layout,
+                            const std::vector<VkDescriptorSetLayoutBinding>& bindings,
+                            uint32_t count, VkDescriptorPool* pool, VkDescriptorSet* sets) {
+  std::vector<VkDescriptorSetLayoutBinding> all;
+  for (uint32_t k = 0; k < count; ++k) all.insert(all.end(), bindings.begin(), bindings.end());
+  return createDescriptorSets(device, allocator, std::vector<VkDescriptorSetLayout>(count, layout),
+                              all, pool, sets);
 }
 
 void DeviceObjects::init(VkPhysicalDevice physical, VkDevice device,
@@ -128,7 +137,11 @@ Status DeviceObjects::createImage(uint32_t width, uint32_t height, uint32_t laye
     v.image = i.image;
     v.viewType = array ? VK_IMAGE_VIEW_TYPE_2D_ARRAY : VK_IMAGE_VIEW_TYPE_2D;
     v.format = format;
-    v.subresourceRange = {VK_IMAGE_ASPECT_COLOR_BIT, 0, levels, 0, layers};
+    const bool depth = format == VK_FORMAT_D16_UNORM || format == VK_FORMAT_X8_D24_UNORM_PACK32 ||
+                       format == VK_FORMAT_D32_SFLOAT;
+    v.subresourceRange = {depth ? VkImageAspectFlags(VK_IMAGE_ASPECT_DEPTH_BIT)
+                                : VkImageAspectFlags(VK_IMAGE_ASPECT_COLOR_BIT),
+                          0, levels, 0, layers};
     s = checkVk(vkCreateImageView(device_, &v, allocator_, &i.view),
                 strCat("vkCreateImageView (", what, ")").c_str());
   }

@@ -41,6 +41,12 @@ Status createDescriptorSets(VkDevice device, const VkAllocationCallbacks* alloca
                             VkDescriptorSetLayout layout,
                             const std::vector<VkDescriptorSetLayoutBinding>& bindings,
                             uint32_t count, VkDescriptorPool* pool, VkDescriptorSet* sets);
+/// A descriptor pool for one set of each of `layouts` (whose bindings, all together, are
+/// `bindings`) and those sets (into `sets[0..layouts.size())`). The same errors.
+Status createDescriptorSets(VkDevice device, const VkAllocationCallbacks* allocator,
+                            const std::vector<VkDescriptorSetLayout>& layouts,
+                            const std::vector<VkDescriptorSetLayoutBinding>& bindings,
+                            VkDescriptorPool* pool, VkDescriptorSet* sets);
 /// The same for one set.
 inline Status createDescriptorSet(VkDevice device, const VkAllocationCallbacks* allocator,
                                   VkDescriptorSetLayout layout,
@@ -85,7 +91,7 @@ class DeviceObjects {
                       const char* what, GpuBuffer* out);
   /// A device-local 2D image of `layers` layers and `levels` levels, sampled and a transfer
   /// source and destination (and `extra_usage`), and its view of every level (2D, or 2D array
-  /// when `array`).
+  /// when `array`; of the depth aspect for a depth format without stencil).
   Status createImage(uint32_t width, uint32_t height, uint32_t layers, uint32_t levels,
                      VkFormat format, bool array, const char* what, GpuImage* out,
                      VkImageUsageFlags extra_usage = 0);

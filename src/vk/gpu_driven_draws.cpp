@@ -12,6 +12,7 @@ namespace si::vk::detail {
 using si::detail::kBucketCountWord;
 using si::detail::kCounterWords;
 using si::detail::kFittedWord;
+using si::detail::kImpostorsDrawnWord;
 using si::detail::kMaxBuckets;
 using si::detail::kThreadBaseWord;
 
@@ -77,6 +78,13 @@ Status GpuDrivenViews::recordDraw(VkCommandBuffer cmd, FrameRegion region, uint3
                              v.buckets, 20);
     ++st.draw_calls;
   }
+  // The impostor bucket: the quads the impostor quads pass computed.
+  if (v.impostor_lod != 0) {
+    const Status s =
+        recordImpostorDraw(cmd, region, v, c, kind == VulkanKind::kDepthOnly, light_direction);
+    if (!s.isOk()) return s;
+    ++st.draw_calls;
+  }
   if (stats != nullptr) *stats = st;
   return Status::ok();
 }
@@ -103,6 +111,7 @@ Status GpuDrivenViews::readCounts(uint32_t character, const CharacterResources& 
       n.vertex_shader_instances += instances - counters[kFittedWord + b];
     }
     n.pre_skinned_vertices += counters[kThreadBaseWord + v.buckets];
+    n.triangles += uint64_t(2) * counters[kImpostorsDrawnWord];  // A quad per impostor.
   }
   *out = n;
   return Status::ok();

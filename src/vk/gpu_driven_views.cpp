@@ -86,6 +86,10 @@ void GpuDrivenViews::retire(uint32_t slot, View* v) {
   retirement_.retire(slot, &v->pass_pool);
   retirement_.retire(slot, &v->draw_pool);
   retirement_.retire(slot, &v->occlusion_pool);
+  retirement_.retire(slot, &v->quads);
+  retirement_.retire(slot, &v->impostor_pool);
+  v->impostor_sets[0] = v->impostor_sets[1] = VK_NULL_HANDLE;
+  v->impostor_clips = VK_NULL_HANDLE;
   v->occlusion_sets.clear();
   v->pass_set = v->draw_set = VK_NULL_HANDLE;
   v->crowd = nullptr;
@@ -268,8 +272,8 @@ Status GpuDrivenViews::recordPasses(VkCommandBuffer cmd, uint32_t slot, FrameReg
                    "groups than maxComputeWorkGroupCount (",
                    shared_.max_groups_x, " x ", shared_.max_groups_y, ")")};
   // The passes' uniforms first: a full region refuses the frame before anything is recorded.
-  // The cull, commands, scatter and pre-skinning passes'.
-  VkDeviceSize defaults_at[4] = {};
+  // The cull, commands, scatter, pre-skinning and impostor quads passes'.
+  VkDeviceSize defaults_at[5] = {};
   for (VkDeviceSize& at : defaults_at) {
     Status s = region.take(kComputeDefaultsRange, &at);
     if (!s.isOk()) return s;
@@ -307,6 +311,8 @@ Status GpuDrivenViews::recordPasses(VkCommandBuffer cmd, uint32_t slot, FrameReg
     writeDefault(block, r, "u_camera", position, 24);
     const double clock = crowd.clockSeconds();
     writeDefault(block, r, "u_clock", &clock, 8);
+    // CrowdDesc::impostor_lod (0: none): an instance there joins one bucket, sub-mesh 0's.
+    writeDefault(block, r, "u_impostor_lod", &cd.impostor_lod, 4);
     const float params[4] = {p.radius, p.max_distance_radii, p.hysteresis, 0.0f};
     writeDefault(block, r, "u_params", params, 16);
     writeDefault(block, r, "u_lines", p.lod_lines, 4, 7);
@@ -332,15 +338,16 @@ Status GpuDrivenViews::recordPasses(VkCommandBuffer cmd, uint32_t slot, FrameReg
       const glm::vec3 shift = previousRecordShift(v.position, v.previous_position);
       writeDefault(block, r, "u_camera_shift", &shift[0], 12);
     }
-    // Layers, impostors: off (zero) until built.
+    // Layers: off (zero) until built.
   }
   {
     const SpirvReflection& r = shared_.pass_modules[1]->compute_reflection;
     uint8_t* block = ring + defaults_at[1];
-    const uint32_t no_impostors = 0xFFFFFFFFu;
+    // The impostor level's bucket, or none (past the buckets).
+    const uint32_t impostor_bucket = cd.impostor_lod != 0 ? cd.impostor_lod * subs : 0xFFFFFFFFu;
     writeDefault(block, r, "u_ring_vertices", &v.ring_vertices, 4);
     writeDefault(block, r, "u_max_groups_x", &shared_.max_groups_x, 4);
-    writeDefault(block, r, "u_impostor_bucket", &no_impostors, 4);
+    writeDefault(block, r, "u_impostor_bucket", &impostor_bucket, 4);
   }
   const SpirvReflection& skin =
       (*shared_.programs)[shared_.motion ? c.skin_motion_program : c.skin_program]
@@ -348,6 +355,16 @@ Status GpuDrivenViews::recordPasses(VkCommandBuffer cmd, uint32_t slot, FrameReg
   writeDefault(ring + defaults_at[3], skin, "u_counts", counts, 16);
   const uint32_t layout_words[2] = {0u, c.source_words};
   writeDefault(ring + defaults_at[3], skin, "u_layout", layout_words, 8);
+  // Impostors: the quads pass's quads, sets and uniforms (the renderer checked the atlas).
+  v.impostor_lod = cd.impostor_lod;
+  if (v.impostor_lod != 0) {
+    s = ensureImpostors(slot, &v, c);
+    if (!s.isOk()) {
+      forget(slot, views_.find(key));
+      return s;
+    }
+    writeImpostorDefaults(ring + defaults_at[4], v, c, camera);
+  }
   std::copy(std::begin(defaults_at), std::end(defaults_at), std::begin(v.defaults_at));
   v.groups_x = gx;
   v.groups_y = uint32_t(gy);
@@ -401,6 +418,7 @@ Status GpuDrivenViews::recordCullPasses(VkCommandBuffer cmd, View* view, VkDescr
     bind(3);
     vkCmdDispatchIndirect(cmd, v.counters.buffer, VkDeviceSize(kSkinDispatchWord) * 4);
   }
+  if (v.impostor_lod != 0) recordImpostorQuads(cmd, v);
   // The counters into this slot's readback (readCounts, after the host's wait), each phase's
   // after the one before.
   if (v.readback.size() < shared_.frames_in_flight) v.readback.resize(shared_.frames_in_flight);
@@ -453,7 +471,7 @@ GpuDrivenMemory GpuDrivenViews::memory() const {
   m.crowd_bytes = crowds_.deviceBytes();
   for (const auto& [key, v] : views_) {
     for (const GpuBuffer* b : v.buffers()) m.view_bytes += b->size;
-    m.view_bytes += v.pyramid.bytes() + v.drawn.size;
+    m.view_bytes += v.pyramid.bytes() + v.drawn.size + v.quads.size;
   }
   return m;
 }

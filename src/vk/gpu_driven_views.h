@@ -7,7 +7,8 @@
 // What a frame slot's earlier frame may still read is destroyed only when the slot comes round
 // again (beginFrame). With occlusion culling the passes run twice: the first phase before the
 // host's first rendering, the depth pyramid (depth_pyramid.h) and the second phase after it.
-// What is not built yet (layers, motion vectors, live poses, impostors) is refused by the
+// Impostors: the impostor quads pass after the scatter pass, the impostor draw after the meshes'
+// (gpu_driven_impostors.cpp). What is not built yet (layers, live poses) is refused by the
 // renderer.
 
 #include <vulkan/vulkan.h>
@@ -29,6 +30,7 @@
 #include "vk/frame_slots.h"
 #include "vk/gpu_driven_crowds.h"
 #include "vk/gpu_driven_layout.h"
+#include "vk/impostor_passes.h"
 #include "vk/program_modules.h"
 #include "vk/skinned_pipeline.h"
 
@@ -49,6 +51,7 @@ struct DrivenShared {
   const GpuBuffer* unbuilt = nullptr;    ///< Bound where the passes read or write nothing.
   const GpuImage* no_pyramid = nullptr;  ///< Bound as the depth pyramid without occlusion.
   const PyramidPasses* pyramid_passes = nullptr;
+  const ImpostorPasses* impostors = nullptr;  ///< The impostor quads pass and draws.
   uint32_t max_image_size = 4096;  ///< maxImageDimension2D.
   uint32_t max_groups_x = 65535, max_groups_y = 65535;
   VkDeviceSize max_storage_range = 0;  ///< maxStorageBufferRange.
@@ -135,14 +138,21 @@ class GpuDrivenViews {
     glm::mat4 view_projection{1.0f}, previous_view_projection{1.0f};
     uint32_t ring_vertices = 0;      // 0: no pre-skinning.
     std::vector<GpuBuffer> staging;  // Per frame slot: the LODs' seed.
+    // Impostors (the crowd's impostor level, 0: none): the quads the impostor quads pass writes,
+    // its set and the impostor draw's (for the atlas's clip table `impostor_clips`).
+    uint32_t impostor_lod = 0;
+    GpuBuffer quads;
+    VkDescriptorPool impostor_pool = VK_NULL_HANDLE;
+    VkDescriptorSet impostor_sets[2] = {};  // The quads pass's, the draw's.
+    VkBuffer impostor_clips = VK_NULL_HANDLE;
     // Per frame slot: the counters after its passes (each phase's, with occlusion culling).
     std::vector<GpuBuffer> readback;
     bool counted = false;  // Passes were recorded: readback[passes_slot] holds them,
     uint32_t phases = 1;   // of this many phases.
-    // The last passes: their uniforms (the cull, commands, scatter and pre-skinning passes',
-    // in the frame's region), the cull pass's groups, and occlusion culling's phase (0: none;
-    // 1: the first, awaiting recordOcclusion; 2: the second).
-    VkDeviceSize defaults_at[4] = {};
+    // The last passes: their uniforms (the cull, commands, scatter, pre-skinning and impostor
+    // quads passes', in the frame's region), the cull pass's groups, and occlusion culling's
+    // phase (0: none; 1: the first, awaiting recordOcclusion; 2: the second).
+    VkDeviceSize defaults_at[5] = {};
     uint32_t groups_x = 1, groups_y = 1;
     uint32_t phase = 0;
     // Occlusion culling: the depth pyramid, and the passes' set of each frame slot with it
@@ -181,6 +191,17 @@ class GpuDrivenViews {
   // are up to date), their counters copied into slot `slot`'s readback at phase `phase_index`.
   Status recordCullPasses(VkCommandBuffer cmd, View* v, VkDescriptorSet set, uint32_t slot,
                           uint32_t phase_index, const CharacterResources& c);
+  // Impostors: `v`'s quads (one per instance) and its sets for `c`'s atlas, made when missing
+  // (the old retired into slot `slot`), and the quads pass's uniforms for `camera` at `block`.
+  Status ensureImpostors(uint32_t slot, View* v, const CharacterResources& c);
+  void writeImpostorDefaults(uint8_t* block, const View& v, const CharacterResources& c,
+                             const Camera& camera) const;
+  // Records the impostor quads pass of `v` (after its scatter pass).
+  void recordImpostorQuads(VkCommandBuffer cmd, const View& v) const;
+  // Records `v`'s impostor draw (inside rendering, after its meshes').
+  Status recordImpostorDraw(VkCommandBuffer cmd, FrameRegion region, const View& v,
+                            const CharacterResources& c, bool depth_only,
+                            const glm::vec3& light_direction) const;
   // Retires all of the view at `it` (its staging and readback too) and forgets it.
   void forget(uint32_t slot, std::map<std::pair<uint32_t, uint64_t>, View>::iterator it);
 

@@ -33,24 +33,13 @@ void recordMemoryBarrier(VkCommandBuffer cmd, VkPipelineStageFlags src, VkAccess
   vkCmdPipelineBarrier(cmd, src, dst, 0, 1, &b, 0, nullptr, 0, nullptr);
 }
 
-void recordImageUpload(VkCommandBuffer cmd, VkBuffer staging, const ImageUpload& u) {
-  const GpuImage& img = *u.image;
+void recordMipChain(VkCommandBuffer cmd, const GpuImage& img, VkPipelineStageFlags readers) {
   const auto barrier = [&](uint32_t level, uint32_t levels, VkImageLayout from, VkImageLayout to,
                            VkAccessFlags src_access, VkAccessFlags dst_access,
                            VkPipelineStageFlags src, VkPipelineStageFlags dst) {
     recordImageBarrier(cmd, img.image, VK_IMAGE_ASPECT_COLOR_BIT, level, levels, img.layers,
                        {from, to, src_access, dst_access, src, dst});
   };
-  const VkPipelineStageFlags shaders =
-      VK_PIPELINE_STAGE_VERTEX_SHADER_BIT | VK_PIPELINE_STAGE_FRAGMENT_SHADER_BIT;
-  barrier(0, img.levels, VK_IMAGE_LAYOUT_UNDEFINED, VK_IMAGE_LAYOUT_TRANSFER_DST_OPTIMAL, 0,
-          VK_ACCESS_TRANSFER_WRITE_BIT, VK_PIPELINE_STAGE_TOP_OF_PIPE_BIT,
-          VK_PIPELINE_STAGE_TRANSFER_BIT);
-  VkBufferImageCopy copy{};
-  copy.bufferOffset = u.offset;
-  copy.imageSubresource = {VK_IMAGE_ASPECT_COLOR_BIT, 0, 0, img.layers};
-  copy.imageExtent = {img.width, img.height, 1};
-  vkCmdCopyBufferToImage(cmd, staging, img.image, VK_IMAGE_LAYOUT_TRANSFER_DST_OPTIMAL, 1, &copy);
   // Each level from the one above, filtered (as glGenerateMipmap); every level then a source.
   for (uint32_t level = 1; level < img.levels; ++level) {
     barrier(level - 1, 1, VK_IMAGE_LAYOUT_TRANSFER_DST_OPTIMAL,
@@ -74,12 +63,27 @@ void recordImageUpload(VkCommandBuffer cmd, VkBuffer staging, const ImageUpload&
             VK_PIPELINE_STAGE_TRANSFER_BIT);
     barrier(0, img.levels, VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL,
             VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL, VK_ACCESS_TRANSFER_READ_BIT,
-            VK_ACCESS_SHADER_READ_BIT, VK_PIPELINE_STAGE_TRANSFER_BIT, shaders);
+            VK_ACCESS_SHADER_READ_BIT, VK_PIPELINE_STAGE_TRANSFER_BIT, readers);
   } else {
     barrier(0, 1, VK_IMAGE_LAYOUT_TRANSFER_DST_OPTIMAL, VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL,
             VK_ACCESS_TRANSFER_WRITE_BIT, VK_ACCESS_SHADER_READ_BIT, VK_PIPELINE_STAGE_TRANSFER_BIT,
-            shaders);
+            readers);
   }
+}
+
+void recordImageUpload(VkCommandBuffer cmd, VkBuffer staging, const ImageUpload& u) {
+  const GpuImage& img = *u.image;
+  recordImageBarrier(cmd, img.image, VK_IMAGE_ASPECT_COLOR_BIT, 0, img.levels, img.layers,
+                     {VK_IMAGE_LAYOUT_UNDEFINED, VK_IMAGE_LAYOUT_TRANSFER_DST_OPTIMAL, 0,
+                      VK_ACCESS_TRANSFER_WRITE_BIT, VK_PIPELINE_STAGE_TOP_OF_PIPE_BIT,
+                      VK_PIPELINE_STAGE_TRANSFER_BIT});
+  VkBufferImageCopy copy{};
+  copy.bufferOffset = u.offset;
+  copy.imageSubresource = {VK_IMAGE_ASPECT_COLOR_BIT, 0, 0, img.layers};
+  copy.imageExtent = {img.width, img.height, 1};
+  vkCmdCopyBufferToImage(cmd, staging, img.image, VK_IMAGE_LAYOUT_TRANSFER_DST_OPTIMAL, 1, &copy);
+  recordMipChain(cmd, img,
+                 VK_PIPELINE_STAGE_VERTEX_SHADER_BIT | VK_PIPELINE_STAGE_FRAGMENT_SHADER_BIT);
 }
 
 }  // namespace si::vk::detail

@@ -42,6 +42,11 @@ struct ImageUpload {
   bool mips;
 };
 
+/// Records `img`'s mip chain, each level blitted from the one above (linear filter), level 0 in
+/// VK_IMAGE_LAYOUT_TRANSFER_DST_OPTIMAL with its contents written and the others in that layout;
+/// every level is left in VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL for the `readers` stages.
+void recordMipChain(VkCommandBuffer cmd, const GpuImage& img, VkPipelineStageFlags readers);
+
 /// Records `u`'s copy from `staging`, its mip chain when it has one, and the transitions that
 /// leave every level in VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL for the vertex and fragment
 /// shaders' reads (the image's earlier contents discarded).

@@ -122,6 +122,10 @@ Status Renderer::init(const RendererDesc& desc) {
   impl->storage_alignment =
       std::max<VkDeviceSize>(props.limits.minStorageBufferOffsetAlignment, 16);
   impl->max_image_size = props.limits.maxImageDimension2D;
+  impl->max_framebuffer_size =
+      std::min(props.limits.maxFramebufferWidth, props.limits.maxFramebufferHeight);
+  impl->max_viewport_size =
+      std::min(props.limits.maxViewportDimensions[0], props.limits.maxViewportDimensions[1]);
   impl->slot_bytes = slot_bytes;
   impl_ = std::move(impl);
   Impl& m = *impl_;
@@ -192,6 +196,7 @@ void Renderer::shutdown() {
     if (p != VK_NULL_HANDLE) vkDestroyPipeline(m.device(), p, m.allocator());
   destroyComputeLayout(m.device(), m.allocator(), &m.compute_layout);
   destroyPyramidPasses(m.device(), m.allocator(), &m.pyramid_passes);
+  destroyImpostorPasses(m.device(), m.allocator(), &m.impostor_passes);
   for (SkinnedLayout* l : {&m.layout, &m.driven_layout}) {
     if (l->pipeline_layout != VK_NULL_HANDLE)
       vkDestroyPipelineLayout(m.device(), l->pipeline_layout, m.allocator());
@@ -286,6 +291,9 @@ Status Renderer::addCharacter(const Character& character, const BakedPalette& pa
     s = createCharacterSet(m.device(), m.allocator(), m.layout,
                            {m.ring, m.nearest, m.linear, m.custom, m.no_morphs}, *c, nullptr,
                            &c->pool, &c->set);
+  c->stream = stream;
+  c->variant = variant;
+  c->palette_source = &palette;
   if (!s.isOk()) {
     destroyCharacter(&m.objects, c.get());
     return s;
@@ -318,6 +326,11 @@ Status Renderer::recordUploads(VkCommandBuffer cmd) {
     c->staging = GpuBuffer{};
     c->uploads_recorded = true;
   }
+  // Impostor captures (buildImpostor), after their characters' uploads.
+  for (auto& c : m.characters)
+    if (c->capture.pending() && !c->impostor.captured)
+      recordImpostorCapture(cmd, c->capture, m.layout.pipeline_layout, c->vertices.buffer,
+                            c->indices.buffer, &c->impostor);
   recordMemoryBarrier(cmd, VK_PIPELINE_STAGE_TRANSFER_BIT, VK_ACCESS_TRANSFER_WRITE_BIT,
                       VK_PIPELINE_STAGE_VERTEX_INPUT_BIT | VK_PIPELINE_STAGE_VERTEX_SHADER_BIT |
                           VK_PIPELINE_STAGE_FRAGMENT_SHADER_BIT,
@@ -330,6 +343,8 @@ void Renderer::uploadsComplete() {
   if (!impl_) return;
   for (GpuBuffer& b : impl_->finished_staging) impl_->objects.destroy(&b);
   impl_->finished_staging.clear();
+  for (auto& c : impl_->characters)
+    if (c->impostor.captured) releaseImpostorCapture(&impl_->objects, &c->capture);
 }
 
 Status Renderer::beginFrame(uint32_t frame) {

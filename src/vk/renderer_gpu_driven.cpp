@@ -32,7 +32,7 @@ Status Renderer::Impl::initGpuDriven(const VkPhysicalDeviceLimits& limits) {
       layout_passes.push_back(&programs[k]);
   for (size_t k = 0; k < programs.size(); ++k) {
     const VulkanProgram& p = vulkanPrograms()[k];
-    if (!p.gpu_driven || p.compute) continue;
+    if (!p.gpu_driven || p.compute || p.impostor) continue;  // Impostors: a layout of their own.
     stages.push_back({VK_SHADER_STAGE_VERTEX_BIT, &programs[k].vertex_reflection});
     stages.push_back({VK_SHADER_STAGE_FRAGMENT_BIT, &programs[k].fragment_reflection});
   }
@@ -53,6 +53,16 @@ Status Renderer::Impl::initGpuDriven(const VkPhysicalDeviceLimits& limits) {
         device(), allocator(), programs[vulkanComputeProgramIndex(ProgramId::kHizCopy)],
         programs[vulkanComputeProgramIndex(ProgramId::kHizCopyMultisample)],
         programs[vulkanComputeProgramIndex(ProgramId::kHizReduce)], nearest, &pyramid_passes);
+  }
+  if (s.isOk()) {
+    // The impostor draws render where the character's draws do (renderer.cpp's addCharacter).
+    const VkFormat depth_only_format =
+        desc.depth_only_format != VK_FORMAT_UNDEFINED ? desc.depth_only_format : desc.depth_format;
+    s = createImpostorPasses(
+        device(), allocator(), programs,
+        {desc.color_format, desc.depth_format, desc.motion_format, desc.samples},
+        {VK_FORMAT_UNDEFINED, depth_only_format, VK_FORMAT_UNDEFINED, desc.depth_only_samples},
+        &impostor_passes);
   }
   if (s.isOk())
     s = objects.createBuffer(256, VK_BUFFER_USAGE_STORAGE_BUFFER_BIT, false,
@@ -77,6 +87,7 @@ Status Renderer::Impl::initGpuDriven(const VkPhysicalDeviceLimits& limits) {
   shared.unbuilt = &unbuilt;
   shared.no_pyramid = &no_pyramid;
   shared.pyramid_passes = &pyramid_passes;
+  shared.impostors = &impostor_passes;
   shared.max_image_size = max_image_size;
   shared.max_groups_x = limits.maxComputeWorkGroupCount[0];
   shared.max_groups_y = limits.maxComputeWorkGroupCount[1];
@@ -107,15 +118,26 @@ Status Renderer::recordGpuDrivenPasses(VkCommandBuffer cmd, CharacterId id, cons
             "vk::Renderer::recordGpuDrivenPasses: the view is not attached to a crowd"};
   const CrowdManager& crowd = *view.crowd();
   const CrowdExport exported(crowd);
-  const char* unbuilt = exported.playsOverlays()         ? "overlays (layered animation)"
-                        : exported.livePoseCount() > 0   ? "live poses"
-                        : crowd.desc().impostor_lod != 0 ? "an impostor level"
-                                                         : nullptr;
+  const char* unbuilt = exported.playsOverlays()       ? "overlays (layered animation)"
+                        : exported.livePoseCount() > 0 ? "live poses"
+                                                       : nullptr;
   if (unbuilt != nullptr)
     return {StatusCode::kUnsupported,
             strCat("vk::Renderer::recordGpuDrivenPasses: the Vulkan back-end's GPU-driven path "
                    "does not draw a crowd with ",
                    unbuilt, " yet")};
+  if (crowd.desc().impostor_lod != 0) {
+    // As si::Renderer: impostors draw no motion vectors.
+    if (m.desc.motion_format != VK_FORMAT_UNDEFINED)
+      return {StatusCode::kUnsupported,
+              "vk::Renderer::recordGpuDrivenPasses: impostors draw no motion vectors (a crowd "
+              "with CrowdDesc::impostor_lod, a renderer with RendererDesc::motion_format)"};
+    if (!c.impostor.made() || !c.impostor.captured)
+      return {StatusCode::kInvalidArgument,
+              "vk::Renderer::recordGpuDrivenPasses: the crowd has an impostor level "
+              "(CrowdDesc::impostor_lod) and the character no impostor atlas captured "
+              "(buildImpostor, then recordUploads)"};
+  }
   if (culling != GpuCulling::kFrustum && culling != GpuCulling::kOcclusion)
     return {StatusCode::kInvalidArgument,
             strCat("vk::Renderer::recordGpuDrivenPasses: no GpuCulling ", int(culling))};

@@ -1,8 +1,8 @@
 // SkinnedInstancing — SPDX-License-Identifier: MIT (see LICENSE)
 #pragma once
 // vk::Renderer's state, shared by its files: renderer.cpp (init, characters, uploads, frames),
-// renderer_instanced.cpp (the instanced path's recordDraw) and renderer_gpu_driven.cpp (the
-// GPU-driven path's entry points).
+// renderer_instanced.cpp (the instanced path's recordDraw), renderer_gpu_driven.cpp (the
+// GPU-driven path's entry points) and renderer_impostor.cpp (impostor atlases).
 
 #include <memory>
 #include <vector>
@@ -13,6 +13,7 @@
 #include "vk/device_objects.h"
 #include "vk/gpu_driven_layout.h"
 #include "vk/gpu_driven_views.h"
+#include "vk/impostor_passes.h"
 #include "vk/program_modules.h"
 #include "vk/skinned_pipeline.h"
 
@@ -30,6 +31,8 @@ struct Renderer::Impl {
   VkDeviceSize ubo_alignment = 256;
   VkDeviceSize storage_alignment = 256;  // minStorageBufferOffsetAlignment (16 at least).
   uint32_t max_image_size = 0;           // maxImageDimension2D.
+  uint32_t max_framebuffer_size = 0;     // maxFramebufferWidth and Height, the smaller.
+  uint32_t max_viewport_size = 0;        // maxViewportDimensions, the smaller.
   // vulkanPrograms(), in its order: shaded, depth only and with motion vectors, for each mesh
   // variant (8 influences, vertex words); with RendererDesc::gpu_driven also the GPU-driven
   // draws and passes (left empty without).
@@ -44,6 +47,7 @@ struct Renderer::Impl {
   detail::GpuBuffer unbuilt;
   detail::GpuImage no_pyramid;
   detail::PyramidPasses pyramid_passes;  // Occlusion culling's depth pyramid.
+  detail::ImpostorPasses impostor_passes;  // The impostor quads pass and draws.
   detail::GpuDrivenViews driven_views;
   VkSampler nearest = VK_NULL_HANDLE, linear = VK_NULL_HANDLE;
   detail::GpuBuffer ring;

@@ -66,6 +66,10 @@ Status Renderer::recordDraw(VkCommandBuffer cmd, const DrawTarget& target, Chara
   if (batcher.capacityPerDraw() == 0 || batcher.capacityPerDraw() > kVulkanMaxInstances)
     return {StatusCode::kInvalidArgument,
             "vk::Renderer::recordDraw: the batcher was not initialized with batchLimits()"};
+  if (view.crowd() != nullptr && view.crowd()->desc().impostor_lod != 0)
+    return {StatusCode::kUnsupported,
+            "vk::Renderer::recordDraw: the Vulkan back-end's instanced path does not draw "
+            "impostors (CrowdDesc::impostor_lod) yet: the GPU-driven path does"};
   const bool depth_only = target.mode == DrawMode::kDepthOnly;
   // Motion vectors: shaded draws of a renderer with a motion format (depth-only ones write none).
   const bool motion = !depth_only && m.desc.motion_format != VK_FORMAT_UNDEFINED;

@@ -36,10 +36,11 @@ Status createSkinnedLayout(VkDevice device, const VkAllocationCallbacks* allocat
                b == kPreviousBinding || b == kDrivenRecordsBinding || b == kDrivenEntriesBinding ||
                b == kDrivenVisibleBinding || b == kEntryDataBinding || b == kRingBinding ||
                b == kSourceBinding || b == kLodVerticesBinding || b == kTangentRingBinding ||
-               b == kPreviousOutBinding || b == kPreviousRingBinding)
+               b == kPreviousOutBinding || b == kPreviousRingBinding ||
+               b == kImpostorClipsBinding || b == kImpostorQuadsBinding)
         type = VK_DESCRIPTOR_TYPE_STORAGE_BUFFER;
       else if (b == kPaletteBinding || b == kBaseColorBinding || b == kCustomBinding ||
-               b == kMaterialDataBinding || b == kMorphBinding)
+               b == kMaterialDataBinding || b == kMorphBinding || b == kImpostorAtlasBinding)
         type = VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER;
       else
         return {StatusCode::kUnsupported,
@@ -62,11 +63,16 @@ Status createSkinnedLayout(VkDevice device, const VkAllocationCallbacks* allocat
                           &out->pipeline_layout);
 }
 
-Status createSkinnedPipeline(VkDevice device, const VkAllocationCallbacks* allocator,
-                             const ProgramModules& program, VkPipelineLayout pipeline_layout,
-                             RenderingFormats formats, const VertexStream& stream,
-                             VkPipeline* out) {
+namespace {
+
+// A skinned program's pipeline over `stream`, or (null) an impostor program's.
+Status createPipeline(VkDevice device, const VkAllocationCallbacks* allocator,
+                      const ProgramModules& program, VkPipelineLayout pipeline_layout,
+                      RenderingFormats formats, const VertexStream* vertex_stream,
+                      VkPipeline* out) {
   const bool color = formats.color != VK_FORMAT_UNDEFINED;
+  const bool quads = vertex_stream == nullptr;
+  const VertexStream stream = quads ? VertexStream() : *vertex_stream;
   VkPipelineShaderStageCreateInfo stages[2] = {
       vkStruct<VkPipelineShaderStageCreateInfo>(
           VK_STRUCTURE_TYPE_PIPELINE_SHADER_STAGE_CREATE_INFO),
@@ -107,7 +113,8 @@ Status createSkinnedPipeline(VkDevice device, const VkAllocationCallbacks* alloc
       {5, 1, VK_FORMAT_R32_UINT, 0},                     // The GPU-driven draw's entry.
   };
   std::vector<VkVertexInputAttributeDescription> attributes;
-  for (const SpirvVarying& in : program.vertex_reflection.inputs) {
+  for (const SpirvVarying& in :
+       quads ? std::vector<SpirvVarying>() : program.vertex_reflection.inputs) {
     const VkVertexInputAttributeDescription* a = nullptr;
     for (const VkVertexInputAttributeDescription& k : known)
       if (k.location == in.location) a = &k;
@@ -125,13 +132,14 @@ Status createSkinnedPipeline(VkDevice device, const VkAllocationCallbacks* alloc
                   [](const VkVertexInputAttributeDescription& a) { return a.binding == 1; });
   auto input = vkStruct<VkPipelineVertexInputStateCreateInfo>(
       VK_STRUCTURE_TYPE_PIPELINE_VERTEX_INPUT_STATE_CREATE_INFO);
-  input.vertexBindingDescriptionCount = entries ? 2 : 1;
+  input.vertexBindingDescriptionCount = quads ? 0 : entries ? 2 : 1;
   input.pVertexBindingDescriptions = bindings;
   input.vertexAttributeDescriptionCount = uint32_t(attributes.size());
   input.pVertexAttributeDescriptions = attributes.data();
   auto assembly = vkStruct<VkPipelineInputAssemblyStateCreateInfo>(
       VK_STRUCTURE_TYPE_PIPELINE_INPUT_ASSEMBLY_STATE_CREATE_INFO);
-  assembly.topology = VK_PRIMITIVE_TOPOLOGY_TRIANGLE_LIST;
+  assembly.topology =
+      quads ? VK_PRIMITIVE_TOPOLOGY_TRIANGLE_STRIP : VK_PRIMITIVE_TOPOLOGY_TRIANGLE_LIST;
   auto viewport = vkStruct<VkPipelineViewportStateCreateInfo>(
       VK_STRUCTURE_TYPE_PIPELINE_VIEWPORT_STATE_CREATE_INFO);
   viewport.viewportCount = 1;
@@ -139,7 +147,7 @@ Status createSkinnedPipeline(VkDevice device, const VkAllocationCallbacks* alloc
   auto raster = vkStruct<VkPipelineRasterizationStateCreateInfo>(
       VK_STRUCTURE_TYPE_PIPELINE_RASTERIZATION_STATE_CREATE_INFO);
   raster.polygonMode = VK_POLYGON_MODE_FILL;
-  raster.cullMode = VK_CULL_MODE_BACK_BIT;
+  raster.cullMode = quads ? VK_CULL_MODE_NONE : VK_CULL_MODE_BACK_BIT;
   raster.frontFace = VK_FRONT_FACE_COUNTER_CLOCKWISE;  // Dynamic: each draw sets it.
   raster.lineWidth = 1.0f;
   auto multisample = vkStruct<VkPipelineMultisampleStateCreateInfo>(
@@ -151,13 +159,13 @@ Status createSkinnedPipeline(VkDevice device, const VkAllocationCallbacks* alloc
   depth.depthWriteEnable = VK_TRUE;
   depth.depthCompareOp = VK_COMPARE_OP_LESS;  // Dynamic: each draw sets it.
   const bool motion = color && formats.motion != VK_FORMAT_UNDEFINED;
-  VkPipelineColorBlendAttachmentState attachments[2] = {};
+  VkPipelineColorBlendAttachmentState attachments[3] = {};
   attachments[0].colorWriteMask = VK_COLOR_COMPONENT_R_BIT | VK_COLOR_COMPONENT_G_BIT |
                                   VK_COLOR_COMPONENT_B_BIT | VK_COLOR_COMPONENT_A_BIT;
   // Identical (without the independentBlend feature); the motion format's missing channels
   // are not written.
-  attachments[1] = attachments[0];
-  const uint32_t colors = color ? (motion ? 2 : 1) : 0;
+  attachments[1] = attachments[2] = attachments[0];
+  const uint32_t colors = !color ? 0 : motion ? 2 : std::min<uint32_t>(formats.color_count, 3);
   auto blend = vkStruct<VkPipelineColorBlendStateCreateInfo>(
       VK_STRUCTURE_TYPE_PIPELINE_COLOR_BLEND_STATE_CREATE_INFO);
   blend.attachmentCount = colors;
@@ -172,7 +180,8 @@ Status createSkinnedPipeline(VkDevice device, const VkAllocationCallbacks* alloc
   dynamic.pDynamicStates = dynamic_states;
   auto rendering =
       vkStruct<VkPipelineRenderingCreateInfo>(VK_STRUCTURE_TYPE_PIPELINE_RENDERING_CREATE_INFO);
-  const VkFormat color_formats[2] = {formats.color, formats.motion};
+  const VkFormat color_formats[3] = {formats.color, motion ? formats.motion : formats.color,
+                                     formats.color};
   rendering.colorAttachmentCount = colors;
   rendering.pColorAttachmentFormats = colors > 0 ? color_formats : nullptr;
   rendering.depthAttachmentFormat = formats.depth;
@@ -180,7 +189,7 @@ Status createSkinnedPipeline(VkDevice device, const VkAllocationCallbacks* alloc
       vkStruct<VkGraphicsPipelineCreateInfo>(VK_STRUCTURE_TYPE_GRAPHICS_PIPELINE_CREATE_INFO);
   info.pNext = &rendering;
   // Depth only: no fragment stage (the program's is empty), so nothing reads the varyings.
-  info.stageCount = color ? 2 : 1;
+  info.stageCount = color || quads ? 2 : 1;
   info.pStages = stages;
   info.pVertexInputState = &input;
   info.pInputAssemblyState = &assembly;
@@ -193,6 +202,21 @@ Status createSkinnedPipeline(VkDevice device, const VkAllocationCallbacks* alloc
   info.layout = pipeline_layout;
   return checkVk(vkCreateGraphicsPipelines(device, VK_NULL_HANDLE, 1, &info, allocator, out),
                  "vkCreateGraphicsPipelines");
+}
+
+}  // namespace
+
+Status createSkinnedPipeline(VkDevice device, const VkAllocationCallbacks* allocator,
+                             const ProgramModules& program, VkPipelineLayout pipeline_layout,
+                             RenderingFormats formats, const VertexStream& stream,
+                             VkPipeline* out) {
+  return createPipeline(device, allocator, program, pipeline_layout, formats, &stream, out);
+}
+
+Status createImpostorPipeline(VkDevice device, const VkAllocationCallbacks* allocator,
+                              const ProgramModules& program, VkPipelineLayout pipeline_layout,
+                              RenderingFormats formats, VkPipeline* out) {
+  return createPipeline(device, allocator, program, pipeline_layout, formats, nullptr, out);
 }
 
 }  // namespace si::vk::detail

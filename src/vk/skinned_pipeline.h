@@ -42,6 +42,12 @@ inline constexpr uint32_t kPreviousLayersBinding = 3;
 inline constexpr uint32_t kMaskBinding = 8 + kStorageBindingShift;
 inline constexpr VkDeviceSize kLayersRange = VkDeviceSize(kVulkanMaxInstances) * 16;
 inline constexpr VkDeviceSize kMaskRange = kRecordsRange;
+// Impostors (impostor_quad.glsl, impostor.vert.glsl, impostor.frag.glsl): the atlas's clip table,
+// the atlas, and the quads the GPU-driven impostor quads pass computed (a layout of their own:
+// these bindings mean other things in the skinned draws' and the cull passes' sets).
+inline constexpr uint32_t kImpostorClipsBinding = 9 + kStorageBindingShift;
+inline constexpr uint32_t kImpostorAtlasBinding = 3 + kSamplerBindingShift;
+inline constexpr uint32_t kImpostorQuadsBinding = 15 + kStorageBindingShift;
 // Bytes of each default uniform block's binding: the vertex stage's camera, LOD and motion, the
 // fragment stage's light and custom layers.
 inline constexpr VkDeviceSize kDefaultsRange = 256;
@@ -76,7 +82,17 @@ struct RenderingFormats {
   VkFormat depth = VK_FORMAT_UNDEFINED;
   VkFormat motion = VK_FORMAT_UNDEFINED;
   VkSampleCountFlagBits samples = VK_SAMPLE_COUNT_1_BIT;  ///< Of every attachment.
+  /// Colour attachments of format `color` (without motion): the impostor capture writes 3.
+  uint32_t color_count = 1;
 };
+
+/// An impostor program's graphics pipeline for dynamic rendering into `formats`: no vertex input
+/// (a quad per instance: 4 vertices of a triangle strip, from gl_VertexID and gl_InstanceID),
+/// both faces drawn, the fragment stage also for depth only (its coverage test discards); the
+/// rest as createSkinnedPipeline's. kBackend on a failed call.
+Status createImpostorPipeline(VkDevice device, const VkAllocationCallbacks* allocator,
+                              const ProgramModules& program, VkPipelineLayout pipeline_layout,
+                              RenderingFormats formats, VkPipeline* out);
 
 /// A skinned program's graphics pipeline for `stream`'s vertex format (as si::gl's
 /// CharacterBuffers describes it: an attribute for each input the vertex stage reads; a

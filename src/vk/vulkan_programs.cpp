@@ -48,41 +48,53 @@ std::vector<VulkanProgram> makePrograms() {
               if (eight) name += "_8";
               if (words) name += "_words";
               programs.push_back({catalogProgram(kind, layers, gpu_driven), kind, gpu_driven, false,
-                                  false, false, layers, morph, eight, words, name});
+                                  false, false, false, layers, morph, eight, words, name});
             }
   for (bool tangents : {false, true})
     for (bool words : {false, true})
       programs.push_back(
           {tangents ? ProgramId::kGpuPulledTangents : ProgramId::kGpuPulled, VulkanKind::kShaded,
-           true, false, true, tangents, false, false, false, words,
+           true, false, true, tangents, false, false, false, false, words,
            std::string("gpu_pulled") + (tangents ? "_tangents" : "") + (words ? "_words" : "")});
   programs.push_back({ProgramId::kGpuPulledDepthOnly, VulkanKind::kDepthOnly, true, false, true,
-                      false, false, false, false, false, "gpu_pulled_depth_only"});
+                      false, false, false, false, false, false, "gpu_pulled_depth_only"});
   for (bool tangents : {false, true})
     for (bool words : {false, true})
       programs.push_back(
           {tangents ? ProgramId::kGpuPulledMotionTangents : ProgramId::kGpuPulledMotion,
-           VulkanKind::kMotion, true, false, true, tangents, false, false, false, words,
+           VulkanKind::kMotion, true, false, true, tangents, false, false, false, false, words,
            std::string("gpu_pulled_motion") + (tangents ? "_tangents" : "") +
                (words ? "_words" : "")});
+  for (bool morph : {false, true})
+    for (bool eight : {false, true})
+      for (bool words : {false, true})
+        programs.push_back({ProgramId::kImpostorCapture, VulkanKind::kShaded, false, false, false,
+                            false, true, false, morph, eight, words,
+                            std::string("impostor_capture") + (morph ? "_morph" : "") +
+                                (eight ? "_8" : "") + (words ? "_words" : "")});
+  programs.push_back({ProgramId::kGpuDrivenImpostor, VulkanKind::kShaded, true, false, false, false,
+                      true, false, false, false, false, "gpu_impostor"});
+  programs.push_back({ProgramId::kGpuDrivenImpostorDepthOnly, VulkanKind::kDepthOnly, true, false,
+                      false, false, true, false, false, false, false, "gpu_impostor_depth_only"});
   for (const auto& [id, name] :
        {std::pair{ProgramId::kCull, "cull"}, std::pair{ProgramId::kCullCommands, "cull_commands"},
         std::pair{ProgramId::kCullScatter, "cull_scatter"}})
     programs.push_back({id, VulkanKind::kShaded, true, true, false, false, false, false, false,
-                        false, std::string(name)});
+                        false, false, std::string(name)});
   for (bool motion : {false, true})
     for (bool morph : {false, true})
       for (bool eight : {false, true})
         programs.push_back({motion ? ProgramId::kGpuSkinMotion : ProgramId::kGpuSkin,
                             motion ? VulkanKind::kMotion : VulkanKind::kShaded, true, true, false,
-                            false, false, morph, eight, false,
+                            false, false, false, morph, eight, false,
                             std::string("gpu_skin") + (motion ? "_motion" : "") +
                                 (morph ? "_morph" : "") + (eight ? "_8" : "")});
   for (const auto& [id, name] : {std::pair{ProgramId::kHizCopy, "hiz_copy"},
                                  std::pair{ProgramId::kHizCopyMultisample, "hiz_copy_ms"},
-                                 std::pair{ProgramId::kHizReduce, "hiz_reduce"}})
+                                 std::pair{ProgramId::kHizReduce, "hiz_reduce"},
+                                 std::pair{ProgramId::kImpostorQuads, "impostor_quads"}})
     programs.push_back({id, VulkanKind::kShaded, true, true, false, false, false, false, false,
-                        false, std::string(name)});
+                        false, false, std::string(name)});
   return programs;
 }
 
@@ -101,9 +113,9 @@ size_t vulkanProgramIndex(VulkanKind kind, bool layers, const MeshVariant& mesh,
   const bool words = mesh.vertex_words && kind != VulkanKind::kDepthOnly;
   const std::vector<VulkanProgram>& programs = programList();
   for (size_t k = 0; k < programs.size(); ++k)
-    if (!programs[k].compute && !programs[k].pulled && programs[k].gpu_driven == gpu_driven &&
-        programs[k].kind == kind && programs[k].layers == layers &&
-        programs[k].morph_targets == mesh.morph_targets &&
+    if (!programs[k].compute && !programs[k].pulled && !programs[k].impostor &&
+        programs[k].gpu_driven == gpu_driven && programs[k].kind == kind &&
+        programs[k].layers == layers && programs[k].morph_targets == mesh.morph_targets &&
         programs[k].eight_influences == mesh.eight_influences && programs[k].vertex_words == words)
       return k;
   return 0;  // makePrograms() lists every combination.
@@ -118,6 +130,26 @@ size_t vulkanComputeProgramIndex(ProgramId id, const MeshVariant& mesh) {
                    programs[k].eight_influences == mesh.eight_influences)))
       return k;
   return 0;  // makePrograms() lists every pass and variant.
+}
+
+size_t vulkanCaptureProgramIndex(const MeshVariant& mesh) {
+  const std::vector<VulkanProgram>& programs = programList();
+  for (size_t k = 0; k < programs.size(); ++k)
+    if (programs[k].id == ProgramId::kImpostorCapture &&
+        programs[k].morph_targets == mesh.morph_targets &&
+        programs[k].eight_influences == mesh.eight_influences &&
+        programs[k].vertex_words == mesh.vertex_words)
+      return k;
+  return 0;  // makePrograms() lists every variant.
+}
+
+size_t vulkanImpostorProgramIndex(bool depth_only) {
+  const ProgramId id =
+      depth_only ? ProgramId::kGpuDrivenImpostorDepthOnly : ProgramId::kGpuDrivenImpostor;
+  const std::vector<VulkanProgram>& programs = programList();
+  for (size_t k = 0; k < programs.size(); ++k)
+    if (programs[k].id == id) return k;
+  return 0;  // makePrograms() lists both.
 }
 
 size_t vulkanPulledProgramIndex(VulkanKind kind, bool tangents, const MeshVariant& mesh) {

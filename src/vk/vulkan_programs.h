@@ -36,6 +36,10 @@ struct VulkanProgram {
   /// the tangent ring read (`tangents`) for a character with tangents.
   bool pulled;
   bool tangents;
+  /// The impostor atlas's capture (kImpostorCapture: "impostor_capture", per mesh variant) or
+  /// the GPU-driven impostor draw (kGpuDrivenImpostor, "gpu_impostor", and its depth-only
+  /// variant).
+  bool impostor;
   bool layers;
   bool morph_targets;
   bool eight_influences;
@@ -52,8 +56,11 @@ struct VulkanProgram {
 /// ("gpu_pulled", "_tangents", "_words"; "gpu_pulled_depth_only"; "gpu_pulled_motion",
 /// "_tangents", "_words"); then its compute passes: "cull", "cull_commands", "cull_scatter",
 /// the pre-skinning pass for each mesh ("gpu_skin", "_morph", "_8"), with the previous
-/// positions ("gpu_skin_motion", ...), and occlusion culling's depth pyramid passes
-/// ("hiz_copy", "hiz_copy_ms", "hiz_reduce").
+/// positions ("gpu_skin_motion", ...), occlusion culling's depth pyramid passes
+/// ("hiz_copy", "hiz_copy_ms", "hiz_reduce") and the impostor quads pass ("impostor_quads").
+/// Between the pre-skinned draws and the compute passes: the impostor atlas's capture for each
+/// mesh ("impostor_capture", "_morph", "_8", "_words") and the GPU-driven impostor draws
+/// ("gpu_impostor", "gpu_impostor_depth_only").
 Span<const VulkanProgram> vulkanPrograms();
 
 /// What a character's mesh needs of its programs.
@@ -69,9 +76,13 @@ struct MeshVariant {
 size_t vulkanProgramIndex(VulkanKind kind, bool layers, const MeshVariant& mesh,
                           bool gpu_driven = false);
 /// The index in vulkanPrograms() of the GPU-driven compute pass `id` (kCull, kCullCommands,
-/// kCullScatter, kHizCopy, kHizCopyMultisample, kHizReduce; kGpuSkin and kGpuSkinMotion for a
-/// mesh of `mesh`).
+/// kCullScatter, kHizCopy, kHizCopyMultisample, kHizReduce, kImpostorQuads; kGpuSkin and
+/// kGpuSkinMotion for a mesh of `mesh`).
 size_t vulkanComputeProgramIndex(si::detail::ProgramId id, const MeshVariant& mesh = {});
+/// The index in vulkanPrograms() of the impostor capture for a mesh of `mesh`.
+size_t vulkanCaptureProgramIndex(const MeshVariant& mesh);
+/// The index in vulkanPrograms() of the GPU-driven impostor draw, shaded or depth only.
+size_t vulkanImpostorProgramIndex(bool depth_only);
 /// The index in vulkanPrograms() of the GPU-driven pre-skinned draw of `kind` (kShaded, kMotion or
 /// kDepthOnly) for a character with tangents or not and a mesh of `mesh` (its vertex words).
 size_t vulkanPulledProgramIndex(VulkanKind kind, bool tangents, const MeshVariant& mesh);

@@ -67,9 +67,10 @@
 /// drawn by its program variant); layered animation (overlays on their masks, 1D blends);
 /// palettes of every si::PaletteFormat; and the GPU-driven path's culling, LOD, pre-skinning
 /// and indirect draw (recordGpuDrivenPasses, recordGpuDrivenDraw: shaded or depth only, every
-/// mesh variant, with motion vectors, with two-phase occlusion culling or without; not yet with
-/// layers, live poses or impostors). Everything else (the instanced path's compute pre-skinning, 2D
-/// blends, host materials, impostors) is refused by name (kUnsupported).
+/// mesh variant, with motion vectors, with two-phase occlusion culling or without, with animated
+/// impostors (buildImpostor; not yet with layers or live poses). Everything else (the instanced
+/// path's compute pre-skinning and impostors, 2D blends, host materials) is refused by name
+/// (kUnsupported).
 /// What the host must do: record recordUploads() before the first draw of a character and
 /// submit it before (or with) that draw; give each frame in flight its own slot (beginFrame(),
 /// below RendererDesc::frames_in_flight) and wait for a slot's last frame before beginning it
@@ -94,6 +95,7 @@
 #include "si/core/status.h"
 #include "si/crowd/camera.h"
 #include "si/crowd/crowd_view.h"
+#include "si/crowd/impostor_desc.h"
 #include "si/crowd/instance_batcher.h"
 
 namespace si::vk {
@@ -288,6 +290,25 @@ class Renderer {
   /// baked for another skeleton; the codes of si::buildVertexStream, si::buildMorphStream and
   /// si::buildMaterialTable; kBackend on a failed call.
   Status addCharacter(const Character& character, const BakedPalette& palette, CharacterId* out);
+  /// Character `id`'s animated impostor atlas, as si::Renderer::buildImpostor makes it
+  /// (si/gl/impostor.h says what an impostor keeps and loses; the same desc, cells, views and
+  /// frames): the atlas image and clip table made here, their capture (the character drawn once
+  /// per cell into the atlas's three layers, the mip chain blitted) recorded by the next
+  /// recordUploads(), its temporaries (a depth image of ImpostorInfo::capture_bytes, the capture
+  /// crowd's records) freed by uploadsComplete(). A crowd of CrowdDesc::impostor_lod then draws
+  /// its far instances as impostors on the GPU-driven path. Unlike si::gl, which reads the atlas
+  /// back, the Vulkan back-end does not measure each cell's covered rectangle (a guest waits on
+  /// no submission): the quads span their whole cells, the image the same, a little more
+  /// fragment work. Building again replaces the atlas: the host has waited for the device's work
+  /// on the old one. `info` (when not null) gets the plan, also when refused.
+  /// kInvalidArgument for an unknown character or a desc si::Renderer refuses; kLimitExceeded
+  /// for an atlas past maxImageDimension2D, maxFramebufferWidth/Height or
+  /// maxViewportDimensions, more cells than a crowd holds or past ImpostorDesc::max_bytes;
+  /// kUnsupported for a device that renders no VK_FORMAT_D32_SFLOAT depth; kBackend naming a
+  /// failed call.
+  Status buildImpostor(CharacterId id, const ImpostorDesc& desc, ImpostorInfo* info = nullptr);
+  /// Whether character `id` has an impostor atlas (buildImpostor).
+  bool hasImpostor(CharacterId id) const;
   /// Records the copies of every character added since the last call into `cmd` (outside
   /// rendering: transfers, mip chains, the barriers to the shaders' reads). Nothing to record
   /// is not an error.
@@ -315,7 +336,8 @@ class Renderer {
   /// through Camera::fromMatrices) are used as they are. kInvalidArgument for an unknown
   /// character or mode, no beginFrame(), a batcher not initialized, an empty extent or a
   /// negative offset, a character whose uploads were not recorded, or motion vectors of a view
-  /// without previous records; kUnsupported for a view of 2D blends (their third and fourth clips);
+  /// without previous records; kUnsupported for a view of 2D blends (their third and fourth clips)
+  /// or of a crowd with an impostor level (drawn on the GPU-driven path only, so far);
   /// kLimitExceeded when the frame's records pass the slot's region (nothing recorded then).
   /// With motion vectors the view's previous records are copied into the slot's region after
   /// this draw's records; with layered animation its layer records (and previous ones) and the
@@ -338,10 +360,15 @@ class Renderer {
   /// view keeps on the GPU (its LODs' hysteresis, the passes' output, its ring) is its own. After
   /// beginFrame(), once per view and frame. kInvalidArgument for no beginFrame(), an unknown
   /// character, its uploads not recorded, a detached view, or a crowd of more buckets than
-  /// 256 or sub-meshes than the character's; kUnsupported without RendererDesc::gpu_driven, or
-  /// for a crowd that plays overlays, holds live poses or has an impostor level (not built on
-  /// Vulkan yet); kLimitExceeded when a buffer passes maxStorageBufferRange, the instances need
-  /// more compute groups than the device has, or the frame's uniforms pass the slot's region.
+  /// 256 or sub-meshes than the character's, or a crowd with an impostor level
+  /// (CrowdDesc::impostor_lod) whose character has no impostor atlas captured (buildImpostor,
+  /// then recordUploads); kUnsupported without RendererDesc::gpu_driven, for a crowd that plays
+  /// overlays or holds live poses (not built on Vulkan yet), or for impostors with motion
+  /// vectors (they draw none, as on si::Renderer); kLimitExceeded when a buffer passes
+  /// maxStorageBufferRange, the instances need more compute groups than the device has, or the
+  /// frame's uniforms pass the slot's region. A crowd with an impostor level: the passes also
+  /// compute each impostor's quad once (si::gl's impostor quads pass), and the draws draw them
+  /// after the meshes (one vkCmdDrawIndirect more).
   /// With GpuCulling::kOcclusion the passes are occlusion culling's first phase: draw them, end
   /// the rendering, then record recordGpuDrivenOcclusion() in the same frame.
   Status recordGpuDrivenPasses(VkCommandBuffer cmd, CharacterId id, const CrowdView& view,

@@ -1,0 +1,76 @@
+// SkinnedInstancing — SPDX-License-Identifier: MIT (see LICENSE)
+// The GPU-driven impostors' layouts and pipelines.
+#include "vk/impostor_passes.h"
+
+#include "si_vk/vulkan_profile.h"
+#include "vk/device_objects.h"
+#include "vk/vulkan_programs.h"
+
+namespace si::vk::detail {
+
+bool impostorQuadsBindingType(uint32_t b, DescriptorKind kind, VkDescriptorType* type) {
+  const bool storage = b == kCountersBinding || b == kDrivenRecordsBinding ||
+                       b == kDrivenEntriesBinding || b == kDrivenVisibleBinding ||
+                       b == kCommandsBinding || b == kImpostorClipsBinding ||
+                       b == kImpostorQuadsBinding;
+  if (storage && kind == DescriptorKind::kStorageBuffer)
+    *type = VK_DESCRIPTOR_TYPE_STORAGE_BUFFER;
+  else if (b == kComputeDefaultsBinding && kind == DescriptorKind::kUniformBuffer)
+    *type = VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER_DYNAMIC;
+  else
+    return false;
+  return true;
+}
+
+Status createImpostorPasses(VkDevice device, const VkAllocationCallbacks* allocator,
+                            const std::vector<ProgramModules>& programs,
+                            const RenderingFormats& shaded, const RenderingFormats& depth_only,
+                            ImpostorPasses* out) {
+  out->quads_program = &programs[vulkanComputeProgramIndex(si::detail::ProgramId::kImpostorQuads)];
+  Status s = createComputeLayout(
+      device, allocator, Span<const ProgramModules* const>(&out->quads_program, 1),
+      impostorQuadsBindingType, "the impostor quads pass", &out->quads_layout);
+  if (s.isOk())
+    s = createComputePipeline(device, allocator, *out->quads_program,
+                              out->quads_layout.pipeline_layout, &out->quads);
+  if (s.isOk()) {
+    auto info = vkStruct<VkSamplerCreateInfo>(VK_STRUCTURE_TYPE_SAMPLER_CREATE_INFO);
+    info.magFilter = info.minFilter = VK_FILTER_LINEAR;
+    info.mipmapMode = VK_SAMPLER_MIPMAP_MODE_LINEAR;
+    info.addressModeU = info.addressModeV = info.addressModeW =
+        VK_SAMPLER_ADDRESS_MODE_CLAMP_TO_EDGE;
+    info.maxLod = VK_LOD_CLAMP_NONE;
+    s = checkVk(vkCreateSampler(device, &info, allocator, &out->sampler),
+                "vkCreateSampler (the impostor atlas's)");
+  }
+  std::vector<StageReflection> stages;
+  for (int k = 0; k < 2; ++k) {
+    out->draw_programs[k] = &programs[vulkanImpostorProgramIndex(k == 1)];
+    stages.push_back({VK_SHADER_STAGE_VERTEX_BIT, &out->draw_programs[k]->vertex_reflection});
+    stages.push_back({VK_SHADER_STAGE_FRAGMENT_BIT, &out->draw_programs[k]->fragment_reflection});
+  }
+  if (s.isOk())
+    s = createSkinnedLayout(device, allocator,
+                            Span<const StageReflection>(stages.data(), stages.size()),
+                            &out->draw_layout);
+  for (int k = 0; k < 2 && s.isOk(); ++k)
+    s = createImpostorPipeline(device, allocator, *out->draw_programs[k],
+                               out->draw_layout.pipeline_layout, k == 0 ? shaded : depth_only,
+                               &out->draws[k]);
+  return s;
+}
+
+void destroyImpostorPasses(VkDevice device, const VkAllocationCallbacks* allocator,
+                           ImpostorPasses* passes) {
+  for (VkPipeline p : {passes->quads, passes->draws[0], passes->draws[1]})
+    if (p != VK_NULL_HANDLE) vkDestroyPipeline(device, p, allocator);
+  if (passes->sampler != VK_NULL_HANDLE) vkDestroySampler(device, passes->sampler, allocator);
+  destroyComputeLayout(device, allocator, &passes->quads_layout);
+  SkinnedLayout& l = passes->draw_layout;
+  if (l.pipeline_layout != VK_NULL_HANDLE)
+    vkDestroyPipelineLayout(device, l.pipeline_layout, allocator);
+  if (l.set_layout != VK_NULL_HANDLE) vkDestroyDescriptorSetLayout(device, l.set_layout, allocator);
+  *passes = ImpostorPasses();
+}
+
+}  // namespace si::vk::detail

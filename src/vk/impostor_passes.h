@@ -1,0 +1,45 @@
+// SkinnedInstancing — SPDX-License-Identifier: MIT (see LICENSE)
+#pragma once
+// The GPU-driven path's impostors as Vulkan objects (si::gl's drawImpostorsIndirect): the impostor
+// quads pass (impostor_quads.comp.glsl: each quad of the impostor bucket computed once, after the
+// scatter pass) and the impostor draw that reads them (impostor.vert.glsl, SI_GPU_DRIVEN:
+// shaded, or depth only), each with a set layout of its own (their clip table, atlas and quads
+// bindings mean other things in the cull passes' and skinned draws' sets).
+
+#include <vulkan/vulkan.h>
+
+#include <vector>
+
+#include "si/core/status.h"
+#include "vk/gpu_driven_layout.h"
+#include "vk/program_modules.h"
+#include "vk/skinned_pipeline.h"
+
+namespace si::vk::detail {
+
+struct ImpostorPasses {
+  ComputeLayout quads_layout;
+  VkPipeline quads = VK_NULL_HANDLE;
+  const ProgramModules* quads_program = nullptr;
+  SkinnedLayout draw_layout;
+  /// The atlas's sampler: trilinear, clamped to the edges (as si::gl's ImpostorAtlas).
+  VkSampler sampler = VK_NULL_HANDLE;
+  /// Shaded, depth only.
+  VkPipeline draws[2] = {};
+  const ProgramModules* draw_programs[2] = {};
+};
+
+/// The quads pass's binding types: its storage blocks and its dynamic default block.
+bool impostorQuadsBindingType(uint32_t binding, DescriptorKind kind, VkDescriptorType* type);
+
+/// Makes `out`'s layouts and pipelines from the renderer's `programs` (vulkanPrograms() order):
+/// the draws for rendering into `shaded` and `depth_only`. kBackend or kUnsupported naming what
+/// failed (what was made stays in `out`, for destroyImpostorPasses).
+Status createImpostorPasses(VkDevice device, const VkAllocationCallbacks* allocator,
+                            const std::vector<ProgramModules>& programs,
+                            const RenderingFormats& shaded, const RenderingFormats& depth_only,
+                            ImpostorPasses* out);
+void destroyImpostorPasses(VkDevice device, const VkAllocationCallbacks* allocator,
+                           ImpostorPasses* passes);
+
+}  // namespace si::vk::detail

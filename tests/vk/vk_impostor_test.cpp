@@ -1,0 +1,220 @@
+// SkinnedInstancing — SPDX-License-Identifier: MIT (see LICENSE)
+// Impostors on the Vulkan back-end (issue "The crowd in a Vulkan engine", item 3): the atlas
+// vk::Renderer::buildImpostor captures in the host's recordUploads submission, drawn by the
+// GPU-driven path's impostor quads pass and impostor draw, gives si::gl's image of the same
+// crowd (its atlas captured by si::Renderer::buildImpostor) within the golden tolerance, on
+// lavapipe with the validation layer on and silent; a depth-only view writes the shaded draw's
+// depth; what is missing or not built is refused by name.
+#include <glad/gl.h>
+
+#include "render/impostor_fixture.h"
+#include "si/crowd/crowd_manager.h"
+#include "vk/vk_render_fixture.h"
+
+namespace si {
+namespace {
+
+using namespace test;
+
+class VulkanImpostorTest : public VulkanRenderFixture {
+ protected:
+  // A GPU-driven renderer of impostorCharacter() on host_ (motion vectors in `motion`), with
+  // its atlas built from smallImpostor() (unless `atlas` is false) and its uploads submitted.
+  void start(vk::Renderer* r, vk::CharacterId* id, bool atlas = true,
+             VkFormat motion = VK_FORMAT_UNDEFINED, ImpostorInfo* info = nullptr) {
+    vk::RendererDesc rd;
+    rd.gpu_driven = true;
+    rd.motion_format = motion;
+    rd.physical_device = host_.physicalDevice();
+    rd.device = host_.device();
+    Status s = r->init(rd);
+    ASSERT_TRUE(s.isOk()) << s.toString();
+    ASSERT_TRUE(r->addCharacter(impostorCharacter(), palette(), id).isOk());
+    if (atlas) {
+      s = r->buildImpostor(*id, smallImpostor(), info);
+      ASSERT_TRUE(s.isOk()) << s.toString();
+    }
+    s = host_.submit([&](VkCommandBuffer cmd) { return r->recordUploads(cmd); });
+    ASSERT_TRUE(s.isOk()) << s.toString();
+    r->uploadsComplete();
+  }
+
+  // One frame: `view`'s passes with `camera`, then its draw in `mode`; colour and depth read.
+  Status frame(vk::Renderer& r, vk::CharacterId id, const CrowdView& view, const Camera& camera,
+               vk::DrawMode mode, std::vector<uint8_t>* image, std::vector<float>* depth) {
+    examples::HeadlessVulkan::Frame f;
+    f.clear_color = kBackground;
+    f.color = mode == vk::DrawMode::kShaded;
+    f.before = [&](VkCommandBuffer cmd) {
+      Status s = r.beginFrame(0);
+      if (s.isOk()) s = r.recordGpuDrivenPasses(cmd, id, view, camera);
+      return s;
+    };
+    vk::DrawTarget target{{kSize, kSize}};
+    target.mode = mode;
+    return host_.render(f,
+                        [&](VkCommandBuffer cmd) {
+                          vk::DrawStats stats;
+                          const Status s = r.recordGpuDrivenDraw(cmd, target, id, view, &stats);
+                          // The pre-skinned meshes', the others' and the impostors'.
+                          EXPECT_EQ(stats.draw_calls, 3u);
+                          return s;
+                        },
+                        {image, depth});
+  }
+};
+
+// Near rows of meshes and far rows of impostors in front of flatCamera(), every clip at several
+// times and turns; the impostor line 20 units out.
+void mixedCrowd(CrowdManager* crowd) {
+  CrowdDesc cd;
+  cd.palette = &palette();
+  cd.sub_mesh_count = 4;
+  cd.lod_count = impostorLevels();
+  cd.character_radius = 1.0f;
+  cd.lod_distances_radii = linesTo(20.0f);
+  cd.max_distance_radii = -1.0f;
+  cd.impostor_lod = impostorLevels() - 1;
+  ASSERT_TRUE(crowd->init(cd).isOk());
+  const double rows[] = {-6.0, -14.0, -24.0, -36.0, -50.0};
+  for (int row = 0; row < 5; ++row)
+    for (int k = 0; k < 9; ++k)
+      ASSERT_NO_FATAL_FAILURE(addHeld(crowd, {(k - 4) * (2.0 + row * 1.5), -1.5, rows[row]},
+                                      0.7f * float(k + row), uint32_t(k + row), 0.11 * double(k)));
+  ASSERT_TRUE(crowd->advance(0.3).isOk());
+  ASSERT_TRUE(crowd->update(0.0, flatCamera()).isOk());
+}
+
+TEST_P(VulkanImpostorTest, TheGpuDrivenPathsImpostorsGiveOpenGlsImage) {
+  SI_START_VULKAN_HOST();
+  CrowdManager crowd;
+  ASSERT_NO_FATAL_FAILURE(mixedCrowd(&crowd));
+  const uint32_t impostors = crowd.view().stats().per_lod[impostorLevels() - 1];
+  EXPECT_GE(impostors, 9u);
+  EXPECT_LT(impostors, crowd.size());
+  // si::gl's GPU-driven image, its atlas built from the same desc.
+  std::vector<uint8_t> gl_image;
+  DrawStats gl_stats;
+  {
+    Renderer gl;
+    RendererDesc rd;
+    rd.measure_gpu_time = true;  // The counts read back.
+    ASSERT_TRUE(gl.init(info_, rd).isOk());
+    CharacterId id;
+    ASSERT_TRUE(gl.addCharacter(impostorCharacter(), palette(), &id).isOk());
+    ASSERT_TRUE(gl.buildImpostor(id, smallImpostor()).isOk());
+    gl.clear(kBackground);
+    const Status s = drawOnPath(gl, PathKind::kGpuDriven, crowd, flatCamera(), &gl_stats);
+    ASSERT_TRUE(s.isOk()) << s.toString();
+    ASSERT_TRUE(context_->readPixels(&gl_image).isOk());
+  }
+  vk::Renderer r;
+  vk::CharacterId id;
+  ImpostorInfo info;
+  ASSERT_NO_FATAL_FAILURE(start(&r, &id, true, VK_FORMAT_UNDEFINED, &info));
+  EXPECT_TRUE(r.hasImpostor(id));
+  EXPECT_EQ(info.views, 16u);
+  EXPECT_EQ(info.cells, info.views * info.frames);
+  std::vector<uint8_t> image;
+  std::vector<float> depth, depth_only;
+  Status s = frame(r, id, crowd.view(), flatCamera(), vk::DrawMode::kShaded, &image, &depth);
+  ASSERT_TRUE(s.isOk()) << s.toString();
+  const Diff diff = compare(image, gl_image, nullptr);
+  std::printf(
+      "[ impostors ] %u of %u instances impostors; %.4f %% of pixels apart from si::gl's, "
+      "max channel %d\n",
+      impostors, crowd.size(), 100.0 * diff.share, diff.max_channel);
+  EXPECT_LE(diff.share, kMaxDifferingShare) << "max channel difference " << diff.max_channel;
+  if (diff.share > kMaxDifferingShare) {
+    const std::string base = ::testing::TempDir() + "si_vk_impostors";
+    EXPECT_TRUE(writePng(base + ".png", kSize, kSize, image).isOk());
+    EXPECT_TRUE(writePng(base + "_gl.png", kSize, kSize, gl_image).isOk());
+  }
+  vk::GpuDrivenCounts counts;
+  ASSERT_TRUE(r.readGpuDrivenCounts(id, crowd.view(), &counts).isOk());
+  EXPECT_EQ(counts.visible, gl_stats.gpu_visible);
+  EXPECT_EQ(counts.instances, gl_stats.instances);
+  // si::gl leaves out the quads that cover no pixel centre; the Vulkan passes know no viewport.
+  EXPECT_GE(counts.triangles, gl_stats.triangles);
+  EXPECT_LE(counts.triangles, gl_stats.triangles + 2 * uint64_t(impostors));
+  // A shadow view's impostors: the coverage test alone writes the shaded draw's depth.
+  s = frame(r, id, crowd.view(), flatCamera(), vk::DrawMode::kDepthOnly, nullptr, &depth_only);
+  ASSERT_TRUE(s.isOk()) << s.toString();
+  size_t covered = 0, apart = 0;
+  for (size_t i = 0; i < depth.size() && i < depth_only.size(); ++i) {
+    covered += depth[i] < 1.0f;
+    apart += std::abs(depth[i] - depth_only[i]) > 1e-6f;
+  }
+  EXPECT_GT(covered, 2000u);
+  EXPECT_LE(apart, covered / 200) << apart << " of " << covered;
+  EXPECT_TRUE(host_.messages().empty()) << messages();
+}
+
+TEST_P(VulkanImpostorTest, RefusalsAreNamed) {
+  SI_START_VULKAN_HOST();
+  CrowdManager crowd;
+  ASSERT_NO_FATAL_FAILURE(mixedCrowd(&crowd));
+  const auto refused = [](const Status& s, StatusCode code, const char* words) {
+    EXPECT_EQ(s.code(), code) << s.toString();
+    EXPECT_NE(s.message().find(words), std::string::npos) << s.message();
+  };
+  {
+    // No atlas: the crowd's impostor level has nothing to draw with.
+    vk::Renderer r;
+    vk::CharacterId id;
+    ASSERT_NO_FATAL_FAILURE(start(&r, &id, false));
+    EXPECT_FALSE(r.hasImpostor(id));
+    refused(frame(r, id, crowd.view(), flatCamera(), vk::DrawMode::kShaded, nullptr, nullptr),
+            StatusCode::kInvalidArgument, "no impostor atlas");
+    // Bad descs, as si::Renderer refuses them, with the plan reported.
+    ImpostorDesc bad = smallImpostor();
+    bad.elevations_degrees = {30.0f, 0.0f};
+    refused(r.buildImpostor(id, bad), StatusCode::kInvalidArgument, "elevations must increase");
+    bad = smallImpostor();
+    bad.max_bytes = 1024;
+    ImpostorInfo info;
+    refused(r.buildImpostor(id, bad, &info), StatusCode::kLimitExceeded, "max_bytes");
+    EXPECT_GT(info.bytes, 1024u);
+    bad = smallImpostor();
+    bad.cell_pixels = 1u << 20;
+    refused(r.buildImpostor(id, bad), StatusCode::kLimitExceeded, "maxImageDimension2D");
+    refused(r.buildImpostor(vk::CharacterId{7}, smallImpostor()), StatusCode::kInvalidArgument,
+            "no character 7");
+    EXPECT_FALSE(r.hasImpostor(id));
+  }
+  {
+    // The instanced path draws no impostors yet.
+    vk::Renderer r;
+    vk::CharacterId id;
+    ASSERT_NO_FATAL_FAILURE(start(&r, &id));
+    InstanceBatcher batcher;
+    ASSERT_TRUE(batcher.init(r.batchLimits()).isOk());
+    examples::HeadlessVulkan::Frame f;
+    const Status s = host_.render(f,
+                                  [&](VkCommandBuffer cmd) {
+                                    Status begun = r.beginFrame(0);
+                                    if (!begun.isOk()) return begun;
+                                    return r.recordDraw(cmd, vk::DrawTarget{{kSize, kSize}}, id,
+                                                        crowd.view(), batcher, flatCamera());
+                                  },
+                                  {});
+    refused(s, StatusCode::kUnsupported, "does not draw impostors");
+  }
+  {
+    // Impostors draw no motion vectors, as on si::gl.
+    vk::Renderer r;
+    vk::CharacterId id;
+    ASSERT_NO_FATAL_FAILURE(start(&r, &id, true, VK_FORMAT_R16G16_SFLOAT));
+    refused(frame(r, id, crowd.view(), flatCamera(), vk::DrawMode::kShaded, nullptr, nullptr),
+            StatusCode::kUnsupported, "motion vectors");
+  }
+  EXPECT_TRUE(host_.messages().empty()) << messages();
+}
+
+INSTANTIATE_TEST_SUITE_P(Backends, VulkanImpostorTest,
+                         ::testing::Values(HeadlessBackend::kEglSurfaceless,
+                                           HeadlessBackend::kEglDevice),
+                         backendTestName);
+
+}  // namespace
+}  // namespace si
