@@ -278,11 +278,6 @@ int main(int argc, char** argv) {
     s = si::bench::churnTable(b.setup, palette, rd, b.o.sizes, b.o.churn, csv);
     if (!s.isOk()) return fail("churn", s);
   }
-  if (b.o.vulkan) {
-    s = si::bench::vulkanTable(b.setup, palette, rd, b.o.scenes, b.o.sizes, b.o.paths,
-                               lodChoice(b.o.lods.front(), b.o.pixel_budget), csv);
-    if (!s.isOk()) return fail("vulkan", s);
-  }
   if (!b.o.crowds.empty()) {
     s = si::bench::crowdsTable(b.setup, palette, rd, b.o.sizes, b.o.crowds, csv);
     if (!s.isOk()) return fail("crowds", s);
@@ -324,6 +319,13 @@ int main(int argc, char** argv) {
                                   b.o.error_path, lodChoice(b.o.lods.front(), b.o.pixel_budget),
                                   b.o.quick, csv, &error_data);
     if (!s.isOk()) return fail("bake configurations", s);
+  }
+  // The Vulkan table last: once its device is destroyed, NVIDIA's EGL display is gone with it
+  // (eglMakeCurrent fails with EGL_NOT_INITIALIZED), so no GL table can follow it.
+  if (b.o.vulkan) {
+    s = si::bench::vulkanTable(b.setup, palette, rd, b.o.scenes, b.o.sizes, b.o.paths,
+                               lodChoice(b.o.lods.front(), b.o.pixel_budget), csv);
+    if (!s.isOk()) return fail("vulkan", s);
   }
   std::fclose(csv);
   std::printf("\nWrote %s\n", b.o.csv.c_str());

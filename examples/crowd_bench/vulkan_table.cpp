@@ -58,6 +58,8 @@ Status runBoth(Setup& setup, Renderer& gl, examples::HeadlessVulkan& host,
   s = vkr.init(vd);
   vk::CharacterId id;
   if (s.isOk()) s = vkr.addCharacter(setup.character, palette, &id);
+  // --impostor: the same atlas as si::gl's (captured with the uploads).
+  if (s.isOk() && setup.impostor) s = vkr.buildImpostor(id, setup.impostor_desc);
   if (s.isOk()) s = host.submit([&](VkCommandBuffer cmd) { return vkr.recordUploads(cmd); });
   if (!s.isOk()) return {s.code(), "si::vk: " + s.message()};
   vkr.uploadsComplete();

@@ -4,6 +4,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <iterator>
 
 #include <glm/gtc/matrix_transform.hpp>
 #include <glm/gtc/quaternion.hpp>
@@ -173,6 +174,23 @@ Status makeCaptureCrowd(const ImpostorPlan& plan, const BakedPalette& palette, u
   camera->viewport_height_pixels = float(plan.info.height);
   if (s.isOk()) s = crowd->update(0.0, *camera);
   return s;
+}
+
+ImpostorGrid impostorGrid(const ImpostorPlan& plan, const BakedPalette& palette) {
+  ImpostorGrid g;
+  g.clip_count = uint32_t(plan.clips.size());
+  g.columns = plan.columns;
+  g.rows = plan.rows;
+  g.azimuths = plan.azimuths;
+  g.elevations = uint32_t(plan.elevations_degrees.size());
+  std::copy(std::begin(plan.elevations_radians), std::end(plan.elevations_radians),
+            std::begin(g.elevations_radians));
+  g.frame_stride_texels = palette.layout.frame_stride_texels;
+  g.centre = plan.centre;
+  g.cell_units = plan.cell_units;
+  g.cell_texels = plan.cell;
+  g.levels = plan.levels;
+  return g;
 }
 
 std::vector<uint32_t> impostorClipTable(const ImpostorPlan& plan,

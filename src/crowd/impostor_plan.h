@@ -42,6 +42,27 @@ struct ImpostorPlan {
   float cell_units = 0.0f;         ///< A cell's side in model units.
 };
 
+/// The numbers both back-ends' atlases keep for the impostor shaders' uniforms and clip table
+/// (impostor_quad.glsl: u_impostor_grid, u_impostor_counts, u_impostor_elevations,
+/// u_impostor_cell).
+struct ImpostorGrid {
+  uint32_t clip_count = 0;
+  uint32_t columns = 0, rows = 0;  ///< Cells across and down.
+  uint32_t azimuths = 0, elevations = 0;
+  float elevations_radians[4] = {};
+  uint32_t frame_stride_texels = 0;  ///< The palette's.
+  glm::vec3 centre{0.0f};            ///< The cell's centre in model units.
+  float cell_units = 0.0f;           ///< The cell's side in model units.
+  uint32_t cell_texels = 0;          ///< The cell's side in level-0 texels.
+  uint32_t levels = 0;               ///< The atlas's mip levels.
+
+  glm::uvec4 grid() const { return {columns, rows, azimuths, elevations}; }
+  glm::uvec4 counts() const {
+    return {clip_count, frame_stride_texels, azimuths * elevations, levels};
+  }
+  glm::vec4 cell() const { return {centre, cell_units}; }
+};
+
 /// A limit on the atlas's sides, named as its API names it (GL_MAX_TEXTURE_SIZE,
 /// maxImageDimension2D ...).
 struct ImpostorSide {
@@ -64,6 +85,9 @@ Status planImpostor(const BakedPalette& palette, uint32_t sub_meshes, const Impo
 /// height in texels).
 Status makeCaptureCrowd(const ImpostorPlan& plan, const BakedPalette& palette, uint32_t sub_meshes,
                         CrowdManager* crowd, Camera* camera);
+
+/// `plan`'s grid for an atlas of a character baked as `palette`.
+ImpostorGrid impostorGrid(const ImpostorPlan& plan, const BakedPalette& palette);
 
 /// The impostor shaders' clip table (impostor_quad.glsl's SiImpostorClips): `plan.clips`, then
 /// `rects` (every cell's covered rectangle at every mip level, cell c's level l at c * levels +

@@ -136,18 +136,7 @@ Status Renderer::buildImpostor(CharacterId id, const ImpostorDesc& desc, Imposto
     atlas.release();
     return s;
   }
-  atlas.clip_count = uint32_t(plan.clips.size());
-  atlas.columns = plan.columns;
-  atlas.rows = plan.rows;
-  atlas.azimuths = plan.azimuths;
-  atlas.elevations = uint32_t(plan.elevations_degrees.size());
-  std::copy(std::begin(plan.elevations_radians), std::end(plan.elevations_radians),
-            std::begin(atlas.elevations_radians));
-  atlas.frame_stride_texels = palette.layout.frame_stride_texels;
-  atlas.cell_texels = plan.cell;
-  atlas.levels = plan.levels;
-  atlas.centre = plan.centre;
-  atlas.cell_units = plan.cell_units;
+  static_cast<detail::ImpostorGrid&>(atlas) = detail::impostorGrid(plan, palette);
   c.impostor.release();
   c.impostor = atlas;
   return m.check("buildImpostor");

@@ -106,12 +106,19 @@ Status GpuDrivenViews::readCounts(uint32_t character, const CharacterResources& 
     for (uint32_t b = 0; b < v.buckets; ++b) {
       const uint32_t instances = counters[kBucketCountWord + b];
       const IndexRange range = c.lodRange(b % subs, b / subs);
+      if (v.impostor_lod != 0 && b == v.impostor_lod * subs) {
+        // The impostor bucket: the quads the impostor quads pass kept, 2 triangles each.
+        const uint32_t kept = std::min(instances, counters[kImpostorsDrawnWord]);
+        n.instances += kept;
+        n.triangles += uint64_t(2) * kept;
+        n.impostors_left_out += instances - kept;
+        continue;
+      }
       n.instances += instances;
       n.triangles += uint64_t(range.index_count / 3) * instances;
       n.vertex_shader_instances += instances - counters[kFittedWord + b];
     }
     n.pre_skinned_vertices += counters[kThreadBaseWord + v.buckets];
-    n.triangles += uint64_t(2) * counters[kImpostorsDrawnWord];  // A quad per impostor.
   }
   *out = n;
   return Status::ok();

@@ -2,6 +2,7 @@
 // The GPU-driven path's impostors (si::gl's drawImpostorsIndirect): each view's quads, the impostor
 // quads pass after its scatter pass, and the impostor draw after its meshes'.
 #include <algorithm>
+#include <cmath>
 
 #include "core/str_cat.h"
 #include "gl/programs/cull_layout.h"
@@ -112,11 +113,21 @@ void GpuDrivenViews::writeImpostorDefaults(uint8_t* block, const View& v,
   const bool ortho = camera.projection[3][3] == 1.0f && camera.projection[2][3] == 0.0f;
   const glm::vec4 viewer(rot[0][2], rot[1][2], rot[2][2], ortho ? 1.0f : 0.0f);
   writeDefault(block, r, "u_viewer", &viewer[0], 16);
-  // The passes know no viewport: every quad is kept (u_small_quads 0), and with every cell's
-  // rectangle whole (renderer_impostor.cpp) the levels the texel size picks do not matter.
-  const glm::vec3 texels(1.0f, 1.0f, float(a.cell_texels));
+  // The viewport the passes know is the camera's (Camera::viewport_height_pixels, as wide as its
+  // projection's aspect): half of it in pixels. On single-sampled targets the quads that cover
+  // none of its pixel centres are left out (u_small_quads), as si::gl leaves them out; with
+  // every cell's rectangle whole (renderer_impostor.cpp) the levels it picks do not matter.
+  const float height = camera.viewport_height_pixels;
+  const float aspect = camera.projection[0][0] != 0.0f
+                           ? std::abs(camera.projection[1][1] / camera.projection[0][0])
+                           : 1.0f;
+  const bool known = height > 0.0f && std::isfinite(height * aspect);
+  const glm::vec3 texels =
+      known ? glm::vec3(0.5f * height * aspect, 0.5f * height, float(a.cell_texels))
+            : glm::vec3(1.0f, 1.0f, float(a.cell_texels));
   writeDefault(block, r, "u_impostor_texels", &texels[0], 12);
-  const uint32_t bucket = v.impostor_lod * v.sub_meshes, small_quads = 0;
+  const uint32_t bucket = v.impostor_lod * v.sub_meshes;
+  const uint32_t small_quads = known && shared_.single_sampled ? 1u : 0u;
   writeDefault(block, r, "u_impostor_bucket", &bucket, 4);
   writeDefault(block, r, "u_small_quads", &small_quads, 4);
 }

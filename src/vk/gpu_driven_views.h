@@ -65,6 +65,9 @@ struct DrivenShared {
   /// Motion vectors (RendererDesc::motion_format): every view's passes also write each visible
   /// instance's previous record, and its shaded draws the motion.
   bool motion = false;
+  /// Every draw single-sampled (RendererDesc::samples and depth_only_samples 1): the impostor
+  /// quads pass leaves out the quads that cover no pixel centre.
+  bool single_sampled = true;
   /// The renderer's programs (vulkanPrograms() order): the characters' draws' and pre-skinning
   /// passes' default blocks.
   const std::vector<ProgramModules>* programs = nullptr;

@@ -8,7 +8,7 @@ namespace si::vk::detail {
 
 void recordImpostorCapture(VkCommandBuffer cmd, const ImpostorCapture& capture,
                            VkPipelineLayout pipeline_layout, VkBuffer vertices, VkBuffer indices,
-                           ImpostorAtlas* atlas) {
+                           const CoveragePipelines& coverage, ImpostorAtlas* atlas) {
   const GpuImage& image = atlas->image;
   const uint32_t w = image.width, h = image.height;
   // Level 0 an attachment, the other levels the blits' destinations; the depth an attachment.
@@ -77,10 +77,33 @@ void recordImpostorCapture(VkCommandBuffer cmd, const ImpostorCapture& capture,
        VK_ACCESS_COLOR_ATTACHMENT_WRITE_BIT,
        VK_ACCESS_TRANSFER_READ_BIT | VK_ACCESS_TRANSFER_WRITE_BIT,
        VK_PIPELINE_STAGE_COLOR_ATTACHMENT_OUTPUT_BIT, VK_PIPELINE_STAGE_TRANSFER_BIT});
-  recordMipChain(cmd, image, VK_PIPELINE_STAGE_FRAGMENT_SHADER_BIT);
+  recordMipChain(cmd, image,
+                 VK_PIPELINE_STAGE_FRAGMENT_SHADER_BIT | VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT);
   const VkBufferCopy table{capture.table_at, 0, atlas->clips.size};
   vkCmdCopyBuffer(cmd, capture.staging.buffer, atlas->clips.buffer, 1, &table);
+  // The covered rectangles: the extents cleared (minima to the largest word, maxima to 0), each
+  // level's texels added, then the rectangles packed over the clip table's.
+  const VkDeviceSize half = capture.extents.size / 2;
+  vkCmdFillBuffer(cmd, capture.extents.buffer, 0, half, 0xFFFFFFFFu);
+  vkCmdFillBuffer(cmd, capture.extents.buffer, half, half, 0u);
   recordMemoryBarrier(cmd, VK_PIPELINE_STAGE_TRANSFER_BIT, VK_ACCESS_TRANSFER_WRITE_BIT,
+                      VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT,
+                      VK_ACCESS_SHADER_READ_BIT | VK_ACCESS_SHADER_WRITE_BIT);
+  for (size_t k = 0; k < capture.coverage.size(); ++k) {
+    const bool rects = k + 1 == capture.coverage.size();
+    if (k == 0 || rects)
+      vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_COMPUTE,
+                        rects ? coverage.rects : coverage.extents);
+    if (rects)
+      recordMemoryBarrier(cmd, VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT, VK_ACCESS_SHADER_WRITE_BIT,
+                          VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT,
+                          VK_ACCESS_SHADER_READ_BIT | VK_ACCESS_SHADER_WRITE_BIT);
+    const ImpostorCapture::CoveragePass& pass = capture.coverage[k];
+    vkCmdBindDescriptorSets(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, coverage.layout, 0, 1,
+                            &capture.coverage_set, 1, &pass.defaults_at);
+    vkCmdDispatch(cmd, pass.groups_x, pass.groups_y, 1);
+  }
+  recordMemoryBarrier(cmd, VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT, VK_ACCESS_SHADER_WRITE_BIT,
                       VK_PIPELINE_STAGE_VERTEX_SHADER_BIT | VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT,
                       VK_ACCESS_SHADER_READ_BIT);
   atlas->captured = true;
@@ -92,6 +115,9 @@ void releaseImpostorCapture(DeviceObjects* objects, ImpostorCapture* capture) {
     if (v != VK_NULL_HANDLE) vkDestroyImageView(device, v, objects->allocator());
   if (capture->pool != VK_NULL_HANDLE)
     vkDestroyDescriptorPool(device, capture->pool, objects->allocator());
+  if (capture->coverage_pool != VK_NULL_HANDLE)
+    vkDestroyDescriptorPool(device, capture->coverage_pool, objects->allocator());
+  objects->destroy(&capture->extents);
   if (capture->pipeline != VK_NULL_HANDLE)
     vkDestroyPipeline(device, capture->pipeline, objects->allocator());
   objects->destroy(&capture->depth);

@@ -15,11 +15,12 @@
 
 #include <glm/glm.hpp>
 
+#include "crowd/impostor_plan.h"
 #include "vk/device_objects.h"
 
 namespace si::vk::detail {
 
-struct ImpostorAtlas {
+struct ImpostorAtlas : si::detail::ImpostorGrid {
   static constexpr uint32_t kLayers = 3;
   /// The atlas's depth attachment while it is captured.
   static constexpr VkFormat kCaptureDepthFormat = VK_FORMAT_D32_SFLOAT;
@@ -28,23 +29,9 @@ struct ImpostorAtlas {
   /// Per clip (first texel, frames, first cell frame, frames), then per cell and mip level its
   /// covered rectangle (impostor_quad.glsl's SiImpostorClips).
   GpuBuffer clips;
-  uint32_t clip_count = 0;
-  uint32_t columns = 0, rows = 0;  ///< Cells across and down.
-  uint32_t azimuths = 0, elevations = 0;
-  float elevations_radians[4] = {};
-  uint32_t frame_stride_texels = 0;  ///< The palette's.
-  glm::vec3 centre{0.0f};            ///< The cell's centre in model units.
-  float cell_units = 0.0f;           ///< The cell's side in model units.
-  uint32_t cell_texels = 0;          ///< The cell's side in level-0 texels.
-  bool captured = false;             ///< recordUploads() recorded its capture.
+  bool captured = false;  ///< recordUploads() recorded its capture.
 
   bool made() const { return image.image != VK_NULL_HANDLE; }
-  /// Its shaders' uniforms (u_impostor_grid, _counts, _elevations, _cell).
-  glm::uvec4 grid() const { return {columns, rows, azimuths, elevations}; }
-  glm::uvec4 counts() const {
-    return {clip_count, frame_stride_texels, azimuths * elevations, image.levels};
-  }
-  glm::vec4 cell() const { return {centre, cell_units}; }
 };
 
 /// The capture waiting for recordUploads(): what it draws with, freed by uploadsComplete().
@@ -65,18 +52,35 @@ struct ImpostorCapture {
   VkDescriptorSet set = VK_NULL_HANDLE;
   VkPipeline pipeline = VK_NULL_HANDLE;  ///< The capture program of the character's mesh.
   std::vector<Draw> draws;
+  /// The covered rectangles' measure (impostor_coverage.comp.glsl): the extents it gathers, its
+  /// set, and per level (then the packing pass) its uniforms' offset in `staging` and groups.
+  GpuBuffer extents;
+  VkDescriptorPool coverage_pool = VK_NULL_HANDLE;
+  VkDescriptorSet coverage_set = VK_NULL_HANDLE;
+  struct CoveragePass {
+    uint32_t defaults_at = 0, groups_x = 1, groups_y = 1;
+  };
+  std::vector<CoveragePass> coverage;  ///< One per level, then the packing pass.
 
   bool pending() const { return pipeline != VK_NULL_HANDLE; }
+};
+
+/// The coverage passes' pipelines and layout (impostor_passes.h's).
+struct CoveragePipelines {
+  VkPipeline extents, rects;
+  VkPipelineLayout layout;
 };
 
 /// Records `capture` into `cmd` (outside rendering): the three layers and the depth cleared
 /// (to zero and the far plane), the draws with `pipeline_layout` and the character's `vertices`
 /// and `indices` through an unflipped viewport (the atlas's rows bottom up, as OpenGL's texture
 /// holds them: texture coordinates read both alike), the mip chain blitted and left for the
-/// fragment stage, the clip table copied and left for the vertex and compute stages.
+/// fragment and compute stages, the clip table copied, then every cell's covered rectangle at
+/// every level measured into it by the `coverage` passes (the extents of each level, then the
+/// rectangles), left for the vertex and compute stages.
 void recordImpostorCapture(VkCommandBuffer cmd, const ImpostorCapture& capture,
                            VkPipelineLayout pipeline_layout, VkBuffer vertices, VkBuffer indices,
-                           ImpostorAtlas* atlas);
+                           const CoveragePipelines& coverage, ImpostorAtlas* atlas);
 
 /// Destroys what `capture` holds (the host's submission of its recording has completed, or it
 /// was never recorded).

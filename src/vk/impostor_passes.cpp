@@ -22,6 +22,19 @@ bool impostorQuadsBindingType(uint32_t b, DescriptorKind kind, VkDescriptorType*
   return true;
 }
 
+bool impostorCoverageBindingType(uint32_t b, DescriptorKind kind, VkDescriptorType* type) {
+  if ((b == kImpostorQuadsBinding || b == kImpostorClipsBinding) &&
+      kind == DescriptorKind::kStorageBuffer)
+    *type = VK_DESCRIPTOR_TYPE_STORAGE_BUFFER;
+  else if (b == kImpostorAtlasBinding && kind == DescriptorKind::kCombinedImageSampler)
+    *type = VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER;
+  else if (b == kComputeDefaultsBinding && kind == DescriptorKind::kUniformBuffer)
+    *type = VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER_DYNAMIC;
+  else
+    return false;
+  return true;
+}
+
 Status createImpostorPasses(VkDevice device, const VkAllocationCallbacks* allocator,
                             const std::vector<ProgramModules>& programs,
                             const RenderingFormats& shaded, const RenderingFormats& depth_only,
@@ -43,6 +56,17 @@ Status createImpostorPasses(VkDevice device, const VkAllocationCallbacks* alloca
     s = checkVk(vkCreateSampler(device, &info, allocator, &out->sampler),
                 "vkCreateSampler (the impostor atlas's)");
   }
+  const si::detail::ProgramId coverage_ids[2] = {si::detail::ProgramId::kImpostorCoverage,
+                                                 si::detail::ProgramId::kImpostorCoverageRects};
+  for (int k = 0; k < 2; ++k)
+    out->coverage_programs[k] = &programs[vulkanComputeProgramIndex(coverage_ids[k])];
+  if (s.isOk())
+    s = createComputeLayout(
+        device, allocator, Span<const ProgramModules* const>(out->coverage_programs, 2),
+        impostorCoverageBindingType, "the impostor coverage passes", &out->coverage_layout);
+  for (int k = 0; k < 2 && s.isOk(); ++k)
+    s = createComputePipeline(device, allocator, *out->coverage_programs[k],
+                              out->coverage_layout.pipeline_layout, &out->coverage[k]);
   std::vector<StageReflection> stages;
   for (int k = 0; k < 2; ++k) {
     out->draw_programs[k] = &programs[vulkanImpostorProgramIndex(k == 1)];
@@ -62,10 +86,12 @@ Status createImpostorPasses(VkDevice device, const VkAllocationCallbacks* alloca
 
 void destroyImpostorPasses(VkDevice device, const VkAllocationCallbacks* allocator,
                            ImpostorPasses* passes) {
-  for (VkPipeline p : {passes->quads, passes->draws[0], passes->draws[1]})
+  for (VkPipeline p : {passes->quads, passes->draws[0], passes->draws[1], passes->coverage[0],
+                       passes->coverage[1]})
     if (p != VK_NULL_HANDLE) vkDestroyPipeline(device, p, allocator);
   if (passes->sampler != VK_NULL_HANDLE) vkDestroySampler(device, passes->sampler, allocator);
   destroyComputeLayout(device, allocator, &passes->quads_layout);
+  destroyComputeLayout(device, allocator, &passes->coverage_layout);
   SkinnedLayout& l = passes->draw_layout;
   if (l.pipeline_layout != VK_NULL_HANDLE)
     vkDestroyPipelineLayout(device, l.pipeline_layout, allocator);

@@ -1,10 +1,11 @@
 // SkinnedInstancing — SPDX-License-Identifier: MIT (see LICENSE)
 #pragma once
-// The GPU-driven path's impostors as Vulkan objects (si::gl's drawImpostorsIndirect): the impostor
-// quads pass (impostor_quads.comp.glsl: each quad of the impostor bucket computed once, after the
-// scatter pass) and the impostor draw that reads them (impostor.vert.glsl, SI_GPU_DRIVEN:
-// shaded, or depth only), each with a set layout of its own (their clip table, atlas and quads
-// bindings mean other things in the cull passes' and skinned draws' sets).
+// The impostor atlas's coverage passes and the GPU-driven path's impostors as Vulkan objects
+// (si::gl's drawImpostorsIndirect): the impostor quads pass (impostor_quads.comp.glsl: each quad of
+// the impostor bucket computed once, after the scatter pass) and the impostor draw that reads them
+// (impostor.vert.glsl, SI_GPU_DRIVEN: shaded, or depth only), each with a set layout of its own
+// (their clip table, atlas and quads bindings mean other things in the cull passes' and skinned
+// draws' sets).
 
 #include <vulkan/vulkan.h>
 
@@ -24,6 +25,11 @@ struct ImpostorPasses {
   SkinnedLayout draw_layout;
   /// The atlas's sampler: trilinear, clamped to the edges (as si::gl's ImpostorAtlas).
   VkSampler sampler = VK_NULL_HANDLE;
+  /// The atlas's covered rectangles (impostor_coverage.comp.glsl): each level's extents, then
+  /// the rectangles packed into the clip table.
+  ComputeLayout coverage_layout;
+  VkPipeline coverage[2] = {};
+  const ProgramModules* coverage_programs[2] = {};
   /// Shaded, depth only.
   VkPipeline draws[2] = {};
   const ProgramModules* draw_programs[2] = {};
@@ -31,6 +37,8 @@ struct ImpostorPasses {
 
 /// The quads pass's binding types: its storage blocks and its dynamic default block.
 bool impostorQuadsBindingType(uint32_t binding, DescriptorKind kind, VkDescriptorType* type);
+/// The coverage passes': the atlas, the extents and the clip table, the dynamic default block.
+bool impostorCoverageBindingType(uint32_t binding, DescriptorKind kind, VkDescriptorType* type);
 
 /// Makes `out`'s layouts and pipelines from the renderer's `programs` (vulkanPrograms() order):
 /// the draws for rendering into `shaded` and `depth_only`. kBackend or kUnsupported naming what

@@ -88,6 +88,8 @@ Status Renderer::Impl::initGpuDriven(const VkPhysicalDeviceLimits& limits) {
   shared.no_pyramid = &no_pyramid;
   shared.pyramid_passes = &pyramid_passes;
   shared.impostors = &impostor_passes;
+  shared.single_sampled =
+      desc.samples == VK_SAMPLE_COUNT_1_BIT && desc.depth_only_samples == VK_SAMPLE_COUNT_1_BIT;
   shared.max_image_size = max_image_size;
   shared.max_groups_x = limits.maxComputeWorkGroupCount[0];
   shared.max_groups_y = limits.maxComputeWorkGroupCount[1];

@@ -31,6 +31,11 @@ Status Renderer::buildImpostor(CharacterId id, const ImpostorDesc& desc, Imposto
   if (id.index >= m.characters.size())
     return {StatusCode::kInvalidArgument, strCat(kCall, ": no character ", id.index)};
   Impl::Character& c = *m.characters[id.index];
+  if (!m.desc.gpu_driven)
+    return {StatusCode::kUnsupported,
+            strCat(kCall,
+                   ": impostors are drawn on the GPU-driven path only (RendererDesc::"
+                   "gpu_driven)")};
   const BakedPalette& palette = *c.palette_source;
   const uint32_t sub_meshes = uint32_t(c.sub_meshes.size());
   // The atlas is an image and a colour attachment, the capture's depth an attachment, drawn
@@ -70,13 +75,17 @@ Status Renderer::buildImpostor(CharacterId id, const ImpostorDesc& desc, Imposto
                                  &draws);
   if (!s.isOk()) return s;
   const VkDeviceSize table_at = alignUp(defaults_at + kDefaultsRange * (1 + draws.size()), 16);
-  // The clip table: the clips, then every cell's covered rectangle at every level, which the
-  // Vulkan back-end does not measure (si::gl reads the atlas back, and a guest waits for no
-  // submission): the whole cell (the quads a little larger, the image the same).
-  const std::vector<uint32_t> whole_cells(size_t(plan.cells) * plan.levels, 0xFFFF0000u);
-  const std::vector<uint32_t> table = si::detail::impostorClipTable(plan, whole_cells);
+  // The clip table: the clips, then every cell's covered rectangle at every level, measured on
+  // the GPU after the capture (impostor_coverage.comp.glsl; si::gl reads the atlas back, and a
+  // guest waits for no submission) over these.
+  const size_t entries = size_t(plan.cells) * plan.levels;
+  const std::vector<uint32_t> table =
+      si::detail::impostorClipTable(plan, std::vector<uint32_t>(entries, 0u));
+  // The coverage passes' uniforms: each level's, then the packing pass's.
+  const VkDeviceSize coverage_at = alignUp(table_at + table.size() * 4, kComputeDefaultsRange);
   // The dynamic bindings' ranges read past their offsets: a block's worth past the end.
-  const VkDeviceSize staging_bytes = table_at + table.size() * 4 + kRecordsRange;
+  const VkDeviceSize staging_bytes =
+      coverage_at + kComputeDefaultsRange * (plan.levels + 1) + kRecordsRange;
 
   const auto fail = [&](Status why) {
     releaseImpostorCapture(&m.objects, &capture);
@@ -118,6 +127,43 @@ Status Renderer::buildImpostor(CharacterId id, const ImpostorDesc& desc, Imposto
     s = createSkinnedPipeline(m.device(), m.allocator(),
                               m.programs[vulkanCaptureProgramIndex(c.variant)],
                               m.layout.pipeline_layout, formats, c.stream, &capture.pipeline);
+  }
+  // The extents the coverage passes gather: minima and maxima, 4 words each per cell and level.
+  if (s.isOk())
+    s = m.objects.createBuffer(
+        VkDeviceSize(entries) * 32,
+        VK_BUFFER_USAGE_STORAGE_BUFFER_BIT | VK_BUFFER_USAGE_TRANSFER_DST_BIT, false,
+        "the impostor coverage's extents", &capture.extents);
+  const ImpostorPasses& passes = m.impostor_passes;
+  if (s.isOk())
+    s = createDescriptorSet(m.device(), m.allocator(), passes.coverage_layout.set_layout,
+                            passes.coverage_layout.bindings, &capture.coverage_pool,
+                            &capture.coverage_set);
+  if (s.isOk()) {
+    std::vector<VkWriteDescriptorSet> writes;
+    std::vector<VkDescriptorBufferInfo> buffers(passes.coverage_layout.bindings.size());
+    const VkDescriptorImageInfo image{passes.sampler, atlas.image.view,
+                                      VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL};
+    for (size_t k = 0; k < passes.coverage_layout.bindings.size(); ++k) {
+      const VkDescriptorSetLayoutBinding& binding = passes.coverage_layout.bindings[k];
+      auto w = vkStruct<VkWriteDescriptorSet>(VK_STRUCTURE_TYPE_WRITE_DESCRIPTOR_SET);
+      w.dstSet = capture.coverage_set;
+      w.dstBinding = binding.binding;
+      w.descriptorCount = 1;
+      w.descriptorType = binding.descriptorType;
+      if (binding.binding == kImpostorAtlasBinding) {
+        w.pImageInfo = &image;
+      } else {
+        buffers[k] = binding.binding == kImpostorClipsBinding
+                         ? VkDescriptorBufferInfo{atlas.clips.buffer, 0, VK_WHOLE_SIZE}
+                     : binding.binding == kImpostorQuadsBinding
+                         ? VkDescriptorBufferInfo{capture.extents.buffer, 0, VK_WHOLE_SIZE}
+                         : VkDescriptorBufferInfo{capture.staging.buffer, 0, kComputeDefaultsRange};
+        w.pBufferInfo = &buffers[k];
+      }
+      writes.push_back(w);
+    }
+    vkUpdateDescriptorSets(m.device(), uint32_t(writes.size()), writes.data(), 0, nullptr);
   }
   if (s.isOk())
     s = createCharacterSet(m.device(), m.allocator(), m.layout,
@@ -162,19 +208,27 @@ Status Renderer::buildImpostor(CharacterId id, const ImpostorDesc& desc, Imposto
     capture.draws.push_back(std::move(draw));
   }
   capture.table_at = table_at;
+  // The coverage passes: per level one thread a texel, then one a cell and level (rows of at
+  // most 65,535 groups of 64).
+  const glm::uvec4 grid(plan.columns, plan.rows, plan.cell, uint32_t(plan.clips.size()));
+  for (uint32_t k = 0; k <= plan.levels; ++k) {
+    const bool rects = k == plan.levels;
+    const uint32_t w = std::max(plan.info.width >> k, 1u), h = std::max(plan.info.height >> k, 1u);
+    const uint64_t threads = rects ? uint64_t(entries) : uint64_t(w) * h;
+    const uint64_t groups = std::max<uint64_t>((threads + 63) / 64, 1);
+    ImpostorCapture::CoveragePass pass;
+    pass.defaults_at = uint32_t(coverage_at + kComputeDefaultsRange * k);
+    pass.groups_x = uint32_t(std::min<uint64_t>(groups, 65535));
+    pass.groups_y = uint32_t((groups + pass.groups_x - 1) / pass.groups_x);
+    const SpirvReflection& r = passes.coverage_programs[rects ? 1 : 0]->compute_reflection;
+    const glm::uvec4 level(k, w, h, plan.levels);
+    writeDefault(staging + pass.defaults_at, r, "u_coverage_level", &level[0], 16);
+    writeDefault(staging + pass.defaults_at, r, "u_coverage_atlas", &grid[0], 16);
+    capture.coverage.push_back(pass);
+  }
 
   // The atlas's numbers, as si::gl's ImpostorAtlas holds them.
-  atlas.clip_count = uint32_t(plan.clips.size());
-  atlas.columns = plan.columns;
-  atlas.rows = plan.rows;
-  atlas.azimuths = plan.azimuths;
-  atlas.elevations = uint32_t(plan.elevations_degrees.size());
-  std::copy(std::begin(plan.elevations_radians), std::end(plan.elevations_radians),
-            std::begin(atlas.elevations_radians));
-  atlas.frame_stride_texels = palette.layout.frame_stride_texels;
-  atlas.centre = plan.centre;
-  atlas.cell_units = plan.cell_units;
-  atlas.cell_texels = plan.cell;
+  static_cast<si::detail::ImpostorGrid&>(atlas) = si::detail::impostorGrid(plan, palette);
   // A rebuild: the host has waited for the device's work on the old atlas (renderer.h).
   releaseImpostorAtlas(&m.objects, &c.impostor);
   releaseImpostorCapture(&m.objects, &c.capture);

@@ -89,10 +89,13 @@ std::vector<VulkanProgram> makePrograms() {
                             false, false, false, morph, eight, false,
                             std::string("gpu_skin") + (motion ? "_motion" : "") +
                                 (morph ? "_morph" : "") + (eight ? "_8" : "")});
-  for (const auto& [id, name] : {std::pair{ProgramId::kHizCopy, "hiz_copy"},
-                                 std::pair{ProgramId::kHizCopyMultisample, "hiz_copy_ms"},
-                                 std::pair{ProgramId::kHizReduce, "hiz_reduce"},
-                                 std::pair{ProgramId::kImpostorQuads, "impostor_quads"}})
+  for (const auto& [id, name] :
+       {std::pair{ProgramId::kHizCopy, "hiz_copy"},
+        std::pair{ProgramId::kHizCopyMultisample, "hiz_copy_ms"},
+        std::pair{ProgramId::kHizReduce, "hiz_reduce"},
+        std::pair{ProgramId::kImpostorQuads, "impostor_quads"},
+        std::pair{ProgramId::kImpostorCoverage, "impostor_coverage"},
+        std::pair{ProgramId::kImpostorCoverageRects, "impostor_coverage_rects"}})
     programs.push_back({id, VulkanKind::kShaded, true, true, false, false, false, false, false,
                         false, false, std::string(name)});
   return programs;

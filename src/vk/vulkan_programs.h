@@ -57,7 +57,8 @@ struct VulkanProgram {
 /// "_tangents", "_words"); then its compute passes: "cull", "cull_commands", "cull_scatter",
 /// the pre-skinning pass for each mesh ("gpu_skin", "_morph", "_8"), with the previous
 /// positions ("gpu_skin_motion", ...), occlusion culling's depth pyramid passes
-/// ("hiz_copy", "hiz_copy_ms", "hiz_reduce") and the impostor quads pass ("impostor_quads").
+/// ("hiz_copy", "hiz_copy_ms", "hiz_reduce"), the impostor quads pass ("impostor_quads") and the
+/// impostor atlas's covered rectangles ("impostor_coverage", "impostor_coverage_rects").
 /// Between the pre-skinned draws and the compute passes: the impostor atlas's capture for each
 /// mesh ("impostor_capture", "_morph", "_8", "_words") and the GPU-driven impostor draws
 /// ("gpu_impostor", "gpu_impostor_depth_only").
@@ -76,7 +77,8 @@ struct MeshVariant {
 size_t vulkanProgramIndex(VulkanKind kind, bool layers, const MeshVariant& mesh,
                           bool gpu_driven = false);
 /// The index in vulkanPrograms() of the GPU-driven compute pass `id` (kCull, kCullCommands,
-/// kCullScatter, kHizCopy, kHizCopyMultisample, kHizReduce, kImpostorQuads; kGpuSkin and
+/// kCullScatter, kHizCopy, kHizCopyMultisample, kHizReduce, kImpostorQuads, kImpostorCoverage,
+/// kImpostorCoverageRects; kGpuSkin and
 /// kGpuSkinMotion for a mesh of `mesh`).
 size_t vulkanComputeProgramIndex(si::detail::ProgramId id, const MeshVariant& mesh = {});
 /// The index in vulkanPrograms() of the impostor capture for a mesh of `mesh`.

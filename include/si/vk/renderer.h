@@ -251,6 +251,9 @@ struct GpuDrivenCounts {
   uint64_t triangles = 0;                ///< Triangles drawn.
   uint64_t pre_skinned_vertices = 0;     ///< Vertices pre-skinned into the ring,
   uint64_t vertex_shader_instances = 0;  ///< and instance-draws skinned in the vertex stage.
+  /// Impostors whose quad covers no pixel centre of the camera's viewport, left out (not in
+  /// `instances` or `triangles`), as si::gl's DrawStats::impostors_left_out.
+  uint64_t impostors_left_out = 0;
 };
 
 /// What recordDraw() recorded.
@@ -295,12 +298,15 @@ class Renderer {
   /// frames): the atlas image and clip table made here, their capture (the character drawn once
   /// per cell into the atlas's three layers, the mip chain blitted) recorded by the next
   /// recordUploads(), its temporaries (a depth image of ImpostorInfo::capture_bytes, the capture
-  /// crowd's records) freed by uploadsComplete(). A crowd of CrowdDesc::impostor_lod then draws
-  /// its far instances as impostors on the GPU-driven path. Unlike si::gl, which reads the atlas
-  /// back, the Vulkan back-end does not measure each cell's covered rectangle (a guest waits on
-  /// no submission): the quads span their whole cells, the image the same, a little more
-  /// fragment work. Building again replaces the atlas: the host has waited for the device's work
-  /// on the old one. `info` (when not null) gets the plan, also when refused.
+  /// crowd's records, the coverage's extents) freed by uploadsComplete(). Each cell's covered
+  /// rectangle at each mip level (which cuts the quads) is measured on the GPU in the same
+  /// submission (si::gl reads the atlas back; a guest waits for no submission). A crowd of
+  /// CrowdDesc::impostor_lod then draws its far instances as impostors on the GPU-driven path,
+  /// the quads that cover no pixel centre of the camera's viewport (Camera::
+  /// viewport_height_pixels and the projection's aspect) left out on single-sampled renderers.
+  /// Building again replaces the atlas: the host has waited for the device's work on the old
+  /// one. `info` (when not null) gets the plan, also when refused. kUnsupported without
+  /// RendererDesc::gpu_driven (the only path that draws impostors);
   /// kInvalidArgument for an unknown character or a desc si::Renderer refuses; kLimitExceeded
   /// for an atlas past maxImageDimension2D, maxFramebufferWidth/Height or
   /// maxViewportDimensions, more cells than a crowd holds or past ImpostorDesc::max_bytes;

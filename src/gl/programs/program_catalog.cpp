@@ -130,6 +130,9 @@ const ProgramSpec kSpecs[kProgramCount] = {
      "#define SI_GPU_DRIVEN\n#define SI_MOTION_VECTORS\n#define SI_TANGENTS\n", "pulled.vert.glsl",
      "surface.frag.glsl", nullptr, nullptr},
     {"GPU-driven impostor quads", "", nullptr, nullptr, "impostor_quads.comp.glsl", nullptr},
+    {"impostor coverage", "", nullptr, nullptr, "impostor_coverage.comp.glsl", nullptr},
+    {"impostor coverage rectangles", "#define SI_COVERAGE_RECTS\n", nullptr, nullptr,
+     "impostor_coverage.comp.glsl", nullptr},
 };
 
 }  // namespace

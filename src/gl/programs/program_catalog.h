@@ -72,6 +72,8 @@ enum class ProgramId : uint8_t {
   kGpuPulledTangents,               ///< kGpuPulled with the tangent ring.
   kGpuPulledMotionTangents,         ///< kGpuPulledMotion with the tangent ring.
   kImpostorQuads,                   ///< GPU-driven impostors: each quad once, before the draw.
+  kImpostorCoverage,                ///< An impostor atlas level's covered extents (si::vk's).
+  kImpostorCoverageRects,           ///< The extents packed into the clip table (si::vk's).
   kCount
 };
 inline constexpr size_t kProgramCount = size_t(ProgramId::kCount);

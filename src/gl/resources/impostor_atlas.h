@@ -10,12 +10,13 @@
 
 #include <glm/glm.hpp>
 
+#include "crowd/impostor_plan.h"
 #include "gl/programs/program_set.h"
 #include "si/crowd/camera.h"
 
 namespace si::detail {
 
-struct ImpostorAtlas {
+struct ImpostorAtlas : ImpostorGrid {
   /// Base colour and coverage; normal and tint mask; metallic, roughness, occlusion and the
   /// material's code (impostor_capture_material.glsl).
   static constexpr uint32_t kLayers = 3;
@@ -25,15 +26,6 @@ struct ImpostorAtlas {
   /// level its covered rectangle (impostor_coverage.h), cell c's level l at word
   /// clip_count * 4 + c * levels + l.
   GLuint clips = kNoObject;
-  uint32_t clip_count = 0;
-  uint32_t columns = 0, rows = 0;  ///< Cells across and down.
-  uint32_t azimuths = 0, elevations = 0;
-  float elevations_radians[4] = {};
-  uint32_t frame_stride_texels = 0;  ///< The palette's.
-  glm::vec3 centre{0.0f};            ///< The cell's centre in model units.
-  float cell_units = 0.0f;           ///< The cell's side in model units.
-  uint32_t cell_texels = 0;          ///< The cell's side in level-0 texels.
-  uint32_t levels = 0;               ///< The atlas's mip levels.
 
   bool ready() const { return texture != kNoObject; }
   /// Binds the atlas (texture unit 3, storage binding 9) and sets `program`'s impostor
