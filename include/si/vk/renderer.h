@@ -97,66 +97,10 @@
 #include "si/crowd/crowd_view.h"
 #include "si/crowd/impostor_desc.h"
 #include "si/crowd/instance_batcher.h"
+#include "si/vk/gpu_driven.h"
+#include "si/vk/renderer_desc.h"
 
 namespace si::vk {
-
-/// What the renderer is given.
-struct RendererDesc {
-  VkPhysicalDevice physical_device = VK_NULL_HANDLE;  ///< Required.
-  VkDevice device = VK_NULL_HANDLE;                   ///< Required: a Vulkan 1.3 device.
-  const VkAllocationCallbacks* allocator = nullptr;   ///< Used for every object it creates.
-  VkFormat color_format = VK_FORMAT_R8G8B8A8_UNORM;   ///< The host's colour attachment.
-  VkFormat depth_format = VK_FORMAT_D32_SFLOAT;       ///< The host's depth attachment.
-  /// The depth attachment of depth-only draws (DrawMode::kDepthOnly: shadow maps, depth
-  /// pre-passes); VK_FORMAT_UNDEFINED is depth_format.
-  VkFormat depth_only_format = VK_FORMAT_UNDEFINED;
-  /// Multisampling: the samples of the host's colour, depth (and motion) attachments that shaded
-  /// draws render into (the host resolves them), and of the depth attachment of depth-only draws
-  /// (a depth pre-pass of a multisampled target takes `samples`, a shadow map usually 1). init()
-  /// refuses a count the device cannot render (framebufferColorSampleCounts,
-  /// framebufferDepthSampleCounts) or that is no VkSampleCountFlagBits (kUnsupported).
-  VkSampleCountFlagBits samples = VK_SAMPLE_COUNT_1_BIT;
-  VkSampleCountFlagBits depth_only_samples = VK_SAMPLE_COUNT_1_BIT;
-  /// Motion vectors: VK_FORMAT_UNDEFINED (the default) draws none; a two-channel float format
-  /// (VK_FORMAT_R16G16_SFLOAT) makes every shaded draw also write each pixel's motion since the
-  /// crowd's previous update into colour attachment 1 of this format, as si::Renderer's
-  /// RendererDesc::motion_vectors does (texture coordinate units, now minus then; the crowd
-  /// keeps its previous records: CrowdDesc::previous_records). The record ring is then also
-  /// read as one storage buffer (kLimitExceeded past the device's maxStorageBufferRange). On
-  /// the GPU-driven path every view's passes also write each visible instance's previous record
-  /// (what the view drew of it at the crowd's previous step; else its record moved by the
-  /// cameras' shift) and the previous positions it pre-skins, as drawCrowdGpuCulled does; the
-  /// crowd needs no previous records there, and the motion is since the view's passes of the
-  /// crowd's previous step.
-  VkFormat motion_format = VK_FORMAT_UNDEFINED;
-  uint32_t frames_in_flight = 2;                      ///< Frame slots of the record ring (1 to 8).
-  /// Bytes of records, per frame slot (rounded up to 256): a frame's batches of every draw
-  /// (InstanceBatcher's recordBufferBound) must fit, or recordDraw() refuses the frame
-  /// (kLimitExceeded).
-  uint64_t ring_bytes_per_frame = uint64_t(8) << 20;
-  /// Morph targets at coarse LOD levels: the share of a level's error its vertices may leave
-  /// out of their targets (si::Renderer's RendererDesc::morph_lod_share), 0 to 1.
-  float morph_lod_share = 0.5f;
-  /// The direction the light travels along, world space (si::Renderer's default).
-  glm::vec3 light_direction = glm::normalize(glm::vec3(-0.4f, -1.0f, -0.3f));
-  /// The GPU-driven path (recordGpuDrivenPasses, recordGpuDrivenDraw). The host created its
-  /// device with the features shaderFloat64, multiDrawIndirect and drawIndirectFirstInstance
-  /// enabled (the cull pass keeps the crowd's clock and positions in doubles, as the CPU does):
-  /// init() refuses a physical device without them (kUnsupported).
-  bool gpu_driven = false;
-  /// The GPU-driven path's pre-skinning: bytes of each view's ring of pre-skinned vertices (16
-  /// a vertex, and 4 more for a character with tangents), within maxStorageBufferRange. The
-  /// passes skin the visible instances' vertices into it in compute, bucket by bucket as far as
-  /// it holds them, and the draw pulls them; the rest are skinned in the vertex stage. 0: every
-  /// instance skinned in the vertex stage (no ring). The passes refuse a ring that does not
-  /// hold one instance of the largest LOD (kLimitExceeded).
-  uint64_t gpu_driven_ring_bytes = uint64_t(256) << 20;
-  /// The GPU-driven path keeps a view's buffers (and a crowd's state, while no view keeps it)
-  /// until this many beginFrame() calls pass without passes of it; then they are freed (a view
-  /// or crowd that is gone leaves nothing behind; one that comes back starts over: its state
-  /// copied in whole, its LODs seeded again). 0: kept until shutdown().
-  uint32_t gpu_driven_idle_frames = 240;
-};
 
 /// A character added to a Renderer.
 struct CharacterId {
@@ -188,72 +132,6 @@ struct DrawTarget {
   /// Depth bias (shadow maps), as vkCmdSetDepthBias's constant and slope factors; both 0: none.
   float depth_bias_constant = 0.0f;
   float depth_bias_slope = 0.0f;
-};
-
-/// How recordGpuDrivenPasses() culls a view.
-enum class GpuCulling : uint8_t {
-  /// Against the frustum and the view's range: the draws that follow draw the view's selection.
-  kFrustum = 0,
-  /// Two-phase occlusion culling (si::Renderer's RendererDesc::gpu_occlusion_culling). These
-  /// passes are the first phase: the instances in the frustum that were visible at the end of
-  /// the view's last frame, which the draws that follow draw into the host's depth. Then,
-  /// outside rendering, recordGpuDrivenOcclusion() reduces that depth (with whatever the host
-  /// drew into it before, with the same camera) into a depth pyramid and records the second
-  /// phase: every instance in the frustum tested against it (its clip's bounding box); those
-  /// not occluded are visible next frame, and the draws after it draw those the first phase did
-  /// not. The image is the one drawn without occlusion culling. A view's first frame (or one
-  /// after its crowd was reshaped) has no history: the first phase draws nothing.
-  kOcclusion,
-};
-
-/// The host's depth as occlusion culling's second phase reads it (recordGpuDrivenOcclusion()).
-struct DepthSource {
-  /// A view of the depth aspect alone of the depth attachment the first phase drew into (an
-  /// image made with VK_IMAGE_USAGE_SAMPLED_BIT), single-sampled or multisampled (each pixel's
-  /// farthest sample is kept).
-  VkImageView view = VK_NULL_HANDLE;
-  /// The layout the host put it in for compute shaders to read:
-  /// VK_IMAGE_LAYOUT_DEPTH_STENCIL_READ_ONLY_OPTIMAL (the default),
-  /// VK_IMAGE_LAYOUT_DEPTH_READ_ONLY_OPTIMAL, VK_IMAGE_LAYOUT_READ_ONLY_OPTIMAL,
-  /// VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL or VK_IMAGE_LAYOUT_GENERAL; the host's barrier
-  /// made the rendering's depth writes visible to VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT's
-  /// VK_ACCESS_SHADER_READ_BIT.
-  VkImageLayout layout = VK_IMAGE_LAYOUT_DEPTH_STENCIL_READ_ONLY_OPTIMAL;
-  /// The area the first phase's draws covered: their DrawTarget::extent and offset.
-  VkExtent2D extent{0, 0};
-  VkOffset2D offset{0, 0};
-  /// The image's samples, as it was made (RendererDesc::samples for the main view's depth).
-  VkSampleCountFlagBits samples = VK_SAMPLE_COUNT_1_BIT;
-};
-
-/// What recordGpuDrivenPasses() recorded of the crowd's state: the bytes of instance state it
-/// copied in (0 when nothing changed since the crowd's last passes, in any view), in how many
-/// copy regions (one per run of changed instances), and whether it copied the whole state (the
-/// crowd, its shape or its size outgrew the buffers, or past half its instances changed).
-struct PassStats {
-  uint64_t state_bytes_uploaded = 0;
-  uint32_t upload_regions = 0;
-  bool whole_upload = false;
-};
-
-/// The GPU-driven path's device memory: the crowds' state (shared by each crowd's views) and the
-/// views' own buffers (LODs, the passes' output, the pre-skinning ring).
-struct GpuDrivenMemory {
-  uint32_t crowds = 0, views = 0;
-  uint64_t crowd_bytes = 0, view_bytes = 0;
-};
-
-/// What the GPU-driven passes of a view counted (readGpuDrivenCounts), as si::Renderer's
-/// DrawStats counts them for drawCrowdGpuCulled.
-struct GpuDrivenCounts {
-  uint32_t visible = 0;                  ///< Instances selected (in the frustum and range).
-  uint64_t instances = 0;                ///< Instance-draws: one per worn sub-mesh drawn.
-  uint64_t triangles = 0;                ///< Triangles drawn.
-  uint64_t pre_skinned_vertices = 0;     ///< Vertices pre-skinned into the ring,
-  uint64_t vertex_shader_instances = 0;  ///< and instance-draws skinned in the vertex stage.
-  /// Impostors whose quad covers no pixel centre of the camera's viewport, left out (not in
-  /// `instances` or `triangles`), as si::gl's DrawStats::impostors_left_out.
-  uint64_t impostors_left_out = 0;
 };
 
 /// What recordDraw() recorded.
