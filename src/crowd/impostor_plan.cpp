@@ -176,6 +176,12 @@ Status makeCaptureCrowd(const ImpostorPlan& plan, const BakedPalette& palette, u
   return s;
 }
 
+glm::vec4 impostorViewer(const Camera& camera) {
+  const glm::mat4& v = camera.view_rotation;
+  const bool ortho = camera.projection[3][3] == 1.0f && camera.projection[2][3] == 0.0f;
+  return {v[0][2], v[1][2], v[2][2], ortho ? 1.0f : 0.0f};
+}
+
 ImpostorGrid impostorGrid(const ImpostorPlan& plan, const BakedPalette& palette) {
   ImpostorGrid g;
   g.clip_count = uint32_t(plan.clips.size());

@@ -86,6 +86,11 @@ Status planImpostor(const BakedPalette& palette, uint32_t sub_meshes, const Impo
 Status makeCaptureCrowd(const ImpostorPlan& plan, const BakedPalette& palette, uint32_t sub_meshes,
                         CrowdManager* crowd, Camera* camera);
 
+/// The impostor shaders' u_viewer for `camera`: its back direction (row 2 of its view rotation)
+/// and 1 when it is orthographic (every view ray parallel: a projection whose last row is
+/// (0, 0, 0, 1)), else 0.
+glm::vec4 impostorViewer(const Camera& camera);
+
 /// `plan`'s grid for an atlas of a character baked as `palette`.
 ImpostorGrid impostorGrid(const ImpostorPlan& plan, const BakedPalette& palette);
 

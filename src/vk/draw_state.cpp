@@ -42,4 +42,11 @@ void recordDrawState(VkCommandBuffer cmd, const DrawTarget& target, const Camera
   vkCmdSetDepthBias(cmd, target.depth_bias_constant, 0.0f, target.depth_bias_slope);
 }
 
+void writeFragmentDefaults(uint8_t* block, const SpirvReflection& fragment,
+                           const glm::vec3& light_direction) {
+  const uint32_t no_custom_layers = 0;
+  writeDefault(block, fragment, "u_custom_layers", &no_custom_layers, 4);
+  writeDefault(block, fragment, "u_light_direction", &light_direction, 12);
+}
+
 }  // namespace si::vk::detail

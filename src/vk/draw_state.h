@@ -9,6 +9,7 @@
 
 #include "si/crowd/camera.h"
 #include "si/vk/renderer.h"
+#include "vk/spirv_reflect.h"
 
 namespace si::vk::detail {
 
@@ -22,5 +23,10 @@ glm::mat4 vulkanViewProjection(const Camera& camera);
 /// the flipped viewport), clockwise when the camera's projection mirrors the image; its depth
 /// bias, enabled when not zero.
 void recordDrawState(VkCommandBuffer cmd, const DrawTarget& target, const Camera& camera);
+
+/// Writes the fragment stage's defaults every built-in draw sets into `block` (the stage's default
+/// uniform block, reflected as `fragment`): no custom texture layers, the light's direction.
+void writeFragmentDefaults(uint8_t* block, const SpirvReflection& fragment,
+                           const glm::vec3& light_direction);
 
 }  // namespace si::vk::detail

@@ -108,10 +108,7 @@ void GpuDrivenViews::writeImpostorDefaults(uint8_t* block, const View& v,
   writeDefault(block, r, "u_impostor_counts", &counts[0], 16);
   writeDefault(block, r, "u_impostor_elevations", a.elevations_radians, 16);
   writeDefault(block, r, "u_impostor_cell", &cell[0], 16);
-  // The camera's back direction (row 2 of the view rotation) and whether it is orthographic.
-  const glm::mat4& rot = camera.view_rotation;
-  const bool ortho = camera.projection[3][3] == 1.0f && camera.projection[2][3] == 0.0f;
-  const glm::vec4 viewer(rot[0][2], rot[1][2], rot[2][2], ortho ? 1.0f : 0.0f);
+  const glm::vec4 viewer = si::detail::impostorViewer(camera);
   writeDefault(block, r, "u_viewer", &viewer[0], 16);
   // The viewport the passes know is the camera's (Camera::viewport_height_pixels, as wide as its
   // projection's aspect): half of it in pixels. On single-sampled targets the quads that cover
@@ -161,14 +158,9 @@ Status GpuDrivenViews::recordImpostorDraw(VkCommandBuffer cmd, FrameRegion regio
   writeDefault(vertex, program.vertex_reflection, "u_lod", &v.impostor_lod, 4);
   const glm::uvec4 grid = c.impostor.grid();
   writeDefault(vertex, program.vertex_reflection, "u_impostor_grid", &grid[0], 16);
-  const glm::mat4& rot = v.camera.view_rotation;
-  const bool ortho = v.camera.projection[3][3] == 1.0f && v.camera.projection[2][3] == 0.0f;
-  const glm::vec4 viewer(rot[0][2], rot[1][2], rot[2][2], ortho ? 1.0f : 0.0f);
+  const glm::vec4 viewer = si::detail::impostorViewer(v.camera);
   writeDefault(vertex, program.vertex_reflection, "u_viewer", &viewer[0], 16);
-  uint8_t* fragment = region.mapped + fragment_at;
-  const uint32_t no_custom_layers = 0;
-  writeDefault(fragment, program.fragment_reflection, "u_custom_layers", &no_custom_layers, 4);
-  writeDefault(fragment, program.fragment_reflection, "u_light_direction", &light_direction, 12);
+  writeFragmentDefaults(region.mapped + fragment_at, program.fragment_reflection, light_direction);
   vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_GRAPHICS, passes.draws[k]);
   uint32_t offsets[2] = {};
   uint32_t count = 0;

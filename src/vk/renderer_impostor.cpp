@@ -178,11 +178,7 @@ Status Renderer::buildImpostor(CharacterId id, const ImpostorDesc& desc, Imposto
   std::memcpy(staging, records.data(), records.size());
   std::memcpy(staging + table_at, table.data(), table.size() * 4);
   const ProgramModules& program = m.programs[vulkanCaptureProgramIndex(c.variant)];
-  const uint32_t no_custom_layers = 0;
-  writeDefault(staging + defaults_at, program.fragment_reflection, "u_custom_layers",
-               &no_custom_layers, 4);
-  writeDefault(staging + defaults_at, program.fragment_reflection, "u_light_direction",
-               &m.desc.light_direction, 12);
+  writeFragmentDefaults(staging + defaults_at, program.fragment_reflection, m.desc.light_direction);
   const glm::mat4 vp = vulkanViewProjection(camera);
   for (size_t k = 0; k < draws.size(); ++k) {
     const DrawBatch& d = draws[k];

@@ -124,11 +124,7 @@ Status Renderer::recordDraw(VkCommandBuffer cmd, const DrawTarget& target, Chara
                           : motion   ? VulkanKind::kMotion
                                      : VulkanKind::kShaded;
   const ProgramModules& program = m.programs[c.programs[layers ? 1 : 0][size_t(kind)]];
-  const uint32_t no_custom_layers = 0;
-  writeDefault(ring + defaults_at, program.fragment_reflection, "u_custom_layers",
-               &no_custom_layers, 4);
-  writeDefault(ring + defaults_at, program.fragment_reflection, "u_light_direction",
-               &m.desc.light_direction, 12);
+  writeFragmentDefaults(ring + defaults_at, program.fragment_reflection, m.desc.light_direction);
   const glm::mat4 vp = vulkanViewProjection(camera);
   // The vertex stage's members, looked up once for every batch.
   const SpirvReflection& vertex = program.vertex_reflection;

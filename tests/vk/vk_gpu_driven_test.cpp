@@ -146,19 +146,6 @@ class VulkanGpuDrivenTest : public VulkanRenderFixture {
                          {image, depth});
   }
 
-  // Expects a depth-only draw's depth (`depth_only`) to be the shaded draw's (`depth`) over the
-  // covered pixels (more than 2000), all but half a percent within 1e-6.
-  static void expectSameDepth(const std::vector<float>& depth,
-                              const std::vector<float>& depth_only) {
-    size_t covered = 0, apart = 0;
-    for (size_t i = 0; i < depth.size() && i < depth_only.size(); ++i) {
-      covered += depth[i] < 1.0f;
-      apart += std::abs(depth[i] - depth_only[i]) > 1e-6f;
-    }
-    EXPECT_GT(covered, 2000u);
-    EXPECT_LE(apart, covered / 200) << apart << " of " << covered;
-  }
-
   // The depth cleared for `camera`: the far plane, 0 under reverse-Z.
   static float clearDepth(const Camera& camera) {
     return camera.depth == DepthConvention::kReversedZeroToOne ? 0.0f : 1.0f;

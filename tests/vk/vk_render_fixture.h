@@ -167,6 +167,18 @@ inline void expectMotionOfOpenGl(const std::vector<uint8_t>& image,
       << apart.apart << " of " << apart.covered << " covered pixels apart";
 }
 
+// Expects a depth-only draw's depth (`depth_only`) to be the shaded draw's (`depth`) over the
+// covered pixels (more than 2000), all but half a percent within 1e-6.
+inline void expectSameDepth(const std::vector<float>& depth, const std::vector<float>& depth_only) {
+  size_t covered = 0, apart = 0;
+  for (size_t i = 0; i < depth.size() && i < depth_only.size(); ++i) {
+    covered += depth[i] < 1.0f;
+    apart += std::abs(depth[i] - depth_only[i]) > 1e-6f;
+  }
+  EXPECT_GT(covered, 2000u);
+  EXPECT_LE(apart, covered / 200) << apart << " of " << covered;
+}
+
 // The embedded character's crowd of the LOD rows (populateLodCrowd).
 inline void lodCrowd(CrowdManager* crowd) {
   CrowdDesc cd;

@@ -8,11 +8,8 @@ void ImpostorAtlas::bind(const Program& program, const Camera& camera, bool quad
   glBindTextureUnit(3, texture);
   const GLuint p = program.id;
   glProgramUniform4ui(p, 40, columns, rows, azimuths, elevations);
-  // The camera's back direction (row 2 of the view rotation) and whether it is orthographic
-  // (every view ray parallel: a projection whose last row is (0, 0, 0, 1)).
-  const glm::mat4& v = camera.view_rotation;
-  const bool ortho = camera.projection[3][3] == 1.0f && camera.projection[2][3] == 0.0f;
-  glProgramUniform4f(p, 44, v[0][2], v[1][2], v[2][2], ortho ? 1.0f : 0.0f);
+  const glm::vec4 viewer = impostorViewer(camera);
+  glProgramUniform4f(p, 44, viewer.x, viewer.y, viewer.z, viewer.w);
   if (quads_computed) return;
   glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 9, clips);
   glProgramUniform4ui(p, 41, clip_count, frame_stride_texels, azimuths * elevations, levels);
