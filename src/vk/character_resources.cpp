@@ -177,10 +177,11 @@ void destroyCharacter(DeviceObjects* objects, CharacterResources* c) {
   };
   for (auto& by_kind : c->pipelines)
     for (VkPipeline& p : by_kind) destroy_pipeline(p);
-  for (VkPipeline& p : c->driven_pipelines) destroy_pipeline(p);
+  for (auto& by_kind : c->driven_pipelines)
+    for (VkPipeline& p : by_kind) destroy_pipeline(p);
   for (VkPipeline& p : c->pulled_pipelines) destroy_pipeline(p);
-  destroy_pipeline(c->skin_pipeline);
-  destroy_pipeline(c->skin_motion_pipeline);
+  for (auto& by_motion : c->skin_pipelines)
+    for (VkPipeline& p : by_motion) destroy_pipeline(p);
   if (c->pool != VK_NULL_HANDLE)
     vkDestroyDescriptorPool(objects->device(), c->pool, objects->allocator());
   c->pool = VK_NULL_HANDLE;

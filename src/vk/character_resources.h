@@ -51,17 +51,18 @@ struct CharacterResources {
   /// vectors).
   uint32_t programs[2][kVulkanKinds] = {};
   VkPipeline pipelines[2][kVulkanKinds] = {};
-  /// The GPU-driven draw's programs and pipelines, shaded, depth only and with motion vectors
-  /// (by VulkanKind; made when the renderer draws the GPU-driven path, the last with motion
-  /// vectors).
-  uint32_t driven_programs[kVulkanKinds] = {};
-  VkPipeline driven_pipelines[kVulkanKinds] = {};
-  /// Its pre-skinned draws (the same kinds) and its pre-skinning pass (compute), and the one
-  /// that also skins the previous positions (motion vectors).
+  /// The GPU-driven draw's programs and pipelines, without and with layers, shaded, depth only
+  /// and with motion vectors (by VulkanKind; made when the renderer draws the GPU-driven path,
+  /// the last with motion vectors).
+  uint32_t driven_programs[2][kVulkanKinds] = {};
+  VkPipeline driven_pipelines[2][kVulkanKinds] = {};
+  /// Its pre-skinned draws (the same kinds), and its pre-skinning pass (compute) without and
+  /// with layers, alone and also skinning the previous positions (motion vectors: made only when
+  /// the renderer draws them).
   uint32_t pulled_programs[kVulkanKinds] = {};
   VkPipeline pulled_pipelines[kVulkanKinds] = {};
-  uint32_t skin_program = 0, skin_motion_program = 0;
-  VkPipeline skin_pipeline = VK_NULL_HANDLE, skin_motion_pipeline = VK_NULL_HANDLE;
+  uint32_t skin_programs[2][2] = {};
+  VkPipeline skin_pipelines[2][2] = {};
   VkDescriptorPool pool = VK_NULL_HANDLE;
   VkDescriptorSet set = VK_NULL_HANDLE;
   /// The vertex stream's format and the mesh's program variant (the impostor capture's pipeline

@@ -75,6 +75,12 @@ Status createCharacterSet(VkDevice device, const VkAllocationCallbacks* allocato
       buffer(driven->previous, VK_WHOLE_SIZE);
     else if (driven != nullptr && b == kPreviousRingBinding)
       buffer(driven->previous_ring, VK_WHOLE_SIZE);
+    else if (driven != nullptr && b == kLayersOutBinding)
+      buffer(driven->layers, VK_WHOLE_SIZE);
+    else if (driven != nullptr && b == kPreviousLayersOutBinding)
+      buffer(driven->previous_layers, VK_WHOLE_SIZE);
+    else if (driven != nullptr && b == kDrivenMaskBinding)
+      buffer(driven->masks, VK_WHOLE_SIZE);
     else if (b == kSourceBinding)
       buffer(c->vertices, VK_WHOLE_SIZE);
     else if (b == kLodVerticesBinding)

@@ -31,6 +31,11 @@ struct DrivenOutputs {
   const GpuBuffer& tangent_ring;  ///< Their tangents (the ring stands in without).
   const GpuBuffer& previous;      ///< Motion vectors: each visible instance's previous record,
   const GpuBuffer& previous_ring;  ///< and the pre-skinned previous positions.
+  /// Layered animation: each visible instance's layer record and previous layer record, and the
+  /// crowd's layer mask table (placeholders for a crowd without overlays).
+  const GpuBuffer& layers;
+  const GpuBuffer& previous_layers;
+  const GpuBuffer& masks;
 };
 
 /// Creates a descriptor pool and its one set for `layout` into `*pool` and `*set` and writes

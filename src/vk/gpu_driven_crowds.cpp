@@ -8,6 +8,7 @@
 #include <iterator>
 
 #include "core/str_cat.h"
+#include "si/core/layer_mask.h"
 #include "si/crowd/crowd_export.h"
 
 namespace si::vk::detail {
@@ -45,7 +46,8 @@ void GpuDrivenCrowds::retire(uint32_t slot, DrivenCrowd* d) {
 }
 
 Status GpuDrivenCrowds::reshape(DrivenCrowd* d, uint32_t slot, uint32_t n, uint32_t sub_meshes,
-                                uint32_t buckets, uint32_t clips, uint32_t times) {
+                                uint32_t buckets, uint32_t clips, uint32_t times, bool layers,
+                                uint64_t mask_bytes) {
   retire(slot, d);
   // Room to grow by half, so a spawn wave re-creates the buffers a few times, not every frame.
   const uint64_t capacity = std::max<uint64_t>(1, uint64_t(n) + n / 2);
@@ -58,7 +60,9 @@ Status GpuDrivenCrowds::reshape(DrivenCrowd* d, uint32_t slot, uint32_t n, uint3
       {&d->ranges, uint64_t(buckets) * 8, storage, "the bucket ranges"},
       {&d->bucket_info, uint64_t(buckets) * 16, storage, "the bucket info"},
       {&d->identity, capacity * sub_meshes * 4, VK_BUFFER_USAGE_VERTEX_BUFFER_BIT | storage,
-       "the entry indices"}};
+       "the entry indices"},
+      {&d->overlays, layers ? capacity * sizeof(GpuOverlayState) : 16, storage, "the overlays"},
+      {&d->masks, std::max<uint64_t>(mask_bytes, 16), storage, "the layer mask table"}};
   Status s = createBuffers(objects_, Span<const BufferNeed>(needs, std::size(needs)),
                            max_storage_range_, n);
   if (!s.isOk()) {
@@ -68,6 +72,8 @@ Status GpuDrivenCrowds::reshape(DrivenCrowd* d, uint32_t slot, uint32_t n, uint3
   d->capacity = uint32_t(capacity);
   d->sub_meshes = sub_meshes;
   d->buckets = buckets;
+  d->layers = layers;
+  d->mask_table.clear();  // Uploaded again.
   ++d->generation;
   return Status::ok();
 }
@@ -88,16 +94,26 @@ Status GpuDrivenCrowds::update(VkCommandBuffer cmd, uint32_t slot, uint32_t char
     ++d.frame;
     d.frame_steps = crowd.stepCount();
   }
+  // Layered animation: the overlays while some instance holds one, and the crowd's mask table
+  // (masks may be added at any time: compared every frame, as si::gl uploads it every frame).
+  const bool layers = exported.playsOverlays();
+  std::vector<int32_t> mask_table;
+  if (layers) mask_table = layerMaskTable(crowd.layerMasks());
+  const uint64_t mask_bytes = mask_table.size() * sizeof(int32_t);
   const bool reshaped = n > d.capacity || d.sub_meshes != subs || d.buckets != buckets ||
-                        d.state.buffer == VK_NULL_HANDLE;
-  if (!reshaped && d.version == exported.stateVersion() && d.instances == n) return Status::ok();
+                        d.state.buffer == VK_NULL_HANDLE || layers != d.layers ||
+                        mask_bytes > d.masks.size;
+  const bool new_masks = layers && mask_table != d.mask_table;
+  if (!reshaped && !new_masks && d.version == exported.stateVersion() && d.instances == n)
+    return Status::ok();
   // The palette's clips and frame times: fixed for the crowd's identity (its palette is its
   // init()'s), so copied in with the buffers they size, never again.
   std::vector<GpuClipInfo> clips;
   std::vector<double> times;
   if (reshaped) {
     exported.clips(&clips, &times);
-    Status s = reshape(&d, slot, n, subs, buckets, uint32_t(clips.size()), uint32_t(times.size()));
+    Status s = reshape(&d, slot, n, subs, buckets, uint32_t(clips.size()), uint32_t(times.size()),
+                       layers, mask_bytes);
     if (!s.isOk()) {
       for (GpuBuffer& b : d.staging) retirement_->retire(slot, &b);
       crowds_.erase(key);
@@ -121,13 +137,15 @@ Status GpuDrivenCrowds::update(VkCommandBuffer cmd, uint32_t slot, uint32_t char
     changed_instances = n;
   }
   const VkDeviceSize state_bytes = changed_instances * sizeof(GpuInstanceState);
+  const VkDeviceSize overlay_bytes = layers ? changed_instances * sizeof(GpuOverlayState) : 0;
+  const VkDeviceSize table_bytes = new_masks || (layers && reshaped) ? mask_bytes : 0;
   const VkDeviceSize clip_bytes = clips.size() * sizeof(GpuClipInfo);
   const VkDeviceSize time_bytes = times.size() * sizeof(double);
   const VkDeviceSize range_bytes = reshaped ? VkDeviceSize(buckets) * 8 : 0;
   const VkDeviceSize info_bytes = reshaped ? VkDeviceSize(buckets) * 16 : 0;
   const VkDeviceSize identity_bytes = reshaped ? VkDeviceSize(d.capacity) * subs * 4 : 0;
-  const VkDeviceSize total =
-      state_bytes + clip_bytes + time_bytes + range_bytes + info_bytes + identity_bytes;
+  const VkDeviceSize total = state_bytes + overlay_bytes + table_bytes + clip_bytes + time_bytes +
+                             range_bytes + info_bytes + identity_bytes;
   // This slot's staging (its last frame is done).
   if (d.staging.size() < frames_in_flight_) d.staging.resize(frames_in_flight_);
   GpuBuffer& staging = d.staging[slot];
@@ -159,7 +177,20 @@ Status GpuDrivenCrowds::update(VkCommandBuffer cmd, uint32_t slot, uint32_t char
   }
   if (!regions.empty())
     vkCmdCopyBuffer(cmd, staging.buffer, d.state.buffer, uint32_t(regions.size()), regions.data());
-  upload->state_bytes = state_bytes;
+  // Then their overlays, run by run as the instances.
+  if (layers && !changed_.empty()) {
+    exported.overlays(Span<const DenseRange>(changed_.data(), changed_.size()),
+                      reinterpret_cast<GpuOverlayState*>(to + at));
+    regions.clear();
+    for (const DenseRange& r : changed_) {
+      const VkDeviceSize bytes = VkDeviceSize(r.count) * sizeof(GpuOverlayState);
+      regions.push_back({at, VkDeviceSize(r.first) * sizeof(GpuOverlayState), bytes});
+      at += bytes;
+    }
+    vkCmdCopyBuffer(cmd, staging.buffer, d.overlays.buffer, uint32_t(regions.size()),
+                    regions.data());
+  }
+  upload->state_bytes = state_bytes + overlay_bytes;
   upload->regions = uint32_t(regions.size());
   upload->whole = whole;
   const auto copy = [&](const GpuBuffer& buffer, VkDeviceSize bytes) {
@@ -168,6 +199,11 @@ Status GpuDrivenCrowds::update(VkCommandBuffer cmd, uint32_t slot, uint32_t char
     vkCmdCopyBuffer(cmd, staging.buffer, buffer.buffer, 1, &region);
     at += bytes;
   };
+  if (table_bytes > 0) {
+    std::memcpy(to + at, mask_table.data(), size_t(table_bytes));
+    copy(d.masks, table_bytes);
+    d.mask_table = std::move(mask_table);
+  }
   if (reshaped) {
     if (clip_bytes > 0) std::memcpy(to + at, clips.data(), size_t(clip_bytes));
     copy(d.clips, clip_bytes);

@@ -47,16 +47,21 @@ struct DrivenCrowd {
   /// The instances (si::GpuInstanceState), clips, frame times; per bucket its index range and
   /// its pre-skinning list (vertices, list offset, first local index, local indices; 0 vertices
   /// without a ring); the entry indices (vertex binding 1 of the draws: 0 to capacity x
-  /// sub-meshes).
-  GpuBuffer state, clips, times, ranges, bucket_info, identity;
+  /// sub-meshes); layered animation's overlays (si::GpuOverlayState per instance) and layer mask
+  /// table (si::layerMaskTable), 16-byte placeholders while no instance holds an overlay.
+  GpuBuffer state, clips, times, ranges, bucket_info, identity, overlays, masks;
   std::vector<GpuBuffer> staging;  ///< One per frame slot.
   /// Its device buffers (the staging aside).
-  std::array<GpuBuffer*, 6> buffers() {
-    return {&state, &clips, &times, &ranges, &bucket_info, &identity};
+  std::array<GpuBuffer*, 8> buffers() {
+    return {&state, &clips, &times, &ranges, &bucket_info, &identity, &overlays, &masks};
   }
-  std::array<const GpuBuffer*, 6> buffers() const {
-    return {&state, &clips, &times, &ranges, &bucket_info, &identity};
+  std::array<const GpuBuffer*, 8> buffers() const {
+    return {&state, &clips, &times, &ranges, &bucket_info, &identity, &overlays, &masks};
   }
+  /// Layered animation: some instance holds an overlay (CrowdExport::playsOverlays; the views'
+  /// passes write layer records), and the mask table uploaded.
+  bool layers = false;
+  std::vector<int32_t> mask_table;
   uint64_t used = 0;               ///< The renderer's frame of its last update.
   /// Motion vectors: the crowd's frames (a step of its clock since the last passes starts one),
   /// the step count they were counted at, and the handle slots its instances use.
@@ -98,7 +103,7 @@ class GpuDrivenCrowds {
 
  private:
   Status reshape(DrivenCrowd* d, uint32_t slot, uint32_t n, uint32_t sub_meshes, uint32_t buckets,
-                 uint32_t clips, uint32_t times);
+                 uint32_t clips, uint32_t times, bool layers, uint64_t mask_bytes);
   void retire(uint32_t slot, DrivenCrowd* d);
 
   DeviceObjects* objects_ = nullptr;

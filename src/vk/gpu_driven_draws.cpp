@@ -47,7 +47,7 @@ Status GpuDrivenViews::recordDraw(VkCommandBuffer cmd, FrameRegion region, uint3
   DrawStats st;
   for (int d = pulled ? 0 : 1; d < 2; ++d) {
     const ProgramModules& program =
-        (*shared_.programs)[d == 0 ? c.pulled_programs[k] : c.driven_programs[k]];
+        (*shared_.programs)[d == 0 ? c.pulled_programs[k] : c.driven_programs[v.layered][k]];
     uint8_t* vertex = region.mapped + at[d][0];
     writeDefault(vertex, program.vertex_reflection, "u_view_projection", &vp[0][0], 64);
     const uint32_t layout_words[2] = {0u, c.source_words};
@@ -61,7 +61,7 @@ Status GpuDrivenViews::recordDraw(VkCommandBuffer cmd, FrameRegion region, uint3
     writeDefault(region.mapped + at[d][1], program.fragment_reflection, "u_light_direction",
                  &light_direction, 12);
     vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_GRAPHICS,
-                      d == 0 ? c.pulled_pipelines[k] : c.driven_pipelines[k]);
+                      d == 0 ? c.pulled_pipelines[k] : c.driven_pipelines[v.layered][k]);
     // The pre-skinned draw indexes each list's own vertices; the other the mesh's.
     vkCmdBindIndexBuffer(cmd, d == 0 ? c.local_indices.buffer : c.indices.buffer, 0,
                          VK_INDEX_TYPE_UINT32);

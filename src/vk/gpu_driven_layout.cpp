@@ -17,8 +17,9 @@ bool drivenPassBindingType(uint32_t b, DescriptorKind kind, VkDescriptorType* ty
       b == kStateBinding || b == kClipsBinding || b == kTimesBinding || b == kCountersBinding ||
       b == kDrivenRecordsBinding || b == kDrivenEntriesBinding || b == kDrivenVisibleBinding ||
       b == kCommandsBinding || b == kRangesBinding || b == kBucketInfoBinding ||
-      b == kEntryDataBinding || b == kViewLodsBinding ||
-      (b >= kFirstUnbuiltBinding && b <= kLastUnbuiltBinding) || b == kLivePosesBinding ||
+      b == kEntryDataBinding || b == kViewLodsBinding || b == kOverlaysBinding ||
+      b == kLayersOutBinding || b == kDrawnBinding || b == kPreviousOutBinding ||
+      b == kPreviousLayersOutBinding || b == kDrivenMaskBinding || b == kLivePosesBinding ||
       b == kRingBinding || b == kSourceBinding || b == kLodVerticesBinding ||
       b == kTangentRingBinding || b == kPreviousRingBinding;
   if (storage && kind == DescriptorKind::kStorageBuffer)

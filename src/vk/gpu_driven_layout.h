@@ -16,6 +16,7 @@
 #include "si_vk/vulkan_profile.h"
 #include "vk/program_modules.h"
 #include "vk/spirv_reflect.h"
+#include "vk/vulkan_programs.h"
 
 namespace si::vk::detail {
 
@@ -38,17 +39,22 @@ inline constexpr uint32_t kRingBinding = 13 + kStorageBindingShift;
 inline constexpr uint32_t kSourceBinding = 14 + kStorageBindingShift;
 inline constexpr uint32_t kLodVerticesBinding = 15 + kStorageBindingShift;
 inline constexpr uint32_t kTangentRingBinding = 28 + kStorageBindingShift;
-// Layered animation (bindings 17, 18 and 21) and live poses (25): declared by the cull pass,
-// not drawn by the Vulkan back-end's GPU-driven path yet (u_layers 0; no posed instance): bound
-// to a placeholder the pass never reads or writes.
-inline constexpr uint32_t kFirstUnbuiltBinding = 17 + kStorageBindingShift;
-inline constexpr uint32_t kLastUnbuiltBinding = 21 + kStorageBindingShift;
+// Layered animation: the crowd's overlays (the cull pass reads them), each visible instance's
+// layer record and previous layer record (the cull pass writes them, the pre-skinning pass and
+// the draws read them), and the crowd's layer mask table (si::layerMaskTable; at
+// kDrivenMaskStorageBinding in the GPU-driven programs, vulkan_programs.h).
+inline constexpr uint32_t kOverlaysBinding = 17 + kStorageBindingShift;
+inline constexpr uint32_t kLayersOutBinding = 18 + kStorageBindingShift;
+inline constexpr uint32_t kPreviousLayersOutBinding = 21 + kStorageBindingShift;
+inline constexpr uint32_t kDrivenMaskBinding = kDrivenMaskStorageBinding + kStorageBindingShift;
 // Motion vectors: a view's drawn records (two parities: the frame's, the previous one's), each
 // visible instance's previous record (read by the motion draws), and the previous positions'
 // ring (the pre-skinning pass writes it, the pulled motion draw reads it).
 inline constexpr uint32_t kDrawnBinding = 19 + kStorageBindingShift;
 inline constexpr uint32_t kPreviousOutBinding = 20 + kStorageBindingShift;
 inline constexpr uint32_t kPreviousRingBinding = 22 + kStorageBindingShift;
+// Live poses: declared by the cull pass, not drawn by the Vulkan back-end's GPU-driven path yet
+// (no posed instance): bound to a placeholder the pass never reads.
 inline constexpr uint32_t kLivePosesBinding = 25 + kStorageBindingShift;
 // Occlusion culling's depth pyramid (cull_occlusion.glsl's u_hiz): a placeholder until built.
 inline constexpr uint32_t kPyramidBinding = 1 + kSamplerBindingShift;

@@ -137,6 +137,10 @@ void GpuDrivenViews::writePassSet(VkDescriptorSet set, View* v, const CharacterR
                               : b == kDrawnBinding && shared_.motion ? &v->drawn
                               : b == kPreviousOutBinding             ? &v->previous
                               : b == kPreviousRingBinding            ? &v->previous_ring
+                              : b == kOverlaysBinding                ? &d.overlays
+                              : b == kLayersOutBinding               ? &v->layers
+                              : b == kPreviousLayersOutBinding       ? &v->previous_layers
+                              : b == kDrivenMaskBinding              ? &d.masks
                               : b == kComputeDefaultsBinding         ? shared_.ring
                                                                      : shared_.unbuilt;
     if (b == kPyramidBinding || b == kPaletteBinding || b == kMorphBinding) {
@@ -189,7 +193,10 @@ Status GpuDrivenViews::reshape(VkCommandBuffer cmd, View* v, uint32_t slot,
       {&v->previous, shared_.motion ? capacity * kInstanceRecordSize : 16, storage,
        "the previous records"},
       {&v->previous_ring, shared_.motion ? ring_slots * 16 : 16, storage,
-       "the previous positions' ring"}};
+       "the previous positions' ring"},
+      {&v->layers, d.layers ? capacity * 16 : 16, storage, "the layer records"},
+      {&v->previous_layers, d.layers && shared_.motion ? capacity * 16 : 16, storage,
+       "the previous layer records"}};
   Status s = createBuffers(shared_.objects, Span<const BufferNeed>(needs, std::size(needs)),
                            shared_.max_storage_range, d.capacity);
   if (!s.isOk()) {
@@ -209,8 +216,9 @@ Status GpuDrivenViews::reshape(VkCommandBuffer cmd, View* v, uint32_t slot,
   // A character without tangents: the ring stands in for the tangent ring, never read.
   const GpuBuffer* tangents = c.tangents ? &v->tangent_ring : &v->ring;
   // The draw's set: the character's resources and the passes' output.
-  const DrivenOutputs outputs{v->records, v->entries, v->visible,  v->entry_data,
-                              v->ring,    *tangents,  v->previous, v->previous_ring};
+  const DrivenOutputs outputs{v->records, v->entries,         v->visible,  v->entry_data,
+                              v->ring,    *tangents,          v->previous, v->previous_ring,
+                              v->layers,  v->previous_layers, d.masks};
   s = createCharacterSet(
       shared_.objects->device(), shared_.objects->allocator(), *shared_.draw_layout,
       {*shared_.ring, shared_.nearest, shared_.linear, *shared_.custom, *shared_.no_morphs}, c,
@@ -338,7 +346,10 @@ Status GpuDrivenViews::recordPasses(VkCommandBuffer cmd, uint32_t slot, FrameReg
       const glm::vec3 shift = previousRecordShift(v.position, v.previous_position);
       writeDefault(block, r, "u_camera_shift", &shift[0], 12);
     }
-    // Layers: off (zero) until built.
+    // Layers: each visible instance's layer record written beside its record (2D blends' extra
+    // layers, at u_extras, are refused by the renderer).
+    const uint32_t layers = d->layers ? 1u : 0u;
+    writeDefault(block, r, "u_layers", &layers, 4);
   }
   {
     const SpirvReflection& r = shared_.pass_modules[1]->compute_reflection;
@@ -349,9 +360,9 @@ Status GpuDrivenViews::recordPasses(VkCommandBuffer cmd, uint32_t slot, FrameReg
     writeDefault(block, r, "u_max_groups_x", &shared_.max_groups_x, 4);
     writeDefault(block, r, "u_impostor_bucket", &impostor_bucket, 4);
   }
+  v.layered = d->layers;
   const SpirvReflection& skin =
-      (*shared_.programs)[shared_.motion ? c.skin_motion_program : c.skin_program]
-          .compute_reflection;
+      (*shared_.programs)[c.skin_programs[v.layered][shared_.motion]].compute_reflection;
   writeDefault(ring + defaults_at[3], skin, "u_counts", counts, 16);
   const uint32_t layout_words[2] = {0u, c.source_words};
   writeDefault(ring + defaults_at[3], skin, "u_layout", layout_words, 8);
@@ -391,10 +402,9 @@ Status GpuDrivenViews::recordCullPasses(VkCommandBuffer cmd, View* view, VkDescr
                       VK_ACCESS_SHADER_READ_BIT | VK_ACCESS_SHADER_WRITE_BIT);
   VkPipelineLayout layout = shared_.compute_layout->pipeline_layout;
   const auto bind = [&](int pass) {
-    vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_COMPUTE,
-                      pass < 3         ? shared_.passes[pass]
-                      : shared_.motion ? c.skin_motion_pipeline
-                                       : c.skin_pipeline);
+    vkCmdBindPipeline(
+        cmd, VK_PIPELINE_BIND_POINT_COMPUTE,
+        pass < 3 ? shared_.passes[pass] : c.skin_pipelines[v.layered][shared_.motion]);
     const uint32_t offset = uint32_t(v.defaults_at[pass]);
     vkCmdBindDescriptorSets(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, layout, 0, 1, &set, 1, &offset);
   };

@@ -8,8 +8,10 @@
 // again (beginFrame). With occlusion culling the passes run twice: the first phase before the
 // host's first rendering, the depth pyramid (depth_pyramid.h) and the second phase after it.
 // Impostors: the impostor quads pass after the scatter pass, the impostor draw after the meshes'
-// (gpu_driven_impostors.cpp). What is not built yet (layers, live poses) is refused by the
-// renderer.
+// (gpu_driven_impostors.cpp). Layered animation: the cull pass writes each visible instance's
+// layer record beside its record, the pre-skinning pass and the draws compose the overlay on its
+// mask per vertex (the layered programs). What is not built yet (2D blends, live poses) is
+// refused by the renderer.
 
 #include <vulkan/vulkan.h>
 
@@ -118,17 +120,20 @@ class GpuDrivenViews {
     uint32_t capacity = 0, sub_meshes = 0, buckets = 0;
     // The view's LODs; the passes' counters, records, visible list, entries and indirect
     // commands; pre-skinning's entry data, ring and tangent ring (the ring stands in without);
-    // motion vectors' previous records and previous positions' ring (16 bytes without).
+    // motion vectors' previous records and previous positions' ring (16 bytes without); layered
+    // animation's layer records and previous layer records (16 bytes without).
     GpuBuffer lods, counters, records, visible, entries, commands;
-    GpuBuffer entry_data, ring, tangent_ring, previous, previous_ring;
+    GpuBuffer entry_data, ring, tangent_ring, previous, previous_ring, layers, previous_layers;
     // Its device buffers sized by the crowd (the staging, readback and drawn records aside).
-    std::array<GpuBuffer*, 11> buffers() {
-      return {&lods,       &counters, &records,      &visible,  &entries,      &commands,
-              &entry_data, &ring,     &tangent_ring, &previous, &previous_ring};
+    std::array<GpuBuffer*, 13> buffers() {
+      return {&lods,          &counters,   &records,        &visible,      &entries,
+              &commands,      &entry_data, &ring,           &tangent_ring, &previous,
+              &previous_ring, &layers,     &previous_layers};
     }
-    std::array<const GpuBuffer*, 11> buffers() const {
-      return {&lods,       &counters, &records,      &visible,  &entries,      &commands,
-              &entry_data, &ring,     &tangent_ring, &previous, &previous_ring};
+    std::array<const GpuBuffer*, 13> buffers() const {
+      return {&lods,          &counters,   &records,        &visible,      &entries,
+              &commands,      &entry_data, &ring,           &tangent_ring, &previous,
+              &previous_ring, &layers,     &previous_layers};
     }
     // Motion vectors: the records the passes drew per handle slot, two parities (the frame's,
     // the previous one's), kept across reshapes; the crowd frame of the view's last passes and
@@ -140,6 +145,7 @@ class GpuDrivenViews {
     glm::dvec3 position{0.0}, previous_position{0.0};
     glm::mat4 view_projection{1.0f}, previous_view_projection{1.0f};
     uint32_t ring_vertices = 0;      // 0: no pre-skinning.
+    bool layered = false;            // The last passes wrote layer records (the crowd's).
     std::vector<GpuBuffer> staging;  // Per frame slot: the LODs' seed.
     // Impostors (the crowd's impostor level, 0: none): the quads the impostor quads pass writes,
     // its set and the impostor draw's (for the atlas's clip table `impostor_clips`).

@@ -261,15 +261,18 @@ Status Renderer::addCharacter(const Character& character, const BakedPalette& pa
                                 m.layout.pipeline_layout, formats[k], stream,
                                 &c->pipelines[layers][k]);
     }
-  // The GPU-driven draws, shaded and depth only, skinned in the vertex stage and pre-skinned;
-  // the pre-skinning pass of the mesh's variant.
+  // The GPU-driven draws, shaded and depth only, skinned in the vertex stage (without and with
+  // layers) and pre-skinned; the pre-skinning passes of the mesh's variant.
   for (size_t k = 0; k < kVulkanKinds && s.isOk() && m.desc.gpu_driven; ++k) {
     if (VulkanKind(k) == VulkanKind::kMotion && m.desc.motion_format == VK_FORMAT_UNDEFINED)
       continue;
-    c->driven_programs[k] = uint32_t(vulkanProgramIndex(VulkanKind(k), false, variant, true));
-    s = createSkinnedPipeline(m.device(), m.allocator(), m.programs[c->driven_programs[k]],
-                              m.driven_layout.pipeline_layout, formats[k], stream,
-                              &c->driven_pipelines[k]);
+    for (int layers = 0; layers < 2 && s.isOk(); ++layers) {
+      uint32_t& program = c->driven_programs[layers][k];
+      program = uint32_t(vulkanProgramIndex(VulkanKind(k), layers == 1, variant, true));
+      s = createSkinnedPipeline(m.device(), m.allocator(), m.programs[program],
+                                m.driven_layout.pipeline_layout, formats[k], stream,
+                                &c->driven_pipelines[layers][k]);
+    }
     c->pulled_programs[k] =
         uint32_t(vulkanPulledProgramIndex(VulkanKind(k), stream.tangent_offset != 0, variant));
     if (s.isOk())
@@ -277,16 +280,19 @@ Status Renderer::addCharacter(const Character& character, const BakedPalette& pa
                                 m.driven_layout.pipeline_layout, formats[k], stream,
                                 &c->pulled_pipelines[k]);
   }
-  if (s.isOk() && m.desc.gpu_driven) {
-    c->skin_program = uint32_t(vulkanComputeProgramIndex(si::detail::ProgramId::kGpuSkin, variant));
-    s = createComputePipeline(m.device(), m.allocator(), m.programs[c->skin_program],
-                              m.compute_layout.pipeline_layout, &c->skin_pipeline);
-    c->skin_motion_program =
-        uint32_t(vulkanComputeProgramIndex(si::detail::ProgramId::kGpuSkinMotion, variant));
-    if (s.isOk() && m.desc.motion_format != VK_FORMAT_UNDEFINED)
-      s = createComputePipeline(m.device(), m.allocator(), m.programs[c->skin_motion_program],
-                                m.compute_layout.pipeline_layout, &c->skin_motion_pipeline);
-  }
+  for (int layers = 0; layers < 2 && s.isOk() && m.desc.gpu_driven; ++layers)
+    for (int motion = 0; motion < 2 && s.isOk(); ++motion) {
+      using si::detail::ProgramId;
+      const ProgramId id =
+          motion ? (layers ? ProgramId::kGpuSkinMotionLayers : ProgramId::kGpuSkinMotion)
+                 : (layers ? ProgramId::kGpuSkinLayers : ProgramId::kGpuSkin);
+      uint32_t& program = c->skin_programs[layers][motion];
+      program = uint32_t(vulkanComputeProgramIndex(id, variant));
+      if (motion == 1 && m.desc.motion_format == VK_FORMAT_UNDEFINED) continue;
+      s = createComputePipeline(m.device(), m.allocator(), m.programs[program],
+                                m.compute_layout.pipeline_layout,
+                                &c->skin_pipelines[layers][motion]);
+    }
   if (s.isOk())
     s = createCharacterSet(m.device(), m.allocator(), m.layout,
                            {m.ring, m.nearest, m.linear, m.custom, m.no_morphs}, *c, nullptr,

@@ -28,7 +28,9 @@ Status Renderer::Impl::initGpuDriven(const VkPhysicalDeviceLimits& limits) {
   for (size_t k = 0; k < programs.size(); ++k)
     if (vulkanPrograms()[k].compute &&
         (vulkanPrograms()[k].id == si::detail::ProgramId::kGpuSkin ||
-         vulkanPrograms()[k].id == si::detail::ProgramId::kGpuSkinMotion))
+         vulkanPrograms()[k].id == si::detail::ProgramId::kGpuSkinMotion ||
+         vulkanPrograms()[k].id == si::detail::ProgramId::kGpuSkinLayers ||
+         vulkanPrograms()[k].id == si::detail::ProgramId::kGpuSkinMotionLayers))
       layout_passes.push_back(&programs[k]);
   for (size_t k = 0; k < programs.size(); ++k) {
     const VulkanProgram& p = vulkanPrograms()[k];
@@ -120,7 +122,8 @@ Status Renderer::recordGpuDrivenPasses(VkCommandBuffer cmd, CharacterId id, cons
             "vk::Renderer::recordGpuDrivenPasses: the view is not attached to a crowd"};
   const CrowdManager& crowd = *view.crowd();
   const CrowdExport exported(crowd);
-  const char* unbuilt = exported.playsOverlays()       ? "overlays (layered animation)"
+  const char* unbuilt = exported.writesExtraLayers()   ? "2D blends (their third and fourth clips, "
+                                                         "CrowdView::extraLayerRecords)"
                         : exported.livePoseCount() > 0 ? "live poses"
                                                        : nullptr;
   if (unbuilt != nullptr)

@@ -36,7 +36,8 @@ Status createSkinnedLayout(VkDevice device, const VkAllocationCallbacks* allocat
                b == kPreviousBinding || b == kDrivenRecordsBinding || b == kDrivenEntriesBinding ||
                b == kDrivenVisibleBinding || b == kEntryDataBinding || b == kRingBinding ||
                b == kSourceBinding || b == kLodVerticesBinding || b == kTangentRingBinding ||
-               b == kPreviousOutBinding || b == kPreviousRingBinding ||
+               b == kPreviousOutBinding || b == kPreviousRingBinding || b == kLayersOutBinding ||
+               b == kPreviousLayersOutBinding || b == kDrivenMaskBinding ||
                b == kImpostorClipsBinding || b == kImpostorQuadsBinding)
         type = VK_DESCRIPTOR_TYPE_STORAGE_BUFFER;
       else if (b == kPaletteBinding || b == kBaseColorBinding || b == kCustomBinding ||

@@ -12,8 +12,12 @@ using si::detail::ProgramId;
 constexpr VulkanKind kKinds[] = {VulkanKind::kShaded, VulkanKind::kDepthOnly, VulkanKind::kMotion};
 
 // The catalog's program of `kind`, with the overlays on their masks or not, of drawCrowd's
-// path or the GPU-driven one (no layers there yet).
+// path or the GPU-driven one.
 ProgramId catalogProgram(VulkanKind kind, bool layers, bool gpu_driven) {
+  if (gpu_driven && layers)
+    return kind == VulkanKind::kDepthOnly ? ProgramId::kGpuDrivenDepthOnlyLayers
+           : kind == VulkanKind::kMotion  ? ProgramId::kGpuDrivenSkinnedMotionLayers
+                                          : ProgramId::kGpuDrivenSkinnedLayers;
   if (gpu_driven)
     return kind == VulkanKind::kDepthOnly ? ProgramId::kGpuDrivenDepthOnly
            : kind == VulkanKind::kMotion  ? ProgramId::kGpuDrivenSkinnedMotion
@@ -29,6 +33,13 @@ ProgramId catalogProgram(VulkanKind kind, bool layers, bool gpu_driven) {
   return layers ? ProgramId::kSkinnedLayers : ProgramId::kSkinned;
 }
 
+// The GPU-driven pre-skinning pass, skinning the previous positions too or not, with the
+// overlays on their masks or not.
+ProgramId gpuSkinProgram(bool motion, bool layers) {
+  if (motion) return layers ? ProgramId::kGpuSkinMotionLayers : ProgramId::kGpuSkinMotion;
+  return layers ? ProgramId::kGpuSkinLayers : ProgramId::kGpuSkin;
+}
+
 std::vector<VulkanProgram> makePrograms() {
   std::vector<VulkanProgram> programs;
   for (bool gpu_driven : {false, true})
@@ -38,7 +49,6 @@ std::vector<VulkanProgram> makePrograms() {
           for (bool words : {false, true})
             for (VulkanKind kind : kKinds) {
               if (words && kind == VulkanKind::kDepthOnly) continue;  // It reads no vertex words.
-              if (gpu_driven && layers) continue;  // The GPU-driven draws: no layers yet.
               std::string name = kind == VulkanKind::kShaded      ? "skinned"
                                  : kind == VulkanKind::kDepthOnly ? "depth_only"
                                                                   : "skinned_motion";
@@ -82,13 +92,14 @@ std::vector<VulkanProgram> makePrograms() {
     programs.push_back({id, VulkanKind::kShaded, true, true, false, false, false, false, false,
                         false, false, std::string(name)});
   for (bool motion : {false, true})
-    for (bool morph : {false, true})
-      for (bool eight : {false, true})
-        programs.push_back({motion ? ProgramId::kGpuSkinMotion : ProgramId::kGpuSkin,
-                            motion ? VulkanKind::kMotion : VulkanKind::kShaded, true, true, false,
-                            false, false, false, morph, eight, false,
-                            std::string("gpu_skin") + (motion ? "_motion" : "") +
-                                (morph ? "_morph" : "") + (eight ? "_8" : "")});
+    for (bool layers : {false, true})
+      for (bool morph : {false, true})
+        for (bool eight : {false, true})
+          programs.push_back(
+              {gpuSkinProgram(motion, layers), motion ? VulkanKind::kMotion : VulkanKind::kShaded,
+               true, true, false, false, false, layers, morph, eight, false,
+               std::string("gpu_skin") + (motion ? "_motion" : "") + (layers ? "_layers" : "") +
+                   (morph ? "_morph" : "") + (eight ? "_8" : "")});
   for (const auto& [id, name] :
        {std::pair{ProgramId::kHizCopy, "hiz_copy"},
         std::pair{ProgramId::kHizCopyMultisample, "hiz_copy_ms"},
@@ -125,7 +136,8 @@ size_t vulkanProgramIndex(VulkanKind kind, bool layers, const MeshVariant& mesh,
 }
 
 size_t vulkanComputeProgramIndex(ProgramId id, const MeshVariant& mesh) {
-  const bool skin = id == ProgramId::kGpuSkin || id == ProgramId::kGpuSkinMotion;
+  const bool skin = id == ProgramId::kGpuSkin || id == ProgramId::kGpuSkinMotion ||
+                    id == ProgramId::kGpuSkinLayers || id == ProgramId::kGpuSkinMotionLayers;
   const std::vector<VulkanProgram>& programs = programList();
   for (size_t k = 0; k < programs.size(); ++k)
     if (programs[k].compute && programs[k].id == id &&
@@ -173,6 +185,7 @@ si::detail::ShaderConfig vulkanShaderConfig(const VulkanProgram& program) {
   config.eight_influences = program.eight_influences;
   config.vertex_words = program.vertex_words;
   config.morph_targets = program.morph_targets;
+  if (program.gpu_driven) config.mask_binding = kDrivenMaskStorageBinding;
   return config;
 }
 

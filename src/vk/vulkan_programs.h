@@ -52,11 +52,12 @@ struct VulkanProgram {
 /// morph targets, of 4 and of 8 influences, the shaded ones also for meshes with vertex words
 /// (the depth-only stage reads none), ordered by morph targets, layers, 8 influences, vertex
 /// words, then kind; then the GPU-driven path's draws, shaded, depth only and with motion
-/// vectors, without layers, for the same meshes in the same order; its pre-skinned draws
+/// vectors, without and with layers, for the same meshes in the same order; its pre-skinned draws
 /// ("gpu_pulled", "_tangents", "_words"; "gpu_pulled_depth_only"; "gpu_pulled_motion",
 /// "_tangents", "_words"); then its compute passes: "cull", "cull_commands", "cull_scatter",
 /// the pre-skinning pass for each mesh ("gpu_skin", "_morph", "_8"), with the previous
-/// positions ("gpu_skin_motion", ...), occlusion culling's depth pyramid passes
+/// positions ("gpu_skin_motion", ...), each without and with layers ("gpu_skin_layers",
+/// "gpu_skin_motion_layers", ...), occlusion culling's depth pyramid passes
 /// ("hiz_copy", "hiz_copy_ms", "hiz_reduce"), the impostor quads pass ("impostor_quads") and the
 /// impostor atlas's covered rectangles ("impostor_coverage", "impostor_coverage_rects").
 /// Between the pre-skinned draws and the compute passes: the impostor atlas's capture for each
@@ -73,13 +74,13 @@ struct MeshVariant {
 
 /// The index in vulkanPrograms() of the program of `kind`, with layers or not, for a mesh of
 /// `mesh` (its vertex words ignored for kDepthOnly); the GPU-driven path's draw with
-/// `gpu_driven` (no layers).
+/// `gpu_driven`.
 size_t vulkanProgramIndex(VulkanKind kind, bool layers, const MeshVariant& mesh,
                           bool gpu_driven = false);
 /// The index in vulkanPrograms() of the GPU-driven compute pass `id` (kCull, kCullCommands,
 /// kCullScatter, kHizCopy, kHizCopyMultisample, kHizReduce, kImpostorQuads, kImpostorCoverage,
-/// kImpostorCoverageRects; kGpuSkin and
-/// kGpuSkinMotion for a mesh of `mesh`).
+/// kImpostorCoverageRects; kGpuSkin, kGpuSkinMotion, kGpuSkinLayers and kGpuSkinMotionLayers
+/// for a mesh of `mesh`).
 size_t vulkanComputeProgramIndex(si::detail::ProgramId id, const MeshVariant& mesh = {});
 /// The index in vulkanPrograms() of the impostor capture for a mesh of `mesh`.
 size_t vulkanCaptureProgramIndex(const MeshVariant& mesh);
@@ -88,6 +89,11 @@ size_t vulkanImpostorProgramIndex(bool depth_only);
 /// The index in vulkanPrograms() of the GPU-driven pre-skinned draw of `kind` (kShaded, kMotion or
 /// kDepthOnly) for a character with tangents or not and a mesh of `mesh` (its vertex words).
 size_t vulkanPulledProgramIndex(VulkanKind kind, bool tangents, const MeshVariant& mesh);
+
+/// The layer mask table's storage binding (OpenGL's numbering, before the Vulkan profile's
+/// shift) in the GPU-driven programs, draws and passes: one set holds every pass's resources, and
+/// 8, the table's binding elsewhere, holds the bucket ranges there.
+inline constexpr uint32_t kDrivenMaskStorageBinding = 31;
 
 /// Records in the instance uniform block: 819 of 80 bytes fill a 64 KiB block, the
 /// maxUniformBufferRange of NVIDIA's and lavapipe's drivers (the Vulkan minimum is 16 KiB: a

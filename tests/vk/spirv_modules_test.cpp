@@ -68,8 +68,9 @@ TEST(VulkanSpirv, EveryProgramsStagesAreEmbeddedAndValidForVulkan13) {
   ASSERT_EQ(kSpirvModuleCount, moduleNames().size());
   size_t compute = 0;
   for (const VulkanProgram& p : vulkanPrograms()) compute += p.compute;
-  EXPECT_EQ(compute, 17u) << "the GPU-driven path's cull, commands and scatter passes, 8 "
-                             "pre-skinning variants (with and without the previous positions), "
+  EXPECT_EQ(compute, 25u) << "the GPU-driven path's cull, commands and scatter passes, 16 "
+                             "pre-skinning variants (with and without the previous positions, "
+                             "without and with layers), "
                              "3 depth pyramid passes, the impostor quads pass and the impostor "
                              "atlas's 2 coverage passes";
   for (const std::string& name : moduleNames()) {

@@ -10,7 +10,6 @@
 #include <cstring>
 
 #include "core/pre_skin_lists.h"
-#include "si/core/layer_mask.h"
 #include "si/crowd/crowd_export.h"
 #include "vk/vk_render_fixture.h"
 
@@ -632,21 +631,6 @@ TEST_P(VulkanGpuDrivenTest, RefusalsAreNamed) {
     EXPECT_EQ(s.code(), StatusCode::kLimitExceeded) << s.toString();
     EXPECT_NE(s.message().find("maxImageDimension2D"), std::string::npos) << s.toString();
   }
-  // A crowd playing an overlay.
-  std::vector<InstanceHandle> handles;
-  std::vector<GpuInstanceState> state;
-  CrowdExport(crowd).state(&state, &handles);
-  ASSERT_FALSE(handles.empty());
-  LayerMask arm;
-  ASSERT_TRUE(
-      buildLayerMask(character().skeleton, palette(), "r_clavicle", {"r_clavicle"}, &arm).isOk());
-  uint32_t mask = 0;
-  ASSERT_TRUE(crowd.addLayerMask(arm, &mask).isOk());
-  const Status played = crowd.playOverlay(handles[0], 0, mask, 1.0f, 0.0);
-  ASSERT_TRUE(played.isOk()) << played.toString();
-  s = frame(1, {{&crowd.view(), lodCamera()}}, {}, vk::DrawMode::kShaded, &image);
-  EXPECT_EQ(s.code(), StatusCode::kUnsupported) << s.toString();
-  EXPECT_NE(s.message().find("overlays"), std::string::npos) << s.toString();
   // A crowd of more sub-meshes than the character's.
   {
     CrowdManager wider;

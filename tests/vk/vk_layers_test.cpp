@@ -2,12 +2,15 @@
 // Layered animation on the Vulkan back-end (issue "The crowd in a Vulkan engine"): a crowd whose
 // walkers wave an arm (an overlay on the right arm's mask, fading in for some) draws what
 // si::Renderer's vertex-shader path draws, shaded and depth only; the overlay shows; its motion
-// vectors follow the overlay as si::gl's do; a 2D blend (whose third and fourth clips need the
-// layer compose pass) is refused by name.
+// vectors follow the overlay as si::gl's do; on the GPU-driven path, pre-skinned and skinned in
+// the vertex stage, what si::gl's drawCrowdGpuCulled draws and writes, the overlays' changes
+// uploaded; a 2D blend (whose third and fourth clips need the layer compose pass) is refused by
+// name on both paths.
 #include <glad/gl.h>
 
 #include "render/layered_scenes.h"
 #include "si/core/layer_mask.h"
+#include "si/crowd/gpu_crowd_state.h"
 #include "vk/vk_render_fixture.h"
 
 namespace si {
@@ -56,6 +59,39 @@ class VulkanLayersTest : public VulkanRenderFixture {
                        return r.recordDraw(cmd, target, id, crowd.view(), batcher, camera);
                      },
                      {image, depth, motion});
+    ASSERT_TRUE(s.isOk()) << s.toString();
+  }
+  // si::gl's GPU-driven image of `crowd` with `camera` (pre-skinned, or in the vertex stage), over
+  // kBackground, read from the default framebuffer.
+  void glDriven(Renderer* gl, CharacterId id, const CrowdManager& crowd, const Camera& camera,
+                bool pre_skinned, std::vector<uint8_t>* image) {
+    gl->clear(kBackground);
+    const Status drawn = gl->drawCrowdGpuCulled(
+        id, crowd.view(), camera, nullptr, pre_skinned ? DrawMode::kDefault : DrawMode::kSkinned);
+    ASSERT_TRUE(drawn.isOk()) << drawn.toString();
+    ASSERT_TRUE(context_->readPixels(image).isOk());
+  }
+  // One GPU-driven frame of `crowd` by `r` (character `id`) in frame slot `slot`: its passes
+  // with `camera`, then its draw in `mode`; the image, depth and motion read back (each may be
+  // null), what the passes uploaded into `stats` (may be null).
+  void vkDriven(vk::Renderer* r, vk::CharacterId id, uint32_t slot, const CrowdManager& crowd,
+                const Camera& camera, vk::DrawMode mode, std::vector<uint8_t>* image,
+                std::vector<float>* depth, std::vector<glm::vec2>* motion = nullptr,
+                vk::PassStats* stats = nullptr) {
+    examples::HeadlessVulkan::Frame frame;
+    frame.clear_color = kBackground;
+    frame.color = mode == vk::DrawMode::kShaded;
+    frame.motion = motion != nullptr;
+    frame.before = [&](VkCommandBuffer cmd) {
+      const Status begun = r->beginFrame(slot);
+      return begun.isOk() ? r->recordGpuDrivenPasses(cmd, id, crowd.view(), camera, stats) : begun;
+    };
+    vk::DrawTarget target{{kSize, kSize}};
+    target.mode = mode;
+    const Status s = host_.render(
+        frame,
+        [&](VkCommandBuffer cmd) { return r->recordGpuDrivenDraw(cmd, target, id, crowd.view()); },
+        {image, depth, motion});
     ASSERT_TRUE(s.isOk()) << s.toString();
   }
   std::vector<InstanceHandle> handles_;
@@ -124,6 +160,110 @@ TEST_P(VulkanLayersTest, MotionVectorsFollowTheOverlayAsOpenGlsDo) {
   EXPECT_TRUE(host_.messages().empty()) << messages();
 }
 
+// The GPU-driven path: the cull pass writes each visible instance's layer record, the
+// pre-skinning pass or the vertex stage composes the overlay on its mask, as si::gl's
+// drawCrowdGpuCulled does (which composes the masked rows in a pass of their own first).
+TEST_P(VulkanLayersTest, TheGpuDrivenPathDrawsOverlaysAsOpenGlsDoes) {
+  SI_START_VULKAN_HOST();
+  Renderer gl;
+  ASSERT_TRUE(gl.init(info_, RendererDesc()).isOk());
+  CharacterId gl_id;
+  ASSERT_TRUE(gl.addCharacter(character(), palette(), &gl_id).isOk());
+  for (const bool pre_skinned : {true, false}) {
+    SCOPED_TRACE(pre_skinned ? "pre-skinned" : "skinned in the vertex stage");
+    CrowdManager crowd;
+    handles_.clear();
+    ASSERT_NO_FATAL_FAILURE(populate(&crowd, false));
+    vk::RendererDesc rd;
+    rd.gpu_driven = true;
+    if (!pre_skinned) rd.gpu_driven_ring_bytes = 0;
+    vk::Renderer r;
+    vk::CharacterId id;
+    ASSERT_NO_FATAL_FAILURE(startRenderer(rd, &r, &id));
+    std::vector<uint8_t> gl_image, image;
+    std::vector<float> depth, depth_only;
+    ASSERT_NO_FATAL_FAILURE(glDriven(&gl, gl_id, crowd, closeView(), pre_skinned, &gl_image));
+    ASSERT_NO_FATAL_FAILURE(
+        vkDriven(&r, id, 0, crowd, closeView(), vk::DrawMode::kShaded, &image, &depth));
+    Diff diff = compare(image, gl_image, nullptr);
+    EXPECT_LE(diff.share, kMaxDifferingShare) << "max channel difference " << diff.max_channel;
+    vk::GpuDrivenCounts counts;
+    ASSERT_TRUE(r.readGpuDrivenCounts(id, crowd.view(), &counts).isOk());
+    EXPECT_EQ(counts.pre_skinned_vertices > 0, pre_skinned);
+    ASSERT_NO_FATAL_FAILURE(
+        vkDriven(&r, id, 1, crowd, closeView(), vk::DrawMode::kDepthOnly, nullptr, &depth_only));
+    expectSameDepth(depth, depth_only);
+    // Two overlays of the front row stopped at once: their changed state reaches the GPU (a
+    // copy per changed run, not the whole crowd), the two arms go elsewhere.
+    for (int k = 0; k < 2; ++k) ASSERT_TRUE(crowd.stopOverlay(handles_[k], 0.0).isOk());
+    ASSERT_TRUE(crowd.advance(0.0).isOk());
+    std::vector<uint8_t> gl_plain, plain;
+    ASSERT_NO_FATAL_FAILURE(glDriven(&gl, gl_id, crowd, closeView(), pre_skinned, &gl_plain));
+    vk::PassStats uploaded;
+    ASSERT_NO_FATAL_FAILURE(vkDriven(&r, id, 0, crowd, closeView(), vk::DrawMode::kShaded, &plain,
+                                     nullptr, nullptr, &uploaded));
+    EXPECT_FALSE(uploaded.whole_upload);
+    EXPECT_EQ(uploaded.state_bytes_uploaded,
+              2 * (sizeof(GpuInstanceState) + sizeof(GpuOverlayState)));
+    diff = compare(plain, gl_plain, nullptr);
+    EXPECT_LE(diff.share, kMaxDifferingShare) << "max channel difference " << diff.max_channel;
+    const double moved = compare(plain, image, nullptr).share;
+    std::printf("[ layers ] %.2f %% of pixels moved with two overlays stopped\n", 100.0 * moved);
+    EXPECT_GT(moved, 0.005);
+    r.shutdown();
+  }
+  gl.shutdown();
+  EXPECT_TRUE(host_.messages().empty()) << messages();
+}
+
+// Motion vectors of overlays on the GPU-driven path: two frames, the previous position skinned
+// with the previous layer record the view drew, as si::gl's drawCrowdGpuCulled writes.
+TEST_P(VulkanLayersTest, TheGpuDrivenMotionFollowsTheOverlayAsOpenGlsDoes) {
+  SI_START_VULKAN_HOST();
+  RendererDesc gd;
+  gd.motion_vectors = true;
+  Renderer gl;
+  ASSERT_TRUE(gl.init(info_, gd).isOk());
+  CharacterId gl_id;
+  ASSERT_TRUE(gl.addCharacter(character(), palette(), &gl_id).isOk());
+  for (const bool pre_skinned : {true, false}) {
+    SCOPED_TRACE(pre_skinned ? "pre-skinned" : "skinned in the vertex stage");
+    CrowdManager crowd;
+    handles_.clear();
+    ASSERT_NO_FATAL_FAILURE(populate(&crowd, false));
+    vk::RendererDesc rd;
+    rd.gpu_driven = true;
+    rd.motion_format = examples::HeadlessVulkan::kMotionFormat;
+    if (!pre_skinned) rd.gpu_driven_ring_bytes = 0;
+    vk::Renderer r;
+    vk::CharacterId id;
+    ASSERT_NO_FATAL_FAILURE(startRenderer(rd, &r, &id));
+    MotionTarget target;
+    ASSERT_TRUE(target.create(kSize, kSize).isOk());
+    std::vector<uint8_t> gl_image, image;
+    std::vector<glm::vec2> gl_motion, motion;
+    for (uint32_t f = 0; f < 2; ++f) {
+      if (f == 1) {
+        ASSERT_TRUE(crowd.advance(1.0 / 30.0).isOk());
+      }
+      target.clear(kBackground);
+      const Status drawn =
+          gl.drawCrowdGpuCulled(gl_id, crowd.view(), closeView(int(f)), nullptr,
+                                pre_skinned ? DrawMode::kDefault : DrawMode::kSkinned);
+      target.restore();
+      ASSERT_TRUE(drawn.isOk()) << drawn.toString();
+      ASSERT_TRUE(target.readMotion(&gl_motion).isOk());
+      ASSERT_TRUE(target.readColor(&gl_image).isOk());
+      ASSERT_NO_FATAL_FAILURE(vkDriven(&r, id, f, crowd, closeView(int(f)), vk::DrawMode::kShaded,
+                                       &image, nullptr, &motion));
+    }
+    expectMotionOfOpenGl(image, motion, gl_image, gl_motion, 1.0f);
+    r.shutdown();
+  }
+  gl.shutdown();
+  EXPECT_TRUE(host_.messages().empty()) << messages();
+}
+
 TEST_P(VulkanLayersTest, ABlendsThirdAndFourthClipsAreRefusedByName) {
   SI_START_VULKAN_HOST();
   CrowdManager crowd;
@@ -161,6 +301,16 @@ TEST_P(VulkanLayersTest, ABlendsThirdAndFourthClipsAreRefusedByName) {
                                 batcher, closeView());
   EXPECT_EQ(s.code(), StatusCode::kUnsupported);
   EXPECT_NE(s.message().find("2D blends"), std::string::npos) << s.toString();
+  // The GPU-driven path too.
+  vk::RendererDesc rd;
+  rd.gpu_driven = true;
+  vk::Renderer driven;
+  ASSERT_NO_FATAL_FAILURE(startRenderer(rd, &driven, &vk_id));
+  ASSERT_TRUE(driven.beginFrame(0).isOk());
+  const Status passes =
+      driven.recordGpuDrivenPasses(VK_NULL_HANDLE, vk_id, crowd.view(), closeView());
+  EXPECT_EQ(passes.code(), StatusCode::kUnsupported);
+  EXPECT_NE(passes.message().find("2D blends"), std::string::npos) << passes.toString();
 }
 
 INSTANTIATE_TEST_SUITE_P(Backends, VulkanLayersTest,

@@ -49,9 +49,11 @@ struct DepthSource {
 };
 
 /// What recordGpuDrivenPasses() recorded of the crowd's state: the bytes of instance state it
-/// copied in (0 when nothing changed since the crowd's last passes, in any view), in how many
-/// copy regions (one per run of changed instances), and whether it copied the whole state (the
-/// crowd, its shape or its size outgrew the buffers, or past half its instances changed).
+/// copied in (0 when nothing changed since the crowd's last passes, in any view; while some
+/// instance holds an overlay, each changed instance's overlay state too), in how many copy
+/// regions of instance state (one per run of changed instances), and whether it copied the whole
+/// state (the crowd, its shape or its size outgrew the buffers, or past half its instances
+/// changed).
 struct PassStats {
   uint64_t state_bytes_uploaded = 0;
   uint32_t upload_regions = 0;

@@ -292,13 +292,15 @@ Status assembleStage(ProgramId id, ShaderStage stage, const ShaderConfig& config
                                             material_file, " was not embedded")};
     material_text = builtin;
   }
-  *out = strCat(version, "#define SI_MAX_INSTANCES ", config.max_instances,
-                "\n#define SI_MAX_JOINTS ", config.max_joints, "\n",
-                config.es ? strCat("#define SI_MAX_MATERIALS ", kEsMaxMaterials, "\n") : "",
-                config.vertex_words ? "#define SI_VERTEX_WORDS\n" : "",
-                config.eight_influences ? "#define SI_EIGHT_INFLUENCES\n" : "",
-                config.morph_targets ? "#define SI_MORPH_TARGETS\n" : "", spec.defines,
-                material_defines, text);
+  *out = strCat(
+      version, "#define SI_MAX_INSTANCES ", config.max_instances, "\n#define SI_MAX_JOINTS ",
+      config.max_joints, "\n",
+      config.es ? strCat("#define SI_MAX_MATERIALS ", kEsMaxMaterials, "\n") : "",
+      config.vertex_words ? "#define SI_VERTEX_WORDS\n" : "",
+      config.eight_influences ? "#define SI_EIGHT_INFLUENCES\n" : "",
+      config.morph_targets ? "#define SI_MORPH_TARGETS\n" : "",
+      config.mask_binding != 0 ? strCat("#define SI_MASK_BINDING ", config.mask_binding, "\n") : "",
+      spec.defines, material_defines, text);
   // The material's lines are numbered from 1 as source string 1 in the compiler's log.
   if (material != nullptr || material_file != nullptr)
     *out += strCat("\n#line 1 1\n", material_text, "\n");

@@ -161,6 +161,10 @@ struct ShaderConfig {
   /// pre-skinning source's last word; the morph texture; si_morph.glsl) are added before
   /// skinning. Only the variants drawn for such characters (skinsVertices(), composesLayers()).
   bool morph_targets = false;
+  /// SI_MASK_BINDING: the storage binding of the layer mask table (si_skinning.glsl); 0 leaves
+  /// its default, 8. si::vk's GPU-driven programs move it (kDrivenMaskBinding): in its one
+  /// descriptor set of the compute passes, 8 holds the bucket ranges, which si::gl rebinds.
+  uint32_t mask_binding = 0;
 };
 
 /// Whether program `id` comes in a variant for meshes with optional vertex words
