@@ -182,6 +182,7 @@ void destroyCharacter(DeviceObjects* objects, CharacterResources* c) {
   for (VkPipeline& p : c->pulled_pipelines) destroy_pipeline(p);
   for (auto& by_motion : c->skin_pipelines)
     for (VkPipeline& p : by_motion) destroy_pipeline(p);
+  for (VkPipeline& p : c->compose_pipelines) destroy_pipeline(p);
   if (c->pool != VK_NULL_HANDLE)
     vkDestroyDescriptorPool(objects->device(), c->pool, objects->allocator());
   c->pool = VK_NULL_HANDLE;

@@ -26,6 +26,11 @@ struct BufferUpload {
   VkDeviceSize offset;
 };
 
+/// How a GPU-driven draw and pre-skinning pass skin a crowd's layered animation: not at all (no
+/// overlay), the overlays composed per vertex, or the rows of the layer compose pass read (2D
+/// blends).
+enum Layering : uint8_t { kNoLayers = 0, kLayersPerVertex = 1, kComposedLayers = 2 };
+
 struct CharacterResources {
   GpuBuffer vertices, indices, palette_info, vertex_materials, materials;
   /// Pre-skinning's lists (the GPU-driven path): each local vertex's source vertex, and the
@@ -51,18 +56,21 @@ struct CharacterResources {
   /// vectors).
   uint32_t programs[2][kVulkanKinds] = {};
   VkPipeline pipelines[2][kVulkanKinds] = {};
-  /// The GPU-driven draw's programs and pipelines, without and with layers, shaded, depth only
+  /// The GPU-driven draw's programs and pipelines, without layers, with layers and with composed
+  /// layers (by Layering), shaded, depth only
   /// and with motion vectors (by VulkanKind; made when the renderer draws the GPU-driven path,
   /// the last with motion vectors).
-  uint32_t driven_programs[2][kVulkanKinds] = {};
-  VkPipeline driven_pipelines[2][kVulkanKinds] = {};
-  /// Its pre-skinned draws (the same kinds), and its pre-skinning pass (compute) without and
-  /// with layers, alone and also skinning the previous positions (motion vectors: made only when
-  /// the renderer draws them).
+  uint32_t driven_programs[3][kVulkanKinds] = {};
+  VkPipeline driven_pipelines[3][kVulkanKinds] = {};
+  /// Its pre-skinned draws (the same kinds), and its pre-skinning pass (compute) by Layering,
+  /// alone and also skinning the previous positions (motion vectors: made only when the renderer
+  /// draws them); the layer compose pass of its mesh, alone and with the previous records.
   uint32_t pulled_programs[kVulkanKinds] = {};
   VkPipeline pulled_pipelines[kVulkanKinds] = {};
-  uint32_t skin_programs[2][2] = {};
-  VkPipeline skin_pipelines[2][2] = {};
+  uint32_t skin_programs[3][2] = {};
+  VkPipeline skin_pipelines[3][2] = {};
+  uint32_t compose_programs[2] = {};
+  VkPipeline compose_pipelines[2] = {};
   VkDescriptorPool pool = VK_NULL_HANDLE;
   VkDescriptorSet set = VK_NULL_HANDLE;
   /// The vertex stream's format and the mesh's program variant (the impostor capture's pipeline

@@ -81,6 +81,12 @@ Status createCharacterSet(VkDevice device, const VkAllocationCallbacks* allocato
       buffer(driven->previous_layers, VK_WHOLE_SIZE);
     else if (driven != nullptr && b == kDrivenMaskBinding)
       buffer(driven->masks, VK_WHOLE_SIZE);
+    else if (driven != nullptr && b == kComposeTableBinding)
+      buffer(driven->compose_table, VK_WHOLE_SIZE);
+    else if (driven != nullptr && b == kComposedRowsBinding)
+      buffer(driven->rows, VK_WHOLE_SIZE);
+    else if (driven != nullptr && b == kComposedPreviousRowsBinding)
+      buffer(driven->previous_rows, VK_WHOLE_SIZE);
     else if (b == kSourceBinding)
       buffer(c->vertices, VK_WHOLE_SIZE);
     else if (b == kLodVerticesBinding)

@@ -36,6 +36,11 @@ struct DrivenOutputs {
   const GpuBuffer& layers;
   const GpuBuffer& previous_layers;
   const GpuBuffer& masks;
+  /// Composed layers (2D blends): the crowd's compose table, the rows composed per visible
+  /// instance and the previous ones (placeholders without).
+  const GpuBuffer& compose_table;
+  const GpuBuffer& rows;
+  const GpuBuffer& previous_rows;
 };
 
 /// Creates a descriptor pool and its one set for `layout` into `*pool` and `*set` and writes

@@ -2,6 +2,8 @@
 // What a draw sets of the host's rendering.
 #include "vk/draw_state.h"
 
+#include "si_vk/vulkan_profile.h"
+
 namespace si::vk::detail {
 
 namespace {
@@ -47,6 +49,18 @@ void writeFragmentDefaults(uint8_t* block, const SpirvReflection& fragment,
   const uint32_t no_custom_layers = 0;
   writeDefault(block, fragment, "u_custom_layers", &no_custom_layers, 4);
   writeDefault(block, fragment, "u_light_direction", &light_direction, 12);
+}
+
+uint32_t drawOffsets(const std::vector<uint32_t>& bindings, VkDeviceSize vertex_at,
+                     VkDeviceSize fragment_at, uint32_t out[kMaxDrawOffsets]) {
+  uint32_t count = 0;
+  for (uint32_t b : bindings) {
+    if (count == kMaxDrawOffsets) break;
+    out[count++] = b == kVertexDefaultsBinding     ? uint32_t(vertex_at)
+                   : b == kFragmentDefaultsBinding ? uint32_t(fragment_at)
+                                                   : 0u;
+  }
+  return count;
 }
 
 }  // namespace si::vk::detail

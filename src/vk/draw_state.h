@@ -5,6 +5,8 @@
 
 #include <vulkan/vulkan.h>
 
+#include <vector>
+
 #include <glm/glm.hpp>
 
 #include "si/crowd/camera.h"
@@ -23,6 +25,17 @@ glm::mat4 vulkanViewProjection(const Camera& camera);
 /// the flipped viewport), clockwise when the camera's projection mirrors the image; its depth
 /// bias, enabled when not zero.
 void recordDrawState(VkCommandBuffer cmd, const DrawTarget& target, const Camera& camera);
+
+/// The most dynamic buffers a GPU-driven draw's set offsets (drawOffsets).
+inline constexpr uint32_t kMaxDrawOffsets = 8;
+
+/// The dynamic offsets of a draw whose set's dynamic buffers, in binding order, are `bindings`
+/// (at most kMaxDrawOffsets; the renderer checks at init): the vertex and fragment stages'
+/// defaults at `vertex_at` and `fragment_at`, any other at 0 (a block the programs declare and
+/// never read there, such as the instanced path's records in the GPU-driven composed draws).
+/// Into `out`; returns their count.
+uint32_t drawOffsets(const std::vector<uint32_t>& bindings, VkDeviceSize vertex_at,
+                     VkDeviceSize fragment_at, uint32_t out[kMaxDrawOffsets]);
 
 /// Writes the fragment stage's defaults every built-in draw sets into `block` (the stage's default
 /// uniform block, reflected as `fragment`): no custom texture layers, the light's direction.

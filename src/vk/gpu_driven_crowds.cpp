@@ -46,8 +46,8 @@ void GpuDrivenCrowds::retire(uint32_t slot, DrivenCrowd* d) {
 }
 
 Status GpuDrivenCrowds::reshape(DrivenCrowd* d, uint32_t slot, uint32_t n, uint32_t sub_meshes,
-                                uint32_t buckets, uint32_t clips, uint32_t times, bool layers,
-                                uint64_t mask_bytes) {
+                                uint32_t buckets, uint32_t clips, uint32_t times,
+                                const Layering& layering) {
   retire(slot, d);
   // Room to grow by half, so a spawn wave re-creates the buffers a few times, not every frame.
   const uint64_t capacity = std::max<uint64_t>(1, uint64_t(n) + n / 2);
@@ -61,8 +61,14 @@ Status GpuDrivenCrowds::reshape(DrivenCrowd* d, uint32_t slot, uint32_t n, uint3
       {&d->bucket_info, uint64_t(buckets) * 16, storage, "the bucket info"},
       {&d->identity, capacity * sub_meshes * 4, VK_BUFFER_USAGE_VERTEX_BUFFER_BIT | storage,
        "the entry indices"},
-      {&d->overlays, layers ? capacity * sizeof(GpuOverlayState) : 16, storage, "the overlays"},
-      {&d->masks, std::max<uint64_t>(mask_bytes, 16), storage, "the layer mask table"}};
+      {&d->overlays,
+       layering.layers
+           ? capacity * (layering.extras ? 1 + kExtraLayerRecords : 1) * sizeof(GpuOverlayState)
+           : 16,
+       storage, "the overlays (and 2D blends' extra layers)"},
+      {&d->masks, std::max<uint64_t>(layering.mask_bytes, 16), storage, "the layer mask table"},
+      {&d->compose_table, std::max<uint64_t>(layering.compose_bytes, 16), storage,
+       "the compose table"}};
   Status s = createBuffers(objects_, Span<const BufferNeed>(needs, std::size(needs)),
                            max_storage_range_, n);
   if (!s.isOk()) {
@@ -72,8 +78,11 @@ Status GpuDrivenCrowds::reshape(DrivenCrowd* d, uint32_t slot, uint32_t n, uint3
   d->capacity = uint32_t(capacity);
   d->sub_meshes = sub_meshes;
   d->buckets = buckets;
-  d->layers = layers;
+  d->layers = layering.layers;
+  d->extras = layering.extras;
   d->mask_table.clear();  // Uploaded again.
+  d->compose_values.clear();
+  d->shape = si::detail::ComposeShape();
   ++d->generation;
   return Status::ok();
 }
@@ -96,14 +105,23 @@ Status GpuDrivenCrowds::update(VkCommandBuffer cmd, uint32_t slot, uint32_t char
   }
   // Layered animation: the overlays while some instance holds one, and the crowd's mask table
   // (masks may be added at any time: compared every frame, as si::gl uploads it every frame).
-  const bool layers = exported.playsOverlays();
-  std::vector<int32_t> mask_table;
+  // 2D blends: the extra layers too, and the compose table (the layers composed in a pass).
+  Layering layering;
+  const bool layers = layering.layers = exported.playsOverlays();
+  layering.extras = layers && exported.writesExtraLayers();
+  std::vector<int32_t> mask_table, compose_values;
   if (layers) mask_table = layerMaskTable(crowd.layerMasks());
-  const uint64_t mask_bytes = mask_table.size() * sizeof(int32_t);
+  if (layering.extras) compose_values = si::detail::layerComposeTable(crowd.layerMasks());
+  layering.mask_bytes = mask_table.size() * sizeof(int32_t);
+  layering.compose_bytes = compose_values.size() * sizeof(int32_t);
   const bool reshaped = n > d.capacity || d.sub_meshes != subs || d.buckets != buckets ||
                         d.state.buffer == VK_NULL_HANDLE || layers != d.layers ||
-                        mask_bytes > d.masks.size;
-  const bool new_masks = layers && mask_table != d.mask_table;
+                        layering.extras != d.extras || layering.mask_bytes > d.masks.size ||
+                        layering.compose_bytes > d.compose_table.size ||
+                        (layering.extras && si::detail::composeShape(compose_values).recordBytes() >
+                                                d.shape.recordBytes());
+  const bool new_masks =
+      layers && (mask_table != d.mask_table || compose_values != d.compose_values);
   if (!reshaped && !new_masks && d.version == exported.stateVersion() && d.instances == n)
     return Status::ok();
   // The palette's clips and frame times: fixed for the crowd's identity (its palette is its
@@ -113,7 +131,7 @@ Status GpuDrivenCrowds::update(VkCommandBuffer cmd, uint32_t slot, uint32_t char
   if (reshaped) {
     exported.clips(&clips, &times);
     Status s = reshape(&d, slot, n, subs, buckets, uint32_t(clips.size()), uint32_t(times.size()),
-                       layers, mask_bytes);
+                       layering);
     if (!s.isOk()) {
       for (GpuBuffer& b : d.staging) retirement_->retire(slot, &b);
       crowds_.erase(key);
@@ -137,8 +155,12 @@ Status GpuDrivenCrowds::update(VkCommandBuffer cmd, uint32_t slot, uint32_t char
     changed_instances = n;
   }
   const VkDeviceSize state_bytes = changed_instances * sizeof(GpuInstanceState);
-  const VkDeviceSize overlay_bytes = layers ? changed_instances * sizeof(GpuOverlayState) : 0;
-  const VkDeviceSize table_bytes = new_masks || (layers && reshaped) ? mask_bytes : 0;
+  const VkDeviceSize overlay_bytes = layers ? changed_instances *
+                                                  (layering.extras ? 1 + kExtraLayerRecords : 1) *
+                                                  sizeof(GpuOverlayState)
+                                            : 0;
+  const bool tables = new_masks || (layers && reshaped);
+  const VkDeviceSize table_bytes = tables ? layering.mask_bytes + layering.compose_bytes : 0;
   const VkDeviceSize clip_bytes = clips.size() * sizeof(GpuClipInfo);
   const VkDeviceSize time_bytes = times.size() * sizeof(double);
   const VkDeviceSize range_bytes = reshaped ? VkDeviceSize(buckets) * 8 : 0;
@@ -177,6 +199,7 @@ Status GpuDrivenCrowds::update(VkCommandBuffer cmd, uint32_t slot, uint32_t char
   }
   if (!regions.empty())
     vkCmdCopyBuffer(cmd, staging.buffer, d.state.buffer, uint32_t(regions.size()), regions.data());
+  upload->regions = uint32_t(regions.size());
   // Then their overlays, run by run as the instances.
   if (layers && !changed_.empty()) {
     exported.overlays(Span<const DenseRange>(changed_.data(), changed_.size()),
@@ -190,8 +213,24 @@ Status GpuDrivenCrowds::update(VkCommandBuffer cmd, uint32_t slot, uint32_t char
     vkCmdCopyBuffer(cmd, staging.buffer, d.overlays.buffer, uint32_t(regions.size()),
                     regions.data());
   }
+  // 2D blends: their extra layers, kExtraLayerRecords an instance after the overlays' capacity
+  // (cull.comp.glsl's u_extras).
+  if (layering.extras && !changed_.empty()) {
+    exported.extraLayers(Span<const DenseRange>(changed_.data(), changed_.size()),
+                         reinterpret_cast<GpuOverlayState*>(to + at));
+    regions.clear();
+    for (const DenseRange& r : changed_) {
+      const VkDeviceSize bytes =
+          VkDeviceSize(r.count) * kExtraLayerRecords * sizeof(GpuOverlayState);
+      const VkDeviceSize first =
+          VkDeviceSize(d.capacity) + VkDeviceSize(r.first) * kExtraLayerRecords;
+      regions.push_back({at, first * sizeof(GpuOverlayState), bytes});
+      at += bytes;
+    }
+    vkCmdCopyBuffer(cmd, staging.buffer, d.overlays.buffer, uint32_t(regions.size()),
+                    regions.data());
+  }
   upload->state_bytes = state_bytes + overlay_bytes;
-  upload->regions = uint32_t(regions.size());
   upload->whole = whole;
   const auto copy = [&](const GpuBuffer& buffer, VkDeviceSize bytes) {
     if (bytes == 0) return;
@@ -199,10 +238,16 @@ Status GpuDrivenCrowds::update(VkCommandBuffer cmd, uint32_t slot, uint32_t char
     vkCmdCopyBuffer(cmd, staging.buffer, buffer.buffer, 1, &region);
     at += bytes;
   };
-  if (table_bytes > 0) {
-    std::memcpy(to + at, mask_table.data(), size_t(table_bytes));
-    copy(d.masks, table_bytes);
+  if (tables) {
+    std::memcpy(to + at, mask_table.data(), size_t(layering.mask_bytes));
+    copy(d.masks, layering.mask_bytes);
+    if (layering.compose_bytes > 0)
+      std::memcpy(to + at, compose_values.data(), size_t(layering.compose_bytes));
+    copy(d.compose_table, layering.compose_bytes);
     d.mask_table = std::move(mask_table);
+    d.shape =
+        layering.extras ? si::detail::composeShape(compose_values) : si::detail::ComposeShape();
+    d.compose_values = std::move(compose_values);
   }
   if (reshaped) {
     if (clip_bytes > 0) std::memcpy(to + at, clips.data(), size_t(clip_bytes));

@@ -15,6 +15,7 @@
 #include <utility>
 #include <vector>
 
+#include "crowd/layer_compose_table.h"
 #include "si/core/status.h"
 #include "si/crowd/crowd_manager.h"
 #include "si/crowd/gpu_crowd_state.h"
@@ -47,21 +48,28 @@ struct DrivenCrowd {
   /// The instances (si::GpuInstanceState), clips, frame times; per bucket its index range and
   /// its pre-skinning list (vertices, list offset, first local index, local indices; 0 vertices
   /// without a ring); the entry indices (vertex binding 1 of the draws: 0 to capacity x
-  /// sub-meshes); layered animation's overlays (si::GpuOverlayState per instance) and layer mask
-  /// table (si::layerMaskTable), 16-byte placeholders while no instance holds an overlay.
-  GpuBuffer state, clips, times, ranges, bucket_info, identity, overlays, masks;
+  /// sub-meshes); layered animation's overlays (si::GpuOverlayState per instance, then with 2D
+  /// blends each instance's two extra layers from index `capacity`), layer mask table
+  /// (si::layerMaskTable) and compose table (2D blends: si::detail::layerComposeTable), 16-byte
+  /// placeholders without.
+  GpuBuffer state, clips, times, ranges, bucket_info, identity, overlays, masks, compose_table;
   std::vector<GpuBuffer> staging;  ///< One per frame slot.
   /// Its device buffers (the staging aside).
-  std::array<GpuBuffer*, 8> buffers() {
-    return {&state, &clips, &times, &ranges, &bucket_info, &identity, &overlays, &masks};
+  std::array<GpuBuffer*, 9> buffers() {
+    return {&state,    &clips,    &times, &ranges,       &bucket_info,
+            &identity, &overlays, &masks, &compose_table};
   }
-  std::array<const GpuBuffer*, 8> buffers() const {
-    return {&state, &clips, &times, &ranges, &bucket_info, &identity, &overlays, &masks};
+  std::array<const GpuBuffer*, 9> buffers() const {
+    return {&state,    &clips,    &times, &ranges,       &bucket_info,
+            &identity, &overlays, &masks, &compose_table};
   }
   /// Layered animation: some instance holds an overlay (CrowdExport::playsOverlays; the views'
-  /// passes write layer records), and the mask table uploaded.
-  bool layers = false;
-  std::vector<int32_t> mask_table;
+  /// passes write layer records), and the mask table uploaded. 2D blends
+  /// (CrowdExport::writesExtraLayers): the extra layers are uploaded and the layers composed
+  /// (the compose table uploaded, and its shape).
+  bool layers = false, extras = false;
+  std::vector<int32_t> mask_table, compose_values;
+  si::detail::ComposeShape shape;
   uint64_t used = 0;               ///< The renderer's frame of its last update.
   /// Motion vectors: the crowd's frames (a step of its clock since the last passes starts one),
   /// the step count they were counted at, and the handle slots its instances use.
@@ -102,8 +110,13 @@ class GpuDrivenCrowds {
   void release();
 
  private:
+  // What a crowd's layered animation needs of its buffers.
+  struct Layering {
+    bool layers = false, extras = false;
+    uint64_t mask_bytes = 0, compose_bytes = 0;
+  };
   Status reshape(DrivenCrowd* d, uint32_t slot, uint32_t n, uint32_t sub_meshes, uint32_t buckets,
-                 uint32_t clips, uint32_t times, bool layers, uint64_t mask_bytes);
+                 uint32_t clips, uint32_t times, const Layering& layering);
   void retire(uint32_t slot, DrivenCrowd* d);
 
   DeviceObjects* objects_ = nullptr;

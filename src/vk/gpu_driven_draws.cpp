@@ -47,7 +47,7 @@ Status GpuDrivenViews::recordDraw(VkCommandBuffer cmd, FrameRegion region, uint3
   DrawStats st;
   for (int d = pulled ? 0 : 1; d < 2; ++d) {
     const ProgramModules& program =
-        (*shared_.programs)[d == 0 ? c.pulled_programs[k] : c.driven_programs[v.layered][k]];
+        (*shared_.programs)[d == 0 ? c.pulled_programs[k] : c.driven_programs[v.layering][k]];
     uint8_t* vertex = region.mapped + at[d][0];
     writeDefault(vertex, program.vertex_reflection, "u_view_projection", &vp[0][0], 64);
     const uint32_t layout_words[2] = {0u, c.source_words};
@@ -61,15 +61,14 @@ Status GpuDrivenViews::recordDraw(VkCommandBuffer cmd, FrameRegion region, uint3
     writeDefault(region.mapped + at[d][1], program.fragment_reflection, "u_light_direction",
                  &light_direction, 12);
     vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_GRAPHICS,
-                      d == 0 ? c.pulled_pipelines[k] : c.driven_pipelines[v.layered][k]);
+                      d == 0 ? c.pulled_pipelines[k] : c.driven_pipelines[v.layering][k]);
     // The pre-skinned draw indexes each list's own vertices; the other the mesh's.
     vkCmdBindIndexBuffer(cmd, d == 0 ? c.local_indices.buffer : c.indices.buffer, 0,
                          VK_INDEX_TYPE_UINT32);
     // Dynamic offsets in binding order: the vertex, then the fragment defaults.
-    uint32_t offsets[2] = {};
-    uint32_t count = 0;
-    for (uint32_t b : shared_.draw_layout->dynamic_bindings)
-      offsets[count++] = uint32_t(b == kVertexDefaultsBinding ? at[d][0] : at[d][1]);
+    uint32_t offsets[kMaxDrawOffsets] = {};
+    const uint32_t count =
+        drawOffsets(shared_.draw_layout->dynamic_bindings, at[d][0], at[d][1], offsets);
     vkCmdBindDescriptorSets(cmd, VK_PIPELINE_BIND_POINT_GRAPHICS,
                             shared_.draw_layout->pipeline_layout, 0, 1, &v.draw_set, count,
                             offsets);

@@ -162,10 +162,9 @@ Status GpuDrivenViews::recordImpostorDraw(VkCommandBuffer cmd, FrameRegion regio
   writeDefault(vertex, program.vertex_reflection, "u_viewer", &viewer[0], 16);
   writeFragmentDefaults(region.mapped + fragment_at, program.fragment_reflection, light_direction);
   vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_GRAPHICS, passes.draws[k]);
-  uint32_t offsets[2] = {};
-  uint32_t count = 0;
-  for (uint32_t b : passes.draw_layout.dynamic_bindings)
-    offsets[count++] = uint32_t(b == kVertexDefaultsBinding ? vertex_at : fragment_at);
+  uint32_t offsets[kMaxDrawOffsets] = {};
+  const uint32_t count =
+      drawOffsets(passes.draw_layout.dynamic_bindings, vertex_at, fragment_at, offsets);
   vkCmdBindDescriptorSets(cmd, VK_PIPELINE_BIND_POINT_GRAPHICS, passes.draw_layout.pipeline_layout,
                           0, 1, &v.impostor_sets[1], count, offsets);
   vkCmdDrawIndirect(cmd, v.commands.buffer, kImpostorCommandBytes, 1, 16);

@@ -21,7 +21,8 @@ bool drivenPassBindingType(uint32_t b, DescriptorKind kind, VkDescriptorType* ty
       b == kLayersOutBinding || b == kDrawnBinding || b == kPreviousOutBinding ||
       b == kPreviousLayersOutBinding || b == kDrivenMaskBinding || b == kLivePosesBinding ||
       b == kRingBinding || b == kSourceBinding || b == kLodVerticesBinding ||
-      b == kTangentRingBinding || b == kPreviousRingBinding;
+      b == kTangentRingBinding || b == kPreviousRingBinding || b == kComposeTableBinding ||
+      b == kComposedRowsBinding || b == kComposedPreviousRowsBinding;
   if (storage && kind == DescriptorKind::kStorageBuffer)
     *type = VK_DESCRIPTOR_TYPE_STORAGE_BUFFER;
   else if (b == kComputeDefaultsBinding && kind == DescriptorKind::kUniformBuffer)

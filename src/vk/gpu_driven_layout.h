@@ -47,6 +47,12 @@ inline constexpr uint32_t kOverlaysBinding = 17 + kStorageBindingShift;
 inline constexpr uint32_t kLayersOutBinding = 18 + kStorageBindingShift;
 inline constexpr uint32_t kPreviousLayersOutBinding = 21 + kStorageBindingShift;
 inline constexpr uint32_t kDrivenMaskBinding = kDrivenMaskStorageBinding + kStorageBindingShift;
+// Composed layers (2D blends): the crowd's compose table (si::detail::layerComposeTable), and
+// the rows the layer compose pass writes per visible instance, and its previous ones (motion
+// vectors), which the pre-skinning pass and the draws read (layer_compose.glsl).
+inline constexpr uint32_t kComposeTableBinding = 23 + kStorageBindingShift;
+inline constexpr uint32_t kComposedRowsBinding = 26 + kStorageBindingShift;
+inline constexpr uint32_t kComposedPreviousRowsBinding = 27 + kStorageBindingShift;
 // Motion vectors: a view's drawn records (two parities: the frame's, the previous one's), each
 // visible instance's previous record (read by the motion draws), and the previous positions'
 // ring (the pre-skinning pass writes it, the pulled motion draw reads it).

@@ -141,6 +141,9 @@ void GpuDrivenViews::writePassSet(VkDescriptorSet set, View* v, const CharacterR
                               : b == kLayersOutBinding               ? &v->layers
                               : b == kPreviousLayersOutBinding       ? &v->previous_layers
                               : b == kDrivenMaskBinding              ? &d.masks
+                              : b == kComposeTableBinding            ? &d.compose_table
+                              : b == kComposedRowsBinding            ? &v->rows
+                              : b == kComposedPreviousRowsBinding    ? &v->previous_rows
                               : b == kComputeDefaultsBinding         ? shared_.ring
                                                                      : shared_.unbuilt;
     if (b == kPyramidBinding || b == kPaletteBinding || b == kMorphBinding) {
@@ -177,6 +180,11 @@ Status GpuDrivenViews::reshape(VkCommandBuffer cmd, View* v, uint32_t slot,
   const uint64_t ring_slots = std::max<uint64_t>(ring_vertices, 1);
   const VkBufferUsageFlags storage =
       VK_BUFFER_USAGE_STORAGE_BUFFER_BIT | VK_BUFFER_USAGE_TRANSFER_DST_BIT;
+  // Layer records: one per instance, then a 2D blend's extra ones (cull.comp.glsl's u_extras);
+  // composed layers' rows: the compose shape's bytes per instance.
+  const uint64_t layer_records = !d.layers ? 1 : capacity * (d.extras ? 1 + kExtraLayerRecords : 1);
+  const uint64_t row_bytes =
+      d.extras ? std::max<uint64_t>(capacity * d.shape.recordBytes(), 16) : 16;
   const BufferNeed needs[] = {
       {&v->lods, capacity * 8, storage, "the view's LODs"},
       {&v->counters, uint64_t(kCounterWords) * 4,
@@ -194,9 +202,12 @@ Status GpuDrivenViews::reshape(VkCommandBuffer cmd, View* v, uint32_t slot,
        "the previous records"},
       {&v->previous_ring, shared_.motion ? ring_slots * 16 : 16, storage,
        "the previous positions' ring"},
-      {&v->layers, d.layers ? capacity * 16 : 16, storage, "the layer records"},
-      {&v->previous_layers, d.layers && shared_.motion ? capacity * 16 : 16, storage,
-       "the previous layer records"}};
+      {&v->layers, layer_records * 16, storage, "the layer records"},
+      {&v->previous_layers, shared_.motion ? layer_records * 16 : 16, storage,
+       "the previous layer records"},
+      {&v->rows, row_bytes, storage, "the composed layers' rows"},
+      {&v->previous_rows, shared_.motion ? row_bytes : 16, storage,
+       "the composed layers' previous rows"}};
   Status s = createBuffers(shared_.objects, Span<const BufferNeed>(needs, std::size(needs)),
                            shared_.max_storage_range, d.capacity);
   if (!s.isOk()) {
@@ -218,7 +229,8 @@ Status GpuDrivenViews::reshape(VkCommandBuffer cmd, View* v, uint32_t slot,
   // The draw's set: the character's resources and the passes' output.
   const DrivenOutputs outputs{v->records, v->entries,         v->visible,  v->entry_data,
                               v->ring,    *tangents,          v->previous, v->previous_ring,
-                              v->layers,  v->previous_layers, d.masks};
+                              v->layers,  v->previous_layers, d.masks,     d.compose_table,
+                              v->rows,    v->previous_rows};
   s = createCharacterSet(
       shared_.objects->device(), shared_.objects->allocator(), *shared_.draw_layout,
       {*shared_.ring, shared_.nearest, shared_.linear, *shared_.custom, *shared_.no_morphs}, c,
@@ -280,8 +292,8 @@ Status GpuDrivenViews::recordPasses(VkCommandBuffer cmd, uint32_t slot, FrameReg
                    "groups than maxComputeWorkGroupCount (",
                    shared_.max_groups_x, " x ", shared_.max_groups_y, ")")};
   // The passes' uniforms first: a full region refuses the frame before anything is recorded.
-  // The cull, commands, scatter, pre-skinning and impostor quads passes'.
-  VkDeviceSize defaults_at[5] = {};
+  // The cull, commands, scatter, pre-skinning, impostor quads and layer compose passes'.
+  VkDeviceSize defaults_at[6] = {};
   for (VkDeviceSize& at : defaults_at) {
     Status s = region.take(kComputeDefaultsRange, &at);
     if (!s.isOk()) return s;
@@ -304,6 +316,10 @@ Status GpuDrivenViews::recordPasses(VkCommandBuffer cmd, uint32_t slot, FrameReg
     return s;
   }
 
+  // 2D blends: the extra layers' first index (of the overlays and of the layer records), and of
+  // the previous ones; 0 without.
+  const uint32_t extras = d->extras ? v.capacity : 0u;
+  const uint32_t previous_extras = d->extras && shared_.motion ? v.capacity : 0u;
   // The passes' uniforms: the same CullParams CrowdView::select() uses.
   const CullParams p = CrowdExport::cullParams(view, camera);
   uint8_t* ring = region.mapped;
@@ -346,10 +362,12 @@ Status GpuDrivenViews::recordPasses(VkCommandBuffer cmd, uint32_t slot, FrameReg
       const glm::vec3 shift = previousRecordShift(v.position, v.previous_position);
       writeDefault(block, r, "u_camera_shift", &shift[0], 12);
     }
-    // Layers: each visible instance's layer record written beside its record (2D blends' extra
-    // layers, at u_extras, are refused by the renderer).
+    // Layers: each visible instance's layer record written beside its record (and a 2D blend's
+    // two extra layer records after them, from u_extras).
     const uint32_t layers = d->layers ? 1u : 0u;
     writeDefault(block, r, "u_layers", &layers, 4);
+    writeDefault(block, r, "u_extras", &extras, 4);
+    writeDefault(block, r, "u_previous_extras", &previous_extras, 4);
   }
   {
     const SpirvReflection& r = shared_.pass_modules[1]->compute_reflection;
@@ -360,9 +378,31 @@ Status GpuDrivenViews::recordPasses(VkCommandBuffer cmd, uint32_t slot, FrameReg
     writeDefault(block, r, "u_max_groups_x", &shared_.max_groups_x, 4);
     writeDefault(block, r, "u_impostor_bucket", &impostor_bucket, 4);
   }
-  v.layered = d->layers;
+  // Layered animation: per vertex, or composed by the layer compose pass (2D blends) over the
+  // visible instances (at most n), its groups in rows as the cull pass's.
+  v.layering = !d->layers ? kNoLayers : d->extras ? kComposedLayers : kLayersPerVertex;
+  if (v.layering == kComposedLayers) {
+    const uint32_t lanes = d->shape.lanes();
+    const uint64_t compose_groups = std::max<uint64_t>(1, (uint64_t(n) * lanes + 63) / 64);
+    v.compose_groups_x = uint32_t(std::min<uint64_t>(compose_groups, shared_.max_groups_x));
+    const uint64_t compose_y = (compose_groups + v.compose_groups_x - 1) / v.compose_groups_x;
+    if (lanes == 0 || compose_y > shared_.max_groups_y) {
+      forget(slot, views_.find(key));
+      return {lanes == 0 ? StatusCode::kUnsupported : StatusCode::kLimitExceeded,
+              strCat("vk::Renderer::recordGpuDrivenPasses: a 2D blend's layers are composed in a "
+                     "pass of ",
+                     lanes, " invocations an instance, which ", n,
+                     " instances pass maxComputeWorkGroupCount with (or masks that hold no joint "
+                     "and no morph target: nothing to compose)")};
+    }
+    v.compose_groups_y = uint32_t(compose_y);
+    const SpirvReflection& compose =
+        (*shared_.programs)[c.compose_programs[shared_.motion]].compute_reflection;
+    const uint32_t compose_words[3] = {n, extras, previous_extras};
+    writeDefault(ring + defaults_at[5], compose, "u_compose", compose_words, 12);
+  }
   const SpirvReflection& skin =
-      (*shared_.programs)[c.skin_programs[v.layered][shared_.motion]].compute_reflection;
+      (*shared_.programs)[c.skin_programs[v.layering][shared_.motion]].compute_reflection;
   writeDefault(ring + defaults_at[3], skin, "u_counts", counts, 16);
   const uint32_t layout_words[2] = {0u, c.source_words};
   writeDefault(ring + defaults_at[3], skin, "u_layout", layout_words, 8);
@@ -402,9 +442,10 @@ Status GpuDrivenViews::recordCullPasses(VkCommandBuffer cmd, View* view, VkDescr
                       VK_ACCESS_SHADER_READ_BIT | VK_ACCESS_SHADER_WRITE_BIT);
   VkPipelineLayout layout = shared_.compute_layout->pipeline_layout;
   const auto bind = [&](int pass) {
-    vkCmdBindPipeline(
-        cmd, VK_PIPELINE_BIND_POINT_COMPUTE,
-        pass < 3 ? shared_.passes[pass] : c.skin_pipelines[v.layered][shared_.motion]);
+    vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_COMPUTE,
+                      pass < 3    ? shared_.passes[pass]
+                      : pass == 3 ? c.skin_pipelines[v.layering][shared_.motion]
+                                  : c.compose_pipelines[shared_.motion]);
     const uint32_t offset = uint32_t(v.defaults_at[pass]);
     vkCmdBindDescriptorSets(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, layout, 0, 1, &set, 1, &offset);
   };
@@ -421,6 +462,13 @@ Status GpuDrivenViews::recordCullPasses(VkCommandBuffer cmd, View* view, VkDescr
       VK_ACCESS_SHADER_READ_BIT | VK_ACCESS_SHADER_WRITE_BIT | VK_ACCESS_INDIRECT_COMMAND_READ_BIT);
   bind(2);
   vkCmdDispatchIndirect(cmd, v.counters.buffer, VkDeviceSize(kDispatchWord) * 4);
+  if (v.layering == kComposedLayers) {
+    // The layer compose pass: each visible instance's masked rows, read by the skinning.
+    recordMemoryBarrier(cmd, VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT, VK_ACCESS_SHADER_WRITE_BIT,
+                        VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT, VK_ACCESS_SHADER_READ_BIT);
+    bind(5);
+    vkCmdDispatch(cmd, v.compose_groups_x, v.compose_groups_y, 1);
+  }
   if (v.ring_vertices != 0) {
     // Every pre-skinned entry's vertices into the ring (the groups the commands pass counted).
     recordMemoryBarrier(cmd, VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT, VK_ACCESS_SHADER_WRITE_BIT,

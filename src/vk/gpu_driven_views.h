@@ -10,8 +10,9 @@
 // Impostors: the impostor quads pass after the scatter pass, the impostor draw after the meshes'
 // (gpu_driven_impostors.cpp). Layered animation: the cull pass writes each visible instance's
 // layer record beside its record, the pre-skinning pass and the draws compose the overlay on its
-// mask per vertex (the layered programs). What is not built yet (2D blends, live poses) is
-// refused by the renderer.
+// mask per vertex (the layered programs); with 2D blends the layer compose pass composes each
+// visible instance's masked rows after the scatter pass, and the skinning reads them (the
+// composed programs). What is not built yet (live poses) is refused by the renderer.
 
 #include <vulkan/vulkan.h>
 
@@ -121,19 +122,45 @@ class GpuDrivenViews {
     // The view's LODs; the passes' counters, records, visible list, entries and indirect
     // commands; pre-skinning's entry data, ring and tangent ring (the ring stands in without);
     // motion vectors' previous records and previous positions' ring (16 bytes without); layered
-    // animation's layer records and previous layer records (16 bytes without).
+    // animation's layer records and previous layer records (16 bytes without), and with composed
+    // layers (2D blends) the rows the compose pass writes, and the previous ones.
     GpuBuffer lods, counters, records, visible, entries, commands;
     GpuBuffer entry_data, ring, tangent_ring, previous, previous_ring, layers, previous_layers;
+    GpuBuffer rows, previous_rows;
     // Its device buffers sized by the crowd (the staging, readback and drawn records aside).
-    std::array<GpuBuffer*, 13> buffers() {
-      return {&lods,          &counters,   &records,        &visible,      &entries,
-              &commands,      &entry_data, &ring,           &tangent_ring, &previous,
-              &previous_ring, &layers,     &previous_layers};
+    std::array<GpuBuffer*, 15> buffers() {
+      return {&lods,
+              &counters,
+              &records,
+              &visible,
+              &entries,
+              &commands,
+              &entry_data,
+              &ring,
+              &tangent_ring,
+              &previous,
+              &previous_ring,
+              &layers,
+              &previous_layers,
+              &rows,
+              &previous_rows};
     }
-    std::array<const GpuBuffer*, 13> buffers() const {
-      return {&lods,          &counters,   &records,        &visible,      &entries,
-              &commands,      &entry_data, &ring,           &tangent_ring, &previous,
-              &previous_ring, &layers,     &previous_layers};
+    std::array<const GpuBuffer*, 15> buffers() const {
+      return {&lods,
+              &counters,
+              &records,
+              &visible,
+              &entries,
+              &commands,
+              &entry_data,
+              &ring,
+              &tangent_ring,
+              &previous,
+              &previous_ring,
+              &layers,
+              &previous_layers,
+              &rows,
+              &previous_rows};
     }
     // Motion vectors: the records the passes drew per handle slot, two parities (the frame's,
     // the previous one's), kept across reshapes; the crowd frame of the view's last passes and
@@ -145,7 +172,9 @@ class GpuDrivenViews {
     glm::dvec3 position{0.0}, previous_position{0.0};
     glm::mat4 view_projection{1.0f}, previous_view_projection{1.0f};
     uint32_t ring_vertices = 0;      // 0: no pre-skinning.
-    bool layered = false;            // The last passes wrote layer records (the crowd's).
+    // How the last passes skinned the crowd's layers (and, composed, the compose pass's groups).
+    Layering layering = kNoLayers;
+    uint32_t compose_groups_x = 1, compose_groups_y = 1;
     std::vector<GpuBuffer> staging;  // Per frame slot: the LODs' seed.
     // Impostors (the crowd's impostor level, 0: none): the quads the impostor quads pass writes,
     // its set and the impostor draw's (for the atlas's clip table `impostor_clips`).
@@ -158,10 +187,10 @@ class GpuDrivenViews {
     std::vector<GpuBuffer> readback;
     bool counted = false;  // Passes were recorded: readback[passes_slot] holds them,
     uint32_t phases = 1;   // of this many phases.
-    // The last passes: their uniforms (the cull, commands, scatter, pre-skinning and impostor
-    // quads passes', in the frame's region), the cull pass's groups, and occlusion culling's
-    // phase (0: none; 1: the first, awaiting recordOcclusion; 2: the second).
-    VkDeviceSize defaults_at[5] = {};
+    // The last passes: their uniforms (the cull, commands, scatter, pre-skinning, impostor quads
+    // and layer compose passes', in the frame's region), the cull pass's groups, and occlusion
+    // culling's phase (0: none; 1: the first, awaiting recordOcclusion; 2: the second).
+    VkDeviceSize defaults_at[6] = {};
     uint32_t groups_x = 1, groups_y = 1;
     uint32_t phase = 0;
     // Occlusion culling: the depth pyramid, and the passes' set of each frame slot with it

@@ -266,12 +266,13 @@ Status Renderer::addCharacter(const Character& character, const BakedPalette& pa
   for (size_t k = 0; k < kVulkanKinds && s.isOk() && m.desc.gpu_driven; ++k) {
     if (VulkanKind(k) == VulkanKind::kMotion && m.desc.motion_format == VK_FORMAT_UNDEFINED)
       continue;
-    for (int layers = 0; layers < 2 && s.isOk(); ++layers) {
-      uint32_t& program = c->driven_programs[layers][k];
-      program = uint32_t(vulkanProgramIndex(VulkanKind(k), layers == 1, variant, true));
+    for (int layering = kNoLayers; layering <= kComposedLayers && s.isOk(); ++layering) {
+      uint32_t& program = c->driven_programs[layering][k];
+      program = uint32_t(vulkanProgramIndex(VulkanKind(k), layering != kNoLayers, variant, true,
+                                            layering == kComposedLayers));
       s = createSkinnedPipeline(m.device(), m.allocator(), m.programs[program],
                                 m.driven_layout.pipeline_layout, formats[k], stream,
-                                &c->driven_pipelines[layers][k]);
+                                &c->driven_pipelines[layering][k]);
     }
     c->pulled_programs[k] =
         uint32_t(vulkanPulledProgramIndex(VulkanKind(k), stream.tangent_offset != 0, variant));
@@ -280,19 +281,28 @@ Status Renderer::addCharacter(const Character& character, const BakedPalette& pa
                                 m.driven_layout.pipeline_layout, formats[k], stream,
                                 &c->pulled_pipelines[k]);
   }
-  for (int layers = 0; layers < 2 && s.isOk() && m.desc.gpu_driven; ++layers)
-    for (int motion = 0; motion < 2 && s.isOk(); ++motion) {
-      using si::detail::ProgramId;
-      const ProgramId id =
-          motion ? (layers ? ProgramId::kGpuSkinMotionLayers : ProgramId::kGpuSkinMotion)
-                 : (layers ? ProgramId::kGpuSkinLayers : ProgramId::kGpuSkin);
-      uint32_t& program = c->skin_programs[layers][motion];
-      program = uint32_t(vulkanComputeProgramIndex(id, variant));
-      if (motion == 1 && m.desc.motion_format == VK_FORMAT_UNDEFINED) continue;
+  // The pre-skinning passes by layering, and the layer compose passes, each alone and with the
+  // previous positions (records) when the renderer draws motion vectors.
+  using si::detail::ProgramId;
+  const ProgramId skin_ids[3][2] = {
+      {ProgramId::kGpuSkin, ProgramId::kGpuSkinMotion},
+      {ProgramId::kGpuSkinLayers, ProgramId::kGpuSkinMotionLayers},
+      {ProgramId::kGpuSkinComposed, ProgramId::kGpuSkinMotionComposed}};
+  for (int motion = 0; motion < 2 && s.isOk() && m.desc.gpu_driven; ++motion) {
+    if (motion == 1 && m.desc.motion_format == VK_FORMAT_UNDEFINED) continue;
+    for (int layering = kNoLayers; layering <= kComposedLayers && s.isOk(); ++layering) {
+      uint32_t& program = c->skin_programs[layering][motion];
+      program = uint32_t(vulkanComputeProgramIndex(skin_ids[layering][motion], variant));
       s = createComputePipeline(m.device(), m.allocator(), m.programs[program],
                                 m.compute_layout.pipeline_layout,
-                                &c->skin_pipelines[layers][motion]);
+                                &c->skin_pipelines[layering][motion]);
     }
+    c->compose_programs[motion] = uint32_t(vulkanComputeProgramIndex(
+        motion == 1 ? ProgramId::kGpuLayerComposeMotion : ProgramId::kGpuLayerCompose, variant));
+    if (s.isOk())
+      s = createComputePipeline(m.device(), m.allocator(), m.programs[c->compose_programs[motion]],
+                                m.compute_layout.pipeline_layout, &c->compose_pipelines[motion]);
+  }
   if (s.isOk())
     s = createCharacterSet(m.device(), m.allocator(), m.layout,
                            {m.ring, m.nearest, m.linear, m.custom, m.no_morphs}, *c, nullptr,

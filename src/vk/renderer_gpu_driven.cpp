@@ -8,6 +8,7 @@
 #include "si/crowd/crowd_export.h"
 #include "si/crowd/crowd_manager.h"
 #include "si/vk/renderer.h"
+#include "vk/draw_state.h"
 #include "vk/renderer_impl.h"
 #include "vk/vulkan_programs.h"
 
@@ -23,15 +24,19 @@ Status Renderer::Impl::initGpuDriven(const VkPhysicalDeviceLimits& limits) {
                                              si::detail::ProgramId::kCullCommands,
                                              si::detail::ProgramId::kCullScatter};
   for (int k = 0; k < 3; ++k) pass_modules[k] = &programs[vulkanComputeProgramIndex(pass_ids[k])];
-  // The layout's passes: the three, and the pre-skinning pass of every mesh variant.
+  // The layout's passes: the three, the pre-skinning passes of every mesh variant and the layer
+  // compose passes (every GPU-driven pass but the depth pyramid's and the impostors').
   std::vector<const ProgramModules*> layout_passes(pass_modules, pass_modules + 3);
-  for (size_t k = 0; k < programs.size(); ++k)
+  for (size_t k = 0; k < programs.size(); ++k) {
+    using si::detail::ProgramId;
+    const ProgramId id = vulkanPrograms()[k].id;
     if (vulkanPrograms()[k].compute &&
-        (vulkanPrograms()[k].id == si::detail::ProgramId::kGpuSkin ||
-         vulkanPrograms()[k].id == si::detail::ProgramId::kGpuSkinMotion ||
-         vulkanPrograms()[k].id == si::detail::ProgramId::kGpuSkinLayers ||
-         vulkanPrograms()[k].id == si::detail::ProgramId::kGpuSkinMotionLayers))
+        (id == ProgramId::kGpuSkin || id == ProgramId::kGpuSkinMotion ||
+         id == ProgramId::kGpuSkinLayers || id == ProgramId::kGpuSkinMotionLayers ||
+         id == ProgramId::kGpuSkinComposed || id == ProgramId::kGpuSkinMotionComposed ||
+         id == ProgramId::kGpuLayerCompose || id == ProgramId::kGpuLayerComposeMotion))
       layout_passes.push_back(&programs[k]);
+  }
   for (size_t k = 0; k < programs.size(); ++k) {
     const VulkanProgram& p = vulkanPrograms()[k];
     if (!p.gpu_driven || p.compute || p.impostor) continue;  // Impostors: a layout of their own.
@@ -66,6 +71,12 @@ Status Renderer::Impl::initGpuDriven(const VkPhysicalDeviceLimits& limits) {
         {VK_FORMAT_UNDEFINED, depth_only_format, VK_FORMAT_UNDEFINED, desc.depth_only_samples},
         &impostor_passes);
   }
+  for (const SkinnedLayout* l : {&driven_layout, &impostor_passes.draw_layout})
+    if (s.isOk() && l->dynamic_bindings.size() > kMaxDrawOffsets)
+      s = {StatusCode::kUnsupported,
+           strCat("vk::Renderer::init: the GPU-driven draw programs declare ",
+                  l->dynamic_bindings.size(), " dynamic buffers, more than the ", kMaxDrawOffsets,
+                  " the draws offset")};
   if (s.isOk())
     s = objects.createBuffer(256, VK_BUFFER_USAGE_STORAGE_BUFFER_BIT, false,
                              "the GPU-driven passes' unbuilt bindings", &unbuilt);
@@ -122,10 +133,7 @@ Status Renderer::recordGpuDrivenPasses(VkCommandBuffer cmd, CharacterId id, cons
             "vk::Renderer::recordGpuDrivenPasses: the view is not attached to a crowd"};
   const CrowdManager& crowd = *view.crowd();
   const CrowdExport exported(crowd);
-  const char* unbuilt = exported.writesExtraLayers()   ? "2D blends (their third and fourth clips, "
-                                                         "CrowdView::extraLayerRecords)"
-                        : exported.livePoseCount() > 0 ? "live poses"
-                                                       : nullptr;
+  const char* unbuilt = exported.livePoseCount() > 0 ? "live poses" : nullptr;
   if (unbuilt != nullptr)
     return {StatusCode::kUnsupported,
             strCat("vk::Renderer::recordGpuDrivenPasses: the Vulkan back-end's GPU-driven path "

@@ -38,7 +38,9 @@ Status createSkinnedLayout(VkDevice device, const VkAllocationCallbacks* allocat
                b == kSourceBinding || b == kLodVerticesBinding || b == kTangentRingBinding ||
                b == kPreviousOutBinding || b == kPreviousRingBinding || b == kLayersOutBinding ||
                b == kPreviousLayersOutBinding || b == kDrivenMaskBinding ||
-               b == kImpostorClipsBinding || b == kImpostorQuadsBinding)
+               b == kComposeTableBinding || b == kComposedRowsBinding ||
+               b == kComposedPreviousRowsBinding || b == kImpostorClipsBinding ||
+               b == kImpostorQuadsBinding)
         type = VK_DESCRIPTOR_TYPE_STORAGE_BUFFER;
       else if (b == kPaletteBinding || b == kBaseColorBinding || b == kCustomBinding ||
                b == kMaterialDataBinding || b == kMorphBinding || b == kImpostorAtlasBinding)

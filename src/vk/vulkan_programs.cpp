@@ -13,7 +13,11 @@ constexpr VulkanKind kKinds[] = {VulkanKind::kShaded, VulkanKind::kDepthOnly, Vu
 
 // The catalog's program of `kind`, with the overlays on their masks or not, of drawCrowd's
 // path or the GPU-driven one.
-ProgramId catalogProgram(VulkanKind kind, bool layers, bool gpu_driven) {
+ProgramId catalogProgram(VulkanKind kind, bool layers, bool composed, bool gpu_driven) {
+  if (gpu_driven && composed)
+    return kind == VulkanKind::kDepthOnly ? ProgramId::kGpuDrivenDepthOnlyComposed
+           : kind == VulkanKind::kMotion  ? ProgramId::kGpuDrivenSkinnedMotionComposed
+                                          : ProgramId::kGpuDrivenSkinnedComposed;
   if (gpu_driven && layers)
     return kind == VulkanKind::kDepthOnly ? ProgramId::kGpuDrivenDepthOnlyLayers
            : kind == VulkanKind::kMotion  ? ProgramId::kGpuDrivenSkinnedMotionLayers
@@ -35,30 +39,45 @@ ProgramId catalogProgram(VulkanKind kind, bool layers, bool gpu_driven) {
 
 // The GPU-driven pre-skinning pass, skinning the previous positions too or not, with the
 // overlays on their masks or not.
-ProgramId gpuSkinProgram(bool motion, bool layers) {
-  if (motion) return layers ? ProgramId::kGpuSkinMotionLayers : ProgramId::kGpuSkinMotion;
-  return layers ? ProgramId::kGpuSkinLayers : ProgramId::kGpuSkin;
+ProgramId gpuSkinProgram(bool motion, bool layers, bool composed) {
+  if (motion)
+    return composed ? ProgramId::kGpuSkinMotionComposed
+           : layers ? ProgramId::kGpuSkinMotionLayers
+                    : ProgramId::kGpuSkinMotion;
+  return composed ? ProgramId::kGpuSkinComposed
+         : layers ? ProgramId::kGpuSkinLayers
+                  : ProgramId::kGpuSkin;
+}
+
+// Layering: 0 none, 1 the overlays composed per vertex ("_layers"), 2 the compose pass's rows
+// read ("_composed": GPU-driven only).
+constexpr int kLayerings[] = {0, 1, 2};
+const char* layeringName(int layering) {
+  return layering == 1 ? "_layers" : layering == 2 ? "_composed" : "";
 }
 
 std::vector<VulkanProgram> makePrograms() {
   std::vector<VulkanProgram> programs;
   for (bool gpu_driven : {false, true})
     for (bool morph : {false, true})
-      for (bool layers : {false, true})
+      for (int layering : kLayerings)
         for (bool eight : {false, true})
           for (bool words : {false, true})
             for (VulkanKind kind : kKinds) {
               if (words && kind == VulkanKind::kDepthOnly) continue;  // It reads no vertex words.
+              if (layering == 2 && !gpu_driven) continue;  // drawCrowd's path composes none yet.
+              const bool layers = layering != 0, composed = layering == 2;
               std::string name = kind == VulkanKind::kShaded      ? "skinned"
                                  : kind == VulkanKind::kDepthOnly ? "depth_only"
                                                                   : "skinned_motion";
               if (gpu_driven) name = "gpu_" + name;
-              if (layers) name += "_layers";
+              name += layeringName(layering);
               if (morph) name += "_morph";
               if (eight) name += "_8";
               if (words) name += "_words";
-              programs.push_back({catalogProgram(kind, layers, gpu_driven), kind, gpu_driven, false,
-                                  false, false, false, layers, morph, eight, words, name});
+              programs.push_back({catalogProgram(kind, layers, composed, gpu_driven), kind,
+                                  gpu_driven, false, false, false, false, layers, morph, eight,
+                                  words, name, composed});
             }
   for (bool tangents : {false, true})
     for (bool words : {false, true})
@@ -92,14 +111,25 @@ std::vector<VulkanProgram> makePrograms() {
     programs.push_back({id, VulkanKind::kShaded, true, true, false, false, false, false, false,
                         false, false, std::string(name)});
   for (bool motion : {false, true})
-    for (bool layers : {false, true})
+    for (int layering : kLayerings)
       for (bool morph : {false, true})
         for (bool eight : {false, true})
-          programs.push_back(
-              {gpuSkinProgram(motion, layers), motion ? VulkanKind::kMotion : VulkanKind::kShaded,
-               true, true, false, false, false, layers, morph, eight, false,
-               std::string("gpu_skin") + (motion ? "_motion" : "") + (layers ? "_layers" : "") +
-                   (morph ? "_morph" : "") + (eight ? "_8" : "")});
+          programs.push_back({gpuSkinProgram(motion, layering != 0, layering == 2),
+                              motion ? VulkanKind::kMotion : VulkanKind::kShaded, true, true, false,
+                              false, false, layering != 0, morph, eight, false,
+                              std::string("gpu_skin") + (motion ? "_motion" : "") +
+                                  layeringName(layering) + (morph ? "_morph" : "") +
+                                  (eight ? "_8" : ""),
+                              layering == 2});
+  // The layer compose pass (its morph variant composes the weights too).
+  for (bool motion : {false, true})
+    for (bool morph : {false, true})
+      programs.push_back(
+          {motion ? ProgramId::kGpuLayerComposeMotion : ProgramId::kGpuLayerCompose,
+           motion ? VulkanKind::kMotion : VulkanKind::kShaded, true, true, false, false, false,
+           true, morph, false, false,
+           std::string("gpu_layer_compose") + (motion ? "_motion" : "") + (morph ? "_morph" : ""),
+           true});
   for (const auto& [id, name] :
        {std::pair{ProgramId::kHizCopy, "hiz_copy"},
         std::pair{ProgramId::kHizCopyMultisample, "hiz_copy_ms"},
@@ -123,13 +153,15 @@ Span<const VulkanProgram> vulkanPrograms() {
   return Span<const VulkanProgram>(programList().data(), programList().size());
 }
 
-size_t vulkanProgramIndex(VulkanKind kind, bool layers, const MeshVariant& mesh, bool gpu_driven) {
+size_t vulkanProgramIndex(VulkanKind kind, bool layers, const MeshVariant& mesh, bool gpu_driven,
+                          bool composed) {
   const bool words = mesh.vertex_words && kind != VulkanKind::kDepthOnly;
   const std::vector<VulkanProgram>& programs = programList();
   for (size_t k = 0; k < programs.size(); ++k)
     if (!programs[k].compute && !programs[k].pulled && !programs[k].impostor &&
         programs[k].gpu_driven == gpu_driven && programs[k].kind == kind &&
-        programs[k].layers == layers && programs[k].morph_targets == mesh.morph_targets &&
+        programs[k].layers == layers && programs[k].composed == composed &&
+        programs[k].morph_targets == mesh.morph_targets &&
         programs[k].eight_influences == mesh.eight_influences && programs[k].vertex_words == words)
       return k;
   return 0;  // makePrograms() lists every combination.
@@ -137,12 +169,14 @@ size_t vulkanProgramIndex(VulkanKind kind, bool layers, const MeshVariant& mesh,
 
 size_t vulkanComputeProgramIndex(ProgramId id, const MeshVariant& mesh) {
   const bool skin = id == ProgramId::kGpuSkin || id == ProgramId::kGpuSkinMotion ||
-                    id == ProgramId::kGpuSkinLayers || id == ProgramId::kGpuSkinMotionLayers;
+                    id == ProgramId::kGpuSkinLayers || id == ProgramId::kGpuSkinMotionLayers ||
+                    id == ProgramId::kGpuSkinComposed || id == ProgramId::kGpuSkinMotionComposed;
+  const bool compose = id == ProgramId::kGpuLayerCompose || id == ProgramId::kGpuLayerComposeMotion;
   const std::vector<VulkanProgram>& programs = programList();
   for (size_t k = 0; k < programs.size(); ++k)
     if (programs[k].compute && programs[k].id == id &&
-        (!skin || (programs[k].morph_targets == mesh.morph_targets &&
-                   programs[k].eight_influences == mesh.eight_influences)))
+        (!(skin || compose) || programs[k].morph_targets == mesh.morph_targets) &&
+        (!skin || programs[k].eight_influences == mesh.eight_influences))
       return k;
   return 0;  // makePrograms() lists every pass and variant.
 }

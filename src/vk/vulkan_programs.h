@@ -45,6 +45,10 @@ struct VulkanProgram {
   bool eight_influences;
   bool vertex_words;
   std::string name;
+  /// With `layers`, on the GPU-driven path: the skinning reads the rows the layer compose pass
+  /// composed ("_composed" in place of "_layers": 2D blends need them), or the compose pass itself
+  /// (kGpuLayerCompose, kGpuLayerComposeMotion: "gpu_layer_compose", per morph variant).
+  bool composed = false;
 };
 
 /// The programs the Vulkan back-end builds so far: the vertex-shader path, shaded, depth only
@@ -52,12 +56,15 @@ struct VulkanProgram {
 /// morph targets, of 4 and of 8 influences, the shaded ones also for meshes with vertex words
 /// (the depth-only stage reads none), ordered by morph targets, layers, 8 influences, vertex
 /// words, then kind; then the GPU-driven path's draws, shaded, depth only and with motion
-/// vectors, without and with layers, for the same meshes in the same order; its pre-skinned draws
+/// vectors, without layers, with layers and with composed layers ("_composed"), for the same
+/// meshes in the same order; its pre-skinned draws
 /// ("gpu_pulled", "_tangents", "_words"; "gpu_pulled_depth_only"; "gpu_pulled_motion",
 /// "_tangents", "_words"); then its compute passes: "cull", "cull_commands", "cull_scatter",
 /// the pre-skinning pass for each mesh ("gpu_skin", "_morph", "_8"), with the previous
-/// positions ("gpu_skin_motion", ...), each without and with layers ("gpu_skin_layers",
-/// "gpu_skin_motion_layers", ...), occlusion culling's depth pyramid passes
+/// positions ("gpu_skin_motion", ...), each without layers, with layers and with composed
+/// layers ("gpu_skin_layers", "gpu_skin_composed", "gpu_skin_motion_layers", ...), the layer
+/// compose pass for meshes without and with morph targets ("gpu_layer_compose", "_motion",
+/// "_morph"), occlusion culling's depth pyramid passes
 /// ("hiz_copy", "hiz_copy_ms", "hiz_reduce"), the impostor quads pass ("impostor_quads") and the
 /// impostor atlas's covered rectangles ("impostor_coverage", "impostor_coverage_rects").
 /// Between the pre-skinned draws and the compute passes: the impostor atlas's capture for each
@@ -74,13 +81,14 @@ struct MeshVariant {
 
 /// The index in vulkanPrograms() of the program of `kind`, with layers or not, for a mesh of
 /// `mesh` (its vertex words ignored for kDepthOnly); the GPU-driven path's draw with
-/// `gpu_driven`.
+/// `gpu_driven`, reading the compose pass's rows with `composed` (GPU-driven, with layers).
 size_t vulkanProgramIndex(VulkanKind kind, bool layers, const MeshVariant& mesh,
-                          bool gpu_driven = false);
+                          bool gpu_driven = false, bool composed = false);
 /// The index in vulkanPrograms() of the GPU-driven compute pass `id` (kCull, kCullCommands,
 /// kCullScatter, kHizCopy, kHizCopyMultisample, kHizReduce, kImpostorQuads, kImpostorCoverage,
-/// kImpostorCoverageRects; kGpuSkin, kGpuSkinMotion, kGpuSkinLayers and kGpuSkinMotionLayers
-/// for a mesh of `mesh`).
+/// kImpostorCoverageRects; the pre-skinning passes kGpuSkin, kGpuSkinMotion and their Layers and
+/// Composed variants, and the compose passes kGpuLayerCompose and kGpuLayerComposeMotion, for a
+/// mesh of `mesh`).
 size_t vulkanComputeProgramIndex(si::detail::ProgramId id, const MeshVariant& mesh = {});
 /// The index in vulkanPrograms() of the impostor capture for a mesh of `mesh`.
 size_t vulkanCaptureProgramIndex(const MeshVariant& mesh);

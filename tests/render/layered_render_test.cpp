@@ -7,7 +7,7 @@
 // overlay; two crowds with other masks draw in one frame, each with its own mask.
 #include <functional>
 
-#include "gl/resources/layer_compose_table.h"
+#include "crowd/layer_compose_table.h"
 #include "render/layered_scenes.h"
 #include "render/render_fixture.h"
 #include "si/crowd/crowd_manager.h"

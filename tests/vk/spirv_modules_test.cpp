@@ -68,11 +68,11 @@ TEST(VulkanSpirv, EveryProgramsStagesAreEmbeddedAndValidForVulkan13) {
   ASSERT_EQ(kSpirvModuleCount, moduleNames().size());
   size_t compute = 0;
   for (const VulkanProgram& p : vulkanPrograms()) compute += p.compute;
-  EXPECT_EQ(compute, 25u) << "the GPU-driven path's cull, commands and scatter passes, 16 "
-                             "pre-skinning variants (with and without the previous positions, "
-                             "without and with layers), "
-                             "3 depth pyramid passes, the impostor quads pass and the impostor "
-                             "atlas's 2 coverage passes";
+  EXPECT_EQ(compute, 37u) << "the GPU-driven path's cull, commands and scatter passes, 24 "
+                             "pre-skinning variants (with and without the previous positions; "
+                             "without layers, with layers and with composed layers), 4 layer "
+                             "compose passes, 3 depth pyramid passes, the impostor quads pass and "
+                             "the impostor atlas's 2 coverage passes";
   for (const std::string& name : moduleNames()) {
     SCOPED_TRACE(name);
     const SpirvModule* m = findSpirvModule(name.c_str());

@@ -6,8 +6,8 @@
 #include <string>
 
 #include "crowd/composed_places.h"
+#include "crowd/layer_compose_table.h"
 #include "gl/paths/dispatch_grid.h"
-#include "gl/resources/layer_compose_table.h"
 
 namespace si::detail {
 

@@ -9,9 +9,9 @@
 #include <cstdint>
 #include <vector>
 
+#include "crowd/layer_compose_table.h"
 #include "gl/programs/program_set.h"
 #include "gl/resources/gl_allocation.h"
-#include "gl/resources/layer_compose_table.h"
 #include "si/core/status.h"
 
 namespace si::detail {

@@ -1,6 +1,6 @@
 // SkinnedInstancing — SPDX-License-Identifier: MIT (see LICENSE)
 // The compose table of composed layers.
-#include "gl/resources/layer_compose_table.h"
+#include "crowd/layer_compose_table.h"
 
 #include <algorithm>
 

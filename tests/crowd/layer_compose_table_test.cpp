@@ -4,7 +4,7 @@
 // GL_MAX_SHADER_STORAGE_BLOCK_SIZE.
 #include <gtest/gtest.h>
 
-#include "gl/resources/layer_compose_table.h"
+#include "crowd/layer_compose_table.h"
 
 namespace si::detail {
 namespace {

@@ -1,8 +1,8 @@
 // SkinnedInstancing — SPDX-License-Identifier: MIT (see LICENSE)
 #pragma once
-// Composed layers' table and sizes (shaders/layer_compose.glsl): which palette slots of each
-// mask the compose pass composes, where their rows go, and whether a frame's rows fit. No GL
-// here.
+// Composed layers' table and sizes (src/gl/shaders/layer_compose.glsl): which palette slots of
+// each mask the compose pass composes, where their rows go, and whether a frame's rows fit.
+// API-free: si::gl's compose pass and si::vk's use it.
 
 #include <cstdint>
 #include <vector>
