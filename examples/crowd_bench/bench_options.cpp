@@ -100,7 +100,9 @@ void printUsage(std::FILE* f) {
       "                   [--gpu-passes] (the paths and views tables' GPU time per pass, read a\n"
       "                   frame late, with the bytes moved; CSVs beside --csv as NAME_passes.csv\n"
       "                   and NAME_views_passes.csv; with --no-gpu-time the paths table's GPU\n"
-      "                   ms is the passes' total: no frame waits for the GPU)\n");
+      "                   ms is the passes' total: no frame waits for the GPU; with --vulkan\n"
+      "                   each pair of rows' GPU time split: GL's compute passes and draws,\n"
+      "                   Vulkan's before the host's rendering and the rest)\n");
 }
 
 bool parseOptions(int argc, char** argv, Options* o) {

@@ -5,6 +5,7 @@
 #include <cstdlib>
 
 #include "crowd_bench/bench_character.h"
+#include "crowd_bench/gpu_passes_table.h"
 
 #if SI_BENCH_VULKAN
 #include "si/vk/renderer.h"
@@ -33,10 +34,13 @@ double differingShare(const std::vector<uint8_t>& a, const std::vector<uint8_t>&
 // skinning and recordGpuDrivenPasses/recordGpuDrivenDraw, the selection the GPU's; with
 // "-occlusion" both phases of occlusion culling, Vulkan's second recorded between two
 // renderings) for setup.frames frames: rows[0] GL's, rows[1] Vulkan's; `apart` the share of the
-// last frames' pixels that differ.
+// last frames' pixels that differ; `vk_before_ms` the median GPU time of what Vulkan recorded
+// before the host's rendering (the GPU-driven passes; occlusion culling's second phase goes with
+// the draws). With RendererDesc::measure_gpu_passes GL's row gets its pass times.
 Status runBoth(Setup& setup, Renderer& gl, examples::HeadlessVulkan& host,
                const BakedPalette& palette, const std::string& scene, uint32_t count,
-               const std::string& path, const LodChoice& lod, Row rows[2], double* apart) {
+               const std::string& path, const LodChoice& lod, Row rows[2], double* apart,
+               double* vk_before_ms) {
   // gpu-culled skins in the vertex stage; gpu-driven pre-skins into the ring first, on both.
   const bool occlusion = path.size() > 10 && path.compare(path.size() - 10, 10, "-occlusion") == 0;
   const std::string base = occlusion ? path.substr(0, path.size() - 10) : path;
@@ -66,7 +70,8 @@ Status runBoth(Setup& setup, Renderer& gl, examples::HeadlessVulkan& host,
   InstanceBatcher gl_batcher, vk_batcher;
   s = gl_batcher.init(gl.batchLimits());
   if (s.isOk()) s = vk_batcher.init(vkr.batchLimits());
-  std::vector<double> update, submit[2], gpu[2];
+  std::vector<double> update, submit[2], gpu[2], before;
+  PassCollector gl_passes(gl);
   uint64_t visible[2] = {};  // GPU-driven: each API's count.
   std::vector<uint8_t> images[2];
   const uint32_t warmup = kWarmupFrames, n = setup.frames;
@@ -80,7 +85,7 @@ Status runBoth(Setup& setup, Renderer& gl, examples::HeadlessVulkan& host,
     if (s.isOk()) s = drawPath(gl, crowd, gl_batcher, path, cam, &gl_stats);
     if (s.isOk() && last) s = setup.context->readPixels(&images[0]);
     vk::DrawStats vk_stats;
-    double vk_ms = 0.0, vk_submit_ms = 0.0;
+    double vk_ms = 0.0, vk_before = 0.0, vk_submit_ms = 0.0;
     if (s.isOk()) {
       examples::HeadlessVulkan::Frame frame;
       frame.clear_color = kClearColor;
@@ -117,10 +122,13 @@ Status runBoth(Setup& setup, Renderer& gl, examples::HeadlessVulkan& host,
         };
         frame.after = draw;
       }
-      s = host.render(frame, draw, {last ? &images[1] : nullptr, nullptr, nullptr, &vk_ms});
+      s = host.render(frame, draw,
+                      {last ? &images[1] : nullptr, nullptr, nullptr, &vk_ms, &vk_before});
       vk_stats.draw_calls = draw_calls;
     }
     if (!s.isOk() || f < warmup) continue;
+    gl_passes.add(gl_stats.gpu_pass_ticket, f);
+    before.push_back(vk_before);
     update.push_back(update_ms);
     submit[0].push_back(gl_stats.cpu_submit_ms);
     gpu[0].push_back(gl_stats.gpu_ms);
@@ -139,6 +147,8 @@ Status runBoth(Setup& setup, Renderer& gl, examples::HeadlessVulkan& host,
     }
   }
   vkr.shutdown();
+  gl_passes.finish(&rows[0]);
+  *vk_before_ms = median(before);
   for (int k = 0; k < 2; ++k) {
     rows[k].scene = scene;
     rows[k].path = path;
@@ -192,13 +202,32 @@ Status vulkanTable(Setup& setup, const BakedPalette& palette, const RendererDesc
       }
       for (uint32_t count : sizes) {
         Row rows[2];
-        double apart = 1.0;
-        s = runBoth(setup, gl, host, palette, scene, count, path, lod, rows, &apart);
+        double apart = 1.0, vk_before_ms = 0.0;
+        s = runBoth(setup, gl, host, palette, scene, count, path, lod, rows, &apart, &vk_before_ms);
         if (!s.isOk()) return s;
         for (const Row& r : rows) {
           printSideBySideRow(r, rows[0], "vulkan", csv);
           std::printf(" %12llu %11.4f%%\n", static_cast<unsigned long long>(r.covered_pixels),
                       &r == &rows[0] ? 0.0 : 100.0 * apart);
+        }
+        // --gpu-passes: where each API's GPU time goes, the compute passes and the draws.
+        if (rows[0].pass_ms.size() == kGpuPassCount) {
+          double gl_draws = 0.0, gl_passes = 0.0;
+          for (uint32_t p = 0; p < kGpuPassCount; ++p)
+            (p == uint32_t(GpuPass::kDraw) || p == uint32_t(GpuPass::kImpostors) ? gl_draws
+                                                                                 : gl_passes) +=
+                rows[0].pass_ms[p];
+          std::printf(
+              "    GPU ms: GL passes %.3f (cull %.3f, commands %.3f, scatter %.3f, skin %.3f), "
+              "draws %.3f; Vulkan before the rendering %.3f, the rest %.3f%s\n",
+              gl_passes, rows[0].pass_ms[uint32_t(GpuPass::kCull)],
+              rows[0].pass_ms[uint32_t(GpuPass::kCommands)],
+              rows[0].pass_ms[uint32_t(GpuPass::kScatter)],
+              rows[0].pass_ms[uint32_t(GpuPass::kSkin)], gl_draws, vk_before_ms,
+              rows[1].gpu_ms - vk_before_ms,
+              path.find("-occlusion") != std::string::npos
+                  ? " (the rest: Vulkan's second phase and draws)"
+                  : "");
         }
       }
     }

@@ -193,7 +193,7 @@ Status HeadlessVulkan::create(uint32_t width, uint32_t height, VkSampleCountFlag
   if (s.isOk() && timestamps_valid_) {
     auto query = vkStruct<VkQueryPoolCreateInfo>(VK_STRUCTURE_TYPE_QUERY_POOL_CREATE_INFO);
     query.queryType = VK_QUERY_TYPE_TIMESTAMP;
-    query.queryCount = 2;
+    query.queryCount = 3;
     s = checkVk(vkCreateQueryPool(device_, &query, nullptr, &timestamps_), "vkCreateQueryPool");
   }
   VkPhysicalDeviceProperties props{};
@@ -395,10 +395,13 @@ Status HeadlessVulkan::render(const Frame& frame,
     rendering.pColorAttachments = colors.empty() ? nullptr : colors.data();
     rendering.pDepthAttachment = &depth;
     if (out.gpu_ms != nullptr) {
-      vkCmdResetQueryPool(cmd, timestamps_, 0, 2);
+      vkCmdResetQueryPool(cmd, timestamps_, 0, 3);
       vkCmdWriteTimestamp(cmd, VK_PIPELINE_STAGE_TOP_OF_PIPE_BIT, timestamps_, 0);
     }
     const Status prepared = frame.before ? frame.before(cmd) : Status::ok();
+    // Once what Frame::before recorded is done: its share of the GPU time.
+    if (out.gpu_ms != nullptr)
+      vkCmdWriteTimestamp(cmd, VK_PIPELINE_STAGE_BOTTOM_OF_PIPE_BIT, timestamps_, 2);
     vkCmdBeginRendering(cmd, &rendering);
     Status drawn = prepared.isOk() ? draw(cmd) : prepared;
     if (frame.between) {
@@ -478,12 +481,14 @@ Status HeadlessVulkan::render(const Frame& frame,
   }
   vkUnmapMemory(device_, readback_memory_);
   if (out.gpu_ms != nullptr) {
-    uint64_t stamps[2] = {};
-    const Status read = checkVk(vkGetQueryPoolResults(device_, timestamps_, 0, 2, sizeof(stamps),
+    uint64_t stamps[3] = {};
+    const Status read = checkVk(vkGetQueryPoolResults(device_, timestamps_, 0, 3, sizeof(stamps),
                                                       stamps, 8, VK_QUERY_RESULT_64_BIT),
                                 "vkGetQueryPoolResults");
     if (!read.isOk()) return read;
     *out.gpu_ms = double(stamps[1] - stamps[0]) * timestamp_period_ns_ * 1e-6;
+    if (out.before_gpu_ms != nullptr)
+      *out.before_gpu_ms = double(stamps[2] - stamps[0]) * timestamp_period_ns_ * 1e-6;
   }
   return Status::ok();
 }

@@ -65,8 +65,10 @@ class HeadlessVulkan {
     std::vector<uint8_t>* rgba = nullptr;      ///< The colour: RGBA8, rows top to bottom.
     std::vector<float>* depth = nullptr;       ///< Window depth, 0-1.
     std::vector<glm::vec2>* motion = nullptr;  ///< The motion attachment (Frame::motion).
-    /// GPU time from before Frame::before to after `draw` (or Frame::after).
+    /// GPU time from before Frame::before to after `draw` (or Frame::after), and (with gpu_ms)
+    /// of Frame::before alone (to a timestamp once its work is done; the GPU-driven passes).
     double* gpu_ms = nullptr;
+    double* before_gpu_ms = nullptr;
   };
   /// One frame: Frame::before recorded, the targets cleared as `frame` says, `draw` recording
   /// inside dynamic rendering over them, then what `out` asks read back. It waits for the frame.
@@ -101,7 +103,8 @@ class HeadlessVulkan {
   // The attachments; multisampled, also their resolved images (read back).
   Target color_, depth_, motion_;
   Target color_resolved_, depth_resolved_, motion_resolved_;
-  VkQueryPool timestamps_ = VK_NULL_HANDLE;  // Two: before and after a frame's draw.
+  // Three: before a frame's Frame::before, after its draw, and after Frame::before.
+  VkQueryPool timestamps_ = VK_NULL_HANDLE;
   bool timestamps_valid_ = false;
   float timestamp_period_ns_ = 1.0f;
   VkBuffer readback_ = VK_NULL_HANDLE;
