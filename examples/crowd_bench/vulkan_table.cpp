@@ -219,11 +219,14 @@ Status vulkanTable(Setup& setup, const BakedPalette& palette, const RendererDesc
                 rows[0].pass_ms[p];
           std::printf(
               "    GPU ms: GL passes %.3f (cull %.3f, commands %.3f, scatter %.3f, skin %.3f), "
-              "draws %.3f; Vulkan before the rendering %.3f, the rest %.3f%s\n",
+              "draws %.3f (meshes %.3f, impostors %.3f); Vulkan before the rendering %.3f, the "
+              "rest %.3f%s\n",
               gl_passes, rows[0].pass_ms[uint32_t(GpuPass::kCull)],
               rows[0].pass_ms[uint32_t(GpuPass::kCommands)],
               rows[0].pass_ms[uint32_t(GpuPass::kScatter)],
-              rows[0].pass_ms[uint32_t(GpuPass::kSkin)], gl_draws, vk_before_ms,
+              rows[0].pass_ms[uint32_t(GpuPass::kSkin)], gl_draws,
+              rows[0].pass_ms[uint32_t(GpuPass::kDraw)],
+              rows[0].pass_ms[uint32_t(GpuPass::kImpostors)], vk_before_ms,
               rows[1].gpu_ms - vk_before_ms,
               path.find("-occlusion") != std::string::npos
                   ? " (the rest: Vulkan's second phase and draws)"
