@@ -55,14 +55,13 @@ struct DrivenCrowd {
   GpuBuffer state, clips, times, ranges, bucket_info, identity, overlays, masks, compose_table;
   std::vector<GpuBuffer> staging;  ///< One per frame slot.
   /// Its device buffers (the staging aside).
-  std::array<GpuBuffer*, 9> buffers() {
-    return {&state,    &clips,    &times, &ranges,       &bucket_info,
-            &identity, &overlays, &masks, &compose_table};
+  template <typename Self>
+  static auto bufferList(Self& d) {
+    return std::array{&d.state,    &d.clips,    &d.times, &d.ranges,       &d.bucket_info,
+                      &d.identity, &d.overlays, &d.masks, &d.compose_table};
   }
-  std::array<const GpuBuffer*, 9> buffers() const {
-    return {&state,    &clips,    &times, &ranges,       &bucket_info,
-            &identity, &overlays, &masks, &compose_table};
-  }
+  std::array<GpuBuffer*, 9> buffers() { return bufferList(*this); }
+  std::array<const GpuBuffer*, 9> buffers() const { return bufferList(*this); }
   /// Layered animation: some instance holds an overlay (CrowdExport::playsOverlays; the views'
   /// passes write layer records), and the mask table uploaded. 2D blends
   /// (CrowdExport::writesExtraLayers): the extra layers are uploaded and the layers composed

@@ -128,40 +128,26 @@ class GpuDrivenViews {
     GpuBuffer entry_data, ring, tangent_ring, previous, previous_ring, layers, previous_layers;
     GpuBuffer rows, previous_rows;
     // Its device buffers sized by the crowd (the staging, readback and drawn records aside).
-    std::array<GpuBuffer*, 15> buffers() {
-      return {&lods,
-              &counters,
-              &records,
-              &visible,
-              &entries,
-              &commands,
-              &entry_data,
-              &ring,
-              &tangent_ring,
-              &previous,
-              &previous_ring,
-              &layers,
-              &previous_layers,
-              &rows,
-              &previous_rows};
+    template <typename Self>
+    static auto bufferList(Self& v) {
+      return std::array{&v.lods,
+                        &v.counters,
+                        &v.records,
+                        &v.visible,
+                        &v.entries,
+                        &v.commands,
+                        &v.entry_data,
+                        &v.ring,
+                        &v.tangent_ring,
+                        &v.previous,
+                        &v.previous_ring,
+                        &v.layers,
+                        &v.previous_layers,
+                        &v.rows,
+                        &v.previous_rows};
     }
-    std::array<const GpuBuffer*, 15> buffers() const {
-      return {&lods,
-              &counters,
-              &records,
-              &visible,
-              &entries,
-              &commands,
-              &entry_data,
-              &ring,
-              &tangent_ring,
-              &previous,
-              &previous_ring,
-              &layers,
-              &previous_layers,
-              &rows,
-              &previous_rows};
-    }
+    std::array<GpuBuffer*, 15> buffers() { return bufferList(*this); }
+    std::array<const GpuBuffer*, 15> buffers() const { return bufferList(*this); }
     // Motion vectors: the records the passes drew per handle slot, two parities (the frame's,
     // the previous one's), kept across reshapes; the crowd frame of the view's last passes and
     // of its last camera, whether that camera was the previous frame's, and both cameras.

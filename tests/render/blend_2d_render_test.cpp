@@ -7,6 +7,7 @@
 #include <cstring>
 #include <utility>
 
+#include "render/layered_scenes.h"
 #include "render/render_fixture.h"
 #include "si/crowd/crowd_manager.h"
 #include "si/gl/motion_target.h"
@@ -33,14 +34,7 @@ class Blend2dRenderTest : public RenderTest {
     uint32_t id = 0;
     ASSERT_TRUE(crowd->addLayerMask(body, &id).isOk());
     ASSERT_TRUE(crowd->addLayerMask(arm, &id).isOk());
-    const auto clip = [&](const char* name) { return uint32_t(palette().findClip(name)); };
-    BlendSpace grid;
-    grid.name = "grid";
-    grid.clips = {clip("idle"), clip("walk"), clip("run"), clip("wave")};
-    grid.positions = {0.0f, 1.0f};
-    grid.positions_y = {0.0f, 1.0f};
-    grid.mask = 0;
-    ASSERT_TRUE(crowd->addBlendSpace(grid, &id).isOk());
+    ASSERT_TRUE(crowd->addBlendSpace(idleWalkRunWaveGrid(0), &id).isOk());
   }
   // 12 instances: two thirds blend at points over the grid (inside cells, on its lines, one at a
   // corner), a third of those fading in; every fourth waves its arm instead (an overlay).

@@ -2,7 +2,8 @@
 #pragma once
 // The layered animation tests' scene (si::gl's layered_render_test.cpp, si::vk's
 // vk_layers_test.cpp): walkers of the embedded character, two thirds waving an arm (an overlay
-// on the mask rooted at a joint), and the close camera that sees them.
+// on the mask rooted at a joint), and the close camera that sees them; the 2D blend space the
+// blend tests play (blend_2d_render_test.cpp, vk_layers_test.cpp).
 #include <gtest/gtest.h>
 
 #include <vector>
@@ -45,6 +46,19 @@ inline void populateWavingCrowd(CrowdManager* crowd, std::vector<InstanceHandle>
       ASSERT_TRUE(crowd->playOverlay(h, wave, mask, 1.0f, k % 3 == 0 ? 0.0 : 1.0, 0.13 * k).isOk());
     }
   }
+}
+
+// The embedded character's idle, walk, run and wave clips on a 2x2 grid (x and y from 0 to 1),
+// composed on the crowd's layer mask `mask`.
+inline BlendSpace idleWalkRunWaveGrid(uint32_t mask) {
+  const auto clip = [](const char* name) { return uint32_t(palette().findClip(name)); };
+  BlendSpace grid;
+  grid.name = "grid";
+  grid.clips = {clip("idle"), clip("walk"), clip("run"), clip("wave")};
+  grid.positions = {0.0f, 1.0f};
+  grid.positions_y = {0.0f, 1.0f};
+  grid.mask = mask;
+  return grid;
 }
 
 }  // namespace si::test

@@ -8,6 +8,8 @@
 // (whose third and fourth clips need the compose pass) is refused by name.
 #include <glad/gl.h>
 
+#include <functional>
+
 #include "render/layered_scenes.h"
 #include "si/core/layer_mask.h"
 #include "si/crowd/crowd_export.h"
@@ -73,16 +75,14 @@ class VulkanLayersTest : public VulkanRenderFixture {
     ASSERT_TRUE(context_->readPixels(image).isOk());
   }
   // One GPU-driven frame of `crowd` by `r` (character `id`) in frame slot `slot`: its passes
-  // with `camera`, then its draw in `mode`; the image, depth and motion read back (each may be
-  // null), what the passes uploaded into `stats` (may be null).
+  // with `camera`, then its draw in `mode`; the image and depth read back (each may be null),
+  // what the passes uploaded into `stats` (may be null).
   void vkDriven(vk::Renderer* r, vk::CharacterId id, uint32_t slot, const CrowdManager& crowd,
                 const Camera& camera, vk::DrawMode mode, std::vector<uint8_t>* image,
-                std::vector<float>* depth, std::vector<glm::vec2>* motion = nullptr,
-                vk::PassStats* stats = nullptr) {
+                std::vector<float>* depth, vk::PassStats* stats = nullptr) {
     examples::HeadlessVulkan::Frame frame;
     frame.clear_color = kBackground;
     frame.color = mode == vk::DrawMode::kShaded;
-    frame.motion = motion != nullptr;
     frame.before = [&](VkCommandBuffer cmd) {
       const Status begun = r->beginFrame(slot);
       return begun.isOk() ? r->recordGpuDrivenPasses(cmd, id, crowd.view(), camera, stats) : begun;
@@ -92,7 +92,7 @@ class VulkanLayersTest : public VulkanRenderFixture {
     const Status s = host_.render(
         frame,
         [&](VkCommandBuffer cmd) { return r->recordGpuDrivenDraw(cmd, target, id, crowd.view()); },
-        {image, depth, motion});
+        {image, depth});
     ASSERT_TRUE(s.isOk()) << s.toString();
   }
   // `count` instances in two rows playing a 2D blend of idle, walk, run and wave on a full-body
@@ -107,14 +107,7 @@ class VulkanLayersTest : public VulkanRenderFixture {
     ASSERT_TRUE(buildFullBodyMask(character().skeleton, palette(), "body", &body).isOk());
     uint32_t id = 0;
     ASSERT_TRUE(crowd->addLayerMask(body, &id).isOk());
-    const auto clip = [&](const char* name) { return uint32_t(palette().findClip(name)); };
-    BlendSpace grid;
-    grid.name = "grid";
-    grid.clips = {clip("idle"), clip("walk"), clip("run"), clip("wave")};
-    grid.positions = {0.0f, 1.0f};
-    grid.positions_y = {0.0f, 1.0f};
-    grid.mask = id;
-    ASSERT_TRUE(crowd->addBlendSpace(grid, &id).isOk());
+    ASSERT_TRUE(crowd->addBlendSpace(idleWalkRunWaveGrid(id), &id).isOk());
     for (int k = 0; k < count; ++k) {
       InstanceDesc d;
       d.position = glm::dvec3((k % 4 - 1.5) * 1.2, 0.0, -3.0 - 1.5 * (k / 4));
@@ -125,6 +118,45 @@ class VulkanLayersTest : public VulkanRenderFixture {
       ASSERT_TRUE(crowd->playBlend(h, id, at, 0.0, 0.2).isOk());
     }
     ASSERT_TRUE(crowd->update(0.5, closeView()).isOk());
+  }
+  // Two GPU-driven frames of a crowd `make` fills (a fresh one each time), pre-skinned and in the
+  // vertex stage, the second 1/30 s on with the camera moved: the colour and the motion that
+  // si::gl's drawCrowdGpuCulled writes for the same frames (MotionTarget's rows run bottom to
+  // top: the colour is compared through the motion check).
+  void expectDrivenMotionOfOpenGl(const std::function<void(CrowdManager*)>& make) {
+    RendererDesc gd;
+    gd.motion_vectors = true;
+    Renderer gl;
+    ASSERT_TRUE(gl.init(info_, gd).isOk());
+    CharacterId gl_id;
+    ASSERT_TRUE(gl.addCharacter(character(), palette(), &gl_id).isOk());
+    for (const bool pre_skinned : {true, false}) {
+      SCOPED_TRACE(pre_skinned ? "pre-skinned" : "skinned in the vertex stage");
+      CrowdManager crowd;
+      ASSERT_NO_FATAL_FAILURE(make(&crowd));
+      vk::RendererDesc rd;
+      rd.gpu_driven = true;
+      rd.motion_format = examples::HeadlessVulkan::kMotionFormat;
+      if (!pre_skinned) rd.gpu_driven_ring_bytes = 0;
+      vk::Renderer r;
+      vk::CharacterId id;
+      ASSERT_NO_FATAL_FAILURE(startRenderer(rd, &r, &id));
+      MotionTarget target;
+      ASSERT_TRUE(target.create(kSize, kSize).isOk());
+      std::vector<uint8_t> gl_image, image;
+      std::vector<glm::vec2> gl_motion, motion;
+      for (uint32_t f = 0; f < 2; ++f) {
+        if (f == 1) {
+          ASSERT_TRUE(crowd.advance(1.0 / 30.0).isOk());
+        }
+        ASSERT_NO_FATAL_FAILURE(drivenMotionFrame(gl, gl_id, target, r, id, f, crowd,
+                                                  closeView(int(f)), pre_skinned, &gl_image,
+                                                  &gl_motion, &image, &motion));
+      }
+      expectMotionOfOpenGl(image, motion, gl_image, gl_motion, 1.0f);
+      r.shutdown();
+    }
+    gl.shutdown();
   }
   std::vector<InstanceHandle> handles_;
 };
@@ -232,8 +264,8 @@ TEST_P(VulkanLayersTest, TheGpuDrivenPathDrawsOverlaysAsOpenGlsDoes) {
     std::vector<uint8_t> gl_plain, plain;
     ASSERT_NO_FATAL_FAILURE(glDriven(&gl, gl_id, crowd, closeView(), pre_skinned, &gl_plain));
     vk::PassStats uploaded;
-    ASSERT_NO_FATAL_FAILURE(vkDriven(&r, id, 0, crowd, closeView(), vk::DrawMode::kShaded, &plain,
-                                     nullptr, nullptr, &uploaded));
+    ASSERT_NO_FATAL_FAILURE(
+        vkDriven(&r, id, 0, crowd, closeView(), vk::DrawMode::kShaded, &plain, nullptr, &uploaded));
     EXPECT_FALSE(uploaded.whole_upload);
     EXPECT_EQ(uploaded.state_bytes_uploaded,
               2 * (sizeof(GpuInstanceState) + sizeof(GpuOverlayState)));
@@ -252,47 +284,10 @@ TEST_P(VulkanLayersTest, TheGpuDrivenPathDrawsOverlaysAsOpenGlsDoes) {
 // with the previous layer record the view drew, as si::gl's drawCrowdGpuCulled writes.
 TEST_P(VulkanLayersTest, TheGpuDrivenMotionFollowsTheOverlayAsOpenGlsDoes) {
   SI_START_VULKAN_HOST();
-  RendererDesc gd;
-  gd.motion_vectors = true;
-  Renderer gl;
-  ASSERT_TRUE(gl.init(info_, gd).isOk());
-  CharacterId gl_id;
-  ASSERT_TRUE(gl.addCharacter(character(), palette(), &gl_id).isOk());
-  for (const bool pre_skinned : {true, false}) {
-    SCOPED_TRACE(pre_skinned ? "pre-skinned" : "skinned in the vertex stage");
-    CrowdManager crowd;
+  ASSERT_NO_FATAL_FAILURE(expectDrivenMotionOfOpenGl([&](CrowdManager* crowd) {
     handles_.clear();
-    ASSERT_NO_FATAL_FAILURE(populate(&crowd, false));
-    vk::RendererDesc rd;
-    rd.gpu_driven = true;
-    rd.motion_format = examples::HeadlessVulkan::kMotionFormat;
-    if (!pre_skinned) rd.gpu_driven_ring_bytes = 0;
-    vk::Renderer r;
-    vk::CharacterId id;
-    ASSERT_NO_FATAL_FAILURE(startRenderer(rd, &r, &id));
-    MotionTarget target;
-    ASSERT_TRUE(target.create(kSize, kSize).isOk());
-    std::vector<uint8_t> gl_image, image;
-    std::vector<glm::vec2> gl_motion, motion;
-    for (uint32_t f = 0; f < 2; ++f) {
-      if (f == 1) {
-        ASSERT_TRUE(crowd.advance(1.0 / 30.0).isOk());
-      }
-      target.clear(kBackground);
-      const Status drawn =
-          gl.drawCrowdGpuCulled(gl_id, crowd.view(), closeView(int(f)), nullptr,
-                                pre_skinned ? DrawMode::kDefault : DrawMode::kSkinned);
-      target.restore();
-      ASSERT_TRUE(drawn.isOk()) << drawn.toString();
-      ASSERT_TRUE(target.readMotion(&gl_motion).isOk());
-      ASSERT_TRUE(target.readColor(&gl_image).isOk());
-      ASSERT_NO_FATAL_FAILURE(vkDriven(&r, id, f, crowd, closeView(int(f)), vk::DrawMode::kShaded,
-                                       &image, nullptr, &motion));
-    }
-    expectMotionOfOpenGl(image, motion, gl_image, gl_motion, 1.0f);
-    r.shutdown();
-  }
-  gl.shutdown();
+    populate(crowd, false);
+  }));
   EXPECT_TRUE(host_.messages().empty()) << messages();
 }
 
@@ -303,48 +298,10 @@ TEST_P(VulkanLayersTest, TheGpuDrivenMotionFollowsTheOverlayAsOpenGlsDoes) {
 // against si::gl's, pre-skinned and in the vertex stage.
 TEST_P(VulkanLayersTest, TheGpuDrivenPathDrawsTwoDimensionalBlendsAsOpenGlsDoes) {
   SI_START_VULKAN_HOST();
-  RendererDesc gd;
-  gd.motion_vectors = true;
-  Renderer gl;
-  ASSERT_TRUE(gl.init(info_, gd).isOk());
-  CharacterId gl_id;
-  ASSERT_TRUE(gl.addCharacter(character(), palette(), &gl_id).isOk());
-  for (const bool pre_skinned : {true, false}) {
-    SCOPED_TRACE(pre_skinned ? "pre-skinned" : "skinned in the vertex stage");
-    CrowdManager crowd;
-    ASSERT_NO_FATAL_FAILURE(blendingCrowd(&crowd, 8));
-    ASSERT_TRUE(CrowdExport(crowd).writesExtraLayers());
-    vk::RendererDesc rd;
-    rd.gpu_driven = true;
-    rd.motion_format = examples::HeadlessVulkan::kMotionFormat;
-    if (!pre_skinned) rd.gpu_driven_ring_bytes = 0;
-    vk::Renderer r;
-    vk::CharacterId id;
-    ASSERT_NO_FATAL_FAILURE(startRenderer(rd, &r, &id));
-    MotionTarget target;
-    ASSERT_TRUE(target.create(kSize, kSize).isOk());
-    std::vector<uint8_t> gl_image, image;
-    std::vector<glm::vec2> gl_motion, motion;
-    for (uint32_t f = 0; f < 2; ++f) {
-      if (f == 1) {
-        ASSERT_TRUE(crowd.advance(1.0 / 30.0).isOk());
-      }
-      target.clear(kBackground);
-      const Status drawn =
-          gl.drawCrowdGpuCulled(gl_id, crowd.view(), closeView(int(f)), nullptr,
-                                pre_skinned ? DrawMode::kDefault : DrawMode::kSkinned);
-      target.restore();
-      ASSERT_TRUE(drawn.isOk()) << drawn.toString();
-      ASSERT_TRUE(target.readMotion(&gl_motion).isOk());
-      ASSERT_TRUE(target.readColor(&gl_image).isOk());
-      ASSERT_NO_FATAL_FAILURE(vkDriven(&r, id, f, crowd, closeView(int(f)), vk::DrawMode::kShaded,
-                                       &image, nullptr, &motion));
-    }
-    // MotionTarget's rows run bottom to top: the colour compared through the motion check.
-    expectMotionOfOpenGl(image, motion, gl_image, gl_motion, 1.0f);
-    r.shutdown();
-  }
-  gl.shutdown();
+  ASSERT_NO_FATAL_FAILURE(expectDrivenMotionOfOpenGl([&](CrowdManager* crowd) {
+    blendingCrowd(crowd, 8);
+    ASSERT_TRUE(CrowdExport(*crowd).writesExtraLayers());
+  }));
   EXPECT_TRUE(host_.messages().empty()) << messages();
 }
 

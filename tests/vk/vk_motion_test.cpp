@@ -133,28 +133,9 @@ TEST_P(VulkanMotionTest, TheGpuDrivenPathsMotionIsWhatOpenGlWrites) {
         ASSERT_NO_FATAL_FAILURE(changeClips(&crowd, handles));
       }
       ASSERT_TRUE(crowd.advance(f == 0 ? 0.05 : 1.0 / 30.0).isOk());
-      const Camera cam = camera(2 * f);
-      target.clear(kBackground);
-      const Status drawn = gl.drawCrowdGpuCulled(
-          gl_id, crowd.view(), cam, nullptr, pre_skinned ? DrawMode::kDefault : DrawMode::kSkinned);
-      target.restore();
-      ASSERT_TRUE(drawn.isOk()) << drawn.toString();
-      ASSERT_TRUE(target.readMotion(&gl_motion).isOk());
-      ASSERT_TRUE(target.readColor(&gl_image).isOk());
-      examples::HeadlessVulkan::Frame frame;
-      frame.clear_color = kBackground;
-      frame.motion = true;
-      frame.before = [&](VkCommandBuffer cmd) {
-        const Status begun = r.beginFrame(f);
-        return begun.isOk() ? r.recordGpuDrivenPasses(cmd, id, crowd.view(), cam) : begun;
-      };
-      const Status s = host_.render(
-          frame,
-          [&](VkCommandBuffer cmd) {
-            return r.recordGpuDrivenDraw(cmd, vk::DrawTarget{{kSize, kSize}}, id, crowd.view());
-          },
-          {&image, nullptr, &motion});
-      ASSERT_TRUE(s.isOk()) << s.toString();
+      ASSERT_NO_FATAL_FAILURE(drivenMotionFrame(gl, gl_id, target, r, id, f, crowd, camera(2 * f),
+                                                pre_skinned, &gl_image, &gl_motion, &image,
+                                                &motion));
     }
     expectMotionOfOpenGl(image, motion, gl_image, gl_motion, 2.0f);
     r.shutdown();

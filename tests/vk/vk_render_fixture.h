@@ -107,6 +107,39 @@ class VulkanRenderFixture : public RenderTest {
     ASSERT_TRUE(target.readColor(image).isOk());
   }
 
+  // One frame of `crowd` with `camera`: si::gl's drawCrowdGpuCulled (`gl`, `gl_id`; pre-skinned
+  // or in the vertex stage) into `target` over kBackground, its colour and motion into
+  // `gl_image` and `gl_motion` (rows bottom to top); then `r`'s GPU-driven passes and shaded draw
+  // of character `id` in frame slot `slot`, its colour and motion into `image` and `motion`.
+  void drivenMotionFrame(Renderer& gl, CharacterId gl_id, MotionTarget& target, vk::Renderer& r,
+                         vk::CharacterId id, uint32_t slot, const CrowdManager& crowd,
+                         const Camera& camera, bool pre_skinned, std::vector<uint8_t>* gl_image,
+                         std::vector<glm::vec2>* gl_motion, std::vector<uint8_t>* image,
+                         std::vector<glm::vec2>* motion) {
+    target.clear(kBackground);
+    const Status drawn =
+        gl.drawCrowdGpuCulled(gl_id, crowd.view(), camera, nullptr,
+                              pre_skinned ? DrawMode::kDefault : DrawMode::kSkinned);
+    target.restore();
+    ASSERT_TRUE(drawn.isOk()) << drawn.toString();
+    ASSERT_TRUE(target.readMotion(gl_motion).isOk());
+    ASSERT_TRUE(target.readColor(gl_image).isOk());
+    examples::HeadlessVulkan::Frame frame;
+    frame.clear_color = kBackground;
+    frame.motion = true;
+    frame.before = [&](VkCommandBuffer cmd) {
+      const Status begun = r.beginFrame(slot);
+      return begun.isOk() ? r.recordGpuDrivenPasses(cmd, id, crowd.view(), camera) : begun;
+    };
+    const Status s = host_.render(
+        frame,
+        [&](VkCommandBuffer cmd) {
+          return r.recordGpuDrivenDraw(cmd, vk::DrawTarget{{kSize, kSize}}, id, crowd.view());
+        },
+        {image, nullptr, motion});
+    ASSERT_TRUE(s.isOk()) << s.toString();
+  }
+
   // The validation layer's messages, one a line.
   std::string messages() const {
     std::ostringstream out;
