@@ -127,9 +127,8 @@ class VulkanLayersTest : public VulkanRenderFixture {
     RendererDesc gd;
     gd.motion_vectors = true;
     Renderer gl;
-    ASSERT_TRUE(gl.init(info_, gd).isOk());
     CharacterId gl_id;
-    ASSERT_TRUE(gl.addCharacter(character(), palette(), &gl_id).isOk());
+    ASSERT_NO_FATAL_FAILURE(startGl(gd, &gl, &gl_id));
     for (const bool pre_skinned : {true, false}) {
       SCOPED_TRACE(pre_skinned ? "pre-skinned" : "skinned in the vertex stage");
       CrowdManager crowd;
@@ -168,9 +167,8 @@ TEST_P(VulkanLayersTest, OverlaysDrawWhatOpenGlDraws) {
   ASSERT_EQ(crowd.view().layerRecords().size(), crowd.view().records().size());
   // si::gl's image (its vertex-shader path composes the layers in a compute pass) and depth.
   Renderer gl;
-  ASSERT_TRUE(gl.init(info_, RendererDesc()).isOk());
   CharacterId gl_id;
-  ASSERT_TRUE(gl.addCharacter(character(), palette(), &gl_id).isOk());
+  ASSERT_NO_FATAL_FAILURE(startGl(RendererDesc(), &gl, &gl_id));
   InstanceBatcher gl_batcher;
   ASSERT_TRUE(gl_batcher.init(gl.batchLimits()).isOk());
   const auto gl_draw = [&](std::vector<uint8_t>* image) {
@@ -230,9 +228,8 @@ TEST_P(VulkanLayersTest, MotionVectorsFollowTheOverlayAsOpenGlsDo) {
 TEST_P(VulkanLayersTest, TheGpuDrivenPathDrawsOverlaysAsOpenGlsDoes) {
   SI_START_VULKAN_HOST();
   Renderer gl;
-  ASSERT_TRUE(gl.init(info_, RendererDesc()).isOk());
   CharacterId gl_id;
-  ASSERT_TRUE(gl.addCharacter(character(), palette(), &gl_id).isOk());
+  ASSERT_NO_FATAL_FAILURE(startGl(RendererDesc(), &gl, &gl_id));
   for (const bool pre_skinned : {true, false}) {
     SCOPED_TRACE(pre_skinned ? "pre-skinned" : "skinned in the vertex stage");
     CrowdManager crowd;

@@ -114,9 +114,8 @@ TEST_P(VulkanMotionTest, TheGpuDrivenPathsMotionIsWhatOpenGlWrites) {
     RendererDesc gd;
     gd.motion_vectors = true;
     Renderer gl;
-    ASSERT_TRUE(gl.init(info_, gd).isOk());
     CharacterId gl_id;
-    ASSERT_TRUE(gl.addCharacter(character(), palette(), &gl_id).isOk());
+    ASSERT_NO_FATAL_FAILURE(startGl(gd, &gl, &gl_id));
     MotionTarget target;
     ASSERT_TRUE(target.create(kSize, kSize).isOk());
     vk::Renderer r;
@@ -165,9 +164,8 @@ TEST_P(VulkanMotionTest, TheGpuDrivenMotionWithOcclusionCullingIsWhatOpenGlWrite
   gd.motion_vectors = true;
   gd.gpu_occlusion_culling = true;
   Renderer gl;
-  ASSERT_TRUE(gl.init(info_, gd).isOk());
   CharacterId gl_id;
-  ASSERT_TRUE(gl.addCharacter(character(), palette(), &gl_id).isOk());
+  ASSERT_NO_FATAL_FAILURE(startGl(gd, &gl, &gl_id));
   MotionTarget target;
   ASSERT_TRUE(target.create(kSize, kSize).isOk());
   vk::Renderer r;

@@ -84,6 +84,12 @@ class VulkanRenderFixture : public RenderTest {
     return image;
   }
 
+  // si::gl's renderer of `desc` on the test's context, the embedded character added (`*id`).
+  void startGl(const RendererDesc& desc, Renderer* gl, CharacterId* id) {
+    ASSERT_TRUE(gl->init(info_, desc).isOk());
+    ASSERT_TRUE(gl->addCharacter(character(), palette(), id).isOk());
+  }
+
   // `crowd`'s last selection of the embedded character drawn with `camera` by si::gl's
   // vertex-shader path with motion vectors into a MotionTarget over kBackground: its colour and
   // motion (rows bottom to top, as MotionTarget reads them).
@@ -92,9 +98,8 @@ class VulkanRenderFixture : public RenderTest {
     RendererDesc rd;
     rd.motion_vectors = true;
     Renderer gl;
-    ASSERT_TRUE(gl.init(info_, rd).isOk());
     CharacterId id;
-    ASSERT_TRUE(gl.addCharacter(character(), palette(), &id).isOk());
+    ASSERT_NO_FATAL_FAILURE(startGl(rd, &gl, &id));
     MotionTarget target;
     ASSERT_TRUE(target.create(kSize, kSize).isOk());
     target.clear(kBackground);
