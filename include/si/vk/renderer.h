@@ -64,13 +64,14 @@
 /// (RendererDesc::samples), under every si::DepthConvention
 /// (reverse-Z included) and with y-flipped projections; meshes of 4 or 8 influences a vertex,
 /// with or without morph targets, vertex colours and a second texture coordinate set (each
-/// drawn by its program variant); layered animation (overlays on their masks, 1D blends);
+/// drawn by its program variant); layered animation (overlays on their masks, 1D blends; 2D
+/// blends on the GPU-driven path, through si::gl's layer compose pass);
 /// palettes of every si::PaletteFormat; and the GPU-driven path's culling, LOD, pre-skinning
 /// and indirect draw (recordGpuDrivenPasses, recordGpuDrivenDraw: shaded or depth only, every
 /// mesh variant, with motion vectors, with two-phase occlusion culling or without, with animated
-/// impostors (buildImpostor; not yet with layers or live poses). Everything else (the instanced
-/// path's compute pre-skinning and impostors, 2D blends, host materials) is refused by name
-/// (kUnsupported).
+/// impostors (buildImpostor), with layered animation; not yet with live poses). Everything else
+/// (the instanced path's compute pre-skinning, impostors and 2D blends, live poses, host
+/// materials) is refused by name (kUnsupported).
 /// What the host must do: record recordUploads() before the first draw of a character and
 /// submit it before (or with) that draw; give each frame in flight its own slot (beginFrame(),
 /// below RendererDesc::frames_in_flight) and wait for a slot's last frame before beginning it
@@ -246,15 +247,17 @@ class Renderer {
   /// character, its uploads not recorded, a detached view, or a crowd of more buckets than
   /// 256 or sub-meshes than the character's, or a crowd with an impostor level
   /// (CrowdDesc::impostor_lod) whose character has no impostor atlas captured (buildImpostor,
-  /// then recordUploads); kUnsupported without RendererDesc::gpu_driven, for a crowd that plays
-  /// overlays or holds live poses (not built on Vulkan yet), or for impostors with motion
-  /// vectors (they draw none, as on si::Renderer); kLimitExceeded when a buffer passes
-  /// maxStorageBufferRange, the instances need more compute groups than the device has, or the
-  /// frame's uniforms pass the slot's region. A crowd with an impostor level: the passes also
-  /// compute each impostor's quad once (si::gl's impostor quads pass), and the draws draw them
-  /// after the meshes (one vkCmdDrawIndirect more).
-  /// With GpuCulling::kOcclusion the passes are occlusion culling's first phase: draw them, end
-  /// the rendering, then record recordGpuDrivenOcclusion() in the same frame.
+  /// then recordUploads); kUnsupported without RendererDesc::gpu_driven, for a crowd that holds
+  /// live poses (not built on Vulkan yet), or for impostors with motion vectors (they draw none,
+  /// as on si::Renderer); kLimitExceeded when a buffer passes maxStorageBufferRange, the
+  /// instances (or a 2D blend's layer compose pass) need more compute groups than the device
+  /// has, or the frame's uniforms pass the slot's region. A crowd that plays overlays: the
+  /// passes also write each visible instance's layer records, and with 2D blends compose its
+  /// masked rows in a pass of their own (si::gl's layer compose pass). A crowd with an impostor
+  /// level: the passes also compute each impostor's quad once (si::gl's impostor quads pass), and
+  /// the draws draw them after the meshes (one vkCmdDrawIndirect more). With GpuCulling::kOcclusion
+  /// the passes are occlusion culling's first phase: draw them, end the rendering, then record
+  /// recordGpuDrivenOcclusion() in the same frame.
   Status recordGpuDrivenPasses(VkCommandBuffer cmd, CharacterId id, const CrowdView& view,
                                const Camera& camera, PassStats* stats = nullptr,
                                GpuCulling culling = GpuCulling::kFrustum);
