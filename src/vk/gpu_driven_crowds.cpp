@@ -47,7 +47,7 @@ void GpuDrivenCrowds::retire(uint32_t slot, DrivenCrowd* d) {
 
 Status GpuDrivenCrowds::reshape(DrivenCrowd* d, uint32_t slot, uint32_t n, uint32_t sub_meshes,
                                 uint32_t buckets, uint32_t clips, uint32_t times,
-                                const Layering& layering) {
+                                const LayerNeeds& layering) {
   retire(slot, d);
   // Room to grow by half, so a spawn wave re-creates the buffers a few times, not every frame.
   const uint64_t capacity = std::max<uint64_t>(1, uint64_t(n) + n / 2);
@@ -106,7 +106,7 @@ Status GpuDrivenCrowds::update(VkCommandBuffer cmd, uint32_t slot, uint32_t char
   // Layered animation: the overlays while some instance holds one, and the crowd's mask table
   // (masks may be added at any time: compared every frame, as si::gl uploads it every frame).
   // 2D blends: the extra layers too, and the compose table (the layers composed in a pass).
-  Layering layering;
+  LayerNeeds layering;
   const bool layers = layering.layers = exported.playsOverlays();
   layering.extras = layers && exported.writesExtraLayers();
   std::vector<int32_t> mask_table, compose_values;
@@ -179,56 +179,42 @@ Status GpuDrivenCrowds::update(VkCommandBuffer cmd, uint32_t slot, uint32_t char
     if (!s.isOk()) return s;
   }
   uint8_t* to = static_cast<uint8_t*>(staging.mapped);
+  const Span<const DenseRange> runs(changed_.data(), changed_.size());
   // The instances first, exported straight into the staging (each byte written once), one
   // copy region per run.
-  if (!changed_.empty())
-    exported.state(Span<const DenseRange>(changed_.data(), changed_.size()),
-                   reinterpret_cast<GpuInstanceState*>(to), nullptr);
+  if (!changed_.empty()) exported.state(runs, reinterpret_cast<GpuInstanceState*>(to), nullptr);
   // The handle slots the views' drawn records must hold (motion vectors).
   if (whole) d.slots_needed = 1;
   for (uint64_t k = 0; k < changed_instances; ++k) {
     const uint32_t handle = reinterpret_cast<const GpuInstanceState*>(to)[k].handle;
     d.slots_needed = std::max(d.slots_needed, (handle & (HandlePool::kMaxSlots - 1)) + 1);
   }
+  // One copy region per changed run, from the staging at `at` on into `buffer`: each instance's
+  // `per` elements of `bytes` from element `base` on.
   std::vector<VkBufferCopy> regions;
   VkDeviceSize at = 0;
-  for (const DenseRange& r : changed_) {
-    const VkDeviceSize bytes = VkDeviceSize(r.count) * sizeof(GpuInstanceState);
-    regions.push_back({at, VkDeviceSize(r.first) * sizeof(GpuInstanceState), bytes});
-    at += bytes;
-  }
-  if (!regions.empty())
-    vkCmdCopyBuffer(cmd, staging.buffer, d.state.buffer, uint32_t(regions.size()), regions.data());
-  upload->regions = uint32_t(regions.size());
-  // Then their overlays, run by run as the instances.
-  if (layers && !changed_.empty()) {
-    exported.overlays(Span<const DenseRange>(changed_.data(), changed_.size()),
-                      reinterpret_cast<GpuOverlayState*>(to + at));
+  const auto copy_runs = [&](VkBuffer buffer, VkDeviceSize bytes, VkDeviceSize base, uint32_t per) {
     regions.clear();
     for (const DenseRange& r : changed_) {
-      const VkDeviceSize bytes = VkDeviceSize(r.count) * sizeof(GpuOverlayState);
-      regions.push_back({at, VkDeviceSize(r.first) * sizeof(GpuOverlayState), bytes});
-      at += bytes;
+      const VkDeviceSize run_bytes = VkDeviceSize(r.count) * per * bytes;
+      regions.push_back({at, (base + VkDeviceSize(r.first) * per) * bytes, run_bytes});
+      at += run_bytes;
     }
-    vkCmdCopyBuffer(cmd, staging.buffer, d.overlays.buffer, uint32_t(regions.size()),
-                    regions.data());
+    if (!regions.empty())
+      vkCmdCopyBuffer(cmd, staging.buffer, buffer, uint32_t(regions.size()), regions.data());
+  };
+  copy_runs(d.state.buffer, sizeof(GpuInstanceState), 0, 1);
+  upload->regions = uint32_t(regions.size());
+  // Then their overlays, run by run as the instances.
+  if (layers) {
+    exported.overlays(runs, reinterpret_cast<GpuOverlayState*>(to + at));
+    copy_runs(d.overlays.buffer, sizeof(GpuOverlayState), 0, 1);
   }
   // 2D blends: their extra layers, kExtraLayerRecords an instance after the overlays' capacity
   // (cull.comp.glsl's u_extras).
-  if (layering.extras && !changed_.empty()) {
-    exported.extraLayers(Span<const DenseRange>(changed_.data(), changed_.size()),
-                         reinterpret_cast<GpuOverlayState*>(to + at));
-    regions.clear();
-    for (const DenseRange& r : changed_) {
-      const VkDeviceSize bytes =
-          VkDeviceSize(r.count) * kExtraLayerRecords * sizeof(GpuOverlayState);
-      const VkDeviceSize first =
-          VkDeviceSize(d.capacity) + VkDeviceSize(r.first) * kExtraLayerRecords;
-      regions.push_back({at, first * sizeof(GpuOverlayState), bytes});
-      at += bytes;
-    }
-    vkCmdCopyBuffer(cmd, staging.buffer, d.overlays.buffer, uint32_t(regions.size()),
-                    regions.data());
+  if (layering.extras) {
+    exported.extraLayers(runs, reinterpret_cast<GpuOverlayState*>(to + at));
+    copy_runs(d.overlays.buffer, sizeof(GpuOverlayState), d.capacity, kExtraLayerRecords);
   }
   upload->state_bytes = state_bytes + overlay_bytes;
   upload->whole = whole;

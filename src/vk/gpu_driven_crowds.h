@@ -110,12 +110,12 @@ class GpuDrivenCrowds {
 
  private:
   // What a crowd's layered animation needs of its buffers.
-  struct Layering {
+  struct LayerNeeds {
     bool layers = false, extras = false;
     uint64_t mask_bytes = 0, compose_bytes = 0;
   };
   Status reshape(DrivenCrowd* d, uint32_t slot, uint32_t n, uint32_t sub_meshes, uint32_t buckets,
-                 uint32_t clips, uint32_t times, const Layering& layering);
+                 uint32_t clips, uint32_t times, const LayerNeeds& layering);
   void retire(uint32_t slot, DrivenCrowd* d);
 
   DeviceObjects* objects_ = nullptr;
