@@ -93,6 +93,9 @@ Status badLiveMatrix(PaletteFormat format, Span<const glm::mat4> skinning, size_
           strCat("setLivePose: matrix ", k, "'s last row is not 0 0 0 1")};
 }
 
+// setLivePoses' poses per task on the workers.
+constexpr size_t kPosesPerBatchTask = 32;
+
 // The texel of the morph weights a live pose of instance `i` carries: its clip's frame at the
 // crowd clock (the clip plays on underneath).
 uint32_t liveWeightsTexel(const detail::CrowdState& state, const BakedPalette& p, uint32_t i) {
@@ -190,46 +193,58 @@ Status CrowdManager::setLivePoses(Span<const InstanceHandle> handles,
   const auto poseOf = [&](size_t k) {
     return Span<const glm::mat4>(skinning.data() + k * joints, joints);
   };
-  // In order: the poses that go straight into their slot's other frame (held since an earlier
-  // step, named first in the batch), stored on the workers; the others one at a time below.
+  // On the workers: each pose's instance found and, for a slot held since an earlier step and
+  // claimed first in the batch, its pose stored straight into the slot's other frame (which
+  // nothing names) and committed, all at the batch's version. Nothing else of the crowd changes
+  // there. A batch with no slot held yet (every pose from its clip) skips them.
+  using Outcome = detail::CrowdState::BatchPose::Outcome;
   std::vector<detail::CrowdState::BatchPose>& batch = cs.live_batch;
   batch.assign(handles.size(), detail::CrowdState::BatchPose());
-  cs.live_batch_seen.assign(st.live.capacity(), 0);
-  size_t direct = 0;
-  for (size_t k = 0; k < handles.size(); ++k) {
-    detail::CrowdState::BatchPose& b = batch[k];
-    if (!st.denseIndex(handles[k], &b.index).isOk()) {
-      b.refused = true;
-      continue;
-    }
-    const uint32_t slot = st.live_slot[b.index];
-    if (slot == detail::kNoLivePose || cs.live_batch_seen[slot] != 0) continue;
-    cs.live_batch_seen[slot] = 1;
-    b.slot = slot;
-    b.frame = st.live.directFrame(slot, cs.steps);
-    if (b.frame == nullptr) continue;
-    b.weights_texel = liveWeightsTexel(cs, p, b.index);
-    ++direct;
-  }
-  constexpr size_t kPosesPerTask = 32;
-  const uint32_t tasks = uint32_t((handles.size() + kPosesPerTask - 1) / kPosesPerTask);
+  const uint64_t version = st.live.batchVersion();
+  const uint64_t step = cs.steps;
   const ParallelTask store = [&](uint32_t t) {
-    const size_t end = std::min(handles.size(), size_t(t + 1) * kPosesPerTask);
-    for (size_t k = size_t(t) * kPosesPerTask; k < end; ++k)
-      if (batch[k].frame != nullptr) {
-        Aabb box;
-        batch[k].bad = st.live.store(poseOf(k), batch[k].frame, &box);
-        if (batch[k].bad == joints) st.live.poseBounds(box, &batch[k].bounds);
+    const size_t end = std::min(handles.size(), size_t(t + 1) * kPosesPerBatchTask);
+    for (size_t k = size_t(t) * kPosesPerBatchTask; k < end; ++k) {
+      detail::CrowdState::BatchPose& b = batch[k];
+      uint32_t i = 0;
+      if (!st.denseIndex(handles[k], &i).isOk()) {
+        b.outcome = Outcome::kStale;
+        continue;
       }
+      b.slot = st.live_slot[i];
+      if (b.slot == detail::kNoLivePose) continue;  // From its clip: in order.
+      if (!cs.live_claims.claim(b.slot)) {
+        b.outcome = Outcome::kNamedTwice;
+        continue;
+      }
+      uint8_t* frame = st.live.directFrame(b.slot, step);
+      if (frame == nullptr) continue;  // Set again in this step: over its frame, in order.
+      Aabb box;
+      b.bad = st.live.store(poseOf(k), frame, &box);
+      if (b.bad < joints) {
+        b.outcome = Outcome::kBad;
+        continue;
+      }
+      detail::LivePoses::Bounds bounds;
+      st.live.poseBounds(box, &bounds);
+      st.live.commit(b.slot, bounds, liveWeightsTexel(cs, p, i), step, version);
+      b.outcome = Outcome::kCommitted;
+    }
   };
-  ParallelFor own;
-  const ParallelFor& run = parallel_for ? parallel_for : (own = detail::crowdWorkers(cs));
-  if (direct > 0 && run && tasks > 1) {
-    run(tasks, store);
-  } else if (direct > 0) {
-    for (uint32_t t = 0; t < tasks; ++t) store(t);
+  if (st.live.count() > 0) {
+    cs.live_claims.start(st.live.capacity());
+    const uint32_t tasks = uint32_t((handles.size() + kPosesPerBatchTask - 1) / kPosesPerBatchTask);
+    ParallelFor own;
+    const ParallelFor& run = parallel_for ? parallel_for : (own = detail::crowdWorkers(cs));
+    if (run && tasks > 1) {
+      run(tasks, store);
+    } else {
+      for (uint32_t t = 0; t < tasks; ++t) store(t);
+    }
+    st.live.endBatch(version);
   }
-  // In order again: each pose committed, refused or set one at a time.
+  // In order: the refusals named, hand-backs faded in again, and the other poses set one at a
+  // time (a slot named twice gets all its poses again, so its last good one holds).
   Status first = Status::ok();
   const auto refuse = [&](size_t k, const Status& s) {
     if (first.isOk()) first = {s.code(), strCat("setLivePoses: pose ", k, ": ", s.message())};
@@ -237,18 +252,20 @@ Status CrowdManager::setLivePoses(Span<const InstanceHandle> handles,
   const double clock = cs.clock;
   for (size_t k = 0; k < handles.size(); ++k) {
     const detail::CrowdState::BatchPose& b = batch[k];
-    if (b.refused) {
+    Outcome outcome = b.outcome;
+    if (outcome != Outcome::kStale && outcome != Outcome::kInOrder &&
+        cs.live_claims.namedTwice(b.slot))
+      outcome = Outcome::kNamedTwice;
+    if (outcome == Outcome::kStale) {
       uint32_t i = 0;
       refuse(k, st.denseIndex(handles[k], &i));
-    } else if (b.frame == nullptr) {
+    } else if (outcome == Outcome::kInOrder || outcome == Outcome::kNamedTwice) {
       const Status s = setLivePose(handles[k], poseOf(k), blend_seconds);
       if (!s.isOk()) refuse(k, s);
-    } else if (b.bad < joints) {
+    } else if (outcome == Outcome::kBad) {
       refuse(k, badLiveMatrix(p.format, poseOf(k), b.bad));
-    } else {
-      st.live.commit(b.slot, b.bounds, b.weights_texel, cs.steps);
-      if (st.live.fadingOut(b.slot))  // Handing back: it fades in again from where it is.
-        st.live.fade(b.slot, st.live.liveWeight(b.slot, clock), 1.0f, blend_seconds, clock);
+    } else if (st.live.fadingOut(b.slot)) {  // Handing back: it fades in again from where it is.
+      st.live.fade(b.slot, st.live.liveWeight(b.slot, clock), 1.0f, blend_seconds, clock);
     }
   }
   return first;

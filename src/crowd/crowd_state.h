@@ -12,6 +12,7 @@
 #include "crowd/animation_events.h"
 #include "crowd/frame_builder.h"
 #include "crowd/instance_store.h"
+#include "crowd/slot_claims.h"
 #include "si/core/bounds.h"
 #include "si/core/layer_mask.h"
 #include "si/crowd/crowd_view.h"
@@ -64,16 +65,22 @@ struct CrowdState {
   // pool_mutex: views may select on several threads at once, each asking for them).
   std::mutex pool_mutex;
   std::unique_ptr<WorkerPool> pool;
-  // setLivePoses' scratch, kept between calls: per pose of the batch, and a mark per live slot.
+  // setLivePoses' scratch, kept between calls: what the workers did with each pose of the
+  // batch, and the batch's claims on the live slots.
   struct BatchPose {
-    uint32_t index = 0, slot = 0, weights_texel = 0;
-    uint8_t* frame = nullptr;  // Stored straight here on the workers; null: one at a time.
-    size_t bad = 0;            // store()'s answer.
-    LivePoses::Bounds bounds;  // Of the pose stored whole.
-    bool refused = false;      // Its handle is stale (the status is found again in order).
+    enum class Outcome : uint8_t {
+      kInOrder,    // Set one at a time afterwards (from its clip, set again in this step).
+      kStale,      // Its handle is stale (the status is found again in order).
+      kCommitted,  // Stored straight into its slot's other frame and committed.
+      kBad,        // Refused: matrix `bad` is one the palette cannot hold.
+      kNamedTwice  // Its slot is named twice: all of the slot's poses set again in order.
+    };
+    Outcome outcome = Outcome::kInOrder;
+    uint32_t slot = 0;
+    size_t bad = 0;
   };
   std::vector<BatchPose> live_batch;
-  std::vector<uint8_t> live_batch_seen;
+  SlotClaims live_claims;
 };
 
 /// Empties a view's selection for a crowd of `desc` (no records, empty buckets).

@@ -115,16 +115,16 @@ size_t LivePoses::store(Span<const glm::mat4> skinning, uint8_t* frame, Aabb* bo
 }
 
 void LivePoses::commit(uint32_t slot, const Bounds& bounds, uint32_t weights_frame_texel,
-                       uint64_t step) {
+                       uint64_t step, uint64_t version) {
   bounds_[slot] = bounds;
-  settle(slot, true, weights_frame_texel, step);
+  settle(slot, true, weights_frame_texel, step, version);
 }
 
-void LivePoses::settle(uint32_t slot, bool direct, uint32_t weights_frame_texel, uint64_t step) {
+void LivePoses::settle(uint32_t slot, bool direct, uint32_t weights_frame_texel, uint64_t step,
+                       uint64_t version) {
   sides_[slot] ^= uint8_t(direct);
   written_[slot] = step;
-  ++version_;
-  frame_versions_[frameOf(slot)] = version_;
+  frame_versions_[frameOf(slot)] = version;
   const PaletteLayout& l = palette_->layout;
   if (l.morph_target_count > 0) {  // The weights' texels as the baked frame holds them.
     const size_t bytes = bytesPerTexel(palette_->format);
@@ -143,7 +143,7 @@ size_t LivePoses::write(uint32_t slot, Span<const glm::mat4> skinning, uint32_t 
     const size_t bad = store(skinning, frame, &box);
     if (bad < skinning.size()) return bad;
     poseBounds(box, &bounds_[slot]);
-    settle(slot, true, weights_frame_texel, step);
+    settle(slot, true, weights_frame_texel, step, ++version_);
     return bad;
   }
   // Over the current frame: through scratch first, so that a refused pose leaves it as it was.
@@ -154,7 +154,7 @@ size_t LivePoses::write(uint32_t slot, Span<const glm::mat4> skinning, uint32_t 
   if (bad < skinning.size()) return bad;
   std::memcpy(frameBytes(frameOf(slot)), scratch_.data(), joint_bytes);
   poseBounds(box, &bounds_[slot]);
-  settle(slot, false, weights_frame_texel, step);
+  settle(slot, false, weights_frame_texel, step, ++version_);
   return skinning.size();
 }
 

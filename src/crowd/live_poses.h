@@ -8,6 +8,7 @@
 // write of a crowd step goes to the frame the last step's records did not name, so the
 // previous records (motion vectors) still read the previous pose. No GL.
 
+#include <algorithm>
 #include <cstdint>
 #include <vector>
 
@@ -67,12 +68,13 @@ class LivePoses {
   /// as it was, or skinning.size() when written.
   size_t write(uint32_t slot, Span<const glm::mat4> skinning, uint32_t weights_frame_texel,
                uint64_t step);
-  // write() in three steps, so that the poses of a batch (CrowdManager::setLivePoses) are
-  // stored on several threads: where slot `slot`'s pose of step `step` can be stored straight
-  // (its other frame, which nothing names), or nullptr when it goes over its current frame
-  // (write() alone, through scratch); then store() (any thread, each pose its own frame:
-  // write()'s check and store, returning the first bad matrix) and, for a pose stored whole,
-  // poseBounds() of its box (any thread); then commit() with its bounds.
+  // write() in steps, so that the poses of a batch (CrowdManager::setLivePoses) are stored
+  // and committed on several threads, each slot by one of them: where slot `slot`'s pose of
+  // step `step` can be stored straight (its other frame, which nothing names), or nullptr when
+  // it goes over its current frame (write() alone, through scratch); then store() (write()'s
+  // check and store, returning the first bad matrix) and, for a pose stored whole, poseBounds()
+  // of its box; then commit() with its bounds and the batch's version (batchVersion(), the same
+  // for every pose of the batch); once all are committed, on one thread, endBatch().
   uint8_t* directFrame(uint32_t slot, uint64_t step);
   size_t store(Span<const glm::mat4> skinning, uint8_t* frame, Aabb* box) const;
   /// What bounds slot `slot`'s current pose, in the instance's model space (storePose's box of
@@ -89,8 +91,13 @@ class LivePoses {
   /// rounding, its sphere the one a baked clip's box gets (empty box: none known).
   void poseBounds(const Aabb& box, Bounds* bounds) const;
   /// Makes the pose stored whole into directFrame() (its bounds poseBounds()') slot `slot`'s
-  /// current one.
-  void commit(uint32_t slot, const Bounds& bounds, uint32_t weights_frame_texel, uint64_t step);
+  /// current one, written at `version` (batchVersion()'s). Any thread, one per slot.
+  void commit(uint32_t slot, const Bounds& bounds, uint32_t weights_frame_texel, uint64_t step,
+              uint64_t version);
+  /// The version a batch's commits carry: the next one.
+  uint64_t batchVersion() const { return version_ + 1; }
+  /// After a batch's commits at `version`: version() moves on to it.
+  void endBatch(uint64_t version) { version_ = std::max(version_, version); }
   /// The first texel of slot `slot`'s current frame, as a record's frames name it.
   uint32_t frameTexel(uint32_t slot) const { return first_texel_ + frameOf(slot) * stride_; }
   /// Palette joint `joint`'s matrix of slot `slot`'s current frame as the shader reads it (half
@@ -119,8 +126,10 @@ class LivePoses {
   std::vector<uint64_t> frame_versions_;  // Per frame: the version of its last write (0: none).
   // The bytes of frame `frame_index` (side 0's frames, then side 1's).
   uint8_t* frameBytes(uint32_t frame_index);
-  // commit()'s rest: the frame made current, the version moved on, the morph weights copied.
-  void settle(uint32_t slot, bool direct, uint32_t weights_frame_texel, uint64_t step);
+  // commit()'s rest: the frame made current and marked written at `version`, the morph
+  // weights copied.
+  void settle(uint32_t slot, bool direct, uint32_t weights_frame_texel, uint64_t step,
+              uint64_t version);
   // Slot `slot`'s current frame: side 0's frames first (one per slot), then side 1's.
   uint32_t frameOf(uint32_t slot) const { return sides_[slot] * capacity_ + slot; }
   std::vector<uint64_t> written_;       // Per slot: the step of its last write (kNever: none).

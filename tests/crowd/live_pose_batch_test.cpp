@@ -61,12 +61,24 @@ std::vector<glm::mat4> matricesOf(const Batch& b) {
   return out;
 }
 
+// The live version each crowd's consumer last uploaded at.
+struct Seen {
+  uint64_t a = 0, b = 0;
+};
+
 // What every consumer of the live poses reads: the texels, the slots' export (frames, hand-overs
-// and bounds), the version, the count, and the records the next selection writes.
-void expectSame(CrowdManager& a, CrowdManager& b, const char* when) {
+// and bounds), the count, the span of texels written since `seen` (the version moves on alike,
+// though a batch's poses share one), and the records the next selection writes.
+void expectSame(CrowdManager& a, CrowdManager& b, const char* when, Seen* seen) {
   const CrowdExport ea(a), eb(b);
   EXPECT_EQ(ea.livePoseCount(), eb.livePoseCount()) << when;
-  EXPECT_EQ(ea.livePoseVersion(), eb.livePoseVersion()) << when;
+  EXPECT_EQ(ea.livePoseVersion() > seen->a, eb.livePoseVersion() > seen->b) << when;
+  uint32_t first_a = 0, count_a = 0, first_b = 0, count_b = 0;
+  ea.livePoseTexelsChangedSince(seen->a, &first_a, &count_a);
+  eb.livePoseTexelsChangedSince(seen->b, &first_b, &count_b);
+  EXPECT_EQ(first_a, first_b) << when;
+  EXPECT_EQ(count_a, count_b) << when;
+  *seen = {ea.livePoseVersion(), eb.livePoseVersion()};
   EXPECT_TRUE(std::equal(ea.livePoseTexels().begin(), ea.livePoseTexels().end(),
                          eb.livePoseTexels().begin(), eb.livePoseTexels().end()))
       << when;
@@ -111,6 +123,7 @@ TEST(LivePoseBatch, EqualsTheCallsOneByOne) {
   };
   for (int runner = 0; runner < 3; ++runner) {
     Crowd batched(runner == 1 ? 1u : 0u), single(1);
+    Seen seen;
     for (size_t s = 0; s < steps.size(); ++s) {
       ASSERT_TRUE(batched.crowd.advance(1.0 / 30.0).isOk());
       ASSERT_TRUE(single.crowd.advance(1.0 / 30.0).isOk());
@@ -146,13 +159,15 @@ TEST(LivePoseBatch, EqualsTheCallsOneByOne) {
       expectSame(batched.crowd, single.crowd,
                  runner == 0   ? "workers"
                  : runner == 1 ? "one thread"
-                               : "host's loop");
+                               : "host's loop",
+                 &seen);
     }
   }
 }
 
 TEST(LivePoseBatch, ARefusalNamesItsPoseAndTheOthersAreSet) {
   Crowd batched(0), single(1);
+  Seen seen;
   const uint32_t joints = uint32_t(defaultPalette().palette_joints.size());
   // Held since an earlier step: pose 2's NaN is found on the workers.
   for (Crowd* c : {&batched, &single}) {
@@ -181,7 +196,7 @@ TEST(LivePoseBatch, ARefusalNamesItsPoseAndTheOthersAreSet) {
         single.handles[instances[k]], Span<const glm::mat4>(m.data() + k * joints, joints));
     EXPECT_EQ(one.isOk(), k != 2 && k != 4 && k != 5) << k;
   }
-  expectSame(batched.crowd, single.crowd, "after the refusals");
+  expectSame(batched.crowd, single.crowd, "after the refusals", &seen);
 
   // Every pose refused alike whoever finds it: the stale handle first when it comes first.
   const std::vector<InstanceHandle> stale_first = {batched.handles[9], batched.handles[0]};
@@ -214,9 +229,17 @@ TEST(LivePoseBatch, AHostsParallelForRunsTheStores) {
   ASSERT_TRUE(c.crowd.setLivePoses(handles, m, 0.0, host).isOk());
   EXPECT_EQ(sections, 0u);  // From their clips: each stored one at a time.
   ASSERT_TRUE(c.crowd.advance(1.0 / 30.0).isOk());
+  const uint64_t before = CrowdExport(c.crowd).livePoseVersion();
   ASSERT_TRUE(c.crowd.setLivePoses(handles, m, 0.0, host).isOk());
   EXPECT_EQ(sections, 1u);  // Held: stored straight into their other frames by the tasks.
   EXPECT_EQ(tasks, 4u);     // 32 poses a task.
+  // Every pose committed by the tasks, none on this thread: the version still moves on, and
+  // what was written since is their 100 frames (slots 0 to 99 of one side).
+  const CrowdExport e(c.crowd);
+  EXPECT_GT(e.livePoseVersion(), before);
+  uint32_t first = 0, count = 0;
+  e.livePoseTexelsChangedSince(before, &first, &count);
+  EXPECT_EQ(count, 100u * defaultPalette().layout.frame_stride_texels);
 }
 
 }  // namespace
