@@ -258,26 +258,36 @@ uint32_t CrowdExport::livePoseCount() const {
 void CrowdExport::livePoses(std::vector<GpuLivePose>* out) const {
   out->clear();
   if (!crowd_->state_) return;
+  const DenseRange all{0, crowd_->state_->store.live.capacity()};
+  out->resize(all.count);
+  livePoses(Span<const DenseRange>(&all, 1), out->data());
+}
+
+void CrowdExport::livePoses(Span<const DenseRange> slots, GpuLivePose* out) const {
+  if (!crowd_->state_) return;
   const detail::LivePoses& live = crowd_->state_->store.live;
-  out->resize(live.capacity());
-  for (uint32_t slot = 0; slot < live.capacity(); ++slot) {
-    const detail::LivePoses::Fade& f = live.fadeOf(slot);
-    GpuLivePose& g = (*out)[slot];
-    g.fade_start = f.start;
-    g.fade_duration = f.duration;
-    g.weight_from = f.from;
-    g.weight_to = f.to;
-    g.first_texel = live.frameTexel(slot);
-    const detail::LivePoses::Bounds& b = live.boundsOf(slot);
-    g.bounded = b.known ? 1u : 0u;
-    if (!b.known) continue;  // Its bounds stay zero, as resize() made them.
-    for (int k = 0; k < 3; ++k) {
-      g.sphere[k] = b.sphere.center[k];
-      g.box_min[k] = b.box.min[k];
-      g.box_max[k] = b.box.max[k];
+  size_t p = 0;
+  for (const DenseRange& r : slots)
+    for (uint32_t slot = r.first; slot < r.first + r.count; ++slot) {
+      const detail::LivePoses::Fade& f = live.fadeOf(slot);
+      GpuLivePose g{};
+      g.fade_start = f.start;
+      g.fade_duration = f.duration;
+      g.weight_from = f.from;
+      g.weight_to = f.to;
+      g.first_texel = live.frameTexel(slot);
+      const detail::LivePoses::Bounds& b = live.boundsOf(slot);
+      g.bounded = b.known ? 1u : 0u;
+      if (b.known) {  // Else its bounds stay zero.
+        for (int k = 0; k < 3; ++k) {
+          g.sphere[k] = b.sphere.center[k];
+          g.box_min[k] = b.box.min[k];
+          g.box_max[k] = b.box.max[k];
+        }
+        g.sphere[3] = b.sphere.radius;
+      }
+      std::memcpy(out + p++, &g, sizeof g);  // One stream of whole slots.
     }
-    g.sphere[3] = b.sphere.radius;
-  }
 }
 
 bool CrowdExport::playsOverlays() const {

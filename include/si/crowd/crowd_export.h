@@ -127,6 +127,10 @@ class CrowdExport {
   /// culling writes a posed instance's record from it as update() does; it changes with
   /// livePoseVersion().
   void livePoses(std::vector<GpuLivePose>* out) const;
+  /// The slots of the runs `slots` (each within CrowdDesc::live_pose_capacity) into `out`, the
+  /// runs one after another, each slot written whole and once (so `out` may be a staging ring's
+  /// write-combined mapping: the GL renderer exports straight into it).
+  void livePoses(Span<const DenseRange> slots, GpuLivePose* out) const;
 
   /// The selection parameters of `view` for `camera`: the crowd's LOD lines and far line with
   /// the view's rules applied (CrowdViewDesc), what CrowdView::select() uses. Default

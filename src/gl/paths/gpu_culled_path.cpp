@@ -128,8 +128,8 @@ Status GpuCulledPath::uploadLivePoses(const CrowdManager& crowd) {
   const CrowdExport exported(crowd);
   if (live_poses_ != kNoObject && !live_held_.update(exported, crowd.identity()))
     return Status::ok();  // The slots go whole: no span of changed texels.
-  exported.livePoses(&live_export_);
-  const uint32_t slots = std::max<uint32_t>(1, uint32_t(live_export_.size()));
+  const DenseRange all{0, crowd.desc().live_pose_capacity};
+  const uint32_t slots = std::max<uint32_t>(1, all.count);
   if (live_poses_ == kNoObject || slots > live_capacity_) {
     Status s = recreate(&live_poses_, size_t(slots) * sizeof(GpuLivePose), nullptr,
                         "drawCrowdGpuCulled: the live poses");
@@ -139,12 +139,15 @@ Status GpuCulledPath::uploadLivePoses(const CrowdManager& crowd) {
     }
     live_capacity_ = slots;
   }
-  // 80 bytes a slot (80 KB for a thousand), through the staging ring as the state is: the
-  // last frame's passes may still read the slots (glNamedBufferSubData alone was not ordered
-  // after them on the H100's driver: upload_ring.h).
-  if (live_export_.empty()) return Status::ok();
-  const Status s =
-      staging_->upload(live_poses_, live_export_.size() * sizeof(GpuLivePose), live_export_.data());
+  // 80 bytes a slot (80 KB for a thousand), exported straight into the staging ring, as the
+  // state is: the last frame's passes may still read the slots (glNamedBufferSubData alone was
+  // not ordered after them on the H100's driver: upload_ring.h).
+  if (all.count == 0) return Status::ok();
+  std::vector<BufferPiece> pieces{{0, size_t(all.count) * sizeof(GpuLivePose), nullptr}};
+  const Status s = uploadWritten(
+      *staging_, live_poses_, &pieces, pieces[0].bytes, &live_bytes_, [&](uint8_t* out) {
+        exported.livePoses(Span<const DenseRange>(&all, 1), reinterpret_cast<GpuLivePose*>(out));
+      });
   if (!s.isOk()) {
     live_held_.forget();  // All of them again next time.
     return {s.code(), "drawCrowdGpuCulled: the live poses: " + s.message()};

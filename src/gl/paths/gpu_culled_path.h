@@ -108,7 +108,7 @@ class GpuCulledPath final : public DrawPath {
   GLuint live_poses_ = kNoObject;
   uint32_t live_capacity_ = 0;
   LiveTexelsHeld live_held_;
-  std::vector<GpuLivePose> live_export_;
+  std::vector<uint8_t> live_bytes_;  // The slots when they do not fit one staged chunk.
   uint32_t layer_capacity_ = 0, layer_copies_ = 1;
   bool layers_ = false, extras_ = false;
   uint32_t compose_lanes_ = 0;  // Composed layers' invocations per record this frame; 0: none.
