@@ -5,6 +5,7 @@
 #include <chrono>
 #include <cmath>
 #include <cstdio>
+#include <utility>
 
 #include "crowd_bench/gpu_passes_table.h"
 #include "si/crowd/crowd_manager.h"
@@ -261,10 +262,15 @@ uint64_t coveredPixels(const std::vector<uint8_t>& rgba) {
   return n;
 }
 
-double median(std::vector<double> v) {
+double quantile(std::vector<double> v, double q) {
   if (v.empty()) return 0.0;
-  std::nth_element(v.begin(), v.begin() + std::ptrdiff_t(v.size() / 2), v.end());
-  return v[v.size() / 2];
+  const size_t at = std::min(v.size() - 1, size_t(q * double(v.size())));
+  std::nth_element(v.begin(), v.begin() + std::ptrdiff_t(at), v.end());
+  return v[at];
+}
+
+double median(std::vector<double> v) {
+  return quantile(std::move(v), 0.5);
 }
 
 void printSideBySideHeader(const char* feature) {

@@ -139,6 +139,9 @@ Status runPath(Setup& setup, Renderer& renderer, const BakedPalette& palette,
 /// Pixels of an RGBA8 image that are not of kClearColor.
 uint64_t coveredPixels(const std::vector<uint8_t>& rgba);
 
+/// The value a fraction `q` (0 to 1) of the way through `v` sorted (0 for none); median() is
+/// quantile(v, 0.5).
+double quantile(std::vector<double> v, double q);
 double median(std::vector<double> v);
 
 using Clock = std::chrono::steady_clock;

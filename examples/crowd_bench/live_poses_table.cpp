@@ -69,14 +69,7 @@ Status runLive(Setup& setup, Renderer& renderer, const BakedPalette& palette,
 // the first's, so that what drifts over a run (the host's load, the camera) falls out.
 struct PairedAdded {
   double update = 0, submit = 0, total = 0, total_p25 = 0, total_p75 = 0;
-  uint32_t pairs = 0;
 };
-
-double quantile(std::vector<double> v, double q) {
-  if (v.empty()) return 0.0;
-  std::sort(v.begin(), v.end());
-  return v[std::min(v.size() - 1, size_t(q * double(v.size())))];
-}
 
 Status pairLive(Setup& setup, Renderer& renderer, const BakedPalette& palette,
                 const std::vector<std::vector<glm::mat4>>& poses, uint32_t count, uint32_t live,
@@ -114,7 +107,6 @@ Status pairLive(Setup& setup, Renderer& renderer, const BakedPalette& palette,
   out->total = median(total);
   out->total_p25 = quantile(total, 0.25);
   out->total_p75 = quantile(total, 0.75);
-  out->pairs = uint32_t(total.size());
   return s;
 }
 
