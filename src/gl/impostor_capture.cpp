@@ -16,6 +16,7 @@
 #include "gl/renderer_impl.h"
 #include "gl/resources/gl_allocation.h"
 #include "gl/resources/impostor_coverage.h"
+#include "gl/resources/impostor_surface.h"
 #include "si/crowd/crowd_manager.h"
 #include "si/crowd/handle_pool.h"
 #include "si/crowd/instance_batcher.h"
@@ -127,6 +128,9 @@ Status Renderer::buildImpostor(CharacterId id, const ImpostorDesc& desc, Imposto
   if (s.isOk())
     s = detail::measureCoveredRects(atlas.texture, plan.columns, plan.rows, plan.cell, plan.levels,
                                     &rects);
+  if (s.isOk())
+    s = detail::measureUniformSurface(atlas.texture, plan.info.width, plan.info.height,
+                                      &atlas.uniform_surface);
   if (s.isOk()) {
     const std::vector<uint32_t> table = detail::impostorClipTable(plan, rects);
     s = detail::createBuffer(&atlas.clips, table.size() * sizeof(uint32_t), table.data(), 0,
@@ -137,6 +141,7 @@ Status Renderer::buildImpostor(CharacterId id, const ImpostorDesc& desc, Imposto
     return s;
   }
   static_cast<detail::ImpostorGrid&>(atlas) = detail::impostorGrid(plan, palette);
+  if (info != nullptr) info->uniform_surface = atlas.uniform_surface != 0;
   c.impostor.release();
   c.impostor = atlas;
   return m.check("buildImpostor");

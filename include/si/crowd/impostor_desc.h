@@ -40,6 +40,13 @@ struct ImpostorInfo {
   uint32_t width = 0, height = 0;  ///< Texels of each of the atlas's three layers.
   uint64_t bytes = 0;              ///< GPU memory of the atlas with its mip levels.
   uint64_t capture_bytes = 0;      ///< The capture's depth buffer, freed when the build returns.
+  /// Set once the atlas is captured (si::gl): its surface layer (metallic, roughness, occlusion
+  /// and the material) holds one value wherever the character was drawn, as for a character of
+  /// one material without metallic-roughness or occlusion images. Its impostor fragments then
+  /// take that value from a uniform and read two of the three layers (at 100k impostors of a
+  /// few pixels, the fragment stage's reads bound the frame: docs/performance.md). si::vk's
+  /// impostors read the layer always and leave it false.
+  bool uniform_surface = false;
 };
 
 }  // namespace si

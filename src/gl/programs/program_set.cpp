@@ -61,6 +61,7 @@ Program describe(GLuint id) {
   p.previous_view_projection = glGetUniformLocation(id, "u_previous_view_projection");
   p.instance_handle = glGetUniformLocation(id, "u_instance_handle");
   p.batch_slot = glGetUniformLocation(id, "u_batch_slot");
+  p.impostor_surface = glGetUniformLocation(id, "u_impostor_surface");
   return p;
 }
 

@@ -33,6 +33,8 @@ struct Program {
   /// drawCrowd's batch's first slot (shaders/batch_slot.glsl), where the program reads its
   /// composed rows, previous indices or instance handles.
   GLint batch_slot = -1;
+  /// The impostor fragment stage's surface value (u_impostor_surface; impostor_surface.h).
+  GLint impostor_surface = -1;
 };
 
 /// Compiles one shader: kBackend with the driver's log on failure.

@@ -10,6 +10,12 @@ void ImpostorAtlas::bind(const Program& program, const Camera& camera, bool quad
   glProgramUniform4ui(p, 40, columns, rows, azimuths, elevations);
   const glm::vec4 viewer = impostorViewer(camera);
   glProgramUniform4f(p, 44, viewer.x, viewer.y, viewer.z, viewer.w);
+  if (program.impostor_surface >= 0) {  // w 0: the layer varies, read per fragment.
+    const uint32_t u = uniform_surface;
+    glProgramUniform4f(p, program.impostor_surface, float(u & 0xFFu) / 255.0f,
+                       float((u >> 8) & 0xFFu) / 255.0f, float((u >> 16) & 0xFFu) / 255.0f,
+                       float(u >> 24) / 255.0f);
+  }
   if (quads_computed) return;
   glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 9, clips);
   glProgramUniform4ui(p, 41, clip_count, frame_stride_texels, azimuths * elevations, levels);

@@ -26,6 +26,10 @@ struct ImpostorAtlas : ImpostorGrid {
   /// level its covered rectangle (impostor_coverage.h), cell c's level l at word
   /// clip_count * 4 + c * levels + l.
   GLuint clips = kNoObject;
+  /// The surface layer's one value where the capture drew (R | G << 8 | B << 16 | A << 24:
+  /// metallic, roughness, occlusion, the material's code; measureUniformSurface), handed to
+  /// the impostor fragment stage instead of read; 0 where the layer varies.
+  uint32_t uniform_surface = 0;
 
   bool ready() const { return texture != kNoObject; }
   /// Binds the atlas (texture unit 3, storage binding 9) and sets `program`'s impostor

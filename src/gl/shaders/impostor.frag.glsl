@@ -4,7 +4,10 @@
 // occlusion and the material's code; all multiplied by the coverage, so filtering does not
 // darken the edges) as a surface (si_surface.glsl: the normal turned into world axes by the
 // quad's frame), handed to the material as a mesh's fragment is. Texels less than half covered
-// are discarded. SI_DEPTH_ONLY: the coverage test alone.
+// are discarded. SI_DEPTH_ONLY: the coverage test alone. Where the capture drew one surface value
+// everywhere (one material without metallic-roughness or occlusion textures), it comes in
+// u_impostor_surface and layer 2 is not read: two texture reads a fragment of four, what bounds
+// 100k impostors of a few pixels (impostor_surface.h).
 #define SI_IMPOSTOR
 layout(binding = 3) uniform sampler2DArray u_impostor;
 in vec2 v_uv;
@@ -17,6 +20,9 @@ flat in uint v_lod;
 flat in vec3 v_right;
 flat in vec3 v_up;
 flat in vec3 v_towards;
+// Layer 2's one value (impostor_surface.h): metallic, roughness, occlusion and the material's
+// code (index + 1) / 255, w above 0; w 0: the layer varies, read per fragment.
+layout(location = 48) uniform vec4 u_impostor_surface;
 #endif
 void main() {
   vec4 base = texture(u_impostor, vec3(v_uv, 0.0));
@@ -29,16 +35,19 @@ void main() {
   s.normal = normalize(n.x * v_right + n.y * v_up + n.z * v_towards);
   s.uv0 = v_uv;
   s.base_color = vec4(base.rgb / base.a, clamp(extra.a, 0.0, 1.0));
-  vec3 surface = clamp(texture(u_impostor, vec3(v_uv, 2.0)).rgb / base.a, 0.0, 1.0);
+  vec4 surface = u_impostor_surface;  // A uniform branch: the whole draw takes one side.
+  if (surface.w == 0.0) {
+    surface.rgb = clamp(texture(u_impostor, vec3(v_uv, 2.0)).rgb / base.a, 0.0, 1.0);
+    // The material: the largest code of the 2 x 2 full-resolution texels around the coordinate
+    // (codes are not averaged); where all four are empty (a minified edge), the filtered code.
+    vec4 codes = textureGather(u_impostor, vec3(v_uv, 2.0), 3);
+    surface.w = max(max(codes.x, codes.y), max(codes.z, codes.w));
+    if (surface.w == 0.0) surface.w = texture(u_impostor, vec3(v_uv, 2.0)).a / base.a;
+  }
   s.metallic = surface.r;
   s.roughness = surface.g;
   s.occlusion = surface.b;
-  // The material: the largest code of the 2 x 2 full-resolution texels around the coordinate
-  // (codes are not averaged); where all four are empty (a minified edge), the filtered code.
-  vec4 codes = textureGather(u_impostor, vec3(v_uv, 2.0), 3);
-  float code = max(max(codes.x, codes.y), max(codes.z, codes.w));
-  if (code == 0.0) code = texture(u_impostor, vec3(v_uv, 2.0)).a / base.a;
-  uint index = uint(code * 255.0 + 0.5);
+  uint index = uint(surface.w * 255.0 + 0.5);
   s.material = index == 0u ? SI_NO_MATERIAL : index - 1u;
   s.tint = siUnpackUnorm4x8(v_color).rgb;
   s.lod = v_lod;
