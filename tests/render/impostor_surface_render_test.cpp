@@ -10,6 +10,7 @@
 #include <vector>
 
 #include "render/impostor_fixture.h"
+#include "render/pbr_probe.h"
 #include "render/two_targets.h"
 #include "si/crowd/crowd_manager.h"
 
@@ -17,16 +18,6 @@ namespace si {
 namespace {
 
 using namespace test;
-
-// The surface a material sees: metallic, roughness and occlusion at output 0; the material's
-// index and whether the fragment is an impostor's at output 1 (alpha 1 where drawn).
-constexpr const char* kSurfaceProbe = R"(
-layout(location = 0) out vec4 o_pbr;
-layout(location = 1) out vec4 o_index;
-void siMaterial(SiSurface s) {
-  o_pbr = vec4(s.metallic, s.roughness, s.occlusion, 1.0);
-  o_index = vec4(float(s.material), s.impostor ? 1.0 : 0.0, 0.0, 1.0);
-})";
 
 constexpr float kMetallic[2] = {0.4f, 0.9f}, kRoughness[2] = {0.6f, 0.2f};
 
@@ -61,7 +52,7 @@ TEST_P(RenderTest, AnImpostorOfOneSurfaceValueHandsTheMaterialThatValue) {
     ASSERT_TRUE(r.addCharacter(materialCharacter(two), palette(), &id).isOk());
     MaterialDesc md;
     md.name = "probe";
-    md.source = kSurfaceProbe;
+    md.source = kPbrProbe;
     MaterialId mid;
     ASSERT_TRUE(r.addMaterial(md, &mid).isOk());
     ASSERT_TRUE(r.setMaterial(id, mid).isOk());

@@ -11,6 +11,7 @@
 #include <vector>
 
 #include "render/pbr_material_fixture.h"
+#include "render/pbr_probe.h"
 
 namespace si {
 namespace {
@@ -143,13 +144,6 @@ TEST_P(PbrMaterialTest, AlphaMaskedTexelsAreLeftOutOfTheImpostorAtlas) {
 // material the metallic, roughness and occlusion its mesh does (means over the covered pixels
 // within 0.05; the atlas keeps 8 bits and filters them) and the mesh's material index.
 TEST_P(PbrMaterialTest, ImpostorsHandTheMaterialTheMeshesMetallicRoughnessOcclusionAndIndex) {
-  constexpr const char* kPbrProbe = R"(
-layout(location = 0) out vec4 o_pbr;
-layout(location = 1) out vec4 o_index;
-void siMaterial(SiSurface s) {
-  o_pbr = vec4(s.metallic, s.roughness, s.occlusion, 1.0);
-  o_index = vec4(float(s.material), s.impostor ? 1.0 : 0.0, 0.0, 1.0);
-})";
   Renderer r;
   makeImpostorRenderer(kPbrProbe, &r);
   if (HasFatalFailure()) return;
