@@ -5,7 +5,7 @@
 #include <algorithm>
 #include <cmath>
 
-#include "si/gl/gl_context.h"
+#include "gl/resources/atlas_bands.h"
 
 namespace si::detail {
 
@@ -68,41 +68,37 @@ Status measureCoveredRects(GLuint atlas, uint32_t columns, uint32_t rows, uint32
   const uint32_t cells = columns * rows;
   const uint32_t width = columns * cell, height = rows * cell;
   rects->assign(size_t(cells) * levels, 0u);
-  std::vector<uint8_t> band;
   std::vector<CellExtents> extents;
   for (uint32_t level = 0; level < levels; ++level) {
     const uint32_t w = std::max(width >> level, 1u), h = std::max(height >> level, 1u);
     const std::vector<TexelSpan> xs = texelSpans(w, width, cell, columns);
     const std::vector<TexelSpan> ys = texelSpans(h, height, cell, rows);
     extents.assign(cells, CellExtents());
-    const uint32_t band_rows = std::max<uint32_t>(1, uint32_t((16u << 20) / (uint64_t(w) * 4)));
-    for (uint32_t y0 = 0; y0 < h; y0 += band_rows) {
-      const uint32_t n = std::min(band_rows, h - y0);
-      band.resize(size_t(w) * n * 4);
-      glGetTextureSubImage(atlas, GLint(level), 0, GLint(y0), 0, GLsizei(w), GLsizei(n), 1, GL_RGBA,
-                           GL_UNSIGNED_BYTE, GLsizei(band.size()), band.data());
-      const Status s = checkGlErrors("buildImpostor: reading the atlas's coverage back");
-      if (!s.isOk()) return s;
-      for (uint32_t j = 0; j < n; ++j) {
-        const TexelSpan& y = ys[y0 + j];
-        const uint8_t* row = band.data() + size_t(j) * w * 4;
-        for (uint32_t x = 0; x < w; ++x) {
-          if (row[size_t(x) * 4 + 3] == 0) continue;
-          const TexelSpan& sx = xs[x];
-          const bool half = row[size_t(x) * 4 + 3] >= kHalf;
-          // A texel's centre +- one texel: where the filter can weigh it.
-          const double dx = 0.5 * (sx.high - sx.low), dy = 0.5 * (y.high - y.low);
-          for (uint32_t cy = y.first_cell; cy <= y.last_cell; ++cy)
-            for (uint32_t cx = sx.first_cell; cx <= sx.last_cell; ++cx) {
-              CellExtents& e = extents[size_t(cy) * columns + cx];
-              const double l = sx.low - double(cx) * cell, b = y.low - double(cy) * cell;
-              const double r = sx.high - double(cx) * cell, t = y.high - double(cy) * cell;
-              e.any.add(l, b, r, t);
-              if (half) e.half.add(l - dx, b - dy, r + dx, t + dy);
+    const Status s = readLayerBands(
+        atlas, GLint(level), 0, w, h, "buildImpostor: reading the atlas's coverage back",
+        [&](uint32_t y0, uint32_t n, const uint8_t* band) {
+          for (uint32_t j = 0; j < n; ++j) {
+            const TexelSpan& y = ys[y0 + j];
+            const uint8_t* row = band + size_t(j) * w * 4;
+            for (uint32_t x = 0; x < w; ++x) {
+              if (row[size_t(x) * 4 + 3] == 0) continue;
+              const TexelSpan& sx = xs[x];
+              const bool half = row[size_t(x) * 4 + 3] >= kHalf;
+              // A texel's centre +- one texel: where the filter can weigh it.
+              const double dx = 0.5 * (sx.high - sx.low), dy = 0.5 * (y.high - y.low);
+              for (uint32_t cy = y.first_cell; cy <= y.last_cell; ++cy)
+                for (uint32_t cx = sx.first_cell; cx <= sx.last_cell; ++cx) {
+                  CellExtents& e = extents[size_t(cy) * columns + cx];
+                  const double l = sx.low - double(cx) * cell, b = y.low - double(cy) * cell;
+                  const double r = sx.high - double(cx) * cell, t = y.high - double(cy) * cell;
+                  e.any.add(l, b, r, t);
+                  if (half) e.half.add(l - dx, b - dy, r + dx, t + dy);
+                }
             }
-        }
-      }
-    }
+          }
+          return true;
+        });
+    if (!s.isOk()) return s;
     // Bilinear filtering passes one half only within a texel of a texel of at least half, and
     // only within the texels of any coverage (past them it weighs them by one half at most).
     for (uint32_t c = 0; c < cells; ++c) {

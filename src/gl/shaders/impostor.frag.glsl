@@ -37,12 +37,13 @@ void main() {
   s.base_color = vec4(base.rgb / base.a, clamp(extra.a, 0.0, 1.0));
   vec4 surface = u_impostor_surface;  // A uniform branch: the whole draw takes one side.
   if (surface.w == 0.0) {
-    surface.rgb = clamp(texture(u_impostor, vec3(v_uv, 2.0)).rgb / base.a, 0.0, 1.0);
+    vec4 layer = texture(u_impostor, vec3(v_uv, 2.0));
+    surface.rgb = clamp(layer.rgb / base.a, 0.0, 1.0);
     // The material: the largest code of the 2 x 2 full-resolution texels around the coordinate
     // (codes are not averaged); where all four are empty (a minified edge), the filtered code.
     vec4 codes = textureGather(u_impostor, vec3(v_uv, 2.0), 3);
     surface.w = max(max(codes.x, codes.y), max(codes.z, codes.w));
-    if (surface.w == 0.0) surface.w = texture(u_impostor, vec3(v_uv, 2.0)).a / base.a;
+    if (surface.w == 0.0) surface.w = layer.a / base.a;
   }
   s.metallic = surface.r;
   s.roughness = surface.g;
