@@ -32,7 +32,8 @@ std::vector<glm::quat> viewRotations(const ImpostorPlan& plan) {
 }  // namespace
 
 Status planImpostor(const BakedPalette& palette, uint32_t sub_meshes, const ImpostorDesc& desc,
-                    Span<const ImpostorSide> sides, const char* call, ImpostorPlan* out) {
+                    Span<const ImpostorSide> sides, uint32_t max_supersample, const char* call,
+                    ImpostorPlan* out) {
   ImpostorPlan plan;
   plan.azimuths = desc.azimuths ? desc.azimuths : 16u;
   plan.elevations_degrees = desc.elevations_degrees.empty() ? std::vector<float>{0.0f, 30.0f, 60.0f}
@@ -54,6 +55,14 @@ Status planImpostor(const BakedPalette& palette, uint32_t sub_meshes, const Impo
     return {StatusCode::kInvalidArgument,
             strCat(call, ": variation mask 0x", std::hex, desc.variation_mask,
                    " wears none of the character's sub-meshes")};
+  const uint32_t asked = desc.capture_supersample;
+  if (asked != 0 && asked != 1 && asked != 2 && asked != 4)
+    return {StatusCode::kInvalidArgument,
+            strCat(call, ": capture_supersample ", asked, "; 0 (automatic), 1, 2 or 4")};
+  if (asked > std::max(max_supersample, 1u))
+    return {StatusCode::kUnsupported,
+            strCat(call, ": capture_supersample ", asked, "; this back-end captures at most ",
+                   std::max(max_supersample, 1u), " texels each way per atlas texel")};
 
   for (size_t k = 0; k < elevations.size(); ++k)
     plan.elevations_radians[k] = float(elevations[k] * kPi / 180.0);
@@ -87,7 +96,21 @@ Status planImpostor(const BakedPalette& palette, uint32_t sub_meshes, const Impo
   info.height = uint32_t(std::min<uint64_t>(height, UINT32_MAX));
   for (uint32_t l = 0; l < plan.levels; ++l)
     info.bytes += std::max<uint64_t>(width >> l, 1) * std::max<uint64_t>(height >> l, 1) * 4 * 3;
-  info.capture_bytes = width * height * 4;  // A depth of 24 or 32 bits, 4 bytes a texel.
+  const uint64_t budget = desc.max_bytes ? desc.max_bytes : uint64_t(1) << 30;
+  // The capture at `ss` texels each way: a depth of 24 or 32 bits (4 bytes a texel) and, past
+  // 1, its own three layers of 4 bytes (at 1 it draws into the atlas).
+  const auto captureBytes = [&](uint64_t ss) {
+    return width * ss * height * ss * (ss > 1 ? 16 : 4);
+  };
+  const auto fits = [&](uint64_t ss) {
+    for (const ImpostorSide& side : sides)
+      if (width * ss > std::max<uint32_t>(side.limit, 1) ||
+          height * ss > std::max<uint32_t>(side.limit, 1))
+        return false;
+    return info.bytes + captureBytes(ss) <= budget;
+  };
+  info.capture_supersample = asked ? asked : (max_supersample >= 2 && fits(2) ? 2u : 1u);
+  info.capture_bytes = captureBytes(info.capture_supersample);
 
   // The cell: every clip's bounds about their centre, as wide and tall as the widest view shows
   // them.
@@ -111,26 +134,29 @@ Status planImpostor(const BakedPalette& palette, uint32_t sub_meshes, const Impo
   // The atlas is an image, the capture's depth an attachment, drawn through one viewport: the
   // smallest of their limits bounds each side (a viewport past its limit would be clamped
   // silently, leaving cells empty).
+  const uint64_t ss = info.capture_supersample;
   for (const ImpostorSide& side : sides)
-    if (width > std::max<uint32_t>(side.limit, 1) || height > std::max<uint32_t>(side.limit, 1))
-      return {
-          StatusCode::kLimitExceeded,
-          strCat(call, ": ", plan.cells, " cells (", plan.frames.size(), " frames x ", views,
-                 " views) of ", plan.cell, " texels need ", width, " x ", height, " texels, past ",
-                 side.name, " (", side.limit, "): fewer frames, views or texels per cell")};
+    if (width * ss > std::max<uint32_t>(side.limit, 1) ||
+        height * ss > std::max<uint32_t>(side.limit, 1))
+      return {StatusCode::kLimitExceeded,
+              strCat(call, ": ", plan.cells, " cells (", plan.frames.size(), " frames x ", views,
+                     " views) of ", plan.cell, " texels need ", width, " x ", height,
+                     " texels, captured ", ss, " x ", ss, " each: ", width * ss, " x ", height * ss,
+                     ", past ", side.name, " (", side.limit,
+                     "): fewer frames, views or texels per cell, or a smaller "
+                     "capture_supersample")};
   // One capture instance per cell.
   if (plan.cells > HandlePool::kMaxSlots)
     return {StatusCode::kLimitExceeded,
             strCat(call, ": ", plan.cells, " cells (", plan.frames.size(), " frames x ", views,
                    " views), past the capture crowd's ", HandlePool::kMaxSlots,
                    " instances: fewer frames or views")};
-  const uint64_t budget = desc.max_bytes ? desc.max_bytes : uint64_t(1) << 30;
   if (info.bytes + info.capture_bytes > budget)
     return {StatusCode::kLimitExceeded,
             strCat(call, ": the atlas takes ", info.bytes, " bytes with its mip levels and ",
                    "its capture ", info.capture_bytes, " more, past the budget of ", budget,
-                   " (ImpostorDesc::max_bytes): fewer frames, views or texels per cell, or a "
-                   "larger budget")};
+                   " (ImpostorDesc::max_bytes): fewer frames, views or texels per cell, a smaller "
+                   "capture_supersample or a larger budget")};
   return Status::ok();
 }
 

@@ -70,14 +70,19 @@ struct ImpostorSide {
   const char* name;
 };
 
-/// Plans `desc` for a character of `sub_meshes` sub-meshes baked as `palette`, its atlas's sides
-/// bounded by `sides` (the API's limits). kInvalidArgument (named after `call`) for more than 4
-/// elevations, elevations not increasing within [-90, 90] or a variation mask that wears none of
-/// the sub-meshes; kLimitExceeded naming the first of `sides` the atlas's width or height
-/// passes, for more cells than a crowd holds (HandlePool::kMaxSlots), or for an atlas and
-/// capture past ImpostorDesc::max_bytes. `plan->info` is filled before the limits are checked.
+/// Plans `desc` for a character of `sub_meshes` sub-meshes baked as `palette`, its atlas's and
+/// capture's sides bounded by `sides` (the API's limits), captured at most `max_supersample`
+/// texels each way per atlas texel (what the back-end resolves). kInvalidArgument (named after
+/// `call`) for more than 4 elevations, elevations not increasing within [-90, 90], a variation
+/// mask that wears none of the sub-meshes or a capture_supersample other than 0, 1, 2 or 4;
+/// kUnsupported for one past `max_supersample`; kLimitExceeded naming the first of `sides` the
+/// capture's width or height passes, for more cells than a crowd holds (HandlePool::kMaxSlots),
+/// or for an atlas and capture past ImpostorDesc::max_bytes. The automatic supersampling (0)
+/// takes 2 where that passes none of these limits, else 1. `plan->info` is filled before the
+/// limits are checked.
 Status planImpostor(const BakedPalette& palette, uint32_t sub_meshes, const ImpostorDesc& desc,
-                    Span<const ImpostorSide> sides, const char* call, ImpostorPlan* plan);
+                    Span<const ImpostorSide> sides, uint32_t max_supersample, const char* call,
+                    ImpostorPlan* plan);
 
 /// The capture: `crowd` initialized with one instance per cell (cell i at column i % columns,
 /// row i / columns from the bottom, playing its frame held, seen from its view direction) and

@@ -45,8 +45,8 @@ Status Renderer::buildImpostor(CharacterId id, const ImpostorDesc& desc, Imposto
                                             {m.max_viewport_size, "maxViewportDimensions"}};
   si::detail::ImpostorPlan plan;
   const Status planned = si::detail::planImpostor(
-      palette, sub_meshes, desc, Span<const si::detail::ImpostorSide>(sides, std::size(sides)),
-      kCall, &plan);
+      palette, sub_meshes, desc, Span<const si::detail::ImpostorSide>(sides, std::size(sides)), 1,
+      kCall, &plan);  // Captured at 1 texel per atlas texel (no resolve pass here yet).
   if (info != nullptr) *info = plan.info;  // Reported before anything is allocated.
   if (!planned.isOk()) return planned;
   VkFormatProperties depth_format{};

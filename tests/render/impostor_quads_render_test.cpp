@@ -213,13 +213,14 @@ TEST_P(RenderTest, ImpostorQuadsShadeWhatTheirCellsCoverAndDrawTheWholeCellsImag
   if (count) glDeleteQueries(1, &query);
   ASSERT_EQ(glGetError(), GLenum(GL_NO_ERROR));
 
-  // The same pixels drawn, their colours within 2 of 255: the texture coordinate is
-  // interpolated across another quad, which rounds otherwise. llvmpipe rounds so little that
-  // this holds exactly; GL leaves the interpolation's precision to the implementation, and on
-  // NVIDIA's a few pixels at the coverage threshold flip either way and a few on a texel's
-  // edge change colour (7 of 8,026 on the H200: 3 drawn only by the cut quads, 2 only by the
-  // whole cells, 2 by 24 and 70). Elsewhere at most 1 pixel in 500 may: a rectangle two 255ths
-  // of a cell too small makes 30 of 8,030 on llvmpipe.
+  // The same pixels drawn, their colours within 2 of 255, but for a few: the texture
+  // coordinate is interpolated across another quad, which rounds otherwise (GL leaves the
+  // interpolation's precision to the implementation), so a few pixels at the coverage threshold
+  // flip either way and a few on a texel's edge change colour: 7 of 8,026 on the H200 (3 drawn
+  // only by the cut quads, 2 only by the whole cells, 2 by 24 and 70); on llvmpipe none while
+  // the atlas's level 0 was captured a texel each (its coverage 0 or 1), 2 of 7,835 since it is
+  // averaged from a 2 x 2 capture (1 drawn only by the whole cells, 1 by 23). At most 1 pixel in
+  // 500 may: a rectangle two 255ths of a cell too small makes 30 of 8,030 on llvmpipe.
   const auto background = [](const std::vector<uint8_t>& image, size_t p) {
     return image[p] == image[0] && image[p + 1] == image[1] && image[p + 2] == image[2];
   };
@@ -245,12 +246,7 @@ TEST_P(RenderTest, ImpostorQuadsShadeWhatTheirCellsCoverAndDrawTheWholeCellsImag
       static_cast<unsigned long long>(covered_fragments),
       static_cast<unsigned long long>(whole_fragments));
   EXPECT_GT(drawn, 2000u);
-  if (renderer.find("llvmpipe") != std::string::npos) {
-    EXPECT_EQ(only_whole + only_cut, 0u);
-    EXPECT_LE(most, 2);
-  } else {
-    EXPECT_LE(only_whole + only_cut + past_rounding, drawn / 500);
-  }
+  EXPECT_LE(only_whole + only_cut + past_rounding, drawn / 500);
   if (count) {
     EXPECT_LT(double(covered_fragments), 0.7 * double(whole_fragments));
   }

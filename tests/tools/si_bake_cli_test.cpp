@@ -150,16 +150,28 @@ TEST(SiBake, ImageErrorsPerLevel) {
 }
 
 TEST(SiBake, BadCommandLinesExitWith2) {
-  for (const char* args : {"", "--embedded", "-o x.sipal", "--embedded -o x.sipal --bogus",
-                           "--embedded -o x.sipal --rate 0", "--embedded -o x.sipal --rate fast",
-                           "--embedded -o x.sipal --format f64", "--embedded -o x.sipal --rate",
-                           "a.glb b.glb -o x.sipal", "a.glb --embedded -o x.sipal",
-                           "--embedded -o x.sipal --tolerance -1", "--embedded -o x.sipal --lods 9",
-                           "--embedded -o x.sipal --interpolation spline", "--cast",
-                           "--cast --embedded -o x.sipal", "--moving-clips -o x.sipal a.glb",
-                           "--embedded -o x.sipal --root-joint root",
-                           "--embedded -o x.sipal --root-motion ,",
-                           "--embedded -o x.sipal --impostor"}) {
+  for (const char* args :
+       {"",
+        "--embedded",
+        "-o x.sipal",
+        "--embedded -o x.sipal --bogus",
+        "--embedded -o x.sipal --rate 0",
+        "--embedded -o x.sipal --rate fast",
+        "--embedded -o x.sipal --format f64",
+        "--embedded -o x.sipal --rate",
+        "a.glb b.glb -o x.sipal",
+        "a.glb --embedded -o x.sipal",
+        "--embedded -o x.sipal --tolerance -1",
+        "--embedded -o x.sipal --lods 9",
+        "--embedded -o x.sipal --interpolation spline",
+        "--cast",
+        "--cast --embedded -o x.sipal",
+        "--moving-clips -o x.sipal a.glb",
+        "--embedded -o x.sipal --root-joint root",
+        "--embedded -o x.sipal --root-motion ,",
+        "--embedded -o x.sipal --impostor",
+        "--embedded -o x.sipal --image-errors --impostor-capture 2",
+        "--embedded -o x.sipal --image-errors --impostor --impostor-capture 3"}) {
     const ToolRun r = runTool(args);
     EXPECT_EQ(r.exit_code, 2) << args << "\n" << r.output;
     EXPECT_NE(r.output.find("si-bake: error:"), std::string::npos) << args;

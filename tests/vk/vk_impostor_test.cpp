@@ -113,7 +113,8 @@ TEST_P(VulkanImpostorTest, TheGpuDrivenPathsImpostorsGiveOpenGlsImage) {
   EXPECT_GE(impostors, 9u);
   EXPECT_LT(impostors, crowd.size());
   EXPECT_GE(crowd.size() - impostors, 9u);
-  // si::gl's GPU-driven image, its atlas built from the same desc.
+  // si::gl's GPU-driven image, its atlas built from the same desc, captured a texel each as
+  // si::vk captures it.
   std::vector<uint8_t> gl_image;
   DrawStats gl_stats;
   {
@@ -123,7 +124,9 @@ TEST_P(VulkanImpostorTest, TheGpuDrivenPathsImpostorsGiveOpenGlsImage) {
     ASSERT_TRUE(gl.init(info_, rd).isOk());
     CharacterId id;
     ASSERT_TRUE(gl.addCharacter(impostorCharacter(), palette(), &id).isOk());
-    ASSERT_TRUE(gl.buildImpostor(id, smallImpostor()).isOk());
+    ImpostorDesc aliased = smallImpostor();
+    aliased.capture_supersample = 1;
+    ASSERT_TRUE(gl.buildImpostor(id, aliased).isOk());
     gl.clear(kBackground);
     const Status s = drawOnPath(gl, PathKind::kGpuDriven, crowd, camera(), &gl_stats);
     ASSERT_TRUE(s.isOk()) << s.toString();
@@ -200,6 +203,11 @@ TEST_P(VulkanImpostorTest, RefusalsAreNamed) {
     ImpostorInfo info;
     refused(r.buildImpostor(id, bad, &info), StatusCode::kLimitExceeded, "max_bytes");
     EXPECT_GT(info.bytes, 1024u);
+    // It captures a texel per atlas texel: the default takes 1, more is refused.
+    EXPECT_EQ(info.capture_supersample, 1u);
+    bad = smallImpostor();
+    bad.capture_supersample = 2;
+    refused(r.buildImpostor(id, bad), StatusCode::kUnsupported, "captures at most 1");
     bad = smallImpostor();
     bad.cell_pixels = 1u << 20;
     refused(r.buildImpostor(id, bad), StatusCode::kLimitExceeded, "maxImageDimension2D");

@@ -11,14 +11,14 @@
 namespace si::tools {
 
 bool printImageErrors(std::FILE* f, const Character& character, const BakedPalette& palette,
-                      bool impostor, std::string* why) {
+                      const ImpostorDesc* impostor, std::string* why) {
   Character measured = character;
-  const ImpostorDesc impostor_desc;
   ImageLodErrorDesc desc;
   if (impostor) {
-    desc.impostor = &impostor_desc;
-    desc.azimuth_offset_degrees = 180.0f / 16.0f;  // Half of ImpostorDesc's default step,
-    desc.pose_phase = 0.5f;                       // and between its frames.
+    desc.impostor = impostor;
+    const uint32_t azimuths = impostor->azimuths ? impostor->azimuths : 16u;
+    desc.azimuth_offset_degrees = 180.0f / float(azimuths);  // Half the atlas's step,
+    desc.pose_phase = 0.5f;                                  // and between its frames.
   }
   std::unique_ptr<HeadlessContext> context;
   HeadlessDesc hd;

@@ -8,14 +8,15 @@
 
 #include "si/core/baked_palette.h"
 #include "si/core/character.h"
+#include "si/crowd/impostor_desc.h"
 
 namespace si::tools {
 
 /// Prints the table to `f`; false with `why` set when no context can be made or the
 /// measurement fails. `character` must carry LOD errors (as printLodTable measures them). With
-/// `impostor` (--impostor), an impostor level (si::ImpostorDesc's defaults) is appended and
+/// `impostor` not null (--impostor), an impostor level captured by that desc is appended and
 /// measured too, every level between the impostor's captured views and frames.
 bool printImageErrors(std::FILE* f, const Character& character, const BakedPalette& palette,
-                      bool impostor, std::string* why);
+                      const ImpostorDesc* impostor, std::string* why);
 
 }  // namespace si::tools

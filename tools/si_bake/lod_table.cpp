@@ -12,7 +12,7 @@
 namespace si_bake {
 
 bool printLodTable(std::FILE* f, const si::Character& character, const si::BakedPalette& palette,
-                   bool image_errors, bool impostor, std::string* why) {
+                   bool image_errors, const si::ImpostorDesc* impostor, std::string* why) {
   si::Character posed = character;
   si::AnimatedLodErrorDesc poses;
   poses.poses_per_clip = 4;

@@ -7,15 +7,16 @@
 
 #include "si/core/baked_palette.h"
 #include "si/core/character.h"
+#include "si/crowd/impostor_desc.h"
 
 namespace si_bake {
 
 /// Triangles and geometric error per LOD level as instances draw them (a sub-mesh with fewer
 /// levels draws its last), in the bind pose and over poses of the clips; the errors are what
 /// the crowd's screen-error LOD mode selects by (docs/crowd.md). Also the image errors with
-/// `image_errors` (and the impostor's with `impostor`); false with `why` when they cannot be
-/// measured.
+/// `image_errors` (and, with `impostor` not null, the impostor's that desc captures); false
+/// with `why` when they cannot be measured.
 bool printLodTable(std::FILE* f, const si::Character& character, const si::BakedPalette& palette,
-                   bool image_errors, bool impostor, std::string* why);
+                   bool image_errors, const si::ImpostorDesc* impostor, std::string* why);
 
 }  // namespace si_bake

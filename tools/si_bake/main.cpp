@@ -59,6 +59,7 @@ struct Options {
   bool require_tolerance = false;
   bool image_errors = false;  // --image-errors: each LOD level's image error (a GL context).
   bool impostor = false;      // --impostor: with --image-errors, the impostor's too.
+  si::ImpostorDesc impostor_desc;  // --impostor-capture N: its capture_supersample.
   bool quiet = false;
   int progress = -1;  // -1: when stderr is a terminal; 0 never; 1 always.
 };
@@ -104,6 +105,8 @@ void usage(std::FILE* f) {
       "                           character's image it changes) in an offscreen GL context\n"
       "  --impostor               with --image-errors: also the animated impostor's (drawn\n"
       "                           past the last level), every level measured between its views\n"
+      "  --impostor-capture N     with --impostor: capture texels each way per atlas texel\n"
+      "                           (ImpostorDesc::capture_supersample: 1, 2 or 4; default 2)\n"
       "  --require-tolerance      fail (exit 6, nothing written) when a clip misses it\n"
       "                           (automatic rates always do, unless told otherwise:)\n"
       "  --accept-tolerance-miss  write an automatic bake that misses the tolerance\n"
@@ -172,9 +175,10 @@ int parse(int argc, char** argv, Options* o) {
     } else if (a == "--no-progress") {
       o->progress = 0;
     } else if (a == "-o" || a == "--output" || a == "--format" || a == "--rate" ||
-               a == "--interpolation" || a == "--placement" || a == "--tolerance" || a == "--max-rate" || a == "--clips" || a == "--skin" ||
-               a == "--root-motion" || a == "--root-joint" ||
-               a == "--csv" || a == "--lods" || a == "--variations") {
+               a == "--interpolation" || a == "--placement" || a == "--tolerance" ||
+               a == "--max-rate" || a == "--clips" || a == "--skin" || a == "--root-motion" ||
+               a == "--root-joint" || a == "--csv" || a == "--lods" || a == "--variations" ||
+               a == "--impostor-capture") {
       if (int r = needsValue()) return r;
       const std::string v = argv[++i];
       if (a == "-o" || a == "--output") {
@@ -236,6 +240,9 @@ int parse(int argc, char** argv, Options* o) {
         const unsigned long n = std::strtoul(v.c_str(), &end, 10);
         if (v.empty() || *end != '\0' || n > 7) return bad("--lods must be 0 to 7");
         o->import.generate_lods = uint32_t(n);
+      } else if (a == "--impostor-capture") {
+        if (v != "1" && v != "2" && v != "4") return bad("--impostor-capture must be 1, 2 or 4");
+        o->impostor_desc.capture_supersample = uint32_t(v[0] - '0');
       }
     } else if (!a.empty() && a[0] == '-') {
       return bad("unknown option '" + a + "'");
@@ -254,6 +261,8 @@ int parse(int argc, char** argv, Options* o) {
   }
   if (o->moving_clips && !o->embedded) return bad("--moving-clips is for --embedded");
   if (o->impostor && !o->image_errors) return bad("--impostor is for --image-errors");
+  if (o->impostor_desc.capture_supersample != 0 && !o->impostor)
+    return bad("--impostor-capture is for --impostor");
   if (!o->root_joint.empty() && o->root_motion.empty())
     return bad("--root-joint without --root-motion");
   if (o->embedded == !o->input.empty())
@@ -435,7 +444,8 @@ int main(int argc, char** argv) {
   }
   std::string why;
   if ((!o.quiet || o.image_errors) &&
-      !si_bake::printLodTable(stdout, character, palette, o.image_errors, o.impostor, &why))
+      !si_bake::printLodTable(stdout, character, palette, o.image_errors,
+                              o.impostor ? &o.impostor_desc : nullptr, &why))
     return error(kExitBake, "--image-errors: " + why);
   if (!o.csv.empty() && !writeCsv(o.csv, palette, report))
     return error(kExitOutput, "cannot write the CSV '" + o.csv + "'");

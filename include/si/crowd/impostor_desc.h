@@ -26,9 +26,18 @@ struct ImpostorDesc {
   uint32_t cell_pixels = 0;
   /// The parts every impostor shows (bit s: sub-mesh s); 0 means all.
   uint32_t variation_mask = 0;
-  /// The most GPU memory the build may take: the atlas with its mip levels and the capture's
-  /// depth buffer, which lives during the build only (ImpostorInfo::bytes + capture_bytes);
-  /// 0 means 1 GiB. Past it, buildImpostor refuses before allocating (kLimitExceeded).
+  /// The capture draws this many texels each way per atlas texel and averages them into it
+  /// (an antialiased atlas: thin parts such as a spear kept as partial coverage instead of
+  /// appearing and vanishing between views). 1, 2 or 4; 0 means 2, or 1 where 2 would pass a
+  /// side limit or max_bytes or the back-end captures at 1 (si::vk). At the captured views and
+  /// frames, 2 halves the pixels an 8-pixel impostor changes (docs/accuracy.md); drawing costs
+  /// the same, the atlas being as large. kInvalidArgument for other values, kUnsupported for
+  /// more than the back-end captures.
+  uint32_t capture_supersample = 0;
+  /// The most GPU memory the build may take: the atlas with its mip levels and the capture
+  /// (its depth buffer and, when supersampled, its own three layers), which lives during the
+  /// build only (ImpostorInfo::bytes + capture_bytes); 0 means 1 GiB. Past it, buildImpostor
+  /// refuses before allocating (kLimitExceeded).
   uint64_t max_bytes = 0;
 };
 
@@ -39,7 +48,10 @@ struct ImpostorInfo {
   uint32_t cells = 0;              ///< views x frames.
   uint32_t width = 0, height = 0;  ///< Texels of each of the atlas's three layers.
   uint64_t bytes = 0;              ///< GPU memory of the atlas with its mip levels.
-  uint64_t capture_bytes = 0;      ///< The capture's depth buffer, freed when the build returns.
+  /// The capture's depth buffer and, supersampled, its three layers: freed when the build
+  /// returns.
+  uint64_t capture_bytes = 0;
+  uint32_t capture_supersample = 0;  ///< Capture texels each way per atlas texel (1, 2 or 4).
   /// Set once the atlas is captured (si::gl): its surface layer (metallic, roughness, occlusion
   /// and the material) holds one value wherever the character was drawn, as for a character of
   /// one material without metallic-roughness or occlusion images. Its impostor fragments then

@@ -108,14 +108,16 @@ class Renderer {
 
   /// Draws character `id`'s animated impostor atlas (si/gl/impostor.h) on the GPU: every
   /// clip's reduced frames from every view direction of `desc`, with this renderer's programs
-  /// (vertex-shader skinning), offscreen; the host's framebuffers and viewport are kept. Crowds
+  /// (vertex-shader skinning), offscreen, supersampled as ImpostorDesc::capture_supersample
+  /// says and averaged into the atlas; the host's framebuffers and viewport are kept. Crowds
   /// whose CrowdDesc::impostor_lod is set then draw their instances at that level as impostors
   /// (drawCrowd and drawCrowdGpuCulled; the baselines return kUnsupported for such crowds).
   /// Replaces an earlier atlas; replaceCharacter() drops it. `info` (may be null) gets the
   /// atlas's size and bytes, planned before anything is allocated: also when the build is then
   /// refused for a limit or the budget. kInvalidArgument for an unknown id, more than 4
   /// elevations, elevations not increasing or outside [-90, 90] degrees, a mask wearing no
-  /// sub-mesh; kLimitExceeded, naming the limit, when a side of the atlas would pass
+  /// sub-mesh, a capture_supersample other than 0, 1, 2 or 4; kLimitExceeded, naming the
+  /// limit, when a side of the capture (the atlas's times capture_supersample) would pass
   /// GL_MAX_TEXTURE_SIZE, GL_MAX_RENDERBUFFER_SIZE or GL_MAX_VIEWPORT_DIMS, its cells 2^20 (one
   /// capture instance each), or its bytes with the capture's ImpostorDesc::max_bytes; the
   /// allocation errors of init(). The old atlas stays on failure.

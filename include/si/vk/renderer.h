@@ -141,8 +141,10 @@ class Renderer {
   Status addCharacter(const Character& character, const BakedPalette& palette, CharacterId* out);
   /// Character `id`'s animated impostor atlas, as si::Renderer::buildImpostor makes it
   /// (si/gl/impostor.h says what an impostor keeps and loses; the same desc, cells, views and
-  /// frames): the atlas image and clip table made here, their capture (the character drawn once
-  /// per cell into the atlas's three layers, the mip chain blitted) recorded by the next
+  /// frames; captured a texel per atlas texel: ImpostorDesc::capture_supersample 0 takes 1, more
+  /// is refused with kUnsupported): the atlas image and clip table made here, their capture (the
+  /// character drawn once per cell into the atlas's three layers, the mip chain blitted) recorded
+  /// by the next
   /// recordUploads(), its temporaries (a depth image of ImpostorInfo::capture_bytes, the capture
   /// crowd's records, the coverage's extents) freed by uploadsComplete(). Each cell's covered
   /// rectangle at each mip level (which cuts the quads) is measured on the GPU in the same

@@ -133,6 +133,7 @@ const ProgramSpec kSpecs[kProgramCount] = {
     {"impostor coverage", "", nullptr, nullptr, "impostor_coverage.comp.glsl", nullptr},
     {"impostor coverage rectangles", "#define SI_COVERAGE_RECTS\n", nullptr, nullptr,
      "impostor_coverage.comp.glsl", nullptr},
+    {"impostor capture resolve", "", nullptr, nullptr, "impostor_resolve.comp.glsl", nullptr},
 };
 
 }  // namespace

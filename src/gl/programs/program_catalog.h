@@ -74,6 +74,7 @@ enum class ProgramId : uint8_t {
   kImpostorQuads,                   ///< GPU-driven impostors: each quad once, before the draw.
   kImpostorCoverage,                ///< An impostor atlas level's covered extents (si::vk's).
   kImpostorCoverageRects,           ///< The extents packed into the clip table (si::vk's).
+  kImpostorResolve,                 ///< An impostor atlas's level 0 from its supersampled capture.
   kCount
 };
 inline constexpr size_t kProgramCount = size_t(ProgramId::kCount);

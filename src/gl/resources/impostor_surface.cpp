@@ -1,5 +1,5 @@
 // SkinnedInstancing — SPDX-License-Identifier: MIT (see LICENSE)
-// Whether an impostor atlas's surface layer holds one value, read back from the atlas.
+// Whether an impostor atlas's surface layer holds one value, read back from its capture.
 #include "gl/resources/impostor_surface.h"
 
 #include <cstring>
@@ -8,13 +8,13 @@
 
 namespace si::detail {
 
-Status measureUniformSurface(GLuint atlas, uint32_t width, uint32_t height, uint32_t* uniform) {
+Status measureUniformSurface(GLuint capture, uint32_t width, uint32_t height, uint32_t* uniform) {
   *uniform = 0;
   constexpr GLint kSurfaceLayer = 2;
   uint8_t first[4] = {0, 0, 0, 0};  // The first drawn texel's (its code, alpha, at least 1).
   bool varies = false;
-  const Status s = readLayerBands(atlas, 0, kSurfaceLayer, width, height,
-                                  "buildImpostor: reading the atlas's surface layer back",
+  const Status s = readLayerBands(capture, 0, kSurfaceLayer, width, height,
+                                  "buildImpostor: reading the capture's surface layer back",
                                   [&](uint32_t, uint32_t rows, const uint8_t* texels) {
                                     for (const uint8_t* t = texels;
                                          t < texels + size_t(width) * rows * 4; t += 4) {

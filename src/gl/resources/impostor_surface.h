@@ -16,11 +16,11 @@
 
 namespace si::detail {
 
-/// Reads layer 2 of `atlas` (`width` x `height` texels at level 0, RGBA8) back in bands of at
-/// most 16 MiB and sets `*uniform` to its texel (R | G << 8 | B << 16 | A << 24) when every
-/// texel the capture drew (alpha, the code, not 0) holds the same four bytes, else to 0 (the
-/// layer varies, or nothing was drawn). Needs the default pixel-pack state (GlStateGuard's
-/// readback footprint).
-Status measureUniformSurface(GLuint atlas, uint32_t width, uint32_t height, uint32_t* uniform);
+/// Reads layer 2 of `capture` (`width` x `height` texels at level 0, RGBA8: the atlas, or its
+/// supersampled capture, where every texel is drawn whole) back in bands of at most 16 MiB and
+/// sets `*uniform` to its texel (R | G << 8 | B << 16 | A << 24) when every texel the capture
+/// drew (alpha, the code, not 0) holds the same four bytes, else to 0 (the layer varies, or
+/// nothing was drawn). Needs the default pixel-pack state (GlStateGuard's readback footprint).
+Status measureUniformSurface(GLuint capture, uint32_t width, uint32_t height, uint32_t* uniform);
 
 }  // namespace si::detail
