@@ -59,11 +59,14 @@ Status makeCharacter(const CharacterChoice& choice, Setup* setup) {
   if (s.isOk()) s = lodErrorsByLevel(setup->character.mesh, &setup->lod_errors);
   if (!s.isOk()) return s;
   setup->impostor = choice.impostor;
-  if (choice.small_atlas) {  // ImpostorDesc's defaults otherwise.
+  if (choice.atlas == "small") {  // ImpostorDesc's defaults otherwise.
     setup->impostor_desc.azimuths = 8;
     setup->impostor_desc.elevations_degrees = {0.0f, 30.0f};
     setup->impostor_desc.frames_per_clip = 4;
+  } else if (choice.atlas == "fine") {
+    setup->impostor_desc.azimuths = 32;
   }
+  setup->impostor_desc.capture_supersample = choice.capture_supersample;
   if (choice.part_lod) {
     std::printf("Per-part LOD (si::buildPartLods): per character level, each part's own level "
                 "(- where dropped); drop error = distance to the kept parts (model units)\n");
@@ -154,9 +157,11 @@ Status buildImpostor(const Setup& setup, Renderer& renderer, CharacterId id, boo
   ImpostorInfo info;
   const Status s = renderer.buildImpostor(id, setup.impostor_desc, &info);
   if (s.isOk() && print)
-    std::printf("Impostor atlas (Renderer::buildImpostor): %u views x %u frames, %u x %u texels, "
-                "%.1f MiB with mip levels\n",
-                info.views, info.frames, info.width, info.height, double(info.bytes) / 1048576.0);
+    std::printf(
+        "Impostor atlas (Renderer::buildImpostor): %u views x %u frames, %u x %u texels, "
+        "%.1f MiB with mip levels, captured %u x %u texels each\n",
+        info.views, info.frames, info.width, info.height, double(info.bytes) / 1048576.0,
+        info.capture_supersample, info.capture_supersample);
   return s;
 }
 }  // namespace si::bench

@@ -17,7 +17,10 @@ struct CharacterChoice {
   uint32_t lod_min_triangles = 0;  ///< LodChainDesc::min_triangles; 0: the library's default.
   bool part_lod = false;           ///< si::buildPartLods (each part its own level, parts dropped).
   bool impostor = false;           ///< si::appendImpostorLevel: the last level is the impostor.
-  bool small_atlas = false;        ///< --impostor-atlas small: 8 azimuths, 2 elevations, 4 frames.
+  /// --impostor-atlas: full (ImpostorDesc's defaults), small (8 azimuths, 2 elevations, 4
+  /// frames) or fine (the defaults with 32 azimuths).
+  std::string atlas = "full";
+  uint32_t capture_supersample = 0;  ///< --impostor-capture: ImpostorDesc::capture_supersample.
   /// --vertex-colors: every vertex a colour (white to mid grey by height) and texture
   /// coordinates 1, which the built-in material multiplies into the base colour.
   bool vertex_colors = false;

@@ -46,8 +46,11 @@ void printUsage(std::FILE* f) {
       "                   leaves out the targets moving a vertex within S of its error; 0.5)\n"
       "                   [--impostor] (an animated impostor past the last mesh level, chosen by\n"
       "                   its image error; not with the baselines, --mix, --root-motion or\n"
-      "                   --motion-vectors) [--impostor-atlas full|small] (small: 8 azimuths,\n"
-      "                   2 elevations, 4 frames per clip; full: si::ImpostorDesc's defaults)\n"
+      "                   --motion-vectors) [--impostor-atlas full|small|fine] (small: 8\n"
+      "                   azimuths, 2 elevations, 4 frames per clip; full: si::ImpostorDesc's\n"
+      "                   defaults; fine: the defaults with 32 azimuths, twice the memory)\n"
+      "                   [--impostor-capture N] (ImpostorDesc::capture_supersample: 1, 2 or 4;\n"
+      "                   0, the default: 2 where it fits)\n"
       "                   [--quality-budgets PX,PX,... | none] [--quality-size N]\n"
       "                   [--quality-frames N] [--quality-path PATH] [--quality-images DIR]\n"
       "                   [--quality-ss N] (compare images box-filtered N x N: give --size at\n"
@@ -131,6 +134,8 @@ bool parseOptions(int argc, char** argv, Options* o) {
       o->morph_lod_share = std::stof(argv[++i]);
     else if (a == "--impostor") o->impostor = true;
     else if (a == "--impostor-atlas" && has) o->impostor_atlas = argv[++i];
+    else if (a == "--impostor-capture" && has)
+      o->impostor_capture = uint32_t(std::stoul(argv[++i]));
     else if (a == "--lod-errors" && has) o->lod_errors = argv[++i];
     else if (a == "--image-errors") o->image_errors = true;
     else if (a == "--quality-budgets" && has) {
@@ -233,7 +238,11 @@ bool parseOptions(int argc, char** argv, Options* o) {
   if (o->lod_errors != "geometric" && o->lod_errors != "image") return false;
   if (o->lods.empty() || o->quality_frames == 0) return false;
   if (o->quality_ss == 0 || o->quality_ss > 8) return false;
-  if (o->impostor_atlas != "full" && o->impostor_atlas != "small") return false;
+  if (o->impostor_atlas != "full" && o->impostor_atlas != "small" && o->impostor_atlas != "fine")
+    return false;
+  if (o->impostor_capture != 0 && o->impostor_capture != 1 && o->impostor_capture != 2 &&
+      o->impostor_capture != 4)
+    return false;
   if (o->impostor) {  // The baselines and the mixed, root motion and motion vector tables draw
                       // meshes only.
     for (const std::string& p : o->paths)

@@ -25,7 +25,9 @@ struct Options {
   float morph_lod_share = 0.5f;    // --morph-lod-share S: RendererDesc::morph_lod_share.
   bool part_lod = false;  // --part-lod: si::buildPartLods (each part its own level, parts dropped).
   bool impostor = false;  // --impostor: an impostor level past the meshes (Renderer::buildImpostor).
-  std::string impostor_atlas = "full";  // --impostor-atlas: full (ImpostorDesc's defaults) or small.
+  std::string impostor_atlas =
+      "full";                     // --impostor-atlas: full (ImpostorDesc's defaults), small, fine.
+  uint32_t impostor_capture = 0;  // --impostor-capture: ImpostorDesc::capture_supersample.
   // --lod-errors: what the screen-error mode selects by, the geometric errors (default) or the
   // image errors (si::measureImageLodErrors); --image-errors prints the latter either way.
   std::string lod_errors = "geometric";

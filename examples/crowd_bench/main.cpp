@@ -165,7 +165,8 @@ int main(int argc, char** argv) {
   choice.lod_min_triangles = b.o.lod_min_triangles;
   choice.part_lod = b.o.part_lod;
   choice.impostor = b.o.impostor;
-  choice.small_atlas = b.o.impostor_atlas == "small";
+  choice.atlas = b.o.impostor_atlas;
+  choice.capture_supersample = b.o.impostor_capture;
   choice.vertex_colors = b.o.vertex_colors;
   choice.eight_influences = b.o.eight_influences;
   choice.morph_targets = b.o.morph_targets;
