@@ -21,7 +21,10 @@
 /// - lost: the variation parts (the atlas shows the parts of ImpostorDesc::variation_mask for
 ///   every instance), the custom texture layer, overlays (layered animation), the depth within
 ///   the character (the quad has one depth, at the character's centre) and, between the
-///   captured views and frames, the in-between views and poses; emissive light. Motion vectors
+///   captured views and frames, the in-between views and poses; emissive light; detail finer
+///   than a texel of a cell (ImpostorDesc::cell_pixels; the capture is supersampled and
+///   averaged, ImpostorDesc::capture_supersample, so thin parts stay as partial coverage, and
+///   where two materials share a texel it takes one's code and values). Motion vectors
 ///   are not drawn for impostors (the draws return kUnsupported while they are on).
 /// How much this changes the image is measured like every other level's error:
 /// si::measureImageLodErrors with ImageLodErrorDesc::impostor.
