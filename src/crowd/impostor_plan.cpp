@@ -102,12 +102,16 @@ Status planImpostor(const BakedPalette& palette, uint32_t sub_meshes, const Impo
   const auto captureBytes = [&](uint64_t ss) {
     return width * ss * height * ss * (ss > 1 ? 16 : 4);
   };
-  const auto fits = [&](uint64_t ss) {
+  // The first of `sides` the capture at `ss` passes (null: none).
+  const auto sidePassed = [&](uint64_t ss) -> const ImpostorSide* {
     for (const ImpostorSide& side : sides)
       if (width * ss > std::max<uint32_t>(side.limit, 1) ||
           height * ss > std::max<uint32_t>(side.limit, 1))
-        return false;
-    return info.bytes + captureBytes(ss) <= budget;
+        return &side;
+    return nullptr;
+  };
+  const auto fits = [&](uint64_t ss) {
+    return sidePassed(ss) == nullptr && info.bytes + captureBytes(ss) <= budget;
   };
   info.capture_supersample = asked ? asked : (max_supersample >= 2 && fits(2) ? 2u : 1u);
   info.capture_bytes = captureBytes(info.capture_supersample);
@@ -135,16 +139,14 @@ Status planImpostor(const BakedPalette& palette, uint32_t sub_meshes, const Impo
   // smallest of their limits bounds each side (a viewport past its limit would be clamped
   // silently, leaving cells empty).
   const uint64_t ss = info.capture_supersample;
-  for (const ImpostorSide& side : sides)
-    if (width * ss > std::max<uint32_t>(side.limit, 1) ||
-        height * ss > std::max<uint32_t>(side.limit, 1))
-      return {StatusCode::kLimitExceeded,
-              strCat(call, ": ", plan.cells, " cells (", plan.frames.size(), " frames x ", views,
-                     " views) of ", plan.cell, " texels need ", width, " x ", height,
-                     " texels, captured ", ss, " x ", ss, " each: ", width * ss, " x ", height * ss,
-                     ", past ", side.name, " (", side.limit,
-                     "): fewer frames, views or texels per cell, or a smaller "
-                     "capture_supersample")};
+  if (const ImpostorSide* side = sidePassed(ss))
+    return {StatusCode::kLimitExceeded,
+            strCat(call, ": ", plan.cells, " cells (", plan.frames.size(), " frames x ", views,
+                   " views) of ", plan.cell, " texels need ", width, " x ", height,
+                   " texels, captured ", ss, " x ", ss, " each: ", width * ss, " x ", height * ss,
+                   ", past ", side->name, " (", side->limit,
+                   "): fewer frames, views or texels per cell, or a smaller "
+                   "capture_supersample")};
   // One capture instance per cell.
   if (plan.cells > HandlePool::kMaxSlots)
     return {StatusCode::kLimitExceeded,

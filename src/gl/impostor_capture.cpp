@@ -104,7 +104,8 @@ Status Renderer::buildImpostor(CharacterId id, const ImpostorDesc& desc, Imposto
     s = detail::createTexture2DArray(&target.supersampled, 1, GL_RGBA8, cw, ch,
                                      detail::ImpostorAtlas::kLayers,
                                      "buildImpostor: the supersampled capture");
-  if (s.isOk()) s = target.create(ss > 1 ? target.supersampled : atlas.texture, cw, ch);
+  const GLuint drawn = ss > 1 ? target.supersampled : atlas.texture;  // The capture's layers.
+  if (s.isOk()) s = target.create(drawn, cw, ch);
 
   // The crowd: one instance per cell, every cell's character at LOD 0.
   CrowdManager crowd;
@@ -148,8 +149,7 @@ Status Renderer::buildImpostor(CharacterId id, const ImpostorDesc& desc, Imposto
   // The surface's one value, where the capture drew texels whole (the averaged atlas's edges
   // hold it times their coverage).
   if (s.isOk())
-    s = detail::measureUniformSurface(ss > 1 ? target.supersampled : atlas.texture, uint32_t(cw),
-                                      uint32_t(ch), &atlas.uniform_surface);
+    s = detail::measureUniformSurface(drawn, uint32_t(cw), uint32_t(ch), &atlas.uniform_surface);
   if (s.isOk()) {
     const std::vector<uint32_t> table = detail::impostorClipTable(plan, rects);
     s = detail::createBuffer(&atlas.clips, table.size() * sizeof(uint32_t), table.data(), 0,

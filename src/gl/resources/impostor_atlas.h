@@ -20,6 +20,7 @@ struct ImpostorAtlas : ImpostorGrid {
   /// Base colour and coverage; normal and tint mask; metallic, roughness, occlusion and the
   /// material's code (impostor_capture_material.glsl).
   static constexpr uint32_t kLayers = 3;
+  static constexpr uint32_t kSurfaceLayer = 2;  ///< Metallic, roughness, occlusion, code.
 
   GLuint texture = kNoObject;  ///< GL_TEXTURE_2D_ARRAY, RGBA8, kLayers layers, mipmapped.
   /// Storage: per clip (first texel, frames, first cell frame, frames), then per cell and mip

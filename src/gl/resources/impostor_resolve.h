@@ -19,9 +19,10 @@ namespace si::detail {
 /// Writes level 0 of `atlas` (`width` x `height` texels, 3 layers, RGBA8) from `capture` (the
 /// same layers at `factor` times the size each way, one level) with `program`
 /// (ProgramId::kImpostorResolve): each texel the mean of the capture texels it covers, then
-/// generates the atlas's other levels from it, and writes layer 2's alpha at level 0 again as
-/// the largest material code among those texels (codes are gathered unfiltered at level 0,
-/// impostor.frag.glsl; the other levels keep the means their fallback divides by coverage).
+/// generates the atlas's other levels from it, and writes layer 2 at level 0 again as one
+/// material's: the largest code among those texels (codes are gathered unfiltered at level 0,
+/// impostor.frag.glsl) and that material's mean values times the coverage (the other levels
+/// keep the means their fallback divides by coverage).
 /// Binds texture unit 0, image unit 0 and the program (the caller's state guard restores
 /// them). kBackend naming the GL error.
 Status resolveImpostorCapture(GLuint program, GLuint capture, GLuint atlas, uint32_t width,

@@ -5,15 +5,15 @@
 #include <cstring>
 
 #include "gl/resources/atlas_bands.h"
+#include "gl/resources/impostor_atlas.h"
 
 namespace si::detail {
 
 Status measureUniformSurface(GLuint capture, uint32_t width, uint32_t height, uint32_t* uniform) {
   *uniform = 0;
-  constexpr GLint kSurfaceLayer = 2;
   uint8_t first[4] = {0, 0, 0, 0};  // The first drawn texel's (its code, alpha, at least 1).
   bool varies = false;
-  const Status s = readLayerBands(capture, 0, kSurfaceLayer, width, height,
+  const Status s = readLayerBands(capture, 0, GLint(ImpostorAtlas::kSurfaceLayer), width, height,
                                   "buildImpostor: reading the capture's surface layer back",
                                   [&](uint32_t, uint32_t rows, const uint8_t* texels) {
                                     for (const uint8_t* t = texels;
