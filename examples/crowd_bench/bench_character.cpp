@@ -103,7 +103,8 @@ Status makeCharacter(const CharacterChoice& choice, Setup* setup) {
   return s;
 }
 
-Status imageErrors(Setup& setup, const BakedPalette& palette, bool select, bool quick) {
+Status imageErrors(Setup& setup, const BakedPalette& palette, bool select, bool quick,
+                   float budget_pixels) {
   // Every level between the impostor atlas's views and frames, with impostors or without (so
   // that runs with and without them select their mesh levels alike).
   ImageLodErrorDesc desc;
@@ -111,12 +112,7 @@ Status imageErrors(Setup& setup, const BakedPalette& palette, bool select, bool 
   desc.azimuth_offset_degrees = 180.0f / float(azimuths);  // Half the atlas's step.
   desc.pose_phase = 0.5f;
   if (setup.impostor) desc.impostor = &setup.impostor_desc;
-  if (quick) {
-    desc.heights_pixels = {4, 8, 16};
-    desc.max_poses = 2;
-    desc.azimuths = 4;
-    desc.elevations_degrees = {20.0f};
-  }
+  if (quick) desc.heights_pixels = {4, 8, 16};
   ImageLodErrorReport r;
   const Status s = measureImageLodErrors(setup.info, setup.character, palette, desc, &r);
   if (!s.isOk()) return s;
@@ -142,13 +138,20 @@ Status imageErrors(Setup& setup, const BakedPalette& palette, bool select, bool 
     setup.lod_errors = imageLodErrorsUnits(r);
     std::printf("  the screen-error mode selects by the image errors (--lod-errors image)\n");
   } else if (setup.impostor) {
-    setup.lod_errors = impostorLodErrorsUnits(setup.lod_errors, r);
+    setup.lod_errors = impostorLodErrorsUnits(setup.lod_errors, r, budget_pixels);
     const size_t last = setup.lod_errors.size() - 1;
     size_t first = last;
     while (first > 1 && setup.lod_errors[first - 1] == setup.lod_errors[last]) --first;
-    std::printf("  the mesh levels are selected by their geometric errors; the impostor (LOD %zu) "
-                "takes over at %.4g units%s\n", last, double(setup.lod_errors[last]),
-                first < last ? " from the levels whose image error exceeds its own, skipped" : "");
+    const double handover = setup.lod_errors[last];
+    std::printf(
+        "  the mesh levels are selected by their geometric errors; the impostor (LOD %zu) "
+        "takes over at %.4g units: the characters up to %.3g px tall at a %g-pixel "
+        "budget, where its measured error rises above the mesh level's",
+        last, handover, double(budget_pixels) * r.character_height_units / handover,
+        double(budget_pixels));
+    if (first + 1 == last) std::printf("; LOD %zu skipped", first);
+    if (first + 1 < last) std::printf("; LOD %zu to %zu skipped", first, last - 1);
+    std::printf("\n");
   }
   return s;
 }
@@ -159,8 +162,10 @@ Status buildImpostor(const Setup& setup, Renderer& renderer, CharacterId id, boo
   if (s.isOk() && print)
     std::printf(
         "Impostor atlas (Renderer::buildImpostor): %u views x %u frames, %u x %u texels, "
-        "%.1f MiB with mip levels, captured %u x %u texels each\n",
+        "%.1f MiB with mip levels, %s, captured %u x %u texels each\n",
         info.views, info.frames, info.width, info.height, double(info.bytes) / 1048576.0,
+        info.uniform_surface ? "one surface value (fragments read 2 layers)"
+                             : "surface layer read per fragment",
         info.capture_supersample, info.capture_supersample);
   return s;
 }

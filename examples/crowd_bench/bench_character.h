@@ -42,10 +42,12 @@ Status makeCharacter(const CharacterChoice& choice, Setup* setup);
 /// (setup.lod_errors). Every level is measured between the impostor atlas's captured views and
 /// frames (half an azimuth step, half a pose step), with an impostor level or without; with one
 /// (setup.impostor), it is drawn as the impostor (setup.impostor_desc), and its image error is
-/// where it takes over in setup.lod_errors (si::impostorLodErrorsUnits, or imageLodErrorsUnits
-/// with `select`). With `quick`
-/// (--quick, the sanitizer smoke run): 3 heights up to 16 px, 2 poses, 4 views.
-Status imageErrors(Setup& setup, const BakedPalette& palette, bool select, bool quick);
+/// where it takes over in setup.lod_errors (si::impostorLodErrorsUnits at `budget_pixels`, the
+/// screen-error budget, or imageLodErrorsUnits with `select`). With `quick` (--quick, the
+/// sanitizer smoke run): 3 heights up to 16 px (a sixteenth of the pixels), every pose and view
+/// direction: with 2 poses and 4 views the hand-over differed between GPUs (docs/crowd.md).
+Status imageErrors(Setup& setup, const BakedPalette& palette, bool select, bool quick,
+                   float budget_pixels);
 
 /// Builds character `id`'s impostor atlas (setup.impostor_desc) and, with `print`, prints its
 /// size.

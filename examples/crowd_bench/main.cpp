@@ -199,7 +199,8 @@ int main(int argc, char** argv) {
   }
   s = si::bakePalette(character, main_bake, &palette, &report);
   if (s.isOk() && (b.o.image_errors || b.o.lod_errors == "image" || b.o.impostor)) {
-    s = si::bench::imageErrors(b.setup, palette, b.o.lod_errors == "image", b.o.quick);
+    s = si::bench::imageErrors(b.setup, palette, b.o.lod_errors == "image", b.o.quick,
+                               b.o.pixel_budget);
     if (!s.isOk()) return fail("image errors", s);
   }
   si::Renderer renderer;

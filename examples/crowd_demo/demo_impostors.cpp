@@ -34,7 +34,7 @@ si::Status DemoScene::buildImpostor(const si::GlInfo& info, si::CharacterId id) 
   std::vector<float> geometric;
   if (s.isOk()) s = si::lodErrorsByLevel(character_.mesh, &geometric);
   if (!s.isOk()) return s;
-  impostor_errors_units_ = si::impostorLodErrorsUnits(geometric, r);
+  impostor_errors_units_ = si::impostorLodErrorsUnits(geometric, r, options_.lod_pixels);
   std::printf("Impostors: %u views x %u frames, %u x %u texels (%.1f MiB); image error %.3g units "
               "(one pixel of the character changes at %.3g px tall); they take over at %.3g "
               "units of projected error\n",

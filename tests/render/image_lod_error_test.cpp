@@ -5,6 +5,8 @@
 // input refused.
 #include <cmath>
 #include <initializer_list>
+#include <limits>
+#include <vector>
 
 #include "render/render_fixture.h"
 #include "si/gl/image_lod_error.h"
@@ -177,6 +179,67 @@ TEST(ImageLodErrors, ImpostorTakesOverFromTheMeshLevelsItBeats) {
   EXPECT_EQ(impostorLodErrorsUnits(geometric, r),
             (std::vector<float>{0.0f, 0.027f, 0.027f, 0.027f, 0.027f, 0.027f}));
   EXPECT_EQ(impostorLodErrorsUnits({0.0f, 1.0f}, r), (std::vector<float>{0.0f, 1.0f}));  // Counts.
+}
+
+// Each element of `got` within 1e-3 of `want`'s.
+void expectNear(const std::vector<float>& got, const std::vector<float>& want) {
+  ASSERT_EQ(got.size(), want.size());
+  for (size_t k = 0; k < got.size(); ++k) EXPECT_NEAR(got[k], want[k], 1e-3f) << "level " << k;
+}
+
+// The embedded character's curves (H100, docs/accuracy.md: mean differing pixels at 8, 16 and
+// 64 px) with an impostor whose one-pixel height is greater than LOD 2's but whose error grows
+// faster (a finer atlas's shape). Compared by one number it would take every character of LOD
+// 2's (up to 2.04 / 0.1 = 20.4 px at a 1-pixel budget); its curve crosses LOD 2's at 12.87 px
+// (3 (h / 8)^3.32 = 5.9 (h / 8)^1.90), so it takes the characters up to there: it takes over at
+// 2.04 / 12.87 = 0.1585 units. At half a pixel LOD 2's characters end at 10.2 px, below the
+// crossing, and LOD 1's, above, change fewer pixels than it: it takes LOD 2's, at 0.1 units.
+TEST(ImageLodErrors, ImpostorTakesTheCharactersUpToWhereItsCurveCrossesTheMeshLevels) {
+  ImageLodErrorReport r;
+  r.impostor = true;
+  r.heights_pixels = {16, 8, 64};  // In any order.
+  r.character_height_units = 2.04f;
+  for (const std::vector<double>& curve : std::vector<std::vector<double>>{{0.0, 0.0, 0.0},
+                                                                           {4.8, 0.88, 112.0},
+                                                                           {22.0, 5.9, 354.0},
+                                                                           {45.0, 12.0, 650.0},
+                                                                           {45.0, 13.0, 586.0},
+                                                                           {30.0, 3.0, 600.0}}) {
+    ImageLodLevel level;
+    level.mean_differing_pixels = curve;
+    r.levels.push_back(level);
+  }
+  r.levels[1].image_units = 0.24f;  // As measureImageLodErrors derives them from the curves.
+  r.levels[2].image_units = 0.65f;
+  r.levels[3].image_units = 0.80f;
+  r.levels[4].image_units = 0.90f;
+  r.levels[5].image_units = 0.36f;
+  const std::vector<float> geometric = {0.0f, 0.027f, 0.1f, 0.26f, 0.85f, 0.85f};
+  const std::vector<float> crossing = {0.0f, 0.027f, 0.1f, 0.1585f, 0.1585f, 0.1585f};
+  const std::vector<float> from_lod2 = {0.0f, 0.027f, 0.1f, 0.1f, 0.1f, 0.1f};
+  expectNear(impostorLodErrorsUnits(geometric, r), crossing);
+  expectNear(impostorLodErrorsUnits(geometric, r, 1.0f), crossing);
+  EXPECT_EQ(impostorLodErrorsUnits(geometric, r, 0.5f), from_lod2);  // Exactly LOD 2's error.
+  for (float meaningless : {0.0f, -1.0f, std::numeric_limits<float>::quiet_NaN(),
+                            std::numeric_limits<float>::infinity()})
+    expectNear(impostorLodErrorsUnits(geometric, r, meaningless), crossing);
+  // The default atlas's curve (9.5, 45, 645 at 8, 16, 64 px) wins up to LOD 3's last height
+  // (7.85 px) and loses to LOD 2 from there: it takes over at LOD 3's error, as before.
+  ImageLodErrorReport coarse = r;
+  coarse.levels[5].mean_differing_pixels = {45.0, 9.5, 645.0};
+  coarse.levels[5].image_units = 0.63f;
+  EXPECT_EQ(impostorLodErrorsUnits(geometric, coarse),
+            (std::vector<float>{0.0f, 0.027f, 0.1f, 0.26f, 0.26f, 0.26f}));
+  // One that loses to LOD 4 from 1 pixel on comes after it, at its one-pixel error.
+  ImageLodErrorReport worse = r;
+  worse.levels[5].mean_differing_pixels = {90.0, 30.0, 900.0};
+  worse.levels[5].image_units = 1.5f;
+  EXPECT_EQ(impostorLodErrorsUnits(geometric, worse),
+            (std::vector<float>{0.0f, 0.027f, 0.1f, 0.26f, 0.85f, 1.5f}));
+  // Without curves the one-pixel heights are compared: the fine impostor takes LOD 2's.
+  ImageLodErrorReport no_curves = r;
+  no_curves.heights_pixels.clear();
+  EXPECT_EQ(impostorLodErrorsUnits(geometric, no_curves), from_lod2);
 }
 
 }  // namespace

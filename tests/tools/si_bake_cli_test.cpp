@@ -141,6 +141,11 @@ TEST(SiBake, ImageErrorsPerLevel) {
     const std::string line = r.output.substr(row + 1, r.output.find('\n', row + 1) - row - 1);
     EXPECT_GT(std::stod(line.substr(line.rfind(' ') + 1)), 0.0) << line;
   }
+  // Where the impostor takes over: a positive error in units, a height in pixels.
+  const size_t handover = r.output.find("The impostor takes over at ");
+  ASSERT_NE(handover, std::string::npos) << r.output;
+  EXPECT_GT(std::stod(r.output.substr(handover + 27)), 0.0) << r.output.substr(handover);
+  EXPECT_NE(r.output.find(" px tall", handover), std::string::npos) << r.output.substr(handover);
   EXPECT_TRUE(exists(out));
 #else
   EXPECT_EQ(r.exit_code, 2) << r.output;

@@ -2,6 +2,7 @@
 #include "image_errors.h"
 
 #include <memory>
+#include <vector>
 
 #include "si/core/impostor_level.h"
 #include "si/gl/gl_context.h"
@@ -50,6 +51,22 @@ bool printImageErrors(std::FILE* f, const Character& character, const BakedPalet
       std::fprintf(f, "LOD %-2zu %12.4g %12.4g %8.3g", l, double(level.geometric_units),
                    double(level.image_units), level.one_pixel_height);
     for (double px : level.mean_differing_pixels) std::fprintf(f, " %8.2f", px);
+    std::fprintf(f, "\n");
+  }
+  if (impostor) {  // Where the impostor takes over from levels selected by geometric error.
+    std::vector<float> geometric;
+    for (const ImageLodLevel& level : r.levels) geometric.push_back(level.geometric_units);
+    const std::vector<float> units = impostorLodErrorsUnits(geometric, r);
+    const size_t last = units.size() - 1;
+    size_t first = last;
+    while (first > 1 && units[first - 1] == units[last]) --first;
+    std::fprintf(f,
+                 "The impostor takes over at %.4g units (si::impostorLodErrorsUnits, a 1-pixel "
+                 "budget, mesh levels selected by their geometric errors): the characters up to "
+                 "%.3g px tall",
+                 double(units[last]), double(r.character_height_units / units[last]));
+    if (first + 1 == last) std::fprintf(f, ", LOD %zu skipped", first);
+    if (first + 1 < last) std::fprintf(f, ", LOD %zu to %zu skipped", first, last - 1);
     std::fprintf(f, "\n");
   }
   return true;

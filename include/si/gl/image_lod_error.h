@@ -116,13 +116,25 @@ std::vector<float> imageLodErrorsUnits(const ImageLodErrorReport& report);
 
 /// The crowd's errors (CrowdDesc::lod_errors_units) for mesh levels selected by their geometric
 /// errors `geometric_units` (si::lodErrorsByLevel, the impostor level's entry included) with an
-/// impostor level last (report.impostor). The trailing mesh levels whose image error exceeds
-/// the impostor's (report's image_units; more triangles and more pixels changed) are dominated:
-/// the impostor takes over from the first of them, at its geometric error, and they get that
-/// error too, so the choice skips them. Where no mesh level is dominated, the impostor comes
-/// after the last, at the larger of that level's error and its own image error. Without an
-/// impostor, or with counts that differ, `geometric_units` unchanged.
+/// impostor level last (report.impostor), for the screen-error choice at `budget_pixels`
+/// (CrowdDesc::pixel_error_budget; 0, negative or not finite: 1). The impostor takes the
+/// characters from the smallest up to the height where its measured curve (the report's mean
+/// differing pixels, read on a log-log scale between the measured heights and along the
+/// nearest two past them) first rises above the curve of the mesh level the budget would draw
+/// there: its error is the one that projects to the budget at that height (budget x character
+/// height / the height, in model units; a level's own error where the height is where the
+/// level's characters end), and the mesh levels whose errors are larger get that error too, so
+/// the choice skips them. The curves are compared, not the one-pixel heights (image_units): the
+/// impostor's error grows faster with the height than a mesh level's, so an impostor that
+/// changes one pixel at a greater height than LOD 2 may change more pixels than LOD 2 where LOD
+/// 2's characters are tallest. Where it changes more than the coarsest mesh level from 1 pixel
+/// on, it comes after that level, at the larger of that level's error and its own image error.
+/// Without an impostor, or with counts that differ, `geometric_units` unchanged; a report
+/// without curves (levels measured at no height) compares image_units instead: the trailing
+/// mesh levels whose image error exceeds the impostor's hand over to it at the first one's
+/// geometric error.
 std::vector<float> impostorLodErrorsUnits(const std::vector<float>& geometric_units,
-                                          const ImageLodErrorReport& report);
+                                          const ImageLodErrorReport& report,
+                                          float budget_pixels = 1.0f);
 
 }  // namespace si
