@@ -1,0 +1,51 @@
+#!/bin/bash
+# Lease plan (2026-12-05): A = crowd_bench of ed6124f (GL code cadf50f), B = tree at 2164499 (uniform surface +
+# supersampled capture). Phase "reads": impostor A/B on the field. Phase "q1": SSIM 4x4 100k field, capture 1 and
+# default. Phase "q2": fine atlas.
+for f in .gl/*.deb; do dpkg -x $f / ; done; ldconfig
+export LD_LIBRARY_PATH=$PWD/.gl/lib
+export __EGL_VENDOR_LIBRARY_FILENAMES=/usr/local/nvidia/share/glvnd/egl_vendor.d/10_nvidia.json
+L=$OUT/next_$1.log
+nvidia-smi --query-gpu=name,driver_version,clocks.sm --format=csv | tee -a $L
+ARGS="--quick --backend egl-device --size 1920x1080 --scenes field --lods screen --quality-budgets none --error-table-size 0 --part-lod --impostor --frames 30 --gpu-passes --paths gpu-driven --sizes 100000,1000000"
+Q="--backend egl-device --sizes 1000 --frames 3 --paths gpu-driven --lods screen --quality-budgets 1 --quality-path gpu-driven --error-table-size 10 --size 7680x4320 --quality-ss 4 --part-lod --impostor --scenes field --quality-size 100000 --quality-frames 3"
+case $1 in
+reads)
+  SECONDS=0
+  .gl/imp/A/crowd_bench $ARGS > /dev/null 2>&1
+  echo "warm-up took $SECONDS s" | tee -a $L
+  nvidia-smi --query-gpu=clocks.sm --format=csv,noheader | sed 's/^/clock after warm-up: /' | tee -a $L
+  for r in 1 2; do for b in A B B A; do
+    echo "=== round $r build $b ($SECONDS s)" | tee -a $L
+    timeout 100 .gl/imp/$b/crowd_bench $ARGS --csv /tmp/x.csv 2>&1 | grep -E "^field +gpu-driven|^  impostors|takes over|captured" | tee -a $L
+    [ $SECONDS -gt 470 ] && break 2
+  done; done ;;
+ab)
+  # $2 $3: the two builds compared, each round X Y Y X.
+  SECONDS=0
+  .gl/imp/$2/crowd_bench $ARGS > /dev/null 2>&1
+  echo "warm-up took $SECONDS s" | tee -a $L
+  for r in 1 2 3; do for b in $2 $3 $3 $2; do
+    echo "=== round $r build $b ($SECONDS s)" | tee -a $L
+    timeout 100 .gl/imp/$b/crowd_bench $ARGS --csv /tmp/x.csv 2>&1 | grep -E "^field +gpu-driven|takes over|Impostor atlas" | tee -a $L
+    [ $SECONDS -gt 470 ] && break 2
+  done; done ;;
+q1m)
+  # The 1M field's image error, D, captured 1 x 1 and 2 x 2 (the 1M frame's impostors drawn fewer).
+  for extra in "--impostor-capture 1" ""; do
+    SECONDS=0
+    echo "=== quality 1M D $extra" | tee -a $L
+    timeout 280 .gl/imp/D/crowd_bench ${Q/--quality-size 100000/--quality-size 1000000} --quality-frames 1 $extra 2>&1 | grep -E "^field|takes over|captured|differing|SSIM|error" | tee -a $L
+    echo "took $SECONDS s" | tee -a $L
+  done ;;
+q1|q2)
+  [ $1 = q1 ] && set -- q1 "--impostor-capture 1" "" || set -- q2 "--impostor-atlas fine"
+  shift
+  for extra in "$@"; do
+    SECONDS=0
+    echo "=== quality B $extra" | tee -a $L
+    timeout 270 .gl/imp/B/crowd_bench $Q $extra 2>&1 | grep -E "^field|takes over|captured|differing|SSIM|error" | tee -a $L
+    echo "took $SECONDS s" | tee -a $L
+  done ;;
+esac
+nvidia-smi --query-gpu=clocks.sm --format=csv,noheader | sed 's/^/clock at the end: /' | tee -a $L
