@@ -21,6 +21,7 @@ struct CharacterChoice {
   /// frames) or fine (the defaults with 32 azimuths).
   std::string atlas = "full";
   uint32_t capture_supersample = 0;  ///< --impostor-capture: ImpostorDesc::capture_supersample.
+  uint32_t cell_pixels = 0;          ///< --impostor-cell: ImpostorDesc::cell_pixels.
   /// --vertex-colors: every vertex a colour (white to mid grey by height) and texture
   /// coordinates 1, which the built-in material multiplies into the base colour.
   bool vertex_colors = false;

@@ -50,7 +50,9 @@ void printUsage(std::FILE* f) {
       "                   azimuths, 2 elevations, 4 frames per clip; full: si::ImpostorDesc's\n"
       "                   defaults; fine: the defaults with 32 azimuths, twice the memory)\n"
       "                   [--impostor-capture N] (ImpostorDesc::capture_supersample: 1, 2 or 4;\n"
-      "                   0, the default: 2 where it fits)\n"
+      "                   0, the default: 2 where it fits) [--impostor-cell N]\n"
+      "                   (ImpostorDesc::cell_pixels: a cell's side in texels, a power of\n"
+      "                   two; 0, the default: 32)\n"
       "                   [--quality-budgets PX,PX,... | none] [--quality-size N]\n"
       "                   [--quality-frames N] [--quality-path PATH] [--quality-images DIR]\n"
       "                   [--quality-ss N] (compare images box-filtered N x N: give --size at\n"
@@ -136,6 +138,8 @@ bool parseOptions(int argc, char** argv, Options* o) {
     else if (a == "--impostor-atlas" && has) o->impostor_atlas = argv[++i];
     else if (a == "--impostor-capture" && has)
       o->impostor_capture = uint32_t(std::stoul(argv[++i]));
+    else if (a == "--impostor-cell" && has)
+      o->impostor_cell = uint32_t(std::stoul(argv[++i]));
     else if (a == "--lod-errors" && has) o->lod_errors = argv[++i];
     else if (a == "--image-errors") o->image_errors = true;
     else if (a == "--quality-budgets" && has) {
@@ -243,6 +247,7 @@ bool parseOptions(int argc, char** argv, Options* o) {
   if (o->impostor_capture != 0 && o->impostor_capture != 1 && o->impostor_capture != 2 &&
       o->impostor_capture != 4)
     return false;
+  if ((o->impostor_cell & (o->impostor_cell - 1)) != 0) return false;  // 0 or a power of two.
   if (o->impostor) {  // The baselines and the mixed, root motion and motion vector tables draw
                       // meshes only.
     for (const std::string& p : o->paths)

@@ -51,6 +51,10 @@ Status planImpostor(const BakedPalette& palette, uint32_t sub_meshes, const Impo
         (k > 0 && !(elevations[k] > elevations[k - 1])))
       return {StatusCode::kInvalidArgument,
               strCat(call, ": elevations must increase, within [-90, 90] degrees")};
+  if ((plan.cell & (plan.cell - 1)) != 0)  // Mip level l halves every cell l times.
+    return {StatusCode::kInvalidArgument,
+            strCat(call, ": cell_pixels ", plan.cell,
+                   "; a power of two (each mip level halves every cell, down to one texel)")};
   if (plan.mask == 0)
     return {StatusCode::kInvalidArgument,
             strCat(call, ": variation mask 0x", std::hex, desc.variation_mask,

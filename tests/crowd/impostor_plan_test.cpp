@@ -59,6 +59,28 @@ TEST(ImpostorPlan, TheCaptureIsSupersampledWhereItFits) {
   }
 }
 
+// Each mip level halves every cell: a cell's side is a power of two (one of 48 texels would
+// straddle its neighbours from level 5 on), refused by name otherwise.
+TEST(ImpostorPlan, CellsArePowersOfTwo) {
+  ImpostorDesc desc;
+  detail::ImpostorPlan p;
+  for (uint32_t cell : {1u, 2u, 16u, 64u, 256u}) {
+    desc.cell_pixels = cell;
+    ASSERT_TRUE(plan(desc, 1u << 20, 4, &p).isOk()) << cell;
+    EXPECT_EQ(p.cell, cell);
+    EXPECT_EQ(p.info.width % cell, 0u);
+  }
+  desc.cell_pixels = 0;  // The default.
+  ASSERT_TRUE(plan(desc, 16384, 4, &p).isOk());
+  EXPECT_EQ(p.cell, 32u);
+  for (uint32_t cell : {3u, 48u, 100u, 0x80000001u}) {
+    desc.cell_pixels = cell;
+    const Status s = plan(desc, 1u << 20, 4, &p);
+    EXPECT_EQ(s.code(), StatusCode::kInvalidArgument) << cell;
+    EXPECT_NE(s.message().find("cell_pixels"), std::string::npos) << s.message();
+  }
+}
+
 TEST(ImpostorPlan, TheDefaultFallsBackWhereTwoWouldPassALimit) {
   ImpostorDesc desc;
   detail::ImpostorPlan p;

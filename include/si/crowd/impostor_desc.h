@@ -21,8 +21,9 @@ struct ImpostorDesc {
   /// Frames per clip, spread evenly over its baked frames (first and last included; a clip of
   /// fewer baked frames keeps them all); 0 means 8.
   uint32_t frames_per_clip = 0;
-  /// Side of one cell in texels; 0 means 32. A cell spans 1.5 character heights, so a cell of
-  /// 32 texels serves an impostor up to about 20 pixels tall at one texel per pixel.
+  /// Side of one cell in texels, a power of two (each mip level halves every cell; others are
+  /// refused with kInvalidArgument); 0 means 32. A cell spans 1.5 character heights, so a cell
+  /// of 32 texels serves an impostor up to about 20 pixels tall at one texel per pixel.
   uint32_t cell_pixels = 0;
   /// The parts every impostor shows (bit s: sub-mesh s); 0 means all.
   uint32_t variation_mask = 0;
