@@ -3,6 +3,7 @@
 // triangles, growing with the height and the level for the embedded character's real levels,
 // the equivalent units where one pixel changes; the host's framebuffer and viewport kept; bad
 // input refused.
+#include <algorithm>
 #include <cmath>
 #include <initializer_list>
 #include <limits>
@@ -240,6 +241,45 @@ TEST(ImageLodErrors, ImpostorTakesTheCharactersUpToWhereItsCurveCrossesTheMeshLe
   ImageLodErrorReport no_curves = r;
   no_curves.heights_pixels.clear();
   EXPECT_EQ(impostorLodErrorsUnits(geometric, no_curves), from_lod2);
+}
+
+// Hostile reports (what a host could hand-build or corrupt): the hand-over returns one error
+// per level, non-decreasing wherever it is finite, without hanging or reading past a vector.
+TEST(ImageLodErrors, TheHandOverSurvivesHostileReports) {
+  const float nan = std::numeric_limits<float>::quiet_NaN();
+  const float inf = std::numeric_limits<float>::infinity();
+  const std::vector<float> geometric = {0.0f, 0.027f, 0.1f, 0.26f, 0.85f, 0.85f};
+  const std::vector<std::vector<uint32_t>> heights = {
+      {0, 8, 16}, {8, 8, 8}, {4, 8, 0xFFFFFFFFu}, {1}, {16, 8, 4}};
+  const std::vector<std::vector<double>> curves = {
+      {0.0, 0.0, 0.0},         {1.0, 1.0, 1.0},  {5.0, 1.0, 0.5},     {double(nan), 2.0, 3.0},
+      {double(inf), 1.0, 2.0}, {-1.0, 2.0, 4.0}, {1e300, 1e-300, 1.0}};
+  for (const std::vector<uint32_t>& h : heights)
+    for (const std::vector<double>& impostor : curves)
+      for (const std::vector<double>& mesh : curves)
+        for (float height_units : {2.04f, 0.0f, nan, inf}) {
+          ImageLodErrorReport r;
+          r.impostor = true;
+          r.heights_pixels = h;
+          r.character_height_units = height_units;
+          for (size_t l = 0; l < geometric.size(); ++l) {
+            ImageLodLevel level;
+            const std::vector<double>& c = l + 1 == geometric.size() ? impostor : mesh;
+            level.mean_differing_pixels.assign(c.begin(), c.begin() + std::min(c.size(), h.size()));
+            level.mean_differing_pixels.resize(h.size(), 1.0);
+            level.image_units = l + 1 == geometric.size() ? 0.6f : 0.3f * float(l);
+            r.levels.push_back(level);
+          }
+          for (float budget : {1.0f, 0.25f, 1e30f}) {
+            const std::vector<float> out = impostorLodErrorsUnits(geometric, r, budget);
+            ASSERT_EQ(out.size(), geometric.size());
+            for (size_t l = 1; l < out.size(); ++l) {
+              if (std::isfinite(out[l])) {
+                EXPECT_GE(out[l], out[l - 1]) << l;
+              }
+            }
+          }
+        }
 }
 
 }  // namespace
