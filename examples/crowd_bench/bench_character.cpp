@@ -147,7 +147,7 @@ Status imageErrors(Setup& setup, const BakedPalette& palette, bool select, bool 
     std::printf(
         "  the mesh levels are selected by their geometric errors; the impostor (LOD %zu) "
         "takes over at %.4g units: the characters up to %.3g px tall at a %g-pixel "
-        "budget, where its measured error rises above the mesh level's",
+        "budget (si::impostorLodErrorsUnits: its measured curve against the levels')",
         last, handover, double(budget_pixels) * r.character_height_units / handover,
         double(budget_pixels));
     if (first + 1 == last) std::printf("; LOD %zu skipped", first);
