@@ -38,6 +38,18 @@ q1m)
     timeout 280 .gl/imp/D/crowd_bench ${Q/--quality-size 100000/--quality-size 1000000} --quality-frames 1 $extra 2>&1 | grep -E "^field|takes over|captured|differing|SSIM|error" | tee -a $L
     echo "took $SECONDS s" | tee -a $L
   done ;;
+q3)
+  # F (D with --impostor-cell): SSIM of larger cells, then their frame time against the default.
+  for extra in "--impostor-cell 64" "--impostor-cell 64 --impostor-atlas fine"; do
+    SECONDS=0
+    echo "=== quality F $extra" | tee -a $L
+    timeout 200 .gl/imp/F/crowd_bench $Q $extra 2>&1 | grep -E "^field|takes over|Impostor atlas|differing|SSIM|error" | tee -a $L
+    echo "took $SECONDS s" | tee -a $L
+  done
+  for r in 1 2; do for extra in "" "--impostor-cell 64 --impostor-atlas fine" "--impostor-atlas fine" ""; do
+    echo "=== round $r F $extra ($SECONDS s)" | tee -a $L
+    timeout 100 .gl/imp/F/crowd_bench $ARGS $extra --csv /tmp/x.csv 2>&1 | grep -E "^field +gpu-driven|takes over|Impostor atlas" | tee -a $L
+  done; done ;;
 q1|q2)
   [ $1 = q1 ] && set -- q1 "--impostor-capture 1" "" || set -- q2 "--impostor-atlas fine"
   shift
