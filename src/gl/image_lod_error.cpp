@@ -7,7 +7,6 @@
 
 #include <algorithm>
 #include <cmath>
-#include <limits>
 
 #include <glm/gtc/matrix_transform.hpp>
 #include <glm/gtc/quaternion.hpp>
@@ -15,6 +14,7 @@
 #include "core/str_cat.h"
 #include "crowd/view_rotation.h"
 #include "gl/host_errors.h"
+#include "gl/image_lod_curve.h"
 #include "gl/profile/gl_profile.h"
 #include "gl/state/gl_state_guard.h"
 #include "si/core/lod_error.h"
@@ -68,87 +68,6 @@ std::vector<float> linesFor(uint32_t level, uint32_t levels) {
   for (uint32_t l = 1; l < levels; ++l)
     lines.push_back(l <= level ? 1e-6f * float(l) : 1e7f * float(l));
   return lines;
-}
-
-// The measurements of `differing` (per height) where something differs, as natural logarithms
-// of the height (x) and of the differing pixels (y), by increasing height.
-void logCurve(const std::vector<uint32_t>& heights, const std::vector<double>& differing,
-              std::vector<double>* x, std::vector<double>* y) {
-  std::vector<size_t> order(heights.size());
-  for (size_t k = 0; k < order.size(); ++k) order[k] = k;
-  std::sort(order.begin(), order.end(),
-            [&](size_t a, size_t b) { return heights[a] < heights[b]; });
-  for (size_t k : order)
-    if (differing[k] > 0.0) {
-      x->push_back(std::log(double(heights[k])));
-      y->push_back(std::log(differing[k]));
-    }
-}
-
-// The height at which `differing` (per height) reaches one pixel, on a log-log scale:
-// interpolated between the measurements around it, extrapolated along the nearest two (or in
-// proportion to the height, from one) past them; infinite when nothing differs.
-double onePixelHeight(const std::vector<uint32_t>& heights, const std::vector<double>& differing) {
-  std::vector<double> x, y;
-  logCurve(heights, differing, &x, &y);
-  if (x.empty()) return std::numeric_limits<double>::infinity();
-  if (x.size() == 1) return std::exp(x[0] - y[0]);  // In proportion to the height.
-  size_t i = 0;  // The segment [i, i + 1] around log 1 = 0, or the nearest end one.
-  while (i + 2 < x.size() && y[i + 1] < 0.0) ++i;
-  const double slope = (y[i + 1] - y[i]) / (x[i + 1] - x[i]);
-  if (!(slope > 0.0)) return std::exp(y[i + 1] < 0.0 ? x.back() : x[0]);  // Flat: no crossing.
-  return std::exp(x[i] - y[i] / slope);
-}
-
-// `differing` (per height) at `height` pixels, read as onePixelHeight reads it: on a log-log
-// scale between the measurements around it, along the nearest two past them, in proportion to
-// the height from one; 0 where nothing differs.
-double differingAt(const std::vector<uint32_t>& heights, const std::vector<double>& differing,
-                   double height) {
-  std::vector<double> x, y;
-  logCurve(heights, differing, &x, &y);
-  if (x.empty()) return 0.0;
-  const double at = std::log(height);
-  if (x.size() == 1) return std::exp(y[0] + at - x[0]);
-  size_t i = 0;  // The segment [i, i + 1] around `at`, or the nearest end one.
-  while (i + 2 < x.size() && x[i + 1] < at) ++i;
-  const double slope = (y[i + 1] - y[i]) / (x[i + 1] - x[i]);
-  return std::exp(y[i] + slope * (at - x[i]));
-}
-
-// The tallest height (pixels) up to which the impostor (the report's last level) changes no
-// more pixels than the mesh level the screen-error choice at `budget` pixels draws there by
-// `units` (the coarsest of levels 1 to n - 2 whose error projects within the budget), the
-// curves read by differingAt, stepping up from 1 pixel by 1/16 of an octave to the first height
-// it loses at, then bisecting: 0 where it loses at 1 pixel; LOD 1's tallest height (or 16 times
-// the tallest measured) where it never does.
-double impostorHandoverHeight(const std::vector<float>& units, const ImageLodErrorReport& report,
-                              double budget) {
-  const size_t n = units.size();
-  const double height_units = report.character_height_units;
-  const std::vector<uint32_t>& heights = report.heights_pixels;
-  const double ceiling = 16.0 * double(*std::max_element(heights.begin(), heights.end()));
-  // Whether the impostor changes at most as many pixels as the mesh level drawn at `h` (false
-  // past LOD 1's range, where LOD 0 is drawn, and past the ceiling).
-  const auto wins = [&](double h) {
-    size_t l = n - 2;
-    while (l >= 1 && double(units[l]) * h > budget * height_units) --l;
-    if (l == 0 || h > ceiling) return false;
-    return differingAt(heights, report.levels.back().mean_differing_pixels, h) <=
-           differingAt(heights, report.levels[l].mean_differing_pixels, h);
-  };
-  if (!wins(1.0)) return 0.0;
-  double lo = 1.0, hi = 1.0;
-  for (;;) {  // Up by 1/16 of an octave to the first height it loses at...
-    hi = lo * 1.0442737824274138;
-    if (!wins(hi)) break;
-    lo = hi;
-  }
-  for (int k = 0; k < 40; ++k) {  // ...then the boundary by bisection.
-    const double mid = 0.5 * (lo + hi);
-    (wins(mid) ? lo : hi) = mid;
-  }
-  return lo;
 }
 
 }  // namespace
@@ -336,7 +255,7 @@ Status measureImageLodErrors(const GlInfo& info, const Character& character,
   }
   for (uint32_t l = 1; l < levels; ++l) {
     ImageLodLevel& level = out.levels[l];
-    level.one_pixel_height = onePixelHeight(d.heights_pixels, level.mean_differing_pixels);
+    level.one_pixel_height = detail::onePixelHeight(d.heights_pixels, level.mean_differing_pixels);
     level.image_units = float(double(height_units) / level.one_pixel_height);
   }
   if (levels > 0) {  // LOD 0: nothing differs.
@@ -345,48 +264,6 @@ Status measureImageLodErrors(const GlInfo& info, const Character& character,
   }
   *report = std::move(out);
   return Status::ok();
-}
-
-std::vector<float> imageLodErrorsUnits(const ImageLodErrorReport& report) {
-  std::vector<float> out;
-  for (const ImageLodLevel& level : report.levels)
-    out.push_back(out.empty() ? 0.0f : std::max(out.back(), level.image_units));
-  if (report.impostor && out.size() > 1) {  // Levels the impostor dominates take its error.
-    const float impostor = report.levels.back().image_units;
-    for (size_t l = 1; l + 1 < out.size(); ++l) out[l] = std::min(out[l], impostor);
-    out.back() = std::max(impostor, out[out.size() - 2]);
-  }
-  return out;
-}
-
-std::vector<float> impostorLodErrorsUnits(const std::vector<float>& geometric_units,
-                                          const ImageLodErrorReport& report, float budget_pixels) {
-  std::vector<float> out = geometric_units;
-  const size_t n = out.size();
-  if (!report.impostor || n < 2 || report.levels.size() != n) return out;
-  const double budget =
-      budget_pixels > 0.0f && std::isfinite(budget_pixels) ? double(budget_pixels) : 1.0;
-  const ImageLodLevel& impostor = report.levels.back();
-  bool curves = n > 2 && !report.heights_pixels.empty() && report.character_height_units > 0.0f;
-  for (const ImageLodLevel& level : report.levels)
-    curves = curves && level.mean_differing_pixels.size() == report.heights_pixels.size();
-  float handover = 0.0f;
-  if (curves) {
-    // Where the search stopped at the end of a level's characters, the bisection's last
-    // height lies within float rounding of it: the float is that level's error.
-    const double units =
-        budget * report.character_height_units / impostorHandoverHeight(out, report, budget);
-    handover = units <= double(out[n - 2])
-                   ? float(units)
-                   : std::max(out[n - 2], float(std::min(units, double(impostor.image_units))));
-  } else {  // One number per level: the trailing levels whose one-pixel error exceeds its own.
-    size_t first = n - 1;
-    while (first > 1 && report.levels[first - 1].image_units > impostor.image_units) --first;
-    handover = first < n - 1 ? out[first] : std::max(out[n - 2], impostor.image_units);
-  }
-  for (size_t l = 1; l + 1 < n; ++l) out[l] = std::min(out[l], handover);
-  out[n - 1] = handover;
-  return out;
 }
 
 }  // namespace si
