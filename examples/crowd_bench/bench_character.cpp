@@ -165,7 +165,7 @@ Status buildImpostor(const Setup& setup, Renderer& renderer, CharacterId id, boo
         "Impostor atlas (Renderer::buildImpostor): %u views x %u frames, %u x %u texels, "
         "%.1f MiB with mip levels, cells of %u texels, %s, captured %u x %u texels each\n",
         info.views, info.frames, info.width, info.height, double(info.bytes) / 1048576.0,
-        setup.impostor_desc.cell_pixels ? setup.impostor_desc.cell_pixels : 32u,
+        info.cell_pixels,
         info.uniform_surface ? "one surface value (fragments read 2 layers)"
                              : "surface layer read per fragment",
         info.capture_supersample, info.capture_supersample);

@@ -96,6 +96,7 @@ Status planImpostor(const BakedPalette& palette, uint32_t sub_meshes, const Impo
   info.views = views;
   info.frames = uint32_t(plan.frames.size());
   info.cells = uint32_t(std::min<uint64_t>(plan.cells, UINT32_MAX));
+  info.cell_pixels = plan.cell;
   info.width = uint32_t(std::min<uint64_t>(width, UINT32_MAX));
   info.height = uint32_t(std::min<uint64_t>(height, UINT32_MAX));
   for (uint32_t l = 0; l < plan.levels; ++l)

@@ -68,11 +68,13 @@ TEST(ImpostorPlan, CellsArePowersOfTwo) {
     desc.cell_pixels = cell;
     ASSERT_TRUE(plan(desc, 1u << 20, 4, &p).isOk()) << cell;
     EXPECT_EQ(p.cell, cell);
+    EXPECT_EQ(p.info.cell_pixels, cell);
     EXPECT_EQ(p.info.width % cell, 0u);
   }
   desc.cell_pixels = 0;  // The default.
   ASSERT_TRUE(plan(desc, 16384, 4, &p).isOk());
   EXPECT_EQ(p.cell, 32u);
+  EXPECT_EQ(p.info.cell_pixels, 32u);
   for (uint32_t cell : {3u, 48u, 100u, 0x80000001u}) {
     desc.cell_pixels = cell;
     const Status s = plan(desc, 1u << 20, 4, &p);

@@ -47,6 +47,7 @@ struct ImpostorInfo {
   uint32_t views = 0;              ///< azimuths x elevations.
   uint32_t frames = 0;             ///< Captured frames, every clip's together.
   uint32_t cells = 0;              ///< views x frames.
+  uint32_t cell_pixels = 0;        ///< A cell's side in texels (ImpostorDesc's, 0 resolved).
   uint32_t width = 0, height = 0;  ///< Texels of each of the atlas's three layers.
   uint64_t bytes = 0;              ///< GPU memory of the atlas with its mip levels.
   /// The capture's depth buffer and, supersampled, its three layers: freed when the build
