@@ -1,5 +1,6 @@
 // SkinnedInstancing — SPDX-License-Identifier: MIT (see LICENSE)
-// The impostor atlas's capture recorded, and the atlas and capture destroyed.
+// The impostor atlas's capture recorded (drawn, resolved when supersampled, its mip chain and
+// covered rectangles), and the atlas and capture destroyed.
 #include "vk/impostor_atlas.h"
 
 #include "vk/image_upload.h"
@@ -8,11 +9,15 @@ namespace si::vk::detail {
 
 void recordImpostorCapture(VkCommandBuffer cmd, const ImpostorCapture& capture,
                            VkPipelineLayout pipeline_layout, VkBuffer vertices, VkBuffer indices,
-                           const CoveragePipelines& coverage, ImpostorAtlas* atlas) {
+                           const ImpostorPasses& passes, ImpostorAtlas* atlas) {
   const GpuImage& image = atlas->image;
-  const uint32_t w = image.width, h = image.height;
-  // Level 0 an attachment, the other levels the blits' destinations; the depth an attachment.
-  recordImageBarrier(cmd, image.image, VK_IMAGE_ASPECT_COLOR_BIT, 0, 1, ImpostorAtlas::kLayers,
+  const bool resolved = capture.factor > 1;
+  const uint32_t w = image.width * capture.factor, h = image.height * capture.factor;
+  // The drawn layers (the atlas's level 0, or the supersampled capture's) attachments, the
+  // atlas's other levels the blits' destinations, its level 0 supersampled the resolve's storage
+  // image; the depth an attachment.
+  recordImageBarrier(cmd, resolved ? capture.supersampled.image : image.image,
+                     VK_IMAGE_ASPECT_COLOR_BIT, 0, 1, ImpostorAtlas::kLayers,
                      {VK_IMAGE_LAYOUT_UNDEFINED, VK_IMAGE_LAYOUT_COLOR_ATTACHMENT_OPTIMAL, 0,
                       VK_ACCESS_COLOR_ATTACHMENT_WRITE_BIT, VK_PIPELINE_STAGE_TOP_OF_PIPE_BIT,
                       VK_PIPELINE_STAGE_COLOR_ATTACHMENT_OUTPUT_BIT});
@@ -22,6 +27,11 @@ void recordImpostorCapture(VkCommandBuffer cmd, const ImpostorCapture& capture,
                        {VK_IMAGE_LAYOUT_UNDEFINED, VK_IMAGE_LAYOUT_TRANSFER_DST_OPTIMAL, 0,
                         VK_ACCESS_TRANSFER_WRITE_BIT, VK_PIPELINE_STAGE_TOP_OF_PIPE_BIT,
                         VK_PIPELINE_STAGE_TRANSFER_BIT});
+  if (resolved)
+    recordImageBarrier(
+        cmd, image.image, VK_IMAGE_ASPECT_COLOR_BIT, 0, 1, ImpostorAtlas::kLayers,
+        {VK_IMAGE_LAYOUT_UNDEFINED, VK_IMAGE_LAYOUT_GENERAL, 0, VK_ACCESS_SHADER_WRITE_BIT,
+         VK_PIPELINE_STAGE_TOP_OF_PIPE_BIT, VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT});
   recordImageBarrier(
       cmd, capture.depth.image, VK_IMAGE_ASPECT_DEPTH_BIT, 0, 1, 1,
       {VK_IMAGE_LAYOUT_UNDEFINED, VK_IMAGE_LAYOUT_DEPTH_ATTACHMENT_OPTIMAL, 0,
@@ -70,15 +80,54 @@ void recordImpostorCapture(VkCommandBuffer cmd, const ImpostorCapture& capture,
     vkCmdDrawIndexed(cmd, d.index_count, d.instances, d.first_index, 0, 0);
   }
   vkCmdEndRendering(cmd);
-  // Level 0 the mip chain's first source.
-  recordImageBarrier(
-      cmd, image.image, VK_IMAGE_ASPECT_COLOR_BIT, 0, 1, ImpostorAtlas::kLayers,
-      {VK_IMAGE_LAYOUT_COLOR_ATTACHMENT_OPTIMAL, VK_IMAGE_LAYOUT_TRANSFER_DST_OPTIMAL,
-       VK_ACCESS_COLOR_ATTACHMENT_WRITE_BIT,
-       VK_ACCESS_TRANSFER_READ_BIT | VK_ACCESS_TRANSFER_WRITE_BIT,
-       VK_PIPELINE_STAGE_COLOR_ATTACHMENT_OUTPUT_BIT, VK_PIPELINE_STAGE_TRANSFER_BIT});
+  // Supersampled: one resolve dispatch of `layers` layers with the uniforms at `at`.
+  const auto resolve = [&](uint32_t at, uint32_t layers) {
+    vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, passes.resolve);
+    vkCmdBindDescriptorSets(cmd, VK_PIPELINE_BIND_POINT_COMPUTE,
+                            passes.resolve_layout.pipeline_layout, 0, 1, &capture.resolve_set, 1,
+                            &at);
+    vkCmdDispatch(cmd, (image.width + 7) / 8, (image.height + 7) / 8, layers);
+  };
+  if (resolved) {
+    // Every layer's means into level 0 (which the mip levels average), then level 0 the mip
+    // chain's first source.
+    recordImageBarrier(
+        cmd, capture.supersampled.image, VK_IMAGE_ASPECT_COLOR_BIT, 0, 1, ImpostorAtlas::kLayers,
+        {VK_IMAGE_LAYOUT_COLOR_ATTACHMENT_OPTIMAL, VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL,
+         VK_ACCESS_COLOR_ATTACHMENT_WRITE_BIT, VK_ACCESS_SHADER_READ_BIT,
+         VK_PIPELINE_STAGE_COLOR_ATTACHMENT_OUTPUT_BIT, VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT});
+    resolve(capture.resolve_at[0], ImpostorAtlas::kLayers);
+    recordImageBarrier(
+        cmd, image.image, VK_IMAGE_ASPECT_COLOR_BIT, 0, 1, ImpostorAtlas::kLayers,
+        {VK_IMAGE_LAYOUT_GENERAL, VK_IMAGE_LAYOUT_TRANSFER_DST_OPTIMAL, VK_ACCESS_SHADER_WRITE_BIT,
+         VK_ACCESS_TRANSFER_READ_BIT | VK_ACCESS_TRANSFER_WRITE_BIT,
+         VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT, VK_PIPELINE_STAGE_TRANSFER_BIT});
+  } else {
+    // Level 0 the mip chain's first source.
+    recordImageBarrier(
+        cmd, image.image, VK_IMAGE_ASPECT_COLOR_BIT, 0, 1, ImpostorAtlas::kLayers,
+        {VK_IMAGE_LAYOUT_COLOR_ATTACHMENT_OPTIMAL, VK_IMAGE_LAYOUT_TRANSFER_DST_OPTIMAL,
+         VK_ACCESS_COLOR_ATTACHMENT_WRITE_BIT,
+         VK_ACCESS_TRANSFER_READ_BIT | VK_ACCESS_TRANSFER_WRITE_BIT,
+         VK_PIPELINE_STAGE_COLOR_ATTACHMENT_OUTPUT_BIT, VK_PIPELINE_STAGE_TRANSFER_BIT});
+  }
   recordMipChain(cmd, image,
                  VK_PIPELINE_STAGE_FRAGMENT_SHADER_BIT | VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT);
+  if (resolved) {
+    // Level 0's surface layer again, as one material's (codes are not averaged: the impostor
+    // fragment gathers level 0's), then every level read by the fragment and compute stages.
+    recordImageBarrier(cmd, image.image, VK_IMAGE_ASPECT_COLOR_BIT, 0, 1, ImpostorAtlas::kLayers,
+                       {VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL, VK_IMAGE_LAYOUT_GENERAL, 0,
+                        VK_ACCESS_SHADER_WRITE_BIT, VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT,
+                        VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT});
+    resolve(capture.resolve_at[1], 1);
+    recordImageBarrier(
+        cmd, image.image, VK_IMAGE_ASPECT_COLOR_BIT, 0, 1, ImpostorAtlas::kLayers,
+        {VK_IMAGE_LAYOUT_GENERAL, VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL,
+         VK_ACCESS_SHADER_WRITE_BIT, VK_ACCESS_SHADER_READ_BIT,
+         VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT,
+         VK_PIPELINE_STAGE_FRAGMENT_SHADER_BIT | VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT});
+  }
   const VkBufferCopy table{capture.table_at, 0, atlas->clips.size};
   vkCmdCopyBuffer(cmd, capture.staging.buffer, atlas->clips.buffer, 1, &table);
   // The covered rectangles: the extents cleared (minima to the largest word, maxima to 0), each
@@ -92,15 +141,15 @@ void recordImpostorCapture(VkCommandBuffer cmd, const ImpostorCapture& capture,
   for (size_t k = 0; k < capture.coverage.size(); ++k) {
     const bool rects = k + 1 == capture.coverage.size();
     if (k == 0 || rects)
-      vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_COMPUTE,
-                        rects ? coverage.rects : coverage.extents);
+      vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, passes.coverage[rects ? 1 : 0]);
     if (rects)
       recordMemoryBarrier(cmd, VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT, VK_ACCESS_SHADER_WRITE_BIT,
                           VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT,
                           VK_ACCESS_SHADER_READ_BIT | VK_ACCESS_SHADER_WRITE_BIT);
     const ImpostorCapture::CoveragePass& pass = capture.coverage[k];
-    vkCmdBindDescriptorSets(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, coverage.layout, 0, 1,
-                            &capture.coverage_set, 1, &pass.defaults_at);
+    vkCmdBindDescriptorSets(cmd, VK_PIPELINE_BIND_POINT_COMPUTE,
+                            passes.coverage_layout.pipeline_layout, 0, 1, &capture.coverage_set, 1,
+                            &pass.defaults_at);
     vkCmdDispatch(cmd, pass.groups_x, pass.groups_y, 1);
   }
   recordMemoryBarrier(cmd, VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT, VK_ACCESS_SHADER_WRITE_BIT,
@@ -113,6 +162,11 @@ void releaseImpostorCapture(DeviceObjects* objects, ImpostorCapture* capture) {
   const VkDevice device = objects->device();
   for (VkImageView v : capture->layers)
     if (v != VK_NULL_HANDLE) vkDestroyImageView(device, v, objects->allocator());
+  if (capture->atlas_level0 != VK_NULL_HANDLE)
+    vkDestroyImageView(device, capture->atlas_level0, objects->allocator());
+  if (capture->resolve_pool != VK_NULL_HANDLE)
+    vkDestroyDescriptorPool(device, capture->resolve_pool, objects->allocator());
+  objects->destroy(&capture->supersampled);
   if (capture->pool != VK_NULL_HANDLE)
     vkDestroyDescriptorPool(device, capture->pool, objects->allocator());
   if (capture->coverage_pool != VK_NULL_HANDLE)

@@ -1,5 +1,5 @@
 // SkinnedInstancing — SPDX-License-Identifier: MIT (see LICENSE)
-// The GPU-driven impostors' layouts and pipelines.
+// The impostor atlas's passes and the GPU-driven impostors': their layouts and pipelines.
 #include "vk/impostor_passes.h"
 
 #include "si_vk/vulkan_profile.h"
@@ -28,6 +28,18 @@ bool impostorCoverageBindingType(uint32_t b, DescriptorKind kind, VkDescriptorTy
     *type = VK_DESCRIPTOR_TYPE_STORAGE_BUFFER;
   else if (b == kImpostorAtlasBinding && kind == DescriptorKind::kCombinedImageSampler)
     *type = VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER;
+  else if (b == kComputeDefaultsBinding && kind == DescriptorKind::kUniformBuffer)
+    *type = VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER_DYNAMIC;
+  else
+    return false;
+  return true;
+}
+
+bool impostorResolveBindingType(uint32_t b, DescriptorKind kind, VkDescriptorType* type) {
+  if (b == kResolveCaptureBinding && kind == DescriptorKind::kCombinedImageSampler)
+    *type = VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER;
+  else if (b == kResolveAtlasBinding && kind == DescriptorKind::kStorageImage)
+    *type = VK_DESCRIPTOR_TYPE_STORAGE_IMAGE;
   else if (b == kComputeDefaultsBinding && kind == DescriptorKind::kUniformBuffer)
     *type = VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER_DYNAMIC;
   else
@@ -67,6 +79,15 @@ Status createImpostorPasses(VkDevice device, const VkAllocationCallbacks* alloca
   for (int k = 0; k < 2 && s.isOk(); ++k)
     s = createComputePipeline(device, allocator, *out->coverage_programs[k],
                               out->coverage_layout.pipeline_layout, &out->coverage[k]);
+  out->resolve_program =
+      &programs[vulkanComputeProgramIndex(si::detail::ProgramId::kImpostorResolve)];
+  if (s.isOk())
+    s = createComputeLayout(
+        device, allocator, Span<const ProgramModules* const>(&out->resolve_program, 1),
+        impostorResolveBindingType, "the impostor resolve pass", &out->resolve_layout);
+  if (s.isOk())
+    s = createComputePipeline(device, allocator, *out->resolve_program,
+                              out->resolve_layout.pipeline_layout, &out->resolve);
   std::vector<StageReflection> stages;
   for (int k = 0; k < 2; ++k) {
     out->draw_programs[k] = &programs[vulkanImpostorProgramIndex(k == 1)];
@@ -87,11 +108,12 @@ Status createImpostorPasses(VkDevice device, const VkAllocationCallbacks* alloca
 void destroyImpostorPasses(VkDevice device, const VkAllocationCallbacks* allocator,
                            ImpostorPasses* passes) {
   for (VkPipeline p : {passes->quads, passes->draws[0], passes->draws[1], passes->coverage[0],
-                       passes->coverage[1]})
+                       passes->coverage[1], passes->resolve})
     if (p != VK_NULL_HANDLE) vkDestroyPipeline(device, p, allocator);
   if (passes->sampler != VK_NULL_HANDLE) vkDestroySampler(device, passes->sampler, allocator);
   destroyComputeLayout(device, allocator, &passes->quads_layout);
   destroyComputeLayout(device, allocator, &passes->coverage_layout);
+  destroyComputeLayout(device, allocator, &passes->resolve_layout);
   SkinnedLayout& l = passes->draw_layout;
   if (l.pipeline_layout != VK_NULL_HANDLE)
     vkDestroyPipelineLayout(device, l.pipeline_layout, allocator);

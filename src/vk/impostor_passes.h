@@ -1,6 +1,7 @@
 // SkinnedInstancing — SPDX-License-Identifier: MIT (see LICENSE)
 #pragma once
-// The impostor atlas's coverage passes and the GPU-driven path's impostors as Vulkan objects
+// The impostor atlas's resolve and coverage passes and the GPU-driven path's impostors as Vulkan
+// objects
 // (si::gl's drawImpostorsIndirect): the impostor quads pass (impostor_quads.comp.glsl: each quad of
 // the impostor bucket computed once, after the scatter pass) and the impostor draw that reads them
 // (impostor.vert.glsl, SI_GPU_DRIVEN: shaded, or depth only), each with a set layout of its own
@@ -18,6 +19,11 @@
 
 namespace si::vk::detail {
 
+// The resolve pass's capture (its texture unit 0) and atlas level 0 (its image unit 0), shifted by
+// the profile.
+inline constexpr uint32_t kResolveCaptureBinding = 0 + kSamplerBindingShift;
+inline constexpr uint32_t kResolveAtlasBinding = 0 + kImageBindingShift;
+
 struct ImpostorPasses {
   ComputeLayout quads_layout;
   VkPipeline quads = VK_NULL_HANDLE;
@@ -30,6 +36,10 @@ struct ImpostorPasses {
   ComputeLayout coverage_layout;
   VkPipeline coverage[2] = {};
   const ProgramModules* coverage_programs[2] = {};
+  /// The atlas's level 0 averaged from a supersampled capture (impostor_resolve.comp.glsl).
+  ComputeLayout resolve_layout;
+  VkPipeline resolve = VK_NULL_HANDLE;
+  const ProgramModules* resolve_program = nullptr;
   /// Shaded, depth only.
   VkPipeline draws[2] = {};
   const ProgramModules* draw_programs[2] = {};
@@ -39,6 +49,9 @@ struct ImpostorPasses {
 bool impostorQuadsBindingType(uint32_t binding, DescriptorKind kind, VkDescriptorType* type);
 /// The coverage passes': the atlas, the extents and the clip table, the dynamic default block.
 bool impostorCoverageBindingType(uint32_t binding, DescriptorKind kind, VkDescriptorType* type);
+/// The resolve pass's: the capture, the atlas's level 0 as a storage image, the dynamic default
+/// block.
+bool impostorResolveBindingType(uint32_t binding, DescriptorKind kind, VkDescriptorType* type);
 
 /// Makes `out`'s layouts and pipelines from the renderer's `programs` (vulkanPrograms() order):
 /// the draws for rendering into `shaded` and `depth_only`. kBackend or kUnsupported naming what

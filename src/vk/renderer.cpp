@@ -346,10 +346,7 @@ Status Renderer::recordUploads(VkCommandBuffer cmd) {
   for (auto& c : m.characters)
     if (c->capture.pending() && !c->impostor.captured)
       recordImpostorCapture(cmd, c->capture, m.layout.pipeline_layout, c->vertices.buffer,
-                            c->indices.buffer,
-                            {m.impostor_passes.coverage[0], m.impostor_passes.coverage[1],
-                             m.impostor_passes.coverage_layout.pipeline_layout},
-                            &c->impostor);
+                            c->indices.buffer, m.impostor_passes, &c->impostor);
   recordMemoryBarrier(cmd, VK_PIPELINE_STAGE_TRANSFER_BIT, VK_ACCESS_TRANSFER_WRITE_BIT,
                       VK_PIPELINE_STAGE_VERTEX_INPUT_BIT | VK_PIPELINE_STAGE_VERTEX_SHADER_BIT |
                           VK_PIPELINE_STAGE_FRAGMENT_SHADER_BIT,

@@ -2,7 +2,8 @@
 // vk::Renderer::buildImpostor: the atlas planned as si::gl plans it (crowd/impostor_plan.h), made
 // on the host's device, and its capture staged for recordUploads() (impostor_atlas.h): the
 // capture crowd's batches' records and default blocks written, the capture program's pipeline
-// made for the character's mesh.
+// made for the character's mesh, supersampled the capture's own layers and the resolve pass's
+// set.
 #include <algorithm>
 #include <cstring>
 #include <iterator>
@@ -18,6 +19,51 @@ namespace si::vk {
 
 using si::detail::strCat;
 using namespace si::vk::detail;
+
+namespace {
+
+// The resolve pass's set for `capture` (supersampled): its capture layers read, the atlas's level
+// 0 (a view of its own) written, its uniforms in the capture's staging.
+Status createResolveSet(VkDevice device, const VkAllocationCallbacks* allocator,
+                        const ImpostorPasses& passes, const ImpostorAtlas& atlas,
+                        ImpostorCapture* capture) {
+  auto v = vkStruct<VkImageViewCreateInfo>(VK_STRUCTURE_TYPE_IMAGE_VIEW_CREATE_INFO);
+  v.image = atlas.image.image;
+  v.viewType = VK_IMAGE_VIEW_TYPE_2D_ARRAY;
+  v.format = VK_FORMAT_R8G8B8A8_UNORM;
+  v.subresourceRange = {VK_IMAGE_ASPECT_COLOR_BIT, 0, 1, 0, ImpostorAtlas::kLayers};
+  Status s = checkVk(vkCreateImageView(device, &v, allocator, &capture->atlas_level0),
+                     "vkCreateImageView (the impostor atlas's level 0)");
+  if (s.isOk())
+    s = createDescriptorSet(device, allocator, passes.resolve_layout.set_layout,
+                            passes.resolve_layout.bindings, &capture->resolve_pool,
+                            &capture->resolve_set);
+  if (!s.isOk()) return s;
+  const VkDescriptorImageInfo read{passes.sampler, capture->supersampled.view,
+                                   VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL};
+  const VkDescriptorImageInfo written{VK_NULL_HANDLE, capture->atlas_level0,
+                                      VK_IMAGE_LAYOUT_GENERAL};
+  const VkDescriptorBufferInfo defaults{capture->staging.buffer, 0, kComputeDefaultsRange};
+  std::vector<VkWriteDescriptorSet> writes;
+  for (const VkDescriptorSetLayoutBinding& binding : passes.resolve_layout.bindings) {
+    auto w = vkStruct<VkWriteDescriptorSet>(VK_STRUCTURE_TYPE_WRITE_DESCRIPTOR_SET);
+    w.dstSet = capture->resolve_set;
+    w.dstBinding = binding.binding;
+    w.descriptorCount = 1;
+    w.descriptorType = binding.descriptorType;
+    if (binding.binding == kResolveCaptureBinding)
+      w.pImageInfo = &read;
+    else if (binding.binding == kResolveAtlasBinding)
+      w.pImageInfo = &written;
+    else
+      w.pBufferInfo = &defaults;
+    writes.push_back(w);
+  }
+  vkUpdateDescriptorSets(device, uint32_t(writes.size()), writes.data(), 0, nullptr);
+  return Status::ok();
+}
+
+}  // namespace
 
 bool Renderer::hasImpostor(CharacterId id) const {
   return impl_ && id.index < impl_->characters.size() &&
@@ -45,8 +91,8 @@ Status Renderer::buildImpostor(CharacterId id, const ImpostorDesc& desc, Imposto
                                             {m.max_viewport_size, "maxViewportDimensions"}};
   si::detail::ImpostorPlan plan;
   const Status planned = si::detail::planImpostor(
-      palette, sub_meshes, desc, Span<const si::detail::ImpostorSide>(sides, std::size(sides)), 1,
-      kCall, &plan);  // Captured at 1 texel per atlas texel (no resolve pass here yet).
+      palette, sub_meshes, desc, Span<const si::detail::ImpostorSide>(sides, std::size(sides)), 4,
+      kCall, &plan);
   if (info != nullptr) *info = plan.info;  // Reported before anything is allocated.
   if (!planned.isOk()) return planned;
   VkFormatProperties depth_format{};
@@ -81,32 +127,41 @@ Status Renderer::buildImpostor(CharacterId id, const ImpostorDesc& desc, Imposto
   const size_t entries = size_t(plan.cells) * plan.levels;
   const std::vector<uint32_t> table =
       si::detail::impostorClipTable(plan, std::vector<uint32_t>(entries, 0u));
-  // The coverage passes' uniforms: each level's, then the packing pass's.
+  // The coverage passes' uniforms: each level's, then the packing pass's; then the resolve
+  // pass's two (supersampled).
   const VkDeviceSize coverage_at = alignUp(table_at + table.size() * 4, kComputeDefaultsRange);
+  const VkDeviceSize resolve_at = coverage_at + kComputeDefaultsRange * (plan.levels + 1);
   // The dynamic bindings' ranges read past their offsets: a block's worth past the end.
-  const VkDeviceSize staging_bytes =
-      coverage_at + kComputeDefaultsRange * (plan.levels + 1) + kRecordsRange;
+  const VkDeviceSize staging_bytes = resolve_at + kComputeDefaultsRange * 2 + kRecordsRange;
+  // Supersampled, the capture draws into layers of its own, averaged into the atlas after.
+  const uint32_t ss = plan.info.capture_supersample;
+  const uint32_t cw = plan.info.width * ss, ch = plan.info.height * ss;
 
   const auto fail = [&](Status why) {
     releaseImpostorCapture(&m.objects, &capture);
     return why;
   };
   ImpostorAtlas atlas;
-  s = m.objects.createImage(plan.info.width, plan.info.height, ImpostorAtlas::kLayers, plan.levels,
-                            VK_FORMAT_R8G8B8A8_UNORM, true, "the impostor atlas", &atlas.image,
-                            VK_IMAGE_USAGE_COLOR_ATTACHMENT_BIT);
+  capture.factor = ss;
+  s = m.objects.createImage(
+      plan.info.width, plan.info.height, ImpostorAtlas::kLayers, plan.levels,
+      VK_FORMAT_R8G8B8A8_UNORM, true, "the impostor atlas", &atlas.image,
+      ss > 1 ? VK_IMAGE_USAGE_STORAGE_BIT : VK_IMAGE_USAGE_COLOR_ATTACHMENT_BIT);
+  if (s.isOk() && ss > 1)
+    s = m.objects.createImage(cw, ch, ImpostorAtlas::kLayers, 1, VK_FORMAT_R8G8B8A8_UNORM, true,
+                              "the impostor's supersampled capture", &capture.supersampled,
+                              VK_IMAGE_USAGE_COLOR_ATTACHMENT_BIT);
   if (s.isOk())
     s = m.objects.createBuffer(
         table.size() * 4, VK_BUFFER_USAGE_STORAGE_BUFFER_BIT | VK_BUFFER_USAGE_TRANSFER_DST_BIT,
         false, "the impostor clip table", &atlas.clips);
   if (s.isOk())
-    s = m.objects.createImage(plan.info.width, plan.info.height, 1, 1,
-                              ImpostorAtlas::kCaptureDepthFormat, false,
+    s = m.objects.createImage(cw, ch, 1, 1, ImpostorAtlas::kCaptureDepthFormat, false,
                               "the impostor capture's depth", &capture.depth,
                               VK_IMAGE_USAGE_DEPTH_STENCIL_ATTACHMENT_BIT);
   for (uint32_t k = 0; k < ImpostorAtlas::kLayers && s.isOk(); ++k) {
     auto v = vkStruct<VkImageViewCreateInfo>(VK_STRUCTURE_TYPE_IMAGE_VIEW_CREATE_INFO);
-    v.image = atlas.image.image;
+    v.image = ss > 1 ? capture.supersampled.image : atlas.image.image;
     v.viewType = VK_IMAGE_VIEW_TYPE_2D;
     v.format = VK_FORMAT_R8G8B8A8_UNORM;
     v.subresourceRange = {VK_IMAGE_ASPECT_COLOR_BIT, 0, 1, k, 1};
@@ -135,6 +190,7 @@ Status Renderer::buildImpostor(CharacterId id, const ImpostorDesc& desc, Imposto
         VK_BUFFER_USAGE_STORAGE_BUFFER_BIT | VK_BUFFER_USAGE_TRANSFER_DST_BIT, false,
         "the impostor coverage's extents", &capture.extents);
   const ImpostorPasses& passes = m.impostor_passes;
+  if (s.isOk() && ss > 1) s = createResolveSet(m.device(), m.allocator(), passes, atlas, &capture);
   if (s.isOk())
     s = createDescriptorSet(m.device(), m.allocator(), passes.coverage_layout.set_layout,
                             passes.coverage_layout.bindings, &capture.coverage_pool,
@@ -221,6 +277,18 @@ Status Renderer::buildImpostor(CharacterId id, const ImpostorDesc& desc, Imposto
     writeDefault(staging + pass.defaults_at, r, "u_coverage_level", &level[0], 16);
     writeDefault(staging + pass.defaults_at, r, "u_coverage_atlas", &grid[0], 16);
     capture.coverage.push_back(pass);
+  }
+  if (ss > 1) {  // Every layer's means, then the surface layer's one material.
+    const SpirvReflection& r = passes.resolve_program->compute_reflection;
+    for (int k = 0; k < 2; ++k) {
+      capture.resolve_at[k] = uint32_t(resolve_at + kComputeDefaultsRange * k);
+      const glm::ivec3 size(int(plan.info.width), int(plan.info.height),
+                            k == 0 ? 0 : int(ImpostorAtlas::kSurfaceLayer));
+      const int factor = int(ss), codes = k;
+      writeDefault(staging + capture.resolve_at[k], r, "u_size", &size[0], 12);
+      writeDefault(staging + capture.resolve_at[k], r, "u_factor", &factor, 4);
+      writeDefault(staging + capture.resolve_at[k], r, "u_codes", &codes, 4);
+    }
   }
 
   // The atlas's numbers, as si::gl's ImpostorAtlas holds them.

@@ -136,7 +136,8 @@ std::vector<VulkanProgram> makePrograms() {
         std::pair{ProgramId::kHizReduce, "hiz_reduce"},
         std::pair{ProgramId::kImpostorQuads, "impostor_quads"},
         std::pair{ProgramId::kImpostorCoverage, "impostor_coverage"},
-        std::pair{ProgramId::kImpostorCoverageRects, "impostor_coverage_rects"}})
+        std::pair{ProgramId::kImpostorCoverageRects, "impostor_coverage_rects"},
+        std::pair{ProgramId::kImpostorResolve, "impostor_resolve"}})
     programs.push_back({id, VulkanKind::kShaded, true, true, false, false, false, false, false,
                         false, false, std::string(name)});
   return programs;

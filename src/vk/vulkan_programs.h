@@ -66,7 +66,8 @@ struct VulkanProgram {
 /// compose pass for meshes without and with morph targets ("gpu_layer_compose", "_motion",
 /// "_morph"), occlusion culling's depth pyramid passes
 /// ("hiz_copy", "hiz_copy_ms", "hiz_reduce"), the impostor quads pass ("impostor_quads") and the
-/// impostor atlas's covered rectangles ("impostor_coverage", "impostor_coverage_rects").
+/// impostor atlas's covered rectangles ("impostor_coverage", "impostor_coverage_rects") and its
+/// level 0 averaged from a supersampled capture ("impostor_resolve").
 /// Between the pre-skinned draws and the compute passes: the impostor atlas's capture for each
 /// mesh ("impostor_capture", "_morph", "_8", "_words") and the GPU-driven impostor draws
 /// ("gpu_impostor", "gpu_impostor_depth_only").
@@ -86,9 +87,9 @@ size_t vulkanProgramIndex(VulkanKind kind, bool layers, const MeshVariant& mesh,
                           bool gpu_driven = false, bool composed = false);
 /// The index in vulkanPrograms() of the GPU-driven compute pass `id` (kCull, kCullCommands,
 /// kCullScatter, kHizCopy, kHizCopyMultisample, kHizReduce, kImpostorQuads, kImpostorCoverage,
-/// kImpostorCoverageRects; the pre-skinning passes kGpuSkin, kGpuSkinMotion and their Layers and
-/// Composed variants, and the compose passes kGpuLayerCompose and kGpuLayerComposeMotion, for a
-/// mesh of `mesh`).
+/// kImpostorCoverageRects, kImpostorResolve; the pre-skinning passes kGpuSkin, kGpuSkinMotion and
+/// their Layers and Composed variants, and the compose passes kGpuLayerCompose and
+/// kGpuLayerComposeMotion, for a mesh of `mesh`).
 size_t vulkanComputeProgramIndex(si::detail::ProgramId id, const MeshVariant& mesh = {});
 /// The index in vulkanPrograms() of the impostor capture for a mesh of `mesh`.
 size_t vulkanCaptureProgramIndex(const MeshVariant& mesh);

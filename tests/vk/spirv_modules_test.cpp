@@ -68,11 +68,11 @@ TEST(VulkanSpirv, EveryProgramsStagesAreEmbeddedAndValidForVulkan13) {
   ASSERT_EQ(kSpirvModuleCount, moduleNames().size());
   size_t compute = 0;
   for (const VulkanProgram& p : vulkanPrograms()) compute += p.compute;
-  EXPECT_EQ(compute, 37u) << "the GPU-driven path's cull, commands and scatter passes, 24 "
+  EXPECT_EQ(compute, 38u) << "the GPU-driven path's cull, commands and scatter passes, 24 "
                              "pre-skinning variants (with and without the previous positions; "
                              "without layers, with layers and with composed layers), 4 layer "
-                             "compose passes, 3 depth pyramid passes, the impostor quads pass and "
-                             "the impostor atlas's 2 coverage passes";
+                             "compose passes, 3 depth pyramid passes, the impostor quads pass, "
+                             "the impostor atlas's 2 coverage passes and its resolve pass";
   for (const std::string& name : moduleNames()) {
     SCOPED_TRACE(name);
     const SpirvModule* m = findSpirvModule(name.c_str());

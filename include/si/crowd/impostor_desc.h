@@ -30,10 +30,9 @@ struct ImpostorDesc {
   /// The capture draws this many texels each way per atlas texel and averages them into it
   /// (an antialiased atlas: thin parts such as a spear kept as partial coverage instead of
   /// appearing and vanishing between views). 1, 2 or 4; 0 means 2, or 1 where 2 would pass a
-  /// side limit or max_bytes or the back-end captures at 1 (si::vk). At the captured views and
+  /// side limit or max_bytes. Both back-ends capture and resolve alike. At the captured views and
   /// frames, 2 halves the pixels an 8-pixel impostor changes (docs/accuracy.md); drawing costs
-  /// the same, the atlas being as large. kInvalidArgument for other values, kUnsupported for
-  /// more than the back-end captures.
+  /// the same, the atlas being as large. kInvalidArgument for other values.
   uint32_t capture_supersample = 0;
   /// The most GPU memory the build may take: the atlas with its mip levels and the capture
   /// (its depth buffer and, when supersampled, its own three layers), which lives during the

@@ -141,12 +141,13 @@ class Renderer {
   Status addCharacter(const Character& character, const BakedPalette& palette, CharacterId* out);
   /// Character `id`'s animated impostor atlas, as si::Renderer::buildImpostor makes it
   /// (si/gl/impostor.h says what an impostor keeps and loses; the same desc, cells, views and
-  /// frames; captured a texel per atlas texel: ImpostorDesc::capture_supersample 0 takes 1, more
-  /// is refused with kUnsupported): the atlas image and clip table made here, their capture (the
-  /// character drawn once per cell into the atlas's three layers, the mip chain blitted) recorded
-  /// by the next
-  /// recordUploads(), its temporaries (a depth image of ImpostorInfo::capture_bytes, the capture
-  /// crowd's records, the coverage's extents) freed by uploadsComplete(). Each cell's covered
+  /// frames; supersampled as ImpostorDesc::capture_supersample asks, 2 x 2 by default, and
+  /// resolved by the same pass): the atlas image and clip table made here, their capture (the
+  /// character drawn once per cell into the atlas's three layers or, supersampled, the
+  /// capture's own, averaged into the atlas; the mip chain blitted) recorded by the next
+  /// recordUploads(), its temporaries (a depth image and, supersampled, the capture's three
+  /// layers: ImpostorInfo::capture_bytes; the capture crowd's records, the coverage's extents)
+  /// freed by uploadsComplete(). Each cell's covered
   /// rectangle at each mip level (which cuts the quads) is measured on the GPU in the same
   /// submission (si::gl reads the atlas back; a guest waits for no submission). A crowd of
   /// CrowdDesc::impostor_lod then draws its far instances as impostors on the GPU-driven path,
