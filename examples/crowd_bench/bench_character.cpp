@@ -68,6 +68,7 @@ Status makeCharacter(const CharacterChoice& choice, Setup* setup) {
   }
   setup->impostor_desc.capture_supersample = choice.capture_supersample;
   setup->impostor_desc.cell_pixels = choice.cell_pixels;
+  setup->impostor_desc.lod_bias = choice.lod_bias;
   if (choice.part_lod) {
     std::printf("Per-part LOD (si::buildPartLods): per character level, each part's own level "
                 "(- where dropped); drop error = distance to the kept parts (model units)\n");
@@ -163,12 +164,13 @@ Status buildImpostor(const Setup& setup, Renderer& renderer, CharacterId id, boo
   if (s.isOk() && print)
     std::printf(
         "Impostor atlas (Renderer::buildImpostor): %u views x %u frames, %u x %u texels, "
-        "%.1f MiB with mip levels, cells of %u texels, %s, captured %u x %u texels each\n",
+        "%.1f MiB with mip levels, cells of %u texels, %s, captured %u x %u texels each, "
+        "read at a LOD bias of %g\n",
         info.views, info.frames, info.width, info.height, double(info.bytes) / 1048576.0,
         info.cell_pixels,
         info.uniform_surface ? "one surface value (fragments read 2 layers)"
                              : "surface layer read per fragment",
-        info.capture_supersample, info.capture_supersample);
+        info.capture_supersample, info.capture_supersample, double(setup.impostor_desc.lod_bias));
   return s;
 }
 }  // namespace si::bench

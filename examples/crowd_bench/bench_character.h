@@ -22,6 +22,7 @@ struct CharacterChoice {
   std::string atlas = "full";
   uint32_t capture_supersample = 0;  ///< --impostor-capture: ImpostorDesc::capture_supersample.
   uint32_t cell_pixels = 0;          ///< --impostor-cell: ImpostorDesc::cell_pixels.
+  float lod_bias = 0.0f;             ///< --impostor-bias: ImpostorDesc::lod_bias.
   /// --vertex-colors: every vertex a colour (white to mid grey by height) and texture
   /// coordinates 1, which the built-in material multiplies into the base colour.
   bool vertex_colors = false;

@@ -52,7 +52,9 @@ void printUsage(std::FILE* f) {
       "                   [--impostor-capture N] (ImpostorDesc::capture_supersample: 1, 2 or 4;\n"
       "                   0, the default: 2 where it fits) [--impostor-cell N]\n"
       "                   (ImpostorDesc::cell_pixels: a cell's side in texels, a power of\n"
-      "                   two; 0, the default: 32)\n"
+      "                   two; 0, the default: 32) [--impostor-bias B]\n"
+      "                   (ImpostorDesc::lod_bias: added to the mip level impostors read,\n"
+      "                   within [-2, 2]; 0, the default)\n"
       "                   [--quality-budgets PX,PX,... | none] [--quality-size N]\n"
       "                   [--quality-frames N] [--quality-path PATH] [--quality-images DIR]\n"
       "                   [--quality-ss N] (compare images box-filtered N x N: give --size at\n"
@@ -140,6 +142,8 @@ bool parseOptions(int argc, char** argv, Options* o) {
       o->impostor_capture = uint32_t(std::stoul(argv[++i]));
     else if (a == "--impostor-cell" && has)
       o->impostor_cell = uint32_t(std::stoul(argv[++i]));
+    else if (a == "--impostor-bias" && has)
+      o->impostor_bias = std::stof(argv[++i]);
     else if (a == "--lod-errors" && has) o->lod_errors = argv[++i];
     else if (a == "--image-errors") o->image_errors = true;
     else if (a == "--quality-budgets" && has) {
@@ -248,6 +252,7 @@ bool parseOptions(int argc, char** argv, Options* o) {
       o->impostor_capture != 4)
     return false;
   if ((o->impostor_cell & (o->impostor_cell - 1)) != 0) return false;  // 0 or a power of two.
+  if (!(o->impostor_bias >= -2.0f && o->impostor_bias <= 2.0f)) return false;
   if (o->impostor) {  // The baselines and the mixed, root motion and motion vector tables draw
                       // meshes only.
     for (const std::string& p : o->paths)

@@ -29,6 +29,7 @@ struct Options {
       "full";                     // --impostor-atlas: full (ImpostorDesc's defaults), small, fine.
   uint32_t impostor_capture = 0;  // --impostor-capture: ImpostorDesc::capture_supersample.
   uint32_t impostor_cell = 0;     // --impostor-cell: ImpostorDesc::cell_pixels.
+  float impostor_bias = 0.0f;     // --impostor-bias: ImpostorDesc::lod_bias.
   // --lod-errors: what the screen-error mode selects by, the geometric errors (default) or the
   // image errors (si::measureImageLodErrors); --image-errors prints the latter either way.
   std::string lod_errors = "geometric";

@@ -168,6 +168,7 @@ int main(int argc, char** argv) {
   choice.atlas = b.o.impostor_atlas;
   choice.capture_supersample = b.o.impostor_capture;
   choice.cell_pixels = b.o.impostor_cell;
+  choice.lod_bias = b.o.impostor_bias;
   choice.vertex_colors = b.o.vertex_colors;
   choice.eight_influences = b.o.eight_influences;
   choice.morph_targets = b.o.morph_targets;

@@ -62,7 +62,7 @@ Status runBoth(Setup& setup, Renderer& gl, examples::HeadlessVulkan& host,
   s = vkr.init(vd);
   vk::CharacterId id;
   if (s.isOk()) s = vkr.addCharacter(setup.character, palette, &id);
-  // --impostor: an atlas of si::gl's cells and size (captured with the uploads, a texel each).
+  // --impostor: an atlas of si::gl's cells, size and capture (captured with the uploads).
   if (s.isOk() && setup.impostor) s = vkr.buildImpostor(id, setup.impostor_desc);
   if (s.isOk()) s = host.submit([&](VkCommandBuffer cmd) { return vkr.recordUploads(cmd); });
   if (!s.isOk()) return {s.code(), "si::vk: " + s.message()};

@@ -59,6 +59,9 @@ Status planImpostor(const BakedPalette& palette, uint32_t sub_meshes, const Impo
     return {StatusCode::kInvalidArgument,
             strCat(call, ": variation mask 0x", std::hex, desc.variation_mask,
                    " wears none of the character's sub-meshes")};
+  if (!(desc.lod_bias >= -2.0f && desc.lod_bias <= 2.0f))
+    return {StatusCode::kInvalidArgument,
+            strCat(call, ": lod_bias ", desc.lod_bias, "; within [-2, 2] (mip levels)")};
   const uint32_t asked = desc.capture_supersample;
   if (asked != 0 && asked != 1 && asked != 2 && asked != 4)
     return {StatusCode::kInvalidArgument,

@@ -74,7 +74,9 @@ struct ImpostorSide {
 /// capture's sides bounded by `sides` (the API's limits), captured at most `max_supersample`
 /// texels each way per atlas texel (what the back-end resolves). kInvalidArgument (named after
 /// `call`) for more than 4 elevations, elevations not increasing within [-90, 90], a variation
-/// mask that wears none of the sub-meshes or a capture_supersample other than 0, 1, 2 or 4;
+/// mask that wears none of the sub-meshes, a capture_supersample other than 0, 1, 2 or 4 or a
+/// lod_bias outside [-2, 2] (every GL 4 and Vulkan device takes 2: GL_MAX_TEXTURE_LOD_BIAS,
+/// maxSamplerLodBias);
 /// kUnsupported for one past `max_supersample`; kLimitExceeded naming the first of `sides` the
 /// capture's width or height passes, for more cells than a crowd holds (HandlePool::kMaxSlots),
 /// or for an atlas and capture past ImpostorDesc::max_bytes. The automatic supersampling (0)

@@ -139,6 +139,7 @@ Status Renderer::buildImpostor(CharacterId id, const ImpostorDesc& desc, Imposto
     glTextureParameteri(atlas.texture, GL_TEXTURE_MAG_FILTER, GL_LINEAR);
     glTextureParameteri(atlas.texture, GL_TEXTURE_WRAP_S, GL_CLAMP_TO_EDGE);
     glTextureParameteri(atlas.texture, GL_TEXTURE_WRAP_T, GL_CLAMP_TO_EDGE);
+    glTextureParameterf(atlas.texture, GL_TEXTURE_LOD_BIAS, desc.lod_bias);
     s = checkGlErrors("buildImpostor: the atlas's mip levels");
   }
   // The clip table, then every cell's covered rectangle at every level (the quads' extent).

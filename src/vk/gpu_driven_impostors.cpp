@@ -51,7 +51,7 @@ Status GpuDrivenViews::ensureImpostors(uint32_t slot, View* v, const CharacterRe
   if (!s.isOk()) return s;
   std::vector<VkWriteDescriptorSet> writes;
   std::vector<VkDescriptorBufferInfo> buffers(all.size());
-  const VkDescriptorImageInfo atlas{passes.sampler, c.impostor.image.view,
+  const VkDescriptorImageInfo atlas{c.impostor.sampler, c.impostor.image.view,
                                     VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL};
   const VkDescriptorImageInfo custom{shared_.linear, shared_.custom->view,
                                      VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL};

@@ -180,6 +180,8 @@ void releaseImpostorCapture(DeviceObjects* objects, ImpostorCapture* capture) {
 }
 
 void releaseImpostorAtlas(DeviceObjects* objects, ImpostorAtlas* atlas) {
+  if (atlas->sampler != VK_NULL_HANDLE)
+    vkDestroySampler(objects->device(), atlas->sampler, objects->allocator());
   objects->destroy(&atlas->image);
   objects->destroy(&atlas->clips);
   *atlas = ImpostorAtlas();

@@ -33,6 +33,9 @@ struct ImpostorAtlas : si::detail::ImpostorGrid {
   /// Per clip (first texel, frames, first cell frame, frames), then per cell and mip level its
   /// covered rectangle (impostor_quad.glsl's SiImpostorClips).
   GpuBuffer clips;
+  /// Trilinear, clamped to the edges, with ImpostorDesc::lod_bias: what the impostor draws read
+  /// the atlas through.
+  VkSampler sampler = VK_NULL_HANDLE;
   bool captured = false;  ///< recordUploads() recorded its capture.
 
   bool made() const { return image.image != VK_NULL_HANDLE; }

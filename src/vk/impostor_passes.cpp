@@ -47,6 +47,18 @@ bool impostorResolveBindingType(uint32_t b, DescriptorKind kind, VkDescriptorTyp
   return true;
 }
 
+Status createAtlasSampler(VkDevice device, const VkAllocationCallbacks* allocator, float lod_bias,
+                          VkSampler* out) {
+  auto info = vkStruct<VkSamplerCreateInfo>(VK_STRUCTURE_TYPE_SAMPLER_CREATE_INFO);
+  info.magFilter = info.minFilter = VK_FILTER_LINEAR;
+  info.mipmapMode = VK_SAMPLER_MIPMAP_MODE_LINEAR;
+  info.addressModeU = info.addressModeV = info.addressModeW = VK_SAMPLER_ADDRESS_MODE_CLAMP_TO_EDGE;
+  info.mipLodBias = lod_bias;
+  info.maxLod = VK_LOD_CLAMP_NONE;
+  return checkVk(vkCreateSampler(device, &info, allocator, out),
+                 "vkCreateSampler (the impostor atlas's)");
+}
+
 Status createImpostorPasses(VkDevice device, const VkAllocationCallbacks* allocator,
                             const std::vector<ProgramModules>& programs,
                             const RenderingFormats& shaded, const RenderingFormats& depth_only,
@@ -58,16 +70,7 @@ Status createImpostorPasses(VkDevice device, const VkAllocationCallbacks* alloca
   if (s.isOk())
     s = createComputePipeline(device, allocator, *out->quads_program,
                               out->quads_layout.pipeline_layout, &out->quads);
-  if (s.isOk()) {
-    auto info = vkStruct<VkSamplerCreateInfo>(VK_STRUCTURE_TYPE_SAMPLER_CREATE_INFO);
-    info.magFilter = info.minFilter = VK_FILTER_LINEAR;
-    info.mipmapMode = VK_SAMPLER_MIPMAP_MODE_LINEAR;
-    info.addressModeU = info.addressModeV = info.addressModeW =
-        VK_SAMPLER_ADDRESS_MODE_CLAMP_TO_EDGE;
-    info.maxLod = VK_LOD_CLAMP_NONE;
-    s = checkVk(vkCreateSampler(device, &info, allocator, &out->sampler),
-                "vkCreateSampler (the impostor atlas's)");
-  }
+  if (s.isOk()) s = createAtlasSampler(device, allocator, 0.0f, &out->sampler);
   const si::detail::ProgramId coverage_ids[2] = {si::detail::ProgramId::kImpostorCoverage,
                                                  si::detail::ProgramId::kImpostorCoverageRects};
   for (int k = 0; k < 2; ++k)

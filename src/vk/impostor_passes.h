@@ -29,7 +29,8 @@ struct ImpostorPasses {
   VkPipeline quads = VK_NULL_HANDLE;
   const ProgramModules* quads_program = nullptr;
   SkinnedLayout draw_layout;
-  /// The atlas's sampler: trilinear, clamped to the edges (as si::gl's ImpostorAtlas).
+  /// The atlas's sampler for the passes that fetch its texels: trilinear, clamped to the edges,
+  /// no LOD bias (createAtlasSampler; the draws read each atlas through its own).
   VkSampler sampler = VK_NULL_HANDLE;
   /// The atlas's covered rectangles (impostor_coverage.comp.glsl): each level's extents, then
   /// the rectangles packed into the clip table.
@@ -52,6 +53,11 @@ bool impostorCoverageBindingType(uint32_t binding, DescriptorKind kind, VkDescri
 /// The resolve pass's: the capture, the atlas's level 0 as a storage image, the dynamic default
 /// block.
 bool impostorResolveBindingType(uint32_t binding, DescriptorKind kind, VkDescriptorType* type);
+
+/// An impostor atlas's sampler as si::gl's ImpostorAtlas samples it: trilinear, clamped to the
+/// edges, `lod_bias` added to the level (ImpostorDesc::lod_bias). kBackend on a failed call.
+Status createAtlasSampler(VkDevice device, const VkAllocationCallbacks* allocator, float lod_bias,
+                          VkSampler* out);
 
 /// Makes `out`'s layouts and pipelines from the renderer's `programs` (vulkanPrograms() order):
 /// the draws for rendering into `shaded` and `depth_only`. kBackend or kUnsupported naming what

@@ -147,6 +147,7 @@ Status Renderer::buildImpostor(CharacterId id, const ImpostorDesc& desc, Imposto
       plan.info.width, plan.info.height, ImpostorAtlas::kLayers, plan.levels,
       VK_FORMAT_R8G8B8A8_UNORM, true, "the impostor atlas", &atlas.image,
       ss > 1 ? VK_IMAGE_USAGE_STORAGE_BIT : VK_IMAGE_USAGE_COLOR_ATTACHMENT_BIT);
+  if (s.isOk()) s = createAtlasSampler(m.device(), m.allocator(), desc.lod_bias, &atlas.sampler);
   if (s.isOk() && ss > 1)
     s = m.objects.createImage(cw, ch, ImpostorAtlas::kLayers, 1, VK_FORMAT_R8G8B8A8_UNORM, true,
                               "the impostor's supersampled capture", &capture.supersampled,

@@ -5,6 +5,7 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <limits>
 #include <string>
 
 #include "crowd/impostor_plan.h"
@@ -40,7 +41,7 @@ TEST(ImpostorPlan, TheCaptureIsSupersampledWhereItFits) {
   const uint64_t texels = uint64_t(p.info.width) * p.info.height;
   EXPECT_EQ(p.info.capture_supersample, 2u);
   EXPECT_EQ(p.info.capture_bytes, texels * 4 * 16);  // 2 x 2: a depth and three layers.
-  // A back-end that resolves nothing (si::vk) captures a texel each: its depth alone.
+  // A back-end that resolves nothing captures a texel each: its depth alone.
   ASSERT_TRUE(plan(desc, 16384, 1, &p).isOk());
   EXPECT_EQ(p.info.capture_supersample, 1u);
   EXPECT_EQ(p.info.capture_bytes, texels * 4);
@@ -80,6 +81,24 @@ TEST(ImpostorPlan, CellsArePowersOfTwo) {
     const Status s = plan(desc, 1u << 20, 4, &p);
     EXPECT_EQ(s.code(), StatusCode::kInvalidArgument) << cell;
     EXPECT_NE(s.message().find("cell_pixels"), std::string::npos) << s.message();
+  }
+}
+
+// The sampler's LOD bias: within [-2, 2] mip levels (what every GL 4 and Vulkan device takes),
+// refused by name otherwise.
+TEST(ImpostorPlan, TheLodBiasIsWithinTwoLevels) {
+  ImpostorDesc desc;
+  detail::ImpostorPlan p;
+  for (float bias : {-2.0f, -0.5f, 0.0f, 1.0f, 2.0f}) {
+    desc.lod_bias = bias;
+    EXPECT_TRUE(plan(desc, 16384, 4, &p).isOk()) << bias;
+  }
+  for (float bias : {-2.5f, 2.01f, std::numeric_limits<float>::quiet_NaN(),
+                     std::numeric_limits<float>::infinity()}) {
+    desc.lod_bias = bias;
+    const Status s = plan(desc, 16384, 4, &p);
+    EXPECT_EQ(s.code(), StatusCode::kInvalidArgument) << bias;
+    EXPECT_NE(s.message().find("lod_bias"), std::string::npos) << s.message();
   }
 }
 

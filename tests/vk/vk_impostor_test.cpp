@@ -33,7 +33,8 @@ class VulkanImpostorTest : public VulkanRenderFixture {
   // its atlas built from smallImpostor() (unless `atlas` is false) and its uploads submitted.
   void start(vk::Renderer* r, vk::CharacterId* id, bool atlas = true,
              VkFormat motion = VK_FORMAT_UNDEFINED, ImpostorInfo* info = nullptr,
-             const Character& character = impostorCharacter()) {
+             const Character& character = impostorCharacter(),
+             const ImpostorDesc& desc = smallImpostor()) {
     vk::RendererDesc rd;
     rd.gpu_driven = true;
     rd.motion_format = motion;
@@ -43,7 +44,7 @@ class VulkanImpostorTest : public VulkanRenderFixture {
     ASSERT_TRUE(s.isOk()) << s.toString();
     ASSERT_TRUE(r->addCharacter(character, palette(), id).isOk());
     if (atlas) {
-      s = r->buildImpostor(*id, smallImpostor(), info);
+      s = r->buildImpostor(*id, desc, info);
       ASSERT_TRUE(s.isOk()) << s.toString();
     }
     s = host_.submit([&](VkCommandBuffer cmd) { return r->recordUploads(cmd); });
@@ -51,11 +52,10 @@ class VulkanImpostorTest : public VulkanRenderFixture {
     r->uploadsComplete();
   }
 
-  // si::gl's GPU-driven image of `crowd` (a crowd of `character`), its atlas built from
-  // smallImpostor() (both back-ends capture it 2 x 2 and resolve it by the same pass), and its
-  // counts.
+  // si::gl's GPU-driven image of `crowd` (a crowd of `character`), its atlas built from `desc`
+  // (both back-ends capture it 2 x 2 by default and resolve it by the same pass), and its counts.
   void glImage(const Character& character, const CrowdManager& crowd, std::vector<uint8_t>* image,
-               DrawStats* stats) {
+               DrawStats* stats, const ImpostorDesc& desc = smallImpostor()) {
     Renderer gl;
     RendererDesc rd;
     rd.measure_gpu_time = true;  // The counts read back.
@@ -63,7 +63,7 @@ class VulkanImpostorTest : public VulkanRenderFixture {
     CharacterId id;
     ASSERT_TRUE(gl.addCharacter(character, palette(), &id).isOk());
     ImpostorInfo info;
-    ASSERT_TRUE(gl.buildImpostor(id, smallImpostor(), &info).isOk());
+    ASSERT_TRUE(gl.buildImpostor(id, desc, &info).isOk());
     EXPECT_EQ(info.capture_supersample, 2u);
     gl.clear(kBackground);
     const Status s = drawOnPath(gl, PathKind::kGpuDriven, crowd, camera(), stats);
@@ -243,6 +243,41 @@ TEST_P(VulkanImpostorTest, ATwoMaterialImpostorGivesOpenGlsImage) {
   EXPECT_TRUE(host_.messages().empty()) << messages();
 }
 
+// ImpostorDesc::lod_bias: impostors a few pixels tall read the levels si::gl's read (each
+// atlas's own sampler), the image si::gl's; another bias draws another image.
+TEST_P(VulkanImpostorTest, ALodBiasReadsTheLevelsOpenGlReads) {
+  SI_START_VULKAN_HOST();
+  CrowdManager crowd;
+  ASSERT_NO_FATAL_FAILURE(initEveryOneAt(true, &crowd));
+  for (int k = 0; k < 60; ++k)
+    ASSERT_NO_FATAL_FAILURE(addHeld(&crowd, {(k % 12 - 5.5) * 3.0, (k / 12 - 2.0) * 3.0, -50.0},
+                                    0.7f * float(k), uint32_t(k), 0.07 * double(k % 11)));
+  ASSERT_TRUE(crowd.advance(0.2).isOk());
+  ASSERT_TRUE(crowd.update(0.0, camera()).isOk());
+  ImpostorDesc sharper = smallImpostor();
+  sharper.lod_bias = -1.0f;
+  std::vector<uint8_t> gl_image, gl_trilinear;
+  DrawStats gl_stats;
+  ASSERT_NO_FATAL_FAILURE(glImage(impostorCharacter(), crowd, &gl_image, &gl_stats, sharper));
+  ASSERT_NO_FATAL_FAILURE(glImage(impostorCharacter(), crowd, &gl_trilinear, &gl_stats));
+  vk::Renderer r;
+  vk::CharacterId id;
+  ASSERT_NO_FATAL_FAILURE(
+      start(&r, &id, true, VK_FORMAT_UNDEFINED, nullptr, impostorCharacter(), sharper));
+  std::vector<uint8_t> image;
+  const Status s = frame(r, id, crowd.view(), camera(), vk::DrawMode::kShaded, &image, nullptr);
+  ASSERT_TRUE(s.isOk()) << s.toString();
+  const Diff diff = compare(image, gl_image, nullptr);
+  const double apart = compare(gl_trilinear, gl_image, nullptr).share;
+  std::printf(
+      "[ impostors ] LOD bias -1: %.4f %% of pixels apart from si::gl's (bias 0 draws "
+      "%.4f %% apart)\n",
+      100.0 * diff.share, 100.0 * apart);
+  EXPECT_GT(apart, 0.002) << "the bias reads other levels";
+  EXPECT_LE(diff.share, kMaxDifferingShare / 10) << "max channel difference " << diff.max_channel;
+  EXPECT_TRUE(host_.messages().empty()) << messages();
+}
+
 TEST_P(VulkanImpostorTest, RefusalsAreNamed) {
   SI_START_VULKAN_HOST();
   CrowdManager crowd;
@@ -268,6 +303,9 @@ TEST_P(VulkanImpostorTest, RefusalsAreNamed) {
     ImpostorInfo info;
     refused(r.buildImpostor(id, bad, &info), StatusCode::kLimitExceeded, "max_bytes");
     EXPECT_GT(info.bytes, 1024u);
+    bad = smallImpostor();
+    bad.lod_bias = -3.0f;
+    refused(r.buildImpostor(id, bad), StatusCode::kInvalidArgument, "lod_bias");
     bad = smallImpostor();
     bad.capture_supersample = 3;
     refused(r.buildImpostor(id, bad), StatusCode::kInvalidArgument, "1, 2 or 4");
