@@ -3,10 +3,13 @@
 // Image comparison for the benches: the structural similarity index (SSIM) of Z. Wang, A. C.
 // Bovik, H. R. Sheikh and E. P. Simoncelli, "Image quality assessment: from error visibility to
 // structural similarity", IEEE Trans. Image Processing 13(4), 2004: on luma, with their 11 x 11
-// Gaussian window (sigma 1.5) and constants K1 = 0.01, K2 = 0.03 for 8-bit data.
+// Gaussian window (sigma 1.5) and constants K1 = 0.01, K2 = 0.03 for 8-bit data. And a
+// temporal error: how much of an approximation's frame-to-frame change is not the reference's.
+#include <algorithm>
 #include <cmath>
 #include <cstddef>
 #include <cstdint>
+#include <cstdlib>
 #include <vector>
 
 namespace si::examples {
@@ -66,6 +69,27 @@ inline double ssim(const std::vector<uint8_t>& a, const std::vector<uint8_t>& b,
              ((mx[i] * mx[i] + my[i] * my[i] + c1) * (vx + vy + c2));
   }
   return total / double(mx.size());
+}
+
+/// Pixels that shimmer between two consecutive frames of an approximation (`a0`, `a1`) against
+/// the same frames of its reference (`b0`, `b1`), all RGBA8 of one size: those whose change from
+/// frame to frame, in some channel of RGB, differs from the reference's by more than
+/// `tolerance` (of 255). Motion both images share (the camera's, the animation's) counts none;
+/// an error that moves or flickers counts where it does. The count, or SIZE_MAX when the sizes
+/// disagree.
+inline size_t shimmeringPixels(const std::vector<uint8_t>& a0, const std::vector<uint8_t>& a1,
+                               const std::vector<uint8_t>& b0, const std::vector<uint8_t>& b1,
+                               int tolerance) {
+  if (a1.size() != a0.size() || b0.size() != a0.size() || b1.size() != a0.size()) return SIZE_MAX;
+  size_t n = 0;
+  for (size_t i = 0; i + 3 < a0.size(); i += 4) {
+    int worst = 0;
+    for (size_t c = 0; c < 3; ++c)
+      worst = std::max(
+          worst, std::abs((int(a1[i + c]) - int(a0[i + c])) - (int(b1[i + c]) - int(b0[i + c]))));
+    n += worst > tolerance ? 1 : 0;
+  }
+  return n;
 }
 
 }  // namespace si::examples

@@ -85,7 +85,7 @@ Status measureLodQuality(Setup& setup, Renderer& renderer, const BakedPalette& p
       s = writePng(image_dir + "/" + scene + "_" + row.lod + ".png", setup.width / ss,
                    setup.height / ss, images[0]);
     if (!s.isOk()) return s;
-    uint64_t differing = 0, pixels = 0, covered = 0;
+    uint64_t differing = 0, pixels = 0, covered = 0, shimmering = 0, pairs = 0;
     double squared = 0.0;
     for (uint32_t f = 0; f < frames; ++f) {
       const std::vector<uint8_t>& a = images[f];
@@ -103,7 +103,12 @@ Status measureLodQuality(Setup& setup, Renderer& renderer, const BakedPalette& p
         row.max_channel = std::max(row.max_channel, worst);
         ++pixels;
       }
+      if (f == 0) continue;
+      const size_t n = examples::shimmeringPixels(images[f - 1], a, ref_images[f - 1], b,
+                                                  kQualityChannelTolerance);
+      if (n != SIZE_MAX) shimmering += n, pairs += a.size() / 4;
     }
+    row.temporal_share = pairs ? double(shimmering) / double(pairs) : 0.0;
     row.differing_share = pixels ? double(differing) / double(pixels) : 0.0;
     const double mse = pixels ? squared / (3.0 * double(pixels)) : 0.0;
     row.psnr_db = mse > 0.0 ? 10.0 * std::log10(255.0 * 255.0 / mse)

@@ -21,11 +21,17 @@ struct QualityRow {
   double psnr_db = 0;             ///< Against the LOD 0 image (RGB); infinite when equal.
   double ssim = 0;                ///< Mean SSIM against the LOD 0 image (luma), over the frames.
   int max_channel = 0;            ///< Largest channel difference seen.
+  /// Temporal error (shimmer): of all pixels of every pair of consecutive frames, those whose
+  /// change from one frame to the next differs from the LOD 0 image's change by more than
+  /// kQualityChannelTolerance in a channel. What a still frame's differing share misses: an
+  /// approximation whose error moves with the animation or the camera. 0 for one frame.
+  double temporal_share = 0;
 };
 
 /// Draws `frames` camera positions of the scene with every instance at LOD 0 (the reference)
 /// and with each LOD choice (same clock, same instances), with `path`, and compares images.
-/// The reference's own row comes first. With `supersample` > 1, both images are box-filtered
+/// The reference's own row comes first; every row's temporal share compares consecutive frames.
+/// With `supersample` > 1, both images are box-filtered
 /// by supersample x supersample pixels before they are compared (render at that multiple of
 /// the display size: an antialiased image, where a sub-pixel change moves a pixel a little
 /// instead of flipping it). With `image_dir`, writes each choice's first (filtered) frame as

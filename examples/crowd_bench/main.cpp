@@ -130,8 +130,8 @@ bool qualityTable(Bench& b, si::Renderer& renderer, const si::BakedPalette& pale
               b.o.quality_size, b.o.quality_frames, b.o.quality_path.c_str(),
               b.o.width / b.o.quality_ss, b.o.height / b.o.quality_ss, b.o.quality_ss,
               b.o.quality_ss, si::bench::kQualityChannelTolerance);
-  std::printf("%-8s %-11s %12s %8s %12s %9s %8s %8s\n", "scene", "lod", "triangles", "tri/px",
-              "differing %", "PSNR dB", "SSIM", "max ch");
+  std::printf("%-8s %-11s %12s %8s %12s %9s %8s %8s %11s\n", "scene", "lod", "triangles", "tri/px",
+              "differing %", "PSNR dB", "SSIM", "max ch", "temporal %");
   for (const std::string& scene : b.o.scenes) {
     std::vector<si::bench::QualityRow> rows;
     const si::Status s = si::bench::measureLodQuality(b.setup, renderer, palette, scene,
@@ -141,12 +141,12 @@ bool qualityTable(Bench& b, si::Renderer& renderer, const si::BakedPalette& pale
                                                       b.o.quality_images, &rows);
     if (!s.isOk()) return fail("quality", s) == 0;
     for (const si::bench::QualityRow& r : rows) {
-      std::printf("%-8s %-11s %12.0f %8.2f %12.3f %9.2f %8.5f %8d\n", r.scene.c_str(),
+      std::printf("%-8s %-11s %12.0f %8.2f %12.3f %9.2f %8.5f %8d %11.3f\n", r.scene.c_str(),
                   r.lod.c_str(), r.triangles, r.triangles_per_pixel, r.differing_share * 100.0,
-                  r.psnr_db, r.ssim, r.max_channel);
-      std::fprintf(csv, "quality,%s,%s,%u,,,%.0f,,,,,,,,%s,,%.6f,%.3f,%.6f\n", r.scene.c_str(),
+                  r.psnr_db, r.ssim, r.max_channel, r.temporal_share * 100.0);
+      std::fprintf(csv, "quality,%s,%s,%u,,,%.0f,,,,,,,,%s,,%.6f,%.3f,%.6f,%.6f\n", r.scene.c_str(),
                    b.o.quality_path.c_str(), r.instances, r.triangles, r.lod.c_str(),
-                   r.differing_share, r.psnr_db, r.ssim);
+                   r.differing_share, r.psnr_db, r.ssim, r.temporal_share);
     }
   }
   return true;
@@ -242,9 +242,10 @@ int main(int argc, char** argv) {
     std::fprintf(stderr, "crowd_bench: cannot write '%s'\n", b.o.csv.c_str());
     return 1;
   }
-  std::fprintf(csv, "table,scene,path,instances,visible,draws,triangles,update_ms,submit_ms,"
-                    "gpu_ms,format,rate,max_error,p99_error,lod,covered_pixels,differing_share,"
-                    "psnr_db,ssim\n");
+  std::fprintf(csv,
+               "table,scene,path,instances,visible,draws,triangles,update_ms,submit_ms,"
+               "gpu_ms,format,rate,max_error,p99_error,lod,covered_pixels,differing_share,"
+               "psnr_db,ssim,temporal_share\n");
   std::map<std::string, std::map<uint32_t, double>> frame_ms;  // path/lod -> size -> ms.
   if (!pathsTable(b, renderer, palette, csv, &frame_ms)) return 1;
   if (renderer.computeRingBytes() > 0)

@@ -50,5 +50,31 @@ TEST(ImageMetrics, OneChangedPixelMovesSsimLocally) {
   EXPECT_GT(s, 0.8);  // 121 of the 900 windows see it.
 }
 
+// The temporal error: motion both sequences share counts none; an error that appears, moves or
+// flickers between the frames counts where it changes.
+TEST(ImageMetrics, ShimmerCountsTheChangesTheReferenceDoesNotMake) {
+  const uint32_t w = 16, h = 8;
+  // Two frames of noise within [40, 215].
+  std::vector<uint8_t> b0 = noiseImage(w, h, 3), b1 = noiseImage(w, h, 4);
+  for (std::vector<uint8_t>* im : {&b0, &b1})
+    for (uint8_t& v : *im) v = uint8_t(40 + v * 175 / 255);
+  EXPECT_EQ(shimmeringPixels(b0, b1, b0, b1, 8), 0u) << "the reference against itself";
+  // A constant error (every pixel 20 darker in both frames) does not shimmer.
+  std::vector<uint8_t> a0 = b0, a1 = b1;
+  for (std::vector<uint8_t>* im : {&a0, &a1})
+    for (uint8_t& v : *im) v = uint8_t(v - 20);
+  EXPECT_EQ(shimmeringPixels(a0, a1, b0, b1, 8), 0u);
+  // An error in frame 1 alone (3 pixels off by 30 in red), and one moving by a pixel.
+  a0 = b0, a1 = b1;
+  for (size_t p : {5u, 40u, 77u}) a1[p * 4] = uint8_t(b1[p * 4] + 30);
+  EXPECT_EQ(shimmeringPixels(a0, a1, b0, b1, 8), 3u);
+  EXPECT_EQ(shimmeringPixels(a0, a1, b0, b1, 40), 0u) << "within the tolerance";
+  a0 = b0, a1 = b1;
+  a0[10 * 4 + 1] = uint8_t(b0[10 * 4 + 1] ^ 0x80);  // The green error at pixel 10, then 11.
+  a1[11 * 4 + 1] = uint8_t(b1[11 * 4 + 1] ^ 0x80);
+  EXPECT_EQ(shimmeringPixels(a0, a1, b0, b1, 8), 2u);
+  EXPECT_EQ(shimmeringPixels(a0, a1, b0, std::vector<uint8_t>(4), 8), SIZE_MAX);
+}
+
 }  // namespace
 }  // namespace si::examples
