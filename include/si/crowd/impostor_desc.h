@@ -36,11 +36,11 @@ struct ImpostorDesc {
   uint32_t capture_supersample = 0;
   /// Added to the mip level the impostor fragments sample (a sampler's LOD bias), within
   /// [-2, 2]; others (and NaN) are refused with kInvalidArgument. 0 (the default) reads the level
-  /// trilinear filtering picks; negative reads finer levels: sharper impostors of a few pixels,
-  /// at the cost of more texels read a fragment and of shimmering where they move. On the 10k
+  /// trilinear filtering picks; negative reads finer levels: sharper impostors of a few pixels
+  /// that keep their thin limbs, for more texels read a fragment and more fragments. On the 10k
   /// field drawn every character an impostor at 960x540 (llvmpipe), -1 raises the frame's SSIM
   /// against LOD 0 from 0.895 to 0.925 (docs/accuracy.md, "The impostor's mip level"); its GPU
-  /// time is not measured yet.
+  /// time and its shimmer at a game's frame step are not measured yet.
   float lod_bias = 0.0f;
   /// The most GPU memory the build may take: the atlas with its mip levels and the capture
   /// (its depth buffer and, when supersampled, its own three layers), which lives during the
