@@ -1,7 +1,7 @@
 #!/bin/bash
 # Lease plan (2026-12-05): A = crowd_bench of ed6124f (GL code cadf50f), B = tree at 2164499 (uniform surface +
 # supersampled capture). Phase "reads": impostor A/B on the field. Phase "q1": SSIM 4x4 100k field, capture 1 and
-# default. Phase "q2": fine atlas.
+# default. Phase "q2": fine atlas. Phase "bias": G's lod_bias 0 against -1, then its SSIM at -1.
 for f in .gl/*.deb; do dpkg -x $f / ; done; ldconfig
 export LD_LIBRARY_PATH=$PWD/.gl/lib
 export __EGL_VENDOR_LIBRARY_FILENAMES=/usr/local/nvidia/share/glvnd/egl_vendor.d/10_nvidia.json
@@ -50,6 +50,18 @@ q3)
     echo "=== round $r F $extra ($SECONDS s)" | tee -a $L
     timeout 100 .gl/imp/F/crowd_bench $ARGS $extra --csv /tmp/x.csv 2>&1 | grep -E "^field +gpu-driven|takes over|Impostor atlas" | tee -a $L
   done; done ;;
+bias)
+  # G (the tree at 4fa642c): ImpostorDesc::lod_bias's GPU cost on the field (0 against -1, order
+  # 0 -1 -1 0, twice), then its SSIM at 4x4 on the 100k field (bias -1; bias 0 is q1's default).
+  SECONDS=0
+  .gl/imp/G/crowd_bench $ARGS > /dev/null 2>&1
+  echo "warm-up took $SECONDS s" | tee -a $L
+  for r in 1 2; do for b in 0 -1 -1 0; do
+    echo "=== round $r bias $b ($SECONDS s)" | tee -a $L
+    timeout 100 .gl/imp/G/crowd_bench $ARGS --impostor-bias $b --csv /tmp/x.csv 2>&1 | grep -E "^field +gpu-driven|^  impostors|takes over|Impostor atlas" | tee -a $L
+  done; done
+  echo "=== quality G bias -1 ($SECONDS s)" | tee -a $L
+  timeout 270 .gl/imp/G/crowd_bench $Q --impostor-bias -1 2>&1 | grep -E "^field|takes over|Impostor atlas|differing|SSIM|error" | tee -a $L ;;
 q1|q2)
   [ $1 = q1 ] && set -- q1 "--impostor-capture 1" "" || set -- q2 "--impostor-atlas fine"
   shift
