@@ -39,8 +39,8 @@ struct ImpostorDesc {
   /// trilinear filtering picks; negative reads finer levels: sharper impostors of a few pixels
   /// that keep their thin limbs, for more texels read a fragment and more fragments. On the 10k
   /// field drawn every character an impostor at 960x540 (llvmpipe), -1 raises the frame's SSIM
-  /// against LOD 0 from 0.895 to 0.925 (docs/accuracy.md, "The impostor's mip level"); its GPU
-  /// time and its shimmer at a game's frame step are not measured yet.
+  /// against LOD 0 from 0.895 to 0.925 with no more temporal error (docs/accuracy.md, "The
+  /// impostor's mip level"); its GPU time is not measured yet.
   float lod_bias = 0.0f;
   /// The most GPU memory the build may take: the atlas with its mip levels and the capture
   /// (its depth buffer and, when supersampled, its own three layers), which lives during the
