@@ -229,10 +229,7 @@ TEST_P(VulkanImpostorTest, ATwoMaterialImpostorGivesOpenGlsImage) {
   std::vector<uint8_t> image;
   const Status s = frame(r, id, crowd.view(), camera(), vk::DrawMode::kShaded, &image, nullptr);
   ASSERT_TRUE(s.isOk()) << s.toString();
-  std::vector<uint8_t> blank(image.size());
-  for (size_t k = 0; k < blank.size(); k += 4)
-    for (int c = 0; c < 4; ++c) blank[k + c] = uint8_t(std::lround(kBackground[c] * 255.0f));
-  const double drawn = compare(image, blank, nullptr).share;
+  const double drawn = compare(image, blankImage(image), nullptr).share;
   const Diff diff = compare(image, gl_image, nullptr);
   std::printf(
       "[ impostors ] two materials: %.1f %% of pixels drawn; %.4f %% apart from "

@@ -23,6 +23,16 @@ class VulkanRenderFixture : public RenderTest {
   // The background of the render tests' images (drawCrowdImage's).
   static constexpr glm::vec4 kBackground = glm::vec4(0.2f, 0.25f, 0.3f, 1.0f);
 
+  // An RGBA8 image as large as `like`, of `colour` alone: what a frame that drew nothing reads
+  // back.
+  static std::vector<uint8_t> blankImage(const std::vector<uint8_t>& like,
+                                         const glm::vec4& colour = kBackground) {
+    std::vector<uint8_t> blank(like.size());
+    for (size_t k = 0; k < blank.size(); k += 4)
+      for (int c = 0; c < 4; ++c) blank[k + c] = uint8_t(std::lround(colour[c] * 255.0f));
+    return blank;
+  }
+
  protected:
   // Creates host_; false (the test skipped, or failed under SI_REQUIRE_VULKAN) without a device.
   bool startHost() {
