@@ -40,7 +40,10 @@ struct ImpostorDesc {
   /// that keep their thin limbs, for more texels read a fragment and more fragments. On the 10k
   /// field drawn every character an impostor at 960x540 (llvmpipe), -1 raises the frame's SSIM
   /// against LOD 0 from 0.895 to 0.925 with no more temporal error (docs/accuracy.md, "The
-  /// impostor's mip level"); its GPU time is not measured yet.
+  /// impostor's mip level"). On the H200 it costs the 100k field at 1920x1080 6 % (1.06 ->
+  /// 1.13 ms; nothing at 1M, whose impostor pass is bound by its quads more than their
+  /// fragments) and lowers its 4 x 4 SSIM at 7680x4320 slightly (0.96722 -> 0.96682): it pays
+  /// only where the characters are a few display pixels tall, hence 0 by default.
   float lod_bias = 0.0f;
   /// The most GPU memory the build may take: the atlas with its mip levels and the capture
   /// (its depth buffer and, when supersampled, its own three layers), which lives during the
