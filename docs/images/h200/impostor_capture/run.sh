@@ -1,7 +1,11 @@
 #!/bin/bash
 # Lease plan (2026-12-05): A = crowd_bench of ed6124f (GL code cadf50f), B = tree at 2164499 (uniform surface +
 # supersampled capture). Phase "reads": impostor A/B on the field. Phase "q1": SSIM 4x4 100k field, capture 1 and
-# default. Phase "q2": fine atlas. Phase "bias": G's lod_bias 0 against -1, then its SSIM at -1.
+# default. Phase "q2": fine atlas. Phase "bias": G's lod_bias 0 against -1; "biasq": its SSIM at -1.
+# Phase "i57": issue 57's figures in one run; "views": the cascades' LOD bias and impostors.
+# G = crowd_bench of 93ffbd5 (release, SI_HEADLESS=EGL). The session of 2026-12-05 (later) ran
+# bias, biasq, views and i57 in that order, then more.log's runs by hand (their commands are
+# the churn and views commands below, repeated).
 for f in .gl/*.deb; do dpkg -x $f / ; done; ldconfig
 export LD_LIBRARY_PATH=$PWD/.gl/lib
 export __EGL_VENDOR_LIBRARY_FILENAMES=/usr/local/nvidia/share/glvnd/egl_vendor.d/10_nvidia.json
@@ -50,6 +54,34 @@ q3)
     echo "=== round $r F $extra ($SECONDS s)" | tee -a $L
     timeout 100 .gl/imp/F/crowd_bench $ARGS $extra --csv /tmp/x.csv 2>&1 | grep -E "^field +gpu-driven|takes over|Impostor atlas" | tee -a $L
   done; done ;;
+i57)
+  # Issue 57's figures in one run (G): the 1M field with impostors against meshes on both
+  # GPU-driven paths, ten crowds of a million with the memory table, and the churn case.
+  SECONDS=0
+  C="--quick --backend egl-device --size 1920x1080 --scenes field --lods screen --quality-budgets none --error-table-size 0"
+  .gl/imp/G/crowd_bench $C --paths gpu-driven --sizes 1000000 --frames 30 --part-lod > /dev/null 2>&1
+  echo "warm-up took $SECONDS s" | tee -a $L
+  for imp in "" "--impostor" "--impostor" ""; do
+    echo "=== field 1M $imp ($SECONDS s)" | tee -a $L
+    timeout 100 .gl/imp/G/crowd_bench $C --paths gpu-driven,gpu-driven-occlusion --sizes 1000000 --frames 20 --part-lod $imp 2>&1 | grep -E "^field +gpu-driven" | tee -a $L
+  done
+  echo "=== crowds ($SECONDS s)" | tee -a $L
+  timeout 200 .gl/imp/G/crowd_bench $C --paths gpu-driven --sizes 1000000 --frames 20 --part-lod --crowds 1,10 2>&1 | sed -n '/^Several crowds/,/^$/p' | tee -a $L
+  echo "=== churn ($SECONDS s)" | tee -a $L
+  timeout 150 .gl/imp/G/crowd_bench $C --paths gpu-driven --sizes 1000000 --frames 20 --churn 0.01,0.001 --no-gpu-time 2>&1 | sed -n '/^Churn/,/^$/p' | tee -a $L ;;
+views)
+  # G: main view + 3 cascades against the main view at 100k and 1M, cascades' LOD bias 1 (the
+  # default), 2 and 3, meshes then impostors (the cascades' coarser levels and impostors are
+  # what the pass table says would move the 1.5x goal).
+  SECONDS=0
+  V="--quick --backend egl-device --size 1920x1080 --scenes field --lods screen --quality-budgets none --error-table-size 0 --part-lod --frames 20 --gpu-passes --paths gpu-driven --sizes 100000,1000000 --views 1,4"
+  .gl/imp/G/crowd_bench $V > /dev/null 2>&1
+  echo "warm-up took $SECONDS s" | tee -a $L
+  for imp in "" "--impostor"; do for b in 1 2 3; do
+    echo "=== views bias $b $imp ($SECONDS s)" | tee -a $L
+    timeout 120 .gl/imp/G/crowd_bench $V $imp --views-lod-bias $b 2>&1 | sed -n '/^Views/,$p' | head -40 | tee -a $L
+    [ $SECONDS -gt 540 ] && break 2
+  done; done ;;
 bias)
   # G (the tree at 4fa642c): ImpostorDesc::lod_bias's GPU cost on the field (0 against -1, order
   # 0 -1 -1 0, twice), then its SSIM at 4x4 on the 100k field (bias -1; bias 0 is q1's default).
@@ -59,7 +91,10 @@ bias)
   for r in 1 2; do for b in 0 -1 -1 0; do
     echo "=== round $r bias $b ($SECONDS s)" | tee -a $L
     timeout 100 .gl/imp/G/crowd_bench $ARGS --impostor-bias $b --csv /tmp/x.csv 2>&1 | grep -E "^field +gpu-driven|^  impostors|takes over|Impostor atlas" | tee -a $L
-  done; done
+    [ $SECONDS -gt 480 ] && break 2
+  done; done ;;
+biasq)
+  SECONDS=0
   echo "=== quality G bias -1 ($SECONDS s)" | tee -a $L
   timeout 270 .gl/imp/G/crowd_bench $Q --impostor-bias -1 2>&1 | grep -E "^field|takes over|Impostor atlas|differing|SSIM|error" | tee -a $L ;;
 q1|q2)
