@@ -149,20 +149,17 @@ class RenderTest : public ::testing::TestWithParam<HeadlessBackend> {
     const Status loaded = loadGl(&HeadlessContext::getProcAddress, context_.get(), &info_);
     ASSERT_TRUE(loaded.isOk()) << loaded.toString();
     ASSERT_EQ(info_.es, es()) << info_.version;
-    // Without a GPU the EGL device platform reaches the same llvmpipe driver egl_surfaceless
-    // tests, so each render test runs on it once (ContextTest still creates, clears and reads
-    // back through egl_device). SI_ALL_BACKENDS=1 runs them on it anyway.
+    // Without a GPU the EGL device platform and OSMesa reach the same llvmpipe driver
+    // egl_surfaceless tests, so each render test runs on it once: egl_device runs none of them
+    // (ContextTest still creates, clears and reads back through it), OSMesa what depends on the
+    // context it makes (runsOnEveryContext). SI_ALL_BACKENDS=1 runs them all anyway.
     const char* all = std::getenv("SI_ALL_BACKENDS");
     const bool every = all != nullptr && all[0] == '1';
-    const bool llvmpipe = info_.renderer.find("llvmpipe") != std::string::npos;
-    if (GetParam() == HeadlessBackend::kEglDevice && llvmpipe && !every)
-      GTEST_SKIP() << "egl_device reached " << info_.renderer
-                   << ", which egl_surfaceless tests already (SI_ALL_BACKENDS=1 runs it)";
-    // OSMesa reaches that same llvmpipe too: there it runs what depends on the context it
-    // makes (golden images on each path family, limits, errors, the programs' layouts) and
-    // leaves the rest to egl_surfaceless, which ran every test twice on one driver before.
-    if (GetParam() == HeadlessBackend::kOsMesa && llvmpipe && !every && !runsOnEveryContext())
-      GTEST_SKIP() << "osmesa reached " << info_.renderer
+    const bool same_driver = !every && info_.renderer.find("llvmpipe") != std::string::npos &&
+                             (GetParam() == HeadlessBackend::kEglDevice ||
+                              (GetParam() == HeadlessBackend::kOsMesa && !runsOnEveryContext()));
+    if (same_driver)
+      GTEST_SKIP() << headlessBackendName(GetParam()) << " reached " << info_.renderer
                    << ", which egl_surfaceless tests already (SI_ALL_BACKENDS=1 runs it)";
   }
 
