@@ -83,8 +83,8 @@ views)
     [ $SECONDS -gt 540 ] && break 2
   done; done ;;
 bias)
-  # G (the tree at 4fa642c): ImpostorDesc::lod_bias's GPU cost on the field (0 against -1, order
-  # 0 -1 -1 0, twice), then its SSIM at 4x4 on the 100k field (bias -1; bias 0 is q1's default).
+  # G: ImpostorDesc::lod_bias's GPU cost on the field (0 against -1, order 0 -1 -1 0, twice);
+  # its SSIM at 4x4 on the 100k field at -1 is the phase biasq (bias 0 is q1's default).
   SECONDS=0
   .gl/imp/G/crowd_bench $ARGS > /dev/null 2>&1
   echo "warm-up took $SECONDS s" | tee -a $L
