@@ -6,6 +6,9 @@
 # G = crowd_bench of 93ffbd5 (release, SI_HEADLESS=EGL). The session of 2026-12-05 (later) ran
 # bias, biasq, views and i57 in that order, then more.log's runs by hand (their commands are
 # the churn and views commands below, repeated).
+# Phase "pts" and "ab T R" (2026-12-05, the last session): T = crowd_bench of 1a3e222, P and PD
+# = impostors drawn as points (../impostor_points/points.patch; PD writes the quad's depth),
+# R = the impostors drawn in reverse order (../impostor_points/reverse.patch).
 for f in .gl/*.deb; do dpkg -x $f / ; done; ldconfig
 export LD_LIBRARY_PATH=$PWD/.gl/lib
 export __EGL_VENDOR_LIBRARY_FILENAMES=/usr/local/nvidia/share/glvnd/egl_vendor.d/10_nvidia.json
@@ -14,6 +17,17 @@ nvidia-smi --query-gpu=name,driver_version,clocks.sm --format=csv | tee -a $L
 ARGS="--quick --backend egl-device --size 1920x1080 --scenes field --lods screen --quality-budgets none --error-table-size 0 --part-lod --impostor --frames 30 --gpu-passes --paths gpu-driven --sizes 100000,1000000"
 Q="--backend egl-device --sizes 1000 --frames 3 --paths gpu-driven --lods screen --quality-budgets 1 --quality-path gpu-driven --error-table-size 10 --size 7680x4320 --quality-ss 4 --part-lod --impostor --scenes field --quality-size 100000 --quality-frames 3"
 case $1 in
+pts)
+  SECONDS=0
+  .gl/imp/T/crowd_bench $ARGS > /dev/null 2>&1
+  echo "warm-up took $SECONDS s" | tee -a $L
+  nvidia-smi --query-gpu=clocks.sm --format=csv,noheader | sed 's/^/clock after warm-up: /' | tee -a $L
+  for r in 1 2; do for b in T P PD PD P T; do
+    echo "=== round $r build $b ($SECONDS s)" | tee -a $L
+    timeout 100 .gl/imp/$b/crowd_bench $ARGS --csv /tmp/x.csv 2>&1 | grep -E "^field +gpu-driven|takes over" | tee -a $L
+    [ $SECONDS -gt 520 ] && break 2
+  done; done
+  nvidia-smi --query-gpu=clocks.sm --format=csv,noheader | sed 's/^/clock at the end: /' | tee -a $L ;;
 reads)
   SECONDS=0
   .gl/imp/A/crowd_bench $ARGS > /dev/null 2>&1
