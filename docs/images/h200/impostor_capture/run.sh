@@ -17,6 +17,15 @@ nvidia-smi --query-gpu=name,driver_version,clocks.sm --format=csv | tee -a $L
 ARGS="--quick --backend egl-device --size 1920x1080 --scenes field --lods screen --quality-budgets none --error-table-size 0 --part-lod --impostor --frames 30 --gpu-passes --paths gpu-driven --sizes 100000,1000000"
 Q="--backend egl-device --sizes 1000 --frames 3 --paths gpu-driven --lods screen --quality-budgets 1 --quality-path gpu-driven --error-table-size 10 --size 7680x4320 --quality-ss 4 --part-lod --impostor --scenes field --quality-size 100000 --quality-frames 3"
 case $1 in
+fr)
+  # F = impostor quads drawn as one triangle each, rasterized as its screen rectangle
+  # (GL_NV_fill_rectangle; ../impostor_points/fill_rectangle.patch): its image against T's at
+  # 960x540, then their times.
+  for b in T F; do
+    mkdir -p $OUT/q$b
+    timeout 100 .gl/imp/$b/crowd_bench --quick --backend egl-device --sizes 100 --frames 1 --paths gpu-driven --lods screen --quality-budgets 1 --quality-path gpu-driven --error-table-size 0 --size 960x540 --quality-ss 1 --part-lod --impostor --scenes field --quality-size 10000 --quality-frames 1 --quality-images $OUT/q$b 2>&1 | grep -E "lod5|fill" | tee -a $L
+  done
+  bash $0 ab T F ;;
 pts)
   SECONDS=0
   .gl/imp/T/crowd_bench $ARGS > /dev/null 2>&1
