@@ -151,7 +151,7 @@ TEST_P(VulkanMotionTest, TheGpuDrivenPathsMotionIsWhatOpenGlWrites) {
 TEST_P(VulkanMotionTest, TheGpuDrivenMotionWithOcclusionCullingIsWhatOpenGlWrites) {
   SI_START_VULKAN_HOST();
   CrowdManager crowd;
-  makeCrowd(&crowd);
+  makeCoarseCrowd(&crowd);
   populateWallCrowd(&crowd);
   // The last frame's camera steps aside past the wall's end: much of the crowd behind it comes
   // into view at once, drawn by the second phase.
