@@ -93,7 +93,7 @@ TEST_P(DepthConventionTest, EveryPathDrawsTheStandardImageAndDepthUnderEveryConv
 TEST_P(DepthConventionTest, OcclusionCullsTheSameInstancesUnderEveryConvention) {
   const Camera standard = wallCamera();
   CrowdManager crowd;
-  makeCrowd(&crowd);
+  makeCoarseCrowd(&crowd);
   populateWallCrowd(&crowd);
   std::vector<DrawStats> culled;
   std::vector<std::vector<uint8_t>> images;
