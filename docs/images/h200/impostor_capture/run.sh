@@ -17,6 +17,10 @@ nvidia-smi --query-gpu=name,driver_version,clocks.sm --format=csv | tee -a $L
 ARGS="--quick --backend egl-device --size 1920x1080 --scenes field --lods screen --quality-budgets none --error-table-size 0 --part-lod --impostor --frames 30 --gpu-passes --paths gpu-driven --sizes 100000,1000000"
 Q="--backend egl-device --sizes 1000 --frames 3 --paths gpu-driven --lods screen --quality-budgets 1 --quality-path gpu-driven --error-table-size 10 --size 7680x4320 --quality-ss 4 --part-lod --impostor --scenes field --quality-size 100000 --quality-frames 3"
 case $1 in
+nb)
+  # M = the tree with the built-in material's lighting left out of the GPU-driven impostor
+  # fragments (../impostor_points/no_brdf.patch; the normal still read): what the material costs.
+  bash $0 ab T M ;;
 fr)
   # F = impostor quads drawn as one triangle each, rasterized as its screen rectangle
   # (GL_NV_fill_rectangle; ../impostor_points/fill_rectangle.patch): its image against T's at
