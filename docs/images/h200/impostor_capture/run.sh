@@ -6,7 +6,7 @@
 # G = crowd_bench of 93ffbd5 (release, SI_HEADLESS=EGL). The session of 2026-12-05 (later) ran
 # bias, biasq, views and i57 in that order, then more.log's runs by hand (their commands are
 # the churn and views commands below, repeated).
-# Phase "pts" and "ab T R" (2026-12-05, the last session): T = crowd_bench of 1a3e222, P and PD
+# Phase "pts" and "ab T R" (2026-12-05, later; and "fr", "nb" on an H100): T = crowd_bench of 1a3e222, P and PD
 # = impostors drawn as points (../impostor_points/points.patch; PD writes the quad's depth),
 # R = the impostors drawn in reverse order (../impostor_points/reverse.patch).
 for f in .gl/*.deb; do dpkg -x $f / ; done; ldconfig
