@@ -242,23 +242,26 @@ class RenderTest : public ::testing::TestWithParam<HeadlessBackend> {
     makeRenderer(r, 0, PaletteFormat::kMatrix3x4F32, nullptr, InterpolationChoice::kLinear, &info);
   }
 
-  void makeCrowd(CrowdManager* crowd, PaletteFormat format = PaletteFormat::kMatrix3x4F32,
-                 InterpolationChoice interpolation = InterpolationChoice::kLinear) {
+  // The render tests' crowd of character(): its 4 sub-meshes and 3 LODs, playing palette(format,
+  // interpolation).
+  CrowdDesc crowdDesc(PaletteFormat format = PaletteFormat::kMatrix3x4F32,
+                      InterpolationChoice interpolation = InterpolationChoice::kLinear) {
     CrowdDesc cd;
     cd.palette = &palette(format, interpolation);
     cd.sub_mesh_count = 4;
     cd.lod_count = 3;
-    ASSERT_TRUE(crowd->init(cd).isOk());
+    return cd;
+  }
+  void makeCrowd(CrowdManager* crowd, PaletteFormat format = PaletteFormat::kMatrix3x4F32,
+                 InterpolationChoice interpolation = InterpolationChoice::kLinear) {
+    ASSERT_TRUE(crowd->init(crowdDesc(format, interpolation)).isOk());
   }
   // makeCrowd()'s crowd with its LODs from 3 and 6 radii on (the default's 20 and 60): in the
   // wall scene (populateWallCrowd) most of the crowd behind the wall draws LOD 2. For tests of
   // culling, which need no finer level: skinning that crowd at the default's levels took
   // most of their time on llvmpipe and lavapipe (si::vk's occlusion tests 37 s -> 15 s, alone).
   void makeCoarseCrowd(CrowdManager* crowd) {
-    CrowdDesc cd;
-    cd.palette = &palette();
-    cd.sub_mesh_count = 4;
-    cd.lod_count = 3;
+    CrowdDesc cd = crowdDesc();
     cd.lod_distances_radii = {3.0f, 6.0f};
     ASSERT_TRUE(crowd->init(cd).isOk());
   }
